@@ -1,0 +1,36 @@
+# One set-up path for a fresh machine: the stock python3, a .venv, pinned wheels (ROS 2 Jazzy from PyPI).
+# `make demo` runs the main job on a bundled bag; `make test` runs the whole suite.
+# Re-running either when nothing changed only checks a stamp file.
+
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+# import rclpy exits the process with code 102 for any RMW but Fast DDS (ENVIRONMENT.md).
+RUN := env -u RMW_IMPLEMENTATION
+
+.PHONY: setup test lint demo bench clean
+
+setup: $(STAMP)
+
+$(STAMP): requirements.txt setup.py setup.cfg package.xml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --disable-pip-version-check -r requirements.txt
+	$(BIN)/python -m pip install -q --disable-pip-version-check --no-deps --no-build-isolation -e .
+	touch $(STAMP)
+
+test: $(STAMP)
+	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider test
+
+lint: $(STAMP)
+	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m linter test
+
+demo: $(STAMP)
+	$(RUN) $(BIN)/baseball-collision demo
+
+bench: $(STAMP)
+	$(RUN) $(BIN)/python benchmarks/bench_solver.py
+
+clean:
+	rm -rf $(VENV) build install log .pytest_cache .hypothesis

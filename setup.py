@@ -1,0 +1,32 @@
+"""ament_python set-up for baseball_collision (colcon build, or pip install from the root)."""
+
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = 'baseball_collision'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test', 'test.*', 'benchmarks']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
+        ('share/' + package_name, ['package.xml']),
+        ('share/' + package_name + '/config', glob('config/*.yaml')),
+        ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
+    ],
+    install_requires=['setuptools', 'numpy'],
+    zip_safe=True,
+    maintainer='baseball_collision maintainers',
+    maintainer_email='maintainers@users.noreply.h-seed-561ec417.example',
+    description='Exact bat-ball time of impact from tracked frames: ROS 2 node and bag analysis.',
+    license='Apache-2.0',
+    tests_require=['pytest'],
+    entry_points={
+        'console_scripts': [
+            'impact_node = baseball_collision.node:main',
+            'baseball-collision = baseball_collision.cli:main',
+        ],
+    },
+)
