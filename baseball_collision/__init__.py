@@ -1,0 +1,1 @@
+"""Exact bat-ball time of impact from tracked frames."""
