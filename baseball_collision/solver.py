@@ -34,11 +34,11 @@ from typing import Iterator, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .bat import BatProfile
+from .vectors import advance, cross, dot, lerp, scale, sub, Vector
 
 TOUCH_TOLERANCE = 1e-9
 """A gap (metres) at or below which ball and bat count as touching."""
 
-Vector = Tuple[float, float, float]
 ArrayLike = Union[Sequence[float], np.ndarray]
 
 _DEGENERATE_AXIS = 1e-24  # |u|^2 in scaled units below which the bat has no axis (a sphere)
@@ -102,35 +102,6 @@ def _interval(dt: float) -> float:
     if number <= 0.0:
         raise SolverInputError(f'dt must be > 0 seconds, got {dt!r}')
     return number
-
-
-# ----------------------------------------------------------------------------------------------
-# Small vector helpers (pure floats: the scalar path must not pay numpy's per-call overhead)
-
-
-def _sub(a: Vector, b: Vector) -> Vector:
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _dot(a: Vector, b: Vector) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _cross(a: Vector, b: Vector) -> Vector:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _lerp(a: Vector, b: Vector, s: float) -> Vector:
-    return (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s, a[2] + (b[2] - a[2]) * s)
-
-
-def _scale(a: Vector, s: float) -> Vector:
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-def _advance(p0: Vector, p1: Vector, s: float) -> Vector:
-    """Return p0 + p1 * s."""
-    return (p0[0] + p1[0] * s, p0[1] + p1[1] * s, p0[2] + p1[2] * s)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -274,30 +245,30 @@ def _quadratic_entry(a: float, b: float, c: float, slack: float) -> Optional[flo
 
 def _scaled(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0: Vector,
             knob1: Vector, radius: float) -> _Scaled:
-    w0 = _sub(ball0, knob0)
-    w_end = _sub(ball1, knob1)
-    u0 = _sub(tip0, knob0)
-    u_end = _sub(tip1, knob1)
-    scale = max(abs(v) for v in w0 + w_end + u0 + u_end + (radius,))
-    if scale == 0.0:
-        scale = 1.0
-    inv = 1.0 / scale
-    w0s, wes, u0s, ues = _scale(w0, inv), _scale(w_end, inv), _scale(u0, inv), _scale(u_end, inv)
-    return _Scaled(w0s, _sub(wes, w0s), u0s, _sub(ues, u0s), scale)
+    w0 = sub(ball0, knob0)
+    w_end = sub(ball1, knob1)
+    u0 = sub(tip0, knob0)
+    u_end = sub(tip1, knob1)
+    extent = max(abs(v) for v in w0 + w_end + u0 + u_end + (radius,))
+    if extent == 0.0:
+        extent = 1.0
+    inv = 1.0 / extent
+    w0s, wes, u0s, ues = scale(w0, inv), scale(w_end, inv), scale(u0, inv), scale(u_end, inv)
+    return _Scaled(w0s, sub(wes, w0s), u0s, sub(ues, u0s), extent)
 
 
 def _side_quartic(s: _Scaled, rr: float) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
     """Coefficients of |w x u|^2 - rr |u|^2 (the seed's Eq. 15f) and of |u|^2."""
-    c0 = _cross(s.w0, s.u0)
-    c1 = _sub(_cross(s.w0, s.u1), _cross(s.u0, s.w1))
-    c2 = _cross(s.w1, s.u1)
-    uu = (_dot(s.u0, s.u0), 2.0 * _dot(s.u0, s.u1), _dot(s.u1, s.u1), 0.0, 0.0)
+    c0 = cross(s.w0, s.u0)
+    c1 = sub(cross(s.w0, s.u1), cross(s.u0, s.w1))
+    c2 = cross(s.w1, s.u1)
+    uu = (dot(s.u0, s.u0), 2.0 * dot(s.u0, s.u1), dot(s.u1, s.u1), 0.0, 0.0)
     quartic = (
-        _dot(c0, c0) - rr * uu[0],
-        2.0 * _dot(c0, c1) - rr * uu[1],
-        _dot(c1, c1) + 2.0 * _dot(c0, c2) - rr * uu[2],
-        2.0 * _dot(c1, c2),
-        _dot(c2, c2),
+        dot(c0, c0) - rr * uu[0],
+        2.0 * dot(c0, c1) - rr * uu[1],
+        dot(c1, c1) + 2.0 * dot(c0, c2) - rr * uu[2],
+        2.0 * dot(c1, c2),
+        dot(c2, c2),
     )
     return quartic, uu
 
@@ -309,9 +280,9 @@ def _first_contact_tau(s: _Scaled, radius: float) -> Optional[float]:
     tol = TOUCH_TOLERANCE / s.scale
     cap_slack = (r + tol) ** 2 - rr
     best = None
-    v0, v1 = _sub(s.w0, s.u0), _sub(s.w1, s.u1)
+    v0, v1 = sub(s.w0, s.u0), sub(s.w1, s.u1)
     for p0, p1 in ((s.w0, s.w1), (v0, v1)):
-        tau = _quadratic_entry(_dot(p1, p1), 2.0 * _dot(p0, p1), _dot(p0, p0) - rr, cap_slack)
+        tau = _quadratic_entry(dot(p1, p1), 2.0 * dot(p0, p1), dot(p0, p0) - rr, cap_slack)
         if tau is not None and (best is None or tau < best):
             best = tau
     if best:
@@ -319,7 +290,7 @@ def _first_contact_tau(s: _Scaled, radius: float) -> Optional[float]:
     quartic, uu = _side_quartic(s, rr)
     if max(uu[0], abs(uu[1]), uu[2]) <= _DEGENERATE_AXIS:
         return best  # zero-length bat: a sphere, the end caps say it all
-    wu = (_dot(s.w0, s.u0), _dot(s.w0, s.u1) + _dot(s.w1, s.u0), _dot(s.w1, s.u1), 0.0, 0.0)
+    wu = (dot(s.w0, s.u0), dot(s.w0, s.u1) + dot(s.w1, s.u0), dot(s.w1, s.u1), 0.0, 0.0)
     for tau in _touch_candidates(quartic, lambda x: cap_slack * _eval(uu, x)):
         if best is not None and tau >= best:
             break
@@ -337,16 +308,16 @@ def _first_contact_tau(s: _Scaled, radius: float) -> Optional[float]:
 
 def _scaled_gap(s: _Scaled, tau: float, r: float) -> Tuple[float, float]:
     """Gap between ball and capsule at tau, and its rate d(gap)/d(tau), in scaled units."""
-    w = _advance(s.w0, s.w1, tau)
-    u = _advance(s.u0, s.u1, tau)
+    w = advance(s.w0, s.w1, tau)
+    u = advance(s.u0, s.u1, tau)
     fraction, closest = _closest_on_axis(w, (0.0, 0.0, 0.0), u)
-    offset = _sub(w, closest)
-    length = math.sqrt(_dot(offset, offset))
+    offset = sub(w, closest)
+    length = math.sqrt(dot(offset, offset))
     if length == 0.0:
         return -r, 0.0
     # the closest point slides along the axis, but offset is normal to it: only the motion of
     # the ball relative to the bat point at that fraction changes the gap to first order
-    rate = _dot(offset, _sub(s.w1, _scale(s.u1, fraction))) / length
+    rate = dot(offset, sub(s.w1, scale(s.u1, fraction))) / length
     return length - r, rate
 
 
@@ -375,26 +346,26 @@ def _polish(s: _Scaled, tau: float, r: float) -> float:
 
 def _closest_on_axis(ball: Vector, knob: Vector, tip: Vector) -> Tuple[float, Vector]:
     """Fraction along knob-tip (clipped to [0, 1]) and the closest axis point to the ball."""
-    axis = _sub(tip, knob)
-    axis2 = _dot(axis, axis)
-    fraction = 0.0 if axis2 == 0.0 else min(1.0, max(0.0, _dot(_sub(ball, knob), axis) / axis2))
-    return fraction, _lerp(knob, tip, fraction)
+    axis = sub(tip, knob)
+    axis2 = dot(axis, axis)
+    fraction = 0.0 if axis2 == 0.0 else min(1.0, max(0.0, dot(sub(ball, knob), axis) / axis2))
+    return fraction, lerp(knob, tip, fraction)
 
 
 def _unit_normal(offset: Vector, axis: Vector, relative_velocity: Vector) -> Vector:
     """Return offset as a unit vector; for a ball centre on the axis, a perpendicular to it."""
-    length = math.sqrt(_dot(offset, offset))
+    length = math.sqrt(dot(offset, offset))
     if length > 1e-12:
-        return _scale(offset, 1.0 / length)
+        return scale(offset, 1.0 / length)
     # Ball centre on the bat axis: push the ball back against its approach, across the axis.
-    axis2 = _dot(axis, axis)
-    for candidate in (_scale(relative_velocity, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)):
+    axis2 = dot(axis, axis)
+    for candidate in (scale(relative_velocity, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)):
         if axis2 > 0.0:
-            along = _dot(candidate, axis) / axis2
-            candidate = _sub(candidate, _scale(axis, along))
-        norm = math.sqrt(_dot(candidate, candidate))
-        if norm > 1e-12:
-            return _scale(candidate, 1.0 / norm)
+            along = dot(candidate, axis) / axis2
+            candidate = sub(candidate, scale(axis, along))
+        length = math.sqrt(dot(candidate, candidate))
+        if length > 1e-12:
+            return scale(candidate, 1.0 / length)
     return (0.0, 0.0, 1.0)
 
 
@@ -408,13 +379,13 @@ def _contact_at(tau: float, dt: float, ball0: Vector, ball1: Vector, tip0: Vecto
     ``fraction_range`` maps the piece onto the whole knob-tip axis; ``ends`` says whether the
     piece's knob and tip caps are the bat's own ends.
     """
-    ball, tip, knob = _lerp(ball0, ball1, tau), _lerp(tip0, tip1, tau), _lerp(knob0, knob1, tau)
+    ball, tip, knob = lerp(ball0, ball1, tau), lerp(tip0, tip1, tau), lerp(knob0, knob1, tau)
     local, centre = _closest_on_axis(ball, knob, tip)
-    rel_velocity = _scale(_sub(_sub(ball1, ball0), _lerp(_sub(knob1, knob0),
-                                                         _sub(tip1, tip0), local)), 1.0 / dt)
-    normal = _unit_normal(_sub(ball, centre), _sub(tip, knob), rel_velocity)
-    offset = _sub(ball, centre)
-    gap = math.sqrt(_dot(offset, offset)) - ball_radius - bat_radius
+    bat_motion = lerp(sub(knob1, knob0), sub(tip1, tip0), local)
+    rel_velocity = scale(sub(sub(ball1, ball0), bat_motion), 1.0 / dt)
+    normal = _unit_normal(sub(ball, centre), sub(tip, knob), rel_velocity)
+    offset = sub(ball, centre)
+    gap = math.sqrt(dot(offset, offset)) - ball_radius - bat_radius
     f0, f1 = fraction_range
     fraction = f0 + (f1 - f0) * local
     feature = 'side'
@@ -442,18 +413,18 @@ def _may_touch(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0: 
     The ball's offset from the bat's midpoint moves linearly; its closest approach minus the
     largest half-length of the bat bounds the gap from below.
     """
-    mid0 = _lerp(knob0, tip0, 0.5)
-    mid1 = _lerp(knob1, tip1, 0.5)
-    m0 = _sub(ball0, mid0)
-    m1 = _sub(_sub(ball1, mid1), m0)
-    m11 = _dot(m1, m1)
-    s = 0.0 if m11 == 0.0 else min(1.0, max(0.0, -_dot(m0, m1) / m11))
-    closest = _advance(m0, m1, s)
-    half = 0.5 * max(math.sqrt(_dot(_sub(tip0, knob0), _sub(tip0, knob0))),
-                     math.sqrt(_dot(_sub(tip1, knob1), _sub(tip1, knob1))))
+    mid0 = lerp(knob0, tip0, 0.5)
+    mid1 = lerp(knob1, tip1, 0.5)
+    m0 = sub(ball0, mid0)
+    m1 = sub(sub(ball1, mid1), m0)
+    m11 = dot(m1, m1)
+    s = 0.0 if m11 == 0.0 else min(1.0, max(0.0, -dot(m0, m1) / m11))
+    closest = advance(m0, m1, s)
+    half = 0.5 * max(math.sqrt(dot(sub(tip0, knob0), sub(tip0, knob0))),
+                     math.sqrt(dot(sub(tip1, knob1), sub(tip1, knob1))))
     reach = half + radius + TOUCH_TOLERANCE
     margin = 1e-9 * (1.0 + reach)
-    return _dot(closest, closest) <= (reach + margin) ** 2
+    return dot(closest, closest) <= (reach + margin) ** 2
 
 
 def time_of_impact(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,
@@ -519,8 +490,8 @@ def _profile_contact(b0: Vector, b1: Vector, e0: Vector, e1: Vector, s0: Vector,
         return None
     best_tau, best_piece = None, None
     for index, (f0, f1, radius) in enumerate(segments):
-        k0, k1 = _lerp(s0, e0, f0), _lerp(s1, e1, f0)
-        t0, t1 = _lerp(s0, e0, f1), _lerp(s1, e1, f1)
+        k0, k1 = lerp(s0, e0, f0), lerp(s1, e1, f0)
+        t0, t1 = lerp(s0, e0, f1), lerp(s1, e1, f1)
         tau = _capsule_tau(b0, b1, t0, t1, k0, k1, ball_radius + radius)
         if tau is not None and (best_tau is None or tau < best_tau):
             best_tau, best_piece = tau, (index, f0, f1, radius, k0, k1, t0, t1)
@@ -529,6 +500,33 @@ def _profile_contact(b0: Vector, b1: Vector, e0: Vector, e1: Vector, s0: Vector,
     index, f0, f1, radius, k0, k1, t0, t1 = best_piece
     ends = (index == 0, index == len(segments) - 1)
     return _contact_at(best_tau, dt, b0, b1, t0, t1, k0, k1, ball_radius, radius, (f0, f1), ends)
+
+
+def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
+                profile: BatProfile) -> Tuple[float, Vector, float]:
+    """
+    Return the gap between a ball and a profiled bat at one instant (no input checking).
+
+    :param ball: ball centre (metres); ``knob``, ``tip``: the bat's ends (metres).
+    :param ball_radius: metres.
+    :param profile: the bat's radius profile, scaled to the knob-tip distance.
+    :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
+        ball centre; fraction along knob-tip of the closest axis point).
+    """
+    axis = sub(tip, knob)
+    axis2 = dot(axis, axis)
+    along = dot(sub(ball, knob), axis) / axis2 if axis2 > 0.0 else 0.0
+    best = (math.inf, (0.0, 0.0, 1.0), 0.0)
+    for f0, f1, radius in profile.segments():
+        fraction = min(f1, max(f0, along))
+        offset = sub(ball, lerp(knob, tip, fraction))
+        length = math.sqrt(dot(offset, offset))
+        gap = length - radius - ball_radius
+        if gap < best[0]:
+            normal = scale(offset, 1.0 / length) if length > 0.0 else _unit_normal(
+                offset, axis, (0.0, 0.0, 0.0))
+            best = (gap, normal, fraction)
+    return best
 
 
 # ----------------------------------------------------------------------------------------------
@@ -829,14 +827,14 @@ def _b_first_contact_tau(b0: np.ndarray, b1: np.ndarray, e0: np.ndarray, e1: np.
     u0 = e0 - s0
     w_end = b1 - s1
     u_end = e1 - s1
-    scale = np.max(np.abs(np.concatenate([w0, w_end, u0, u_end, radius[:, None]], axis=1)),
-                   axis=1)
-    scale = np.where(scale > 0.0, scale, 1.0)[:, None]
-    w0, w_end, u0, u_end = w0 / scale, w_end / scale, u0 / scale, u_end / scale
+    extent = np.max(np.abs(np.concatenate([w0, w_end, u0, u_end, radius[:, None]], axis=1)),
+                    axis=1)
+    extent = np.where(extent > 0.0, extent, 1.0)[:, None]
+    w0, w_end, u0, u_end = w0 / extent, w_end / extent, u0 / extent, u_end / extent
     w1, u1 = w_end - w0, u_end - u0
-    r = radius / scale[:, 0]
+    r = radius / extent[:, 0]
     rr = r * r
-    cap_slack = ((r + TOUCH_TOLERANCE / scale[:, 0]) ** 2 - rr)[:, None]
+    cap_slack = ((r + TOUCH_TOLERANCE / extent[:, 0]) ** 2 - rr)[:, None]
     zeros = np.zeros_like(rr)
     best = np.full(rr.shape, np.inf)
     for p0, p1 in ((w0, w1), (w0 - u0, w1 - u1)):
@@ -866,7 +864,7 @@ def _b_first_contact_tau(b0: np.ndarray, b1: np.ndarray, e0: np.ndarray, e1: np.
     picked = [x[rows] for x in (w0, w1, u0, u1, r)]
     polished = _b_polish(candidates[rows, cols], *picked)
     gap = _b_gap_and_rate(polished, *picked)[0]
-    accepted = gap <= TOUCH_TOLERANCE / scale[rows, 0] + _ROOT_SLACK
+    accepted = gap <= TOUCH_TOLERANCE / extent[rows, 0] + _ROOT_SLACK
     side_times = np.full(candidates.shape, np.inf)
     side_times[rows[accepted], cols[accepted]] = polished[accepted]
     side = np.min(side_times, axis=1)
