@@ -1,0 +1,304 @@
+"""
+Motion between samples: the linear, rigid and spline models.
+
+Pure Python (no numpy in the hot path, no ROS). Times are float seconds on the detector's own
+clock, positions metres. Every path here covers ONE sample interval of one stream,
+``[t0, t1]``, and answers two questions: where is it at time t, and into how many equal
+sub-steps must ``[ta, tb]`` be cut so that moving linearly between sub-step ends stays within a
+chord error tolerance. The detector then runs the exact linear solver on each sub-step.
+
+* ``linear``: the seed's model. Every point moves on the chord between its samples; exact for
+  the linear solver, so one sub-step.
+* ``rigid``: the bat keeps its shape. From a pose, the position moves linearly and the rotation
+  by SLERP (constant angular velocity over the interval); from knob and tip points, the knob
+  moves linearly, the knob-to-tip direction by SLERP and the length linearly. A point at lever
+  arm rho turning by theta leaves its chord by rho * (1 - cos(theta / 2)) ~ rho theta^2 / 8, so
+  n sub-steps bound the error by rho theta^2 / (8 n^2). The ball moves linearly.
+* ``spline``: cubic Hermite through the samples of each point (ball, knob, tip), with the
+  tangent at each sample from the parabola through it and its two neighbours (exact for a
+  quadratic, also on uneven stamps). A curve leaves its chord by at most max|p''| h^2 / 8. It
+  needs the next sample after the interval, one frame of latency live.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Optional, Sequence, Tuple
+
+from .vectors import dot, lerp, norm, sub, Vector
+
+Quaternion = Tuple[float, float, float, float]
+
+MODELS = ('linear', 'rigid', 'spline')
+"""The motion model names."""
+
+
+class MotionError(ValueError):
+    """An unknown motion model, or a path asked for outside its interval."""
+
+
+@dataclass(frozen=True)
+class BatSample:
+    """
+    One bat sample: knob and tip (metres), and the pose when the bat came as a pose.
+
+    :ivar knob: knob end, world frame.
+    :ivar tip: barrel end, world frame.
+    :ivar position: pose origin (pose input only).
+    :ivar quaternion: pose orientation, unit, ROS order (x, y, z, w) (pose input only).
+    """
+
+    knob: Vector
+    tip: Vector
+    position: Optional[Vector] = None
+    quaternion: Optional[Quaternion] = None
+
+
+def check_model(model: str) -> str:
+    """
+    Return ``model`` if it names a motion model.
+
+    :raises MotionError: for any other name.
+    """
+    if model not in MODELS:
+        raise MotionError(f"motion model must be one of {', '.join(MODELS)}, got '{model}'")
+    return model
+
+
+# ----------------------------------------------------------------------------------------------
+# rotation helpers
+
+
+def _dot4(a: Sequence[float], b: Sequence[float]) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+
+
+def slerp_vectors(d0: Vector, d1: Vector, s: float) -> Vector:
+    """Interpolate unit vectors on the great circle (constant angular rate) at fraction s."""
+    cos_angle = max(-1.0, min(1.0, dot(d0, d1)))
+    angle = math.acos(cos_angle)
+    if angle < 1e-9:
+        d = lerp(d0, d1, s)
+        length = norm(d)
+        return (d[0] / length, d[1] / length, d[2] / length)
+    sin_angle = math.sin(angle)
+    w0 = math.sin((1.0 - s) * angle) / sin_angle
+    w1 = math.sin(s * angle) / sin_angle
+    return (w0 * d0[0] + w1 * d1[0], w0 * d0[1] + w1 * d1[1], w0 * d0[2] + w1 * d1[2])
+
+
+def slerp_quaternions(q0: Quaternion, q1: Quaternion, s: float) -> Quaternion:
+    """Interpolate unit quaternions (x, y, z, w) along the shorter arc at fraction s."""
+    cosine = _dot4(q0, q1)
+    if cosine < 0.0:
+        q1 = (-q1[0], -q1[1], -q1[2], -q1[3])
+        cosine = -cosine
+    if cosine > 1.0 - 1e-12:
+        q = tuple(a + (b - a) * s for a, b in zip(q0, q1))
+    else:
+        angle = math.acos(cosine)
+        sin_angle = math.sin(angle)
+        w0 = math.sin((1.0 - s) * angle) / sin_angle
+        w1 = math.sin(s * angle) / sin_angle
+        q = tuple(w0 * a + w1 * b for a, b in zip(q0, q1))
+    length = math.sqrt(_dot4(q, q))
+    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)
+
+
+def quaternion_angle(q0: Quaternion, q1: Quaternion) -> float:
+    """Return the rotation angle (radians, in [0, pi]) between two unit quaternions."""
+    return 2.0 * math.acos(min(1.0, abs(_dot4(q0, q1))))
+
+
+def rotate(q: Quaternion, v: Vector) -> Vector:
+    """Rotate vector v by unit quaternion q (x, y, z, w)."""
+    x, y, z, w = q
+    # v + 2 w (q_v x v) + 2 q_v x (q_v x v)
+    cx = y * v[2] - z * v[1]
+    cy = z * v[0] - x * v[2]
+    cz = x * v[1] - y * v[0]
+    return (v[0] + 2.0 * (w * cx + y * cz - z * cy),
+            v[1] + 2.0 * (w * cy + z * cx - x * cz),
+            v[2] + 2.0 * (w * cz + x * cy - y * cx))
+
+
+def hermite_tangent(t_prev: Optional[float], p_prev: Optional[Vector], t: float, p: Vector,
+                    t_next: Optional[float], p_next: Optional[Vector]) -> Vector:
+    """
+    Return the velocity at sample (t, p) from its neighbours (metres per second).
+
+    With both neighbours, the derivative at t of the parabola through the three samples
+    (second-order accurate on uneven stamps); with one, the chord to it; with none, zero.
+    """
+    if p_prev is not None and p_next is not None:
+        h0, h1 = t - t_prev, t_next - t
+        w_prev = h1 / (h0 * (h0 + h1))
+        w_next = h0 / (h1 * (h0 + h1))
+        return tuple(w_next * (n - c) + w_prev * (c - b) for b, c, n in zip(p_prev, p, p_next))
+    if p_next is not None:
+        return tuple((n - c) / (t_next - t) for c, n in zip(p, p_next))
+    if p_prev is not None:
+        return tuple((c - b) / (t - t_prev) for b, c in zip(p_prev, p))
+    return (0.0, 0.0, 0.0)
+
+
+def substeps_for(deviation_bound: float, tolerance: float) -> int:
+    """Return sub-steps n so that deviation_bound / n^2 <= tolerance (at least 1)."""
+    if deviation_bound <= tolerance:
+        return 1
+    return int(math.ceil(math.sqrt(deviation_bound / tolerance)))
+
+
+# ----------------------------------------------------------------------------------------------
+# point paths
+
+
+class PointPath:
+    """
+    A point moving over one sample interval [t0, t1]: linear, or cubic Hermite with tangents.
+
+    :param t0, t1: interval ends (seconds), t1 > t0.
+    :param p0, p1: positions at the ends (metres).
+    :param m0, m1: velocities at the ends (m/s) for a cubic; both None for the chord.
+    """
+
+    __slots__ = ('t0', 'h', 'a', 'b', 'c', 'd', 'curved')
+
+    def __init__(self, t0: float, t1: float, p0: Vector, p1: Vector,
+                 m0: Optional[Vector] = None, m1: Optional[Vector] = None) -> None:
+        self.t0 = t0
+        self.h = t1 - t0
+        self.a = p0
+        self.curved = m0 is not None and m1 is not None
+        if self.curved:
+            h = self.h
+            self.b = tuple(h * m for m in m0)
+            self.c = tuple(3.0 * (q1 - q0) - 2.0 * h * v0 - h * v1
+                           for q0, q1, v0, v1 in zip(p0, p1, m0, m1))
+            self.d = tuple(2.0 * (q0 - q1) + h * v0 + h * v1
+                           for q0, q1, v0, v1 in zip(p0, p1, m0, m1))
+        else:
+            self.b = sub(p1, p0)
+            self.c = self.d = (0.0, 0.0, 0.0)
+
+    def at(self, t: float) -> Vector:
+        """Return the position (metres) at time t (seconds)."""
+        s = (t - self.t0) / self.h
+        a, b, c, d = self.a, self.b, self.c, self.d
+        return (a[0] + s * (b[0] + s * (c[0] + s * d[0])),
+                a[1] + s * (b[1] + s * (c[1] + s * d[1])),
+                a[2] + s * (b[2] + s * (c[2] + s * d[2])))
+
+    def velocity(self, t: float) -> Vector:
+        """Return the time derivative of the position (m/s) at time t (seconds)."""
+        s = (t - self.t0) / self.h
+        b, c, d = self.b, self.c, self.d
+        return tuple((b[i] + s * (2.0 * c[i] + 3.0 * s * d[i])) / self.h for i in range(3))
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (metres) on how far the path leaves its chord over [ta, tb]."""
+        if not self.curved:
+            return 0.0
+        h2 = self.h * self.h
+        worst = 0.0
+        for t in (ta, tb):  # p'' is linear in t on a cubic: its largest value is at an end
+            s = (t - self.t0) / self.h
+            second = [(2.0 * self.c[i] + 6.0 * s * self.d[i]) / h2 for i in range(3)]
+            worst = max(worst, norm(second))
+        return worst * (tb - ta) ** 2 / 8.0
+
+
+# ----------------------------------------------------------------------------------------------
+# bat paths
+
+
+class BatPath:
+    """
+    The bat over one sample interval [t0, t1] under a motion model.
+
+    Build it with ``BatPath.build``; ``at(t)`` gives (knob, tip) and ``deviation(ta, tb)`` a
+    bound on how far any bat point leaves its chord over [ta, tb].
+    """
+
+    __slots__ = ('t0', 'h', 'kind', 'knob', 'tip', 'sample0', 'sample1', 'direction0',
+                 'direction1', 'length0', 'length1', 'angle', 'lever', 'knob_offset',
+                 'tip_offset')
+
+    @classmethod
+    def build(cls, model: str, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
+              before: Optional[Tuple[float, BatSample]] = None,
+              after: Optional[Tuple[float, BatSample]] = None,
+              offsets: Optional[Tuple[Vector, Vector]] = None) -> 'BatPath':
+        """
+        Return the bat's path between two samples.
+
+        :param model: ``'linear'``, ``'rigid'`` or ``'spline'``.
+        :param t0, t1: sample times (seconds), t1 > t0.
+        :param sample0, sample1: the samples at t0 and t1.
+        :param before: (time, sample) before t0, for spline tangents (None if absent).
+        :param after: (time, sample) after t1, for spline tangents (None if absent).
+        :param offsets: (knob_offset, tip_offset) in the body frame, for the rigid model from
+            poses (both samples must carry a quaternion).
+        :raises MotionError: an unknown model.
+        """
+        path = cls()
+        path.t0, path.h = t0, t1 - t0
+        path.sample0, path.sample1 = sample0, sample1
+        check_model(model)
+        if model == 'rigid':
+            if offsets is not None and sample0.quaternion is not None \
+                    and sample1.quaternion is not None:
+                path.kind = 'pose'
+                path.knob_offset, path.tip_offset = offsets
+                path.angle = quaternion_angle(sample0.quaternion, sample1.quaternion)
+                path.lever = max(norm(offsets[0]), norm(offsets[1]))
+            else:
+                path.kind = 'axis'
+                axis0 = sub(sample0.tip, sample0.knob)
+                axis1 = sub(sample1.tip, sample1.knob)
+                path.length0, path.length1 = norm(axis0), norm(axis1)
+                path.direction0 = tuple(x / path.length0 for x in axis0)
+                path.direction1 = tuple(x / path.length1 for x in axis1)
+                cosine = dot(path.direction0, path.direction1)
+                path.angle = math.acos(max(-1.0, min(1.0, cosine)))
+                path.lever = max(path.length0, path.length1)
+            return path
+        path.kind = 'points'
+        curved = model == 'spline'
+        tangents = []
+        for attribute in ('knob', 'tip'):
+            p0, p1 = getattr(sample0, attribute), getattr(sample1, attribute)
+            if curved:
+                tb, pb = (before[0], getattr(before[1], attribute)) if before else (None, None)
+                ta, pa = (after[0], getattr(after[1], attribute)) if after else (None, None)
+                m0 = hermite_tangent(tb, pb, t0, p0, t1, p1)
+                m1 = hermite_tangent(t0, p0, t1, p1, ta, pa)
+                tangents.append(PointPath(t0, t1, p0, p1, m0, m1))
+            else:
+                tangents.append(PointPath(t0, t1, p0, p1))
+        path.knob, path.tip = tangents
+        return path
+
+    def at(self, t: float) -> Tuple[Vector, Vector]:
+        """Return (knob, tip) in metres at time t (seconds)."""
+        if self.kind == 'points':
+            return self.knob.at(t), self.tip.at(t)
+        s = (t - self.t0) / self.h
+        if self.kind == 'pose':
+            q = slerp_quaternions(self.sample0.quaternion, self.sample1.quaternion, s)
+            origin = lerp(self.sample0.position, self.sample1.position, s)
+            knob_arm = rotate(q, self.knob_offset)
+            tip_arm = rotate(q, self.tip_offset)
+            return ((origin[0] + knob_arm[0], origin[1] + knob_arm[1], origin[2] + knob_arm[2]),
+                    (origin[0] + tip_arm[0], origin[1] + tip_arm[1], origin[2] + tip_arm[2]))
+        knob = lerp(self.sample0.knob, self.sample1.knob, s)
+        direction = slerp_vectors(self.direction0, self.direction1, s)
+        length = self.length0 + (self.length1 - self.length0) * s
+        return knob, (knob[0] + length * direction[0], knob[1] + length * direction[1],
+                      knob[2] + length * direction[2])
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (metres) on how far any bat point leaves its chord over [ta, tb]."""
+        if self.kind == 'points':
+            return max(self.knob.deviation(ta, tb), self.tip.deviation(ta, tb))
+        theta = self.angle * (tb - ta) / self.h
+        return self.lever * theta * theta / 8.0
