@@ -1,0 +1,1053 @@
+"""
+The stream detector: samples in, impact and near-miss events out.
+
+Pure Python + numpy: no rclpy, no rosbags. The ROS node and the bag tools both translate their
+messages into calls on one ``Detector`` and its events back into messages, so a bag gives the
+same impacts through both.
+
+Stamps at the boundary are integer nanoseconds (``header.stamp``); inside, times are float
+seconds relative to the first accepted stamp (absolute epoch nanoseconds do not fit a float).
+
+How samples become events:
+
+* Each stream (ball; bat as poses, or as knob and tip points that are paired by stamp, the
+  other point interpolated when their stamps differ) is checked and kept in a short buffer.
+  Bad samples are dropped and counted by reason, never processed.
+* The detector walks the union of all streams' sample times up to the watermark, the oldest of
+  the streams' newest usable stamps (for the spline model, the second newest: it needs the next
+  sample). Between two consecutive union times every stream is inside one of its own sample
+  intervals, so the motion model (``motion``) gives each body's path exactly by stamps, whatever
+  the rates, jitter or uneven steps. An interval inside a stream gap longer than ``max_gap`` is
+  not interpolated; a ``StreamGap`` event says so.
+* Each union interval is cut into sub-steps small enough for the chord error bound and solved
+  exactly (``solver``). The first contact is an ``Impact``; the detector is then disarmed until
+  the ball has separated from the bat by ``rearm_distance`` (trackers keep reporting the ball
+  inside or beyond the bat for frames after a hit). It also starts disarmed after a start, a
+  reset or a gap, until it has seen the ball clear of the bat: a ball already overlapping the
+  bat has no known first-contact time, and an invented one is worse than none.
+* A pass of the ball within ``near_miss_threshold`` of the bat without contact is a ``NearMiss``
+  at the closest approach, reported when the ball moves back out of the threshold.
+* Velocities at an impact come from samples up to the impact only (a real hit decelerates the
+  bat in the next frames, so an interpolant spanning the impact would under-read the speed).
+"""
+
+from bisect import bisect_right
+from collections import Counter
+from dataclasses import dataclass, field, fields
+import math
+import time
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+from .bat import BatGeometryError, BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
+from .motion import BatPath, BatSample, check_model, hermite_tangent, MotionError, PointPath
+from .motion import rotate, substeps_for
+from .solver import _profile_contact, profile_gap
+from .vectors import add, cross, dot, norm, scale, sub, Vector
+
+
+DROP_REASONS = (
+    'wrong_frame', 'non_finite', 'duplicate_stamp', 'out_of_order', 'bad_quaternion',
+    'zero_length_bat', 'bat_length_jump', 'speed_limit', 'unexpected_input')
+"""Every reason a sample can be dropped for (the keys of ``DetectorStats.dropped``)."""
+
+MPS_TO_MPH = 1.0 / 0.44704
+"""Metres per second to miles per hour."""
+
+
+class DetectorError(ValueError):
+    """A detector configuration that cannot work (bad value, unknown model or input)."""
+
+
+# ----------------------------------------------------------------------------------------------
+# Configuration
+
+
+@dataclass(frozen=True)
+class DetectorConfig:
+    """
+    Everything the detector needs to know; the node's parameters use the same names.
+
+    :ivar model: motion model between samples: ``'linear'``, ``'rigid'`` or ``'spline'``.
+    :ivar bat_input: ``'pose'`` (one pose stream) or ``'points'`` (knob and tip streams).
+    :ivar ball_radius: metres.
+    :ivar profile: the bat's radius profile (stations from the knob), scaled to knob-tip.
+    :ivar geometry: where knob and tip sit in the bat's body frame (pose input).
+    :ivar max_gap: longest time (s) between two samples of a stream that is interpolated.
+    :ivar max_chord_error: largest distance (m) a curved path may leave the chords solved.
+    :ivar rearm_distance: gap (m) the ball must clear after an impact before another.
+    :ivar near_miss_threshold: a pass with a smallest gap (m) below this is a near miss.
+    :ivar max_speed: fastest plausible speed (m/s) of any tracked point between samples.
+    :ivar bat_length_tolerance: knob-tip length change (m) beyond which a bat sample is a jump.
+    :ivar time_jump_reset: a stamp this far (s) behind its stream's newest resets the state.
+    :ivar frame_id: frame every input must be in; empty: the first sample's frame.
+    :ivar up_axis: unit vector up, for the attack angle.
+    :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
+    """
+
+    model: str = 'rigid'
+    bat_input: str = 'pose'
+    ball_radius: float = 0.0366
+    profile: BatProfile = WOOD_BAT_34
+    geometry: PoseBatGeometry = field(default_factory=PoseBatGeometry)
+    max_gap: float = 0.05
+    max_chord_error: float = 0.0005
+    rearm_distance: float = 0.1
+    near_miss_threshold: float = 0.15
+    max_speed: float = 150.0
+    bat_length_tolerance: float = 0.05
+    time_jump_reset: float = 1.0
+    frame_id: str = ''
+    up_axis: Vector = (0.0, 0.0, 1.0)
+    sweet_spot_from_tip: float = SWEET_SPOT_FROM_TIP
+
+    def __post_init__(self) -> None:
+        """
+        Check every value.
+
+        :raises DetectorError: a value out of its range, naming the field.
+        """
+        try:
+            check_model(self.model)
+        except MotionError as error:
+            raise DetectorError(str(error)) from error
+        if self.bat_input not in ('pose', 'points'):
+            raise DetectorError(f"bat_input must be 'pose' or 'points', got '{self.bat_input}'")
+        positive = ('ball_radius', 'max_gap', 'max_chord_error', 'max_speed',
+                    'bat_length_tolerance', 'time_jump_reset')
+        non_negative = ('rearm_distance', 'near_miss_threshold', 'sweet_spot_from_tip')
+        for name in positive + non_negative:
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0.0 \
+                    or (name in positive and value == 0.0):
+                bound = '> 0' if name in positive else '>= 0'
+                raise DetectorError(f'{name} must be a finite number {bound}, got {value!r}')
+        up = tuple(float(x) for x in self.up_axis)
+        length = math.sqrt(sum(x * x for x in up)) if len(up) == 3 else 0.0
+        if not (math.isfinite(length) and length > 0.0):
+            raise DetectorError(f'up_axis must be a non-zero 3-vector, got {self.up_axis!r}')
+        object.__setattr__(self, 'up_axis', tuple(x / length for x in up))
+
+    @classmethod
+    def from_parameters(cls, parameters: Mapping[str, Any]) -> 'DetectorConfig':
+        """
+        Build a config from flat parameters, as in the node's YAML file.
+
+        Keys are the field names, plus the bat description: ``bat_profile`` (flat list
+        ``[distance_from_knob, radius, ...]`` in metres, empty for the default wood bat),
+        ``bat_length`` (metres the profile was measured on), ``bat_radius`` (> 0 replaces the
+        profile by a capsule of that radius), ``bat_axis`` (body axis from knob to tip: x, y, z,
+        -x, -y, -z), ``knob_offset`` and ``tip_offset`` (signed distances along that axis, m).
+        Unknown keys are ignored (the node has parameters of its own).
+
+        :raises DetectorError: a value of the wrong type or out of range, naming the key.
+        """
+        known = {f.name for f in fields(cls)} - {'profile', 'geometry'}
+        values = {k: v for k, v in parameters.items() if k in known}
+        try:
+            for name in ('ball_radius', 'max_gap', 'max_chord_error', 'rearm_distance',
+                         'near_miss_threshold', 'max_speed', 'bat_length_tolerance',
+                         'time_jump_reset', 'sweet_spot_from_tip'):
+                if name in values:
+                    values[name] = float(values[name])
+            if 'up_axis' in values:
+                values['up_axis'] = tuple(float(x) for x in values['up_axis'])
+            profile = _profile_from_parameters(parameters)
+            geometry = PoseBatGeometry.along_axis(
+                str(parameters.get('bat_axis', 'z')),
+                float(parameters.get('knob_offset', 0.0)),
+                float(parameters.get('tip_offset', profile.length)))
+        except (TypeError, ValueError, BatGeometryError) as error:
+            raise DetectorError(f'bad bat or detector parameter: {error}') from error
+        return cls(profile=profile, geometry=geometry, **values)
+
+
+def _profile_from_parameters(parameters: Mapping[str, Any]) -> BatProfile:
+    bat_radius = float(parameters.get('bat_radius', 0.0))
+    flat = list(parameters.get('bat_profile', []) or [])
+    length = float(parameters.get('bat_length', 0.0)) or (
+        WOOD_BAT_34.length if not flat else float(flat[-2]))
+    if bat_radius > 0.0:
+        return BatProfile.constant(bat_radius, length)
+    if not flat:
+        return WOOD_BAT_34 if length == WOOD_BAT_34.length else BatProfile(
+            stations=tuple((d * length / WOOD_BAT_34.length, r)
+                           for d, r in WOOD_BAT_34.stations), length=length)
+    if len(flat) % 2:
+        raise BatGeometryError('bat_profile must list pairs: distance_from_knob, radius')
+    return BatProfile.from_sequence(list(zip(flat[::2], flat[1::2])), length)
+
+
+# ----------------------------------------------------------------------------------------------
+# Events
+
+
+@dataclass(frozen=True)
+class Impact:
+    """
+    First contact of a ball with the bat.
+
+    :ivar stamp_ns: the impact instant (ns, same clock as the input stamps).
+    :ivar point: contact point on the bat surface (m); ``normal``: unit, bat to ball.
+    :ivar bat_fraction: along knob-tip, 0 at the knob, 1 at the tip.
+    :ivar distance_from_knob_m, distance_from_tip_m: along the axis, metres.
+    :ivar feature: ``'side'``, ``'knob_end'`` or ``'tip_end'``.
+    :ivar bat_velocity: bat surface velocity at the contact point (m/s).
+    :ivar bat_angular_velocity: rad/s (world frame; without the roll about the bat's axis when
+        the bat came as knob and tip points).
+    :ivar sweet_spot_velocity: velocity (m/s) of the axis point ``sweet_spot_from_tip`` from
+        the tip; ``sweet_spot_speed_mps`` its norm (Statcast's bat speed).
+    :ivar bat_speed_at_contact_mps: speed of the bat surface at the contact point.
+    :ivar ball_velocity: m/s; ``ball_speed_mps`` its norm.
+    :ivar relative_normal_speed_mps: closing speed along the normal (positive approaching).
+    :ivar attack_angle_deg: vertical angle of the sweet spot's velocity (degrees, up > 0).
+    :ivar ball_position, knob, tip: where the bodies were at the impact (m).
+    :ivar model: motion model used.
+    :ivar interval_start_ns, interval_end_ns: the union sample interval the impact fell in.
+    :ivar velocities_from_history: False when too few samples before the impact existed and
+        the velocities had to come from the interval spanning it.
+    :ivar initially_overlapping: the contact was already there at the interval start.
+    """
+
+    stamp_ns: int
+    point: Vector
+    normal: Vector
+    bat_fraction: float
+    distance_from_knob_m: float
+    distance_from_tip_m: float
+    feature: str
+    bat_velocity: Vector
+    bat_angular_velocity: Vector
+    sweet_spot_velocity: Vector
+    sweet_spot_speed_mps: float
+    bat_speed_at_contact_mps: float
+    ball_velocity: Vector
+    ball_speed_mps: float
+    relative_normal_speed_mps: float
+    attack_angle_deg: float
+    ball_position: Vector
+    knob: Vector
+    tip: Vector
+    model: str
+    interval_start_ns: int
+    interval_end_ns: int
+    velocities_from_history: bool
+    initially_overlapping: bool
+
+
+@dataclass(frozen=True)
+class NearMiss:
+    """
+    A pass of the ball by the bat without contact, at the closest approach.
+
+    :ivar stamp_ns: closest approach (ns).
+    :ivar gap_m: smallest surface gap (m, > 0).
+    :ivar gap_vector: from the bat surface to the ball surface (m): +z means the bat passed
+        under the ball.
+    :ivar ball_position: ball centre at closest approach (m).
+    :ivar bat_fraction: where along knob-tip the bat came closest.
+    :ivar distance_from_tip_m: metres along the axis from the tip to that point.
+    """
+
+    stamp_ns: int
+    gap_m: float
+    gap_vector: Vector
+    ball_position: Vector
+    bat_fraction: float
+    distance_from_tip_m: float
+
+
+@dataclass(frozen=True)
+class StreamGap:
+    """A stream went longer than ``max_gap`` between samples; that span was not interpolated."""
+
+    stream: str
+    start_ns: int
+    end_ns: int
+
+
+@dataclass(frozen=True)
+class StateReset:
+    """The detector dropped its state; ``reason``: ``'time_jump_backwards'``, ``'requested'``."""
+
+    stamp_ns: int
+    reason: str
+
+
+Event = Union[Impact, NearMiss, StreamGap, StateReset]
+
+
+@dataclass
+class DetectorStats:
+    """
+    Counters for diagnostics.
+
+    :ivar received: samples offered, by stream (ball, bat_pose, knob, tip).
+    :ivar dropped: samples dropped, by reason (see ``DROP_REASONS``).
+    :ivar impacts, near_misses, gaps, resets: events emitted.
+    :ivar intervals: union intervals processed; ``substeps``: exact solves run on them.
+    :ivar last_processing_s, total_processing_s, max_processing_s, calls: wall time spent in
+        the detector per call.
+    :ivar newest_stamp_ns: newest accepted stamp of any stream (None before any).
+    """
+
+    received: Counter = field(default_factory=Counter)
+    dropped: Counter = field(default_factory=Counter)
+    impacts: int = 0
+    near_misses: int = 0
+    gaps: int = 0
+    resets: int = 0
+    intervals: int = 0
+    substeps: int = 0
+    last_processing_s: float = 0.0
+    total_processing_s: float = 0.0
+    max_processing_s: float = 0.0
+    calls: int = 0
+    newest_stamp_ns: Optional[int] = None
+
+    @property
+    def mean_processing_s(self) -> float:
+        """Mean wall time per call (seconds)."""
+        return self.total_processing_s / self.calls if self.calls else 0.0
+
+
+# ----------------------------------------------------------------------------------------------
+# Streams
+
+
+class _Stream:
+    """Accepted samples of one body: times (s, detector clock), stamps (ns), values, breaks."""
+
+    __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
+                 'path', 'reported_gap')
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.times: List[float] = []
+        self.stamps: List[int] = []
+        self.values: List[Any] = []
+        self.breaks: List[bool] = []  # True: this sample does not continue the previous one
+        self.speed_drops = 0
+        self.path_key: Optional[Tuple[int, int]] = None
+        self.path: Any = None
+        self.reported_gap: Optional[int] = None
+
+    def newest(self) -> Optional[int]:
+        return self.stamps[-1] if self.stamps else None
+
+    def append(self, t: float, stamp: int, value: Any, new_segment: bool) -> None:
+        self.times.append(t)
+        self.stamps.append(stamp)
+        self.values.append(value)
+        self.breaks.append(new_segment or not self.times[:-1])
+
+    def trim(self, before: float, keep: int = 4) -> None:
+        """Forget samples older than ``keep`` samples before time ``before``."""
+        if len(self.times) < 64:
+            return
+        index = bisect_right(self.times, before) - 1 - keep
+        if index > 0:
+            for buffer in (self.times, self.stamps, self.values, self.breaks):
+                del buffer[:index]
+            self.path_key = None
+
+    def interval(self, t: float) -> int:
+        """Index k of the sample interval [times[k], times[k+1]] that starts at or before t."""
+        return bisect_right(self.times, t) - 1
+
+    def continuous(self, k: int, max_gap: float) -> bool:
+        """Return whether samples k and k+1 are one segment no longer than ``max_gap``."""
+        return not self.breaks[k + 1] and self.times[k + 1] - self.times[k] <= max_gap
+
+
+# ----------------------------------------------------------------------------------------------
+# The detector
+
+
+class Detector:
+    """
+    Stateful impact detector: feed samples with ``add_*``, get events back.
+
+    Every ``add_*`` returns the events that sample made decidable (often none). ``finish()``
+    at the end of a recording processes what is left; ``reset()`` drops all state.
+
+    :param config: the detector configuration.
+    """
+
+    def __init__(self, config: Optional[DetectorConfig] = None) -> None:
+        self.config = config or DetectorConfig()
+        self.stats = DetectorStats()
+        self._segments = self.config.profile.segments()
+        self._max_radius = self.config.profile.max_radius
+        self._offsets = (tuple(float(x) for x in self.config.geometry.knob_offset),
+                         tuple(float(x) for x in self.config.geometry.tip_offset))
+        self._clear()
+
+    # ---- state ---------------------------------------------------------------------------
+
+    def _clear(self) -> None:
+        self._origin: Optional[int] = None
+        self._frame: Optional[str] = self.config.frame_id or None
+        self._ball = _Stream('ball')
+        self._bat = _Stream('bat')
+        self._knob = _Stream('knob')
+        self._tip = _Stream('tip')
+        self._pair_cursor: Optional[float] = None
+        self._cursor: Optional[float] = None
+        self._armed: Optional[bool] = None  # None: not yet seen clear of the bat
+        self._lengths: List[float] = []
+        self._length_drops = 0
+        self._episode: Optional[Dict[str, Any]] = None  # open near-miss episode
+        self._zone_clear = False  # armed and seen outside the near-miss threshold since
+
+    def reset(self, stamp_ns: int = 0, reason: str = 'requested') -> StateReset:
+        """
+        Drop every buffered sample and episode; counters are kept.
+
+        :returns: the ``StateReset`` event describing it.
+        """
+        self._clear()
+        self.stats.resets += 1
+        return StateReset(stamp_ns=int(stamp_ns), reason=reason)
+
+    @property
+    def watermark_ns(self) -> Optional[int]:
+        """Return the newest instant (ns) up to which everything has been processed."""
+        if self._cursor is None or self._origin is None:
+            return None
+        return self._stamp(self._cursor)
+
+    def _time(self, stamp: int) -> float:
+        return (stamp - self._origin) * 1e-9
+
+    def _stamp(self, t: float) -> int:
+        return self._origin + int(round(t * 1e9))
+
+    # ---- input ---------------------------------------------------------------------------
+
+    def add_ball(self, stamp_ns: int, position: Sequence[float],
+                 frame_id: str = '') -> List[Event]:
+        """
+        Add a ball centre sample (metres) stamped ``stamp_ns`` (header stamp, ns).
+
+        :returns: the events this sample made decidable.
+        """
+        return self._timed(self._add_ball, 'ball', stamp_ns, position, frame_id)
+
+    def add_bat_pose(self, stamp_ns: int, position: Sequence[float],
+                     quaternion: Sequence[float], frame_id: str = '') -> List[Event]:
+        """
+        Add a bat pose sample: position (m) and unit quaternion (x, y, z, w).
+
+        :returns: the events this sample made decidable.
+        """
+        return self._timed(self._add_bat_pose, 'bat_pose', stamp_ns, (position, quaternion),
+                           frame_id)
+
+    def add_knob(self, stamp_ns: int, position: Sequence[float],
+                 frame_id: str = '') -> List[Event]:
+        """
+        Add a knob sample (metres) when the bat comes as knob and tip points.
+
+        :returns: the events this sample made decidable.
+        """
+        return self._timed(self._add_end, 'knob', stamp_ns, position, frame_id)
+
+    def add_tip(self, stamp_ns: int, position: Sequence[float],
+                frame_id: str = '') -> List[Event]:
+        """
+        Add a tip (barrel end) sample (metres) when the bat comes as knob and tip points.
+
+        :returns: the events this sample made decidable.
+        """
+        return self._timed(self._add_end, 'tip', stamp_ns, position, frame_id)
+
+    def finish(self) -> List[Event]:
+        """
+        Process what is left at the end of a recording and close an open near miss.
+
+        :returns: the remaining events.
+        """
+        events: List[Event] = []
+        if self.config.model == 'spline':
+            self._advance(events, final=True)
+        self._close_episode(events)
+        return events
+
+    def _timed(self, handler, stream: str, stamp_ns: int, value: Any,
+               frame_id: str) -> List[Event]:
+        start = time.perf_counter()
+        self.stats.received[stream] += 1
+        events: List[Event] = []
+        reason = self._check_frame(frame_id)
+        if reason is None:
+            try:
+                reason = handler(stream, int(stamp_ns), value, events)
+            except (TypeError, ValueError) as error:
+                if isinstance(error, DetectorError):
+                    raise
+                reason = 'non_finite'  # not numbers at all
+        if reason is not None:
+            self.stats.dropped[reason] += 1
+        elapsed = time.perf_counter() - start
+        stats = self.stats
+        stats.calls += 1
+        stats.last_processing_s = elapsed
+        stats.total_processing_s += elapsed
+        if elapsed > stats.max_processing_s:
+            stats.max_processing_s = elapsed
+        return events
+
+    def _check_frame(self, frame_id: str) -> Optional[str]:
+        if not frame_id:
+            return None
+        if self._frame is None:
+            self._frame = frame_id
+            return None
+        return None if frame_id == self._frame else 'wrong_frame'
+
+    def _check_stamp(self, stream: _Stream, stamp: int, events: List[Event]) -> Optional[str]:
+        """Return a drop reason for a stamp, resetting on a jump backwards."""
+        newest = stream.newest()
+        if newest is None:
+            return None
+        if stamp == newest:
+            return 'duplicate_stamp'
+        if stamp < newest:
+            if (newest - stamp) * 1e-9 > self.config.time_jump_reset:
+                events.extend(self._close_and_reset(stamp))
+                return None
+            return 'out_of_order'
+        return None
+
+    def _close_and_reset(self, stamp: int) -> List[Event]:
+        events: List[Event] = []
+        self._close_episode(events)
+        events.append(self.reset(stamp, 'time_jump_backwards'))
+        return events
+
+    def _start_clock(self, stamp: int) -> None:
+        if self._origin is None:
+            self._origin = stamp
+        newest = self.stats.newest_stamp_ns
+        if newest is None or stamp > newest:
+            self.stats.newest_stamp_ns = stamp
+
+    def _speed_ok(self, stream: _Stream, t: float, points: Sequence[Vector],
+                  previous_points: Sequence[Vector]) -> Tuple[bool, bool]:
+        """Return (accept, new_segment) after the physical speed bound."""
+        if not stream.times:
+            return True, True
+        dt = t - stream.times[-1]
+        if dt > self.config.max_gap:
+            stream.speed_drops = 0
+            return True, True
+        limit = (self.config.max_speed * dt) ** 2
+        for p, q in zip(points, previous_points):
+            if (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2 > limit:
+                stream.speed_drops += 1
+                if stream.speed_drops >= 3:  # the body really moved: start a new segment
+                    stream.speed_drops = 0
+                    return True, True
+                return False, False
+        stream.speed_drops = 0
+        return True, False
+
+    def _add_ball(self, name: str, stamp: int, value: Sequence[float],
+                  events: List[Event]) -> Optional[str]:
+        x, y, z = (float(v) for v in value)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            return 'non_finite'
+        reason = self._check_stamp(self._ball, stamp, events)
+        if reason:
+            return reason
+        self._start_clock(stamp)
+        t = self._time(stamp)
+        point = (x, y, z)
+        previous = [self._ball.values[-1]] if self._ball.values else []
+        accept, new_segment = self._speed_ok(self._ball, t, [point], previous)
+        if not accept:
+            return 'speed_limit'
+        self._ball.append(t, stamp, point, new_segment)
+        self._advance(events)
+        return None
+
+    def _add_bat_pose(self, name: str, stamp: int, value: Tuple[Sequence[float], Sequence[float]],
+                      events: List[Event]) -> Optional[str]:
+        if self.config.bat_input != 'pose':
+            return 'unexpected_input'
+        position = tuple(float(v) for v in value[0])
+        quaternion = tuple(float(v) for v in value[1])
+        if len(position) != 3 or len(quaternion) != 4:
+            raise ValueError('a pose has 3 position and 4 quaternion components')
+        if not all(math.isfinite(v) for v in position + quaternion):
+            return 'non_finite'
+        magnitude = math.sqrt(sum(q * q for q in quaternion))
+        if abs(magnitude - 1.0) > 1e-3:
+            return 'bad_quaternion'
+        quaternion = tuple(q / magnitude for q in quaternion)
+        reason = self._check_stamp(self._bat, stamp, events)
+        if reason:
+            return reason
+        self._start_clock(stamp)
+        t = self._time(stamp)
+        knob_arm = rotate(quaternion, self._offsets[0])
+        tip_arm = rotate(quaternion, self._offsets[1])
+        knob = tuple(p + a for p, a in zip(position, knob_arm))
+        tip = tuple(p + a for p, a in zip(position, tip_arm))
+        sample = BatSample(knob=knob, tip=tip, position=position, quaternion=quaternion)
+        return self._accept_bat(t, stamp, sample, events, check_length=False)
+
+    def _accept_bat(self, t: float, stamp: int, sample: BatSample, events: List[Event],
+                    check_length: bool) -> Optional[str]:
+        if check_length:
+            length = math.dist(sample.knob, sample.tip)
+            if length < 1e-3:
+                return 'zero_length_bat'
+            if self._lengths:
+                reference = sorted(self._lengths)[len(self._lengths) // 2]
+                if abs(length - reference) > self.config.bat_length_tolerance:
+                    self._length_drops += 1
+                    if self._length_drops < 3:
+                        return 'bat_length_jump'
+                    self._lengths.clear()  # the bat really changed (re-calibration)
+            self._length_drops = 0
+            self._lengths.append(length)
+            if len(self._lengths) > 15:
+                del self._lengths[0]
+        previous = []
+        if self._bat.values:
+            previous = [self._bat.values[-1].knob, self._bat.values[-1].tip]
+        accept, new_segment = self._speed_ok(self._bat, t, [sample.knob, sample.tip], previous)
+        if not accept:
+            return 'speed_limit'
+        self._bat.append(t, stamp, sample, new_segment)
+        self._advance(events)
+        return None
+
+    def _add_end(self, name: str, stamp: int, value: Sequence[float],
+                 events: List[Event]) -> Optional[str]:
+        if self.config.bat_input != 'points':
+            return 'unexpected_input'
+        x, y, z = (float(v) for v in value)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            return 'non_finite'
+        stream = self._knob if name == 'knob' else self._tip
+        reason = self._check_stamp(stream, stamp, events)
+        if reason:
+            return reason
+        self._start_clock(stamp)
+        t = self._time(stamp)
+        stream.append(t, stamp, (x, y, z), False)
+        return self._pair(events)
+
+    def _pair(self, events: List[Event]) -> Optional[str]:
+        """Form bat samples at every knob or tip time both streams now cover."""
+        knob, tip = self._knob, self._tip
+        if not knob.times or not tip.times:
+            return None
+        ready = min(knob.times[-1], tip.times[-1])
+        start = self._pair_cursor
+        times = sorted({t for t in knob.times + tip.times
+                        if t <= ready and (start is None or t > start)})
+        reason = None
+        for t in times:
+            self._pair_cursor = t
+            ends = []
+            for stream in (knob, tip):
+                k = stream.interval(t)
+                if k < 0:
+                    break
+                if stream.times[k] == t:
+                    ends.append(stream.values[k])
+                elif k + 1 < len(stream.times) and \
+                        stream.times[k + 1] - stream.times[k] <= self.config.max_gap:
+                    s = (t - stream.times[k]) / (stream.times[k + 1] - stream.times[k])
+                    a, b = stream.values[k], stream.values[k + 1]
+                    ends.append(tuple(p + (q - p) * s for p, q in zip(a, b)))
+                else:
+                    break
+            if len(ends) == 2:
+                stamp = self._stamp(t)
+                reason = self._accept_bat(t, stamp, BatSample(knob=ends[0], tip=ends[1]),
+                                          events, check_length=True) or reason
+        knob.trim(self._pair_cursor or 0.0)
+        tip.trim(self._pair_cursor or 0.0)
+        return reason
+
+    # ---- processing ----------------------------------------------------------------------
+
+    def _ready(self, stream: _Stream, final: bool) -> Optional[float]:
+        if self.config.model == 'spline' and not final:
+            return stream.times[-2] if len(stream.times) >= 2 else None
+        return stream.times[-1] if stream.times else None
+
+    def _advance(self, events: List[Event], final: bool = False) -> None:
+        ball, bat = self._ball, self._bat
+        if not ball.times or not bat.times:
+            return
+        ready_ball, ready_bat = self._ready(ball, final), self._ready(bat, final)
+        if ready_ball is None or ready_bat is None:
+            return
+        watermark = min(ready_ball, ready_bat)
+        if self._cursor is None:
+            self._cursor = max(ball.times[0], bat.times[0])
+        if watermark <= self._cursor:
+            return
+        cursor = self._cursor
+        times = sorted({t for t in ball.times[ball.interval(cursor) + 1:] if t <= watermark}
+                       | {t for t in bat.times[bat.interval(cursor) + 1:] if t <= watermark})
+        for t in times:
+            if t > cursor:
+                self._interval(cursor, t, events)
+                cursor = t
+        self._cursor = cursor
+        ball.trim(cursor)
+        bat.trim(cursor)
+
+    def _paths(self, ta: float, tb: float, events: List[Event]) -> Optional[Tuple[Any, Any]]:
+        """Return (ball path, bat path) over [ta, tb], or None across a gap."""
+        paths = []
+        spline = self.config.model == 'spline'
+        for stream in (self._ball, self._bat):
+            k = stream.interval(ta)
+            if k < 0 or k + 1 >= len(stream.times):
+                return None
+            if not stream.continuous(k, self.config.max_gap):
+                if stream.reported_gap != stream.stamps[k]:
+                    stream.reported_gap = stream.stamps[k]
+                    self.stats.gaps += 1
+                    events.append(StreamGap(stream=stream.name, start_ns=stream.stamps[k],
+                                            end_ns=stream.stamps[k + 1]))
+                    self._close_episode(events)
+                    self._armed = None
+                    self._zone_clear = False
+                return None
+            key = (stream.stamps[k], stream.stamps[k + 1])
+            if stream.path_key != key:
+                before = k - 1 if k >= 1 and stream.continuous(k - 1, self.config.max_gap) \
+                    else None
+                after = k + 2 if k + 2 < len(stream.times) and stream.continuous(
+                    k + 1, self.config.max_gap) else None
+                stream.path = self._build_path(stream, k, before, after, spline)
+                stream.path_key = key
+            paths.append(stream.path)
+        return paths[0], paths[1]
+
+    def _build_path(self, stream: _Stream, k: int, before: Optional[int], after: Optional[int],
+                    spline: bool) -> Any:
+        t0, t1 = stream.times[k], stream.times[k + 1]
+        if stream is self._bat:
+            return BatPath.build(
+                self.config.model, t0, t1, stream.values[k], stream.values[k + 1],
+                before=None if before is None else (stream.times[before], stream.values[before]),
+                after=None if after is None else (stream.times[after], stream.values[after]),
+                offsets=self._offsets)
+        p0, p1 = stream.values[k], stream.values[k + 1]
+        if not spline:
+            return PointPath(t0, t1, p0, p1)
+        tb, pb = (stream.times[before], stream.values[before]) if before is not None \
+            else (None, None)
+        ta, pa = (stream.times[after], stream.values[after]) if after is not None \
+            else (None, None)
+        return PointPath(t0, t1, p0, p1, hermite_tangent(tb, pb, t0, p0, t1, p1),
+                         hermite_tangent(t0, p0, t1, p1, ta, pa))
+
+    def _interval(self, ta: float, tb: float, events: List[Event]) -> None:
+        paths = self._paths(ta, tb, events)
+        if paths is None:
+            return
+        self.stats.intervals += 1
+        ball_path, bat_path = paths
+        ball_a, ball_b = ball_path.at(ta), ball_path.at(tb)
+        knob_a, tip_a = bat_path.at(ta)
+        knob_b, tip_b = bat_path.at(tb)
+        deviation = ball_path.deviation(ta, tb) + bat_path.deviation(ta, tb)
+        config = self.config
+        reach = (0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b))
+                 + config.ball_radius + self._max_radius + deviation
+                 + max(config.near_miss_threshold, config.rearm_distance) + 1e-6)
+        if _closest_approach(ball_a, ball_b, knob_a, tip_a, knob_b, tip_b) > reach:
+            # far from the bat all through: separated (re-arm) and no near miss here
+            self._armed = True
+            self._zone_clear = True
+            self._close_episode(events)
+            return
+        n = substeps_for(deviation, config.max_chord_error)
+        self.stats.substeps += n
+        previous = (ta, ball_a, knob_a, tip_a)
+        for j in range(1, n + 1):
+            t1 = tb if j == n else ta + (tb - ta) * j / n
+            if j == n:
+                state = (t1, ball_b, knob_b, tip_b)
+            else:
+                knob, tip = bat_path.at(t1)
+                state = (t1, ball_path.at(t1), knob, tip)
+            if self._substep(previous, state, (ta, tb), paths, events):
+                return
+            previous = state
+
+    def _substep(self, start: Tuple, end: Tuple, interval: Tuple[float, float], paths: Tuple,
+                 events: List[Event]) -> bool:
+        """Solve one linear sub-step; return True when it produced an impact."""
+        t0, ball0, knob0, tip0 = start
+        t1, ball1, knob1, tip1 = end
+        config = self.config
+        gap0 = profile_gap(ball0, knob0, tip0, config.ball_radius, config.profile)
+        if self._armed is None and gap0[0] > 0.0:
+            self._armed = True
+        elif self._armed is False and gap0[0] > config.rearm_distance:
+            self._armed = True
+        if self._armed:
+            hit = _profile_contact(ball0, ball1, tip0, tip1, knob0, knob1, config.ball_radius,
+                                   config.profile, t1 - t0)
+            if hit is not None:
+                self._armed = False
+                self._zone_clear = False
+                self._episode = None  # the pass ended in contact: no near miss
+                events.append(self._impact(t0 + hit.time, hit, interval, paths))
+                self.stats.impacts += 1
+                return True
+        self._track_gap(t0, t1, (ball0, knob0, tip0), (ball1, knob1, tip1), gap0, events)
+        return False
+
+    # ---- near misses ---------------------------------------------------------------------
+
+    def _track_gap(self, t0: float, t1: float, start: Tuple, end: Tuple, gap0: Tuple,
+                   events: List[Event]) -> None:
+        """Follow the gap over a sub-step for near misses, then re-arm if the ball cleared."""
+        config = self.config
+        gap1 = profile_gap(*end, config.ball_radius, config.profile)
+        threshold = config.near_miss_threshold
+        # a pass is a near miss only when it came into the threshold from outside it while armed
+        # (not the ball leaving after a contact, nor one first seen close to the bat)
+        if self._armed and gap0[0] >= threshold:
+            self._zone_clear = True
+        if self._zone_clear and (min(gap0[0], gap1[0]) < threshold or self._episode is not None):
+            lowest = self._lowest_gap(t0, t1, start, end)
+            if lowest[1] < threshold:
+                if self._episode is None:
+                    self._episode = {'gap': math.inf}
+                if lowest[1] < self._episode['gap']:
+                    self._episode.update(time=lowest[0], gap=lowest[1], normal=lowest[2],
+                                         fraction=lowest[3], ball=lowest[4],
+                                         length=math.dist(*lowest[5]))
+        if self._episode is not None and gap1[0] >= threshold:
+            self._close_episode(events)
+        if self._armed is False and gap1[0] > config.rearm_distance:
+            self._armed = True
+
+    def _lowest_gap(self, t0: float, t1: float, start: Tuple, end: Tuple) -> Tuple:
+        """Smallest gap over a linear sub-step, by golden-section search (no input checking)."""
+        config = self.config
+
+        def state(s: float) -> Tuple:
+            ball = tuple(a + (b - a) * s for a, b in zip(start[0], end[0]))
+            knob = tuple(a + (b - a) * s for a, b in zip(start[1], end[1]))
+            tip = tuple(a + (b - a) * s for a, b in zip(start[2], end[2]))
+            return ball, knob, tip
+
+        def gap(s: float) -> float:
+            return profile_gap(*state(s), config.ball_radius, config.profile)[0]
+
+        ratio = (math.sqrt(5.0) - 1.0) / 2.0
+        lo, hi = 0.0, 1.0
+        x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
+        g1, g2 = gap(x1), gap(x2)
+        for _ in range(30):
+            if g1 < g2:
+                hi, x2, g2 = x2, x1, g1
+                x1 = hi - ratio * (hi - lo)
+                g1 = gap(x1)
+            else:
+                lo, x1, g1 = x1, x2, g2
+                x2 = lo + ratio * (hi - lo)
+                g2 = gap(x2)
+        candidates = [(gap(0.0), 0.0), (gap(1.0), 1.0), (min(g1, g2), x1 if g1 < g2 else x2)]
+        _, s = min(candidates)
+        ball, knob, tip = state(s)
+        value, normal, fraction = profile_gap(ball, knob, tip, config.ball_radius,
+                                              config.profile)
+        return (t0 + (t1 - t0) * s, value, normal, fraction, ball, (knob, tip))
+
+    def _close_episode(self, events: List[Event]) -> None:
+        episode = self._episode
+        self._episode = None
+        if episode is None or 'time' not in episode:
+            return
+        gap = episode['gap']
+        normal = episode['normal']
+        events.append(NearMiss(
+            stamp_ns=self._stamp(episode['time']), gap_m=gap,
+            gap_vector=tuple(gap * n for n in normal), ball_position=episode['ball'],
+            bat_fraction=episode['fraction'],
+            distance_from_tip_m=(1.0 - episode['fraction']) * episode['length']))
+        self.stats.near_misses += 1
+
+    # ---- impact details ------------------------------------------------------------------
+
+    def _impact(self, t: float, hit: Any, interval: Tuple[float, float], paths: Tuple) -> Impact:
+        ball_path, bat_path = paths
+        knob, tip = bat_path.at(t)
+        ball = ball_path.at(t)
+        length = math.dist(knob, tip)
+        history = True
+        ball_velocity = _point_velocity(self._ball, t, lambda v: v)
+        knob_velocity = _point_velocity(self._bat, t, lambda v: v.knob)
+        omega = _angular_velocity(self._bat, t)
+        if ball_velocity is None or knob_velocity is None or omega is None:
+            # not enough history before the impact: fall back to the spanning interval
+            history = False
+            ball_velocity = ball_velocity or _chord_velocity(ball_path, t)
+            knob_velocity = knob_velocity or _chord_velocity(_KnobOf(bat_path), t)
+            omega = omega or _chord_omega(bat_path, t)
+        sweet = max(0.0, length - self.config.sweet_spot_from_tip)
+        direction = tuple((e - k) / length for k, e in zip(knob, tip))
+        swing, roll = omega
+        omega = add(swing, scale(direction, roll))  # the roll turns about the bat's own axis
+        sweet_arm = tuple(sweet * d for d in direction)
+        sweet_velocity = add(knob_velocity, cross(omega, sweet_arm))
+        contact_arm = tuple(p - k for p, k in zip(hit.point, knob))
+        bat_velocity = add(knob_velocity, cross(omega, contact_arm))
+        sweet_speed = norm(sweet_velocity)
+        up = self.config.up_axis
+        attack = 0.0
+        if sweet_speed > 0.0:
+            rise = max(-1.0, min(1.0, dot(sweet_velocity, up) / sweet_speed))
+            attack = math.degrees(math.asin(rise))
+        closing = dot(tuple(b - v for b, v in zip(bat_velocity, ball_velocity)), hit.normal)
+        return Impact(
+            stamp_ns=self._stamp(t), point=tuple(hit.point), normal=tuple(hit.normal),
+            bat_fraction=hit.bat_fraction, distance_from_knob_m=hit.bat_fraction * length,
+            distance_from_tip_m=(1.0 - hit.bat_fraction) * length, feature=hit.feature,
+            bat_velocity=bat_velocity, bat_angular_velocity=omega,
+            sweet_spot_velocity=sweet_velocity, sweet_spot_speed_mps=sweet_speed,
+            bat_speed_at_contact_mps=norm(bat_velocity), ball_velocity=ball_velocity,
+            ball_speed_mps=norm(ball_velocity), relative_normal_speed_mps=closing,
+            attack_angle_deg=attack, ball_position=ball, knob=knob, tip=tip,
+            model=self.config.model, interval_start_ns=self._stamp(interval[0]),
+            interval_end_ns=self._stamp(interval[1]), velocities_from_history=history,
+            initially_overlapping=hit.initially_overlapping)
+
+
+# ----------------------------------------------------------------------------------------------
+# helpers
+
+
+def _closest_approach(ball0: Vector, ball1: Vector, knob0: Vector, tip0: Vector, knob1: Vector,
+                      tip1: Vector) -> float:
+    """Closest distance (m) of the ball to the bat's midpoint, both moving on chords."""
+    m0 = tuple(b - 0.5 * (k + e) for b, k, e in zip(ball0, knob0, tip0))
+    m1 = tuple(b - 0.5 * (k + e) for b, k, e in zip(ball1, knob1, tip1))
+    d = tuple(b - a for a, b in zip(m0, m1))
+    dd = dot(d, d)
+    s = 0.0 if dd == 0.0 else min(1.0, max(0.0, -dot(m0, d) / dd))
+    return norm(tuple(a + b * s for a, b in zip(m0, d)))
+
+
+def _history(stream: _Stream, t: float) -> List[int]:
+    """Return indices of up to three samples at or before t in t's segment, oldest first."""
+    k = stream.interval(t)
+    indices = []
+    while k >= 0 and len(indices) < 3:
+        indices.insert(0, k)
+        if stream.breaks[k]:
+            break
+        k -= 1
+    return indices
+
+
+def _point_velocity(stream: _Stream, t: float, pick) -> Optional[Vector]:
+    """Velocity (m/s) at t of the parabola through the last three samples up to t."""
+    indices = _history(stream, t)
+    if len(indices) < 2:
+        return None
+    if len(indices) == 2:
+        i, j = indices
+        return tuple((b - a) / (stream.times[j] - stream.times[i])
+                     for a, b in zip(pick(stream.values[i]), pick(stream.values[j])))
+    (t0, t1, t2) = (stream.times[i] for i in indices)
+    (p0, p1, p2) = (pick(stream.values[i]) for i in indices)
+    w0 = ((t - t1) + (t - t2)) / ((t0 - t1) * (t0 - t2))
+    w1 = ((t - t0) + (t - t2)) / ((t1 - t0) * (t1 - t2))
+    w2 = ((t - t0) + (t - t1)) / ((t2 - t0) * (t2 - t1))
+    return tuple(w0 * a + w1 * b + w2 * c for a, b, c in zip(p0, p1, p2))
+
+
+def _rotation(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
+    """
+    Return how the bat turned from sample a to sample b.
+
+    :returns: (swing rotation vector: axis times angle in radians, world frame, across the
+        bat; roll angle about the bat's own axis in radians, 0 for knob/tip points). The swing
+        part comes from the knob-to-tip directions, so a roll of the bat cannot leak into it.
+    """
+    d0 = sub(a.tip, a.knob)
+    d1 = sub(b.tip, b.knob)
+    axis = cross(d0, d1)
+    sine = norm(axis)
+    angle = math.atan2(sine, dot(d0, d1))
+    swing = scale(axis, angle / sine) if sine > 0.0 else (0.0, 0.0, 0.0)
+    if a.quaternion is None or b.quaternion is None:
+        return swing, 0.0
+    x0, y0, z0, w0 = a.quaternion
+    x1, y1, z1, w1 = b.quaternion
+    # q = q1 * conj(q0), the world-frame rotation from a to b
+    w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
+    x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
+    y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0
+    z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    vector_part = math.sqrt(x * x + y * y + z * z)
+    mean_axis = add(d0, d1)
+    length = norm(mean_axis)
+    if vector_part == 0.0 or length == 0.0:
+        return swing, 0.0
+    full = scale((x, y, z), 2.0 * math.atan2(vector_part, w) / vector_part)
+    return swing, dot(full, mean_axis) / length
+
+
+def _angular_velocity(stream: _Stream, t: float) -> Optional[Tuple[Vector, float]]:
+    """
+    Return the bat's swing angular velocity (rad/s) and roll rate (rad/s) at t.
+
+    Both are extrapolated linearly from the last two rotations between samples up to t (each
+    rate belongs to the middle of its interval); None with fewer than two samples.
+    """
+    indices = _history(stream, t)
+    if len(indices) < 2:
+        return None
+    rates = []
+    for i, j in zip(indices[:-1], indices[1:]):
+        h = stream.times[j] - stream.times[i]
+        swing, roll = _rotation(stream.values[i], stream.values[j])
+        rates.append((0.5 * (stream.times[i] + stream.times[j]), scale(swing, 1.0 / h), roll / h))
+    if len(rates) == 1:
+        return rates[0][1], rates[0][2]
+    (ma, wa, ra), (mb, wb, rb) = rates
+    s = (t - mb) / (mb - ma)
+    return tuple(b + (b - a) * s for a, b in zip(wa, wb)), rb + (rb - ra) * s
+
+
+class _KnobOf:
+    """The knob of a bat path, as a point path (for the chord fallback)."""
+
+    def __init__(self, bat_path: BatPath) -> None:
+        self.bat_path = bat_path
+        self.t0, self.h = bat_path.t0, bat_path.h
+
+    def at(self, t: float) -> Vector:
+        return self.bat_path.at(t)[0]
+
+
+def _chord_velocity(path: Any, t: float) -> Vector:
+    a, b = path.at(path.t0), path.at(path.t0 + path.h)
+    return tuple((q - p) / path.h for p, q in zip(a, b))
+
+
+def _chord_omega(bat_path: BatPath, t: float) -> Tuple[Vector, float]:
+    knob0, tip0 = bat_path.at(bat_path.t0)
+    knob1, tip1 = bat_path.at(bat_path.t0 + bat_path.h)
+    swing, roll = _rotation(BatSample(knob0, tip0, None, bat_path.sample0.quaternion),
+                            BatSample(knob1, tip1, None, bat_path.sample1.quaternion))
+    return scale(swing, 1.0 / bat_path.h), roll / bat_path.h
