@@ -399,6 +399,21 @@ class Detector:
         self._episode: Optional[Dict[str, Any]] = None  # open near-miss episode
         self._zone_clear = False  # armed and seen outside the near-miss threshold since
 
+    RESTART_FIELDS = ('model', 'bat_input', 'profile', 'geometry', 'frame_id')
+    """Config fields that cannot change on a running detector (they shape its buffers)."""
+
+    def reconfigure(self, config: DetectorConfig) -> None:
+        """
+        Swap in a new configuration that differs only in thresholds.
+
+        :raises DetectorError: the new config changes one of ``RESTART_FIELDS``.
+        """
+        changed = [name for name in self.RESTART_FIELDS
+                   if getattr(config, name) != getattr(self.config, name)]
+        if changed:
+            raise DetectorError(f"{', '.join(changed)} cannot change while running: restart")
+        self.config = config
+
     def reset(self, stamp_ns: int = 0, reason: str = 'requested') -> StateReset:
         """
         Drop every buffered sample and episode; counters are kept.

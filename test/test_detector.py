@@ -336,3 +336,15 @@ def test_bad_parameters_are_refused(parameters: dict, word: str) -> None:
     """Malformed bat parameters raise DetectorError with a reason."""
     with pytest.raises(DetectorError, match=word):
         DetectorConfig.from_parameters(parameters)
+
+
+def test_reconfigure_takes_thresholds_and_refuses_the_rest() -> None:
+    """Thresholds change on a running detector; the model or the bat input do not."""
+    detector = Detector(DetectorConfig())
+    detector.reconfigure(DetectorConfig(near_miss_threshold=0.3, max_gap=0.1))
+    assert detector.config.near_miss_threshold == 0.3 and detector.config.max_gap == 0.1
+    with pytest.raises(DetectorError, match='model'):
+        detector.reconfigure(DetectorConfig(model='spline'))
+    with pytest.raises(DetectorError, match='bat_input'):
+        detector.reconfigure(DetectorConfig(bat_input='points'))
+    assert detector.config.model == 'rigid'
