@@ -476,6 +476,31 @@ class Detector:
         """
         return self._timed(self._add_end, 'tip', stamp_ns, position, frame_id)
 
+    ROLES = ('ball', 'bat_pose', 'knob', 'tip')
+    """Sample roles accepted by ``add``."""
+
+    def add(self, role: str, stamp_ns: int, values: Sequence[float],
+            frame_id: str = '') -> List[Event]:
+        """
+        Add a sample by role: the one entry point for message adapters (node, bag replay).
+
+        :param role: ``'ball'``, ``'knob'`` or ``'tip'`` with values (x, y, z) in metres, or
+            ``'bat_pose'`` with values (px, py, pz, qx, qy, qz, qw).
+        :param stamp_ns: header stamp (ns).
+        :param frame_id: the header's frame.
+        :returns: the events this sample made decidable.
+        :raises DetectorError: an unknown role (a programming error, not bad data).
+        """
+        if role == 'ball':
+            return self.add_ball(stamp_ns, values, frame_id)
+        if role == 'bat_pose':
+            return self.add_bat_pose(stamp_ns, values[:3], values[3:], frame_id)
+        if role == 'knob':
+            return self.add_knob(stamp_ns, values, frame_id)
+        if role == 'tip':
+            return self.add_tip(stamp_ns, values, frame_id)
+        raise DetectorError(f"role must be one of {', '.join(self.ROLES)}, got '{role}'")
+
     def finish(self) -> List[Event]:
         """
         Process what is left at the end of a recording and close an open near miss.

@@ -348,3 +348,20 @@ def test_reconfigure_takes_thresholds_and_refuses_the_rest() -> None:
     with pytest.raises(DetectorError, match='bat_input'):
         detector.reconfigure(DetectorConfig(bat_input='points'))
     assert detector.config.model == 'rigid'
+
+
+def test_add_by_role_dispatches_like_the_typed_calls(truth_s: float) -> None:
+    """``add(role, ...)`` gives the same impact as the typed calls; unknown roles raise."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    events = []
+    ball = pitch()
+    for i in range(72):
+        t = i / 360.0
+        stamp = BASE_NS + int(round(t * 1e9))
+        position, quaternion = pose(t)
+        events += detector.add('ball', stamp, tuple(ball(t)), 'world')
+        events += detector.add('bat_pose', stamp, tuple(position) + tuple(quaternion), 'world')
+    typed = feed(Detector(DetectorConfig(bat_input='pose')), pitch(), bat_as='pose')
+    assert impacts(events + detector.finish()) == impacts(typed)
+    with pytest.raises(DetectorError, match='role'):
+        detector.add('glove', BASE_NS, (0, 0, 0))
