@@ -62,6 +62,7 @@ class BatProfile:
                     'station distances must increase strictly within [0, length], '
                     f'got {distance!r} after {previous!r} (length {self.length!r})')
             previous = distance
+        object.__setattr__(self, '_segments', self._build_segments())
 
     @classmethod
     def constant(cls, radius: float, length: float = 1.0) -> 'BatProfile':
@@ -96,6 +97,9 @@ class BatProfile:
         Fractions are of the knob-to-tip distance (0 at the knob, 1 at the tip). One station
         gives a single sphere (start == end).
         """
+        return self._segments
+
+    def _build_segments(self) -> Tuple[Tuple[float, float, float], ...]:
         if len(self.stations) == 1:
             distance, radius = self.stations[0]
             fraction = distance / self.length

@@ -44,7 +44,6 @@ from .motion import rotate, substeps_for
 from .solver import _profile_contact, profile_gap
 from .vectors import add, cross, dot, norm, scale, sub, Vector
 
-
 DROP_REASONS = (
     'wrong_frame', 'non_finite', 'duplicate_stamp', 'out_of_order', 'bad_quaternion',
     'zero_length_bat', 'bat_length_jump', 'speed_limit', 'unexpected_input')
@@ -338,7 +337,7 @@ class _Stream:
         self.times.append(t)
         self.stamps.append(stamp)
         self.values.append(value)
-        self.breaks.append(new_segment or not self.times[:-1])
+        self.breaks.append(new_segment or len(self.times) == 1)
 
     def trim(self, before: float, keep: int = 4) -> None:
         """Forget samples older than ``keep`` samples before time ``before``."""
@@ -397,6 +396,7 @@ class Detector:
         self._lengths: List[float] = []
         self._length_drops = 0
         self._episode: Optional[Dict[str, Any]] = None  # open near-miss episode
+        self._last_gap: Optional[Tuple] = None  # (t, state, gap) last computed
         self._zone_clear = False  # armed and seen outside the near-miss threshold since
 
     RESTART_FIELDS = ('model', 'bat_input', 'profile', 'geometry', 'frame_id')
@@ -594,8 +594,9 @@ class Detector:
 
     def _add_ball(self, name: str, stamp: int, value: Sequence[float],
                   events: List[Event]) -> Optional[str]:
-        x, y, z = (float(v) for v in value)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+        x, y, z = value
+        x, y, z = float(x), float(y), float(z)
+        if x * 0.0 + y * 0.0 + z * 0.0 != 0.0:  # inf or NaN
             return 'non_finite'
         reason = self._check_stamp(self._ball, stamp, events)
         if reason:
@@ -615,25 +616,25 @@ class Detector:
                       events: List[Event]) -> Optional[str]:
         if self.config.bat_input != 'pose':
             return 'unexpected_input'
-        position = tuple(float(v) for v in value[0])
-        quaternion = tuple(float(v) for v in value[1])
-        if len(position) != 3 or len(quaternion) != 4:
-            raise ValueError('a pose has 3 position and 4 quaternion components')
-        if not all(math.isfinite(v) for v in position + quaternion):
+        px, py, pz = value[0]
+        qx, qy, qz, qw = value[1]
+        px, py, pz = float(px), float(py), float(pz)
+        qx, qy, qz, qw = float(qx), float(qy), float(qz), float(qw)
+        # each product is 0.0 for a finite number and NaN for inf or NaN (and cannot overflow)
+        if px * 0.0 + py * 0.0 + pz * 0.0 + qx * 0.0 + qy * 0.0 + qz * 0.0 + qw * 0.0 != 0.0:
             return 'non_finite'
-        magnitude = math.sqrt(sum(q * q for q in quaternion))
+        magnitude = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
         if abs(magnitude - 1.0) > 1e-3:
             return 'bad_quaternion'
-        quaternion = tuple(q / magnitude for q in quaternion)
+        position = (px, py, pz)
+        quaternion = (qx / magnitude, qy / magnitude, qz / magnitude, qw / magnitude)
         reason = self._check_stamp(self._bat, stamp, events)
         if reason:
             return reason
         self._start_clock(stamp)
         t = self._time(stamp)
-        knob_arm = rotate(quaternion, self._offsets[0])
-        tip_arm = rotate(quaternion, self._offsets[1])
-        knob = tuple(p + a for p, a in zip(position, knob_arm))
-        tip = tuple(p + a for p, a in zip(position, tip_arm))
+        knob = add(position, rotate(quaternion, self._offsets[0]))
+        tip = add(position, rotate(quaternion, self._offsets[1]))
         sample = BatSample(knob=knob, tip=tip, position=position, quaternion=quaternion)
         return self._accept_bat(t, stamp, sample, events, check_length=False)
 
@@ -668,8 +669,9 @@ class Detector:
                  events: List[Event]) -> Optional[str]:
         if self.config.bat_input != 'points':
             return 'unexpected_input'
-        x, y, z = (float(v) for v in value)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+        x, y, z = value
+        x, y, z = float(x), float(y), float(z)
+        if x * 0.0 + y * 0.0 + z * 0.0 != 0.0:  # inf or NaN
             return 'non_finite'
         stream = self._knob if name == 'knob' else self._tip
         reason = self._check_stamp(stream, stamp, events)
@@ -728,26 +730,35 @@ class Detector:
         ready_ball, ready_bat = self._ready(ball, final), self._ready(bat, final)
         if ready_ball is None or ready_bat is None:
             return
-        watermark = min(ready_ball, ready_bat)
-        if self._cursor is None:
-            self._cursor = max(ball.times[0], bat.times[0])
-        if watermark <= self._cursor:
-            return
+        watermark = ready_ball if ready_ball < ready_bat else ready_bat
         cursor = self._cursor
-        times = sorted({t for t in ball.times[ball.interval(cursor) + 1:] if t <= watermark}
-                       | {t for t in bat.times[bat.interval(cursor) + 1:] if t <= watermark})
-        for t in times:
-            if t > cursor:
-                self._interval(cursor, t, events)
-                cursor = t
+        if cursor is None:
+            cursor = self._cursor = max(ball.times[0], bat.times[0])
+        if watermark <= cursor:
+            return
+        # walk the union of both streams' sample times in (cursor, watermark]
+        ball_times, bat_times = ball.times, bat.times
+        i = bisect_right(ball_times, cursor)
+        j = bisect_right(bat_times, cursor)
+        while True:
+            a = ball_times[i] if i < len(ball_times) else math.inf
+            b = bat_times[j] if j < len(bat_times) else math.inf
+            t = a if a < b else b
+            if t > watermark:
+                break
+            if a == t:
+                i += 1
+            if b == t:
+                j += 1
+            self._interval(cursor, t, events)
+            cursor = t
         self._cursor = cursor
         ball.trim(cursor)
         bat.trim(cursor)
 
-    def _paths(self, ta: float, tb: float, events: List[Event]) -> Optional[Tuple[Any, Any]]:
-        """Return (ball path, bat path) over [ta, tb], or None across a gap."""
-        paths = []
-        spline = self.config.model == 'spline'
+    def _locate(self, ta: float, events: List[Event]) -> Optional[Tuple[int, int]]:
+        """Return each stream's sample interval index holding ta, or None across a gap."""
+        indices = []
         for stream in (self._ball, self._bat):
             k = stream.interval(ta)
             if k < 0 or k + 1 >= len(stream.times):
@@ -762,16 +773,84 @@ class Detector:
                     self._armed = None
                     self._zone_clear = False
                 return None
+            indices.append(k)
+        return indices[0], indices[1]
+
+    def _neighbours(self, stream: _Stream, k: int) -> Tuple[Optional[int], Optional[int]]:
+        """Return the samples before k and after k + 1 in the same segment (or None)."""
+        max_gap = self.config.max_gap
+        before = k - 1 if k >= 1 and stream.continuous(k - 1, max_gap) else None
+        after = k + 2 if k + 2 < len(stream.times) and stream.continuous(k + 1, max_gap) \
+            else None
+        return before, after
+
+    def _paths(self, ball_k: int, bat_k: int) -> Tuple[Any, Any]:
+        """Return (ball path, bat path) over the sample intervals ball_k and bat_k."""
+        paths = []
+        spline = self.config.model == 'spline'
+        for stream, k in ((self._ball, ball_k), (self._bat, bat_k)):
             key = (stream.stamps[k], stream.stamps[k + 1])
             if stream.path_key != key:
-                before = k - 1 if k >= 1 and stream.continuous(k - 1, self.config.max_gap) \
-                    else None
-                after = k + 2 if k + 2 < len(stream.times) and stream.continuous(
-                    k + 1, self.config.max_gap) else None
+                before, after = self._neighbours(stream, k)
                 stream.path = self._build_path(stream, k, before, after, spline)
                 stream.path_key = key
             paths.append(stream.path)
         return paths[0], paths[1]
+
+    def _bulge_bound(self, stream: _Stream, k: int, pick) -> float:
+        """
+        Bound (m) how far a point's spline over sample interval k leaves its chord.
+
+        With tangents from the three-point rule, p(s) - chord(s) = c (s^2 - s) + d (s^3 - s)
+        and |c| / 4 + 0.385 |d| <= 3.04 |D| + 0.885 (h / h_prev) |D_prev| +
+        0.635 (h / h_next) |D_next|, D the chords; no path needs to be built for it.
+        """
+        times, values = stream.times, stream.values
+        h = times[k + 1] - times[k]
+        bound = 3.04 * math.dist(pick(values[k]), pick(values[k + 1]))
+        before, after = self._neighbours(stream, k)
+        if before is not None:
+            bound += 0.885 * h / (times[k] - times[before]) * math.dist(
+                pick(values[before]), pick(values[k]))
+        if after is not None:
+            bound += 0.635 * h / (times[after] - times[k + 1]) * math.dist(
+                pick(values[k + 1]), pick(values[after]))
+        return bound
+
+    def _clearly_apart(self, ball_k: int, bat_k: int, margin: float) -> bool:
+        """
+        Return whether ball and bat stay more than ``margin`` apart over both sample intervals.
+
+        Decided from the raw samples (no path built): each body's path lies in a sphere around
+        its chord's middle, grown by a bound on the model's curvature: none for chords; for a
+        rigid turn, the sagitta is at most half the chord of the rotating part; for the spline,
+        ``_bulge_bound``.
+        """
+        ball, bat = self._ball, self._bat
+        b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
+        s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
+        k0, e0, k1, e1 = s0.knob, s0.tip, s1.knob, s1.tip
+        ball_centre = ((b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5)
+        ball_radius = 0.5 * math.dist(b0, b1)
+        bat_centre = ((k0[0] + e0[0] + k1[0] + e1[0]) * 0.25,
+                      (k0[1] + e0[1] + k1[1] + e1[1]) * 0.25,
+                      (k0[2] + e0[2] + k1[2] + e1[2]) * 0.25)
+        bat_radius = max(math.dist(k0, bat_centre), math.dist(e0, bat_centre),
+                         math.dist(k1, bat_centre), math.dist(e1, bat_centre))
+        model = self.config.model
+        if model == 'rigid':
+            turning = max(math.dist(k0, k1), math.dist(e0, e1))
+            if s0.position is not None:
+                reference = math.dist(s0.position, s1.position)
+            else:
+                # knob moves on its chord, the length changes linearly: both count in full
+                reference = math.dist(k0, k1) + 2.0 * abs(math.dist(k0, e0) - math.dist(k1, e1))
+            bat_radius += 0.5 * (turning + reference)
+        elif model == 'spline':
+            ball_radius += self._bulge_bound(ball, ball_k, _same)
+            bat_radius += max(self._bulge_bound(bat, bat_k, _knob_of),
+                              self._bulge_bound(bat, bat_k, _tip_of))
+        return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
 
     def _build_path(self, stream: _Stream, k: int, before: Optional[int], after: Optional[int],
                     spline: bool) -> Any:
@@ -793,28 +872,35 @@ class Detector:
                          hermite_tangent(t0, p0, t1, p1, ta, pa))
 
     def _interval(self, ta: float, tb: float, events: List[Event]) -> None:
-        paths = self._paths(ta, tb, events)
-        if paths is None:
+        located = self._locate(ta, events)
+        if located is None:
             return
         self.stats.intervals += 1
+        config = self.config
+        margin = (config.ball_radius + self._max_radius + 1e-6
+                  + max(config.near_miss_threshold, config.rearm_distance))
+        if self._clearly_apart(located[0], located[1], margin):
+            self._far(events)
+            return
+        paths = self._paths(*located)
         ball_path, bat_path = paths
+        apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
+        if apart > margin:
+            # the bounding spheres of both whole sample intervals are clear: far apart
+            self._far(events)
+            return
         ball_a, ball_b = ball_path.at(ta), ball_path.at(tb)
         knob_a, tip_a = bat_path.at(ta)
         knob_b, tip_b = bat_path.at(tb)
         deviation = ball_path.deviation(ta, tb) + bat_path.deviation(ta, tb)
-        config = self.config
-        reach = (0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b))
-                 + config.ball_radius + self._max_radius + deviation
-                 + max(config.near_miss_threshold, config.rearm_distance) + 1e-6)
+        reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
         if _closest_approach(ball_a, ball_b, knob_a, tip_a, knob_b, tip_b) > reach:
-            # far from the bat all through: separated (re-arm) and no near miss here
-            self._armed = True
-            self._zone_clear = True
-            self._close_episode(events)
+            self._far(events)
             return
         n = substeps_for(deviation, config.max_chord_error)
         self.stats.substeps += n
         previous = (ta, ball_a, knob_a, tip_a)
+        gap_previous = self._gap_at(previous)
         for j in range(1, n + 1):
             t1 = tb if j == n else ta + (tb - ta) * j / n
             if j == n:
@@ -822,20 +908,37 @@ class Detector:
             else:
                 knob, tip = bat_path.at(t1)
                 state = (t1, ball_path.at(t1), knob, tip)
-            if self._substep(previous, state, (ta, tb), paths, events):
+            gap = self._gap_at(state)
+            if self._substep(previous, state, gap_previous, gap, (ta, tb), paths, events):
                 return
-            previous = state
+            previous, gap_previous = state, gap
 
-    def _substep(self, start: Tuple, end: Tuple, interval: Tuple[float, float], paths: Tuple,
-                 events: List[Event]) -> bool:
-        """Solve one linear sub-step; return True when it produced an impact."""
+    def _gap_at(self, state: Tuple) -> float:
+        """Return the gap (m) at a state (t, ball, knob, tip), reusing the last one computed."""
+        cached = self._last_gap
+        if cached is not None and cached[0] == state[0] and cached[1] == state[1:]:
+            return cached[2]
+        gap = profile_gap(state[1], state[2], state[3], self.config.ball_radius,
+                          self.config.profile)[0]
+        self._last_gap = (state[0], state[1:], gap)
+        return gap
+
+    def _far(self, events: List[Event]) -> None:
+        """Note an interval with the ball far from the bat all through it."""
+        self._armed = True  # separated: re-armed, and clear of the near-miss zone
+        self._zone_clear = True
+        if self._episode is not None:
+            self._close_episode(events)
+
+    def _substep(self, start: Tuple, end: Tuple, gap0: float, gap1: float,
+                 interval: Tuple[float, float], paths: Tuple, events: List[Event]) -> bool:
+        """Solve one linear sub-step between states (t, ball, knob, tip); True on an impact."""
         t0, ball0, knob0, tip0 = start
         t1, ball1, knob1, tip1 = end
         config = self.config
-        gap0 = profile_gap(ball0, knob0, tip0, config.ball_radius, config.profile)
-        if self._armed is None and gap0[0] > 0.0:
+        if self._armed is None and gap0 > 0.0:
             self._armed = True
-        elif self._armed is False and gap0[0] > config.rearm_distance:
+        elif self._armed is False and gap0 > config.rearm_distance:
             self._armed = True
         if self._armed:
             hit = _profile_contact(ball0, ball1, tip0, tip1, knob0, knob1, config.ball_radius,
@@ -847,44 +950,53 @@ class Detector:
                 events.append(self._impact(t0 + hit.time, hit, interval, paths))
                 self.stats.impacts += 1
                 return True
-        self._track_gap(t0, t1, (ball0, knob0, tip0), (ball1, knob1, tip1), gap0, events)
+        self._track_gap(start, end, gap0, gap1, events)
         return False
 
     # ---- near misses ---------------------------------------------------------------------
 
-    def _track_gap(self, t0: float, t1: float, start: Tuple, end: Tuple, gap0: Tuple,
+    def _track_gap(self, start: Tuple, end: Tuple, gap0: float, gap1: float,
                    events: List[Event]) -> None:
-        """Follow the gap over a sub-step for near misses, then re-arm if the ball cleared."""
+        """
+        Follow the gap over a sub-step for near misses, then re-arm if the ball cleared.
+
+        An open episode keeps the sub-steps on both sides of its smallest end-point gap; the
+        closest approach lies in one of them and is refined once, when the episode closes.
+        """
         config = self.config
-        gap1 = profile_gap(*end, config.ball_radius, config.profile)
         threshold = config.near_miss_threshold
         # a pass is a near miss only when it came into the threshold from outside it while armed
         # (not the ball leaving after a contact, nor one first seen close to the bat)
-        if self._armed and gap0[0] >= threshold:
+        if self._armed and gap0 >= threshold:
             self._zone_clear = True
-        if self._zone_clear and (min(gap0[0], gap1[0]) < threshold or self._episode is not None):
-            lowest = self._lowest_gap(t0, t1, start, end)
-            if lowest[1] < threshold:
-                if self._episode is None:
-                    self._episode = {'gap': math.inf}
-                if lowest[1] < self._episode['gap']:
-                    self._episode.update(time=lowest[0], gap=lowest[1], normal=lowest[2],
-                                         fraction=lowest[3], ball=lowest[4],
-                                         length=math.dist(*lowest[5]))
-        if self._episode is not None and gap1[0] >= threshold:
-            self._close_episode(events)
-        if self._armed is False and gap1[0] > config.rearm_distance:
+        episode = self._episode
+        if self._zone_clear and (gap0 < threshold or gap1 < threshold) and episode is None:
+            episode = self._episode = {'gap': math.inf, 'around': [], 'follow': False}
+        if episode is not None:
+            if episode['follow']:
+                episode['around'].append((start, end))
+                episode['follow'] = False
+            if gap0 < episode['gap']:
+                episode.update(gap=gap0, around=[(start, end)], follow=False)
+            if gap1 < episode['gap']:
+                episode.update(gap=gap1, around=[(start, end)], follow=True)
+            if gap1 >= threshold:
+                self._close_episode(events)
+        if self._armed is False and gap1 > config.rearm_distance:
             self._armed = True
 
-    def _lowest_gap(self, t0: float, t1: float, start: Tuple, end: Tuple) -> Tuple:
-        """Smallest gap over a linear sub-step, by golden-section search (no input checking)."""
+    def _lowest_gap(self, start: Tuple, end: Tuple) -> Tuple:
+        """
+        Find the smallest gap over a linear sub-step, by golden-section search.
+
+        :returns: (t, gap, normal, fraction, ball, (knob, tip)) at the smallest gap found.
+        """
         config = self.config
+        t0, t1 = start[0], end[0]
 
         def state(s: float) -> Tuple:
-            ball = tuple(a + (b - a) * s for a, b in zip(start[0], end[0]))
-            knob = tuple(a + (b - a) * s for a, b in zip(start[1], end[1]))
-            tip = tuple(a + (b - a) * s for a, b in zip(start[2], end[2]))
-            return ball, knob, tip
+            return tuple(tuple(a + (b - a) * s for a, b in zip(p, q))
+                         for p, q in zip(start[1:], end[1:]))
 
         def gap(s: float) -> float:
             return profile_gap(*state(s), config.ball_radius, config.profile)[0]
@@ -893,7 +1005,7 @@ class Detector:
         lo, hi = 0.0, 1.0
         x1, x2 = hi - ratio * (hi - lo), lo + ratio * (hi - lo)
         g1, g2 = gap(x1), gap(x2)
-        for _ in range(30):
+        for _ in range(40):
             if g1 < g2:
                 hi, x2, g2 = x2, x1, g1
                 x1 = hi - ratio * (hi - lo)
@@ -902,8 +1014,7 @@ class Detector:
                 lo, x1, g1 = x1, x2, g2
                 x2 = lo + ratio * (hi - lo)
                 g2 = gap(x2)
-        candidates = [(gap(0.0), 0.0), (gap(1.0), 1.0), (min(g1, g2), x1 if g1 < g2 else x2)]
-        _, s = min(candidates)
+        _, s = min((gap(0.0), 0.0), (gap(1.0), 1.0), (min(g1, g2), x1 if g1 < g2 else x2))
         ball, knob, tip = state(s)
         value, normal, fraction = profile_gap(ball, knob, tip, config.ball_radius,
                                               config.profile)
@@ -912,15 +1023,17 @@ class Detector:
     def _close_episode(self, events: List[Event]) -> None:
         episode = self._episode
         self._episode = None
-        if episode is None or 'time' not in episode:
+        if episode is None or not episode['around']:
             return
-        gap = episode['gap']
-        normal = episode['normal']
+        t, gap, normal, fraction, ball, ends = min(
+            (self._lowest_gap(start, end) for start, end in episode['around']),
+            key=lambda lowest: lowest[1])
+        if gap >= self.config.near_miss_threshold:
+            return
         events.append(NearMiss(
-            stamp_ns=self._stamp(episode['time']), gap_m=gap,
-            gap_vector=tuple(gap * n for n in normal), ball_position=episode['ball'],
-            bat_fraction=episode['fraction'],
-            distance_from_tip_m=(1.0 - episode['fraction']) * episode['length']))
+            stamp_ns=self._stamp(t), gap_m=gap, gap_vector=scale(normal, gap),
+            ball_position=ball, bat_fraction=fraction,
+            distance_from_tip_m=(1.0 - fraction) * math.dist(*ends)))
         self.stats.near_misses += 1
 
     # ---- impact details ------------------------------------------------------------------
@@ -982,6 +1095,18 @@ def _closest_approach(ball0: Vector, ball1: Vector, knob0: Vector, tip0: Vector,
     dd = dot(d, d)
     s = 0.0 if dd == 0.0 else min(1.0, max(0.0, -dot(m0, d) / dd))
     return norm(tuple(a + b * s for a, b in zip(m0, d)))
+
+
+def _same(point: Vector) -> Vector:
+    return point
+
+
+def _knob_of(sample: BatSample) -> Vector:
+    return sample.knob
+
+
+def _tip_of(sample: BatSample) -> Vector:
+    return sample.tip
 
 
 def _history(stream: _Stream, t: float) -> List[int]:

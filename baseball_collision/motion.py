@@ -133,11 +133,18 @@ def hermite_tangent(t_prev: Optional[float], p_prev: Optional[Vector], t: float,
         h0, h1 = t - t_prev, t_next - t
         w_prev = h1 / (h0 * (h0 + h1))
         w_next = h0 / (h1 * (h0 + h1))
-        return tuple(w_next * (n - c) + w_prev * (c - b) for b, c, n in zip(p_prev, p, p_next))
+        w_here = w_prev - w_next
+        return (w_next * p_next[0] + w_here * p[0] - w_prev * p_prev[0],
+                w_next * p_next[1] + w_here * p[1] - w_prev * p_prev[1],
+                w_next * p_next[2] + w_here * p[2] - w_prev * p_prev[2])
     if p_next is not None:
-        return tuple((n - c) / (t_next - t) for c, n in zip(p, p_next))
+        inverse = 1.0 / (t_next - t)
+        return ((p_next[0] - p[0]) * inverse, (p_next[1] - p[1]) * inverse,
+                (p_next[2] - p[2]) * inverse)
     if p_prev is not None:
-        return tuple((c - b) / (t - t_prev) for b, c in zip(p_prev, p))
+        inverse = 1.0 / (t - t_prev)
+        return ((p[0] - p_prev[0]) * inverse, (p[1] - p_prev[1]) * inverse,
+                (p[2] - p_prev[2]) * inverse)
     return (0.0, 0.0, 0.0)
 
 
@@ -156,32 +163,51 @@ class PointPath:
     """
     A point moving over one sample interval [t0, t1]: linear, or cubic Hermite with tangents.
 
+    ``centre`` and ``radius`` (metres) bound the whole path by a sphere.
+
     :param t0, t1: interval ends (seconds), t1 > t0.
     :param p0, p1: positions at the ends (metres).
     :param m0, m1: velocities at the ends (m/s) for a cubic; both None for the chord.
     """
 
-    __slots__ = ('t0', 'h', 'a', 'b', 'c', 'd', 'curved')
+    __slots__ = ('t0', 't1', 'h', 'a', 'b', 'c', 'd', 'curved', 'end', 'centre', 'radius',
+                 'accel0', 'accel_rate', 'bulge')
 
     def __init__(self, t0: float, t1: float, p0: Vector, p1: Vector,
                  m0: Optional[Vector] = None, m1: Optional[Vector] = None) -> None:
-        self.t0 = t0
-        self.h = t1 - t0
+        self.t0, self.t1 = t0, t1
+        h = self.h = t1 - t0
         self.a = p0
+        self.end = p1
         self.curved = m0 is not None and m1 is not None
+        chord = sub(p1, p0)
         if self.curved:
-            h = self.h
-            self.b = tuple(h * m for m in m0)
-            self.c = tuple(3.0 * (q1 - q0) - 2.0 * h * v0 - h * v1
-                           for q0, q1, v0, v1 in zip(p0, p1, m0, m1))
-            self.d = tuple(2.0 * (q0 - q1) + h * v0 + h * v1
-                           for q0, q1, v0, v1 in zip(p0, p1, m0, m1))
+            # power basis in s = (t - t0) / h: p = a + b s + c s^2 + d s^3
+            b = self.b = (h * m0[0], h * m0[1], h * m0[2])
+            e = (h * m1[0], h * m1[1], h * m1[2])
+            c = self.c = (3.0 * chord[0] - 2.0 * b[0] - e[0], 3.0 * chord[1] - 2.0 * b[1] - e[1],
+                          3.0 * chord[2] - 2.0 * b[2] - e[2])
+            d = self.d = (b[0] + e[0] - 2.0 * chord[0], b[1] + e[1] - 2.0 * chord[1],
+                          b[2] + e[2] - 2.0 * chord[2])
+            # p''(t) = accel0 + accel_rate * s (m/s^2)
+            h2 = h * h
+            self.accel0 = (2.0 * c[0] / h2, 2.0 * c[1] / h2, 2.0 * c[2] / h2)
+            self.accel_rate = (6.0 * d[0] / h2, 6.0 * d[1] / h2, 6.0 * d[2] / h2)
+            # p(s) - chord(s) = c (s^2 - s) + d (s^3 - s); |s^2 - s| <= 1/4, |s^3 - s| <= 0.385
+            self.bulge = 0.25 * norm(c) + 0.3849 * norm(d)
         else:
-            self.b = sub(p1, p0)
+            self.b = chord
             self.c = self.d = (0.0, 0.0, 0.0)
+            self.bulge = 0.0
+        self.centre = lerp(p0, p1, 0.5)
+        self.radius = 0.5 * norm(chord) + self.bulge
 
     def at(self, t: float) -> Vector:
         """Return the position (metres) at time t (seconds)."""
+        if t == self.t0:
+            return self.a
+        if t == self.t1:
+            return self.end
         s = (t - self.t0) / self.h
         a, b, c, d = self.a, self.b, self.c, self.d
         return (a[0] + s * (b[0] + s * (c[0] + s * d[0])),
@@ -198,12 +224,13 @@ class PointPath:
         """Return a bound (metres) on how far the path leaves its chord over [ta, tb]."""
         if not self.curved:
             return 0.0
-        h2 = self.h * self.h
+        # p'' is linear in t on a cubic: its largest value over [ta, tb] is at an end
+        a0, rate = self.accel0, self.accel_rate
         worst = 0.0
-        for t in (ta, tb):  # p'' is linear in t on a cubic: its largest value is at an end
+        for t in (ta, tb):
             s = (t - self.t0) / self.h
-            second = [(2.0 * self.c[i] + 6.0 * s * self.d[i]) / h2 for i in range(3)]
-            worst = max(worst, norm(second))
+            worst = max(worst, norm((a0[0] + rate[0] * s, a0[1] + rate[1] * s,
+                                     a0[2] + rate[2] * s)))
         return worst * (tb - ta) ** 2 / 8.0
 
 
@@ -216,12 +243,14 @@ class BatPath:
     The bat over one sample interval [t0, t1] under a motion model.
 
     Build it with ``BatPath.build``; ``at(t)`` gives (knob, tip) and ``deviation(ta, tb)`` a
-    bound on how far any bat point leaves its chord over [ta, tb].
+    bound on how far any bat point leaves its chord over [ta, tb]. ``centre`` and ``radius``
+    (metres) bound every axis point over the whole interval by a sphere: the hull of the four
+    sample ends, grown by the deviation.
     """
 
-    __slots__ = ('t0', 'h', 'kind', 'knob', 'tip', 'sample0', 'sample1', 'direction0',
+    __slots__ = ('t0', 't1', 'h', 'kind', 'knob', 'tip', 'sample0', 'sample1', 'direction0',
                  'direction1', 'length0', 'length1', 'angle', 'lever', 'knob_offset',
-                 'tip_offset')
+                 'tip_offset', 'centre', 'radius')
 
     @classmethod
     def build(cls, model: str, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
@@ -241,9 +270,15 @@ class BatPath:
         :raises MotionError: an unknown model.
         """
         path = cls()
-        path.t0, path.h = t0, t1 - t0
+        path.t0, path.t1, path.h = t0, t1, t1 - t0
         path.sample0, path.sample1 = sample0, sample1
         check_model(model)
+        k0, e0, k1, e1 = sample0.knob, sample0.tip, sample1.knob, sample1.tip
+        centre = path.centre = (0.25 * (k0[0] + e0[0] + k1[0] + e1[0]),
+                                0.25 * (k0[1] + e0[1] + k1[1] + e1[1]),
+                                0.25 * (k0[2] + e0[2] + k1[2] + e1[2]))
+        hull = max(math.dist(k0, centre), math.dist(e0, centre), math.dist(k1, centre),
+                   math.dist(e1, centre))
         if model == 'rigid':
             if offsets is not None and sample0.quaternion is not None \
                     and sample1.quaternion is not None:
@@ -261,6 +296,7 @@ class BatPath:
                 cosine = dot(path.direction0, path.direction1)
                 path.angle = math.acos(max(-1.0, min(1.0, cosine)))
                 path.lever = max(path.length0, path.length1)
+            path.radius = hull + path.deviation(t0, t1)
             return path
         path.kind = 'points'
         curved = model == 'spline'
@@ -276,10 +312,15 @@ class BatPath:
             else:
                 tangents.append(PointPath(t0, t1, p0, p1))
         path.knob, path.tip = tangents
+        path.radius = hull + max(path.knob.bulge, path.tip.bulge)
         return path
 
     def at(self, t: float) -> Tuple[Vector, Vector]:
         """Return (knob, tip) in metres at time t (seconds)."""
+        if t == self.t0:
+            return self.sample0.knob, self.sample0.tip
+        if t == self.t1:
+            return self.sample1.knob, self.sample1.tip
         if self.kind == 'points':
             return self.knob.at(t), self.tip.at(t)
         s = (t - self.t0) / self.h

@@ -514,19 +514,23 @@ def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
         ball centre; fraction along knob-tip of the closest axis point).
     """
     axis = sub(tip, knob)
-    axis2 = dot(axis, axis)
-    along = dot(sub(ball, knob), axis) / axis2 if axis2 > 0.0 else 0.0
-    best = (math.inf, (0.0, 0.0, 1.0), 0.0)
+    offset = sub(ball, knob)
+    uu = dot(axis, axis)
+    wu = dot(offset, axis)
+    ww = dot(offset, offset)
+    along = wu / uu if uu > 0.0 else 0.0
+    best_gap, best_fraction = math.inf, 0.0
     for f0, f1, radius in profile.segments():
-        fraction = min(f1, max(f0, along))
-        offset = sub(ball, lerp(knob, tip, fraction))
-        length = math.sqrt(dot(offset, offset))
-        gap = length - radius - ball_radius
-        if gap < best[0]:
-            normal = scale(offset, 1.0 / length) if length > 0.0 else _unit_normal(
-                offset, axis, (0.0, 0.0, 0.0))
-            best = (gap, normal, fraction)
-    return best
+        fraction = f0 if along < f0 else (f1 if along > f1 else along)
+        # |offset - fraction * axis|, without building the vector
+        gap = math.sqrt(max(0.0, ww - fraction * (2.0 * wu - fraction * uu))) - radius
+        if gap < best_gap:
+            best_gap, best_fraction = gap, fraction
+    closest = sub(offset, scale(axis, best_fraction))
+    length = math.sqrt(dot(closest, closest))
+    normal = scale(closest, 1.0 / length) if length > 0.0 else _unit_normal(
+        closest, axis, (0.0, 0.0, 0.0))
+    return best_gap - ball_radius, normal, best_fraction
 
 
 # ----------------------------------------------------------------------------------------------
