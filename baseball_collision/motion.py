@@ -14,17 +14,20 @@ chord error tolerance. The detector then runs the exact linear solver on each su
   moves linearly, the knob-to-tip direction by SLERP and the length linearly. A point at lever
   arm rho turning by theta leaves its chord by rho * (1 - cos(theta / 2)) ~ rho theta^2 / 8, so
   n sub-steps bound the error by rho theta^2 / (8 n^2). The ball moves linearly.
-* ``spline``: cubic Hermite through the samples of each point (ball, knob, tip), with the
-  tangent at each sample from the parabola through it and its two neighbours (exact for a
-  quadratic, also on uneven stamps). A curve leaves its chord by at most max|p''| h^2 / 8. It
-  needs the next sample after the interval, one frame of latency live.
+* ``spline``: cubic Hermite interpolation through the neighbouring samples, with the tangent at
+  each sample from the parabola through it and its two neighbours (exact for a quadratic, also
+  on uneven stamps). The ball's position is a cubic. The bat stays rigid: its knob is a cubic,
+  and its knob-to-tip direction turns about the interval's axis by an angle that is a cubic in
+  time (rates from the neighbouring turns), so it sweeps arcs at a changing angular speed, as a
+  swing does. A curve leaves its chord by at most max|p''| h^2 / 8. It needs the next sample
+  after the interval: one frame of latency live.
 """
 
 from dataclasses import dataclass
 import math
 from typing import Optional, Sequence, Tuple
 
-from .vectors import dot, lerp, norm, sub, Vector
+from .vectors import cross, dot, lerp, norm, scale, sub, Vector
 
 Quaternion = Tuple[float, float, float, float]
 
@@ -250,7 +253,7 @@ class BatPath:
 
     __slots__ = ('t0', 't1', 'h', 'kind', 'knob', 'tip', 'sample0', 'sample1', 'direction0',
                  'direction1', 'length0', 'length1', 'angle', 'lever', 'knob_offset',
-                 'tip_offset', 'centre', 'radius')
+                 'tip_offset', 'centre', 'radius', 'turn_axis', 'across', 'turn')
 
     @classmethod
     def build(cls, model: str, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
@@ -298,22 +301,66 @@ class BatPath:
                 path.lever = max(path.length0, path.length1)
             path.radius = hull + path.deviation(t0, t1)
             return path
+        if model == 'spline':
+            path._build_turning(before, after)
+            path.radius = hull + path.knob.bulge + path.lever * (
+                (path.angle + 2.0 * path.turn.bulge) ** 2 / 8.0 + 2.0 * path.turn.bulge)
+            return path
         path.kind = 'points'
-        curved = model == 'spline'
-        tangents = []
-        for attribute in ('knob', 'tip'):
-            p0, p1 = getattr(sample0, attribute), getattr(sample1, attribute)
-            if curved:
-                tb, pb = (before[0], getattr(before[1], attribute)) if before else (None, None)
-                ta, pa = (after[0], getattr(after[1], attribute)) if after else (None, None)
-                m0 = hermite_tangent(tb, pb, t0, p0, t1, p1)
-                m1 = hermite_tangent(t0, p0, t1, p1, ta, pa)
-                tangents.append(PointPath(t0, t1, p0, p1, m0, m1))
-            else:
-                tangents.append(PointPath(t0, t1, p0, p1))
-        path.knob, path.tip = tangents
-        path.radius = hull + max(path.knob.bulge, path.tip.bulge)
+        path.knob = PointPath(t0, t1, k0, k1)
+        path.tip = PointPath(t0, t1, e0, e1)
+        path.radius = hull
         return path
+
+    def _build_turning(self, before: Optional[Tuple[float, BatSample]],
+                       after: Optional[Tuple[float, BatSample]]) -> None:
+        """
+        Set up the spline of a rigid bat: cubic knob, cubic turning angle, linear length.
+
+        The knob follows a cubic Hermite through the neighbouring knobs. The knob-to-tip
+        direction turns about the interval's own axis (d0 x d1) by an angle that is a cubic
+        Hermite in time, its rates at the ends taken from the neighbouring turns (projected on
+        that axis) by the three-point rule: the bat keeps its shape and sweeps arcs, and its
+        angular speed may change within the interval, as a swing's does.
+        """
+        self.kind = 'turning'
+        t0, t1 = self.t0, self.t1
+        s0, s1 = self.sample0, self.sample1
+        tb = before[0] if before else None
+        ta = after[0] if after else None
+        self.knob = PointPath(
+            t0, t1, s0.knob, s1.knob,
+            hermite_tangent(tb, before[1].knob if before else None, t0, s0.knob, t1, s1.knob),
+            hermite_tangent(t0, s0.knob, t1, s1.knob, ta, after[1].knob if after else None))
+        axis0, axis1 = sub(s0.tip, s0.knob), sub(s1.tip, s1.knob)
+        self.length0, self.length1 = norm(axis0), norm(axis1)
+        self.lever = max(self.length0, self.length1)
+        d0 = self.direction0 = scale(axis0, 1.0 / self.length0)
+        d1 = self.direction1 = scale(axis1, 1.0 / self.length1)
+        turn = cross(d0, d1)
+        sine = norm(turn)
+        self.angle = math.atan2(sine, dot(d0, d1))
+        if sine < 1e-12:  # no turn to speak of: the direction stays put
+            self.turn_axis = (0.0, 0.0, 0.0)
+            self.across = (0.0, 0.0, 0.0)
+            self.turn = PointPath(t0, t1, (0.0, 0.0, 0.0), (self.angle, 0.0, 0.0))
+            return
+        axis = self.turn_axis = scale(turn, 1.0 / sine)
+        self.across = cross(axis, d0)
+
+        def turned(a: BatSample, b: BatSample) -> float:
+            """Return the angle (rad) the bat turned from a to b, about this interval's axis."""
+            u, v = sub(a.tip, a.knob), sub(b.tip, b.knob)
+            w = cross(u, v)
+            size = norm(w)
+            return 0.0 if size == 0.0 else dot(w, axis) / size * math.atan2(size, dot(u, v))
+        previous = (tb, (-turned(before[1], s0), 0.0, 0.0)) if before else (None, None)
+        following = (ta, (self.angle + turned(s1, after[1]), 0.0, 0.0)) if after \
+            else (None, None)
+        start, end = (0.0, 0.0, 0.0), (self.angle, 0.0, 0.0)
+        self.turn = PointPath(t0, t1, start, end,
+                              hermite_tangent(previous[0], previous[1], t0, start, t1, end),
+                              hermite_tangent(t0, start, t1, end, following[0], following[1]))
 
     def at(self, t: float) -> Tuple[Vector, Vector]:
         """Return (knob, tip) in metres at time t (seconds)."""
@@ -324,6 +371,14 @@ class BatPath:
         if self.kind == 'points':
             return self.knob.at(t), self.tip.at(t)
         s = (t - self.t0) / self.h
+        if self.kind == 'turning':
+            knob = self.knob.at(t)
+            angle = self.turn.at(t)[0]
+            length = self.length0 + (self.length1 - self.length0) * s
+            c, n = math.cos(angle) * length, math.sin(angle) * length
+            d0, across = self.direction0, self.across
+            return knob, (knob[0] + c * d0[0] + n * across[0], knob[1] + c * d0[1] + n * across[1],
+                          knob[2] + c * d0[2] + n * across[2])
         if self.kind == 'pose':
             q = slerp_quaternions(self.sample0.quaternion, self.sample1.quaternion, s)
             origin = lerp(self.sample0.position, self.sample1.position, s)
@@ -341,5 +396,13 @@ class BatPath:
         """Return a bound (metres) on how far any bat point leaves its chord over [ta, tb]."""
         if self.kind == 'points':
             return max(self.knob.deviation(ta, tb), self.tip.deviation(ta, tb))
+        if self.kind == 'turning':
+            # the arc's sagitta over the angle swept, plus the angle's own departure from
+            # uniform speed (a cubic in time), on the bat's lever
+            sweep = abs(self.turn.at(tb)[0] - self.turn.at(ta)[0])
+            uneven = self.turn.deviation(ta, tb)
+            length_change = abs(self.length1 - self.length0)
+            return (self.knob.deviation(ta, tb) + self.lever * (sweep * sweep / 8.0 + uneven)
+                    + length_change)
         theta = self.angle * (tb - ta) / self.h
         return self.lever * theta * theta / 8.0

@@ -112,16 +112,33 @@ def test_rigid_pose_path_uses_the_body_offsets() -> None:
     assert math.dist(knob, tip) == pytest.approx(0.8)
 
 
-def test_linear_and_spline_bat_paths() -> None:
-    """Linear moves the ends on chords; spline uses the neighbours for its tangents."""
-    samples = [(t, BatSample(knob=(t, 0.0, 0.0), tip=(t, 1.0, t * t))) for t in (0, 1, 2, 3)]
-    linear = BatPath.build('linear', 1.0, 2.0, samples[1][1], samples[2][1])
+def test_linear_bat_path_moves_the_ends_on_chords() -> None:
+    """Linear moves knob and tip on their chords; no sub-steps needed."""
+    s1 = BatSample(knob=(1.0, 0.0, 0.0), tip=(1.0, 1.0, 1.0))
+    s2 = BatSample(knob=(2.0, 0.0, 0.0), tip=(2.0, 1.0, 4.0))
+    linear = BatPath.build('linear', 1.0, 2.0, s1, s2)
     assert linear.at(1.5)[1] == pytest.approx((1.5, 1.0, 2.5))
     assert linear.deviation(1.0, 2.0) == 0.0
-    spline = BatPath.build('spline', 1.0, 2.0, samples[1][1], samples[2][1],
-                           before=samples[0], after=samples[3])
-    assert spline.at(1.5)[1] == pytest.approx((1.5, 1.0, 2.25))  # the parabola, exactly
-    assert spline.deviation(1.0, 2.0) == pytest.approx(2.0 / 8.0)
+
+
+def test_spline_bat_path_follows_an_accelerating_turn() -> None:
+    """A bat turning about its knob with angle t^2 (+ a cubic knob path) is reproduced."""
+    def bat(t: float) -> BatSample:
+        knob = (0.1 * t, 0.02 * t * t, 0.0)
+        angle = 3.0 * t * t
+        return BatSample(knob=knob, tip=(knob[0] + 0.8 * math.cos(angle),
+                                         knob[1] + 0.8 * math.sin(angle), 0.0))
+    path = BatPath.build('spline', 0.1, 0.2, bat(0.1), bat(0.2), before=(0.0, bat(0.0)),
+                         after=(0.3, bat(0.3)))
+    for t in np.linspace(0.1, 0.2, 7):
+        knob, tip = path.at(t)
+        assert knob == pytest.approx(bat(t).knob, abs=1e-12)
+        assert tip == pytest.approx(bat(t).tip, abs=1e-12)  # the angle is exactly quadratic
+        assert math.dist(knob, tip) == pytest.approx(0.8)
+    # the bound covers the true chord error of the whole interval
+    mid_true = np.array(bat(0.15).tip)
+    chord_mid = 0.5 * (np.array(bat(0.1).tip) + np.array(bat(0.2).tip))
+    assert np.linalg.norm(mid_true - chord_mid) <= path.deviation(0.1, 0.2)
 
 
 def test_substeps_for_meets_the_tolerance() -> None:
