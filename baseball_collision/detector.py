@@ -38,11 +38,13 @@ import math
 import time
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from .bat import BatGeometryError, BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from .motion import BatPath, BatSample, check_model, hermite_tangent, MotionError, PointPath
 from .motion import rotate, substeps_for
 from .solver import _profile_contact, profile_gap
-from .vectors import add, cross, dot, norm, scale, sub, Vector
+from .vectors import add, cross, dot, lerp, norm, scale, sub, Vector
 
 DROP_REASONS = (
     'wrong_frame', 'non_finite', 'duplicate_stamp', 'out_of_order', 'bad_quaternion',
@@ -81,6 +83,13 @@ class DetectorConfig:
     :ivar frame_id: frame every input must be in; empty: the first sample's frame.
     :ivar up_axis: unit vector up, for the attack angle.
     :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
+    :ivar velocity_window: span (s) of the samples before an impact that its velocities are
+        fitted to (six samples at 90 Hz, twenty-two at 360 Hz).
+    :ivar velocity_degree: degree (1-6) of the fit to the bat's rotation and, at low rates (six
+        samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
+        most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,
+        which is exact for clean tracking but amplifies noise: for a noisy low-rate tracker
+        lower it (e.g. 2) or lengthen the window.
     """
 
     model: str = 'rigid'
@@ -98,6 +107,8 @@ class DetectorConfig:
     frame_id: str = ''
     up_axis: Vector = (0.0, 0.0, 1.0)
     sweet_spot_from_tip: float = SWEET_SPOT_FROM_TIP
+    velocity_window: float = 0.061
+    velocity_degree: int = 5
 
     def __post_init__(self) -> None:
         """
@@ -112,7 +123,7 @@ class DetectorConfig:
         if self.bat_input not in ('pose', 'points'):
             raise DetectorError(f"bat_input must be 'pose' or 'points', got '{self.bat_input}'")
         positive = ('ball_radius', 'max_gap', 'max_chord_error', 'max_speed',
-                    'bat_length_tolerance', 'time_jump_reset')
+                    'bat_length_tolerance', 'time_jump_reset', 'velocity_window')
         non_negative = ('rearm_distance', 'near_miss_threshold', 'sweet_spot_from_tip')
         for name in positive + non_negative:
             value = getattr(self, name)
@@ -120,6 +131,9 @@ class DetectorConfig:
                     or (name in positive and value == 0.0):
                 bound = '> 0' if name in positive else '>= 0'
                 raise DetectorError(f'{name} must be a finite number {bound}, got {value!r}')
+        if not isinstance(self.velocity_degree, int) or not 1 <= self.velocity_degree <= 6:
+            raise DetectorError(
+                f'velocity_degree must be an integer in [1, 6], got {self.velocity_degree!r}')
         up = tuple(float(x) for x in self.up_axis)
         length = math.sqrt(sum(x * x for x in up)) if len(up) == 3 else 0.0
         if not (math.isfinite(length) and length > 0.0):
@@ -145,9 +159,14 @@ class DetectorConfig:
         try:
             for name in ('ball_radius', 'max_gap', 'max_chord_error', 'rearm_distance',
                          'near_miss_threshold', 'max_speed', 'bat_length_tolerance',
-                         'time_jump_reset', 'sweet_spot_from_tip'):
+                         'time_jump_reset', 'sweet_spot_from_tip', 'velocity_window'):
                 if name in values:
                     values[name] = float(values[name])
+            if 'velocity_degree' in values:
+                degree = values['velocity_degree']
+                if isinstance(degree, float) and degree.is_integer():
+                    degree = int(degree)
+                values['velocity_degree'] = degree
             if 'up_axis' in values:
                 values['up_axis'] = tuple(float(x) for x in values['up_axis'])
             profile = _profile_from_parameters(parameters)
@@ -797,9 +816,9 @@ class Detector:
             paths.append(stream.path)
         return paths[0], paths[1]
 
-    def _bulge_bound(self, stream: _Stream, k: int, pick) -> float:
+    def _bulge_bounds(self, stream: _Stream, k: int, picks: Sequence) -> List[float]:
         """
-        Bound (m) how far a point's spline over sample interval k leaves its chord.
+        Bound (m) how far each picked point's spline over sample interval k leaves its chord.
 
         With tangents from the three-point rule, p(s) - chord(s) = c (s^2 - s) + d (s^3 - s)
         and |c| / 4 + 0.385 |d| <= 3.04 |D| + 0.885 (h / h_prev) |D_prev| +
@@ -807,15 +826,19 @@ class Detector:
         """
         times, values = stream.times, stream.values
         h = times[k + 1] - times[k]
-        bound = 3.04 * math.dist(pick(values[k]), pick(values[k + 1]))
         before, after = self._neighbours(stream, k)
-        if before is not None:
-            bound += 0.885 * h / (times[k] - times[before]) * math.dist(
-                pick(values[before]), pick(values[k]))
-        if after is not None:
-            bound += 0.635 * h / (times[after] - times[k + 1]) * math.dist(
-                pick(values[k + 1]), pick(values[after]))
-        return bound
+        weight_before = 0.885 * h / (times[k] - times[before]) if before is not None else 0.0
+        weight_after = 0.635 * h / (times[after] - times[k + 1]) if after is not None else 0.0
+        here, there = values[k], values[k + 1]
+        bounds = []
+        for pick in picks:
+            bound = 3.04 * math.dist(pick(here), pick(there))
+            if before is not None:
+                bound += weight_before * math.dist(pick(values[before]), pick(here))
+            if after is not None:
+                bound += weight_after * math.dist(pick(there), pick(values[after]))
+            bounds.append(bound)
+        return bounds
 
     def _clearly_apart(self, ball_k: int, bat_k: int, margin: float) -> bool:
         """
@@ -824,7 +847,7 @@ class Detector:
         Decided from the raw samples (no path built): each body's path lies in a sphere around
         its chord's middle, grown by a bound on the model's curvature: none for chords; for a
         rigid turn, the sagitta is at most half the chord of the rotating part; for the spline,
-        ``_bulge_bound``.
+        ``_bulge_bounds``.
         """
         ball, bat = self._ball, self._bat
         b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
@@ -847,9 +870,14 @@ class Detector:
                 reference = math.dist(k0, k1) + 2.0 * abs(math.dist(k0, e0) - math.dist(k1, e1))
             bat_radius += 0.5 * (turning + reference)
         elif model == 'spline':
-            ball_radius += self._bulge_bound(ball, ball_k, _same)
-            bat_radius += max(self._bulge_bound(bat, bat_k, _knob_of),
-                              self._bulge_bound(bat, bat_k, _tip_of))
+            # the knob's cubic, then the knob-to-tip vector r turning on an arc (at most
+            # (pi / 4) |D r| from its chord) by an angle whose cubic overshoots uniform speed by at
+            # most pi times r's own bulge bound (angle <= (pi / 2) chord / length), and the
+            # length changing linearly
+            ball_radius += self._bulge_bounds(ball, ball_k, (_same,))[0]
+            knob_bulge, axis_bulge = self._bulge_bounds(bat, bat_k, (_knob_of, _axis_of))
+            bat_radius += (knob_bulge + 0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1))
+                           + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
         return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
 
     def _build_path(self, stream: _Stream, k: int, before: Optional[int], after: Optional[int],
@@ -1044,23 +1072,31 @@ class Detector:
         ball = ball_path.at(t)
         length = math.dist(knob, tip)
         history = True
-        ball_velocity = _point_velocity(self._ball, t, lambda v: v)
-        knob_velocity = _point_velocity(self._bat, t, lambda v: v.knob)
-        omega = _angular_velocity(self._bat, t)
-        if ball_velocity is None or knob_velocity is None or omega is None:
+        window, degree = self.config.velocity_window, self.config.velocity_degree
+        ball_velocity = _point_velocity(self._ball, t, _same, window, min(2, degree))
+        pivot = _pivot_fraction(self._bat, t, window, degree)
+
+        def pivot_of(sample: BatSample) -> Vector:
+            return lerp(sample.knob, sample.tip, pivot)
+        pivot_degree = _pivot_degree(len(_history(self._bat, t, window)), degree)
+        pivot_velocity = _point_velocity(self._bat, t, pivot_of, window, pivot_degree)
+        omega = _angular_velocity(self._bat, t, window, degree)
+        if ball_velocity is None or pivot_velocity is None or omega is None:
             # not enough history before the impact: fall back to the spanning interval
             history = False
+            pivot = 0.0
             ball_velocity = ball_velocity or _chord_velocity(ball_path, t)
-            knob_velocity = knob_velocity or _chord_velocity(_KnobOf(bat_path), t)
+            pivot_velocity = pivot_velocity or _chord_velocity(_KnobOf(bat_path), t)
             omega = omega or _chord_omega(bat_path, t)
         sweet = max(0.0, length - self.config.sweet_spot_from_tip)
         direction = tuple((e - k) / length for k, e in zip(knob, tip))
         swing, roll = omega
         omega = add(swing, scale(direction, roll))  # the roll turns about the bat's own axis
         sweet_arm = tuple(sweet * d for d in direction)
-        sweet_velocity = add(knob_velocity, cross(omega, sweet_arm))
-        contact_arm = tuple(p - k for p, k in zip(hit.point, knob))
-        bat_velocity = add(knob_velocity, cross(omega, contact_arm))
+        # rigid body: every point moves with the pivot plus the turn about it
+        pivot_point = lerp(knob, tip, pivot)
+        sweet_velocity = add(pivot_velocity, cross(omega, sub(add(knob, sweet_arm), pivot_point)))
+        bat_velocity = add(pivot_velocity, cross(omega, sub(hit.point, pivot_point)))
         sweet_speed = norm(sweet_velocity)
         up = self.config.up_axis
         attack = 0.0
@@ -1105,15 +1141,31 @@ def _knob_of(sample: BatSample) -> Vector:
     return sample.knob
 
 
-def _tip_of(sample: BatSample) -> Vector:
-    return sample.tip
+def _axis_of(sample: BatSample) -> Vector:
+    return sub(sample.tip, sample.knob)
 
 
-def _history(stream: _Stream, t: float) -> List[int]:
-    """Return indices of up to three samples at or before t in t's segment, oldest first."""
+SPARSE_SAMPLES = 6
+"""At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
+``velocity_degree``, interpolating, since the impact can be a whole step after the last sample;
+with more samples (a high rate) at most degree 3, which averages tracking noise at little bias
+(the hands' path is smooth; the bat's turn is not, so its fit keeps the full degree)."""
+
+_MAX_HISTORY = 64  # samples at most in a velocity fit
+
+
+def _pivot_degree(samples: int, degree: int) -> int:
+    """Return the degree of the bat pivot's velocity fit for a window of ``samples``."""
+    return degree if samples <= SPARSE_SAMPLES else min(degree, 3)
+
+
+def _history(stream: _Stream, t: float, window: float) -> List[int]:
+    """Return indices of samples at or before t in t's segment, ``window`` s back from the last."""
     k = stream.interval(t)
-    indices = []
-    while k >= 0 and len(indices) < 3:
+    indices: List[int] = []
+    last = stream.times[k] if k >= 0 else t
+    while k >= 0 and len(indices) < _MAX_HISTORY and (len(indices) < 2 or
+                                                      last - stream.times[k] <= window + 1e-9):
         indices.insert(0, k)
         if stream.breaks[k]:
             break
@@ -1121,21 +1173,39 @@ def _history(stream: _Stream, t: float) -> List[int]:
     return indices
 
 
-def _point_velocity(stream: _Stream, t: float, pick) -> Optional[Vector]:
-    """Velocity (m/s) at t of the parabola through the last three samples up to t."""
-    indices = _history(stream, t)
+def _fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+               degree: int) -> Tuple[List[float], List[float]]:
+    """
+    Return first and second time derivatives at t of a least-squares polynomial of ``degree``.
+
+    The degree drops to the number of samples minus one (then it interpolates). Time is
+    centred on t and scaled by the span, so the fit is well conditioned.
+
+    :param times: sample times (s), oldest first, at or before t.
+    :param values: one row of components per sample.
+    """
+    degree = min(degree, len(times) - 1)
+    span = max(t - times[0], 1e-9)
+    x = (np.asarray(times, dtype=float) - t) / span
+    vandermonde = np.vander(x, degree + 1, increasing=True)
+    coefficients, *_ = np.linalg.lstsq(vandermonde, np.asarray(values, dtype=float), rcond=None)
+    second = 2.0 * coefficients[2] / span ** 2 if degree >= 2 else 0.0 * coefficients[0]
+    return (coefficients[1] / span).tolist(), second.tolist()
+
+
+def _point_velocity(stream: _Stream, t: float, pick, window: float,
+                    degree: int) -> Optional[Vector]:
+    """
+    Return the velocity (m/s) at t of a point, from the samples up to t only.
+
+    A least-squares polynomial of ``degree`` through the samples of the last ``window`` s of
+    the segment, differentiated at t; None with fewer than two samples.
+    """
+    indices = _history(stream, t, window)
     if len(indices) < 2:
         return None
-    if len(indices) == 2:
-        i, j = indices
-        return tuple((b - a) / (stream.times[j] - stream.times[i])
-                     for a, b in zip(pick(stream.values[i]), pick(stream.values[j])))
-    (t0, t1, t2) = (stream.times[i] for i in indices)
-    (p0, p1, p2) = (pick(stream.values[i]) for i in indices)
-    w0 = ((t - t1) + (t - t2)) / ((t0 - t1) * (t0 - t2))
-    w1 = ((t - t0) + (t - t2)) / ((t1 - t0) * (t1 - t2))
-    w2 = ((t - t0) + (t - t1)) / ((t2 - t0) * (t2 - t1))
-    return tuple(w0 * a + w1 * b + w2 * c for a, b, c in zip(p0, p1, p2))
+    return tuple(_fit_rates([stream.times[i] for i in indices],
+                            [pick(stream.values[i]) for i in indices], t, degree)[0])
 
 
 def _rotation(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
@@ -1172,26 +1242,50 @@ def _rotation(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
     return swing, dot(full, mean_axis) / length
 
 
-def _angular_velocity(stream: _Stream, t: float) -> Optional[Tuple[Vector, float]]:
+def _pivot_fraction(stream: _Stream, t: float, window: float, degree: int) -> float:
+    """
+    Return the fraction along knob-tip of the bat point that accelerates least before t.
+
+    A swinging bat turns about the hands: the axis point nearest them moves on the smoothest
+    path, so its velocity is the best one to extrapolate (the knob circles the hands). Every
+    axis point's acceleration is linear in the fraction between the knob's and the tip's
+    (from the same fits as the velocities, so noise is averaged); the smallest is taken,
+    within [-0.5, 1].
+    """
+    indices = _history(stream, t, window)
+    if len(indices) < 3:
+        return 0.0
+    times = [stream.times[i] for i in indices]
+    rows = [stream.values[i].knob + stream.values[i].tip for i in indices]
+    second = _fit_rates(times, rows, times[-1], _pivot_degree(len(times), degree))[1]
+    knob, tip = second[:3], second[3:]
+    change = sub(tip, knob)
+    size = dot(change, change)
+    if size == 0.0:
+        return 0.0
+    return min(1.0, max(-0.5, -dot(knob, change) / size))
+
+
+def _angular_velocity(stream: _Stream, t: float, window: float,
+                      degree: int) -> Optional[Tuple[Vector, float]]:
     """
     Return the bat's swing angular velocity (rad/s) and roll rate (rad/s) at t.
 
-    Both are extrapolated linearly from the last two rotations between samples up to t (each
-    rate belongs to the middle of its interval); None with fewer than two samples.
+    From the samples up to t only: the rotations between consecutive samples are summed into a
+    cumulative rotation (exact for a turn about a fixed axis, and close when the axis moves
+    slowly), fitted like a point (``_point_velocity``). None with fewer than two samples.
     """
-    indices = _history(stream, t)
+    indices = _history(stream, t, window)
     if len(indices) < 2:
         return None
-    rates = []
+    total = (0.0, 0.0, 0.0, 0.0)
+    cumulative = [total]
     for i, j in zip(indices[:-1], indices[1:]):
-        h = stream.times[j] - stream.times[i]
         swing, roll = _rotation(stream.values[i], stream.values[j])
-        rates.append((0.5 * (stream.times[i] + stream.times[j]), scale(swing, 1.0 / h), roll / h))
-    if len(rates) == 1:
-        return rates[0][1], rates[0][2]
-    (ma, wa, ra), (mb, wb, rb) = rates
-    s = (t - mb) / (mb - ma)
-    return tuple(b + (b - a) * s for a, b in zip(wa, wb)), rb + (rb - ra) * s
+        total = (total[0] + swing[0], total[1] + swing[1], total[2] + swing[2], total[3] + roll)
+        cumulative.append(total)
+    rate = _fit_rates([stream.times[i] for i in indices], cumulative, t, degree)[0]
+    return (rate[0], rate[1], rate[2]), rate[3]
 
 
 class _KnobOf:
