@@ -1152,6 +1152,30 @@ class Samples:
     tips: np.ndarray
     start_ns: int
 
+    def messages(self, bat: str = 'pose') -> List[Tuple[int, str, Tuple[float, ...]]]:
+        """
+        Return the samples as a tracker publishes them: ``(stamp_ns, role, values)``.
+
+        In stamp order; at equal stamps the ball comes first, then the bat pose, knob, tip.
+        Roles and values are those of ``Detector.add``.
+
+        :param bat: ``'pose'`` (bat poses), ``'points'`` (knob and tip) or ``'both'``.
+        :raises SimulationError: an unknown ``bat``.
+        """
+        if bat not in ('pose', 'points', 'both'):
+            raise SimulationError(f"bat must be 'pose', 'points' or 'both', got '{bat}'")
+        rows = [(s, 0, 'ball', tuple(p)) for s, p in zip(self.ball_stamps_ns.tolist(),
+                                                         self.ball_positions.tolist())]
+        stamps = self.bat_stamps_ns.tolist()
+        if bat in ('pose', 'both'):
+            rows += [(s, 1, 'bat_pose', tuple(p + q)) for s, p, q in zip(
+                stamps, self.bat_positions.tolist(), self.bat_quaternions.tolist())]
+        if bat in ('points', 'both'):
+            rows += [(s, 2, 'knob', tuple(p)) for s, p in zip(stamps, self.knobs.tolist())]
+            rows += [(s, 3, 'tip', tuple(p)) for s, p in zip(stamps, self.tips.tolist())]
+        rows.sort(key=lambda row: (row[0], row[1]))
+        return [(stamp, role, values) for stamp, _, role, values in rows]
+
 
 def _stamps(t_end: float, rate_hz: float, rng: np.random.Generator, jitter_s: float,
             grid_s: Optional[float], offset_s: float) -> np.ndarray:
