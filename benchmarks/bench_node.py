@@ -1,0 +1,280 @@
+"""
+impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
+
+Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]``.
+
+Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
+(PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
+and records the wall time of every message callback (conversion, detector, publishing); a
+second child (``--listen``) records when each ``/impact_node/impact`` arrives. Each pitch is a
+swing that hits the ball; between pitches both streams pause longer than ``max_gap``.
+
+* processing: median, p99 and max over every message of the wall time inside the callback.
+* latency: from the publish of the message that completes the interval holding the impact
+  (the bat pose at the first stamp after the impact, published after the ball) to the
+  reception of ``~/impact`` by the listener; both on the system-wide monotonic clock.
+"""
+
+import argparse
+import json
+import math
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+from typing import Dict, List, Optional, Tuple
+
+from baseball_collision.node import ImpactNode
+from geometry_msgs.msg import PointStamped, PoseStamped
+import numpy as np
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+BASE_NS = 1_700_000_000_000_000_000
+LENGTH = 0.8636
+SWING_S = 0.2
+PAUSE_S = 0.08  # > max_gap (0.05 s): each pitch starts a new segment
+
+
+def swing_pose(t: float) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
+    """Return the bat pose (knob position, quaternion x y z w; tip along body +z) at t."""
+    angle = -1.2 + 30.0 * t + 100.0 * t * t
+    # +z turned onto the horizontal direction (cos a, sin a, 0): 90 deg about (-sin a, cos a, 0)
+    half = math.sqrt(0.5)
+    return (0.0, 2.0 * t, 1.0), (-math.sin(angle) * half, math.cos(angle) * half, 0.0, half)
+
+
+def ball(t: float) -> Tuple[float, float, float]:
+    """Return where the pitched ball is at t: 40 m/s along -y, 1 m high."""
+    return (0.6, 2.9 - 40.0 * t, 1.0)
+
+
+def percentiles(samples: List[float]) -> Dict[str, float]:
+    """Return count, median, p99 and max of samples (same unit)."""
+    array = np.asarray(samples, dtype=float)
+    if array.size == 0:
+        return {'count': 0, 'median': math.nan, 'p99': math.nan, 'max': math.nan}
+    return {'count': int(array.size), 'median': float(np.median(array)),
+            'p99': float(np.percentile(array, 99)), 'max': float(array.max())}
+
+
+# ----------------------------------------------------------------------------------------------
+# the node process
+
+
+class TimedImpactNode(ImpactNode):
+    """
+    ImpactNode that keeps every per-message processing time (s) and an impact timeline.
+
+    ``timeline``: per impact, (impact stamp, callback entry, ``~/impact`` publish call) in
+    monotonic ns.
+    """
+
+    def __init__(self) -> None:
+        self.times: List[float] = []
+        self.timeline: List[Tuple[int, int, int]] = []
+        self._entry_ns = 0
+        super().__init__()
+        publish = self._impact_pub.publish
+
+        def timed_publish(message: PointStamped) -> None:
+            self.timeline.append((message.header.stamp.sec * 10**9
+                                  + message.header.stamp.nanosec, self._entry_ns,
+                                  time.monotonic_ns()))
+            publish(message)
+        self._impact_pub = _Wrapped(self._impact_pub, timed_publish)
+
+    def _sample(self, *args: object) -> None:
+        self._entry_ns = time.monotonic_ns()
+        super()._sample(*args)
+
+    def _record_processing(self, elapsed_s: float) -> None:
+        self.times.append(elapsed_s)
+        super()._record_processing(elapsed_s)
+
+
+class _Wrapped:
+    """A publisher whose ``publish`` is replaced; everything else passes through."""
+
+    def __init__(self, publisher: object, publish: object) -> None:
+        self._publisher = publisher
+        self.publish = publish
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._publisher, name)
+
+
+def serve() -> int:
+    """Run the timed node until SIGINT; print the processing figures (us) as JSON."""
+    rclpy.init(args=sys.argv)
+    node = TimedImpactNode()
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    figures = percentiles([t * 1e6 for t in node.times])
+    figures['impacts'] = node.detector.stats.impacts
+    figures['dropped'] = sum(node.detector.stats.dropped.values())
+    figures['timeline'] = node.timeline
+    print(json.dumps(figures), flush=True)
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+def listen() -> int:
+    """Record (impact stamp, monotonic ns at reception) until SIGINT; print them as JSON."""
+    rclpy.init(args=sys.argv)
+    node = rclpy.create_node('bench_listener')
+    received: List[Tuple[int, int]] = []
+    node.create_subscription(
+        PointStamped, '/impact_node/impact',
+        lambda m: received.append((m.header.stamp.sec * 10**9 + m.header.stamp.nanosec,
+                                   time.monotonic_ns())),
+        QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    print(json.dumps(received), flush=True)
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+# ----------------------------------------------------------------------------------------------
+# the publishing process
+
+
+def _child(mode: str, env: Dict[str, str], *ros_args: str) -> subprocess.Popen:
+    """Start this file in a child mode (``--serve``, ``--listen``) with ROS arguments."""
+    return subprocess.Popen([sys.executable, __file__, mode, '--ros-args', *ros_args], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+
+
+def _stop(child: subprocess.Popen) -> object:
+    """Stop a child with SIGINT and return the JSON it printed last."""
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=30)
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def run(pitches: int, rate: float, qos_name: str, markers: bool) -> None:
+    """Start the node and listener processes, publish the pitches, print the figures."""
+    os.environ.pop('RMW_IMPLEMENTATION', None)
+    os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
+    os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+    env = dict(os.environ)
+    server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
+                    '-p', f'publish_markers:={str(markers).lower()}')
+    listener = _child('--listen', env)
+    rclpy.init()
+    node = rclpy.create_node('bench_publisher')
+    reliability = ReliabilityPolicy.RELIABLE if qos_name == 'reliable' \
+        else ReliabilityPolicy.BEST_EFFORT
+    qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000, reliability=reliability,
+                     durability=DurabilityPolicy.VOLATILE)
+    ball_pub = node.create_publisher(PointStamped, 'ball', qos)
+    bat_pub = node.create_publisher(PoseStamped, 'bat_pose', qos)
+    deadline = time.monotonic() + 30.0
+    while not (ball_pub.get_subscription_count() and bat_pub.get_subscription_count()
+               and node.count_subscribers('/impact_node/impact')):
+        if time.monotonic() > deadline:
+            raise SystemExit('the impact node or the listener did not come up')
+        time.sleep(0.05)
+    time.sleep(1.0)  # let the listener match the node's publisher too
+
+    step_ns = int(round(1e9 / rate))
+    per_pitch = int(SWING_S * rate)
+    pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
+    published: Dict[int, int] = {}  # stamp -> monotonic ns of the bat message's publish
+    ball_msg, bat_msg = PointStamped(), PoseStamped()
+    ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
+    start = time.monotonic_ns()
+    for k in range(pitches):
+        for i in range(per_pitch):
+            wait = start + k * pitch_ns + i * step_ns - time.monotonic_ns()
+            if wait > 0:
+                time.sleep(wait * 1e-9)
+            stamp = BASE_NS + k * pitch_ns + i * step_ns
+            t = i * step_ns * 1e-9
+            sec, nanosec = divmod(stamp, 10**9)
+            for message in (ball_msg, bat_msg):
+                message.header.stamp.sec, message.header.stamp.nanosec = sec, nanosec
+            p = ball_msg.point
+            p.x, p.y, p.z = ball(t)
+            (x, y, z), (qx, qy, qz, qw) = swing_pose(t)
+            position, orientation = bat_msg.pose.position, bat_msg.pose.orientation
+            position.x, position.y, position.z = x, y, z
+            orientation.x, orientation.y, orientation.z, orientation.w = qx, qy, qz, qw
+            ball_pub.publish(ball_msg)
+            bat_pub.publish(bat_msg)
+            published[stamp] = time.monotonic_ns()
+    time.sleep(1.0)
+    node.destroy_node()
+    rclpy.try_shutdown()
+    processing = _stop(server)
+    received = _stop(listener)
+
+    stamps = np.array(sorted(published))
+
+    def completing_publish(impact_ns: int) -> Optional[int]:
+        index = int(np.searchsorted(stamps, impact_ns, side='left'))
+        return published[int(stamps[index])] if index < len(stamps) else None
+
+    latencies = []
+    for impact_ns, arrived in received:
+        sent = completing_publish(impact_ns)
+        if sent is not None:
+            latencies.append((arrived - sent) * 1e-6)
+    latency = percentiles(latencies)
+    to_node, in_node, to_listener = [], [], []
+    arrivals = dict(map(tuple, received))
+    for impact_ns, entry, out in processing['timeline']:
+        sent = completing_publish(impact_ns)
+        if sent is not None:
+            to_node.append((entry - sent) * 1e-6)
+            in_node.append((out - entry) * 1e-6)
+        if impact_ns in arrivals:
+            to_listener.append((arrivals[impact_ns] - out) * 1e-6)
+    to_node, in_node = percentiles(to_node), percentiles(in_node)
+    to_listener = percentiles(to_listener)
+    print(f'impact_node at {rate:.0f} Hz per stream (ball PointStamped + bat PoseStamped), '
+          f"qos {qos_name}, model rigid, markers {'on' if markers else 'off'}, "
+          f'{pitches} pitches')
+    print(f"  processing per message (callback wall time, {processing['count']} messages): "
+          f"median {processing['median']:.1f} us, p99 {processing['p99']:.1f} us, "
+          f"max {processing['max']:.1f} us")
+    print(f"  impacts: {processing['impacts']} detected, {len(received)} received, "
+          f"{processing['dropped']} samples dropped")
+    print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
+          f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
+          f"max {latency['max']:.3f} ms")
+    for name, figures in (('publish -> node callback', to_node),
+                          ('callback -> ~/impact published', in_node),
+                          ('~/impact published -> received', to_listener)):
+        print(f"    {name}: median {figures['median']:.3f} ms, p99 {figures['p99']:.3f} ms")
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """Parse the command line and run the benchmark (or a child: --serve, --listen)."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] == '--serve':
+        return serve()
+    if argv and argv[0] == '--listen':
+        return listen()
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--pitches', type=int, default=100, help='swings that hit (100)')
+    parser.add_argument('--rate', type=float, default=1000.0, help='Hz per stream (1000)')
+    parser.add_argument('--qos', choices=('reliable', 'sensor_data'), default='reliable')
+    parser.add_argument('--no-markers', action='store_true', help='publish_markers:=false')
+    args = parser.parse_args(argv)
+    run(args.pitches, args.rate, args.qos, not args.no_markers)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
