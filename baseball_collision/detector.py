@@ -306,6 +306,7 @@ class DetectorStats:
     :ivar last_processing_s, total_processing_s, max_processing_s, calls: wall time spent in
         the detector per call.
     :ivar newest_stamp_ns: newest accepted stamp of any stream (None before any).
+    :ivar last_drop_reason: why the last sample offered was dropped (None: it was accepted).
     """
 
     received: Counter = field(default_factory=Counter)
@@ -321,6 +322,7 @@ class DetectorStats:
     max_processing_s: float = 0.0
     calls: int = 0
     newest_stamp_ns: Optional[int] = None
+    last_drop_reason: Optional[str] = None
 
     @property
     def mean_processing_s(self) -> float:
@@ -444,6 +446,11 @@ class Detector:
         return StateReset(stamp_ns=int(stamp_ns), reason=reason)
 
     @property
+    def frame_id(self) -> Optional[str]:
+        """Return the tracking frame: the configured one, else the first seen (None before)."""
+        return self._frame
+
+    @property
     def watermark_ns(self) -> Optional[int]:
         """Return the newest instant (ns) up to which everything has been processed."""
         if self._cursor is None or self._origin is None:
@@ -545,10 +552,11 @@ class Detector:
                 if isinstance(error, DetectorError):
                     raise
                 reason = 'non_finite'  # not numbers at all
-        if reason is not None:
-            self.stats.dropped[reason] += 1
-        elapsed = time.perf_counter() - start
         stats = self.stats
+        stats.last_drop_reason = reason
+        if reason is not None:
+            stats.dropped[reason] += 1
+        elapsed = time.perf_counter() - start
         stats.calls += 1
         stats.last_processing_s = elapsed
         stats.total_processing_s += elapsed

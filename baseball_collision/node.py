@@ -215,6 +215,12 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     ParameterSpec('sweet_spot_from_tip', _DEFAULTS.sweet_spot_from_tip, _DOUBLE,
                   "Distance from the barrel end of the point whose speed is the 'bat speed' "
                   '(m; Statcast: 6 in = 0.1524).', low=0.0, high=3.0),
+    ParameterSpec('velocity_window', _DEFAULTS.velocity_window, _DOUBLE,
+                  'Span of the samples before an impact its velocities are fitted to (s).',
+                  low=0.001, high=1.0),
+    ParameterSpec('velocity_degree', _DEFAULTS.velocity_degree, _INTEGER,
+                  "Degree of the bat's velocity fit (1-6); lower it for a noisy low-rate "
+                  'tracker (3 at 90 Hz with 1 mm noise).', low=1, high=6),
     # the node's own
     ParameterSpec('diagnostics_period', 1.0, _DOUBLE, 'Period of /diagnostics (s).',
                   low=0.05, high=3600.0, restart=_SETUP),
@@ -525,14 +531,11 @@ class ImpactNode(Node):
         self._warn_unknown_overrides()
         self._check_bat_length()
 
-        self._tracking_frame: Optional[str] = self.settings['frame_id'] or None
         self._streams = ('ball', 'bat_pose') if self.settings['bat_input'] == 'pose' \
             else ('ball', 'knob', 'tip')
         self._arrivals: Counter = Counter()
         self._last_arrival: Dict[str, float] = {}
         self._last_values: Dict[str, Any] = {}
-        self._drops_seen: Dict[str, int] = {}
-        self._drop_total = 0
         self._drop_warned: Dict[str, Tuple[float, int]] = {}
         self._incompatible = 0
         self._incompatible_reported = 0
@@ -743,16 +746,14 @@ class ImpactNode(Node):
         with self._lock:
             self._arrivals[stream] += 1
             self._last_arrival[stream] = time.monotonic()
-            if frame and self._tracking_frame is None:
-                self._tracking_frame = frame  # the detector adopts the first frame seen too
-            expected = self._tracking_frame
             events = add_sample(stamp, *values, frame)
-            dropped = self._new_drops()
-            if not dropped:
+            dropped = self.detector.stats.last_drop_reason
+            expected = self.detector.frame_id
+            if dropped is None:
                 self._last_values[stream] = values
             if events:
-                self._publish_events(events, frame or self._tracking_frame or '')
-        if dropped:
+                self._publish_events(events, frame or expected or '')
+        if dropped is not None:
             self._warn_drops(stream, dropped, frame, expected, stamp)
         self._record_processing(time.perf_counter() - start)
 
@@ -764,35 +765,22 @@ class ImpactNode(Node):
         if elapsed_s > period.max_s:
             period.max_s = elapsed_s
 
-    def _new_drops(self) -> List[str]:
-        """Return the reasons whose drop counters rose since the last call."""
-        dropped = self.detector.stats.dropped
-        total = sum(dropped.values())
-        if total == self._drop_total:
-            return []
-        self._drop_total = total
-        reasons = [reason for reason, count in dropped.items()
-                   if count != self._drops_seen.get(reason, 0)]
-        self._drops_seen = dict(dropped)
-        return reasons
-
-    def _warn_drops(self, stream: str, reasons: List[str], frame: str,
-                    expected: Optional[str], stamp: int) -> None:
-        """Warn about dropped samples, at most once per reason every ``WARN_PERIOD_S``."""
+    def _warn_drops(self, stream: str, reason: str, frame: str, expected: Optional[str],
+                    stamp: int) -> None:
+        """Warn about a dropped sample, at most once per reason every ``WARN_PERIOD_S``."""
         now = time.monotonic()
-        for reason in reasons:
-            last, suppressed = self._drop_warned.get(reason, (-math.inf, 0))
-            if now - last < WARN_PERIOD_S:
-                self._drop_warned[reason] = (last, suppressed + 1)
-                continue
-            self._drop_warned[reason] = (now, 0)
-            detail = _DROP_DETAILS.get(reason, reason).format(
-                frame=frame, expected=expected or '', stamp=format_stamp(stamp))
-            more = f' (and {suppressed} more of this kind since the last warning)' \
-                if suppressed else ''
-            self.get_logger().warning(
-                f'dropped a {stream} sample on {self._topics[stream]}: {reason}: {detail}; '
-                f'{self.detector.stats.dropped[reason]} dropped for this reason so far{more}')
+        last, suppressed = self._drop_warned.get(reason, (-math.inf, 0))
+        if now - last < WARN_PERIOD_S:
+            self._drop_warned[reason] = (last, suppressed + 1)
+            return
+        self._drop_warned[reason] = (now, 0)
+        detail = _DROP_DETAILS.get(reason, reason).format(
+            frame=frame, expected=expected or '', stamp=format_stamp(stamp))
+        more = f' (and {suppressed} more of this kind since the last warning)' \
+            if suppressed else ''
+        self.get_logger().warning(
+            f'dropped a {stream} sample on {self._topics[stream]}: {reason}: {detail}; '
+            f'{self.detector.stats.dropped[reason]} dropped for this reason so far{more}')
 
     # ---- events --------------------------------------------------------------------------
 
@@ -809,8 +797,6 @@ class ImpactNode(Node):
                     f' ms (> max_gap) from {format_stamp(event.start_ns)} s: not interpolated',
                     throttle_duration_sec=WARN_PERIOD_S)
             elif isinstance(event, StateReset):
-                if not self.settings['frame_id']:
-                    self._tracking_frame = None  # the detector forgets its frame as well
                 message = (f'header stamps jumped back to {format_stamp(event.stamp_ns)} s: '
                            'detector state reset')
                 if time.monotonic() - self._clock_jump_at < 2.0:
@@ -847,7 +833,7 @@ class ImpactNode(Node):
             return
         with self._lock:
             values = dict(self._last_values)
-            frame = self._tracking_frame or ''
+            frame = self.detector.frame_id or ''
             config = self.detector.config
         ball = values.get('ball')
         ends = None
@@ -878,7 +864,6 @@ class ImpactNode(Node):
         """Serve ~/reset: clear the detector state (counters are kept); always succeeds."""
         with self._lock:
             event = self.detector.reset(self.detector.stats.newest_stamp_ns or 0, 'requested')
-            self._tracking_frame = self.settings['frame_id'] or None
             self._last_values.clear()
             resets = self.detector.stats.resets
         response.success = True
@@ -898,8 +883,6 @@ class ImpactNode(Node):
             return
         with self._lock:
             self.detector.reset(self.detector.stats.newest_stamp_ns or 0, 'time_jump_backwards')
-            if not self.settings['frame_id']:
-                self._tracking_frame = None
             self._last_values.clear()
         self._clock_jump_at = time.monotonic()
         self.get_logger().warning(
@@ -1041,7 +1024,7 @@ class ImpactNode(Node):
             watermark = self.detector.watermark_ns
             arrivals = Counter(self._arrivals)
             last_arrival = dict(self._last_arrival)
-            frame = self._tracking_frame or ''
+            frame = self.detector.frame_id or ''
             period, self._period = self._period, _Period(now, arrivals, sum(dropped.values()))
         elapsed = max(now - period.start, 1e-9)
         timeout = self.settings['stale_timeout']

@@ -408,3 +408,16 @@ def test_cheap_far_test_never_clears_a_close_pass(model: str, bat_as: str, balls
         ball = np.array(ball_path.at(t))
         along = np.clip((ball - knob) @ (tip - knob) / ((tip - knob) @ (tip - knob)), 0.0, 1.0)
         assert np.linalg.norm(ball - knob - along * (tip - knob)) > margin
+
+
+def test_frame_and_last_drop_reason_are_exposed() -> None:
+    """The tracking frame is the first seen until a reset; the last drop has its reason."""
+    detector = Detector(DetectorConfig())
+    assert detector.frame_id is None
+    detector.add_ball(BASE_NS, (0.0, 0.0, 1.0), 'mocap')
+    assert detector.frame_id == 'mocap' and detector.stats.last_drop_reason is None
+    detector.add_ball(BASE_NS + 1, (0.0, 0.0, 1.0), 'camera')
+    assert detector.stats.last_drop_reason == 'wrong_frame'
+    detector.reset()
+    assert detector.frame_id is None
+    assert Detector(DetectorConfig(frame_id='world')).frame_id == 'world'
