@@ -43,6 +43,8 @@ import numpy as np
 from .bat import BatGeometryError, BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from .motion import BatPath, BatSample, check_model, hermite_tangent, MotionError, PointPath
 from .motion import rotate, substeps_for
+from .prediction import BallForecast, BatForecast, first_contact, planned_bat, PlannedBat
+from .prediction import turn_axis_and_rates
 from .solver import _profile_contact, profile_gap
 from .vectors import add, cross, dot, lerp, norm, scale, sub, Vector
 
@@ -85,6 +87,12 @@ class DetectorConfig:
     :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
     :ivar velocity_window: span (s) of the samples before an impact that its velocities are
         fitted to (six samples at 90 Hz, twenty-two at 360 Hz).
+    :ivar prediction_horizon: how far ahead (s) to predict the coming impact after every
+        processed frame; 0 turns prediction off.
+    :ivar prediction_window: span (s) of the latest samples the prediction's state is fitted to.
+    :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
+        ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
+    :ivar gravity: m/s^2, along -``up_axis``.
     :ivar velocity_degree: degree (1-6) of the fit to the bat's rotation and, at low rates (six
         samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
         most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,
@@ -109,6 +117,10 @@ class DetectorConfig:
     sweet_spot_from_tip: float = SWEET_SPOT_FROM_TIP
     velocity_window: float = 0.061
     velocity_degree: int = 5
+    prediction_horizon: float = 0.0
+    prediction_window: float = 0.1
+    ball_drag: float = 0.0061
+    gravity: float = 9.80665
 
     def __post_init__(self) -> None:
         """
@@ -123,8 +135,10 @@ class DetectorConfig:
         if self.bat_input not in ('pose', 'points'):
             raise DetectorError(f"bat_input must be 'pose' or 'points', got '{self.bat_input}'")
         positive = ('ball_radius', 'max_gap', 'max_chord_error', 'max_speed',
-                    'bat_length_tolerance', 'time_jump_reset', 'velocity_window')
-        non_negative = ('rearm_distance', 'near_miss_threshold', 'sweet_spot_from_tip')
+                    'bat_length_tolerance', 'time_jump_reset', 'velocity_window',
+                    'prediction_window')
+        non_negative = ('rearm_distance', 'near_miss_threshold', 'sweet_spot_from_tip',
+                        'prediction_horizon', 'ball_drag', 'gravity')
         for name in positive + non_negative:
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0.0 \
@@ -159,7 +173,8 @@ class DetectorConfig:
         try:
             for name in ('ball_radius', 'max_gap', 'max_chord_error', 'rearm_distance',
                          'near_miss_threshold', 'max_speed', 'bat_length_tolerance',
-                         'time_jump_reset', 'sweet_spot_from_tip', 'velocity_window'):
+                         'time_jump_reset', 'sweet_spot_from_tip', 'velocity_window',
+                         'prediction_horizon', 'prediction_window', 'ball_drag', 'gravity'):
                 if name in values:
                     values[name] = float(values[name])
             if 'velocity_degree' in values:
@@ -275,6 +290,39 @@ class NearMiss:
 
 
 @dataclass(frozen=True)
+class Prediction:
+    """
+    The coming impact, predicted from the samples up to ``made_at_ns``.
+
+    :ivar stamp_ns: predicted impact instant (ns).
+    :ivar made_at_ns: the newest processed instant the prediction starts from (ns).
+    :ivar lead_s: how far ahead (s): ``(stamp_ns - made_at_ns) * 1e-9``.
+    :ivar point: predicted contact point on the bat surface (m); ``normal``: bat to ball.
+    :ivar bat_fraction: where along knob-tip; ``distance_from_tip_m``: metres from the tip.
+    :ivar ball_position, ball_velocity: the ball's predicted centre (m) and velocity (m/s).
+    :ivar planned: the bat's path came from a commanded plan (else extrapolated).
+    """
+
+    stamp_ns: int
+    made_at_ns: int
+    lead_s: float
+    point: Vector
+    normal: Vector
+    bat_fraction: float
+    distance_from_tip_m: float
+    ball_position: Vector
+    ball_velocity: Vector
+    planned: bool
+
+
+@dataclass(frozen=True)
+class PredictionCleared:
+    """A contact was predicted and no longer is (as of ``made_at_ns``)."""
+
+    made_at_ns: int
+
+
+@dataclass(frozen=True)
 class StreamGap:
     """A stream went longer than ``max_gap`` between samples; that span was not interpolated."""
 
@@ -291,7 +339,7 @@ class StateReset:
     reason: str
 
 
-Event = Union[Impact, NearMiss, StreamGap, StateReset]
+Event = Union[Impact, NearMiss, StreamGap, StateReset, Prediction, PredictionCleared]
 
 
 @dataclass
@@ -360,11 +408,12 @@ class _Stream:
         self.values.append(value)
         self.breaks.append(new_segment or len(self.times) == 1)
 
-    def trim(self, before: float, keep: int = 4) -> None:
-        """Forget samples older than ``keep`` samples before time ``before``."""
+    def trim(self, before: float, history: float, keep: int = 4) -> None:
+        """Forget samples more than ``history`` s and ``keep`` samples before time ``before``."""
         if len(self.times) < 64:
             return
-        index = bisect_right(self.times, before) - 1 - keep
+        index = min(bisect_right(self.times, before - history),
+                    bisect_right(self.times, before)) - 1 - keep
         if index > 0:
             for buffer in (self.times, self.stamps, self.values, self.breaks):
                 del buffer[:index]
@@ -402,6 +451,12 @@ class Detector:
                          tuple(float(x) for x in self.config.geometry.tip_offset))
         self._clear()
 
+    @property
+    def _history_span(self) -> float:
+        """Return how far back (s) from the cursor the fits need samples."""
+        config = self.config
+        return 1.5 * max(config.velocity_window, config.prediction_window)
+
     # ---- state ---------------------------------------------------------------------------
 
     def _clear(self) -> None:
@@ -418,6 +473,8 @@ class Detector:
         self._length_drops = 0
         self._episode: Optional[Dict[str, Any]] = None  # open near-miss episode
         self._last_gap: Optional[Tuple] = None  # (t, state, gap) last computed
+        self._predicting = False
+        self._plan: Optional[Tuple[Tuple[int, ...], Tuple, Tuple]] = None  # stamps, poses
         self._zone_clear = False  # armed and seen outside the near-miss threshold since
 
     RESTART_FIELDS = ('model', 'bat_input', 'profile', 'geometry', 'frame_id')
@@ -434,6 +491,27 @@ class Detector:
         if changed:
             raise DetectorError(f"{', '.join(changed)} cannot change while running: restart")
         self.config = config
+
+    def set_bat_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
+                     quaternions: Sequence[Sequence[float]]) -> None:
+        """
+        Set a commanded bat trajectory (poses in the bat's body frame, as for pose input).
+
+        Predictions use it instead of extrapolating the bat, over the span it covers. An empty
+        plan clears it.
+
+        :raises DetectorError: lists of different lengths, stamps not increasing, or a
+            quaternion not unit length.
+        """
+        if not stamps_ns:
+            self._plan = None
+            return
+        try:
+            planned_bat([float(s - stamps_ns[0]) for s in stamps_ns], positions,
+                        quaternions, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        except (TypeError, ValueError) as error:
+            raise DetectorError(f'bad bat plan: {error}') from error
+        self._plan = (tuple(int(s) for s in stamps_ns), tuple(positions), tuple(quaternions))
 
     def reset(self, stamp_ns: int = 0, reason: str = 'requested') -> StateReset:
         """
@@ -739,8 +817,8 @@ class Detector:
                 stamp = self._stamp(t)
                 reason = self._accept_bat(t, stamp, BatSample(knob=ends[0], tip=ends[1]),
                                           events, check_length=True) or reason
-        knob.trim(self._pair_cursor or 0.0)
-        tip.trim(self._pair_cursor or 0.0)
+        knob.trim(self._pair_cursor or 0.0, 0.0)
+        tip.trim(self._pair_cursor or 0.0, 0.0)
         return reason
 
     # ---- processing ----------------------------------------------------------------------
@@ -779,9 +857,12 @@ class Detector:
                 j += 1
             self._interval(cursor, t, events)
             cursor = t
+        moved = cursor != self._cursor
         self._cursor = cursor
-        ball.trim(cursor)
-        bat.trim(cursor)
+        ball.trim(cursor, self._history_span)
+        bat.trim(cursor, self._history_span)
+        if moved and self.config.prediction_horizon > 0.0:
+            self._predict(events)
 
     def _locate(self, ta: float, events: List[Event]) -> Optional[Tuple[int, int]]:
         """Return each stream's sample interval index holding ta, or None across a gap."""
@@ -958,6 +1039,80 @@ class Detector:
                           self.config.profile)[0]
         self._last_gap = (state[0], state[1:], gap)
         return gap
+
+    # ---- prediction ----------------------------------------------------------------------
+
+    def _predict(self, events: List[Event]) -> None:
+        """Predict the coming impact from the samples up to the cursor (``Prediction``)."""
+        config = self.config
+        t0 = self._cursor
+        found = None
+        if self._armed:
+            ball = self._ball_forecast(t0)
+            bat = self._bat_forecast(t0)
+            if ball is not None and bat is not None:
+                found = first_contact(ball, bat, t0, config.prediction_horizon,
+                                      config.ball_radius, config.profile,
+                                      config.max_chord_error)
+        if found is None:
+            if self._predicting:
+                self._predicting = False
+                events.append(PredictionCleared(made_at_ns=self._stamp(t0)))
+            return
+        t, hit = found
+        knob, tip = bat.at(t)
+        self._predicting = True
+        events.append(Prediction(
+            stamp_ns=self._stamp(t), made_at_ns=self._stamp(t0), lead_s=t - t0,
+            point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
+            distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
+            ball_position=ball.at(t), ball_velocity=ball.velocity_at(t),
+            planned=isinstance(bat, PlannedBat)))
+
+    def _ball_forecast(self, t0: float) -> Optional[BallForecast]:
+        """Return the ball's ballistic forecast from a parabola fitted to its latest samples."""
+        indices = _history(self._ball, t0, self.config.prediction_window)
+        if len(indices) < 3:
+            return None
+        times = [self._ball.times[i] for i in indices]
+        position, velocity, _ = _fit_polynomial(times, [self._ball.values[i] for i in indices],
+                                                t0, 2)
+        gravity = scale(self.config.up_axis, -self.config.gravity)
+        return BallForecast.ballistic(t0, tuple(position), tuple(velocity), gravity,
+                                      self.config.ball_drag)
+
+    def _bat_forecast(self, t0: float):
+        """Return the bat's forecast: the commanded plan when it covers t0, else extrapolated."""
+        if self._plan is not None:
+            stamps, positions, quaternions = self._plan
+            times = [self._time(stamp) for stamp in stamps]
+            if times[-1] > t0:
+                return planned_bat(times, positions, quaternions, *self._offsets)
+        bat = self._bat
+        indices = _history(bat, t0, self.config.velocity_window)
+        if len(indices) < 3:
+            return None
+        times = [bat.times[i] for i in indices]
+        ends = [bat.values[i].knob + bat.values[i].tip for i in indices]
+        value, _, second = _fit_polynomial(times, ends, t0, 2)
+        knob, tip = tuple(value[:3]), tuple(value[3:])
+        change = sub(second[3:], second[:3])
+        size = dot(change, change)
+        fraction = 0.0 if size == 0.0 else min(1.0, max(-0.5, -dot(second[:3], change) / size))
+        pivot_rows = [lerp(bat.values[i].knob, bat.values[i].tip, fraction) for i in indices]
+        pivot, pivot_velocity, pivot_acceleration = _fit_polynomial(times, pivot_rows, t0, 2)
+        total = (0.0, 0.0, 0.0)
+        cumulative = [total]
+        for i, j in zip(indices[:-1], indices[1:]):
+            total = add(total, _rotation(bat.values[i], bat.values[j])[0])
+            cumulative.append(total)
+        _, rate, change_rate = _fit_polynomial(times, cumulative, t0, PREDICTION_TURN_DEGREE)
+        axis, turn, turn_change = turn_axis_and_rates(rate, change_rate)
+        pivot = tuple(pivot)
+        return BatForecast(t0=t0, pivot=pivot, pivot_velocity=tuple(pivot_velocity),
+                           pivot_acceleration=tuple(pivot_acceleration),
+                           knob_arm=sub(knob, pivot), tip_arm=sub(tip, pivot), axis=axis,
+                           rate=turn, rate_change=turn_change)
 
     def _far(self, events: List[Event]) -> None:
         """Note an interval with the ball far from the bat all through it."""
@@ -1153,6 +1308,8 @@ def _axis_of(sample: BatSample) -> Vector:
     return sub(sample.tip, sample.knob)
 
 
+PREDICTION_TURN_DEGREE = 3
+
 SPARSE_SAMPLES = 6
 """At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
 ``velocity_degree``, interpolating, since the impact can be a whole step after the last sample;
@@ -1181,10 +1338,10 @@ def _history(stream: _Stream, t: float, window: float) -> List[int]:
     return indices
 
 
-def _fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
-               degree: int) -> Tuple[List[float], List[float]]:
+def _fit_polynomial(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+                    degree: int) -> Tuple[List[float], List[float], List[float]]:
     """
-    Return first and second time derivatives at t of a least-squares polynomial of ``degree``.
+    Return value, first and second time derivatives at t of a least-squares polynomial.
 
     The degree drops to the number of samples minus one (then it interpolates). Time is
     centred on t and scaled by the span, so the fit is well conditioned.
@@ -1197,8 +1354,15 @@ def _fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: flo
     x = (np.asarray(times, dtype=float) - t) / span
     vandermonde = np.vander(x, degree + 1, increasing=True)
     coefficients, *_ = np.linalg.lstsq(vandermonde, np.asarray(values, dtype=float), rcond=None)
+    first = coefficients[1] / span if degree >= 1 else 0.0 * coefficients[0]
     second = 2.0 * coefficients[2] / span ** 2 if degree >= 2 else 0.0 * coefficients[0]
-    return (coefficients[1] / span).tolist(), second.tolist()
+    return coefficients[0].tolist(), first.tolist(), second.tolist()
+
+
+def _fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+               degree: int) -> Tuple[List[float], List[float]]:
+    """Return first and second time derivatives at t of ``_fit_polynomial``."""
+    return _fit_polynomial(times, values, t, degree)[1:]
 
 
 def _point_velocity(stream: _Stream, t: float, pick, window: float,
