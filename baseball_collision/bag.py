@@ -23,9 +23,11 @@ Topic auto-detection (:func:`select_topics`)
 
     Topics named explicitly are taken as given (type-checked) and removed from the candidates of
     the other roles. When neither a bat pose nor knob/tip topics were named and the bag holds both
-    a bat pose candidate and a knob/tip pair, nothing is guessed: :class:`BagError` asks for
-    ``--bat-pose-topic`` or ``--knob-topic``/``--tip-topic``. Every selection error is one line
-    naming the flag to pass (see :data:`TOPIC_FLAGS`).
+    one bat pose candidate and one knob/tip pair (``baseball-collision simulate`` writes both),
+    the bat pose is used (or the points, with ``prefer_bat='points'``, e.g. a node parameter file
+    with ``bat_input: points``), and :attr:`TopicSelection.note` says which topics were left
+    out and the flags that pick them. Every selection error is one line naming the flag to pass
+    (see :data:`TOPIC_FLAGS`).
 
 Fast decoding
     Only the connections of the selected topics are read, so other topics are never
@@ -43,7 +45,7 @@ Errors
     including errors met lazily while iterating (a corrupt chunk).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 import operator
 import os
 from pathlib import Path
@@ -132,6 +134,9 @@ class TopicSelection:
     :ivar bat_pose: bat pose topic, or None when the bat is given as knob + tip.
     :ivar knob: knob end topic, or None when the bat is given as a pose.
     :ivar tip: barrel end topic, or None when the bat is given as a pose.
+    :ivar note: one line on a choice made between candidates (a bat pose preferred to knob/tip
+        points found too, or the reverse), naming the flags that choose otherwise; '' if none.
+        Not part of equality.
     """
 
     ball: str
@@ -139,6 +144,7 @@ class TopicSelection:
     bat_pose: Optional[str] = None
     knob: Optional[str] = None
     tip: Optional[str] = None
+    note: str = field(default='', compare=False)
 
     def __post_init__(self) -> None:
         """
@@ -283,13 +289,14 @@ def _pick_one(role: str, candidates: Sequence[str],
 
 def select_topics(source: TopicSource, ball: Optional[str] = None,
                   bat_pose: Optional[str] = None, knob: Optional[str] = None,
-                  tip: Optional[str] = None) -> TopicSelection:
+                  tip: Optional[str] = None, prefer_bat: str = 'pose') -> TopicSelection:
     """
     Choose the ball and bat topics of a bag: the names given, else auto-detection.
 
     See the module docstring for the detection rules. Names given explicitly always win; naming
     ``knob`` or ``tip`` selects the knob + tip bat (the other end is auto-detected), naming
-    ``bat_pose`` selects the pose bat.
+    ``bat_pose`` selects the pose bat. With no bat topic named and both one bat pose and one
+    knob/tip pair found, ``prefer_bat`` decides and the selection's ``note`` says so.
 
     :param source: an open :class:`AnyReader`, a mapping ``{topic: msgtype}``, or connections
         with ``.topic`` and ``.msgtype``.
@@ -297,11 +304,15 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
     :param bat_pose: bat pose topic, or None.
     :param knob: knob topic, or None.
     :param tip: tip topic, or None.
+    :param prefer_bat: ``'pose'`` or ``'points'``: which bat to take when both are found.
     :returns: the selection.
     :raises BagError: a named topic is missing (the message lists the bag's topics) or has the
-        wrong type; no candidate or several candidates for a role; both a bat pose and a
-        knob/tip pair found with none named. The message names the flag to pass.
+        wrong type; no candidate or several candidates for a role. The message names the flag
+        to pass.
+    :raises ValueError: ``prefer_bat`` is neither ``'pose'`` nor ``'points'``.
     """
+    if prefer_bat not in ('pose', 'points'):
+        raise ValueError(f"prefer_bat must be 'pose' or 'points', got {prefer_bat!r}")
     types = _topic_types(source)
     given = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
     chosen: Dict[str, str] = {}
@@ -321,16 +332,15 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
     if 'ball' not in chosen:
         chosen['ball'] = _pick_one('ball', _candidates('ball', types, taken()), types)
         chosen_types['ball'] = types[chosen['ball']][0]
+    note = ''
     if bat_pose is None and knob is None and tip is None:
         poses = _candidates('bat_pose', types, taken())
         knobs = _candidates('knob', types, taken())
         tips = _candidates('tip', types, taken())
-        if poses and knobs and tips:
-            raise BagError(
-                f'the bag has a bat pose ({", ".join(poses)}) and knob/tip points '
-                f'({", ".join(knobs + tips)}); pass {TOPIC_FLAGS["bat_pose"]} or '
-                f'{TOPIC_FLAGS["knob"]} + {TOPIC_FLAGS["tip"]}')
-        if poses or not (knobs or tips):
+        both = len(poses) == 1 and len(knobs) == 1 and len(tips) == 1
+        if both:
+            note = _both_note(prefer_bat, poses[0], knobs[0], tips[0])
+        if (poses or not (knobs or tips)) and not (both and prefer_bat == 'points'):
             chosen['bat_pose'] = _pick_one('bat_pose', poses, types)
         else:
             chosen['knob'] = _pick_one('knob', knobs, types)
@@ -341,7 +351,16 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
                 chosen[role] = _pick_one(role, _candidates(role, types, taken()), types)
     return TopicSelection(
         ball=chosen['ball'], ball_type=chosen_types['ball'], bat_pose=chosen.get('bat_pose'),
-        knob=chosen.get('knob'), tip=chosen.get('tip'))
+        knob=chosen.get('knob'), tip=chosen.get('tip'), note=note)
+
+
+def _both_note(prefer_bat: str, pose: str, knob: str, tip: str) -> str:
+    """Return the note on a bag holding both a bat pose and knob/tip points."""
+    if prefer_bat == 'pose':
+        return (f'bat pose {pose} used; the bag also has knob/tip points {knob}, {tip} '
+                f'(pass {TOPIC_FLAGS["knob"]} + {TOPIC_FLAGS["tip"]} to use them)')
+    return (f'bat knob/tip points {knob}, {tip} used; the bag also has a bat pose {pose} '
+            f'(pass {TOPIC_FLAGS["bat_pose"]} to use it)')
 
 
 def _check_selection(selection: TopicSelection, types: Mapping[str, Tuple[str, ...]]) -> None:
@@ -486,18 +505,22 @@ class BagReader:
     :param bat_pose: explicit bat pose topic (only without ``selection``).
     :param knob: explicit knob topic (only without ``selection``).
     :param tip: explicit tip topic (only without ``selection``).
+    :param prefer_bat: ``'pose'`` or ``'points'``: the bat to auto-select when the bag has both
+        (see :func:`select_topics`).
     :raises ValueError: both a selection and topic names given.
     """
 
     def __init__(self, path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
                  *, ball: Optional[str] = None, bat_pose: Optional[str] = None,
-                 knob: Optional[str] = None, tip: Optional[str] = None) -> None:
+                 knob: Optional[str] = None, tip: Optional[str] = None,
+                 prefer_bat: str = 'pose') -> None:
         overrides = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
         if selection is not None and any(v is not None for v in overrides.values()):
             raise ValueError('pass either a TopicSelection or topic names, not both')
         self.path = Path(path)
         self._given = selection
         self._overrides = overrides
+        self._prefer_bat = prefer_bat
         self._reader: Optional[AnyReader] = None
         self._selection: Optional[TopicSelection] = None
         self._connections: List[Any] = []
@@ -550,7 +573,8 @@ class BagReader:
         if total == 0:
             raise BagError(f'bag {self.path} contains no messages')
         if self._given is None:
-            selection = select_topics(connections, **self._overrides)
+            selection = select_topics(connections, **self._overrides,
+                                      prefer_bat=self._prefer_bat)
         else:
             selection = self._given
             _check_selection(selection, self._types)

@@ -296,12 +296,27 @@ def test_explicit_topics_override_detection() -> None:
     assert select_topics(topics, ball='/ball_a', bat_pose='/bat').bat_pose == '/bat'
 
 
+def test_bat_pose_preferred_to_knob_and_tip_points() -> None:
+    """A bag with both bats (as `simulate` writes) uses the pose and notes the points."""
+    topics = {'/ball': POINT_STAMPED, '/bat': POSE_STAMPED, '/bat/knob': POINT_STAMPED,
+              '/bat/tip': POINT_STAMPED}
+    chosen = select_topics(topics)
+    assert (chosen.bat_pose, chosen.knob, chosen.tip) == ('/bat', None, None)
+    assert '/bat/knob' in chosen.note and '--knob-topic + --tip-topic' in chosen.note
+    assert '\n' not in chosen.note
+    points = select_topics(topics, prefer_bat='points')
+    assert (points.bat_pose, points.knob, points.tip) == (None, '/bat/knob', '/bat/tip')
+    assert '--bat-pose-topic' in points.note
+    assert select_topics(topics, knob='/bat/knob').note == ''
+    assert select_topics({'/ball': POINT_STAMPED, '/bat': POSE_STAMPED}).note == ''
+    with pytest.raises(ValueError):
+        select_topics(topics, prefer_bat='knob')
+
+
 @pytest.mark.parametrize('topics, kwargs, flag, words', [
     ({'/ball_a': POINT_STAMPED, '/ball_b': POINT_STAMPED, '/bat': POSE_STAMPED}, {},
      '--ball-topic', ['/ball_a', '/ball_b']),
     ({'/p': POINT_STAMPED, '/bat': POSE_STAMPED}, {}, '--ball-topic', ['/p (geometry_msgs']),
-    ({'/ball': POINT_STAMPED, '/bat': POSE_STAMPED, '/bat/knob': POINT_STAMPED,
-      '/bat/tip': POINT_STAMPED}, {}, '--bat-pose-topic', ['--knob-topic', '--tip-topic']),
     ({'/ball': POINT_STAMPED, '/bat/knob': POINT_STAMPED}, {}, '--tip-topic', ['no tip']),
     ({'/ball': POINT_STAMPED}, {}, '--bat-pose-topic', ['no bat_pose']),
     ({'/ball': POINT_STAMPED, '/bat': POSE_STAMPED}, {'ball': '/missing'}, '--ball-topic',
