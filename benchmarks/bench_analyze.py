@@ -1,0 +1,145 @@
+"""
+``analyze`` throughput on a large simulated bag, beside rosbags' raw read rate on the same file.
+
+Run: ``.venv/bin/python benchmarks/bench_analyze.py [--messages N] [--storage S] [--model M]
+[--profile]``.
+
+Writes (into a temporary directory) a bag of at least ``N`` messages (default 1,000,000) with
+``baseball-collision simulate``'s writer: 360 Hz on a millisecond grid, the ball and the bat
+pose only (every message is one the detector reads), pitches of all kinds 0.5 s apart (24
+distinct draws repeated). Then, in the same process, times:
+
+(a) rosbags ``AnyReader.messages()`` alone (raw bytes, no decode): the floor;
+(b) ``BagReader.samples()``: raw read + decode into samples;
+(c) the analyze loop (:func:`analysis._run`) over (b) with a no-op detector: analyze's own
+    ceiling;
+(d) ``analyze_bag`` end to end (open, select, decode, ``Detector.add`` per sample, ``finish``);
+
+and splits (d) into read + decode (b), the analyze loop ((c) - (b)), the detector's own timer
+(``stats.total_processing_s``: wall time inside ``Detector.add``'s handler) and the rest (the
+``Detector.add`` dispatch and bookkeeping outside that timer, the progress bar). ``--profile``
+adds a cProfile of (d) (top functions by own time). Prints figures; asserts nothing. The goal
+is >= 100,000 messages/s end to end.
+"""
+
+import argparse
+import cProfile
+from pathlib import Path
+import pstats
+import tempfile
+import time
+from typing import Tuple
+
+from baseball_collision.analysis import _run, AnalysisOptions, analyze_bag, BagAnalysis
+from baseball_collision.bag import BagReader
+from baseball_collision.detector import DetectorConfig
+from baseball_collision.recording import RecordingSpec, write_recording
+from bench_bag_read import raw_read  # the same raw read as the bag read benchmark
+
+GOAL = 100_000
+SUFFIXES = {'mcap': 'bench.mcap', 'sqlite3': 'bench.db3', 'rosbag1': 'bench.bag'}
+MESSAGES_PER_PITCH = 290  # 0.4 s at 360 Hz, ball + bat pose
+
+
+def write_bag(path: Path, messages: int) -> Tuple[int, float]:
+    """Write the benchmark bag; return (messages written, seconds)."""
+    start = time.perf_counter()
+    spec = RecordingSpec(count=messages // MESSAGES_PER_PITCH + 1, rate_hz=360.0, grid_s=0.001,
+                         bat='pose', spacing_s=0.5, unique=24, seed=1)
+    document = write_recording(path, spec)
+    return document['messages'], time.perf_counter() - start
+
+
+def decode(path: Path) -> int:
+    """Read every sample with BagReader; return how many."""
+    count = 0
+    with BagReader(path) as bag:
+        for _ in bag.samples():
+            count += 1
+    return count
+
+
+class NullDetector:
+    """A detector that does nothing, to time the analyze loop alone."""
+
+    def add(self, role: str, stamp_ns: int, values: Tuple[float, ...], frame_id: str) -> list:
+        """Return no events."""
+        return []
+
+    def finish(self) -> list:
+        """Return no events."""
+        return []
+
+
+def null_loop(path: Path) -> int:
+    """Run the analyze loop with a no-op detector; return the messages fed."""
+    with BagReader(path) as bag:
+        result = BagAnalysis(path=path, selection=bag.selection, config=DetectorConfig())
+        _run(bag.samples(), NullDetector(), result, None)
+    return result.messages
+
+
+def timed(run, *args) -> Tuple[object, float]:
+    """Return (result, seconds) of one call."""
+    start = time.perf_counter()
+    result = run(*args)
+    return result, time.perf_counter() - start
+
+
+def main() -> None:
+    """Write the bag, time the readers and analyze, print the figures and the split."""
+    parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    parser.add_argument('--messages', type=int, default=1_000_000)
+    parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
+    parser.add_argument('--model', choices=('linear', 'rigid', 'spline'), default='spline')
+    parser.add_argument('--profile', action='store_true', help='cProfile the analyze run')
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / SUFFIXES[args.storage]
+        written, seconds = write_bag(path, args.messages)
+        size = path.stat().st_size / 1e6
+        print(f'wrote {written:,} messages ({args.storage}, {size:.0f} MB) in {seconds:.1f} s')
+        raw, raw_s = timed(raw_read, path)
+        decoded, decode_s = timed(decode, path)
+        print(f'(a) rosbags raw messages()   {raw:>9,} msgs in {raw_s:6.2f} s: '
+              f'{raw / raw_s:>9,.0f} msg/s')
+        print(f'(b) BagReader.samples()      {decoded:>9,} msgs in {decode_s:6.2f} s: '
+              f'{decoded / decode_s:>9,.0f} msg/s')
+        looped, loop_s = timed(null_loop, path)
+        print(f'(c) analyze loop, no detector {looped:>9,} msgs in {loop_s:6.2f} s: '
+              f'{looped / loop_s:>9,.0f} msg/s')
+        options = AnalysisOptions(model=args.model)
+        profiler = cProfile.Profile() if args.profile else None
+        if profiler is not None:
+            profiler.enable()
+        result, total_s = timed(analyze_bag, path, options)
+        if profiler is not None:
+            profiler.disable()
+        n = result.messages
+        rate = n / total_s
+        print(f'(d) analyze, {args.model:6s} model  {n:>9,} msgs in {total_s:6.2f} s: '
+              f"{rate:>9,.0f} msg/s  [goal {GOAL:,}: {'met' if rate >= GOAL else 'NOT met'}]")
+        print(f'    found {len(result.impacts)} impacts, {len(result.near_misses)} near misses, '
+              f'{sum(result.stats.dropped.values())} dropped, {result.stats.intervals:,} '
+              f'intervals, {result.stats.substeps:,} sub-steps')
+        detector_s = result.stats.total_processing_s
+        loop_only = max(loop_s - decode_s, 0.0)
+        rest_s = max(total_s - decode_s - loop_only - detector_s, 0.0)
+        print('    where the time of (d) goes:')
+        for label, part in (('read + decode (b)', decode_s),
+                            ('analyze loop (c) - (b)', loop_only),
+                            ('detector, own timer', detector_s),
+                            ('Detector.add dispatch, rest', rest_s)):
+            print(f'      {label:28s} {part:6.2f} s  {part / total_s * 100:5.1f} %  '
+                  f'{part / n * 1e6:6.2f} us/msg')
+        print(f'    analyze / raw read = {rate / (raw / raw_s):.2f}; analyze without the detector '
+              f'(c) = {looped / loop_s / (raw / raw_s):.2f} of the raw read rate')
+        if profiler is not None:
+            print('\ncProfile of (d), top 25 by own time (timings include the profiling '
+                  'overhead):')
+            stats = pstats.Stats(profiler)
+            stats.sort_stats('tottime').print_stats(25)
+
+
+if __name__ == '__main__':
+    main()
