@@ -386,7 +386,7 @@ class _Stream:
     """Accepted samples of one body: times (s, detector clock), stamps (ns), values, breaks."""
 
     __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
-                 'path', 'reported_gap')
+                 'path', 'reported_gap', 'turns')
 
     def __init__(self, name: str) -> None:
         self.name = name
@@ -394,6 +394,8 @@ class _Stream:
         self.stamps: List[int] = []
         self.values: List[Any] = []
         self.breaks: List[bool] = []  # True: this sample does not continue the previous one
+        # bat only: cumulative (swing x, y, z, roll) turn since the segment's first sample
+        self.turns: List[Tuple[float, float, float, float]] = []
         self.speed_drops = 0
         self.path_key: Optional[Tuple[int, int]] = None
         self.path: Any = None
@@ -407,6 +409,14 @@ class _Stream:
         self.stamps.append(stamp)
         self.values.append(value)
         self.breaks.append(new_segment or len(self.times) == 1)
+        if isinstance(value, BatSample):
+            if self.breaks[-1]:
+                self.turns.append((0.0, 0.0, 0.0, 0.0))
+            else:
+                swing, roll = _rotation(self.values[-2], value)
+                last = self.turns[-1]
+                self.turns.append((last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
+                                   last[3] + roll))
 
     def trim(self, before: float, history: float, keep: int = 4) -> None:
         """Forget samples more than ``history`` s and ``keep`` samples before time ``before``."""
@@ -415,7 +425,7 @@ class _Stream:
         index = min(bisect_right(self.times, before - history),
                     bisect_right(self.times, before)) - 1 - keep
         if index > 0:
-            for buffer in (self.times, self.stamps, self.values, self.breaks):
+            for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
                 del buffer[:index]
             self.path_key = None
 
@@ -1047,13 +1057,15 @@ class Detector:
         config = self.config
         t0 = self._cursor
         found = None
-        if self._armed:
+        if self._armed and self._may_reach(t0):
             ball = self._ball_forecast(t0)
             bat = self._bat_forecast(t0)
             if ball is not None and bat is not None:
+                # a forecast is good to millimetres at best: a coarser chord tolerance than for
+                # impacts costs it nothing
                 found = first_contact(ball, bat, t0, config.prediction_horizon,
                                       config.ball_radius, config.profile,
-                                      config.max_chord_error)
+                                      PREDICTION_CHORD_FACTOR * config.max_chord_error)
         if found is None:
             if self._predicting:
                 self._predicting = False
@@ -1068,6 +1080,29 @@ class Detector:
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball.at(t), ball_velocity=ball.velocity_at(t),
             planned=isinstance(bat, PlannedBat)))
+
+    def _may_reach(self, t0: float) -> bool:
+        """
+        Return whether the ball could reach the bat within the prediction horizon.
+
+        From the newest samples alone: the distance from the ball to the bat's middle against
+        the bat's half length, the radii and what both can travel over the horizon at twice
+        their speed over the last sample step (a plan may move the bat anywhere: always True).
+        """
+        if self._plan is not None:
+            return True
+        ball, bat = self._ball, self._bat
+        if len(ball.times) < 2 or len(bat.times) < 2:
+            return False
+        b0, b1 = ball.values[-2], ball.values[-1]
+        s0, s1 = bat.values[-2], bat.values[-1]
+        ball_speed = math.dist(b0, b1) / (ball.times[-1] - ball.times[-2])
+        bat_speed = max(math.dist(s0.knob, s1.knob), math.dist(s0.tip, s1.tip)) / (
+            bat.times[-1] - bat.times[-2])
+        middle = lerp(s1.knob, s1.tip, 0.5)
+        reach = (0.5 * math.dist(s1.knob, s1.tip) + self.config.ball_radius + self._max_radius
+                 + 2.0 * (ball_speed + bat_speed) * self.config.prediction_horizon)
+        return math.dist(b1, middle) <= reach
 
     def _ball_forecast(self, t0: float) -> Optional[BallForecast]:
         """Return the ball's ballistic forecast from a parabola fitted to its latest samples."""
@@ -1089,30 +1124,29 @@ class Detector:
             if times[-1] > t0:
                 return planned_bat(times, positions, quaternions, *self._offsets)
         bat = self._bat
-        indices = _history(bat, t0, self.config.velocity_window)
+        config = self.config
+        window, degree = config.velocity_window, min(config.velocity_degree, PREDICTION_DEGREE)
+        indices = _history(bat, t0, window)
         if len(indices) < 3:
             return None
-        times = [bat.times[i] for i in indices]
-        ends = [bat.values[i].knob + bat.values[i].tip for i in indices]
-        value, _, second = _fit_polynomial(times, ends, t0, 2)
-        knob, tip = tuple(value[:3]), tuple(value[3:])
-        change = sub(second[3:], second[:3])
-        size = dot(change, change)
-        fraction = 0.0 if size == 0.0 else min(1.0, max(-0.5, -dot(second[:3], change) / size))
-        pivot_rows = [lerp(bat.values[i].knob, bat.values[i].tip, fraction) for i in indices]
-        pivot, pivot_velocity, pivot_acceleration = _fit_polynomial(times, pivot_rows, t0, 2)
-        total = (0.0, 0.0, 0.0)
-        cumulative = [total]
-        for i, j in zip(indices[:-1], indices[1:]):
-            total = add(total, _rotation(bat.values[i], bat.values[j])[0])
-            cumulative.append(total)
-        _, rate, change_rate = _fit_polynomial(times, cumulative, t0, PREDICTION_TURN_DEGREE)
-        axis, turn, turn_change = turn_axis_and_rates(rate, change_rate)
-        pivot = tuple(pivot)
-        return BatForecast(t0=t0, pivot=pivot, pivot_velocity=tuple(pivot_velocity),
+        # start from the newest bat sample itself (a fit lags an accelerating swing); the same
+        # fits as an impact's velocities give the rates (``_impact``)
+        start = bat.times[indices[-1]]
+        latest = bat.values[indices[-1]]
+        fraction = _pivot_fraction(bat, start, window, degree)
+
+        def pivot_of(sample: BatSample) -> Vector:
+            return lerp(sample.knob, sample.tip, fraction)
+        rows = [pivot_of(bat.values[i]) for i in indices]
+        _, pivot_velocity, pivot_acceleration = _fit_polynomial(
+            [bat.times[i] for i in indices], rows, start, _pivot_degree(len(indices), degree))
+        rate, _, change = _turn_rates(bat, start, window, degree)
+        axis, turn, turn_change = turn_axis_and_rates(rate, change)
+        pivot = pivot_of(latest)
+        return BatForecast(t0=start, pivot=pivot, pivot_velocity=tuple(pivot_velocity),
                            pivot_acceleration=tuple(pivot_acceleration),
-                           knob_arm=sub(knob, pivot), tip_arm=sub(tip, pivot), axis=axis,
-                           rate=turn, rate_change=turn_change)
+                           knob_arm=sub(latest.knob, pivot), tip_arm=sub(latest.tip, pivot),
+                           axis=axis, rate=turn, rate_change=turn_change)
 
     def _far(self, events: List[Event]) -> None:
         """Note an interval with the ball far from the bat all through it."""
@@ -1308,7 +1342,12 @@ def _axis_of(sample: BatSample) -> Vector:
     return sub(sample.tip, sample.knob)
 
 
-PREDICTION_TURN_DEGREE = 3
+PREDICTION_CHORD_FACTOR = 4.0
+"""A prediction's sub-steps may leave the forecast paths by this many ``max_chord_error``."""
+
+PREDICTION_DEGREE = 3
+"""Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
+where higher degrees amplify tracking noise (at 90 Hz with 1 mm noise they lose the swing)."""
 
 SPARSE_SAMPLES = 6
 """At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
@@ -1325,17 +1364,22 @@ def _pivot_degree(samples: int, degree: int) -> int:
 
 
 def _history(stream: _Stream, t: float, window: float) -> List[int]:
-    """Return indices of samples at or before t in t's segment, ``window`` s back from the last."""
+    """
+    Return indices of samples at or before t in t's segment, ``window`` s back from the last.
+
+    At least the last two samples of the segment (when it has them), at most ``_MAX_HISTORY``.
+    """
     k = stream.interval(t)
-    indices: List[int] = []
-    last = stream.times[k] if k >= 0 else t
-    while k >= 0 and len(indices) < _MAX_HISTORY and (len(indices) < 2 or
-                                                      last - stream.times[k] <= window + 1e-9):
-        indices.insert(0, k)
-        if stream.breaks[k]:
+    if k < 0:
+        return []
+    times, breaks = stream.times, stream.breaks
+    first = max(bisect_right(times, times[k] - window - 1e-9), k - _MAX_HISTORY + 1, 0)
+    first = min(first, max(k - 1, 0))
+    for i in range(k, first, -1):  # stay within the segment
+        if breaks[i]:
+            first = i
             break
-        k -= 1
-    return indices
+    return list(range(first, k + 1))
 
 
 def _fit_polynomial(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
@@ -1447,17 +1491,19 @@ def _angular_velocity(stream: _Stream, t: float, window: float,
     cumulative rotation (exact for a turn about a fixed axis, and close when the axis moves
     slowly), fitted like a point (``_point_velocity``). None with fewer than two samples.
     """
+    turn = _turn_rates(stream, t, window, degree)
+    return None if turn is None else (turn[0], turn[1])
+
+
+def _turn_rates(stream: _Stream, t: float, window: float,
+                degree: int) -> Optional[Tuple[Vector, float, Vector]]:
+    """Return ``_angular_velocity`` and the swing's angular acceleration (rad/s^2) at t."""
     indices = _history(stream, t, window)
     if len(indices) < 2:
         return None
-    total = (0.0, 0.0, 0.0, 0.0)
-    cumulative = [total]
-    for i, j in zip(indices[:-1], indices[1:]):
-        swing, roll = _rotation(stream.values[i], stream.values[j])
-        total = (total[0] + swing[0], total[1] + swing[1], total[2] + swing[2], total[3] + roll)
-        cumulative.append(total)
-    rate = _fit_rates([stream.times[i] for i in indices], cumulative, t, degree)[0]
-    return (rate[0], rate[1], rate[2]), rate[3]
+    cumulative = [stream.turns[i] for i in indices]  # summed as the samples came in
+    rate, change = _fit_rates([stream.times[i] for i in indices], cumulative, t, degree)
+    return (rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2])
 
 
 class _KnobOf:
