@@ -33,6 +33,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 from builtin_interfaces.msg import Duration as DurationMsg, Time as TimeMsg
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, TwistStamped, Vector3Stamped
+from nav_msgs.msg import Path
 from rcl_interfaces.msg import (
     FloatingPointRange, IntegerRange, ParameterDescriptor, SetParametersResult)
 import rclpy
@@ -46,14 +47,14 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.validate_topic_name import validate_topic_name
-from std_msgs.msg import ColorRGBA, Header
+from std_msgs.msg import Bool, ColorRGBA, Header
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .bat import BatGeometryError, WOOD_BAT_34
 from .detector import (
     Detector, DetectorConfig, DetectorError, DROP_REASONS, Event, Impact, MPS_TO_MPH, NearMiss,
-    StateReset, StreamGap)
+    Prediction, PredictionCleared, StateReset, StreamGap)
 from .vectors import add, norm, scale, sub, Vector
 
 NODE_NAME = 'impact_node'
@@ -153,6 +154,9 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     ParameterSpec('tip_topic', 'bat_tip', _STRING,
                   'Topic of the barrel end (geometry_msgs/PointStamped, m), bat_input points.',
                   restart=_TOPIC),
+    ParameterSpec('bat_plan_topic', '', _STRING,
+                  'Topic of a commanded bat trajectory (nav_msgs/Path of stamped bat poses, '
+                  "as on bat_pose_topic) that predictions follow; '' = none.", restart=_TOPIC),
     ParameterSpec('frame_id', _DEFAULTS.frame_id, _STRING,
                   "Frame every input must be in; '' = the first frame seen. Other frames are "
                   'dropped (no tf2 here).', restart='the detector keeps its frame'),
@@ -221,6 +225,17 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     ParameterSpec('velocity_degree', _DEFAULTS.velocity_degree, _INTEGER,
                   "Degree of the bat's velocity fit (1-6); lower it for a noisy low-rate "
                   'tracker (3 at 90 Hz with 1 mm noise).', low=1, high=6),
+    ParameterSpec('prediction_horizon', _DEFAULTS.prediction_horizon, _DOUBLE,
+                  'How far ahead to predict the coming impact after every processed frame '
+                  '(s); 0 = no ~/predicted_impact.', low=0.0, high=2.0),
+    ParameterSpec('prediction_window', _DEFAULTS.prediction_window, _DOUBLE,
+                  "Span of the latest ball samples the prediction's ballistic fit uses (s).",
+                  low=0.001, high=1.0),
+    ParameterSpec('ball_drag', _DEFAULTS.ball_drag, _DOUBLE,
+                  'Ball drag rho Cd A / (2 m) for predictions (1/m); 0.0061 for a baseball.',
+                  low=0.0, high=1.0),
+    ParameterSpec('gravity', _DEFAULTS.gravity, _DOUBLE,
+                  'Gravity along -up_axis for predictions (m/s^2).', low=0.0, high=100.0),
     # the node's own
     ParameterSpec('diagnostics_period', 1.0, _DOUBLE, 'Period of /diagnostics (s).',
                   low=0.05, high=3600.0, restart=_SETUP),
@@ -270,7 +285,7 @@ class Settings:
                 raise NodeConfigError(
                     f"parameter '{spec.name}' must be one of {', '.join(spec.choices)}, "
                     f'got {value!r}')
-            if spec.name.endswith('_topic'):
+            if spec.name.endswith('_topic') and (value or spec.name != 'bat_plan_topic'):
                 try:
                     validate_topic_name(value)
                 except InvalidTopicNameException as error:
@@ -541,10 +556,12 @@ class ImpactNode(Node):
         self._incompatible_reported = 0
         self._clock_jump_at = -math.inf
         self._last_impact_ns: Optional[int] = None
+        self._predicting = False
         self._started = time.monotonic()
         self._period = _Period(time.monotonic(), Counter(), 0)
 
         self._create_publishers()
+        self._predicting_pub.publish(Bool(data=False))  # latched: late joiners get the state
         self._create_subscriptions()
         self.create_service(Trigger, '~/reset', self._on_reset)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -652,6 +669,11 @@ class ImpactNode(Node):
             name[0] = publisher.topic_name
             return publisher
 
+        latched = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                             reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self._predicted_pub = create(PointStamped, '~/predicted_impact', events)
+        self._predicting_pub = create(Bool, '~/impact_predicted', latched)
         self._impact_pub = create(PointStamped, '~/impact', events)
         self._velocity_pub = create(TwistStamped, '~/impact_velocity', events)
         self._near_miss_pub = create(Vector3Stamped, '~/near_miss', events)
@@ -701,6 +723,33 @@ class ImpactNode(Node):
                 'knob', msg.header, detector.add_knob, _xyz(msg.point)))
             subscribe('tip', PointStamped, settings['tip_topic'], lambda msg: self._sample(
                 'tip', msg.header, detector.add_tip, _xyz(msg.point)))
+        if settings['bat_plan_topic']:
+            plans = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                               reliability=ReliabilityPolicy.RELIABLE,
+                               durability=DurabilityPolicy.VOLATILE)
+            self._plan_sub = self.create_subscription(Path, settings['bat_plan_topic'],
+                                                      self._on_plan, plans)
+
+    def _on_plan(self, message: Path) -> None:
+        """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
+        frames = {message.header.frame_id} | {p.header.frame_id for p in message.poses}
+        frames.discard('')
+        with self._lock:
+            expected = self.detector.frame_id
+            if expected is not None and frames - {expected}:
+                reason = f'frame {sorted(frames)} is not the tracking frame {expected!r}'
+            else:
+                try:
+                    self.detector.set_bat_plan(
+                        [p.header.stamp.sec * NS_PER_S + p.header.stamp.nanosec
+                         for p in message.poses],
+                        [_xyz(p.pose.position) for p in message.poses],
+                        [_xyzw(p.pose.orientation) for p in message.poses])
+                    return
+                except DetectorError as error:
+                    reason = str(error)
+        self.get_logger().warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}',
+                                  throttle_duration_sec=WARN_PERIOD_S)
 
     def _register_clock_jump(self) -> None:
         """(Re)register the ROS clock jump callback at ``time_jump_reset`` backwards."""
@@ -791,12 +840,23 @@ class ImpactNode(Node):
                 self._publish_impact(event, frame)
             elif isinstance(event, NearMiss):
                 self._publish_near_miss(event, frame)
+            elif isinstance(event, Prediction):
+                if not self._predicting:
+                    self._predicting = True
+                    self._predicting_pub.publish(Bool(data=True))
+                self._predicted_pub.publish(PointStamped(
+                    header=Header(stamp=ns_to_stamp(event.stamp_ns), frame_id=frame),
+                    point=_point(event.point)))
+            elif isinstance(event, PredictionCleared):
+                self._predicting = False
+                self._predicting_pub.publish(Bool(data=False))
             elif isinstance(event, StreamGap):
                 self.get_logger().info(
                     f'{event.stream} stream gap of {(event.end_ns - event.start_ns) * 1e-6:.1f}'
                     f' ms (> max_gap) from {format_stamp(event.start_ns)} s: not interpolated',
                     throttle_duration_sec=WARN_PERIOD_S)
             elif isinstance(event, StateReset):
+                self._clear_prediction()
                 message = (f'header stamps jumped back to {format_stamp(event.stamp_ns)} s: '
                            'detector state reset')
                 if time.monotonic() - self._clock_jump_at < 2.0:
@@ -860,11 +920,18 @@ class ImpactNode(Node):
 
     # ---- services and clock --------------------------------------------------------------
 
+    def _clear_prediction(self) -> None:
+        """Say ~/impact_predicted false if a prediction was standing (the state was dropped)."""
+        if self._predicting:
+            self._predicting = False
+            self._predicting_pub.publish(Bool(data=False))
+
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
         """Serve ~/reset: clear the detector state (counters are kept); always succeeds."""
         with self._lock:
             event = self.detector.reset(self.detector.stats.newest_stamp_ns or 0, 'requested')
             self._last_values.clear()
+            self._clear_prediction()
             resets = self.detector.stats.resets
         response.success = True
         response.message = (f'detector state cleared at {format_stamp(event.stamp_ns)} s '
@@ -884,6 +951,7 @@ class ImpactNode(Node):
         with self._lock:
             self.detector.reset(self.detector.stats.newest_stamp_ns or 0, 'time_jump_backwards')
             self._last_values.clear()
+            self._clear_prediction()
         self._clock_jump_at = time.monotonic()
         self.get_logger().warning(
             f'the ROS clock jumped back by {-jump.delta.nanoseconds * 1e-9:.3f} s (replay '

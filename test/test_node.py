@@ -25,6 +25,7 @@ from builtin_interfaces.msg import Time as TimeMsg
 from conftest import REPO_ROOT
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
+from nav_msgs.msg import Path as PathMsg
 import numpy as np
 import pytest
 from rcl_interfaces.srv import GetParameters, SetParameters
@@ -33,6 +34,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
+from std_msgs.msg import Bool
 from std_srvs.srv import Trigger
 from test_detector import BASE_NS, first_contact, pitch, pose, swing
 from visualization_msgs.msg import MarkerArray
@@ -117,7 +119,9 @@ class Harness:
                 ('velocity', TwistStamped, '/impact_node/impact_velocity'),
                 ('near_miss', Vector3Stamped, '/impact_node/near_miss'),
                 ('markers', MarkerArray, '/impact_node/markers'),
-                ('diagnostics', DiagnosticArray, '/diagnostics')):
+                ('diagnostics', DiagnosticArray, '/diagnostics'),
+                ('predicted', PointStamped, '/impact_node/predicted_impact'),
+                ('predicting', Bool, '/impact_node/impact_predicted')):
             self.received[name] = []
             self.probe.create_subscription(msg_type, topic, self._collector(name), RELIABLE)
         self.publishers: Dict[str, Any] = {}
@@ -612,3 +616,46 @@ def test_bad_params_file_value_exits_with_one_line(tmp_path: Path, line: str, wo
     lines = (completed.stdout + completed.stderr).strip().splitlines()
     assert len(lines) == 1, lines
     assert 'ERROR' in lines[0] and word in lines[0] and 'not starting' in lines[0]
+
+
+def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """With a horizon, ~/predicted_impact leads the impact, and ~/impact_predicted toggles."""
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    sent = publish_swing(h, 'pose', pitch())
+    h.processed(sent)
+    h.wait(lambda: h.received['impact'] and h.received['predicting'][-1:]
+           and not h.received['predicting'][-1].data, 3.0, 'the impact and a cleared prediction')
+    predicted = h.received['predicted']
+    assert predicted, 'no prediction before the impact'
+    closest = predicted[-1]  # made at the last frame before the contact
+    assert abs(stamp_ns(closest) - truth_ns) < 2_000_000
+    # the start-up False is latched for transient-local subscribers; this probe is volatile
+    assert [m.data for m in h.received['predicting']][-2:] == [True, False]
+
+
+def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """A commanded swing on bat_plan_topic: predictions 40 ms ahead within 0.5 ms."""
+    h = make_plan_harness(harness)
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    for i in range(0, 200, 5):  # every 5 ms over the swing
+        position, quaternion = pose(i * 1e-3)
+        plan.poses.append(pose_msg(BASE_NS + i * 1_000_000, position, quaternion))
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: h.node.detector._plan is not None, 3.0, 'the plan taken')
+    early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 14)  # up to ~40 ms before
+    h.processed(publish_swing(h, 'pose', pitch(), samples=early))
+    h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')
+    for message in h.received['predicted']:
+        assert abs(stamp_ns(message) - truth_ns) < 500_000
+
+
+def make_plan_harness(make: Callable[..., Harness]) -> Harness:
+    """Return a started pose harness with a plan publisher and a 0.3 s horizon."""
+    h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan'})
+    h.publisher(PointStamped, 'ball')
+    h.publisher(PoseStamped, 'bat_pose')
+    h.publisher(PathMsg, 'bat_plan')
+    return h.start()
