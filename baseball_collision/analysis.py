@@ -43,7 +43,8 @@ import numpy as np
 from .bag import BagError, BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from .detector import (
     Detector, DetectorConfig, DetectorError, DetectorStats, Impact, MPS_TO_MPH, NearMiss,
-    StateReset, StreamGap)
+    Prediction, StateReset, StreamGap)
+from .evaluation import LEADS_S, prediction_errors
 from .solver import profile_gap
 
 NODE_NAME = 'impact_node'
@@ -138,7 +139,8 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
 
 def build_config(parameters: Mapping[str, Any], *, bat_input: str,
                  model: Optional[str] = None, ball_radius: Optional[float] = None,
-                 bat_radius: Optional[float] = None) -> DetectorConfig:
+                 bat_radius: Optional[float] = None,
+                 prediction_horizon: Optional[float] = None) -> DetectorConfig:
     """
     Build the detector configuration: flags over the parameter file over offline defaults.
 
@@ -147,6 +149,7 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
     :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`.
     :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
     :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
+    :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
     :returns: the configuration.
     :raises AnalysisError: a value the detector does not accept (the message names it).
     """
@@ -157,6 +160,8 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
         values['ball_radius'] = ball_radius
     if bat_radius is not None:
         values['bat_radius'] = bat_radius
+    if prediction_horizon is not None:
+        values['prediction_horizon'] = prediction_horizon
     try:
         return DetectorConfig.from_parameters(values)
     except DetectorError as error:
@@ -334,6 +339,8 @@ class BagAnalysis:
     :ivar selection: the topics read.
     :ivar config: the detector configuration used.
     :ivar impacts, near_misses, gaps, resets: the detector's events, in order.
+    :ivar predictions: predicted impacts (with ``--predict``), in order.
+    :ivar frames_ns: every sample stamp (ns), kept with ``--predict`` to score predictions.
     :ivar stats: the detector's counters (``dropped`` by reason).
     :ivar messages: samples read and fed.
     :ivar seconds: wall time of reading and detecting (s).
@@ -348,6 +355,8 @@ class BagAnalysis:
     near_misses: List[NearMiss] = field(default_factory=list)
     gaps: List[StreamGap] = field(default_factory=list)
     resets: List[StateReset] = field(default_factory=list)
+    predictions: List[Prediction] = field(default_factory=list)
+    frames_ns: List[int] = field(default_factory=list)
     stats: DetectorStats = field(default_factory=DetectorStats)
     messages: int = 0
     seconds: float = 0.0
@@ -363,6 +372,26 @@ class BagAnalysis:
         """Return seconds from the first header stamp of the bag to ``stamp_ns``."""
         return (stamp_ns - (self.first_stamp_ns or 0)) * 1e-9
 
+    def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
+        """
+        Score the predictions of every impact at the lead times ``LEADS_S``.
+
+        The reference is the true contact when a truth file matched the impact, else the
+        detected impact itself. One ``evaluation.prediction_errors`` dict per impact.
+        """
+        truths = {}
+        if self.truth is not None:
+            truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
+        scores = []
+        for impact in self.impacts:
+            truth = truths.get(impact.stamp_ns)
+            stamp = int(truth['stamp_ns']) if truth else impact.stamp_ns
+            point = truth['point'] if truth else impact.point
+            before = [p for p in self.predictions if p.made_at_ns < stamp
+                      and stamp - p.made_at_ns <= 0.5e9]
+            scores.append(prediction_errors(before, self.frames_ns, stamp, point))
+        return scores
+
 
 @dataclass(frozen=True)
 class AnalysisOptions:
@@ -374,6 +403,7 @@ class AnalysisOptions:
     :ivar model: ``--model``.
     :ivar ball_radius: ``--ball-radius`` (m).
     :ivar bat_radius: ``--bat-radius`` (m).
+    :ivar prediction_horizon: ``--predict`` horizon (s).
     :ivar node_name: the node whose output topics ``--out-bag`` writes.
     """
 
@@ -385,6 +415,7 @@ class AnalysisOptions:
     model: Optional[str] = None
     ball_radius: Optional[float] = None
     bat_radius: Optional[float] = None
+    prediction_horizon: Optional[float] = None
     node_name: str = NODE_NAME
 
     def reader(self, path: os.PathLike) -> BagReader:
@@ -398,7 +429,7 @@ def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
     """Return the node's event topics: ``{'impact': '/<node>/impact', ...}``."""
     base = '/' + node_name.strip('/')
     return {'impact': f'{base}/impact', 'impact_velocity': f'{base}/impact_velocity',
-            'near_miss': f'{base}/near_miss'}
+            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact'}
 
 
 class _EventCopy:
@@ -437,6 +468,9 @@ class _EventCopy:
             elif isinstance(event, NearMiss):
                 self.writer.write_vector3(self.outputs['near_miss'], event.stamp_ns, frame,
                                           event.gap_vector, log_time)
+            elif isinstance(event, Prediction):
+                self.writer.write_point(self.outputs['predicted_impact'], event.stamp_ns, frame,
+                                        event.point, log_time)
 
 
 def _progress(total: int, label: str) -> Any:
@@ -471,7 +505,8 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
             selection = bag.selection
             config = build_config(options.parameters, bat_input=selection.bat_mode,
                                   model=options.model, ball_radius=options.ball_radius,
-                                  bat_radius=options.bat_radius)
+                                  bat_radius=options.bat_radius,
+                                  prediction_horizon=options.prediction_horizon)
             result = BagAnalysis(path=path, selection=selection, config=config)
             detector = Detector(config)
             bar = _progress(bag.message_count, path.name) if progress else None
@@ -506,6 +541,8 @@ def _sort(events: Iterable[Any], result: BagAnalysis) -> None:
             result.gaps.append(event)
         elif isinstance(event, StateReset):
             result.resets.append(event)
+        elif isinstance(event, Prediction):
+            result.predictions.append(event)
 
 
 def _run(samples: Iterable[Any], detector: Detector, result: BagAnalysis, bar: Any) -> None:
@@ -513,11 +550,14 @@ def _run(samples: Iterable[Any], detector: Detector, result: BagAnalysis, bar: A
     add = detector.add
     iterator = iter(samples)
     count = 0
+    frames = result.frames_ns if detector.config.prediction_horizon > 0.0 else None
     while True:
         chunk = 0
         for role, stamp, frame, values, _ in itertools.islice(iterator, _CHUNK):
             if result.first_stamp_ns is None:
                 result.first_stamp_ns = stamp
+            if frames is not None:
+                frames.append(stamp)
             events = add(role, stamp, values, frame)
             if events:
                 _sort(events, result)
@@ -537,9 +577,12 @@ def _run_copy(samples: Iterable[Any], detector: Detector, result: BagAnalysis,
     add = detector.add
     count = 0
     log_time, frame = 0, ''
+    frames = result.frames_ns if detector.config.prediction_horizon > 0.0 else None
     for role, stamp, frame, values, log_time in samples:
         if result.first_stamp_ns is None:
             result.first_stamp_ns = stamp
+        if frames is not None:
+            frames.append(stamp)
         copy.sample(role, stamp, frame, values, log_time)
         events = add(role, stamp, values, frame)
         if events:
@@ -610,6 +653,8 @@ def format_report(analysis: BagAnalysis) -> str:
         lines.append(_row(cells))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
+    if analysis.config.prediction_horizon > 0.0:
+        lines.extend(prediction_lines(analysis))
     lines.append(summary_line(analysis))
     wrong_frame = analysis.stats.dropped.get('wrong_frame', 0)
     if analysis.config.frame_id and wrong_frame and wrong_frame >= analysis.messages:
@@ -618,6 +663,30 @@ def format_report(analysis: BagAnalysis) -> str:
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
     return '\n'.join(lines)
+
+
+def prediction_lines(analysis: BagAnalysis) -> List[str]:
+    """
+    Return the report's prediction section: per impact, the error at each lead time.
+
+    ``time/point`` is the predicted minus the true instant (ms) and the distance from the
+    predicted to the true contact point (cm); ``-`` where the frame at that lead predicted no
+    impact.
+    """
+    reference = 'the truth' if analysis.truth is not None else 'the detected impact'
+    lines = [f'predictions: {len(analysis.predictions)} made (horizon '
+             f'{analysis.config.prediction_horizon:.2f} s); error against {reference} at lead '
+             + ', '.join(f'{lead * 1e3:g} ms' for lead in LEADS_S) + ' (time ms / point cm)']
+    for number, (impact, scores) in enumerate(zip(analysis.impacts,
+                                                  analysis.prediction_scores()), 1):
+        cells = []
+        for lead in LEADS_S:
+            score = scores[lead]
+            cells.append(f'{lead * 1e3:g} ms ' + ('-' if score is None else
+                                                  f'{score[0] * 1e3:+.2f}/{score[1] * 1e2:.1f}'))
+        lines.append(f'  impact {number} at {analysis.relative_s(impact.stamp_ns):.4f} s: '
+                     + ', '.join(cells))
+    return lines
 
 
 def summary_line(analysis: BagAnalysis) -> str:
@@ -678,15 +747,28 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
     events, vectors as lists, plus ``bag`` and ``time_s``: seconds from that bag's first
     stamp); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag:
     ``path``, ``topics``, ``model``, ``messages``, ``seconds``, ``first_stamp_ns``, counts,
-    ``dropped``, ``gaps``, ``resets`` and ``truth``: the comparison or None).
+    ``dropped``, ``gaps``, ``resets`` and ``truth``: the comparison or None). With
+    ``--predict``: ``predictions`` (every ``Prediction``, plus ``bag`` and ``time_s``) and, in
+    each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     """
-    impacts, near_misses, bags = [], [], []
+    impacts, near_misses, predictions, bags = [], [], [], []
     dropped: Dict[str, int] = {}
     for analysis in analyses:
         name = str(analysis.path)
-        for impact in analysis.impacts:
-            impacts.append({'bag': name, 'time_s': analysis.relative_s(impact.stamp_ns),
-                            **asdict(impact)})
+        predicting = analysis.config.prediction_horizon > 0.0
+        scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
+        for impact, score in zip(analysis.impacts, scores):
+            entry = {'bag': name, 'time_s': analysis.relative_s(impact.stamp_ns),
+                     **asdict(impact)}
+            if score is not None:
+                entry['prediction_errors'] = {
+                    f'{lead * 1e3:g}': None if error is None else {
+                        'time_error_s': error[0], 'point_error_m': error[1]}
+                    for lead, error in score.items()}
+            impacts.append(entry)
+        for prediction in analysis.predictions:
+            predictions.append({'bag': name, 'time_s': analysis.relative_s(prediction.stamp_ns),
+                                **asdict(prediction)})
         for miss in analysis.near_misses:
             near_misses.append({'bag': name, 'time_s': analysis.relative_s(miss.stamp_ns),
                                 **asdict(miss)})
@@ -702,17 +784,22 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
             'resets': [asdict(reset) for reset in analysis.resets],
             'truth': None if analysis.truth is None else analysis.truth.as_dict(),
         })
-    return _plain({'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
-                   'dropped': dropped, 'bags': bags})
+    document = {'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
+                'dropped': dropped, 'bags': bags}
+    if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
+        document['predictions'] = predictions
+    return _plain(document)
 
 
 CSV_COLUMNS = (
     'bag', 'event', 'stamp_ns', 'time_s', 'x', 'y', 'z', 'normal_x', 'normal_y', 'normal_z',
     'distance_from_knob_m', 'distance_from_tip_m', 'feature', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x', 'gap_y',
-    'gap_z')
-"""``--csv`` columns: one row per impact or near miss (empty cells where not applicable).
-``x, y, z``: the contact point for an impact, the ball centre at closest approach for a miss."""
+    'gap_z', 'made_at_ns', 'lead_s')
+"""``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
+applicable). ``x, y, z``: the contact point for an impact, the ball centre at closest approach
+for a miss, the predicted contact point for a prediction (whose ``stamp_ns`` is the predicted
+instant, ``made_at_ns`` when it was made)."""
 
 
 def csv_text(analyses: Sequence[BagAnalysis]) -> str:
@@ -738,6 +825,15 @@ def csv_text(analyses: Sequence[BagAnalysis]) -> str:
                 row.update(event='near_miss', gap_m=event.gap_m)
                 row.update(zip(('x', 'y', 'z'), event.ball_position))
                 row.update(zip(('gap_x', 'gap_y', 'gap_z'), event.gap_vector))
+            writer.writerow([row.get(column, '') for column in CSV_COLUMNS])
+        for prediction in analysis.predictions:
+            row = {'bag': str(analysis.path), 'event': 'prediction',
+                   'stamp_ns': prediction.stamp_ns,
+                   'time_s': f'{analysis.relative_s(prediction.stamp_ns):.9f}',
+                   'distance_from_tip_m': prediction.distance_from_tip_m,
+                   'made_at_ns': prediction.made_at_ns, 'lead_s': prediction.lead_s}
+            row.update(zip(('x', 'y', 'z'), prediction.point))
+            row.update(zip(('normal_x', 'normal_y', 'normal_z'), prediction.normal))
             writer.writerow([row.get(column, '') for column in CSV_COLUMNS])
     return buffer.getvalue()
 

@@ -110,7 +110,7 @@ def _analyze(args: argparse.Namespace) -> int:
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
-        node_name=args.node_name)
+        prediction_horizon=args.predict, node_name=args.node_name)
     analyses: List[BagAnalysis] = []
     with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
@@ -266,6 +266,11 @@ def build_parser() -> argparse.ArgumentParser:
     analyze.add_argument('--bat-radius', type=_number(0.0, False, 'm'), metavar='M',
                          help='constant bat radius in m, replacing the bat profile')
     _add_topic_flags(analyze)
+    analyze.add_argument('--predict', type=_number(0.0, False, 's'), nargs='?', const=0.3,
+                         default=None, metavar='SECONDS',
+                         help='also predict each coming impact this far ahead (default 0.3 s, '
+                         'as the node does with prediction_horizon) and score the predictions '
+                         'at 200, 100, 50 and 20 ms before each impact')
     analyze.add_argument('--json', metavar='FILE', help='write events and counts as JSON')
     analyze.add_argument('--csv', metavar='FILE', help='write one row per event as CSV')
     analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '

@@ -16,7 +16,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .detector import Detector, DetectorConfig, Event, Impact, NearMiss
+from .detector import Detector, DetectorConfig, Event, Impact, NearMiss, Prediction
 from .simulation import DEFAULT_START_NS, sample, Scenario, truth_dict
 
 
@@ -138,3 +138,38 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
         summary[f'{name}_p99'] = _percentile(values, 99)
         summary[f'{name}_max'] = float(np.max(np.abs(values))) if values else math.nan
     return summary
+
+
+LEADS_S = (0.2, 0.1, 0.05, 0.02)
+"""Lead times (s) at which predictions are scored."""
+
+
+def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int],
+                      contact_ns: int, contact_point: Sequence[float],
+                      leads_s: Sequence[float] = LEADS_S) -> Dict[float,
+                                                                  Optional[Tuple[float, float]]]:
+    """
+    Score predictions of one contact at several lead times.
+
+    For each lead L the prediction scored is the one made at the last processed frame at
+    least L before the contact; a frame that had no prediction scores None (not predicted).
+
+    :param predictions: the predictions made before the contact.
+    :param frames_ns: every processed frame stamp (ns) (the union of the sample stamps).
+    :param contact_ns: the contact's stamp (ns); ``contact_point`` its point (m).
+    :returns: ``{lead: (time error s, point error m) or None}``; errors are predicted minus
+        true, the point error a distance.
+    """
+    by_frame: Dict[int, Prediction] = {}
+    for prediction in predictions:
+        by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+    frames = sorted(frames_ns)
+    result: Dict[float, Optional[Tuple[float, float]]] = {}
+    for lead in leads_s:
+        cut = contact_ns - int(round(lead * 1e9))
+        index = np.searchsorted(frames, cut, side='right') - 1
+        chosen = by_frame.get(frames[index]) if index >= 0 else None
+        result[lead] = None if chosen is None else (
+            (chosen.stamp_ns - contact_ns) * 1e-9,
+            float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
+    return result

@@ -19,10 +19,9 @@ import argparse
 from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.detector import Detector, DetectorConfig, Prediction
+from baseball_collision.evaluation import LEADS_S, prediction_errors
 from baseball_collision.simulation import make_scenario, sample, Scenario, truth_dict
 import numpy as np
-
-LEADS_S = (0.2, 0.1, 0.05, 0.02)
 
 
 def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
@@ -45,20 +44,10 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
     for stamp, role, values in samples.messages('pose'):
         predictions += [e for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
     truth = truth_dict(scenario, samples.start_ns)
-    processed = sorted({p.made_at_ns for p in predictions})
-    frames = sorted(set(samples.ball_stamps_ns.tolist()) | set(samples.bat_stamps_ns.tolist()))
-    result: Dict[float, Optional[Tuple[float, float]]] = {}
-    for lead in LEADS_S:
-        cut = truth['stamp_ns'] - int(round(lead * 1e9))
-        frame = max((f for f in frames if f <= cut), default=None)
-        chosen = [p for p in predictions if p.made_at_ns == frame] if frame in processed else []
-        if not chosen:
-            result[lead] = None
-            continue
-        p = chosen[-1]
-        result[lead] = ((p.stamp_ns - truth['stamp_ns']) * 1e-6,
-                        float(np.linalg.norm(np.array(p.point) - truth['point'])) * 100.0)
-    return result
+    frames = set(samples.ball_stamps_ns.tolist()) | set(samples.bat_stamps_ns.tolist())
+    scored = prediction_errors(predictions, list(frames), truth['stamp_ns'], truth['point'])
+    return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
+            for lead, error in scored.items()}
 
 
 def main() -> None:

@@ -162,4 +162,5 @@ def test_output_topics_are_the_nodes() -> None:
     """The output bag uses the node's private topic names."""
     assert output_topics(NODE_NAME) == {
         'impact': '/impact_node/impact', 'impact_velocity': '/impact_node/impact_velocity',
-        'near_miss': '/impact_node/near_miss'}
+        'near_miss': '/impact_node/near_miss',
+        'predicted_impact': '/impact_node/predicted_impact'}

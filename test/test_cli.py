@@ -270,6 +270,37 @@ def test_out_bag_has_inputs_and_node_outputs(tmp_path: Path,
         assert bag.selection.bat_pose == '/bat_pose'
 
 
+def test_predict_scores_predictions_and_exports_them(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """--predict: predictions in the report, JSON, CSV and the output bag, scored by lead."""
+    json_out, csv_out, out = tmp_path / 'p.json', tmp_path / 'p.csv', tmp_path / 'p.mcap'
+    name = 'pitches_360hz.mcap'
+    code, stdout, stderr = run(['analyze', str(bag_path(name)), '--model', 'rigid', '--predict',
+                                '--json', str(json_out), '--csv', str(csv_out),
+                                '--out-bag', str(out)], capsys)
+    assert code == 0, stderr
+    assert 'predictions:' in stdout and 'error against the truth' in stdout
+    document = json.loads(json_out.read_text())
+    predictions = document['predictions']
+    assert predictions and all(p['stamp_ns'] > p['made_at_ns'] for p in predictions)
+    for impact in document['impacts']:
+        errors = impact['prediction_errors']
+        assert set(errors) == {'200', '100', '50', '20'}
+        close = errors['20']  # 20 ms ahead of a 360 Hz swing: within 3 ms and 8 cm
+        assert close is not None
+        assert abs(close['time_error_s']) < 3e-3 and close['point_error_m'] < 0.08
+    rows = [line for line in csv_out.read_text().splitlines() if ',prediction,' in line]
+    assert len(rows) == len(predictions)
+    with AnyReader([out], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+        predicted = [c for c in reader.connections
+                     if c.topic == output_topics()['predicted_impact']]
+        assert predicted and predicted[0].msgcount == len(predictions)
+    code, stdout, _ = run(['analyze', str(bag_path(name)), '--model', 'rigid', '--json',
+                           str(tmp_path / 'q.json')], capsys)
+    assert code == 0 and 'predictions:' not in stdout
+    assert 'predictions' not in json.loads((tmp_path / 'q.json').read_text())
+
+
 # ---- simulate ------------------------------------------------------------------------------
 
 @pytest.mark.parametrize('name, flags', [
