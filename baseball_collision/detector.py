@@ -394,8 +394,9 @@ class _Stream:
         self.stamps: List[int] = []
         self.values: List[Any] = []
         self.breaks: List[bool] = []  # True: this sample does not continue the previous one
-        # bat only: cumulative (swing x, y, z, roll) turn since the segment's first sample
-        self.turns: List[Tuple[float, float, float, float]] = []
+        # bat only: cumulative (swing x, y, z, roll) turn since the segment's first sample,
+        # filled in on demand by ``turn``
+        self.turns: List[Optional[Tuple[float, float, float, float]]] = []
         self.speed_drops = 0
         self.path_key: Optional[Tuple[int, int]] = None
         self.path: Any = None
@@ -410,13 +411,7 @@ class _Stream:
         self.values.append(value)
         self.breaks.append(new_segment or len(self.times) == 1)
         if isinstance(value, BatSample):
-            if self.breaks[-1]:
-                self.turns.append((0.0, 0.0, 0.0, 0.0))
-            else:
-                swing, roll = _rotation(self.values[-2], value)
-                last = self.turns[-1]
-                self.turns.append((last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
-                                   last[3] + roll))
+            self.turns.append((0.0, 0.0, 0.0, 0.0) if self.breaks[-1] else None)
 
     def trim(self, before: float, history: float, keep: int = 4) -> None:
         """Forget samples more than ``history`` s and ``keep`` samples before time ``before``."""
@@ -428,6 +423,22 @@ class _Stream:
             for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
                 del buffer[:index]
             self.path_key = None
+
+    def turn(self, k: int) -> Tuple[float, float, float, float]:
+        """Return the cumulative turn of bat sample k, summing the missing steps once."""
+        turns = self.turns
+        first = k
+        while turns[first] is None:
+            if first == 0:  # trimmed past the segment start: a new (zero) reference; only
+                turns[0] = (0.0, 0.0, 0.0, 0.0)  # differences of turns are ever used
+                break
+            first -= 1  # a segment's first sample always has its turn (zero)
+        for i in range(first + 1, k + 1):
+            swing, roll = _rotation(self.values[i - 1], self.values[i])
+            last = turns[i - 1]
+            turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
+                        last[3] + roll)
+        return turns[k]
 
     def interval(self, t: float) -> int:
         """Index k of the sample interval [times[k], times[k+1]] that starts at or before t."""
@@ -1501,7 +1512,7 @@ def _turn_rates(stream: _Stream, t: float, window: float,
     indices = _history(stream, t, window)
     if len(indices) < 2:
         return None
-    cumulative = [stream.turns[i] for i in indices]  # summed as the samples came in
+    cumulative = [stream.turn(i) for i in indices]
     rate, change = _fit_rates([stream.times[i] for i in indices], cumulative, t, degree)
     return (rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2])
 

@@ -62,6 +62,8 @@ def decode(path: Path) -> int:
 class NullDetector:
     """A detector that does nothing, to time the analyze loop alone."""
 
+    config = DetectorConfig()
+
     def add(self, role: str, stamp_ns: int, values: Tuple[float, ...], frame_id: str) -> list:
         """Return no events."""
         return []
