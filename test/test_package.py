@@ -50,4 +50,7 @@ def test_colcon_build_installs_executables_and_data(tmp_path: Path) -> None:
             / 'baseball_collision').is_file()
     for config in (REPO_ROOT / 'config').glob('*.yaml'):
         assert (share / 'config' / config.name).is_file()
+    for bag in (REPO_ROOT / 'bags').rglob('*'):  # the demo's recordings and their truth
+        if bag.is_file():
+            assert (share / bag.relative_to(REPO_ROOT)).is_file(), bag
     assert not (REPO_ROOT / 'build').exists() and not (REPO_ROOT / 'install').exists()
