@@ -49,9 +49,13 @@ from .solver import _profile_contact, profile_gap
 from .vectors import add, cross, dot, lerp, norm, scale, sub, Vector
 
 DROP_REASONS = (
-    'wrong_frame', 'non_finite', 'duplicate_stamp', 'out_of_order', 'bad_quaternion',
-    'zero_length_bat', 'bat_length_jump', 'speed_limit', 'unexpected_input')
+    'wrong_frame', 'non_finite', 'bad_stamp', 'duplicate_stamp', 'out_of_order',
+    'bad_quaternion', 'zero_length_bat', 'bat_length_jump', 'speed_limit', 'unexpected_input')
 """Every reason a sample can be dropped for (the keys of ``DetectorStats.dropped``)."""
+
+FAR_AHEAD_NS = 10 ** 15
+"""A stamp this far (ns, about 11.6 days) after the detector's time origin starts a new one:
+float seconds keep nanosecond resolution up to about 10^6 s."""
 
 MPS_TO_MPH = 1.0 / 0.44704
 """Metres per second to miles per hour."""
@@ -333,7 +337,13 @@ class StreamGap:
 
 @dataclass(frozen=True)
 class StateReset:
-    """The detector dropped its state; ``reason``: ``'time_jump_backwards'``, ``'requested'``."""
+    """
+    The detector dropped its state.
+
+    :ivar reason: ``'time_jump_backwards'`` (a stamp ``time_jump_reset`` behind its stream),
+        ``'time_jump_forward'`` (a stamp more than ``FAR_AHEAD_NS`` after the clock's origin:
+        a new session) or ``'requested'``.
+    """
 
     stamp_ns: int
     reason: str
@@ -618,8 +628,8 @@ class Detector:
         """
         if role == 'ball':
             return self.add_ball(stamp_ns, values, frame_id)
-        if role == 'bat_pose':
-            return self.add_bat_pose(stamp_ns, values[:3], values[3:], frame_id)
+        if role == 'bat_pose':  # split inside the guard: unsliceable values are dropped too
+            return self._timed(self._add_pose_values, 'bat_pose', stamp_ns, values, frame_id)
         if role == 'knob':
             return self.add_knob(stamp_ns, values, frame_id)
         if role == 'tip':
@@ -646,11 +656,14 @@ class Detector:
         reason = self._check_frame(frame_id)
         if reason is None:
             try:
-                reason = handler(stream, int(stamp_ns), value, events)
+                stamp = int(stamp_ns)
+                reason = 'bad_stamp' if stamp <= 0 else handler(stream, stamp, value, events)
             except (TypeError, ValueError) as error:
                 if isinstance(error, DetectorError):
                     raise
                 reason = 'non_finite'  # not numbers at all
+            if reason is None and self._frame is None and frame_id:
+                self._frame = frame_id  # the first accepted sample sets the tracking frame
         stats = self.stats
         stats.last_drop_reason = reason
         if reason is not None:
@@ -664,10 +677,7 @@ class Detector:
         return events
 
     def _check_frame(self, frame_id: str) -> Optional[str]:
-        if not frame_id:
-            return None
-        if self._frame is None:
-            self._frame = frame_id
+        if not frame_id or self._frame is None:
             return None
         return None if frame_id == self._frame else 'wrong_frame'
 
@@ -685,13 +695,17 @@ class Detector:
             return 'out_of_order'
         return None
 
-    def _close_and_reset(self, stamp: int) -> List[Event]:
+    def _close_and_reset(self, stamp: int, reason: str = 'time_jump_backwards') -> List[Event]:
         events: List[Event] = []
         self._close_episode(events)
-        events.append(self.reset(stamp, 'time_jump_backwards'))
+        events.append(self.reset(stamp, reason))
         return events
 
-    def _start_clock(self, stamp: int) -> None:
+    def _start_clock(self, stamp: int, events: List[Event]) -> None:
+        if self._origin is not None and stamp - self._origin > FAR_AHEAD_NS:
+            # a new session (or a wild clock): start a new time origin, so float times keep
+            # their nanosecond resolution
+            events.extend(self._close_and_reset(stamp, 'time_jump_forward'))
         if self._origin is None:
             self._origin = stamp
         newest = self.stats.newest_stamp_ns
@@ -707,9 +721,9 @@ class Detector:
         if dt > self.config.max_gap:
             stream.speed_drops = 0
             return True, True
-        limit = (self.config.max_speed * dt) ** 2
+        limit = self.config.max_speed * dt
         for p, q in zip(points, previous_points):
-            if (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2 > limit:
+            if math.dist(p, q) > limit:  # math.dist does not overflow (1e300 m is fine)
                 stream.speed_drops += 1
                 if stream.speed_drops >= 3:  # the body really moved: start a new segment
                     stream.speed_drops = 0
@@ -727,7 +741,7 @@ class Detector:
         reason = self._check_stamp(self._ball, stamp, events)
         if reason:
             return reason
-        self._start_clock(stamp)
+        self._start_clock(stamp, events)
         t = self._time(stamp)
         point = (x, y, z)
         previous = [self._ball.values[-1]] if self._ball.values else []
@@ -737,6 +751,10 @@ class Detector:
         self._ball.append(t, stamp, point, new_segment)
         self._advance(events)
         return None
+
+    def _add_pose_values(self, name: str, stamp: int, values: Sequence[float],
+                         events: List[Event]) -> Optional[str]:
+        return self._add_bat_pose(name, stamp, (values[:3], values[3:]), events)
 
     def _add_bat_pose(self, name: str, stamp: int, value: Tuple[Sequence[float], Sequence[float]],
                       events: List[Event]) -> Optional[str]:
@@ -757,7 +775,7 @@ class Detector:
         reason = self._check_stamp(self._bat, stamp, events)
         if reason:
             return reason
-        self._start_clock(stamp)
+        self._start_clock(stamp, events)
         t = self._time(stamp)
         knob = add(position, rotate(quaternion, self._offsets[0]))
         tip = add(position, rotate(quaternion, self._offsets[1]))
@@ -803,7 +821,7 @@ class Detector:
         reason = self._check_stamp(stream, stamp, events)
         if reason:
             return reason
-        self._start_clock(stamp)
+        self._start_clock(stamp, events)
         t = self._time(stamp)
         stream.append(t, stamp, (x, y, z), False)
         return self._pair(events)

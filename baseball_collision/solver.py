@@ -278,7 +278,7 @@ def _first_contact_tau(s: _Scaled, radius: float) -> Optional[float]:
     r = radius / s.scale
     rr = r * r
     tol = TOUCH_TOLERANCE / s.scale
-    cap_slack = (r + tol) ** 2 - rr
+    cap_slack = (r + tol) * (r + tol) - rr  # products overflow to inf; ** would raise
     best = None
     v0, v1 = sub(s.w0, s.u0), sub(s.w1, s.u1)
     for p0, p1 in ((s.w0, s.w1), (v0, v1)):
@@ -355,7 +355,7 @@ def _closest_on_axis(ball: Vector, knob: Vector, tip: Vector) -> Tuple[float, Ve
 def _unit_normal(offset: Vector, axis: Vector, relative_velocity: Vector) -> Vector:
     """Return offset as a unit vector; for a ball centre on the axis, a perpendicular to it."""
     length = math.sqrt(dot(offset, offset))
-    if length > 1e-12:
+    if 1e-12 < length < math.inf:
         return scale(offset, 1.0 / length)
     # Ball centre on the bat axis: push the ball back against its approach, across the axis.
     axis2 = dot(axis, axis)
@@ -364,7 +364,7 @@ def _unit_normal(offset: Vector, axis: Vector, relative_velocity: Vector) -> Vec
             along = dot(candidate, axis) / axis2
             candidate = sub(candidate, scale(axis, along))
         length = math.sqrt(dot(candidate, candidate))
-        if length > 1e-12:
+        if 1e-12 < length < math.inf:
             return scale(candidate, 1.0 / length)
     return (0.0, 0.0, 1.0)
 
@@ -424,7 +424,7 @@ def _may_touch(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0: 
                      math.sqrt(dot(sub(tip1, knob1), sub(tip1, knob1))))
     reach = half + radius + TOUCH_TOLERANCE
     margin = 1e-9 * (1.0 + reach)
-    return dot(closest, closest) <= (reach + margin) ** 2
+    return dot(closest, closest) <= (reach + margin) * (reach + margin)
 
 
 def time_of_impact(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,
