@@ -696,8 +696,11 @@ class BagReader:
         """Yield samples (the generator behind :meth:`samples`)."""
         routes = self._routes
         new = tuple.__new__
+        expected = self.message_count
+        count = 0
         try:
             for connection, log_time, raw in reader.messages(connections=self._connections):
+                count += 1
                 route = routes[id(connection)]
                 try:
                     b0, b1, sec, nanosec, length = route.head(raw, 0)
@@ -716,14 +719,18 @@ class BagReader:
             raise
         except Exception as error:
             raise BagError(f'cannot read bag {self.path}: {_first_line(error)}') from error
+        if count < expected:
+            # rosbags skips records it cannot place in a damaged chunk without an error: the
+            # bag's own index still counts them
+            raise BagError(f'bag {self.path} is damaged: read {count} of the {expected} '
+                           'messages its index lists on the selected topics')
 
-    @staticmethod
-    def _slow(reader: AnyReader, route: _Route,
+    def _slow(self, reader: AnyReader, route: _Route,
               raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
         """
         Decode one message with the rosbags deserialiser (big-endian or unusual data).
 
-        :raises BagError: the message cannot be deserialised (corrupt).
+        :raises BagError: the message cannot be deserialised (corrupt); names the bag.
         """
         try:
             message: Any = reader.deserialize(raw, route.msgtype)
@@ -732,8 +739,8 @@ class BagReader:
             return stamp_ns, str(message.header.frame_id), _values_slow(route.role, message)
         except Exception as error:
             raise BagError(
-                f'corrupt {route.msgtype} message on the {route.role} topic: '
-                f'{_first_line(error)}') from error
+                f'corrupt {route.msgtype} message on the {route.role} topic of bag '
+                f'{self.path}: {_first_line(error)}') from error
 
 
 def read_samples(path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
