@@ -29,8 +29,12 @@ lint: $(STAMP)
 demo: $(STAMP)
 	$(RUN) $(BIN)/baseball-collision demo
 
+# The quick benchmarks (about a minute); BENCHMARKS.md lists every benchmark and its command.
 bench: $(STAMP)
 	$(RUN) $(BIN)/python benchmarks/bench_solver.py
+	$(RUN) $(BIN)/python benchmarks/bench_detector.py
+	$(RUN) $(BIN)/python benchmarks/bench_accuracy.py
+	$(RUN) $(BIN)/python benchmarks/bench_prediction.py
 
 clean:
 	rm -rf $(VENV) build install log .pytest_cache .hypothesis
