@@ -14,8 +14,12 @@ RUN := env -u RMW_IMPLEMENTATION
 
 setup: $(STAMP)
 
-$(STAMP): requirements.txt setup.py setup.cfg package.xml
+# pip first: a recent pip installs the package (no pyproject.toml) as a PEP 660 editable wheel,
+# with its console scripts in .venv/bin; the stock pip 23 falls back to `setup.py develop`,
+# which follows setup.cfg's colcon script_dir and hides them in .venv/lib/baseball_collision.
+$(STAMP): requirements.txt setup.py setup.cfg package.xml Makefile
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --disable-pip-version-check pip==26.3
 	$(BIN)/python -m pip install -q --disable-pip-version-check -r requirements.txt
 	$(BIN)/python -m pip install -q --disable-pip-version-check --no-deps --no-build-isolation -e .
 	touch $(STAMP)
