@@ -45,7 +45,7 @@ from .motion import BatPath, BatSample, check_model, hermite_tangent, MotionErro
 from .motion import rotate, substeps_for
 from .prediction import BallForecast, BatForecast, first_contact, planned_bat, PlannedBat
 from .prediction import turn_axis_and_rates
-from .solver import _profile_contact, profile_gap
+from .solver import _profile_contact, closest_offset, profile_gap
 from .vectors import add, cross, dot, lerp, norm, scale, sub, Vector
 
 DROP_REASONS = (
@@ -1050,7 +1050,7 @@ class Detector:
         knob_b, tip_b = bat_path.at(tb)
         deviation = ball_path.deviation(ta, tb) + bat_path.deviation(ta, tb)
         reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
-        if _closest_approach(ball_a, ball_b, knob_a, tip_a, knob_b, tip_b) > reach:
+        if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
             self._far(events)
             return
         n = substeps_for(deviation, config.max_chord_error)
@@ -1346,17 +1346,6 @@ class Detector:
 
 # ----------------------------------------------------------------------------------------------
 # helpers
-
-
-def _closest_approach(ball0: Vector, ball1: Vector, knob0: Vector, tip0: Vector, knob1: Vector,
-                      tip1: Vector) -> float:
-    """Closest distance (m) of the ball to the bat's midpoint, both moving on chords."""
-    m0 = tuple(b - 0.5 * (k + e) for b, k, e in zip(ball0, knob0, tip0))
-    m1 = tuple(b - 0.5 * (k + e) for b, k, e in zip(ball1, knob1, tip1))
-    d = tuple(b - a for a, b in zip(m0, m1))
-    dd = dot(d, d)
-    s = 0.0 if dd == 0.0 else min(1.0, max(0.0, -dot(m0, d) / dd))
-    return norm(tuple(a + b * s for a, b in zip(m0, d)))
 
 
 def _same(point: Vector) -> Vector:

@@ -405,21 +405,29 @@ def _capsule_tau(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0
     return _first_contact_tau(_scaled(ball0, ball1, tip0, tip1, knob0, knob1, radius), radius)
 
 
+def closest_offset(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0: Vector,
+                   knob1: Vector) -> Vector:
+    """
+    Return the ball's offset (m) from the bat's midpoint at their closest, all moving on chords.
+
+    The offset moves linearly over the interval, so its smallest value is in closed form.
+    """
+    m0 = sub(ball0, lerp(knob0, tip0, 0.5))
+    m1 = sub(sub(ball1, lerp(knob1, tip1, 0.5)), m0)
+    m11 = dot(m1, m1)
+    s = 0.0 if m11 == 0.0 else min(1.0, max(0.0, -dot(m0, m1) / m11))
+    return advance(m0, m1, s)
+
+
 def _may_touch(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, knob0: Vector,
                knob1: Vector, radius: float) -> bool:
     """
     Conservative broad phase: False only when the ball certainly stays clear of the bat.
 
-    The ball's offset from the bat's midpoint moves linearly; its closest approach minus the
-    largest half-length of the bat bounds the gap from below.
+    The ball's closest approach to the bat's midpoint minus the largest half-length of the bat
+    bounds the gap from below.
     """
-    mid0 = lerp(knob0, tip0, 0.5)
-    mid1 = lerp(knob1, tip1, 0.5)
-    m0 = sub(ball0, mid0)
-    m1 = sub(sub(ball1, mid1), m0)
-    m11 = dot(m1, m1)
-    s = 0.0 if m11 == 0.0 else min(1.0, max(0.0, -dot(m0, m1) / m11))
-    closest = advance(m0, m1, s)
+    closest = closest_offset(ball0, ball1, tip0, tip1, knob0, knob1)
     half = 0.5 * max(math.sqrt(dot(sub(tip0, knob0), sub(tip0, knob0))),
                      math.sqrt(dot(sub(tip1, knob1), sub(tip1, knob1))))
     reach = half + radius + TOUCH_TOLERANCE
