@@ -17,12 +17,13 @@ positions metres. The detector builds the two forecasts from its latest samples 
   chord error tolerance, skipping every stretch where the ball cannot reach the bat.
 """
 
+from bisect import bisect_right
 from dataclasses import dataclass
 import math
 from typing import List, Optional, Sequence, Tuple
 
 from .bat import BatProfile
-from .motion import rotate, slerp_quaternions
+from .motion import quaternion_angle, rotate, slerp_quaternions
 from .solver import _profile_contact, ImpactResult
 from .vectors import add, cross, dot, lerp, norm, scale, sub, Vector
 
@@ -180,22 +181,14 @@ class PlannedBat:
         worst = 0.0
         times = self.times
         for k in range(max(0, _index(times, ta)), min(len(times) - 1, _index(times, tb) + 1)):
-            q0, q1 = self.quaternions[k], self.quaternions[k + 1]
-            angle = 2.0 * math.acos(min(1.0, abs(sum(a * b for a, b in zip(q0, q1)))))
+            angle = quaternion_angle(self.quaternions[k], self.quaternions[k + 1])
             worst = max(worst, angle / (times[k + 1] - times[k]))
         return worst
 
 
 def _index(times: Sequence[float], t: float) -> int:
-    """Return k with times[k] <= t < times[k + 1] (by bisection; -1 before the first)."""
-    lo, hi = -1, len(times)
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if times[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    return lo
+    """Return k with times[k] <= t < times[k + 1] (-1 before the first)."""
+    return bisect_right(times, t) - 1
 
 
 def _turn(vector: Vector, axis: Vector, angle: float) -> Vector:
