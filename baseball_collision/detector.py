@@ -33,7 +33,7 @@ How samples become events:
 
 from bisect import bisect_right
 from collections import Counter
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 import math
 import time
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
@@ -505,7 +505,9 @@ class Detector:
         self._episode: Optional[Dict[str, Any]] = None  # open near-miss episode
         self._last_gap: Optional[Tuple] = None  # (t, state, gap) last computed
         self._predicting = False
-        self._plan: Optional[Tuple[Tuple[int, ...], Tuple, Tuple]] = None  # stamps, poses
+        # commanded bat plan: (first stamp, plan timed in s from it); and on this clock, cached
+        self._plan: Optional[Tuple[int, PlannedBat]] = None
+        self._plan_on_clock: Optional[PlannedBat] = None
         self._zone_clear = False  # armed and seen outside the near-miss threshold since
 
     RESTART_FIELDS = ('model', 'bat_input', 'profile', 'geometry', 'frame_id')
@@ -534,15 +536,17 @@ class Detector:
         :raises DetectorError: lists of different lengths, stamps not increasing, or a
             quaternion not unit length.
         """
+        self._plan_on_clock = None
         if not stamps_ns:
             self._plan = None
             return
+        first = int(stamps_ns[0])
         try:
-            planned_bat([float(s - stamps_ns[0]) for s in stamps_ns], positions,
-                        quaternions, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+            plan = planned_bat([(int(s) - first) * 1e-9 for s in stamps_ns], positions,
+                               quaternions, *self._offsets)
         except (TypeError, ValueError) as error:
             raise DetectorError(f'bad bat plan: {error}') from error
-        self._plan = (tuple(int(s) for s in stamps_ns), tuple(positions), tuple(quaternions))
+        self._plan = (first, plan)
 
     def reset(self, stamp_ns: int = 0, reason: str = 'requested') -> StateReset:
         """
@@ -1148,10 +1152,12 @@ class Detector:
     def _bat_forecast(self, t0: float):
         """Return the bat's forecast: the commanded plan when it covers t0, else extrapolated."""
         if self._plan is not None:
-            stamps, positions, quaternions = self._plan
-            times = [self._time(stamp) for stamp in stamps]
-            if times[-1] > t0:
-                return planned_bat(times, positions, quaternions, *self._offsets)
+            if self._plan_on_clock is None:  # once: the clock's origin stays until a reset
+                first, plan = self._plan
+                shift = self._time(first)
+                self._plan_on_clock = replace(plan, times=tuple(t + shift for t in plan.times))
+            if self._plan_on_clock.times[-1] > t0:
+                return self._plan_on_clock
         bat = self._bat
         config = self.config
         window, degree = config.velocity_window, min(config.velocity_degree, PREDICTION_DEGREE)
