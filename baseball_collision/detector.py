@@ -1168,18 +1168,12 @@ class Detector:
         # fits as an impact's velocities give the rates (``_impact``)
         start = bat.times[indices[-1]]
         latest = bat.values[indices[-1]]
-        fraction = _pivot_fraction(bat, start, window, degree)
-
-        def pivot_of(sample: BatSample) -> Vector:
-            return lerp(sample.knob, sample.tip, fraction)
-        rows = [pivot_of(bat.values[i]) for i in indices]
-        _, pivot_velocity, pivot_acceleration = _fit_polynomial(
-            [bat.times[i] for i in indices], rows, start, _pivot_degree(len(indices), degree))
+        fraction, pivot_velocity, pivot_acceleration = _pivot_rates(bat, start, window, degree)
         rate, _, change = _turn_rates(bat, start, window, degree)
         axis, turn, turn_change = turn_axis_and_rates(rate, change)
-        pivot = pivot_of(latest)
-        return BatForecast(t0=start, pivot=pivot, pivot_velocity=tuple(pivot_velocity),
-                           pivot_acceleration=tuple(pivot_acceleration),
+        pivot = lerp(latest.knob, latest.tip, fraction)
+        return BatForecast(t0=start, pivot=pivot, pivot_velocity=pivot_velocity,
+                           pivot_acceleration=pivot_acceleration,
                            knob_arm=sub(latest.knob, pivot), tip_arm=sub(latest.tip, pivot),
                            axis=axis, rate=turn, rate_change=turn_change)
 
@@ -1306,12 +1300,8 @@ class Detector:
         history = True
         window, degree = self.config.velocity_window, self.config.velocity_degree
         ball_velocity = _point_velocity(self._ball, t, _same, window, min(2, degree))
-        pivot = _pivot_fraction(self._bat, t, window, degree)
-
-        def pivot_of(sample: BatSample) -> Vector:
-            return lerp(sample.knob, sample.tip, pivot)
-        pivot_degree = _pivot_degree(len(_history(self._bat, t, window)), degree)
-        pivot_velocity = _point_velocity(self._bat, t, pivot_of, window, pivot_degree)
+        rates = _pivot_rates(self._bat, t, window, degree)
+        pivot, pivot_velocity = (rates[0], rates[1]) if rates else (0.0, None)
         omega = _angular_velocity(self._bat, t, window, degree)
         if ball_velocity is None or pivot_velocity is None or omega is None:
             # not enough history before the impact: fall back to the spanning interval
@@ -1504,6 +1494,24 @@ def _pivot_fraction(stream: _Stream, t: float, window: float, degree: int) -> fl
     if size == 0.0:
         return 0.0
     return min(1.0, max(-0.5, -dot(knob, change) / size))
+
+
+def _pivot_rates(stream: _Stream, t: float, window: float,
+                 degree: int) -> Optional[Tuple[float, Vector, Vector]]:
+    """
+    Return the bat pivot's fraction along knob-tip, velocity (m/s) and acceleration at t.
+
+    The pivot is ``_pivot_fraction``'s axis point; its samples up to t are fitted with
+    ``_pivot_degree``. None with fewer than two samples.
+    """
+    indices = _history(stream, t, window)
+    if len(indices) < 2:
+        return None
+    fraction = _pivot_fraction(stream, t, window, degree)
+    rows = [lerp(stream.values[i].knob, stream.values[i].tip, fraction) for i in indices]
+    first, second = _fit_rates([stream.times[i] for i in indices], rows, t,
+                               _pivot_degree(len(indices), degree))
+    return fraction, tuple(first), tuple(second)
 
 
 def _angular_velocity(stream: _Stream, t: float, window: float,
