@@ -42,7 +42,7 @@ import numpy as np
 
 from .bat import BatGeometryError, BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from .motion import BatPath, BatSample, check_model, hermite_tangent, MotionError, PointPath
-from .motion import rotate, substeps_for
+from .motion import rotate, substeps_for, swing_rotation
 from .prediction import BallForecast, BatForecast, first_contact, planned_bat, PlannedBat
 from .prediction import turn_axis_and_rates
 from .solver import _profile_contact, closest_offset, profile_gap
@@ -1448,10 +1448,7 @@ def _rotation(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
     """
     d0 = sub(a.tip, a.knob)
     d1 = sub(b.tip, b.knob)
-    axis = cross(d0, d1)
-    sine = norm(axis)
-    angle = math.atan2(sine, dot(d0, d1))
-    swing = scale(axis, angle / sine) if sine > 0.0 else (0.0, 0.0, 0.0)
+    swing = swing_rotation(d0, d1)
     if a.quaternion is None or b.quaternion is None:
         return swing, 0.0
     x0, y0, z0, w0 = a.quaternion

@@ -124,6 +124,13 @@ def rotate(q: Quaternion, v: Vector) -> Vector:
             v[2] + 2.0 * (w * cz + x * cy - y * cx))
 
 
+def swing_rotation(u: Vector, v: Vector) -> Vector:
+    """Return the rotation (axis times angle, radians) turning direction u onto direction v."""
+    turn = cross(u, v)
+    sine = norm(turn)
+    return scale(turn, math.atan2(sine, dot(u, v)) / sine) if sine > 0.0 else (0.0, 0.0, 0.0)
+
+
 def hermite_tangent(t_prev: Optional[float], p_prev: Optional[Vector], t: float, p: Vector,
                     t_next: Optional[float], p_next: Optional[Vector]) -> Vector:
     """
@@ -350,10 +357,7 @@ class BatPath:
 
         def turned(a: BatSample, b: BatSample) -> float:
             """Return the angle (rad) the bat turned from a to b, about this interval's axis."""
-            u, v = sub(a.tip, a.knob), sub(b.tip, b.knob)
-            w = cross(u, v)
-            size = norm(w)
-            return 0.0 if size == 0.0 else dot(w, axis) / size * math.atan2(size, dot(u, v))
+            return dot(swing_rotation(sub(a.tip, a.knob), sub(b.tip, b.knob)), axis)
         previous = (tb, (-turned(before[1], s0), 0.0, 0.0)) if before else (None, None)
         following = (ta, (self.angle + turned(s1, after[1]), 0.0, 0.0)) if after \
             else (None, None)
