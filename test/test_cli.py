@@ -36,6 +36,7 @@ from conftest import REPO_ROOT
 import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
+from support.documents import differences
 
 BAGS = {
     'pitches_90hz.mcap': 90.0,
@@ -345,13 +346,14 @@ def test_simulate_is_deterministic(tmp_path: Path, capsys: pytest.CaptureFixture
                    capsys)[0] == 0
     a = json.loads((tmp_path / 'a.truth.json').read_text())
     b = json.loads((tmp_path / 'b.truth.json').read_text())
-    assert a['pitches'] == b['pitches']
+    assert a['pitches'] == b['pitches']  # same machine, same seed: bit for bit
     bundled = json.loads(truth_path(bag_path('pitches_90hz.mcap')).read_text())
     argv = bundled['command'].split()[1:]
     argv[1] = str(tmp_path / 'again.mcap')
     assert run(argv, capsys)[0] == 0
     again = json.loads((tmp_path / 'again.truth.json').read_text())
-    assert again['pitches'] == bundled['pitches']
+    # another machine or numpy build may differ in the last bits of a float, never in a stamp
+    assert differences(again['pitches'], bundled['pitches']) == []
 
 
 # ---- bad input: one line, exit 2, nothing written -------------------------------------------
