@@ -28,8 +28,8 @@ setup(
     tests_require=['pytest'],
     entry_points={
         'console_scripts': [
-            'impact_node = baseball_collision.node:main',
-            'baseball-collision = baseball_collision.cli:main',
+            'impact_node = baseball_collision.ros.node:main',
+            'baseball-collision = baseball_collision.tools.cli:main',
         ],
     },
 )

@@ -30,11 +30,11 @@ import tempfile
 import time
 from typing import Tuple
 
-from baseball_collision.analysis import _run, AnalysisOptions, analyze_bag, BagAnalysis
-from baseball_collision.bag import BagReader
-from baseball_collision.detector import DetectorConfig
-from baseball_collision.recording import RecordingSpec, write_recording
-from bench_bag_read import raw_read  # the same raw read as the bag read benchmark
+from baseball_collision.bags.bag import BagReader
+from baseball_collision.core.detector.detector import DetectorConfig
+from baseball_collision.tools.analysis import _run, AnalysisOptions, analyze_bag, BagAnalysis
+from baseball_collision.tools.recording import RecordingSpec, write_recording
+from bench_bag_read import raw_read
 
 GOAL = 100_000
 SUFFIXES = {'mcap': 'bench.mcap', 'sqlite3': 'bench.db3', 'rosbag1': 'bench.bag'}

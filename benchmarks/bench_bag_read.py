@@ -6,7 +6,7 @@ Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S
 Writes a bag of ``N`` messages (default 1,000,000; half ball PointStamped, half bat
 PoseStamped, both at 360 Hz on a millisecond grid) into a temporary directory, then times in the
 same process: (a) ``AnyReader.messages()`` alone (raw bytes), (b) (a) plus
-``AnyReader.deserialize`` of every message, (c) :func:`baseball_collision.bag.read_samples`
+``AnyReader.deserialize`` of every message, (c) :func:`baseball_collision.bags.bag.read_samples`
 (open, select topics, decode, build samples). Prints messages per second and ratios; asserts
 nothing.
 """
@@ -19,7 +19,7 @@ import tempfile
 import time
 from typing import Callable, Tuple
 
-from baseball_collision.bag import BagWriter, read_samples
+from baseball_collision.bags.bag import BagWriter, read_samples
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
 

@@ -26,7 +26,7 @@ import sys
 import time
 from typing import Dict, List, Optional, Tuple
 
-from baseball_collision.node import ImpactNode
+from baseball_collision.ros.node import ImpactNode
 from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
 import rclpy

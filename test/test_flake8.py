@@ -1,8 +1,8 @@
 """ament_flake8 over the package, its tests and its tools (the standard ament_python lint test)."""
 
 from ament_flake8.main import main_with_errors
-from conftest import REPO_ROOT
 import pytest
+from support import REPO_ROOT
 
 LINTED = ['baseball_collision', 'test', 'benchmarks', 'launch', 'setup.py']
 

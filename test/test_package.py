@@ -7,8 +7,8 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ElementTree
 
-from conftest import REPO_ROOT
 import pytest
+from support import REPO_ROOT
 
 
 def test_package_xml_declares_the_runtime_dependencies() -> None:

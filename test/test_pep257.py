@@ -1,8 +1,8 @@
 """ament_pep257 over the package, its tests and its tools (the standard ament_python lint test)."""
 
 from ament_pep257.main import main
-from conftest import REPO_ROOT
 import pytest
+from support import REPO_ROOT
 
 LINTED = ['baseball_collision', 'test', 'benchmarks', 'launch', 'setup.py']
 

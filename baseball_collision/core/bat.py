@@ -1,0 +1,197 @@
+"""
+Bat geometry: the radius profile along the knob-to-tip axis, and knob/tip from a pose.
+
+Pure Python + numpy; no ROS imports. Lengths are metres.
+
+A bat profile is a list of stations ``(distance_from_knob, radius)``. Between two consecutive
+stations the bat is a capsule (segment with rounded ends) whose radius is the mean of the two
+station radii, so a taper is followed to within half the radius step between stations. Stations
+are given for a bat of ``length`` metres and are scaled to the measured knob-to-tip distance when
+the bat is tracked, so every sub-segment end is a fixed fraction of knob-to-tip: it moves
+linearly when knob and tip do, and the exact linear solver applies to every piece.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Sequence, Tuple
+
+import numpy as np
+
+from .geometry import quaternion_to_matrix
+from ..errors import CoreError
+
+INCH = 0.0254
+"""One inch in metres."""
+
+SWEET_SPOT_FROM_TIP = 6.0 * INCH
+"""Statcast's bat-speed point: 6 inches from the barrel end (metres)."""
+
+
+@dataclass(frozen=True)
+class BatProfile:
+    """
+    Radius of the bat along its axis, as stations measured from the knob end.
+
+    :ivar stations: ``((distance_from_knob_m, radius_m), ...)`` with strictly increasing distances
+        from 0 to ``length``, radii > 0.
+    :ivar length: knob-to-tip length the stations were measured on (metres).
+    """
+
+    stations: Tuple[Tuple[float, float], ...]
+    length: float
+
+    def __post_init__(self) -> None:
+        """
+        Check the stations describe a bat.
+
+        :raises CoreError: fewer than one station, non-finite or non-positive values,
+            distances not strictly increasing, or outside [0, length].
+        """
+        if not (math.isfinite(self.length) and self.length > 0.0):
+            raise CoreError(f'bat length must be finite and > 0 m, got {self.length!r}')
+        if len(self.stations) < 1:
+            raise CoreError('a bat profile needs at least one station')
+        previous = -math.inf
+        for distance, radius in self.stations:
+            if not (math.isfinite(distance) and math.isfinite(radius) and radius > 0.0):
+                raise CoreError(
+                    f'station ({distance!r}, {radius!r}) must be finite with radius > 0 m')
+            if distance <= previous or distance < 0.0 or distance > self.length * (1 + 1e-12):
+                raise CoreError(
+                    'station distances must increase strictly within [0, length], '
+                    f'got {distance!r} after {previous!r} (length {self.length!r})')
+            previous = distance
+        object.__setattr__(self, '_segments', self._build_segments())
+
+    @classmethod
+    def constant(cls, radius: float, length: float = 1.0) -> 'BatProfile':
+        """Return a plain capsule of one radius (metres) over the whole knob-to-tip axis."""
+        return cls(stations=((0.0, float(radius)), (float(length), float(radius))),
+                   length=float(length))
+
+    @classmethod
+    def from_sequence(cls, stations: Sequence[Sequence[float]],
+                      length: float) -> 'BatProfile':
+        """
+        Build a profile from ``[[distance_from_knob, radius], ...]`` (metres).
+
+        :raises CoreError: the stations do not describe a bat (see the class).
+        """
+        try:
+            pairs = tuple((float(d), float(r)) for d, r in stations)
+        except (TypeError, ValueError) as error:
+            raise CoreError(
+                f'bat profile stations must be pairs of numbers, got {stations!r}') from error
+        return cls(stations=pairs, length=float(length))
+
+    @property
+    def max_radius(self) -> float:
+        """Largest radius of the profile (metres)."""
+        return max(radius for _, radius in self.stations)
+
+    def segments(self) -> Tuple[Tuple[float, float, float], ...]:
+        """
+        Capsules making up the bat as ``(fraction_start, fraction_end, radius)``.
+
+        Fractions are of the knob-to-tip distance (0 at the knob, 1 at the tip). One station
+        gives a single sphere (start == end).
+        """
+        return self._segments
+
+    def _build_segments(self) -> Tuple[Tuple[float, float, float], ...]:
+        if len(self.stations) == 1:
+            distance, radius = self.stations[0]
+            fraction = distance / self.length
+            return ((fraction, fraction, radius),)
+        pieces = []
+        for (d0, r0), (d1, r1) in zip(self.stations[:-1], self.stations[1:]):
+            pieces.append((d0 / self.length, d1 / self.length, 0.5 * (r0 + r1)))
+        return tuple(pieces)
+
+    def radius_at(self, fraction: float) -> float:
+        """Radius (metres) at a fraction of knob-to-tip, interpolated between stations."""
+        distances = [d for d, _ in self.stations]
+        radii = [r for _, r in self.stations]
+        return float(np.interp(fraction * self.length, distances, radii))
+
+
+def _wood_bat_34() -> BatProfile:
+    """
+    Build the default: a 34-inch wood bat with a 2.61-inch barrel.
+
+    Diameters (inches) at distances from the knob end, close to a common big-league model
+    (271 turning): a 1.6-inch knob, a 0.94-inch handle, a taper from 10 to 27 inches and a
+    2.61-inch barrel to the end. The first and last stations are inset by their radius so the
+    rounded capsule ends finish at the knob end and at the barrel end.
+    """
+    length = 34.0 * INCH
+    diameters = (
+        (0.80, 1.60), (1.00, 0.94), (10.0, 0.98), (14.0, 1.20), (18.0, 1.60),
+        (21.0, 2.05), (24.0, 2.40), (27.0, 2.61), (34.0 - 1.305, 2.61),
+    )
+    return BatProfile(
+        stations=tuple((d * INCH, 0.5 * dia * INCH) for d, dia in diameters), length=length)
+
+
+WOOD_BAT_34 = _wood_bat_34()
+"""Default profile: 34-inch (0.8636 m) wood bat, barrel radius 1.305 in (33.1 mm)."""
+
+
+@dataclass(frozen=True)
+class PoseBatGeometry:
+    """
+    Where knob and tip sit in the frame of a tracked bat pose.
+
+    :ivar knob_offset: knob end in the bat body frame (metres).
+    :ivar tip_offset: barrel end in the bat body frame (metres).
+    """
+
+    knob_offset: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    tip_offset: Tuple[float, float, float] = (0.0, 0.0, 34.0 * INCH)
+
+    def __post_init__(self) -> None:
+        """
+        Check the offsets are finite and knob and tip are apart.
+
+        :raises CoreError: non-finite offsets or knob and tip closer than 1 mm.
+        """
+        knob = np.asarray(self.knob_offset, dtype=float)
+        tip = np.asarray(self.tip_offset, dtype=float)
+        if knob.shape != (3,) or tip.shape != (3,):
+            raise CoreError('knob_offset and tip_offset must have 3 components')
+        if not (np.all(np.isfinite(knob)) and np.all(np.isfinite(tip))):
+            raise CoreError('knob_offset and tip_offset must be finite')
+        if np.linalg.norm(tip - knob) < 1e-3:
+            raise CoreError('knob_offset and tip_offset must be at least 1 mm apart')
+
+    @classmethod
+    def along_axis(cls, axis: str, knob_distance: float,
+                   tip_distance: float) -> 'PoseBatGeometry':
+        """
+        Knob and tip on a body axis (``'x'``, ``'y'``, ``'z'``, ``'-x'`` ...) at signed distances.
+
+        :raises CoreError: an unknown axis name.
+        """
+        names = {'x': 0, 'y': 1, 'z': 2}
+        sign = -1.0 if axis.startswith('-') else 1.0
+        index = names.get(axis.lstrip('+-'))
+        if index is None:
+            raise CoreError(f"bat axis must be one of x, y, z, -x, -y, -z, got '{axis}'")
+        knob = [0.0, 0.0, 0.0]
+        tip = [0.0, 0.0, 0.0]
+        knob[index] = sign * float(knob_distance)
+        tip[index] = sign * float(tip_distance)
+        return cls(knob_offset=tuple(knob), tip_offset=tuple(tip))
+
+    def knob_and_tip(self, position: Sequence[float],
+                     quaternion: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
+        """
+        Return world knob and tip (metres) for a bat pose (position, quaternion x y z w).
+
+        :raises CoreError: a malformed quaternion.
+        """
+        rotation = quaternion_to_matrix(quaternion)
+        origin = np.asarray(position, dtype=float)
+        knob = origin + rotation @ np.asarray(self.knob_offset, dtype=float)
+        tip = origin + rotation @ np.asarray(self.tip_offset, dtype=float)
+        return knob, tip

@@ -1,0 +1,140 @@
+"""
+Geometry on plain float tuples: 3-vectors and rotations (unit quaternions, SLERP).
+
+One copy of each building block for the whole package. The scalar hot paths (solver, motion
+models, detector) work on tuples of three floats: for vectors this small, plain float arithmetic
+is several times faster than numpy's per-call overhead. Quaternions are in ROS order
+``(x, y, z, w)``; angles in radians.
+"""
+
+import math
+from typing import Sequence, Tuple
+
+import numpy as np
+
+from ..errors import CoreError
+
+Vector = Tuple[float, float, float]
+Quaternion = Tuple[float, float, float, float]
+
+
+def add(a: Sequence[float], b: Sequence[float]) -> Vector:
+    """Return a + b."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def sub(a: Sequence[float], b: Sequence[float]) -> Vector:
+    """Return a - b."""
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def scale(a: Sequence[float], s: float) -> Vector:
+    """Return a * s."""
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def advance(p0: Sequence[float], p1: Sequence[float], s: float) -> Vector:
+    """Return p0 + p1 * s."""
+    return (p0[0] + p1[0] * s, p0[1] + p1[1] * s, p0[2] + p1[2] * s)
+
+
+def lerp(a: Sequence[float], b: Sequence[float], s: float) -> Vector:
+    """Return a + (b - a) * s."""
+    return (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s, a[2] + (b[2] - a[2]) * s)
+
+
+def dot(a: Sequence[float], b: Sequence[float]) -> float:
+    """Return the dot product of two 3-vectors."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a: Sequence[float], b: Sequence[float]) -> Vector:
+    """Return the cross product a x b."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def norm(a: Sequence[float]) -> float:
+    """Return the Euclidean length of a 3-vector."""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+# ----------------------------------------------------------------------------------------------
+# rotations
+
+
+def _dot4(a: Sequence[float], b: Sequence[float]) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+
+
+def slerp_vectors(d0: Vector, d1: Vector, s: float) -> Vector:
+    """Interpolate unit vectors on the great circle (constant angular rate) at fraction s."""
+    cos_angle = max(-1.0, min(1.0, dot(d0, d1)))
+    angle = math.acos(cos_angle)
+    if angle < 1e-9:
+        d = lerp(d0, d1, s)
+        length = norm(d)
+        return (d[0] / length, d[1] / length, d[2] / length)
+    sin_angle = math.sin(angle)
+    w0 = math.sin((1.0 - s) * angle) / sin_angle
+    w1 = math.sin(s * angle) / sin_angle
+    return (w0 * d0[0] + w1 * d1[0], w0 * d0[1] + w1 * d1[1], w0 * d0[2] + w1 * d1[2])
+
+
+def slerp_quaternions(q0: Quaternion, q1: Quaternion, s: float) -> Quaternion:
+    """Interpolate unit quaternions (x, y, z, w) along the shorter arc at fraction s."""
+    cosine = _dot4(q0, q1)
+    if cosine < 0.0:
+        q1 = (-q1[0], -q1[1], -q1[2], -q1[3])
+        cosine = -cosine
+    if cosine > 1.0 - 1e-12:
+        q = tuple(a + (b - a) * s for a, b in zip(q0, q1))
+    else:
+        angle = math.acos(cosine)
+        sin_angle = math.sin(angle)
+        w0 = math.sin((1.0 - s) * angle) / sin_angle
+        w1 = math.sin(s * angle) / sin_angle
+        q = tuple(w0 * a + w1 * b for a, b in zip(q0, q1))
+    length = math.sqrt(_dot4(q, q))
+    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)
+
+
+def quaternion_angle(q0: Quaternion, q1: Quaternion) -> float:
+    """Return the rotation angle (radians, in [0, pi]) between two unit quaternions."""
+    return 2.0 * math.acos(min(1.0, abs(_dot4(q0, q1))))
+
+
+def rotate(q: Quaternion, v: Vector) -> Vector:
+    """Rotate vector v by unit quaternion q (x, y, z, w)."""
+    x, y, z, w = q
+    # v + 2 w (q_v x v) + 2 q_v x (q_v x v)
+    cx = y * v[2] - z * v[1]
+    cy = z * v[0] - x * v[2]
+    cz = x * v[1] - y * v[0]
+    return (v[0] + 2.0 * (w * cx + y * cz - z * cy),
+            v[1] + 2.0 * (w * cy + z * cx - x * cz),
+            v[2] + 2.0 * (w * cz + x * cy - y * cx))
+
+
+def swing_rotation(u: Vector, v: Vector) -> Vector:
+    """Return the rotation (axis times angle, radians) turning direction u onto direction v."""
+    turn = cross(u, v)
+    sine = norm(turn)
+    return scale(turn, math.atan2(sine, dot(u, v)) / sine) if sine > 0.0 else (0.0, 0.0, 0.0)
+
+
+def quaternion_to_matrix(quaternion: Sequence[float]) -> np.ndarray:
+    """
+    Return the 3x3 rotation matrix of a unit quaternion ``(x, y, z, w)`` (ROS order).
+
+    :raises CoreError: non-finite, or norm further than 1e-3 from 1 (a malformed pose).
+    """
+    x, y, z, w = (float(q) for q in quaternion)
+    norm = math.sqrt(x * x + y * y + z * z + w * w)
+    if not math.isfinite(norm) or abs(norm - 1.0) > 1e-3:
+        raise CoreError(f'quaternion must be unit length, got norm {norm!r}')
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])

@@ -1,0 +1,1 @@
+"""Command-line tools: analyze, simulate, replay, the demo, reports and plots."""

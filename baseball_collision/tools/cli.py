@@ -1,0 +1,348 @@
+"""
+The ``baseball-collision`` command line: ``simulate``, ``analyze``, ``replay`` and ``demo``.
+
+* ``simulate OUT``: a bag of simulated pitches and swings with its truth file
+  (:mod:`baseball_collision.tools.recording`).
+* ``analyze BAG [BAG ...]``: the detector over recorded bags, with a table, JSON, CSV, plots and
+  an output bag (:mod:`baseball_collision.tools.analysis`; no rclpy needed).
+* ``replay BAG``: publish a bag over ROS 2 with ``/clock`` (:mod:`baseball_collision.ros.replay`).
+* ``demo``: a live ``impact_node`` fed by a bundled bag (:mod:`baseball_collision.tools.demo`).
+
+Bad input (missing or corrupt bags, missing topics, existing outputs, bad values) ends with one
+line ``baseball-collision: error: ...`` on stderr and exit code 2, and no output file written.
+rclpy is imported only by ``replay`` and ``demo``.
+"""
+
+import argparse
+import math
+import shlex
+import sys
+from typing import Any, Callable, List, NoReturn, Optional, Sequence
+
+from .analysis import (
+    AnalysisOptions, analyze_bag, BagAnalysis, csv_text, format_report, load_parameters, Outputs,
+    to_json, truth_path, write_json, write_plots)
+from .recording import BAT_CHOICES, RecordingSpec, write_recording
+from .sim.simulation import KINDS
+from ..bags.bag import TOPIC_FLAGS
+from ..errors import BagError, RosError, ToolError
+
+PROG = 'baseball-collision'
+EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line: ``baseball-collision: error: ...``."""
+
+    def error(self, message: str) -> NoReturn:
+        """Print the error in one line with a pointer to ``--help``; exit with code 2."""
+        sys.stderr.write(f'{PROG}: error: {message} (see {self.prog} --help)\n')
+        sys.exit(EXIT_BAD_INPUT)
+
+
+def _number(minimum: float, inclusive: bool, what: str) -> Callable[[str], float]:
+    """Return an argparse type: a finite float above ``minimum`` (or at it if inclusive)."""
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not a number ({what})") from None
+        if not math.isfinite(value) or value < minimum or (value == minimum and not inclusive):
+            bound = f'>= {minimum:g}' if inclusive else f'> {minimum:g}'
+            raise argparse.ArgumentTypeError(f"'{text}' must be a finite number {bound} "
+                                             f'({what})')
+        return value
+    return convert
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"'{text}' must be >= 1")
+    return value
+
+
+def _kinds(text: str) -> List[str]:
+    kinds = [kind.strip() for kind in text.split(',') if kind.strip()]
+    unknown = [kind for kind in kinds if kind not in KINDS]
+    if not kinds or unknown:
+        named = ', '.join(unknown) if unknown else repr(text)
+        raise argparse.ArgumentTypeError(
+            f"unknown kind(s) {named}; choose from {', '.join(KINDS)}")
+    return kinds
+
+
+# ----------------------------------------------------------------------------------------------
+# simulate
+
+
+def _simulate(args: argparse.Namespace) -> int:
+    spec = RecordingSpec(
+        count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
+        grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
+        frame_id=args.frame_id, bat=args.bat, unique=args.unique)
+    command = shlex.join([PROG] + list(args.argv))
+    document = write_recording(args.out, spec, storage=args.storage, command=command)
+    contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
+    print(f"wrote {args.out}: {document['messages']:,} messages, {spec.count} pitches "
+          f'({contacts} with contact) at {spec.rate_hz:g} Hz on '
+          f"{', '.join(document['topics'].values())}; truth in "
+          f'{truth_path(args.out)}')
+    return 0
+
+
+# ----------------------------------------------------------------------------------------------
+# analyze
+
+
+def _analyze(args: argparse.Namespace) -> int:
+    if len(args.bags) > 1 and args.out_bag is not None:
+        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
+    parameters = load_parameters(args.params, args.node_name) if args.params else {}
+    options = AnalysisOptions(
+        ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
+        knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
+        model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
+        prediction_horizon=args.predict, node_name=args.node_name)
+    analyses: List[BagAnalysis] = []
+    with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
+        writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
+        for path in args.bags:
+            analyses.append(analyze_bag(path, options, out_bag=writer,
+                                        progress=not args.no_progress,
+                                        use_truth=not args.no_truth))
+        if args.json:
+            outputs.stage_text('json', _json_text(analyses))
+        if args.csv:
+            outputs.stage_text('csv', csv_text(analyses))
+        if args.plot:
+            outputs.stage_directory('plot', lambda d: write_plots(analyses, options, d))
+        outputs.commit()
+    if not args.quiet:
+        print('\n\n'.join(format_report(analysis) for analysis in analyses))
+        if len(analyses) > 1:
+            _print_total(analyses)
+    return 0
+
+
+def _json_text(analyses: Sequence[BagAnalysis]) -> str:
+    import io
+    buffer = io.StringIO()
+    write_json(to_json(analyses), buffer)
+    return buffer.getvalue()
+
+
+def _print_total(analyses: Sequence[BagAnalysis]) -> None:
+    messages = sum(a.messages for a in analyses)
+    seconds = sum(a.seconds for a in analyses)
+    rate = messages / seconds if seconds > 0 else 0.0
+    print(f'\ntotal: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
+          f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
+          f'{seconds:.2f} s ({rate:,.0f} msg/s)')
+
+
+# ----------------------------------------------------------------------------------------------
+# replay and demo (rclpy)
+
+
+def _replay(args: argparse.Namespace) -> int:
+    import rclpy
+
+    from ..ros.replay import BagPlayer
+
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node('baseball_collision_replay', context=context)
+    try:
+        with BagPlayer(node, args.bag, rate=args.rate, clock_hz=args.clock) as player:
+            print(f"replaying {args.bag} at {args.rate:g}x: {', '.join(player.topics)}"
+                  + (f' and /clock at {args.clock:g} Hz' if args.clock else '')
+                  + (' (looping; Ctrl-C stops)' if args.loop else ''), flush=True)
+            if args.wait_for:
+                player.wait_for_subscribers(args.wait_for, args.wait_timeout)
+            try:
+                result = player.play(loop=args.loop)
+            except KeyboardInterrupt:
+                result = player.result
+                print('stopped')
+            print(f'published {result.messages:,} messages in {result.seconds:.1f} s'
+                  + (f' ({result.loops} loops)' if args.loop else '')
+                  + (f"; skipped {', '.join(result.skipped_topics)} (type not available)"
+                     if result.skipped_topics else ''))
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return 0
+
+
+def _demo(args: argparse.Namespace) -> int:
+    from .demo import run_demo
+    return run_demo(args.bag, args.params, rate=args.rate, timeout_s=args.timeout)
+
+
+# ----------------------------------------------------------------------------------------------
+# parser
+
+
+def _add_topic_flags(parser: argparse.ArgumentParser) -> None:
+    for role, help_text in (
+            ('ball', 'ball topic (PointStamped or PoseStamped)'),
+            ('bat_pose', 'bat pose topic (PoseStamped)'),
+            ('knob', 'knob end topic (PointStamped; with the tip topic)'),
+            ('tip', 'barrel end topic (PointStamped; with the knob topic)')):
+        parser.add_argument(TOPIC_FLAGS[role], metavar='TOPIC', dest=f'{role}_topic',
+                            help=f'{help_text}; default: auto-detected by name and type')
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser with every subcommand."""
+    parser = _Parser(
+        prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
+        'recordings, analyse bags offline, replay them to the live node, or run the demo.')
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+
+    simulate = commands.add_parser(
+        'simulate', help='write a bag of simulated pitches and swings, with its truth file',
+        description='Write a bag of physically plausible pitches (gravity and drag) and '
+        'swings (a rigid bat turning about moving hands, 60-80 mph at the sweet spot), kinds '
+        'cycling through barrel, end-cap and handle hits, foul-tip grazes and misses over and '
+        'under. Topics are the impact_node defaults: /ball (PointStamped), /bat_pose '
+        '(PoseStamped), /bat_knob and /bat_tip (PointStamped), all in one frame. The truth '
+        'file OUT-without-suffix.truth.json is written beside the bag.')
+    simulate.add_argument('out', metavar='OUT', help='output bag: NAME.mcap or NAME.db3 (a '
+                          'bare ROS 2 file), NAME.bag (ROS 1), or a directory name (a ROS 2 '
+                          'bag in --storage)')
+    simulate.add_argument('--count', type=_count, default=12, help='pitches (default 12)')
+    simulate.add_argument('--kinds', type=_kinds, default=list(KINDS),
+                          help=f"comma-separated kinds, cycled (default {','.join(KINDS)})")
+    simulate.add_argument('--rate', type=_number(0.0, False, 'Hz'), default=360.0,
+                          help='tracker rate in Hz (default 360)')
+    simulate.add_argument('--jitter', type=_number(0.0, True, 's'), default=0.0002,
+                          help='stamp jitter standard deviation in s (default 0.0002)')
+    simulate.add_argument('--grid', type=_number(1e-9, True, 's'), default=None,
+                          help='round stamps to this grid in s, e.g. 0.001 for a millisecond '
+                          'mocap clock (360 Hz then steps 2 and 3 ms); default: none')
+    simulate.add_argument('--noise', type=_number(0.0, True, 'm'), default=0.0,
+                          help='position noise per axis in m (default 0)')
+    simulate.add_argument('--spacing', type=_number(0.0, False, 's'), default=2.0,
+                          help='seconds between pitch starts; nothing is published between '
+                          'pitches (default 2.0)')
+    simulate.add_argument('--seed', type=int, default=0, help='random seed (default 0)')
+    simulate.add_argument('--storage', choices=('mcap', 'sqlite3', 'rosbag1'), default=None,
+                          help='bag storage (default: from the OUT suffix; MCAP for a '
+                          'directory)')
+    simulate.add_argument('--frame-id', default='world', help='frame of every message '
+                          "(default 'world')")
+    simulate.add_argument('--bat', choices=BAT_CHOICES, default='both',
+                          help='bat topics: the pose and knob/tip points (default), or one')
+    simulate.add_argument('--unique', type=_count, default=None,
+                          help='draw only this many pitches and repeat them (large bags fast)')
+    simulate.set_defaults(run=_simulate)
+
+    analyze = commands.add_parser(
+        'analyze', help='run the detector over bags: table, JSON, CSV, plots, output bag',
+        description='Run the impact detector over ROS 2 (MCAP, sqlite3) and ROS 1 bags: every '
+        "sample in the bag's order, then the end of the recording. Prints one row per impact "
+        'and near miss, a summary, and the comparison with the truth file beside the bag if '
+        'there is one. Model: --model, else the parameter file, else spline.')
+    analyze.add_argument('bags', metavar='BAG', nargs='+',
+                         help='bag directory, .mcap, .db3 or ROS 1 .bag file')
+    analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
+                         '(<node_name>: or /**: ros__parameters:)')
+    analyze.add_argument('--node-name', default='impact_node',
+                         help='node section to read in --params and node of the --out-bag '
+                         'topics (default impact_node)')
+    analyze.add_argument('--model', choices=('linear', 'rigid', 'spline'),
+                         help='motion model between samples (default: --params, else spline)')
+    analyze.add_argument('--ball-radius', type=_number(0.0, False, 'm'), metavar='M',
+                         help='ball radius in m (default: --params, else 0.0366)')
+    analyze.add_argument('--bat-radius', type=_number(0.0, False, 'm'), metavar='M',
+                         help='constant bat radius in m, replacing the bat profile')
+    _add_topic_flags(analyze)
+    analyze.add_argument('--predict', type=_number(0.0, False, 's'), nargs='?', const=0.3,
+                         default=None, metavar='SECONDS',
+                         help='also predict each coming impact this far ahead (default 0.3 s, '
+                         'as the node does with prediction_horizon) and score the predictions '
+                         'at 200, 100, 50 and 20 ms before each impact')
+    analyze.add_argument('--json', metavar='FILE', help='write events and counts as JSON')
+    analyze.add_argument('--csv', metavar='FILE', help='write one row per event as CSV')
+    analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '
+                         '(created; must not exist)')
+    analyze.add_argument('--out-bag', metavar='FILE', help='write an MCAP with the input '
+                         'topics and the node output topics (one BAG only)')
+    analyze.add_argument('--no-truth', action='store_true',
+                         help='ignore a truth file beside the bag')
+    analyze.add_argument('--no-progress', action='store_true', help='never show a progress bar')
+    analyze.add_argument('--quiet', action='store_true', help='print nothing (outputs only)')
+    analyze.set_defaults(run=_analyze)
+
+    replay = commands.add_parser(
+        'replay', help='publish a bag over ROS 2 with /clock (like ros2 bag play --clock)',
+        description='Publish every topic of a bag with its type, paced by log time, with '
+        '/clock, reliable QoS and deep queues.')
+    replay.add_argument('bag', metavar='BAG', help='bag directory, .mcap, .db3 or .bag file')
+    replay.add_argument('--rate', type=_number(0.0, False, 'speed factor'), default=1.0,
+                        help='playback speed factor (default 1)')
+    replay.add_argument('--loop', action='store_true', help='restart at the end (until Ctrl-C)')
+    replay.add_argument('--clock', type=_number(0.0, True, 'Hz'), default=200.0, metavar='HZ',
+                        help='/clock rate in Hz of wall time; 0: no /clock (default 200)')
+    replay.add_argument('--wait-for', action='append', metavar='TOPIC', default=[],
+                        help='before playing, wait for a subscriber on TOPIC (repeatable)')
+    replay.add_argument('--wait-timeout', type=_number(0.0, False, 's'), default=30.0,
+                        metavar='S', help='longest --wait-for wait in s (default 30)')
+    replay.set_defaults(run=_replay)
+
+    demo = commands.add_parser(
+        'demo', help='the main job: a live impact_node fed a bundled bag over DDS',
+        description='Start impact_node on a private DDS domain with the bundled parameter file, '
+        'replay a bundled bag into it, print each impact as it arrives, then compare with the '
+        "bag's truth and with the offline analysis. Exit code 0 on success.")
+    demo.add_argument('--bag', default=None, help='bag to replay (default: the bundled '
+                      'bags/pitches_360hz.mcap)')
+    demo.add_argument('--params', default=None, help='node parameter file (default: the '
+                      'bundled config/impact_node.yaml)')
+    demo.add_argument('--rate', type=_number(0.0, False, 'speed factor'), default=4.0,
+                      help='replay speed factor (default 4)')
+    demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
+                      help='longest wait in s for the node to come up (default 30)')
+    demo.set_defaults(run=_demo)
+    return parser
+
+
+def _fail(message: str) -> int:
+    """Print one error line and return the bad-input exit code."""
+    text = ' '.join(str(message).split())
+    sys.stderr.write(f'{PROG}: error: {text}\n')
+    return EXIT_BAD_INPUT
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """
+    Run the command line.
+
+    :param argv: the arguments after the program name; None: ``sys.argv[1:]``.
+    :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted.
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser().parse_args(argv)
+    args.argv = argv
+    errors: List[Any] = [ToolError, ToolError, BagError, ToolError]
+    if args.command in ('replay', 'demo'):
+        errors += [RosError, ToolError]
+    try:
+        return args.run(args)
+    except tuple(errors) as error:
+        return _fail(str(error))
+    except OSError as error:
+        return _fail(f'{error.strerror or error}: {error.filename or ""}')
+    except KeyboardInterrupt:
+        sys.stderr.write(f'{PROG}: interrupted\n')
+        return EXIT_INTERRUPTED
+
+
+if __name__ == '__main__':
+    sys.exit(main())

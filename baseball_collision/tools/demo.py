@@ -1,0 +1,450 @@
+"""
+``baseball-collision demo``: a live ``impact_node`` fed by a bundled bag over DDS.
+
+The demo runs, on an isolated DDS domain (a random ``ROS_DOMAIN_ID``, discovery limited to this
+host):
+
+1. ``impact_node`` as a subprocess (the venv's console script) with a bundled parameter file,
+   ``use_sim_time`` and reliable subscriptions (``qos:=reliable``, ``qos_depth:=1000``: a replay
+   must not lose a message);
+2. in this process, a :class:`~baseball_collision.replay.BagPlayer` that waits for the node's
+   subscriptions, then replays the bag with ``/clock``, and subscriptions to the node's
+   ``~/impact``, ``~/impact_velocity`` and ``~/near_miss`` that print each event as it arrives;
+3. a summary: the live impacts against the bag's truth file, and against ``analyze`` run
+   offline on the same bag with the same parameters (the stamps must be identical);
+4. the node is stopped with SIGINT (as Ctrl-C would) and its exit code checked.
+
+Exit code 0 when the node ran and stopped cleanly, reported impacts and agreed with the offline
+analysis; 1 otherwise.
+"""
+
+from bisect import bisect_right
+from dataclasses import dataclass
+import math
+import os
+from pathlib import Path
+import random
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from typing import Any, Callable, Dict, IO, List, Optional, Tuple
+
+from .analysis import (
+    AnalysisOptions, analyze_bag, BagAnalysis, compare_truth, load_parameters, NODE_NAME,
+    output_topics, truth_line)
+from ..bags.bag import BagReader
+from ..core.detector.detector import DetectorConfig, MPS_TO_MPH
+from ..core.geometry import (
+    add, cross, dot, lerp, norm, rotate, scale, slerp_quaternions, sub, Vector)
+from ..errors import BagError, RosError, ToolError
+
+PACKAGE = 'baseball_collision'
+DEMO_BAG = 'bags/pitches_360hz.mcap'
+"""The bundled bag the demo replays (relative to the package's source or share directory)."""
+
+DEMO_PARAMS = 'config/impact_node.yaml'
+"""The bundled parameter file the node and the offline analysis read."""
+
+NODE_OVERRIDES = ('use_sim_time:=true', 'qos:=reliable', 'qos_depth:=1000')
+"""``-p`` overrides given to the node on top of the parameter file (transport only)."""
+
+
+def bundled(relative: str) -> Path:
+    """
+    Return a bundled file: from the source tree, else the installed share directory.
+
+    :raises ToolError: found in neither.
+    """
+    source = Path(__file__).resolve().parents[2] / relative
+    if source.exists():
+        return source
+    try:
+        from ament_index_python.packages import get_package_share_directory
+        share = Path(get_package_share_directory(PACKAGE)) / relative
+    except (ImportError, LookupError, ValueError):
+        share = None
+    if share is not None and share.exists():
+        return share
+    raise ToolError(f'bundled file {relative} not found (looked in {source.parent} and the '
+                    f'{PACKAGE} share directory)')
+
+
+def node_command(params: Path) -> List[str]:
+    """Return the command that starts ``impact_node`` with ``params`` and the demo overrides."""
+    script = Path(sys.executable).parent / 'impact_node'
+    start = [str(script)] if script.exists() else [sys.executable, '-m', f'{PACKAGE}.ros.node']
+    overrides = [arg for override in NODE_OVERRIDES for arg in ('-p', override)]
+    return start + ['--ros-args', '--params-file', str(params)] + overrides
+
+
+def isolated_environment(domain: Optional[int] = None) -> Dict[str, str]:
+    """Return os.environ for a private DDS domain on this host (random id 1-101 by default)."""
+    env = dict(os.environ)
+    env.pop('RMW_IMPLEMENTATION', None)
+    env['ROS_DOMAIN_ID'] = str(domain if domain is not None
+                               else random.SystemRandom().randint(1, 101))
+    env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    return env
+
+
+# ----------------------------------------------------------------------------------------------
+# Reading what the node says
+
+
+@dataclass
+class LiveImpact:
+    """
+    An impact as the node published it, with the spot and speeds derived from the bag's bat.
+
+    :ivar stamp_ns: the impact instant (``~/impact`` header stamp).
+    :ivar point: contact point (m).
+    :ivar bat_velocity: ``~/impact_velocity`` linear: bat surface velocity at the point (m/s).
+    :ivar angular_velocity: ``~/impact_velocity`` angular (rad/s).
+    :ivar distance_from_tip_m: the point's distance from the tip along the bat axis (m).
+    :ivar sweet_spot_speed_mps: speed of the sweet spot, by rigid motion from the twist (m/s).
+    """
+
+    stamp_ns: int
+    point: Vector
+    bat_velocity: Optional[Vector] = None
+    angular_velocity: Optional[Vector] = None
+    distance_from_tip_m: float = math.nan
+    sweet_spot_speed_mps: float = math.nan
+
+
+@dataclass
+class LiveNearMiss:
+    """A near miss as the node published it: stamp (ns) and gap vector (m)."""
+
+    stamp_ns: int
+    gap_vector: Vector
+
+
+class BatTrack:
+    """
+    The bag's bat over time, to place a contact point on it (rigid: LERP + SLERP of the pose).
+
+    :param path: the bag.
+    :param config: the detector configuration (bat geometry, sweet spot).
+    :raises ToolError: the bag cannot be read.
+    """
+
+    def __init__(self, path: Path, config: DetectorConfig, analysis: BagAnalysis) -> None:
+        self.config = config
+        self.stamps: List[int] = []
+        self.values: List[Tuple[Vector, Vector]] = []  # (knob, tip) or pose for 'pose'
+        self.poses: List[Tuple[Vector, Tuple[float, float, float, float]]] = []
+        knobs: Dict[int, Vector] = {}
+        tips: Dict[int, Vector] = {}
+        try:
+            with BagReader(path, analysis.selection) as bag:
+                for role, stamp, _, values, _ in bag.samples():
+                    if role == 'bat_pose':
+                        self.stamps.append(stamp)
+                        self.poses.append((tuple(values[:3]), tuple(values[3:])))
+                    elif role == 'knob':
+                        knobs[stamp] = tuple(values)
+                    elif role == 'tip':
+                        tips[stamp] = tuple(values)
+        except BagError as error:
+            raise ToolError(str(error)) from error
+        if not self.poses:
+            self.stamps = sorted(set(knobs) & set(tips))
+            self.values = [(knobs[s], tips[s]) for s in self.stamps]
+
+    def ends(self, stamp_ns: int) -> Optional[Tuple[Vector, Vector]]:
+        """Return (knob, tip) in metres at a stamp, or None outside the samples."""
+        k = bisect_right(self.stamps, stamp_ns) - 1
+        if k < 0 or k + 1 >= len(self.stamps):
+            return None
+        s = (stamp_ns - self.stamps[k]) / (self.stamps[k + 1] - self.stamps[k])
+        if not self.poses:
+            (k0, e0), (k1, e1) = self.values[k], self.values[k + 1]
+            return lerp(k0, k1, s), lerp(e0, e1, s)
+        (p0, q0), (p1, q1) = self.poses[k], self.poses[k + 1]
+        q = slerp_quaternions(q0, q1, s)
+        origin = lerp(p0, p1, s)
+        geometry = self.config.geometry
+        knob = add(origin, rotate(q, tuple(float(x) for x in geometry.knob_offset)))
+        tip = add(origin, rotate(q, tuple(float(x) for x in geometry.tip_offset)))
+        return knob, tip
+
+    def place(self, impact: LiveImpact) -> None:
+        """Fill an impact's spot (from the tip) and sweet-spot speed from the bat at its stamp."""
+        ends = self.ends(impact.stamp_ns)
+        if ends is None:
+            return
+        knob, tip = ends
+        axis = sub(tip, knob)
+        length = norm(axis)
+        direction = scale(axis, 1.0 / length)
+        # the closest axis point, within the profile's ends (as the detector reports a spot)
+        segments = self.config.profile.segments()
+        fraction = dot(sub(impact.point, knob), direction) / length
+        fraction = min(max(fraction, segments[0][0]), segments[-1][1])
+        impact.distance_from_tip_m = (1.0 - fraction) * length
+        if impact.bat_velocity is not None and impact.angular_velocity is not None:
+            sweet = sub(tip, scale(direction, self.config.sweet_spot_from_tip))
+            velocity = add(impact.bat_velocity, cross(impact.angular_velocity,
+                                                      sub(sweet, impact.point)))
+            impact.sweet_spot_speed_mps = norm(velocity)
+
+
+class _Listener:
+    """Subscriptions to the node's event topics; prints each event once it is complete."""
+
+    def __init__(self, node: Any, topics: Dict[str, str], track: BatTrack, first_ns: int,
+                 out: IO[str]) -> None:
+        from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
+        self.track = track
+        self.first_ns = first_ns
+        self.out = out
+        self.lock = threading.Lock()
+        self.impacts: Dict[int, LiveImpact] = {}
+        self.printed: List[LiveImpact] = []
+        self.near_misses: List[LiveNearMiss] = []
+        self.twists: Dict[int, Tuple[Vector, Vector]] = {}
+        self.subscriptions = [
+            node.create_subscription(PointStamped, topics['impact'], self._on_impact, qos),
+            node.create_subscription(TwistStamped, topics['impact_velocity'], self._on_twist,
+                                     qos),
+            node.create_subscription(Vector3Stamped, topics['near_miss'], self._on_miss, qos)]
+
+    @staticmethod
+    def _stamp(message: Any) -> int:
+        return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+
+    def _on_impact(self, message: Any) -> None:
+        with self.lock:
+            stamp = self._stamp(message)
+            point = message.point
+            self.impacts[stamp] = LiveImpact(stamp, (point.x, point.y, point.z))
+            self._complete(stamp)
+
+    def _on_twist(self, message: Any) -> None:
+        with self.lock:
+            stamp = self._stamp(message)
+            linear, angular = message.twist.linear, message.twist.angular
+            self.twists[stamp] = ((linear.x, linear.y, linear.z),
+                                  (angular.x, angular.y, angular.z))
+            self._complete(stamp)
+
+    def _complete(self, stamp: int) -> None:
+        impact = self.impacts.get(stamp)
+        twist = self.twists.get(stamp)
+        if impact is None or twist is None or impact in self.printed:
+            return
+        impact.bat_velocity, impact.angular_velocity = twist
+        self.track.place(impact)
+        self.printed.append(impact)
+        self.out.write(
+            f'  impact     {(stamp - self.first_ns) * 1e-9:8.4f} s  (stamp {stamp})  '
+            f'{impact.distance_from_tip_m * 100:5.1f} cm from the tip, sweet spot '
+            f'{impact.sweet_spot_speed_mps * MPS_TO_MPH:5.1f} mph, bat at contact '
+            f'{norm(impact.bat_velocity) * MPS_TO_MPH:5.1f} mph\n')
+        self.out.flush()
+
+    def _on_miss(self, message: Any) -> None:
+        with self.lock:
+            stamp = self._stamp(message)
+            vector = (message.vector.x, message.vector.y, message.vector.z)
+            self.near_misses.append(LiveNearMiss(stamp, vector))
+            where = 'over' if vector[2] > 0.0 else 'under'
+            self.out.write(f'  near miss  {(stamp - self.first_ns) * 1e-9:8.4f} s  (stamp '
+                           f'{stamp})  the ball passed {norm(vector) * 100:5.1f} cm from the '
+                           f'bat ({where} it)\n')
+            self.out.flush()
+
+    def matched(self) -> bool:
+        """Return whether every subscription has matched the node's publisher."""
+        return all(s.get_publisher_count() >= 1 for s in self.subscriptions)
+
+    def complete_impacts(self) -> List[LiveImpact]:
+        """Return the impacts received with their velocity, in stamp order."""
+        with self.lock:
+            return sorted(self.printed, key=lambda impact: impact.stamp_ns)
+
+
+# ----------------------------------------------------------------------------------------------
+# Running it
+
+
+def stop_node(process: 'subprocess.Popen[bytes]', timeout_s: float = 10.0) -> int:
+    """Stop the node as Ctrl-C would (SIGINT); escalate if it hangs. Return its exit code."""
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+        try:
+            return process.wait(timeout_s)
+        except subprocess.TimeoutExpired:
+            process.terminate()
+            try:
+                process.wait(5.0)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+            return process.returncode if process.returncode else -signal.SIGKILL
+    return process.returncode
+
+
+def wait_for_node(process: 'subprocess.Popen[bytes]', player: Any, topics: List[str],
+                  ready: Callable[[], bool], timeout_s: float) -> Optional[str]:
+    """
+    Wait until the node subscribes to ``topics`` of the player and ``ready()`` holds.
+
+    :param process: the node's process (its early exit ends the wait).
+    :param player: the :class:`~baseball_collision.replay.BagPlayer`.
+    :param topics: the input topics the node must subscribe to.
+    :param ready: e.g. whether our subscriptions matched the node's publishers.
+    :param timeout_s: longest wait (s).
+    :returns: None when ready, else what went wrong (one line).
+    """
+    deadline = time.monotonic() + timeout_s
+    while True:
+        if process.poll() is not None:
+            return f'{NODE_NAME} exited early with code {process.returncode}'
+        try:
+            player.wait_for_subscribers(topics, 0.2)
+            if ready():
+                return None
+            time.sleep(0.05)
+        except RosError:
+            pass
+        if time.monotonic() > deadline:
+            return (f'{NODE_NAME} did not subscribe to {", ".join(topics)} and publish within '
+                    f'{timeout_s:.0f} s')
+
+
+def _tail(log: Path, lines: int = 15) -> str:
+    try:
+        text = log.read_text(errors='replace').strip().splitlines()
+    except OSError:
+        return ''
+    return '\n'.join('    ' + line for line in text[-lines:])
+
+
+def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: float = 4.0,
+             timeout_s: float = 30.0, out: IO[str] = sys.stdout) -> int:
+    """
+    Run the demo (see the module docstring).
+
+    :param bag: the bag to replay; None: the bundled :data:`DEMO_BAG`.
+    :param params: the node's parameter file; None: the bundled :data:`DEMO_PARAMS`.
+    :param rate: replay speed factor.
+    :param timeout_s: longest wait for the node to come up (s).
+    :param out: where to print.
+    :returns: the exit code: 0 on success, 1 when the node failed or disagreed.
+    :raises ToolError: missing files, or a bag or parameter file that cannot be used.
+    """
+    bag = Path(bag) if bag is not None else bundled(DEMO_BAG)
+    params = Path(params) if params is not None else bundled(DEMO_PARAMS)
+    try:
+        parameters = load_parameters(params)
+        offline = analyze_bag(bag, AnalysisOptions(parameters=parameters), progress=False)
+    except ToolError as error:
+        raise ToolError(str(error)) from error
+    track = BatTrack(bag, offline.config, offline)
+    env = isolated_environment()
+    os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
+                                                 'ROS_AUTOMATIC_DISCOVERY_RANGE')})
+    os.environ.pop('RMW_IMPLEMENTATION', None)
+    command = node_command(params)
+    with tempfile.TemporaryDirectory(prefix='baseball_collision_demo.') as tmp:
+        log = Path(tmp) / 'impact_node.log'
+        with open(log, 'wb') as log_file:
+            shown = ' '.join([Path(command[0]).name] + command[1:])
+            out.write(f'starting {NODE_NAME} on DDS domain {env["ROS_DOMAIN_ID"]} (this host '
+                      f'only): {shown}\n')
+            out.flush()
+            process = subprocess.Popen(command, env=env, stdout=log_file,
+                                       stderr=subprocess.STDOUT)
+            try:
+                code = _live(process, bag, offline, track, rate, timeout_s, out, log)
+            finally:
+                node_code = stop_node(process)
+        if node_code != 0:
+            out.write(f'{NODE_NAME} exited with code {node_code}; its log:\n{_tail(log)}\n')
+            return 1
+        out.write(f'{NODE_NAME} stopped cleanly (exit code 0)\n')
+    return code
+
+
+def _live(process: 'subprocess.Popen[bytes]', bag: Path, offline: BagAnalysis,
+          track: BatTrack, rate: float, timeout_s: float, out: IO[str], log: Path) -> int:
+    """Replay into the running node, collect its events, print the summary; return the code."""
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+
+    from ..ros.replay import BagPlayer
+
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node('impact_demo', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, daemon=True)
+    spinner.start()
+    stop = threading.Event()
+    try:
+        listener = _Listener(node, output_topics(NODE_NAME), track,
+                             offline.first_stamp_ns or 0, out)
+        with BagPlayer(node, bag, rate=rate) as player:
+            inputs = list(offline.selection.topics.values())
+            problem = wait_for_node(process, player, inputs, listener.matched, timeout_s)
+            if problem is not None:
+                out.write(f'{problem}; its log:\n{_tail(log)}\n')
+                return 1
+            length = (offline.stats.newest_stamp_ns or 0) - (offline.first_stamp_ns or 0)
+            out.write(f'{NODE_NAME} is listening; replaying {bag.name} ({length * 1e-9:.1f} s, '
+                      f'{player.message_count:,} messages on {", ".join(player.topics)}) at '
+                      f'{rate:g}x with /clock\n')
+            out.flush()
+            result = player.play(stop=stop)
+        expected = len(offline.impacts)
+        deadline = time.monotonic() + 5.0
+        while len(listener.complete_impacts()) < expected and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(0.3)  # anything beyond the offline count would arrive now
+        return _summary(listener, offline, result.seconds, out)
+    finally:
+        stop.set()
+        executor.shutdown(timeout_sec=2.0)
+        spinner.join(timeout=5.0)
+        node.destroy_node()
+        rclpy.try_shutdown(context=context)
+
+
+def _summary(listener: _Listener, offline: BagAnalysis, seconds: float, out: IO[str]) -> int:
+    """Print the live results against truth and the offline analysis; return the exit code."""
+    impacts = listener.complete_impacts()
+    misses = list(listener.near_misses)
+    out.write(f'live: {len(impacts)} impacts and {len(misses)} near misses from {NODE_NAME} '
+              f'({seconds:.1f} s of replay)\n')
+    if offline.truth is not None:
+        truth = _truth_document(offline)
+        comparison = compare_truth(impacts, misses, truth, offline.truth.path)
+        out.write(f'  {truth_line(comparison)}\n')
+    live = [impact.stamp_ns for impact in impacts]
+    stamps = [impact.stamp_ns for impact in offline.impacts]
+    if live == stamps:
+        out.write(f'  offline analyze, same bag and parameters ({offline.config.model} model): '
+                  f'{len(stamps)} impacts, stamps identical to the live node\n')
+    else:
+        out.write(f'  offline analyze disagrees: live stamps {live}, offline {stamps}\n')
+    ok = bool(impacts) and live == stamps
+    return 0 if ok else 1
+
+
+def _truth_document(offline: BagAnalysis) -> Dict[str, Any]:
+    """Return the truth document the offline analysis compared with."""
+    from .analysis import load_truth
+
+    assert offline.truth is not None
+    return load_truth(offline.truth.path)

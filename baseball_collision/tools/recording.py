@@ -1,0 +1,166 @@
+"""
+Simulated recordings: pitches and swings (``simulation``) written as a bag plus a truth file.
+
+No rclpy. What ``baseball-collision simulate`` writes:
+
+* One bag with the ball as ``geometry_msgs/PointStamped`` on ``/ball`` and the bat as a
+  ``PoseStamped`` on ``/bat_pose`` and/or as knob and tip ``PointStamped`` on ``/bat_knob`` and
+  ``/bat_tip``: the ``impact_node``'s default topics, so a replay reaches the node without
+  remapping. Every message has the same ``frame_id`` (``world``); log time = header stamp.
+* Pitch ``i`` (kinds cycling through ``kinds``) starts at ``start_ns + i * spacing_s``: its
+  samples cover ``[0, lead_s + trail_s]`` of scenario time and nothing is published between two
+  pitches (each pitch is a fresh tracking episode; the detector reports a stream gap).
+* Beside the bag, ``<name>.truth.json`` (see :func:`analysis.truth_path`): the settings and, per
+  pitch, :func:`simulation.truth_dict` (exact first-contact stamp, contact spot, speeds, ...).
+"""
+
+from dataclasses import asdict, dataclass
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Tuple
+
+import numpy as np
+
+from .analysis import Outputs, TRUTH_FORMAT, truth_path
+from .sim.simulation import DEFAULT_START_NS, KINDS, make_scenario, sample, Scenario, truth_dict
+from ..bags.bag import POINT_STAMPED, POSE_STAMPED
+from ..errors import BagError, ToolError
+
+TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob', 'tip': '/bat_tip'}
+"""Topic per role: the ``impact_node``'s default ``*_topic`` parameters, resolved."""
+
+BAT_CHOICES = ('both', 'pose', 'points')
+"""How the bat is written: pose and points, the pose only, or knob and tip points only."""
+
+
+@dataclass(frozen=True)
+class RecordingSpec:
+    """
+    What to simulate and how to sample it.
+
+    :ivar count: number of pitches (>= 1).
+    :ivar kinds: scenario kinds, cycled (``simulation.KINDS``).
+    :ivar rate_hz: nominal tracker rate (Hz).
+    :ivar jitter_s: standard deviation of the stamp jitter (s).
+    :ivar grid_s: stamp grid (s; e.g. 0.001 for a millisecond mocap clock), None for none.
+    :ivar noise_m: position noise per axis (m).
+    :ivar spacing_s: time between two pitch starts (s); more than ``lead_s + trail_s``.
+    :ivar seed: random seed: the recording is a function of the spec.
+    :ivar frame_id: every message's frame.
+    :ivar bat: ``'both'``, ``'pose'`` or ``'points'`` (see :data:`BAT_CHOICES`).
+    :ivar start_ns: stamp of the first pitch start (ns).
+    :ivar lead_s: time from a pitch start to (about) the contact (s).
+    :ivar trail_s: time tracked after it (s).
+    :ivar unique: draw only this many scenarios and cycle them (a large benchmark bag); None:
+        every pitch is drawn.
+    """
+
+    count: int = 12
+    kinds: Tuple[str, ...] = KINDS
+    rate_hz: float = 360.0
+    jitter_s: float = 0.0002
+    grid_s: Optional[float] = None
+    noise_m: float = 0.0
+    spacing_s: float = 2.0
+    seed: int = 0
+    frame_id: str = 'world'
+    bat: str = 'both'
+    start_ns: int = DEFAULT_START_NS
+    lead_s: float = 0.25
+    trail_s: float = 0.15
+    unique: Optional[int] = None
+
+    def check(self) -> None:
+        """
+        Check the values can make a recording.
+
+        :raises ToolError: a value out of range, naming it.
+        """
+        if self.count < 1:
+            raise ToolError(f'count must be >= 1, got {self.count}')
+        if not self.kinds:
+            raise ToolError('kinds must name at least one kind')
+        unknown = [kind for kind in self.kinds if kind not in KINDS]
+        if unknown:
+            raise ToolError(
+                f"unknown kind(s) {', '.join(unknown)}; choose from {', '.join(KINDS)}")
+        if self.bat not in BAT_CHOICES:
+            raise ToolError(f"bat must be one of {', '.join(BAT_CHOICES)}, got {self.bat}")
+        for name in ('rate_hz', 'spacing_s', 'lead_s', 'trail_s'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ToolError(f'{name} must be a finite number > 0, got {value}')
+        for name in ('jitter_s', 'noise_m'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ToolError(f'{name} must be a finite number >= 0, got {value}')
+        if self.grid_s is not None and not (math.isfinite(self.grid_s) and self.grid_s >= 1e-9):
+            raise ToolError(f'grid_s must be at least 1 ns, got {self.grid_s}')
+        if self.spacing_s <= self.lead_s + self.trail_s + 0.01:
+            raise ToolError(
+                f'spacing_s ({self.spacing_s} s) must exceed one pitch '
+                f'({self.lead_s + self.trail_s:.2f} s) by more than 0.01 s')
+        if self.unique is not None and self.unique < 1:
+            raise ToolError(f'unique must be >= 1, got {self.unique}')
+
+
+def _scenarios(spec: RecordingSpec, rng: np.random.Generator) -> List[Scenario]:
+    """Draw the scenarios of a recording (``unique`` of them at most, cycled)."""
+    drawn = spec.count if spec.unique is None else min(spec.unique, spec.count)
+    pool = [make_scenario(spec.kinds[i % len(spec.kinds)], rng, lead_s=spec.lead_s,
+                          trail_s=spec.trail_s) for i in range(drawn)]
+    return [pool[i % drawn] for i in range(spec.count)]
+
+
+def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[str] = None,
+                    command: str = '') -> Dict[str, Any]:
+    """
+    Simulate ``spec`` and write the bag at ``path`` and its truth file beside it, atomically.
+
+    :param path: the bag: ``*.mcap``/``*.db3`` a bare file, ``*.bag`` ROS 1, else a ROS 2 bag
+        directory in ``storage``.
+    :param spec: what to simulate.
+    :param storage: ``'mcap'``, ``'sqlite3'`` or ``'rosbag1'``; None: from the name (MCAP for
+        a directory).
+    :param command: the command line that made it (recorded in the truth file).
+    :returns: the truth document written.
+    :raises ToolError: bad settings, an existing output (bag or truth file), or a write
+        failure; nothing is left behind.
+    """
+    spec.check()
+    path = Path(path)
+    rng = np.random.default_rng(spec.seed)
+    try:
+        with Outputs(bag=path, truth=truth_path(path)) as outputs:
+            writer = outputs.bag_writer('bag', storage)
+            types = {'ball': POINT_STAMPED, 'bat_pose': POSE_STAMPED, 'knob': POINT_STAMPED,
+                     'tip': POINT_STAMPED}
+            used = ['ball'] + (['bat_pose'] if spec.bat != 'points' else []) + (
+                ['knob', 'tip'] if spec.bat != 'pose' else [])
+            for role in used:
+                writer.add_topic(TOPICS[role], types[role])
+            pitches = []
+            messages = 0
+            for index, scenario in enumerate(_scenarios(spec, rng)):
+                start = spec.start_ns + int(round(index * spec.spacing_s * 1e9))
+                samples = sample(scenario, spec.rate_hz, rng, jitter_s=spec.jitter_s,
+                                 grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start)
+                for stamp, role, values in samples.messages(spec.bat):
+                    if role == 'bat_pose':
+                        writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],
+                                          values[3:])
+                    else:
+                        writer.write_point(TOPICS[role], stamp, spec.frame_id, values)
+                    messages += 1
+                pitches.append({'index': index, **truth_dict(scenario, start)})
+            document = {
+                'format': TRUTH_FORMAT, 'bag': path.name, 'command': command,
+                'messages': messages, 'topics': {role: TOPICS[role] for role in used},
+                'spec': {**asdict(spec), 'kinds': list(spec.kinds)}, 'pitches': pitches}
+            outputs.stage_text('truth', json.dumps(document, indent=2, allow_nan=False) + '\n')
+            outputs.commit()
+    except (ToolError, BagError, ToolError) as error:
+        raise ToolError(str(error)) from error
+    return document

@@ -1,0 +1,381 @@
+"""Tests for baseball_collision.core.detector: events, streams, bad input, configuration."""
+
+import math
+from typing import Callable, List
+
+from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.detector.detector import (
+    Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
+from baseball_collision.errors import CoreError
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+from support.scenes import BASE_NS, first_contact, LENGTH, pitch, pose, swing
+
+
+def feed(detector: Detector, ball: Callable[[float], np.ndarray], rate: float = 360.0,
+         duration: float = 0.2, bat_as: str = 'points', tip_delay_s: float = 0.0,
+         skip: Callable[[float], bool] = lambda t: False) -> List:
+    """Publish the swing and the ball at ``rate`` into the detector; return every event."""
+    events = []
+    for i in range(int(duration * rate)):
+        t = i / rate
+        if skip(t):
+            continue
+        stamp = BASE_NS + int(round(t * 1e9))
+        events += detector.add_ball(stamp, ball(t), 'world')
+        if bat_as == 'pose':
+            position, quaternion = pose(t)
+            events += detector.add_bat_pose(stamp, position, quaternion, 'world')
+        else:
+            knob, _ = swing(t)
+            _, tip = swing(t + tip_delay_s)
+            events += detector.add_knob(stamp, knob, 'world')
+            events += detector.add_tip(stamp + int(round(tip_delay_s * 1e9)), tip, 'world')
+    return events + detector.finish()
+
+
+def impacts(events: List) -> List[Impact]:
+    """Return the impacts among events."""
+    return [e for e in events if isinstance(e, Impact)]
+
+
+@pytest.fixture(scope='module')
+def truth_s() -> float:
+    """Return the exact first-contact time of the hitting pitch (seconds from the start)."""
+    t = first_contact(pitch())
+    assert t is not None
+    return t
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline'])
+@pytest.mark.parametrize('bat_as', ['points', 'pose'])
+def test_one_impact_at_the_right_instant(model: str, bat_as: str, truth_s: float) -> None:
+    """A hit at 360 Hz gives exactly one impact, stamped within 50 us of the truth."""
+    detector = Detector(DetectorConfig(model=model, bat_input=bat_as))
+    events = feed(detector, pitch(), bat_as=bat_as)
+    found = impacts(events)
+    assert len(found) == 1, events
+    impact = found[0]
+    assert abs((impact.stamp_ns - BASE_NS) * 1e-9 - truth_s) < 50e-6
+    assert impact.interval_start_ns <= impact.stamp_ns <= impact.interval_end_ns
+    assert impact.model == model
+    assert impact.distance_from_knob_m + impact.distance_from_tip_m == pytest.approx(
+        math.dist(impact.knob, impact.tip))
+    assert math.dist(impact.knob, impact.tip) == pytest.approx(LENGTH, rel=0.002)
+    # the sweet spot turns at omega(t) about hands moving at 2 m/s along y
+    omega = 30.0 + 200.0 * truth_s
+    knob, tip = swing(truth_s)
+    direction = (tip - knob) / LENGTH
+    sweet = (LENGTH - 0.1524) * omega * np.array([-direction[1], direction[0], 0.0]) + [0, 2, 0]
+    assert impact.sweet_spot_speed_mps == pytest.approx(np.linalg.norm(sweet), rel=0.01)
+    assert impact.ball_velocity == pytest.approx((0.0, -40.0, 0.0), abs=1e-4)  # ns stamps
+    assert impact.attack_angle_deg == pytest.approx(0.0, abs=1e-6)
+    assert impact.relative_normal_speed_mps > 0.0
+    assert impact.velocities_from_history
+    assert not [e for e in events if isinstance(e, NearMiss)]
+
+
+def test_near_miss_under_the_ball(truth_s: float) -> None:
+    """The bat passing 2 cm under the ball is a near miss with an upward gap vector."""
+    ball = pitch(height=1.09)
+    assert first_contact(ball) is None
+    detector = Detector(DetectorConfig(bat_input='points'))
+    events = feed(detector, ball)
+    misses = [e for e in events if isinstance(e, NearMiss)]
+    assert not impacts(events) and len(misses) == 1
+    miss = misses[0]
+    assert miss.gap_m == pytest.approx(0.09 - 0.0366 - WOOD_BAT_34.max_radius, abs=2e-4)
+    assert miss.gap_vector[2] == pytest.approx(miss.gap_m, abs=1e-3)
+    assert abs((miss.stamp_ns - BASE_NS) * 1e-9 - truth_s) < 2e-3
+
+
+def test_far_pass_is_nothing() -> None:
+    """A ball far above the bat gives no event at all."""
+    assert feed(Detector(DetectorConfig(bat_input='points')), pitch(height=2.0)) == []
+
+
+def test_knob_and_tip_on_different_stamps(truth_s: float) -> None:
+    """Tip stamped 1 ms after the knob: paired by interpolation, impact still on time."""
+    detector = Detector(DetectorConfig(model='linear', bat_input='points'))
+    found = impacts(feed(detector, pitch(), tip_delay_s=0.001))
+    assert len(found) == 1
+    assert abs((found[0].stamp_ns - BASE_NS) * 1e-9 - truth_s) < 100e-6
+
+
+def test_streams_at_different_rates_with_uneven_steps(truth_s: float) -> None:
+    """Ball at 360 Hz on a millisecond grid (steps of 2 and 3 ms), bat at 120 Hz."""
+    detector = Detector(DetectorConfig(model='rigid', bat_input='pose'))
+    events = []
+    ball = pitch()
+    ball_times = sorted({round(i / 360.0, 3) for i in range(72)})
+    bat_times = [i / 120.0 for i in range(24)]
+    assert {round(b - a, 3) for a, b in zip(ball_times[:-1], ball_times[1:])} == {0.002, 0.003}
+    merged = sorted([(t, 'ball') for t in ball_times] + [(t, 'bat') for t in bat_times])
+    for t, kind in merged:
+        stamp = BASE_NS + int(round(t * 1e9))
+        if kind == 'ball':
+            events += detector.add_ball(stamp, ball(t))
+        else:
+            events += detector.add_bat_pose(stamp, *pose(t))
+    found = impacts(events + detector.finish())
+    assert len(found) == 1
+    assert abs((found[0].stamp_ns - BASE_NS) * 1e-9 - truth_s) < 200e-6
+
+
+def test_gap_longer_than_max_gap_is_not_interpolated() -> None:
+    """Dropping 60 ms around the impact: a StreamGap, and no impact invented across it."""
+    detector = Detector(DetectorConfig(max_gap=0.05, bat_input='points'))
+    events = feed(detector, pitch(), skip=lambda t: 0.03 < t < 0.09)
+    assert not impacts(events)
+    gaps = [e for e in events if isinstance(e, StreamGap)]
+    assert gaps and detector.stats.gaps == len(gaps)
+    assert all(g.end_ns - g.start_ns > 50_000_000 for g in gaps)
+
+
+def test_bad_samples_are_dropped_and_counted_by_reason(truth_s: float) -> None:
+    """Every kind of bad sample is dropped with its reason; the real hit still comes once."""
+    config = DetectorConfig(model='rigid', bat_input='points', frame_id='world')
+    detector = Detector(config)
+    ball = pitch()
+    events = []
+    t_bad = 0.02
+    for i in range(72):
+        t = i / 360.0
+        stamp = BASE_NS + int(round(t * 1e9))
+        knob, tip = swing(t)
+        events += detector.add_ball(stamp, ball(t), 'world')
+        events += detector.add_knob(stamp, knob, 'world')
+        events += detector.add_tip(stamp, tip, 'world')
+        if abs(t - t_bad) < 1.5 / 360.0 and t <= t_bad:
+            later = stamp + 1_000_000
+            events += detector.add_ball(later, [math.nan, 0.0, 1.0], 'world')  # non_finite
+            events += detector.add_ball(stamp, ball(t), 'world')  # duplicate_stamp
+            events += detector.add_ball(stamp - 1_000_000, ball(t), 'world')  # out_of_order
+            events += detector.add_ball(later, ball(t), 'camera')  # wrong_frame
+            events += detector.add_ball(later, ball(t) + [0.0, 0.0, 5.0], 'world')  # speed
+            events += detector.add_bat_pose(later, knob, [0, 0, 0, 1], 'world')  # unexpected
+            events += detector.add_knob(later, knob, 'world')
+            events += detector.add_tip(later, knob + [0.0, 0.0, 1e-4], 'world')  # zero length
+            events += detector.add_knob(later + 1, knob, 'world')
+            events += detector.add_tip(later + 1, knob + [0.0, 0.0, 0.5], 'world')  # length
+    events += detector.finish()
+    dropped = detector.stats.dropped
+    for reason in ('non_finite', 'duplicate_stamp', 'out_of_order', 'wrong_frame',
+                   'speed_limit', 'unexpected_input', 'zero_length_bat', 'bat_length_jump'):
+        assert dropped[reason] >= 1, (reason, dict(dropped))
+    assert set(dropped) <= set(DROP_REASONS)
+    found = impacts(events)
+    assert len(found) == 1
+    assert abs((found[0].stamp_ns - BASE_NS) * 1e-9 - truth_s) < 100e-6
+
+
+def test_bad_quaternions_are_dropped() -> None:
+    """Zero, non-unit and non-finite quaternions never reach the motion model."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    for stamp, q in enumerate([(0, 0, 0, 0), (0, 0, 0, 2), (0, 0, math.inf, 1)]):
+        assert detector.add_bat_pose(BASE_NS + stamp, (0, 0, 1), q) == []
+    assert detector.stats.dropped['bad_quaternion'] == 2
+    assert detector.stats.dropped['non_finite'] == 1
+
+
+def test_garbage_values_do_not_crash() -> None:
+    """Strings, short vectors and None are dropped as non-finite, not raised."""
+    detector = Detector(DetectorConfig(bat_input='points'))
+    assert detector.add_ball(BASE_NS, ['a', 0, 0]) == []
+    assert detector.add_knob(BASE_NS, [0.0, 1.0]) == []
+    assert detector.add_tip(BASE_NS, None) == []
+    assert detector.stats.dropped['non_finite'] == 3
+
+
+def test_time_jump_backwards_resets_and_detects_again(truth_s: float) -> None:
+    """A bag that restarts: the jump back resets the state, and the replayed hit is found."""
+    detector = Detector(DetectorConfig(bat_input='points', time_jump_reset=0.1))
+    first = feed(detector, pitch(), duration=0.2)
+    second = feed(detector, pitch(), duration=0.2)
+    resets = [e for e in second if isinstance(e, StateReset)]
+    assert len(resets) == 1 and resets[0].reason == 'time_jump_backwards'
+    assert len(impacts(first)) == 1 and len(impacts(second)) == 1
+    assert impacts(first)[0].stamp_ns == impacts(second)[0].stamp_ns
+
+
+def test_small_reordering_is_dropped_not_reset() -> None:
+    """A stamp 2 ms behind its stream is out of order, not a time jump."""
+    detector = Detector(DetectorConfig())
+    detector.add_ball(BASE_NS + 10_000_000, (0, 0, 0))
+    assert detector.add_ball(BASE_NS + 8_000_000, (0, 0, 0)) == []
+    assert detector.stats.dropped['out_of_order'] == 1 and detector.stats.resets == 0
+
+
+def test_ball_starting_inside_the_bat_is_not_an_impact(truth_s: float) -> None:
+    """Data that starts mid-contact has no first-contact time: nothing is invented."""
+    detector = Detector(DetectorConfig(bat_input='points'))
+    events = feed(detector, pitch(), skip=lambda t: t < truth_s + 0.003)
+    assert not impacts(events)
+
+
+def test_requested_reset_clears_state() -> None:
+    """reset() returns its event, keeps the counters and forgets the streams."""
+    detector = Detector(DetectorConfig(bat_input='points'))
+    feed(detector, pitch(), duration=0.03)
+    received = sum(detector.stats.received.values())
+    event = detector.reset(BASE_NS, 'requested')
+    assert event == StateReset(stamp_ns=BASE_NS, reason='requested')
+    assert detector.watermark_ns is None and detector.stats.resets == 1
+    assert sum(detector.stats.received.values()) == received
+
+
+def test_teleport_starts_a_new_segment() -> None:
+    """A ball that really jumps (new pitch) is accepted after three refusals."""
+    detector = Detector(DetectorConfig(max_speed=100.0))
+    for i in range(3):
+        detector.add_ball(BASE_NS + i * 2_777_778, (0.0, 0.0, 1.0))
+    for i in range(3, 7):
+        detector.add_ball(BASE_NS + i * 2_777_778, (5.0, 18.0, 2.0))
+    assert detector.stats.dropped['speed_limit'] == 2
+    assert detector._ball.breaks[-2] and detector._ball.values[-1] == (5.0, 18.0, 2.0)
+
+
+def test_stats_are_readable(truth_s: float) -> None:
+    """Counters, processing time and the watermark are exposed for diagnostics."""
+    detector = Detector(DetectorConfig(bat_input='points'))
+    feed(detector, pitch())
+    stats = detector.stats
+    assert stats.received['ball'] == 72 and stats.received['knob'] == 72
+    assert stats.impacts == 1 and stats.intervals == 71 and stats.substeps > 0
+    assert 0.0 < stats.mean_processing_s <= stats.max_processing_s
+    assert stats.last_processing_s > 0.0
+    assert detector.watermark_ns == BASE_NS + int(round(71 / 360.0 * 1e9))
+
+
+def test_spline_waits_for_the_next_sample_and_finish_flushes() -> None:
+    """Spline processes up to the second-newest sample live; finish() does the rest."""
+    detector = Detector(DetectorConfig(model='spline', bat_input='pose'))
+    for i in range(4):
+        stamp = BASE_NS + i * 10_000_000
+        detector.add_ball(stamp, (3.0, 3.0, 3.0))
+        detector.add_bat_pose(stamp, *pose(0.0))
+    assert detector.watermark_ns == BASE_NS + 20_000_000
+    detector.finish()
+    assert detector.watermark_ns == BASE_NS + 30_000_000
+
+
+# ----------------------------------------------------------------------------------------------
+# configuration
+
+
+@pytest.mark.parametrize('field, value', [
+    ('model', 'cubic'), ('bat_input', 'laser'), ('ball_radius', -0.1), ('max_gap', 0.0),
+    ('max_chord_error', math.nan), ('near_miss_threshold', -1.0), ('up_axis', (0, 0, 0))])
+def test_bad_config_values_are_refused(field: str, value) -> None:
+    """Each bad value raises CoreError naming the field."""
+    with pytest.raises(CoreError, match=field):
+        DetectorConfig(**{field: value})
+
+
+def test_config_from_parameters() -> None:
+    """Flat ROS-style parameters build the profile, the pose geometry and the thresholds."""
+    config = DetectorConfig.from_parameters({
+        'model': 'spline', 'max_gap': 1, 'bat_profile': [0.0, 0.02, 0.5, 0.03, 0.8, 0.03],
+        'bat_length': 0.8, 'bat_axis': '-x', 'knob_offset': 0.1, 'tip_offset': 0.9,
+        'up_axis': [0, 2, 0], 'node_only_parameter': 'ignored'})
+    assert config.model == 'spline' and config.max_gap == 1.0
+    assert config.profile.segments() == ((0.0, 0.625, 0.025), (0.625, 1.0, 0.03))
+    assert config.geometry.tip_offset == (-0.9, 0.0, 0.0)
+    assert config.up_axis == (0.0, 1.0, 0.0)
+    capsule = DetectorConfig.from_parameters({'bat_radius': 0.03})
+    assert capsule.profile.segments() == ((0.0, 1.0, 0.03),)
+    assert DetectorConfig.from_parameters({}).profile == WOOD_BAT_34
+
+
+@pytest.mark.parametrize('parameters, word', [
+    ({'bat_profile': [0.0, 0.02, 0.5]}, 'pairs'), ({'bat_axis': 'w'}, 'axis'),
+    ({'max_gap': 'soon'}, 'parameter'), ({'bat_profile': [0.5, 0.02, 0.1, 0.03]}, 'increase')])
+def test_bad_parameters_are_refused(parameters: dict, word: str) -> None:
+    """Malformed bat parameters raise CoreError with a reason."""
+    with pytest.raises(CoreError, match=word):
+        DetectorConfig.from_parameters(parameters)
+
+
+def test_reconfigure_takes_thresholds_and_refuses_the_rest() -> None:
+    """Thresholds change on a running detector; the model or the bat input do not."""
+    detector = Detector(DetectorConfig())
+    detector.reconfigure(DetectorConfig(near_miss_threshold=0.3, max_gap=0.1))
+    assert detector.config.near_miss_threshold == 0.3 and detector.config.max_gap == 0.1
+    with pytest.raises(CoreError, match='model'):
+        detector.reconfigure(DetectorConfig(model='spline'))
+    with pytest.raises(CoreError, match='bat_input'):
+        detector.reconfigure(DetectorConfig(bat_input='points'))
+    assert detector.config.model == 'rigid'
+
+
+def test_add_by_role_dispatches_like_the_typed_calls(truth_s: float) -> None:
+    """``add(role, ...)`` gives the same impact as the typed calls; unknown roles raise."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    events = []
+    ball = pitch()
+    for i in range(72):
+        t = i / 360.0
+        stamp = BASE_NS + int(round(t * 1e9))
+        position, quaternion = pose(t)
+        events += detector.add('ball', stamp, tuple(ball(t)), 'world')
+        events += detector.add('bat_pose', stamp, tuple(position) + tuple(quaternion), 'world')
+    typed = feed(Detector(DetectorConfig(bat_input='pose')), pitch(), bat_as='pose')
+    assert impacts(events + detector.finish()) == impacts(typed)
+    with pytest.raises(CoreError, match='role'):
+        detector.add('glove', BASE_NS, (0, 0, 0))
+
+
+point = st.tuples(*[st.floats(-1.5, 1.5)] * 3)
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
+       bat_as=st.sampled_from(['pose', 'points']),
+       balls=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 3), min_size=4, max_size=4),
+       hands=st.lists(point, min_size=4, max_size=4),
+       turns=st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
+       steps=st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3))
+def test_cheap_far_test_never_clears_a_close_pass(model: str, bat_as: str, balls, hands, turns,
+                                                  steps) -> None:
+    """Whenever the raw-sample test calls an interval clear, the exact paths really are."""
+    detector = Detector(DetectorConfig(model=model, bat_input=bat_as, max_speed=1e4))
+    times = np.concatenate([[0.0], np.cumsum(steps)])
+    for t, ball, hand, turn in zip(times, balls, hands, turns):
+        stamp = BASE_NS + int(round(t * 1e9))
+        half = 0.5 * turn  # a turn about a tilted axis, the bat along body +z
+        axis = np.array([1.0, 1.0, 0.3]) / np.linalg.norm([1.0, 1.0, 0.3])
+        quaternion = tuple(axis * math.sin(half)) + (math.cos(half),)
+        if bat_as == 'pose':
+            detector.add_bat_pose(stamp, hand, quaternion)
+        else:
+            knob, tip = detector.config.geometry.knob_and_tip(hand, quaternion)
+            detector.add_knob(stamp, knob)
+            detector.add_tip(stamp, tip)
+        detector.add_ball(stamp, ball)
+    config = detector.config
+    margin = (config.ball_radius + config.profile.max_radius
+              + max(config.near_miss_threshold, config.rearm_distance))
+    assert len(detector._ball.times) == 4 and len(detector._bat.times) == 4
+    if not detector._clearly_apart(1, 1, margin):
+        return
+    ball_path, bat_path = detector._paths(1, 1)
+    for t in np.linspace(detector._ball.times[1], detector._ball.times[2], 200):
+        knob, tip = (np.array(p) for p in bat_path.at(t))
+        ball = np.array(ball_path.at(t))
+        along = np.clip((ball - knob) @ (tip - knob) / ((tip - knob) @ (tip - knob)), 0.0, 1.0)
+        assert np.linalg.norm(ball - knob - along * (tip - knob)) > margin
+
+
+def test_frame_and_last_drop_reason_are_exposed() -> None:
+    """The tracking frame is the first seen until a reset; the last drop has its reason."""
+    detector = Detector(DetectorConfig())
+    assert detector.frame_id is None
+    detector.add_ball(BASE_NS, (0.0, 0.0, 1.0), 'mocap')
+    assert detector.frame_id == 'mocap' and detector.stats.last_drop_reason is None
+    detector.add_ball(BASE_NS + 1, (0.0, 0.0, 1.0), 'camera')
+    assert detector.stats.last_drop_reason == 'wrong_frame'
+    detector.reset()
+    assert detector.frame_id is None
+    assert Detector(DetectorConfig(frame_id='world')).frame_id == 'world'

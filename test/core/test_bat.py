@@ -1,0 +1,74 @@
+"""Tests for baseball_collision.core.bat: profiles and knob/tip from a pose."""
+
+import math
+
+from baseball_collision.core.bat import BatProfile, INCH, PoseBatGeometry, WOOD_BAT_34
+from baseball_collision.core.geometry import quaternion_to_matrix
+from baseball_collision.errors import CoreError
+import numpy as np
+import pytest
+
+
+def test_default_bat_is_34_inches_with_a_2_61_inch_barrel() -> None:
+    """The default profile is the documented wood bat and its ends finish at the bat's ends."""
+    assert WOOD_BAT_34.length == pytest.approx(34 * INCH)
+    assert 2 * WOOD_BAT_34.max_radius == pytest.approx(2.61 * INCH)
+    first_d, first_r = WOOD_BAT_34.stations[0]
+    last_d, last_r = WOOD_BAT_34.stations[-1]
+    assert first_d - first_r == pytest.approx(0.0, abs=1e-12)
+    assert last_d + last_r == pytest.approx(WOOD_BAT_34.length)
+    assert WOOD_BAT_34.radius_at(0.2) < 0.5 * WOOD_BAT_34.max_radius  # thin handle
+
+
+def test_segments_are_fractions_with_mean_radii() -> None:
+    """Segments run between consecutive stations as fractions of the length."""
+    profile = BatProfile(stations=((0.0, 0.01), (0.5, 0.03), (1.0, 0.03)), length=1.0)
+    assert profile.segments() == ((0.0, 0.5, 0.02), (0.5, 1.0, 0.03))
+    assert BatProfile(stations=((0.4, 0.02),), length=1.0).segments() == ((0.4, 0.4, 0.02),)
+
+
+@pytest.mark.parametrize('stations, length', [
+    (((0.0, 0.01), (0.0, 0.02)), 1.0),
+    (((0.0, 0.01), (2.0, 0.02)), 1.0),
+    (((0.0, -0.01),), 1.0),
+    (((0.0, math.nan),), 1.0),
+    ((), 1.0),
+    (((0.0, 0.01),), 0.0),
+])
+def test_bad_profiles_are_refused(stations, length: float) -> None:
+    """Non-increasing, out-of-range, non-positive or empty profiles raise CoreError."""
+    with pytest.raises(CoreError):
+        BatProfile(stations=stations, length=length)
+
+
+def test_profile_from_sequence_rejects_non_pairs() -> None:
+    """A flat list is not a list of stations."""
+    with pytest.raises(CoreError):
+        BatProfile.from_sequence([0.0, 0.01, 1.0], 1.0)
+
+
+def test_quaternion_to_matrix_turns_about_z() -> None:
+    """A quarter turn about z maps x to y."""
+    half = math.sqrt(0.5)
+    rotation = quaternion_to_matrix((0.0, 0.0, half, half))
+    assert rotation @ np.array([1.0, 0, 0]) == pytest.approx([0.0, 1.0, 0.0])
+
+
+@pytest.mark.parametrize('quaternion', [(0, 0, 0, 0), (0, 0, 0, 2.0), (math.nan, 0, 0, 1)])
+def test_malformed_quaternions_raise(quaternion) -> None:
+    """Zero, non-unit and non-finite quaternions are refused."""
+    with pytest.raises(CoreError):
+        quaternion_to_matrix(quaternion)
+
+
+def test_pose_geometry_along_axis() -> None:
+    """Knob and tip offsets on a body axis are placed by the pose."""
+    geometry = PoseBatGeometry.along_axis('-y', 0.1, 0.9)
+    half = math.sqrt(0.5)
+    knob, tip = geometry.knob_and_tip((1.0, 2.0, 3.0), (0.0, 0.0, half, half))
+    assert knob == pytest.approx([1.1, 2.0, 3.0])
+    assert tip == pytest.approx([1.9, 2.0, 3.0])
+    with pytest.raises(CoreError):
+        PoseBatGeometry.along_axis('w', 0.0, 1.0)
+    with pytest.raises(CoreError):
+        PoseBatGeometry(knob_offset=(0, 0, 0), tip_offset=(0, 0, 0))

@@ -1,0 +1,180 @@
+"""Tests for baseball_collision.core.prediction and the detector's predicted impacts."""
+
+import math
+
+from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.detector.detector import (
+    Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
+from baseball_collision.core.prediction import (
+    BallForecast, BatForecast, first_contact, planned_bat, turn_axis_and_rates)
+from baseball_collision.core.toi.solver import profile_gap
+from baseball_collision.errors import CoreError
+from baseball_collision.tools.sim.simulation import make_scenario, sample, truth_dict
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+
+BASE_NS = 1_700_000_000_000_000_000
+
+
+def test_ballistic_forecast_is_exact_for_gravity_alone() -> None:
+    """Without drag the forecast is the closed-form parabola."""
+    ball = BallForecast.ballistic(1.0, (0.0, 10.0, 1.5), (0.0, -40.0, 2.0), (0.0, 0.0, -9.8),
+                                  0.0)
+    assert ball.at(1.25) == pytest.approx((0.0, 0.0, 1.5 + 0.5 - 0.5 * 9.8 * 0.0625))
+    assert ball.velocity_at(1.25) == pytest.approx((0.0, -40.0, 2.0 - 9.8 * 0.25))
+
+
+def test_drag_decelerates_along_the_velocity() -> None:
+    """Drag 0.0061 / m at 40 m/s is a 9.8 m/s^2 deceleration against the motion."""
+    ball = BallForecast.ballistic(0.0, (0.0, 0.0, 0.0), (0.0, -40.0, 0.0), (0.0, 0.0, 0.0),
+                                  0.0061)
+    assert ball.acceleration == pytest.approx((0.0, 0.0061 * 1600.0, 0.0))
+
+
+def test_bat_forecast_turns_about_its_pivot() -> None:
+    """A quarter turn about +z at constant rate moves the tip from +x to +y around the pivot."""
+    bat = BatForecast(t0=0.0, pivot=(0.0, 0.0, 1.0), pivot_velocity=(0.0, 0.0, 0.0),
+                      pivot_acceleration=(0.0, 0.0, 0.0), knob_arm=(-0.1, 0.0, 0.0),
+                      tip_arm=(0.8, 0.0, 0.0), axis=(0.0, 0.0, 1.0), rate=math.pi / 2,
+                      rate_change=0.0)
+    knob, tip = bat.at(1.0)
+    assert tip == pytest.approx((0.0, 0.8, 1.0)) and knob == pytest.approx((0.0, -0.1, 1.0))
+    assert bat.reach() == pytest.approx(0.8)
+    assert turn_axis_and_rates((0.0, 0.0, -3.0), (0.0, 1.0, 6.0)) == ((0.0, 0.0, -1.0), 3.0, -6.0)
+    assert turn_axis_and_rates((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))[1] == 0.0
+
+
+def test_plan_interpolates_poses_and_refuses_bad_ones() -> None:
+    """A plan moves the bat by LERP/SLERP between its poses; malformed plans raise."""
+    half = math.sqrt(0.5)
+    plan = planned_bat([0.0, 1.0], [(0, 0, 0), (1, 0, 0)], [(0, 0, 0, 1), (0, 0, half, half)],
+                       (0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    knob, tip = plan.at(0.5)
+    assert knob == pytest.approx((0.5, 0.0, 0.0))
+    assert tip == pytest.approx((0.5 + math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0))
+    assert plan.covers(0.5) and not plan.covers(1.5)
+    assert plan.pivot_travel(0.0, 1.0) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match='increase'):
+        planned_bat([1.0, 0.0], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2, (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match='unit'):
+        planned_bat([0.0], [(0, 0, 0)], [(0, 0, 0, 2)], (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match='as many'):
+        planned_bat([0.0, 1.0], [(0, 0, 0)], [(0, 0, 0, 1)], (0, 0, 0), (1, 0, 0))
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(height=st.floats(0.85, 1.2), speed=st.floats(25.0, 45.0), rate=st.floats(10.0, 50.0),
+       start=st.floats(-1.8, -0.6))
+def test_first_contact_matches_dense_evaluation(height: float, speed: float, rate: float,
+                                                start: float) -> None:
+    """The search finds the first time the forecasts touch, as a dense scan of the gap does."""
+    ball = BallForecast.ballistic(0.0, (0.6, 0.6 + speed * 0.15, height), (0.0, -speed, 0.0),
+                                  (0.0, 0.0, -9.8), 0.0061)
+    direction = (math.cos(start), math.sin(start), 0.0)
+    bat = BatForecast(t0=0.0, pivot=(0.0, 0.0, 1.0), pivot_velocity=(0.0, 1.0, 0.0),
+                      pivot_acceleration=(0.0, 0.0, 0.0), knob_arm=(0.0, 0.0, 0.0),
+                      tip_arm=tuple(WOOD_BAT_34.length * d for d in direction),
+                      axis=(0.0, 0.0, 1.0), rate=rate, rate_change=0.0)
+    found = first_contact(ball, bat, 0.0, 0.3, 0.0366, WOOD_BAT_34, 1e-5)
+
+    def gap(t: float) -> float:
+        return profile_gap(ball.at(t), *bat.at(t), 0.0366, WOOD_BAT_34)[0]
+    # coarse scan (0.5 ms: the bodies close < 10 cm in it) to where the gap first nears 0,
+    # then a 20 us scan from there
+    coarse = np.arange(0.0, 0.3, 5e-4)
+    near = [t for t in coarse if gap(t) < 0.1]
+    begin = max(0.0, near[0] - 5e-4) if near else 0.3
+    times = np.arange(begin, min(0.3, begin + 0.03), 2e-5)
+    gaps = np.array([gap(t) for t in times]) if times.size else np.array([1.0])
+    touching = np.flatnonzero(gaps <= 0.0)
+    if touching.size == 0 or gaps.min() > -1e-4:
+        if found is not None:  # a graze the scan could miss: it must be a real touch
+            assert profile_gap(ball.at(found[0]), *bat.at(found[0]), 0.0366,
+                               WOOD_BAT_34)[0] <= 1e-4
+        return
+    assert found is not None
+    assert found[0] == pytest.approx(times[touching[0]], abs=2e-5 + 1e-6)
+
+
+def test_plan_is_searched_only_where_it_covers() -> None:
+    """A plan ending before the ball arrives predicts nothing; one covering it does."""
+    ball = BallForecast.ballistic(0.0, (0.5, 4.0, 1.0), (0.0, -40.0, 0.0), (0.0, 0.0, 0.0), 0.0)
+    still = [(0, 0, 1)] * 2, [(0, 0, 0, 1)] * 2
+    offsets = ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))  # the bat lies along +x through the ball path
+    short = planned_bat([0.0, 0.05], *still, *offsets)
+    assert first_contact(ball, short, 0.0, 0.3, 0.0366, WOOD_BAT_34, 5e-4) is None
+    long = planned_bat([0.0, 0.2], *still, *offsets)
+    t, hit = first_contact(ball, long, 0.0, 0.3, 0.0366, WOOD_BAT_34, 5e-4)
+    assert t == pytest.approx((4.0 - 0.0366 - WOOD_BAT_34.max_radius) / 40.0, abs=1e-3)
+    assert 0.4 < hit.bat_fraction < 0.7
+
+
+@pytest.fixture(scope='module')
+def barrel():
+    """Return a simulated barrel hit tracked from 0.4 s before contact."""
+    return make_scenario('barrel', np.random.default_rng(8), lead_s=0.4)
+
+
+def _feed(detector: Detector, scenario, rate: float = 360.0, noise: float = 0.0):
+    samples = sample(scenario, rate, np.random.default_rng(1), jitter_s=2e-4, noise_m=noise)
+    events = []
+    for stamp, role, values in samples.messages('pose'):
+        events += detector.add(role, stamp, values)
+    return samples, events + detector.finish()
+
+
+def test_detector_predicts_a_planned_swing_early_and_exactly(barrel) -> None:
+    """With the robot's commanded swing, the impact is predicted >= 100 ms ahead to < 1 ms."""
+    times = np.arange(0.0, barrel.t_end, 0.005)
+    positions, quaternions = barrel.swing.pose(times)
+    detector = Detector(DetectorConfig(prediction_horizon=0.3))
+    detector.set_bat_plan([BASE_NS + int(round(t * 1e9)) for t in times], positions.tolist(),
+                          quaternions.tolist())
+    samples, events = _feed(detector, barrel, noise=1e-3)
+    truth = truth_dict(barrel, samples.start_ns)
+    predictions = [e for e in events if isinstance(e, Prediction)]
+    early = [p for p in predictions if truth['stamp_ns'] - p.made_at_ns >= 100_000_000]
+    assert early and all(p.planned for p in predictions)
+    for p in early + predictions[-3:]:
+        assert abs(p.stamp_ns - truth['stamp_ns']) < 1_000_000
+        assert np.linalg.norm(np.array(p.point) - truth['point']) < 0.02
+        assert p.lead_s == pytest.approx((p.stamp_ns - p.made_at_ns) * 1e-9)
+
+
+def test_detector_extrapolates_a_swing_close_to_contact(barrel) -> None:
+    """Without a plan, 20 ms ahead the prediction is within a few ms and cm; then it clears."""
+    detector = Detector(DetectorConfig(prediction_horizon=0.3))
+    samples, events = _feed(detector, barrel)
+    truth = truth_dict(barrel, samples.start_ns)
+    predictions = [e for e in events if isinstance(e, Prediction)]
+    near = [p for p in predictions if 0 < truth['stamp_ns'] - p.made_at_ns <= 20_000_000]
+    assert near
+    for p in near:
+        assert abs(p.stamp_ns - truth['stamp_ns']) < 2_000_000
+        assert np.linalg.norm(np.array(p.point) - truth['point']) < 0.06
+    impact = next(e for e in events if isinstance(e, Impact))
+    after = events[events.index(impact):]
+    assert any(isinstance(e, PredictionCleared) for e in after)  # the contact ended it
+    assert not any(isinstance(e, Prediction) for e in after)
+
+
+def test_no_prediction_when_disabled_or_for_a_far_miss(barrel) -> None:
+    """Prediction is off by default; a pitch far from the bat is never predicted to hit."""
+    assert not any(isinstance(e, Prediction) for e in _feed(Detector(), barrel)[1])
+    miss = make_scenario('miss_over', np.random.default_rng(5), lead_s=0.4)
+    events = _feed(Detector(DetectorConfig(prediction_horizon=0.3)), miss)[1]
+    assert not any(isinstance(e, Impact) for e in events)
+    late = [e for e in events if isinstance(e, Prediction)]
+    assert len(late) <= 3  # at most a few frames while the extrapolation grazes the ball
+
+
+def test_bad_plans_are_refused() -> None:
+    """set_bat_plan names what is wrong; an empty plan clears it."""
+    detector = Detector(DetectorConfig(prediction_horizon=0.3))
+    with pytest.raises(CoreError, match='bat plan'):
+        detector.set_bat_plan([2, 1], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
+    detector.set_bat_plan([1, 2], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
+    detector.set_bat_plan([], [], [])
+    assert detector._plan is None

@@ -1,0 +1,242 @@
+"""
+Fault tests of the live impact_node: publishers that die, silence, clock loops, frames, QoS.
+
+Real rclpy on an isolated context (discovery off), with ``test_node``'s ``Harness``: the node
+under test and a probe node spun by one executor thread. What ``test_node`` already covers is
+not repeated (a single wrong-frame sample, topics going stale, one clock jump resetting, the
+incompatible-QoS counter); these tests add the recovery after each fault, and the warnings as
+they reach ``/rosout``. Every expectation is on header stamps.
+"""
+
+import time
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence
+
+from geometry_msgs.msg import PointStamped, PoseStamped
+import pytest
+from rcl_interfaces.msg import Log
+import rclpy
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock as ClockMsg
+from std_srvs.srv import Trigger
+from support.harness import (
+    Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, SAMPLES, stamp, stamp_ns)
+from support.scenes import BASE_NS, first_contact, pitch, pose
+
+pytestmark = pytest.mark.ros
+
+LOG_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                     reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+SECOND = 10**9
+BEFORE_CONTACT = 10  # samples 0-9 (25 ms) come before the first contact (~33 ms)
+
+
+@pytest.fixture
+def harness(monkeypatch: pytest.MonkeyPatch) -> Iterator[Callable[..., Harness]]:
+    """Make harnesses whose probe also records /rosout; tear them all down after the test."""
+    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'OFF')
+    made: List[Harness] = []
+
+    def make(overrides: Optional[Dict[str, Any]] = None) -> Harness:
+        h = Harness(overrides)
+        h.received['log'] = []
+        h.probe.create_subscription(Log, '/rosout', h._collector('log'), LOG_QOS)
+        made.append(h)
+        return h
+    yield make
+    for each in made:
+        each.close()
+
+
+@pytest.fixture(scope='module')
+def truth_ns() -> int:
+    """Return the exact first contact of the hitting pitch as an absolute stamp (ns)."""
+    t = first_contact(pitch())
+    assert t is not None and t > (BEFORE_CONTACT - 1) / RATE_HZ
+    return BASE_NS + int(round(t * 1e9))
+
+
+def publish(ball: Any, bat: Any, samples: Sequence[int], shift_ns: int = 0,
+            frame: str = 'world') -> int:
+    """Publish the hitting swing's ball and bat pose samples, stamps shifted; return the count."""
+    for i in samples:
+        t = i / RATE_HZ
+        ns = BASE_NS + int(round(t * 1e9)) + shift_ns
+        ball.publish(point_msg(ns, pitch()(t), frame))
+        position, quaternion = pose(t)
+        bat.publish(pose_msg(ns, position, quaternion, frame))
+    return 2 * len(samples)
+
+
+def tracker(h: Harness, name: str = 'tracker') -> Node:
+    """Create a tracker node with ball and bat pose publishers; wait until both matched."""
+    node = rclpy.create_node(name, context=h.context)
+    node.ball = node.create_publisher(PointStamped, 'ball', RELIABLE)
+    node.bat = node.create_publisher(PoseStamped, 'bat_pose', RELIABLE)
+    h.wait(lambda: node.ball.get_subscription_count() > 0
+           and node.bat.get_subscription_count() > 0, 5.0, f'{name} matched')
+    return node
+
+
+def impacts(h: Harness) -> List[int]:
+    """Return the stamps (ns) of the ~/impact messages received so far."""
+    return [stamp_ns(message) for message in h.received['impact']]
+
+
+def warnings(h: Harness, *words: str) -> List[str]:
+    """Return the node's WARN lines on /rosout that contain every word."""
+    return [log.msg for log in h.received['log'] if log.level == Log.WARN
+            and log.name == 'impact_node' and all(word in log.msg for word in words)]
+
+
+def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..., Harness],
+                                                            truth_ns: int) -> None:
+    """
+    A tracker node destroyed before the contact, a new one (same name) sends the rest.
+
+    While it is gone the diagnostics say the inputs are stale with no publisher. The node keeps
+    the samples it had: the swing finished by the new publisher gives its impact at the true
+    instant, and the next swing, a second later, gives the next one.
+    """
+    h = harness({'bat_input': 'pose', 'diagnostics_period': 0.1, 'stale_timeout': 0.3})
+    h.start()
+    first = tracker(h)
+    h.processed(publish(first.ball, first.bat, range(BEFORE_CONTACT)))
+    first.destroy_node()
+    h.wait(lambda: h.node.count_publishers('/ball') == 0, 5.0, 'the publisher gone')
+    gone = h.diagnostics_where(lambda v: v['stale_topics'].count('no publisher') == 2)
+    assert gone.level == gone.WARN and not h.received['impact']
+    second = tracker(h)
+    sent = 2 * BEFORE_CONTACT + publish(second.ball, second.bat, range(BEFORE_CONTACT, SAMPLES))
+    h.processed(sent)
+    h.wait(lambda: len(h.received['impact']) == 1, 2.0, 'the impact of the finished swing')
+    assert abs(impacts(h)[0] - truth_ns) < 100_000
+    h.processed(sent + publish(second.ball, second.bat, range(SAMPLES), SECOND))
+    h.wait(lambda: len(h.received['impact']) == 2, 2.0, 'the impact of the next swing')
+    assert abs(impacts(h)[1] - truth_ns - SECOND) < 100_000
+    status = h.diagnostics_where(lambda v: v['impacts'] == '2')
+    counts = {kv.key: kv.value for kv in status.values}
+    assert counts['dropped_total'] == '0' and counts['ball_received'] == str(2 * SAMPLES)
+    second.destroy_node()
+
+
+def test_silent_topics_go_stale_then_back_to_tracking(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """Both inputs silent past stale_timeout: 'stale' (WARN); when they resume: 'tracking'."""
+    h = harness({'bat_input': 'pose', 'stale_timeout': 0.3, 'diagnostics_period': 0.1})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+    h.start()
+    h.processed(publish(ball, bat, range(BEFORE_CONTACT)))
+    h.diagnostics_where(lambda v: v['state'] == 'tracking')
+    stale = h.diagnostics_where(lambda v: v['state'] == 'stale')
+    assert '/ball' in stale.message and '/bat_pose' in stale.message
+    assert stale.level == stale.WARN
+    h.received['diagnostics'].clear()
+    h.processed(2 * BEFORE_CONTACT + publish(ball, bat, range(BEFORE_CONTACT, SAMPLES)))
+    back = h.diagnostics_where(lambda v: v['state'] == 'tracking' and v['impacts'] == '1')
+    assert back.level == back.OK and {kv.key: kv.value for kv in back.values}[
+        'stale_topics'] == ''
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact after the silence')
+    assert len(impacts(h)) == 1 and abs(impacts(h)[0] - truth_ns) < 100_000
+
+
+def test_clock_loop_resets_with_one_warning_and_finds_the_replayed_hit(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    A bag played in a loop: /clock jumps back, the state is reset with a warning.
+
+    The replayed swing (the same stamps again) gives the same impact again, and the stamps'
+    own jump back makes no second warning.
+    """
+    h = harness({'bat_input': 'pose', 'use_sim_time': True, 'time_jump_reset': 0.5})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+    clock = h.publisher(ClockMsg, '/clock')
+    h.start()
+    sent = 0
+    for loop in range(2):
+        for i in range(0, SAMPLES, 12):  # the clock runs with the messages, as a player's does
+            clock.publish(ClockMsg(clock=stamp(BASE_NS + int(i / RATE_HZ * 1e9))))
+            sent += publish(ball, bat, range(i, min(i + 12, SAMPLES)))
+        clock.publish(ClockMsg(clock=stamp(BASE_NS + SECOND)))  # the bag's last second
+        h.processed(sent)
+        h.wait(lambda: len(h.received['impact']) == loop + 1, 2.0, f'impact of loop {loop}')
+        assert h.node.detector.stats.resets == loop
+        clock.publish(ClockMsg(clock=stamp(BASE_NS)))  # the loop restarts
+        h.wait(lambda: h.node.detector.stats.resets == loop + 1, 3.0, 'the clock jump reset')
+    assert impacts(h) == [impacts(h)[0]] * 2 and abs(impacts(h)[0] - truth_ns) < 100_000
+    h.wait(lambda: len(warnings(h, 'clock jumped back')) == 2, 2.0, 'the warnings')
+    assert not warnings(h, 'header stamps jumped back')  # no second warning for the same jump
+    assert h.node.detector.stats.dropped == {}
+
+
+def test_frame_change_is_dropped_until_a_reset_adopts_the_new_frame(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    With frame_id '' the first frame is kept; ~/reset lets the node adopt the next one.
+
+    A switch to another frame mid-swing drops every sample (wrong_frame, counted, warned once
+    per period) and makes no impact; after ~/reset the swing in the new frame is found and
+    published in that frame.
+    """
+    h = harness({'bat_input': 'pose', 'diagnostics_period': 0.1})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+    h.start()
+    sent = publish(ball, bat, range(BEFORE_CONTACT))
+    sent += publish(ball, bat, range(BEFORE_CONTACT, SAMPLES), frame='camera')
+    h.processed(sent)
+    dropped = 2 * (SAMPLES - BEFORE_CONTACT)
+    status = h.diagnostics_where(lambda v: v['dropped_wrong_frame'] == str(dropped))
+    counts = {kv.key: kv.value for kv in status.values}
+    assert counts['frame_id'] == 'world' and counts['dropped_total'] == str(dropped)
+    assert not h.received['impact'] and h.node.detector.stats.impacts == 0
+    h.wait(lambda: warnings(h, 'wrong_frame', "'camera'", "'world'"), 2.0, 'the warning')
+    assert len(warnings(h, 'wrong_frame')) <= 2  # rate limited, not one per sample
+    assert h.call(Trigger, '/impact_node/reset', Trigger.Request()).success
+    assert h.node.detector.frame_id is None
+    h.processed(sent + publish(ball, bat, range(SAMPLES), SECOND, frame='camera'))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact in the new frame')
+    impact = h.received['impact'][0]
+    assert impact.header.frame_id == 'camera'
+    assert abs(stamp_ns(impact) - truth_ns - SECOND) < 100_000
+    h.diagnostics_where(lambda v: v['frame_id'] == 'camera' and v['impacts'] == '1'
+                        and v['dropped_total'] == str(dropped))
+
+
+def test_configured_frame_survives_a_reset(harness: Callable[..., Harness]) -> None:
+    """With frame_id 'world' set, samples in 'camera' stay dropped after ~/reset too."""
+    h = harness({'bat_input': 'pose', 'frame_id': 'world'})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+    h.start()
+    sent = publish(ball, bat, range(5), frame='camera')
+    h.processed(sent)
+    assert h.call(Trigger, '/impact_node/reset', Trigger.Request()).success
+    h.processed(sent + publish(ball, bat, range(SAMPLES), frame='camera'))
+    time.sleep(0.1)
+    assert h.node.detector.frame_id == 'world'
+    assert h.node.detector.stats.dropped == {'wrong_frame': 2 * (5 + SAMPLES)}
+    assert not h.received['impact']
+
+
+def test_qos_mismatches_are_warned_naming_the_topic(harness: Callable[..., Harness]) -> None:
+    """
+    Mismatched QoS on an input and on an output: warnings naming the topic, counted.
+
+    A best-effort publisher on the reliable ball input, and a transient-local subscriber on
+    ~/impact (published volatile).
+    """
+    h = harness({'qos': 'reliable'})
+    h.probe.create_publisher(PointStamped, 'ball', QoSProfile(
+        depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    h.probe.create_subscription(PointStamped, '/impact_node/impact', lambda m: None, QoSProfile(
+        depth=10, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    h.start()
+    h.wait(lambda: warnings(h, 'incompatible QoS on /ball', 'RELIABILITY', 'subscription'),
+           3.0, 'the warning about /ball')
+    h.wait(lambda: warnings(h, 'incompatible QoS on /impact_node/impact', 'DURABILITY',
+                            'publisher'), 3.0, 'the warning about ~/impact')
+    h.diagnostics_where(lambda v: int(v['incompatible_qos_events']) >= 2)

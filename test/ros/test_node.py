@@ -1,0 +1,486 @@
+"""
+Tests for baseball_collision.ros.node: the impact_node over real rclpy topics and services.
+
+In-process tests run the node and a probe node in one fresh ``rclpy.Context`` with discovery
+off (``ROS_AUTOMATIC_DISCOVERY_RANGE=OFF``); the process tests start ``.venv/bin/impact_node``
+on this run's random domain with discovery limited to the host (``conftest``). Messages are
+published reliably after the subscriptions matched, and every expectation is on header stamps,
+so no result depends on arrival timing.
+"""
+
+import math
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import threading
+import time
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+
+from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.detector.detector import DROP_REASONS
+from baseball_collision.errors import RosError
+from baseball_collision.ros.node import ImpactNode, PARAMETERS, SPECS
+from diagnostic_msgs.msg import DiagnosticStatus
+from geometry_msgs.msg import PointStamped, PoseStamped
+from nav_msgs.msg import Path as PathMsg
+import numpy as np
+import pytest
+from rcl_interfaces.srv import GetParameters
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.parameter import Parameter, parameter_value_to_python
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock as ClockMsg
+from std_srvs.srv import Trigger
+from support import REPO_ROOT
+from support.harness import (
+    Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, sample_ns, SAMPLES, stamp, stamp_ns, values)
+from support.scenes import BASE_NS, first_contact, pitch, pose, swing
+import yaml
+
+pytestmark = pytest.mark.ros
+
+SCRIPT = Path(sys.executable).parent / 'impact_node'
+CONFIG = REPO_ROOT / 'config' / 'impact_node.yaml'
+POINTS_CONFIG = REPO_ROOT / 'config' / 'impact_node_points.yaml'
+
+
+@pytest.fixture(scope='module')
+def truth_ns() -> int:
+    """Return the exact first contact of the hitting pitch as an absolute stamp (ns)."""
+    t = first_contact(pitch())
+    assert t is not None
+    return BASE_NS + int(round(t * 1e9))
+
+
+def publish_swing(h: Harness, bat_input: str, ball: Callable[[float], np.ndarray],
+                  samples: range = range(SAMPLES),
+                  extra: Optional[Callable[[int], None]] = None) -> int:
+    """Publish ball and bat at 360 Hz on the harness's topics; return the messages sent."""
+    sent = 0
+    for i in samples:
+        t = i / RATE_HZ
+        ns = sample_ns(i)
+        h.publishers['ball'].publish(point_msg(ns, ball(t)))
+        if bat_input == 'pose':
+            position, quaternion = pose(t)
+            h.publishers['bat_pose'].publish(pose_msg(ns, position, quaternion))
+            sent += 2
+        else:
+            knob, tip = swing(t)
+            h.publishers['bat_knob'].publish(point_msg(ns, knob))
+            h.publishers['bat_tip'].publish(point_msg(ns, tip))
+            sent += 3
+        if extra is not None:
+            sent += extra(i)
+    return sent
+
+
+def swing_harness(make: Callable[..., Harness], bat_input: str,
+                  overrides: Optional[Dict[str, Any]] = None) -> Harness:
+    """Return a started harness with the ball and the bat publishers of ``bat_input``."""
+    h = make(dict({'bat_input': bat_input}, **(overrides or {})))
+    h.publisher(PointStamped, 'ball')
+    if bat_input == 'pose':
+        h.publisher(PoseStamped, 'bat_pose')
+    else:
+        h.publisher(PointStamped, 'bat_knob')
+        h.publisher(PointStamped, 'bat_tip')
+    return h.start()
+
+
+def pose_angular_velocity(t: float, h: float = 1e-6) -> np.ndarray:
+    """Return the angular velocity (rad/s, world) of ``pose(t)``: the swing and its roll."""
+    def rotation(q: np.ndarray) -> np.ndarray:
+        x, y, z, w = q
+        return np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    derivative = (rotation(pose(t + h)[1]) - rotation(pose(t - h)[1])) / (2 * h)
+    skew = derivative @ rotation(pose(t)[1]).T
+    return np.array([skew[2, 1], skew[0, 2], skew[1, 0]])
+
+
+def expected_bat_velocity(point: Sequence[float], t: float,
+                          bat_input: str) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the analytic bat surface velocity (m/s) at a point and angular velocity at t.
+
+    The pose's minimal rotation from +z rolls the bat about its own axis as it swings; knob
+    and tip points carry no roll.
+    """
+    knob, _ = swing(t)
+    omega = pose_angular_velocity(t) if bat_input == 'pose' \
+        else np.array([0.0, 0.0, 30.0 + 200.0 * t])
+    return np.array([0.0, 2.0, 0.0]) + np.cross(omega, np.asarray(point) - knob), omega
+
+
+# ----------------------------------------------------------------------------------------------
+# impacts, near misses, markers
+
+
+@pytest.mark.parametrize('bat_input', ['pose', 'points'])
+def test_swing_gives_one_impact_at_the_true_instant(harness: Callable[..., Harness],
+                                                    bat_input: str, truth_ns: int) -> None:
+    """A 360 Hz swing: one ~/impact stamped within 100 us of the truth, a matching velocity."""
+    h = swing_harness(harness, bat_input)
+    sent = publish_swing(h, bat_input, pitch())
+    h.processed(sent)
+    h.wait(lambda: h.received['impact'] and h.received['velocity'], 2.0, 'the impact')
+    time.sleep(0.1)
+    assert len(h.received['impact']) == 1 and len(h.received['velocity']) == 1
+    assert not h.received['near_miss']
+    impact, velocity = h.received['impact'][0], h.received['velocity'][0]
+    assert abs(stamp_ns(impact) - truth_ns) < 100_000
+    assert impact.header.frame_id == 'world'
+    assert velocity.header == impact.header
+    # the contact point is on the barrel, touching the ball at that instant
+    t = (stamp_ns(impact) - BASE_NS) * 1e-9
+    point = np.array([impact.point.x, impact.point.y, impact.point.z])
+    assert np.linalg.norm(point - pitch()(t)) == pytest.approx(0.0366, abs=2e-3)
+    linear, omega = expected_bat_velocity(point, t, bat_input)
+    twist = velocity.twist
+    assert [twist.linear.x, twist.linear.y, twist.linear.z] == pytest.approx(
+        linear, rel=0.02, abs=0.1)
+    assert [twist.angular.x, twist.angular.y, twist.angular.z] == pytest.approx(
+        omega, abs=0.5)
+    # markers: the bat, ball, contact and normal at the impact instant
+    h.wait(lambda: any(m.markers and m.markers[0].ns == 'impact_bat'
+                       for m in h.received['markers']), 2.0, 'impact markers')
+    array = next(m for m in h.received['markers'] if m.markers[0].ns == 'impact_bat')
+    namespaces = {m.ns for m in array.markers}
+    assert {'impact_bat', 'impact_ball', 'impact_contact', 'impact_normal'} <= namespaces
+    assert all(stamp_ns(m) == stamp_ns(impact) for m in array.markers)
+    bat = [m for m in array.markers if m.ns == 'impact_bat']
+    assert len(bat) == len(WOOD_BAT_34.segments())
+    assert max(m.scale.x for m in bat) == pytest.approx(2 * WOOD_BAT_34.max_radius)
+    # the diagnostics count it
+    h.diagnostics_where(lambda v: v['impacts'] == '1' and v['dropped_total'] == '0')
+
+
+def test_near_miss_publishes_a_gap_and_no_impact(harness: Callable[..., Harness]) -> None:
+    """The bat passing 2 cm under the ball: one ~/near_miss with an upward gap, no impact."""
+    ball = pitch(height=1.09)
+    assert first_contact(ball) is None
+    h = swing_harness(harness, 'pose')
+    h.processed(publish_swing(h, 'pose', ball))
+    h.wait(lambda: h.received['near_miss'], 2.0, 'the near miss')
+    time.sleep(0.1)
+    assert len(h.received['near_miss']) == 1 and not h.received['impact']
+    miss = h.received['near_miss'][0]
+    gap = 0.09 - 0.0366 - WOOD_BAT_34.max_radius
+    assert miss.vector.z == pytest.approx(gap, abs=1e-3)
+    assert math.hypot(miss.vector.x, miss.vector.y) < 2e-3
+    assert miss.header.frame_id == 'world'
+    assert abs((stamp_ns(miss) - BASE_NS) * 1e-9 - first_contact(pitch())) < 3e-3
+    h.diagnostics_where(lambda v: v['near_misses'] == '1' and v['impacts'] == '0')
+
+
+# ----------------------------------------------------------------------------------------------
+# bad input and diagnostics
+
+
+def test_bad_messages_are_dropped_counted_and_never_hit(harness: Callable[..., Harness],
+                                                        truth_ns: int) -> None:
+    """NaN, wrong frame, out of order and a zero quaternion: counted, the hit is unchanged."""
+    h = swing_harness(harness, 'pose', {'stale_timeout': 0.5})
+    ball, bat = h.publishers['ball'], h.publishers['bat_pose']
+    at = pitch()
+
+    def bad(i: int) -> int:
+        ns = sample_ns(i)
+        if i == 10:  # 1 ms behind the newest ball sample
+            ball.publish(point_msg(ns - 1_000_000, at(i / RATE_HZ)))
+        elif i == 20:  # a zero quaternion
+            bat.publish(pose_msg(ns + 1_000_000, pose(i / RATE_HZ)[0], (0.0, 0.0, 0.0, 0.0)))
+        elif i == 30:
+            ball.publish(point_msg(ns + 1_000_000, (math.nan, 0.0, 1.0)))
+        elif i == 40:  # a ball in another frame, on the bat's path before the real contact
+            knob, tip = swing((truth_ns - BASE_NS) * 1e-9)
+            ball.publish(point_msg(ns + 1_000_000, 0.5 * (knob + tip), frame='camera'))
+        else:
+            return 0
+        return 1
+    h.processed(publish_swing(h, 'pose', at, extra=bad))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact')
+    time.sleep(0.1)
+    assert len(h.received['impact']) == 1 and not h.received['near_miss']
+    assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 100_000
+    status = h.diagnostics_where(lambda v: v['dropped_total'] == '4')
+    counts = values(status)
+    for reason in DROP_REASONS:
+        expected = 1 if reason in (
+            'out_of_order', 'bad_quaternion', 'non_finite', 'wrong_frame') else 0
+        assert counts[f'dropped_{reason}'] == str(expected), reason
+    assert counts['ball_received'] == str(SAMPLES + 3)
+    assert counts['bat_pose_received'] == str(SAMPLES + 1)
+    assert counts['impacts'] == '1' and counts['near_misses'] == '0'
+    assert float(counts['processing_max_ms']) >= float(counts['processing_mean_ms']) >= 0.0
+    warned = [a.status[0] for a in h.received['diagnostics']
+              if values(a.status[0])['dropped_in_period'] != '0']
+    assert warned and all(s.level >= DiagnosticStatus.WARN for s in warned)
+    assert any('dropped' in s.message for s in warned)
+    # then the topics go silent: stale, WARN, naming them
+    stale = h.diagnostics_where(lambda v: v['state'] == 'stale', timeout=3.0)
+    assert stale.level == DiagnosticStatus.WARN
+    assert '/ball' in stale.message and '/bat_pose' in stale.message
+
+
+def test_waiting_then_tracking_with_rates(harness: Callable[..., Harness]) -> None:
+    """Before data: 'waiting for data' (OK); with data: 'tracking', rates and live markers."""
+    h = swing_harness(harness, 'points')
+    waiting = h.diagnostics_where(lambda v: v['state'] == 'waiting for data')
+    assert waiting.level == DiagnosticStatus.OK and '/ball' in waiting.message
+    for key in ('ball_rate_hz', 'knob_rate_hz', 'tip_rate_hz', 'processing_mean_ms'):
+        assert key in values(waiting)
+    h.processed(publish_swing(h, 'points', pitch(2.0), samples=range(20)))
+    tracking = h.diagnostics_where(
+        lambda v: v['state'] == 'tracking' and v['ball_received'] == '20')
+    assert tracking.level == DiagnosticStatus.OK
+    assert values(tracking)['frame_id'] == 'world'
+    # the live bat (one cylinder per profile segment) and ball, in the tracking frame
+    h.wait(lambda: any({'live_bat', 'live_ball'} <= {m.ns for m in array.markers}
+                       for array in h.received['markers']), 2.0, 'live markers')
+    live = next(a for a in h.received['markers']
+                if {'live_bat', 'live_ball'} <= {m.ns for m in a.markers})
+    assert all(m.header.frame_id == 'world' for m in live.markers)
+    assert sum(m.ns == 'live_bat' for m in live.markers) == len(WOOD_BAT_34.segments())
+
+
+def test_incompatible_qos_is_reported(harness: Callable[..., Harness]) -> None:
+    """A best-effort publisher on a topic the node reads reliably: counted and in diagnostics."""
+    h = harness({'qos': 'reliable'})
+    h.probe.create_publisher(PointStamped, 'ball', QoSProfile(
+        depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    h.start()
+    h.wait(lambda: h.node._incompatible > 0, 3.0, 'the incompatible QoS event')
+    status = h.diagnostics_where(lambda v: v['incompatible_qos_events'] != '0')
+    assert status.level >= DiagnosticStatus.WARN and 'incompatible' in status.message
+
+
+# ----------------------------------------------------------------------------------------------
+# services, clock and parameters
+
+
+def test_reset_service_clears_the_state(harness: Callable[..., Harness], truth_ns: int) -> None:
+    """~/reset answers success and clears the buffers; the swing after it is still found."""
+    h = swing_harness(harness, 'pose')
+    h.processed(publish_swing(h, 'pose', pitch(), samples=range(10)))  # 28 ms: before contact
+    assert h.node.detector.watermark_ns is not None
+    response = h.call(Trigger, '/impact_node/reset', Trigger.Request())
+    assert response.success and 'cleared' in response.message
+    assert h.node.detector.watermark_ns is None and h.node.detector.stats.resets == 1
+    h.processed(publish_swing(h, 'pose', pitch(), samples=range(10, SAMPLES)) + 20)
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact after the reset')
+    assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 100_000
+    h.diagnostics_where(lambda v: v['resets'] == '1')
+
+
+def test_ros_clock_jump_back_resets_with_a_warning(harness: Callable[..., Harness]) -> None:
+    """use_sim_time: /clock jumping back beyond time_jump_reset resets the detector."""
+    h = swing_harness(harness, 'pose', {'use_sim_time': True, 'time_jump_reset': 0.5})
+    clock = h.probe.create_publisher(ClockMsg, '/clock', RELIABLE)
+    h.wait(lambda: clock.get_subscription_count() > 0, 5.0, '/clock matched')
+    clock.publish(ClockMsg(clock=stamp(100 * 10**9)))
+    h.wait(lambda: h.node.get_clock().now().nanoseconds == 100 * 10**9, 3.0, 'sim time')
+    h.processed(publish_swing(h, 'pose', pitch(2.0), samples=range(10)))
+    clock.publish(ClockMsg(clock=stamp(99_800_000_000)))  # 0.2 s back: below the threshold
+    clock.publish(ClockMsg(clock=stamp(50 * 10**9)))
+    h.wait(lambda: h.node.detector.stats.resets == 1, 3.0, 'the reset')
+    assert h.node.detector.watermark_ns is None
+
+
+def test_runtime_parameters(harness: Callable[..., Harness]) -> None:
+    """Thresholds change at runtime (ints too); topics and the model are refused with a reason."""
+    h = harness().start()
+    ok = h.set_parameters(near_miss_threshold=0.3)[0]
+    assert ok.successful, ok.reason
+    assert h.node.detector.config.near_miss_threshold == 0.3
+    ok = h.set_parameters(max_gap=1)[0]  # an integer for a double
+    assert ok.successful, ok.reason
+    assert h.node.detector.config.max_gap == 1.0
+    assert h.node.get_parameter('max_gap').type_ == Parameter.Type.DOUBLE
+    for name, value, words in (('ball_topic', 'other', ('read-only', 'ball_topic', 'restart')),
+                               ('model', 'spline', ('read-only', 'model')),
+                               ('bat_profile', [0.0, 0.02, 0.8, 0.03], ('read-only',)),
+                               ('near_miss_threshold', -1.0, ('near_miss_threshold',)),
+                               ('up_axis', [0.0, 0.0, 0.0], ('up_axis',)),
+                               ('stale_timeout', 'soon', ('type',))):
+        refused = h.set_parameters(**{name: value})[0]
+        assert not refused.successful, name
+        for word in words:
+            assert word in refused.reason, (name, refused.reason)
+    assert h.node.get_parameter('ball_topic').value == 'ball'
+    assert h.node.detector.config.model == 'rigid'
+    assert h.node.detector.config.near_miss_threshold == 0.3
+
+
+def test_bad_value_in_process_raises_node_config_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The constructor refuses a bad value with RosError naming it."""
+    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'OFF')
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    try:
+        with pytest.raises(RosError, match='bat_axis'):
+            ImpactNode(context=context, parameter_overrides=[Parameter('bat_axis', value='w')])
+        node = ImpactNode(context=context, parameter_overrides=[
+            Parameter('max_gap', value=1), Parameter('up_axis', value=[0, 2, 0])])
+        assert node.detector.config.max_gap == 1.0 and node.detector.config.up_axis == (0, 1, 0)
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+
+
+# ----------------------------------------------------------------------------------------------
+# parameter files
+
+
+def test_yaml_lists_every_parameter_with_its_default() -> None:
+    """config/impact_node.yaml holds every declared parameter at its default, nothing else."""
+    loaded = yaml.safe_load(CONFIG.read_text())['impact_node']['ros__parameters']
+    assert list(loaded) == [spec.name for spec in PARAMETERS]
+    for spec in PARAMETERS:
+        default = [] if spec.default is None else spec.default
+        assert loaded[spec.name] == pytest.approx(default), spec.name
+    points = yaml.safe_load(POINTS_CONFIG.read_text())['impact_node']['ros__parameters']
+    assert set(points) <= set(SPECS) and points['bat_input'] == 'points'
+
+
+def test_points_params_file_loads(harness: Callable[..., Harness]) -> None:
+    """The knob + tip example file loads through --params-file and builds its bat profile."""
+    h = harness(args=['--params-file', str(POINTS_CONFIG)])
+    node = h.node
+    assert node.get_parameter('qos').value == 'reliable'  # the file wins over the harness
+    config = node.detector.config
+    assert config.bat_input == 'points' and config.frame_id == 'mocap'
+    assert config.profile.length == pytest.approx(0.8382)
+    assert node._topics == {'ball': '/mocap/ball', 'knob': '/mocap/bat_knob',
+                            'tip': '/mocap/bat_tip'}
+
+
+def _env() -> Dict[str, str]:
+    """Return the environment for a node process: this run's domain, host-only discovery."""
+    env = dict(os.environ)
+    env.pop('RMW_IMPLEMENTATION', None)
+    env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    env['PYTHONUNBUFFERED'] = '1'
+    return env
+
+
+def test_console_script_loads_the_params_files_and_stops_on_ctrl_c() -> None:
+    """
+    .venv/bin/impact_node with both example files: parameters as loaded; SIGINT exits 0.
+
+    The points file comes second and wins where both set a value; ``-p`` wins over both. A
+    PoseStamped publisher on the PointStamped ball topic gets a warning naming both types.
+    """
+    assert SCRIPT.exists(), SCRIPT
+    process = subprocess.Popen(
+        [str(SCRIPT), '--ros-args', '--params-file', str(CONFIG), '--params-file',
+         str(POINTS_CONFIG), '-p', 'max_gap:=1', '-p', 'diagnostics_period:=0.2'],
+        env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lines: List[str] = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node('param_probe', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    names = [spec.name for spec in PARAMETERS]
+    try:
+        client = node.create_client(GetParameters, '/impact_node/get_parameters')
+        assert client.wait_for_service(timeout_sec=20.0), 'the node did not come up'
+        future = client.call_async(GetParameters.Request(names=names))
+        rclpy.spin_until_future_complete(node, future, executor=executor, timeout_sec=10.0)
+        got = {name: parameter_value_to_python(value)
+               for name, value in zip(names, future.result().values)}
+        node.create_publisher(PoseStamped, '/mocap/ball', 10)
+        deadline = time.monotonic() + 10.0
+        while not any('another type' in line for line in lines):
+            assert time.monotonic() < deadline, 'no warning about the PoseStamped publisher'
+            time.sleep(0.05)
+    finally:
+        executor.shutdown(timeout_sec=2.0)
+        node.destroy_node()
+        rclpy.shutdown(context=context)
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+        reader.join(timeout=5)
+    defaults = yaml.safe_load(CONFIG.read_text())['impact_node']['ros__parameters']
+    points = yaml.safe_load(POINTS_CONFIG.read_text())['impact_node']['ros__parameters']
+    expected = dict(defaults, **points, max_gap=1.0, diagnostics_period=0.2)
+    assert set(got) == set(expected)
+    for name, value in expected.items():
+        assert got[name] == pytest.approx(value), name
+    assert isinstance(got['max_gap'], float)
+    err = ''.join(lines)
+    assert process.returncode == 0, err
+    assert 'Traceback' not in err
+    assert 'listening: ball PointStamped on /mocap/ball, bat knob and tip' in err
+    warning = next(line for line in lines if 'another type' in line)
+    assert 'geometry_msgs/msg/PoseStamped' in warning and 'ball_type' in warning
+
+
+@pytest.mark.parametrize('line, word', [('max_gap: -1', 'max_gap'), ('model: cubic', 'model'),
+                                        ('bat_profile: [0.1, 0.02, 0.3]', 'bat_profile')])
+def test_bad_params_file_value_exits_with_one_line(tmp_path: Path, line: str, word: str) -> None:
+    """``python -m baseball_collision.ros.node`` with a bad value: exit 1, one clear error line."""
+    params = tmp_path / 'bad.yaml'
+    params.write_text(f'/**:\n  ros__parameters:\n    {line}\n')
+    completed = subprocess.run(
+        [sys.executable, '-m', 'baseball_collision.ros.node', '--ros-args', '--params-file',
+         str(params)], env=_env(), capture_output=True, text=True, timeout=30)
+    assert completed.returncode == 1
+    lines = (completed.stdout + completed.stderr).strip().splitlines()
+    assert len(lines) == 1, lines
+    assert 'ERROR' in lines[0] and word in lines[0] and 'not starting' in lines[0]
+
+
+def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """With a horizon, ~/predicted_impact leads the impact, and ~/impact_predicted toggles."""
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    sent = publish_swing(h, 'pose', pitch())
+    h.processed(sent)
+    h.wait(lambda: h.received['impact'] and h.received['predicting'][-1:]
+           and not h.received['predicting'][-1].data, 3.0, 'the impact and a cleared prediction')
+    predicted = h.received['predicted']
+    assert predicted, 'no prediction before the impact'
+    closest = predicted[-1]  # made at the last frame before the contact
+    assert abs(stamp_ns(closest) - truth_ns) < 2_000_000
+    # the start-up False is latched for transient-local subscribers; this probe is volatile
+    assert [m.data for m in h.received['predicting']][-2:] == [True, False]
+
+
+def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """A commanded swing on bat_plan_topic: predictions 40 ms ahead within 0.5 ms."""
+    h = make_plan_harness(harness)
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    for i in range(0, 200, 5):  # every 5 ms over the swing
+        position, quaternion = pose(i * 1e-3)
+        plan.poses.append(pose_msg(BASE_NS + i * 1_000_000, position, quaternion))
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: h.node.detector._plan is not None, 3.0, 'the plan taken')
+    early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 14)  # up to ~40 ms before
+    h.processed(publish_swing(h, 'pose', pitch(), samples=early))
+    h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')
+    for message in h.received['predicted']:
+        assert abs(stamp_ns(message) - truth_ns) < 500_000
+
+
+def make_plan_harness(make: Callable[..., Harness]) -> Harness:
+    """Return a started pose harness with a plan publisher and a 0.3 s horizon."""
+    h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan'})
+    h.publisher(PointStamped, 'ball')
+    h.publisher(PoseStamped, 'bat_pose')
+    h.publisher(PathMsg, 'bat_plan')
+    return h.start()

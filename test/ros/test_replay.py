@@ -1,0 +1,257 @@
+"""
+Live: bundled bags replayed over DDS into a real ``impact_node``, against ``analyze``.
+
+The node runs as a subprocess (the venv's console script) on this test run's private domain
+(conftest.py); the replay (:class:`BagPlayer`) and the listener run in this process. For each
+bag the impacts the node publishes on ``~/impact`` must have exactly the stamps ``analyze``
+finds on the same bag with the same parameter file, and match the truth. The node gets
+``qos:=reliable`` and a deep queue so that no message is lost in transit (a best-effort
+subscription may drop under load, and then the comparison would test DDS, not the detector).
+"""
+
+import json
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from typing import Any, Dict, Iterator, List, Tuple
+
+from baseball_collision.bags.bag import BagReader
+from baseball_collision.errors import RosError
+from baseball_collision.ros.replay import BagPlayer, message_class, to_rclpy
+from baseball_collision.tools.analysis import (
+    AnalysisOptions, analyze_bag, load_parameters, output_topics, truth_path)
+from baseball_collision.tools.demo import node_command, stop_node, wait_for_node
+import pytest
+from support import REPO_ROOT
+from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
+
+pytestmark = pytest.mark.ros
+
+REPLAY_RATE = 8.0
+SCRIPT = Path(sys.executable).parent / 'baseball-collision'
+
+
+class Ros:
+    """An rclpy context with one node spinning in a thread, and event collection."""
+
+    def __init__(self) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+
+        self.rclpy = rclpy
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node('test_replay', context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def qos(self) -> Any:
+        """Return reliable keep-last 1000."""
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        return QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+
+    def collect(self, msg_type: Any, topic: str) -> Tuple[Any, List[Any]]:
+        """Subscribe and return (subscription, list the messages are appended to)."""
+        received: List[Any] = []
+        subscription = self.node.create_subscription(msg_type, topic, received.append,
+                                                     self.qos())
+        return subscription, received
+
+    def close(self) -> None:
+        """Tear down: executor, thread, node, context (the order ENVIRONMENT.md asks)."""
+        self.executor.shutdown(timeout_sec=2.0)
+        self.thread.join(timeout=5.0)
+        self.node.destroy_node()
+        self.rclpy.try_shutdown(context=self.context)
+
+
+@pytest.fixture(scope='module')
+def ros() -> Iterator[Ros]:
+    """One rclpy context for the module."""
+    instance = Ros()
+    yield instance
+    instance.close()
+
+
+def _stamp(message: Any) -> int:
+    return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+
+
+def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
+                 inputs: List[str]) -> Tuple[List[int], int, List[Any]]:
+    """
+    Run impact_node with ``params``, replay ``bag`` into it; return its impacts.
+
+    :returns: (impact stamps in arrival order, the node's exit code, twist messages).
+    """
+    from geometry_msgs.msg import PointStamped, TwistStamped
+
+    topics = output_topics()
+    impact_sub, impacts = ros.collect(PointStamped, topics['impact'])
+    twist_sub, twists = ros.collect(TwistStamped, topics['impact_velocity'])
+    env = dict(os.environ)
+    with tempfile.TemporaryFile() as log:
+        process = subprocess.Popen(node_command(params), env=env, stdout=log,
+                                   stderr=subprocess.STDOUT)
+        try:
+            with BagPlayer(ros.node, bag, rate=REPLAY_RATE) as player:
+                problem = wait_for_node(
+                    process, player, inputs,
+                    lambda: impact_sub.get_publisher_count() >= 1
+                    and twist_sub.get_publisher_count() >= 1, 30.0)
+                assert problem is None, problem
+                result = player.play()
+                assert result.messages == player.message_count
+            deadline = time.monotonic() + 10.0
+            while len(impacts) < expected and time.monotonic() < deadline:
+                time.sleep(0.05)
+            time.sleep(0.3)  # an extra impact would arrive now
+        finally:
+            code = stop_node(process)
+            ros.node.destroy_subscription(impact_sub)
+            ros.node.destroy_subscription(twist_sub)
+        log.seek(0)
+        text = log.read().decode(errors='replace')
+    assert code == 0, text[-3000:]
+    assert 'dropped' not in text, text[-3000:]
+    return [_stamp(m) for m in impacts], code, list(twists)
+
+
+def _params_with(tmp_path: Path, **changes: Any) -> Path:
+    """Return a copy of the bundled parameter file with some values changed."""
+    import yaml
+
+    document = yaml.safe_load(PARAMS.read_text())
+    document['impact_node']['ros__parameters'].update(changes)
+    path = tmp_path / 'params.yaml'
+    path.write_text(yaml.safe_dump(document))
+    return path
+
+
+CASES = [(name, {}) for name in sorted(BAGS)] + [
+    ('pitches_90hz.mcap', {'bat_input': 'points'}),
+    ('pitches_120hz_sqlite3', {'model': 'spline'}),
+]
+
+
+@pytest.mark.parametrize('name, changes', CASES,
+                         ids=[f"{n}{'-' + '-'.join(c.values()) if c else ''}" for n, c in CASES])
+def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
+                                       changes: Dict[str, Any]) -> None:
+    """The live node and analyze give identical impact stamps on a bag; both match truth."""
+    params = _params_with(tmp_path, **changes) if changes else PARAMS
+    bag = bag_path(name)
+    offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
+                          progress=False)
+    assert offline.config.model == changes.get('model', 'rigid')
+    assert offline.selection.bat_mode == changes.get('bat_input', 'pose')
+    expected = [impact.stamp_ns for impact in offline.impacts]
+    stamps, _, twists = live_impacts(ros, bag, params, len(expected),
+                                     list(offline.selection.topics.values()))
+    assert stamps == expected  # identical, to the nanosecond, in the same order
+    assert [_stamp(t) for t in twists] == expected
+    for twist, impact in zip(twists, offline.impacts):
+        linear = twist.twist.linear
+        assert (linear.x, linear.y, linear.z) == pytest.approx(impact.bat_velocity, abs=1e-9)
+    truth = json.loads(truth_path(bag).read_text())
+    document = {'impacts': [{'stamp_ns': i.stamp_ns, 'distance_from_tip_m':
+                             i.distance_from_tip_m, 'sweet_spot_speed_mps':
+                             i.sweet_spot_speed_mps, 'feature': i.feature}
+                            for i in offline.impacts],
+                'near_misses': offline.near_misses}
+    check_against_truth(document, truth, BAGS[name])
+
+
+def test_replay_command_publishes_every_message_with_clock(ros: Ros) -> None:
+    """`baseball-collision replay` delivers every /ball message and a /clock within the bag."""
+    from geometry_msgs.msg import PointStamped
+    from rosgraph_msgs.msg import Clock
+
+    bag = bag_path('pitches_90hz.mcap')
+    with BagReader(bag) as reader:
+        expected = [s.stamp_ns for s in reader.samples() if s.role == 'ball']
+        start, end = reader.start_time_ns, reader.end_time_ns
+    ball_sub, balls = ros.collect(PointStamped, '/ball')
+    clock_sub, clocks = ros.collect(Clock, '/clock')
+    try:
+        done = subprocess.run(
+            [str(SCRIPT), 'replay', str(bag), '--rate', '10', '--wait-for', '/ball',
+             '--wait-for', '/clock'], capture_output=True, text=True, timeout=60)
+        assert done.returncode == 0, done.stderr
+        assert 'published 1,720 messages' in done.stdout
+        deadline = time.monotonic() + 5.0
+        while len(balls) < len(expected) and time.monotonic() < deadline:
+            time.sleep(0.05)
+    finally:
+        ros.node.destroy_subscription(ball_sub)
+        ros.node.destroy_subscription(clock_sub)
+    assert [_stamp(m) for m in balls] == expected
+    assert balls[0].header.frame_id == 'world'
+    times = [m.clock.sec * 1_000_000_000 + m.clock.nanosec for m in clocks]
+    assert len(times) > 100  # ~200 Hz over ~2.2 s
+    assert times == sorted(times) and start <= times[0] and times[-1] <= end
+
+
+def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
+    """--loop restarts the bag (the clock jumps back); SIGINT ends it with exit code 0."""
+    from rosgraph_msgs.msg import Clock
+
+    clock_sub, clocks = ros.collect(Clock, '/clock')
+    process = subprocess.Popen(
+        [str(SCRIPT), 'replay', str(bag_path('pitches_90hz.mcap')), '--rate', '40', '--loop',
+         '--wait-for', '/clock'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 20.0
+        jumped = False
+        while not jumped and time.monotonic() < deadline:
+            time.sleep(0.1)
+            times = [m.clock.sec * 10**9 + m.clock.nanosec for m in list(clocks)]
+            jumped = any(b < a for a, b in zip(times, times[1:]))
+        assert jumped
+    finally:
+        process.send_signal(signal.SIGINT)
+        stdout, stderr = process.communicate(timeout=20)
+        ros.node.destroy_subscription(clock_sub)
+    assert process.returncode == 0, stderr
+    assert 'loops)' in stdout
+
+
+def test_ros1_messages_convert_to_rclpy() -> None:
+    """A ROS 1 message from rosbags becomes the rclpy message, header.seq dropped."""
+    from rosbags.typesys import get_typestore, Stores
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    types = store.types
+    header = types['std_msgs/msg/Header'](
+        seq=5, stamp=types['builtin_interfaces/msg/Time'](sec=3, nanosec=7), frame_id='w')
+    pose = types['geometry_msgs/msg/PoseStamped'](header=header, pose=types[
+        'geometry_msgs/msg/Pose'](position=types['geometry_msgs/msg/Point'](x=1.0, y=2.0, z=3.0),
+                                  orientation=types['geometry_msgs/msg/Quaternion'](
+                                      x=0.0, y=0.0, z=0.0, w=1.0)))
+    message = to_rclpy(pose, message_class('geometry_msgs/msg/PoseStamped'))
+    assert (message.header.stamp.sec, message.header.stamp.nanosec) == (3, 7)
+    assert message.header.frame_id == 'w' and message.pose.position.y == 2.0
+    with pytest.raises(RosError, match='not available'):
+        message_class('no_such_msgs/msg/Thing')
+
+
+def test_demo_end_to_end() -> None:
+    """`baseball-collision demo` runs a live node on a bundled bag and exits 0."""
+    env = dict(os.environ)
+    env.pop('RMW_IMPLEMENTATION', None)
+    started = time.monotonic()
+    done = subprocess.run([str(SCRIPT), 'demo', '--rate', '8'], capture_output=True,
+                          text=True, env=env, timeout=120, cwd=REPO_ROOT)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.count('  impact  ') == 8
+    assert '8/8 contacts found, 0 missed, 0 false impacts' in done.stdout
+    assert 'stamps identical to the live node' in done.stdout
+    assert 'impact_node stopped cleanly (exit code 0)' in done.stdout
+    assert time.monotonic() - started < 60.0
