@@ -16,9 +16,9 @@ low-rate tracker. Prints a Markdown table for BENCHMARKS.md.
 import argparse
 import time
 
-from baseball_collision.core.detector.detector import DetectorConfig
+from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.evaluation import run_scenario, summarize
-from baseball_collision.tools.sim.simulation import KINDS, make_scenario
+from baseball_collision.tools.sim import KINDS, make_scenario
 import numpy as np
 
 COLUMNS = (

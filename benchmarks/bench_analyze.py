@@ -30,8 +30,8 @@ import tempfile
 import time
 from typing import Tuple
 
-from baseball_collision.bags.bag import BagReader
-from baseball_collision.core.detector.detector import DetectorConfig
+from baseball_collision.bags import BagReader
+from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.analysis import _run, AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.recording import RecordingSpec, write_recording
 from bench_bag_read import raw_read

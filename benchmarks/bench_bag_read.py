@@ -19,7 +19,7 @@ import tempfile
 import time
 from typing import Callable, Tuple
 
-from baseball_collision.bags.bag import BagWriter, read_samples
+from baseball_collision.bags import BagWriter, read_samples
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
 

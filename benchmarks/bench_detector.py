@@ -15,8 +15,8 @@ import argparse
 import time
 from typing import List, Tuple
 
-from baseball_collision.core.detector.detector import Detector, DetectorConfig, Impact
-from baseball_collision.tools.sim.simulation import DEFAULT_START_NS, KINDS, make_scenario, sample
+from baseball_collision.core.detector import Detector, DetectorConfig, Impact
+from baseball_collision.tools.sim import DEFAULT_START_NS, KINDS, make_scenario, sample
 import numpy as np
 
 

@@ -45,7 +45,7 @@ import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.ros.node import ImpactNode
-from baseball_collision.tools.sim.simulation import DEFAULT_START_NS, KINDS, make_scenario, sample
+from baseball_collision.tools.sim import DEFAULT_START_NS, KINDS, make_scenario, sample
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np

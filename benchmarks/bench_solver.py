@@ -13,8 +13,7 @@ import math
 import time
 from typing import List, Tuple
 
-from baseball_collision.core.toi.solver import (
-    seed_time_of_impact, time_of_impact, time_of_impact_batch)
+from baseball_collision.core.toi import seed_time_of_impact, time_of_impact, time_of_impact_batch
 import numpy as np
 
 

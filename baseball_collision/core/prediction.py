@@ -25,7 +25,8 @@ from typing import List, Optional, Sequence, Tuple
 from .bat import BatProfile
 from .geometry import (
     add, cross, dot, lerp, norm, quaternion_angle, rotate, scale, slerp_quaternions, sub, Vector)
-from .toi.solver import _profile_contact, ImpactResult
+from .toi import ImpactResult
+from .toi.solver import _profile_contact
 
 Quaternion = Tuple[float, float, float, float]
 

@@ -52,7 +52,7 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
 from ..core.bat import WOOD_BAT_34
-from ..core.detector.detector import (
+from ..core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Event, Impact, MPS_TO_MPH, NearMiss, Prediction,
     PredictionCleared, StateReset, StreamGap)
 from ..core.geometry import add, norm, scale, sub, Vector

@@ -41,11 +41,11 @@ from typing import (
 import numpy as np
 
 from .evaluation import LEADS_S, prediction_errors
-from ..bags.bag import BagReader, BagWriter, POSE_STAMPED, TopicSelection
-from ..core.detector.detector import (
+from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
+from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, MPS_TO_MPH, NearMiss, Prediction, StateReset,
     StreamGap)
-from ..core.toi.solver import profile_gap
+from ..core.toi import profile_gap
 from ..errors import BagError, CoreError, ToolError
 
 NODE_NAME = 'impact_node'

@@ -23,8 +23,8 @@ from .analysis import (
     AnalysisOptions, analyze_bag, BagAnalysis, csv_text, format_report, load_parameters, Outputs,
     to_json, truth_path, write_json, write_plots)
 from .recording import BAT_CHOICES, RecordingSpec, write_recording
-from .sim.simulation import KINDS
-from ..bags.bag import TOPIC_FLAGS
+from .sim import KINDS
+from ..bags import TOPIC_FLAGS
 from ..errors import BagError, RosError, ToolError
 
 PROG = 'baseball-collision'

@@ -35,8 +35,8 @@ from typing import Any, Callable, Dict, IO, List, Optional, Tuple
 from .analysis import (
     AnalysisOptions, analyze_bag, BagAnalysis, compare_truth, load_parameters, NODE_NAME,
     output_topics, truth_line)
-from ..bags.bag import BagReader
-from ..core.detector.detector import DetectorConfig, MPS_TO_MPH
+from ..bags import BagReader
+from ..core.detector import DetectorConfig, MPS_TO_MPH
 from ..core.geometry import (
     add, cross, dot, lerp, norm, rotate, scale, slerp_quaternions, sub, Vector)
 from ..errors import BagError, RosError, ToolError

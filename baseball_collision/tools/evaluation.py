@@ -16,8 +16,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .sim.simulation import DEFAULT_START_NS, sample, Scenario, truth_dict
-from ..core.detector.detector import Detector, DetectorConfig, Event, Impact, NearMiss, Prediction
+from .sim import DEFAULT_START_NS, sample, Scenario, truth_dict
+from ..core.detector import Detector, DetectorConfig, Event, Impact, NearMiss, Prediction
 
 
 @dataclass(frozen=True)

@@ -24,8 +24,8 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 
 from .analysis import Outputs, TRUTH_FORMAT, truth_path
-from .sim.simulation import DEFAULT_START_NS, KINDS, make_scenario, sample, Scenario, truth_dict
-from ..bags.bag import POINT_STAMPED, POSE_STAMPED
+from .sim import DEFAULT_START_NS, KINDS, make_scenario, sample, Scenario, truth_dict
+from ..bags import POINT_STAMPED, POSE_STAMPED
 from ..errors import BagError, ToolError
 
 TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob', 'tip': '/bat_tip'}

@@ -10,7 +10,7 @@ import sys
 import time
 from typing import Any, List, Optional, Sequence, Tuple
 
-from baseball_collision.bags.bag import (
+from baseball_collision.bags import (
     BagReader, BagWriter, count_messages, POINT_STAMPED, POSE_STAMPED, read_samples, Sample,
     select_topics, TopicSelection, TWIST_STAMPED, VECTOR3_STAMPED)
 from baseball_collision.errors import BagError
@@ -130,17 +130,17 @@ def _expected(rows: Sequence[Row], roles: dict) -> List[Sample]:
     return samples
 
 
-def test_module_imports_neither_rclpy_nor_the_detector() -> None:
-    """bag.py is I/O only: rosbags and the standard library, usable without ROS."""
-    code = ('import sys, baseball_collision.bags.bag; '
+def test_module_imports_neither_rclpy_nor_the_tools() -> None:
+    """The bags layer is I/O on rosbags and the core: usable without ROS."""
+    code = ('import sys, baseball_collision.bags; '
             'print(sorted(m for m in sys.modules if m.split(".")[0] in '
             '("rclpy", "baseball_collision")))')
     out = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
                          check=True, timeout=60)
     loaded = set(ast.literal_eval(out.stdout.strip()))
-    assert 'baseball_collision.bags.bag' in loaded
-    assert loaded <= {'baseball_collision', 'baseball_collision.errors', 'baseball_collision.bags',
-                      'baseball_collision.bags.bag'}, loaded
+    assert 'baseball_collision.bags' in loaded
+    assert not any(m.startswith(('rclpy', 'baseball_collision.ros', 'baseball_collision.tools'))
+                   for m in loaded), loaded
 
 
 # --- reading --------------------------------------------------------------------------------

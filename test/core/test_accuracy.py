@@ -7,9 +7,9 @@ grid (uneven steps). The bounds are the goals of the package, so a regression fa
 full table over many more scenarios is ``benchmarks/bench_accuracy.py`` (see BENCHMARKS.md).
 """
 
-from baseball_collision.core.detector.detector import DetectorConfig
+from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.evaluation import run_scenario, summarize
-from baseball_collision.tools.sim.simulation import KINDS, make_scenario
+from baseball_collision.tools.sim import KINDS, make_scenario
 import numpy as np
 import pytest
 

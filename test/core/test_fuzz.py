@@ -30,9 +30,9 @@ import random
 from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector.detector import (
+from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StreamGap)
-from baseball_collision.core.toi.solver import (
+from baseball_collision.core.toi import (
     ImpactResult, time_of_impact, time_of_impact_batch, time_of_impact_profile)
 from baseball_collision.errors import CoreError
 from hypothesis import assume, example, given, HealthCheck, settings, strategies as st

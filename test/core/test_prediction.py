@@ -3,13 +3,13 @@
 import math
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector.detector import (
+from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
 from baseball_collision.core.prediction import (
     BallForecast, BatForecast, first_contact, planned_bat, turn_axis_and_rates)
-from baseball_collision.core.toi.solver import profile_gap
+from baseball_collision.core.toi import profile_gap
 from baseball_collision.errors import CoreError
-from baseball_collision.tools.sim.simulation import make_scenario, sample, truth_dict
+from baseball_collision.tools.sim import make_scenario, sample, truth_dict
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest

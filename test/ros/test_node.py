@@ -19,7 +19,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector.detector import DROP_REASONS
+from baseball_collision.core.detector import DROP_REASONS
 from baseball_collision.errors import RosError
 from baseball_collision.ros.node import ImpactNode, PARAMETERS, SPECS
 from diagnostic_msgs.msg import DiagnosticStatus

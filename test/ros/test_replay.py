@@ -20,7 +20,7 @@ import threading
 import time
 from typing import Any, Dict, Iterator, List, Tuple
 
-from baseball_collision.bags.bag import BagReader
+from baseball_collision.bags import BagReader
 from baseball_collision.errors import RosError
 from baseball_collision.ros.replay import BagPlayer, message_class, to_rclpy
 from baseball_collision.tools.analysis import (

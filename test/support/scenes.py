@@ -4,7 +4,7 @@ import math
 from typing import Callable, Optional, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.toi.solver import profile_gap
+from baseball_collision.core.toi import profile_gap
 import numpy as np
 
 BASE_NS = 1_700_000_000_000_000_000  # an absolute epoch stamp: floats cannot hold it exactly

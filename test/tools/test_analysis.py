@@ -6,7 +6,7 @@ import sys
 from typing import Any, Dict
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector.detector import NearMiss
+from baseball_collision.core.detector import NearMiss
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.analysis import (
     _progress, build_config, compare_truth, load_parameters, NODE_NAME, OFFLINE_MODEL,

@@ -29,7 +29,7 @@ import subprocess
 import sys
 from typing import Any, Dict, List, Tuple
 
-from baseball_collision.bags.bag import BagReader, BagWriter, POINT_STAMPED
+from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED
 from baseball_collision.tools.analysis import CSV_COLUMNS, output_topics, truth_path
 from baseball_collision.tools.cli import main
 import pytest

@@ -2,9 +2,9 @@
 
 import math
 
-from baseball_collision.core.detector.detector import DetectorConfig, Impact, NearMiss
+from baseball_collision.core.detector import DetectorConfig, Impact, NearMiss
 from baseball_collision.tools.evaluation import compare_pitch, run_scenario, summarize
-from baseball_collision.tools.sim.simulation import make_scenario
+from baseball_collision.tools.sim import make_scenario
 import numpy as np
 import pytest
 

@@ -1,9 +1,10 @@
 """The stream detector: samples in, impact and near-miss events out."""
 
+from .config import DetectorConfig
 from .detector import (
-    Detector, DetectorConfig, DetectorStats, DROP_REASONS, Event, FAR_AHEAD_NS, Impact, MPS_TO_MPH,
-    NearMiss, Prediction, PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE, PredictionCleared,
-    SPARSE_SAMPLES, StateReset, StreamGap)
+    Detector, DetectorStats, DROP_REASONS, Event, FAR_AHEAD_NS, Impact, MPS_TO_MPH, NearMiss,
+    Prediction, PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE, PredictionCleared, SPARSE_SAMPLES,
+    StateReset, StreamGap)
 
 __all__ = [
     'DROP_REASONS', 'FAR_AHEAD_NS', 'MPS_TO_MPH', 'DetectorConfig', 'Impact', 'NearMiss',

@@ -44,7 +44,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from ...core.bat import BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
-from ...core.toi.solver import distance
+from ...core.toi import distance
 from ...errors import ToolError
 
 GRAVITY = 9.80665

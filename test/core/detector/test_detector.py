@@ -4,7 +4,7 @@ import math
 from typing import Callable, List
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector.detector import (
+from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
 from baseball_collision.errors import CoreError
 from hypothesis import given, settings, strategies as st

@@ -4,7 +4,7 @@ import math
 
 from baseball_collision.core.geometry import (
     quaternion_angle, quaternion_to_matrix, rotate, slerp_quaternions, slerp_vectors)
-from baseball_collision.core.motion.paths import (
+from baseball_collision.core.motion import (
     BatPath, BatSample, check_model, hermite_tangent, PointPath, substeps_for)
 from baseball_collision.errors import CoreError
 from hypothesis import given, settings, strategies as st

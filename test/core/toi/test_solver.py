@@ -4,7 +4,7 @@ import json
 import math
 
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
-from baseball_collision.core.toi.solver import (
+from baseball_collision.core.toi import (
     distance, ImpactResult, line_distance, seed_time_of_impact, time_of_impact,
     time_of_impact_batch, time_of_impact_profile, TOUCH_TOLERANCE)
 from baseball_collision.errors import CoreError

@@ -6,7 +6,7 @@ import math
 from baseball_collision.core.bat import PoseBatGeometry, WOOD_BAT_34
 from baseball_collision.core.geometry import quaternion_to_matrix
 from baseball_collision.errors import ToolError
-from baseball_collision.tools.sim.simulation import (
+from baseball_collision.tools.sim import (
     compute_truth, GRAVITY, KINDS, make_scenario, MPH, Pitch, sample, Scenario, Swing, truth_dict)
 import numpy as np
 import pytest
