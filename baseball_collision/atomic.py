@@ -1,0 +1,103 @@
+"""
+All-or-nothing outputs: write beside the target under a hidden name, move into place at the end.
+
+The one mechanism behind every file the package writes for a user (bags, JSON, CSV, plot
+directories): an output is staged in a hidden temporary directory ``.<name>.<random>.partial``
+next to its target (the same file system, so placing it is a rename or a hard link), and only
+:meth:`StagedOutput.commit` puts it in place, never replacing a path that exists.
+:meth:`StagedOutput.abort`, or an exception inside a ``with`` block, deletes the temporary.
+
+Standard library only, usable from every layer; it raises ``OSError`` subclasses, which each
+layer turns into its own error.
+"""
+
+import os
+from pathlib import Path
+import shutil
+import tempfile
+from typing import Any, Optional, Union
+
+PARTIAL_SUFFIX = '.partial'
+"""Suffix of the hidden temporary directories (``.<target name>.<random>.partial``)."""
+
+
+def check_target(target: Union[str, os.PathLike]) -> Path:
+    """
+    Return ``target`` as a path after checking that an output can be created there.
+
+    :raises FileExistsError: the path exists (also a dangling symlink): never overwritten.
+    :raises FileNotFoundError: its directory does not exist.
+    """
+    path = Path(target)
+    if path.exists() or path.is_symlink():
+        raise FileExistsError(17, 'exists already; not overwriting', str(path))
+    if not path.parent.is_dir():
+        raise FileNotFoundError(2, 'output directory does not exist', str(path.parent))
+    return path
+
+
+class StagedOutput:
+    """
+    One output staged beside its target until :meth:`commit`.
+
+    Write the output at :attr:`path` (a file or a directory named like the target, inside the
+    temporary directory), or anywhere inside :attr:`directory` and pass that to :meth:`commit`.
+
+    :param target: where the output goes; must not exist, its directory must.
+    :raises OSError: as :func:`check_target`, or the temporary cannot be created.
+    """
+
+    def __init__(self, target: Union[str, os.PathLike]) -> None:
+        self.target = check_target(target)
+        self.directory: Optional[Path] = Path(tempfile.mkdtemp(
+            prefix=f'.{self.target.name}.', suffix=PARTIAL_SUFFIX, dir=self.target.parent))
+
+    @property
+    def path(self) -> Path:
+        """Return where to write the output: inside the temporary, named like the target."""
+        if self.directory is None:
+            raise ValueError(f'output {self.target} is already committed or aborted')
+        return self.directory / self.target.name
+
+    def commit(self, source: Optional[Path] = None) -> Path:
+        """
+        Move the output (``source``, default :attr:`path`) to the target; delete the temporary.
+
+        A file is hard-linked into place (which never replaces an existing file; a rename where
+        the file system has no hard links), a directory renamed after a check.
+
+        :returns: the target.
+        :raises FileExistsError: the target appeared meanwhile (the output is deleted).
+        :raises OSError: the output cannot be placed (the output is deleted).
+        """
+        source = self.path if source is None else Path(source)
+        try:
+            if source.is_dir():
+                check_target(self.target)
+                os.rename(source, self.target)
+            else:
+                try:
+                    os.link(source, self.target)
+                except FileExistsError:
+                    raise
+                except OSError:  # no hard links on this file system
+                    check_target(self.target)
+                    os.rename(source, self.target)
+        finally:
+            self.abort()
+        return self.target
+
+    def abort(self) -> None:
+        """Delete the temporary and whatever was written into it (idempotent)."""
+        directory, self.directory = self.directory, None
+        if directory is not None:
+            shutil.rmtree(directory, ignore_errors=True)
+
+    def __enter__(self) -> 'StagedOutput':
+        """Return self."""
+        return self
+
+    def __exit__(self, exc_type: Any, exc_value: Any, traceback: Any) -> None:
+        """Delete the temporary if the block raised (a committed output stays)."""
+        if exc_type is not None:
+            self.abort()
