@@ -19,7 +19,10 @@ setup(
         ('share/' + package_name + '/bags/pitches_120hz_sqlite3',
          glob('bags/pitches_120hz_sqlite3/*')),
     ],
-    install_requires=['setuptools', 'numpy'],
+    # what the package imports from PyPI (package.xml declares the same for rosdep; the ROS 2
+    # packages come from ROS itself); test/test_package.py checks both against the imports
+    install_requires=['setuptools', 'numpy', 'PyYAML', 'rosbags', 'tqdm'],
+    extras_require={'plots': ['matplotlib']},  # only `analyze --plot` needs it
     zip_safe=True,
     maintainer='baseball_collision maintainers',
     maintainer_email='maintainers@users.noreply.h-seed-561ec417.example',

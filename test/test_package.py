@@ -1,12 +1,15 @@
 """The repository root is a buildable ament_python package (colcon build into a temp base)."""
 
+import ast
 import os
 from pathlib import Path
 import shutil
 import subprocess
 import sys
+from typing import Set
 import xml.etree.ElementTree as ElementTree
 
+import baseball_collision
 import pytest
 from support import REPO_ROOT
 
@@ -22,6 +25,73 @@ def test_package_xml_declares_the_runtime_dependencies() -> None:
             'std_srvs', 'python3-numpy'} <= exec_depends
     test_depends = {e.text for e in root.findall('test_depend')}
     assert {'ament_flake8', 'ament_pep257', 'python3-pytest'} <= test_depends
+
+
+IMPORT_TO_ROSDEP = {
+    'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'matplotlib': 'python3-matplotlib',
+    'tqdm': 'python3-tqdm', 'rosbags': 'python3-rosbags-pip', 'pytest': 'python3-pytest',
+    'hypothesis': 'python3-hypothesis',
+}
+"""Python modules whose rosdep key is not their own name."""
+
+IMPORT_TO_PIP = {'numpy': 'numpy', 'yaml': 'PyYAML', 'rosbags': 'rosbags', 'tqdm': 'tqdm',
+                 'matplotlib': 'matplotlib'}
+"""Modules that come from PyPI (not from ROS), by their distribution name."""
+
+
+def _third_party_imports(*roots: Path) -> Set[str]:
+    """Return the top-level modules imported under ``roots`` that are neither stdlib nor ours."""
+    found = set()
+    for root in roots:
+        for path in ([root] if root.is_file() else sorted(root.rglob('*.py'))):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if isinstance(node, ast.Import):
+                    found.update(alias.name.split('.')[0] for alias in node.names)
+                elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                    found.add(node.module.split('.')[0])
+    local = {'baseball_collision', 'support', 'conftest'}
+    return {name for name in found if name not in sys.stdlib_module_names and name not in local}
+
+
+def _depends(tag: str) -> Set[str]:
+    root = ElementTree.parse(REPO_ROOT / 'package.xml').getroot()
+    return {element.text for element in root.findall(tag)}
+
+
+def test_package_xml_declares_exactly_what_the_package_imports() -> None:
+    """Every import of the package and launch file is an exec_depend, and nothing else is."""
+    imports = _third_party_imports(REPO_ROOT / 'baseball_collision', REPO_ROOT / 'launch')
+    declared = {IMPORT_TO_ROSDEP.get(name, name) for name in imports}
+    assert declared == _depends('exec_depend')
+
+
+def test_setup_py_requires_what_comes_from_pypi() -> None:
+    """install_requires (and the plots extra) name every PyPI module the package imports."""
+    imports = _third_party_imports(REPO_ROOT / 'baseball_collision')
+    pypi = {IMPORT_TO_PIP[name] for name in imports if name in IMPORT_TO_PIP}
+    setup = ast.parse((REPO_ROOT / 'setup.py').read_text())
+    call = next(node for node in ast.walk(setup) if isinstance(node, ast.Call)
+                and getattr(node.func, 'id', '') == 'setup')
+    keywords = {k.arg: ast.literal_eval(k.value) for k in call.keywords
+                if k.arg in ('install_requires', 'extras_require', 'version')}
+    required = set(keywords['install_requires'])
+    required |= {name for extra in keywords['extras_require'].values() for name in extra}
+    assert pypi <= required, pypi - required
+    pinned = {line.split('==')[0].split('[')[0].lower() for line in
+              (REPO_ROOT / 'requirements.txt').read_text().splitlines()
+              if line and not line.startswith('#')}
+    assert {name.lower() for name in pypi} <= pinned
+
+
+def test_one_version_everywhere() -> None:
+    """package.xml, setup.py and baseball_collision.__version__ name the same version."""
+    xml_version = ElementTree.parse(REPO_ROOT / 'package.xml').getroot().findtext('version')
+    setup = (REPO_ROOT / 'setup.py').read_text()
+    assert f"version='{xml_version}'" in setup
+    assert baseball_collision.__version__ == xml_version
+    assert (REPO_ROOT / 'LICENSE').read_text().lstrip().startswith('Apache License')
+    root = ElementTree.parse(REPO_ROOT / 'package.xml').getroot()
+    assert root.findtext('license') == 'Apache-2.0'
 
 
 def _colcon() -> str:
