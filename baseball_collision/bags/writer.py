@@ -237,7 +237,7 @@ class BagWriter:
             raise BagError(f"cannot add topic '{name}': {first_line(error)}") from error
         self._connections[name] = connection
         self._types[name] = msgtype
-        self._seq[name] = 0
+        self._seq.setdefault(name, 0)  # a first write counted its message already
 
     def _write_raw(self, topic: str, msgtype: str, log_time_ns: int, data: bytes) -> None:
         """
@@ -245,6 +245,8 @@ class BagWriter:
 
         :raises BagError: not open, a clashing type, a bad log time, or a writer failure.
         """
+        if self._writer is None:
+            raise BagError(f'bag writer for {self.path} is not open')
         if self._types.get(topic) != msgtype:
             self.add_topic(topic, msgtype)
         try:
