@@ -107,7 +107,7 @@ class RawBag:
         self.path = Path(path)
         self._reader: Optional[AnyReader] = None
         self._topics: Dict[str, RawTopic] = {}
-        self._connections: Dict[str, List[Any]] = {}
+        self._order: List[Any] = []
         self._convert: Dict[int, Callable[[bytes], Any]] = {}
         self.skipped: Dict[str, str] = {}
         """Topics not offered, with why (several types, no ROS 2 type)."""
@@ -157,10 +157,10 @@ class RawBag:
             except KeyError:
                 self.skipped[topic] = f'no ROS 2 type {msgtypes[0]}'
                 continue
-            self._connections[topic] = group
             self._topics[topic] = RawTopic(topic, msgtypes[0],
                                            sum(max(int(c.msgcount), 0) for c in group),
                                            **_qos(group))
+        self._order = [c for c in connections if c.topic in self._topics]
 
     def close(self) -> None:
         """Close the bag (idempotent)."""
@@ -244,7 +244,9 @@ class RawBag:
         unknown = [name for name in names if name not in self._topics]
         if unknown:
             raise BagError(f"bag {self.path} offers no topic {', '.join(unknown)}")
-        connections = [c for name in names for c in self._connections[name]]
+        wanted = set(names)
+        # in the bag's connection order: it decides the order of messages logged at one time
+        connections = [c for c in self._order if c.topic in wanted]
         return self._messages(reader, connections)
 
     def _messages(self, reader: AnyReader, connections: List[Any]) -> Iterator[RawMessage]:
