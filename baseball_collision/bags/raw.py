@@ -11,14 +11,12 @@ differ). Nothing is deserialised for a ROS 2 bag.
 import contextlib
 import io
 import os
-from pathlib import Path
-from types import TracebackType
-from typing import Any, Callable, Dict, Iterable, Iterator, List, NamedTuple, Optional, Type, Union
+from typing import Any, Callable, Dict, Iterable, Iterator, List, NamedTuple, Optional, Union
 
 from rosbags.convert.converter import generate_message_converter
 from rosbags.highlevel import AnyReader
 
-from .common import close_quietly, first_line, jazzy_typestore, open_bag
+from .common import BagFile, first_line, jazzy_typestore
 from ..errors import BagError
 
 
@@ -87,7 +85,7 @@ def _ros1_converter(reader: AnyReader, msgtype: str) -> Callable[[bytes], Any]:
                                           src_is2=False, dst_is2=True)
 
 
-class RawBag:
+class RawBag(BagFile):
     """
     A bag's topics and its messages as CDR bytes, in log-time order across topics.
 
@@ -104,30 +102,12 @@ class RawBag:
     """
 
     def __init__(self, path: Union[str, os.PathLike]) -> None:
-        self.path = Path(path)
-        self._reader: Optional[AnyReader] = None
+        super().__init__(path)
         self._topics: Dict[str, RawTopic] = {}
         self._order: List[Any] = []
         self._convert: Dict[int, Callable[[bytes], Any]] = {}
         self.skipped: Dict[str, str] = {}
         """Topics not offered, with why (several types, no ROS 2 type)."""
-
-    def open(self) -> None:  # noqa: A003 - the rosbags reader name
-        """
-        Open the bag and list its topics.
-
-        :raises BagError: already open, path missing, not a bag, unreadable or corrupt, or no
-            messages.
-        """
-        if self._reader is not None:
-            raise BagError(f'bag {self.path} is already open')
-        reader = open_bag(self.path)
-        try:
-            self._setup(reader)
-        except BaseException:
-            close_quietly(reader)
-            raise
-        self._reader = reader
 
     def _setup(self, reader: AnyReader) -> None:
         """
@@ -162,37 +142,6 @@ class RawBag:
                                            **_qos(group))
         self._order = [c for c in connections if c.topic in self._topics]
 
-    def close(self) -> None:
-        """Close the bag (idempotent)."""
-        reader, self._reader = self._reader, None
-        if reader is not None:
-            close_quietly(reader)
-
-    def __enter__(self) -> 'RawBag':
-        """
-        Open the bag.
-
-        :raises BagError: see :meth:`open`.
-        """
-        self.open()
-        return self
-
-    def __exit__(self, exc_type: Optional[Type[BaseException]],
-                 exc_value: Optional[BaseException],
-                 traceback: Optional[TracebackType]) -> None:
-        """Close the bag."""
-        self.close()
-
-    def _open_reader(self) -> AnyReader:
-        """
-        Return the open AnyReader.
-
-        :raises BagError: the bag is not open.
-        """
-        if self._reader is None:
-            raise BagError(f'bag {self.path} is not open')
-        return self._reader
-
     @property
     def is_ros1(self) -> bool:
         """
@@ -211,24 +160,6 @@ class RawBag:
         """
         self._open_reader()
         return dict(self._topics)
-
-    @property
-    def start_time_ns(self) -> int:
-        """
-        Return the log time of the bag's first message, any topic (integer nanoseconds).
-
-        :raises BagError: the bag is not open.
-        """
-        return int(self._open_reader().start_time)
-
-    @property
-    def end_time_ns(self) -> int:
-        """
-        Return the log time just after the bag's last message (integer nanoseconds).
-
-        :raises BagError: the bag is not open.
-        """
-        return int(self._open_reader().end_time)
 
     def messages(self, topics: Optional[Iterable[str]] = None) -> Iterator[RawMessage]:
         """

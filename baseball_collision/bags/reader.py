@@ -12,20 +12,18 @@ Errors
 """
 
 import os
-from pathlib import Path
-from types import TracebackType
-from typing import Any, Dict, Iterator, List, Optional, Tuple, Type, Union
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
-from .common import close_quietly, first_line, NS_PER_S, open_bag
+from .common import BagFile, first_line, NS_PER_S
 from .decode import decode_samples, Route, Sample, values_from_message
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
 
 
-class BagReader:
+class BagReader(BagFile):
     """
     Read ball and bat samples from a bag, streaming, in log-time order across topics.
 
@@ -54,32 +52,14 @@ class BagReader:
         overrides = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
         if selection is not None and any(v is not None for v in overrides.values()):
             raise ValueError('pass either a TopicSelection or topic names, not both')
-        self.path = Path(path)
+        super().__init__(path)
         self._given = selection
         self._overrides = overrides
         self._prefer_bat = prefer_bat
-        self._reader: Optional[AnyReader] = None
         self._selection: Optional[TopicSelection] = None
         self._connections: List[Any] = []
         self._routes: Dict[int, Route] = {}
         self._types: Dict[str, Tuple[str, ...]] = {}
-
-    def open(self) -> None:  # noqa: A003 - the rosbags reader/writer name
-        """
-        Open the bag and select its topics.
-
-        :raises BagError: path missing, not a bag, unreadable or corrupt, no messages, or topics
-            that cannot be selected.
-        """
-        if self._reader is not None:
-            raise BagError(f'bag {self.path} is already open')
-        reader = open_bag(self.path)
-        try:
-            self._setup(reader)
-        except BaseException:
-            close_quietly(reader)
-            raise
-        self._reader = reader
 
     def _setup(self, reader: AnyReader) -> None:
         """
@@ -117,37 +97,6 @@ class BagReader:
         self._connections = chosen
         self._routes = routes
 
-    def close(self) -> None:
-        """Close the bag (idempotent)."""
-        reader, self._reader = self._reader, None
-        if reader is not None:
-            close_quietly(reader)
-
-    def __enter__(self) -> 'BagReader':
-        """
-        Open the bag.
-
-        :raises BagError: see :meth:`open`.
-        """
-        self.open()
-        return self
-
-    def __exit__(self, exc_type: Optional[Type[BaseException]],
-                 exc_value: Optional[BaseException],
-                 traceback: Optional[TracebackType]) -> None:
-        """Close the bag."""
-        self.close()
-
-    def _open_reader(self) -> AnyReader:
-        """
-        Return the open AnyReader.
-
-        :raises BagError: the bag is not open.
-        """
-        if self._reader is None:
-            raise BagError(f'bag {self.path} is not open')
-        return self._reader
-
     @property
     def selection(self) -> TopicSelection:
         """
@@ -180,24 +129,6 @@ class BagReader:
         """
         self._open_reader()
         return sum(max(int(c.msgcount), 0) for c in self._connections)
-
-    @property
-    def start_time_ns(self) -> int:
-        """
-        Return the log time of the bag's first message (integer nanoseconds).
-
-        :raises BagError: the bag is not open.
-        """
-        return int(self._open_reader().start_time)
-
-    @property
-    def end_time_ns(self) -> int:
-        """
-        Return the log time just after the bag's last message (integer nanoseconds).
-
-        :raises BagError: the bag is not open.
-        """
-        return int(self._open_reader().end_time)
 
     def samples(self) -> Iterator[Sample]:
         """

@@ -50,19 +50,55 @@ def _layout(path: Path, storage: Optional[str]) -> Tuple[str, bool]:
     return storage or 'mcap', False
 
 
-def _bodies(types: Dict[str, Any]) -> Dict[str, Callable[[Tuple[float, ...]], Any]]:
-    """Return, per stamped type, ``float64s -> the message body`` (typestore messages)."""
-    point = types['geometry_msgs/msg/Point']
-    quaternion = types['geometry_msgs/msg/Quaternion']
-    vector3 = types['geometry_msgs/msg/Vector3']
-    pose = types['geometry_msgs/msg/Pose']
-    twist = types['geometry_msgs/msg/Twist']
-    return {
-        POINT_STAMPED: lambda v: point(*v),
-        POSE_STAMPED: lambda v: pose(point(*v[:3]), quaternion(*v[3:])),
-        TWIST_STAMPED: lambda v: twist(vector3(*v[:3]), vector3(*v[3:])),
-        VECTOR3_STAMPED: lambda v: vector3(*v),
-    }
+class _Serializer:
+    """
+    Builds stamped messages from the typestore and serialises them (ROS 1: ``seq`` per topic).
+
+    :param ros1: ROS 1 Noetic types and serialisation; else ROS 2 Jazzy and little-endian CDR.
+    """
+
+    def __init__(self, ros1: bool) -> None:
+        self.ros1 = ros1
+        self.typestore = noetic_typestore() if ros1 else jazzy_typestore()
+        types = self.typestore.types
+        self._time = types['builtin_interfaces/msg/Time']
+        self._header = types['std_msgs/msg/Header']
+        self._messages = {msgtype: types[msgtype] for msgtype in _FLOAT_COUNTS}
+        point = types['geometry_msgs/msg/Point']
+        quaternion = types['geometry_msgs/msg/Quaternion']
+        vector3 = types['geometry_msgs/msg/Vector3']
+        pose = types['geometry_msgs/msg/Pose']
+        twist = types['geometry_msgs/msg/Twist']
+        self._bodies: Dict[str, Callable[[Tuple[float, ...]], Any]] = {
+            POINT_STAMPED: lambda v: point(*v),
+            POSE_STAMPED: lambda v: pose(point(*v[:3]), quaternion(*v[3:])),
+            TWIST_STAMPED: lambda v: twist(vector3(*v[:3]), vector3(*v[3:])),
+            VECTOR3_STAMPED: lambda v: vector3(*v),
+        }
+        self.serialize: Callable[[Any, str], Any] = (
+            self.typestore.serialize_ros1 if ros1
+            else functools.partial(self.typestore.serialize_cdr, little_endian=True))
+        self._seq: Dict[str, int] = {}
+
+    def stamped(self, topic: str, msgtype: str, sec: int, nanosec: int, frame_id: str,
+                values: Tuple[float, ...]) -> bytes:
+        """
+        Return a header + float64s message serialised.
+
+        :raises struct.error, TypeError, ValueError: values that are not the type's numbers.
+        """
+        if len(values) != _FLOAT_COUNTS[msgtype]:
+            raise ValueError(f'{len(values)} values')
+        if self.ros1:
+            seq = self._seq.get(topic, 0)
+            self._seq[topic] = (seq + 1) & 0xFFFFFFFF
+            # ROS 1 seconds are uint32, the typestore's int32: the same four bytes
+            stamp = self._time(sec - _UINT32 if sec > 2**31 - 1 else sec, nanosec)
+            header = self._header(seq, stamp, frame_id)
+        else:
+            header = self._header(self._time(sec, nanosec), frame_id)
+        message = self._messages[msgtype](header, self._bodies[msgtype](values))
+        return bytes(self.serialize(message, msgtype))
 
 
 class BagWriter:
@@ -84,7 +120,7 @@ class BagWriter:
     storage file (no metadata.yaml; rosbags reads it directly); anything else a ROS 2 bag
     directory (``metadata.yaml`` + storage file) in ``storage`` (default ``'mcap'``).
     Messages are built from :attr:`typestore` and serialised by it (CDR little-endian, or
-    ROS 1).
+    ROS 1 with ``header.seq`` counting from 0 on each topic).
 
     :param path: output path; must not exist, its parent directory must.
     :param storage: ``'mcap'``, ``'sqlite3'`` or ``'rosbag1'``; None to follow the file name.
@@ -106,23 +142,14 @@ class BagWriter:
         self._writer: Any = None
         self._connections: Dict[str, Any] = {}
         self._types: Dict[str, str] = {}
-        self._seq: Dict[str, int] = {}
-        store = self.typestore
-        types = store.types
-        self._time = types['builtin_interfaces/msg/Time']
-        self._header = types['std_msgs/msg/Header']
-        self._bodies = _bodies(types)
-        self._messages = {msgtype: types[msgtype] for msgtype in _FLOAT_COUNTS}
-        self._serialize: Callable[[Any, str], Any] = (
-            store.serialize_ros1 if self._ros1
-            else functools.partial(store.serialize_cdr, little_endian=True))
+        self._serializer = _Serializer(self._ros1)
         self._max_sec = _UINT32 - 1 if self._ros1 else 2**31 - 1
         self._min_sec = 0 if self._ros1 else -2**31
 
     @property
     def typestore(self) -> Any:
         """Return the rosbags typestore to build :meth:`write_message` messages from."""
-        return noetic_typestore() if self._ros1 else jazzy_typestore()
+        return self._serializer.typestore
 
     def open(self) -> None:  # noqa: A003 - the rosbags reader/writer name
         """
@@ -237,7 +264,6 @@ class BagWriter:
             raise BagError(f"cannot add topic '{name}': {first_line(error)}") from error
         self._connections[name] = connection
         self._types[name] = msgtype
-        self._seq.setdefault(name, 0)  # a first write counted its message already
 
     def _write_raw(self, topic: str, msgtype: str, log_time_ns: int, data: bytes) -> None:
         """
@@ -276,25 +302,13 @@ class BagWriter:
             raise BagError(f'stamp {stamp_ns} ns is out of range for this bag format')
         if not isinstance(frame_id, str) or '\x00' in frame_id:
             raise BagError(f'frame_id must be a string without NUL, got {frame_id!r}')
-        count = _FLOAT_COUNTS[msgtype]
         try:
-            values = tuple(floats)
-            if len(values) != count:
-                raise ValueError(f'{len(values)} values')
-            if self._ros1:
-                seq = self._seq.get(topic, 0)
-                self._seq[topic] = (seq + 1) & 0xFFFFFFFF
-                # ROS 1 seconds are uint32, the typestore's int32: the same four bytes
-                stamp = self._time(sec - _UINT32 if sec > 2**31 - 1 else sec, nanosec)
-                header = self._header(seq, stamp, frame_id)
-            else:
-                header = self._header(self._time(sec, nanosec), frame_id)
-            message = self._messages[msgtype](header, self._bodies[msgtype](values))
-            data = bytes(self._serialize(message, msgtype))
+            data = self._serializer.stamped(topic, msgtype, sec, nanosec, frame_id,
+                                            tuple(floats))
         except (struct.error, TypeError, ValueError) as error:
             raise BagError(
-                f"cannot write {msgtype} to '{topic}': expected {count} numbers, "
-                f'got {floats!r}') from error
+                f"cannot write {msgtype} to '{topic}': expected {_FLOAT_COUNTS[msgtype]} "
+                f'numbers, got {floats!r}') from error
         self._write_raw(topic, msgtype, stamp_ns if log_time_ns is None else log_time_ns, data)
 
     def write_point(self, topic: str, stamp_ns: int, frame_id: str, xyz: Sequence[float],
@@ -358,7 +372,7 @@ class BagWriter:
         if not isinstance(msgtype, str):
             raise BagError(f"cannot write {type(message).__name__} to '{topic}': not a message")
         try:
-            data = self._serialize(message, msgtype)
+            data = self._serializer.serialize(message, msgtype)
         except Exception as error:
             raise BagError(
                 f"cannot serialise {msgtype} for '{topic}': {first_line(error)}") from error

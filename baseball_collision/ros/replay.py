@@ -71,7 +71,8 @@ class ReplayResult:
     :ivar messages: messages published (over all loops).
     :ivar loops: complete passes over the bag.
     :ivar seconds: wall time of the playback (s).
-    :ivar skipped_topics: topics not published (type unknown to rclpy, or several types).
+    :ivar skipped_topics: topics not published (type unknown to rclpy, several types, or a
+        ROS 1 type without a ROS 2 definition), sorted.
     """
 
     messages: int = 0
