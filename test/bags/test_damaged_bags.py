@@ -1,5 +1,5 @@
 """
-Bag tools against damaged and hostile files: what test_bag.py and test_cli.py do not cover yet.
+Bag tools against damaged and hostile files: what the other bag tests and test_cli.py do not cover.
 
 Already covered there: missing paths, text files, a foreign sqlite3 file (reader), a bare
 folder, empty bags, MCAP and ROS 1 bags cut in half, an MCAP record or payload damaged in a

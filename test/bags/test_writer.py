@@ -16,7 +16,7 @@ from support.bagfiles import (
 
 @pytest.mark.parametrize('name, storage', LAYOUTS)
 def test_writer_round_trip(tmp_path: Path, name: str, storage: Optional[str]) -> None:
-    """Struct-serialised bags read back exactly, by bag.py and by rosbags."""
+    """Written bags read back exactly, by the package and by rosbags."""
     path = tmp_path / name
     ros1 = name.endswith('.bag')
     written = []
