@@ -1,29 +1,47 @@
 """
-Bag read benchmark: rosbags raw iteration, rosbags deserialisation, and ``read_samples``.
+Bag benchmark: writing, reading (raw, deserialised, samples), skipped topics, unrelated messages.
 
-Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S]``.
+Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S]
+[--unrelated COUNTS]``.
 
-Writes a bag of ``N`` messages (default 1,000,000; half ball PointStamped, half bat
-PoseStamped, both at 360 Hz on a millisecond grid) into a temporary directory, then times in the
-same process: (a) ``AnyReader.messages()`` alone (raw bytes), (b) (a) plus
-``AnyReader.deserialize`` of every message, (c) :func:`baseball_collision.bags.bag.read_samples`
-(open, select topics, decode, build samples). Prints messages per second and ratios; asserts
-nothing.
+1. Writes a bag of ``N`` messages (default 1,000,000; half ball PointStamped, half bat
+   PoseStamped, both at 360 Hz on a millisecond grid) with :class:`BagWriter` into a temporary
+   directory (the writer's speed), then times in the same process: (a) ``AnyReader.messages()``
+   alone (raw bytes), (b) (a) plus ``AnyReader.deserialize`` of every message, (c)
+   :func:`baseball_collision.bags.read_samples` (open, select topics, decode, build samples).
+2. A bag of 50,000 undecodable messages on another topic and 10 tracker samples: the time
+   :class:`BagReader` takes to skip them (they are never read).
+3. For each storage (MCAP, sqlite3, ROS 1): three simulated pitches interleaved with each count
+   of unrelated ``std_msgs/String`` messages (``--unrelated``, default 20,000 and 200,000;
+   10,000 and 60,000 for ROS 1): the time to write and to ``analyze`` it, and the peak of
+   Python allocations while analysing (tracemalloc; it slows the analysis). The peak should not
+   grow with the unrelated count; for ROS 1 it does (rosbags' ``rosbag1.Reader.open`` indexes
+   every message of every connection).
+
+Prints the figures; asserts nothing.
 """
 
 import argparse
 import math
 from pathlib import Path
 import resource
+import shutil
 import tempfile
 import time
-from typing import Callable, Tuple
+import tracemalloc
+from typing import Callable, List, Sequence, Tuple
 
-from baseball_collision.bags import BagWriter, read_samples
+from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
+from baseball_collision.tools.analysis import AnalysisOptions, analyze_bag
+from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
+import numpy as np
 from rosbags.highlevel import AnyReader
+from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
 from rosbags.typesys import get_typestore, Stores
 
 SUFFIXES = {'mcap': 'bench.mcap', 'sqlite3': 'bench.db3', 'rosbag1': 'bench.bag'}
+TS2 = get_typestore(Stores.ROS2_JAZZY)
+Row = Tuple[int, str, Tuple[float, ...]]
 
 
 def write_bag(path: Path, messages: int) -> float:
@@ -57,7 +75,7 @@ def timed(run: Callable[[], int]) -> Tuple[int, float]:
 def raw_read(path: Path) -> int:
     """Iterate the raw messages; return how many."""
     count = 0
-    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+    with AnyReader([path], default_typestore=TS2) as reader:
         for _ in reader.messages():
             count += 1
     return count
@@ -66,7 +84,7 @@ def raw_read(path: Path) -> int:
 def deserialize_all(path: Path) -> int:
     """Deserialise every message with rosbags; return how many."""
     count = 0
-    with AnyReader([path], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
+    with AnyReader([path], default_typestore=TS2) as reader:
         deserialize = reader.deserialize
         for connection, _, raw in reader.messages():
             deserialize(raw, connection.msgtype)
@@ -82,29 +100,132 @@ def samples(path: Path) -> int:
     return count
 
 
+def read_figures(directory: Path, messages: int, storage: str) -> None:
+    """Section 1: write the bag, time the three readers."""
+    path = directory / SUFFIXES[storage]
+    seconds = write_bag(path, messages)
+    size = path.stat().st_size / 1e6
+    print(f'BagWriter: {messages} messages ({storage}, {size:.0f} MB) in {seconds:.1f} s: '
+          f'{messages / seconds:,.0f} msg/s; peak RSS {peak_mb():.0f} MB')
+    results = {}
+    for name, run in (('(a) rosbags raw messages()', raw_read),
+                      ('(b) raw + reader.deserialize', deserialize_all),
+                      ('(c) bags.read_samples', samples)):
+        count, seconds = timed(lambda: run(path))
+        results[name] = count / seconds
+        print(f'{name:32s} {count} msgs in {seconds:6.2f} s: {count / seconds:>10,.0f} msg/s')
+    raw, deserialized, ours = results.values()
+    print(f'read_samples / raw = {ours / raw:.2f}, read_samples / deserialize = '
+          f'{ours / deserialized:.2f}; peak RSS {peak_mb():.0f} MB')
+
+
+def skipped_figure(directory: Path, noise: int = 50_000) -> None:
+    """Section 2: a reader skipping ``noise`` undecodable messages on another topic."""
+    path = directory / 'noisy'
+    garbage = b'\xff' * 40  # would make any deserialiser fail
+    string = 'std_msgs/msg/String'
+    types = TS2.types
+    header = types['std_msgs/msg/Header']
+    stamp_of = types['builtin_interfaces/msg/Time']
+    with Writer2(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        other = writer.add_connection('/camera/info', string, typestore=TS2)
+        ball = writer.add_connection('/ball', POINT_STAMPED, typestore=TS2)
+        bat = writer.add_connection('/bat_pose', POSE_STAMPED, typestore=TS2)
+        for i in range(noise):
+            writer.write(other, i * 1000, garbage)
+            if i % 10_000 == 5:
+                stamp = header(stamp_of(0, i * 1000), 'w')
+                point = types['geometry_msgs/msg/Point'](1.0, 2.0, 3.0)
+                pose = types['geometry_msgs/msg/Pose'](
+                    point, types['geometry_msgs/msg/Quaternion'](0.0, 0.0, 0.0, 1.0))
+                writer.write(ball, i * 1000, TS2.serialize_cdr(
+                    types[POINT_STAMPED](stamp, point), POINT_STAMPED))
+                writer.write(bat, i * 1000 + 1, TS2.serialize_cdr(
+                    types[POSE_STAMPED](stamp, pose), POSE_STAMPED))
+    start = time.perf_counter()
+    with BagReader(path) as bag:
+        count = sum(1 for _ in bag.samples())
+    seconds = time.perf_counter() - start
+    print(f'BagReader past {noise:,} undecodable messages on another topic: {count} samples '
+          f'in {seconds:.2f} s')
+    shutil.rmtree(path)
+
+
+def pitches(seed: int = 3) -> List[Row]:
+    """Return three simulated pitches 20 s apart at 360 Hz as (stamp, role, values)."""
+    rng = np.random.default_rng(seed)
+    rows: List[Row] = []
+    for k, kind in enumerate(('barrel', 'miss_over', 'handle')):
+        start = DEFAULT_START_NS + (k + 1) * 20 * 10**9
+        rows += sample(make_scenario(kind, rng), 360.0, rng, start_ns=start).messages('pose')
+    return sorted(rows, key=lambda row: row[0])
+
+
+def write_unrelated(path: Path, rows: Sequence[Row], unrelated: int,
+                    span_s: float = 80.0) -> None:
+    """Write tracker rows and ``unrelated`` String messages spread over ``span_s``."""
+    with BagWriter(path) as bag:
+        tick = bag.typestore.types['std_msgs/msg/String'](data='tick0001')
+        step = int(span_s * 1e9) // max(unrelated, 1)
+        k = 0
+        for stamp, role, values in rows:
+            while k < unrelated and DEFAULT_START_NS + k * step < stamp:
+                bag.write_message('/chatter', tick, DEFAULT_START_NS + k * step)
+                k += 1
+            if role == 'ball':
+                bag.write_point('/tracker/ball', stamp, 'world', values)
+            else:
+                bag.write_pose('/tracker/bat_pose', stamp, 'world', values[:3], values[3:])
+        for k in range(k, unrelated):
+            bag.write_message('/chatter', tick, DEFAULT_START_NS + k * step)
+
+
+def unrelated_figures(directory: Path, storage: str, counts: Sequence[int]) -> None:
+    """Section 3: write and analyze bags with each count of unrelated messages."""
+    rows = pitches()
+    peaks = []
+    for count in counts:
+        path = directory / (f'{storage}_{count}' + {'rosbag1': '.bag', 'sqlite3': '.db3'}.get(
+            storage, '.mcap'))
+        start = time.perf_counter()
+        write_unrelated(path, rows, count)
+        written = time.perf_counter() - start
+        tracemalloc.start()
+        start = time.perf_counter()
+        try:
+            analysis = analyze_bag(path, AnalysisOptions(), progress=False, use_truth=False)
+            peak = tracemalloc.get_traced_memory()[1] / 1e6
+        finally:
+            tracemalloc.stop()
+        seconds = time.perf_counter() - start
+        peaks.append(peak)
+        print(f'{storage:8s} {count:>9,} unrelated: written in {written:5.2f} s, analysed in '
+              f'{seconds:5.2f} s (traced), peak traced {peak:5.2f} MB, '
+              f'{len(analysis.impacts)} impacts, {analysis.messages} samples')
+        path.unlink()
+    if len(peaks) > 1:
+        print(f'{storage:8s} peak growth from {counts[0]:,} to {counts[-1]:,} unrelated: '
+              f'{peaks[-1] - peaks[0]:.2f} MB')
+
+
 def main() -> None:
-    """Write the bag, time the three readers, print the figures."""
+    """Run the three sections; print the figures."""
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     parser.add_argument('--messages', type=int, default=1_000_000)
     parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
+    parser.add_argument('--unrelated', default='20000,200000',
+                        help='unrelated message counts of section 3, comma-separated ('
+                        'ROS 1 uses 10000,60000 unless given); empty to skip the section')
     args = parser.parse_args()
+    counts = [int(c) for c in args.unrelated.split(',') if c.strip()]
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / SUFFIXES[args.storage]
-        seconds = write_bag(path, args.messages)
-        size = path.stat().st_size / 1e6
-        print(f'wrote {args.messages} messages ({args.storage}, {size:.0f} MB) in '
-              f'{seconds:.1f} s: {args.messages / seconds:,.0f} msg/s; '
-              f'peak RSS {peak_mb():.0f} MB')
-        results = {}
-        for name, run in (('(a) rosbags raw messages()', raw_read),
-                          ('(b) raw + reader.deserialize', deserialize_all),
-                          ('(c) bag.read_samples', samples)):
-            count, seconds = timed(lambda: run(path))
-            results[name] = count / seconds
-            print(f'{name:32s} {count} msgs in {seconds:6.2f} s: {count / seconds:>10,.0f} msg/s')
-        raw, deserialized, ours = results.values()
-        print(f'read_samples / raw = {ours / raw:.2f}, read_samples / deserialize = '
-              f'{ours / deserialized:.2f}; peak RSS {peak_mb():.0f} MB')
+        directory = Path(tmp)
+        read_figures(directory, args.messages, args.storage)
+        skipped_figure(directory)
+        if counts:
+            ros1 = counts if args.unrelated != '20000,200000' else [10_000, 60_000]
+            for storage, each in (('mcap', counts), ('sqlite3', counts), ('rosbag1', ros1)):
+                unrelated_figures(directory, storage, each)
 
 
 if __name__ == '__main__':

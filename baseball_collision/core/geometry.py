@@ -138,3 +138,89 @@ def quaternion_to_matrix(quaternion: Sequence[float]) -> np.ndarray:
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ])
+
+
+# ----------------------------------------------------------------------------------------------
+# batches of quaternions (numpy arrays, (x, y, z, w) in the last axis)
+
+
+def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Return the Hamilton products a b of quaternions (..., 4) in (x, y, z, w) order."""
+    ax, ay, az, aw = np.moveaxis(a, -1, 0)
+    bx, by, bz, bw = np.moveaxis(b, -1, 0)
+    return np.stack([
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+        aw * bw - ax * bx - ay * by - az * bz,
+    ], axis=-1)
+
+
+def axis_angle_quaternions(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Return quaternions (N, 4) turning by ``angles`` (N,) rad about the unit ``axis`` (3,)."""
+    half = 0.5 * angles
+    return np.concatenate([np.sin(half)[:, None] * axis[None, :], np.cos(half)[:, None]], axis=1)
+
+
+def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
+    """
+    Return the unit quaternion (x, y, z, w) of a 3x3 rotation matrix (Shepperd's method).
+
+    The inverse of :func:`quaternion_to_matrix` (up to the quaternion's sign).
+    """
+    m = matrix
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    if trace > 0.0:
+        s = 2.0 * math.sqrt(1.0 + trace)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s]
+    elif m[0, 0] > m[1, 1] and m[0, 0] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+        q = [0.25 * s, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s, (m[2, 1] - m[1, 2]) / s]
+    elif m[1, 1] > m[2, 2]:
+        s = 2.0 * math.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+        q = [(m[0, 1] + m[1, 0]) / s, 0.25 * s, (m[1, 2] + m[2, 1]) / s, (m[0, 2] - m[2, 0]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+        q = [(m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s, (m[1, 0] - m[0, 1]) / s]
+    quaternion = np.array(q)
+    return quaternion / np.linalg.norm(quaternion)
+
+
+# ----------------------------------------------------------------------------------------------
+# argument checks (the error type is the caller's layer's)
+
+
+def finite_vector(name: str, value: Sequence[float], unit: str = '',
+                  error: type = CoreError) -> Vector:
+    """
+    Return ``value`` as 3 finite floats.
+
+    :param name: what the value is, for the message.
+    :param unit: shown after "3 numbers" in the message, e.g. ``' (metres)'``.
+    :param error: the exception type to raise (a layer's error).
+    :raises error: not 3 numbers, or not all finite.
+    """
+    try:
+        x, y, z = (float(v) for v in value)
+    except (TypeError, ValueError) as cause:
+        raise error(f'{name} must be 3 numbers{unit}, got {value!r}') from cause
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+        raise error(f'{name} must be finite, got {value!r}')
+    return (x, y, z)
+
+
+def finite_number(name: str, value: float, error: type = CoreError) -> float:
+    """
+    Return ``value`` as a finite float.
+
+    :param name: what the value is, for the message.
+    :param error: the exception type to raise (a layer's error).
+    :raises error: not a number, or not finite.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError) as cause:
+        raise error(f'{name} must be a number, got {value!r}') from cause
+    if not math.isfinite(number):
+        raise error(f'{name} must be finite, got {value!r}')
+    return number

@@ -11,29 +11,31 @@ Every topic of the bag whose type rclpy can import is published with its own nam
 * QoS: reliable, volatile, keep-last with a deep queue (``depth``), so a live subscriber that
   asks for reliable delivery gets every message; at the end the player waits until the
   subscribers acknowledged everything.
-* ROS 2 bags (MCAP, sqlite3) are published as the recorded CDR bytes (no decode); ROS 1 bags
-  are deserialised by rosbags and copied field by field into the rclpy message (``header.seq``
-  has no ROS 2 counterpart and is dropped).
+* Every message is published as serialised CDR bytes (an rclpy publisher takes ``bytes``):
+  ROS 2 bags (MCAP, sqlite3) as recorded, ROS 1 bags converted by rosbags
+  (:class:`baseball_collision.bags.RawBag`; ``header.seq`` has no ROS 2 counterpart and is
+  dropped). Nothing is deserialised.
 
-This is the only module besides ``node`` that imports rclpy.
+The bag side is :mod:`baseball_collision.bags`; this module holds the rclpy side only.
 """
 
 from dataclasses import dataclass, field
 import importlib
 import os
 from pathlib import Path
+import sys
 import threading
 import time
-from typing import Any, Callable, Dict, List, Optional, Sequence
+from typing import Any, Dict, IO, List, Optional, Sequence
 
+import rclpy
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rosbags.highlevel import AnyReader
-from rosbags.typesys import get_typestore, Stores
 from rosgraph_msgs.msg import Clock
 
-from ..errors import RosError
+from ..bags import RawBag
+from ..errors import BagError, RosError
 
 CLOCK_TOPIC = '/clock'
 """Where the bag time is published."""
@@ -44,7 +46,7 @@ DEFAULT_DEPTH = 10000
 
 def message_class(msgtype: str) -> Any:
     """
-    Return the rclpy message class of a ROS 2 type name (``pkg/msg/Name``).
+    Return the rclpy message class of a ROS 2 type name (``pkg/msg/Name``): its type support.
 
     :raises RosError: the package or message is not installed.
     """
@@ -55,54 +57,10 @@ def message_class(msgtype: str) -> Any:
         raise RosError(f'message type {msgtype} is not available to rclpy') from error
 
 
-def _slot_class(cls: Any, index: int) -> Optional[Any]:
-    """Return the message class of the elements of a sequence field, or None for primitives."""
-    value_type = getattr(cls.SLOT_TYPES[index], 'value_type', None)
-    namespaces = getattr(value_type, 'namespaces', None)
-    if not namespaces:
-        return None
-    return message_class(f'{namespaces[0]}/msg/{value_type.name}')
-
-
-def to_rclpy(value: Any, cls: Any) -> Any:
-    """
-    Copy a rosbags message (e.g. deserialised from a ROS 1 bag) into an rclpy message.
-
-    Fields are matched by name; fields the rclpy type does not have (``header.seq``) are dropped,
-    fields the source lacks keep their defaults. Nested messages and sequences of messages are
-    copied recursively, numpy arrays as lists.
-
-    :param value: the rosbags message object.
-    :param cls: the rclpy message class.
-    :returns: the rclpy message.
-    """
-    message = cls()
-    for index, name in enumerate(cls.get_fields_and_field_types()):
-        if not hasattr(value, name):
-            continue
-        source = getattr(value, name)
-        current = getattr(message, name)
-        if hasattr(type(current), 'get_fields_and_field_types'):
-            setattr(message, name, to_rclpy(source, type(current)))
-            continue
-        if hasattr(source, 'tolist'):
-            source = source.tolist()
-        if isinstance(source, (list, tuple)) and source and hasattr(source[0], '__msgtype__'):
-            element = _slot_class(cls, index)
-            source = [to_rclpy(item, element) for item in source]
-        setattr(message, name, source)
-    return message
-
-
 def _reliable(depth: int) -> QoSProfile:
     return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=depth,
                       reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.VOLATILE)
-
-
-def _first_line(error: BaseException) -> str:
-    text = str(error).strip()
-    return text.splitlines()[0] if text else type(error).__name__
 
 
 @dataclass
@@ -113,7 +71,8 @@ class ReplayResult:
     :ivar messages: messages published (over all loops).
     :ivar loops: complete passes over the bag.
     :ivar seconds: wall time of the playback (s).
-    :ivar skipped_topics: topics not published (type unknown to rclpy, or several types).
+    :ivar skipped_topics: topics not published (type unknown to rclpy, several types, or a
+        ROS 1 type without a ROS 2 definition), sorted.
     """
 
     messages: int = 0
@@ -152,10 +111,9 @@ class BagPlayer:
         self.rate = float(rate)
         self.clock_period = 1.0 / clock_hz if clock_hz > 0.0 else 0.0
         self.result = ReplayResult()
-        self._reader = self._open()
+        self._bag = self._open()
         self._publishers: Dict[str, Any] = {}
-        self._convert: Dict[int, Callable[[bytes], Any]] = {}
-        self._connections: List[Any] = []
+        self._message_count = 0
         try:
             self._setup(depth)
         except BaseException:
@@ -164,23 +122,18 @@ class BagPlayer:
         self._clock = node.create_publisher(Clock, CLOCK_TOPIC, _reliable(10)) \
             if self.clock_period else None
 
-    def _open(self) -> AnyReader:
+    def _open(self) -> RawBag:
         """
         Open the bag.
 
         :raises RosError: missing, not a bag, unreadable or empty.
         """
-        if not self.path.exists():
-            raise RosError(f'bag not found: {self.path}')
+        bag = RawBag(self.path)
         try:
-            reader = AnyReader([self.path], default_typestore=get_typestore(Stores.ROS2_JAZZY))
-            reader.open()
-        except Exception as error:
-            raise RosError(f'cannot read bag {self.path}: {_first_line(error)}') from error
-        if reader.message_count == 0:
-            reader.close()
-            raise RosError(f'bag {self.path} contains no messages')
-        return reader
+            bag.open()
+        except BagError as error:
+            raise RosError(str(error)) from error
+        return bag
 
     def _setup(self, depth: int) -> None:
         """
@@ -188,44 +141,23 @@ class BagPlayer:
 
         :raises RosError: no topic can be published.
         """
-        types: Dict[str, set] = {}
-        for connection in self._reader.connections:
-            types.setdefault(connection.topic, set()).add(connection.msgtype)
-        for topic, msgtypes in sorted(types.items()):
-            if len(msgtypes) != 1:
-                self.result.skipped_topics.append(topic)
-                continue
-            msgtype = next(iter(msgtypes))
+        skipped = list(self._bag.skipped)
+        for topic, info in self._bag.topics.items():
             try:
-                cls = message_class(msgtype)
+                cls = message_class(info.msgtype)
             except RosError:
-                self.result.skipped_topics.append(topic)
+                skipped.append(topic)
                 continue
             self._publishers[topic] = self.node.create_publisher(cls, topic, _reliable(depth))
-        self._connections = [c for c in self._reader.connections if c.topic in self._publishers]
-        if not self._connections:
+            self._message_count += info.message_count
+        self.result.skipped_topics = sorted(skipped)
+        if not self._publishers:
             raise RosError(f'bag {self.path} has no topic of a type rclpy knows')
-        ros2 = self._reader.is2
-        for connection in self._connections:
-            if ros2:
-                self._convert[id(connection)] = bytes
-            else:
-                self._convert[id(connection)] = self._ros1_converter(connection)
-
-    def _ros1_converter(self, connection: Any) -> Callable[[bytes], Any]:
-        """Return raw ROS 1 bytes -> rclpy message for one connection."""
-        cls = self._publishers[connection.topic].msg_type
-        deserialize = self._reader.deserialize
-        msgtype = connection.msgtype
-
-        def convert(raw: bytes) -> Any:
-            return to_rclpy(deserialize(raw, msgtype), cls)
-        return convert
 
     @property
     def message_count(self) -> int:
         """Return the number of messages one pass publishes."""
-        return sum(max(int(c.msgcount), 0) for c in self._connections)
+        return self._message_count
 
     @property
     def topics(self) -> List[str]:
@@ -279,9 +211,8 @@ class BagPlayer:
         :raises RosError: the bag turns out corrupt while reading.
         """
         started = time.monotonic()
-        begin = int(self._reader.start_time)
-        publishers = {id(c): self._publishers[c.topic] for c in self._connections}
-        convert = self._convert
+        begin = self._bag.start_time_ns
+        publishers = self._publishers
         period = self.clock_period
         scale = 1e-9 / self.rate
         try:
@@ -289,7 +220,7 @@ class BagPlayer:
                 wall0 = time.monotonic()
                 next_clock = wall0 + period
                 self._publish_clock(begin)
-                for connection, log_time, raw in self._reader.messages(self._connections):
+                for topic, _, log_time, data in self._bag.messages(list(publishers)):
                     due = wall0 + (log_time - begin) * scale
                     while True:
                         now = time.monotonic()
@@ -304,16 +235,18 @@ class BagPlayer:
                                 return self._finish(started, ack_timeout_s)
                         else:
                             time.sleep(max(wait, 0.0))
-                    key = id(connection)
-                    publishers[key].publish(convert[key](raw))
+                    publishers[topic].publish(data)
                     self.result.messages += 1
                 self.result.loops += 1
                 if not loop:
                     break
+        except BagError as error:
+            raise RosError(str(error)) from error
         except RosError:
             raise
-        except Exception as error:
-            raise RosError(f'cannot read bag {self.path}: {_first_line(error)}') from error
+        except Exception as error:  # publishing failed: one line, like every replay error
+            text = str(error).strip() or type(error).__name__
+            raise RosError(f'replay of {self.path} failed: {text.splitlines()[0]}') from error
         return self._finish(started, ack_timeout_s)
 
     def _finish(self, started: float, ack_timeout_s: float) -> ReplayResult:
@@ -332,12 +265,9 @@ class BagPlayer:
         clock, self._clock = getattr(self, '_clock', None), None
         if clock is not None:
             self.node.destroy_publisher(clock)
-        reader, self._reader = self._reader, None
-        if reader is not None:
-            try:
-                reader.close()
-            except Exception:  # noqa: S110 - nothing useful to report on close
-                pass
+        bag, self._bag = getattr(self, '_bag', None), None
+        if bag is not None:
+            bag.close()
 
     def __enter__(self) -> 'BagPlayer':
         """Return the player."""
@@ -346,3 +276,49 @@ class BagPlayer:
     def __exit__(self, exc_type: Any, exc_value: Any, traceback: Any) -> None:
         """Close the player."""
         self.close()
+
+
+def run_replay(bag: os.PathLike, rate: float = 1.0, loop: bool = False,
+               clock_hz: float = 200.0, wait_for: Sequence[str] = (),
+               wait_timeout_s: float = 30.0, out: Optional[IO[str]] = None) -> int:
+    """
+    Replay a bag from a node of its own (``baseball-collision replay``); Ctrl-C stops it.
+
+    Prints what is replayed, then the counts (and the topics skipped).
+
+    :param bag: ROS 2 bag directory, ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
+    :param rate: playback speed factor (> 0).
+    :param loop: restart at the end, until Ctrl-C.
+    :param clock_hz: ``/clock`` rate (Hz); 0 for no clock.
+    :param wait_for: topics (of the bag, or ``/clock``) to wait for a subscriber on first.
+    :param wait_timeout_s: how long to wait for them (s).
+    :param out: where to print; None for standard output.
+    :returns: the exit code, 0.
+    :raises RosError: see :class:`BagPlayer` and :meth:`BagPlayer.wait_for_subscribers`.
+    """
+    out = sys.stdout if out is None else out
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = rclpy.create_node('baseball_collision_replay', context=context)
+    try:
+        with BagPlayer(node, bag, rate=rate, clock_hz=clock_hz) as player:
+            out.write(f"replaying {bag} at {rate:g}x: {', '.join(player.topics)}"
+                      + (f' and /clock at {clock_hz:g} Hz' if clock_hz else '')
+                      + (' (looping; Ctrl-C stops)' if loop else '') + '\n')
+            out.flush()
+            if wait_for:
+                player.wait_for_subscribers(wait_for, wait_timeout_s)
+            try:
+                result = player.play(loop=loop)
+            except KeyboardInterrupt:
+                result = player.result
+                out.write('stopped\n')
+            out.write(f'published {result.messages:,} messages in {result.seconds:.1f} s'
+                      + (f' ({result.loops} loops)' if loop else '')
+                      + (f"; skipped {', '.join(result.skipped_topics)} (type not available)"
+                         if result.skipped_topics else '') + '\n')
+            out.flush()
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown(context=context)
+    return 0

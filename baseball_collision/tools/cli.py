@@ -150,33 +150,10 @@ def _print_total(analyses: Sequence[BagAnalysis]) -> None:
 
 
 def _replay(args: argparse.Namespace) -> int:
-    import rclpy
+    from ..ros.replay import run_replay
 
-    from ..ros.replay import BagPlayer
-
-    context = rclpy.Context()
-    rclpy.init(context=context)
-    node = rclpy.create_node('baseball_collision_replay', context=context)
-    try:
-        with BagPlayer(node, args.bag, rate=args.rate, clock_hz=args.clock) as player:
-            print(f"replaying {args.bag} at {args.rate:g}x: {', '.join(player.topics)}"
-                  + (f' and /clock at {args.clock:g} Hz' if args.clock else '')
-                  + (' (looping; Ctrl-C stops)' if args.loop else ''), flush=True)
-            if args.wait_for:
-                player.wait_for_subscribers(args.wait_for, args.wait_timeout)
-            try:
-                result = player.play(loop=args.loop)
-            except KeyboardInterrupt:
-                result = player.result
-                print('stopped')
-            print(f'published {result.messages:,} messages in {result.seconds:.1f} s'
-                  + (f' ({result.loops} loops)' if args.loop else '')
-                  + (f"; skipped {', '.join(result.skipped_topics)} (type not available)"
-                     if result.skipped_topics else ''))
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown(context=context)
-    return 0
+    return run_replay(args.bag, rate=args.rate, loop=args.loop, clock_hz=args.clock,
+                      wait_for=args.wait_for, wait_timeout_s=args.wait_timeout)
 
 
 def _demo(args: argparse.Namespace) -> int:

@@ -1,9 +1,21 @@
-"""Simulated pitches and swings with continuous-time truth, and tracker sampling."""
+"""
+Simulated pitches and swings with continuous-time truth, and tracker sampling.
 
-from .simulation import (
-    AIR_DENSITY, BALL_MASS, BALL_RADIUS, compute_truth, DEFAULT_START_NS, DRAG_COEFFICIENT,
-    GRAVITY, KINDS, make_scenario, MPH, Pitch, sample, Samples, Scenario, Swing, TimeLike, Truth,
-    truth_dict, TRUTH_GRID_S, TRUTH_TIME_TOLERANCE_S, Vector)
+One module per concern: :mod:`.pitches` (the ball's flight, RK4), :mod:`.swings` (the bat's
+exact kinematics), :mod:`.truth` (first contact and smallest gap of the continuous motion),
+:mod:`.scenarios` (pitch and swing drawn to make one kind of event), :mod:`.sampling` (stamps,
+jitter and noise as a tracker reports them; the truth as JSON); :mod:`.common` holds the
+argument checks. Pure Python + numpy; SI units throughout: metres, seconds, m/s, rad, rad/s.
+World frame z up, the pitch toward -y, a right-handed batter; quaternions ``(x, y, z, w)``.
+Import the names below from here.
+"""
+
+from .common import TimeLike, Vector
+from .pitches import AIR_DENSITY, BALL_MASS, BALL_RADIUS, DRAG_COEFFICIENT, GRAVITY, MPH, Pitch
+from .sampling import DEFAULT_START_NS, sample, Samples, truth_dict
+from .scenarios import KINDS, make_scenario, Scenario
+from .swings import Swing
+from .truth import compute_truth, Truth, TRUTH_GRID_S, TRUTH_TIME_TOLERANCE_S
 
 __all__ = [
     'GRAVITY', 'AIR_DENSITY', 'DRAG_COEFFICIENT', 'BALL_MASS', 'BALL_RADIUS', 'MPH', 'KINDS',

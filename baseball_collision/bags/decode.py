@@ -1,0 +1,167 @@
+"""
+Fast decoding of tracker messages: fixed offsets into the raw bytes, no deserialiser.
+
+PointStamped and PoseStamped are decoded from the raw bytes with ``struct.unpack_from`` at
+offsets cached per frame_id: CDR (4-byte encapsulation header, int32 sec, uint32 nanosec, uint32
+length incl. NUL, frame_id, padding to 8 bytes counted from the end of the encapsulation header,
+float64s) and ROS 1 (uint32 seq, uint32 secs, uint32 nsecs, uint32 length, frame_id without NUL,
+float64s unaligned). Anything else (big-endian CDR, malformed data) goes to a slow decoder the
+caller passes (the reader's: rosbags' ``AnyReader.deserialize``, which raises on corrupt data).
+ROS 1 seconds are read as uint32 as ROS 1 defines them (rosbags' deserialiser reads them as
+int32, so the two differ only for stamps after 2038).
+
+Measured by ``benchmarks/bench_bag_read.py``: keep the loop of :func:`decode_samples` flat.
+"""
+
+import struct
+from typing import Any, Callable, Dict, Generator, Iterable, NamedTuple, Tuple
+
+from .common import FRAME_CACHE_LIMIT
+
+
+class Sample(NamedTuple):
+    """
+    One tracker message, decoded.
+
+    A NamedTuple rather than a dataclass: the reader makes one per message and a tuple is the
+    cheapest typed record to build.
+
+    :ivar role: ``'ball'``, ``'bat_pose'``, ``'knob'`` or ``'tip'``.
+    :ivar stamp_ns: ``header.stamp`` as integer nanoseconds (``sec * 10**9 + nanosec``).
+    :ivar frame_id: ``header.frame_id``.
+    :ivar values: ``(x, y, z)`` metres for points and the ball (a ball pose gives its position);
+        ``(px, py, pz, qx, qy, qz, qw)`` for a bat pose.
+    :ivar log_time_ns: time the message was recorded in the bag (integer nanoseconds).
+    """
+
+    role: str
+    stamp_ns: int
+    frame_id: str
+    values: Tuple[float, ...]
+    log_time_ns: int
+
+
+# Raw layouts. In both CDR and ROS 1, bytes 0-3 are the CDR encapsulation header (ROS 1: seq),
+# then sec, nanosec and the frame_id length sit at bytes 4, 8 and 12, and frame_id starts at 16.
+_CDR_HEAD = struct.Struct('<BBxxiII').unpack_from
+_ROS1_HEAD = struct.Struct('<BBxxIII').unpack_from
+
+
+def _cdr_frame(field: bytes) -> Tuple[str, int]:
+    """
+    Return ``(frame_id, offset of the first float64)`` for a CDR frame_id field.
+
+    :param field: bytes 12 onwards up to the end of the string: uint32 length (including the
+        terminating NUL), then the string and its NUL.
+    :raises ValueError: no terminating NUL, or not UTF-8.
+    """
+    if len(field) < 5 or field[-1] != 0:
+        raise ValueError('CDR string without terminating NUL')
+    end = 12 + len(field)
+    return bytes(field[4:-1]).decode(), 4 + ((end - 4 + 7) & ~7)
+
+
+def _ros1_frame(field: bytes) -> Tuple[str, int]:
+    """
+    Return ``(frame_id, offset of the first float64)`` for a ROS 1 frame_id field.
+
+    :param field: bytes 12 onwards up to the end of the string: uint32 length, then the string.
+    :raises ValueError: not UTF-8.
+    """
+    return bytes(field[4:]).decode(), 12 + len(field)
+
+
+class Route:
+    """
+    How to decode one connection's raw messages (mutable: it remembers the last frame_id).
+
+    :param role: the topic's role (the samples' ``role``).
+    :param cdr: True for CDR (ROS 2), False for ROS 1 serialisation.
+    :param floats: how many float64s follow the header (3 for a point or a ball, 7 for a pose).
+    :param msgtype: the connection's message type (for the slow decoder and its errors).
+    :ivar field: the last frame_id field seen (length + string bytes, see :func:`_cdr_frame`).
+    :ivar hit: ``(frame_id, float64 offset)`` for ``field``.
+    :ivar cache: every frame_id field seen (bounded), for topics that alternate frames.
+    """
+
+    __slots__ = ('role', 'cdr', 'head', 'values', 'frame', 'field', 'hit', 'cache', 'msgtype')
+
+    def __init__(self, role: str, cdr: bool, floats: int, msgtype: str) -> None:
+        self.role = role
+        self.cdr = cdr
+        self.head = _CDR_HEAD if cdr else _ROS1_HEAD
+        self.values = struct.Struct(f'<{floats}d').unpack_from
+        self.frame = _cdr_frame if cdr else _ros1_frame
+        # Before the first lookup: a length of 2**32 - 1 that, if ever matched by a malformed
+        # message, points the float64s out of range so the message takes the checked slow path.
+        self.field = b'\xff\xff\xff\xff'
+        self.hit: Tuple[str, int] = ('', 2**62)
+        self.cache: Dict[bytes, Tuple[str, int]] = {}
+        self.msgtype = msgtype
+
+    def lookup(self, field: bytes) -> Tuple[str, int]:
+        """
+        Return ``(frame_id, float64 offset)`` for a frame_id field and remember it.
+
+        :raises ValueError: a malformed field.
+        """
+        hit = self.cache.get(field)
+        if hit is None:
+            if int.from_bytes(field[:4], 'little') != len(field) - 4:
+                raise ValueError('frame_id runs past the end of the message')
+            hit = self.frame(field)
+            if len(self.cache) >= FRAME_CACHE_LIMIT:
+                self.cache.clear()
+            self.cache[field] = hit
+        self.field = field
+        self.hit = hit
+        return hit
+
+
+SlowDecoder = Callable[[Route, bytes], Tuple[int, str, Tuple[float, ...]]]
+"""``(route, raw) -> (stamp_ns, frame_id, values)`` for what the fast path cannot read."""
+
+
+def values_from_message(role: str, message: Any) -> Tuple[float, ...]:
+    """Return a deserialised PointStamped or PoseStamped's values tuple for its role."""
+    if hasattr(message, 'pose'):
+        p, q = message.pose.position, message.pose.orientation
+        if role == 'ball':
+            return (float(p.x), float(p.y), float(p.z))
+        return (float(p.x), float(p.y), float(p.z),
+                float(q.x), float(q.y), float(q.z), float(q.w))
+    p = message.point
+    return (float(p.x), float(p.y), float(p.z))
+
+
+def decode_samples(messages: Iterable[Tuple[Any, int, bytes]], routes: Dict[int, Route],
+                   slow: SlowDecoder) -> Generator[Sample, None, int]:
+    """
+    Yield a sample per raw message; return how many messages were read.
+
+    :param messages: ``(connection, log time in ns, raw bytes)`` as ``AnyReader.messages``
+        yields them.
+    :param routes: the route of every connection, by ``id(connection)``.
+    :param slow: the decoder for messages the fixed offsets cannot read.
+    :returns: (the generator's return value) the number of messages read.
+    :raises Exception: whatever ``messages`` or ``slow`` raise.
+    """
+    new = tuple.__new__
+    count = 0
+    for connection, log_time, raw in messages:
+        count += 1
+        route = routes[id(connection)]
+        try:
+            b0, b1, sec, nanosec, length = route.head(raw, 0)
+            if route.cdr and (b0 or b1 != 1):
+                raise ValueError('not little-endian CDR')
+            if raw.startswith(route.field, 12):
+                frame_id, offset = route.hit
+            else:
+                frame_id, offset = route.lookup(raw[12:16 + length])
+            values = route.values(raw, offset)
+            stamp = sec * 1_000_000_000 + nanosec
+        except (ValueError, struct.error, AttributeError):
+            stamp, frame_id, values = slow(route, raw)
+        yield new(Sample, (route.role, stamp, frame_id, values, log_time))
+    return count

@@ -1,0 +1,213 @@
+"""
+Ball and bat samples from a bag, streaming, in log-time order: the analysis' input.
+
+Reads ROS 2 bags (a bag directory, or a bare ``.mcap`` / ``.db3`` file) and ROS 1 ``.bag``
+files through :class:`rosbags.highlevel.AnyReader`. Only the connections of the selected topics
+(:mod:`.selection`) are read, so other topics are never deserialised; their messages are decoded
+at fixed offsets (:mod:`.decode`).
+
+Errors
+    Every failure is a :class:`BagError` with a one-line message, raised ``from`` its cause,
+    including errors met lazily while iterating (a corrupt chunk, records a damaged chunk lost).
+"""
+
+import os
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
+
+from rosbags.highlevel import AnyReader
+
+from .common import BagFile, first_line, NS_PER_S
+from .decode import decode_samples, Route, Sample, values_from_message
+from .selection import (
+    check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
+from ..errors import BagError
+
+
+class BagReader(BagFile):
+    """
+    Read ball and bat samples from a bag, streaming, in log-time order across topics.
+
+    Use as a context manager::
+
+        with BagReader('run.mcap') as bag:
+            total = bag.message_count          # for a progress bar
+            for sample in bag.samples():
+                ...
+
+    :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
+    :param selection: topics to read; None to select them with :func:`select_topics`.
+    :param ball: explicit ball topic (only without ``selection``).
+    :param bat_pose: explicit bat pose topic (only without ``selection``).
+    :param knob: explicit knob topic (only without ``selection``).
+    :param tip: explicit tip topic (only without ``selection``).
+    :param prefer_bat: ``'pose'`` or ``'points'``: the bat to auto-select when the bag has both
+        (see :func:`select_topics`).
+    :raises ValueError: both a selection and topic names given.
+    """
+
+    def __init__(self, path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
+                 *, ball: Optional[str] = None, bat_pose: Optional[str] = None,
+                 knob: Optional[str] = None, tip: Optional[str] = None,
+                 prefer_bat: str = 'pose') -> None:
+        overrides = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
+        if selection is not None and any(v is not None for v in overrides.values()):
+            raise ValueError('pass either a TopicSelection or topic names, not both')
+        super().__init__(path)
+        self._given = selection
+        self._overrides = overrides
+        self._prefer_bat = prefer_bat
+        self._selection: Optional[TopicSelection] = None
+        self._connections: List[Any] = []
+        self._routes: Dict[int, Route] = {}
+        self._types: Dict[str, Tuple[str, ...]] = {}
+
+    def _setup(self, reader: AnyReader) -> None:
+        """
+        Select topics and prepare the decoders of an open reader.
+
+        :raises BagError: empty bag, or topics that cannot be selected.
+        """
+        try:
+            total = reader.message_count
+            connections = list(reader.connections)
+        except Exception as error:
+            raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
+        self._types = topic_types(connections)
+        if total == 0:
+            raise BagError(f'bag {self.path} contains no messages')
+        if self._given is None:
+            selection = select_topics(connections, **self._overrides,
+                                      prefer_bat=self._prefer_bat)
+        else:
+            selection = self._given
+            check_selection(selection, self._types)
+        role_of = {topic: role for role, topic in selection.topics.items()}
+        chosen = [c for c in connections if c.topic in role_of]
+        for role, topic in selection.topics.items():
+            if sum(max(int(c.msgcount), 0) for c in chosen if c.topic == topic) == 0:
+                raise BagError(
+                    f"{TOPIC_FLAGS[role]} '{topic}' has no messages in bag {self.path}")
+        routes = {}
+        for connection in chosen:
+            role = role_of[connection.topic]
+            # A ball pose is read as its position: the first 3 float64s of a Pose.
+            routes[id(connection)] = Route(
+                role, reader.is2, 7 if role == 'bat_pose' else 3, connection.msgtype)
+        self._selection = selection
+        self._connections = chosen
+        self._routes = routes
+
+    @property
+    def selection(self) -> TopicSelection:
+        """
+        Return the selected topics.
+
+        :raises BagError: the bag is not open.
+        """
+        self._open_reader()
+        assert self._selection is not None
+        return self._selection
+
+    @property
+    def topics(self) -> Dict[str, str]:
+        """
+        Return all topics of the bag as ``{topic: msgtype}`` (types joined by `` | `` if mixed).
+
+        :raises BagError: the bag is not open.
+        """
+        self._open_reader()
+        return {topic: ' | '.join(msgtypes) for topic, msgtypes in self._types.items()}
+
+    @property
+    def message_count(self) -> int:
+        """
+        Return the number of messages on the selected topics (what :meth:`samples` yields).
+
+        From the bag's index/metadata, no scan.
+
+        :raises BagError: the bag is not open.
+        """
+        self._open_reader()
+        return sum(max(int(c.msgcount), 0) for c in self._connections)
+
+    def samples(self) -> Iterator[Sample]:
+        """
+        Yield the selected topics' messages as samples, in the bag's log-time order.
+
+        Streams (memory does not grow with the bag). Only the selected topics' connections are
+        read.
+
+        :returns: an iterator of :class:`Sample`.
+        :raises BagError: the bag is not open, or is corrupt (raised while iterating).
+        """
+        reader = self._open_reader()
+        return self._samples(reader)
+
+    def _samples(self, reader: AnyReader) -> Iterator[Sample]:
+        """Yield samples (the generator behind :meth:`samples`)."""
+        expected = self.message_count
+
+        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
+            return self._slow(reader, route, raw)
+        try:
+            count = yield from decode_samples(
+                reader.messages(connections=self._connections), self._routes, slow)
+        except BagError:
+            raise
+        except Exception as error:
+            raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
+        if count < expected:
+            # rosbags skips records it cannot place in a damaged chunk without an error: the
+            # bag's own index still counts them
+            raise BagError(f'bag {self.path} is damaged: read {count} of the {expected} '
+                           'messages its index lists on the selected topics')
+
+    def _slow(self, reader: AnyReader, route: Route,
+              raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
+        """
+        Decode one message with the rosbags deserialiser (big-endian or unusual data).
+
+        :raises BagError: the message cannot be deserialised (corrupt); names the bag.
+        """
+        try:
+            message: Any = reader.deserialize(raw, route.msgtype)
+            stamp = message.header.stamp
+            stamp_ns = int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
+            return stamp_ns, str(message.header.frame_id), values_from_message(route.role, message)
+        except Exception as error:
+            raise BagError(
+                f'corrupt {route.msgtype} message on the {route.role} topic of bag '
+                f'{self.path}: {first_line(error)}') from error
+
+
+def read_samples(path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
+                 **overrides: Optional[str]) -> Iterator[Sample]:
+    """
+    Yield the ball and bat samples of a bag, in log-time order (see :class:`BagReader`).
+
+    The bag is opened on the first ``next()`` and closed when the iterator is exhausted or
+    closed. Use :class:`BagReader` to get the selection and message count first.
+
+    :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
+    :param selection: topics to read; None to select them with :func:`select_topics`.
+    :param overrides: explicit topics ``ball``, ``bat_pose``, ``knob``, ``tip``.
+    :returns: an iterator of :class:`Sample`.
+    :raises BagError: see :meth:`BagReader.open` and :meth:`BagReader.samples`.
+    :raises TypeError: an unknown override name.
+    """
+    unknown = set(overrides) - set(ROLES)
+    if unknown:
+        raise TypeError(f'unknown topic roles: {", ".join(sorted(unknown))}')
+    with BagReader(path, selection, **overrides) as bag:
+        yield from bag.samples()
+
+
+def count_messages(path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
+                   **overrides: Optional[str]) -> int:
+    """
+    Return how many samples :func:`read_samples` will yield (from the bag index, no scan).
+
+    :raises BagError: see :meth:`BagReader.open`.
+    """
+    with BagReader(path, selection, **overrides) as bag:
+        return bag.message_count

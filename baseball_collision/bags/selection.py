@@ -1,0 +1,315 @@
+"""
+Which bag topic plays which role: topic roles, auto-detection and explicit choices.
+
+Topic roles
+    ``ball`` (``geometry_msgs/msg/PointStamped``, or ``PoseStamped`` whose position is the ball
+    centre), ``bat_pose`` (``PoseStamped``), ``knob`` and ``tip`` (``PointStamped``). A bat is
+    either one ``bat_pose`` topic or a ``knob`` + ``tip`` pair.
+
+Topic auto-detection (:func:`select_topics`)
+    A topic name is lower-cased and split into words on every non-alphanumeric character. A role
+    is filled automatically only when exactly one topic of an accepted type matches it:
+
+    - ``ball``: PointStamped or PoseStamped; a word contains ``ball`` and no word names a bat
+      part (contains ``bat``, ``knob``, ``handle``, ``barrel``, or is ``tip`` or ``end``).
+    - ``bat_pose``: PoseStamped; a word contains ``bat``.
+    - ``knob``: PointStamped; a word contains ``knob`` or ``handle``.
+    - ``tip``: PointStamped; a word contains ``barrel`` or a word is ``tip`` or ``end``.
+
+    Topics named explicitly are taken as given (type-checked) and removed from the candidates of
+    the other roles. When neither a bat pose nor knob/tip topics were named and the bag holds both
+    one bat pose candidate and one knob/tip pair (``baseball-collision simulate`` writes both),
+    the bat pose is used (or the points, with ``prefer_bat='points'``, e.g. a node parameter file
+    with ``bat_input: points``), and :attr:`TopicSelection.note` says which topics were left
+    out and the flags that pick them. Every selection error is one line naming the flag to pass
+    (see :data:`TOPIC_FLAGS`).
+"""
+
+from dataclasses import dataclass, field
+import re
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+
+from rosbags.highlevel import AnyReader
+
+from .common import POINT_STAMPED, POSE_STAMPED
+from ..errors import BagError
+
+ROLES = ('ball', 'bat_pose', 'knob', 'tip')
+"""Topic roles, in the order of :class:`TopicSelection`'s fields."""
+
+TOPIC_FLAGS = {
+    'ball': '--ball-topic',
+    'bat_pose': '--bat-pose-topic',
+    'knob': '--knob-topic',
+    'tip': '--tip-topic',
+}
+"""Command-line flag that names each role's topic; error messages refer to these."""
+
+ROLE_TYPES = {
+    'ball': (POINT_STAMPED, POSE_STAMPED),
+    'bat_pose': (POSE_STAMPED,),
+    'knob': (POINT_STAMPED,),
+    'tip': (POINT_STAMPED,),
+}
+"""Message types accepted for each role."""
+
+_HINTS = {
+    'ball': "a PointStamped or PoseStamped with 'ball' in its name",
+    'bat_pose': "a PoseStamped with 'bat' in its name",
+    'knob': "a PointStamped with 'knob' or 'handle' in its name",
+    'tip': "a PointStamped named with 'tip', 'end' or 'barrel'",
+}
+_TOPIC_LIST_LIMIT = 20
+
+
+@dataclass(frozen=True)
+class TopicSelection:
+    """
+    Which bag topic plays which role.
+
+    :ivar ball: ball centre topic.
+    :ivar ball_type: message type of the ball topic (PointStamped or PoseStamped).
+    :ivar bat_pose: bat pose topic, or None when the bat is given as knob + tip.
+    :ivar knob: knob end topic, or None when the bat is given as a pose.
+    :ivar tip: barrel end topic, or None when the bat is given as a pose.
+    :ivar note: one line on a choice made between candidates (a bat pose preferred to knob/tip
+        points found too, or the reverse), naming the flags that choose otherwise; '' if none.
+        Not part of equality.
+    """
+
+    ball: str
+    ball_type: str = POINT_STAMPED
+    bat_pose: Optional[str] = None
+    knob: Optional[str] = None
+    tip: Optional[str] = None
+    note: str = field(default='', compare=False)
+
+    def __post_init__(self) -> None:
+        """
+        Check the selection describes a ball and one bat.
+
+        :raises BagError: no ball topic, a ball type that is not PointStamped or PoseStamped,
+            neither or both of ``bat_pose`` and ``knob``/``tip``, only one of ``knob``/``tip``,
+            or one topic in two roles.
+        """
+        if not self.ball:
+            raise BagError(f'no ball topic given; pass {TOPIC_FLAGS["ball"]}')
+        if self.ball_type not in ROLE_TYPES['ball']:
+            raise BagError(
+                f'ball topic type must be {POINT_STAMPED} or {POSE_STAMPED}, '
+                f'got {self.ball_type}')
+        points = (self.knob is not None, self.tip is not None)
+        if self.bat_pose is not None and any(points):
+            raise BagError(
+                f'give either {TOPIC_FLAGS["bat_pose"]} or {TOPIC_FLAGS["knob"]} + '
+                f'{TOPIC_FLAGS["tip"]}, not both')
+        if self.bat_pose is None and not all(points):
+            missing = 'tip' if points[0] else 'knob' if points[1] else 'bat_pose'
+            raise BagError(f'no bat topic selected; pass {TOPIC_FLAGS[missing]}')
+        names = list(self.topics.values())
+        if len(set(names)) != len(names):
+            raise BagError(f'one topic cannot play two roles: {self.topics}')
+
+    @property
+    def bat_mode(self) -> str:
+        """Return ``'pose'`` for a bat pose topic, ``'points'`` for knob + tip topics."""
+        return 'pose' if self.bat_pose is not None else 'points'
+
+    @property
+    def topics(self) -> Dict[str, str]:
+        """Return the selected topics as ``{role: topic}`` (roles that are used only)."""
+        return {role: getattr(self, role) for role in ROLES if getattr(self, role) is not None}
+
+    def msgtype(self, role: str) -> str:
+        """Return the message type the selection expects on a role's topic."""
+        return self.ball_type if role == 'ball' else ROLE_TYPES[role][0]
+
+
+TopicSource = Union[AnyReader, Mapping[str, str], Iterable[Any]]
+"""An open AnyReader, ``{topic: msgtype}``, or rosbags connections (``.topic``, ``.msgtype``)."""
+
+
+def topic_types(source: TopicSource) -> Dict[str, Tuple[str, ...]]:
+    """Return ``{topic: (msgtype, ...)}`` of a reader, mapping or connections, sorted by topic."""
+    if isinstance(source, AnyReader):
+        source = source.connections
+    types: Dict[str, set] = {}
+    if isinstance(source, Mapping):
+        for topic, msgtype in source.items():
+            types.setdefault(str(topic), set()).add(str(msgtype))
+    else:
+        for connection in source:
+            types.setdefault(connection.topic, set()).add(connection.msgtype)
+    return {topic: tuple(sorted(types[topic])) for topic in sorted(types)}
+
+
+def _describe_topics(types: Mapping[str, Tuple[str, ...]]) -> str:
+    """Return a one-line list of topics with their types (the first 20 of them)."""
+    if not types:
+        return 'the bag has no topics'
+    items = [f'{topic} ({" | ".join(msgtypes)})' for topic, msgtypes in types.items()]
+    more = len(items) - _TOPIC_LIST_LIMIT
+    listed = ', '.join(items[:_TOPIC_LIST_LIMIT])
+    return f'topics: {listed}' + (f', ... and {more} more' if more > 0 else '')
+
+
+def _words(topic: str) -> List[str]:
+    """Return the lower-case words of a topic name (split on non-alphanumerics)."""
+    return [word for word in re.split(r'[^a-z0-9]+', topic.lower()) if word]
+
+
+def _is_bat_part(words: Sequence[str]) -> bool:
+    """Return True if a topic name mentions a bat or a bat end."""
+    return any(
+        'bat' in w or 'knob' in w or 'handle' in w or 'barrel' in w or w in ('tip', 'end')
+        for w in words)
+
+
+def _name_matches(role: str, topic: str) -> bool:
+    """Return True if a topic's name fits a role (see the module's auto-detection rules)."""
+    words = _words(topic)
+    if role == 'ball':
+        return any('ball' in w for w in words) and not _is_bat_part(words)
+    if role == 'bat_pose':
+        return any('bat' in w for w in words)
+    if role == 'knob':
+        return any('knob' in w or 'handle' in w for w in words)
+    return (any('barrel' in w or w in ('tip', 'end') for w in words)
+            and not any('knob' in w or 'handle' in w for w in words))
+
+
+def _candidates(role: str, types: Mapping[str, Tuple[str, ...]],
+                taken: Iterable[str]) -> List[str]:
+    """Return the topics that could fill a role: accepted type, matching name, not taken."""
+    taken = set(taken)
+    return [
+        topic for topic, msgtypes in types.items()
+        if topic not in taken and len(msgtypes) == 1 and msgtypes[0] in ROLE_TYPES[role]
+        and _name_matches(role, topic)]
+
+
+def _check_given(role: str, topic: str, types: Mapping[str, Tuple[str, ...]]) -> str:
+    """
+    Return the message type of an explicitly named topic after checking it fits the role.
+
+    :raises BagError: the topic is not in the bag, or has a type the role does not accept.
+    """
+    flag = TOPIC_FLAGS[role]
+    if topic not in types:
+        raise BagError(
+            f"{flag} '{topic}' is not in the bag; {_describe_topics(types)}")
+    msgtypes = types[topic]
+    if len(msgtypes) != 1 or msgtypes[0] not in ROLE_TYPES[role]:
+        wanted = ' or '.join(ROLE_TYPES[role])
+        raise BagError(
+            f"{flag} '{topic}' has type {' | '.join(msgtypes)}; {flag} needs {wanted}")
+    return msgtypes[0]
+
+
+def _pick_one(role: str, candidates: Sequence[str],
+              types: Mapping[str, Tuple[str, ...]]) -> str:
+    """
+    Return the one candidate for a role.
+
+    :raises BagError: no candidate, or several (listed).
+    """
+    flag = TOPIC_FLAGS[role]
+    if not candidates:
+        if role == 'bat_pose':
+            flag = f'{flag}, or {TOPIC_FLAGS["knob"]} + {TOPIC_FLAGS["tip"]}'
+        raise BagError(
+            f'no {role} topic found ({_HINTS[role]}); pass {flag}; {_describe_topics(types)}')
+    if len(candidates) > 1:
+        raise BagError(
+            f'several {role} topics: {", ".join(candidates)}; pass {flag} to choose one')
+    return candidates[0]
+
+
+def select_topics(source: TopicSource, ball: Optional[str] = None,
+                  bat_pose: Optional[str] = None, knob: Optional[str] = None,
+                  tip: Optional[str] = None, prefer_bat: str = 'pose') -> TopicSelection:
+    """
+    Choose the ball and bat topics of a bag: the names given, else auto-detection.
+
+    See the module docstring for the detection rules. Names given explicitly always win; naming
+    ``knob`` or ``tip`` selects the knob + tip bat (the other end is auto-detected), naming
+    ``bat_pose`` selects the pose bat. With no bat topic named and both one bat pose and one
+    knob/tip pair found, ``prefer_bat`` decides and the selection's ``note`` says so.
+
+    :param source: an open :class:`AnyReader`, a mapping ``{topic: msgtype}``, or connections
+        with ``.topic`` and ``.msgtype``.
+    :param ball: ball topic, or None to detect it.
+    :param bat_pose: bat pose topic, or None.
+    :param knob: knob topic, or None.
+    :param tip: tip topic, or None.
+    :param prefer_bat: ``'pose'`` or ``'points'``: which bat to take when both are found.
+    :returns: the selection.
+    :raises BagError: a named topic is missing (the message lists the bag's topics) or has the
+        wrong type; no candidate or several candidates for a role. The message names the flag
+        to pass.
+    :raises ValueError: ``prefer_bat`` is neither ``'pose'`` nor ``'points'``.
+    """
+    if prefer_bat not in ('pose', 'points'):
+        raise ValueError(f"prefer_bat must be 'pose' or 'points', got {prefer_bat!r}")
+    types = topic_types(source)
+    given = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
+    chosen: Dict[str, str] = {}
+    chosen_types: Dict[str, str] = {}
+    for role, topic in given.items():
+        if topic is not None:
+            chosen_types[role] = _check_given(role, topic, types)
+            chosen[role] = topic
+    if bat_pose is not None and (knob is not None or tip is not None):
+        raise BagError(
+            f'give either {TOPIC_FLAGS["bat_pose"]} or {TOPIC_FLAGS["knob"]} + '
+            f'{TOPIC_FLAGS["tip"]}, not both')
+
+    def taken() -> List[str]:
+        return list(chosen.values())
+
+    if 'ball' not in chosen:
+        chosen['ball'] = _pick_one('ball', _candidates('ball', types, taken()), types)
+        chosen_types['ball'] = types[chosen['ball']][0]
+    note = ''
+    if bat_pose is None and knob is None and tip is None:
+        poses = _candidates('bat_pose', types, taken())
+        knobs = _candidates('knob', types, taken())
+        tips = _candidates('tip', types, taken())
+        both = len(poses) == 1 and len(knobs) == 1 and len(tips) == 1
+        if both:
+            note = _both_note(prefer_bat, poses[0], knobs[0], tips[0])
+        if (poses or not (knobs or tips)) and not (both and prefer_bat == 'points'):
+            chosen['bat_pose'] = _pick_one('bat_pose', poses, types)
+        else:
+            chosen['knob'] = _pick_one('knob', knobs, types)
+            chosen['tip'] = _pick_one('tip', tips, types)
+    elif bat_pose is None:
+        for role in ('knob', 'tip'):
+            if role not in chosen:
+                chosen[role] = _pick_one(role, _candidates(role, types, taken()), types)
+    return TopicSelection(
+        ball=chosen['ball'], ball_type=chosen_types['ball'], bat_pose=chosen.get('bat_pose'),
+        knob=chosen.get('knob'), tip=chosen.get('tip'), note=note)
+
+
+def _both_note(prefer_bat: str, pose: str, knob: str, tip: str) -> str:
+    """Return the note on a bag holding both a bat pose and knob/tip points."""
+    if prefer_bat == 'pose':
+        return (f'bat pose {pose} used; the bag also has knob/tip points {knob}, {tip} '
+                f'(pass {TOPIC_FLAGS["knob"]} + {TOPIC_FLAGS["tip"]} to use them)')
+    return (f'bat knob/tip points {knob}, {tip} used; the bag also has a bat pose {pose} '
+            f'(pass {TOPIC_FLAGS["bat_pose"]} to use it)')
+
+
+def check_selection(selection: TopicSelection, types: Mapping[str, Tuple[str, ...]]) -> None:
+    """
+    Check that a ready-made selection fits a bag: topics present with the expected types.
+
+    :raises BagError: a topic missing or of another type than the selection says.
+    """
+    for role, topic in selection.topics.items():
+        msgtype = _check_given(role, topic, types)
+        if msgtype != selection.msgtype(role):
+            raise BagError(
+                f"{TOPIC_FLAGS[role]} '{topic}' has type {msgtype} in this bag, "
+                f'the selection expects {selection.msgtype(role)}')

@@ -1,0 +1,231 @@
+"""
+A pitched ball under gravity and quadratic air drag: RK4 on a fixed step, Hermite in between.
+
+World frame: z up (gravity along -z), home plate near the origin, the pitch travels roughly
+toward -y (the pitcher releases at y ~ +16.5..17 m). SI units: metres, seconds, m/s.
+``Pitch`` interpolates by cubic Hermite through the stored positions and velocities
+(positions good to ~1e-12 m; see the tests).
+"""
+
+from dataclasses import dataclass, field
+import math
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from .common import as_times, check_number, check_vector, TimeLike, Vector
+from ...errors import ToolError
+
+GRAVITY = 9.80665
+"""Standard gravity (m/s^2), along -z."""
+
+AIR_DENSITY = 1.2
+"""Air density (kg/m^3)."""
+
+DRAG_COEFFICIENT = 0.35
+"""Drag coefficient of a pitched baseball (dimensionless)."""
+
+BALL_MASS = 0.145
+"""Baseball mass (kg)."""
+
+BALL_RADIUS = 0.0366
+"""Baseball radius (m)."""
+
+MPH = 0.44704
+"""One mile per hour in m/s."""
+
+
+def _rk4_step(state: Tuple[float, ...], h: float, k: float, g: float) -> Tuple[float, ...]:
+    """
+    Advance ``(x, y, z, vx, vy, vz)`` by one RK4 step of ``h`` seconds (h < 0 goes back).
+
+    Acceleration: ``-k |v| v - g z_hat`` (quadratic drag with ``k = rho Cd A / (2 m)``).
+    Pure floats: a pitch takes hundreds of steps and numpy's per-call cost would dominate.
+    """
+    x, y, z, vx, vy, vz = state
+    half = 0.5 * h
+    c1 = k * math.sqrt(vx * vx + vy * vy + vz * vz)
+    ax1, ay1, az1 = -c1 * vx, -c1 * vy, -c1 * vz - g
+    ux, uy, uz = vx + half * ax1, vy + half * ay1, vz + half * az1
+    c2 = k * math.sqrt(ux * ux + uy * uy + uz * uz)
+    ax2, ay2, az2 = -c2 * ux, -c2 * uy, -c2 * uz - g
+    wx, wy, wz = vx + half * ax2, vy + half * ay2, vz + half * az2
+    c3 = k * math.sqrt(wx * wx + wy * wy + wz * wz)
+    ax3, ay3, az3 = -c3 * wx, -c3 * wy, -c3 * wz - g
+    px, py, pz = vx + h * ax3, vy + h * ay3, vz + h * az3
+    c4 = k * math.sqrt(px * px + py * py + pz * pz)
+    ax4, ay4, az4 = -c4 * px, -c4 * py, -c4 * pz - g
+    sixth = h / 6.0
+    return (x + sixth * (vx + 2.0 * (ux + wx) + px),
+            y + sixth * (vy + 2.0 * (uy + wy) + py),
+            z + sixth * (vz + 2.0 * (uz + wz) + pz),
+            vx + sixth * (ax1 + 2.0 * (ax2 + ax3) + ax4),
+            vy + sixth * (ay1 + 2.0 * (ay2 + ay3) + ay4),
+            vz + sixth * (az1 + 2.0 * (az2 + az3) + az4))
+
+
+@dataclass(frozen=True)
+class Pitch:
+    """
+    A pitched ball under gravity and quadratic air drag (no spin).
+
+    The flight is integrated by RK4 on a fixed ``step`` from the release over ``duration``
+    seconds; ``position`` and ``velocity`` interpolate by cubic Hermite through the stored
+    positions and velocities. With the default 1 ms step both errors are far below 1e-9 m
+    (measured ~4e-14 m against a 20 us integration; RK4 and the Hermite cubic are exact for the
+    drag-free parabola).
+
+    :ivar release_position: ball centre at release (m).
+    :ivar release_velocity: ball velocity at release (m/s).
+    :ivar release_time: release instant (s, scenario time; negative when released before the
+        scenario starts).
+    :ivar duration: seconds after the release over which the flight is defined.
+    :ivar drag: apply air drag ``F = 0.5 rho Cd A v^2`` against the velocity.
+    :ivar drag_coefficient: Cd.
+    :ivar air_density: rho (kg/m^3).
+    :ivar mass: ball mass (kg).
+    :ivar radius: ball radius (m); A = pi radius^2.
+    :ivar gravity: gravitational acceleration (m/s^2) along -z.
+    :ivar step: integration step (s).
+    """
+
+    release_position: Vector
+    release_velocity: Vector
+    release_time: float = 0.0
+    duration: float = 1.0
+    drag: bool = True
+    drag_coefficient: float = DRAG_COEFFICIENT
+    air_density: float = AIR_DENSITY
+    mass: float = BALL_MASS
+    radius: float = BALL_RADIUS
+    gravity: float = GRAVITY
+    step: float = 1e-3
+    _positions: np.ndarray = field(init=False, repr=False, compare=False)
+    _velocities: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        """
+        Check the parameters and integrate the flight.
+
+        :raises ToolError: non-finite or out-of-range parameters.
+        """
+        setattr_ = object.__setattr__
+        setattr_(self, 'release_position', check_vector('release_position', self.release_position))
+        setattr_(self, 'release_velocity', check_vector('release_velocity', self.release_velocity))
+        setattr_(self, 'release_time', check_number('release_time', self.release_time))
+        setattr_(self, 'duration', check_number('duration', self.duration, positive=True))
+        for name in ('drag_coefficient', 'air_density', 'radius', 'gravity'):
+            setattr_(self, name, check_number(name, getattr(self, name), minimum=0.0))
+        setattr_(self, 'mass', check_number('mass', self.mass, positive=True))
+        setattr_(self, 'step', check_number('step', self.step, positive=True))
+        steps = max(1, int(math.ceil(self.duration / self.step - 1e-9)))
+        if steps > 10_000_000:
+            raise ToolError(f'duration / step is too many steps ({steps})')
+        state = self.release_position + self.release_velocity
+        k, g = self.drag_constant, self.gravity
+        states = [state]
+        for _ in range(steps):
+            state = _rk4_step(state, self.step, k, g)
+            states.append(state)
+        array = np.array(states)
+        setattr_(self, '_positions', array[:, :3])
+        setattr_(self, '_velocities', array[:, 3:])
+
+    @classmethod
+    def through(cls, position: Sequence[float], velocity: Sequence[float], time: float, *,
+                release_y: float = 16.8, end_time: Optional[float] = None,
+                **parameters) -> 'Pitch':
+        """
+        Build the pitch that passes ``position`` with ``velocity`` at ``time``.
+
+        The state is integrated backward (same RK4 step) until the ball is at ``y >=
+        release_y``; that step is the release, so the forward flight passes the given state at
+        ``time`` to integration round-off (~1e-12 m).
+
+        :param position: ball centre at ``time`` (m).
+        :param velocity: ball velocity at ``time`` (m/s); its y component must be < 0.
+        :param time: the instant (s, scenario time).
+        :param release_y: y (m) of the release; the pitcher is at +y.
+        :param end_time: last instant (s) the pitch must cover (default ``time + 0.5``).
+        :param parameters: any other ``Pitch`` field (``drag``, ``step``, ...).
+
+        :returns: The pitch, released at or just beyond ``release_y``.
+
+        :raises ToolError: a ball not travelling toward -y, or bad parameters.
+        """
+        p = check_vector('position', position)
+        v = check_vector('velocity', velocity)
+        t = check_number('time', time)
+        if not v[1] < 0.0:
+            raise ToolError(f'the pitch must travel toward -y, got velocity {v!r}')
+        probe = cls(p, v, t, duration=1e-3, **{
+            k: value for k, value in parameters.items() if k != 'duration'})
+        state = p + v
+        steps = 0
+        while state[1] < release_y:
+            state = _rk4_step(state, -probe.step, probe.drag_constant, probe.gravity)
+            steps += 1
+            if steps * probe.step > 10.0 or state[4] >= 0.0:
+                raise ToolError(
+                    f'a pitch through {p!r} at {v!r} m/s does not come from y = {release_y} m')
+        release_time = t - steps * probe.step
+        end = t + 0.5 if end_time is None else check_number('end_time', end_time)
+        parameters = dict(parameters)
+        parameters['duration'] = max(end - release_time, probe.step)
+        return cls(tuple(state[:3]), tuple(state[3:]), release_time, **parameters)
+
+    @property
+    def drag_constant(self) -> float:
+        """Return ``k = rho Cd pi r^2 / (2 m)`` (1/m); the drag deceleration is ``k v^2``."""
+        if not self.drag:
+            return 0.0
+        area = math.pi * self.radius * self.radius
+        return 0.5 * self.air_density * self.drag_coefficient * area / self.mass
+
+    @property
+    def end_time(self) -> float:
+        """Return the last instant (s) the flight is defined at."""
+        return self.release_time + (self._positions.shape[0] - 1) * self.step
+
+    def _hermite(self, t: TimeLike, derivative: bool) -> np.ndarray:
+        """
+        Return the Hermite position (or its derivative) at times t: shape t.shape + (3,).
+
+        :raises ToolError: a time outside [release_time, end_time].
+        """
+        times, shape = as_times(t)
+        u = (times - self.release_time) / self.step
+        last = self._positions.shape[0] - 1
+        if times.size and (u.min() < -1e-9 or u.max() > last + 1e-9):
+            raise ToolError(
+                f'pitch times must lie in [{self.release_time}, {self.end_time}] s, got '
+                f'[{times.min()}, {times.max()}]')
+        index = np.clip(np.floor(u).astype(int), 0, last - 1)
+        s = (u - index)[:, None]
+        p0, p1 = self._positions[index], self._positions[index + 1]
+        m0, m1 = self._velocities[index] * self.step, self._velocities[index + 1] * self.step
+        s2 = s * s
+        if derivative:
+            out = ((6.0 * s2 - 6.0 * s) * (p0 - p1) + (3.0 * s2 - 4.0 * s + 1.0) * m0
+                   + (3.0 * s2 - 2.0 * s) * m1) / self.step
+        else:
+            s3 = s2 * s
+            out = ((2.0 * s3 - 3.0 * s2 + 1.0) * p0 + (s3 - 2.0 * s2 + s) * m0
+                   + (3.0 * s2 - 2.0 * s3) * p1 + (s3 - s2) * m1)
+        return out.reshape(shape + (3,))
+
+    def position(self, t: TimeLike) -> np.ndarray:
+        """
+        Return the ball centre (m) at time(s) t (s): (3,) for a float, t.shape + (3,) else.
+
+        :raises ToolError: a time outside the integrated flight.
+        """
+        return self._hermite(t, derivative=False)
+
+    def velocity(self, t: TimeLike) -> np.ndarray:
+        """
+        Return the ball's velocity in m/s at time(s) t (s), shaped as ``position``.
+
+        :raises ToolError: a time outside the integrated flight.
+        """
+        return self._hermite(t, derivative=True)

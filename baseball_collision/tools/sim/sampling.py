@@ -1,0 +1,199 @@
+"""
+A scenario as a tracker reports it, and its truth as JSON.
+
+``sample``: nominal rate, timestamp jitter, a stamp grid, position noise; sample stamps are
+integer nanoseconds, ``start_ns + round(t * 1e9)``. ``truth_dict``: the truth as JSON for a
+truth file beside a bag.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from .common import check_number
+from .scenarios import Scenario
+from ...errors import ToolError
+
+DEFAULT_START_NS = 1_700_000_000_000_000_000
+"""Default absolute stamp (ns since the epoch) of the scenario start in ``sample``."""
+
+
+@dataclass(frozen=True)
+class Samples:
+    """
+    A scenario as trackers report it.
+
+    Stamps are absolute int64 nanoseconds, strictly increasing; the scenario time of a stamp is
+    ``(stamp - start_ns) * 1e-9`` s. Positions are the truth at the stamped instant plus noise.
+
+    :ivar ball_stamps_ns: (N,) int64.
+    :ivar ball_positions: (N, 3) ball centres (m).
+    :ivar bat_stamps_ns: (M,) int64.
+    :ivar bat_positions: (M, 3) bat pose positions (m).
+    :ivar bat_quaternions: (M, 4) bat pose orientations, unit (x, y, z, w).
+    :ivar knobs: (M, 3) knobs (m), ``geometry.knob_and_tip`` of the (noisy) pose.
+    :ivar tips: (M, 3) tips (m), likewise.
+    :ivar start_ns: absolute stamp of the scenario start (ns).
+    """
+
+    ball_stamps_ns: np.ndarray
+    ball_positions: np.ndarray
+    bat_stamps_ns: np.ndarray
+    bat_positions: np.ndarray
+    bat_quaternions: np.ndarray
+    knobs: np.ndarray
+    tips: np.ndarray
+    start_ns: int
+
+    def messages(self, bat: str = 'pose') -> List[Tuple[int, str, Tuple[float, ...]]]:
+        """
+        Return the samples as a tracker publishes them: ``(stamp_ns, role, values)``.
+
+        In stamp order; at equal stamps the ball comes first, then the bat pose, knob, tip.
+        Roles and values are those of ``Detector.add``.
+
+        :param bat: ``'pose'`` (bat poses), ``'points'`` (knob and tip) or ``'both'``.
+        :raises ToolError: an unknown ``bat``.
+        """
+        if bat not in ('pose', 'points', 'both'):
+            raise ToolError(f"bat must be 'pose', 'points' or 'both', got '{bat}'")
+        rows = [(s, 0, 'ball', tuple(p)) for s, p in zip(self.ball_stamps_ns.tolist(),
+                                                         self.ball_positions.tolist())]
+        stamps = self.bat_stamps_ns.tolist()
+        if bat in ('pose', 'both'):
+            rows += [(s, 1, 'bat_pose', tuple(p + q)) for s, p, q in zip(
+                stamps, self.bat_positions.tolist(), self.bat_quaternions.tolist())]
+        if bat in ('points', 'both'):
+            rows += [(s, 2, 'knob', tuple(p)) for s, p in zip(stamps, self.knobs.tolist())]
+            rows += [(s, 3, 'tip', tuple(p)) for s, p in zip(stamps, self.tips.tolist())]
+        rows.sort(key=lambda row: (row[0], row[1]))
+        return [(stamp, role, values) for stamp, _, role, values in rows]
+
+
+def _stamps(t_end: float, rate_hz: float, rng: np.random.Generator, jitter_s: float,
+            grid_s: Optional[float], offset_s: float) -> np.ndarray:
+    """Return relative stamps (ns, int64, strictly increasing, within [0, t_end])."""
+    count = int(math.floor(t_end * rate_hz)) + 2
+    nominal = offset_s + np.arange(count) / rate_hz
+    if jitter_s > 0.0:
+        nominal = nominal + rng.normal(0.0, jitter_s, count)
+    relative = np.rint(nominal * 1e9).astype(np.int64)
+    if grid_s is not None:
+        step = int(round(grid_s * 1e9))
+        relative = np.rint(relative / step).astype(np.int64) * step
+    end_ns = int(math.floor(t_end * 1e9))
+    relative = relative[(relative >= 0) & (relative <= end_ns)]
+    return np.unique(relative)
+
+
+def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
+           jitter_s: float = 0.0, grid_s: Optional[float] = None, noise_m: float = 0.0,
+           start_ns: int = DEFAULT_START_NS, bat_offset_s: float = 0.0) -> Samples:
+    """
+    Sample a scenario as a tracker would.
+
+    Sample ``k`` is nominally at ``k / rate_hz`` seconds (plus ``bat_offset_s`` for the bat),
+    plus Gaussian jitter of ``jitter_s``, rounded to the nanosecond and then to ``grid_s`` when
+    given (``grid_s=0.001`` at 360 Hz gives the 2 and 3 ms steps of real mocap). Stamps outside
+    [0, t_end] and repeats are dropped, so stamps strictly increase. Positions are the truth at
+    the stamped instant, plus Gaussian noise of ``noise_m`` per axis: one draw per ball sample,
+    one per bat sample added to the pose position and so to knob and tip alike (knob and tip
+    stay those of the pose). With ``bat_offset_s == 0`` the bat has the ball's stamps.
+
+    :param scenario: what to sample.
+    :param rate_hz: nominal sample rate (Hz, > 0).
+    :param rng: the random source for jitter and noise (not drawn from when both are 0).
+    :param jitter_s: standard deviation of the timestamp jitter (s, >= 0).
+    :param grid_s: stamp grid (s, > 0), or None for nanosecond stamps.
+    :param noise_m: standard deviation of the position noise per axis (m, >= 0).
+    :param start_ns: absolute stamp (ns) of the scenario start.
+    :param bat_offset_s: shift (s) of the bat stream's nominal times.
+
+    :returns: The samples.
+
+    :raises ToolError: a rate, jitter, grid or noise out of range.
+    """
+    rate_hz = check_number('rate_hz', rate_hz, positive=True)
+    jitter_s = check_number('jitter_s', jitter_s, minimum=0.0)
+    noise_m = check_number('noise_m', noise_m, minimum=0.0)
+    bat_offset_s = check_number('bat_offset_s', bat_offset_s)
+    if grid_s is not None:
+        grid_s = check_number('grid_s', grid_s, positive=True)
+        if round(grid_s * 1e9) < 1:
+            raise ToolError(f'grid_s must be at least 1 ns, got {grid_s!r}')
+    try:
+        start = int(start_ns)
+    except (TypeError, ValueError) as error:
+        raise ToolError(f'start_ns must be an integer, got {start_ns!r}') from error
+    ball_rel = _stamps(scenario.t_end, rate_hz, rng, jitter_s, grid_s, 0.0)
+    if bat_offset_s == 0.0:
+        bat_rel = ball_rel
+    else:
+        bat_rel = _stamps(scenario.t_end, rate_hz, rng, jitter_s, grid_s, bat_offset_s)
+    ball = scenario.pitch.position(ball_rel * 1e-9)
+    bat_times = bat_rel * 1e-9
+    position, quaternion = scenario.swing.pose(bat_times)
+    knobs, tips = scenario.swing.knob_tip(bat_times)
+    if noise_m > 0.0:
+        ball = ball + rng.normal(0.0, noise_m, ball.shape)
+        shake = rng.normal(0.0, noise_m, position.shape)
+        position, knobs, tips = position + shake, knobs + shake, tips + shake
+    return Samples(
+        ball_stamps_ns=np.int64(start) + ball_rel, ball_positions=ball,
+        bat_stamps_ns=np.int64(start) + bat_rel, bat_positions=position,
+        bat_quaternions=quaternion, knobs=knobs, tips=tips, start_ns=start)
+
+
+def truth_dict(scenario: Scenario, start_ns: int = DEFAULT_START_NS) -> Dict[str, object]:
+    """
+    Return the scenario's truth as a JSON-serialisable dict (for a truth file beside a bag).
+
+    Times are given both as scenario seconds and as absolute stamps
+    (``start_ns + round(time_s * 1e9)``); vectors are lists; absent values are None.
+
+    :param scenario: the scenario.
+    :param start_ns: absolute stamp (ns) of the scenario start.
+
+    :returns: The dict.
+    """
+    truth = scenario.truth
+    start = int(start_ns)
+
+    def stamp(seconds: Optional[float]) -> Optional[int]:
+        return None if seconds is None else start + int(round(seconds * 1e9))
+
+    def listed(vector: Optional[Sequence[float]]) -> Optional[List[float]]:
+        return None if vector is None else [float(v) for v in vector]
+
+    return {
+        'name': scenario.name,
+        'kind': scenario.kind,
+        'start_ns': start,
+        'end_ns': stamp(scenario.t_end),
+        't_end_s': float(scenario.t_end),
+        'contact': bool(truth.contact),
+        'time_s': truth.time_s,
+        'stamp_ns': stamp(truth.time_s),
+        'point': listed(truth.point),
+        'normal': listed(truth.normal),
+        'bat_fraction': truth.bat_fraction,
+        'distance_from_knob_m': truth.distance_from_knob_m,
+        'distance_from_tip_m': truth.distance_from_tip_m,
+        'feature': truth.feature,
+        'sweet_spot_speed_mps': truth.sweet_spot_speed_mps,
+        'ball_speed_mps': truth.ball_speed_mps,
+        'bat_speed_at_contact_mps': truth.bat_speed_at_contact_mps,
+        'min_gap_m': truth.min_gap_m,
+        'min_gap_time_s': truth.min_gap_time_s,
+        'min_gap_stamp_ns': stamp(truth.min_gap_time_s),
+        'min_gap_vector': listed(truth.min_gap_vector),
+        'min_gap_fraction': truth.min_gap_fraction,
+        'ball_radius_m': float(scenario.ball_radius),
+        'bat_length_m': scenario.swing.length,
+        'bat_profile': {'length_m': scenario.profile.length,
+                        'stations': [[d, r] for d, r in scenario.profile.stations]},
+        'bat_geometry': {'knob_offset': listed(scenario.swing.geometry.knob_offset),
+                         'tip_offset': listed(scenario.swing.geometry.tip_offset)},
+    }

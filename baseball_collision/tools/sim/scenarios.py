@@ -1,0 +1,268 @@
+"""
+Scenarios: a pitch and a swing aimed at each other so that one kind of event happens.
+
+``make_scenario`` draws a right-handed swing and a 76-94 mph pitch that make a 'barrel',
+'end_cap', 'handle', 'graze', 'miss_over' or 'miss_under' (:data:`KINDS`), each checked against
+its computed :class:`~.truth.Truth` and drawn again if the kind does not hold. A scenario runs
+over ``[0, t_end]`` seconds of scenario time.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Optional
+
+import numpy as np
+
+from .common import as_times, check_number, SQRT_TWO_PI, TimeLike, unit
+from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch
+from .swings import Swing
+from .truth import compute_truth, segment_gaps, Truth
+from ...core.bat import BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
+from ...errors import ToolError
+
+KINDS = ('barrel', 'end_cap', 'handle', 'graze', 'miss_over', 'miss_under')
+"""Scenario kinds ``make_scenario`` builds (``Scenario`` also accepts ``'custom'``)."""
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """
+    A swing against a pitch over [0, t_end] seconds, with its truth.
+
+    ``truth`` is computed on construction when not given (``compute_truth``).
+
+    :ivar name: a label.
+    :ivar kind: one of ``KINDS``, or ``'custom'``.
+    :ivar swing: the bat's motion.
+    :ivar pitch: the ball's flight (covering [0, t_end]).
+    :ivar t_end: duration (s).
+    :ivar profile: the bat's radius profile.
+    :ivar ball_radius: ball radius (m).
+    :ivar truth: what happened.
+    """
+
+    name: str
+    kind: str
+    swing: Swing
+    pitch: Pitch
+    t_end: float
+    profile: BatProfile = WOOD_BAT_34
+    ball_radius: float = BALL_RADIUS
+    truth: Optional[Truth] = None
+
+    def __post_init__(self) -> None:
+        """
+        Check the kind and compute the truth when not given.
+
+        :raises ToolError: an unknown kind, or as ``compute_truth``.
+        """
+        if self.kind not in KINDS + ('custom',):
+            raise ToolError(f'scenario kind must be one of {KINDS + ("custom",)}, '
+                            f'got {self.kind!r}')
+        if self.truth is None:
+            object.__setattr__(self, 'truth', compute_truth(
+                self.swing, self.pitch, self.t_end, self.profile, self.ball_radius))
+
+    def gap(self, t: TimeLike) -> np.ndarray:
+        """Return the signed ball-bat gap in metres at time(s) t (s); negative is overlap."""
+        times, shape = as_times(t)
+        knob, tip = self.swing.knob_tip(times)
+        gaps = segment_gaps(self.pitch.position(times), knob, tip, self.profile,
+                            self.ball_radius)
+        return gaps.min(axis=0).reshape(shape)
+
+
+def _kind_holds(kind: str, truth: Truth) -> bool:
+    """Return whether a truth is an instance of a scenario kind."""
+    if kind in ('miss_over', 'miss_under'):
+        upward = truth.min_gap_vector[2] > 0.0
+        return (not truth.contact and 0.02 <= truth.min_gap_m <= 0.15
+                and upward == (kind == 'miss_over'))
+    if not truth.contact or truth.time_s is None:
+        return False
+    if kind == 'barrel':
+        return truth.feature == 'side' and 0.05 <= truth.distance_from_tip_m <= 0.25
+    if kind == 'end_cap':
+        return truth.feature == 'tip_end'
+    if kind == 'handle':
+        return truth.feature == 'side' and 0.2 <= truth.distance_from_knob_m <= 0.4
+    return -0.010 <= truth.min_gap_m <= -0.001  # graze
+
+
+def _segment_radius(profile: BatProfile, fraction: float) -> float:
+    """Return the radius (m) of the profile capsule spanning ``fraction`` (the largest one)."""
+    radii = [r for f0, f1, r in profile.segments() if f0 <= fraction <= f1]
+    return max(radii) if radii else profile.radius_at(fraction)
+
+
+def _draw_swing(rng: np.random.Generator, contact_time: float,
+                geometry: PoseBatGeometry) -> Swing:
+    """Draw a right-handed swing, its reference at the contact time, sweet spot 28-34.5 m/s."""
+    azimuth = math.radians(rng.uniform(-20.0, 15.0))  # of the bat from +x toward +y
+    elevation = math.radians(rng.uniform(-30.0, 5.0))  # barrel below the hands when < 0
+    direction = np.array([math.cos(elevation) * math.cos(azimuth),
+                          math.cos(elevation) * math.sin(azimuth), math.sin(elevation)])
+    attack = math.radians(rng.uniform(0.0, 15.0))  # the barrel's upward path at contact
+    path = np.array([-math.sin(azimuth) * math.cos(attack),
+                     math.cos(azimuth) * math.cos(attack), math.sin(attack)])
+    path = unit('path', path - direction * float(path @ direction))
+    normal = np.cross(direction, path)
+    hands = np.array([rng.uniform(-0.6, -0.45), rng.uniform(0.05, 0.4), rng.uniform(0.85, 1.1)])
+    hands_width = rng.uniform(0.035, 0.05)
+    hands_lag = rng.uniform(0.02, 0.05)  # the hands' speed peaks before contact
+    hands_dir = unit('hands', np.array([rng.uniform(0.0, 0.4), 1.0, rng.uniform(-0.2, 0.1)]))
+    hands_peak = hands_dir * rng.uniform(5.0, 8.0)
+    hands_accel = np.array([rng.uniform(-12.0, -4.0), rng.uniform(-4.0, 4.0),
+                            rng.uniform(-4.0, 4.0)])
+    grip = rng.uniform(0.08, 0.12)
+    length = float(np.linalg.norm(np.subtract(geometry.tip_offset, geometry.knob_offset)))
+    hands_velocity = hands_peak * math.exp(-0.5 * (hands_lag / hands_width) ** 2)
+    # angular speed at contact for the drawn sweet-spot speed
+    target = rng.uniform(28.0, 34.5)
+    lever = length - SWEET_SPOT_FROM_TIP - grip
+    across = np.cross(normal, direction)
+    along = float(hands_velocity @ across)
+    square = along * along - float(hands_velocity @ hands_velocity) + target * target
+    omega_contact = (-along + math.sqrt(max(square, 0.0))) / lever
+    lead = rng.uniform(0.15, 0.5)  # peak angular speed after contact, in widths
+    peak = omega_contact * math.exp(0.5 * lead * lead)
+    width = rng.uniform(4.6, 5.6) / (peak * SQRT_TWO_PI)  # total rotation < 2 pi
+    return Swing(
+        reference_time=contact_time, hands=tuple(hands), direction=tuple(direction),
+        plane_normal=tuple(normal), peak_angular_speed=peak,
+        peak_time=contact_time + lead * width, angular_width=width,
+        hands_peak_velocity=tuple(hands_peak), hands_peak_time=contact_time - hands_lag,
+        hands_width=hands_width, hands_acceleration=tuple(hands_accel), grip_from_knob=grip,
+        roll_rate=rng.uniform(-4.0, 4.0), geometry=geometry)
+
+
+def _draw_ball_velocity(rng: np.random.Generator, contact: np.ndarray, drag_constant: float,
+                        release_y: float) -> np.ndarray:
+    """Draw the ball's velocity at contact for a 76-94 mph release about 1.4-2.0 m high."""
+    release_speed = rng.uniform(76.0, 94.0) * MPH
+    travel = release_y - float(contact[1])
+    speed = release_speed * math.exp(-drag_constant * travel)
+    flight = travel / (0.5 * (speed + release_speed))
+    release_height = rng.uniform(1.5, 1.8)  # the drag-free aim lands ~0.1 m higher
+    release_x = rng.uniform(-0.6, 0.6)
+    down = (release_height - float(contact[2]) + 0.5 * GRAVITY * flight * flight) / (
+        speed * flight)
+    across = (float(contact[0]) - release_x) / (speed * flight)
+    down = min(max(down, 0.0), 0.3)
+    across = min(max(across, -0.1), 0.1)
+    along = math.sqrt(1.0 - down * down - across * across)
+    return speed * np.array([across, -along, -down])
+
+
+def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: float,
+                   profile: BatProfile, ball_radius: float,
+                   geometry: PoseBatGeometry) -> Optional[Scenario]:
+    """
+    Draw one candidate scenario of a kind; None when the draw is implausible.
+
+    :raises ToolError: a degenerate draw (the caller draws again).
+    """
+    contact_time = lead_s + rng.uniform(-0.005, 0.005)
+    t_end = lead_s + trail_s
+    swing = _draw_swing(rng, contact_time, geometry)
+    length = swing.length
+    segments = profile.segments()
+    if kind == 'barrel':
+        fraction = 1.0 - rng.uniform(0.07, 0.22) / length
+    elif kind == 'handle':
+        fraction = rng.uniform(0.23, 0.37) / length
+    elif kind == 'end_cap':
+        fraction = segments[-1][1]
+    elif kind == 'graze':
+        fraction = 1.0 - rng.uniform(0.06, 0.3) / length
+    else:
+        fraction = 1.0 - rng.uniform(0.06, 0.35) / length
+    spot = swing.point(contact_time, fraction)
+    reach = ball_radius + _segment_radius(profile, fraction)
+    release_y = rng.uniform(16.5, 17.0)
+    drag_constant = Pitch((0.0, 0.0, 0.0), (0.0, -1.0, 0.0), duration=1e-3).drag_constant
+    velocity = _draw_ball_velocity(rng, spot, drag_constant, release_y)
+    # the frame of the encounter: axis d, the ball's motion across it, and "up" across both
+    axis = swing.knob_tip(contact_time)
+    axis = unit('axis', axis[1] - axis[0])
+    relative = velocity - swing.point_velocity(contact_time, fraction)
+    across = relative - axis * float(relative @ axis)
+    incoming = unit('relative velocity', across)
+    up = unit('up', np.cross(axis, incoming))
+    if up[2] < 0.0:
+        up = -up
+    if kind in ('barrel', 'handle'):
+        angle = math.radians(rng.uniform(-55.0, 55.0))
+        centre = spot + reach * (-math.cos(angle) * incoming + math.sin(angle) * up)
+    elif kind == 'end_cap':
+        angle = math.radians(rng.uniform(-35.0, 35.0))
+        tilt = math.radians(rng.uniform(25.0, 60.0))
+        side = -math.cos(angle) * incoming + math.sin(angle) * up
+        centre = spot + reach * (math.cos(tilt) * side + math.sin(tilt) * axis)
+    elif kind == 'graze':
+        sign = 1.0 if rng.uniform() < 0.5 else -1.0
+        centre = spot + sign * (reach - rng.uniform(0.002, 0.008)) * up
+    else:
+        sign = 1.0 if kind == 'miss_over' else -1.0
+        centre = spot + sign * (reach + rng.uniform(0.03, 0.12)) * up
+    pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
+                          end_time=t_end + 0.01)
+    release_speed = math.hypot(*pitch.release_velocity) / MPH
+    if not (74.0 <= release_speed <= 96.0 and 1.0 <= pitch.release_position[2] <= 2.6):
+        return None
+    name = f'{kind}-{int(rng.integers(0, 2 ** 32)):08x}'
+    return Scenario(name=name, kind=kind, swing=swing, pitch=pitch, t_end=t_end,
+                    profile=profile, ball_radius=ball_radius)
+
+
+def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
+                  trail_s: float = 0.10, profile: BatProfile = WOOD_BAT_34,
+                  ball_radius: float = BALL_RADIUS,
+                  geometry: PoseBatGeometry = PoseBatGeometry(),
+                  max_attempts: int = 50) -> Scenario:
+    """
+    Build a plausible pitch and swing aimed so that one kind of event happens.
+
+    A right-handed swing (sweet spot at 28-34.5 m/s at contact, the hands leading) and a
+    76-94 mph pitch released 16.5-17 m away about 1.4-2.0 m high. The contact instant (about
+    ``lead_s`` after the start) and spot on the bat are chosen first; the ball is placed there at
+    that instant, offset along the contact normal, and the flight integrated backward to the
+    release. Kinds:
+
+    * ``'barrel'``: the side of the barrel, 0.05-0.25 m from the tip (along the axis);
+    * ``'end_cap'``: the rounded barrel end;
+    * ``'handle'``: the side of the bat 0.2-0.4 m from the knob;
+    * ``'graze'``: a foul tip: a contact whose deepest overlap is 1-10 mm;
+    * ``'miss_over'`` / ``'miss_under'``: no contact, the ball passing 2-15 cm over / under the
+      bat (smallest gap, with its vertical component of that sign).
+
+    Each draw is checked against its computed truth and redrawn if the kind does not hold.
+
+    :param kind: one of ``KINDS``.
+    :param rng: the random source (the result is a function of its state).
+    :param lead_s: seconds from the start to (about) the contact or closest approach.
+    :param trail_s: seconds after that to the end.
+    :param profile: the bat's radius profile.
+    :param ball_radius: ball radius (m).
+    :param geometry: where knob and tip sit in the bat body frame of the swing's pose.
+    :param max_attempts: draws before giving up.
+
+    :returns: The scenario, running over [0, lead_s + trail_s].
+
+    :raises ToolError: an unknown kind, bad durations, or no draw of the kind within
+        ``max_attempts``.
+    """
+    if kind not in KINDS:
+        raise ToolError(f'scenario kind must be one of {KINDS}, got {kind!r}')
+    lead_s = check_number('lead_s', lead_s, minimum=0.05)
+    trail_s = check_number('trail_s', trail_s, minimum=0.02)
+    failure = None
+    for _ in range(max(1, int(max_attempts))):
+        try:
+            scenario = _draw_scenario(kind, rng, lead_s, trail_s, profile, ball_radius, geometry)
+        except ToolError as error:
+            failure = error
+            continue
+        if scenario is not None and _kind_holds(kind, scenario.truth):
+            return scenario
+    raise ToolError(f'no {kind!r} scenario in {max_attempts} draws') from failure

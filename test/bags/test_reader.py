@@ -1,0 +1,208 @@
+"""Tests for baseball_collision.bags reading: samples from real bags, streaming, errors."""
+
+import ast
+from pathlib import Path
+import sqlite3
+import struct
+import subprocess
+import sys
+from typing import Any
+
+from baseball_collision.bags import (
+    BagReader, BagWriter, count_messages, POINT_STAMPED, POSE_STAMPED, read_samples,
+    TopicSelection)
+from baseball_collision.errors import BagError
+import pytest
+from rosbags.highlevel import AnyReader
+from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+from support.bagfiles import (
+    expected_samples, reference_bag, reference_message, tracker_rows, TS2)
+
+
+def test_module_imports_neither_rclpy_nor_the_tools() -> None:
+    """The bags layer is I/O on rosbags and the core: usable without ROS."""
+    code = ('import sys, baseball_collision.bags; '
+            'print(sorted(m for m in sys.modules if m.split(".")[0] in '
+            '("rclpy", "baseball_collision")))')
+    out = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                         check=True, timeout=60)
+    loaded = set(ast.literal_eval(out.stdout.strip()))
+    assert 'baseball_collision.bags' in loaded
+    assert not any(m.startswith(('rclpy', 'baseball_collision.ros', 'baseball_collision.tools'))
+                   for m in loaded), loaded
+
+
+def test_bare_files_read_like_directories(tmp_path: Path) -> None:
+    """The storage file inside a bag directory reads on its own (bare .mcap and .db3)."""
+    rows = tracker_rows(8)
+    roles = {'/ball': 'ball', '/bat/pose': 'bat_pose'}
+    for name, suffix in (('dir_mcap', '.mcap'), ('dir_sqlite3', '.db3')):
+        reference_bag(tmp_path / name, rows)
+        bare = tmp_path / name / f'{name}{suffix}'
+        assert list(read_samples(bare)) == expected_samples(rows, roles)
+
+
+@pytest.mark.parametrize('name', ['dir_mcap', 'dir_sqlite3', 'ros1.bag'])
+def test_samples_come_in_log_time_order_with_header_stamps(tmp_path: Path, name: str) -> None:
+    """Order is the bag's log time across topics (as a node would receive), stamps are headers."""
+    knob = [('/bat/knob', POINT_STAMPED, 5_000 + i, 'w', (0.0, 0.0, float(i)), 100 + 30 * i)
+            for i in range(5)]
+    tip = [('/bat/tip', POINT_STAMPED, 9_000 + i, 'w', (1.0, 0.0, float(i)), 110 + 30 * i)
+           for i in range(5)]
+    ball = [('/ball', POINT_STAMPED, 1_000 + i, 'w', (2.0, 0.0, float(i)), 95 + 10 * i)
+            for i in range(15)]
+    rows = ball + knob + tip  # written topic by topic, not in time order
+    reference_bag(tmp_path / name, rows)
+    samples = list(read_samples(tmp_path / name))
+    assert [s.log_time_ns for s in samples] == sorted(r[5] for r in rows)
+    assert samples == expected_samples(
+        rows, {'/ball': 'ball', '/bat/knob': 'knob', '/bat/tip': 'tip'})
+    assert [s.role for s in samples[:4]] == ['ball', 'knob', 'ball', 'tip']
+
+
+def test_unrelated_topics_are_never_decoded(tmp_path: Path, monkeypatch: Any) -> None:
+    """50k messages on another topic are skipped undecoded (they are not even valid CDR)."""
+    path = tmp_path / 'noisy'
+    garbage = b'\xff' * 40  # would make any deserialiser fail
+    with Writer2(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        noise = writer.add_connection('/camera/info', 'std_msgs/msg/String', typestore=TS2)
+        ball = writer.add_connection('/ball', POINT_STAMPED, typestore=TS2)
+        bat = writer.add_connection('/bat_pose', POSE_STAMPED, typestore=TS2)
+        for i in range(50_000):
+            writer.write(noise, i * 1000, garbage)
+            if i % 10_000 == 5:
+                stamp = i * 1000
+                writer.write(ball, stamp, TS2.serialize_cdr(reference_message(
+                    TS2, POINT_STAMPED, stamp, 'w', (1.0, 2.0, 3.0)), POINT_STAMPED))
+                writer.write(bat, stamp + 1, TS2.serialize_cdr(
+                    reference_message(TS2, POSE_STAMPED, stamp, 'w', (0, 0, 0, 0, 0, 0, 1.0)),
+                    POSE_STAMPED))
+    requested = []
+    original = AnyReader.messages
+
+    def spy(self: AnyReader, connections: Any = (), *args: Any, **kwargs: Any) -> Any:
+        requested.append(sorted(c.topic for c in connections))
+        return original(self, connections, *args, **kwargs)
+
+    monkeypatch.setattr(AnyReader, 'messages', spy)
+    with BagReader(path) as bag:
+        assert bag.message_count == 10
+        samples = list(bag.samples())
+    assert requested == [['/ball', '/bat_pose']]
+    assert [s.role for s in samples] == ['ball', 'bat_pose'] * 5
+
+
+def test_message_count_matches_what_is_read(tmp_path: Path) -> None:
+    """message_count / count_messages (from the index) equal the number of samples."""
+    rows = tracker_rows(9)
+    reference_bag(tmp_path / 'b.bag', rows, extra_topics=[('/other', 'std_msgs/msg/String')])
+    assert count_messages(tmp_path / 'b.bag') == len(rows) == len(list(
+        read_samples(tmp_path / 'b.bag')))
+
+
+def test_selection_from_another_bag_and_explicit_topics(tmp_path: Path) -> None:
+    """A ready-made selection is checked against the bag; names and a selection don't mix."""
+    rows = tracker_rows(3)
+    reference_bag(tmp_path / 'a', rows)
+    with BagReader(tmp_path / 'a') as bag:
+        selection = bag.selection
+        assert bag.topics == {'/ball': POINT_STAMPED, '/bat/pose': POSE_STAMPED}
+        assert bag.start_time_ns == 1
+    assert len(list(read_samples(tmp_path / 'a', selection))) == len(rows)
+    assert len(list(read_samples(tmp_path / 'a', ball='/ball', bat_pose='/bat/pose'))) == 6
+    other = TopicSelection(ball='/ball', bat_pose='/somewhere/else')
+    with pytest.raises(BagError, match="--bat-pose-topic '/somewhere/else' is not in the bag"):
+        list(read_samples(tmp_path / 'a', other))
+    with pytest.raises(ValueError):
+        BagReader(tmp_path / 'a', selection, ball='/ball')
+    with pytest.raises(BagError, match='is not open'):
+        BagReader(tmp_path / 'a').samples()
+
+
+# --- bad inputs -----------------------------------------------------------------------------
+
+def _raises_one_line(path: Path, **kwargs: Any) -> str:
+    with pytest.raises(BagError) as caught:
+        for _ in read_samples(path, **kwargs):
+            pass
+    message = str(caught.value)
+    assert message and '\n' not in message
+    return message
+
+
+def test_bad_paths_and_non_bags(tmp_path: Path) -> None:
+    """Missing path, text files, a foreign sqlite3 file, a bare directory: one-line BagError."""
+    assert 'not found' in _raises_one_line(tmp_path / 'missing.mcap')
+    (tmp_path / 'notes.txt').write_text('not a bag\n')
+    _raises_one_line(tmp_path / 'notes.txt')
+    (tmp_path / 'fake.mcap').write_text('not a bag\n')
+    _raises_one_line(tmp_path / 'fake.mcap')
+    (tmp_path / 'fake.bag').write_text('not a bag\n')
+    _raises_one_line(tmp_path / 'fake.bag')
+    connection = sqlite3.connect(tmp_path / 'other.db3')
+    connection.execute('CREATE TABLE people (name TEXT)')
+    connection.commit()
+    connection.close()
+    _raises_one_line(tmp_path / 'other.db3')
+    (tmp_path / 'folder').mkdir()
+    _raises_one_line(tmp_path / 'folder')
+
+
+@pytest.mark.parametrize('name', ['dir_mcap', 'e.db3', 'e.bag'])
+def test_empty_bags(tmp_path: Path, name: str) -> None:
+    """A bag without messages, or whose selected topic has none, is refused."""
+    with BagWriter(tmp_path / name) as bag:
+        bag.add_topic('/ball', POINT_STAMPED)
+        bag.add_topic('/bat', POSE_STAMPED)
+    assert 'no messages' in _raises_one_line(tmp_path / name)
+    with BagWriter(tmp_path / f'half_{name}') as bag:
+        bag.add_topic('/bat', POSE_STAMPED)
+        bag.write_point('/ball', 5, 'w', (0.0, 0.0, 0.0))
+    assert "'/bat' has no messages" in _raises_one_line(tmp_path / f'half_{name}')
+
+
+def _multi_chunk_bag(path: Path, count: int = 12_000) -> None:
+    """Write ~2.5 MB (three MCAP chunks); message 9000 has the frame_id 'MARKER'."""
+    with BagWriter(path) as bag:
+        for i in range(count):
+            frame = 'MARKER' if i == 9000 else 'world_frame'
+            bag.write_point('/ball', i * 1000, frame, (1.0, 2.0, 3.0))
+            bag.write_pose('/bat', i * 1000 + 1, 'world_frame', (0, 0, 0), (0, 0, 0, 1))
+
+
+def test_truncated_mcap_is_refused(tmp_path: Path) -> None:
+    """An MCAP cut mid-chunk (e.g. a recorder killed) raises BagError, not a rosbags error."""
+    _multi_chunk_bag(tmp_path / 'full.mcap', 4000)
+    data = (tmp_path / 'full.mcap').read_bytes()
+    (tmp_path / 'cut.mcap').write_bytes(data[:len(data) // 2])
+    assert 'cannot read bag' in _raises_one_line(tmp_path / 'cut.mcap')
+    reference_bag(tmp_path / 'r.bag', tracker_rows(40))
+    data = (tmp_path / 'r.bag').read_bytes()
+    (tmp_path / 'cut.bag').write_bytes(data[:len(data) // 2])
+    _raises_one_line(tmp_path / 'cut.bag')
+
+
+def test_corruption_found_while_iterating_is_a_bag_error(tmp_path: Path) -> None:
+    """Damage inside a later chunk surfaces lazily, after good samples, as BagError."""
+    _multi_chunk_bag(tmp_path / 'ok.mcap')
+    data = bytearray((tmp_path / 'ok.mcap').read_bytes())
+    marker = data.index(b'MARKER\x00')
+    length_field = marker - 4  # uint32 frame_id length in the CDR header
+
+    bad_payload = bytearray(data)
+    bad_payload[length_field:length_field + 4] = struct.pack('<I', 0x7FFFFFF0)
+    (tmp_path / 'payload.mcap').write_bytes(bad_payload)
+
+    record_start = marker - 16 - 22 - 8 - 1  # CDR head, message record fields, length, opcode
+    assert data[record_start] == 0x05
+    bad_record = bytearray(data)
+    bad_record[record_start + 1:record_start + 9] = struct.pack('<Q', 2**40)
+    (tmp_path / 'record.mcap').write_bytes(bad_record)
+
+    for name, words in (('payload.mcap', 'corrupt'), ('record.mcap', 'cannot read bag')):
+        seen = 0
+        with pytest.raises(BagError) as caught:
+            for _ in read_samples(tmp_path / name):
+                seen += 1
+        assert seen > 1000, 'the error should come lazily, after the intact chunks'
+        assert words in str(caught.value) and '\n' not in str(caught.value)

@@ -1,0 +1,87 @@
+"""Tests for baseball_collision.tools.sim sampling: stamps, jitter, noise, the truth as JSON."""
+
+import json
+
+from baseball_collision.errors import ToolError
+from baseball_collision.tools.sim import sample, truth_dict
+import numpy as np
+import pytest
+
+START_NS = 1_700_000_000_123_456_789
+
+
+def test_truth_dict_is_json(scenarios: dict) -> None:
+    """truth_dict round-trips through JSON with absolute stamps."""
+    hit, miss = scenarios['barrel'][0], scenarios['miss_over'][0]
+    record = json.loads(json.dumps(truth_dict(hit, START_NS)))
+    assert record['stamp_ns'] == START_NS + round(hit.truth.time_s * 1e9)
+    assert record['contact'] and record['kind'] == 'barrel'
+    assert record['point'] == list(hit.truth.point)
+    record = json.loads(json.dumps(truth_dict(miss, START_NS)))
+    assert not record['contact'] and record['stamp_ns'] is None
+    assert record['min_gap_stamp_ns'] == START_NS + round(miss.truth.min_gap_time_s * 1e9)
+
+
+@pytest.mark.parametrize('rate', [90.0, 120.0, 240.0, 360.0])
+def test_samples_are_the_truth_at_the_stamps(scenarios: dict, rate: float) -> None:
+    """Without noise, every sample is the truth at its stamp; stamps are int64, increasing."""
+    scenario = scenarios['barrel'][1]
+    samples = sample(scenario, rate, np.random.default_rng(0), start_ns=START_NS)
+    stamps = samples.ball_stamps_ns
+    assert stamps.dtype == np.int64 and samples.bat_stamps_ns.dtype == np.int64
+    assert np.all(np.diff(stamps) > 0) and stamps[0] == START_NS
+    assert np.array_equal(stamps, samples.bat_stamps_ns)
+    assert len(stamps) == int(scenario.t_end * rate) + 1
+    assert np.all(np.abs(np.diff(stamps) - 1e9 / rate) <= 1.0)
+    t = (stamps - START_NS) * 1e-9
+    assert np.array_equal(samples.ball_positions, scenario.pitch.position(t))
+    knobs, tips = scenario.swing.knob_tip(t)
+    assert np.array_equal(samples.knobs, knobs) and np.array_equal(samples.tips, tips)
+    for position, quaternion, knob, tip in zip(samples.bat_positions, samples.bat_quaternions,
+                                               samples.knobs, samples.tips):
+        got_knob, got_tip = scenario.swing.geometry.knob_and_tip(position, quaternion)
+        assert np.abs(got_knob - knob).max() < 1e-12 and np.abs(got_tip - tip).max() < 1e-12
+
+
+def test_360_hz_on_a_millisecond_grid_steps_2_and_3_ms(scenarios: dict) -> None:
+    """grid_s=0.001 at 360 Hz stamps on whole milliseconds, in steps of 2 and 3 ms."""
+    scenario = scenarios['end_cap'][0]
+    samples = sample(scenario, 360.0, np.random.default_rng(0), grid_s=0.001,
+                     start_ns=START_NS)
+    steps = np.diff(samples.ball_stamps_ns)
+    assert set(steps.tolist()) == {2_000_000, 3_000_000}
+    assert np.all((samples.ball_stamps_ns - START_NS) % 1_000_000 == 0)
+    t = (samples.ball_stamps_ns - START_NS) * 1e-9
+    assert np.array_equal(samples.ball_positions, scenario.pitch.position(t))
+
+
+def test_jitter_noise_and_bat_offset(scenarios: dict) -> None:
+    """Jittered stamps still increase; noise is one draw per sample; the bat can be offset."""
+    scenario = scenarios['handle'][0]
+    samples = sample(scenario, 240.0, np.random.default_rng(5), jitter_s=3e-4, noise_m=0.002,
+                     start_ns=START_NS, bat_offset_s=0.0013)
+    for stamps in (samples.ball_stamps_ns, samples.bat_stamps_ns):
+        assert stamps.dtype == np.int64 and np.all(np.diff(stamps) > 0)
+        assert START_NS <= stamps[0] and stamps[-1] <= START_NS + round(scenario.t_end * 1e9)
+    assert not np.array_equal(samples.ball_stamps_ns, samples.bat_stamps_ns)
+    t_ball = (samples.ball_stamps_ns - START_NS) * 1e-9
+    error = samples.ball_positions - scenario.pitch.position(t_ball)
+    assert 0.0015 < error.std() < 0.0025
+    t_bat = (samples.bat_stamps_ns - START_NS) * 1e-9
+    knobs, tips = scenario.swing.knob_tip(t_bat)
+    shake = samples.knobs - knobs
+    assert np.allclose(samples.tips - tips, shake, atol=1e-12)  # the same draw: still rigid
+    assert 0.0015 < shake.std() < 0.0025
+    for position, quaternion, knob in zip(samples.bat_positions, samples.bat_quaternions,
+                                          samples.knobs):
+        got_knob, _ = scenario.swing.geometry.knob_and_tip(position, quaternion)
+        assert np.abs(got_knob - knob).max() < 1e-12
+
+
+def test_sample_refuses_bad_input(scenarios: dict) -> None:
+    """Non-positive rates, negative jitter or noise raise ToolError."""
+    scenario = scenarios['barrel'][0]
+    for kwargs in ({'rate_hz': 0.0}, {'rate_hz': 90.0, 'jitter_s': -1.0},
+                   {'rate_hz': 90.0, 'noise_m': -1.0}, {'rate_hz': 90.0, 'grid_s': 0.0}):
+        with pytest.raises(ToolError):
+            sample(scenario, rng=np.random.default_rng(0), **kwargs)
