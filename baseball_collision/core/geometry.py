@@ -138,3 +138,17 @@ def quaternion_to_matrix(quaternion: Sequence[float]) -> np.ndarray:
         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
     ])
+
+
+def quaternion_from_z(direction: Sequence[float]) -> Quaternion:
+    """
+    Return the unit quaternion (x, y, z, w) of the shortest rotation turning +z onto a direction.
+
+    :param direction: a unit 3-vector; straight down (-z) gives the half turn about x.
+    """
+    x, y, z = direction
+    if z < -1.0 + 1e-9:
+        return (1.0, 0.0, 0.0, 0.0)
+    q = (-y, x, 0.0, 1.0 + z)
+    length = math.sqrt(_dot4(q, q))
+    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)
