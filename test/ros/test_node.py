@@ -19,7 +19,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector import DROP_REASONS, PARAMETERS, SPECS
+from baseball_collision.core.detector import DROP_REASONS, PARAMETERS
 from baseball_collision.errors import RosError
 from baseball_collision.ros.node import ImpactNode
 from diagnostic_msgs.msg import DiagnosticStatus
@@ -340,17 +340,6 @@ def test_bad_value_in_process_raises_node_config_error(monkeypatch: pytest.Monke
 # parameter files
 
 
-def test_yaml_lists_every_parameter_with_its_default() -> None:
-    """config/impact_node.yaml holds every declared parameter at its default, nothing else."""
-    loaded = yaml.safe_load(CONFIG.read_text())['impact_node']['ros__parameters']
-    assert list(loaded) == [spec.name for spec in PARAMETERS]
-    for spec in PARAMETERS:
-        default = [] if spec.default is None else spec.default
-        assert loaded[spec.name] == pytest.approx(default), spec.name
-    points = yaml.safe_load(POINTS_CONFIG.read_text())['impact_node']['ros__parameters']
-    assert set(points) <= set(SPECS) and points['bat_input'] == 'points'
-
-
 def test_points_params_file_loads(harness: Callable[..., Harness]) -> None:
     """The knob + tip example file loads through --params-file and builds its bat profile."""
     h = harness(args=['--params-file', str(POINTS_CONFIG)])
@@ -360,7 +349,7 @@ def test_points_params_file_loads(harness: Callable[..., Harness]) -> None:
     assert config.bat_input == 'points' and config.frame_id == 'mocap'
     assert config.profile.length == pytest.approx(0.8382)
     assert node.endpoints.topics == {'ball': '/mocap/ball', 'knob': '/mocap/bat_knob',
-                            'tip': '/mocap/bat_tip'}
+                                     'tip': '/mocap/bat_tip'}
 
 
 def _env() -> Dict[str, str]:

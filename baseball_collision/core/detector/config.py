@@ -340,8 +340,8 @@ def _check_together(checked: Mapping[str, Any]) -> Tuple[BatProfile, PoseBatGeom
                               else ['knob_topic', 'tip_topic'])
     topics = [checked[name] for name in names]
     if len(set(topics)) != len(topics):
-        raise CoreError(f"parameters {', '.join(names)} must name different topics, got "
-                        f"{', '.join(repr(topic) for topic in topics)}")
+        raise CoreError(f"parameters {', '.join(repr(name) for name in names)} must name "
+                        f"different topics, got {', '.join(repr(topic) for topic in topics)}")
     unit_vector(checked['up_axis'], 'up_axis')
     try:
         profile = _profile(checked)
