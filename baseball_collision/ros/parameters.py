@@ -6,11 +6,10 @@ Every parameter, its type, default, range and whether it may change at runtime i
 (the same function ``analyze --params`` uses), so the node and the offline tools refuse the
 same values with the same one-line messages. ROS adds one check of its own: topic names.
 
-At start-up every parameter is first declared with a loose (dynamically typed) descriptor, so
-that any given value reaches the check instead of rclpy's own type and range errors; then the
-checked value is set with the final descriptor: type, range and read-only from the table. At
-runtime :func:`check_change` validates a change (read-only refused with the reason) before
-rclpy sees it.
+At start-up each parameter is declared with its descriptor built from the table (type, range,
+read-only); a value rclpy would refuse is declared loosely instead, so that the core's check,
+not rclpy's, says why (:func:`declare`). At runtime :func:`check_change` validates a change
+(a read-only parameter refused with the reason) before rclpy sees it.
 """
 
 from dataclasses import dataclass
@@ -18,7 +17,8 @@ import math
 from typing import Any, Dict, List, Mapping, Tuple
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
-from rclpy.exceptions import InvalidTopicNameException
+from rclpy.exceptions import (
+    InvalidParameterTypeException, InvalidParameterValueException, InvalidTopicNameException)
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.validate_topic_name import validate_topic_name
@@ -97,15 +97,30 @@ def declare(node: Node) -> Settings:
     """
     Declare every parameter of the table on ``node``; return the checked settings.
 
+    Each parameter is declared with its final descriptor (type, range, read-only). A given
+    value rclpy refuses for that descriptor (wrong type, out of range), and an array without a
+    default (rclpy cannot declare an empty array by value), are declared loosely instead
+    (dynamically typed), so that the value reaches the core's check and is refused with the
+    core's message, or taken (an int for a double, converted); the final descriptor is then
+    set with the checked value.
+
     :raises RosError: a given value (``--params-file``, ``-p``, overrides) the node cannot run
         with: one line naming the parameter.
     """
-    given = {}
+    given, loose = {}, []
     for spec in PARAMETERS:
-        loose = ParameterDescriptor(description=spec.doc, dynamic_typing=True)
-        given[spec.name] = node.declare_parameter(spec.name, spec.default, loose).value
+        if spec.default != ():
+            try:
+                given[spec.name] = node.declare_parameter(
+                    spec.name, spec.default, descriptor(spec)).value
+                continue
+            except (InvalidParameterTypeException, InvalidParameterValueException):
+                pass  # not declared: the core's check below says why
+        given[spec.name] = node.declare_parameter(spec.name, spec.default, ParameterDescriptor(
+            description=spec.doc, dynamic_typing=True)).value
+        loose.append(spec)
     settings = Settings.from_values(given)
-    for spec in PARAMETERS:
+    for spec in loose:
         value = Parameter(spec.name, ROS_TYPES[spec.kind], settings[spec.name])
         node.set_descriptor(spec.name, descriptor(spec), value.get_parameter_value())
     return settings
