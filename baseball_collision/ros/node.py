@@ -19,8 +19,9 @@ events come back out as messages:
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
-table (``parameters``), conversions are in ``messages``, markers in ``markers`` and the status
-in ``diagnostics``. See ``config/impact_node.yaml`` for every parameter.
+table (``parameters``), conversions are in ``messages``, markers in ``markers``, the status
+in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See ``config/impact_node.yaml``
+for every parameter.
 """
 
 from dataclasses import replace

@@ -35,7 +35,7 @@ ROS_TYPES = {Kind.BOOL: Parameter.Type.BOOL, Kind.INTEGER: Parameter.Type.INTEGE
 
 def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     """Return a new ParameterDescriptor for a parameter of the table (rclpy mutates it)."""
-    constraints = []
+    constraints = [f'unit: {spec.unit}'] if spec.unit else []
     if spec.choices:
         constraints.append('one of: ' + ', '.join(spec.choices))
     if spec.bounds is not None and (spec.bounds.low_open or spec.bounds.high_open):

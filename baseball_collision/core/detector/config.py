@@ -74,7 +74,7 @@ class ParameterSpec:
     :ivar default: its default (a tuple for an array).
     :ivar doc: what it is, with its unit.
     :ivar unit: SI unit ('' for none).
-    :ivar bounds: the values a number may take (None: any finite or any string).
+    :ivar bounds: the values a number may take (None for a bool, a string or an array).
     :ivar choices: the strings it may take (empty: any).
     :ivar read_only: why it cannot change while the node runs ('' : it can).
     """
@@ -106,9 +106,10 @@ class ParameterSpec:
         """
         kind = self.kind
         if kind == Kind.DOUBLE_ARRAY:
-            items = value.tolist() if hasattr(value, 'tolist') else value
             if value is None:
                 items = []  # unset: rclpy's NOT_SET for an array declared by type
+            else:
+                items = value.tolist() if hasattr(value, 'tolist') else value  # array.array
             if not isinstance(items, (list, tuple)) or not all(_is_number(x) for x in items):
                 raise self._wrong_type(value)
             return [float(x) for x in items]
