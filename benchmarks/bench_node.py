@@ -1,7 +1,8 @@
 """
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
-Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]``.
+Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]``, or
+``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -10,6 +11,8 @@ second child (``--listen``) records when each ``/impact_node/impact`` arrives. E
 swing that hits the ball; between pitches both streams pause longer than ``max_gap``.
 
 * processing: median, p99 and max over every message of the wall time inside the callback.
+* start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
+  config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
   (the bat pose at the first stamp after the impact, published after the ball) to the
   reception of ``~/impact`` by the listener; both on the system-wide monotonic clock.
@@ -19,6 +22,7 @@ import argparse
 import json
 import math
 import os
+from pathlib import Path
 import random
 import signal
 import subprocess
@@ -78,18 +82,18 @@ class TimedImpactNode(ImpactNode):
         self.timeline: List[Tuple[int, int, int]] = []
         self._entry_ns = 0
         super().__init__()
-        publish = self._impact_pub.publish
+        publish = self._outputs['impact'].publish
 
         def timed_publish(message: PointStamped) -> None:
             self.timeline.append((message.header.stamp.sec * 10**9
                                   + message.header.stamp.nanosec, self._entry_ns,
                                   time.monotonic_ns()))
             publish(message)
-        self._impact_pub = _Wrapped(self._impact_pub, timed_publish)
+        self._outputs['impact'] = _Wrapped(self._outputs['impact'], timed_publish)
 
-    def _sample(self, *args: object) -> None:
+    def _take(self, *args: object) -> None:
         self._entry_ns = time.monotonic_ns()
-        super()._sample(*args)
+        super()._take(*args)
 
     def _record_processing(self, elapsed_s: float) -> None:
         self.times.append(elapsed_s)
@@ -259,6 +263,32 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool) -> None:
         print(f"    {name}: median {figures['median']:.3f} ms, p99 {figures['p99']:.3f} ms")
 
 
+def startup(runs: int) -> None:
+    """Print the median, min and max time (ms) from starting impact_node to its first line."""
+    script = Path(sys.executable).parent / 'impact_node'
+    command = [str(script)] if script.exists() else [
+        sys.executable, '-m', 'baseball_collision.ros.node']
+    params = Path(__file__).resolve().parent.parent / 'config' / 'impact_node.yaml'
+    env = dict(os.environ, PYTHONUNBUFFERED='1', ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    env.pop('RMW_IMPLEMENTATION', None)
+    times = []
+    for _ in range(runs):
+        start = time.monotonic()
+        child = subprocess.Popen(command + ['--ros-args', '--params-file', str(params)],
+                                 env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                 text=True)
+        for line in child.stderr:
+            if 'listening' in line:
+                times.append((time.monotonic() - start) * 1e3)
+                break
+        child.send_signal(signal.SIGINT)
+        child.communicate(timeout=30)
+    figures = percentiles(times)
+    print(f"impact_node start-up (start -> 'listening' line, {figures['count']} runs): "
+          f"median {figures['median']:.0f} ms, min {min(times):.0f} ms, "
+          f"max {figures['max']:.0f} ms")
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     """Parse the command line and run the benchmark (or a child: --serve, --listen)."""
     argv = sys.argv[1:] if argv is None else argv
@@ -271,7 +301,12 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--rate', type=float, default=1000.0, help='Hz per stream (1000)')
     parser.add_argument('--qos', choices=('reliable', 'sensor_data'), default='reliable')
     parser.add_argument('--no-markers', action='store_true', help='publish_markers:=false')
+    parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
+                        help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
+    if args.startup:
+        startup(args.startup)
+        return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers)
     return 0
 

@@ -224,3 +224,17 @@ def finite_number(name: str, value: float, error: type = CoreError) -> float:
     if not math.isfinite(number):
         raise error(f'{name} must be finite, got {value!r}')
     return number
+
+
+def quaternion_from_z(direction: Sequence[float]) -> Quaternion:
+    """
+    Return the unit quaternion (x, y, z, w) of the shortest rotation turning +z onto a direction.
+
+    :param direction: a unit 3-vector; straight down (-z) gives the half turn about x.
+    """
+    x, y, z = direction
+    if z < -1.0 + 1e-9:
+        return (1.0, 0.0, 0.0, 0.0)
+    q = (-y, x, 0.0, 1.0 + z)
+    length = math.sqrt(_dot4(q, q))
+    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)

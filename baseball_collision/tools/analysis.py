@@ -88,28 +88,42 @@ def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> No
 
 def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
     """
-    Read the parameters a ROS 2 node would take from a ``--params-file`` YAML.
+    Read the parameters a ROS 2 node would take from a ``--params-file`` YAML, checked as it does.
 
     Sections used, in this order (later ones win, as for the node): ``/**`` (or ``**``), then
     every key naming the node: ``<node_name>``, ``/<node_name>``, or a path ending in
     ``/<node_name>`` (a namespaced node). Each section's ``ros__parameters`` mapping is
-    flattened: nested mappings become ``outer.inner`` names.
+    flattened: nested mappings become ``outer.inner`` names. The values are checked with the
+    node's rules (``core.detector.validate_parameters``): a file the node would refuse is
+    refused with the same message. YAML aliases and nesting deeper than 32 levels are refused.
 
     :param path: the YAML file.
     :param node_name: the node's name.
-    :returns: ``{parameter name: value}``.
-    :raises ToolError: the file is missing or not YAML, has no section for the node, or a
-        section without a ``ros__parameters`` mapping.
+    :returns: ``{parameter name: value}`` as the file gives them (names the node does not know
+        included).
+    :raises ToolError: the file is missing or not YAML, has aliases or deep nesting, has no
+        section for the node, a section without a ``ros__parameters`` mapping, or a value the
+        node refuses.
     """
     import yaml  # PyYAML, as ROS 2's own tools use; imported here so analyze starts fast
 
+    from ..core.detector import validate_parameters  # lead: move to the module's imports
     path = Path(path)
     try:
         text = path.read_text()
+        depth = 0
+        for event in yaml.parse(text, Loader=yaml.SafeLoader):  # events: no recursion
+            if isinstance(event, yaml.AliasEvent):
+                raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line '
+                                f'{event.start_mark.line + 1})')
+            depth += isinstance(event, yaml.CollectionStartEvent) - isinstance(
+                event, yaml.CollectionEndEvent)
+            if depth > 32:
+                raise ToolError(f'parameter file {path}: nested deeper than 32 levels (line '
+                                f'{event.start_mark.line + 1})')
+        document = yaml.safe_load(text)
     except OSError as error:
         raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
-    try:
-        document = yaml.safe_load(text)
     except yaml.YAMLError as error:
         first = str(error).strip().splitlines()[0] if str(error).strip() else 'invalid'
         raise ToolError(f'parameter file {path} is not valid YAML: {first}') from error
@@ -131,6 +145,10 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
             raise ToolError(
                 f"parameter file {path}: section '{key}' has no ros__parameters mapping")
         _flatten('', inner, parameters)
+    try:
+        validate_parameters(parameters)
+    except CoreError as error:
+        raise ToolError(f'parameter file {path}: {error}') from error
     return parameters
 
 
@@ -148,17 +166,12 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
     :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
     :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
     :returns: the configuration.
-    :raises ToolError: a value the detector does not accept (the message names it).
+    :raises ToolError: a value the node would refuse (the message names the parameter).
     """
-    values = dict(parameters)
-    values['model'] = model or values.get('model') or OFFLINE_MODEL
-    values['bat_input'] = bat_input
-    if ball_radius is not None:
-        values['ball_radius'] = ball_radius
-    if bat_radius is not None:
-        values['bat_radius'] = bat_radius
-    if prediction_horizon is not None:
-        values['prediction_horizon'] = prediction_horizon
+    flags = {'model': model or parameters.get('model') or OFFLINE_MODEL, 'bat_input': bat_input,
+             'ball_radius': ball_radius, 'bat_radius': bat_radius,
+             'prediction_horizon': prediction_horizon}
+    values = dict(parameters, **{name: v for name, v in flags.items() if v is not None})
     try:
         return DetectorConfig.from_parameters(values)
     except CoreError as error:

@@ -115,7 +115,9 @@ def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..
     h.processed(sent + publish(second.ball, second.bat, range(SAMPLES), SECOND))
     h.wait(lambda: len(h.received['impact']) == 2, 2.0, 'the impact of the next swing')
     assert abs(impacts(h)[1] - truth_ns - SECOND) < 100_000
-    status = h.diagnostics_where(lambda v: v['impacts'] == '2')
+    # a status after every message was taken (the second impact comes before the swing's end)
+    status = h.diagnostics_where(lambda v: v['impacts'] == '2' and int(
+        v['ball_received']) + int(v['bat_pose_received']) == 4 * SAMPLES)
     counts = {kv.key: kv.value for kv in status.values}
     assert counts['dropped_total'] == '0' and counts['ball_received'] == str(2 * SAMPLES)
     second.destroy_node()

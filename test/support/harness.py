@@ -139,7 +139,7 @@ class Harness:
 
     def processed(self, count: int, timeout: float = 5.0) -> None:
         """Wait until the node took ``count`` messages in, then let it publish."""
-        self.wait(lambda: sum(self.node._arrivals.values()) >= count, timeout,
+        self.wait(lambda: sum(self.node.tally.arrivals.values()) >= count, timeout,
                   f'{count} messages processed')
         time.sleep(0.05)
 

@@ -1,0 +1,115 @@
+"""
+The node's publishers and subscriptions, and the mismatches on their topics.
+
+ROS delivers nothing between endpoints whose QoS or message types do not match, and says so
+only through event callbacks. :class:`Endpoints` creates the node's publishers and
+subscriptions with those callbacks: each mismatch is warned about, naming the topic, the side
+and the policy (or both types), and counted in the diagnostics tally; and it tells why a silent
+input may be silent (no publisher, or one of another type).
+"""
+
+from typing import Any, Callable, Dict, Sequence, Set, Tuple
+
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+from rclpy.exceptions import InvalidTopicNameException
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from .diagnostics import Tally
+from .messages import type_name
+from ..errors import RosError
+
+
+def input_qos(reliable: bool, depth: int) -> QoSProfile:
+    """Return the inputs' QoS: reliable or best effort (``qos``), ``depth`` deep, volatile."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST, depth=depth,
+        reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.VOLATILE)
+
+
+class Endpoints:
+    """
+    Create a node's endpoints with mismatch warnings; name the inputs' topics and types.
+
+    :param node: the node the endpoints belong to (and whose logger warns).
+    :param tally: where mismatches are counted (``incompatible``).
+    :ivar topics: each input stream's resolved topic (``/ball`` ...).
+    :ivar types: each input stream's message type (``geometry_msgs/msg/PointStamped`` ...).
+    """
+
+    def __init__(self, node: Node, tally: Tally) -> None:
+        self._node = node
+        self._tally = tally
+        self.topics: Dict[str, str] = {}
+        self.types: Dict[str, str] = {}
+        self._type_warned: Set[Tuple[str, Tuple[str, ...]]] = set()
+
+    def advertise(self, msg_type: Any, topic: str, qos: QoSProfile) -> Any:
+        """Return a new publisher whose QoS mismatches are warned about, naming the topic."""
+        name = [topic]  # resolved once the publisher exists
+        callbacks = PublisherEventCallbacks(
+            incompatible_qos=lambda info: self._incompatible_qos(name[0], 'publisher', info))
+        publisher = self._node.create_publisher(msg_type, topic, qos, event_callbacks=callbacks)
+        name[0] = publisher.topic_name
+        return publisher
+
+    def subscribe(self, stream: str, msg_type: Any, topic: str, callback: Callable[[Any], None],
+                  qos: QoSProfile) -> Any:
+        """
+        Return a new subscription of an input stream, its QoS and type mismatches warned about.
+
+        :raises RosError: a topic name that fails once expanded (``a//b``).
+        """
+        events = SubscriptionEventCallbacks(
+            incompatible_qos=lambda info: self._incompatible_qos(
+                self.topics.get(stream, topic), 'subscription', info),
+            incompatible_type=lambda info: self._incompatible_type(stream))
+        self.types[stream] = type_name(msg_type)
+        try:
+            subscription = self._node.create_subscription(msg_type, topic, callback, qos,
+                                                          event_callbacks=events)
+        except InvalidTopicNameException as error:
+            first = str(error).splitlines()[0].rstrip(':')
+            raise RosError(f'{stream} topic {topic!r}: {first}') from error
+        self.topics[stream] = subscription.topic_name
+        return subscription
+
+    def silence(self, stream: str) -> str:
+        """Return why an input may be silent: no publisher, one of another type, or ''."""
+        infos = self._node.get_publishers_info_by_topic(self.topics[stream])
+        if not infos:
+            return 'no publisher'
+        others = sorted({info.topic_type for info in infos} - {self.types[stream]})
+        if others:
+            self._incompatible_type(stream, others)
+            return f"publisher of {', '.join(others)}, expected {self.types[stream]}"
+        return ''
+
+    def _incompatible_qos(self, topic: str, role: str, info: Any) -> None:
+        """Warn that an endpoint on ``topic`` has QoS incompatible with ours, naming the policy."""
+        self._tally.incompatible += 1
+        policy = getattr(info.last_policy_kind, 'name', str(info.last_policy_kind))
+        policy = policy.replace('RMW_QOS_POLICY_', '')
+        hint = ''
+        if role == 'subscription' and 'RELIABILITY' in policy:
+            hint = ("; this node subscribes 'reliable': publish reliable or set "
+                    'qos:=sensor_data')
+        elif role == 'subscription' and 'DURABILITY' in policy:
+            hint = '; the publisher offers volatile durability, this node asks for more'
+        self._node.get_logger().warning(
+            f'incompatible QoS on {topic} ({role} side): policy {policy}; '
+            f'{info.total_count} incompatible endpoint(s), no messages flow{hint}')
+
+    def _incompatible_type(self, stream: str, others: Sequence[str] = ()) -> None:
+        """Warn (once per stream and type) that a publisher has another type than expected."""
+        key = (stream, tuple(others))
+        if key in self._type_warned:
+            return
+        self._type_warned.add(key)
+        self._tally.incompatible += 1
+        hint = " (set ball_type to 'point' or 'pose')" if stream == 'ball' else ''
+        other = f" ({', '.join(others)})" if others else ''
+        self._node.get_logger().warning(
+            f'a publisher on {self.topics[stream]} has another type{other} than '
+            f'{self.types[stream]}: no messages flow{hint}')

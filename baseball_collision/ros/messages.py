@@ -1,0 +1,248 @@
+"""
+Conversions between ROS messages and the core's plain values, and detector events to messages.
+
+Header stamps become integer nanoseconds (``sec * 10**9 + nanosec``) and back; points, vectors
+and quaternions become tuples (quaternions in ROS order x, y, z, w). Each detector event type
+maps, through one table keyed by the event's type (:func:`event_output`), to the messages it is
+published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
+``predicted_impact``, ``markers``) and the line it is logged as.
+"""
+
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
+
+from builtin_interfaces.msg import Time as TimeMsg
+from geometry_msgs.msg import Point, PointStamped, TwistStamped, Vector3Stamped
+from nav_msgs.msg import Path
+from std_msgs.msg import Header
+from visualization_msgs.msg import MarkerArray
+
+from ..core.detector import (
+    Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared, StateReset, StreamGap)
+from ..core.geometry import Quaternion, Vector
+
+NS_PER_S = 1_000_000_000
+"""Nanoseconds per second."""
+
+
+# ----------------------------------------------------------------------------------------------
+# stamps and geometry
+
+
+def type_name(msg_type: Any) -> str:
+    """Return a message class's ROS name, e.g. ``geometry_msgs/msg/PointStamped``."""
+    return f"{msg_type.__module__.split('.')[0]}/msg/{msg_type.__name__}"
+
+
+def stamp_to_ns(stamp: TimeMsg) -> int:
+    """Return a header stamp as integer nanoseconds (``sec * 10**9 + nanosec``)."""
+    return stamp.sec * NS_PER_S + stamp.nanosec
+
+
+def ns_to_stamp(stamp_ns: int) -> TimeMsg:
+    """Return integer nanoseconds as a ``builtin_interfaces/Time``."""
+    return TimeMsg(sec=stamp_ns // NS_PER_S, nanosec=stamp_ns % NS_PER_S)
+
+
+def format_stamp(stamp_ns: int) -> str:
+    """Return integer nanoseconds as ``seconds.nanoseconds`` text."""
+    return f'{stamp_ns // NS_PER_S}.{stamp_ns % NS_PER_S:09d}'
+
+
+def stamped_header(stamp_ns: int, frame_id: str) -> Header:
+    """Return a header stamped with integer nanoseconds."""
+    return Header(stamp=ns_to_stamp(stamp_ns), frame_id=frame_id)
+
+
+def xyz(v: Any) -> Vector:
+    """Return the x, y, z fields of a Point or Vector3 message."""
+    return (v.x, v.y, v.z)
+
+
+def xyzw(q: Any) -> Quaternion:
+    """Return a Quaternion message as (x, y, z, w)."""
+    return (q.x, q.y, q.z, q.w)
+
+
+def to_point(v: Vector) -> Point:
+    """Return a vector (m) as a geometry_msgs/Point."""
+    return Point(x=float(v[0]), y=float(v[1]), z=float(v[2]))
+
+
+def plan_arrays(path: Path) -> Tuple[List[int], List[Vector], List[Quaternion], Set[str]]:
+    """
+    Return a commanded bat trajectory as the detector takes it.
+
+    :returns: the poses' stamps (ns), positions (m) and quaternions, and every non-empty frame
+        named by the path or its poses.
+    """
+    frames = {path.header.frame_id} | {pose.header.frame_id for pose in path.poses}
+    frames.discard('')
+    return ([stamp_to_ns(pose.header.stamp) for pose in path.poses],
+            [xyz(pose.pose.position) for pose in path.poses],
+            [xyzw(pose.pose.orientation) for pose in path.poses], frames)
+
+
+# ----------------------------------------------------------------------------------------------
+# log lines
+
+
+def describe_impact(impact: Impact) -> str:
+    """Return the one-line, human-readable summary of an impact (m, cm, m/s, mph, ms)."""
+    into = (impact.stamp_ns - impact.interval_start_ns) * 1e-6
+    interval = (impact.interval_end_ns - impact.interval_start_ns) * 1e-6
+    return (
+        f'impact at {format_stamp(impact.stamp_ns)} s: {impact.distance_from_tip_m * 100:.1f} cm '
+        f'from the tip ({impact.feature}), sweet-spot speed {impact.sweet_spot_speed_mps:.1f} m/s '
+        f'({impact.sweet_spot_speed_mps * MPS_TO_MPH:.1f} mph), bat at contact '
+        f'{impact.bat_speed_at_contact_mps:.1f} m/s '
+        f'({impact.bat_speed_at_contact_mps * MPS_TO_MPH:.1f} mph), ball '
+        f'{impact.ball_speed_mps:.1f} m/s ({impact.ball_speed_mps * MPS_TO_MPH:.1f} mph), '
+        f'attack angle {impact.attack_angle_deg:+.1f} deg, closing speed '
+        f'{impact.relative_normal_speed_mps:.1f} m/s, {into:.3f} ms into a {interval:.3f} ms '
+        f'interval ({impact.model})')
+
+
+def describe_near_miss(miss: NearMiss) -> str:
+    """Return the one-line summary of a near miss (cm)."""
+    gap = ' '.join(f'{x:+.3f}' for x in miss.gap_vector)
+    return (f'near miss at {format_stamp(miss.stamp_ns)} s: the ball passed '
+            f'{miss.gap_m * 100:.1f} cm from the bat, {miss.distance_from_tip_m * 100:.1f} cm '
+            f'from the tip (gap vector {gap} m)')
+
+
+def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
+                       published: Sequence[str]) -> str:
+    """
+    Return the node's start-up line: what it reads, from where, and what it publishes.
+
+    :param settings: the node's parameter values; ``topics``: each input stream's resolved
+        topic; ``published``: the resolved event and marker topics.
+    """
+    if settings['bat_input'] == 'pose':
+        bat = f"bat PoseStamped on {topics['bat_pose']} (axis {settings['bat_axis']})"
+    else:
+        bat = f"bat knob and tip PointStamped on {topics['knob']} and {topics['tip']}"
+    kind = 'PointStamped' if settings['ball_type'] == 'point' else 'PoseStamped'
+    frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first frame seen'
+    return (f"listening: ball {kind} on {topics['ball']}, {bat}; qos {settings['qos']} "
+            f"depth {settings['qos_depth']}; model {settings['model']}; frame {frame}; "
+            f"publishing {', '.join(published)}")
+
+
+_DROP_DETAILS = {
+    'wrong_frame': 'frame {frame!r} is not the tracking frame {expected!r}',
+    'non_finite': 'NaN or infinite coordinates',
+    'duplicate_stamp': 'stamp {stamp} s was already received',
+    'out_of_order': 'stamp {stamp} s is older than the newest of its stream',
+    'bad_quaternion': 'orientation is not a unit quaternion',
+    'zero_length_bat': 'knob and tip coincide',
+    'bat_length_jump': 'knob-tip length jumped beyond bat_length_tolerance',
+    'speed_limit': 'moved faster than max_speed since the previous sample',
+    'unexpected_input': 'this input does not match bat_input',
+}
+
+
+def describe_drop(reason: str, frame: str, expected: Optional[str], stamp_ns: int) -> str:
+    """Return why a sample was dropped, in words (``reason`` is a ``DROP_REASONS`` entry)."""
+    return _DROP_DETAILS.get(reason, reason).format(
+        frame=frame, expected=expected or '', stamp=format_stamp(stamp_ns))
+
+
+# ----------------------------------------------------------------------------------------------
+# events
+
+
+@dataclass(frozen=True)
+class EventOutput:
+    """
+    What one detector event becomes in the node.
+
+    :ivar messages: ``(output name, message)`` pairs to publish, in order.
+    :ivar log: the line to log ('' for none), at ``level`` (``'info'`` or ``'warning'``).
+    :ivar throttled: log at most once per throttle period (a burst of the same kind).
+    :ivar echoes_clock_jump: the line repeats a ROS clock jump's warning when one was just
+        logged (a state reset by the stamps' own jump back): log it at debug level then.
+    :ivar predicting: the new ``~/impact_predicted`` state (None: unchanged).
+    :ivar impact_ns: the stamp of the impact it publishes (None: not an impact).
+    """
+
+    messages: Tuple[Tuple[str, Any], ...] = ()
+    log: str = ''
+    level: str = 'info'
+    throttled: bool = False
+    echoes_clock_jump: bool = False
+    predicting: Optional[bool] = None
+    impact_ns: Optional[int] = None
+
+
+ImpactMarkers = Callable[[Impact, str], Optional[MarkerArray]]
+"""Makes the markers of an impact in a frame (None: markers off)."""
+
+
+def _impact(impact: Impact, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    header = stamped_header(impact.stamp_ns, frame_id)
+    velocity = TwistStamped(header=header)
+    velocity.twist.linear.x, velocity.twist.linear.y, velocity.twist.linear.z = \
+        impact.bat_velocity
+    velocity.twist.angular.x, velocity.twist.angular.y, velocity.twist.angular.z = \
+        impact.bat_angular_velocity
+    messages = [('impact', PointStamped(header=header, point=to_point(impact.point))),
+                ('impact_velocity', velocity)]
+    array = markers(impact, frame_id)
+    if array is not None:
+        messages.append(('markers', array))
+    return EventOutput(messages=tuple(messages), log=describe_impact(impact),
+                       impact_ns=impact.stamp_ns)
+
+
+def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    message = Vector3Stamped(header=stamped_header(miss.stamp_ns, frame_id))
+    message.vector.x, message.vector.y, message.vector.z = miss.gap_vector
+    return EventOutput(messages=(('near_miss', message),), log=describe_near_miss(miss))
+
+
+def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    message = PointStamped(header=stamped_header(prediction.stamp_ns, frame_id),
+                           point=to_point(prediction.point))
+    return EventOutput(messages=(('predicted_impact', message),), predicting=True)
+
+
+def _prediction_cleared(event: PredictionCleared, frame_id: str,
+                        markers: ImpactMarkers) -> EventOutput:
+    return EventOutput(predicting=False)
+
+
+def _stream_gap(gap: StreamGap, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    return EventOutput(
+        log=f'{gap.stream} stream gap of {(gap.end_ns - gap.start_ns) * 1e-6:.1f} ms '
+            f'(> max_gap) from {format_stamp(gap.start_ns)} s: not interpolated',
+        throttled=True)
+
+
+def _state_reset(reset: StateReset, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    return EventOutput(
+        log=f'header stamps jumped back to {format_stamp(reset.stamp_ns)} s: detector state '
+            'reset', level='warning', echoes_clock_jump=True, predicting=False)
+
+
+_EVENT_OUTPUTS: Dict[Type[Any], Callable[[Any, str, ImpactMarkers], EventOutput]] = {
+    Impact: _impact,
+    NearMiss: _near_miss,
+    Prediction: _prediction,
+    PredictionCleared: _prediction_cleared,
+    StreamGap: _stream_gap,
+    StateReset: _state_reset,
+}
+"""The one dispatch table: event type -> what it becomes."""
+
+
+def event_output(event: Event, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    """
+    Return what a detector event becomes: messages stamped with its instant, and a log line.
+
+    :param frame_id: the tracking frame, for the headers.
+    :param markers: makes an impact's markers (returns None when markers are off).
+    :raises KeyError: an event type the table does not know.
+    """
+    return _EVENT_OUTPUTS[type(event)](event, frame_id, markers)

@@ -1,0 +1,79 @@
+"""The markers on their own: the bat along knob-tip, the ball, an impact's contact and normal."""
+
+from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
+from baseball_collision.core.detector import DetectorConfig, Impact
+from baseball_collision.core.geometry import quaternion_from_z, rotate
+from baseball_collision.ros.markers import (
+    bat_ends, bat_markers, impact_markers, lifetime, live_markers)
+from baseball_collision.ros.messages import stamp_to_ns
+import pytest
+from std_msgs.msg import Header
+from support.events import swing_events
+from support.scenes import pose
+from visualization_msgs.msg import Marker
+
+pytestmark = pytest.mark.ros
+
+
+@pytest.mark.parametrize('direction', [(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, -0.6, 0.8),
+                                       (0.0, 0.0, -1.0), (0.48, 0.6, -0.64)])
+def test_quaternion_from_z_turns_z_onto_the_direction(direction) -> None:
+    """The marker orientation: +z rotated by it is the direction; it is a unit quaternion."""
+    q = quaternion_from_z(direction)
+    assert sum(c * c for c in q) == pytest.approx(1.0)
+    assert rotate(q, (0.0, 0.0, 1.0)) == pytest.approx(direction, abs=1e-12)
+
+
+def test_bat_is_one_piece_per_profile_segment_along_knob_tip() -> None:
+    """Cylinders centred on their segment, along knob-tip, as long and wide as the segment."""
+    knob, tip = (0.0, 0.0, 1.0), (0.0, 0.8636, 1.0)
+    markers = bat_markers(Header(frame_id='world'), 'bat', knob, tip, WOOD_BAT_34.segments(),
+                          lifetime(0.5))
+    assert len(markers) == len(WOOD_BAT_34.segments())
+    for marker, (f0, f1, radius) in zip(markers, WOOD_BAT_34.segments()):
+        assert marker.type == Marker.CYLINDER and marker.ns == 'bat'
+        assert marker.pose.position.y == pytest.approx(0.8636 * 0.5 * (f0 + f1))
+        assert marker.scale.z == pytest.approx((f1 - f0) * 0.8636)
+        assert marker.scale.x == pytest.approx(2.0 * radius)
+        o = marker.pose.orientation
+        assert rotate((o.x, o.y, o.z, o.w), (0.0, 0.0, 1.0)) == pytest.approx((0, 1, 0))
+        assert (marker.lifetime.sec, marker.lifetime.nanosec) == (0, 500_000_000)
+    ball = bat_markers(Header(), 'b', knob, tip, BatProfile.from_sequence([[0.4, 0.03]], 0.8)
+                       .segments(), lifetime(0.0))
+    assert ball[0].type == Marker.SPHERE and ball[0].scale.z == pytest.approx(0.06)
+
+
+def test_impact_markers_at_the_impact_instant() -> None:
+    """Bat, ball, contact, normal and label, all stamped with the impact in the frame."""
+    impact = next(e for e in swing_events() if isinstance(e, Impact))
+    config = DetectorConfig()
+    array = impact_markers(impact, 'world', config, 5.0)
+    names = [m.ns for m in array.markers]
+    assert names.count('impact_bat') == len(WOOD_BAT_34.segments())
+    assert {'impact_ball', 'impact_contact', 'impact_normal', 'impact_label'} <= set(names)
+    assert all(stamp_to_ns(m.header.stamp) == impact.stamp_ns and
+               m.header.frame_id == 'world' for m in array.markers)
+    ball = next(m for m in array.markers if m.ns == 'impact_ball')
+    assert ball.scale.x == pytest.approx(2 * config.ball_radius)
+    arrow = next(m for m in array.markers if m.ns == 'impact_normal')
+    assert (arrow.points[0].x, arrow.points[0].y, arrow.points[0].z) == pytest.approx(
+        impact.point)
+    assert 'mph' in next(m for m in array.markers if m.ns == 'impact_label').text
+
+
+def test_live_markers_from_the_last_samples() -> None:
+    """The last pose gives knob and tip; without a bat only the ball; nothing without data."""
+    config = DetectorConfig()
+    position, quaternion = pose(0.05)
+    ends = bat_ends({'bat_pose': (tuple(position), tuple(quaternion))}, config)
+    assert ends is not None and ends[0] == pytest.approx(position)
+    assert bat_ends({'bat_pose': ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0))}, config) is None
+    assert bat_ends({'knob': ((0.0, 0.0, 1.0),)}, config) is None
+    assert bat_ends({'knob': ((0, 0, 1),), 'tip': ((0, 1, 1),)}, config) == ((0, 0, 1),
+                                                                             (0, 1, 1))
+    array = live_markers(Header(frame_id='world'), (0.5, 0.5, 1.0), ends, config, 0.1)
+    assert [m.ns for m in array.markers].count('live_bat') == len(WOOD_BAT_34.segments())
+    assert array.markers[-1].ns == 'live_ball'
+    only_ball = live_markers(Header(), (0.5, 0.5, 1.0), None, config, 0.1)
+    assert [m.ns for m in only_ball.markers] == ['live_ball']
+    assert live_markers(Header(), None, ((0, 0, 1), (0, 0, 1)), config, 0.1).markers == []

@@ -1,0 +1,88 @@
+"""Stamp and message conversions, and detector events to messages through the one table."""
+
+import typing
+
+from baseball_collision.core.detector import (
+    Event, Impact, NearMiss, Prediction, PredictionCleared, StateReset, StreamGap)
+from baseball_collision.ros.messages import (
+    describe_drop, event_output, format_stamp, ns_to_stamp, plan_arrays, stamp_to_ns)
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
+from nav_msgs.msg import Path
+import pytest
+from support.events import swing_events
+from support.scenes import BASE_NS
+from visualization_msgs.msg import MarkerArray
+
+pytestmark = pytest.mark.ros
+
+
+def test_stamps_round_trip_to_the_nanosecond() -> None:
+    """Stamps go to sec * 10**9 + nanosec and back, even epoch stamps floats cannot hold."""
+    for ns in (0, 1, 999_999_999, BASE_NS + 123_456_789, 2**62 + 7):
+        assert stamp_to_ns(ns_to_stamp(ns)) == ns
+    assert ns_to_stamp(BASE_NS + 5).nanosec == 5
+    assert format_stamp(BASE_NS + 5) == '1700000000.000000005'
+
+
+def test_every_event_type_has_an_entry() -> None:
+    """The dispatch table covers every type of the Event union; others are refused."""
+    for event_type in typing.get_args(Event):
+        assert event_type in (Impact, NearMiss, Prediction, PredictionCleared, StreamGap,
+                              StateReset)
+    assert event_output(PredictionCleared(made_at_ns=5), 'world', None).predicting is False
+    with pytest.raises(KeyError):
+        event_output(object(), 'world', lambda impact, frame: None)
+
+
+def test_an_impact_becomes_its_point_velocity_markers_and_a_line() -> None:
+    """~/impact and ~/impact_velocity at the impact instant, in the frame; markers when on."""
+    impact = next(e for e in swing_events() if isinstance(e, Impact))
+    off = event_output(impact, 'world', lambda i, frame: None)
+    assert [name for name, _ in off.messages] == ['impact', 'impact_velocity']
+    point, twist = (message for _, message in off.messages)
+    assert isinstance(point, PointStamped) and isinstance(twist, TwistStamped)
+    assert stamp_to_ns(point.header.stamp) == impact.stamp_ns == off.impact_ns
+    assert point.header == twist.header and point.header.frame_id == 'world'
+    assert (point.point.x, point.point.y, point.point.z) == pytest.approx(impact.point)
+    assert (twist.twist.linear.x, twist.twist.linear.y, twist.twist.linear.z) == \
+        pytest.approx(impact.bat_velocity)
+    assert off.log.startswith(f'impact at {format_stamp(impact.stamp_ns)} s')
+    on = event_output(impact, 'world', lambda i, frame: MarkerArray())
+    assert [name for name, _ in on.messages] == ['impact', 'impact_velocity', 'markers']
+
+
+def test_near_miss_prediction_gap_and_reset() -> None:
+    """Each becomes what the node publishes and logs (see EventOutput)."""
+    miss = next(e for e in swing_events(height=1.09) if isinstance(e, NearMiss))
+    output = event_output(miss, 'world', None)
+    (name, vector), = output.messages
+    assert name == 'near_miss' and isinstance(vector, Vector3Stamped)
+    assert (vector.vector.x, vector.vector.y, vector.vector.z) == pytest.approx(miss.gap_vector)
+    assert stamp_to_ns(vector.header.stamp) == miss.stamp_ns and output.log
+    prediction = next(e for e in swing_events(horizon=0.3) if isinstance(e, Prediction))
+    output = event_output(prediction, 'world', None)
+    assert output.predicting is True and output.messages[0][0] == 'predicted_impact'
+    assert stamp_to_ns(output.messages[0][1].header.stamp) == prediction.stamp_ns
+    gap = event_output(StreamGap('ball', BASE_NS, BASE_NS + 80_000_000), 'world', None)
+    assert gap.throttled and not gap.messages and '80.0 ms' in gap.log
+    reset = event_output(StateReset(BASE_NS, 'time_jump_backwards'), 'world', None)
+    assert reset.level == 'warning' and reset.echoes_clock_jump and reset.predicting is False
+
+
+def test_plan_and_drop_texts() -> None:
+    """A Path becomes stamps, positions, quaternions and its frames; drops read in words."""
+    path = Path()
+    path.header.frame_id = 'world'
+    for i, frame in enumerate(('', 'world', 'camera')):
+        message = PoseStamped()
+        message.header.stamp = ns_to_stamp(BASE_NS + i)
+        message.header.frame_id = frame
+        message.pose.position.x = float(i)
+        message.pose.orientation.w = 1.0
+        path.poses.append(message)
+    stamps, positions, quaternions, frames = plan_arrays(path)
+    assert stamps == [BASE_NS, BASE_NS + 1, BASE_NS + 2] and frames == {'world', 'camera'}
+    assert positions[2] == (2.0, 0.0, 0.0) and quaternions[0] == (0.0, 0.0, 0.0, 1.0)
+    assert describe_drop('wrong_frame', 'camera', 'world', BASE_NS) == \
+        "frame 'camera' is not the tracking frame 'world'"
+    assert describe_drop('new_reason', '', None, BASE_NS) == 'new_reason'

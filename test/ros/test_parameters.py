@@ -1,0 +1,150 @@
+"""
+The node's parameters: declared from the core's table, and refused exactly as analyze refuses.
+
+For each bad value the same one-line message comes from the core's ``validate_parameters``,
+from ``impact_node`` given it in a params file (start-up), from ``impact_node`` asked to take it
+at runtime (parameter service), and from ``analyze --params`` reading the same file.
+"""
+
+from pathlib import Path
+from typing import Any, Callable
+
+from baseball_collision.core.detector import Kind, PARAMETERS, SPECS, validate_parameters
+from baseball_collision.errors import CoreError, RosError, ToolError
+from baseball_collision.ros.node import ImpactNode
+from baseball_collision.tools.analysis import load_parameters
+import pytest
+from rcl_interfaces.msg import ParameterType
+import rclpy
+from rclpy.parameter import Parameter
+from support.harness import Harness
+
+pytestmark = pytest.mark.ros
+
+BAD = [  # (YAML value text, the value) of parameters that may change at runtime
+    ('max_gap', '0.0', 0.0),  # the detector needs > 0 (the node used to take it)
+    ('max_gap', '-1', -1),  # an int for a double, out of range
+    ('ball_radius', 'true', True),  # a bool is no radius (analyze used to take it as 1 m)
+    ('ball_radius', '0.75', 0.75),
+    ('near_miss_threshold', '"far"', 'far'),
+    ('velocity_degree', '7', 7),
+    ('velocity_degree', '2.0', 2.0),  # a double for an integer
+    ('up_axis', '[0.0, 0.0, 0.0]', [0.0, 0.0, 0.0]),
+    ('stale_timeout', '0.0', 0.0),
+    ('publish_markers', '1', 1),
+]
+BAD_AT_START = BAD + [  # read-only ones: refused at start-up only
+    ('model', 'cubic', 'cubic'),
+    ('qos', 'best_effort', 'best_effort'),
+    ('qos_depth', '0', 0),
+    ('bat_profile', '[0.1, 0.02, 0.3]', [0.1, 0.02, 0.3]),
+    ('bat_axis', 'w', 'w'),
+    ('diagnostics_period', '0.01', 0.01),
+]
+
+
+def core_message(name: str, value: Any) -> str:
+    """Return the core's refusal of one value."""
+    with pytest.raises(CoreError) as caught:
+        validate_parameters({name: value})
+    return str(caught.value)
+
+
+@pytest.fixture
+def context(monkeypatch: pytest.MonkeyPatch) -> Callable[..., rclpy.Context]:
+    """Make rclpy contexts (discovery off) with a command line; shut them down after."""
+    monkeypatch.setenv('ROS_AUTOMATIC_DISCOVERY_RANGE', 'OFF')
+    made = []
+
+    def make(*args: str) -> rclpy.Context:
+        made.append(rclpy.Context())
+        rclpy.init(context=made[-1], args=['--ros-args', *args])
+        return made[-1]
+    yield make
+    for each in made:
+        rclpy.shutdown(context=each)
+
+
+@pytest.mark.parametrize('name, text, value', BAD_AT_START,
+                         ids=[f'{name}={text}' for name, text, _ in BAD_AT_START])
+def test_node_and_analyze_refuse_a_file_with_the_same_message(
+        tmp_path: Path, context: Callable[..., rclpy.Context], name: str, text: str,
+        value: Any) -> None:
+    """A params file with one bad value: the node and analyze give the core's one line."""
+    expected = core_message(name, value)
+    assert '\n' not in expected and f"'{name}'" in expected
+    params = tmp_path / 'bad.yaml'
+    params.write_text(f'impact_node:\n  ros__parameters:\n    {name}: {text}\n')
+    with pytest.raises(RosError) as node_refusal:
+        ImpactNode(context=context('--params-file', str(params)))
+    assert str(node_refusal.value) == expected
+    with pytest.raises(ToolError) as analyze_refusal:
+        load_parameters(params)
+    assert str(analyze_refusal.value) == f'parameter file {params}: {expected}'
+
+
+@pytest.mark.parametrize('name, text, value', BAD, ids=[f'{n}={t}' for n, t, _ in BAD])
+def test_runtime_refusal_gives_the_start_up_message(
+        harness: Callable[..., Harness], name: str, text: str, value: Any) -> None:
+    """set_parameters with the same bad value: refused, with the reason given at start-up."""
+    h = harness().start()
+    before = h.node.get_parameter(name).value
+    result = h.set_parameters(**{name: value})[0]
+    assert not result.successful
+    assert result.reason == core_message(name, value)
+    assert h.node.get_parameter(name).value == before
+
+
+def test_read_only_refusal_says_why_and_to_restart(harness: Callable[..., Harness]) -> None:
+    """A read-only parameter: refused naming it, the table's reason and the restart."""
+    h = harness().start()
+    for spec in [SPECS['ball_topic'], SPECS['model'], SPECS['marker_rate']]:
+        result = h.set_parameters(**{spec.name: spec.default})[0]
+        assert not result.successful
+        assert result.reason == (f"parameter '{spec.name}' is read-only: {spec.read_only}; "
+                                 'restart the node with the new value')
+
+
+def test_descriptors_come_from_the_table(context: Callable[..., rclpy.Context]) -> None:
+    """Every parameter declared with the table's type, range, read-only flag and doc."""
+    node = ImpactNode(context=context())
+    try:
+        types = {Kind.BOOL: ParameterType.PARAMETER_BOOL,
+                 Kind.INTEGER: ParameterType.PARAMETER_INTEGER,
+                 Kind.DOUBLE: ParameterType.PARAMETER_DOUBLE,
+                 Kind.STRING: ParameterType.PARAMETER_STRING,
+                 Kind.DOUBLE_ARRAY: ParameterType.PARAMETER_DOUBLE_ARRAY}
+        for spec in PARAMETERS:
+            described = node.describe_parameter(spec.name)
+            assert described.type == types[spec.kind], spec.name
+            assert described.read_only == bool(spec.read_only), spec.name
+            assert described.description == spec.doc
+            assert node.get_parameter(spec.name).type_ == Parameter.Type(types[spec.kind])
+            ranges = list(described.floating_point_range) + list(described.integer_range)
+            if spec.bounds is None:
+                assert not ranges, spec.name
+            else:
+                assert (ranges[0].from_value, ranges[0].to_value) == (
+                    spec.bounds.low, spec.bounds.high), spec.name
+            if spec.bounds is not None and spec.bounds.low_open:
+                assert f'in {spec.bounds}' in described.additional_constraints
+            for choice in spec.choices:
+                assert choice in described.additional_constraints
+    finally:
+        node.destroy_node()
+
+
+def test_an_int_for_a_double_is_taken_at_start_and_at_runtime(
+        tmp_path: Path, harness: Callable[..., Harness]) -> None:
+    """``max_gap: 1`` in a file and ``max_gap:=2`` at runtime: doubles, in the detector too."""
+    params = tmp_path / 'ints.yaml'
+    params.write_text('impact_node:\n  ros__parameters:\n    max_gap: 1\n    up_axis: [0, 2, 0]\n')
+    h = harness(args=['--params-file', str(params)]).start()
+    assert h.node.get_parameter('max_gap').value == 1.0
+    assert h.node.get_parameter('max_gap').type_ == Parameter.Type.DOUBLE
+    assert list(h.node.get_parameter('up_axis').value) == [0.0, 2.0, 0.0]
+    assert h.node.detector.config.up_axis == (0.0, 1.0, 0.0)
+    assert h.set_parameters(max_gap=2)[0].successful
+    assert h.node.get_parameter('max_gap').type_ == Parameter.Type.DOUBLE
+    assert h.node.detector.config.max_gap == 2.0
+    assert load_parameters(params)['max_gap'] == 1
