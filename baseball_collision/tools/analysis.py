@@ -41,18 +41,13 @@ from typing import (
 import numpy as np
 
 from .evaluation import LEADS_S, prediction_errors
+from .parameters import build_config, load_parameters, NODE_NAME, OFFLINE_MODEL  # noqa: F401
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, MPS_TO_MPH, NearMiss, Prediction, StateReset,
     StreamGap)
 from ..core.toi import profile_gap
-from ..errors import BagError, CoreError, ToolError
-
-NODE_NAME = 'impact_node'
-"""Default name of the live node; its output topics are ``/<node_name>/impact`` etc."""
-
-OFFLINE_MODEL = 'spline'
-"""Motion model used offline when neither a flag nor the parameter file names one."""
+from ..errors import BagError, ToolError
 
 TRUTH_FORMAT = 'baseball_collision.truth/1'
 """``format`` value of a truth file."""
@@ -70,99 +65,6 @@ BAG_SUFFIXES = ('.mcap', '.db3', '.bag')
 """File suffixes of bare bag files (anything else is a ROS 2 bag directory)."""
 
 _CHUNK = 8192
-
-
-# ----------------------------------------------------------------------------------------------
-# Parameters
-
-
-def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> None:
-    """Flatten nested parameter mappings into ``into`` with ``.``-joined names."""
-    for key, value in values.items():
-        name = f'{prefix}{key}'
-        if isinstance(value, Mapping):
-            _flatten(f'{name}.', value, into)
-        else:
-            into[name] = value
-
-
-def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
-    """
-    Read the parameters a ROS 2 node would take from a ``--params-file`` YAML.
-
-    Sections used, in this order (later ones win, as for the node): ``/**`` (or ``**``), then
-    every key naming the node: ``<node_name>``, ``/<node_name>``, or a path ending in
-    ``/<node_name>`` (a namespaced node). Each section's ``ros__parameters`` mapping is
-    flattened: nested mappings become ``outer.inner`` names.
-
-    :param path: the YAML file.
-    :param node_name: the node's name.
-    :returns: ``{parameter name: value}``.
-    :raises ToolError: the file is missing or not YAML, has no section for the node, or a
-        section without a ``ros__parameters`` mapping.
-    """
-    import yaml  # PyYAML, as ROS 2's own tools use; imported here so analyze starts fast
-
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as error:
-        raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
-    try:
-        document = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        first = str(error).strip().splitlines()[0] if str(error).strip() else 'invalid'
-        raise ToolError(f'parameter file {path} is not valid YAML: {first}') from error
-    if not isinstance(document, Mapping):
-        raise ToolError(f'parameter file {path} is not a mapping of node names')
-    wildcard = [key for key in document if str(key) in ('/**', '**')]
-    named = [key for key in document if str(key).strip('/') == node_name
-             or str(key).endswith(f'/{node_name}')]
-    if not wildcard and not named:
-        found = ', '.join(str(key) for key in document) or 'nothing'
-        raise ToolError(
-            f"parameter file {path} has no section for node '{node_name}' or '/**' "
-            f'(found: {found})')
-    parameters: Dict[str, Any] = {}
-    for key in wildcard + named:
-        section = document[key]
-        inner = section.get('ros__parameters') if isinstance(section, Mapping) else None
-        if not isinstance(inner, Mapping):
-            raise ToolError(
-                f"parameter file {path}: section '{key}' has no ros__parameters mapping")
-        _flatten('', inner, parameters)
-    return parameters
-
-
-def build_config(parameters: Mapping[str, Any], *, bat_input: str,
-                 model: Optional[str] = None, ball_radius: Optional[float] = None,
-                 bat_radius: Optional[float] = None,
-                 prediction_horizon: Optional[float] = None) -> DetectorConfig:
-    """
-    Build the detector configuration: flags over the parameter file over offline defaults.
-
-    :param parameters: flat node parameters (e.g. from :func:`load_parameters`; may be empty).
-    :param bat_input: ``'pose'`` or ``'points'``, as the bag's selected topics give it.
-    :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`.
-    :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
-    :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
-    :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
-    :returns: the configuration.
-    :raises ToolError: a value the detector does not accept (the message names it).
-    """
-    values = dict(parameters)
-    values['model'] = model or values.get('model') or OFFLINE_MODEL
-    values['bat_input'] = bat_input
-    if ball_radius is not None:
-        values['ball_radius'] = ball_radius
-    if bat_radius is not None:
-        values['bat_radius'] = bat_radius
-    if prediction_horizon is not None:
-        values['prediction_horizon'] = prediction_horizon
-    try:
-        return DetectorConfig.from_parameters(values)
-    except CoreError as error:
-        raise ToolError(f'bad detector setting: {error}') from error
 
 
 # ----------------------------------------------------------------------------------------------
