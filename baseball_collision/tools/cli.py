@@ -4,7 +4,8 @@ The ``baseball-collision`` command line: ``simulate``, ``analyze``, ``replay`` a
 * ``simulate OUT``: a bag of simulated pitches and swings with its truth file
   (:mod:`baseball_collision.tools.recording`).
 * ``analyze BAG [BAG ...]``: the detector over recorded bags, with a table, JSON, CSV, plots and
-  an output bag (:mod:`baseball_collision.tools.analysis`; no rclpy needed).
+  an output bag (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy
+  needed).
 * ``replay BAG``: publish a bag over ROS 2 with ``/clock`` (:mod:`baseball_collision.ros.replay`).
 * ``demo``: a live ``impact_node`` fed by a bundled bag (:mod:`baseball_collision.tools.demo`).
 
@@ -17,15 +18,18 @@ import argparse
 import math
 import shlex
 import sys
-from typing import Any, Callable, List, NoReturn, Optional, Sequence
+from typing import Callable, List, NoReturn, Optional
 
-from .analysis import (
-    AnalysisOptions, analyze_bag, BagAnalysis, csv_text, format_report, load_parameters, Outputs,
-    to_json, truth_path, write_json, write_plots)
+from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
+from .outputs import Outputs
+from .parameters import load_parameters, NODE_NAME
+from .plots import write_plots
 from .recording import BAT_CHOICES, RecordingSpec, write_recording
+from .report import csv_text, format_report, json_text, total_line
 from .sim import KINDS
+from .truth import truth_path
 from ..bags import TOPIC_FLAGS
-from ..errors import BagError, RosError, ToolError
+from ..errors import BaseballCollisionError, ToolError
 
 PROG = 'baseball-collision'
 EXIT_BAD_INPUT = 2
@@ -116,33 +120,17 @@ def _analyze(args: argparse.Namespace) -> int:
                                         progress=not args.no_progress,
                                         use_truth=not args.no_truth))
         if args.json:
-            outputs.stage_text('json', _json_text(analyses))
+            outputs.stage_text('json', json_text(analyses))
         if args.csv:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
-            outputs.stage_directory('plot', lambda d: write_plots(analyses, options, d))
+            outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
     if not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
-            _print_total(analyses)
+            print('\n' + total_line(analyses))
     return 0
-
-
-def _json_text(analyses: Sequence[BagAnalysis]) -> str:
-    import io
-    buffer = io.StringIO()
-    write_json(to_json(analyses), buffer)
-    return buffer.getvalue()
-
-
-def _print_total(analyses: Sequence[BagAnalysis]) -> None:
-    messages = sum(a.messages for a in analyses)
-    seconds = sum(a.seconds for a in analyses)
-    rate = messages / seconds if seconds > 0 else 0.0
-    print(f'\ntotal: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
-          f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
-          f'{seconds:.2f} s ({rate:,.0f} msg/s)')
 
 
 # ----------------------------------------------------------------------------------------------
@@ -253,7 +241,7 @@ def build_parser() -> argparse.ArgumentParser:
                          help='bag directory, .mcap, .db3 or ROS 1 .bag file')
     analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
                          '(<node_name>: or /**: ros__parameters:)')
-    analyze.add_argument('--node-name', default='impact_node',
+    analyze.add_argument('--node-name', default=NODE_NAME,
                          help='node section to read in --params and node of the --out-bag '
                          'topics (default impact_node)')
     analyze.add_argument('--model', choices=('linear', 'rigid', 'spline'),
@@ -330,12 +318,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
-    errors: List[Any] = [ToolError, ToolError, BagError, ToolError]
-    if args.command in ('replay', 'demo'):
-        errors += [RosError, ToolError]
     try:
         return args.run(args)
-    except tuple(errors) as error:
+    except BaseballCollisionError as error:
         return _fail(str(error))
     except OSError as error:
         return _fail(f'{error.strerror or error}: {error.filename or ""}')

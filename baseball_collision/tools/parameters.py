@@ -4,7 +4,8 @@ Node parameter files for the offline tools: read the ``impact_node``'s YAML, bui
 No rclpy: the ROS 2 YAML the ``impact_node`` takes (``<node_name>: ros__parameters:`` and
 ``/**: ros__parameters:`` sections, nested keys joined by ``.``) is read with PyYAML
 (:func:`load_parameters`), and :func:`build_config` turns it, with command-line overrides, into a
-:class:`~baseball_collision.core.detector.DetectorConfig`.
+:class:`~baseball_collision.core.detector.DetectorConfig`. :func:`output_topics` names the
+node's event topics (``--out-bag`` writes them, the demo listens to them).
 """
 
 import os
@@ -108,3 +109,10 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
         return DetectorConfig.from_parameters(values)
     except CoreError as error:
         raise ToolError(f'bad detector setting: {error}') from error
+
+
+def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
+    """Return the node's event topics: ``{'impact': '/<node>/impact', ...}``."""
+    base = '/' + node_name.strip('/')
+    return {'impact': f'{base}/impact', 'impact_velocity': f'{base}/impact_velocity',
+            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact'}
