@@ -18,7 +18,7 @@ import argparse
 import math
 import shlex
 import sys
-from typing import Callable, List, NoReturn, Optional
+from typing import Any, Callable, List, NoReturn, Optional
 
 from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .outputs import Outputs
@@ -186,13 +186,8 @@ def _add_topic_flags(parser: argparse.ArgumentParser) -> None:
                             help=f'{help_text}; default: auto-detected by name and type')
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the argument parser with every subcommand."""
-    parser = _Parser(
-        prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
-        'recordings, analyse bags offline, replay them to the live node, or run the demo.')
-    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
-
+def _add_simulate(commands: Any) -> None:
+    """Add ``simulate``: a simulated bag and its truth file."""
     simulate = commands.add_parser(
         'simulate', help='write a bag of simulated pitches and swings, with its truth file',
         description='Write a bag of physically plausible pitches (gravity and drag) and '
@@ -231,6 +226,9 @@ def build_parser() -> argparse.ArgumentParser:
                           help='draw only this many pitches and repeat them (large bags fast)')
     simulate.set_defaults(run=_simulate)
 
+
+def _add_analyze(commands: Any) -> None:
+    """Add ``analyze``: the detector over bags, with its reports and outputs."""
     analyze = commands.add_parser(
         'analyze', help='run the detector over bags: table, JSON, CSV, plots, output bag',
         description='Run the impact detector over ROS 2 (MCAP, sqlite3) and ROS 1 bags: every '
@@ -268,6 +266,9 @@ def build_parser() -> argparse.ArgumentParser:
     analyze.add_argument('--quiet', action='store_true', help='print nothing (outputs only)')
     analyze.set_defaults(run=_analyze)
 
+
+def _add_replay(commands: Any) -> None:
+    """Add ``replay``: a bag published over ROS 2 with ``/clock``."""
     replay = commands.add_parser(
         'replay', help='publish a bag over ROS 2 with /clock (like ros2 bag play --clock)',
         description='Publish every topic of a bag with its type, paced by log time, with '
@@ -284,6 +285,9 @@ def build_parser() -> argparse.ArgumentParser:
                         metavar='S', help='longest --wait-for wait in s (default 30)')
     replay.set_defaults(run=_replay)
 
+
+def _add_demo(commands: Any) -> None:
+    """Add ``demo``: the live node fed a bundled bag."""
     demo = commands.add_parser(
         'demo', help='the main job: a live impact_node fed a bundled bag over DDS',
         description='Start impact_node on a private DDS domain with the bundled parameter file, '
@@ -298,6 +302,16 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
                       help='longest wait in s for the node to come up (default 30)')
     demo.set_defaults(run=_demo)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser with every subcommand."""
+    parser = _Parser(
+        prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
+        'recordings, analyse bags offline, replay them to the live node, or run the demo.')
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    for add in (_add_simulate, _add_analyze, _add_replay, _add_demo):
+        add(commands)
     return parser
 
 
