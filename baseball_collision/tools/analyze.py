@@ -273,13 +273,13 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
         or (lambda events, log_time_ns, frame_id: None)
     iterator = iter(samples)
     first = next(iterator, None)
-    first_stamp = None if first is None else first[1]
-    if first is not None:
-        iterator = itertools.chain((first,), iterator)
+    head = () if first is None else (first,)
+    # the first sample is peeked for its stamp and put back in the first chunk only
+    pending = itertools.chain(head, itertools.islice(iterator, CHUNK - len(head)))
     count, log_time, frame = 0, 0, ''
     while True:
         chunk = 0
-        for role, stamp, frame, values, log_time in itertools.islice(iterator, CHUNK):
+        for role, stamp, frame, values, log_time in pending:
             if on_sample is not None:
                 on_sample(role, stamp, frame, values, log_time)
             events = add(role, stamp, values, frame)
@@ -291,10 +291,11 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
             bar.update(chunk)
         if chunk < CHUNK:
             break
+        pending = itertools.islice(iterator, CHUNK)
     events = detector.finish()
     if events:
         on_events(events, log_time, frame)
-    return count, first_stamp
+    return count, None if first is None else first[1]
 
 
 def progress_bar(total: int, label: str) -> Any:
