@@ -11,8 +11,8 @@ distinct draws repeated). Then, in the same process, times:
 
 (a) rosbags ``AnyReader.messages()`` alone (raw bytes, no decode): the floor;
 (b) ``BagReader.samples()``: raw read + decode into samples;
-(c) the analyze loop (:func:`analysis._run`) over (b) with a no-op detector: analyze's own
-    ceiling;
+(c) the analyze loop (:func:`analyze.run_detector`, its fast path: the analysis as the only
+    sink) over (b) with a no-op detector: analyze's own ceiling;
 (d) ``analyze_bag`` end to end (open, select, decode, ``Detector.add`` per sample, ``finish``);
 
 and splits (d) into read + decode (b), the analyze loop ((c) - (b)), the detector's own timer
@@ -32,7 +32,8 @@ from typing import Tuple
 
 from baseball_collision.bags import BagReader
 from baseball_collision.core.detector import DetectorConfig
-from baseball_collision.tools.analysis import _run, AnalysisOptions, analyze_bag, BagAnalysis
+from baseball_collision.tools.analyze import (
+    AnalysisOptions, analyze_bag, BagAnalysis, run_detector)
 from baseball_collision.tools.recording import RecordingSpec, write_recording
 from bench_bag_read import raw_read
 
@@ -77,7 +78,8 @@ def null_loop(path: Path) -> int:
     """Run the analyze loop with a no-op detector; return the messages fed."""
     with BagReader(path) as bag:
         result = BagAnalysis(path=path, selection=bag.selection, config=DetectorConfig())
-        _run(bag.samples(), NullDetector(), result, None)
+        result.messages, result.first_stamp_ns = run_detector(bag.samples(), NullDetector(),
+                                                              [result])
     return result.messages
 
 

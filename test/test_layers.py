@@ -9,7 +9,7 @@ inside functions), so a lazy import cannot hide.
 
 import ast
 from pathlib import Path
-from typing import Iterator, Set, Tuple
+from typing import Iterator, Tuple
 
 from support import REPO_ROOT
 
@@ -24,10 +24,6 @@ ALLOWED = {  # layer -> the package's layers it may import
     'bags': {'core', 'bags'},
     'ros': {'core', 'bags', 'ros'},
     'tools': {'core', 'bags', 'ros', 'tools'},
-}
-KNOWN: Set[Tuple[str, str]] = {
-    # not yet in their layer (issue 10): each entry is a violation still to be moved
-    ('tools/demo.py', 'rclpy'), ('tools/demo.py', 'geometry_msgs'),
 }
 
 
@@ -68,8 +64,7 @@ def test_every_layer_imports_only_what_it_may() -> None:
         target = _layer(module)
         if layer in ALLOWED and target in LAYERS and target not in ALLOWED[layer]:
             found.add((str(where), module))
-    assert found - KNOWN == set()
-    assert KNOWN - found == set(), 'moved: drop these from KNOWN'
+    assert found == set()
 
 
 def test_the_checker_sees_relative_imports() -> None:

@@ -4,7 +4,8 @@ The ``baseball-collision`` command line: ``simulate``, ``analyze``, ``replay`` a
 * ``simulate OUT``: a bag of simulated pitches and swings with its truth file
   (:mod:`baseball_collision.tools.recording`).
 * ``analyze BAG [BAG ...]``: the detector over recorded bags, with a table, JSON, CSV, plots and
-  an output bag (:mod:`baseball_collision.tools.analysis`; no rclpy needed).
+  an output bag (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy
+  needed).
 * ``replay BAG``: publish a bag over ROS 2 with ``/clock`` (:mod:`baseball_collision.ros.replay`).
 * ``demo``: a live ``impact_node`` fed by a bundled bag (:mod:`baseball_collision.tools.demo`).
 
@@ -17,15 +18,18 @@ import argparse
 import math
 import shlex
 import sys
-from typing import Any, Callable, List, NoReturn, Optional, Sequence
+from typing import Any, Callable, List, NoReturn, Optional
 
-from .analysis import (
-    AnalysisOptions, analyze_bag, BagAnalysis, csv_text, format_report, load_parameters, Outputs,
-    to_json, truth_path, write_json, write_plots)
+from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
+from .outputs import Outputs
+from .parameters import load_parameters, NODE_NAME
+from .plots import write_plots
 from .recording import BAT_CHOICES, RecordingSpec, write_recording
+from .report import csv_text, format_report, json_text, total_line
 from .sim import KINDS
+from .truth import truth_path
 from ..bags import TOPIC_FLAGS
-from ..errors import BagError, RosError, ToolError
+from ..errors import BaseballCollisionError, ToolError
 
 PROG = 'baseball-collision'
 EXIT_BAD_INPUT = 2
@@ -116,33 +120,17 @@ def _analyze(args: argparse.Namespace) -> int:
                                         progress=not args.no_progress,
                                         use_truth=not args.no_truth))
         if args.json:
-            outputs.stage_text('json', _json_text(analyses))
+            outputs.stage_text('json', json_text(analyses))
         if args.csv:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
-            outputs.stage_directory('plot', lambda d: write_plots(analyses, options, d))
+            outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
     if not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
-            _print_total(analyses)
+            print('\n' + total_line(analyses))
     return 0
-
-
-def _json_text(analyses: Sequence[BagAnalysis]) -> str:
-    import io
-    buffer = io.StringIO()
-    write_json(to_json(analyses), buffer)
-    return buffer.getvalue()
-
-
-def _print_total(analyses: Sequence[BagAnalysis]) -> None:
-    messages = sum(a.messages for a in analyses)
-    seconds = sum(a.seconds for a in analyses)
-    rate = messages / seconds if seconds > 0 else 0.0
-    print(f'\ntotal: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
-          f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
-          f'{seconds:.2f} s ({rate:,.0f} msg/s)')
 
 
 # ----------------------------------------------------------------------------------------------
@@ -175,13 +163,8 @@ def _add_topic_flags(parser: argparse.ArgumentParser) -> None:
                             help=f'{help_text}; default: auto-detected by name and type')
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Return the argument parser with every subcommand."""
-    parser = _Parser(
-        prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
-        'recordings, analyse bags offline, replay them to the live node, or run the demo.')
-    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
-
+def _add_simulate(commands: Any) -> None:
+    """Add ``simulate``: a simulated bag and its truth file."""
     simulate = commands.add_parser(
         'simulate', help='write a bag of simulated pitches and swings, with its truth file',
         description='Write a bag of physically plausible pitches (gravity and drag) and '
@@ -220,6 +203,9 @@ def build_parser() -> argparse.ArgumentParser:
                           help='draw only this many pitches and repeat them (large bags fast)')
     simulate.set_defaults(run=_simulate)
 
+
+def _add_analyze(commands: Any) -> None:
+    """Add ``analyze``: the detector over bags, with its reports and outputs."""
     analyze = commands.add_parser(
         'analyze', help='run the detector over bags: table, JSON, CSV, plots, output bag',
         description='Run the impact detector over ROS 2 (MCAP, sqlite3) and ROS 1 bags: every '
@@ -230,7 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
                          help='bag directory, .mcap, .db3 or ROS 1 .bag file')
     analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
                          '(<node_name>: or /**: ros__parameters:)')
-    analyze.add_argument('--node-name', default='impact_node',
+    analyze.add_argument('--node-name', default=NODE_NAME,
                          help='node section to read in --params and node of the --out-bag '
                          'topics (default impact_node)')
     analyze.add_argument('--model', choices=('linear', 'rigid', 'spline'),
@@ -257,6 +243,9 @@ def build_parser() -> argparse.ArgumentParser:
     analyze.add_argument('--quiet', action='store_true', help='print nothing (outputs only)')
     analyze.set_defaults(run=_analyze)
 
+
+def _add_replay(commands: Any) -> None:
+    """Add ``replay``: a bag published over ROS 2 with ``/clock``."""
     replay = commands.add_parser(
         'replay', help='publish a bag over ROS 2 with /clock (like ros2 bag play --clock)',
         description='Publish every topic of a bag with its type, paced by log time, with '
@@ -273,6 +262,9 @@ def build_parser() -> argparse.ArgumentParser:
                         metavar='S', help='longest --wait-for wait in s (default 30)')
     replay.set_defaults(run=_replay)
 
+
+def _add_demo(commands: Any) -> None:
+    """Add ``demo``: the live node fed a bundled bag."""
     demo = commands.add_parser(
         'demo', help='the main job: a live impact_node fed a bundled bag over DDS',
         description='Start impact_node on a private DDS domain with the bundled parameter file, '
@@ -287,6 +279,16 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
                       help='longest wait in s for the node to come up (default 30)')
     demo.set_defaults(run=_demo)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser with every subcommand."""
+    parser = _Parser(
+        prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
+        'recordings, analyse bags offline, replay them to the live node, or run the demo.')
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    for add in (_add_simulate, _add_analyze, _add_replay, _add_demo):
+        add(commands)
     return parser
 
 
@@ -307,12 +309,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
-    errors: List[Any] = [ToolError, ToolError, BagError, ToolError]
-    if args.command in ('replay', 'demo'):
-        errors += [RosError, ToolError]
     try:
         return args.run(args)
-    except tuple(errors) as error:
+    except BaseballCollisionError as error:
         return _fail(str(error))
     except OSError as error:
         return _fail(f'{error.strerror or error}: {error.filename or ""}')

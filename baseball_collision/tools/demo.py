@@ -7,9 +7,11 @@ host):
 1. ``impact_node`` as a subprocess (the venv's console script) with a bundled parameter file,
    ``use_sim_time`` and reliable subscriptions (``qos:=reliable``, ``qos_depth:=1000``: a replay
    must not lose a message);
-2. in this process, a :class:`~baseball_collision.replay.BagPlayer` that waits for the node's
-   subscriptions, then replays the bag with ``/clock``, and subscriptions to the node's
-   ``~/impact``, ``~/impact_velocity`` and ``~/near_miss`` that print each event as it arrives;
+2. in this process, a :class:`~baseball_collision.ros.replay.BagPlayer` that waits for the
+   node's subscriptions, then replays the bag with ``/clock``, and subscriptions to the node's
+   ``~/impact``, ``~/impact_velocity`` and ``~/near_miss`` that print each event as it arrives
+   (the rclpy side, :class:`~baseball_collision.ros.listener.EventListener`, hands them to
+   :class:`LiveEvents` as plain values: this module imports no rclpy);
 3. a summary: the live impacts against the bag's truth file, and against ``analyze`` run
    offline on the same bag with the same parameters (the stamps must be identical);
 4. the node is stopped with SIGINT (as Ctrl-C would) and its exit code checked.
@@ -32,13 +34,14 @@ import threading
 import time
 from typing import Any, Callable, Dict, IO, List, Optional, Tuple
 
-from .analysis import (
-    AnalysisOptions, analyze_bag, BagAnalysis, compare_truth, load_parameters, NODE_NAME,
-    output_topics, truth_line)
+from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
+from .parameters import load_parameters, NODE_NAME, output_topics
+from .report import truth_line
+from .truth import compare_truth, load_truth
 from ..bags import BagReader
 from ..core.detector import DetectorConfig, MPS_TO_MPH
-from ..core.geometry import (
-    add, cross, dot, lerp, norm, rotate, scale, slerp_quaternions, sub, Vector)
+from ..core.geometry import add, cross, dot, norm, rotate, scale, sub, Vector
+from ..core.motion import BatPath, BatSample
 from ..errors import BagError, RosError, ToolError
 
 PACKAGE = 'baseball_collision'
@@ -125,18 +128,24 @@ class LiveNearMiss:
 
 class BatTrack:
     """
-    The bag's bat over time, to place a contact point on it (rigid: LERP + SLERP of the pose).
+    The bag's bat over time, to place a contact point on it.
+
+    Between two bat samples the bat moves as the core's motion models move it
+    (:class:`~baseball_collision.core.motion.BatPath`): a pose rigidly (position linear,
+    orientation SLERP), knob and tip points linearly.
 
     :param path: the bag.
     :param config: the detector configuration (bat geometry, sweet spot).
+    :param analysis: the offline analysis of the bag (its topic selection is read).
     :raises ToolError: the bag cannot be read.
     """
 
     def __init__(self, path: Path, config: DetectorConfig, analysis: BagAnalysis) -> None:
         self.config = config
+        self.offsets = (tuple(float(x) for x in config.geometry.knob_offset),
+                        tuple(float(x) for x in config.geometry.tip_offset))
         self.stamps: List[int] = []
-        self.values: List[Tuple[Vector, Vector]] = []  # (knob, tip) or pose for 'pose'
-        self.poses: List[Tuple[Vector, Tuple[float, float, float, float]]] = []
+        self.samples: List[BatSample] = []
         knobs: Dict[int, Vector] = {}
         tips: Dict[int, Vector] = {}
         try:
@@ -144,33 +153,34 @@ class BatTrack:
                 for role, stamp, _, values, _ in bag.samples():
                     if role == 'bat_pose':
                         self.stamps.append(stamp)
-                        self.poses.append((tuple(values[:3]), tuple(values[3:])))
+                        self.samples.append(self._pose_sample(values))
                     elif role == 'knob':
                         knobs[stamp] = tuple(values)
                     elif role == 'tip':
                         tips[stamp] = tuple(values)
         except BagError as error:
             raise ToolError(str(error)) from error
-        if not self.poses:
+        self.model = 'rigid' if self.samples else 'linear'
+        if not self.samples:
             self.stamps = sorted(set(knobs) & set(tips))
-            self.values = [(knobs[s], tips[s]) for s in self.stamps]
+            self.samples = [BatSample(knobs[s], tips[s]) for s in self.stamps]
+
+    def _pose_sample(self, values: Tuple[float, ...]) -> BatSample:
+        """Return a pose sample with its knob and tip (as the detector places them)."""
+        position, quaternion = tuple(values[:3]), tuple(values[3:])
+        return BatSample(add(position, rotate(quaternion, self.offsets[0])),
+                         add(position, rotate(quaternion, self.offsets[1])), position,
+                         quaternion)
 
     def ends(self, stamp_ns: int) -> Optional[Tuple[Vector, Vector]]:
         """Return (knob, tip) in metres at a stamp, or None outside the samples."""
         k = bisect_right(self.stamps, stamp_ns) - 1
         if k < 0 or k + 1 >= len(self.stamps):
             return None
-        s = (stamp_ns - self.stamps[k]) / (self.stamps[k + 1] - self.stamps[k])
-        if not self.poses:
-            (k0, e0), (k1, e1) = self.values[k], self.values[k + 1]
-            return lerp(k0, k1, s), lerp(e0, e1, s)
-        (p0, q0), (p1, q1) = self.poses[k], self.poses[k + 1]
-        q = slerp_quaternions(q0, q1, s)
-        origin = lerp(p0, p1, s)
-        geometry = self.config.geometry
-        knob = add(origin, rotate(q, tuple(float(x) for x in geometry.knob_offset)))
-        tip = add(origin, rotate(q, tuple(float(x) for x in geometry.tip_offset)))
-        return knob, tip
+        # times in ns from the earlier sample: exact in a float
+        path = BatPath.build(self.model, 0.0, float(self.stamps[k + 1] - self.stamps[k]),
+                             self.samples[k], self.samples[k + 1], offsets=self.offsets)
+        return path.at(float(stamp_ns - self.stamps[k]))
 
     def place(self, impact: LiveImpact) -> None:
         """Fill an impact's spot (from the tip) and sweet-spot speed from the bat at its stamp."""
@@ -193,17 +203,20 @@ class BatTrack:
             impact.sweet_spot_speed_mps = norm(velocity)
 
 
-class _Listener:
-    """Subscriptions to the node's event topics; prints each event once it is complete."""
+class LiveEvents:
+    """
+    The node's events as they arrive; each printed once complete.
 
-    def __init__(self, node: Any, topics: Dict[str, str], track: BatTrack, first_ns: int,
-                 out: IO[str]) -> None:
-        from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
-        from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    An impact is complete when both its ``~/impact`` point and its ``~/impact_velocity``
+    twist (same stamp) arrived: it is then placed on the bat (:class:`BatTrack`) and printed.
+    The ``on_*`` methods may be called from another thread.
 
-        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
-                         reliability=ReliabilityPolicy.RELIABLE,
-                         durability=DurabilityPolicy.VOLATILE)
+    :param track: the bag's bat.
+    :param first_ns: the bag's first stamp (ns): printed times are seconds from it.
+    :param out: where to print.
+    """
+
+    def __init__(self, track: BatTrack, first_ns: int, out: IO[str]) -> None:
         self.track = track
         self.first_ns = first_ns
         self.out = out
@@ -212,30 +225,18 @@ class _Listener:
         self.printed: List[LiveImpact] = []
         self.near_misses: List[LiveNearMiss] = []
         self.twists: Dict[int, Tuple[Vector, Vector]] = {}
-        self.subscriptions = [
-            node.create_subscription(PointStamped, topics['impact'], self._on_impact, qos),
-            node.create_subscription(TwistStamped, topics['impact_velocity'], self._on_twist,
-                                     qos),
-            node.create_subscription(Vector3Stamped, topics['near_miss'], self._on_miss, qos)]
 
-    @staticmethod
-    def _stamp(message: Any) -> int:
-        return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
-
-    def _on_impact(self, message: Any) -> None:
+    def on_impact(self, stamp_ns: int, point: Vector) -> None:
+        """Take an ``~/impact`` message: stamp (ns) and contact point (m)."""
         with self.lock:
-            stamp = self._stamp(message)
-            point = message.point
-            self.impacts[stamp] = LiveImpact(stamp, (point.x, point.y, point.z))
-            self._complete(stamp)
+            self.impacts[stamp_ns] = LiveImpact(stamp_ns, point)
+            self._complete(stamp_ns)
 
-    def _on_twist(self, message: Any) -> None:
+    def on_velocity(self, stamp_ns: int, linear: Vector, angular: Vector) -> None:
+        """Take an ``~/impact_velocity`` message: stamp (ns), m/s and rad/s."""
         with self.lock:
-            stamp = self._stamp(message)
-            linear, angular = message.twist.linear, message.twist.angular
-            self.twists[stamp] = ((linear.x, linear.y, linear.z),
-                                  (angular.x, angular.y, angular.z))
-            self._complete(stamp)
+            self.twists[stamp_ns] = (linear, angular)
+            self._complete(stamp_ns)
 
     def _complete(self, stamp: int) -> None:
         impact = self.impacts.get(stamp)
@@ -252,20 +253,15 @@ class _Listener:
             f'{norm(impact.bat_velocity) * MPS_TO_MPH:5.1f} mph\n')
         self.out.flush()
 
-    def _on_miss(self, message: Any) -> None:
+    def on_near_miss(self, stamp_ns: int, vector: Vector) -> None:
+        """Take a ``~/near_miss`` message: stamp (ns) and gap vector (m)."""
         with self.lock:
-            stamp = self._stamp(message)
-            vector = (message.vector.x, message.vector.y, message.vector.z)
-            self.near_misses.append(LiveNearMiss(stamp, vector))
+            self.near_misses.append(LiveNearMiss(stamp_ns, vector))
             where = 'over' if vector[2] > 0.0 else 'under'
-            self.out.write(f'  near miss  {(stamp - self.first_ns) * 1e-9:8.4f} s  (stamp '
-                           f'{stamp})  the ball passed {norm(vector) * 100:5.1f} cm from the '
+            self.out.write(f'  near miss  {(stamp_ns - self.first_ns) * 1e-9:8.4f} s  (stamp '
+                           f'{stamp_ns})  the ball passed {norm(vector) * 100:5.1f} cm from the '
                            f'bat ({where} it)\n')
             self.out.flush()
-
-    def matched(self) -> bool:
-        """Return whether every subscription has matched the node's publisher."""
-        return all(s.get_publisher_count() >= 1 for s in self.subscriptions)
 
     def complete_impacts(self) -> List[LiveImpact]:
         """Return the impacts received with their velocity, in stamp order."""
@@ -300,7 +296,7 @@ def wait_for_node(process: 'subprocess.Popen[bytes]', player: Any, topics: List[
     Wait until the node subscribes to ``topics`` of the player and ``ready()`` holds.
 
     :param process: the node's process (its early exit ends the wait).
-    :param player: the :class:`~baseball_collision.replay.BagPlayer`.
+    :param player: the :class:`~baseball_collision.ros.replay.BagPlayer`.
     :param topics: the input topics the node must subscribe to.
     :param ready: e.g. whether our subscriptions matched the node's publishers.
     :param timeout_s: longest wait (s).
@@ -345,11 +341,8 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     """
     bag = Path(bag) if bag is not None else bundled(DEMO_BAG)
     params = Path(params) if params is not None else bundled(DEMO_PARAMS)
-    try:
-        parameters = load_parameters(params)
-        offline = analyze_bag(bag, AnalysisOptions(parameters=parameters), progress=False)
-    except ToolError as error:
-        raise ToolError(str(error)) from error
+    offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
+                          progress=False)
     track = BatTrack(bag, offline.config, offline)
     env = isolated_environment()
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
@@ -379,56 +372,45 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
 def _live(process: 'subprocess.Popen[bytes]', bag: Path, offline: BagAnalysis,
           track: BatTrack, rate: float, timeout_s: float, out: IO[str], log: Path) -> int:
     """Replay into the running node, collect its events, print the summary; return the code."""
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
-
+    from ..ros.listener import EventListener, RosSession
     from ..ros.replay import BagPlayer
 
-    context = rclpy.Context()
-    rclpy.init(context=context)
-    node = rclpy.create_node('impact_demo', context=context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(node)
-    spinner = threading.Thread(target=executor.spin, daemon=True)
-    spinner.start()
     stop = threading.Event()
-    try:
-        listener = _Listener(node, output_topics(NODE_NAME), track,
-                             offline.first_stamp_ns or 0, out)
-        with BagPlayer(node, bag, rate=rate) as player:
-            inputs = list(offline.selection.topics.values())
-            problem = wait_for_node(process, player, inputs, listener.matched, timeout_s)
-            if problem is not None:
-                out.write(f'{problem}; its log:\n{_tail(log)}\n')
-                return 1
-            length = (offline.stats.newest_stamp_ns or 0) - (offline.first_stamp_ns or 0)
-            out.write(f'{NODE_NAME} is listening; replaying {bag.name} ({length * 1e-9:.1f} s, '
-                      f'{player.message_count:,} messages on {", ".join(player.topics)}) at '
-                      f'{rate:g}x with /clock\n')
-            out.flush()
-            result = player.play(stop=stop)
-        expected = len(offline.impacts)
-        deadline = time.monotonic() + 5.0
-        while len(listener.complete_impacts()) < expected and time.monotonic() < deadline:
-            time.sleep(0.05)
-        time.sleep(0.3)  # anything beyond the offline count would arrive now
-        return _summary(listener, offline, result.seconds, out)
-    finally:
-        stop.set()
-        executor.shutdown(timeout_sec=2.0)
-        spinner.join(timeout=5.0)
-        node.destroy_node()
-        rclpy.try_shutdown(context=context)
+    with RosSession('impact_demo') as session:
+        try:
+            events = LiveEvents(track, offline.first_stamp_ns or 0, out)
+            listener = EventListener(session.node, output_topics(NODE_NAME), events.on_impact,
+                                     events.on_velocity, events.on_near_miss)
+            with BagPlayer(session.node, bag, rate=rate) as player:
+                inputs = list(offline.selection.topics.values())
+                problem = wait_for_node(process, player, inputs, listener.matched, timeout_s)
+                if problem is not None:
+                    out.write(f'{problem}; its log:\n{_tail(log)}\n')
+                    return 1
+                length = (offline.stats.newest_stamp_ns or 0) - (offline.first_stamp_ns or 0)
+                out.write(f'{NODE_NAME} is listening; replaying {bag.name} ({length * 1e-9:.1f} '
+                          f's, {player.message_count:,} messages on '
+                          f'{", ".join(player.topics)}) at {rate:g}x with /clock\n')
+                out.flush()
+                result = player.play(stop=stop)
+            expected = len(offline.impacts)
+            deadline = time.monotonic() + 5.0
+            while len(events.complete_impacts()) < expected and time.monotonic() < deadline:
+                time.sleep(0.05)
+            time.sleep(0.3)  # anything beyond the offline count would arrive now
+            return _summary(events, offline, result.seconds, out)
+        finally:
+            stop.set()
 
 
-def _summary(listener: _Listener, offline: BagAnalysis, seconds: float, out: IO[str]) -> int:
+def _summary(events: LiveEvents, offline: BagAnalysis, seconds: float, out: IO[str]) -> int:
     """Print the live results against truth and the offline analysis; return the exit code."""
-    impacts = listener.complete_impacts()
-    misses = list(listener.near_misses)
+    impacts = events.complete_impacts()
+    misses = list(events.near_misses)
     out.write(f'live: {len(impacts)} impacts and {len(misses)} near misses from {NODE_NAME} '
               f'({seconds:.1f} s of replay)\n')
     if offline.truth is not None:
-        truth = _truth_document(offline)
+        truth = load_truth(offline.truth.path)
         comparison = compare_truth(impacts, misses, truth, offline.truth.path)
         out.write(f'  {truth_line(comparison)}\n')
     live = [impact.stamp_ns for impact in impacts]
@@ -440,11 +422,3 @@ def _summary(listener: _Listener, offline: BagAnalysis, seconds: float, out: IO[
         out.write(f'  offline analyze disagrees: live stamps {live}, offline {stamps}\n')
     ok = bool(impacts) and live == stamps
     return 0 if ok else 1
-
-
-def _truth_document(offline: BagAnalysis) -> Dict[str, Any]:
-    """Return the truth document the offline analysis compared with."""
-    from .analysis import load_truth
-
-    assert offline.truth is not None
-    return load_truth(offline.truth.path)

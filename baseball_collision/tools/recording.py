@@ -10,7 +10,7 @@ No rclpy. What ``baseball-collision simulate`` writes:
 * Pitch ``i`` (kinds cycling through ``kinds``) starts at ``start_ns + i * spacing_s``: its
   samples cover ``[0, lead_s + trail_s]`` of scenario time and nothing is published between two
   pitches (each pitch is a fresh tracking episode; the detector reports a stream gap).
-* Beside the bag, ``<name>.truth.json`` (see :func:`analysis.truth_path`): the settings and, per
+* Beside the bag, ``<name>.truth.json`` (see :func:`.truth.truth_path`): the settings and, per
   pitch, :func:`simulation.truth_dict` (exact first-contact stamp, contact spot, speeds, ...).
 """
 
@@ -23,8 +23,9 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from .analysis import Outputs, TRUTH_FORMAT, truth_path
+from .outputs import Outputs
 from .sim import DEFAULT_START_NS, KINDS, make_scenario, sample, Scenario, truth_dict
+from .truth import TRUTH_FORMAT, truth_path
 from ..bags import POINT_STAMPED, POSE_STAMPED
 from ..errors import BagError, ToolError
 
@@ -161,6 +162,6 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                 'spec': {**asdict(spec), 'kinds': list(spec.kinds)}, 'pitches': pitches}
             outputs.stage_text('truth', json.dumps(document, indent=2, allow_nan=False) + '\n')
             outputs.commit()
-    except (ToolError, BagError, ToolError) as error:
+    except BagError as error:
         raise ToolError(str(error)) from error
     return document

@@ -1,9 +1,9 @@
-"""Tests for baseball_collision.tools.evaluation: per-pitch comparison and summaries."""
+"""The accuracy evaluation: per simulated pitch against its truth, and summaries."""
 
 import math
 
 from baseball_collision.core.detector import DetectorConfig, Impact, NearMiss
-from baseball_collision.tools.evaluation import compare_pitch, run_scenario, summarize
+from baseball_collision.tools.accuracy import compare_pitch, run_scenario, summarize
 from baseball_collision.tools.sim import make_scenario
 import numpy as np
 import pytest

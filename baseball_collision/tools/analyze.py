@@ -1,0 +1,357 @@
+"""
+Offline analysis of a bag: the one detector over recorded samples, in the bag's order.
+
+No rclpy: this is the ``baseball-collision analyze`` path and runs on rosbags (through
+:mod:`baseball_collision.bags`) and the core only.
+
+:func:`analyze_bag` reads a bag with :class:`~baseball_collision.bags.BagReader`, feeds every
+sample to :meth:`Detector.add <baseball_collision.core.detector.Detector.add>` in the bag's
+order, then :meth:`~baseball_collision.core.detector.Detector.finish`, in ONE loop
+(:func:`run_detector`) that hands samples and events to sinks: the :class:`BagAnalysis` files
+the events; with ``--predict`` the frame stamps are kept to score the predictions; with
+``--out-bag`` the input samples and the node's event messages are copied into an MCAP. The
+result is compared with the truth file beside the bag when there is one.
+"""
+
+from dataclasses import dataclass, field
+import itertools
+import os
+from pathlib import Path
+import sys
+import time
+from typing import (
+    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
+
+from .events import event_kind
+from .parameters import build_config, NODE_NAME, output_topics
+from .truth import (
+    compare_truth, LEADS_S, load_truth, prediction_errors, truth_path, TruthComparison)
+from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
+from ..core.detector import (
+    Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
+from ..errors import BagError, ToolError
+
+PROGRESS_MIN_MESSAGES = 100_000
+"""Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
+
+CHUNK = 8192
+"""Samples read between two progress bar updates."""
+
+
+@dataclass
+class BagAnalysis:
+    """
+    What the detector found in one bag.
+
+    :ivar path: the bag.
+    :ivar selection: the topics read.
+    :ivar config: the detector configuration used.
+    :ivar impacts, near_misses, gaps, resets: the detector's events, in order.
+    :ivar predictions: predicted impacts (with ``--predict``), in order.
+    :ivar frames_ns: every sample stamp (ns), kept with ``--predict`` to score predictions.
+    :ivar stats: the detector's counters (``dropped`` by reason).
+    :ivar messages: samples read and fed.
+    :ivar seconds: wall time of reading and detecting (s).
+    :ivar first_stamp_ns: the first sample's header stamp (ns): the table's time origin.
+    :ivar truth: the comparison with the truth file beside the bag, if there is one.
+    """
+
+    path: Path
+    selection: TopicSelection
+    config: DetectorConfig
+    impacts: List[Impact] = field(default_factory=list)
+    near_misses: List[NearMiss] = field(default_factory=list)
+    gaps: List[StreamGap] = field(default_factory=list)
+    resets: List[StateReset] = field(default_factory=list)
+    predictions: List[Prediction] = field(default_factory=list)
+    frames_ns: List[int] = field(default_factory=list)
+    stats: DetectorStats = field(default_factory=DetectorStats)
+    messages: int = 0
+    seconds: float = 0.0
+    first_stamp_ns: Optional[int] = None
+    truth: Optional[TruthComparison] = None
+
+    @property
+    def throughput(self) -> float:
+        """Return samples per second of wall time (0 when nothing was timed)."""
+        return self.messages / self.seconds if self.seconds > 0.0 else 0.0
+
+    def relative_s(self, stamp_ns: int) -> float:
+        """Return seconds from the first header stamp of the bag to ``stamp_ns``."""
+        return (stamp_ns - (self.first_stamp_ns or 0)) * 1e-9
+
+    def on_events(self, events: Iterable[Any], log_time_ns: int, frame_id: str) -> None:
+        """File events into their lists by kind (an event sink; other types are not kept)."""
+        for event in events:
+            kind = event_kind(event)
+            if kind is not None:
+                getattr(self, kind.collection).append(event)
+
+    def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
+        """
+        Score the predictions of every impact at the lead times ``LEADS_S``.
+
+        The reference is the true contact when a truth file matched the impact, else the
+        detected impact itself. One ``truth.prediction_errors`` dict per impact.
+        """
+        truths = {}
+        if self.truth is not None:
+            truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
+        scores = []
+        for impact in self.impacts:
+            truth = truths.get(impact.stamp_ns)
+            stamp = int(truth['stamp_ns']) if truth else impact.stamp_ns
+            point = truth['point'] if truth else impact.point
+            before = [p for p in self.predictions if p.made_at_ns < stamp
+                      and stamp - p.made_at_ns <= 0.5e9]
+            scores.append(prediction_errors(before, self.frames_ns, stamp, point, LEADS_S))
+        return scores
+
+
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """
+    How to analyse: topics, parameters and overrides (None: not given).
+
+    :ivar ball_topic, bat_pose_topic, knob_topic, tip_topic: topic flags.
+    :ivar parameters: flat node parameters from ``--params`` (empty: none).
+    :ivar model: ``--model``.
+    :ivar ball_radius: ``--ball-radius`` (m).
+    :ivar bat_radius: ``--bat-radius`` (m).
+    :ivar prediction_horizon: ``--predict`` horizon (s).
+    :ivar node_name: the node whose output topics ``--out-bag`` writes.
+    """
+
+    ball_topic: Optional[str] = None
+    bat_pose_topic: Optional[str] = None
+    knob_topic: Optional[str] = None
+    tip_topic: Optional[str] = None
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    model: Optional[str] = None
+    ball_radius: Optional[float] = None
+    bat_radius: Optional[float] = None
+    prediction_horizon: Optional[float] = None
+    node_name: str = NODE_NAME
+
+    def reader(self, path: os.PathLike) -> BagReader:
+        """Return an unopened reader of ``path`` with these topic choices."""
+        prefer = 'points' if self.parameters.get('bat_input') == 'points' else 'pose'
+        return BagReader(path, ball=self.ball_topic, bat_pose=self.bat_pose_topic,
+                         knob=self.knob_topic, tip=self.tip_topic, prefer_bat=prefer)
+
+
+# ----------------------------------------------------------------------------------------------
+# Sinks: what the loop hands samples and events to
+
+
+class SampleSink(Protocol):
+    """Receives every sample, before the detector sees it."""
+
+    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
+                  log_time_ns: int) -> None:
+        """Take one sample (as :class:`~baseball_collision.bags.Sample` gives it)."""
+
+
+class EventSink(Protocol):
+    """Receives the detector's events with the log time and frame of the sample that gave them."""
+
+    def on_events(self, events: Sequence[Any], log_time_ns: int, frame_id: str) -> None:
+        """Take the events of one sample (or of ``finish()``: the last sample's time, frame)."""
+
+
+class FrameStamps:
+    """A sample sink keeping every sample stamp (ns): the frames predictions are scored at."""
+
+    def __init__(self, stamps: List[int]) -> None:
+        self.stamps = stamps
+
+    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
+                  log_time_ns: int) -> None:
+        """Keep the stamp."""
+        self.stamps.append(stamp_ns)
+
+
+class BagCopy:
+    """
+    A sample and event sink writing an output bag: the input samples and the node's messages.
+
+    Input samples keep their topics (a ball pose keeps its position, with an identity
+    orientation); events go to the node's output topics (:func:`.parameters.output_topics`)
+    as the node publishes them, in log-time order, in the configured ``frame_id`` (else the
+    sample's frame).
+    """
+
+    def __init__(self, writer: BagWriter, selection: TopicSelection, node_name: str,
+                 frame_id: str = '') -> None:
+        self.writer = writer
+        self.topics = selection.topics
+        self.ball_pose = selection.ball_type == POSE_STAMPED
+        self.outputs = output_topics(node_name)
+        self.frame_id = frame_id
+        self.frame = ''
+        self._write: Dict[str, Callable[[Any, str, int], None]] = {
+            'impact': self._impact, 'near_miss': self._near_miss,
+            'prediction': self._prediction}
+
+    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
+                  log_time_ns: int) -> None:
+        """Copy one input sample."""
+        topic = self.topics[role]
+        if not self.frame:
+            self.frame = frame_id
+        if role == 'bat_pose':
+            self.writer.write_pose(topic, stamp_ns, frame_id, values[:3], values[3:],
+                                   log_time_ns)
+        elif role == 'ball' and self.ball_pose:
+            self.writer.write_pose(topic, stamp_ns, frame_id, values, (0.0, 0.0, 0.0, 1.0),
+                                   log_time_ns)
+        else:
+            self.writer.write_point(topic, stamp_ns, frame_id, values, log_time_ns)
+
+    def on_events(self, events: Sequence[Any], log_time_ns: int, frame_id: str) -> None:
+        """Write impacts, near misses and predictions as the node publishes them."""
+        frame = self.frame_id or frame_id or self.frame
+        for event in events:
+            kind = event_kind(event)
+            write = self._write.get(kind.name) if kind is not None else None
+            if write is not None:
+                write(event, frame, log_time_ns)
+
+    def _impact(self, impact: Impact, frame: str, log_time_ns: int) -> None:
+        self.writer.write_point(self.outputs['impact'], impact.stamp_ns, frame, impact.point,
+                                log_time_ns)
+        self.writer.write_twist(self.outputs['impact_velocity'], impact.stamp_ns, frame,
+                                impact.bat_velocity, impact.bat_angular_velocity, log_time_ns)
+
+    def _near_miss(self, miss: NearMiss, frame: str, log_time_ns: int) -> None:
+        self.writer.write_vector3(self.outputs['near_miss'], miss.stamp_ns, frame,
+                                  miss.gap_vector, log_time_ns)
+
+    def _prediction(self, prediction: Prediction, frame: str, log_time_ns: int) -> None:
+        self.writer.write_point(self.outputs['predicted_impact'], prediction.stamp_ns, frame,
+                                prediction.point, log_time_ns)
+
+
+# ----------------------------------------------------------------------------------------------
+# The loop
+
+
+def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., None]]:
+    """Return one callable calling every method in turn (the method itself for one; None)."""
+    if not methods:
+        return None
+    if len(methods) == 1:
+        return methods[0]
+
+    def call(*args: Any) -> None:
+        for method in methods:
+            method(*args)
+    return call
+
+
+def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
+                 sinks: Sequence[Any], bar: Any = None) -> Tuple[int, Optional[int]]:
+    """
+    Feed every sample to the detector, then ``finish()``; hand samples and events to sinks.
+
+    The one analyze loop. Per sample: the sample sinks (:class:`SampleSink`), then
+    ``detector.add``, then, if it returned events, the event sinks (:class:`EventSink`); the
+    events of ``finish()`` go to the event sinks with the last sample's log time and frame.
+    With no sample sink the loop does nothing but ``add`` per sample (the fast path).
+
+    :param samples: ``(role, stamp_ns, frame_id, values, log_time_ns)`` tuples
+        (:class:`~baseball_collision.bags.Sample`), in the bag's order.
+    :param detector: a :class:`~baseball_collision.core.detector.Detector` (or anything with
+        its ``add(role, stamp_ns, values, frame_id)`` and ``finish()``).
+    :param sinks: objects with ``on_sample`` and/or ``on_events``.
+    :param bar: a progress bar (``update(n)``) or None.
+    :returns: (samples fed, the first sample's stamp in ns or None for none).
+    """
+    add = detector.add
+    on_sample = _fan_out([sink.on_sample for sink in sinks if hasattr(sink, 'on_sample')])
+    on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
+        or (lambda events, log_time_ns, frame_id: None)
+    iterator = iter(samples)
+    first = next(iterator, None)
+    head = () if first is None else (first,)
+    # the first sample is peeked for its stamp and put back in the first chunk only
+    pending = itertools.chain(head, itertools.islice(iterator, CHUNK - len(head)))
+    count, log_time, frame = 0, 0, ''
+    while True:
+        chunk = 0
+        for role, stamp, frame, values, log_time in pending:
+            if on_sample is not None:
+                on_sample(role, stamp, frame, values, log_time)
+            events = add(role, stamp, values, frame)
+            if events:
+                on_events(events, log_time, frame)
+            chunk += 1
+        count += chunk
+        if bar is not None:
+            bar.update(chunk)
+        if chunk < CHUNK:
+            break
+        pending = itertools.islice(iterator, CHUNK)
+    events = detector.finish()
+    if events:
+        on_events(events, log_time, frame)
+    return count, None if first is None else first[1]
+
+
+def progress_bar(total: int, label: str) -> Any:
+    """Return a tqdm bar on stderr for long bags or a terminal, else None."""
+    if total <= PROGRESS_MIN_MESSAGES and not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+    return tqdm(total=total, unit='msg', unit_scale=True, desc=label, file=sys.stderr,
+                leave=False, dynamic_ncols=True)
+
+
+def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(), *,
+                out_bag: Optional[BagWriter] = None, progress: bool = True,
+                use_truth: bool = True) -> BagAnalysis:
+    """
+    Run the detector over a bag: every selected sample in the bag's order, then ``finish()``.
+
+    :param path: ROS 2 bag directory, ``.mcap``/``.db3`` file or ROS 1 ``.bag`` file.
+    :param options: topics, parameters and overrides.
+    :param out_bag: an open writer that receives the input samples and the event messages.
+    :param progress: show a progress bar on stderr for long bags (see :func:`progress_bar`).
+    :param use_truth: compare with the truth file beside the bag when there is one.
+    :returns: the analysis.
+    :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
+        topics or with topics of the wrong type), a bad setting, a bad truth file, or a
+        failure writing ``out_bag``.
+    """
+    path = Path(path)
+    start = time.perf_counter()
+    try:
+        with options.reader(path) as bag:
+            config = build_config(options.parameters, bat_input=bag.selection.bat_mode,
+                                  model=options.model, ball_radius=options.ball_radius,
+                                  bat_radius=options.bat_radius,
+                                  prediction_horizon=options.prediction_horizon)
+            result = BagAnalysis(path=path, selection=bag.selection, config=config)
+            sinks: List[Any] = [result]
+            if config.prediction_horizon > 0.0:
+                sinks.append(FrameStamps(result.frames_ns))
+            if out_bag is not None:
+                sinks.append(BagCopy(out_bag, bag.selection, options.node_name,
+                                     config.frame_id))
+            detector = Detector(config)
+            bar = progress_bar(bag.message_count, path.name) if progress else None
+            try:
+                result.messages, result.first_stamp_ns = run_detector(
+                    bag.samples(), detector, sinks, bar)
+            finally:
+                if bar is not None:
+                    bar.close()
+    except BagError as error:
+        raise ToolError(str(error)) from error
+    result.seconds = time.perf_counter() - start
+    result.stats = detector.stats
+    truth_file = truth_path(path)
+    if use_truth and truth_file.is_file():
+        result.truth = compare_truth(result.impacts, result.near_misses, load_truth(truth_file),
+                                     truth_file)
+    return result

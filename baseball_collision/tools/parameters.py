@@ -1,0 +1,127 @@
+"""
+Node parameter files for the offline tools: read the ``impact_node``'s YAML, build the config.
+
+No rclpy: the ROS 2 YAML the ``impact_node`` takes (``<node_name>: ros__parameters:`` and
+``/**: ros__parameters:`` sections, nested keys joined by ``.``) is read with PyYAML
+(:func:`load_parameters`), and :func:`build_config` turns it, with command-line overrides, into a
+:class:`~baseball_collision.core.detector.DetectorConfig`. :func:`output_topics` names the
+node's event topics (``--out-bag`` writes them, the demo listens to them).
+"""
+
+import os
+from pathlib import Path
+from typing import Any, Dict, Mapping, Optional
+
+from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
+from ..errors import CoreError, ToolError
+
+OFFLINE_MODEL = 'spline'
+"""Motion model used offline when neither a flag nor the parameter file names one."""
+
+
+def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> None:
+    """Flatten nested parameter mappings into ``into`` with ``.``-joined names."""
+    for key, value in values.items():
+        name = f'{prefix}{key}'
+        if isinstance(value, Mapping):
+            _flatten(f'{name}.', value, into)
+        else:
+            into[name] = value
+
+
+def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
+    """
+    Read the parameters a ROS 2 node would take from a ``--params-file`` YAML, checked as it does.
+
+    Sections used, in this order (later ones win, as for the node): ``/**`` (or ``**``), then
+    every key naming the node: ``<node_name>``, ``/<node_name>``, or a path ending in
+    ``/<node_name>`` (a namespaced node). Each section's ``ros__parameters`` mapping is
+    flattened: nested mappings become ``outer.inner`` names. The values are checked with the
+    node's rules (``core.detector.validate_parameters``): a file the node would refuse is
+    refused with the same message. YAML aliases and nesting deeper than 32 levels are refused.
+
+    :param path: the YAML file.
+    :param node_name: the node's name.
+    :returns: ``{parameter name: value}`` as the file gives them (names the node does not know
+        included).
+    :raises ToolError: the file is missing or not YAML, has aliases or deep nesting, has no
+        section for the node, a section without a ``ros__parameters`` mapping, or a value the
+        node refuses.
+    """
+    import yaml  # PyYAML, as ROS 2's own tools use; imported here so analyze starts fast
+
+    path = Path(path)
+    try:
+        text = path.read_text()
+        depth = 0
+        for event in yaml.parse(text, Loader=yaml.SafeLoader):  # events: no recursion
+            if isinstance(event, yaml.AliasEvent):
+                raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line '
+                                f'{event.start_mark.line + 1})')
+            depth += isinstance(event, yaml.CollectionStartEvent) - isinstance(
+                event, yaml.CollectionEndEvent)
+            if depth > 32:
+                raise ToolError(f'parameter file {path}: nested deeper than 32 levels (line '
+                                f'{event.start_mark.line + 1})')
+        document = yaml.safe_load(text)
+    except OSError as error:
+        raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
+    except yaml.YAMLError as error:
+        first = str(error).strip().splitlines()[0] if str(error).strip() else 'invalid'
+        raise ToolError(f'parameter file {path} is not valid YAML: {first}') from error
+    if not isinstance(document, Mapping):
+        raise ToolError(f'parameter file {path} is not a mapping of node names')
+    wildcard = [key for key in document if str(key) in ('/**', '**')]
+    named = [key for key in document if str(key).strip('/') == node_name
+             or str(key).endswith(f'/{node_name}')]
+    if not wildcard and not named:
+        found = ', '.join(str(key) for key in document) or 'nothing'
+        raise ToolError(
+            f"parameter file {path} has no section for node '{node_name}' or '/**' "
+            f'(found: {found})')
+    parameters: Dict[str, Any] = {}
+    for key in wildcard + named:
+        section = document[key]
+        inner = section.get('ros__parameters') if isinstance(section, Mapping) else None
+        if not isinstance(inner, Mapping):
+            raise ToolError(
+                f"parameter file {path}: section '{key}' has no ros__parameters mapping")
+        _flatten('', inner, parameters)
+    try:
+        validate_parameters(parameters)
+    except CoreError as error:
+        raise ToolError(f'parameter file {path}: {error}') from error
+    return parameters
+
+
+def build_config(parameters: Mapping[str, Any], *, bat_input: str,
+                 model: Optional[str] = None, ball_radius: Optional[float] = None,
+                 bat_radius: Optional[float] = None,
+                 prediction_horizon: Optional[float] = None) -> DetectorConfig:
+    """
+    Build the detector configuration: flags over the parameter file over offline defaults.
+
+    :param parameters: flat node parameters (e.g. from :func:`load_parameters`; may be empty).
+    :param bat_input: ``'pose'`` or ``'points'``, as the bag's selected topics give it.
+    :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`.
+    :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
+    :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
+    :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
+    :returns: the configuration.
+    :raises ToolError: a value the node would refuse (the message names the parameter).
+    """
+    flags = {'model': model or parameters.get('model') or OFFLINE_MODEL, 'bat_input': bat_input,
+             'ball_radius': ball_radius, 'bat_radius': bat_radius,
+             'prediction_horizon': prediction_horizon}
+    values = dict(parameters, **{name: v for name, v in flags.items() if v is not None})
+    try:
+        return DetectorConfig.from_parameters(values)
+    except CoreError as error:
+        raise ToolError(f'bad detector setting: {error}') from error
+
+
+def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
+    """Return the node's event topics: ``{'impact': '/<node>/impact', ...}``."""
+    base = '/' + node_name.strip('/')
+    return {'impact': f'{base}/impact', 'impact_velocity': f'{base}/impact_velocity',
+            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact'}

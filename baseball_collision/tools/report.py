@@ -1,0 +1,284 @@
+"""
+What ``analyze`` says about its bags: the printed table and summary lines, JSON and CSV.
+
+Pure formatting of :class:`~baseball_collision.tools.analyze.BagAnalysis` results (no I/O but
+:func:`write_json`'s stream). Events become records in one place,
+:func:`~baseball_collision.tools.events.event_record`: a CSV row is the record with the bag and
+the time, a table row is drawn from the same record. Units are SI everywhere but in the printed
+table (cm, mph, ms, us).
+"""
+
+import csv
+from dataclasses import asdict
+import io
+import json
+import math
+from typing import Any, Dict, IO, List, Mapping, Sequence
+
+from .analyze import BagAnalysis
+from .events import event_record
+from .truth import LEADS_S, TruthComparison
+from ..bags import TopicSelection
+from ..core.detector import MPS_TO_MPH
+
+JSON_FORMAT = 'baseball_collision.analyze/1'
+"""``format`` value of an ``analyze --json`` file."""
+
+TABLE_COLUMNS = (
+    ('#', 3), ('event', 9), ('t (s)', 9), ('stamp (ns)', 19), ('from tip (cm)', 13),
+    ('where', 8), ('sweet spot (mph)', 16), ('ball (mph)', 10), ('attack (deg)', 12),
+    ('gap (cm)', 8))
+"""Printed table: (title, width) per column."""
+
+CSV_COLUMNS = (
+    'bag', 'event', 'stamp_ns', 'time_s', 'x', 'y', 'z', 'normal_x', 'normal_y', 'normal_z',
+    'distance_from_knob_m', 'distance_from_tip_m', 'feature', 'sweet_spot_speed_mps',
+    'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x', 'gap_y',
+    'gap_z', 'made_at_ns', 'lead_s')
+"""``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
+applicable). ``x, y, z``: the contact point for an impact, the ball centre at closest approach
+for a miss, the predicted contact point for a prediction (whose ``stamp_ns`` is the predicted
+instant, ``made_at_ns`` when it was made)."""
+
+
+def _cm(metres: float) -> str:
+    return f'{metres * 100.0:.1f}'
+
+
+def _mph(mps: float) -> str:
+    return f'{mps * MPS_TO_MPH:.1f}'
+
+
+def _events(analysis: BagAnalysis) -> List[Any]:
+    """Return impacts and near misses in time order."""
+    return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
+
+
+def _record(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
+    """Return an event's record with its bag and ``time_s`` (s from the bag's first stamp)."""
+    return {'bag': str(analysis.path), 'time_s': f'{analysis.relative_s(event.stamp_ns):.9f}',
+            **event_record(event)}
+
+
+# ----------------------------------------------------------------------------------------------
+# The printed report
+
+
+def _row(cells: Sequence[str]) -> str:
+    parts = []
+    for (title, width), cell in zip(TABLE_COLUMNS, cells):
+        parts.append(cell.ljust(width) if title in ('event', 'where') else cell.rjust(width))
+    return '  '.join(parts).rstrip()
+
+
+def _cells(number: int, record: Mapping[str, Any], time_s: float) -> List[str]:
+    """Return a table row's cells from an event record (``-`` where the event has no value)."""
+    def shown(name: str, format_value: Any) -> str:
+        value = record.get(name)
+        return '-' if value is None else format_value(value)
+
+    return [str(number), record['event'].replace('_', ' '), f'{time_s:.4f}',
+            str(record['stamp_ns']), _cm(record['distance_from_tip_m']),
+            shown('feature', lambda feature: feature.replace('_', ' ')),
+            shown('sweet_spot_speed_mps', _mph), shown('ball_speed_mps', _mph),
+            shown('attack_angle_deg', lambda degrees: f'{degrees:.1f}'),
+            shown('gap_m', _cm)]
+
+
+def format_report(analysis: BagAnalysis) -> str:
+    """
+    Return the readable report of one bag: header, one row per event, summary, truth.
+
+    Times are seconds from the bag's first header stamp, with the stamp itself; spots cm from
+    the tip along the bat; speeds mph; gaps cm.
+    """
+    selection = analysis.selection
+    bat = (f'bat {selection.bat_pose} (pose)' if selection.bat_pose
+           else f'bat {selection.knob} + {selection.tip} (knob/tip)')
+    lines = [f'{analysis.path}: ball {selection.ball}, {bat}, model {analysis.config.model}']
+    if selection.note:
+        lines.append(f'note: {selection.note}')
+    lines.append(_row([title for title, _ in TABLE_COLUMNS]))
+    for number, event in enumerate(_events(analysis), 1):
+        lines.append(_row(_cells(number, event_record(event),
+                                 analysis.relative_s(event.stamp_ns))))
+    if not analysis.impacts and not analysis.near_misses:
+        lines.append('  (no impacts and no near misses)')
+    if analysis.config.prediction_horizon > 0.0:
+        lines.extend(prediction_lines(analysis))
+    lines.append(summary_line(analysis))
+    wrong_frame = analysis.stats.dropped.get('wrong_frame', 0)
+    if analysis.config.frame_id and wrong_frame and wrong_frame >= analysis.messages:
+        lines.append(f"hint: every sample was dropped as wrong_frame: the parameters' frame_id "
+                     f"'{analysis.config.frame_id}' is not the bag's frame")
+    if analysis.truth is not None:
+        lines.append(truth_line(analysis.truth))
+    return '\n'.join(lines)
+
+
+def prediction_lines(analysis: BagAnalysis) -> List[str]:
+    """
+    Return the report's prediction section: per impact, the error at each lead time.
+
+    ``time/point`` is the predicted minus the true instant (ms) and the distance from the
+    predicted to the true contact point (cm); ``-`` where the frame at that lead predicted no
+    impact.
+    """
+    reference = 'the truth' if analysis.truth is not None else 'the detected impact'
+    lines = [f'predictions: {len(analysis.predictions)} made (horizon '
+             f'{analysis.config.prediction_horizon:.2f} s); error against {reference} at lead '
+             + ', '.join(f'{lead * 1e3:g} ms' for lead in LEADS_S) + ' (time ms / point cm)']
+    for number, (impact, scores) in enumerate(zip(analysis.impacts,
+                                                  analysis.prediction_scores()), 1):
+        cells = []
+        for lead in LEADS_S:
+            score = scores[lead]
+            cells.append(f'{lead * 1e3:g} ms ' + ('-' if score is None else
+                                                  f'{score[0] * 1e3:+.2f}/{score[1] * 1e2:.1f}'))
+        lines.append(f'  impact {number} at {analysis.relative_s(impact.stamp_ns):.4f} s: '
+                     + ', '.join(cells))
+    return lines
+
+
+def summary_line(analysis: BagAnalysis) -> str:
+    """Return the one-line summary: events, drops by reason, gaps, messages, throughput."""
+    dropped = analysis.stats.dropped
+    drops = ', '.join(f'{reason} {count}' for reason, count in sorted(dropped.items())
+                      if count)
+    detector_s = analysis.stats.total_processing_s
+    share = f', detector {100.0 * detector_s / analysis.seconds:.0f}%' \
+        if analysis.seconds > 0.0 else ''
+    return (f'summary: {len(analysis.impacts)} impacts, {len(analysis.near_misses)} near misses, '
+            f'{sum(dropped.values())} dropped{f" ({drops})" if drops else ""}, '
+            f'{len(analysis.gaps)} stream gaps, {len(analysis.resets)} resets; '
+            f'{analysis.messages:,} messages in {analysis.seconds:.2f} s '
+            f'({analysis.throughput:,.0f} msg/s{share})')
+
+
+def total_line(analyses: Sequence[BagAnalysis]) -> str:
+    """Return the one-line total over several bags: events, messages, throughput."""
+    messages = sum(a.messages for a in analyses)
+    seconds = sum(a.seconds for a in analyses)
+    rate = messages / seconds if seconds > 0 else 0.0
+    return (f'total: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
+            f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
+            f'{seconds:.2f} s ({rate:,.0f} msg/s)')
+
+
+def truth_line(comparison: TruthComparison) -> str:
+    """Return the one-line truth comparison (time error us, spot error mm, speed error %)."""
+    parts = [f'truth ({comparison.path.name}): {len(comparison.matched)}/{comparison.contacts} '
+             f'contacts found, {len(comparison.missed)} missed, '
+             f'{len(comparison.false_impacts)} false impacts']
+    if comparison.matched:
+        times = [abs(e) * 1e-3 for e in comparison.time_errors_ns]
+        spots = [abs(e) * 1e3 for e in comparison.spot_errors_m]
+        speeds = [abs(e) * 100.0 for e in comparison.speed_errors]
+        parts.append(f'time error max {max(times):.1f} us (mean {sum(times) / len(times):.1f})')
+        parts.append(f'spot error max {max(spots):.1f} mm')
+        parts.append(f'sweet-spot speed error max {max(speeds):.2f} %')
+    if comparison.misses:
+        parts.append(f'{comparison.near_misses_in_misses}/{comparison.misses} misses reported '
+                     'as near misses')
+    return '; '.join(parts)
+
+
+# ----------------------------------------------------------------------------------------------
+# JSON and CSV
+
+
+def _plain(value: Any) -> Any:
+    """Return value with tuples as lists and non-finite floats as None (strict JSON)."""
+    if isinstance(value, (tuple, list)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _selection_dict(selection: TopicSelection) -> Dict[str, Any]:
+    return {'ball': selection.ball, 'ball_type': selection.ball_type,
+            'bat_pose': selection.bat_pose, 'knob': selection.knob, 'tip': selection.tip,
+            'bat_input': selection.bat_mode, 'note': selection.note}
+
+
+def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
+    """Return one bag's ``bags`` entry of the JSON document."""
+    return {
+        'path': str(analysis.path), 'topics': _selection_dict(analysis.selection),
+        'model': analysis.config.model, 'messages': analysis.messages,
+        'seconds': analysis.seconds, 'first_stamp_ns': analysis.first_stamp_ns,
+        'impacts': len(analysis.impacts), 'near_misses': len(analysis.near_misses),
+        'dropped': dict(analysis.stats.dropped),
+        'gaps': [asdict(gap) for gap in analysis.gaps],
+        'resets': [asdict(reset) for reset in analysis.resets],
+        'truth': None if analysis.truth is None else analysis.truth.as_dict(),
+    }
+
+
+def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
+    """
+    Return the ``--json`` document for one or several bags.
+
+    Top level: ``format``; ``impacts`` and ``near_misses`` (every field of the detector's
+    events, vectors as lists, plus ``bag`` and ``time_s``: seconds from that bag's first
+    stamp); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag:
+    ``path``, ``topics``, ``model``, ``messages``, ``seconds``, ``first_stamp_ns``, counts,
+    ``dropped``, ``gaps``, ``resets`` and ``truth``: the comparison or None). With
+    ``--predict``: ``predictions`` (every ``Prediction``, plus ``bag`` and ``time_s``) and, in
+    each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
+    """
+    impacts, near_misses, predictions, bags = [], [], [], []
+    dropped: Dict[str, int] = {}
+
+    def entry(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
+        return {'bag': str(analysis.path), 'time_s': analysis.relative_s(event.stamp_ns),
+                **asdict(event)}
+
+    for analysis in analyses:
+        predicting = analysis.config.prediction_horizon > 0.0
+        scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
+        for impact, score in zip(analysis.impacts, scores):
+            impacts.append(entry(analysis, impact))
+            if score is not None:
+                impacts[-1]['prediction_errors'] = {
+                    f'{lead * 1e3:g}': None if error is None else {
+                        'time_error_s': error[0], 'point_error_m': error[1]}
+                    for lead, error in score.items()}
+        predictions.extend(entry(analysis, p) for p in analysis.predictions)
+        near_misses.extend(entry(analysis, miss) for miss in analysis.near_misses)
+        for reason, count in analysis.stats.dropped.items():
+            dropped[reason] = dropped.get(reason, 0) + count
+        bags.append(_bag_entry(analysis))
+    document = {'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
+                'dropped': dropped, 'bags': bags}
+    if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
+        document['predictions'] = predictions
+    return _plain(document)
+
+
+def write_json(document: Mapping[str, Any], stream: IO[str]) -> None:
+    """Write a JSON document (2-space indent, strict: no NaN)."""
+    json.dump(document, stream, indent=2, allow_nan=False)
+    stream.write('\n')
+
+
+def json_text(analyses: Sequence[BagAnalysis]) -> str:
+    """Return the ``--json`` file's text (:func:`to_json`, :func:`write_json`)."""
+    buffer = io.StringIO()
+    write_json(to_json(analyses), buffer)
+    return buffer.getvalue()
+
+
+def csv_text(analyses: Sequence[BagAnalysis]) -> str:
+    """Return the ``--csv`` file's text (see :data:`CSV_COLUMNS`)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator='\n')
+    writer.writerow(CSV_COLUMNS)
+    for analysis in analyses:
+        for event in _events(analysis) + analysis.predictions:
+            row = _record(analysis, event)
+            writer.writerow([row.get(column, '') for column in CSV_COLUMNS])
+    return buffer.getvalue()

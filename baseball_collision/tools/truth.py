@@ -1,0 +1,246 @@
+"""
+Truth: the files ``simulate`` writes beside a bag, and the one rule matching impacts to them.
+
+Pure Python + numpy (no ROS, no simulator): a truth file is read here, whoever wrote it.
+
+* :func:`truth_path` and :func:`load_truth`: ``<bag name>.truth.json`` beside a bag, one
+  ``simulation.truth_dict`` per pitch (``start_ns``, ``end_ns``, ``contact``, ``stamp_ns``,
+  ``distance_from_tip_m``, ``sweet_spot_speed_mps``, ...).
+* :func:`match_pitch`: THE matching rule, used by ``analyze`` (:func:`compare_truth`) and by
+  the accuracy evaluation (:func:`~baseball_collision.tools.accuracy.compare_pitch`).
+* :func:`prediction_errors`: predictions of one contact scored at lead times.
+
+Errors are detected minus true: stamps in ns (or s where named), spots in m, speeds relative.
+"""
+
+from dataclasses import dataclass, field
+import json
+import os
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Protocol, Sequence, Tuple
+
+import numpy as np
+
+from ..core.detector import Prediction
+from ..errors import ToolError
+
+TRUTH_FORMAT = 'baseball_collision.truth/1'
+"""``format`` value of a truth file."""
+
+BAG_SUFFIXES = ('.mcap', '.db3', '.bag')
+"""File suffixes of bare bag files (anything else is a ROS 2 bag directory)."""
+
+LEADS_S = (0.2, 0.1, 0.05, 0.02)
+"""Lead times (s) at which predictions are scored."""
+
+
+def truth_path(bag: os.PathLike) -> Path:
+    """
+    Return where the truth file of a bag lives: beside it, ``<name>.truth.json``.
+
+    ``runs/a.mcap`` -> ``runs/a.truth.json`` (the ``.mcap``/``.db3``/``.bag`` suffix is
+    replaced); a bag directory ``runs/a`` -> ``runs/a.truth.json``.
+    """
+    bag = Path(bag)
+    stem = bag.name[:-len(bag.suffix)] if bag.suffix.lower() in BAG_SUFFIXES else bag.name
+    return bag.with_name(f'{stem}.truth.json')
+
+
+def load_truth(path: os.PathLike) -> Dict[str, Any]:
+    """
+    Read a truth file written by ``baseball-collision simulate``.
+
+    :returns: the truth document (``pitches``: one :func:`simulation.truth_dict` each).
+    :raises ToolError: unreadable, not JSON, or not a truth file.
+    """
+    path = Path(path)
+    try:
+        document = json.loads(path.read_text())
+    except OSError as error:
+        raise ToolError(f'cannot read truth file {path}: {error.strerror}') from error
+    except ValueError as error:
+        raise ToolError(f'truth file {path} is not valid JSON: {error}') from error
+    if not isinstance(document, dict) or document.get('format') != TRUTH_FORMAT \
+            or not isinstance(document.get('pitches'), list):
+        raise ToolError(f'{path} is not a {TRUTH_FORMAT} truth file')
+    return document
+
+
+class ImpactLike(Protocol):
+    """What a truth comparison needs of an impact (``Impact``, or one heard from the node)."""
+
+    stamp_ns: int
+    distance_from_tip_m: float
+    sweet_spot_speed_mps: float
+
+
+class EventLike(Protocol):
+    """What a truth comparison needs of a near miss."""
+
+    stamp_ns: int
+
+
+def match_pitch(contact: bool, impacts: Sequence[EventLike],
+                span: Optional[Tuple[int, int]] = None) -> Tuple[Optional[int], List[int]]:
+    """
+    Match one pitch's impacts to its truth: the one rule of ``analyze`` and the evaluation.
+
+    The pitch's impacts are those stamped inside its span ``[start_ns, end_ns]`` (inclusive;
+    ``span=None``: every impact given). A pitch with a contact is matched to the FIRST of them
+    (the earliest stamp; on a tie the earlier in ``impacts``). Every other impact of the pitch
+    is a false impact; a pitch without a contact matches none.
+
+    Why the first and not the one closest to the true contact: the truth's ``stamp_ns`` is the
+    first contact, and the detector reports a contact once; a second report during a pitch is
+    wrong wherever it lies. Picking the closest would let a spurious report near the truth
+    take the credit and hide the error of the report a live consumer acted on, and would
+    choose with knowledge (the true stamp) the detector does not have.
+
+    :param contact: the pitch has a contact in its truth.
+    :param impacts: detected impacts (anything with ``stamp_ns``).
+    :param span: the pitch's ``(start_ns, end_ns)``; None: no bounds.
+    :returns: (index in ``impacts`` of the match or None, indices of the pitch's impacts).
+    """
+    inside = [index for index, impact in enumerate(impacts)
+              if span is None or span[0] <= impact.stamp_ns <= span[1]]
+    if not contact or not inside:
+        return None, inside
+    return min(inside, key=lambda index: impacts[index].stamp_ns), inside
+
+
+@dataclass
+class TruthComparison:
+    """
+    Detected impacts against a truth file.
+
+    :ivar path: the truth file.
+    :ivar contacts: pitches with a contact in the truth.
+    :ivar matched: ``(truth pitch, impact)`` for every contact found (the first impact in the
+        pitch's time span: :func:`match_pitch`).
+    :ivar missed: truth pitches with a contact and no impact in their span.
+    :ivar false_impacts: impacts matched to no true contact.
+    :ivar near_misses_in_misses: pitches without contact that got a near-miss report.
+    :ivar misses: pitches without contact.
+    """
+
+    path: Path
+    contacts: int = 0
+    matched: List[Tuple[Dict[str, Any], ImpactLike]] = field(default_factory=list)
+    missed: List[Dict[str, Any]] = field(default_factory=list)
+    false_impacts: List[ImpactLike] = field(default_factory=list)
+    near_misses_in_misses: int = 0
+    misses: int = 0
+
+    @property
+    def time_errors_ns(self) -> List[int]:
+        """Return detected minus true first-contact stamp, per match (ns)."""
+        return [impact.stamp_ns - int(truth['stamp_ns']) for truth, impact in self.matched]
+
+    @property
+    def spot_errors_m(self) -> List[float]:
+        """Return detected minus true contact distance from the tip, per match (m)."""
+        return [impact.distance_from_tip_m - float(truth['distance_from_tip_m'])
+                for truth, impact in self.matched]
+
+    @property
+    def speed_errors(self) -> List[float]:
+        """Return relative sweet-spot speed errors (detected / true - 1), per match."""
+        return [impact.sweet_spot_speed_mps / float(truth['sweet_spot_speed_mps']) - 1.0
+                for truth, impact in self.matched]
+
+    def as_dict(self) -> Dict[str, Any]:
+        """Return the comparison as JSON-ready data (SI units, ns)."""
+        def biggest(values: Sequence[float]) -> Optional[float]:
+            return max((abs(v) for v in values), default=None)
+
+        return {
+            'path': str(self.path),
+            'contacts': self.contacts,
+            'matched': len(self.matched),
+            'missed': [truth.get('name') for truth in self.missed],
+            'false_impacts': [impact.stamp_ns for impact in self.false_impacts],
+            'misses': self.misses,
+            'near_misses_in_misses': self.near_misses_in_misses,
+            'max_abs_time_error_ns': biggest(self.time_errors_ns),
+            'max_abs_spot_error_m': biggest(self.spot_errors_m),
+            'max_abs_speed_error': biggest(self.speed_errors),
+            'pitches': [
+                {'name': truth.get('name'), 'kind': truth.get('kind'),
+                 'truth_stamp_ns': truth['stamp_ns'], 'stamp_ns': impact.stamp_ns,
+                 'time_error_ns': impact.stamp_ns - int(truth['stamp_ns']),
+                 'spot_error_m': impact.distance_from_tip_m
+                 - float(truth['distance_from_tip_m']),
+                 'sweet_spot_speed_error': impact.sweet_spot_speed_mps
+                 / float(truth['sweet_spot_speed_mps']) - 1.0}
+                for truth, impact in self.matched],
+        }
+
+
+def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike],
+                  truth: Mapping[str, Any], path: os.PathLike) -> TruthComparison:
+    """
+    Match impacts to true contacts pitch by pitch (:func:`match_pitch`).
+
+    Every pitch spans ``[start_ns, end_ns]``. A pitch with a contact is matched to the first
+    impact inside its span; other impacts in the span, and impacts in no span, are false
+    impacts.
+
+    :param impacts: detected impacts.
+    :param near_misses: detected near misses (counted for pitches without contact).
+    :param truth: a truth document (:func:`load_truth`).
+    :param path: where it came from (for reports).
+    :returns: the comparison.
+    :raises ToolError: a pitch entry without the needed keys.
+    """
+    result = TruthComparison(path=Path(path))
+    used = set()
+    try:
+        for pitch in truth['pitches']:
+            start, end = int(pitch['start_ns']), int(pitch['end_ns'])
+            match, _ = match_pitch(bool(pitch['contact']), impacts, (start, end))
+            if not pitch['contact']:
+                result.misses += 1
+                if any(start <= miss.stamp_ns <= end for miss in near_misses):
+                    result.near_misses_in_misses += 1
+                continue
+            result.contacts += 1
+            if match is None:
+                result.missed.append(pitch)
+                continue
+            used.add(match)
+            result.matched.append((pitch, impacts[match]))
+    except (KeyError, TypeError, ValueError) as error:
+        raise ToolError(f'truth file {path} has a malformed pitch: {error!r}') from error
+    result.false_impacts = [impact for i, impact in enumerate(impacts) if i not in used]
+    return result
+
+
+def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int],
+                      contact_ns: int, contact_point: Sequence[float],
+                      leads_s: Sequence[float] = LEADS_S) -> Dict[float,
+                                                                  Optional[Tuple[float, float]]]:
+    """
+    Score predictions of one contact at several lead times.
+
+    For each lead L the prediction scored is the one made at the last processed frame at
+    least L before the contact; a frame that had no prediction scores None (not predicted).
+
+    :param predictions: the predictions made before the contact.
+    :param frames_ns: every processed frame stamp (ns) (the union of the sample stamps).
+    :param contact_ns: the contact's stamp (ns); ``contact_point`` its point (m).
+    :returns: ``{lead: (time error s, point error m) or None}``; errors are predicted minus
+        true, the point error a distance.
+    """
+    by_frame: Dict[int, Prediction] = {}
+    for prediction in predictions:
+        by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+    frames = sorted(frames_ns)
+    result: Dict[float, Optional[Tuple[float, float]]] = {}
+    for lead in leads_s:
+        cut = contact_ns - int(round(lead * 1e9))
+        index = np.searchsorted(frames, cut, side='right') - 1
+        chosen = by_frame.get(frames[index]) if index >= 0 else None
+        result[lead] = None if chosen is None else (
+            (chosen.stamp_ns - contact_ns) * 1e-9,
+            float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
+    return result

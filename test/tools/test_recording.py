@@ -1,0 +1,64 @@
+"""``simulate``: a bag of simulated pitches with its truth file, and analyze finds the truth."""
+
+import json
+from pathlib import Path
+from typing import Callable, List, Tuple
+
+from baseball_collision.bags import BagReader, POINT_STAMPED
+from baseball_collision.tools.truth import truth_path
+import pytest
+from support.bundled import bag_path, check_against_truth
+from support.documents import differences
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
+
+
+@pytest.mark.parametrize('name, flags', [
+    ('s.mcap', []), ('s.db3', []), ('s_dir', ['--storage', 'sqlite3']), ('s.bag', [])])
+def test_simulate_round_trip(name: str, flags: List[str], tmp_path: Path,
+                             run_cli: RunCli) -> None:
+    """Simulate writes a bag and its truth; analyze finds the truth's contacts in it."""
+    bag = tmp_path / name
+    code, stdout, stderr = run_cli(['simulate', str(bag), '--count', '4', '--rate', '200',
+                                    '--kinds', 'barrel,graze,miss_under,handle', '--seed', '7',
+                                    '--grid', '0.001', '--noise', '0.0001'] + flags)
+    assert code == 0, stderr
+    assert 'wrote' in stdout and '4 pitches (3 with contact)' in stdout
+    truth = json.loads(truth_path(bag).read_text())
+    assert truth['format'] == 'baseball_collision.truth/1'
+    assert [p['kind'] for p in truth['pitches']] == ['barrel', 'graze', 'miss_under', 'handle']
+    assert truth['topics'] == {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob',
+                               'tip': '/bat_tip'}
+    assert truth['spec']['seed'] == 7 and 'simulate' in truth['command']
+    starts = [p['start_ns'] for p in truth['pitches']]
+    assert [b - a for a, b in zip(starts, starts[1:])] == [2_000_000_000] * 3
+    with BagReader(bag) as reader:
+        assert reader.topics == {'/ball': POINT_STAMPED,
+                                 '/bat_pose': 'geometry_msgs/msg/PoseStamped',
+                                 '/bat_knob': POINT_STAMPED, '/bat_tip': POINT_STAMPED}
+        samples = list(reader.samples())
+    assert {s.frame_id for s in samples} == {'world'}
+    steps = {b.stamp_ns - a.stamp_ns for a, b in zip(samples, samples[1:])
+             if a.role == b.role == 'ball' and b.stamp_ns - a.stamp_ns < 10**8}
+    assert steps <= {4_000_000, 5_000_000, 6_000_000}  # 200 Hz on a millisecond grid
+    assert truth['messages'] == len(samples) * 2  # only ball and pose were read
+    out = tmp_path / 'a.json'
+    code, _, _ = run_cli(['analyze', str(bag), '--json', str(out)])
+    assert code == 0
+    check_against_truth(json.loads(out.read_text()), truth, 200.0)
+
+
+def test_simulate_is_deterministic(tmp_path: Path, run_cli: RunCli) -> None:
+    """Same seed, same truth; the bundled truth files regenerate from their commands."""
+    for name in ('a.mcap', 'b.mcap'):
+        assert run_cli(['simulate', str(tmp_path / name), '--count', '2', '--seed', '3'])[0] == 0
+    a = json.loads((tmp_path / 'a.truth.json').read_text())
+    b = json.loads((tmp_path / 'b.truth.json').read_text())
+    assert a['pitches'] == b['pitches']  # same machine, same seed: bit for bit
+    bundled = json.loads(truth_path(bag_path('pitches_90hz.mcap')).read_text())
+    argv = bundled['command'].split()[1:]
+    argv[1] = str(tmp_path / 'again.mcap')
+    assert run_cli(argv)[0] == 0
+    again = json.loads((tmp_path / 'again.truth.json').read_text())
+    # another machine or numpy build may differ in the last bits of a float, never in a stamp
+    assert differences(again['pitches'], bundled['pitches']) == []

@@ -1,0 +1,99 @@
+"""The report: the printed table, summary lines, JSON and CSV from one record per event."""
+
+import csv
+import io
+import json
+from pathlib import Path
+from typing import Callable, List, Tuple
+
+from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
+from baseball_collision.tools.events import event_record
+from baseball_collision.tools.report import (
+    CSV_COLUMNS, csv_text, format_report, json_text, TABLE_COLUMNS, to_json, total_line)
+import pytest
+from support.bundled import bag_path
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
+
+IMPACT_KEYS = {'stamp_ns', 'point', 'normal', 'distance_from_knob_m', 'distance_from_tip_m',
+               'sweet_spot_speed_mps', 'bat_speed_at_contact_mps', 'ball_speed_mps',
+               'attack_angle_deg', 'bag', 'time_s', 'feature', 'bat_fraction'}
+
+MISS_KEYS = {'stamp_ns', 'gap_m', 'gap_vector', 'bag', 'time_s', 'distance_from_tip_m'}
+
+
+def test_json_schema(tmp_path: Path, run_cli: RunCli) -> None:
+    """The documented keys are there, with the documented types and units."""
+    out = tmp_path / 'a.json'
+    code, stdout, _ = run_cli(['analyze', str(bag_path('pitches_360hz.mcap')), '--json', str(out),
+                               '--quiet'])
+    assert code == 0 and stdout == ''
+    document = json.loads(out.read_text())
+    assert set(document) >= {'format', 'impacts', 'near_misses', 'dropped', 'bags'}
+    assert document['format'] == 'baseball_collision.analyze/1'
+    for impact in document['impacts']:
+        assert set(impact) >= IMPACT_KEYS
+        assert isinstance(impact['stamp_ns'], int)
+        assert len(impact['point']) == 3 and len(impact['normal']) == 3
+        assert sum(n * n for n in impact['normal']) == pytest.approx(1.0)
+        assert 26.0 < impact['sweet_spot_speed_mps'] < 37.0  # 60-80 mph swings
+        # knob to tip (34 in); the spline interpolant keeps the length to within a millimetre
+        assert impact['distance_from_knob_m'] + impact['distance_from_tip_m'] == \
+            pytest.approx(0.8636, abs=1e-3)
+    for miss in document['near_misses']:
+        assert set(miss) >= MISS_KEYS
+        assert miss['gap_m'] == pytest.approx(sum(g * g for g in miss['gap_vector']) ** 0.5)
+        assert 0.0 < miss['gap_m'] < 0.15
+    bag = document['bags'][0]
+    assert set(bag) >= {'path', 'topics', 'model', 'messages', 'seconds', 'first_stamp_ns',
+                        'impacts', 'near_misses', 'dropped', 'gaps', 'resets', 'truth'}
+    assert bag['topics']['bat_pose'] == '/bat_pose' and bag['topics']['bat_input'] == 'pose'
+    assert '/bat_knob' in bag['topics']['note']
+    assert bag['messages'] == 3480 and bag['model'] == 'spline'
+
+
+def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
+    """Each CSV row is its event's record; each table row shows the record's values."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False)
+    rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
+    events = sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
+    table = [line.split() for line in format_report(analysis).splitlines()
+             if line.split()[1:2] in (['impact'], ['near'])]
+    assert len(rows) == len(table) == len(events) == 12
+    for row, cells, event in zip(rows, table, events):
+        record = event_record(event)
+        assert set(record) <= set(CSV_COLUMNS)
+        assert {key: row[key] for key in record} == {k: str(v) for k, v in record.items()}
+        assert cells[1] == record['event'].split('_')[0]
+        assert str(record['stamp_ns']) in cells
+        assert f"{record['distance_from_tip_m'] * 100:.1f}" in cells
+        if record['event'] == 'near_miss':
+            assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 4
+        else:
+            assert cells[-1] == '-' and f"{record['attack_angle_deg']:.1f}" in cells
+    assert len(TABLE_COLUMNS) == 10
+
+
+def test_json_and_total_of_several_bags() -> None:
+    """The JSON text is the document; the total line sums the bags."""
+    analyses: List[BagAnalysis] = [
+        analyze_bag(bag_path(name), progress=False, use_truth=False)
+        for name in ('pitches_90hz.mcap', 'pitches_360hz.mcap')]
+    document = json.loads(json_text(analyses))
+    assert document == to_json(analyses)
+    assert [bag['truth'] for bag in document['bags']] == [None, None]
+    assert total_line(analyses).startswith('total: 2 bags, 16 impacts, 8 near misses; ')
+
+
+def test_an_empty_analysis_reports_so() -> None:
+    """No events: the table says so, the CSV is its header."""
+    empty = BagAnalysis(path=Path('e.mcap'), selection=_Selection(), config=DetectorConfig())
+    assert '(no impacts and no near misses)' in format_report(empty)
+    assert csv_text([empty]) == ','.join(CSV_COLUMNS) + '\n'
+    assert to_json([empty])['bags'][0]['first_stamp_ns'] is None
+
+
+class _Selection:
+    ball, ball_type, bat_pose, knob, tip = '/ball', 'p', '/bat_pose', None, None
+    bat_mode, note = 'pose', ''

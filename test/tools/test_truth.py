@@ -1,0 +1,100 @@
+"""Truth files and the one matching rule: the first impact in a pitch's span."""
+
+import json
+from pathlib import Path
+from typing import Any, Dict
+
+from baseball_collision.core.detector import NearMiss, Prediction
+from baseball_collision.errors import ToolError
+from baseball_collision.tools.truth import (
+    compare_truth, LEADS_S, load_truth, match_pitch, prediction_errors, TRUTH_FORMAT, truth_path)
+import pytest
+
+
+def test_truth_file_names() -> None:
+    """The truth file sits beside the bag, the bag suffix replaced."""
+    assert truth_path('runs/a.mcap') == Path('runs/a.truth.json')
+    assert truth_path('runs/a.db3') == Path('runs/a.truth.json')
+    assert truth_path('a.bag') == Path('a.truth.json')
+    assert truth_path('runs/session.v2') == Path('runs/session.v2.truth.json')
+
+
+class _Hit:
+
+    def __init__(self, stamp_ns: int, from_tip: float = 0.1, speed: float = 30.0) -> None:
+        self.stamp_ns = stamp_ns
+        self.distance_from_tip_m = from_tip
+        self.sweet_spot_speed_mps = speed
+
+
+def _pitch(start: int, contact: bool, stamp: int = 0) -> Dict[str, Any]:
+    return {'name': f'p{start}', 'kind': 'barrel' if contact else 'miss_over',
+            'start_ns': start, 'end_ns': start + 1000, 'contact': contact,
+            'stamp_ns': stamp if contact else None, 'distance_from_tip_m': 0.1 if contact
+            else None, 'sweet_spot_speed_mps': 30.0 if contact else None}
+
+
+def test_truth_comparison_matches_per_pitch() -> None:
+    """The first impact in a pitch's span is the match; others and strays are false impacts."""
+    truth = {'pitches': [_pitch(0, True, 500), _pitch(2000, True, 2500), _pitch(4000, False)]}
+    impacts = [_Hit(510, 0.101, 30.3), _Hit(700), _Hit(3500), _Hit(9000)]
+    misses = [NearMiss(4100, 0.05, (0.0, 0.0, 0.05), (0.0, 0.0, 0.0), 0.9, 0.08)]
+    result = compare_truth(impacts, misses, truth, 'x.truth.json')
+    assert result.contacts == 2 and len(result.matched) == 1
+    assert [p['name'] for p in result.missed] == ['p2000']
+    assert [i.stamp_ns for i in result.false_impacts] == [700, 3500, 9000]
+    assert result.time_errors_ns == [10]
+    assert result.spot_errors_m == [pytest.approx(0.001)]
+    assert result.speed_errors == [pytest.approx(0.01)]
+    assert (result.misses, result.near_misses_in_misses) == (1, 1)
+    data = result.as_dict()
+    assert data['max_abs_time_error_ns'] == 10 and data['missed'] == ['p2000']
+    json.dumps(data, allow_nan=False)
+    with pytest.raises(ToolError, match='malformed pitch'):
+        compare_truth([], [], {'pitches': [{'contact': True}]}, 'x')
+
+
+def test_the_first_impact_of_a_pitch_is_its_match() -> None:
+    """The earliest impact in the span matches, even when a later one is nearer the truth."""
+    truth = {'pitches': [_pitch(0, True, 600)]}
+    impacts = [_Hit(650), _Hit(590), _Hit(1001)]
+    result = compare_truth(impacts, [], truth, 't.truth.json')
+    assert [impact.stamp_ns for _, impact in result.matched] == [590]
+    assert [impact.stamp_ns for impact in result.false_impacts] == [650, 1001]
+    assert match_pitch(True, impacts, (0, 1000)) == (1, [0, 1])
+    assert match_pitch(True, impacts) == (1, [0, 1, 2])
+    assert match_pitch(False, impacts, (0, 1000)) == (None, [0, 1])
+    assert match_pitch(True, impacts, (2000, 3000)) == (None, [])
+
+
+def test_truth_files_are_checked(tmp_path: Path) -> None:
+    """A truth file must be JSON in the truth format; the error names the file."""
+    good = tmp_path / 'a.truth.json'
+    good.write_text(json.dumps({'format': TRUTH_FORMAT, 'pitches': []}))
+    assert load_truth(good)['pitches'] == []
+    for name, text, words in (('b', '{', 'not valid JSON'), ('c', '{"pitches": []}', 'is not a'),
+                              ('d', None, 'cannot read truth file')):
+        path = tmp_path / f'{name}.truth.json'
+        if text is not None:
+            path.write_text(text)
+        with pytest.raises(ToolError, match=words):
+            load_truth(path)
+
+
+def test_predictions_are_scored_at_the_last_frame_before_each_lead() -> None:
+    """Per lead: the prediction made at the last frame at least that far ahead, or None."""
+    def predicted(made_at_ns: int, stamp_ns: int) -> Prediction:
+        return Prediction(stamp_ns=stamp_ns, made_at_ns=made_at_ns, lead_s=0.0,
+                          point=(0.0, 0.0, 0.01), normal=(0.0, 0.0, 1.0), bat_fraction=0.9,
+                          distance_from_tip_m=0.1, ball_position=(0.0, 0.0, 0.0),
+                          ball_velocity=(0.0, 0.0, 0.0), planned=False)
+    contact = 1_000_000_000
+    frames = [contact - 150_000_000, contact - 60_000_000, contact - 30_000_000]
+    scores = prediction_errors([predicted(frames[0], contact + 2_000_000),
+                                predicted(frames[2], contact - 1_000_000)], frames, contact,
+                               (0.0, 0.0, 0.0))
+    assert list(scores) == list(LEADS_S)
+    assert scores[0.2] is None  # no frame that early
+    assert scores[0.1] == (pytest.approx(2e-3), pytest.approx(0.01))
+    assert scores[0.05] is None  # the frame at 60 ms made no prediction
+    assert scores[0.02] == (pytest.approx(-1e-3), pytest.approx(0.01))
