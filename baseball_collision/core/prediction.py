@@ -26,7 +26,7 @@ from .bat import BatProfile
 from .geometry import (
     add, cross, dot, lerp, norm, quaternion_angle, rotate, scale, slerp_quaternions, sub, Vector)
 from .toi import ImpactResult
-from .toi.solver import _profile_contact
+from .toi import profile_contact as _profile_contact
 
 Quaternion = Tuple[float, float, float, float]
 

@@ -46,7 +46,7 @@ from ..motion import BatPath, BatSample, hermite_tangent, PointPath, substeps_fo
 from ..prediction import (
     BallForecast, BatForecast, first_contact, planned_bat, PlannedBat, turn_axis_and_rates)
 from ..toi import closest_offset, profile_gap
-from ..toi.solver import _profile_contact
+from ..toi import profile_contact as _profile_contact
 from ...errors import CoreError
 
 DROP_REASONS = (
