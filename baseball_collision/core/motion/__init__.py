@@ -15,7 +15,7 @@ solver on each sub-step.
 
 from .base import (
     BatSample, check_model, hermite_slope, hermite_tangent, MODELS, MotionPath, PathKind,
-    SAMPLES_AHEAD, substeps_for, swing_between)
+    SAMPLES_AHEAD, substeps_for, swing_between, turn_between)
 from .bat_paths import (
     BatPath, LinearBatPath, RigidAxisPath, RigidBatPath, RigidPosePath, SplineBatPath)
 from .points import AngleCubic, PointPath
@@ -24,5 +24,5 @@ __all__ = [
     'MODELS', 'BatSample', 'check_model', 'hermite_tangent', 'substeps_for', 'PointPath',
     'BatPath', 'AngleCubic', 'LinearBatPath', 'MotionPath', 'PathKind', 'RigidAxisPath',
     'RigidBatPath', 'RigidPosePath', 'SAMPLES_AHEAD', 'SplineBatPath', 'hermite_slope',
-    'swing_between',
+    'swing_between', 'turn_between',
 ]

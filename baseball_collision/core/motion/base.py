@@ -10,7 +10,7 @@ import enum
 import math
 from typing import Optional, Protocol, Tuple, TypeVar
 
-from ..geometry import Quaternion, sub, swing_rotation, Vector
+from ..geometry import add, dot, norm, Quaternion, rotation_between, sub, swing_rotation, Vector
 from ...errors import CoreError
 
 MODELS = ('linear', 'rigid', 'spline')
@@ -144,3 +144,24 @@ def substeps_for(deviation_bound: float, tolerance: float) -> int:
 def swing_between(a: BatSample, b: BatSample) -> Vector:
     """Return the rotation (axis times angle, rad) turning a's knob-to-tip onto b's."""
     return swing_rotation(sub(a.tip, a.knob), sub(b.tip, b.knob))
+
+
+def turn_between(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
+    """
+    Return how the bat turned from sample a to sample b.
+
+    :returns: (swing rotation vector: axis times angle in radians, world frame, across the
+        bat; roll angle about the bat's own axis in radians, 0 for knob/tip points). The swing
+        part comes from the knob-to-tip directions, so a roll of the bat cannot leak into it.
+    """
+    d0 = sub(a.tip, a.knob)
+    d1 = sub(b.tip, b.knob)
+    swing = swing_rotation(d0, d1)
+    if a.quaternion is None or b.quaternion is None:
+        return swing, 0.0
+    full = rotation_between(a.quaternion, b.quaternion)
+    mean_axis = add(d0, d1)
+    length = norm(mean_axis)
+    if full is None or length == 0.0:
+        return swing, 0.0
+    return swing, dot(full, mean_axis) / length
