@@ -30,8 +30,8 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, DropReason, Event, ResetReason, Role, StateReset
-from .gate import Clock, finite_point, frame_check, LengthCheck, speed_check, stamp_check, \
-    unit_pose
+from .gate import (
+    Clock, finite_point, frame_check, LengthCheck, speed_check, stamp_check, unit_pose)
 from .pairing import Pairing
 from .predictor import Predictor
 from .scheduler import Scheduler
@@ -41,8 +41,12 @@ from ..geometry import pose_point, Vector
 from ..motion import BatSample, SAMPLES_AHEAD
 from ...errors import CoreError
 
-Handler = Callable[[int, Any, List[Event]], Optional[DropReason]]
-"""Checks and takes one sample (stamp ns, values, events); returns why it was dropped."""
+Handler = Callable[[Role, int, Any, List[Event]], Optional[DropReason]]
+"""Checks and takes one sample (role, stamp ns, values, events); returns why it is dropped."""
+
+# the roles as module constants: looking a member up on its enum class costs several times a
+# global lookup, on the path every sample takes
+_BALL, _BAT_POSE, _KNOB, _TIP = Role
 
 
 class Detector:
@@ -156,7 +160,7 @@ class Detector:
 
         :returns: the events this sample made decidable.
         """
-        return self._timed(self._add_ball, Role.BALL, stamp_ns, position, frame_id)
+        return self._timed(self._add_ball, _BALL, stamp_ns, position, frame_id)
 
     def add_bat_pose(self, stamp_ns: int, position: Sequence[float],
                      quaternion: Sequence[float], frame_id: str = '') -> List[Event]:
@@ -165,7 +169,7 @@ class Detector:
 
         :returns: the events this sample made decidable.
         """
-        return self._timed(self._add_bat_pose, Role.BAT_POSE, stamp_ns, (position, quaternion),
+        return self._timed(self._add_bat_pose, _BAT_POSE, stamp_ns, (position, quaternion),
                            frame_id)
 
     def add_knob(self, stamp_ns: int, position: Sequence[float],
@@ -175,7 +179,7 @@ class Detector:
 
         :returns: the events this sample made decidable.
         """
-        return self._timed(self._add_knob, Role.KNOB, stamp_ns, position, frame_id)
+        return self._timed(self._add_end, _KNOB, stamp_ns, position, frame_id)
 
     def add_tip(self, stamp_ns: int, position: Sequence[float],
                 frame_id: str = '') -> List[Event]:
@@ -184,7 +188,7 @@ class Detector:
 
         :returns: the events this sample made decidable.
         """
-        return self._timed(self._add_tip, Role.TIP, stamp_ns, position, frame_id)
+        return self._timed(self._add_end, _TIP, stamp_ns, position, frame_id)
 
     def add(self, role: str, stamp_ns: int, values: Sequence[float],
             frame_id: str = '') -> List[Event]:
@@ -199,14 +203,14 @@ class Detector:
         :raises CoreError: an unknown role (a programming error, not bad data).
         """
         if role == 'ball':
-            return self._timed(self._add_ball, Role.BALL, stamp_ns, values, frame_id)
+            return self._timed(self._add_ball, _BALL, stamp_ns, values, frame_id)
         if role == 'bat_pose':  # split inside the guard: unsliceable values are dropped too
-            return self._timed(self._add_pose_values, Role.BAT_POSE, stamp_ns, values,
+            return self._timed(self._add_pose_values, _BAT_POSE, stamp_ns, values,
                                frame_id)
         if role == 'knob':
-            return self._timed(self._add_knob, Role.KNOB, stamp_ns, values, frame_id)
+            return self._timed(self._add_end, _KNOB, stamp_ns, values, frame_id)
         if role == 'tip':
-            return self._timed(self._add_tip, Role.TIP, stamp_ns, values, frame_id)
+            return self._timed(self._add_end, _TIP, stamp_ns, values, frame_id)
         raise CoreError(f"role must be one of {', '.join(self.ROLES)}, got '{role}'")
 
     def finish(self) -> List[Event]:
@@ -223,65 +227,44 @@ class Detector:
 
     def _timed(self, handler: Handler, role: Role, stamp_ns: int, value: Any,
                frame_id: str) -> List[Event]:
-        """Run a sample's handler, counting it, its drop reason and the wall time spent."""
+        """Run a sample's handler; count it, its drop reason and the wall time spent."""
         start = time.perf_counter()
-        stats = self.stats
-        stats.received[role] += 1
         events: List[Event] = []
         reason = frame_check(frame_id, self._frame)
         if reason is None:
             try:
                 stamp = int(stamp_ns)
-                reason = DropReason.BAD_STAMP if stamp <= 0 else handler(stamp, value, events)
+                reason = DropReason.BAD_STAMP if stamp <= 0 else handler(
+                    role, stamp, value, events)
             except (TypeError, ValueError) as error:
                 if isinstance(error, CoreError):
                     raise
                 reason = DropReason.NON_FINITE  # not numbers at all
             if reason is None and self._frame is None and frame_id:
                 self._frame = frame_id  # the first accepted sample sets the tracking frame
-        stats.last_drop_reason = reason
-        if reason is not None:
-            stats.dropped[reason] += 1
-        elapsed = time.perf_counter() - start
-        stats.calls += 1
-        stats.last_processing_s = elapsed
-        stats.total_processing_s += elapsed
-        if elapsed > stats.max_processing_s:
-            stats.max_processing_s = elapsed
+        self.stats.record(role, reason, time.perf_counter() - start)
         return events
 
     def _admit(self, newest: Optional[int], stamp: int,
                events: List[Event]) -> Optional[DropReason]:
         """
-        Check a stamp after its stream's ``newest`` and start the clock on it.
+        Check a stamp after its stream's ``newest`` (resetting on a jump) and start the clock.
 
-        A stamp far behind its stream, or far after the clock's origin, resets the state
-        first (so the caller must look its stream up again).
+        After a reset the caller must look its streams up again (they are new).
 
         :returns: why the sample is dropped, None to take it.
         """
-        verdict = stamp_check(newest, stamp, self._config.time_jump_reset)
+        verdict = stamp_check(newest, stamp, self._clock.origin, self._config.time_jump_reset)
         if verdict is not None:
-            if verdict is not ResetReason.TIME_JUMP_BACKWARDS:
+            if verdict.__class__ is DropReason:
                 return verdict
-            self._close_and_reset(stamp, verdict, events)
-        if self._clock.far_ahead(stamp):
-            # a new session (or a wild clock): a new time origin keeps float times at
-            # nanosecond resolution
-            self._close_and_reset(stamp, ResetReason.TIME_JUMP_FORWARD, events)
-        clock = self._clock
-        if clock.origin is None:
-            clock.origin = stamp
-        newest_seen = self.stats.newest_stamp_ns
-        if newest_seen is None or stamp > newest_seen:
-            self.stats.newest_stamp_ns = stamp
+            self._episodes.close(events)
+            events.append(self.reset(stamp, verdict))
+        self._clock.start(stamp)
+        self.stats.saw(stamp)
         return None
 
-    def _close_and_reset(self, stamp: int, reason: ResetReason, events: List[Event]) -> None:
-        self._episodes.close(events)
-        events.append(self.reset(stamp, reason))
-
-    def _add_ball(self, stamp: int, value: Sequence[float],
+    def _add_ball(self, role: Role, stamp: int, value: Sequence[float],
                   events: List[Event]) -> Optional[DropReason]:
         point = finite_point(value)
         if point is None:
@@ -289,8 +272,8 @@ class Detector:
         reason = self._admit(self._ball.newest(), stamp, events)
         if reason is not None:
             return reason
-        t = self._clock.time(stamp)
         ball = self._ball
+        t = self._clock.time(stamp)
         accept, new_segment = speed_check(ball, t, (point,), ball.values[-1:],
                                           self._config.max_gap, self._config.max_speed)
         if not accept:
@@ -299,43 +282,36 @@ class Detector:
         self._advance(events)
         return None
 
-    def _add_pose_values(self, stamp: int, values: Sequence[float],
+    def _add_pose_values(self, role: Role, stamp: int, values: Sequence[float],
                          events: List[Event]) -> Optional[DropReason]:
-        return self._add_bat_pose(stamp, (values[:3], values[3:]), events)
+        return self._add_bat_pose(role, stamp, (values[:3], values[3:]), events)
 
-    def _add_bat_pose(self, stamp: int, value: Tuple[Sequence[float], Sequence[float]],
+    def _add_bat_pose(self, role: Role, stamp: int,
+                      value: Tuple[Sequence[float], Sequence[float]],
                       events: List[Event]) -> Optional[DropReason]:
         if self._config.bat_input != 'pose':
             return DropReason.UNEXPECTED_INPUT
         pose = unit_pose(*value)
-        if isinstance(pose, DropReason):
+        if pose.__class__ is DropReason:
             return pose
         reason = self._admit(self._bat.newest(), stamp, events)
         if reason is not None:
             return reason
-        t = self._clock.time(stamp)
         position, quaternion = pose
         knob_offset, tip_offset = self._offsets
         sample = BatSample(knob=pose_point(position, quaternion, knob_offset),
                            tip=pose_point(position, quaternion, tip_offset), position=position,
                            quaternion=quaternion)
-        return self._accept_bat(t, stamp, sample, events)
+        return self._accept_bat(self._clock.time(stamp), stamp, sample, events)
 
-    def _add_knob(self, stamp: int, value: Sequence[float],
-                  events: List[Event]) -> Optional[DropReason]:
-        return self._add_end(self._pairing.knob, stamp, value, events)
-
-    def _add_tip(self, stamp: int, value: Sequence[float],
-                 events: List[Event]) -> Optional[DropReason]:
-        return self._add_end(self._pairing.tip, stamp, value, events)
-
-    def _add_end(self, stream: Stream, stamp: int, value: Sequence[float],
+    def _add_end(self, role: Role, stamp: int, value: Sequence[float],
                  events: List[Event]) -> Optional[DropReason]:
         if self._config.bat_input != 'points':
             return DropReason.UNEXPECTED_INPUT
         point = finite_point(value)
         if point is None:
             return DropReason.NON_FINITE
+        stream = self._pairing.knob if role == 'knob' else self._pairing.tip
         reason = self._admit(stream.newest(), stamp, events)
         if reason is not None:
             return reason
@@ -357,9 +333,7 @@ class Detector:
             if reason is not None:
                 return reason
         bat = self._bat
-        previous = ()
-        if bat.values:
-            previous = (bat.values[-1].knob, bat.values[-1].tip)
+        previous = (bat.values[-1].knob, bat.values[-1].tip) if bat.values else ()
         accept, new_segment = speed_check(bat, t, (sample.knob, sample.tip), previous,
                                           config.max_gap, config.max_speed)
         if not accept:
@@ -367,8 +341,6 @@ class Detector:
         bat.append(t, stamp, sample, new_segment)
         self._advance(events)
         return None
-
-    # ---- processing ----------------------------------------------------------------------
 
     def _advance(self, events: List[Event], final: bool = False) -> None:
         """Sweep every union interval now decidable, then predict from the new cursor."""

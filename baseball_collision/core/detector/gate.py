@@ -41,6 +41,11 @@ class Clock:
     def __init__(self) -> None:
         self.origin: Optional[int] = None
 
+    def start(self, stamp: int) -> None:
+        """Take ``stamp`` (ns) as the origin if there is none yet."""
+        if self.origin is None:
+            self.origin = stamp
+
     def time(self, stamp: int) -> float:
         """Return a stamp in nanoseconds as seconds on the detector's clock."""
         return (stamp - self.origin) * 1e-9
@@ -48,10 +53,6 @@ class Clock:
     def stamp(self, t: float) -> int:
         """Return seconds on the detector's clock as a stamp, to the nearest nanosecond."""
         return self.origin + int(round(t * 1e9))
-
-    def far_ahead(self, stamp: int) -> bool:
-        """Return whether a stamp is more than ``FAR_AHEAD_NS`` after the origin (a new one)."""
-        return self.origin is not None and stamp - self.origin > FAR_AHEAD_NS
 
 
 def frame_check(frame_id: str, frame: Optional[str]) -> Optional[DropReason]:
@@ -94,21 +95,26 @@ def unit_pose(position: Sequence[float], quaternion: Sequence[float]) -> Union[
     return (px, py, pz), (qx / magnitude, qy / magnitude, qz / magnitude, qw / magnitude)
 
 
-def stamp_check(newest: Optional[int], stamp: int,
+def stamp_check(newest: Optional[int], stamp: int, origin: Optional[int],
                 time_jump_reset: float) -> Union[DropReason, ResetReason, None]:
     """
-    Return what a stamp (ns) means after its stream's ``newest``.
+    Return what a stamp (ns) means after its stream's ``newest`` and the clock's ``origin``.
 
-    :returns: None (in order), ``DUPLICATE_STAMP``, ``OUT_OF_ORDER`` (a little behind), or
-        ``TIME_JUMP_BACKWARDS`` (more than ``time_jump_reset`` s behind: reset, then accept).
+    :returns: None (take it), ``DUPLICATE_STAMP`` or ``OUT_OF_ORDER`` (a little behind: drop
+        it), ``TIME_JUMP_BACKWARDS`` (more than ``time_jump_reset`` s behind) or
+        ``TIME_JUMP_FORWARD`` (more than ``FAR_AHEAD_NS`` after the origin): reset, then take
+        it.
     """
-    if newest is None or stamp > newest:
-        return None
-    if stamp == newest:
-        return DropReason.DUPLICATE_STAMP
-    if (newest - stamp) * 1e-9 > time_jump_reset:
-        return ResetReason.TIME_JUMP_BACKWARDS
-    return DropReason.OUT_OF_ORDER
+    if newest is not None and stamp <= newest:
+        if stamp == newest:
+            return DropReason.DUPLICATE_STAMP
+        if (newest - stamp) * 1e-9 > time_jump_reset:
+            return ResetReason.TIME_JUMP_BACKWARDS
+        return DropReason.OUT_OF_ORDER
+    if origin is not None and stamp - origin > FAR_AHEAD_NS:
+        # a new session (or a wild clock): a new origin keeps float times at ns resolution
+        return ResetReason.TIME_JUMP_FORWARD
+    return None
 
 
 def speed_check(stream: Stream, t: float, points: Sequence[Vector],
