@@ -7,10 +7,8 @@ from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
 from baseball_collision.errors import CoreError
-from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
-from support import examples
 from support.scenes import BASE_NS, first_contact, LENGTH, pitch, pose, swing
 
 
