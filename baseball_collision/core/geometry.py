@@ -1,10 +1,18 @@
 """
-Geometry on plain float tuples: 3-vectors and rotations (unit quaternions, SLERP).
+Geometry on plain float tuples: vectors, rotations, poses, rigid bodies, capsule distance.
 
 One copy of each building block for the whole package. The scalar hot paths (solver, motion
 models, detector) work on tuples of three floats: for vectors this small, plain float arithmetic
 is several times faster than numpy's per-call overhead. Quaternions are in ROS order
 ``(x, y, z, w)``; angles in radians.
+
+* vectors: ``add``, ``sub``, ``scale``, ``advance``, ``lerp``, ``dot``, ``cross``, ``norm``;
+* rotations: ``slerp_vectors``, ``slerp_quaternions``, ``quaternion_angle``, ``rotate``,
+  ``swing_rotation``, ``quaternion_to_matrix``, ``turn_about`` (Rodrigues),
+  ``rotation_between`` (two orientations as a rotation vector);
+* poses and rigid bodies: ``pose_point``, ``interpolate_pose``, ``rigid_point_velocity``;
+* capsule distance: ``closest_on_segment``, ``unit_normal``, ``profile_gap`` (ball to a union
+  of capsules; the batch solver has its numpy sibling).
 """
 
 import math
