@@ -233,7 +233,7 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
             ball_t = ball.at(t)
             knob_t, tip_t = bat.at(t)
             hit = profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
-                                   knob_t, ball_radius, profile, t - previous_t)
+                                  knob_t, ball_radius, profile, t - previous_t)
             if hit is not None:
                 return previous_t + hit.time, hit
             previous_t, previous_ball, previous_knob, previous_tip = t, ball_t, knob_t, tip_t
