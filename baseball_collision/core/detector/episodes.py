@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 import math
 from typing import List, Optional, Tuple
 
-from .events import NearMiss
+from .config import DetectorConfig
+from .events import DetectorStats, NearMiss
 from .gate import Clock
 from ..bat import BatProfile
 from ..geometry import profile_gap, scale, Vector
@@ -113,7 +114,7 @@ class EpisodeTracker:
 
     __slots__ = ('config', 'clock', 'stats', 'armed', 'zone_clear', 'episode')
 
-    def __init__(self, config, clock: Clock, stats) -> None:
+    def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats) -> None:
         self.config, self.clock, self.stats = config, clock, stats
         self.armed: Optional[bool] = None
         self.zone_clear = False

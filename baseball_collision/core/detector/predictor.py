@@ -11,6 +11,7 @@ from dataclasses import replace
 import math
 from typing import List, Optional, Sequence, Tuple, Union
 
+from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
 from .gate import Clock
 from .kinematics import fit_polynomial, pivot_rates, turn_rates
@@ -40,7 +41,7 @@ class Predictor:
     __slots__ = ('config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting')
 
-    def __init__(self, config, clock: Clock, ball: Stream, bat: Stream,
+    def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
         self.config, self.clock, self.ball, self.bat, self.offsets = (
             config, clock, ball, bat, offsets)

@@ -11,6 +11,7 @@ from bisect import bisect_right
 import math
 from typing import Callable, List, Optional
 
+from .config import DetectorConfig
 from .streams import Stream
 from ..motion import SAMPLES_AHEAD
 
@@ -30,7 +31,7 @@ class Scheduler:
 
     __slots__ = ('config', 'ball', 'bat', 'ahead', 'cursor')
 
-    def __init__(self, config, ball: Stream, bat: Stream) -> None:
+    def __init__(self, config: DetectorConfig, ball: Stream, bat: Stream) -> None:
         self.config, self.ball, self.bat = config, ball, bat
         self.ahead = SAMPLES_AHEAD[config.model]
         self.cursor: Optional[float] = None

@@ -13,8 +13,9 @@ import math
 from typing import Any, List, Optional, Tuple
 
 from .broadphase import clearly_apart
+from .config import DetectorConfig
 from .episodes import EpisodeTracker, State
-from .events import Impact, StreamGap
+from .events import DetectorStats, Impact, StreamGap
 from .gate import Clock
 from .kinematics import impact_velocities
 from .streams import Stream
@@ -40,8 +41,8 @@ class Sweep:
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap')
 
-    def __init__(self, config, clock: Clock, stats, ball: Stream, bat: Stream,
-                 episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
+    def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
+                 bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
         self.config, self.clock, self.stats = config, clock, stats
         self.ball, self.bat, self.episodes, self.offsets = ball, bat, episodes, offsets
         self.model = config.model
