@@ -155,39 +155,23 @@ class Detector:
 
     def add_ball(self, stamp_ns: int, position: Sequence[float],
                  frame_id: str = '') -> List[Event]:
-        """
-        Add a ball centre sample (metres) stamped ``stamp_ns`` (header stamp, ns).
-
-        :returns: the events this sample made decidable.
-        """
+        """Add a ball centre (m) stamped ``stamp_ns`` (ns); return the events it made decidable."""
         return self._timed(self._add_ball, _BALL, stamp_ns, position, frame_id)
 
     def add_bat_pose(self, stamp_ns: int, position: Sequence[float],
                      quaternion: Sequence[float], frame_id: str = '') -> List[Event]:
-        """
-        Add a bat pose sample: position (m) and unit quaternion (x, y, z, w).
-
-        :returns: the events this sample made decidable.
-        """
+        """Add a bat pose, position (m) and unit quaternion (x, y, z, w); return the events."""
         return self._timed(self._add_bat_pose, _BAT_POSE, stamp_ns, (position, quaternion),
                            frame_id)
 
     def add_knob(self, stamp_ns: int, position: Sequence[float],
                  frame_id: str = '') -> List[Event]:
-        """
-        Add a knob sample (metres) when the bat comes as knob and tip points.
-
-        :returns: the events this sample made decidable.
-        """
+        """Add a knob (m), for a bat as knob and tip points; return the events."""
         return self._timed(self._add_end, _KNOB, stamp_ns, position, frame_id)
 
     def add_tip(self, stamp_ns: int, position: Sequence[float],
                 frame_id: str = '') -> List[Event]:
-        """
-        Add a tip (barrel end) sample (metres) when the bat comes as knob and tip points.
-
-        :returns: the events this sample made decidable.
-        """
+        """Add a tip (barrel end, m), for a bat as knob and tip points; return the events."""
         return self._timed(self._add_end, _TIP, stamp_ns, position, frame_id)
 
     def add(self, role: str, stamp_ns: int, values: Sequence[float],
@@ -242,7 +226,17 @@ class Detector:
                 reason = DropReason.NON_FINITE  # not numbers at all
             if reason is None and self._frame is None and frame_id:
                 self._frame = frame_id  # the first accepted sample sets the tracking frame
-        self.stats.record(role, reason, time.perf_counter() - start)
+        elapsed = time.perf_counter() - start
+        stats = self.stats  # inline, not a method: this runs for every sample offered
+        stats.received[role] += 1
+        stats.last_drop_reason = reason
+        if reason is not None:
+            stats.dropped[reason] += 1
+        stats.calls += 1
+        stats.last_processing_s = elapsed
+        stats.total_processing_s += elapsed
+        if elapsed > stats.max_processing_s:
+            stats.max_processing_s = elapsed
         return events
 
     def _admit(self, newest: Optional[int], stamp: int,
@@ -260,8 +254,11 @@ class Detector:
                 return verdict
             self._episodes.close(events)
             events.append(self.reset(stamp, verdict))
-        self._clock.start(stamp)
-        self.stats.saw(stamp)
+        clock, stats = self._clock, self.stats
+        if clock.origin is None:
+            clock.origin = stamp
+        if stats.newest_stamp_ns is None or stamp > stats.newest_stamp_ns:
+            stats.newest_stamp_ns = stamp
         return None
 
     def _add_ball(self, role: Role, stamp: int, value: Sequence[float],
@@ -291,7 +288,7 @@ class Detector:
                       events: List[Event]) -> Optional[DropReason]:
         if self._config.bat_input != 'pose':
             return DropReason.UNEXPECTED_INPUT
-        pose = unit_pose(*value)
+        pose = unit_pose(value)
         if pose.__class__ is DropReason:
             return pose
         reason = self._admit(self._bat.newest(), stamp, events)

@@ -220,23 +220,6 @@ class DetectorStats:
     newest_stamp_ns: Optional[int] = None
     last_drop_reason: Optional[DropReason] = None
 
-    def record(self, role: Role, reason: Optional[DropReason], elapsed: float) -> None:
-        """Count a sample offered as ``role``, why it was dropped (None: taken), its wall time."""
-        self.received[role] += 1
-        self.last_drop_reason = reason
-        if reason is not None:
-            self.dropped[reason] += 1
-        self.calls += 1
-        self.last_processing_s = elapsed
-        self.total_processing_s += elapsed
-        if elapsed > self.max_processing_s:
-            self.max_processing_s = elapsed
-
-    def saw(self, stamp: int) -> None:
-        """Note an accepted stamp (ns), keeping the newest."""
-        if self.newest_stamp_ns is None or stamp > self.newest_stamp_ns:
-            self.newest_stamp_ns = stamp
-
     @property
     def mean_processing_s(self) -> float:
         """Mean wall time per call (seconds)."""

@@ -41,11 +41,6 @@ class Clock:
     def __init__(self) -> None:
         self.origin: Optional[int] = None
 
-    def start(self, stamp: int) -> None:
-        """Take ``stamp`` (ns) as the origin if there is none yet."""
-        if self.origin is None:
-            self.origin = stamp
-
     def time(self, stamp: int) -> float:
         """Return a stamp in nanoseconds as seconds on the detector's clock."""
         return (stamp - self.origin) * 1e-9
@@ -75,13 +70,14 @@ def finite_point(value: Sequence[float]) -> Optional[Vector]:
     return (x, y, z)
 
 
-def unit_pose(position: Sequence[float], quaternion: Sequence[float]) -> Union[
+def unit_pose(pose: Tuple[Sequence[float], Sequence[float]]) -> Union[
         DropReason, Tuple[Vector, Quaternion]]:
     """
-    Return a pose's position and normalised quaternion (x, y, z, w), or why it is dropped.
+    Return a pose (position, quaternion x y z w) with a normalised quaternion, or why not.
 
     :raises TypeError, ValueError: not 3 and 4 numbers.
     """
+    position, quaternion = pose
     px, py, pz = position
     qx, qy, qz, qw = quaternion
     px, py, pz = float(px), float(py), float(pz)

@@ -7,6 +7,7 @@ other interpolated linearly between its samples around it (not across a gap long
 ``max_gap``, and not before its first sample).
 """
 
+from bisect import bisect_right
 from typing import List, Optional, Tuple
 
 from .streams import Stream
@@ -32,9 +33,8 @@ class Pairing:
         if not knob.times or not tip.times:
             return []
         ready = min(knob.times[-1], tip.times[-1])
-        start = self.cursor
-        times = sorted({t for t in knob.times + tip.times
-                        if t <= ready and (start is None or t > start)})
+        times = sorted(set(_between(knob.times, self.cursor, ready)
+                           + _between(tip.times, self.cursor, ready)))
         pairs = []
         for t in times:
             self.cursor = t
@@ -48,6 +48,12 @@ class Pairing:
         """Forget what no future pair needs (all but a few samples before the cursor)."""
         self.knob.trim(self.cursor or 0.0, 0.0)
         self.tip.trim(self.cursor or 0.0, 0.0)
+
+
+def _between(times: List[float], start: Optional[float], end: float) -> List[float]:
+    """Return the sorted ``times`` in (start, end] (from the first when ``start`` is None)."""
+    first = 0 if start is None else bisect_right(times, start)
+    return times[first:bisect_right(times, end, first)]
 
 
 def _point_at(stream: Stream, t: float, max_gap: float) -> Optional[Vector]:

@@ -36,10 +36,6 @@ class Scheduler:
         self.ahead = SAMPLES_AHEAD[config.model]
         self.cursor: Optional[float] = None
 
-    def history(self) -> float:
-        """Return how far back (s) from the cursor the fits need samples."""
-        return 1.5 * max(self.config.velocity_window, self.config.prediction_window)
-
     def advance(self, visit: Visit, events: List, final: bool = False) -> bool:
         """
         Visit every union interval in (cursor, watermark], then trim the streams.
@@ -75,7 +71,8 @@ class Scheduler:
             cursor = t
         moved = cursor != self.cursor
         self.cursor = cursor
-        history = self.history()
+        config = self.config  # how far back (s) the fits need samples
+        history = 1.5 * max(config.velocity_window, config.prediction_window)
         self.ball.trim(cursor, history)
         self.bat.trim(cursor, history)
         return moved

@@ -14,7 +14,7 @@ BARREL_RADIUS = WOOD_BAT_34.segments()[-1][2]  # the barrel's capsule there
 
 def _tracker():
     clock = Clock()
-    clock.start(1_000_000_000)
+    clock.origin = 1_000_000_000
     stats = DetectorStats()
     return EpisodeTracker(DetectorConfig(), clock, stats), stats
 

@@ -23,10 +23,10 @@ def test_points_must_be_three_finite_numbers() -> None:
 
 def test_poses_need_a_unit_quaternion() -> None:
     """A quaternion within 1e-3 of unit is normalised; further off, or non-finite, dropped."""
-    position, quaternion = unit_pose((1, 2, 3), (0.0, 0.0, 0.0, 1.0005))
+    position, quaternion = unit_pose(((1, 2, 3), (0.0, 0.0, 0.0, 1.0005)))
     assert position == (1.0, 2.0, 3.0) and quaternion == pytest.approx((0, 0, 0, 1), abs=1e-15)
-    assert unit_pose((0, 0, 0), (0.0, 0.0, 0.0, 1.01)) is DropReason.BAD_QUATERNION
-    assert unit_pose((0, 0, math.nan), (0.0, 0.0, 0.0, 1.0)) is DropReason.NON_FINITE
+    assert unit_pose(((0, 0, 0), (0.0, 0.0, 0.0, 1.01))) is DropReason.BAD_QUATERNION
+    assert unit_pose(((0, 0, math.nan), (0.0, 0.0, 0.0, 1.0))) is DropReason.NON_FINITE
 
 
 def test_frames_other_than_the_tracking_one_are_dropped() -> None:
@@ -52,9 +52,7 @@ def test_clock_keeps_nanoseconds_from_its_origin() -> None:
     """Times are seconds after the first stamp; stamps come back to the nanosecond."""
     clock = Clock()
     base = 1_700_000_000_123_456_789
-    clock.start(base)
-    clock.start(base + 5)  # the origin stays
-    assert clock.origin == base
+    clock.origin = base
     assert clock.time(base + 1_500_000_001) == pytest.approx(1.500000001, abs=1e-15)
     assert clock.stamp(clock.time(base + 987_654_321)) == base + 987_654_321
 

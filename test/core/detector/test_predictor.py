@@ -16,7 +16,7 @@ OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
 
 def _predictor(ball_points, bat_points, plan=None) -> Predictor:
     clock = Clock()
-    clock.start(BASE_NS)
+    clock.origin = BASE_NS
     ball, bat = Stream('ball'), Stream('bat')
     for i, (p, (knob, tip)) in enumerate(zip(ball_points, bat_points)):
         t = 0.005 * i

@@ -53,7 +53,9 @@ def test_trims_behind_the_cursor() -> None:
     """After a walk the streams keep only the fits' history behind the cursor."""
     times = [0.001 * i for i in range(400)]
     ball, bat = _streams(times, times)
-    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    config = DetectorConfig(model='linear')
+    scheduler = Scheduler(config, ball, bat)
     _walk(scheduler)
-    assert ball.times[0] >= 0.399 - scheduler.history() - 0.005 - 1e-9
+    history = 1.5 * max(config.velocity_window, config.prediction_window)
+    assert ball.times[0] >= 0.399 - history - 0.005 - 1e-9
     assert len(ball.times) < 400 and len(bat.times) < 400
