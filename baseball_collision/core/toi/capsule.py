@@ -20,7 +20,7 @@ from typing import Any, Callable, NamedTuple, Tuple
 
 import numpy as np
 
-from ..geometry import cross, dot, sub
+from .. import geometry
 
 
 class Algebra(NamedTuple):
@@ -36,7 +36,7 @@ def _dot_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.einsum('...i,...i->...', a, b)
 
 
-SCALAR = Algebra(dot, cross, sub)
+SCALAR = Algebra(geometry.dot, geometry.cross, geometry.sub)
 """Vectors as tuples of three floats."""
 
 BATCH = Algebra(_dot_rows, np.cross, operator.sub)
@@ -50,9 +50,10 @@ def cap_quadratics(w0: Any, w1: Any, u0: Any, u1: Any, rr: Any,
 
     The knob cap's p is w, the tip cap's w - u; ``rr`` is R^2 (scaled units).
     """
-    v0, v1 = ops.sub(w0, u0), ops.sub(w1, u1)
-    return ((ops.dot(w1, w1), 2.0 * ops.dot(w0, w1), ops.dot(w0, w0) - rr),
-            (ops.dot(v1, v1), 2.0 * ops.dot(v0, v1), ops.dot(v0, v0) - rr))
+    dot, _, sub = ops
+    v0, v1 = sub(w0, u0), sub(w1, u1)
+    return ((dot(w1, w1), 2.0 * dot(w0, w1), dot(w0, w0) - rr),
+            (dot(v1, v1), 2.0 * dot(v0, v1), dot(v0, v0) - rr))
 
 
 def side_quartic(w0: Any, w1: Any, u0: Any, u1: Any, rr: Any,
@@ -63,16 +64,17 @@ def side_quartic(w0: Any, w1: Any, u0: Any, u1: Any, rr: Any,
     :returns: (coefficients of |w x u|^2 - rr |u|^2, the seed's Eq. 15f; of |u|^2; of w.u),
         lowest power first (the quadratics with three coefficients).
     """
-    c0 = ops.cross(w0, u0)
-    c1 = ops.sub(ops.cross(w0, u1), ops.cross(u0, w1))
-    c2 = ops.cross(w1, u1)
-    uu = (ops.dot(u0, u0), 2.0 * ops.dot(u0, u1), ops.dot(u1, u1))
+    dot, cross, sub = ops
+    c0 = cross(w0, u0)
+    c1 = sub(cross(w0, u1), cross(u0, w1))
+    c2 = cross(w1, u1)
+    uu = (dot(u0, u0), 2.0 * dot(u0, u1), dot(u1, u1))
     quartic = (
-        ops.dot(c0, c0) - rr * uu[0],
-        2.0 * ops.dot(c0, c1) - rr * uu[1],
-        ops.dot(c1, c1) + 2.0 * ops.dot(c0, c2) - rr * uu[2],
-        2.0 * ops.dot(c1, c2),
-        ops.dot(c2, c2),
+        dot(c0, c0) - rr * uu[0],
+        2.0 * dot(c0, c1) - rr * uu[1],
+        dot(c1, c1) + 2.0 * dot(c0, c2) - rr * uu[2],
+        2.0 * dot(c1, c2),
+        dot(c2, c2),
     )
-    wu = (ops.dot(w0, u0), ops.dot(w0, u1) + ops.dot(w1, u0), ops.dot(w1, u1))
+    wu = (dot(w0, u0), dot(w0, u1) + dot(w1, u0), dot(w1, u1))
     return quartic, uu, wu
