@@ -24,16 +24,12 @@ def test_pairs_at_every_stamp_both_cover_interpolating_the_other() -> None:
 
 def test_no_pair_across_a_gap_or_before_the_first_sample() -> None:
     """The other point is not interpolated across more than max_gap, nor extrapolated back."""
-    pairing = Pairing()
-    pairing.knob.append(0.0, 1, (0.0, 0.0, 0.0), False)
-    pairing.knob.append(0.2, 2, (2.0, 0.0, 0.0), False)
-    pairing.tip.append(0.1, 3, (1.0, 1.0, 0.0), False)
-    pairing.tip.append(0.3, 4, (3.0, 1.0, 0.0), False)
-    assert pairing.pairs(max_gap=0.05) == []
-    assert [t for t, _, _ in Pairing.pairs(_fresh(), max_gap=0.5)] == [0.1, 0.2]
+    assert _sparse().pairs(max_gap=0.05) == []
+    assert [t for t, _, _ in _sparse().pairs(max_gap=0.5)] == [0.1, 0.2]  # not 0.0, not 0.3
 
 
-def _fresh() -> Pairing:
+def _sparse() -> Pairing:
+    """Return knob samples at 0 and 200 ms, tip samples at 100 and 300 ms."""
     pairing = Pairing()
     pairing.knob.append(0.0, 1, (0.0, 0.0, 0.0), False)
     pairing.knob.append(0.2, 2, (2.0, 0.0, 0.0), False)
