@@ -1,14 +1,25 @@
 """
-Geometry on plain float tuples: 3-vectors and rotations (unit quaternions, SLERP).
+Geometry on plain float tuples: vectors, rotations, poses, rigid bodies, capsule distance.
 
 One copy of each building block for the whole package. The scalar hot paths (solver, motion
 models, detector) work on tuples of three floats: for vectors this small, plain float arithmetic
 is several times faster than numpy's per-call overhead. Quaternions are in ROS order
 ``(x, y, z, w)``; angles in radians.
+
+* vectors: ``add``, ``sub``, ``scale``, ``advance``, ``lerp``, ``dot``, ``cross``, ``norm``;
+* rotations: ``slerp_vectors``, ``slerp_quaternions``, ``quaternion_angle``, ``rotate``,
+  ``swing_rotation``, ``quaternion_to_matrix``, ``quaternion_from_z``, ``turn_about``
+  (Rodrigues), ``rotation_between`` (two orientations as a rotation vector);
+* batches of quaternions (numpy): ``quaternion_multiply``, ``axis_angle_quaternions``,
+  ``matrix_to_quaternion``;
+* poses and rigid bodies: ``pose_point``, ``interpolate_pose``, ``rigid_point_velocity``;
+* capsule distance: ``closest_on_segment``, ``unit_normal``, ``profile_gap`` (ball to a union
+  of capsules; the batch solver has its numpy sibling);
+* argument checks: ``finite_vector``, ``finite_number`` (raising the caller's layer's error).
 """
 
 import math
-from typing import Sequence, Tuple
+from typing import Optional, Protocol, Sequence, Tuple
 
 import numpy as np
 
@@ -140,6 +151,53 @@ def quaternion_to_matrix(quaternion: Sequence[float]) -> np.ndarray:
     ])
 
 
+def quaternion_from_z(direction: Sequence[float]) -> Quaternion:
+    """
+    Return the unit quaternion (x, y, z, w) of the shortest rotation turning +z onto a direction.
+
+    :param direction: a unit 3-vector; straight down (-z) gives the half turn about x.
+    """
+    x, y, z = direction
+    if z < -1.0 + 1e-9:
+        return (1.0, 0.0, 0.0, 0.0)
+    q = (-y, x, 0.0, 1.0 + z)
+    length = math.sqrt(_dot4(q, q))
+    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)
+
+
+def turn_about(vector: Vector, axis: Vector, angle: float) -> Vector:
+    """Rotate ``vector`` about the unit ``axis`` by ``angle`` (rad), by Rodrigues' formula."""
+    if angle == 0.0:
+        return vector
+    cosine, sine = math.cos(angle), math.sin(angle)
+    along = dot(axis, vector) * (1.0 - cosine)
+    across = cross(axis, vector)
+    return (vector[0] * cosine + across[0] * sine + axis[0] * along,
+            vector[1] * cosine + across[1] * sine + axis[1] * along,
+            vector[2] * cosine + across[2] * sine + axis[2] * along)
+
+
+def rotation_between(q0: Quaternion, q1: Quaternion) -> Optional[Vector]:
+    """
+    Return the world-frame rotation from unit quaternion q0 to q1 as axis times angle (rad).
+
+    The rotation is q1 conj(q0), taken along the shorter arc; None when there is none to speak
+    of (q0 and q1 equal up to sign: no axis).
+    """
+    x0, y0, z0, w0 = q0
+    x1, y1, z1, w1 = q1
+    w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
+    x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
+    y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0
+    z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0
+    if w < 0.0:
+        w, x, y, z = -w, -x, -y, -z
+    vector_part = math.sqrt(x * x + y * y + z * z)
+    if vector_part == 0.0:
+        return None
+    return scale((x, y, z), 2.0 * math.atan2(vector_part, w) / vector_part)
+
+
 # ----------------------------------------------------------------------------------------------
 # batches of quaternions (numpy arrays, (x, y, z, w) in the last axis)
 
@@ -187,6 +245,102 @@ def matrix_to_quaternion(matrix: np.ndarray) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------------
+# poses and rigid bodies
+
+
+def pose_point(position: Vector, quaternion: Quaternion, offset: Vector) -> Vector:
+    """Return where the body-frame point ``offset`` (m) is for a pose (position, quaternion)."""
+    arm = rotate(quaternion, offset)
+    return (position[0] + arm[0], position[1] + arm[1], position[2] + arm[2])
+
+
+def interpolate_pose(position0: Vector, quaternion0: Quaternion, position1: Vector,
+                     quaternion1: Quaternion, s: float) -> Tuple[Vector, Quaternion]:
+    """Return the pose at fraction s between two poses: position LERP, orientation SLERP."""
+    return lerp(position0, position1, s), slerp_quaternions(quaternion0, quaternion1, s)
+
+
+def rigid_point_velocity(pivot_velocity: Vector, angular_velocity: Vector, pivot: Vector,
+                         point: Vector) -> Vector:
+    """Return the velocity (m/s) of a rigid body's point: v_pivot + omega x (point - pivot)."""
+    return add(pivot_velocity, cross(angular_velocity, sub(point, pivot)))
+
+
+# ----------------------------------------------------------------------------------------------
+# capsule distance
+
+
+class Capsules(Protocol):
+    """A union of capsules on a segment's axis (``BatProfile``): see ``segments``."""
+
+    def segments(self) -> Sequence[Tuple[float, float, float]]:
+        """Return the capsules as (fraction_start, fraction_end, radius (m)) along the axis."""
+
+
+def closest_on_segment(point: Vector, start: Vector, end: Vector) -> Tuple[float, Vector]:
+    """Return the fraction along start-end (clipped to [0, 1]) and the closest segment point."""
+    axis = sub(end, start)
+    axis2 = dot(axis, axis)
+    fraction = 0.0 if axis2 == 0.0 else min(1.0, max(0.0, dot(sub(point, start), axis) / axis2))
+    return fraction, lerp(start, end, fraction)
+
+
+def unit_normal(offset: Vector, axis: Vector, relative_velocity: Vector) -> Vector:
+    """
+    Return ``offset`` (from an axis point to a ball centre) as a unit vector.
+
+    For a ball centre on the axis (no direction), a unit vector across the axis: against the
+    ball's ``relative_velocity`` when it has a part across the axis, else across x or y.
+    """
+    length = math.sqrt(dot(offset, offset))
+    if 1e-12 < length < math.inf:
+        return scale(offset, 1.0 / length)
+    axis2 = dot(axis, axis)
+    for candidate in (scale(relative_velocity, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)):
+        if axis2 > 0.0:
+            along = dot(candidate, axis) / axis2
+            candidate = sub(candidate, scale(axis, along))
+        length = math.sqrt(dot(candidate, candidate))
+        if 1e-12 < length < math.inf:
+            return scale(candidate, 1.0 / length)
+    return (0.0, 0.0, 1.0)
+
+
+def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
+                profile: Capsules) -> Tuple[float, Vector, float]:
+    """
+    Return the gap between a ball and a profiled bat at one instant (no input checking).
+
+    The one scalar point-to-capsules distance of the package (the batch solver has its numpy
+    sibling); hand-written on tuples, as it runs per sub-step of the detector.
+
+    :param ball: ball centre (metres); ``knob``, ``tip``: the bat's ends (metres).
+    :param ball_radius: metres.
+    :param profile: the bat's radius profile (a ``BatProfile``), scaled to knob-tip.
+    :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
+        ball centre; fraction along knob-tip of the closest axis point).
+    """
+    axis = sub(tip, knob)
+    offset = sub(ball, knob)
+    uu = dot(axis, axis)
+    wu = dot(offset, axis)
+    ww = dot(offset, offset)
+    along = wu / uu if uu > 0.0 else 0.0
+    best_gap, best_fraction = math.inf, 0.0
+    for f0, f1, radius in profile.segments():
+        fraction = f0 if along < f0 else (f1 if along > f1 else along)
+        # |offset - fraction * axis|, without building the vector
+        gap = math.sqrt(max(0.0, ww - fraction * (2.0 * wu - fraction * uu))) - radius
+        if gap < best_gap:
+            best_gap, best_fraction = gap, fraction
+    closest = sub(offset, scale(axis, best_fraction))
+    length = math.sqrt(dot(closest, closest))
+    normal = scale(closest, 1.0 / length) if length > 0.0 else unit_normal(
+        closest, axis, (0.0, 0.0, 0.0))
+    return best_gap - ball_radius, normal, best_fraction
+
+
+# ----------------------------------------------------------------------------------------------
 # argument checks (the error type is the caller's layer's)
 
 
@@ -224,17 +378,3 @@ def finite_number(name: str, value: float, error: type = CoreError) -> float:
     if not math.isfinite(number):
         raise error(f'{name} must be finite, got {value!r}')
     return number
-
-
-def quaternion_from_z(direction: Sequence[float]) -> Quaternion:
-    """
-    Return the unit quaternion (x, y, z, w) of the shortest rotation turning +z onto a direction.
-
-    :param direction: a unit 3-vector; straight down (-z) gives the half turn about x.
-    """
-    x, y, z = direction
-    if z < -1.0 + 1e-9:
-        return (1.0, 0.0, 0.0, 0.0)
-    q = (-y, x, 0.0, 1.0 + z)
-    length = math.sqrt(_dot4(q, q))
-    return (q[0] / length, q[1] / length, q[2] / length, q[3] / length)

@@ -24,11 +24,9 @@ from typing import List, Optional, Sequence, Tuple
 
 from .bat import BatProfile
 from .geometry import (
-    add, cross, dot, lerp, norm, quaternion_angle, rotate, scale, slerp_quaternions, sub, Vector)
-from .toi import ImpactResult
-from .toi.solver import _profile_contact
-
-Quaternion = Tuple[float, float, float, float]
+    add, dot, interpolate_pose, lerp, norm, pose_point, Quaternion, quaternion_angle, scale,
+    sub, turn_about, Vector)
+from .toi import ImpactResult, profile_contact
 
 
 @dataclass(frozen=True)
@@ -96,12 +94,10 @@ class BatForecast:
 
     def at(self, t: float) -> Tuple[Vector, Vector]:
         """Return (knob, tip) in metres at time t (s)."""
-        tau = t - self.t0
-        pivot = add(self.pivot, add(scale(self.pivot_velocity, tau),
-                                    scale(self.pivot_acceleration, 0.5 * tau * tau)))
+        pivot = self.pivot_at(t)
         angle = self.angle(t)
-        return (add(pivot, _turn(self.knob_arm, self.axis, angle)),
-                add(pivot, _turn(self.tip_arm, self.axis, angle)))
+        return (add(pivot, turn_about(self.knob_arm, self.axis, angle)),
+                add(pivot, turn_about(self.tip_arm, self.axis, angle)))
 
     def reach(self) -> float:
         """Return the farthest any bat axis point is from the pivot (m)."""
@@ -149,12 +145,12 @@ class PlannedBat:
         times = self.times
         k = max(0, min(len(times) - 2, _index(times, t)))
         if len(times) == 1:
-            q, origin = self.quaternions[0], self.positions[0]
+            origin, q = self.positions[0], self.quaternions[0]
         else:
-            s = (t - times[k]) / (times[k + 1] - times[k])
-            q = slerp_quaternions(self.quaternions[k], self.quaternions[k + 1], s)
-            origin = lerp(self.positions[k], self.positions[k + 1], s)
-        return add(origin, rotate(q, self.knob_offset)), add(origin, rotate(q, self.tip_offset))
+            origin, q = interpolate_pose(self.positions[k], self.quaternions[k],
+                                         self.positions[k + 1], self.quaternions[k + 1],
+                                         (t - times[k]) / (times[k + 1] - times[k]))
+        return pose_point(origin, q, self.knob_offset), pose_point(origin, q, self.tip_offset)
 
     def reach(self) -> float:
         """Return the farthest any bat axis point is from the pose origin (m)."""
@@ -190,18 +186,6 @@ class PlannedBat:
 def _index(times: Sequence[float], t: float) -> int:
     """Return k with times[k] <= t < times[k + 1] (-1 before the first)."""
     return bisect_right(times, t) - 1
-
-
-def _turn(vector: Vector, axis: Vector, angle: float) -> Vector:
-    """Rotate ``vector`` about the unit ``axis`` by ``angle`` (rad), by Rodrigues' formula."""
-    if angle == 0.0:
-        return vector
-    cosine, sine = math.cos(angle), math.sin(angle)
-    along = dot(axis, vector) * (1.0 - cosine)
-    across = cross(axis, vector)
-    return (vector[0] * cosine + across[0] * sine + axis[0] * along,
-            vector[1] * cosine + across[1] * sine + axis[1] * along,
-            vector[2] * cosine + across[2] * sine + axis[2] * along)
 
 
 def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
@@ -248,8 +232,8 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
             t = tb if j == n else ta + h * j / n
             ball_t = ball.at(t)
             knob_t, tip_t = bat.at(t)
-            hit = _profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
-                                   knob_t, ball_radius, profile, t - previous_t)
+            hit = profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
+                                  knob_t, ball_radius, profile, t - previous_t)
             if hit is not None:
                 return previous_t + hit.time, hit
             previous_t, previous_ball, previous_knob, previous_tip = t, ball_t, knob_t, tip_t

@@ -802,8 +802,8 @@ def test_solver_extreme_scale_raises_only_its_input_error() -> None:
     """
     Finite input at extreme scales gives a contact or None, never an OverflowError.
 
-    ``ball_radius=1e300`` overflows ``(reach + margin) ** 2`` in ``solver._may_touch``; a whole
-    scene within 1e-300 m overflows ``(r + tol) ** 2`` in ``solver._first_contact_tau``
+    ``ball_radius=1e300`` overflows ``(reach + margin) ** 2`` in ``toi.scalar._may_touch``; a
+    whole scene within 1e-300 m overflows ``(r + tol) ** 2`` in ``scalar._first_contact_tau``
     (``tol = TOUCH_TOLERANCE / scale``). And with ``dt=1e-300`` a ball on a zero-length bat
     gets a zero normal (the relative velocity, 1e300 m/s, overflows when normalised).
     """
@@ -822,7 +822,7 @@ def test_detector_huge_coordinates_never_raise() -> None:
     """
     A ball sample 1e300 m from the previous one is dropped (speed_limit), not an exception.
 
-    ``Detector._speed_ok`` squares coordinate differences with ``** 2``, which raises
+    ``gate.speed_check`` squared coordinate differences with ``** 2``, which raises
     OverflowError from 1.35e154 on; in the node that exception escapes the subscription
     callback.
     """
@@ -855,7 +855,7 @@ def test_unset_header_stamp_then_nanosecond_steps() -> None:
 
     The detector's clock starts at the first accepted stamp, so epoch stamps after a 0 stamp
     are ~1.7e9 s, where a float resolves 238 ns: stamps 1 ns apart get equal times and the
-    spline model's ``Detector._bulge_bounds`` (and ``_may_reach`` with prediction on) divides
+    spline model's ``broadphase.bulge_bounds`` (and ``Predictor._may_reach``) divides
     by their difference.
     """
     fed = _unset_stamp_then_nanosecond_steps()
@@ -867,7 +867,7 @@ def test_a_dropped_sample_does_not_choose_the_tracking_frame() -> None:
     """
     With ``frame_id`` '', a first sample that is dropped (NaN) must not fix the frame.
 
-    ``Detector._timed`` adopts the frame (``_check_frame``) before the value is checked, so
+    ``Detector._timed`` adopted the frame (``gate.frame_check``) before the value was checked, so
     one bad first message in another frame drops every good sample after it as
     ``wrong_frame`` until a reset.
     """

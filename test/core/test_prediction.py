@@ -177,4 +177,4 @@ def test_bad_plans_are_refused() -> None:
         detector.set_bat_plan([2, 1], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
     detector.set_bat_plan([1, 2], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
     detector.set_bat_plan([], [], [])
-    assert detector._plan is None
+    assert detector._predictor.plan is None

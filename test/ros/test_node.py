@@ -460,7 +460,7 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
         position, quaternion = pose(i * 1e-3)
         plan.poses.append(pose_msg(BASE_NS + i * 1_000_000, position, quaternion))
     h.publishers['bat_plan'].publish(plan)
-    h.wait(lambda: h.node.detector._plan is not None, 3.0, 'the plan taken')
+    h.wait(lambda: h.node.detector._predictor.plan is not None, 3.0, 'the plan taken')
     early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 14)  # up to ~40 ms before
     h.processed(publish_swing(h, 'pose', pitch(), samples=early))
     h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')

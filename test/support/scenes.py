@@ -1,11 +1,19 @@
-"""A continuous swing and pitches with exact first contacts: the scene many tests share."""
+"""
+Shared scenes and references for the core's tests.
 
+A continuous swing and pitches with exact first contacts; the solver's shared vectors; and
+brute-force references (dense sampling, refined by bisection).
+"""
+
+import json
 import math
-from typing import Callable, Optional, Tuple
+from typing import Callable, List, Optional, Sequence, Tuple
 
-from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.toi import profile_gap
+from hypothesis import strategies as st
 import numpy as np
+from support import REPO_ROOT
 
 BASE_NS = 1_700_000_000_000_000_000  # an absolute epoch stamp: floats cannot hold it exactly
 LENGTH = WOOD_BAT_34.length
@@ -48,3 +56,97 @@ def first_contact(ball: Callable[[float], np.ndarray]) -> Optional[float]:
                 lo, hi = (lo, mid) if gap(mid) <= 0.0 else (mid, hi)
             return hi
     return None
+
+
+# ----------------------------------------------------------------------------------------------
+# The solver's shared vectors and brute-force references
+
+VECTORS: List[dict] = json.loads(
+    (REPO_ROOT.parent / 'shared' / 'vectors' / 'time_of_impact_linear.json').read_text())['cases']
+"""The shared time-of-impact vectors (``../shared/vectors``): inputs and expected times."""
+
+POINT_NAMES = ('ball0', 'ball1', 'tip0', 'tip1', 'knob0', 'knob1')
+
+
+def vector_args(case: dict) -> tuple:
+    """Return a vector's ``time_of_impact`` arguments."""
+    return tuple(case[k] for k in POINT_NAMES) + (
+        case['ball_radius'], case['bat_radius'], case['dt'])
+
+
+def agrees(expected: Optional[float], got, dt: float) -> bool:
+    """Return whether a solver's time (None or NaN: no contact) agrees with a vector's."""
+    if expected is None or got is None or (isinstance(got, float) and math.isnan(got)):
+        return expected is None and (got is None or math.isnan(got))
+    return abs(expected - got) <= 1e-9 * dt + 1e-12
+
+
+def reference_gap(tau: np.ndarray, ball0, ball1, tip0, tip1, knob0, knob1,
+                  radius: float) -> np.ndarray:
+    """Return the point-segment gap minus ``radius`` at normalised times tau, point by point."""
+    tau = np.asarray(tau, dtype=float)[:, None]
+    ball = np.asarray(ball0) + (np.asarray(ball1) - np.asarray(ball0)) * tau
+    tip = np.asarray(tip0) + (np.asarray(tip1) - np.asarray(tip0)) * tau
+    knob = np.asarray(knob0) + (np.asarray(knob1) - np.asarray(knob0)) * tau
+    gaps = []
+    for b, e, s in zip(ball, tip, knob):
+        axis = e - s
+        length2 = float(axis @ axis)
+        lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float((b - s) @ axis) / length2))
+        gaps.append(math.dist(b, s + lam * axis) - radius)
+    return np.array(gaps)
+
+
+def reference_first_contact(ball0, ball1, tip0, tip1, knob0, knob1, radius: float,
+                            samples: int = 4001) -> Tuple[Optional[float], float]:
+    """Return (first contact tau or None, smallest sampled gap)."""
+    tau = np.linspace(0.0, 1.0, samples)
+    gaps = reference_gap(tau, ball0, ball1, tip0, tip1, knob0, knob1, radius)
+    hits = np.flatnonzero(gaps <= 0.0)
+    if hits.size == 0:
+        return None, float(gaps.min())
+    first = int(hits[0])
+    if first == 0:
+        return 0.0, float(gaps.min())
+    lo, hi = tau[first - 1], tau[first]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        gap = reference_gap(np.array([mid]), ball0, ball1, tip0, tip1, knob0, knob1, radius)[0]
+        lo, hi = (lo, mid) if gap <= 0.0 else (mid, hi)
+    return hi, float(gaps.min())
+
+
+def profile_reference(tau: np.ndarray, points: Sequence, ball_radius: float,
+                      profile: BatProfile) -> np.ndarray:
+    """Return the gap to the union of a profile's capsules at normalised times tau."""
+    ball0, ball1, tip0, tip1, knob0, knob1 = (np.asarray(p, float) for p in points)
+    gaps = []
+    for f0, f1, r in profile.segments():
+        k0, k1 = knob0 + f0 * (tip0 - knob0), knob1 + f0 * (tip1 - knob1)
+        e0, e1 = knob0 + f1 * (tip0 - knob0), knob1 + f1 * (tip1 - knob1)
+        gaps.append(reference_gap(tau, ball0, ball1, e0, e1, k0, k1, ball_radius + r))
+    return np.min(gaps, axis=0)
+
+
+coordinate = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
+point = st.tuples(coordinate, coordinate, coordinate)
+"""A point in the unit cube (m)."""
+
+
+@st.composite
+def swing_interval(draw):
+    """Draw a bat turning about the hands by up to 0.5 rad and a ball crossing near it."""
+    length = draw(st.floats(0.3, 1.0))
+    angle0 = draw(st.floats(-math.pi, math.pi))
+    turn = draw(st.floats(-0.5, 0.5))
+    hands = np.array(draw(point)) * 0.2
+    knob0 = hands
+    knob1 = hands + np.array(draw(point)) * 0.02
+    tip0 = knob0 + length * np.array([math.cos(angle0), math.sin(angle0), 0.0])
+    tip1 = knob1 + length * np.array([math.cos(angle0 + turn), math.sin(angle0 + turn), 0.0])
+    fraction = draw(st.floats(-0.2, 1.2))
+    aim = knob0 + fraction * (tip0 - knob0) + np.array(draw(point)) * 0.1
+    velocity = np.array(draw(point)) * 0.5
+    ball0 = aim - 0.5 * velocity
+    ball1 = aim + 0.5 * velocity
+    return (ball0, ball1, tip0, tip1, knob0, knob1)

@@ -3,15 +3,20 @@
 from .config import (
     DEFAULTS, DetectorConfig, Kind, NODE_NAME, PARAMETERS, ParameterSpec, Range, SPECS,
     unit_vector, validate_parameters)
-from .detector import (
-    Detector, DetectorStats, DROP_REASONS, Event, FAR_AHEAD_NS, Impact, MPS_TO_MPH, NearMiss,
-    Prediction, PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE, PredictionCleared, SPARSE_SAMPLES,
-    StateReset, StreamGap)
+from .detector import Detector
+from .events import (
+    DetectorStats, DROP_REASONS, DropReason, Event, Impact, MPS_TO_MPH, NearMiss, Prediction,
+    PredictionCleared, ResetReason, Role, StateReset, StreamGap)
+from .gate import FAR_AHEAD_NS
+from .kinematics import SPARSE_SAMPLES
+from .predictor import PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE
+from ..toi import Feature
 
 __all__ = [
     'DROP_REASONS', 'FAR_AHEAD_NS', 'MPS_TO_MPH', 'DetectorConfig', 'Impact', 'NearMiss',
     'Prediction', 'PredictionCleared', 'StreamGap', 'StateReset', 'Event', 'DetectorStats',
-    'Detector', 'PREDICTION_CHORD_FACTOR', 'PREDICTION_DEGREE', 'SPARSE_SAMPLES',
+    'Detector', 'PREDICTION_CHORD_FACTOR', 'PREDICTION_DEGREE', 'SPARSE_SAMPLES', 'DropReason',
+    'Feature', 'ResetReason', 'Role',
     # the parameter table (config.py)
     'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
     'validate_parameters', 'unit_vector',

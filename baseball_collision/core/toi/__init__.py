@@ -1,12 +1,28 @@
-"""Exact time of impact between a moving ball and a moving bat (capsules and profiles)."""
+"""
+Exact time of impact between a moving ball and a moving bat (capsules and profiles).
 
-from .solver import (
-    ArrayLike, closest_offset, distance, ImpactResult, line_distance, profile_gap,
-    seed_time_of_impact, time_of_impact, time_of_impact_batch, time_of_impact_profile,
-    TOUCH_TOLERANCE)
+Pure Python + numpy; no ROS imports. Units: metres and seconds. The modules:
+
+* ``result``: ``ImpactResult``, ``Feature`` and the tolerances both paths share;
+* ``capsule``: the contact polynomials (end caps' quadratics, the side's quartic), one copy
+  for both paths;
+* ``polynomials``: evaluation, the derivative chain and bracketed roots, scalar and batch;
+* ``scalar``: ``time_of_impact``, ``time_of_impact_profile``, ``profile_contact`` (the hot
+  paths' entry on checked tuples) and ``closest_offset``;
+* ``batch``: ``time_of_impact_batch`` and ``distance``, the gap over time;
+* ``seed``: the seed derivation's method and its infinite-line gap, kept for comparison.
+
+``profile_gap``, the gap at one instant, is ``geometry.profile_gap`` (one copy in core).
+"""
+
+from .batch import distance, time_of_impact_batch
+from .result import ArrayLike, Feature, ImpactResult, TOUCH_TOLERANCE
+from .scalar import closest_offset, profile_contact, time_of_impact, time_of_impact_profile
+from .seed import line_distance, seed_time_of_impact
+from ..geometry import profile_gap
 
 __all__ = [
     'TOUCH_TOLERANCE', 'ArrayLike', 'ImpactResult', 'closest_offset', 'time_of_impact',
     'time_of_impact_profile', 'profile_gap', 'line_distance', 'distance', 'seed_time_of_impact',
-    'time_of_impact_batch',
+    'time_of_impact_batch', 'Feature', 'profile_contact',
 ]

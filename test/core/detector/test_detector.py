@@ -7,10 +7,8 @@ from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
 from baseball_collision.errors import CoreError
-from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
-from support import examples
 from support.scenes import BASE_NS, first_contact, LENGTH, pitch, pose, swing
 
 
@@ -325,47 +323,6 @@ def test_add_by_role_dispatches_like_the_typed_calls(truth_s: float) -> None:
     assert impacts(events + detector.finish()) == impacts(typed)
     with pytest.raises(CoreError, match='role'):
         detector.add('glove', BASE_NS, (0, 0, 0))
-
-
-point = st.tuples(*[st.floats(-1.5, 1.5)] * 3)
-
-
-@settings(max_examples=examples(300), deadline=None)
-@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
-       bat_as=st.sampled_from(['pose', 'points']),
-       balls=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 3), min_size=4, max_size=4),
-       hands=st.lists(point, min_size=4, max_size=4),
-       turns=st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
-       steps=st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3))
-def test_cheap_far_test_never_clears_a_close_pass(model: str, bat_as: str, balls, hands, turns,
-                                                  steps) -> None:
-    """Whenever the raw-sample test calls an interval clear, the exact paths really are."""
-    detector = Detector(DetectorConfig(model=model, bat_input=bat_as, max_speed=1e4))
-    times = np.concatenate([[0.0], np.cumsum(steps)])
-    for t, ball, hand, turn in zip(times, balls, hands, turns):
-        stamp = BASE_NS + int(round(t * 1e9))
-        half = 0.5 * turn  # a turn about a tilted axis, the bat along body +z
-        axis = np.array([1.0, 1.0, 0.3]) / np.linalg.norm([1.0, 1.0, 0.3])
-        quaternion = tuple(axis * math.sin(half)) + (math.cos(half),)
-        if bat_as == 'pose':
-            detector.add_bat_pose(stamp, hand, quaternion)
-        else:
-            knob, tip = detector.config.geometry.knob_and_tip(hand, quaternion)
-            detector.add_knob(stamp, knob)
-            detector.add_tip(stamp, tip)
-        detector.add_ball(stamp, ball)
-    config = detector.config
-    margin = (config.ball_radius + config.profile.max_radius
-              + max(config.near_miss_threshold, config.rearm_distance))
-    assert len(detector._ball.times) == 4 and len(detector._bat.times) == 4
-    if not detector._clearly_apart(1, 1, margin):
-        return
-    ball_path, bat_path = detector._paths(1, 1)
-    for t in np.linspace(detector._ball.times[1], detector._ball.times[2], 200):
-        knob, tip = (np.array(p) for p in bat_path.at(t))
-        ball = np.array(ball_path.at(t))
-        along = np.clip((ball - knob) @ (tip - knob) / ((tip - knob) @ (tip - knob)), 0.0, 1.0)
-        assert np.linalg.norm(ball - knob - along * (tip - knob)) > margin
 
 
 def test_frame_and_last_drop_reason_are_exposed() -> None:

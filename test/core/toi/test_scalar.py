@@ -1,72 +1,22 @@
-"""Tests for baseball_collision.core.toi: shared vectors, brute force, properties, edge cases."""
+"""Tests for baseball_collision.core.toi's scalar solver: vectors, brute force, edge cases."""
 
-import json
 import math
 
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.toi import (
-    distance, ImpactResult, line_distance, seed_time_of_impact, time_of_impact,
-    time_of_impact_batch, time_of_impact_profile, TOUCH_TOLERANCE)
+    distance, ImpactResult, time_of_impact, time_of_impact_batch, time_of_impact_profile,
+    TOUCH_TOLERANCE)
 from baseball_collision.errors import CoreError
 from hypothesis import assume, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
-from support import examples, REPO_ROOT
+from support import examples
+from support.scenes import (
+    agrees, point, POINT_NAMES, profile_reference, reference_first_contact, swing_interval,
+    vector_args, VECTORS)
 
-VECTORS = json.loads(
-    (REPO_ROOT.parent / 'shared' / 'vectors' / 'time_of_impact_linear.json').read_text())['cases']
-POINT_NAMES = ('ball0', 'ball1', 'tip0', 'tip1', 'knob0', 'knob1')
 # property tests that filter out near-grazes (sampling cannot decide them)
 FILTERING = {'deadline': None, 'suppress_health_check': [HealthCheck.filter_too_much]}
-
-
-def _args(case: dict) -> tuple:
-    return tuple(case[k] for k in POINT_NAMES) + (
-        case['ball_radius'], case['bat_radius'], case['dt'])
-
-
-def _agrees(expected, got, dt: float) -> bool:
-    if expected is None or got is None or (isinstance(got, float) and math.isnan(got)):
-        return expected is None and (got is None or math.isnan(got))
-    return abs(expected - got) <= 1e-9 * dt + 1e-12
-
-
-# ----------------------------------------------------------------------------------------------
-# An independent reference: dense sampling of the point-segment gap, refined by bisection
-
-
-def _reference_gap(tau: np.ndarray, ball0, ball1, tip0, tip1, knob0, knob1,
-                   radius: float) -> np.ndarray:
-    tau = np.asarray(tau, dtype=float)[:, None]
-    ball = np.asarray(ball0) + (np.asarray(ball1) - np.asarray(ball0)) * tau
-    tip = np.asarray(tip0) + (np.asarray(tip1) - np.asarray(tip0)) * tau
-    knob = np.asarray(knob0) + (np.asarray(knob1) - np.asarray(knob0)) * tau
-    gaps = []
-    for b, e, s in zip(ball, tip, knob):
-        axis = e - s
-        length2 = float(axis @ axis)
-        lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float((b - s) @ axis) / length2))
-        gaps.append(math.dist(b, s + lam * axis) - radius)
-    return np.array(gaps)
-
-
-def _reference_first_contact(ball0, ball1, tip0, tip1, knob0, knob1, radius: float,
-                             samples: int = 4001):
-    """Return (first contact tau or None, smallest sampled gap)."""
-    tau = np.linspace(0.0, 1.0, samples)
-    gaps = _reference_gap(tau, ball0, ball1, tip0, tip1, knob0, knob1, radius)
-    hits = np.flatnonzero(gaps <= 0.0)
-    if hits.size == 0:
-        return None, float(gaps.min())
-    first = int(hits[0])
-    if first == 0:
-        return 0.0, float(gaps.min())
-    lo, hi = tau[first - 1], tau[first]
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        gap = _reference_gap(np.array([mid]), ball0, ball1, tip0, tip1, knob0, knob1, radius)[0]
-        lo, hi = (lo, mid) if gap <= 0.0 else (mid, hi)
-    return hi, float(gaps.min())
 
 
 # ----------------------------------------------------------------------------------------------
@@ -77,19 +27,9 @@ def _reference_first_contact(ball0, ball1, tip0, tip1, knob0, knob1, radius: flo
                          ids=[f"{c['family']}-{i}" for i, c in enumerate(VECTORS)])
 def test_vectors_scalar(case: dict) -> None:
     """Every shared vector: same contact verdict, time within 1e-9*dt + 1e-12 s."""
-    result = time_of_impact(*_args(case))
+    result = time_of_impact(*vector_args(case))
     got = None if result is None else result.time
-    assert _agrees(case['time_of_impact'], got, case['dt']), (case['time_of_impact'], got)
-
-
-def test_vectors_batch() -> None:
-    """The batch solver agrees with every shared vector in one call."""
-    columns = list(zip(*[_args(c) for c in VECTORS]))
-    got = time_of_impact_batch(*[np.array(column) for column in columns])
-    assert got.shape == (len(VECTORS),) and got.dtype == np.float64
-    wrong = [(c['family'], c['time_of_impact'], g) for c, g in zip(VECTORS, got)
-             if not _agrees(c['time_of_impact'], float(g), c['dt'])]
-    assert wrong == []
+    assert agrees(case['time_of_impact'], got, case['dt']), (case['time_of_impact'], got)
 
 
 def test_vectors_cover_contacts_and_misses() -> None:
@@ -101,29 +41,8 @@ def test_vectors_cover_contacts_and_misses() -> None:
 # ----------------------------------------------------------------------------------------------
 # Properties against the brute-force reference
 
-coordinate = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
-point = st.tuples(coordinate, coordinate, coordinate)
 radius = st.floats(0.0, 0.12, allow_nan=False)
 interval = st.floats(1e-3, 0.1, allow_nan=False)
-
-
-@st.composite
-def swing_interval(draw):
-    """Draw a bat turning about the hands by up to 0.5 rad and a ball crossing near it."""
-    length = draw(st.floats(0.3, 1.0))
-    angle0 = draw(st.floats(-math.pi, math.pi))
-    turn = draw(st.floats(-0.5, 0.5))
-    hands = np.array(draw(point)) * 0.2
-    knob0 = hands
-    knob1 = hands + np.array(draw(point)) * 0.02
-    tip0 = knob0 + length * np.array([math.cos(angle0), math.sin(angle0), 0.0])
-    tip1 = knob1 + length * np.array([math.cos(angle0 + turn), math.sin(angle0 + turn), 0.0])
-    fraction = draw(st.floats(-0.2, 1.2))
-    aim = knob0 + fraction * (tip0 - knob0) + np.array(draw(point)) * 0.1
-    velocity = np.array(draw(point)) * 0.5
-    ball0 = aim - 0.5 * velocity
-    ball1 = aim + 0.5 * velocity
-    return (ball0, ball1, tip0, tip1, knob0, knob1)
 
 
 @settings(max_examples=examples(300), **FILTERING)
@@ -131,7 +50,7 @@ def swing_interval(draw):
        bat_radius=radius, dt=interval)
 def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: float) -> None:
     """Contact verdict and time agree with dense sampling wherever sampling is decisive."""
-    expected, min_gap = _reference_first_contact(*points, ball_radius + bat_radius)
+    expected, min_gap = reference_first_contact(*points, ball_radius + bat_radius)
     assume(abs(min_gap) > 1e-4)  # sampling cannot decide a near-graze
     result = time_of_impact(*points, ball_radius, bat_radius, dt)
     if expected is None:
@@ -148,7 +67,7 @@ def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: 
        bat_radius=st.floats(0.01, 0.035))
 def test_swings_match_brute_force(points, ball_radius: float, bat_radius: float) -> None:
     """Realistic swings: contact verdict, time, and the contact lies on both surfaces."""
-    expected, min_gap = _reference_first_contact(*points, ball_radius + bat_radius)
+    expected, min_gap = reference_first_contact(*points, ball_radius + bat_radius)
     assume(abs(min_gap) > 1e-4)
     dt = 1.0 / 90.0
     result = time_of_impact(*points, ball_radius, bat_radius, dt)
@@ -281,94 +200,6 @@ def test_wrong_point_shape_raises() -> None:
                        0.03, 0.03, 0.01)
 
 
-def test_batch_returns_nan_for_bad_rows_only() -> None:
-    """Non-finite rows, negative radii and dt <= 0 become NaN; good rows still solve."""
-    n = 5
-    ball0 = np.tile([2.0, 0.0, 0.0], (n, 1))
-    ball1 = np.tile([0.0, 0.0, 0.0], (n, 1))
-    tip = np.tile([1.0, 0.0, 0.0], (n, 1))
-    knob = np.zeros((n, 3))
-    ball0[1, 2] = math.nan
-    ball1[2, 0] = math.inf
-    bat_radius = np.array([0.05, 0.05, 0.05, -0.1, 0.05])
-    dt = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
-    got = time_of_impact_batch(ball0, ball1, tip, tip, knob, knob, 0.05, bat_radius, dt)
-    assert got[0] == pytest.approx(0.45)
-    assert np.all(np.isnan(got[1:]))
-
-
-def test_batch_shape_errors_raise() -> None:
-    """Arrays that are not (N, 3), or radii of the wrong length, are refused."""
-    with pytest.raises(CoreError, match='ball1'):
-        time_of_impact_batch(np.zeros((2, 3)), np.zeros((3, 3)), np.zeros((2, 3)),
-                             np.zeros((2, 3)), np.zeros((2, 3)), np.zeros((2, 3)), 0.1, 0.1)
-    with pytest.raises(CoreError, match='bat_radius'):
-        time_of_impact_batch(*[np.zeros((2, 3))] * 6, 0.1, np.zeros(3))
-
-
-def test_batch_matches_scalar_on_random_intervals() -> None:
-    """Batch and scalar agree row by row on 2000 random intervals."""
-    rng = np.random.default_rng(7)
-    n = 2000
-    points = [rng.uniform(-0.6, 0.6, (n, 3)) for _ in range(6)]
-    radii = rng.uniform(0.0, 0.1, n)
-    dt = rng.uniform(0.002, 0.02, n)
-    batch = time_of_impact_batch(*points, radii, 0.03, dt)
-    for i in range(n):
-        result = time_of_impact(*[p[i] for p in points], radii[i], 0.03, dt[i])
-        if result is None:
-            assert math.isnan(batch[i])
-        else:
-            assert batch[i] == pytest.approx(result.time, abs=1e-9 * dt[i] + 1e-12)
-    assert 200 < np.count_nonzero(~np.isnan(batch)) < n - 200
-
-
-# ----------------------------------------------------------------------------------------------
-# Objective 1 and the seed's method
-
-
-def test_line_distance_is_the_seed_equation_6() -> None:
-    """line_distance equals |(B-E)x(B-S)|/|S-E| - r at sample times, and ignores the ends."""
-    ball0, ball1 = np.array([3.0, 0.5, 0.0]), np.array([3.0, -0.5, 0.0])
-    knob, tip = np.zeros(3), np.array([1.0, 0.0, 0.0])
-    t = np.array([0.0, 0.25, 0.5])
-    got = line_distance(t, ball0, ball1, tip, tip, knob, knob, 0.03, 0.02, 1.0)
-    assert got == pytest.approx([0.5 - 0.05, 0.25 - 0.05, -0.05])
-    capsule = distance(t, ball0, ball1, tip, tip, knob, knob, 0.03, 0.02, 1.0)
-    assert capsule[2] == pytest.approx(2.0 - 0.05)
-
-
-def test_distance_matches_reference_gap() -> None:
-    """The vectorised capsule gap equals the reference point-segment gap."""
-    rng = np.random.default_rng(3)
-    points = [rng.uniform(-1, 1, 3) for _ in range(6)]
-    t = np.linspace(0.0, 0.01, 57)
-    got = distance(t, *points, 0.04, 0.03, 0.01)
-    expected = _reference_gap(t / 0.01, *points, 0.07)
-    assert got == pytest.approx(expected, abs=1e-12)
-
-
-def test_seed_reports_a_hit_past_the_tip() -> None:
-    """The seed's infinite line reports a contact the real (finite) bat never makes."""
-    pass_beyond = ([1.17, 1.0, 0], [1.17, -1.0, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0])
-    seed = seed_time_of_impact(*pass_beyond, 0.037, 0.033, 0.01)
-    assert seed is not None and seed == pytest.approx(0.01 * (1.0 - 0.07) / 2.0)
-    assert time_of_impact(*pass_beyond, 0.037, 0.033, 0.01) is None
-
-
-def test_seed_misses_a_ball_that_starts_in_contact() -> None:
-    """Overlapping throughout: the seed finds no root; the exact solver reports time 0."""
-    inside = ([0.5, 0.01, 0], [0.5, -0.01, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0])
-    assert seed_time_of_impact(*inside, 0.037, 0.033, 0.01) is None
-    assert time_of_impact(*inside, 0.037, 0.033, 0.01).time == 0.0
-
-
-def test_seed_agrees_on_a_clean_side_hit() -> None:
-    """Where its assumptions hold (a transversal side hit) the seed finds the same time."""
-    case = next(c for c in VECTORS if c['family'] == 'real_barrel' and c['time_of_impact'])
-    assert seed_time_of_impact(*_args(case)) == pytest.approx(case['time_of_impact'], rel=1e-6)
-
-
 # ----------------------------------------------------------------------------------------------
 # Bat profiles
 
@@ -376,7 +207,7 @@ def test_seed_agrees_on_a_clean_side_hit() -> None:
 def test_constant_profile_equals_the_capsule() -> None:
     """A one-radius profile gives exactly the capsule answer, on every contact vector."""
     for case in VECTORS[:120]:
-        capsule = time_of_impact(*_args(case))
+        capsule = time_of_impact(*vector_args(case))
         profile = BatProfile.constant(case['bat_radius'])
         pieces = time_of_impact_profile(*[case[k] for k in POINT_NAMES], case['ball_radius'],
                                         profile, case['dt'])
@@ -386,23 +217,12 @@ def test_constant_profile_equals_the_capsule() -> None:
             assert pieces.bat_fraction == pytest.approx(capsule.bat_fraction, abs=1e-9)
 
 
-def _profile_reference(tau: np.ndarray, points, ball_radius: float,
-                       profile: BatProfile) -> np.ndarray:
-    ball0, ball1, tip0, tip1, knob0, knob1 = (np.asarray(p, float) for p in points)
-    gaps = []
-    for f0, f1, r in profile.segments():
-        k0, k1 = knob0 + f0 * (tip0 - knob0), knob1 + f0 * (tip1 - knob1)
-        e0, e1 = knob0 + f1 * (tip0 - knob0), knob1 + f1 * (tip1 - knob1)
-        gaps.append(_reference_gap(tau, ball0, ball1, e0, e1, k0, k1, ball_radius + r))
-    return np.min(gaps, axis=0)
-
-
 @settings(max_examples=examples(60), **FILTERING)
 @given(points=swing_interval())
 def test_profile_matches_brute_force(points) -> None:
     """The default wood bat: first contact of the union of capsules, against dense sampling."""
     tau = np.linspace(0.0, 1.0, 2001)
-    gaps = _profile_reference(tau, points, 0.0366, WOOD_BAT_34)
+    gaps = profile_reference(tau, points, 0.0366, WOOD_BAT_34)
     assume(abs(gaps.min()) > 1e-4)
     hits = np.flatnonzero(gaps <= 0.0)
     dt = 1.0 / 120.0

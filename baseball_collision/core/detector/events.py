@@ -1,0 +1,226 @@
+"""
+What the detector says: typed events, the names it uses (enums) and its counters.
+
+Every enum here is a ``str`` (``enum.StrEnum``): a member compares equal to, hashes like,
+prints and serialises (JSON, CSV, ROS strings) as its plain value, so ``'side'``, ``'ball'`` or
+``'speed_limit'`` work wherever a member is expected and the other way round.
+"""
+
+from collections import Counter
+from dataclasses import dataclass, field
+import enum
+from typing import Optional, Union
+
+from ..geometry import Vector
+from ..toi import Feature
+
+MPS_TO_MPH = 1.0 / 0.44704
+"""Metres per second to miles per hour."""
+
+
+class Role(enum.StrEnum):
+    """What a sample offered to ``Detector.add`` is (the keys of ``DetectorStats.received``)."""
+
+    BALL = 'ball'
+    BAT_POSE = 'bat_pose'
+    KNOB = 'knob'
+    TIP = 'tip'
+
+
+class DropReason(enum.StrEnum):
+    """Why a sample was dropped (the keys of ``DetectorStats.dropped``)."""
+
+    WRONG_FRAME = 'wrong_frame'
+    NON_FINITE = 'non_finite'
+    BAD_STAMP = 'bad_stamp'
+    DUPLICATE_STAMP = 'duplicate_stamp'
+    OUT_OF_ORDER = 'out_of_order'
+    BAD_QUATERNION = 'bad_quaternion'
+    ZERO_LENGTH_BAT = 'zero_length_bat'
+    BAT_LENGTH_JUMP = 'bat_length_jump'
+    SPEED_LIMIT = 'speed_limit'
+    UNEXPECTED_INPUT = 'unexpected_input'
+
+
+DROP_REASONS = tuple(reason.value for reason in DropReason)
+"""Every reason a sample can be dropped for (the keys of ``DetectorStats.dropped``)."""
+
+
+class ResetReason(enum.StrEnum):
+    """Why the detector dropped its state (``StateReset.reason``)."""
+
+    TIME_JUMP_BACKWARDS = 'time_jump_backwards'
+    """A stamp ``time_jump_reset`` behind its stream."""
+    TIME_JUMP_FORWARD = 'time_jump_forward'
+    """A stamp more than ``FAR_AHEAD_NS`` after the clock's origin: a new session."""
+    REQUESTED = 'requested'
+    """``Detector.reset`` was called."""
+
+
+@dataclass(frozen=True)
+class Impact:
+    """
+    First contact of a ball with the bat.
+
+    :ivar stamp_ns: the impact instant (ns, same clock as the input stamps).
+    :ivar point: contact point on the bat surface (m); ``normal``: unit, bat to ball.
+    :ivar bat_fraction: along knob-tip, 0 at the knob, 1 at the tip.
+    :ivar distance_from_knob_m, distance_from_tip_m: along the axis, metres.
+    :ivar feature: ``'side'``, ``'knob_end'`` or ``'tip_end'`` (a ``Feature``).
+    :ivar bat_velocity: bat surface velocity at the contact point (m/s).
+    :ivar bat_angular_velocity: rad/s (world frame; without the roll about the bat's axis when
+        the bat came as knob and tip points).
+    :ivar sweet_spot_velocity: velocity (m/s) of the axis point ``sweet_spot_from_tip`` from
+        the tip; ``sweet_spot_speed_mps`` its norm (Statcast's bat speed).
+    :ivar bat_speed_at_contact_mps: speed of the bat surface at the contact point.
+    :ivar ball_velocity: m/s; ``ball_speed_mps`` its norm.
+    :ivar relative_normal_speed_mps: closing speed along the normal (positive approaching).
+    :ivar attack_angle_deg: vertical angle of the sweet spot's velocity (degrees, up > 0).
+    :ivar ball_position, knob, tip: where the bodies were at the impact (m).
+    :ivar model: motion model used.
+    :ivar interval_start_ns, interval_end_ns: the union sample interval the impact fell in.
+    :ivar velocities_from_history: False when too few samples before the impact existed and
+        the velocities had to come from the interval spanning it.
+    :ivar initially_overlapping: the contact was already there at the interval start.
+    """
+
+    stamp_ns: int
+    point: Vector
+    normal: Vector
+    bat_fraction: float
+    distance_from_knob_m: float
+    distance_from_tip_m: float
+    feature: Feature
+    bat_velocity: Vector
+    bat_angular_velocity: Vector
+    sweet_spot_velocity: Vector
+    sweet_spot_speed_mps: float
+    bat_speed_at_contact_mps: float
+    ball_velocity: Vector
+    ball_speed_mps: float
+    relative_normal_speed_mps: float
+    attack_angle_deg: float
+    ball_position: Vector
+    knob: Vector
+    tip: Vector
+    model: str
+    interval_start_ns: int
+    interval_end_ns: int
+    velocities_from_history: bool
+    initially_overlapping: bool
+
+
+@dataclass(frozen=True)
+class NearMiss:
+    """
+    A pass of the ball by the bat without contact, at the closest approach.
+
+    :ivar stamp_ns: closest approach (ns).
+    :ivar gap_m: smallest surface gap (m, > 0).
+    :ivar gap_vector: from the bat surface to the ball surface (m): +z means the bat passed
+        under the ball.
+    :ivar ball_position: ball centre at closest approach (m).
+    :ivar bat_fraction: where along knob-tip the bat came closest.
+    :ivar distance_from_tip_m: metres along the axis from the tip to that point.
+    """
+
+    stamp_ns: int
+    gap_m: float
+    gap_vector: Vector
+    ball_position: Vector
+    bat_fraction: float
+    distance_from_tip_m: float
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """
+    The coming impact, predicted from the samples up to ``made_at_ns``.
+
+    :ivar stamp_ns: predicted impact instant (ns).
+    :ivar made_at_ns: the newest processed instant the prediction starts from (ns).
+    :ivar lead_s: how far ahead (s): ``(stamp_ns - made_at_ns) * 1e-9``.
+    :ivar point: predicted contact point on the bat surface (m); ``normal``: bat to ball.
+    :ivar bat_fraction: where along knob-tip; ``distance_from_tip_m``: metres from the tip.
+    :ivar ball_position, ball_velocity: the ball's predicted centre (m) and velocity (m/s).
+    :ivar planned: the bat's path came from a commanded plan (else extrapolated).
+    """
+
+    stamp_ns: int
+    made_at_ns: int
+    lead_s: float
+    point: Vector
+    normal: Vector
+    bat_fraction: float
+    distance_from_tip_m: float
+    ball_position: Vector
+    ball_velocity: Vector
+    planned: bool
+
+
+@dataclass(frozen=True)
+class PredictionCleared:
+    """A contact was predicted and no longer is (as of ``made_at_ns``)."""
+
+    made_at_ns: int
+
+
+@dataclass(frozen=True)
+class StreamGap:
+    """A stream went longer than ``max_gap`` between samples; that span was not interpolated."""
+
+    stream: str
+    start_ns: int
+    end_ns: int
+
+
+@dataclass(frozen=True)
+class StateReset:
+    """
+    The detector dropped its state.
+
+    :ivar reason: ``'time_jump_backwards'``, ``'time_jump_forward'`` or ``'requested'`` (a
+        ``ResetReason``; ``Detector.reset`` passes on the string it is given).
+    """
+
+    stamp_ns: int
+    reason: str
+
+
+Event = Union[Impact, NearMiss, StreamGap, StateReset, Prediction, PredictionCleared]
+
+
+@dataclass
+class DetectorStats:
+    """
+    Counters for diagnostics.
+
+    :ivar received: samples offered, by role (ball, bat_pose, knob, tip).
+    :ivar dropped: samples dropped, by reason (see ``DROP_REASONS``).
+    :ivar impacts, near_misses, gaps, resets: events emitted.
+    :ivar intervals: union intervals processed; ``substeps``: exact solves run on them.
+    :ivar last_processing_s, total_processing_s, max_processing_s, calls: wall time spent in
+        the detector per call.
+    :ivar newest_stamp_ns: newest accepted stamp of any stream (None before any).
+    :ivar last_drop_reason: why the last sample offered was dropped (None: it was accepted).
+    """
+
+    received: Counter = field(default_factory=Counter)
+    dropped: Counter = field(default_factory=Counter)
+    impacts: int = 0
+    near_misses: int = 0
+    gaps: int = 0
+    resets: int = 0
+    intervals: int = 0
+    substeps: int = 0
+    last_processing_s: float = 0.0
+    total_processing_s: float = 0.0
+    max_processing_s: float = 0.0
+    calls: int = 0
+    newest_stamp_ns: Optional[int] = None
+    last_drop_reason: Optional[DropReason] = None
+
+    @property
+    def mean_processing_s(self) -> float:
+        """Mean wall time per call (seconds)."""
+        return self.total_processing_s / self.calls if self.calls else 0.0

@@ -1,0 +1,199 @@
+"""
+How the bodies move at an instant, from their samples up to it: least-squares fits.
+
+Velocities at an impact come from samples up to the impact only (a real hit decelerates the
+bat in the next frames, so an interpolant spanning the impact would under-read the speed). The
+bat is a rigid body: a pivot near the hands (the axis point that accelerates least) moving with
+its own velocity, turning with an angular velocity fitted to the cumulative turn of its samples.
+With too few samples before the impact, the chords of the spanning interval stand in.
+"""
+
+from dataclasses import dataclass
+from typing import Callable, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from .streams import Stream
+from ..geometry import dot, lerp, scale, sub, Vector
+from ..motion import BatPath, BatSample, MotionPath, turn_between
+
+SPARSE_SAMPLES = 6
+"""At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
+``velocity_degree``, interpolating, since the impact can be a whole step after the last sample;
+with more samples (a high rate) at most degree 3, which averages tracking noise at little bias
+(the hands' path is smooth; the bat's turn is not, so its fit keeps the full degree)."""
+
+Rates = Tuple[float, Vector, Vector]
+"""A pivot's fraction along knob-tip, its velocity (m/s) and acceleration (m/s^2)."""
+
+TurnRates = Tuple[Vector, float, Vector]
+"""Swing angular velocity (rad/s), roll rate (rad/s), swing angular acceleration (rad/s^2)."""
+
+
+def fit_polynomial(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+                   degree: int) -> Tuple[List[float], List[float], List[float]]:
+    """
+    Return value, first and second time derivatives at t of a least-squares polynomial.
+
+    The degree drops to the number of samples minus one (then it interpolates). Time is
+    centred on t and scaled by the span, so the fit is well conditioned.
+
+    :param times: sample times (s), oldest first, at or before t.
+    :param values: one row of components per sample.
+    """
+    degree = min(degree, len(times) - 1)
+    span = max(t - times[0], 1e-9)
+    x = (np.asarray(times, dtype=float) - t) / span
+    vandermonde = np.vander(x, degree + 1, increasing=True)
+    coefficients, *_ = np.linalg.lstsq(vandermonde, np.asarray(values, dtype=float), rcond=None)
+    first = coefficients[1] / span if degree >= 1 else 0.0 * coefficients[0]
+    second = 2.0 * coefficients[2] / span ** 2 if degree >= 2 else 0.0 * coefficients[0]
+    return coefficients[0].tolist(), first.tolist(), second.tolist()
+
+
+def fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+              degree: int) -> Tuple[List[float], List[float]]:
+    """Return first and second time derivatives at t of ``fit_polynomial``."""
+    return fit_polynomial(times, values, t, degree)[1:]
+
+
+def point_velocity(stream: Stream, t: float, pick: Callable[[object], Vector], window: float,
+                   degree: int) -> Optional[Vector]:
+    """
+    Return the velocity (m/s) at t of a point, from the samples up to t only.
+
+    A least-squares polynomial of ``degree`` through the samples of the last ``window`` s of
+    the segment, differentiated at t; None with fewer than two samples.
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 2:
+        return None
+    return tuple(fit_rates([stream.times[i] for i in indices],
+                           [pick(stream.values[i]) for i in indices], t, degree)[0])
+
+
+def pivot_degree(samples: int, degree: int) -> int:
+    """Return the degree of the bat pivot's velocity fit for a window of ``samples``."""
+    return degree if samples <= SPARSE_SAMPLES else min(degree, 3)
+
+
+def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> float:
+    """
+    Return the fraction along knob-tip of the bat point that accelerates least before t.
+
+    A swinging bat turns about the hands: the axis point nearest them moves on the smoothest
+    path, so its velocity is the best one to extrapolate (the knob circles the hands). Every
+    axis point's acceleration is linear in the fraction between the knob's and the tip's
+    (from the same fits as the velocities, so noise is averaged); the smallest is taken,
+    within [-0.5, 1].
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 3:
+        return 0.0
+    times = [stream.times[i] for i in indices]
+    rows = [stream.values[i].knob + stream.values[i].tip for i in indices]
+    second = fit_rates(times, rows, times[-1], pivot_degree(len(times), degree))[1]
+    knob, tip = second[:3], second[3:]
+    change = sub(tip, knob)
+    size = dot(change, change)
+    if size == 0.0:
+        return 0.0
+    return min(1.0, max(-0.5, -dot(knob, change) / size))
+
+
+def pivot_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[Rates]:
+    """
+    Return the bat pivot's fraction along knob-tip, velocity (m/s) and acceleration at t.
+
+    The pivot is ``pivot_fraction``'s axis point; its samples up to t are fitted with
+    ``pivot_degree``. None with fewer than two samples.
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 2:
+        return None
+    fraction = pivot_fraction(stream, t, window, degree)
+    rows = [lerp(stream.values[i].knob, stream.values[i].tip, fraction) for i in indices]
+    first, second = fit_rates([stream.times[i] for i in indices], rows, t,
+                              pivot_degree(len(indices), degree))
+    return fraction, tuple(first), tuple(second)
+
+
+def turn_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[TurnRates]:
+    """
+    Return the bat's swing angular velocity, roll rate and swing angular acceleration at t.
+
+    From the samples up to t only: the rotations between consecutive samples are summed into a
+    cumulative rotation (exact for a turn about a fixed axis, and close when the axis moves
+    slowly), fitted like a point (``point_velocity``). None with fewer than two samples.
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 2:
+        return None
+    cumulative = [stream.turn(i) for i in indices]
+    rate, change = fit_rates([stream.times[i] for i in indices], cumulative, t, degree)
+    return (rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2])
+
+
+def _point(value: Vector) -> Vector:
+    return value
+
+
+def _knob(ends: Tuple[Vector, Vector]) -> Vector:
+    return ends[0]
+
+
+def chord_velocity(path: MotionPath, pick: Callable[[object], Vector] = _point) -> Vector:
+    """Return the mean velocity (m/s) of a path's (picked) point over its whole interval."""
+    a, b = pick(path.at(path.t0)), pick(path.at(path.t0 + path.h))
+    return tuple((q - p) / path.h for p, q in zip(a, b))
+
+
+def chord_turn_rates(bat_path: BatPath) -> Tuple[Vector, float]:
+    """Return the mean swing angular velocity and roll rate (rad/s) over a bat path."""
+    knob0, tip0 = bat_path.at(bat_path.t0)
+    knob1, tip1 = bat_path.at(bat_path.t0 + bat_path.h)
+    swing, roll = turn_between(BatSample(knob0, tip0, None, bat_path.sample0.quaternion),
+                               BatSample(knob1, tip1, None, bat_path.sample1.quaternion))
+    return scale(swing, 1.0 / bat_path.h), roll / bat_path.h
+
+
+@dataclass(frozen=True)
+class ImpactVelocities:
+    """
+    How ball and bat moved at an impact.
+
+    :ivar ball: ball velocity (m/s).
+    :ivar pivot_fraction: the bat pivot's fraction along knob-tip.
+    :ivar pivot: the pivot's velocity (m/s).
+    :ivar swing: swing angular velocity (rad/s, across the bat); ``roll``: about its axis.
+    :ivar from_history: False when the spanning interval's chords stood in for the fits.
+    """
+
+    ball: Vector
+    pivot_fraction: float
+    pivot: Vector
+    swing: Vector
+    roll: float
+    from_history: bool
+
+
+def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,
+                      ball_path: MotionPath, bat_path: BatPath) -> ImpactVelocities:
+    """
+    Return the velocities at an impact at t (s), from the samples up to t.
+
+    The ball's fit is at most a parabola; the bat's pivot and turn use ``degree``. With fewer
+    than two samples of a body before t, its part comes from the paths' chords instead.
+    """
+    ball_velocity = point_velocity(ball, t, _point, window, min(2, degree))
+    rates = pivot_rates(bat, t, window, degree)
+    fraction, pivot_velocity = (rates[0], rates[1]) if rates else (0.0, None)
+    turn = turn_rates(bat, t, window, degree)
+    omega = None if turn is None else (turn[0], turn[1])
+    if ball_velocity is not None and pivot_velocity is not None and omega is not None:
+        return ImpactVelocities(ball_velocity, fraction, pivot_velocity, omega[0], omega[1], True)
+    # not enough history before the impact: fall back to the spanning interval
+    ball_velocity = ball_velocity or chord_velocity(ball_path)
+    pivot_velocity = pivot_velocity or chord_velocity(bat_path, _knob)
+    swing, roll = omega or chord_turn_rates(bat_path)
+    return ImpactVelocities(ball_velocity, 0.0, pivot_velocity, swing, roll, False)

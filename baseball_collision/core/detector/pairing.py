@@ -1,0 +1,71 @@
+"""
+Knob and tip points paired into bat samples by stamp.
+
+Trackers that report the bat as two points may stamp them differently. Every stamp of either
+stream that both streams now cover becomes one bat sample: the point stamped there as is, the
+other interpolated linearly between its samples around it (not across a gap longer than
+``max_gap``, and not before its first sample).
+"""
+
+from bisect import bisect_right
+from typing import List, Optional, Tuple
+
+from .streams import Stream
+from ..geometry import Vector
+
+Pair = Tuple[float, Vector, Vector]
+"""(time in seconds, knob, tip) in metres."""
+
+
+class Pairing:
+    """The knob and tip streams, and the newest time (s) paired so far (``cursor``)."""
+
+    __slots__ = ('knob', 'tip', 'cursor')
+
+    def __init__(self) -> None:
+        self.knob = Stream('knob')
+        self.tip = Stream('tip')
+        self.cursor: Optional[float] = None
+
+    def pairs(self, max_gap: float) -> List[Pair]:
+        """Return (t, knob, tip) at every new time both streams cover, oldest first."""
+        knob, tip = self.knob, self.tip
+        if not knob.times or not tip.times:
+            return []
+        ready = min(knob.times[-1], tip.times[-1])
+        times = sorted(set(_between(knob.times, self.cursor, ready)
+                           + _between(tip.times, self.cursor, ready)))
+        pairs = []
+        for t in times:
+            self.cursor = t
+            knob_point = _point_at(knob, t, max_gap)
+            tip_point = _point_at(tip, t, max_gap) if knob_point is not None else None
+            if tip_point is not None:
+                pairs.append((t, knob_point, tip_point))
+        return pairs
+
+    def trim(self) -> None:
+        """Forget what no future pair needs (all but a few samples before the cursor)."""
+        self.knob.trim(self.cursor or 0.0, 0.0)
+        self.tip.trim(self.cursor or 0.0, 0.0)
+
+
+def _between(times: List[float], start: Optional[float], end: float) -> List[float]:
+    """Return the sorted ``times`` in (start, end] (from the first when ``start`` is None)."""
+    first = 0 if start is None else bisect_right(times, start)
+    return times[first:bisect_right(times, end, first)]
+
+
+def _point_at(stream: Stream, t: float, max_gap: float) -> Optional[Vector]:
+    """Return the stream's point at time t (s): its sample, or interpolated; None if neither."""
+    k = stream.interval(t)
+    if k < 0:
+        return None
+    times = stream.times
+    if times[k] == t:
+        return stream.values[k]
+    if k + 1 < len(times) and times[k + 1] - times[k] <= max_gap:
+        s = (t - times[k]) / (times[k + 1] - times[k])
+        a, b = stream.values[k], stream.values[k + 1]
+        return tuple(p + (q - p) * s for p, q in zip(a, b))
+    return None

@@ -1,0 +1,164 @@
+"""
+Predictions: the coming impact, from the detector's latest samples and a commanded bat plan.
+
+After every processed frame (when ``prediction_horizon`` > 0 and the detector is armed) the
+ball's latest samples give a ballistic forecast, and the bat's either its commanded plan (a
+robot arm's, when it covers the instant) or a rigid-body extrapolation of its latest motion;
+``prediction.first_contact`` searches them for the first contact within the horizon.
+"""
+
+from dataclasses import replace
+import math
+from typing import List, Optional, Sequence, Tuple, Union
+
+from .config import DetectorConfig
+from .events import Prediction, PredictionCleared
+from .gate import Clock
+from .kinematics import fit_polynomial, pivot_rates, turn_rates
+from .streams import Stream
+from ..geometry import lerp, scale, sub, Vector
+from ..prediction import (
+    BallForecast, BatForecast, first_contact, planned_bat, PlannedBat, turn_axis_and_rates)
+from ...errors import CoreError
+
+PREDICTION_CHORD_FACTOR = 4.0
+"""A prediction's sub-steps may leave the forecast paths by this many ``max_chord_error``."""
+
+PREDICTION_DEGREE = 3
+"""Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
+where higher degrees amplify tracking noise (at 90 Hz with 1 mm noise they lose the swing)."""
+
+
+class Predictor:
+    """
+    Forecasts from the ball and bat streams; the commanded plan; whether a contact is predicted.
+
+    :param config: the detector's configuration (``DetectorConfig``).
+    :param clock: the detector's clock; ``ball``, ``bat``: its streams.
+    :param offsets: (knob, tip) in the bat's body frame (m), for a plan's poses.
+    """
+
+    __slots__ = ('config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
+                 'plan_on_clock', 'predicting')
+
+    def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
+                 offsets: Tuple[Vector, Vector]) -> None:
+        self.config, self.clock, self.ball, self.bat, self.offsets = (
+            config, clock, ball, bat, offsets)
+        self.max_radius = config.profile.max_radius
+        # the commanded plan: (its first stamp, the plan timed in s from it); on this clock
+        self.plan: Optional[Tuple[int, PlannedBat]] = None
+        self.plan_on_clock: Optional[PlannedBat] = None
+        self.predicting = False
+
+    def set_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
+                 quaternions: Sequence[Sequence[float]]) -> None:
+        """
+        Set (or, with no stamps, clear) a commanded bat trajectory.
+
+        :raises CoreError: lists of different lengths, stamps not increasing, or a quaternion
+            not unit length.
+        """
+        self.plan_on_clock = None
+        if not stamps_ns:
+            self.plan = None
+            return
+        first = int(stamps_ns[0])
+        try:
+            plan = planned_bat([(int(s) - first) * 1e-9 for s in stamps_ns], positions,
+                               quaternions, *self.offsets)
+        except (TypeError, ValueError) as error:
+            raise CoreError(f'bad bat plan: {error}') from error
+        self.plan = (first, plan)
+
+    def predict(self, t0: float, armed: Optional[bool], events: List) -> None:
+        """Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended."""
+        config = self.config
+        found = None
+        if armed and self._may_reach(t0):
+            ball = self._ball_forecast(t0)
+            bat = self._bat_forecast(t0)
+            if ball is not None and bat is not None:
+                # a forecast is good to millimetres at best: a coarser chord tolerance than for
+                # impacts costs it nothing
+                found = first_contact(ball, bat, t0, config.prediction_horizon,
+                                      config.ball_radius, config.profile,
+                                      PREDICTION_CHORD_FACTOR * config.max_chord_error)
+        if found is None:
+            if self.predicting:
+                self.predicting = False
+                events.append(PredictionCleared(made_at_ns=self.clock.stamp(t0)))
+            return
+        t, hit = found
+        knob, tip = bat.at(t)
+        self.predicting = True
+        events.append(Prediction(
+            stamp_ns=self.clock.stamp(t), made_at_ns=self.clock.stamp(t0), lead_s=t - t0,
+            point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
+            distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
+            ball_position=ball.at(t), ball_velocity=ball.velocity_at(t),
+            planned=isinstance(bat, PlannedBat)))
+
+    def _may_reach(self, t0: float) -> bool:
+        """
+        Return whether the ball could reach the bat within the prediction horizon.
+
+        From the newest samples alone: the distance from the ball to the bat's middle against
+        the bat's half length, the radii and what both can travel over the horizon at twice
+        their speed over the last sample step (a plan may move the bat anywhere: always True).
+        """
+        if self.plan is not None:
+            return True
+        ball, bat = self.ball, self.bat
+        if len(ball.times) < 2 or len(bat.times) < 2:
+            return False
+        b0, b1 = ball.values[-2], ball.values[-1]
+        s0, s1 = bat.values[-2], bat.values[-1]
+        ball_speed = math.dist(b0, b1) / (ball.times[-1] - ball.times[-2])
+        bat_speed = max(math.dist(s0.knob, s1.knob), math.dist(s0.tip, s1.tip)) / (
+            bat.times[-1] - bat.times[-2])
+        middle = lerp(s1.knob, s1.tip, 0.5)
+        config = self.config
+        reach = (0.5 * math.dist(s1.knob, s1.tip) + config.ball_radius + self.max_radius
+                 + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
+        return math.dist(b1, middle) <= reach
+
+    def _ball_forecast(self, t0: float) -> Optional[BallForecast]:
+        """Return the ball's ballistic forecast from a parabola fitted to its latest samples."""
+        ball = self.ball
+        indices = ball.history(t0, self.config.prediction_window)
+        if len(indices) < 3:
+            return None
+        times = [ball.times[i] for i in indices]
+        position, velocity, _ = fit_polynomial(times, [ball.values[i] for i in indices], t0, 2)
+        gravity = scale(self.config.up_axis, -self.config.gravity)
+        return BallForecast.ballistic(t0, tuple(position), tuple(velocity), gravity,
+                                      self.config.ball_drag)
+
+    def _bat_forecast(self, t0: float) -> Union[BatForecast, PlannedBat, None]:
+        """Return the bat's forecast: the commanded plan when it covers t0, else extrapolated."""
+        if self.plan is not None:
+            if self.plan_on_clock is None:  # once: the clock's origin stays until a reset
+                first, plan = self.plan
+                shift = self.clock.time(first)
+                self.plan_on_clock = replace(plan, times=tuple(t + shift for t in plan.times))
+            if self.plan_on_clock.times[-1] > t0:
+                return self.plan_on_clock
+        bat = self.bat
+        config = self.config
+        window, degree = config.velocity_window, min(config.velocity_degree, PREDICTION_DEGREE)
+        indices = bat.history(t0, window)
+        if len(indices) < 3:
+            return None
+        # start from the newest bat sample itself (a fit lags an accelerating swing); the same
+        # fits as an impact's velocities give the rates (``kinematics``)
+        start = bat.times[indices[-1]]
+        latest = bat.values[indices[-1]]
+        fraction, pivot_velocity, pivot_acceleration = pivot_rates(bat, start, window, degree)
+        rate, _, change = turn_rates(bat, start, window, degree)
+        axis, turn, turn_change = turn_axis_and_rates(rate, change)
+        pivot = lerp(latest.knob, latest.tip, fraction)
+        return BatForecast(t0=start, pivot=pivot, pivot_velocity=pivot_velocity,
+                           pivot_acceleration=pivot_acceleration,
+                           knob_arm=sub(latest.knob, pivot), tip_arm=sub(latest.tip, pivot),
+                           axis=axis, rate=turn, rate_change=turn_change)

@@ -1,0 +1,78 @@
+"""
+The walk over the union of the ball's and the bat's sample times, up to the watermark.
+
+Between two consecutive union times every stream is inside one of its own sample intervals, so
+each body's motion model gives its path exactly by stamps, whatever the rates, jitter or uneven
+steps. The walk stops at the watermark: the oldest of the streams' newest usable times (a model
+that needs samples after an interval, the spline, waits for them until the recording ends).
+"""
+
+from bisect import bisect_right
+import math
+from typing import Callable, List, Optional
+
+from .config import DetectorConfig
+from .streams import Stream
+from ..motion import SAMPLES_AHEAD
+
+Visit = Callable[[float, float, List], None]
+"""Called with each union interval (ta, tb) in seconds, and the event list to append to."""
+
+
+class Scheduler:
+    """
+    The cursor (s): everything up to it has been processed.
+
+    :param config: the detector's configuration (``DetectorConfig``): its model says how many
+        samples after an interval's end the walk waits for (``SAMPLES_AHEAD``); its fit windows
+        how far back from the cursor the streams keep samples.
+    :param ball, bat: the two streams walked.
+    """
+
+    __slots__ = ('config', 'ball', 'bat', 'ahead', 'cursor')
+
+    def __init__(self, config: DetectorConfig, ball: Stream, bat: Stream) -> None:
+        self.config, self.ball, self.bat = config, ball, bat
+        self.ahead = SAMPLES_AHEAD[config.model]
+        self.cursor: Optional[float] = None
+
+    def advance(self, visit: Visit, events: List, final: bool = False) -> bool:
+        """
+        Visit every union interval in (cursor, watermark], then trim the streams.
+
+        :param visit: called with each interval in order.
+        :param final: the recording ended: every sample is usable.
+        :returns: whether the cursor moved.
+        """
+        ball_times, bat_times = self.ball.times, self.bat.times
+        ahead = 0 if final else self.ahead
+        if len(ball_times) <= ahead or len(bat_times) <= ahead:
+            return False
+        ready_ball, ready_bat = ball_times[-1 - ahead], bat_times[-1 - ahead]
+        watermark = ready_ball if ready_ball < ready_bat else ready_bat
+        cursor = self.cursor
+        if cursor is None:
+            cursor = self.cursor = max(ball_times[0], bat_times[0])
+        if watermark <= cursor:
+            return False
+        i = bisect_right(ball_times, cursor)
+        j = bisect_right(bat_times, cursor)
+        while True:
+            a = ball_times[i] if i < len(ball_times) else math.inf
+            b = bat_times[j] if j < len(bat_times) else math.inf
+            t = a if a < b else b
+            if t > watermark:
+                break
+            if a == t:
+                i += 1
+            if b == t:
+                j += 1
+            visit(cursor, t, events)
+            cursor = t
+        moved = cursor != self.cursor
+        self.cursor = cursor
+        config = self.config  # how far back (s) the fits need samples
+        history = 1.5 * max(config.velocity_window, config.prediction_window)
+        self.ball.trim(cursor, history)
+        self.bat.trim(cursor, history)
+        return moved

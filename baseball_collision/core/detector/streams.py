@@ -1,0 +1,123 @@
+"""
+The sample buffer of one body: times, stamps, values and segment breaks, newest last.
+
+A stream keeps only what the detector still needs: ``trim`` forgets samples that are both
+older than the fits' history and more than a few samples behind the cursor. Samples form
+segments: a new segment starts after a long gap or a jump the speed check accepted (the body
+really moved); nothing is interpolated across a segment break or a gap longer than ``max_gap``.
+"""
+
+from bisect import bisect_right
+from typing import Any, List, Optional, Tuple
+
+from ..motion import BatSample, turn_between
+
+Turn = Tuple[float, float, float, float]
+"""Cumulative (swing x, y, z, roll) turn of a bat sample since its segment's first (rad)."""
+
+MAX_HISTORY = 64
+"""Samples at most in a velocity fit's history."""
+
+_ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
+
+
+class Stream:
+    """
+    Accepted samples of one body: times (s, detector clock), stamps (ns), values, breaks.
+
+    :ivar name: ``'ball'``, ``'bat'``, ``'knob'`` or ``'tip'`` (a ``StreamGap``'s stream).
+    :ivar values: points (tuples, m) or ``BatSample``.
+    :ivar breaks: True where a sample does not continue the previous one.
+    :ivar turns: bat only: cumulative turns (``Turn``), filled in on demand by ``turn``.
+    :ivar speed_drops: samples dropped in a row by the speed check.
+    :ivar path_key, path: the motion path last built on this stream, by its end stamps.
+    :ivar reported_gap: the stamp of the last gap reported (reported once).
+    """
+
+    __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
+                 'path', 'reported_gap', 'turns')
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.times: List[float] = []
+        self.stamps: List[int] = []
+        self.values: List[Any] = []
+        self.breaks: List[bool] = []
+        self.turns: List[Optional[Turn]] = []
+        self.speed_drops = 0
+        self.path_key: Optional[Tuple[int, int]] = None
+        self.path: Any = None
+        self.reported_gap: Optional[int] = None
+
+    def newest(self) -> Optional[int]:
+        """Return the newest stamp (ns), None when empty."""
+        return self.stamps[-1] if self.stamps else None
+
+    def append(self, t: float, stamp: int, value: Any, new_segment: bool) -> None:
+        """Add a sample at time t (s), stamped (ns); ``new_segment``: it breaks from the last."""
+        self.times.append(t)
+        self.stamps.append(stamp)
+        self.values.append(value)
+        self.breaks.append(new_segment or len(self.times) == 1)
+        if isinstance(value, BatSample):
+            self.turns.append(_ZERO_TURN if self.breaks[-1] else None)
+
+    def trim(self, before: float, history: float, keep: int = 4) -> None:
+        """Forget samples more than ``history`` s and ``keep`` samples before time ``before``."""
+        if len(self.times) < 64:
+            return
+        index = min(bisect_right(self.times, before - history),
+                    bisect_right(self.times, before)) - 1 - keep
+        if index > 0:
+            for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
+                del buffer[:index]
+            self.path_key = None
+
+    def interval(self, t: float) -> int:
+        """Return k of the sample interval [times[k], times[k+1]] holding t (-1 before)."""
+        return bisect_right(self.times, t) - 1
+
+    def continuous(self, k: int, max_gap: float) -> bool:
+        """Return whether samples k and k+1 are one segment no longer than ``max_gap``."""
+        return not self.breaks[k + 1] and self.times[k + 1] - self.times[k] <= max_gap
+
+    def neighbours(self, k: int, max_gap: float) -> Tuple[Optional[int], Optional[int]]:
+        """Return the samples before k and after k + 1 in the same segment (or None)."""
+        before = k - 1 if k >= 1 and self.continuous(k - 1, max_gap) else None
+        after = k + 2 if k + 2 < len(self.times) and self.continuous(k + 1, max_gap) else None
+        return before, after
+
+    def history(self, t: float, window: float) -> List[int]:
+        """
+        Return indices of samples at or before t in t's segment, ``window`` s back from the last.
+
+        At least the last two samples of the segment (when it has them), at most
+        ``MAX_HISTORY``.
+        """
+        k = self.interval(t)
+        if k < 0:
+            return []
+        times, breaks = self.times, self.breaks
+        first = max(bisect_right(times, times[k] - window - 1e-9), k - MAX_HISTORY + 1, 0)
+        first = min(first, max(k - 1, 0))
+        for i in range(k, first, -1):  # stay within the segment
+            if breaks[i]:
+                first = i
+                break
+        return list(range(first, k + 1))
+
+    def turn(self, k: int) -> Turn:
+        """Return the cumulative turn of bat sample k, summing the missing steps once."""
+        turns = self.turns
+        first = k
+        while turns[first] is None:
+            if first == 0:  # trimmed past the segment start: a new (zero) reference; only
+                turns[0] = _ZERO_TURN  # differences of turns are ever used
+                break
+            first -= 1  # a segment's first sample always has its turn (zero)
+        for i in range(first + 1, k + 1):
+            swing, roll = turn_between(self.values[i - 1], self.values[i])
+            last = turns[i - 1]
+            turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
+                        last[3] + roll)
+        return turns[k]

@@ -1,0 +1,203 @@
+"""
+One union interval, swept: from the streams' samples to exact solves, impacts and near misses.
+
+For each interval between consecutive union times the sweep locates both streams' sample
+intervals (a ``StreamGap`` where one spans more than ``max_gap``: not interpolated), then tries
+ever finer far tests: the raw samples (``broadphase``), the motion paths' bounding spheres, the
+chords' closest approach. An interval that may come close is cut into sub-steps small enough
+for the chord error bound and each is solved exactly (``toi.profile_contact``). The first
+contact while armed is an ``Impact``; every sub-step without one feeds the near-miss episodes.
+"""
+
+import math
+from typing import Any, List, Optional, Tuple
+
+from .broadphase import clearly_apart
+from .config import DetectorConfig
+from .episodes import EpisodeTracker, State
+from .events import DetectorStats, Impact, StreamGap
+from .gate import Clock
+from .kinematics import impact_velocities
+from .streams import Stream
+from ..geometry import add, dot, lerp, norm, profile_gap, rigid_point_velocity, scale, Vector
+from ..motion import BatPath, PointPath, substeps_for
+from ..toi import closest_offset, ImpactResult, profile_contact
+
+Paths = Tuple[PointPath, BatPath]
+"""The ball's and the bat's paths over an interval."""
+
+
+class Sweep:
+    """
+    Sweeps union intervals of the ball and bat streams (``visit`` for the ``Scheduler``).
+
+    :param config: the detector's configuration (``DetectorConfig``).
+    :param clock, stats: the detector's clock and counters.
+    :param ball, bat: the streams.
+    :param episodes: the arming state and near-miss episodes.
+    :param offsets: (knob, tip) in the bat's body frame (m), for rigid paths from poses.
+    """
+
+    __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
+                 'max_radius', 'last_gap')
+
+    def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
+                 bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
+        self.config, self.clock, self.stats = config, clock, stats
+        self.ball, self.bat, self.episodes, self.offsets = ball, bat, episodes, offsets
+        self.model = config.model
+        self.max_radius = config.profile.max_radius
+        self.last_gap: Optional[Tuple[State, float]] = None  # the last gap computed (m)
+
+    def interval(self, ta: float, tb: float, events: List) -> None:
+        """Sweep the union interval [ta, tb] (s), appending the events it makes."""
+        located = self._locate(ta, events)
+        if located is None:
+            return
+        self.stats.intervals += 1
+        config = self.config
+        margin = (config.ball_radius + self.max_radius + 1e-6
+                  + max(config.near_miss_threshold, config.rearm_distance))
+        if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
+                         config.max_gap):
+            self.episodes.far(events)
+            return
+        paths = self.paths(*located)
+        ball_path, bat_path = paths
+        apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
+        if apart > margin:
+            # the bounding spheres of both whole sample intervals are clear: far apart
+            self.episodes.far(events)
+            return
+        ball_a, ball_b = ball_path.at(ta), ball_path.at(tb)
+        knob_a, tip_a = bat_path.at(ta)
+        knob_b, tip_b = bat_path.at(tb)
+        deviation = ball_path.deviation(ta, tb) + bat_path.deviation(ta, tb)
+        reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
+        if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
+            self.episodes.far(events)
+            return
+        n = substeps_for(deviation, config.max_chord_error)
+        self.stats.substeps += n
+        previous = State(ta, ball_a, knob_a, tip_a)
+        gap_previous = self._gap_at(previous)
+        for j in range(1, n + 1):
+            if j == n:
+                state = State(tb, ball_b, knob_b, tip_b)
+            else:
+                t1 = ta + (tb - ta) * j / n
+                knob, tip = bat_path.at(t1)
+                state = State(t1, ball_path.at(t1), knob, tip)
+            gap = self._gap_at(state)
+            if self._substep(previous, state, gap_previous, gap, (ta, tb), paths, events):
+                return
+            previous, gap_previous = state, gap
+
+    def _locate(self, ta: float, events: List) -> Optional[Tuple[int, int]]:
+        """Return each stream's sample interval index holding ta, or None across a gap."""
+        indices = []
+        for stream in (self.ball, self.bat):
+            k = stream.interval(ta)
+            if k < 0 or k + 1 >= len(stream.times):
+                return None
+            if not stream.continuous(k, self.config.max_gap):
+                if stream.reported_gap != stream.stamps[k]:
+                    stream.reported_gap = stream.stamps[k]
+                    self.stats.gaps += 1
+                    events.append(StreamGap(stream=stream.name, start_ns=stream.stamps[k],
+                                            end_ns=stream.stamps[k + 1]))
+                    self.episodes.interrupted(events)
+                return None
+            indices.append(k)
+        return indices[0], indices[1]
+
+    def paths(self, ball_k: int, bat_k: int) -> Paths:
+        """Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached)."""
+        ball, bat = self.ball, self.bat
+        key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
+        if ball.path_key != key:
+            before, after = _neighbours(ball, ball_k, self.config.max_gap)
+            ball.path = PointPath.build(self.model, ball.times[ball_k], ball.times[ball_k + 1],
+                                        ball.values[ball_k], ball.values[ball_k + 1], before,
+                                        after)
+            ball.path_key = key
+        key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
+        if bat.path_key != key:
+            before, after = _neighbours(bat, bat_k, self.config.max_gap)
+            bat.path = BatPath.build(self.model, bat.times[bat_k], bat.times[bat_k + 1],
+                                     bat.values[bat_k], bat.values[bat_k + 1], before, after,
+                                     self.offsets)
+            bat.path_key = key
+        return ball.path, bat.path
+
+    def _gap_at(self, state: State) -> float:
+        """Return the gap (m) at a state, reusing the last one computed."""
+        cached = self.last_gap
+        if cached is not None and cached[0] == state:
+            return cached[1]
+        gap = profile_gap(state.ball, state.knob, state.tip, self.config.ball_radius,
+                          self.config.profile)[0]
+        self.last_gap = (state, gap)
+        return gap
+
+    def _substep(self, start: State, end: State, gap0: float, gap1: float,
+                 interval: Tuple[float, float], paths: Paths, events: List) -> bool:
+        """Solve one linear sub-step between two states; True on an impact."""
+        episodes = self.episodes
+        if episodes.arm(gap0):
+            config = self.config
+            hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
+                                  config.ball_radius, config.profile, end.t - start.t)
+            if hit is not None:
+                episodes.impact()
+                events.append(self._impact(start.t + hit.time, hit, interval, paths))
+                self.stats.impacts += 1
+                return True
+        episodes.track(start, end, gap0, gap1, events)
+        return False
+
+    def _impact(self, t: float, hit: ImpactResult, interval: Tuple[float, float],
+                paths: Paths) -> Impact:
+        """Return the impact at t (s): where, and how both bodies moved (``kinematics``)."""
+        ball_path, bat_path = paths
+        knob, tip = bat_path.at(t)
+        config = self.config
+        velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
+                                       config.velocity_degree, ball_path, bat_path)
+        length = math.dist(knob, tip)
+        direction = tuple((e - k) / length for k, e in zip(knob, tip))
+        # the roll turns about the bat's own axis
+        omega = add(velocities.swing, scale(direction, velocities.roll))
+        sweet = max(0.0, length - config.sweet_spot_from_tip)
+        sweet_point = add(knob, tuple(sweet * d for d in direction))
+        # rigid body: every point moves with the pivot plus the turn about it
+        pivot = lerp(knob, tip, velocities.pivot_fraction)
+        sweet_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point)
+        bat_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, hit.point)
+        sweet_speed = norm(sweet_velocity)
+        attack = 0.0
+        if sweet_speed > 0.0:
+            rise = max(-1.0, min(1.0, dot(sweet_velocity, config.up_axis) / sweet_speed))
+            attack = math.degrees(math.asin(rise))
+        ball_velocity = velocities.ball
+        closing = dot(tuple(b - v for b, v in zip(bat_velocity, ball_velocity)), hit.normal)
+        stamp = self.clock.stamp
+        return Impact(
+            stamp_ns=stamp(t), point=tuple(hit.point), normal=tuple(hit.normal),
+            bat_fraction=hit.bat_fraction, distance_from_knob_m=hit.bat_fraction * length,
+            distance_from_tip_m=(1.0 - hit.bat_fraction) * length, feature=hit.feature,
+            bat_velocity=bat_velocity, bat_angular_velocity=omega,
+            sweet_spot_velocity=sweet_velocity, sweet_spot_speed_mps=sweet_speed,
+            bat_speed_at_contact_mps=norm(bat_velocity), ball_velocity=ball_velocity,
+            ball_speed_mps=norm(ball_velocity), relative_normal_speed_mps=closing,
+            attack_angle_deg=attack, ball_position=ball_path.at(t), knob=knob, tip=tip,
+            model=self.model, interval_start_ns=stamp(interval[0]),
+            interval_end_ns=stamp(interval[1]), velocities_from_history=velocities.from_history,
+            initially_overlapping=hit.initially_overlapping)
+
+
+def _neighbours(stream: Stream, k: int, max_gap: float) -> Tuple[Any, Any]:
+    """Return the samples (time, value) before k and after k + 1 in its segment, or None."""
+    before, after = stream.neighbours(k, max_gap)
+    return (None if before is None else (stream.times[before], stream.values[before]),
+            None if after is None else (stream.times[after], stream.values[after]))

@@ -1,0 +1,168 @@
+"""
+Paths of one point (the ball) and of one angle over a sample interval: chords and cubics.
+
+* ``PointPath``: a point on its chord (linear, rigid) or on a cubic Hermite through its
+  neighbours (spline): tangents from the three-point rule, exact for a quadratic, also on uneven
+  stamps. A curve leaves its chord by at most max|p''| h^2 / 8.
+* ``AngleCubic``: the same for a scalar, the spline bat's turning angle.
+"""
+
+from typing import Optional
+
+from .base import hermite_slope, hermite_tangent, Neighbour
+from ..geometry import lerp, norm, sub, Vector
+
+
+class PointPath:
+    """
+    A point moving over one sample interval [t0, t1]: linear, or cubic Hermite with tangents.
+
+    ``centre`` and ``radius`` (metres) bound the whole path by a sphere (a ``MotionPath``).
+
+    :param t0, t1: interval ends (seconds), t1 > t0.
+    :param p0, p1: positions at the ends (metres).
+    :param m0, m1: velocities at the ends (m/s) for a cubic; both None for the chord.
+    """
+
+    __slots__ = ('t0', 't1', 'h', 'a', 'b', 'c', 'd', 'curved', 'end', 'centre', 'radius',
+                 'accel0', 'accel_rate', 'bulge')
+
+    def __init__(self, t0: float, t1: float, p0: Vector, p1: Vector,
+                 m0: Optional[Vector] = None, m1: Optional[Vector] = None) -> None:
+        self.t0, self.t1 = t0, t1
+        h = self.h = t1 - t0
+        self.a = p0
+        self.end = p1
+        self.curved = m0 is not None and m1 is not None
+        chord = sub(p1, p0)
+        if self.curved:
+            # power basis in s = (t - t0) / h: p = a + b s + c s^2 + d s^3
+            b = self.b = (h * m0[0], h * m0[1], h * m0[2])
+            e = (h * m1[0], h * m1[1], h * m1[2])
+            c = self.c = (3.0 * chord[0] - 2.0 * b[0] - e[0], 3.0 * chord[1] - 2.0 * b[1] - e[1],
+                          3.0 * chord[2] - 2.0 * b[2] - e[2])
+            d = self.d = (b[0] + e[0] - 2.0 * chord[0], b[1] + e[1] - 2.0 * chord[1],
+                          b[2] + e[2] - 2.0 * chord[2])
+            # p''(t) = accel0 + accel_rate * s (m/s^2)
+            h2 = h * h
+            self.accel0 = (2.0 * c[0] / h2, 2.0 * c[1] / h2, 2.0 * c[2] / h2)
+            self.accel_rate = (6.0 * d[0] / h2, 6.0 * d[1] / h2, 6.0 * d[2] / h2)
+            # p(s) - chord(s) = c (s^2 - s) + d (s^3 - s); |s^2 - s| <= 1/4, |s^3 - s| <= 0.385
+            self.bulge = 0.25 * norm(c) + 0.3849 * norm(d)
+        else:
+            self.b = chord
+            self.c = self.d = (0.0, 0.0, 0.0)
+            self.bulge = 0.0
+        self.centre = lerp(p0, p1, 0.5)
+        self.radius = 0.5 * norm(chord) + self.bulge
+
+    @classmethod
+    def build(cls, model: str, t0: float, t1: float, p0: Vector, p1: Vector,
+              before: Neighbour = None, after: Neighbour = None) -> 'PointPath':
+        """
+        Return a point's path between two samples under a motion model.
+
+        The spline is a cubic with tangents from the neighbours ``before`` and ``after``
+        ((time, point) or None); every other model moves a point on its chord.
+        """
+        if model != 'spline':
+            return cls(t0, t1, p0, p1)
+        tb, pb = before if before is not None else (None, None)
+        ta, pa = after if after is not None else (None, None)
+        return cls(t0, t1, p0, p1, hermite_tangent(tb, pb, t0, p0, t1, p1),
+                   hermite_tangent(t0, p0, t1, p1, ta, pa))
+
+    def at(self, t: float) -> Vector:
+        """Return the position (metres) at time t (seconds)."""
+        if t == self.t0:
+            return self.a
+        if t == self.t1:
+            return self.end
+        s = (t - self.t0) / self.h
+        a, b, c, d = self.a, self.b, self.c, self.d
+        return (a[0] + s * (b[0] + s * (c[0] + s * d[0])),
+                a[1] + s * (b[1] + s * (c[1] + s * d[1])),
+                a[2] + s * (b[2] + s * (c[2] + s * d[2])))
+
+    def velocity(self, t: float) -> Vector:
+        """Return the time derivative of the position (m/s) at time t (seconds)."""
+        s = (t - self.t0) / self.h
+        b, c, d = self.b, self.c, self.d
+        return tuple((b[i] + s * (2.0 * c[i] + 3.0 * s * d[i])) / self.h for i in range(3))
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (metres) on how far the path leaves its chord over [ta, tb]."""
+        if not self.curved:
+            return 0.0
+        # p'' is linear in t on a cubic: its largest value over [ta, tb] is at an end
+        a0, rate = self.accel0, self.accel_rate
+        worst = 0.0
+        for t in (ta, tb):
+            s = (t - self.t0) / self.h
+            worst = max(worst, norm((a0[0] + rate[0] * s, a0[1] + rate[1] * s,
+                                     a0[2] + rate[2] * s)))
+        return worst * (tb - ta) ** 2 / 8.0
+
+
+class AngleCubic:
+    """
+    An angle (rad) over one sample interval [t0, t1]: linear, or cubic Hermite with rates.
+
+    :param t0, t1: interval ends (seconds), t1 > t0.
+    :param v0, v1: angles at the ends (rad).
+    :param m0, m1: rates at the ends (rad/s) for a cubic; both None for a uniform turn.
+    :ivar bulge: a bound (rad) on how far the angle leaves uniform speed over the interval.
+    """
+
+    __slots__ = ('t0', 't1', 'h', 'a', 'b', 'c', 'd', 'curved', 'end', 'accel0', 'accel_rate',
+                 'bulge')
+
+    def __init__(self, t0: float, t1: float, v0: float, v1: float,
+                 m0: Optional[float] = None, m1: Optional[float] = None) -> None:
+        self.t0, self.t1 = t0, t1
+        h = self.h = t1 - t0
+        self.a = v0
+        self.end = v1
+        self.curved = m0 is not None and m1 is not None
+        chord = v1 - v0
+        if self.curved:
+            b = self.b = h * m0
+            e = h * m1
+            c = self.c = 3.0 * chord - 2.0 * b - e
+            d = self.d = b + e - 2.0 * chord
+            h2 = h * h
+            self.accel0 = 2.0 * c / h2
+            self.accel_rate = 6.0 * d / h2
+            self.bulge = 0.25 * abs(c) + 0.3849 * abs(d)
+        else:
+            self.b = chord
+            self.c = self.d = 0.0
+            self.bulge = 0.0
+
+    @classmethod
+    def through(cls, t0: float, t1: float, v0: float, v1: float, before: Neighbour = None,
+                after: Neighbour = None) -> 'AngleCubic':
+        """Return the cubic with rates from the neighbours ((time, angle) or None) at each end."""
+        tb, vb = before if before is not None else (None, None)
+        ta, va = after if after is not None else (None, None)
+        return cls(t0, t1, v0, v1, hermite_slope(tb, vb, t0, v0, t1, v1),
+                   hermite_slope(t0, v0, t1, v1, ta, va))
+
+    def at(self, t: float) -> float:
+        """Return the angle (rad) at time t (seconds)."""
+        if t == self.t0:
+            return self.a
+        if t == self.t1:
+            return self.end
+        s = (t - self.t0) / self.h
+        return self.a + s * (self.b + s * (self.c + s * self.d))
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (rad) on how far the angle leaves uniform speed over [ta, tb]."""
+        if not self.curved:
+            return 0.0
+        worst = 0.0
+        for t in (ta, tb):
+            s = (t - self.t0) / self.h
+            worst = max(worst, abs(self.accel0 + self.accel_rate * s))
+        return worst * (tb - ta) ** 2 / 8.0

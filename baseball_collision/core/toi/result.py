@@ -1,0 +1,53 @@
+"""What the time-of-impact solvers return; the tolerances the scalar and batch paths share."""
+
+from dataclasses import dataclass
+import enum
+from typing import Sequence, Union
+
+import numpy as np
+
+from ..geometry import Vector
+
+TOUCH_TOLERANCE = 1e-9
+"""A gap (metres) at or below which ball and bat count as touching."""
+
+ArrayLike = Union[Sequence[float], np.ndarray]
+
+DEGENERATE_AXIS = 1e-24
+"""|u|^2 in scaled units below which the bat has no axis (a sphere)."""
+
+ROOT_SLACK = 1e-10
+"""Scaled gap allowed at a side root for rounding (0.1 nm on a 1 m scale)."""
+
+
+class Feature(enum.StrEnum):
+    """The part of the bat a ball touched (a ``str``: compares, prints and serialises as one)."""
+
+    SIDE = 'side'
+    KNOB_END = 'knob_end'
+    TIP_END = 'tip_end'
+
+
+@dataclass(frozen=True)
+class ImpactResult:
+    """
+    First contact between ball and bat within one interval.
+
+    :ivar time: seconds from the interval start to first contact (0.0 when touching at the start).
+    :ivar point: contact point on the bat surface, world frame (metres).
+    :ivar normal: unit vector from the bat axis towards the ball centre at contact.
+    :ivar bat_fraction: where along the bat axis, 0 at the knob and 1 at the tip.
+    :ivar initially_overlapping: ball and bat were already touching or overlapping at time 0.
+    :ivar gap: signed surface gap at ``time`` (metres): ~0 at a fresh contact, negative when
+        overlapping at the start, within (0, TOUCH_TOLERANCE] for a graze.
+    :ivar feature: the part of the bat that was hit: ``'side'``, ``'knob_end'`` or
+        ``'tip_end'`` (a ``Feature``).
+    """
+
+    time: float
+    point: Vector
+    normal: Vector
+    bat_fraction: float
+    initially_overlapping: bool
+    gap: float
+    feature: Feature

@@ -1,0 +1,90 @@
+"""Tests for the detector's kinematics: least-squares fits, pivot, turn rates, fallbacks."""
+
+import math
+
+from baseball_collision.core.detector.kinematics import (
+    fit_polynomial, impact_velocities, pivot_fraction, pivot_rates, point_velocity, turn_rates)
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatPath, BatSample, PointPath
+import pytest
+
+LENGTH = 0.86
+GRIP = 0.2  # the hands, as a fraction along knob-tip
+OMEGA = 30.0  # rad/s about +z
+HANDS_VELOCITY = (1.0, 0.5, 0.0)
+
+
+def _bat(t: float) -> BatSample:
+    """Return a bat turning at OMEGA about the hands, which move at constant velocity."""
+    hands = tuple(v * t for v in HANDS_VELOCITY)
+    direction = (math.cos(OMEGA * t), math.sin(OMEGA * t), 0.0)
+    knob = tuple(h - GRIP * LENGTH * d for h, d in zip(hands, direction))
+    return BatSample(knob, tuple(k + LENGTH * d for k, d in zip(knob, direction)))
+
+
+def _bat_stream(times) -> Stream:
+    stream = Stream('bat')
+    for i, t in enumerate(times):
+        stream.append(t, i + 1, _bat(t), False)
+    return stream
+
+
+def test_fit_is_exact_for_a_polynomial_of_its_degree() -> None:
+    """Value, velocity and acceleration of a cubic at t, from samples up to t."""
+    def p(t: float) -> list:
+        return [2.0 - t + 3.0 * t ** 3, 0.5 * t * t]
+    times = [0.01 * i for i in range(8)]
+    value, first, second = fit_polynomial(times, [p(t) for t in times], 0.07, 3)
+    assert value == pytest.approx(p(0.07), abs=1e-12)
+    assert first == pytest.approx([-1.0 + 9.0 * 0.07 ** 2, 0.07], abs=1e-9)
+    assert second == pytest.approx([18.0 * 0.07, 1.0], abs=1e-7)
+    # two samples: the degree drops to a line, no acceleration
+    value, first, second = fit_polynomial(times[:2], [p(t) for t in times[:2]], 0.01, 5)
+    assert second == [0.0, 0.0]
+
+
+def test_point_velocity_from_the_samples_up_to_t() -> None:
+    """A ball on a parabola: the quadratic fit's velocity is exact; one sample is not enough."""
+    stream = Stream('ball')
+    for i in range(6):
+        t = 0.01 * i
+        stream.append(t, i + 1, (40.0 * t, 0.0, 1.0 - 4.9 * t * t), False)
+    velocity = point_velocity(stream, 0.05, lambda p: p, 0.06, 2)
+    assert velocity == pytest.approx((40.0, 0.0, -9.8 * 0.05), abs=1e-9)
+    assert point_velocity(stream, 0.0, lambda p: p, 0.06, 2) is None
+
+
+def test_pivot_is_the_hands_of_a_turning_bat() -> None:
+    """The least-accelerating axis point of a bat turning about the hands is the hands."""
+    stream = _bat_stream([i / 360.0 for i in range(24)])
+    t = stream.times[-1]
+    assert pivot_fraction(stream, t, 0.061, 5) == pytest.approx(GRIP, abs=0.01)
+    fraction, velocity, acceleration = pivot_rates(stream, t, 0.061, 5)
+    assert velocity == pytest.approx(HANDS_VELOCITY, abs=0.02)
+
+
+def test_turn_rates_of_a_steady_swing() -> None:
+    """Turning at 30 rad/s about +z: swing rate (0, 0, 30), no roll, no angular acceleration."""
+    stream = _bat_stream([i / 360.0 for i in range(24)])
+    swing, roll, change = turn_rates(stream, stream.times[-1], 0.061, 5)
+    assert swing == pytest.approx((0.0, 0.0, OMEGA), abs=1e-6)
+    assert roll == 0.0
+    assert change == pytest.approx((0.0, 0.0, 0.0), abs=1e-3)
+
+
+def test_impact_velocities_fall_back_to_the_chords() -> None:
+    """Too little history before the impact: the spanning interval's chords stand in."""
+    ball = Stream('ball')
+    ball.append(0.0, 1, (1.0, 0.0, 1.0), False)
+    ball.append(0.01, 2, (0.6, 0.0, 1.0), False)
+    bat = _bat_stream([0.0, 0.01])
+    ball_path = PointPath(0.0, 0.01, ball.values[0], ball.values[1])
+    bat_path = BatPath.build('linear', 0.0, 0.01, bat.values[0], bat.values[1])
+    velocities = impact_velocities(ball, bat, 0.005, 0.061, 5, ball_path, bat_path)
+    assert not velocities.from_history and velocities.pivot_fraction == 0.0
+    assert velocities.ball == pytest.approx((-40.0, 0.0, 0.0))
+    knob0, knob1 = bat.values[0].knob, bat.values[1].knob
+    assert velocities.pivot == pytest.approx([(b - a) / 0.01 for a, b in zip(knob0, knob1)])
+    assert velocities.swing == pytest.approx((0.0, 0.0, OMEGA))
+    with_history = impact_velocities(ball, bat, 0.01, 0.061, 5, ball_path, bat_path)
+    assert with_history.from_history

@@ -1,0 +1,38 @@
+"""Tests for the detector's knob and tip pairing by stamp."""
+
+from baseball_collision.core.detector.pairing import Pairing
+import pytest
+
+
+def test_pairs_at_every_stamp_both_cover_interpolating_the_other() -> None:
+    """Knob at 0, 10, 20 ms; tip at 5, 15 ms: pairs at 5, 10, 15 with the other interpolated."""
+    pairing = Pairing()
+    for i, t in enumerate((0.0, 0.01, 0.02)):
+        pairing.knob.append(t, i + 1, (t * 100.0, 0.0, 0.0), False)
+    for i, t in enumerate((0.005, 0.015)):
+        pairing.tip.append(t, i + 10, (t * 100.0, 1.0, 0.0), False)
+    pairs = pairing.pairs(max_gap=0.05)
+    assert [t for t, _, _ in pairs] == [0.005, 0.01, 0.015]
+    for t, knob, tip in pairs:
+        assert knob == pytest.approx((t * 100.0, 0.0, 0.0))
+        assert tip == pytest.approx((t * 100.0, 1.0, 0.0))
+    assert pairing.cursor == 0.015
+    assert pairing.pairs(max_gap=0.05) == []  # nothing new
+    pairing.tip.append(0.025, 12, (2.5, 1.0, 0.0), False)
+    assert [t for t, _, _ in pairing.pairs(max_gap=0.05)] == [0.02]
+
+
+def test_no_pair_across_a_gap_or_before_the_first_sample() -> None:
+    """The other point is not interpolated across more than max_gap, nor extrapolated back."""
+    assert _sparse().pairs(max_gap=0.05) == []
+    assert [t for t, _, _ in _sparse().pairs(max_gap=0.5)] == [0.1, 0.2]  # not 0.0, not 0.3
+
+
+def _sparse() -> Pairing:
+    """Return knob samples at 0 and 200 ms, tip samples at 100 and 300 ms."""
+    pairing = Pairing()
+    pairing.knob.append(0.0, 1, (0.0, 0.0, 0.0), False)
+    pairing.knob.append(0.2, 2, (2.0, 0.0, 0.0), False)
+    pairing.tip.append(0.1, 3, (1.0, 1.0, 0.0), False)
+    pairing.tip.append(0.3, 4, (3.0, 1.0, 0.0), False)
+    return pairing

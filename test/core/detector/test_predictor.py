@@ -1,0 +1,72 @@
+"""Tests for the detector's predictor: the plan on the detector's clock, the reach test."""
+
+from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.detector import DetectorConfig, Prediction, PredictionCleared
+from baseball_collision.core.detector.gate import Clock
+from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
+from baseball_collision.core.prediction import PlannedBat
+from baseball_collision.errors import CoreError
+import pytest
+
+BASE_NS = 1_700_000_000_000_000_000
+OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
+
+
+def _predictor(ball_points, bat_points, plan=None) -> Predictor:
+    clock = Clock()
+    clock.origin = BASE_NS
+    ball, bat = Stream('ball'), Stream('bat')
+    for i, (p, (knob, tip)) in enumerate(zip(ball_points, bat_points)):
+        t = 0.005 * i
+        ball.append(t, BASE_NS + i, p, False)
+        bat.append(t, BASE_NS + i, BatSample(knob, tip), False)
+    predictor = Predictor(DetectorConfig(prediction_horizon=0.3), clock, ball, bat, OFFSETS)
+    if plan is not None:
+        predictor.set_plan(*plan)
+    return predictor
+
+
+def test_a_plan_is_put_on_the_detector_clock_once() -> None:
+    """The plan's stamps become seconds on the clock; an empty plan clears it."""
+    stamps = [BASE_NS + 10_000_000, BASE_NS + 20_000_000]
+    plan = (stamps, [(0.0, 0.0, 1.0)] * 2, [(0.0, 0.0, 0.0, 1.0)] * 2)
+    predictor = _predictor([(5.0, 0.0, 1.0)] * 3, [((0, 0, 1), (0, 0.86, 1))] * 3, plan)
+    forecast = predictor._bat_forecast(0.0)
+    assert isinstance(forecast, PlannedBat)
+    assert forecast.times == pytest.approx((0.01, 0.02))
+    assert predictor._bat_forecast(0.0) is forecast
+    predictor.set_plan([], [], [])
+    assert predictor.plan is None and predictor.plan_on_clock is None
+    with pytest.raises(CoreError, match='bat plan'):
+        predictor.set_plan([2, 1], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
+
+
+def test_no_prediction_for_a_ball_out_of_reach() -> None:
+    """A ball 50 m away, still: not even searched; a prediction that ends is cleared once."""
+    predictor = _predictor([(50.0, 0.0, 1.0)] * 4, [((0, 0, 1), (0, 0.86, 1))] * 4)
+    assert not predictor._may_reach(0.015)
+    events = []
+    predictor.predict(0.015, True, events)
+    assert events == []
+    predictor.predicting = True
+    predictor.predict(0.015, True, events)
+    assert events == [PredictionCleared(made_at_ns=BASE_NS + 15_000_000)]
+    assert not predictor.predicting
+
+
+def test_a_ball_flying_at_a_still_bat_is_predicted() -> None:
+    """A ball at 40 m/s towards a still bat 1 m away: contact predicted about 25 ms ahead."""
+    balls = [(2.0 - 40.0 * 0.005 * i, 0.5, 1.0) for i in range(6)]
+    predictor = _predictor(balls, [((0, 0, 1), (0, 0.86, 1))] * 6)
+    events = []
+    predictor.predict(0.025, True, events)
+    assert [type(e) for e in events] == [Prediction] and predictor.predicting
+    prediction = events[0]
+    fraction = 0.5 / 0.86
+    radius = next(r for f0, f1, r in WOOD_BAT_34.segments() if f0 <= fraction <= f1)
+    expected = (balls[-1][0] - 0.0366 - radius) / 40.0  # to the bat's surface (drag: 0.1 ms)
+    assert prediction.lead_s == pytest.approx(expected, abs=2e-4)
+    assert prediction.bat_fraction == pytest.approx(fraction, abs=1e-3)
+    assert not prediction.planned

@@ -1,0 +1,61 @@
+"""Tests for the detector's scheduler: the walk over the union of stamps."""
+
+from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector.scheduler import Scheduler
+from baseball_collision.core.detector.streams import Stream
+
+
+def _streams(ball_times, bat_times):
+    ball, bat = Stream('ball'), Stream('bat')
+    for t in ball_times:
+        ball.append(t, int(t * 1e9) + 1, (0.0, 0.0, 0.0), False)
+    for t in bat_times:
+        bat.append(t, int(t * 1e9) + 1, (0.0, 0.0, 0.0), False)
+    return ball, bat
+
+
+def _walk(scheduler: Scheduler, final: bool = False):
+    visited = []
+    moved = scheduler.advance(lambda ta, tb, events: visited.append((ta, tb)), [], final)
+    return moved, visited
+
+
+def test_walks_the_union_of_both_streams_up_to_the_watermark() -> None:
+    """Every interval between consecutive union times, from the later first sample."""
+    ball, bat = _streams([0.0, 0.01, 0.02, 0.03], [0.005, 0.012, 0.025])
+    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    moved, visited = _walk(scheduler)
+    assert moved
+    assert visited == [(0.005, 0.01), (0.01, 0.012), (0.012, 0.02), (0.02, 0.025)]
+    assert scheduler.cursor == 0.025  # the bat's newest is the watermark
+    assert _walk(scheduler) == (False, [])
+    bat.append(0.04, 40_000_001, (0.0, 0.0, 0.0), False)
+    assert _walk(scheduler) == (True, [(0.025, 0.03)])
+
+
+def test_the_spline_waits_for_the_next_sample_until_the_end() -> None:
+    """One sample behind each stream's newest; ``final`` walks the rest."""
+    ball, bat = _streams([0.0, 0.01, 0.02], [0.0, 0.01, 0.02])
+    scheduler = Scheduler(DetectorConfig(model='spline'), ball, bat)
+    assert _walk(scheduler) == (True, [(0.0, 0.01)])
+    assert _walk(scheduler, final=True) == (True, [(0.01, 0.02)])
+
+
+def test_nothing_to_walk_without_both_streams() -> None:
+    """A stream with too few samples holds the walk."""
+    ball, bat = _streams([0.0, 0.01], [])
+    assert _walk(Scheduler(DetectorConfig(), ball, bat)) == (False, [])
+    ball, bat = _streams([0.0, 0.01], [0.0])
+    assert _walk(Scheduler(DetectorConfig(model='spline'), ball, bat)) == (False, [])
+
+
+def test_trims_behind_the_cursor() -> None:
+    """After a walk the streams keep only the fits' history behind the cursor."""
+    times = [0.001 * i for i in range(400)]
+    ball, bat = _streams(times, times)
+    config = DetectorConfig(model='linear')
+    scheduler = Scheduler(config, ball, bat)
+    _walk(scheduler)
+    history = 1.5 * max(config.velocity_window, config.prediction_window)
+    assert ball.times[0] >= 0.399 - history - 0.005 - 1e-9
+    assert len(ball.times) < 400 and len(bat.times) < 400

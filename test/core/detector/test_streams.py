@@ -1,0 +1,64 @@
+"""Tests for the detector's sample buffer: intervals, segments, history, trimming, turns."""
+
+import math
+
+from baseball_collision.core.detector.streams import MAX_HISTORY, Stream
+from baseball_collision.core.motion import BatSample
+import pytest
+
+
+def _filled(times, breaks=()) -> Stream:
+    stream = Stream('ball')
+    for i, t in enumerate(times):
+        stream.append(t, 1000 + i, (t, 0.0, 0.0), i in breaks)
+    return stream
+
+
+def test_intervals_and_continuity() -> None:
+    """Find the sample interval of a time; a break or a long step is not continuous."""
+    stream = _filled([0.0, 0.01, 0.02, 0.1, 0.11], breaks={4})
+    assert stream.interval(-1.0) == -1 and stream.interval(0.015) == 1
+    assert stream.interval(0.02) == 2 and stream.newest() == 1004
+    assert stream.breaks == [True, False, False, False, True]
+    assert stream.continuous(1, 0.05) and not stream.continuous(2, 0.05)
+    assert not stream.continuous(3, 0.05)  # the break
+    assert stream.neighbours(1, 0.05) == (0, 3 if stream.continuous(2, 0.05) else None)
+    assert stream.neighbours(0, 0.05) == (None, 2)
+
+
+def test_history_stays_in_the_segment_and_the_window() -> None:
+    """The window back from t, at least two samples, never across a segment break."""
+    stream = _filled([0.01 * i for i in range(10)], breaks={5})
+    assert stream.history(0.085, 0.025) == [6, 7, 8]  # back from the last sample, 0.08
+    assert stream.history(0.085, 0.05) == [5, 6, 7, 8]  # not across the break at 5
+    assert stream.history(0.055, 1.0) == [5]
+    assert stream.history(0.045, 0.0) == [3, 4]  # at least two
+    assert stream.history(-0.5, 1.0) == []
+    long = _filled([0.001 * i for i in range(200)])
+    assert len(long.history(0.199, 10.0)) == MAX_HISTORY
+
+
+def test_trim_keeps_what_the_fits_need() -> None:
+    """Samples older than the history and a few before the cursor go; the path cache too."""
+    stream = _filled([0.001 * i for i in range(100)])
+    stream.path_key = (1, 2)
+    stream.trim(0.0995, 0.01)
+    # the last sample at or before 0.0995 - 0.01 is 0.089; four more are kept before it
+    assert stream.times[0] == pytest.approx(0.085, abs=1e-12)
+    assert stream.path_key is None
+    short = _filled([0.0, 0.01])
+    short.trim(1.0, 0.0)
+    assert len(short.times) == 2  # short buffers are left alone
+
+
+def test_cumulative_turn_of_bat_samples() -> None:
+    """A bat turning 0.1 rad per sample about z sums to k * 0.1 about z; a break restarts."""
+    stream = Stream('bat')
+    for k in range(6):
+        angle = 0.1 * k
+        stream.append(0.01 * k, k + 1, BatSample((0.0, 0.0, 0.0),
+                                                 (math.cos(angle), math.sin(angle), 0.0)),
+                      k == 4)
+    assert stream.turn(3) == pytest.approx((0.0, 0.0, 0.3, 0.0))
+    assert stream.turn(4) == (0.0, 0.0, 0.0, 0.0)
+    assert stream.turn(5) == pytest.approx((0.0, 0.0, 0.1, 0.0))

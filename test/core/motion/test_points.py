@@ -1,0 +1,76 @@
+"""Tests for baseball_collision.core.motion.points: the ball's paths and the angle cubic."""
+
+import math
+
+from baseball_collision.core.motion import AngleCubic, hermite_tangent, PointPath
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+
+angle = st.floats(-3.0, 3.0).filter(lambda a: a == 0.0 or abs(a) > 1e-100)
+"""An angle (rad), not denormal-small."""
+
+
+def test_cubic_point_path_follows_a_cubic_and_bounds_its_chord_error() -> None:
+    """With exact end tangents a cubic is reproduced, and the deviation bound holds."""
+    def p(t: float) -> tuple:
+        return (t ** 3, 1.0 - t * t, 0.5 * t)
+
+    def v(t: float) -> tuple:
+        return (3 * t * t, -2.0 * t, 0.5)
+    path = PointPath(0.2, 0.7, p(0.2), p(0.7), v(0.2), v(0.7))
+    for t in np.linspace(0.2, 0.7, 11):
+        assert path.at(t) == pytest.approx(p(t))
+        assert path.velocity(t) == pytest.approx(v(t))
+    ta, tb = 0.3, 0.6
+    chord = [np.array(path.at(ta)) + (np.array(path.at(tb)) - path.at(ta)) * s
+             for s in np.linspace(0, 1, 101)]
+    actual = max(np.linalg.norm(np.array(path.at(ta + (tb - ta) * s)) - c)
+                 for s, c in zip(np.linspace(0, 1, 101), chord))
+    assert actual <= path.deviation(ta, tb) + 1e-12
+    assert PointPath(0.0, 1.0, (0, 0, 0), (1, 1, 1)).deviation(0.0, 1.0) == 0.0
+
+
+def test_point_path_build_follows_the_model() -> None:
+    """Chords for linear and rigid; the spline's cubic takes its tangents from the neighbours."""
+    def p(t: float) -> tuple:
+        return (t * t, 2.0 * t, -t * t * t)
+    for model in ('linear', 'rigid'):
+        path = PointPath.build(model, 0.1, 0.2, p(0.1), p(0.2), (0.0, p(0.0)), (0.3, p(0.3)))
+        assert not path.curved and path.deviation(0.1, 0.2) == 0.0
+    spline = PointPath.build('spline', 0.1, 0.2, p(0.1), p(0.2), (0.0, p(0.0)), (0.3, p(0.3)))
+    assert spline.curved
+    assert spline.at(0.15)[0] == pytest.approx(0.15 ** 2, abs=1e-12)  # a parabola is exact
+    assert PointPath.build('spline', 0.1, 0.2, p(0.1), p(0.2)).curved  # chord tangents
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(angles=st.lists(angle, min_size=4, max_size=4),
+       steps=st.lists(st.floats(0.002, 0.02), min_size=3, max_size=3),
+       s=st.floats(0.0, 1.0))
+def test_angle_cubic_is_the_point_path_of_its_angle(angles, steps, s: float) -> None:
+    """
+    Check the scalar cubic equals a PointPath along x (what the spline used before), bit for bit.
+
+    Except below 1e-154 rad, where the 3-vector norm's square underflowed to 0 (abs does not).
+    """
+    t = np.concatenate([[0.0], np.cumsum(steps)]).tolist()
+    v0, v1 = angles[1], angles[2]
+    angle = AngleCubic.through(t[1], t[2], v0, v1, (t[0], angles[0]), (t[3], angles[3]))
+    vector = PointPath(t[1], t[2], (v0, 0.0, 0.0), (v1, 0.0, 0.0),
+                       hermite_tangent(t[0], (angles[0], 0.0, 0.0), t[1], (v0, 0.0, 0.0),
+                                       t[2], (v1, 0.0, 0.0)),
+                       hermite_tangent(t[1], (v0, 0.0, 0.0), t[2], (v1, 0.0, 0.0), t[3],
+                                       (angles[3], 0.0, 0.0)))
+    at = t[1] + s * (t[2] - t[1])
+    assert angle.at(at) == vector.at(at)[0]
+    assert angle.deviation(t[1], at) == vector.deviation(t[1], at)
+    assert angle.bulge == vector.bulge
+
+
+def test_a_uniform_turn_has_no_deviation() -> None:
+    """Without rates the angle moves uniformly: linear in time, no departure."""
+    angle = AngleCubic(0.0, 0.5, 0.0, 1.0)
+    assert angle.at(0.25) == 0.5 and angle.deviation(0.0, 0.5) == 0.0 and angle.bulge == 0.0
+    assert math.isclose(angle.at(0.5), 1.0)

@@ -1,0 +1,71 @@
+"""Tests for baseball_collision.core.toi's batch solver and the gap over time."""
+
+import math
+
+from baseball_collision.core.toi import distance, time_of_impact, time_of_impact_batch
+from baseball_collision.errors import CoreError
+import numpy as np
+import pytest
+from support.scenes import agrees, reference_gap, vector_args, VECTORS
+
+
+def test_vectors_batch() -> None:
+    """The batch solver agrees with every shared vector in one call."""
+    columns = list(zip(*[vector_args(c) for c in VECTORS]))
+    got = time_of_impact_batch(*[np.array(column) for column in columns])
+    assert got.shape == (len(VECTORS),) and got.dtype == np.float64
+    wrong = [(c['family'], c['time_of_impact'], g) for c, g in zip(VECTORS, got)
+             if not agrees(c['time_of_impact'], float(g), c['dt'])]
+    assert wrong == []
+
+
+def test_batch_returns_nan_for_bad_rows_only() -> None:
+    """Non-finite rows, negative radii and dt <= 0 become NaN; good rows still solve."""
+    n = 5
+    ball0 = np.tile([2.0, 0.0, 0.0], (n, 1))
+    ball1 = np.tile([0.0, 0.0, 0.0], (n, 1))
+    tip = np.tile([1.0, 0.0, 0.0], (n, 1))
+    knob = np.zeros((n, 3))
+    ball0[1, 2] = math.nan
+    ball1[2, 0] = math.inf
+    bat_radius = np.array([0.05, 0.05, 0.05, -0.1, 0.05])
+    dt = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
+    got = time_of_impact_batch(ball0, ball1, tip, tip, knob, knob, 0.05, bat_radius, dt)
+    assert got[0] == pytest.approx(0.45)
+    assert np.all(np.isnan(got[1:]))
+
+
+def test_batch_shape_errors_raise() -> None:
+    """Arrays that are not (N, 3), or radii of the wrong length, are refused."""
+    with pytest.raises(CoreError, match='ball1'):
+        time_of_impact_batch(np.zeros((2, 3)), np.zeros((3, 3)), np.zeros((2, 3)),
+                             np.zeros((2, 3)), np.zeros((2, 3)), np.zeros((2, 3)), 0.1, 0.1)
+    with pytest.raises(CoreError, match='bat_radius'):
+        time_of_impact_batch(*[np.zeros((2, 3))] * 6, 0.1, np.zeros(3))
+
+
+def test_batch_matches_scalar_on_random_intervals() -> None:
+    """Batch and scalar agree row by row on 2000 random intervals."""
+    rng = np.random.default_rng(7)
+    n = 2000
+    points = [rng.uniform(-0.6, 0.6, (n, 3)) for _ in range(6)]
+    radii = rng.uniform(0.0, 0.1, n)
+    dt = rng.uniform(0.002, 0.02, n)
+    batch = time_of_impact_batch(*points, radii, 0.03, dt)
+    for i in range(n):
+        result = time_of_impact(*[p[i] for p in points], radii[i], 0.03, dt[i])
+        if result is None:
+            assert math.isnan(batch[i])
+        else:
+            assert batch[i] == pytest.approx(result.time, abs=1e-9 * dt[i] + 1e-12)
+    assert 200 < np.count_nonzero(~np.isnan(batch)) < n - 200
+
+
+def test_distance_matches_reference_gap() -> None:
+    """The vectorised capsule gap equals the reference point-segment gap."""
+    rng = np.random.default_rng(3)
+    points = [rng.uniform(-1, 1, 3) for _ in range(6)]
+    t = np.linspace(0.0, 0.01, 57)
+    got = distance(t, *points, 0.04, 0.03, 0.01)
+    expected = reference_gap(t / 0.01, *points, 0.07)
+    assert got == pytest.approx(expected, abs=1e-12)
