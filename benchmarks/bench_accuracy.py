@@ -17,7 +17,7 @@ import argparse
 import time
 
 from baseball_collision.core.detector import DetectorConfig
-from baseball_collision.tools.evaluation import run_scenario, summarize
+from baseball_collision.tools.accuracy import run_scenario, summarize
 from baseball_collision.tools.sim import KINDS, make_scenario
 import numpy as np
 

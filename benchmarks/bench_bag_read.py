@@ -32,7 +32,7 @@ import tracemalloc
 from typing import Callable, List, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
-from baseball_collision.tools.analysis import AnalysisOptions, analyze_bag
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
 from rosbags.highlevel import AnyReader

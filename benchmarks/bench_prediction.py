@@ -23,8 +23,8 @@ import time
 from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
-from baseball_collision.tools.evaluation import LEADS_S, prediction_errors
 from baseball_collision.tools.sim import make_scenario, sample, Scenario, truth_dict
+from baseball_collision.tools.truth import LEADS_S, prediction_errors
 import numpy as np
 
 

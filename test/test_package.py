@@ -65,6 +65,13 @@ def test_package_xml_declares_exactly_what_the_package_imports() -> None:
     assert declared == _depends('exec_depend')
 
 
+def test_package_xml_declares_what_the_tests_import() -> None:
+    """Every import of the tests is a test_depend or an exec_depend."""
+    imports = _third_party_imports(REPO_ROOT / 'test')
+    declared = {IMPORT_TO_ROSDEP.get(name, name) for name in imports}
+    assert declared - _depends('exec_depend') - _depends('test_depend') == set()
+
+
 def test_setup_py_requires_what_comes_from_pypi() -> None:
     """install_requires (and the plots extra) name every PyPI module the package imports."""
     imports = _third_party_imports(REPO_ROOT / 'baseball_collision')

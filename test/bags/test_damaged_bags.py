@@ -19,7 +19,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.bags import count_messages, POINT_STAMPED, POSE_STAMPED, read_samples
 from baseball_collision.errors import BagError
-from baseball_collision.tools.analysis import AnalysisOptions, analyze_bag
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.cli import main
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np

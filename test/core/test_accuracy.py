@@ -8,7 +8,7 @@ full table over many more scenarios is ``benchmarks/bench_accuracy.py`` (see BEN
 """
 
 from baseball_collision.core.detector import DetectorConfig
-from baseball_collision.tools.evaluation import run_scenario, summarize
+from baseball_collision.tools.accuracy import run_scenario, summarize
 from baseball_collision.tools.sim import KINDS, make_scenario
 import numpy as np
 import pytest

@@ -12,7 +12,7 @@ from typing import Any, Callable
 from baseball_collision.core.detector import Kind, PARAMETERS, SPECS, validate_parameters
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
-from baseball_collision.tools.analysis import load_parameters
+from baseball_collision.tools.parameters import load_parameters
 import pytest
 from rcl_interfaces.msg import ParameterType
 import rclpy

@@ -23,9 +23,10 @@ from typing import Any, Dict, Iterator, List, Tuple
 from baseball_collision.bags import BagReader
 from baseball_collision.errors import RosError
 from baseball_collision.ros.replay import BagPlayer, message_class
-from baseball_collision.tools.analysis import (
-    AnalysisOptions, analyze_bag, load_parameters, output_topics, truth_path)
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.demo import node_command, stop_node, wait_for_node
+from baseball_collision.tools.parameters import load_parameters, output_topics
+from baseball_collision.tools.truth import truth_path
 import pytest
 from support import REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
