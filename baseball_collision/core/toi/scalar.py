@@ -20,7 +20,7 @@ from .polynomials import evaluate, quadratic_entry, touch_candidates
 from .result import ArrayLike, DEGENERATE_AXIS, Feature, ImpactResult, ROOT_SLACK, TOUCH_TOLERANCE
 from ..bat import BatProfile
 from ..geometry import (
-    advance, closest_on_segment, dot, lerp, scale, sub, unit_normal, Vector)
+    advance, closest_on_segment, dot, finite_vector, lerp, scale, sub, unit_normal, Vector)
 from ...errors import CoreError
 
 _ORIGIN = (0.0, 0.0, 0.0)
@@ -28,16 +28,6 @@ _ORIGIN = (0.0, 0.0, 0.0)
 
 # ----------------------------------------------------------------------------------------------
 # Input checking
-
-
-def _point(name: str, value: ArrayLike) -> Vector:
-    try:
-        x, y, z = (float(v) for v in value)
-    except (TypeError, ValueError) as error:
-        raise CoreError(f'{name} must be 3 numbers (metres), got {value!r}') from error
-    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
-        raise CoreError(f'{name} must be finite, got {value!r}')
-    return (x, y, z)
 
 
 def _non_negative(name: str, value: float) -> float:
@@ -60,8 +50,9 @@ def _interval(dt: float) -> float:
 def _checked(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,
              knob0: ArrayLike, knob1: ArrayLike) -> Tuple[Vector, ...]:
     """Return the six points as 3-tuples of floats, in the order given."""
-    return (_point('ball0', ball0), _point('ball1', ball1), _point('tip0', tip0),
-            _point('tip1', tip1), _point('knob0', knob0), _point('knob1', knob1))
+    return tuple(finite_vector(name, value, ' (metres)') for name, value in (
+        ('ball0', ball0), ('ball1', ball1), ('tip0', tip0), ('tip1', tip1), ('knob0', knob0),
+        ('knob1', knob1)))
 
 
 # ----------------------------------------------------------------------------------------------
