@@ -15,6 +15,7 @@ setup(
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
+        ('share/' + package_name + '/schema', glob('schema/*.json')),
         ('share/' + package_name + '/bags', glob('bags/*.*')),
         ('share/' + package_name + '/bags/pitches_120hz_sqlite3',
          glob('bags/pitches_120hz_sqlite3/*')),

@@ -54,6 +54,8 @@ class BagAnalysis:
     :ivar seconds: wall time of reading and detecting (s).
     :ivar first_stamp_ns: the first sample's header stamp (ns): the table's time origin.
     :ivar truth: the comparison with the truth file beside the bag, if there is one.
+    :ivar frame_id: the frame of the events (the configured one, else the first sample's).
+    :ivar notes: what the reader should know (a truth file ignored, and why).
     """
 
     path: Path
@@ -70,6 +72,8 @@ class BagAnalysis:
     seconds: float = 0.0
     first_stamp_ns: Optional[int] = None
     truth: Optional[TruthComparison] = None
+    frame_id: str = ''
+    notes: List[str] = field(default_factory=list)
 
     @property
     def throughput(self) -> float:
@@ -350,6 +354,7 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
         raise ToolError(str(error)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
+    result.frame_id = detector.frame_id or config.frame_id or ''
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():
         result.truth = compare_truth(result.impacts, result.near_misses, load_truth(truth_file),

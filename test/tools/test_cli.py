@@ -50,7 +50,7 @@ def test_a_real_subprocess_with_csv_and_several_bags(tmp_path: Path) -> None:
     first = document['impacts'][0]
     assert float(impacts[0]['sweet_spot_speed_mps']) == pytest.approx(
         first['sweet_spot_speed_mps'])
-    assert float(impacts[0]['x']) == pytest.approx(first['point'][0])
+    assert float(impacts[0]['contact_x']) == pytest.approx(first['point'][0])
     assert impacts[0]['gap_m'] == '' and misses[0]['sweet_spot_speed_mps'] == ''
     for name, truth_name in zip(names, (n for n in names)):
         truth = json.loads(truth_path(bag_path(truth_name)).read_text())
