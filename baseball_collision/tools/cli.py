@@ -28,6 +28,7 @@ from .recording import BAT_CHOICES, RecordingSpec, write_recording
 from .report import csv_text, format_report, json_text, total_line
 from .sim import KINDS
 from .truth import truth_path
+from ..atomic import cleanup_on_signals, Terminated
 from ..bags import TOPIC_FLAGS
 from ..errors import BaseballCollisionError, ToolError
 
@@ -304,13 +305,19 @@ def main(argv: Optional[List[str]] = None) -> int:
     Run the command line.
 
     :param argv: the arguments after the program name; None: ``sys.argv[1:]``.
-    :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted.
+    :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted (Ctrl-C),
+        143 terminated (SIGTERM), 129 hung up (SIGHUP); interrupted or terminated, no partial
+        output is left behind.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
     try:
-        return args.run(args)
+        with cleanup_on_signals():
+            return args.run(args)
+    except Terminated as signalled:
+        sys.stderr.write(f'{PROG}: terminated by {signalled.name}; no output written\n')
+        return 128 + signalled.signum
     except BaseballCollisionError as error:
         return _fail(str(error))
     except OSError as error:

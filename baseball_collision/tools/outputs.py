@@ -18,6 +18,11 @@ from ..bags import BagWriter
 from ..errors import BagError, ToolError
 
 
+def _flag(name: str) -> str:
+    """Return the command-line flag of an output's name (``out_bag`` -> ``--out-bag``)."""
+    return '--' + name.replace('_', '-')
+
+
 def _refused(error: OSError, target: Path) -> ToolError:
     """Return the one-line error for an output that cannot be staged or placed."""
     if isinstance(error, FileExistsError):
@@ -37,13 +42,22 @@ class Outputs:
             outputs.stage_text('json', text)
             outputs.commit()
 
-    :param targets: ``name=path`` per output; every path must not exist, its directory must.
-    :raises ToolError: from the constructor: a target exists, or its directory does not.
+    :param targets: ``name=path`` per output; every path must not exist, its directory must,
+        and no two may name the same file.
+    :raises ToolError: from the constructor: two targets name the same file, a target exists,
+        or its directory does not (checked before any work is done).
     """
 
     def __init__(self, **targets: Optional[os.PathLike]) -> None:
         self.targets: Dict[str, Path] = {
             name: Path(path) for name, path in targets.items() if path is not None}
+        seen: Dict[str, str] = {}
+        for name, path in self.targets.items():
+            key = os.path.normcase(os.path.realpath(path))
+            if key in seen:
+                raise ToolError(f'{_flag(seen[key])} and {_flag(name)} both name {path}: give '
+                                'each output its own path')
+            seen[key] = name
         for path in self.targets.values():
             try:
                 check_target(path)
