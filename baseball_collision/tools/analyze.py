@@ -324,8 +324,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     :param use_truth: compare with the truth file beside the bag when there is one.
     :returns: the analysis.
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
-        topics or with topics of the wrong type), a bad setting, a bad truth file, or a
-        failure writing ``out_bag``.
+        topics or with topics of the wrong type), a bad setting, or a failure writing
+        ``out_bag``. A damaged truth file is not an error: it is ignored, with a note
+        (``BagAnalysis.notes``).
     """
     path = Path(path)
     start = time.perf_counter()
@@ -357,6 +358,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     result.frame_id = detector.frame_id or config.frame_id or ''
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():
-        result.truth = compare_truth(result.impacts, result.near_misses, load_truth(truth_file),
-                                     truth_file)
+        try:
+            result.truth = compare_truth(result.impacts, result.near_misses,
+                                         load_truth(truth_file), truth_file)
+        except ToolError as error:
+            result.notes.append(f'{error}; the truth file was ignored')
     return result

@@ -133,6 +133,7 @@ def format_report(analysis: BagAnalysis) -> str:
                      f"'{analysis.config.frame_id}' is not the bag's frame")
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
+    lines.extend(f'note: {note}' for note in analysis.notes)
     return '\n'.join(lines)
 
 

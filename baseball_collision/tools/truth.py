@@ -15,6 +15,7 @@ Errors are detected minus true: stamps in ns (or s where named), spots in m, spe
 
 from dataclasses import dataclass, field
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Protocol, Sequence, Tuple
@@ -46,23 +47,79 @@ def truth_path(bag: os.PathLike) -> Path:
     return bag.with_name(f'{stem}.truth.json')
 
 
+PITCH_INTEGERS = ('start_ns', 'end_ns')
+"""Keys every pitch of a truth file has, integers (ns)."""
+
+CONTACT_INTEGERS = ('stamp_ns',)
+"""Keys a pitch with a contact has, integers (ns)."""
+
+CONTACT_NUMBERS = ('distance_from_tip_m', 'sweet_spot_speed_mps')
+"""Keys a pitch with a contact has, finite numbers (``sweet_spot_speed_mps`` > 0)."""
+
+
+def _refuse_constant(name: str) -> Any:
+    """Refuse ``NaN``, ``Infinity`` and ``-Infinity`` in a truth file (``json.loads`` hook)."""
+    raise ValueError(f'{name} is not a number a truth file may hold')
+
+
+def _check_pitch(index: int, pitch: Any) -> None:
+    """
+    Check one pitch entry of a truth file has what the comparison reads, of the right types.
+
+    :raises ValueError: naming the pitch and the key.
+    """
+    if not isinstance(pitch, dict):
+        raise ValueError(f'pitch {index} is not an object')
+    if not isinstance(pitch.get('contact'), bool):
+        raise ValueError(f"pitch {index}: 'contact' must be true or false")
+    integers = PITCH_INTEGERS + (CONTACT_INTEGERS if pitch['contact'] else ())
+    numbers = CONTACT_NUMBERS if pitch['contact'] else ()
+    for key in integers:
+        if not isinstance(pitch.get(key), int) or isinstance(pitch.get(key), bool):
+            raise ValueError(f"pitch {index}: '{key}' must be an integer (ns), got "
+                             f'{pitch.get(key)!r:.40}')
+    for key in numbers:
+        value = pitch.get(key)
+        if not isinstance(value, (int, float)) or isinstance(value, bool) \
+                or not math.isfinite(value):
+            raise ValueError(f"pitch {index}: '{key}' must be a finite number, got {value!r:.40}")
+    if pitch['start_ns'] > pitch['end_ns']:
+        raise ValueError(f'pitch {index}: start_ns is after end_ns')
+    if pitch['contact'] and pitch['sweet_spot_speed_mps'] <= 0.0:
+        raise ValueError(f"pitch {index}: 'sweet_spot_speed_mps' must be > 0")
+
+
 def load_truth(path: os.PathLike) -> Dict[str, Any]:
     """
-    Read a truth file written by ``baseball-collision simulate``.
+    Read a truth file written by ``baseball-collision simulate``, checked whole.
+
+    Every pitch must have integer ``start_ns`` <= ``end_ns`` and a boolean ``contact``; a pitch
+    with a contact an integer ``stamp_ns``, finite ``distance_from_tip_m`` and
+    ``sweet_spot_speed_mps`` > 0. ``NaN`` and ``Infinity`` are refused, and so is nesting too
+    deep to read.
 
     :returns: the truth document (``pitches``: one :func:`simulation.truth_dict` each).
-    :raises ToolError: unreadable, not JSON, or not a truth file.
+    :raises ToolError: unreadable, not JSON, not a truth file, or a pitch without what the
+        comparison needs (one line naming the pitch and the key).
     """
     path = Path(path)
     try:
-        document = json.loads(path.read_text())
+        document = json.loads(path.read_text(), parse_constant=_refuse_constant)
     except OSError as error:
         raise ToolError(f'cannot read truth file {path}: {error.strerror}') from error
-    except ValueError as error:
-        raise ToolError(f'truth file {path} is not valid JSON: {error}') from error
+    except RecursionError as error:
+        raise ToolError(f'truth file {path} is nested too deeply to read') from error
+    except ValueError as error:  # also UnicodeDecodeError
+        first = str(error).splitlines()[0][:120]
+        raise ToolError(f'truth file {path} is not valid JSON: {first}') from error
     if not isinstance(document, dict) or document.get('format') != TRUTH_FORMAT \
             or not isinstance(document.get('pitches'), list):
         raise ToolError(f'{path} is not a {TRUTH_FORMAT} truth file')
+    try:
+        for index, pitch in enumerate(document['pitches']):
+            _check_pitch(index, pitch)
+    except ValueError as error:
+        raise ToolError(f'truth file {path}: {error}') from error
     return document
 
 
