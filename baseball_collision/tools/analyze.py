@@ -13,6 +13,7 @@ the events; with ``--predict`` the frame stamps are kept to score the prediction
 result is compared with the truth file beside the bag when there is one.
 """
 
+from collections import Counter
 from dataclasses import dataclass, field
 import itertools
 import os
@@ -23,7 +24,7 @@ from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
 
 from .events import event_kind
-from .parameters import build_config, NODE_NAME, output_topics
+from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     compare_truth, LEADS_S, load_truth, prediction_errors, truth_path, TruthComparison)
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
@@ -56,6 +57,7 @@ class BagAnalysis:
     :ivar truth: the comparison with the truth file beside the bag, if there is one.
     :ivar frame_id: the frame of the events (the configured one, else the first sample's).
     :ivar notes: what the reader should know (a truth file ignored, and why).
+    :ivar drops_by_role: dropped samples by ``(role, reason)``.
     """
 
     path: Path
@@ -74,6 +76,7 @@ class BagAnalysis:
     truth: Optional[TruthComparison] = None
     frame_id: str = ''
     notes: List[str] = field(default_factory=list)
+    drops_by_role: Counter = field(default_factory=Counter)
 
     @property
     def throughput(self) -> float:
@@ -90,6 +93,31 @@ class BagAnalysis:
             kind = event_kind(event)
             if kind is not None:
                 getattr(self, kind.collection).append(event)
+
+    def silenced_topics(self) -> List[str]:
+        """
+        Return why selected topics had every one of their samples dropped (empty: none had).
+
+        One line per set of reasons: the topics with their counts, the reasons; with a hint
+        when the configured ``frame_id`` dropped them.
+        """
+        silenced: Dict[Tuple[str, ...], List[str]] = {}
+        for role, topic in self.selection.topics.items():
+            received = self.stats.received.get(role, 0)
+            reasons = tuple((reason, count) for (dropped_role, reason), count
+                            in sorted(self.drops_by_role.items()) if dropped_role == role)
+            if received and sum(count for _, count in reasons) >= received:
+                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(
+                    f'{topic} ({received})')
+        lines = []
+        for reasons, topics in silenced.items():
+            why = ', '.join(reasons)
+            line = f"every sample of {' and '.join(topics)} was dropped ({why})"
+            if 'wrong_frame' in why and self.config.frame_id:
+                line += (f": frame_id '{self.config.frame_id}' is configured and the bag's "
+                         'samples are in another frame')
+            lines.append(line)
+        return lines
 
     def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
         """
@@ -137,11 +165,31 @@ class AnalysisOptions:
     prediction_horizon: Optional[float] = None
     node_name: str = NODE_NAME
 
+    def topic(self, role: str) -> Optional[str]:
+        """
+        Return the topic asked for a role: its flag, else the parameter file's, else None.
+
+        A parameter file's topic is resolved as the node resolves it (``ball`` -> ``/ball``);
+        the file's bat topics count only for its ``bat_input`` (``pose`` by default), and none
+        of them when a topic flag names a bat topic.
+        """
+        flags = {'ball': self.ball_topic, 'bat_pose': self.bat_pose_topic,
+                 'knob': self.knob_topic, 'tip': self.tip_topic}
+        if flags[role] is not None:
+            return flags[role]
+        if role != 'ball' and any(flags[bat] for bat in ('bat_pose', 'knob', 'tip')):
+            return None
+        points = self.parameters.get('bat_input') == 'points'
+        if (role == 'bat_pose' and points) or (role in ('knob', 'tip') and not points):
+            return None
+        name = self.parameters.get(TOPIC_PARAMETERS[role])
+        return resolve_topic(name, self.node_name) if name else None
+
     def reader(self, path: os.PathLike) -> BagReader:
         """Return an unopened reader of ``path`` with these topic choices."""
         prefer = 'points' if self.parameters.get('bat_input') == 'points' else 'pose'
-        return BagReader(path, ball=self.ball_topic, bat_pose=self.bat_pose_topic,
-                         knob=self.knob_topic, tip=self.tip_topic, prefer_bat=prefer)
+        return BagReader(path, ball=self.topic('ball'), bat_pose=self.topic('bat_pose'),
+                         knob=self.topic('knob'), tip=self.topic('tip'), prefer_bat=prefer)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -254,7 +302,8 @@ def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., N
 
 
 def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
-                 sinks: Sequence[Any], bar: Any = None) -> Tuple[int, Optional[int]]:
+                 sinks: Sequence[Any], bar: Any = None,
+                 drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
     """
     Feed every sample to the detector, then ``finish()``; hand samples and events to sinks.
 
@@ -269,12 +318,15 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
         its ``add(role, stamp_ns, values, frame_id)`` and ``finish()``).
     :param sinks: objects with ``on_sample`` and/or ``on_events``.
     :param bar: a progress bar (``update(n)``) or None.
+    :param drops: counts ``(role, reason)`` of every dropped sample (from the detector's
+        ``stats.last_drop_reason``) when given.
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     add = detector.add
     on_sample = _fan_out([sink.on_sample for sink in sinks if hasattr(sink, 'on_sample')])
     on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
         or (lambda events, log_time_ns, frame_id: None)
+    stats = detector.stats if drops is not None else None
     iterator = iter(samples)
     first = next(iterator, None)
     head = () if first is None else (first,)
@@ -289,6 +341,8 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
             events = add(role, stamp, values, frame)
             if events:
                 on_events(events, log_time, frame)
+            if stats is not None and stats.last_drop_reason is not None:
+                drops[role, stats.last_drop_reason] += 1
             chunk += 1
         count += chunk
         if bar is not None:
@@ -309,6 +363,18 @@ def progress_bar(total: int, label: str) -> Any:
     from tqdm import tqdm
     return tqdm(total=total, unit='msg', unit_scale=True, desc=label, file=sys.stderr,
                 leave=False, dynamic_ncols=True)
+
+
+def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
+    """Return a hint when an error names a topic that came from the parameter file ('' else)."""
+    flags = {'ball': options.ball_topic, 'bat_pose': options.bat_pose_topic,
+             'knob': options.knob_topic, 'tip': options.tip_topic}
+    named = [f"{TOPIC_PARAMETERS[role]} '{options.topic(role)}'" for role in flags
+             if flags[role] is None and options.topic(role) and f"'{options.topic(role)}'"
+             in message]
+    if not named:
+        return ''
+    return f" ({', '.join(named)} from --params; a topic flag overrides it)"
 
 
 def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(), *,
@@ -347,12 +413,12 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
                 result.messages, result.first_stamp_ns = run_detector(
-                    bag.samples(), detector, sinks, bar)
+                    bag.samples(), detector, sinks, bar, result.drops_by_role)
             finally:
                 if bar is not None:
                     bar.close()
     except BagError as error:
-        raise ToolError(str(error)) from error
+        raise ToolError(str(error) + _file_topics_hint(str(error), options)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
     result.frame_id = detector.frame_id or config.frame_id or ''

@@ -120,6 +120,9 @@ def _analyze(args: argparse.Namespace) -> int:
             analyses.append(analyze_bag(path, options, out_bag=writer,
                                         progress=not args.no_progress,
                                         use_truth=not args.no_truth))
+            silenced = analyses[-1].silenced_topics()
+            if silenced:
+                raise ToolError(f"{path}: {'; '.join(silenced)}")
         if args.json:
             outputs.stage_text('json', json_text(analyses))
         if args.csv:

@@ -127,10 +127,7 @@ def format_report(analysis: BagAnalysis) -> str:
     if analysis.config.prediction_horizon > 0.0:
         lines.extend(prediction_lines(analysis))
     lines.append(summary_line(analysis))
-    wrong_frame = analysis.stats.dropped.get('wrong_frame', 0)
-    if analysis.config.frame_id and wrong_frame and wrong_frame >= analysis.messages:
-        lines.append(f"hint: every sample was dropped as wrong_frame: the parameters' frame_id "
-                     f"'{analysis.config.frame_id}' is not the bag's frame")
+    lines.extend(f'warning: {line}' for line in analysis.silenced_topics())
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
     lines.extend(f'note: {note}' for note in analysis.notes)
