@@ -119,3 +119,4 @@ def test_an_empty_analysis_reports_so() -> None:
 class _Selection:
     ball, ball_type, bat_pose, knob, tip = '/ball', 'p', '/bat_pose', None, None
     bat_mode, note = 'pose', ''
+    topics = {'ball': '/ball', 'bat_pose': '/bat_pose'}
