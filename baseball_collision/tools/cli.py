@@ -24,7 +24,7 @@ from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
 from .plots import write_plots
-from .recording import BAT_CHOICES, RecordingSpec, write_recording
+from .recording import BAT_CHOICES, MAX_RATE_HZ, MAX_SEED, RecordingSpec, write_recording
 from .report import csv_text, format_report, json_text, total_line
 from .sim import KINDS
 from .truth import truth_path
@@ -46,7 +46,8 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_BAD_INPUT)
 
 
-def _number(minimum: float, inclusive: bool, what: str) -> Callable[[str], float]:
+def _number(minimum: float, inclusive: bool, what: str,
+            maximum: float = math.inf) -> Callable[[str], float]:
     """Return an argparse type: a finite float above ``minimum`` (or at it if inclusive)."""
     def convert(text: str) -> float:
         try:
@@ -57,8 +58,20 @@ def _number(minimum: float, inclusive: bool, what: str) -> Callable[[str], float
             bound = f'>= {minimum:g}' if inclusive else f'> {minimum:g}'
             raise argparse.ArgumentTypeError(f"'{text}' must be a finite number {bound} "
                                              f'({what})')
+        if value > maximum:
+            raise argparse.ArgumentTypeError(f"'{text}' must be at most {maximum:g} ({what})")
         return value
     return convert
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"'{text}' must be from 0 to 2^64 - 1")
+    return value
 
 
 def _count(text: str) -> int:
@@ -183,8 +196,8 @@ def _add_simulate(commands: Any) -> None:
     simulate.add_argument('--count', type=_count, default=12, help='pitches (default 12)')
     simulate.add_argument('--kinds', type=_kinds, default=list(KINDS),
                           help=f"comma-separated kinds, cycled (default {','.join(KINDS)})")
-    simulate.add_argument('--rate', type=_number(0.0, False, 'Hz'), default=360.0,
-                          help='tracker rate in Hz (default 360)')
+    simulate.add_argument('--rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ), default=360.0,
+                          help='tracker rate in Hz, at most 100000 (default 360)')
     simulate.add_argument('--jitter', type=_number(0.0, True, 's'), default=0.0002,
                           help='stamp jitter standard deviation in s (default 0.0002)')
     simulate.add_argument('--grid', type=_number(1e-9, True, 's'), default=None,
@@ -195,7 +208,8 @@ def _add_simulate(commands: Any) -> None:
     simulate.add_argument('--spacing', type=_number(0.0, False, 's'), default=2.0,
                           help='seconds between pitch starts; nothing is published between '
                           'pitches (default 2.0)')
-    simulate.add_argument('--seed', type=int, default=0, help='random seed (default 0)')
+    simulate.add_argument('--seed', type=_seed, default=0,
+                          help='random seed, 0 to 2^64 - 1 (default 0)')
     simulate.add_argument('--storage', choices=('mcap', 'sqlite3', 'rosbag1'), default=None,
                           help='bag storage (default: from the OUT suffix; MCAP for a '
                           'directory)')

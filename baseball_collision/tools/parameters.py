@@ -11,7 +11,7 @@ node's event topics (``--out-bag`` writes them, the demo listens to them).
 import os
 from pathlib import Path
 import re
-from typing import Any, Dict, Mapping, Optional
+from typing import Any, Dict, Iterable, List, Mapping, Optional
 
 from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
 from ..errors import CoreError, ToolError
@@ -82,6 +82,44 @@ def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> No
             into[name] = value
 
 
+MAX_DEPTH = 32
+"""Deepest nesting of a parameter file (ROS 2 parameter files need 4 or 5 levels)."""
+
+MAX_LIST = 4096
+"""Most values in one list of a parameter file (the longest parameter takes 512)."""
+
+
+def _check_events(events: Iterable[Any], path: Path) -> None:
+    """
+    Refuse aliases, nesting deeper than MAX_DEPTH and lists longer than MAX_LIST, as parsed.
+
+    Reads the YAML events (no recursion, no alias expansion), stopping at the first problem,
+    so neither an alias bomb nor a million-value list is ever built.
+
+    :raises ToolError: one line naming the problem and its line.
+    """
+    import yaml
+
+    lists: List[int] = []  # values so far in each open list, -1 for an open mapping
+    for event in events:
+        line = event.start_mark.line + 1
+        if isinstance(event, yaml.AliasEvent):
+            raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line {line})')
+        if isinstance(event, (yaml.ScalarEvent, yaml.CollectionStartEvent)) and lists \
+                and lists[-1] >= 0:
+            lists[-1] += 1
+            if lists[-1] > MAX_LIST:
+                raise ToolError(f'parameter file {path}: a list longer than {MAX_LIST} values '
+                                f'(line {line})')
+        if isinstance(event, yaml.CollectionStartEvent):
+            lists.append(0 if isinstance(event, yaml.SequenceStartEvent) else -1)
+            if len(lists) > MAX_DEPTH:
+                raise ToolError(f'parameter file {path}: nested deeper than {MAX_DEPTH} levels '
+                                f'(line {line})')
+        elif isinstance(event, yaml.CollectionEndEvent):
+            lists.pop()
+
+
 def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
     """
     Read the parameters a ROS 2 node would take from a ``--params-file`` YAML, checked as it does.
@@ -92,33 +130,25 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
     flattened: nested mappings become ``outer.inner`` names. The values are checked with the
     node's rules (``core.detector.validate_parameters``): a file the node would refuse is
     refused with the same message: also a list mixing value types (``[0, 0.5]``: rcl's parser
-    refuses it) and a topic name ROS refuses. YAML aliases and nesting deeper than 32 levels are
-    refused.
+    refuses it) and a topic name ROS refuses. YAML aliases, nesting deeper than 32 levels and
+    lists longer than 4096 values are refused as the file is parsed.
 
     :param path: the YAML file.
     :param node_name: the node's name.
     :returns: ``{parameter name: value}`` as the file gives them (names the node does not know
         included).
-    :raises ToolError: the file is missing or not YAML, has aliases or deep nesting, has no
-        section for the node, a section without a ``ros__parameters`` mapping, a list mixing
-        value types, an invalid topic name, or a value the node refuses.
+    :raises ToolError: the file is missing or not YAML, has aliases, deep nesting or a long
+        list, has no section for the node, a section without a ``ros__parameters`` mapping, a
+        list mixing value types, an invalid topic name, or a value the node refuses.
     """
     import yaml  # PyYAML, as ROS 2's own tools use; imported here so analyze starts fast
 
     path = Path(path)
     try:
         text = path.read_text()
-        depth = 0
-        for event in yaml.parse(text, Loader=yaml.SafeLoader):  # events: no recursion
-            if isinstance(event, yaml.AliasEvent):
-                raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line '
-                                f'{event.start_mark.line + 1})')
-            depth += isinstance(event, yaml.CollectionStartEvent) - isinstance(
-                event, yaml.CollectionEndEvent)
-            if depth > 32:
-                raise ToolError(f'parameter file {path}: nested deeper than 32 levels (line '
-                                f'{event.start_mark.line + 1})')
-        document = yaml.safe_load(text)
+        # checked lazily event by event (stops at the first problem), then loaded by libyaml
+        _check_events(yaml.parse(text, Loader=yaml.SafeLoader), path)
+        document = yaml.load(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader))
     except OSError as error:
         raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
     except yaml.YAMLError as error:

@@ -146,3 +146,18 @@ def test_yaml_aliases_and_deep_nesting_are_refused(tmp_path: Path) -> None:
                   + '[' * 10_000 + ']' * 10_000 + '\n')
     with pytest.raises(ToolError, match='nested deeper than 32 levels'):
         load_parameters(deep)
+
+
+def test_long_bat_profiles_are_refused_quickly(tmp_path: Path) -> None:
+    """More than 256 stations: the table's refusal; a million values: refused while parsing."""
+    def profile(stations: int) -> Path:
+        flat = ', '.join(f'{0.8 * i / stations:.6f}, 0.03' for i in range(stations))
+        return _write(tmp_path / f'{stations}.yaml',
+                      f'impact_node:\n  ros__parameters:\n    bat_profile: [{flat}]\n')
+
+    assert len(build_config(load_parameters(profile(256)), bat_input='pose').profile
+               .stations) == 256
+    with pytest.raises(ToolError, match="'bat_profile' has 600 values, at most 512 are taken"):
+        load_parameters(profile(300))
+    with pytest.raises(ToolError, match=r'a list longer than 4096 values \(line 3\)'):
+        load_parameters(profile(500_000))
