@@ -26,7 +26,7 @@ from typing import (
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
-    compare_truth, LEADS_S, load_truth, prediction_errors, truth_path, TruthComparison)
+    compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path, TruthComparison)
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
@@ -37,6 +37,9 @@ PROGRESS_MIN_MESSAGES = 100_000
 
 CHUNK = 8192
 """Samples read between two progress bar updates."""
+
+SCORE_WINDOW_NS = 500_000_000
+"""Predictions made more than this (ns) before an impact are not its predictions."""
 
 
 @dataclass
@@ -124,19 +127,19 @@ class BagAnalysis:
         Score the predictions of every impact at the lead times ``LEADS_S``.
 
         The reference is the true contact when a truth file matched the impact, else the
-        detected impact itself. One ``truth.prediction_errors`` dict per impact.
+        detected impact itself; predictions made up to :data:`SCORE_WINDOW_NS` before it
+        count. One ``PredictionIndex.errors`` dict per impact; the frames are sorted once.
         """
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
+        index = PredictionIndex(self.predictions, self.frames_ns)
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)
             stamp = int(truth['stamp_ns']) if truth else impact.stamp_ns
             point = truth['point'] if truth else impact.point
-            before = [p for p in self.predictions if p.made_at_ns < stamp
-                      and stamp - p.made_at_ns <= 0.5e9]
-            scores.append(prediction_errors(before, self.frames_ns, stamp, point, LEADS_S))
+            scores.append(index.errors(stamp, point, LEADS_S, SCORE_WINDOW_NS))
         return scores
 
 

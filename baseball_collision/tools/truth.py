@@ -13,6 +13,7 @@ Pure Python + numpy (no ROS, no simulator): a truth file is read here, whoever w
 Errors are detected minus true: stamps in ns (or s where named), spots in m, speeds relative.
 """
 
+import bisect
 from dataclasses import dataclass, field
 import json
 import math
@@ -240,7 +241,8 @@ def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike
 
     Every pitch spans ``[start_ns, end_ns]``. A pitch with a contact is matched to the first
     impact inside its span; other impacts in the span, and impacts in no span, are false
-    impacts.
+    impacts. The impacts and near misses are sorted by stamp once and each pitch's are found by
+    bisection: O((pitches + impacts) log impacts), not pitches x impacts.
 
     :param impacts: detected impacts.
     :param near_misses: detected near misses (counted for pitches without contact).
@@ -250,26 +252,73 @@ def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike
     :raises ToolError: a pitch entry without the needed keys.
     """
     result = TruthComparison(path=Path(path))
+    order = sorted(range(len(impacts)), key=lambda index: (impacts[index].stamp_ns, index))
+    stamps = [impacts[index].stamp_ns for index in order]
+    miss_stamps = sorted(miss.stamp_ns for miss in near_misses)
     used = set()
     try:
         for pitch in truth['pitches']:
             start, end = int(pitch['start_ns']), int(pitch['end_ns'])
-            match, _ = match_pitch(bool(pitch['contact']), impacts, (start, end))
             if not pitch['contact']:
                 result.misses += 1
-                if any(start <= miss.stamp_ns <= end for miss in near_misses):
+                first_after = bisect.bisect_left(miss_stamps, start)
+                if first_after < len(miss_stamps) and miss_stamps[first_after] <= end:
                     result.near_misses_in_misses += 1
                 continue
+            inside = order[bisect.bisect_left(stamps, start):bisect.bisect_right(stamps, end)]
+            match, _ = match_pitch(True, [impacts[index] for index in inside])
             result.contacts += 1
             if match is None:
                 result.missed.append(pitch)
                 continue
-            used.add(match)
-            result.matched.append((pitch, impacts[match]))
+            used.add(inside[match])
+            result.matched.append((pitch, impacts[inside[match]]))
     except (KeyError, TypeError, ValueError) as error:
         raise ToolError(f'truth file {path} has a malformed pitch: {error!r}') from error
     result.false_impacts = [impact for i, impact in enumerate(impacts) if i not in used]
     return result
+
+
+class PredictionIndex:
+    """
+    Predictions and frames indexed once, to score the predictions of many contacts.
+
+    Built in O(frames log frames + predictions); each contact is then scored in O(leads x
+    log frames) (:meth:`errors`).
+
+    :param predictions: every prediction, in any order (the last one made at a frame counts).
+    :param frames_ns: every processed frame stamp (ns), in any order.
+    """
+
+    def __init__(self, predictions: Sequence[Prediction], frames_ns: Sequence[int]) -> None:
+        self.by_frame: Dict[int, Prediction] = {}
+        for prediction in predictions:
+            self.by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+        self.frames = np.sort(np.asarray(frames_ns, dtype=np.int64))
+
+    def errors(self, contact_ns: int, contact_point: Sequence[float],
+               leads_s: Sequence[float] = LEADS_S,
+               window_ns: Optional[int] = None) -> Dict[float, Optional[Tuple[float, float]]]:
+        """
+        Score the predictions of one contact at several lead times (see prediction_errors).
+
+        :param window_ns: only predictions made at most this long before the contact count
+            (None: any made before it).
+        :returns: ``{lead: (time error s, point error m) or None}``.
+        """
+        result: Dict[float, Optional[Tuple[float, float]]] = {}
+        for lead in leads_s:
+            cut = contact_ns - int(round(lead * 1e9))
+            index = int(np.searchsorted(self.frames, cut, side='right')) - 1
+            frame = int(self.frames[index]) if index >= 0 else None
+            chosen = self.by_frame.get(frame) if frame is not None else None
+            if chosen is not None and (chosen.made_at_ns >= contact_ns or (
+                    window_ns is not None and contact_ns - chosen.made_at_ns > window_ns)):
+                chosen = None
+            result[lead] = None if chosen is None else (
+                (chosen.stamp_ns - contact_ns) * 1e-9,
+                float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
+        return result
 
 
 def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int],
@@ -281,6 +330,7 @@ def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int
 
     For each lead L the prediction scored is the one made at the last processed frame at
     least L before the contact; a frame that had no prediction scores None (not predicted).
+    (For many contacts build one :class:`PredictionIndex` and call its ``errors``.)
 
     :param predictions: the predictions made before the contact.
     :param frames_ns: every processed frame stamp (ns) (the union of the sample stamps).
@@ -288,16 +338,4 @@ def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int
     :returns: ``{lead: (time error s, point error m) or None}``; errors are predicted minus
         true, the point error a distance.
     """
-    by_frame: Dict[int, Prediction] = {}
-    for prediction in predictions:
-        by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
-    frames = sorted(frames_ns)
-    result: Dict[float, Optional[Tuple[float, float]]] = {}
-    for lead in leads_s:
-        cut = contact_ns - int(round(lead * 1e9))
-        index = np.searchsorted(frames, cut, side='right') - 1
-        chosen = by_frame.get(frames[index]) if index >= 0 else None
-        result[lead] = None if chosen is None else (
-            (chosen.stamp_ns - contact_ns) * 1e-9,
-            float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
-    return result
+    return PredictionIndex(predictions, frames_ns).errors(contact_ns, contact_point, leads_s)

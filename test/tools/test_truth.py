@@ -139,3 +139,36 @@ def test_a_damaged_truth_file_is_ignored_with_a_note(tmp_path: Path, run_cli: Ru
     assert 'summary: 8 impacts' in stdout and 'truth (' not in stdout
     bag_entry = json.loads(out.read_text())['bags'][0]
     assert bag_entry['truth'] is None and bag_entry['notes'] == [notes[0][len('note: '):]]
+
+
+class _Counted:
+    """An event whose ``stamp_ns`` reads are counted (in ``reads``)."""
+
+    reads = 0
+
+    def __init__(self, stamp_ns: int) -> None:
+        self._stamp_ns = stamp_ns
+        self.distance_from_tip_m, self.sweet_spot_speed_mps = 0.1, 30.0
+
+    @property
+    def stamp_ns(self) -> int:
+        _Counted.reads += 1
+        return self._stamp_ns
+
+
+def test_compare_truth_reads_each_stamp_a_bounded_number_of_times() -> None:
+    """1000 pitches and 1000 impacts: about one read per impact and pitch, not a million."""
+    pitches, impacts, misses = [], [], []
+    for i in range(1000):
+        start = 1_000_000_000 * i
+        contact = i % 4 != 3
+        pitches.append({'start_ns': start, 'end_ns': start + 400_000_000, 'contact': contact,
+                        'stamp_ns': start + 250_000_000, 'distance_from_tip_m': 0.1,
+                        'sweet_spot_speed_mps': 30.0})
+        (impacts if contact else misses).append(_Counted(start + 250_000_100))
+    impacts.append(_Counted(600_000_000))  # between two pitches: a false impact
+    _Counted.reads = 0
+    result = compare_truth(impacts[::-1], misses, {'pitches': pitches}, 't.json')
+    assert len(result.matched) == 750 and result.near_misses_in_misses == 250
+    assert [impact.stamp_ns for impact in result.false_impacts] == [600_000_000]
+    assert _Counted.reads < 10 * (len(impacts) + len(misses) + len(pitches))
