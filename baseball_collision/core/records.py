@@ -23,10 +23,12 @@ The schema of the records is ``schema/event_record.schema.json`` (installed unde
 ``--predict``, an impact's ``prediction_errors``) to the record of each event.
 """
 
-from dataclasses import asdict
+import bisect
+from dataclasses import fields
+import functools
 import json
 import math
-from typing import Any, Dict, Mapping, Optional
+from typing import Any, Dict, List, Mapping, Optional, Tuple
 
 from .bat import BatProfile, INCH
 from .detector import DetectorConfig, Impact, NearMiss, Prediction
@@ -37,6 +39,8 @@ RECORD_FORMAT = 'baseball_collision.event/1'
 
 EVENT_NAMES = {Impact: 'impact', NearMiss: 'near_miss', Prediction: 'prediction'}
 """The ``event`` of a record, by event type (other event types have no record)."""
+
+_FIELDS = {kind: tuple(field.name for field in fields(kind)) for kind in EVENT_NAMES}
 
 ZONES = ('knob', 'handle', 'barrel', 'sweet_spot', 'end_cap')
 """The zones of a bat, knob end to barrel end (the values of a record's ``zone``)."""
@@ -69,16 +73,37 @@ def bat_zone(profile: BatProfile, feature: str, bat_fraction: float,
         return 'end_cap'
     if feature == 'knob_end':
         return 'knob'
-    radii = [radius for _, radius in profile.stations]
-    thinnest, thickest = min(radii), max(radii)
-    share = 1.0 if thickest - thinnest <= 0.0 else (
-        (profile.radius_at(min(max(bat_fraction, 0.0), 1.0)) - thinnest)
-        / (thickest - thinnest))
-    if share < BARREL_SHARE:
+    if _radius_share(profile, bat_fraction) < BARREL_SHARE:
         return 'handle'
     if abs(distance_from_tip_m - sweet_spot_from_tip) <= SWEET_SPOT_HALF_WIDTH:
         return 'sweet_spot'
     return 'barrel'
+
+
+@functools.lru_cache(maxsize=64)
+def _stations(profile: BatProfile) -> Tuple[List[float], List[float], float, float]:
+    """Return a profile's station distances, radii, thinnest and thickest radius (cached)."""
+    distances = [distance for distance, _ in profile.stations]
+    radii = [radius for _, radius in profile.stations]
+    return distances, radii, min(radii), max(radii)
+
+
+def _radius_share(profile: BatProfile, bat_fraction: float) -> float:
+    """Return where the radius at a fraction lies from the thinnest (0) to the thickest (1)."""
+    distances, radii, thinnest, thickest = _stations(profile)
+    if thickest - thinnest <= 0.0:
+        return 1.0
+    distance = min(max(bat_fraction, 0.0), 1.0) * profile.length
+    index = bisect.bisect_right(distances, distance)
+    if index == 0:
+        radius = radii[0]
+    elif index == len(distances):
+        radius = radii[-1]
+    else:
+        d0, d1 = distances[index - 1], distances[index]
+        radius = radii[index - 1] + (radii[index] - radii[index - 1]) * (distance - d0) / (
+            d1 - d0)
+    return (radius - thinnest) / (thickest - thinnest)
 
 
 def along_axis_from_tip(point: Vector, knob: Vector, tip: Vector) -> float:
@@ -92,6 +117,8 @@ def along_axis_from_tip(point: Vector, knob: Vector, tip: Vector) -> float:
 
 def plain(value: Any) -> Any:
     """Return ``value`` as strict JSON data: tuples as lists, str enums as str, NaN/inf None."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
     if isinstance(value, (tuple, list)):
         return [plain(item) for item in value]
     if isinstance(value, dict):
@@ -100,8 +127,6 @@ def plain(value: Any) -> Any:
         return value
     if isinstance(value, str):
         return str(value)
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
     return value
 
 
@@ -117,16 +142,16 @@ def event_record(event: Any, frame_id: str, config: DetectorConfig) -> Dict[str,
     :raises KeyError: an event of another type (``StreamGap``, ``StateReset``, ...).
     """
     name = EVENT_NAMES[type(event)]
-    fields = asdict(event)
-    feature = str(fields.get('feature', 'side'))
+    values = {key: getattr(event, key) for key in _FIELDS[type(event)]}
+    feature = str(values.get('feature', 'side'))
     if isinstance(event, Impact) and feature != 'side':
         from_tip = along_axis_from_tip(event.point, event.knob, event.tip)
-        fields['distance_from_knob_m'] += fields['distance_from_tip_m'] - from_tip
-        fields['distance_from_tip_m'] = from_tip
-    zone = bat_zone(config.profile, feature, event.bat_fraction, fields['distance_from_tip_m'],
+        values['distance_from_knob_m'] += values['distance_from_tip_m'] - from_tip
+        values['distance_from_tip_m'] = from_tip
+    zone = bat_zone(config.profile, feature, event.bat_fraction, values['distance_from_tip_m'],
                     config.sweet_spot_from_tip)
     return plain({'format': RECORD_FORMAT, 'event': name, 'frame_id': frame_id, 'zone': zone,
-                  **fields})
+                  **values})
 
 
 def record_text(record: Mapping[str, Any], indent: Optional[int] = None) -> str:

@@ -249,20 +249,20 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
         for impact, score in zip(analysis.impacts, scores):
             impacts.append(entry(analysis, impact))
             if score is not None:
-                impacts[-1]['prediction_errors'] = {
+                impacts[-1]['prediction_errors'] = plain({
                     f'{lead * 1e3:g}': None if error is None else {
                         'time_error_s': error[0], 'point_error_m': error[1]}
-                    for lead, error in score.items()}
+                    for lead, error in score.items()})
         predictions.extend(entry(analysis, p) for p in analysis.predictions)
         near_misses.extend(entry(analysis, miss) for miss in analysis.near_misses)
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
-        bags.append(_bag_entry(analysis))
+        bags.append(plain(_bag_entry(analysis)))
     document = {'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
                 'dropped': dropped, 'bags': bags}
     if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
         document['predictions'] = predictions
-    return plain(document)
+    return document  # the records are plain already, the rest made plain above
 
 
 def write_json(document: Mapping[str, Any], stream: IO[str]) -> None:
