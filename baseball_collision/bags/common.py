@@ -1,5 +1,5 @@
 """
-What the bag modules share: message type names, the rosbags typestores, opening a bag.
+What the bag modules share: the rosbags typestores, opening a bag.
 
 Every bag is opened here (:func:`open_bag`, :class:`BagFile`), so reading samples and replaying
 raw messages refuse the same paths with the same one-line :class:`BagError`.
@@ -21,10 +21,6 @@ from rosbags.typesys.store import Typestore
 
 from ..errors import BagError
 
-POINT_STAMPED = 'geometry_msgs/msg/PointStamped'
-POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
-TWIST_STAMPED = 'geometry_msgs/msg/TwistStamped'
-VECTOR3_STAMPED = 'geometry_msgs/msg/Vector3Stamped'
 
 NS_PER_S = 1_000_000_000
 FRAME_CACHE_LIMIT = 1024

@@ -31,27 +31,8 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 from rosbags.highlevel import AnyReader
 
-from .common import POINT_STAMPED, POSE_STAMPED
+from .names import POINT_STAMPED, POSE_STAMPED, ROLE_TYPES, ROLES, TOPIC_FLAGS
 from ..errors import BagError
-
-ROLES = ('ball', 'bat_pose', 'knob', 'tip')
-"""Topic roles, in the order of :class:`TopicSelection`'s fields."""
-
-TOPIC_FLAGS = {
-    'ball': '--ball-topic',
-    'bat_pose': '--bat-pose-topic',
-    'knob': '--knob-topic',
-    'tip': '--tip-topic',
-}
-"""Command-line flag that names each role's topic; error messages refer to these."""
-
-ROLE_TYPES = {
-    'ball': (POINT_STAMPED, POSE_STAMPED),
-    'bat_pose': (POSE_STAMPED,),
-    'knob': (POINT_STAMPED,),
-    'tip': (POINT_STAMPED,),
-}
-"""Message types accepted for each role."""
 
 _HINTS = {
     'ball': "a PointStamped or PoseStamped with 'ball' in its name",

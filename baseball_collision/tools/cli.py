@@ -20,14 +20,12 @@ import shlex
 import sys
 from typing import Any, Callable, List, NoReturn, Optional
 
-from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
-from .plots import write_plots
 from .recording import BAT_CHOICES, MAX_RATE_HZ, MAX_SEED, RecordingSpec, write_recording
-from .report import csv_text, format_report, json_text, total_line
 from .sim import KINDS
 from .truth import truth_path
+from .. import __version__
 from ..atomic import cleanup_on_signals, Terminated
 from ..bags import TOPIC_FLAGS
 from ..errors import BaseballCollisionError, ToolError
@@ -35,6 +33,9 @@ from ..errors import BaseballCollisionError, ToolError
 PROG = 'baseball-collision'
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
+
+PIP_NAMES = {'yaml': 'PyYAML', 'rclpy': "'ros-jazzy-rclpy[fastrtps]' (or source ROS 2 Jazzy)"}
+"""What to install for a missing module (the module's own name otherwise)."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -118,6 +119,10 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _analyze(args: argparse.Namespace) -> int:
+    from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
+    from .plots import write_plots
+    from .report import csv_text, format_report, json_text, total_line
+
     if len(args.bags) > 1 and args.out_bag is not None:
         raise ToolError('--out-bag takes one BAG; run analyze once per bag')
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
@@ -304,6 +309,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
         'recordings, analyse bags offline, replay them to the live node, or run the demo.')
+    parser.add_argument('--version', action='version', version=f'%(prog)s {__version__}')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for add in (_add_simulate, _add_analyze, _add_replay, _add_demo):
         add(commands)
@@ -339,6 +345,10 @@ def main(argv: Optional[List[str]] = None) -> int:
         return _fail(str(error))
     except OSError as error:
         return _fail(f'{error.strerror or error}: {error.filename or ""}')
+    except ModuleNotFoundError as error:
+        package = (error.name or '').split('.')[0] or str(error)
+        return _fail(f"{args.command} needs the Python package '{package}', which is not "
+                     f'installed (pip install {PIP_NAMES.get(package, package)})')
     except KeyboardInterrupt:
         sys.stderr.write(f'{PROG}: interrupted\n')
         return EXIT_INTERRUPTED

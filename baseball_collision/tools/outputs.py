@@ -11,11 +11,14 @@ partial file behind, not even a hidden temporary.
 
 import os
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, TYPE_CHECKING
 
+from .. import bags
 from ..atomic import check_target, StagedOutput
-from ..bags import BagWriter
 from ..errors import BagError, ToolError
+
+if TYPE_CHECKING:  # rosbags is imported only when a bag is written
+    from ..bags import BagWriter
 
 
 def _flag(name: str) -> str:
@@ -64,7 +67,7 @@ class Outputs:
             except OSError as error:
                 raise _refused(error, path) from error
         self._staged: List[StagedOutput] = []
-        self._writers: List[BagWriter] = []
+        self._writers: List['BagWriter'] = []
 
     def __enter__(self) -> 'Outputs':
         """Return self."""
@@ -75,7 +78,7 @@ class Outputs:
         if exc_type is not None:
             self.abort()
 
-    def bag_writer(self, name: str, storage: Optional[str] = None) -> BagWriter:
+    def bag_writer(self, name: str, storage: Optional[str] = None) -> 'BagWriter':
         """
         Open a bag writer for a target (placed by :meth:`commit`, removed by :meth:`abort`).
 
@@ -83,7 +86,7 @@ class Outputs:
         :param storage: as for :class:`~baseball_collision.bags.BagWriter` (None: by name).
         :raises ToolError: the bag cannot be created.
         """
-        writer = BagWriter(self.targets[name], storage)
+        writer = bags.BagWriter(self.targets[name], storage)
         try:
             writer.open()
         except BagError as error:

@@ -78,13 +78,13 @@ def test_one_path_for_two_outputs_is_refused_before_any_work(
 
 SIGNALLED = """
 import os, signal, sys
-from baseball_collision.tools import cli
-real = cli.analyze_bag
+from baseball_collision.tools import analyze, cli
+real = analyze.analyze_bag
 def analyze_then_signal(*args, **kwargs):
     result = real(*args, **kwargs)
     os.kill(os.getpid(), signal.{name})
     return result
-cli.analyze_bag = analyze_then_signal
+analyze.analyze_bag = analyze_then_signal
 sys.exit(cli.main(sys.argv[1:]))
 """
 
