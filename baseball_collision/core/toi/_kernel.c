@@ -22,15 +22,17 @@
  * result is the same to the last bit on x86-64 and arm64.
  *
  * Python API (module ``_kernel``; the package wraps it in ``scalar`` and ``batch``):
- *   bind(ImpactResult, features)      the result class and the Feature members, once at import
+ *   bind(ImpactResult, fields, features)  the result dataclass, its 7 field names (time, point,
+ *                                     normal, bat_fraction, initially_overlapping, gap, feature)
+ *                                     and the Feature members, once at import
  *   capsule(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt)
  *   profile(b0, b1, e0, e1, s0, s1, ball_radius, profile, dt)
  *        -> an ImpactResult, None (no contact) or NotImplemented (input that is not finite
  *           3-vectors, radii >= 0 and dt > 0: the caller checks it and raises)
  *   closest_offset(b0, b1, e0, e1, s0, s1) -> (x, y, z)
- *   capsule_rows(points, ball_radius, bat_radius, dt, out, start, stop)
- *        rows [start, stop) of float64 buffers ((N, 18), (N,), (N,), (N,), out (N,)), the GIL
- *        released: out = contact time in seconds or NaN
+ *   capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop)
+ *        rows [start, stop) of contiguous float64 buffers (six (N, 3), three (N,), out (N,)),
+ *        the GIL released: out = contact time in seconds or NaN
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  */
@@ -40,6 +42,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <string.h>
 
 #define TOUCH_TOLERANCE 1e-9 /* a gap (m) at or below which ball and bat count as touching */
 #define DEGENERATE_AXIS 1e-24 /* |u|^2 in scaled units below which the bat has no axis */
@@ -491,7 +494,39 @@ static bool capsule_tau(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double r
 /* the result */
 
 static PyObject *result_type = NULL; /* ImpactResult */
-static PyObject *features = NULL;    /* (SIDE, KNOB_END, TIP_END) */
+static PyObject *result_fields = NULL; /* its field names: time, point, normal, ..., feature */
+static PyObject *features = NULL;      /* (SIDE, KNOB_END, TIP_END) */
+static PyObject *no_arguments = NULL;  /* () */
+
+/*
+ * A new ImpactResult from its 7 field values (references stolen), filled in as the frozen
+ * dataclass's own __init__ does (its instance dictionary), without the cost of calling it.
+ */
+static PyObject *new_result(PyObject **values)
+{
+  bool ok = true;
+  for (int i = 0; i < 7; i++) {
+    ok = ok && values[i] != NULL;
+  }
+  PyObject *result = ok ? PyBaseObject_Type.tp_new((PyTypeObject *)result_type, no_arguments,
+                                                   NULL)
+                        : NULL;
+  PyObject *dict = result ? PyObject_GenericGetDict(result, NULL) : NULL;
+  for (int i = 0; dict != NULL && i < 7; i++) {
+    if (PyDict_SetItem(dict, PyTuple_GET_ITEM(result_fields, i), values[i]) < 0) {
+      Py_CLEAR(result);
+      break;
+    }
+  }
+  Py_XDECREF(dict);
+  if (dict == NULL) {
+    Py_CLEAR(result);
+  }
+  for (int i = 0; i < 7; i++) {
+    Py_XDECREF(values[i]);
+  }
+  return result;
+}
 
 static PyObject *vec_tuple(Vec v) { return Py_BuildValue("(ddd)", v.x, v.y, v.z); }
 
@@ -522,25 +557,48 @@ static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_rad
     PyErr_SetString(PyExc_RuntimeError, "_kernel.bind() was not called");
     return NULL;
   }
-  PyObject *args[7] = {PyFloat_FromDouble(tau * dt), vec_tuple(point), vec_tuple(normal),
-                       PyFloat_FromDouble(fraction), PyBool_FromLong(tau == 0.0),
-                       PyFloat_FromDouble(gap), PyTuple_GET_ITEM(features, feature)};
-  PyObject *result = NULL;
-  if (args[0] && args[1] && args[2] && args[3] && args[5]) {
-    result = PyObject_Vectorcall(result_type, args, 7, NULL);
-  }
-  for (int i = 0; i < 6; i++) {
-    Py_XDECREF(args[i]);
-  }
-  return result;
+  PyObject *feature_member = PyTuple_GET_ITEM(features, feature);
+  Py_INCREF(feature_member);
+  PyObject *values[7] = {PyFloat_FromDouble(tau * dt), vec_tuple(point), vec_tuple(normal),
+                         PyFloat_FromDouble(fraction), PyBool_FromLong(tau == 0.0),
+                         PyFloat_FromDouble(gap), feature_member};
+  return new_result(values);
 }
 
 /* ------------------------------------------------------------------------------------------ */
 /* argument conversion */
 
+/* 3 numbers from a buffer of 3 contiguous float64 (a numpy row); -1: not such a buffer */
+static int read_buffer_vec(PyObject *o, Vec *v)
+{
+  Py_buffer view;
+  if (PyObject_GetBuffer(o, &view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    PyErr_Clear();
+    return -1;
+  }
+  int ok = view.len == 3 * (Py_ssize_t)sizeof(double) && view.itemsize == sizeof(double) &&
+           view.format != NULL && (strcmp(view.format, "d") == 0 || strcmp(view.format, "<d") == 0 ||
+                                   strcmp(view.format, "=d") == 0);
+  if (ok) {
+    const double *x = view.buf;
+    *v = (Vec){x[0], x[1], x[2]};
+  }
+  PyBuffer_Release(&view);
+  return ok ? 1 : -1;
+}
+
 /* 3 numbers from a sequence; false (no exception set) when it is not one */
 static bool read_vec(PyObject *o, Vec *v)
 {
+  if (PyTuple_CheckExact(o) && PyTuple_GET_SIZE(o) == 3 && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 0)) &&
+      PyFloat_CheckExact(PyTuple_GET_ITEM(o, 1)) && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 2))) {
+    *v = (Vec){PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 0)), PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 1)),
+               PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 2))};
+    return true;
+  }
+  if (PyObject_CheckBuffer(o) && read_buffer_vec(o, v) == 1) {
+    return true;
+  }
   PyObject *seq = PySequence_Fast(o, "");
   if (seq == NULL) {
     PyErr_Clear();
@@ -591,17 +649,23 @@ static PyObject *not_implemented(void) { Py_RETURN_NOTIMPLEMENTED; }
 
 static PyObject *py_bind(PyObject *self, PyObject *args)
 {
-  PyObject *type, *members;
-  if (!PyArg_ParseTuple(args, "OO!", &type, &PyTuple_Type, &members)) {
+  PyObject *type, *names, *members;
+  if (!PyArg_ParseTuple(args, "O!O!O!", &PyType_Type, &type, &PyTuple_Type, &names,
+                        &PyTuple_Type, &members)) {
     return NULL;
   }
-  if (PyTuple_GET_SIZE(members) != 3) {
-    PyErr_SetString(PyExc_ValueError, "features must be (side, knob_end, tip_end)");
+  if (PyTuple_GET_SIZE(names) != 7 || PyTuple_GET_SIZE(members) != 3) {
+    PyErr_SetString(PyExc_ValueError, "bind(type, its 7 field names, (side, knob_end, tip_end))");
+    return NULL;
+  }
+  if (no_arguments == NULL && (no_arguments = PyTuple_New(0)) == NULL) {
     return NULL;
   }
   Py_INCREF(type);
+  Py_INCREF(names);
   Py_INCREF(members);
   Py_XSETREF(result_type, type);
+  Py_XSETREF(result_fields, names);
   Py_XSETREF(features, members);
   Py_RETURN_NONE;
 }
@@ -735,20 +799,16 @@ static PyObject *py_closest_offset(PyObject *self, PyObject *const *args, Py_ssi
 }
 
 /* one row of the batch: contact time in seconds, or NaN (no contact or a bad row) */
-static double solve_row(const double *row, double rb, double rt, double dt)
+static double solve_row(const Vec *p, double rb, double rt, double dt)
 {
-  for (int i = 0; i < 18; i++) {
-    if (!isfinite(row[i])) {
+  for (int i = 0; i < 6; i++) {
+    if (!finite3(p[i])) {
       return NAN;
     }
   }
   if (!non_negative(rb) || !non_negative(rt) || !isfinite(rb + rt) || !isfinite(dt) ||
       !(dt > 0.0)) {
     return NAN;
-  }
-  Vec p[6];
-  for (int i = 0; i < 6; i++) {
-    p[i] = (Vec){row[3 * i], row[3 * i + 1], row[3 * i + 2]};
   }
   double tau;
   if (!capsule_tau(p[0], p[1], p[2], p[3], p[4], p[5], rb + rt, &tau)) {
@@ -757,50 +817,56 @@ static double solve_row(const double *row, double rb, double rt, double dt)
   return tau * dt;
 }
 
-/* a float64 buffer of `items` values (items < 0: any multiple of -items) */
-static bool get_buffer(PyObject *o, Py_buffer *view, Py_ssize_t items, bool writable,
-                       const char *name)
+/* a C-contiguous buffer of `items` float64 values */
+static bool get_buffer(PyObject *o, Py_buffer *view, Py_ssize_t items, bool writable)
 {
-  if (PyObject_GetBuffer(o, view, writable ? PyBUF_WRITABLE : PyBUF_SIMPLE) < 0) {
+  int flags = PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | (writable ? PyBUF_WRITABLE : 0);
+  if (PyObject_GetBuffer(o, view, flags) < 0) {
     return false;
   }
-  Py_ssize_t count = view->len / (Py_ssize_t)sizeof(double);
-  bool ok = view->len % (Py_ssize_t)sizeof(double) == 0 &&
-            (items >= 0 ? count == items : count % -items == 0);
-  if (!ok) {
-    PyErr_Format(PyExc_ValueError, "%s does not hold the expected float64 values", name);
+  if (view->len != items * (Py_ssize_t)sizeof(double) || view->itemsize != sizeof(double) ||
+      view->format == NULL || strchr(view->format, 'd') == NULL) {
+    PyErr_Format(PyExc_ValueError, "expected a contiguous buffer of %zd float64 values", items);
     PyBuffer_Release(view);
+    return false;
   }
-  return ok;
+  return true;
 }
 
+/* capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop) */
 static PyObject *py_capsule_rows(PyObject *self, PyObject *args)
 {
-  static const char *names[5] = {"points", "ball_radius", "bat_radius", "dt", "out"};
-  PyObject *objects[5];
-  Py_buffer views[5];
-  Py_ssize_t start, stop, n = 0;
-  if (!PyArg_ParseTuple(args, "OOOOOnn", &objects[0], &objects[1], &objects[2], &objects[3],
-                        &objects[4], &start, &stop)) {
+  PyObject *objects[10];
+  Py_buffer views[10];
+  Py_ssize_t start, stop, n;
+  if (!PyArg_ParseTuple(args, "OOOOOOOOOOnn", &objects[0], &objects[1], &objects[2],
+                        &objects[3], &objects[4], &objects[5], &objects[6], &objects[7],
+                        &objects[8], &objects[9], &start, &stop)) {
+    return NULL;
+  }
+  n = PyObject_Length(objects[9]);
+  if (n < 0) {
     return NULL;
   }
   int got = 0;
-  while (got < 5 && get_buffer(objects[got], &views[got], got == 0 ? -18 : n, got == 4,
-                               names[got])) {
-    if (got == 0) {
-      n = views[0].len / (Py_ssize_t)(18 * sizeof(double));
-    }
+  while (got < 10 && get_buffer(objects[got], &views[got], got < 6 ? 3 * n : n, got == 9)) {
     got++;
   }
-  if (got == 5 && !(0 <= start && start <= stop && stop <= n)) {
+  if (got == 10 && !(0 <= start && start <= stop && stop <= n)) {
     PyErr_SetString(PyExc_ValueError, "rows out of range");
-  } else if (got == 5) {
-    const double *points = views[0].buf, *rb = views[1].buf, *rt = views[2].buf;
-    const double *dt = views[3].buf;
-    double *out = views[4].buf;
+  } else if (got == 10) {
+    const double *points[6], *rb = views[6].buf, *rt = views[7].buf, *dt = views[8].buf;
+    double *out = views[9].buf;
+    for (int k = 0; k < 6; k++) {
+      points[k] = views[k].buf;
+    }
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t i = start; i < stop; i++) {
-      out[i] = solve_row(points + 18 * i, rb[i], rt[i], dt[i]);
+      Vec p[6];
+      for (int k = 0; k < 6; k++) {
+        p[k] = (Vec){points[k][3 * i], points[k][3 * i + 1], points[k][3 * i + 2]};
+      }
+      out[i] = solve_row(p, rb[i], rt[i], dt[i]);
     }
     Py_END_ALLOW_THREADS
   }
@@ -954,7 +1020,8 @@ static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize
 /* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
-    {"bind", py_bind, METH_VARARGS, "bind(ImpactResult, (side, knob_end, tip_end))"},
+    {"bind", py_bind, METH_VARARGS,
+     "bind(ImpactResult, its field names, (side, knob_end, tip_end)): the result type"},
     {"capsule", (PyCFunction)(void (*)(void))py_capsule, METH_FASTCALL,
      "capsule(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt): ImpactResult, None or "
      "NotImplemented (input to check)"},
@@ -965,8 +1032,8 @@ static PyMethodDef methods[] = {
      "closest_offset(b0, b1, e0, e1, s0, s1): the ball's offset from the bat's midpoint at "
      "their closest"},
     {"capsule_rows", py_capsule_rows, METH_VARARGS,
-     "capsule_rows(points, ball_radius, bat_radius, dt, out, start, stop): batch rows, GIL "
-     "released"},
+     "capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop): "
+     "batch rows, GIL released"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},

@@ -60,13 +60,16 @@ def _as_column(name: str, value: Union[float, ArrayLike], n: int) -> np.ndarray:
 def time_of_impact_batch(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,
                          knob0: ArrayLike, knob1: ArrayLike, ball_radius: Union[float, ArrayLike],
                          bat_radius: Union[float, ArrayLike],
-                         dt: Union[float, ArrayLike] = 1.0) -> np.ndarray:
+                         dt: Union[float, ArrayLike] = 1.0, *,
+                         threads: Optional[int] = None) -> np.ndarray:
     """
     ``time_of_impact`` for N intervals at once, on every core.
 
     :param ball0, ball1, tip0, tip1, knob0, knob1: arrays of shape (N, 3) (metres).
     :param ball_radius, bat_radius: scalars or (N,) (metres, >= 0).
     :param dt: scalar or (N,) (seconds, > 0).
+    :param threads: threads to spread the rows over (None: one per core); a chunk of fewer
+        than ``CHUNK_ROWS`` rows is not worth a thread.
 
     :returns: (N,) float64 seconds from each interval's start to first contact (the scalar
         path's ``time``, to the bit); NaN where there is no contact, and NaN for rows with
@@ -81,19 +84,19 @@ def time_of_impact_batch(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, ti
     for name, array in zip(('ball1', 'tip0', 'tip1', 'knob0', 'knob1'), points[1:]):
         if array.shape[0] != n:
             raise CoreError(f'{name} has {array.shape[0]} rows but ball0 has {n}')
-    rows = np.ascontiguousarray(np.concatenate(points, axis=1))
+    points = [np.ascontiguousarray(p) for p in points]
     columns = [_as_column(name, value, n) for name, value in (
         ('ball_radius', ball_radius), ('bat_radius', bat_radius), ('dt', dt))]
     result = np.empty(n)
-    chunks = min(cores(), n // CHUNK_ROWS)
+    chunks = min(cores() if threads is None else threads, n // CHUNK_ROWS)
     if chunks <= 1:
-        _kernel.capsule_rows(rows, *columns, result, 0, n)
+        _kernel.capsule_rows(*points, *columns, result, 0, n)
         return result
     bounds = [n * k // chunks for k in range(chunks + 1)]
     pool = _threads()
-    tasks = [pool.submit(_kernel.capsule_rows, rows, *columns, result, lo, hi)
+    tasks = [pool.submit(_kernel.capsule_rows, *points, *columns, result, lo, hi)
              for lo, hi in zip(bounds[1:-1], bounds[2:])]
-    _kernel.capsule_rows(rows, *columns, result, bounds[0], bounds[1])
+    _kernel.capsule_rows(*points, *columns, result, bounds[0], bounds[1])
     for task in tasks:
         task.result()
     return result

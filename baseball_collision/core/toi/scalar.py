@@ -24,7 +24,9 @@ from ..bat import BatProfile
 from ..geometry import finite_vector, Vector
 from ...errors import CoreError
 
-_kernel.bind(ImpactResult, (Feature.SIDE, Feature.KNOB_END, Feature.TIP_END))
+# the kernel makes ImpactResults itself: these are its fields, as the kernel orders its values
+_kernel.bind(ImpactResult, ('time', 'point', 'normal', 'bat_fraction', 'initially_overlapping',
+                            'gap', 'feature'), (Feature.SIDE, Feature.KNOB_END, Feature.TIP_END))
 
 # ----------------------------------------------------------------------------------------------
 # Input checking (the kernel's refusals, explained)
