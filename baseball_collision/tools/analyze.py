@@ -16,6 +16,7 @@ result is compared with the truth file beside the bag when there is one.
 from collections import Counter
 from dataclasses import dataclass, field
 import itertools
+import multiprocessing
 import os
 from pathlib import Path
 import sys
@@ -26,10 +27,12 @@ from typing import (
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
-    compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path, TruthComparison)
+    BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
+    TruthComparison)
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
+from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 
 PROGRESS_MIN_MESSAGES = 100_000
@@ -433,3 +436,96 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
         except ToolError as error:
             result.notes.append(f'{error}; the truth file was ignored')
     return result
+
+
+# ----------------------------------------------------------------------------------------------
+# Many bags: every core
+
+
+def is_bag(path: Path) -> bool:
+    """Return whether ``path`` is one bag: a ROS 2 bag directory or a bag file."""
+    if path.is_dir():
+        return (path / 'metadata.yaml').is_file()
+    return path.suffix.lower() in BAG_SUFFIXES
+
+
+def bag_paths(paths: Iterable[os.PathLike]) -> List[Path]:
+    """
+    Return the bags named by ``paths``, in order: a directory of bags stands for its bags.
+
+    A ROS 2 bag directory (one with ``metadata.yaml``) is itself one bag; any other directory
+    stands for the bags directly inside it (bag files and bag directories, by name); anything
+    else is kept as given (``analyze_bag`` says what is wrong with it).
+
+    :raises ToolError: a directory that is neither a bag nor holds one.
+    """
+    found: List[Path] = []
+    for path in map(Path, paths):
+        if path.is_dir() and not is_bag(path):
+            inside = sorted(entry for entry in path.iterdir() if is_bag(entry))
+            if not inside:
+                raise ToolError(f'no bags in {path}: neither a ROS 2 bag directory (no '
+                                'metadata.yaml) nor a directory holding .mcap, .db3 or .bag '
+                                'files or bag directories')
+            found.extend(inside)
+        else:
+            found.append(path)
+    return found
+
+
+def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool]) -> BagAnalysis:
+    """Analyse one bag in a pool process (no progress bar: the parent counts bags)."""
+    path, options, use_truth = job
+    return analyze_bag(path, options, progress=False, use_truth=use_truth)
+
+
+def _pool_context() -> Any:
+    """Return fork where there is one (workers start in ms, with the modules loaded)."""
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context('fork' if 'fork' in methods else None)
+
+
+def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
+                 jobs: Optional[int] = None, out_bag: Optional[BagWriter] = None,
+                 progress: bool = True, use_truth: bool = True) -> List[BagAnalysis]:
+    """
+    Run :func:`analyze_bag` over bags, ``jobs`` at a time in a process pool; in input order.
+
+    The bag-level entry point of ``analyze``: ``paths`` go through :func:`bag_paths`; one bag,
+    or one job, runs in this process as :func:`analyze_bag` alone. Otherwise each bag is one
+    task of a pool of ``jobs`` processes; the results come back in the order of the bags, and
+    the first bag (in that order) that fails stops the pool and raises its error, as one bag
+    after another would. A long run shows a bar of bags done on a terminal.
+
+    :param jobs: processes (None: one per core this process may use).
+    :param out_bag: an open writer for the output bag (one bag only).
+    :param progress: show progress bars (per bag in one process; bags done in a pool).
+    :returns: one :class:`BagAnalysis` per bag, in order.
+    :raises ToolError: as :func:`analyze_bag`, for the first failing bag; ``out_bag`` with
+        more than one bag; a directory without bags.
+    """
+    bags = bag_paths(paths)
+    if out_bag is not None and len(bags) > 1:
+        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
+    workers = min(cores() if jobs is None else jobs, len(bags))
+    if workers <= 1:
+        return [analyze_bag(path, options, out_bag=out_bag, progress=progress,
+                            use_truth=use_truth) for path in bags]
+    tasks = [(path, options, use_truth) for path in bags]
+    bar = None
+    if progress and sys.stderr.isatty():
+        from tqdm import tqdm
+        bar = tqdm(total=len(bags), unit='bag', desc=f'{workers} jobs', file=sys.stderr,
+                   leave=False, dynamic_ncols=True)
+    results: List[BagAnalysis] = []
+    try:
+        # leaving the block on an error (or Ctrl-C) terminates the workers at once
+        with _pool_context().Pool(workers) as pool:
+            for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
+                results.append(result)
+                if bar is not None:
+                    bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
+    return results

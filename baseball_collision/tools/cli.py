@@ -3,9 +3,9 @@ The ``baseball-collision`` command line: ``simulate``, ``analyze``, ``replay`` a
 
 * ``simulate OUT``: a bag of simulated pitches and swings with its truth file
   (:mod:`baseball_collision.tools.recording`).
-* ``analyze BAG [BAG ...]``: the detector over recorded bags, with a table, JSON, CSV, plots and
-  an output bag (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy
-  needed).
+* ``analyze BAG [BAG ...]``: the detector over recorded bags (``--jobs`` at a time, one process
+  each), with one table, JSON, CSV, plots and an output bag
+  (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy needed).
 * ``replay BAG``: publish a bag over ROS 2 with ``/clock`` (:mod:`baseball_collision.ros.replay`).
 * ``demo``: a live ``impact_node`` fed by a bundled bag (:mod:`baseball_collision.tools.demo`).
 
@@ -18,6 +18,7 @@ import argparse
 import math
 import shlex
 import sys
+import time
 from typing import Any, Callable, List, NoReturn, Optional
 
 from .outputs import Outputs
@@ -119,28 +120,25 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _analyze(args: argparse.Namespace) -> int:
-    from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
+    from .analyze import AnalysisOptions, analyze_bags, BagAnalysis
     from .plots import write_plots
     from .report import csv_text, format_report, json_text, total_line
-
-    if len(args.bags) > 1 and args.out_bag is not None:
-        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
         prediction_horizon=args.predict, node_name=args.node_name)
-    analyses: List[BagAnalysis] = []
+    start = time.perf_counter()
     with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
-        for path in args.bags:
-            analyses.append(analyze_bag(path, options, out_bag=writer,
-                                        progress=not args.no_progress,
-                                        use_truth=not args.no_truth))
-            silenced = analyses[-1].silenced_topics()
+        analyses: List[BagAnalysis] = analyze_bags(
+            args.bags, options, jobs=args.jobs, out_bag=writer, progress=not args.no_progress,
+            use_truth=not args.no_truth)
+        for analysis in analyses:
+            silenced = analysis.silenced_topics()
             if silenced:
-                raise ToolError(f"{path}: {'; '.join(silenced)}")
+                raise ToolError(f"{analysis.path}: {'; '.join(silenced)}")
         if args.json:
             outputs.stage_text('json', json_text(analyses))
         if args.csv:
@@ -151,7 +149,7 @@ def _analyze(args: argparse.Namespace) -> int:
     if not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
-            print('\n' + total_line(analyses))
+            print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
     return 0
 
 
@@ -236,7 +234,11 @@ def _add_analyze(commands: Any) -> None:
         'and near miss, a summary, and the comparison with the truth file beside the bag if '
         'there is one. Model: --model, else the parameter file, else spline.')
     analyze.add_argument('bags', metavar='BAG', nargs='+',
-                         help='bag directory, .mcap, .db3 or ROS 1 .bag file')
+                         help='bag directory, .mcap, .db3 or ROS 1 .bag file, or a directory '
+                         'of bags (each bag in it, by name)')
+    analyze.add_argument('--jobs', type=_count, default=None, metavar='N',
+                         help='bags analysed at once, each in its own process (default: the '
+                         'number of cores)')
     analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
                          '(<node_name>: or /**: ros__parameters:)')
     analyze.add_argument('--node-name', default=NODE_NAME,

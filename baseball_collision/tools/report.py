@@ -14,7 +14,7 @@ import csv
 from dataclasses import asdict
 import io
 import json
-from typing import Any, Dict, IO, List, Mapping, Sequence
+from typing import Any, Dict, IO, List, Mapping, Optional, Sequence
 
 from .analyze import BagAnalysis
 from .truth import LEADS_S, TruthComparison
@@ -173,14 +173,22 @@ def summary_line(analysis: BagAnalysis) -> str:
             f'({analysis.throughput:,.0f} msg/s{share})')
 
 
-def total_line(analyses: Sequence[BagAnalysis]) -> str:
-    """Return the one-line total over several bags: events, messages, throughput."""
+def total_line(analyses: Sequence[BagAnalysis], wall_s: Optional[float] = None) -> str:
+    """
+    Return the one-line total over several bags: events, messages, throughput.
+
+    :param wall_s: the wall time of the whole run (s), when the bags ran at once (``--jobs``):
+        the throughput is then over it; else over the sum of the bags' times.
+    """
     messages = sum(a.messages for a in analyses)
     seconds = sum(a.seconds for a in analyses)
-    rate = messages / seconds if seconds > 0 else 0.0
+    elapsed = seconds if wall_s is None else wall_s
+    rate = messages / elapsed if elapsed > 0 else 0.0
+    timing = f'{seconds:.2f} s' if wall_s is None else (
+        f'{wall_s:.2f} s of wall time ({seconds:.2f} s of bag time)')
     return (f'total: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
             f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
-            f'{seconds:.2f} s ({rate:,.0f} msg/s)')
+            f'{timing} ({rate:,.0f} msg/s)')
 
 
 def truth_line(comparison: TruthComparison) -> str:
