@@ -31,6 +31,7 @@ from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
     TruthComparison)
+from ..atomic import worker_signals
 from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
@@ -470,7 +471,7 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     results: List[BagAnalysis] = []
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once
-        with _pool_context().Pool(workers) as pool:
+        with _pool_context().Pool(workers, initializer=worker_signals) as pool:
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:
