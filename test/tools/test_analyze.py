@@ -151,6 +151,7 @@ def test_predict_scores_predictions_and_exports_them(
                                     '--out-bag', str(out)])
     assert code == 0, stderr
     assert 'predictions:' in stdout and 'error against the truth' in stdout
+    assert "'-': the last frame that far ahead predicted no impact" in stdout
     document = json.loads(json_out.read_text())
     predictions = document['predictions']
     assert predictions and all(p['stamp_ns'] > p['made_at_ns'] for p in predictions)

@@ -235,6 +235,14 @@ def test_help_on_every_subcommand(command: List[str], run_cli: RunCli) -> None:
     assert code == 0 and stdout.startswith('usage: baseball-collision')
 
 
+def test_help_says_what_a_missing_prediction_means(run_cli: RunCli) -> None:
+    """The analyze help explains the '-' of a --predict lead cell."""
+    code, stdout, _ = run_cli(['analyze', '--help'])
+    assert code == 0
+    assert "'-' where the last frame that far ahead predicted no impact" in ' '.join(
+        stdout.split())
+
+
 def test_version(run_cli: RunCli) -> None:
     """--version prints the package's version."""
     code, stdout, _ = run_cli(['--version'])
