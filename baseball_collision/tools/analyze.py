@@ -367,8 +367,7 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                     bag.samples(), detector, sinks, bar, result.drops_by_role)
                 if copy is not None:
                     copy.close()
-                    result.notes += [f'--out-bag: {topic} not copied ({why})'
-                                     for topic, why in sorted(copy.skipped.items())]
+                    result.notes += copy.notes()
             finally:
                 if bar is not None:
                     bar.close()

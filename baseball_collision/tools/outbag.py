@@ -5,7 +5,8 @@
 (:func:`.analyze.run_detector`). It writes, in log-time order:
 
 - every topic of the input bag, as recorded (CDR bytes copied, ROS 1 converted), with the QoS
-  profiles its publishers offered;
+  profiles its publishers offered (a topic the analysis writes too, e.g. ``/diagnostics`` of a
+  live session, under :data:`RECORDED_PREFIX`);
 - what the node would have published, on the node's topics (:func:`.parameters.output_topics`),
   with the node's QoS: ``~/impact``, ``~/impact_velocity``, ``~/near_miss``,
   ``~/predicted_impact``; ``~/impact_report`` (the JSON record of each impact, near miss and
@@ -18,7 +19,7 @@ The bag's log time plays the node's clock: a derived message is logged at the lo
 sample that produced it. Messages are stamped with the sample's header stamp, as the node does.
 """
 
-from typing import Any, Dict, Iterator, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from .parameters import output_topics
 from ..bags import (
@@ -40,6 +41,10 @@ VIEWS_QOS = qos_profile(depth=10)
 
 MAX_STATUSES_PER_GAP = 100
 """Most diagnostics statuses written for one gap between samples (the last ones are kept)."""
+
+RECORDED_PREFIX = '/recorded'
+"""An input topic the analysis writes too (``/diagnostics``, the node's outputs recorded live)
+is copied under this prefix: ``/recorded/diagnostics``."""
 
 SETTINGS = ('marker_rate', 'marker_lifetime', 'publish_markers', 'diagnostics_period',
             'stale_timeout', 'qos')
@@ -79,7 +84,7 @@ class FoxgloveCopy:
         self.detector = detector
         self.config = detector.config
         self.streams = dict(streams)
-        self.node_name = node_name.strip('/')
+        self.node_name = node_name.strip('/').rsplit('/', 1)[-1]  # as the node's get_name()
         self.frame_id = frame_id
         self.settings = {name: parameters.get(name, DEFAULTS[name]) for name in SETTINGS}
         self.settings.update(model=self.config.model, bat_input=self.config.bat_input)
@@ -97,6 +102,8 @@ class FoxgloveCopy:
         self._log_time_ns = 0
         self.skipped: Dict[str, str] = {}
         """Input topics not copied, with why (several types, a type Jazzy does not define)."""
+        self.renamed: Dict[str, str] = {}
+        """Input topics the analysis also writes (a bag of a live node), and their new names."""
 
     # ---- set-up and end ----------------------------------------------------------------------
 
@@ -108,13 +115,18 @@ class FoxgloveCopy:
         """
         self._raw.open()
         self.skipped = dict(self._raw.skipped)
+        written = {topic for name, (topic, _) in self.topics.items()
+                   if name != 'markers' or self.settings['publish_markers']}
         kept = []
         for topic in self._raw.topics.values():
-            if topic.msgtype in self.writer.typestore.types:
-                self.writer.add_topic(topic.name, topic.msgtype, topic.qos_profiles)
-                kept.append(topic.name)
-            else:
+            if topic.msgtype not in self.writer.typestore.types:
                 self.skipped[topic.name] = f'{topic.msgtype} is not a ROS 2 Jazzy type'
+                continue
+            if topic.name in written:  # recorded from a live node: kept beside the analysis
+                self.renamed[topic.name] = RECORDED_PREFIX + topic.name
+            self.writer.add_topic(self.renamed.get(topic.name, topic.name), topic.msgtype,
+                                  topic.qos_profiles)
+            kept.append(topic.name)
         for name, (topic, msgtype) in self.topics.items():
             if name == 'markers' and not self.settings['publish_markers']:
                 continue
@@ -141,6 +153,13 @@ class FoxgloveCopy:
         """Close the input without writing anything more (idempotent)."""
         self._next = None
         self._raw.close()
+
+    def notes(self) -> List[str]:
+        """Return what the reader of the output bag should know (topics skipped or renamed)."""
+        return ([f'--out-bag: {topic} not copied ({why})'
+                 for topic, why in sorted(self.skipped.items())]
+                + [f'--out-bag: the recorded {topic} is copied as {renamed} (the analysis writes '
+                   f'{topic})' for topic, renamed in sorted(self.renamed.items())])
 
     # ---- the sink ------------------------------------------------------------------------------
 
@@ -220,8 +239,8 @@ class FoxgloveCopy:
         message = self._next
         while message is not None and (log_time_ns is None
                                        or message.log_time_ns <= log_time_ns):
-            self.writer.write_serialized(message.topic, message.msgtype, message.log_time_ns,
-                                         message.data)
+            self.writer.write_serialized(self.renamed.get(message.topic, message.topic),
+                                         message.msgtype, message.log_time_ns, message.data)
             message = next(self._pending, None)
         self._next = message
 

@@ -9,6 +9,7 @@ import json
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Tuple
 
+from baseball_collision.bags import BagWriter, RawBag
 from baseball_collision.core.detector import DEFAULTS
 from baseball_collision.tools.parameters import build_config, load_parameters, output_topics
 import pytest
@@ -171,3 +172,30 @@ def test_markers_off_and_unknown_types_noted(tmp_path: Path, run_cli: RunCli) ->
     assert topics['markers'] not in connections
     assert connections[topics['diagnostics']].msgcount > 0
     assert connections[topics['impact']].msgcount > 0
+
+
+def test_a_live_sessions_outputs_are_kept_beside_the_analysis(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """A bag recorded with /diagnostics and the node's topics: copied under /recorded."""
+    source = tmp_path / 'live.mcap'
+    topics = output_topics()
+    with RawBag(bag_path('pitches_360hz.mcap')) as bag, BagWriter(source) as writer:
+        for message in bag.messages():
+            writer.write_serialized(message.topic, message.msgtype, message.log_time_ns,
+                                    message.data)
+        store = writer.typestore
+        first = min(m.log_time_ns for m in bag.messages(['/ball']))
+        writer.write_message('/diagnostics', store.types['std_msgs/msg/String'](data='other'),
+                             first)
+        writer.write_point(topics['impact'], first, 'world', (1.0, 2.0, 3.0), first)
+    out = tmp_path / 'o.mcap'
+    code, stdout, stderr = run_cli(['analyze', str(source), '--out-bag', str(out)])
+    assert code == 0, stderr
+    assert ('note: --out-bag: the recorded /diagnostics is copied as /recorded/diagnostics'
+            in stdout)
+    connections, messages = _read(out)
+    assert connections['/recorded/diagnostics'].msgtype == 'std_msgs/msg/String'
+    assert connections['/diagnostics'].msgtype == 'diagnostic_msgs/msg/DiagnosticArray'
+    recorded = _decode(messages, '/recorded' + topics['impact'], 'geometry_msgs/msg/PointStamped')
+    assert [(p.point.x, p.point.y, p.point.z) for p in recorded] == [(1.0, 2.0, 3.0)]
+    assert connections[topics['impact']].msgcount == 8
