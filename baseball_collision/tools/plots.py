@@ -42,7 +42,7 @@ NORMAL_CM = 10.0
 
 
 @dataclass
-class _Window:
+class PlotWindow:
     """Samples of a bag near one impact (arrays filled after the read)."""
 
     impact: Impact
@@ -54,14 +54,14 @@ class _Window:
     tip: List[Tuple[int, Sequence[float]]] = field(default_factory=list)
 
 
-def _collect_windows(analysis: BagAnalysis) -> List[_Window]:
+def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
     """
     Read the bag again and keep the samples within :data:`PLOT_WINDOW_S` of each impact.
 
     :raises ToolError: the bag cannot be read again.
     """
     half = int(PLOT_WINDOW_S * 1e9)
-    windows = [_Window(impact, impact.stamp_ns - half, impact.stamp_ns + half)
+    windows = [PlotWindow(impact, impact.stamp_ns - half, impact.stamp_ns + half)
                for impact in analysis.impacts]
     if not windows:
         return windows
@@ -81,7 +81,7 @@ def _as_vector(values: Any) -> Vector:
     return tuple(float(v) for v in values)
 
 
-def bat_samples(window: _Window, config: DetectorConfig) -> Tuple[List[int], List[BatSample]]:
+def bat_samples(window: PlotWindow, config: DetectorConfig) -> Tuple[List[int], List[BatSample]]:
     """
     Return a window's bat samples: stamps (ns) and :class:`BatSample` s (knob, tip, pose).
 
@@ -197,7 +197,7 @@ def impact_title(analysis: BagAnalysis, impact: Impact, number: int,
     return f'{line}\n{where}'
 
 
-def impact_figure(window: _Window, analysis: BagAnalysis, number: int,
+def impact_figure(window: PlotWindow, analysis: BagAnalysis, number: int,
                   true_stamp: Optional[int]) -> Any:
     """
     Return one impact's figure (matplotlib ``Figure``): gap panel, top view, side view.
@@ -368,7 +368,7 @@ def write_plots(analyses: Sequence[BagAnalysis], directory: Path) -> List[Path]:
     for analysis in analyses:
         truths = {id(impact): int(truth['stamp_ns'])
                   for truth, impact in (analysis.truth.matched if analysis.truth else [])}
-        for number, window in enumerate(_collect_windows(analysis), 1):
+        for number, window in enumerate(collect_windows(analysis), 1):
             target = directory / next(names)
             _save(impact_figure(window, analysis, number, truths.get(id(window.impact))),
                   target)

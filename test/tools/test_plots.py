@@ -9,7 +9,7 @@ from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.plots import (
-    _collect_windows, bat_samples, impact_figure, ModelGap, plot_names)
+    bat_samples, collect_windows, impact_figure, ModelGap, plot_names)
 from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
@@ -51,7 +51,7 @@ def rigid_90hz() -> Dict[str, Any]:
     analysis = analyze_bag(bag_path('pitches_90hz.mcap'),
                            AnalysisOptions(parameters=load_parameters(PARAMS)), progress=False)
     assert analysis.config.model == 'rigid'
-    return {'analysis': analysis, 'windows': _collect_windows(analysis)}
+    return {'analysis': analysis, 'windows': collect_windows(analysis)}
 
 
 def _streams(window: Any, config: DetectorConfig) -> Any:
@@ -63,7 +63,7 @@ def test_model_gap_touches_zero_at_each_impact_of_its_model(model: str) -> None:
     """The gap curve of the model that found an impact is 0 (within 0.3 mm) at its instant."""
     analysis = analyze_bag(bag_path('pitches_360hz.mcap'), AnalysisOptions(model=model),
                            progress=False, use_truth=False)
-    for window in _collect_windows(analysis):
+    for window in collect_windows(analysis):
         ball, bat = _streams(window, analysis.config)
         gap = ModelGap(analysis.config, model, window.impact.stamp_ns, ball, bat)
         assert abs(gap.at(0.0)) < 3e-4
