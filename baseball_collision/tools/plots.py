@@ -31,7 +31,7 @@ from ..errors import BagError, ToolError
 PLOT_WINDOW_S = 0.04
 """Half-width (s) of the time window each plot shows around an impact."""
 
-CURVE_POINTS = 600
+CURVE_POINTS = 300
 """Instants the gap curves are drawn at."""
 
 ZOOM_MS = 1.0
@@ -210,9 +210,10 @@ def impact_figure(window: PlotWindow, analysis: BagAnalysis, number: int,
     from matplotlib.figure import Figure
 
     config, impact = analysis.config, window.impact
-    figure = Figure(figsize=(17, 6), dpi=100, layout='constrained')
+    figure = Figure(figsize=(17, 6), dpi=100)  # fixed margins: a layout engine costs seconds
     gap_axes, top_axes, side_axes = figure.subplots(
-        1, 3, gridspec_kw={'width_ratios': (1.4, 1.0, 1.0)})
+        1, 3, gridspec_kw={'width_ratios': (1.4, 1.0, 1.0), 'left': 0.045, 'right': 0.99,
+                           'bottom': 0.09, 'top': 0.84, 'wspace': 0.2})
     figure.suptitle(impact_title(analysis, impact, number, true_stamp), fontsize=14)
     bat = bat_samples(window, config)
     ball = ([s for s, _ in window.ball], [v for _, v in window.ball])
@@ -273,7 +274,7 @@ def _zoom(axes: Any, gap: ModelGap, config: DetectorConfig, origin: int,
     """Draw an inset: the gap within :data:`ZOOM_MS` of the impact, where it crosses 0."""
     inset = axes.inset_axes((0.06, 0.45, 0.3, 0.38))
     start, end = gap.span
-    times = np.linspace(max(start, -ZOOM_MS * 1e-3), min(end, ZOOM_MS * 1e-3), 200)
+    times = np.linspace(max(start, -ZOOM_MS * 1e-3), min(end, ZOOM_MS * 1e-3), 100)
     inset.plot(times * 1e3, gap.curve(times) * 100.0, color='tab:blue', lw=2.2)
     if config.model != 'linear':
         inset.plot(times * 1e3, ModelGap(config, 'linear', origin, ball, bat).curve(times)

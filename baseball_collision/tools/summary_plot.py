@@ -112,7 +112,7 @@ def _bat_panel(axes: Any, analysis: BagAnalysis, records: Sequence[Dict[str, Any
     axes.set_yticks([])
     axes.set_title(f'Where the ball met the bat ({len(records)} impacts, numbered in order)',
                    fontsize=12)
-    axes.legend(loc='upper left', fontsize='small', ncol=3, framealpha=0.9)
+    axes.legend(loc='upper center', fontsize='small', ncol=3, framealpha=0.9)
 
 
 def _speed_panel(axes: Any, records: Sequence[Dict[str, Any]]) -> None:
@@ -161,8 +161,9 @@ def summary_figure(analysis: BagAnalysis) -> Any:
 
     records = [event_record(impact, analysis.frame_id, analysis.config)
                for impact in analysis.impacts]
-    figure = Figure(figsize=(15, 9), dpi=100, layout='constrained')
-    grid = figure.add_gridspec(2, 2, height_ratios=(1.0, 1.1))
+    figure = Figure(figsize=(15, 9), dpi=100)  # fixed margins: a layout engine costs seconds
+    grid = figure.add_gridspec(2, 2, height_ratios=(1.0, 1.1), left=0.06, right=0.985,
+                               bottom=0.07, top=0.9, hspace=0.3, wspace=0.18)
     _bat_panel(figure.add_subplot(grid[0, :]), analysis, records)
     _speed_panel(figure.add_subplot(grid[1, 0]), records)
     _miss_panel(figure.add_subplot(grid[1, 1]), analysis)
