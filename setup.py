@@ -22,7 +22,9 @@ setup(
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
-        ('share/' + package_name + '/config', glob('config/*.yaml')),
+        # the node's parameters, and views of its topics: RViz config, Foxglove layout
+        ('share/' + package_name + '/config',
+         glob('config/*.yaml') + glob('config/*.rviz') + glob('config/*.json')),
         ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
         ('share/' + package_name + '/schema', glob('schema/*.json')),
         ('share/' + package_name + '/bags', glob('bags/*.*')),
@@ -43,6 +45,8 @@ setup(
         'console_scripts': [
             'impact_node = baseball_collision.ros.node:main',
             'baseball-collision = baseball_collision.tools.cli:main',
+            # the same CLI under a name ros2 run completes like the node's
+            'baseball_collision = baseball_collision.tools.cli:main',
         ],
     },
 )

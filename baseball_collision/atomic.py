@@ -85,6 +85,18 @@ def cleanup_on_signals(signals: Sequence[int] = CLEANUP_SIGNALS) -> Iterator[Non
             signal.signal(signum, handler)
 
 
+def worker_signals() -> None:
+    """
+    Set a worker process's signals: SIGTERM and SIGHUP end it at once, SIGINT is ignored.
+
+    The initializer of a process pool forked inside :func:`cleanup_on_signals`: a worker owns
+    no staged output, its parent stops it (``Pool.terminate`` sends SIGTERM) and handles Ctrl-C.
+    """
+    for signum in CLEANUP_SIGNALS:
+        signal.signal(signum, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def check_target(target: Union[str, os.PathLike]) -> Path:
     """
     Return ``target`` as a path after checking that an output can be created there.

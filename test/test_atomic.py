@@ -3,6 +3,8 @@
 import os
 from pathlib import Path
 import signal
+import subprocess
+import sys
 
 from baseball_collision.atomic import (
     abort_all, check_target, cleanup_on_signals, PARTIAL_SUFFIX, StagedOutput, Terminated)
@@ -87,3 +89,23 @@ def test_a_termination_signal_deletes_every_staged_output(tmp_path: Path) -> Non
     assert _partials(tmp_path) == [] and first.directory is None and second.directory is None
     assert signal.getsignal(signal.SIGTERM) is previous
     assert abort_all() == 0
+
+
+WORKER_SCRIPT = """
+import multiprocessing, signal
+from baseball_collision.atomic import cleanup_on_signals, worker_signals
+with cleanup_on_signals():
+    for _ in range(3):
+        with multiprocessing.get_context('fork').Pool(2, initializer=worker_signals) as pool:
+            assert pool.map(abs, [1, -2]) == [1, 2]
+            handlers = pool.apply(signal.getsignal, (signal.SIGTERM,)), pool.apply(
+                signal.getsignal, (signal.SIGINT,))
+            assert handlers == (signal.SIG_DFL, signal.SIG_IGN), handlers
+"""
+
+
+def test_pool_workers_end_quietly_on_terminate() -> None:
+    """Pool workers forked inside cleanup_on_signals end on SIGTERM without a traceback."""
+    done = subprocess.run([sys.executable, '-c', WORKER_SCRIPT], capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0 and done.stderr == '', done.stderr

@@ -11,12 +11,14 @@ differ). Nothing is deserialised for a ROS 2 bag.
 import contextlib
 import io
 import os
-from typing import Any, Callable, Dict, Iterable, Iterator, List, NamedTuple, Optional, Union
+from typing import (
+    Any, Callable, Dict, Iterable, Iterator, List, NamedTuple, Optional, Tuple, Union)
 
 from rosbags.convert.converter import generate_message_converter
 from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, jazzy_typestore
+from .messages import qos_profile
 from ..errors import BagError
 
 
@@ -31,6 +33,8 @@ class RawTopic(NamedTuple):
         publishers (ROS 2 bags), '' when not recorded or not the same for all.
     :ivar durability: ``'transient_local'`` (ROS 2, or a latched ROS 1 topic) or
         ``'volatile'``, '' when not recorded or not the same for all.
+    :ivar qos_profiles: the QoS profiles offered by the recording publishers (rosbags
+        ``Qos``, as a ROS 2 bag records them; a ROS 1 bag: one profile with its latching).
     """
 
     name: str
@@ -38,6 +42,7 @@ class RawTopic(NamedTuple):
     message_count: int
     reliability: str
     durability: str
+    qos_profiles: Tuple[Any, ...] = ()
 
 
 class RawMessage(NamedTuple):
@@ -54,6 +59,18 @@ class RawMessage(NamedTuple):
     msgtype: str
     log_time_ns: int
     data: bytes
+
+
+def _profiles(connections: List[Any]) -> Tuple[Any, ...]:
+    """Return the QoS profiles a topic's connections offered (ROS 1: from the latching)."""
+    profiles: List[Any] = []
+    for connection in connections:
+        if hasattr(connection.ext, 'callerid'):  # ROS 1: latched or not, nothing more
+            latched = bool(getattr(connection.ext, 'latching', None))
+            profiles.append(qos_profile(depth=1 if latched else 10, transient_local=latched))
+        else:
+            profiles += getattr(connection.ext, 'offered_qos_profiles', None) or ()
+    return tuple(dict.fromkeys(profiles))
 
 
 def _qos(connections: List[Any]) -> Dict[str, str]:
@@ -139,7 +156,7 @@ class RawBag(BagFile):
                 continue
             self._topics[topic] = RawTopic(topic, msgtypes[0],
                                            sum(max(int(c.msgcount), 0) for c in group),
-                                           **_qos(group))
+                                           **_qos(group), qos_profiles=_profiles(group))
         self._order = [c for c in connections if c.topic in self._topics]
 
     @property

@@ -239,12 +239,15 @@ class BagWriter:
         else:
             self.abort()
 
-    def add_topic(self, name: str, msgtype: str) -> None:
+    def add_topic(self, name: str, msgtype: str, qos_profiles: Sequence[Any] = ()) -> None:
         """
         Declare a topic (writing to an undeclared topic declares it with the written type).
 
         :param name: topic name, e.g. ``'/ball'``.
         :param msgtype: message type, e.g. ``'geometry_msgs/msg/PointStamped'``.
+        :param qos_profiles: the QoS offered by its publishers (rosbags ``Qos``, e.g. from
+            :func:`.messages.qos_profile` or a read bag), recorded in a ROS 2 bag; a ROS 1 bag
+            records none.
         :raises BagError: the writer is not open, the type is unknown, or the topic was declared
             with another type.
         """
@@ -258,15 +261,19 @@ class BagWriter:
         if msgtype not in self.typestore.types:
             raise BagError(f"unknown message type '{msgtype}' for topic '{name}'")
         try:
-            connection = self._writer.add_connection(name, msgtype, typestore=self.typestore)
+            extra = {} if self._ros1 else {'offered_qos_profiles': tuple(qos_profiles)}
+            connection = self._writer.add_connection(name, msgtype, typestore=self.typestore,
+                                                     **extra)
         except Exception as error:
             raise BagError(f"cannot add topic '{name}': {first_line(error)}") from error
         self._connections[name] = connection
         self._types[name] = msgtype
 
-    def _write_raw(self, topic: str, msgtype: str, log_time_ns: int, data: bytes) -> None:
+    def write_serialized(self, topic: str, msgtype: str, log_time_ns: int, data: bytes) -> None:
         """
-        Write serialised data to a topic, declaring it first if needed.
+        Write a message serialised as this bag stores it (ROS 2: CDR; ROS 1: ROS 1 bytes).
+
+        Declares the topic first if needed (without QoS: :meth:`add_topic` records it).
 
         :raises BagError: not open, a clashing type, a bad log time, or a writer failure.
         """
@@ -308,7 +315,8 @@ class BagWriter:
             raise BagError(
                 f"cannot write {msgtype} to '{topic}': expected {_FLOAT_COUNTS[msgtype]} "
                 f'numbers, got {floats!r}') from error
-        self._write_raw(topic, msgtype, stamp_ns if log_time_ns is None else log_time_ns, data)
+        log_time_ns = stamp_ns if log_time_ns is None else log_time_ns
+        self.write_serialized(topic, msgtype, log_time_ns, data)
 
     def write_point(self, topic: str, stamp_ns: int, frame_id: str, xyz: Sequence[float],
                     log_time_ns: Optional[int] = None) -> None:
@@ -375,4 +383,4 @@ class BagWriter:
         except Exception as error:
             raise BagError(
                 f"cannot serialise {msgtype} for '{topic}': {first_line(error)}") from error
-        self._write_raw(topic, msgtype, log_time_ns, bytes(data))
+        self.write_serialized(topic, msgtype, log_time_ns, bytes(data))

@@ -9,7 +9,8 @@ sample to :meth:`Detector.add <baseball_collision.core.detector.Detector.add>` i
 order, then :meth:`~baseball_collision.core.detector.Detector.finish`, in ONE loop
 (:func:`run_detector`) that hands samples and events to sinks: the :class:`BagAnalysis` files
 the events; with ``--predict`` the frame stamps are kept to score the predictions; with
-``--out-bag`` the input samples and the node's event messages are copied into an MCAP. The
+``--out-bag`` every input topic and what the node would publish are written into an MCAP
+(:mod:`.outbag`). The
 result is compared with the truth file beside the bag when there is one.
 """
 
@@ -25,11 +26,13 @@ from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
 
 from .events import event_kind
-from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, TOPIC_PARAMETERS
+from .outbag import FoxgloveCopy
+from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
     TruthComparison)
-from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
+from ..atomic import worker_signals
+from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
 from ..core.toi.batch import cores
@@ -229,67 +232,6 @@ class FrameStamps:
         self.stamps.append(stamp_ns)
 
 
-class BagCopy:
-    """
-    A sample and event sink writing an output bag: the input samples and the node's messages.
-
-    Input samples keep their topics (a ball pose keeps its position, with an identity
-    orientation); events go to the node's output topics (:func:`.parameters.output_topics`)
-    as the node publishes them, in log-time order, in the configured ``frame_id`` (else the
-    sample's frame).
-    """
-
-    def __init__(self, writer: BagWriter, selection: TopicSelection, node_name: str,
-                 frame_id: str = '') -> None:
-        self.writer = writer
-        self.topics = selection.topics
-        self.ball_pose = selection.ball_type == POSE_STAMPED
-        self.outputs = output_topics(node_name)
-        self.frame_id = frame_id
-        self.frame = ''
-        self._write: Dict[str, Callable[[Any, str, int], None]] = {
-            'impact': self._impact, 'near_miss': self._near_miss,
-            'prediction': self._prediction}
-
-    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
-                  log_time_ns: int) -> None:
-        """Copy one input sample."""
-        topic = self.topics[role]
-        if not self.frame:
-            self.frame = frame_id
-        if role == 'bat_pose':
-            self.writer.write_pose(topic, stamp_ns, frame_id, values[:3], values[3:],
-                                   log_time_ns)
-        elif role == 'ball' and self.ball_pose:
-            self.writer.write_pose(topic, stamp_ns, frame_id, values, (0.0, 0.0, 0.0, 1.0),
-                                   log_time_ns)
-        else:
-            self.writer.write_point(topic, stamp_ns, frame_id, values, log_time_ns)
-
-    def on_events(self, events: Sequence[Any], log_time_ns: int, frame_id: str) -> None:
-        """Write impacts, near misses and predictions as the node publishes them."""
-        frame = self.frame_id or frame_id or self.frame
-        for event in events:
-            kind = event_kind(event)
-            write = self._write.get(kind.name) if kind is not None else None
-            if write is not None:
-                write(event, frame, log_time_ns)
-
-    def _impact(self, impact: Impact, frame: str, log_time_ns: int) -> None:
-        self.writer.write_point(self.outputs['impact'], impact.stamp_ns, frame, impact.point,
-                                log_time_ns)
-        self.writer.write_twist(self.outputs['impact_velocity'], impact.stamp_ns, frame,
-                                impact.bat_velocity, impact.bat_angular_velocity, log_time_ns)
-
-    def _near_miss(self, miss: NearMiss, frame: str, log_time_ns: int) -> None:
-        self.writer.write_vector3(self.outputs['near_miss'], miss.stamp_ns, frame,
-                                  miss.gap_vector, log_time_ns)
-
-    def _prediction(self, prediction: Prediction, frame: str, log_time_ns: int) -> None:
-        self.writer.write_point(self.outputs['predicted_impact'], prediction.stamp_ns, frame,
-                                prediction.point, log_time_ns)
-
-
 # ----------------------------------------------------------------------------------------------
 # The loop
 
@@ -412,17 +354,25 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
             sinks: List[Any] = [result]
             if config.prediction_horizon > 0.0:
                 sinks.append(FrameStamps(result.frames_ns))
-            if out_bag is not None:
-                sinks.append(BagCopy(out_bag, bag.selection, options.node_name,
-                                     config.frame_id))
             detector = Detector(config)
+            copy = None if out_bag is None else FoxgloveCopy(
+                out_bag, path, detector, bag.selection.topics, options.parameters,
+                options.node_name, config.frame_id)
+            if copy is not None:
+                copy.open()
+                sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
                 result.messages, result.first_stamp_ns = run_detector(
                     bag.samples(), detector, sinks, bar, result.drops_by_role)
+                if copy is not None:
+                    copy.close()
+                    result.notes += copy.notes()
             finally:
                 if bar is not None:
                     bar.close()
+                if copy is not None:
+                    copy.release()
     except BagError as error:
         raise ToolError(str(error) + _file_topics_hint(str(error), options)) from error
     result.seconds = time.perf_counter() - start
@@ -520,7 +470,7 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     results: List[BagAnalysis] = []
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once
-        with _pool_context().Pool(workers) as pool:
+        with _pool_context().Pool(workers, initializer=worker_signals) as pool:
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:

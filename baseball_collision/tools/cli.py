@@ -66,6 +66,21 @@ def _number(minimum: float, inclusive: bool, what: str,
     return convert
 
 
+MAX_DOMAIN_ID = 232
+"""The largest ROS_DOMAIN_ID DDS allows (0-101 is the range safe from ephemeral ports)."""
+
+
+def _domain(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 0 <= value <= MAX_DOMAIN_ID:
+        raise argparse.ArgumentTypeError(f"'{text}' must be a ROS_DOMAIN_ID from 0 to "
+                                         f'{MAX_DOMAIN_ID} (0-101 is safe)')
+    return value
+
+
 def _seed(text: str) -> int:
     try:
         value = int(text)
@@ -166,7 +181,8 @@ def _replay(args: argparse.Namespace) -> int:
 
 def _demo(args: argparse.Namespace) -> int:
     from .demo import run_demo
-    return run_demo(args.bag, args.params, rate=args.rate, timeout_s=args.timeout)
+    return run_demo(args.bag, args.params, rate=args.rate, timeout_s=args.timeout,
+                    domain=args.domain)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -255,7 +271,9 @@ def _add_analyze(commands: Any) -> None:
                          default=None, metavar='SECONDS',
                          help='also predict each coming impact this far ahead (default 0.3 s, '
                          'as the node does with prediction_horizon) and score the predictions '
-                         'at 200, 100, 50 and 20 ms before each impact')
+                         'at 200, 100, 50 and 20 ms before each impact (time error ms / point '
+                         "error cm; '-' where the last frame that far ahead predicted no impact: "
+                         'the ball or bat not yet tracked, or the contact beyond the horizon)')
     analyze.add_argument('--json', metavar='FILE', help='write events and counts as JSON')
     analyze.add_argument('--csv', metavar='FILE', help='write one row per event as CSV')
     analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '
@@ -303,6 +321,9 @@ def _add_demo(commands: Any) -> None:
                       help='replay speed factor (default 4)')
     demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
                       help='longest wait in s for the node to come up (default 30)')
+    demo.add_argument('--domain', type=_domain, default=None, metavar='ID',
+                      help='ROS_DOMAIN_ID to run on, so that RViz or Foxglove on this host can '
+                      'watch (default: a random one from 1 to 101)')
     demo.set_defaults(run=_demo)
 
 

@@ -214,7 +214,13 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
 
 
 def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
-    """Return the node's event topics: ``{'impact': '/<node>/impact', ...}``."""
+    """
+    Return the node's output topics: ``{'impact': '/<node>/impact', ...}``.
+
+    ``impact``, ``impact_velocity``, ``near_miss``, ``predicted_impact``, ``impact_report``,
+    ``markers`` (``~/`` topics of the node) and ``diagnostics`` (``/diagnostics``).
+    """
     base = '/' + node_name.strip('/')
-    return {'impact': f'{base}/impact', 'impact_velocity': f'{base}/impact_velocity',
-            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact'}
+    names = ('impact', 'impact_velocity', 'near_miss', 'predicted_impact', 'impact_report',
+             'markers')
+    return {**{name: f'{base}/{name}' for name in names}, 'diagnostics': '/diagnostics'}

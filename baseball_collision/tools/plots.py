@@ -1,30 +1,48 @@
 """
-``analyze --plot``: one PNG per impact, drawn from the bag's samples around it.
+``analyze --plot``: one PNG per impact and a session summary per bag.
 
 matplotlib is imported only when a figure is drawn (``analyze`` without ``--plot`` never loads
-it), with the non-interactive Agg backend. Each figure: the gap versus time around the impact,
-and a top and a side view of the bat and ball samples with the contact point.
+it), with the non-interactive Agg backend. An impact's figure (:func:`impact_figure`): the gap
+between ball and bat against the time from the impact (ms), as the motion model that decided
+the impact moves them between samples (:class:`ModelGap`; the straight-line gap beside it for
+comparison when the model is not ``linear``), and a top and a side view around the contact
+point (cm). The summary (:mod:`.summary_plot`): contact spots on a drawn bat, sweet-spot speed
+per pitch and the near-miss gaps.
 """
 
+import bisect
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .analyze import BagAnalysis
+from .summary_plot import summary_figure, ZONE_NAMES
 from .truth import truth_path
 from ..bags import BagReader
 from ..core.detector import DetectorConfig, Impact, MPS_TO_MPH
+from ..core.geometry import Vector
+from ..core.motion import BatPath, BatSample, PointPath
+from ..core.records import event_record
 from ..core.toi import profile_gap
 from ..errors import BagError, ToolError
 
 PLOT_WINDOW_S = 0.04
 """Half-width (s) of the time window each plot shows around an impact."""
 
+CURVE_POINTS = 300
+"""Instants the gap curves are drawn at."""
+
+ZOOM_MS = 1.0
+"""Half-width (ms) of the gap panel's zoom on the impact."""
+
+NORMAL_CM = 10.0
+"""Length of the drawn contact normal (cm)."""
+
 
 @dataclass
-class _Window:
+class PlotWindow:
     """Samples of a bag near one impact (arrays filled after the read)."""
 
     impact: Impact
@@ -36,14 +54,14 @@ class _Window:
     tip: List[Tuple[int, Sequence[float]]] = field(default_factory=list)
 
 
-def _collect_windows(analysis: BagAnalysis) -> List[_Window]:
+def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
     """
     Read the bag again and keep the samples within :data:`PLOT_WINDOW_S` of each impact.
 
     :raises ToolError: the bag cannot be read again.
     """
     half = int(PLOT_WINDOW_S * 1e9)
-    windows = [_Window(impact, impact.stamp_ns - half, impact.stamp_ns + half)
+    windows = [PlotWindow(impact, impact.stamp_ns - half, impact.stamp_ns + half)
                for impact in analysis.impacts]
     if not windows:
         return windows
@@ -59,130 +77,289 @@ def _collect_windows(analysis: BagAnalysis) -> List[_Window]:
     return windows
 
 
-def _bat_ends(window: _Window,
-              config: DetectorConfig) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return bat stamps (ns), knobs and tips (metres) of a window."""
+def _as_vector(values: Any) -> Vector:
+    return tuple(float(v) for v in values)
+
+
+def bat_samples(window: PlotWindow, config: DetectorConfig) -> Tuple[List[int], List[BatSample]]:
+    """
+    Return a window's bat samples: stamps (ns) and :class:`BatSample` s (knob, tip, pose).
+
+    Poses go through the configured bat geometry; knob and tip points are paired at the knob
+    stamps (the tip interpolated linearly between its own samples).
+    """
     if window.bat:
-        stamps = np.array([s for s, _ in window.bat], dtype=np.int64)
-        ends = [config.geometry.knob_and_tip(v[:3], v[3:]) for _, v in window.bat]
-        return stamps, np.array([k for k, _ in ends]), np.array([t for _, t in ends])
-    knob_stamps = np.array([s for s, _ in window.knob], dtype=np.int64)
-    knobs = np.array([v for _, v in window.knob], dtype=float).reshape(-1, 3)
-    tip_stamps = np.array([s for s, _ in window.tip], dtype=np.int64)
+        samples = []
+        for _, values in window.bat:
+            knob, tip = config.geometry.knob_and_tip(values[:3], values[3:])
+            samples.append(BatSample(_as_vector(knob), _as_vector(tip), _as_vector(values[:3]),
+                                     _as_vector(values[3:])))
+        return [stamp for stamp, _ in window.bat], samples
+    if not window.knob or not window.tip:
+        return [], []
+    tip_stamps = np.array([s for s, _ in window.tip], dtype=float)
     tips = np.array([v for _, v in window.tip], dtype=float).reshape(-1, 3)
-    if len(tip_stamps) == 0 or len(knob_stamps) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros((0, 3)), np.zeros((0, 3))
-    return knob_stamps, knobs, _interp(knob_stamps, tip_stamps, tips)
+    samples = []
+    for stamp, knob in window.knob:
+        tip = [float(np.interp(stamp, tip_stamps, tips[:, i])) for i in range(3)]
+        samples.append(BatSample(_as_vector(knob), tuple(tip)))
+    return [stamp for stamp, _ in window.knob], samples
 
 
-def _interp(at: np.ndarray, stamps: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """Interpolate (N, 3) values linearly in time at the stamps ``at`` (ns)."""
-    x = (at - stamps[0]).astype(float)
-    xp = (stamps - stamps[0]).astype(float)
-    return np.stack([np.interp(x, xp, values[:, i]) for i in range(3)], axis=1)
+class ModelGap:
+    """
+    The gap (m) between ball and bat surface as a motion model moves both between samples.
+
+    The detector's own paths (``core.motion``: ``PointPath`` for the ball, ``BatPath`` for the
+    bat, neighbours within ``max_gap`` for the spline tangents), so the curve of the model
+    that decided an impact touches 0 at it. Times are seconds from an origin stamp.
+
+    :param config: the detector configuration (radius, profile, offsets, ``max_gap``).
+    :param model: ``linear``, ``rigid`` or ``spline``.
+    :param origin_ns: the stamp of time 0.
+    :param ball: ball stamps (ns) and centres (m), in time order.
+    :param bat: bat stamps (ns) and samples, in time order.
+    """
+
+    def __init__(self, config: DetectorConfig, model: str, origin_ns: int,
+                 ball: Tuple[Sequence[int], Sequence[Vector]],
+                 bat: Tuple[Sequence[int], Sequence[BatSample]]) -> None:
+        self.config, self.model = config, model
+        self.ball_t = [(s - origin_ns) * 1e-9 for s in ball[0]]
+        self.balls = [_as_vector(b) for b in ball[1]]
+        self.bat_t = [(s - origin_ns) * 1e-9 for s in bat[0]]
+        self.bats = list(bat[1])
+        geometry = config.geometry
+        self.offsets = (_as_vector(geometry.knob_offset), _as_vector(geometry.tip_offset))
+        self._paths: Dict[Tuple[str, int], Any] = {}
+
+    @property
+    def span(self) -> Tuple[float, float]:
+        """Return the times (s) both streams cover (empty when start >= end)."""
+        if len(self.ball_t) < 2 or len(self.bat_t) < 2:
+            return 0.0, 0.0
+        return max(self.ball_t[0], self.bat_t[0]), min(self.ball_t[-1], self.bat_t[-1])
+
+    def _neighbours(self, times: List[float], values: List[Any], k: int) -> Tuple[Any, Any]:
+        limit = self.config.max_gap
+        before = (times[k - 1], values[k - 1]) \
+            if k > 0 and times[k] - times[k - 1] <= limit else None
+        after = (times[k + 2], values[k + 2]) \
+            if k + 2 < len(times) and times[k + 2] - times[k + 1] <= limit else None
+        return before, after
+
+    def _path(self, stream: str, t: float) -> Any:
+        if stream == 'ball':
+            times, values = self.ball_t, self.balls
+        else:
+            times, values = self.bat_t, self.bats
+        k = min(max(bisect.bisect_right(times, t) - 1, 0), len(times) - 2)
+        if times[k + 1] - times[k] > self.config.max_gap:
+            return None
+        key = (stream, k)
+        if key not in self._paths:
+            before, after = self._neighbours(times, values, k)
+            if stream == 'ball':
+                self._paths[key] = PointPath.build(self.model, times[k], times[k + 1],
+                                                   values[k], values[k + 1], before, after)
+            else:
+                self._paths[key] = BatPath.build(self.model, times[k], times[k + 1],
+                                                 values[k], values[k + 1], before, after,
+                                                 self.offsets)
+        return self._paths[key]
+
+    def at(self, t: float) -> float:
+        """Return the gap (m) at ``t`` (s from the origin); NaN outside a sampled interval."""
+        start, end = self.span
+        ball_path, bat_path = self._path('ball', t), self._path('bat', t)
+        if not start <= t <= end or ball_path is None or bat_path is None:
+            return float('nan')
+        knob, tip = bat_path.at(t)
+        return profile_gap(ball_path.at(t), knob, tip, self.config.ball_radius,
+                           self.config.profile)[0]
+
+    def curve(self, times_s: Sequence[float]) -> np.ndarray:
+        """Return the gap (m) at each time (s)."""
+        return np.array([self.at(t) for t in times_s], dtype=float)
 
 
-def _plot_one(window: _Window, analysis: BagAnalysis, true_stamp: Optional[int],
-              target: Path) -> None:
-    """Draw one impact's figure to ``target`` (PNG)."""
+def impact_title(analysis: BagAnalysis, impact: Impact, number: int,
+                 true_stamp: Optional[int]) -> str:
+    """Return an impact figure's two-line title (zone, speed; bag, time, model, truth)."""
+    record = event_record(impact, analysis.frame_id, analysis.config)
+    zone = ZONE_NAMES.get(record['zone'], record['zone'])
+    line = (f"Impact {number}: {zone}, {record['distance_from_tip_m'] * 100:.1f} cm from the "
+            f'tip, sweet spot {impact.sweet_spot_speed_mps * MPS_TO_MPH:.1f} mph')
+    where = (f'{analysis.path.name}, {analysis.relative_s(impact.stamp_ns):.3f} s into the '
+             f'bag, {analysis.config.model} model')
+    if true_stamp is not None:
+        where += f', {(impact.stamp_ns - true_stamp) * 1e-6:+.3f} ms from the true contact'
+    return f'{line}\n{where}'
+
+
+def impact_figure(window: PlotWindow, analysis: BagAnalysis, number: int,
+                  true_stamp: Optional[int]) -> Any:
+    """
+    Return one impact's figure (matplotlib ``Figure``): gap panel, top view, side view.
+
+    :param number: the impact's number in its bag (1, 2, ...), for the title.
+    :param true_stamp: the matched true contact (ns), or None.
+    """
     import matplotlib
     matplotlib.use('Agg')
-    from matplotlib import pyplot
+    from matplotlib.figure import Figure
 
-    config = analysis.config
-    impact = window.impact
-    origin = impact.stamp_ns
-    ball_stamps = np.array([s for s, _ in window.ball], dtype=np.int64)
-    balls = np.array([v for _, v in window.ball], dtype=float).reshape(-1, 3)
-    bat_stamps, knobs, tips = _bat_ends(window, config)
-    figure, (gap_axes, top_axes, side_axes) = pyplot.subplots(1, 3, figsize=(16, 5))
-    figure.suptitle(f'{analysis.path.name}: impact at {analysis.relative_s(origin):.4f} s '
-                    f'({origin} ns), {impact.distance_from_tip_m * 100:.1f} cm from the tip, '
-                    f'sweet spot {impact.sweet_spot_speed_mps * MPS_TO_MPH:.1f} mph '
-                    f'[{config.model}]')
-    _gap_panel(gap_axes, origin, (ball_stamps, balls), (bat_stamps, knobs, tips), config,
-               true_stamp)
-    for axes, (i, j), title in ((top_axes, (0, 1), 'top view'), (side_axes, (1, 2), 'side view')):
-        _view_panel(axes, (i, j), title, balls, knobs, tips, impact)
-    figure.tight_layout()
-    figure.savefig(target, dpi=80)
-    pyplot.close(figure)
+    config, impact = analysis.config, window.impact
+    figure = Figure(figsize=(17, 6), dpi=100)  # fixed margins: a layout engine costs seconds
+    gap_axes, top_axes, side_axes = figure.subplots(
+        1, 3, gridspec_kw={'width_ratios': (1.4, 1.0, 1.0), 'left': 0.045, 'right': 0.99,
+                           'bottom': 0.09, 'top': 0.84, 'wspace': 0.2})
+    figure.suptitle(impact_title(analysis, impact, number, true_stamp), fontsize=14)
+    bat = bat_samples(window, config)
+    ball = ([s for s, _ in window.ball], [v for _, v in window.ball])
+    _gap_panel(gap_axes, impact, config, ball, bat, true_stamp)
+    for axes, plane, title in ((top_axes, (0, 1), 'Seen from above (x, y)'),
+                               (side_axes, (1, 2), 'Seen from the side (y, z)')):
+        _view_panel(axes, plane, title, ball, bat, impact, config)
+    return figure
 
 
-def _gap_panel(axes: Any, origin: int, ball: Tuple[np.ndarray, np.ndarray],
-               bat: Tuple[np.ndarray, np.ndarray, np.ndarray], config: DetectorConfig,
+def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig,
+               ball: Tuple[List[int], List[Any]], bat: Tuple[List[int], List[BatSample]],
                true_stamp: Optional[int]) -> None:
-    """Draw the gap (cm) against the time from the impact at ``origin`` (ms)."""
-    ball_stamps, balls = ball
-    bat_stamps, knobs, tips = bat
-    if len(ball_stamps) >= 2 and len(bat_stamps) >= 2:
-        dense = np.linspace(max(ball_stamps[0], bat_stamps[0]),
-                            min(ball_stamps[-1], bat_stamps[-1]), 400).astype(np.int64)
-        gaps = _gaps(_interp(dense, ball_stamps, balls), _interp(dense, bat_stamps, knobs),
-                     _interp(dense, bat_stamps, tips), config)
-        axes.plot((dense - origin) * 1e-6, gaps * 100.0, color='0.6',
-                  label='linear between samples')
-        inside = (ball_stamps >= bat_stamps[0]) & (ball_stamps <= bat_stamps[-1])
-        at_samples = _gaps(balls[inside], _interp(ball_stamps[inside], bat_stamps, knobs),
-                           _interp(ball_stamps[inside], bat_stamps, tips), config)
-        axes.plot((ball_stamps[inside] - origin) * 1e-6, at_samples * 100.0, 'o',
-                  color='tab:blue', label='at ball samples')
-        # zoom on the approach: contact is at 0, the far samples only squash the plot
-        low = min(-3.0, float(np.min(gaps)) * 100.0 - 1.0)
-        axes.set_ylim(low, min(float(np.max(gaps)) * 100.0, 40.0) + 2.0)
-    for stamp in bat_stamps:
-        axes.axvline((stamp - origin) * 1e-6, color='tab:orange', alpha=0.15, lw=0.8)
-    axes.axvline(0.0, color='tab:red', label=f'impact ({config.model})')
+    """Draw the gap (cm) against the time from the impact (ms)."""
+    origin = impact.stamp_ns
+    gap = ModelGap(config, config.model, origin, ball, bat)
+    start, end = gap.span
+    low, high = -1.0, 10.0
+    if end > start:
+        times = np.linspace(start, end, CURVE_POINTS)
+        curve = gap.curve(times) * 100.0
+        at = np.array([t for t in gap.ball_t if start <= t <= end])
+        axes.plot(times * 1e3, curve, color='tab:blue', lw=2.2, zorder=3,
+                  label=f'gap, {config.model} model (used)')
+        if config.model != 'linear':
+            straight = ModelGap(config, 'linear', origin, ball, bat).curve(times) * 100.0
+            axes.plot(times * 1e3, straight, color='black', lw=1.2, ls=(0, (4, 3)), zorder=4,
+                      label='gap, straight lines (comparison)')
+            curve = np.concatenate([curve, straight])
+        axes.plot(at * 1e3, gap.curve(at) * 100.0, 'o', color='tab:blue', ms=6, zorder=4,
+                  label='at ball samples')
+        finite = curve[np.isfinite(curve)]
+        if finite.size:
+            low = min(-1.0, float(finite.min()) - 1.0)
+            high = min(float(finite.max()), 40.0) + 2.0
+        _zoom(axes, gap, config, origin, true_stamp, ball, bat)
+    axes.set_ylim(low, high)
+    bat_ms = [(s - origin) * 1e-6 for s in bat[0]]
+    axes.plot(bat_ms, [low + 0.04 * (high - low)] * len(bat_ms), '|', color='tab:orange',
+              ms=18, mew=2, zorder=4, label='bat samples')
     if true_stamp is not None:
-        axes.axvline((true_stamp - origin) * 1e-6, color='black', ls='--', label='truth')
-    axes.axhline(0.0, color='black', lw=0.8)
-    axes.set_xlabel('time from impact (ms); orange lines: bat samples')
-    axes.set_ylabel('gap ball to bat (cm)')
-    axes.legend(loc='best', fontsize='small')
+        axes.axvline((true_stamp - origin) * 1e-6, color='black', lw=4, alpha=0.3, zorder=1,
+                     label=f'true contact ({(true_stamp - origin) * 1e-6:+.3f} ms)')
+    axes.axvline(0.0, color='tab:red', lw=1.8, ls=(0, (5, 3)), zorder=5, label='impact found')
+    axes.axhline(0.0, color='black', lw=0.8, zorder=1)
+    axes.text(0.01, 0.0, ' touching', transform=axes.get_yaxis_transform(), va='bottom',
+              fontsize=9, color='0.3')
+    axes.set_title('Gap between ball and bat around the impact', fontsize=12)
+    axes.set_xlabel('time from the impact (ms)')
+    axes.set_ylabel('gap between ball and bat (cm)')
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc='upper right', fontsize='small', framealpha=0.9)
 
 
-def _view_panel(axes: Any, plane: Tuple[int, int], title: str, balls: np.ndarray,
-                knobs: np.ndarray, tips: np.ndarray, impact: Impact) -> None:
-    """Draw the bat and ball samples and the contact point on two world axes (m)."""
+def _zoom(axes: Any, gap: ModelGap, config: DetectorConfig, origin: int,
+          true_stamp: Optional[int], ball: Tuple[List[int], List[Any]],
+          bat: Tuple[List[int], List[BatSample]]) -> None:
+    """Draw an inset: the gap within :data:`ZOOM_MS` of the impact, where it crosses 0."""
+    inset = axes.inset_axes((0.06, 0.45, 0.3, 0.38))
+    start, end = gap.span
+    times = np.linspace(max(start, -ZOOM_MS * 1e-3), min(end, ZOOM_MS * 1e-3), 100)
+    inset.plot(times * 1e3, gap.curve(times) * 100.0, color='tab:blue', lw=2.2)
+    if config.model != 'linear':
+        inset.plot(times * 1e3, ModelGap(config, 'linear', origin, ball, bat).curve(times)
+                   * 100.0, color='black', lw=1.2, ls=(0, (4, 3)))
+    if true_stamp is not None:
+        inset.axvline((true_stamp - origin) * 1e-6, color='black', lw=4, alpha=0.3)
+    inset.axvline(0.0, color='tab:red', lw=1.8, ls=(0, (5, 3)))
+    inset.axhline(0.0, color='black', lw=0.8)
+    inset.set_xlim(-ZOOM_MS, ZOOM_MS)
+    inset.set_ylim(-2.0, 4.0)
+    inset.set_title(f'zoom: {ZOOM_MS:g} ms either side', fontsize=9)
+    inset.tick_params(labelsize=8)
+    inset.grid(True, alpha=0.3)
+
+
+def _view_panel(axes: Any, plane: Tuple[int, int], title: str,
+                ball: Tuple[List[int], List[Any]], bat: Tuple[List[int], List[BatSample]],
+                impact: Impact, config: DetectorConfig) -> None:
+    """Draw bat and ball samples, the bat and ball at impact, contact and normal (cm)."""
+    from matplotlib.patches import Circle
     i, j = plane
-    for knob, tip in zip(knobs, tips):
-        axes.plot([knob[i], tip[i]], [knob[j], tip[j]], color='tab:orange', alpha=0.5)
-    if len(balls):
-        axes.plot(balls[:, i], balls[:, j], 'o-', color='tab:blue', ms=3, label='ball')
-    axes.plot([impact.point[i]], [impact.point[j]], '*', color='tab:red', ms=14,
-              label='contact point')
-    axes.set_xlabel('xyz'[i] + ' (m)')
-    axes.set_ylabel('xyz'[j] + ' (m)')
+    centre = np.array(impact.point, dtype=float)
+
+    def cm(point: Any) -> Tuple[float, float]:
+        offset = (np.asarray(point, dtype=float) - centre) * 100.0
+        return float(offset[i]), float(offset[j])
+
+    for index, sample in enumerate(bat[1]):
+        (x0, y0), (x1, y1) = cm(sample.knob), cm(sample.tip)
+        axes.plot([x0, x1], [y0, y1], color='tab:orange', alpha=0.55, lw=1.2,
+                  label='bat at its samples' if index == 0 else None)
+    (x0, y0), (x1, y1) = cm(impact.knob), cm(impact.tip)
+    axes.plot([x0, x1], [y0, y1], color='saddlebrown', lw=5, solid_capstyle='round',
+              label='bat at impact (knob to tip)')
+    axes.plot([x1], [y1], 'o', color='saddlebrown', ms=7)
+    if ball[1]:
+        points = np.array([cm(v) for v in ball[1]])
+        axes.plot(points[:, 0], points[:, 1], 'o-', color='tab:blue', ms=4, lw=1,
+                  label='ball at its samples')
+    bx, by = cm(impact.ball_position)
+    axes.add_patch(Circle((bx, by), config.ball_radius * 100.0, fill=False, color='tab:blue',
+                          lw=2, label='ball at impact'))
+    nx, ny = (np.asarray(impact.normal, dtype=float) * NORMAL_CM)[[i, j]]
+    axes.annotate('', xy=(nx, ny), xytext=(0.0, 0.0),
+                  arrowprops={'arrowstyle': '->', 'color': 'goldenrod', 'lw': 2.5})
+    axes.plot([], [], color='goldenrod', lw=2.5, label='contact normal (bat to ball)')
+    axes.plot([0.0], [0.0], '*', color='tab:red', ms=16, zorder=5, label='contact point')
+    axes.set_xlabel(f"{'xyz'[i]} from the contact point (cm)")
+    axes.set_ylabel(f"{'xyz'[j]} from the contact point (cm)")
     axes.set_aspect('equal', adjustable='datalim')
-    axes.set_title(f'{title}: bat samples (orange), ball samples (blue)')
-    axes.legend(loc='best', fontsize='small')
+    axes.set_title(title, fontsize=12)
+    axes.grid(True, alpha=0.3)
+    axes.legend(loc='best', fontsize='small', framealpha=0.9)
 
 
-def _gaps(balls: np.ndarray, knobs: np.ndarray, tips: np.ndarray,
-          config: DetectorConfig) -> np.ndarray:
-    """Return the ball-bat gap (m) per row."""
-    return np.array([profile_gap(tuple(b), tuple(k), tuple(t), config.ball_radius,
-                                 config.profile)[0] for b, k, t in zip(balls, knobs, tips)])
+def _stem(analyses: Sequence[BagAnalysis], index: int) -> str:
+    analysis = analyses[index]
+    stem = truth_path(analysis.path).name[:-len('.truth.json')]
+    if sum(1 for a in analyses if a.path.name == analysis.path.name) > 1:
+        stem = f'{index + 1}_{stem}'
+    return stem
 
 
 def plot_names(analyses: Sequence[BagAnalysis]) -> List[str]:
-    """Return the PNG names ``--plot`` writes: ``<bag name>_impact_<n>.png`` per impact."""
+    """
+    Return the PNG names ``--plot`` writes, bag by bag.
+
+    ``<bag name>_impact_<n>.png`` per impact, then ``<bag name>_summary.png``; two bags of one
+    name get their position as a prefix.
+    """
     names = []
     for index, analysis in enumerate(analyses):
-        stem = truth_path(analysis.path).name[:-len('.truth.json')]
-        if sum(1 for a in analyses if a.path.name == analysis.path.name) > 1:
-            stem = f'{index + 1}_{stem}'
+        stem = _stem(analyses, index)
         names.extend(f'{stem}_impact_{n}.png' for n in range(1, len(analysis.impacts) + 1))
+        names.append(f'{stem}_summary.png')
     return names
+
+
+def _save(figure: Any, target: Path) -> None:
+    figure.savefig(target, dpi=100)
 
 
 def write_plots(analyses: Sequence[BagAnalysis], directory: Path) -> List[Path]:
     """
-    Draw one PNG per impact into ``directory`` (which must exist).
-
-    Each figure: the gap versus time around the impact (ball samples as dots, bat sample
-    times as lines, the impact instant and the true one when known), and a top and a side view
-    of the bat and ball samples around it with the contact point.
+    Draw the PNGs of :func:`plot_names` into ``directory`` (which must exist).
 
     :returns: the files written.
     :raises ToolError: the bag cannot be read again.
@@ -192,8 +369,12 @@ def write_plots(analyses: Sequence[BagAnalysis], directory: Path) -> List[Path]:
     for analysis in analyses:
         truths = {id(impact): int(truth['stamp_ns'])
                   for truth, impact in (analysis.truth.matched if analysis.truth else [])}
-        for window in _collect_windows(analysis):
+        for number, window in enumerate(collect_windows(analysis), 1):
             target = directory / next(names)
-            _plot_one(window, analysis, truths.get(id(window.impact)), target)
+            _save(impact_figure(window, analysis, number, truths.get(id(window.impact))),
+                  target)
             written.append(target)
+        target = directory / next(names)
+        _save(summary_figure(analysis), target)
+        written.append(target)
     return written

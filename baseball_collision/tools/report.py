@@ -134,6 +134,11 @@ def format_report(analysis: BagAnalysis) -> str:
     return '\n'.join(lines)
 
 
+NO_PREDICTION = ("'-': the last frame that far ahead predicted no impact (the ball or bat not "
+                 'yet tracked, or the contact beyond the horizon)')
+"""What a ``-`` lead cell means (the report's prediction header and ``--help`` say it)."""
+
+
 def prediction_lines(analysis: BagAnalysis) -> List[str]:
     """
     Return the report's prediction section: per impact, the error at each lead time.
@@ -145,7 +150,8 @@ def prediction_lines(analysis: BagAnalysis) -> List[str]:
     reference = 'the truth' if analysis.truth is not None else 'the detected impact'
     lines = [f'predictions: {len(analysis.predictions)} made (horizon '
              f'{analysis.config.prediction_horizon:.2f} s); error against {reference} at lead '
-             + ', '.join(f'{lead * 1e3:g} ms' for lead in LEADS_S) + ' (time ms / point cm)']
+             + ', '.join(f'{lead * 1e3:g} ms' for lead in LEADS_S) + ' (time ms / point cm; '
+             + NO_PREDICTION + ')']
     for number, (impact, scores) in enumerate(zip(analysis.impacts,
                                                   analysis.prediction_scores()), 1):
         cells = []

@@ -116,8 +116,10 @@ def test_recorded_qos_is_reported(tmp_path: Path) -> None:
             writer.write(connection, 1, data)
     with RawBag(path) as bag:
         assert bag.topics == {
-            '/latched': RawTopic('/latched', STRING, 1, 'reliable', 'transient_local'),
-            '/lossy': RawTopic('/lossy', STRING, 1, 'best_effort', 'volatile'),
+            '/latched': RawTopic('/latched', STRING, 1, 'reliable', 'transient_local',
+                                 profiles['/latched']),
+            '/lossy': RawTopic('/lossy', STRING, 1, 'best_effort', 'volatile',
+                               profiles['/lossy']),
             '/unknown': RawTopic('/unknown', STRING, 1, '', '')}
     ros1 = tmp_path / 'latched.bag'
     with Writer1(ros1) as writer:
@@ -127,6 +129,10 @@ def test_recorded_qos_is_reported(tmp_path: Path) -> None:
     with RawBag(ros1) as bag:
         assert {t.name: t.durability for t in bag.topics.values()} == {
             '/map': 'transient_local', '/chatter': 'volatile'}
+        assert {t.name: [(p.durability, p.depth) for p in t.qos_profiles]
+                for t in bag.topics.values()} == {
+            '/map': [(QosDurability.TRANSIENT_LOCAL, 1)],
+            '/chatter': [(QosDurability.VOLATILE, 10)]}
 
 
 def test_errors_are_one_line_bag_errors(tmp_path: Path) -> None:

@@ -100,7 +100,7 @@ def test_radius_flags_change_the_geometry(tmp_path: Path, run_cli: RunCli) -> No
 
 def test_out_bag_has_inputs_and_node_outputs(tmp_path: Path,
                                              run_cli: RunCli) -> None:
-    """--out-bag: an MCAP with the input topics and the node's impact topics and types."""
+    """--out-bag: an MCAP with every input topic and the node's output topics and types."""
     out = tmp_path / 'events.mcap'
     json_out = tmp_path / 'a.json'
     name = 'pitches_240hz_noisy.bag'
@@ -111,11 +111,16 @@ def test_out_bag_has_inputs_and_node_outputs(tmp_path: Path,
     topics = output_topics()
     with AnyReader([out], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
         types = {c.topic: c.msgtype for c in reader.connections}
-        assert types == {
+        assert types == {  # every input topic, not only the selected ones
             '/ball': POINT_STAMPED, '/bat_pose': 'geometry_msgs/msg/PoseStamped',
+            '/bat_knob': POINT_STAMPED, '/bat_tip': POINT_STAMPED,
             topics['impact']: POINT_STAMPED,
             topics['impact_velocity']: 'geometry_msgs/msg/TwistStamped',
-            topics['near_miss']: 'geometry_msgs/msg/Vector3Stamped'}
+            topics['near_miss']: 'geometry_msgs/msg/Vector3Stamped',
+            topics['predicted_impact']: POINT_STAMPED,
+            topics['impact_report']: 'std_msgs/msg/String',
+            topics['markers']: 'visualization_msgs/msg/MarkerArray',
+            topics['diagnostics']: 'diagnostic_msgs/msg/DiagnosticArray'}
         found: Dict[str, List[Any]] = {}
         for connection, _, raw in reader.messages():
             if connection.topic in topics.values():
@@ -146,6 +151,7 @@ def test_predict_scores_predictions_and_exports_them(
                                     '--out-bag', str(out)])
     assert code == 0, stderr
     assert 'predictions:' in stdout and 'error against the truth' in stdout
+    assert "'-': the last frame that far ahead predicted no impact" in stdout
     document = json.loads(json_out.read_text())
     predictions = document['predictions']
     assert predictions and all(p['stamp_ns'] > p['made_at_ns'] for p in predictions)

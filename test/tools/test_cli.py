@@ -235,6 +235,27 @@ def test_help_on_every_subcommand(command: List[str], run_cli: RunCli) -> None:
     assert code == 0 and stdout.startswith('usage: baseball-collision')
 
 
+def test_help_says_what_a_missing_prediction_means(run_cli: RunCli) -> None:
+    """The analyze help explains the '-' of a --predict lead cell."""
+    code, stdout, _ = run_cli(['analyze', '--help'])
+    assert code == 0
+    assert "'-' where the last frame that far ahead predicted no impact" in ' '.join(
+        stdout.split())
+
+
+def test_demo_domain_is_chosen_or_refused(run_cli: RunCli) -> None:
+    """The demo's --domain picks the DDS domain (0-232); others are refused in one line."""
+    from baseball_collision.tools.cli import build_parser
+    from baseball_collision.tools.demo import isolated_environment
+    assert build_parser().parse_args(['demo', '--domain', '42']).domain == 42
+    assert build_parser().parse_args(['demo']).domain is None
+    assert isolated_environment(42)['ROS_DOMAIN_ID'] == '42'
+    for bad, why in (('233', 'ROS_DOMAIN_ID from 0 to 232'), ('-1', 'ROS_DOMAIN_ID from 0'),
+                     ('x', 'is not a whole number')):
+        code, stdout, stderr = run_cli(['demo', '--domain', bad])
+        assert code == 2 and stdout == '' and why in stderr and stderr.count('\n') == 1
+
+
 def test_version(run_cli: RunCli) -> None:
     """--version prints the package's version."""
     code, stdout, _ = run_cli(['--version'])

@@ -1,24 +1,32 @@
-"""``--plot``: one PNG per impact; matplotlib only when asked."""
+"""``--plot``: one PNG per impact and a session summary; what the figures show."""
 
 from pathlib import Path
-from typing import Callable, List, Tuple
+import re
+from typing import Any, Callable, Dict, List, Tuple
 
-from baseball_collision.core.detector import DetectorConfig
-from baseball_collision.tools.analyze import BagAnalysis
-from baseball_collision.tools.plots import plot_names
-from support.bundled import bag_path
+from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
+from baseball_collision.core.toi import profile_gap
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
+from baseball_collision.tools.parameters import load_parameters
+from baseball_collision.tools.plots import (
+    bat_samples, collect_windows, impact_figure, ModelGap, plot_names)
+from baseball_collision.tools.summary_plot import summary_figure
+import numpy as np
+import pytest
+from support.bundled import bag_path, PARAMS
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
 
 def test_plots_are_pngs_one_per_impact(tmp_path: Path, run_cli: RunCli) -> None:
-    """--plot writes one PNG per impact into a new directory."""
+    """--plot writes one PNG per impact and a summary into a new directory."""
     plots = tmp_path / 'plots'
     code, _, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap')), '--plot',
                                str(plots)])
     assert code == 0, stderr
     files = sorted(plots.iterdir())
-    assert [f.name for f in files] == sorted(f'pitches_90hz_impact_{n}.png' for n in range(1, 9))
+    assert [f.name for f in files] == sorted(
+        [f'pitches_90hz_impact_{n}.png' for n in range(1, 9)] + ['pitches_90hz_summary.png'])
     for file in files:
         data = file.read_bytes()
         assert data.startswith(b'\x89PNG\r\n\x1a\n') and len(data) > 10_000
@@ -32,5 +40,106 @@ def test_plot_names_tell_bags_of_the_same_name_apart() -> None:
         return result
     names = plot_names([analysis('a/run.mcap', 2), analysis('b/run.mcap', 1),
                         analysis('c/other', 1)])
-    assert names == ['1_run_impact_1.png', '1_run_impact_2.png', '2_run_impact_1.png',
-                     'other_impact_1.png']
+    assert names == ['1_run_impact_1.png', '1_run_impact_2.png', '1_run_summary.png',
+                     '2_run_impact_1.png', '2_run_summary.png', 'other_impact_1.png',
+                     'other_summary.png']
+
+
+@pytest.fixture(scope='module')
+def rigid_90hz() -> Dict[str, Any]:
+    """Analyse the 90 Hz bag with the node's parameters (rigid model); keep its windows."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'),
+                           AnalysisOptions(parameters=load_parameters(PARAMS)), progress=False)
+    assert analysis.config.model == 'rigid'
+    return {'analysis': analysis, 'windows': collect_windows(analysis)}
+
+
+def _streams(window: Any, config: DetectorConfig) -> Any:
+    return ([s for s, _ in window.ball], [v for _, v in window.ball]), bat_samples(window, config)
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline'])
+def test_model_gap_touches_zero_at_each_impact_of_its_model(model: str) -> None:
+    """The gap curve of the model that found an impact is 0 (within 0.3 mm) at its instant."""
+    analysis = analyze_bag(bag_path('pitches_360hz.mcap'), AnalysisOptions(model=model),
+                           progress=False, use_truth=False)
+    for window in collect_windows(analysis):
+        ball, bat = _streams(window, analysis.config)
+        gap = ModelGap(analysis.config, model, window.impact.stamp_ns, ball, bat)
+        assert abs(gap.at(0.0)) < 3e-4
+
+
+def test_linear_model_gap_is_the_straight_line_gap(rigid_90hz: Dict[str, Any]) -> None:
+    """linear: ball and bat ends interpolated on straight lines (an independent np.interp)."""
+    config = rigid_90hz['analysis'].config
+    window = rigid_90hz['windows'][0]
+    ball, bat = _streams(window, config)
+    origin = window.impact.stamp_ns
+    gap = ModelGap(config, 'linear', origin, ball, bat)
+    bat_t = np.array([s - origin for s in bat[0]], dtype=float)
+    knobs = np.array([s.knob for s in bat[1]])
+    tips = np.array([s.tip for s in bat[1]])
+    ball_t = np.array([s - origin for s in ball[0]], dtype=float)
+    balls = np.array(ball[1], dtype=float)
+    start, end = gap.span
+    for t in np.linspace(start, end, 37)[1:-1]:
+        stamp = t * 1e9
+        at = [tuple(float(np.interp(stamp, times, values[:, i])) for i in range(3))
+              for times, values in ((ball_t, balls), (bat_t, knobs), (bat_t, tips))]
+        expected = profile_gap(at[0], at[1], at[2], config.ball_radius, config.profile)[0]
+        assert gap.at(t) == pytest.approx(expected, abs=1e-9)
+
+
+def _line(axes: Any, label: str) -> Any:
+    (line,) = [line for line in axes.get_lines() if line.get_label().startswith(label)]
+    return line
+
+
+def test_impact_figure_agrees_with_the_impact(rigid_90hz: Dict[str, Any]) -> None:
+    """
+    An end-cap hit: the model's curve touches 0 at the impact, the straight one stays above.
+
+    Every line labelled and visible; time in ms; a readable title.
+    """
+    analysis = rigid_90hz['analysis']
+    window = rigid_90hz['windows'][1]
+    assert window.impact.feature == 'tip_end'
+    truth = [t for t, i in analysis.truth.matched if i is window.impact][0]
+    figure = impact_figure(window, analysis, 2, int(truth['stamp_ns']))
+    gap_axes, top_axes, side_axes = figure.axes[:3]
+    model = _line(gap_axes, 'gap, rigid model')
+    x, y = model.get_data()
+    assert abs(float(np.interp(0.0, x, y))) < 0.05  # cm
+    straight = _line(gap_axes, 'gap, straight lines')
+    assert np.nanmin(straight.get_ydata()) > 0.2  # what the old grey curve showed alone
+    legend = [text.get_text() for text in gap_axes.get_legend().get_texts()]
+    assert legend[:2] == ['gap, rigid model (used)', 'gap, straight lines (comparison)']
+    assert {'at ball samples', 'bat samples', 'impact found'} <= set(legend)
+    assert any(text.startswith('true contact (') and text.endswith(' ms)') for text in legend)
+    for line in gap_axes.get_lines():
+        assert line.get_alpha() is None or line.get_alpha() >= 0.3
+    impact_line, truth_line = _line(gap_axes, 'impact found'), _line(gap_axes, 'true contact')
+    assert impact_line.get_zorder() > truth_line.get_zorder()
+    assert gap_axes.get_xlabel() == 'time from the impact (ms)'
+    title = figure._suptitle.get_text()
+    assert title.startswith('Impact 2: end cap,') and 'mph' in title
+    assert not re.search(r'\d{10}', title)
+    for axes in (top_axes, side_axes):
+        labels = [text.get_text() for text in axes.get_legend().get_texts()]
+        assert {'bat at impact (knob to tip)', 'ball at impact', 'contact point'} <= set(labels)
+        assert axes.get_xlabel().endswith('from the contact point (cm)')
+
+
+def test_summary_figure_spots_speeds_and_misses(rigid_90hz: Dict[str, Any]) -> None:
+    """One spot per impact on the drawn bat; a bar per impact (mph) and per near miss (cm)."""
+    analysis = rigid_90hz['analysis']
+    figure = summary_figure(analysis)
+    bat_axes, speed_axes, miss_axes = figure.axes
+    spots = [line for line in bat_axes.get_lines()
+             if line.get_label().startswith('contact:')]
+    assert sum(len(line.get_xdata()) for line in spots) == len(analysis.impacts) == 8
+    assert [p.get_height() for p in speed_axes.patches] == pytest.approx(
+        [i.sweet_spot_speed_mps * MPS_TO_MPH for i in analysis.impacts])
+    assert [p.get_height() for p in miss_axes.patches] == pytest.approx(
+        [m.gap_m * 100.0 for m in analysis.near_misses])
+    assert 'Session summary: pitches_90hz.mcap' in figure._suptitle.get_text()
