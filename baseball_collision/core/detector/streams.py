@@ -18,6 +18,11 @@ Turn = Tuple[float, float, float, float]
 MAX_HISTORY = 64
 """Samples at most in a velocity fit's history."""
 
+SILENT_AFTER = 1.0
+"""A stream whose newest sample is this far (s) behind the other's is silent: the other keeps
+only its own history (no sample of the silent one can ever be interpolated against the rest;
+one stamped within ``max_gap`` of its last would arrive this late)."""
+
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 
 
@@ -72,6 +77,23 @@ class Stream:
             for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
                 del buffer[:index]
             self.path_key = None
+
+    def trim_beside(self, other: 'Stream', cursor: Optional[float], history: float) -> None:
+        """
+        Forget what no future interval needs, beside the ``other`` stream it is walked with.
+
+        Normally what is ``history`` s and a few samples behind ``cursor`` (s); when the other
+        stream is empty or silent (its newest ``SILENT_AFTER`` behind this one's), what is
+        ``history`` behind this stream's own newest, so one dead stream does not grow the
+        other without bound.
+        """
+        times = self.times
+        if len(times) < 64:
+            return
+        if not other.times or times[-1] - other.times[-1] > SILENT_AFTER:
+            self.trim(times[-1], history)
+        elif cursor is not None:
+            self.trim(cursor, history)
 
     def interval(self, t: float) -> int:
         """Return k of the sample interval [times[k], times[k+1]] holding t (-1 before)."""
