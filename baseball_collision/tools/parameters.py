@@ -217,4 +217,5 @@ def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
     """Return the node's event topics: ``{'impact': '/<node>/impact', ...}``."""
     base = '/' + node_name.strip('/')
     return {'impact': f'{base}/impact', 'impact_velocity': f'{base}/impact_velocity',
-            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact'}
+            'near_miss': f'{base}/near_miss', 'predicted_impact': f'{base}/predicted_impact',
+            'impact_report': f'{base}/impact_report'}

@@ -21,15 +21,18 @@ import time
 from typing import Any, Dict, Iterator, List, Tuple
 
 from baseball_collision.bags import BagReader
+from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
 from baseball_collision.ros.replay import BagPlayer, message_class
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.demo import node_command, stop_node, wait_for_node
 from baseball_collision.tools.parameters import load_parameters, output_topics
+from baseball_collision.tools.report import entry
 from baseball_collision.tools.truth import truth_path
 import pytest
 from support import REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
+from support.schema import Validator
 
 pytestmark = pytest.mark.ros
 
@@ -86,17 +89,20 @@ def _stamp(message: Any) -> int:
 
 
 def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
-                 inputs: List[str]) -> Tuple[List[int], int, List[Any]]:
+                 inputs: List[str]) -> Tuple[List[int], int, List[Any], List[Dict[str, Any]]]:
     """
     Run impact_node with ``params``, replay ``bag`` into it; return its impacts.
 
-    :returns: (impact stamps in arrival order, the node's exit code, twist messages).
+    :returns: (impact stamps in arrival order, the node's exit code, twist messages, the
+        ``~/impact_report`` records).
     """
     from geometry_msgs.msg import PointStamped, TwistStamped
+    from std_msgs.msg import String
 
     topics = output_topics()
     impact_sub, impacts = ros.collect(PointStamped, topics['impact'])
     twist_sub, twists = ros.collect(TwistStamped, topics['impact_velocity'])
+    report_sub, reports = ros.collect(String, topics['impact_report'])
     env = dict(os.environ)
     with tempfile.TemporaryFile() as log:
         process = subprocess.Popen(node_command(params), env=env, stdout=log,
@@ -106,7 +112,8 @@ def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
                 problem = wait_for_node(
                     process, player, inputs,
                     lambda: impact_sub.get_publisher_count() >= 1
-                    and twist_sub.get_publisher_count() >= 1, 30.0)
+                    and twist_sub.get_publisher_count() >= 1
+                    and report_sub.get_publisher_count() >= 1, 30.0)
                 assert problem is None, problem
                 result = player.play()
                 assert result.messages == player.message_count
@@ -118,11 +125,13 @@ def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
             code = stop_node(process)
             ros.node.destroy_subscription(impact_sub)
             ros.node.destroy_subscription(twist_sub)
+            ros.node.destroy_subscription(report_sub)
         log.seek(0)
         text = log.read().decode(errors='replace')
     assert code == 0, text[-3000:]
     assert 'dropped' not in text, text[-3000:]
-    return [_stamp(m) for m in impacts], code, list(twists)
+    return ([_stamp(m) for m in impacts], code, list(twists),
+            [json.loads(m.data) for m in reports])
 
 
 def _params_with(tmp_path: Path, **changes: Any) -> Path:
@@ -146,7 +155,12 @@ CASES = [(name, {}) for name in sorted(BAGS)] + [
                          ids=[f"{n}{'-' + '-'.join(c.values()) if c else ''}" for n, c in CASES])
 def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
                                        changes: Dict[str, Any]) -> None:
-    """The live node and analyze give identical impact stamps on a bag; both match truth."""
+    """
+    The live node and analyze give identical impacts on a bag; both match truth.
+
+    The node's ``~/impact_report`` records are exactly analyze's JSON records (impacts and
+    near misses, without analyze's ``bag`` and ``time_s``) and valid against the schema.
+    """
     params = _params_with(tmp_path, **changes) if changes else PARAMS
     bag = bag_path(name)
     offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
@@ -154,20 +168,26 @@ def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
     assert offline.config.model == changes.get('model', 'rigid')
     assert offline.selection.bat_mode == changes.get('bat_input', 'pose')
     expected = [impact.stamp_ns for impact in offline.impacts]
-    stamps, _, twists = live_impacts(ros, bag, params, len(expected),
-                                     list(offline.selection.topics.values()))
+    stamps, _, twists, reports = live_impacts(ros, bag, params, len(expected),
+                                              list(offline.selection.topics.values()))
     assert stamps == expected  # identical, to the nanosecond, in the same order
     assert [_stamp(t) for t in twists] == expected
     for twist, impact in zip(twists, offline.impacts):
         linear = twist.twist.linear
         assert (linear.x, linear.y, linear.z) == pytest.approx(impact.bat_velocity, abs=1e-9)
+    records = {kind: [{k: v for k, v in entry(offline, event).items()
+                       if k not in ('bag', 'time_s')} for event in events]
+               for kind, events in (('impact', offline.impacts),
+                                    ('near_miss', offline.near_misses))}
+    validator = Validator('event_record.schema.json')
+    for kind, expected_records in records.items():
+        live = [record for record in reports if record['event'] == kind]
+        assert live == json.loads(json.dumps(expected_records))  # the same JSON, in order
+        assert all(validator.errors(record) == [] for record in live)
+    assert expected and records['impact'][0]['format'] == RECORD_FORMAT
     truth = json.loads(truth_path(bag).read_text())
-    document = {'impacts': [{'stamp_ns': i.stamp_ns, 'distance_from_tip_m':
-                             i.distance_from_tip_m, 'sweet_spot_speed_mps':
-                             i.sweet_spot_speed_mps, 'feature': i.feature}
-                            for i in offline.impacts],
-                'near_misses': offline.near_misses}
-    check_against_truth(document, truth, BAGS[name])
+    check_against_truth({'impacts': records['impact'], 'near_misses': records['near_miss']},
+                        truth, BAGS[name])
 
 
 def test_replay_command_publishes_every_message_with_clock(ros: Ros) -> None:

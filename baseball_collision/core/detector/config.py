@@ -302,6 +302,13 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'stale_timeout', _D, 1.0, 'An input topic silent longer than this is stale: '
         'diagnostics WARN (s).', 's', _closed(0.01, 86400.0)),
     ParameterSpec(
+        'idle_timeout', _D, 30.0, 'Every input silent longer than this after data came: the '
+        'session ended, diagnostics say idle at OK instead of stale at WARN (s); 0 = never.',
+        's', _closed(0.0, 86400.0)),
+    ParameterSpec(
+        'hardware_id', _S, '', "The diagnostics' hardware_id (the tracking rig this node "
+        "watches); '' = the node's fully qualified name.", read_only=_SETUP),
+    ParameterSpec(
         'publish_markers', _B, True, 'Publish ~/markers for RViz / Foxglove.'),
     ParameterSpec(
         'marker_rate', _D, 20.0, 'Rate of the live bat and ball markers (Hz); 0 = markers at '
