@@ -159,7 +159,7 @@ def describe_drop(reason: str, frame: str, expected: Optional[str], stamp_ns: in
 
     Every reason has its own words (the log line names the reason before them).
     """
-    return _DROP_DETAILS.get(reason, "see the README's drop reasons").format(
+    return _DROP_DETAILS.get(reason, reason).format(
         frame=frame, expected=expected or '', stamp=format_stamp(stamp_ns))
 
 

@@ -145,10 +145,10 @@ class ImpactNode(Node):
         else:
             inputs += [('knob', PointStamped, s['knob_topic'], self._on_knob),
                        ('tip', PointStamped, s['tip_topic'], self._on_tip)]
-        qos = input_qos(s['qos'] == 'reliable', s['qos_depth'])
         self._streams = tuple(stream for stream, _, _, _ in inputs)
-        for stream, msg_type, topic, callback in inputs:
-            self.endpoints.subscribe(stream, msg_type, topic, callback, qos)
+        for stream, msg_type, topic, callback in inputs:  # a profile each: overrides change it
+            self.endpoints.subscribe(stream, msg_type, topic, callback,
+                                     input_qos(s['qos'] == 'reliable', s['qos_depth']))
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
                                                       _VIEWS)

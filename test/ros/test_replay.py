@@ -12,6 +12,7 @@ subscription may drop under load, and then the comparison would test DDS, not th
 import json
 import os
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -88,8 +89,9 @@ def _stamp(message: Any) -> int:
     return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
 
 
-def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
-                 inputs: List[str]) -> Tuple[List[int], int, List[Any], List[Dict[str, Any]]]:
+def live_impacts(ros: Ros, bag: Path, params: Path, expected: int, inputs: List[str],
+                 reports_expected: int = 0
+                 ) -> Tuple[List[int], int, List[Any], List[Dict[str, Any]]]:
     """
     Run impact_node with ``params``, replay ``bag`` into it; return its impacts.
 
@@ -118,7 +120,8 @@ def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
                 result = player.play()
                 assert result.messages == player.message_count
             deadline = time.monotonic() + 10.0
-            while len(impacts) < expected and time.monotonic() < deadline:
+            while (len(impacts) < expected or len(reports) < reports_expected) \
+                    and time.monotonic() < deadline:
                 time.sleep(0.05)
             time.sleep(0.3)  # an extra impact would arrive now
         finally:
@@ -168,8 +171,9 @@ def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
     assert offline.config.model == changes.get('model', 'rigid')
     assert offline.selection.bat_mode == changes.get('bat_input', 'pose')
     expected = [impact.stamp_ns for impact in offline.impacts]
-    stamps, _, twists, reports = live_impacts(ros, bag, params, len(expected),
-                                              list(offline.selection.topics.values()))
+    stamps, _, twists, reports = live_impacts(
+        ros, bag, params, len(expected), list(offline.selection.topics.values()),
+        len(offline.impacts) + len(offline.near_misses))
     assert stamps == expected  # identical, to the nanosecond, in the same order
     assert [_stamp(t) for t in twists] == expected
     for twist, impact in zip(twists, offline.impacts):
@@ -182,7 +186,11 @@ def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
     validator = Validator('event_record.schema.json')
     for kind, expected_records in records.items():
         live = [record for record in reports if record['event'] == kind]
-        assert live == json.loads(json.dumps(expected_records))  # the same JSON, in order
+        expected_json = json.loads(json.dumps(expected_records))
+        assert len(live) == len(expected_json), kind
+        for got, want in zip(live, expected_json):  # the same JSON, in order
+            assert got == want, {key: (got.get(key), want.get(key)) for key in want
+                                 if got.get(key) != want.get(key)}
         assert all(validator.errors(record) == [] for record in live)
     assert expected and records['impact'][0]['format'] == RECORD_FORMAT
     truth = json.loads(truth_path(bag).read_text())
@@ -241,7 +249,14 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
         stdout, stderr = process.communicate(timeout=20)
         ros.node.destroy_subscription(clock_sub)
     assert process.returncode == 0, stderr
-    assert 'loops)' in stdout
+    # the real count and elapsed time, not "in 0.0 s" and "(0 loops)"
+    found = re.search(r'published ([\d,]+) messages in ([\d.]+) s \((\d+) complete loops of '
+                      r'([\d,]+) messages(?:, then ([\d,]+) more)?\)', stdout)
+    assert found, stdout
+    published, seconds, loops, per_pass, more = found.groups()
+    assert float(seconds) > 0.0 and int(loops) >= 1
+    assert int(published.replace(',', '')) == int(loops) * int(per_pass.replace(',', '')) \
+        + int((more or '0').replace(',', ''))
 
 
 def _fields(message: Any) -> Any:
