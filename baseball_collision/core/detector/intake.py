@@ -184,12 +184,10 @@ class Intake:
             if self.newest is None or stamp > self.newest:
                 self.newest = stamp
             return reason
-        if stamps:
-            verdict = stamp_check(stamps[-1], stamp, None, self._config.time_jump_reset)
-        elif self.newest is not None and self.newest - stamp > self.reset_ns:
-            verdict = ResetReason.TIME_JUMP_BACKWARDS  # a new stream far behind the others
-        else:
-            verdict = None
+        # a stream's first sample is taken even far behind the others: that stream lags (a
+        # loaded subscription, a fast replay); the scheduler waits for it
+        verdict = stamp_check(stamps[-1], stamp, None, self._config.time_jump_reset) \
+            if stamps else None
         if verdict is ResetReason.TIME_JUMP_BACKWARDS:
             confirmed, abandoned = self.jumps.behind(offer, stamp, self.reset_ns)
             for stale in abandoned:

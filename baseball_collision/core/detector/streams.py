@@ -19,9 +19,14 @@ MAX_HISTORY = 64
 """Samples at most in a velocity fit's history."""
 
 SILENT_AFTER = 1.0
-"""A stream whose newest sample is this far (s) behind the other's is silent: the other keeps
-only its own history (no sample of the silent one can ever be interpolated against the rest;
-one stamped within ``max_gap`` of its last would arrive this late)."""
+"""A stream whose newest sample is this far (s) behind the other's (and ``SILENT_KEEP``
+samples of the other) is silent: the other keeps only its own history."""
+
+SILENT_KEEP = 2048
+"""Samples a stream keeps after a silent one's newest before it trims to its own history: a
+stream that only lags (a live subscription behind the other under load, a replay at a high
+rate) catches up within them, so nothing it will still pair with is dropped; the memory stays
+bounded (about 0.4 MB) when the other is dead."""
 
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 
@@ -83,14 +88,20 @@ class Stream:
         Forget what no future interval needs, beside the ``other`` stream it is walked with.
 
         Normally what is ``history`` s and a few samples behind ``cursor`` (s); when the other
-        stream is empty or silent (its newest ``SILENT_AFTER`` behind this one's), what is
-        ``history`` behind this stream's own newest, so one dead stream does not grow the
-        other without bound.
+        stream is empty or silent (its newest ``SILENT_AFTER`` s and ``SILENT_KEEP`` samples
+        behind this one's), what is ``history`` behind this stream's own newest, so one dead
+        stream does not grow the other without bound.
         """
         times = self.times
         if len(times) < 64:
             return
-        if not other.times or times[-1] - other.times[-1] > SILENT_AFTER:
+        if other.times:
+            last = other.times[-1]
+            silent = times[-1] - last > SILENT_AFTER and \
+                len(times) - bisect_right(times, last) > SILENT_KEEP
+        else:
+            silent = times[-1] - times[0] > SILENT_AFTER and len(times) > SILENT_KEEP
+        if silent:
             self.trim(times[-1], history)
         elif cursor is not None:
             self.trim(cursor, history)

@@ -13,7 +13,7 @@ from typing import Any, Callable, List
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, StateReset, StreamGap)
 from baseball_collision.core.detector.gate import JUMP_CONFIRM
-from baseball_collision.core.detector.streams import SILENT_AFTER
+from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP
 import pytest
 from support.scenes import BASE_NS, first_contact, pitch, pose, swing
 
@@ -165,8 +165,9 @@ def test_a_dead_tracker_keeps_memory_flat_and_the_hit_is_found(bat_input: str) -
     """
     Ball at 1 kHz, the bat (or its tip) silent for 3 s: every buffer stays bounded; the hit.
 
-    Bounded: ``SILENT_AFTER`` plus the fits' history at 1 kHz, not the 3000 samples of the
-    silence, so memory and the walk when the bat comes back stay flat.
+    Bounded: ``SILENT_KEEP`` samples (``SILENT_AFTER`` s at least) plus the fits' history at
+    1 kHz, not the 3000 samples of the silence, so memory and the walk when the bat comes back
+    stay flat.
     """
     rate, start = 1000.0, 3.0  # the bat is silent from 50 ms to 3 s; then the swing
     detector = Detector(DetectorConfig(bat_input=bat_input))
@@ -188,11 +189,37 @@ def test_a_dead_tracker_keeps_memory_flat_and_the_hit_is_found(bat_input: str) -
         largest = max(largest, len(detector._ball.times), len(pairing.knob.times),
                       len(pairing.tip.times))
     events += detector.finish()
-    assert largest < (SILENT_AFTER + 0.2) * rate
+    assert largest < max(SILENT_AFTER * rate, SILENT_KEEP) + 0.2 * rate
     contact = first_contact(pitch())
     truth = BASE_NS + int(round((start + contact) * 1e9))
     assert len(impacts(events)) == 1 and abs(impacts(events)[0].stamp_ns - truth) < 100_000
     assert [e.stream for e in events if isinstance(e, StreamGap)] == ['bat']
+
+
+def test_a_lagging_stream_loses_nothing() -> None:
+    """
+    A bat 1.5 s of stamps late (a loaded node, a fast replay): the events of an in-order feed.
+
+    A lag is neither a dead tracker (``SILENT_KEEP``) nor a jump back: nothing is dropped.
+    """
+    rate, start, lag = 1000.0, 1.6, 1500
+
+    def run(delay: int) -> List[Any]:
+        detector = Detector(DetectorConfig())
+        events: List[Any] = []
+        total = int((start + 0.2) * rate)
+        for i in range(total + delay):
+            if i < total:
+                t = i / rate
+                events += detector.add_ball(stamp_of(i, rate),
+                                            (0.6, 2.9 - 40.0 * (t - start), 1.0), 'world')
+            j = i - delay
+            if 0 <= j < total:
+                events += detector.add_bat_pose(stamp_of(j, rate),
+                                                *pose(max(j / rate - start, 0.0)), 'world')
+        return events + detector.finish()
+    in_order, lagging = run(0), run(lag)
+    assert len(impacts(in_order)) == 1 and lagging == in_order
 
 
 def test_a_tracker_never_seen_keeps_memory_flat() -> None:
@@ -200,7 +227,7 @@ def test_a_tracker_never_seen_keeps_memory_flat() -> None:
     detector = Detector(DetectorConfig())
     for i in range(5000):
         detector.add_ball(stamp_of(i, 1000.0), (0.0, 0.0, 1.0))
-    assert len(detector._ball.times) < (SILENT_AFTER + 0.2) * 1000.0
+    assert len(detector._ball.times) < max(SILENT_AFTER * 1000, SILENT_KEEP) + 200
 
 
 # ---- 4: a lost mocap body ------------------------------------------------------------------

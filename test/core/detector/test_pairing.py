@@ -3,7 +3,7 @@
 from typing import List
 
 from baseball_collision.core.detector.pairing import _merged, Pairing
-from baseball_collision.core.detector.streams import SILENT_AFTER
+from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP
 from hypothesis import given, strategies as st
 import pytest
 
@@ -58,14 +58,16 @@ def test_a_dead_tip_keeps_the_knob_short() -> None:
         pairing.pairs(max_gap=0.05)
         pairing.trim(max_gap=0.05)
         largest = max(largest, len(pairing.knob.times))
-    assert largest < (SILENT_AFTER + 0.1) * 1000
+    assert largest < max(SILENT_AFTER * 1000, SILENT_KEEP) + 100
 
 
 def test_a_tip_never_seen_keeps_the_knob_short() -> None:
-    """No tip at all: the knob is trimmed by its own newest."""
+    """No tip at all: the knob is trimmed by its own newest (after ``SILENT_KEEP``)."""
     pairing = Pairing()
-    for i in range(3000):
+    largest = 0
+    for i in range(6000):
         pairing.knob.append(i * 0.001, 10 + i, (0.0, 0.0, 0.0), False)
         pairing.pairs(max_gap=0.05)
         pairing.trim(max_gap=0.05)
-    assert len(pairing.knob.times) < 100
+        largest = max(largest, len(pairing.knob.times))
+    assert largest <= SILENT_KEEP + 1 and len(pairing.knob.times) < 3000
