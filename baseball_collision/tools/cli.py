@@ -66,6 +66,17 @@ def _number(minimum: float, inclusive: bool, what: str,
     return convert
 
 
+def _domain(text: str) -> int:
+    """Return a ROS domain id: a whole number 0-101 (the ids whose DDS ports are safe)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 0 <= value <= 101:
+        raise argparse.ArgumentTypeError(f"'{text}' must be a ROS domain id from 0 to 101")
+    return value
+
+
 def _seed(text: str) -> int:
     try:
         value = int(text)
@@ -166,7 +177,8 @@ def _replay(args: argparse.Namespace) -> int:
 
 def _demo(args: argparse.Namespace) -> int:
     from .demo import run_demo
-    return run_demo(args.bag, args.params, rate=args.rate, timeout_s=args.timeout)
+    return run_demo(args.bag, args.params, rate=args.rate, timeout_s=args.timeout,
+                    domain=args.domain)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -303,6 +315,9 @@ def _add_demo(commands: Any) -> None:
                       help='replay speed factor (default 4)')
     demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
                       help='longest wait in s for the node to come up (default 30)')
+    demo.add_argument('--domain', type=_domain, default=None,
+                      help='ROS_DOMAIN_ID to run on (0-101; default: a random one), e.g. to '
+                      'watch ~/markers in RViz on this host with the same ROS_DOMAIN_ID')
     demo.set_defaults(run=_demo)
 
 

@@ -327,7 +327,8 @@ def _tail(log: Path, lines: int = 15) -> str:
 
 
 def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: float = 4.0,
-             timeout_s: float = 30.0, out: IO[str] = sys.stdout) -> int:
+             timeout_s: float = 30.0, out: IO[str] = sys.stdout,
+             domain: Optional[int] = None) -> int:
     """
     Run the demo (see the module docstring).
 
@@ -336,6 +337,7 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     :param rate: replay speed factor.
     :param timeout_s: longest wait for the node to come up (s).
     :param out: where to print.
+    :param domain: the ROS_DOMAIN_ID to run on; None: a random one (1-101).
     :returns: the exit code: 0 on success, 1 when the node failed or disagreed.
     :raises ToolError: missing files, or a bag or parameter file that cannot be used.
     """
@@ -344,7 +346,7 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
                           progress=False)
     track = BatTrack(bag, offline.config, offline)
-    env = isolated_environment()
+    env = isolated_environment(domain)
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
                                                  'ROS_AUTOMATIC_DISCOVERY_RANGE')})
     os.environ.pop('RMW_IMPLEMENTATION', None)

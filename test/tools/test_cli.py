@@ -235,6 +235,15 @@ def test_help_on_every_subcommand(command: List[str], run_cli: RunCli) -> None:
     assert code == 0 and stdout.startswith('usage: baseball-collision')
 
 
+def test_demo_domain_is_chosen_or_refused(run_cli: RunCli) -> None:
+    """The demo runs on --domain 0-101 when given (to watch it in RViz); others exit 2."""
+    from baseball_collision.tools.cli import build_parser
+    assert build_parser().parse_args(['demo', '--domain', '7']).domain == 7
+    assert build_parser().parse_args(['demo']).domain is None
+    code, _, stderr = run_cli(['demo', '--domain', '102'])
+    assert code == 2 and "'102' must be a ROS domain id from 0 to 101" in stderr
+
+
 def test_version(run_cli: RunCli) -> None:
     """--version prints the package's version."""
     code, stdout, _ = run_cli(['--version'])
