@@ -66,32 +66,31 @@ def _number(minimum: float, inclusive: bool, what: str,
     return convert
 
 
-def _domain(text: str) -> int:
-    """Return a ROS domain id: a whole number 0-101 (the ids whose DDS ports are safe)."""
+def _whole(text: str) -> int:
+    """Return ``text`` as an int, or raise the argparse error saying it is not one."""
     try:
-        value = int(text)
+        return int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+
+
+def _domain(text: str) -> int:
+    """Return a ROS domain id: a whole number 0-101 (the ids whose DDS ports are safe)."""
+    value = _whole(text)
     if not 0 <= value <= 101:
         raise argparse.ArgumentTypeError(f"'{text}' must be a ROS domain id from 0 to 101")
     return value
 
 
 def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    value = _whole(text)
     if not 0 <= value <= MAX_SEED:
         raise argparse.ArgumentTypeError(f"'{text}' must be from 0 to 2^64 - 1")
     return value
 
 
 def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    value = _whole(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"'{text}' must be >= 1")
     return value
