@@ -238,7 +238,7 @@ class BagPlayer:
     def _play(self, loop: bool, stop: Optional[threading.Event], ack_timeout_s: float,
               started: float) -> ReplayResult:
         """Publish the bag (see ``play``)."""
-        begin = self._bag.start_time_ns
+        begin, end = self._bag.start_time_ns, self._bag.end_time_ns  # /clock stays inside
         publishers = self._publishers
         period = self.clock_period
         scale = 1e-9 / self.rate
@@ -254,7 +254,8 @@ class BagPlayer:
                     while True:
                         now = time.monotonic()
                         if period and now >= next_clock:
-                            self._publish_clock(begin + int((now - wall0) * self.rate * 1e9))
+                            self._publish_clock(min(begin + int((now - wall0) * self.rate
+                                                                * 1e9), end))
                             next_clock = max(next_clock + period, now)
                         if now >= due:
                             break

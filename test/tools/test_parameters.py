@@ -85,7 +85,8 @@ def test_output_topics_are_the_nodes() -> None:
     assert output_topics(NODE_NAME) == {
         'impact': '/impact_node/impact', 'impact_velocity': '/impact_node/impact_velocity',
         'near_miss': '/impact_node/near_miss',
-        'predicted_impact': '/impact_node/predicted_impact'}
+        'predicted_impact': '/impact_node/predicted_impact',
+        'impact_report': '/impact_node/impact_report'}
 
 
 @pytest.mark.parametrize('line, words', [
