@@ -54,6 +54,7 @@ from .messages import (
     plan_arrays, stamp_to_ns, xyz, xyzw)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import Detector, Event, Impact, NODE_NAME, SPECS, StateReset
+from ..core.prediction import MAX_PLAN_POSES
 from ..core.scene import live_scene, Scene
 from ..errors import CoreError, RosError
 
@@ -178,6 +179,12 @@ class ImpactNode(Node):
 
     def _on_plan(self, message: Path) -> None:
         """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
+        if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
+            self.get_logger().warning(
+                f'ignored a bat plan on {self._plan_sub.topic_name}: {len(message.poses)} '
+                f'poses is more than the {MAX_PLAN_POSES} a plan may hold',
+                throttle_duration_sec=WARN_PERIOD_S)
+            return
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
             expected = self.detector.frame_id

@@ -21,6 +21,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DROP_REASONS, PARAMETERS
+from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
 from baseball_collision.ros.node import ImpactNode
@@ -579,3 +580,25 @@ def test_hardware_id_names_the_node_or_the_rig(harness: Callable[..., Harness]) 
     """hardware_id: the node's fully qualified name by default, else the parameter."""
     assert harness().node.diagnostics().hardware_id == '/impact_node'
     assert harness({'hardware_id': 'cage_2'}).node.diagnostics().hardware_id == 'cage_2'
+
+
+def test_a_plan_too_large_is_refused_before_any_work(harness: Callable[..., Harness]) -> None:
+    """Issue 12.6 live: a plan over MAX_PLAN_POSES never reaches the detector; later ones do."""
+    h = make_plan_harness(harness)
+    detector = h.node.detector
+    taken: List[int] = []
+    set_plan = detector.set_bat_plan
+
+    def spy(stamps: Sequence[int], *rest: Any) -> None:
+        taken.append(len(stamps))
+        set_plan(stamps, *rest)
+    detector.set_bat_plan = spy
+    huge = PathMsg()
+    huge.poses = [pose_msg(BASE_NS + i * 1000, (0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0))
+                  for i in range(MAX_PLAN_POSES + 1)]
+    h.publishers['bat_plan'].publish(huge)
+    small = PathMsg()
+    small.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3)) for i in range(5)]
+    h.publishers['bat_plan'].publish(small)  # delivered after the huge one (reliable)
+    h.wait(lambda: detector._predictor.plan is not None, 5.0, 'the small plan')
+    assert taken == [5] and len(detector._predictor.plan[1].times) == 5
