@@ -11,12 +11,22 @@ events come back out as messages:
   contact point (linear, m/s) and bat angular velocity (angular, rad/s).
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
-* ``~/predicted_impact`` (PointStamped) and ``~/impact_predicted`` (std_msgs/Bool, latched).
+* ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
+  ``~/impact_predicted`` (std_msgs/Bool, latched).
+* ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
+  prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
+  ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
+  and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``).
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
-  at each impact, and the live bat and ball.
-* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, drops by reason, events,
-  processing time and the state (waiting for data, tracking, stale).
+  at each impact, and the live bat and ball (stamped with their samples' stamp, published only
+  when a new sample came; a ``DELETEALL`` on every state reset).
+* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, messages estimated lost, drops by
+  reason, events and resets, processing time and the state (waiting for data, tracking, stale,
+  idle), grouped; ``hardware_id`` the parameter (default the node's name).
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
+
+Inputs are subscribed with ``qos``/``qos_depth``, which the standard
+``qos_overrides./TOPIC.subscription.{reliability,history,depth}`` parameters override.
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
 table (``parameters``), conversions are in ``messages``, markers in ``markers``, the status
