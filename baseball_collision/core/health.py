@@ -13,12 +13,22 @@ type) is asked of the ROS graph by the node for the streams :func:`silent_stream
 from collections import Counter
 from dataclasses import dataclass, field
 import enum
+import math
 from typing import Dict, List, Mapping, Optional, Tuple
 
 from .detector import DetectorStats, DROP_REASONS
 
 HARDWARE_ID = 'baseball_collision'
-"""The status's ``hardware_id``."""
+"""The status's ``hardware_id`` when the settings name none (``hardware_id`` '')."""
+
+RESETS_ERROR = 3
+"""State resets within one diagnostics period that make the status ERROR (one makes WARN)."""
+
+LOSS_FACTOR = 1.5
+"""A stamp step more than this many typical steps is a gap: messages lost (see StampGaps)."""
+
+LOSS_GAP_MAX_NS = 1_000_000_000
+"""A longer stamp step is a pause of the publisher (a stale input), not messages lost."""
 
 NS_PER_S = 1_000_000_000
 
@@ -74,11 +84,15 @@ class Period:
     :ivar arrivals: messages received per stream since start-up, when it started.
     :ivar dropped: samples dropped since start-up, when it started.
     :ivar count, total_s, max_s: message callbacks in the period and their wall times (s).
+    :ivar resets: the detector's state resets since start-up, when it started.
+    :ivar lost: messages estimated lost per stream since start-up, when it started.
     """
 
     start: float
     arrivals: Counter
     dropped: int
+    resets: int = 0
+    lost: Counter = field(default_factory=Counter)
     count: int = 0
     total_s: float = 0.0
     max_s: float = 0.0
@@ -89,6 +103,56 @@ class Period:
         self.total_s += elapsed_s
         if elapsed_s > self.max_s:
             self.max_s = elapsed_s
+
+
+class StampGaps:
+    """
+    Messages of one stream estimated lost from gaps in its header stamps.
+
+    A publisher at a steady rate steps its stamps by about the same amount; a step of more
+    than ``LOSS_FACTOR`` typical steps (the median of the last eight) and at most
+    ``LOSS_GAP_MAX_NS`` (longer: a pause, reported as stale) means ``round(step / typical) -
+    1`` messages did not arrive. A step is counted when the next stamp comes after it: a lone
+    stamp glitched ahead (the next one comes before it) is not a gap. Stamps at or behind the
+    newest (another publisher, a jump back) are ignored until the stream passes them.
+
+    :ivar lost: messages estimated lost so far.
+    """
+
+    __slots__ = ('lost', '_newest', '_steps', '_pending')
+
+    def __init__(self) -> None:
+        self.lost = 0
+        self._newest: Optional[int] = None
+        self._steps: List[int] = []
+        self._pending: Optional[Tuple[int, int]] = None  # (stamp before the step, lost)
+
+    def take(self, stamp_ns: int) -> None:
+        """Count in the header stamp (ns) of the next message (see the class)."""
+        newest = self._newest
+        if self._pending is not None:
+            before, lost = self._pending
+            self._pending = None
+            if stamp_ns < newest:  # the big step was a lone glitch: go on from before it
+                newest = self._newest = before
+            else:
+                self.lost += lost
+        if newest is None or stamp_ns <= newest:
+            if newest is None:
+                self._newest = stamp_ns
+            return
+        step = stamp_ns - newest
+        steps = self._steps
+        typical = sorted(steps)[len(steps) // 2] if len(steps) >= 4 else None
+        if step > LOSS_GAP_MAX_NS or (typical is not None and step > LOSS_FACTOR * typical):
+            lost = 0 if typical is None or step > LOSS_GAP_MAX_NS else round(step / typical) - 1
+            self._pending = (newest, max(0, lost))  # decided by the next stamp
+            self._newest = stamp_ns
+            return
+        steps.append(step)
+        if len(steps) > 8:
+            del steps[0]
+        self._newest = stamp_ns
 
 
 @dataclass
@@ -103,6 +167,7 @@ class Tally:
     :ivar incompatible: QoS or type incompatibilities seen; ``incompatible_reported``: as many
         as the last status reported.
     :ivar last_impact_ns: the stamp of the last impact published.
+    :ivar gaps: each stream's :class:`StampGaps` (messages estimated lost).
     """
 
     started: float
@@ -112,6 +177,7 @@ class Tally:
     incompatible: int = 0
     incompatible_reported: int = 0
     last_impact_ns: Optional[int] = None
+    gaps: Dict[str, StampGaps] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Start the first period at start-up."""
@@ -123,13 +189,25 @@ class Tally:
         self.arrivals[stream] += 1
         self.last_arrival[stream] = now
 
-    def next_period(self, now: float, dropped: int) -> Period:
+    def stamped(self, stream: str, stamp_ns: int) -> None:
+        """Take the header stamp (ns) of a message on ``stream``, for the loss estimate."""
+        gaps = self.gaps.get(stream)
+        if gaps is None:
+            gaps = self.gaps[stream] = StampGaps()
+        gaps.take(stamp_ns)
+
+    def lost(self) -> Counter:
+        """Return the messages estimated lost per stream since start-up."""
+        return Counter({stream: gaps.lost for stream, gaps in self.gaps.items()})
+
+    def next_period(self, now: float, dropped: int, resets: int = 0) -> Period:
         """
         Start a new period at ``now``; return the one that ends.
 
-        :param dropped: samples dropped since start-up, now.
+        :param dropped: samples dropped since start-up, now; ``resets``: state resets.
         """
-        ended, self.period = self.period, Period(now, Counter(self.arrivals), dropped)
+        ended, self.period = self.period, Period(now, Counter(self.arrivals), dropped, resets,
+                                                 self.lost())
         return ended
 
 
@@ -152,6 +230,7 @@ class Snapshot:
     :ivar frame_id: the tracking frame ('' before the first sample).
     :ivar settings: ``stale_timeout`` (s), ``model``, ``bat_input``, ``qos``.
     :ivar incompatible, incompatible_reported: as in :class:`Tally`.
+    :ivar lost: messages estimated lost per stream since start-up (``Tally.lost``).
     """
 
     now: float
@@ -172,6 +251,7 @@ class Snapshot:
     settings: Mapping[str, object]
     incompatible: int
     incompatible_reported: int
+    lost: Mapping[str, int] = field(default_factory=dict)
 
 
 def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mapping[str, str],
@@ -186,13 +266,13 @@ def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mappi
     return Snapshot(
         now=now, name=name, streams=tuple(streams), topics=dict(topics), started=tally.started,
         arrivals=Counter(tally.arrivals), last_arrival=dict(tally.last_arrival),
-        period=tally.next_period(now, sum(dropped.values())), dropped=dropped,
+        period=tally.next_period(now, sum(dropped.values()), stats.resets), dropped=dropped,
         counts={'impacts': stats.impacts, 'near_misses': stats.near_misses, 'gaps': stats.gaps,
                 'resets': stats.resets},
         detector_mean_s=stats.mean_processing_s, detector_max_s=stats.max_processing_s,
         watermark_ns=watermark_ns, last_impact_ns=tally.last_impact_ns,
         frame_id=frame_id or '', settings=settings, incompatible=tally.incompatible,
-        incompatible_reported=tally.incompatible_reported)
+        incompatible_reported=tally.incompatible_reported, lost=tally.lost())
 
 
 def silent_streams(snapshot: Snapshot) -> List[str]:
@@ -225,13 +305,17 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
     """
     Return the detector's status over the period ending at ``snapshot.now``.
 
-    Level: OK; WARN when an input is stale, samples were dropped in the period or a new QoS
-    or type incompatibility was seen; ERROR when every sample of the period was dropped.
-    Groups and keys: ``state`` (``state``: waiting for data, tracking, stale;
+    Level: OK; WARN when an input is stale, samples were dropped in the period, messages were
+    estimated lost (gaps in an input's stamps), the state was reset in the period or a new QoS
+    or type incompatibility was seen; ERROR when every sample of the period was dropped or
+    the state was reset ``RESETS_ERROR`` times in it. Every input silent longer than
+    ``idle_timeout`` after data came is the state ``idle`` at OK (a session ended).
+    Groups and keys: ``state`` (``state``: waiting for data, tracking, stale, idle;
     ``stale_topics``); ``inputs`` (per stream ``<stream>_topic``, ``<stream>_rate_hz``,
-    ``<stream>_received``); ``drops`` (``dropped_<reason>`` for every reason in
-    ``DROP_REASONS``, ``dropped_total``, ``dropped_in_period``); ``events`` (``impacts``,
-    ``near_misses``, ``gaps``, ``resets``); ``timing`` (``messages_in_period``,
+    ``<stream>_received``, ``<stream>_lost``: estimated; ``lost_in_period``); ``drops``
+    (``dropped_<reason>`` for every reason in ``DROP_REASONS``, ``dropped_total``,
+    ``dropped_in_period``); ``events`` (``impacts``, ``near_misses``, ``gaps``, ``resets``,
+    ``resets_in_period``); ``timing`` (``messages_in_period``,
     ``processing_mean_ms``, ``processing_max_ms``: whole callback, over the period;
     ``detector_mean_ms``, ``detector_max_ms``: since start); ``session``
     (``watermark_stamp``, ``last_impact_stamp``, ``frame_id``, ``model``, ``bat_input``,
@@ -242,14 +326,31 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
     period = snapshot.period
     stale, waiting = _inputs(snapshot, problems)
     state = 'stale' if stale else 'waiting for data' if waiting else 'tracking'
+    idle_after = float(snapshot.settings.get('idle_timeout', 0.0) or 0.0)
+    if stale and idle_after > 0.0 and snapshot.last_arrival and all(
+            snapshot.now - snapshot.last_arrival.get(stream, -math.inf) > idle_after
+            for stream in snapshot.streams):
+        state, stale = 'idle', []
     dropped_total = sum(snapshot.dropped.values())
     dropped_now = dropped_total - period.dropped
     received_now = sum(snapshot.arrivals.values()) - sum(period.arrivals.values())
+    resets_now = snapshot.counts.get('resets', 0) - period.resets
+    lost_now = {stream: count - period.lost.get(stream, 0)
+                for stream, count in snapshot.lost.items()
+                if count > period.lost.get(stream, 0)}
 
     level, problems_seen = Level.OK, []
     if stale:
         level = Level.WARN
         problems_seen.append('stale: ' + ', '.join(stale))
+    if lost_now:
+        level = Level.WARN
+        problems_seen.append('about ' + ', '.join(
+            f'{count} messages lost on {snapshot.topics.get(stream, stream)}'
+            for stream, count in sorted(lost_now.items())) + ' (gaps in the stamps)')
+    if resets_now:
+        level = max(level, Level.ERROR if resets_now >= RESETS_ERROR else Level.WARN)
+        problems_seen.append(f'state reset {resets_now} time(s) (see the log)')
     if dropped_now:
         level = Level.WARN
         problems_seen.append(f'dropped {dropped_now} of {received_now} samples')
@@ -261,15 +362,20 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
         problems_seen.append('incompatible QoS or type on a topic (see the log)')
     message = 'waiting for data on ' + ', '.join(waiting) if state == 'waiting for data' \
         else state
+    if state == 'idle':
+        silent = snapshot.now - max(snapshot.last_arrival.values())
+        message = f'idle: no input for {silent:.0f} s (the session ended?)'
+
     if problems_seen:
         message = '; '.join(problems_seen) if stale else f"{message}; {'; '.join(problems_seen)}"
     return HealthStatus(level=level, name=f'{snapshot.name}: impact detector', message=message,
-                        hardware_id=HARDWARE_ID,
-                        groups=_groups(snapshot, state, stale, dropped_now))
+                        hardware_id=str(snapshot.settings.get('hardware_id') or HARDWARE_ID),
+                        groups=_groups(snapshot, state, stale, dropped_now, resets_now,
+                                       sum(lost_now.values())))
 
 
-def _groups(snapshot: Snapshot, state: str, stale: List[str],
-            dropped_now: int) -> Tuple[Tuple[str, Values], ...]:
+def _groups(snapshot: Snapshot, state: str, stale: List[str], dropped_now: int,
+            resets_now: int, lost_now: int) -> Tuple[Tuple[str, Values], ...]:
     """Return the status's grouped key/values (see health_status)."""
     period = snapshot.period
     elapsed = max(snapshot.now - period.start, 1e-9)
@@ -278,7 +384,9 @@ def _groups(snapshot: Snapshot, state: str, stale: List[str],
         rate = (snapshot.arrivals.get(stream, 0) - period.arrivals[stream]) / elapsed
         inputs += [(f'{stream}_topic', snapshot.topics[stream]),
                    (f'{stream}_rate_hz', f'{rate:.1f}'),
-                   (f'{stream}_received', str(snapshot.arrivals.get(stream, 0)))]
+                   (f'{stream}_received', str(snapshot.arrivals.get(stream, 0))),
+                   (f'{stream}_lost', str(snapshot.lost.get(stream, 0)))]
+    inputs.append(('lost_in_period', str(lost_now)))
     drops = [(f'dropped_{reason}', str(snapshot.dropped.get(reason, 0)))
              for reason in DROP_REASONS]
     drops += [('dropped_total', str(sum(snapshot.dropped.values()))),
@@ -301,5 +409,6 @@ def _groups(snapshot: Snapshot, state: str, stale: List[str],
         ('incompatible_qos_events', str(snapshot.incompatible)))
     return (('state', (('state', state), ('stale_topics', ', '.join(stale)))),
             ('inputs', tuple(inputs)), ('drops', tuple(drops)),
-            ('events', tuple((name, str(count)) for name, count in snapshot.counts.items())),
+            ('events', tuple((name, str(count)) for name, count in snapshot.counts.items())
+             + (('resets_in_period', str(resets_now)),)),
             ('timing', timing), ('session', session))

@@ -17,7 +17,7 @@ positions metres. The detector builds the two forecasts from its latest samples 
   chord error tolerance, skipping every stretch where the ball cannot reach the bat.
 """
 
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 import math
 from typing import List, Optional, Sequence, Tuple
@@ -168,8 +168,9 @@ class PlannedBat:
     def pivot_travel(self, ta: float, tb: float) -> float:
         """Return the length (m) of the pose origin's path from ta to tb (it moves on chords)."""
         times = self.times
+        first, end = bisect_right(times, ta), bisect_left(times, tb)  # poses inside (ta, tb)
         points = [self.pivot_at(ta)]
-        points += [self.positions[k] for k in range(len(times)) if ta < times[k] < tb]
+        points += self.positions[first:max(first, end)]
         points.append(self.pivot_at(tb))
         return sum(math.dist(a, b) for a, b in zip(points[:-1], points[1:]))
 
@@ -256,15 +257,32 @@ def turn_axis_and_rates(rate_vector: Sequence[float],
     return axis, rate, dot(change_vector, axis)
 
 
+MAX_PLAN_POSES = 10_000
+"""Poses a commanded bat plan may hold: 10 s at 1 kHz; a plan is the coming swing, re-sent as
+the arm re-plans, not a whole session."""
+
+
+def check_plan_size(count: int) -> None:
+    """
+    Refuse a plan of more than ``MAX_PLAN_POSES`` poses.
+
+    :raises ValueError: saying the limit and why.
+    """
+    if count > MAX_PLAN_POSES:
+        raise ValueError(f'a bat plan of {count} poses is more than the {MAX_PLAN_POSES} a '
+                         'plan may hold: send the coming swing (seconds), not a session')
+
+
 def planned_bat(times: Sequence[float], positions: Sequence[Sequence[float]],
                 quaternions: Sequence[Sequence[float]], knob_offset: Vector,
                 tip_offset: Vector) -> PlannedBat:
     """
     Return a plan from parallel lists, normalising the quaternions.
 
-    :raises ValueError: lists of different lengths, times not increasing, or a quaternion
-        that is not unit length within 1e-3.
+    :raises ValueError: more than ``MAX_PLAN_POSES`` poses, lists of different lengths, times
+        not increasing, or a quaternion that is not unit length within 1e-3.
     """
+    check_plan_size(len(times))
     if not len(times) == len(positions) == len(quaternions):
         raise ValueError('a bat plan needs as many times, positions and quaternions')
     if any(b <= a for a, b in zip(times[:-1], times[1:])):

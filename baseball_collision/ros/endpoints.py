@@ -14,6 +14,7 @@ from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallba
 from rclpy.exceptions import InvalidTopicNameException
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos_overriding_options import QoSOverridingOptions
 
 from .diagnostics import Tally
 from .messages import type_name
@@ -59,6 +60,10 @@ class Endpoints:
         """
         Return a new subscription of an input stream, its QoS and type mismatches warned about.
 
+        ``qos`` is the default; the standard ``qos_overrides./TOPIC.subscription.`` parameters
+        (``reliability``, ``history``, ``depth``; read-only, from a params file or
+        ``-p``) override it (rclpy's ``QoSOverridingOptions``).
+
         :raises RosError: a topic name that fails once expanded (``a//b``).
         """
         events = SubscriptionEventCallbacks(
@@ -67,8 +72,9 @@ class Endpoints:
             incompatible_type=lambda info: self._incompatible_type(stream))
         self.types[stream] = type_name(msg_type)
         try:
-            subscription = self._node.create_subscription(msg_type, topic, callback, qos,
-                                                          event_callbacks=events)
+            subscription = self._node.create_subscription(
+                msg_type, topic, callback, qos, event_callbacks=events,
+                qos_overriding_options=QoSOverridingOptions.with_default_policies())
         except InvalidTopicNameException as error:
             first = str(error).splitlines()[0].rstrip(':')
             raise RosError(f'{stream} topic {topic!r}: {first}') from error

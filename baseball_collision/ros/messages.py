@@ -8,18 +8,20 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 ``predicted_impact``, ``markers``) and the line it is logged as.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
 
 from builtin_interfaces.msg import Time as TimeMsg
 from geometry_msgs.msg import Point, PointStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path
-from std_msgs.msg import Header
+from std_msgs.msg import Header, String
 from visualization_msgs.msg import MarkerArray
 
 from ..core.detector import (
-    Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared, StateReset, StreamGap)
+    DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
+    StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
+from ..core.records import EVENT_NAMES, event_record, record_text
 
 NS_PER_S = 1_000_000_000
 """Nanoseconds per second."""
@@ -140,11 +142,23 @@ _DROP_DETAILS = {
     'bat_length_jump': 'knob-tip length jumped beyond bat_length_tolerance',
     'speed_limit': 'moved faster than max_speed since the previous sample',
     'unexpected_input': 'this input does not match bat_input',
+    'bad_stamp': 'stamp {stamp} s is zero or negative (an unset header stamp)',
+    'stale_stamp': 'stamp {stamp} s is more than time_jump_reset behind its stream and no '
+                   "jump back followed (another publisher's clock, e.g. a replay left running)",
+    'stamp_ahead': 'stamp {stamp} s was well ahead of its stream and the next sample came '
+                   'before it (a lone glitch)',
+    'bad_frame': 'frame {frame!r} has control characters or bytes that were not UTF-8',
+    'lost_body': 'bat pose at the origin with the identity orientation (motion capture lost '
+                 'the rigid body; drop_lost_body)',
 }
 
 
 def describe_drop(reason: str, frame: str, expected: Optional[str], stamp_ns: int) -> str:
-    """Return why a sample was dropped, in words (``reason`` is a ``DROP_REASONS`` entry)."""
+    """
+    Return why a sample was dropped, in words (``reason`` is a ``DROP_REASONS`` entry).
+
+    Every reason has its own words (the log line names the reason before them).
+    """
     return _DROP_DETAILS.get(reason, reason).format(
         frame=frame, expected=expected or '', stamp=format_stamp(stamp_ns))
 
@@ -237,12 +251,23 @@ _EVENT_OUTPUTS: Dict[Type[Any], Callable[[Any, str, ImpactMarkers], EventOutput]
 """The one dispatch table: event type -> what it becomes."""
 
 
-def event_output(event: Event, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+def event_output(event: Event, frame_id: str, markers: ImpactMarkers,
+                 config: Optional[DetectorConfig] = None) -> EventOutput:
     """
     Return what a detector event becomes: messages stamped with its instant, and a log line.
 
-    :param frame_id: the tracking frame, for the headers.
+    An impact, near miss or prediction is also an ``impact_report`` (``std_msgs/String``):
+    its ``core.records.event_record`` as one line of JSON, exactly what ``analyze --json``
+    writes for it (without analyze's ``bag`` and ``time_s``).
+
+    :param frame_id: the tracking frame, for the headers and the report.
     :param markers: makes an impact's markers (returns None when markers are off).
+    :param config: the detector configuration that found the event (names the report's
+        ``zone``); None: no report.
     :raises KeyError: an event type the table does not know.
     """
-    return _EVENT_OUTPUTS[type(event)](event, frame_id, markers)
+    output = _EVENT_OUTPUTS[type(event)](event, frame_id, markers)
+    if config is None or type(event) not in EVENT_NAMES:
+        return output
+    report = String(data=record_text(event_record(event, frame_id, config)))
+    return replace(output, messages=output.messages + (('impact_report', report),))

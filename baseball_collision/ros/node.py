@@ -11,12 +11,22 @@ events come back out as messages:
   contact point (linear, m/s) and bat angular velocity (angular, rad/s).
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
-* ``~/predicted_impact`` (PointStamped) and ``~/impact_predicted`` (std_msgs/Bool, latched).
+* ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
+  ``~/impact_predicted`` (std_msgs/Bool, latched).
+* ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
+  prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
+  ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
+  and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``).
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
-  at each impact, and the live bat and ball.
-* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, drops by reason, events,
-  processing time and the state (waiting for data, tracking, stale).
+  at each impact, and the live bat and ball (stamped with their samples' stamp, published only
+  when a new sample came; a ``DELETEALL`` on every state reset).
+* ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, messages estimated lost, drops by
+  reason, events and resets, processing time and the state (waiting for data, tracking, stale,
+  idle), grouped; ``hardware_id`` the parameter (default the node's name).
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
+
+Inputs are subscribed with ``qos``/``qos_depth``, which the standard
+``qos_overrides./TOPIC.subscription.{reliability,history,depth}`` parameters override.
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
 table (``parameters``), conversions are in ``messages``, markers in ``markers``, the status
@@ -42,18 +52,20 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from std_msgs.msg import Bool, Header
+from std_msgs.msg import Bool, Header, String
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import report, silent_streams, take_snapshot, Tally
 from .endpoints import Endpoints, input_qos
-from .markers import bat_ends, impact_markers, live_markers
+from .markers import bat_ends, impact_markers, scene_markers
 from .messages import (
     describe_drop, describe_listening, event_output, EventOutput, format_stamp, NS_PER_S,
     plan_arrays, stamp_to_ns, xyz, xyzw)
 from .parameters import check_change, declare, start_warnings
-from ..core.detector import Detector, Event, Impact, NODE_NAME, SPECS
+from ..core.detector import Detector, Event, Impact, NODE_NAME, SPECS, StateReset
+from ..core.prediction import MAX_PLAN_POSES
+from ..core.scene import live_scene, Scene
 from ..errors import CoreError, RosError
 
 WARN_PERIOD_S = 2.0
@@ -75,6 +87,7 @@ _OUTPUTS = (  # output name, message type, topic, QoS
     ('impact', PointStamped, '~/impact', _EVENTS),
     ('impact_velocity', TwistStamped, '~/impact_velocity', _EVENTS),
     ('near_miss', Vector3Stamped, '~/near_miss', _EVENTS),
+    ('impact_report', String, '~/impact_report', _EVENTS),
     ('markers', MarkerArray, '~/markers', _VIEWS),
     ('diagnostics', DiagnosticArray, '/diagnostics', _VIEWS),
 )
@@ -95,7 +108,8 @@ class ImpactNode(Node):
         self._jump_handle = None
         self.tally = Tally(started=time.monotonic())
         self._lock = threading.Lock()
-        self._last_values: Dict[str, Any] = {}
+        self._last_values: Dict[str, Tuple[int, Any]] = {}
+        self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._clock_jump_at = -math.inf
         self._drop_loggers: Dict[str, Any] = {}
@@ -142,10 +156,10 @@ class ImpactNode(Node):
         else:
             inputs += [('knob', PointStamped, s['knob_topic'], self._on_knob),
                        ('tip', PointStamped, s['tip_topic'], self._on_tip)]
-        qos = input_qos(s['qos'] == 'reliable', s['qos_depth'])
         self._streams = tuple(stream for stream, _, _, _ in inputs)
-        for stream, msg_type, topic, callback in inputs:
-            self.endpoints.subscribe(stream, msg_type, topic, callback, qos)
+        for stream, msg_type, topic, callback in inputs:  # a profile each: overrides change it
+            self.endpoints.subscribe(stream, msg_type, topic, callback,
+                                     input_qos(s['qos'] == 'reliable', s['qos_depth']))
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
                                                       _VIEWS)
@@ -175,6 +189,12 @@ class ImpactNode(Node):
 
     def _on_plan(self, message: Path) -> None:
         """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
+        if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
+            self.get_logger().warning(
+                f'ignored a bat plan on {self._plan_sub.topic_name}: {len(message.poses)} '
+                f'poses is more than the {MAX_PLAN_POSES} a plan may hold',
+                throttle_duration_sec=WARN_PERIOD_S)
+            return
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
             expected = self.detector.frame_id
@@ -197,15 +217,23 @@ class ImpactNode(Node):
         frame = header.frame_id
         with self._lock:
             self.tally.arrived(stream, time.monotonic())
+            self.tally.stamped(stream, stamp)
             events = add_sample(stamp, *values, frame)
-            dropped = self.detector.stats.last_drop_reason
+            stats = self.detector.stats
+            dropped, late = stats.last_drop_reason, stats.late_drops
             expected = self.detector.frame_id
             if dropped is None:
-                self._last_values[stream] = values
+                self._last_values[stream] = (stamp, values)
+            config = self.detector.config
             for event in events:
-                self._publish(event_output(event, frame or expected or '', self._markers))
+                if event.__class__ is StateReset:
+                    self._clear_markers(event.stamp_ns, expected or frame)
+                self._publish(event_output(event, frame or expected or '', self._markers,
+                                           config))
         if dropped is not None:
             self._warn_drop(stream, dropped, frame, expected, stamp)
+        for each in late:  # samples that waited (a held glitch, a frame vote) dropped now
+            self._warn_drop(each.role, each.reason, each.frame_id, expected, each.stamp_ns)
         self._record_processing(time.perf_counter() - start)
 
     def _record_processing(self, elapsed_s: float) -> None:
@@ -220,7 +248,8 @@ class ImpactNode(Node):
             logger = self._drop_loggers[reason] = rclpy.logging.get_logger(
                 self.get_logger().name)
         logger.warning(
-            f'dropped a {stream} sample on {self.endpoints.topics[stream]}: {reason}: '
+            f'dropped a {stream} sample on {self.endpoints.topics.get(stream, stream)}: '
+            f'{reason}: '
             f'{describe_drop(reason, frame, expected, stamp)}; '
             f'{self.detector.stats.dropped[reason]} dropped for this reason so far',
             throttle_duration_sec=WARN_PERIOD_S)
@@ -261,19 +290,30 @@ class ImpactNode(Node):
             self._outputs['impact_predicted'].publish(Bool(data=predicting))
 
     def _publish_live_markers(self) -> None:
-        """Publish the last accepted bat and ball as markers (timer, steady clock)."""
+        """
+        Publish the last accepted bat and ball as markers (timer, steady clock).
+
+        Stamped with the newest of their samples' stamps; published only when a new sample
+        came since the last array (they expire two periods after input stops).
+        """
         if not self.settings['publish_markers']:
             return
         with self._lock:
             last = dict(self._last_values)
             frame = self.detector.frame_id or ''
             config = self.detector.config
-        ball, ends = last.get('ball'), bat_ends(last, config)
+        if not last:
+            return
+        newest = max(stamp for stamp, _ in last.values())
+        if newest == self._markers_stamp:
+            return  # nothing new: no republish
+        self._markers_stamp = newest
+        values = {stream: value for stream, (_, value) in last.items()}
+        ball, ends = values.get('ball'), bat_ends(values, config)
         if ball is None and ends is None:
             return
-        header = Header(stamp=self.get_clock().now().to_msg(), frame_id=frame)
-        self._outputs['markers'].publish(live_markers(
-            header, ball and ball[0], ends, config, 2.0 / self.settings['marker_rate']))
+        self._outputs['markers'].publish(scene_markers(live_scene(
+            newest, frame, ball and ball[0], ends, config, 2.0 / self.settings['marker_rate'])))
 
     # ---- services and clock --------------------------------------------------------------
 
@@ -289,10 +329,19 @@ class ImpactNode(Node):
     def _reset(self, reason: str) -> Tuple[int, int]:
         """Clear the detector state and the live values; return its stamp (ns) and resets."""
         with self._lock:
+            frame = self.detector.frame_id or ''
             event = self.detector.reset(self.detector.stats.newest_stamp_ns or 0, reason)
-            self._last_values.clear()
             self._set_predicting(False)
+            self._clear_markers(event.stamp_ns, frame)
             return event.stamp_ns, self.detector.stats.resets
+
+    def _clear_markers(self, stamp_ns: int, frame: str) -> None:
+        """After a state reset: forget the live values, clear the markers (DELETEALL)."""
+        self._last_values.clear()
+        self._markers_stamp = None
+        if self.settings['publish_markers']:
+            self._outputs['markers'].publish(scene_markers(
+                Scene(stamp_ns, frame, (), delete_all=True)))
 
     def _register_clock_jump(self) -> None:
         """(Re)register the ROS clock jump callback at ``time_jump_reset`` backwards."""
@@ -352,11 +401,13 @@ class ImpactNode(Node):
 
     def diagnostics(self) -> DiagnosticStatus:
         """Return the detector's status over the period since the previous call (see report)."""
+        settings = dict(self.settings.values)
+        settings['hardware_id'] = settings['hardware_id'] or self.get_fully_qualified_name()
         with self._lock:
             snapshot = take_snapshot(
                 time.monotonic(), self.get_name(), self._streams, self.endpoints.topics,
                 self.tally, self.detector.stats, self.detector.watermark_ns,
-                self.detector.frame_id, self.settings.values)
+                self.detector.frame_id, settings)
         problems = {stream: self.endpoints.silence(stream) for stream in silent_streams(snapshot)}
         snapshot = replace(snapshot, incompatible=self.tally.incompatible)  # found just now too
         self.tally.incompatible_reported = snapshot.incompatible

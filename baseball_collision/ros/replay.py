@@ -8,9 +8,14 @@ Every topic of the bag whose type rclpy can import is published with its own nam
 * ``/clock`` (``rosgraph_msgs/Clock``) at ``clock_hz``: the bag time the pacing has reached, so
   nodes with ``use_sim_time`` follow the bag. ``loop`` restarts from the first message, and the
   clock jumps back (a node resets on that).
-* QoS: reliable, volatile, keep-last with a deep queue (``depth``), so a live subscriber that
-  asks for reliable delivery gets every message; at the end the player waits until the
-  subscribers acknowledged everything.
+* QoS: reliable, volatile, keep-last with a deep queue (``depth``), so a reliable subscriber
+  whose own queue is deep enough for the rate gets every message; at the end the player waits
+  until the subscribers acknowledged everything. What it cannot promise it says
+  (``replay_summary``): an acknowledgement wait that timed out (``ack_timeouts``), publishing
+  that fell behind the schedule (``late_s``: the player could not keep the rate), and a
+  best-effort subscriber (``best_effort_subscribers``: it may drop under load). Pacing by
+  acknowledgements during the playback was tried and dropped: Fast DDS acknowledges on its
+  heartbeat (every 3 s by default), so each wait cost seconds.
 * Every message is published as serialised CDR bytes (an rclpy publisher takes ``bytes``):
   ROS 2 bags (MCAP, sqlite3) as recorded, ROS 1 bags converted by rosbags
   (:class:`baseball_collision.bags.RawBag`; ``header.seq`` has no ROS 2 counterpart and is
@@ -43,6 +48,9 @@ CLOCK_TOPIC = '/clock'
 DEFAULT_DEPTH = 10000
 """Keep-last depth of every replay publisher (messages)."""
 
+LATE_WARN_S = 0.1
+"""Publishing this late (s, wall time) against the schedule is said at the end."""
+
 
 def message_class(msgtype: str) -> Any:
     """
@@ -70,7 +78,13 @@ class ReplayResult:
 
     :ivar messages: messages published (over all loops).
     :ivar loops: complete passes over the bag.
-    :ivar seconds: wall time of the playback (s).
+    :ivar seconds: wall time of the playback (s), also when it was stopped.
+    :ivar in_loop: messages published of the pass that was running when it stopped (0: it
+        ended at the end of a pass).
+    :ivar ack_timeouts: waits for acknowledgements that timed out: a reliable subscriber did
+        not keep up and may have lost messages.
+    :ivar late_s: the most a message was published after its due time (s, wall time).
+    :ivar best_effort_subscribers: topics with a best-effort subscriber matched at the end.
     :ivar skipped_topics: topics not published (type unknown to rclpy, several types, or a
         ROS 1 type without a ROS 2 definition), sorted.
     """
@@ -78,6 +92,10 @@ class ReplayResult:
     messages: int = 0
     loops: int = 0
     seconds: float = 0.0
+    in_loop: int = 0
+    ack_timeouts: int = 0
+    late_s: float = 0.0
+    best_effort_subscribers: List[str] = field(default_factory=list)
     skipped_topics: List[str] = field(default_factory=list)
 
 
@@ -205,18 +223,29 @@ class BagPlayer:
 
         :param loop: restart at the end (the clock jumps back to the bag start).
         :param stop: an event that ends the playback when set.
-        :param ack_timeout_s: at the end, wait this long for reliable subscribers to
-            acknowledge every message (s).
-        :returns: the counts (also kept in :attr:`result`).
+        :param ack_timeout_s: how long to wait for reliable subscribers to acknowledge what
+            was published, every ``ACK_EVERY`` messages and at the end (s).
+        :returns: the counts (also kept in :attr:`result`; ``seconds`` is set however the
+            playback ends, Ctrl-C included).
         :raises RosError: the bag turns out corrupt while reading.
         """
         started = time.monotonic()
-        begin = self._bag.start_time_ns
+        try:
+            return self._play(loop, stop, ack_timeout_s, started)
+        finally:
+            self.result.seconds = time.monotonic() - started
+
+    def _play(self, loop: bool, stop: Optional[threading.Event], ack_timeout_s: float,
+              started: float) -> ReplayResult:
+        """Publish the bag (see ``play``)."""
+        begin, end = self._bag.start_time_ns, self._bag.end_time_ns  # /clock stays inside
         publishers = self._publishers
         period = self.clock_period
         scale = 1e-9 / self.rate
+        result = self.result
         try:
             while not (stop is not None and stop.is_set()):
+                result.in_loop = 0
                 wall0 = time.monotonic()
                 next_clock = wall0 + period
                 self._publish_clock(begin)
@@ -225,7 +254,8 @@ class BagPlayer:
                     while True:
                         now = time.monotonic()
                         if period and now >= next_clock:
-                            self._publish_clock(begin + int((now - wall0) * self.rate * 1e9))
+                            self._publish_clock(min(begin + int((now - wall0) * self.rate
+                                                                * 1e9), end))
                             next_clock = max(next_clock + period, now)
                         if now >= due:
                             break
@@ -235,9 +265,13 @@ class BagPlayer:
                                 return self._finish(started, ack_timeout_s)
                         else:
                             time.sleep(max(wait, 0.0))
+                    if now - due > result.late_s:
+                        result.late_s = now - due
                     publishers[topic].publish(data)
-                    self.result.messages += 1
-                self.result.loops += 1
+                    result.messages += 1
+                    result.in_loop += 1
+                result.loops += 1
+                result.in_loop = 0
                 if not loop:
                     break
         except BagError as error:
@@ -249,11 +283,21 @@ class BagPlayer:
             raise RosError(f'replay of {self.path} failed: {text.splitlines()[0]}') from error
         return self._finish(started, ack_timeout_s)
 
-    def _finish(self, started: float, ack_timeout_s: float) -> ReplayResult:
-        """Wait for acknowledgements; record the wall time."""
+    def _await_acks(self, ack_timeout_s: float) -> None:
+        """Wait until the reliable subscribers acknowledged everything (count a timeout)."""
         timeout = Duration(nanoseconds=int(ack_timeout_s * 1e9))
-        for publisher in self._publishers.values():
-            publisher.wait_for_all_acked(timeout)
+        acked = [publisher.wait_for_all_acked(timeout)  # each waits, whatever the others did
+                 for publisher in self._publishers.values()]
+        if not all(acked):
+            self.result.ack_timeouts += 1
+
+    def _finish(self, started: float, ack_timeout_s: float) -> ReplayResult:
+        """Wait for acknowledgements, note best-effort subscribers; record the wall time."""
+        self._await_acks(ack_timeout_s)
+        self.result.best_effort_subscribers = sorted(
+            topic for topic, publisher in self._publishers.items()
+            if any(info.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT
+                   for info in self.node.get_subscriptions_info_by_topic(topic)))
         self.result.seconds = time.monotonic() - started
         return self.result
 
@@ -276,6 +320,30 @@ class BagPlayer:
     def __exit__(self, exc_type: Any, exc_value: Any, traceback: Any) -> None:
         """Close the player."""
         self.close()
+
+
+def replay_summary(result: ReplayResult, per_pass: int, loop: bool) -> str:
+    """
+    Return the line a replay ends with: messages, wall time, passes, what was skipped or lost.
+
+    :param per_pass: messages in one pass over the bag.
+    """
+    line = f'published {result.messages:,} messages in {result.seconds:.1f} s'
+    if loop or result.in_loop:
+        line += f' ({result.loops} complete loops of {per_pass:,} messages'
+        line += f', then {result.in_loop:,} more)' if result.in_loop else ')'
+    if result.skipped_topics:
+        line += f"; skipped {', '.join(result.skipped_topics)} (type not available)"
+    if result.ack_timeouts:
+        line += ('; WARNING: a reliable subscriber did not acknowledge every message in time: '
+                 'it may have lost messages (play slower with --rate)')
+    if result.late_s > LATE_WARN_S:
+        line += (f'; WARNING: publishing fell up to {result.late_s:.2f} s behind the schedule '
+                 '(this machine could not keep the rate)')
+    if result.best_effort_subscribers:
+        line += ('; note: best-effort subscriber(s) on '
+                 f"{', '.join(result.best_effort_subscribers)} may drop messages under load")
+    return line
 
 
 def run_replay(bag: os.PathLike, rate: float = 1.0, loop: bool = False,
@@ -313,10 +381,7 @@ def run_replay(bag: os.PathLike, rate: float = 1.0, loop: bool = False,
             except KeyboardInterrupt:
                 result = player.result
                 out.write('stopped\n')
-            out.write(f'published {result.messages:,} messages in {result.seconds:.1f} s'
-                      + (f' ({result.loops} loops)' if loop else '')
-                      + (f"; skipped {', '.join(result.skipped_topics)} (type not available)"
-                         if result.skipped_topics else '') + '\n')
+            out.write(replay_summary(result, player.message_count, loop) + '\n')
             out.flush()
     finally:
         node.destroy_node()

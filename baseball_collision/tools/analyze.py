@@ -267,7 +267,7 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     :param sinks: objects with ``on_sample`` and/or ``on_events``.
     :param bar: a progress bar (``update(n)``) or None.
     :param drops: counts ``(role, reason)`` of every dropped sample (from the detector's
-        ``stats.last_drop_reason``) when given.
+        ``stats.last_drop_reason`` and ``stats.late_drops``) when given.
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     add = detector.add
@@ -289,8 +289,11 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
             events = add(role, stamp, values, frame)
             if events:
                 on_events(events, log_time, frame)
-            if stats is not None and stats.last_drop_reason is not None:
-                drops[role, stats.last_drop_reason] += 1
+            if stats is not None:
+                if stats.last_drop_reason is not None:
+                    drops[role, stats.last_drop_reason] += 1
+                for late in stats.late_drops:  # samples that waited, dropped by this call
+                    drops[late.role, late.reason] += 1
             chunk += 1
         count += chunk
         if bar is not None:
@@ -299,6 +302,9 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
             break
         pending = itertools.islice(iterator, CHUNK)
     events = detector.finish()
+    if stats is not None:
+        for late in stats.late_drops:
+            drops[late.role, late.reason] += 1
     if events:
         on_events(events, log_time, frame)
     return count, None if first is None else first[1]

@@ -66,36 +66,31 @@ def _number(minimum: float, inclusive: bool, what: str,
     return convert
 
 
-MAX_DOMAIN_ID = 232
-"""The largest ROS_DOMAIN_ID DDS allows (0-101 is the range safe from ephemeral ports)."""
+def _whole(text: str) -> int:
+    """Return ``text`` as an int, or raise the argparse error saying it is not one."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
 
 
 def _domain(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if not 0 <= value <= MAX_DOMAIN_ID:
-        raise argparse.ArgumentTypeError(f"'{text}' must be a ROS_DOMAIN_ID from 0 to "
-                                         f'{MAX_DOMAIN_ID} (0-101 is safe)')
+    """Return a ROS domain id: a whole number 0-101 (the ids whose DDS ports are safe)."""
+    value = _whole(text)
+    if not 0 <= value <= 101:
+        raise argparse.ArgumentTypeError(f"'{text}' must be a ROS domain id from 0 to 101")
     return value
 
 
 def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    value = _whole(text)
     if not 0 <= value <= MAX_SEED:
         raise argparse.ArgumentTypeError(f"'{text}' must be from 0 to 2^64 - 1")
     return value
 
 
 def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    value = _whole(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"'{text}' must be >= 1")
     return value
@@ -322,8 +317,8 @@ def _add_demo(commands: Any) -> None:
     demo.add_argument('--timeout', type=_number(0.0, False, 's'), default=30.0,
                       help='longest wait in s for the node to come up (default 30)')
     demo.add_argument('--domain', type=_domain, default=None, metavar='ID',
-                      help='ROS_DOMAIN_ID to run on, so that RViz or Foxglove on this host can '
-                      'watch (default: a random one from 1 to 101)')
+                      help='ROS_DOMAIN_ID to run on (0-101), so that RViz or Foxglove on '
+                      'this host can watch (default: a random one)')
     demo.set_defaults(run=_demo)
 
 

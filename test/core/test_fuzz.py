@@ -252,7 +252,8 @@ class Fed:
     """
     What a detector was fed and what came out: counts, accepted stamps, events.
 
-    :ivar offered: samples offered; ``accepted``: those whose ``last_drop_reason`` was None.
+    :ivar offered: samples offered; ``accepted``: those whose ``last_drop_reason`` was None
+        and that no later call dropped (``DetectorStats.late_drops``: a sample that waited).
     :ivar stamps: stamps of the accepted samples.
     """
 
@@ -267,13 +268,21 @@ class Fed:
         """Offer one sample; record whether it was accepted and what it made."""
         self.offered += 1
         self.events += self.detector.add(role, stamp, values, frame)
+        self._late()
         if self.detector.stats.last_drop_reason is None:
             self.accepted += 1
             self.stamps.append(stamp)
 
+    def _late(self) -> None:
+        """Count the samples a call dropped that earlier calls had not (they waited)."""
+        for late in self.detector.stats.late_drops:
+            self.accepted -= 1
+            self.stamps.remove(late.stamp_ns)
+
     def finish(self) -> 'Fed':
         """Flush the detector; return self."""
         self.events += self.detector.finish()
+        self._late()
         return self
 
     def of(self, kind: type) -> List[Any]:
@@ -343,7 +352,8 @@ def _roles(bat_input: str) -> Tuple[str, ...]:
 
 
 VALUE_FAULTS = ('nan', 'inf', 'large', 'tiny', 'zero_quaternion', 'scaled_quaternion',
-                'zero_length', 'garbage', 'wrong_frame', 'wrong_role', 'teleport')
+                'zero_length', 'garbage', 'wrong_frame', 'wrong_role', 'teleport', 'bad_frame',
+                'lost_body')
 STAMP_FAULTS = ('duplicate', 'out_of_order', 'late', 'jump_back', 'far_future', 'burst', 'gap')
 FAR_STAMP_FAULTS = ('negative', 'zero')
 """Stamps far before every other (an unset header stamp): see ``test_detector_far_stamps_*``."""
@@ -374,6 +384,8 @@ def _faulty_values(rng: random.Random, fault: str, role: str, t: float,
         return rng.choice(GARBAGE)
     elif fault == 'teleport':
         damaged[:3] = [v + rng.choice((5.0, -40.0, 300.0)) for v in damaged[:3]]
+    elif fault == 'lost_body' and role == 'bat_pose':  # what mocap sends for a lost body
+        damaged = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
     return tuple(damaged)
 
 
@@ -387,7 +399,8 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
 
     A clean 0.2 s swing against a pitch (hit, near miss or far), at 90-1000 Hz with jitter,
     then up to half of the samples damaged: values (NaN, inf, ``special`` magnitudes, denormals,
-    bad quaternions, zero-length bats, garbage, wrong frames and roles, teleports) and stamps
+    bad quaternions, zero-length bats, garbage, wrong and bad frames, wrong roles, teleports,
+    lost bodies) and stamps
     (``stamp_faults``: duplicates, out of order, late, jumps back and far forward, bursts at
     nearly one stamp, gaps).
     """
@@ -417,6 +430,8 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
                 values = _faulty_values(rng, fault, role, t, values, special)
                 if fault == 'wrong_frame':
                     frame = rng.choice(('camera', '', 'World'))
+                elif fault == 'bad_frame':  # an embedded NUL; bytes that were not UTF-8
+                    frame = rng.choice(('wor\x00ld', 'w\ufffdrld'))
                 elif fault == 'wrong_role':
                     role = rng.choice(other_roles)
                 elif fault == 'duplicate':

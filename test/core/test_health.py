@@ -4,7 +4,7 @@ from collections import Counter
 
 from baseball_collision.core.detector import DetectorStats, DROP_REASONS
 from baseball_collision.core.health import (
-    format_stamp, health_status, Level, silent_streams, take_snapshot, Tally)
+    format_stamp, health_status, Level, RESETS_ERROR, silent_streams, take_snapshot, Tally)
 
 SETTINGS = {'stale_timeout': 1.0, 'model': 'rigid', 'bat_input': 'pose', 'qos': 'reliable'}
 TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose'}
@@ -47,3 +47,62 @@ def test_stale_and_every_sample_dropped() -> None:
     assert status.level == Level.ERROR
     assert '/ball (silent for' in status.message and 'no publisher' in status.message
     assert dict(status.values())['state'] == 'stale'
+
+
+def _gaps(stamps) -> int:
+    tally = Tally(started=0.0)
+    for stamp in stamps:
+        tally.stamped('ball', stamp)
+    return tally.lost()['ball']
+
+
+def test_messages_lost_are_estimated_from_the_stamps() -> None:
+    """A 1 kHz stream missing 5 and then 37 messages: 42 lost; steady stamps: none."""
+    stamps = [1_000_000 * k for k in range(1, 200)]
+    assert _gaps(stamps) == 0
+    kept = [s for k, s in enumerate(stamps) if not 50 <= k < 55 and not 100 <= k < 137]
+    assert _gaps(kept) == 42
+
+
+def test_glitches_and_other_clocks_are_not_losses() -> None:
+    """A lone stamp glitched 0.5 s ahead, a second publisher 3 s behind, a pause: no loss."""
+    stamps = [3_000_000_000 + 1_000_000 * k for k in range(200)]
+    glitched = stamps[:80] + [stamps[80] + 500_000_000] + stamps[80:]
+    assert _gaps(glitched) == 0
+    stale = [s for pair in zip(stamps, (s - 3_000_000_000 for s in stamps)) for s in pair]
+    assert _gaps(stale) == 0
+    paused = stamps[:100] + [s + 5_000_000_000 for s in stamps[100:]]
+    assert _gaps(paused) == 0
+
+
+def test_losses_and_resets_in_a_period_raise_the_level() -> None:
+    """Lost messages: WARN naming the topic; one reset: WARN; RESETS_ERROR resets: ERROR."""
+    tally = _tally(10.0)
+    for k in list(range(1, 50)) + list(range(60, 100)):
+        tally.stamped('ball', 1_000_000 * k)
+    status = health_status(take_snapshot(10.0, 'n', ('ball', 'bat_pose'), TOPICS, tally,
+                                         DetectorStats(), None, '', SETTINGS), {})
+    assert status.level == Level.WARN and 'about 10 messages lost on /ball' in status.message
+    values = dict(status.values())
+    assert values['ball_lost'] == '10' and values['lost_in_period'] == '10'
+    for resets, level in ((0, Level.OK), (1, Level.WARN), (RESETS_ERROR, Level.ERROR)):
+        tally = _tally(10.0)
+        tally.next_period(9.0, 0, 5)
+        status = health_status(take_snapshot(10.0, 'n', ('ball', 'bat_pose'), TOPICS, tally,
+                                             DetectorStats(resets=5 + resets), None, '',
+                                             SETTINGS), {})
+        assert status.level == level, resets
+        assert dict(status.values())['resets_in_period'] == str(resets)
+
+
+def test_an_ended_session_is_idle_not_stale() -> None:
+    """Every input silent past idle_timeout: OK 'idle'; before it: WARN stale; hardware_id."""
+    settings = {**SETTINGS, 'idle_timeout': 30.0, 'hardware_id': 'cage_2_mocap'}
+    stale = health_status(take_snapshot(20.0, 'n', ('ball', 'bat_pose'), TOPICS, _tally(10.0),
+                                        DetectorStats(), None, '', settings), {})
+    assert stale.level == Level.WARN and dict(stale.values())['state'] == 'stale'
+    idle = health_status(take_snapshot(60.0, 'n', ('ball', 'bat_pose'), TOPICS, _tally(10.0),
+                                       DetectorStats(), None, '', settings), {})
+    assert idle.level == Level.OK and dict(idle.values())['state'] == 'idle'
+    assert idle.message.startswith('idle: no input for 50 s')
+    assert idle.hardware_id == 'cage_2_mocap'

@@ -1,9 +1,12 @@
 """Stamp and message conversions, and detector events to messages through the one table."""
 
+import json
 import typing
 
 from baseball_collision.core.detector import (
-    Event, Impact, NearMiss, Prediction, PredictionCleared, StateReset, StreamGap)
+    DetectorConfig, DROP_REASONS, Event, Impact, NearMiss, Prediction, PredictionCleared,
+    StateReset, StreamGap)
+from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
     describe_drop, event_output, format_stamp, ns_to_stamp, plan_arrays, stamp_to_ns)
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
@@ -86,3 +89,32 @@ def test_plan_and_drop_texts() -> None:
     assert describe_drop('wrong_frame', 'camera', 'world', BASE_NS) == \
         "frame 'camera' is not the tracking frame 'world'"
     assert describe_drop('new_reason', '', None, BASE_NS) == 'new_reason'
+
+
+def test_every_drop_reason_has_its_own_words() -> None:
+    """No log line says a reason twice ('bad_stamp: bad_stamp'): each has words of its own."""
+    for reason in DROP_REASONS:
+        words = describe_drop(reason, 'camera', 'world', BASE_NS)
+        assert words and words != reason, reason
+    assert 'zero or negative' in describe_drop('bad_stamp', '', None, 0)
+
+
+def test_impacts_near_misses_and_predictions_are_reported_as_their_records() -> None:
+    """An impact_report (std_msgs/String) per impact, near miss and prediction: its record."""
+    config = DetectorConfig()
+    events = swing_events(horizon=0.3) + swing_events(height=1.09)
+    reported = 0
+    for event in events:
+        output = event_output(event, 'world', lambda impact, frame: None, config)
+        reports = [message for name, message in output.messages if name == 'impact_report']
+        if isinstance(event, (Impact, NearMiss, Prediction)):
+            assert len(reports) == 1
+            assert json.loads(reports[0].data) == json.loads(json.dumps(
+                event_record(event, 'world', config)))
+            reported += 1
+        else:
+            assert reports == []
+        assert event_output(event, 'world', lambda impact, frame: None).messages == tuple(
+            pair for pair in output.messages if pair[0] != 'impact_report')
+    kinds = {type(event) for event in events}
+    assert {Impact, NearMiss, Prediction} <= kinds and reported >= 3

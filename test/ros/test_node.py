@@ -8,6 +8,7 @@ published reliably after the subscriptions matched, and every expectation is on 
 so no result depends on arrival timing.
 """
 
+import json
 import math
 import os
 from pathlib import Path
@@ -20,6 +21,8 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DROP_REASONS, PARAMETERS
+from baseball_collision.core.prediction import MAX_PLAN_POSES
+from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
 from baseball_collision.ros.node import ImpactNode
 from diagnostic_msgs.msg import DiagnosticStatus
@@ -38,6 +41,8 @@ from support import REPO_ROOT
 from support.harness import (
     Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, sample_ns, SAMPLES, stamp, stamp_ns, values)
 from support.scenes import BASE_NS, first_contact, pitch, pose, swing
+from support.schema import Validator
+from visualization_msgs.msg import Marker
 import yaml
 
 pytestmark = pytest.mark.ros
@@ -475,3 +480,125 @@ def make_plan_harness(make: Callable[..., Harness]) -> Harness:
     h.publisher(PoseStamped, 'bat_pose')
     h.publisher(PathMsg, 'bat_plan')
     return h.start()
+
+
+# ----------------------------------------------------------------------------------------------
+# issue 12 and 14: reports, faults on the wire, markers, QoS overrides
+
+
+def test_impact_report_is_the_event_record(harness: Callable[..., Harness],
+                                           truth_ns: int) -> None:
+    """One ~/impact_report per impact and prediction: the schema's record, with lead times."""
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    h.processed(publish_swing(h, 'pose', pitch()))
+    h.wait(lambda: h.received['impact'] and any(
+        json.loads(m.data)['event'] == 'impact' for m in h.received['report']), 2.0, 'reports')
+    records = [json.loads(m.data) for m in h.received['report']]
+    validator = Validator('event_record.schema.json')
+    assert all(validator.errors(record) == [] for record in records)
+    impacts = [r for r in records if r['event'] == 'impact']
+    predictions = [r for r in records if r['event'] == 'prediction']
+    assert len(impacts) == 1 and impacts[0]['stamp_ns'] == stamp_ns(h.received['impact'][0])
+    assert impacts[0]['format'] == RECORD_FORMAT and impacts[0]['frame_id'] == 'world'
+    assert not impacts[0]['bat_at_rest']
+    assert predictions and len(predictions) == len(h.received['predicted'])
+    for record, message in zip(predictions, h.received['predicted']):
+        assert record['stamp_ns'] == stamp_ns(message) > record['made_at_ns']
+        assert record['lead_s'] == pytest.approx((record['stamp_ns'] - record['made_at_ns'])
+                                                 * 1e-9)
+
+
+def test_a_stale_second_publisher_is_dropped_not_a_reset(harness: Callable[..., Harness],
+                                                         truth_ns: int) -> None:
+    """Issue 12.1 live: a replay left running 3 s behind: dropped and said, the hit found."""
+    h = swing_harness(harness, 'pose')
+    stale = h.probe.create_publisher(PointStamped, 'ball', RELIABLE)
+
+    def behind(i: int) -> int:
+        stale.publish(point_msg(sample_ns(i) - 3 * 10**9, pitch()(i / RATE_HZ)))
+        return 1
+    h.processed(publish_swing(h, 'pose', pitch(), extra=behind))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact')
+    assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 100_000
+    stats = h.node.detector.stats
+    assert stats.resets == 0 and stats.dropped['stale_stamp'] >= SAMPLES - 10
+    status = h.diagnostics_where(lambda v: int(v['dropped_stale_stamp']) >= SAMPLES - 10)
+    assert status.level == bytes([1]) and 'dropped' in status.message
+
+
+def test_lost_input_messages_show_in_diagnostics(harness: Callable[..., Harness]) -> None:
+    """Issue 12.7: ten ball messages never sent (lost upstream): ball_lost 10, a WARN."""
+    h = swing_harness(harness, 'pose')
+    sent = 0
+    for i in range(SAMPLES):
+        t, ns = i / RATE_HZ, sample_ns(i)
+        if not 30 <= i < 40:
+            h.publishers['ball'].publish(point_msg(ns, pitch(2.0)(t)))
+            sent += 1
+        h.publishers['bat_pose'].publish(pose_msg(ns, *pose(t)))
+        sent += 1
+    h.processed(sent)
+    status = h.diagnostics_where(lambda v: v['ball_lost'] == '10')
+    assert values(status)['bat_pose_lost'] == '0'
+    found = h.diagnostics_where(lambda v: v['lost_in_period'] == '10')
+    assert found.level == bytes([1]) and 'about 10 messages lost on /ball' in found.message
+
+
+def test_live_markers_carry_sample_stamps_and_a_reset_clears_them(
+        harness: Callable[..., Harness]) -> None:
+    """Live markers: the samples' stamp, not republished when nothing new; reset: DELETEALL."""
+    h = swing_harness(harness, 'pose', {'marker_rate': 50.0, 'diagnostics_period': 1.0})
+    h.processed(publish_swing(h, 'pose', pitch(2.0), samples=range(20)))
+    h.wait(lambda: any(a.markers and a.markers[0].ns.startswith('live')
+                       for a in h.received['markers']), 2.0, 'live markers')
+
+    def live() -> List[Any]:
+        return [a for a in h.received['markers']
+                if a.markers and a.markers[0].ns.startswith('live')]
+    h.wait(lambda: stamp_ns(live()[-1].markers[0]) == sample_ns(19), 2.0, 'the newest')
+    count = len(live())
+    time.sleep(0.2)  # ten marker periods with no new sample: nothing republished
+    assert len(live()) == count
+    assert all(stamp_ns(m) == sample_ns(19) for m in live()[-1].markers)  # not now()
+    h.call(Trigger, '/impact_node/reset', Trigger.Request())
+    h.wait(lambda: any(a.markers and a.markers[0].action == Marker.DELETEALL
+                       for a in h.received['markers']), 2.0, 'a DELETEALL')
+
+
+def test_standard_qos_overrides_change_the_input_qos(harness: Callable[..., Harness]) -> None:
+    """qos_overrides./ball.subscription.reliability beats the simple qos default."""
+    h = harness({'qos': 'reliable',
+                 'qos_overrides./ball.subscription.reliability': 'best_effort',
+                 'qos_overrides./ball.subscription.depth': 7})
+    qos = {s.topic_name: s.qos_profile for s in h.node.subscriptions}
+    assert qos['/ball'].reliability == ReliabilityPolicy.BEST_EFFORT and qos['/ball'].depth == 7
+    assert qos['/bat_pose'].reliability == ReliabilityPolicy.RELIABLE
+    assert qos['/bat_pose'].depth == 1000
+
+
+def test_hardware_id_names_the_node_or_the_rig(harness: Callable[..., Harness]) -> None:
+    """hardware_id: the node's fully qualified name by default, else the parameter."""
+    assert harness().node.diagnostics().hardware_id == '/impact_node'
+    assert harness({'hardware_id': 'cage_2'}).node.diagnostics().hardware_id == 'cage_2'
+
+
+def test_a_plan_too_large_is_refused_before_any_work(harness: Callable[..., Harness]) -> None:
+    """Issue 12.6 live: a plan over MAX_PLAN_POSES never reaches the detector; later ones do."""
+    h = make_plan_harness(harness)
+    detector = h.node.detector
+    taken: List[int] = []
+    set_plan = detector.set_bat_plan
+
+    def spy(stamps: Sequence[int], *rest: Any) -> None:
+        taken.append(len(stamps))
+        set_plan(stamps, *rest)
+    detector.set_bat_plan = spy
+    huge = PathMsg()
+    huge.poses = [pose_msg(BASE_NS + i * 1000, (0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0))
+                  for i in range(MAX_PLAN_POSES + 1)]
+    h.publishers['bat_plan'].publish(huge)
+    small = PathMsg()
+    small.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3)) for i in range(5)]
+    h.publishers['bat_plan'].publish(small)  # delivered after the huge one (reliable)
+    h.wait(lambda: detector._predictor.plan is not None, 5.0, 'the small plan')
+    assert taken == [5] and len(detector._predictor.plan[1].times) == 5

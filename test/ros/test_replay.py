@@ -12,6 +12,7 @@ subscription may drop under load, and then the comparison would test DDS, not th
 import json
 import os
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -21,16 +22,19 @@ import time
 from typing import Any, Dict, Iterator, List, Tuple
 
 from baseball_collision.bags import BagReader
-from baseball_collision.core.records import event_record
+from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
 from baseball_collision.ros.replay import BagPlayer, message_class
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.demo import node_command, stop_node, wait_for_node
 from baseball_collision.tools.parameters import load_parameters, output_topics
+from baseball_collision.tools.report import entry
 from baseball_collision.tools.truth import truth_path
 import pytest
 from support import REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
+from support.documents import differences
+from support.schema import Validator
 
 pytestmark = pytest.mark.ros
 
@@ -86,18 +90,22 @@ def _stamp(message: Any) -> int:
     return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
 
 
-def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
-                 inputs: List[str]) -> Tuple[List[int], int, List[Any]]:
+def live_impacts(ros: Ros, bag: Path, params: Path, expected: int, inputs: List[str],
+                 reports_expected: int = 0
+                 ) -> Tuple[List[int], str, List[Any], List[Dict[str, Any]]]:
     """
     Run impact_node with ``params``, replay ``bag`` into it; return its impacts.
 
-    :returns: (impact stamps in arrival order, the node's exit code, twist messages).
+    :returns: (impact stamps in arrival order, the node's log, twist messages, the
+        ``~/impact_report`` records).
     """
     from geometry_msgs.msg import PointStamped, TwistStamped
+    from std_msgs.msg import String
 
     topics = output_topics()
     impact_sub, impacts = ros.collect(PointStamped, topics['impact'])
     twist_sub, twists = ros.collect(TwistStamped, topics['impact_velocity'])
+    report_sub, reports = ros.collect(String, topics['impact_report'])
     env = dict(os.environ)
     with tempfile.TemporaryFile() as log:
         process = subprocess.Popen(node_command(params), env=env, stdout=log,
@@ -107,23 +115,27 @@ def live_impacts(ros: Ros, bag: Path, params: Path, expected: int,
                 problem = wait_for_node(
                     process, player, inputs,
                     lambda: impact_sub.get_publisher_count() >= 1
-                    and twist_sub.get_publisher_count() >= 1, 30.0)
+                    and twist_sub.get_publisher_count() >= 1
+                    and report_sub.get_publisher_count() >= 1, 30.0)
                 assert problem is None, problem
                 result = player.play()
                 assert result.messages == player.message_count
             deadline = time.monotonic() + 10.0
-            while len(impacts) < expected and time.monotonic() < deadline:
+            while (len(impacts) < expected or len(reports) < reports_expected) \
+                    and time.monotonic() < deadline:
                 time.sleep(0.05)
             time.sleep(0.3)  # an extra impact would arrive now
         finally:
             code = stop_node(process)
             ros.node.destroy_subscription(impact_sub)
             ros.node.destroy_subscription(twist_sub)
+            ros.node.destroy_subscription(report_sub)
         log.seek(0)
         text = log.read().decode(errors='replace')
     assert code == 0, text[-3000:]
     assert 'dropped' not in text, text[-3000:]
-    return [_stamp(m) for m in impacts], code, list(twists)
+    return ([_stamp(m) for m in impacts], text, list(twists),
+            [json.loads(m.data) for m in reports])
 
 
 def _params_with(tmp_path: Path, **changes: Any) -> Path:
@@ -147,7 +159,13 @@ CASES = [(name, {}) for name in sorted(BAGS)] + [
                          ids=[f"{n}{'-' + '-'.join(c.values()) if c else ''}" for n, c in CASES])
 def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
                                        changes: Dict[str, Any]) -> None:
-    """The live node and analyze give identical impact stamps on a bag; both match truth."""
+    """
+    The live node and analyze give identical impacts on a bag; both match truth.
+
+    The node's ``~/impact_report`` records are analyze's JSON records (impacts and near
+    misses, without analyze's ``bag`` and ``time_s``; floats to the last bits) and valid
+    against the schema.
+    """
     params = _params_with(tmp_path, **changes) if changes else PARAMS
     bag = bag_path(name)
     offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
@@ -155,18 +173,31 @@ def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
     assert offline.config.model == changes.get('model', 'rigid')
     assert offline.selection.bat_mode == changes.get('bat_input', 'pose')
     expected = [impact.stamp_ns for impact in offline.impacts]
-    stamps, _, twists = live_impacts(ros, bag, params, len(expected),
-                                     list(offline.selection.topics.values()))
-    assert stamps == expected  # identical, to the nanosecond, in the same order
+    stamps, node_log, twists, reports = live_impacts(
+        ros, bag, params, len(expected), list(offline.selection.topics.values()),
+        len(offline.impacts) + len(offline.near_misses))
+    assert stamps == expected, node_log[-3000:]  # identical, to the ns, in the same order
     assert [_stamp(t) for t in twists] == expected
     for twist, impact in zip(twists, offline.impacts):
         linear = twist.twist.linear
         assert (linear.x, linear.y, linear.z) == pytest.approx(impact.bat_velocity, abs=1e-9)
+    records = {kind: [{k: v for k, v in entry(offline, event).items()
+                       if k not in ('bag', 'time_s')} for event in events]
+               for kind, events in (('impact', offline.impacts),
+                                    ('near_miss', offline.near_misses))}
+    validator = Validator('event_record.schema.json')
+    for kind, expected_records in records.items():
+        live = [record for record in reports if record['event'] == kind]
+        # the same JSON in order: stamps, strings and flags exact; floats to documents.REL_TOL
+        # (the live clock's origin is the first sample to arrive, the bag's first offline:
+        # times relative to it round differently in the last bits)
+        found = differences(live, json.loads(json.dumps(expected_records)), kind)
+        assert found == [], found[:10]
+        assert all(validator.errors(record) == [] for record in live)
+    assert expected and records['impact'][0]['format'] == RECORD_FORMAT
     truth = json.loads(truth_path(bag).read_text())
-    document = {'impacts': [event_record(i, offline.frame_id, offline.config)
-                            for i in offline.impacts],
-                'near_misses': offline.near_misses}
-    check_against_truth(document, truth, BAGS[name])
+    check_against_truth({'impacts': records['impact'], 'near_misses': records['near_miss']},
+                        truth, BAGS[name])
 
 
 def test_replay_command_publishes_every_message_with_clock(ros: Ros) -> None:
@@ -220,7 +251,14 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
         stdout, stderr = process.communicate(timeout=20)
         ros.node.destroy_subscription(clock_sub)
     assert process.returncode == 0, stderr
-    assert 'loops)' in stdout
+    # the real count and elapsed time, not "in 0.0 s" and "(0 loops)"
+    found = re.search(r'published ([\d,]+) messages in ([\d.]+) s \((\d+) complete loops of '
+                      r'([\d,]+) messages(?:, then ([\d,]+) more)?\)', stdout)
+    assert found, stdout
+    published, seconds, loops, per_pass, more = found.groups()
+    assert float(seconds) > 0.0 and int(loops) >= 1
+    assert int(published.replace(',', '')) == int(loops) * int(per_pass.replace(',', '')) \
+        + int((more or '0').replace(',', ''))
 
 
 def _fields(message: Any) -> Any:

@@ -18,7 +18,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, String
 from support.scenes import BASE_NS
 from visualization_msgs.msg import MarkerArray
 
@@ -98,7 +98,8 @@ class Harness:
                 ('markers', MarkerArray, '/impact_node/markers'),
                 ('diagnostics', DiagnosticArray, '/diagnostics'),
                 ('predicted', PointStamped, '/impact_node/predicted_impact'),
-                ('predicting', Bool, '/impact_node/impact_predicted')):
+                ('predicting', Bool, '/impact_node/impact_predicted'),
+                ('report', String, '/impact_node/impact_report')):
             self.received[name] = []
             self.probe.create_subscription(msg_type, topic, self._collector(name), RELIABLE)
         self.publishers: Dict[str, Any] = {}

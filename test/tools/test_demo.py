@@ -5,7 +5,8 @@ from pathlib import Path
 
 from baseball_collision.core.geometry import add, lerp, rotate, slerp_quaternions
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
-from baseball_collision.tools.demo import BatTrack, LiveEvents, node_command
+from baseball_collision.tools.demo import (
+    BatTrack, isolated_environment, LiveEvents, node_command)
 from baseball_collision.tools.parameters import load_parameters
 import pytest
 from support.bundled import bag_path, PARAMS
@@ -75,3 +76,10 @@ def test_the_node_command_takes_the_parameter_file() -> None:
     command = node_command(Path('p.yaml'))
     assert command[command.index('--params-file') + 1] == 'p.yaml'
     assert 'qos:=reliable' in command and 'use_sim_time:=true' in command
+
+
+def test_the_domain_is_the_one_asked_for_else_random() -> None:
+    """isolated_environment(7) runs on domain 7, this host only; None: a random 1-101."""
+    env = isolated_environment(7)
+    assert env['ROS_DOMAIN_ID'] == '7' and env['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'LOCALHOST'
+    assert 1 <= int(isolated_environment()['ROS_DOMAIN_ID']) <= 101

@@ -263,6 +263,13 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'time_jump_reset', _D, 1.0, 'A stamp (or the ROS clock) this far behind the newest '
         'resets the state (s).', 's', _positive(86400.0)),
     ParameterSpec(
+        'drop_lost_body', _B, True, 'Drop bat poses exactly at the origin with the identity '
+        'orientation (what motion capture publishes for a lost rigid body) as lost_body.'),
+    ParameterSpec(
+        'rest_tolerance', _D, 0.01, 'An impact whose bat knob and tip stayed within this of '
+        'where they were at the impact over velocity_window is flagged bat_at_rest, not a '
+        'swing (m); 0 = never flagged.', 'm', _closed(0.0, 1.0)),
+    ParameterSpec(
         'up_axis', _A, (0.0, 0.0, 1.0), 'Up direction [x, y, z] in the tracking frame, for the '
         'attack angle.'),
     ParameterSpec(
@@ -294,6 +301,13 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     ParameterSpec(
         'stale_timeout', _D, 1.0, 'An input topic silent longer than this is stale: '
         'diagnostics WARN (s).', 's', _closed(0.01, 86400.0)),
+    ParameterSpec(
+        'idle_timeout', _D, 30.0, 'Every input silent longer than this after data came: the '
+        'session ended, diagnostics say idle at OK instead of stale at WARN (s); 0 = never.',
+        's', _closed(0.0, 86400.0)),
+    ParameterSpec(
+        'hardware_id', _S, '', "The diagnostics' hardware_id (the tracking rig this node "
+        "watches); '' = the node's fully qualified name.", read_only=_SETUP),
     ParameterSpec(
         'publish_markers', _B, True, 'Publish ~/markers for RViz / Foxglove.'),
     ParameterSpec(
@@ -412,7 +426,11 @@ class DetectorConfig:
     :ivar near_miss_threshold: a pass with a smallest gap (m) below this is a near miss.
     :ivar max_speed: fastest plausible speed (m/s) of any tracked point between samples.
     :ivar bat_length_tolerance: knob-tip length change (m) beyond which a bat sample is a jump.
-    :ivar time_jump_reset: a stamp this far (s) behind its stream's newest resets the state.
+    :ivar time_jump_reset: stamps this far (s) behind their streams' newest are a jump back
+        (the state resets once later samples confirm it) or another clock (dropped).
+    :ivar drop_lost_body: drop bat poses exactly at the origin with the identity orientation.
+    :ivar rest_tolerance: an impact whose bat stayed within this (m) over the velocity window
+        is flagged ``bat_at_rest`` (0: never).
     :ivar frame_id: frame every input must be in; empty: the first sample's frame.
     :ivar up_axis: unit vector up, for the attack angle.
     :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
@@ -443,6 +461,8 @@ class DetectorConfig:
     max_speed: float = DEFAULTS['max_speed']
     bat_length_tolerance: float = DEFAULTS['bat_length_tolerance']
     time_jump_reset: float = DEFAULTS['time_jump_reset']
+    drop_lost_body: bool = DEFAULTS['drop_lost_body']
+    rest_tolerance: float = DEFAULTS['rest_tolerance']
     frame_id: str = DEFAULTS['frame_id']
     up_axis: Vector = DEFAULTS['up_axis']
     sweet_spot_from_tip: float = DEFAULTS['sweet_spot_from_tip']

@@ -10,8 +10,10 @@ seconds relative to the first accepted stamp (``gate.Clock``).
 
 How samples become events (each step in its own module):
 
-* ``gate``: each sample is checked (frame, values, stamp order, physical speed and bat length)
-  and dropped for one ``DropReason``, or a stamp far behind or ahead resets the state;
+* ``gate``: each sample's values are checked (numbers, unit quaternion, a lost mocap body),
+  then ``intake`` orders it (the frame the streams agree on, stamp order, a lone stamp glitched
+  ahead, a jump back confirmed by the samples after it) and the physical bounds (speed, bat
+  length) apply; a bad sample is dropped for one ``DropReason``, a confirmed jump resets;
 * ``streams``: accepted samples are kept per body in a short buffer; ``pairing`` pairs knob and
   tip points into bat samples by stamp, interpolating the other point when stamps differ;
 * ``scheduler``: the union of both streams' sample times is walked up to the watermark;
@@ -24,14 +26,16 @@ How samples become events (each step in its own module):
 This module is the facade that wires them and keeps the public calls.
 """
 
+from dataclasses import replace
 import time
-from typing import Any, Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 from .config import DetectorConfig
-from .episodes import EpisodeTracker
-from .events import DetectorStats, DropReason, Event, ResetReason, Role, StateReset
+from .episodes import bat_at_rest, EpisodeTracker
+from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
 from .gate import (
-    Clock, finite_point, frame_check, LengthCheck, speed_check, stamp_check, unit_pose)
+    Clock, FAR_AHEAD_NS, finite_point, LengthCheck, lost_body, speed_check, unit_pose)
+from .intake import Intake, Offer
 from .pairing import Pairing
 from .predictor import Predictor
 from .scheduler import Scheduler
@@ -41,8 +45,8 @@ from ..geometry import pose_point, Vector
 from ..motion import BatSample, SAMPLES_AHEAD
 from ...errors import CoreError
 
-Handler = Callable[[Role, int, Any, List[Event]], Optional[DropReason]]
-"""Checks and takes one sample (role, stamp ns, values, events); returns why it is dropped."""
+Check = Callable[[Role, Any], Any]
+"""Checks one sample's values (role, values): returns them cleaned, or a ``DropReason``."""
 
 # the roles as module constants: looking a member up on its enum class costs several times a
 # global lookup, on the path every sample takes
@@ -71,13 +75,16 @@ class Detector:
         self._offsets: Tuple[Vector, Vector] = (
             tuple(float(x) for x in self._config.geometry.knob_offset),
             tuple(float(x) for x in self._config.geometry.tip_offset))
+        roles = (_BALL, _BAT_POSE) if self._config.bat_input == 'pose' else (_BALL, _KNOB, _TIP)
+        self._intake = Intake(self._config, self.stats, self._stream_of, self._take, self._jump,
+                              roles)
         self._clear()
 
     def _clear(self) -> None:
         """Start from nothing: new streams, clock, episodes, plan."""
         config = self._config
         self._clock = Clock()
-        self._frame: Optional[str] = config.frame_id or None
+        self._intake.clear()
         self._ball = Stream('ball')
         self._bat = Stream('bat')
         self._pairing = Pairing()
@@ -99,7 +106,7 @@ class Detector:
     def config(self, config: DetectorConfig) -> None:
         """Set the configuration in force (``reconfigure`` checks it first)."""
         self._config = config
-        for part in (self._episodes, self._sweep, self._scheduler, self._predictor):
+        for part in (self._episodes, self._sweep, self._scheduler, self._predictor, self._intake):
             part.config = config
 
     def reconfigure(self, config: DetectorConfig) -> None:
@@ -122,8 +129,8 @@ class Detector:
         Predictions use it instead of extrapolating the bat, over the span it covers. An empty
         plan clears it.
 
-        :raises CoreError: lists of different lengths, stamps not increasing, or a
-            quaternion not unit length.
+        :raises CoreError: more than ``prediction.MAX_PLAN_POSES`` poses (10,000), lists of
+            different lengths, stamps not increasing, or a quaternion not unit length.
         """
         self._predictor.set_plan(stamps_ns, positions, quaternions)
 
@@ -140,8 +147,8 @@ class Detector:
 
     @property
     def frame_id(self) -> Optional[str]:
-        """Return the tracking frame: the configured one, else the first seen (None before)."""
-        return self._frame
+        """Return the tracking frame: the configured one, else the one the streams agreed on."""
+        return self._intake.frame
 
     @property
     def watermark_ns(self) -> Optional[int]:
@@ -156,23 +163,23 @@ class Detector:
     def add_ball(self, stamp_ns: int, position: Sequence[float],
                  frame_id: str = '') -> List[Event]:
         """Add a ball centre (m) stamped ``stamp_ns`` (ns); return the events it made decidable."""
-        return self._timed(self._add_ball, _BALL, stamp_ns, position, frame_id)
+        return self._timed(self._check_point, _BALL, stamp_ns, position, frame_id)
 
     def add_bat_pose(self, stamp_ns: int, position: Sequence[float],
                      quaternion: Sequence[float], frame_id: str = '') -> List[Event]:
         """Add a bat pose, position (m) and unit quaternion (x, y, z, w); return the events."""
-        return self._timed(self._add_bat_pose, _BAT_POSE, stamp_ns, (position, quaternion),
+        return self._timed(self._check_pose, _BAT_POSE, stamp_ns, (position, quaternion),
                            frame_id)
 
     def add_knob(self, stamp_ns: int, position: Sequence[float],
                  frame_id: str = '') -> List[Event]:
         """Add a knob (m), for a bat as knob and tip points; return the events."""
-        return self._timed(self._add_end, _KNOB, stamp_ns, position, frame_id)
+        return self._timed(self._check_point, _KNOB, stamp_ns, position, frame_id)
 
     def add_tip(self, stamp_ns: int, position: Sequence[float],
                 frame_id: str = '') -> List[Event]:
         """Add a tip (barrel end, m), for a bat as knob and tip points; return the events."""
-        return self._timed(self._add_end, _TIP, stamp_ns, position, frame_id)
+        return self._timed(self._check_point, _TIP, stamp_ns, position, frame_id)
 
     def add(self, role: str, stamp_ns: int, values: Sequence[float],
             frame_id: str = '') -> List[Event]:
@@ -187,14 +194,14 @@ class Detector:
         :raises CoreError: an unknown role (a programming error, not bad data).
         """
         if role == 'ball':
-            return self._timed(self._add_ball, _BALL, stamp_ns, values, frame_id)
+            return self._timed(self._check_point, _BALL, stamp_ns, values, frame_id)
         if role == 'bat_pose':  # split inside the guard: unsliceable values are dropped too
-            return self._timed(self._add_pose_values, _BAT_POSE, stamp_ns, values,
+            return self._timed(self._check_pose_values, _BAT_POSE, stamp_ns, values,
                                frame_id)
         if role == 'knob':
-            return self._timed(self._add_end, _KNOB, stamp_ns, values, frame_id)
+            return self._timed(self._check_point, _KNOB, stamp_ns, values, frame_id)
         if role == 'tip':
-            return self._timed(self._add_end, _TIP, stamp_ns, values, frame_id)
+            return self._timed(self._check_point, _TIP, stamp_ns, values, frame_id)
         raise CoreError(f"role must be one of {', '.join(self.ROLES)}, got '{role}'")
 
     def finish(self) -> List[Event]:
@@ -204,30 +211,34 @@ class Detector:
         :returns: the remaining events.
         """
         events: List[Event] = []
+        self.stats.late_drops = []
+        self._intake.flush(events)
         if SAMPLES_AHEAD[self._config.model]:
             self._advance(events, final=True)
         self._episodes.close(events)
         return events
 
-    def _timed(self, handler: Handler, role: Role, stamp_ns: int, value: Any,
+    def _timed(self, check: Check, role: Role, stamp_ns: int, value: Any,
                frame_id: str) -> List[Event]:
-        """Run a sample's handler; count it, its drop reason and the wall time spent."""
+        """Check a sample's values, offer it to the intake; count it, why dropped, the time."""
         start = time.perf_counter()
         events: List[Event] = []
-        reason = frame_check(frame_id, self._frame)
-        if reason is None:
-            try:
-                stamp = int(stamp_ns)
-                reason = DropReason.BAD_STAMP if stamp <= 0 else handler(
-                    role, stamp, value, events)
-            except (TypeError, ValueError) as error:
-                if isinstance(error, CoreError):
-                    raise
-                reason = DropReason.NON_FINITE  # not numbers at all
-            if reason is None and self._frame is None and frame_id:
-                self._frame = frame_id  # the first accepted sample sets the tracking frame
-        elapsed = time.perf_counter() - start
         stats = self.stats  # inline, not a method: this runs for every sample offered
+        if stats.late_drops:
+            stats.late_drops = []
+        try:
+            stamp = int(stamp_ns)
+            if stamp <= 0:
+                reason = DropReason.BAD_STAMP
+            else:
+                clean = check(role, value)
+                reason = clean if clean.__class__ is DropReason else self._intake.offer(
+                    Offer(role, stamp, clean, frame_id if frame_id is not None else ''), events)
+        except (TypeError, ValueError) as error:
+            if isinstance(error, CoreError):
+                raise
+            reason = DropReason.NON_FINITE  # not numbers at all
+        elapsed = time.perf_counter() - start
         stats.received[role] += 1
         stats.last_drop_reason = reason
         if reason is not None:
@@ -239,86 +250,78 @@ class Detector:
             stats.max_processing_s = elapsed
         return events
 
-    def _admit(self, newest: Optional[int], stamp: int,
-               events: List[Event]) -> Optional[DropReason]:
-        """
-        Check a stamp after its stream's ``newest`` (resetting on a jump) and start the clock.
+    # ---- value checks (before any state is looked at) ------------------------------------
 
-        After a reset the caller must look its streams up again (they are new).
+    def _check_point(self, role: Role, value: Sequence[float]) -> Union[DropReason, Vector]:
+        """Return a ball, knob or tip as floats, or why it is dropped."""
+        if role is not _BALL and self._config.bat_input != 'points':
+            return DropReason.UNEXPECTED_INPUT
+        point = finite_point(value)
+        return DropReason.NON_FINITE if point is None else point
 
-        :returns: why the sample is dropped, None to take it.
-        """
-        verdict = stamp_check(newest, stamp, self._clock.origin, self._config.time_jump_reset)
-        if verdict is not None:
-            if verdict.__class__ is DropReason:
-                return verdict
-            self._episodes.close(events)
-            events.append(self.reset(stamp, verdict))
+    def _check_pose(self, role: Role, value: Tuple[Sequence[float], Sequence[float]]) -> Any:
+        """Return a bat pose (position, unit quaternion), or why it is dropped."""
+        if self._config.bat_input != 'pose':
+            return DropReason.UNEXPECTED_INPUT
+        pose = unit_pose(value)
+        if pose.__class__ is not DropReason and self._config.drop_lost_body and lost_body(*pose):
+            return DropReason.LOST_BODY
+        return pose
+
+    def _check_pose_values(self, role: Role, values: Sequence[float]) -> Any:
+        return self._check_pose(role, (values[:3], values[3:]))
+
+    # ---- taking admitted samples (the intake calls these) --------------------------------
+
+    def _stream_of(self, role: Role) -> Stream:
+        """Return the stream a sample of ``role`` is ordered in."""
+        if role is _BALL:
+            return self._ball
+        if role is _BAT_POSE:
+            return self._bat
+        return self._pairing.knob if role is _KNOB else self._pairing.tip
+
+    def _jump(self, stamp: int, reason: ResetReason, events: List[Event]) -> None:
+        """Reset for a time jump at ``stamp`` (ns): close the open episode first."""
+        self._episodes.close(events)
+        events.append(self.reset(stamp, reason))
+
+    def _take(self, offer: Offer, events: List[Event]) -> Optional[DropReason]:
+        """Put an admitted sample into its stream and process what it made decidable."""
+        stamp = offer.stamp
+        if self._clock.origin is not None and stamp - self._clock.origin > FAR_AHEAD_NS:
+            # a new session (or a wild clock): a new origin keeps float times at ns resolution
+            self._jump(stamp, ResetReason.TIME_JUMP_FORWARD, events)
         clock, stats = self._clock, self.stats
         if clock.origin is None:
             clock.origin = stamp
         if stats.newest_stamp_ns is None or stamp > stats.newest_stamp_ns:
             stats.newest_stamp_ns = stamp
-        return None
-
-    def _add_ball(self, role: Role, stamp: int, value: Sequence[float],
-                  events: List[Event]) -> Optional[DropReason]:
-        point = finite_point(value)
-        if point is None:
-            return DropReason.NON_FINITE
-        reason = self._admit(self._ball.newest(), stamp, events)
-        if reason is not None:
-            return reason
-        ball = self._ball
-        t = self._clock.time(stamp)
-        accept, new_segment = speed_check(ball, t, (point,), ball.values[-1:],
-                                          self._config.max_gap, self._config.max_speed)
-        if not accept:
-            return DropReason.SPEED_LIMIT
-        ball.append(t, stamp, point, new_segment)
-        self._advance(events)
-        return None
-
-    def _add_pose_values(self, role: Role, stamp: int, values: Sequence[float],
-                         events: List[Event]) -> Optional[DropReason]:
-        return self._add_bat_pose(role, stamp, (values[:3], values[3:]), events)
-
-    def _add_bat_pose(self, role: Role, stamp: int,
-                      value: Tuple[Sequence[float], Sequence[float]],
-                      events: List[Event]) -> Optional[DropReason]:
-        if self._config.bat_input != 'pose':
-            return DropReason.UNEXPECTED_INPUT
-        pose = unit_pose(value)
-        if pose.__class__ is DropReason:
-            return pose
-        reason = self._admit(self._bat.newest(), stamp, events)
-        if reason is not None:
-            return reason
-        position, quaternion = pose
-        knob_offset, tip_offset = self._offsets
-        sample = BatSample(knob=pose_point(position, quaternion, knob_offset),
-                           tip=pose_point(position, quaternion, tip_offset), position=position,
-                           quaternion=quaternion)
-        return self._accept_bat(self._clock.time(stamp), stamp, sample, events)
-
-    def _add_end(self, role: Role, stamp: int, value: Sequence[float],
-                 events: List[Event]) -> Optional[DropReason]:
-        if self._config.bat_input != 'points':
-            return DropReason.UNEXPECTED_INPUT
-        point = finite_point(value)
-        if point is None:
-            return DropReason.NON_FINITE
-        stream = self._pairing.knob if role == 'knob' else self._pairing.tip
-        reason = self._admit(stream.newest(), stamp, events)
-        if reason is not None:
-            return reason
-        # as ever: after a reset the point goes to its stream from before it (dropped with it)
-        stream.append(self._clock.time(stamp), stamp, point, False)
+        t = clock.time(stamp)
+        role = offer.role
+        if role is _BALL:
+            ball = self._ball
+            accept, new_segment = speed_check(ball, t, (offer.value,), ball.values[-1:],
+                                              self._config.max_gap, self._config.max_speed)
+            if not accept:
+                return DropReason.SPEED_LIMIT
+            ball.append(t, stamp, offer.value, new_segment)
+            self._advance(events)
+            return None
+        if role is _BAT_POSE:
+            position, quaternion = offer.value
+            knob_offset, tip_offset = self._offsets
+            sample = BatSample(knob=pose_point(position, quaternion, knob_offset),
+                               tip=pose_point(position, quaternion, tip_offset),
+                               position=position, quaternion=quaternion)
+            return self._accept_bat(t, stamp, sample, events)
         pairing = self._pairing
-        for t, knob, tip in pairing.pairs(self._config.max_gap):
-            reason = self._accept_bat(t, self._clock.stamp(t), BatSample(knob=knob, tip=tip),
+        (pairing.knob if role is _KNOB else pairing.tip).append(t, stamp, offer.value, False)
+        reason = None
+        for tp, knob, tip in pairing.pairs(self._config.max_gap):
+            reason = self._accept_bat(tp, clock.stamp(tp), BatSample(knob=knob, tip=tip),
                                       events, self._lengths) or reason
-        pairing.trim()
+        pairing.trim(self._config.max_gap)
         return reason
 
     def _accept_bat(self, t: float, stamp: int, sample: BatSample, events: List[Event],
@@ -341,6 +344,15 @@ class Detector:
 
     def _advance(self, events: List[Event], final: bool = False) -> None:
         """Sweep every union interval now decidable, then predict from the new cursor."""
-        if self._scheduler.advance(self._sweep.interval, events, final) \
-                and self._config.prediction_horizon > 0.0:
+        first = len(events)
+        moved = self._scheduler.advance(self._sweep.interval, events, final)
+        config = self._config
+        if config.rest_tolerance > 0.0:
+            for i in range(first, len(events)):
+                event = events[i]
+                if event.__class__ is Impact and bat_at_rest(
+                        self._bat, self._clock.time(event.stamp_ns), config.velocity_window,
+                        config.rest_tolerance):
+                    events[i] = replace(event, bat_at_rest=True)
+        if moved and config.prediction_horizon > 0.0:
             self._predictor.predict(self._scheduler.cursor, self._episodes.armed, events)

@@ -19,6 +19,7 @@ from typing import List, Optional, Tuple
 from .config import DetectorConfig
 from .events import DetectorStats, NearMiss
 from .gate import Clock
+from .streams import Stream
 from ..bat import BatProfile
 from ..geometry import profile_gap, scale, Vector
 
@@ -100,6 +101,22 @@ def lowest_gap(start: State, end: State, ball_radius: float, profile: BatProfile
     value, normal, fraction = profile_gap(ball, knob, tip, ball_radius, profile)
     return LowestGap(t=start.t + (end.t - start.t) * s, gap=value, normal=normal,
                      fraction=fraction, ball=ball, knob=knob, tip=tip)
+
+
+def bat_at_rest(bat: Stream, t: float, window: float, tolerance: float) -> bool:
+    """
+    Return whether the bat stood still before time t (s): not a swing.
+
+    Still: over at least half of ``window`` (s) of its samples at or before t (in t's
+    segment), knob and tip each stayed within ``tolerance`` (m) of where they were in the
+    last of them.
+    """
+    indices = bat.history(t, window)
+    if len(indices) < 2 or bat.times[indices[-1]] - bat.times[indices[0]] < 0.5 * window:
+        return False
+    last = bat.values[indices[-1]]
+    return all(math.dist(bat.values[i].knob, last.knob) <= tolerance
+               and math.dist(bat.values[i].tip, last.tip) <= tolerance for i in indices)
 
 
 class EpisodeTracker:

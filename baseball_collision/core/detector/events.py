@@ -9,7 +9,7 @@ prints and serialises (JSON, CSV, ROS strings) as its plain value, so ``'side'``
 from collections import Counter
 from dataclasses import dataclass, field
 import enum
-from typing import Optional, Union
+from typing import List, Optional, Union
 
 from ..geometry import Vector
 from ..toi import Feature
@@ -40,6 +40,16 @@ class DropReason(enum.StrEnum):
     BAT_LENGTH_JUMP = 'bat_length_jump'
     SPEED_LIMIT = 'speed_limit'
     UNEXPECTED_INPUT = 'unexpected_input'
+    STALE_STAMP = 'stale_stamp'
+    """More than ``time_jump_reset`` behind its stream, and not (yet) a jump back: another
+    publisher's clock (a replay left running), or a jump not confirmed by later samples."""
+    STAMP_AHEAD = 'stamp_ahead'
+    """A lone sample stamped well ahead of its stream: the next sample came before it."""
+    BAD_FRAME = 'bad_frame'
+    """A frame_id with control characters (an embedded NUL) or undecodable bytes."""
+    LOST_BODY = 'lost_body'
+    """A bat pose exactly at the origin with the identity orientation: what motion capture
+    publishes for a rigid body it lost (``drop_lost_body``)."""
 
 
 DROP_REASONS = tuple(reason.value for reason in DropReason)
@@ -55,6 +65,9 @@ class ResetReason(enum.StrEnum):
     """A stamp more than ``FAR_AHEAD_NS`` after the clock's origin: a new session."""
     REQUESTED = 'requested'
     """``Detector.reset`` was called."""
+    FRAME_CHANGED = 'frame_changed'
+    """The input streams agreed on another frame than the first one seen (a stray): what the
+    stray frame's samples built is dropped."""
 
 
 @dataclass(frozen=True)
@@ -82,6 +95,9 @@ class Impact:
     :ivar velocities_from_history: False when too few samples before the impact existed and
         the velocities had to come from the interval spanning it.
     :ivar initially_overlapping: the contact was already there at the interval start.
+    :ivar bat_at_rest: the bat's knob and tip stayed within ``rest_tolerance`` of where they
+        were at the impact over the ``velocity_window`` before it: the ball hit a still bat
+        (a bat on a stand, a lost body frozen in place), not a swing.
     """
 
     stamp_ns: int
@@ -108,6 +124,7 @@ class Impact:
     interval_end_ns: int
     velocities_from_history: bool
     initially_overlapping: bool
+    bat_at_rest: bool = False
 
 
 @dataclass(frozen=True)
@@ -179,8 +196,9 @@ class StateReset:
     """
     The detector dropped its state.
 
-    :ivar reason: ``'time_jump_backwards'``, ``'time_jump_forward'`` or ``'requested'`` (a
-        ``ResetReason``; ``Detector.reset`` passes on the string it is given).
+    :ivar reason: ``'time_jump_backwards'``, ``'time_jump_forward'``, ``'frame_changed'`` or
+        ``'requested'`` (a ``ResetReason``; ``Detector.reset`` passes on the string it is
+        given).
     """
 
     stamp_ns: int
@@ -188,6 +206,16 @@ class StateReset:
 
 
 Event = Union[Impact, NearMiss, StreamGap, StateReset, Prediction, PredictionCleared]
+
+
+@dataclass(frozen=True)
+class LateDrop:
+    """A sample dropped after the call that offered it returned (it had been waiting)."""
+
+    role: Role
+    reason: DropReason
+    stamp_ns: int
+    frame_id: str
 
 
 @dataclass
@@ -202,7 +230,11 @@ class DetectorStats:
     :ivar last_processing_s, total_processing_s, max_processing_s, calls: wall time spent in
         the detector per call.
     :ivar newest_stamp_ns: newest accepted stamp of any stream (None before any).
-    :ivar last_drop_reason: why the last sample offered was dropped (None: it was accepted).
+    :ivar last_drop_reason: why the last sample offered was dropped (None: it was accepted,
+        or it waits: a sample held until the next one of its stream tells whether its stamp is
+        a glitch, or while the streams have not agreed on a frame or a jump back).
+    :ivar late_drops: samples offered by earlier calls that the last call dropped, as
+        ``LateDrop``; cleared at each call.
     """
 
     received: Counter = field(default_factory=Counter)
@@ -219,6 +251,7 @@ class DetectorStats:
     calls: int = 0
     newest_stamp_ns: Optional[int] = None
     last_drop_reason: Optional[DropReason] = None
+    late_drops: List['LateDrop'] = field(default_factory=list)
 
     @property
     def mean_processing_s(self) -> float:

@@ -1,14 +1,17 @@
 """
 The sample checks: what a sample must pass before it is buffered, and why it is dropped.
 
-Pure functions and two small state holders (the clock's origin, the bat's recent lengths).
-The facade runs them in order (frame, values, stamp, clock, physical bounds); a bad sample is
-dropped for one ``DropReason`` and never processed. Two stamp outcomes are not drops but
-resets (``ResetReason``): a stamp far behind its stream, and one far after the clock's origin.
+Pure functions and small state holders (the clock's origin, the bat's recent lengths, the
+frame vote, the watch on samples far behind). The facade checks values first, then
+``intake`` orders the rest (frame, stamp, clock, physical bounds); a bad sample is dropped for
+one ``DropReason`` and never processed. Two stamp outcomes are not drops but resets
+(``ResetReason``): stamps far behind their streams once enough of them agree (a jump back),
+and one far after the clock's origin.
 """
 
+from collections import Counter
 import math
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import Any, Collection, Dict, List, Optional, Sequence, Set, Tuple, Union
 
 from .events import DropReason, ResetReason
 from .streams import Stream
@@ -26,6 +29,16 @@ LENGTH_DROPS_TO_CHANGE = 3
 
 LENGTHS_KEPT = 15
 """Recent bat lengths whose median is the reference."""
+
+JUMP_CONFIRM = 10
+"""Samples in a row far behind the clock (and agreeing with each other) that make a jump back;
+fewer, interleaved with samples on the current clock, are another publisher's clock."""
+
+HOLD_FACTOR = 2.5
+"""A sample this many typical steps after its stream's newest waits for the next one."""
+
+FRAME_PENDING_MAX = 32
+"""Samples kept waiting for the streams to agree on a frame; then the most common is taken."""
 
 
 class Clock:
@@ -51,10 +64,54 @@ class Clock:
 
 
 def frame_check(frame_id: str, frame: Optional[str]) -> Optional[DropReason]:
-    """Return ``WRONG_FRAME`` for a frame other than the tracking one (an empty one passes)."""
-    if not frame_id or frame is None or frame_id == frame:
+    """
+    Return why a sample's ``frame_id`` is refused against the tracking ``frame``, or None.
+
+    ``BAD_FRAME``: control characters (an embedded NUL) or U+FFFD (bytes that were not UTF-8,
+    as rclpy decodes them); ``WRONG_FRAME``: another frame than the tracking one. An empty
+    frame passes, as does any frame while there is no tracking frame yet.
+    """
+    if not frame_id or frame_id == frame:  # (the tracking frame was checked when adopted)
         return None
-    return DropReason.WRONG_FRAME
+    if not frame_id.isprintable() or '\ufffd' in frame_id:
+        return DropReason.BAD_FRAME
+    return None if frame is None else DropReason.WRONG_FRAME
+
+
+class FrameVote:
+    """
+    The tracking frame: configured, or adopted once every input stream has sent it.
+
+    :param configured: the ``frame_id`` parameter ('' : vote).
+    :param roles: the input roles that must agree (``ball`` and ``bat_pose``, or ``ball``,
+        ``knob`` and ``tip``).
+    :ivar frame: the tracking frame (None before agreement).
+    :ivar provisional: the first frame voted for (None before any).
+    """
+
+    __slots__ = ('frame', 'provisional', 'roles', 'seen', 'counts')
+
+    def __init__(self, configured: str, roles: Collection[str]) -> None:
+        self.frame: Optional[str] = configured or None
+        self.provisional: Optional[str] = None
+        self.roles = frozenset(roles)
+        self.seen: Dict[str, Set[str]] = {}
+        self.counts: Counter = Counter()
+
+    def vote(self, role: str, frame_id: str) -> Optional[str]:
+        """Count a sample's (non-empty) frame; return the frame every role has sent, or None."""
+        if not frame_id:
+            return None
+        if self.provisional is None:
+            self.provisional = frame_id
+        roles = self.seen.setdefault(frame_id, set())
+        roles.add(role)
+        self.counts[frame_id] += 1
+        return frame_id if roles >= self.roles else None
+
+    def most_common(self) -> Optional[str]:
+        """Return the frame sent most often (the first seen among equals), None for none."""
+        return self.counts.most_common(1)[0][0] if self.counts else None
 
 
 def finite_point(value: Sequence[float]) -> Optional[Vector]:
@@ -91,15 +148,20 @@ def unit_pose(pose: Tuple[Sequence[float], Sequence[float]]) -> Union[
     return (px, py, pz), (qx / magnitude, qy / magnitude, qz / magnitude, qw / magnitude)
 
 
+def lost_body(position: Vector, quaternion: Quaternion) -> bool:
+    """Return whether a pose is exactly the origin with the identity orientation."""
+    return position == (0.0, 0.0, 0.0) and quaternion == (0.0, 0.0, 0.0, 1.0)
+
+
 def stamp_check(newest: Optional[int], stamp: int, origin: Optional[int],
                 time_jump_reset: float) -> Union[DropReason, ResetReason, None]:
     """
     Return what a stamp (ns) means after its stream's ``newest`` and the clock's ``origin``.
 
     :returns: None (take it), ``DUPLICATE_STAMP`` or ``OUT_OF_ORDER`` (a little behind: drop
-        it), ``TIME_JUMP_BACKWARDS`` (more than ``time_jump_reset`` s behind) or
-        ``TIME_JUMP_FORWARD`` (more than ``FAR_AHEAD_NS`` after the origin): reset, then take
-        it.
+        it), ``TIME_JUMP_BACKWARDS`` (more than ``time_jump_reset`` s behind: a jump back, or
+        another clock; ``JumpWatch`` tells which) or ``TIME_JUMP_FORWARD`` (more than
+        ``FAR_AHEAD_NS`` after the origin): reset, then take it.
     """
     if newest is not None and stamp <= newest:
         if stamp == newest:
@@ -174,3 +236,64 @@ class LengthCheck:
         if len(lengths) > LENGTHS_KEPT:
             del lengths[0]
         return None
+
+
+class JumpWatch:
+    """
+    Samples far behind the clock, kept until they make a jump back or prove another clock.
+
+    A jump back (a looped bag, a restarted clock) moves every stream: ``JUMP_CONFIRM`` samples
+    in a row arrive far behind, each within ``time_jump_reset`` of the previous ones. A stale
+    second publisher sends its samples between the current clock's: a sample on the current
+    clock abandons the candidates (they are dropped as ``STALE_STAMP``).
+
+    :ivar candidates: the samples waiting, in arrival order.
+    :ivar newest: the newest stamp among them (ns).
+    """
+
+    __slots__ = ('candidates', 'newest')
+
+    def __init__(self) -> None:
+        self.candidates: List[Any] = []
+        self.newest = 0
+
+    def behind(self, sample: Any, stamp: int, reset_ns: int) -> Tuple[bool, List[Any]]:
+        """
+        Keep a sample stamped (ns) far behind the clock.
+
+        :param reset_ns: ``time_jump_reset`` in ns: how far apart samples of one clock may be.
+        :returns: (whether the jump is confirmed, the candidates it abandoned: another clock).
+        """
+        abandoned: List[Any] = []
+        if self.candidates and abs(stamp - self.newest) > reset_ns:
+            abandoned, self.candidates = self.candidates, []
+        if not self.candidates or stamp > self.newest:
+            self.newest = stamp
+        self.candidates.append(sample)
+        return len(self.candidates) >= JUMP_CONFIRM, abandoned
+
+    def take(self) -> List[Any]:
+        """Return the candidates and forget them."""
+        candidates, self.candidates = self.candidates, []
+        return candidates
+
+
+def hold_ahead(stamps: Sequence[int], stamp: int, reset_ns: int) -> bool:
+    """
+    Return whether a sample stamped (ns) after its stream's ``stamps`` should wait for the next.
+
+    It waits when its step from the newest is more than ``reset_ns`` or ``HOLD_FACTOR`` times
+    the stream's typical step (the median of its last eight): a glitched stamp, or a real gap
+    the next sample will confirm.
+    """
+    step = stamp - stamps[-1]
+    if step > reset_ns:
+        return True
+    if len(stamps) < 4:
+        return False
+    if step <= HOLD_FACTOR * (stamps[-1] - stamps[-2]) and \
+            step <= HOLD_FACTOR * (stamps[-2] - stamps[-3]):
+        return False  # the common case: a step like the last two
+    recent = stamps[-9:]
+    steps = sorted(b - a for a, b in zip(recent[:-1], recent[1:]))
+    return step > HOLD_FACTOR * steps[len(steps) // 2]

@@ -33,10 +33,9 @@ class Pairing:
         if not knob.times or not tip.times:
             return []
         ready = min(knob.times[-1], tip.times[-1])
-        times = sorted(set(_between(knob.times, self.cursor, ready)
-                           + _between(tip.times, self.cursor, ready)))
         pairs = []
-        for t in times:
+        for t in _merged(_between(knob.times, self.cursor, ready),
+                         _between(tip.times, self.cursor, ready)):
             self.cursor = t
             knob_point = _point_at(knob, t, max_gap)
             tip_point = _point_at(tip, t, max_gap) if knob_point is not None else None
@@ -44,10 +43,37 @@ class Pairing:
                 pairs.append((t, knob_point, tip_point))
         return pairs
 
-    def trim(self) -> None:
-        """Forget what no future pair needs (all but a few samples before the cursor)."""
-        self.knob.trim(self.cursor or 0.0, 0.0)
-        self.tip.trim(self.cursor or 0.0, 0.0)
+    def trim(self, max_gap: float) -> None:
+        """
+        Forget what no future pair needs: all but a few samples before the cursor.
+
+        When one end is silent (or never came) the other keeps only its last samples
+        (``Stream.trim_beside``): its memory and the cost per sample stay flat.
+        """
+        self.knob.trim_beside(self.tip, self.cursor, 0.0)
+        self.tip.trim_beside(self.knob, self.cursor, 0.0)
+
+
+def _merged(a: List[float], b: List[float]) -> List[float]:
+    """Return the sorted union of two sorted lists of times, without repeats (a merge walk)."""
+    if not b:
+        return a
+    if not a:
+        return b
+    merged: List[float] = []
+    i = j = 0
+    while i < len(a) and j < len(b):
+        x, y = a[i], b[j]
+        if x <= y:
+            merged.append(x)
+            i += 1
+            j += x == y
+        else:
+            merged.append(y)
+            j += 1
+    merged.extend(a[i:])
+    merged.extend(b[j:])
+    return merged
 
 
 def _between(times: List[float], start: Optional[float], end: float) -> List[float]:

@@ -18,7 +18,8 @@ from .kinematics import fit_polynomial, pivot_rates, turn_rates
 from .streams import Stream
 from ..geometry import lerp, scale, sub, Vector
 from ..prediction import (
-    BallForecast, BatForecast, first_contact, planned_bat, PlannedBat, turn_axis_and_rates)
+    BallForecast, BatForecast, check_plan_size, first_contact, planned_bat, PlannedBat,
+    turn_axis_and_rates)
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
@@ -56,8 +57,8 @@ class Predictor:
         """
         Set (or, with no stamps, clear) a commanded bat trajectory.
 
-        :raises CoreError: lists of different lengths, stamps not increasing, or a quaternion
-            not unit length.
+        :raises CoreError: more than ``MAX_PLAN_POSES`` poses, lists of different lengths,
+            stamps not increasing, or a quaternion not unit length.
         """
         self.plan_on_clock = None
         if not stamps_ns:
@@ -65,6 +66,7 @@ class Predictor:
             return
         first = int(stamps_ns[0])
         try:
+            check_plan_size(len(stamps_ns))  # before any work on a huge plan
             plan = planned_bat([(int(s) - first) * 1e-9 for s in stamps_ns], positions,
                                quaternions, *self.offsets)
         except (TypeError, ValueError) as error:

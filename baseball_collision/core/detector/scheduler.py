@@ -47,6 +47,7 @@ class Scheduler:
         ball_times, bat_times = self.ball.times, self.bat.times
         ahead = 0 if final else self.ahead
         if len(ball_times) <= ahead or len(bat_times) <= ahead:
+            self.trim()
             return False
         ready_ball, ready_bat = ball_times[-1 - ahead], bat_times[-1 - ahead]
         watermark = ready_ball if ready_ball < ready_bat else ready_bat
@@ -54,6 +55,7 @@ class Scheduler:
         if cursor is None:
             cursor = self.cursor = max(ball_times[0], bat_times[0])
         if watermark <= cursor:
+            self.trim()
             return False
         i = bisect_right(ball_times, cursor)
         j = bisect_right(bat_times, cursor)
@@ -71,8 +73,20 @@ class Scheduler:
             cursor = t
         moved = cursor != self.cursor
         self.cursor = cursor
+        self.trim()
+        return moved
+
+    def trim(self) -> None:
+        """
+        Forget samples no fit or interval needs any more (``Stream.trim_beside``).
+
+        Behind the cursor by the fits' history; a stream beside a silent one by its own, so a
+        dead tracker grows neither memory nor the cost of a sample.
+        """
+        ball, bat = self.ball, self.bat
+        if len(ball.times) < 64 and len(bat.times) < 64:
+            return  # (Stream.trim_beside would return at once)
         config = self.config  # how far back (s) the fits need samples
         history = 1.5 * max(config.velocity_window, config.prediction_window)
-        self.ball.trim(cursor, history)
-        self.bat.trim(cursor, history)
-        return moved
+        ball.trim_beside(bat, self.cursor, history)
+        bat.trim_beside(ball, self.cursor, history)

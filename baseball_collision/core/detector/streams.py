@@ -18,6 +18,16 @@ Turn = Tuple[float, float, float, float]
 MAX_HISTORY = 64
 """Samples at most in a velocity fit's history."""
 
+SILENT_AFTER = 1.0
+"""A stream whose newest sample is this far (s) behind the other's (and ``SILENT_KEEP``
+samples of the other) is silent: the other keeps only its own history."""
+
+SILENT_KEEP = 2048
+"""Samples a stream keeps after a silent one's newest before it trims to its own history: a
+stream that only lags (a live subscription behind the other under load, a replay at a high
+rate) catches up within them, so nothing it will still pair with is dropped; the memory stays
+bounded (about 0.4 MB) when the other is dead."""
+
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 
 
@@ -72,6 +82,29 @@ class Stream:
             for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
                 del buffer[:index]
             self.path_key = None
+
+    def trim_beside(self, other: 'Stream', cursor: Optional[float], history: float) -> None:
+        """
+        Forget what no future interval needs, beside the ``other`` stream it is walked with.
+
+        Normally what is ``history`` s and a few samples behind ``cursor`` (s); when the other
+        stream is empty or silent (its newest ``SILENT_AFTER`` s and ``SILENT_KEEP`` samples
+        behind this one's), what is ``history`` behind this stream's own newest, so one dead
+        stream does not grow the other without bound.
+        """
+        times = self.times
+        if len(times) < 64:
+            return
+        if other.times:
+            last = other.times[-1]
+            silent = times[-1] - last > SILENT_AFTER and \
+                len(times) - bisect_right(times, last) > SILENT_KEEP
+        else:
+            silent = times[-1] - times[0] > SILENT_AFTER and len(times) > SILENT_KEEP
+        if silent:
+            self.trim(times[-1], history)
+        elif cursor is not None:
+            self.trim(cursor, history)
 
     def interval(self, t: float) -> int:
         """Return k of the sample interval [times[k], times[k+1]] holding t (-1 before)."""

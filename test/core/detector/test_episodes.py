@@ -2,9 +2,12 @@
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DetectorConfig, DetectorStats, NearMiss
-from baseball_collision.core.detector.episodes import EpisodeTracker, lowest_gap, State
+from baseball_collision.core.detector.episodes import (
+    bat_at_rest, EpisodeTracker, lowest_gap, State)
 from baseball_collision.core.detector.gate import Clock
+from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import profile_gap
+from baseball_collision.core.motion import BatSample
 import pytest
 
 KNOB, TIP = (0.0, 0.0, 1.0), (0.0, WOOD_BAT_34.length, 1.0)
@@ -110,3 +113,21 @@ def test_lowest_gap_refines_the_closest_approach() -> None:
     assert lowest.normal == pytest.approx((1.0, 0.0, 0.0), abs=1e-6)  # 40 golden steps
     assert lowest.fraction == pytest.approx(BARREL_Y / WOOD_BAT_34.length)
     assert (lowest.knob, lowest.tip) == (KNOB, TIP)
+
+
+def _bat_stream(moves: float) -> Stream:
+    """Return a bat at 360 Hz for 0.1 s whose knob and tip move ``moves`` m in all."""
+    bat = Stream('bat')
+    for i in range(36):
+        shift = moves * i / 35
+        bat.append(i / 360.0, i, BatSample(knob=(shift, 0.0, 1.0), tip=(shift, 0.86, 1.0)),
+                   False)
+    return bat
+
+
+def test_a_bat_at_rest_stayed_within_the_tolerance() -> None:
+    """Still (within 1 cm over the window): at rest; a swing, or too short a history: not."""
+    assert bat_at_rest(_bat_stream(0.0), 0.09, 0.061, 0.01)
+    assert bat_at_rest(_bat_stream(0.005), 0.09, 0.061, 0.01)  # 3 mm over the window
+    assert not bat_at_rest(_bat_stream(0.5), 0.09, 0.061, 0.01)
+    assert not bat_at_rest(_bat_stream(0.0), 0.01, 0.061, 0.01)  # 10 ms seen: unknown

@@ -4,8 +4,8 @@ import math
 
 from baseball_collision.core.detector.events import DropReason, ResetReason
 from baseball_collision.core.detector.gate import (
-    Clock, FAR_AHEAD_NS, finite_point, frame_check, LengthCheck, speed_check, stamp_check,
-    unit_pose)
+    Clock, FAR_AHEAD_NS, finite_point, frame_check, FrameVote, hold_ahead, HOLD_FACTOR,
+    JUMP_CONFIRM, JumpWatch, LengthCheck, lost_body, speed_check, stamp_check, unit_pose)
 from baseball_collision.core.detector.streams import Stream
 import pytest
 
@@ -88,3 +88,57 @@ def test_bat_length_against_the_recent_median() -> None:
     for _ in range(20):
         check.check(knob, (1.2, 0.0, 0.0), 0.05)
     assert len(check.lengths) == 15
+
+
+def test_bad_frames_are_refused_before_any_comparison() -> None:
+    """Control characters (an embedded NUL) and U+FFFD (bytes that were not UTF-8) are bad."""
+    for frame in ('wor\x00ld', 'w\ufffdrld', 'world\n', '\x7f'):
+        assert frame_check(frame, None) is DropReason.BAD_FRAME
+        assert frame_check(frame, 'world') is DropReason.BAD_FRAME
+    assert frame_check('wörld', None) is None and frame_check('a b', 'a b') is None
+
+
+def test_the_frame_vote_needs_every_role() -> None:
+    """The first frame is provisional; a frame is agreed once every role sent it."""
+    vote = FrameVote('', ('ball', 'bat_pose'))
+    assert vote.frame is None and vote.vote('ball', 'camera') is None
+    assert vote.provisional == 'camera'
+    assert vote.vote('ball', 'world') is None and vote.vote('ball', '') is None
+    assert vote.vote('bat_pose', 'world') == 'world'
+    assert vote.most_common() == 'world'  # two votes to one
+    assert FrameVote('world', ('ball',)).frame == 'world'
+
+
+def test_a_lost_body_is_exactly_the_identity_at_the_origin() -> None:
+    """Origin and identity; a pose a hair away from either is a real pose."""
+    assert lost_body((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    assert lost_body((-0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    assert not lost_body((0.0, 0.0, 1e-9), (0.0, 0.0, 0.0, 1.0))
+    assert not lost_body((0.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0))
+
+
+def test_a_step_far_beyond_the_usual_waits() -> None:
+    """Hold when the step is over HOLD_FACTOR typical steps or over the jump threshold."""
+    ms = 1_000_000
+    stamps = [i * 3 * ms for i in range(10)]
+    newest, reset = stamps[-1], 1000 * ms
+    assert not hold_ahead(stamps, newest + 3 * ms, reset)
+    assert not hold_ahead(stamps, newest + int(HOLD_FACTOR * 3 * ms), reset)
+    assert hold_ahead(stamps, newest + int(HOLD_FACTOR * 3 * ms) + 1, reset)
+    assert not hold_ahead(stamps[:3], newest + 30 * ms, reset)  # too few steps to know
+    assert hold_ahead(stamps[:2], newest + reset + 1, reset)  # beyond a jump: always
+    jittered = stamps[:-1] + [stamps[-1] + 5 * ms]  # one long step does not set the usual
+    assert hold_ahead(jittered, jittered[-1] + 9 * ms, reset)
+
+
+def test_the_jump_watch_confirms_only_samples_in_a_row_that_agree() -> None:
+    """JUMP_CONFIRM agreeing samples confirm; one far from the others starts again."""
+    watch, second = JumpWatch(), 1_000_000_000
+    for k in range(JUMP_CONFIRM - 1):
+        assert watch.behind(k, 5 * second + k, second) == (False, [])
+    confirmed, abandoned = watch.behind('other', 50 * second, second)  # another clock
+    assert not confirmed and abandoned == list(range(JUMP_CONFIRM - 1))
+    for k in range(JUMP_CONFIRM - 2):
+        assert not watch.behind(k, 50 * second + k, second)[0]
+    assert watch.behind('last', 50 * second - 1, second) == (True, [])
+    assert len(watch.take()) == JUMP_CONFIRM and watch.candidates == []

@@ -1,6 +1,10 @@
 """Tests for the detector's knob and tip pairing by stamp."""
 
-from baseball_collision.core.detector.pairing import Pairing
+from typing import List
+
+from baseball_collision.core.detector.pairing import _merged, Pairing
+from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP
+from hypothesis import given, strategies as st
 import pytest
 
 
@@ -36,3 +40,34 @@ def _sparse() -> Pairing:
     pairing.tip.append(0.1, 3, (1.0, 1.0, 0.0), False)
     pairing.tip.append(0.3, 4, (3.0, 1.0, 0.0), False)
     return pairing
+
+
+@given(a=st.lists(st.integers(0, 50), unique=True), b=st.lists(st.integers(0, 50), unique=True))
+def test_the_merge_walk_is_the_sorted_union(a: List[int], b: List[int]) -> None:
+    """Merging two sorted lists of times gives the sorted union, without repeats."""
+    assert _merged(sorted(a), sorted(b)) == sorted(set(a) | set(b))
+
+
+def test_a_dead_tip_keeps_the_knob_short() -> None:
+    """Tip silent, knob at 1 kHz for 5 s: the knob keeps a few samples, not all 5000."""
+    pairing = Pairing()
+    pairing.tip.append(0.0, 1, (0.0, 1.0, 0.0), False)
+    largest = 0
+    for i in range(5000):
+        pairing.knob.append(i * 0.001, 10 + i, (0.0, 0.0, 0.0), False)
+        pairing.pairs(max_gap=0.05)
+        pairing.trim(max_gap=0.05)
+        largest = max(largest, len(pairing.knob.times))
+    assert largest < max(SILENT_AFTER * 1000, SILENT_KEEP) + 100
+
+
+def test_a_tip_never_seen_keeps_the_knob_short() -> None:
+    """No tip at all: the knob is trimmed by its own newest (after ``SILENT_KEEP``)."""
+    pairing = Pairing()
+    largest = 0
+    for i in range(6000):
+        pairing.knob.append(i * 0.001, 10 + i, (0.0, 0.0, 0.0), False)
+        pairing.pairs(max_gap=0.05)
+        pairing.trim(max_gap=0.05)
+        largest = max(largest, len(pairing.knob.times))
+    assert largest <= SILENT_KEEP + 1 and len(pairing.knob.times) < 3000

@@ -6,7 +6,7 @@ from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
-from baseball_collision.core.prediction import PlannedBat
+from baseball_collision.core.prediction import MAX_PLAN_POSES, PlannedBat
 from baseball_collision.errors import CoreError
 import pytest
 
@@ -70,3 +70,44 @@ def test_a_ball_flying_at_a_still_bat_is_predicted() -> None:
     assert prediction.lead_s == pytest.approx(expected, abs=2e-4)
     assert prediction.bat_fraction == pytest.approx(fraction, abs=1e-3)
     assert not prediction.planned
+
+
+class _Counted(tuple):
+    """A tuple that counts the items read by index (to see how much of a plan is looked at)."""
+
+    reads = 0
+
+    def __getitem__(self, index):
+        _Counted.reads += 1
+        return super().__getitem__(index)
+
+
+def test_the_plan_is_bisected_not_scanned() -> None:
+    """A plan of 10,000 poses: a step's travel bound reads a few poses, not all of them."""
+    n = 10_000
+    times = tuple(0.001 * k for k in range(n))
+    positions = tuple((0.001 * k, 0.0, 1.0) for k in range(n))
+    plan = PlannedBat(times=_Counted(times), positions=_Counted(positions),
+                      quaternions=((0.0, 0.0, 0.0, 1.0),) * n, knob_offset=OFFSETS[0],
+                      tip_offset=OFFSETS[1])
+    _Counted.reads = 0
+    travel = plan.pivot_travel(5.0005, 5.0105)
+    assert travel == pytest.approx(0.01, abs=1e-9)  # along x at 1 m/s for 10 ms
+    assert _Counted.reads < 100
+    _Counted.reads = 0
+    plan.turn_rate_bound(5.0005, 5.0105)
+    assert _Counted.reads < 100
+
+
+def test_a_plan_too_large_is_refused_before_any_work() -> None:
+    """More than MAX_PLAN_POSES poses: a CoreError saying the limit, the plan unchanged."""
+    predictor = _predictor([(5.0, 0.0, 1.0)] * 3, [((0, 0, 1), (0, 0.86, 1))] * 3)
+    n = MAX_PLAN_POSES + 1
+    with pytest.raises(CoreError, match=f'{n} poses is more than the {MAX_PLAN_POSES}'):
+        predictor.set_plan(range(BASE_NS, BASE_NS + n), [(0.0, 0.0, 1.0)] * n,
+                           [(0.0, 0.0, 0.0, 1.0)] * n)
+    assert predictor.plan is None
+    stamps = [BASE_NS + k * 1000 for k in range(MAX_PLAN_POSES)]
+    predictor.set_plan(stamps, [(0.0, 0.0, 1.0)] * len(stamps),
+                       [(0.0, 0.0, 0.0, 1.0)] * len(stamps))
+    assert len(predictor.plan[1].times) == MAX_PLAN_POSES

@@ -2,7 +2,7 @@
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.scheduler import Scheduler
-from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP, Stream
 
 
 def _streams(ball_times, bat_times):
@@ -59,3 +59,26 @@ def test_trims_behind_the_cursor() -> None:
     history = 1.5 * max(config.velocity_window, config.prediction_window)
     assert ball.times[0] >= 0.399 - history - 0.005 - 1e-9
     assert len(ball.times) < 400 and len(bat.times) < 400
+
+
+def test_a_silent_stream_does_not_grow_the_other() -> None:
+    """The bat stops after 10 ms; the ball goes on 3 s at 1 kHz: it keeps only its own history."""
+    ball, bat = _streams([0.0], [0.0, 0.005, 0.01])
+    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    for i in range(1, 3000):
+        ball.append(i * 0.001, i + 1, (0.0, 0.0, 0.0), False)
+        _walk(scheduler)
+    assert len(ball.times) < max(SILENT_AFTER * 1000, SILENT_KEEP) + 200
+    assert ball.times[-1] == 2.999 and len(bat.times) == 3
+
+
+def test_a_stream_never_seen_does_not_grow_the_other() -> None:
+    """No bat at all: the ball is trimmed by its own newest all the same."""
+    ball, bat = _streams([0.0], [])
+    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    largest = 0
+    for i in range(1, 6000):
+        ball.append(i * 0.001, i + 1, (0.0, 0.0, 0.0), False)
+        _walk(scheduler)
+        largest = max(largest, len(ball.times))
+    assert largest <= SILENT_KEEP + 1 and len(ball.times) < 3000

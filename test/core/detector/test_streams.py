@@ -62,3 +62,18 @@ def test_cumulative_turn_of_bat_samples() -> None:
     assert stream.turn(3) == pytest.approx((0.0, 0.0, 0.3, 0.0))
     assert stream.turn(4) == (0.0, 0.0, 0.0, 0.0)
     assert stream.turn(5) == pytest.approx((0.0, 0.0, 0.1, 0.0))
+
+
+def test_trim_beside_a_silent_stream_keeps_own_history() -> None:
+    """Beside a live stream: behind the cursor; beside a silent or empty one: own newest."""
+    times = [0.001 * i for i in range(3000)]
+    live = _filled(times)
+    live.trim_beside(_filled([2.99, 2.999]), 1.0, 0.1)
+    assert live.times[0] == pytest.approx(0.895, abs=0.002)  # the cursor's history
+    alone = _filled(times)
+    alone.trim_beside(_filled([0.0, 0.01]), 0.01, 0.1)  # silent since 10 ms
+    assert alone.times[0] == pytest.approx(2.895, abs=0.002)
+    empty = _filled(times)
+    empty.trim_beside(Stream('bat'), None, 0.1)
+    assert empty.times[0] == pytest.approx(2.895, abs=0.002)
+    assert empty.times[-1] == 2.999
