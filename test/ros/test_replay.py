@@ -248,7 +248,11 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
         assert jumped
     finally:
         process.send_signal(signal.SIGINT)
-        stdout, stderr = process.communicate(timeout=20)
+        try:
+            stdout, stderr = process.communicate(timeout=20)
+        except subprocess.TimeoutExpired:  # never leave a looping replay behind
+            process.kill()
+            stdout, stderr = process.communicate()
         ros.node.destroy_subscription(clock_sub)
     assert process.returncode == 0, stderr
     # the real count and elapsed time, not "in 0.0 s" and "(0 loops)"
