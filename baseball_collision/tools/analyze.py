@@ -19,6 +19,7 @@ import itertools
 import multiprocessing
 import os
 from pathlib import Path
+import signal
 import sys
 import time
 from typing import (
@@ -29,6 +30,7 @@ from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, T
 from .truth import (
     BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
     TruthComparison)
+from ..atomic import CLEANUP_SIGNALS
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
@@ -479,6 +481,18 @@ def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool]) -> BagAnalysis:
     return analyze_bag(path, options, progress=False, use_truth=use_truth)
 
 
+def _worker_start() -> None:
+    """
+    Give a pool worker the default action for SIGTERM and SIGHUP.
+
+    A forked worker inherits the parent's handlers (``atomic.cleanup_on_signals``), which would
+    print a traceback when the pool ends it with SIGTERM; the worker writes no output of its
+    own (the parent does), so ending it is all a signal has to do.
+    """
+    for signum in CLEANUP_SIGNALS:
+        signal.signal(signum, signal.SIG_DFL)
+
+
 def _pool_context() -> Any:
     """Return fork where there is one (workers start in ms, with the modules loaded)."""
     methods = multiprocessing.get_all_start_methods()
@@ -519,12 +533,15 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
                    leave=False, dynamic_ncols=True)
     results: List[BagAnalysis] = []
     try:
-        # leaving the block on an error (or Ctrl-C) terminates the workers at once
-        with _pool_context().Pool(workers) as pool:
+        # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
+        # are let go (close, join)
+        with _pool_context().Pool(workers, initializer=_worker_start) as pool:
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:
                     bar.update(1)
+            pool.close()
+            pool.join()
     finally:
         if bar is not None:
             bar.close()
