@@ -9,10 +9,11 @@ package_name = 'baseball_collision'
 # The exact time-of-impact kernel, in C (core/toi/_kernel.c): built by `pip install`, `pip
 # install -e .` and `colcon build` with the C compiler Python was built with. Standard C99 and
 # the CPython API only (no numpy headers). -ffp-contract=off: no fused multiply-add (gcc's
-# default on arm64), so results are the same to the last bit on every machine.
+# default on arm64), so results are the same to the last bit on every machine. -O3 over -O2:
+# about 7 % less CPU per contact-heavy batch row (gcc 12, x86-64), the same results to the bit.
 kernel = Extension(
     package_name + '.core.toi._kernel', sources=['baseball_collision/core/toi/_kernel.c'],
-    extra_compile_args=['-std=c99', '-O2', '-ffp-contract=off', '-fno-math-errno'])
+    extra_compile_args=['-std=c99', '-O3', '-ffp-contract=off', '-fno-math-errno'])
 
 setup(
     name=package_name,

@@ -475,12 +475,15 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
                    leave=False, dynamic_ncols=True)
     results: List[BagAnalysis] = []
     try:
-        # leaving the block on an error (or Ctrl-C) terminates the workers at once
+        # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
+        # are let go (close, join)
         with _pool_context().Pool(workers, initializer=worker_signals) as pool:
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:
                     bar.update(1)
+            pool.close()
+            pool.join()
     finally:
         if bar is not None:
             bar.close()

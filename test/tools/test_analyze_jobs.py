@@ -6,8 +6,11 @@ results are compared with the same bags analysed one after another in this proce
 """
 
 import json
+import os
 from pathlib import Path
 import shutil
+import subprocess
+import sys
 from typing import Callable, List, Tuple
 
 from baseball_collision.errors import ToolError
@@ -87,6 +90,32 @@ def test_cli_jobs_writes_one_report_in_input_order(tmp_path: Path, run_cli: RunC
         str(p) for p in bag_paths([directory, bag_path(SMALL[0])])]
     first_bag_rows = (tmp_path / 'o.csv').read_text().splitlines()[1:]
     assert first_bag_rows and str(directory / 'a_second') in first_bag_rows[0]
+
+
+@pytest.mark.parametrize('bad', [False, True], ids=['all good', 'a bad bag'])
+def test_the_console_script_pool_ends_its_workers_quietly(tmp_path: Path, bad: bool) -> None:
+    """
+    A real ``analyze --jobs 2`` process: its workers end without a traceback.
+
+    The command line turns SIGTERM into a cleanup; the pool ends its workers with SIGTERM
+    (at once when a bag fails): a worker must just end. All good: nothing on stderr; a bad
+    bag: its one-line error and exit code 2.
+    """
+    second = bag_path(SMALL[1])
+    if bad:
+        second = tmp_path / 'cut.mcap'
+        second.write_bytes(bag_path(SMALL[0]).read_bytes()[:4000])
+    env = dict(os.environ)
+    env.pop('RMW_IMPLEMENTATION', None)
+    script = Path(sys.executable).with_name('baseball-collision')
+    done = subprocess.run([str(script), 'analyze', str(bag_path(SMALL[0])), str(second),
+                           '--jobs', '2', '--quiet'], capture_output=True, text=True, env=env,
+                          timeout=120)
+    if bad:
+        assert done.returncode == 2 and done.stderr.count('\n') == 1, done.stderr
+        assert 'cannot read bag' in done.stderr
+    else:
+        assert done.returncode == 0 and done.stderr == ''
 
 
 @pytest.mark.parametrize('argv, words', [

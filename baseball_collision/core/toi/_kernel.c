@@ -383,9 +383,9 @@ static double scaled_gap(const Scaled *s, double tau, double r, double *rate)
 /*
  * Refine a crossing root with Newton steps on the gap itself (well conditioned): two steps at
  * most; a step that is large (a graze, where the rate vanishes) or does not reduce the gap is
- * not taken.
+ * not taken. The scaled gap at the tau returned goes to *gap_out.
  */
-static double polish(const Scaled *s, double tau, double r)
+static double polish(const Scaled *s, double tau, double r, double *gap_out)
 {
   double rate, gap = scaled_gap(s, tau, r, &rate);
   for (int i = 0; i < 2; i++) {
@@ -404,6 +404,7 @@ static double polish(const Scaled *s, double tau, double r)
     gap = new_gap;
     rate = new_rate;
   }
+  *gap_out = gap; /* the gap at the tau returned */
   return tau;
 }
 
@@ -425,7 +426,8 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
     }
   }
   if (have && best != 0.0) {
-    best = polish(s, best, r);
+    double gap;
+    best = polish(s, best, r, &gap);
   }
   double quartic[5], uu[5], wu[5];
   side_quartic(s, rr, quartic, uu, wu);
@@ -445,9 +447,13 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
     }
     /* the quartic also vanishes where the bat's length passes through zero; the gap itself,
        at the polished root, confirms a root is a touch of the side */
-    double polished = tau > 0.0 ? polish(s, tau, r) : tau;
-    double rate;
-    if (scaled_gap(s, polished, r, &rate) <= tol + ROOT_SLACK) {
+    double polished = tau, gap, rate;
+    if (tau > 0.0) {
+      polished = polish(s, tau, r, &gap);
+    } else {
+      gap = scaled_gap(s, tau, r, &rate);
+    }
+    if (gap <= tol + ROOT_SLACK) {
       *out = have ? min_of(best, polished) : polished;
       return true;
     }
@@ -474,7 +480,7 @@ static bool may_touch(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double rad
 {
   Vec closest = closest_offset(b0, b1, e0, e1, s0, s1);
   Vec a0 = v_sub(e0, s0), a1 = v_sub(e1, s1);
-  double half = 0.5 * max_of(sqrt(v_dot(a0, a0)), sqrt(v_dot(a1, a1)));
+  double half = 0.5 * sqrt(max_of(v_dot(a0, a0), v_dot(a1, a1))); /* = the larger root */
   double reach = half + radius + TOUCH_TOLERANCE;
   double margin = 1e-9 * (1.0 + reach);
   return v_dot(closest, closest) <= (reach + margin) * (reach + margin);
