@@ -6,6 +6,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+BENCH_STAMP := $(VENV)/.installed-bench
 
 # import rclpy exits the process with code 102 for any RMW but Fast DDS (ENVIRONMENT.md).
 RUN := env -u RMW_IMPLEMENTATION
@@ -17,7 +18,9 @@ setup: $(STAMP)
 # pip first: a recent pip installs the package (no pyproject.toml) as a PEP 660 editable wheel,
 # with its console scripts in .venv/bin; the stock pip 23 falls back to `setup.py develop`,
 # which follows setup.cfg's colcon script_dir and hides them in .venv/lib/baseball_collision.
-$(STAMP): requirements.txt setup.py setup.cfg package.xml Makefile
+# The editable install compiles the time-of-impact kernel (C, with the system's gcc and
+# Python's headers) into the source tree: a changed _kernel.c is rebuilt by the next `make`.
+$(STAMP): requirements.txt setup.py setup.cfg package.xml Makefile baseball_collision/core/toi/_kernel.c
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --disable-pip-version-check pip==26.3
 	$(BIN)/python -m pip install -q --disable-pip-version-check -r requirements.txt
@@ -33,8 +36,13 @@ lint: $(STAMP)
 demo: $(STAMP)
 	$(RUN) $(BIN)/baseball-collision demo
 
+# Benchmark-only dependencies (python-fcl, the solver's C++ peer): not part of `make setup`.
+$(BENCH_STAMP): $(STAMP) requirements-bench.txt
+	$(BIN)/python -m pip install -q --disable-pip-version-check -r requirements-bench.txt
+	touch $(BENCH_STAMP)
+
 # The quick benchmarks (about a minute); BENCHMARKS.md lists every benchmark and its command.
-bench: $(STAMP)
+bench: $(BENCH_STAMP)
 	$(RUN) $(BIN)/python benchmarks/bench_solver.py
 	$(RUN) $(BIN)/python benchmarks/bench_detector.py
 	$(RUN) $(BIN)/python benchmarks/bench_accuracy.py

@@ -2,19 +2,29 @@
 
 from glob import glob
 
-from setuptools import find_packages, setup
+from setuptools import Extension, find_packages, setup
 
 package_name = 'baseball_collision'
+
+# The exact time-of-impact kernel, in C (core/toi/_kernel.c): built by `pip install`, `pip
+# install -e .` and `colcon build` with the C compiler Python was built with. Standard C99 and
+# the CPython API only (no numpy headers). -ffp-contract=off: no fused multiply-add (gcc's
+# default on arm64), so results are the same to the last bit on every machine.
+kernel = Extension(
+    package_name + '.core.toi._kernel', sources=['baseball_collision/core/toi/_kernel.c'],
+    extra_compile_args=['-std=c99', '-O2', '-ffp-contract=off', '-fno-math-errno'])
 
 setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test', 'test.*', 'benchmarks']),
+    ext_modules=[kernel],
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/launch', glob('launch/*.launch.py')),
+        ('share/' + package_name + '/schema', glob('schema/*.json')),
         ('share/' + package_name + '/bags', glob('bags/*.*')),
         ('share/' + package_name + '/bags/pitches_120hz_sqlite3',
          glob('bags/pitches_120hz_sqlite3/*')),
@@ -23,7 +33,7 @@ setup(
     # packages come from ROS itself); test/test_package.py checks both against the imports
     install_requires=['setuptools', 'numpy', 'PyYAML', 'rosbags', 'tqdm'],
     extras_require={'plots': ['matplotlib']},  # only `analyze --plot` needs it
-    zip_safe=True,
+    zip_safe=False,  # a compiled extension
     maintainer='baseball_collision maintainers',
     maintainer_email='maintainers@users.noreply.h-seed-561ec417.example',
     description='Exact bat-ball time of impact from tracked frames: ROS 2 node and bag analysis.',

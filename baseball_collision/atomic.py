@@ -7,18 +7,82 @@ next to its target (the same file system, so placing it is a rename or a hard li
 :meth:`StagedOutput.commit` puts it in place, never replacing a path that exists.
 :meth:`StagedOutput.abort`, or an exception inside a ``with`` block, deletes the temporary.
 
+Every staged output not yet committed or aborted is known here (:func:`abort_all`), so that a
+termination signal can delete them: inside :func:`cleanup_on_signals`, SIGTERM and SIGHUP
+delete every temporary and raise :class:`Terminated` (a ``KeyboardInterrupt``, as Ctrl-C),
+which unwinds the program like Ctrl-C does.
+
 Standard library only, usable from every layer; it raises ``OSError`` subclasses, which each
 layer turns into its own error.
 """
 
+import contextlib
 import os
 from pathlib import Path
 import shutil
+import signal
 import tempfile
-from typing import Any, Optional, Union
+import threading
+from typing import Any, Iterator, Optional, Sequence, Set, Union
 
 PARTIAL_SUFFIX = '.partial'
 """Suffix of the hidden temporary directories (``.<target name>.<random>.partial``)."""
+
+
+CLEANUP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+"""The signals :func:`cleanup_on_signals` turns into :class:`Terminated`."""
+
+_LIVE: Set['StagedOutput'] = set()
+"""Staged outputs neither committed nor aborted yet."""
+
+
+class Terminated(KeyboardInterrupt):
+    """
+    The process got a termination signal (SIGTERM, SIGHUP) and is winding down as on Ctrl-C.
+
+    :ivar signum: the signal's number (the exit code is 128 + it).
+    """
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+    @property
+    def name(self) -> str:
+        """Return the signal's name, e.g. ``SIGTERM``."""
+        return signal.Signals(self.signum).name
+
+
+def abort_all() -> int:
+    """Delete every staged output not yet committed or aborted; return how many."""
+    live = list(_LIVE)
+    for output in live:
+        output.abort()
+    return len(live)
+
+
+@contextlib.contextmanager
+def cleanup_on_signals(signals: Sequence[int] = CLEANUP_SIGNALS) -> Iterator[None]:
+    """
+    Within the block, a signal of ``signals`` deletes every staged output and raises Terminated.
+
+    The handlers are set only in the main thread (elsewhere the block runs unchanged) and the
+    previous handlers are put back at the end.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def terminate(signum: int, frame: Any) -> None:
+        abort_all()
+        raise Terminated(signum)
+
+    previous = {signum: signal.signal(signum, terminate) for signum in signals}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def check_target(target: Union[str, os.PathLike]) -> Path:
@@ -51,6 +115,7 @@ class StagedOutput:
         self.target = check_target(target)
         self.directory: Optional[Path] = Path(tempfile.mkdtemp(
             prefix=f'.{self.target.name}.', suffix=PARTIAL_SUFFIX, dir=self.target.parent))
+        _LIVE.add(self)
 
     @property
     def path(self) -> Path:
@@ -90,6 +155,7 @@ class StagedOutput:
     def abort(self) -> None:
         """Delete the temporary and whatever was written into it (idempotent)."""
         directory, self.directory = self.directory, None
+        _LIVE.discard(self)
         if directory is not None:
             shutil.rmtree(directory, ignore_errors=True)
 

@@ -2,7 +2,7 @@
 ``analyze`` throughput on a large simulated bag, beside rosbags' raw read rate on the same file.
 
 Run: ``.venv/bin/python benchmarks/bench_analyze.py [--messages N] [--storage S] [--model M]
-[--profile]``.
+[--profile]``, or ``--jobs K`` for the process pool alone.
 
 Writes (into a temporary directory) a bag of at least ``N`` messages (default 1,000,000) with
 ``baseball-collision simulate``'s writer: 360 Hz on a millisecond grid, the ball and the bat
@@ -20,6 +20,11 @@ and splits (d) into read + decode (b), the analyze loop ((c) - (b)), the detecto
 ``Detector.add`` dispatch and bookkeeping outside that timer, the progress bar). ``--profile``
 adds a cProfile of (d) (top functions by own time). Prints figures; asserts nothing. The goal
 is >= 100,000 messages/s end to end.
+
+``--jobs K``: writes K bags of ``N`` messages (default 250,000 each) and times
+:func:`analyze.analyze_bags` over them with one job, then with K jobs (a process pool), in the
+same process, best of ``--repeats``; prints the speed-up (goal for two bags on two cores:
+>= 1.7x one job) and checks both runs found the same events.
 """
 
 import argparse
@@ -33,7 +38,7 @@ from typing import Tuple
 from baseball_collision.bags import BagReader
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.analyze import (
-    AnalysisOptions, analyze_bag, BagAnalysis, run_detector)
+    AnalysisOptions, analyze_bag, analyze_bags, BagAnalysis, run_detector)
 from baseball_collision.tools.recording import RecordingSpec, write_recording
 from bench_bag_read import raw_read
 
@@ -90,14 +95,57 @@ def timed(run, *args) -> Tuple[object, float]:
     return result, time.perf_counter() - start
 
 
+def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: int) -> None:
+    """Write ``bags`` bags; print analyze_bags with one job and with ``bags`` jobs, the ratio."""
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for k in range(bags):
+            path = Path(tmp) / f'{k}_{SUFFIXES[storage]}'
+            written, seconds = write_bag(path, messages)
+            paths.append(path)
+        print(f'wrote {bags} bags of {written:,} messages ({storage}), the last in '
+              f'{seconds:.1f} s')
+        options = AnalysisOptions(model=model)
+        times = {}
+        found = {}
+        for jobs in (1, bags):
+            best = float('inf')
+            for _ in range(repeats):
+                start = time.perf_counter()
+                analyses = analyze_bags(paths, options, jobs=jobs, progress=False)
+                best = min(best, time.perf_counter() - start)
+            times[jobs] = best
+            found[jobs] = [(a.messages, a.impacts, a.near_misses) for a in analyses]
+            total = sum(a.messages for a in analyses)
+            # the bags' own times over the wall time: how many ran at once (1.0: one after
+            # another; near 2.0: two cores each busy with a bag)
+            overlap = sum(a.seconds for a in analyses) / best
+            print(f'analyze_bags, --jobs {jobs}: {total:,} msgs in {best:6.2f} s: '
+                  f'{total / best:>9,.0f} msg/s (best of {repeats}); bag time / wall time '
+                  f'{overlap:.2f}')
+        ratio = times[1] / times[bags]
+        goal = 'met' if ratio >= 1.7 else 'NOT met'
+        print(f'--jobs {bags} / --jobs 1 speed-up: {ratio:.2f}x [goal >= 1.7x for two bags on two '
+              f'cores: {goal}]; same events: {found[1] == found[bags]}')
+
+
 def main() -> None:
     """Write the bag, time the readers and analyze, print the figures and the split."""
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
-    parser.add_argument('--messages', type=int, default=1_000_000)
+    parser.add_argument('--messages', type=int, default=None,
+                        help='messages per bag (1,000,000; with --jobs 250,000)')
     parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
     parser.add_argument('--model', choices=('linear', 'rigid', 'spline'), default='spline')
     parser.add_argument('--profile', action='store_true', help='cProfile the analyze run')
+    parser.add_argument('--jobs', type=int, default=None, metavar='K',
+                        help='time the process pool over K bags instead')
+    parser.add_argument('--repeats', type=int, default=3, help='runs per --jobs figure (3)')
     args = parser.parse_args()
+    if args.jobs:
+        jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
+                     args.repeats)
+        return
+    args.messages = args.messages or 1_000_000
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[args.storage]
         written, seconds = write_bag(path, args.messages)

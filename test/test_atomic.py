@@ -2,8 +2,10 @@
 
 import os
 from pathlib import Path
+import signal
 
-from baseball_collision.atomic import check_target, PARTIAL_SUFFIX, StagedOutput
+from baseball_collision.atomic import (
+    abort_all, check_target, cleanup_on_signals, PARTIAL_SUFFIX, StagedOutput, Terminated)
 import pytest
 
 
@@ -69,3 +71,19 @@ def test_never_overwrites(tmp_path: Path) -> None:
     with pytest.raises(FileExistsError):
         staged.commit()
     assert late.read_text() == 'someone else' and _partials(tmp_path) == []
+
+
+def test_a_termination_signal_deletes_every_staged_output(tmp_path: Path) -> None:
+    """Inside cleanup_on_signals, SIGTERM deletes the temporaries and raises Terminated."""
+    first, second = StagedOutput(tmp_path / 'a'), StagedOutput(tmp_path / 'b')
+    second.path.write_text('half')
+    previous = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Terminated) as raised:
+        with cleanup_on_signals():
+            os.kill(os.getpid(), signal.SIGTERM)
+            signal.pause()  # never reached: the handler raises
+    assert raised.value.signum == signal.SIGTERM and raised.value.name == 'SIGTERM'
+    assert isinstance(raised.value, KeyboardInterrupt)
+    assert _partials(tmp_path) == [] and first.directory is None and second.directory is None
+    assert signal.getsignal(signal.SIGTERM) is previous
+    assert abort_all() == 0

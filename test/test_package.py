@@ -1,6 +1,7 @@
 """The repository root is a buildable ament_python package (colcon build into a temp base)."""
 
 import ast
+from importlib.machinery import EXTENSION_SUFFIXES
 import os
 from pathlib import Path
 import shutil
@@ -131,3 +132,23 @@ def test_colcon_build_installs_executables_and_data(tmp_path: Path) -> None:
         if bag.is_file():
             assert (share / bag.relative_to(REPO_ROOT)).is_file(), bag
     assert not (REPO_ROOT / 'build').exists() and not (REPO_ROOT / 'install').exists()
+    _installed_kernel_is_used(prefix, env, tmp_path)
+
+
+def _installed_kernel_is_used(prefix: Path, env: dict, cwd: Path) -> None:
+    """Check the build compiled the time-of-impact kernel and the installed package uses it."""
+    site = next((prefix / 'lib').glob('python3*/site-packages'))
+    toi = site / 'baseball_collision' / 'core' / 'toi'
+    kernels = [toi / f'_kernel{suffix}' for suffix in EXTENSION_SUFFIXES
+               if (toi / f'_kernel{suffix}').is_file()]
+    assert kernels, sorted(p.name for p in toi.iterdir())
+    probe = ('import baseball_collision.core.toi as toi\n'
+             'print(toi._kernel.__file__)\n'
+             'print(toi.time_of_impact([2, 0, 0], [0, 0, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0], '
+             '[0, 0, 0], 0.05, 0.05, 1.0).time)')
+    completed = subprocess.run([sys.executable, '-c', probe], cwd=cwd, capture_output=True,
+                               text=True, timeout=60, env=dict(env, PYTHONPATH=str(site)))
+    assert completed.returncode == 0, completed.stderr
+    used, contact = completed.stdout.split()
+    assert Path(used).resolve() == kernels[0].resolve()
+    assert float(contact) == pytest.approx(0.45, abs=1e-12)

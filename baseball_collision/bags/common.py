@@ -1,13 +1,17 @@
 """
-What the bag modules share: message type names, the rosbags typestores, opening a bag.
+What the bag modules share: the rosbags typestores, opening a bag.
 
 Every bag is opened here (:func:`open_bag`, :class:`BagFile`), so reading samples and replaying
 raw messages refuse the same paths with the same one-line :class:`BagError`.
 """
 
+import errno
 import functools
 import os
 from pathlib import Path
+import shutil
+import stat
+import tempfile
 from types import TracebackType
 from typing import Optional, Type, TypeVar, Union
 
@@ -17,10 +21,6 @@ from rosbags.typesys.store import Typestore
 
 from ..errors import BagError
 
-POINT_STAMPED = 'geometry_msgs/msg/PointStamped'
-POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
-TWIST_STAMPED = 'geometry_msgs/msg/TwistStamped'
-VECTOR3_STAMPED = 'geometry_msgs/msg/Vector3Stamped'
 
 NS_PER_S = 1_000_000_000
 FRAME_CACHE_LIMIT = 1024
@@ -45,28 +45,82 @@ def first_line(error: BaseException) -> str:
     return text.splitlines()[0] if text else type(error).__name__
 
 
+MAGIC = ((b'\x89MCAP', '.mcap'), (b'SQLite format 3\x00', '.db3'), (b'#ROSBAG V2.0', '.bag'))
+"""The first bytes of each bag file format, and the suffix rosbags reads it by."""
+
+FILE_KINDS = ((stat.S_ISFIFO, 'a FIFO'), (stat.S_ISSOCK, 'a socket'),
+              (stat.S_ISCHR, 'a character device'), (stat.S_ISBLK, 'a block device'))
+
+
+def _status(path: Path) -> os.stat_result:
+    """Return ``os.stat`` of a bag path, or raise a BagError saying why there is none."""
+    try:
+        return os.stat(path)
+    except FileNotFoundError:
+        raise BagError(f'bag not found: {path}') from None
+    except OSError as error:
+        if error.errno == errno.ELOOP:
+            raise BagError(f'cannot read bag {path}: a symbolic link loop') from None
+        raise BagError(f'cannot read bag {path}: {error.strerror}') from error
+
+
+def _regular(path: Path, mode: int) -> None:
+    """Refuse a path that is not a regular file (a FIFO would block the reader forever)."""
+    for test, kind in FILE_KINDS:
+        if test(mode):
+            raise BagError(f'not a bag: {path} is {kind}, not a regular file')
+
+
+def file_format(path: Path) -> Optional[str]:
+    """Return a bag file's suffix by its first bytes (``.mcap``, ``.db3``, ``.bag``), or None."""
+    try:
+        with open(path, 'rb') as stream:
+            head = stream.read(16)
+    except OSError as error:
+        raise BagError(f'cannot read bag {path}: {error.strerror}') from error
+    return next((suffix for magic, suffix in MAGIC if head.startswith(magic)), None)
+
+
 def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
     """
     Open a bag with rosbags' :class:`AnyReader` (ROS 2 types default to Jazzy).
 
+    A bag file is read by its first bytes: an MCAP named ``.bag`` or ``x.MCAP`` opens as the
+    MCAP it is (through a temporary link with the suffix rosbags expects).
+
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
     :returns: the open reader (close it).
-    :raises BagError: path missing, not a bag (a directory without ``metadata.yaml``, another
-        file suffix), or unreadable or corrupt.
+    :raises BagError: path missing, a symbolic link loop, not a bag (a directory without
+        ``metadata.yaml``, a FIFO or device, another file suffix and content), or unreadable
+        or corrupt.
     """
     path = Path(path)
-    if not path.exists():
-        raise BagError(f'bag not found: {path}')
-    if path.is_dir() and not (path / 'metadata.yaml').is_file():
-        raise BagError(f'not a ROS 2 bag directory (no metadata.yaml): {path}')
-    if not path.is_dir() and path.suffix not in ('.mcap', '.db3', '.bag'):
-        raise BagError(
-            f'not a bag: {path} (expected a bag directory or a .mcap, .db3 or .bag file)')
+    mode = _status(path).st_mode
+    alias, opened = None, path
+    if stat.S_ISDIR(mode):
+        if not (path / 'metadata.yaml').is_file():
+            raise BagError(f'not a ROS 2 bag directory (no metadata.yaml): {path}')
+        for entry in path.iterdir():
+            if entry.suffix in ('.mcap', '.db3'):
+                _regular(entry, _status(entry).st_mode)
+    else:
+        _regular(path, mode)
+        sniffed = file_format(path)
+        if sniffed is None and path.suffix not in ('.mcap', '.db3', '.bag'):
+            raise BagError(
+                f'not a bag: {path} (expected a bag directory or a .mcap, .db3 or .bag file)')
+        if sniffed is not None and sniffed != path.suffix:
+            alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
+            opened = alias / f'bag{sniffed}'
+            os.symlink(path.resolve(), opened)
     try:
-        reader = AnyReader([path], default_typestore=jazzy_typestore())
+        reader = AnyReader([opened], default_typestore=jazzy_typestore())
         reader.open()
     except Exception as error:
         raise BagError(f'cannot read bag {path}: {first_line(error)}') from error
+    finally:
+        if alias is not None:
+            shutil.rmtree(alias, ignore_errors=True)
     return reader
 
 

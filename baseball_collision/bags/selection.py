@@ -31,27 +31,8 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 
 from rosbags.highlevel import AnyReader
 
-from .common import POINT_STAMPED, POSE_STAMPED
+from .names import POINT_STAMPED, POSE_STAMPED, ROLE_TYPES, ROLES, TOPIC_FLAGS
 from ..errors import BagError
-
-ROLES = ('ball', 'bat_pose', 'knob', 'tip')
-"""Topic roles, in the order of :class:`TopicSelection`'s fields."""
-
-TOPIC_FLAGS = {
-    'ball': '--ball-topic',
-    'bat_pose': '--bat-pose-topic',
-    'knob': '--knob-topic',
-    'tip': '--tip-topic',
-}
-"""Command-line flag that names each role's topic; error messages refer to these."""
-
-ROLE_TYPES = {
-    'ball': (POINT_STAMPED, POSE_STAMPED),
-    'bat_pose': (POSE_STAMPED,),
-    'knob': (POINT_STAMPED,),
-    'tip': (POINT_STAMPED,),
-}
-"""Message types accepted for each role."""
 
 _HINTS = {
     'ball': "a PointStamped or PoseStamped with 'ball' in its name",
@@ -143,14 +124,18 @@ def topic_types(source: TopicSource) -> Dict[str, Tuple[str, ...]]:
     return {topic: tuple(sorted(types[topic])) for topic in sorted(types)}
 
 
+def _listed(names: Sequence[str], limit: int = _TOPIC_LIST_LIMIT) -> str:
+    """Return names joined by commas, the first ``limit`` of them and how many more."""
+    more = len(names) - limit
+    return ', '.join(names[:limit]) + (f', ... and {more} more' if more > 0 else '')
+
+
 def _describe_topics(types: Mapping[str, Tuple[str, ...]]) -> str:
     """Return a one-line list of topics with their types (the first 20 of them)."""
     if not types:
         return 'the bag has no topics'
     items = [f'{topic} ({" | ".join(msgtypes)})' for topic, msgtypes in types.items()]
-    more = len(items) - _TOPIC_LIST_LIMIT
-    listed = ', '.join(items[:_TOPIC_LIST_LIMIT])
-    return f'topics: {listed}' + (f', ... and {more} more' if more > 0 else '')
+    return f'topics: {_listed(items)}'
 
 
 def _words(topic: str) -> List[str]:
@@ -221,7 +206,7 @@ def _pick_one(role: str, candidates: Sequence[str],
             f'no {role} topic found ({_HINTS[role]}); pass {flag}; {_describe_topics(types)}')
     if len(candidates) > 1:
         raise BagError(
-            f'several {role} topics: {", ".join(candidates)}; pass {flag} to choose one')
+            f'{len(candidates)} {role} topics: {_listed(candidates)}; pass {flag} to choose one')
     return candidates[0]
 
 

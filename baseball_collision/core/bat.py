@@ -26,6 +26,10 @@ INCH = 0.0254
 SWEET_SPOT_FROM_TIP = 6.0 * INCH
 """Statcast's bat-speed point: 6 inches from the barrel end (metres)."""
 
+MAX_STATIONS = 256
+"""Most stations a profile may have: a turned bat needs a few dozen; every station is a capsule
+the detector solves for, so a million of them would take minutes per sample."""
+
 
 @dataclass(frozen=True)
 class BatProfile:
@@ -44,13 +48,17 @@ class BatProfile:
         """
         Check the stations describe a bat.
 
-        :raises CoreError: fewer than one station, non-finite or non-positive values,
-            distances not strictly increasing, or outside [0, length].
+        :raises CoreError: fewer than one station or more than :data:`MAX_STATIONS`,
+            non-finite or non-positive values, distances not strictly increasing, or outside
+            [0, length].
         """
         if not (math.isfinite(self.length) and self.length > 0.0):
             raise CoreError(f'bat length must be finite and > 0 m, got {self.length!r}')
         if len(self.stations) < 1:
             raise CoreError('a bat profile needs at least one station')
+        if len(self.stations) > MAX_STATIONS:
+            raise CoreError(f'a bat profile has at most {MAX_STATIONS} stations, got '
+                            f'{len(self.stations):,}')
         previous = -math.inf
         for distance, radius in self.stations:
             if not (math.isfinite(distance) and math.isfinite(radius) and radius > 0.0):

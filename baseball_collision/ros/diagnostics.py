@@ -1,255 +1,37 @@
 """
-The node's /diagnostics status, from its counters: a pure reporter.
+The node's /diagnostics status: the core's health status as a ``DiagnosticStatus``.
 
-The node counts what arrives in a :class:`Tally`; once a period it copies the tally and the
-detector's counters into a :class:`Snapshot` (under its lock) and :func:`report` turns them
-into a ``diagnostic_msgs/DiagnosticStatus``. Nothing here talks to ROS: times are monotonic
-seconds passed in, and why a silent topic is silent (no publisher, another type) is asked of the
-ROS graph by the node for the streams :func:`silent_streams` names.
+What the status says (level, message, grouped key/values) is built without ROS by
+:mod:`baseball_collision.core.health` (its :class:`Tally`, :class:`Snapshot`,
+:func:`take_snapshot` and :func:`silent_streams` are re-exported here); :func:`report` only
+converts it.
 """
 
-from collections import Counter
-from dataclasses import dataclass, field
-from typing import Dict, List, Mapping, Optional, Tuple
+from typing import Mapping
 
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 
-from .messages import format_stamp
-from ..core.detector import DetectorStats, DROP_REASONS
+from ..core.health import (
+    health_status, HealthStatus, Period, silent_streams, Snapshot, take_snapshot, Tally)
+
+__all__ = ['Period', 'report', 'silent_streams', 'Snapshot', 'status_message',
+           'take_snapshot', 'Tally']
 
 
-@dataclass
-class Period:
-    """
-    Counters at the start of a diagnostics period, and the callback times inside it.
-
-    :ivar start: monotonic s the period started.
-    :ivar arrivals: messages received per stream since start-up, when it started.
-    :ivar dropped: samples dropped since start-up, when it started.
-    :ivar count, total_s, max_s: message callbacks in the period and their wall times (s).
-    """
-
-    start: float
-    arrivals: Counter
-    dropped: int
-    count: int = 0
-    total_s: float = 0.0
-    max_s: float = 0.0
-
-    def record(self, elapsed_s: float) -> None:
-        """Account the wall time (s) one message took in its callback."""
-        self.count += 1
-        self.total_s += elapsed_s
-        if elapsed_s > self.max_s:
-            self.max_s = elapsed_s
-
-
-@dataclass
-class Tally:
-    """
-    What the node counts for its diagnostics (times: monotonic s).
-
-    :ivar started: when the node started.
-    :ivar arrivals: messages received per stream since start-up.
-    :ivar last_arrival: when each stream last received a message.
-    :ivar period: the diagnostics period running.
-    :ivar incompatible: QoS or type incompatibilities seen; ``incompatible_reported``: as many
-        as the last status reported.
-    :ivar last_impact_ns: the stamp of the last impact published.
-    """
-
-    started: float
-    arrivals: Counter = field(default_factory=Counter)
-    last_arrival: Dict[str, float] = field(default_factory=dict)
-    period: Optional[Period] = None
-    incompatible: int = 0
-    incompatible_reported: int = 0
-    last_impact_ns: Optional[int] = None
-
-    def __post_init__(self) -> None:
-        """Start the first period at start-up."""
-        if self.period is None:
-            self.period = Period(self.started, Counter(), 0)
-
-    def arrived(self, stream: str, now: float) -> None:
-        """Count a message on ``stream`` received at ``now``."""
-        self.arrivals[stream] += 1
-        self.last_arrival[stream] = now
-
-    def next_period(self, now: float, dropped: int) -> Period:
-        """
-        Start a new period at ``now``; return the one that ends.
-
-        :param dropped: samples dropped since start-up, now.
-        """
-        ended, self.period = self.period, Period(now, Counter(self.arrivals), dropped)
-        return ended
-
-
-@dataclass(frozen=True)
-class Snapshot:
-    """
-    Everything one status is made of, copied at one instant.
-
-    :ivar now: monotonic s.
-    :ivar name: the node's name.
-    :ivar streams: the input streams (``ball``, ``bat_pose`` or ``knob`` and ``tip``).
-    :ivar topics: each stream's resolved topic.
-    :ivar started, arrivals, last_arrival: as in :class:`Tally`.
-    :ivar period: the period ending now.
-    :ivar dropped: samples dropped by reason since start-up.
-    :ivar counts: ``impacts``, ``near_misses``, ``gaps``, ``resets`` since start-up.
-    :ivar detector_mean_s, detector_max_s: the detector's wall time per call since start-up.
-    :ivar watermark_ns: the detector's watermark (None before any data).
-    :ivar last_impact_ns: the last impact's stamp (None before any).
-    :ivar frame_id: the tracking frame ('' before the first sample).
-    :ivar settings: ``stale_timeout`` (s), ``model``, ``bat_input``, ``qos``.
-    :ivar incompatible, incompatible_reported: as in :class:`Tally`.
-    """
-
-    now: float
-    name: str
-    streams: Tuple[str, ...]
-    topics: Mapping[str, str]
-    started: float
-    arrivals: Mapping[str, int]
-    last_arrival: Mapping[str, float]
-    period: Period
-    dropped: Mapping[str, int]
-    counts: Mapping[str, int]
-    detector_mean_s: float
-    detector_max_s: float
-    watermark_ns: Optional[int]
-    last_impact_ns: Optional[int]
-    frame_id: str
-    settings: Mapping[str, object]
-    incompatible: int
-    incompatible_reported: int
-
-
-def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mapping[str, str],
-                  tally: Tally, stats: DetectorStats, watermark_ns: Optional[int],
-                  frame_id: Optional[str], settings: Mapping[str, object]) -> Snapshot:
-    """
-    Copy the counters into a snapshot and start the next period of ``tally``.
-
-    :param stats: the detector's counters; ``watermark_ns``, ``frame_id``: its state.
-    """
-    dropped = dict(stats.dropped)
-    return Snapshot(
-        now=now, name=name, streams=tuple(streams), topics=dict(topics), started=tally.started,
-        arrivals=Counter(tally.arrivals), last_arrival=dict(tally.last_arrival),
-        period=tally.next_period(now, sum(dropped.values())), dropped=dropped,
-        counts={'impacts': stats.impacts, 'near_misses': stats.near_misses, 'gaps': stats.gaps,
-                'resets': stats.resets},
-        detector_mean_s=stats.mean_processing_s, detector_max_s=stats.max_processing_s,
-        watermark_ns=watermark_ns, last_impact_ns=tally.last_impact_ns,
-        frame_id=frame_id or '', settings=settings, incompatible=tally.incompatible,
-        incompatible_reported=tally.incompatible_reported)
-
-
-def silent_streams(snapshot: Snapshot) -> List[str]:
-    """Return the streams with no message within ``stale_timeout`` (or none yet)."""
-    timeout = snapshot.settings['stale_timeout']
-    return [stream for stream in snapshot.streams
-            if stream not in snapshot.last_arrival
-            or snapshot.now - snapshot.last_arrival[stream] > timeout]
-
-
-def _inputs(snapshot: Snapshot, problems: Mapping[str, str]) -> Tuple[List[str], List[str]]:
-    """Return the stale and the waiting topics, each with why."""
-    timeout = snapshot.settings['stale_timeout']
-    stale, waiting = [], []
-    for stream in snapshot.streams:
-        topic = snapshot.topics[stream]
-        last = snapshot.last_arrival.get(stream)
-        why = f', {problems[stream]}' if problems.get(stream) else ''
-        if last is None:
-            if snapshot.now - snapshot.started > timeout:
-                stale.append(f'{topic} (no data since start{why})')
-            else:
-                waiting.append(f'{topic}{why}')
-        elif snapshot.now - last > timeout:
-            stale.append(f'{topic} (silent for {snapshot.now - last:.1f} s{why})')
-    return stale, waiting
+def status_message(status: HealthStatus) -> DiagnosticStatus:
+    """Return a health status as a DiagnosticStatus (the groups' key/values, in order)."""
+    return DiagnosticStatus(
+        level=bytes([int(status.level)]), name=status.name, message=status.message,
+        hardware_id=status.hardware_id,
+        values=[KeyValue(key=key, value=value) for key, value in status.values()])
 
 
 def report(snapshot: Snapshot, problems: Mapping[str, str]) -> DiagnosticStatus:
     """
     Return the detector's status over the period ending at ``snapshot.now``.
 
-    Level: OK; WARN when an input is stale, samples were dropped in the period or a new QoS
-    or type incompatibility was seen; ERROR when every sample of the period was dropped.
-    Keys: ``state`` (waiting for data, tracking, stale), ``stale_topics``, per stream
-    ``<stream>_topic``, ``<stream>_rate_hz``, ``<stream>_received``; ``dropped_<reason>`` for
-    every reason in ``DROP_REASONS``, ``dropped_total``, ``dropped_in_period``; ``impacts``,
-    ``near_misses``, ``gaps``, ``resets``; ``messages_in_period``, ``processing_mean_ms``,
-    ``processing_max_ms`` (whole callback, over the period); ``detector_mean_ms``,
-    ``detector_max_ms`` (since start); ``watermark_stamp``, ``last_impact_stamp``,
-    ``frame_id``, ``model``, ``bat_input``, ``qos``, ``incompatible_qos_events``.
+    See :func:`baseball_collision.core.health.health_status` for the levels and keys.
 
     :param problems: why a silent stream may be silent ('' or missing: nothing known).
     """
-    period = snapshot.period
-    stale, waiting = _inputs(snapshot, problems)
-    state = 'stale' if stale else 'waiting for data' if waiting else 'tracking'
-    dropped_total = sum(snapshot.dropped.values())
-    dropped_now = dropped_total - period.dropped
-    received_now = sum(snapshot.arrivals.values()) - sum(period.arrivals.values())
-
-    level, problems_seen = DiagnosticStatus.OK, []
-    if stale:
-        level = DiagnosticStatus.WARN
-        problems_seen.append('stale: ' + ', '.join(stale))
-    if dropped_now:
-        level = DiagnosticStatus.WARN
-        problems_seen.append(f'dropped {dropped_now} of {received_now} samples')
-        if dropped_now >= received_now:
-            level = DiagnosticStatus.ERROR
-            problems_seen[-1] = f'every sample was dropped ({dropped_now})'
-    if snapshot.incompatible != snapshot.incompatible_reported:
-        level = max(level, DiagnosticStatus.WARN)
-        problems_seen.append('incompatible QoS or type on a topic (see the log)')
-    message = 'waiting for data on ' + ', '.join(waiting) if state == 'waiting for data' \
-        else state
-    if problems_seen:
-        message = '; '.join(problems_seen) if stale else f"{message}; {'; '.join(problems_seen)}"
-    return DiagnosticStatus(
-        level=level, name=f'{snapshot.name}: impact detector', message=message,
-        hardware_id='baseball_collision',
-        values=[KeyValue(key=key, value=value)
-                for key, value in _values(snapshot, state, stale, dropped_now)])
-
-
-def _values(snapshot: Snapshot, state: str, stale: List[str],
-            dropped_now: int) -> List[Tuple[str, str]]:
-    """Return the status's key/values (see report)."""
-    period = snapshot.period
-    elapsed = max(snapshot.now - period.start, 1e-9)
-    values = [('state', state), ('stale_topics', ', '.join(stale))]
-    for stream in snapshot.streams:
-        rate = (snapshot.arrivals.get(stream, 0) - period.arrivals[stream]) / elapsed
-        values += [(f'{stream}_topic', snapshot.topics[stream]),
-                   (f'{stream}_rate_hz', f'{rate:.1f}'),
-                   (f'{stream}_received', str(snapshot.arrivals.get(stream, 0)))]
-    values += [(f'dropped_{reason}', str(snapshot.dropped.get(reason, 0)))
-               for reason in DROP_REASONS]
-    values += [('dropped_total', str(sum(snapshot.dropped.values()))),
-               ('dropped_in_period', str(dropped_now))]
-    values += [(name, str(count)) for name, count in snapshot.counts.items()]
-    mean = period.total_s / period.count if period.count else 0.0
-    settings = snapshot.settings
-    values += [
-        ('messages_in_period', str(period.count)),
-        ('processing_mean_ms', f'{mean * 1e3:.4f}'),
-        ('processing_max_ms', f'{period.max_s * 1e3:.4f}'),
-        ('detector_mean_ms', f'{snapshot.detector_mean_s * 1e3:.4f}'),
-        ('detector_max_ms', f'{snapshot.detector_max_s * 1e3:.4f}'),
-        ('watermark_stamp', '' if snapshot.watermark_ns is None
-         else format_stamp(snapshot.watermark_ns)),
-        ('last_impact_stamp', '' if snapshot.last_impact_ns is None
-         else format_stamp(snapshot.last_impact_ns)),
-        ('frame_id', snapshot.frame_id), ('model', str(settings['model'])),
-        ('bat_input', str(settings['bat_input'])), ('qos', str(settings['qos'])),
-        ('incompatible_qos_events', str(snapshot.incompatible))]
-    return values
+    return status_message(health_status(snapshot, problems))

@@ -13,8 +13,10 @@ the events; with ``--predict`` the frame stamps are kept to score the prediction
 result is compared with the truth file beside the bag when there is one.
 """
 
+from collections import Counter
 from dataclasses import dataclass, field
 import itertools
+import multiprocessing
 import os
 from pathlib import Path
 import sys
@@ -23,12 +25,14 @@ from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
 
 from .events import event_kind
-from .parameters import build_config, NODE_NAME, output_topics
+from .parameters import build_config, NODE_NAME, output_topics, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
-    compare_truth, LEADS_S, load_truth, prediction_errors, truth_path, TruthComparison)
+    BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
+    TruthComparison)
 from ..bags import BagReader, BagWriter, POSE_STAMPED, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
+from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 
 PROGRESS_MIN_MESSAGES = 100_000
@@ -36,6 +40,9 @@ PROGRESS_MIN_MESSAGES = 100_000
 
 CHUNK = 8192
 """Samples read between two progress bar updates."""
+
+SCORE_WINDOW_NS = 500_000_000
+"""Predictions made more than this (ns) before an impact are not its predictions."""
 
 
 @dataclass
@@ -54,6 +61,9 @@ class BagAnalysis:
     :ivar seconds: wall time of reading and detecting (s).
     :ivar first_stamp_ns: the first sample's header stamp (ns): the table's time origin.
     :ivar truth: the comparison with the truth file beside the bag, if there is one.
+    :ivar frame_id: the frame of the events (the configured one, else the first sample's).
+    :ivar notes: what the reader should know (a truth file ignored, and why).
+    :ivar drops_by_role: dropped samples by ``(role, reason)``.
     """
 
     path: Path
@@ -70,6 +80,9 @@ class BagAnalysis:
     seconds: float = 0.0
     first_stamp_ns: Optional[int] = None
     truth: Optional[TruthComparison] = None
+    frame_id: str = ''
+    notes: List[str] = field(default_factory=list)
+    drops_by_role: Counter = field(default_factory=Counter)
 
     @property
     def throughput(self) -> float:
@@ -87,24 +100,49 @@ class BagAnalysis:
             if kind is not None:
                 getattr(self, kind.collection).append(event)
 
+    def silenced_topics(self) -> List[str]:
+        """
+        Return why selected topics had every one of their samples dropped (empty: none had).
+
+        One line per set of reasons: the topics with their counts, the reasons; with a hint
+        when the configured ``frame_id`` dropped them.
+        """
+        silenced: Dict[Tuple[str, ...], List[str]] = {}
+        for role, topic in self.selection.topics.items():
+            received = self.stats.received.get(role, 0)
+            reasons = tuple((reason, count) for (dropped_role, reason), count
+                            in sorted(self.drops_by_role.items()) if dropped_role == role)
+            if received and sum(count for _, count in reasons) >= received:
+                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(
+                    f'{topic} ({received})')
+        lines = []
+        for reasons, topics in silenced.items():
+            why = ', '.join(reasons)
+            line = f"every sample of {' and '.join(topics)} was dropped ({why})"
+            if 'wrong_frame' in why and self.config.frame_id:
+                line += (f": frame_id '{self.config.frame_id}' is configured and the bag's "
+                         'samples are in another frame')
+            lines.append(line)
+        return lines
+
     def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
         """
         Score the predictions of every impact at the lead times ``LEADS_S``.
 
         The reference is the true contact when a truth file matched the impact, else the
-        detected impact itself. One ``truth.prediction_errors`` dict per impact.
+        detected impact itself; predictions made up to :data:`SCORE_WINDOW_NS` before it
+        count. One ``PredictionIndex.errors`` dict per impact; the frames are sorted once.
         """
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
+        index = PredictionIndex(self.predictions, self.frames_ns)
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)
             stamp = int(truth['stamp_ns']) if truth else impact.stamp_ns
             point = truth['point'] if truth else impact.point
-            before = [p for p in self.predictions if p.made_at_ns < stamp
-                      and stamp - p.made_at_ns <= 0.5e9]
-            scores.append(prediction_errors(before, self.frames_ns, stamp, point, LEADS_S))
+            scores.append(index.errors(stamp, point, LEADS_S, SCORE_WINDOW_NS))
         return scores
 
 
@@ -133,11 +171,31 @@ class AnalysisOptions:
     prediction_horizon: Optional[float] = None
     node_name: str = NODE_NAME
 
+    def topic(self, role: str) -> Optional[str]:
+        """
+        Return the topic asked for a role: its flag, else the parameter file's, else None.
+
+        A parameter file's topic is resolved as the node resolves it (``ball`` -> ``/ball``);
+        the file's bat topics count only for its ``bat_input`` (``pose`` by default), and none
+        of them when a topic flag names a bat topic.
+        """
+        flags = {'ball': self.ball_topic, 'bat_pose': self.bat_pose_topic,
+                 'knob': self.knob_topic, 'tip': self.tip_topic}
+        if flags[role] is not None:
+            return flags[role]
+        if role != 'ball' and any(flags[bat] for bat in ('bat_pose', 'knob', 'tip')):
+            return None
+        points = self.parameters.get('bat_input') == 'points'
+        if (role == 'bat_pose' and points) or (role in ('knob', 'tip') and not points):
+            return None
+        name = self.parameters.get(TOPIC_PARAMETERS[role])
+        return resolve_topic(name, self.node_name) if name else None
+
     def reader(self, path: os.PathLike) -> BagReader:
         """Return an unopened reader of ``path`` with these topic choices."""
         prefer = 'points' if self.parameters.get('bat_input') == 'points' else 'pose'
-        return BagReader(path, ball=self.ball_topic, bat_pose=self.bat_pose_topic,
-                         knob=self.knob_topic, tip=self.tip_topic, prefer_bat=prefer)
+        return BagReader(path, ball=self.topic('ball'), bat_pose=self.topic('bat_pose'),
+                         knob=self.topic('knob'), tip=self.topic('tip'), prefer_bat=prefer)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -250,7 +308,8 @@ def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., N
 
 
 def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
-                 sinks: Sequence[Any], bar: Any = None) -> Tuple[int, Optional[int]]:
+                 sinks: Sequence[Any], bar: Any = None,
+                 drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
     """
     Feed every sample to the detector, then ``finish()``; hand samples and events to sinks.
 
@@ -265,12 +324,15 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
         its ``add(role, stamp_ns, values, frame_id)`` and ``finish()``).
     :param sinks: objects with ``on_sample`` and/or ``on_events``.
     :param bar: a progress bar (``update(n)``) or None.
+    :param drops: counts ``(role, reason)`` of every dropped sample (from the detector's
+        ``stats.last_drop_reason``) when given.
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     add = detector.add
     on_sample = _fan_out([sink.on_sample for sink in sinks if hasattr(sink, 'on_sample')])
     on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
         or (lambda events, log_time_ns, frame_id: None)
+    stats = detector.stats if drops is not None else None
     iterator = iter(samples)
     first = next(iterator, None)
     head = () if first is None else (first,)
@@ -285,6 +347,8 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
             events = add(role, stamp, values, frame)
             if events:
                 on_events(events, log_time, frame)
+            if stats is not None and stats.last_drop_reason is not None:
+                drops[role, stats.last_drop_reason] += 1
             chunk += 1
         count += chunk
         if bar is not None:
@@ -307,6 +371,18 @@ def progress_bar(total: int, label: str) -> Any:
                 leave=False, dynamic_ncols=True)
 
 
+def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
+    """Return a hint when an error names a topic that came from the parameter file ('' else)."""
+    flags = {'ball': options.ball_topic, 'bat_pose': options.bat_pose_topic,
+             'knob': options.knob_topic, 'tip': options.tip_topic}
+    named = [f"{TOPIC_PARAMETERS[role]} '{options.topic(role)}'" for role in flags
+             if flags[role] is None and options.topic(role) and f"'{options.topic(role)}'"
+             in message]
+    if not named:
+        return ''
+    return f" ({', '.join(named)} from --params; a topic flag overrides it)"
+
+
 def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(), *,
                 out_bag: Optional[BagWriter] = None, progress: bool = True,
                 use_truth: bool = True) -> BagAnalysis:
@@ -320,8 +396,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     :param use_truth: compare with the truth file beside the bag when there is one.
     :returns: the analysis.
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
-        topics or with topics of the wrong type), a bad setting, a bad truth file, or a
-        failure writing ``out_bag``.
+        topics or with topics of the wrong type), a bad setting, or a failure writing
+        ``out_bag``. A damaged truth file is not an error: it is ignored, with a note
+        (``BagAnalysis.notes``).
     """
     path = Path(path)
     start = time.perf_counter()
@@ -342,16 +419,113 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
                 result.messages, result.first_stamp_ns = run_detector(
-                    bag.samples(), detector, sinks, bar)
+                    bag.samples(), detector, sinks, bar, result.drops_by_role)
             finally:
                 if bar is not None:
                     bar.close()
     except BagError as error:
-        raise ToolError(str(error)) from error
+        raise ToolError(str(error) + _file_topics_hint(str(error), options)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
+    result.frame_id = detector.frame_id or config.frame_id or ''
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():
-        result.truth = compare_truth(result.impacts, result.near_misses, load_truth(truth_file),
-                                     truth_file)
+        try:
+            result.truth = compare_truth(result.impacts, result.near_misses,
+                                         load_truth(truth_file), truth_file)
+        except ToolError as error:
+            result.notes.append(f'{error}; the truth file was ignored')
     return result
+
+
+# ----------------------------------------------------------------------------------------------
+# Many bags: every core
+
+
+def is_bag(path: Path) -> bool:
+    """Return whether ``path`` is one bag: a ROS 2 bag directory or a bag file."""
+    if path.is_dir():
+        return (path / 'metadata.yaml').is_file()
+    return path.suffix.lower() in BAG_SUFFIXES
+
+
+def bag_paths(paths: Iterable[os.PathLike]) -> List[Path]:
+    """
+    Return the bags named by ``paths``, in order: a directory of bags stands for its bags.
+
+    A ROS 2 bag directory (one with ``metadata.yaml``) is itself one bag; any other directory
+    stands for the bags directly inside it (bag files and bag directories, by name); anything
+    else is kept as given (``analyze_bag`` says what is wrong with it).
+
+    :raises ToolError: a directory that is neither a bag nor holds one.
+    """
+    found: List[Path] = []
+    for path in map(Path, paths):
+        if path.is_dir() and not is_bag(path):
+            inside = sorted(entry for entry in path.iterdir() if is_bag(entry))
+            if not inside:
+                raise ToolError(f'no bags in {path}: neither a ROS 2 bag directory (no '
+                                'metadata.yaml) nor a directory holding .mcap, .db3 or .bag '
+                                'files or bag directories')
+            found.extend(inside)
+        else:
+            found.append(path)
+    return found
+
+
+def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool]) -> BagAnalysis:
+    """Analyse one bag in a pool process (no progress bar: the parent counts bags)."""
+    path, options, use_truth = job
+    return analyze_bag(path, options, progress=False, use_truth=use_truth)
+
+
+def _pool_context() -> Any:
+    """Return fork where there is one (workers start in ms, with the modules loaded)."""
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context('fork' if 'fork' in methods else None)
+
+
+def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
+                 jobs: Optional[int] = None, out_bag: Optional[BagWriter] = None,
+                 progress: bool = True, use_truth: bool = True) -> List[BagAnalysis]:
+    """
+    Run :func:`analyze_bag` over bags, ``jobs`` at a time in a process pool; in input order.
+
+    The bag-level entry point of ``analyze``: ``paths`` go through :func:`bag_paths`; one bag,
+    or one job, runs in this process as :func:`analyze_bag` alone. Otherwise each bag is one
+    task of a pool of ``jobs`` processes; the results come back in the order of the bags, and
+    the first bag (in that order) that fails stops the pool and raises its error, as one bag
+    after another would. A long run shows a bar of bags done on a terminal.
+
+    :param jobs: processes (None: one per core this process may use).
+    :param out_bag: an open writer for the output bag (one bag only).
+    :param progress: show progress bars (per bag in one process; bags done in a pool).
+    :returns: one :class:`BagAnalysis` per bag, in order.
+    :raises ToolError: as :func:`analyze_bag`, for the first failing bag; ``out_bag`` with
+        more than one bag; a directory without bags.
+    """
+    bags = bag_paths(paths)
+    if out_bag is not None and len(bags) > 1:
+        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
+    workers = min(cores() if jobs is None else jobs, len(bags))
+    if workers <= 1:
+        return [analyze_bag(path, options, out_bag=out_bag, progress=progress,
+                            use_truth=use_truth) for path in bags]
+    tasks = [(path, options, use_truth) for path in bags]
+    bar = None
+    if progress and sys.stderr.isatty():
+        from tqdm import tqdm
+        bar = tqdm(total=len(bags), unit='bag', desc=f'{workers} jobs', file=sys.stderr,
+                   leave=False, dynamic_ncols=True)
+    results: List[BagAnalysis] = []
+    try:
+        # leaving the block on an error (or Ctrl-C) terminates the workers at once
+        with _pool_context().Pool(workers) as pool:
+            for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
+                results.append(result)
+                if bar is not None:
+                    bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
+    return results

@@ -3,9 +3,9 @@ The ``baseball-collision`` command line: ``simulate``, ``analyze``, ``replay`` a
 
 * ``simulate OUT``: a bag of simulated pitches and swings with its truth file
   (:mod:`baseball_collision.tools.recording`).
-* ``analyze BAG [BAG ...]``: the detector over recorded bags, with a table, JSON, CSV, plots and
-  an output bag (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy
-  needed).
+* ``analyze BAG [BAG ...]``: the detector over recorded bags (``--jobs`` at a time, one process
+  each), with one table, JSON, CSV, plots and an output bag
+  (:mod:`baseball_collision.tools.analyze`, ``report``, ``plots``; no rclpy needed).
 * ``replay BAG``: publish a bag over ROS 2 with ``/clock`` (:mod:`baseball_collision.ros.replay`).
 * ``demo``: a live ``impact_node`` fed by a bundled bag (:mod:`baseball_collision.tools.demo`).
 
@@ -18,22 +18,25 @@ import argparse
 import math
 import shlex
 import sys
+import time
 from typing import Any, Callable, List, NoReturn, Optional
 
-from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
-from .plots import write_plots
-from .recording import BAT_CHOICES, RecordingSpec, write_recording
-from .report import csv_text, format_report, json_text, total_line
+from .recording import BAT_CHOICES, MAX_RATE_HZ, MAX_SEED, RecordingSpec, write_recording
 from .sim import KINDS
 from .truth import truth_path
+from .. import __version__
+from ..atomic import cleanup_on_signals, Terminated
 from ..bags import TOPIC_FLAGS
 from ..errors import BaseballCollisionError, ToolError
 
 PROG = 'baseball-collision'
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
+
+PIP_NAMES = {'yaml': 'PyYAML', 'rclpy': "'ros-jazzy-rclpy[fastrtps]' (or source ROS 2 Jazzy)"}
+"""What to install for a missing module (the module's own name otherwise)."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,7 +48,8 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_BAD_INPUT)
 
 
-def _number(minimum: float, inclusive: bool, what: str) -> Callable[[str], float]:
+def _number(minimum: float, inclusive: bool, what: str,
+            maximum: float = math.inf) -> Callable[[str], float]:
     """Return an argparse type: a finite float above ``minimum`` (or at it if inclusive)."""
     def convert(text: str) -> float:
         try:
@@ -56,8 +60,20 @@ def _number(minimum: float, inclusive: bool, what: str) -> Callable[[str], float
             bound = f'>= {minimum:g}' if inclusive else f'> {minimum:g}'
             raise argparse.ArgumentTypeError(f"'{text}' must be a finite number {bound} "
                                              f'({what})')
+        if value > maximum:
+            raise argparse.ArgumentTypeError(f"'{text}' must be at most {maximum:g} ({what})")
         return value
     return convert
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"'{text}' must be from 0 to 2^64 - 1")
+    return value
 
 
 def _count(text: str) -> int:
@@ -104,21 +120,25 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _analyze(args: argparse.Namespace) -> int:
-    if len(args.bags) > 1 and args.out_bag is not None:
-        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
+    from .analyze import AnalysisOptions, analyze_bags, BagAnalysis
+    from .plots import write_plots
+    from .report import csv_text, format_report, json_text, total_line
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
         prediction_horizon=args.predict, node_name=args.node_name)
-    analyses: List[BagAnalysis] = []
+    start = time.perf_counter()
     with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
-        for path in args.bags:
-            analyses.append(analyze_bag(path, options, out_bag=writer,
-                                        progress=not args.no_progress,
-                                        use_truth=not args.no_truth))
+        analyses: List[BagAnalysis] = analyze_bags(
+            args.bags, options, jobs=args.jobs, out_bag=writer, progress=not args.no_progress,
+            use_truth=not args.no_truth)
+        for analysis in analyses:
+            silenced = analysis.silenced_topics()
+            if silenced:
+                raise ToolError(f"{analysis.path}: {'; '.join(silenced)}")
         if args.json:
             outputs.stage_text('json', json_text(analyses))
         if args.csv:
@@ -129,7 +149,7 @@ def _analyze(args: argparse.Namespace) -> int:
     if not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
-            print('\n' + total_line(analyses))
+            print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
     return 0
 
 
@@ -179,8 +199,8 @@ def _add_simulate(commands: Any) -> None:
     simulate.add_argument('--count', type=_count, default=12, help='pitches (default 12)')
     simulate.add_argument('--kinds', type=_kinds, default=list(KINDS),
                           help=f"comma-separated kinds, cycled (default {','.join(KINDS)})")
-    simulate.add_argument('--rate', type=_number(0.0, False, 'Hz'), default=360.0,
-                          help='tracker rate in Hz (default 360)')
+    simulate.add_argument('--rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ), default=360.0,
+                          help='tracker rate in Hz, at most 100000 (default 360)')
     simulate.add_argument('--jitter', type=_number(0.0, True, 's'), default=0.0002,
                           help='stamp jitter standard deviation in s (default 0.0002)')
     simulate.add_argument('--grid', type=_number(1e-9, True, 's'), default=None,
@@ -191,7 +211,8 @@ def _add_simulate(commands: Any) -> None:
     simulate.add_argument('--spacing', type=_number(0.0, False, 's'), default=2.0,
                           help='seconds between pitch starts; nothing is published between '
                           'pitches (default 2.0)')
-    simulate.add_argument('--seed', type=int, default=0, help='random seed (default 0)')
+    simulate.add_argument('--seed', type=_seed, default=0,
+                          help='random seed, 0 to 2^64 - 1 (default 0)')
     simulate.add_argument('--storage', choices=('mcap', 'sqlite3', 'rosbag1'), default=None,
                           help='bag storage (default: from the OUT suffix; MCAP for a '
                           'directory)')
@@ -213,7 +234,11 @@ def _add_analyze(commands: Any) -> None:
         'and near miss, a summary, and the comparison with the truth file beside the bag if '
         'there is one. Model: --model, else the parameter file, else spline.')
     analyze.add_argument('bags', metavar='BAG', nargs='+',
-                         help='bag directory, .mcap, .db3 or ROS 1 .bag file')
+                         help='bag directory, .mcap, .db3 or ROS 1 .bag file, or a directory '
+                         'of bags (each bag in it, by name)')
+    analyze.add_argument('--jobs', type=_count, default=None, metavar='N',
+                         help='bags analysed at once, each in its own process (default: the '
+                         'number of cores)')
     analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
                          '(<node_name>: or /**: ros__parameters:)')
     analyze.add_argument('--node-name', default=NODE_NAME,
@@ -286,6 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
         'recordings, analyse bags offline, replay them to the live node, or run the demo.')
+    parser.add_argument('--version', action='version', version=f'%(prog)s {__version__}')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for add in (_add_simulate, _add_analyze, _add_replay, _add_demo):
         add(commands)
@@ -304,17 +330,27 @@ def main(argv: Optional[List[str]] = None) -> int:
     Run the command line.
 
     :param argv: the arguments after the program name; None: ``sys.argv[1:]``.
-    :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted.
+    :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted (Ctrl-C),
+        143 terminated (SIGTERM), 129 hung up (SIGHUP); interrupted or terminated, no partial
+        output is left behind.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
     try:
-        return args.run(args)
+        with cleanup_on_signals():
+            return args.run(args)
+    except Terminated as signalled:
+        sys.stderr.write(f'{PROG}: terminated by {signalled.name}; no output written\n')
+        return 128 + signalled.signum
     except BaseballCollisionError as error:
         return _fail(str(error))
     except OSError as error:
         return _fail(f'{error.strerror or error}: {error.filename or ""}')
+    except ModuleNotFoundError as error:
+        package = (error.name or '').split('.')[0] or str(error)
+        return _fail(f"{args.command} needs the Python package '{package}', which is not "
+                     f'installed (pip install {PIP_NAMES.get(package, package)})')
     except KeyboardInterrupt:
         sys.stderr.write(f'{PROG}: interrupted\n')
         return EXIT_INTERRUPTED

@@ -11,11 +11,19 @@ partial file behind, not even a hidden temporary.
 
 import os
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, TYPE_CHECKING
 
+from .. import bags
 from ..atomic import check_target, StagedOutput
-from ..bags import BagWriter
 from ..errors import BagError, ToolError
+
+if TYPE_CHECKING:  # rosbags is imported only when a bag is written
+    from ..bags import BagWriter
+
+
+def _flag(name: str) -> str:
+    """Return the command-line flag of an output's name (``out_bag`` -> ``--out-bag``)."""
+    return '--' + name.replace('_', '-')
 
 
 def _refused(error: OSError, target: Path) -> ToolError:
@@ -37,20 +45,29 @@ class Outputs:
             outputs.stage_text('json', text)
             outputs.commit()
 
-    :param targets: ``name=path`` per output; every path must not exist, its directory must.
-    :raises ToolError: from the constructor: a target exists, or its directory does not.
+    :param targets: ``name=path`` per output; every path must not exist, its directory must,
+        and no two may name the same file.
+    :raises ToolError: from the constructor: two targets name the same file, a target exists,
+        or its directory does not (checked before any work is done).
     """
 
     def __init__(self, **targets: Optional[os.PathLike]) -> None:
         self.targets: Dict[str, Path] = {
             name: Path(path) for name, path in targets.items() if path is not None}
+        seen: Dict[str, str] = {}
+        for name, path in self.targets.items():
+            key = os.path.normcase(os.path.realpath(path))
+            if key in seen:
+                raise ToolError(f'{_flag(seen[key])} and {_flag(name)} both name {path}: give '
+                                'each output its own path')
+            seen[key] = name
         for path in self.targets.values():
             try:
                 check_target(path)
             except OSError as error:
                 raise _refused(error, path) from error
         self._staged: List[StagedOutput] = []
-        self._writers: List[BagWriter] = []
+        self._writers: List['BagWriter'] = []
 
     def __enter__(self) -> 'Outputs':
         """Return self."""
@@ -61,7 +78,7 @@ class Outputs:
         if exc_type is not None:
             self.abort()
 
-    def bag_writer(self, name: str, storage: Optional[str] = None) -> BagWriter:
+    def bag_writer(self, name: str, storage: Optional[str] = None) -> 'BagWriter':
         """
         Open a bag writer for a target (placed by :meth:`commit`, removed by :meth:`abort`).
 
@@ -69,7 +86,7 @@ class Outputs:
         :param storage: as for :class:`~baseball_collision.bags.BagWriter` (None: by name).
         :raises ToolError: the bag cannot be created.
         """
-        writer = BagWriter(self.targets[name], storage)
+        writer = bags.BagWriter(self.targets[name], storage)
         try:
             writer.open()
         except BagError as error:

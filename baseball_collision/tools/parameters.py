@@ -10,13 +10,66 @@ node's event topics (``--out-bag`` writes them, the demo listens to them).
 
 import os
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional
+import re
+from typing import Any, Dict, Iterable, List, Mapping, Optional
 
 from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
 from ..errors import CoreError, ToolError
 
 OFFLINE_MODEL = 'spline'
 """Motion model used offline when neither a flag nor the parameter file names one."""
+
+TOPIC_PARAMETERS = {'ball': 'ball_topic', 'bat_pose': 'bat_pose_topic', 'knob': 'knob_topic',
+                    'tip': 'tip_topic', 'bat_plan': 'bat_plan_topic'}
+"""The node's topic parameters by role."""
+
+_TOPIC_TOKEN = re.compile(r'^(?:[A-Za-z_][A-Za-z0-9_]*|\{[A-Za-z_][A-Za-z0-9_]*\})$')
+
+
+def topic_name_error(name: str) -> Optional[str]:
+    """
+    Return why ``name`` is not a valid ROS 2 topic name (rcl's rules), or None when it is.
+
+    Letters, digits, ``_``, ``/``, a leading ``~`` (the node's namespace) and ``{name}``
+    substitutions; no empty token (``//``), no trailing ``/``, no token starting with a digit.
+    """
+    if not name:
+        return 'topic name must not be empty'
+    if re.search(r'[^A-Za-z0-9_/~{}]', name):
+        return ("topic name must not contain characters other than alphanumerics, '_', '~', "
+                "'{', or '}'")
+    body = name[1:] if name.startswith('~') else name
+    if '~' in body or (name.startswith('~') and body and not body.startswith('/')):
+        return "'~' may only begin a topic name, followed by '/'"
+    if body.endswith('/'):
+        return "topic name must not end with '/'"
+    if '//' in body:
+        return "topic name must not contain repeated '/'"
+    for token in body.split('/'):
+        if token and not _TOPIC_TOKEN.match(token):
+            return f"topic name token '{token}' must not start with a number or hold a brace"
+    return None
+
+
+def resolve_topic(name: str, node_name: str = NODE_NAME) -> str:
+    """Return a topic parameter as the node resolves it: ``ball`` -> ``/ball``."""
+    if name.startswith('~'):
+        return '/' + node_name.strip('/') + name[1:]
+    return name if name.startswith('/') else '/' + name
+
+
+def _mixed_sequences(prefix: str, values: Mapping[str, Any]) -> Optional[str]:
+    """Return the first parameter whose list mixes value types (rcl refuses it), or None."""
+    for key, value in values.items():
+        if isinstance(value, Mapping):
+            found = _mixed_sequences(f'{prefix}{key}.', value)
+            if found:
+                return found
+        elif isinstance(value, list) and len({type(item) for item in value}) > 1:
+            kinds = ', '.join(sorted({type(item).__name__ for item in value}))
+            return (f"parameter '{prefix}{key}' mixes value types in one list ({kinds}); "
+                    'the node refuses the file (write 0.0, not 0, among decimals)')
+    return None
 
 
 def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> None:
@@ -29,6 +82,44 @@ def _flatten(prefix: str, values: Mapping[str, Any], into: Dict[str, Any]) -> No
             into[name] = value
 
 
+MAX_DEPTH = 32
+"""Deepest nesting of a parameter file (ROS 2 parameter files need 4 or 5 levels)."""
+
+MAX_LIST = 4096
+"""Most values in one list of a parameter file (the longest parameter takes 512)."""
+
+
+def _check_events(events: Iterable[Any], path: Path) -> None:
+    """
+    Refuse aliases, nesting deeper than MAX_DEPTH and lists longer than MAX_LIST, as parsed.
+
+    Reads the YAML events (no recursion, no alias expansion), stopping at the first problem,
+    so neither an alias bomb nor a million-value list is ever built.
+
+    :raises ToolError: one line naming the problem and its line.
+    """
+    import yaml
+
+    lists: List[int] = []  # values so far in each open list, -1 for an open mapping
+    for event in events:
+        line = event.start_mark.line + 1
+        if isinstance(event, yaml.AliasEvent):
+            raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line {line})')
+        if isinstance(event, (yaml.ScalarEvent, yaml.CollectionStartEvent)) and lists \
+                and lists[-1] >= 0:
+            lists[-1] += 1
+            if lists[-1] > MAX_LIST:
+                raise ToolError(f'parameter file {path}: a list longer than {MAX_LIST} values '
+                                f'(line {line})')
+        if isinstance(event, yaml.CollectionStartEvent):
+            lists.append(0 if isinstance(event, yaml.SequenceStartEvent) else -1)
+            if len(lists) > MAX_DEPTH:
+                raise ToolError(f'parameter file {path}: nested deeper than {MAX_DEPTH} levels '
+                                f'(line {line})')
+        elif isinstance(event, yaml.CollectionEndEvent):
+            lists.pop()
+
+
 def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
     """
     Read the parameters a ROS 2 node would take from a ``--params-file`` YAML, checked as it does.
@@ -38,32 +129,26 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
     ``/<node_name>`` (a namespaced node). Each section's ``ros__parameters`` mapping is
     flattened: nested mappings become ``outer.inner`` names. The values are checked with the
     node's rules (``core.detector.validate_parameters``): a file the node would refuse is
-    refused with the same message. YAML aliases and nesting deeper than 32 levels are refused.
+    refused with the same message: also a list mixing value types (``[0, 0.5]``: rcl's parser
+    refuses it) and a topic name ROS refuses. YAML aliases, nesting deeper than 32 levels and
+    lists longer than 4096 values are refused as the file is parsed.
 
     :param path: the YAML file.
     :param node_name: the node's name.
     :returns: ``{parameter name: value}`` as the file gives them (names the node does not know
         included).
-    :raises ToolError: the file is missing or not YAML, has aliases or deep nesting, has no
-        section for the node, a section without a ``ros__parameters`` mapping, or a value the
-        node refuses.
+    :raises ToolError: the file is missing or not YAML, has aliases, deep nesting or a long
+        list, has no section for the node, a section without a ``ros__parameters`` mapping, a
+        list mixing value types, an invalid topic name, or a value the node refuses.
     """
     import yaml  # PyYAML, as ROS 2's own tools use; imported here so analyze starts fast
 
     path = Path(path)
     try:
         text = path.read_text()
-        depth = 0
-        for event in yaml.parse(text, Loader=yaml.SafeLoader):  # events: no recursion
-            if isinstance(event, yaml.AliasEvent):
-                raise ToolError(f'parameter file {path}: YAML aliases are not allowed (line '
-                                f'{event.start_mark.line + 1})')
-            depth += isinstance(event, yaml.CollectionStartEvent) - isinstance(
-                event, yaml.CollectionEndEvent)
-            if depth > 32:
-                raise ToolError(f'parameter file {path}: nested deeper than 32 levels (line '
-                                f'{event.start_mark.line + 1})')
-        document = yaml.safe_load(text)
+        # checked lazily event by event (stops at the first problem), then loaded by libyaml
+        _check_events(yaml.parse(text, Loader=yaml.SafeLoader), path)
+        document = yaml.load(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader))
     except OSError as error:
         raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
     except yaml.YAMLError as error:
@@ -86,11 +171,19 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
         if not isinstance(inner, Mapping):
             raise ToolError(
                 f"parameter file {path}: section '{key}' has no ros__parameters mapping")
+        mixed = _mixed_sequences('', inner)
+        if mixed:
+            raise ToolError(f'parameter file {path}: {mixed}')
         _flatten('', inner, parameters)
     try:
         validate_parameters(parameters)
     except CoreError as error:
         raise ToolError(f'parameter file {path}: {error}') from error
+    for name in TOPIC_PARAMETERS.values():
+        problem = topic_name_error(parameters[name]) if parameters.get(name) else None
+        if problem is not None:
+            raise ToolError(f"parameter file {path}: parameter '{name}' = "
+                            f'{parameters[name]!r}: Invalid topic name: {problem}')
     return parameters
 
 

@@ -35,6 +35,15 @@ TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob', 'tip': 
 BAT_CHOICES = ('both', 'pose', 'points')
 """How the bat is written: pose and points, the pose only, or knob and tip points only."""
 
+MAX_RATE_HZ = 100_000.0
+"""Fastest tracker simulated (Hz): 100 kHz, far above any rig, keeps a pitch under 40k samples."""
+
+MAX_SEED = 2 ** 64 - 1
+"""Largest random seed (seeds are 0 ... 2^64 - 1)."""
+
+MAX_STAMP_NS = (2 ** 31 - 1) * 1_000_000_000
+"""Latest stamp a ROS header holds (its ``sec`` is an int32: 2038-01-19T03:14:07Z)."""
+
 
 @dataclass(frozen=True)
 class RecordingSpec:
@@ -105,6 +114,16 @@ class RecordingSpec:
                 f'({self.lead_s + self.trail_s:.2f} s) by more than 0.01 s')
         if self.unique is not None and self.unique < 1:
             raise ToolError(f'unique must be >= 1, got {self.unique}')
+        if self.rate_hz > MAX_RATE_HZ:
+            raise ToolError(f'rate_hz must be at most {MAX_RATE_HZ:,.0f} Hz, got {self.rate_hz:g}')
+        if not 0 <= self.seed <= MAX_SEED:
+            raise ToolError(f'seed must be a whole number from 0 to 2^64 - 1, got {self.seed}')
+        end_ns = self.start_ns + (self.count - 1) * self.spacing_s * 1e9 + (
+            self.lead_s + self.trail_s + 1.0) * 1e9
+        if end_ns > MAX_STAMP_NS:
+            raise ToolError(
+                f'{self.count} pitches {self.spacing_s:g} s apart would end after the latest '
+                'stamp a ROS header holds (2038-01-19, int32 seconds): lower spacing or count')
 
 
 def _scenarios(spec: RecordingSpec, rng: np.random.Generator) -> List[Scenario]:

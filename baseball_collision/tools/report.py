@@ -3,42 +3,50 @@ What ``analyze`` says about its bags: the printed table and summary lines, JSON 
 
 Pure formatting of :class:`~baseball_collision.tools.analyze.BagAnalysis` results (no I/O but
 :func:`write_json`'s stream). Events become records in one place,
-:func:`~baseball_collision.tools.events.event_record`: a CSV row is the record with the bag and
-the time, a table row is drawn from the same record. Units are SI everywhere but in the printed
-table (cm, mph, ms, us).
+:func:`baseball_collision.core.records.event_record` (the node's ``~/impact_report`` says the
+same): a JSON entry is the record with the bag and the time, a CSV row is the record flattened
+(:func:`csv_row`), a table row is drawn from the same record. Units are SI everywhere but in the
+printed table (cm, mph, ms, us). The schemas are ``schema/analyze.schema.json`` (the JSON) and
+``schema/analyze.csv.json`` (the CSV's columns).
 """
 
 import csv
 from dataclasses import asdict
 import io
 import json
-import math
-from typing import Any, Dict, IO, List, Mapping, Sequence
+from typing import Any, Dict, IO, List, Mapping, Optional, Sequence
 
 from .analyze import BagAnalysis
-from .events import event_record
 from .truth import LEADS_S, TruthComparison
 from ..bags import TopicSelection
 from ..core.detector import MPS_TO_MPH
+from ..core.records import event_record, plain
 
-JSON_FORMAT = 'baseball_collision.analyze/1'
-"""``format`` value of an ``analyze --json`` file."""
+JSON_FORMAT = 'baseball_collision.analyze/2'
+"""``format`` value of an ``analyze --json`` file (2: records with ``format``, ``frame_id``,
+``zone``; end-cap distances of the contact point itself)."""
 
 TABLE_COLUMNS = (
     ('#', 3), ('event', 9), ('t (s)', 9), ('stamp (ns)', 19), ('from tip (cm)', 13),
-    ('where', 8), ('sweet spot (mph)', 16), ('ball (mph)', 10), ('attack (deg)', 12),
+    ('where', 10), ('sweet spot (mph)', 16), ('ball (mph)', 10), ('attack (deg)', 12),
     ('gap (cm)', 8))
 """Printed table: (title, width) per column."""
 
+CSV_VECTORS = (('point', 'contact'), ('normal', 'normal'), ('ball_position', 'ball'),
+               ('gap_vector', 'gap'))
+"""Record vectors spread over three CSV columns each: (record key, column prefix)."""
+
 CSV_COLUMNS = (
-    'bag', 'event', 'stamp_ns', 'time_s', 'x', 'y', 'z', 'normal_x', 'normal_y', 'normal_z',
-    'distance_from_knob_m', 'distance_from_tip_m', 'feature', 'sweet_spot_speed_mps',
-    'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x', 'gap_y',
-    'gap_z', 'made_at_ns', 'lead_s')
+    'bag', 'event', 'frame_id', 'stamp_ns', 'time_s', 'made_at_ns', 'lead_s', 'zone', 'feature',
+    'distance_from_knob_m', 'distance_from_tip_m', 'contact_x', 'contact_y', 'contact_z',
+    'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
+    'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
+    'gap_y', 'gap_z')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
-applicable). ``x, y, z``: the contact point for an impact, the ball centre at closest approach
-for a miss, the predicted contact point for a prediction (whose ``stamp_ns`` is the predicted
-instant, ``made_at_ns`` when it was made)."""
+applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
+impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
+closest approach (a near miss) or at the predicted contact; a prediction's ``stamp_ns`` is the
+predicted instant, ``made_at_ns`` when it was made."""
 
 
 def _cm(metres: float) -> str:
@@ -54,10 +62,23 @@ def _events(analysis: BagAnalysis) -> List[Any]:
     return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
 
 
-def _record(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
-    """Return an event's record with its bag and ``time_s`` (s from the bag's first stamp)."""
-    return {'bag': str(analysis.path), 'time_s': f'{analysis.relative_s(event.stamp_ns):.9f}',
-            **event_record(event)}
+def entry(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
+    """
+    Return an event's JSON entry: its record with ``bag`` and ``time_s`` (s from the first stamp).
+
+    :raises KeyError: an event with no record (see ``core.records.event_record``).
+    """
+    return {'bag': str(analysis.path), 'time_s': analysis.relative_s(event.stamp_ns),
+            **event_record(event, analysis.frame_id, analysis.config)}
+
+
+def csv_row(record: Mapping[str, Any]) -> Dict[str, Any]:
+    """Return a record (or entry) as CSV cells by column: vectors spread, others by name."""
+    row = {column: record[column] for column in CSV_COLUMNS if column in record}
+    for key, prefix in CSV_VECTORS:
+        if record.get(key) is not None:
+            row.update(zip((f'{prefix}_x', f'{prefix}_y', f'{prefix}_z'), record[key]))
+    return row
 
 
 # ----------------------------------------------------------------------------------------------
@@ -71,15 +92,15 @@ def _row(cells: Sequence[str]) -> str:
     return '  '.join(parts).rstrip()
 
 
-def _cells(number: int, record: Mapping[str, Any], time_s: float) -> List[str]:
+def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
     """Return a table row's cells from an event record (``-`` where the event has no value)."""
     def shown(name: str, format_value: Any) -> str:
         value = record.get(name)
         return '-' if value is None else format_value(value)
 
-    return [str(number), record['event'].replace('_', ' '), f'{time_s:.4f}',
+    return [str(number), record['event'].replace('_', ' '), f"{record['time_s']:.4f}",
             str(record['stamp_ns']), _cm(record['distance_from_tip_m']),
-            shown('feature', lambda feature: feature.replace('_', ' ')),
+            record['zone'].replace('_', ' ') if record['event'] == 'impact' else '-',
             shown('sweet_spot_speed_mps', _mph), shown('ball_speed_mps', _mph),
             shown('attack_angle_deg', lambda degrees: f'{degrees:.1f}'),
             shown('gap_m', _cm)]
@@ -100,19 +121,16 @@ def format_report(analysis: BagAnalysis) -> str:
         lines.append(f'note: {selection.note}')
     lines.append(_row([title for title, _ in TABLE_COLUMNS]))
     for number, event in enumerate(_events(analysis), 1):
-        lines.append(_row(_cells(number, event_record(event),
-                                 analysis.relative_s(event.stamp_ns))))
+        lines.append(_row(_cells(number, entry(analysis, event))))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
     if analysis.config.prediction_horizon > 0.0:
         lines.extend(prediction_lines(analysis))
     lines.append(summary_line(analysis))
-    wrong_frame = analysis.stats.dropped.get('wrong_frame', 0)
-    if analysis.config.frame_id and wrong_frame and wrong_frame >= analysis.messages:
-        lines.append(f"hint: every sample was dropped as wrong_frame: the parameters' frame_id "
-                     f"'{analysis.config.frame_id}' is not the bag's frame")
+    lines.extend(f'warning: {line}' for line in analysis.silenced_topics())
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
+    lines.extend(f'note: {note}' for note in analysis.notes)
     return '\n'.join(lines)
 
 
@@ -155,14 +173,22 @@ def summary_line(analysis: BagAnalysis) -> str:
             f'({analysis.throughput:,.0f} msg/s{share})')
 
 
-def total_line(analyses: Sequence[BagAnalysis]) -> str:
-    """Return the one-line total over several bags: events, messages, throughput."""
+def total_line(analyses: Sequence[BagAnalysis], wall_s: Optional[float] = None) -> str:
+    """
+    Return the one-line total over several bags: events, messages, throughput.
+
+    :param wall_s: the wall time of the whole run (s), when the bags ran at once (``--jobs``):
+        the throughput is then over it; else over the sum of the bags' times.
+    """
     messages = sum(a.messages for a in analyses)
     seconds = sum(a.seconds for a in analyses)
-    rate = messages / seconds if seconds > 0 else 0.0
+    elapsed = seconds if wall_s is None else wall_s
+    rate = messages / elapsed if elapsed > 0 else 0.0
+    timing = f'{seconds:.2f} s' if wall_s is None else (
+        f'{wall_s:.2f} s of wall time ({seconds:.2f} s of bag time)')
     return (f'total: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
             f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
-            f'{seconds:.2f} s ({rate:,.0f} msg/s)')
+            f'{timing} ({rate:,.0f} msg/s)')
 
 
 def truth_line(comparison: TruthComparison) -> str:
@@ -187,17 +213,6 @@ def truth_line(comparison: TruthComparison) -> str:
 # JSON and CSV
 
 
-def _plain(value: Any) -> Any:
-    """Return value with tuples as lists and non-finite floats as None (strict JSON)."""
-    if isinstance(value, (tuple, list)):
-        return [_plain(v) for v in value]
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
 def _selection_dict(selection: TopicSelection) -> Dict[str, Any]:
     return {'ball': selection.ball, 'ball_type': selection.ball_type,
             'bat_pose': selection.bat_pose, 'knob': selection.knob, 'tip': selection.tip,
@@ -208,13 +223,15 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
     """Return one bag's ``bags`` entry of the JSON document."""
     return {
         'path': str(analysis.path), 'topics': _selection_dict(analysis.selection),
-        'model': analysis.config.model, 'messages': analysis.messages,
+        'model': analysis.config.model, 'frame_id': analysis.frame_id,
+        'messages': analysis.messages,
         'seconds': analysis.seconds, 'first_stamp_ns': analysis.first_stamp_ns,
         'impacts': len(analysis.impacts), 'near_misses': len(analysis.near_misses),
         'dropped': dict(analysis.stats.dropped),
         'gaps': [asdict(gap) for gap in analysis.gaps],
         'resets': [asdict(reset) for reset in analysis.resets],
         'truth': None if analysis.truth is None else analysis.truth.as_dict(),
+        'notes': list(analysis.notes),
     }
 
 
@@ -222,20 +239,17 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
     """
     Return the ``--json`` document for one or several bags.
 
-    Top level: ``format``; ``impacts`` and ``near_misses`` (every field of the detector's
-    events, vectors as lists, plus ``bag`` and ``time_s``: seconds from that bag's first
-    stamp); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag:
-    ``path``, ``topics``, ``model``, ``messages``, ``seconds``, ``first_stamp_ns``, counts,
-    ``dropped``, ``gaps``, ``resets`` and ``truth``: the comparison or None). With
-    ``--predict``: ``predictions`` (every ``Prediction``, plus ``bag`` and ``time_s``) and, in
+    Top level: ``format``; ``impacts`` and ``near_misses`` (the events' records,
+    ``core.records.event_record``, plus ``bag`` and ``time_s``: seconds from that bag's first
+    stamp: :func:`entry`); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one
+    entry per bag: ``path``, ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``,
+    ``first_stamp_ns``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or
+    None, and ``notes``). With ``--predict``: ``predictions`` (every prediction's entry) and, in
     each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
+    The schema is ``schema/analyze.schema.json``.
     """
     impacts, near_misses, predictions, bags = [], [], [], []
     dropped: Dict[str, int] = {}
-
-    def entry(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
-        return {'bag': str(analysis.path), 'time_s': analysis.relative_s(event.stamp_ns),
-                **asdict(event)}
 
     for analysis in analyses:
         predicting = analysis.config.prediction_horizon > 0.0
@@ -243,20 +257,20 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
         for impact, score in zip(analysis.impacts, scores):
             impacts.append(entry(analysis, impact))
             if score is not None:
-                impacts[-1]['prediction_errors'] = {
+                impacts[-1]['prediction_errors'] = plain({
                     f'{lead * 1e3:g}': None if error is None else {
                         'time_error_s': error[0], 'point_error_m': error[1]}
-                    for lead, error in score.items()}
+                    for lead, error in score.items()})
         predictions.extend(entry(analysis, p) for p in analysis.predictions)
         near_misses.extend(entry(analysis, miss) for miss in analysis.near_misses)
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
-        bags.append(_bag_entry(analysis))
+        bags.append(plain(_bag_entry(analysis)))
     document = {'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
                 'dropped': dropped, 'bags': bags}
     if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
         document['predictions'] = predictions
-    return _plain(document)
+    return document  # the records are plain already, the rest made plain above
 
 
 def write_json(document: Mapping[str, Any], stream: IO[str]) -> None:
@@ -279,6 +293,8 @@ def csv_text(analyses: Sequence[BagAnalysis]) -> str:
     writer.writerow(CSV_COLUMNS)
     for analysis in analyses:
         for event in _events(analysis) + analysis.predictions:
-            row = _record(analysis, event)
-            writer.writerow([row.get(column, '') for column in CSV_COLUMNS])
+            row = csv_row(entry(analysis, event))
+            row['time_s'] = f"{row['time_s']:.9f}"
+            writer.writerow(['' if row.get(column) is None else row[column]
+                             for column in CSV_COLUMNS])
     return buffer.getvalue()

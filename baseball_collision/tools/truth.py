@@ -13,8 +13,10 @@ Pure Python + numpy (no ROS, no simulator): a truth file is read here, whoever w
 Errors are detected minus true: stamps in ns (or s where named), spots in m, speeds relative.
 """
 
+import bisect
 from dataclasses import dataclass, field
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Protocol, Sequence, Tuple
@@ -46,23 +48,79 @@ def truth_path(bag: os.PathLike) -> Path:
     return bag.with_name(f'{stem}.truth.json')
 
 
+PITCH_INTEGERS = ('start_ns', 'end_ns')
+"""Keys every pitch of a truth file has, integers (ns)."""
+
+CONTACT_INTEGERS = ('stamp_ns',)
+"""Keys a pitch with a contact has, integers (ns)."""
+
+CONTACT_NUMBERS = ('distance_from_tip_m', 'sweet_spot_speed_mps')
+"""Keys a pitch with a contact has, finite numbers (``sweet_spot_speed_mps`` > 0)."""
+
+
+def _refuse_constant(name: str) -> Any:
+    """Refuse ``NaN``, ``Infinity`` and ``-Infinity`` in a truth file (``json.loads`` hook)."""
+    raise ValueError(f'{name} is not a number a truth file may hold')
+
+
+def _check_pitch(index: int, pitch: Any) -> None:
+    """
+    Check one pitch entry of a truth file has what the comparison reads, of the right types.
+
+    :raises ValueError: naming the pitch and the key.
+    """
+    if not isinstance(pitch, dict):
+        raise ValueError(f'pitch {index} is not an object')
+    if not isinstance(pitch.get('contact'), bool):
+        raise ValueError(f"pitch {index}: 'contact' must be true or false")
+    integers = PITCH_INTEGERS + (CONTACT_INTEGERS if pitch['contact'] else ())
+    numbers = CONTACT_NUMBERS if pitch['contact'] else ()
+    for key in integers:
+        if not isinstance(pitch.get(key), int) or isinstance(pitch.get(key), bool):
+            raise ValueError(f"pitch {index}: '{key}' must be an integer (ns), got "
+                             f'{pitch.get(key)!r:.40}')
+    for key in numbers:
+        value = pitch.get(key)
+        if not isinstance(value, (int, float)) or isinstance(value, bool) \
+                or not math.isfinite(value):
+            raise ValueError(f"pitch {index}: '{key}' must be a finite number, got {value!r:.40}")
+    if pitch['start_ns'] > pitch['end_ns']:
+        raise ValueError(f'pitch {index}: start_ns is after end_ns')
+    if pitch['contact'] and pitch['sweet_spot_speed_mps'] <= 0.0:
+        raise ValueError(f"pitch {index}: 'sweet_spot_speed_mps' must be > 0")
+
+
 def load_truth(path: os.PathLike) -> Dict[str, Any]:
     """
-    Read a truth file written by ``baseball-collision simulate``.
+    Read a truth file written by ``baseball-collision simulate``, checked whole.
+
+    Every pitch must have integer ``start_ns`` <= ``end_ns`` and a boolean ``contact``; a pitch
+    with a contact an integer ``stamp_ns``, finite ``distance_from_tip_m`` and
+    ``sweet_spot_speed_mps`` > 0. ``NaN`` and ``Infinity`` are refused, and so is nesting too
+    deep to read.
 
     :returns: the truth document (``pitches``: one :func:`simulation.truth_dict` each).
-    :raises ToolError: unreadable, not JSON, or not a truth file.
+    :raises ToolError: unreadable, not JSON, not a truth file, or a pitch without what the
+        comparison needs (one line naming the pitch and the key).
     """
     path = Path(path)
     try:
-        document = json.loads(path.read_text())
+        document = json.loads(path.read_text(), parse_constant=_refuse_constant)
     except OSError as error:
         raise ToolError(f'cannot read truth file {path}: {error.strerror}') from error
-    except ValueError as error:
-        raise ToolError(f'truth file {path} is not valid JSON: {error}') from error
+    except RecursionError as error:
+        raise ToolError(f'truth file {path} is nested too deeply to read') from error
+    except ValueError as error:  # also UnicodeDecodeError
+        first = str(error).splitlines()[0][:120]
+        raise ToolError(f'truth file {path} is not valid JSON: {first}') from error
     if not isinstance(document, dict) or document.get('format') != TRUTH_FORMAT \
             or not isinstance(document.get('pitches'), list):
         raise ToolError(f'{path} is not a {TRUTH_FORMAT} truth file')
+    try:
+        for index, pitch in enumerate(document['pitches']):
+            _check_pitch(index, pitch)
+    except ValueError as error:
+        raise ToolError(f'truth file {path}: {error}') from error
     return document
 
 
@@ -183,7 +241,8 @@ def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike
 
     Every pitch spans ``[start_ns, end_ns]``. A pitch with a contact is matched to the first
     impact inside its span; other impacts in the span, and impacts in no span, are false
-    impacts.
+    impacts. The impacts and near misses are sorted by stamp once and each pitch's are found by
+    bisection: O((pitches + impacts) log impacts), not pitches x impacts.
 
     :param impacts: detected impacts.
     :param near_misses: detected near misses (counted for pitches without contact).
@@ -193,26 +252,73 @@ def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike
     :raises ToolError: a pitch entry without the needed keys.
     """
     result = TruthComparison(path=Path(path))
+    order = sorted(range(len(impacts)), key=lambda index: (impacts[index].stamp_ns, index))
+    stamps = [impacts[index].stamp_ns for index in order]
+    miss_stamps = sorted(miss.stamp_ns for miss in near_misses)
     used = set()
     try:
         for pitch in truth['pitches']:
             start, end = int(pitch['start_ns']), int(pitch['end_ns'])
-            match, _ = match_pitch(bool(pitch['contact']), impacts, (start, end))
             if not pitch['contact']:
                 result.misses += 1
-                if any(start <= miss.stamp_ns <= end for miss in near_misses):
+                first_after = bisect.bisect_left(miss_stamps, start)
+                if first_after < len(miss_stamps) and miss_stamps[first_after] <= end:
                     result.near_misses_in_misses += 1
                 continue
+            inside = order[bisect.bisect_left(stamps, start):bisect.bisect_right(stamps, end)]
+            match, _ = match_pitch(True, [impacts[index] for index in inside])
             result.contacts += 1
             if match is None:
                 result.missed.append(pitch)
                 continue
-            used.add(match)
-            result.matched.append((pitch, impacts[match]))
+            used.add(inside[match])
+            result.matched.append((pitch, impacts[inside[match]]))
     except (KeyError, TypeError, ValueError) as error:
         raise ToolError(f'truth file {path} has a malformed pitch: {error!r}') from error
     result.false_impacts = [impact for i, impact in enumerate(impacts) if i not in used]
     return result
+
+
+class PredictionIndex:
+    """
+    Predictions and frames indexed once, to score the predictions of many contacts.
+
+    Built in O(frames log frames + predictions); each contact is then scored in O(leads x
+    log frames) (:meth:`errors`).
+
+    :param predictions: every prediction, in any order (the last one made at a frame counts).
+    :param frames_ns: every processed frame stamp (ns), in any order.
+    """
+
+    def __init__(self, predictions: Sequence[Prediction], frames_ns: Sequence[int]) -> None:
+        self.by_frame: Dict[int, Prediction] = {}
+        for prediction in predictions:
+            self.by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+        self.frames = np.sort(np.asarray(frames_ns, dtype=np.int64))
+
+    def errors(self, contact_ns: int, contact_point: Sequence[float],
+               leads_s: Sequence[float] = LEADS_S,
+               window_ns: Optional[int] = None) -> Dict[float, Optional[Tuple[float, float]]]:
+        """
+        Score the predictions of one contact at several lead times (see prediction_errors).
+
+        :param window_ns: only predictions made at most this long before the contact count
+            (None: any made before it).
+        :returns: ``{lead: (time error s, point error m) or None}``.
+        """
+        result: Dict[float, Optional[Tuple[float, float]]] = {}
+        for lead in leads_s:
+            cut = contact_ns - int(round(lead * 1e9))
+            index = int(np.searchsorted(self.frames, cut, side='right')) - 1
+            frame = int(self.frames[index]) if index >= 0 else None
+            chosen = self.by_frame.get(frame) if frame is not None else None
+            if chosen is not None and (chosen.made_at_ns >= contact_ns or (
+                    window_ns is not None and contact_ns - chosen.made_at_ns > window_ns)):
+                chosen = None
+            result[lead] = None if chosen is None else (
+                (chosen.stamp_ns - contact_ns) * 1e-9,
+                float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
+        return result
 
 
 def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int],
@@ -224,6 +330,7 @@ def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int
 
     For each lead L the prediction scored is the one made at the last processed frame at
     least L before the contact; a frame that had no prediction scores None (not predicted).
+    (For many contacts build one :class:`PredictionIndex` and call its ``errors``.)
 
     :param predictions: the predictions made before the contact.
     :param frames_ns: every processed frame stamp (ns) (the union of the sample stamps).
@@ -231,16 +338,4 @@ def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int
     :returns: ``{lead: (time error s, point error m) or None}``; errors are predicted minus
         true, the point error a distance.
     """
-    by_frame: Dict[int, Prediction] = {}
-    for prediction in predictions:
-        by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
-    frames = sorted(frames_ns)
-    result: Dict[float, Optional[Tuple[float, float]]] = {}
-    for lead in leads_s:
-        cut = contact_ns - int(round(lead * 1e9))
-        index = np.searchsorted(frames, cut, side='right') - 1
-        chosen = by_frame.get(frames[index]) if index >= 0 else None
-        result[lead] = None if chosen is None else (
-            (chosen.stamp_ns - contact_ns) * 1e-9,
-            float(np.linalg.norm(np.subtract(chosen.point, contact_point))))
-    return result
+    return PredictionIndex(predictions, frames_ns).errors(contact_ns, contact_point, leads_s)

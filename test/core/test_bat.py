@@ -2,7 +2,8 @@
 
 import math
 
-from baseball_collision.core.bat import BatProfile, INCH, PoseBatGeometry, WOOD_BAT_34
+from baseball_collision.core.bat import (
+    BatProfile, INCH, MAX_STATIONS, PoseBatGeometry, WOOD_BAT_34)
 from baseball_collision.core.geometry import quaternion_to_matrix
 from baseball_collision.errors import CoreError
 import numpy as np
@@ -72,3 +73,11 @@ def test_pose_geometry_along_axis() -> None:
         PoseBatGeometry.along_axis('w', 0.0, 1.0)
     with pytest.raises(CoreError):
         PoseBatGeometry(knob_offset=(0, 0, 0), tip_offset=(0, 0, 0))
+
+
+def test_a_profile_has_at_most_max_stations() -> None:
+    """MAX_STATIONS stations are a bat; one more is refused, naming the bound."""
+    stations = [(0.8 * i / MAX_STATIONS, 0.03) for i in range(MAX_STATIONS)]
+    assert len(BatProfile.from_sequence(stations, 0.8).segments()) == MAX_STATIONS - 1
+    with pytest.raises(CoreError, match=f'at most {MAX_STATIONS} stations, got 257'):
+        BatProfile.from_sequence(stations + [(0.8, 0.03)], 0.8)

@@ -1,10 +1,13 @@
 """The markers on their own: the bat along knob-tip, the ball, an impact's contact and normal."""
 
+from dataclasses import replace
+
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.detector import DetectorConfig, Impact
 from baseball_collision.core.geometry import quaternion_from_z, rotate
+from baseball_collision.core.scene import impact_scene
 from baseball_collision.ros.markers import (
-    bat_ends, bat_markers, impact_markers, lifetime, live_markers)
+    bat_ends, bat_markers, impact_markers, lifetime, live_markers, scene_markers)
 from baseball_collision.ros.messages import stamp_to_ns
 import pytest
 from std_msgs.msg import Header
@@ -77,3 +80,16 @@ def test_live_markers_from_the_last_samples() -> None:
     only_ball = live_markers(Header(), (0.5, 0.5, 1.0), None, config, 0.1)
     assert [m.ns for m in only_ball.markers] == ['live_ball']
     assert live_markers(Header(), None, ((0, 0, 1), (0, 0, 1)), config, 0.1).markers == []
+
+
+def test_a_scene_becomes_one_marker_per_item() -> None:
+    """scene_markers: each item one marker of its shape's type, DELETEALL first when clearing."""
+    impact = next(e for e in swing_events() if isinstance(e, Impact))
+    scene = impact_scene(impact, 'world', DetectorConfig(), 1.0)
+    array = scene_markers(scene)
+    assert [(m.ns, m.id) for m in array.markers] == [(i.namespace, i.number) for i in scene.items]
+    assert {m.type for m in array.markers} == {Marker.CYLINDER, Marker.SPHERE, Marker.ARROW,
+                                               Marker.TEXT_VIEW_FACING}
+    cleared = scene_markers(replace(scene, delete_all=True, items=()))
+    assert [m.action for m in cleared.markers] == [Marker.DELETEALL]
+    assert stamp_to_ns(cleared.markers[0].header.stamp) == impact.stamp_ns

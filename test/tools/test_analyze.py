@@ -20,14 +20,17 @@ Spot within 5 mm, sweet-spot speed within 2 % (the velocities come from samples 
 impact only, by design).
 """
 
+from dataclasses import replace
 import json
+import math
 from pathlib import Path
 import subprocess
 import sys
 from typing import Any, Callable, Dict, List, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
-from baseball_collision.core.detector import DetectorConfig, NearMiss, StreamGap
+from baseball_collision.core.detector import (
+    DetectorConfig, Impact, NearMiss, Prediction, StreamGap)
 from baseball_collision.tools.analyze import (
     BagAnalysis, CHUNK, FrameStamps, progress_bar, run_detector)
 from baseball_collision.tools.parameters import output_topics
@@ -37,6 +40,7 @@ from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
 from support import REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
+from support.events import swing_events
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
@@ -257,3 +261,40 @@ def test_analyze_loads_no_simulator_plotting_or_ros() -> None:
                           cwd=REPO_ROOT, timeout=60)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == '[]'
+
+
+class _Frames:
+    """A sequence of frame stamps counting its item reads (``reads``)."""
+
+    def __init__(self, stamps: List[int]) -> None:
+        self.stamps, self.reads = stamps, 0
+
+    def __len__(self) -> int:
+        return len(self.stamps)
+
+    def __getitem__(self, index: int) -> int:
+        self.reads += 1
+        return self.stamps[index]
+
+
+def test_prediction_scores_sort_the_frames_once() -> None:
+    """300 impacts, 10 predictions each: every frame read about once, not once per impact."""
+    events = swing_events(horizon=0.3)
+    impact = next(e for e in events if isinstance(e, Impact))
+    prediction = next(e for e in events if isinstance(e, Prediction))
+    analysis = BagAnalysis(path=Path('b.mcap'), selection=None,
+                           config=DetectorConfig(prediction_horizon=0.3))
+    stamps = []
+    for i in range(300):
+        base = i * 1_000_000_000
+        analysis.impacts.append(replace(impact, stamp_ns=base + 500_000_000))
+        for k in range(10):
+            made = base + 250_000_000 + 25_000_000 * k
+            stamps.append(made)
+            analysis.predictions.append(replace(prediction, made_at_ns=made,
+                                                stamp_ns=base + 500_000_000))
+    analysis.frames_ns = _Frames(stamps)
+    scores = analysis.prediction_scores()
+    assert len(scores) == 300 and all(score[0.2] == (0.0, pytest.approx(
+        math.dist(prediction.point, impact.point))) for score in scores)
+    assert analysis.frames_ns.reads <= 2 * len(stamps)

@@ -14,12 +14,14 @@ import subprocess
 import sys
 from typing import Callable, List, Tuple
 
+from baseball_collision import __version__
 from baseball_collision.bags import BagWriter, POINT_STAMPED
 from baseball_collision.errors import CoreError
-from baseball_collision.tools import cli
+from baseball_collision.tools import analyze
 from baseball_collision.tools.report import CSV_COLUMNS
 from baseball_collision.tools.truth import truth_path
 import pytest
+from support import REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth
 
 SCRIPT = Path(sys.executable).parent / 'baseball-collision'
@@ -50,7 +52,7 @@ def test_a_real_subprocess_with_csv_and_several_bags(tmp_path: Path) -> None:
     first = document['impacts'][0]
     assert float(impacts[0]['sweet_spot_speed_mps']) == pytest.approx(
         first['sweet_spot_speed_mps'])
-    assert float(impacts[0]['x']) == pytest.approx(first['point'][0])
+    assert float(impacts[0]['contact_x']) == pytest.approx(first['point'][0])
     assert impacts[0]['gap_m'] == '' and misses[0]['sweet_spot_speed_mps'] == ''
     for name, truth_name in zip(names, (n for n in names)):
         truth = json.loads(truth_path(bag_path(truth_name)).read_text())
@@ -218,7 +220,7 @@ def test_any_package_error_is_one_line(monkeypatch: pytest.MonkeyPatch, tmp_path
     """An error of any layer (here the core's) ends in one line and exit 2, nothing written."""
     def refuse(*args: object, **kwargs: object) -> None:
         raise CoreError('max_gap must be > 0')
-    monkeypatch.setattr(cli, 'analyze_bag', refuse)
+    monkeypatch.setattr(analyze, 'analyze_bags', refuse)  # the cli imports it when it runs
     code, stdout, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap'))]
                                    + _all_outputs(tmp_path))
     assert code == 2 and stdout == ''
@@ -231,3 +233,36 @@ def test_help_on_every_subcommand(command: List[str], run_cli: RunCli) -> None:
     """--help prints usage and exits 0 for the program and every subcommand."""
     code, stdout, _ = run_cli(command + ['--help'])
     assert code == 0 and stdout.startswith('usage: baseball-collision')
+
+
+def test_version(run_cli: RunCli) -> None:
+    """--version prints the package's version."""
+    code, stdout, _ = run_cli(['--version'])
+    assert code == 0 and stdout == f'baseball-collision {__version__}\n'
+
+
+WITHOUT_ROSBAGS = """
+import importlib.abc, sys
+class Block(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name.split('.')[0] == 'rosbags':
+            raise ModuleNotFoundError(f"No module named '{name}'", name=name)
+sys.meta_path.insert(0, Block())
+from baseball_collision.tools.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_help_works_without_rosbags_and_analyze_says_what_is_missing() -> None:
+    """Where rosbags is not installed: --help works; analyze names the package in one line."""
+    def run(*argv: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, '-c', WITHOUT_ROSBAGS, *argv], cwd=REPO_ROOT,
+                              capture_output=True, text=True, timeout=120)
+
+    for argv in (['--help'], ['analyze', '--help'], ['simulate', '--help']):
+        shown = run(*argv)
+        assert shown.returncode == 0 and 'usage: baseball-collision' in shown.stdout, argv
+    failed = run('analyze', 'bags/pitches_90hz.mcap')
+    assert failed.returncode == 2 and failed.stdout == ''
+    assert failed.stderr == ('baseball-collision: error: analyze needs the Python package '
+                             "'rosbags', which is not installed (pip install rosbags)\n")

@@ -1,10 +1,16 @@
 """All-or-nothing outputs: staged beside their targets, placed at commit, never overwriting."""
 
 from pathlib import Path
+import subprocess
+import sys
+from typing import Callable, List, Tuple
 
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.outputs import Outputs
 import pytest
+from support.bundled import bag_path
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
 
 def test_outputs_are_all_or_nothing(tmp_path: Path) -> None:
@@ -55,3 +61,44 @@ def test_outputs_get_the_usual_permissions(tmp_path: Path) -> None:
         outputs.commit()
     assert (tmp_path / 'a.txt').stat().st_mode == (tmp_path / 'plain.txt').stat().st_mode
     assert (tmp_path / 'plots').stat().st_mode == (tmp_path / 'plain').stat().st_mode
+
+
+def test_one_path_for_two_outputs_is_refused_before_any_work(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """--json X --csv X, --json X --out-bag X, --json P --plot P: refused, nothing written."""
+    bag = str(bag_path('pitches_90hz.mcap'))
+    for first, second in (('--json', '--csv'), ('--json', '--out-bag'), ('--json', '--plot')):
+        target = tmp_path / 'o.txt'
+        code, stdout, stderr = run_cli(['analyze', bag, first, str(target), second,
+                                        str(target), '--quiet'])
+        assert code == 2 and stdout == ''
+        assert f'{first} and {second} both name' in stderr and len(stderr.splitlines()) == 1
+        assert list(tmp_path.iterdir()) == []
+
+
+SIGNALLED = """
+import os, signal, sys
+from baseball_collision.tools import analyze, cli
+real = analyze.analyze_bag
+def analyze_then_signal(*args, **kwargs):
+    result = real(*args, **kwargs)
+    os.kill(os.getpid(), signal.{name})
+    return result
+analyze.analyze_bag = analyze_then_signal
+sys.exit(cli.main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.parametrize('name, code', [('SIGTERM', 143), ('SIGHUP', 129)])
+def test_sigterm_and_sighup_leave_no_partial_output(tmp_path: Path, name: str,
+                                                    code: int) -> None:
+    """A termination signal mid-run: the staged bag and files are deleted, exit 128 + signal."""
+    out = tmp_path / 'out'
+    out.mkdir()
+    result = subprocess.run(
+        [sys.executable, '-c', SIGNALLED.format(name=name), 'analyze',
+         str(bag_path('pitches_90hz.mcap')), '--out-bag', str(out / 'o.mcap'), '--json',
+         str(out / 'o.json'), '--quiet'], capture_output=True, text=True, timeout=120)
+    assert result.returncode == code, result.stderr
+    assert f'terminated by {name}' in result.stderr
+    assert list(out.iterdir()) == []

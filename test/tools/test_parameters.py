@@ -1,6 +1,7 @@
 """Parameter files: sections, flattening, configuration precedence, the node's topics."""
 
 from pathlib import Path
+from typing import Callable, List, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
@@ -8,6 +9,8 @@ from baseball_collision.tools.parameters import (
     build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, output_topics)
 import pytest
 from support import REPO_ROOT
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
 
 def _write(path: Path, text: str) -> Path:
@@ -83,3 +86,78 @@ def test_output_topics_are_the_nodes() -> None:
         'impact': '/impact_node/impact', 'impact_velocity': '/impact_node/impact_velocity',
         'near_miss': '/impact_node/near_miss',
         'predicted_impact': '/impact_node/predicted_impact'}
+
+
+@pytest.mark.parametrize('line, words', [
+    ('bat_profile: [0, 0.03, 0.8636, 0.03]', ["'bat_profile' mixes value types", 'float, int']),
+    ('up_axis: [0.0, 0.0, 1]', ["'up_axis' mixes value types"]),
+    ("ball_topic: 'a b'", ["'ball_topic' = 'a b': Invalid topic name", 'alphanumerics']),
+    ("knob_topic: 'mocap//knob'", ['Invalid topic name', "repeated '/'"]),
+    ("tip_topic: '2tip'", ['Invalid topic name', 'number']),
+])
+def test_what_the_node_refuses_is_refused(tmp_path: Path, line: str, words: list) -> None:
+    """Lists mixing int and float (rcl's parser), topic names rcl refuses: refused here too."""
+    path = _write(tmp_path / 'p.yaml', f'impact_node:\n  ros__parameters:\n    {line}\n')
+    with pytest.raises(ToolError) as caught:
+        load_parameters(path)
+    for word in words:
+        assert word in str(caught.value)
+    fine = _write(tmp_path / 'f.yaml', 'impact_node:\n  ros__parameters:\n    up_axis: '
+                  "[0, 0, 1]\n    ball_topic: '~/ball'\n    tip_topic: /{ns}/tip_2\n")
+    assert load_parameters(fine)['up_axis'] == [0, 0, 1]
+
+
+def test_the_parameter_files_topics_are_read(tmp_path: Path, run_cli: RunCli) -> None:
+    """A file's topics are used (resolved as the node does); a flag overrides them."""
+    bag = str(REPO_ROOT / 'bags' / 'pitches_90hz.mcap')
+    points = _write(tmp_path / 'p.yaml', 'impact_node:\n  ros__parameters:\n'
+                    '    bat_input: points\n    knob_topic: bat_knob\n    tip_topic: /bat_tip\n')
+    code, stdout, stderr = run_cli(['analyze', bag, '--params', str(points), '--no-truth'])
+    assert code == 0 and 'bat /bat_knob + /bat_tip (knob/tip)' in stdout, stderr
+    other = _write(tmp_path / 'o.yaml', 'impact_node:\n  ros__parameters:\n'
+                   '    ball_topic: tracking/ball\n')
+    code, _, stderr = run_cli(['analyze', bag, '--params', str(other)])
+    assert code == 2 and "ball_topic '/tracking/ball' from --params" in stderr
+    code, _, _ = run_cli(['analyze', bag, '--params', str(other), '--ball-topic', '/ball',
+                          '--quiet'])
+    assert code == 0
+
+
+def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> None:
+    """frame_id of another frame drops every sample: exit 2 with the reason, no output."""
+    wrong = _write(tmp_path / 'w.yaml', 'impact_node:\n  ros__parameters:\n    frame_id: map\n')
+    out = tmp_path / 'o.json'
+    code, stdout, stderr = run_cli(['analyze', str(REPO_ROOT / 'bags' / 'pitches_90hz.mcap'),
+                                    '--params', str(wrong), '--json', str(out)])
+    assert code == 2 and stdout == '' and not out.exists()
+    assert 'every sample of /ball (430) and /bat_pose (430) was dropped (wrong_frame)' in stderr
+    assert "frame_id 'map' is configured" in stderr and len(stderr.splitlines()) == 1
+
+
+def test_yaml_aliases_and_deep_nesting_are_refused(tmp_path: Path) -> None:
+    """A 'billion laughs' alias bomb and 10,000 nested lists: one line each, read as events."""
+    bomb = ['a0: &a0 [x, x, x, x, x, x, x, x, x]']
+    bomb += [f'a{i}: &a{i} [' + ', '.join([f'*a{i - 1}'] * 9) + ']' for i in range(1, 10)]
+    path = _write(tmp_path / 'bomb.yaml', '\n'.join(bomb) + '\nimpact_node:\n  '
+                  'ros__parameters:\n    bat_profile: *a9\n')
+    with pytest.raises(ToolError, match=r'YAML aliases are not allowed \(line 2\)'):
+        load_parameters(path)
+    deep = _write(tmp_path / 'deep.yaml', 'impact_node:\n  ros__parameters:\n    up_axis: '
+                  + '[' * 10_000 + ']' * 10_000 + '\n')
+    with pytest.raises(ToolError, match='nested deeper than 32 levels'):
+        load_parameters(deep)
+
+
+def test_long_bat_profiles_are_refused_quickly(tmp_path: Path) -> None:
+    """More than 256 stations: the table's refusal; a million values: refused while parsing."""
+    def profile(stations: int) -> Path:
+        flat = ', '.join(f'{0.8 * i / stations:.6f}, 0.03' for i in range(stations))
+        return _write(tmp_path / f'{stations}.yaml',
+                      f'impact_node:\n  ros__parameters:\n    bat_profile: [{flat}]\n')
+
+    assert len(build_config(load_parameters(profile(256)), bat_input='pose').profile
+               .stations) == 256
+    with pytest.raises(ToolError, match="'bat_profile' has 600 values, at most 512 are taken"):
+        load_parameters(profile(300))
+    with pytest.raises(ToolError, match=r'a list longer than 4096 values \(line 3\)'):
+        load_parameters(profile(500_000))

@@ -5,6 +5,8 @@ from pathlib import Path
 from typing import Callable, List, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
+from baseball_collision.errors import ToolError
+from baseball_collision.tools.recording import RecordingSpec
 from baseball_collision.tools.truth import truth_path
 import pytest
 from support.bundled import bag_path, check_against_truth
@@ -62,3 +64,22 @@ def test_simulate_is_deterministic(tmp_path: Path, run_cli: RunCli) -> None:
     again = json.loads((tmp_path / 'again.truth.json').read_text())
     # another machine or numpy build may differ in the last bits of a float, never in a stamp
     assert differences(again['pitches'], bundled['pitches']) == []
+
+
+@pytest.mark.parametrize('flags, words', [
+    (['--seed', '-1'], "'-1' must be from 0 to 2^64 - 1"),
+    (['--seed', str(2 ** 64)], 'must be from 0 to 2^64 - 1'),
+    (['--spacing', '1e30', '--count', '2'], 'would end after the latest stamp a ROS header'),
+    (['--spacing', '1e8', '--count', '10'], 'lower spacing or count'),
+    (['--rate', '1e12'], "'1e12' must be at most 100000 (Hz)"),
+])
+def test_simulate_refuses_what_it_cannot_make(tmp_path: Path, run_cli: RunCli,
+                                              flags: List[str], words: str) -> None:
+    """A negative seed, stamps past 2038, a terahertz tracker: one line, exit 2, no file."""
+    code, stdout, stderr = run_cli(['simulate', str(tmp_path / 'x.mcap'), *flags])
+    assert code == 2 and stdout == '' and words in stderr and len(stderr.splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ToolError):
+        RecordingSpec(seed=-1).check()
+    with pytest.raises(ToolError, match='at most 100,000 Hz'):
+        RecordingSpec(rate_hz=1e12).check()

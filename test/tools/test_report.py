@@ -8,15 +8,17 @@ from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
-from baseball_collision.tools.events import event_record
 from baseball_collision.tools.report import (
-    CSV_COLUMNS, csv_text, format_report, json_text, TABLE_COLUMNS, to_json, total_line)
+    CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, TABLE_COLUMNS, to_json,
+    total_line)
 import pytest
 from support.bundled import bag_path
+from support.schema import load_schema, Validator
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
-IMPACT_KEYS = {'stamp_ns', 'point', 'normal', 'distance_from_knob_m', 'distance_from_tip_m',
+IMPACT_KEYS = {'format', 'frame_id', 'zone', 'stamp_ns', 'point', 'normal',
+               'distance_from_knob_m', 'distance_from_tip_m',
                'sweet_spot_speed_mps', 'bat_speed_at_contact_mps', 'ball_speed_mps',
                'attack_angle_deg', 'bag', 'time_s', 'feature', 'bat_fraction'}
 
@@ -31,7 +33,8 @@ def test_json_schema(tmp_path: Path, run_cli: RunCli) -> None:
     assert code == 0 and stdout == ''
     document = json.loads(out.read_text())
     assert set(document) >= {'format', 'impacts', 'near_misses', 'dropped', 'bags'}
-    assert document['format'] == 'baseball_collision.analyze/1'
+    assert document['format'] == 'baseball_collision.analyze/2'
+    assert Validator('analyze.schema.json').errors(document) == []
     for impact in document['impacts']:
         assert set(impact) >= IMPACT_KEYS
         assert isinstance(impact['stamp_ns'], int)
@@ -46,6 +49,7 @@ def test_json_schema(tmp_path: Path, run_cli: RunCli) -> None:
         assert miss['gap_m'] == pytest.approx(sum(g * g for g in miss['gap_vector']) ** 0.5)
         assert 0.0 < miss['gap_m'] < 0.15
     bag = document['bags'][0]
+    assert bag['frame_id'] == 'world' and bag['notes'] == []
     assert set(bag) >= {'path', 'topics', 'model', 'messages', 'seconds', 'first_stamp_ns',
                         'impacts', 'near_misses', 'dropped', 'gaps', 'resets', 'truth'}
     assert bag['topics']['bat_pose'] == '/bat_pose' and bag['topics']['bat_input'] == 'pose'
@@ -62,17 +66,35 @@ def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
              if line.split()[1:2] in (['impact'], ['near'])]
     assert len(rows) == len(table) == len(events) == 12
     for row, cells, event in zip(rows, table, events):
-        record = event_record(event)
-        assert set(record) <= set(CSV_COLUMNS)
-        assert {key: row[key] for key in record} == {k: str(v) for k, v in record.items()}
+        record = entry(analysis, event)
+        flat = csv_row(record)
+        assert set(flat) <= set(CSV_COLUMNS) and flat['frame_id'] == 'world'
+        assert {key: row[key] for key in flat if key != 'time_s'} == {
+            k: str(v) for k, v in flat.items() if k != 'time_s'}
+        assert float(row['time_s']) == pytest.approx(record['time_s'], abs=1e-9)
         assert cells[1] == record['event'].split('_')[0]
         assert str(record['stamp_ns']) in cells
         assert f"{record['distance_from_tip_m'] * 100:.1f}" in cells
         if record['event'] == 'near_miss':
             assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 4
+            assert (row['ball_x'], row['contact_x'], row['gap_x']) == (
+                str(event.ball_position[0]), '', str(event.gap_vector[0]))
         else:
             assert cells[-1] == '-' and f"{record['attack_angle_deg']:.1f}" in cells
+            assert cells[5] == record['zone'].split('_')[0]
+            assert (row['contact_x'], row['ball_x']) == (str(event.point[0]),
+                                                         str(event.ball_position[0]))
     assert len(TABLE_COLUMNS) == 10
+
+
+def test_the_csv_columns_are_the_documented_ones() -> None:
+    """The CSV schema beside the JSON one names every column, in order, with a description."""
+    columns = load_schema('analyze.csv.json')['tableSchema']['columns']
+    assert tuple(column['name'] for column in columns) == CSV_COLUMNS
+    assert all(column['dc:description'] and column['datatype'] in ('string', 'integer',
+                                                                   'double')
+               for column in columns)
+    assert 'x' not in CSV_COLUMNS and {'contact_x', 'ball_x', 'frame_id'} <= set(CSV_COLUMNS)
 
 
 def test_json_and_total_of_several_bags() -> None:
@@ -97,3 +119,4 @@ def test_an_empty_analysis_reports_so() -> None:
 class _Selection:
     ball, ball_type, bat_pose, knob, tip = '/ball', 'p', '/bat_pose', None, None
     bat_mode, note = 'pose', ''
+    topics = {'ball': '/ball', 'bat_pose': '/bat_pose'}

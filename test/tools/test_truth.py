@@ -2,13 +2,18 @@
 
 import json
 from pathlib import Path
-from typing import Any, Dict
+import re
+import shutil
+from typing import Any, Callable, Dict, List, Tuple
 
 from baseball_collision.core.detector import NearMiss, Prediction
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.truth import (
     compare_truth, LEADS_S, load_truth, match_pitch, prediction_errors, TRUTH_FORMAT, truth_path)
 import pytest
+from support import REPO_ROOT
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
 
 def test_truth_file_names() -> None:
@@ -98,3 +103,72 @@ def test_predictions_are_scored_at_the_last_frame_before_each_lead() -> None:
     assert scores[0.1] == (pytest.approx(2e-3), pytest.approx(0.01))
     assert scores[0.05] is None  # the frame at 60 ms made no prediction
     assert scores[0.02] == (pytest.approx(-1e-3), pytest.approx(0.01))
+
+
+def _damaged(text: str) -> str:
+    """Return the 90 Hz bag's truth with ``text`` replacing its first pitch's contact stamp."""
+    truth = (REPO_ROOT / 'bags' / 'pitches_90hz.truth.json').read_text()
+    first = json.loads(truth)['pitches'][0]['stamp_ns']
+    return truth.replace(f'"stamp_ns": {first}', text, 1)
+
+
+DAMAGES = {
+    'missing key': lambda: _damaged('"stamp": 1'),
+    'zero speed': lambda: re.sub(r'"sweet_spot_speed_mps": [0-9.e+-]+',
+                                 '"sweet_spot_speed_mps": 0', _damaged(
+                                     '"stamp_ns": 1700000000248723328'), count=1),
+    'infinity': lambda: _damaged('"stamp_ns": Infinity'),
+    'deep nesting': lambda: _damaged('"stamp_ns": ' + '[' * 100_000 + ']' * 100_000),
+    'not json': lambda: '{"format": ',
+}
+
+
+@pytest.mark.parametrize('damage', DAMAGES)
+def test_a_damaged_truth_file_is_ignored_with_a_note(tmp_path: Path, run_cli: RunCli,
+                                                     damage: str) -> None:
+    """Missing keys, a 0 speed, Infinity, deep nesting: one note, and the analysis runs."""
+    bag = tmp_path / 'p.mcap'
+    shutil.copy(REPO_ROOT / 'bags' / 'pitches_90hz.mcap', bag)
+    (tmp_path / 'p.truth.json').write_text(DAMAGES[damage]())
+    out = tmp_path / 'p.json'
+    code, stdout, stderr = run_cli(['analyze', str(bag), '--json', str(out)])
+    assert code == 0 and stderr == ''
+    notes = [line for line in stdout.splitlines() if line.startswith('note: ')
+             and line.endswith('the truth file was ignored')]
+    assert len(notes) == 1 and len(notes[0]) < 300, notes
+    assert 'summary: 8 impacts' in stdout and 'truth (' not in stdout
+    bag_entry = json.loads(out.read_text())['bags'][0]
+    assert bag_entry['truth'] is None and bag_entry['notes'] == [notes[0][len('note: '):]]
+
+
+class _Counted:
+    """An event whose ``stamp_ns`` reads are counted (in ``reads``)."""
+
+    reads = 0
+
+    def __init__(self, stamp_ns: int) -> None:
+        self._stamp_ns = stamp_ns
+        self.distance_from_tip_m, self.sweet_spot_speed_mps = 0.1, 30.0
+
+    @property
+    def stamp_ns(self) -> int:
+        _Counted.reads += 1
+        return self._stamp_ns
+
+
+def test_compare_truth_reads_each_stamp_a_bounded_number_of_times() -> None:
+    """1000 pitches and 1000 impacts: about one read per impact and pitch, not a million."""
+    pitches, impacts, misses = [], [], []
+    for i in range(1000):
+        start = 1_000_000_000 * i
+        contact = i % 4 != 3
+        pitches.append({'start_ns': start, 'end_ns': start + 400_000_000, 'contact': contact,
+                        'stamp_ns': start + 250_000_000, 'distance_from_tip_m': 0.1,
+                        'sweet_spot_speed_mps': 30.0})
+        (impacts if contact else misses).append(_Counted(start + 250_000_100))
+    impacts.append(_Counted(600_000_000))  # between two pitches: a false impact
+    _Counted.reads = 0
+    result = compare_truth(impacts[::-1], misses, {'pitches': pitches}, 't.json')
+    assert len(result.matched) == 750 and result.near_misses_in_misses == 250
+    assert [impact.stamp_ns for impact in result.false_impacts] == [600_000_000]
+    assert _Counted.reads < 10 * (len(impacts) + len(misses) + len(pitches))

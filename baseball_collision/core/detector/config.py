@@ -14,7 +14,7 @@ from enum import Enum
 import math
 from typing import Any, Dict, List, Mapping, Optional, Tuple
 
-from ..bat import BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
+from ..bat import BatProfile, MAX_STATIONS, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from ..geometry import Vector
 from ..motion import MODELS
 from ...errors import CoreError
@@ -77,6 +77,7 @@ class ParameterSpec:
     :ivar bounds: the values a number may take (None for a bool, a string or an array).
     :ivar choices: the strings it may take (empty: any).
     :ivar read_only: why it cannot change while the node runs ('' : it can).
+    :ivar max_items: most values an array may hold (None: any number).
     """
 
     name: str
@@ -87,6 +88,7 @@ class ParameterSpec:
     bounds: Optional[Range] = None
     choices: Tuple[str, ...] = ()
     read_only: str = ''
+    max_items: Optional[int] = None
 
     def __post_init__(self) -> None:
         """Check the entry itself once: a known kind and a default it accepts."""
@@ -110,7 +112,12 @@ class ParameterSpec:
                 items = []  # unset: rclpy's NOT_SET for an array declared by type
             else:
                 items = value.tolist() if hasattr(value, 'tolist') else value  # array.array
-            if not isinstance(items, (list, tuple)) or not all(_is_number(x) for x in items):
+            if not isinstance(items, (list, tuple)):
+                raise self._wrong_type(value)
+            if self.max_items is not None and len(items) > self.max_items:
+                raise CoreError(f"parameter '{self.name}' has {len(items):,} values, at most "
+                                f'{self.max_items} are taken ({self.doc})')
+            if not all(_is_number(x) for x in items):
                 raise self._wrong_type(value)
             return [float(x) for x in items]
         if kind == Kind.DOUBLE and _is_number(value):
@@ -220,8 +227,9 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         '(m, pose input); knob_offset + the bat length.', 'm', _closed(-5.0, 5.0),
         read_only=_GEOMETRY),
     ParameterSpec(
-        'bat_profile', _A, (), 'Bat radius profile, flat [distance_from_knob, radius, ...] (m); '
-        'unset or empty = the default 34-inch wood bat.', 'm', read_only=_GEOMETRY),
+        'bat_profile', _A, (), 'Bat radius profile, flat [distance_from_knob, radius, ...] (m), '
+        f'at most {MAX_STATIONS} stations; unset or empty = the default 34-inch wood bat.', 'm',
+        read_only=_GEOMETRY, max_items=2 * MAX_STATIONS),
     ParameterSpec(
         'bat_length', _D, 0.0, 'Knob-to-tip length the profile was measured on (m); 0 = the '
         'last station (or 0.8636 m for the default bat).', 'm', _closed(0.0, 3.0),

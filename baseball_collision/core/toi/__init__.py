@@ -1,15 +1,16 @@
 """
 Exact time of impact between a moving ball and a moving bat (capsules and profiles).
 
-Pure Python + numpy; no ROS imports. Units: metres and seconds. The modules:
+A compiled kernel and numpy; no ROS imports. Units: metres and seconds. The modules:
 
-* ``result``: ``ImpactResult``, ``Feature`` and the tolerances both paths share;
-* ``capsule``: the contact polynomials (end caps' quadratics, the side's quartic), one copy
-  for both paths;
-* ``polynomials``: evaluation, the derivative chain and bracketed roots, scalar and batch;
+* ``_kernel`` (``_kernel.c``, built by setup.py): the one implementation of the solver: the
+  contact polynomials (end caps' quadratics, the side's quartic), the derivative chain and
+  bracketed roots, the broad phase, the capsule and profile solvers, the batch over rows;
+* ``result``: ``ImpactResult``, ``Feature`` and the tolerances (the kernel's);
 * ``scalar``: ``time_of_impact``, ``time_of_impact_profile``, ``profile_contact`` (the hot
-  paths' entry on checked tuples) and ``closest_offset``;
-* ``batch``: ``time_of_impact_batch`` and ``distance``, the gap over time;
+  paths' entry on checked tuples) and ``closest_offset``: the kernel, with the argument errors;
+* ``batch``: ``time_of_impact_batch`` (the kernel over rows, on every core) and ``distance``,
+  the gap over time;
 * ``seed``: the seed derivation's method and its infinite-line gap, kept for comparison.
 
 ``profile_gap``, the gap at one instant, is ``geometry.profile_gap`` (one copy in core).

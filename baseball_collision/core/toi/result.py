@@ -1,4 +1,4 @@
-"""What the time-of-impact solvers return; the tolerances the scalar and batch paths share."""
+"""What the time-of-impact solvers return; the tolerances of the compiled kernel."""
 
 from dataclasses import dataclass
 import enum
@@ -6,18 +6,17 @@ from typing import Sequence, Union
 
 import numpy as np
 
+from ._kernel import DEGENERATE_AXIS, ROOT_SLACK, TOUCH_TOLERANCE
 from ..geometry import Vector
 
-TOUCH_TOLERANCE = 1e-9
-"""A gap (metres) at or below which ball and bat count as touching."""
+# The tolerances are defined once, in the kernel (_kernel.c):
+# TOUCH_TOLERANCE: a gap (metres) at or below which ball and bat count as touching (1e-9);
+# DEGENERATE_AXIS: |u|^2 in scaled units below which the bat has no axis, a sphere (1e-24);
+# ROOT_SLACK: scaled gap allowed at a side root for rounding, 0.1 nm on a 1 m scale (1e-10).
+__all__ = ['ArrayLike', 'DEGENERATE_AXIS', 'Feature', 'ImpactResult', 'ROOT_SLACK',
+           'TOUCH_TOLERANCE']
 
 ArrayLike = Union[Sequence[float], np.ndarray]
-
-DEGENERATE_AXIS = 1e-24
-"""|u|^2 in scaled units below which the bat has no axis (a sphere)."""
-
-ROOT_SLACK = 1e-10
-"""Scaled gap allowed at a side root for rounding (0.1 nm on a 1 m scale)."""
 
 
 class Feature(enum.StrEnum):

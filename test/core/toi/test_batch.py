@@ -3,6 +3,7 @@
 import math
 
 from baseball_collision.core.toi import distance, time_of_impact, time_of_impact_batch
+from baseball_collision.core.toi.batch import CHUNK_ROWS
 from baseball_collision.errors import CoreError
 import numpy as np
 import pytest
@@ -44,21 +45,41 @@ def test_batch_shape_errors_raise() -> None:
         time_of_impact_batch(*[np.zeros((2, 3))] * 6, 0.1, np.zeros(3))
 
 
-def test_batch_matches_scalar_on_random_intervals() -> None:
-    """Batch and scalar agree row by row on 2000 random intervals."""
-    rng = np.random.default_rng(7)
-    n = 2000
-    points = [rng.uniform(-0.6, 0.6, (n, 3)) for _ in range(6)]
-    radii = rng.uniform(0.0, 0.1, n)
-    dt = rng.uniform(0.002, 0.02, n)
-    batch = time_of_impact_batch(*points, radii, 0.03, dt)
+def _agreement(points, ball_radius, bat_radius, dt) -> int:
+    """Assert batch and scalar give the same time to the bit on every row; return contacts."""
+    batch = time_of_impact_batch(*points, ball_radius, bat_radius, dt)
+    n = len(batch)
+    radii = np.broadcast_to(ball_radius, n)
     for i in range(n):
-        result = time_of_impact(*[p[i] for p in points], radii[i], 0.03, dt[i])
+        result = time_of_impact(*[p[i] for p in points], radii[i], bat_radius, dt[i])
         if result is None:
             assert math.isnan(batch[i])
         else:
-            assert batch[i] == pytest.approx(result.time, abs=1e-9 * dt[i] + 1e-12)
-    assert 200 < np.count_nonzero(~np.isnan(batch)) < n - 200
+            assert batch[i] == result.time
+    return int(np.count_nonzero(~np.isnan(batch)))
+
+
+def test_batch_matches_scalar_on_random_intervals() -> None:
+    """Batch and scalar agree row by row, to the bit, on 2000 random intervals."""
+    rng = np.random.default_rng(7)
+    n = 2000
+    points = [rng.uniform(-0.6, 0.6, (n, 3)) for _ in range(6)]
+    contacts = _agreement(points, rng.uniform(0.0, 0.1, n), 0.03, rng.uniform(0.002, 0.02, n))
+    assert 200 < contacts < n - 200
+
+
+def test_batch_on_every_core_matches_scalar_on_a_contact_heavy_set() -> None:
+    """Enough rows for the threaded path (several chunks); most rows touch; every row agrees."""
+    rng = np.random.default_rng(11)
+    n = 3 * CHUNK_ROWS + 17
+    knob0 = rng.uniform(-0.1, 0.1, (n, 3))
+    tip0 = knob0 + rng.normal(0.0, 1.0, (n, 3)) * 0.3
+    knob1, tip1 = knob0 + rng.normal(0.0, 0.01, (n, 3)), tip0 + rng.normal(0.0, 0.05, (n, 3))
+    ball1 = knob0 + (tip0 - knob0) * rng.uniform(0.0, 1.0, (n, 1))
+    ball0 = ball1 + rng.normal(0.0, 0.1, (n, 3))
+    contacts = _agreement([ball0, ball1, tip0, tip1, knob0, knob1], 0.0366, 0.0331,
+                          np.full(n, 1.0 / 360.0))
+    assert contacts > 0.8 * n
 
 
 def test_distance_matches_reference_gap() -> None:

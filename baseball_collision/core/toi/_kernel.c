@@ -1,0 +1,1073 @@
+/*
+ * The exact time-of-impact kernel of baseball_collision.core.toi, compiled (one implementation).
+ *
+ * Model (see ``toi/__init__.py``): over one interval the ball centre B, the bat tip (barrel end)
+ * E and the knob S each move linearly. The bat is the segment S-E thickened by a radius (a
+ * capsule); with R the sum of both radii, u = E - S and w = B - S (w = w0 + w1 tau,
+ * u = u0 + u1 tau, tau in [0, 1]):
+ *
+ *   side (lambda = w.u / u.u in [0, 1]):  |w x u|^2 - R^2 |u|^2 = 0  (the seed's Eq. 15f)
+ *   knob end (lambda < 0):                |w|^2 - R^2 = 0
+ *   tip end (lambda > 1):                 |w - u|^2 - R^2 = 0
+ *
+ * Coordinates are shifted to the knob's start and scaled to the interval's extent before any
+ * coefficient is formed. The end caps' quadratics are solved in closed form; the side's quartic
+ * on its monotone pieces (the derivative chain: the roots of P'' split [0, 1] into pieces on
+ * which P' is monotone, whose roots split it into pieces on which P is monotone), each crossing
+ * refined by Newton steps safeguarded by bisection, then by two Newton steps on the gap itself.
+ * A tangential touch (a double root) is a local minimum within a slack of zero, never lost.
+ *
+ * Floating point: plain IEEE double arithmetic in the order the Python reference used, built
+ * with -ffp-contract=off (no fused multiply-add, which gcc emits by default on arm64), so every
+ * result is the same to the last bit on x86-64 and arm64.
+ *
+ * Python API (module ``_kernel``; the package wraps it in ``scalar`` and ``batch``):
+ *   bind(ImpactResult, fields, features)  the result dataclass, its 7 field names (time, point,
+ *                                     normal, bat_fraction, initially_overlapping, gap, feature)
+ *                                     and the Feature members, once at import
+ *   capsule(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt)
+ *   profile(b0, b1, e0, e1, s0, s1, ball_radius, profile, dt)
+ *        -> an ImpactResult, None (no contact) or NotImplemented (input that is not finite
+ *           3-vectors, radii >= 0 and dt > 0: the caller checks it and raises)
+ *   closest_offset(b0, b1, e0, e1, s0, s1) -> (x, y, z)
+ *   capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop)
+ *        rows [start, stop) of contiguous float64 buffers (six (N, 3), three (N,), out (N,)),
+ *        the GIL released: out = contact time in seconds or NaN
+ *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
+ *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
+ */
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#define TOUCH_TOLERANCE 1e-9 /* a gap (m) at or below which ball and bat count as touching */
+#define DEGENERATE_AXIS 1e-24 /* |u|^2 in scaled units below which the bat has no axis */
+#define ROOT_SLACK 1e-10 /* scaled gap allowed at a side root for rounding */
+#define MAX_SEGMENTS 64 /* capsules of one bat profile */
+
+typedef struct {
+  double x, y, z;
+} Vec;
+
+/* ------------------------------------------------------------------------------------------ */
+/* vectors (the operations of core.geometry, in the same order) */
+
+static inline Vec v_sub(Vec a, Vec b) { return (Vec){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline Vec v_scale(Vec a, double s) { return (Vec){a.x * s, a.y * s, a.z * s}; }
+static inline Vec v_advance(Vec p0, Vec p1, double s)
+{
+  return (Vec){p0.x + p1.x * s, p0.y + p1.y * s, p0.z + p1.z * s};
+}
+static inline Vec v_lerp(Vec a, Vec b, double s)
+{
+  return (Vec){a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s, a.z + (b.z - a.z) * s};
+}
+static inline double v_dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline Vec v_cross(Vec a, Vec b)
+{
+  return (Vec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+static inline double min_of(double a, double b) { return b < a ? b : a; } /* Python's min */
+static inline double max_of(double a, double b) { return b > a ? b : a; } /* Python's max */
+static inline bool finite3(Vec a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+/* Fraction along start-end (clipped to [0, 1]) of the closest point to p; the point in *closest */
+static double closest_on_segment(Vec p, Vec start, Vec end, Vec *closest)
+{
+  Vec axis = v_sub(end, start);
+  double axis2 = v_dot(axis, axis);
+  double fraction = 0.0;
+  if (axis2 != 0.0) {
+    fraction = min_of(1.0, max_of(0.0, v_dot(v_sub(p, start), axis) / axis2));
+  }
+  *closest = v_lerp(start, end, fraction);
+  return fraction;
+}
+
+/* offset as a unit vector; for a ball centre on the axis, a unit vector across the axis */
+static Vec unit_normal(Vec offset, Vec axis, Vec relative_velocity)
+{
+  double length = sqrt(v_dot(offset, offset));
+  if (1e-12 < length && length < INFINITY) {
+    return v_scale(offset, 1.0 / length);
+  }
+  double axis2 = v_dot(axis, axis);
+  Vec candidates[3] = {v_scale(relative_velocity, -1.0), {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}};
+  for (int i = 0; i < 3; i++) {
+    Vec candidate = candidates[i];
+    if (axis2 > 0.0) {
+      double along = v_dot(candidate, axis) / axis2;
+      candidate = v_sub(candidate, v_scale(axis, along));
+    }
+    length = sqrt(v_dot(candidate, candidate));
+    if (1e-12 < length && length < INFINITY) {
+      return v_scale(candidate, 1.0 / length);
+    }
+  }
+  return (Vec){0.0, 0.0, 1.0};
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* polynomials on [0, 1], lowest power first (a quartic; lower degrees have zero tops) */
+
+static inline double poly(const double *c, double x)
+{
+  return c[0] + x * (c[1] + x * (c[2] + x * (c[3] + x * c[4])));
+}
+static inline double poly_d1(const double *c, double x)
+{
+  return c[1] + x * (2.0 * c[2] + x * (3.0 * c[3] + x * 4.0 * c[4]));
+}
+static inline double poly_d2(const double *c, double x)
+{
+  return 2.0 * c[2] + x * (6.0 * c[3] + x * 12.0 * c[4]);
+}
+/* the order-th derivative (0 or 1) and the next one */
+static inline double poly_order(const double *c, int order, double x)
+{
+  return order == 0 ? poly(c, x) : poly_d1(c, x);
+}
+static inline double poly_slope(const double *c, int order, double x)
+{
+  return order == 0 ? poly_d1(c, x) : poly_d2(c, x);
+}
+
+/* real roots of a x^2 + b x + c, ascending (numerically stable form); returns how many */
+static int quadratic_roots(double a, double b, double c, double *roots)
+{
+  if (a == 0.0) {
+    if (b == 0.0) {
+      return 0;
+    }
+    roots[0] = -c / b;
+    return 1;
+  }
+  double disc = b * b - 4.0 * a * c;
+  if (disc < 0.0) {
+    return 0;
+  }
+  double q = -0.5 * (b + copysign(sqrt(disc), b));
+  if (q == 0.0) {
+    roots[0] = roots[1] = 0.0;
+    return 2;
+  }
+  double r1 = q / a, r2 = c / q;
+  roots[0] = r1 <= r2 ? r1 : r2;
+  roots[1] = r1 <= r2 ? r2 : r1;
+  return 2;
+}
+
+/*
+ * Root of the order-th derivative of c, monotone on [lo, hi] and changing sign there, to double
+ * precision: Newton steps safeguarded by bisection. f_lo is its value at lo (not zero).
+ */
+static double bracketed_root(const double *c, int order, double lo, double hi, double f_lo)
+{
+  bool positive = f_lo > 0.0;
+  double x = 0.5 * (lo + hi);
+  for (int i = 0; i < 200; i++) {
+    double fx = poly_order(c, order, x);
+    if (fx == 0.0) {
+      return x;
+    }
+    if ((fx > 0.0) == positive) {
+      lo = x;
+    } else {
+      hi = x;
+    }
+    double slope = poly_slope(c, order, x);
+    double step = slope != 0.0 ? fx / slope : INFINITY;
+    double candidate = x - step;
+    if (!(lo < candidate && candidate < hi)) {
+      candidate = 0.5 * (lo + hi);
+    }
+    if (fabs(candidate - x) <= 1e-16 || hi - lo <= 2e-16) {
+      return candidate;
+    }
+    x = candidate;
+  }
+  return x;
+}
+
+/*
+ * Points in (0, 1) where the quartic changes direction, ascending; returns how many (<= 3). A
+ * zero of c' exactly at an inflection (a stationary inflection) is skipped.
+ */
+static int critical_points(const double *c, double *out)
+{
+  double roots[2], bounds[4];
+  int found = quadratic_roots(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], roots);
+  int n_bounds = 0, count = 0;
+  bounds[n_bounds++] = 0.0;
+  for (int i = 0; i < found; i++) {
+    if (0.0 < roots[i] && roots[i] < 1.0) {
+      bounds[n_bounds++] = roots[i];
+    }
+  }
+  bounds[n_bounds++] = 1.0;
+  for (int i = 0; i + 1 < n_bounds; i++) {
+    double lo = bounds[i], hi = bounds[i + 1];
+    double d_lo = poly_d1(c, lo), d_hi = poly_d1(c, hi);
+    if ((d_lo < 0.0 && d_hi > 0.0) || (d_lo > 0.0 && d_hi < 0.0)) {
+      out[count++] = bracketed_root(c, 1, lo, hi, d_lo);
+    }
+  }
+  return count;
+}
+
+/* The slack of a gap polynomial at x: slack_scale * poly(slack_poly, x) */
+typedef struct {
+  double scale;
+  const double *poly;
+} Slack;
+
+static inline double slack_at(Slack slack, double x) { return slack.scale * poly(slack.poly, x); }
+
+/*
+ * The times in [0, 1] at which a gap polynomial c starts to count as contact, in order, one per
+ * call: *state starts at 0 and is advanced; returns false when there are no more. Gives 0 when
+ * touching at the start, each root where c enters <= 0, and each local minimum within the slack
+ * without crossing (a graze).
+ */
+typedef struct {
+  int stage; /* 0: the start; 1: the pieces */
+  int piece, n_bounds;
+  double bounds[4], a, f_a;
+} Candidates;
+
+static bool next_candidate(const double *c, Slack slack, Candidates *it, double *tau)
+{
+  if (it->stage == 0) {
+    it->stage = 1;
+    it->a = 0.0;
+    it->f_a = poly(c, 0.0);
+    it->n_bounds = critical_points(c, it->bounds);
+    it->bounds[it->n_bounds++] = 1.0;
+    it->piece = 0;
+    if (it->f_a <= slack_at(slack, 0.0)) {
+      *tau = 0.0;
+      return true;
+    }
+  }
+  while (it->piece < it->n_bounds) {
+    double b = it->bounds[it->piece++];
+    double f_b = poly(c, b);
+    double a = it->a, f_a = it->f_a;
+    it->a = b;
+    it->f_a = f_b;
+    if (f_a > 0.0 && f_b <= 0.0) {
+      *tau = bracketed_root(c, 0, a, b, f_a);
+      return true;
+    }
+    if (0.0 < f_b && f_b < f_a && f_b <= slack_at(slack, b)) {
+      *tau = b;
+      return true;
+    }
+  }
+  return false;
+}
+
+/*
+ * First tau in [0, 1] at which a tau^2 + b tau + c (a >= 0) counts as contact: <= 0, or a local
+ * minimum within slack (a graze). The candidates in closed form, for the end caps' quadratics.
+ */
+static bool quadratic_entry(double a, double b, double c, double slack, double *tau)
+{
+  if (c <= slack) {
+    *tau = 0.0;
+    return true;
+  }
+  double vertex;
+  if (a > 0.0) {
+    double disc = b * b - 4.0 * a * c;
+    if (disc >= 0.0 && b < 0.0) {
+      double q = -0.5 * (b - sqrt(disc));
+      double root = min_of(q / a, c / q);
+      if (root <= 1.0) {
+        *tau = root;
+        return true;
+      }
+    }
+    vertex = min_of(1.0, -0.5 * b / a);
+  } else {
+    vertex = b < 0.0 ? 1.0 : 0.0;
+  }
+  if (vertex > 0.0 && a * vertex * vertex + b * vertex + c <= slack) {
+    *tau = vertex;
+    return true;
+  }
+  return false;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* the contact polynomials of one capsule */
+
+typedef struct {
+  Vec w0, w1, u0, u1; /* w = B - S and u = E - S in scaled units: w0 + w1 tau, u0 + u1 tau */
+  double scale;
+} Scaled;
+
+/* the end caps' quadratics (a, b, c): a tau^2 + b tau + c = |p|^2 - R^2, p = w (knob), w - u */
+static void cap_quadratics(const Scaled *s, double rr, double caps[2][3])
+{
+  Vec v0 = v_sub(s->w0, s->u0), v1 = v_sub(s->w1, s->u1);
+  caps[0][0] = v_dot(s->w1, s->w1);
+  caps[0][1] = 2.0 * v_dot(s->w0, s->w1);
+  caps[0][2] = v_dot(s->w0, s->w0) - rr;
+  caps[1][0] = v_dot(v1, v1);
+  caps[1][1] = 2.0 * v_dot(v0, v1);
+  caps[1][2] = v_dot(v0, v0) - rr;
+}
+
+/* the side's quartic |w x u|^2 - rr |u|^2 and the quadratics |u|^2 and w.u (5 coefficients) */
+static void side_quartic(const Scaled *s, double rr, double *quartic, double *uu, double *wu)
+{
+  Vec c0 = v_cross(s->w0, s->u0);
+  Vec c1 = v_sub(v_cross(s->w0, s->u1), v_cross(s->u0, s->w1));
+  Vec c2 = v_cross(s->w1, s->u1);
+  uu[0] = v_dot(s->u0, s->u0);
+  uu[1] = 2.0 * v_dot(s->u0, s->u1);
+  uu[2] = v_dot(s->u1, s->u1);
+  uu[3] = uu[4] = 0.0;
+  quartic[0] = v_dot(c0, c0) - rr * uu[0];
+  quartic[1] = 2.0 * v_dot(c0, c1) - rr * uu[1];
+  quartic[2] = v_dot(c1, c1) + 2.0 * v_dot(c0, c2) - rr * uu[2];
+  quartic[3] = 2.0 * v_dot(c1, c2);
+  quartic[4] = v_dot(c2, c2);
+  wu[0] = v_dot(s->w0, s->u0);
+  wu[1] = v_dot(s->w0, s->u1) + v_dot(s->w1, s->u0);
+  wu[2] = v_dot(s->w1, s->u1);
+  wu[3] = wu[4] = 0.0;
+}
+
+static Scaled scaled(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius)
+{
+  Vec w0 = v_sub(b0, s0), w_end = v_sub(b1, s1), u0 = v_sub(e0, s0), u_end = v_sub(e1, s1);
+  double values[13] = {w0.x, w0.y, w0.z, w_end.x, w_end.y, w_end.z, u0.x, u0.y, u0.z,
+                       u_end.x, u_end.y, u_end.z, radius};
+  double extent = fabs(values[0]);
+  for (int i = 1; i < 13; i++) {
+    extent = max_of(extent, fabs(values[i]));
+  }
+  if (extent == 0.0) {
+    extent = 1.0;
+  }
+  double inv = 1.0 / extent;
+  Vec w0s = v_scale(w0, inv), wes = v_scale(w_end, inv);
+  Vec u0s = v_scale(u0, inv), ues = v_scale(u_end, inv);
+  return (Scaled){w0s, v_sub(wes, w0s), u0s, v_sub(ues, u0s), extent};
+}
+
+/* the gap between ball and capsule at tau in scaled units, and d(gap)/d(tau) in *rate */
+static double scaled_gap(const Scaled *s, double tau, double r, double *rate)
+{
+  static const Vec origin = {0.0, 0.0, 0.0};
+  Vec w = v_advance(s->w0, s->w1, tau), u = v_advance(s->u0, s->u1, tau), closest;
+  double fraction = closest_on_segment(w, origin, u, &closest);
+  Vec offset = v_sub(w, closest);
+  double length = sqrt(v_dot(offset, offset));
+  if (length == 0.0) {
+    *rate = 0.0;
+    return -r;
+  }
+  /* the closest point slides along the axis, but offset is normal to it: only the motion of
+     the ball relative to the bat point at that fraction changes the gap to first order */
+  *rate = v_dot(offset, v_sub(s->w1, v_scale(s->u1, fraction))) / length;
+  return length - r;
+}
+
+/*
+ * Refine a crossing root with Newton steps on the gap itself (well conditioned): two steps at
+ * most; a step that is large (a graze, where the rate vanishes) or does not reduce the gap is
+ * not taken.
+ */
+static double polish(const Scaled *s, double tau, double r)
+{
+  double rate, gap = scaled_gap(s, tau, r, &rate);
+  for (int i = 0; i < 2; i++) {
+    if (rate == 0.0 || gap == 0.0) {
+      break;
+    }
+    double step = gap / rate;
+    if (fabs(step) > 1e-6 || !(0.0 <= tau - step && tau - step <= 1.0)) {
+      break;
+    }
+    double new_rate, new_gap = scaled_gap(s, tau - step, r, &new_rate);
+    if (fabs(new_gap) >= fabs(gap)) {
+      break;
+    }
+    tau = tau - step;
+    gap = new_gap;
+    rate = new_rate;
+  }
+  return tau;
+}
+
+/* earliest tau in [0, 1] of contact (gap <= TOUCH_TOLERANCE) with a capsule of radius */
+static bool first_contact_tau(const Scaled *s, double radius, double *out)
+{
+  double r = radius / s->scale;
+  double rr = r * r;
+  double tol = TOUCH_TOLERANCE / s->scale;
+  double cap_slack = (r + tol) * (r + tol) - rr;
+  double caps[2][3], tau, best = 0.0;
+  bool have = false;
+  cap_quadratics(s, rr, caps);
+  for (int i = 0; i < 2; i++) {
+    if (quadratic_entry(caps[i][0], caps[i][1], caps[i][2], cap_slack, &tau) &&
+        (!have || tau < best)) {
+      best = tau;
+      have = true;
+    }
+  }
+  if (have && best != 0.0) {
+    best = polish(s, best, r);
+  }
+  double quartic[5], uu[5], wu[5];
+  side_quartic(s, rr, quartic, uu, wu);
+  if (max_of(max_of(uu[0], fabs(uu[1])), uu[2]) <= DEGENERATE_AXIS) {
+    *out = best; /* zero-length bat: a sphere, the end caps say it all */
+    return have;
+  }
+  Candidates it = {0};
+  Slack slack = {cap_slack, uu};
+  while (next_candidate(quartic, slack, &it, &tau)) {
+    if (have && tau >= best) {
+      break;
+    }
+    double axis2 = poly(uu, tau), along = poly(wu, tau);
+    if (axis2 <= DEGENERATE_AXIS || !(0.0 <= along && along <= axis2)) {
+      continue;
+    }
+    /* the quartic also vanishes where the bat's length passes through zero; the gap itself,
+       at the polished root, confirms a root is a touch of the side */
+    double polished = tau > 0.0 ? polish(s, tau, r) : tau;
+    double rate;
+    if (scaled_gap(s, polished, r, &rate) <= tol + ROOT_SLACK) {
+      *out = have ? min_of(best, polished) : polished;
+      return true;
+    }
+  }
+  *out = best;
+  return have;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* broad phase and one capsule */
+
+/* the ball's offset from the bat's midpoint at their closest, all moving on chords */
+static Vec closest_offset(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1)
+{
+  Vec m0 = v_sub(b0, v_lerp(s0, e0, 0.5));
+  Vec m1 = v_sub(v_sub(b1, v_lerp(s1, e1, 0.5)), m0);
+  double m11 = v_dot(m1, m1);
+  double s = m11 == 0.0 ? 0.0 : min_of(1.0, max_of(0.0, -v_dot(m0, m1) / m11));
+  return v_advance(m0, m1, s);
+}
+
+/* conservative: false only when the ball certainly stays clear of the bat */
+static bool may_touch(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius)
+{
+  Vec closest = closest_offset(b0, b1, e0, e1, s0, s1);
+  Vec a0 = v_sub(e0, s0), a1 = v_sub(e1, s1);
+  double half = 0.5 * max_of(sqrt(v_dot(a0, a0)), sqrt(v_dot(a1, a1)));
+  double reach = half + radius + TOUCH_TOLERANCE;
+  double margin = 1e-9 * (1.0 + reach);
+  return v_dot(closest, closest) <= (reach + margin) * (reach + margin);
+}
+
+static bool capsule_tau(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius,
+                        double *tau)
+{
+  if (!may_touch(b0, b1, e0, e1, s0, s1, radius)) {
+    return false;
+  }
+  Scaled s = scaled(b0, b1, e0, e1, s0, s1, radius);
+  return first_contact_tau(&s, radius, tau);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* the result */
+
+static PyObject *result_type = NULL; /* ImpactResult */
+static PyObject *result_fields = NULL; /* its field names: time, point, normal, ..., feature */
+static PyObject *features = NULL;      /* (SIDE, KNOB_END, TIP_END) */
+static PyObject *no_arguments = NULL;  /* () */
+
+/*
+ * A new ImpactResult from its 7 field values (references stolen), filled in as the frozen
+ * dataclass's own __init__ does (its instance dictionary), without the cost of calling it.
+ */
+static PyObject *new_result(PyObject **values)
+{
+  bool ok = true;
+  for (int i = 0; i < 7; i++) {
+    ok = ok && values[i] != NULL;
+  }
+  PyObject *result = ok ? PyBaseObject_Type.tp_new((PyTypeObject *)result_type, no_arguments,
+                                                   NULL)
+                        : NULL;
+  PyObject *dict = result ? PyObject_GenericGetDict(result, NULL) : NULL;
+  for (int i = 0; dict != NULL && i < 7; i++) {
+    if (PyDict_SetItem(dict, PyTuple_GET_ITEM(result_fields, i), values[i]) < 0) {
+      Py_CLEAR(result);
+      break;
+    }
+  }
+  Py_XDECREF(dict);
+  if (dict == NULL) {
+    Py_CLEAR(result);
+  }
+  for (int i = 0; i < 7; i++) {
+    Py_XDECREF(values[i]);
+  }
+  return result;
+}
+
+static PyObject *vec_tuple(Vec v) { return Py_BuildValue("(ddd)", v.x, v.y, v.z); }
+
+/* the ImpactResult for contact at tau on a capsule piece spanning fractions f0-f1 of the bat */
+static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_radius,
+                            double bat_radius, double f0, double f1, bool knob_end,
+                            bool tip_end)
+{
+  /* p: b0, b1, e0 (tip), e1, s0 (knob), s1 */
+  Vec ball = v_lerp(p[0], p[1], tau), tip = v_lerp(p[2], p[3], tau);
+  Vec knob = v_lerp(p[4], p[5], tau), centre;
+  double local = closest_on_segment(ball, knob, tip, &centre);
+  Vec bat_motion = v_lerp(v_sub(p[5], p[4]), v_sub(p[3], p[2]), local);
+  Vec rel_velocity = v_scale(v_sub(v_sub(p[1], p[0]), bat_motion), 1.0 / dt);
+  Vec normal = unit_normal(v_sub(ball, centre), v_sub(tip, knob), rel_velocity);
+  Vec offset = v_sub(ball, centre);
+  double gap = sqrt(v_dot(offset, offset)) - ball_radius - bat_radius;
+  double fraction = f0 + (f1 - f0) * local;
+  int feature = 0;
+  if (local <= 0.0 && knob_end) {
+    feature = 1;
+  } else if (local >= 1.0 && tip_end) {
+    feature = 2;
+  }
+  Vec point = {centre.x + normal.x * bat_radius, centre.y + normal.y * bat_radius,
+               centre.z + normal.z * bat_radius};
+  if (result_type == NULL) {
+    PyErr_SetString(PyExc_RuntimeError, "_kernel.bind() was not called");
+    return NULL;
+  }
+  PyObject *feature_member = PyTuple_GET_ITEM(features, feature);
+  Py_INCREF(feature_member);
+  PyObject *values[7] = {PyFloat_FromDouble(tau * dt), vec_tuple(point), vec_tuple(normal),
+                         PyFloat_FromDouble(fraction), PyBool_FromLong(tau == 0.0),
+                         PyFloat_FromDouble(gap), feature_member};
+  return new_result(values);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* argument conversion */
+
+/* 3 numbers from a buffer of 3 contiguous float64 (a numpy row); -1: not such a buffer */
+static int read_buffer_vec(PyObject *o, Vec *v)
+{
+  Py_buffer view;
+  if (PyObject_GetBuffer(o, &view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    PyErr_Clear();
+    return -1;
+  }
+  int ok = view.len == 3 * (Py_ssize_t)sizeof(double) && view.itemsize == sizeof(double) &&
+           view.format != NULL && (strcmp(view.format, "d") == 0 || strcmp(view.format, "<d") == 0 ||
+                                   strcmp(view.format, "=d") == 0);
+  if (ok) {
+    const double *x = view.buf;
+    *v = (Vec){x[0], x[1], x[2]};
+  }
+  PyBuffer_Release(&view);
+  return ok ? 1 : -1;
+}
+
+/* 3 numbers from a sequence; false (no exception set) when it is not one */
+static bool read_vec(PyObject *o, Vec *v)
+{
+  if (PyTuple_CheckExact(o) && PyTuple_GET_SIZE(o) == 3 && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 0)) &&
+      PyFloat_CheckExact(PyTuple_GET_ITEM(o, 1)) && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 2))) {
+    *v = (Vec){PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 0)), PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 1)),
+               PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 2))};
+    return true;
+  }
+  if (PyObject_CheckBuffer(o) && read_buffer_vec(o, v) == 1) {
+    return true;
+  }
+  PyObject *seq = PySequence_Fast(o, "");
+  if (seq == NULL) {
+    PyErr_Clear();
+    return false;
+  }
+  bool ok = PySequence_Fast_GET_SIZE(seq) == 3;
+  if (ok) {
+    PyObject **items = PySequence_Fast_ITEMS(seq);
+    v->x = PyFloat_AsDouble(items[0]);
+    v->y = PyFloat_AsDouble(items[1]);
+    v->z = PyFloat_AsDouble(items[2]);
+    if (PyErr_Occurred()) {
+      PyErr_Clear();
+      ok = false;
+    }
+  }
+  Py_DECREF(seq);
+  return ok;
+}
+
+static bool read_number(PyObject *o, double *x)
+{
+  *x = PyFloat_AsDouble(o);
+  if (*x == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();
+    return false;
+  }
+  return true;
+}
+
+/* the six points of an interval; false when one is not 3 finite numbers */
+static bool read_interval(PyObject *const *args, Vec *p)
+{
+  for (int i = 0; i < 6; i++) {
+    if (!read_vec(args[i], &p[i]) || !finite3(p[i])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+static bool non_negative(double x) { return isfinite(x) && x >= 0.0; }
+
+static PyObject *not_implemented(void) { Py_RETURN_NOTIMPLEMENTED; }
+
+/* ------------------------------------------------------------------------------------------ */
+/* Python entry points */
+
+static PyObject *py_bind(PyObject *self, PyObject *args)
+{
+  PyObject *type, *names, *members;
+  if (!PyArg_ParseTuple(args, "O!O!O!", &PyType_Type, &type, &PyTuple_Type, &names,
+                        &PyTuple_Type, &members)) {
+    return NULL;
+  }
+  if (PyTuple_GET_SIZE(names) != 7 || PyTuple_GET_SIZE(members) != 3) {
+    PyErr_SetString(PyExc_ValueError, "bind(type, its 7 field names, (side, knob_end, tip_end))");
+    return NULL;
+  }
+  if (no_arguments == NULL && (no_arguments = PyTuple_New(0)) == NULL) {
+    return NULL;
+  }
+  Py_INCREF(type);
+  Py_INCREF(names);
+  Py_INCREF(members);
+  Py_XSETREF(result_type, type);
+  Py_XSETREF(result_fields, names);
+  Py_XSETREF(features, members);
+  Py_RETURN_NONE;
+}
+
+static PyObject *py_capsule(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 9) {
+    PyErr_SetString(PyExc_TypeError, "capsule() takes 9 arguments");
+    return NULL;
+  }
+  Vec p[6];
+  double rb, rt, dt, tau;
+  if (!read_interval(args, p) || !read_number(args[6], &rb) || !read_number(args[7], &rt) ||
+      !read_number(args[8], &dt) || !non_negative(rb) || !non_negative(rt) || !isfinite(dt) ||
+      !(dt > 0.0)) {
+    return not_implemented();
+  }
+  if (!capsule_tau(p[0], p[1], p[2], p[3], p[4], p[5], rb + rt, &tau)) {
+    Py_RETURN_NONE;
+  }
+  return contact_at(tau, dt, p, rb, rt, 0.0, 1.0, true, true);
+}
+
+/* the last profile seen and its capsules (the detector asks with one profile all the time) */
+static struct {
+  PyObject *profile;
+  int count;
+  double segments[MAX_SEGMENTS][3];
+  double max_radius;
+} profile_cache = {NULL, 0, {{0}}, 0.0};
+
+static bool load_profile(PyObject *profile)
+{
+  if (profile == profile_cache.profile) {
+    return true;
+  }
+  PyObject *segments = PyObject_CallMethod(profile, "segments", NULL);
+  PyObject *max_radius = PyObject_GetAttrString(profile, "max_radius");
+  PyObject *seq = segments ? PySequence_Fast(segments, "segments() must be a sequence") : NULL;
+  bool ok = seq != NULL && max_radius != NULL;
+  if (ok) {
+    Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
+    if (n < 1 || n > MAX_SEGMENTS) {
+      PyErr_Format(PyExc_ValueError, "a bat profile needs 1 to %d capsules, got %zd",
+                   MAX_SEGMENTS, n);
+      ok = false;
+    }
+    for (Py_ssize_t i = 0; ok && i < n; i++) {
+      Vec v;
+      if (!read_vec(PySequence_Fast_GET_ITEM(seq, i), &v)) {
+        PyErr_SetString(PyExc_TypeError, "a profile capsule must be 3 numbers");
+        ok = false;
+        break;
+      }
+      profile_cache.segments[i][0] = v.x;
+      profile_cache.segments[i][1] = v.y;
+      profile_cache.segments[i][2] = v.z;
+    }
+    if (ok) {
+      profile_cache.max_radius = PyFloat_AsDouble(max_radius);
+      ok = !PyErr_Occurred();
+      profile_cache.count = (int)n;
+    }
+  }
+  Py_XDECREF(segments);
+  Py_XDECREF(max_radius);
+  Py_XDECREF(seq);
+  Py_XSETREF(profile_cache.profile, NULL);
+  if (ok) {
+    Py_INCREF(profile);
+    profile_cache.profile = profile;
+  }
+  return ok;
+}
+
+static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 9) {
+    PyErr_SetString(PyExc_TypeError, "profile() takes 9 arguments");
+    return NULL;
+  }
+  Vec p[6];
+  double rb, dt;
+  if (!read_interval(args, p) || !read_number(args[6], &rb) || !read_number(args[8], &dt) ||
+      !non_negative(rb) || !isfinite(dt) || !(dt > 0.0)) {
+    return not_implemented();
+  }
+  if (!load_profile(args[7])) {
+    return NULL;
+  }
+  int count = profile_cache.count;
+  if (count > 1 && !may_touch(p[0], p[1], p[2], p[3], p[4], p[5],
+                              rb + profile_cache.max_radius)) {
+    Py_RETURN_NONE;
+  }
+  bool have = false;
+  double best_tau = 0.0;
+  int best = 0;
+  Vec piece[6] = {p[0], p[1]}; /* b0, b1, tip0, tip1, knob0, knob1 of the best piece */
+  for (int i = 0; i < count; i++) {
+    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
+    double radius = profile_cache.segments[i][2], tau;
+    Vec k0 = v_lerp(p[4], p[2], f0), k1 = v_lerp(p[5], p[3], f0);
+    Vec t0 = v_lerp(p[4], p[2], f1), t1 = v_lerp(p[5], p[3], f1);
+    if (capsule_tau(p[0], p[1], t0, t1, k0, k1, rb + radius, &tau) && (!have || tau < best_tau)) {
+      have = true;
+      best_tau = tau;
+      best = i;
+      piece[2] = t0;
+      piece[3] = t1;
+      piece[4] = k0;
+      piece[5] = k1;
+    }
+  }
+  if (!have) {
+    Py_RETURN_NONE;
+  }
+  return contact_at(best_tau, dt, piece, rb, profile_cache.segments[best][2],
+                    profile_cache.segments[best][0], profile_cache.segments[best][1], best == 0,
+                    best == count - 1);
+}
+
+static PyObject *py_closest_offset(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec p[6];
+  if (nargs != 6 || !read_interval(args, p)) {
+    PyErr_SetString(PyExc_TypeError, "closest_offset() takes 6 points of 3 finite numbers");
+    return NULL;
+  }
+  return vec_tuple(closest_offset(p[0], p[1], p[2], p[3], p[4], p[5]));
+}
+
+/* one row of the batch: contact time in seconds, or NaN (no contact or a bad row) */
+static double solve_row(const Vec *p, double rb, double rt, double dt)
+{
+  for (int i = 0; i < 6; i++) {
+    if (!finite3(p[i])) {
+      return NAN;
+    }
+  }
+  if (!non_negative(rb) || !non_negative(rt) || !isfinite(rb + rt) || !isfinite(dt) ||
+      !(dt > 0.0)) {
+    return NAN;
+  }
+  double tau;
+  if (!capsule_tau(p[0], p[1], p[2], p[3], p[4], p[5], rb + rt, &tau)) {
+    return NAN;
+  }
+  return tau * dt;
+}
+
+/* a C-contiguous buffer of `items` float64 values */
+static bool get_buffer(PyObject *o, Py_buffer *view, Py_ssize_t items, bool writable)
+{
+  int flags = PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | (writable ? PyBUF_WRITABLE : 0);
+  if (PyObject_GetBuffer(o, view, flags) < 0) {
+    return false;
+  }
+  if (view->len != items * (Py_ssize_t)sizeof(double) || view->itemsize != sizeof(double) ||
+      view->format == NULL || strchr(view->format, 'd') == NULL) {
+    PyErr_Format(PyExc_ValueError, "expected a contiguous buffer of %zd float64 values", items);
+    PyBuffer_Release(view);
+    return false;
+  }
+  return true;
+}
+
+/* capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop) */
+static PyObject *py_capsule_rows(PyObject *self, PyObject *args)
+{
+  PyObject *objects[10];
+  Py_buffer views[10];
+  Py_ssize_t start, stop, n;
+  if (!PyArg_ParseTuple(args, "OOOOOOOOOOnn", &objects[0], &objects[1], &objects[2],
+                        &objects[3], &objects[4], &objects[5], &objects[6], &objects[7],
+                        &objects[8], &objects[9], &start, &stop)) {
+    return NULL;
+  }
+  n = PyObject_Length(objects[9]);
+  if (n < 0) {
+    return NULL;
+  }
+  int got = 0;
+  while (got < 10 && get_buffer(objects[got], &views[got], got < 6 ? 3 * n : n, got == 9)) {
+    got++;
+  }
+  if (got == 10 && !(0 <= start && start <= stop && stop <= n)) {
+    PyErr_SetString(PyExc_ValueError, "rows out of range");
+  } else if (got == 10) {
+    const double *points[6], *rb = views[6].buf, *rt = views[7].buf, *dt = views[8].buf;
+    double *out = views[9].buf;
+    for (int k = 0; k < 6; k++) {
+      points[k] = views[k].buf;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    for (Py_ssize_t i = start; i < stop; i++) {
+      Vec p[6];
+      for (int k = 0; k < 6; k++) {
+        p[k] = (Vec){points[k][3 * i], points[k][3 * i + 1], points[k][3 * i + 2]};
+      }
+      out[i] = solve_row(p, rb[i], rt[i], dt[i]);
+    }
+    Py_END_ALLOW_THREADS
+  }
+  for (int i = 0; i < got; i++) {
+    PyBuffer_Release(&views[i]);
+  }
+  if (PyErr_Occurred()) {
+    return NULL;
+  }
+  Py_RETURN_NONE;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* the building blocks, exposed for the tests */
+
+static bool read_coefficients(PyObject *o, double *c, Py_ssize_t count)
+{
+  PyObject *seq = PySequence_Fast(o, "coefficients must be a sequence");
+  if (seq == NULL) {
+    return false;
+  }
+  bool ok = PySequence_Fast_GET_SIZE(seq) == count;
+  for (Py_ssize_t i = 0; ok && i < count; i++) {
+    c[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq, i));
+    ok = !PyErr_Occurred();
+  }
+  Py_DECREF(seq);
+  if (!ok && !PyErr_Occurred()) {
+    PyErr_Format(PyExc_ValueError, "expected %zd coefficients", count);
+  }
+  return ok;
+}
+
+static PyObject *float_list(const double *x, int count)
+{
+  PyObject *list = PyList_New(count);
+  for (int i = 0; list != NULL && i < count; i++) {
+    PyObject *item = PyFloat_FromDouble(x[i]);
+    if (item == NULL) {
+      Py_CLEAR(list);
+      break;
+    }
+    PyList_SET_ITEM(list, i, item);
+  }
+  return list;
+}
+
+static PyObject *py_quadratic_roots(PyObject *self, PyObject *args)
+{
+  double a, b, c, roots[2];
+  if (!PyArg_ParseTuple(args, "ddd", &a, &b, &c)) {
+    return NULL;
+  }
+  return float_list(roots, quadratic_roots(a, b, c, roots));
+}
+
+static PyObject *py_bracketed_root(PyObject *self, PyObject *args)
+{
+  PyObject *o;
+  int order;
+  double c[5], lo, hi, f_lo;
+  if (!PyArg_ParseTuple(args, "Oiddd", &o, &order, &lo, &hi, &f_lo) ||
+      !read_coefficients(o, c, 5)) {
+    return NULL;
+  }
+  return PyFloat_FromDouble(bracketed_root(c, order != 0, lo, hi, f_lo));
+}
+
+static PyObject *py_critical_points(PyObject *self, PyObject *o)
+{
+  double c[5], out[3];
+  if (!read_coefficients(o, c, 5)) {
+    return NULL;
+  }
+  return float_list(out, critical_points(c, out));
+}
+
+static PyObject *py_touch_candidates(PyObject *self, PyObject *args)
+{
+  PyObject *o, *p;
+  double c[5], slack_poly[5], scale, tau, found[5];
+  if (!PyArg_ParseTuple(args, "OdO", &o, &scale, &p) || !read_coefficients(o, c, 5) ||
+      !read_coefficients(p, slack_poly, 5)) {
+    return NULL;
+  }
+  Candidates it = {0};
+  Slack slack = {scale, slack_poly};
+  int count = 0;
+  while (count < 5 && next_candidate(c, slack, &it, &tau)) {
+    found[count++] = tau;
+  }
+  return float_list(found, count);
+}
+
+static PyObject *py_quadratic_entry(PyObject *self, PyObject *args)
+{
+  double a, b, c, slack, tau;
+  if (!PyArg_ParseTuple(args, "dddd", &a, &b, &c, &slack)) {
+    return NULL;
+  }
+  if (!quadratic_entry(a, b, c, slack, &tau)) {
+    Py_RETURN_NONE;
+  }
+  return PyFloat_FromDouble(tau);
+}
+
+/* (w0, w1, u0, u1) as given (scale 1) */
+static bool read_scaled(PyObject *const *args, Scaled *s)
+{
+  Vec v[4];
+  for (int i = 0; i < 4; i++) {
+    if (!read_vec(args[i], &v[i])) {
+      PyErr_SetString(PyExc_TypeError, "w0, w1, u0, u1 must be 3 numbers each");
+      return false;
+    }
+  }
+  *s = (Scaled){v[0], v[1], v[2], v[3], 1.0};
+  return true;
+}
+
+static PyObject *py_cap_quadratics(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Scaled s;
+  double rr, caps[2][3];
+  if (nargs != 5 || !read_scaled(args, &s) || !read_number(args[4], &rr)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "cap_quadratics(w0, w1, u0, u1, rr)");
+    }
+    return NULL;
+  }
+  cap_quadratics(&s, rr, caps);
+  return Py_BuildValue("((ddd)(ddd))", caps[0][0], caps[0][1], caps[0][2], caps[1][0],
+                       caps[1][1], caps[1][2]);
+}
+
+static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Scaled s;
+  double rr, q[5], uu[5], wu[5];
+  if (nargs != 5 || !read_scaled(args, &s) || !read_number(args[4], &rr)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "side_quartic(w0, w1, u0, u1, rr)");
+    }
+    return NULL;
+  }
+  side_quartic(&s, rr, q, uu, wu);
+  return Py_BuildValue("((ddddd)(ddd)(ddd))", q[0], q[1], q[2], q[3], q[4], uu[0], uu[1],
+                       uu[2], wu[0], wu[1], wu[2]);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+
+static PyMethodDef methods[] = {
+    {"bind", py_bind, METH_VARARGS,
+     "bind(ImpactResult, its field names, (side, knob_end, tip_end)): the result type"},
+    {"capsule", (PyCFunction)(void (*)(void))py_capsule, METH_FASTCALL,
+     "capsule(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt): ImpactResult, None or "
+     "NotImplemented (input to check)"},
+    {"profile", (PyCFunction)(void (*)(void))py_profile, METH_FASTCALL,
+     "profile(b0, b1, e0, e1, s0, s1, ball_radius, profile, dt): ImpactResult, None or "
+     "NotImplemented (input to check)"},
+    {"closest_offset", (PyCFunction)(void (*)(void))py_closest_offset, METH_FASTCALL,
+     "closest_offset(b0, b1, e0, e1, s0, s1): the ball's offset from the bat's midpoint at "
+     "their closest"},
+    {"capsule_rows", py_capsule_rows, METH_VARARGS,
+     "capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop): "
+     "batch rows, GIL released"},
+    {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
+    {"bracketed_root", py_bracketed_root, METH_VARARGS,
+     "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},
+    {"critical_points", py_critical_points, METH_O, "critical points of a quartic in (0, 1)"},
+    {"touch_candidates", py_touch_candidates, METH_VARARGS,
+     "touch_candidates(c, slack_scale, slack_poly): contact candidates in [0, 1]"},
+    {"quadratic_entry", py_quadratic_entry, METH_VARARGS,
+     "quadratic_entry(a, b, c, slack): first contact tau or None"},
+    {"cap_quadratics", (PyCFunction)(void (*)(void))py_cap_quadratics, METH_FASTCALL,
+     "the end caps' quadratics"},
+    {"side_quartic", (PyCFunction)(void (*)(void))py_side_quartic, METH_FASTCALL,
+     "the side's quartic, |u|^2 and w.u"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT,
+    .m_name = "_kernel",
+    .m_doc = "The compiled exact time-of-impact kernel.",
+    .m_size = -1,
+    .m_methods = methods,
+};
+
+PyMODINIT_FUNC PyInit__kernel(void)
+{
+  PyObject *m = PyModule_Create(&module);
+  if (m == NULL) {
+    return NULL;
+  }
+  if (PyModule_AddObject(m, "TOUCH_TOLERANCE", PyFloat_FromDouble(TOUCH_TOLERANCE)) < 0 ||
+      PyModule_AddObject(m, "DEGENERATE_AXIS", PyFloat_FromDouble(DEGENERATE_AXIS)) < 0 ||
+      PyModule_AddObject(m, "ROOT_SLACK", PyFloat_FromDouble(ROOT_SLACK)) < 0) {
+    Py_DECREF(m);
+    return NULL;
+  }
+  return m;
+}

@@ -1,0 +1,104 @@
+"""
+``analyze`` on every core: bags in a process pool, one report in the input order.
+
+Real bag files (the bundled ones, copied or linked into directories of bags); the pool's
+results are compared with the same bags analysed one after another in this process.
+"""
+
+import json
+from pathlib import Path
+import shutil
+from typing import Callable, List, Tuple
+
+from baseball_collision.errors import ToolError
+from baseball_collision.tools.analyze import analyze_bags, bag_paths, BagAnalysis, is_bag
+import pytest
+from support.bundled import bag_path
+
+RunCli = Callable[[List[str]], Tuple[int, str, str]]
+
+SMALL = ['pitches_90hz.mcap', 'pitches_120hz_sqlite3']
+"""Two small bundled bags: a bare MCAP file and a ROS 2 (sqlite3) bag directory."""
+
+
+def _events(analysis: BagAnalysis) -> tuple:
+    return (analysis.path, analysis.messages, analysis.impacts, analysis.near_misses,
+            analysis.gaps, analysis.resets, analysis.stats.dropped)
+
+
+def _directory_of_bags(root: Path) -> Path:
+    """Return a directory holding the two small bags (named so the directory order differs)."""
+    directory = root / 'season'
+    directory.mkdir()
+    shutil.copy(bag_path(SMALL[0]), directory / 'b_first.mcap')
+    shutil.copytree(bag_path(SMALL[1]), directory / 'a_second')
+    (directory / 'notes.txt').write_text('not a bag')
+    (directory / 'empty').mkdir()  # a directory inside that is not a bag: not taken
+    return directory
+
+
+def test_a_bag_directory_is_one_bag_and_a_directory_of_bags_is_its_bags(tmp_path: Path) -> None:
+    """metadata.yaml makes a directory one bag; another directory stands for the bags in it."""
+    assert is_bag(bag_path(SMALL[1])) and is_bag(bag_path(SMALL[0]))
+    assert bag_paths([bag_path(SMALL[1])]) == [bag_path(SMALL[1])]
+    directory = _directory_of_bags(tmp_path)
+    assert bag_paths([directory, bag_path(SMALL[0])]) == [
+        directory / 'a_second', directory / 'b_first.mcap', bag_path(SMALL[0])]
+    missing = tmp_path / 'missing.mcap'
+    assert bag_paths([missing]) == [missing]  # analyze_bag says what is wrong with it
+    with pytest.raises(ToolError, match='no bags in'):
+        bag_paths([directory / 'empty'])
+
+
+def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) -> None:
+    """Two jobs over a directory of bags and a bag: the same analyses, in the input order."""
+    paths = [_directory_of_bags(tmp_path), bag_path(SMALL[0])]
+    alone = analyze_bags(paths, jobs=1, progress=False)
+    pooled = analyze_bags(paths, jobs=2, progress=False)
+    assert [a.path for a in pooled] == bag_paths(paths)
+    assert [_events(a) for a in pooled] == [_events(a) for a in alone]
+    assert all(a.impacts for a in pooled) and all(a.truth is None for a in pooled[:2])
+    assert pooled[2].truth is not None  # the truth file beside the bundled bag
+    assert len(pooled[2].truth.matched) == len(alone[2].truth.matched) > 0
+
+
+def test_the_first_failing_bag_in_input_order_is_the_error(tmp_path: Path) -> None:
+    """A later bag failing sooner does not matter: the error is the first bad bag's."""
+    truncated = tmp_path / 'cut.mcap'
+    truncated.write_bytes(bag_path(SMALL[0]).read_bytes()[:4000])
+    paths = [bag_path(SMALL[0]), tmp_path / 'missing.mcap', truncated]
+    with pytest.raises(ToolError, match='bag not found'):
+        analyze_bags(paths, jobs=3, progress=False)
+    with pytest.raises(ToolError, match='cannot read bag'):
+        analyze_bags([bag_path(SMALL[0]), truncated], jobs=2, progress=False)
+
+
+def test_cli_jobs_writes_one_report_in_input_order(tmp_path: Path, run_cli: RunCli) -> None:
+    """``analyze DIR BAG --jobs 2``: one table, JSON and CSV, bags in the order given."""
+    directory = _directory_of_bags(tmp_path)
+    code, stdout, stderr = run_cli(['analyze', str(directory), str(bag_path(SMALL[0])),
+                                    '--jobs', '2', '--json', str(tmp_path / 'o.json'),
+                                    '--csv', str(tmp_path / 'o.csv')])
+    assert code == 0 and stderr == ''
+    assert stdout.count('summary:') == 3 and 'total: 3 bags' in stdout
+    assert 'of wall time' in stdout
+    document = json.loads((tmp_path / 'o.json').read_text())
+    assert [b['path'] for b in document['bags']] == [
+        str(p) for p in bag_paths([directory, bag_path(SMALL[0])])]
+    first_bag_rows = (tmp_path / 'o.csv').read_text().splitlines()[1:]
+    assert first_bag_rows and str(directory / 'a_second') in first_bag_rows[0]
+
+
+@pytest.mark.parametrize('argv, words', [
+    (['--jobs', '0'], "'0' must be >= 1"),
+    (['--jobs', '2', '--out-bag', 'OUT'], '--out-bag takes one BAG'),
+])
+def test_cli_jobs_errors_are_one_line(argv: List[str], words: str, tmp_path: Path,
+                                      run_cli: RunCli) -> None:
+    """Bad --jobs, or --out-bag with several bags: one line, exit 2, nothing written."""
+    argv = [str(tmp_path / 'o.mcap') if a == 'OUT' else a for a in argv]
+    code, stdout, stderr = run_cli(['analyze', str(bag_path(SMALL[0])),
+                                    str(bag_path(SMALL[1]))] + argv)
+    assert code == 2 and stdout == ''
+    assert stderr.count('\n') == 1 and words in stderr
+    assert list(tmp_path.iterdir()) == []
