@@ -4,14 +4,16 @@ The cheap far test: ball and bat clearly apart over a union interval, from the r
 Most intervals of a session have the ball metres from the bat. This decides them without
 building a path: each body's path lies in a sphere around its chord's middle, grown by a bound
 on how far the motion model lets it bulge (none for chords; for a rigid turn, the sagitta is
-at most half the chord of the rotating part; for the spline, ``bulge_bounds``).
+at most half the chord of the rotating part; for the spline, ``bulge_bounds``; for ``c2``,
+``c2_bulges``).
 """
 
 import math
-from typing import Callable, List, Sequence
+from typing import Callable, List, Optional, Sequence
 
+from .fitting import c2_window
 from .streams import Stream
-from ..geometry import sub, Vector
+from ..geometry import dot, norm, sub, Vector
 from ..motion import BatSample
 
 Pick = Callable[[object], Vector]
@@ -28,6 +30,92 @@ def _knob_of(sample: BatSample) -> Vector:
 
 def _axis_of(sample: BatSample) -> Vector:
     return sub(sample.tip, sample.knob)
+
+
+C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.18, 0.048, 0.013, 0.0034, 0.0009, 0.0002)
+"""Bounds of |l_i - chord| over interval k of the window spline's cardinal function l_i, for
+samples i = k - 1, k - 2, ... (then 0.0001 each): measured over windows of 2-16 samples with
+steps within a factor 4 of each other (test/core/detector/test_broadphase_c2.py re-measures)."""
+
+C2_WEIGHTS_AFTER = (3.4, 1.1)
+"""The same for samples k + 2 and k + 3 (look-ahead 1 and 2)."""
+
+C2_SAFETY = 1.25
+"""Factor on the weights."""
+
+C2_STEP_RATIO = 4.0
+"""Windows whose longest step is more than this times the shortest get no far test."""
+
+
+def _unit_axis(sample: BatSample) -> Vector:
+    axis = sub(sample.tip, sample.knob)
+    length = norm(axis)
+    return (axis[0] / length, axis[1] / length, axis[2] / length)
+
+
+def _length_of(sample: BatSample) -> Vector:
+    return (math.dist(sample.tip, sample.knob), 0.0, 0.0)
+
+
+def c2_bulges(stream: Stream, k: int, window: range,
+              picks: Sequence[Pick]) -> Optional[List[float]]:
+    """
+    Bound (m) how far each picked point's ``c2`` spline over interval k leaves its chord.
+
+    The spline is linear in its samples and reproduces lines, so it leaves the chord by at
+    most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
+    cardinal bound by its distance from the interval (``C2_WEIGHTS_*``). None when the
+    window's steps are too uneven for the weights (no far test then).
+    """
+    times, values = stream.times, stream.values
+    steps = [times[i + 1] - times[i] for i in range(window.start, window.stop - 1)]
+    if max(steps) > C2_STEP_RATIO * min(steps):
+        return None
+    t0 = times[k]
+    h = times[k + 1] - t0
+    bounds = []
+    for pick in picks:
+        p0, p1 = pick(values[k]), pick(values[k + 1])
+        rate = ((p1[0] - p0[0]) / h, (p1[1] - p0[1]) / h, (p1[2] - p0[2]) / h)
+        bound = 0.0
+        for i in window:
+            if i == k or i == k + 1:
+                continue
+            offset = i - k
+            if offset < 0:
+                weight = C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(
+                    C2_WEIGHTS_BEFORE) else 0.0001
+            else:
+                weight = C2_WEIGHTS_AFTER[offset - 2]
+            p, dt = pick(values[i]), times[i] - t0
+            bound += weight * math.dist(p, (p0[0] + rate[0] * dt, p0[1] + rate[1] * dt,
+                                            p0[2] + rate[2] * dt))
+        bounds.append(C2_SAFETY * bound)
+    return bounds
+
+
+def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
+    """
+    Bound (m) how far any axis point of the ``c2`` bat leaves its chord over interval k.
+
+    With the knob's, unit direction's and length's bulges B_k, B_u, B_L, the angle theta
+    between the end directions and the longer end length L: the renormalised direction stays
+    within 1 - cos(theta / 2) + 2 B_u of its chord, so any axis point within B_k + B_L +
+    (L + B_L) (1 - cos(theta / 2) + 2 B_u) + |dL| |du| / 4. None: no bound (uneven steps, or
+    a direction spline that may pass near zero).
+    """
+    bulges = c2_bulges(stream, k, window, (_knob_of, _unit_axis, _length_of))
+    if bulges is None:
+        return None
+    knob, turn, stretch = bulges
+    s0, s1 = stream.values[k], stream.values[k + 1]
+    u0, u1 = _unit_axis(s0), _unit_axis(s1)
+    half_cos = math.sqrt(max(0.0, 0.5 * (1.0 + dot(u0, u1))))  # cos(theta / 2)
+    if half_cos - turn < 0.25:
+        return None
+    length0, length1 = math.dist(s0.tip, s0.knob), math.dist(s1.tip, s1.knob)
+    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + 2.0 * turn)
+            + 0.25 * abs(length1 - length0) * math.dist(u0, u1))
 
 
 def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) -> List[float]:
@@ -56,12 +144,13 @@ def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) 
 
 
 def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: float,
-                  model: str, max_gap: float) -> bool:
+                  model: str, max_gap: float, look_ahead: int = 0, size: int = 8) -> bool:
     """
     Return whether ball and bat stay more than ``margin`` (m) apart over both sample intervals.
 
     :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
     :param model: the motion model between samples.
+    :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
     """
     b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
     s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
@@ -90,4 +179,12 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         knob_bulge, axis_bulge = bulge_bounds(bat, bat_k, (_knob_of, _axis_of), max_gap)
         bat_radius += (knob_bulge + 0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1))
                        + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
+    elif model == 'c2':
+        window = c2_window(ball, ball_k, max_gap, look_ahead, size)
+        ball_bulge = c2_bulges(ball, ball_k, window, (_same,))
+        growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
+        if ball_bulge is None or growth is None:
+            return False
+        ball_radius += ball_bulge[0]
+        bat_radius += growth
     return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin

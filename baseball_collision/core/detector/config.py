@@ -214,7 +214,16 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     # ---- motion model and bat geometry (read-only)
     ParameterSpec(
         'model', _S, 'rigid', 'Motion between samples: linear (chords), rigid (translation + '
-        'SLERP, live default) or spline (cubic; waits one sample).', choices=MODELS,
+        'SLERP, live default), spline (cubic; waits one sample) or c2 (windowed not-a-knot '
+        'spline of knob, direction and length; waits look_ahead samples).', choices=MODELS,
+        read_only=_GEOMETRY),
+    ParameterSpec(
+        'look_ahead', _I, 0, 'c2: samples after an interval its fit may use (0-2), each one '
+        'more frame of latency; 0 keeps the frames after a contact out of its fit.', 'samples',
+        _closed(0, 2), read_only=_GEOMETRY),
+    ParameterSpec(
+        'spline_window', _I, 8, 'c2: samples in the spline fitted for an interval (4-32), the '
+        'newest its closing frame plus look_ahead.', 'samples', _closed(4, 32),
         read_only=_GEOMETRY),
     ParameterSpec(
         'bat_axis', _S, 'z', 'Bat body axis from knob to tip in the pose frame (pose input).',
@@ -401,7 +410,10 @@ class DetectorConfig:
     """
     Everything the detector needs to know; defaults and checks from :data:`PARAMETERS`.
 
-    :ivar model: motion model between samples: ``'linear'``, ``'rigid'`` or ``'spline'``.
+    :ivar model: motion model between samples: ``'linear'``, ``'rigid'``, ``'spline'`` or
+        ``'c2'``.
+    :ivar look_ahead: ``c2``: samples after an interval's closing frame its fit may use (0-2).
+    :ivar spline_window: ``c2``: samples in each interval's spline (4-32).
     :ivar bat_input: ``'pose'`` (one pose stream) or ``'points'`` (knob and tip streams).
     :ivar ball_radius: metres.
     :ivar profile: the bat's radius profile (stations from the knob), scaled to knob-tip.
@@ -432,6 +444,8 @@ class DetectorConfig:
     """
 
     model: str = DEFAULTS['model']
+    look_ahead: int = DEFAULTS['look_ahead']
+    spline_window: int = DEFAULTS['spline_window']
     bat_input: str = DEFAULTS['bat_input']
     ball_radius: float = DEFAULTS['ball_radius']
     profile: BatProfile = WOOD_BAT_34

@@ -38,7 +38,7 @@ from .scheduler import Scheduler
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import pose_point, Vector
-from ..motion import BatSample, SAMPLES_AHEAD
+from ..motion import BatSample, samples_ahead
 from ...errors import CoreError
 
 Handler = Callable[[Role, int, Any, List[Event]], Optional[DropReason]]
@@ -204,7 +204,7 @@ class Detector:
         :returns: the remaining events.
         """
         events: List[Event] = []
-        if SAMPLES_AHEAD[self._config.model]:
+        if samples_ahead(self._config.model, self._config.look_ahead):
             self._advance(events, final=True)
         self._episodes.close(events)
         return events

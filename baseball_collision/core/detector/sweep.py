@@ -16,6 +16,7 @@ from .broadphase import clearly_apart
 from .config import DetectorConfig
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
+from .fitting import c2_bat_path, c2_point_path, c2_window
 from .gate import Clock
 from .kinematics import impact_velocities
 from .streams import Stream
@@ -59,7 +60,7 @@ class Sweep:
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
         if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
-                         config.max_gap):
+                         config.max_gap, config.look_ahead, config.spline_window):
             self.episodes.far(events)
             return
         paths = self.paths(*located)
@@ -115,6 +116,12 @@ class Sweep:
         """Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached)."""
         ball, bat = self.ball, self.bat
         key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
+        c2 = self.model == 'c2'
+        config = self.config
+        if ball.path_key != key and c2:
+            ball.path = c2_point_path(ball, ball_k, c2_window(
+                ball, ball_k, config.max_gap, config.look_ahead, config.spline_window))
+            ball.path_key = key
         if ball.path_key != key:
             before, after = _neighbours(ball, ball_k, self.config.max_gap)
             ball.path = PointPath.build(self.model, ball.times[ball_k], ball.times[ball_k + 1],
@@ -122,6 +129,10 @@ class Sweep:
                                         after)
             ball.path_key = key
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
+        if bat.path_key != key and c2:
+            bat.path = c2_bat_path(bat, bat_k, c2_window(
+                bat, bat_k, config.max_gap, config.look_ahead, config.spline_window))
+            bat.path_key = key
         if bat.path_key != key:
             before, after = _neighbours(bat, bat_k, self.config.max_gap)
             bat.path = BatPath.build(self.model, bat.times[bat_k], bat.times[bat_k + 1],
