@@ -13,8 +13,8 @@ from typing import Callable, List, Optional, Sequence
 
 from .fitting import c2_window
 from .streams import Stream
-from ..geometry import dot, norm, sub, Vector
-from ..motion import BatSample
+from ..geometry import norm, sub, Vector
+from ..motion import BatSample, c2_rows, unit_axis
 
 Pick = Callable[[object], Vector]
 """Picks the point followed from a sample value (the ball itself, the knob, the axis)."""
@@ -47,75 +47,63 @@ C2_STEP_RATIO = 4.0
 """Windows whose longest step is more than this times the shortest get no far test."""
 
 
-def _unit_axis(sample: BatSample) -> Vector:
-    axis = sub(sample.tip, sample.knob)
-    length = norm(axis)
-    return (axis[0] / length, axis[1] / length, axis[2] / length)
-
-
-def _length_of(sample: BatSample) -> Vector:
-    return (math.dist(sample.tip, sample.knob), 0.0, 0.0)
-
-
-def c2_bulges(stream: Stream, k: int, window: range,
-              picks: Sequence[Pick]) -> Optional[List[float]]:
+def c2_bulges(times: Sequence[float], points: Sequence[Sequence[float]],
+              j: int) -> Optional[float]:
     """
-    Bound (m) how far each picked point's ``c2`` spline over interval k leaves its chord.
+    Bound how far the ``c2`` spline through (times, points) leaves its chord over interval j.
 
     The spline is linear in its samples and reproduces lines, so it leaves the chord by at
     most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
-    cardinal bound by its distance from the interval (``C2_WEIGHTS_*``). None when the
-    window's steps are too uneven for the weights (no far test then).
+    cardinal bound by its distance from the interval (``C2_WEIGHTS_*``), times
+    ``C2_SAFETY``. In the points' unit. None when the window's steps are too uneven for the
+    weights (no far test then).
     """
-    times, values = stream.times, stream.values
-    steps = [times[i + 1] - times[i] for i in range(window.start, window.stop - 1)]
+    steps = [b - a for a, b in zip(times, times[1:])]
     if max(steps) > C2_STEP_RATIO * min(steps):
         return None
-    t0 = times[k]
-    h = times[k + 1] - t0
-    bounds = []
-    for pick in picks:
-        p0, p1 = pick(values[k]), pick(values[k + 1])
-        rate = ((p1[0] - p0[0]) / h, (p1[1] - p0[1]) / h, (p1[2] - p0[2]) / h)
-        bound = 0.0
-        for i in window:
-            if i == k or i == k + 1:
-                continue
-            offset = i - k
-            if offset < 0:
-                weight = C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(
-                    C2_WEIGHTS_BEFORE) else 0.0001
-            else:
-                weight = C2_WEIGHTS_AFTER[offset - 2]
-            p, dt = pick(values[i]), times[i] - t0
-            bound += weight * math.dist(p, (p0[0] + rate[0] * dt, p0[1] + rate[1] * dt,
-                                            p0[2] + rate[2] * dt))
-        bounds.append(C2_SAFETY * bound)
-    return bounds
+    t0, h = times[j], times[j + 1] - times[j]
+    p0, p1 = points[j], points[j + 1]
+    rate = [(b - a) / h for a, b in zip(p0, p1)]
+    bound = 0.0
+    for i, (t, p) in enumerate(zip(times, points)):
+        offset = i - j
+        if offset in (0, 1):
+            continue
+        if offset > 0:
+            weight = C2_WEIGHTS_AFTER[offset - 2]
+        else:
+            weight = (C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(C2_WEIGHTS_BEFORE)
+                      else 0.0001)
+        dt = t - t0
+        bound += weight * math.sqrt(sum((q - a - r * dt) ** 2 for q, a, r in zip(p, p0, rate)))
+    return C2_SAFETY * bound
 
 
 def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
     """
     Bound (m) how far any axis point of the ``c2`` bat leaves its chord over interval k.
 
-    With the knob's, unit direction's and length's bulges B_k, B_u, B_L, the angle theta
-    between the end directions and the longer end length L: the renormalised direction stays
-    within 1 - cos(theta / 2) + 2 B_u of its chord, so any axis point within B_k + B_L +
-    (L + B_L) (1 - cos(theta / 2) + 2 B_u) + |dL| |du| / 4. None: no bound (uneven steps, or
-    a direction spline that may pass near zero).
+    With the bulges B_k, B_r, B_L of the knob's, the rotation vector's (``c2_rows``) and the
+    length's splines, the angle theta between the end directions and the longer end length
+    L: the direction (the rotation vector's exponential map, 1-Lipschitz) stays within B_r of
+    the great-circle arc, itself within 1 - cos(theta / 2) of the chord, so any axis point
+    within B_k + B_L + (L + B_L) (1 - cos(theta / 2) + B_r) + |dL| |du| / 4. None: no bound
+    (uneven steps).
     """
-    bulges = c2_bulges(stream, k, window, (_knob_of, _unit_axis, _length_of))
-    if bulges is None:
+    samples = [stream.values[i] for i in window]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = [stream.times[i] for i in window][first:first + len(rows)]
+    bulges = [c2_bulges(times, [row[a:b] for row in rows], j - first)
+              for a, b in ((0, 3), (3, 6), (6, 7))]
+    if None in bulges:
         return None
     knob, turn, stretch = bulges
-    s0, s1 = stream.values[k], stream.values[k + 1]
-    u0, u1 = _unit_axis(s0), _unit_axis(s1)
-    half_cos = math.sqrt(max(0.0, 0.5 * (1.0 + dot(u0, u1))))  # cos(theta / 2)
-    if half_cos - turn < 0.25:
-        return None
+    s0, s1 = samples[j], samples[j + 1]
+    half_cos = math.cos(0.5 * norm(rows[j + 1 - first][3:6]))
     length0, length1 = math.dist(s0.tip, s0.knob), math.dist(s1.tip, s1.knob)
-    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + 2.0 * turn)
-            + 0.25 * abs(length1 - length0) * math.dist(u0, u1))
+    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
+            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(s0), unit_axis(s1)))
 
 
 def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) -> List[float]:
@@ -181,10 +169,11 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
                        + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
     elif model == 'c2':
         window = c2_window(ball, ball_k, max_gap, look_ahead, size)
-        ball_bulge = c2_bulges(ball, ball_k, window, (_same,))
+        ball_bulge = c2_bulges([ball.times[i] for i in window],
+                               [ball.values[i] for i in window], ball_k - window.start)
         growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
         if ball_bulge is None or growth is None:
             return False
-        ball_radius += ball_bulge[0]
+        ball_radius += ball_bulge
         bat_radius += growth
     return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin

@@ -12,7 +12,7 @@ from typing import Sequence
 import numpy as np
 
 from .streams import Stream
-from ..motion import c2_rows, C2BatPath, not_a_knot_slopes, PointPath
+from ..motion import C2BatPath, not_a_knot_slopes, PointPath
 
 
 def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int) -> range:
@@ -41,6 +41,5 @@ def c2_point_path(stream: Stream, k: int, window: range) -> PointPath:
 
 def c2_bat_path(stream: Stream, k: int, window: range) -> C2BatPath:
     """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
-    times = [stream.times[i] for i in window]
-    samples = [stream.values[i] for i in window]
-    return C2BatPath.fitted(times, samples, k - window.start, _slopes(times, c2_rows(samples)))
+    return C2BatPath.fitted([stream.times[i] for i in window],
+                            [stream.values[i] for i in window], k - window.start)

@@ -3,16 +3,20 @@ The ``c2`` model: a not-a-knot cubic spline per coordinate over a window of each
 
 Over the last W samples of a continuous stream segment up to the interval's closing frame plus
 a look-ahead of 0, 1 or 2 frames, each coordinate is interpolated by the not-a-knot cubic
-spline (``splines.not_a_knot_slopes``): the ball's centre; the bat's knob, its unit
-knob-to-tip direction and its length. The direction's spline is renormalised where it is used,
-so the bat turns about whatever axis its samples say, the axis changing within and between
-intervals (no fixed axis per interval: a tilting swing plane is followed), and keeps its
-length. From poses the knob and tip the pose carries are fitted the same way (a round bat's
-roll does not move its axis).
+spline (``splines.not_a_knot_slopes``): the ball's centre; the bat's knob, its length, and its
+knob-to-tip direction in a local chart: each sample's direction as the rotation vector (axis
+times angle, across the bat) that turns the interval's opening direction onto it. The spline
+of the rotation vector is mapped back by Rodrigues' formula, so the bat stays rigid and turns
+about whatever axis its samples say, the axis changing within and between intervals (no fixed
+axis per interval: a tilting swing plane is followed); a turn about a fixed axis is then just a
+spline of its angle, a smooth function even when the bat turns half a radian a frame. Samples
+more than ``MAX_CHART_ANGLE`` from the opening direction leave the window (the chart holds to
+pi). From poses the knob and tip the pose carries are fitted the same way (a round bat's roll
+does not move its axis).
 
 Error order: a spline through samples of a motion with a bounded fourth derivative is O(h^4)
-off in position (and the renormalisation keeps that order: the unit direction is a smooth
-function) and O(h^3) in velocity, on uneven stamps and in the window's end pieces too
+off in position (the chart is smooth, so the order carries over to the direction) and O(h^3)
+in velocity, on uneven stamps and in the window's end pieces too
 (not-a-knot), so halving the step divides the position error by about 16. With look-ahead 0
 the fit ends at the interval's closing frame: frames after it (the bat braking after a
 contact) cannot bend the interval. Each path is a ``MotionPath`` over one interval;
@@ -21,12 +25,13 @@ derivative of knob + length * direction.
 """
 
 import math
-from typing import Sequence, Tuple
+from typing import List, Sequence, Tuple
 
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
-from ..geometry import dot, norm, sub, Vector
+from .splines import not_a_knot_slopes
+from ..geometry import cross, dot, norm, sub, Vector
 
 
 def _second_bound(path: PointPath, ta: float, tb: float) -> float:
@@ -54,89 +59,127 @@ def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, floa
     return value, first, second
 
 
-def _least_norm(a: Vector, b: Vector) -> float:
-    """Return the smallest length of a point on the segment from a to b."""
-    change = sub(b, a)
-    size = dot(change, change)
-    u = 0.0 if size == 0.0 else min(1.0, max(0.0, -dot(a, change) / size))
-    return norm((a[0] + u * change[0], a[1] + u * change[1], a[2] + u * change[2]))
+MAX_CHART_ANGLE = 2.5
+"""Largest turn (rad) of a window sample's direction from the interval's opening direction."""
+
+
+def unit_axis(sample: BatSample) -> Vector:
+    """Return the unit knob-to-tip direction of a bat sample."""
+    axis = sub(sample.tip, sample.knob)
+    length = norm(axis)
+    return (axis[0] / length, axis[1] / length, axis[2] / length)
+
+
+def rotation_to(reference: Vector, direction: Vector) -> Vector:
+    """Return the rotation vector (rad, across ``reference``) turning it onto ``direction``."""
+    turn = cross(reference, direction)
+    sine = norm(turn)
+    if sine < 1e-15:
+        return (0.0, 0.0, 0.0)
+    angle = math.atan2(sine, dot(reference, direction)) / sine
+    return (turn[0] * angle, turn[1] * angle, turn[2] * angle)
+
+
+def rotate(reference: Vector, rotation: Vector) -> Vector:
+    """Return ``reference`` turned by a rotation vector across it (Rodrigues), unit."""
+    angle = norm(rotation)
+    if angle < 1e-15:
+        return reference
+    across = cross(rotation, reference)
+    c, s = math.cos(angle), math.sin(angle) / angle
+    return (c * reference[0] + s * across[0], c * reference[1] + s * across[1],
+            c * reference[2] + s * across[2])
+
+
+def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
+    """
+    Return the window's rows for the interval from samples[j] to samples[j + 1].
+
+    :returns: (the first sample kept, its rows onward): per sample the 7 fitted coordinates
+        knob (m), rotation vector from samples[j]'s direction (rad), length (m). Samples before
+        j (or after j + 1) turned more than ``MAX_CHART_ANGLE`` from it end the window there.
+    """
+    reference = unit_axis(samples[j])
+    rows: List[Tuple[float, ...]] = []
+    first, last = 0, len(samples)
+    for i, sample in enumerate(samples):
+        rotation = rotation_to(reference, unit_axis(sample))
+        if norm(rotation) > MAX_CHART_ANGLE:
+            if i < j:
+                first, rows = i + 1, []
+                continue
+            if i > j + 1:
+                last = i
+                break
+        rows.append((*sample.knob, *rotation, math.dist(sample.tip, sample.knob)))
+    return first, rows[:last - first]
 
 
 class C2BatPath(BatPath):
     """
-    ``c2``: knob, unit direction and length, each a spline piece (cubic Hermite) over [t0, t1].
+    ``c2``: knob, direction (a rotation vector's spline) and length, each a spline piece.
 
-    :param knob_slopes, direction_slopes: (start, end) velocities (per second) of the knob (m)
-        and of the unit knob-to-tip direction, from the window's spline.
+    :param knob_slopes: (start, end) velocities (m/s) of the knob, from the window's spline.
+    :param turn_slopes: (start, end) rates (rad/s) of the rotation vector from the opening
+        direction (which it turns onto the closing one).
     :param length_slopes: (start, end) rates of the knob-to-tip length (m/s).
     """
 
-    __slots__ = ('knob', 'direction', 'length')
+    __slots__ = ('knob', 'turn', 'length', 'reference')
     kind = PathKind.C2
 
     def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
-                 knob_slopes: Tuple[Vector, Vector], direction_slopes: Tuple[Vector, Vector],
+                 knob_slopes: Tuple[Vector, Vector], turn_slopes: Tuple[Vector, Vector],
                  length_slopes: Tuple[float, float]) -> None:
         super().__init__(t0, t1, sample0, sample1)
         self.knob = PointPath(t0, t1, sample0.knob, sample1.knob, *knob_slopes)
-        axis0, axis1 = sub(sample0.tip, sample0.knob), sub(sample1.tip, sample1.knob)
-        length0, length1 = norm(axis0), norm(axis1)
-        self.direction = PointPath(t0, t1, tuple(c / length0 for c in axis0),
-                                   tuple(c / length1 for c in axis1), *direction_slopes)
+        self.reference = unit_axis(sample0)
+        closing = rotation_to(self.reference, unit_axis(sample1))
+        self.turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
+        length0 = math.dist(sample0.tip, sample0.knob)
+        length1 = math.dist(sample1.tip, sample1.knob)
         self.length = AngleCubic(t0, t1, length0, length1, *length_slopes)
         self.lever = max(length0, length1)
-        self.angle = math.acos(max(-1.0, min(1.0, dot(self.direction.a, self.direction.end))))
+        self.angle = norm(closing)
         self.radius += self.deviation(t0, t1)
 
     @classmethod
-    def fitted(cls, times: Sequence[float], samples: Sequence[BatSample], k: int,
-               slopes: Sequence[Sequence[float]]) -> 'C2BatPath':
+    def fitted(cls, times: Sequence[float], samples: Sequence[BatSample],
+               k: int) -> 'C2BatPath':
         """
-        Return the path over [times[k], times[k + 1]] from the window's spline slopes.
+        Return the path over [times[k], times[k + 1]] from the window's splines.
 
-        :param slopes: per window sample, the 7 slopes of (knob x, y, z, direction x, y, z,
-            length), from ``splines.not_a_knot_slopes`` over ``c2_rows``.
+        :param times, samples: the window (seconds, bat samples); k: the interval in it.
         """
-        s0, s1 = slopes[k], slopes[k + 1]
+        first, rows = c2_rows(samples, k)
+        slopes = not_a_knot_slopes(times[first:first + len(rows)], rows).tolist()
+        s0, s1 = slopes[k - first], slopes[k + 1 - first]
         return cls(times[k], times[k + 1], samples[k], samples[k + 1],
                    (tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
                    (s0[6], s1[6]))
 
     def _inside(self, t: float) -> Ends:
         knob = self.knob.at(t)
-        d = self.direction.at(t)
-        stretch = self.length.at(t) / norm(d)
-        return knob, (knob[0] + stretch * d[0], knob[1] + stretch * d[1],
-                      knob[2] + stretch * d[2])
+        d = rotate(self.reference, self.turn.at(t))
+        length = self.length.at(t)
+        return knob, (knob[0] + length * d[0], knob[1] + length * d[1],
+                      knob[2] + length * d[2])
 
     def deviation(self, ta: float, tb: float) -> float:
         """
         Return a bound (m) on how far any axis point leaves its chord over [ta, tb].
 
-        An axis point is p = knob + f L d / |d| (0 <= f <= 1) and leaves its chord by at most
-        max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|,
-        u = d / |d|: |u'| <= |d'| / |d| and |u''| <= |d''| / |d| + 3 |d'|^2 / |d|^2, |d| at
-        least the chord's least length less the cubic's bulge from it.
+        An axis point is p = knob + f L u (0 <= f <= 1) and leaves its chord by at most
+        max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|;
+        u is the rotation vector r mapped onto the sphere (its exponential map, whose first
+        derivative is at most 1 and second at most 2 in norm): |u'| <= |r'| and
+        |u''| <= |r''| + 2 |r'|^2.
         """
         span = tb - ta
-        direction = self.direction
-        second = _second_bound(direction, ta, tb)
-        first = norm(direction.velocity(ta)) + second * span
-        least = _least_norm(direction.at(ta), direction.at(tb)) - second * span * span / 8.0
+        turn = self.turn
+        second = _second_bound(turn, ta, tb)
+        first = norm(turn.velocity(ta)) + second * span
         value, rate, change = _scalar_bounds(self.length, ta, tb)
-        knob = _second_bound(self.knob, ta, tb) * span * span / 8.0
-        if least < 0.25:  # the direction's spline nearly passes through zero: bound crudely
-            return knob + 2.0 * value
-        turn = first / least
-        bend = second / least + 3.0 * turn * turn
-        return knob + (change + 2.0 * rate * turn + value * bend) * span * span / 8.0
-
-
-def c2_rows(samples: Sequence[BatSample]) -> list:
-    """Return per bat sample the 7 fitted coordinates: knob, unit direction, length."""
-    rows = []
-    for sample in samples:
-        axis = sub(sample.tip, sample.knob)
-        length = norm(axis)
-        rows.append((*sample.knob, axis[0] / length, axis[1] / length, axis[2] / length, length))
-    return rows
+        knob = _second_bound(self.knob, ta, tb)
+        bend = second + 2.0 * first * first
+        return (knob + change + 2.0 * rate * first + value * bend) * span * span / 8.0

@@ -9,7 +9,7 @@ error is O(h^4) in value and O(h^3) in slope on every piece, also on uneven stam
 Practical Guide to Splines, ch. IV). Two samples give the chord, three the parabola.
 """
 
-from typing import Sequence
+from typing import Sequence, Tuple
 
 import numpy as np
 
@@ -46,3 +46,27 @@ def not_a_knot_slopes(times: Sequence[float], values: np.ndarray) -> np.ndarray:
     rhs[-1] = (h[-1] ** 2 * d[-2] + (2.0 * (h[-2] + h[-1]) + h[-1]) * h[-2] * d[-1]) / (
         h[-2] + h[-1])
     return np.linalg.solve(matrix, rhs)
+
+
+def end_state(times: Sequence[float], values: np.ndarray,
+              t: float) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the values and rates at t of the not-a-knot spline through (times, values).
+
+    From its last piece: for t after the last sample the last cubic is extrapolated, so the
+    state at an instant up to a step after the last sample comes from samples up to it only.
+
+    :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns).
+    :returns: ((columns,) values, (columns,) rates per second).
+    """
+    y = np.asarray(values, dtype=float)
+    slopes = not_a_knot_slopes(times, y)
+    t0, t1 = float(times[-2]), float(times[-1])
+    h = t1 - t0
+    s = (t - t0) / h
+    # the cubic Hermite y0 + m0 s + c s^2 + d s^3 (s in steps) with end slopes m0, m1
+    m0, m1 = slopes[-2] * h, slopes[-1] * h
+    chord = y[-1] - y[-2]
+    c = 3.0 * chord - 2.0 * m0 - m1
+    d = m0 + m1 - 2.0 * chord
+    return y[-2] + s * (m0 + s * (c + s * d)), (m0 + s * (2.0 * c + 3.0 * s * d)) / h

@@ -62,7 +62,9 @@ def test_c2_paths_never_leave_the_far_test_bound(look_ahead, steps, tilt, spin, 
     k = len(bat.times) - 3 - look_ahead
     window = c2_window(bat, k, 0.05, look_ahead, 8)
     growth = c2_bat_growth(bat, k, window)
-    ball_bulge = c2_bulges(ball, k, c2_window(ball, k, 0.05, look_ahead, 8), (lambda p: p,))
+    ball_window = c2_window(ball, k, 0.05, look_ahead, 8)
+    ball_bulge = c2_bulges([ball.times[i] for i in ball_window],
+                           [ball.values[i] for i in ball_window], k - ball_window.start)
     ball_path, bat_path = detector._sweep.paths(k, k)
     s0, s1 = bat.values[k], bat.values[k + 1]
     for t in np.linspace(bat.times[k], bat.times[k + 1], 60):
@@ -70,7 +72,7 @@ def test_c2_paths_never_leave_the_far_test_bound(look_ahead, steps, tilt, spin, 
         knob, tip = (np.array(p) for p in bat_path.at(t))
         if ball_bulge is not None:
             chord = (1 - u) * np.array(ball.values[k]) + u * np.array(ball.values[k + 1])
-            assert np.linalg.norm(np.array(ball_path.at(t)) - chord) <= ball_bulge[0] + 1e-12
+            assert np.linalg.norm(np.array(ball_path.at(t)) - chord) <= ball_bulge + 1e-12
         if growth is None:
             continue
         for f in (0.0, 0.3, 1.0):

@@ -2,7 +2,7 @@
 
 import math
 
-from baseball_collision.core.motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes
+from baseball_collision.core.motion import BatSample, C2BatPath, not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
 import numpy as np
 from support import examples
@@ -43,8 +43,7 @@ def _swing(t: np.ndarray, tilt: float) -> np.ndarray:
 
 def _path(times: np.ndarray, ends: np.ndarray, k: int) -> C2BatPath:
     samples = [BatSample(tuple(row[:3]), tuple(row[3:])) for row in ends]
-    return C2BatPath.fitted(list(times), samples, k, not_a_knot_slopes(
-        times, np.asarray(c2_rows(samples))).tolist())
+    return C2BatPath.fitted(list(times), samples, k)
 
 
 def _worst_error(rate: float, look_ahead: int) -> float:
