@@ -5,11 +5,11 @@ Most intervals of a session have the ball metres from the bat. This decides them
 building a path: each body's path lies in a sphere around its chord's middle, grown by a bound
 on how far the motion model lets it bulge (none for chords; for a rigid turn, the sagitta is
 at most half the chord of the rotating part; for the spline, ``bulge_bounds``; for ``c2``,
-``c2_bulges``).
+``c2_reach``, ``c2_bat_growth``).
 """
 
 import math
-from typing import Callable, List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence, Tuple
 
 from .fitting import c2_window
 from .streams import Stream
@@ -47,36 +47,67 @@ C2_STEP_RATIO = 4.0
 """Windows whose longest step is more than this times the shortest get no far test."""
 
 
-def c2_bulges(times: Sequence[float], points: Sequence[Sequence[float]],
-              j: int) -> Optional[float]:
+_FAR_OFFSET = 40
+_WEIGHT_LIST = [C2_SAFETY * (C2_WEIGHTS_BEFORE[-o - 1] if -len(C2_WEIGHTS_BEFORE) <= o < 0
+                             else 0.0001 if o < 0 else 0.0 if o < 2 else C2_WEIGHTS_AFTER[o - 2])
+                for o in range(-_FAR_OFFSET, 2 + len(C2_WEIGHTS_AFTER))]
+"""``C2_SAFETY`` times the cardinal weight of the sample at offset o, at o + ``_FAR_OFFSET``
+(a window holds at most 32 + 2 samples)."""
+
+
+def c2_bulge(times: Sequence[float], points: Sequence[Vector], j: int) -> float:
     """
-    Bound how far the ``c2`` spline through (times, points) leaves its chord over interval j.
+    Bound (m) how far the ``c2`` spline through (times, points) leaves its chord over interval j.
 
     The spline is linear in its samples and reproduces lines, so it leaves the chord by at
     most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
     cardinal bound by its distance from the interval (``C2_WEIGHTS_*``), times
-    ``C2_SAFETY``. In the points' unit. None when the window's steps are too uneven for the
-    weights (no far test then).
+    ``C2_SAFETY``. Valid for steps within ``C2_STEP_RATIO`` of each other (the caller checks).
     """
+    t0, h = times[j], times[j + 1] - times[j]
+    (x0, y0, z0), p1 = points[j], points[j + 1]
+    vx, vy, vz = (p1[0] - x0) / h, (p1[1] - y0) / h, (p1[2] - z0) / h
+    bound = 0.0
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    for weight, t, p in zip(weights, times, points):
+        if weight:
+            dt = t - t0
+            dx, dy, dz = p[0] - x0 - vx * dt, p[1] - y0 - vy * dt, p[2] - z0 - vz * dt
+            bound += weight * math.sqrt(dx * dx + dy * dy + dz * dz)
+    return bound
+
+
+def _scalar_bulge(times: Sequence[float], values: Sequence[float], j: int) -> float:
+    """``c2_bulge`` of one number per sample."""
+    t0, v0 = times[j], values[j]
+    rate = (values[j + 1] - v0) / (times[j + 1] - t0)
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    return sum(weight * abs(v - v0 - rate * (t - t0))
+               for weight, t, v in zip(weights, times, values) if weight)
+
+
+def c2_reach(stream: Stream, k: int, window: range) -> Optional[Tuple[Vector, float]]:
+    """
+    Return a sphere (centre, radius in m) holding the whole ``c2`` bat over interval k.
+
+    Cheap (no chart): the knob's spline stays within its bulge B_k of its chord and every
+    axis point within the length L(t) <= max(L_k, L_k+1) + B_L of the knob, so the sphere
+    about the knob chord's middle of radius |chord| / 2 + B_k + max L + B_L holds the bat.
+    None: no bound (uneven steps).
+    """
+    times = stream.times[window.start:window.stop]
     steps = [b - a for a, b in zip(times, times[1:])]
     if max(steps) > C2_STEP_RATIO * min(steps):
         return None
-    t0, h = times[j], times[j + 1] - times[j]
-    p0, p1 = points[j], points[j + 1]
-    rate = [(b - a) / h for a, b in zip(p0, p1)]
-    bound = 0.0
-    for i, (t, p) in enumerate(zip(times, points)):
-        offset = i - j
-        if offset in (0, 1):
-            continue
-        if offset > 0:
-            weight = C2_WEIGHTS_AFTER[offset - 2]
-        else:
-            weight = (C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(C2_WEIGHTS_BEFORE)
-                      else 0.0001)
-        dt = t - t0
-        bound += weight * math.sqrt(sum((q - a - r * dt) ** 2 for q, a, r in zip(p, p0, rate)))
-    return C2_SAFETY * bound
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    knobs = [sample.knob for sample in samples]
+    lengths = [math.dist(sample.tip, sample.knob) for sample in samples]
+    k0, k1 = knobs[j], knobs[j + 1]
+    centre = ((k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5)
+    stretch = _scalar_bulge(times, lengths, j)
+    return centre, (0.5 * math.dist(k0, k1) + c2_bulge(times, knobs, j)
+                    + max(lengths[j], lengths[j + 1]) + stretch)
 
 
 def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
@@ -90,20 +121,23 @@ def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
     within B_k + B_L + (L + B_L) (1 - cos(theta / 2) + B_r) + |dL| |du| / 4. None: no bound
     (uneven steps).
     """
-    samples = [stream.values[i] for i in window]
+    times = stream.times[window.start:window.stop]
+    samples = stream.values[window.start:window.stop]
     j = k - window.start
     first, rows = c2_rows(samples, j)
-    times = [stream.times[i] for i in window][first:first + len(rows)]
-    bulges = [c2_bulges(times, [row[a:b] for row in rows], j - first)
-              for a, b in ((0, 3), (3, 6), (6, 7))]
-    if None in bulges:
+    times = times[first:first + len(rows)]
+    if max(b - a for a, b in zip(times, times[1:])) > C2_STEP_RATIO * min(
+            b - a for a, b in zip(times, times[1:])):
         return None
-    knob, turn, stretch = bulges
-    s0, s1 = samples[j], samples[j + 1]
-    half_cos = math.cos(0.5 * norm(rows[j + 1 - first][3:6]))
-    length0, length1 = math.dist(s0.tip, s0.knob), math.dist(s1.tip, s1.knob)
+    i = j - first
+    knob = c2_bulge(times, [row[0:3] for row in rows], i)
+    turn = c2_bulge(times, [row[3:6] for row in rows], i)
+    stretch = _scalar_bulge(times, [row[6] for row in rows], i)
+    half_cos = math.cos(0.5 * norm(rows[i + 1][3:6]))
+    length0, length1 = rows[i][6], rows[i + 1][6]
     return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
-            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(s0), unit_axis(s1)))
+            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(samples[j]),
+                                                        unit_axis(samples[j + 1])))
 
 
 def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) -> List[float]:
@@ -169,11 +203,20 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
                        + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
     elif model == 'c2':
         window = c2_window(ball, ball_k, max_gap, look_ahead, size)
-        ball_bulge = c2_bulges([ball.times[i] for i in window],
-                               [ball.values[i] for i in window], ball_k - window.start)
-        growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
-        if ball_bulge is None or growth is None:
+        times = ball.times[window.start:window.stop]
+        steps = [b - a for a, b in zip(times, times[1:])]
+        if max(steps) > C2_STEP_RATIO * min(steps):
             return False
-        ball_radius += ball_bulge
+        ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
+                                ball_k - window.start)
+        window = c2_window(bat, bat_k, max_gap, look_ahead, size)
+        reach = c2_reach(bat, bat_k, window)
+        if reach is None:
+            return False
+        if math.dist(ball_centre, reach[0]) - ball_radius - reach[1] > margin:
+            return True
+        growth = c2_bat_growth(bat, bat_k, window)
+        if growth is None:
+            return False
         bat_radius += growth
     return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin

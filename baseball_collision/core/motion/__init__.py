@@ -18,7 +18,7 @@ from .base import (
     SAMPLES_AHEAD, samples_ahead, substeps_for, swing_between, turn_between)
 from .bat_paths import (
     BatPath, LinearBatPath, RigidAxisPath, RigidBatPath, RigidPosePath, SplineBatPath)
-from .c2 import c2_rows, C2BatPath, rotate, unit_axis
+from .c2 import c2_rows, C2BatPath, MAX_CHART_ANGLE, rotate, unit_axis
 from .points import AngleCubic, PointPath
 from .splines import end_state, not_a_knot_slopes
 
@@ -27,5 +27,6 @@ __all__ = [
     'BatPath', 'AngleCubic', 'LinearBatPath', 'MotionPath', 'PathKind', 'RigidAxisPath',
     'RigidBatPath', 'RigidPosePath', 'SAMPLES_AHEAD', 'SplineBatPath', 'hermite_slope',
     'swing_between', 'turn_between', 'samples_ahead', 'C2BatPath', 'c2_rows', 'unit_axis',
+    'MAX_CHART_ANGLE',
     'not_a_knot_slopes', 'end_state', 'rotate',
 ]
