@@ -39,6 +39,7 @@ METHODS: Dict[str, Dict[str, object]] = {
     'c2': {'model': 'c2'},
     'c2-la1': {'model': 'c2', 'look_ahead': 1},
     'c2-la2': {'model': 'c2', 'look_ahead': 2},
+    'c2-noise': {'model': 'c2', 'look_ahead': 2},  # tracker_noise: the known noise
 }
 """Detector methods by label: DetectorConfig fields (plus ``reference``, not a detector)."""
 
@@ -58,7 +59,8 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
     """Return a function scoring one (scenario, samples) with a method."""
     if label == 'reference':
         return lambda scenario, samples: reference_result(scenario, samples, noise_m)
-    config = DetectorConfig(bat_input=bat, **METHODS[label])
+    noise = {'tracker_noise': noise_m} if label.endswith('-noise') else {}
+    config = DetectorConfig(bat_input=bat, **METHODS[label], **noise)
     return lambda scenario, samples: run_samples(scenario, samples, config)[1]
 
 

@@ -173,9 +173,11 @@ class Sweep:
         ball_path, bat_path = paths
         knob, tip = bat_path.at(t)
         config = self.config
+        exact = config.tracker_noise == 0.0
         velocities = impact_velocities(
-            self.ball, self.bat, t, config.velocity_window, config.velocity_degree, ball_path,
-            bat_path, config.spline_window if self.model == 'c2' else 0)
+            self.ball, self.bat, t, config.velocity_window,
+            config.velocity_degree if exact else min(config.velocity_degree, 3), ball_path,
+            bat_path, config.spline_window if self.model == 'c2' and exact else 0)
         length = math.dist(knob, tip)
         direction = tuple((e - k) / length for k, e in zip(knob, tip))
         # the roll turns about the bat's own axis
