@@ -282,10 +282,9 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'velocity_window', _D, 0.061, 'Span of the samples before an impact its velocities are '
         'fitted to (s).', 's', _closed(0.001, 1.0)),
     ParameterSpec(
-        'tracker_noise', _D, 0.0, "Tracking noise, 1 sigma per coordinate (m); 0 = exact "
-        "samples. > 0: impact velocities from least-squares fits of degree at most 3 over "
-        'velocity_window (samples before the impact), not the c2 splines.', 'm',
-        _closed(0.0, 0.1)),
+        'tracker_noise', _D, 0.0, 'Tracking noise, 1 sigma per coordinate (m); 0 = exact '
+        'samples. c2: picks how impact velocities are fitted (samples before the impact).',
+        'm', _closed(0.0, 0.1)),
     ParameterSpec(
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),
@@ -441,9 +440,8 @@ class DetectorConfig:
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
     :ivar gravity: m/s^2, along -``up_axis``.
-    :ivar tracker_noise: tracking noise (m, 1 sigma per coordinate); 0: exact samples; > 0:
-        impact velocities from least-squares fits of degree at most 3 (a smoother), not the
-        ``c2`` splines (which interpolate the noise).
+    :ivar tracker_noise: tracking noise (m, 1 sigma per coordinate); 0: exact samples. Under
+        ``c2`` it picks the impact velocities' fit (``kinematics.spline_window_for``).
     :ivar velocity_degree: degree (1-6) of the fit to the bat's rotation and, at low rates (six
         samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
         most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,

@@ -15,7 +15,7 @@ velocity and the swing angular velocity u x u'; the ball's centre its velocity.
 """
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -214,6 +214,20 @@ def spline_velocities(ball: Stream, bat: Stream, t: float,
         roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
     return ImpactVelocities(tuple(ball_velocity.tolist()), 0.0,
                             tuple(rates[:3].tolist()), swing, roll, True)
+
+
+def spline_window_for(bat: Stream, t: float, config: Any) -> int:
+    """
+    Return the ``c2`` splines' window for the velocities at t, or 0 for the least-squares fits.
+
+    Chosen by measurement (benchmarks/bench_accuracy.py): without tracking noise the splines
+    when the velocity window holds more than ``SPARSE_SAMPLES`` samples (a high rate: their
+    error falls as h^3), the fits at a low rate; with noise (``tracker_noise`` > 0) the other
+    way round: at a high rate the fits average the noise, at a low rate they interpolate it
+    and the spline's extrapolation is the smaller error.
+    """
+    many = len(bat.history(t, config.velocity_window)) > SPARSE_SAMPLES
+    return config.spline_window if many == (config.tracker_noise == 0.0) else 0
 
 
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,

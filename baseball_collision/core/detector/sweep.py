@@ -18,7 +18,7 @@ from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import c2_bat_path, c2_point_path, c2_window
 from .gate import Clock
-from .kinematics import impact_velocities
+from .kinematics import impact_velocities, spline_window_for
 from .streams import Stream
 from ..geometry import add, dot, lerp, norm, profile_gap, rigid_point_velocity, scale, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -173,11 +173,9 @@ class Sweep:
         ball_path, bat_path = paths
         knob, tip = bat_path.at(t)
         config = self.config
-        exact = config.tracker_noise == 0.0
         velocities = impact_velocities(
-            self.ball, self.bat, t, config.velocity_window,
-            config.velocity_degree if exact else min(config.velocity_degree, 3), ball_path,
-            bat_path, config.spline_window if self.model == 'c2' and exact else 0)
+            self.ball, self.bat, t, config.velocity_window, config.velocity_degree, ball_path,
+            bat_path, spline_window_for(self.bat, t, config) if self.model == 'c2' else 0)
         length = math.dist(knob, tip)
         direction = tuple((e - k) / length for k, e in zip(knob, tip))
         # the roll turns about the bat's own axis
