@@ -34,18 +34,6 @@ from .splines import not_a_knot_slopes
 from ..geometry import cross, dot, norm, sub, Vector
 
 
-def _second_bound(path: PointPath, ta: float, tb: float) -> float:
-    """Return the largest |p''| (per s^2) of a cubic point path over [ta, tb] (at an end)."""
-    if not path.curved:
-        return 0.0
-    a0, rate = path.accel0, path.accel_rate
-    worst = 0.0
-    for t in (ta, tb):
-        s = (t - path.t0) / path.h
-        worst = max(worst, norm((a0[0] + rate[0] * s, a0[1] + rate[1] * s, a0[2] + rate[2] * s)))
-    return worst
-
-
 def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
     """Return bounds of |v|, |v'| and |v''| of a scalar cubic over [ta, tb]."""
     span = tb - ta
@@ -177,9 +165,9 @@ class C2BatPath(BatPath):
         """
         span = tb - ta
         turn = self.turn
-        second = _second_bound(turn, ta, tb)
+        second = turn.max_acceleration(ta, tb)
         first = norm(turn.velocity(ta)) + second * span
         value, rate, change = _scalar_bounds(self.length, ta, tb)
-        knob = _second_bound(self.knob, ta, tb)
+        knob = self.knob.max_acceleration(ta, tb)
         bend = second + 2.0 * first * first
         return (knob + change + 2.0 * rate * first + value * bend) * span * span / 8.0
