@@ -21,6 +21,7 @@ import time
 from typing import Any, Dict, Iterator, List, Tuple
 
 from baseball_collision.bags import BagReader
+from baseball_collision.core.records import event_record
 from baseball_collision.errors import RosError
 from baseball_collision.ros.replay import BagPlayer, message_class
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
@@ -162,9 +163,7 @@ def test_live_node_agrees_with_analyze(ros: Ros, tmp_path: Path, name: str,
         linear = twist.twist.linear
         assert (linear.x, linear.y, linear.z) == pytest.approx(impact.bat_velocity, abs=1e-9)
     truth = json.loads(truth_path(bag).read_text())
-    document = {'impacts': [{'stamp_ns': i.stamp_ns, 'distance_from_tip_m':
-                             i.distance_from_tip_m, 'sweet_spot_speed_mps':
-                             i.sweet_spot_speed_mps, 'feature': i.feature}
+    document = {'impacts': [event_record(i, offline.frame_id, offline.config)
                             for i in offline.impacts],
                 'near_misses': offline.near_misses}
     check_against_truth(document, truth, BAGS[name])
