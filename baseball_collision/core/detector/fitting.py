@@ -17,11 +17,12 @@ from ..motion import C2BatPath, not_a_knot_slopes, PointPath
 
 def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int) -> range:
     """Return the indices of the samples fitted for interval k (both of its ends included)."""
-    last, count = k + 1, len(stream.times)
-    while last < k + 1 + look_ahead and last + 1 < count and stream.continuous(last, max_gap):
+    times, breaks = stream.times, stream.breaks  # continuous(i): no break at i + 1, no long gap
+    last, end = k + 1, min(k + 1 + look_ahead, len(times) - 1)
+    while last < end and not breaks[last + 1] and times[last + 1] - times[last] <= max_gap:
         last += 1
-    first = k
-    while first > last - size + 1 and first >= 1 and stream.continuous(first - 1, max_gap):
+    first, start = k, max(last - size + 1, 0)
+    while first > start and not breaks[first] and times[first] - times[first - 1] <= max_gap:
         first -= 1
     return range(first, last + 1)
 
