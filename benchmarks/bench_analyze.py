@@ -195,7 +195,7 @@ def main() -> None:
     parser.add_argument('--messages', type=int, default=None,
                         help='messages per bag (1,000,000; with --jobs 250,000)')
     parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
-    parser.add_argument('--model', choices=('linear', 'rigid', 'spline'), default='spline')
+    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='spline')
     parser.add_argument('--profile', action='store_true', help='cProfile the analyze run')
     parser.add_argument('--jobs', type=int, default=None, metavar='K',
                         help='time the process pool over K bags instead')

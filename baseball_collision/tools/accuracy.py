@@ -9,7 +9,8 @@ imports the simulator; ``analyze`` reads truth files through :mod:`.truth` inste
 Impacts are matched to a pitch by the one rule of :func:`.truth.match_pitch` (the first impact
 in the pitch's span; every other impact is false). Errors are detected minus true: the impact
 stamp (s), the spot on the bat (``distance_from_tip_m``, m) and the sweet-spot speed
-(relative).
+(relative); beside each, the 1-sigma uncertainty the impact reported, so that ``summarize``
+can say how often the error stayed within one and two sigma (calibration).
 """
 
 from dataclasses import dataclass
@@ -18,7 +19,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .sim import DEFAULT_START_NS, sample, Scenario, truth_dict
+from .sim import DEFAULT_START_NS, sample, Samples, Scenario, truth_dict
 from .truth import match_pitch
 from ..core.detector import Detector, DetectorConfig, Event, Impact, NearMiss
 
@@ -37,6 +38,8 @@ class PitchResult:
     :ivar location_error_m: detected minus true distance from the tip (m).
     :ivar sweet_spot_speed_error: detected / true sweet-spot speed - 1.
     :ivar near_miss_gap_error_m: reported minus true smallest gap of a near miss (m).
+    :ivar time_sigma_s, location_sigma_m: the impact's reported 1-sigma uncertainties.
+    :ivar speed_sigma: its sweet-spot speed uncertainty over the true speed.
     """
 
     name: str
@@ -49,6 +52,9 @@ class PitchResult:
     location_error_m: Optional[float] = None
     sweet_spot_speed_error: Optional[float] = None
     near_miss_gap_error_m: Optional[float] = None
+    time_sigma_s: Optional[float] = None
+    location_sigma_m: Optional[float] = None
+    speed_sigma: Optional[float] = None
 
 
 def _span(truth: Mapping[str, Any]) -> Optional[Tuple[int, int]]:
@@ -84,12 +90,21 @@ def compare_pitch(truth: Mapping[str, Any], impacts: Sequence[Impact],
     if match is None:
         return PitchResult(detected=False, false_impacts=len(impacts), **common)
     first = impacts[match]
+    true_speed = float(truth['sweet_spot_speed_mps'])
     return PitchResult(
         detected=True, false_impacts=len(impacts) - 1,
         time_error_s=(first.stamp_ns - int(truth['stamp_ns'])) * 1e-9,
         location_error_m=first.distance_from_tip_m - float(truth['distance_from_tip_m']),
-        sweet_spot_speed_error=first.sweet_spot_speed_mps / float(
-            truth['sweet_spot_speed_mps']) - 1.0, **common)
+        sweet_spot_speed_error=first.sweet_spot_speed_mps / true_speed - 1.0,
+        time_sigma_s=getattr(first, 'time_uncertainty_s', None),
+        location_sigma_m=getattr(first, 'distance_from_knob_uncertainty_m', None),
+        speed_sigma=_relative(getattr(first, 'sweet_spot_speed_uncertainty_mps', None),
+                              true_speed), **common)
+
+
+def _relative(sigma: Optional[float], scale: float) -> Optional[float]:
+    """Return sigma / scale, None when sigma is None."""
+    return None if sigma is None else sigma / scale
 
 
 def run_scenario(scenario: Scenario, rate_hz: float, config: DetectorConfig,
@@ -106,12 +121,23 @@ def run_scenario(scenario: Scenario, rate_hz: float, config: DetectorConfig,
     """
     samples = sample(scenario, rate_hz, rng, jitter_s=jitter_s, grid_s=grid_s,
                      noise_m=noise_m, start_ns=start_ns)
+    return run_samples(scenario, samples, config)
+
+
+def run_samples(scenario: Scenario, samples: Samples,
+                config: DetectorConfig) -> Tuple[List[Event], PitchResult]:
+    """
+    Feed a scenario's tracker samples to a fresh detector and compare with the truth.
+
+    :param config: the detector configuration (its ``bat_input`` picks poses or knob/tip).
+    :returns: (every event, the pitch's result).
+    """
     detector = Detector(config)
     events: List[Event] = []
     for stamp, role, values in samples.messages(config.bat_input):
         events += detector.add(role, stamp, values)
     events += detector.finish()
-    result = compare_pitch(truth_dict(scenario, start_ns),
+    result = compare_pitch(truth_dict(scenario, samples.start_ns),
                            [e for e in events if isinstance(e, Impact)],
                            [e for e in events if isinstance(e, NearMiss)])
     return events, result
@@ -123,14 +149,17 @@ def _percentile(values: Sequence[float], q: float) -> float:
 
 def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> Dict[str, float]:
     """
-    Summarise pitch results: recall, precision and error percentiles.
+    Summarise pitch results: recall, precision, error percentiles and calibration.
 
     Recall and precision count only clear-cut pitches (a true overlap or a true clearance of
     more than ``min_clearance_m``); errors are over every matched contact.
 
     :returns: ``pitches``, ``contacts``, ``recall``, ``precision``, ``false_impacts``,
         ``time_error_us_p50/p99/max``, ``location_error_mm_p50/p99/max``,
-        ``sweet_spot_speed_error_pct_p50/p99/max`` (absolute values).
+        ``sweet_spot_speed_error_pct_p50/p99/max`` (absolute values), ``time_error_us_mean``
+        (signed: the bias), and per quantity ``<name>_within_1_sigma`` and
+        ``<name>_within_2_sigma``: the fraction of impacts whose error was within one and two
+        of their reported sigmas (NaN when none reported one).
     """
     clear = [r for r in results if r.clearance_m > min_clearance_m]
     contacts = [r for r in clear if r.contact]
@@ -151,4 +180,14 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
         summary[f'{name}_p50'] = _percentile(values, 50)
         summary[f'{name}_p99'] = _percentile(values, 99)
         summary[f'{name}_max'] = float(np.max(np.abs(values))) if values else math.nan
+    summary['time_error_us_mean'] = float(np.mean(times)) if times else math.nan
+    for name, error, sigma in (('time', 'time_error_s', 'time_sigma_s'),
+                               ('location', 'location_error_m', 'location_sigma_m'),
+                               ('speed', 'sweet_spot_speed_error', 'speed_sigma')):
+        pairs = [(abs(getattr(r, error)), getattr(r, sigma)) for r in matched
+                 if getattr(r, sigma) is not None]
+        for k in (1, 2):
+            inside = [e <= k * s for e, s in pairs]
+            summary[f'{name}_within_{k}_sigma'] = (float(np.mean(inside)) if inside
+                                                   else math.nan)
     return summary

@@ -29,6 +29,7 @@ from .truth import truth_path
 from .. import __version__
 from ..atomic import cleanup_on_signals, Terminated
 from ..bags import TOPIC_FLAGS
+from ..core.motion import MODELS
 from ..errors import BaseballCollisionError, ToolError
 
 PROG = 'baseball-collision'
@@ -255,7 +256,7 @@ def _add_analyze(commands: Any) -> None:
     analyze.add_argument('--node-name', default=NODE_NAME,
                          help='node section to read in --params and node of the --out-bag '
                          'topics (default impact_node)')
-    analyze.add_argument('--model', choices=('linear', 'rigid', 'spline'),
+    analyze.add_argument('--model', choices=MODELS,
                          help='motion model between samples (default: --params, else spline)')
     analyze.add_argument('--ball-radius', type=_number(0.0, False, 'm'), metavar='M',
                          help='ball radius in m (default: --params, else 0.0366)')

@@ -4,15 +4,17 @@ The cheap far test: ball and bat clearly apart over a union interval, from the r
 Most intervals of a session have the ball metres from the bat. This decides them without
 building a path: each body's path lies in a sphere around its chord's middle, grown by a bound
 on how far the motion model lets it bulge (none for chords; for a rigid turn, the sagitta is
-at most half the chord of the rotating part; for the spline, ``bulge_bounds``).
+at most half the chord of the rotating part; for the spline, ``bulge_bounds``; for ``c2``,
+``c2_reach``, ``c2_bat_growth``).
 """
 
 import math
-from typing import Callable, List, Sequence
+from typing import Callable, List, Optional, Sequence, Tuple
 
+from .fitting import c2_window
 from .streams import Stream
-from ..geometry import sub, Vector
-from ..motion import BatSample
+from ..geometry import norm, sub, Vector
+from ..motion import BatSample, c2_rows, unit_axis
 
 Pick = Callable[[object], Vector]
 """Picks the point followed from a sample value (the ball itself, the knob, the axis)."""
@@ -28,6 +30,114 @@ def _knob_of(sample: BatSample) -> Vector:
 
 def _axis_of(sample: BatSample) -> Vector:
     return sub(sample.tip, sample.knob)
+
+
+C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.18, 0.048, 0.013, 0.0034, 0.0009, 0.0002)
+"""Bounds of |l_i - chord| over interval k of the window spline's cardinal function l_i, for
+samples i = k - 1, k - 2, ... (then 0.0001 each): measured over windows of 2-16 samples with
+steps within a factor 4 of each other (test/core/detector/test_broadphase_c2.py re-measures)."""
+
+C2_WEIGHTS_AFTER = (3.4, 1.1)
+"""The same for samples k + 2 and k + 3 (look-ahead 1 and 2)."""
+
+C2_SAFETY = 1.25
+"""Factor on the weights."""
+
+C2_STEP_RATIO = 4.0
+"""Windows whose longest step is more than this times the shortest get no far test."""
+
+
+_FAR_OFFSET = 40
+_WEIGHT_LIST = [C2_SAFETY * (C2_WEIGHTS_BEFORE[-o - 1] if -len(C2_WEIGHTS_BEFORE) <= o < 0
+                             else 0.0001 if o < 0 else 0.0 if o < 2 else C2_WEIGHTS_AFTER[o - 2])
+                for o in range(-_FAR_OFFSET, 2 + len(C2_WEIGHTS_AFTER))]
+"""``C2_SAFETY`` times the cardinal weight of the sample at offset o, at o + ``_FAR_OFFSET``
+(a window holds at most 32 + 2 samples)."""
+
+
+def c2_bulge(times: Sequence[float], points: Sequence[Vector], j: int) -> float:
+    """
+    Bound (m) how far the ``c2`` spline through (times, points) leaves its chord over interval j.
+
+    The spline is linear in its samples and reproduces lines, so it leaves the chord by at
+    most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
+    cardinal bound by its distance from the interval (``C2_WEIGHTS_*``), times
+    ``C2_SAFETY``. Valid for steps within ``C2_STEP_RATIO`` of each other (the caller checks).
+    """
+    t0, h = times[j], times[j + 1] - times[j]
+    (x0, y0, z0), p1 = points[j], points[j + 1]
+    vx, vy, vz = (p1[0] - x0) / h, (p1[1] - y0) / h, (p1[2] - z0) / h
+    bound = 0.0
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    for weight, t, p in zip(weights, times, points):
+        if weight:
+            dt = t - t0
+            dx, dy, dz = p[0] - x0 - vx * dt, p[1] - y0 - vy * dt, p[2] - z0 - vz * dt
+            bound += weight * math.sqrt(dx * dx + dy * dy + dz * dz)
+    return bound
+
+
+def _scalar_bulge(times: Sequence[float], values: Sequence[float], j: int) -> float:
+    """``c2_bulge`` of one number per sample."""
+    t0, v0 = times[j], values[j]
+    rate = (values[j + 1] - v0) / (times[j + 1] - t0)
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    return sum(weight * abs(v - v0 - rate * (t - t0))
+               for weight, t, v in zip(weights, times, values) if weight)
+
+
+def c2_reach(stream: Stream, k: int, window: range) -> Optional[Tuple[Vector, float]]:
+    """
+    Return a sphere (centre, radius in m) holding the whole ``c2`` bat over interval k.
+
+    Cheap (no chart): the knob's spline stays within its bulge B_k of its chord and every
+    axis point within the length L(t) <= max(L_k, L_k+1) + B_L of the knob, so the sphere
+    about the knob chord's middle of radius |chord| / 2 + B_k + max L + B_L holds the bat.
+    None: no bound (uneven steps).
+    """
+    times = stream.times[window.start:window.stop]
+    steps = [b - a for a, b in zip(times, times[1:])]
+    if max(steps) > C2_STEP_RATIO * min(steps):
+        return None
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    knobs = [sample.knob for sample in samples]
+    lengths = [math.dist(sample.tip, sample.knob) for sample in samples]
+    k0, k1 = knobs[j], knobs[j + 1]
+    centre = ((k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5)
+    stretch = _scalar_bulge(times, lengths, j)
+    return centre, (0.5 * math.dist(k0, k1) + c2_bulge(times, knobs, j)
+                    + max(lengths[j], lengths[j + 1]) + stretch)
+
+
+def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
+    """
+    Bound (m) how far any axis point of the ``c2`` bat leaves its chord over interval k.
+
+    With the bulges B_k, B_r, B_L of the knob's, the rotation vector's (``c2_rows``) and the
+    length's splines, the angle theta between the end directions and the longer end length
+    L: the direction (the rotation vector's exponential map, 1-Lipschitz) stays within B_r of
+    the great-circle arc, itself within 1 - cos(theta / 2) of the chord, so any axis point
+    within B_k + B_L + (L + B_L) (1 - cos(theta / 2) + B_r) + |dL| |du| / 4. None: no bound
+    (uneven steps).
+    """
+    times = stream.times[window.start:window.stop]
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = times[first:first + len(rows)]
+    if max(b - a for a, b in zip(times, times[1:])) > C2_STEP_RATIO * min(
+            b - a for a, b in zip(times, times[1:])):
+        return None
+    i = j - first
+    knob = c2_bulge(times, [row[0:3] for row in rows], i)
+    turn = c2_bulge(times, [row[3:6] for row in rows], i)
+    stretch = _scalar_bulge(times, [row[6] for row in rows], i)
+    half_cos = math.cos(0.5 * norm(rows[i + 1][3:6]))
+    length0, length1 = rows[i][6], rows[i + 1][6]
+    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
+            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(samples[j]),
+                                                        unit_axis(samples[j + 1])))
 
 
 def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) -> List[float]:
@@ -56,12 +166,13 @@ def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) 
 
 
 def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: float,
-                  model: str, max_gap: float) -> bool:
+                  model: str, max_gap: float, look_ahead: int = 0, size: int = 8) -> bool:
     """
     Return whether ball and bat stay more than ``margin`` (m) apart over both sample intervals.
 
     :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
     :param model: the motion model between samples.
+    :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
     """
     b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
     s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
@@ -90,4 +201,22 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         knob_bulge, axis_bulge = bulge_bounds(bat, bat_k, (_knob_of, _axis_of), max_gap)
         bat_radius += (knob_bulge + 0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1))
                        + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
+    elif model == 'c2':
+        window = c2_window(ball, ball_k, max_gap, look_ahead, size)
+        times = ball.times[window.start:window.stop]
+        steps = [b - a for a, b in zip(times, times[1:])]
+        if max(steps) > C2_STEP_RATIO * min(steps):
+            return False
+        ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
+                                ball_k - window.start)
+        window = c2_window(bat, bat_k, max_gap, look_ahead, size)
+        reach = c2_reach(bat, bat_k, window)
+        if reach is None:
+            return False
+        if math.dist(ball_centre, reach[0]) - ball_radius - reach[1] > margin:
+            return True
+        growth = c2_bat_growth(bat, bat_k, window)
+        if growth is None:
+            return False
+        bat_radius += growth
     return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin

@@ -214,7 +214,16 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     # ---- motion model and bat geometry (read-only)
     ParameterSpec(
         'model', _S, 'rigid', 'Motion between samples: linear (chords), rigid (translation + '
-        'SLERP, live default) or spline (cubic; waits one sample).', choices=MODELS,
+        'SLERP, live default), spline (cubic; waits one sample) or c2 (windowed not-a-knot '
+        'spline of knob, direction and length; waits look_ahead samples).', choices=MODELS,
+        read_only=_GEOMETRY),
+    ParameterSpec(
+        'look_ahead', _I, 0, 'c2: samples after an interval its fit may use (0-2), each one '
+        'more frame of latency; 0 keeps the frames after a contact out of its fit.', 'samples',
+        _closed(0, 2), read_only=_GEOMETRY),
+    ParameterSpec(
+        'spline_window', _I, 8, 'c2: samples in the spline fitted for an interval (4-32), the '
+        'newest its closing frame plus look_ahead.', 'samples', _closed(4, 32),
         read_only=_GEOMETRY),
     ParameterSpec(
         'bat_axis', _S, 'z', 'Bat body axis from knob to tip in the pose frame (pose input).',
@@ -279,6 +288,10 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
     ParameterSpec(
         'velocity_window', _D, 0.061, 'Span of the samples before an impact its velocities are '
         'fitted to (s).', 's', _closed(0.001, 1.0)),
+    ParameterSpec(
+        'tracker_noise', _D, 0.0, 'Tracking noise, 1 sigma per coordinate (m); 0 = exact '
+        'samples. c2: picks how impact velocities are fitted (samples before the impact).',
+        'm', _closed(0.0, 0.1)),
     ParameterSpec(
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),
@@ -415,7 +428,10 @@ class DetectorConfig:
     """
     Everything the detector needs to know; defaults and checks from :data:`PARAMETERS`.
 
-    :ivar model: motion model between samples: ``'linear'``, ``'rigid'`` or ``'spline'``.
+    :ivar model: motion model between samples: ``'linear'``, ``'rigid'``, ``'spline'`` or
+        ``'c2'``.
+    :ivar look_ahead: ``c2``: samples after an interval's closing frame its fit may use (0-2).
+    :ivar spline_window: ``c2``: samples in each interval's spline (4-32).
     :ivar bat_input: ``'pose'`` (one pose stream) or ``'points'`` (knob and tip streams).
     :ivar ball_radius: metres.
     :ivar profile: the bat's radius profile (stations from the knob), scaled to knob-tip.
@@ -442,6 +458,8 @@ class DetectorConfig:
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
     :ivar gravity: m/s^2, along -``up_axis``.
+    :ivar tracker_noise: tracking noise (m, 1 sigma per coordinate); 0: exact samples. Under
+        ``c2`` it picks the impact velocities' fit (``kinematics.spline_window_for``).
     :ivar velocity_degree: degree (1-6) of the fit to the bat's rotation and, at low rates (six
         samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
         most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,
@@ -450,6 +468,8 @@ class DetectorConfig:
     """
 
     model: str = DEFAULTS['model']
+    look_ahead: int = DEFAULTS['look_ahead']
+    spline_window: int = DEFAULTS['spline_window']
     bat_input: str = DEFAULTS['bat_input']
     ball_radius: float = DEFAULTS['ball_radius']
     profile: BatProfile = WOOD_BAT_34
@@ -468,6 +488,7 @@ class DetectorConfig:
     sweet_spot_from_tip: float = DEFAULTS['sweet_spot_from_tip']
     velocity_window: float = DEFAULTS['velocity_window']
     velocity_degree: int = DEFAULTS['velocity_degree']
+    tracker_noise: float = DEFAULTS['tracker_noise']
     prediction_horizon: float = DEFAULTS['prediction_horizon']
     prediction_window: float = DEFAULTS['prediction_window']
     ball_drag: float = DEFAULTS['ball_drag']

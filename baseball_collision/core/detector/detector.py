@@ -42,7 +42,7 @@ from .scheduler import Scheduler
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import pose_point, Vector
-from ..motion import BatSample, SAMPLES_AHEAD
+from ..motion import BatSample, samples_ahead
 from ...errors import CoreError
 
 Check = Callable[[Role, Any], Any]
@@ -213,7 +213,7 @@ class Detector:
         events: List[Event] = []
         self.stats.late_drops = []
         self._intake.flush(events)
-        if SAMPLES_AHEAD[self._config.model]:
+        if samples_ahead(self._config.model, self._config.look_ahead):
             self._advance(events, final=True)
         self._episodes.close(events)
         return events

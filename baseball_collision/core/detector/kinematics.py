@@ -6,16 +6,23 @@ bat in the next frames, so an interpolant spanning the impact would under-read t
 bat is a rigid body: a pivot near the hands (the axis point that accelerates least) moving with
 its own velocity, turning with an angular velocity fitted to the cumulative turn of its samples.
 With too few samples before the impact, the chords of the spanning interval stand in.
+
+Under the ``c2`` model (``spline_window`` > 0) the velocities are the rates of the same
+not-a-knot splines as its paths (the bat's knob, length and direction in its rotation-vector
+chart), fitted over the last ``spline_window`` samples up to the impact (its interval's
+opening frame) and extrapolated to the impact by their last piece (O(h^3)): the knob's
+velocity and the swing angular velocity u x u'; the ball's centre its velocity.
 """
 
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .streams import Stream
 from ..geometry import dot, lerp, scale, sub, Vector
-from ..motion import BatPath, BatSample, MotionPath, turn_between
+from ..motion import (
+    BatPath, BatSample, c2_rows, end_state, MotionPath, rotate, turn_between, unit_axis)
 
 SPARSE_SAMPLES = 6
 """At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
@@ -177,14 +184,66 @@ class ImpactVelocities:
     from_history: bool
 
 
+def spline_velocities(ball: Stream, bat: Stream, t: float,
+                      size: int) -> Optional[ImpactVelocities]:
+    """
+    Return the ``c2`` velocities at t (s) from the last ``size`` samples up to t of each stream.
+
+    The bat pivots about its knob (fraction 0); the roll rate comes from the turns of poses
+    (``turn_rates``, 0 for points). None with fewer than two samples of a body.
+    """
+    ball_indices = ball.history(t, 1.0)[-size:]
+    bat_indices = bat.history(t, 1.0)[-size:]
+    if len(ball_indices) < 2 or len(bat_indices) < 2:
+        return None
+    ball_velocity = end_state([ball.times[i] for i in ball_indices],
+                              [ball.values[i] for i in ball_indices], t)[1]
+    samples = [bat.values[i] for i in bat_indices]
+    first, rows = c2_rows(samples, len(samples) - 2)
+    state, rates = end_state([bat.times[i] for i in bat_indices[first:]], rows, t)
+    reference = unit_axis(samples[-2])
+    step = 1e-4  # rad: the chart's map differentiated numerically along the rate
+    turn, turn_rate = state[3:6], rates[3:6]
+    ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
+    behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
+    direction = np.array(rotate(reference, tuple(turn)))
+    swing = tuple(np.cross(direction, (ahead - behind) / (2.0 * step)).tolist())
+    roll = 0.0
+    if samples[-1].quaternion is not None:
+        rates_of_turn = turn_rates(bat, t, 1.0, 3)
+        roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
+    return ImpactVelocities(tuple(ball_velocity.tolist()), 0.0,
+                            tuple(rates[:3].tolist()), swing, roll, True)
+
+
+def spline_window_for(bat: Stream, t: float, config: Any) -> int:
+    """
+    Return the ``c2`` splines' window for the velocities at t, or 0 for the least-squares fits.
+
+    Chosen by measurement (benchmarks/bench_accuracy.py): without tracking noise the splines
+    when the velocity window holds more than ``SPARSE_SAMPLES`` samples (a high rate: their
+    error falls as h^3), the fits at a low rate; with noise (``tracker_noise`` > 0) the other
+    way round: at a high rate the fits average the noise, at a low rate they interpolate it
+    and the spline's extrapolation is the smaller error.
+    """
+    many = len(bat.history(t, config.velocity_window)) > SPARSE_SAMPLES
+    return config.spline_window if many == (config.tracker_noise == 0.0) else 0
+
+
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,
-                      ball_path: MotionPath, bat_path: BatPath) -> ImpactVelocities:
+                      ball_path: MotionPath, bat_path: BatPath,
+                      spline_window: int = 0) -> ImpactVelocities:
     """
     Return the velocities at an impact at t (s), from the samples up to t.
 
     The ball's fit is at most a parabola; the bat's pivot and turn use ``degree``. With fewer
     than two samples of a body before t, its part comes from the paths' chords instead.
+    ``spline_window`` > 0: the ``c2`` splines' rates instead (``spline_velocities``).
     """
+    if spline_window:
+        found = spline_velocities(ball, bat, t, spline_window)
+        if found is not None:
+            return found
     ball_velocity = point_velocity(ball, t, _point, window, min(2, degree))
     rates = pivot_rates(bat, t, window, degree)
     fraction, pivot_velocity = (rates[0], rates[1]) if rates else (0.0, None)

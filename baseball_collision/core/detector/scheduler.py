@@ -13,7 +13,7 @@ from typing import Callable, List, Optional
 
 from .config import DetectorConfig
 from .streams import Stream
-from ..motion import SAMPLES_AHEAD
+from ..motion import samples_ahead
 
 Visit = Callable[[float, float, List], None]
 """Called with each union interval (ta, tb) in seconds, and the event list to append to."""
@@ -33,7 +33,7 @@ class Scheduler:
 
     def __init__(self, config: DetectorConfig, ball: Stream, bat: Stream) -> None:
         self.config, self.ball, self.bat = config, ball, bat
-        self.ahead = SAMPLES_AHEAD[config.model]
+        self.ahead = samples_ahead(config.model, config.look_ahead)
         self.cursor: Optional[float] = None
 
     def advance(self, visit: Visit, events: List, final: bool = False) -> bool:

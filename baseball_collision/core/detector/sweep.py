@@ -16,8 +16,9 @@ from .broadphase import clearly_apart
 from .config import DetectorConfig
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
+from .fitting import c2_bat_path, c2_point_path, c2_window
 from .gate import Clock
-from .kinematics import impact_velocities
+from .kinematics import impact_velocities, spline_window_for
 from .streams import Stream
 from ..geometry import add, dot, lerp, norm, profile_gap, rigid_point_velocity, scale, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -59,7 +60,7 @@ class Sweep:
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
         if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
-                         config.max_gap):
+                         config.max_gap, config.look_ahead, config.spline_window):
             self.episodes.far(events)
             return
         paths = self.paths(*located)
@@ -115,6 +116,12 @@ class Sweep:
         """Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached)."""
         ball, bat = self.ball, self.bat
         key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
+        c2 = self.model == 'c2'
+        config = self.config
+        if ball.path_key != key and c2:
+            ball.path = c2_point_path(ball, ball_k, c2_window(
+                ball, ball_k, config.max_gap, config.look_ahead, config.spline_window))
+            ball.path_key = key
         if ball.path_key != key:
             before, after = _neighbours(ball, ball_k, self.config.max_gap)
             ball.path = PointPath.build(self.model, ball.times[ball_k], ball.times[ball_k + 1],
@@ -122,6 +129,10 @@ class Sweep:
                                         after)
             ball.path_key = key
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
+        if bat.path_key != key and c2:
+            bat.path = c2_bat_path(bat, bat_k, c2_window(
+                bat, bat_k, config.max_gap, config.look_ahead, config.spline_window))
+            bat.path_key = key
         if bat.path_key != key:
             before, after = _neighbours(bat, bat_k, self.config.max_gap)
             bat.path = BatPath.build(self.model, bat.times[bat_k], bat.times[bat_k + 1],
@@ -162,8 +173,9 @@ class Sweep:
         ball_path, bat_path = paths
         knob, tip = bat_path.at(t)
         config = self.config
-        velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
-                                       config.velocity_degree, ball_path, bat_path)
+        velocities = impact_velocities(
+            self.ball, self.bat, t, config.velocity_window, config.velocity_degree, ball_path,
+            bat_path, spline_window_for(self.bat, t, config) if self.model == 'c2' else 0)
         length = math.dist(knob, tip)
         direction = tuple((e - k) / length for k, e in zip(knob, tip))
         # the roll turns about the bat's own axis

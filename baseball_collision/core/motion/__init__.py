@@ -15,14 +15,18 @@ solver on each sub-step.
 
 from .base import (
     BatSample, check_model, hermite_slope, hermite_tangent, MODELS, MotionPath, PathKind,
-    SAMPLES_AHEAD, substeps_for, swing_between, turn_between)
+    SAMPLES_AHEAD, samples_ahead, substeps_for, swing_between, turn_between)
 from .bat_paths import (
     BatPath, LinearBatPath, RigidAxisPath, RigidBatPath, RigidPosePath, SplineBatPath)
+from .c2 import c2_rows, C2BatPath, MAX_CHART_ANGLE, rotate, unit_axis
 from .points import AngleCubic, PointPath
+from .splines import end_state, not_a_knot_slopes
 
 __all__ = [
     'MODELS', 'BatSample', 'check_model', 'hermite_tangent', 'substeps_for', 'PointPath',
     'BatPath', 'AngleCubic', 'LinearBatPath', 'MotionPath', 'PathKind', 'RigidAxisPath',
     'RigidBatPath', 'RigidPosePath', 'SAMPLES_AHEAD', 'SplineBatPath', 'hermite_slope',
-    'swing_between', 'turn_between',
+    'swing_between', 'turn_between', 'samples_ahead', 'C2BatPath', 'c2_rows', 'unit_axis',
+    'MAX_CHART_ANGLE',
+    'not_a_knot_slopes', 'end_state', 'rotate',
 ]

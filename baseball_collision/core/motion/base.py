@@ -13,11 +13,17 @@ from typing import Optional, Protocol, Tuple, TypeVar
 from ..geometry import add, dot, norm, Quaternion, rotation_between, sub, swing_rotation, Vector
 from ...errors import CoreError
 
-MODELS = ('linear', 'rigid', 'spline')
+MODELS = ('linear', 'rigid', 'spline', 'c2')
 """The motion model names."""
 
-SAMPLES_AHEAD = {'linear': 0, 'rigid': 0, 'spline': 1}
-"""Samples after an interval's end a model needs before it can move over the interval."""
+SAMPLES_AHEAD = {'linear': 0, 'rigid': 0, 'spline': 1, 'c2': 0}
+"""Samples after an interval's end a model needs before it can move over the interval
+(``c2``: its look-ahead on top, ``samples_ahead``)."""
+
+
+def samples_ahead(model: str, look_ahead: int = 0) -> int:
+    """Return the samples after an interval's end the walk waits for under a model."""
+    return SAMPLES_AHEAD[model] + (look_ahead if model == 'c2' else 0)
 
 
 def check_model(model: str) -> str:
@@ -42,6 +48,8 @@ class PathKind(enum.StrEnum):
     """rigid, from knob and tip: knob LERP, direction SLERP, length LERP."""
     TURNING = 'turning'
     """spline: cubic knob, knob-to-tip turning by a cubic angle, length LERP."""
+    C2 = 'c2'
+    """c2: knob, unit direction (renormalised) and length, each a windowed not-a-knot spline."""
 
 
 @dataclass(frozen=True)

@@ -90,18 +90,21 @@ class PointPath:
         b, c, d = self.b, self.c, self.d
         return tuple((b[i] + s * (2.0 * c[i] + 3.0 * s * d[i])) / self.h for i in range(3))
 
-    def deviation(self, ta: float, tb: float) -> float:
-        """Return a bound (metres) on how far the path leaves its chord over [ta, tb]."""
+    def max_acceleration(self, ta: float, tb: float) -> float:
+        """Return the largest |p''| (m/s^2) over [ta, tb]: at an end, p'' being linear in t."""
         if not self.curved:
             return 0.0
-        # p'' is linear in t on a cubic: its largest value over [ta, tb] is at an end
         a0, rate = self.accel0, self.accel_rate
         worst = 0.0
         for t in (ta, tb):
             s = (t - self.t0) / self.h
             worst = max(worst, norm((a0[0] + rate[0] * s, a0[1] + rate[1] * s,
                                      a0[2] + rate[2] * s)))
-        return worst * (tb - ta) ** 2 / 8.0
+        return worst
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (metres) on how far the path leaves its chord over [ta, tb]."""
+        return self.max_acceleration(ta, tb) * (tb - ta) ** 2 / 8.0
 
 
 class AngleCubic:

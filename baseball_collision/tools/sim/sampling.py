@@ -14,6 +14,7 @@ import numpy as np
 
 from .common import check_number
 from .scenarios import Scenario
+from ...core.geometry import quaternion_multiply
 from ...errors import ToolError
 
 DEFAULT_START_NS = 1_700_000_000_000_000_000
@@ -33,7 +34,8 @@ class Samples:
     :ivar bat_stamps_ns: (M,) int64.
     :ivar bat_positions: (M, 3) bat pose positions (m).
     :ivar bat_quaternions: (M, 4) bat pose orientations, unit (x, y, z, w).
-    :ivar knobs: (M, 3) knobs (m), ``geometry.knob_and_tip`` of the (noisy) pose.
+    :ivar knobs: (M, 3) knobs (m): ``geometry.knob_and_tip`` of the (noisy) pose, or markers
+        with noise of their own (``marker_spread_m``).
     :ivar tips: (M, 3) tips (m), likewise.
     :ivar start_ns: absolute stamp of the scenario start (ns).
     """
@@ -90,7 +92,8 @@ def _stamps(t_end: float, rate_hz: float, rng: np.random.Generator, jitter_s: fl
 
 def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
            jitter_s: float = 0.0, grid_s: Optional[float] = None, noise_m: float = 0.0,
-           start_ns: int = DEFAULT_START_NS, bat_offset_s: float = 0.0) -> Samples:
+           start_ns: int = DEFAULT_START_NS, bat_offset_s: float = 0.0,
+           marker_spread_m: Optional[float] = None) -> Samples:
     """
     Sample a scenario as a tracker would.
 
@@ -100,7 +103,12 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     [0, t_end] and repeats are dropped, so stamps strictly increase. Positions are the truth at
     the stamped instant, plus Gaussian noise of ``noise_m`` per axis: one draw per ball sample,
     one per bat sample added to the pose position and so to knob and tip alike (knob and tip
-    stay those of the pose). With ``bat_offset_s == 0`` the bat has the ball's stamps.
+    stay those of the pose). With ``marker_spread_m`` the bat is tracked as a motion-capture
+    rigid body is: knob and tip are markers with their own noise of ``noise_m`` each, and the
+    pose has ``noise_m`` on its position and ``noise_m / marker_spread_m`` rad per axis on its
+    orientation (a small random rotation, applied in the world frame), the noise of a
+    rigid-body solve over markers that far apart. With ``bat_offset_s == 0`` the bat has the
+    ball's stamps.
 
     :param scenario: what to sample.
     :param rate_hz: nominal sample rate (Hz, > 0).
@@ -110,15 +118,19 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     :param noise_m: standard deviation of the position noise per axis (m, >= 0).
     :param start_ns: absolute stamp (ns) of the scenario start.
     :param bat_offset_s: shift (s) of the bat stream's nominal times.
+    :param marker_spread_m: the markers' spread (m, > 0; 0.3 for a bat), or None for one
+        position noise shared by pose, knob and tip.
 
     :returns: The samples.
 
-    :raises ToolError: a rate, jitter, grid or noise out of range.
+    :raises ToolError: a rate, jitter, grid, noise or spread out of range.
     """
     rate_hz = check_number('rate_hz', rate_hz, positive=True)
     jitter_s = check_number('jitter_s', jitter_s, minimum=0.0)
     noise_m = check_number('noise_m', noise_m, minimum=0.0)
     bat_offset_s = check_number('bat_offset_s', bat_offset_s)
+    if marker_spread_m is not None:
+        marker_spread_m = check_number('marker_spread_m', marker_spread_m, positive=True)
     if grid_s is not None:
         grid_s = check_number('grid_s', grid_s, positive=True)
         if round(grid_s * 1e9) < 1:
@@ -136,7 +148,13 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     bat_times = bat_rel * 1e-9
     position, quaternion = scenario.swing.pose(bat_times)
     knobs, tips = scenario.swing.knob_tip(bat_times)
-    if noise_m > 0.0:
+    if noise_m > 0.0 and marker_spread_m is not None:
+        ball = ball + rng.normal(0.0, noise_m, ball.shape)
+        position, quaternion = _shaken_pose(position, quaternion, noise_m,
+                                            noise_m / marker_spread_m, rng)
+        knobs = knobs + rng.normal(0.0, noise_m, knobs.shape)
+        tips = tips + rng.normal(0.0, noise_m, tips.shape)
+    elif noise_m > 0.0:
         ball = ball + rng.normal(0.0, noise_m, ball.shape)
         shake = rng.normal(0.0, noise_m, position.shape)
         position, knobs, tips = position + shake, knobs + shake, tips + shake
@@ -144,6 +162,19 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
         ball_stamps_ns=np.int64(start) + ball_rel, ball_positions=ball,
         bat_stamps_ns=np.int64(start) + bat_rel, bat_positions=position,
         bat_quaternions=quaternion, knobs=knobs, tips=tips, start_ns=start)
+
+
+def _shaken_pose(position: np.ndarray, quaternion: np.ndarray, noise_m: float, noise_rad: float,
+                 rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+    """Return poses (N, 3), (N, 4) with position noise and a small random rotation each."""
+    position = position + rng.normal(0.0, noise_m, position.shape)
+    turn = rng.normal(0.0, noise_rad, position.shape)
+    angle = np.linalg.norm(turn, axis=1)
+    safe = np.where(angle > 0.0, angle, 1.0)
+    shake = np.concatenate([np.sin(0.5 * angle)[:, None] * turn / safe[:, None],
+                            np.cos(0.5 * angle)[:, None]], axis=1)
+    quaternion = quaternion_multiply(shake, quaternion)
+    return position, quaternion / np.linalg.norm(quaternion, axis=1, keepdims=True)
 
 
 def truth_dict(scenario: Scenario, start_ns: int = DEFAULT_START_NS) -> Dict[str, object]:

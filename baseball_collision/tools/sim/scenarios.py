@@ -1,19 +1,21 @@
 """
 Scenarios: a pitch and a swing aimed at each other so that one kind of event happens.
 
-``make_scenario`` draws a right-handed swing and a 76-94 mph pitch that make a 'barrel',
-'end_cap', 'handle', 'graze', 'miss_over' or 'miss_under' (:data:`KINDS`), each checked against
-its computed :class:`~.truth.Truth` and drawn again if the kind does not hold. A scenario runs
-over ``[0, t_end]`` seconds of scenario time.
+``make_scenario`` draws a swing of a family (``families``: today's right-handed fixed-plane
+swing by default) and a 76-94 mph pitch that make a 'barrel', 'end_cap', 'handle', 'graze',
+'miss_over' or 'miss_under' (:data:`KINDS`), or one of the closest calls (:data:`CLOSE_KINDS`),
+each checked against its computed :class:`~.truth.Truth` and drawn again if the kind does not
+hold. A scenario runs over ``[0, t_end]`` seconds of scenario time.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 from typing import Optional
 
 import numpy as np
 
 from .common import as_times, check_number, SQRT_TWO_PI, TimeLike, unit
+from .families import check_family, draw_extras, mirrored
 from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch
 from .swings import Swing
 from .truth import compute_truth, segment_gaps, Truth
@@ -22,6 +24,9 @@ from ...errors import ToolError
 
 KINDS = ('barrel', 'end_cap', 'handle', 'graze', 'miss_over', 'miss_under')
 """Scenario kinds ``make_scenario`` builds (``Scenario`` also accepts ``'custom'``)."""
+
+CLOSE_KINDS = ('tick', 'shave')
+"""The closest calls ``make_scenario`` also builds: a contact 0.1-1 mm deep, a miss by 0.1-2 mm."""
 
 
 @dataclass(frozen=True)
@@ -56,8 +61,8 @@ class Scenario:
 
         :raises ToolError: an unknown kind, or as ``compute_truth``.
         """
-        if self.kind not in KINDS + ('custom',):
-            raise ToolError(f'scenario kind must be one of {KINDS + ("custom",)}, '
+        if self.kind not in KINDS + CLOSE_KINDS + ('custom',):
+            raise ToolError(f'scenario kind must be one of {KINDS + CLOSE_KINDS + ("custom",)}, '
                             f'got {self.kind!r}')
         if self.truth is None:
             object.__setattr__(self, 'truth', compute_truth(
@@ -74,6 +79,8 @@ class Scenario:
 
 def _kind_holds(kind: str, truth: Truth) -> bool:
     """Return whether a truth is an instance of a scenario kind."""
+    if kind == 'shave':
+        return not truth.contact and 1e-4 <= truth.min_gap_m <= 2e-3
     if kind in ('miss_over', 'miss_under'):
         upward = truth.min_gap_vector[2] > 0.0
         return (not truth.contact and 0.02 <= truth.min_gap_m <= 0.15
@@ -86,6 +93,8 @@ def _kind_holds(kind: str, truth: Truth) -> bool:
         return truth.feature == 'tip_end'
     if kind == 'handle':
         return truth.feature == 'side' and 0.2 <= truth.distance_from_knob_m <= 0.4
+    if kind == 'tick':
+        return -1e-3 <= truth.min_gap_m <= -1e-4
     return -0.010 <= truth.min_gap_m <= -0.001  # graze
 
 
@@ -95,9 +104,14 @@ def _segment_radius(profile: BatProfile, fraction: float) -> float:
     return max(radii) if radii else profile.radius_at(fraction)
 
 
-def _draw_swing(rng: np.random.Generator, contact_time: float,
-                geometry: PoseBatGeometry) -> Swing:
-    """Draw a right-handed swing, its reference at the contact time, sweet spot 28-34.5 m/s."""
+def _draw_swing(rng: np.random.Generator, contact_time: float, geometry: PoseBatGeometry,
+                family: str = 'plane') -> Swing:
+    """
+    Draw a swing of a family, its reference at the contact time, sweet spot 28-34.5 m/s.
+
+    The fixed-plane draws come first and in today's order, so ``'plane'`` swings are unchanged;
+    a family's extras (``families.draw_extras``) follow.
+    """
     azimuth = math.radians(rng.uniform(-20.0, 15.0))  # of the bat from +x toward +y
     elevation = math.radians(rng.uniform(-30.0, 5.0))  # barrel below the hands when < 0
     direction = np.array([math.cos(elevation) * math.cos(azimuth),
@@ -115,25 +129,35 @@ def _draw_swing(rng: np.random.Generator, contact_time: float,
     hands_accel = np.array([rng.uniform(-12.0, -4.0), rng.uniform(-4.0, 4.0),
                             rng.uniform(-4.0, 4.0)])
     grip = rng.uniform(0.08, 0.12)
+    target = rng.uniform(28.0, 34.5)
+    lead = rng.uniform(0.15, 0.5)  # peak angular speed after contact, in widths
+    turn = rng.uniform(4.6, 5.6)  # total rotation < 2 pi
+    roll_rate = rng.uniform(-4.0, 4.0)
+    extras = draw_extras(family, rng, normal)
     length = float(np.linalg.norm(np.subtract(geometry.tip_offset, geometry.knob_offset)))
     hands_velocity = hands_peak * math.exp(-0.5 * (hands_lag / hands_width) ** 2)
     # angular speed at contact for the drawn sweet-spot speed
-    target = rng.uniform(28.0, 34.5)
     lever = length - SWEET_SPOT_FROM_TIP - grip
+    if extras.tilt_rate:  # the tilting plane moves the sweet spot too
+        hands_velocity = hands_velocity + lever * extras.tilt_rate * np.cross(
+            extras.tilt_axis, direction)
     across = np.cross(normal, direction)
     along = float(hands_velocity @ across)
     square = along * along - float(hands_velocity @ hands_velocity) + target * target
     omega_contact = (-along + math.sqrt(max(square, 0.0))) / lever
-    lead = rng.uniform(0.15, 0.5)  # peak angular speed after contact, in widths
-    peak = omega_contact * math.exp(0.5 * lead * lead)
-    width = rng.uniform(4.6, 5.6) / (peak * SQRT_TWO_PI)  # total rotation < 2 pi
-    return Swing(
+    peak = omega_contact * math.exp(0.5 * lead * lead) / (1.0 - extras.skew * lead)
+    width = turn / (peak * SQRT_TWO_PI)
+    swing = Swing(
         reference_time=contact_time, hands=tuple(hands), direction=tuple(direction),
         plane_normal=tuple(normal), peak_angular_speed=peak,
         peak_time=contact_time + lead * width, angular_width=width,
         hands_peak_velocity=tuple(hands_peak), hands_peak_time=contact_time - hands_lag,
         hands_width=hands_width, hands_acceleration=tuple(hands_accel), grip_from_knob=grip,
-        roll_rate=rng.uniform(-4.0, 4.0), geometry=geometry)
+        roll_rate=roll_rate, geometry=geometry, tilt_axis=extras.tilt_axis,
+        tilt_rate=extras.tilt_rate, tilt_acceleration=extras.tilt_acceleration,
+        angular_skew=extras.skew, hands_jerk=extras.hands_jerk,
+        brake_fraction=extras.brake_fraction, brake_duration=extras.brake_duration)
+    return mirrored(swing) if extras.left else swing
 
 
 def _draw_ball_velocity(rng: np.random.Generator, contact: np.ndarray, drag_constant: float,
@@ -155,8 +179,8 @@ def _draw_ball_velocity(rng: np.random.Generator, contact: np.ndarray, drag_cons
 
 
 def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: float,
-                   profile: BatProfile, ball_radius: float,
-                   geometry: PoseBatGeometry) -> Optional[Scenario]:
+                   profile: BatProfile, ball_radius: float, geometry: PoseBatGeometry,
+                   family: str = 'plane') -> Optional[Scenario]:
     """
     Draw one candidate scenario of a kind; None when the draw is implausible.
 
@@ -164,7 +188,7 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
     """
     contact_time = lead_s + rng.uniform(-0.005, 0.005)
     t_end = lead_s + trail_s
-    swing = _draw_swing(rng, contact_time, geometry)
+    swing = _draw_swing(rng, contact_time, geometry, family)
     length = swing.length
     segments = profile.segments()
     if kind == 'barrel':
@@ -173,7 +197,7 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
         fraction = rng.uniform(0.23, 0.37) / length
     elif kind == 'end_cap':
         fraction = segments[-1][1]
-    elif kind == 'graze':
+    elif kind in ('graze',) + CLOSE_KINDS:
         fraction = 1.0 - rng.uniform(0.06, 0.3) / length
     else:
         fraction = 1.0 - rng.uniform(0.06, 0.35) / length
@@ -202,6 +226,10 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
     elif kind == 'graze':
         sign = 1.0 if rng.uniform() < 0.5 else -1.0
         centre = spot + sign * (reach - rng.uniform(0.002, 0.008)) * up
+    elif kind in CLOSE_KINDS:
+        sign = 1.0 if rng.uniform() < 0.5 else -1.0
+        clearance = -rng.uniform(1e-4, 1e-3) if kind == 'tick' else rng.uniform(1e-4, 2e-3)
+        centre = spot + sign * (reach + clearance) * up
     else:
         sign = 1.0 if kind == 'miss_over' else -1.0
         centre = spot + sign * (reach + rng.uniform(0.03, 0.12)) * up
@@ -211,19 +239,52 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
     if not (74.0 <= release_speed <= 96.0 and 1.0 <= pitch.release_position[2] <= 2.6):
         return None
     name = f'{kind}-{int(rng.integers(0, 2 ** 32)):08x}'
-    return Scenario(name=name, kind=kind, swing=swing, pitch=pitch, t_end=t_end,
-                    profile=profile, ball_radius=ball_radius)
+    scenario = Scenario(name=name, kind=kind, swing=swing, pitch=pitch, t_end=t_end,
+                        profile=profile, ball_radius=ball_radius)
+    if kind in CLOSE_KINDS:
+        scenario = _settle_clearance(scenario, clearance, velocity, contact_time, release_y)
+    return _braked(scenario)
+
+
+def _settle_clearance(scenario: Scenario, clearance: float, velocity: np.ndarray,
+                      contact_time: float, release_y: float) -> Scenario:
+    """
+    Return the scenario with the ball moved until its smallest gap is ``clearance`` (m).
+
+    The smallest gap changes about one for one with a shift of the ball along the normal at
+    the closest approach: a few such steps bring it within a micrometre.
+    """
+    for _ in range(4):
+        truth = scenario.truth
+        error = clearance - truth.min_gap_m
+        if abs(error) < 1e-6:
+            break
+        normal = np.asarray(truth.min_gap_vector) / truth.min_gap_m
+        centre = scenario.pitch.position(contact_time) + error * normal
+        pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
+                              end_time=scenario.t_end + 0.01)
+        scenario = replace(scenario, pitch=pitch, truth=None)
+    return scenario
+
+
+def _braked(scenario: Scenario) -> Scenario:
+    """Return the scenario with its swing braking from the first contact on (if it brakes)."""
+    truth, swing = scenario.truth, scenario.swing
+    if not truth.contact or not swing.brake_fraction:
+        return scenario
+    return replace(scenario, swing=replace(swing, brake_time=truth.time_s), truth=truth)
 
 
 def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
                   trail_s: float = 0.10, profile: BatProfile = WOOD_BAT_34,
                   ball_radius: float = BALL_RADIUS,
                   geometry: PoseBatGeometry = PoseBatGeometry(),
-                  max_attempts: int = 50) -> Scenario:
+                  max_attempts: int = 50, family: str = 'plane') -> Scenario:
     """
     Build a plausible pitch and swing aimed so that one kind of event happens.
 
-    A right-handed swing (sweet spot at 28-34.5 m/s at contact, the hands leading) and a
+    A swing of ``family`` (``families.FAMILIES``: today's right-handed fixed-plane swing by
+    default; sweet spot at 28-34.5 m/s at contact, the hands leading) and a
     76-94 mph pitch released 16.5-17 m away about 1.4-2.0 m high. The contact instant (about
     ``lead_s`` after the start) and spot on the bat are chosen first; the ball is placed there at
     that instant, offset along the contact normal, and the flight integrated backward to the
@@ -234,7 +295,9 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
     * ``'handle'``: the side of the bat 0.2-0.4 m from the knob;
     * ``'graze'``: a foul tip: a contact whose deepest overlap is 1-10 mm;
     * ``'miss_over'`` / ``'miss_under'``: no contact, the ball passing 2-15 cm over / under the
-      bat (smallest gap, with its vertical component of that sign).
+      bat (smallest gap, with its vertical component of that sign);
+    * ``'tick'`` and ``'shave'`` (:data:`CLOSE_KINDS`, not in ``KINDS``): the closest calls, a
+      contact 0.1-1 mm deep and a miss by 0.1-2 mm.
 
     Each draw is checked against its computed truth and redrawn if the kind does not hold.
 
@@ -246,20 +309,23 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
     :param ball_radius: ball radius (m).
     :param geometry: where knob and tip sit in the bat body frame of the swing's pose.
     :param max_attempts: draws before giving up.
+    :param family: the swing family.
 
     :returns: The scenario, running over [0, lead_s + trail_s].
 
-    :raises ToolError: an unknown kind, bad durations, or no draw of the kind within
+    :raises ToolError: an unknown kind or family, bad durations, or no draw of the kind within
         ``max_attempts``.
     """
-    if kind not in KINDS:
-        raise ToolError(f'scenario kind must be one of {KINDS}, got {kind!r}')
+    if kind not in KINDS + CLOSE_KINDS:
+        raise ToolError(f'scenario kind must be one of {KINDS + CLOSE_KINDS}, got {kind!r}')
+    check_family(family)
     lead_s = check_number('lead_s', lead_s, minimum=0.05)
     trail_s = check_number('trail_s', trail_s, minimum=0.02)
     failure = None
     for _ in range(max(1, int(max_attempts))):
         try:
-            scenario = _draw_scenario(kind, rng, lead_s, trail_s, profile, ball_radius, geometry)
+            scenario = _draw_scenario(kind, rng, lead_s, trail_s, profile, ball_radius, geometry,
+                                      family)
         except ToolError as error:
             failure = error
             continue

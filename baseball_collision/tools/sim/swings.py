@@ -1,25 +1,29 @@
 """
 A rigid bat swinging about the hands: exact kinematics, poses and velocities.
 
-The batter is right-handed: stands on the third-base side (x < 0) facing +x, and the bat turns
+A right-handed batter stands on the third-base side (x < 0) facing +x, and the bat turns
 counter-clockwise seen from above (angular velocity roughly +z), the barrel moving toward +y
-(the pitcher) at contact. The bat is rigid: its knob-to-tip length never changes. The hands (a
-pivot on the bat axis near the knob) follow a smooth path and the bat turns about them in a
-fixed, tilted swing plane, with an optional steady roll about its own axis. Quaternions are
-``(x, y, z, w)`` (ROS order), unit, rotating the bat body frame into the world. The swing
-angle has a Gaussian angular-speed profile (closed form through ``erf``), so the bat turns less
-than one revolution over all time and passes through the ball's path at most once.
+(the pitcher) at contact; a left-handed one is its mirror image (``families``). The bat is
+rigid: its knob-to-tip length never changes. The hands (a pivot on the bat axis near the knob)
+follow a smooth path and the bat turns about them in a swing plane, with an optional steady
+roll about its own axis. The plane is fixed (today's swings) or tilts: it turns about
+``tilt_axis`` by ``tilt_rate s + tilt_acceleration s^2 / 2``, so the rotation axis moves at a few
+rad/s, as a real swing's does. Quaternions are ``(x, y, z, w)`` (ROS order), unit, rotating the
+bat body frame into the world. The swing angle (``profiles.AngleProfile``) has a Gaussian
+angular-speed profile, optionally skewed (angular jerk) and braked after a contact, so the bat
+turns less than one revolution over all time and passes through the ball's path at most once.
 """
 
 from dataclasses import dataclass, field
 import math
-from typing import Dict, Tuple
+from typing import Dict, Optional, Tuple
 
 import numpy as np
 
 from .common import (
     as_times, check_number, check_vector, erf, SQRT_HALF_PI, SQRT_TWO, SQRT_TWO_PI, TimeLike,
     unit, Vector)
+from .profiles import AngleProfile
 from ...core.bat import PoseBatGeometry, SWEET_SPOT_FROM_TIP
 from ...core.geometry import (
     axis_angle_quaternions, matrix_to_quaternion, quaternion_multiply, rotate)
@@ -35,17 +39,20 @@ def _perpendicular(axis: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True)
 class Swing:
     """
-    A rigid bat turning about the hands in a fixed swing plane.
+    A rigid bat turning about the hands in a swing plane that may tilt.
 
     Kinematics (closed form, exact derivatives), with ``s = t - reference_time``:
 
     * swing angle ``theta(t)`` about ``plane_normal`` (right-handed), 0 at ``reference_time``,
-      with angular speed ``theta'(t) = peak_angular_speed * exp(-(t - peak_time)^2 /
-      (2 angular_width^2))``: the bat starts from rest, speeds up into contact and slows in the
-      follow-through, and turns ``total_rotation`` radians over all time;
-    * bat direction (knob to tip) ``d(t) = cos(theta) direction + sin(theta) (n x direction)``;
+      with angular speed ``theta'(t) = peak_angular_speed * exp(-z^2 / 2) * (1 + angular_skew
+      z)``, ``z = (t - peak_time) / angular_width``: the bat starts from rest, speeds up into
+      contact and slows in the follow-through, and turns ``total_rotation`` radians over all
+      time (less after a brake: ``brake_time``, ``brake_fraction``, ``brake_duration``);
+    * the plane turns about ``tilt_axis`` by ``phi(s) = tilt_rate s + tilt_acceleration s^2 / 2``
+      (rotation ``T``); bat direction (knob to tip) ``d(t) = T (cos(theta) direction +
+      sin(theta) (n x direction))``;
     * hands ``H(t) = hands + hands_peak_velocity * (integral of a Gaussian of width
-      hands_width centred on hands_peak_time) + 0.5 hands_acceleration s^2``;
+      hands_width centred on hands_peak_time) + hands_acceleration s^2 / 2 + hands_jerk s^3 / 6``;
     * knob ``H - grip_from_knob d``, tip ``knob + length d``;
     * roll ``roll_rate * s`` about the bat's own axis (changes the pose, not knob and tip).
 
@@ -68,6 +75,12 @@ class Swing:
     :ivar grip_from_knob: distance (m) from the knob to the hands along the axis.
     :ivar roll_rate: spin of the bat about its own axis (rad/s).
     :ivar geometry: where knob and tip sit in the bat body frame of ``pose``.
+    :ivar tilt_axis: the axis the swing plane turns about (unit on construction).
+    :ivar tilt_rate: rad/s at ``reference_time``; ``tilt_acceleration``: rad/s^2.
+    :ivar angular_skew: the angular-speed profile's skew (dimensionless, |skew| < 1).
+    :ivar hands_jerk: a constant jerk of the hands (m/s^3).
+    :ivar brake_time: when the bat starts to lose angular speed (s; a contact), None for never.
+    :ivar brake_fraction: the fraction it loses (0-1); ``brake_duration``: over how long (s).
     """
 
     reference_time: float
@@ -84,22 +97,43 @@ class Swing:
     grip_from_knob: float = 0.1
     roll_rate: float = 0.0
     geometry: PoseBatGeometry = PoseBatGeometry()
+    tilt_axis: Vector = (0.0, 0.0, 1.0)
+    tilt_rate: float = 0.0
+    tilt_acceleration: float = 0.0
+    angular_skew: float = 0.0
+    hands_jerk: Vector = (0.0, 0.0, 0.0)
+    brake_time: Optional[float] = None
+    brake_fraction: float = 0.0
+    brake_duration: float = 0.002
     _frame: Dict[str, np.ndarray] = field(init=False, repr=False, compare=False)
+    _profile: AngleProfile = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         """
         Check the parameters, normalise the directions and precompute the frames.
 
         :raises ToolError: non-finite values, a non-positive width or angular speed, a
-            plane normal parallel to the direction, or a grip outside the bat.
+            plane normal parallel to the direction, a grip outside the bat, a skew of 1 or
+            more, or a brake fraction outside [0, 1].
         """
         setattr_ = object.__setattr__
-        for name in ('reference_time', 'peak_time', 'hands_peak_time', 'roll_rate'):
+        for name in ('reference_time', 'peak_time', 'hands_peak_time', 'roll_rate', 'tilt_rate',
+                     'tilt_acceleration', 'angular_skew'):
             setattr_(self, name, check_number(name, getattr(self, name)))
-        for name in ('peak_angular_speed', 'angular_width', 'hands_width'):
+        for name in ('peak_angular_speed', 'angular_width', 'hands_width', 'brake_duration'):
             setattr_(self, name, check_number(name, getattr(self, name), positive=True))
-        for name in ('hands', 'hands_peak_velocity', 'hands_acceleration'):
+        for name in ('hands', 'hands_peak_velocity', 'hands_acceleration', 'hands_jerk'):
             setattr_(self, name, check_vector(name, getattr(self, name)))
+        if abs(self.angular_skew) >= 1.0:
+            raise ToolError(f'angular_skew must lie in (-1, 1), got {self.angular_skew!r}')
+        fraction = check_number('brake_fraction', self.brake_fraction, minimum=0.0)
+        if fraction > 1.0:
+            raise ToolError(f'brake_fraction must lie in [0, 1], got {fraction!r}')
+        setattr_(self, 'brake_fraction', fraction)
+        if self.brake_time is not None:
+            setattr_(self, 'brake_time', check_number('brake_time', self.brake_time))
+        tilt_axis = unit('tilt_axis', np.array(check_vector('tilt_axis', self.tilt_axis)))
+        setattr_(self, 'tilt_axis', tuple(float(v) for v in tilt_axis))
         d = unit('direction', np.array(check_vector('direction', self.direction)))
         n = np.array(check_vector('plane_normal', self.plane_normal))
         n = unit('plane_normal (perpendicular to direction)', n - d * float(n @ d))
@@ -121,7 +155,13 @@ class Swing:
             'd': d, 'n': n, 'e2': np.cross(n, d), 'axis_body': axis_b,
             'q_ref': matrix_to_quaternion(world @ body.T),
             'grip_body': knob_b + grip * axis_b, 'length': np.array(length),
+            'tilt_axis': tilt_axis,
         })
+        setattr_(self, '_profile', AngleProfile(
+            peak=self.peak_angular_speed, peak_time=self.peak_time, width=self.angular_width,
+            skew=self.angular_skew, reference_time=self.reference_time,
+            brake_time=self.brake_time, brake_fraction=self.brake_fraction,
+            brake_duration=self.brake_duration))
 
     @property
     def length(self) -> float:
@@ -130,22 +170,39 @@ class Swing:
 
     @property
     def total_rotation(self) -> float:
-        """Return the angle (rad) the bat turns in its plane over all time (< 2 pi: one pass)."""
+        """Return the angle (rad) the unbraked bat turns in its plane over all time (< 2 pi)."""
         return self.peak_angular_speed * self.angular_width * SQRT_TWO_PI
+
+    @property
+    def tilts(self) -> bool:
+        """Return whether the swing plane turns."""
+        return self.tilt_rate != 0.0 or self.tilt_acceleration != 0.0
 
     def angle(self, t: TimeLike) -> np.ndarray:
         """Return the swing angle in radians at time(s) t (s), 0 at ``reference_time``."""
         times, shape = as_times(t)
-        scale = 1.0 / (self.angular_width * SQRT_TWO)
-        amplitude = self.peak_angular_speed * self.angular_width * SQRT_HALF_PI
-        origin = math.erf((self.reference_time - self.peak_time) * scale)
-        return (amplitude * (erf((times - self.peak_time) * scale) - origin)).reshape(shape)
+        return self._profile.angle(times).reshape(shape)
 
     def angular_speed(self, t: TimeLike) -> np.ndarray:
         """Return the swing angular speed d(theta)/dt (rad/s) at time(s) t (s)."""
         times, shape = as_times(t)
-        z = (times - self.peak_time) / self.angular_width
-        return (self.peak_angular_speed * np.exp(-0.5 * z * z)).reshape(shape)
+        return self._profile.rate(times).reshape(shape)
+
+    def tilt_angle(self, t: TimeLike) -> np.ndarray:
+        """Return the angle (rad) the swing plane has turned about ``tilt_axis`` at time(s) t."""
+        times, shape = as_times(t)
+        s = times - self.reference_time
+        return (s * (self.tilt_rate + 0.5 * self.tilt_acceleration * s)).reshape(shape)
+
+    def _tilt(self, times: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+        """Return vectors (N, 3) turned about the tilt axis by the tilt angle at times (N,)."""
+        if not self.tilts:
+            return vectors
+        axis = self._frame['tilt_axis']
+        phi = self.tilt_angle(times)[:, None]
+        c, s = np.cos(phi), np.sin(phi)
+        return (c * vectors + s * np.cross(axis[None, :], vectors)
+                + (1.0 - c) * (vectors @ axis)[:, None] * axis[None, :])
 
     def _hands(self, times: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """Return the hands' position (N, 3) m and velocity (N, 3) m/s at times (N,) s."""
@@ -160,6 +217,10 @@ class Swing:
         position = (np.asarray(self.hands)[None, :] + travel[:, None] * peak[None, :]
                     + 0.5 * s * s * accel[None, :])
         velocity = np.exp(-0.5 * z * z)[:, None] * peak[None, :] + s * accel[None, :]
+        if any(self.hands_jerk):
+            jerk = np.asarray(self.hands_jerk)[None, :]
+            position = position + (s * s * s / 6.0) * jerk
+            velocity = velocity + (0.5 * s * s) * jerk
         return position, velocity
 
     def _axis(self, times: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -167,7 +228,7 @@ class Swing:
         theta = self.angle(times)
         c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
         d, e2 = self._frame['d'][None, :], self._frame['e2'][None, :]
-        return theta, c * d + s * e2, c * e2 - s * d
+        return theta, self._tilt(times, c * d + s * e2), self._tilt(times, c * e2 - s * d)
 
     def hands_position(self, t: TimeLike) -> np.ndarray:
         """Return the hands' pivot (m) at time(s) t (s): (3,) or t.shape + (3,)."""
@@ -215,6 +276,9 @@ class Swing:
                                       self.roll_rate * (times - self.reference_time))
         reference = np.broadcast_to(self._frame['q_ref'], swing.shape)
         quaternion = quaternion_multiply(quaternion_multiply(swing, reference), roll)
+        if self.tilts:
+            tilt = axis_angle_quaternions(self._frame['tilt_axis'], self.tilt_angle(times))
+            quaternion = quaternion_multiply(tilt, quaternion)
         quaternion /= np.linalg.norm(quaternion, axis=1, keepdims=True)
         grip = tuple(self._frame['grip_body'])
         position = hands - np.stack(rotate(tuple(quaternion.T), grip), axis=1)
@@ -224,17 +288,24 @@ class Swing:
         """
         Return the exact velocity (m/s) of the axis point at ``fraction`` (0 knob, 1 tip).
 
-        ``H'(t) + theta'(t) (fraction * length - grip_from_knob) (n x d(t))``: the roll does not
-        move points on the axis.
+        ``H'(t) + (fraction * length - grip_from_knob) (theta'(t) T n x d(t) + phi'(t) a x
+        d(t))``: the roll does not move points on the axis.
 
         :returns: (3,) for a float t, t.shape + (3,) for an array.
         """
         times, shape = as_times(t)
         hands_velocity = self._hands(times)[1]
         lever = float(fraction) * self.length - self.grip_from_knob
-        across = self._axis(times)[2]
+        _, direction, across = self._axis(times)
         velocity = hands_velocity + (self.angular_speed(times) * lever)[:, None] * across
+        if self.tilts:
+            velocity = velocity + lever * self._tilt_rate(times)[:, None] * np.cross(
+                self._frame['tilt_axis'][None, :], direction)
         return velocity.reshape(shape + (3,))
+
+    def _tilt_rate(self, times: np.ndarray) -> np.ndarray:
+        """Return phi'(t) (rad/s) at times (N,)."""
+        return self.tilt_rate + self.tilt_acceleration * (times - self.reference_time)
 
     def angular_velocity(self, t: TimeLike) -> np.ndarray:
         """
@@ -244,8 +315,10 @@ class Swing:
         """
         times, shape = as_times(t)
         direction = self._axis(times)[1]
-        omega = (self.angular_speed(times)[:, None] * self._frame['n'][None, :]
-                 + self.roll_rate * direction)
+        normal = self._tilt(times, np.broadcast_to(self._frame['n'], direction.shape))
+        omega = self.angular_speed(times)[:, None] * normal + self.roll_rate * direction
+        if self.tilts:
+            omega = omega + self._tilt_rate(times)[:, None] * self._frame['tilt_axis'][None, :]
         return omega.reshape(shape + (3,))
 
     def sweet_spot_fraction(self) -> float:

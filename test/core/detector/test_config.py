@@ -95,7 +95,7 @@ def test_validate_fills_converts_and_ignores_unknown_names() -> None:
     ({'qos_depth': 0}, ["'qos_depth' = 0", 'out of range [1, 10000]']),
     ({'publish_markers': 1}, ["'publish_markers'", 'must be a boolean', 'type integer']),
     ({'frame_id': 3}, ["'frame_id'", 'must be a string']),
-    ({'model': 'cubic'}, ["'model' must be one of linear, rigid, spline, got 'cubic'"]),
+    ({'model': 'cubic'}, ["'model' must be one of linear, rigid, spline, c2, got 'cubic'"]),
     ({'qos': 'best_effort'}, ["'qos' must be one of sensor_data, reliable"]),
     ({'up_axis': [0.0, 0.0, 0.0]}, ["'up_axis' must be a non-zero 3-vector"]),
     ({'up_axis': [1.0, 0.0]}, ["'up_axis' must be a non-zero 3-vector"]),

@@ -50,12 +50,12 @@ def test_hermite_slope_is_the_tangent_of_a_scalar() -> None:
 def test_every_model_says_how_many_samples_it_waits_for() -> None:
     """Only the spline needs the sample after an interval."""
     assert set(SAMPLES_AHEAD) == set(MODELS)
-    assert [SAMPLES_AHEAD[m] for m in MODELS] == [0, 0, 1]
+    assert [SAMPLES_AHEAD[m] for m in MODELS] == [0, 0, 1, 0]
 
 
 def test_path_kinds_are_strings() -> None:
     """A PathKind is its plain value."""
-    assert [str(kind) for kind in PathKind] == ['points', 'pose', 'axis', 'turning']
+    assert [str(kind) for kind in PathKind] == ['points', 'pose', 'axis', 'turning', 'c2']
     assert PathKind.POSE == 'pose'
 
 

@@ -1,0 +1,173 @@
+"""
+The ``c2`` model: a not-a-knot cubic spline per coordinate over a window of each stream.
+
+Over the last W samples of a continuous stream segment up to the interval's closing frame plus
+a look-ahead of 0, 1 or 2 frames, each coordinate is interpolated by the not-a-knot cubic
+spline (``splines.not_a_knot_slopes``): the ball's centre; the bat's knob, its length, and its
+knob-to-tip direction in a local chart: each sample's direction as the rotation vector (axis
+times angle, across the bat) that turns the interval's opening direction onto it. The spline
+of the rotation vector is mapped back by Rodrigues' formula, so the bat stays rigid and turns
+about whatever axis its samples say, the axis changing within and between intervals (no fixed
+axis per interval: a tilting swing plane is followed); a turn about a fixed axis is then just a
+spline of its angle, a smooth function even when the bat turns half a radian a frame. Samples
+more than ``MAX_CHART_ANGLE`` from the opening direction leave the window (the chart holds to
+pi). From poses the knob and tip the pose carries are fitted the same way (a round bat's roll
+does not move its axis).
+
+Error order: a spline through samples of a motion with a bounded fourth derivative is O(h^4)
+off in position (the chart is smooth, so the order carries over to the direction) and O(h^3)
+in velocity, on uneven stamps and in the window's end pieces too
+(not-a-knot), so halving the step divides the position error by about 16. With look-ahead 0
+the fit ends at the interval's closing frame: frames after it (the bat braking after a
+contact) cannot bend the interval. Each path is a ``MotionPath`` over one interval;
+``C2BatPath.deviation`` bounds how far any bat axis point leaves its chord from the second
+derivative of knob + length * direction.
+"""
+
+import math
+from typing import List, Sequence, Tuple
+
+from .base import BatSample, PathKind
+from .bat_paths import BatPath, Ends
+from .points import AngleCubic, PointPath
+from .splines import not_a_knot_slopes
+from ..geometry import cross, dot, norm, sub, Vector
+
+
+def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
+    """Return bounds of |v|, |v'| and |v''| of a scalar cubic over [ta, tb]."""
+    span = tb - ta
+    second = 0.0
+    if cubic.curved:
+        second = max(abs(cubic.accel0 + cubic.accel_rate * (t - cubic.t0) / cubic.h)
+                     for t in (ta, tb))
+    s = (ta - cubic.t0) / cubic.h
+    first = abs((cubic.b + s * (2.0 * cubic.c + 3.0 * s * cubic.d)) / cubic.h) + second * span
+    value = max(abs(cubic.at(ta)), abs(cubic.at(tb))) + second * span * span / 8.0
+    return value, first, second
+
+
+MAX_CHART_ANGLE = 2.5
+"""Largest turn (rad) of a window sample's direction from the interval's opening direction."""
+
+
+def unit_axis(sample: BatSample) -> Vector:
+    """Return the unit knob-to-tip direction of a bat sample."""
+    axis = sub(sample.tip, sample.knob)
+    length = norm(axis)
+    return (axis[0] / length, axis[1] / length, axis[2] / length)
+
+
+def rotation_to(reference: Vector, direction: Vector) -> Vector:
+    """Return the rotation vector (rad, across ``reference``) turning it onto ``direction``."""
+    turn = cross(reference, direction)
+    sine = norm(turn)
+    if sine < 1e-15:
+        return (0.0, 0.0, 0.0)
+    angle = math.atan2(sine, dot(reference, direction)) / sine
+    return (turn[0] * angle, turn[1] * angle, turn[2] * angle)
+
+
+def rotate(reference: Vector, rotation: Vector) -> Vector:
+    """Return ``reference`` turned by a rotation vector across it (Rodrigues), unit."""
+    angle = norm(rotation)
+    if angle < 1e-15:
+        return reference
+    across = cross(rotation, reference)
+    c, s = math.cos(angle), math.sin(angle) / angle
+    return (c * reference[0] + s * across[0], c * reference[1] + s * across[1],
+            c * reference[2] + s * across[2])
+
+
+def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
+    """
+    Return the window's rows for the interval from samples[j] to samples[j + 1].
+
+    :returns: (the first sample kept, its rows onward): per sample the 7 fitted coordinates
+        knob (m), rotation vector from samples[j]'s direction (rad), length (m). Samples before
+        j (or after j + 1) turned more than ``MAX_CHART_ANGLE`` from it end the window there.
+    """
+    reference = unit_axis(samples[j])
+    rows: List[Tuple[float, ...]] = []
+    first, last = 0, len(samples)
+    for i, sample in enumerate(samples):
+        rotation = rotation_to(reference, unit_axis(sample))
+        if norm(rotation) > MAX_CHART_ANGLE:
+            if i < j:
+                first, rows = i + 1, []
+                continue
+            if i > j + 1:
+                last = i
+                break
+        rows.append((*sample.knob, *rotation, math.dist(sample.tip, sample.knob)))
+    return first, rows[:last - first]
+
+
+class C2BatPath(BatPath):
+    """
+    ``c2``: knob, direction (a rotation vector's spline) and length, each a spline piece.
+
+    :param knob_slopes: (start, end) velocities (m/s) of the knob, from the window's spline.
+    :param turn_slopes: (start, end) rates (rad/s) of the rotation vector from the opening
+        direction (which it turns onto the closing one).
+    :param length_slopes: (start, end) rates of the knob-to-tip length (m/s).
+    """
+
+    __slots__ = ('knob', 'turn', 'length', 'reference')
+    kind = PathKind.C2
+
+    def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
+                 knob_slopes: Tuple[Vector, Vector], turn_slopes: Tuple[Vector, Vector],
+                 length_slopes: Tuple[float, float]) -> None:
+        super().__init__(t0, t1, sample0, sample1)
+        self.knob = PointPath(t0, t1, sample0.knob, sample1.knob, *knob_slopes)
+        self.reference = unit_axis(sample0)
+        closing = rotation_to(self.reference, unit_axis(sample1))
+        self.turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
+        length0 = math.dist(sample0.tip, sample0.knob)
+        length1 = math.dist(sample1.tip, sample1.knob)
+        self.length = AngleCubic(t0, t1, length0, length1, *length_slopes)
+        self.lever = max(length0, length1)
+        self.angle = norm(closing)
+        self.radius += self.deviation(t0, t1)
+
+    @classmethod
+    def fitted(cls, times: Sequence[float], samples: Sequence[BatSample],
+               k: int) -> 'C2BatPath':
+        """
+        Return the path over [times[k], times[k + 1]] from the window's splines.
+
+        :param times, samples: the window (seconds, bat samples); k: the interval in it.
+        """
+        first, rows = c2_rows(samples, k)
+        slopes = not_a_knot_slopes(times[first:first + len(rows)], rows).tolist()
+        s0, s1 = slopes[k - first], slopes[k + 1 - first]
+        return cls(times[k], times[k + 1], samples[k], samples[k + 1],
+                   (tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
+                   (s0[6], s1[6]))
+
+    def _inside(self, t: float) -> Ends:
+        knob = self.knob.at(t)
+        d = rotate(self.reference, self.turn.at(t))
+        length = self.length.at(t)
+        return knob, (knob[0] + length * d[0], knob[1] + length * d[1],
+                      knob[2] + length * d[2])
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """
+        Return a bound (m) on how far any axis point leaves its chord over [ta, tb].
+
+        An axis point is p = knob + f L u (0 <= f <= 1) and leaves its chord by at most
+        max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|;
+        u is the rotation vector r mapped onto the sphere (its exponential map, whose first
+        derivative is at most 1 and second at most 2 in norm): |u'| <= |r'| and
+        |u''| <= |r''| + 2 |r'|^2.
+        """
+        span = tb - ta
+        turn = self.turn
+        second = turn.max_acceleration(ta, tb)
+        first = norm(turn.velocity(ta)) + second * span
+        value, rate, change = _scalar_bounds(self.length, ta, tb)
+        knob = self.knob.max_acceleration(ta, tb)
+        bend = second + 2.0 * first * first
+        return (knob + change + 2.0 * rate * first + value * bend) * span * span / 8.0

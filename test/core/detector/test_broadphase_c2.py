@@ -1,0 +1,107 @@
+"""Tests for the c2 model's far test: its cardinal weights and its bound on the fitted paths."""
+
+import math
+
+from baseball_collision.core.detector import Detector, DetectorConfig
+from baseball_collision.core.detector.broadphase import (
+    c2_bat_growth, c2_bulge, c2_reach, C2_STEP_RATIO, C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE)
+from baseball_collision.core.detector.fitting import c2_window
+from baseball_collision.core.motion import not_a_knot_slopes
+from hypothesis import given, settings, strategies as st
+import numpy as np
+from support import examples
+from support.scenes import BASE_NS
+
+
+def test_weights_bound_every_cardinal_spline() -> None:
+    """Brute force: on random windows, each cardinal spline stays within its weight."""
+    rng = np.random.default_rng(5)
+    s = np.linspace(0.0, 1.0, 101)
+    for _ in range(300):
+        n = int(rng.integers(3, 13))
+        times = np.concatenate([[0.0], np.cumsum(np.exp(rng.uniform(
+            0.0, math.log(C2_STEP_RATIO), n - 1)))])
+        slopes = not_a_knot_slopes(times, np.eye(n))
+        for k in range(max(0, n - 4), n - 1):
+            h = times[k + 1] - times[k]
+            for i in set(range(n)) - {k, k + 1}:
+                piece = ((s ** 3 - 2 * s ** 2 + s) * h * slopes[k, i]
+                         + (s ** 3 - s ** 2) * h * slopes[k + 1, i])
+                offset = i - k
+                weight = (C2_WEIGHTS_AFTER[offset - 2] if offset > 0 else
+                          C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(C2_WEIGHTS_BEFORE)
+                          else 1e-4)
+                assert np.max(np.abs(piece)) <= weight
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(look_ahead=st.integers(0, 2),
+       steps=st.lists(st.floats(0.004, 0.012), min_size=8, max_size=8),
+       tilt=st.floats(-3.0, 3.0), spin=st.floats(-60.0, 60.0), noise=st.floats(0.0, 0.02),
+       seed=st.integers(0, 1000))
+def test_c2_paths_never_leave_the_far_test_bound(look_ahead, steps, tilt, spin, noise,
+                                                 seed) -> None:
+    """The fitted ball and bat paths stay in the raw samples' spheres grown by the bounds."""
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5,
+                                       look_ahead=look_ahead, bat_length_tolerance=1.0))
+    rng = np.random.default_rng(seed)
+    times = np.concatenate([[0.0], np.cumsum(steps)])
+    for t in times:
+        stamp = BASE_NS + int(round(t * 1e9))
+        angle = spin * t + 100.0 * t * t
+        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
+        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+        direction = radial - axis * (radial @ axis)
+        knob = np.array([0.2 * t, 0.0, 1.0]) + rng.normal(0.0, noise, 3)
+        tip = knob + 0.86 * direction / np.linalg.norm(direction) + rng.normal(0.0, noise, 3)
+        detector.add_knob(stamp, tuple(knob))
+        detector.add_tip(stamp, tuple(tip))
+        detector.add_ball(stamp, tuple(np.array([3.0 - 40.0 * t, 0.1, 1.0 - 5 * t * t])
+                                       + rng.normal(0.0, noise, 3)))
+    ball, bat = detector._ball, detector._bat
+    k = len(bat.times) - 3 - look_ahead
+    window = c2_window(bat, k, 0.05, look_ahead, 8)
+    growth = c2_bat_growth(bat, k, window)
+    ball_window = c2_window(ball, k, 0.05, look_ahead, 8)
+    ball_bulge = c2_bulge([ball.times[i] for i in ball_window],
+                          [ball.values[i] for i in ball_window], k - ball_window.start)
+    ball_path, bat_path = detector._sweep.paths(k, k)
+    s0, s1 = bat.values[k], bat.values[k + 1]
+    for t in np.linspace(bat.times[k], bat.times[k + 1], 60):
+        u = (t - bat.times[k]) / (bat.times[k + 1] - bat.times[k])
+        knob, tip = (np.array(p) for p in bat_path.at(t))
+        chord = (1 - u) * np.array(ball.values[k]) + u * np.array(ball.values[k + 1])
+        assert np.linalg.norm(np.array(ball_path.at(t)) - chord) <= ball_bulge + 1e-12
+        if growth is None:
+            continue
+        for f in (0.0, 0.3, 1.0):
+            chord = ((1 - u) * ((1 - f) * np.array(s0.knob) + f * np.array(s0.tip))
+                     + u * ((1 - f) * np.array(s1.knob) + f * np.array(s1.tip)))
+            assert np.linalg.norm(knob + f * (tip - knob) - chord) <= growth + 1e-12
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(look_ahead=st.integers(0, 2),
+       steps=st.lists(st.floats(0.004, 0.012), min_size=8, max_size=8),
+       spin=st.floats(-60.0, 60.0), noise=st.floats(0.0, 0.02), seed=st.integers(0, 1000))
+def test_c2_bat_never_leaves_its_reach_sphere(look_ahead, steps, spin, noise, seed) -> None:
+    """The cheap first test's sphere holds every axis point of the fitted bat."""
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5,
+                                       look_ahead=look_ahead, bat_length_tolerance=1.0))
+    rng = np.random.default_rng(seed)
+    for t in np.concatenate([[0.0], np.cumsum(steps)]):
+        stamp = BASE_NS + int(round(t * 1e9))
+        angle = spin * t + 100.0 * t * t
+        knob = np.array([0.2 * t, 3.0 * t * t, 1.0]) + rng.normal(0.0, noise, 3)
+        tip = knob + 0.86 * np.array([math.cos(angle), math.sin(angle), 0.1])
+        detector.add_knob(stamp, tuple(knob))
+        detector.add_tip(stamp, tuple(tip + rng.normal(0.0, noise, 3)))
+        detector.add_ball(stamp, (5.0, 5.0, 5.0 + t))
+    bat = detector._bat
+    k = len(bat.times) - 3 - look_ahead
+    reach = c2_reach(bat, k, c2_window(bat, k, 0.05, look_ahead, 8))
+    bat_path = detector._sweep.paths(k, k)[1]
+    for t in np.linspace(bat.times[k], bat.times[k + 1], 60):
+        knob, tip = (np.array(p) for p in bat_path.at(t))
+        for f in (0.0, 0.5, 1.0):
+            assert math.dist(knob + f * (tip - knob), reach[0]) <= reach[1] + 1e-12
