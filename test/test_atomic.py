@@ -97,7 +97,8 @@ import multiprocessing, signal
 from baseball_collision.atomic import cleanup_on_signals, worker_signals
 with cleanup_on_signals():
     for _ in range(3):
-        with multiprocessing.get_context('fork').Pool(2, initializer=worker_signals) as pool:
+        with multiprocessing.get_context('forkserver').Pool(
+                2, initializer=worker_signals) as pool:
             assert pool.map(abs, [1, -2]) == [1, 2]
             handlers = pool.apply(signal.getsignal, (signal.SIGTERM,)), pool.apply(
                 signal.getsignal, (signal.SIGINT,))
