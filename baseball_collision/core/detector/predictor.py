@@ -14,7 +14,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
 from .gate import Clock
-from .kinematics import fit_polynomial, pivot_rates, turn_rates
+from .kinematics import bat_rates, fit_polynomial
 from .streams import Stream
 from ..geometry import lerp, scale, sub, Vector
 from ..prediction import (
@@ -156,8 +156,9 @@ class Predictor:
         # fits as an impact's velocities give the rates (``kinematics``)
         start = bat.times[indices[-1]]
         latest = bat.values[indices[-1]]
-        fraction, pivot_velocity, pivot_acceleration = pivot_rates(bat, start, window, degree)
-        rate, _, change = turn_rates(bat, start, window, degree)
+        pivot_state, turn_state = bat_rates(bat, start, window, degree, degree)
+        fraction, pivot_velocity, pivot_acceleration = pivot_state
+        rate, _, change = turn_state
         axis, turn, turn_change = turn_axis_and_rates(rate, change)
         pivot = lerp(latest.knob, latest.tip, fraction)
         return BatForecast(t0=start, pivot=pivot, pivot_velocity=pivot_velocity,
