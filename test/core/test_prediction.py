@@ -46,6 +46,28 @@ def test_bat_forecast_turns_about_its_pivot() -> None:
     assert turn_axis_and_rates((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))[1] == 0.0
 
 
+def test_forecasts_at_many_instants_equal_one_at_a_time() -> None:
+    """The array forms the coarse scan uses equal the scalar ones, instant by instant."""
+    ball = BallForecast.ballistic(0.1, (2.0, 0.5, 1.0), (-40.0, 1.0, 2.0), (0.0, 0.0, -9.8),
+                                  0.0061)
+    bat = BatForecast(t0=0.1, pivot=(0.0, 0.0, 1.0), pivot_velocity=(1.0, -0.5, 0.2),
+                      pivot_acceleration=(3.0, 2.0, -1.0), knob_arm=(-0.1, 0.0, 0.0),
+                      tip_arm=(0.8, 0.0, 0.0), axis=(0.0, 0.0, 1.0), rate=30.0, rate_change=50.0)
+    plan = planned_bat([0.0, 0.15, 0.4], [(0, 0, 0), (1, 0, 0), (1, 2, 0)],
+                       [(0, 0, 0, 1)] * 3, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    starts = np.array([0.1, 0.13, 0.2, 0.31])
+    ends = starts + 0.01
+    for index, (ta, tb) in enumerate(zip(starts.tolist(), ends.tolist())):
+        assert ball.positions(starts)[index] == pytest.approx(ball.at(ta), rel=1e-14)
+        assert ball.speeds(starts)[index] == pytest.approx(
+            math.hypot(*ball.velocity_at(ta)), rel=1e-14)
+        for forecast in (bat, plan):
+            assert forecast.pivots(starts)[index] == pytest.approx(forecast.pivot_at(ta),
+                                                                   rel=1e-14, abs=1e-15)
+            assert forecast.pivot_travels(starts, ends)[index] == pytest.approx(
+                forecast.pivot_travel(ta, tb), rel=1e-14)
+
+
 def test_plan_interpolates_poses_and_refuses_bad_ones() -> None:
     """A plan moves the bat by LERP/SLERP between its poses; malformed plans raise."""
     half = math.sqrt(0.5)
