@@ -307,6 +307,21 @@ def _first_in_step(ball: BallForecast, bat, ta: float, tb: float, ball_radius: f
     return None
 
 
+def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:
+    """
+    Return whether a frame stamped ``now_ns`` predicts, the last that did being ``last_ns``.
+
+    Due with no earlier prediction, on a stamp before the last (the clock went back), or at
+    least ``period`` (s, rounded to ns) after it; always with a period of 0.
+    """
+    return last_ns is None or now_ns < last_ns or now_ns - last_ns >= round(period * 1e9)
+
+
+def in_force_after(period: float) -> int:
+    """Return for how long (ns) a prediction stays in force: ``period``, at least 1 ns."""
+    return max(int(round(period * 1e9)), 1)
+
+
 def turn_axis_and_rates(rate_vector: Sequence[float],
                         change_vector: Sequence[float]) -> Tuple[Vector, float, float]:
     """

@@ -182,6 +182,29 @@ def test_detector_extrapolates_a_swing_close_to_contact(barrel) -> None:
     assert not any(isinstance(e, Prediction) for e in after)
 
 
+def test_a_prediction_period_thins_the_predictions_and_keeps_each(barrel) -> None:
+    """
+    With ``prediction_period`` the frames that predict are at least that far apart.
+
+    Each prediction is exactly the one every-frame prediction makes there; a clearing is at
+    a frame where it predicts nothing.
+    """
+    every = _feed(Detector(DetectorConfig(prediction_horizon=0.3)), barrel)[1]
+    thinned = _feed(Detector(DetectorConfig(prediction_horizon=0.3,
+                                            prediction_period=0.01)), barrel)[1]
+    kinds = (Prediction, PredictionCleared)
+    made = {e.made_at_ns: e for e in every if isinstance(e, kinds)}
+    periodic = [e for e in thinned if isinstance(e, kinds)]
+    assert periodic and len(periodic) < len(made) / 2
+    assert all(made[e.made_at_ns] == e for e in periodic if isinstance(e, Prediction))
+    assert all(not isinstance(made.get(e.made_at_ns), Prediction) for e in periodic
+               if isinstance(e, PredictionCleared))
+    stamps = [e.made_at_ns for e in periodic]
+    assert all(b - a >= 10_000_000 for a, b in zip(stamps[:-1], stamps[1:]))
+    assert [e for e in every if not isinstance(e, kinds)] == [
+        e for e in thinned if not isinstance(e, kinds)]  # impacts and the rest unchanged
+
+
 def test_no_prediction_when_disabled_or_for_a_far_miss(barrel) -> None:
     """Prediction is off by default; a pitch far from the bat is never predicted to hit."""
     assert not any(isinstance(e, Prediction) for e in _feed(Detector(), barrel)[1])
