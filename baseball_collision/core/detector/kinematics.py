@@ -161,14 +161,17 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     indices = stream.history(t, window)
     if len(indices) < 2:
         return None, None
-    values, times = stream.values, stream.times
-    sample_times = [times[i] for i in indices]
-    rows = [values[i].knob + values[i].tip for i in indices]
+    first, end = indices[0], indices[-1] + 1  # the history is contiguous
+    sample_times = stream.times[first:end]
     fit_degree = pivot_degree(len(indices), degree)
     shared = turn_degree is not None and min(turn_degree, len(indices) - 1) == min(
         fit_degree, len(indices) - 1)
     if shared:
-        rows = [row + stream.turn(i) for row, i in zip(rows, indices)]
+        stream.turn(end - 1)  # fills every turn of the segment up to it
+        rows = [value.knob + value.tip + turn for value, turn in zip(
+            stream.values[first:end], stream.turns[first:end])]
+    else:
+        rows = [value.knob + value.tip for value in stream.values[first:end]]
     coefficients, span = fit_coefficients(sample_times, rows, t, fit_degree)
     _, first, second = derivatives(coefficients, span)
     fraction = 0.0
