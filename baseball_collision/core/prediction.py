@@ -1,7 +1,7 @@
 """
 Predicted impact: where and when the ball will meet the bat's coming path.
 
-Pure Python (no numpy in the search, no ROS). Times are float seconds on the detector's clock,
+Python and numpy (no ROS). Times are float seconds on the detector's clock,
 positions metres. The detector builds the two forecasts from its latest samples and calls
 ``first_contact``; this module only extrapolates and searches.
 
@@ -14,13 +14,17 @@ positions metres. The detector builds the two forecasts from its latest samples 
   fixed axis with constant angular acceleration. Or, for a robot arm, a commanded trajectory of
   bat poses (``PlannedBat``), interpolated like the rigid model (position LERP, SLERP).
 * ``first_contact``: the exact linear solver on sub-steps of the horizon short enough for the
-  chord error tolerance, skipping every stretch where the ball cannot reach the bat.
+  chord error tolerance, skipping every stretch where the ball cannot reach the bat (that test
+  for all the horizon's coarse steps at once, in numpy: ``positions``, ``speeds``, ``pivots``,
+  ``pivot_travels`` evaluate the forecasts at many instants).
 """
 
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 import math
 from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
 
 from .bat import BatProfile
 from .geometry import (
@@ -64,6 +68,18 @@ class BallForecast:
     def velocity_at(self, t: float) -> Vector:
         """Return the ball velocity (m/s) at time t (s)."""
         return add(self.velocity, scale(self.acceleration, t - self.t0))
+
+    def positions(self, times: np.ndarray) -> np.ndarray:
+        """Return the ball centres (m, one row each) at the times (s): ``at`` for many."""
+        tau = (times - self.t0)[:, None]
+        return np.asarray(self.position) + (np.asarray(self.velocity) * tau + np.asarray(
+            self.acceleration) * (0.5 * tau * tau))
+
+    def speeds(self, times: np.ndarray) -> np.ndarray:
+        """Return how fast (m/s) the ball flies at each of the times (s)."""
+        velocities = np.asarray(self.velocity) + np.asarray(self.acceleration) * (
+            times - self.t0)[:, None]
+        return np.sqrt((velocities * velocities).sum(axis=1))
 
 
 @dataclass(frozen=True)
@@ -118,6 +134,20 @@ class BatForecast:
         h = tb - ta
         speed = norm(add(self.pivot_velocity, scale(self.pivot_acceleration, ta - self.t0)))
         return speed * h + 0.5 * norm(self.pivot_acceleration) * h * h
+
+    def pivots(self, times: np.ndarray) -> np.ndarray:
+        """Return the pivot (m, one row each) at the times (s): ``pivot_at`` for many."""
+        tau = (times - self.t0)[:, None]
+        return np.asarray(self.pivot) + (np.asarray(self.pivot_velocity) * tau + np.asarray(
+            self.pivot_acceleration) * (0.5 * tau * tau))
+
+    def pivot_travels(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+        """Return ``pivot_travel`` (m) for each pair of start and end times (s)."""
+        h = ends - starts
+        velocities = np.asarray(self.pivot_velocity) + np.asarray(self.pivot_acceleration) * (
+            starts - self.t0)[:, None]
+        speeds = np.sqrt((velocities * velocities).sum(axis=1))
+        return speeds * h + 0.5 * norm(self.pivot_acceleration) * h * h
 
 
 @dataclass(frozen=True)
@@ -174,6 +204,15 @@ class PlannedBat:
         points.append(self.pivot_at(tb))
         return sum(math.dist(a, b) for a, b in zip(points[:-1], points[1:]))
 
+    def pivots(self, times: np.ndarray) -> np.ndarray:
+        """Return the pose origin (m, one row each) at the times (s), within the plan."""
+        return np.array([self.pivot_at(t) for t in times.tolist()]).reshape(-1, 3)
+
+    def pivot_travels(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
+        """Return ``pivot_travel`` (m) for each pair of start and end times (s)."""
+        return np.array([self.pivot_travel(a, b) for a, b in zip(starts.tolist(),
+                                                                 ends.tolist())])
+
     def turn_rate_bound(self, ta: float, tb: float) -> float:
         """Return the largest turning rate (rad/s) between plan poses overlapping [ta, tb]."""
         worst = 0.0
@@ -211,35 +250,76 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
         t_start, end = max(t_start, bat.times[0]), min(end, bat.times[-1])
     reach = bat.reach() + ball_radius + profile.max_radius
     ball_accel = norm(ball.acceleration)
+    starts, ends = _coarse_steps(t_start, end, coarse_step)
+    if not starts:
+        return None
+    ta_all, tb_all = np.array(starts), np.array(ends)
+    h_all = tb_all - ta_all
+    # largest distance either body can move from its position at ta within each step
+    travel = (ball.speeds(ta_all) * h_all + 0.5 * ball_accel * h_all * h_all
+              + bat.pivot_travels(ta_all, tb_all) + 1e-9)
+    gap = ball.positions(ta_all) - bat.pivots(ta_all)
+    far = np.sqrt((gap * gap).sum(axis=1)) > reach + travel
+    for k in np.flatnonzero(~far).tolist():
+        found = _first_in_step(ball, bat, starts[k], ends[k], ball_radius, profile, tolerance,
+                               ball_accel)
+        if found is not None:
+            return found
+    return None
+
+
+def _coarse_steps(t_start: float, end: float,
+                  coarse_step: float) -> Tuple[List[float], List[float]]:
+    """Return the starts and ends (s) of the coarse steps from t_start to end."""
+    starts: List[float] = []
+    ends: List[float] = []
     ta = t_start
     while ta < end:
         tb = min(end, ta + coarse_step)
-        h = tb - ta
-        # largest distance either body can move from its position at ta within the step
-        ball_travel = norm(ball.velocity_at(ta)) * h + 0.5 * ball_accel * h * h
-        travel = ball_travel + bat.pivot_travel(ta, tb) + 1e-9
-        if math.dist(ball.at(ta), bat.pivot_at(ta)) > reach + travel:
-            ta = tb
-            continue
-        rate = bat.turn_rate_bound(ta, tb)
-        per_step = math.sqrt(8.0 * tolerance / max(ball_accel, 1e-12))
-        if rate > 0.0:
-            per_step = min(per_step, math.sqrt(8.0 * tolerance / bat.reach()) / rate)
-        n = max(1, int(math.ceil(h / per_step)))
-        previous_t = ta
-        previous_ball = ball.at(ta)
-        previous_knob, previous_tip = bat.at(ta)
-        for j in range(1, n + 1):
-            t = tb if j == n else ta + h * j / n
-            ball_t = ball.at(t)
-            knob_t, tip_t = bat.at(t)
-            hit = profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
-                                  knob_t, ball_radius, profile, t - previous_t)
-            if hit is not None:
-                return previous_t + hit.time, hit
-            previous_t, previous_ball, previous_knob, previous_tip = t, ball_t, knob_t, tip_t
+        starts.append(ta)
+        ends.append(tb)
         ta = tb
+    return starts, ends
+
+
+def _first_in_step(ball: BallForecast, bat, ta: float, tb: float, ball_radius: float,
+                   profile: BatProfile, tolerance: float,
+                   ball_accel: float) -> Optional[Tuple[float, ImpactResult]]:
+    """Return the first contact in the coarse step [ta, tb], solved on chord sub-steps."""
+    h = tb - ta
+    rate = bat.turn_rate_bound(ta, tb)
+    per_step = math.sqrt(8.0 * tolerance / max(ball_accel, 1e-12))
+    if rate > 0.0:
+        per_step = min(per_step, math.sqrt(8.0 * tolerance / bat.reach()) / rate)
+    n = max(1, int(math.ceil(h / per_step)))
+    previous_t = ta
+    previous_ball = ball.at(ta)
+    previous_knob, previous_tip = bat.at(ta)
+    for j in range(1, n + 1):
+        t = tb if j == n else ta + h * j / n
+        ball_t = ball.at(t)
+        knob_t, tip_t = bat.at(t)
+        hit = profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
+                              knob_t, ball_radius, profile, t - previous_t)
+        if hit is not None:
+            return previous_t + hit.time, hit
+        previous_t, previous_ball, previous_knob, previous_tip = t, ball_t, knob_t, tip_t
     return None
+
+
+def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:
+    """
+    Return whether a frame stamped ``now_ns`` predicts, the last that did being ``last_ns``.
+
+    Due with no earlier prediction, on a stamp before the last (the clock went back), or at
+    least ``period`` (s, rounded to ns) after it; always with a period of 0.
+    """
+    return last_ns is None or now_ns < last_ns or now_ns - last_ns >= round(period * 1e9)
+
+
+def in_force_after(period: float) -> int:
+    """Return for how long (ns) a prediction stays in force: ``period``, at least 1 ns."""
+    return max(int(round(period * 1e9)), 1)
 
 
 def turn_axis_and_rates(rate_vector: Sequence[float],

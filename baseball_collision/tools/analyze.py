@@ -139,7 +139,7 @@ class BagAnalysis:
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
-        index = PredictionIndex(self.predictions, self.frames_ns)
+        index = PredictionIndex(self.predictions, self.frames_ns, self.config.prediction_period)
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)

@@ -24,6 +24,7 @@ from typing import Any, Dict, List, Mapping, Optional, Protocol, Sequence, Tuple
 import numpy as np
 
 from ..core.detector import Prediction
+from ..core.prediction import in_force_after
 from ..errors import ToolError
 
 TRUTH_FORMAT = 'baseball_collision.truth/1'
@@ -288,13 +289,26 @@ class PredictionIndex:
 
     :param predictions: every prediction, in any order (the last one made at a frame counts).
     :param frames_ns: every processed frame stamp (ns), in any order.
+    :param period: the detector's ``prediction_period`` (s): a frame scores the prediction in
+        force, the last made less than this before it (0: only one made at the frame itself).
     """
 
-    def __init__(self, predictions: Sequence[Prediction], frames_ns: Sequence[int]) -> None:
-        self.by_frame: Dict[int, Prediction] = {}
+    def __init__(self, predictions: Sequence[Prediction], frames_ns: Sequence[int],
+                 period: float = 0.0) -> None:
+        by_frame: Dict[int, Prediction] = {}
         for prediction in predictions:
-            self.by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+            by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
+        self.made = np.array(sorted(by_frame), dtype=np.int64)
+        self.made_predictions = [by_frame[int(stamp)] for stamp in self.made]
+        self.in_force_ns = in_force_after(period)
         self.frames = np.sort(np.asarray(frames_ns, dtype=np.int64))
+
+    def in_force(self, frame_ns: int) -> Optional[Prediction]:
+        """Return the prediction in force at a frame (ns): made at it or within the period."""
+        index = int(np.searchsorted(self.made, frame_ns, side='right')) - 1
+        if index < 0 or frame_ns - int(self.made[index]) >= self.in_force_ns:
+            return None
+        return self.made_predictions[index]
 
     def errors(self, contact_ns: int, contact_point: Sequence[float],
                leads_s: Sequence[float] = LEADS_S,
@@ -311,7 +325,7 @@ class PredictionIndex:
             cut = contact_ns - int(round(lead * 1e9))
             index = int(np.searchsorted(self.frames, cut, side='right')) - 1
             frame = int(self.frames[index]) if index >= 0 else None
-            chosen = self.by_frame.get(frame) if frame is not None else None
+            chosen = self.in_force(frame) if frame is not None else None
             if chosen is not None and (chosen.made_at_ns >= contact_ns or (
                     window_ns is not None and contact_ns - chosen.made_at_ns > window_ns)):
                 chosen = None
@@ -330,6 +344,7 @@ def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int
 
     For each lead L the prediction scored is the one made at the last processed frame at
     least L before the contact; a frame that had no prediction scores None (not predicted).
+    (With a ``prediction_period`` the one in force at that frame: ``PredictionIndex``.)
     (For many contacts build one :class:`PredictionIndex` and call its ``errors``.)
 
     :param predictions: the predictions made before the contact.

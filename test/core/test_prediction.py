@@ -46,6 +46,28 @@ def test_bat_forecast_turns_about_its_pivot() -> None:
     assert turn_axis_and_rates((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))[1] == 0.0
 
 
+def test_forecasts_at_many_instants_equal_one_at_a_time() -> None:
+    """The array forms the coarse scan uses equal the scalar ones, instant by instant."""
+    ball = BallForecast.ballistic(0.1, (2.0, 0.5, 1.0), (-40.0, 1.0, 2.0), (0.0, 0.0, -9.8),
+                                  0.0061)
+    bat = BatForecast(t0=0.1, pivot=(0.0, 0.0, 1.0), pivot_velocity=(1.0, -0.5, 0.2),
+                      pivot_acceleration=(3.0, 2.0, -1.0), knob_arm=(-0.1, 0.0, 0.0),
+                      tip_arm=(0.8, 0.0, 0.0), axis=(0.0, 0.0, 1.0), rate=30.0, rate_change=50.0)
+    plan = planned_bat([0.0, 0.15, 0.4], [(0, 0, 0), (1, 0, 0), (1, 2, 0)],
+                       [(0, 0, 0, 1)] * 3, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    starts = np.array([0.1, 0.13, 0.2, 0.31])
+    ends = starts + 0.01
+    for index, (ta, tb) in enumerate(zip(starts.tolist(), ends.tolist())):
+        assert ball.positions(starts)[index] == pytest.approx(ball.at(ta), rel=1e-14)
+        assert ball.speeds(starts)[index] == pytest.approx(
+            math.hypot(*ball.velocity_at(ta)), rel=1e-14)
+        for forecast in (bat, plan):
+            assert forecast.pivots(starts)[index] == pytest.approx(forecast.pivot_at(ta),
+                                                                   rel=1e-14, abs=1e-15)
+            assert forecast.pivot_travels(starts, ends)[index] == pytest.approx(
+                forecast.pivot_travel(ta, tb), rel=1e-14)
+
+
 def test_plan_interpolates_poses_and_refuses_bad_ones() -> None:
     """A plan moves the bat by LERP/SLERP between its poses; malformed plans raise."""
     half = math.sqrt(0.5)
@@ -158,6 +180,29 @@ def test_detector_extrapolates_a_swing_close_to_contact(barrel) -> None:
     after = events[events.index(impact):]
     assert any(isinstance(e, PredictionCleared) for e in after)  # the contact ended it
     assert not any(isinstance(e, Prediction) for e in after)
+
+
+def test_a_prediction_period_thins_the_predictions_and_keeps_each(barrel) -> None:
+    """
+    With ``prediction_period`` the frames that predict are at least that far apart.
+
+    Each prediction is exactly the one every-frame prediction makes there; a clearing is at
+    a frame where it predicts nothing.
+    """
+    every = _feed(Detector(DetectorConfig(prediction_horizon=0.3)), barrel)[1]
+    thinned = _feed(Detector(DetectorConfig(prediction_horizon=0.3,
+                                            prediction_period=0.01)), barrel)[1]
+    kinds = (Prediction, PredictionCleared)
+    made = {e.made_at_ns: e for e in every if isinstance(e, kinds)}
+    periodic = [e for e in thinned if isinstance(e, kinds)]
+    assert periodic and len(periodic) < len(made) / 2
+    assert all(made[e.made_at_ns] == e for e in periodic if isinstance(e, Prediction))
+    assert all(not isinstance(made.get(e.made_at_ns), Prediction) for e in periodic
+               if isinstance(e, PredictionCleared))
+    stamps = [e.made_at_ns for e in periodic]
+    assert all(b - a >= 10_000_000 for a, b in zip(stamps[:-1], stamps[1:]))
+    assert [e for e in every if not isinstance(e, kinds)] == [
+        e for e in thinned if not isinstance(e, kinds)]  # impacts and the rest unchanged
 
 
 def test_no_prediction_when_disabled_or_for_a_far_miss(barrel) -> None:

@@ -9,7 +9,8 @@ from typing import Any, Callable, Dict, List, Tuple
 from baseball_collision.core.detector import NearMiss, Prediction
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.truth import (
-    compare_truth, LEADS_S, load_truth, match_pitch, prediction_errors, TRUTH_FORMAT, truth_path)
+    compare_truth, LEADS_S, load_truth, match_pitch, prediction_errors, PredictionIndex,
+    TRUTH_FORMAT, truth_path)
 import pytest
 from support import REPO_ROOT
 
@@ -103,6 +104,12 @@ def test_predictions_are_scored_at_the_last_frame_before_each_lead() -> None:
     assert scores[0.1] == (pytest.approx(2e-3), pytest.approx(0.01))
     assert scores[0.05] is None  # the frame at 60 ms made no prediction
     assert scores[0.02] == (pytest.approx(-1e-3), pytest.approx(0.01))
+    # with a prediction period, a frame scores the prediction in force: made less than the
+    # period before it (the 60 ms frame keeps the 150 ms one for a 0.1 s period, not 0.05 s)
+    made = [predicted(frames[0], contact + 2_000_000)]
+    kept = PredictionIndex(made, frames, 0.1).errors(contact, (0.0, 0.0, 0.0))
+    assert kept[0.05] == (pytest.approx(2e-3), pytest.approx(0.01))
+    assert PredictionIndex(made, frames, 0.05).errors(contact, (0.0, 0.0, 0.0))[0.05] is None
 
 
 def _damaged(text: str) -> str:

@@ -299,6 +299,10 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'prediction_horizon', _D, 0.0, 'How far ahead to predict the coming impact after every '
         'processed frame (s); 0 = no ~/predicted_impact.', 's', _closed(0.0, 2.0)),
     ParameterSpec(
+        'prediction_period', _D, 0.0, "Predict at most this often (s, by the frames' stamps): a "
+        'frame less than this after the last prediction keeps it; 0 = every processed frame.',
+        's', _closed(0.0, 1.0)),
+    ParameterSpec(
         'prediction_window', _D, 0.1, "Span of the latest ball samples the prediction's "
         'ballistic fit uses (s).', 's', _closed(0.001, 1.0)),
     ParameterSpec(
@@ -454,6 +458,8 @@ class DetectorConfig:
         fitted to (six samples at 90 Hz, twenty-two at 360 Hz).
     :ivar prediction_horizon: how far ahead (s) to predict the coming impact after every
         processed frame; 0 turns prediction off.
+    :ivar prediction_period: predict at most this often (s between the stamps of the frames
+        that predict); a frame sooner keeps the last prediction in force. 0: every frame.
     :ivar prediction_window: span (s) of the latest samples the prediction's state is fitted to.
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
@@ -490,6 +496,7 @@ class DetectorConfig:
     velocity_degree: int = DEFAULTS['velocity_degree']
     tracker_noise: float = DEFAULTS['tracker_noise']
     prediction_horizon: float = DEFAULTS['prediction_horizon']
+    prediction_period: float = DEFAULTS['prediction_period']
     prediction_window: float = DEFAULTS['prediction_window']
     ball_drag: float = DEFAULTS['ball_drag']
     gravity: float = DEFAULTS['gravity']

@@ -37,7 +37,47 @@ TurnRates = Tuple[Vector, float, Vector]
 """Swing angular velocity (rad/s), roll rate (rad/s), swing angular acceleration (rad/s^2)."""
 
 
-def fit_polynomial(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+def fit_coefficients(times: Sequence[float], values: Any, t: float,
+                     degree: int) -> Tuple[np.ndarray, float]:
+    """
+    Return the coefficients (one column per component) and span (s) of a least-squares fit.
+
+    The polynomial is in x = (time - t) / span, span = t - times[0] (at least 1 ns), so the
+    fit is well conditioned; the degree drops to the number of samples minus one (then it
+    interpolates).
+
+    :param times: sample times (s), oldest first, at or before t.
+    :param values: one row of components per sample (a sequence of rows or an array).
+    """
+    degree = min(degree, len(times) - 1)
+    span = max(t - times[0], 1e-9)
+    x = (np.asarray(times, dtype=float) - t) / span
+    vandermonde = np.vander(x, degree + 1, increasing=True)
+    coefficients, *_ = np.linalg.lstsq(vandermonde, np.asarray(values, dtype=float), rcond=None)
+    return coefficients, span
+
+
+def derivatives(coefficients: np.ndarray, span: float,
+                x: float = 0.0) -> Tuple[List[float], List[float], List[float]]:
+    """
+    Return value, first and second time derivatives of ``fit_coefficients``' fit at x.
+
+    :param x: where, in the fit's scaled time ((time - t) / span); 0 is the fit's own t.
+    """
+    if x != 0.0:
+        powers = x ** np.arange(len(coefficients))
+        k = np.arange(len(coefficients), dtype=float)
+        value = powers @ coefficients
+        first = (k[1:] * powers[:-1]) @ coefficients[1:] / span
+        second = (k[2:] * (k[2:] - 1.0) * powers[:-2]) @ coefficients[2:] / span ** 2
+        return value.tolist(), first.tolist(), second.tolist()
+    first = coefficients[1] / span if len(coefficients) > 1 else 0.0 * coefficients[0]
+    second = (2.0 * coefficients[2] / span ** 2 if len(coefficients) > 2
+              else 0.0 * coefficients[0])
+    return coefficients[0].tolist(), first.tolist(), second.tolist()
+
+
+def fit_polynomial(times: Sequence[float], values: Any, t: float,
                    degree: int) -> Tuple[List[float], List[float], List[float]]:
     """
     Return value, first and second time derivatives at t of a least-squares polynomial.
@@ -48,17 +88,10 @@ def fit_polynomial(times: Sequence[float], values: Sequence[Sequence[float]], t:
     :param times: sample times (s), oldest first, at or before t.
     :param values: one row of components per sample.
     """
-    degree = min(degree, len(times) - 1)
-    span = max(t - times[0], 1e-9)
-    x = (np.asarray(times, dtype=float) - t) / span
-    vandermonde = np.vander(x, degree + 1, increasing=True)
-    coefficients, *_ = np.linalg.lstsq(vandermonde, np.asarray(values, dtype=float), rcond=None)
-    first = coefficients[1] / span if degree >= 1 else 0.0 * coefficients[0]
-    second = 2.0 * coefficients[2] / span ** 2 if degree >= 2 else 0.0 * coefficients[0]
-    return coefficients[0].tolist(), first.tolist(), second.tolist()
+    return derivatives(*fit_coefficients(times, values, t, degree))
 
 
-def fit_rates(times: Sequence[float], values: Sequence[Sequence[float]], t: float,
+def fit_rates(times: Sequence[float], values: Any, t: float,
               degree: int) -> Tuple[List[float], List[float]]:
     """Return first and second time derivatives at t of ``fit_polynomial``."""
     return fit_polynomial(times, values, t, degree)[1:]
@@ -84,23 +117,13 @@ def pivot_degree(samples: int, degree: int) -> int:
     return degree if samples <= SPARSE_SAMPLES else min(degree, 3)
 
 
-def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> float:
+def least_accelerating(knob: Sequence[float], tip: Sequence[float]) -> float:
     """
-    Return the fraction along knob-tip of the bat point that accelerates least before t.
+    Return the fraction along knob-tip of the axis point with the smallest acceleration.
 
-    A swinging bat turns about the hands: the axis point nearest them moves on the smoothest
-    path, so its velocity is the best one to extrapolate (the knob circles the hands). Every
-    axis point's acceleration is linear in the fraction between the knob's and the tip's
-    (from the same fits as the velocities, so noise is averaged); the smallest is taken,
-    within [-0.5, 1].
+    Every axis point's acceleration is linear in the fraction between the knob's and the
+    tip's (m/s^2); the smallest is taken, within [-0.5, 1] (0 when both are equal).
     """
-    indices = stream.history(t, window)
-    if len(indices) < 3:
-        return 0.0
-    times = [stream.times[i] for i in indices]
-    rows = [stream.values[i].knob + stream.values[i].tip for i in indices]
-    second = fit_rates(times, rows, times[-1], pivot_degree(len(times), degree))[1]
-    knob, tip = second[:3], second[3:]
     change = sub(tip, knob)
     size = dot(change, change)
     if size == 0.0:
@@ -108,21 +131,73 @@ def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> floa
     return min(1.0, max(-0.5, -dot(knob, change) / size))
 
 
+def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> float:
+    """
+    Return the fraction along knob-tip of the bat point that accelerates least before t.
+
+    A swinging bat turns about the hands: the axis point nearest them moves on the smoothest
+    path, so its velocity is the best one to extrapolate (the knob circles the hands). Knob
+    and tip are fitted (so noise is averaged) and ``least_accelerating`` picks the point at
+    the last sample before t.
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 3:
+        return 0.0
+    return bat_rates(stream, t, window, degree)[0][0]
+
+
+def bat_rates(stream: Stream, t: float, window: float, degree: int,
+              turn_degree: Optional[int] = None) -> Tuple[Optional[Rates],
+                                                          Optional[TurnRates]]:
+    """
+    Return the bat's ``pivot_rates`` and (with ``turn_degree``) ``turn_rates`` at t.
+
+    From one least-squares fit of knob and tip (``pivot_degree``): least squares is linear in
+    the data, so the pivot's rates are those of knob and tip interpolated at its fraction;
+    the fraction is the least-accelerating point at the last sample (the same polynomial
+    evaluated there). The turn shares that fit when its degree is the same. (None, None) with
+    fewer than two samples.
+    """
+    indices = stream.history(t, window)
+    if len(indices) < 2:
+        return None, None
+    first, end = indices[0], indices[-1] + 1  # the history is contiguous
+    sample_times = stream.times[first:end]
+    fit_degree = pivot_degree(len(indices), degree)
+    shared = turn_degree is not None and min(turn_degree, len(indices) - 1) == min(
+        fit_degree, len(indices) - 1)
+    if shared:
+        stream.turn(end - 1)  # fills every turn of the segment up to it
+        rows = [value.knob + value.tip + turn for value, turn in zip(
+            stream.values[first:end], stream.turns[first:end])]
+    else:
+        rows = [value.knob + value.tip for value in stream.values[first:end]]
+    coefficients, span = fit_coefficients(sample_times, rows, t, fit_degree)
+    _, first, second = derivatives(coefficients, span)
+    fraction = 0.0
+    if len(indices) >= 3:
+        at_last = derivatives(coefficients, span, (sample_times[-1] - t) / span)[2]
+        fraction = least_accelerating(at_last[:3], at_last[3:6])
+    pivot = (fraction, lerp(first[:3], first[3:6], fraction),
+             lerp(second[:3], second[3:6], fraction))
+    if turn_degree is None:
+        return pivot, None
+    if shared:
+        rate, change = first[6:], second[6:]
+    else:
+        rate, change = fit_rates(sample_times, [stream.turn(i) for i in indices], t,
+                                 turn_degree)
+    return pivot, ((rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2]))
+
+
 def pivot_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[Rates]:
     """
     Return the bat pivot's fraction along knob-tip, velocity (m/s) and acceleration at t.
 
     The pivot is ``pivot_fraction``'s axis point; its samples up to t are fitted with
-    ``pivot_degree``. None with fewer than two samples.
+    ``pivot_degree`` (``bat_rates``). None with fewer than two samples.
     """
-    indices = stream.history(t, window)
-    if len(indices) < 2:
-        return None
-    fraction = pivot_fraction(stream, t, window, degree)
-    rows = [lerp(stream.values[i].knob, stream.values[i].tip, fraction) for i in indices]
-    first, second = fit_rates([stream.times[i] for i in indices], rows, t,
-                              pivot_degree(len(indices), degree))
-    return fraction, tuple(first), tuple(second)
+    return bat_rates(stream, t, window, degree)[0]
 
 
 def turn_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[TurnRates]:
@@ -245,9 +320,8 @@ def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree
         if found is not None:
             return found
     ball_velocity = point_velocity(ball, t, _point, window, min(2, degree))
-    rates = pivot_rates(bat, t, window, degree)
+    rates, turn = bat_rates(bat, t, window, degree, degree)
     fraction, pivot_velocity = (rates[0], rates[1]) if rates else (0.0, None)
-    turn = turn_rates(bat, t, window, degree)
     omega = None if turn is None else (turn[0], turn[1])
     if ball_velocity is not None and pivot_velocity is not None and omega is not None:
         return ImpactVelocities(ball_velocity, fraction, pivot_velocity, omega[0], omega[1], True)

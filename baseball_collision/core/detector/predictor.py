@@ -1,7 +1,8 @@
 """
 Predictions: the coming impact, from the detector's latest samples and a commanded bat plan.
 
-After every processed frame (when ``prediction_horizon`` > 0 and the detector is armed) the
+After every processed frame (when ``prediction_horizon`` > 0 and the detector is armed; with
+``prediction_period`` > 0 only on a frame at least that long after the last one that did) the
 ball's latest samples give a ballistic forecast, and the bat's either its commanded plan (a
 robot arm's, when it covers the instant) or a rigid-body extrapolation of its latest motion;
 ``prediction.first_contact`` searches them for the first contact within the horizon.
@@ -14,12 +15,12 @@ from typing import List, Optional, Sequence, Tuple, Union
 from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
 from .gate import Clock
-from .kinematics import fit_polynomial, pivot_rates, turn_rates
+from .kinematics import bat_rates, fit_polynomial
 from .streams import Stream
 from ..geometry import lerp, scale, sub, Vector
 from ..prediction import (
     BallForecast, BatForecast, check_plan_size, first_contact, planned_bat, PlannedBat,
-    turn_axis_and_rates)
+    prediction_due, turn_axis_and_rates)
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
@@ -40,7 +41,7 @@ class Predictor:
     """
 
     __slots__ = ('config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
-                 'plan_on_clock', 'predicting')
+                 'plan_on_clock', 'predicting', 'last_ns')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -51,6 +52,7 @@ class Predictor:
         self.plan: Optional[Tuple[int, PlannedBat]] = None
         self.plan_on_clock: Optional[PlannedBat] = None
         self.predicting = False
+        self.last_ns: Optional[int] = None  # the stamp of the last frame that predicted
 
     def set_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
                  quaternions: Sequence[Sequence[float]]) -> None:
@@ -74,8 +76,17 @@ class Predictor:
         self.plan = (first, plan)
 
     def predict(self, t0: float, armed: Optional[bool], events: List) -> None:
-        """Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended."""
+        """
+        Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended.
+
+        Nothing at all, the last prediction staying in force, when t0 is less than
+        ``prediction_period`` after the last frame that predicted (``prediction_due``).
+        """
         config = self.config
+        now_ns = self.clock.stamp(t0)
+        if not prediction_due(self.last_ns, now_ns, config.prediction_period):
+            return
+        self.last_ns = now_ns
         found = None
         if armed and self._may_reach(t0):
             ball = self._ball_forecast(t0)
@@ -89,13 +100,13 @@ class Predictor:
         if found is None:
             if self.predicting:
                 self.predicting = False
-                events.append(PredictionCleared(made_at_ns=self.clock.stamp(t0)))
+                events.append(PredictionCleared(made_at_ns=now_ns))
             return
         t, hit = found
         knob, tip = bat.at(t)
         self.predicting = True
         events.append(Prediction(
-            stamp_ns=self.clock.stamp(t), made_at_ns=self.clock.stamp(t0), lead_s=t - t0,
+            stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball.at(t), ball_velocity=ball.velocity_at(t),
@@ -156,8 +167,9 @@ class Predictor:
         # fits as an impact's velocities give the rates (``kinematics``)
         start = bat.times[indices[-1]]
         latest = bat.values[indices[-1]]
-        fraction, pivot_velocity, pivot_acceleration = pivot_rates(bat, start, window, degree)
-        rate, _, change = turn_rates(bat, start, window, degree)
+        pivot_state, turn_state = bat_rates(bat, start, window, degree, degree)
+        fraction, pivot_velocity, pivot_acceleration = pivot_state
+        rate, _, change = turn_state
         axis, turn, turn_change = turn_axis_and_rates(rate, change)
         pivot = lerp(latest.knob, latest.tip, fraction)
         return BatForecast(t0=start, pivot=pivot, pivot_velocity=pivot_velocity,

@@ -3,8 +3,10 @@
 import math
 
 from baseball_collision.core.detector.kinematics import (
-    fit_polynomial, impact_velocities, pivot_fraction, pivot_rates, point_velocity, turn_rates)
+    bat_rates, fit_polynomial, impact_velocities, pivot_degree, pivot_fraction, pivot_rates,
+    point_velocity, turn_rates)
 from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.geometry import dot, lerp, sub
 from baseball_collision.core.motion import BatPath, BatSample, PointPath
 import pytest
 
@@ -61,6 +63,34 @@ def test_pivot_is_the_hands_of_a_turning_bat() -> None:
     assert pivot_fraction(stream, t, 0.061, 5) == pytest.approx(GRIP, abs=0.01)
     fraction, velocity, acceleration = pivot_rates(stream, t, 0.061, 5)
     assert velocity == pytest.approx(HANDS_VELOCITY, abs=0.02)
+
+
+@pytest.mark.parametrize('count, after', [(3, 0.0), (5, 0.001), (24, 0.0), (24, 0.002)])
+def test_one_fit_gives_the_pivot_of_separate_fits(count: int, after: float) -> None:
+    """
+    ``bat_rates``' one fit equals separate fits, as the pivot was found before.
+
+    The reference fits knob and tip at the last sample, takes the least-accelerating point,
+    fits its own rows at t; the turn is ``turn_rates``.
+    """
+    stream = _bat_stream([i / 360.0 + 1e-4 * math.sin(7.0 * i) for i in range(count)])
+    times = list(stream.times)
+    t = times[-1] + after
+    degree = pivot_degree(count, 5)
+    second = fit_polynomial(times, [v.knob + v.tip for v in stream.values], times[-1], degree)[2]
+    knob, tip = second[:3], second[3:]
+    change = sub(tip, knob)
+    fraction = min(1.0, max(-0.5, -dot(knob, change) / dot(change, change)))
+    rows = [lerp(v.knob, v.tip, fraction) for v in stream.values]
+    _, first, second = fit_polynomial(times, rows, t, degree)
+    pivot, turn = bat_rates(stream, t, 1.0, 5, 5)
+    assert pivot[0] == pytest.approx(fraction, rel=1e-12, abs=1e-12)
+    assert pivot[1] == pytest.approx(first, rel=1e-11, abs=1e-11)
+    assert pivot[2] == pytest.approx(second, rel=1e-9, abs=1e-9)
+    swing, roll, change = turn_rates(stream, t, 1.0, 5)
+    assert turn[0] + (turn[1],) == pytest.approx(swing + (roll,), rel=1e-11, abs=1e-11)
+    assert turn[2] == pytest.approx(change, rel=1e-9, abs=1e-9)
+    assert pivot_rates(stream, t, 1.0, 5) == pivot
 
 
 def test_turn_rates_of_a_steady_swing() -> None:
