@@ -28,7 +28,7 @@ JSON_FORMAT = 'baseball_collision.analyze/2'
 
 TABLE_COLUMNS = (
     ('#', 3), ('event', 9), ('t (s)', 9), ('stamp (ns)', 19), ('+- (us)', 7),
-    ('from tip (cm)', 13), ('+- (cm)', 7), ('where', 10), ('sweet spot (mph)', 16),
+    ('from tip (cm)', 13), ('+- (mm)', 7), ('where', 10), ('sweet spot (mph)', 16),
     ('+- (mph)', 8), ('ball (mph)', 10), ('attack (deg)', 12), ('gap (cm)', 8))
 """Printed table: (title, width) per column."""
 
@@ -101,7 +101,8 @@ def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
 
     return [str(number), record['event'].replace('_', ' '), f"{record['time_s']:.4f}",
             str(record['stamp_ns']), shown('time_uncertainty_s', lambda s: f'{s * 1e6:.1f}'),
-            _cm(record['distance_from_tip_m']), shown('distance_from_knob_uncertainty_m', _cm),
+            _cm(record['distance_from_tip_m']),
+            shown('distance_from_knob_uncertainty_m', lambda metres: f'{metres * 1e3:.1f}'),
             record['zone'].replace('_', ' ') if record['event'] == 'impact' else '-',
             shown('sweet_spot_speed_mps', _mph), shown('sweet_spot_speed_uncertainty_mps', _mph),
             shown('ball_speed_mps', _mph),
