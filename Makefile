@@ -11,7 +11,7 @@ BENCH_STAMP := $(VENV)/.installed-bench
 # import rclpy exits the process with code 102 for any RMW but Fast DDS (ENVIRONMENT.md).
 RUN := env -u RMW_IMPLEMENTATION
 
-.PHONY: setup test lint demo bench clean
+.PHONY: setup test test-slow lint demo bench clean
 
 setup: $(STAMP)
 
@@ -29,6 +29,10 @@ $(STAMP): requirements.txt setup.py setup.cfg package.xml Makefile baseball_coll
 
 test: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider test
+
+# The slow-marked tests alone (the uncertainty calibration, the node soak): also in `make test`.
+test-slow: $(STAMP)
+	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m slow test
 
 lint: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m linter test
