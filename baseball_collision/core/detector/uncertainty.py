@@ -11,25 +11,23 @@ and its orientation by sigma / ``MARKER_SPREAD_M`` rad per axis, the noise of a 
 rigid body solved over markers that far apart), by the same model, windows and velocity fits
 as the detector. For estimates close to linear in the samples the spread of the re-solves
 around the reported impact is the spread of the reported impact around the truth. Re-solves
-that miss (a graze) are left out. The uncertainty is that standard deviation and the
-noise-free estimate below added in quadrature (the model's own error is not noise: without it
-the time's 2-sigma coverage fell to 0.84-0.87 on the simulator's noisy swings, with it 0.87-0.90;
-benchmarks/bench_accuracy.py); with fewer than two hits, the noise-free estimate alone. The
-random source is seeded from the impact's stamps (``seed_for``), so the node and ``analyze``,
-given the same samples, report the same uncertainties to the bit.
+that miss (a graze) are left out. The uncertainty is that standard deviation; under ``c2``
+with a look-ahead, added in quadrature to the difference from the same fit without the
+look-ahead (how far the frames after the contact bent it: a bias, not noise). With fewer than
+two hits, the noise-free estimate below stands in. The random source is seeded from the
+impact's stamps (``seed_for``), so the node and ``analyze``, given the same samples, report
+the same uncertainties to the bit.
 
 With ``tracker_noise`` 0, the interpolation's own error estimate: the absolute difference
-between the impact and the one solved over the same samples by a neighbouring fit
-(``alternative``): under ``c2`` with a look-ahead the same splines without it (which also
-shows how far the frames after the contact bent the fit), under ``c2`` without one the same
-splines over half the window (at least 4 samples: no sample after the interval exists yet
-when a live detector decides it), else
-the model of next lower order (``ALTERNATIVE``: spline against rigid, rigid against linear;
-linear, the lowest, against rigid). The second fit's error is in the difference too: it is an
-estimate of the size of the error, not a bound. When the alternative finds no impact, coarse
-bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
+between the impact and the one the model of next lower order solves over the same samples
+(``ALTERNATIVE``: c2 against spline, spline against rigid, rigid against linear; linear, the
+lowest, against rigid). It measures the lower-order model's error more than the deciding
+one's: by design an over-estimate of the time and the spot (measured 2-30 times the error on
+the simulator's swings); the speed's can fall short where both models take their velocities
+from the same least-squares fits (``c2`` at a low rate). When the alternative finds no
+impact, coarse bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
 
-Not covered: a bias both fits share. On the simulator's braking swings (the bat decelerating
+Not covered: a bias the fits share. On the simulator's braking swings (the bat decelerating
 over 1-3 ms after the contact) the interval's closing frame is already after the contact, and
 the time comes out late by about 2 sigma at 1 mm and 90 Hz.
 """
@@ -53,14 +51,11 @@ from ..motion import BatSample
 PERTURBATIONS = 16
 """Re-solves per impact under perturbed samples (tracker_noise > 0)."""
 
-WITH_MODEL_ERROR = True
-"""With noise, add the noise-free estimate to the spread in quadrature."""
-
 MARKER_SPREAD_M = 0.3
 """The spread of a bat's markers (m): a pose's orientation noise is sigma / this (rad)."""
 
-ALTERNATIVE = {'spline': 'rigid', 'rigid': 'linear', 'linear': 'rigid'}
-"""The model each model but ``c2``'s noise-free error estimate is taken against."""
+ALTERNATIVE = {'c2': 'spline', 'spline': 'rigid', 'rigid': 'linear', 'linear': 'rigid'}
+"""The model each model's noise-free error estimate is taken against."""
 
 MARGIN_SAMPLES = 3
 """Samples kept beyond the widest window either side of the re-solved intervals."""
@@ -174,27 +169,21 @@ def _quantities(impact: Impact) -> Tuple[float, float, float]:
     return impact.stamp_ns * 1e-9, impact.distance_from_knob_m, impact.sweet_spot_speed_mps
 
 
-def alternative(config: DetectorConfig) -> DetectorConfig:
-    """Return the configuration of the fit an impact's noise-free error is estimated against."""
-    if config.model == 'c2' and config.look_ahead:
-        return replace(config, look_ahead=0)
-    if config.model == 'c2':
-        return replace(config, spline_window=max(4, config.spline_window // 2))
-    return replace(config, model=ALTERNATIVE[config.model])
+def difference(config: DetectorConfig, other: DetectorConfig, clock: Clock, ball: Stream,
+               bat: Stream, offsets: Tuple[Vector, Vector], impact: Impact, ta: float,
+               tb: float) -> Uncertainty:
+    """
+    Return how far the impact solved under ``other`` is from ``impact`` (s, m, m/s).
 
-
-def noise_free_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
-                           offsets: Tuple[Vector, Vector], impact: Impact, ta: float,
-                           tb: float) -> Uncertainty:
-    """Return the interpolation's own error estimate of an impact on [ta, tb] (s)."""
-    other = resolve(alternative(config), clock,
-                    excerpt(ball, 0, len(ball.times) - 1), excerpt(bat, 0, len(bat.times) - 1),
-                    offsets, ta, tb)
-    if other is None:
+    The coarse bounds (the module docstring) when ``other`` finds none.
+    """
+    found = resolve(other, clock, excerpt(ball, 0, len(ball.times) - 1),
+                    excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb)
+    if found is None:
         return tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps
-    return (abs(other.stamp_ns - impact.stamp_ns) * 1e-9,
-            abs(other.distance_from_knob_m - impact.distance_from_knob_m),
-            abs(other.sweet_spot_speed_mps - impact.sweet_spot_speed_mps))
+    return (abs(found.stamp_ns - impact.stamp_ns) * 1e-9,
+            abs(found.distance_from_knob_m - impact.distance_from_knob_m),
+            abs(found.sweet_spot_speed_mps - impact.sweet_spot_speed_mps))
 
 
 def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
@@ -219,11 +208,15 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
                           _shaken_bat(bat, sigma, offsets, rng), offsets, ta, tb)
             if hit is not None:
                 found.append(_quantities(hit))
-    uncertainty = noise_free_uncertainty(config, clock, ball, bat, offsets, impact, ta, tb)
     if len(found) >= 2:
-        spread = np.std(np.array(found), axis=0, ddof=1)
-        uncertainty = tuple(float(math.hypot(x, y) if WITH_MODEL_ERROR else x)
-                            for x, y in zip(spread, uncertainty))
+        uncertainty = tuple(float(x) for x in np.std(np.array(found), axis=0, ddof=1))
+        if config.model == 'c2' and config.look_ahead:
+            bent = difference(config, replace(config, look_ahead=0), clock, ball, bat, offsets,
+                              impact, ta, tb)
+            uncertainty = tuple(math.hypot(x, y) for x, y in zip(uncertainty, bent))
+    else:
+        uncertainty = difference(config, replace(config, model=ALTERNATIVE[config.model]),
+                                 clock, ball, bat, offsets, impact, ta, tb)
     if not all(math.isfinite(x) for x in uncertainty):
         uncertainty = (tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps)
     return replace(impact, time_uncertainty_s=uncertainty[0],
