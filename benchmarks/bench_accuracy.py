@@ -18,7 +18,8 @@ known noise), across the contact; the detector's models keep to its rules.
 
 Recall and precision count contacts and misses clearer than 0.1 mm without noise, 3 mm with;
 errors are over every matched contact (absolute; ``bias`` is the signed mean time error);
-``1s``/``2s`` say how often the time error stayed within one and two reported sigmas. Prints
+``1s``/``2s`` say how often the time, spot (distance from the knob) and sweet-spot speed errors
+stayed within one and two reported sigmas (the impacts' uncertainties). Prints
 Markdown tables for BENCHMARKS.md.
 """
 
@@ -48,11 +49,14 @@ COLUMNS = (
     ('time_error_us_p99', '{:.1f}'), ('time_error_us_mean', '{:+.1f}'),
     ('location_error_mm_p50', '{:.2f}'), ('location_error_mm_p99', '{:.2f}'),
     ('sweet_spot_speed_error_pct_p50', '{:.2f}'), ('sweet_spot_speed_error_pct_p99', '{:.2f}'),
-    ('time_within_1_sigma', '{:.2f}'), ('time_within_2_sigma', '{:.2f}'))
+    ('time_within_1_sigma', '{:.2f}'), ('time_within_2_sigma', '{:.2f}'),
+    ('location_within_1_sigma', '{:.2f}'), ('location_within_2_sigma', '{:.2f}'),
+    ('speed_within_1_sigma', '{:.2f}'), ('speed_within_2_sigma', '{:.2f}'))
 
 HEADER = ('| family | rate Hz | noise mm | method | recall | precision | time err p50 us | '
           'p99 us | '
-          'bias us | spot err p50 mm | p99 mm | speed err p50 % | p99 % | time 1s | 2s |')
+          'bias us | spot err p50 mm | p99 mm | speed err p50 % | p99 % | time 1s | 2s | '
+          'spot 1s | 2s | speed 1s | 2s |')
 
 
 def _runner(label: str, bat: str, noise_m: float) -> Callable:
@@ -112,7 +116,7 @@ def main() -> None:
     print(f'{count} scenarios per family ({args.per_kind} of each of '
           f'{len(KINDS + CLOSE_KINDS)} kinds), seed {args.seed}, bat as {args.bat}\n')
     print(HEADER)
-    print('|' + '---|' * 15)
+    print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
         args.bat)
     print(f'\n({time.perf_counter() - started:.0f} s)')

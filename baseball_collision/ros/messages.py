@@ -102,7 +102,9 @@ def describe_impact(impact: Impact) -> str:
         f'{impact.ball_speed_mps:.1f} m/s ({impact.ball_speed_mps * MPS_TO_MPH:.1f} mph), '
         f'attack angle {impact.attack_angle_deg:+.1f} deg, closing speed '
         f'{impact.relative_normal_speed_mps:.1f} m/s, {into:.3f} ms into a {interval:.3f} ms '
-        f'interval ({impact.model})')
+        f'interval ({impact.model}); 1 sigma: time {impact.time_uncertainty_s * 1e6:.1f} us, '
+        f'spot {impact.distance_from_knob_uncertainty_m * 100:.2f} cm, sweet-spot speed '
+        f'{impact.sweet_spot_speed_uncertainty_mps:.2f} m/s')
 
 
 def describe_near_miss(miss: NearMiss) -> str:

@@ -38,7 +38,10 @@ class PitchResult:
     :ivar location_error_m: detected minus true distance from the tip (m).
     :ivar sweet_spot_speed_error: detected / true sweet-spot speed - 1.
     :ivar near_miss_gap_error_m: reported minus true smallest gap of a near miss (m).
-    :ivar time_sigma_s, location_sigma_m: the impact's reported 1-sigma uncertainties.
+    :ivar knob_distance_error_m: detected minus true distance from the knob (m): what
+        ``location_sigma_m`` is the uncertainty of (None without a true one).
+    :ivar time_sigma_s, location_sigma_m: the impact's reported 1-sigma uncertainties (the
+        location's of its distance from the knob).
     :ivar speed_sigma: its sweet-spot speed uncertainty over the true speed.
     """
 
@@ -55,6 +58,7 @@ class PitchResult:
     time_sigma_s: Optional[float] = None
     location_sigma_m: Optional[float] = None
     speed_sigma: Optional[float] = None
+    knob_distance_error_m: Optional[float] = None
 
 
 def _span(truth: Mapping[str, Any]) -> Optional[Tuple[int, int]]:
@@ -91,11 +95,14 @@ def compare_pitch(truth: Mapping[str, Any], impacts: Sequence[Impact],
         return PitchResult(detected=False, false_impacts=len(impacts), **common)
     first = impacts[match]
     true_speed = float(truth['sweet_spot_speed_mps'])
+    true_knob = truth.get('distance_from_knob_m')
     return PitchResult(
         detected=True, false_impacts=len(impacts) - 1,
         time_error_s=(first.stamp_ns - int(truth['stamp_ns'])) * 1e-9,
         location_error_m=first.distance_from_tip_m - float(truth['distance_from_tip_m']),
         sweet_spot_speed_error=first.sweet_spot_speed_mps / true_speed - 1.0,
+        knob_distance_error_m=(None if true_knob is None
+                               else first.distance_from_knob_m - float(true_knob)),
         time_sigma_s=getattr(first, 'time_uncertainty_s', None),
         location_sigma_m=getattr(first, 'distance_from_knob_uncertainty_m', None),
         speed_sigma=_relative(getattr(first, 'sweet_spot_speed_uncertainty_mps', None),
@@ -182,10 +189,10 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
         summary[f'{name}_max'] = float(np.max(np.abs(values))) if values else math.nan
     summary['time_error_us_mean'] = float(np.mean(times)) if times else math.nan
     for name, error, sigma in (('time', 'time_error_s', 'time_sigma_s'),
-                               ('location', 'location_error_m', 'location_sigma_m'),
+                               ('location', 'knob_distance_error_m', 'location_sigma_m'),
                                ('speed', 'sweet_spot_speed_error', 'speed_sigma')):
         pairs = [(abs(getattr(r, error)), getattr(r, sigma)) for r in matched
-                 if getattr(r, sigma) is not None]
+                 if getattr(r, sigma) is not None and getattr(r, error) is not None]
         for k in (1, 2):
             inside = [e <= k * s for e, s in pairs]
             summary[f'{name}_within_{k}_sigma'] = (float(np.mean(inside)) if inside

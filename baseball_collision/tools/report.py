@@ -27,9 +27,9 @@ JSON_FORMAT = 'baseball_collision.analyze/2'
 ``zone``; end-cap distances of the contact point itself)."""
 
 TABLE_COLUMNS = (
-    ('#', 3), ('event', 9), ('t (s)', 9), ('stamp (ns)', 19), ('from tip (cm)', 13),
-    ('where', 10), ('sweet spot (mph)', 16), ('ball (mph)', 10), ('attack (deg)', 12),
-    ('gap (cm)', 8))
+    ('#', 3), ('event', 9), ('t (s)', 9), ('stamp (ns)', 19), ('+- (us)', 7),
+    ('from tip (cm)', 13), ('+- (mm)', 7), ('where', 10), ('sweet spot (mph)', 16),
+    ('+- (mph)', 8), ('ball (mph)', 10), ('attack (deg)', 12), ('gap (cm)', 8))
 """Printed table: (title, width) per column."""
 
 CSV_VECTORS = (('point', 'contact'), ('normal', 'normal'), ('ball_position', 'ball'),
@@ -41,7 +41,8 @@ CSV_COLUMNS = (
     'distance_from_knob_m', 'distance_from_tip_m', 'contact_x', 'contact_y', 'contact_z',
     'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
-    'gap_y', 'gap_z')
+    'gap_y', 'gap_z', 'time_uncertainty_s', 'distance_from_knob_uncertainty_m',
+    'sweet_spot_speed_uncertainty_mps')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
 applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
 impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
@@ -99,9 +100,12 @@ def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
         return '-' if value is None else format_value(value)
 
     return [str(number), record['event'].replace('_', ' '), f"{record['time_s']:.4f}",
-            str(record['stamp_ns']), _cm(record['distance_from_tip_m']),
+            str(record['stamp_ns']), shown('time_uncertainty_s', lambda s: f'{s * 1e6:.1f}'),
+            _cm(record['distance_from_tip_m']),
+            shown('distance_from_knob_uncertainty_m', lambda metres: f'{metres * 1e3:.1f}'),
             record['zone'].replace('_', ' ') if record['event'] == 'impact' else '-',
-            shown('sweet_spot_speed_mps', _mph), shown('ball_speed_mps', _mph),
+            shown('sweet_spot_speed_mps', _mph), shown('sweet_spot_speed_uncertainty_mps', _mph),
+            shown('ball_speed_mps', _mph),
             shown('attack_angle_deg', lambda degrees: f'{degrees:.1f}'),
             shown('gap_m', _cm)]
 

@@ -50,6 +50,10 @@ def test_an_impact_becomes_its_point_velocity_markers_and_a_line() -> None:
     assert (twist.twist.linear.x, twist.twist.linear.y, twist.twist.linear.z) == \
         pytest.approx(impact.bat_velocity)
     assert off.log.startswith(f'impact at {format_stamp(impact.stamp_ns)} s')
+    assert off.log.endswith(
+        f'1 sigma: time {impact.time_uncertainty_s * 1e6:.1f} us, spot '
+        f'{impact.distance_from_knob_uncertainty_m * 100:.2f} cm, sweet-spot speed '
+        f'{impact.sweet_spot_speed_uncertainty_mps:.2f} m/s')
     on = event_output(impact, 'world', lambda i, frame: MarkerArray())
     assert [name for name, _ in on.messages] == ['impact', 'impact_velocity', 'markers']
 
@@ -111,6 +115,9 @@ def test_impacts_near_misses_and_predictions_are_reported_as_their_records() -> 
             assert len(reports) == 1
             assert json.loads(reports[0].data) == json.loads(json.dumps(
                 event_record(event, 'world', config)))
+            if isinstance(event, Impact):
+                assert json.loads(reports[0].data)['time_uncertainty_s'] == \
+                    event.time_uncertainty_s
             reported += 1
         else:
             assert reports == []

@@ -1,5 +1,6 @@
 """The accuracy evaluation: per simulated pitch against its truth, and summaries."""
 
+from dataclasses import replace
 import math
 
 from baseball_collision.core.detector import DetectorConfig, Impact, NearMiss
@@ -57,6 +58,23 @@ def test_summarize_counts_only_clear_cut_pitches() -> None:
     assert summary['precision'] == 0.5 and summary['false_impacts'] == 1
     assert summary['time_error_us_max'] == pytest.approx(0.01)
     assert math.isnan(summarize([])['recall'])
+
+
+def test_summarize_counts_errors_within_the_reported_sigmas() -> None:
+    """Coverage compares each error with its own sigma; the spot's is from the knob."""
+    truth = dict(HIT, distance_from_knob_m=0.79)
+    sigmas = {'time_uncertainty_s': 15e-9, 'distance_from_knob_uncertainty_m': 0.004,
+              'sweet_spot_speed_uncertainty_mps': 0.2}
+    inside = replace(_impact(1_000_010, 0.15, 30.1), **sigmas)  # 0.67, 2.5, 0.5 sigma
+    outside = replace(_impact(1_000_025, 0.15, 30.5), **sigmas)  # 1.67, 2.5, 2.5 sigma
+    results = [compare_pitch(truth, [inside]), compare_pitch(truth, [outside])]
+    assert results[0].knob_distance_error_m == pytest.approx(0.01)
+    summary = summarize(results)
+    assert summary['time_within_1_sigma'] == 0.5 and summary['time_within_2_sigma'] == 1.0
+    assert summary['location_within_1_sigma'] == 0.0
+    assert summary['location_within_2_sigma'] == 0.0
+    assert summary['speed_within_1_sigma'] == 0.5 and summary['speed_within_2_sigma'] == 0.5
+    assert math.isnan(summarize([compare_pitch(HIT, [inside])])['location_within_1_sigma'])
 
 
 def test_run_scenario_finds_a_barrel_hit() -> None:

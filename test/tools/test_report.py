@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 from typing import Callable, List, Tuple
 
-from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
 from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
 from baseball_collision.tools.report import (
     CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, TABLE_COLUMNS, to_json,
@@ -76,15 +76,19 @@ def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
         assert str(record['stamp_ns']) in cells
         assert f"{record['distance_from_tip_m'] * 100:.1f}" in cells
         if record['event'] == 'near_miss':
-            assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 4
+            assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 7
             assert (row['ball_x'], row['contact_x'], row['gap_x']) == (
                 str(event.ball_position[0]), '', str(event.gap_vector[0]))
         else:
             assert cells[-1] == '-' and f"{record['attack_angle_deg']:.1f}" in cells
-            assert cells[5] == record['zone'].split('_')[0]
+            assert cells[7] == record['zone'].split('_')[0]
+            assert cells[4:7:2] == [f"{record['time_uncertainty_s'] * 1e6:.1f}",
+                                    f"{record['distance_from_knob_uncertainty_m'] * 1e3:.1f}"]
+            assert f"{record['sweet_spot_speed_uncertainty_mps'] * MPS_TO_MPH:.1f}" in cells
+            assert row['time_uncertainty_s'] == str(event.time_uncertainty_s)
             assert (row['contact_x'], row['ball_x']) == (str(event.point[0]),
                                                          str(event.ball_position[0]))
-    assert len(TABLE_COLUMNS) == 10
+    assert len(TABLE_COLUMNS) == 13
 
 
 def test_the_csv_columns_are_the_documented_ones() -> None:

@@ -41,6 +41,7 @@ from .predictor import Predictor
 from .scheduler import Scheduler
 from .streams import Stream
 from .sweep import Sweep
+from .uncertainty import impact_uncertainty
 from ..geometry import pose_point, Vector
 from ..motion import BatSample, samples_ahead
 from ...errors import CoreError
@@ -94,6 +95,12 @@ class Detector:
                             self._episodes, self._offsets)
         self._scheduler = Scheduler(config, self._ball, self._bat)
         self._predictor = Predictor(config, self._clock, self._ball, self._bat, self._offsets)
+        self._sweep.measure = self._measure
+
+    def _measure(self, impact: Impact) -> Impact:
+        """Return an impact with its 1-sigma uncertainties (``uncertainty``)."""
+        return impact_uncertainty(self._config, self._clock, self._ball, self._bat,
+                                  self._offsets, impact)
 
     # ---- configuration -------------------------------------------------------------------
 

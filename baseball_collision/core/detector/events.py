@@ -98,6 +98,11 @@ class Impact:
     :ivar bat_at_rest: the bat's knob and tip stayed within ``rest_tolerance`` of where they
         were at the impact over the ``velocity_window`` before it: the ball hit a still bat
         (a bat on a stand, a lost body frozen in place), not a swing.
+    :ivar time_uncertainty_s, distance_from_knob_uncertainty_m,
+        sweet_spot_speed_uncertainty_mps: 1-sigma uncertainties of ``stamp_ns`` (s),
+        ``distance_from_knob_m`` (m) and ``sweet_spot_speed_mps`` (m/s): the spread of the
+        impact re-solved under perturbed samples with ``tracker_noise`` > 0, the interpolation's
+        own error estimate with 0 (``uncertainty``).
     """
 
     stamp_ns: int
@@ -125,6 +130,9 @@ class Impact:
     velocities_from_history: bool
     initially_overlapping: bool
     bat_at_rest: bool = False
+    time_uncertainty_s: float = 0.0
+    distance_from_knob_uncertainty_m: float = 0.0
+    sweet_spot_speed_uncertainty_mps: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ contact while armed is an ``Impact``; every sub-step without one feeds the near-
 """
 
 import math
-from typing import Any, List, Optional, Tuple
+from typing import Any, Callable, List, Optional, Tuple
 
 from .broadphase import clearly_apart
 from .config import DetectorConfig
@@ -37,10 +37,12 @@ class Sweep:
     :param ball, bat: the streams.
     :param episodes: the arming state and near-miss episodes.
     :param offsets: (knob, tip) in the bat's body frame (m), for rigid paths from poses.
+    :ivar measure: None, or what adds an impact's uncertainties (the detector sets
+        ``uncertainty.impact_uncertainty``; its own re-solves leave it None).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
-                 'max_radius', 'last_gap')
+                 'max_radius', 'last_gap', 'measure')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -49,6 +51,7 @@ class Sweep:
         self.model = config.model
         self.max_radius = config.profile.max_radius
         self.last_gap: Optional[Tuple[State, float]] = None  # the last gap computed (m)
+        self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
 
     def interval(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s), appending the events it makes."""
@@ -161,7 +164,8 @@ class Sweep:
                                   config.ball_radius, config.profile, end.t - start.t)
             if hit is not None:
                 episodes.impact()
-                events.append(self._impact(start.t + hit.time, hit, interval, paths))
+                impact = self._impact(start.t + hit.time, hit, interval, paths)
+                events.append(impact if self.measure is None else self.measure(impact))
                 self.stats.impacts += 1
                 return True
         episodes.track(start, end, gap0, gap1, events)

@@ -1,0 +1,81 @@
+"""
+Cost of an impact's uncertainties: the re-solves at each impact, against the whole pitch.
+
+Run: ``.venv/bin/python benchmarks/bench_uncertainty.py [--rates R ...] [--noises MM ...]
+[--models M ...]``.
+
+One barrel hit per swing family (``sim.FAMILIES``), knob and tip points, 0.2 ms stamp jitter on
+a 1 ms grid. Per rate, noise and model: the median over the impacts of the best of 5 timings
+of ``uncertainty.impact_uncertainty`` (16 re-solves with noise, one without), and the ratio to
+the best of 3 timings of the detector over the whole pitch without it (the cost per message
+when there is no impact is unchanged: the uncertainties are measured only at an impact).
+"""
+
+import argparse
+import time
+from typing import Callable, List
+
+from baseball_collision.core.detector import Detector, DetectorConfig, Impact
+from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
+import numpy as np
+
+
+def _best(run: Callable[[], object], repeats: int) -> float:
+    """Return the shortest wall time (s) of ``repeats`` runs."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        run()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def _pitch(config: DetectorConfig, messages: List, measured: bool) -> Detector:
+    """Run a fresh detector over the messages; without its uncertainties unless measured."""
+    detector = Detector(config)
+    if not measured:
+        detector._sweep.measure = None
+    for stamp, role, values in messages:
+        detector.add(role, stamp, values)
+    detector.finish()
+    return detector
+
+
+def main() -> None:
+    """Print one line per rate, noise and model."""
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
+    parser.add_argument('--rates', nargs='+', type=float, default=[90.0, 360.0])
+    parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 1.0])
+    parser.add_argument('--models', nargs='+', default=['rigid', 'c2'])
+    args = parser.parse_args()
+    for rate in args.rates:
+        for noise_mm in args.noises:
+            for model in args.models:
+                config = DetectorConfig(bat_input='points', model=model,
+                                        tracker_noise=noise_mm * 1e-3)
+                costs, ratios = [], []
+                for i, family in enumerate(FAMILIES):
+                    scenario = make_scenario('barrel', np.random.default_rng(i), family=family)
+                    samples = sample(scenario, rate, np.random.default_rng(i), jitter_s=2e-4,
+                                     grid_s=1e-3, noise_m=noise_mm * 1e-3,
+                                     marker_spread_m=0.3 if noise_mm else None)
+                    messages = list(samples.messages('points'))
+                    detector = Detector(config)
+                    measure, found = detector._measure, []
+                    detector._sweep.measure = lambda impact: found.append(impact) or impact
+                    for stamp, role, values in messages:
+                        detector.add(role, stamp, values)
+                    detector.finish()
+                    pitch = _best(lambda: _pitch(config, messages, False), 3)
+                    for impact in found:
+                        if isinstance(impact, Impact):
+                            cost = _best(lambda: measure(impact), 5)
+                            costs.append(cost)
+                            ratios.append(cost / pitch)
+                print(f'{rate:g} Hz, {noise_mm:g} mm, {model}: {len(costs)} impacts, '
+                      f'uncertainties {np.median(costs) * 1e3:.2f} ms per impact (median), '
+                      f'{np.median(ratios):.2f} x the whole pitch without them', flush=True)
+
+
+if __name__ == '__main__':
+    main()
