@@ -36,9 +36,6 @@ test: $(STAMP)
 test-slow: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m slow test
 
-# The slow-marked tests alone (the uncertainty calibration, the node soak): also in `make test`.
-test-slow: $(STAMP)
-	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m slow test
 
 lint: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m linter test

@@ -137,7 +137,6 @@ def _coverage(noises_mm: Sequence[float], families: Sequence[str], per_kind: int
     return summarize(results, min_clearance_m=3e-3)
 
 
-@pytest.mark.slow
 def test_uncertainties_are_calibrated_on_noisy_swings() -> None:
     """
     |error| <= 1 sigma in about 68 % and <= 2 sigma in about 95 % of impacts.
