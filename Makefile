@@ -36,7 +36,6 @@ test: $(STAMP)
 test-slow: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m slow test
 
-
 lint: $(STAMP)
 	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m linter test
 
