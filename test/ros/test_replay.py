@@ -290,7 +290,8 @@ def test_every_message_arrives_equal(ros: Ros, name: str) -> None:
         for connection, _, raw in reader.messages():
             expected.setdefault(connection.topic, []).append(
                 _fields(reader.deserialize(raw, connection.msgtype)))
-    with BagPlayer(ros.node, bag, rate=50.0, clock_hz=0.0) as player:
+    # 10x: about 2,000 messages/s, within what a loaded 2-core machine delivers reliably
+    with BagPlayer(ros.node, bag, rate=10.0, clock_hz=0.0) as player:
         assert player.topics == sorted(expected) and player.result.skipped_topics == []
         collected = {topic: ros.collect(message_class(msgtype), topic)
                      for topic, msgtype in types.items()}
