@@ -204,7 +204,7 @@ def false_impacts(soak: Soak, plan: FaultPlan) -> Tuple[List[int], List[int]]:
 
 
 def phase_table(soak: Soak, plan: FaultPlan) -> List[str]:
-    """Return one line per phase: time, contacts found / expected, what diagnostics said."""
+    """Return one line per phase: time, contacts found / expected, diagnostics, the RSS."""
     lost, found_excused = set(soak.lost), set(soak.excused_found)
     known = set(soak.expected) | set(soak.excused)
     lines = []
@@ -213,11 +213,13 @@ def phase_table(soak: Soak, plan: FaultPlan) -> List[str]:
         excused = name in EXCUSED
         found = sum(1 for t in contacts if (t in found_excused if excused else t not in lost))
         figures = plan.figures.get(index, PhaseFigures())
+        rss = [kb for at, kb in soak.rss_kb if at <= end]
         lines.append(
             f'  {start:7.1f}-{end:7.1f} s  {name:<16} contacts {found:3d}/{len(contacts):<3d}'
             f"{' (excused)' if excused else '          '}  /diagnostics: lost "
             f'{figures.lost}, resets {figures.resets}, dropped {figures.dropped}, '
-            f'processing max {figures.processing_max_ms:.2f} ms')
+            f'processing max {figures.processing_max_ms:.2f} ms; node RSS at the end '
+            f'{rss[-1] / 1024 if rss else float("nan"):.1f} MB')
     return lines
 
 
