@@ -51,8 +51,8 @@ EXCUSED = ('dead bat', 'burst')
 """Phases whose contacts cannot be found (the bat is silent, messages are lost)."""
 
 MISTIMED_NS = 50_000_000
-"""An impact this near (``max_gap``) an excused contact is that contact, mistimed by lost
-samples around it, not a false impact."""
+"""An impact this near (``max_gap``) a contact is that contact, mistimed by samples lost around
+it (the contact counts as lost when it was expected), not an invented impact."""
 
 
 @dataclass
@@ -189,15 +189,15 @@ def losses(soak: Soak, plan: FaultPlan) -> Losses:
 
 def false_impacts(soak: Soak, plan: FaultPlan) -> Tuple[List[int], List[int]]:
     """
-    Return the impacts (ns) matching no contact: (false, mistimed).
+    Return the impacts (ns) matching no contact within the tolerance: (false, mistimed).
 
-    Mistimed: within ``MISTIMED_NS`` of a contact excused (samples around it were lost); every
-    other is false (an invented impact, or one mistimed outside the faulted seconds).
+    Mistimed: within ``MISTIMED_NS`` of a contact (samples around it were lost); false: no
+    contact that near, an invented impact.
     """
-    excused = np.asarray(sorted(soak.excused), dtype=np.int64)
+    contacts = np.asarray(sorted(plan.phase_of), dtype=np.int64)
     false, mistimed = [], []
     for stamp in soak.false:
-        near = _nearest(excused, stamp)
+        near = _nearest(contacts, stamp)
         (mistimed if near is not None and abs(near - stamp) <= MISTIMED_NS else false).append(
             stamp)
     return false, mistimed
@@ -229,8 +229,8 @@ def misses(soak: Soak, plan: FaultPlan) -> List[str]:
     got = np.asarray(sorted(stamp for stamp, _ in soak.impacts), dtype=np.int64)
     lines = []
     false, mistimed = false_impacts(soak, plan)
-    listed = (('lost contact', soak.lost, got), ('false impact', false, truths),
-              ('mistimed impact', mistimed, truths))
+    listed = (('false impact', false, truths), ('mistimed impact', mistimed, truths),
+              ('lost contact', soak.lost, got))
     for what, stamps, others in listed:
         for stamp in stamps:
             nearest = _nearest(others, stamp)
