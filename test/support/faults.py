@@ -187,19 +187,21 @@ def losses(soak: Soak, plan: FaultPlan) -> Losses:
                   stale_lost=plan.injected['stale'] - int(last.get('dropped_stale_stamp', 0)))
 
 
-def false_impacts(soak: Soak, plan: FaultPlan) -> Tuple[List[int], List[int]]:
+def false_impacts(soak: Soak, plan: FaultPlan,
+                  tolerance_ns: int = 100_000) -> Tuple[List[int], List[int]]:
     """
     Return the impacts (ns) matching no contact within the tolerance: (false, mistimed).
 
-    Mistimed: within ``MISTIMED_NS`` of a contact (samples around it were lost); false: no
-    contact that near, an invented impact.
+    Mistimed: within ``MISTIMED_NS`` of a contact but not ``tolerance_ns`` (samples around it
+    were lost); false: no contact that near (an invented impact) or a second impact within
+    ``tolerance_ns`` of a contact another impact matched (a duplicate).
     """
     contacts = np.asarray(sorted(plan.phase_of), dtype=np.int64)
     false, mistimed = [], []
     for stamp in soak.false:
         near = _nearest(contacts, stamp)
-        (mistimed if near is not None and abs(near - stamp) <= MISTIMED_NS else false).append(
-            stamp)
+        off = abs(near - stamp) if near is not None else MISTIMED_NS + 1
+        (mistimed if tolerance_ns < off <= MISTIMED_NS else false).append(stamp)
     return false, mistimed
 
 
@@ -223,12 +225,12 @@ def phase_table(soak: Soak, plan: FaultPlan) -> List[str]:
     return lines
 
 
-def misses(soak: Soak, plan: FaultPlan) -> List[str]:
+def misses(soak: Soak, plan: FaultPlan, tolerance_ns: int = 100_000) -> List[str]:
     """Return one line per contact lost and per false impact: its phase, the nearest other."""
     truths = np.asarray(sorted(plan.phase_of), dtype=np.int64)
     got = np.asarray(sorted(stamp for stamp, _ in soak.impacts), dtype=np.int64)
     lines = []
-    false, mistimed = false_impacts(soak, plan)
+    false, mistimed = false_impacts(soak, plan, tolerance_ns)
     listed = (('false impact', false, truths), ('mistimed impact', mistimed, truths),
               ('lost contact', soak.lost, got))
     for what, stamps, others in listed:
