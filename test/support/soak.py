@@ -386,12 +386,14 @@ def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', see
         node.destroy_node()
         rclpy.shutdown(context=context)
         log.seek(0)
-        soak.warnings = [line.rstrip() for line in log if '[WARN]' in line or 'ERROR' in line]
+        logged = log.read().splitlines()
+        soak.warnings = [line for line in logged if '[WARN]' in line or 'ERROR' in line]
         log.close()
         os.unlink(log.name)
     lines = out.strip().splitlines()
     if not lines:
-        raise RuntimeError('the impact node printed no figures')
+        raise RuntimeError(f'the impact node printed no figures (exit code {child.returncode}); '
+                           'its log ended:\n' + '\n'.join(logged[-15:]))
     soak.node = json.loads(lines[-1])
     soak.watermark_lag_max = watermark_lag[0]
     _compare(soak, np.asarray(published_stamps), np.asarray(published_at), tolerance_us)
