@@ -113,8 +113,9 @@ class StampGaps:
     than ``LOSS_FACTOR`` typical steps (the median of the last eight) and at most
     ``LOSS_GAP_MAX_NS`` (longer: a pause, reported as stale) means ``round(step / typical) -
     1`` messages did not arrive. A step is counted when the next stamp comes after it: a lone
-    stamp glitched ahead (the next one comes before it) is not a gap. Stamps at or behind the
-    newest (another publisher, a jump back) are ignored until the stream passes them.
+    stamp glitched ahead (the next one comes before it) is not a gap, and its message counts
+    as the one after the stamp before it (its own, misstamped). Stamps at or behind the newest
+    (another publisher, a jump back) are ignored until the stream passes them.
 
     :ivar lost: messages estimated lost so far.
     """
@@ -133,8 +134,8 @@ class StampGaps:
         if self._pending is not None:
             before, lost = self._pending
             self._pending = None
-            if stamp_ns < newest:  # the big step was a lone glitch: go on from before it
-                newest = self._newest = before
+            if stamp_ns < newest:  # the big step was a lone glitch: it took the slot after
+                newest = self._newest = before + self._typical()  # before (misstamped)
             else:
                 self.lost += lost
         if newest is None or stamp_ns <= newest:
@@ -143,7 +144,7 @@ class StampGaps:
             return
         step = stamp_ns - newest
         steps = self._steps
-        typical = sorted(steps)[len(steps) // 2] if len(steps) >= 4 else None
+        typical = self._typical() or None
         if step > LOSS_GAP_MAX_NS or (typical is not None and step > LOSS_FACTOR * typical):
             lost = 0 if typical is None or step > LOSS_GAP_MAX_NS else round(step / typical) - 1
             self._pending = (newest, max(0, lost))  # decided by the next stamp
@@ -153,6 +154,11 @@ class StampGaps:
         if len(steps) > 8:
             del steps[0]
         self._newest = stamp_ns
+
+    def _typical(self) -> int:
+        """Return the typical step (ns): the median of the last eight, 0 before four."""
+        steps = self._steps
+        return sorted(steps)[len(steps) // 2] if len(steps) >= 4 else 0
 
 
 @dataclass

@@ -75,6 +75,21 @@ def test_glitches_and_other_clocks_are_not_losses() -> None:
     assert _gaps(paused) == 0
 
 
+def test_a_sample_whose_own_stamp_glitched_is_not_a_loss() -> None:
+    """
+    A lone glitch in place of its sample's stamp (the tracker misstamped sample 80): no loss.
+
+    Its message arrived (the detector drops it as ``stamp_ahead``): the hole it leaves in the
+    stamps is its own slot (found by the fault benchmark: one message "lost" per glitch).
+    """
+    stamps = [3_000_000_000 + 1_000_000 * k for k in range(200)]
+    for ahead in (30_000_000, 500_000_000, 1_000_000_000):
+        glitched = stamps[:80] + [stamps[80] + ahead] + stamps[81:]
+        assert _gaps(glitched) == 0, ahead
+    missing = stamps[:80] + [stamps[80] + 500_000_000] + stamps[86:]  # and 5 really lost
+    assert _gaps(missing) == 5
+
+
 def test_losses_and_resets_in_a_period_raise_the_level() -> None:
     """Lost messages: WARN naming the topic; one reset: WARN; RESETS_ERROR resets: ERROR."""
     tally = _tally(10.0)

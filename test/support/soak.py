@@ -30,6 +30,7 @@ Figures:
 """
 
 import bisect
+from collections import Counter
 from dataclasses import dataclass, field
 import json
 import math
@@ -107,7 +108,8 @@ def serve() -> int:
     stats = node.detector.stats
     figures = histogram_percentiles(node.histogram, node.slowest)
     figures.update(received=dict(node.tally.arrivals), impacts=stats.impacts,
-                   dropped=dict(stats.dropped), resets=stats.resets, gaps=stats.gaps)
+                   dropped=dict(stats.dropped), resets=stats.resets, gaps=stats.gaps,
+                   lost=dict(node.tally.lost()))
     print(json.dumps(figures), flush=True)
     node.destroy_node()
     rclpy.try_shutdown()
@@ -130,8 +132,9 @@ class Pitch:
     span_ns: int
 
 
-def make_pitches(rate_hz: float, seed: int, count: int = SCENARIOS) -> List[Pitch]:
-    """Return ``count`` pitches of every kind (stamps relative to the pitch start)."""
+def make_pitches(rate_hz: float, seed: int, count: int = SCENARIOS,
+                 gap_ns: int = PITCH_GAP_NS) -> List[Pitch]:
+    """Return ``count`` pitches of every kind, ``gap_ns`` apart (stamps relative to each start)."""
     rng = np.random.default_rng(seed)
     pitches = []
     for index in range(count):
@@ -143,8 +146,41 @@ def make_pitches(rate_hz: float, seed: int, count: int = SCENARIOS) -> List[Pitc
             stamps=samples.ball_stamps_ns.astype(np.int64), balls=samples.ball_positions,
             positions=samples.bat_positions, quaternions=samples.bat_quaternions,
             contact_ns=int(round(truth.time_s * 1e9)) if truth.contact else None,
-            span_ns=int(samples.ball_stamps_ns[-1]) + PITCH_GAP_NS))
+            span_ns=int(samples.ball_stamps_ns[-1]) + gap_ns))
     return pitches
+
+
+class Injector:
+    """
+    What a run sends besides its plain frames: the base sends nothing else (a plain soak).
+
+    ``support/faults.py`` derives the fault plan of ``benchmarks/bench_faults.py`` from it.
+    Times ``seconds`` are the frame's scheduled time into the run (frame / rate).
+    """
+
+    def attach(self, node: Any, profile: QoSProfile) -> None:
+        """Create any extra publishers on the publishing ``node`` (inputs' ``profile``)."""
+
+    def expects(self, start_s: float, end_s: float, contact_ns: int) -> bool:
+        """Return whether the contact (ns) of a pitch sent from ``start_s`` to ``end_s`` counts."""
+        return True
+
+    def paced(self, seconds: float) -> bool:
+        """Return whether the frame at ``seconds`` waits for its time (False: a burst)."""
+        return True
+
+    def frame(self, seconds: float, stamp_ns: int, pitch: Pitch, k: int, ball: PointStamped,
+              bat: PoseStamped) -> Tuple[bool, bool, Counter]:
+        """
+        Alter frame ``k`` of ``pitch`` (messages filled in, stamped ``stamp_ns``) or add to it.
+
+        :returns: whether to send the ball and the bat message, and the extra messages this
+            published, per stream.
+        """
+        return True, True, Counter()
+
+    def status(self, values: Dict[str, str]) -> None:
+        """Take one /diagnostics status of the node (its key/values) as it arrives."""
 
 
 @dataclass
@@ -155,6 +191,7 @@ class Soak:
     rate_hz: float
     qos: str
     published: int = 0
+    published_by: Counter = field(default_factory=Counter)
     frames: int = 0
     pitches: int = 0
     lateness_max_ms: float = 0.0
@@ -165,6 +202,8 @@ class Soak:
     watermark_lag_max: int = 0
     impacts: List[Tuple[int, int]] = field(default_factory=list)
     expected: List[int] = field(default_factory=list)
+    excused: List[int] = field(default_factory=list)
+    excused_found: List[int] = field(default_factory=list)
     latencies_ms: List[float] = field(default_factory=list)
     matched_error_us_max: float = 0.0
     lost: List[int] = field(default_factory=list)
@@ -257,14 +296,20 @@ def _environment() -> Dict[str, str]:
 
 
 def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', seed: int = 7,
-             tolerance_us: float = 100.0, progress: bool = False) -> Soak:
+             tolerance_us: float = 100.0, progress: bool = False,
+             injector: Optional[Injector] = None, gap_ns: int = PITCH_GAP_NS) -> Soak:
     """
     Run the node and publish for ``seconds``; return what was measured.
+
+    :param injector: faults to inject (none by default); ``gap_ns``: the stamp gap between
+        pitches. Contacts the injector excuses are in ``Soak.excused``: neither expected nor,
+        when found, false.
 
     :raises RuntimeError: the node did not come up or did not stop.
     """
     env = _environment()
-    pitches = make_pitches(rate_hz, seed)
+    pitches = make_pitches(rate_hz, seed, gap_ns=gap_ns)
+    injector = injector or Injector()
     soak = Soak(seconds=seconds, rate_hz=rate_hz, qos=qos)
     log = tempfile.NamedTemporaryFile('w+', prefix='soak_node_', suffix='.log', delete=False)
     child = subprocess.Popen(
@@ -293,6 +338,7 @@ def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', see
                 continue
             values = {kv.key: kv.value for kv in status.values}
             soak.diagnostics.append(values)
+            injector.status(values)
             if values.get('watermark_stamp'):
                 sec, _, nanosec = values['watermark_stamp'].partition('.')
                 watermark = int(sec) * 10**9 + int(nanosec)
@@ -312,6 +358,7 @@ def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', see
     node.create_subscription(DiagnosticArray, '/diagnostics', on_diagnostics, events)
     ball_pub = node.create_publisher(PointStamped, 'ball', profile)
     bat_pub = node.create_publisher(PoseStamped, 'bat_pose', profile)
+    injector.attach(node, profile)
     spinner.start()
     try:
         deadline = time.monotonic() + 60.0
@@ -322,8 +369,8 @@ def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', see
             time.sleep(0.05)
         time.sleep(0.5)  # both ends of every connection matched
         soak.rss_kb.append((0.0, _rss_kb(child.pid)[0]))
-        _publish(soak, pitches, ball_pub, bat_pub, child.pid, lock, published_stamps,
-                 published_at, progress)
+        _publish(soak, pitches, (ball_pub, bat_pub, injector), child.pid, lock,
+                 published_stamps, published_at, progress)
         time.sleep(2.0)  # let the node process and publish the tail
         soak.rss_kb.append((seconds + 2.0, _rss_kb(child.pid)[0]))
         soak.hwm_kb = _rss_kb(child.pid)[1]
@@ -339,22 +386,25 @@ def run_soak(seconds: float, rate_hz: float = 1000.0, qos: str = 'reliable', see
         node.destroy_node()
         rclpy.shutdown(context=context)
         log.seek(0)
-        soak.warnings = [line.rstrip() for line in log if '[WARN]' in line or 'ERROR' in line]
+        logged = log.read().splitlines()
+        soak.warnings = [line for line in logged if '[WARN]' in line or 'ERROR' in line]
         log.close()
         os.unlink(log.name)
     lines = out.strip().splitlines()
     if not lines:
-        raise RuntimeError('the impact node printed no figures')
+        raise RuntimeError(f'the impact node printed no figures (exit code {child.returncode}); '
+                           'its log ended:\n' + '\n'.join(logged[-15:]))
     soak.node = json.loads(lines[-1])
     soak.watermark_lag_max = watermark_lag[0]
     _compare(soak, np.asarray(published_stamps), np.asarray(published_at), tolerance_us)
     return soak
 
 
-def _publish(soak: Soak, pitches: Sequence[Pitch], ball_pub: Any, bat_pub: Any, pid: int,
-             lock: threading.Lock, published_stamps: List[int], published_at: List[int],
-             progress: bool) -> None:
+def _publish(soak: Soak, pitches: Sequence[Pitch], senders: Tuple[Any, Any, Injector],
+             pid: int, lock: threading.Lock, published_stamps: List[int],
+             published_at: List[int], progress: bool) -> None:
     """Publish frames at the rate for the run's seconds; sample the node's RSS meanwhile."""
+    ball_pub, bat_pub, injector = senders
     step_ns = int(round(1e9 / soak.rate_hz))
     total = int(soak.seconds * soak.rate_hz)
     ball_msg, bat_msg = PointStamped(), PoseStamped()
@@ -367,14 +417,20 @@ def _publish(soak: Soak, pitches: Sequence[Pitch], ball_pub: Any, bat_pub: Any, 
     while frame < total:
         pitch = pitches[index % len(pitches)]
         if pitch.contact_ns is not None:
-            soak.expected.append(offset + pitch.contact_ns)
+            expects = injector.expects(frame / soak.rate_hz,
+                                       (frame + len(pitch.stamps)) / soak.rate_hz,
+                                       offset + pitch.contact_ns)
+            (soak.expected if expects else soak.excused).append(offset + pitch.contact_ns)
         soak.pitches += 1
         for k in range(len(pitch.stamps)):
             if frame >= total:
                 break
+            seconds = frame / soak.rate_hz
             target = start + frame * step_ns
             now = time.monotonic_ns()
-            if target > now:
+            if not injector.paced(seconds):
+                start = now - frame * step_ns  # a burst: the schedule goes on from its end
+            elif target > now:
                 time.sleep((target - now) * 1e-9)
             else:
                 soak.lateness_max_ms = max(soak.lateness_max_ms, (now - target) * 1e-6)
@@ -388,12 +444,18 @@ def _publish(soak: Soak, pitches: Sequence[Pitch], ball_pub: Any, bat_pub: Any, 
             position.x, position.y, position.z = (float(v) for v in pitch.positions[k])
             (orientation.x, orientation.y, orientation.z,
              orientation.w) = (float(v) for v in pitch.quaternions[k])
-            ball_pub.publish(ball_msg)
-            bat_pub.publish(bat_msg)
+            send_ball, send_bat, extra = injector.frame(seconds, stamp, pitch, k, ball_msg,
+                                                        bat_msg)
+            sent = extra + Counter(ball=int(send_ball), bat_pose=int(send_bat))
+            if send_ball:
+                ball_pub.publish(ball_msg)
+            if send_bat:
+                bat_pub.publish(bat_msg)
             with lock:
                 published_stamps.append(stamp)
                 published_at.append(time.monotonic_ns())
-            soak.published += 2
+            soak.published_by.update(sent)
+            soak.published += sum(sent.values())
             frame += 1
             if published_at[-1] >= next_rss:
                 soak.rss_kb.append(((published_at[-1] - start) * 1e-9, _rss_kb(pid)[0]))
@@ -415,7 +477,7 @@ def _compare(soak: Soak, stamps: np.ndarray, sent_at: np.ndarray,
     received = sorted(soak.impacts)
     got = np.asarray([stamp for stamp, _ in received], dtype=np.int64)
     used = np.zeros(len(got), dtype=bool)
-    for truth in soak.expected:
+    for truth, excused in [(t, False) for t in soak.expected] + [(t, True) for t in soak.excused]:
         index = int(np.searchsorted(got, truth))
         best = None
         for j in (index - 1, index):
@@ -424,7 +486,11 @@ def _compare(soak: Soak, stamps: np.ndarray, sent_at: np.ndarray,
                                             abs(int(got[best]) - truth)):
                 best = j
         if best is None:
-            soak.lost.append(truth)
+            if not excused:
+                soak.lost.append(truth)
+        elif excused:
+            used[best] = True
+            soak.excused_found.append(truth)
         else:
             used[best] = True
             soak.matched_error_us_max = max(soak.matched_error_us_max,

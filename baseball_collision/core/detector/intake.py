@@ -15,7 +15,9 @@ reaches its stream it passes, in order:
   between them shows another publisher's clock (they are dropped as ``STALE_STAMP``);
 * a step well beyond the stream's usual one (``gate.hold_ahead``) waits for the stream's next
   sample: if that comes before it, it was a lone glitch ahead (dropped as ``STAMP_AHEAD``),
-  else it is taken then (a real gap costs one sample of latency on that stream).
+  else it is taken then (a real gap costs one sample of latency on that stream). A step that
+  is not ahead of the newest stamp taken on any stream is no glitch (the stream lagged, or its
+  own newest samples were a stale publisher's): it is taken, at once or when it waited.
 
 Offers that waited and are dropped later are counted then (``DetectorStats.late_drops``);
 ``flush`` (the end of a recording) takes what still waits.
@@ -169,7 +171,7 @@ class Intake:
         stamps = stream.stamps
         if self.held and role in self.held and (not stamps or stamp > stamps[-1]):
             held = self.held.pop(role)
-            if stamp >= held.stamp:  # the stream goes on after it: it was a real step
+            if stamp >= held.stamp or self._on_clock(held.stamp):  # a real step
                 self._take_waited(held, events)
                 stamps = self.stream_of(role).stamps  # new after a reset
             else:  # the next sample came before it: a lone glitch ahead
@@ -177,7 +179,7 @@ class Intake:
         if stamps and stamp > stamps[-1]:  # in order: the common case
             if self.jumps.candidates:  # the current clock is alive: those were another clock
                 self._abandon()
-            if hold_ahead(stamps, stamp, self.reset_ns):
+            if hold_ahead(stamps, stamp, self.reset_ns) and not self._on_clock(stamp):
                 self.held[role] = offer
                 return None
             reason = self.take(offer, events)
@@ -200,6 +202,15 @@ class Intake:
         if self.jumps.candidates:
             self._abandon()
         return verdict if verdict is not None else self._take(offer, events)
+
+    def _on_clock(self, stamp: int) -> bool:
+        """
+        Return whether a stamp (ns) ahead of its stream is not ahead of the clock's newest.
+
+        Another stream reached it: the stream itself lagged (or its newest samples were another
+        publisher's, older clock), so the step is no glitch.
+        """
+        return self.newest is not None and stamp <= self.newest
 
     def _abandon(self) -> None:
         """Drop the jump candidates: a sample on the current clock came between them."""

@@ -73,6 +73,26 @@ def test_a_stale_second_publisher_is_dropped_not_a_jump(truth_ns: int) -> None:
     assert dict(detector.stats.dropped) == {'stale_stamp': 72}
 
 
+def test_a_stale_publisher_first_does_not_take_the_stream(truth_ns: int) -> None:
+    """
+    The replay 3 s behind was running first (the node restarted): its ball comes before each.
+
+    The first ball sample is on the stale clock; the good one after it steps 3 s ahead of its
+    stream but not of the bat's clock: it is no lone glitch (found by the fault benchmark:
+    every good ball sample was dropped as ``stamp_ahead``, no impact ever).
+    """
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    events: List[Any] = []
+    for i in range(72):
+        t = i / RATE
+        events += detector.add_ball(stamp_of(i) - 3 * SECOND, pitch()(t), 'world')
+        events += detector.add_ball(stamp_of(i), pitch()(t), 'world')
+        events += detector.add_bat_pose(stamp_of(i), *pose(t), 'world')
+    one_impact_at(events + detector.finish(), truth_ns)
+    assert detector.stats.resets == 0
+    assert dict(detector.stats.dropped) == {'stale_stamp': 71}  # all but the first, taken
+
+
 def test_random_stamps_on_a_second_publisher_never_reset(truth_ns: int) -> None:
     """A second publisher with stamps anywhere within +-1000 s: drops only, the hit found."""
     rng = random.Random(7)
