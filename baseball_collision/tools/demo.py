@@ -40,8 +40,9 @@ from .report import truth_line
 from .truth import compare_truth, load_truth
 from ..bags import BagReader
 from ..core.detector import DetectorConfig, MPS_TO_MPH
-from ..core.geometry import add, cross, dot, norm, rotate, scale, sub, Vector
+from ..core.geometry import add, cross, norm, rotate, scale, sub, Vector
 from ..core.motion import BatPath, BatSample
+from ..core.records import along_axis_from_tip
 from ..errors import BagError, RosError, ToolError
 
 PACKAGE = 'baseball_collision'
@@ -189,13 +190,9 @@ class BatTrack:
             return
         knob, tip = ends
         axis = sub(tip, knob)
-        length = norm(axis)
-        direction = scale(axis, 1.0 / length)
-        # the closest axis point, within the profile's ends (as the detector reports a spot)
-        segments = self.config.profile.segments()
-        fraction = dot(sub(impact.point, knob), direction) / length
-        fraction = min(max(fraction, segments[0][0]), segments[-1][1])
-        impact.distance_from_tip_m = (1.0 - fraction) * length
+        direction = scale(axis, 1.0 / norm(axis))
+        # the contact point's own distance, as the record gives it (an end-cap hit's too)
+        impact.distance_from_tip_m = along_axis_from_tip(impact.point, knob, tip)
         if impact.bat_velocity is not None and impact.angular_velocity is not None:
             sweet = sub(tip, scale(direction, self.config.sweet_spot_from_tip))
             velocity = add(impact.bat_velocity, cross(impact.angular_velocity,

@@ -58,6 +58,23 @@ def test_an_impact_becomes_its_point_velocity_markers_and_a_line() -> None:
     assert [name for name, _ in on.messages] == ['impact', 'impact_velocity', 'markers']
 
 
+def test_the_log_line_gives_the_records_spot_also_for_an_end_cap_hit() -> None:
+    """An end-cap hit's line reads the contact point's own distance (the record's), not 3.3 cm."""
+    from dataclasses import replace
+    side = next(e for e in swing_events() if isinstance(e, Impact))
+    # the same impact, with its contact point moved beyond the tip, as an end-cap hit has it
+    axis = [t - k for k, t in zip(side.knob, side.tip)]
+    length = sum(c * c for c in axis) ** 0.5
+    beyond = tuple(t + 0.02 * a / length for t, a in zip(side.tip, axis))
+    end_cap = replace(side, feature='tip_end', point=beyond)
+    for impact in (side, end_cap):
+        record = event_record(impact, 'world', DetectorConfig())
+        line = event_output(impact, 'world', lambda i, frame: None).log
+        assert f"{record['distance_from_tip_m'] * 100:.1f} cm from the tip" in line
+    assert event_record(end_cap, 'world', DetectorConfig())['distance_from_tip_m'] == \
+        pytest.approx(-0.02)
+
+
 def test_near_miss_prediction_gap_and_reset() -> None:
     """Each becomes what the node publishes and logs (see EventOutput)."""
     miss = next(e for e in swing_events(height=1.09) if isinstance(e, NearMiss))
