@@ -40,7 +40,7 @@ from .report import truth_line
 from .truth import compare_truth, load_truth
 from ..bags import BagReader
 from ..core.detector import DetectorConfig, MPS_TO_MPH
-from ..core.geometry import add, cross, norm, rotate, scale, sub, Vector
+from ..core.geometry import add, cross, dot, norm, rotate, scale, sub, Vector
 from ..core.motion import BatPath, BatSample
 from ..core.records import along_axis_from_tip
 from ..errors import BagError, RosError, ToolError
@@ -107,7 +107,10 @@ class LiveImpact:
     :ivar point: contact point (m).
     :ivar bat_velocity: ``~/impact_velocity`` linear: bat surface velocity at the point (m/s).
     :ivar angular_velocity: ``~/impact_velocity`` angular (rad/s).
-    :ivar distance_from_tip_m: the point's distance from the tip along the bat axis (m).
+    :ivar distance_from_tip_m: the closest axis point's distance from the tip, within the
+        profile's ends (m): the spot the truth files give (an end cap's centre for its hits).
+    :ivar contact_from_tip_m: the contact point's own distance from the tip along the axis (m),
+        as the record gives it (what is printed).
     :ivar sweet_spot_speed_mps: speed of the sweet spot, by rigid motion from the twist (m/s).
     """
 
@@ -116,6 +119,7 @@ class LiveImpact:
     bat_velocity: Optional[Vector] = None
     angular_velocity: Optional[Vector] = None
     distance_from_tip_m: float = math.nan
+    contact_from_tip_m: float = math.nan
     sweet_spot_speed_mps: float = math.nan
 
 
@@ -190,9 +194,15 @@ class BatTrack:
             return
         knob, tip = ends
         axis = sub(tip, knob)
-        direction = scale(axis, 1.0 / norm(axis))
+        length = norm(axis)
+        direction = scale(axis, 1.0 / length)
+        # the closest axis point, within the profile's ends (as the detector reports a spot)
+        segments = self.config.profile.segments()
+        fraction = dot(sub(impact.point, knob), direction) / length
+        fraction = min(max(fraction, segments[0][0]), segments[-1][1])
+        impact.distance_from_tip_m = (1.0 - fraction) * length
         # the contact point's own distance, as the record gives it (an end-cap hit's too)
-        impact.distance_from_tip_m = along_axis_from_tip(impact.point, knob, tip)
+        impact.contact_from_tip_m = along_axis_from_tip(impact.point, knob, tip)
         if impact.bat_velocity is not None and impact.angular_velocity is not None:
             sweet = sub(tip, scale(direction, self.config.sweet_spot_from_tip))
             velocity = add(impact.bat_velocity, cross(impact.angular_velocity,
@@ -245,7 +255,7 @@ class LiveEvents:
         self.printed.append(impact)
         self.out.write(
             f'  impact     {(stamp - self.first_ns) * 1e-9:8.4f} s  (stamp {stamp})  '
-            f'{impact.distance_from_tip_m * 100:5.1f} cm from the tip, sweet spot '
+            f'{impact.contact_from_tip_m * 100:5.1f} cm from the tip, sweet spot '
             f'{impact.sweet_spot_speed_mps * MPS_TO_MPH:5.1f} mph, bat at contact '
             f'{norm(impact.bat_velocity) * MPS_TO_MPH:5.1f} mph\n')
         self.out.flush()

@@ -327,6 +327,10 @@ def test_demo_end_to_end() -> None:
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.count('  impact  ') == 8
     assert '8/8 contacts found, 0 missed, 0 false impacts' in done.stdout
+    spot = re.search(r'spot error max ([\d.]+) mm', done.stdout)
+    assert spot and float(spot.group(1)) <= 1.0, done.stdout  # the truth's spot, end caps too
+    # an end-cap hit prints its contact point's own distance, as the record does (not 3.3 cm)
+    assert ' 3.3 cm from the tip' not in done.stdout
     assert 'stamps identical to the live node' in done.stdout
     assert 'impact_node stopped cleanly (exit code 0)' in done.stdout
     assert time.monotonic() - started < 60.0
