@@ -115,6 +115,18 @@ def along_axis_from_tip(point: Vector, knob: Vector, tip: Vector) -> float:
     return sum((t - p) * a for p, t, a in zip(point, tip, axis)) / length
 
 
+def contact_from_tip(impact: Impact) -> float:
+    """
+    Return an impact's spot as its record gives it: distance (m) from the tip along the axis.
+
+    A side hit's is the closest axis point's (the impact's own ``distance_from_tip_m``); an
+    end hit's is the contact point's own, not the end cap centre's.
+    """
+    if impact.feature == 'side':
+        return impact.distance_from_tip_m
+    return along_axis_from_tip(impact.point, impact.knob, impact.tip)
+
+
 def plain(value: Any) -> Any:
     """Return ``value`` as strict JSON data: tuples as lists, str enums as str, NaN/inf None."""
     if isinstance(value, float):
@@ -145,7 +157,7 @@ def event_record(event: Any, frame_id: str, config: DetectorConfig) -> Dict[str,
     values = {key: getattr(event, key) for key in _FIELDS[type(event)]}
     feature = str(values.get('feature', 'side'))
     if isinstance(event, Impact) and feature != 'side':
-        from_tip = along_axis_from_tip(event.point, event.knob, event.tip)
+        from_tip = contact_from_tip(event)
         values['distance_from_knob_m'] += values['distance_from_tip_m'] - from_tip
         values['distance_from_tip_m'] = from_tip
     zone = bat_zone(config.profile, feature, event.bat_fraction, values['distance_from_tip_m'],

@@ -21,7 +21,7 @@ from ..core.detector import (
     DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
-from ..core.records import along_axis_from_tip, EVENT_NAMES, event_record, record_text
+from ..core.records import contact_from_tip, EVENT_NAMES, event_record, record_text
 
 NS_PER_S = 1_000_000_000
 """Nanoseconds per second."""
@@ -93,11 +93,8 @@ def describe_impact(impact: Impact) -> str:
     """Return the one-line, human-readable summary of an impact (m, cm, m/s, mph, ms)."""
     into = (impact.stamp_ns - impact.interval_start_ns) * 1e-6
     interval = (impact.interval_end_ns - impact.interval_start_ns) * 1e-6
-    # the contact point's own distance, as the record gives it (an end-cap hit's too)
-    from_tip = (impact.distance_from_tip_m if impact.feature == 'side'
-                else along_axis_from_tip(impact.point, impact.knob, impact.tip))
     return (
-        f'impact at {format_stamp(impact.stamp_ns)} s: {from_tip * 100:.1f} cm '
+        f'impact at {format_stamp(impact.stamp_ns)} s: {contact_from_tip(impact) * 100:.1f} cm '
         f'from the tip ({impact.feature}), sweet-spot speed {impact.sweet_spot_speed_mps:.1f} m/s '
         f'({impact.sweet_spot_speed_mps * MPS_TO_MPH:.1f} mph), bat at contact '
         f'{impact.bat_speed_at_contact_mps:.1f} m/s '
