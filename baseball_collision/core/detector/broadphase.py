@@ -5,10 +5,12 @@ Most intervals of a session have the ball metres from the bat. This decides them
 building a path: each body's path lies in a sphere around its chord's middle, grown by a bound
 on how far the motion model lets it bulge (none for chords; for a rigid turn, the sagitta is
 at most half the chord of the rotating part; for the spline, ``bulge_bounds``; for ``c2``,
-``c2_reach``, ``c2_bat_growth``).
+first ``c2_jump_bulge`` and ``c2_reach`` from numbers kept per sample, then ``c2_bulge`` and
+``c2_bat_growth`` over the interval's window).
 """
 
 import math
+from operator import mul
 from typing import Callable, List, Optional, Sequence, Tuple
 
 from .fitting import c2_window
@@ -86,28 +88,121 @@ def _scalar_bulge(times: Sequence[float], values: Sequence[float], j: int) -> fl
                for weight, t, v in zip(weights, times, values) if weight)
 
 
-def c2_reach(stream: Stream, k: int, window: range) -> Optional[Tuple[Vector, float]]:
+def _jump_coefficients() -> Tuple[float, ...]:
+    """Return c_a = sum over o > a of W(o) (o - a): W(o) the safe weight o samples before."""
+    weights = _WEIGHT_LIST[_FAR_OFFSET - 1::-1]  # W(1), W(2), ... W(_FAR_OFFSET)
+    return tuple(sum(weight * (o - a) for o, weight in enumerate(weights, 1) if o > a)
+                 for a in range(_FAR_OFFSET))
+
+
+C2_JUMP_BEFORE = _jump_coefficients()
+"""Coefficient of the chord-velocity jump at sample k - a in ``c2_jump_bulge`` (a = 0, 1, ...)."""
+
+_AFTER_ONE, _AFTER_TWO = (C2_SAFETY * weight for weight in C2_WEIGHTS_AFTER)
+
+
+def _fill_jumps(stream: Stream, last: int) -> List[float]:
+    """
+    Fill the stream's per-sample steps and chord-velocity jumps up to sample ``last``.
+
+    Kept in ``stream.aligned`` (each computed once): ``steps[m]`` = times[m] - times[m - 1]
+    (s), ``jumps[m]`` = |v_m+1 - v_m| (m/s) with v_m = (p_m - p_m-1) / steps[m] the chord
+    velocity into sample m of the ball, or for the bat that of its knob plus the same of its
+    knob-to-tip length (both bulges at once: they are added up in ``c2_reach``); up to
+    ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used).
+
+    :returns: the jumps.
+    """
+    aligned = stream.aligned
+    if 'steps' not in aligned:
+        aligned['steps'], aligned['jumps'] = [], []
+    steps, jumps = aligned['steps'], aligned['jumps']
+    times, values = stream.times, stream.values
+    for m in range(len(steps), last + 1):
+        steps.append(times[m] - times[m - 1] if m else 0.0)
+    bat = values[0].__class__ is BatSample
+    for m in range(len(jumps), last):
+        if m == 0:
+            jumps.append(0.0)
+            continue
+        h0, h1 = steps[m], steps[m + 1]
+        a, b, c = values[m - 1], values[m], values[m + 1]
+        stretch = 0.0
+        if bat:
+            la, lb, lc = (math.dist(a.tip, a.knob), math.dist(b.tip, b.knob),
+                          math.dist(c.tip, c.knob))
+            stretch = abs((lc - lb) / h1 - (lb - la) / h0)
+            a, b, c = a.knob, b.knob, c.knob
+        jumps.append(stretch + math.sqrt(((c[0] - b[0]) / h1 - (b[0] - a[0]) / h0) ** 2
+                                         + ((c[1] - b[1]) / h1 - (b[1] - a[1]) / h0) ** 2
+                                         + ((c[2] - b[2]) / h1 - (b[2] - a[2]) / h0) ** 2))
+    return jumps
+
+
+def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
+                  max_gap: float) -> Optional[float]:
+    """
+    Bound (m) how far the ``c2`` spline over interval k leaves its chord, from kept numbers.
+
+    Of the ball; of the bat, its knob's bulge plus its length's (``_fill_jumps``). Never
+    below ``c2_bulge``'s bound: a sample i before k is off the chord's line by
+    r_i = sum over m = i..k-1 of (v_k - v_m) h_m, so |r_i| <= H sum over p = i..k-1 of
+    (p - i + 1) J_p+1 (H the longest step, J_m = |v_m+1 - v_m| the chord-velocity jump at
+    sample m); after k + 1, |r_k+2| <= H J_k+1 and |r_k+3| <= H (2 J_k+1 + J_k+2). With the
+    weights, the bound is H (sum over a of ``C2_JUMP_BEFORE[a]`` J_k-a + the look-ahead
+    terms): numbers kept per sample instead of a pass over the window per interval. Taken
+    over the samples a full window could hold (``size`` up to k + 1 + ``look_ahead``): never
+    fewer than ``c2_window``'s, so never a smaller bound; where their steps are uneven (a
+    segment's start within them), over ``c2_window``'s own.
+
+    :returns: the bound (m), or None: the window's steps are not within ``C2_STEP_RATIO`` of
+        each other (no bound).
+    """
+    first = k + 2 - size
+    if first < 0:
+        first = 0
+    last = k + 1 + look_ahead
+    if last >= len(stream.times):
+        last = len(stream.times) - 1
+    jumps = stream.aligned.get('jumps')
+    if jumps is None or len(jumps) < last:
+        jumps = _fill_jumps(stream, last)
+    steps = stream.aligned['steps']
+    inside = steps[first + 1:last + 1]
+    longest = max(inside)
+    if longest > C2_STEP_RATIO * min(inside):
+        window = c2_window(stream, k, max_gap, look_ahead, size)
+        first, last = window.start, window.stop - 1
+        inside = steps[first + 1:last + 1]
+        longest = max(inside)
+        if longest > C2_STEP_RATIO * min(inside):
+            return None
+    bound = sum(map(mul, C2_JUMP_BEFORE, jumps[k:first:-1]))
+    if last > k + 1:
+        bound += _AFTER_ONE * jumps[k + 1]
+        if last > k + 2:
+            bound += _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2])
+    return longest * bound
+
+
+def c2_reach(stream: Stream, k: int, look_ahead: int, size: int,
+             max_gap: float) -> Optional[Tuple[Vector, float]]:
     """
     Return a sphere (centre, radius in m) holding the whole ``c2`` bat over interval k.
 
-    Cheap (no chart): the knob's spline stays within its bulge B_k of its chord and every
-    axis point within the length L(t) <= max(L_k, L_k+1) + B_L of the knob, so the sphere
-    about the knob chord's middle of radius |chord| / 2 + B_k + max L + B_L holds the bat.
-    None: no bound (uneven steps).
+    Cheap (no chart, no window): the knob's spline stays within its bulge B_k of its chord
+    and every axis point within the length L(t) <= max(L_k, L_k+1) + B_L of the knob, so the
+    sphere about the knob chord's middle of radius |chord| / 2 + B_k + max L + B_L holds the
+    bat (B_k + B_L: ``c2_jump_bulge``). None: no bound (uneven steps).
     """
-    times = stream.times[window.start:window.stop]
-    steps = [b - a for a, b in zip(times, times[1:])]
-    if max(steps) > C2_STEP_RATIO * min(steps):
+    bulge = c2_jump_bulge(stream, k, look_ahead, size, max_gap)
+    if bulge is None:
         return None
-    samples = stream.values[window.start:window.stop]
-    j = k - window.start
-    knobs = [sample.knob for sample in samples]
-    lengths = [math.dist(sample.tip, sample.knob) for sample in samples]
-    k0, k1 = knobs[j], knobs[j + 1]
+    s0, s1 = stream.values[k], stream.values[k + 1]
+    k0, k1 = s0.knob, s1.knob
     centre = ((k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5)
-    stretch = _scalar_bulge(times, lengths, j)
-    return centre, (0.5 * math.dist(k0, k1) + c2_bulge(times, knobs, j)
-                    + max(lengths[j], lengths[j + 1]) + stretch)
+    return centre, (0.5 * math.dist(k0, k1) + bulge
+                    + max(math.dist(s0.tip, k0), math.dist(s1.tip, k1)))
 
 
 def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
@@ -202,6 +297,12 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         bat_radius += (knob_bulge + 0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1))
                        + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
     elif model == 'c2':
+        # first from numbers kept per sample (``c2_jump_bulge``), then the exact weights
+        quick = c2_jump_bulge(ball, ball_k, look_ahead, size, max_gap)
+        reach = None if quick is None else c2_reach(bat, bat_k, look_ahead, size, max_gap)
+        if reach is not None and (math.dist(ball_centre, reach[0]) - ball_radius - quick
+                                  - reach[1] > margin):
+            return True
         window = c2_window(ball, ball_k, max_gap, look_ahead, size)
         times = ball.times[window.start:window.stop]
         steps = [b - a for a, b in zip(times, times[1:])]
@@ -209,13 +310,7 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
             return False
         ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
                                 ball_k - window.start)
-        window = c2_window(bat, bat_k, max_gap, look_ahead, size)
-        reach = c2_reach(bat, bat_k, window)
-        if reach is None:
-            return False
-        if math.dist(ball_centre, reach[0]) - ball_radius - reach[1] > margin:
-            return True
-        growth = c2_bat_growth(bat, bat_k, window)
+        growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
         if growth is None:
             return False
         bat_radius += growth

@@ -8,7 +8,7 @@ really moved); nothing is interpolated across a segment break or a gap longer th
 """
 
 from bisect import bisect_right
-from typing import Any, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from ..motion import BatSample, turn_between
 
@@ -42,10 +42,12 @@ class Stream:
     :ivar speed_drops: samples dropped in a row by the speed check.
     :ivar path_key, path: the motion path last built on this stream, by its end stamps.
     :ivar reported_gap: the stamp of the last gap reported (reported once).
+    :ivar aligned: per-sample values the detector's parts compute once and keep (by name, each
+        a list aligned with the samples from the first, possibly shorter); trimmed with them.
     """
 
     __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
-                 'path', 'reported_gap', 'turns')
+                 'path', 'reported_gap', 'turns', 'aligned')
 
     def __init__(self, name: str) -> None:
         self.name = name
@@ -58,6 +60,7 @@ class Stream:
         self.path_key: Optional[Tuple[int, int]] = None
         self.path: Any = None
         self.reported_gap: Optional[int] = None
+        self.aligned: Dict[str, List[Any]] = {}
 
     def newest(self) -> Optional[int]:
         """Return the newest stamp (ns), None when empty."""
@@ -79,7 +82,8 @@ class Stream:
         index = min(bisect_right(self.times, before - history),
                     bisect_right(self.times, before)) - 1 - keep
         if index > 0:
-            for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns):
+            for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns,
+                           *self.aligned.values()):
                 del buffer[:index]
             self.path_key = None
 

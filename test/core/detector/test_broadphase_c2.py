@@ -4,7 +4,8 @@ import math
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.core.detector.broadphase import (
-    c2_bat_growth, c2_bulge, c2_reach, C2_STEP_RATIO, C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE)
+    c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO, C2_WEIGHTS_AFTER,
+    C2_WEIGHTS_BEFORE, clearly_apart)
 from baseball_collision.core.detector.fitting import c2_window
 from baseball_collision.core.motion import not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
@@ -99,9 +100,92 @@ def test_c2_bat_never_leaves_its_reach_sphere(look_ahead, steps, spin, noise, se
         detector.add_ball(stamp, (5.0, 5.0, 5.0 + t))
     bat = detector._bat
     k = len(bat.times) - 3 - look_ahead
-    reach = c2_reach(bat, k, c2_window(bat, k, 0.05, look_ahead, 8))
+    reach = c2_reach(bat, k, look_ahead, 8, 0.05)
     bat_path = detector._sweep.paths(k, k)[1]
     for t in np.linspace(bat.times[k], bat.times[k + 1], 60):
         knob, tip = (np.array(p) for p in bat_path.at(t))
         for f in (0.0, 0.5, 1.0):
             assert math.dist(knob + f * (tip - knob), reach[0]) <= reach[1] + 1e-12
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(look_ahead=st.integers(0, 2), size=st.integers(4, 12),
+       steps=st.lists(st.floats(0.004, 0.012), min_size=14, max_size=14),
+       accel=st.lists(st.floats(-300.0, 300.0), min_size=14, max_size=14),
+       seed=st.integers(0, 1000))
+def test_jump_bound_is_never_below_the_window_bound(look_ahead, size, steps, accel,
+                                                    seed) -> None:
+    """The bound from kept per-sample jumps is at least the one from the window's samples."""
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5,
+                                       look_ahead=look_ahead, spline_window=size))
+    rng = np.random.default_rng(seed)
+    position, velocity = np.zeros(3), np.array([-30.0, 2.0, 1.0])
+    for t, a in zip(np.concatenate([[0.0], np.cumsum(steps[:-1])]), accel):
+        detector.add_ball(BASE_NS + int(round(t * 1e9)), tuple(position))
+        velocity = velocity + a * rng.normal(0.0, 1.0, 3) * 0.01
+        position = position + velocity * 0.01
+    ball = detector._ball
+    for k in range(len(ball.times) - 1):
+        window = c2_window(ball, k, 0.05, look_ahead, size)
+        quick = c2_jump_bulge(ball, k, look_ahead, size, 0.05)
+        exact = c2_bulge(ball.times[window.start:window.stop],
+                         ball.values[window.start:window.stop], k - window.start)
+        assert quick is not None and quick >= exact - 1e-12  # (up to rounding: a picometre)
+
+
+def _segment_distances(points: np.ndarray, knobs: np.ndarray, tips: np.ndarray) -> np.ndarray:
+    """Return each point's distance (m) from its knob-tip segment (brute force, numpy)."""
+    axis = tips - knobs
+    f = np.clip(np.einsum('ij,ij->i', points - knobs, axis) / np.einsum('ij,ij->i', axis, axis),
+                0.0, 1.0)
+    return np.linalg.norm(points - knobs - f[:, None] * axis, axis=1)
+
+
+@settings(max_examples=examples(150), deadline=None)
+@given(look_ahead=st.integers(0, 2),
+       steps=st.lists(st.floats(0.004, 0.012), min_size=12, max_size=12),
+       tilt=st.floats(-3.0, 3.0), spin=st.floats(-60.0, 60.0), noise=st.floats(0.0, 0.01),
+       miss=st.floats(0.0, 0.6), fraction=st.floats(0.0, 1.0), seed=st.integers(0, 1000))
+def test_far_test_never_calls_far_a_pass_within_contact(look_ahead, steps, tilt, spin, noise,
+                                                        miss, fraction, seed) -> None:
+    """
+    ``clearly_apart`` under ``c2`` never says far where the fitted paths come within reach.
+
+    A bat swinging about a tilting axis with noisy knob and tip, a ball passing a point of it
+    ``miss`` metres off at mid-swing; for every interval the test calls far, the ball's
+    distance from the bat's axis segment, sampled densely along the model's own paths, stays
+    above the margin (the contact distance).
+    """
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5,
+                                       look_ahead=look_ahead, bat_length_tolerance=1.0))
+    rng = np.random.default_rng(seed)
+    times = np.concatenate([[0.0], np.cumsum(steps)])
+    middle = 0.5 * times[-1]
+
+    def bat_at(t: float):
+        angle = spin * t + 100.0 * t * t
+        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
+        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+        direction = radial - axis * (radial @ axis)
+        knob = np.array([0.2 * t, 0.0, 1.0])
+        return knob, knob + 0.86 * direction / np.linalg.norm(direction)
+
+    knob, tip = bat_at(middle)
+    aim = knob + fraction * (tip - knob) + miss * np.array([0.0, 0.0, 1.0])
+    for t in times:
+        stamp = BASE_NS + int(round(t * 1e9))
+        knob, tip = bat_at(t)
+        detector.add_knob(stamp, tuple(knob + rng.normal(0.0, noise, 3)))
+        detector.add_tip(stamp, tuple(tip + rng.normal(0.0, noise, 3)))
+        detector.add_ball(stamp, tuple(aim + np.array([-40.0, 1.0, -2.0]) * (t - middle)
+                                       + rng.normal(0.0, noise, 3)))
+    ball, bat = detector._ball, detector._bat
+    margin = detector.config.ball_radius + detector.config.profile.max_radius
+    for k in range(len(bat.times) - 1):
+        if not clearly_apart(ball, bat, k, k, margin, 'c2', 0.05, look_ahead, 8):
+            continue
+        ball_path, bat_path = detector._sweep.paths(k, k)
+        samples = np.linspace(bat.times[k], bat.times[k + 1], 400)
+        ends = np.array([np.concatenate(bat_path.at(t)) for t in samples])
+        centres = np.array([ball_path.at(t) for t in samples])
+        assert _segment_distances(centres, ends[:, :3], ends[:, 3:]).min() > margin
