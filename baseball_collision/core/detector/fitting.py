@@ -9,8 +9,6 @@ segment break or a gap longer than ``max_gap``.
 
 from typing import Sequence
 
-import numpy as np
-
 from .streams import Stream
 from ..motion import C2BatPath, not_a_knot_slopes, PointPath
 
@@ -28,7 +26,7 @@ def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int
 
 
 def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
-    return not_a_knot_slopes(times, np.asarray(rows, dtype=float)).tolist()
+    return not_a_knot_slopes(times, rows).tolist()
 
 
 def c2_point_path(stream: Stream, k: int, window: range) -> PointPath:

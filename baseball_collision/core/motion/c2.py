@@ -79,14 +79,34 @@ def rotate(reference: Vector, rotation: Vector) -> Vector:
             c * reference[2] + s * across[2])
 
 
+_LAST_ROWS: list = [None]
+"""The last ``c2_rows`` call: (its first, j-th and last sample, count, j, answer). The far
+test and the path of one interval chart the same window: the second gets the first's rows."""
+
+
 def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
     """
     Return the window's rows for the interval from samples[j] to samples[j + 1].
+
+    The same samples (by identity: a stream's samples are never changed) and j as the last
+    call give its answer again (the rows are shared: read them only).
 
     :returns: (the first sample kept, its rows onward): per sample the 7 fitted coordinates
         knob (m), rotation vector from samples[j]'s direction (rad), length (m). Samples before
         j (or after j + 1) turned more than ``MAX_CHART_ANGLE`` from it end the window there.
     """
+    last_call = _LAST_ROWS[0]
+    if (last_call is not None and last_call[3] == len(samples) and last_call[4] == j
+            and last_call[0] is samples[0] and last_call[1] is samples[j]
+            and last_call[2] is samples[-1]):
+        return last_call[5]
+    found = _chart_rows(samples, j)
+    _LAST_ROWS[0] = (samples[0], samples[j], samples[-1], len(samples), j, found)
+    return found
+
+
+def _chart_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
+    """Return ``c2_rows``' answer, computed."""
     reference = unit_axis(samples[j])
     rows: List[Tuple[float, ...]] = []
     first, last = 0, len(samples)

@@ -9,43 +9,56 @@ error is O(h^4) in value and O(h^3) in slope on every piece, also on uneven stam
 Practical Guide to Splines, ch. IV). Two samples give the chord, three the parabola.
 """
 
-from typing import Sequence, Tuple
+from typing import Sequence, Tuple, Union
 
 import numpy as np
 
 
-def not_a_knot_slopes(times: Sequence[float], values: np.ndarray) -> np.ndarray:
+def not_a_knot_slopes(times: Sequence[float],
+                      values: Union[np.ndarray, Sequence[Sequence[float]]]) -> np.ndarray:
     """
     Return the slopes at the knots of the not-a-knot cubic spline through (times, values).
 
     :param times: (n,) strictly increasing (s), n >= 2.
-    :param values: (n, columns): each column is fitted on its own.
+    :param values: (n, columns) floats, an array or rows (sequences): each column is fitted on
+        its own.
     :returns: (n, columns) slopes (value units per second).
     """
-    t = np.asarray(times, dtype=float)
-    y = np.asarray(values, dtype=float)
+    n = len(times)
+    if n <= 3:
+        return _short_slopes(np.asarray(times, dtype=float), np.asarray(values, dtype=float))
+    # the system in plain floats (numpy's per-call cost dominates at these sizes), each entry
+    # by the same operations in the same order as the array expressions it replaced
+    rows = values.tolist() if isinstance(values, np.ndarray) else values
+    t = [float(x) for x in times]
+    h = [b - a for a, b in zip(t, t[1:])]
+    d = [[(b - a) / step for a, b in zip(r0, r1)] for r0, r1, step in zip(rows, rows[1:], h)]
+    matrix = [[0.0] * n for _ in range(n)]
+    rhs = [None] * n
+    for i in range(1, n - 1):
+        hb, ha = h[i - 1], h[i]
+        row = matrix[i]
+        row[i - 1], row[i], row[i + 1] = ha, 2.0 * (hb + ha), hb
+        rhs[i] = [3.0 * (ha * x + hb * y) for x, y in zip(d[i - 1], d[i])]
+    h0, h1, hm, hl = h[0], h[1], h[-2], h[-1]
+    matrix[0][0], matrix[0][1] = h1, h0 + h1
+    first, span = (h0 + 2.0 * (h0 + h1)) * h1, h0 + h1
+    rhs[0] = [(first * x + h0 ** 2 * y) / span for x, y in zip(d[0], d[1])]
+    matrix[-1][-2], matrix[-1][-1] = hl + hm, hm
+    last, span = (2.0 * (hm + hl) + hl) * hm, hm + hl
+    rhs[-1] = [(hl ** 2 * x + last * y) / span for x, y in zip(d[-2], d[-1])]
+    return np.linalg.solve(np.array(matrix), np.array(rhs))
+
+
+def _short_slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Return the slopes through two samples (the chord) or three (the parabola)."""
     h = np.diff(t)
     d = np.diff(y, axis=0) / h[:, None]
-    n = len(t)
-    if n == 2:
+    if len(t) == 2:
         return np.vstack([d, d])
-    if n == 3:  # the parabola through the three samples
-        curvature = (d[1] - d[0]) / (h[0] + h[1])
-        return np.vstack([d[0] - curvature * h[0], d[0] + curvature * h[0],
-                          d[1] + curvature * h[1]])
-    matrix = np.zeros((n, n))
-    rhs = np.empty_like(y)
-    inner = np.arange(1, n - 1)
-    matrix[inner, inner - 1] = h[1:]
-    matrix[inner, inner] = 2.0 * (h[:-1] + h[1:])
-    matrix[inner, inner + 1] = h[:-1]
-    rhs[1:-1] = 3.0 * (h[1:, None] * d[:-1] + h[:-1, None] * d[1:])
-    matrix[0, :2] = (h[1], h[0] + h[1])
-    rhs[0] = ((h[0] + 2.0 * (h[0] + h[1])) * h[1] * d[0] + h[0] ** 2 * d[1]) / (h[0] + h[1])
-    matrix[-1, -2:] = (h[-1] + h[-2], h[-2])
-    rhs[-1] = (h[-1] ** 2 * d[-2] + (2.0 * (h[-2] + h[-1]) + h[-1]) * h[-2] * d[-1]) / (
-        h[-2] + h[-1])
-    return np.linalg.solve(matrix, rhs)
+    curvature = (d[1] - d[0]) / (h[0] + h[1])
+    return np.vstack([d[0] - curvature * h[0], d[0] + curvature * h[0],
+                      d[1] + curvature * h[1]])
 
 
 def end_state(times: Sequence[float], values: np.ndarray,
