@@ -26,6 +26,11 @@ analyze BAG --quiet`` process (interpreter start-up, imports, the kernel's load 
 a whole process that only iterates rosbags' raw messages of the same bag, and against (a) in
 this process, best of ``--repeats`` each (goal: analyze >= 0.5 of the raw read rate).
 
+``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
+bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
+each pair's throughputs and the best-of ratio (issue 11's goal for a new default model: it
+keeps >= 0.8 of the old one's throughput); both models' events are listed.
+
 ``--jobs K``: writes K bags of ``N`` messages (default 250,000 each) and times
 :func:`analyze.analyze_bags` over them with one job, then with K jobs (a process pool), in the
 same process, best of ``--repeats``; prints the speed-up (goal for two bags on two cores:
@@ -146,6 +151,40 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int)
                   f"[goal >= 0.5: {'met' if ratio >= 0.5 else 'NOT met'}]")
 
 
+def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
+                    look_ahead: int) -> None:
+    """Print (d) for ``baseline`` and ``model`` in pairs on one bag, the throughput ratios."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / SUFFIXES[storage]
+        written, _ = write_bag(path, messages)
+        print(f'{written:,} messages ({storage}); {pairs} pairs, {baseline} first; '
+              f'{model} with look_ahead {look_ahead}')
+        best = {baseline: (0.0, 0.0), model: (0.0, 0.0)}
+        ratios = []
+        for pair in range(pairs):
+            rates = {}
+            for name in (baseline, model):
+                options = AnalysisOptions(model=name, parameters={'look_ahead': look_ahead}
+                                          if name == 'c2' else {})
+                cpu = cpu_seconds()
+                result, wall = timed(analyze_bag, path, options)
+                cpu = cpu_seconds() - cpu
+                rates[name] = (result.messages / wall, result.messages / cpu)
+                best[name] = tuple(max(a, b) for a, b in zip(best[name], rates[name]))
+                print(f'  pair {pair + 1} {name:6s}: {rates[name][0]:>8,.0f} msg/s wall, '
+                      f'{rates[name][1]:>8,.0f} msg/s CPU; detector '
+                      f'{result.stats.total_processing_s / result.messages * 1e6:6.2f} us/msg; '
+                      f'{len(result.impacts)} impacts, {len(result.near_misses)} near misses')
+            ratios.append(tuple(m / b for m, b in zip(rates[model], rates[baseline])))
+            print(f'  pair {pair + 1} {model} / {baseline}: {ratios[-1][0]:.2f} wall, '
+                  f'{ratios[-1][1]:.2f} CPU')
+        wall, cpu = (best[model][i] / best[baseline][i] for i in (0, 1))
+        verdict = 'met' if cpu >= 0.8 else 'NOT met'
+        print(f'best of {pairs}: {model} / {baseline} = {wall:.2f} wall, {cpu:.2f} CPU '
+              f'[goal >= 0.8: {verdict}]; pairs (CPU) '
+              + ', '.join(f'{r[1]:.2f}' for r in ratios))
+
+
 def cpu_seconds() -> float:
     """Return the CPU time (s) of this process and its finished children (the pool's workers)."""
     own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(
@@ -201,11 +240,19 @@ def main() -> None:
                         help='time the process pool over K bags instead')
     parser.add_argument('--whole', action='store_true',
                         help='time whole processes instead: analyze against a raw read')
+    parser.add_argument('--against', choices=('linear', 'rigid', 'spline', 'c2'), default=None,
+                        help='compare --model against this model in this process instead')
+    parser.add_argument('--pairs', type=int, default=3, help='pairs with --against (3)')
+    parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
     parser.add_argument('--repeats', type=int, default=3,
                         help='runs per --jobs or --whole figure (3)')
     args = parser.parse_args()
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats)
+        return
+    if args.against:
+        against_figures(args.messages or 30_000, args.storage, args.model, args.against,
+                        args.pairs, args.look_ahead)
         return
     if args.jobs:
         jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,

@@ -2,7 +2,8 @@
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
-[--predict SECONDS] [--period SECONDS]``, or ``--startup RUNS`` for the start-up time alone.
+[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N]``, or ``--startup RUNS`` for
+the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -174,7 +175,7 @@ def _stop(child: subprocess.Popen) -> object:
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
-        period: float = 0.0) -> None:
+        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
@@ -182,7 +183,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     env = dict(os.environ)
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
-                    '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}')
+                    '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
+                    '-p', f'model:={model}', '-p', f'look_ahead:={look_ahead}')
     listener = _child('--listen', env)
     rclpy.init()
     node = rclpy.create_node('bench_publisher')
@@ -256,7 +258,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     to_node, in_node = percentiles(to_node), percentiles(in_node)
     to_listener = percentiles(to_listener)
     print(f'impact_node at {rate:.0f} Hz per stream (ball PointStamped + bat PoseStamped), '
-          f"qos {qos_name}, model rigid, markers {'on' if markers else 'off'}, "
+          f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
+          f"markers {'on' if markers else 'off'}, "
           f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches')
     print(f"  processing per message (callback wall time, {processing['count']} messages): "
           f"median {processing['median']:.1f} us, mean {processing['mean']:.1f} us, "
@@ -315,13 +318,17 @@ def main(argv: Optional[List[str]] = None) -> int:
                         help='prediction_horizon (0: off, the default; 0.3 for the goal)')
     parser.add_argument('--period', type=float, default=0.0, metavar='SECONDS',
                         help='prediction_period (0: every frame, the default)')
+    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='rigid',
+                        help='motion model (rigid)')
+    parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
                         help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
     if args.startup:
         startup(args.startup)
         return 0
-    run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period)
+    run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
+        args.model, args.look_ahead)
     return 0
 
 
