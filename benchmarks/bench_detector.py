@@ -1,7 +1,8 @@
 """
 Detector throughput: samples per second through the scalar path, per motion model.
 
-Run: ``.venv/bin/python benchmarks/bench_detector.py [--pitches N] [--rate HZ]``.
+Run: ``.venv/bin/python benchmarks/bench_detector.py [--pitches N] [--rate HZ]
+[--per-message]``.
 
 A session like a batting-practice recording: N simulated pitches (every kind), ball and bat
 each tracked from 0.45 s before contact (about the release) to 0.2 s after, at 360 Hz with
@@ -9,6 +10,11 @@ each tracked from 0.45 s before contact (about the release) to 0.2 s after, at 3
 points. Every sample
 goes through ``Detector.add`` in stamp order, as the node and the bag tools feed it. The seed's
 linear chord model is the baseline, run in the same process on the same samples.
+
+``--per-message`` (with ``--rate 1000`` for the node's goal): instead, the CPU time of every
+``Detector.add`` (thread CPU time, so time the process waited for a core under load does not
+count) per model, bat as a pose: median, p99 and max, best of 3 passes for each figure; the
+node's callback adds the message conversion and publishing to it, the same for every model.
 """
 
 import argparse
@@ -45,13 +51,38 @@ def run(messages: List[Tuple[int, str, tuple]], model: str, bat: str) -> Tuple[f
     return len(messages) / (time.perf_counter() - start), impacts
 
 
+def per_message(messages: List[Tuple[int, str, tuple]], model: str) -> np.ndarray:
+    """Return the CPU time (us) of every ``Detector.add`` of one pass through a fresh detector."""
+    detector = Detector(DetectorConfig(model=model, bat_input='pose'))
+    clock = time.thread_time
+    spent = np.empty(len(messages))
+    for index, (stamp, role, values) in enumerate(messages):
+        start = clock()
+        detector.add(role, stamp, values)
+        spent[index] = clock() - start
+    return spent * 1e6
+
+
 def main() -> None:
     """Print samples per second per model and bat input, and the ratio to the seed model."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
     parser.add_argument('--pitches', type=int, default=60)
     parser.add_argument('--rate', type=float, default=360.0)
     parser.add_argument('--seed', type=int, default=3)
+    parser.add_argument('--per-message', action='store_true',
+                        help='CPU time per Detector.add per model instead (bat as a pose)')
     args = parser.parse_args()
+    if args.per_message:
+        messages = session(args.pitches, args.rate, args.seed, 'pose')
+        print(f'| model | CPU per Detector.add, {args.rate:.0f} Hz per stream, {len(messages)} '
+              'messages: median us | p99 us | max us |')
+        print('|---|---|---|---|')
+        for model in ('rigid', 'spline', 'c2'):
+            runs = [per_message(messages, model) for _ in range(3)]
+            median, p99, top = (min(float(f(run)) for run in runs) for f in (
+                np.median, lambda run: np.percentile(run, 99), np.max))
+            print(f'| {model} | {median:.1f} | {p99:.1f} | {top:.0f} |')
+        return
     print('| bat input | model | samples | samples/s (best of 3) | vs linear | impacts |')
     print('|---|---|---|---|---|---|')
     for bat in ('pose', 'points'):
