@@ -44,6 +44,8 @@ class Stream:
     :ivar reported_gap: the stamp of the last gap reported (reported once).
     :ivar aligned: per-sample values the detector's parts compute once and keep (by name, each
         a list aligned with the samples from the first, possibly shorter); trimmed with them.
+        Valid because a sample never changes once appended (a copy with other values is a new
+        ``Stream``, which starts with none).
     """
 
     __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
