@@ -42,7 +42,7 @@ PROGRESS_MIN_MESSAGES = 100_000
 """Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
 
 CHUNK = 8192
-"""Samples read between two progress bar updates."""
+"""Samples read between two progress bar updates, and given to the detector at once."""
 
 SCORE_WINDOW_NS = 500_000_000
 """Predictions made more than this (ns) before an impact are not its predictions."""
@@ -310,6 +310,48 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     return count, None if first is None else first[1]
 
 
+def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Any],
+                        bar: Any = None,
+                        drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
+    """
+    :func:`run_detector` a chunk at a time, for event sinks only (no sample sink).
+
+    Each chunk goes to ``detector.add_chunk`` (the common case with numpy, the rest sample by
+    sample: the same events as :func:`run_detector`); its events go to the event sinks with
+    the chunk's last log time and frame.
+
+    :param chunks: :class:`~baseball_collision.bags.SampleChunk` in the bag's order.
+    :param detector: a :class:`~baseball_collision.core.detector.Detector` (or anything with
+        its ``add_chunk`` and ``finish()``).
+    :param sinks: objects with ``on_events`` (others are ignored).
+    :param bar: a progress bar (``update(n)``) or None.
+    :param drops: counts ``(role, reason)`` of every dropped sample when given.
+    :returns: (samples fed, the first sample's stamp in ns or None for none).
+    """
+    on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
+        or (lambda events, log_time_ns, frame_id: None)
+    count, first, log_time, frame = 0, None, 0, ''
+    for chunk in chunks:
+        n = len(chunk.stamps_ns)
+        if first is None:
+            first = int(chunk.stamps_ns[0])
+        events = detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values,
+                                    chunk.frame_ids, drops)
+        log_time, frame = int(chunk.log_times_ns[-1]), chunk.frame_ids[-1]
+        if events:
+            on_events(events, log_time, frame)
+        count += n
+        if bar is not None:
+            bar.update(n)
+    events = detector.finish()
+    if drops is not None:
+        for late in detector.stats.late_drops:
+            drops[late.role, late.reason] += 1
+    if events:
+        on_events(events, log_time, frame)
+    return count, first
+
+
 def progress_bar(total: int, label: str) -> Any:
     """Return a tqdm bar on stderr for long bags or a terminal, else None."""
     if total <= PROGRESS_MIN_MESSAGES and not sys.stderr.isatty():
@@ -369,8 +411,12 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                 sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
-                result.messages, result.first_stamp_ns = run_detector(
-                    bag.samples(), detector, sinks, bar, result.drops_by_role)
+                if any(hasattr(sink, 'on_sample') for sink in sinks):
+                    result.messages, result.first_stamp_ns = run_detector(
+                        bag.samples(), detector, sinks, bar, result.drops_by_role)
+                else:  # events only: a chunk at a time
+                    result.messages, result.first_stamp_ns = run_detector_chunks(
+                        bag.chunks(CHUNK), detector, sinks, bar, result.drops_by_role)
                 if copy is not None:
                     copy.close()
                     result.notes += copy.notes()
