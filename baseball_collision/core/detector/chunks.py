@@ -19,6 +19,7 @@ Identical output to feeding the samples one at a time is the contract
 ``spline`` models and no prediction is planned; anything else goes sample by sample.
 """
 
+from bisect import bisect_left
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -44,6 +45,10 @@ FAST_MODELS = ('linear', 'rigid', 'spline')
 SLACK = 1e-9
 """Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
 the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
+
+PLAN_MAX = 2048
+"""Samples planned at once: a plan the per-sample path overturns (a drop) is made again for
+the rest, so a bound keeps that cost flat."""
 
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
@@ -265,16 +270,17 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     before its cut. ``counts`` and ``cuts`` never decrease, so the loop runs once per trim.
     """
     n = len(counts)
+    count_list, cut_list = counts.tolist(), cuts.tolist()
     starts = np.empty(n, np.int64)
     start, j = 0, 0
     while j < n:
-        nxt = max(j, int(np.searchsorted(counts, start + TRIM_FROM, 'left')),
-                  int(np.searchsorted(cuts, start + 1, 'left')))
+        nxt = max(j, bisect_left(count_list, start + TRIM_FROM),
+                  bisect_left(cut_list, start + 1))
         if nxt >= n:
             starts[j:] = start
             break
         starts[j:nxt] = start
-        start = int(cuts[nxt])
+        start = cut_list[nxt]
         starts[nxt] = start
         j = nxt + 1
     before = np.concatenate(([0], starts[:-1])) if n else starts

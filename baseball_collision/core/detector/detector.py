@@ -33,7 +33,7 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .chunks import fast_forward, plan_chunk, usable
+from .chunks import fast_forward, plan_chunk, PLAN_MAX, usable
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -259,10 +259,11 @@ class Detector:
                     self._one(roles, stamps, values, frame_ids, k, events, drops)
                 i = min(n, i + CHUNK_MIN)
                 continue
+            j = i + PLAN_MAX
             plan = plan_chunk(self._config, self._offsets, self._clock.origin,
                               intake.votes.frame, self._ball, self._bat,
-                              self._scheduler.cursor, roles[i:], stamps[i:], values[i:],
-                              frame_ids[i:])
+                              self._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
+                              frame_ids[i:j])
             if plan.n == 0:  # its first sample is out of order: the per-sample path says why
                 self._one(roles, stamps, values, frame_ids, i, events, drops)
                 i += 1
