@@ -38,6 +38,7 @@ ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 """A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
 
 BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
+_ROLES = (Role.BALL, Role.BAT_POSE)
 
 FAST_MODELS = ('linear', 'rigid', 'spline')
 """Models whose far test is vectorised (``c2``'s windows are not)."""
@@ -46,7 +47,7 @@ SLACK = 1e-9
 """Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
 the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
 
-PLAN_MAX = 2048
+PLAN_MAX = 512
 """Samples planned at once: a plan the per-sample path overturns (a drop) is made again for
 the rest, so a bound keeps that cost flat."""
 
@@ -63,32 +64,38 @@ class Plan:
 
     :ivar n: the samples planned.
     :ivar stops: indices of the samples that must go through the per-sample path, sorted.
+    :ivar checked: which samples pass every check (a stop among them only makes a near
+        interval decidable: it is appended as planned, then walked by the scheduler).
     :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
         counted from the stream's first kept sample when planned.
     :ivar starts: per stream, the index of its first kept sample after each sample's trim.
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
     :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns).
-    :ivar ball_points, bat_knob, bat_tip, bat_position, bat_quaternion: the chunk's values.
+    :ivar values: the chunk's ball points as the stream keeps them (tuples), and its bat
+        samples' knob, tip, position and quaternion lists.
     :ivar pre: per stream, samples it held when planned.
+
+    Arrays while planning; Python lists once planned (``fast_forward`` runs between stops a few
+    samples apart near a contact: it only slices lists).
     """
 
-    __slots__ = ('n', 'stops', 'counts', 'starts', 'union', 'visited', 'times', 'stamps',
-                 'ball_points', 'bat_knob', 'bat_tip', 'bat_position', 'bat_quaternion', 'pre')
+    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
+                 'stamps', 'values', 'pre')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
-        k = int(np.searchsorted(self.stops, pos))
-        return int(self.stops[k]) if k < len(self.stops) else self.n
+        k = bisect_left(self.stops, pos)
+        return self.stops[k] if k < len(self.stops) else self.n
 
     def held(self, j: int, ball: Stream, bat: Stream, cursor: Optional[float]) -> bool:
         """Return whether the state after the per-sample path took sample j is the planned one."""
         for s, stream in enumerate((ball, bat)):
-            count = int(self.counts[s][j])
-            if len(stream.times) != count - int(self.starts[s][j]) or \
-                    stream.stamps[-1] != int(self.stamps[s][count - 1]) or stream.breaks[-1]:
+            count = self.counts[s][j]
+            if len(stream.times) != count - self.starts[s][j] or \
+                    stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
                 return False
-        return cursor == float(self.union[self.visited[j] - 1])
+        return cursor == self.union[self.visited[j] - 1]
 
 
 def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
@@ -134,13 +141,11 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         quaternion = quaternion / magnitude[:, None]
         knob = _pose_points(position, quaternion, offsets[0])
         tip = _pose_points(position, quaternion, offsets[1])
-    plan.ball_points = values[is_ball, :3]
-    plan.bat_knob, plan.bat_tip = knob, tip
-    plan.bat_position, plan.bat_quaternion = position, quaternion
+    new_ball = values[is_ball, :3]
     # each stream: its kept samples, then the chunk's
     pre_ball = np.array(ball.values, dtype=float).reshape(-1, 3)
     pre_bat = bat.values
-    ball_points = np.concatenate((pre_ball, plan.ball_points))
+    ball_points = np.concatenate((pre_ball, new_ball))
     knobs = np.concatenate((np.array([s.knob for s in pre_bat], dtype=float), knob))
     tips = np.concatenate((np.array([s.tip for s in pre_bat], dtype=float), tip))
     positions = np.concatenate((np.array([s.position for s in pre_bat], dtype=float),
@@ -187,6 +192,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
             scale = 1.0 + float(np.abs(ball_points).max(initial=0.0)) + float(
                 np.abs(tips).max(initial=0.0))
         far &= clearance > margin + SLACK * scale
+    plan.checked = ok
     stops = ~ok
     stops[_visiting(visited, np.flatnonzero(~far) + 1, n)] = True
     # the trims, as the per-sample path makes them after each sample
@@ -198,7 +204,16 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         starts, lengths = _trims(plan.counts[s], cuts)
         plan.starts.append(starts)
         stops |= lengths > SILENT_KEEP  # a stream that may be silent: its own trim
-    plan.stops = np.flatnonzero(stops)
+    # as lists for fast_forward (and the stream's own values)
+    plan.stops = np.flatnonzero(stops).tolist()
+    plan.checked = ok.tolist()
+    plan.counts = [counts.tolist() for counts in plan.counts]
+    plan.starts = [starts.tolist() for starts in plan.starts]
+    plan.visited, plan.union = visited.tolist(), union.tolist()
+    plan.times = [times.tolist() for times in plan.times]
+    plan.stamps = [stamps.tolist() for stamps in plan.stamps]
+    plan.values = (list(map(tuple, new_ball.tolist())),
+                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
     return plan
 
 
@@ -301,50 +316,53 @@ def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -
 
 def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                  scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
-                 events: List[Event]) -> int:
+                 events: List[Event], walk: bool = True) -> int:
     """
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
 
+    :param walk: False: only append them (a near stop's sample, whose walk the caller makes
+        with the scheduler: the intervals, then the trim).
     :returns: the newest stamp taken (ns).
     """
     newest = 0
     for s, stream in enumerate((ball, bat)):
         counts = plan.counts[s]
-        a = int(counts[pos - 1]) if pos else plan.pre[s]
-        b = int(counts[end - 1])
+        a = counts[pos - 1] if pos else plan.pre[s]
+        b = counts[end - 1]
         if b == a:
             stream_start = a - len(stream.times)
         else:
+            stream.times += plan.times[s][a:b]
+            stamps = plan.stamps[s][a:b]
+            stream.stamps += stamps
+            stream.breaks += [False] * (b - a)
             first, last = a - plan.pre[s], b - plan.pre[s]
-            stream.times.extend(plan.times[s][a:b].tolist())
-            stamps = plan.stamps[s][a:b].tolist()
-            stream.stamps.extend(stamps)
-            stream.breaks.extend([False] * (b - a))
-            if s == 0:
-                stream.values.extend(map(tuple, plan.ball_points[first:last].tolist()))
-                stats.received[Role.BALL] += b - a
+            if s:  # bat samples are made as they are taken (a plan may end early)
+                stream.values += map(_bat_sample, *(column[first:last]
+                                                    for column in plan.values[1]))
+                stream.turns += [None] * (b - a)
             else:
-                stream.values.extend(map(_bat_sample, plan.bat_knob[first:last].tolist(),
-                                         plan.bat_tip[first:last].tolist(),
-                                         plan.bat_position[first:last].tolist(),
-                                         plan.bat_quaternion[first:last].tolist()))
-                stream.turns.extend([None] * (b - a))
-                stats.received[Role.BAT_POSE] += b - a
+                stream.values += plan.values[0][first:last]
+            stats.received[_ROLES[s]] += b - a
             stream.speed_drops = 0
-            newest = max(newest, stamps[-1])
+            if stamps[-1] > newest:
+                newest = stamps[-1]
             stream_start = b - len(stream.times)
-        cut = int(plan.starts[s][end - 1]) - stream_start
+        if not walk:
+            continue
+        cut = plan.starts[s][end - 1] - stream_start
         if cut > 0:
             for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
                            stream.turns):
                 del buffer[:cut]
             stream.path_key = None
-    before = int(plan.visited[pos - 1]) if pos else 1
-    after = int(plan.visited[end - 1])
-    scheduler.cursor = float(plan.union[after - 1])
-    if after > before:
-        stats.intervals += after - before
-        episodes.far(events)
+    if walk:
+        before = plan.visited[pos - 1] if pos else 1
+        after = plan.visited[end - 1]
+        scheduler.cursor = plan.union[after - 1]
+        if after > before:
+            stats.intervals += after - before
+            episodes.far(events)
     stats.calls += end - pos
     stats.last_drop_reason = None
     if stats.late_drops:

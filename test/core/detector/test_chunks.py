@@ -149,9 +149,9 @@ def test_most_samples_skip_the_per_sample_path(monkeypatch: pytest.MonkeyPatch) 
     taken = [0]
     original = detector_module.fast_forward
 
-    def counting(plan, pos, end, *args):  # type: ignore[no-untyped-def]
+    def counting(plan, pos, end, *args, **kwargs):  # type: ignore[no-untyped-def]
         taken[0] += end - pos
-        return original(plan, pos, end, *args)
+        return original(plan, pos, end, *args, **kwargs)
     monkeypatch.setattr(detector_module, 'fast_forward', counting)
     rows = session(HEIGHTS)
     assert_same(DetectorConfig(model='spline', bat_input='pose'), rows, (8192,))
