@@ -208,7 +208,6 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan.stops = np.flatnonzero(stops).tolist()
     plan.checked = ok.tolist()
     plan.counts = [counts.tolist() for counts in plan.counts]
-    plan.starts = [starts.tolist() for starts in plan.starts]
     plan.visited, plan.union = visited.tolist(), union.tolist()
     plan.times = [times.tolist() for times in plan.times]
     plan.stamps = [stamps.tolist() for stamps in plan.stamps]
@@ -277,7 +276,7 @@ def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
     return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
 
 
-def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]:
     """
     Return a stream's first kept sample after each sample's trim, and its length before it.
 
@@ -286,19 +285,19 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     """
     n = len(counts)
     count_list, cut_list = counts.tolist(), cuts.tolist()
-    starts = np.empty(n, np.int64)
+    starts: List[int] = []
     start, j = 0, 0
     while j < n:
         nxt = max(j, bisect_left(count_list, start + TRIM_FROM),
                   bisect_left(cut_list, start + 1))
         if nxt >= n:
-            starts[j:] = start
+            starts += [start] * (n - j)
             break
-        starts[j:nxt] = start
+        starts += [start] * (nxt - j)
         start = cut_list[nxt]
-        starts[nxt] = start
+        starts.append(start)
         j = nxt + 1
-    before = np.concatenate(([0], starts[:-1])) if n else starts
+    before = np.array([0] + starts[:-1], dtype=np.int64)
     return starts, counts - before
 
 
