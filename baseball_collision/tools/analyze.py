@@ -5,13 +5,15 @@ No rclpy: this is the ``baseball-collision analyze`` path and runs on rosbags (t
 :mod:`baseball_collision.bags`) and the core only.
 
 :func:`analyze_bag` reads a bag with :class:`~baseball_collision.bags.BagReader`, feeds every
-sample to :meth:`Detector.add <baseball_collision.core.detector.Detector.add>` in the bag's
-order, then :meth:`~baseball_collision.core.detector.Detector.finish`, in ONE loop
-(:func:`run_detector`) that hands samples and events to sinks: the :class:`BagAnalysis` files
-the events; with ``--predict`` the frame stamps are kept to score the predictions; with
-``--out-bag`` every input topic and what the node would publish are written into an MCAP
-(:mod:`.outbag`). The
-result is compared with the truth file beside the bag when there is one.
+sample to the detector in the bag's order, then
+:meth:`~baseball_collision.core.detector.Detector.finish`, handing samples and events to sinks:
+the :class:`BagAnalysis` files the events; with ``--predict`` the frame stamps are kept to score
+the predictions; with ``--out-bag`` every input topic and what the node would publish are
+written into an MCAP (:mod:`.outbag`). When only events are wanted the bag goes a chunk of
+arrays at a time to ``Detector.add_chunk`` (:func:`run_detector_chunks`); a sink that needs each
+sample gets the loop of :meth:`Detector.add <baseball_collision.core.detector.Detector.add>`
+per sample (:func:`run_detector`): the same events either way. The result is compared with the
+truth file beside the bag when there is one.
 """
 
 from collections import Counter
