@@ -19,8 +19,9 @@ distinct draws repeated). Then, in the same process, times:
     baseline in the same run, which must find the same events;
 
 and splits (d) into read + decode (b), the analyze loop ((c) - (b)), the detector's own timer
-(``stats.total_processing_s``: wall time inside ``Detector.add``'s handler) and the rest (the
-``Detector.add`` dispatch and bookkeeping outside that timer, the progress bar). ``--profile``
+(``stats.total_processing_s``: wall time inside ``Detector.add``'s handler and the chunks'
+fast-forwards) and the rest (planning the chunks, the dispatch and bookkeeping outside that
+timer, the progress bar). ``--profile``
 adds a cProfile of (d) (top functions by own time). Prints figures; asserts nothing. The goal
 is >= 100,000 messages/s end to end.
 
@@ -269,7 +270,7 @@ def main() -> None:
         for label, part in (('read + decode (b)', decode_s),
                             ('analyze loop (c) - (b)', loop_only),
                             ('detector, own timer', detector_s),
-                            ('Detector.add dispatch, rest', rest_s)):
+                            ('planning chunks, rest', rest_s)):
             print(f'      {label:28s} {part:6.2f} s  {part / total_s * 100:5.1f} %  '
                   f'{part / n * 1e6:6.2f} us/msg')
         print(f'    analyze / raw read = {rate / (raw / raw_s):.2f}; analyze without the detector '
