@@ -161,6 +161,20 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
                                  plan.pre[0])
     ok[is_bat] &= _order_checks(config, plan.stamps[1], plan.times[1], (knobs, tips),
                                 plan.pre[1])
+    # the plan ends at its first sample that fails a check: the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again
+    failing = np.flatnonzero(~ok)
+    if len(failing) and failing[0] + 1 < n:
+        n = plan.n = int(failing[0]) + 1
+        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
+        m_ball, m_bat = plan.pre[0] + int(is_ball.sum()), plan.pre[1] + int(is_bat.sum())
+        plan.times = (plan.times[0][:m_ball], plan.times[1][:m_bat])
+        plan.stamps = (plan.stamps[0][:m_ball], plan.stamps[1][:m_bat])
+        breaks = (breaks[0][:m_ball], breaks[1][:m_bat])
+        ball_points, new_ball = ball_points[:m_ball], new_ball[:m_ball - plan.pre[0]]
+        knobs, tips, positions = knobs[:m_bat], tips[:m_bat], positions[:m_bat]
+        k = m_bat - plan.pre[1]
+        knob, tip, position, quaternion = knob[:k], tip[:k], position[:k], quaternion[:k]
     # the walk: watermark and cursor after each sample
     plan.counts = (plan.pre[0] + np.cumsum(is_ball), plan.pre[1] + np.cumsum(is_bat))
     ahead = samples_ahead(config.model, config.look_ahead)
