@@ -11,13 +11,17 @@ distinct draws repeated). Then, in the same process, times:
 
 (a) rosbags ``AnyReader.messages()`` alone (raw bytes, no decode): the floor;
 (b) ``BagReader.samples()``: raw read + decode into samples;
-(c) the analyze loop (:func:`analyze.run_detector`, its fast path: the analysis as the only
-    sink) over (b) with a no-op detector: analyze's own ceiling;
-(d) ``analyze_bag`` end to end (open, select, decode, ``Detector.add`` per sample, ``finish``);
+(c) the analyze loop (:func:`analyze.run_detector_chunks`: the analysis as the only sink, the
+    bag a chunk at a time) over (b) with a no-op detector: analyze's own ceiling;
+(d) ``analyze_bag`` end to end (open, select, decode, ``Detector.add_chunk`` per chunk,
+    ``finish``);
+(e) the detector one sample at a time (``Detector.add``, as analyze ran before chunks): the
+    baseline in the same run, which must find the same events;
 
 and splits (d) into read + decode (b), the analyze loop ((c) - (b)), the detector's own timer
-(``stats.total_processing_s``: wall time inside ``Detector.add``'s handler) and the rest (the
-``Detector.add`` dispatch and bookkeeping outside that timer, the progress bar). ``--profile``
+(``stats.total_processing_s``: wall time inside ``Detector.add``'s handler and the chunks'
+fast-forwards) and the rest (planning the chunks, the dispatch and bookkeeping outside that
+timer, the progress bar). ``--profile``
 adds a cProfile of (d) (top functions by own time). Prints figures; asserts nothing. The goal
 is >= 100,000 messages/s end to end.
 
@@ -49,9 +53,11 @@ import time
 from typing import Tuple
 
 from baseball_collision.bags import BagReader
-from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.tools.analyze import (
-    AnalysisOptions, analyze_bag, analyze_bags, BagAnalysis, run_detector)
+    AnalysisOptions, analyze_bag, analyze_bags, BagAnalysis, CHUNK, run_detector,
+    run_detector_chunks)
+from baseball_collision.tools.parameters import build_config
 from baseball_collision.tools.recording import RecordingSpec, write_recording
 from bench_bag_read import raw_read
 
@@ -87,18 +93,35 @@ class NullDetector:
         """Return no events."""
         return []
 
+    def add_chunk(self, roles, stamps_ns, values, frame_ids, drops=None) -> list:
+        """Return no events."""
+        return []
+
     def finish(self) -> list:
         """Return no events."""
         return []
 
 
 def null_loop(path: Path) -> int:
-    """Run the analyze loop with a no-op detector; return the messages fed."""
+    """Run the analyze loop (a chunk at a time) with a no-op detector; return the messages fed."""
     with BagReader(path) as bag:
         result = BagAnalysis(path=path, selection=bag.selection, config=DetectorConfig())
-        result.messages, result.first_stamp_ns = run_detector(bag.samples(), NullDetector(),
-                                                              [result])
+        result.messages, result.first_stamp_ns = run_detector_chunks(
+            bag.chunks(CHUNK), NullDetector(), [result])
     return result.messages
+
+
+def per_sample(path: Path, model: str) -> BagAnalysis:
+    """Run the detector one sample at a time (``Detector.add``, analyze before chunks)."""
+    options = AnalysisOptions(model=model)
+    with options.reader(path) as bag:
+        config = build_config({}, bat_input=bag.selection.bat_mode, model=model)
+        result = BagAnalysis(path=path, selection=bag.selection, config=config)
+        detector = Detector(config)
+        result.messages, result.first_stamp_ns = run_detector(
+            bag.samples(), detector, [result], None, result.drops_by_role)
+    result.stats = detector.stats
+    return result
 
 
 def timed(run, *args) -> Tuple[object, float]:
@@ -294,11 +317,21 @@ def main() -> None:
         for label, part in (('read + decode (b)', decode_s),
                             ('analyze loop (c) - (b)', loop_only),
                             ('detector, own timer', detector_s),
-                            ('Detector.add dispatch, rest', rest_s)):
+                            ('planning chunks, rest', rest_s)):
             print(f'      {label:28s} {part:6.2f} s  {part / total_s * 100:5.1f} %  '
                   f'{part / n * 1e6:6.2f} us/msg')
         print(f'    analyze / raw read = {rate / (raw / raw_s):.2f}; analyze without the detector '
               f'(c) = {looped / loop_s / (raw / raw_s):.2f} of the raw read rate')
+        before, before_s = timed(per_sample, path, args.model)
+        same = (before.impacts, before.near_misses, before.drops_by_role, before.stats.intervals,
+                before.stats.substeps) == (result.impacts, result.near_misses,
+                                           result.drops_by_role, result.stats.intervals,
+                                           result.stats.substeps)
+        before_rate = before.messages / before_s
+        print(f'(e) one sample at a time     {before.messages:>9,} msgs in {before_s:6.2f} s: '
+              f'{before_rate:>9,.0f} msg/s = {before_rate / (raw / raw_s):.2f}'
+              f' of the raw read rate; chunks (d) are {before_s / total_s:.2f}x faster; '
+              f'same events, drops and counters: {same}')
         if profiler is not None:
             print('\ncProfile of (d), top 25 by own time (timings include the profiling '
                   'overhead):')

@@ -17,7 +17,7 @@ from typing import Any
 _WHERE = {
     'names': ('POINT_STAMPED', 'POSE_STAMPED', 'TWIST_STAMPED', 'VECTOR3_STAMPED', 'ROLES',
               'TOPIC_FLAGS', 'ROLE_TYPES'),
-    'decode': ('Sample',),
+    'decode': ('Sample', 'SampleChunk'),
     'messages': ('DIAGNOSTIC_ARRAY', 'health_message', 'MARKER_ARRAY', 'qos_profile',
                  'scene_message', 'STRING', 'text_message'),
     'raw': ('RawBag', 'RawMessage', 'RawTopic'),

@@ -13,10 +13,14 @@ int32, so the two differ only for stamps after 2038).
 Measured by ``benchmarks/bench_bag_read.py``: keep the loop of :func:`decode_samples` flat.
 """
 
+import itertools
 import struct
-from typing import Any, Callable, Dict, Generator, Iterable, NamedTuple, Tuple
+from typing import Any, Callable, Dict, Generator, Iterable, Iterator, List, NamedTuple, Tuple
+
+import numpy as np
 
 from .common import FRAME_CACHE_LIMIT
+from ..core.detector.chunks import ROLE_CODES
 
 
 class Sample(NamedTuple):
@@ -165,3 +169,51 @@ def decode_samples(messages: Iterable[Tuple[Any, int, bytes]], routes: Dict[int,
             stamp, frame_id, values = slow(route, raw)
         yield new(Sample, (route.role, stamp, frame_id, values, log_time))
     return count
+
+
+class SampleChunk(NamedTuple):
+    """
+    Consecutive samples as arrays (what ``Detector.add_chunk`` takes), in the bag's order.
+
+    :ivar roles: int8 role codes (``chunks.ROLE_CODES``: 0 ball, 1 bat_pose, 2 knob, 3 tip).
+    :ivar stamps_ns: int64 header stamps (ns).
+    :ivar frame_ids: each sample's ``header.frame_id``.
+    :ivar values: (n, 7) float64: a point's (x, y, z) in the first three columns (the rest 0),
+        a bat pose's (px, py, pz, qx, qy, qz, qw).
+    :ivar log_times_ns: int64 record times (ns).
+    """
+
+    roles: np.ndarray
+    stamps_ns: np.ndarray
+    frame_ids: List[str]
+    values: np.ndarray
+    log_times_ns: np.ndarray
+
+
+def chunk_samples(samples: Iterable[Sample], size: int) -> Iterator[SampleChunk]:
+    """
+    Yield ``samples`` as chunks of at most ``size`` (the last may be shorter; none empty).
+
+    Memory is one chunk's, whatever the bag's size.
+    """
+    iterator = iter(samples)
+    codes = ROLE_CODES.__getitem__
+    while True:
+        batch = list(itertools.islice(iterator, size))
+        if not batch:
+            return
+        n = len(batch)
+        roles, stamps, frames, values, logs = zip(*batch)
+        codes_array = np.fromiter(map(codes, roles), np.int8, n)
+        widths = np.fromiter(map(len, values), np.int64, n)
+        flat = np.fromiter(itertools.chain.from_iterable(values), float, int(widths.sum()))
+        rows = np.zeros((n, 7))
+        if (widths == widths[0]).all():  # one kind of sample (or a chunk of one)
+            rows[:, :widths[0]] = flat.reshape(n, widths[0])
+        else:
+            starts = np.cumsum(widths) - widths
+            for column in range(7):
+                has = widths > column
+                rows[has, column] = flat[starts[has] + column]
+        yield SampleChunk(codes_array, np.array(stamps, dtype=np.int64), list(frames), rows,
+                          np.array(logs, dtype=np.int64))

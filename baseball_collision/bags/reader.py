@@ -17,7 +17,7 @@ from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, NS_PER_S
-from .decode import decode_samples, Route, Sample, values_from_message
+from .decode import chunk_samples, decode_samples, Route, Sample, SampleChunk, values_from_message
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
@@ -142,6 +142,16 @@ class BagReader(BagFile):
         """
         reader = self._open_reader()
         return self._samples(reader)
+
+    def chunks(self, size: int = 8192) -> Iterator[SampleChunk]:
+        """
+        Yield the samples of :meth:`samples` as arrays, ``size`` at a time (the last fewer).
+
+        Memory stays one chunk's whatever the bag's size.
+
+        :raises BagError: as :meth:`samples`.
+        """
+        return chunk_samples(self.samples(), size)
 
     def _samples(self, reader: AnyReader) -> Iterator[Sample]:
         """Yield samples (the generator behind :meth:`samples`)."""

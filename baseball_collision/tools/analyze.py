@@ -5,13 +5,15 @@ No rclpy: this is the ``baseball-collision analyze`` path and runs on rosbags (t
 :mod:`baseball_collision.bags`) and the core only.
 
 :func:`analyze_bag` reads a bag with :class:`~baseball_collision.bags.BagReader`, feeds every
-sample to :meth:`Detector.add <baseball_collision.core.detector.Detector.add>` in the bag's
-order, then :meth:`~baseball_collision.core.detector.Detector.finish`, in ONE loop
-(:func:`run_detector`) that hands samples and events to sinks: the :class:`BagAnalysis` files
-the events; with ``--predict`` the frame stamps are kept to score the predictions; with
-``--out-bag`` every input topic and what the node would publish are written into an MCAP
-(:mod:`.outbag`). The
-result is compared with the truth file beside the bag when there is one.
+sample to the detector in the bag's order, then
+:meth:`~baseball_collision.core.detector.Detector.finish`, handing samples and events to sinks:
+the :class:`BagAnalysis` files the events; with ``--predict`` the frame stamps are kept to score
+the predictions; with ``--out-bag`` every input topic and what the node would publish are
+written into an MCAP (:mod:`.outbag`). When only events are wanted the bag goes a chunk of
+arrays at a time to ``Detector.add_chunk`` (:func:`run_detector_chunks`); a sink that needs each
+sample gets the loop of :meth:`Detector.add <baseball_collision.core.detector.Detector.add>`
+per sample (:func:`run_detector`): the same events either way. The result is compared with the
+truth file beside the bag when there is one.
 """
 
 from collections import Counter
@@ -42,7 +44,7 @@ PROGRESS_MIN_MESSAGES = 100_000
 """Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
 
 CHUNK = 8192
-"""Samples read between two progress bar updates."""
+"""Samples read between two progress bar updates, and given to the detector at once."""
 
 SCORE_WINDOW_NS = 500_000_000
 """Predictions made more than this (ns) before an impact are not its predictions."""
@@ -310,6 +312,48 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     return count, None if first is None else first[1]
 
 
+def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Any],
+                        bar: Any = None,
+                        drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
+    """
+    :func:`run_detector` a chunk at a time, for event sinks only (no sample sink).
+
+    Each chunk goes to ``detector.add_chunk`` (the common case with numpy, the rest sample by
+    sample: the same events as :func:`run_detector`); its events go to the event sinks with
+    the chunk's last log time and frame.
+
+    :param chunks: :class:`~baseball_collision.bags.SampleChunk` in the bag's order.
+    :param detector: a :class:`~baseball_collision.core.detector.Detector` (or anything with
+        its ``add_chunk`` and ``finish()``).
+    :param sinks: objects with ``on_events`` (others are ignored).
+    :param bar: a progress bar (``update(n)``) or None.
+    :param drops: counts ``(role, reason)`` of every dropped sample when given.
+    :returns: (samples fed, the first sample's stamp in ns or None for none).
+    """
+    on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
+        or (lambda events, log_time_ns, frame_id: None)
+    count, first, log_time, frame = 0, None, 0, ''
+    for chunk in chunks:
+        n = len(chunk.stamps_ns)
+        if first is None:
+            first = int(chunk.stamps_ns[0])
+        events = detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values,
+                                    chunk.frame_ids, drops)
+        log_time, frame = int(chunk.log_times_ns[-1]), chunk.frame_ids[-1]
+        if events:
+            on_events(events, log_time, frame)
+        count += n
+        if bar is not None:
+            bar.update(n)
+    events = detector.finish()
+    if drops is not None:
+        for late in detector.stats.late_drops:
+            drops[late.role, late.reason] += 1
+    if events:
+        on_events(events, log_time, frame)
+    return count, first
+
+
 def progress_bar(total: int, label: str) -> Any:
     """Return a tqdm bar on stderr for long bags or a terminal, else None."""
     if total <= PROGRESS_MIN_MESSAGES and not sys.stderr.isatty():
@@ -369,8 +413,12 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                 sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
-                result.messages, result.first_stamp_ns = run_detector(
-                    bag.samples(), detector, sinks, bar, result.drops_by_role)
+                if any(hasattr(sink, 'on_sample') for sink in sinks):
+                    result.messages, result.first_stamp_ns = run_detector(
+                        bag.samples(), detector, sinks, bar, result.drops_by_role)
+                else:  # events only: a chunk at a time
+                    result.messages, result.first_stamp_ns = run_detector_chunks(
+                        bag.chunks(CHUNK), detector, sinks, bar, result.drops_by_role)
                 if copy is not None:
                     copy.close()
                     result.notes += copy.notes()

@@ -60,6 +60,24 @@ def test_samples_come_in_log_time_order_with_header_stamps(tmp_path: Path, name:
     assert [s.role for s in samples[:4]] == ['ball', 'knob', 'ball', 'tip']
 
 
+@pytest.mark.parametrize('size', [1, 4, 7, 1000])
+def test_chunks_are_the_samples_as_arrays(tmp_path: Path, size: int) -> None:
+    """``BagReader.chunks`` gives every sample of ``samples``, in order, as arrays."""
+    reference_bag(tmp_path / 'dir_mcap', tracker_rows(24))  # points and poses mixed
+    with BagReader(tmp_path / 'dir_mcap') as bag:
+        samples = list(bag.samples())
+    with BagReader(tmp_path / 'dir_mcap') as bag:
+        chunks = list(bag.chunks(size))
+    assert [len(chunk.stamps_ns) for chunk in chunks[:-1]] == [size] * (len(chunks) - 1)
+    codes = {'ball': 0, 'bat_pose': 1, 'knob': 2, 'tip': 3}
+    rebuilt = [(codes[s.role], s.stamp_ns, s.frame_id, s.values + (0.0,) * (7 - len(s.values)),
+                s.log_time_ns) for s in samples]
+    columns = [zip(chunk.roles, chunk.stamps_ns, chunk.frame_ids, chunk.values.tolist(),
+                   chunk.log_times_ns) for chunk in chunks]
+    assert [(int(role), int(stamp), frame, tuple(row), int(log))
+            for rows in columns for role, stamp, frame, row, log in rows] == rebuilt
+
+
 def test_unrelated_topics_are_never_decoded(tmp_path: Path, monkeypatch: Any) -> None:
     """50k messages on another topic are skipped undecoded (they are not even valid CDR)."""
     path = tmp_path / 'noisy'

@@ -26,10 +26,14 @@ How samples become events (each step in its own module):
 This module is the facade that wires them and keeps the public calls.
 """
 
+from collections import Counter
 from dataclasses import replace
 import time
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
+from .chunks import fast_forward, plan_chunk, PLAN_MAX, usable
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -48,6 +52,10 @@ from ...errors import CoreError
 
 Check = Callable[[Role, Any], Any]
 """Checks one sample's values (role, values): returns them cleaned, or a ``DropReason``."""
+
+CHUNK_MIN = 16
+"""Chunks (or what is left of one) shorter than this go sample by sample: numpy's set-up
+costs more than it saves."""
 
 # the roles as module constants: looking a member up on its enum class costs several times a
 # global lookup, on the path every sample takes
@@ -210,6 +218,112 @@ class Detector:
         if role == 'tip':
             return self._timed(self._check_point, _TIP, stamp_ns, values, frame_id)
         raise CoreError(f"role must be one of {', '.join(self.ROLES)}, got '{role}'")
+
+    def add_chunk(self, roles: Sequence[int], stamps_ns: Sequence[int], values: Any,
+                  frame_ids: Sequence[str], drops: Optional[Counter] = None) -> List[Event]:
+        """
+        Add many samples, in arrival order: the same events as ``add`` for each in turn.
+
+        The common case (samples far from any contact, passing every check) is taken with
+        numpy for the whole chunk (``chunks``); every other sample goes through ``add``. A chunk
+        of one sample is simply ``add``.
+
+        :param roles: each sample's role as its index in ``ROLES`` (``chunks.ROLE_CODES``).
+        :param stamps_ns: header stamps (ns).
+        :param values: (n, 7) floats: (x, y, z) in the first three columns for a ball, knob or
+            tip (m), (px, py, pz, qx, qy, qz, qw) for a bat pose.
+        :param frame_ids: each sample's frame.
+        :param drops: when given, counts ``(role, reason)`` of every sample dropped (late drops
+            of samples that had waited included).
+        :returns: the events the samples made decidable, in order.
+        :raises CoreError: an unknown role code, or arrays of different lengths.
+        """
+        roles = np.asarray(roles, dtype=np.int8)
+        stamps = np.asarray(stamps_ns, dtype=np.int64)
+        values = np.asarray(values, dtype=float)
+        n = len(stamps)
+        if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
+            raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '
+                            f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
+        if n and (roles.min() < 0 or roles.max() >= len(self.ROLES)):
+            raise CoreError(f'role codes must be 0-{len(self.ROLES) - 1}')
+        events: List[Event] = []
+        i = 0
+        while i < n:
+            intake = self._intake
+            if n - i < CHUNK_MIN or not usable(
+                    self._config, self._clock.origin, self._ball, self._bat,
+                    self._scheduler.cursor, bool(intake.held or intake.jumps.candidates
+                                                 or intake.pending)):
+                for k in range(i, min(n, i + CHUNK_MIN)):
+                    self._one(roles, stamps, values, frame_ids, k, events, drops)
+                i = min(n, i + CHUNK_MIN)
+                continue
+            j = i + PLAN_MAX
+            plan = plan_chunk(self._config, self._offsets, self._clock.origin,
+                              intake.votes.frame, self._ball, self._bat,
+                              self._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
+                              frame_ids[i:j])
+            if plan.n == 0:  # its first sample is out of order: the per-sample path says why
+                self._one(roles, stamps, values, frame_ids, i, events, drops)
+                i += 1
+                continue
+            pos = 0
+            while True:
+                end = plan.next_stop(pos)
+                if end > pos:
+                    start = time.perf_counter()
+                    newest = fast_forward(plan, pos, end, self._ball, self._bat,
+                                          self._scheduler, self._episodes, self.stats, events)
+                    if intake.newest is None or newest > intake.newest:
+                        intake.newest = newest
+                    self._time(start, end - pos)
+                if end >= plan.n:
+                    i += plan.n
+                    break
+                resets = self.stats.resets
+                if plan.checked[end]:
+                    # it passes every check: append it as planned, walk as add would
+                    start = time.perf_counter()
+                    newest = fast_forward(plan, end, end + 1, self._ball, self._bat,
+                                          self._scheduler, self._episodes, self.stats, events,
+                                          walk=False)
+                    if intake.newest is None or newest > intake.newest:
+                        intake.newest = newest
+                    self._advance(events)
+                    self._time(start, 1)
+                else:
+                    self._one(roles, stamps, values, frame_ids, i + end, events, drops)
+                pos = end + 1
+                if self.stats.resets != resets or self.stats.last_drop_reason is not None or \
+                        self.stats.late_drops or not plan.held(
+                            end, self._ball, self._bat, self._scheduler.cursor):
+                    i += pos  # not as planned: plan the rest again
+                    break
+        return events
+
+    def _one(self, roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+             frame_ids: Sequence[str], k: int, events: List[Event],
+             drops: Optional[Counter]) -> None:
+        """Add sample k of a chunk through ``add``; count its drops."""
+        role = self.ROLES[roles[k]]
+        row = values[k, :7 if role == _BAT_POSE else 3].tolist()
+        events.extend(self.add(role, int(stamps[k]), row, frame_ids[k]))
+        if drops is not None:
+            stats = self.stats
+            if stats.last_drop_reason is not None:
+                drops[role, stats.last_drop_reason] += 1
+            for late in stats.late_drops:
+                drops[late.role, late.reason] += 1
+
+    def _time(self, start: float, samples: int) -> None:
+        """Count the wall time since ``start`` (s) spent on ``samples`` fast-forwarded."""
+        elapsed = time.perf_counter() - start
+        stats = self.stats
+        stats.last_processing_s = elapsed / samples
+        stats.total_processing_s += elapsed
+        if stats.last_processing_s > stats.max_processing_s:
+            stats.max_processing_s = stats.last_processing_s
 
     def finish(self) -> List[Event]:
         """

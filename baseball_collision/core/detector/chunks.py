@@ -1,0 +1,392 @@
+"""
+A chunk of samples at once: the common case (far from any contact) with numpy.
+
+``Detector.add_chunk`` takes the samples a bag (or a subscription) delivered, in arrival
+order. :func:`plan_chunk` looks at all of them at once, as if each were accepted: which pass
+every check with room to spare (the value checks, the frame, the intake's stamp rules, the
+speed bound), where the watermark and the cursor go after each, which union intervals that
+walk visits, and which of those the far test (``broadphase.apart_margins``, the scalar
+``clearly_apart`` on arrays) clears with room to spare. A run of such samples is
+fast-forwarded (:func:`fast_forward`): appended to the streams, the cursor moved, the intervals
+counted and the episodes told "far", the streams trimmed exactly as the per-sample path trims
+them. Every other sample (a drop, a held or voted one, one that makes a near interval
+decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
+keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
+trimmed otherwise) the rest of the chunk is planned again.
+
+Identical output to feeding the samples one at a time is the contract
+(test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid`` and
+``spline`` models and no prediction is planned; anything else goes sample by sample.
+"""
+
+from bisect import bisect_left
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from .broadphase import apart_margins
+from .config import DetectorConfig
+from .episodes import EpisodeTracker
+from .events import DetectorStats, Event, Role
+from .gate import FAR_AHEAD_NS, HOLD_FACTOR
+from .scheduler import Scheduler
+from .streams import SILENT_KEEP, Stream
+from ..geometry import Vector
+from ..motion import BatSample, samples_ahead
+
+ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
+"""A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
+
+BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
+_ROLES = (Role.BALL, Role.BAT_POSE)
+
+FAST_MODELS = ('linear', 'rigid', 'spline')
+"""Models whose far test is vectorised (``c2``'s windows are not)."""
+
+SLACK = 1e-9
+"""Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
+the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
+
+PLAN_MAX = 512
+"""Samples planned at once: a plan the per-sample path overturns (a drop) is made again for
+the rest, so a bound keeps that cost flat."""
+
+TRIM_FROM = 64
+"""``Stream.trim`` leaves streams shorter than this alone."""
+
+TRIM_KEEP = 5
+"""``Stream.trim`` keeps this many samples before its cut (``keep`` + 1)."""
+
+
+class Plan:
+    """
+    What a chunk does if every sample in it is accepted (arrays over its n samples).
+
+    :ivar n: the samples planned.
+    :ivar stops: indices of the samples that must go through the per-sample path, sorted.
+    :ivar checked: which samples pass every check (a stop among them only makes a near
+        interval decidable: it is appended as planned, then walked by the scheduler).
+    :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
+        counted from the stream's first kept sample when planned.
+    :ivar starts: per stream, the index of its first kept sample after each sample's trim.
+    :ivar union: the cursor, then every union time after it (s).
+    :ivar visited: after each sample, how many of ``union`` the cursor has reached.
+    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns).
+    :ivar values: the chunk's ball points as the stream keeps them (tuples), and its bat
+        samples' knob, tip, position and quaternion lists.
+    :ivar pre: per stream, samples it held when planned.
+
+    Arrays while planning; Python lists once planned (``fast_forward`` runs between stops a few
+    samples apart near a contact: it only slices lists).
+    """
+
+    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
+                 'stamps', 'values', 'pre')
+
+    def next_stop(self, pos: int) -> int:
+        """Return the first stop at or after sample ``pos`` (``n`` for none)."""
+        k = bisect_left(self.stops, pos)
+        return self.stops[k] if k < len(self.stops) else self.n
+
+    def held(self, j: int, ball: Stream, bat: Stream, cursor: Optional[float]) -> bool:
+        """Return whether the state after the per-sample path took sample j is the planned one."""
+        for s, stream in enumerate((ball, bat)):
+            count = self.counts[s][j]
+            if len(stream.times) != count - self.starts[s][j] or \
+                    stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
+                return False
+        return cursor == self.union[self.visited[j] - 1]
+
+
+def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
+           cursor: Optional[float], waiting: bool) -> bool:
+    """Return whether a chunk can be planned now (else its samples go one at a time)."""
+    return (config.bat_input == 'pose' and config.model in FAST_MODELS
+            and config.prediction_horizon <= 0.0 and origin is not None and cursor is not None
+            and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
+            and 3 <= len(bat.times) <= SILENT_KEEP // 2)
+
+
+def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
+               frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
+               roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+               frames: Sequence[str]) -> Plan:
+    """
+    Plan a chunk (see the module): which samples are stops, where the walk goes after each.
+
+    :param offsets: (knob, tip) in the bat's body frame (m).
+    :param origin: the clock's origin (ns); ``frame``: the tracking frame (None: none yet).
+    :param cursor: the scheduler's cursor (s).
+    :param roles: role codes (``ROLE_CODES``); ``stamps``: int64 ns; ``values``: (n, 7)
+        float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
+    """
+    # the plan ends before the first sample not after its stream's last (dropped, held or a
+    # jump back: nothing after it can be planned until it is settled)
+    n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
+    roles, stamps, values, frames = roles[:n], stamps[:n], values[:n], frames[:n]
+    plan = Plan()
+    plan.n = n
+    is_ball, is_bat = roles == BALL, roles == BAT_POSE
+    with np.errstate(all='ignore'):
+        ok = _value_checks(config, values, is_ball, is_bat)
+        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
+            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
+        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
+        t = (stamps - origin) * 1e-9
+        position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
+        magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
+                            + quaternion[:, 1] * quaternion[:, 1]
+                            + quaternion[:, 2] * quaternion[:, 2]
+                            + quaternion[:, 3] * quaternion[:, 3])
+        quaternion = quaternion / magnitude[:, None]
+        knob = _pose_points(position, quaternion, offsets[0])
+        tip = _pose_points(position, quaternion, offsets[1])
+    new_ball = values[is_ball, :3]
+    # each stream: its kept samples, then the chunk's
+    pre_ball = np.array(ball.values, dtype=float).reshape(-1, 3)
+    pre_bat = bat.values
+    ball_points = np.concatenate((pre_ball, new_ball))
+    knobs = np.concatenate((np.array([s.knob for s in pre_bat], dtype=float), knob))
+    tips = np.concatenate((np.array([s.tip for s in pre_bat], dtype=float), tip))
+    positions = np.concatenate((np.array([s.position for s in pre_bat], dtype=float),
+                                position))
+    plan.pre = (len(ball.times), len(bat.times))
+    plan.times = (np.concatenate((np.array(ball.times), t[is_ball])),
+                  np.concatenate((np.array(bat.times), t[is_bat])))
+    plan.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
+                   np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
+    breaks = (np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
+              np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
+    ok[is_ball] &= _order_checks(config, plan.stamps[0], plan.times[0], (ball_points,),
+                                 plan.pre[0])
+    ok[is_bat] &= _order_checks(config, plan.stamps[1], plan.times[1], (knobs, tips),
+                                plan.pre[1])
+    # the plan ends at its first sample that fails a check: the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again
+    failing = np.flatnonzero(~ok)
+    if len(failing) and failing[0] + 1 < n:
+        n = plan.n = int(failing[0]) + 1
+        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
+        m_ball, m_bat = plan.pre[0] + int(is_ball.sum()), plan.pre[1] + int(is_bat.sum())
+        plan.times = (plan.times[0][:m_ball], plan.times[1][:m_bat])
+        plan.stamps = (plan.stamps[0][:m_ball], plan.stamps[1][:m_bat])
+        breaks = (breaks[0][:m_ball], breaks[1][:m_bat])
+        ball_points, new_ball = ball_points[:m_ball], new_ball[:m_ball - plan.pre[0]]
+        knobs, tips, positions = knobs[:m_bat], tips[:m_bat], positions[:m_bat]
+        k = m_bat - plan.pre[1]
+        knob, tip, position, quaternion = knob[:k], tip[:k], position[:k], quaternion[:k]
+    # the walk: watermark and cursor after each sample
+    plan.counts = (plan.pre[0] + np.cumsum(is_ball), plan.pre[1] + np.cumsum(is_bat))
+    ahead = samples_ahead(config.model, config.look_ahead)
+    watermark = np.minimum(plan.times[0][plan.counts[0] - 1 - ahead],
+                           plan.times[1][plan.counts[1] - 1 - ahead])
+    union = np.union1d(plan.times[0], plan.times[1])
+    plan.union = union = np.concatenate(([cursor], union[union > cursor]))
+    plan.visited = visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    # the far test over every interval the walk visits
+    last = int(visited[-1]) if n else 1
+    starts_t = union[:last - 1]
+    far = np.ones(len(starts_t), bool)
+    located = []
+    for s, stream_points in ((0, ball_points), (1, knobs)):
+        k = np.searchsorted(plan.times[s], starts_t, 'right') - 1
+        times, cut = plan.times[s], breaks[s]
+        far &= _continuous(times, cut, k, config.max_gap)
+        before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
+        after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
+        located.append((k, before, after))
+    (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
+    if len(starts_t):
+        margin = (config.ball_radius + config.profile.max_radius + 1e-6
+                  + max(config.near_miss_threshold, config.rearm_distance))
+        with np.errstate(all='ignore'):
+            clearance = apart_margins(ball_points, knobs, tips, positions, ball_k, bat_k,
+                                      ball_before, ball_after, bat_before, bat_after,
+                                      plan.times[0], plan.times[1], config.model)
+            scale = 1.0 + float(np.abs(ball_points).max(initial=0.0)) + float(
+                np.abs(tips).max(initial=0.0))
+        far &= clearance > margin + SLACK * scale
+    plan.checked = ok
+    stops = ~ok
+    stops[_visiting(visited, np.flatnonzero(~far) + 1, n)] = True
+    # the trims, as the per-sample path makes them after each sample
+    history = 1.5 * max(config.velocity_window, config.prediction_window)
+    cursors = union[visited - 1]
+    plan.starts = []
+    for s in (0, 1):
+        cuts = np.searchsorted(plan.times[s], cursors - history, 'right') - TRIM_KEEP
+        starts, lengths = _trims(plan.counts[s], cuts)
+        plan.starts.append(starts)
+        stops |= lengths > SILENT_KEEP  # a stream that may be silent: its own trim
+    # as lists for fast_forward (and the stream's own values)
+    plan.stops = np.flatnonzero(stops).tolist()
+    plan.checked = ok.tolist()
+    plan.counts = [counts.tolist() for counts in plan.counts]
+    plan.visited, plan.union = visited.tolist(), union.tolist()
+    plan.times = [times.tolist() for times in plan.times]
+    plan.stamps = [stamps.tolist() for stamps in plan.stamps]
+    plan.values = (list(map(tuple, new_ball.tolist())),
+                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
+    return plan
+
+
+def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
+    """Return the chunk's length up to its first sample of a stream not after the one before."""
+    own = stamps[mine]
+    previous = np.concatenate((stream.stamps[-1:], own[:-1]))
+    bad = np.flatnonzero(own <= previous) if len(previous) == len(own) else np.array([0])
+    return int(np.flatnonzero(mine)[bad[0]]) if len(bad) else len(stamps)
+
+
+def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
+    """Return the samples whose walk visits the given intervals (m: the m-th union time)."""
+    steps = np.searchsorted(visited, intervals, 'right')
+    return steps[steps < n]
+
+
+def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
+                  is_bat: np.ndarray) -> np.ndarray:
+    """Return which samples pass the value checks (``gate``) with room to spare."""
+    finite = np.isfinite(values)
+    ok = is_ball & finite[:, :3].all(1)
+    q = values[:, 3:7]
+    magnitude = np.sqrt((q * q).sum(1))
+    pose = is_bat & finite.all(1) & (np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
+    # a pose at the origin may be a lost body: the per-sample path decides
+    pose &= ~(values[:, :3] == 0.0).all(1)
+    return ok | pose
+
+
+def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
+                  points: Sequence[np.ndarray], pre: int) -> np.ndarray:
+    """
+    Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
+
+    The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
+    bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
+    sample before it were accepted.
+    """
+    new = np.arange(pre, len(stamps))
+    step = (stamps[new] - stamps[new - 1]).astype(float)
+    step1 = (stamps[new - 1] - stamps[new - 2]).astype(float)
+    step2 = (stamps[new - 2] - stamps[new - 3]).astype(float)
+    reset_ns = int(round(config.time_jump_reset * 1e9))
+    factor = HOLD_FACTOR * (1.0 - SLACK)
+    ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
+    dt = times[new] - times[new - 1]
+    ok &= dt <= config.max_gap * (1.0 - SLACK)
+    limit = config.max_speed * dt * (1.0 - SLACK)
+    for each in points:
+        d = each[new] - each[new - 1]
+        ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
+    return ok
+
+
+def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
+                max_gap: float) -> np.ndarray:
+    """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
+    inside = (k >= 0) & (k + 1 < len(times))
+    j = np.where(inside, k, 0)
+    return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
+
+
+def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]:
+    """
+    Return a stream's first kept sample after each sample's trim, and its length before it.
+
+    ``Stream.trim`` after each sample: a stream of ``TRIM_FROM`` samples or more drops those
+    before its cut. ``counts`` and ``cuts`` never decrease, so the loop runs once per trim.
+    """
+    n = len(counts)
+    count_list, cut_list = counts.tolist(), cuts.tolist()
+    starts: List[int] = []
+    start, j = 0, 0
+    while j < n:
+        nxt = max(j, bisect_left(count_list, start + TRIM_FROM),
+                  bisect_left(cut_list, start + 1))
+        if nxt >= n:
+            starts += [start] * (n - j)
+            break
+        starts += [start] * (nxt - j)
+        start = cut_list[nxt]
+        starts.append(start)
+        j = nxt + 1
+    before = np.array([0] + starts[:-1], dtype=np.int64)
+    return starts, counts - before
+
+
+def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
+    """``geometry.pose_point`` over rows, with the same operations in the same order."""
+    x, y, z, w = quaternion.T
+    v0, v1, v2 = offset
+    cx = y * v2 - z * v1
+    cy = z * v0 - x * v2
+    cz = x * v1 - y * v0
+    return np.stack((position[:, 0] + (v0 + 2.0 * (w * cx + y * cz - z * cy)),
+                     position[:, 1] + (v1 + 2.0 * (w * cy + z * cx - x * cz)),
+                     position[:, 2] + (v2 + 2.0 * (w * cz + x * cy - y * cx))), axis=1)
+
+
+def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
+                 scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
+                 events: List[Event], walk: bool = True) -> int:
+    """
+    Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
+
+    :param walk: False: only append them (a near stop's sample, whose walk the caller makes
+        with the scheduler: the intervals, then the trim).
+    :returns: the newest stamp taken (ns).
+    """
+    newest = 0
+    for s, stream in enumerate((ball, bat)):
+        counts = plan.counts[s]
+        a = counts[pos - 1] if pos else plan.pre[s]
+        b = counts[end - 1]
+        if b == a:
+            stream_start = a - len(stream.times)
+        else:
+            stream.times += plan.times[s][a:b]
+            stamps = plan.stamps[s][a:b]
+            stream.stamps += stamps
+            stream.breaks += [False] * (b - a)
+            first, last = a - plan.pre[s], b - plan.pre[s]
+            if s:  # bat samples are made as they are taken (a plan may end early)
+                stream.values += map(_bat_sample, *(column[first:last]
+                                                    for column in plan.values[1]))
+                stream.turns += [None] * (b - a)
+            else:
+                stream.values += plan.values[0][first:last]
+            stats.received[_ROLES[s]] += b - a
+            stream.speed_drops = 0
+            if stamps[-1] > newest:
+                newest = stamps[-1]
+            stream_start = b - len(stream.times)
+        if not walk:
+            continue
+        cut = plan.starts[s][end - 1] - stream_start
+        if cut > 0:
+            for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
+                           stream.turns):
+                del buffer[:cut]
+            stream.path_key = None
+    if walk:
+        before = plan.visited[pos - 1] if pos else 1
+        after = plan.visited[end - 1]
+        scheduler.cursor = plan.union[after - 1]
+        if after > before:
+            stats.intervals += after - before
+            episodes.far(events)
+    stats.calls += end - pos
+    stats.last_drop_reason = None
+    if stats.late_drops:
+        stats.late_drops = []
+    if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
+        stats.newest_stamp_ns = newest
+    return newest
+
+
+def _bat_sample(knob: List[float], tip: List[float], position: List[float],
+                quaternion: List[float]) -> BatSample:
+    """Return a bat sample of lists (the stream keeps tuples)."""
+    return BatSample(knob=tuple(knob), tip=tuple(tip), position=tuple(position),
+                     quaternion=tuple(quaternion))

@@ -1,0 +1,223 @@
+"""
+Tests for baseball_collision.core.detector.chunks: ``Detector.add_chunk`` is ``add`` in turn.
+
+Sessions of pitches (hits, misses, grazes) tracked at 360 Hz, with faults injected (non-finite
+values, duplicate and out-of-order stamps, stamps glitched ahead, stray frames, lost bodies,
+gaps, a jump back), are fed once sample by sample and once in random chunk sizes: the events,
+the drops (by role and reason) and the counters must be identical.
+"""
+
+from collections import Counter
+import math
+from typing import List, Sequence, Tuple
+
+from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
+from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
+from baseball_collision.core.detector.chunks import ROLE_CODES
+import baseball_collision.core.detector.detector as detector_module
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
+from baseball_collision.errors import CoreError
+from hypothesis import given, HealthCheck, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+from support.scenes import BASE_NS, pitch, pose, swing
+
+Row = Tuple[str, int, Tuple[float, ...], str]
+"""(role, stamp in ns, values, frame_id)."""
+
+STATS = ('received', 'dropped', 'impacts', 'near_misses', 'gaps', 'resets', 'intervals',
+         'substeps', 'newest_stamp_ns', 'last_drop_reason')
+FAULTS = ('nan', 'duplicate', 'behind', 'ahead', 'frame', 'lost', 'gap', 'jump_back', 'bad_q')
+
+
+def session(heights: Sequence[float], rate: float = 360.0, bat_as: str = 'pose') -> List[Row]:
+    """Return pitches 0.5 s apart, each with a swing over its first 0.2 s, in stamp order."""
+    rows: List[Row] = []
+    per = int(0.5 * rate)
+    for p, height in enumerate(heights):
+        ball = pitch(height)
+        for i in range(per):
+            t = i / rate
+            stamp = BASE_NS + int(round((p * 0.5 + t) * 1e9)) + (i % 3) * 100_000
+            rows.append(('ball', stamp, tuple(float(x) for x in ball(t)), 'world'))
+            swing_t = min(t, 0.2)
+            if bat_as == 'pose':
+                position, quaternion = pose(swing_t)
+                rows.append(('bat_pose', stamp + 50_000, tuple(float(x) for x in position)
+                             + tuple(float(x) for x in quaternion), 'world'))
+            else:
+                knob, tip = swing(swing_t)
+                rows.append(('knob', stamp + 50_000, tuple(float(x) for x in knob), 'world'))
+                rows.append(('tip', stamp + 60_000, tuple(float(x) for x in tip), 'world'))
+    return rows
+
+
+def inject(rows: List[Row], faults: Sequence[Tuple[int, str]]) -> List[Row]:
+    """Return the rows with faults applied at the given indices (modulo the length)."""
+    rows = list(rows)
+    for index, kind in faults:
+        i = index % len(rows)
+        role, stamp, values, frame = rows[i]
+        if kind == 'nan':
+            rows[i] = (role, stamp, (math.nan,) + values[1:], frame)
+        elif kind == 'duplicate' and i > 0:
+            rows[i] = (role, rows[i - 1][1], values, frame)
+        elif kind == 'behind':
+            rows[i] = (role, stamp - 20_000_000, values, frame)
+        elif kind == 'ahead':
+            rows[i] = (role, stamp + 300_000_000, values, frame)
+        elif kind == 'frame':
+            rows[i] = (role, stamp, values, 'elsewhere')
+        elif kind == 'lost' and role == 'bat_pose':
+            rows[i] = (role, stamp, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0), frame)
+        elif kind == 'bad_q' and role == 'bat_pose':
+            rows[i] = (role, stamp, values[:3] + tuple(2.0 * q for q in values[3:]), frame)
+        elif kind == 'gap':
+            del rows[i:i + 60]
+        elif kind == 'jump_back':
+            rows[i:] = [(r, s - 2_000_000_000, v, f) for r, s, v, f in rows[i:]]
+    return rows
+
+
+def one_at_a_time(config: DetectorConfig, rows: Sequence[Row]) -> Tuple[list, Counter, Detector]:
+    """Feed rows through ``add``; return (events, drops by (role, reason), detector)."""
+    detector, events, drops = Detector(config), [], Counter()
+    for role, stamp, values, frame in rows:
+        events += detector.add(role, stamp, values, frame)
+        if detector.stats.last_drop_reason is not None:
+            drops[role, detector.stats.last_drop_reason] += 1
+        for late in detector.stats.late_drops:
+            drops[late.role, late.reason] += 1
+    events += detector.finish()
+    for late in detector.stats.late_drops:
+        drops[late.role, late.reason] += 1
+    return events, drops, detector
+
+
+def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, List[str]]:
+    """Return rows as ``add_chunk``'s arrays."""
+    values = np.zeros((len(rows), 7))
+    for r, row in enumerate(rows):
+        values[r, :len(row[2])] = row[2]
+    return (np.array([ROLE_CODES[row[0]] for row in rows], np.int8),
+            np.array([row[1] for row in rows], np.int64), values, [row[3] for row in rows])
+
+
+def in_chunks(config: DetectorConfig, rows: Sequence[Row],
+              sizes: Sequence[int]) -> Tuple[list, Counter, Detector]:
+    """Feed rows through ``add_chunk`` in chunks of the given sizes (cycled)."""
+    detector, events, drops = Detector(config), [], Counter()
+    i, k = 0, 0
+    while i < len(rows):
+        part = rows[i:i + sizes[k % len(sizes)]]
+        events += detector.add_chunk(*arrays(part), drops)
+        i, k = i + len(part), k + 1
+    events += detector.finish()
+    for late in detector.stats.late_drops:
+        drops[late.role, late.reason] += 1
+    return events, drops, detector
+
+
+def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int]) -> list:
+    """Assert chunks give the events, drops and counters of one sample at a time."""
+    expected, expected_drops, one = one_at_a_time(config, rows)
+    events, drops, chunked = in_chunks(config, rows, sizes)
+    assert events == expected
+    assert drops == expected_drops
+    for name in STATS:
+        assert getattr(chunked.stats, name) == getattr(one.stats, name), name
+    assert chunked.watermark_ns == one.watermark_ns
+    return events
+
+
+HEIGHTS = (1.0, 1.3, 0.95, 2.0, 1.1)
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+def test_clean_session_same_events_in_any_chunks(model: str) -> None:
+    """A clean session: impacts and near misses found, the same in chunks as one at a time."""
+    events = assert_same(DetectorConfig(model=model, bat_input='pose'), session(HEIGHTS),
+                         (4096,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert any(isinstance(e, NearMiss) for e in events)
+
+
+def test_most_samples_skip_the_per_sample_path(monkeypatch: pytest.MonkeyPatch) -> None:
+    """In a clean session most samples are fast-forwarded, and few go through ``add``."""
+    taken = [0]
+    original = detector_module.fast_forward
+
+    def counting(plan, pos, end, *args, **kwargs):  # type: ignore[no-untyped-def]
+        taken[0] += end - pos
+        return original(plan, pos, end, *args, **kwargs)
+    monkeypatch.setattr(detector_module, 'fast_forward', counting)
+    rows = session(HEIGHTS)
+    assert_same(DetectorConfig(model='spline', bat_input='pose'), rows, (8192,))
+    assert taken[0] > 0.5 * len(rows)  # (the rest: each pitch near the bat, the wraps)
+
+
+def test_points_and_prediction_go_sample_by_sample() -> None:
+    """Knob and tip input, and prediction on, are not planned: still the same events."""
+    assert_same(DetectorConfig(model='rigid', bat_input='points'),
+                session(HEIGHTS[:2], bat_as='points'), (100, 1000))
+    assert_same(DetectorConfig(model='rigid', bat_input='pose', prediction_horizon=0.3),
+                session(HEIGHTS[:2]), (500,))
+
+
+@settings(max_examples=examples(25), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
+       heights=st.lists(st.floats(0.9, 1.4), min_size=1, max_size=3),
+       sizes=st.lists(st.integers(1, 700), min_size=1, max_size=6),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=6))
+def test_random_chunks_and_faults_same_as_one_at_a_time(model: str, heights: List[float],
+                                                        sizes: List[int],
+                                                        faults: List[Tuple[int, str]]) -> None:
+    """Any chunk sizes, any faults: events, drops and counters as one sample at a time."""
+    rows = inject(session(heights), faults)
+    assert_same(DetectorConfig(model=model, bat_input='pose'), rows, sizes)
+
+
+def test_bad_chunks_are_refused() -> None:
+    """Arrays of different lengths, or an unknown role code, are a CoreError."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    roles, stamps, values, frames = arrays(session((1.0,))[:10])
+    with pytest.raises(CoreError):
+        detector.add_chunk(roles[:5], stamps, values, frames)
+    with pytest.raises(CoreError):
+        detector.add_chunk(roles, stamps, values[:, :3], frames)
+    with pytest.raises(CoreError):
+        detector.add_chunk(roles + 7, stamps, values, frames)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
+       points=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 9), min_size=4, max_size=4),
+       steps=st.lists(st.floats(0.002, 0.02), min_size=3, max_size=3))
+def test_vectorised_far_test_is_the_scalar_one(model: str, points: List[Tuple[float, ...]],
+                                               steps: List[float]) -> None:
+    """``apart_margins`` over arrays agrees with ``clearly_apart`` on every interval."""
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    ball, bat = Stream('ball'), Stream('bat')
+    balls, knobs, tips, positions = [], [], [], []
+    for t, row in zip(times, points):
+        ball.append(float(t), int(t * 1e9), row[0:3], False)
+        knob, tip = row[3:6], row[6:9]
+        bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,
+                                                     quaternion=(0.0, 0.0, 0.0, 1.0)), False)
+        balls.append(row[0:3])
+        knobs.append(knob)
+        tips.append(tip)
+        positions.append(knob)
+    ks = np.arange(3)
+    before = np.where(ks >= 1, ks - 1, -1)
+    after = np.where(ks + 2 < 4, ks + 2, -1)
+    clearance = apart_margins(np.array(balls), np.array(knobs), np.array(tips),
+                              np.array(positions), ks, ks, before, after, before, after,
+                              times, times, model)
+    for k in range(3):
+        for margin in (clearance[k] - 1e-7, clearance[k] + 1e-7):
+            assert clearly_apart(ball, bat, k, k, margin, model, 1.0) == (clearance[k] > margin)
