@@ -128,14 +128,20 @@ def test_the_predictions_are_the_recorded_ones() -> None:
     """
     On the prediction benchmark's first scenario of each kind, every prediction is recorded.
 
-    ``support/prediction_record.py`` recorded them before the search moved into the kernel;
-    stamps to the nanosecond, every float to the bit.
+    ``support/prediction_record.py`` recorded them with numpy's least squares and the search in
+    Python; the kernel's QR fits round differently in the last bits: stamps must be the same
+    to the nanosecond, and the lead, every position, velocity, normal and fraction within 1e-9
+    (s, m, m/s, 1) of the record (the measured largest: 1e-12 m on a point).
     """
     recorded = json.loads(prediction_record.RECORD.read_text())
     made = prediction_record.predictions(prediction_record.RECORDED_PER_KIND)
     assert made.keys() == recorded.keys()
     for key, predictions in recorded.items():
-        assert made[key] == predictions, key
+        assert len(made[key]) == len(predictions), key
+        for now, then in zip(made[key], predictions):
+            assert now[:2] == then[:2] and now[9] == then[9], key
+            for field in range(2, 9):
+                assert now[field] == pytest.approx(then[field], rel=0.0, abs=1e-9), key
 
 
 def test_plan_interpolates_poses_and_refuses_bad_ones() -> None:

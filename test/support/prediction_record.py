@@ -68,6 +68,12 @@ def predictions(per_kind: int, seed: int = 11, noise_m: float = 0.001) -> Dict[s
     return out
 
 
+def _largest(differ: List, field: int) -> float:
+    """Return the largest difference of a vector field over pairs of predictions."""
+    return max((float(np.max(np.abs(np.subtract(a[field], b[field])))) for _, a, b in differ),
+               default=0.0)
+
+
 def main() -> None:
     """Record, write or compare the predictions."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
@@ -89,8 +95,10 @@ def main() -> None:
         lengths = [key for key in before if len(before[key]) != len(made[key])]
         worst_ns = max((abs(a[0] - b[0]) for _, a, b in differ), default=0)
         print(f'{count} predictions; {len(differ)} differ (largest stamp difference '
-              f'{worst_ns} ns); {len(lengths)} scenarios with a different count')
-        sys.exit(1 if differ or lengths else 0)
+              f'{worst_ns} ns, point {_largest(differ, 3) * 1e9:.3g} nm, ball velocity '
+              f'{_largest(differ, 8) * 1e9:.3g} nm/s); {len(lengths)} scenarios with a '
+              'different count')
+        sys.exit(1 if worst_ns or lengths else 0)
     print(f'{count} predictions in {len(made)} runs')
 
 

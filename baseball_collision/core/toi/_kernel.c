@@ -1563,6 +1563,158 @@ static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize
 }
 
 /* ------------------------------------------------------------------------------------------ */
+/* least-squares polynomial fits (the velocity and prediction fits of core.detector.kinematics) */
+
+#define MAX_FIT_COMPONENTS 16
+#define MAX_FIT_DEGREE 15
+#define FIT_RANK_TOLERANCE 1e-13 /* |R_jj| / max |R_ii| below which a fit is left to LAPACK */
+
+/*
+ * Least squares of rows y (n x m, row-major) on the powers 0..p-1 of x (n values): Householder
+ * QR of the Vandermonde matrix, applied to y as it goes, then back substitution. a (n x p) and
+ * y are overwritten; the p x m coefficients go to c. False when the matrix is (numerically)
+ * rank deficient.
+ */
+static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, double *y, int m,
+                            double *c)
+{
+  for (Py_ssize_t i = 0; i < n; i++) {
+    double power = 1.0;
+    for (int j = 0; j < p; j++) {
+      a[i * p + j] = power;
+      power *= x[i];
+    }
+  }
+  double largest = 0.0;
+  for (int j = 0; j < p; j++) {
+    double below = 0.0; /* the squares below the diagonal */
+    for (Py_ssize_t i = j + 1; i < n; i++) {
+      below += a[i * p + j] * a[i * p + j];
+    }
+    double norm = sqrt(a[j * p + j] * a[j * p + j] + below);
+    if (norm == 0.0) {
+      return false;
+    }
+    double alpha = a[j * p + j] > 0.0 ? -norm : norm;
+    /* the reflector v: column j from the diagonal down, with v_j = a_jj - alpha */
+    double vj = a[j * p + j] - alpha;
+    double vv = vj * vj + below;
+    if (vv > 0.0) {
+      for (int k = j + 1; k < p + m; k++) {
+        double *column = k < p ? a + k : y + (k - p);
+        int stride = k < p ? p : m;
+        double s = vj * column[j * stride];
+        for (Py_ssize_t i = j + 1; i < n; i++) {
+          s += a[i * p + j] * column[i * stride];
+        }
+        s = 2.0 * s / vv;
+        column[j * stride] -= s * vj;
+        for (Py_ssize_t i = j + 1; i < n; i++) {
+          column[i * stride] -= s * a[i * p + j];
+        }
+      }
+    }
+    a[j * p + j] = alpha;
+    largest = max_of(largest, fabs(alpha));
+  }
+  for (int j = 0; j < p; j++) {
+    if (!(fabs(a[j * p + j]) > FIT_RANK_TOLERANCE * largest)) {
+      return false;
+    }
+  }
+  for (int k = 0; k < m; k++) {
+    for (int j = p - 1; j >= 0; j--) {
+      double s = y[j * m + k];
+      for (int i = j + 1; i < p; i++) {
+        s -= a[j * p + i] * c[i * m + k];
+      }
+      c[j * m + k] = s / a[j * p + j];
+    }
+  }
+  return true;
+}
+
+/*
+ * polyfit(times, rows, t, degree) -> (coefficients: degree + 1 lists of m, span) or
+ * NotImplemented (rank deficient: the caller asks LAPACK). The polynomial is in
+ * x = (time - t) / span, span = max(t - times[0], 1e-9); the degree drops to n - 1.
+ */
+static PyObject *py_polyfit(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t;
+  long degree_arg;
+  if (nargs != 4 || !read_number(args[2], &t) ||
+      ((degree_arg = PyLong_AsLong(args[3])) == -1 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "polyfit(times, rows, t, degree)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (rows == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (n < 1 || PySequence_Fast_GET_SIZE(rows) != n || degree_arg < 0) {
+    PyErr_SetString(PyExc_ValueError, "polyfit: as many rows as times (at least one), degree >= 0");
+    goto done;
+  }
+  PyObject *first_row = PySequence_Fast(PySequence_Fast_GET_ITEM(rows, 0), "a row");
+  if (first_row == NULL) {
+    goto done;
+  }
+  Py_ssize_t m = PySequence_Fast_GET_SIZE(first_row);
+  Py_DECREF(first_row);
+  int p = (int)((degree_arg < n - 1 ? degree_arg : n - 1) + 1);
+  if (m < 1 || m > MAX_FIT_COMPONENTS || p > MAX_FIT_DEGREE + 1) {
+    PyErr_Format(PyExc_ValueError, "polyfit: 1 to %d components and degree <= %d",
+                 MAX_FIT_COMPONENTS, MAX_FIT_DEGREE);
+    goto done;
+  }
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + p + m) + p * m));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *x = memory, *a = x + n, *y = a + n * p, *c = y + n * m;
+  double t_first = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(times, 0));
+  double span = max_of(t - t_first, 1e-9);
+  for (Py_ssize_t i = 0; i < n && !PyErr_Occurred(); i++) {
+    x[i] = (PyFloat_AsDouble(PySequence_Fast_GET_ITEM(times, i)) - t) / span;
+    if (!read_floats(PySequence_Fast_GET_ITEM(rows, i), y + i * m, m, "a row of the fit")) {
+      break;
+    }
+  }
+  if (PyErr_Occurred()) {
+    goto done;
+  }
+  if (!householder_fit(x, n, p, a, y, m, c)) {
+    result = Py_NewRef(Py_NotImplemented);
+    goto done;
+  }
+  PyObject *coefficients = PyList_New(p);
+  for (int j = 0; coefficients != NULL && j < p; j++) {
+    PyObject *row = float_list(c + j * m, (int)m);
+    if (row == NULL) {
+      Py_CLEAR(coefficients);
+      break;
+    }
+    PyList_SET_ITEM(coefficients, j, row);
+  }
+  if (coefficients != NULL) {
+    result = Py_BuildValue("(Nd)", coefficients, span);
+  }
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  return result;
+}
+
+/* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
     {"bind", py_bind, METH_VARARGS,
@@ -1586,6 +1738,9 @@ static PyMethodDef methods[] = {
      "forecast(ball or None, bat or None, t): (ball centre, ball velocity, knob, tip, pivot)"},
     {"bat_bounds", (PyCFunction)(void (*)(void))py_bat_bounds, METH_FASTCALL,
      "bat_bounds(bat, ta, tb): (pivot travel bound, turning rate bound, reach)"},
+    {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
+     "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
+     "(time - t) / span, or NotImplemented (rank deficient)"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},
