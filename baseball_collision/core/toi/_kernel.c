@@ -39,6 +39,12 @@
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <structmember.h>
+#ifdef KERNEL_NUMPY_ROWS
+/* only the array struct's accessors (inline, no numpy C-API table: no import_array) */
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/ndarraytypes.h>
+#endif
 
 #include <math.h>
 #include <stdbool.h>
@@ -504,15 +510,31 @@ static PyObject *result_fields = NULL; /* its field names: time, point, normal, 
 static PyObject *features = NULL;      /* (SIDE, KNOB_END, TIP_END) */
 static PyObject *no_arguments = NULL;  /* () */
 
+/* where each field lives in an ImpactResult with __slots__ (bind finds them), or -1 */
+static Py_ssize_t slot_offsets[7] = {-1, -1, -1, -1, -1, -1, -1};
+
 /*
  * A new ImpactResult from its 7 field values (references stolen), filled in as the frozen
- * dataclass's own __init__ does (its instance dictionary), without the cost of calling it.
+ * dataclass's own __init__ does, without the cost of calling it: straight into its slots (the
+ * member descriptors' offsets), or, for a class without slots, into its instance dictionary.
  */
 static PyObject *new_result(PyObject **values)
 {
   bool ok = true;
   for (int i = 0; i < 7; i++) {
     ok = ok && values[i] != NULL;
+  }
+  if (ok && slot_offsets[0] >= 0) {
+    PyTypeObject *type = (PyTypeObject *)result_type;
+    PyObject *result = type->tp_alloc(type, 0);
+    for (int i = 0; i < 7; i++) {
+      if (result != NULL) {
+        *(PyObject **)((char *)result + slot_offsets[i]) = values[i]; /* stolen */
+      } else {
+        Py_XDECREF(values[i]);
+      }
+    }
+    return result;
   }
   PyObject *result = ok ? PyBaseObject_Type.tp_new((PyTypeObject *)result_type, no_arguments,
                                                    NULL)
@@ -534,7 +556,22 @@ static PyObject *new_result(PyObject **values)
   return result;
 }
 
-static PyObject *vec_tuple(Vec v) { return Py_BuildValue("(ddd)", v.x, v.y, v.z); }
+static PyObject *vec_tuple(Vec v)
+{
+  PyObject *x = PyFloat_FromDouble(v.x), *y = PyFloat_FromDouble(v.y);
+  PyObject *z = PyFloat_FromDouble(v.z);
+  PyObject *tuple = x && y && z ? PyTuple_New(3) : NULL;
+  if (tuple == NULL) {
+    Py_XDECREF(x);
+    Py_XDECREF(y);
+    Py_XDECREF(z);
+    return NULL;
+  }
+  PyTuple_SET_ITEM(tuple, 0, x);
+  PyTuple_SET_ITEM(tuple, 1, y);
+  PyTuple_SET_ITEM(tuple, 2, z);
+  return tuple;
+}
 
 /* the ImpactResult for contact at tau on a capsule piece spanning fractions f0-f1 of the bat */
 static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_radius,
@@ -593,9 +630,38 @@ static int read_buffer_vec(PyObject *o, Vec *v)
   return ok ? 1 : -1;
 }
 
+#ifdef KERNEL_NUMPY_ROWS
+static PyObject *ndarray_type = NULL; /* numpy.ndarray, found at import */
+
+/*
+ * 3 numbers from a numpy float64 array of shape (3,) (native byte order, aligned, any stride),
+ * read from the array struct itself: a tenth of the buffer protocol's cost. -1: not such an
+ * array.
+ */
+static int read_ndarray_vec(PyObject *o, Vec *v)
+{
+  PyArrayObject *array = (PyArrayObject *)o;
+  if (PyArray_NDIM(array) != 1 || PyArray_DIM(array, 0) != 3 ||
+      PyArray_DESCR(array)->type_num != NPY_DOUBLE || !PyArray_ISNOTSWAPPED(array) ||
+      !PyArray_ISALIGNED(array)) {
+    return -1;
+  }
+  const char *data = PyArray_DATA(array);
+  npy_intp stride = PyArray_STRIDE(array, 0);
+  *v = (Vec){*(const double *)data, *(const double *)(data + stride),
+             *(const double *)(data + 2 * stride)};
+  return 1;
+}
+#endif
+
 /* 3 numbers from a sequence; false (no exception set) when it is not one */
 static bool read_vec(PyObject *o, Vec *v)
 {
+#ifdef KERNEL_NUMPY_ROWS
+  if ((PyObject *)Py_TYPE(o) == ndarray_type && read_ndarray_vec(o, v) == 1) {
+    return true;
+  }
+#endif
   if (PyTuple_CheckExact(o) && PyTuple_GET_SIZE(o) == 3 && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 0)) &&
       PyFloat_CheckExact(PyTuple_GET_ITEM(o, 1)) && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 2))) {
     *v = (Vec){PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 0)), PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 1)),
@@ -666,6 +732,28 @@ static PyObject *py_bind(PyObject *self, PyObject *args)
   }
   if (no_arguments == NULL && (no_arguments = PyTuple_New(0)) == NULL) {
     return NULL;
+  }
+  /* a class with __slots__: each field is a member descriptor holding an object at an offset */
+  Py_ssize_t offsets[7];
+  for (int i = 0; i < 7; i++) {
+    PyObject *descriptor = PyObject_GetAttr(type, PyTuple_GET_ITEM(names, i));
+    if (descriptor == NULL) {
+      return NULL;
+    }
+    offsets[i] = -1;
+    if (Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
+      PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
+      if (member->type == T_OBJECT_EX && !(member->flags & READONLY)) {
+        offsets[i] = member->offset;
+      }
+    }
+    Py_DECREF(descriptor);
+  }
+  for (int i = 0; i < 7; i++) {
+    slot_offsets[i] = offsets[0] < 0 ? -1 : offsets[i];
+    if (offsets[i] < 0) {
+      slot_offsets[0] = -1;
+    }
   }
   Py_INCREF(type);
   Py_INCREF(names);
@@ -1776,5 +1864,14 @@ PyMODINIT_FUNC PyInit__kernel(void)
     Py_DECREF(m);
     return NULL;
   }
+#ifdef KERNEL_NUMPY_ROWS
+  PyObject *numpy = PyImport_ImportModule("numpy");
+  ndarray_type = numpy ? PyObject_GetAttrString(numpy, "ndarray") : NULL;
+  Py_XDECREF(numpy);
+  if (ndarray_type == NULL) {
+    Py_DECREF(m);
+    return NULL;
+  }
+#endif
   return m;
 }
