@@ -21,7 +21,6 @@ positions metres. The detector builds the two forecasts from its latest samples 
 """
 
 from dataclasses import dataclass
-from functools import cached_property
 import math
 from typing import List, Optional, Sequence, Tuple
 
@@ -59,7 +58,7 @@ class BallForecast:
         acceleration = sub(gravity, scale(velocity, drag * speed))
         return cls(t0=t0, position=position, velocity=velocity, acceleration=acceleration)
 
-    @cached_property
+    @property
     def kernel_args(self) -> Tuple[float, ...]:
         """Return the forecast as the kernel takes it: t0, position, velocity, acceleration."""
         return (self.t0, *self.position, *self.velocity, *self.acceleration)
@@ -125,7 +124,7 @@ class BatForecast(_BatPath):
     rate: float
     rate_change: float
 
-    @cached_property
+    @property
     def kernel_args(self) -> Tuple[float, ...]:
         """Return the forecast as the kernel takes it: its 21 numbers in field order."""
         return (self.t0, *self.pivot, *self.pivot_velocity, *self.pivot_acceleration,
@@ -151,13 +150,22 @@ class PlannedBat(_BatPath):
     knob_offset: Vector
     tip_offset: Vector
 
-    @cached_property
+    @property
     def kernel_args(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray, Vector, Vector]:
-        """Return the plan as the kernel takes it: times, positions and quaternions as arrays."""
-        return (np.array(self.times, dtype=float),
-                np.array(self.positions, dtype=float).reshape(-1, 3),
-                np.array(self.quaternions, dtype=float).reshape(-1, 4),
-                self.knob_offset, self.tip_offset)
+        """
+        Return the plan as the kernel takes it: times, positions and quaternions as arrays.
+
+        Made once per plan and kept in the instance (the plan is frozen; functools'
+        cached_property would take a lock on every read).
+        """
+        args = self.__dict__.get('_kernel_args')
+        if args is None:
+            args = (np.array(self.times, dtype=float),
+                    np.array(self.positions, dtype=float).reshape(-1, 3),
+                    np.array(self.quaternions, dtype=float).reshape(-1, 4),
+                    self.knob_offset, self.tip_offset)
+            self.__dict__['_kernel_args'] = args
+        return args
 
     def covers(self, t: float) -> bool:
         """Return whether the plan has a pose at or around time t (s)."""
