@@ -42,8 +42,7 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
     """Return {lead: (time error ms, point error cm) or None} for one scenario."""
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
-    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
-                                       prediction_period=0.0))
+    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3))
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []

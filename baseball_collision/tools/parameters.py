@@ -199,14 +199,13 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
     :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`.
     :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
     :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
-    :param prediction_horizon: ``--predict`` horizon (s); None: 0, whatever the file says
-        (offline, prediction is opt-in, though the node predicts by default).
+    :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
     :returns: the configuration.
     :raises ToolError: a value the node would refuse (the message names the parameter).
     """
     flags = {'model': model or parameters.get('model') or OFFLINE_MODEL, 'bat_input': bat_input,
              'ball_radius': ball_radius, 'bat_radius': bat_radius,
-             'prediction_horizon': 0.0 if prediction_horizon is None else prediction_horizon}
+             'prediction_horizon': prediction_horizon}
     values = dict(parameters, **{name: v for name, v in flags.items() if v is not None})
     try:
         return DetectorConfig.from_parameters(values)

@@ -265,8 +265,7 @@ def test_a_prediction_period_thins_the_predictions_and_keeps_each(barrel) -> Non
     Each prediction is exactly the one every-frame prediction makes there; a clearing is at
     a frame where it predicts nothing.
     """
-    every = _feed(Detector(DetectorConfig(prediction_horizon=0.3, prediction_period=0.0)),
-                  barrel)[1]
+    every = _feed(Detector(DetectorConfig(prediction_horizon=0.3)), barrel)[1]
     thinned = _feed(Detector(DetectorConfig(prediction_horizon=0.3,
                                             prediction_period=0.01)), barrel)[1]
     kinds = (Prediction, PredictionCleared)
@@ -283,16 +282,8 @@ def test_a_prediction_period_thins_the_predictions_and_keeps_each(barrel) -> Non
 
 
 def test_no_prediction_when_disabled_or_for_a_far_miss(barrel) -> None:
-    """
-    Prediction is on by default (0.3 s, every 10 ms) and off with a zero horizon.
-
-    A pitch far from the bat is never predicted to hit.
-    """
-    default = DetectorConfig()
-    assert (default.prediction_horizon, default.prediction_period) == (0.3, 0.01)
-    assert any(isinstance(e, Prediction) for e in _feed(Detector(), barrel)[1])
-    off = Detector(DetectorConfig(prediction_horizon=0.0))
-    assert not any(isinstance(e, Prediction) for e in _feed(off, barrel)[1])
+    """Prediction is off by default; a pitch far from the bat is never predicted to hit."""
+    assert not any(isinstance(e, Prediction) for e in _feed(Detector(), barrel)[1])
     miss = make_scenario('miss_over', np.random.default_rng(5), lead_s=0.4)
     events = _feed(Detector(DetectorConfig(prediction_horizon=0.3)), miss)[1]
     assert not any(isinstance(e, Impact) for e in events)

@@ -57,8 +57,7 @@ def predictions(per_kind: int, seed: int = 11, noise_m: float = 0.001) -> Dict[s
             for index, scenario in chosen:
                 samples = sample(scenario, rate, np.random.default_rng(index), jitter_s=2e-4,
                                  noise_m=noise_m)
-                detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
-                                                   prediction_period=0.0))
+                detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3))
                 if planned:
                     detector.set_bat_plan(*_plan(scenario, samples.start_ns))
                 made = []

@@ -70,11 +70,6 @@ def test_flags_win_over_the_parameter_file() -> None:
     """model, ball_radius and bat_radius: flag > parameter file > offline default."""
     parameters = {'model': 'linear', 'ball_radius': 0.05, 'bat_input': 'pose'}
     assert build_config({}, bat_input='pose').model == OFFLINE_MODEL
-    # the node predicts by default; analyze only with --predict, whatever the file says
-    node_file = {'prediction_horizon': 0.3, 'prediction_period': 0.01}
-    assert build_config(node_file, bat_input='pose').prediction_horizon == 0.0
-    assert build_config(node_file, bat_input='pose',
-                        prediction_horizon=0.2).prediction_horizon == 0.2
     assert build_config(parameters, bat_input='pose').model == 'linear'
     config = build_config(parameters, bat_input='points', model='rigid', ball_radius=0.03,
                           bat_radius=0.02)

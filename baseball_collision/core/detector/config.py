@@ -296,10 +296,10 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),
     ParameterSpec(
-        'prediction_horizon', _D, 0.3, 'How far ahead to predict the coming impact after every '
+        'prediction_horizon', _D, 0.0, 'How far ahead to predict the coming impact after every '
         'processed frame (s); 0 = no ~/predicted_impact.', 's', _closed(0.0, 2.0)),
     ParameterSpec(
-        'prediction_period', _D, 0.01, "Predict at most this often (s, by the frames' stamps): a "
+        'prediction_period', _D, 0.0, "Predict at most this often (s, by the frames' stamps): a "
         'frame less than this after the last prediction keeps it; 0 = every processed frame.',
         's', _closed(0.0, 1.0)),
     ParameterSpec(

@@ -22,8 +22,7 @@ def _predictor(ball_points, bat_points, plan=None) -> Predictor:
         t = 0.005 * i
         ball.append(t, BASE_NS + i, p, False)
         bat.append(t, BASE_NS + i, BatSample(knob, tip), False)
-    predictor = Predictor(DetectorConfig(prediction_horizon=0.3, prediction_period=0.0), clock,
-                          ball, bat, OFFSETS)
+    predictor = Predictor(DetectorConfig(prediction_horizon=0.3), clock, ball, bat, OFFSETS)
     if plan is not None:
         predictor.set_plan(*plan)
     return predictor
