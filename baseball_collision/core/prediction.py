@@ -14,12 +14,12 @@ positions metres. The detector builds the two forecasts from its latest samples 
   fixed axis with constant angular acceleration. Or, for a robot arm, a commanded trajectory of
   bat poses (``PlannedBat``), interpolated like the rigid model (position LERP, SLERP).
 * ``first_contact``: the exact linear solver on sub-steps of the horizon short enough for the
-  chord error tolerance, skipping every stretch where the ball cannot reach the bat (that test
-  for all the horizon's coarse steps at once, in numpy: ``positions``, ``speeds``, ``pivots``,
-  ``pivot_travels`` evaluate the forecasts at many instants).
+  chord error tolerance, skipping every stretch where the ball cannot reach the bat. The
+  forecasts' paths, that reach test and the search are the compiled kernel's (``toi/_kernel.c``,
+  one implementation); the classes here hold the forecasts and ask the kernel (``at``,
+  ``pivot_travel``, ...).
 """
 
-from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 import math
 from typing import List, Optional, Sequence, Tuple
@@ -27,10 +27,9 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from .bat import BatProfile
-from .geometry import (
-    add, dot, interpolate_pose, lerp, norm, pose_point, Quaternion, quaternion_angle, scale,
-    sub, turn_about, Vector)
-from .toi import ImpactResult, profile_contact
+from .geometry import dot, norm, Quaternion, scale, sub, Vector
+from .toi import _kernel, ImpactResult
+from ..errors import CoreError
 
 
 @dataclass(frozen=True)
@@ -59,31 +58,53 @@ class BallForecast:
         acceleration = sub(gravity, scale(velocity, drag * speed))
         return cls(t0=t0, position=position, velocity=velocity, acceleration=acceleration)
 
+    @property
+    def kernel_args(self) -> Tuple[float, ...]:
+        """Return the forecast as the kernel takes it: t0, position, velocity, acceleration."""
+        return (self.t0, *self.position, *self.velocity, *self.acceleration)
+
     def at(self, t: float) -> Vector:
         """Return the ball centre (m) at time t (s)."""
-        tau = t - self.t0
-        return add(self.position, add(scale(self.velocity, tau),
-                                      scale(self.acceleration, 0.5 * tau * tau)))
+        return _kernel.forecast(self.kernel_args, None, t)[0]
 
     def velocity_at(self, t: float) -> Vector:
         """Return the ball velocity (m/s) at time t (s)."""
-        return add(self.velocity, scale(self.acceleration, t - self.t0))
+        return _kernel.forecast(self.kernel_args, None, t)[1]
 
-    def positions(self, times: np.ndarray) -> np.ndarray:
-        """Return the ball centres (m, one row each) at the times (s): ``at`` for many."""
-        tau = (times - self.t0)[:, None]
-        return np.asarray(self.position) + (np.asarray(self.velocity) * tau + np.asarray(
-            self.acceleration) * (0.5 * tau * tau))
 
-    def speeds(self, times: np.ndarray) -> np.ndarray:
-        """Return how fast (m/s) the ball flies at each of the times (s)."""
-        velocities = np.asarray(self.velocity) + np.asarray(self.acceleration) * (
-            times - self.t0)[:, None]
-        return np.sqrt((velocities * velocities).sum(axis=1))
+class _BatPath:
+    """What both bat forecasts answer, from the kernel (``kernel_args`` says which bat)."""
+
+    kernel_args: tuple
+
+    def at(self, t: float) -> Tuple[Vector, Vector]:
+        """Return (knob, tip) in metres at time t (s)."""
+        return _kernel.forecast(None, self.kernel_args, t)[2:4]
+
+    def pivot_at(self, t: float) -> Vector:
+        """Return the pivot (a plan's pose origin, m) at time t (s)."""
+        return _kernel.forecast(None, self.kernel_args, t)[4]
+
+    def reach(self) -> float:
+        """Return the farthest any bat axis point is from the pivot (m)."""
+        return _kernel.bat_bounds(self.kernel_args, 0.0, 0.0)[2]
+
+    def pivot_travel(self, ta: float, tb: float) -> float:
+        """
+        Return a bound (m) on how far the pivot moves from where it is at ta, up to tb.
+
+        Its speed and acceleration for an extrapolated bat; a plan's pose origin moves on
+        chords between its poses: the length of that path.
+        """
+        return _kernel.bat_bounds(self.kernel_args, ta, tb)[0]
+
+    def turn_rate_bound(self, ta: float, tb: float) -> float:
+        """Return the largest turning rate (rad/s) over [ta, tb] (a plan's: between poses)."""
+        return _kernel.bat_bounds(self.kernel_args, ta, tb)[1]
 
 
 @dataclass(frozen=True)
-class BatForecast:
+class BatForecast(_BatPath):
     """
     The bat from time ``t0`` on: a pivot with constant acceleration, turning about a fixed axis.
 
@@ -103,57 +124,20 @@ class BatForecast:
     rate: float
     rate_change: float
 
-    def angle(self, t: float) -> float:
-        """Return how far (rad) the bat has turned at time t (s)."""
-        tau = t - self.t0
-        return self.rate * tau + 0.5 * self.rate_change * tau * tau
-
-    def at(self, t: float) -> Tuple[Vector, Vector]:
-        """Return (knob, tip) in metres at time t (s)."""
-        pivot = self.pivot_at(t)
-        angle = self.angle(t)
-        return (add(pivot, turn_about(self.knob_arm, self.axis, angle)),
-                add(pivot, turn_about(self.tip_arm, self.axis, angle)))
-
-    def reach(self) -> float:
-        """Return the farthest any bat axis point is from the pivot (m)."""
-        return max(norm(self.knob_arm), norm(self.tip_arm))
-
-    def pivot_at(self, t: float) -> Vector:
-        """Return the pivot (m) at time t (s)."""
-        tau = t - self.t0
-        return add(self.pivot, add(scale(self.pivot_velocity, tau),
-                                   scale(self.pivot_acceleration, 0.5 * tau * tau)))
-
-    def turn_rate_bound(self, ta: float, tb: float) -> float:
-        """Return the largest turning rate (rad/s) over [ta, tb]."""
-        return max(abs(self.rate + self.rate_change * (t - self.t0)) for t in (ta, tb))
-
-    def pivot_travel(self, ta: float, tb: float) -> float:
-        """Return a bound (m) on how far the pivot moves from where it is at ta, up to tb."""
-        h = tb - ta
-        speed = norm(add(self.pivot_velocity, scale(self.pivot_acceleration, ta - self.t0)))
-        return speed * h + 0.5 * norm(self.pivot_acceleration) * h * h
-
-    def pivots(self, times: np.ndarray) -> np.ndarray:
-        """Return the pivot (m, one row each) at the times (s): ``pivot_at`` for many."""
-        tau = (times - self.t0)[:, None]
-        return np.asarray(self.pivot) + (np.asarray(self.pivot_velocity) * tau + np.asarray(
-            self.pivot_acceleration) * (0.5 * tau * tau))
-
-    def pivot_travels(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-        """Return ``pivot_travel`` (m) for each pair of start and end times (s)."""
-        h = ends - starts
-        velocities = np.asarray(self.pivot_velocity) + np.asarray(self.pivot_acceleration) * (
-            starts - self.t0)[:, None]
-        speeds = np.sqrt((velocities * velocities).sum(axis=1))
-        return speeds * h + 0.5 * norm(self.pivot_acceleration) * h * h
+    @property
+    def kernel_args(self) -> Tuple[float, ...]:
+        """Return the forecast as the kernel takes it: its 21 numbers in field order."""
+        return (self.t0, *self.pivot, *self.pivot_velocity, *self.pivot_acceleration,
+                *self.knob_arm, *self.tip_arm, *self.axis, self.rate, self.rate_change)
 
 
 @dataclass(frozen=True)
-class PlannedBat:
+class PlannedBat(_BatPath):
     """
     A commanded bat trajectory: poses at increasing times (a robot arm's plan).
+
+    Between poses the bat moves as the rigid model does (position LERP, orientation SLERP);
+    before the first and after the last pose the nearest segment is extended.
 
     :ivar times: seconds on the detector's clock, increasing.
     :ivar positions: pose origins (m); ``quaternions``: unit (x, y, z, w).
@@ -166,66 +150,26 @@ class PlannedBat:
     knob_offset: Vector
     tip_offset: Vector
 
+    @property
+    def kernel_args(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray, Vector, Vector]:
+        """
+        Return the plan as the kernel takes it: times, positions and quaternions as arrays.
+
+        Made once per plan and kept in the instance (the plan is frozen; functools'
+        cached_property would take a lock on every read).
+        """
+        args = self.__dict__.get('_kernel_args')
+        if args is None:
+            args = (np.array(self.times, dtype=float),
+                    np.array(self.positions, dtype=float).reshape(-1, 3),
+                    np.array(self.quaternions, dtype=float).reshape(-1, 4),
+                    self.knob_offset, self.tip_offset)
+            self.__dict__['_kernel_args'] = args
+        return args
+
     def covers(self, t: float) -> bool:
         """Return whether the plan has a pose at or around time t (s)."""
         return bool(self.times) and self.times[0] <= t <= self.times[-1]
-
-    def at(self, t: float) -> Tuple[Vector, Vector]:
-        """Return (knob, tip) in metres at time t (s), within the plan."""
-        times = self.times
-        k = max(0, min(len(times) - 2, _index(times, t)))
-        if len(times) == 1:
-            origin, q = self.positions[0], self.quaternions[0]
-        else:
-            origin, q = interpolate_pose(self.positions[k], self.quaternions[k],
-                                         self.positions[k + 1], self.quaternions[k + 1],
-                                         (t - times[k]) / (times[k + 1] - times[k]))
-        return pose_point(origin, q, self.knob_offset), pose_point(origin, q, self.tip_offset)
-
-    def reach(self) -> float:
-        """Return the farthest any bat axis point is from the pose origin (m)."""
-        return max(norm(self.knob_offset), norm(self.tip_offset))
-
-    def pivot_at(self, t: float) -> Vector:
-        """Return the pose origin (m) at time t (s), within the plan."""
-        times = self.times
-        if len(times) == 1:
-            return self.positions[0]
-        k = max(0, min(len(times) - 2, _index(times, t)))
-        return lerp(self.positions[k], self.positions[k + 1],
-                    (t - times[k]) / (times[k + 1] - times[k]))
-
-    def pivot_travel(self, ta: float, tb: float) -> float:
-        """Return the length (m) of the pose origin's path from ta to tb (it moves on chords)."""
-        times = self.times
-        first, end = bisect_right(times, ta), bisect_left(times, tb)  # poses inside (ta, tb)
-        points = [self.pivot_at(ta)]
-        points += self.positions[first:max(first, end)]
-        points.append(self.pivot_at(tb))
-        return sum(math.dist(a, b) for a, b in zip(points[:-1], points[1:]))
-
-    def pivots(self, times: np.ndarray) -> np.ndarray:
-        """Return the pose origin (m, one row each) at the times (s), within the plan."""
-        return np.array([self.pivot_at(t) for t in times.tolist()]).reshape(-1, 3)
-
-    def pivot_travels(self, starts: np.ndarray, ends: np.ndarray) -> np.ndarray:
-        """Return ``pivot_travel`` (m) for each pair of start and end times (s)."""
-        return np.array([self.pivot_travel(a, b) for a, b in zip(starts.tolist(),
-                                                                 ends.tolist())])
-
-    def turn_rate_bound(self, ta: float, tb: float) -> float:
-        """Return the largest turning rate (rad/s) between plan poses overlapping [ta, tb]."""
-        worst = 0.0
-        times = self.times
-        for k in range(max(0, _index(times, ta)), min(len(times) - 1, _index(times, tb) + 1)):
-            angle = quaternion_angle(self.quaternions[k], self.quaternions[k + 1])
-            worst = max(worst, angle / (times[k + 1] - times[k]))
-        return worst
-
-
-def _index(times: Sequence[float], t: float) -> int:
-    """Return k with times[k] <= t < times[k + 1] (-1 before the first)."""
-    return bisect_right(times, t) - 1
 
 
 def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
@@ -234,77 +178,29 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
     """
     Return the first contact of the forecasts within [t_start, t_start + horizon], or None.
 
-    The horizon is scanned in coarse steps; a step is skipped when the ball stays farther from
-    the bat's pivot than the bat reaches (plus the radii and what both can travel in the step).
-    Other steps are cut into sub-steps whose chord error is below ``tolerance`` (m): the ball's
-    parabola leaves its chord by |a| h^2 / 8, a turn of rate w by reach (w h)^2 / 8. Each
-    sub-step is solved exactly. For a plan, only the part it covers is searched.
+    In the compiled kernel (``toi/_kernel.c``). The horizon is scanned in coarse steps; a step
+    is skipped when the ball stays farther from the bat's pivot than the bat reaches (plus the
+    radii and what both can travel in the step). Other steps are cut into sub-steps whose chord
+    error is below ``tolerance`` (m): the ball's parabola leaves its chord by |a| h^2 / 8, a turn
+    of rate w by reach (w h)^2 / 8. Each sub-step is solved exactly. For a plan, only the part
+    it covers is searched.
 
     :param bat: a ``BatForecast`` or a ``PlannedBat``.
+    :param t_start, horizon: seconds; ``ball_radius`` (m, >= 0); ``tolerance`` (m, > 0);
+        ``coarse_step`` (s, > 0).
     :returns: (contact time in seconds, the solver's result for the sub-step), or None.
+    :raises CoreError: forecasts that leave finite numbers over the horizon, or arguments out
+        of range.
     """
-    end = t_start + horizon
-    if isinstance(bat, PlannedBat):
-        if not bat.times:
-            return None
-        t_start, end = max(t_start, bat.times[0]), min(end, bat.times[-1])
-    reach = bat.reach() + ball_radius + profile.max_radius
-    ball_accel = norm(ball.acceleration)
-    starts, ends = _coarse_steps(t_start, end, coarse_step)
-    if not starts:
-        return None
-    ta_all, tb_all = np.array(starts), np.array(ends)
-    h_all = tb_all - ta_all
-    # largest distance either body can move from its position at ta within each step
-    travel = (ball.speeds(ta_all) * h_all + 0.5 * ball_accel * h_all * h_all
-              + bat.pivot_travels(ta_all, tb_all) + 1e-9)
-    gap = ball.positions(ta_all) - bat.pivots(ta_all)
-    far = np.sqrt((gap * gap).sum(axis=1)) > reach + travel
-    for k in np.flatnonzero(~far).tolist():
-        found = _first_in_step(ball, bat, starts[k], ends[k], ball_radius, profile, tolerance,
-                               ball_accel)
-        if found is not None:
-            return found
-    return None
-
-
-def _coarse_steps(t_start: float, end: float,
-                  coarse_step: float) -> Tuple[List[float], List[float]]:
-    """Return the starts and ends (s) of the coarse steps from t_start to end."""
-    starts: List[float] = []
-    ends: List[float] = []
-    ta = t_start
-    while ta < end:
-        tb = min(end, ta + coarse_step)
-        starts.append(ta)
-        ends.append(tb)
-        ta = tb
-    return starts, ends
-
-
-def _first_in_step(ball: BallForecast, bat, ta: float, tb: float, ball_radius: float,
-                   profile: BatProfile, tolerance: float,
-                   ball_accel: float) -> Optional[Tuple[float, ImpactResult]]:
-    """Return the first contact in the coarse step [ta, tb], solved on chord sub-steps."""
-    h = tb - ta
-    rate = bat.turn_rate_bound(ta, tb)
-    per_step = math.sqrt(8.0 * tolerance / max(ball_accel, 1e-12))
-    if rate > 0.0:
-        per_step = min(per_step, math.sqrt(8.0 * tolerance / bat.reach()) / rate)
-    n = max(1, int(math.ceil(h / per_step)))
-    previous_t = ta
-    previous_ball = ball.at(ta)
-    previous_knob, previous_tip = bat.at(ta)
-    for j in range(1, n + 1):
-        t = tb if j == n else ta + h * j / n
-        ball_t = ball.at(t)
-        knob_t, tip_t = bat.at(t)
-        hit = profile_contact(previous_ball, ball_t, previous_tip, tip_t, previous_knob,
-                              knob_t, ball_radius, profile, t - previous_t)
-        if hit is not None:
-            return previous_t + hit.time, hit
-        previous_t, previous_ball, previous_knob, previous_tip = t, ball_t, knob_t, tip_t
-    return None
+    try:
+        found = _kernel.first_contact(ball.kernel_args, bat.kernel_args, t_start, horizon,
+                                      ball_radius, profile, tolerance, coarse_step)
+    except (TypeError, ValueError) as error:
+        raise CoreError(f'cannot search the forecasts: {error}') from error
+    if found is NotImplemented:
+        raise CoreError('the forecasts leave finite numbers (or a sub-step has no length) '
+                        f'within {horizon} s of {t_start} s')
+    return found
 
 
 def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:

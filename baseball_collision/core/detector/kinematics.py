@@ -23,6 +23,7 @@ from .streams import Stream
 from ..geometry import dot, lerp, scale, sub, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, end_state, MotionPath, rotate, turn_between, unit_axis)
+from ..toi import _kernel
 
 SPARSE_SAMPLES = 6
 """At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
@@ -44,11 +45,15 @@ def fit_coefficients(times: Sequence[float], values: Any, t: float,
 
     The polynomial is in x = (time - t) / span, span = t - times[0] (at least 1 ns), so the
     fit is well conditioned; the degree drops to the number of samples minus one (then it
-    interpolates).
+    interpolates). Solved by the compiled kernel (Householder QR, ``_kernel.polyfit``); a fit
+    it finds rank deficient by LAPACK's minimum-norm ``lstsq``.
 
     :param times: sample times (s), oldest first, at or before t.
     :param values: one row of components per sample (a sequence of rows or an array).
     """
+    fitted = _kernel.polyfit(times, values, t, degree)
+    if fitted is not NotImplemented:
+        return np.array(fitted[0]), fitted[1]
     degree = min(degree, len(times) - 1)
     span = max(t - times[0], 1e-9)
     x = (np.asarray(times, dtype=float) - t) / span

@@ -33,12 +33,30 @@
  *   capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop)
  *        rows [start, stop) of contiguous float64 buffers (six (N, 3), three (N,), out (N,)),
  *        the GIL released: out = contact time in seconds or NaN
+ *   first_contact(ball, bat, t_start, horizon, ball_radius, profile, tolerance, coarse_step)
+ *        the prediction's search (core.prediction): the forecasts of ball (constant
+ *        acceleration) and bat (a pivot turning about a fixed axis, or a commanded plan of
+ *        poses) over the horizon, the coarse reach test and the chord sub-steps, each solved as
+ *        profile() does -> (t, ImpactResult), None, or NotImplemented (forecasts not finite)
+ *   forecast(ball, bat, t), bat_bounds(bat, ta, tb)  the same forecasts at one instant
+ *   polyfit(times, rows, t, degree)  least squares by Householder QR (core.detector.kinematics)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
+ *
+ * Numpy float64 rows of shape (3,) are read from the array struct when built with numpy's
+ * headers (KERNEL_NUMPY_ROWS, setup.py), else through the buffer protocol: the same numbers.
+ * A plan's pivot travel sums sqrt(dx^2 + dy^2 + dz^2) where the Python it replaced used
+ * math.dist: a bound for the reach test only, it never moved a prediction (9,908 compared).
  */
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <structmember.h>
+#ifdef KERNEL_NUMPY_ROWS
+/* only the array struct's accessors (inline, no numpy C-API table: no import_array) */
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/ndarraytypes.h>
+#endif
 
 #include <math.h>
 #include <stdbool.h>
@@ -504,15 +522,31 @@ static PyObject *result_fields = NULL; /* its field names: time, point, normal, 
 static PyObject *features = NULL;      /* (SIDE, KNOB_END, TIP_END) */
 static PyObject *no_arguments = NULL;  /* () */
 
+/* where each field lives in an ImpactResult with __slots__ (bind finds them), or -1 */
+static Py_ssize_t slot_offsets[7] = {-1, -1, -1, -1, -1, -1, -1};
+
 /*
  * A new ImpactResult from its 7 field values (references stolen), filled in as the frozen
- * dataclass's own __init__ does (its instance dictionary), without the cost of calling it.
+ * dataclass's own __init__ does, without the cost of calling it: straight into its slots (the
+ * member descriptors' offsets), or, for a class without slots, into its instance dictionary.
  */
 static PyObject *new_result(PyObject **values)
 {
   bool ok = true;
   for (int i = 0; i < 7; i++) {
     ok = ok && values[i] != NULL;
+  }
+  if (ok && slot_offsets[0] >= 0) {
+    PyTypeObject *type = (PyTypeObject *)result_type;
+    PyObject *result = type->tp_alloc(type, 0);
+    for (int i = 0; i < 7; i++) {
+      if (result != NULL) {
+        *(PyObject **)((char *)result + slot_offsets[i]) = values[i]; /* stolen */
+      } else {
+        Py_XDECREF(values[i]);
+      }
+    }
+    return result;
   }
   PyObject *result = ok ? PyBaseObject_Type.tp_new((PyTypeObject *)result_type, no_arguments,
                                                    NULL)
@@ -534,7 +568,22 @@ static PyObject *new_result(PyObject **values)
   return result;
 }
 
-static PyObject *vec_tuple(Vec v) { return Py_BuildValue("(ddd)", v.x, v.y, v.z); }
+static PyObject *vec_tuple(Vec v)
+{
+  PyObject *x = PyFloat_FromDouble(v.x), *y = PyFloat_FromDouble(v.y);
+  PyObject *z = PyFloat_FromDouble(v.z);
+  PyObject *tuple = x && y && z ? PyTuple_New(3) : NULL;
+  if (tuple == NULL) {
+    Py_XDECREF(x);
+    Py_XDECREF(y);
+    Py_XDECREF(z);
+    return NULL;
+  }
+  PyTuple_SET_ITEM(tuple, 0, x);
+  PyTuple_SET_ITEM(tuple, 1, y);
+  PyTuple_SET_ITEM(tuple, 2, z);
+  return tuple;
+}
 
 /* the ImpactResult for contact at tau on a capsule piece spanning fractions f0-f1 of the bat */
 static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_radius,
@@ -593,9 +642,38 @@ static int read_buffer_vec(PyObject *o, Vec *v)
   return ok ? 1 : -1;
 }
 
+#ifdef KERNEL_NUMPY_ROWS
+static PyObject *ndarray_type = NULL; /* numpy.ndarray, found at import */
+
+/*
+ * 3 numbers from a numpy float64 array of shape (3,) (native byte order, aligned, any stride),
+ * read from the array struct itself: a tenth of the buffer protocol's cost. -1: not such an
+ * array.
+ */
+static int read_ndarray_vec(PyObject *o, Vec *v)
+{
+  PyArrayObject *array = (PyArrayObject *)o;
+  if (PyArray_NDIM(array) != 1 || PyArray_DIM(array, 0) != 3 ||
+      PyArray_DESCR(array)->type_num != NPY_DOUBLE || !PyArray_ISNOTSWAPPED(array) ||
+      !PyArray_ISALIGNED(array)) {
+    return -1;
+  }
+  const char *data = PyArray_DATA(array);
+  npy_intp stride = PyArray_STRIDE(array, 0);
+  *v = (Vec){*(const double *)data, *(const double *)(data + stride),
+             *(const double *)(data + 2 * stride)};
+  return 1;
+}
+#endif
+
 /* 3 numbers from a sequence; false (no exception set) when it is not one */
 static bool read_vec(PyObject *o, Vec *v)
 {
+#ifdef KERNEL_NUMPY_ROWS
+  if ((PyObject *)Py_TYPE(o) == ndarray_type && read_ndarray_vec(o, v) == 1) {
+    return true;
+  }
+#endif
   if (PyTuple_CheckExact(o) && PyTuple_GET_SIZE(o) == 3 && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 0)) &&
       PyFloat_CheckExact(PyTuple_GET_ITEM(o, 1)) && PyFloat_CheckExact(PyTuple_GET_ITEM(o, 2))) {
     *v = (Vec){PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 0)), PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(o, 1)),
@@ -666,6 +744,28 @@ static PyObject *py_bind(PyObject *self, PyObject *args)
   }
   if (no_arguments == NULL && (no_arguments = PyTuple_New(0)) == NULL) {
     return NULL;
+  }
+  /* a class with __slots__: each field is a member descriptor holding an object at an offset */
+  Py_ssize_t offsets[7];
+  for (int i = 0; i < 7; i++) {
+    PyObject *descriptor = PyObject_GetAttr(type, PyTuple_GET_ITEM(names, i));
+    if (descriptor == NULL) {
+      return NULL;
+    }
+    offsets[i] = -1;
+    if (Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
+      PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
+      if (member->type == T_OBJECT_EX && !(member->flags & READONLY)) {
+        offsets[i] = member->offset;
+      }
+    }
+    Py_DECREF(descriptor);
+  }
+  for (int i = 0; i < 7; i++) {
+    slot_offsets[i] = offsets[0] < 0 ? -1 : offsets[i];
+    if (offsets[i] < 0) {
+      slot_offsets[0] = -1;
+    }
   }
   Py_INCREF(type);
   Py_INCREF(names);
@@ -747,14 +847,56 @@ static bool load_profile(PyObject *profile)
   return ok;
 }
 
+/*
+ * First contact of a ball with the cached profile's capsules over one interval (points p: b0,
+ * b1, tip0, tip1, knob0, knob1): false when none; else its tau, the capsule's index and the
+ * capsule's moving ends in piece (b0, b1, tip0, tip1, knob0, knob1).
+ */
+static bool profile_tau(const Vec *p, double rb, double *best_tau, int *best, Vec *piece)
+{
+  int count = profile_cache.count;
+  if (count > 1 && !may_touch(p[0], p[1], p[2], p[3], p[4], p[5],
+                              rb + profile_cache.max_radius)) {
+    return false;
+  }
+  bool have = false;
+  piece[0] = p[0];
+  piece[1] = p[1];
+  for (int i = 0; i < count; i++) {
+    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
+    double radius = profile_cache.segments[i][2], tau;
+    Vec k0 = v_lerp(p[4], p[2], f0), k1 = v_lerp(p[5], p[3], f0);
+    Vec t0 = v_lerp(p[4], p[2], f1), t1 = v_lerp(p[5], p[3], f1);
+    if (capsule_tau(p[0], p[1], t0, t1, k0, k1, rb + radius, &tau) && (!have || tau < *best_tau)) {
+      have = true;
+      *best_tau = tau;
+      *best = i;
+      piece[2] = t0;
+      piece[3] = t1;
+      piece[4] = k0;
+      piece[5] = k1;
+    }
+  }
+  return have;
+}
+
+/* the ImpactResult of profile_tau's contact */
+static PyObject *profile_result(double tau, int best, double dt, const Vec *piece, double rb)
+{
+  return contact_at(tau, dt, piece, rb, profile_cache.segments[best][2],
+                    profile_cache.segments[best][0], profile_cache.segments[best][1], best == 0,
+                    best == profile_cache.count - 1);
+}
+
 static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   if (nargs != 9) {
     PyErr_SetString(PyExc_TypeError, "profile() takes 9 arguments");
     return NULL;
   }
-  Vec p[6];
-  double rb, dt;
+  Vec p[6], piece[6];
+  double rb, dt, tau = 0.0;
+  int best = 0;
   if (!read_interval(args, p) || !read_number(args[6], &rb) || !read_number(args[8], &dt) ||
       !non_negative(rb) || !isfinite(dt) || !(dt > 0.0)) {
     return not_implemented();
@@ -762,36 +904,10 @@ static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t na
   if (!load_profile(args[7])) {
     return NULL;
   }
-  int count = profile_cache.count;
-  if (count > 1 && !may_touch(p[0], p[1], p[2], p[3], p[4], p[5],
-                              rb + profile_cache.max_radius)) {
+  if (!profile_tau(p, rb, &tau, &best, piece)) {
     Py_RETURN_NONE;
   }
-  bool have = false;
-  double best_tau = 0.0;
-  int best = 0;
-  Vec piece[6] = {p[0], p[1]}; /* b0, b1, tip0, tip1, knob0, knob1 of the best piece */
-  for (int i = 0; i < count; i++) {
-    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
-    double radius = profile_cache.segments[i][2], tau;
-    Vec k0 = v_lerp(p[4], p[2], f0), k1 = v_lerp(p[5], p[3], f0);
-    Vec t0 = v_lerp(p[4], p[2], f1), t1 = v_lerp(p[5], p[3], f1);
-    if (capsule_tau(p[0], p[1], t0, t1, k0, k1, rb + radius, &tau) && (!have || tau < best_tau)) {
-      have = true;
-      best_tau = tau;
-      best = i;
-      piece[2] = t0;
-      piece[3] = t1;
-      piece[4] = k0;
-      piece[5] = k1;
-    }
-  }
-  if (!have) {
-    Py_RETURN_NONE;
-  }
-  return contact_at(best_tau, dt, piece, rb, profile_cache.segments[best][2],
-                    profile_cache.segments[best][0], profile_cache.segments[best][1], best == 0,
-                    best == count - 1);
+  return profile_result(tau, best, dt, piece, rb);
 }
 
 static PyObject *py_closest_offset(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -883,6 +999,529 @@ static PyObject *py_capsule_rows(PyObject *self, PyObject *args)
     return NULL;
   }
   Py_RETURN_NONE;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* predictions: the forecasts of ball and bat over a horizon, and their first contact */
+
+/* the ball with constant acceleration from t0 on */
+typedef struct {
+  double t0;
+  Vec p, v, a;
+} BallPath;
+
+/*
+ * The bat: extrapolated (a pivot with constant acceleration turning about a fixed axis with
+ * constant angular acceleration) or planned (poses at increasing times: position LERP,
+ * orientation SLERP; knob and tip at body-frame offsets).
+ */
+typedef struct {
+  bool planned;
+  double t0, rate, rate_change;
+  Vec pivot, pivot_velocity, pivot_acceleration, knob_arm, tip_arm, axis;
+  Py_ssize_t n;
+  const double *times, *positions, *quaternions;
+  Vec knob_offset, tip_offset;
+} BatPath;
+
+static inline double v_norm(Vec a) { return sqrt(v_dot(a, a)); }
+
+static Vec ball_at(const BallPath *b, double t)
+{
+  double tau = t - b->t0, half = 0.5 * tau * tau;
+  return (Vec){b->p.x + (b->v.x * tau + b->a.x * half), b->p.y + (b->v.y * tau + b->a.y * half),
+               b->p.z + (b->v.z * tau + b->a.z * half)};
+}
+
+static Vec ball_velocity_at(const BallPath *b, double t)
+{
+  return v_advance(b->v, b->a, t - b->t0);
+}
+
+/* Rodrigues' rotation of vector about the unit axis by angle (rad), as geometry.turn_about */
+static Vec turn_about(Vec vector, Vec axis, double angle)
+{
+  if (angle == 0.0) {
+    return vector;
+  }
+  double cosine = cos(angle), sine = sin(angle);
+  double along = v_dot(axis, vector) * (1.0 - cosine);
+  Vec across = v_cross(axis, vector);
+  return (Vec){vector.x * cosine + across.x * sine + axis.x * along,
+               vector.y * cosine + across.y * sine + axis.y * along,
+               vector.z * cosine + across.z * sine + axis.z * along};
+}
+
+static inline double dot4(const double *a, const double *b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+}
+
+/* unit quaternions (x, y, z, w) interpolated along the shorter arc, as geometry.slerp_quaternions */
+static void slerp(const double *q0, const double *q1_in, double s, double *out)
+{
+  double q1[4] = {q1_in[0], q1_in[1], q1_in[2], q1_in[3]}, q[4];
+  double cosine = dot4(q0, q1);
+  if (cosine < 0.0) {
+    for (int i = 0; i < 4; i++) {
+      q1[i] = -q1[i];
+    }
+    cosine = -cosine;
+  }
+  if (cosine > 1.0 - 1e-12) {
+    for (int i = 0; i < 4; i++) {
+      q[i] = q0[i] + (q1[i] - q0[i]) * s;
+    }
+  } else {
+    double angle = acos(cosine), sin_angle = sin(angle);
+    double w0 = sin((1.0 - s) * angle) / sin_angle, w1 = sin(s * angle) / sin_angle;
+    for (int i = 0; i < 4; i++) {
+      q[i] = w0 * q0[i] + w1 * q1[i];
+    }
+  }
+  double length = sqrt(dot4(q, q));
+  for (int i = 0; i < 4; i++) {
+    out[i] = q[i] / length;
+  }
+}
+
+/* where the body-frame offset is for the pose (position, unit quaternion q), as geometry.pose_point */
+static Vec pose_point(Vec position, const double *q, Vec v)
+{
+  double x = q[0], y = q[1], z = q[2], w = q[3];
+  double cx = y * v.z - z * v.y, cy = z * v.x - x * v.z, cz = x * v.y - y * v.x;
+  Vec arm = {v.x + 2.0 * (w * cx + y * cz - z * cy), v.y + 2.0 * (w * cy + z * cx - x * cz),
+             v.z + 2.0 * (w * cz + x * cy - y * cx)};
+  return (Vec){position.x + arm.x, position.y + arm.y, position.z + arm.z};
+}
+
+/* bisect.bisect_right and bisect_left on the plan's times */
+static Py_ssize_t bisect_right(const double *x, Py_ssize_t n, double t)
+{
+  Py_ssize_t lo = 0, hi = n;
+  while (lo < hi) {
+    Py_ssize_t mid = (lo + hi) / 2;
+    if (t < x[mid]) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  return lo;
+}
+
+static Py_ssize_t bisect_left(const double *x, Py_ssize_t n, double t)
+{
+  Py_ssize_t lo = 0, hi = n;
+  while (lo < hi) {
+    Py_ssize_t mid = (lo + hi) / 2;
+    if (x[mid] < t) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+static inline Vec row3(const double *x, Py_ssize_t k) { return (Vec){x[3 * k], x[3 * k + 1], x[3 * k + 2]}; }
+
+/* the plan's pose segment for t (the first or last one outside) and the fraction along it */
+static Py_ssize_t plan_segment(const BatPath *b, double t, double *s)
+{
+  Py_ssize_t k = bisect_right(b->times, b->n, t) - 1;
+  k = k < b->n - 2 ? k : b->n - 2;
+  k = k > 0 ? k : 0;
+  *s = b->n < 2 ? 0.0 : (t - b->times[k]) / (b->times[k + 1] - b->times[k]);
+  return k;
+}
+
+/* the pivot (the pose origin of a plan) at t */
+static Vec pivot_at(const BatPath *b, double t)
+{
+  if (!b->planned) {
+    double tau = t - b->t0, half = 0.5 * tau * tau;
+    Vec p = b->pivot, v = b->pivot_velocity, a = b->pivot_acceleration;
+    return (Vec){p.x + (v.x * tau + a.x * half), p.y + (v.y * tau + a.y * half),
+                 p.z + (v.z * tau + a.z * half)};
+  }
+  if (b->n == 1) {
+    return row3(b->positions, 0);
+  }
+  double s;
+  Py_ssize_t k = plan_segment(b, t, &s);
+  return v_lerp(row3(b->positions, k), row3(b->positions, k + 1), s);
+}
+
+/* knob and tip at t */
+static void bat_at(const BatPath *b, double t, Vec *knob, Vec *tip)
+{
+  if (!b->planned) {
+    Vec pivot = pivot_at(b, t);
+    double tau = t - b->t0;
+    double angle = b->rate * tau + 0.5 * b->rate_change * tau * tau;
+    Vec k = turn_about(b->knob_arm, b->axis, angle), e = turn_about(b->tip_arm, b->axis, angle);
+    *knob = (Vec){pivot.x + k.x, pivot.y + k.y, pivot.z + k.z};
+    *tip = (Vec){pivot.x + e.x, pivot.y + e.y, pivot.z + e.z};
+    return;
+  }
+  double s, q[4];
+  Py_ssize_t k = plan_segment(b, t, &s);
+  Vec origin = row3(b->positions, k);
+  if (b->n == 1) {
+    memcpy(q, b->quaternions, sizeof q);
+  } else {
+    origin = v_lerp(origin, row3(b->positions, k + 1), s);
+    slerp(b->quaternions + 4 * k, b->quaternions + 4 * (k + 1), s, q);
+  }
+  *knob = pose_point(origin, q, b->knob_offset);
+  *tip = pose_point(origin, q, b->tip_offset);
+}
+
+/* the farthest any bat axis point is from the pivot (m) */
+static double bat_reach(const BatPath *b)
+{
+  return b->planned ? max_of(v_norm(b->knob_offset), v_norm(b->tip_offset))
+                    : max_of(v_norm(b->knob_arm), v_norm(b->tip_arm));
+}
+
+/* the largest turning rate (rad/s) over [ta, tb] (of a plan: between poses overlapping it) */
+static double turn_rate_bound(const BatPath *b, double ta, double tb)
+{
+  if (!b->planned) {
+    return max_of(fabs(b->rate + b->rate_change * (ta - b->t0)),
+                  fabs(b->rate + b->rate_change * (tb - b->t0)));
+  }
+  double worst = 0.0;
+  Py_ssize_t first = bisect_right(b->times, b->n, ta) - 1;
+  Py_ssize_t stop = bisect_right(b->times, b->n, tb); /* index(tb) + 1 */
+  first = first > 0 ? first : 0;
+  stop = stop < b->n - 1 ? stop : b->n - 1;
+  for (Py_ssize_t k = first; k < stop; k++) {
+    double angle = 2.0 * acos(min_of(1.0, fabs(dot4(b->quaternions + 4 * k,
+                                                     b->quaternions + 4 * (k + 1)))));
+    worst = max_of(worst, angle / (b->times[k + 1] - b->times[k]));
+  }
+  return worst;
+}
+
+/*
+ * A bound (m) on how far the pivot moves from where it is at ta, up to tb: speed and
+ * acceleration for an extrapolated bat; the length of the pose origin's path for a plan.
+ */
+static double pivot_travel(const BatPath *b, double ta, double tb)
+{
+  double h = tb - ta;
+  if (!b->planned) {
+    double speed = v_norm(v_advance(b->pivot_velocity, b->pivot_acceleration, ta - b->t0));
+    return speed * h + 0.5 * v_norm(b->pivot_acceleration) * h * h;
+  }
+  Py_ssize_t first = bisect_right(b->times, b->n, ta), end = bisect_left(b->times, b->n, tb);
+  Vec previous = pivot_at(b, ta);
+  double length = 0.0;
+  for (Py_ssize_t k = first; k < end; k++) {
+    Vec next = row3(b->positions, k);
+    length += v_norm(v_sub(next, previous));
+    previous = next;
+  }
+  return length + v_norm(v_sub(pivot_at(b, tb), previous));
+}
+
+/* what a search ended with */
+typedef enum { SEARCH_NONE, SEARCH_FOUND, SEARCH_BAD } Search;
+
+/*
+ * First contact in the coarse step [ta, tb], solved on chord sub-steps short enough that the
+ * ball's parabola (|a| h^2 / 8) and the bat's turn (reach (w h)^2 / 8) stay within tolerance of
+ * their chords. SEARCH_BAD: the forecasts left finite numbers or the step has no length.
+ */
+static Search first_in_step(const BallPath *ball, const BatPath *bat, double ta, double tb,
+                            double rb, double tolerance, double ball_accel, double *t_hit,
+                            double *tau_hit, double *dt_hit, int *best, Vec *piece)
+{
+  double h = tb - ta;
+  double rate = turn_rate_bound(bat, ta, tb);
+  double per_step = sqrt(8.0 * tolerance / max_of(ball_accel, 1e-12));
+  if (rate > 0.0) {
+    per_step = min_of(per_step, sqrt(8.0 * tolerance / bat_reach(bat)) / rate);
+  }
+  double steps = ceil(h / per_step);
+  if (!(steps <= 1e7)) {
+    return SEARCH_BAD;
+  }
+  long n = steps >= 1.0 ? (long)steps : 1;
+  double previous_t = ta;
+  Vec p[6];
+  p[0] = ball_at(ball, ta);
+  bat_at(bat, ta, &p[4], &p[2]);
+  for (long j = 1; j <= n; j++) {
+    double t = j == n ? tb : ta + h * (double)j / (double)n;
+    p[1] = ball_at(ball, t);
+    bat_at(bat, t, &p[5], &p[3]);
+    double dt = t - previous_t;
+    for (int i = 0; i < 6; i++) {
+      if (!finite3(p[i])) {
+        return SEARCH_BAD;
+      }
+    }
+    if (!(dt > 0.0) || !isfinite(dt)) {
+      return SEARCH_BAD;
+    }
+    double tau;
+    if (profile_tau(p, rb, &tau, best, piece)) {
+      *tau_hit = tau;
+      *dt_hit = dt;
+      *t_hit = previous_t + tau * dt;
+      return SEARCH_FOUND;
+    }
+    previous_t = t;
+    p[0] = p[1];
+    p[2] = p[3];
+    p[4] = p[5];
+  }
+  return SEARCH_NONE;
+}
+
+/* n floats from a sequence into x; false with an exception set */
+static bool read_floats(PyObject *o, double *x, Py_ssize_t n, const char *what)
+{
+  PyObject *seq = PySequence_Fast(o, what);
+  if (seq == NULL) {
+    return false;
+  }
+  bool ok = PySequence_Fast_GET_SIZE(seq) == n;
+  for (Py_ssize_t i = 0; ok && i < n; i++) {
+    x[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq, i));
+    ok = !PyErr_Occurred();
+  }
+  Py_DECREF(seq);
+  if (!ok && !PyErr_Occurred()) {
+    PyErr_Format(PyExc_TypeError, "%s: expected %zd numbers", what, n);
+  }
+  return ok;
+}
+
+/* (t0, position, velocity, acceleration): 10 numbers */
+static bool read_ball(PyObject *o, BallPath *b)
+{
+  double x[10];
+  if (!read_floats(o, x, 10, "ball forecast (t0, position, velocity, acceleration)")) {
+    return false;
+  }
+  *b = (BallPath){x[0], {x[1], x[2], x[3]}, {x[4], x[5], x[6]}, {x[7], x[8], x[9]}};
+  return true;
+}
+
+/* the plan's three buffers, held while its BatPath is in use */
+typedef struct {
+  Py_buffer views[3];
+  int held;
+} PlanViews;
+
+static void release_plan(PlanViews *views)
+{
+  for (int i = 0; i < views->held; i++) {
+    PyBuffer_Release(&views->views[i]);
+  }
+  views->held = 0;
+}
+
+/*
+ * An extrapolated bat (t0, pivot, pivot_velocity, pivot_acceleration, knob_arm, tip_arm, axis,
+ * rate, rate_change: 21 numbers) or a plan (times (n,), positions (n, 3), quaternions (n, 4)
+ * as contiguous float64 buffers, knob_offset, tip_offset)
+ */
+static bool read_bat(PyObject *o, BatPath *b, PlanViews *views)
+{
+  views->held = 0;
+  if (!PyTuple_Check(o)) {
+    PyErr_SetString(PyExc_TypeError, "a bat forecast must be a tuple");
+    return false;
+  }
+  memset(b, 0, sizeof *b);
+  if (PyTuple_GET_SIZE(o) != 5) {
+    double x[21];
+    if (!read_floats(o, x, 21, "bat forecast (t0, pivot, pivot_velocity, "
+                     "pivot_acceleration, knob_arm, tip_arm, axis, rate, rate_change)")) {
+      return false;
+    }
+    b->t0 = x[0];
+    b->pivot = (Vec){x[1], x[2], x[3]};
+    b->pivot_velocity = (Vec){x[4], x[5], x[6]};
+    b->pivot_acceleration = (Vec){x[7], x[8], x[9]};
+    b->knob_arm = (Vec){x[10], x[11], x[12]};
+    b->tip_arm = (Vec){x[13], x[14], x[15]};
+    b->axis = (Vec){x[16], x[17], x[18]};
+    b->rate = x[19];
+    b->rate_change = x[20];
+    return true;
+  }
+  b->planned = true;
+  Py_ssize_t n = PyObject_Length(PyTuple_GET_ITEM(o, 0));
+  if (n < 0) {
+    return false;
+  }
+  Py_ssize_t widths[3] = {1, 3, 4};
+  while (views->held < 3) {
+    if (!get_buffer(PyTuple_GET_ITEM(o, views->held), &views->views[views->held],
+                    widths[views->held] * n, false)) {
+      release_plan(views);
+      return false;
+    }
+    views->held++;
+  }
+  double offsets[6];
+  if (!read_floats(PyTuple_GET_ITEM(o, 3), offsets, 3, "knob_offset") ||
+      !read_floats(PyTuple_GET_ITEM(o, 4), offsets + 3, 3, "tip_offset")) {
+    release_plan(views);
+    return false;
+  }
+  b->n = n;
+  b->times = views->views[0].buf;
+  b->positions = views->views[1].buf;
+  b->quaternions = views->views[2].buf;
+  b->knob_offset = (Vec){offsets[0], offsets[1], offsets[2]};
+  b->tip_offset = (Vec){offsets[3], offsets[4], offsets[5]};
+  return true;
+}
+
+/*
+ * first_contact(ball, bat, t_start, horizon, ball_radius, profile, tolerance, coarse_step)
+ * -> (t, ImpactResult), None, or NotImplemented (the forecasts left finite numbers)
+ */
+static PyObject *py_first_contact(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 8) {
+    PyErr_SetString(PyExc_TypeError, "first_contact() takes 8 arguments");
+    return NULL;
+  }
+  BallPath ball;
+  BatPath bat;
+  PlanViews views;
+  double t_start, horizon, rb, tolerance, coarse;
+  if (!read_ball(args[0], &ball) || !read_number(args[2], &t_start) ||
+      !read_number(args[3], &horizon) || !read_number(args[4], &rb) ||
+      !read_number(args[6], &tolerance) || !read_number(args[7], &coarse)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "first_contact(): numbers expected");
+    }
+    return NULL;
+  }
+  if (!non_negative(rb) || !(tolerance > 0.0) || !(coarse > 0.0) || !isfinite(t_start) ||
+      !isfinite(horizon)) {
+    PyErr_SetString(PyExc_ValueError, "first_contact(): ball_radius >= 0, tolerance > 0, "
+                    "coarse_step > 0 and finite times expected");
+    return NULL;
+  }
+  if (!load_profile(args[5]) || !read_bat(args[1], &bat, &views)) {
+    return NULL;
+  }
+  double end = t_start + horizon;
+  Search found = SEARCH_NONE;
+  double t_hit = 0.0, tau = 0.0, dt = 0.0;
+  int best = 0;
+  Vec piece[6];
+  if (!bat.planned || bat.n > 0) {
+    if (bat.planned) {
+      t_start = max_of(t_start, bat.times[0]);
+      end = min_of(end, bat.times[bat.n - 1]);
+    }
+    double reach = bat_reach(&bat) + rb + profile_cache.max_radius;
+    double ball_accel = v_norm(ball.a);
+    for (double ta = t_start; ta < end && found == SEARCH_NONE;) {
+      double tb = min_of(end, ta + coarse), h = tb - ta;
+      /* the largest distance either body can move from its position at ta within the step */
+      double travel = v_norm(ball_velocity_at(&ball, ta)) * h + 0.5 * ball_accel * h * h +
+                      pivot_travel(&bat, ta, tb) + 1e-9;
+      double gap = v_norm(v_sub(ball_at(&ball, ta), pivot_at(&bat, ta)));
+      if (!(gap > reach + travel)) {
+        found = first_in_step(&ball, &bat, ta, tb, rb, tolerance, ball_accel, &t_hit, &tau,
+                              &dt, &best, piece);
+      }
+      ta = tb;
+    }
+  }
+  release_plan(&views);
+  if (found == SEARCH_BAD) {
+    return not_implemented();
+  }
+  if (found == SEARCH_NONE) {
+    Py_RETURN_NONE;
+  }
+  PyObject *hit = profile_result(tau, best, dt, piece, rb);
+  if (hit == NULL) {
+    return NULL;
+  }
+  return Py_BuildValue("(dN)", t_hit, hit);
+}
+
+/* forecast(ball or None, bat or None, t) -> (ball centre, ball velocity, knob, tip, pivot) */
+static PyObject *py_forecast(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t;
+  if (nargs != 3 || !read_number(args[2], &t)) {
+    PyErr_SetString(PyExc_TypeError, "forecast(ball or None, bat or None, t)");
+    return NULL;
+  }
+  BallPath ball;
+  BatPath bat;
+  PlanViews views;
+  bool have_ball = args[0] != Py_None, have_bat = args[1] != Py_None;
+  Vec values[5] = {{0.0, 0.0, 0.0}};
+  if (have_ball) {
+    if (!read_ball(args[0], &ball)) {
+      return NULL;
+    }
+    values[0] = ball_at(&ball, t);
+    values[1] = ball_velocity_at(&ball, t);
+  }
+  if (have_bat) {
+    if (!read_bat(args[1], &bat, &views)) {
+      return NULL;
+    }
+    if (bat.planned && bat.n == 0) {
+      release_plan(&views);
+      PyErr_SetString(PyExc_ValueError, "an empty plan has no pose");
+      return NULL;
+    }
+    bat_at(&bat, t, &values[2], &values[3]);
+    values[4] = pivot_at(&bat, t);
+    release_plan(&views);
+  }
+  PyObject *result = PyTuple_New(5);
+  for (int i = 0; result != NULL && i < 5; i++) {
+    PyObject *item = (i < 2 ? have_ball : have_bat) ? vec_tuple(values[i]) : Py_NewRef(Py_None);
+    if (item == NULL) {
+      Py_CLEAR(result);
+      break;
+    }
+    PyTuple_SET_ITEM(result, i, item);
+  }
+  return result;
+}
+
+/* bat_bounds(bat, ta, tb) -> (pivot travel bound m, turning rate bound rad/s, reach m) */
+static PyObject *py_bat_bounds(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double ta, tb;
+  BatPath bat;
+  PlanViews views;
+  if (nargs != 3 || !read_number(args[1], &ta) || !read_number(args[2], &tb)) {
+    PyErr_SetString(PyExc_TypeError, "bat_bounds(bat, ta, tb)");
+    return NULL;
+  }
+  if (!read_bat(args[0], &bat, &views)) {
+    return NULL;
+  }
+  if (bat.planned && bat.n == 0) {
+    release_plan(&views);
+    PyErr_SetString(PyExc_ValueError, "an empty plan has no pose");
+    return NULL;
+  }
+  double travel = pivot_travel(&bat, ta, tb), rate = turn_rate_bound(&bat, ta, tb);
+  double reach = bat_reach(&bat);
+  release_plan(&views);
+  return Py_BuildValue("(ddd)", travel, rate, reach);
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -1024,6 +1663,158 @@ static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize
 }
 
 /* ------------------------------------------------------------------------------------------ */
+/* least-squares polynomial fits (the velocity and prediction fits of core.detector.kinematics) */
+
+#define MAX_FIT_COMPONENTS 16
+#define MAX_FIT_DEGREE 15
+#define FIT_RANK_TOLERANCE 1e-13 /* |R_jj| / max |R_ii| below which a fit is left to LAPACK */
+
+/*
+ * Least squares of rows y (n x m, row-major) on the powers 0..p-1 of x (n values): Householder
+ * QR of the Vandermonde matrix, applied to y as it goes, then back substitution. a (n x p) and
+ * y are overwritten; the p x m coefficients go to c. False when the matrix is (numerically)
+ * rank deficient.
+ */
+static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, double *y, int m,
+                            double *c)
+{
+  for (Py_ssize_t i = 0; i < n; i++) {
+    double power = 1.0;
+    for (int j = 0; j < p; j++) {
+      a[i * p + j] = power;
+      power *= x[i];
+    }
+  }
+  double largest = 0.0;
+  for (int j = 0; j < p; j++) {
+    double below = 0.0; /* the squares below the diagonal */
+    for (Py_ssize_t i = j + 1; i < n; i++) {
+      below += a[i * p + j] * a[i * p + j];
+    }
+    double norm = sqrt(a[j * p + j] * a[j * p + j] + below);
+    if (norm == 0.0) {
+      return false;
+    }
+    double alpha = a[j * p + j] > 0.0 ? -norm : norm;
+    /* the reflector v: column j from the diagonal down, with v_j = a_jj - alpha */
+    double vj = a[j * p + j] - alpha;
+    double vv = vj * vj + below;
+    if (vv > 0.0) {
+      for (int k = j + 1; k < p + m; k++) {
+        double *column = k < p ? a + k : y + (k - p);
+        int stride = k < p ? p : m;
+        double s = vj * column[j * stride];
+        for (Py_ssize_t i = j + 1; i < n; i++) {
+          s += a[i * p + j] * column[i * stride];
+        }
+        s = 2.0 * s / vv;
+        column[j * stride] -= s * vj;
+        for (Py_ssize_t i = j + 1; i < n; i++) {
+          column[i * stride] -= s * a[i * p + j];
+        }
+      }
+    }
+    a[j * p + j] = alpha;
+    largest = max_of(largest, fabs(alpha));
+  }
+  for (int j = 0; j < p; j++) {
+    if (!(fabs(a[j * p + j]) > FIT_RANK_TOLERANCE * largest)) {
+      return false;
+    }
+  }
+  for (int k = 0; k < m; k++) {
+    for (int j = p - 1; j >= 0; j--) {
+      double s = y[j * m + k];
+      for (int i = j + 1; i < p; i++) {
+        s -= a[j * p + i] * c[i * m + k];
+      }
+      c[j * m + k] = s / a[j * p + j];
+    }
+  }
+  return true;
+}
+
+/*
+ * polyfit(times, rows, t, degree) -> (coefficients: degree + 1 lists of m, span) or
+ * NotImplemented (rank deficient: the caller asks LAPACK). The polynomial is in
+ * x = (time - t) / span, span = max(t - times[0], 1e-9); the degree drops to n - 1.
+ */
+static PyObject *py_polyfit(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t;
+  long degree_arg;
+  if (nargs != 4 || !read_number(args[2], &t) ||
+      ((degree_arg = PyLong_AsLong(args[3])) == -1 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "polyfit(times, rows, t, degree)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (rows == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (n < 1 || PySequence_Fast_GET_SIZE(rows) != n || degree_arg < 0) {
+    PyErr_SetString(PyExc_ValueError, "polyfit: as many rows as times (at least one), degree >= 0");
+    goto done;
+  }
+  PyObject *first_row = PySequence_Fast(PySequence_Fast_GET_ITEM(rows, 0), "a row");
+  if (first_row == NULL) {
+    goto done;
+  }
+  Py_ssize_t m = PySequence_Fast_GET_SIZE(first_row);
+  Py_DECREF(first_row);
+  int p = (int)((degree_arg < n - 1 ? degree_arg : n - 1) + 1);
+  if (m < 1 || m > MAX_FIT_COMPONENTS || p > MAX_FIT_DEGREE + 1) {
+    PyErr_Format(PyExc_ValueError, "polyfit: 1 to %d components and degree <= %d",
+                 MAX_FIT_COMPONENTS, MAX_FIT_DEGREE);
+    goto done;
+  }
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + p + m) + p * m));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *x = memory, *a = x + n, *y = a + n * p, *c = y + n * m;
+  double t_first = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(times, 0));
+  double span = max_of(t - t_first, 1e-9);
+  for (Py_ssize_t i = 0; i < n && !PyErr_Occurred(); i++) {
+    x[i] = (PyFloat_AsDouble(PySequence_Fast_GET_ITEM(times, i)) - t) / span;
+    if (!read_floats(PySequence_Fast_GET_ITEM(rows, i), y + i * m, m, "a row of the fit")) {
+      break;
+    }
+  }
+  if (PyErr_Occurred()) {
+    goto done;
+  }
+  if (!householder_fit(x, n, p, a, y, m, c)) {
+    result = Py_NewRef(Py_NotImplemented);
+    goto done;
+  }
+  PyObject *coefficients = PyList_New(p);
+  for (int j = 0; coefficients != NULL && j < p; j++) {
+    PyObject *row = float_list(c + j * m, (int)m);
+    if (row == NULL) {
+      Py_CLEAR(coefficients);
+      break;
+    }
+    PyList_SET_ITEM(coefficients, j, row);
+  }
+  if (coefficients != NULL) {
+    result = Py_BuildValue("(Nd)", coefficients, span);
+  }
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  return result;
+}
+
+/* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
     {"bind", py_bind, METH_VARARGS,
@@ -1040,6 +1831,16 @@ static PyMethodDef methods[] = {
     {"capsule_rows", py_capsule_rows, METH_VARARGS,
      "capsule_rows(b0, b1, e0, e1, s0, s1, ball_radius, bat_radius, dt, out, start, stop): "
      "batch rows, GIL released"},
+    {"first_contact", (PyCFunction)(void (*)(void))py_first_contact, METH_FASTCALL,
+     "first_contact(ball, bat, t_start, horizon, ball_radius, profile, tolerance, "
+     "coarse_step): (t, ImpactResult), None, or NotImplemented (forecasts not finite)"},
+    {"forecast", (PyCFunction)(void (*)(void))py_forecast, METH_FASTCALL,
+     "forecast(ball or None, bat or None, t): (ball centre, ball velocity, knob, tip, pivot)"},
+    {"bat_bounds", (PyCFunction)(void (*)(void))py_bat_bounds, METH_FASTCALL,
+     "bat_bounds(bat, ta, tb): (pivot travel bound, turning rate bound, reach)"},
+    {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
+     "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
+     "(time - t) / span, or NotImplemented (rank deficient)"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},
@@ -1075,5 +1876,14 @@ PyMODINIT_FUNC PyInit__kernel(void)
     Py_DECREF(m);
     return NULL;
   }
+#ifdef KERNEL_NUMPY_ROWS
+  PyObject *numpy = PyImport_ImportModule("numpy");
+  ndarray_type = numpy ? PyObject_GetAttrString(numpy, "ndarray") : NULL;
+  Py_XDECREF(numpy);
+  if (ndarray_type == NULL) {
+    Py_DECREF(m);
+    return NULL;
+  }
+#endif
   return m;
 }

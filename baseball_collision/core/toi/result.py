@@ -27,10 +27,12 @@ class Feature(enum.StrEnum):
     TIP_END = 'tip_end'
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ImpactResult:
     """
     First contact between ball and bat within one interval.
+
+    With ``__slots__``: the kernel fills them in directly (no instance dictionary to make).
 
     :ivar time: seconds from the interval start to first contact (0.0 when touching at the start).
     :ivar point: contact point on the bat surface, world frame (metres).

@@ -3,12 +3,15 @@
 import math
 
 from baseball_collision.core.detector.kinematics import (
-    bat_rates, fit_polynomial, impact_velocities, pivot_degree, pivot_fraction, pivot_rates,
-    point_velocity, turn_rates)
+    bat_rates, fit_coefficients, fit_polynomial, impact_velocities, pivot_degree, pivot_fraction,
+    pivot_rates, point_velocity, turn_rates)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import dot, lerp, sub
 from baseball_collision.core.motion import BatPath, BatSample, PointPath
+from hypothesis import given, settings, strategies as st
+import numpy as np
 import pytest
+from support import examples
 
 LENGTH = 0.86
 GRIP = 0.2  # the hands, as a fraction along knob-tip
@@ -43,6 +46,38 @@ def test_fit_is_exact_for_a_polynomial_of_its_degree() -> None:
     # two samples: the degree drops to a line, no acceleration
     value, first, second = fit_polynomial(times[:2], [p(t) for t in times[:2]], 0.01, 5)
     assert second == [0.0, 0.0]
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 70), degree=st.integers(0, 6),
+       components=st.integers(1, 9))
+def test_fit_equals_lapacks_least_squares(seed: int, n: int, degree: int,
+                                          components: int) -> None:
+    """
+    The kernel's QR fit is numpy's (LAPACK's SVD) least squares, to rounding.
+
+    Sample times in a 61 ms window (the default velocity window), rows of tracked-like values
+    (a trend plus noise), any degree up to 6 (dropping to n - 1).
+    """
+    rng = np.random.default_rng(seed)
+    times = np.sort(rng.uniform(0.0, 0.061, n))
+    t = float(times[-1] + rng.uniform(0.0, 0.003))
+    rows = rng.normal(0.0, 0.01, (n, components)) + np.outer(times, rng.normal(0.0, 30.0,
+                                                                               components))
+    coefficients, span = fit_coefficients(times.tolist(), rows.tolist(), t, degree)
+    x = (times - t) / span
+    vandermonde = np.vander(x, min(degree, n - 1) + 1, increasing=True)
+    expected = np.linalg.lstsq(vandermonde, rows, rcond=None)[0]
+    assert span == max(t - times[0], 1e-9)
+    assert coefficients.shape == expected.shape
+    assert np.abs(coefficients - expected).max() <= 1e-10 * max(1.0, np.abs(expected).max())
+
+
+def test_a_rank_deficient_fit_is_the_minimum_norm_one() -> None:
+    """Samples at one instant: no slope to fit; LAPACK's minimum-norm answer, the mean."""
+    coefficients, _ = fit_coefficients([0.0, 0.0, 0.0], [(1.0,), (2.0,), (3.0,)], 0.0, 2)
+    assert coefficients[0][0] == pytest.approx(2.0)
+    assert np.abs(coefficients[1:]).max() < 1e-9
 
 
 def test_point_velocity_from_the_samples_up_to_t() -> None:

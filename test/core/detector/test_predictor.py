@@ -72,33 +72,6 @@ def test_a_ball_flying_at_a_still_bat_is_predicted() -> None:
     assert not prediction.planned
 
 
-class _Counted(tuple):
-    """A tuple that counts the items read by index (to see how much of a plan is looked at)."""
-
-    reads = 0
-
-    def __getitem__(self, index):
-        _Counted.reads += 1
-        return super().__getitem__(index)
-
-
-def test_the_plan_is_bisected_not_scanned() -> None:
-    """A plan of 10,000 poses: a step's travel bound reads a few poses, not all of them."""
-    n = 10_000
-    times = tuple(0.001 * k for k in range(n))
-    positions = tuple((0.001 * k, 0.0, 1.0) for k in range(n))
-    plan = PlannedBat(times=_Counted(times), positions=_Counted(positions),
-                      quaternions=((0.0, 0.0, 0.0, 1.0),) * n, knob_offset=OFFSETS[0],
-                      tip_offset=OFFSETS[1])
-    _Counted.reads = 0
-    travel = plan.pivot_travel(5.0005, 5.0105)
-    assert travel == pytest.approx(0.01, abs=1e-9)  # along x at 1 m/s for 10 ms
-    assert _Counted.reads < 100
-    _Counted.reads = 0
-    plan.turn_rate_bound(5.0005, 5.0105)
-    assert _Counted.reads < 100
-
-
 def test_a_plan_too_large_is_refused_before_any_work() -> None:
     """More than MAX_PLAN_POSES poses: a CoreError saying the limit, the plan unchanged."""
     predictor = _predictor([(5.0, 0.0, 1.0)] * 3, [((0, 0, 1), (0, 0.86, 1))] * 3)

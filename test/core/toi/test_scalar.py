@@ -244,3 +244,45 @@ def test_profile_thin_handle_lets_a_ball_pass() -> None:
     barrel = crossing(0.8)
     assert barrel is not None and barrel.feature == 'side'
     assert barrel.bat_fraction == pytest.approx(0.8 / WOOD_BAT_34.length, abs=1e-3)
+
+
+# ----------------------------------------------------------------------------------------------
+# How points may be passed: every layout gives the same answer
+
+
+def test_every_row_layout_gives_the_same_result() -> None:
+    """
+    Tuples, lists, numpy rows (strided, big-endian, float32, int, read-only) agree to the bit.
+
+    The kernel reads float64 rows of shape (3,) straight from the array struct, and anything
+    else through the buffer protocol or as a sequence: the numbers must not depend on which.
+    """
+    points = [(0.0, 0.0, 0.0), (1.0, 0.1, 0.0), (0.5, -1.0, 0.05), (0.5, 1.0, 0.0),
+              (0.45, 1.0, 0.0), (0.55, 1.0, 0.02)]
+    expected = time_of_impact(*points, 0.1, 0.1, 0.01)
+    assert isinstance(expected, ImpactResult) and expected.time > 0.0
+    grid = np.array(points)
+    wide = np.zeros((6, 6))
+    wide[:, ::2] = grid
+    frozen = grid.copy()
+    frozen.setflags(write=False)
+    layouts = {
+        'lists': [list(p) for p in points],
+        'rows': list(grid),
+        'strided': [wide[i, ::2] for i in range(6)],
+        'big-endian': [row.astype('>f8') for row in grid],
+        'read-only': list(frozen),
+        'float32 exact': [row.astype(np.float32) for row in np.round(grid * 64) / 64],
+    }
+    for name, rows in layouts.items():
+        if name == 'float32 exact':
+            exact = [tuple(float(x) for x in row) for row in rows]
+            same = time_of_impact(*exact, 0.1, 0.1, 0.01)
+            assert time_of_impact(*rows, 0.1, 0.1, 0.01) == same, name
+            continue
+        assert time_of_impact(*rows, 0.1, 0.1, 0.01) == expected, name
+    assert time_of_impact(*[np.array(p, dtype=int) for p in [(0, 0, 0), (1, 0, 0), (0, -1, 0),
+                                                             (0, 1, 0), (0, 1, 0), (0, 1, 0)]],
+                          0.1, 0.1) is not None
+    with pytest.raises(CoreError, match='ball0'):
+        time_of_impact(np.zeros(4), *points[1:], 0.1, 0.1)
