@@ -27,13 +27,16 @@ import argparse
 import time
 from typing import Callable, Dict, List, Sequence, Tuple
 
-from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector import DetectorConfig, fitting, kinematics
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.reference import reference_result
 from baseball_collision.tools.sim import CLOSE_KINDS, FAMILIES, KINDS, make_scenario, sample
 import numpy as np
 
-METHODS: Dict[str, Dict[str, object]] = {
+SMOOTHER, VELOCITIES = ('fitting', 'SMOOTHER'), ('kinematics', 'VELOCITIES')
+"""Keys of METHODS entries that set a module constant for the run (not config fields)."""
+
+METHODS: Dict[object, Dict[object, object]] = {
     'linear': {'model': 'linear'},
     'rigid': {'model': 'rigid'},
     'spline': {'model': 'spline'},
@@ -41,8 +44,17 @@ METHODS: Dict[str, Dict[str, object]] = {
     'c2-la1': {'model': 'c2', 'look_ahead': 1},
     'c2-la2': {'model': 'c2', 'look_ahead': 2},
     'c2-noise': {'model': 'c2', 'look_ahead': 2},  # tracker_noise: the known noise
+    'c2-smooth-noise': {'model': 'c2'},
+    'c2-w16-noise': {'model': 'c2', 'spline_window': 16},
+    'c2-natural-noise': {'model': 'c2', SMOOTHER: ('natural', 'samples')},
+    'c2-natural-dof-noise': {'model': 'c2', SMOOTHER: ('natural', 'dof')},
+    'c2-nak-samples-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'samples')},
+    'c2-fits': {'model': 'c2', VELOCITIES: 'fits'},
+    'c2-fits-noise': {'model': 'c2', VELOCITIES: 'fits'},
 }
-"""Detector methods by label: DetectorConfig fields (plus ``reference``, not a detector)."""
+"""Detector methods by label: DetectorConfig fields (plus ``reference``, not a detector); a
+label ending in ``-noise`` is told the known noise (``tracker_noise``). The smoother and the
+c2 velocities measured against the chosen ones are set by their module constants."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),
@@ -63,9 +75,23 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
     """Return a function scoring one (scenario, samples) with a method."""
     if label == 'reference':
         return lambda scenario, samples: reference_result(scenario, samples, noise_m)
+    if label == 'reference-interp':
+        return lambda scenario, samples: reference_result(scenario, samples, 0.0)
     noise = {'tracker_noise': noise_m} if label.endswith('-noise') else {}
-    config = DetectorConfig(bat_input=bat, **METHODS[label], **noise)
-    return lambda scenario, samples: run_samples(scenario, samples, config)[1]
+    fields = {key: value for key, value in METHODS[label].items() if isinstance(key, str)}
+    config = DetectorConfig(bat_input=bat, **fields, **noise)
+    constants = {SMOOTHER: fitting.SMOOTHER, VELOCITIES: kinematics.VELOCITIES}
+    constants.update((key, value) for key, value in METHODS[label].items()
+                     if not isinstance(key, str))
+
+    def score(scenario, samples):
+        saved = fitting.SMOOTHER, kinematics.VELOCITIES
+        fitting.SMOOTHER, kinematics.VELOCITIES = constants[SMOOTHER], constants[VELOCITIES]
+        try:
+            return run_samples(scenario, samples, config)[1]
+        finally:
+            fitting.SMOOTHER, kinematics.VELOCITIES = saved
+    return score
 
 
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
@@ -106,7 +132,7 @@ def main() -> None:
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 0.5, 1.0, 2.0],
                         help='mm per coordinate')
     parser.add_argument('--methods', nargs='+', default=list(METHODS) + ['reference'],
-                        choices=list(METHODS) + ['reference'])
+                        choices=list(METHODS) + ['reference', 'reference-interp'])
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
     args = parser.parse_args()
     if args.quick:

@@ -19,10 +19,12 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
 from .streams import Stream
 from ..geometry import dot, lerp, scale, sub, Vector
 from ..motion import (
-    BatPath, BatSample, c2_rows, end_state, MotionPath, rotate, turn_between, unit_axis)
+    BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
+    turn_between, unit_axis)
 
 SPARSE_SAMPLES = 6
 """At most this many samples in the velocity window (a low rate): the pivot's fit uses the full
@@ -302,7 +304,41 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
     and the spline's extrapolation is the smaller error.
     """
     many = len(bat.history(t, config.velocity_window)) > SPARSE_SAMPLES
-    return config.spline_window if many == (config.tracker_noise == 0.0) else 0
+    return config.spline_window if many == (stream_noise(bat, config) == 0.0) else 0
+
+
+VELOCITIES = 'window'
+"""c2: 'window' (the look-ahead-0 window fits' rates at t) or 'fits' (``spline_window_for``)."""
+
+
+def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
+                  bat_path: C2BatPath, config: Any) -> ImpactVelocities:
+    """
+    Return the ``c2`` velocities at an impact at t (s): the rates of its interval's fits.
+
+    The paths that decided the interval, differentiated at t: the ball's centre, the bat's knob
+    (the pivot, fraction 0) and its swing u x u' (``fitting.swing_rate``); smoothed with
+    ``tracker_noise``. With a look-ahead the same windows are fitted again without it, so the
+    velocities use samples up to the interval's closing frame only. The roll rate comes from
+    the turns of poses (``turn_rates``, 0 for points).
+    """
+    if VELOCITIES == 'fits':
+        return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
+                                 ball_path, bat_path, spline_window_for(bat, t, config))
+    if config.look_ahead:
+        gap, size = config.max_gap, config.spline_window
+        k = ball.interval(ball_path.t0)
+        ball_path = c2_point_path(ball, k, c2_window(ball, k, gap, 0, size),
+                                  stream_noise(ball, config))
+        k = bat.interval(bat_path.t0)
+        bat_path = c2_bat_path(bat, k, c2_window(bat, k, gap, 0, size),
+                               stream_noise(bat, config))
+    roll = 0.0
+    if bat_path.sample0.quaternion is not None:
+        rates_of_turn = turn_rates(bat, t, 1.0, 3)
+        roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
+    return ImpactVelocities(ball_path.velocity(t), 0.0, bat_path.knob.velocity(t),
+                            swing_rate(bat_path, t), roll, True)
 
 
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,

@@ -45,7 +45,7 @@ class Stream:
     """
 
     __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
-                 'path', 'reported_gap', 'turns')
+                 'path', 'reported_gap', 'turns', 'noise')
 
     def __init__(self, name: str) -> None:
         self.name = name
@@ -58,6 +58,7 @@ class Stream:
         self.path_key: Optional[Tuple[int, int]] = None
         self.path: Any = None
         self.reported_gap: Optional[int] = None
+        self.noise = 0.0  # m, 1 sigma: the estimate under tracker_noise auto (noise.py)
 
     def newest(self) -> Optional[int]:
         """Return the newest stamp (ns), None when empty."""

@@ -42,6 +42,7 @@ import numpy as np
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Impact
+from .fitting import MARKER_SPREAD_M, stream_noise
 from .gate import Clock
 from .streams import Stream
 from .sweep import Sweep
@@ -50,9 +51,6 @@ from ..motion import BatSample
 
 PERTURBATIONS = 16
 """Re-solves per impact under perturbed samples (tracker_noise > 0)."""
-
-MARKER_SPREAD_M = 0.3
-"""The spread of a bat's markers (m): a pose's orientation noise is sigma / this (rad)."""
 
 ALTERNATIVE = {'c2': 'spline', 'spline': 'rigid', 'rigid': 'linear', 'linear': 'rigid'}
 """The model each model's noise-free error estimate is taken against."""
@@ -76,6 +74,7 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
     copy.stamps = stream.stamps[first:last + 1]
     copy.values = stream.values[first:last + 1]
     copy.breaks = [True] + stream.breaks[first + 1:last + 1]
+    copy.noise = stream.noise
     if copy.values and isinstance(copy.values[0], BatSample):
         copy.turns = [(0.0, 0.0, 0.0, 0.0) if broken else None for broken in copy.breaks]
     return copy
@@ -199,13 +198,13 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     ball_first, ball_last = _span(ball, start, end, config)
     bat_first, bat_last = _span(bat, start, end, config)
     ball, bat = excerpt(ball, ball_first, ball_last), excerpt(bat, bat_first, bat_last)
-    sigma = config.tracker_noise
+    ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     found = []
-    if sigma > 0.0:
+    if ball_sigma > 0.0 or bat_sigma > 0.0:
         rng = np.random.default_rng(seed_for(impact))
         for _ in range(PERTURBATIONS):
-            hit = resolve(config, clock, _shaken_points(ball, sigma, rng),
-                          _shaken_bat(bat, sigma, offsets, rng), offsets, ta, tb)
+            hit = resolve(config, clock, _shaken_points(ball, ball_sigma, rng),
+                          _shaken_bat(bat, bat_sigma, offsets, rng), offsets, ta, tb)
             if hit is not None:
                 found.append(_quantities(hit))
     if len(found) >= 2:
