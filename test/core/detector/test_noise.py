@@ -51,8 +51,9 @@ def test_auto_finds_no_noise_on_clean_swings(rate: float) -> None:
 
 def test_auto_from_poses_is_close_at_360_hz_and_biased_up_by_the_swing_at_90() -> None:
     """
-    A pose's position: within 25 % at 360 Hz with 1 mm; clean, under 0.05 mm at 360 Hz, but
-    at 90 Hz the swing's own fourth differences show as 0.1-0.4 mm (the module docstring).
+    A pose's position: within 25 % at 360 Hz with 1 mm, clean under 0.05 mm.
+
+    At 90 Hz the swing's own fourth differences show as 0.1-0.4 mm (the module docstring).
     """
     assert _session('pose', 360.0, 1e-3, 50)._bat.noise == pytest.approx(1e-3, rel=0.25)
     assert _session('pose', 360.0, 0.0, 50)._bat.noise < 5e-5
