@@ -28,11 +28,19 @@ from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath
 from ..motion.c2 import rotation_to
 from ..motion.smoothing import smooth, smoother_matrix
 
-SMOOTHER = ('not-a-knot', 'dof')
+SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
 
 MARKER_SPREAD_M = 0.3
 """The spread of a bat's markers (m): a pose's orientation noise is sigma / this (rad)."""
+
+NOISE_SPAN = 0.09
+"""s: with noise a window reaches at least this far back from its newest sample (within its
+segment, at most ``MAX_WINDOW`` samples), so the smoother has samples to average at 360 Hz
+as at 90 Hz (chosen by measurement)."""
+
+MAX_WINDOW = 32
+"""Most samples in a smoothed window (``spline_window``'s largest value)."""
 
 _STEP = 1e-4
 """rad: the step along a rotation vector's rate when its chart changes (numeric derivative)."""
@@ -55,12 +63,24 @@ def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int
     return range(first, last + 1)
 
 
+def widened(stream: Stream, window: range) -> range:
+    """Return a window reaching ``NOISE_SPAN`` back from its newest sample, in its segment."""
+    times, breaks = stream.times, stream.breaks
+    first, newest = window.start, times[window.stop - 1]
+    while (first > 0 and not breaks[first] and window.stop - first < MAX_WINDOW
+           and newest - times[first - 1] <= NOISE_SPAN):
+        first -= 1
+    return range(first, window.stop)
+
+
 def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
     return not_a_knot_slopes(times, np.asarray(rows, dtype=float)).tolist()
 
 
 def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> PointPath:
     """Return the ball's ``c2`` path over interval k: its window spline's piece (smoothed)."""
+    if noise > 0.0:
+        window = widened(stream, window)
     times = [stream.times[i] for i in window]
     j = k - window.start
     if noise > 0.0:
@@ -143,6 +163,8 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
 
 def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2BatPath:
     """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
+    if noise > 0.0:
+        window = widened(stream, window)
     times = [stream.times[i] for i in window]
     samples = stream.values[window.start:window.stop]
     if noise > 0.0:
@@ -193,6 +215,8 @@ def point_gains(stream: Stream, window: range, k: int, t: float,
     Times the noise (m, per coordinate) they are the 1-sigma errors its noise makes in each
     coordinate of the ball's position (m) and velocity (m/s) at t (s) on interval k.
     """
+    if noise > 0.0:
+        window = widened(stream, window)
     times = [stream.times[i] for i in window]
     values = np.asarray(stream.values[window.start:window.stop], dtype=float)
     smoother = (smoother_matrix(times, values, [noise * noise] * 3, *SMOOTHER) if noise > 0.0
@@ -209,6 +233,8 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
     :returns: (value errors, rate errors), each (knob per coordinate in m, direction across the
         bat in rad, length in m) and per second for the rates, at t (s) on interval k.
     """
+    if noise > 0.0:
+        window = widened(stream, window)
     samples = stream.values[window.start:window.stop]
     j = k - window.start
     first, rows = c2_rows(samples, j)

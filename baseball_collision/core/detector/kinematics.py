@@ -325,7 +325,17 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     if VELOCITIES == 'fits':
         return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  ball_path, bat_path, spline_window_for(bat, t, config))
-    if config.look_ahead:
+    if VELOCITIES == 'before':
+        gap, size = config.max_gap, config.spline_window
+        k = ball.interval(ball_path.t0)
+        if k >= 1 and ball.continuous(k - 1, gap):
+            ball_path = c2_point_path(ball, k - 1, c2_window(ball, k - 1, gap, 0, size),
+                                      stream_noise(ball, config))
+        k = bat.interval(bat_path.t0)
+        if k >= 1 and bat.continuous(k - 1, gap):
+            bat_path = c2_bat_path(bat, k - 1, c2_window(bat, k - 1, gap, 0, size),
+                                   stream_noise(bat, config))
+    elif config.look_ahead:
         gap, size = config.max_gap, config.spline_window
         k = ball.interval(ball_path.t0)
         ball_path = c2_point_path(ball, k, c2_window(ball, k, gap, 0, size),

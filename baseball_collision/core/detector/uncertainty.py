@@ -48,7 +48,8 @@ import numpy as np
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Impact
-from .fitting import bat_gains, c2_window, MARKER_SPREAD_M, point_gains, stream_noise
+from .fitting import (
+    bat_gains, c2_window, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN, point_gains, stream_noise)
 from .gate import Clock
 from .streams import Stream
 from .sweep import Sweep
@@ -88,8 +89,9 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
 
 def _span(stream: Stream, start: float, end: float, config: DetectorConfig) -> Tuple[int, int]:
     """Return the sample indices a re-solve of [start, end] (s) can need from a stream."""
-    back = config.spline_window + MARGIN_SAMPLES
-    first = bisect_right(stream.times, start - config.velocity_window - 1e-6) - 1 - back
+    back = max(config.spline_window, MAX_WINDOW) + MARGIN_SAMPLES
+    first = bisect_right(stream.times, start - max(config.velocity_window, NOISE_SPAN) - 1e-6
+                         ) - 1 - back
     last = bisect_left(stream.times, end) + config.look_ahead + 1 + MARGIN_SAMPLES
     return max(first, 0), min(last, len(stream.times) - 1)
 

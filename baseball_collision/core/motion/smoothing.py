@@ -19,7 +19,11 @@ Reinsch's rule, the weighted residual sum ``sum (y - f)^2 / variance`` equals th
 values (what ``tools.reference`` uses over a whole stream); with ``target='dof'`` it equals
 its expectation for that weight, the number of values less the smoother's degrees of freedom
 (trace of ``(I + lam P)^-1``) per column. When even the stiffest fit (the penalty's null
-space: a least-squares line or cubic) leaves less than that, it is taken. A column of zero
+space: a least-squares line or cubic) leaves less than that, it is taken. With
+``target='likelihood'`` the weight of largest marginal likelihood when the penalty is read as
+a Gaussian prior (the smoother is then the Kalman/RTS smoother of that prior, as a cubic
+smoothing spline is that of an integrated white-noise acceleration: Wahba 1978); it stays put
+where the residual rules are flat, and can be the stiffest fit too. A column of zero
 variance is interpolated. Values are smoothed per column, so ``slopes`` are those of the
 interpolating spline (natural or not-a-knot) through the smoothed values.
 """
@@ -33,7 +37,7 @@ from .splines import not_a_knot_slopes
 PENALTIES = ('natural', 'not-a-knot')
 """The roughness penalties ``smooth`` knows."""
 
-TARGETS = ('samples', 'dof')
+TARGETS = ('samples', 'dof', 'likelihood')
 """How ``smooth`` picks the weight: Reinsch's rule, or the residuals' expectation."""
 
 LOG_WEIGHTS = (-12.0, 12.0)
@@ -115,6 +119,8 @@ def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
     scaled = (z * z / variances[None, :]).sum(axis=1)
     columns = len(variances)
     rough = p > 1e-9 * max(float(np.max(p)), 1e-300)
+    if target == 'likelihood':
+        return _likeliest(p[rough], scaled[rough], columns)
 
     def excess(lam: float) -> float:
         shrink = lam * p / (1.0 + lam * p)
@@ -137,8 +143,26 @@ def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
     return 10.0 ** low
 
 
+def _likeliest(p: np.ndarray, scaled: np.ndarray, columns: int) -> float:
+    """
+    Return the weight of largest marginal likelihood (inf when that is the stiffest fit).
+
+    The penalty as a Gaussian prior of precision lam P / sigma^2 on the values: each rough
+    eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)), and
+    ``scaled`` holds z_i^2 / sigma^2 summed over the ``columns``. Searched on a grid of
+    ``LOG_WEIGHTS`` in steps of 0.1 (the null space drops out, as in REML).
+    """
+    if not len(p):
+        return np.inf
+    logs = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
+    spread = 1.0 + 1.0 / (10.0 ** logs[:, None] * p[None, :])
+    cost = columns * np.log(spread).sum(axis=1) + (scaled[None, :] / spread).sum(axis=1)
+    best = int(np.argmin(cost))
+    return np.inf if best == len(logs) - 1 else float(10.0 ** logs[best])
+
+
 def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
-                    kind: str = 'not-a-knot', target: str = 'dof') -> np.ndarray:
+                    kind: str = 'not-a-knot', target: str = 'likelihood') -> np.ndarray:
     """
     Return A (n x n): the smoothed values are ``A @ values`` (the weight chosen on values).
 
@@ -168,7 +192,7 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
 
 
 def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
-           kind: str = 'not-a-knot', target: str = 'dof') -> Tuple[np.ndarray, np.ndarray]:
+           kind: str = 'not-a-knot', target: str = 'likelihood') -> Tuple[np.ndarray, np.ndarray]:
     """
     Return (smoothed values, slopes per second) at the knots: see the module docstring.
 

@@ -1,7 +1,7 @@
 """Tests for the window smoothing splines: Reinsch's rule, the not-a-knot penalty, the weight."""
 
 from baseball_collision.core.motion.smoothing import (
-    natural_slopes, penalty, smooth, smoother_matrix)
+    natural_slopes, penalty, smooth, smoother_matrix, smoothing_weight)
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -102,6 +102,34 @@ def test_the_weight_meets_its_rule(kind: str) -> None:
             assert residual < goal and (kind, target) == ('not-a-knot', 'samples')
         else:
             assert residual == pytest.approx(goal, rel=1e-6)
+
+
+def test_likeliest_weight_matches_a_dense_marginal_likelihood() -> None:
+    """
+    Brute force: the weight maximising the Gaussian marginal likelihood, computed densely.
+
+    With the prior values ~ N(null-space, sigma^2 / lam P^+), the samples' covariance on the
+    penalty's range is sigma^2 (I + (lam P)^+); its log-likelihood over a fine grid of lam
+    peaks within the search's step (0.1 in log10) of the chosen weight.
+    """
+    rng = np.random.default_rng(5)
+    times = np.cumsum(rng.uniform(0.002, 0.004, 24))
+    values = np.c_[np.sin(40.0 * times), times ** 4 * 1e4] + rng.normal(0.0, 1e-3, (24, 2))
+    matrix = penalty(times, 'not-a-knot')
+    p, u = np.linalg.eigh(matrix)
+    rough = p > 1e-9 * p.max()
+    basis = u[:, rough]
+    chosen = smoothing_weight(p, u.T @ values, np.full(2, 1e-6), 'likelihood')
+    best, best_log = -np.inf, None
+    for log in np.arange(-6.0, 6.0, 0.01):
+        covariance = 1e-6 * (np.eye(rough.sum()) + np.linalg.pinv(
+            basis.T @ (10.0 ** log * matrix) @ basis))
+        _, logdet = np.linalg.slogdet(covariance)
+        projected = basis.T @ values
+        score = -sum(logdet + c @ np.linalg.solve(covariance, c) for c in projected.T)
+        if score > best:
+            best, best_log = score, log
+    assert abs(np.log10(chosen) - best_log) <= 0.11
 
 
 def test_smoothing_brings_noisy_samples_closer_to_the_truth() -> None:
