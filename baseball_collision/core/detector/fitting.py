@@ -26,7 +26,7 @@ from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
     unit_axis
 from ..motion.c2 import rotation_to
-from ..motion.smoothing import smooth, smoother_matrix
+from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
 
 SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
@@ -140,9 +140,10 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
     variances = bat_variances(samples[k], noise)
     values = np.asarray(rows, dtype=float)
     fitted, slopes = np.empty_like(values), np.empty_like(values)
+    eigen = penalty_eigen(window, SMOOTHER[0])
     for columns in (slice(0, 3), slice(3, 6), slice(6, 7)):
         fitted[:, columns], slopes[:, columns] = smooth(window, values[:, columns],
-                                                        variances[columns], *SMOOTHER)
+                                                        variances[columns], *SMOOTHER, eigen)
     reference = unit_axis(samples[k])
     ends = []
     for i in (k - first, k + 1 - first):
@@ -244,10 +245,15 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
     sigmas = (noise, math.sqrt(variances[3] + variances[4] + variances[5]) / math.sqrt(2.0),
               math.sqrt(variances[6]))
     value_errors, rate_errors = np.zeros(3), np.zeros(3)
+    eigen = penalty_eigen(times, SMOOTHER[0]) if noise > 0.0 else None
+    value, rate = piece_weights(times, np.eye(len(times)), j - first, t)
     for group, columns in enumerate((slice(0, 3), slice(3, 6), slice(6, 7))):
-        smoother = (smoother_matrix(times, values[:, columns], variances[columns], *SMOOTHER)
-                    if noise > 0.0 else np.eye(len(times)))
-        value, rate = piece_weights(times, smoother, j - first, t)
-        value_errors[group] = sigmas[group] * float(np.linalg.norm(value))
-        rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate))
+        if eigen is not None:
+            smoother = smoother_matrix(times, values[:, columns], variances[columns],
+                                       *SMOOTHER, eigen)
+            value_errors[group] = sigmas[group] * float(np.linalg.norm(value @ smoother))
+            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate @ smoother))
+        else:
+            value_errors[group] = sigmas[group] * float(np.linalg.norm(value))
+            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate))
     return value_errors, rate_errors

@@ -210,7 +210,7 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     size, gap = config.spline_window, config.max_gap
     gains = []
-    for look_ahead in (config.look_ahead, 0):
+    for look_ahead in sorted({config.look_ahead, 0}, reverse=True):
         k = ball.interval(ta)
         ball_value, _ = point_gains(ball, c2_window(ball, k, gap, look_ahead, size), k, t,
                                     ball_sigma)
@@ -218,7 +218,7 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
         values, rates = bat_gains(bat, c2_window(bat, k, gap, look_ahead, size), k, t,
                                   bat_sigma)
         gains.append((ball_sigma * ball_value, values, rates))
-    (ball_error, (knob, turn, length), _), (_, _, (knob_rate, turn_rate, _)) = gains
+    (ball_error, (knob, turn, length), _), (_, _, (knob_rate, turn_rate, _)) = gains[0], gains[-1]
     normal = np.asarray(impact.normal)
     axis = np.subtract(impact.tip, impact.knob)
     bat_length = float(np.linalg.norm(axis))

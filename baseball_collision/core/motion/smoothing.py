@@ -28,7 +28,7 @@ variance is interpolated. Values are smoothed per column, so ``slopes`` are thos
 interpolating spline (natural or not-a-knot) through the smoothed values.
 """
 
-from typing import Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -161,13 +161,22 @@ def _likeliest(p: np.ndarray, scaled: np.ndarray, columns: int) -> float:
     return np.inf if best == len(logs) - 1 else float(10.0 ** logs[best])
 
 
+def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.ndarray]:
+    """Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty``."""
+    p, u = np.linalg.eigh(penalty(times, kind))
+    return np.maximum(p, 0.0), u
+
+
 def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
-                    kind: str = 'not-a-knot', target: str = 'likelihood') -> np.ndarray:
+                    kind: str = 'not-a-knot', target: str = 'likelihood',
+                    eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> np.ndarray:
     """
     Return A (n x n): the smoothed values are ``A @ values`` (the weight chosen on values).
 
     :param times: (n,) strictly increasing (s); ``values``: (n, columns) (units of each
-        column); ``variances``: (columns,) noise variance of each column (its unit squared).
+        column); ``variances``: (columns,) noise variance of each column (its unit squared);
+        ``eigen``: ``penalty_eigen(times, kind)`` when the caller has it (columns fitted in
+        groups over one window share it).
     :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
     y = np.asarray(values, dtype=float)
@@ -178,12 +187,10 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
         raise ValueError(f'values {y.shape} and variances {v.shape} do not match '
                          f'{len(times)} stamps')
     n = len(times)
-    matrix = penalty(times, kind)
+    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     noisy = v > 0.0
-    if not np.any(noisy) or not np.any(matrix):
+    if not np.any(noisy) or not np.any(p > 0.0):
         return np.eye(n)
-    p, u = np.linalg.eigh(matrix)
-    p = np.maximum(p, 0.0)
     z = u.T @ y[:, noisy]
     lam = smoothing_weight(p, z, v[noisy], target)
     keep = 1.0 / (1.0 + lam * p) if np.isfinite(lam) else (
@@ -192,19 +199,22 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
 
 
 def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
-           kind: str = 'not-a-knot', target: str = 'likelihood') -> Tuple[np.ndarray, np.ndarray]:
+           kind: str = 'not-a-knot', target: str = 'likelihood',
+           eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None
+           ) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return (smoothed values, slopes per second) at the knots: see the module docstring.
 
     Columns of zero variance come back as given (interpolated).
 
     :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns);
-        ``variances``: (columns,) the noise variance of each column.
+        ``variances``: (columns,) the noise variance of each column; ``eigen``: as for
+        ``smoother_matrix``.
     :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
     y = np.asarray(values, dtype=float)
     v = np.asarray(variances, dtype=float)
-    fitted = smoother_matrix(times, y, v, kind, target) @ y
+    fitted = smoother_matrix(times, y, v, kind, target, eigen) @ y
     fitted[:, v <= 0.0] = y[:, v <= 0.0]
     slopes = (natural_slopes if kind == 'natural' else not_a_knot_slopes)(times, fitted)
     return fitted, slopes
