@@ -2,7 +2,8 @@
 Accuracy benchmark: motion models against continuous-time truth, per family, rate and noise.
 
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
-[--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]``.
+[--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
+[--pooled]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -27,22 +28,37 @@ import argparse
 import time
 from typing import Callable, Dict, List, Sequence, Tuple
 
-from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector import DetectorConfig, fitting, kinematics
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.reference import reference_result
 from baseball_collision.tools.sim import CLOSE_KINDS, FAMILIES, KINDS, make_scenario, sample
 import numpy as np
 
-METHODS: Dict[str, Dict[str, object]] = {
+SMOOTHER, VELOCITIES = ('fitting', 'SMOOTHER'), ('kinematics', 'VELOCITIES')
+"""Keys of METHODS entries that set a module constant for the run (not config fields)."""
+
+METHODS: Dict[object, Dict[object, object]] = {
     'linear': {'model': 'linear'},
     'rigid': {'model': 'rigid'},
     'spline': {'model': 'spline'},
     'c2': {'model': 'c2'},
     'c2-la1': {'model': 'c2', 'look_ahead': 1},
     'c2-la2': {'model': 'c2', 'look_ahead': 2},
-    'c2-noise': {'model': 'c2', 'look_ahead': 2},  # tracker_noise: the known noise
+    'c2-fits': {'model': 'c2', VELOCITIES: 'fits'},
+    'c2-before': {'model': 'c2', VELOCITIES: 'before'},
+    'c2-window': {'model': 'c2', VELOCITIES: 'window'},
+    'c2-before-noise': {'model': 'c2', VELOCITIES: 'before'},
+    'c2-noise': {'model': 'c2'},
+    'c2-la2-noise': {'model': 'c2', 'look_ahead': 2},
+    'c2-natural-noise': {'model': 'c2', SMOOTHER: ('natural', 'samples')},
+    'c2-samples-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'samples')},
+    'c2-dof-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'dof')},
 }
-"""Detector methods by label: DetectorConfig fields (plus ``reference``, not a detector)."""
+"""Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
+not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``). The
+smoothers (``fitting.SMOOTHER``: Reinsch's natural spline and weight rule, the not-a-knot
+penalty with the residual rules) and the former c2 velocity fits (``c2-fits``) measured
+against the chosen ones are set by their module constants for the run."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),
@@ -63,15 +79,44 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
     """Return a function scoring one (scenario, samples) with a method."""
     if label == 'reference':
         return lambda scenario, samples: reference_result(scenario, samples, noise_m)
+    if label == 'reference-interp':
+        return lambda scenario, samples: reference_result(scenario, samples, 0.0)
     noise = {'tracker_noise': noise_m} if label.endswith('-noise') else {}
-    config = DetectorConfig(bat_input=bat, **METHODS[label], **noise)
-    return lambda scenario, samples: run_samples(scenario, samples, config)[1]
+    fields = {key: value for key, value in METHODS[label].items() if isinstance(key, str)}
+    config = DetectorConfig(bat_input=bat, **fields, **noise)
+    constants = {SMOOTHER: fitting.SMOOTHER, VELOCITIES: kinematics.VELOCITIES}
+    constants.update((key, value) for key, value in METHODS[label].items()
+                     if not isinstance(key, str))
+
+    def score(scenario, samples):
+        saved = fitting.SMOOTHER, kinematics.VELOCITIES
+        fitting.SMOOTHER, kinematics.VELOCITIES = constants[SMOOTHER], constants[VELOCITIES]
+        try:
+            return run_samples(scenario, samples, config)[1]
+        finally:
+            fitting.SMOOTHER, kinematics.VELOCITIES = saved
+    return score
+
+
+def _row(family: str, rate: float, noise_mm: float, label: str, results) -> Dict:
+    """Print one table row; return its summary."""
+    summary = summarize(results, min_clearance_m=3e-3 if noise_mm else 1e-4)
+    cells = [fmt.format(summary[key]) for key, fmt in COLUMNS]
+    print(f'| {family} | {rate:g} | {noise_mm:g} | {label} | ' + ' | '.join(cells) + ' |',
+          flush=True)
+    return summary
 
 
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
-        methods: Sequence[str], per_kind: int, seed: int, bat: str) -> List[Tuple]:
-    """Print one row per family, rate, noise and method; return (key, summary) pairs."""
+        methods: Sequence[str], per_kind: int, seed: int, bat: str,
+        pooled: bool = False) -> List[Tuple]:
+    """
+    Print one row per family, rate, noise and method; return (key, summary) pairs.
+
+    ``pooled``: one row per rate, noise and method over all the families instead.
+    """
     rows = []
+    pools: Dict[Tuple, List[PitchResult]] = {}
     for family in families:
         rng = np.random.default_rng(seed)
         scenarios = [make_scenario(kind, rng, family=family)
@@ -86,11 +131,14 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
                     score = _runner(label, bat, noise)
                     results: List[PitchResult] = [score(s, smp)
                                                   for s, smp in zip(scenarios, samples)]
-                    summary = summarize(results, min_clearance_m=3e-3 if noise else 1e-4)
-                    cells = [fmt.format(summary[key]) for key, fmt in COLUMNS]
-                    print(f'| {family} | {rate:g} | {noise_mm:g} | {label} | '
-                          + ' | '.join(cells) + ' |', flush=True)
-                    rows.append(((family, rate, noise_mm, label), summary))
+                    if pooled:
+                        pools.setdefault((rate, noise_mm, label), []).extend(results)
+                        continue
+                    rows.append(((family, rate, noise_mm, label),
+                                 _row(family, rate, noise_mm, label, results)))
+    for (rate, noise_mm, label), results in pools.items():
+        rows.append((('+'.join(families), rate, noise_mm, label),
+                     _row('+'.join(families), rate, noise_mm, label, results)))
     return rows
 
 
@@ -106,8 +154,10 @@ def main() -> None:
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 0.5, 1.0, 2.0],
                         help='mm per coordinate')
     parser.add_argument('--methods', nargs='+', default=list(METHODS) + ['reference'],
-                        choices=list(METHODS) + ['reference'])
+                        choices=list(METHODS) + ['reference', 'reference-interp'])
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
+    parser.add_argument('--pooled', action='store_true',
+                        help='one row per rate, noise and method over all the families')
     args = parser.parse_args()
     if args.quick:
         args.per_kind, args.rates, args.noises = 1, [90.0, 360.0], [0.0, 1.0]
@@ -118,7 +168,7 @@ def main() -> None:
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
-        args.bat)
+        args.bat, args.pooled)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

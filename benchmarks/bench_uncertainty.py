@@ -6,7 +6,9 @@ Run: ``.venv/bin/python benchmarks/bench_uncertainty.py [--rates R ...] [--noise
 
 One barrel hit per swing family (``sim.FAMILIES``), knob and tip points, 0.2 ms stamp jitter on
 a 1 ms grid. Per rate, noise and model: the median over the impacts of the best of 5 timings
-of ``uncertainty.impact_uncertainty`` (16 re-solves with noise, one without), and the ratio to
+of ``uncertainty.impact_uncertainty`` (with noise: under ``c2`` the linear propagation, plus
+one re-solve with a look-ahead; under the other models 16 re-solves; without noise one
+re-solve), and the ratio to
 the best of 3 timings of the detector over the whole pitch without it (the cost per message
 when there is no impact is unchanged: the uncertainties are measured only at an impact).
 """

@@ -1,7 +1,7 @@
 """The stream detector: samples in, impact and near-miss events out."""
 
 from .config import (
-    DEFAULTS, DetectorConfig, Kind, NODE_NAME, PARAMETERS, ParameterSpec, Range, SPECS,
+    AUTO_NOISE, DEFAULTS, DetectorConfig, Kind, NODE_NAME, PARAMETERS, ParameterSpec, Range, SPECS,
     unit_vector, validate_parameters)
 from .detector import Detector
 from .events import (
@@ -18,6 +18,6 @@ __all__ = [
     'Detector', 'PREDICTION_CHORD_FACTOR', 'PREDICTION_DEGREE', 'SPARSE_SAMPLES', 'DropReason',
     'Feature', 'ResetReason', 'Role',
     # the parameter table (config.py)
-    'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
+    'AUTO_NOISE', 'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
     'validate_parameters', 'unit_vector',
 ]

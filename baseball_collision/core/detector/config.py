@@ -290,8 +290,8 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'fitted to (s).', 's', _closed(0.001, 1.0)),
     ParameterSpec(
         'tracker_noise', _D, 0.0, 'Tracking noise, 1 sigma per coordinate (m); 0 = exact '
-        'samples. c2: picks how impact velocities are fitted (samples before the impact).',
-        'm', _closed(0.0, 0.1)),
+        'samples (interpolated); > 0: c2 smooths its windows with it; negative (-1) = auto: '
+        'estimated per stream from its samples.', 'm', _closed(-1.0, 0.1)),
     ParameterSpec(
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),
@@ -335,6 +335,9 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'replaced.', 's', _closed(0.0, 3600.0)),
 )
 """Every parameter, in the order of ``config/impact_node.yaml``."""
+
+AUTO_NOISE = -1.0
+"""``tracker_noise`` for auto (any negative value means it): each stream's noise estimated."""
 
 SPECS: Dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
 """The parameters by name."""
@@ -464,8 +467,10 @@ class DetectorConfig:
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
     :ivar gravity: m/s^2, along -``up_axis``.
-    :ivar tracker_noise: tracking noise (m, 1 sigma per coordinate); 0: exact samples. Under
-        ``c2`` it picks the impact velocities' fit (``kinematics.spline_window_for``).
+    :ivar tracker_noise: tracking noise (m, 1 sigma per coordinate); 0: exact samples
+        (interpolated). Under ``c2`` > 0 smooths each interval's window (``fitting``); a
+        negative value (``AUTO_NOISE``) estimates each stream's noise from its samples
+        (``noise.NoiseEstimate``).
     :ivar velocity_degree: degree (1-6) of the fit to the bat's rotation and, at low rates (six
         samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
         most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,

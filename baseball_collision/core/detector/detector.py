@@ -40,6 +40,7 @@ from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role,
 from .gate import (
     Clock, FAR_AHEAD_NS, finite_point, LengthCheck, lost_body, speed_check, unit_pose)
 from .intake import Intake, Offer
+from .noise import NoiseEstimate
 from .pairing import Pairing
 from .predictor import Predictor
 from .scheduler import Scheduler
@@ -104,6 +105,9 @@ class Detector:
         self._scheduler = Scheduler(config, self._ball, self._bat)
         self._predictor = Predictor(config, self._clock, self._ball, self._bat, self._offsets)
         self._sweep.measure = self._measure
+        self._noise = None if config.tracker_noise >= 0.0 else (
+            NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
+                                                  else 'point'))
 
     def _measure(self, impact: Impact) -> Impact:
         """Return an impact with its 1-sigma uncertainties (``uncertainty``)."""
@@ -427,6 +431,8 @@ class Detector:
             if not accept:
                 return DropReason.SPEED_LIMIT
             ball.append(t, stamp, offer.value, new_segment)
+            if self._noise is not None:
+                ball.noise = self._noise[0].update(ball)
             self._advance(events)
             return None
         if role is _BAT_POSE:
@@ -460,6 +466,8 @@ class Detector:
         if not accept:
             return DropReason.SPEED_LIMIT
         bat.append(t, stamp, sample, new_segment)
+        if self._noise is not None:
+            bat.noise = self._noise[1].update(bat)
         self._advance(events)
         return None
 

@@ -100,9 +100,9 @@ class Impact:
         (a bat on a stand, a lost body frozen in place), not a swing.
     :ivar time_uncertainty_s, distance_from_knob_uncertainty_m,
         sweet_spot_speed_uncertainty_mps: 1-sigma uncertainties of ``stamp_ns`` (s),
-        ``distance_from_knob_m`` (m) and ``sweet_spot_speed_mps`` (m/s): the spread of the
-        impact re-solved under perturbed samples with ``tracker_noise`` > 0, the interpolation's
-        own error estimate with 0 (``uncertainty``).
+        ``distance_from_knob_m`` (m) and ``sweet_spot_speed_mps`` (m/s): with tracking noise
+        its spread (``c2``: propagated from the smoother; other models: the impact re-solved
+        under perturbed samples), the interpolation's own error estimate without (``uncertainty``).
     """
 
     stamp_ns: int

@@ -5,12 +5,48 @@ An interval [times[k], times[k + 1]] is fitted over a window of its stream's seg
 ``look_ahead`` samples after its closing frame (fewer where the segment or the stream ends),
 back to ``spline_window`` samples in all (fewer at the segment's start). Nothing crosses a
 segment break or a gap longer than ``max_gap``.
+
+With tracking noise (``noise`` > 0, m, 1 sigma per coordinate) the window's coordinates are
+smoothed first (``motion.smoothing``, penalty and weight rule ``SMOOTHER``, chosen by
+measurement: benchmarks/bench_accuracy.py) and the path is the interpolating spline's piece
+through the smoothed values: the ball's centre (each coordinate sigma); the bat's knob (sigma),
+its direction in the rotation-vector chart (sigma * sqrt(2) / length rad across the bat from
+knob and tip points, sigma / ``MARKER_SPREAD_M`` from a pose) and its length (sigma * sqrt(2)
+from points; exact from a pose). The smoothed direction at the interval's opening frame is the
+path's new chart origin: the rotation vectors' rates are carried over to it numerically.
 """
 
-from typing import Sequence
+import math
+from typing import Any, List, Sequence, Tuple
 
 from .streams import Stream
-from ..motion import C2BatPath, not_a_knot_slopes, PointPath
+from ..geometry import cross, Vector
+from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
+    unit_axis
+from ..motion.c2 import rotation_to
+from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
+
+SMOOTHER = ('not-a-knot', 'likelihood')
+"""The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
+
+MARKER_SPREAD_M = 0.3
+"""The spread of a bat's markers (m): a pose's orientation noise is sigma / this (rad)."""
+
+NOISE_SPAN = 0.09
+"""s: with noise a window reaches at least this far back from its newest sample (within its
+segment, at most ``MAX_WINDOW`` samples), so the smoother has samples to average at 360 Hz
+as at 90 Hz (chosen by measurement)."""
+
+MAX_WINDOW = 32
+"""Most samples in a smoothed window (``spline_window``'s largest value)."""
+
+_STEP = 1e-4
+"""rad: the step along a rotation vector's rate when its chart changes (numeric derivative)."""
+
+
+def stream_noise(stream: Stream, config: Any) -> float:
+    """Return a stream's noise (m, 1 sigma): ``tracker_noise``, or its estimate under auto."""
+    return stream.noise if config.tracker_noise < 0.0 else config.tracker_noise
 
 
 def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int) -> range:
@@ -25,20 +61,197 @@ def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int
     return range(first, last + 1)
 
 
+def widened(stream: Stream, window: range) -> range:
+    """Return a window reaching ``NOISE_SPAN`` back from its newest sample, in its segment."""
+    times, breaks = stream.times, stream.breaks
+    first, newest = window.start, times[window.stop - 1]
+    while (first > 0 and not breaks[first] and window.stop - first < MAX_WINDOW
+           and newest - times[first - 1] <= NOISE_SPAN):
+        first -= 1
+    return range(first, window.stop)
+
+
 def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
     return not_a_knot_slopes(times, rows).tolist()
 
 
-def c2_point_path(stream: Stream, k: int, window: range) -> PointPath:
-    """Return the ball's ``c2`` path over interval k: its window spline's piece."""
+def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> PointPath:
+    """Return the ball's ``c2`` path over interval k: its window spline's piece (smoothed)."""
+    if noise > 0.0:
+        window = widened(stream, window)
     times = [stream.times[i] for i in window]
-    slopes = _slopes(times, [stream.values[i] for i in window])
     j = k - window.start
+    if noise > 0.0:
+        values, slopes = smooth(times, np.asarray(stream.values[window.start:window.stop]),
+                                [noise * noise] * 3, *SMOOTHER)
+        return PointPath(times[j], times[j + 1], tuple(values[j].tolist()),
+                         tuple(values[j + 1].tolist()), tuple(slopes[j].tolist()),
+                         tuple(slopes[j + 1].tolist()))
+    slopes = _slopes(times, [stream.values[i] for i in window])
     return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1],
                      tuple(slopes[j]), tuple(slopes[j + 1]))
 
 
-def c2_bat_path(stream: Stream, k: int, window: range) -> C2BatPath:
+def bat_variances(sample: BatSample, noise: float) -> List[float]:
+    """
+    Return the noise variance of each of a bat sample's ``c2_rows`` columns.
+
+    Knob (m^2), rotation vector (rad^2: the direction's noise across the bat, split over the
+    axes by how far each is from the bat), length (m^2).
+    """
+    axis = unit_axis(sample)
+    if sample.quaternion is None:
+        length = math.dist(sample.tip, sample.knob)
+        across, along = 2.0 * (noise / length) ** 2, 2.0 * noise * noise
+    else:
+        across, along = (noise / MARKER_SPREAD_M) ** 2, 0.0
+    return [noise * noise] * 3 + [across * (1.0 - a * a) for a in axis] + [along]
+
+
+def _recharted(reference: Vector, origin: Vector, turn: np.ndarray,
+               rate: np.ndarray) -> Tuple[Vector, Vector]:
+    """
+    Return a rotation vector and its rate (rad, rad/s) moved from one chart to another.
+
+    :param reference: the old chart's origin direction, in which ``turn`` and ``rate`` are;
+        ``origin``: the new chart's.
+    """
+    speed = float(np.linalg.norm(rate))
+    at = rotation_to(origin, rotate(reference, tuple(turn.tolist())))
+    if speed == 0.0:
+        return at, (0.0, 0.0, 0.0)
+    step = _STEP / speed  # s
+    ahead = rotation_to(origin, rotate(reference, tuple((turn + step * rate).tolist())))
+    behind = rotation_to(origin, rotate(reference, tuple((turn - step * rate).tolist())))
+    return at, tuple((a - b) / (2.0 * step) for a, b in zip(ahead, behind))
+
+
+def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: int,
+                      noise: float) -> C2BatPath:
+    """
+    Return the bat's ``c2`` path over [times[k], times[k + 1]] through smoothed samples.
+
+    :param times, samples: the window (s, bat samples); k: the interval in it; ``noise``: m.
+    """
+    first, rows = c2_rows(samples, k)
+    window = times[first:first + len(rows)]
+    variances = bat_variances(samples[k], noise)
+    values = np.asarray(rows, dtype=float)
+    fitted, slopes = np.empty_like(values), np.empty_like(values)
+    eigen = penalty_eigen(window, SMOOTHER[0])
+    for columns in (slice(0, 3), slice(3, 6), slice(6, 7)):
+        fitted[:, columns], slopes[:, columns] = smooth(window, values[:, columns],
+                                                        variances[columns], *SMOOTHER, eigen)
+    reference = unit_axis(samples[k])
+    ends = []
+    for i in (k - first, k + 1 - first):
+        knob = tuple(fitted[i, :3].tolist())
+        direction = rotate(reference, tuple(fitted[i, 3:6].tolist()))
+        length = float(fitted[i, 6])
+        tip = tuple(p + length * d for p, d in zip(knob, direction))
+        original = samples[first + i]
+        ends.append(BatSample(knob, tip, original.position, original.quaternion))
+    origin = unit_axis(ends[0])
+    turns = [_recharted(reference, origin, fitted[i, 3:6], slopes[i, 3:6])[1]
+             for i in (k - first, k + 1 - first)]
+    s0, s1 = slopes[k - first], slopes[k + 1 - first]
+    return C2BatPath(times[k], times[k + 1], ends[0], ends[1],
+                     (tuple(s0[:3].tolist()), tuple(s1[:3].tolist())), (turns[0], turns[1]),
+                     (float(s0[6]), float(s1[6])))
+
+
+def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2BatPath:
     """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
-    return C2BatPath.fitted([stream.times[i] for i in window],
-                            [stream.values[i] for i in window], k - window.start)
+    if noise > 0.0:
+        window = widened(stream, window)
+    times = [stream.times[i] for i in window]
+    samples = stream.values[window.start:window.stop]
+    if noise > 0.0:
+        return smoothed_bat_path(times, samples, k - window.start, noise)
+    return C2BatPath.fitted(times, samples, k - window.start)
+
+
+def swing_rate(path: C2BatPath, t: float) -> Vector:
+    """Return the swing angular velocity (rad/s) of a ``c2`` bat path at t (s): u x u'."""
+    turn, rate = np.array(path.turn.at(t)), np.array(path.turn.velocity(t))
+    speed = float(np.linalg.norm(rate))
+    direction = rotate(path.reference, tuple(turn.tolist()))
+    if speed == 0.0:
+        return (0.0, 0.0, 0.0)
+    step = _STEP / speed
+    ahead = np.array(rotate(path.reference, tuple((turn + step * rate).tolist())))
+    behind = np.array(rotate(path.reference, tuple((turn - step * rate).tolist())))
+    return cross(direction, tuple(((ahead - behind) / (2.0 * step)).tolist()))
+
+
+def piece_weights(times: Sequence[float], smoother: np.ndarray, j: int,
+                  t: float) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the weights of a window's samples in its spline's value and rate at t (s).
+
+    The spline is the not-a-knot interpolant through ``smoother @ values`` (the identity:
+    through the samples), evaluated on its piece j (t in [times[j], times[j + 1]]): value =
+    ``value_weights @ values``, rate (per s) = ``rate_weights @ values``; both linear.
+    """
+    n = len(times)
+    slopes = not_a_knot_slopes(times, np.eye(n))
+    h = times[j + 1] - times[j]
+    s = (t - times[j]) / h
+    value = np.zeros(n)
+    value[j], value[j + 1] = 2 * s ** 3 - 3 * s ** 2 + 1, 3 * s ** 2 - 2 * s ** 3
+    value += h * ((s ** 3 - 2 * s ** 2 + s) * slopes[j] + (s ** 3 - s ** 2) * slopes[j + 1])
+    rate = np.zeros(n)
+    rate[j], rate[j + 1] = (6 * s ** 2 - 6 * s) / h, (6 * s - 6 * s ** 2) / h
+    rate += (3 * s ** 2 - 4 * s + 1) * slopes[j] + (3 * s ** 2 - 2 * s) * slopes[j + 1]
+    return value @ smoother, rate @ smoother
+
+
+def point_gains(stream: Stream, window: range, k: int, t: float,
+                noise: float) -> Tuple[float, float]:
+    """
+    Return the root sum of squares of the samples' weights in a ``c2`` point's value and rate.
+
+    Times the noise (m, per coordinate) they are the 1-sigma errors its noise makes in each
+    coordinate of the ball's position (m) and velocity (m/s) at t (s) on interval k.
+    """
+    if noise > 0.0:
+        window = widened(stream, window)
+    times = [stream.times[i] for i in window]
+    values = np.asarray(stream.values[window.start:window.stop], dtype=float)
+    smoother = (smoother_matrix(times, values, [noise * noise] * 3, *SMOOTHER) if noise > 0.0
+                else np.eye(len(times)))
+    value, rate = piece_weights(times, smoother, k - window.start, t)
+    return float(np.linalg.norm(value)), float(np.linalg.norm(rate))
+
+
+def bat_gains(stream: Stream, window: range, k: int, t: float,
+              noise: float) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the 1-sigma errors the noise makes in a ``c2`` bat's knob, direction and length.
+
+    :returns: (value errors, rate errors), each (knob per coordinate in m, direction across the
+        bat in rad, length in m) and per second for the rates, at t (s) on interval k.
+    """
+    if noise > 0.0:
+        window = widened(stream, window)
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = [stream.times[i] for i in window][first:first + len(rows)]
+    values = np.asarray(rows, dtype=float)
+    variances = bat_variances(samples[j], noise)
+    sigmas = (noise, math.sqrt(variances[3] + variances[4] + variances[5]) / math.sqrt(2.0),
+              math.sqrt(variances[6]))
+    value_errors, rate_errors = np.zeros(3), np.zeros(3)
+    eigen = penalty_eigen(times, SMOOTHER[0]) if noise > 0.0 else None
+    value, rate = piece_weights(times, np.eye(len(times)), j - first, t)
+    for group, columns in enumerate((slice(0, 3), slice(3, 6), slice(6, 7))):
+        if eigen is not None:
+            smoother = smoother_matrix(times, values[:, columns], variances[columns],
+                                       *SMOOTHER, eigen)
+            value_errors[group] = sigmas[group] * float(np.linalg.norm(value @ smoother))
+            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate @ smoother))
+        else:
+            value_errors[group] = sigmas[group] * float(np.linalg.norm(value))
+            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate))
+    return value_errors, rate_errors

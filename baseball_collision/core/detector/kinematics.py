@@ -7,11 +7,12 @@ bat is a rigid body: a pivot near the hands (the axis point that accelerates lea
 its own velocity, turning with an angular velocity fitted to the cumulative turn of its samples.
 With too few samples before the impact, the chords of the spanning interval stand in.
 
-Under the ``c2`` model (``spline_window`` > 0) the velocities are the rates of the same
-not-a-knot splines as its paths (the bat's knob, length and direction in its rotation-vector
-chart), fitted over the last ``spline_window`` samples up to the impact (its interval's
-opening frame) and extrapolated to the impact by their last piece (O(h^3)): the knob's
-velocity and the swing angular velocity u x u'; the ball's centre its velocity.
+Under the ``c2`` model (``c2_velocities``) the velocities come from samples before the impact
+only: the rates of the window fits that end at the impact interval's opening frame (smoothed
+with noise), extrapolated to the impact, or with exact samples at a high rate the splines
+through the samples up to the impact (O(h^3)): the knob's velocity and the swing angular
+velocity u x u' of the direction chart, the ball's centre its velocity. A bat braking right
+after the contact does not reach them.
 """
 
 from dataclasses import dataclass
@@ -19,10 +20,12 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
 from .streams import Stream
 from ..geometry import dot, lerp, scale, sub, Vector
 from ..motion import (
-    BatPath, BatSample, c2_rows, end_state, MotionPath, rotate, turn_between, unit_axis)
+    BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
+    turn_between, unit_axis)
 from ..toi import _kernel
 
 SPARSE_SAMPLES = 6
@@ -307,7 +310,60 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
     and the spline's extrapolation is the smaller error.
     """
     many = len(bat.history(t, config.velocity_window)) > SPARSE_SAMPLES
-    return config.spline_window if many == (config.tracker_noise == 0.0) else 0
+    return config.spline_window if many == (stream_noise(bat, config) == 0.0) else 0
+
+
+VELOCITIES = 'auto'
+"""c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
+opening frame, extrapolated to t), 'window' (the look-ahead-0 window fits' rates at t: they
+reach the closing frame, after the contact) or 'fits' (``spline_window_for``: the former
+choice); the others are kept for bench_accuracy's comparison."""
+
+
+def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
+                  bat_path: C2BatPath, config: Any) -> ImpactVelocities:
+    """
+    Return the ``c2`` velocities at an impact at t (s), from samples before the impact only.
+
+    Exact samples at a high rate (more than ``SPARSE_SAMPLES`` in ``velocity_window``): the
+    splines through the last samples up to t, extrapolated by their last piece
+    (``spline_velocities``). Otherwise the window fits of the interval before the impact's
+    (smoothed with ``tracker_noise``), which end at the impact interval's opening frame,
+    differentiated at t: the ball's centre, the bat's knob (the pivot, fraction 0) and its
+    swing u x u' (``fitting.swing_rate``). Neither reaches the interval's closing frame, which
+    a bat braking right after the contact has already slowed (benchmarks/bench_accuracy.py
+    compares the choices). At a segment's first interval, where nothing comes before, the
+    interval's own fits without look-ahead stand in. The roll rate comes from the turns of
+    poses (``turn_rates``, 0 for points).
+    """
+    mode = VELOCITIES
+    if mode == 'auto':
+        if stream_noise(bat, config) == 0.0 and stream_noise(ball, config) == 0.0 and len(
+                bat.history(t, config.velocity_window)) > SPARSE_SAMPLES:
+            found = spline_velocities(ball, bat, t, config.spline_window)
+            if found is not None:
+                return found
+        mode = 'before'
+    if mode == 'fits':
+        return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
+                                 ball_path, bat_path, spline_window_for(bat, t, config))
+    gap, size = config.max_gap, config.spline_window
+    k = ball.interval(ball_path.t0)
+    j = k - 1 if mode == 'before' and k >= 1 and ball.continuous(k - 1, gap) else k
+    if j != k or config.look_ahead:
+        ball_path = c2_point_path(ball, j, c2_window(ball, j, gap, 0, size),
+                                  stream_noise(ball, config))
+    k = bat.interval(bat_path.t0)
+    j = k - 1 if mode == 'before' and k >= 1 and bat.continuous(k - 1, gap) else k
+    if j != k or config.look_ahead:
+        bat_path = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size),
+                               stream_noise(bat, config))
+    roll = 0.0
+    if bat_path.sample0.quaternion is not None:
+        rates_of_turn = turn_rates(bat, t, 1.0, 3)
+        roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
+    return ImpactVelocities(ball_path.velocity(t), 0.0, bat_path.knob.velocity(t),
+                            swing_rate(bat_path, t), roll, True)
 
 
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,

@@ -49,7 +49,7 @@ class Stream:
     """
 
     __slots__ = ('name', 'times', 'stamps', 'values', 'breaks', 'speed_drops', 'path_key',
-                 'path', 'reported_gap', 'turns', 'aligned')
+                 'path', 'reported_gap', 'turns', 'aligned', 'noise')
 
     def __init__(self, name: str) -> None:
         self.name = name
@@ -63,6 +63,7 @@ class Stream:
         self.path: Any = None
         self.reported_gap: Optional[int] = None
         self.aligned: Dict[str, List[Any]] = {}
+        self.noise = 0.0  # m, 1 sigma: the estimate under tracker_noise auto (noise.py)
 
     def newest(self) -> Optional[int]:
         """Return the newest stamp (ns), None when empty."""

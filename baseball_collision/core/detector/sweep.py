@@ -16,9 +16,9 @@ from .broadphase import clearly_apart
 from .config import DetectorConfig
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
-from .fitting import c2_bat_path, c2_point_path, c2_window
+from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise
 from .gate import Clock
-from .kinematics import impact_velocities, spline_window_for
+from .kinematics import c2_velocities, impact_velocities
 from .streams import Stream
 from ..geometry import add, dot, lerp, norm, profile_gap, rigid_point_velocity, scale, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -123,7 +123,8 @@ class Sweep:
         config = self.config
         if ball.path_key != key and c2:
             ball.path = c2_point_path(ball, ball_k, c2_window(
-                ball, ball_k, config.max_gap, config.look_ahead, config.spline_window))
+                ball, ball_k, config.max_gap, config.look_ahead, config.spline_window),
+                stream_noise(ball, config))
             ball.path_key = key
         if ball.path_key != key:
             before, after = _neighbours(ball, ball_k, self.config.max_gap)
@@ -134,7 +135,8 @@ class Sweep:
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
         if bat.path_key != key and c2:
             bat.path = c2_bat_path(bat, bat_k, c2_window(
-                bat, bat_k, config.max_gap, config.look_ahead, config.spline_window))
+                bat, bat_k, config.max_gap, config.look_ahead, config.spline_window),
+                stream_noise(bat, config))
             bat.path_key = key
         if bat.path_key != key:
             before, after = _neighbours(bat, bat_k, self.config.max_gap)
@@ -177,9 +179,11 @@ class Sweep:
         ball_path, bat_path = paths
         knob, tip = bat_path.at(t)
         config = self.config
-        velocities = impact_velocities(
-            self.ball, self.bat, t, config.velocity_window, config.velocity_degree, ball_path,
-            bat_path, spline_window_for(self.bat, t, config) if self.model == 'c2' else 0)
+        if self.model == 'c2':
+            velocities = c2_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
+        else:
+            velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
+                                           config.velocity_degree, ball_path, bat_path)
         length = math.dist(knob, tip)
         direction = tuple((e - k) / length for k, e in zip(knob, tip))
         # the roll turns about the bat's own axis

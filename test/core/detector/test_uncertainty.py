@@ -143,14 +143,15 @@ def test_uncertainties_are_calibrated_on_noisy_swings() -> None:
 
     108 contacts: 0.5, 1 and 2 mm of noise, 90 Hz, the swing families but ``braking`` (whose
     closing frame after the contact biases the time beyond what the sigmas cover: the module's
-    docstring). Bounds a binomial of that size meets (1 sigma 55-82 %, 2 sigma 87-99.5 %), but
-    the spot's 1 sigma, measured conservative (0.84: its sigma is about 1.4 times its error's
-    spread at 0.5 and 1 mm), to 90 %.
+    docstring). With the propagated sigmas measured 0.75 / 0.95 (time), 0.90 / 0.99 (spot)
+    and 0.70 / 0.96 (speed). Bounds a binomial of that size meets about the goal (1 sigma
+    60-80 %, 2 sigma 90-99.5 %), but the spot's 1 sigma, conservative (its sigma about 1.3
+    times its error's spread), to 92 %.
     """
     families = [family for family in FAMILIES if family != 'braking']
     assert set(CONTACT_KINDS) <= set(KINDS)
     summary = _coverage((0.5, 1.0, 2.0), families, 3, 0)
     assert summary['contacts'] == 108 and summary['recall'] == 1.0
-    for name, most in (('time', 0.82), ('location', 0.90), ('speed', 0.82)):
-        assert 0.55 <= summary[f'{name}_within_1_sigma'] <= most, (name, summary)
-        assert 0.87 <= summary[f'{name}_within_2_sigma'] <= 0.995, (name, summary)
+    for name, most in (('time', 0.80), ('location', 0.92), ('speed', 0.80)):
+        assert 0.60 <= summary[f'{name}_within_1_sigma'] <= most, (name, summary)
+        assert 0.90 <= summary[f'{name}_within_2_sigma'] <= 0.995, (name, summary)

@@ -1,0 +1,220 @@
+"""
+Cubic smoothing splines over a window of noisy samples on uneven stamps: numpy only.
+
+A smoothing spline is the cubic spline ``f`` through smoothed values ``f = (I + lam P)^-1 y``
+at the knots, ``P`` a roughness penalty (symmetric, positive semi-definite) and ``lam`` its
+weight. Two penalties (``PENALTIES``), both linear in the values:
+
+* ``natural``: Reinsch (1967), the integral of f''^2, ``P = Q R^-1 Q^T``: the natural cubic
+  smoothing spline (f'' = 0 at both ends). Its straight lines cost nothing; at a window's end
+  it pulls the curvature to zero, a bias where the motion accelerates.
+* ``not-a-knot``: the squared jumps of f''' at the inner knots of the not-a-knot interpolant
+  of ``f`` (the knots 2 .. n - 3; at 1 and n - 2 not-a-knot makes them 0), each scaled to the
+  mean step. Every cubic costs nothing, so a cubic motion comes through unbiased at the ends
+  too; 4 samples or fewer are interpolated.
+
+The weight is chosen from the noise (``variances``, per column, the square of the 1-sigma noise
+of each coordinate; the columns of one call share one weight): with ``target='samples'``
+Reinsch's rule, the weighted residual sum ``sum (y - f)^2 / variance`` equals the number of
+values (what ``tools.reference`` uses over a whole stream); with ``target='dof'`` it equals
+its expectation for that weight, the number of values less the smoother's degrees of freedom
+(trace of ``(I + lam P)^-1``) per column. When even the stiffest fit (the penalty's null
+space: a least-squares line or cubic) leaves less than that, it is taken. With
+``target='likelihood'`` the weight of largest marginal likelihood when the penalty is read as
+a Gaussian prior (the smoother is then the Kalman/RTS smoother of that prior, as a cubic
+smoothing spline is that of an integrated white-noise acceleration: Wahba 1978); it stays put
+where the residual rules are flat, and can be the stiffest fit too. A column of zero
+variance is interpolated. Values are smoothed per column, so ``slopes`` are those of the
+interpolating spline (natural or not-a-knot) through the smoothed values.
+"""
+
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from .splines import not_a_knot_slopes
+
+PENALTIES = ('natural', 'not-a-knot')
+"""The roughness penalties ``smooth`` knows."""
+
+TARGETS = ('samples', 'dof', 'likelihood')
+"""How ``smooth`` picks the weight: Reinsch's rule, or the residuals' expectation."""
+
+LOG_WEIGHTS = (-12.0, 12.0)
+"""The range (log10) the dimensionless weight is searched in by bisection."""
+
+
+def _natural_parts(h: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Return Reinsch's Q (n x n-2, 1/s) and R (n-2 x n-2, s) for steps h."""
+    n = len(h) + 1
+    q = np.zeros((n, n - 2))
+    r = np.zeros((n - 2, n - 2))
+    for j in range(1, n - 1):
+        q[j - 1:j + 2, j - 1] = (1.0 / h[j - 1], -1.0 / h[j - 1] - 1.0 / h[j], 1.0 / h[j])
+        r[j - 1, j - 1] = (h[j - 1] + h[j]) / 3.0
+        if j < n - 2:
+            r[j - 1, j] = r[j, j - 1] = h[j] / 6.0
+    return q, r
+
+
+def natural_slopes(times: Sequence[float], values: np.ndarray) -> np.ndarray:
+    """
+    Return the slopes at the knots of the natural cubic spline through (times, values).
+
+    :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns).
+    """
+    t = np.asarray(times, dtype=float)
+    y = np.asarray(values, dtype=float)
+    h = np.diff(t)
+    if len(t) == 2:
+        d = (y[1] - y[0]) / h[0]
+        return np.vstack([d, d])
+    q, r = _natural_parts(h)
+    moments = np.zeros_like(y)
+    moments[1:-1] = np.linalg.solve(r, q.T @ y)
+    chords = np.diff(y, axis=0) / h[:, None]
+    slopes = np.empty_like(y)
+    slopes[:-1] = chords - h[:, None] * (2.0 * moments[:-1] + moments[1:]) / 6.0
+    slopes[-1] = chords[-1] + h[-1] * (moments[-2] + 2.0 * moments[-1]) / 6.0
+    return slopes
+
+
+def penalty(times: Sequence[float], kind: str) -> np.ndarray:
+    """
+    Return the roughness penalty matrix P (n x n, dimensionless) of a window's stamps.
+
+    :param kind: one of ``PENALTIES``.
+    :raises ValueError: an unknown kind.
+    """
+    t = np.asarray(times, dtype=float)
+    n = len(t)
+    h = np.diff(t)
+    mean = float(np.mean(h))
+    if kind == 'natural':
+        if n < 3:
+            return np.zeros((n, n))
+        q, r = _natural_parts(h)
+        return q @ np.linalg.solve(r, q.T) * mean ** 3
+    if kind != 'not-a-knot':
+        raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
+    if n < 5:
+        return np.zeros((n, n))
+    basis = np.eye(n)
+    slopes = not_a_knot_slopes(t, basis)  # linear in the values: one column per unit value
+    chords = np.diff(basis, axis=0) / h[:, None]
+    third = 6.0 * (slopes[:-1] + slopes[1:] - 2.0 * chords) / (h * h)[:, None]
+    jumps = (third[2:n - 2] - third[1:n - 3]) * mean ** 3
+    return jumps.T @ jumps
+
+
+def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
+                     target: str) -> float:
+    """
+    Return the weight lam (dimensionless, inf for the stiffest fit) for eigen-coordinates z.
+
+    :param p: (n,) the penalty's eigenvalues; ``z``: (n, columns) the values in its
+        eigenvectors; ``variances``: (columns,) > 0.
+    """
+    n = len(p)
+    scaled = (z * z / variances[None, :]).sum(axis=1)
+    columns = len(variances)
+    rough = p > 1e-9 * max(float(np.max(p)), 1e-300)
+    if target == 'likelihood':
+        return _likeliest(p[rough], scaled[rough], columns)
+
+    def excess(lam: float) -> float:
+        shrink = lam * p / (1.0 + lam * p)
+        free = n - float(np.sum(1.0 / (1.0 + lam * p))) if target == 'dof' else n
+        return float(np.sum(shrink * shrink * scaled)) - columns * free
+
+    stiffest = float(np.sum(scaled[rough])) - columns * (
+        n - float(np.sum(~rough)) if target == 'dof' else n)
+    if stiffest <= 0.0:
+        return np.inf
+    low, high = LOG_WEIGHTS
+    if excess(10.0 ** low) >= 0.0:
+        return 10.0 ** low
+    for _ in range(48):
+        middle = 0.5 * (low + high)
+        if excess(10.0 ** middle) > 0.0:
+            high = middle
+        else:
+            low = middle
+    return 10.0 ** low
+
+
+def _likeliest(p: np.ndarray, scaled: np.ndarray, columns: int) -> float:
+    """
+    Return the weight of largest marginal likelihood (inf when that is the stiffest fit).
+
+    The penalty as a Gaussian prior of precision lam P / sigma^2 on the values: each rough
+    eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)), and
+    ``scaled`` holds z_i^2 / sigma^2 summed over the ``columns``. Searched on a grid of
+    ``LOG_WEIGHTS`` in steps of 0.1 (the null space drops out, as in REML).
+    """
+    if not len(p):
+        return np.inf
+    logs = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
+    spread = 1.0 + 1.0 / (10.0 ** logs[:, None] * p[None, :])
+    cost = columns * np.log(spread).sum(axis=1) + (scaled[None, :] / spread).sum(axis=1)
+    best = int(np.argmin(cost))
+    return np.inf if best == len(logs) - 1 else float(10.0 ** logs[best])
+
+
+def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.ndarray]:
+    """Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty``."""
+    p, u = np.linalg.eigh(penalty(times, kind))
+    return np.maximum(p, 0.0), u
+
+
+def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
+                    kind: str = 'not-a-knot', target: str = 'likelihood',
+                    eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> np.ndarray:
+    """
+    Return A (n x n): the smoothed values are ``A @ values`` (the weight chosen on values).
+
+    :param times: (n,) strictly increasing (s); ``values``: (n, columns) (units of each
+        column); ``variances``: (columns,) noise variance of each column (its unit squared);
+        ``eigen``: ``penalty_eigen(times, kind)`` when the caller has it (columns fitted in
+        groups over one window share it).
+    :raises ValueError: an unknown penalty or target, or shapes that do not match.
+    """
+    y = np.asarray(values, dtype=float)
+    v = np.asarray(variances, dtype=float)
+    if target not in TARGETS:
+        raise ValueError(f"target must be one of {', '.join(TARGETS)}, got {target!r}")
+    if y.ndim != 2 or y.shape[0] != len(times) or v.shape != (y.shape[1],):
+        raise ValueError(f'values {y.shape} and variances {v.shape} do not match '
+                         f'{len(times)} stamps')
+    n = len(times)
+    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
+    noisy = v > 0.0
+    if not np.any(noisy) or not np.any(p > 0.0):
+        return np.eye(n)
+    z = u.T @ y[:, noisy]
+    lam = smoothing_weight(p, z, v[noisy], target)
+    keep = 1.0 / (1.0 + lam * p) if np.isfinite(lam) else (
+        p <= 1e-9 * float(np.max(p))).astype(float)
+    return (u * keep[None, :]) @ u.T
+
+
+def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
+           kind: str = 'not-a-knot', target: str = 'likelihood',
+           eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None
+           ) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return (smoothed values, slopes per second) at the knots: see the module docstring.
+
+    Columns of zero variance come back as given (interpolated).
+
+    :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns);
+        ``variances``: (columns,) the noise variance of each column; ``eigen``: as for
+        ``smoother_matrix``.
+    :raises ValueError: an unknown penalty or target, or shapes that do not match.
+    """
+    y = np.asarray(values, dtype=float)
+    v = np.asarray(variances, dtype=float)
+    fitted = smoother_matrix(times, y, v, kind, target, eigen) @ y
+    fitted[:, v <= 0.0] = y[:, v <= 0.0]
+    slopes = (natural_slopes if kind == 'natural' else not_a_knot_slopes)(times, fitted)
+    return fitted, slopes

@@ -1,0 +1,134 @@
+"""Tests for ``tracker_noise: auto``: each stream's noise estimated from its own samples."""
+
+import math
+from typing import Tuple
+
+from baseball_collision.core.detector import AUTO_NOISE, Detector, DetectorConfig, Impact
+from baseball_collision.core.detector.noise import (
+    divided_difference_weights, MIN_RESIDUALS, NoiseEstimate)
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
+from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+
+
+def _streams(bat_input: str, rate: float, noise_m: float, seed: int) -> Tuple[float, float]:
+    """
+    Return the ball's and the bat's estimates (m) after one pitch of each swing family.
+
+    The estimator alone, fed as the detector feeds it (``test_the_detector_estimates_...``
+    checks the wiring): each stream's samples in stamp order, a new segment per pitch.
+    """
+    estimates = (NoiseEstimate('point'),
+                 NoiseEstimate('length' if bat_input == 'points' else 'point'))
+    ball, bat = Stream('ball'), Stream('bat')
+    for i, family in enumerate(FAMILIES):
+        scenario = make_scenario('barrel', np.random.default_rng(seed + i), family=family)
+        samples = sample(scenario, rate, np.random.default_rng(seed + i), jitter_s=2e-4,
+                         grid_s=1e-3, noise_m=noise_m, marker_spread_m=0.3 if noise_m else None)
+        times = (samples.ball_stamps_ns - samples.start_ns) * 1e-9 + 2.0 * i
+        for j, (t, point) in enumerate(zip(times, samples.ball_positions.tolist())):
+            ball.append(float(t), j, tuple(point), j == 0)
+            estimates[0].update(ball)
+        times = (samples.bat_stamps_ns - samples.start_ns) * 1e-9 + 2.0 * i
+        for j, (t, knob, tip, position) in enumerate(zip(
+                times, samples.knobs.tolist(), samples.tips.tolist(),
+                samples.bat_positions.tolist())):
+            bat.append(float(t), j, BatSample(tuple(knob), tuple(tip), tuple(position),
+                                              (0.0, 0.0, 0.0, 1.0)), j == 0)
+            estimates[1].update(bat)
+    return estimates[0].sigma, estimates[1].sigma
+
+
+@pytest.mark.parametrize('noise_mm', [0.5, 1.0, 2.0])
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+def test_auto_recovers_the_noise_of_knob_tip_swings(rate: float, noise_mm: float) -> None:
+    """
+    Five pitches (one per family) at 90 and 360 Hz: ball and bat within 25 % of the noise.
+
+    (The estimate is a median over 100-384 residuals, whose spread is about 1.25 / sqrt(n):
+    8-13 % 1-sigma; 25 % is 2-3 sigma.)
+    """
+    for estimate in _streams('points', rate, noise_mm * 1e-3, 30):
+        assert estimate == pytest.approx(noise_mm * 1e-3, rel=0.25)
+
+
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+def test_auto_finds_no_noise_on_clean_swings(rate: float) -> None:
+    """Exact samples: the ball's and the knob-tip bat's estimates are below 1 um."""
+    assert max(_streams('points', rate, 0.0, 40)) < 1e-6
+
+
+def test_auto_from_poses_is_close_at_360_hz_and_biased_up_by_the_swing_at_90() -> None:
+    """
+    A pose's position: within 25 % at 360 Hz with 1 mm, clean under 0.05 mm.
+
+    At 90 Hz the swing's own fourth differences show as 0.1-0.4 mm (the module docstring).
+    """
+    assert _streams('pose', 360.0, 1e-3, 50)[1] == pytest.approx(1e-3, rel=0.25)
+    assert _streams('pose', 360.0, 0.0, 50)[1] < 5e-5
+    assert 5e-5 < _streams('pose', 90.0, 0.0, 50)[1] < 5e-4
+
+
+def test_the_detector_estimates_each_stream_under_auto_only() -> None:
+    """
+    tracker_noise -1: the streams carry their estimates (1 mm within 40 %); 0: none.
+
+    The impact's time sigma then covers the noise: larger than the noise-free estimate.
+    """
+    scenario = make_scenario('barrel', np.random.default_rng(3), family='tilted')
+    samples = sample(scenario, 90.0, np.random.default_rng(3), jitter_s=2e-4, grid_s=1e-3,
+                     noise_m=1e-3, marker_spread_m=0.3)
+    sigmas = []
+    for noise, expected in ((AUTO_NOISE, 1e-3), (0.0, 0.0)):
+        detector = Detector(DetectorConfig(bat_input='points', model='c2',
+                                           tracker_noise=noise))
+        impacts = [event for stamp, role, values in samples.messages('points')
+                   for event in detector.add(role, stamp, values) if isinstance(event, Impact)]
+        assert len(impacts) == 1
+        for stream in (detector._ball, detector._bat):
+            assert stream.noise == pytest.approx(expected, rel=0.4, abs=1e-12)
+        sigmas.append(impacts[0].time_uncertainty_s)
+    assert sigmas[0] > sigmas[1]
+
+
+def test_no_estimate_until_enough_residuals_and_none_across_a_break() -> None:
+    """Fewer than MIN_RESIDUALS residuals: 0; a new segment restarts the five samples."""
+    rng = np.random.default_rng(1)
+    stream, estimate = Stream('ball'), NoiseEstimate('point')
+    for i in range(4 + MIN_RESIDUALS // 3):
+        stream.append(i * 0.01, i, tuple(rng.normal(0.0, 1e-3, 3)), i == 0)
+        found = estimate.update(stream)
+        assert (found > 0.0) == (3 * max(0, i - 3) >= MIN_RESIDUALS)
+    stream.append(1.0, 99, (0.0, 0.0, 0.0), True)
+    before = len(estimate.residuals)
+    estimate.update(stream)
+    assert len(estimate.residuals) == before
+
+
+def test_length_residuals_are_half_the_length_change() -> None:
+    """A knob-tip bat: the residual is half the change of its length, whatever it moved."""
+    stream, estimate = Stream('bat'), NoiseEstimate('length')
+    stream.append(0.0, 1, BatSample((0.0, 0.0, 0.0), (0.8, 0.0, 0.0)), True)
+    stream.append(0.01, 2, BatSample((1.0, 2.0, 0.0), (1.0, 2.0, 0.802)), False)
+    estimate.update(stream)
+    assert list(estimate.residuals) == [pytest.approx(0.001)]
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=st.lists(st.floats(0.001, 0.02), min_size=4, max_size=4),
+       coefficients=st.lists(st.floats(-100.0, 100.0), min_size=4, max_size=4))
+def test_fourth_differences_vanish_on_cubics_and_have_unit_noise_gain(steps,
+                                                                      coefficients) -> None:
+    """On uneven stamps the weights kill any cubic; normalised, noise keeps its variance."""
+    times = np.concatenate([[0.0], np.cumsum(steps)])
+    weights = divided_difference_weights(times)
+    cubic = np.polyval(coefficients, times)
+    gain = math.sqrt(float(weights @ weights))
+    assert abs(weights @ cubic) / gain <= 1e-9 * (1.0 + np.abs(cubic).max())
+    rng = np.random.default_rng(3)
+    noise = rng.normal(0.0, 1.0, (20000, 5))
+    assert np.std(noise @ weights / gain) == pytest.approx(1.0, rel=0.03)

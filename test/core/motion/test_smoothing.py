@@ -1,0 +1,168 @@
+"""Tests for the window smoothing splines: Reinsch's rule, the not-a-knot penalty, the weight."""
+
+from baseball_collision.core.motion.smoothing import (
+    natural_slopes, penalty, smooth, smoother_matrix, smoothing_weight)
+from baseball_collision.tools.reference import smoothing_spline
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+
+steps = st.lists(st.floats(0.002, 0.012), min_size=5, max_size=16)
+
+
+def _times(steps) -> np.ndarray:
+    return np.concatenate([[0.0], np.cumsum(steps)])
+
+
+def test_natural_rule_matches_the_reference_reinsch_spline() -> None:
+    """Per column, the natural penalty with Reinsch's rule is the reference's smoothing spline."""
+    rng = np.random.default_rng(4)
+    times = np.cumsum(rng.uniform(0.008, 0.014, 24))
+    values = np.c_[np.sin(9.0 * times), 30.0 * times ** 3] + rng.normal(0.0, 1e-3, (24, 2))
+    expected, expected_slopes = smoothing_spline(times, values, 1e-3)
+    for column in range(2):
+        fitted, slopes = smooth(times, values[:, [column]], [1e-6], 'natural', 'samples')
+        assert np.allclose(fitted[:, 0], expected[:, column], atol=1e-9)
+        assert np.allclose(slopes[:, 0], expected_slopes[:, column], atol=1e-6)
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps, coefficients=st.lists(st.floats(-50.0, 50.0), min_size=4, max_size=4),
+       weight=st.floats(-6.0, 6.0))
+def test_not_a_knot_penalty_leaves_every_cubic_alone(steps, coefficients, weight) -> None:
+    """Every cubic costs nothing: whatever the weight, a cubic's samples come back unchanged."""
+    times = _times(steps)
+    a, b, c, d = coefficients
+    cubic = a + b * times + c * times ** 2 + d * times ** 3
+    matrix = penalty(times, 'not-a-knot')
+    scale = 1.0 + np.abs(cubic).max()
+    assert np.allclose(matrix @ cubic, 0.0, atol=1e-7 * scale * max(1.0, np.abs(matrix).max()))
+    smoothed = np.linalg.solve(np.eye(len(times)) + 10.0 ** weight * matrix, cubic)
+    assert np.allclose(smoothed, cubic, atol=1e-6 * scale)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps)
+def test_not_a_knot_penalty_is_the_squared_third_derivative_jumps(steps) -> None:
+    """
+    Brute force: y^T P y is the sum of squared f''' jumps at knots 2..n-3 (times mean step^3).
+
+    The jumps are measured on the not-a-knot interpolant by finite differences of its pieces
+    (numpy's polyfit through four dense points of each piece), not from the slopes.
+    """
+    times = _times(steps)
+    rng = np.random.default_rng(len(steps))
+    y = rng.normal(0.0, 1.0, len(times))
+    from baseball_collision.core.motion import not_a_knot_slopes
+    slopes = not_a_knot_slopes(times, y[:, None])[:, 0]
+    thirds = []
+    for i in range(len(times) - 1):
+        h = times[i + 1] - times[i]
+        s = np.linspace(0.0, 1.0, 4)
+        hermite = ((2 * s ** 3 - 3 * s ** 2 + 1) * y[i] + (s ** 3 - 2 * s ** 2 + s) * h * slopes[i]
+                   + (3 * s ** 2 - 2 * s ** 3) * y[i + 1] + (s ** 3 - s ** 2) * h * slopes[i + 1])
+        thirds.append(6.0 * np.polyfit(s * h, hermite, 3)[0])
+    jumps = np.diff(thirds)[1:-1] * np.mean(np.diff(times)) ** 3
+    assert y @ penalty(times, 'not-a-knot') @ y == pytest.approx(np.sum(jumps ** 2), rel=1e-6)
+
+
+def test_natural_slopes_are_a_natural_spline() -> None:
+    """The natural spline's slopes: exact for a line, and zero curvature at both ends."""
+    times = np.array([0.0, 0.3, 0.5, 1.1, 1.4])
+    line = (2.0 - 3.0 * times)[:, None]
+    assert np.allclose(natural_slopes(times, line)[:, 0], -3.0)
+    y = np.array([[0.0], [1.0], [0.5], [2.0], [1.0]])
+    m = natural_slopes(times, y)[:, 0]
+    h = np.diff(times)
+    # curvature at the ends of a cubic Hermite piece from its end values and slopes
+    start = (6.0 * (y[1, 0] - y[0, 0]) / h[0] - 4.0 * m[0] - 2.0 * m[1]) / h[0]
+    end = (-6.0 * (y[-1, 0] - y[-2, 0]) / h[-1] + 2.0 * m[-2] + 4.0 * m[-1]) / h[-1]
+    assert abs(start) < 1e-9 and abs(end) < 1e-9
+
+
+@pytest.mark.parametrize('kind', ['natural', 'not-a-knot'])
+def test_the_weight_meets_its_rule(kind: str) -> None:
+    """
+    The chosen weight makes the weighted residuals what the rule asks (samples or dof).
+
+    Unless even the stiffest fit leaves less: then it is taken (a projection onto the
+    penalty's null space, here under not-a-knot with Reinsch's rule).
+    """
+    rng = np.random.default_rng(8)
+    times = np.cumsum(rng.uniform(0.002, 0.004, 40))
+    clean = np.c_[np.sin(20.0 * times), np.cos(15.0 * times), times]
+    noisy = clean + rng.normal(0.0, 2e-3, clean.shape)
+    variances = np.full(3, 4e-6)
+    for target in ('samples', 'dof'):
+        matrix = smoother_matrix(times, noisy, variances, kind, target)
+        residual = np.sum((noisy - matrix @ noisy) ** 2 / variances)
+        goal = 3 * (len(times) - (np.trace(matrix) if target == 'dof' else 0.0))
+        if np.allclose(matrix @ matrix, matrix, atol=1e-9):
+            assert residual < goal and (kind, target) == ('not-a-knot', 'samples')
+        else:
+            assert residual == pytest.approx(goal, rel=1e-6)
+
+
+def test_likeliest_weight_matches_a_dense_marginal_likelihood() -> None:
+    """
+    Brute force: the weight maximising the Gaussian marginal likelihood, computed densely.
+
+    With the prior values ~ N(null-space, sigma^2 / lam P^+), the samples' covariance on the
+    penalty's range is sigma^2 (I + (lam P)^+); its log-likelihood over a fine grid of lam
+    peaks within the search's step (0.1 in log10) of the chosen weight.
+    """
+    rng = np.random.default_rng(5)
+    times = np.cumsum(rng.uniform(0.002, 0.004, 24))
+    values = np.c_[np.sin(40.0 * times), times ** 4 * 1e4] + rng.normal(0.0, 1e-3, (24, 2))
+    matrix = penalty(times, 'not-a-knot')
+    p, u = np.linalg.eigh(matrix)
+    rough = p > 1e-9 * p.max()
+    basis = u[:, rough]
+    chosen = smoothing_weight(p, u.T @ values, np.full(2, 1e-6), 'likelihood')
+    best, best_log = -np.inf, None
+    for log in np.arange(-6.0, 6.0, 0.01):
+        covariance = 1e-6 * (np.eye(rough.sum()) + np.linalg.pinv(
+            basis.T @ (10.0 ** log * matrix) @ basis))
+        _, logdet = np.linalg.slogdet(covariance)
+        projected = basis.T @ values
+        score = -sum(logdet + c @ np.linalg.solve(covariance, c) for c in projected.T)
+        if score > best:
+            best, best_log = score, log
+    assert abs(np.log10(chosen) - best_log) <= 0.11
+
+
+def test_smoothing_brings_noisy_samples_closer_to_the_truth() -> None:
+    """Over many noisy windows the smoothed values' error is well below the noise."""
+    rng = np.random.default_rng(2)
+    errors, raw = [], []
+    for _ in range(40):
+        times = np.cumsum(rng.uniform(0.002, 0.0035, 24))
+        clean = np.c_[0.5 * np.sin(12.0 * times), 3.0 * times ** 2, np.cos(7.0 * times)]
+        noisy = clean + rng.normal(0.0, 1e-3, clean.shape)
+        fitted, _ = smooth(times, noisy, [1e-6] * 3)
+        errors.append(fitted[4:-4] - clean[4:-4])
+        raw.append(noisy[4:-4] - clean[4:-4])
+    assert np.std(errors) < 0.6 * np.std(raw)
+
+
+def test_zero_variance_and_short_windows_interpolate() -> None:
+    """A column without noise, and four samples under the not-a-knot penalty, are kept."""
+    times = np.array([0.0, 0.01, 0.02, 0.035, 0.05, 0.06])
+    values = np.c_[np.sin(30.0 * times), np.cos(30.0 * times)]
+    fitted, _ = smooth(times, values + [[1e-3, 0.0]] * np.array([[1], [-1]] * 3),
+                       [1e-6, 0.0])
+    assert np.array_equal(fitted[:, 1], values[:, 1])
+    assert np.array_equal(smooth(times[:4], values[:4], [1e-6, 1e-6])[0], values[:4])
+
+
+def test_mismatched_shapes_and_unknown_choices_are_refused() -> None:
+    """Variances that do not match the columns, an unknown penalty or rule: ValueError."""
+    times = np.linspace(0.0, 0.1, 8)
+    values = np.zeros((8, 2))
+    with pytest.raises(ValueError, match='do not match'):
+        smooth(times, values, [1e-6])
+    with pytest.raises(ValueError, match='penalty'):
+        smooth(times, values, [1e-6, 1e-6], kind='quintic')
+    with pytest.raises(ValueError, match='target'):
+        smooth(times, values, [1e-6, 1e-6], target='gcv')
