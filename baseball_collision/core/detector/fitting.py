@@ -19,6 +19,8 @@ path's new chart origin: the rotation vectors' rates are carried over to it nume
 import math
 from typing import Any, List, Sequence, Tuple
 
+import numpy as np
+
 from .streams import Stream
 from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
