@@ -47,7 +47,7 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-fits': {'model': 'c2', VELOCITIES: 'fits'},
     'c2-before': {'model': 'c2', VELOCITIES: 'before'},
     'c2-window': {'model': 'c2', VELOCITIES: 'window'},
-    'c2-before-noise': {'model': 'c2', VELOCITIES: 'before'},
+    'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
     'c2-la2-noise': {'model': 'c2', 'look_ahead': 2},
     'c2-natural-noise': {'model': 'c2', SMOOTHER: ('natural', 'samples')},
@@ -57,8 +57,9 @@ METHODS: Dict[object, Dict[object, object]] = {
 """Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
 not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``). The
 smoothers (``fitting.SMOOTHER``: Reinsch's natural spline and weight rule, the not-a-knot
-penalty with the residual rules) and the former c2 velocity fits (``c2-fits``) measured
-against the chosen ones are set by their module constants for the run."""
+penalty with the residual rules) and the other c2 velocity rules (``c2-fits``: the former
+least-squares fits; ``c2-window``: the window fits reaching the closing frame) measured against
+the chosen ones are set by their module constants for the run."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),

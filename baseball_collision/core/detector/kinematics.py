@@ -313,6 +313,16 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
     return config.spline_window if many == (stream_noise(bat, config) == 0.0) else 0
 
 
+def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:
+    """
+    Return the interval whose window fits give ``c2``'s velocities for an impact in interval k.
+
+    The one before it, whose window (without look-ahead) ends at k's opening frame, so no
+    sample after the impact enters; k itself at a segment's start, where nothing comes before.
+    """
+    return k - 1 if k >= 1 and stream.continuous(k - 1, max_gap) else k
+
+
 VELOCITIES = 'auto'
 """c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
 opening frame, extrapolated to t), 'window' (the look-ahead-0 window fits' rates at t: they
@@ -349,12 +359,12 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
                                  ball_path, bat_path, spline_window_for(bat, t, config))
     gap, size = config.max_gap, config.spline_window
     k = ball.interval(ball_path.t0)
-    j = k - 1 if mode == 'before' and k >= 1 and ball.continuous(k - 1, gap) else k
+    j = velocity_interval(ball, k, gap) if mode == 'before' else k
     if j != k or config.look_ahead:
         ball_path = c2_point_path(ball, j, c2_window(ball, j, gap, 0, size),
                                   stream_noise(ball, config))
     k = bat.interval(bat_path.t0)
-    j = k - 1 if mode == 'before' and k >= 1 and bat.continuous(k - 1, gap) else k
+    j = velocity_interval(bat, k, gap) if mode == 'before' else k
     if j != k or config.look_ahead:
         bat_path = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size),
                                stream_noise(bat, config))

@@ -49,8 +49,10 @@ from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Impact
 from .fitting import (
-    bat_gains, c2_window, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN, point_gains, stream_noise)
+    bat_gains, c2_bat_path, c2_window, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN, point_gains,
+    stream_noise, swing_rate)
 from .gate import Clock
+from .kinematics import velocity_interval
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import axis_angle_quaternions, pose_point, quaternion_multiply, Vector
@@ -202,23 +204,25 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     ``bat_gains``), so the noise gives each path's position and rate at the impact a known
     spread; it moves the gap along the contact normal (the time: that over the closing speed),
     the contact along the bat (the spot: plus the time's share of the sliding along it), and
-    the sweet spot's velocity along itself (the speed; from the look-ahead-0 windows the
-    velocities come from).
+    the sweet spot's velocity along itself (the speed; from the windows the velocities come
+    from: ``kinematics.velocity_interval``; where they are extrapolated over up to a step, the
+    larger of that and the extrapolation's own error estimate: the difference from the
+    interval's own fits, which reach its closing frame).
     """
     ta = clock.time(impact.interval_start_ns)
     t = clock.time(impact.stamp_ns)
     ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     size, gap = config.spline_window, config.max_gap
-    gains = []
-    for look_ahead in sorted({config.look_ahead, 0}, reverse=True):
-        k = ball.interval(ta)
-        ball_value, _ = point_gains(ball, c2_window(ball, k, gap, look_ahead, size), k, t,
-                                    ball_sigma)
-        k = bat.interval(ta)
-        values, rates = bat_gains(bat, c2_window(bat, k, gap, look_ahead, size), k, t,
-                                  bat_sigma)
-        gains.append((ball_sigma * ball_value, values, rates))
-    (ball_error, (knob, turn, length), _), (_, _, (knob_rate, turn_rate, _)) = gains[0], gains[-1]
+    k = ball.interval(ta)
+    ball_value, _ = point_gains(ball, c2_window(ball, k, gap, config.look_ahead, size), k, t,
+                                ball_sigma)
+    ball_error = ball_sigma * ball_value
+    k = bat.interval(ta)
+    (knob, turn, length), _ = bat_gains(bat, c2_window(bat, k, gap, config.look_ahead, size),
+                                        k, t, bat_sigma)
+    j = velocity_interval(bat, k, gap)  # the velocities' windows: samples before the impact
+    _, (knob_rate, turn_rate, _) = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,
+                                             bat_sigma)
     normal = np.asarray(impact.normal)
     axis = np.subtract(impact.tip, impact.knob)
     bat_length = float(np.linalg.norm(axis))
@@ -239,6 +243,13 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     across = float(np.sum(np.cross(axis, velocity / speed) ** 2)) if speed > 0.0 else 1.0
     lever = max(0.0, bat_length - config.sweet_spot_from_tip)
     speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * across)
+    if j != k:  # the extrapolation over up to a step: its own error estimate, the difference
+        path = c2_bat_path(bat, k, c2_window(bat, k, gap, 0, size), bat_sigma)  # from the
+        knob_at, tip_at = (np.asarray(end) for end in path.at(t))  # interval's own fits
+        sweet = knob_at + lever * (tip_at - knob_at) / float(np.linalg.norm(tip_at - knob_at))
+        interpolated = np.asarray(path.knob.velocity(t)) + np.cross(swing_rate(path, t),
+                                                                    sweet - knob_at)
+        speed_sigma = max(speed_sigma, abs(float(np.linalg.norm(interpolated)) - speed))
     return time_sigma, spot_sigma, speed_sigma
 
 
