@@ -496,7 +496,8 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
         level = Level.WARN
         problems_seen.append('about ' + ', '.join(
             f'{count} messages lost on {snapshot.topics.get(stream, stream)}'
-            for stream, count in sorted(lost_now.items())) + ' (gaps in the stamps)')
+            for stream, count in sorted(lost_now.items()))
+            + " (gaps in the publishers' sequence numbers or stamps)")
     if resets_now:
         level = max(level, Level.ERROR if resets_now >= RESETS_ERROR else Level.WARN)
         problems_seen.append(f'state reset {resets_now} time(s) (see the log)')

@@ -151,7 +151,7 @@ class ImpactNode(Node):
         for each in chosen:  # a profile each: overrides change it
             self.endpoints.subscribe(each.stream, each.msg_type, s[each.topic_parameter],
                                      input_callback(self._take, each, self.detector),
-                                     input_qos(s['qos'] == 'reliable', s['qos_depth']))
+                                     input_qos(s['qos'], s['qos_depth']))
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
                                                       _VIEWS)
