@@ -205,9 +205,10 @@ class PublisherGaps:
     x its typical step) by more than ``OTHER_PUBLISHER_NS`` for the next number, or by more
     than two typical steps past a gap (the skipped messages needed that time; a pause only
     adds to it). The message joins first a track whose prediction it fits (within two typical
-    steps; ``OTHER_PUBLISHER_NS`` while the step is unknown), then the one whose stamp and
-    skipped messages leave the least time unexplained (a pause before the next number
-    explains itself), then the nearest. Without a candidate it starts a track
+    steps; ``OTHER_PUBLISHER_NS`` while the step is unknown, or the stream's while a new track
+    does not know its own), then the one whose stamps' mean pace (pauses included) predicts
+    its stamp best (a pause before the next number explains itself). Without a candidate it
+    starts a track
     of its own (a stale publisher 3 s behind, one that joined late with larger numbers,
     a jump back); the first message of a track counts nothing before it. Within a track,
     consecutive numbers whose stamps skip steps (a tracker that dropped frames upstream,
@@ -215,8 +216,10 @@ class PublisherGaps:
     ``LOSS_GAP_MAX_NS``, confirmed by a typical step after), so the two never count a message
     twice.
 
-    Ambiguous only when publishers share a clock, or when a loss spans a pause and another
-    publisher's numbers and stamps happen to fit the message within two steps.
+    Ambiguous when publishers share a clock, or when a loss spans a pause and another
+    publisher's numbers and stamps happen to predict the message as well: measured, exact on
+    the fault benchmark's streams with random bursts lost (10 of 10 runs), 13 of 1,500 random
+    three-publisher cases with a 1.5 s pause miscounted (``test_health``).
 
     :ivar lost: messages lost so far (numbers skipped, and stamps skipped between consecutive
         numbers).
@@ -225,11 +228,12 @@ class PublisherGaps:
     MAX_TRACKS = 8
     """Publishers tracked at once; the one heard from longest ago makes room for a new one."""
 
-    __slots__ = ('_tracks', '_skipped')
+    __slots__ = ('_tracks', '_skipped', '_typical')
 
     def __init__(self) -> None:
         self._tracks: List[List] = []  # [last number, last stamp ns, StampGaps], newest used first
         self._skipped = 0
+        self._typical = 0  # the last typical step a track knew: a new track's until it knows
 
     @property
     def lost(self) -> int:
@@ -246,7 +250,7 @@ class PublisherGaps:
             if track is None:  # a new publisher (or one that restarted)
                 gaps = StampGaps(confirm=True)
                 gaps.take(stamp_ns)
-                tracks.insert(0, [sequence, stamp_ns, gaps])
+                tracks.insert(0, [sequence, stamp_ns, gaps, sequence, stamp_ns])
                 if len(tracks) > self.MAX_TRACKS:
                     self._retire(tracks.pop())
                 return
@@ -264,10 +268,14 @@ class PublisherGaps:
         """Return the track a message belongs to (see the class), None for a new one."""
         best, best_rank = None, None
         for track in self._tracks:
-            last, last_stamp, gaps = track
+            last, last_stamp, gaps, first, first_stamp = track
             if last >= sequence:
                 continue
             typical = gaps.typical_ns
+            if typical:
+                self._typical = typical
+            else:
+                typical = self._typical
             steps = sequence - last
             error = stamp_ns - last_stamp - steps * typical
             fit = 2 * typical or OTHER_PUBLISHER_NS
@@ -275,8 +283,9 @@ class PublisherGaps:
                 continue  # the next number, but stamped far behind: another publisher
             if steps > 1 and error < -fit:
                 continue  # stamps advanced less than the skipped messages took: another one
-            unexplained = (0 if steps == 1 and error > 0 else abs(error)) + (steps - 1) * typical
-            rank = (abs(error) > fit, unexplained, abs(error))
+            mean = (last_stamp - first_stamp) / (last - first) if last - first >= 8 else typical
+            off = stamp_ns - last_stamp - steps * mean  # against its stamps' mean pace
+            rank = (abs(error) > fit, 0 if steps == 1 and off > 0 else abs(off), steps)
             if best_rank is None or rank < best_rank:
                 best, best_rank = track, rank
         return best
