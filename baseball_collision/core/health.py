@@ -204,7 +204,8 @@ class PublisherGaps:
     where the stamp is not behind the track's prediction (its last stamp + the numbers between
     x its typical step) by more than ``OTHER_PUBLISHER_NS`` for the next number, or by more
     than two typical steps past a gap (the skipped messages needed that time; a pause only
-    adds to it). The message joins first a track whose prediction it fits (within two typical
+    adds to it; judged from the message before the last too, in case the last was a glitch
+    ahead). The message joins first a track whose prediction it fits (within two typical
     steps; ``OTHER_PUBLISHER_NS`` while the step is unknown, or the stream's while a new track
     does not know its own), then the one whose stamps' mean pace (pauses included) predicts
     its stamp best (a pause before the next number explains itself). Without a candidate it
@@ -231,7 +232,9 @@ class PublisherGaps:
     __slots__ = ('_tracks', '_skipped', '_typical')
 
     def __init__(self) -> None:
-        self._tracks: List[List] = []  # [last number, last stamp ns, StampGaps], newest used first
+        # [last number, last stamp ns, StampGaps, first number, first stamp, (number, stamp)
+        # of the message before the last or None], the one used last first
+        self._tracks: List[List] = []
         self._skipped = 0
         self._typical = 0  # the last typical step a track knew: a new track's until it knows
 
@@ -250,13 +253,14 @@ class PublisherGaps:
             if track is None:  # a new publisher (or one that restarted)
                 gaps = StampGaps(confirm=True)
                 gaps.take(stamp_ns)
-                tracks.insert(0, [sequence, stamp_ns, gaps, sequence, stamp_ns])
+                tracks.insert(0, [sequence, stamp_ns, gaps, sequence, stamp_ns, None])
                 if len(tracks) > self.MAX_TRACKS:
                     self._retire(tracks.pop())
                 return
             tracks.remove(track)
             tracks.insert(0, track)
         skipped = sequence - track[0] - 1
+        track[5] = (track[0], track[1])  # the message before: a glitched last stamp's check
         track[0], track[1] = sequence, stamp_ns
         if skipped:
             self._skipped += skipped
@@ -268,7 +272,7 @@ class PublisherGaps:
         """Return the track a message belongs to (see the class), None for a new one."""
         best, best_rank = None, None
         for track in self._tracks:
-            last, last_stamp, gaps, first, first_stamp = track
+            last, last_stamp, gaps, first, first_stamp, before = track
             if last >= sequence:
                 continue
             typical = gaps.typical_ns
@@ -281,6 +285,8 @@ class PublisherGaps:
             fit = 2 * typical or OTHER_PUBLISHER_NS
             if steps == 1 and error < -OTHER_PUBLISHER_NS:
                 continue  # the next number, but stamped far behind: another publisher
+            if steps > 1 and error < -fit and before is not None:  # the last a glitch ahead?
+                error = max(error, stamp_ns - before[1] - (sequence - before[0]) * typical)
             if steps > 1 and error < -fit:
                 continue  # stamps advanced less than the skipped messages took: another one
             mean = (last_stamp - first_stamp) / (last - first) if last - first >= 8 else typical

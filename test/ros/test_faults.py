@@ -283,8 +283,10 @@ def test_every_lost_message_is_reported_across_a_pause_and_a_stale_publisher(
             stale.publish(point_msg(ns - 3 * SECOND, pitch(2.0)(t)))
             sent['ball'] += 2
             sent['bat_pose'] += 1
-    frames(range(30))
-    h.processed(30)  # queues of 20: a burst of 30 frames may lose some already
+    frames(range(1))
+    h.processed(3)  # each publisher's first message arrives (no count can see losses before it)
+    frames(range(1, 30))  # queues of 20: a burst of 29 frames may lose some already
+    h.processed(20)
     with h.node._lock:  # the node stalls in a callback: each queue keeps its newest 20
         frames(range(30, 130))
         time.sleep(1.5)  # a pause (stamps too) in the middle of the losses
