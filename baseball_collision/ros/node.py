@@ -25,13 +25,14 @@ events come back out as messages:
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
 
-Inputs are subscribed with ``qos``/``qos_depth``, which the standard
+Inputs are subscribed with ``qos``/``qos_depth`` (``reliable_all``: keep all), which the standard
 ``qos_overrides./TOPIC.subscription.{reliability,history,depth}`` parameters override.
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
-table (``parameters``), conversions are in ``messages``, markers in ``markers``, the status
-in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See ``config/impact_node.yaml``
-for every parameter.
+table (``parameters``), the input streams (with each message's publication sequence number, for
+the loss count) and the drop warnings are in ``inputs``, conversions in ``messages``, markers in
+``markers``, the status in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See
+``config/impact_node.yaml`` for every parameter.
 """
 
 from dataclasses import replace
