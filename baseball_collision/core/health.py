@@ -203,7 +203,8 @@ class PublisherGaps:
     most ``MAX_TRACKS``). Candidates are the tracks whose last number is below the message's,
     where the stamp is not behind the track's prediction (its last stamp + the numbers between
     x its typical step) by more than ``OTHER_PUBLISHER_NS`` for the next number, or by more
-    than two typical steps past a gap (the skipped messages needed that time; a pause only
+    than two typical steps and a twelfth of the skipped ones past a gap (the skipped messages
+    needed that time, less the error of a typical step learnt from jittery stamps; a pause only
     adds to it; judged from the message before the last too, in case the last was a glitch
     ahead). The message joins first a track whose prediction it fits (within two typical
     steps; ``OTHER_PUBLISHER_NS`` while the step is unknown, or the stream's while a new track
@@ -285,9 +286,10 @@ class PublisherGaps:
             fit = 2 * typical or OTHER_PUBLISHER_NS
             if steps == 1 and error < -OTHER_PUBLISHER_NS:
                 continue  # the next number, but stamped far behind: another publisher
-            if steps > 1 and error < -fit and before is not None:  # the last a glitch ahead?
+            slack = fit + steps * typical // 12  # the typical step learnt off by jitter
+            if steps > 1 and error < -slack and before is not None:  # the last a glitch ahead?
                 error = max(error, stamp_ns - before[1] - (sequence - before[0]) * typical)
-            if steps > 1 and error < -fit:
+            if steps > 1 and error < -slack:
                 continue  # stamps advanced less than the skipped messages took: another one
             mean = (last_stamp - first_stamp) / (last - first) if last - first >= 8 else typical
             off = stamp_ns - last_stamp - steps * mean  # against its stamps' mean pace
