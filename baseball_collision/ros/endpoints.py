@@ -21,12 +21,18 @@ from .messages import type_name
 from ..errors import RosError
 
 
-def input_qos(reliable: bool, depth: int) -> QoSProfile:
-    """Return the inputs' QoS: reliable or best effort (``qos``), ``depth`` deep, volatile."""
+def input_qos(qos: str, depth: int) -> QoSProfile:
+    """
+    Return the inputs' QoS for the ``qos`` parameter, volatile.
+
+    ``sensor_data``: best effort, keep last ``depth``; ``reliable``: reliable, keep last
+    ``depth``; ``reliable_all``: reliable, keep all (no unread message is overwritten).
+    """
+    keep_all = qos == 'reliable_all'
     return QoSProfile(
-        history=HistoryPolicy.KEEP_LAST, depth=depth,
-        reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-        durability=DurabilityPolicy.VOLATILE)
+        history=HistoryPolicy.KEEP_ALL if keep_all else HistoryPolicy.KEEP_LAST, depth=depth,
+        reliability=ReliabilityPolicy.BEST_EFFORT if qos == 'sensor_data'
+        else ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
 class Endpoints:

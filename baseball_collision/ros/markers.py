@@ -7,7 +7,7 @@ is plain data made by :mod:`baseball_collision.core.scene`; this module only con
 ``MarkerArray``. Lengths are metres; lifetimes seconds (0: until replaced).
 """
 
-from typing import List, Optional, Sequence, Tuple
+from typing import Any, List, Mapping, Optional, Sequence, Tuple
 
 from builtin_interfaces.msg import Duration as DurationMsg
 from std_msgs.msg import ColorRGBA, Header
@@ -17,10 +17,11 @@ from .messages import NS_PER_S, stamped_header, to_point
 from ..core.detector import DetectorConfig, Impact
 from ..core.geometry import Vector
 from ..core.scene import (
-    bat_ends, bat_items, Color, impact_scene, Item, live_items, Scene, Shape, sphere_item)
+    bat_ends, bat_items, Color, impact_scene, Item, live_items, live_scene, Scene, Shape,
+    sphere_item)
 
-__all__ = ['bat_ends', 'bat_markers', 'impact_markers', 'lifetime', 'live_markers',
-           'scene_markers', 'sphere_marker', 'to_marker']
+__all__ = ['bat_ends', 'bat_markers', 'impact_markers', 'latest_scene', 'lifetime',
+           'live_markers', 'scene_markers', 'sphere_marker', 'to_marker']
 
 MARKER_TYPES = {Shape.CYLINDER: Marker.CYLINDER, Shape.SPHERE: Marker.SPHERE,
                 Shape.ARROW: Marker.ARROW, Shape.TEXT: Marker.TEXT_VIEW_FACING}
@@ -102,3 +103,22 @@ def live_markers(header: Header, ball: Optional[Vector],
     """
     return MarkerArray(markers=[to_marker(item, header)
                                 for item in live_items(ball, ends, config, lifetime_s)])
+
+
+def latest_scene(last: Mapping[str, Tuple[int, Tuple[Any, ...]]], frame_id: str,
+                 config: DetectorConfig, lifetime_s: float) -> Optional[Scene]:
+    """
+    Return the live bat and ball from the last accepted values of each stream, or None.
+
+    :param last: per stream (``ball``, ``bat_pose``, ``knob``, ``tip``), the stamp (ns) and
+        the values its detector method took (m; quaternion ``x, y, z, w``); not empty.
+    :param lifetime_s: how long the markers last (s).
+    :returns: the scene stamped with the newest stamp; None when there is neither a ball nor
+        a whole bat.
+    """
+    newest = max(stamp for stamp, _ in last.values())
+    values = {stream: value for stream, (_, value) in last.items()}
+    ball, ends = values.get('ball'), bat_ends(values, config)
+    if ball is None and ends is None:
+        return None
+    return live_scene(newest, frame_id, ball and ball[0], ends, config, lifetime_s)

@@ -25,13 +25,14 @@ events come back out as messages:
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
 
-Inputs are subscribed with ``qos``/``qos_depth``, which the standard
+Inputs are subscribed with ``qos``/``qos_depth`` (``reliable_all``: keep all), which the standard
 ``qos_overrides./TOPIC.subscription.{reliability,history,depth}`` parameters override.
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
-table (``parameters``), conversions are in ``messages``, markers in ``markers``, the status
-in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See ``config/impact_node.yaml``
-for every parameter.
+table (``parameters``), the input streams (with each message's publication sequence number, for
+the loss count) and the drop warnings are in ``inputs``, conversions in ``messages``, markers in
+``markers``, the status in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See
+``config/impact_node.yaml`` for every parameter.
 """
 
 from dataclasses import replace
@@ -42,7 +43,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
+from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
@@ -58,18 +59,16 @@ from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import report, silent_streams, take_snapshot, Tally
 from .endpoints import Endpoints, input_qos
-from .markers import bat_ends, impact_markers, scene_markers
+from .inputs import DropWarnings, input_callback, input_streams, WARN_PERIOD_S
+from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
-    describe_drop, describe_listening, event_output, EventOutput, format_stamp, NS_PER_S,
-    plan_arrays, stamp_to_ns, xyz, xyzw)
+    describe_listening, event_output, EventOutput, format_stamp, NS_PER_S, plan_arrays,
+    stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import Detector, Event, Impact, NODE_NAME, SPECS, StateReset
 from ..core.prediction import MAX_PLAN_POSES
-from ..core.scene import live_scene, Scene
+from ..core.scene import Scene
 from ..errors import CoreError, RosError
-
-WARN_PERIOD_S = 2.0
-"""Shortest time (s) between two log lines of one kind (rclpy's throttle; per drop reason)."""
 
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
@@ -112,7 +111,7 @@ class ImpactNode(Node):
         self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._clock_jump_at = -math.inf
-        self._drop_loggers: Dict[str, Any] = {}
+        self._drop_warnings = DropWarnings(self.get_logger().name)
         try:
             self._start()
         except RosError:
@@ -148,44 +147,17 @@ class ImpactNode(Node):
     def _subscribe_inputs(self) -> None:
         """Subscribe to the inputs ``ball_type`` and ``bat_input`` name (raises RosError)."""
         s = self.settings
-        inputs = [('ball', PointStamped, s['ball_topic'], self._on_ball_point)
-                  if s['ball_type'] == 'point' else
-                  ('ball', PoseStamped, s['ball_topic'], self._on_ball_pose)]
-        if s['bat_input'] == 'pose':
-            inputs.append(('bat_pose', PoseStamped, s['bat_pose_topic'], self._on_bat_pose))
-        else:
-            inputs += [('knob', PointStamped, s['knob_topic'], self._on_knob),
-                       ('tip', PointStamped, s['tip_topic'], self._on_tip)]
-        self._streams = tuple(stream for stream, _, _, _ in inputs)
-        for stream, msg_type, topic, callback in inputs:  # a profile each: overrides change it
-            self.endpoints.subscribe(stream, msg_type, topic, callback,
-                                     input_qos(s['qos'] == 'reliable', s['qos_depth']))
+        chosen = input_streams(s.values)
+        self._streams = tuple(each.stream for each in chosen)
+        for each in chosen:  # a profile each: overrides change it
+            self.endpoints.subscribe(each.stream, each.msg_type, s[each.topic_parameter],
+                                     input_callback(self._take, each, self.detector),
+                                     input_qos(s['qos'], s['qos_depth']))
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
                                                       _VIEWS)
 
-    # ---- one callback per input ----------------------------------------------------------
-
-    def _on_ball_point(self, message: PointStamped) -> None:
-        """Take a ball centre (m) from a PointStamped."""
-        self._take('ball', message.header, self.detector.add_ball, xyz(message.point))
-
-    def _on_ball_pose(self, message: PoseStamped) -> None:
-        """Take a ball centre (m) from a PoseStamped's position."""
-        self._take('ball', message.header, self.detector.add_ball, xyz(message.pose.position))
-
-    def _on_bat_pose(self, message: PoseStamped) -> None:
-        """Take a bat pose (position m, orientation)."""
-        self._take('bat_pose', message.header, self.detector.add_bat_pose,
-                   xyz(message.pose.position), xyzw(message.pose.orientation))
-
-    def _on_knob(self, message: PointStamped) -> None:
-        """Take the bat's knob end (m)."""
-        self._take('knob', message.header, self.detector.add_knob, xyz(message.point))
-
-    def _on_tip(self, message: PointStamped) -> None:
-        """Take the bat's barrel end (m)."""
-        self._take('tip', message.header, self.detector.add_tip, xyz(message.point))
+    # ---- input ---------------------------------------------------------------------------
 
     def _on_plan(self, message: Path) -> None:
         """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
@@ -210,14 +182,18 @@ class ImpactNode(Node):
                                   throttle_duration_sec=WARN_PERIOD_S)
 
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
-              *values: Any) -> None:
-        """Feed one message to the detector, publish what it decided, count and time it."""
+              *values: Any, sequence: Optional[int] = None) -> None:
+        """
+        Feed one message to the detector, publish what it decided, count and time it.
+
+        :param sequence: its publication sequence number (None: the RMW gives none).
+        """
         start = time.perf_counter()
         stamp = stamp_to_ns(header.stamp)
         frame = header.frame_id
         with self._lock:
             self.tally.arrived(stream, time.monotonic())
-            self.tally.stamped(stream, stamp)
+            self.tally.stamped(stream, stamp, sequence)
             events = add_sample(stamp, *values, frame)
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
@@ -230,29 +206,17 @@ class ImpactNode(Node):
                     self._clear_markers(event.stamp_ns, expected or frame)
                 self._publish(event_output(event, frame or expected or '', self._markers,
                                            config))
+        warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
-            self._warn_drop(stream, dropped, frame, expected, stamp)
+            warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
         for each in late:  # samples that waited (a held glitch, a frame vote) dropped now
-            self._warn_drop(each.role, each.reason, each.frame_id, expected, each.stamp_ns)
+            warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
+                 expected, each.stamp_ns, stats.dropped[each.reason])
         self._record_processing(time.perf_counter() - start)
 
     def _record_processing(self, elapsed_s: float) -> None:
         """Account the wall time (s) one message took in its callback."""
         self.tally.period.record(elapsed_s)
-
-    def _warn_drop(self, stream: str, reason: str, frame: str, expected: Optional[str],
-                   stamp: int) -> None:
-        """Warn about a dropped sample, each reason at most once every ``WARN_PERIOD_S``."""
-        logger = self._drop_loggers.get(reason)
-        if logger is None:  # a logger per reason: rclpy throttles per logger and call site
-            logger = self._drop_loggers[reason] = rclpy.logging.get_logger(
-                self.get_logger().name)
-        logger.warning(
-            f'dropped a {stream} sample on {self.endpoints.topics.get(stream, stream)}: '
-            f'{reason}: '
-            f'{describe_drop(reason, frame, expected, stamp)}; '
-            f'{self.detector.stats.dropped[reason]} dropped for this reason so far',
-            throttle_duration_sec=WARN_PERIOD_S)
 
     # ---- events --------------------------------------------------------------------------
 
@@ -302,18 +266,13 @@ class ImpactNode(Node):
             last = dict(self._last_values)
             frame = self.detector.frame_id or ''
             config = self.detector.config
-        if not last:
-            return
-        newest = max(stamp for stamp, _ in last.values())
-        if newest == self._markers_stamp:
+        newest = max((stamp for stamp, _ in last.values()), default=None)
+        if newest is None or newest == self._markers_stamp:
             return  # nothing new: no republish
         self._markers_stamp = newest
-        values = {stream: value for stream, (_, value) in last.items()}
-        ball, ends = values.get('ball'), bat_ends(values, config)
-        if ball is None and ends is None:
-            return
-        self._outputs['markers'].publish(scene_markers(live_scene(
-            newest, frame, ball and ball[0], ends, config, 2.0 / self.settings['marker_rate'])))
+        scene = latest_scene(last, frame, config, 2.0 / self.settings['marker_rate'])
+        if scene is not None:
+            self._outputs['markers'].publish(scene_markers(scene))
 
     # ---- services and clock --------------------------------------------------------------
 

@@ -8,14 +8,21 @@ Every topic of the bag whose type rclpy can import is published with its own nam
 * ``/clock`` (``rosgraph_msgs/Clock``) at ``clock_hz``: the bag time the pacing has reached, so
   nodes with ``use_sim_time`` follow the bag. ``loop`` restarts from the first message, and the
   clock jumps back (a node resets on that).
-* QoS: reliable, volatile, keep-last with a deep queue (``depth``), so a reliable subscriber
-  whose own queue is deep enough for the rate gets every message; at the end the player waits
-  until the subscribers acknowledged everything. What it cannot promise it says
-  (``replay_summary``): an acknowledgement wait that timed out (``ack_timeouts``), publishing
-  that fell behind the schedule (``late_s``: the player could not keep the rate), and a
-  best-effort subscriber (``best_effort_subscribers``: it may drop under load). Pacing by
-  acknowledgements during the playback was tried and dropped: Fast DDS acknowledges on its
-  heartbeat (every 3 s by default), so each wait cost seconds.
+* QoS: reliable, volatile, keep-last ``depth`` deep. Delivery: a publisher never holds more
+  than ``depth // 2`` messages its reliable subscribers have not acknowledged (after that many
+  it waits for their acknowledgements, and the schedule resumes from there), so its keep-last
+  queue never overwrites a message a subscriber has not received: a reliable keep-all
+  subscriber (``impact_node``: ``qos:=reliable_all``) gets every message at any rate, the
+  playback slowing to what it takes in. An acknowledgement says a message reached the
+  subscriber's queue, not that it was read: a reliable keep-last subscriber that falls more
+  than its depth behind loses the oldest unread ones, whatever the player does (measured: a
+  depth-100 subscriber got 572 of 3,000 messages sent at once, every one acknowledged). What it
+  cannot promise it says (``replay_summary``): an acknowledgement wait that timed out
+  (``ack_timeouts``), publishing that fell behind the schedule (``late_s``: the player could
+  not keep the rate; the acknowledgement waits, ``ack_wait_s``, are not counted), keep-last
+  subscribers (``keep_last_subscribers``) and best-effort ones (``best_effort_subscribers``),
+  which may drop under load. Fast DDS acknowledges on its heartbeat (every 3 s by default):
+  one wait per ``depth // 2`` messages costs up to that.
 * Every message is published as serialised CDR bytes (an rclpy publisher takes ``bytes``):
   ROS 2 bags (MCAP, sqlite3) as recorded, ROS 1 bags converted by rosbags
   (:class:`baseball_collision.bags.RawBag`; ``header.seq`` has no ROS 2 counterpart and is
@@ -31,7 +38,7 @@ from pathlib import Path
 import sys
 import threading
 import time
-from typing import Any, Dict, IO, List, Optional, Sequence
+from typing import Any, Dict, IO, List, Optional, Sequence, Tuple
 
 import rclpy
 from rclpy.duration import Duration
@@ -47,6 +54,11 @@ CLOCK_TOPIC = '/clock'
 
 DEFAULT_DEPTH = 10000
 """Keep-last depth of every replay publisher (messages)."""
+
+ACK_TIMEOUT_S = 60.0
+"""How long (s) one wait for acknowledgements may take: a keep-all subscriber that fell behind
+acknowledges only as it takes messages from its full queue, so the wait lasts as long as the
+subscriber needs to catch up; past this the subscriber is taken as stuck (counted, warned)."""
 
 LATE_WARN_S = 0.1
 """Publishing this late (s, wall time) against the schedule is said at the end."""
@@ -83,7 +95,12 @@ class ReplayResult:
         ended at the end of a pass).
     :ivar ack_timeouts: waits for acknowledgements that timed out: a reliable subscriber did
         not keep up and may have lost messages.
-    :ivar late_s: the most a message was published after its due time (s, wall time).
+    :ivar late_s: the most a message was published after its due time (s, wall time; the
+        acknowledgement waits shift the schedule and are not lateness).
+    :ivar ack_waits: waits for acknowledgements (one per ``depth // 2`` messages of a topic,
+        and at the end); ``ack_wait_s``: their total wall time (s).
+    :ivar keep_last_subscribers: ``(topic, depth)`` of the reliable keep-last subscribers
+        matched at the end (each may lose what it falls more than ``depth`` behind).
     :ivar best_effort_subscribers: topics with a best-effort subscriber matched at the end.
     :ivar skipped_topics: topics not published (type unknown to rclpy, several types, or a
         ROS 1 type without a ROS 2 definition), sorted.
@@ -95,6 +112,9 @@ class ReplayResult:
     in_loop: int = 0
     ack_timeouts: int = 0
     late_s: float = 0.0
+    ack_waits: int = 0
+    ack_wait_s: float = 0.0
+    keep_last_subscribers: List[Tuple[str, int]] = field(default_factory=list)
     best_effort_subscribers: List[str] = field(default_factory=list)
     skipped_topics: List[str] = field(default_factory=list)
 
@@ -113,9 +133,10 @@ class BagPlayer:
     :param path: ROS 2 bag directory, ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     :param rate: playback speed factor (> 0; 2.0 plays twice as fast).
     :param clock_hz: ``/clock`` publication rate (Hz, wall time); 0 for no clock.
-    :param depth: keep-last depth of the publishers.
+    :param depth: keep-last depth of the publishers (>= 2); each waits for acknowledgements
+        after ``depth // 2`` messages.
     :raises RosError: a missing or unreadable bag, an empty one, no topic rclpy knows, or a
-        bad rate.
+        bad rate or depth.
     """
 
     def __init__(self, node: Node, path: os.PathLike, rate: float = 1.0,
@@ -124,10 +145,13 @@ class BagPlayer:
             raise RosError(f'rate must be a finite number > 0, got {rate}')
         if not clock_hz >= 0.0:
             raise RosError(f'clock rate must be >= 0 Hz, got {clock_hz}')
+        if depth < 2:
+            raise RosError(f'depth must be at least 2 messages, got {depth}')
         self.node = node
         self.path = Path(path)
         self.rate = float(rate)
         self.clock_period = 1.0 / clock_hz if clock_hz > 0.0 else 0.0
+        self.window = depth // 2
         self.result = ReplayResult()
         self._bag = self._open()
         self._publishers: Dict[str, Any] = {}
@@ -217,14 +241,14 @@ class BagPlayer:
             self._clock.publish(message)
 
     def play(self, loop: bool = False, stop: Optional[threading.Event] = None,
-             ack_timeout_s: float = 5.0) -> ReplayResult:
+             ack_timeout_s: float = ACK_TIMEOUT_S) -> ReplayResult:
         """
         Publish the bag (again and again with ``loop``) until done or ``stop`` is set.
 
         :param loop: restart at the end (the clock jumps back to the bag start).
         :param stop: an event that ends the playback when set.
         :param ack_timeout_s: how long to wait for reliable subscribers to acknowledge what
-            was published, every ``ACK_EVERY`` messages and at the end (s).
+            was published, every ``depth // 2`` messages of a topic and at the end (s).
         :returns: the counts (also kept in :attr:`result`; ``seconds`` is set however the
             playback ends, Ctrl-C included).
         :raises RosError: the bag turns out corrupt while reading.
@@ -243,6 +267,8 @@ class BagPlayer:
         period = self.clock_period
         scale = 1e-9 / self.rate
         result = self.result
+        unacked = dict.fromkeys(publishers, 0)
+        window = self.window
         try:
             while not (stop is not None and stop.is_set()):
                 result.in_loop = 0
@@ -270,6 +296,11 @@ class BagPlayer:
                     publishers[topic].publish(data)
                     result.messages += 1
                     result.in_loop += 1
+                    unacked[topic] += 1
+                    if unacked[topic] >= window:  # its queue must not overwrite unreceived ones
+                        unacked[topic] = 0
+                        wall0 += self._await_acks(ack_timeout_s, [publishers[topic]])
+                        next_clock = time.monotonic() + period
                 result.loops += 1
                 result.in_loop = 0
                 if not loop:
@@ -283,21 +314,36 @@ class BagPlayer:
             raise RosError(f'replay of {self.path} failed: {text.splitlines()[0]}') from error
         return self._finish(started, ack_timeout_s)
 
-    def _await_acks(self, ack_timeout_s: float) -> None:
-        """Wait until the reliable subscribers acknowledged everything (count a timeout)."""
+    def _await_acks(self, ack_timeout_s: float, publishers: Sequence[Any]) -> float:
+        """
+        Wait until the reliable subscribers acknowledged what ``publishers`` sent.
+
+        Counts the wait and a timeout; returns the wall time it took (s).
+        """
+        started = time.monotonic()
         timeout = Duration(nanoseconds=int(ack_timeout_s * 1e9))
         acked = [publisher.wait_for_all_acked(timeout)  # each waits, whatever the others did
-                 for publisher in self._publishers.values()]
+                 for publisher in publishers]
         if not all(acked):
             self.result.ack_timeouts += 1
+        waited = time.monotonic() - started
+        self.result.ack_waits += 1
+        self.result.ack_wait_s += waited
+        return waited
 
     def _finish(self, started: float, ack_timeout_s: float) -> ReplayResult:
-        """Wait for acknowledgements, note best-effort subscribers; record the wall time."""
-        self._await_acks(ack_timeout_s)
-        self.result.best_effort_subscribers = sorted(
-            topic for topic, publisher in self._publishers.items()
-            if any(info.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT
-                   for info in self.node.get_subscriptions_info_by_topic(topic)))
+        """Wait for acknowledgements, note lossy subscribers; record the wall time."""
+        self._await_acks(ack_timeout_s, list(self._publishers.values()))
+        keep_last, best_effort = set(), set()
+        for topic in self._publishers:
+            for info in self.node.get_subscriptions_info_by_topic(topic):
+                profile = info.qos_profile
+                if profile.reliability == ReliabilityPolicy.BEST_EFFORT:
+                    best_effort.add(topic)
+                elif profile.history == HistoryPolicy.KEEP_LAST:
+                    keep_last.add((topic, int(profile.depth)))
+        self.result.keep_last_subscribers = sorted(keep_last)
+        self.result.best_effort_subscribers = sorted(best_effort)
         self.result.seconds = time.monotonic() - started
         return self.result
 
@@ -340,6 +386,11 @@ def replay_summary(result: ReplayResult, per_pass: int, loop: bool) -> str:
     if result.late_s > LATE_WARN_S:
         line += (f'; WARNING: publishing fell up to {result.late_s:.2f} s behind the schedule '
                  '(this machine could not keep the rate)')
+    if result.keep_last_subscribers:
+        line += ('; note: reliable keep-last subscriber(s) on ' + ', '.join(
+            f'{topic} (depth {depth})' for topic, depth in result.keep_last_subscribers)
+            + ' lose what they fall more than their depth behind (keep-all subscribers get '
+            'every message; impact_node: qos:=reliable_all)')
     if result.best_effort_subscribers:
         line += ('; note: best-effort subscriber(s) on '
                  f"{', '.join(result.best_effort_subscribers)} may drop messages under load")

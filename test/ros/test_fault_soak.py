@@ -38,7 +38,7 @@ def test_faults_in_turn_at_250_hz() -> None:
     assert soak.node['dropped'].get('stamp_ahead', 0) <= plan.injected['glitches']
     assert set(soak.node['dropped']) <= {'stale_stamp', 'stamp_ahead'}
     assert loss.received == soak.node['received']  # the last status came after everything
-    if loss.lost > loss.stale_lost:  # messages of the streams' clock lost: the node said so
+    if loss.lost:  # messages lost (the stale publisher's too): the node said so
         assert loss.reported > 0 and any(int(v['lost_in_period']) for v in soak.diagnostics)
     else:
         assert loss.reported == 0

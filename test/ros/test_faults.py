@@ -20,7 +20,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_srvs.srv import Trigger
 from support.harness import (
-    Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, SAMPLES, stamp, stamp_ns)
+    Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, SAMPLES, stamp, stamp_ns, values)
 from support.scenes import BASE_NS, first_contact, pitch, pose
 
 pytestmark = pytest.mark.ros
@@ -243,3 +243,81 @@ def test_qos_mismatches_are_warned_naming_the_topic(harness: Callable[..., Harne
     h.wait(lambda: warnings(h, 'incompatible QoS on /impact_node/impact', 'DURABILITY',
                             'publisher'), 3.0, 'the warning about ~/impact')
     h.diagnostics_where(lambda v: int(v['incompatible_qos_events']) >= 2)
+
+
+def _settled(h: Harness, sent: int) -> Dict[str, str]:
+    """Wait until the node's arrivals stop changing, then return a later status's values."""
+    arrived, still = -1, 0
+    while still < 10:  # 0.5 s without a new message
+        time.sleep(0.05)
+        now = sum(h.node.tally.arrivals.values())
+        arrived, still = now, still + 1 if now == arrived else 0
+    assert 0 < arrived <= sent
+    count = len(h.received['diagnostics'])
+    h.wait(lambda: len(h.received['diagnostics']) > count + 1, 3.0, 'a status after that')
+    return values(h.received['diagnostics'][-1].status[0])
+
+
+def test_every_lost_message_is_reported_across_a_pause_and_a_stale_publisher(
+        harness: Callable[..., Harness]) -> None:
+    """
+    Issue 12.7: messages lost across a 1.5 s pause and a stale publisher's: all reported.
+
+    The node stalls (queues of 20) while its trackers publish on, across the pause, and a
+    stale second ball publisher (3 s behind) loses messages too. ``<stream>_lost`` (from the
+    publishers' sequence numbers, rmw_fastrtps_cpp) is exactly the messages sent and not
+    received, per stream; the stamps alone could not see the losses that span the pause nor
+    the stale publisher's.
+    """
+    h = harness({'qos_depth': 20}).start()
+    node = tracker(h)
+    stale = node.create_publisher(PointStamped, 'ball', RELIABLE)
+    h.wait(lambda: stale.get_subscription_count() > 0, 5.0, 'the stale publisher matched')
+    sent = {'ball': 0, 'bat_pose': 0}
+
+    def frames(samples: range, shift_ns: int = 0) -> None:
+        for i in samples:
+            t, ns = (i % SAMPLES) / RATE_HZ, BASE_NS + int(round(i / RATE_HZ * 1e9)) + shift_ns
+            node.ball.publish(point_msg(ns, pitch(2.0)(t)))
+            node.bat.publish(pose_msg(ns, *pose(t)))
+            stale.publish(point_msg(ns - 3 * SECOND, pitch(2.0)(t)))
+            sent['ball'] += 2
+            sent['bat_pose'] += 1
+    frames(range(1))
+    h.processed(3)  # each publisher's first message arrives (no count can see losses before it)
+    frames(range(1, 30))  # queues of 20: a burst of 29 frames may lose some already
+    h.processed(20)
+    with h.node._lock:  # the node stalls in a callback: each queue keeps its newest 20
+        frames(range(30, 130))
+        time.sleep(1.5)  # a pause (stamps too) in the middle of the losses
+        frames(range(130, 230), 3 * SECOND // 2)
+        time.sleep(0.5)
+    frames(range(230, 260), 3 * SECOND // 2)
+    status = _settled(h, sum(sent.values()))
+    lost = {stream: sent[stream] - int(status[f'{stream}_received']) for stream in sent}
+    assert lost['ball'] > 200 and lost['bat_pose'] > 100, (lost, status)
+    assert {stream: int(status[f'{stream}_lost']) for stream in sent} == lost, status
+    node.destroy_node()
+
+
+def test_no_loss_is_reported_for_glitches_a_pause_a_jump_back_or_a_stale_publisher(
+        harness: Callable[..., Harness]) -> None:
+    """Nothing lost (reliable, deep queues): a glitch, a 2 s pause, a jump back, 3 s behind."""
+    h = harness().start()
+    node = tracker(h)
+    stale = node.create_publisher(PointStamped, 'ball', RELIABLE)
+    h.wait(lambda: stale.get_subscription_count() > 0, 5.0, 'the stale publisher matched')
+    sent = 0
+    for i in range(SAMPLES):  # and a stale second ball publisher
+        sent += publish(node.ball, node.bat, [i])
+        t = i / RATE_HZ
+        stale.publish(point_msg(BASE_NS + int(round(t * 1e9)) - 3 * SECOND, pitch()(t)))
+        sent += 1
+    node.ball.publish(point_msg(BASE_NS + 7 * SECOND // 10, pitch()(0.0)))  # a glitch
+    time.sleep(2.0)  # a pause, stamps and all (1.3 s after the glitch)
+    sent += 1 + publish(node.ball, node.bat, range(SAMPLES), 2 * SECOND)
+    sent += publish(node.ball, node.bat, range(SAMPLES), -10 * SECOND)  # a jump back
+    status = _settled(h, sent)
+    assert sum(h.node.tally.arrivals.values()) == sent
+    assert (status['ball_lost'], status['bat_pose_lost']) == ('0', '0'), status
+    node.destroy_node()

@@ -156,9 +156,10 @@ class Losses:
     Messages lost on the way to the node, and what its /diagnostics said about them.
 
     :ivar published, received, estimated: per stream: sent, the node's ``<stream>_received``
-        and ``<stream>_lost`` (its estimate from gaps in the stamps) in its last status.
+        and ``<stream>_lost`` (from the publishers' sequence numbers, and stamps) in its last
+        status.
     :ivar stale_lost: messages of the stale publisher lost (sent, less those the node
-        dropped as ``stale_stamp``): behind their stream, they cannot show in its stamps.
+        dropped as ``stale_stamp``): included in ``lost`` (its sequence numbers show them).
     """
 
     published: Dict[str, int]

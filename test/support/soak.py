@@ -53,6 +53,7 @@ import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
 
 PITCH_GAP_NS = 100_000_000
 """Stamp gap between consecutive pitches (s): longer than max_gap, so each is a new segment."""
@@ -98,12 +99,23 @@ def histogram_percentiles(histogram: np.ndarray, slowest_s: float) -> Dict[str, 
 
 
 def serve() -> int:
-    """Run the node until SIGINT; print its processing histogram figures and counters (JSON)."""
-    rclpy.init(args=sys.argv)
+    """
+    Run the node until SIGINT; print its processing histogram figures and counters (JSON).
+
+    SIGINT only sets a flag the spin loop checks: a KeyboardInterrupt raised while rclpy
+    converted a message came out as pybind's RuntimeError ("Unable to convert call argument")
+    when the node was always busy (a loaded machine, a full queue), and no figures printed.
+    """
+    rclpy.init(args=sys.argv, signal_handler_options=SignalHandlerOptions.NO)
+    stop = threading.Event()
+    signal.signal(signal.SIGINT, lambda *_: stop.set())
     node = SoakNode()
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
     try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
+        while not stop.is_set():
+            executor.spin_once(timeout_sec=0.1)
+    except ExternalShutdownException:
         pass
     stats = node.detector.stats
     figures = histogram_percentiles(node.histogram, node.slowest)

@@ -75,7 +75,7 @@ def test_the_node_command_takes_the_parameter_file() -> None:
     """The node starts with the parameter file and the transport overrides."""
     command = node_command(Path('p.yaml'))
     assert command[command.index('--params-file') + 1] == 'p.yaml'
-    assert 'qos:=reliable' in command and 'use_sim_time:=true' in command
+    assert 'qos:=reliable_all' in command and 'use_sim_time:=true' in command
 
 
 def test_the_domain_is_the_one_asked_for_else_random() -> None:

@@ -206,11 +206,14 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'frames are dropped (no tf2 here).', read_only='the detector keeps its frame'),
     ParameterSpec(
         'qos', _S, 'sensor_data', "Subscription QoS: 'sensor_data' = best effort (matches any "
-        "publisher), 'reliable' = reliable (only reliable publishers).",
-        choices=('sensor_data', 'reliable'), read_only=_TOPIC),
+        "publisher), 'reliable' = reliable (only reliable publishers) keeping the newest "
+        "qos_depth unread, 'reliable_all' = reliable keeping every message until taken (a "
+        'replay: nothing lost however far behind the node falls; memory grows meanwhile).',
+        choices=('sensor_data', 'reliable', 'reliable_all'), read_only=_TOPIC),
     ParameterSpec(
         'qos_depth', _I, 100, 'Subscription queue depth per input (messages); 100 holds 0.1 s '
-        'at 1 kHz.', 'messages', _closed(1, 10000), read_only=_TOPIC),
+        "at 1 kHz ('reliable_all' keeps every message).", 'messages', _closed(1, 10000),
+        read_only=_TOPIC),
     # ---- motion model and bat geometry (read-only)
     ParameterSpec(
         'model', _S, 'rigid', 'Motion between samples: linear (chords), rigid (translation + '
