@@ -70,7 +70,10 @@ def test_fit_equals_lapacks_least_squares(seed: int, n: int, degree: int,
     expected = np.linalg.lstsq(vandermonde, rows, rcond=None)[0]
     assert span == max(t - times[0], 1e-9)
     assert coefficients.shape == expected.shape
-    assert np.abs(coefficients - expected).max() <= 1e-10 * max(1.0, np.abs(expected).max())
+    # both are exact to rounding times the system's condition (an interpolating degree on
+    # clustered stamps is ill-conditioned: 5e-9 apart relative at a condition of 1e6)
+    tolerance = 1e-12 * max(1.0, np.linalg.cond(vandermonde)) * max(1.0, np.abs(expected).max())
+    assert np.abs(coefficients - expected).max() <= tolerance
 
 
 def test_a_rank_deficient_fit_is_the_minimum_norm_one() -> None:
