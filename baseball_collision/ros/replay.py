@@ -60,6 +60,10 @@ ACK_TIMEOUT_S = 60.0
 acknowledges only as it takes messages from its full queue, so the wait lasts as long as the
 subscriber needs to catch up; past this the subscriber is taken as stuck (counted, warned)."""
 
+ACK_SLICE_S = 0.2
+"""s: an acknowledgement wait is made of waits this long, so Ctrl-C (a Python signal handler,
+run between them) ends a replay that waits for a subscriber at once."""
+
 LATE_WARN_S = 0.1
 """Publishing this late (s, wall time) against the schedule is said at the end."""
 
@@ -321,10 +325,16 @@ class BagPlayer:
         Counts the wait and a timeout; returns the wall time it took (s).
         """
         started = time.monotonic()
-        timeout = Duration(nanoseconds=int(ack_timeout_s * 1e9))
-        acked = [publisher.wait_for_all_acked(timeout)  # each waits, whatever the others did
-                 for publisher in publishers]
-        if not all(acked):
+        deadline = started + ack_timeout_s
+        pending = list(publishers)  # each waits, whatever the others did
+        while pending:
+            left = min(ACK_SLICE_S, deadline - time.monotonic())
+            timeout = Duration(nanoseconds=int(max(left, 0.0) * 1e9))
+            pending = [publisher for publisher in pending
+                       if not publisher.wait_for_all_acked(timeout)]
+            if left <= 0.0:
+                break
+        if pending:
             self.result.ack_timeouts += 1
         waited = time.monotonic() - started
         self.result.ack_waits += 1
