@@ -45,7 +45,7 @@ radius = st.floats(0.0, 0.12, allow_nan=False)
 interval = st.floats(1e-3, 0.1, allow_nan=False)
 
 
-@settings(max_examples=examples(300), **FILTERING)
+@settings(max_examples=examples(150), **FILTERING)
 @given(points=st.tuples(point, point, point, point, point, point), ball_radius=radius,
        bat_radius=radius, dt=interval)
 def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: float) -> None:
@@ -62,7 +62,7 @@ def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: 
     assert batch[0] == pytest.approx(result.time, abs=1e-9 * dt + 1e-12)
 
 
-@settings(max_examples=examples(300), **FILTERING)
+@settings(max_examples=examples(150), **FILTERING)
 @given(points=swing_interval(), ball_radius=st.floats(0.03, 0.04),
        bat_radius=st.floats(0.01, 0.035))
 def test_swings_match_brute_force(points, ball_radius: float, bat_radius: float) -> None:
