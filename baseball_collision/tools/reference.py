@@ -19,6 +19,7 @@ from .accuracy import PitchResult
 from .sim import compute_truth, Samples, Scenario
 from ..core.bat import SWEET_SPOT_FROM_TIP
 from ..core.motion import not_a_knot_slopes
+from ..core.motion.smoothing import natural_parts
 
 
 def _hermite(times: np.ndarray, values: np.ndarray, slopes: np.ndarray, t: np.ndarray,
@@ -47,13 +48,7 @@ def smoothing_spline(times: np.ndarray, values: np.ndarray,
     """
     n = len(times)
     h = np.diff(times)
-    q = np.zeros((n, n - 2))
-    r = np.zeros((n - 2, n - 2))
-    for j in range(1, n - 1):
-        q[j - 1:j + 2, j - 1] = (1.0 / h[j - 1], -1.0 / h[j - 1] - 1.0 / h[j], 1.0 / h[j])
-        r[j - 1, j - 1] = (h[j - 1] + h[j]) / 3.0
-        if j < n - 2:
-            r[j - 1, j] = r[j, j - 1] = h[j] / 6.0
+    q, r = natural_parts(h)
     fitted, slopes = np.empty_like(values), np.empty_like(values)
     for column in range(values.shape[1]):
         y = values[:, column]

@@ -44,7 +44,7 @@ LOG_WEIGHTS = (-12.0, 12.0)
 """The range (log10) the dimensionless weight is searched in by bisection."""
 
 
-def _natural_parts(h: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+def natural_parts(h: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Return Reinsch's Q (n x n-2, 1/s) and R (n-2 x n-2, s) for steps h."""
     n = len(h) + 1
     q = np.zeros((n, n - 2))
@@ -69,7 +69,7 @@ def natural_slopes(times: Sequence[float], values: np.ndarray) -> np.ndarray:
     if len(t) == 2:
         d = (y[1] - y[0]) / h[0]
         return np.vstack([d, d])
-    q, r = _natural_parts(h)
+    q, r = natural_parts(h)
     moments = np.zeros_like(y)
     moments[1:-1] = np.linalg.solve(r, q.T @ y)
     chords = np.diff(y, axis=0) / h[:, None]
@@ -93,7 +93,7 @@ def penalty(times: Sequence[float], kind: str) -> np.ndarray:
     if kind == 'natural':
         if n < 3:
             return np.zeros((n, n))
-        q, r = _natural_parts(h)
+        q, r = natural_parts(h)
         return q @ np.linalg.solve(r, q.T) * mean ** 3
     if kind != 'not-a-knot':
         raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
