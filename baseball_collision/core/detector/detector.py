@@ -33,7 +33,7 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from .chunks import fast_forward, plan_chunk, PLAN_MAX, usable
+from .chunks import fast_forward, Plan, plan_chunk, PLAN_MAX, usable
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -277,10 +277,7 @@ class Detector:
                 end = plan.next_stop(pos)
                 if end > pos:
                     start = time.perf_counter()
-                    newest = fast_forward(plan, pos, end, self._ball, self._bat,
-                                          self._scheduler, self._episodes, self.stats, events)
-                    if intake.newest is None or newest > intake.newest:
-                        intake.newest = newest
+                    self._fast_forward(plan, pos, end, events, walk=True)
                     self._time(start, end - pos)
                 if end >= plan.n:
                     i += plan.n
@@ -289,11 +286,7 @@ class Detector:
                 if plan.checked[end]:
                     # it passes every check: append it as planned, walk as add would
                     start = time.perf_counter()
-                    newest = fast_forward(plan, end, end + 1, self._ball, self._bat,
-                                          self._scheduler, self._episodes, self.stats, events,
-                                          walk=False)
-                    if intake.newest is None or newest > intake.newest:
-                        intake.newest = newest
+                    self._fast_forward(plan, end, end + 1, events, walk=False)
                     self._advance(events)
                     self._time(start, 1)
                 else:
@@ -305,6 +298,15 @@ class Detector:
                     i += pos  # not as planned: plan the rest again
                     break
         return events
+
+    def _fast_forward(self, plan: Plan, first: int, end: int, events: List[Event],
+                      walk: bool) -> None:
+        """Take plan samples [first, end) as planned (``chunks.fast_forward``); note the newest."""
+        newest = fast_forward(plan, first, end, self._ball, self._bat, self._scheduler,
+                              self._episodes, self.stats, events, walk=walk)
+        intake = self._intake
+        if intake.newest is None or newest > intake.newest:
+            intake.newest = newest
 
     def _one(self, roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
              frame_ids: Sequence[str], k: int, events: List[Event],

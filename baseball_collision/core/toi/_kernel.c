@@ -1282,8 +1282,9 @@ static Search first_in_step(const BallPath *ball, const BatPath *bat, double ta,
   return SEARCH_NONE;
 }
 
-/* n floats from a sequence into x; false with an exception set */
-static bool read_floats(PyObject *o, double *x, Py_ssize_t n, const char *what)
+/* n floats from a sequence into x; false with an exception set (a wrong count: error) */
+static bool read_floats_or(PyObject *o, double *x, Py_ssize_t n, const char *what,
+                           PyObject *error)
 {
   PyObject *seq = PySequence_Fast(o, what);
   if (seq == NULL) {
@@ -1296,9 +1297,14 @@ static bool read_floats(PyObject *o, double *x, Py_ssize_t n, const char *what)
   }
   Py_DECREF(seq);
   if (!ok && !PyErr_Occurred()) {
-    PyErr_Format(PyExc_TypeError, "%s: expected %zd numbers", what, n);
+    PyErr_Format(error, "%s: expected %zd numbers", what, n);
   }
   return ok;
+}
+
+static bool read_floats(PyObject *o, double *x, Py_ssize_t n, const char *what)
+{
+  return read_floats_or(o, x, n, what, PyExc_TypeError);
 }
 
 /* (t0, position, velocity, acceleration): 10 numbers */
@@ -1529,20 +1535,7 @@ static PyObject *py_bat_bounds(PyObject *self, PyObject *const *args, Py_ssize_t
 
 static bool read_coefficients(PyObject *o, double *c, Py_ssize_t count)
 {
-  PyObject *seq = PySequence_Fast(o, "coefficients must be a sequence");
-  if (seq == NULL) {
-    return false;
-  }
-  bool ok = PySequence_Fast_GET_SIZE(seq) == count;
-  for (Py_ssize_t i = 0; ok && i < count; i++) {
-    c[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq, i));
-    ok = !PyErr_Occurred();
-  }
-  Py_DECREF(seq);
-  if (!ok && !PyErr_Occurred()) {
-    PyErr_Format(PyExc_ValueError, "expected %zd coefficients", count);
-  }
-  return ok;
+  return read_floats_or(o, c, count, "coefficients", PyExc_ValueError);
 }
 
 static PyObject *float_list(const double *x, int count)
