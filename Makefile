@@ -28,9 +28,10 @@ $(STAMP): requirements.txt setup.py setup.cfg package.xml Makefile baseball_coll
 	$(BIN)/python -m pip install -q --disable-pip-version-check --no-deps --no-build-isolation -e .
 	touch $(STAMP)
 
-# The whole suite but the long end-to-end runs marked `slow` (CI runs this; under 5 minutes).
+# The whole suite but the long end-to-end runs marked `slow` (CI runs this; under 5 minutes),
+# one pytest-xdist worker per core (at most 4), each on its own DDS domain (test/conftest.py).
 test: $(STAMP)
-	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m "not slow" test
+	$(RUN) $(BIN)/python -m pytest -q -p no:cacheprovider -m "not slow" -n auto --maxprocesses 4 test
 
 # The long end-to-end runs (the 20 s soak at 1 kHz, ...): load-sensitive, run on a quiet machine.
 test-slow: $(STAMP)
