@@ -81,19 +81,30 @@ def sequence_number(info: Optional[Mapping[str, Any]]) -> Optional[int]:
     return number if number else None
 
 
+def sent_time(info: Optional[Mapping[str, Any]]) -> Optional[int]:
+    """
+    Return a message's send time (ns, the writer's clock) from rclpy's message info, or None.
+
+    rmw_fastrtps_cpp gives each message its writer's source timestamp; 0 (not given) is None.
+    """
+    sent = info.get('source_timestamp') if info else None
+    return sent if sent else None
+
+
 def input_callback(take: Callable[..., None], each: InputStream,
                    detector: Any) -> Callable[[Any, Mapping[str, Any]], None]:
     """
     Return the subscription callback of one input (it takes the message and message info).
 
-    It calls ``take(stream, header, add_sample, *values, sequence=number)``: ``add_sample``
-    the ``detector`` method of the stream, ``number`` from :func:`sequence_number`.
+    It calls ``take(stream, header, add_sample, *values, sequence=number, sent=ns)``:
+    ``add_sample`` the ``detector`` method of the stream, ``number`` from
+    :func:`sequence_number`, ``ns`` from :func:`sent_time`.
     """
     add_sample, values, stream = getattr(detector, each.method), each.values, each.stream
 
     def callback(message: Any, info: Mapping[str, Any]) -> None:
         take(stream, message.header, add_sample, *values(message),
-             sequence=sequence_number(info))
+             sequence=sequence_number(info), sent=sent_time(info))
     return callback
 
 

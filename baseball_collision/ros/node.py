@@ -188,18 +188,20 @@ class ImpactNode(Node):
                                   throttle_duration_sec=WARN_PERIOD_S)
 
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
-              *values: Any, sequence: Optional[int] = None) -> None:
+              *values: Any, sequence: Optional[int] = None,
+              sent: Optional[int] = None) -> None:
         """
         Feed one message to the detector, publish what it decided, count and time it.
 
         :param sequence: its publication sequence number (None: the RMW gives none).
+        :param sent: its writer's send time (ns; None: the RMW gives none).
         """
         start = time.perf_counter()
         stamp = stamp_to_ns(header.stamp)
         frame = header.frame_id
         with self._lock:
             self.tally.arrived(stream, time.monotonic())
-            self.tally.stamped(stream, stamp, sequence)
+            self.tally.stamped(stream, stamp, sequence, sent)
             events = add_sample(stamp, *values, frame)
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops

@@ -80,19 +80,22 @@ class Tally:
         self.arrivals[stream] += 1
         self.last_arrival[stream] = now
 
-    def stamped(self, stream: str, stamp_ns: int, sequence: Optional[int] = None) -> None:
+    def stamped(self, stream: str, stamp_ns: int, sequence: Optional[int] = None,
+                sent_ns: Optional[int] = None) -> None:
         """
         Take a message's header stamp (ns) on ``stream``, for the loss estimate.
 
         :param sequence: its publication sequence number when the RMW gives one (exact
             per-publisher accounting, :class:`PublisherGaps`); None: the stamps alone
             (:class:`StampGaps`).
+        :param sent_ns: its writer's send time (ns) when the RMW gives it: it tells the
+            publishers apart (:class:`PublisherGaps`).
         """
         if sequence is not None:
             publishers = self.publishers.get(stream)
             if publishers is None:
                 publishers = self.publishers[stream] = PublisherGaps()
-            publishers.take(sequence, stamp_ns)
+            publishers.take(sequence, stamp_ns, sent_ns)
             return
         gaps = self.gaps.get(stream)
         if gaps is None:

@@ -25,6 +25,14 @@ def _received(messages: Sequence[Message]) -> int:
     return gaps.lost
 
 
+def _received_with_sent(messages: Sequence[Tuple[int, int, int]]) -> int:
+    """Return the messages PublisherGaps counts lost, given (number, stamp, send time) each."""
+    gaps = PublisherGaps()
+    for sequence, stamp, sent in messages:
+        gaps.take(sequence, stamp, sent)
+    return gaps.lost
+
+
 def _lost_between(sent: Sequence[Message], kept: Sequence[Message]) -> int:
     """Brute force: the messages sent between a publisher's first and last one received."""
     numbers = [sequence for sequence, _ in kept]
@@ -155,3 +163,63 @@ def test_sequence_gaps_add_the_frames_a_publisher_skipped() -> None:
     assert _received(skipped) == 10
     both = skipped[:150] + skipped[170:]
     assert _received(both) == 30
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(lost=st.lists(st.sets(st.integers(0, 399), max_size=120), min_size=1, max_size=3),
+       pause_at=st.integers(50, 350), pause_ns=st.sampled_from([0, 1_500_000_000, 3 * 10**9]),
+       first=st.lists(st.integers(1, 5000), min_size=3, max_size=3),
+       jitter=st.integers(0, 300_000))
+def test_with_send_times_every_loss_is_exact(lost, pause_at, pause_ns, first, jitter) -> None:
+    """
+    The same three publishers (3 s apart) with their send times: exact in every case.
+
+    All send now (a stale one's stamps lag its sends by 3 s per index); a pause shifts stamps
+    and sends alike, 1.5 s or as long as the clocks are apart (3 s), where the stamps alone
+    are ambiguous (see the previous test); send times jitter by up to 0.3 ms.
+    """
+    rng = random.Random(pause_at)
+    sent, kept = [], []
+    for index, lost_here in enumerate(lost):
+        messages = [(n, t + (pause_ns if k >= pause_at else 0))
+                    for k, (n, t) in enumerate(_publisher(400, 10**12 - 3 * 10**9 * index,
+                                                          first=first[index]))]
+        stamped = [(n, t, t + 3 * 10**9 * index + rng.randint(0, jitter)) for n, t in messages]
+        sent.append(messages)
+        kept.append([m for k, m in enumerate(stamped) if k not in lost_here])
+    interleaved = [m for frame in zip(*[k + [None] * (400 - len(k)) for k in kept])
+                   for m in frame if m is not None]
+    assert _received_with_sent(interleaved) == sum(
+        _lost_between(s, [(n, t) for n, t, _ in k]) for s, k in zip(sent, kept))
+
+
+@pytest.mark.parametrize('seed', range(4))
+def test_a_stale_publisher_on_the_good_ones_numbers_and_stamps(seed: int) -> None:
+    """
+    A stale publisher started 750 numbers later, 750 steps of 4 ms (its 3 s lag) behind.
+
+    Its numbers and stamps lie exactly on the good publisher's, so the stamps alone gave the
+    good one's messages to it after every loss (``test_fault_soak``: 27,713 reported where
+    none were lost); the send times (both send now) tell them apart. Bursts of the good one
+    lost, and pauses of 1.2 s between pitches.
+    """
+    rng = random.Random(seed)
+    period, lag = 4_000_000, 3 * 10**9
+    good = [(751 + k, 10**12 + k * period + (k // 250) * 1_200_000_000) for k in range(5_000)]
+    stream = []
+    for number, stamp in good:
+        sent_at = stamp + 50_000 + rng.randint(0, 200_000)
+        stream.append((number, stamp, sent_at, 'good'))
+        stream.append((number - 750, stamp - lag, sent_at + 100_000, 'stale'))
+    kept, index = [], 0
+    while index < len(stream):
+        if rng.random() < 0.01:
+            index += rng.randint(1, 400)
+            continue
+        kept.append(stream[index])
+        index += 1
+    expected = sum(_lost_between([(n, t) for n, t, _, w in stream if w == who],
+                                 [(n, t) for n, t, _, w in kept if w == who])
+                   for who in ('good', 'stale'))
+    assert _received_with_sent([m[:3] for m in kept]) == expected > 100
+    assert _received_with_sent([m[:3] for m in stream]) == 0
