@@ -9,15 +9,21 @@ subscription whose callback (:func:`input_callback`) takes the message and rclpy
 """
 
 from dataclasses import dataclass
+import math
+import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
 from geometry_msgs.msg import PointStamped, PoseStamped
 import rclpy
+from rclpy.exceptions import InvalidHandle
 
 from .messages import describe_drop, xyz, xyzw
 
 WARN_PERIOD_S = 2.0
-"""Shortest time (s) between two log lines of one kind (rclpy's throttle; per drop reason)."""
+"""Shortest time (s) between two log lines of one kind (per drop reason)."""
+
+DRAIN_LIMIT = 64
+"""Queued input messages one executor callback takes at most (see :class:`Intake`)."""
 
 
 @dataclass(frozen=True)
@@ -75,20 +81,114 @@ def sequence_number(info: Optional[Mapping[str, Any]]) -> Optional[int]:
     return number if number else None
 
 
+def sent_time(info: Optional[Mapping[str, Any]]) -> Optional[int]:
+    """
+    Return a message's send time (ns, the writer's clock) from rclpy's message info, or None.
+
+    rmw_fastrtps_cpp gives each message its writer's source timestamp; 0 (not given) is None.
+    """
+    sent = info.get('source_timestamp') if info else None
+    return sent if sent else None
+
+
 def input_callback(take: Callable[..., None], each: InputStream,
                    detector: Any) -> Callable[[Any, Mapping[str, Any]], None]:
     """
     Return the subscription callback of one input (it takes the message and message info).
 
-    It calls ``take(stream, header, add_sample, *values, sequence=number)``: ``add_sample``
-    the ``detector`` method of the stream, ``number`` from :func:`sequence_number`.
+    It calls ``take(stream, header, add_sample, *values, sequence=number, sent=ns)``:
+    ``add_sample`` the ``detector`` method of the stream, ``number`` from
+    :func:`sequence_number`, ``ns`` from :func:`sent_time`.
     """
     add_sample, values, stream = getattr(detector, each.method), each.values, each.stream
 
     def callback(message: Any, info: Mapping[str, Any]) -> None:
         take(stream, message.header, add_sample, *values(message),
-             sequence=sequence_number(info))
+             sequence=sequence_number(info), sent=sent_time(info))
     return callback
+
+
+class Intake:
+    """
+    Take the inputs' queued messages round-robin inside one executor callback.
+
+    rclpy's executors take one message per ready subscription per wait, and build the wait set
+    (every subscription, timer, service and event handler of the node) and a task around each
+    message: several times the node's own work per message, so a node behind by a burst, or
+    under a stale publisher's doubled input, fell further behind and lost messages from its
+    queue. Each input callback :meth:`wrap` returns handles its message, then takes whatever
+    waits in the inputs' queues, one message per input in turn as the executor would, at most
+    ``limit`` (timers and services get their turn between). Each input keeps its own order.
+
+    :param limit: messages taken at most per executor callback.
+    """
+
+    def __init__(self, limit: int = DRAIN_LIMIT) -> None:
+        self._limit = limit
+        self._inputs: List[Tuple[Any, Callable[..., None]]] = []
+        self._draining = False
+
+    def wrap(self, callback: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
+        """Return the executor's callback for an input: ``callback``, then :meth:`drain`."""
+        def on_message(message: Any, info: Any) -> None:
+            callback(message, info)
+            self.drain()
+        return on_message
+
+    def attach(self, subscription: Any, callback: Callable[[Any, Any], None]) -> None:
+        """Add an input's subscription and its (unwrapped) callback to the round."""
+        self._inputs.append((subscription, callback))
+
+    def drain(self) -> None:
+        """Take and handle queued input messages, one per input in turn (see the class)."""
+        if self._draining:
+            return
+        self._draining = True
+        try:
+            taken = 0
+            while taken < self._limit:
+                before = taken
+                for subscription, callback in self._inputs:
+                    try:
+                        with subscription.handle:
+                            got = subscription.handle.take_message(subscription.msg_type,
+                                                                   subscription.raw)
+                    except InvalidHandle:  # destroyed (shutting down)
+                        return
+                    if got is not None:
+                        callback(*got)
+                        taken += 1
+                if taken == before:
+                    return
+        finally:
+            self._draining = False
+
+
+class Throttle:
+    """
+    Say whether a log line of one kind may go out: at most once every ``WARN_PERIOD_S``.
+
+    rclpy's own ``throttle_duration_sec`` finds the caller's frame and source line (file system
+    calls) on every call, before it knows whether the line is throttled: about 1 ms a call on a
+    loaded machine, on every dropped sample (half the ball input under a stale publisher). This
+    decides first, on the monotonic clock, so a throttled line costs a dictionary look-up.
+
+    :param period_s: shortest time (s) between two lines of one kind.
+    """
+
+    __slots__ = ('_period', '_next')
+
+    def __init__(self, period_s: float = WARN_PERIOD_S) -> None:
+        self._period = period_s
+        self._next: Dict[Any, float] = {}
+
+    def allows(self, kind: Any) -> bool:
+        """Return True (and start a quiet period) when a line of ``kind`` may be logged now."""
+        now = time.monotonic()
+        if now < self._next.get(kind, -math.inf):
+            return False
+        self._next[kind] = now + self._period
+        return True
 
 
 class DropWarnings:
@@ -99,8 +199,8 @@ class DropWarnings:
     """
 
     def __init__(self, logger_name: str) -> None:
-        self._name = logger_name
-        self._loggers: Dict[str, Any] = {}
+        self._logger = rclpy.logging.get_logger(logger_name)
+        self._throttle = Throttle()
 
     def warn(self, stream: str, topic: str, reason: str, frame: str, expected: Optional[str],
              stamp: int, so_far: int) -> None:
@@ -110,11 +210,9 @@ class DropWarnings:
         :param frame: its frame; ``expected``: the tracking frame; ``stamp``: its stamp (ns);
             ``so_far``: samples dropped for this reason since start-up.
         """
-        logger = self._loggers.get(reason)
-        if logger is None:  # a logger per reason: rclpy throttles per logger and call site
-            logger = self._loggers[reason] = rclpy.logging.get_logger(self._name)
-        logger.warning(
+        if not self._throttle.allows(reason):
+            return  # before any text is made: the cheap path for a stream of drops
+        self._logger.warning(
             f'dropped a {stream} sample on {topic}: {reason}: '
             f'{describe_drop(reason, frame, expected, stamp)}; '
-            f'{so_far} dropped for this reason so far',
-            throttle_duration_sec=WARN_PERIOD_S)
+            f'{so_far} dropped for this reason so far')

@@ -30,7 +30,8 @@ Inputs are subscribed with ``qos``/``qos_depth`` (``reliable_all``: keep all), w
 
 This module is the wiring: detection is the core's, the parameters are declared from the core's
 table (``parameters``), the input streams (with each message's publication sequence number, for
-the loss count) and the drop warnings are in ``inputs``, conversions in ``messages``, markers in
+the loss count), the intake (queued messages taken round-robin in one executor callback) and
+the drop warnings are in ``inputs``, conversions in ``messages``, markers in
 ``markers``, the status in ``diagnostics`` and QoS or type mismatches in ``endpoints``. See
 ``config/impact_node.yaml`` for every parameter.
 """
@@ -59,7 +60,8 @@ from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import report, silent_streams, take_snapshot, Tally
 from .endpoints import Endpoints, input_qos
-from .inputs import DropWarnings, input_callback, input_streams, WARN_PERIOD_S
+from .inputs import (
+    DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
     describe_listening, event_output, EventOutput, format_stamp, NS_PER_S, plan_arrays,
@@ -112,6 +114,7 @@ class ImpactNode(Node):
         self._predicting = False
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
+        self._log_throttle = Throttle()
         try:
             self._start()
         except RosError:
@@ -149,10 +152,13 @@ class ImpactNode(Node):
         s = self.settings
         chosen = input_streams(s.values)
         self._streams = tuple(each.stream for each in chosen)
+        self._intake = Intake()
         for each in chosen:  # a profile each: overrides change it
-            self.endpoints.subscribe(each.stream, each.msg_type, s[each.topic_parameter],
-                                     input_callback(self._take, each, self.detector),
-                                     input_qos(s['qos'], s['qos_depth']))
+            callback = input_callback(self._take, each, self.detector)
+            subscription = self.endpoints.subscribe(
+                each.stream, each.msg_type, s[each.topic_parameter],
+                self._intake.wrap(callback), input_qos(s['qos'], s['qos_depth']))
+            self._intake.attach(subscription, callback)
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
                                                       _VIEWS)
@@ -182,18 +188,20 @@ class ImpactNode(Node):
                                   throttle_duration_sec=WARN_PERIOD_S)
 
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
-              *values: Any, sequence: Optional[int] = None) -> None:
+              *values: Any, sequence: Optional[int] = None,
+              sent: Optional[int] = None) -> None:
         """
         Feed one message to the detector, publish what it decided, count and time it.
 
         :param sequence: its publication sequence number (None: the RMW gives none).
+        :param sent: its writer's send time (ns; None: the RMW gives none).
         """
         start = time.perf_counter()
         stamp = stamp_to_ns(header.stamp)
         frame = header.frame_id
         with self._lock:
             self.tally.arrived(stream, time.monotonic())
-            self.tally.stamped(stream, stamp, sequence)
+            self.tally.stamped(stream, stamp, sequence, sent)
             events = add_sample(stamp, *values, frame)
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
@@ -239,7 +247,8 @@ class ImpactNode(Node):
         if not output.log:
             return
         if output.throttled:
-            logger.info(output.log, throttle_duration_sec=WARN_PERIOD_S)
+            if self._log_throttle.allows('event'):
+                logger.info(output.log)
         elif output.echoes_clock_jump and time.monotonic() - self._clock_jump_at < CLOCK_ECHO_S:
             logger.debug(output.log)  # the clock jump already warned
         elif output.level == 'warning':

@@ -1,0 +1,86 @@
+"""The node's intake: queued input messages taken round-robin, and throttled log lines."""
+
+from collections import deque
+from typing import Any, Deque, List, Optional, Tuple
+
+from baseball_collision.ros.inputs import Intake, Throttle
+from rclpy.exceptions import InvalidHandle
+
+
+class _Handle:
+    """An rclpy subscription handle over a queue: ``take_message`` pops (message, info)."""
+
+    def __init__(self, messages: List[Any], destroyed: bool = False) -> None:
+        self.queue: Deque[Tuple[Any, dict]] = deque((m, {}) for m in messages)
+        self.destroyed = destroyed
+
+    def __enter__(self) -> '_Handle':
+        if self.destroyed:
+            raise InvalidHandle('destroyed')
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        pass
+
+    def take_message(self, msg_type: Any, raw: bool) -> Optional[Tuple[Any, dict]]:
+        return self.queue.popleft() if self.queue else None
+
+
+class _Subscription:
+    """An rclpy subscription: its handle, message type and raw flag."""
+
+    def __init__(self, messages: List[Any], destroyed: bool = False) -> None:
+        self.handle = _Handle(messages, destroyed)
+        self.msg_type, self.raw = object, False
+
+
+def _intake(queues: List[List[Any]], limit: int) -> Tuple[Intake, List[Any], List[Any]]:
+    """Return an intake over queued inputs, what it handled, and the executor's callbacks."""
+    intake, seen, wrapped = Intake(limit), [], []
+    for queue in queues:
+        subscription = _Subscription(queue)
+        callback = (lambda message, info: seen.append(message))
+        wrapped.append(intake.wrap(callback))
+        intake.attach(subscription, callback)
+    return intake, seen, wrapped
+
+
+def test_queued_messages_are_taken_one_per_input_in_turn() -> None:
+    """The executor's message first, then the queues round-robin, each in its own order."""
+    _, seen, wrapped = _intake([['b1', 'b2', 'b3', 'b4'], ['p1', 'p2']], limit=100)
+    wrapped[0]('b0', {})
+    assert seen == ['b0', 'b1', 'p1', 'b2', 'p2', 'b3', 'b4']
+
+
+def test_at_most_limit_messages_per_executor_callback() -> None:
+    """The rest stays queued for the next callback (timers and services get their turn)."""
+    intake, seen, wrapped = _intake([list(range(10)), list(range(100, 110))], limit=5)
+    wrapped[1]('first', {})
+    assert 6 <= len(seen) <= 7  # the round that reached the limit finishes
+    before = len(seen)
+    intake.drain()
+    assert len(seen) > before
+    taken = [m for m in seen if isinstance(m, int)]
+    assert [m for m in taken if m < 100] == sorted(m for m in taken if m < 100)
+
+
+def test_a_destroyed_subscription_ends_the_drain_and_nested_calls_do_not_recurse() -> None:
+    """Shutting down (InvalidHandle) stops quietly; a drain inside a drain does nothing."""
+    intake, seen = Intake(10), []
+    intake.attach(_Subscription(['x'], destroyed=True), lambda m, i: seen.append(m))
+    intake.drain()
+    assert seen == []
+    nested = Intake(10)
+    queue = _Subscription(['a', 'b'])
+    nested.attach(queue, lambda m, i: (seen.append(m), nested.drain()))
+    nested.drain()
+    assert seen == ['a', 'b']
+
+
+def test_a_throttle_allows_one_line_of_a_kind_per_period() -> None:
+    """The first line of each kind passes, the next of that kind within the period does not."""
+    throttle = Throttle(3600.0)
+    assert throttle.allows('stale_stamp') and throttle.allows('out_of_order')
+    assert not throttle.allows('stale_stamp')
+    always = Throttle(0.0)
+    assert always.allows('x') and always.allows('x')
