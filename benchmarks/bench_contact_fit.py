@@ -19,16 +19,19 @@ velocity at t* is read from:
   the left-limit rate (N < 4 leaves the right side free: the same as ``break+1``);
 * ``across+N``: the not-a-knot spline (smoothed with the noise) through the same samples and N
   after t*, without a break, its rate at t*: crossing the contact (the rule forbids it; the
-  whole-stream ``reference`` of bench_accuracy does this).
+  whole-stream ``reference`` of bench_accuracy does this);
+* ``poly D/N`` (``--poly D/N ...``): a least-squares polynomial of degree D through the last N
+  samples up to t*, its rate at t* (a fit that averages noise without a spline).
 
 Prints Markdown rows: per family, rate and noise, the sweet-spot speed error p50 / p99 (%) and
-the sweet spot's position error at t* p99 (mm) of each fit. No detector runs here: the impact
-instant is the truth, so the figures are the fits' own.
+the sweet spot's position error at t* p99 (mm) of each fit, and the median cost of the broken
+fits at one contact (the three column groups, the largest N; CPU time). No detector runs here:
+the impact instant is the truth, so the figures are the fits' own.
 """
 
 import argparse
 import time
-from typing import Dict, List, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import SWEET_SPOT_FROM_TIP
 from baseball_collision.core.detector.fitting import bat_variances, NOISE_SPAN, SMOOTHER
@@ -70,9 +73,15 @@ def _smoothed(times: np.ndarray, rows: np.ndarray, variances: Sequence[float],
     return values, slopes
 
 
-def fits_at_contact(scenario, samples, noise_m: float,
-                    after: Sequence[int]) -> Dict[str, Tuple[float, float]]:
-    """Return each fit's (relative speed error, position error in m) at the true contact."""
+def fits_at_contact(scenario, samples, noise_m: float, after: Sequence[int],
+                    poly: Sequence[Tuple[int, int]] = (),
+                    costs: Optional[List[float]] = None) -> Dict[str, Tuple[float, float]]:
+    """
+    Return each fit's (relative speed error, position error in m) at the true contact.
+
+    :param poly: (degree, samples) of the least-squares polynomials to try.
+    :param costs: where to append the CPU time (s) of the broken fits with the most samples.
+    """
     t = (samples.bat_stamps_ns - samples.start_ns) * 1e-9
     bats = [BatSample(tuple(k), tuple(e)) for k, e in zip(samples.knobs.tolist(),
                                                           samples.tips.tolist())]
@@ -103,10 +112,20 @@ def fits_at_contact(scenario, samples, noise_m: float,
     times, rows = window(1)
     values, _ = _smoothed(times[:-1], rows[:-1], variances, noise_m > 0.0)
     score('left', *end_state(times[:-1], values, contact))
+    for degree, count in poly:
+        start, rows = c2_rows(bats[max(j - count + 1, 0):j + 1], min(j, count - 1))
+        times = t[j + 1 - len(rows):j + 1]
+        vandermonde = np.vander(times - contact, min(degree, len(times) - 1) + 1,
+                                increasing=True)
+        coefficients = np.linalg.lstsq(vandermonde, np.asarray(rows), rcond=None)[0]
+        score(f'poly {degree}/{count}', coefficients[0], coefficients[1])
     for count in after:
         times, rows = window(count)
+        started = time.process_time()
         ends = [broken_fit(times, rows[:, group], variances[group], contact, SMOOTHER[1])
                 for group in GROUPS]
+        if costs is not None and count == max(after):
+            costs.append(time.process_time() - started)
         score(f'break+{count}', np.concatenate([e[1][-1] for e in ends]),
               np.concatenate([e[2][-1] for e in ends]))
         values, slopes = _smoothed(times, rows, variances, noise_m > 0.0)
@@ -131,9 +150,14 @@ def main() -> None:
     parser.add_argument('--rates', nargs='+', type=float, default=[90.0, 360.0])
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 1.0, 2.0])
     parser.add_argument('--after', nargs='+', type=int, default=[1, 4, 6])
+    parser.add_argument('--poly', nargs='*', default=[], metavar='D/N',
+                        help='least-squares polynomials: degree / samples up to the contact')
     args = parser.parse_args()
+    poly = [tuple(int(x) for x in item.split('/')) for item in args.poly]
     started = time.perf_counter()
-    labels = ['left'] + [f'{kind}+{n}' for n in args.after for kind in ('break', 'across')]
+    labels = (['left'] + [f'poly {d}/{n}' for d, n in poly]
+              + [f'{kind}+{n}' for n in args.after for kind in ('break', 'across')])
+    costs: List[float] = []
     print('| family | Hz | noise mm | contacts | ' + ' | '.join(labels) + ' |')
     print('|' + '---|' * (4 + len(labels)))
     for family in args.families:
@@ -149,7 +173,7 @@ def main() -> None:
                                      grid_s=1e-3, noise_m=noise_mm * 1e-3,
                                      marker_spread_m=0.3 if noise_mm else None)
                     for label, error in fits_at_contact(scenario, samples, noise_mm * 1e-3,
-                                                        args.after).items():
+                                                        args.after, poly, costs).items():
                         errors.setdefault(label, []).append(error)
                 cells = []
                 for label in labels:
@@ -160,7 +184,9 @@ def main() -> None:
                                  f'{np.percentile(place, 99):.2f} mm')
                 print(f'| {family} | {rate:g} | {noise_mm:g} | {len(scenarios)} | '
                       + ' | '.join(cells) + ' |', flush=True)
-    print(f'\n({time.perf_counter() - started:.0f} s)')
+    print(f'\nbroken fit at one contact (3 column groups, {max(args.after)} samples after): '
+          f'median {np.median(costs) * 1e3:.2f} ms CPU over {len(costs)} contacts')
+    print(f'({time.perf_counter() - started:.0f} s)')
 
 
 if __name__ == '__main__':
