@@ -16,8 +16,11 @@ So samples after t* can pin WHERE the motion is at t* (when they are four or mor
 four knots or fewer is any cubic) but cannot bend its velocity before t*: the left-limit rate
 at t* is that of the left spline, an interpolation between its last sample and t*. A
 piecewise cubic with a velocity kink at t* and at least four samples on each side is
-reproduced exactly (both sides cost nothing). With fewer samples after t* the right side is
-free and the value at t* is the left spline's own continuation (the samples before t* alone).
+reproduced exactly (both sides cost nothing). With fewer samples after t* (or none: a break
+after the last sample) the right side is free and the value at t* is the least rough for the
+left spline alone: an extrapolation from the samples before t* by the whole window's
+smoothness, not only its last cubic's (the continuation, when the left side has four knots or
+fewer).
 
 Error order: each side is a not-a-knot spline, O(h^4) in value and O(h^3) in rate for a motion
 with a bounded fourth derivative on that side; what a brake spread over a time d after t*
@@ -44,12 +47,14 @@ def broken_knots(times: Sequence[float], t_break: float) -> Tuple[np.ndarray, in
     """
     Return (knots, the break's index in them, whether it is a knot of its own).
 
-    :param times: (n,) strictly increasing (s); ``t_break``: in [times[1], times[-1]].
-    :raises ValueError: a break before the second sample or after the last.
+    :param times: (n,) strictly increasing (s), n >= 2; ``t_break``: at or after times[1]
+        (after the last sample: the right side is the break alone).
+    :raises ValueError: a break before the second sample (or not finite).
     """
     t = np.asarray(times, dtype=float)
-    if not t[1] <= t_break <= t[-1]:
-        raise ValueError(f'break {t_break!r} s must lie in [{t[1]!r}, {t[-1]!r}] s')
+    if not (len(t) >= 2 and math.isfinite(t_break) and t_break >= t[1]):
+        raise ValueError(f'break {t_break!r} s must be at or after the second sample, '
+                         f'{t[1] if len(t) >= 2 else None!r} s')
     j = int(np.searchsorted(t, t_break, side='right')) - 1  # the last sample at or before
     if t_break - t[j] <= SAME_INSTANT:
         return t, j, False
@@ -83,7 +88,7 @@ def broken_fit(times: Sequence[float], values: np.ndarray, variances: Sequence[f
 
     :param times: (n,) strictly increasing (s); ``values``: (n, columns); ``variances``:
         (columns,) noise variance per column; ``target``: ``smoothing``'s weight rule.
-    :raises ValueError: a break outside [times[1], times[-1]], or shapes that do not match.
+    :raises ValueError: a break before times[1], or shapes that do not match.
     """
     y = np.asarray(values, dtype=float)
     v = np.asarray(variances, dtype=float)

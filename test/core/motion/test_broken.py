@@ -85,6 +85,24 @@ def test_without_samples_after_the_break_the_left_spline_is_continued() -> None:
     assert np.allclose(fitted, end_state(times[:3], values[:3], t_break)[0])
 
 
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, where=st.floats(0.05, 0.95), sigma=st.sampled_from([0.0, 1e-3]))
+def test_one_sample_after_the_break_changes_nothing(steps, where, sigma) -> None:
+    """
+    The fit broken after the last sample is the fit with one more sample after the break.
+
+    A right side of two knots is any line: that sample pins nothing, exact or smoothed.
+    """
+    times = _times(steps)
+    values = np.c_[np.sin(30.0 * times), times ** 4] + np.random.default_rng(len(steps)).normal(
+        0.0, sigma, (len(times), 2))
+    t_break = times[-2] + where * (times[-1] - times[-2])
+    alone = broken_fit(times[:-1], values[:-1], [sigma ** 2] * 2, t_break)
+    with_after = broken_fit(times, values, [sigma ** 2] * 2, t_break)
+    for a, b in zip(alone, with_after):
+        assert np.allclose(a, b, rtol=1e-7, atol=1e-9)
+
+
 def test_a_break_at_a_sample_is_no_knot_of_its_own() -> None:
     """t* on a sample: the left spline ends at that sample, its value kept."""
     times = np.linspace(0.0, 0.1, 11)
@@ -123,7 +141,7 @@ def test_bad_input_is_refused() -> None:
     """A break outside the samples or mismatched shapes raise ValueError."""
     times = np.linspace(0.0, 0.1, 8)
     with pytest.raises(ValueError):
-        broken_fit(times, np.zeros((8, 1)), [0.0], 0.2)
+        broken_fit(times, np.zeros((8, 1)), [0.0], float('nan'))
     with pytest.raises(ValueError):
         broken_fit(times, np.zeros((8, 1)), [0.0], 0.0)
     with pytest.raises(ValueError):
