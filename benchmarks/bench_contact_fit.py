@@ -25,8 +25,10 @@ velocity at t* is read from:
 
 Prints Markdown rows: per family, rate and noise, the sweet-spot speed error p50 / p99 (%) and
 the sweet spot's position error at t* p99 (mm) of each fit, and the median cost of the broken
-fits at one contact (the three column groups, the largest N; CPU time). No detector runs here:
-the impact instant is the truth, so the figures are the fits' own.
+fits at one contact (the three column groups, the largest N; CPU time), and per rate the CPU
+cost of ``kinematics.knot_bat_rates`` (bench_accuracy's ``c2-knot``) against the default rule's
+continued path, in the same process. No detector runs here: the impact instant is the
+truth, so the figures are the fits' own.
 """
 
 import argparse
@@ -34,7 +36,10 @@ import time
 from typing import Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import SWEET_SPOT_FROM_TIP
-from baseball_collision.core.detector.fitting import bat_variances, NOISE_SPAN, SMOOTHER
+from baseball_collision.core.detector.fitting import (
+    bat_variances, c2_bat_path, c2_window, NOISE_SPAN, SMOOTHER, swing_rate)
+from baseball_collision.core.detector.kinematics import knot_bat_rates
+from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, c2_rows, end_state, not_a_knot_slopes
 from baseball_collision.core.motion import rotate, unit_axis
 from baseball_collision.core.motion.broken import broken_fit
@@ -141,6 +146,40 @@ def fits_at_contact(scenario, samples, noise_m: float, after: Sequence[int],
     return found
 
 
+def velocity_costs(samples, contact: float) -> Tuple[float, float]:
+    """
+    Return the CPU time (s, best of 5) of two exact-sample bat velocity rules of the detector.
+
+    ``kinematics.knot_bat_rates`` (the window up to the opening frame fitted with a knot at
+    the contact) and the default (``c2_velocities``' 'before'): that window's ``c2`` path
+    (``fitting.c2_bat_path``) continued to the contact, its knob rate and ``swing_rate``.
+    """
+    stream = Stream('bat')
+    for i, (stamp, knob, tip) in enumerate(zip(samples.bat_stamps_ns.tolist(),
+                                               samples.knobs.tolist(), samples.tips.tolist())):
+        stream.append((stamp - samples.start_ns) * 1e-9, stamp, BatSample(tuple(knob),
+                                                                          tuple(tip)), i == 0)
+    k = stream.interval(contact)
+    window = c2_window(stream, k - 1, 0.05, 0, 8)
+
+    def knot() -> None:
+        knot_bat_rates(stream, window, contact)
+
+    def before() -> None:
+        path = c2_bat_path(stream, k - 1, window)
+        path.knob.velocity(contact), swing_rate(path, contact)
+
+    best = []
+    for run in (knot, before):
+        times = []
+        for _ in range(5):
+            started = time.process_time()
+            run()
+            times.append(time.process_time() - started)
+        best.append(min(times))
+    return best[0], best[1]
+
+
 def main() -> None:
     """Print one Markdown row per family, rate and noise."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
@@ -158,6 +197,7 @@ def main() -> None:
     labels = (['left'] + [f'poly {d}/{n}' for d, n in poly]
               + [f'{kind}+{n}' for n in args.after for kind in ('break', 'across')])
     costs: List[float] = []
+    rules: Dict[float, List[Tuple[float, float]]] = {}
     print('| family | Hz | noise mm | contacts | ' + ' | '.join(labels) + ' |')
     print('|' + '---|' * (4 + len(labels)))
     for family in args.families:
@@ -175,6 +215,9 @@ def main() -> None:
                     for label, error in fits_at_contact(scenario, samples, noise_mm * 1e-3,
                                                         args.after, poly, costs).items():
                         errors.setdefault(label, []).append(error)
+                    if noise_mm == 0.0:
+                        rules.setdefault(rate, []).append(
+                            velocity_costs(samples, scenario.truth.time_s))
                 cells = []
                 for label in labels:
                     speed = np.abs([e[0] for e in errors[label]]) * 100.0
@@ -186,6 +229,10 @@ def main() -> None:
                       + ' | '.join(cells) + ' |', flush=True)
     print(f'\nbroken fit at one contact (3 column groups, {max(args.after)} samples after): '
           f'median {np.median(costs) * 1e3:.2f} ms CPU over {len(costs)} contacts')
+    for rate, pairs in rules.items():
+        knot, before = np.median(np.array(pairs), axis=0)
+        print(f'{rate:g} Hz, exact: knot_bat_rates {knot * 1e3:.2f} ms CPU per impact (median), '
+              f'the default continued path {before * 1e3:.2f} ms: {knot / before:.2f}x')
     print(f'({time.perf_counter() - started:.0f} s)')
 
 

@@ -297,13 +297,8 @@ def knot_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector
     samples = bat.values[window.start:window.stop]
     first, rows = c2_rows(samples, len(samples) - 2)
     times = bat.times[window.start + first:window.start + first + len(rows)]
-    values = np.asarray(rows, dtype=float)
-    rates = np.empty(values.shape[1])
-    state = np.empty(values.shape[1])
-    for group in (slice(0, 3), slice(3, 6), slice(6, 7)):
-        _, fitted, slopes = broken_fit(times, values[:, group], [0.0] * (group.stop - group.start),
-                                       t)
-        state[group], rates[group] = fitted[-1], slopes[-1]
+    _, fitted, slopes = broken_fit(times, rows, [0.0] * len(rows[0]), t)  # exact: one call
+    state, rates = fitted[-1], slopes[-1]
     return (tuple(rates[:3].tolist()),
             chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
 
@@ -359,12 +354,12 @@ def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:
 
 
 VELOCITIES = 'auto'
-"""c2's impact velocities: 'auto' (below), 'knot' (exact samples: the bat's window up to the
-interval's opening frame fitted with a knot at t, ``knot_bat_rates``; else 'before'), 'before'
-(the window fits ending at the interval's opening frame, extrapolated to t), 'window' (the
-look-ahead-0 window fits' rates at t: they reach the closing frame, after the contact) or
-'fits' (``spline_window_for``: the former choice); the others are kept for bench_accuracy's
-comparison."""
+"""c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
+opening frame, extrapolated to t), 'knot' (as 'before', but with exact bat samples the bat's
+window fitted with a knot at t: ``knot_bat_rates``; measured, not chosen: BENCHMARKS.md,
+"Contact-aware fits"), 'window' (the look-ahead-0 window fits' rates at t: they reach the
+closing frame, after the contact) or 'fits' (``spline_window_for``: the former choice); the
+others are kept for bench_accuracy's comparison."""
 
 
 def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
@@ -377,10 +372,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     (``spline_velocities``). Otherwise the window fits of the interval before the impact's
     (smoothed with ``tracker_noise``), which end at the impact interval's opening frame,
     differentiated at t: the ball's centre, the bat's knob (the pivot, fraction 0) and its
-    swing u x u' (``fitting.swing_rate``); with exact bat samples the bat's from the same
-    window fitted with a knot at t instead (``knot_bat_rates``: the value at t least rough for
-    the whole window, not the last cubic continued; measured in benchmarks/bench_contact_fit.py
-    and bench_accuracy.py). Neither reaches the interval's closing frame, which
+    swing u x u' (``fitting.swing_rate``). Neither reaches the interval's closing frame, which
     a bat braking right after the contact has already slowed (benchmarks/bench_accuracy.py
     compares the choices). At a segment's first interval, where nothing comes before, the
     interval's own fits without look-ahead stand in. The roll rate comes from the turns of
@@ -394,7 +386,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
             found = spline_velocities(ball, bat, t, config.spline_window)
             if found is not None:
                 return found
-        mode = 'knot' if exact else 'before'
+        mode = 'before'
     if mode == 'fits':
         return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  ball_path, bat_path, spline_window_for(bat, t, config))
