@@ -2,7 +2,7 @@
 Contact-aware fits: the bat's sweet-spot velocity at a contact, with a break at the contact.
 
 Run: ``.venv/bin/python benchmarks/bench_contact_fit.py [--per-kind N] [--rates R ...]
-[--noises MM ...] [--families F ...] [--after N ...]``.
+[--noises MM ...] [--families F ...] [--after N ...] [--poly D/N ...]``.
 
 Issue 11's idea, measured before wiring it into the detector: at the true first contact t*
 of each simulated hit (barrel, end-cap and handle hits, ``--per-kind`` of each, every swing
