@@ -275,7 +275,7 @@ def chart_swing(reference: Vector, turn: np.ndarray, turn_rate: np.ndarray) -> V
     :param reference: the chart's origin direction (unit); ``turn``: the rotation vector
         (rad) turning it onto the bat's direction u; ``turn_rate``: its rate (rad/s).
     """
-    step = 1e-4  # the chart's map differentiated numerically along the rate (times rad/s)
+    step = 1e-4  # s: the chart's map differentiated numerically along the rate
     ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
     behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
     direction = np.array(rotate(reference, tuple(turn)))
