@@ -26,6 +26,7 @@ from ..geometry import dot, lerp, scale, sub, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
     turn_between, unit_axis)
+from ..motion.broken import broken_fit
 from ..toi import _kernel
 
 SPARSE_SAMPLES = 6
@@ -267,6 +268,41 @@ class ImpactVelocities:
     from_history: bool
 
 
+def chart_swing(reference: Vector, turn: np.ndarray, turn_rate: np.ndarray) -> Vector:
+    """
+    Return the swing angular velocity u x u' (rad/s) of a direction chart's rotation vector.
+
+    :param reference: the chart's origin direction (unit); ``turn``: the rotation vector
+        (rad) turning it onto the bat's direction u; ``turn_rate``: its rate (rad/s).
+    """
+    step = 1e-4  # s: the chart's map differentiated numerically along the rate
+    ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
+    behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
+    direction = np.array(rotate(reference, tuple(turn)))
+    return tuple(np.cross(direction, (ahead - behind) / (2.0 * step)).tolist())
+
+
+def knot_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector]:
+    """
+    Return the bat's knob velocity (m/s) and swing angular velocity (rad/s) at t (s).
+
+    From exact samples before t only: the ``c2`` chart rows (knob, rotation vector from the
+    second-newest sample's direction, length) of the window's samples, all at or before t,
+    fitted by the not-a-knot spline with a knot at t (``motion.broken.broken_fit`` broken
+    after its last sample): the value at t is the one that keeps the whole window's third-
+    derivative jumps least, not the last cubic's continuation; the rates are its left limits.
+
+    :param window: the samples' indices in the stream (at least two, all at or before t).
+    """
+    samples = bat.values[window.start:window.stop]
+    first, rows = c2_rows(samples, len(samples) - 2)
+    times = bat.times[window.start + first:window.start + first + len(rows)]
+    _, fitted, slopes = broken_fit(times, rows, [0.0] * len(rows[0]), t)  # exact: one call
+    state, rates = fitted[-1], slopes[-1]
+    return (tuple(rates[:3].tolist()),
+            chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
+
+
 def spline_velocities(ball: Stream, bat: Stream, t: float,
                       size: int) -> Optional[ImpactVelocities]:
     """
@@ -284,13 +320,7 @@ def spline_velocities(ball: Stream, bat: Stream, t: float,
     samples = [bat.values[i] for i in bat_indices]
     first, rows = c2_rows(samples, len(samples) - 2)
     state, rates = end_state([bat.times[i] for i in bat_indices[first:]], rows, t)
-    reference = unit_axis(samples[-2])
-    step = 1e-4  # rad: the chart's map differentiated numerically along the rate
-    turn, turn_rate = state[3:6], rates[3:6]
-    ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
-    behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
-    direction = np.array(rotate(reference, tuple(turn)))
-    swing = tuple(np.cross(direction, (ahead - behind) / (2.0 * step)).tolist())
+    swing = chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6])
     roll = 0.0
     if samples[-1].quaternion is not None:
         rates_of_turn = turn_rates(bat, t, 1.0, 3)
@@ -325,9 +355,11 @@ def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:
 
 VELOCITIES = 'auto'
 """c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
-opening frame, extrapolated to t), 'window' (the look-ahead-0 window fits' rates at t: they
-reach the closing frame, after the contact) or 'fits' (``spline_window_for``: the former
-choice); the others are kept for bench_accuracy's comparison."""
+opening frame, extrapolated to t), 'knot' (as 'before', but with exact bat samples the bat's
+window fitted with a knot at t: ``knot_bat_rates``; measured, not chosen: BENCHMARKS.md,
+"Contact-aware fits"), 'window' (the look-ahead-0 window fits' rates at t: they reach the
+closing frame, after the contact) or 'fits' (``spline_window_for``: the former choice); the
+others are kept for bench_accuracy's comparison."""
 
 
 def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
@@ -347,8 +379,9 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     poses (``turn_rates``, 0 for points).
     """
     mode = VELOCITIES
+    exact = stream_noise(bat, config) == 0.0
     if mode == 'auto':
-        if stream_noise(bat, config) == 0.0 and stream_noise(ball, config) == 0.0 and len(
+        if exact and stream_noise(ball, config) == 0.0 and len(
                 bat.history(t, config.velocity_window)) > SPARSE_SAMPLES:
             found = spline_velocities(ball, bat, t, config.spline_window)
             if found is not None:
@@ -358,22 +391,26 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
         return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  ball_path, bat_path, spline_window_for(bat, t, config))
     gap, size = config.max_gap, config.spline_window
+    before = mode in ('before', 'knot')
     k = ball.interval(ball_path.t0)
-    j = velocity_interval(ball, k, gap) if mode == 'before' else k
+    j = velocity_interval(ball, k, gap) if before else k
     if j != k or config.look_ahead:
         ball_path = c2_point_path(ball, j, c2_window(ball, j, gap, 0, size),
                                   stream_noise(ball, config))
     k = bat.interval(bat_path.t0)
-    j = velocity_interval(bat, k, gap) if mode == 'before' else k
-    if j != k or config.look_ahead:
-        bat_path = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size),
-                               stream_noise(bat, config))
+    j = velocity_interval(bat, k, gap) if before else k
+    if mode == 'knot' and exact and j != k:
+        knob_rate, swing = knot_bat_rates(bat, c2_window(bat, j, gap, 0, size), t)
+    else:
+        if j != k or config.look_ahead:
+            bat_path = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size),
+                                   stream_noise(bat, config))
+        knob_rate, swing = bat_path.knob.velocity(t), swing_rate(bat_path, t)
     roll = 0.0
-    if bat_path.sample0.quaternion is not None:
+    if bat.values[k].quaternion is not None:
         rates_of_turn = turn_rates(bat, t, 1.0, 3)
         roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
-    return ImpactVelocities(ball_path.velocity(t), 0.0, bat_path.knob.velocity(t),
-                            swing_rate(bat_path, t), roll, True)
+    return ImpactVelocities(ball_path.velocity(t), 0.0, knob_rate, swing, roll, True)
 
 
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,

@@ -97,14 +97,28 @@ def penalty(times: Sequence[float], kind: str) -> np.ndarray:
         return q @ np.linalg.solve(r, q.T) * mean ** 3
     if kind != 'not-a-knot':
         raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
+    jumps = third_jumps(t) * mean ** 3
+    return jumps.T @ jumps
+
+
+def third_jumps(times: Sequence[float]) -> np.ndarray:
+    """
+    Return J: ``J @ values`` are the not-a-knot interpolant's third-derivative jumps (per s^3).
+
+    One row per inner knot 2 .. n - 3 (none for n < 5: the interpolant is one cubic).
+
+    :param times: (n,) strictly increasing (s).
+    """
+    t = np.asarray(times, dtype=float)
+    n = len(t)
     if n < 5:
-        return np.zeros((n, n))
+        return np.zeros((0, n))
+    h = np.diff(t)
     basis = np.eye(n)
     slopes = not_a_knot_slopes(t, basis)  # linear in the values: one column per unit value
     chords = np.diff(basis, axis=0) / h[:, None]
     third = 6.0 * (slopes[:-1] + slopes[1:] - 2.0 * chords) / (h * h)[:, None]
-    jumps = (third[2:n - 2] - third[1:n - 3]) * mean ** 3
-    return jumps.T @ jumps
+    return third[2:n - 2] - third[1:n - 3]
 
 
 def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,

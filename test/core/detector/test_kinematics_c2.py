@@ -2,10 +2,14 @@
 
 import math
 
-from baseball_collision.core.detector.kinematics import spline_velocities
+from baseball_collision.core.detector import DetectorConfig, kinematics
+from baseball_collision.core.detector.fitting import c2_bat_path, c2_point_path, c2_window
+from baseball_collision.core.detector.kinematics import (
+    c2_velocities, knot_bat_rates, spline_velocities)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 import numpy as np
+import pytest
 
 
 def _streams(rate: float, spin: float, tilt: float):
@@ -57,3 +61,58 @@ def test_too_few_samples_give_none() -> None:
     ball.append(0.0, 0, (0.0, 0.0, 0.0), True)
     bat.append(0.0, 0, BatSample((0.0, 0.0, 0.0), (0.8, 0.0, 0.0)), True)
     assert spline_velocities(ball, bat, 0.001, 8) is None
+
+
+def _sweet_rate(found, t: float, spin: float, tilt: float) -> np.ndarray:
+    """Return the tip's velocity (m/s) from a knob velocity and swing (0.8 m axis)."""
+    angle = spin * t
+    direction = np.array([math.cos(angle) * math.cos(tilt * t), math.sin(angle),
+                          math.cos(angle) * math.sin(tilt * t)])
+    return np.array(found[0]) + np.cross(found[1], 0.8 * direction)
+
+
+def test_knot_rates_converge_with_the_rate() -> None:
+    """The window fitted with a knot at t: the tip's velocity error falls fast with the rate."""
+    spin, tilt = 40.0, 2.0
+    errors = []
+    for rate in (90.0, 180.0, 360.0):
+        _, bat = _streams(rate, spin, tilt)
+        t = bat.times[-1] + 0.5 / rate
+        found = knot_bat_rates(bat, range(len(bat.times) - 8, len(bat.times)), t)
+        truth = _tip_velocity(t, spin, tilt)
+        errors.append(np.linalg.norm(_sweet_rate(found, t, spin, tilt) - truth)
+                      / np.linalg.norm(truth))
+    assert errors[0] < 5e-3
+    assert errors[1] < errors[0] / 4.0 and errors[2] < errors[1] / 4.0
+
+
+@pytest.mark.parametrize('rule', ['auto', 'knot'])
+def test_a_bat_braking_after_the_opening_frame_does_not_reach_the_velocities(
+        rule: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Issue 11's rule: the bat stopping 1-3 ms after the contact leaves its velocities alone.
+
+    Exact samples at 90 Hz: ``c2_velocities`` of an impact in the newest interval read the
+    samples up to its opening frame only (the default rule and the knot fit), so a bat that
+    stops right after the contact (its closing frame, held still) reports the same
+    pre-contact speed, close to the truth.
+    """
+    monkeypatch.setattr(kinematics, 'VELOCITIES', rule)
+    spin, tilt = 40.0, 2.0
+    ball, bat = _streams(90.0, spin, tilt)
+    k = len(bat.times) - 2
+    t = bat.times[k] + 0.4 / 90.0  # the contact
+    braked = Stream('bat')
+    for i, (time, value) in enumerate(zip(bat.times, bat.values)):
+        stopped = bat.values[k] if i == k + 1 else value  # stopped within the frame
+        braked.append(time, i, stopped, i == 0)
+    config = DetectorConfig(model='c2', bat_input='points')
+    found = []
+    for stream in (bat, braked):
+        window = c2_window(stream, k, config.max_gap, 0, config.spline_window)
+        paths = (c2_point_path(ball, k, window), c2_bat_path(stream, k, window))
+        found.append(c2_velocities(ball, stream, t, *paths, config))
+    assert found[0].pivot == found[1].pivot and found[0].swing == found[1].swing
+    truth = _tip_velocity(t, spin, tilt)
+    tip = _sweet_rate((found[1].pivot, found[1].swing), t, spin, tilt)
+    assert np.linalg.norm(tip - truth) < 1e-2 * np.linalg.norm(truth)
