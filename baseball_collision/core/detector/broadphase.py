@@ -103,7 +103,7 @@ C2_JUMP_BEFORE = _jump_coefficients()
 _AFTER_ONE, _AFTER_TWO = (C2_SAFETY * weight for weight in C2_WEIGHTS_AFTER)
 
 
-def _fill_jumps(stream: Stream, last: int) -> List[float]:
+def _fill_jumps(stream: Stream, last: int, reach: int) -> List[float]:
     """
     Fill the stream's per-sample steps and chord-velocity jumps up to sample ``last``.
 
@@ -111,8 +111,9 @@ def _fill_jumps(stream: Stream, last: int) -> List[float]:
     (s), ``jumps[m]`` = |v_m+1 - v_m| (m/s) with v_m = (p_m - p_m-1) / steps[m] the chord
     velocity into sample m of the ball, or for the bat that of its knob plus the same of its
     knob-to-tip length (both bulges at once: they are added up in ``c2_reach``); up to
-    ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used), and so do samples more than
-    ``_FAR_OFFSET`` before ``last`` not yet filled (NaN: no window reaches them).
+    ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used); samples more than ``reach``
+    before ``last`` not yet filled hold NaN (the window that reads them has not come yet, and
+    no later window reaches them: a run the chunk path fast-forwarded).
 
     :returns: the jumps.
     """
@@ -121,9 +122,7 @@ def _fill_jumps(stream: Stream, last: int) -> List[float]:
         aligned['steps'], aligned['jumps'] = [], []
     steps, jumps = aligned['steps'], aligned['jumps']
     times, values = stream.times, stream.values
-    # a window reads back at most ``_FAR_OFFSET`` samples from ``last``: samples before that
-    # (a run the chunk path fast-forwarded) get NaN, never read
-    skip = last - _FAR_OFFSET
+    skip = last - reach
     if len(steps) < skip:
         steps += [math.nan] * (skip - len(steps))
     if len(jumps) < skip:
@@ -176,7 +175,7 @@ def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
         last = len(stream.times) - 1
     jumps = stream.aligned.get('jumps')
     if jumps is None or len(jumps) < last:
-        jumps = _fill_jumps(stream, last)
+        jumps = _fill_jumps(stream, last, size + look_ahead + 1)
     steps = stream.aligned['steps']
     inside = steps[first + 1:last + 1]
     longest = max(inside)
