@@ -181,7 +181,7 @@ def test_random_chunks_and_faults_same_as_one_at_a_time(model: str, heights: Lis
     assert_same(DetectorConfig(model=model, bat_input='pose'), rows, sizes)
 
 
-@settings(max_examples=examples(10), deadline=None,
+@settings(max_examples=examples(6), deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(look_ahead=st.integers(0, 2), window=st.integers(4, 12),
        heights=st.lists(st.floats(0.9, 1.4), min_size=1, max_size=2),
@@ -225,7 +225,7 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles + 7, stamps, values, frames)
 
 
-@settings(max_examples=examples(200), deadline=None)
+@settings(max_examples=examples(100), deadline=None)
 @given(look_ahead=st.integers(0, 2), size=st.integers(4, 10),
        steps=st.lists(st.floats(0.002, 0.006), min_size=14, max_size=14),
        start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
