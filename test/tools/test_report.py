@@ -57,6 +57,16 @@ def test_json_schema(tmp_path: Path, run_cli: RunCli) -> None:
     assert bag['messages'] == 3480 and bag['model'] == 'spline'
 
 
+def test_c2_json_follows_the_schema(tmp_path: Path, run_cli: RunCli) -> None:
+    """``--model c2``'s document is valid too (the schema once knew three models)."""
+    out = tmp_path / 'c2.json'
+    code, _, _ = run_cli(['analyze', str(bag_path('pitches_360hz.mcap')), '--model', 'c2',
+                          '--json', str(out), '--quiet'])
+    document = json.loads(out.read_text())
+    assert code == 0 and document['bags'][0]['model'] == 'c2' and document['impacts']
+    assert Validator('analyze.schema.json').errors(document) == []
+
+
 def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
     """Each CSV row is its event's record; each table row shows the record's values."""
     analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False)

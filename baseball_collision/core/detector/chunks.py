@@ -15,8 +15,9 @@ keeps its one implementation; when it did not end as the plan assumed (dropped, 
 trimmed otherwise) the rest of the chunk is planned again.
 
 Identical output to feeding the samples one at a time is the contract
-(test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid`` and
-``spline`` models and no prediction is planned; anything else goes sample by sample.
+(test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
+``spline`` and ``c2`` models (``c2`` not under ``tracker_noise`` auto) and no prediction is
+planned; anything else goes sample by sample.
 """
 
 from bisect import bisect_left
@@ -40,8 +41,9 @@ ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
 _ROLES = (Role.BALL, Role.BAT_POSE)
 
-FAST_MODELS = ('linear', 'rigid', 'spline')
-"""Models whose far test is vectorised (``c2``'s windows are not)."""
+FAST_MODELS = ('linear', 'rigid', 'spline', 'c2')
+"""Models whose far test is vectorised (``c2``: its first stage, ``broadphase.apart_margins``;
+not under ``tracker_noise`` auto, whose estimate takes every sample in turn)."""
 
 SLACK = 1e-9
 """Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
@@ -102,6 +104,7 @@ def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Str
            cursor: Optional[float], waiting: bool) -> bool:
     """Return whether a chunk can be planned now (else its samples go one at a time)."""
     return (config.bat_input == 'pose' and config.model in FAST_MODELS
+            and (config.model != 'c2' or config.tracker_noise >= 0.0)
             and config.prediction_horizon <= 0.0 and origin is not None and cursor is not None
             and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
             and 3 <= len(bat.times) <= SILENT_KEEP // 2)
@@ -200,12 +203,14 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         margin = (config.ball_radius + config.profile.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
         with np.errstate(all='ignore'):
-            clearance = apart_margins(ball_points, knobs, tips, positions, ball_k, bat_k,
-                                      ball_before, ball_after, bat_before, bat_after,
-                                      plan.times[0], plan.times[1], config.model)
             scale = 1.0 + float(np.abs(ball_points).max(initial=0.0)) + float(
                 np.abs(tips).max(initial=0.0))
-        far &= clearance > margin + SLACK * scale
+            margin += SLACK * scale
+            clearance = apart_margins(ball_points, knobs, tips, positions, ball_k, bat_k,
+                                      ball_before, ball_after, bat_before, bat_after,
+                                      plan.times[0], plan.times[1], config.model,
+                                      config.look_ahead, config.spline_window, margin)
+        far &= clearance > margin
     plan.checked = ok
     stops = ~ok
     stops[_visiting(visited, np.flatnonzero(~far) + 1, n)] = True
@@ -366,7 +371,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         cut = plan.starts[s][end - 1] - stream_start
         if cut > 0:
             for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
-                           stream.turns):
+                           stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
             stream.path_key = None
     if walk:

@@ -168,7 +168,7 @@ def test_points_and_prediction_go_sample_by_sample() -> None:
 
 @settings(max_examples=examples(25), deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
-@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
+@given(model=st.sampled_from(['linear', 'rigid', 'spline', 'c2']),
        heights=st.lists(st.floats(0.9, 1.4), min_size=1, max_size=3),
        sizes=st.lists(st.integers(1, 700), min_size=1, max_size=6),
        faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
@@ -181,6 +181,38 @@ def test_random_chunks_and_faults_same_as_one_at_a_time(model: str, heights: Lis
     assert_same(DetectorConfig(model=model, bat_input='pose'), rows, sizes)
 
 
+@settings(max_examples=examples(6), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(look_ahead=st.integers(0, 2), window=st.integers(4, 12),
+       heights=st.lists(st.floats(0.9, 1.4), min_size=1, max_size=2),
+       sizes=st.lists(st.integers(1, 700), min_size=1, max_size=4),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=4))
+def test_c2_chunks_same_at_any_look_ahead_and_window(look_ahead: int, window: int,
+                                                     heights: List[float], sizes: List[int],
+                                                     faults: List[Tuple[int, str]]) -> None:
+    """``c2``'s vectorised far test at any look-ahead and window: as one sample at a time."""
+    rows = inject(session(heights), faults)
+    assert_same(DetectorConfig(model='c2', bat_input='pose', look_ahead=look_ahead,
+                               spline_window=window), rows, sizes)
+
+
+def test_c2_under_auto_noise_goes_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``tracker_noise`` auto estimates from every sample in turn: no chunk is planned."""
+    planned = []
+    original = detector_module.plan_chunk
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        planned.append(1)
+        return original(*args, **kwargs)
+    monkeypatch.setattr(detector_module, 'plan_chunk', counting)
+    rows = session(HEIGHTS[:1])
+    assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0), rows, (500,))
+    assert not planned
+    assert_same(DetectorConfig(model='c2', bat_input='pose'), rows, (500,))
+    assert planned
+
+
 def test_bad_chunks_are_refused() -> None:
     """Arrays of different lengths, or an unknown role code, are a CoreError."""
     detector = Detector(DetectorConfig(bat_input='pose'))
@@ -191,6 +223,58 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles, stamps, values[:, :3], frames)
     with pytest.raises(CoreError):
         detector.add_chunk(roles + 7, stamps, values, frames)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(look_ahead=st.integers(0, 2), size=st.integers(4, 10),
+       steps=st.lists(st.floats(0.002, 0.006), min_size=14, max_size=14),
+       start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
+       spin=st.floats(-60.0, 60.0), tilt=st.floats(-3.0, 3.0), jitter=st.floats(0.0, 0.05),
+       seed=st.integers(0, 1000))
+def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
+        look_ahead: int, size: int, steps: List[float], start: Tuple[float, float, float],
+        velocity: float, spin: float, tilt: float, jitter: float, seed: int) -> None:
+    """
+    ``apart_margins`` for ``c2``: ``clearly_apart`` clears every interval it clears.
+
+    Without look-ahead, where the interval's whole window is in the streams (at least
+    ``size`` samples up to its closing frame) the two are the same bound: just above the
+    vectorised clearance the scalar test does not clear it either, so the vectorised test is
+    not looser than it must be. (With look-ahead it also counts the ``look_ahead`` samples
+    before the scalar window's first, which a break after the interval would bring in.)
+    """
+    rng = np.random.default_rng(seed)
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    ball, bat = Stream('ball'), Stream('bat')
+    balls, knobs, tips = [], [], []
+    for t in times:
+        point = tuple(float(x) for x in np.array(start) + velocity * t * np.array([1.0, 0.2, 0.0])
+                      + rng.normal(0.0, jitter, 3))
+        angle = spin * t + 100.0 * t * t
+        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
+        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+        direction = radial - axis * (radial @ axis)
+        knob = np.array([0.2 * t, 0.0, 1.0]) + rng.normal(0.0, jitter, 3)
+        tip = knob + 0.86 * direction / np.linalg.norm(direction) + rng.normal(0.0, jitter, 3)
+        knob, tip = tuple(knob.tolist()), tuple(tip.tolist())
+        ball.append(float(t), int(t * 1e9), point, False)
+        bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,
+                                                     quaternion=(0.0, 0.0, 0.0, 1.0)), False)
+        balls.append(point)
+        knobs.append(knob)
+        tips.append(tip)
+    ks = np.arange(len(times) - 2 - look_ahead)
+    none = np.full(len(ks), -1)
+    clearance = apart_margins(np.array(balls), np.array(knobs), np.array(tips), None, ks, ks,
+                              none, none, none, none, times, times, 'c2', look_ahead, size)
+    scale = 1e-9 * (1.0 + np.abs(balls).max() + np.abs(tips).max())
+    for k in ks:
+        if not np.isfinite(clearance[k]):
+            continue
+        assert clearly_apart(ball, bat, k, k, clearance[k] - scale, 'c2', 1.0, look_ahead, size)
+        if k + 2 >= size and look_ahead == 0:
+            assert not clearly_apart(ball, bat, k, k, clearance[k] + scale, 'c2', 1.0,
+                                     look_ahead, size)
 
 
 @settings(max_examples=examples(200), deadline=None)
