@@ -24,14 +24,14 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .broadphase import apart_margins
+from .broadphase import apart_margins, path_margins
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .scheduler import Scheduler
 from .streams import SILENT_KEEP, Stream
-from ..geometry import Vector
+from ..geometry import norm, Vector
 from ..motion import BatSample, samples_ahead
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
@@ -150,6 +150,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     tips = np.concatenate((np.array([s.tip for s in pre_bat], dtype=float), tip))
     positions = np.concatenate((np.array([s.position for s in pre_bat], dtype=float),
                                 position))
+    quaternions = np.concatenate((np.array([s.quaternion for s in pre_bat], dtype=float),
+                                  quaternion))
     plan.pre = (len(ball.times), len(bat.times))
     plan.times = (np.concatenate((np.array(ball.times), t[is_ball])),
                   np.concatenate((np.array(bat.times), t[is_bat])))
@@ -173,6 +175,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         breaks = (breaks[0][:m_ball], breaks[1][:m_bat])
         ball_points, new_ball = ball_points[:m_ball], new_ball[:m_ball - plan.pre[0]]
         knobs, tips, positions = knobs[:m_bat], tips[:m_bat], positions[:m_bat]
+        quaternions = quaternions[:m_bat]
         k = m_bat - plan.pre[1]
         knob, tip, position, quaternion = knob[:k], tip[:k], position[:k], quaternion[:k]
     # the walk: watermark and cursor after each sample
@@ -196,6 +199,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
         located.append((k, before, after))
     (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
+    far_before = far.copy()  # (the intervals both streams cover without a gap)
     if len(starts_t):
         margin = (config.ball_radius + config.profile.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
@@ -206,6 +210,15 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
             scale = 1.0 + float(np.abs(ball_points).max(initial=0.0)) + float(
                 np.abs(tips).max(initial=0.0))
         far &= clearance > margin + SLACK * scale
+        # the sweep's second test (the motion paths' spheres) where the first did not clear
+        near = np.flatnonzero(far_before & ~far) if config.model != 'linear' else []
+        if len(near):
+            with np.errstate(all='ignore'):
+                paths = path_margins(
+                    ball_points, knobs, tips, quaternions, ball_k[near], bat_k[near],
+                    ball_before[near], ball_after[near], bat_before[near], bat_after[near],
+                    plan.times[0], plan.times[1], config.model, max(map(norm, offsets)))
+            far[near] = paths > margin + SLACK * scale
     plan.checked = ok
     stops = ~ok
     stops[_visiting(visited, np.flatnonzero(~far) + 1, n)] = True

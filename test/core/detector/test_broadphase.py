@@ -4,7 +4,8 @@ import math
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.core.detector.broadphase import (
-    apart_margins, bulge_bounds, clearly_apart, hull_separation, hull_separations)
+    apart_margins, bulge_bounds, clearly_apart, hull_separation, hull_separations,
+    path_margins)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import PointPath
 from hypothesis import given, settings, strategies as st
@@ -191,3 +192,33 @@ def test_hull_separation_scalar_and_arrays_agree(points) -> None:
     scalar = hull_separation(*points)
     array = hull_separations(*(np.array([p], dtype=float) for p in points))[0]
     assert scalar == array or abs(scalar - array) <= 1e-9 * (1.0 + abs(scalar))
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
+       offset=st.tuples(*[st.floats(-1.0, 1.0)] * 3),
+       ball_moves=st.lists(small, min_size=4, max_size=4),
+       hand_moves=st.lists(small, min_size=4, max_size=4),
+       turns=st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
+       steps=st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3),
+       k=st.integers(0, 2))
+def test_vectorised_path_test_is_the_sweeps(model: str, offset, ball_moves, hand_moves, turns,
+                                            steps, k: int) -> None:
+    """``path_margins`` is the gap of the spheres of the paths the sweep builds (to rounding)."""
+    hands = np.cumsum(hand_moves, axis=0)
+    balls = np.array(offset) + np.cumsum(ball_moves, axis=0)
+    detector = _swing(model, [tuple(b) for b in balls], [tuple(h) for h in hands], turns,
+                      steps)
+    ball, bat = detector._ball, detector._bat
+    ball_path, bat_path = detector._sweep.paths(k, k)
+    expected = (math.dist(ball_path.centre, bat_path.centre) - ball_path.radius
+                - bat_path.radius)
+    one = np.array([k])
+    before, after = np.array([k - 1 if k else -1]), np.array([k + 2 if k < 2 else -1])
+    lever = max(math.dist(o, (0.0, 0.0, 0.0)) for o in detector._offsets)
+    found = path_margins(
+        np.array(ball.values), np.array([s.knob for s in bat.values]),
+        np.array([s.tip for s in bat.values]), np.array([s.quaternion for s in bat.values]),
+        one, one, before, after, before, after, np.array(ball.times), np.array(bat.times),
+        model, lever)[0]
+    assert abs(found - expected) <= 1e-9 * (1.0 + abs(expected))
