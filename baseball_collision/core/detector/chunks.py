@@ -20,7 +20,9 @@ Identical output to feeding the samples one at a time is the contract
 """
 
 from bisect import bisect_left
-from typing import List, Optional, Sequence, Tuple
+from collections import Counter
+import time
+from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
@@ -33,6 +35,10 @@ from .scheduler import Scheduler
 from .streams import SILENT_KEEP, Stream
 from ..geometry import norm, Vector
 from ..motion import BatSample, samples_ahead
+from ...errors import CoreError
+
+if TYPE_CHECKING:  # (the detector imports this module)
+    from .detector import Detector
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 """A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
@@ -464,3 +470,121 @@ def _bat_sample(knob: List[float], tip: List[float], position: List[float],
     """Return a bat sample of lists (the stream keeps tuples)."""
     return BatSample(knob=tuple(knob), tip=tuple(tip), position=tuple(position),
                      quaternion=tuple(quaternion))
+
+
+CHUNK_MIN = 16
+"""Chunks (or what is left of one) shorter than this go sample by sample: numpy's set-up
+costs more than it saves."""
+
+
+def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[int],
+               values: Any, frame_ids: Sequence[str],
+               drops: Optional[Counter]) -> List[Event]:
+    """
+    ``Detector.add_chunk``: plan runs of samples, fast-forward them, the rest through ``add``.
+
+    The detector's own chunk path: it reads the detector's current parts (streams, scheduler,
+    intake, clock), which a reset mid-chunk replaces. Arguments and errors as ``add_chunk``.
+    """
+    roles = np.asarray(roles, dtype=np.int8)
+    stamps = np.asarray(stamps_ns, dtype=np.int64)
+    values = np.asarray(values, dtype=float)
+    n = len(stamps)
+    if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
+        raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '
+                        f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
+    if n and (roles.min() < 0 or roles.max() >= len(detector.ROLES)):
+        raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
+    chunk = (roles, stamps, values, frame_ids)
+    events: List[Event] = []
+    i = 0
+    while i < n:
+        intake = detector._intake
+        if n - i < CHUNK_MIN or not usable(
+                detector.config, detector._clock.origin, detector._ball, detector._bat,
+                detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
+                                                 or intake.pending)):
+            for k in range(i, min(n, i + CHUNK_MIN)):
+                _one(detector, chunk, k, events, drops)
+            i = min(n, i + CHUNK_MIN)
+            continue
+        j = i + PLAN_MAX
+        plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
+                          intake.votes.frame, detector._ball, detector._bat,
+                          detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
+                          frame_ids[i:j])
+        if plan.n == 0:  # its first sample is out of order: the per-sample path says why
+            _one(detector, chunk, i, events, drops)
+            i += 1
+            continue
+        i += _follow(detector, plan, chunk, i, events, drops)
+    return events
+
+
+def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
+            events: List[Event], drops: Optional[Counter]) -> int:
+    """
+    Take a plan of the chunk's samples from i: runs fast-forwarded, each stop as ``add`` would.
+
+    :returns: the samples taken: all the plan's, or up to the first stop that did not end as
+        planned (dropped, held, reset, trimmed otherwise: the rest is planned again).
+    """
+    stats = detector.stats
+    pos = 0
+    while True:
+        end = plan.next_stop(pos)
+        if end > pos:
+            start = time.perf_counter()
+            _fast_forward(detector, plan, pos, end, events, walk=True)
+            _time(stats, start, end - pos)
+        if end >= plan.n:
+            return plan.n
+        resets = stats.resets
+        if plan.checked[end]:
+            # it passes every check: append it as planned, walk as add would
+            start = time.perf_counter()
+            _fast_forward(detector, plan, end, end + 1, events, walk=False)
+            detector._advance(events)
+            _time(stats, start, 1)
+        else:
+            _one(detector, chunk, i + end, events, drops)
+        pos = end + 1
+        if stats.resets != resets or stats.last_drop_reason is not None or \
+                stats.late_drops or not plan.held(
+                    end, detector._ball, detector._bat, detector._scheduler.cursor):
+            return pos
+
+
+def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
+                  events: List[Event], walk: bool) -> None:
+    """Take plan samples [first, end) as planned (:func:`fast_forward`); note the newest."""
+    newest = fast_forward(plan, first, end, detector._ball, detector._bat,
+                          detector._scheduler, detector._episodes, detector.stats, events,
+                          walk=walk)
+    intake = detector._intake
+    if intake.newest is None or newest > intake.newest:
+        intake.newest = newest
+
+
+def _one(detector: 'Detector', chunk: Tuple[Any, ...], k: int, events: List[Event],
+         drops: Optional[Counter]) -> None:
+    """Add sample k of a chunk through ``Detector.add``; count its drops."""
+    roles, stamps, values, frame_ids = chunk
+    role = detector.ROLES[roles[k]]
+    row = values[k, :7 if role == Role.BAT_POSE else 3].tolist()
+    events.extend(detector.add(role, int(stamps[k]), row, frame_ids[k]))
+    if drops is not None:
+        stats = detector.stats
+        if stats.last_drop_reason is not None:
+            drops[role, stats.last_drop_reason] += 1
+        for late in stats.late_drops:
+            drops[late.role, late.reason] += 1
+
+
+def _time(stats: DetectorStats, start: float, samples: int) -> None:
+    """Count the wall time since ``start`` (s) spent on ``samples`` fast-forwarded."""
+    elapsed = time.perf_counter() - start
+    stats.last_processing_s = elapsed / samples
+    stats.total_processing_s += elapsed
+    if stats.last_processing_s > stats.max_processing_s:
+        stats.max_processing_s = stats.last_processing_s
