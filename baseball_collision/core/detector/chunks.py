@@ -5,14 +5,17 @@ A chunk of samples at once: the common case (far from any contact) with numpy.
 order. :func:`plan_chunk` looks at all of them at once, as if each were accepted: which pass
 every check with room to spare (the value checks, the frame, the intake's stamp rules, the
 speed bound), where the watermark and the cursor go after each, which union intervals that
-walk visits, and which of those the far test (``broadphase.apart_margins``, the scalar
-``clearly_apart`` on arrays) clears with room to spare. A run of such samples is
+walk visits, and which of those the sweep's far tests clear with room to spare: the first
+(``broadphase.apart_margins``, the scalar ``clearly_apart`` on arrays: bounding spheres and
+hulls of the raw samples), then where it does not, the second (``broadphase.path_margins``:
+the motion paths' spheres, as ``Sweep.interval`` builds them). A run of such samples is
 fast-forwarded (:func:`fast_forward`): appended to the streams, the cursor moved, the intervals
 counted and the episodes told "far", the streams trimmed exactly as the per-sample path trims
 them. Every other sample (a drop, a held or voted one, one that makes a near interval
 decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
 keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
-trimmed otherwise) the rest of the chunk is planned again.
+trimmed otherwise) the rest of the chunk is planned again (:func:`feed_chunk`, the
+detector's ``add_chunk``).
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid`` and
