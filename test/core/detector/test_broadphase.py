@@ -185,7 +185,7 @@ def test_the_hulls_without_the_growth_overshoot_a_turning_bat() -> None:
         assert _vectorised_bound(detector, model) <= closest + 1e-9
 
 
-@settings(max_examples=examples(300), deadline=None)
+@settings(max_examples=examples(100), deadline=None)
 @given(points=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 3), min_size=6, max_size=6))
 def test_hull_separation_scalar_and_arrays_agree(points) -> None:
     """``hull_separation`` and ``hull_separations`` give one number (to rounding)."""
