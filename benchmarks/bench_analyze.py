@@ -35,6 +35,10 @@ bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, 
 each pair's throughputs and the best-of ratio (issue 11's goal for a new default model: it
 keeps >= 0.8 of the old one's throughput); both models' events are listed.
 
+``--interleave``: instead, (a), (d) and (e) in turn, ``--repeats`` times on one bag (default
+30,000 messages), each figure the best CPU time (``time.process_time``) and the best wall
+time: on a machine shared with other work, CPU time moves less than wall time.
+
 ``--jobs K``: writes K bags of ``N`` messages (default 250,000 each) and times
 :func:`analyze.analyze_bags` over them with one job, then with K jobs (a process pool), in the
 same process, best of ``--repeats``; prints the speed-up (goal for two bags on two cores:
@@ -43,6 +47,7 @@ same process, best of ``--repeats``; prints the speed-up (goal for two bags on t
 
 import argparse
 import cProfile
+from functools import partial
 from pathlib import Path
 import pstats
 import resource
@@ -251,6 +256,42 @@ def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: in
               f'cores: {goal}]; same events: {found[1] == found[bags]}')
 
 
+def interleaved_figures(messages: int, storage: str, model: str, repeats: int) -> None:
+    """Print (a), (d) and (e) run in turn ``repeats`` times: best CPU and wall time, ratios."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / SUFFIXES[storage]
+        written, _ = write_bag(path, messages)
+        runs = (('raw', raw_read, (path,)),
+                ('chunks', partial(analyze_bag, progress=False),
+                 (path, AnalysisOptions(model=model))),
+                ('one', per_sample, (path, model)))
+        best, found = {}, {}
+        for _ in range(repeats):
+            for name, run, args in runs:
+                cpu, start = time.process_time(), time.perf_counter()
+                found[name] = run(*args)
+                cpu, wall = time.process_time() - cpu, time.perf_counter() - start
+                old = best.get(name, (float('inf'), float('inf')))
+                best[name] = (min(old[0], cpu), min(old[1], wall))
+        chunks, one = found['chunks'], found['one']
+        same = (chunks.impacts, chunks.near_misses, chunks.drops_by_role, chunks.stats.intervals,
+                chunks.stats.substeps) == (one.impacts, one.near_misses, one.drops_by_role,
+                                           one.stats.intervals, one.stats.substeps)
+        print(f'{written:,} messages ({storage}), --model {model}, best of {repeats} '
+              f'interleaved runs: {len(chunks.impacts)} impacts, {chunks.stats.intervals:,} '
+              f'intervals, {chunks.stats.substeps:,} sub-steps')
+        for name, label in (('raw', '(a) rosbags raw read'), ('chunks', '(d) analyze, chunks'),
+                            ('one', '(e) analyze, one sample at a time')):
+            cpu, wall = best[name]
+            print(f'  {label:36s} CPU {cpu:7.2f} s {written / cpu:>10,.0f} msg/s   '
+                  f'wall {wall:7.2f} s {written / wall:>10,.0f} msg/s')
+        for what, i in (('CPU', 0), ('wall', 1)):
+            raw, fast, slow = (best[name][i] for name in ('raw', 'chunks', 'one'))
+            print(f'  {what:4s}: (d) / raw read = {raw / fast:.3f}, (e) / raw read = '
+                  f'{raw / slow:.3f}, (d) / (e) speed-up = {slow / fast:.2f}x')
+        print(f'  same events, drops and counters: {same}')
+
+
 def main() -> None:
     """Write the bag, time the readers and analyze, print the figures and the split."""
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
@@ -268,8 +309,13 @@ def main() -> None:
     parser.add_argument('--pairs', type=int, default=3, help='pairs with --against (3)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
     parser.add_argument('--repeats', type=int, default=3,
-                        help='runs per --jobs or --whole figure (3)')
+                        help='runs per --jobs, --whole or --interleave figure (3)')
+    parser.add_argument('--interleave', action='store_true',
+                        help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
+    if args.interleave:
+        interleaved_figures(args.messages or 30_000, args.storage, args.model, args.repeats)
+        return
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats)
         return

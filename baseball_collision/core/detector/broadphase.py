@@ -2,7 +2,8 @@
 The cheap far test: ball and bat clearly apart over a union interval, from the raw samples.
 
 Most intervals of a session have the ball metres from the bat. This decides them without
-building a path: each body's path lies in a sphere around its chord's middle, grown by a bound
+building a path: each body's path lies in a sphere around its chord's middle (and within the
+hull of its end samples, for the finer bound ``hull_separation``), grown by a bound
 on how far the motion model lets it bulge (none for chords; for a rigid turn, the sagitta is
 at most half the chord of the rotating part; for the spline, ``bulge_bounds``; for ``c2``,
 first ``c2_jump_bulge`` and ``c2_reach`` from numbers kept per sample, then ``c2_bulge`` and
@@ -274,6 +275,10 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
     """
     Return whether ball and bat stay more than ``margin`` (m) apart over both sample intervals.
 
+    Two lower bounds on the distance between any point of the ball's path and any point of the
+    bat's axis over the intervals: the bounding spheres' gap, then (``linear``, ``rigid``,
+    ``spline``) the hulls' separation along one direction (:func:`hull_separation`).
+
     :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
     :param model: the motion model between samples.
     :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
@@ -288,6 +293,9 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
                   (k0[2] + e0[2] + k1[2] + e1[2]) * 0.25)
     bat_radius = max(math.dist(k0, bat_centre), math.dist(e0, bat_centre),
                      math.dist(k1, bat_centre), math.dist(e1, bat_centre))
+    # how far the paths leave the hulls of their end samples: the ball's of its chord, every
+    # axis point of the bat's of the four points (where the chords of its ends are)
+    ball_bulge = bat_growth = 0.0
     if model == 'rigid':
         turning = max(math.dist(k0, k1), math.dist(e0, e1))
         if s0.position is not None:
@@ -295,16 +303,20 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         else:
             # knob moves on its chord, the length changes linearly: both count in full
             reference = math.dist(k0, k1) + 2.0 * abs(math.dist(k0, e0) - math.dist(k1, e1))
-        bat_radius += 0.5 * (turning + reference)
+        bat_growth = 0.5 * (turning + reference)
+        bat_radius += bat_growth
     elif model == 'spline':
         # the knob's cubic, then the knob-to-tip vector r turning on an arc (at most
         # (pi / 4) |D r| from its chord) by an angle whose cubic overshoots uniform speed by at
         # most pi times r's own bulge bound (angle <= (pi / 2) chord / length), and the
         # length changing linearly
-        ball_radius += bulge_bounds(ball, ball_k, (_same,), max_gap)[0]
+        ball_bulge = bulge_bounds(ball, ball_k, (_same,), max_gap)[0]
         knob_bulge, axis_bulge = bulge_bounds(bat, bat_k, (_knob_of, _axis_of), max_gap)
-        bat_radius += (knob_bulge + 0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1))
-                       + math.pi * axis_bulge + abs(math.dist(k0, e0) - math.dist(k1, e1)))
+        turn, stretch = (0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1)),
+                         abs(math.dist(k0, e0) - math.dist(k1, e1)))
+        bat_growth = knob_bulge + turn + math.pi * axis_bulge + stretch
+        ball_radius += ball_bulge
+        bat_radius += bat_growth
     elif model == 'c2':
         # first from numbers kept per sample (``c2_jump_bulge``), then the exact weights
         quick = c2_jump_bulge(ball, ball_k, look_ahead, size, max_gap)
@@ -323,7 +335,38 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         if growth is None:
             return False
         bat_radius += growth
-    return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+        return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+    return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+            or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
+
+
+def hull_separation(b0: Vector, b1: Vector, k0: Vector, e0: Vector, k1: Vector,
+                    e1: Vector) -> float:
+    """
+    Return a lower bound (m) on the distance between the hulls of (b0, b1) and (k0, e0, k1, e1).
+
+    For any unit vector n, every x in the first hull and y in the second are at least
+    min(n.b) - max(n.p) apart (n.(x - y) <= |x - y|). Here n points from the closest point of
+    the bat's middle segment (the knobs' middle to the tips' middle) to the ball chord's middle:
+    nearly the hulls' own separating direction when the ball is beside the bat. A ball chord
+    crossing that segment gives a negative number (no bound); so does a direction of zero length.
+    """
+    cx, cy, cz = (b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5
+    mx, my, mz = (k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5
+    ax = (e0[0] + e1[0]) * 0.5 - mx
+    ay = (e0[1] + e1[1]) * 0.5 - my
+    az = (e0[2] + e1[2]) * 0.5 - mz
+    along = ax * ax + ay * ay + az * az
+    s = ((cx - mx) * ax + (cy - my) * ay + (cz - mz) * az) / along if along > 0.0 else 0.0
+    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
+    nx, ny, nz = cx - mx - s * ax, cy - my - s * ay, cz - mz - s * az
+    length = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if not length > 0.0:
+        return -math.inf
+    nx, ny, nz = nx / length, ny / length, nz / length
+    return (min(nx * b0[0] + ny * b0[1] + nz * b0[2], nx * b1[0] + ny * b1[1] + nz * b1[2])
+            - max(nx * k0[0] + ny * k0[1] + nz * k0[2], nx * e0[0] + ny * e0[1] + nz * e0[2],
+                  nx * k1[0] + ny * k1[1] + nz * k1[2], nx * e1[0] + ny * e1[1] + nz * e1[2]))
 
 
 def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
@@ -336,14 +379,14 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     Return ``clearly_apart``'s clearance (m) for many intervals at once.
 
     The same bounds as :func:`clearly_apart` for the ``linear``, ``rigid`` and ``spline``
-    models, over arrays: the clearance is the distance between the ball's and the bat's bounding
-    spheres; ``clearly_apart`` says True where it exceeds ``margin``. For ``c2``, the clearance
-    of its first stage (``c2_jump_bulge`` and ``c2_reach``) with the jumps and steps of every
-    sample a full window could hold, counted from the arrays' first sample: never below the
-    scalar test's bound, as long as the arrays start at or before the stream's first kept
-    sample (-inf where the steps are too uneven: the scalar test decides). Computed with
-    numpy's own rounding: a caller that must agree with the scalar test compares with a
-    tolerance.
+    models, over arrays: the clearance is the larger of its two lower bounds (the bounding
+    spheres' gap, the hulls' separation less both growths); ``clearly_apart`` says True where
+    it exceeds ``margin``. For ``c2``, the clearance of its first stage (``c2_jump_bulge`` and
+    ``c2_reach``) with the jumps and steps of every sample a full window could hold, counted
+    from the arrays' first sample: never below the scalar test's bound, as long as the arrays
+    start at or before the stream's first kept sample (-inf where the steps are too uneven:
+    the scalar test decides). Computed with numpy's own rounding: a caller that must agree
+    with the scalar test compares with a tolerance.
 
     :param ball: ball samples (n_ball, 3); ``bat_knob``, ``bat_tip``: bat samples (n_bat, 3).
     :param bat_position: pose origins (n_bat, 3) for pose input, else None.
@@ -368,24 +411,50 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     bat_centre = (k0 + e0 + k1 + e1) * 0.25
     bat_radius = np.maximum(np.maximum(_dist(k0, bat_centre), _dist(e0, bat_centre)),
                             np.maximum(_dist(k1, bat_centre), _dist(e1, bat_centre)))
+    ball_bulge = bat_growth = 0.0
     if model == 'rigid':
         turning = np.maximum(_dist(k0, k1), _dist(e0, e1))
         if bat_position is not None:
             reference = _dist(bat_position[bat_k], bat_position[bat_k + 1])
         else:
             reference = _dist(k0, k1) + 2.0 * np.abs(_dist(k0, e0) - _dist(k1, e1))
-        bat_radius = bat_radius + 0.5 * (turning + reference)
+        bat_growth = 0.5 * (turning + reference)
     elif model == 'spline':
-        ball_radius = ball_radius + _bulges(ball, ball_times, ball_k, ball_before, ball_after)
+        ball_bulge = _bulges(ball, ball_times, ball_k, ball_before, ball_after)
         axis = bat_tip - bat_knob
-        bat_radius = (bat_radius
-                      + _bulges(bat_knob, bat_times, bat_k, bat_before, bat_after)
+        bat_growth = (_bulges(bat_knob, bat_times, bat_k, bat_before, bat_after)
                       + 0.25 * math.pi * _dist(e0 - k0, e1 - k1)
                       + math.pi * _bulges(axis, bat_times, bat_k, bat_before, bat_after)
                       + np.abs(_dist(k0, e0) - _dist(k1, e1)))
     elif model != 'linear':
         raise ValueError(f'no vectorised far test for the {model} model')
-    return _dist(ball_centre, bat_centre) - ball_radius - bat_radius
+    ball_radius = ball_radius + ball_bulge
+    bat_radius = bat_radius + bat_growth
+    sphere = _dist(ball_centre, bat_centre) - ball_radius - bat_radius
+    return np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
+                      - bat_growth)
+
+
+def hull_separations(b0: np.ndarray, b1: np.ndarray, k0: np.ndarray, e0: np.ndarray,
+                     k1: np.ndarray, e1: np.ndarray) -> np.ndarray:
+    """:func:`hull_separation` over rows of (m, 3) arrays (NaN rounds to no bound: -inf)."""
+    centre = (b0 + b1) * 0.5
+    middle = (k0 + k1) * 0.5
+    axis = (e0 + e1) * 0.5 - middle
+    along = np.einsum('ij,ij->i', axis, axis)
+    with np.errstate(all='ignore'):
+        s = np.where(along > 0.0, np.einsum('ij,ij->i', centre - middle, axis) / along, 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    n = centre - middle - s[:, None] * axis
+    length = np.sqrt(np.einsum('ij,ij->i', n, n))
+    with np.errstate(all='ignore'):
+        n = n / length[:, None]
+        separation = (np.minimum(np.einsum('ij,ij->i', n, b0), np.einsum('ij,ij->i', n, b1))
+                      - np.maximum(np.maximum(np.einsum('ij,ij->i', n, k0),
+                                              np.einsum('ij,ij->i', n, e0)),
+                                   np.maximum(np.einsum('ij,ij->i', n, k1),
+                                              np.einsum('ij,ij->i', n, e1))))
+    return np.where(length > 0.0, separation, -np.inf)
 
 
 def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
@@ -580,3 +649,131 @@ def _bulges(points: np.ndarray, times: np.ndarray, k: np.ndarray, before: np.nda
     a = np.where(has, after, k + 1)
     step = np.where(has, times[a] - times[k + 1], 1.0)
     return bound + np.where(has, 0.635 * h / step * _dist(there, points[a]), 0.0)
+
+
+def path_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
+                 bat_quaternion: np.ndarray, ball_k: np.ndarray, bat_k: np.ndarray,
+                 ball_before: np.ndarray, ball_after: np.ndarray, bat_before: np.ndarray,
+                 bat_after: np.ndarray, ball_times: np.ndarray, bat_times: np.ndarray,
+                 model: str, lever: float) -> np.ndarray:
+    """
+    Return the sweep's second far test over many intervals: the motion paths' spheres' gap (m).
+
+    ``PointPath.centre``/``radius`` of the ball and ``BatPath.centre``/``radius`` of the bat
+    (``rigid`` from poses, ``spline``; ``linear``: the chords, the first test's spheres) as
+    ``Sweep.interval`` builds them, over arrays, without building the paths; the sweep calls an
+    interval far where this exceeds its margin. Arguments as :func:`apart_margins`, with the
+    bat's unit quaternions (n_bat, 4) and, for ``rigid``, ``lever``: the longer body offset
+    (m). Computed with numpy's own rounding: compare with a tolerance
+    (test/core/detector/test_broadphase.py checks it against the paths).
+
+    :raises ValueError: ``c2`` (its windows are not vectorised).
+    """
+    b0, b1 = ball[ball_k], ball[ball_k + 1]
+    k0, k1 = bat_knob[bat_k], bat_knob[bat_k + 1]
+    e0, e1 = bat_tip[bat_k], bat_tip[bat_k + 1]
+    bat_centre = 0.25 * (k0 + e0 + k1 + e1)
+    bat_radius = np.maximum(np.maximum(_dist(k0, bat_centre), _dist(e0, bat_centre)),
+                            np.maximum(_dist(k1, bat_centre), _dist(e1, bat_centre)))
+    ball_radius = 0.5 * _dist(b0, b1)
+    if model == 'rigid':
+        cosine = np.abs(np.einsum('ij,ij->i', bat_quaternion[bat_k], bat_quaternion[bat_k + 1]))
+        angle = 2.0 * np.arccos(np.minimum(1.0, cosine))
+        bat_radius = bat_radius + lever * angle * angle / 8.0
+    elif model == 'spline':
+        ball_radius = ball_radius + _cubic_bulges(ball, ball_times, ball_k, ball_before,
+                                                  ball_after)
+        bat_radius = (bat_radius + _cubic_bulges(bat_knob, bat_times, bat_k, bat_before,
+                                                 bat_after)
+                      + _turn_growth(bat_knob, bat_tip, bat_times, bat_k, bat_before, bat_after))
+    elif model != 'linear':
+        raise ValueError(f'no vectorised path test for the {model} model')
+    return _dist(b0 + (b1 - b0) * 0.5, bat_centre) - ball_radius - bat_radius
+
+
+def _slopes(t_prev: np.ndarray, v_prev: np.ndarray, t: np.ndarray, v: np.ndarray,
+            t_next: np.ndarray, v_next: np.ndarray, has_prev: np.ndarray,
+            has_next: np.ndarray) -> np.ndarray:
+    """``motion.base.hermite_tangent`` (and ``hermite_slope``: 1-d values) over rows."""
+    h0, h1 = t - t_prev, t_next - t
+    if v.ndim == 2:
+        h0, h1, t_next, t_prev, t = (x[:, None] for x in (h0, h1, t_next, t_prev, t))
+        has_prev, has_next = has_prev[:, None], has_next[:, None]
+    with np.errstate(all='ignore'):
+        w_prev = h1 / (h0 * (h0 + h1))
+        w_next = h0 / (h1 * (h0 + h1))
+        both = w_next * v_next + (w_prev - w_next) * v - w_prev * v_prev
+        forward = (v_next - v) * (1.0 / (t_next - t))
+        backward = (v - v_prev) * (1.0 / (t - t_prev))
+    return np.where(has_prev & has_next, both, np.where(
+        has_next, forward, np.where(has_prev, backward, 0.0)))
+
+
+def _hermite_bulge(h: np.ndarray, chord: np.ndarray, m0: np.ndarray,
+                   m1: np.ndarray) -> np.ndarray:
+    """``PointPath.bulge`` (``AngleCubic.bulge``: 1-d) of cubics with end rates m0, m1."""
+    if chord.ndim == 2:
+        h = h[:, None]
+    b, e = h * m0, h * m1
+    c = 3.0 * chord - 2.0 * b - e
+    d = b + e - 2.0 * chord
+    if chord.ndim == 2:
+        return 0.25 * np.sqrt(np.einsum('ij,ij->i', c, c)) + 0.3849 * np.sqrt(
+            np.einsum('ij,ij->i', d, d))
+    return 0.25 * np.abs(c) + 0.3849 * np.abs(d)
+
+
+def _cubic_bulges(points: np.ndarray, times: np.ndarray, k: np.ndarray, before: np.ndarray,
+                  after: np.ndarray) -> np.ndarray:
+    """``PointPath.build('spline', ...).bulge`` over many intervals k (-1 neighbours: none)."""
+    has_before, has_after = before >= 0, after >= 0
+    b, a = np.where(has_before, before, k), np.where(has_after, after, k + 1)
+    t0, t1 = times[k], times[k + 1]
+    p0, p1 = points[k], points[k + 1]
+    true = np.ones(len(k), bool)
+    m0 = _slopes(times[b], points[b], t0, p0, t1, p1, has_before, true)
+    m1 = _slopes(t0, p0, t1, p1, times[a], points[a], true, has_after)
+    return _hermite_bulge(t1 - t0, p1 - p0, m0, m1)
+
+
+def _swing_angles(u: np.ndarray, v: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return ``geometry.swing_rotation``'s (cross, sine, angle) over rows."""
+    turn = np.cross(u, v)
+    sine = np.sqrt(np.einsum('ij,ij->i', turn, turn))
+    return turn, sine, np.arctan2(sine, np.einsum('ij,ij->i', u, v))
+
+
+def _turn_growth(knobs: np.ndarray, tips: np.ndarray, times: np.ndarray, k: np.ndarray,
+                 before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """
+    ``SplineBatPath``'s growth beyond the knob's bulge over many intervals k (m).
+
+    lever * ((angle + 2 bulge)^2 / 8 + 2 bulge): the turn between the directions and its
+    cubic's (``AngleCubic.through``) bulge, the neighbours' swings projected on its axis.
+    """
+    axes = tips - knobs
+    lengths = np.sqrt(np.einsum('ij,ij->i', axes, axes))
+    directions = axes / lengths[:, None]
+    d0, d1 = directions[k], directions[k + 1]
+    turn, sine, angle = _swing_angles(d0, d1)
+    turning = sine >= 1e-12
+    with np.errstate(all='ignore'):
+        axis = turn / sine[:, None]
+    has_before, has_after = before >= 0, after >= 0
+    b, a = np.where(has_before, before, k), np.where(has_after, after, k + 1)
+    ones = np.ones(len(k), bool)
+
+    def projected(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        cross, s, theta = _swing_angles(u, v)
+        with np.errstate(all='ignore'):
+            rotation = cross * (theta / s)[:, None]
+        return np.where(s > 0.0, np.einsum('ij,ij->i', rotation, axis), 0.0)
+    previous = -projected(axes[b], axes[k])
+    following = angle + projected(axes[k + 1], axes[a])
+    t0, t1 = times[k], times[k + 1]
+    zero = np.zeros(len(k))
+    m0 = _slopes(times[b], previous, t0, zero, t1, angle, has_before, ones)
+    m1 = _slopes(t0, zero, t1, angle, times[a], following, ones, has_after)
+    bulge = np.where(turning, _hermite_bulge(t1 - t0, angle, m0, m1), 0.0)
+    lever = np.maximum(lengths[k], lengths[k + 1])
+    return lever * ((angle + 2.0 * bulge) ** 2 / 8.0 + 2.0 * bulge)

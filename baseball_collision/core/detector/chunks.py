@@ -5,14 +5,17 @@ A chunk of samples at once: the common case (far from any contact) with numpy.
 order. :func:`plan_chunk` looks at all of them at once, as if each were accepted: which pass
 every check with room to spare (the value checks, the frame, the intake's stamp rules, the
 speed bound), where the watermark and the cursor go after each, which union intervals that
-walk visits, and which of those the far test (``broadphase.apart_margins``, the scalar
-``clearly_apart`` on arrays) clears with room to spare. A run of such samples is
+walk visits, and which of those the sweep's far tests clear with room to spare: the first
+(``broadphase.apart_margins``, the scalar ``clearly_apart`` on arrays: bounding spheres and
+hulls of the raw samples), then where it does not, the second (``broadphase.path_margins``:
+the motion paths' spheres, as ``Sweep.interval`` builds them). A run of such samples is
 fast-forwarded (:func:`fast_forward`): appended to the streams, the cursor moved, the intervals
 counted and the episodes told "far", the streams trimmed exactly as the per-sample path trims
 them. Every other sample (a drop, a held or voted one, one that makes a near interval
 decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
 keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
-trimmed otherwise) the rest of the chunk is planned again.
+trimmed otherwise) the rest of the chunk is planned again (:func:`feed_chunk`, the
+detector's ``add_chunk``).
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
@@ -21,19 +24,25 @@ planned; anything else goes sample by sample.
 """
 
 from bisect import bisect_left
-from typing import List, Optional, Sequence, Tuple
+from collections import Counter
+import time
+from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
-from .broadphase import apart_margins
+from .broadphase import apart_margins, path_margins
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .scheduler import Scheduler
 from .streams import SILENT_KEEP, Stream
-from ..geometry import Vector
+from ..geometry import norm, Vector
 from ..motion import BatSample, samples_ahead
+from ...errors import CoreError
+
+if TYPE_CHECKING:  # (the detector imports this module)
+    from .detector import Detector
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 """A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
@@ -110,6 +119,33 @@ def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Str
             and 3 <= len(bat.times) <= SILENT_KEEP // 2)
 
 
+class Arrays:
+    """
+    Both streams' kept samples, then a chunk's, as arrays (``plan_chunk``'s working set).
+
+    :ivar pre: per stream, samples it held when planned.
+    :ivar times, stamps, breaks: per stream (s, ns, bool).
+    :ivar ball: ball points (m_ball, 3); ``knobs``, ``tips``, ``positions``: (m_bat, 3);
+        ``quaternions``: (m_bat, 4) unit.
+    :ivar new: the chunk's own: ball points, then the bat's knob, tip, position, quaternion.
+    """
+
+    __slots__ = ('pre', 'times', 'stamps', 'breaks', 'ball', 'knobs', 'tips', 'positions',
+                 'quaternions', 'new')
+
+    def cut(self, m_ball: int, m_bat: int) -> None:
+        """Keep each stream's first m_ball and m_bat samples (the chunk's first samples)."""
+        self.times = (self.times[0][:m_ball], self.times[1][:m_bat])
+        self.stamps = (self.stamps[0][:m_ball], self.stamps[1][:m_bat])
+        self.breaks = (self.breaks[0][:m_ball], self.breaks[1][:m_bat])
+        self.ball = self.ball[:m_ball]
+        self.knobs, self.tips = self.knobs[:m_bat], self.tips[:m_bat]
+        self.positions, self.quaternions = self.positions[:m_bat], self.quaternions[:m_bat]
+        k = m_bat - self.pre[1]
+        self.new = (self.new[0][:m_ball - self.pre[0]],) + tuple(column[:k]
+                                                                 for column in self.new[1:])
+
+
 def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
                frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
                roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
@@ -126,15 +162,44 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # the plan ends before the first sample not after its stream's last (dropped, held or a
     # jump back: nothing after it can be planned until it is settled)
     n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
-    roles, stamps, values, frames = roles[:n], stamps[:n], values[:n], frames[:n]
+    is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
+    arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
+    ok = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
+                 frames[:n])
+    # the plan ends at its first sample that fails a check: the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again
+    failing = np.flatnonzero(~ok)
+    if len(failing) and failing[0] + 1 < n:
+        n = int(failing[0]) + 1
+        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
+        arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
     plan = Plan()
-    plan.n = n
-    is_ball, is_bat = roles == BALL, roles == BAT_POSE
+    plan.n, plan.pre = n, arrays.pre
+    _walk(config, plan, arrays, is_ball, is_bat, cursor)
+    far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
+                         if n else plan.union[:0])
+    stops = ~ok
+    stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
+    stops |= _trim_starts(config, plan, arrays)
+    # as lists for fast_forward (and the stream's own values)
+    plan.stops = np.flatnonzero(stops).tolist()
+    plan.checked = ok.tolist()
+    plan.counts = [counts.tolist() for counts in plan.counts]
+    plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
+    plan.times = [times.tolist() for times in arrays.times]
+    plan.stamps = [stamps.tolist() for stamps in arrays.stamps]
+    new_ball, knob, tip, position, quaternion = arrays.new
+    plan.values = (list(map(tuple, new_ball.tolist())),
+                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
+    return plan
+
+
+def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stream,
+            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray,
+            values: np.ndarray) -> Arrays:
+    """Return the streams' kept samples and the chunk's (its poses made knob and tip)."""
+    arrays = Arrays()
     with np.errstate(all='ignore'):
-        ok = _value_checks(config, values, is_ball, is_bat)
-        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
-            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
-        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
         t = (stamps - origin) * 1e-9
         position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
         magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
@@ -145,94 +210,111 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         knob = _pose_points(position, quaternion, offsets[0])
         tip = _pose_points(position, quaternion, offsets[1])
     new_ball = values[is_ball, :3]
-    # each stream: its kept samples, then the chunk's
-    pre_ball = np.array(ball.values, dtype=float).reshape(-1, 3)
+    arrays.new = (new_ball, knob, tip, position, quaternion)
     pre_bat = bat.values
-    ball_points = np.concatenate((pre_ball, new_ball))
-    knobs = np.concatenate((np.array([s.knob for s in pre_bat], dtype=float), knob))
-    tips = np.concatenate((np.array([s.tip for s in pre_bat], dtype=float), tip))
-    positions = np.concatenate((np.array([s.position for s in pre_bat], dtype=float),
-                                position))
-    plan.pre = (len(ball.times), len(bat.times))
-    plan.times = (np.concatenate((np.array(ball.times), t[is_ball])),
-                  np.concatenate((np.array(bat.times), t[is_bat])))
-    plan.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
-                   np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
-    breaks = (np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
-              np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
-    ok[is_ball] &= _order_checks(config, plan.stamps[0], plan.times[0], (ball_points,),
-                                 plan.pre[0])
-    ok[is_bat] &= _order_checks(config, plan.stamps[1], plan.times[1], (knobs, tips),
-                                plan.pre[1])
-    # the plan ends at its first sample that fails a check: the per-sample path will most
-    # likely drop it, hold it or break its stream there, and what follows be planned again
-    failing = np.flatnonzero(~ok)
-    if len(failing) and failing[0] + 1 < n:
-        n = plan.n = int(failing[0]) + 1
-        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
-        m_ball, m_bat = plan.pre[0] + int(is_ball.sum()), plan.pre[1] + int(is_bat.sum())
-        plan.times = (plan.times[0][:m_ball], plan.times[1][:m_bat])
-        plan.stamps = (plan.stamps[0][:m_ball], plan.stamps[1][:m_bat])
-        breaks = (breaks[0][:m_ball], breaks[1][:m_bat])
-        ball_points, new_ball = ball_points[:m_ball], new_ball[:m_ball - plan.pre[0]]
-        knobs, tips, positions = knobs[:m_bat], tips[:m_bat], positions[:m_bat]
-        k = m_bat - plan.pre[1]
-        knob, tip, position, quaternion = knob[:k], tip[:k], position[:k], quaternion[:k]
-    # the walk: watermark and cursor after each sample
-    plan.counts = (plan.pre[0] + np.cumsum(is_ball), plan.pre[1] + np.cumsum(is_bat))
+    arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
+    arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
+        np.concatenate((np.array([getattr(s, name) for s in pre_bat], dtype=float), column))
+        for name, column in (('knob', knob), ('tip', tip), ('position', position),
+                             ('quaternion', quaternion)))
+    arrays.pre = (len(ball.times), len(bat.times))
+    arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
+                    np.concatenate((np.array(bat.times), t[is_bat])))
+    arrays.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
+                     np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
+    arrays.breaks = (
+        np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
+        np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
+    return arrays
+
+
+def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
+            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+            frames: Sequence[str]) -> np.ndarray:
+    """Return which samples pass every check with room to spare (values, frame, order)."""
+    n = len(stamps)
+    with np.errstate(all='ignore'):
+        ok = _value_checks(config, values, is_ball, is_bat)
+        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
+            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
+        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
+    ok[is_ball] &= _order_checks(config, arrays.stamps[0], arrays.times[0], (arrays.ball,),
+                                 arrays.pre[0])
+    ok[is_bat] &= _order_checks(config, arrays.stamps[1], arrays.times[1],
+                                (arrays.knobs, arrays.tips), arrays.pre[1])
+    return ok
+
+
+def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
+          is_bat: np.ndarray, cursor: float) -> None:
+    """Set the plan's counts, union times and cursor steps: the watermark after each sample."""
+    plan.counts = (arrays.pre[0] + np.cumsum(is_ball), arrays.pre[1] + np.cumsum(is_bat))
     ahead = samples_ahead(config.model, config.look_ahead)
-    watermark = np.minimum(plan.times[0][plan.counts[0] - 1 - ahead],
-                           plan.times[1][plan.counts[1] - 1 - ahead])
-    union = np.union1d(plan.times[0], plan.times[1])
+    watermark = np.minimum(arrays.times[0][plan.counts[0] - 1 - ahead],
+                           arrays.times[1][plan.counts[1] - 1 - ahead])
+    union = np.union1d(arrays.times[0], arrays.times[1])
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    plan.visited = visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
-    # the far test over every interval the walk visits
-    last = int(visited[-1]) if n else 1
-    starts_t = union[:last - 1]
-    far = np.ones(len(starts_t), bool)
+    plan.visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+
+
+def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
+                   starts: np.ndarray) -> np.ndarray:
+    """
+    Return which union intervals (by their start times, s) the sweep's far tests clear.
+
+    Both streams without a gap over them, then the first test (``apart_margins``) or, where it
+    does not clear, the second (``path_margins``), each by ``SLACK`` more than the sweep's
+    margin.
+    """
+    far = np.ones(len(starts), bool)
     located = []
-    for s, stream_points in ((0, ball_points), (1, knobs)):
-        k = np.searchsorted(plan.times[s], starts_t, 'right') - 1
-        times, cut = plan.times[s], breaks[s]
+    for s in (0, 1):
+        k = np.searchsorted(arrays.times[s], starts, 'right') - 1
+        times, cut = arrays.times[s], arrays.breaks[s]
         far &= _continuous(times, cut, k, config.max_gap)
         before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
         after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
         located.append((k, before, after))
+    if not len(starts):
+        return far
     (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
-    if len(starts_t):
-        margin = (config.ball_radius + config.profile.max_radius + 1e-6
-                  + max(config.near_miss_threshold, config.rearm_distance))
-        with np.errstate(all='ignore'):
-            scale = 1.0 + float(np.abs(ball_points).max(initial=0.0)) + float(
-                np.abs(tips).max(initial=0.0))
-            margin += SLACK * scale
-            clearance = apart_margins(ball_points, knobs, tips, positions, ball_k, bat_k,
-                                      ball_before, ball_after, bat_before, bat_after,
-                                      plan.times[0], plan.times[1], config.model,
-                                      config.look_ahead, config.spline_window, margin)
-        far &= clearance > margin
-    plan.checked = ok
-    stops = ~ok
-    stops[_visiting(visited, np.flatnonzero(~far) + 1, n)] = True
-    # the trims, as the per-sample path makes them after each sample
+    margin = (config.ball_radius + config.profile.max_radius + 1e-6
+              + max(config.near_miss_threshold, config.rearm_distance))
+    with np.errstate(all='ignore'):
+        margin += SLACK * (1.0 + float(np.abs(arrays.ball).max(initial=0.0))
+                           + float(np.abs(arrays.tips).max(initial=0.0)))
+        clear = far & (apart_margins(
+            arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
+            ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
+            config.model, config.look_ahead, config.spline_window, margin) > margin)
+        # the sweep's second test (the motion paths' spheres) where the first did not clear
+        # (c2's second stage is apart_margins' own)
+        near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
+        if len(near):
+            clear[near] = path_margins(
+                arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
+                bat_k[near], ball_before[near], ball_after[near], bat_before[near],
+                bat_after[near], arrays.times[0], arrays.times[1], config.model,
+                max(map(norm, offsets))) > margin
+    return clear
+
+
+def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays) -> np.ndarray:
+    """
+    Set the plan's trims (as the per-sample path makes them after each sample).
+
+    :returns: which samples must stop: a stream that may be silent trims on its own.
+    """
     history = 1.5 * max(config.velocity_window, config.prediction_window)
-    cursors = union[visited - 1]
+    cursors = plan.union[plan.visited - 1]
     plan.starts = []
+    stops = np.zeros(plan.n, bool)
     for s in (0, 1):
-        cuts = np.searchsorted(plan.times[s], cursors - history, 'right') - TRIM_KEEP
+        cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
         starts, lengths = _trims(plan.counts[s], cuts)
         plan.starts.append(starts)
-        stops |= lengths > SILENT_KEEP  # a stream that may be silent: its own trim
-    # as lists for fast_forward (and the stream's own values)
-    plan.stops = np.flatnonzero(stops).tolist()
-    plan.checked = ok.tolist()
-    plan.counts = [counts.tolist() for counts in plan.counts]
-    plan.visited, plan.union = visited.tolist(), union.tolist()
-    plan.times = [times.tolist() for times in plan.times]
-    plan.stamps = [stamps.tolist() for stamps in plan.stamps]
-    plan.values = (list(map(tuple, new_ball.tolist())),
-                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
-    return plan
+        stops |= lengths > SILENT_KEEP
+    return stops
 
 
 def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
@@ -395,3 +477,121 @@ def _bat_sample(knob: List[float], tip: List[float], position: List[float],
     """Return a bat sample of lists (the stream keeps tuples)."""
     return BatSample(knob=tuple(knob), tip=tuple(tip), position=tuple(position),
                      quaternion=tuple(quaternion))
+
+
+CHUNK_MIN = 16
+"""Chunks (or what is left of one) shorter than this go sample by sample: numpy's set-up
+costs more than it saves."""
+
+
+def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[int],
+               values: Any, frame_ids: Sequence[str],
+               drops: Optional[Counter]) -> List[Event]:
+    """
+    ``Detector.add_chunk``: plan runs of samples, fast-forward them, the rest through ``add``.
+
+    The detector's own chunk path: it reads the detector's current parts (streams, scheduler,
+    intake, clock), which a reset mid-chunk replaces. Arguments and errors as ``add_chunk``.
+    """
+    roles = np.asarray(roles, dtype=np.int8)
+    stamps = np.asarray(stamps_ns, dtype=np.int64)
+    values = np.asarray(values, dtype=float)
+    n = len(stamps)
+    if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
+        raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '
+                        f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
+    if n and (roles.min() < 0 or roles.max() >= len(detector.ROLES)):
+        raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
+    chunk = (roles, stamps, values, frame_ids)
+    events: List[Event] = []
+    i = 0
+    while i < n:
+        intake = detector._intake
+        if n - i < CHUNK_MIN or not usable(
+                detector.config, detector._clock.origin, detector._ball, detector._bat,
+                detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
+                                                 or intake.pending)):
+            for k in range(i, min(n, i + CHUNK_MIN)):
+                _one(detector, chunk, k, events, drops)
+            i = min(n, i + CHUNK_MIN)
+            continue
+        j = i + PLAN_MAX
+        plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
+                          intake.votes.frame, detector._ball, detector._bat,
+                          detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
+                          frame_ids[i:j])
+        if plan.n == 0:  # its first sample is out of order: the per-sample path says why
+            _one(detector, chunk, i, events, drops)
+            i += 1
+            continue
+        i += _follow(detector, plan, chunk, i, events, drops)
+    return events
+
+
+def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
+            events: List[Event], drops: Optional[Counter]) -> int:
+    """
+    Take a plan of the chunk's samples from i: runs fast-forwarded, each stop as ``add`` would.
+
+    :returns: the samples taken: all the plan's, or up to the first stop that did not end as
+        planned (dropped, held, reset, trimmed otherwise: the rest is planned again).
+    """
+    stats = detector.stats
+    pos = 0
+    while True:
+        end = plan.next_stop(pos)
+        if end > pos:
+            start = time.perf_counter()
+            _fast_forward(detector, plan, pos, end, events, walk=True)
+            _time(stats, start, end - pos)
+        if end >= plan.n:
+            return plan.n
+        resets = stats.resets
+        if plan.checked[end]:
+            # it passes every check: append it as planned, walk as add would
+            start = time.perf_counter()
+            _fast_forward(detector, plan, end, end + 1, events, walk=False)
+            detector._advance(events)
+            _time(stats, start, 1)
+        else:
+            _one(detector, chunk, i + end, events, drops)
+        pos = end + 1
+        if stats.resets != resets or stats.last_drop_reason is not None or \
+                stats.late_drops or not plan.held(
+                    end, detector._ball, detector._bat, detector._scheduler.cursor):
+            return pos
+
+
+def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
+                  events: List[Event], walk: bool) -> None:
+    """Take plan samples [first, end) as planned (:func:`fast_forward`); note the newest."""
+    newest = fast_forward(plan, first, end, detector._ball, detector._bat,
+                          detector._scheduler, detector._episodes, detector.stats, events,
+                          walk=walk)
+    intake = detector._intake
+    if intake.newest is None or newest > intake.newest:
+        intake.newest = newest
+
+
+def _one(detector: 'Detector', chunk: Tuple[Any, ...], k: int, events: List[Event],
+         drops: Optional[Counter]) -> None:
+    """Add sample k of a chunk through ``Detector.add``; count its drops."""
+    roles, stamps, values, frame_ids = chunk
+    role = detector.ROLES[roles[k]]
+    row = values[k, :7 if role == Role.BAT_POSE else 3].tolist()
+    events.extend(detector.add(role, int(stamps[k]), row, frame_ids[k]))
+    if drops is not None:
+        stats = detector.stats
+        if stats.last_drop_reason is not None:
+            drops[role, stats.last_drop_reason] += 1
+        for late in stats.late_drops:
+            drops[late.role, late.reason] += 1
+
+
+def _time(stats: DetectorStats, start: float, samples: int) -> None:
+    """Count the wall time since ``start`` (s) spent on ``samples`` fast-forwarded."""
+    elapsed = time.perf_counter() - start
+    stats.last_processing_s = elapsed / samples
+    stats.total_processing_s += elapsed
+    if stats.last_processing_s > stats.max_processing_s:
+        stats.max_processing_s = stats.last_processing_s

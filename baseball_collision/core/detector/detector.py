@@ -31,9 +31,7 @@ from dataclasses import replace
 import time
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
-import numpy as np
-
-from .chunks import fast_forward, Plan, plan_chunk, PLAN_MAX, usable
+from .chunks import feed_chunk
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -53,10 +51,6 @@ from ...errors import CoreError
 
 Check = Callable[[Role, Any], Any]
 """Checks one sample's values (role, values): returns them cleaned, or a ``DropReason``."""
-
-CHUNK_MIN = 16
-"""Chunks (or what is left of one) shorter than this go sample by sample: numpy's set-up
-costs more than it saves."""
 
 # the roles as module constants: looking a member up on its enum class costs several times a
 # global lookup, on the path every sample takes
@@ -242,94 +236,7 @@ class Detector:
         :returns: the events the samples made decidable, in order.
         :raises CoreError: an unknown role code, or arrays of different lengths.
         """
-        roles = np.asarray(roles, dtype=np.int8)
-        stamps = np.asarray(stamps_ns, dtype=np.int64)
-        values = np.asarray(values, dtype=float)
-        n = len(stamps)
-        if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
-            raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '
-                            f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
-        if n and (roles.min() < 0 or roles.max() >= len(self.ROLES)):
-            raise CoreError(f'role codes must be 0-{len(self.ROLES) - 1}')
-        events: List[Event] = []
-        i = 0
-        while i < n:
-            intake = self._intake
-            if n - i < CHUNK_MIN or not usable(
-                    self._config, self._clock.origin, self._ball, self._bat,
-                    self._scheduler.cursor, bool(intake.held or intake.jumps.candidates
-                                                 or intake.pending)):
-                for k in range(i, min(n, i + CHUNK_MIN)):
-                    self._one(roles, stamps, values, frame_ids, k, events, drops)
-                i = min(n, i + CHUNK_MIN)
-                continue
-            j = i + PLAN_MAX
-            plan = plan_chunk(self._config, self._offsets, self._clock.origin,
-                              intake.votes.frame, self._ball, self._bat,
-                              self._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
-                              frame_ids[i:j])
-            if plan.n == 0:  # its first sample is out of order: the per-sample path says why
-                self._one(roles, stamps, values, frame_ids, i, events, drops)
-                i += 1
-                continue
-            pos = 0
-            while True:
-                end = plan.next_stop(pos)
-                if end > pos:
-                    start = time.perf_counter()
-                    self._fast_forward(plan, pos, end, events, walk=True)
-                    self._time(start, end - pos)
-                if end >= plan.n:
-                    i += plan.n
-                    break
-                resets = self.stats.resets
-                if plan.checked[end]:
-                    # it passes every check: append it as planned, walk as add would
-                    start = time.perf_counter()
-                    self._fast_forward(plan, end, end + 1, events, walk=False)
-                    self._advance(events)
-                    self._time(start, 1)
-                else:
-                    self._one(roles, stamps, values, frame_ids, i + end, events, drops)
-                pos = end + 1
-                if self.stats.resets != resets or self.stats.last_drop_reason is not None or \
-                        self.stats.late_drops or not plan.held(
-                            end, self._ball, self._bat, self._scheduler.cursor):
-                    i += pos  # not as planned: plan the rest again
-                    break
-        return events
-
-    def _fast_forward(self, plan: Plan, first: int, end: int, events: List[Event],
-                      walk: bool) -> None:
-        """Take plan samples [first, end) as planned (``chunks.fast_forward``); note the newest."""
-        newest = fast_forward(plan, first, end, self._ball, self._bat, self._scheduler,
-                              self._episodes, self.stats, events, walk=walk)
-        intake = self._intake
-        if intake.newest is None or newest > intake.newest:
-            intake.newest = newest
-
-    def _one(self, roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-             frame_ids: Sequence[str], k: int, events: List[Event],
-             drops: Optional[Counter]) -> None:
-        """Add sample k of a chunk through ``add``; count its drops."""
-        role = self.ROLES[roles[k]]
-        row = values[k, :7 if role == _BAT_POSE else 3].tolist()
-        events.extend(self.add(role, int(stamps[k]), row, frame_ids[k]))
-        if drops is not None:
-            stats = self.stats
-            if stats.last_drop_reason is not None:
-                drops[role, stats.last_drop_reason] += 1
-            for late in stats.late_drops:
-                drops[late.role, late.reason] += 1
-
-    def _time(self, start: float, samples: int) -> None:
-        """Count the wall time since ``start`` (s) spent on ``samples`` fast-forwarded."""
-        elapsed = time.perf_counter() - start
-        stats = self.stats
-        stats.last_processing_s = elapsed / samples
-        stats.total_processing_s += elapsed
-        if stats.last_processing_s > stats.max_processing_s:
-            stats.max_processing_s = stats.last_processing_s
+        return feed_chunk(self, roles, stamps_ns, values, frame_ids, drops)
 
     def finish(self) -> List[Event]:
         """

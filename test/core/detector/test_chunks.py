@@ -13,8 +13,8 @@ from typing import List, Sequence, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
+import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.chunks import ROLE_CODES
-import baseball_collision.core.detector.detector as detector_module
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.errors import CoreError
@@ -147,12 +147,12 @@ def test_clean_session_same_events_in_any_chunks(model: str) -> None:
 def test_most_samples_skip_the_per_sample_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """In a clean session most samples are fast-forwarded, and few go through ``add``."""
     taken = [0]
-    original = detector_module.fast_forward
+    original = chunks_module.fast_forward
 
     def counting(plan, pos, end, *args, **kwargs):  # type: ignore[no-untyped-def]
         taken[0] += end - pos
         return original(plan, pos, end, *args, **kwargs)
-    monkeypatch.setattr(detector_module, 'fast_forward', counting)
+    monkeypatch.setattr(chunks_module, 'fast_forward', counting)
     rows = session(HEIGHTS)
     assert_same(DetectorConfig(model='spline', bat_input='pose'), rows, (8192,))
     assert taken[0] > 0.5 * len(rows)  # (the rest: each pitch near the bat, the wraps)
