@@ -200,12 +200,12 @@ def test_c2_chunks_same_at_any_look_ahead_and_window(look_ahead: int, window: in
 def test_c2_under_auto_noise_goes_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -> None:
     """``tracker_noise`` auto estimates from every sample in turn: no chunk is planned."""
     planned = []
-    original = detector_module.plan_chunk
+    original = chunks_module.plan_chunk
 
     def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
         planned.append(1)
         return original(*args, **kwargs)
-    monkeypatch.setattr(detector_module, 'plan_chunk', counting)
+    monkeypatch.setattr(chunks_module, 'plan_chunk', counting)
     rows = session(HEIGHTS[:1])
     assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0), rows, (500,))
     assert not planned
