@@ -98,10 +98,10 @@ class TimedImpactNode(ImpactNode):
             publish(message)
         self._outputs['impact'] = _Wrapped(self._outputs['impact'], timed_publish)
 
-    def _take(self, *args: object) -> None:
+    def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
         cpu = time.thread_time()
-        super()._take(*args)
+        super()._take(*args, **kwargs)  # (the publication sequence number is a keyword)
         self.cpu_times.append(time.thread_time() - cpu)
 
     def _record_processing(self, elapsed_s: float) -> None:
