@@ -1,7 +1,8 @@
 """
 ``analyze --predict`` against plain ``analyze`` on one large bag, and its report steps alone.
 
-Run: ``.venv/bin/python benchmarks/bench_analyze_predict.py [--messages N] [--model M]``.
+Run: ``.venv/bin/python benchmarks/bench_analyze_predict.py [--messages N] [--model M]
+[--period S]``.
 
 Writes (into a temporary directory) the bag of ``bench_analyze`` (default 2,880,000 messages:
 360 Hz, ball and bat pose, pitches 0.5 s apart, a truth file beside it), then in the same
@@ -34,6 +35,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--messages', type=int, default=2_880_000)
     parser.add_argument('--model', default='spline', choices=('linear', 'rigid', 'spline'))
+    parser.add_argument('--period', type=float, default=0.0,
+                        help='prediction_period of the predicting run (s; default 0)')
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as directory:
         path = Path(directory) / 'bench.mcap'
@@ -43,7 +46,8 @@ def main() -> None:
                                 progress=False)
         print(f'analyze:           {plain_s:8.1f} s ({plain.messages / plain_s:,.0f} msg/s), '
               f'{len(plain.impacts)} impacts')
-        options = AnalysisOptions(model=args.model, prediction_horizon=0.3)
+        options = AnalysisOptions(model=args.model, prediction_horizon=0.3,
+                                  parameters={'prediction_period': args.period})
         predicted, predict_s = _timed(analyze_bag, path, options, progress=False)
         print(f'analyze --predict: {predict_s:8.1f} s ({predicted.messages / predict_s:,.0f} '
               f'msg/s), {len(predicted.predictions):,} predictions; detector '

@@ -101,7 +101,7 @@ class TimedImpactNode(ImpactNode):
     def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
         cpu = time.thread_time()
-        super()._take(*args, **kwargs)
+        super()._take(*args, **kwargs)  # (sequence number, send time: keywords)
         self.cpu_times.append(time.thread_time() - cpu)
 
     def _record_processing(self, elapsed_s: float) -> None:

@@ -55,9 +55,16 @@ def fit_coefficients(times: Sequence[float], values: Any, t: float,
     :param times: sample times (s), oldest first, at or before t.
     :param values: one row of components per sample (a sequence of rows or an array).
     """
+    coefficients, span = _fit(times, values, t, degree)
+    return np.asarray(coefficients), span
+
+
+def _fit(times: Sequence[float], values: Any, t: float,
+         degree: int) -> Tuple[Any, float]:
+    """Return ``fit_coefficients``, the coefficients as the kernel's lists when it solved it."""
     fitted = _kernel.polyfit(times, values, t, degree)
     if fitted is not NotImplemented:
-        return np.array(fitted[0]), fitted[1]
+        return fitted
     degree = min(degree, len(times) - 1)
     span = max(t - times[0], 1e-9)
     x = (np.asarray(times, dtype=float) - t) / span
@@ -66,24 +73,32 @@ def fit_coefficients(times: Sequence[float], values: Any, t: float,
     return coefficients, span
 
 
-def derivatives(coefficients: np.ndarray, span: float,
+def derivatives(coefficients: Any, span: float,
                 x: float = 0.0) -> Tuple[List[float], List[float], List[float]]:
     """
     Return value, first and second time derivatives of ``fit_coefficients``' fit at x.
 
+    :param coefficients: an array, or lists, one row of components per power.
     :param x: where, in the fit's scaled time ((time - t) / span); 0 is the fit's own t.
     """
     if x != 0.0:
+        coefficients = np.asarray(coefficients, dtype=float)
         powers = x ** np.arange(len(coefficients))
         k = np.arange(len(coefficients), dtype=float)
         value = powers @ coefficients
         first = (k[1:] * powers[:-1]) @ coefficients[1:] / span
         second = (k[2:] * (k[2:] - 1.0) * powers[:-2]) @ coefficients[2:] / span ** 2
         return value.tolist(), first.tolist(), second.tolist()
-    first = coefficients[1] / span if len(coefficients) > 1 else 0.0 * coefficients[0]
-    second = (2.0 * coefficients[2] / span ** 2 if len(coefficients) > 2
-              else 0.0 * coefficients[0])
-    return coefficients[0].tolist(), first.tolist(), second.tolist()
+    # at x = 0 the powers are 0 but one: the coefficients scaled, as lists (small rows: numpy
+    # would cost more in calls than it saves; the same operations, so the same bits)
+    if isinstance(coefficients, np.ndarray):
+        coefficients = coefficients.tolist()
+    first = [c / span for c in coefficients[1]] if len(coefficients) > 1 else [
+        0.0 * c for c in coefficients[0]]
+    squared = span ** 2
+    second = [2.0 * c / squared for c in coefficients[2]] if len(coefficients) > 2 else [
+        0.0 * c for c in coefficients[0]]
+    return list(coefficients[0]), first, second
 
 
 def fit_polynomial(times: Sequence[float], values: Any, t: float,
@@ -97,7 +112,7 @@ def fit_polynomial(times: Sequence[float], values: Any, t: float,
     :param times: sample times (s), oldest first, at or before t.
     :param values: one row of components per sample.
     """
-    return derivatives(*fit_coefficients(times, values, t, degree))
+    return derivatives(*_fit(times, values, t, degree))
 
 
 def fit_rates(times: Sequence[float], values: Any, t: float,
@@ -177,11 +192,10 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
         fit_degree, len(indices) - 1)
     if shared:
         stream.turn(end - 1)  # fills every turn of the segment up to it
-        rows = [value.knob + value.tip + turn for value, turn in zip(
-            stream.values[first:end], stream.turns[first:end])]
+        rows = _turn_rows(stream, first, end)
     else:
         rows = [value.knob + value.tip for value in stream.values[first:end]]
-    coefficients, span = fit_coefficients(sample_times, rows, t, fit_degree)
+    coefficients, span = _fit(sample_times, rows, t, fit_degree)
     _, first, second = derivatives(coefficients, span)
     fraction = 0.0
     if len(indices) >= 3:
@@ -197,6 +211,23 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
         rate, change = fit_rates(sample_times, [stream.turn(i) for i in indices], t,
                                  turn_degree)
     return pivot, ((rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2]))
+
+
+def _turn_rows(stream: Stream, first: int, end: int) -> List[Tuple[float, ...]]:
+    """
+    Return knob + tip + cumulative turn of bat samples [first, end) (turns filled), as rows.
+
+    Each row is made once and kept in ``stream.aligned`` (a sample and its turn never change).
+    """
+    rows = stream.aligned.setdefault('turn_rows', [])
+    if len(rows) < end:
+        rows.extend([None] * (end - len(rows)))
+    if None in rows[first:end]:
+        values, turns = stream.values, stream.turns
+        for i in range(first, end):
+            if rows[i] is None:
+                rows[i] = values[i].knob + values[i].tip + turns[i]
+    return rows[first:end]
 
 
 def pivot_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[Rates]:

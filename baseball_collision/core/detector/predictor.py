@@ -142,8 +142,9 @@ class Predictor:
         indices = ball.history(t0, self.config.prediction_window)
         if len(indices) < 3:
             return None
-        times = [ball.times[i] for i in indices]
-        position, velocity, _ = fit_polynomial(times, [ball.values[i] for i in indices], t0, 2)
+        first, end = indices[0], indices[-1] + 1  # the history is contiguous
+        position, velocity, _ = fit_polynomial(ball.times[first:end], ball.values[first:end],
+                                               t0, 2)
         gravity = scale(self.config.up_axis, -self.config.gravity)
         return BallForecast.ballistic(t0, tuple(position), tuple(velocity), gravity,
                                       self.config.ball_drag)

@@ -140,10 +140,11 @@ class Stream:
         times, breaks = self.times, self.breaks
         first = max(bisect_right(times, times[k] - window - 1e-9), k - MAX_HISTORY + 1, 0)
         first = min(first, max(k - 1, 0))
-        for i in range(k, first, -1):  # stay within the segment
-            if breaks[i]:
-                first = i
-                break
+        if True in breaks[first + 1:k + 1]:  # stay within the segment
+            for i in range(k, first, -1):
+                if breaks[i]:
+                    first = i
+                    break
         return list(range(first, k + 1))
 
     def turn(self, k: int) -> Turn:

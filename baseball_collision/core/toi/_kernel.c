@@ -1693,17 +1693,43 @@ static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, dou
     double vj = a[j * p + j] - alpha;
     double vv = vj * vj + below;
     if (vv > 0.0) {
-      for (int k = j + 1; k < p + m; k++) {
-        double *column = k < p ? a + k : y + (k - p);
-        int stride = k < p ? p : m;
-        double s = vj * column[j * stride];
-        for (Py_ssize_t i = j + 1; i < n; i++) {
-          s += a[i * p + j] * column[i * stride];
+      /* the columns right of j in a, then y's: each one's sum in the order of its rows (so
+       * the result is that of one column at a time), the rows walked contiguously */
+      double s[MAX_FIT_DEGREE + 1 + MAX_FIT_COMPONENTS];
+      int right = p - j - 1;
+      for (int k = 0; k < right; k++) {
+        s[k] = vj * a[j * p + j + 1 + k];
+      }
+      for (int k = 0; k < m; k++) {
+        s[right + k] = vj * y[j * m + k];
+      }
+      for (Py_ssize_t i = j + 1; i < n; i++) {
+        double v = a[i * p + j];
+        const double *ra = a + i * p + j + 1, *ry = y + i * m;
+        for (int k = 0; k < right; k++) {
+          s[k] += v * ra[k];
         }
-        s = 2.0 * s / vv;
-        column[j * stride] -= s * vj;
-        for (Py_ssize_t i = j + 1; i < n; i++) {
-          column[i * stride] -= s * a[i * p + j];
+        for (int k = 0; k < m; k++) {
+          s[right + k] += v * ry[k];
+        }
+      }
+      for (int k = 0; k < right + m; k++) {
+        s[k] = 2.0 * s[k] / vv;
+      }
+      for (int k = 0; k < right; k++) {
+        a[j * p + j + 1 + k] -= s[k] * vj;
+      }
+      for (int k = 0; k < m; k++) {
+        y[j * m + k] -= s[right + k] * vj;
+      }
+      for (Py_ssize_t i = j + 1; i < n; i++) {
+        double v = a[i * p + j];
+        double *ra = a + i * p + j + 1, *ry = y + i * m;
+        for (int k = 0; k < right; k++) {
+          ra[k] -= s[k] * v;
+        }
+        for (int k = 0; k < m; k++) {
+          ry[k] -= s[right + k] * v;
         }
       }
     }
