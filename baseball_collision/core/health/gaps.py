@@ -30,6 +30,11 @@ SEND_STEPS = 8
 PACE_SPAN_NS = 500_000_000
 """A track's pace of stamps against send times is its own once its sends span this much."""
 
+PACE_HORIZON_NS = 10_000_000_000
+"""A track silent longer than this (send time) has no pace to judge by: its stamps would be
+extrapolated past what its pace can tell (a stale publisher silent for minutes whose lag the
+extrapolation error happens to cancel). Such a track ranks after those with a pace."""
+
 PACE_BIN_NS = 100_000_000
 """Candidates whose stamps are within this of each other's distance from their pace tie."""
 
@@ -300,9 +305,9 @@ def _sent_hurried(track: List, sequence: int, sent_ns: int) -> bool:
     In a hurry: at more than twice its typical pace (the median of its last consecutive send
     steps); most likely another writer's message.
     """
-    steps = sorted(track[9])
-    return bool(steps) and \
-        (sequence - track[0] - 1) * steps[len(steps) // 2] > 2 * (sent_ns - track[6])
+    steps, skipped = sorted(track[9]), sequence - track[0] - 1
+    return bool(steps) and skipped > 0 and \
+        skipped * steps[len(steps) // 2] > 2 * max(sent_ns - track[6], 0)
 
 
 def _pace_deviation(track: List, stamp_ns: int, sent_ns: int) -> int:
@@ -310,8 +315,12 @@ def _pace_deviation(track: List, stamp_ns: int, sent_ns: int) -> int:
     Return how far (ns) a message's stamp is from where a track's pace puts it.
 
     The pace is of the track's stamps against its send times, from its first message to its
-    last (1 until its sends span ``PACE_SPAN_NS``), continued from its last message.
+    last (1 until its sends span ``PACE_SPAN_NS``), continued from its last message; a track
+    silent for more than ``PACE_HORIZON_NS`` is as far as can be.
     """
+    elapsed = sent_ns - track[6]
+    if elapsed > PACE_HORIZON_NS:
+        return PACE_HORIZON_NS * PACE_BIN_NS  # no pace so far ahead: after any that has one
     span = track[6] - track[7]
     pace = (track[1] - track[4]) / span if span >= PACE_SPAN_NS else 1.0
-    return int(abs(stamp_ns - track[1] - pace * (sent_ns - track[6])))
+    return int(abs(stamp_ns - track[1] - pace * elapsed))

@@ -35,9 +35,11 @@ def _received_with_sent(messages: Sequence[Tuple[int, int, int]]) -> int:
 
 def _lost_between(sent: Sequence[Message], kept: Sequence[Message]) -> int:
     """Brute force: the messages sent between a publisher's first and last one received."""
+    if len(kept) < 2:
+        return 0
     numbers = [sequence for sequence, _ in kept]
-    return sum(1 for sequence, _ in sent if min(numbers) < sequence < max(numbers)) \
-        - (len(kept) - 2) if len(kept) >= 2 else 0
+    low, high = min(numbers), max(numbers)
+    return sum(1 for sequence, _ in sent if low < sequence < high) - (len(kept) - 2)
 
 
 @settings(max_examples=60, deadline=None, derandomize=True)
@@ -246,3 +248,42 @@ def test_stamps_that_jump_ahead_while_the_sends_go_on_count_nothing() -> None:
         stamp += 1_200_000_000
     assert _received_with_sent(stream) == 0
     assert _received_with_sent(stream[:3000] + stream[3400:]) == 400
+
+
+@pytest.mark.parametrize('seed', range(2))
+def test_the_fault_runs_phases_with_send_times(seed: int) -> None:
+    """
+    The 10-minute fault run's ball stream, shortened: exact with its send times.
+
+    1 kHz, stamps 1.2 s ahead between pitches while the sends go on; a stale publisher 3 s
+    behind (numbering from 1) for 30 s, then silent; a burst (sends 20 us apart, jittering by
+    up to 0.2 ms, so out of order); bursts lost. (Found by that run: 396,039 reported of 3,353
+    lost, a good message after the burst given to the silent stale track, and a message whose
+    jittered send time came before the last one's judged "hurried".) Measured limit: with
+    bursts of up to 2,000 lost, 0.6-2.2 % of the losses go uncounted (seeds 0-3: 85,431 of
+    86,131 and alike), hence the 3 % here; nothing is counted that was not lost.
+    """
+    rng = random.Random(seed)
+    stream, stamp, sent = [], 10**12, 5 * 10**12
+    for frame in range(100_000):
+        sent_at = sent + rng.randint(0, 200_000)
+        stream.append((frame + 1, stamp, sent_at, 'good'))
+        if 10_000 <= frame < 40_000:
+            stream.append((frame - 9_999, stamp - 3 * 10**9, sent_at + 50_000, 'stale'))
+        stamp += 1_000_000
+        sent += 20_000 if 80_000 <= frame < 83_000 else 1_000_000
+        if frame % 400 == 399:
+            stamp += 1_200_000_000
+    kept, index = [], 0
+    while index < len(stream):
+        if rng.random() < 0.002:
+            index += rng.randint(1, 2_000)
+            continue
+        kept.append(stream[index])
+        index += 1
+    expected = sum(_lost_between([(n, t) for n, t, _, w in stream if w == who],
+                                 [(n, t) for n, t, _, w in kept if w == who])
+                   for who in ('good', 'stale'))
+    assert _received_with_sent([m[:3] for m in stream]) == 0
+    assert 0.97 * expected <= _received_with_sent([m[:3] for m in kept]) <= expected
+    assert expected > 50_000
