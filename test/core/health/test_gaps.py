@@ -42,6 +42,28 @@ def _lost_between(sent: Sequence[Message], kept: Sequence[Message]) -> int:
     return sum(1 for sequence, _ in sent if low < sequence < high) - (len(kept) - 2)
 
 
+def _lose_bursts(stream: Sequence[Tuple], rng: random.Random, chance: float,
+                 longest: int) -> Tuple[List[Tuple], int]:
+    """
+    Return the messages of ``stream`` kept when bursts are lost, and the brute-force count.
+
+    Each message starts a lost burst of 1 to ``longest`` messages with ``chance``; the stream's
+    rows are (number, stamp, send time, publisher); the count is :func:`_lost_between`'s per
+    publisher.
+    """
+    kept, index = [], 0
+    while index < len(stream):
+        if rng.random() < chance:
+            index += rng.randint(1, longest)
+            continue
+        kept.append(stream[index])
+        index += 1
+    publishers = {row[-1] for row in stream}
+    return kept, sum(_lost_between([(n, t) for n, t, _, w in stream if w == who],
+                                   [(n, t) for n, t, _, w in kept if w == who])
+                     for who in publishers)
+
+
 @settings(max_examples=60, deadline=None, derandomize=True)
 @given(lost=st.lists(st.sets(st.integers(0, 399), max_size=120), min_size=1, max_size=3),
        pause_at=st.integers(50, 350), pause_ns=st.sampled_from([0, 1_500_000_000]),
@@ -216,16 +238,7 @@ def test_a_stale_publisher_on_the_good_ones_numbers_and_stamps(seed: int) -> Non
         stream.append((number, stamp, sent_at, 'good'))
         if k < 2_000:
             stream.append((number - 750, stamp - lag, sent_at + 100_000, 'stale'))
-    kept, index = [], 0
-    while index < len(stream):
-        if rng.random() < 0.01:
-            index += rng.randint(1, 400)
-            continue
-        kept.append(stream[index])
-        index += 1
-    expected = sum(_lost_between([(n, t) for n, t, _, w in stream if w == who],
-                                 [(n, t) for n, t, _, w in kept if w == who])
-                   for who in ('good', 'stale'))
+    kept, expected = _lose_bursts(stream, rng, 0.01, 400)
     assert _received_with_sent([m[:3] for m in kept]) == expected > 100
     assert _received_with_sent([m[:3] for m in stream]) == 0
 
@@ -274,16 +287,7 @@ def test_the_fault_runs_phases_with_send_times(seed: int) -> None:
         sent += 20_000 if 80_000 <= frame < 83_000 else 1_000_000
         if frame % 400 == 399:
             stamp += 1_200_000_000
-    kept, index = [], 0
-    while index < len(stream):
-        if rng.random() < 0.002:
-            index += rng.randint(1, 2_000)
-            continue
-        kept.append(stream[index])
-        index += 1
-    expected = sum(_lost_between([(n, t) for n, t, _, w in stream if w == who],
-                                 [(n, t) for n, t, _, w in kept if w == who])
-                   for who in ('good', 'stale'))
+    kept, expected = _lose_bursts(stream, rng, 0.002, 2_000)
     assert _received_with_sent([m[:3] for m in stream]) == 0
     assert 0.97 * expected <= _received_with_sent([m[:3] for m in kept]) <= expected
     assert expected > 50_000
