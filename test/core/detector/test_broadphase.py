@@ -132,15 +132,17 @@ def _vectorised_bound(detector: Detector, model: str) -> float:
 
 
 small = st.tuples(*[st.floats(-0.15, 0.15)] * 3)
+MOTIONS = {'model': st.sampled_from(['linear', 'rigid', 'spline']),
+           'offset': st.tuples(*[st.floats(-1.0, 1.0)] * 3),
+           'ball_moves': st.lists(small, min_size=4, max_size=4),
+           'hand_moves': st.lists(small, min_size=4, max_size=4),
+           'turns': st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
+           'steps': st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3)}
+"""Four samples of ball and bat (pose) moving and turning freely: the far tests' properties."""
 
 
 @settings(max_examples=examples(200), deadline=None)
-@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
-       offset=st.tuples(*[st.floats(-1.0, 1.0)] * 3),
-       ball_moves=st.lists(small, min_size=4, max_size=4),
-       hand_moves=st.lists(small, min_size=4, max_size=4),
-       turns=st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
-       steps=st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3))
+@given(**MOTIONS)
 def test_vectorised_far_bound_never_exceeds_the_paths_distance(model: str, offset, ball_moves,
                                                                hand_moves, turns,
                                                                steps) -> None:
@@ -195,13 +197,7 @@ def test_hull_separation_scalar_and_arrays_agree(points) -> None:
 
 
 @settings(max_examples=examples(200), deadline=None)
-@given(model=st.sampled_from(['linear', 'rigid', 'spline']),
-       offset=st.tuples(*[st.floats(-1.0, 1.0)] * 3),
-       ball_moves=st.lists(small, min_size=4, max_size=4),
-       hand_moves=st.lists(small, min_size=4, max_size=4),
-       turns=st.lists(st.floats(-1.5, 1.5), min_size=4, max_size=4),
-       steps=st.lists(st.floats(0.002, 0.012), min_size=3, max_size=3),
-       k=st.integers(0, 2))
+@given(k=st.integers(0, 2), **MOTIONS)
 def test_vectorised_path_test_is_the_sweeps(model: str, offset, ball_moves, hand_moves, turns,
                                             steps, k: int) -> None:
     """``path_margins`` is the gap of the spheres of the paths the sweep builds (to rounding)."""
