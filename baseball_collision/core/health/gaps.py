@@ -7,6 +7,7 @@ publisher's sequence numbers, with the stamps for frames a tracker skipped upstr
 ``Tally`` (``core.health.tally``) keeps one per stream. Stamps are integer nanoseconds.
 """
 
+from collections import deque
 from typing import List, Optional, Tuple
 
 LOSS_FACTOR = 1.5
@@ -223,7 +224,7 @@ class PublisherGaps:
                 # until it shows its own pace (its first consecutive numbers)
                 fastest = min((t[8] for t in tracks if t[8] is not None), default=None)
                 tracks.insert(0, [sequence, stamp_ns, gaps, sequence, stamp_ns, None, sent_ns,
-                                  sent_ns, fastest, []])
+                                  sent_ns, fastest, deque(maxlen=SEND_STEPS)])
                 if len(tracks) > self.MAX_TRACKS:
                     self._retire(tracks.pop())
                 return
@@ -235,7 +236,7 @@ class PublisherGaps:
                 and sent_ns >= track[6]:
             step = sent_ns - track[6]
             track[8] = step if track[8] is None else min(track[8], step)
-            track[9] = track[9][-(SEND_STEPS - 1):] + [step]
+            track[9].append(step)
         track[0], track[1], track[6] = sequence, stamp_ns, sent_ns
         if track[7] is None:
             track[7] = sent_ns
