@@ -272,9 +272,8 @@ def test_the_fault_runs_phases_with_send_times(seed: int) -> None:
     behind (numbering from 1) for 30 s, then silent; a burst (sends 20 us apart, jittering by
     up to 0.2 ms, so out of order); bursts lost. (Found by that run: 396,039 reported of 3,353
     lost, a good message after the burst given to the silent stale track, and a message whose
-    jittered send time came before the last one's judged "hurried".) Measured limit: with
-    bursts of up to 2,000 lost, 0.6-2.2 % of the losses go uncounted (seeds 0-3: 85,431 of
-    86,131 and alike), hence the 3 % here; nothing is counted that was not lost.
+    jittered send time came before the last one's judged "hurried"; then a burst's first
+    messages lost, which its writer sent faster than ever before.)
     """
     rng = random.Random(seed)
     stream, stamp, sent = [], 10**12, 5 * 10**12
@@ -289,5 +288,4 @@ def test_the_fault_runs_phases_with_send_times(seed: int) -> None:
             stamp += 1_200_000_000
     kept, expected = _lose_bursts(stream, rng, 0.002, 2_000)
     assert _received_with_sent([m[:3] for m in stream]) == 0
-    assert 0.97 * expected <= _received_with_sent([m[:3] for m in kept]) <= expected
-    assert expected > 50_000
+    assert _received_with_sent([m[:3] for m in kept]) == expected > 50_000
