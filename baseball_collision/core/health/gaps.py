@@ -22,8 +22,8 @@ track would be is another publisher's (a stale one 3 s behind) or a jump back: i
 of its own. Ahead is a pause or a glitch: it stays."""
 
 SENT_SLACK_NS = 1_000_000
-"""Send times (the writers' clocks) this far out of the rules below are still the same writer's:
-the clocks' granularity and the send-time jitter of a timer-driven publisher."""
+"""A message sent (by the writer's clock) up to this long before its track's last is still the
+same writer's (a writer sends in order): the clocks' granularity and send-time jitter."""
 
 SEND_STEPS = 8
 """Consecutive send steps a track keeps: their median is its typical send step."""
@@ -194,10 +194,9 @@ class PublisherGaps:
     __slots__ = ('_tracks', '_skipped', '_typical')
 
     def __init__(self) -> None:
-        # [last number, last stamp ns, StampGaps, first number, first stamp, (number, stamp,
-        # sent) of the message before the last or None, last sent ns or None, first sent,
-        # the last SEND_STEPS send steps between consecutive numbers],
-        # the one used last first
+        # [last number, last stamp ns, StampGaps, first number, first stamp, (number, stamp)
+        # of the message before the last or None, last sent ns or None, first sent ns or None,
+        # the last SEND_STEPS send steps between consecutive numbers], the one used last first
         self._tracks: List[List] = []
         self._skipped = 0
         self._typical = 0  # the last typical step a track knew: a new track's until it knows
@@ -229,7 +228,7 @@ class PublisherGaps:
             tracks.remove(track)
             tracks.insert(0, track)
         skipped = sequence - track[0] - 1
-        track[5] = (track[0], track[1], track[6])  # the one before: a glitched last's check
+        track[5] = (track[0], track[1])  # the message before: a glitched last stamp's check
         if sent_ns is not None and track[6] is not None and not skipped \
                 and sent_ns >= track[6]:
             step = sent_ns - track[6]
