@@ -327,6 +327,7 @@ def test_every_message_arrives_equal(ros: Ros, name: str) -> None:
         assert [_fields(message) for message in got] == expected[topic], topic
 
 
+@pytest.mark.slow  # load-sensitive: a 30x replay beside another worker's node test
 def test_a_dense_bag_at_a_high_rate_reaches_the_node_whole(ros: Ros, tmp_path: Path) -> None:
     """
     Issue 12.7: 30 pitches 0.45 s apart (360 Hz) at 30x into the node (``qos:=reliable_all``).
