@@ -92,6 +92,16 @@ static inline Vec v_cross(Vec a, Vec b)
 static inline double min_of(double a, double b) { return b < a ? b : a; } /* Python's min */
 static inline double max_of(double a, double b) { return b > a ? b : a; } /* Python's max */
 static inline bool finite3(Vec a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+/* every coordinate of n points finite: x - x is 0 for a finite x and NaN for an infinity or a
+   NaN, and a NaN stays NaN in a sum (one branch for all of them) */
+static inline bool finite_points(const Vec *p, int n)
+{
+  double probe = 0.0;
+  for (int i = 0; i < n; i++) {
+    probe += (p[i].x - p[i].x) + (p[i].y - p[i].y) + (p[i].z - p[i].z);
+  }
+  return probe == 0.0;
+}
 
 /* Fraction along start-end (clipped to [0, 1]) of the closest point to p; the point in *closest */
 static double closest_on_segment(Vec p, Vec start, Vec end, Vec *closest)
@@ -212,27 +222,54 @@ static double bracketed_root(const double *c, int order, double lo, double hi, d
 }
 
 /*
- * Points in (0, 1) where the quartic changes direction, ascending; returns how many (<= 3). A
- * zero of c' exactly at an inflection (a stationary inflection) is skipped.
+ * The points in (0, 1) where the quartic changes direction, found one at a time in ascending
+ * order (a walk stops at the first contact, so the later ones are mostly never needed): the
+ * roots of c'' split [0, 1] into pieces on which c' is monotone; a piece where c' changes sign
+ * holds one. A zero of c' exactly at an inflection (a stationary inflection) is skipped.
  */
-static int critical_points(const double *c, double *out)
+typedef struct {
+  int piece, n_bounds;
+  double bounds[4];
+} Turns;
+
+static void turns_start(const double *c, Turns *turns)
 {
-  double roots[2], bounds[4];
+  double roots[2];
   int found = quadratic_roots(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], roots);
-  int n_bounds = 0, count = 0;
-  bounds[n_bounds++] = 0.0;
+  turns->n_bounds = 0;
+  turns->piece = 0;
+  turns->bounds[turns->n_bounds++] = 0.0;
   for (int i = 0; i < found; i++) {
     if (0.0 < roots[i] && roots[i] < 1.0) {
-      bounds[n_bounds++] = roots[i];
+      turns->bounds[turns->n_bounds++] = roots[i];
     }
   }
-  bounds[n_bounds++] = 1.0;
-  for (int i = 0; i + 1 < n_bounds; i++) {
-    double lo = bounds[i], hi = bounds[i + 1];
+  turns->bounds[turns->n_bounds++] = 1.0;
+}
+
+/* the next point where the quartic changes direction into *out; false when there are no more */
+static bool next_turn(const double *c, Turns *turns, double *out)
+{
+  while (turns->piece + 1 < turns->n_bounds) {
+    double lo = turns->bounds[turns->piece], hi = turns->bounds[turns->piece + 1];
+    turns->piece++;
     double d_lo = poly_d1(c, lo), d_hi = poly_d1(c, hi);
     if ((d_lo < 0.0 && d_hi > 0.0) || (d_lo > 0.0 && d_hi < 0.0)) {
-      out[count++] = bracketed_root(c, 1, lo, hi, d_lo);
+      *out = bracketed_root(c, 1, lo, hi, d_lo);
+      return true;
     }
+  }
+  return false;
+}
+
+/* all of them, ascending; returns how many (<= 3) */
+static int critical_points(const double *c, double *out)
+{
+  Turns turns;
+  int count = 0;
+  turns_start(c, &turns);
+  while (next_turn(c, &turns, &out[count])) {
+    count++;
   }
   return count;
 }
@@ -252,9 +289,9 @@ static inline double slack_at(Slack slack, double x) { return slack.scale * poly
  * without crossing (a graze).
  */
 typedef struct {
-  int stage; /* 0: the start; 1: the pieces */
-  int piece, n_bounds;
-  double bounds[4], a, f_a;
+  int stage; /* 0: the start; 1: the pieces found so far; 2: the last piece, up to 1, walked */
+  Turns turns;
+  double a, f_a;
 } Candidates;
 
 static bool next_candidate(const double *c, Slack slack, Candidates *it, double *tau)
@@ -263,16 +300,18 @@ static bool next_candidate(const double *c, Slack slack, Candidates *it, double 
     it->stage = 1;
     it->a = 0.0;
     it->f_a = poly(c, 0.0);
-    it->n_bounds = critical_points(c, it->bounds);
-    it->bounds[it->n_bounds++] = 1.0;
-    it->piece = 0;
+    turns_start(c, &it->turns); /* closed form; each turn is found only when the walk needs it */
     if (it->f_a <= slack_at(slack, 0.0)) {
       *tau = 0.0;
       return true;
     }
   }
-  while (it->piece < it->n_bounds) {
-    double b = it->bounds[it->piece++];
+  while (it->stage == 1) {
+    double b;
+    if (!next_turn(c, &it->turns, &b)) {
+      b = 1.0;
+      it->stage = 2;
+    }
     double f_b = poly(c, b);
     double a = it->a, f_a = it->f_a;
     it->a = b;
@@ -362,9 +401,11 @@ static void side_quartic(const Scaled *s, double rr, double *quartic, double *uu
   wu[3] = wu[4] = 0.0;
 }
 
-static Scaled scaled(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius)
+/* the interval's points p (b0, b1, e0, e1, s0, s1) shifted to the knob and scaled */
+static Scaled scaled(const Vec *p, double radius)
 {
-  Vec w0 = v_sub(b0, s0), w_end = v_sub(b1, s1), u0 = v_sub(e0, s0), u_end = v_sub(e1, s1);
+  Vec w0 = v_sub(p[0], p[4]), w_end = v_sub(p[1], p[5]);
+  Vec u0 = v_sub(p[2], p[4]), u_end = v_sub(p[3], p[5]);
   double values[13] = {w0.x, w0.y, w0.z, w_end.x, w_end.y, w_end.z, u0.x, u0.y, u0.z,
                        u_end.x, u_end.y, u_end.z, radius};
   double extent = fabs(values[0]);
@@ -411,8 +452,8 @@ static double polish(const Scaled *s, double tau, double r, double *gap_out)
       break;
     }
     double step = gap / rate;
-    if (fabs(step) > 1e-6 || !(0.0 <= tau - step && tau - step <= 1.0)) {
-      break;
+    if (fabs(step) > 1e-6 || !(0.0 <= tau - step && tau - step <= 1.0) || tau - step == tau) {
+      break; /* (a step within half a unit of tau's last place: the gap there is this one) */
     }
     double new_rate, new_gap = scaled_gap(s, tau - step, r, &new_rate);
     if (fabs(new_gap) >= fabs(gap)) {
@@ -443,7 +484,11 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
       have = true;
     }
   }
-  if (have && best != 0.0) {
+  if (have && best == 0.0) {
+    *out = 0.0; /* touching at the start: no side candidate can come earlier */
+    return true;
+  }
+  if (have) {
     double gap;
     best = polish(s, best, r, &gap);
   }
@@ -483,34 +528,38 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
 /* ------------------------------------------------------------------------------------------ */
 /* broad phase and one capsule */
 
+/*
+ * The points of an interval, p: b0, b1 (ball centre), e0, e1 (tip), s0, s1 (knob), passed by
+ * pointer: six 3-vectors by value are copied onto the stack at every call that is not inlined.
+ */
+
 /* the ball's offset from the bat's midpoint at their closest, all moving on chords */
-static Vec closest_offset(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1)
+static Vec closest_offset(const Vec *p)
 {
-  Vec m0 = v_sub(b0, v_lerp(s0, e0, 0.5));
-  Vec m1 = v_sub(v_sub(b1, v_lerp(s1, e1, 0.5)), m0);
+  Vec m0 = v_sub(p[0], v_lerp(p[4], p[2], 0.5));
+  Vec m1 = v_sub(v_sub(p[1], v_lerp(p[5], p[3], 0.5)), m0);
   double m11 = v_dot(m1, m1);
   double s = m11 == 0.0 ? 0.0 : min_of(1.0, max_of(0.0, -v_dot(m0, m1) / m11));
   return v_advance(m0, m1, s);
 }
 
 /* conservative: false only when the ball certainly stays clear of the bat */
-static bool may_touch(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius)
+static bool may_touch(const Vec *p, double radius)
 {
-  Vec closest = closest_offset(b0, b1, e0, e1, s0, s1);
-  Vec a0 = v_sub(e0, s0), a1 = v_sub(e1, s1);
+  Vec closest = closest_offset(p);
+  Vec a0 = v_sub(p[2], p[4]), a1 = v_sub(p[3], p[5]);
   double half = 0.5 * sqrt(max_of(v_dot(a0, a0), v_dot(a1, a1))); /* = the larger root */
   double reach = half + radius + TOUCH_TOLERANCE;
   double margin = 1e-9 * (1.0 + reach);
   return v_dot(closest, closest) <= (reach + margin) * (reach + margin);
 }
 
-static bool capsule_tau(Vec b0, Vec b1, Vec e0, Vec e1, Vec s0, Vec s1, double radius,
-                        double *tau)
+static bool capsule_tau(const Vec *p, double radius, double *tau)
 {
-  if (!may_touch(b0, b1, e0, e1, s0, s1, radius)) {
+  if (!may_touch(p, radius)) {
     return false;
   }
-  Scaled s = scaled(b0, b1, e0, e1, s0, s1, radius);
+  Scaled s = scaled(p, radius);
   return first_contact_tau(&s, radius, tau);
 }
 
@@ -789,7 +838,7 @@ static PyObject *py_capsule(PyObject *self, PyObject *const *args, Py_ssize_t na
       !(dt > 0.0)) {
     return not_implemented();
   }
-  if (!capsule_tau(p[0], p[1], p[2], p[3], p[4], p[5], rb + rt, &tau)) {
+  if (!capsule_tau(p, rb + rt, &tau)) {
     Py_RETURN_NONE;
   }
   return contact_at(tau, dt, p, rb, rt, 0.0, 1.0, true, true);
@@ -855,26 +904,20 @@ static bool load_profile(PyObject *profile)
 static bool profile_tau(const Vec *p, double rb, double *best_tau, int *best, Vec *piece)
 {
   int count = profile_cache.count;
-  if (count > 1 && !may_touch(p[0], p[1], p[2], p[3], p[4], p[5],
-                              rb + profile_cache.max_radius)) {
+  if (count > 1 && !may_touch(p, rb + profile_cache.max_radius)) {
     return false;
   }
   bool have = false;
-  piece[0] = p[0];
-  piece[1] = p[1];
   for (int i = 0; i < count; i++) {
     double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
     double radius = profile_cache.segments[i][2], tau;
-    Vec k0 = v_lerp(p[4], p[2], f0), k1 = v_lerp(p[5], p[3], f0);
-    Vec t0 = v_lerp(p[4], p[2], f1), t1 = v_lerp(p[5], p[3], f1);
-    if (capsule_tau(p[0], p[1], t0, t1, k0, k1, rb + radius, &tau) && (!have || tau < *best_tau)) {
+    Vec capsule[6] = {p[0], p[1], v_lerp(p[4], p[2], f1), v_lerp(p[5], p[3], f1),
+                      v_lerp(p[4], p[2], f0), v_lerp(p[5], p[3], f0)};
+    if (capsule_tau(capsule, rb + radius, &tau) && (!have || tau < *best_tau)) {
       have = true;
       *best_tau = tau;
       *best = i;
-      piece[2] = t0;
-      piece[3] = t1;
-      piece[4] = k0;
-      piece[5] = k1;
+      memcpy(piece, capsule, sizeof capsule);
     }
   }
   return have;
@@ -917,23 +960,21 @@ static PyObject *py_closest_offset(PyObject *self, PyObject *const *args, Py_ssi
     PyErr_SetString(PyExc_TypeError, "closest_offset() takes 6 points of 3 finite numbers");
     return NULL;
   }
-  return vec_tuple(closest_offset(p[0], p[1], p[2], p[3], p[4], p[5]));
+  return vec_tuple(closest_offset(p));
 }
 
 /* one row of the batch: contact time in seconds, or NaN (no contact or a bad row) */
 static double solve_row(const Vec *p, double rb, double rt, double dt)
 {
-  for (int i = 0; i < 6; i++) {
-    if (!finite3(p[i])) {
-      return NAN;
-    }
+  if (!finite_points(p, 6)) {
+    return NAN;
   }
   if (!non_negative(rb) || !non_negative(rt) || !isfinite(rb + rt) || !isfinite(dt) ||
       !(dt > 0.0)) {
     return NAN;
   }
   double tau;
-  if (!capsule_tau(p[0], p[1], p[2], p[3], p[4], p[5], rb + rt, &tau)) {
+  if (!capsule_tau(p, rb + rt, &tau)) {
     return NAN;
   }
   return tau * dt;
@@ -1259,10 +1300,8 @@ static Search first_in_step(const BallPath *ball, const BatPath *bat, double ta,
     p[1] = ball_at(ball, t);
     bat_at(bat, t, &p[5], &p[3]);
     double dt = t - previous_t;
-    for (int i = 0; i < 6; i++) {
-      if (!finite3(p[i])) {
-        return SEARCH_BAD;
-      }
+    if (!finite_points(p, 6)) {
+      return SEARCH_BAD;
     }
     if (!(dt > 0.0) || !isfinite(dt)) {
       return SEARCH_BAD;
