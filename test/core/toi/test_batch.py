@@ -90,3 +90,18 @@ def test_distance_matches_reference_gap() -> None:
     got = distance(t, *points, 0.04, 0.03, 0.01)
     expected = reference_gap(t / 0.01, *points, 0.07)
     assert got == pytest.approx(expected, abs=1e-12)
+
+
+def test_batch_gives_the_same_rows_on_any_number_of_threads() -> None:
+    """Chunks taken in turn by 1, 2 or 5 threads (more chunks than threads) fill every row."""
+    rng = np.random.default_rng(12)
+    n = 5 * CHUNK_ROWS + 3
+    knob0 = rng.uniform(-0.1, 0.1, (n, 3))
+    tip0 = knob0 + rng.normal(0.0, 0.3, (n, 3))
+    ball0 = knob0 + (tip0 - knob0) * rng.uniform(0.0, 1.0, (n, 1)) + rng.normal(0.0, 0.1, (n, 3))
+    points = [ball0, ball0 + rng.normal(0.0, 0.1, (n, 3)), tip0, tip0 + 0.01, knob0, knob0]
+    one = time_of_impact_batch(*points, 0.0366, 0.0331, 1.0 / 360.0, threads=1)
+    assert 0 < np.count_nonzero(~np.isnan(one)) < n
+    for threads in (2, 5):
+        got = time_of_impact_batch(*points, 0.0366, 0.0331, 1.0 / 360.0, threads=threads)
+        assert np.array_equal(got.view(np.int64), one.view(np.int64))
