@@ -1,9 +1,9 @@
 """
 Solver benchmark: the compiled time_of_impact against its peers, and batch throughput.
 
-Run: ``.venv/bin/python benchmarks/bench_solver.py [--cases N] [--rows N] [--seed S]`` (``make
-bench`` installs python-fcl, the C++ peer, from requirements-bench.txt; without it that row is
-skipped).
+Run: ``.venv/bin/python benchmarks/bench_solver.py [--cases N] [--rows N] [--seed S]
+[--batch-only] [--before KERNEL.so]`` (``make bench`` installs python-fcl, the C++ peer, from
+requirements-bench.txt; without it that row is skipped).
 
 Cases are swing-like intervals at 90-360 Hz: a bat turning about the hands, and a pitched ball
 aimed near it (about 60 % of them make contact). Every method runs on the same cases in the same
@@ -19,15 +19,24 @@ process; the figures are medians over the cases of the best-of-3 time of one cal
 Then the batch on a contact-heavy set (the ball aimed at the bat's middle: most rows touch), on
 one thread and on every core, checked against the scalar path on every row.
 
+``--before KERNEL.so``: another build of the kernel (e.g. ``setup.py build_ext --inplace`` in a
+worktree of an older commit) is loaded beside this one, and both run the contact-heavy rows on
+one thread, in turn, best of 5 each: the CPU time per row of each in the same run (what load
+from other processes inflates least), and whether every row's answer is the same to the bit.
+
 Goals (issue 13): scalar <= 5 us, >= 20x the seed method, >= 4x python-fcl; batch >= 5 M
 queries/s on 2 cores on the contact-heavy set.
 """
 
 import argparse
+import importlib.machinery
+import importlib.util
 import math
 import time
+from types import ModuleType
 from typing import Callable, Dict, List, Optional, Tuple
 
+from baseball_collision.core.toi import _kernel
 from baseball_collision.core.toi import seed_time_of_impact, time_of_impact, time_of_impact_batch
 from baseball_collision.core.toi.batch import cores
 import numpy as np
@@ -208,15 +217,63 @@ def batch_figures(rows: int, seed: int) -> None:
           f"[goal >= 5 M/s on 2 cores: {'met' if every >= 5e6 else 'NOT met'}]")
 
 
+def load_kernel(path: str) -> ModuleType:
+    """Return the kernel extension module built at ``path`` (loaded beside the package's own)."""
+    loader = importlib.machinery.ExtensionFileLoader('_kernel', path)
+    spec = importlib.util.spec_from_file_location('_kernel', path, loader=loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+def kernel_rows(kernel: ModuleType, points: List[np.ndarray],
+                dts: np.ndarray) -> Tuple[float, np.ndarray]:
+    """Return (CPU seconds, the times) of ``kernel.capsule_rows`` over every row, one thread."""
+    n = len(dts)
+    radii = np.full(n, BALL_RADIUS), np.full(n, BAT_RADIUS)
+    out = np.empty(n)
+    start = time.process_time()
+    kernel.capsule_rows(*points, *radii, dts, out, 0, n)
+    return time.process_time() - start, out
+
+
+def before_after(path: str, rows: int, seed: int) -> None:
+    """Print the CPU time per contact-heavy row of the kernel at ``path`` and of this one."""
+    cases = generate_cases(rows, seed + 1, spread=0.01, aimed=True)
+    points, dts = columns(cases)
+    points = [np.ascontiguousarray(p) for p in points]
+    kernels = {'before (' + path + ')': load_kernel(path), 'now': _kernel}
+    best = dict.fromkeys(kernels, math.inf)
+    answers = {}
+    for _ in range(5):  # in turn, so that both see the same load
+        for name, kernel in kernels.items():
+            seconds, answers[name] = kernel_rows(kernel, points, dts)
+            best[name] = min(best[name], seconds)
+    before, now = (answers[name].view(np.int64) for name in kernels)
+    print(f'\nsame process, {rows:,} contact-heavy rows, one thread, CPU time, best of 5 in turn:')
+    for name in kernels:
+        ns = best[name] / rows * 1e9
+        print(f'  {name:60s} {ns:6.0f} ns/row  (2 idle cores: at most {2e9 / ns:,.0f} rows/s)')
+    ratio = best[next(iter(kernels))] / best['now']
+    print(f'  before / now: {ratio:.3f}x; the same answer to the bit on '
+          f'{int(np.count_nonzero(before == now)):,} of {rows:,} rows')
+
+
 def main() -> None:
     """Print the solver figures for BENCHMARKS.md."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0].strip())
     parser.add_argument('--cases', type=int, default=20000, help='scalar cases (20000)')
     parser.add_argument('--rows', type=int, default=1_000_000, help='batch rows (1,000,000)')
     parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--batch-only', action='store_true', help='skip the scalar figures')
+    parser.add_argument('--before', metavar='KERNEL.so',
+                        help='another build of the kernel to compare with, row by row')
     args = parser.parse_args()
-    scalar_figures(generate_cases(args.cases, args.seed))
+    if not args.batch_only:
+        scalar_figures(generate_cases(args.cases, args.seed))
     batch_figures(args.rows, args.seed)
+    if args.before:
+        before_after(args.before, args.rows, args.seed)
 
 
 if __name__ == '__main__':
