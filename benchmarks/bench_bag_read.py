@@ -8,7 +8,11 @@ Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S
    PoseStamped, both at 360 Hz on a millisecond grid) with :class:`BagWriter` into a temporary
    directory (the writer's speed), then times in the same process: (a) ``AnyReader.messages()``
    alone (raw bytes), (b) (a) plus ``AnyReader.deserialize`` of every message, (c)
-   :func:`baseball_collision.bags.read_samples` (open, select topics, decode, build samples).
+   :func:`baseball_collision.bags.read_samples` (open, select topics, decode, build samples),
+   (d) ``BagReader.chunks`` (what ``analyze`` reads: 8,192 samples at a time as arrays, decoded
+   in bulk) and (e) the same chunks built from the per-message samples of (c) (how ``chunks``
+   worked before the bulk decode), checked equal to (d). Wall time and CPU time: on a machine
+   shared with other work the CPU rates and their ratios are the steadier figures.
 2. A bag of 50,000 undecodable messages on another topic and 10 tracker samples: the time
    :class:`BagReader` takes to skip them (they are never read).
 3. For each storage (MCAP, sqlite3, ROS 1): three simulated pitches interleaved with each count
@@ -32,6 +36,7 @@ import tracemalloc
 from typing import Callable, List, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
+from baseball_collision.bags.decode import chunk_samples
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
@@ -72,6 +77,13 @@ def timed(run: Callable[[], int]) -> Tuple[int, float]:
     return count, time.perf_counter() - start
 
 
+def timed_cpu(run: Callable[[], int]) -> Tuple[int, float, float]:
+    """Return ``(messages, wall seconds, CPU seconds)`` of one run."""
+    cpu = time.process_time()
+    count, seconds = timed(run)
+    return count, seconds, time.process_time() - cpu
+
+
 def raw_read(path: Path) -> int:
     """Iterate the raw messages; return how many."""
     count = 0
@@ -100,8 +112,32 @@ def samples(path: Path) -> int:
     return count
 
 
+def bulk_chunks(path: Path) -> int:
+    """Read every sample with ``BagReader.chunks`` (decoded in bulk); return how many."""
+    with BagReader(path) as bag:
+        return sum(len(chunk.stamps_ns) for chunk in bag.chunks())
+
+
+def per_message_chunks(path: Path) -> int:
+    """Read every sample as ``chunks`` did before the bulk decode; return how many."""
+    with BagReader(path) as bag:
+        return sum(len(chunk.stamps_ns) for chunk in chunk_samples(bag.samples(), 8192))
+
+
+def same_chunks(path: Path) -> bool:
+    """Return whether bulk and per-message chunks hold the same samples (values to the bit)."""
+    with BagReader(path) as bag, BagReader(path) as other:
+        for a, b in zip(bag.chunks(), chunk_samples(other.samples(), 8192)):
+            if not (np.array_equal(a.roles, b.roles) and a.frame_ids == b.frame_ids
+                    and np.array_equal(a.stamps_ns, b.stamps_ns)
+                    and np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
+                    and np.array_equal(a.log_times_ns, b.log_times_ns)):
+                return False
+    return True
+
+
 def read_figures(directory: Path, messages: int, storage: str) -> None:
-    """Section 1: write the bag, time the three readers."""
+    """Section 1: write the bag, time the readers."""
     path = directory / SUFFIXES[storage]
     seconds = write_bag(path, messages)
     size = path.stat().st_size / 1e6
@@ -110,13 +146,21 @@ def read_figures(directory: Path, messages: int, storage: str) -> None:
     results = {}
     for name, run in (('(a) rosbags raw messages()', raw_read),
                       ('(b) raw + reader.deserialize', deserialize_all),
-                      ('(c) bags.read_samples', samples)):
-        count, seconds = timed(lambda: run(path))
-        results[name] = count / seconds
-        print(f'{name:32s} {count} msgs in {seconds:6.2f} s: {count / seconds:>10,.0f} msg/s')
-    raw, deserialized, ours = results.values()
+                      ('(c) bags.read_samples', samples),
+                      ('(d) BagReader.chunks (bulk)', bulk_chunks),
+                      ('(e) chunks of (c), per message', per_message_chunks)):
+        count, seconds, cpu = timed_cpu(lambda: run(path))
+        results[name] = count / seconds, count / cpu
+        print(f'{name:32s} {count} msgs in {seconds:6.2f} s: {count / seconds:>10,.0f} msg/s; '
+              f'CPU {cpu:6.2f} s: {count / cpu:>10,.0f} msg/s')
+    (raw, raw_cpu), (deserialized, _), (ours, _), (bulk, bulk_cpu), (each, each_cpu) = (
+        results.values())
     print(f'read_samples / raw = {ours / raw:.2f}, read_samples / deserialize = '
           f'{ours / deserialized:.2f}; peak RSS {peak_mb():.0f} MB')
+    print(f'chunks / raw = {bulk / raw:.2f} (CPU: {bulk_cpu / raw_cpu:.2f}); per-message chunks '
+          f'/ raw = {each / raw:.2f} (CPU: {each_cpu / raw_cpu:.2f}); bulk / per message = '
+          f'{bulk / each:.2f}x (CPU: {bulk_cpu / each_cpu:.2f}x); the same samples: '
+          f'{same_chunks(path)}')
 
 
 def skipped_figure(directory: Path, noise: int = 50_000) -> None:

@@ -11,13 +11,15 @@ Errors
     including errors met lazily while iterating (a corrupt chunk, records a damaged chunk lost).
 """
 
+from contextlib import contextmanager
+import itertools
 import os
 from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, NS_PER_S
-from .decode import chunk_samples, decode_samples, Route, Sample, SampleChunk, values_from_message
+from .decode import decode_chunk, decode_samples, Route, Sample, SampleChunk, values_from_message
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
@@ -147,11 +149,34 @@ class BagReader(BagFile):
         """
         Yield the samples of :meth:`samples` as arrays, ``size`` at a time (the last fewer).
 
-        Memory stays one chunk's whatever the bag's size.
+        Each chunk's messages are decoded in bulk (:func:`.decode.decode_chunk`): the same
+        samples. Memory stays one chunk's whatever the bag's size.
 
         :raises BagError: as :meth:`samples`.
         """
-        return chunk_samples(self.samples(), size)
+        reader = self._open_reader()
+        return self._chunks(reader, size)
+
+    @contextmanager
+    def _reading(self) -> Iterator[None]:
+        """Turn what reading raises into a BagError naming the bag."""
+        try:
+            yield
+        except BagError:
+            raise
+        except Exception as error:
+            raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
+
+    def _check_count(self, count: int, expected: int) -> None:
+        """
+        Refuse a bag that gave fewer messages than its index lists (``expected``).
+
+        :raises BagError: fewer (rosbags skips records it cannot place in a damaged chunk
+            without an error; the bag's own index still counts them).
+        """
+        if count < expected:
+            raise BagError(f'bag {self.path} is damaged: read {count} of the {expected} '
+                           'messages its index lists on the selected topics')
 
     def _samples(self, reader: AnyReader) -> Iterator[Sample]:
         """Yield samples (the generator behind :meth:`samples`)."""
@@ -159,18 +184,27 @@ class BagReader(BagFile):
 
         def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
             return self._slow(reader, route, raw)
-        try:
+        with self._reading():
             count = yield from decode_samples(
                 reader.messages(connections=self._connections), self._routes, slow)
-        except BagError:
-            raise
-        except Exception as error:
-            raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
-        if count < expected:
-            # rosbags skips records it cannot place in a damaged chunk without an error: the
-            # bag's own index still counts them
-            raise BagError(f'bag {self.path} is damaged: read {count} of the {expected} '
-                           'messages its index lists on the selected topics')
+        self._check_count(count, expected)
+
+    def _chunks(self, reader: AnyReader, size: int) -> Iterator[SampleChunk]:
+        """Yield chunks (the generator behind :meth:`chunks`)."""
+        expected = self.message_count
+
+        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
+            return self._slow(reader, route, raw)
+        count = 0
+        with self._reading():
+            messages = reader.messages(connections=self._connections)
+            while True:
+                batch = list(itertools.islice(messages, size))
+                if not batch:
+                    break
+                count += len(batch)
+                yield decode_chunk(batch, self._routes, slow)
+        self._check_count(count, expected)
 
     def _slow(self, reader: AnyReader, route: Route,
               raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:

@@ -6,17 +6,20 @@ import sqlite3
 import struct
 import subprocess
 import sys
-from typing import Any
+from typing import Any, List
 
 from baseball_collision.bags import (
     BagReader, BagWriter, count_messages, POINT_STAMPED, POSE_STAMPED, read_samples,
     TopicSelection)
+from baseball_collision.bags.decode import chunk_samples, SampleChunk
 from baseball_collision.errors import BagError
+import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
 from support.bagfiles import (
     expected_samples, reference_bag, reference_message, tracker_rows, TS2)
+from support.bundled import bag_path, BAGS
 
 
 def test_module_imports_neither_rclpy_nor_the_tools() -> None:
@@ -76,6 +79,64 @@ def test_chunks_are_the_samples_as_arrays(tmp_path: Path, size: int) -> None:
                    chunk.log_times_ns) for chunk in chunks]
     assert [(int(role), int(stamp), frame, tuple(row), int(log))
             for rows in columns for role, stamp, frame, row, log in rows] == rebuilt
+
+
+def _same_chunks(got: List[SampleChunk], expected: List[SampleChunk]) -> None:
+    """Assert two lists of chunks hold the same samples, values to the bit."""
+    assert len(got) == len(expected)
+    for a, b in zip(got, expected):
+        assert a.roles.dtype == b.roles.dtype and a.values.dtype == b.values.dtype
+        assert np.array_equal(a.roles, b.roles) and np.array_equal(a.stamps_ns, b.stamps_ns)
+        assert a.frame_ids == b.frame_ids and all(type(f) is str for f in a.frame_ids)
+        assert np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
+        assert np.array_equal(a.log_times_ns, b.log_times_ns)
+
+
+def _per_message(path: Path, size: int) -> List[SampleChunk]:
+    """Return the chunks of the per-message decoder (``samples``) for a bag."""
+    with BagReader(path) as bag:
+        return list(chunk_samples(bag.samples(), size))
+
+
+@pytest.mark.parametrize('name', ['dir_mcap', 'dir_sqlite3', 'ros1.bag', 'big_endian'])
+@pytest.mark.parametrize('size', [1, 5, 1000])
+def test_bulk_chunks_equal_the_per_message_decoder(tmp_path: Path, name: str,
+                                                   size: int) -> None:
+    """
+    ``chunks``, decoded in bulk, gives the per-message decoder's samples.
+
+    Frames of every CDR padding, stamps at the int32 edge, points and poses, one long run of
+    one layout, and big-endian CDR (the fallback).
+    """
+    path = tmp_path / name
+    rows = tracker_rows(40) + [('/ball', POINT_STAMPED, 5 * i, 'w', (1.0, 2.0, float(i)),
+                                900_000 + i) for i in range(30)]  # one layout: one group
+    reference_bag(path, rows, little_endian=name != 'big_endian')
+    with BagReader(path) as bag:
+        got = list(bag.chunks(size))
+    _same_chunks(got, _per_message(path, size))
+    assert sum(len(chunk.stamps_ns) for chunk in got) == len(rows)
+
+
+def test_one_layout_is_decoded_without_the_per_message_decoder(
+        tmp_path: Path, monkeypatch: Any) -> None:
+    """A chunk of one frame_id per topic is read from the joined bytes alone."""
+    _multi_chunk_bag(tmp_path / 'ok.mcap', 3000)  # one frame_id: no 'MARKER' below 9000
+    expected = _per_message(tmp_path / 'ok.mcap', 1024)
+
+    def refuse(*args: Any) -> None:
+        raise AssertionError('the per-message decoder was used')
+    monkeypatch.setattr('baseball_collision.bags.decode.decode_samples', refuse)
+    with BagReader(tmp_path / 'ok.mcap') as bag:
+        _same_chunks(list(bag.chunks(1024)), expected)
+
+
+@pytest.mark.parametrize('name', sorted(BAGS))
+def test_bulk_chunks_of_the_bundled_bags(name: str) -> None:
+    """Every bundled bag (MCAP, sqlite3, ROS 1) reads the same in bulk as message by message."""
+    with BagReader(bag_path(name)) as bag:
+        got = list(bag.chunks(8192))
+    _same_chunks(got, _per_message(bag_path(name), 8192))
 
 
 def test_unrelated_topics_are_never_decoded(tmp_path: Path, monkeypatch: Any) -> None:
@@ -224,3 +285,9 @@ def test_corruption_found_while_iterating_is_a_bag_error(tmp_path: Path) -> None
                 seen += 1
         assert seen > 1000, 'the error should come lazily, after the intact chunks'
         assert words in str(caught.value) and '\n' not in str(caught.value)
+        for size in (1000, 8192):  # the bad message inside a chunk's group, or first in it
+            seen = 0
+            with pytest.raises(BagError) as caught, BagReader(tmp_path / name) as bag:
+                for chunk in bag.chunks(size):
+                    seen += len(chunk.stamps_ns)
+            assert seen >= 1000 and words in str(caught.value)
