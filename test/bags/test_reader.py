@@ -139,6 +139,26 @@ def test_bulk_chunks_of_the_bundled_bags(name: str) -> None:
     _same_chunks(got, _per_message(bag_path(name), 8192))
 
 
+def test_the_jazzy_typestore_is_built_only_for_a_bag_without_definitions(
+        tmp_path: Path) -> None:
+    """A bag with type definitions opens without it; one without them reads through it."""
+    code = ('import sys; from baseball_collision.bags import read_samples; '
+            'n = sum(1 for _ in read_samples(sys.argv[1])); '
+            'print(n, "rosbags.typesys.stores.ros2_jazzy" in sys.modules)')
+    rows = tracker_rows(6)
+    reference_bag(tmp_path / 'dir_sqlite3', rows)
+    expected = expected_samples(rows, {'/ball': 'ball', '/bat/pose': 'bat_pose'})
+    out = subprocess.run([sys.executable, '-c', code, str(tmp_path / 'dir_sqlite3')],
+                         capture_output=True, text=True, check=True, timeout=60)
+    assert out.stdout.split() == [str(len(expected)), 'False']
+    with sqlite3.connect(next((tmp_path / 'dir_sqlite3').glob('*.db3'))) as db:
+        db.execute('DELETE FROM message_definitions')  # as a bag from before Iron
+    out = subprocess.run([sys.executable, '-c', code, str(tmp_path / 'dir_sqlite3')],
+                         capture_output=True, text=True, check=True, timeout=60)
+    assert out.stdout.split() == [str(len(expected)), 'True']
+    assert list(read_samples(tmp_path / 'dir_sqlite3')) == expected
+
+
 def test_unrelated_topics_are_never_decoded(tmp_path: Path, monkeypatch: Any) -> None:
     """50k messages on another topic are skipped undecoded (they are not even valid CDR)."""
     path = tmp_path / 'noisy'
