@@ -19,7 +19,6 @@ truth file beside the bag when there is one.
 from collections import Counter
 from dataclasses import dataclass, field
 import itertools
-import multiprocessing
 import os
 from pathlib import Path
 import sys
@@ -28,7 +27,6 @@ from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
 
 from .events import event_kind
-from .outbag import FoxgloveCopy
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
@@ -405,10 +403,11 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
             if config.prediction_horizon > 0.0:
                 sinks.append(FrameStamps(result.frames_ns))
             detector = Detector(config)
-            copy = None if out_bag is None else FoxgloveCopy(
-                out_bag, path, detector, bag.selection.topics, options.parameters,
-                options.node_name, config.frame_id)
-            if copy is not None:
+            copy = None
+            if out_bag is not None:
+                from .outbag import FoxgloveCopy  # (imported only for an output bag)
+                copy = FoxgloveCopy(out_bag, path, detector, bag.selection.topics,
+                                    options.parameters, options.node_name, config.frame_id)
                 copy.open()
                 sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
@@ -493,6 +492,8 @@ def _pool_context() -> Any:
     ``Pool.terminate`` waited for it forever (4 runs in 30 under load). The fork server is a
     clean single-threaded process that imports the analysis once; workers fork from it in ms.
     """
+    import multiprocessing  # (only a pool needs it)
+
     if 'forkserver' in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context('forkserver')
         context.set_forkserver_preload([__name__])

@@ -132,7 +132,6 @@ def _simulate(args: argparse.Namespace) -> int:
 
 def _analyze(args: argparse.Namespace) -> int:
     from .analyze import AnalysisOptions, analyze_bags, BagAnalysis
-    from .plots import write_plots
     from .report import csv_text, format_report, json_text, total_line
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(
@@ -155,6 +154,7 @@ def _analyze(args: argparse.Namespace) -> int:
         if args.csv:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
+            from .plots import write_plots
             outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
     if not args.quiet:
