@@ -28,7 +28,12 @@ is >= 100,000 messages/s end to end.
 ``--whole``: instead, the goal of issue 13 as a user meets it: the whole ``baseball-collision
 analyze BAG --quiet`` process (interpreter start-up, imports, the kernel's load included) against
 a whole process that only iterates rosbags' raw messages of the same bag, and against (a) in
-this process, best of ``--repeats`` each (goal: analyze >= 0.5 of the raw read rate).
+this process, best of ``--repeats`` each (goal: analyze >= 0.5 of the raw read rate). With
+``--before DIR`` (a source tree of another commit with its kernel built, e.g. a ``git worktree``
+and ``setup.py build_ext --inplace``), ``python -m baseball_collision.tools.cli analyze`` runs
+from DIR and from this tree in turn, on the bag and on a bag of 300 messages (the start-up:
+interpreter, imports, opening a bag), best wall and best CPU time (the child's user + system)
+of each.
 
 ``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
 bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
@@ -55,7 +60,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Tuple
+from typing import Optional, Tuple
 
 from baseball_collision.bags import BagReader
 from baseball_collision.core.detector import Detector, DetectorConfig
@@ -148,15 +153,43 @@ with AnyReader([Path({bag!r})], default_typestore=get_typestore(Stores.ROS2_JAZZ
 
 def process_seconds(command: list, repeats: int) -> float:
     """Return the best wall time (s) over ``repeats`` runs of a command (which must succeed)."""
-    best = float('inf')
+    return min(process_times(command)[0] for _ in range(repeats))
+
+
+def process_times(command: list, cwd: Optional[Path] = None) -> Tuple[float, float]:
+    """Return (wall s, CPU s: user + system) of one run of a command (which must succeed)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL, cwd=cwd)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+
+
+def before_after_processes(path: Path, written: int, model: str, repeats: int,
+                           before: Path) -> None:
+    """Print analyze from the tree ``before`` and from this one, in turn, on two bags."""
+    tiny = path.with_name('tiny_' + path.name)
+    small, _ = write_bag(tiny, 300)
+    trees = {f'before ({before})': before, 'now': Path(__file__).resolve().parents[1]}
+    best = {}
     for _ in range(repeats):
-        start = time.perf_counter()
-        subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-        best = min(best, time.perf_counter() - start)
-    return best
+        for name, tree in trees.items():
+            for bag in (tiny, path):
+                command = [sys.executable, '-m', 'baseball_collision.tools.cli', 'analyze',
+                           str(bag), '--model', model, '--quiet', '--no-progress']
+                times = process_times(command, cwd=tree)
+                old = best.get((name, bag), (float('inf'),) * 2)
+                best[name, bag] = tuple(min(a, b) for a, b in zip(old, times))
+    print(f'python -m baseball_collision.tools.cli analyze, in turn, best of {repeats}:')
+    for name in trees:
+        (tiny_wall, tiny_cpu), (wall, cpu) = best[name, tiny], best[name, path]
+        print(f'  {name:40s} {small} messages: {tiny_wall:5.2f} s wall, {tiny_cpu:5.2f} s CPU; '
+              f'{written:,}: {wall:6.2f} s wall, {cpu:6.2f} s CPU ({written / wall:,.0f} msg/s)')
 
 
-def whole_process_figures(messages: int, storage: str, model: str, repeats: int) -> None:
+def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
+                          before: Optional[Path] = None) -> None:
     """Print analyze as a whole process against a raw-read process on one bag, the ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
@@ -177,6 +210,8 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int)
             ratio = seconds / analyze_process
             print(f'analyze process / {label:22s} = {ratio:.2f} of its rate '
                   f"[goal >= 0.5: {'met' if ratio >= 0.5 else 'NOT met'}]")
+        if before is not None:
+            before_after_processes(path, written, model, repeats, before)
 
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
@@ -310,6 +345,8 @@ def main() -> None:
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
     parser.add_argument('--repeats', type=int, default=3,
                         help='runs per --jobs, --whole or --interleave figure (3)')
+    parser.add_argument('--before', type=Path, default=None, metavar='DIR',
+                        help='with --whole: also analyze from this source tree, in turn')
     parser.add_argument('--interleave', action='store_true',
                         help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
@@ -317,7 +354,8 @@ def main() -> None:
         interleaved_figures(args.messages or 30_000, args.storage, args.model, args.repeats)
         return
     if args.whole:
-        whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats)
+        whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,
+                              args.before)
         return
     if args.against:
         against_figures(args.messages or 30_000, args.storage, args.model, args.against,
