@@ -59,8 +59,13 @@ SLACK = 1e-9
 the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
 
 PLAN_MAX = 512
-"""Samples planned at once: a plan the per-sample path overturns (a drop) is made again for
-the rest, so a bound keeps that cost flat."""
+"""Samples planned at once after a plan was overturned: a plan the per-sample path overturns
+(a drop) is made again for the rest, so a bound keeps that cost flat."""
+
+PLAN_LONGEST = 8192
+"""Samples planned at once at most: each plan taken whole doubles the next one's length from
+``PLAN_MAX`` up to this (far from contacts a plan is rarely overturned, and its fixed cost of
+numpy calls is shared by more samples)."""
 
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
@@ -82,13 +87,14 @@ class Plan:
     :ivar starts: per stream, the index of its first kept sample after each sample's trim.
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
-    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns).
-    :ivar values: the chunk's ball points as the stream keeps them (tuples), and its bat
-        samples' knob, tip, position and quaternion lists.
+    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
+    :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
+        position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
 
-    Arrays while planning; Python lists once planned (``fast_forward`` runs between stops a few
-    samples apart near a contact: it only slices lists).
+    The indices are Python lists once planned (``fast_forward`` runs between stops a few
+    samples apart near a contact); the samples stay arrays, and only those a fast-forward
+    keeps after its trim become the streams' lists and tuples.
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
@@ -181,16 +187,15 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays)
-    # as lists for fast_forward (and the stream's own values)
+    # the indices as lists for fast_forward; the samples stay arrays, made lists (the
+    # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
     plan.checked = ok.tolist()
     plan.counts = [counts.tolist() for counts in plan.counts]
     plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
-    plan.times = [times.tolist() for times in arrays.times]
-    plan.stamps = [stamps.tolist() for stamps in arrays.stamps]
+    plan.times, plan.stamps = arrays.times, arrays.stamps
     new_ball, knob, tip, position, quaternion = arrays.new
-    plan.values = (list(map(tuple, new_ball.tolist())),
-                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
+    plan.values = (new_ball, (knob, tip, position, quaternion))
     return plan
 
 
@@ -429,29 +434,29 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
         b = counts[end - 1]
-        if b == a:
-            stream_start = a - len(stream.times)
-        else:
-            stream.times += plan.times[s][a:b]
-            stamps = plan.stamps[s][a:b]
-            stream.stamps += stamps
-            stream.breaks += [False] * (b - a)
-            first, last = a - plan.pre[s], b - plan.pre[s]
+        held = len(stream.times)
+        # the trim after the run, counted from the stream's first sample: samples it would
+        # drop as soon as they are appended are never made (nor turned into lists)
+        cut = plan.starts[s][end - 1] - (a - held) if walk else 0
+        if b > a:
+            c = max(a, a + cut - held)
+            stream.times += plan.times[s][c:b].tolist()
+            stream.stamps += plan.stamps[s][c:b].tolist()
+            stream.breaks += [False] * (b - c)
+            first, last = c - plan.pre[s], b - plan.pre[s]
             if s:  # bat samples are made as they are taken (a plan may end early)
-                stream.values += map(_bat_sample, *(column[first:last]
+                stream.values += map(_bat_sample, *(column[first:last].tolist()
                                                     for column in plan.values[1]))
-                stream.turns += [None] * (b - a)
+                stream.turns += [None] * (b - c)
             else:
-                stream.values += plan.values[0][first:last]
+                stream.values += map(tuple, plan.values[0][first:last].tolist())
             stats.received[_ROLES[s]] += b - a
             stream.speed_drops = 0
-            if stamps[-1] > newest:
-                newest = stamps[-1]
-            stream_start = b - len(stream.times)
-        if not walk:
-            continue
-        cut = plan.starts[s][end - 1] - stream_start
+            stamp = int(plan.stamps[s][b - 1])
+            if stamp > newest:
+                newest = stamp
         if cut > 0:
+            cut = min(cut, held)
             for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
                            stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
@@ -504,7 +509,7 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
         raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
     chunk = (roles, stamps, values, frame_ids)
     events: List[Event] = []
-    i = 0
+    i, length = 0, PLAN_MAX
     while i < n:
         intake = detector._intake
         if n - i < CHUNK_MIN or not usable(
@@ -515,7 +520,7 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
                 _one(detector, chunk, k, events, drops)
             i = min(n, i + CHUNK_MIN)
             continue
-        j = i + PLAN_MAX
+        j = i + length
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
                           intake.votes.frame, detector._ball, detector._bat,
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
@@ -524,7 +529,9 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
-        i += _follow(detector, plan, chunk, i, events, drops)
+        taken = _follow(detector, plan, chunk, i, events, drops)
+        i += taken
+        length = min(2 * length, PLAN_LONGEST) if taken == length else PLAN_MAX
     return events
 
 
