@@ -115,12 +115,17 @@ class Plan:
         return cursor == self.union[self.visited[j] - 1]
 
 
+def plannable(config: DetectorConfig) -> bool:
+    """Return whether chunks are ever planned under a configuration (else one at a time)."""
+    return (config.bat_input == 'pose' and config.model in FAST_MODELS
+            and (config.model != 'c2' or config.tracker_noise >= 0.0)
+            and config.prediction_horizon <= 0.0)
+
+
 def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
            cursor: Optional[float], waiting: bool) -> bool:
     """Return whether a chunk can be planned now (else its samples go one at a time)."""
-    return (config.bat_input == 'pose' and config.model in FAST_MODELS
-            and (config.model != 'c2' or config.tracker_noise >= 0.0)
-            and config.prediction_horizon <= 0.0 and origin is not None and cursor is not None
+    return (plannable(config) and origin is not None and cursor is not None
             and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
             and 3 <= len(bat.times) <= SILENT_KEEP // 2)
 
@@ -511,14 +516,17 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
     events: List[Event] = []
     i, length = 0, PLAN_MAX
     while i < n:
-        intake = detector._intake
-        if n - i < CHUNK_MIN or not usable(
-                detector.config, detector._clock.origin, detector._ball, detector._bat,
-                detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
-                                                 or intake.pending)):
-            for k in range(i, min(n, i + CHUNK_MIN)):
+        if n - i < CHUNK_MIN or not plannable(detector.config):
+            for k in range(i, n):
                 _one(detector, chunk, k, events, drops)
-            i = min(n, i + CHUNK_MIN)
+            break
+        intake = detector._intake
+        if not usable(detector.config, detector._clock.origin, detector._ball, detector._bat,
+                      detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
+                                                       or intake.pending)):
+            # (a held sample is settled by the next one or two: plan again as soon as it is)
+            _one(detector, chunk, i, events, drops)
+            i += 1
             continue
         j = i + length
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
