@@ -175,23 +175,26 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
     is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
     arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
-    ok = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
-                 frames[:n])
-    # the plan ends at its first sample that fails a check: the per-sample path will most
-    # likely drop it, hold it or break its stream there, and what follows be planned again
-    failing = np.flatnonzero(~ok)
-    if len(failing) and failing[0] + 1 < n:
-        n = int(failing[0]) + 1
+    ok, gap = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
+                      frames[:n])
+    # the plan ends at its first sample that fails a check (the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again),
+    # except a stream's first sample after a gap, held until its next takes it
+    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], ball, bat)
+    if end < n:
+        n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
         arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
     plan = Plan()
     plan.n, plan.pre = n, arrays.pre
-    _walk(config, plan, arrays, is_ball, is_bat, cursor)
+    for x, y in held:  # both go through the per-sample path
+        ok[y if y < n else x] = False
+    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
     far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
                          if n else plan.union[:0])
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
-    stops |= _trim_starts(config, plan, arrays)
+    stops |= _trim_starts(config, plan, arrays, done, counts, visited)
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
@@ -240,31 +243,68 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
 
 def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
             is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-            frames: Sequence[str]) -> np.ndarray:
-    """Return which samples pass every check with room to spare (values, frame, order)."""
+            frames: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return which samples pass every check with room to spare (values, frame, order).
+
+    Second, which pass every check but the order's as the first sample after a gap that the
+    intake holds for its stream's next (``_order_checks``).
+    """
     n = len(stamps)
     with np.errstate(all='ignore'):
         ok = _value_checks(config, values, is_ball, is_bat)
         if frames.count(frame or '') != n:  # (the common case: one frame throughout)
             ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
         ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
-    ok[is_ball] &= _order_checks(config, arrays.stamps[0], arrays.times[0], (arrays.ball,),
-                                 arrays.pre[0])
-    ok[is_bat] &= _order_checks(config, arrays.stamps[1], arrays.times[1],
-                                (arrays.knobs, arrays.tips), arrays.pre[1])
-    return ok
+    gap = ok.copy()
+    for s, mine, points in ((0, is_ball, (arrays.ball,)),
+                            (1, is_bat, (arrays.knobs, arrays.tips))):
+        in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
+                                            arrays.pre[s])
+        ok[mine] &= in_order
+        gap[mine] &= after_gap
+    return ok, gap
 
 
 def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
-          is_bat: np.ndarray, cursor: float) -> None:
-    """Set the plan's counts, union times and cursor steps: the watermark after each sample."""
-    plan.counts = (arrays.pre[0] + np.cumsum(is_ball), arrays.pre[1] + np.cumsum(is_bat))
+          is_bat: np.ndarray, cursor: float,
+          held: Sequence[Tuple[int, int]] = ()
+          ) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray]:
+    """
+    Set the plan's counts, union times and cursor steps: the watermark after each sample.
+
+    The walk is made of steps, each sample taken: in arrival order, but a held sample is taken
+    just before the sample that takes it (``_held_gaps``), and starts a new segment.
+
+    :param held: (sample, the sample that takes it).
+    :returns: per sample, the steps taken after it (``done``); per stream, the count after each
+        step from 0 (none taken); the cursor's union index after each step (from 0).
+    """
+    n = len(is_ball)
+    order = np.arange(n)
+    done = order + 1
+    if held:
+        pending = np.zeros(n + 1, np.int64)
+        key = order.astype(float)
+        for x, y in held:
+            pending[x] += 1
+            pending[min(y, n)] -= 1
+            key[x] = y - 0.5  # (past the plan's end: never taken in it)
+            s = 0 if is_ball[x] else 1
+            arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
+        done -= np.cumsum(pending[:n])
+        order = np.argsort(key, kind='stable')[:int(done[-1])]
+    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
+              for s, mine in ((0, is_ball), (1, is_bat))]
+    plan.counts = (counts[0][done], counts[1][done])
     ahead = samples_ahead(config.model, config.look_ahead)
-    watermark = np.minimum(arrays.times[0][plan.counts[0] - 1 - ahead],
-                           arrays.times[1][plan.counts[1] - 1 - ahead])
+    watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
+                           arrays.times[1][counts[1] - 1 - ahead])
     union = np.union1d(arrays.times[0], arrays.times[1])
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    plan.visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    plan.visited = visited[done]
+    return done, counts, visited
 
 
 def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
@@ -309,22 +349,59 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     return clear
 
 
-def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays) -> np.ndarray:
+def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.ndarray,
+                 counts: List[np.ndarray], visited: np.ndarray) -> np.ndarray:
     """
-    Set the plan's trims (as the per-sample path makes them after each sample).
+    Set the plan's trims (as the per-sample path makes them after each step of ``_walk``).
 
     :returns: which samples must stop: a stream that may be silent trims on its own.
     """
     history = 1.5 * max(config.velocity_window, config.prediction_window)
-    cursors = plan.union[plan.visited - 1]
+    cursors = plan.union[visited[1:] - 1]
     plan.starts = []
-    stops = np.zeros(plan.n, bool)
+    silent = np.zeros(len(visited), bool)
     for s in (0, 1):
         cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
-        starts, lengths = _trims(plan.counts[s], cuts)
-        plan.starts.append(starts)
-        stops |= lengths > SILENT_KEEP
-    return stops
+        starts, lengths = _trims(counts[s][1:], cuts)
+        plan.starts.append(np.array([0] + starts)[done].tolist())
+        silent[1:] |= lengths > SILENT_KEEP
+    # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
+    made = np.cumsum(silent)
+    return made[done] > made[np.concatenate(([0], done[:-1]))]
+
+
+def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
+               stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[int, List[Tuple[int, int]]]:
+    """
+    Return where a plan ends, and its held samples with the sample that takes each.
+
+    A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
+    as new; its stream's next sample takes it, then itself. The plan follows that (both go
+    through the per-sample path); it ends after its first sample that fails a check
+    otherwise, or whose next does. A wrong guess costs a plan: ``Plan.held`` compares the
+    state after each such sample with the plan's.
+    """
+    n = len(ok)
+    failing = np.flatnonzero(~ok).tolist()
+    if not failing:
+        return n, []
+    following = np.full(n, n)
+    for mine in (is_ball, is_bat):
+        own = np.flatnonzero(mine)
+        following[own[:-1]] = own[1:]
+    waiting = np.zeros(n, bool)
+    newest = max(ball.stamps[-1], bat.stamps[-1])
+    held: List[Tuple[int, int]] = []
+    for x in failing:
+        y = int(following[x])
+        if not gap[x] or y >= n or not ok[y]:
+            return x + 1, held
+        before = stamps[:x][~waiting[:x]]
+        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
+            return x + 1, held  # (taken at once: as new as a sample taken)
+        held.append((x, y))
+        waiting[x] = True
+    return n, held
 
 
 def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
@@ -355,13 +432,15 @@ def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarra
 
 
 def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
-                  points: Sequence[np.ndarray], pre: int) -> np.ndarray:
+                  points: Sequence[np.ndarray], pre: int) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
 
     The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
     bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
-    sample before it were accepted.
+    sample before it were accepted. Second, which start a new segment after a gap longer than
+    ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
+    before, under ``time_jump_reset``): the next sample takes them.
     """
     new = np.arange(pre, len(stamps))
     step = (stamps[new] - stamps[new - 1]).astype(float)
@@ -376,7 +455,9 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     for each in points:
         d = each[new] - each[new - 1]
         ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
-    return ok
+    gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
+        dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
+    return ok, gap
 
 
 def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
