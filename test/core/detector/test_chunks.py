@@ -225,6 +225,30 @@ def test_far_runs_are_planned_long(monkeypatch: pytest.MonkeyPatch) -> None:
     assert len(lengths) < 3 * 2 * 20.0 * 360 / chunks_module.PLAN_MAX / 2  # half as many
 
 
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+def test_plans_run_across_pauses_between_pitches(model: str,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Tracking pauses 0.1 s after each pitch: one plan runs across them, the same events.
+
+    Each stream's first sample after a pause waits for its next (``gate.hold_ahead``); the
+    plan follows that instead of ending there.
+    """
+    planned = []
+    original = chunks_module.plan_chunk
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        planned.append(original(*args, **kwargs))
+        return planned[-1]
+    monkeypatch.setattr(chunks_module, 'plan_chunk', counting)
+    heights = (1.0, 1.3, 0.95, 1.1, 1.2, 1.05)
+    rows = [row for row in session(heights, spacing=0.6)
+            if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
+    events = assert_same(DetectorConfig(model=model, bat_input='pose'), rows, (8192,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert len(planned) < len(heights)
+
+
 @settings(max_examples=examples(6), deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(look_ahead=st.integers(0, 2), window=st.integers(4, 12),
