@@ -363,7 +363,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     for s in (0, 1):
         cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
         starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(np.array([0] + starts)[done].tolist())
+        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
         silent[1:] |= lengths > SILENT_KEEP
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)
@@ -468,7 +468,7 @@ def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
     return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
 
 
-def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]:
+def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return a stream's first kept sample after each sample's trim, and its length before it.
 
@@ -477,20 +477,19 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]
     """
     n = len(counts)
     count_list, cut_list = counts.tolist(), cuts.tolist()
-    starts: List[int] = []
+    at, starts = [], [0]  # the samples that trim, and the first kept sample after each
     start, j = 0, 0
     while j < n:
-        nxt = max(j, bisect_left(count_list, start + TRIM_FROM),
-                  bisect_left(cut_list, start + 1))
-        if nxt >= n:
-            starts += [start] * (n - j)
+        j = max(j, bisect_left(count_list, start + TRIM_FROM), bisect_left(cut_list, start + 1))
+        if j >= n:
             break
-        starts += [start] * (nxt - j)
-        start = cut_list[nxt]
+        start = cut_list[j]
+        at.append(j)
         starts.append(start)
-        j = nxt + 1
-    before = np.array([0] + starts[:-1], dtype=np.int64)
-    return starts, counts - before
+        j += 1
+    after = np.array(starts, dtype=np.int64)[np.searchsorted(np.array(at, dtype=np.int64),
+                                                             np.arange(n), 'right')]
+    return after, counts - np.concatenate(([0], after[:-1]))
 
 
 def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
@@ -531,8 +530,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
             stream.breaks += [False] * (b - c)
             first, last = c - plan.pre[s], b - plan.pre[s]
             if s:  # bat samples are made as they are taken (a plan may end early)
-                stream.values += map(_bat_sample, *(column[first:last].tolist()
-                                                    for column in plan.values[1]))
+                stream.values += map(BatSample, *(map(tuple, column[first:last].tolist())
+                                                  for column in plan.values[1]))
                 stream.turns += [None] * (b - c)
             else:
                 stream.values += map(tuple, plan.values[0][first:last].tolist())
@@ -561,13 +560,6 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
         stats.newest_stamp_ns = newest
     return newest
-
-
-def _bat_sample(knob: List[float], tip: List[float], position: List[float],
-                quaternion: List[float]) -> BatSample:
-    """Return a bat sample of lists (the stream keeps tuples)."""
-    return BatSample(knob=tuple(knob), tip=tuple(tip), position=tuple(position),
-                     quaternion=tuple(quaternion))
 
 
 CHUNK_MIN = 16
