@@ -15,7 +15,11 @@ them. Every other sample (a drop, a held or voted one, one that makes a near int
 decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
 keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
 trimmed otherwise) the rest of the chunk is planned again (:func:`feed_chunk`, the
-detector's ``add_chunk``).
+detector's ``add_chunk``). A stream's first sample after a gap is planned as the intake takes
+it: held until the stream's next sample, which takes both (a pause between pitches does not
+end a plan). A plan taken whole doubles the next one's length (``PLAN_MAX`` up to
+``PLAN_LONGEST``), and only the samples a fast-forward keeps after its trim become the
+streams' Python lists.
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
