@@ -69,7 +69,8 @@ PLAN_MAX = 512
 PLAN_LONGEST = 8192
 """Samples planned at once at most: each plan taken whole doubles the next one's length from
 ``PLAN_MAX`` up to this (far from contacts a plan is rarely overturned, and its fixed cost of
-numpy calls is shared by more samples)."""
+numpy calls is shared by more samples); the length carries over to the next chunk
+(``Detector._plan_length``), and goes back to ``PLAN_MAX`` when a plan is overturned."""
 
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
@@ -591,7 +592,7 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
         raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
     chunk = (roles, stamps, values, frame_ids)
     events: List[Event] = []
-    i, length = 0, PLAN_MAX
+    i, length = 0, detector._plan_length
     while i < n:
         if n - i < CHUNK_MIN or not plannable(detector.config):
             for k in range(i, n):
@@ -616,7 +617,11 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
             continue
         taken = _follow(detector, plan, chunk, i, events, drops)
         i += taken
-        length = min(2 * length, PLAN_LONGEST) if taken == length else PLAN_MAX
+        if taken < plan.n:  # overturned
+            length = PLAN_MAX
+        elif taken == length:
+            length = min(2 * length, PLAN_LONGEST)
+        detector._plan_length = length  # (kept for the next chunk: a bag comes in many)
     return events
 
 

@@ -210,7 +210,7 @@ def test_long_far_runs_same_as_one_at_a_time(model: str, sizes: List[int],
 
 
 def test_far_runs_are_planned_long(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Each plan taken whole doubles the next: far from the bat plans run thousands long."""
+    """Each plan taken whole doubles the next, across chunks: far from the bat, thousands long."""
     lengths = []
     original = chunks_module.plan_chunk
 
@@ -223,6 +223,11 @@ def test_far_runs_are_planned_long(monkeypatch: pytest.MonkeyPatch) -> None:
                 session((1.0, 1.2, 1.1), spacing=12.0), (50_000,))
     assert max(lengths) >= 8 * chunks_module.PLAN_MAX
     assert len(lengths) < 3 * 2 * 12.0 * 360 / chunks_module.PLAN_MAX / 2  # half as many
+    # in chunks shorter than that, the length carries over: about one plan a chunk
+    lengths.clear()
+    rows = session((1.0, 1.2, 1.1), spacing=12.0)
+    assert_same(DetectorConfig(model='spline', bat_input='pose'), rows, (3000,))
+    assert len(lengths) < 3 * len(rows) / 3000  # (37 when each chunk starts at PLAN_MAX)
 
 
 @pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
