@@ -88,7 +88,8 @@ class Plan:
     :ivar checked: which samples pass every check (a stop among them only makes a near
         interval decidable: it is appended as planned, then walked by the scheduler).
     :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
-        counted from the stream's first kept sample when planned.
+        counted from the stream's first kept sample when planned (a held sample counts from
+        the sample that takes it).
     :ivar starts: per stream, the index of its first kept sample after each sample's trim.
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
@@ -294,7 +295,7 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
         for x, y in held:
             pending[x] += 1
             pending[min(y, n)] -= 1
-            key[x] = y - 0.5  # (past the plan's end: never taken in it)
+            key[x] = y - 0.5  # just before y (y past the plan's end: never taken in it)
             s = 0 if is_ball[x] else 1
             arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
         done -= np.cumsum(pending[:n])
@@ -524,12 +525,12 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
         b = counts[end - 1]
-        held = len(stream.times)
+        kept = len(stream.times)
         # the trim after the run, counted from the stream's first sample: samples it would
         # drop as soon as they are appended are never made (nor turned into lists)
-        cut = plan.starts[s][end - 1] - (a - held) if walk else 0
+        cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
         if b > a:
-            c = max(a, a + cut - held)
+            c = max(a, a + cut - kept)
             stream.times += plan.times[s][c:b].tolist()
             stream.stamps += plan.stamps[s][c:b].tolist()
             stream.breaks += [False] * (b - c)
@@ -546,7 +547,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
             if stamp > newest:
                 newest = stamp
         if cut > 0:
-            cut = min(cut, held)
+            cut = min(cut, kept)
             for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
                            stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
