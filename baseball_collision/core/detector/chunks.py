@@ -15,7 +15,11 @@ them. Every other sample (a drop, a held or voted one, one that makes a near int
 decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
 keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
 trimmed otherwise) the rest of the chunk is planned again (:func:`feed_chunk`, the
-detector's ``add_chunk``).
+detector's ``add_chunk``). A stream's first sample after a gap is planned as the intake takes
+it: held until the stream's next sample, which takes both (a pause between pitches does not
+end a plan). A plan taken whole doubles the next one's length (``PLAN_MAX`` up to
+``PLAN_LONGEST``), and only the samples a fast-forward keeps after its trim become the
+streams' Python lists.
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
@@ -59,8 +63,14 @@ SLACK = 1e-9
 the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
 
 PLAN_MAX = 512
-"""Samples planned at once: a plan the per-sample path overturns (a drop) is made again for
-the rest, so a bound keeps that cost flat."""
+"""Samples planned at once after a plan was overturned: a plan the per-sample path overturns
+(a drop) is made again for the rest, so a bound keeps that cost flat."""
+
+PLAN_LONGEST = 8192
+"""Samples planned at once at most: each plan taken whole doubles the next one's length from
+``PLAN_MAX`` up to this (far from contacts a plan is rarely overturned, and its fixed cost of
+numpy calls is shared by more samples); the length carries over to the next chunk
+(``Detector._plan_length``), and goes back to ``PLAN_MAX`` when a plan is overturned."""
 
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
@@ -78,17 +88,19 @@ class Plan:
     :ivar checked: which samples pass every check (a stop among them only makes a near
         interval decidable: it is appended as planned, then walked by the scheduler).
     :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
-        counted from the stream's first kept sample when planned.
+        counted from the stream's first kept sample when planned (a held sample counts from
+        the sample that takes it).
     :ivar starts: per stream, the index of its first kept sample after each sample's trim.
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
-    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns).
-    :ivar values: the chunk's ball points as the stream keeps them (tuples), and its bat
-        samples' knob, tip, position and quaternion lists.
+    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
+    :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
+        position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
 
-    Arrays while planning; Python lists once planned (``fast_forward`` runs between stops a few
-    samples apart near a contact: it only slices lists).
+    The indices are Python lists once planned (``fast_forward`` runs between stops a few
+    samples apart near a contact); the samples stay arrays, and only those a fast-forward
+    keeps after its trim become the streams' lists and tuples.
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
@@ -109,12 +121,17 @@ class Plan:
         return cursor == self.union[self.visited[j] - 1]
 
 
+def plannable(config: DetectorConfig) -> bool:
+    """Return whether chunks are ever planned under a configuration (else one at a time)."""
+    return (config.bat_input == 'pose' and config.model in FAST_MODELS
+            and (config.model != 'c2' or config.tracker_noise >= 0.0)
+            and config.prediction_horizon <= 0.0)
+
+
 def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
            cursor: Optional[float], waiting: bool) -> bool:
     """Return whether a chunk can be planned now (else its samples go one at a time)."""
-    return (config.bat_input == 'pose' and config.model in FAST_MODELS
-            and (config.model != 'c2' or config.tracker_noise >= 0.0)
-            and config.prediction_horizon <= 0.0 and origin is not None and cursor is not None
+    return (plannable(config) and origin is not None and cursor is not None
             and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
             and 3 <= len(bat.times) <= SILENT_KEEP // 2)
 
@@ -164,33 +181,35 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
     is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
     arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
-    ok = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
-                 frames[:n])
-    # the plan ends at its first sample that fails a check: the per-sample path will most
-    # likely drop it, hold it or break its stream there, and what follows be planned again
-    failing = np.flatnonzero(~ok)
-    if len(failing) and failing[0] + 1 < n:
-        n = int(failing[0]) + 1
+    ok, gap = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
+                      frames[:n])
+    # the plan ends at its first sample that fails a check (the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again),
+    # except a stream's first sample after a gap, held until its next takes it
+    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], ball, bat)
+    if end < n:
+        n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
         arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
     plan = Plan()
     plan.n, plan.pre = n, arrays.pre
-    _walk(config, plan, arrays, is_ball, is_bat, cursor)
+    for x, y in held:  # both go through the per-sample path
+        ok[y if y < n else x] = False
+    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
     far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
                          if n else plan.union[:0])
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
-    stops |= _trim_starts(config, plan, arrays)
-    # as lists for fast_forward (and the stream's own values)
+    stops |= _trim_starts(config, plan, arrays, done, counts, visited)
+    # the indices as lists for fast_forward; the samples stay arrays, made lists (the
+    # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
     plan.checked = ok.tolist()
     plan.counts = [counts.tolist() for counts in plan.counts]
     plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
-    plan.times = [times.tolist() for times in arrays.times]
-    plan.stamps = [stamps.tolist() for stamps in arrays.stamps]
+    plan.times, plan.stamps = arrays.times, arrays.stamps
     new_ball, knob, tip, position, quaternion = arrays.new
-    plan.values = (list(map(tuple, new_ball.tolist())),
-                   (knob.tolist(), tip.tolist(), position.tolist(), quaternion.tolist()))
+    plan.values = (new_ball, (knob, tip, position, quaternion))
     return plan
 
 
@@ -230,31 +249,68 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
 
 def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
             is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-            frames: Sequence[str]) -> np.ndarray:
-    """Return which samples pass every check with room to spare (values, frame, order)."""
+            frames: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return which samples pass every check with room to spare (values, frame, order).
+
+    Second, which pass every check but the order's as the first sample after a gap that the
+    intake holds for its stream's next (``_order_checks``).
+    """
     n = len(stamps)
     with np.errstate(all='ignore'):
         ok = _value_checks(config, values, is_ball, is_bat)
         if frames.count(frame or '') != n:  # (the common case: one frame throughout)
             ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
         ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
-    ok[is_ball] &= _order_checks(config, arrays.stamps[0], arrays.times[0], (arrays.ball,),
-                                 arrays.pre[0])
-    ok[is_bat] &= _order_checks(config, arrays.stamps[1], arrays.times[1],
-                                (arrays.knobs, arrays.tips), arrays.pre[1])
-    return ok
+    gap = ok.copy()
+    for s, mine, points in ((0, is_ball, (arrays.ball,)),
+                            (1, is_bat, (arrays.knobs, arrays.tips))):
+        in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
+                                            arrays.pre[s])
+        ok[mine] &= in_order
+        gap[mine] &= after_gap
+    return ok, gap
 
 
 def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
-          is_bat: np.ndarray, cursor: float) -> None:
-    """Set the plan's counts, union times and cursor steps: the watermark after each sample."""
-    plan.counts = (arrays.pre[0] + np.cumsum(is_ball), arrays.pre[1] + np.cumsum(is_bat))
+          is_bat: np.ndarray, cursor: float,
+          held: Sequence[Tuple[int, int]] = ()
+          ) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray]:
+    """
+    Set the plan's counts, union times and cursor steps: the watermark after each sample.
+
+    The walk is made of steps, each sample taken: in arrival order, but a held sample is taken
+    just before the sample that takes it (``_held_gaps``), and starts a new segment.
+
+    :param held: (sample, the sample that takes it).
+    :returns: per sample, the steps taken after it (``done``); per stream, the count after each
+        step from 0 (none taken); the cursor's union index after each step (from 0).
+    """
+    n = len(is_ball)
+    order = np.arange(n)
+    done = order + 1
+    if held:
+        pending = np.zeros(n + 1, np.int64)
+        key = order.astype(float)
+        for x, y in held:
+            pending[x] += 1
+            pending[min(y, n)] -= 1
+            key[x] = y - 0.5  # just before y (y past the plan's end: never taken in it)
+            s = 0 if is_ball[x] else 1
+            arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
+        done -= np.cumsum(pending[:n])
+        order = np.argsort(key, kind='stable')[:int(done[-1])]
+    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
+              for s, mine in ((0, is_ball), (1, is_bat))]
+    plan.counts = (counts[0][done], counts[1][done])
     ahead = samples_ahead(config.model, config.look_ahead)
-    watermark = np.minimum(arrays.times[0][plan.counts[0] - 1 - ahead],
-                           arrays.times[1][plan.counts[1] - 1 - ahead])
+    watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
+                           arrays.times[1][counts[1] - 1 - ahead])
     union = np.union1d(arrays.times[0], arrays.times[1])
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    plan.visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    plan.visited = visited[done]
+    return done, counts, visited
 
 
 def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
@@ -299,22 +355,59 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     return clear
 
 
-def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays) -> np.ndarray:
+def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.ndarray,
+                 counts: List[np.ndarray], visited: np.ndarray) -> np.ndarray:
     """
-    Set the plan's trims (as the per-sample path makes them after each sample).
+    Set the plan's trims (as the per-sample path makes them after each step of ``_walk``).
 
     :returns: which samples must stop: a stream that may be silent trims on its own.
     """
     history = 1.5 * max(config.velocity_window, config.prediction_window)
-    cursors = plan.union[plan.visited - 1]
+    cursors = plan.union[visited[1:] - 1]
     plan.starts = []
-    stops = np.zeros(plan.n, bool)
+    silent = np.zeros(len(visited), bool)
     for s in (0, 1):
         cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
-        starts, lengths = _trims(plan.counts[s], cuts)
-        plan.starts.append(starts)
-        stops |= lengths > SILENT_KEEP
-    return stops
+        starts, lengths = _trims(counts[s][1:], cuts)
+        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
+        silent[1:] |= lengths > SILENT_KEEP
+    # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
+    made = np.cumsum(silent)
+    return made[done] > made[np.concatenate(([0], done[:-1]))]
+
+
+def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
+               stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[int, List[Tuple[int, int]]]:
+    """
+    Return where a plan ends, and its held samples with the sample that takes each.
+
+    A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
+    as new; its stream's next sample takes it, then itself. The plan follows that (both go
+    through the per-sample path); it ends after its first sample that fails a check
+    otherwise, or whose next does. A wrong guess costs a plan: ``Plan.held`` compares the
+    state after each such sample with the plan's.
+    """
+    n = len(ok)
+    failing = np.flatnonzero(~ok).tolist()
+    if not failing:
+        return n, []
+    following = np.full(n, n)
+    for mine in (is_ball, is_bat):
+        own = np.flatnonzero(mine)
+        following[own[:-1]] = own[1:]
+    waiting = np.zeros(n, bool)
+    newest = max(ball.stamps[-1], bat.stamps[-1])
+    held: List[Tuple[int, int]] = []
+    for x in failing:
+        y = int(following[x])
+        if not gap[x] or y >= n or not ok[y]:
+            return x + 1, held
+        before = stamps[:x][~waiting[:x]]
+        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
+            return x + 1, held  # (taken at once: as new as a sample taken)
+        held.append((x, y))
+        waiting[x] = True
+    return n, held
 
 
 def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
@@ -345,13 +438,15 @@ def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarra
 
 
 def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
-                  points: Sequence[np.ndarray], pre: int) -> np.ndarray:
+                  points: Sequence[np.ndarray], pre: int) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
 
     The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
     bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
-    sample before it were accepted.
+    sample before it were accepted. Second, which start a new segment after a gap longer than
+    ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
+    before, under ``time_jump_reset``): the next sample takes them.
     """
     new = np.arange(pre, len(stamps))
     step = (stamps[new] - stamps[new - 1]).astype(float)
@@ -366,7 +461,9 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     for each in points:
         d = each[new] - each[new - 1]
         ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
-    return ok
+    gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
+        dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
+    return ok, gap
 
 
 def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
@@ -377,7 +474,7 @@ def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
     return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
 
 
-def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]:
+def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return a stream's first kept sample after each sample's trim, and its length before it.
 
@@ -386,20 +483,19 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[List[int], np.ndarray]
     """
     n = len(counts)
     count_list, cut_list = counts.tolist(), cuts.tolist()
-    starts: List[int] = []
+    at, starts = [], [0]  # the samples that trim, and the first kept sample after each
     start, j = 0, 0
     while j < n:
-        nxt = max(j, bisect_left(count_list, start + TRIM_FROM),
-                  bisect_left(cut_list, start + 1))
-        if nxt >= n:
-            starts += [start] * (n - j)
+        j = max(j, bisect_left(count_list, start + TRIM_FROM), bisect_left(cut_list, start + 1))
+        if j >= n:
             break
-        starts += [start] * (nxt - j)
-        start = cut_list[nxt]
+        start = cut_list[j]
+        at.append(j)
         starts.append(start)
-        j = nxt + 1
-    before = np.array([0] + starts[:-1], dtype=np.int64)
-    return starts, counts - before
+        j += 1
+    after = np.array(starts, dtype=np.int64)[np.searchsorted(np.array(at, dtype=np.int64),
+                                                             np.arange(n), 'right')]
+    return after, counts - np.concatenate(([0], after[:-1]))
 
 
 def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
@@ -429,29 +525,29 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
         b = counts[end - 1]
-        if b == a:
-            stream_start = a - len(stream.times)
-        else:
-            stream.times += plan.times[s][a:b]
-            stamps = plan.stamps[s][a:b]
-            stream.stamps += stamps
-            stream.breaks += [False] * (b - a)
-            first, last = a - plan.pre[s], b - plan.pre[s]
+        kept = len(stream.times)
+        # the trim after the run, counted from the stream's first sample: samples it would
+        # drop as soon as they are appended are never made (nor turned into lists)
+        cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
+        if b > a:
+            c = max(a, a + cut - kept)
+            stream.times += plan.times[s][c:b].tolist()
+            stream.stamps += plan.stamps[s][c:b].tolist()
+            stream.breaks += [False] * (b - c)
+            first, last = c - plan.pre[s], b - plan.pre[s]
             if s:  # bat samples are made as they are taken (a plan may end early)
-                stream.values += map(_bat_sample, *(column[first:last]
-                                                    for column in plan.values[1]))
-                stream.turns += [None] * (b - a)
+                stream.values += map(BatSample, *(map(tuple, column[first:last].tolist())
+                                                  for column in plan.values[1]))
+                stream.turns += [None] * (b - c)
             else:
-                stream.values += plan.values[0][first:last]
+                stream.values += map(tuple, plan.values[0][first:last].tolist())
             stats.received[_ROLES[s]] += b - a
             stream.speed_drops = 0
-            if stamps[-1] > newest:
-                newest = stamps[-1]
-            stream_start = b - len(stream.times)
-        if not walk:
-            continue
-        cut = plan.starts[s][end - 1] - stream_start
+            stamp = int(plan.stamps[s][b - 1])
+            if stamp > newest:
+                newest = stamp
         if cut > 0:
+            cut = min(cut, kept)
             for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
                            stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
@@ -470,13 +566,6 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
         stats.newest_stamp_ns = newest
     return newest
-
-
-def _bat_sample(knob: List[float], tip: List[float], position: List[float],
-                quaternion: List[float]) -> BatSample:
-    """Return a bat sample of lists (the stream keeps tuples)."""
-    return BatSample(knob=tuple(knob), tip=tuple(tip), position=tuple(position),
-                     quaternion=tuple(quaternion))
 
 
 CHUNK_MIN = 16
@@ -504,18 +593,21 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
         raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
     chunk = (roles, stamps, values, frame_ids)
     events: List[Event] = []
-    i = 0
+    i, length = 0, detector._plan_length
     while i < n:
-        intake = detector._intake
-        if n - i < CHUNK_MIN or not usable(
-                detector.config, detector._clock.origin, detector._ball, detector._bat,
-                detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
-                                                 or intake.pending)):
-            for k in range(i, min(n, i + CHUNK_MIN)):
+        if n - i < CHUNK_MIN or not plannable(detector.config):
+            for k in range(i, n):
                 _one(detector, chunk, k, events, drops)
-            i = min(n, i + CHUNK_MIN)
+            break
+        intake = detector._intake
+        if not usable(detector.config, detector._clock.origin, detector._ball, detector._bat,
+                      detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
+                                                       or intake.pending)):
+            # (a held sample is settled by the next one or two: plan again as soon as it is)
+            _one(detector, chunk, i, events, drops)
+            i += 1
             continue
-        j = i + PLAN_MAX
+        j = i + length
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
                           intake.votes.frame, detector._ball, detector._bat,
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
@@ -524,7 +616,13 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
-        i += _follow(detector, plan, chunk, i, events, drops)
+        taken = _follow(detector, plan, chunk, i, events, drops)
+        i += taken
+        if taken < plan.n:  # overturned
+            length = PLAN_MAX
+        elif taken == length:
+            length = min(2 * length, PLAN_LONGEST)
+        detector._plan_length = length  # (kept for the next chunk: a bag comes in many)
     return events
 
 

@@ -31,7 +31,7 @@ from dataclasses import replace
 import time
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
-from .chunks import feed_chunk
+from .chunks import feed_chunk, PLAN_MAX
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -76,6 +76,7 @@ class Detector:
     def __init__(self, config: Optional[DetectorConfig] = None) -> None:
         self._config = config or DetectorConfig()
         self.stats = DetectorStats()
+        self._plan_length = PLAN_MAX  # samples the next chunk plan covers (chunks.feed_chunk)
         self._offsets: Tuple[Vector, Vector] = (
             tuple(float(x) for x in self._config.geometry.knob_offset),
             tuple(float(x) for x in self._config.geometry.tip_offset))

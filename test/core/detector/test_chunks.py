@@ -32,16 +32,22 @@ STATS = ('received', 'dropped', 'impacts', 'near_misses', 'gaps', 'resets', 'int
 FAULTS = ('nan', 'duplicate', 'behind', 'ahead', 'frame', 'lost', 'gap', 'jump_back', 'bad_q')
 
 
-def session(heights: Sequence[float], rate: float = 360.0, bat_as: str = 'pose') -> List[Row]:
-    """Return pitches 0.5 s apart, each with a swing over its first 0.2 s, in stamp order."""
+def session(heights: Sequence[float], rate: float = 360.0, bat_as: str = 'pose',
+            spacing: float = 0.5) -> List[Row]:
+    """
+    Return pitches ``spacing`` s apart, each with a swing over its first 0.2 s, in stamp order.
+
+    Tracked throughout: after 0.5 s the ball rests where it flew (17 m past the bat) and the
+    bat where its swing ended, until the next pitch.
+    """
     rows: List[Row] = []
-    per = int(0.5 * rate)
+    per = int(spacing * rate)
     for p, height in enumerate(heights):
         ball = pitch(height)
         for i in range(per):
             t = i / rate
-            stamp = BASE_NS + int(round((p * 0.5 + t) * 1e9)) + (i % 3) * 100_000
-            rows.append(('ball', stamp, tuple(float(x) for x in ball(t)), 'world'))
+            stamp = BASE_NS + int(round((p * spacing + t) * 1e9)) + (i % 3) * 100_000
+            rows.append(('ball', stamp, tuple(float(x) for x in ball(min(t, 0.5))), 'world'))
             swing_t = min(t, 0.2)
             if bat_as == 'pose':
                 position, quaternion = pose(swing_t)
@@ -129,6 +135,10 @@ def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int
     for name in STATS:
         assert getattr(chunked.stats, name) == getattr(one.stats, name), name
     assert chunked.watermark_ns == one.watermark_ns
+    for name in ('_ball', '_bat'):  # the streams trimmed alike
+        kept, expected_kept = getattr(chunked, name), getattr(one, name)
+        for buffer in ('times', 'stamps', 'values', 'breaks'):
+            assert getattr(kept, buffer) == getattr(expected_kept, buffer), (name, buffer)
     return events
 
 
@@ -179,6 +189,69 @@ def test_random_chunks_and_faults_same_as_one_at_a_time(model: str, heights: Lis
     """Any chunk sizes, any faults: events, drops and counters as one sample at a time."""
     rows = inject(session(heights), faults)
     assert_same(DetectorConfig(model=model, bat_input='pose'), rows, sizes)
+
+
+@settings(max_examples=examples(5), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(model=st.sampled_from(['linear', 'rigid', 'spline', 'c2']),
+       sizes=st.lists(st.integers(600, 9000), min_size=1, max_size=3),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=4))
+def test_long_far_runs_same_as_one_at_a_time(model: str, sizes: List[int],
+                                             faults: List[Tuple[int, str]]) -> None:
+    """
+    Tracked between pitches 4 s apart, in long chunks: as one sample at a time.
+
+    Plans grow past ``PLAN_MAX`` there, and a fast-forward run trims most of the samples it
+    takes as it appends them (those are never made into the streams' lists).
+    """
+    rows = inject(session((1.0, 1.2), spacing=4.0), faults)
+    assert_same(DetectorConfig(model=model, bat_input='pose'), rows, sizes)
+
+
+def test_far_runs_are_planned_long(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each plan taken whole doubles the next, across chunks: far from the bat, thousands long."""
+    lengths = []
+    original = chunks_module.plan_chunk
+
+    def measuring(*args, **kwargs):  # type: ignore[no-untyped-def]
+        plan = original(*args, **kwargs)
+        lengths.append(plan.n)
+        return plan
+    monkeypatch.setattr(chunks_module, 'plan_chunk', measuring)
+    assert_same(DetectorConfig(model='spline', bat_input='pose'),
+                session((1.0, 1.2, 1.1), spacing=12.0), (50_000,))
+    assert max(lengths) >= 8 * chunks_module.PLAN_MAX
+    assert len(lengths) < 3 * 2 * 12.0 * 360 / chunks_module.PLAN_MAX / 2  # half as many
+    # in chunks shorter than that, the length carries over: about one plan a chunk
+    lengths.clear()
+    rows = session((1.0, 1.2, 1.1), spacing=12.0)
+    assert_same(DetectorConfig(model='spline', bat_input='pose'), rows, (3000,))
+    assert len(lengths) < 3 * len(rows) / 3000  # (37 when each chunk starts at PLAN_MAX)
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+def test_plans_run_across_pauses_between_pitches(model: str,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Tracking pauses 0.1 s after each pitch: one plan runs across them, the same events.
+
+    Each stream's first sample after a pause waits for its next (``gate.hold_ahead``); the
+    plan follows that instead of ending there.
+    """
+    planned = []
+    original = chunks_module.plan_chunk
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        planned.append(original(*args, **kwargs))
+        return planned[-1]
+    monkeypatch.setattr(chunks_module, 'plan_chunk', counting)
+    heights = (1.0, 1.3, 0.95, 1.1, 1.2, 1.05)
+    rows = [row for row in session(heights, spacing=0.6)
+            if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
+    events = assert_same(DetectorConfig(model=model, bat_input='pose'), rows, (8192,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert len(planned) < len(heights)
 
 
 @settings(max_examples=examples(6), deadline=None,

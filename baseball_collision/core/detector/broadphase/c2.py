@@ -1,0 +1,225 @@
+"""
+The ``c2`` model's bulge bounds for the scalar far test, from the raw samples.
+
+The spline through a window is linear in its samples and reproduces lines, so it leaves the
+chord by at most a weighted sum of the samples' distances from the chord's line
+(``c2_bulge``); cheaper, from numbers kept per sample, ``c2_jump_bulge`` and ``c2_reach``;
+over the whole bat, ``c2_bat_growth``.
+"""
+
+import math
+from operator import mul
+from typing import List, Optional, Sequence, Tuple
+
+from ..fitting import c2_window
+from ..streams import Stream
+from ...geometry import norm, Vector
+from ...motion import BatSample, c2_rows, unit_axis
+
+
+C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.18, 0.048, 0.013, 0.0034, 0.0009, 0.0002)
+"""Bounds of |l_i - chord| over interval k of the window spline's cardinal function l_i, for
+samples i = k - 1, k - 2, ... (then 0.0001 each): measured over windows of 2-16 samples with
+steps within a factor 4 of each other (test/core/detector/broadphase/test_c2.py re-measures)."""
+
+C2_WEIGHTS_AFTER = (3.4, 1.1)
+"""The same for samples k + 2 and k + 3 (look-ahead 1 and 2)."""
+
+C2_SAFETY = 1.25
+"""Factor on the weights."""
+
+C2_STEP_RATIO = 4.0
+"""Windows whose longest step is more than this times the shortest get no far test."""
+
+
+_FAR_OFFSET = 40
+_WEIGHT_LIST = [C2_SAFETY * (C2_WEIGHTS_BEFORE[-o - 1] if -len(C2_WEIGHTS_BEFORE) <= o < 0
+                             else 0.0001 if o < 0 else 0.0 if o < 2 else C2_WEIGHTS_AFTER[o - 2])
+                for o in range(-_FAR_OFFSET, 2 + len(C2_WEIGHTS_AFTER))]
+"""``C2_SAFETY`` times the cardinal weight of the sample at offset o, at o + ``_FAR_OFFSET``
+(a window holds at most 32 + 2 samples)."""
+
+
+def c2_bulge(times: Sequence[float], points: Sequence[Vector], j: int) -> float:
+    """
+    Bound (m) how far the ``c2`` spline through (times, points) leaves its chord over interval j.
+
+    The spline is linear in its samples and reproduces lines, so it leaves the chord by at
+    most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
+    cardinal bound by its distance from the interval (``C2_WEIGHTS_*``), times
+    ``C2_SAFETY``. Valid for steps within ``C2_STEP_RATIO`` of each other (the caller checks).
+    """
+    t0, h = times[j], times[j + 1] - times[j]
+    (x0, y0, z0), p1 = points[j], points[j + 1]
+    vx, vy, vz = (p1[0] - x0) / h, (p1[1] - y0) / h, (p1[2] - z0) / h
+    bound = 0.0
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    for weight, t, p in zip(weights, times, points):
+        if weight:
+            dt = t - t0
+            dx, dy, dz = p[0] - x0 - vx * dt, p[1] - y0 - vy * dt, p[2] - z0 - vz * dt
+            bound += weight * math.sqrt(dx * dx + dy * dy + dz * dz)
+    return bound
+
+
+def _scalar_bulge(times: Sequence[float], values: Sequence[float], j: int) -> float:
+    """``c2_bulge`` of one number per sample."""
+    t0, v0 = times[j], values[j]
+    rate = (values[j + 1] - v0) / (times[j + 1] - t0)
+    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
+    return sum(weight * abs(v - v0 - rate * (t - t0))
+               for weight, t, v in zip(weights, times, values) if weight)
+
+
+def _jump_coefficients() -> Tuple[float, ...]:
+    """Return c_a = sum over o > a of W(o) (o - a): W(o) the safe weight o samples before."""
+    weights = _WEIGHT_LIST[_FAR_OFFSET - 1::-1]  # W(1), W(2), ... W(_FAR_OFFSET)
+    return tuple(sum(weight * (o - a) for o, weight in enumerate(weights, 1) if o > a)
+                 for a in range(_FAR_OFFSET))
+
+
+C2_JUMP_BEFORE = _jump_coefficients()
+"""Coefficient of the chord-velocity jump at sample k - a in ``c2_jump_bulge`` (a = 0, 1, ...)."""
+
+_AFTER_ONE, _AFTER_TWO = (C2_SAFETY * weight for weight in C2_WEIGHTS_AFTER)
+
+
+def _fill_jumps(stream: Stream, last: int, reach: int) -> List[float]:
+    """
+    Fill the stream's per-sample steps and chord-velocity jumps up to sample ``last``.
+
+    Kept in ``stream.aligned`` (each computed once): ``steps[m]`` = times[m] - times[m - 1]
+    (s), ``jumps[m]`` = |v_m+1 - v_m| (m/s) with v_m = (p_m - p_m-1) / steps[m] the chord
+    velocity into sample m of the ball, or for the bat that of its knob plus the same of its
+    knob-to-tip length (both bulges at once: they are added up in ``c2_reach``); up to
+    ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used); samples more than ``reach``
+    before ``last`` not yet filled hold NaN (the window that reads them has not come yet, and
+    no later window reaches them: a run the chunk path fast-forwarded).
+
+    :returns: the jumps.
+    """
+    aligned = stream.aligned
+    if 'steps' not in aligned:
+        aligned['steps'], aligned['jumps'] = [], []
+    steps, jumps = aligned['steps'], aligned['jumps']
+    times, values = stream.times, stream.values
+    skip = last - reach
+    if len(steps) < skip:
+        steps += [math.nan] * (skip - len(steps))
+    if len(jumps) < skip:
+        jumps += [math.nan] * (skip - len(jumps))
+    for m in range(len(steps), last + 1):
+        steps.append(times[m] - times[m - 1] if m else 0.0)
+    bat = values[0].__class__ is BatSample
+    for m in range(len(jumps), last):
+        if m == 0:
+            jumps.append(0.0)
+            continue
+        h0, h1 = steps[m], steps[m + 1]
+        a, b, c = values[m - 1], values[m], values[m + 1]
+        stretch = 0.0
+        if bat:
+            la, lb, lc = (math.dist(a.tip, a.knob), math.dist(b.tip, b.knob),
+                          math.dist(c.tip, c.knob))
+            stretch = abs((lc - lb) / h1 - (lb - la) / h0)
+            a, b, c = a.knob, b.knob, c.knob
+        jumps.append(stretch + math.sqrt(((c[0] - b[0]) / h1 - (b[0] - a[0]) / h0) ** 2
+                                         + ((c[1] - b[1]) / h1 - (b[1] - a[1]) / h0) ** 2
+                                         + ((c[2] - b[2]) / h1 - (b[2] - a[2]) / h0) ** 2))
+    return jumps
+
+
+def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
+                  max_gap: float) -> Optional[float]:
+    """
+    Bound (m) how far the ``c2`` spline over interval k leaves its chord, from kept numbers.
+
+    Of the ball; of the bat, its knob's bulge plus its length's (``_fill_jumps``). Never
+    below ``c2_bulge``'s bound: a sample i before k is off the chord's line by
+    r_i = sum over m = i..k-1 of (v_k - v_m) h_m, so |r_i| <= H sum over p = i..k-1 of
+    (p - i + 1) J_p+1 (H the longest step, J_m = |v_m+1 - v_m| the chord-velocity jump at
+    sample m); after k + 1, |r_k+2| <= H J_k+1 and |r_k+3| <= H (2 J_k+1 + J_k+2). With the
+    weights, the bound is H (sum over a of ``C2_JUMP_BEFORE[a]`` J_k-a + the look-ahead
+    terms): numbers kept per sample instead of a pass over the window per interval. Taken
+    over the samples a full window could hold (``size`` up to k + 1 + ``look_ahead``): never
+    fewer than ``c2_window``'s, so never a smaller bound; where their steps are uneven (a
+    segment's start within them), over ``c2_window``'s own.
+
+    :returns: the bound (m), or None: the window's steps are not within ``C2_STEP_RATIO`` of
+        each other (no bound).
+    """
+    first = k + 2 - size
+    if first < 0:
+        first = 0
+    last = k + 1 + look_ahead
+    if last >= len(stream.times):
+        last = len(stream.times) - 1
+    jumps = stream.aligned.get('jumps')
+    if jumps is None or len(jumps) < last:
+        jumps = _fill_jumps(stream, last, size + look_ahead + 1)
+    steps = stream.aligned['steps']
+    inside = steps[first + 1:last + 1]
+    longest = max(inside)
+    if longest > C2_STEP_RATIO * min(inside):
+        window = c2_window(stream, k, max_gap, look_ahead, size)
+        first, last = window.start, window.stop - 1
+        inside = steps[first + 1:last + 1]
+        longest = max(inside)
+        if longest > C2_STEP_RATIO * min(inside):
+            return None
+    bound = sum(map(mul, C2_JUMP_BEFORE, jumps[k:first:-1]))
+    if last > k + 1:
+        bound += _AFTER_ONE * jumps[k + 1]
+        if last > k + 2:
+            bound += _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2])
+    return longest * bound
+
+
+def c2_reach(stream: Stream, k: int, look_ahead: int, size: int,
+             max_gap: float) -> Optional[Tuple[Vector, float]]:
+    """
+    Return a sphere (centre, radius in m) holding the whole ``c2`` bat over interval k.
+
+    Cheap (no chart, no window): the knob's spline stays within its bulge B_k of its chord
+    and every axis point within the length L(t) <= max(L_k, L_k+1) + B_L of the knob, so the
+    sphere about the knob chord's middle of radius |chord| / 2 + B_k + max L + B_L holds the
+    bat (B_k + B_L: ``c2_jump_bulge``). None: no bound (uneven steps).
+    """
+    bulge = c2_jump_bulge(stream, k, look_ahead, size, max_gap)
+    if bulge is None:
+        return None
+    s0, s1 = stream.values[k], stream.values[k + 1]
+    k0, k1 = s0.knob, s1.knob
+    centre = ((k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5)
+    return centre, (0.5 * math.dist(k0, k1) + bulge
+                    + max(math.dist(s0.tip, k0), math.dist(s1.tip, k1)))
+
+
+def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
+    """
+    Bound (m) how far any axis point of the ``c2`` bat leaves its chord over interval k.
+
+    With the bulges B_k, B_r, B_L of the knob's, the rotation vector's (``c2_rows``) and the
+    length's splines, the angle theta between the end directions and the longer end length
+    L: the direction (the rotation vector's exponential map, 1-Lipschitz) stays within B_r of
+    the great-circle arc, itself within 1 - cos(theta / 2) of the chord, so any axis point
+    within B_k + B_L + (L + B_L) (1 - cos(theta / 2) + B_r) + |dL| |du| / 4. None: no bound
+    (uneven steps).
+    """
+    times = stream.times[window.start:window.stop]
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = times[first:first + len(rows)]
+    if max(b - a for a, b in zip(times, times[1:])) > C2_STEP_RATIO * min(
+            b - a for a, b in zip(times, times[1:])):
+        return None
+    i = j - first
+    knob = c2_bulge(times, [row[0:3] for row in rows], i)
+    turn = c2_bulge(times, [row[3:6] for row in rows], i)
+    stretch = _scalar_bulge(times, [row[6] for row in rows], i)
+    half_cos = math.cos(0.5 * norm(rows[i + 1][3:6]))
+    length0, length1 = rows[i][6], rows[i + 1][6]
+    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
+            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(samples[j]),
+                                                        unit_axis(samples[j + 1])))

@@ -1,0 +1,156 @@
+"""
+The scalar far test the node's sweep runs: ball and bat clearly apart over one union interval.
+
+Each body's path lies in a sphere around its chord's middle (and within the hull of its end
+samples, for the finer bound ``hull_separation``), grown by a bound on how far the motion
+model lets it bulge (none for chords; for a rigid turn, the sagitta is at most half the chord
+of the rotating part; for the spline, ``bulge_bounds``; for ``c2``, the bounds of ``.c2``).
+"""
+
+import math
+from typing import Callable, List, Sequence
+
+from .c2 import c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO
+from ..fitting import c2_window
+from ..streams import Stream
+from ...geometry import sub, Vector
+from ...motion import BatSample
+
+Pick = Callable[[object], Vector]
+"""Picks the point followed from a sample value (the ball itself, the knob, the axis)."""
+
+
+def _same(point: Vector) -> Vector:
+    return point
+
+
+def _knob_of(sample: BatSample) -> Vector:
+    return sample.knob
+
+
+def _axis_of(sample: BatSample) -> Vector:
+    return sub(sample.tip, sample.knob)
+
+
+def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) -> List[float]:
+    """
+    Bound (m) how far each picked point's spline over sample interval k leaves its chord.
+
+    With tangents from the three-point rule, p(s) - chord(s) = c (s^2 - s) + d (s^3 - s)
+    and |c| / 4 + 0.385 |d| <= 3.04 |D| + 0.885 (h / h_prev) |D_prev| +
+    0.635 (h / h_next) |D_next|, D the chords; no path needs to be built for it.
+    """
+    times, values = stream.times, stream.values
+    h = times[k + 1] - times[k]
+    before, after = stream.neighbours(k, max_gap)
+    weight_before = 0.885 * h / (times[k] - times[before]) if before is not None else 0.0
+    weight_after = 0.635 * h / (times[after] - times[k + 1]) if after is not None else 0.0
+    here, there = values[k], values[k + 1]
+    bounds = []
+    for pick in picks:
+        bound = 3.04 * math.dist(pick(here), pick(there))
+        if before is not None:
+            bound += weight_before * math.dist(pick(values[before]), pick(here))
+        if after is not None:
+            bound += weight_after * math.dist(pick(there), pick(values[after]))
+        bounds.append(bound)
+    return bounds
+
+
+def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: float,
+                  model: str, max_gap: float, look_ahead: int = 0, size: int = 8) -> bool:
+    """
+    Return whether ball and bat stay more than ``margin`` (m) apart over both sample intervals.
+
+    Two lower bounds on the distance between any point of the ball's path and any point of the
+    bat's axis over the intervals: the bounding spheres' gap, then (``linear``, ``rigid``,
+    ``spline``) the hulls' separation along one direction (:func:`hull_separation`).
+
+    :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
+    :param model: the motion model between samples.
+    :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
+    """
+    b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
+    s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
+    k0, e0, k1, e1 = s0.knob, s0.tip, s1.knob, s1.tip
+    ball_centre = ((b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5)
+    ball_radius = 0.5 * math.dist(b0, b1)
+    bat_centre = ((k0[0] + e0[0] + k1[0] + e1[0]) * 0.25,
+                  (k0[1] + e0[1] + k1[1] + e1[1]) * 0.25,
+                  (k0[2] + e0[2] + k1[2] + e1[2]) * 0.25)
+    bat_radius = max(math.dist(k0, bat_centre), math.dist(e0, bat_centre),
+                     math.dist(k1, bat_centre), math.dist(e1, bat_centre))
+    # how far the paths leave the hulls of their end samples: the ball's of its chord, every
+    # axis point of the bat's of the four points (where the chords of its ends are)
+    ball_bulge = bat_growth = 0.0
+    if model == 'rigid':
+        turning = max(math.dist(k0, k1), math.dist(e0, e1))
+        if s0.position is not None:
+            reference = math.dist(s0.position, s1.position)
+        else:
+            # knob moves on its chord, the length changes linearly: both count in full
+            reference = math.dist(k0, k1) + 2.0 * abs(math.dist(k0, e0) - math.dist(k1, e1))
+        bat_growth = 0.5 * (turning + reference)
+        bat_radius += bat_growth
+    elif model == 'spline':
+        # the knob's cubic, then the knob-to-tip vector r turning on an arc (at most
+        # (pi / 4) |D r| from its chord) by an angle whose cubic overshoots uniform speed by at
+        # most pi times r's own bulge bound (angle <= (pi / 2) chord / length), and the
+        # length changing linearly
+        ball_bulge = bulge_bounds(ball, ball_k, (_same,), max_gap)[0]
+        knob_bulge, axis_bulge = bulge_bounds(bat, bat_k, (_knob_of, _axis_of), max_gap)
+        turn, stretch = (0.25 * math.pi * math.dist(sub(e0, k0), sub(e1, k1)),
+                         abs(math.dist(k0, e0) - math.dist(k1, e1)))
+        bat_growth = knob_bulge + turn + math.pi * axis_bulge + stretch
+        ball_radius += ball_bulge
+        bat_radius += bat_growth
+    elif model == 'c2':
+        # first from numbers kept per sample (``c2_jump_bulge``), then the exact weights
+        quick = c2_jump_bulge(ball, ball_k, look_ahead, size, max_gap)
+        reach = None if quick is None else c2_reach(bat, bat_k, look_ahead, size, max_gap)
+        if reach is not None and (math.dist(ball_centre, reach[0]) - ball_radius - quick
+                                  - reach[1] > margin):
+            return True
+        window = c2_window(ball, ball_k, max_gap, look_ahead, size)
+        times = ball.times[window.start:window.stop]
+        steps = [b - a for a, b in zip(times, times[1:])]
+        if max(steps) > C2_STEP_RATIO * min(steps):
+            return False
+        ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
+                                ball_k - window.start)
+        growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
+        if growth is None:
+            return False
+        bat_radius += growth
+        return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+    return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+            or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
+
+
+def hull_separation(b0: Vector, b1: Vector, k0: Vector, e0: Vector, k1: Vector,
+                    e1: Vector) -> float:
+    """
+    Return a lower bound (m) on the distance between the hulls of (b0, b1) and (k0, e0, k1, e1).
+
+    For any unit vector n, every x in the first hull and y in the second are at least
+    min(n.b) - max(n.p) apart (n.(x - y) <= |x - y|). Here n points from the closest point of
+    the bat's middle segment (the knobs' middle to the tips' middle) to the ball chord's middle:
+    nearly the hulls' own separating direction when the ball is beside the bat. A ball chord
+    crossing that segment gives a negative number (no bound); so does a direction of zero length.
+    """
+    cx, cy, cz = (b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5
+    mx, my, mz = (k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5
+    ax = (e0[0] + e1[0]) * 0.5 - mx
+    ay = (e0[1] + e1[1]) * 0.5 - my
+    az = (e0[2] + e1[2]) * 0.5 - mz
+    along = ax * ax + ay * ay + az * az
+    s = ((cx - mx) * ax + (cy - my) * ay + (cz - mz) * az) / along if along > 0.0 else 0.0
+    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
+    nx, ny, nz = cx - mx - s * ax, cy - my - s * ay, cz - mz - s * az
+    length = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if not length > 0.0:
+        return -math.inf
+    nx, ny, nz = nx / length, ny / length, nz / length
+    return (min(nx * b0[0] + ny * b0[1] + nz * b0[2], nx * b1[0] + ny * b1[1] + nz * b1[2])
+            - max(nx * k0[0] + ny * k0[1] + nz * k0[2], nx * e0[0] + ny * e0[1] + nz * e0[2],
+                  nx * k1[0] + ny * k1[1] + nz * k1[2], nx * e1[0] + ny * e1[1] + nz * e1[2]))

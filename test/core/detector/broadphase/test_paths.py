@@ -1,0 +1,33 @@
+"""Tests for the sweep's second far test over arrays: path_margins."""
+
+import math
+
+from baseball_collision.core.detector.broadphase import path_margins
+from hypothesis import given, settings, strategies as st
+import numpy as np
+from support import examples
+from support.far import MOTIONS, turning_swing
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(k=st.integers(0, 2), **MOTIONS)
+def test_vectorised_path_test_is_the_sweeps(model: str, offset, ball_moves, hand_moves, turns,
+                                            steps, k: int) -> None:
+    """``path_margins`` is the gap of the spheres of the paths the sweep builds (to rounding)."""
+    hands = np.cumsum(hand_moves, axis=0)
+    balls = np.array(offset) + np.cumsum(ball_moves, axis=0)
+    detector = turning_swing(model, [tuple(b) for b in balls], [tuple(h) for h in hands],
+                             turns, steps)
+    ball, bat = detector._ball, detector._bat
+    ball_path, bat_path = detector._sweep.paths(k, k)
+    expected = (math.dist(ball_path.centre, bat_path.centre) - ball_path.radius
+                - bat_path.radius)
+    one = np.array([k])
+    before, after = np.array([k - 1 if k else -1]), np.array([k + 2 if k < 2 else -1])
+    lever = max(math.dist(o, (0.0, 0.0, 0.0)) for o in detector._offsets)
+    found = path_margins(
+        np.array(ball.values), np.array([s.knob for s in bat.values]),
+        np.array([s.tip for s in bat.values]), np.array([s.quaternion for s in bat.values]),
+        one, one, before, after, before, after, np.array(ball.times), np.array(bat.times),
+        model, lever)[0]
+    assert abs(found - expected) <= 1e-9 * (1.0 + abs(expected))
