@@ -173,5 +173,10 @@ def record_text(record: Mapping[str, Any], indent: Optional[int] = None) -> str:
     :param indent: None: one compact line (``~/impact_report``); else spaces per level.
     :raises ValueError: a non-finite float (records from :func:`event_record` have none).
     """
-    separators = (',', ':') if indent is None else (',', ': ')
-    return json.dumps(record, indent=indent, allow_nan=False, separators=separators)
+    if indent is None:
+        return _COMPACT.encode(record)
+    return json.dumps(record, indent=indent, allow_nan=False, separators=(',', ': '))
+
+
+_COMPACT = json.JSONEncoder(allow_nan=False, separators=(',', ':'))
+"""``json.dumps(..., allow_nan=False, separators=(',', ':'))`` made once, not per record."""

@@ -71,6 +71,21 @@ def to_point(v: Vector) -> Point:
     return Point(x=float(v[0]), y=float(v[1]), z=float(v[2]))
 
 
+def point_stamped(stamp_ns: int, frame_id: str, v: Vector) -> PointStamped:
+    """
+    Return a point (m) stamped with integer nanoseconds, as a geometry_msgs/PointStamped.
+
+    Filled in place (a message built from keyword arguments makes and checks each nested
+    default first: 14 us against 9 us, on every prediction).
+    """
+    message = PointStamped()
+    header, point = message.header, message.point
+    header.stamp.sec, header.stamp.nanosec = divmod(stamp_ns, NS_PER_S)
+    header.frame_id = frame_id
+    point.x, point.y, point.z = float(v[0]), float(v[1]), float(v[2])
+    return message
+
+
 def plan_arrays(path: Path) -> Tuple[List[int], List[Vector], List[Quaternion], Set[str]]:
     """
     Return a commanded bat trajectory as the detector takes it.
@@ -203,7 +218,7 @@ def _impact(impact: Impact, frame_id: str, markers: ImpactMarkers) -> EventOutpu
         impact.bat_velocity
     velocity.twist.angular.x, velocity.twist.angular.y, velocity.twist.angular.z = \
         impact.bat_angular_velocity
-    messages = [('impact', PointStamped(header=header, point=to_point(impact.point))),
+    messages = [('impact', point_stamped(impact.stamp_ns, frame_id, impact.point)),
                 ('impact_velocity', velocity)]
     array = markers(impact, frame_id)
     if array is not None:
@@ -219,8 +234,7 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
 
 
 def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    message = PointStamped(header=stamped_header(prediction.stamp_ns, frame_id),
-                           point=to_point(prediction.point))
+    message = point_stamped(prediction.stamp_ns, frame_id, prediction.point)
     return EventOutput(messages=(('predicted_impact', message),), predicting=True)
 
 
