@@ -131,8 +131,9 @@ def plain(value: Any) -> Any:
     """Return ``value`` as strict JSON data: tuples as lists, str enums as str, NaN/inf None."""
     if isinstance(value, float):
         return value if math.isfinite(value) else None
-    if isinstance(value, (tuple, list)):
-        return [plain(item) for item in value]
+    if isinstance(value, (tuple, list)):  # a vector's finite floats without a call each
+        return [item if item.__class__ is float and math.isfinite(item) else plain(item)
+                for item in value]
     if isinstance(value, dict):
         return {str(key): plain(item) for key, item in value.items()}
     if isinstance(value, bool) or value is None:

@@ -8,7 +8,7 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 ``predicted_impact``, ``markers``) and the line it is logged as.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
 
 from builtin_interfaces.msg import Time as TimeMsg
@@ -286,4 +286,8 @@ def event_output(event: Event, frame_id: str, markers: ImpactMarkers,
     if config is None or type(event) not in EVENT_NAMES:
         return output
     report = String(data=record_text(event_record(event, frame_id, config)))
-    return replace(output, messages=output.messages + (('impact_report', report),))
+    return EventOutput(  # not dataclasses.replace: it looks the fields up on every call
+        messages=output.messages + (('impact_report', report),), log=output.log,
+        level=output.level, throttled=output.throttled,
+        echoes_clock_jump=output.echoes_clock_jump, predicting=output.predicting,
+        impact_ns=output.impact_ns)
