@@ -2,7 +2,8 @@
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
-[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N]``, or ``--startup RUNS`` for
+[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]``, or
+``--startup RUNS`` for
 the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
@@ -17,6 +18,10 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
+* breakdown (``--breakdown``): where a message that predicts spends its CPU time (the
+  callback thread's clock): the detector (of which the prediction), building the messages of
+  its events, each publication and the rest of the callback; median and p90 over the
+  messages that predicted, and over those that published a prediction.
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
@@ -36,6 +41,8 @@ import sys
 import time
 from typing import Dict, List, Optional, Tuple
 
+from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.ros import node as node_module
 from baseball_collision.ros.node import ImpactNode
 from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
@@ -109,6 +116,65 @@ class TimedImpactNode(ImpactNode):
         super()._record_processing(elapsed_s)
 
 
+class BrokenDownImpactNode(TimedImpactNode):
+    """
+    TimedImpactNode that also splits each message's CPU time into phases (``--breakdown``).
+
+    ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
+    ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
+    (``event_output``: the events' messages and reports), ``publish <output>``; ``predicted``
+    and ``published`` say whether it predicted (was due) and published a prediction.
+    """
+
+    def __init__(self) -> None:
+        self.phases: List[Dict[str, float]] = []
+        self._phase: Dict[str, float] = {}
+        super().__init__()
+        for name in list(self._outputs):
+            self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
+                f'publish {name}', self._outputs[name].publish))
+        self._predictor = self.detector._predictor  # the benchmark looks inside
+
+    def _timed(self, phase: str, function: object) -> object:
+        def timed(*args: object, **kwargs: object) -> object:
+            cpu = time.thread_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self._phase[phase] = self._phase.get(phase, 0.0) + time.thread_time() - cpu
+        return timed
+
+    def _take(self, stream: str, header: object, add_sample: object, *values: object,
+              **kwargs: object) -> None:
+        self._phase = {}
+        before = self._predictor.last_ns
+        super()._take(stream, header, self._timed('detector', add_sample), *values, **kwargs)
+        phase = self._phase
+        phase['total'] = self.cpu_times[-1]
+        phase['predicted'] = float(self._predictor.last_ns != before)
+        phase['published'] = float('publish predicted_impact' in phase)
+        self.phases.append(phase)
+
+
+def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]]]:
+    """Return {messages that predicted / published: {phase: [median, p90] us}}."""
+    result = {}
+    for kind in ('predicted', 'published'):
+        chosen = [p for p in phases if p.get(kind)]
+        names = sorted({name for p in chosen for name in p} - {'predicted', 'published'})
+        table = {}
+        for name in names + ['rest']:
+            if name == 'rest':  # the callback outside the detector, messages and publishing
+                values = [p['total'] - sum(v for k, v in p.items() if k not in (
+                    'total', 'prediction', 'predicted', 'published')) for p in chosen]
+            else:
+                values = [p.get(name, 0.0) for p in chosen]
+            values_us = np.asarray(values) * 1e6
+            table[name] = [float(np.median(values_us)), float(np.percentile(values_us, 90))]
+        result[f'{kind} ({len(chosen)} messages)'] = table
+    return result
+
+
 class _Wrapped:
     """A publisher whose ``publish`` is replaced; everything else passes through."""
 
@@ -120,10 +186,28 @@ class _Wrapped:
         return getattr(self._publisher, name)
 
 
+_NODE: List[ImpactNode] = []
+"""The served node (for ``_phase_timed``)."""
+
+
+def _phase_timed(phase: str, function: object) -> object:
+    """Return ``function`` adding its CPU time to the served node's current phase."""
+    def timed(*args: object, **kwargs: object) -> object:
+        if not _NODE or not isinstance(_NODE[0], BrokenDownImpactNode):
+            return function(*args, **kwargs)
+        return _NODE[0]._timed(phase, function)(*args, **kwargs)
+    return timed
+
+
 def serve() -> int:
     """Run the timed node until SIGINT; print the processing figures (us) as JSON."""
     rclpy.init(args=sys.argv)
-    node = TimedImpactNode()
+    broken_down = os.environ.get('BENCH_NODE_BREAKDOWN') == '1'
+    if broken_down:  # time the prediction and the messages' building inside the callback
+        Predictor.predict = _phase_timed('prediction', Predictor.predict)
+        node_module.event_output = _phase_timed('messages', node_module.event_output)
+    node = BrokenDownImpactNode() if broken_down else TimedImpactNode()
+    _NODE[:] = [node]
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -137,6 +221,8 @@ def serve() -> int:
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
+    if broken_down:
+        figures['breakdown'] = breakdown(node.phases)
     print(json.dumps(figures), flush=True)
     node.destroy_node()
     rclpy.try_shutdown()
@@ -181,12 +267,13 @@ def _stop(child: subprocess.Popen) -> object:
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
-        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0) -> None:
+        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
+        broken_down: bool = False) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    env = dict(os.environ)
+    env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0')
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
@@ -280,6 +367,9 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
           f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
           f"max {latency['max']:.3f} ms")
+    for kind, table in processing.get('breakdown', {}).items():
+        print(f'  CPU time of the messages that {kind}, median / p90 us: '
+              + ', '.join(f'{name} {m:.1f} / {p90:.1f}' for name, (m, p90) in table.items()))
     for name, figures in (('publish -> node callback', to_node),
                           ('callback -> ~/impact published', in_node),
                           ('~/impact published -> received', to_listener)):
@@ -331,6 +421,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='rigid',
                         help='motion model (rigid)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
+    parser.add_argument('--breakdown', action='store_true',
+                        help="split the predicting messages' CPU time into phases")
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
                         help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
@@ -338,7 +430,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         startup(args.startup)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead)
+        args.model, args.look_ahead, args.breakdown)
     return 0
 
 
