@@ -1,7 +1,7 @@
 """
 Prediction benchmark: predicted impact time and contact point error versus lead time.
 
-Run: ``.venv/bin/python benchmarks/bench_prediction.py [--per-kind N] [--seed S]``.
+Run: ``.venv/bin/python benchmarks/bench_prediction.py [--per-kind N] [--seed S] [--period S]``.
 
 Scenarios: N of each contact kind (barrel, end cap, handle) from ``simulation.make_scenario``,
 tracked from 0.4 s before contact (about the release). Each is sampled at 90 and 360 Hz with
@@ -25,7 +25,7 @@ from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.tools.sim import make_scenario, sample, Scenario, truth_dict
-from baseball_collision.tools.truth import LEADS_S, prediction_errors
+from baseball_collision.tools.truth import LEADS_S, PredictionIndex
 import numpy as np
 
 
@@ -38,11 +38,16 @@ def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
 
 
 def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
-           seed: int) -> Dict[float, Optional[Tuple[float, float]]]:
-    """Return {lead: (time error ms, point error cm) or None} for one scenario."""
+           seed: int, period: float = 0.0) -> Dict[float, Optional[Tuple[float, float]]]:
+    """
+    Return {lead: (time error ms, point error cm) or None} for one scenario.
+
+    With ``prediction_period`` ``period`` (s); a frame scores the prediction in force at it.
+    """
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
-    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3))
+    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
+                                       prediction_period=period))
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []
@@ -50,7 +55,8 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
         predictions += [e for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
     truth = truth_dict(scenario, samples.start_ns)
     frames = set(samples.ball_stamps_ns.tolist()) | set(samples.bat_stamps_ns.tolist())
-    scored = prediction_errors(predictions, list(frames), truth['stamp_ns'], truth['point'])
+    scored = PredictionIndex(predictions, list(frames), period).errors(truth['stamp_ns'],
+                                                                       truth['point'])
     return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
             for lead, error in scored.items()}
 
@@ -103,6 +109,8 @@ def main() -> None:
     parser.add_argument('--seed', type=int, default=11)
     parser.add_argument('--noise', type=float, default=0.001)
     parser.add_argument('--cost-only', action='store_true', help='only the cost table')
+    parser.add_argument('--period', type=float, default=0.0,
+                        help='prediction_period of the accuracy table (s; 0: every frame)')
     args = parser.parse_args()
     if args.cost_only:
         cost(args.seed)
@@ -110,13 +118,15 @@ def main() -> None:
     rng = np.random.default_rng(args.seed)
     scenarios = [make_scenario(kind, rng, lead_s=0.4) for kind in ('barrel', 'end_cap', 'handle')
                  for _ in range(args.per_kind)]
-    print(f'{len(scenarios)} contacts, noise {args.noise * 1e3:g} mm, seed {args.seed}\n')
+    print(f'{len(scenarios)} contacts, noise {args.noise * 1e3:g} mm, seed {args.seed}, '
+          f'prediction_period {args.period:g} s\n')
     print('| bat | rate Hz | lead ms | predicted | time err p50 ms | p90 ms | max ms | '
           'point err p50 cm | p90 cm | max cm |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for planned in (False, True):
         for rate in (90.0, 360.0):
-            runs = [errors(s, rate, args.noise, planned, i) for i, s in enumerate(scenarios)]
+            runs = [errors(s, rate, args.noise, planned, i, args.period)
+                    for i, s in enumerate(scenarios)]
             for lead in LEADS_S:
                 got = [r[lead] for r in runs if r[lead] is not None]
                 times = np.abs([g[0] for g in got]) if got else np.array([np.nan])
