@@ -2,7 +2,8 @@
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
-[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]``, or
+[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
+[--consumers]``, or
 ``--startup RUNS`` for
 the start-up time alone.
 
@@ -22,6 +23,9 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
   callback thread's clock): the detector (of which the prediction), building the messages of
   its events, each publication and the rest of the callback; median and p90 over the
   messages that predicted, and over those that published a prediction.
+* ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
+  ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
+  every prediction's record; without it nobody subscribes to them.
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
@@ -49,6 +53,7 @@ import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
 
 BASE_NS = 1_700_000_000_000_000_000
 LENGTH = 0.8636
@@ -239,6 +244,17 @@ def listen() -> int:
         lambda m: received.append((m.header.stamp.sec * 10**9 + m.header.stamp.nanosec,
                                    time.monotonic_ns())),
         QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
+    if os.environ.get('BENCH_NODE_CONSUMERS') == '1':  # an arm's controller and a recorder
+        counted = {'predicted_impact': 0, 'impact_report': 0}
+
+        def count(name: str) -> object:
+            def received_one(message: object) -> None:
+                counted[name] += 1
+            return received_one
+        node.create_subscription(PointStamped, '/impact_node/predicted_impact',
+                                 count('predicted_impact'), 100)
+        node.create_subscription(String, '/impact_node/impact_report', count('impact_report'),
+                                 QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -268,12 +284,13 @@ def _stop(child: subprocess.Popen) -> object:
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
         period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
-        broken_down: bool = False) -> None:
+        broken_down: bool = False, consumers: bool = False) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0')
+    env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0',
+               BENCH_NODE_CONSUMERS='1' if consumers else '0')
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
@@ -289,7 +306,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     bat_pub = node.create_publisher(PoseStamped, 'bat_pose', qos)
     deadline = time.monotonic() + 30.0
     while not (ball_pub.get_subscription_count() and bat_pub.get_subscription_count()
-               and node.count_subscribers('/impact_node/impact')):
+               and node.count_subscribers('/impact_node/impact')
+               and (not consumers or node.count_subscribers('/impact_node/impact_report'))):
         if time.monotonic() > deadline:
             raise SystemExit('the impact node or the listener did not come up')
         time.sleep(0.05)
@@ -353,7 +371,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f'impact_node at {rate:.0f} Hz per stream (ball PointStamped + bat PoseStamped), '
           f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
           f"markers {'on' if markers else 'off'}, "
-          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches')
+          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches'
+          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else ''))
     print(f"  processing per message (callback wall time, {processing['count']} messages): "
           f"median {processing['median']:.1f} us, mean {processing['mean']:.1f} us, "
           f"p99 {processing['p99']:.1f} us, max {processing['max']:.1f} us; the first three "
@@ -421,6 +440,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='rigid',
                         help='motion model (rigid)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
+    parser.add_argument('--consumers', action='store_true',
+                        help='the listener also subscribes to ~/predicted_impact and '
+                        '~/impact_report (an arm controller and a recorder)')
     parser.add_argument('--breakdown', action='store_true',
                         help="split the predicting messages' CPU time into phases")
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
@@ -430,7 +452,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         startup(args.startup)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead, args.breakdown)
+        args.model, args.look_ahead, args.breakdown, args.consumers)
     return 0
 
 
