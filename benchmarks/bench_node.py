@@ -3,9 +3,8 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
-[--consumers]``, or
-``--startup RUNS`` for
-the start-up time alone.
+[--consumers]``, ``--in-process RUNS`` for the node alone in this process, or
+``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -26,6 +25,9 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
 * ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
   ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
   every prediction's record; without it nobody subscribes to them.
+* in this process (``--in-process RUNS``): the node alone, its callback fed the same
+  messages directly (no DDS, no other process), CPU time per message, each message's least
+  over RUNS fresh runs (what a quiet machine would give; ``in_process``).
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
@@ -52,6 +54,7 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
@@ -395,6 +398,67 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
         print(f"    {name}: median {figures['median']:.3f} ms, p99 {figures['p99']:.3f} ms")
 
 
+def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
+               model: str = 'rigid') -> None:
+    """
+    Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
+
+    No DDS and no other process: each run makes a fresh ``ImpactNode`` in this process and
+    hands it the benchmark's messages (``ImpactNode._take``, as its subscriptions do), timing
+    each on the thread's CPU clock; each message's least time over the runs filters out the
+    other work on a shared machine. Percentiles over all messages, and medians over those
+    that predicted and those that published a prediction (no subscriber: no reports made).
+    """
+    os.environ.pop('RMW_IMPLEMENTATION', None)
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'OFF'
+    rclpy.init()
+    step_ns = int(round(1e9 / rate))
+    per_pitch = int(SWING_S * rate)
+    pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
+    overrides = [Parameter('prediction_horizon', value=horizon),
+                 Parameter('prediction_period', value=period), Parameter('model', value=model)]
+    cpu_runs, predicted, published = [], [], []
+    for _ in range(runs):
+        node = ImpactNode(parameter_overrides=overrides)
+        predictor = node.detector._predictor  # the benchmark looks inside
+        ball_msg, bat_msg = PointStamped(), PoseStamped()
+        ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
+        cpu, predicted, published = [], [], []
+        for k in range(pitches):
+            for i in range(per_pitch):
+                stamp = BASE_NS + k * pitch_ns + i * step_ns
+                t = i * step_ns * 1e-9
+                for message in (ball_msg, bat_msg):
+                    message.header.stamp.sec, message.header.stamp.nanosec = divmod(
+                        stamp, 10**9)
+                position, orientation = swing_pose(t)
+                for stream, message, add, values in (
+                        ('ball', ball_msg, node.detector.add_ball, (ball(t),)),
+                        ('bat_pose', bat_msg, node.detector.add_bat_pose,
+                         (position, orientation))):
+                    before = predictor.last_ns
+                    start = time.thread_time()
+                    node._take(stream, message.header, add, *values)
+                    cpu.append(time.thread_time() - start)
+                    predicted.append(predictor.last_ns != before)
+                    published.append(predicted[-1] and predictor.predicting)
+        cpu_runs.append(cpu)
+        node.destroy_node()
+    rclpy.try_shutdown()
+    least = np.min(np.array(cpu_runs), axis=0) * 1e6
+    predicted, published = np.array(predicted), np.array(published)
+    print(f'impact_node in this process at {rate:.0f} Hz per stream, model {model}, '
+          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches: '
+          f'CPU per message, least of {runs} runs')
+    print(f'  all {least.size} messages: median {np.median(least):.1f} us, mean '
+          f'{least.mean():.1f} us, p99 {np.percentile(least, 99):.1f} us')
+    for name, chosen in (('predicted', predicted), ('published a prediction', published),
+                         ('did not predict', ~predicted)):
+        if chosen.any():
+            print(f'  the {chosen.sum()} that {name}: median {np.median(least[chosen]):.1f} us, '
+                  f'p90 {np.percentile(least[chosen], 90):.1f} us')
+
+
 def startup(runs: int) -> None:
     """Print the median, min and max time (ms) from starting impact_node to its first line."""
     script = Path(sys.executable).parent / 'impact_node'
@@ -445,11 +509,18 @@ def main(argv: Optional[List[str]] = None) -> int:
                         '~/impact_report (an arm controller and a recorder)')
     parser.add_argument('--breakdown', action='store_true',
                         help="split the predicting messages' CPU time into phases")
+    parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
+                        help='feed the node in this process, no DDS: CPU per message, least '
+                        'of RUNS runs')
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
                         help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
     if args.startup:
         startup(args.startup)
+        return 0
+    if args.in_process:
+        in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
+                   args.model)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
         args.model, args.look_ahead, args.breakdown, args.consumers)
