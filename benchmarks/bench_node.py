@@ -2,8 +2,9 @@
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
-[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N]``, or ``--startup RUNS`` for
-the start-up time alone.
+[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
+[--consumers]``, ``--in-process RUNS`` for the node alone in this process, or
+``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -17,6 +18,16 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
+* breakdown (``--breakdown``): where a message that predicts spends its CPU time (the
+  callback thread's clock): the detector (of which the prediction), building the messages of
+  its events, each publication and the rest of the callback; median and p90 over the
+  messages that predicted, and over those that published a prediction.
+* ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
+  ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
+  every prediction's record; without it nobody subscribes to them.
+* in this process (``--in-process RUNS``): the node alone, its callback fed the same
+  messages directly (no DDS, no other process), CPU time per message, each message's least
+  over RUNS fresh runs (what a quiet machine would give; ``in_process``).
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
@@ -36,12 +47,16 @@ import sys
 import time
 from typing import Dict, List, Optional, Tuple
 
+from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.ros import node as node_module
 from baseball_collision.ros.node import ImpactNode
 from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
 
 BASE_NS = 1_700_000_000_000_000_000
 LENGTH = 0.8636
@@ -109,6 +124,65 @@ class TimedImpactNode(ImpactNode):
         super()._record_processing(elapsed_s)
 
 
+class BrokenDownImpactNode(TimedImpactNode):
+    """
+    TimedImpactNode that also splits each message's CPU time into phases (``--breakdown``).
+
+    ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
+    ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
+    (``event_output``: the events' messages and reports), ``publish <output>``; ``predicted``
+    and ``published`` say whether it predicted (was due) and published a prediction.
+    """
+
+    def __init__(self) -> None:
+        self.phases: List[Dict[str, float]] = []
+        self._phase: Dict[str, float] = {}
+        super().__init__()
+        for name in list(self._outputs):
+            self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
+                f'publish {name}', self._outputs[name].publish))
+        self._predictor = self.detector._predictor  # the benchmark looks inside
+
+    def _timed(self, phase: str, function: object) -> object:
+        def timed(*args: object, **kwargs: object) -> object:
+            cpu = time.thread_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self._phase[phase] = self._phase.get(phase, 0.0) + time.thread_time() - cpu
+        return timed
+
+    def _take(self, stream: str, header: object, add_sample: object, *values: object,
+              **kwargs: object) -> None:
+        self._phase = {}
+        before = self._predictor.last_ns
+        super()._take(stream, header, self._timed('detector', add_sample), *values, **kwargs)
+        phase = self._phase
+        phase['total'] = self.cpu_times[-1]
+        phase['predicted'] = float(self._predictor.last_ns != before)
+        phase['published'] = float('publish predicted_impact' in phase)
+        self.phases.append(phase)
+
+
+def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]]]:
+    """Return {messages that predicted / published: {phase: [median, p90] us}}."""
+    result = {}
+    for kind in ('predicted', 'published'):
+        chosen = [p for p in phases if p.get(kind)]
+        names = sorted({name for p in chosen for name in p} - {'predicted', 'published'})
+        table = {}
+        for name in names + ['rest']:
+            if name == 'rest':  # the callback outside the detector, messages and publishing
+                values = [p['total'] - sum(v for k, v in p.items() if k not in (
+                    'total', 'prediction', 'predicted', 'published')) for p in chosen]
+            else:
+                values = [p.get(name, 0.0) for p in chosen]
+            values_us = np.asarray(values) * 1e6
+            table[name] = [float(np.median(values_us)), float(np.percentile(values_us, 90))]
+        result[f'{kind} ({len(chosen)} messages)'] = table
+    return result
+
+
 class _Wrapped:
     """A publisher whose ``publish`` is replaced; everything else passes through."""
 
@@ -120,10 +194,28 @@ class _Wrapped:
         return getattr(self._publisher, name)
 
 
+_NODE: List[ImpactNode] = []
+"""The served node (for ``_phase_timed``)."""
+
+
+def _phase_timed(phase: str, function: object) -> object:
+    """Return ``function`` adding its CPU time to the served node's current phase."""
+    def timed(*args: object, **kwargs: object) -> object:
+        if not _NODE or not isinstance(_NODE[0], BrokenDownImpactNode):
+            return function(*args, **kwargs)
+        return _NODE[0]._timed(phase, function)(*args, **kwargs)
+    return timed
+
+
 def serve() -> int:
     """Run the timed node until SIGINT; print the processing figures (us) as JSON."""
     rclpy.init(args=sys.argv)
-    node = TimedImpactNode()
+    broken_down = os.environ.get('BENCH_NODE_BREAKDOWN') == '1'
+    if broken_down:  # time the prediction and the messages' building inside the callback
+        Predictor.predict = _phase_timed('prediction', Predictor.predict)
+        node_module.event_output = _phase_timed('messages', node_module.event_output)
+    node = BrokenDownImpactNode() if broken_down else TimedImpactNode()
+    _NODE[:] = [node]
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -137,6 +229,8 @@ def serve() -> int:
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
+    if broken_down:
+        figures['breakdown'] = breakdown(node.phases)
     print(json.dumps(figures), flush=True)
     node.destroy_node()
     rclpy.try_shutdown()
@@ -153,6 +247,17 @@ def listen() -> int:
         lambda m: received.append((m.header.stamp.sec * 10**9 + m.header.stamp.nanosec,
                                    time.monotonic_ns())),
         QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
+    if os.environ.get('BENCH_NODE_CONSUMERS') == '1':  # an arm's controller and a recorder
+        counted = {'predicted_impact': 0, 'impact_report': 0}
+
+        def count(name: str) -> object:
+            def received_one(message: object) -> None:
+                counted[name] += 1
+            return received_one
+        node.create_subscription(PointStamped, '/impact_node/predicted_impact',
+                                 count('predicted_impact'), 100)
+        node.create_subscription(String, '/impact_node/impact_report', count('impact_report'),
+                                 QoSProfile(depth=100, reliability=ReliabilityPolicy.RELIABLE))
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -181,12 +286,14 @@ def _stop(child: subprocess.Popen) -> object:
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
-        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0) -> None:
+        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
+        broken_down: bool = False, consumers: bool = False) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    env = dict(os.environ)
+    env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0',
+               BENCH_NODE_CONSUMERS='1' if consumers else '0')
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
@@ -202,7 +309,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     bat_pub = node.create_publisher(PoseStamped, 'bat_pose', qos)
     deadline = time.monotonic() + 30.0
     while not (ball_pub.get_subscription_count() and bat_pub.get_subscription_count()
-               and node.count_subscribers('/impact_node/impact')):
+               and node.count_subscribers('/impact_node/impact')
+               and (not consumers or node.count_subscribers('/impact_node/impact_report'))):
         if time.monotonic() > deadline:
             raise SystemExit('the impact node or the listener did not come up')
         time.sleep(0.05)
@@ -266,7 +374,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f'impact_node at {rate:.0f} Hz per stream (ball PointStamped + bat PoseStamped), '
           f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
           f"markers {'on' if markers else 'off'}, "
-          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches')
+          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches'
+          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else ''))
     print(f"  processing per message (callback wall time, {processing['count']} messages): "
           f"median {processing['median']:.1f} us, mean {processing['mean']:.1f} us, "
           f"p99 {processing['p99']:.1f} us, max {processing['max']:.1f} us; the first three "
@@ -280,10 +389,74 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
           f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
           f"max {latency['max']:.3f} ms")
+    for kind, table in processing.get('breakdown', {}).items():
+        print(f'  CPU time of the messages that {kind}, median / p90 us: '
+              + ', '.join(f'{name} {m:.1f} / {p90:.1f}' for name, (m, p90) in table.items()))
     for name, figures in (('publish -> node callback', to_node),
                           ('callback -> ~/impact published', in_node),
                           ('~/impact published -> received', to_listener)):
         print(f"    {name}: median {figures['median']:.3f} ms, p99 {figures['p99']:.3f} ms")
+
+
+def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
+               model: str = 'rigid') -> None:
+    """
+    Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
+
+    No DDS and no other process: each run makes a fresh ``ImpactNode`` in this process and
+    hands it the benchmark's messages (``ImpactNode._take``, as its subscriptions do), timing
+    each on the thread's CPU clock; each message's least time over the runs filters out the
+    other work on a shared machine. Percentiles over all messages, and medians over those
+    that predicted and those that published a prediction (no subscriber: no reports made).
+    """
+    os.environ.pop('RMW_IMPLEMENTATION', None)
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'OFF'
+    rclpy.init()
+    step_ns = int(round(1e9 / rate))
+    per_pitch = int(SWING_S * rate)
+    pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
+    overrides = [Parameter('prediction_horizon', value=horizon),
+                 Parameter('prediction_period', value=period), Parameter('model', value=model)]
+    cpu_runs, predicted, published = [], [], []
+    for _ in range(runs):
+        node = ImpactNode(parameter_overrides=overrides)
+        predictor = node.detector._predictor  # the benchmark looks inside
+        ball_msg, bat_msg = PointStamped(), PoseStamped()
+        ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
+        cpu, predicted, published = [], [], []
+        for k in range(pitches):
+            for i in range(per_pitch):
+                stamp = BASE_NS + k * pitch_ns + i * step_ns
+                t = i * step_ns * 1e-9
+                for message in (ball_msg, bat_msg):
+                    message.header.stamp.sec, message.header.stamp.nanosec = divmod(
+                        stamp, 10**9)
+                position, orientation = swing_pose(t)
+                for stream, message, add, values in (
+                        ('ball', ball_msg, node.detector.add_ball, (ball(t),)),
+                        ('bat_pose', bat_msg, node.detector.add_bat_pose,
+                         (position, orientation))):
+                    before = predictor.last_ns
+                    start = time.thread_time()
+                    node._take(stream, message.header, add, *values)
+                    cpu.append(time.thread_time() - start)
+                    predicted.append(predictor.last_ns != before)
+                    published.append(predicted[-1] and predictor.predicting)
+        cpu_runs.append(cpu)
+        node.destroy_node()
+    rclpy.try_shutdown()
+    least = np.min(np.array(cpu_runs), axis=0) * 1e6
+    predicted, published = np.array(predicted), np.array(published)
+    print(f'impact_node in this process at {rate:.0f} Hz per stream, model {model}, '
+          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches: '
+          f'CPU per message, least of {runs} runs')
+    print(f'  all {least.size} messages: median {np.median(least):.1f} us, mean '
+          f'{least.mean():.1f} us, p99 {np.percentile(least, 99):.1f} us')
+    for name, chosen in (('predicted', predicted), ('published a prediction', published),
+                         ('did not predict', ~predicted)):
+        if chosen.any():
+            print(f'  the {chosen.sum()} that {name}: median {np.median(least[chosen]):.1f} us, '
+                  f'p90 {np.percentile(least[chosen], 90):.1f} us')
 
 
 def startup(runs: int) -> None:
@@ -331,14 +504,26 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='rigid',
                         help='motion model (rigid)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
+    parser.add_argument('--consumers', action='store_true',
+                        help='the listener also subscribes to ~/predicted_impact and '
+                        '~/impact_report (an arm controller and a recorder)')
+    parser.add_argument('--breakdown', action='store_true',
+                        help="split the predicting messages' CPU time into phases")
+    parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
+                        help='feed the node in this process, no DDS: CPU per message, least '
+                        'of RUNS runs')
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
                         help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
     if args.startup:
         startup(args.startup)
         return 0
+    if args.in_process:
+        in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
+                   args.model)
+        return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead)
+        args.model, args.look_ahead, args.breakdown, args.consumers)
     return 0
 
 

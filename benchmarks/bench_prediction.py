@@ -1,7 +1,7 @@
 """
 Prediction benchmark: predicted impact time and contact point error versus lead time.
 
-Run: ``.venv/bin/python benchmarks/bench_prediction.py [--per-kind N] [--seed S]``.
+Run: ``.venv/bin/python benchmarks/bench_prediction.py [--per-kind N] [--seed S] [--period S]``.
 
 Scenarios: N of each contact kind (barrel, end cap, handle) from ``simulation.make_scenario``,
 tracked from 0.4 s before contact (about the release). Each is sampled at 90 and 360 Hz with
@@ -17,6 +17,7 @@ Two bat sources: ``extrapolated`` (the tracked bat's current state, as for a hum
 Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat pose) over a
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
 with ``prediction_period`` 5 and 10 ms), in one process; ``--cost-only`` prints only that.
+``--changes`` prints only how much consecutive predictions 10 ms apart move, per swing family.
 """
 
 import argparse
@@ -24,8 +25,8 @@ import time
 from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
-from baseball_collision.tools.sim import make_scenario, sample, Scenario, truth_dict
-from baseball_collision.tools.truth import LEADS_S, prediction_errors
+from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, Scenario, truth_dict
+from baseball_collision.tools.truth import LEADS_S, PredictionIndex
 import numpy as np
 
 
@@ -38,11 +39,16 @@ def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
 
 
 def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
-           seed: int) -> Dict[float, Optional[Tuple[float, float]]]:
-    """Return {lead: (time error ms, point error cm) or None} for one scenario."""
+           seed: int, period: float = 0.0) -> Dict[float, Optional[Tuple[float, float]]]:
+    """
+    Return {lead: (time error ms, point error cm) or None} for one scenario.
+
+    With ``prediction_period`` ``period`` (s); a frame scores the prediction in force at it.
+    """
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
-    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3))
+    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
+                                       prediction_period=period))
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []
@@ -50,7 +56,8 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
         predictions += [e for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
     truth = truth_dict(scenario, samples.start_ns)
     frames = set(samples.ball_stamps_ns.tolist()) | set(samples.bat_stamps_ns.tolist())
-    scored = prediction_errors(predictions, list(frames), truth['stamp_ns'], truth['point'])
+    scored = PredictionIndex(predictions, list(frames), period).errors(truth['stamp_ns'],
+                                                                       truth['point'])
     return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
             for lead, error in scored.items()}
 
@@ -96,6 +103,44 @@ def cost(seed: int, repeats: int = 3) -> None:
           f'{cpu_means[3] - cpu_means[0]:.1f} (every 10 ms); goal <= 30 us')
 
 
+def changes(seed: int = 5, per_family: int = 6, rate_hz: float = 360.0,
+            period: float = 0.01) -> None:
+    """
+    Print how much consecutive predictions move, per swing family and bat source.
+
+    ``per_family`` scenarios of each family (kinds in turn), sampled at ``rate_hz`` with 0.2 ms
+    jitter and 1 mm noise, predicted every ``period`` s (0.3 s horizon): the median change of
+    the predicted instant (ms) and point (mm) between one prediction and the next, and the
+    share of pairs within 0.1 ms and 1 mm (what publishing only material changes would skip).
+    """
+    rng = np.random.default_rng(seed)
+    print(f'\nconsecutive predictions, {rate_hz:g} Hz, every {period * 1e3:g} ms\n')
+    print('| family | bat | pairs | time change p50 ms | point change p50 mm | within 0.1 ms '
+          'and 1 mm |')
+    print('|---|---|---|---|---|---|')
+    for family in FAMILIES:
+        for planned in (False, True):
+            steps_ms, moves_mm = [], []
+            for i in range(per_family):
+                scenario = make_scenario(('barrel', 'end_cap', 'handle')[i % 3], rng, lead_s=0.4,
+                                         family=family)
+                samples = sample(scenario, rate_hz, np.random.default_rng(i), jitter_s=2e-4,
+                                 noise_m=0.001)
+                detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
+                                                   prediction_period=period))
+                if planned:
+                    detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
+                made = [e for stamp, role, values in samples.messages('pose')
+                        for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
+                for a, b in zip(made, made[1:]):
+                    steps_ms.append(abs(b.stamp_ns - a.stamp_ns) * 1e-6)
+                    moves_mm.append(float(np.linalg.norm(np.subtract(b.point, a.point))) * 1e3)
+            steps, moves = np.array(steps_ms), np.array(moves_mm)
+            small = float(np.mean((steps < 0.1) & (moves < 1.0))) if steps.size else float('nan')
+            print(f"| {family} | {'planned' if planned else 'extrapolated'} | {steps.size} | "
+                  f'{np.median(steps):.3f} | {np.median(moves):.2f} | {small:.0%} |')
+
+
 def main() -> None:
     """Print the prediction table."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
@@ -103,20 +148,29 @@ def main() -> None:
     parser.add_argument('--seed', type=int, default=11)
     parser.add_argument('--noise', type=float, default=0.001)
     parser.add_argument('--cost-only', action='store_true', help='only the cost table')
+    parser.add_argument('--period', type=float, default=0.0,
+                        help='prediction_period of the accuracy table (s; 0: every frame)')
+    parser.add_argument('--changes', action='store_true',
+                        help='only how much consecutive predictions move (every 10 ms)')
     args = parser.parse_args()
     if args.cost_only:
         cost(args.seed)
         return
+    if args.changes:
+        changes()
+        return
     rng = np.random.default_rng(args.seed)
     scenarios = [make_scenario(kind, rng, lead_s=0.4) for kind in ('barrel', 'end_cap', 'handle')
                  for _ in range(args.per_kind)]
-    print(f'{len(scenarios)} contacts, noise {args.noise * 1e3:g} mm, seed {args.seed}\n')
+    print(f'{len(scenarios)} contacts, noise {args.noise * 1e3:g} mm, seed {args.seed}, '
+          f'prediction_period {args.period:g} s\n')
     print('| bat | rate Hz | lead ms | predicted | time err p50 ms | p90 ms | max ms | '
           'point err p50 cm | p90 cm | max cm |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for planned in (False, True):
         for rate in (90.0, 360.0):
-            runs = [errors(s, rate, args.noise, planned, i) for i, s in enumerate(scenarios)]
+            runs = [errors(s, rate, args.noise, planned, i, args.period)
+                    for i, s in enumerate(scenarios)]
             for lead in LEADS_S:
                 got = [r[lead] for r in runs if r[lead] is not None]
                 times = np.abs([g[0] for g in got]) if got else np.array([np.nan])

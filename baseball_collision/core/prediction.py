@@ -203,6 +203,17 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
     return found
 
 
+def states_at(ball: BallForecast, bat, t: float) -> Tuple[Vector, Vector, Vector, Vector]:
+    """
+    Return the ball centre (m), ball velocity (m/s), knob and tip (m) of the forecasts at t (s).
+
+    One kernel call for what ``ball.at``, ``ball.velocity_at`` and ``bat.at`` give one by one.
+
+    :param bat: a ``BatForecast`` or a ``PlannedBat``.
+    """
+    return _kernel.forecast(ball.kernel_args, bat.kernel_args, t)[:4]
+
+
 def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:
     """
     Return whether a frame stamped ``now_ns`` predicts, the last that did being ``last_ns``.

@@ -131,8 +131,9 @@ def plain(value: Any) -> Any:
     """Return ``value`` as strict JSON data: tuples as lists, str enums as str, NaN/inf None."""
     if isinstance(value, float):
         return value if math.isfinite(value) else None
-    if isinstance(value, (tuple, list)):
-        return [plain(item) for item in value]
+    if isinstance(value, (tuple, list)):  # a vector's finite floats without a call each
+        return [item if item.__class__ is float and math.isfinite(item) else plain(item)
+                for item in value]
     if isinstance(value, dict):
         return {str(key): plain(item) for key, item in value.items()}
     if isinstance(value, bool) or value is None:
@@ -173,5 +174,10 @@ def record_text(record: Mapping[str, Any], indent: Optional[int] = None) -> str:
     :param indent: None: one compact line (``~/impact_report``); else spaces per level.
     :raises ValueError: a non-finite float (records from :func:`event_record` have none).
     """
-    separators = (',', ':') if indent is None else (',', ': ')
-    return json.dumps(record, indent=indent, allow_nan=False, separators=separators)
+    if indent is None:
+        return _COMPACT.encode(record)
+    return json.dumps(record, indent=indent, allow_nan=False, separators=(',', ': '))
+
+
+_COMPACT = json.JSONEncoder(allow_nan=False, separators=(',', ':'))
+"""``json.dumps(..., allow_nan=False, separators=(',', ':'))`` made once, not per record."""

@@ -8,7 +8,7 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 ``predicted_impact``, ``markers``) and the line it is logged as.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
 
 from builtin_interfaces.msg import Time as TimeMsg
@@ -69,6 +69,21 @@ def xyzw(q: Any) -> Quaternion:
 def to_point(v: Vector) -> Point:
     """Return a vector (m) as a geometry_msgs/Point."""
     return Point(x=float(v[0]), y=float(v[1]), z=float(v[2]))
+
+
+def point_stamped(stamp_ns: int, frame_id: str, v: Vector) -> PointStamped:
+    """
+    Return a point (m) stamped with integer nanoseconds, as a geometry_msgs/PointStamped.
+
+    Filled in place (a message built from keyword arguments makes and checks each nested
+    default first: 14 us against 9 us, on every prediction).
+    """
+    message = PointStamped()
+    header, point = message.header, message.point
+    header.stamp.sec, header.stamp.nanosec = divmod(stamp_ns, NS_PER_S)
+    header.frame_id = frame_id
+    point.x, point.y, point.z = float(v[0]), float(v[1]), float(v[2])
+    return message
 
 
 def plan_arrays(path: Path) -> Tuple[List[int], List[Vector], List[Quaternion], Set[str]]:
@@ -203,7 +218,7 @@ def _impact(impact: Impact, frame_id: str, markers: ImpactMarkers) -> EventOutpu
         impact.bat_velocity
     velocity.twist.angular.x, velocity.twist.angular.y, velocity.twist.angular.z = \
         impact.bat_angular_velocity
-    messages = [('impact', PointStamped(header=header, point=to_point(impact.point))),
+    messages = [('impact', point_stamped(impact.stamp_ns, frame_id, impact.point)),
                 ('impact_velocity', velocity)]
     array = markers(impact, frame_id)
     if array is not None:
@@ -219,8 +234,7 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
 
 
 def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    message = PointStamped(header=stamped_header(prediction.stamp_ns, frame_id),
-                           point=to_point(prediction.point))
+    message = point_stamped(prediction.stamp_ns, frame_id, prediction.point)
     return EventOutput(messages=(('predicted_impact', message),), predicting=True)
 
 
@@ -272,4 +286,8 @@ def event_output(event: Event, frame_id: str, markers: ImpactMarkers,
     if config is None or type(event) not in EVENT_NAMES:
         return output
     report = String(data=record_text(event_record(event, frame_id, config)))
-    return replace(output, messages=output.messages + (('impact_report', report),))
+    return EventOutput(  # not dataclasses.replace: it looks the fields up on every call
+        messages=output.messages + (('impact_report', report),), log=output.log,
+        level=output.level, throttled=output.throttled,
+        echoes_clock_jump=output.echoes_clock_jump, predicting=output.predicting,
+        impact_ns=output.impact_ns)

@@ -16,7 +16,8 @@ events come back out as messages:
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
-  and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``).
+  and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``). Made only while
+  the topic has a subscriber (volatile: nobody else would get it).
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
   at each impact, and the live bat and ball (stamped with their samples' stamp, published only
   when a new sample came; a ``DELETEALL`` on every state reset).
@@ -208,7 +209,11 @@ class ImpactNode(Node):
             expected = self.detector.frame_id
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
-            config = self.detector.config
+            # a report is made only for a subscriber (~/impact_report is volatile: one
+            # published while nobody is matched reaches nobody; a prediction's record and JSON
+            # are a third of the message that predicts)
+            config = self.detector.config if events and self._outputs[
+                'impact_report'].get_subscription_count() else None
             for event in events:
                 if event.__class__ is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)

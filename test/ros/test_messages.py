@@ -1,5 +1,6 @@
 """Stamp and message conversions, and detector events to messages through the one table."""
 
+from dataclasses import replace
 import json
 import typing
 
@@ -86,7 +87,10 @@ def test_near_miss_prediction_gap_and_reset() -> None:
     prediction = next(e for e in swing_events(horizon=0.3) if isinstance(e, Prediction))
     output = event_output(prediction, 'world', None)
     assert output.predicting is True and output.messages[0][0] == 'predicted_impact'
-    assert stamp_to_ns(output.messages[0][1].header.stamp) == prediction.stamp_ns
+    predicted = output.messages[0][1]
+    assert stamp_to_ns(predicted.header.stamp) == prediction.stamp_ns
+    assert predicted.header.frame_id == 'world'
+    assert (predicted.point.x, predicted.point.y, predicted.point.z) == prediction.point
     gap = event_output(StreamGap('ball', BASE_NS, BASE_NS + 80_000_000), 'world', None)
     assert gap.throttled and not gap.messages and '80.0 ms' in gap.log
     reset = event_output(StateReset(BASE_NS, 'time_jump_backwards'), 'world', None)
@@ -138,7 +142,9 @@ def test_impacts_near_misses_and_predictions_are_reported_as_their_records() -> 
             reported += 1
         else:
             assert reports == []
-        assert event_output(event, 'world', lambda impact, frame: None).messages == tuple(
+        unreported = event_output(event, 'world', lambda impact, frame: None)
+        assert unreported.messages == tuple(
             pair for pair in output.messages if pair[0] != 'impact_report')
+        assert replace(output, messages=unreported.messages) == unreported  # the rest carried
     kinds = {type(event) for event in events}
     assert {Impact, NearMiss, Prediction} <= kinds and reported >= 3

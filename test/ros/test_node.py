@@ -508,6 +508,33 @@ def test_impact_report_is_the_event_record(harness: Callable[..., Harness],
                                                  * 1e-9)
 
 
+def test_no_report_is_made_without_a_subscriber(harness: Callable[..., Harness]) -> None:
+    """With nobody on ~/impact_report no record is made; the other outputs are unchanged."""
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    report_topic = '/impact_node/impact_report'
+    for subscription in list(h.probe.subscriptions):
+        if subscription.topic_name == report_topic:
+            h.probe.destroy_subscription(subscription)
+    reports = h.node._outputs['impact_report']
+    h.wait(lambda: reports.get_subscription_count() == 0, 5.0, 'the report unmatched')
+    published = []
+
+    class Counted:
+        """The report publisher, counting what the node publishes on it."""
+
+        def get_subscription_count(self) -> int:
+            return reports.get_subscription_count()
+
+        def publish(self, message: object) -> None:
+            published.append(message)
+            reports.publish(message)
+
+    h.node._outputs['impact_report'] = Counted()
+    h.processed(publish_swing(h, 'pose', pitch()))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact')
+    assert h.received['predicted'] and published == []
+
+
 def test_a_stale_second_publisher_is_dropped_not_a_reset(harness: Callable[..., Harness],
                                                          truth_ns: int) -> None:
     """Issue 12.1 live: a replay left running 3 s behind: dropped and said, the hit found."""

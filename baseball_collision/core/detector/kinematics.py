@@ -171,8 +171,9 @@ def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> floa
 
 
 def bat_rates(stream: Stream, t: float, window: float, degree: int,
-              turn_degree: Optional[int] = None) -> Tuple[Optional[Rates],
-                                                          Optional[TurnRates]]:
+              turn_degree: Optional[int] = None,
+              indices: Optional[Sequence[int]] = None) -> Tuple[Optional[Rates],
+                                                                Optional[TurnRates]]:
     """
     Return the bat's ``pivot_rates`` and (with ``turn_degree``) ``turn_rates`` at t.
 
@@ -181,8 +182,11 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     the fraction is the least-accelerating point at the last sample (the same polynomial
     evaluated there). The turn shares that fit when its degree is the same. (None, None) with
     fewer than two samples.
+
+    :param indices: ``stream.history(t, window)`` when the caller has it already.
     """
-    indices = stream.history(t, window)
+    if indices is None:
+        indices = stream.history(t, window)
     if len(indices) < 2:
         return None, None
     first, end = indices[0], indices[-1] + 1  # the history is contiguous
@@ -199,7 +203,8 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     _, first, second = derivatives(coefficients, span)
     fraction = 0.0
     if len(indices) >= 3:
-        at_last = derivatives(coefficients, span, (sample_times[-1] - t) / span)[2]
+        x = (sample_times[-1] - t) / span
+        at_last = second if x == 0.0 else derivatives(coefficients, span, x)[2]
         fraction = least_accelerating(at_last[:3], at_last[3:6])
     pivot = (fraction, lerp(first[:3], first[3:6], fraction),
              lerp(second[:3], second[3:6], fraction))

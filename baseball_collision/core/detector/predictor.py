@@ -20,7 +20,7 @@ from .streams import Stream
 from ..geometry import lerp, scale, sub, Vector
 from ..prediction import (
     BallForecast, BatForecast, check_plan_size, first_contact, planned_bat, PlannedBat,
-    prediction_due, turn_axis_and_rates)
+    prediction_due, states_at, turn_axis_and_rates)
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
@@ -80,10 +80,17 @@ class Predictor:
         Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended.
 
         Nothing at all, the last prediction staying in force, when t0 is less than
-        ``prediction_period`` after the last frame that predicted (``prediction_due``).
+        ``prediction_period`` after the last frame that predicted (``prediction_due``). Every
+        frame sums the bat's cumulative turn up to its newest sample at t0 (``Stream.turn``, the
+        same sums in the same order), so a frame that predicts after a period does not sum the
+        whole period's turns at once: the work is spread over the frames.
         """
         config = self.config
         now_ns = self.clock.stamp(t0)
+        bat = self.bat
+        newest = bat.interval(t0)
+        if newest >= 0:  # the bat's turns as its samples come, not all at the predicting frame
+            bat.turn(newest)
         if not prediction_due(self.last_ns, now_ns, config.prediction_period):
             return
         self.last_ns = now_ns
@@ -103,13 +110,13 @@ class Predictor:
                 events.append(PredictionCleared(made_at_ns=now_ns))
             return
         t, hit = found
-        knob, tip = bat.at(t)
+        ball_position, ball_velocity, knob, tip = states_at(ball, bat, t)
         self.predicting = True
         events.append(Prediction(
             stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
-            ball_position=ball.at(t), ball_velocity=ball.velocity_at(t),
+            ball_position=ball_position, ball_velocity=ball_velocity,
             planned=isinstance(bat, PlannedBat)))
 
     def _may_reach(self, t0: float) -> bool:
@@ -168,7 +175,7 @@ class Predictor:
         # fits as an impact's velocities give the rates (``kinematics``)
         start = bat.times[indices[-1]]
         latest = bat.values[indices[-1]]
-        pivot_state, turn_state = bat_rates(bat, start, window, degree, degree)
+        pivot_state, turn_state = bat_rates(bat, start, window, degree, degree, indices)
         fraction, pivot_velocity, pivot_acceleration = pivot_state
         rate, _, change = turn_state
         axis, turn, turn_change = turn_axis_and_rates(rate, change)
