@@ -47,6 +47,8 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-fits': {'model': 'c2', VELOCITIES: 'fits'},
     'c2-before': {'model': 'c2', VELOCITIES: 'before'},
     'c2-knot': {'model': 'c2', VELOCITIES: 'knot'},
+    'c2-poly': {'model': 'c2', VELOCITIES: 'poly'},
+    'c2-poly-noise': {'model': 'c2', VELOCITIES: 'poly'},
     'c2-window': {'model': 'c2', VELOCITIES: 'window'},
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
@@ -60,7 +62,8 @@ not detectors); a label ending in ``-noise`` is told the known noise (``tracker_
 smoothers (``fitting.SMOOTHER``: Reinsch's natural spline and weight rule, the not-a-knot
 penalty with the residual rules) and the other c2 velocity rules (``c2-fits``: the former
 least-squares fits; ``c2-window``: the window fits reaching the closing frame; ``c2-knot``: with
-exact samples the bat's window before the impact fitted with a knot at it) measured against
+exact samples the bat's window before the impact fitted with a knot at it; ``c2-poly``: with
+exact samples that window interpolated by one polynomial of degree samples - 1) measured against
 the chosen ones are set by their module constants for the run."""
 
 COLUMNS = (

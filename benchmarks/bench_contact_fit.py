@@ -78,13 +78,27 @@ def _smoothed(times: np.ndarray, rows: np.ndarray, variances: Sequence[float],
     return values, slopes
 
 
+def _true_sweet(scenario, t: float, reach: float) -> Tuple[np.ndarray, np.ndarray]:
+    """Return the sweet spot's true position (m) and velocity (m/s, central difference)."""
+    def at(time_s: float) -> np.ndarray:
+        knob, tip = (np.asarray(end, dtype=float) for end in scenario.swing.knob_tip(time_s))
+        return knob + reach * (tip - knob) / float(np.linalg.norm(tip - knob))
+    step = 1e-7
+    return at(t), (at(t + step) - at(t - step)) / (2.0 * step)
+
+
 def fits_at_contact(scenario, samples, noise_m: float, after: Sequence[int],
                     poly: Sequence[Tuple[int, int]] = (),
-                    costs: Optional[List[float]] = None) -> Dict[str, Tuple[float, float]]:
+                    costs: Optional[List[float]] = None,
+                    diagnose: bool = False) -> Dict[str, Tuple[float, float]]:
     """
     Return each fit's (relative speed error, position error in m) at the true contact.
 
-    :param poly: (degree, samples) of the least-squares polynomials to try.
+    :param poly: (degree, samples) of the least-squares polynomials to try (degree = samples
+        - 1: the interpolating polynomial).
+    :param diagnose: also ``left@last`` (left's spline at its last sample, against the truth
+        there), ``cartesian`` (the sweet spot's points splined, no chart) and ``truth-fd``
+        (the truth's central difference at t* against the scenario's sweet-spot speed).
     :param costs: where to append the CPU time (s) of the broken fits with the most samples.
     """
     t = (samples.bat_stamps_ns - samples.start_ns) * 1e-9
@@ -117,6 +131,23 @@ def fits_at_contact(scenario, samples, noise_m: float, after: Sequence[int],
     times, rows = window(1)
     values, _ = _smoothed(times[:-1], rows[:-1], variances, noise_m > 0.0)
     score('left', *end_state(times[:-1], values, contact))
+    if diagnose:
+        # where left's error comes from: the same spline read at its last sample (no
+        # extrapolation) against the truth there; the sweet spot's own points splined in
+        # Cartesian coordinates (no direction chart) and continued to t*
+        last = float(times[-2])
+        position, velocity = sweet_state(reference, *end_state(times[:-1], values, last), reach)
+        truth_at = _true_sweet(scenario, last, reach)
+        found['left@last'] = (float(np.linalg.norm(velocity) / np.linalg.norm(truth_at[1]))
+                              - 1.0, float(np.linalg.norm(position - truth_at[0])))
+        spots = samples.knobs + reach * ((samples.tips - samples.knobs) / np.linalg.norm(
+            samples.tips - samples.knobs, axis=1)[:, None])
+        point, rate = end_state(t[first:j + 1], spots[first:j + 1], contact)
+        found['cartesian'] = (float(np.linalg.norm(rate)) / true_speed - 1.0,
+                              float(np.linalg.norm(point - true_sweet)))
+        truth_at = _true_sweet(scenario, contact, reach)
+        found['truth-fd'] = (float(np.linalg.norm(truth_at[1])) / true_speed - 1.0,
+                             float(np.linalg.norm(truth_at[0] - true_sweet)))
     for degree, count in poly:
         start, rows = c2_rows(bats[max(j - count + 1, 0):j + 1], min(j, count - 1))
         times = t[j + 1 - len(rows):j + 1]
@@ -191,10 +222,13 @@ def main() -> None:
     parser.add_argument('--after', nargs='+', type=int, default=[1, 4, 6])
     parser.add_argument('--poly', nargs='*', default=[], metavar='D/N',
                         help='least-squares polynomials: degree / samples up to the contact')
+    parser.add_argument('--diagnose', action='store_true',
+                        help="also left@last, cartesian and truth-fd (where left's error is)")
     args = parser.parse_args()
     poly = [tuple(int(x) for x in item.split('/')) for item in args.poly]
     started = time.perf_counter()
-    labels = (['left'] + [f'poly {d}/{n}' for d, n in poly]
+    labels = (['left'] + (['left@last', 'cartesian', 'truth-fd'] if args.diagnose else [])
+              + [f'poly {d}/{n}' for d, n in poly]
               + [f'{kind}+{n}' for n in args.after for kind in ('break', 'across')])
     costs: List[float] = []
     rules: Dict[float, List[Tuple[float, float]]] = {}
@@ -213,7 +247,8 @@ def main() -> None:
                                      grid_s=1e-3, noise_m=noise_mm * 1e-3,
                                      marker_spread_m=0.3 if noise_mm else None)
                     for label, error in fits_at_contact(scenario, samples, noise_mm * 1e-3,
-                                                        args.after, poly, costs).items():
+                                                        args.after, poly, costs,
+                                                        args.diagnose).items():
                         errors.setdefault(label, []).append(error)
                     if noise_mm == 0.0:
                         rules.setdefault(rate, []).append(

@@ -21,10 +21,9 @@ import sys
 import time
 from typing import Any, Callable, List, NoReturn, Optional
 
+from .choices import BAT_CHOICES, KINDS, MAX_RATE_HZ, MAX_SEED
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
-from .recording import BAT_CHOICES, MAX_RATE_HZ, MAX_SEED, RecordingSpec, write_recording
-from .sim import KINDS
 from .truth import truth_path
 from .. import __version__
 from ..atomic import cleanup_on_signals, Terminated
@@ -112,6 +111,7 @@ def _kinds(text: str) -> List[str]:
 
 
 def _simulate(args: argparse.Namespace) -> int:
+    from .recording import RecordingSpec, write_recording
     spec = RecordingSpec(
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,

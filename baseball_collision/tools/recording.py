@@ -23,23 +23,15 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from .choices import BAT_CHOICES, KINDS, MAX_RATE_HZ, MAX_SEED
 from .outputs import Outputs
-from .sim import DEFAULT_START_NS, KINDS, make_scenario, sample, Scenario, truth_dict
+from .sim import DEFAULT_START_NS, make_scenario, sample, Scenario, truth_dict
 from .truth import TRUTH_FORMAT, truth_path
 from ..bags import POINT_STAMPED, POSE_STAMPED
 from ..errors import BagError, ToolError
 
 TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob', 'tip': '/bat_tip'}
 """Topic per role: the ``impact_node``'s default ``*_topic`` parameters, resolved."""
-
-BAT_CHOICES = ('both', 'pose', 'points')
-"""How the bat is written: pose and points, the pose only, or knob and tip points only."""
-
-MAX_RATE_HZ = 100_000.0
-"""Fastest tracker simulated (Hz): 100 kHz, far above any rig, keeps a pitch under 40k samples."""
-
-MAX_SEED = 2 ** 64 - 1
-"""Largest random seed (seeds are 0 ... 2^64 - 1)."""
 
 MAX_STAMP_NS = (2 ** 31 - 1) * 1_000_000_000
 """Latest stamp a ROS header holds (its ``sec`` is an int32: 2038-01-19T03:14:07Z)."""

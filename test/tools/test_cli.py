@@ -283,3 +283,24 @@ def test_help_works_without_rosbags_and_analyze_says_what_is_missing() -> None:
     assert failed.returncode == 2 and failed.stdout == ''
     assert failed.stderr == ('baseball-collision: error: analyze needs the Python package '
                              "'rosbags', which is not installed (pip install rosbags)\n")
+
+
+def test_starting_the_command_line_imports_no_simulator() -> None:
+    """Building every command's options imports neither the simulator nor the recording writer."""
+    code = ('import sys\n'
+            'from baseball_collision.tools.cli import build_parser\n'
+            'build_parser()\n'
+            "print(sorted(m for m in ('baseball_collision.tools.sim',"
+            " 'baseball_collision.tools.recording') if m in sys.modules))")
+    done = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                          cwd=REPO_ROOT, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == '[]'
+
+
+def test_simulate_options_are_the_recording_limits() -> None:
+    """The options' constants are the ones the simulator and the writer check against."""
+    from baseball_collision.tools import choices, recording, sim
+    assert sim.KINDS is choices.KINDS and recording.KINDS is choices.KINDS
+    assert recording.BAT_CHOICES is choices.BAT_CHOICES
+    assert (recording.MAX_RATE_HZ, recording.MAX_SEED) == (choices.MAX_RATE_HZ, choices.MAX_SEED)

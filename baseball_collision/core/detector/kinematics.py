@@ -339,6 +339,33 @@ def knot_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector
             chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
 
 
+POLY_SAMPLES = 8
+"""Samples (the newest of the window) ``poly_bat_rates`` interpolates: degree 7."""
+
+
+def poly_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector]:
+    """
+    Return the bat's knob velocity (m/s) and swing angular velocity (rad/s) at t (s).
+
+    From exact samples before t only: the ``c2`` chart rows (as ``knot_bat_rates``) of the
+    window's newest ``POLY_SAMPLES`` samples interpolated by one polynomial of degree
+    (samples - 1), differentiated at t: a higher-order extrapolation than the spline's last
+    cubic (measured, not chosen: BENCHMARKS.md, "Higher-order fits before the contact").
+
+    :param window: the samples' indices in the stream (at least two, all at or before t).
+    """
+    window = range(max(window.start, window.stop - POLY_SAMPLES), window.stop)
+    samples = bat.values[window.start:window.stop]
+    first, rows = c2_rows(samples, len(samples) - 2)
+    times = np.asarray(bat.times[window.start + first:window.start + first + len(rows)])
+    scale = times[-1] - times[0]  # s: the powers in units of the window's span
+    powers = np.vander((times - t) / scale, len(times), increasing=True)
+    coefficients = np.linalg.solve(powers, np.asarray(rows, dtype=float))
+    state, rates = coefficients[0], coefficients[1] / scale
+    return (tuple(rates[:3].tolist()),
+            chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
+
+
 def spline_velocities(ball: Stream, bat: Stream, t: float,
                       size: int) -> Optional[ImpactVelocities]:
     """
@@ -393,9 +420,11 @@ VELOCITIES = 'auto'
 """c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
 opening frame, extrapolated to t), 'knot' (as 'before', but with exact bat samples the bat's
 window fitted with a knot at t: ``knot_bat_rates``; measured, not chosen: BENCHMARKS.md,
-"Contact-aware fits"), 'window' (the look-ahead-0 window fits' rates at t: they reach the
-closing frame, after the contact) or 'fits' (``spline_window_for``: the former choice); the
-others are kept for bench_accuracy's comparison."""
+"Contact-aware fits"), 'poly' (as 'knot', with ``poly_bat_rates``: one interpolating
+polynomial; measured, not chosen: "Higher-order fits before the contact"), 'window' (the
+look-ahead-0 window fits' rates at t: they reach the closing frame, after the contact) or
+'fits' (``spline_window_for``: the former choice); the others are kept for bench_accuracy's
+comparison."""
 
 
 def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
@@ -427,7 +456,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
         return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  ball_path, bat_path, spline_window_for(bat, t, config))
     gap, size = config.max_gap, config.spline_window
-    before = mode in ('before', 'knot')
+    before = mode in ('before', 'knot', 'poly')
     k = ball.interval(ball_path.t0)
     j = velocity_interval(ball, k, gap) if before else k
     if j != k or config.look_ahead:
@@ -435,8 +464,9 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
                                   stream_noise(ball, config))
     k = bat.interval(bat_path.t0)
     j = velocity_interval(bat, k, gap) if before else k
-    if mode == 'knot' and exact and j != k:
-        knob_rate, swing = knot_bat_rates(bat, c2_window(bat, j, gap, 0, size), t)
+    if mode in ('knot', 'poly') and exact and j != k:
+        rates = knot_bat_rates if mode == 'knot' else poly_bat_rates
+        knob_rate, swing = rates(bat, c2_window(bat, j, gap, 0, size), t)
     else:
         if j != k or config.look_ahead:
             bat_path = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size),

@@ -19,11 +19,9 @@ from .families import check_family, draw_extras, mirrored
 from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch
 from .swings import Swing
 from .truth import compute_truth, segment_gaps, Truth
+from ..choices import KINDS  # the command line's options read them without the simulator
 from ...core.bat import BatProfile, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from ...errors import ToolError
-
-KINDS = ('barrel', 'end_cap', 'handle', 'graze', 'miss_over', 'miss_under')
-"""Scenario kinds ``make_scenario`` builds (``Scenario`` also accepts ``'custom'``)."""
 
 CLOSE_KINDS = ('tick', 'shave')
 """The closest calls ``make_scenario`` also builds: a contact 0.1-1 mm deep, a miss by 0.1-2 mm."""
