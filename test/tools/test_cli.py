@@ -21,7 +21,7 @@ from baseball_collision.tools import analyze
 from baseball_collision.tools.report import CSV_COLUMNS
 from baseball_collision.tools.truth import truth_path
 import pytest
-from support import REPO_ROOT
+from support import modules_loaded, REPO_ROOT
 from support.bundled import bag_path, BAGS, check_against_truth
 
 SCRIPT = Path(sys.executable).parent / 'baseball-collision'
@@ -287,15 +287,9 @@ def test_help_works_without_rosbags_and_analyze_says_what_is_missing() -> None:
 
 def test_starting_the_command_line_imports_no_simulator() -> None:
     """Building every command's options imports neither the simulator nor the recording writer."""
-    code = ('import sys\n'
-            'from baseball_collision.tools.cli import build_parser\n'
-            'build_parser()\n'
-            "print(sorted(m for m in ('baseball_collision.tools.sim',"
-            " 'baseball_collision.tools.recording') if m in sys.modules))")
-    done = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
-                          cwd=REPO_ROOT, timeout=60)
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == '[]'
+    code = 'from baseball_collision.tools.cli import build_parser\nbuild_parser()'
+    assert modules_loaded(code, ('baseball_collision.tools.sim',
+                                 'baseball_collision.tools.recording')) == []
 
 
 def test_simulate_options_are_the_recording_limits() -> None:

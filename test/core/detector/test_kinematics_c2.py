@@ -1,6 +1,7 @@
 """Tests for the c2 model's impact velocities: the splines' rates from samples before t."""
 
 import math
+from typing import Callable, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, kinematics
 from baseball_collision.core.detector.fitting import c2_bat_path, c2_point_path, c2_window
@@ -71,19 +72,27 @@ def _sweet_rate(found, t: float, spin: float, tilt: float) -> np.ndarray:
     return np.array(found[0]) + np.cross(found[1], 0.8 * direction)
 
 
-def test_knot_rates_converge_with_the_rate() -> None:
-    """The window fitted with a knot at t: the tip's velocity error falls fast with the rate."""
+@pytest.mark.parametrize('rates, at_90_hz, shrink', [
+    (knot_bat_rates, 5e-3, (4.0, 4.0)),
+    # one interpolating polynomial through the 8 samples: at 90 Hz this 40 rad/s swing turns
+    # 0.44 rad a frame and the degree-7 extrapolation is off by about 2 %; from 180 Hz on its
+    # error falls by far more than h^4
+    (poly_bat_rates, 5e-2, (64.0, 16.0)),
+], ids=['knot', 'poly'])
+def test_window_rates_converge_with_the_rate(rates: Callable, at_90_hz: float,
+                                             shrink: Tuple[float, float]) -> None:
+    """The window's fit (knot at t, or one polynomial): the tip's velocity error falls fast."""
     spin, tilt = 40.0, 2.0
     errors = []
     for rate in (90.0, 180.0, 360.0):
         _, bat = _streams(rate, spin, tilt)
         t = bat.times[-1] + 0.5 / rate
-        found = knot_bat_rates(bat, range(len(bat.times) - 8, len(bat.times)), t)
+        found = rates(bat, range(len(bat.times) - 8, len(bat.times)), t)
         truth = _tip_velocity(t, spin, tilt)
         errors.append(np.linalg.norm(_sweet_rate(found, t, spin, tilt) - truth)
                       / np.linalg.norm(truth))
-    assert errors[0] < 5e-3
-    assert errors[1] < errors[0] / 4.0 and errors[2] < errors[1] / 4.0
+    assert errors[0] < at_90_hz
+    assert errors[1] < errors[0] / shrink[0] and errors[2] < errors[1] / shrink[1]
 
 
 def test_poly_rates_are_exact_for_a_polynomial_swing() -> None:
@@ -104,26 +113,6 @@ def test_poly_rates_are_exact_for_a_polynomial_swing() -> None:
     true_spin = np.polynomial.polynomial.polyval(t / 0.08, derivative(angle_terms)) / 0.08
     assert np.allclose(knob_rate, true_knob, rtol=1e-7, atol=1e-7)
     assert np.allclose(swing, (0.0, 0.0, true_spin), rtol=1e-6, atol=1e-6)
-
-
-def test_poly_rates_converge_with_the_rate() -> None:
-    """
-    One interpolating polynomial through 8 samples: the tip's error falls fast with the rate.
-
-    At 90 Hz this 40 rad/s swing turns 0.44 rad a frame and the degree-7 extrapolation is off
-    by about 2 % (the knot fit's 0.3 %); from 180 Hz on it falls by far more than h^4.
-    """
-    spin, tilt = 40.0, 2.0
-    errors = []
-    for rate in (90.0, 180.0, 360.0):
-        _, bat = _streams(rate, spin, tilt)
-        t = bat.times[-1] + 0.5 / rate
-        found = poly_bat_rates(bat, range(len(bat.times) - 8, len(bat.times)), t)
-        truth = _tip_velocity(t, spin, tilt)
-        errors.append(np.linalg.norm(_sweet_rate(found, t, spin, tilt) - truth)
-                      / np.linalg.norm(truth))
-    assert errors[0] < 5e-2
-    assert errors[1] < errors[0] / 64.0 and errors[2] < errors[1] / 16.0
 
 
 @pytest.mark.parametrize('rule', ['auto', 'knot', 'poly'])
