@@ -6,6 +6,7 @@ never exceed :func:`closest_distance`, found by brute force on the paths the swe
 """
 
 import math
+from typing import Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from hypothesis import strategies as st
@@ -26,6 +27,26 @@ def turning_swing(model: str, balls, hands, turns, steps) -> Detector:
         detector.add_ball(stamp, ball)
     assert len(detector._ball.times) == 4 and len(detector._bat.times) == 4
     return detector
+
+
+def tilting_bat(t: float, spin: float, tilt: float, rng: Optional[np.random.Generator] = None,
+                noise: float = 0.0) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return knob and tip (m) at t (s) of a bat turning ever faster in a tilting plane.
+
+    The angle is ``spin * t + 100 t^2`` (rad) in a plane whose normal tilts at ``tilt`` rad/s;
+    the knob drifts 0.2 m/s along x at 1 m height; the bat is 0.86 m long. With ``rng``, each
+    point gets Gaussian noise of ``noise`` m per coordinate (the knob's drawn first).
+    """
+    angle = spin * t + 100.0 * t * t
+    axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
+    radial = np.array([math.cos(angle), math.sin(angle), 0.0])
+    direction = radial - axis * (radial @ axis)
+    knob = np.array([0.2 * t, 0.0, 1.0])
+    if rng is None:
+        return knob, knob + 0.86 * direction / np.linalg.norm(direction)
+    knob = knob + rng.normal(0.0, noise, 3)
+    return knob, knob + 0.86 * direction / np.linalg.norm(direction) + rng.normal(0.0, noise, 3)
 
 
 def closest_distance(detector: Detector) -> float:

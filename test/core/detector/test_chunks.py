@@ -22,6 +22,7 @@ from hypothesis import given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
+from support.far import tilting_bat
 from support.scenes import BASE_NS, pitch, pose, swing
 
 Row = Tuple[str, int, Tuple[float, ...], str]
@@ -323,12 +324,7 @@ def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
     for t in times:
         point = tuple(float(x) for x in np.array(start) + velocity * t * np.array([1.0, 0.2, 0.0])
                       + rng.normal(0.0, jitter, 3))
-        angle = spin * t + 100.0 * t * t
-        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
-        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
-        direction = radial - axis * (radial @ axis)
-        knob = np.array([0.2 * t, 0.0, 1.0]) + rng.normal(0.0, jitter, 3)
-        tip = knob + 0.86 * direction / np.linalg.norm(direction) + rng.normal(0.0, jitter, 3)
+        knob, tip = tilting_bat(t, spin, tilt, rng, jitter)
         knob, tip = tuple(knob.tolist()), tuple(tip.tolist())
         ball.append(float(t), int(t * 1e9), point, False)
         bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,

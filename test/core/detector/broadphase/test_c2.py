@@ -11,6 +11,7 @@ from baseball_collision.core.motion import not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
 import numpy as np
 from support import examples
+from support.far import tilting_bat
 from support.scenes import BASE_NS
 
 
@@ -49,12 +50,7 @@ def test_c2_paths_never_leave_the_far_test_bound(look_ahead, steps, tilt, spin, 
     times = np.concatenate([[0.0], np.cumsum(steps)])
     for t in times:
         stamp = BASE_NS + int(round(t * 1e9))
-        angle = spin * t + 100.0 * t * t
-        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
-        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
-        direction = radial - axis * (radial @ axis)
-        knob = np.array([0.2 * t, 0.0, 1.0]) + rng.normal(0.0, noise, 3)
-        tip = knob + 0.86 * direction / np.linalg.norm(direction) + rng.normal(0.0, noise, 3)
+        knob, tip = tilting_bat(t, spin, tilt, rng, noise)
         detector.add_knob(stamp, tuple(knob))
         detector.add_tip(stamp, tuple(tip))
         detector.add_ball(stamp, tuple(np.array([3.0 - 40.0 * t, 0.1, 1.0 - 5 * t * t])
@@ -169,19 +165,11 @@ def test_far_test_never_calls_far_a_pass_within_contact(look_ahead, steps, tilt,
     times = np.concatenate([[0.0], np.cumsum(steps)])
     middle = 0.5 * times[-1]
 
-    def bat_at(t: float):
-        angle = spin * t + 100.0 * t * t
-        axis = np.array([math.sin(tilt * t), 0.0, math.cos(tilt * t)])
-        radial = np.array([math.cos(angle), math.sin(angle), 0.0])
-        direction = radial - axis * (radial @ axis)
-        knob = np.array([0.2 * t, 0.0, 1.0])
-        return knob, knob + 0.86 * direction / np.linalg.norm(direction)
-
-    knob, tip = bat_at(middle)
+    knob, tip = tilting_bat(middle, spin, tilt)
     aim = knob + fraction * (tip - knob) + miss * np.array([0.0, 0.0, 1.0])
     for t in times:
         stamp = BASE_NS + int(round(t * 1e9))
-        knob, tip = bat_at(t)
+        knob, tip = tilting_bat(t, spin, tilt)
         detector.add_knob(stamp, tuple(knob + rng.normal(0.0, noise, 3)))
         detector.add_tip(stamp, tuple(tip + rng.normal(0.0, noise, 3)))
         detector.add_ball(stamp, tuple(aim + np.array([-40.0, 1.0, -2.0]) * (t - middle)
