@@ -47,7 +47,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.signals import SignalHandlerOptions
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_node import ball, BASE_NS, PAUSE_S, swing_pose, SWING_S  # noqa: E402, I100
+from bench_node import ball, BASE_NS, PAUSE_S, set_swing_pose, SWING_S  # noqa: E402, I100
 
 STALE_NS = 3_000_000_000
 """How far behind the second ball publisher stamps its messages (as in the fault benchmark)."""
@@ -180,10 +180,7 @@ def _publish(rate: float, seconds: float, publishers: tuple) -> Dict[str, int]:
         p = ball_msg.point
         p.x, p.y, p.z = ball(t)
         stale_msg.point = ball_msg.point
-        (x, y, z), (qx, qy, qz, qw) = swing_pose(t)
-        position, orientation = bat_msg.pose.position, bat_msg.pose.orientation
-        position.x, position.y, position.z = x, y, z
-        orientation.x, orientation.y, orientation.z, orientation.w = qx, qy, qz, qw
+        set_swing_pose(bat_msg, t)
         ball_pub.publish(ball_msg)
         stale_pub.publish(stale_msg)
         bat_pub.publish(bat_msg)

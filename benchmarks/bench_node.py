@@ -45,7 +45,7 @@ import signal
 import subprocess
 import sys
 import time
-from typing import Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.ros import node as node_module
@@ -70,6 +70,14 @@ def swing_pose(t: float) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
     # +z turned onto the horizontal direction (cos a, sin a, 0): 90 deg about (-sin a, cos a, 0)
     half = math.sqrt(0.5)
     return (0.0, 2.0 * t, 1.0), (-math.sin(angle) * half, math.cos(angle) * half, 0.0, half)
+
+
+def set_swing_pose(message: Any, t: float) -> None:
+    """Write the bat pose at t (``swing_pose``) into a geometry_msgs/PoseStamped, in place."""
+    (x, y, z), (qx, qy, qz, qw) = swing_pose(t)
+    position, orientation = message.pose.position, message.pose.orientation
+    position.x, position.y, position.z = x, y, z
+    orientation.x, orientation.y, orientation.z, orientation.w = qx, qy, qz, qw
 
 
 def ball(t: float) -> Tuple[float, float, float]:
@@ -335,10 +343,7 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
                 message.header.stamp.sec, message.header.stamp.nanosec = sec, nanosec
             p = ball_msg.point
             p.x, p.y, p.z = ball(t)
-            (x, y, z), (qx, qy, qz, qw) = swing_pose(t)
-            position, orientation = bat_msg.pose.position, bat_msg.pose.orientation
-            position.x, position.y, position.z = x, y, z
-            orientation.x, orientation.y, orientation.z, orientation.w = qx, qy, qz, qw
+            set_swing_pose(bat_msg, t)
             ball_pub.publish(ball_msg)
             bat_pub.publish(bat_msg)
             published[stamp] = time.monotonic_ns()
