@@ -20,6 +20,7 @@ from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, NS_PER_S
 from .decode import decode_chunk, decode_samples, Route, Sample, SampleChunk, values_from_message
+from .mcap import mcap_messages
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
@@ -197,7 +198,8 @@ class BagReader(BagFile):
             return self._slow(reader, route, raw)
         count = 0
         with self._reading():
-            messages = reader.messages(connections=self._connections)
+            messages = mcap_messages(reader, self._connections) or reader.messages(
+                connections=self._connections)
             while True:
                 batch = list(itertools.islice(messages, size))
                 if not batch:
