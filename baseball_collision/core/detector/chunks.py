@@ -479,22 +479,22 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     Return a stream's first kept sample after each sample's trim, and its length before it.
 
     ``Stream.trim`` after each sample: a stream of ``TRIM_FROM`` samples or more drops those
-    before its cut. ``counts`` and ``cuts`` never decrease, so the loop runs once per trim.
+    before its cut. ``counts`` and ``cuts`` never decrease, so the sample that trims next after
+    one that trimmed at j (leaving the stream from ``cuts[j]``) is known for every j at once;
+    the trims are that chain from the first (with a long history, every sample).
     """
     n = len(counts)
-    count_list, cut_list = counts.tolist(), cuts.tolist()
-    at, starts = [], [0]  # the samples that trim, and the first kept sample after each
-    start, j = 0, 0
+    following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
+                                      np.searchsorted(cuts, cuts + 1, 'left')),
+                           np.arange(1, n + 1)).tolist()
+    at = []  # the samples that trim
+    j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
     while j < n:
-        j = max(j, bisect_left(count_list, start + TRIM_FROM), bisect_left(cut_list, start + 1))
-        if j >= n:
-            break
-        start = cut_list[j]
         at.append(j)
-        starts.append(start)
-        j += 1
-    after = np.array(starts, dtype=np.int64)[np.searchsorted(np.array(at, dtype=np.int64),
-                                                             np.arange(n), 'right')]
+        j = following[j]
+    trims = np.array(at, dtype=np.int64)
+    starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
+    after = starts[np.searchsorted(trims, np.arange(n), 'right')]
     return after, counts - np.concatenate(([0], after[:-1]))
 
 
