@@ -265,6 +265,38 @@ def _layout(route: Route, table: np.ndarray) -> Tuple[str, int, np.ndarray]:
     return frame_id, offset, rows
 
 
+class Spans(NamedTuple):
+    """
+    Raw messages lying in one buffer (an MCAP chunk's decompressed records), in the bag's order.
+
+    :ivar buffer: the bytes, as uint8.
+    :ivar connections: the connections the codes index.
+    :ivar codes: int64 per message: its connection, as an index into ``connections``.
+    :ivar starts: int64 per message: where its raw bytes start in ``buffer``.
+    :ivar lengths: int64 per message: how many bytes.
+    :ivar log_times_ns: int64 per message: its record time (ns).
+    """
+
+    buffer: np.ndarray
+    connections: Sequence[Any]
+    codes: np.ndarray
+    starts: np.ndarray
+    lengths: np.ndarray
+    log_times_ns: np.ndarray
+
+    def piece(self, first: int, end: int) -> 'Spans':
+        """Return messages ``first`` to ``end`` (excluded), in the same buffer."""
+        return self._replace(codes=self.codes[first:end], starts=self.starts[first:end],
+                             lengths=self.lengths[first:end],
+                             log_times_ns=self.log_times_ns[first:end])
+
+    def messages(self, indices: Sequence[int]) -> List[RawMessage]:
+        """Return the given messages as ``(connection, log time, raw bytes)`` triplets."""
+        return [(self.connections[int(self.codes[k])], int(self.log_times_ns[k]),
+                 self.buffer[self.starts[k]:self.starts[k] + self.lengths[k]].tobytes())
+                for k in indices]
+
+
 def decode_chunk(messages: Sequence[RawMessage], routes: Dict[int, Route],
                  slow: SlowDecoder) -> SampleChunk:
     """
@@ -281,9 +313,48 @@ def decode_chunk(messages: Sequence[RawMessage], routes: Dict[int, Route],
     """
     n = len(messages)
     raws = list(map(_RAW, messages))  # (zip(*messages) costs 5x as much)
-    lengths = np.fromiter(map(len, raws), np.int64, n)
     owners, which = np.unique(np.fromiter(map(id, map(_CONNECTION, messages)), np.int64, n),
                               return_inverse=True)
+
+    def table(members: np.ndarray) -> np.ndarray:
+        return np.frombuffer(b''.join(itemgetter(*members)(raws)), np.uint8).reshape(
+            len(members), -1)
+    return _decode([routes[int(owner)] for owner in owners], which,
+                   np.fromiter(map(len, raws), np.int64, n), table,
+                   lambda rest: [messages[k] for k in rest],
+                   np.fromiter(map(_LOG_TIME, messages), np.int64, n), routes, slow)
+
+
+def decode_spans(spans: Spans, routes: Dict[int, Route], slow: SlowDecoder) -> SampleChunk:
+    """
+    Return the samples of the messages in ``spans`` (not empty): :func:`decode_chunk`'s.
+
+    The same chunk as ``decode_chunk(spans.messages(range(n)), routes, slow)``, without making
+    the messages: a group of one layout is gathered from the buffer as a 2-D array.
+
+    :raises Exception: whatever ``slow`` raises.
+    """
+    buffer, starts, lengths = spans.buffer, spans.starts, spans.lengths
+
+    def table(members: np.ndarray) -> np.ndarray:
+        return buffer[starts[members][:, None] + np.arange(lengths[members[0]])]
+    return _decode([routes[id(connection)] for connection in spans.connections], spans.codes,
+                   lengths, table, spans.messages, spans.log_times_ns, routes, slow)
+
+
+def _decode(owners: Sequence[Route], which: np.ndarray, lengths: np.ndarray,
+            table_of: Callable[[np.ndarray], np.ndarray],
+            messages_of: Callable[[np.ndarray], Sequence[RawMessage]], log_times: np.ndarray,
+            routes: Dict[int, Route], slow: SlowDecoder) -> SampleChunk:
+    """
+    Decode a chunk: groups of one connection and one length in bulk, the rest one by one.
+
+    :param owners: the route of each connection code; ``which``: each message's code.
+    :param lengths: each message's length in bytes.
+    :param table_of: a group's messages (indices, all of one length) as a (k, length) uint8
+        array; ``messages_of``: messages (indices) as triplets, for :func:`decode_samples`.
+    """
+    n = len(which)
     _, group_of = np.unique(which * (int(lengths.max()) + 1) + lengths, return_inverse=True)
     order = np.argsort(group_of, kind='stable')  # each group's messages together, in order
     sizes = np.bincount(group_of)
@@ -295,9 +366,8 @@ def decode_chunk(messages: Sequence[RawMessage], routes: Dict[int, Route],
     done = np.zeros(n, bool)
     for group in np.flatnonzero(sizes >= BULK_GROUP):  # (the rest: through decode_samples)
         members = order[starts[group]:starts[group] + sizes[group]]
-        route = routes[int(owners[which[members[0]]])]
-        table = np.frombuffer(b''.join(itemgetter(*members)(raws)), np.uint8).reshape(
-            len(members), -1)
+        route = owners[int(which[members[0]])]
+        table = table_of(members)
         try:
             frame_id, offset, rows = _layout(route, table)
         except ValueError:
@@ -313,12 +383,9 @@ def decode_chunk(messages: Sequence[RawMessage], routes: Dict[int, Route],
         done[members] = True
     rest = np.flatnonzero(~done)
     if len(rest):
-        others = next(chunk_samples(decode_samples(itemgetter(*rest)(messages) if len(rest) > 1
-                                                   else [messages[rest[0]]], routes, slow),
-                                    len(rest)))
+        others = next(chunk_samples(decode_samples(messages_of(rest), routes, slow), len(rest)))
         roles[rest] = others.roles
         stamps[rest] = others.stamps_ns
         frames[rest] = others.frame_ids
         values[rest] = others.values
-    return SampleChunk(roles, stamps, frames.tolist(), values,
-                       np.fromiter(map(_LOG_TIME, messages), np.int64, n))
+    return SampleChunk(roles, stamps, frames.tolist(), values, log_times)

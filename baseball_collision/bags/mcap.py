@@ -2,52 +2,60 @@
 An indexed MCAP bag's messages, as ``AnyReader.messages`` gives them, at a fraction of the cost.
 
 rosbags reads an MCAP chunk record by record through ``io.BytesIO`` objects (about 3 us per
-message: as much as the whole analysis of a quiet stretch of a session). Here each chunk is
-read and decompressed by rosbags' own code (``storage_mcap.decompress``, the same checks), and
-its message records are walked with ``struct.unpack_from`` on the decompressed bytes. The
-output is the same: the same ``(connection, log time in ns, raw bytes)`` triplets in the same
-order.
+message: more than the whole analysis of a quiet stretch of a session). Here each chunk is read
+and decompressed by rosbags' own code (``storage_mcap.decompress``, the same checks), and its
+messages are located without making a Python object per message: from the chunk's message
+index (the records after the chunk list every message's offset), checked against the records
+themselves, which must tile the chunk exactly (each record's length leading to the next);
+where they do not (other records inside the chunk, a damaged index), the records are walked
+one by one with ``struct.unpack_from``. The result is :class:`~.decode.Spans`: where each
+message's bytes lie in the decompressed chunk, decoded in bulk by :func:`.decode.decode_spans`.
 
-The order rosbags gives: each chunk's messages sorted by log time (ties in file order), the
-chunks merged by (log time, chunk offset). Where the selected chunks, ordered by their first
-log time, do not overlap (the last key of each before the first of the next: what a recorder
-writes), that merge is their concatenation, which is what is read here. Anything else returns
-None and the caller uses rosbags' reader: bags without a chunk index, overlapping chunks,
-per-message compression, ROS 1 bags, sqlite3 storage, several bags in one reader.
+The messages and their order are rosbags': each chunk's messages with a log time in the chunk's
+range, on the selected channels, sorted by log time (ties in file order), the chunks merged by
+(log time, chunk offset). Where the selected chunks, ordered by their first log time, do not
+overlap (the last key of each before the first of the next: what a recorder writes), that merge
+is their concatenation, which is what is read here. Anything else returns None and the caller
+uses rosbags' reader: bags without a chunk index, overlapping chunks, per-message compression,
+ROS 1 bags, sqlite3 storage, several bags in one reader.
 """
 
-from operator import itemgetter
 import struct
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 
+import numpy as np
 from rosbags.rosbag2 import ReaderError
 from rosbags.rosbag2.reader import DirectoryReader
 from rosbags.rosbag2.storage_mcap import decompress, McapReader
 
-RawMessage = Tuple[Any, int, bytes]
-"""``(connection, log time in ns, raw bytes)``, as ``AnyReader.messages`` yields them."""
+from .decode import Spans
 
 _LENGTH = struct.Struct('<Q')
 _CRC = struct.Struct('<I')
 _MESSAGE = struct.Struct('<HIQQ')  # channel id, sequence, log time, publish time
-_MESSAGE_OP = 0x05
-_CHUNK_HEADER = 9  # opcode and record length before a chunk record's fields
-_LOG_TIME = itemgetter(1)
+_INDEX = struct.Struct('<BQHI')  # a message index record: opcode, length, channel, size
+_MESSAGE_OP, _INDEX_OP = 0x05, 0x07
+_RECORD = 9  # a record's opcode and length before its body
+_DATA = _RECORD + 22  # a message record's data after its channel, sequence and two times
+_BYTE = np.arange(8)
 
 
-def mcap_messages(reader: Any, connections: Sequence[Any]) -> Optional[Iterator[RawMessage]]:
+def mcap_spans(reader: Any, connections: Sequence[Any]) -> Optional[Iterator[Spans]]:
     """
-    Return an iterator equal to ``reader.messages(connections=connections)``, or None.
+    Return each selected chunk's messages as spans, or None where rosbags must read the bag.
+
+    Together the spans hold exactly ``reader.messages(connections=connections)``, in order.
 
     :param reader: an open ``rosbags.highlevel.AnyReader``.
     :param connections: some of ``reader.connections`` (not empty).
     :returns: None where the bag is not one indexed MCAP bag whose selected chunks do not
-        overlap in time (see the module docstring): the caller reads it with rosbags.
+        overlap in time (see the module docstring). The iterator raises ``ReaderError`` (or
+        what rosbags' ``decompress`` raises) for a damaged chunk.
     """
     sources = _sources(reader, connections)
     if sources is None:
         return None
-    return _messages(sources)
+    return _spans(sources, list(connections))
 
 
 def _sources(reader: Any, connections: Sequence[Any]) -> Optional[List[Tuple[Any, Dict, List]]]:
@@ -94,49 +102,139 @@ def _channel_map(storage: McapReader, connections: Sequence[Any]) -> Dict[int, A
     return channels
 
 
-def _messages(sources: List[Tuple[Any, Dict, List]]) -> Iterator[RawMessage]:
-    """Yield the messages of each storage's chunks in turn."""
+def _spans(sources: List[Tuple[Any, Dict, List]], connections: List[Any]) -> Iterator[Spans]:
+    """Yield the selected messages of each storage's chunks in turn (empty chunks skipped)."""
+    code_of = {id(connection): code for code, connection in enumerate(connections)}
     for storage, channels, chunks in sources:
+        lookup = np.full(max(channels) + 1, -1, np.int64)  # channel id -> connection code
+        for channel, connection in channels.items():
+            lookup[channel] = code_of[id(connection)]
         for chunk in chunks:
-            yield from _chunk_messages(storage.bio, chunk, channels)
+            spans = _chunk_spans(storage.bio, chunk, lookup, connections)
+            if len(spans.codes):
+                yield spans
 
 
-def _chunk_messages(bio: Any, chunk: Any, channels: Dict[int, Any]) -> List[RawMessage]:
+def _chunk_spans(bio: Any, chunk: Any, lookup: np.ndarray, connections: List[Any]) -> Spans:
     """
     Return one chunk's selected messages sorted by log time (ties in file order).
 
-    :raises ReaderError: a truncated record, or what rosbags' ``decompress`` raises (an
-        unknown compression, a size or checksum mismatch).
+    :raises ReaderError: a truncated or malformed record, or what rosbags' ``decompress``
+        raises (an unknown compression, a size or checksum mismatch).
     """
-    bio.seek(chunk.chunk_start_offset + _CHUNK_HEADER + 24)
+    bio.seek(chunk.chunk_start_offset + _RECORD + 24)
     crc = _CRC.unpack(_read(bio, 4))[0]
-    bio.seek(chunk.chunk_start_offset + _CHUNK_HEADER + 40 + len(chunk.compression))
+    bio.seek(chunk.chunk_start_offset + _RECORD + 40 + len(chunk.compression))
     size = chunk.uncompressed_size
     data = decompress(_read(bio, chunk.compressed_size), chunk.compression, size, crc)
-    start, stop = chunk.message_start_time, chunk.message_end_time + 1
-    found: List[RawMessage] = []
-    append, unpack_length, unpack_message = found.append, _LENGTH.unpack_from, \
-        _MESSAGE.unpack_from
+    buffer = np.frombuffer(data, np.uint8)
+    records = _indexed(bio, chunk, buffer)
+    if records is None:
+        records = _walk(data)
+    offsets, lengths, channels, log_times = records
+    known = channels < len(lookup)
+    codes = np.where(known, lookup[np.where(known, channels, 0)], -1)
+    keep = (codes >= 0) & (log_times >= chunk.message_start_time) & (
+        log_times <= chunk.message_end_time)
+    offsets, lengths, codes, log_times = (offsets[keep], lengths[keep], codes[keep],
+                                          log_times[keep])
+    if len(log_times) > 1 and (log_times[1:] < log_times[:-1]).any():
+        order = np.argsort(log_times, kind='stable')  # ties keep their file order
+        offsets, lengths, codes, log_times = (offsets[order], lengths[order], codes[order],
+                                              log_times[order])
+    return Spans(buffer, connections, codes, offsets + _DATA, lengths - 22, log_times)
+
+
+Records = Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""A chunk's message records in file order: offsets, body lengths, channels, log times."""
+
+
+def _indexed(bio: Any, chunk: Any, buffer: np.ndarray) -> Optional[Records]:
+    """
+    Return the chunk's message records from its message index, or None if they do not tile it.
+
+    Every index entry's offset must hold a message record, and those records, in offset order,
+    must cover the chunk exactly from the first to its end, each ending where the next begins,
+    after whole records that are not messages (a writer may put schemas and channels first):
+    then the chunk holds those messages and no other, and rosbags' walk would find the same.
+    Channel, log time and length come from the records themselves.
+    """
+    size = len(buffer)
+    bio.seek(chunk.chunk_start_offset + chunk.chunk_length)
+    index = bio.read(chunk.message_index_length)
+    pos, found = 0, []
+    while pos + _INDEX.size <= len(index):
+        op, length, _, entries = _INDEX.unpack_from(index, pos)
+        if op != _INDEX_OP or entries % 16 or _RECORD + 6 + entries > _RECORD + length or \
+                pos + _RECORD + length > len(index):
+            return None
+        found.append(np.frombuffer(index, '<u8', entries // 8, pos + _INDEX.size)[1::2])
+        pos += _RECORD + length
+    if pos != len(index) or not found:
+        return None
+    offsets = np.sort(np.concatenate(found)).astype(np.int64)
+    if offsets[0] < 0 or offsets[-1] > size - _DATA or \
+            not _no_messages(buffer[:offsets[0]].tobytes()):
+        return None
+    lengths = _at(buffer, offsets + 1, '<u8')
+    if (lengths > size).any():
+        return None
+    lengths = lengths.astype(np.int64)
+    ends = offsets + _RECORD + lengths
+    if (buffer[offsets] != _MESSAGE_OP).any() or (lengths < 22).any() or \
+            ends[-1] != size or (ends[:-1] != offsets[1:]).any():
+        return None
+    return (offsets, lengths, _at(buffer, offsets + _RECORD, '<u2'),
+            _at(buffer, offsets + _RECORD + 6, '<u8').astype(np.int64))
+
+
+def _no_messages(prefix: bytes) -> bool:
+    """Return whether a chunk's first bytes are whole records, none a message (schemas...)."""
+    try:
+        return not len(_walk(prefix)[0])
+    except ReaderError:
+        return False
+
+
+def _at(buffer: np.ndarray, offsets: np.ndarray, kind: str) -> np.ndarray:
+    """Return the little-endian integers of type ``kind`` at each offset of the buffer."""
+    width = np.dtype(kind).itemsize
+    return buffer[offsets[:, None] + _BYTE[:width]].view(kind)[:, 0].astype(
+        np.uint64 if width == 8 else np.int64)
+
+
+def _walk(data: bytes) -> Records:
+    """
+    Return the chunk's message records by walking every record (``struct.unpack_from``).
+
+    :raises ReaderError: a record running past the chunk, or a message record too short.
+    """
+    size = len(data)
+    offsets: List[int] = []
+    lengths: List[int] = []
+    channels: List[int] = []
+    log_times: List[int] = []
+    unpack_length, unpack_message = _LENGTH.unpack_from, _MESSAGE.unpack_from
     pos = 0
     try:
         while pos < size:
-            body = pos + 9
-            end = body + unpack_length(data, pos + 1)[0]
-            if end > size:
+            body = pos + _RECORD
+            length = unpack_length(data, pos + 1)[0]
+            if body + length > size:
                 raise ReaderError(f'Truncated record at offset {pos} of a chunk')
             if data[pos] == _MESSAGE_OP:
-                if end - body < 22:
-                    raise ReaderError(f'Invalid message record length {end - body}.')
+                if length < 22:
+                    raise ReaderError(f'Invalid message record length {length}.')
                 channel, _, log_time, _ = unpack_message(data, body)
-                if start <= log_time < stop and channel in channels:
-                    append((channels[channel], log_time, data[body + 22:end]))
-            pos = end
+                offsets.append(pos)
+                lengths.append(length)
+                channels.append(channel)
+                log_times.append(log_time)
+            pos = body + length
     except struct.error as error:
         raise ReaderError(f'Truncated record at offset {pos} of a chunk') from error
-    times = list(map(_LOG_TIME, found))
-    if any(a > b for a, b in zip(times, times[1:])):
-        found.sort(key=_LOG_TIME)  # stable: ties keep their file order
-    return found
+    return (np.array(offsets, np.int64), np.array(lengths, np.int64),
+            np.array(channels, np.int64), np.array(log_times, np.uint64).astype(np.int64))
 
 
 def _read(bio: Any, size: int) -> bytes:

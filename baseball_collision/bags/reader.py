@@ -19,8 +19,9 @@ from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, NS_PER_S
-from .decode import decode_chunk, decode_samples, Route, Sample, SampleChunk, values_from_message
-from .mcap import mcap_messages
+from .decode import (
+    decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, values_from_message)
+from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
@@ -148,10 +149,13 @@ class BagReader(BagFile):
 
     def chunks(self, size: int = 8192) -> Iterator[SampleChunk]:
         """
-        Yield the samples of :meth:`samples` as arrays, ``size`` at a time (the last fewer).
+        Yield the samples of :meth:`samples` as arrays, at most ``size`` at a time.
 
         Each chunk's messages are decoded in bulk (:func:`.decode.decode_chunk`): the same
-        samples. Memory stays one chunk's whatever the bag's size.
+        samples. An indexed MCAP bag is read a chunk of the file at a time, each cut into
+        pieces of ``size`` (the last of each fewer), its messages decoded where they lie
+        (:mod:`.mcap`, :func:`.decode.decode_spans`); any other bag ``size`` at a time through
+        rosbags' reader (the last fewer). Memory stays one chunk's whatever the bag's size.
 
         :raises BagError: as :meth:`samples`.
         """
@@ -198,14 +202,21 @@ class BagReader(BagFile):
             return self._slow(reader, route, raw)
         count = 0
         with self._reading():
-            messages = mcap_messages(reader, self._connections) or reader.messages(
-                connections=self._connections)
-            while True:
-                batch = list(itertools.islice(messages, size))
-                if not batch:
-                    break
-                count += len(batch)
-                yield decode_chunk(batch, self._routes, slow)
+            spans = mcap_spans(reader, self._connections)
+            if spans is not None:  # an indexed MCAP bag: its chunks' messages in place
+                for each in spans:
+                    for first in range(0, len(each.codes), size):
+                        piece = each.piece(first, first + size)
+                        count += len(piece.codes)
+                        yield decode_spans(piece, self._routes, slow)
+            else:
+                messages = reader.messages(connections=self._connections)
+                while True:
+                    batch = list(itertools.islice(messages, size))
+                    if not batch:
+                        break
+                    count += len(batch)
+                    yield decode_chunk(batch, self._routes, slow)
         self._check_count(count, expected)
 
     def _slow(self, reader: AnyReader, route: Route,

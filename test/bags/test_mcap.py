@@ -1,11 +1,13 @@
-"""The fast MCAP message source gives rosbags' messages, in rosbags' order, or declines."""
+"""The MCAP chunks read in place give rosbags' messages in rosbags' order, or decline."""
 
 from pathlib import Path
 import shutil
 from typing import Any, List, Optional, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, POSE_STAMPED
-from baseball_collision.bags.mcap import mcap_messages
+from baseball_collision.bags import mcap
+from baseball_collision.bags.decode import decode_chunk, decode_spans
+from baseball_collision.bags.mcap import mcap_spans
 from baseball_collision.errors import BagError
 import numpy as np
 import pytest
@@ -43,13 +45,14 @@ def _write(path: Path, log_times: Sequence[int], mode: CompressionMode = Compres
 
 
 def _both(path: Path, topics: Optional[Sequence[str]] = None) -> Tuple[Any, List[Any]]:
-    """Return (the fast source's list or None, rosbags' list) of the bag's messages."""
+    """Return (the spans' messages as a list, or None where declined; rosbags' list)."""
     with AnyReader([path]) as reader:
         connections = [c for c in reader.connections if topics is None or c.topic in topics]
-        fast = mcap_messages(reader, connections)
-        fast_list = None if fast is None else list(fast)
+        spans = mcap_spans(reader, connections)
+        fast = None if spans is None else [
+            message for each in spans for message in each.messages(range(len(each.codes)))]
         expected = list(reader.messages(connections=connections))
-        return fast_list, expected
+        return fast, expected
 
 
 def _same(fast: List[Any], expected: List[Any]) -> None:
@@ -142,3 +145,42 @@ def test_a_damaged_chunk_is_a_bag_error(tmp_path: Path) -> None:
     path.write_bytes(bytes(data))
     with BagReader(path) as bag, pytest.raises(BagError, match='bag.mcap'):
         list(bag.chunks())
+
+
+def test_the_walk_and_a_damaged_index_give_the_same_messages(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Records walked one by one, or an index that does not tile its chunk: the same."""
+    _write(tmp_path / 'bag', [T0 + (k // 2) * 1_000_000 for k in range(4000)],
+           frames=('world', 'mocap'))
+    path = tmp_path / 'bag' / 'bag.mcap'
+    indexed, expected = _both(path)
+    _same(indexed, expected)
+    with AnyReader([path]) as reader:
+        chunk = reader.readers[0].storage.chunks[0]
+    data = bytearray(path.read_bytes())
+    entry = chunk.chunk_start_offset + chunk.chunk_length + 15 + 8 + 16  # 2nd entry's offset
+    data[entry:entry + 8] = (int.from_bytes(data[entry:entry + 8], 'little') + 1).to_bytes(
+        8, 'little')
+    damaged = tmp_path / 'damaged.mcap'
+    damaged.write_bytes(bytes(data))
+    taken = []
+    indexed_records = mcap._indexed
+    monkeypatch.setattr(mcap, '_indexed', lambda *a: taken.append(indexed_records(*a)))
+    for each in (path, damaged):  # (the spy returns None: both walked)
+        walked, again = _both(each)
+        _same(walked, again)
+        assert len(walked) == 4000
+    assert taken[0] is not None and taken[1] is None  # the damaged index did not tile
+
+
+def test_spans_decode_as_their_messages_do() -> None:
+    """decode_spans gives decode_chunk's chunk of the same messages, for every bundled bag."""
+    for name in ('pitches_90hz.mcap', 'pitches_360hz.mcap'):
+        with BagReader(REPO / 'bags' / name) as bag:
+            reader = bag._open_reader()
+            spans = next(mcap_spans(reader, bag._connections))
+            messages = spans.messages(range(len(spans.codes)))
+            pieces = (decode_spans(spans, bag._routes, lambda *a: bag._slow(reader, *a)),
+                      decode_chunk(messages, bag._routes, lambda *a: bag._slow(reader, *a)))
+        for a, b in zip(*pieces):
+            assert np.array_equal(np.asarray(a), np.asarray(b))
