@@ -20,7 +20,7 @@ from support.bagfiles import reference_message
 REPO = Path(__file__).resolve().parents[2]
 TS2 = get_typestore(Stores.ROS2_JAZZY)
 T0 = 1_700_000_000_000_000_000
-MESSAGES = 24000  # about 94 bytes a record, 1 MB a chunk: three chunks
+MESSAGES = 14000  # 70-94 bytes a record, 1 MB a chunk: two chunks
 
 
 def _write(path: Path, log_times: Sequence[int], mode: CompressionMode = CompressionMode.NONE,
