@@ -26,6 +26,7 @@ Prints the figures; asserts nothing.
 """
 
 import argparse
+import itertools
 import math
 from pathlib import Path
 import resource
@@ -36,7 +37,7 @@ import tracemalloc
 from typing import Callable, List, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
-from baseball_collision.bags.decode import chunk_samples
+from baseball_collision.bags.decode import chunk_samples, SampleChunk
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
@@ -125,15 +126,20 @@ def per_message_chunks(path: Path) -> int:
 
 
 def same_chunks(path: Path) -> bool:
-    """Return whether bulk and per-message chunks hold the same samples (values to the bit)."""
+    """
+    Return whether bulk and per-message chunks hold the same samples (values to the bit).
+
+    Joined, not chunk by chunk: an MCAP bag's chunks follow the file's chunks.
+    """
     with BagReader(path) as bag, BagReader(path) as other:
-        for a, b in zip(bag.chunks(), chunk_samples(other.samples(), 8192)):
-            if not (np.array_equal(a.roles, b.roles) and a.frame_ids == b.frame_ids
-                    and np.array_equal(a.stamps_ns, b.stamps_ns)
-                    and np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
-                    and np.array_equal(a.log_times_ns, b.log_times_ns)):
-                return False
-    return True
+        joined = [SampleChunk(*(np.concatenate(column) if isinstance(column[0], np.ndarray)
+                                else list(itertools.chain(*column)) for column in zip(*chunks)))
+                  for chunks in (list(bag.chunks()), list(chunk_samples(other.samples(), 8192)))]
+    a, b = joined
+    return (np.array_equal(a.roles, b.roles) and a.frame_ids == b.frame_ids
+            and np.array_equal(a.stamps_ns, b.stamps_ns)
+            and np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
+            and np.array_equal(a.log_times_ns, b.log_times_ns))
 
 
 def read_figures(directory: Path, messages: int, storage: str) -> None:
