@@ -3,7 +3,7 @@ Accuracy benchmark: motion models against continuous-time truth, per family, rat
 
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
 [--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
-[--pooled]``.
+[--noise-on both|ball|bat] [--lead S] [--pooled]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -12,10 +12,13 @@ left-handed, braking after contact), pitches with gravity and drag, exact first 
 dense evaluation. Each is sampled at each rate with 0.2 ms stamp jitter on a 1 ms stamp grid
 (uneven steps, as real mocap), and at each noise level per coordinate (the ball; the bat as
 knob and tip markers with their own noise, or as a pose with that position noise and noise /
-0.3 m rad of orientation noise: a rigid-body solve over markers 0.3 m apart). Every method
-sees the same samples. ``reference`` is the plain per-coordinate cubic spline over the whole
-pitch (``tools.reference``: not-a-knot without noise, Reinsch's smoothing spline with the
-known noise), across the contact; the detector's models keep to its rules.
+0.3 m rad of orientation noise: a rigid-body solve over markers 0.3 m apart); ``--noise-on``
+keeps the noise to the ball or the bat (the other exact, each body's draws the same as with
+both: an error budget). ``--lead`` is the tracked time before the contact (s; 0.15 by
+default, the same scenes; a pitch is in flight for about 0.4 s). Every method sees the same
+samples. ``reference`` is the plain per-coordinate cubic spline over the whole pitch
+(``tools.reference``: not-a-knot without noise, Reinsch's smoothing spline with the known
+noise), across the contact; the detector's models keep to its rules.
 
 Recall and precision count contacts and misses clearer than 0.1 mm without noise, 3 mm with;
 errors are over every matched contact (absolute; ``bias`` is the signed mean time error);
@@ -31,7 +34,8 @@ from typing import Callable, Dict, List, Sequence, Tuple
 from baseball_collision.core.detector import DetectorConfig, fitting, kinematics
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.reference import reference_result
-from baseball_collision.tools.sim import CLOSE_KINDS, FAMILIES, KINDS, make_scenario, sample
+from baseball_collision.tools.sim import (
+    CLOSE_KINDS, FAMILIES, KINDS, make_scenario, NOISE_ON, sample)
 import numpy as np
 
 SMOOTHER, VELOCITIES = ('fitting', 'SMOOTHER'), ('kinematics', 'VELOCITIES')
@@ -52,19 +56,21 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-window': {'model': 'c2', VELOCITIES: 'window'},
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
+    'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
     'c2-la2-noise': {'model': 'c2', 'look_ahead': 2},
     'c2-natural-noise': {'model': 'c2', SMOOTHER: ('natural', 'samples')},
     'c2-samples-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'samples')},
     'c2-dof-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'dof')},
 }
 """Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
-not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``). The
-smoothers (``fitting.SMOOTHER``: Reinsch's natural spline and weight rule, the not-a-knot
-penalty with the residual rules) and the other c2 velocity rules (``c2-fits``: the former
-least-squares fits; ``c2-window``: the window fits reaching the closing frame; ``c2-knot``: with
-exact samples the bat's window before the impact fitted with a knot at it; ``c2-poly``: with
-exact samples that window interpolated by one polynomial of degree samples - 1) measured against
-the chosen ones are set by their module constants for the run."""
+not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``),
+``c2-auto`` estimates each stream's (``tracker_noise: auto``). The smoothers (``fitting.SMOOTHER``:
+Reinsch's natural spline and weight rule, the not-a-knot penalty with the residual rules) and the
+other c2 velocity rules (``c2-fits``: the former least-squares fits; ``c2-window``: the window fits
+reaching the closing frame; ``c2-knot``: with exact samples the bat's window before the impact
+fitted with a knot at it; ``c2-poly``: with exact samples that window interpolated by one
+polynomial of degree samples - 1) measured against the chosen ones are set by their module
+constants for the run."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),
@@ -115,23 +121,25 @@ def _row(family: str, rate: float, noise_mm: float, label: str, results) -> Dict
 
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
-        pooled: bool = False) -> List[Tuple]:
+        pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
-    ``pooled``: one row per rate, noise and method over all the families instead.
+    ``pooled``: one row per rate, noise and method over all the families instead;
+    ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact.
     """
     rows = []
     pools: Dict[Tuple, List[PitchResult]] = {}
     for family in families:
         rng = np.random.default_rng(seed)
-        scenarios = [make_scenario(kind, rng, family=family)
+        scenarios = [make_scenario(kind, rng, family=family, lead_s=lead_s)
                      for kind in KINDS + CLOSE_KINDS for _ in range(per_kind)]
         for rate in rates:
             for noise_mm in noises:
                 noise = noise_mm * 1e-3
                 samples = [sample(s, rate, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
-                                  noise_m=noise, marker_spread_m=0.3 if noise else None)
+                                  noise_m=noise, marker_spread_m=0.3 if noise else None,
+                                  noise_on=noise_on)
                            for i, s in enumerate(scenarios)]
                 for label in methods:
                     score = _runner(label, bat, noise)
@@ -162,6 +170,10 @@ def main() -> None:
     parser.add_argument('--methods', nargs='+', default=list(METHODS) + ['reference'],
                         choices=list(METHODS) + ['reference', 'reference-interp'])
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
+    parser.add_argument('--noise-on', choices=NOISE_ON, default='both',
+                        help='the bodies with noise (an error budget: ball or bat only)')
+    parser.add_argument('--lead', type=float, default=0.15,
+                        help='s tracked before the contact (the pitch flies about 0.4 s)')
     parser.add_argument('--pooled', action='store_true',
                         help='one row per rate, noise and method over all the families')
     args = parser.parse_args()
@@ -170,11 +182,12 @@ def main() -> None:
     started = time.perf_counter()
     count = args.per_kind * len(KINDS + CLOSE_KINDS)
     print(f'{count} scenarios per family ({args.per_kind} of each of '
-          f'{len(KINDS + CLOSE_KINDS)} kinds), seed {args.seed}, bat as {args.bat}\n')
+          f'{len(KINDS + CLOSE_KINDS)} kinds), seed {args.seed}, bat as {args.bat}, noise on '
+          f'{args.noise_on}, {args.lead:g} s before the contact\n')
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
-        args.bat, args.pooled)
+        args.bat, args.pooled, args.noise_on, args.lead)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

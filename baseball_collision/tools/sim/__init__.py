@@ -15,7 +15,7 @@ otherwise; quaternions ``(x, y, z, w)``. Import the names below from here.
 from .common import TimeLike, Vector
 from .families import check_family, FAMILIES
 from .pitches import AIR_DENSITY, BALL_MASS, BALL_RADIUS, DRAG_COEFFICIENT, GRAVITY, MPH, Pitch
-from .sampling import DEFAULT_START_NS, sample, Samples, truth_dict
+from .sampling import DEFAULT_START_NS, NOISE_ON, sample, Samples, truth_dict
 from .scenarios import CLOSE_KINDS, KINDS, make_scenario, Scenario
 from .swings import Swing
 from .truth import compute_truth, Truth, TRUTH_GRID_S, TRUTH_TIME_TOLERANCE_S
@@ -24,5 +24,5 @@ __all__ = [
     'GRAVITY', 'AIR_DENSITY', 'DRAG_COEFFICIENT', 'BALL_MASS', 'BALL_RADIUS', 'MPH', 'KINDS',
     'TRUTH_GRID_S', 'TRUTH_TIME_TOLERANCE_S', 'DEFAULT_START_NS', 'Vector', 'TimeLike', 'Pitch',
     'Swing', 'Truth', 'compute_truth', 'Scenario', 'make_scenario', 'Samples', 'sample',
-    'truth_dict', 'CLOSE_KINDS', 'FAMILIES', 'check_family',
+    'truth_dict', 'CLOSE_KINDS', 'FAMILIES', 'check_family', 'NOISE_ON',
 ]

@@ -20,6 +20,9 @@ from ...errors import ToolError
 DEFAULT_START_NS = 1_700_000_000_000_000_000
 """Default absolute stamp (ns since the epoch) of the scenario start in ``sample``."""
 
+NOISE_ON = ('both', 'ball', 'bat')
+"""The bodies ``sample`` can put the noise on (``noise_on``)."""
+
 
 @dataclass(frozen=True)
 class Samples:
@@ -93,7 +96,7 @@ def _stamps(t_end: float, rate_hz: float, rng: np.random.Generator, jitter_s: fl
 def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
            jitter_s: float = 0.0, grid_s: Optional[float] = None, noise_m: float = 0.0,
            start_ns: int = DEFAULT_START_NS, bat_offset_s: float = 0.0,
-           marker_spread_m: Optional[float] = None) -> Samples:
+           marker_spread_m: Optional[float] = None, noise_on: str = 'both') -> Samples:
     """
     Sample a scenario as a tracker would.
 
@@ -108,7 +111,9 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     pose has ``noise_m`` on its position and ``noise_m / marker_spread_m`` rad per axis on its
     orientation (a small random rotation, applied in the world frame), the noise of a
     rigid-body solve over markers that far apart. With ``bat_offset_s == 0`` the bat has the
-    ball's stamps.
+    ball's stamps. ``noise_on`` keeps the noise to one body (``'ball'`` or ``'bat'``; the other
+    is exact): every draw is still made, so each body's noise is the one it has with
+    ``'both'`` (an error budget compares like with like).
 
     :param scenario: what to sample.
     :param rate_hz: nominal sample rate (Hz, > 0).
@@ -120,15 +125,20 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     :param bat_offset_s: shift (s) of the bat stream's nominal times.
     :param marker_spread_m: the markers' spread (m, > 0; 0.3 for a bat), or None for one
         position noise shared by pose, knob and tip.
+    :param noise_on: ``'both'``, ``'ball'`` or ``'bat'``: the bodies whose samples get the
+        noise.
 
     :returns: The samples.
 
-    :raises ToolError: a rate, jitter, grid, noise or spread out of range.
+    :raises ToolError: a rate, jitter, grid, noise or spread out of range, or an unknown
+        ``noise_on``.
     """
     rate_hz = check_number('rate_hz', rate_hz, positive=True)
     jitter_s = check_number('jitter_s', jitter_s, minimum=0.0)
     noise_m = check_number('noise_m', noise_m, minimum=0.0)
     bat_offset_s = check_number('bat_offset_s', bat_offset_s)
+    if noise_on not in NOISE_ON:
+        raise ToolError(f"noise_on must be one of {', '.join(NOISE_ON)}, got {noise_on!r}")
     if marker_spread_m is not None:
         marker_spread_m = check_number('marker_spread_m', marker_spread_m, positive=True)
     if grid_s is not None:
@@ -148,6 +158,7 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
     bat_times = bat_rel * 1e-9
     position, quaternion = scenario.swing.pose(bat_times)
     knobs, tips = scenario.swing.knob_tip(bat_times)
+    exact = ball, position, quaternion, knobs, tips
     if noise_m > 0.0 and marker_spread_m is not None:
         ball = ball + rng.normal(0.0, noise_m, ball.shape)
         position, quaternion = _shaken_pose(position, quaternion, noise_m,
@@ -158,6 +169,10 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
         ball = ball + rng.normal(0.0, noise_m, ball.shape)
         shake = rng.normal(0.0, noise_m, position.shape)
         position, knobs, tips = position + shake, knobs + shake, tips + shake
+    if noise_on == 'bat':
+        ball = exact[0]
+    elif noise_on == 'ball':
+        position, quaternion, knobs, tips = exact[1:]
     return Samples(
         ball_stamps_ns=np.int64(start) + ball_rel, ball_positions=ball,
         bat_stamps_ns=np.int64(start) + bat_rel, bat_positions=position,

@@ -78,10 +78,31 @@ def test_jitter_noise_and_bat_offset(scenarios: dict) -> None:
         assert np.abs(got_knob - knob).max() < 1e-12
 
 
+@pytest.mark.parametrize('spread', [None, 0.3])
+def test_noise_on_one_body(scenarios: dict, spread) -> None:
+    """``noise_on`` keeps one body exact and gives the other the noise it has with 'both'."""
+    scenario = scenarios['barrel'][0]
+    drawn = {on: sample(scenario, 120.0, np.random.default_rng(3), jitter_s=2e-4, grid_s=1e-3,
+                        noise_m=0.001, marker_spread_m=spread, noise_on=on)
+             for on in ('both', 'ball', 'bat')}
+    exact = sample(scenario, 120.0, np.random.default_rng(3), jitter_s=2e-4, grid_s=1e-3)
+    both, ball, bat = drawn['both'], drawn['ball'], drawn['bat']
+    for samples in (ball, bat):
+        assert np.array_equal(samples.ball_stamps_ns, both.ball_stamps_ns)
+    assert np.array_equal(ball.ball_positions, both.ball_positions)
+    assert np.array_equal(bat.ball_positions, exact.ball_positions)
+    for name in ('bat_positions', 'bat_quaternions', 'knobs', 'tips'):
+        assert np.array_equal(getattr(bat, name), getattr(both, name))
+        assert np.array_equal(getattr(ball, name), getattr(exact, name))
+    assert not np.array_equal(both.knobs, exact.knobs)
+    assert not np.array_equal(both.ball_positions, exact.ball_positions)
+
+
 def test_sample_refuses_bad_input(scenarios: dict) -> None:
-    """Non-positive rates, negative jitter or noise raise ToolError."""
+    """Non-positive rates, negative jitter or noise, an unknown body raise ToolError."""
     scenario = scenarios['barrel'][0]
     for kwargs in ({'rate_hz': 0.0}, {'rate_hz': 90.0, 'jitter_s': -1.0},
-                   {'rate_hz': 90.0, 'noise_m': -1.0}, {'rate_hz': 90.0, 'grid_s': 0.0}):
+                   {'rate_hz': 90.0, 'noise_m': -1.0}, {'rate_hz': 90.0, 'grid_s': 0.0},
+                   {'rate_hz': 90.0, 'noise_on': 'glove'}):
         with pytest.raises(ToolError):
             sample(scenario, rng=np.random.default_rng(0), **kwargs)
