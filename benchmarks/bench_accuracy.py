@@ -39,6 +39,7 @@ from baseball_collision.tools.sim import (
 import numpy as np
 
 SMOOTHER, VELOCITIES = ('fitting', 'SMOOTHER'), ('kinematics', 'VELOCITIES')
+FLIGHT = ('fitting', 'FLIGHT')
 """Keys of METHODS entries that set a module constant for the run (not config fields)."""
 
 METHODS: Dict[object, Dict[object, object]] = {
@@ -57,11 +58,14 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
     'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
-    'c2-la2-noise': {'model': 'c2', 'look_ahead': 2},
-    'c2-natural-noise': {'model': 'c2', SMOOTHER: ('natural', 'samples')},
-    'c2-samples-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'samples')},
-    'c2-dof-noise': {'model': 'c2', SMOOTHER: ('not-a-knot', 'dof')},
 }
+METHODS.update({
+    f'c2-flight{degree}{end_label}{span_label}-{told}': dict(
+        {'model': 'c2', FLIGHT: (degree, span, end)},
+        **({'tracker_noise': -1.0} if told == 'auto' else {}),
+        **({'prediction_window': span / 1.5} if span > 0.15 else {}))
+    for degree in (2, 3) for end, end_label in (('closing', ''), ('opening', '-open'))
+    for span, span_label in ((0.15, ''), (0.3, '-long')) for told in ('noise', 'auto')})
 """Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
 not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``),
 ``c2-auto`` estimates each stream's (``tracker_noise: auto``). The smoothers (``fitting.SMOOTHER``:
@@ -70,7 +74,10 @@ other c2 velocity rules (``c2-fits``: the former least-squares fits; ``c2-window
 reaching the closing frame; ``c2-knot``: with exact samples the bat's window before the impact
 fitted with a knot at it; ``c2-poly``: with exact samples that window interpolated by one
 polynomial of degree samples - 1) measured against the chosen ones are set by their module
-constants for the run."""
+constants for the run. ``c2-flightD[-open][-long]-noise|auto``: the ball's flight fit
+(``fitting.FLIGHT``: a polynomial of degree D, its window ending at the interval's closing frame
+or with ``-open`` its opening frame, over 0.15 s or with ``-long`` 0.3 s: the streams' trim
+history, 0.15 s by default, bounds it, so ``-long`` raises ``prediction_window`` to 0.2 s)."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),
@@ -96,17 +103,20 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
     noise = {'tracker_noise': noise_m} if label.endswith('-noise') else {}
     fields = {key: value for key, value in METHODS[label].items() if isinstance(key, str)}
     config = DetectorConfig(bat_input=bat, **fields, **noise)
-    constants = {SMOOTHER: fitting.SMOOTHER, VELOCITIES: kinematics.VELOCITIES}
+    modules = {'fitting': fitting, 'kinematics': kinematics}
+    constants = {key: getattr(modules[key[0]], key[1]) for key in (SMOOTHER, VELOCITIES, FLIGHT)}
     constants.update((key, value) for key, value in METHODS[label].items()
                      if not isinstance(key, str))
 
     def score(scenario, samples):
-        saved = fitting.SMOOTHER, kinematics.VELOCITIES
-        fitting.SMOOTHER, kinematics.VELOCITIES = constants[SMOOTHER], constants[VELOCITIES]
+        saved = {key: getattr(modules[key[0]], key[1]) for key in constants}
+        for key, value in constants.items():
+            setattr(modules[key[0]], key[1], value)
         try:
             return run_samples(scenario, samples, config)[1]
         finally:
-            fitting.SMOOTHER, kinematics.VELOCITIES = saved
+            for key, value in saved.items():
+                setattr(modules[key[0]], key[1], value)
     return score
 
 

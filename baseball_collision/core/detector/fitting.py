@@ -17,7 +17,7 @@ path's new chart origin: the rotation vectors' rates are carried over to it nume
 """
 
 import math
-from typing import Any, List, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -26,6 +26,7 @@ from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
     unit_axis
 from ..motion.c2 import rotation_to
+from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
 
 SMOOTHER = ('not-a-knot', 'likelihood')
@@ -41,6 +42,16 @@ as at 90 Hz (chosen by measurement)."""
 
 MAX_WINDOW = 32
 """Most samples in a smoothed window (``spline_window``'s largest value)."""
+
+FLIGHT: Optional[Tuple[int, float, str]] = None
+"""With noise, the ball's flight fit (``motion.flight``): (polynomial degree, span in s, where
+its window ends: ``'closing'``, the interval's window's newest sample, and where that fails the
+guard (a ball that bounced off the bat by then) its opening frame; ``'opening'``, the opening
+frame only; from the opening frame the path is carried over the interval), or None for the
+window smoother alone."""
+
+FLIGHT_MIN_SAMPLES = 8
+"""Fewest samples a flight fit takes (fewer: the smoother)."""
 
 _STEP = 1e-4
 """rad: the step along a rotation vector's rate when its chart changes (numeric derivative)."""
@@ -77,8 +88,64 @@ def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
     return not_a_knot_slopes(times, rows).tolist()
 
 
-def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> PointPath:
-    """Return the ball's ``c2`` path over interval k: its window spline's piece (smoothed)."""
+def kept_history(config: Any) -> float:
+    """
+    Return how far (s) behind the detector's cursor every stream keeps its samples.
+
+    The scheduler's and the chunk path's trim (``1.5 max(velocity_window, prediction_window)``,
+    plus a few samples): a fit reaching no further back sees the same samples in the node and
+    in ``analyze`` whenever it is made.
+    """
+    return 1.5 * max(config.velocity_window, config.prediction_window)
+
+
+def flight_window(stream: Stream, last: int, max_gap: float, span: float) -> range:
+    """Return the samples up to ``last`` within ``span`` s of it, in its segment, no long gap."""
+    times, breaks = stream.times, stream.breaks
+    first, newest = last, times[last]
+    while (first > 0 and not breaks[first] and times[first] - times[first - 1] <= max_gap
+           and newest - times[first - 1] <= span):
+        first -= 1
+    return range(first, last + 1)
+
+
+def ball_flight(stream: Stream, k: int, window: range, noise: float,
+                config: Any) -> Optional[FlightFit]:
+    """
+    Return the ball's flight fit for interval k (``FLIGHT``), or None for the smoother.
+
+    None without noise or a config, when ``FLIGHT`` is None, with too few samples, or when the
+    residuals fail the chi-square guard (the ball not in free flight: held, bounced, deflected)
+    for each window tried (``FLIGHT``'s end).
+
+    :param window: the interval's ``c2_window`` (its newest sample ends a ``'closing'`` fit).
+    """
+    if FLIGHT is None or config is None or not noise > 0.0:
+        return None
+    degree, span, end = FLIGHT
+    span = min(span, kept_history(config))
+    for last in ((window.stop - 1, k) if end == 'closing' else (k,)):
+        found = flight_window(stream, last, config.max_gap, span)
+        fit = flight_or_none([stream.times[i] for i in found],
+                             np.asarray(stream.values[found.start:found.stop], dtype=float),
+                             noise, degree, FLIGHT_MIN_SAMPLES)
+        if fit is not None:
+            return fit
+    return None
+
+
+def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
+                  config: Any = None) -> PointPath:
+    """
+    Return the ball's ``c2`` path over interval k: its window spline's piece (smoothed).
+
+    With noise and a ``config`` (its ``max_gap`` and trim history), the flight fit instead where
+    ``ball_flight`` finds one.
+    """
+    fit = ball_flight(stream, k, window, noise, config)
+    if fit is not None:
+        t0, t1 = stream.times[k], stream.times[k + 1]
+        return PointPath(t0, t1, fit.at(t0), fit.at(t1), fit.velocity(t0), fit.velocity(t1))
     if noise > 0.0:
         window = widened(stream, window)
     times = [stream.times[i] for i in window]
@@ -208,14 +275,21 @@ def piece_weights(times: Sequence[float], smoother: np.ndarray, j: int,
     return value @ smoother, rate @ smoother
 
 
-def point_gains(stream: Stream, window: range, k: int, t: float,
-                noise: float) -> Tuple[float, float]:
+def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
+                config: Any = None) -> Tuple[float, float]:
     """
     Return the root sum of squares of the samples' weights in a ``c2`` point's value and rate.
 
     Times the noise (m, per coordinate) they are the 1-sigma errors its noise makes in each
-    coordinate of the ball's position (m) and velocity (m/s) at t (s) on interval k.
+    coordinate of the ball's position (m) and velocity (m/s) at t (s) on interval k. A flight
+    fit's (``ball_flight``, as ``c2_point_path`` takes it) are scaled by its residuals' excess
+    over the noise (``FlightFit.excess``), so a misfit the guard lets through widens them.
     """
+    fit = ball_flight(stream, k, window, noise, config)
+    if fit is not None:
+        value, rate = fit.weights(t)
+        return (fit.excess * float(np.linalg.norm(value)),
+                fit.excess * float(np.linalg.norm(rate)))
     if noise > 0.0:
         window = widened(stream, window)
     times = [stream.times[i] for i in window]

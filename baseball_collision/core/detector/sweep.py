@@ -124,7 +124,7 @@ class Sweep:
         if ball.path_key != key and c2:
             ball.path = c2_point_path(ball, ball_k, c2_window(
                 ball, ball_k, config.max_gap, config.look_ahead, config.spline_window),
-                stream_noise(ball, config))
+                stream_noise(ball, config), config)
             ball.path_key = key
         if ball.path_key != key:
             before, after = _neighbours(ball, ball_k, self.config.max_gap)

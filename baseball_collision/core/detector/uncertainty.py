@@ -45,12 +45,13 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from . import fitting
 from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Impact
 from .fitting import (
-    bat_gains, c2_bat_path, c2_window, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN, point_gains,
-    stream_noise, swing_rate)
+    bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN,
+    point_gains, stream_noise, swing_rate)
 from .gate import Clock
 from .kinematics import velocity_interval
 from .streams import Stream
@@ -92,8 +93,10 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
 def _span(stream: Stream, start: float, end: float, config: DetectorConfig) -> Tuple[int, int]:
     """Return the sample indices a re-solve of [start, end] (s) can need from a stream."""
     back = max(config.spline_window, MAX_WINDOW) + MARGIN_SAMPLES
-    first = bisect_right(stream.times, start - max(config.velocity_window, NOISE_SPAN) - 1e-6
-                         ) - 1 - back
+    reach = max(config.velocity_window, NOISE_SPAN)
+    if fitting.FLIGHT is not None and stream_noise(stream, config) > 0.0:
+        reach = max(reach, kept_history(config))  # a flight fit's window
+    first = bisect_right(stream.times, start - reach - 1e-6) - 1 - back
     last = bisect_left(stream.times, end) + config.look_ahead + 1 + MARGIN_SAMPLES
     return max(first, 0), min(last, len(stream.times) - 1)
 
@@ -215,7 +218,7 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     size, gap = config.spline_window, config.max_gap
     k = ball.interval(ta)
     ball_value, _ = point_gains(ball, c2_window(ball, k, gap, config.look_ahead, size), k, t,
-                                ball_sigma)
+                                ball_sigma, config)
     ball_error = ball_sigma * ball_value
     k = bat.interval(ta)
     (knob, turn, length), _ = bat_gains(bat, c2_window(bat, k, gap, config.look_ahead, size),

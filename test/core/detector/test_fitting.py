@@ -2,8 +2,10 @@
 
 import math
 
+from baseball_collision.core.detector import DetectorConfig, fitting
 from baseball_collision.core.detector.fitting import (
-    bat_gains, c2_bat_path, c2_point_path, c2_window, point_gains, swing_rate, widened)
+    ball_flight, bat_gains, c2_bat_path, c2_point_path, c2_window, flight_window, kept_history,
+    point_gains, swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
 import numpy as np
@@ -124,3 +126,88 @@ def test_propagated_spreads_match_a_monte_carlo_of_the_paths(rate: float) -> Non
     assert np.mean(spread['knob']) == pytest.approx(knob, rel=0.25)
     assert np.sqrt(np.sum(spread['turn'] ** 2) / 2.0) == pytest.approx(turn, rel=0.25)
     assert np.mean(spread['knob_rate']) == pytest.approx(knob_rate, rel=0.25)
+
+
+@pytest.fixture
+def flight(monkeypatch):
+    """Turn the ball's flight fit on (degree 2 over 0.15 s, ending at the closing frame)."""
+    monkeypatch.setattr(fitting, 'FLIGHT', (2, 0.15, 'closing'))
+
+
+def _bounced(ball: Stream, at: int) -> None:
+    """Send the ball back toward the pitcher from sample ``at`` on (a hit)."""
+    t0, y0 = ball.times[at - 1], ball.values[at - 1]
+    ball.values[at:] = [(y0[0] + 30.0 * (t - t0), y0[1], y0[2]) for t in ball.times[at:]]
+
+
+def _same(path, other) -> bool:
+    """Return True when two point paths give the same positions to the bit over their span."""
+    return (path.t0, path.t1) == (other.t0, other.t1) and all(
+        path.at(t) == other.at(t) for t in np.linspace(path.t0, path.t1, 5))
+
+
+@pytest.mark.usefixtures('flight')
+def test_flight_fit_takes_the_ball_in_free_flight_and_not_a_bounce() -> None:
+    """
+    A ballistic ball with noise gets the flight fit's path, closer to the truth than smoothed.
+
+    Bounced at the closing frame, the fit ending at the opening frame; bounced before it, or
+    without noise or a config, today's window paths.
+    """
+    config = DetectorConfig(model='c2')
+    noise, k = 1e-3, 22
+    errors = {'flight': [], 'smoothed': []}
+    for seed in range(40):
+        ball, _ = _streams(120.0, noise, 300 + seed)
+        window = c2_window(ball, k, config.max_gap, 0, 8)
+        t = 0.5 * (ball.times[k] + ball.times[k + 1])
+        fit = ball_flight(ball, k, window, noise, config)
+        assert fit is not None and fit.centre + fit.scale == pytest.approx(ball.times[k + 1])
+        path = c2_point_path(ball, k, window, noise, config)
+        assert np.allclose(path.at(t), fit.at(t), atol=1e-12)
+        truth = _swing(t)[0]
+        errors['flight'].append(np.subtract(path.at(t), truth))
+        errors['smoothed'].append(np.subtract(c2_point_path(ball, k, window, noise).at(t), truth))
+    assert np.std(errors['flight']) < 0.9 * np.std(errors['smoothed'])
+    ball, _ = _streams(120.0, noise, 7)
+    window = c2_window(ball, k, config.max_gap, 0, 8)
+    assert _same(c2_point_path(ball, k, window, 0.0, config), c2_point_path(ball, k, window))
+    assert _same(c2_point_path(ball, k, window, noise, None),
+                 c2_point_path(ball, k, window, noise))
+    _bounced(ball, k + 1)
+    fit = ball_flight(ball, k, window, noise, config)
+    assert fit is not None and fit.centre + fit.scale == pytest.approx(ball.times[k])
+    _bounced(ball, k - 2)
+    assert ball_flight(ball, k, window, noise, config) is None
+    assert _same(c2_point_path(ball, k, window, noise, config),
+                 c2_point_path(ball, k, window, noise))
+
+
+@pytest.mark.usefixtures('flight')
+def test_flight_window_keeps_to_its_segment_gaps_and_history() -> None:
+    """It reaches back 0.15 s at most, not past a segment's start or a gap longer than max_gap."""
+    ball, _ = _streams(360.0, 0.0, 1, 90)
+    found = flight_window(ball, 80, 0.05, 0.15)
+    assert ball.times[80] - ball.times[found.start] <= 0.15
+    assert ball.times[80] - ball.times[found.start - 1] > 0.15
+    ball.breaks[60] = True
+    assert flight_window(ball, 80, 0.05, 0.15).start == 60
+    assert flight_window(ball, 80, 0.3 * (ball.times[71] - ball.times[70]), 0.15).start == 80
+    config = DetectorConfig(model='c2', velocity_window=0.02, prediction_window=0.02)
+    assert kept_history(config) == pytest.approx(0.03)
+
+
+@pytest.mark.usefixtures('flight')
+def test_flight_gains_match_a_monte_carlo() -> None:
+    """``point_gains`` of a flight fit: its positions' spread at t over 200 draws (+-15 %)."""
+    config = DetectorConfig(model='c2')
+    noise, k = 1e-3, 22
+    at = []
+    for seed in range(200):
+        ball, _ = _streams(360.0, noise, 500 + seed)
+        window = c2_window(ball, k, config.max_gap, 0, 8)
+        t = 0.3 * ball.times[k] + 0.7 * ball.times[k + 1]
+        at.append(c2_point_path(ball, k, window, noise, config).at(t))
+    gain = point_gains(ball, window, k, t, noise, config)[0]
+    assert gain < point_gains(ball, window, k, t, noise)[0]
+    assert np.mean(np.std(np.array(at), axis=0)) == pytest.approx(gain * noise, rel=0.15)

@@ -1,0 +1,155 @@
+"""
+A ball in free flight through noisy samples: one low-order polynomial in time per coordinate.
+
+Physics assumed: between release and contact a ball moves under gravity, air drag and a spin
+(Magnus) force, and over a few tenths of a second these change slowly: the drag with the square
+of a speed that falls by a few per cent, the spin force's direction with the velocity's. So its
+acceleration is nearly constant (``degree`` 2: a parabola per coordinate, nine unknowns) or
+changes at a nearly constant rate (``degree`` 3: a cubic per coordinate, twelve unknowns). No
+drag coefficient, spin, mass or air density is assumed, and gravity is not assumed either (it
+is one of the fitted accelerations), so a ball tossed, pitched or launched by a machine fits
+alike. What it leaves out is the acceleration's own change (``degree`` 2) or its curvature
+(``degree`` 3): for a 40 m/s pitch the drag's rate of change is about 5 m/s^3, a bias of about
+``jerk span^3 / 120`` at the window's newest sample for a parabola (0.14 mm over 0.15 s,
+1.1 mm over 0.3 s; more carried beyond it).
+
+The fit is ordinary least squares (every sample of a stream has the same noise, so weighting
+by it changes nothing but the scale), in time centred and scaled on the window for
+conditioning. The goodness-of-fit guard (``FlightFit.free``) is a chi-square test of the
+residuals against the noise: ``sum (y - f)^2 / sigma^2`` over the three coordinates against the
+upper ``CHI_SQUARE_Z`` quantile of a chi-square with ``3 (n - degree - 1)`` degrees of freedom
+(Wilson-Hilferty's normal approximation). A ball held in a hand, bounced, deflected or swapped
+for another mid-window fails it; so does a noise level told too small. Everything is linear in
+the samples: ``FlightFit.weights`` gives the value's and rate's weights at a time, for the
+uncertainties (the covariance of a coordinate's value is ``sigma^2 |value weights|^2``,
+scaled up by the residuals' excess over the noise when they have one: Birge's ratio).
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+CHI_SQUARE_Z = 3.09
+"""Standard normal quantile of the guard's chi-square test (one-sided p = 0.001)."""
+
+
+def chi_square_bound(dof: int, z: float = CHI_SQUARE_Z) -> float:
+    """
+    Return the upper quantile of a chi-square of ``dof`` degrees of freedom at normal quantile z.
+
+    Wilson and Hilferty (1931): (chi2 / dof)^(1/3) is close to normal with mean 1 - 2 / (9 dof)
+    and variance 2 / (9 dof); good to about a per cent in the bound from 10 degrees on.
+
+    :raises ValueError: dof < 1.
+    """
+    if dof < 1:
+        raise ValueError(f'a chi-square needs at least one degree of freedom, got {dof}')
+    spread = 2.0 / (9.0 * dof)
+    return dof * (1.0 - spread + z * math.sqrt(spread)) ** 3
+
+
+@dataclass(frozen=True)
+class FlightFit:
+    """
+    One polynomial per coordinate fitted to a window of a point's samples.
+
+    :ivar centre, scale: the time axis (s): ``tau = (t - centre) / scale``.
+    :ivar coefficients: (degree + 1, 3) in powers of tau (m).
+    :ivar solve: (degree + 1, n) the least-squares solution operator: ``coefficients = solve @
+        values``.
+    :ivar chi_square: weighted residual sum over the three coordinates (dimensionless).
+    :ivar dof: its degrees of freedom, ``3 (n - degree - 1)``.
+    """
+
+    centre: float
+    scale: float
+    coefficients: np.ndarray
+    solve: np.ndarray
+    chi_square: float
+    dof: int
+
+    @property
+    def degree(self) -> int:
+        """Return the polynomials' degree."""
+        return len(self.coefficients) - 1
+
+    @property
+    def free(self) -> bool:
+        """Return True when the residuals pass the chi-square test (the module docstring)."""
+        return self.chi_square <= chi_square_bound(self.dof)
+
+    @property
+    def excess(self) -> float:
+        """Return the residuals' excess over the noise (>= 1): sqrt(chi_square / dof)."""
+        return max(1.0, math.sqrt(self.chi_square / self.dof))
+
+    def _rows(self, t: float) -> Tuple[np.ndarray, np.ndarray]:
+        """Return the basis at t (s) and its derivative per second."""
+        tau = (t - self.centre) / self.scale
+        powers = np.arange(self.degree + 1)
+        value = tau ** powers
+        rate = np.zeros(self.degree + 1)
+        rate[1:] = powers[1:] * tau ** (powers[1:] - 1) / self.scale
+        return value, rate
+
+    def at(self, t: float) -> Tuple[float, float, float]:
+        """Return the fitted position (m) at t (s)."""
+        return tuple((self._rows(t)[0] @ self.coefficients).tolist())
+
+    def velocity(self, t: float) -> Tuple[float, float, float]:
+        """Return the fitted rate of the position (m/s) at t (s)."""
+        return tuple((self._rows(t)[1] @ self.coefficients).tolist())
+
+    def weights(self, t: float) -> Tuple[np.ndarray, np.ndarray]:
+        """
+        Return each sample's weight (n,) in the fitted value and rate (per s) at t (s).
+
+        The same for each coordinate: value = ``value_weights @ values[:, c]``.
+        """
+        value, rate = self._rows(t)
+        return value @ self.solve, rate @ self.solve
+
+
+def fit_flight(times: Sequence[float], values: np.ndarray, sigma: float,
+               degree: int = 2) -> FlightFit:
+    """
+    Return the least-squares polynomials of ``degree`` through a window of point samples.
+
+    :param times: (n,) strictly increasing (s); ``values``: (n, 3) positions (m); ``sigma``:
+        the noise per coordinate (m, > 0); ``degree``: 2 or 3 (the module docstring).
+    :raises ValueError: fewer than ``degree + 2`` samples, shapes that do not match, a sigma
+        that is not positive, or times that do not increase.
+    """
+    t = np.asarray(times, dtype=float)
+    y = np.asarray(values, dtype=float)
+    n = len(t)
+    if y.shape != (n, 3):
+        raise ValueError(f'values {y.shape} do not match {n} stamps')
+    if n < degree + 2:
+        raise ValueError(f'a degree-{degree} flight fit needs {degree + 2} samples, got {n}')
+    if not sigma > 0.0:
+        raise ValueError(f'sigma must be positive, got {sigma!r}')
+    if not np.all(np.diff(t) > 0.0):
+        raise ValueError('times must increase strictly')
+    centre, scale = 0.5 * float(t[0] + t[-1]), 0.5 * float(t[-1] - t[0])
+    basis = ((t - centre) / scale)[:, None] ** np.arange(degree + 1)[None, :]
+    solve = np.linalg.pinv(basis)
+    coefficients = solve @ y
+    residuals = y - basis @ coefficients
+    chi_square = float(np.sum(residuals * residuals)) / (sigma * sigma)
+    return FlightFit(centre, scale, coefficients, solve, chi_square, 3 * (n - degree - 1))
+
+
+def flight_or_none(times: Sequence[float], values: np.ndarray, sigma: float, degree: int,
+                   min_samples: int) -> Optional[FlightFit]:
+    """
+    Return the flight fit of a window when it has ``min_samples`` and passes the guard, or None.
+
+    :param times, values, sigma, degree: as for ``fit_flight``.
+    """
+    if len(times) < max(min_samples, degree + 2):
+        return None
+    fit = fit_flight(times, values, sigma, degree)
+    return fit if fit.free else None
