@@ -58,6 +58,8 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
     'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
+    'c2-smoother-noise': {'model': 'c2', FLIGHT: None},
+    'c2-smoother-auto': {'model': 'c2', 'tracker_noise': -1.0, FLIGHT: None},
 }
 METHODS.update({
     f'c2-flight{degree}{end_label}{span_label}-{told}': dict(
@@ -74,10 +76,12 @@ other c2 velocity rules (``c2-fits``: the former least-squares fits; ``c2-window
 reaching the closing frame; ``c2-knot``: with exact samples the bat's window before the impact
 fitted with a knot at it; ``c2-poly``: with exact samples that window interpolated by one
 polynomial of degree samples - 1) measured against the chosen ones are set by their module
-constants for the run. ``c2-flightD[-open][-long]-noise|auto``: the ball's flight fit
-(``fitting.FLIGHT``: a polynomial of degree D, its window ending at the interval's closing frame
-or with ``-open`` its opening frame, over 0.15 s or with ``-long`` 0.3 s: the streams' trim
-history, 0.15 s by default, bounds it, so ``-long`` raises ``prediction_window`` to 0.2 s)."""
+constants for the run. ``c2-smoother-noise|auto``: the ball smoothed like the bat (no flight fit,
+``fitting.FLIGHT`` None: the rule before it). ``c2-flightD[-open][-long]-noise|auto``: the ball's
+flight fit (``fitting.FLIGHT``: a polynomial of degree D, its window ending at the interval's
+closing frame or with ``-open`` its opening frame, over 0.15 s or with ``-long`` 0.3 s: the
+streams' trim history, 0.15 s by default, bounds it, so ``-long`` raises ``prediction_window`` to
+0.2 s)."""
 
 COLUMNS = (
     ('recall', '{:.3f}'), ('precision', '{:.3f}'), ('time_error_us_p50', '{:.1f}'),

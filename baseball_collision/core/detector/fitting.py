@@ -14,6 +14,14 @@ its direction in the rotation-vector chart (sigma * sqrt(2) / length rad across 
 knob and tip points, sigma / ``MARKER_SPREAD_M`` from a pose) and its length (sigma * sqrt(2)
 from points; exact from a pose). The smoothed direction at the interval's opening frame is the
 path's new chart origin: the rotation vectors' rates are carried over to it numerically.
+
+The ball's centre under noise comes first from its flight fit (``FLIGHT``, ``motion.flight``):
+one parabola per coordinate through its samples of the last 0.15 s up to the interval's closing
+frame (its segment only, no gap longer than ``max_gap``, no further back than the streams keep
+samples: ``kept_history``), the path the fit's piece over the interval. A chi-square test of
+the residuals against the noise guards it: where it fails (a ball held, bounced off the bat by
+the closing frame, deflected), the fit ending at the opening frame, then the smoother. Without
+noise nothing changes.
 """
 
 import math
@@ -43,12 +51,13 @@ as at 90 Hz (chosen by measurement)."""
 MAX_WINDOW = 32
 """Most samples in a smoothed window (``spline_window``'s largest value)."""
 
-FLIGHT: Optional[Tuple[int, float, str]] = None
+FLIGHT: Optional[Tuple[int, float, str]] = (2, 0.15, 'closing')
 """With noise, the ball's flight fit (``motion.flight``): (polynomial degree, span in s, where
 its window ends: ``'closing'``, the interval's window's newest sample, and where that fails the
 guard (a ball that bounced off the bat by then) its opening frame; ``'opening'``, the opening
 frame only; from the opening frame the path is carried over the interval), or None for the
-window smoother alone."""
+window smoother alone. A parabola over 0.15 s (the streams' default trim history) ending at the
+closing frame, chosen by measurement (BENCHMARKS.md, "The ball's flight fit")."""
 
 FLIGHT_MIN_SAMPLES = 8
 """Fewest samples a flight fit takes (fewer: the smoother)."""

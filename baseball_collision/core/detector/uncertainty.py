@@ -9,6 +9,9 @@ linear propagation (``propagated``): its paths are linear in their windows' samp
 noise gives each path's position and rate at the impact a known spread, carried to the gap
 along the contact normal (the time, over the closing speed), to the contact's place along the
 bat (the spot) and to the sweet spot's velocity (the speed). No re-solve, about a millisecond.
+The ball's spread is its flight fit's (``fitting.point_gains``: the least-squares covariance,
+widened by the residuals' excess over the noise) where the detector took one, else its
+smoother's.
 Under ``c2`` with a look-ahead, the difference from the same fit without it is added in
 quadrature (how far the frames after the contact bent it: a bias, not noise).
 

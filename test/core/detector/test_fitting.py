@@ -1,13 +1,17 @@
 """Tests for the c2 windows with noise: smoothed paths, their rates, the propagated spreads."""
 
+from collections import Counter
 import math
 
-from baseball_collision.core.detector import DetectorConfig, fitting
+from baseball_collision.core.detector import Detector, DetectorConfig, fitting, Impact
+from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.fitting import (
     ball_flight, bat_gains, c2_bat_path, c2_point_path, c2_window, flight_window, kept_history,
     point_gains, swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
+from baseball_collision.core.motion.flight import flight_or_none
+from baseball_collision.tools.sim import DEFAULT_START_NS as START_NS, make_scenario, sample
 import numpy as np
 import pytest
 
@@ -211,3 +215,39 @@ def test_flight_gains_match_a_monte_carlo() -> None:
     gain = point_gains(ball, window, k, t, noise, config)[0]
     assert gain < point_gains(ball, window, k, t, noise)[0]
     assert np.mean(np.std(np.array(at), axis=0)) == pytest.approx(gain * noise, rel=0.15)
+
+
+def test_flight_fit_is_the_same_in_chunks_and_one_sample_at_a_time(monkeypatch) -> None:
+    """Told the noise, ``add_chunk`` and ``add`` find the same impacts through flight fits."""
+    taken = []
+
+    def counting(*args, **kwargs):
+        found = flight_or_none(*args, **kwargs)
+        taken.append(found is not None)
+        return found
+    monkeypatch.setattr(fitting, 'flight_or_none', counting)
+    rng = np.random.default_rng(11)
+    messages = []
+    for i, kind in enumerate(('barrel', 'handle', 'miss_over')):
+        scenario = make_scenario(kind, rng, family='tilted')
+        samples = sample(scenario, 360.0, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
+                         noise_m=1e-3, marker_spread_m=0.3, start_ns=START_NS + i * 10 ** 9)
+        messages += samples.messages('pose')
+    config = DetectorConfig(model='c2', bat_input='pose', tracker_noise=1e-3)
+    one = Detector(config)
+    expected = [event for stamp, role, row in messages for event in one.add(role, stamp, row)]
+    expected += one.finish()
+    values = np.zeros((len(messages), 7))
+    for r, (_, _, row) in enumerate(messages):
+        values[r, :len(row)] = row
+    roles = np.array([ROLE_CODES[role] for _, role, _ in messages], np.int8)
+    stamps = np.array([stamp for stamp, _, _ in messages], np.int64)
+    chunked, events = Detector(config), []
+    for start in range(0, len(messages), 200):
+        part = slice(start, start + 200)
+        events += chunked.add_chunk(roles[part], stamps[part], values[part],
+                                    ['world'] * len(roles[part]), Counter())
+    events += chunked.finish()
+    assert events == expected
+    assert sum(isinstance(event, Impact) for event in events) == 2
+    assert any(taken)
