@@ -78,7 +78,16 @@ class FlightFit:
     @property
     def free(self) -> bool:
         """Return True when the residuals pass the chi-square test (the module docstring)."""
-        return self.chi_square <= chi_square_bound(self.dof)
+        return self.passes()
+
+    def passes(self, tolerance: float = 1.0) -> bool:
+        """
+        Return True when the residuals pass the chi-square test, the noise known to a factor.
+
+        :param tolerance: how far (a factor >= 1) the sigma the fit was given may be below the
+            true one (an estimated noise): the bound is raised by its square.
+        """
+        return self.chi_square <= tolerance * tolerance * chi_square_bound(self.dof)
 
     @property
     def excess(self) -> float:
@@ -143,13 +152,14 @@ def fit_flight(times: Sequence[float], values: np.ndarray, sigma: float,
 
 
 def flight_or_none(times: Sequence[float], values: np.ndarray, sigma: float, degree: int,
-                   min_samples: int) -> Optional[FlightFit]:
+                   min_samples: int, tolerance: float = 1.0) -> Optional[FlightFit]:
     """
     Return the flight fit of a window when it has ``min_samples`` and passes the guard, or None.
 
-    :param times, values, sigma, degree: as for ``fit_flight``.
+    :param times, values, sigma, degree: as for ``fit_flight``; ``tolerance``: as for
+        ``FlightFit.passes``.
     """
     if len(times) < max(min_samples, degree + 2):
         return None
     fit = fit_flight(times, values, sigma, degree)
-    return fit if fit.free else None
+    return fit if fit.passes(tolerance) else None

@@ -100,3 +100,14 @@ def test_bad_input_raises(times, values, sigma: float, degree: int) -> None:
         fit_flight(times, values, sigma, degree)
     with pytest.raises(ValueError):
         chi_square_bound(0)
+
+
+def test_tolerance_admits_a_noise_estimated_somewhat_low() -> None:
+    """Told 0.8 mm for 1 mm over 54 samples, the exact bound fails and a 1.25 tolerance passes."""
+    t = _stamps(360.0, 54, 8)
+    noisy = _pitch(t) + np.random.default_rng(9).normal(0.0, 1e-3, (len(t), 3))
+    fit = fit_flight(t, noisy, 8e-4)
+    assert not fit.free and fit.passes(1.25)
+    assert flight_or_none(t, noisy, 8e-4, 2, 8) is None
+    assert flight_or_none(t, noisy, 8e-4, 2, 8, 1.25) is not None
+    assert fit.excess == pytest.approx(np.sqrt(fit.chi_square / fit.dof))
