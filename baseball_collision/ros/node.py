@@ -17,8 +17,9 @@ events come back out as messages:
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
   and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``). Made only while
-  the topic has a subscriber (volatile: nobody else would get it), once the input messages
-  waiting are handled (after the drain), so no message or arm's output waits for a record.
+  the topic has a subscriber (volatile: nobody else would get it), after the executor callback
+  that took the waiting input messages (the intake's drain, at most ``DRAIN_LIMIT`` of them),
+  so no message handled in it and no arm's output waits for a record.
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
   at each impact, and the live bat and ball (stamped with their samples' stamp, published only
   when a new sample came; a ``DELETEALL`` on every state reset).
@@ -242,9 +243,10 @@ class ImpactNode(Node):
         """
         Make and publish the ``~/impact_report`` of each event queued by ``_take``, in order.
 
-        Called once the input queues are drained (no message waiting), so a record and its
-        JSON (a third of the message that predicts, with a recorder subscribed) delay no message
-        and no output an arm reads: those went out as each message was handled. Made only
+        Called after each input's executor callback, once the intake has drained the queues
+        (no message waiting, or ``DRAIN_LIMIT`` taken), so a record and its JSON (a third of the
+        message that predicts, with a recorder subscribed) delay no message taken in it and no
+        output an arm reads: those went out as each message was handled. Made only
         while the topic has a subscriber (it is volatile: a record published to nobody
         reaches nobody); without one the queue is emptied.
         """
