@@ -13,8 +13,13 @@ second child (``--listen``) records when each ``/impact_node/impact`` arrives. E
 swing that hits the ball; between pitches both streams pause longer than ``max_gap``.
 
 * processing: median, mean, p99 and max over every message of the wall time inside the
-  callback (and of the callback thread's CPU time, which a loaded machine inflates less), and
-  the first three messages' (no compile pause: the kernel is compiled ahead of time).
+  node's handling of that one message (``ImpactNode._take``: the stamp and the tally, the
+  detector with its prediction, the messages of its events and their publications, the drop
+  warnings; not rclpy's take and deserialisation, nor the executor's wait), and of the callback
+  thread's CPU time over the same span, which a loaded machine inflates less; and the first
+  three messages' (no compile pause: the kernel is compiled ahead of time). The
+  ``~/impact_report`` records are made and sent after the drain, outside any message's
+  processing: their cost is printed per flush beside it.
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
@@ -110,6 +115,8 @@ class TimedImpactNode(ImpactNode):
         self.times: List[float] = []
         self.cpu_times: List[float] = []  # this thread's CPU time per message (s)
         self.timeline: List[Tuple[int, int, int]] = []
+        self.report_times: List[Tuple[float, float]] = []  # per flush of reports: wall, CPU (s)
+        self.reports_made = 0
         self._entry_ns = 0
         super().__init__()
         publish = self._outputs['impact'].publish
@@ -120,6 +127,12 @@ class TimedImpactNode(ImpactNode):
                                   time.monotonic_ns()))
             publish(message)
         self._outputs['impact'] = _Wrapped(self._outputs['impact'], timed_publish)
+        report = self._outputs['impact_report'].publish
+
+        def counted_report(message: String) -> None:
+            self.reports_made += 1
+            report(message)
+        self._outputs['impact_report'] = _Wrapped(self._outputs['impact_report'], counted_report)
 
     def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
@@ -130,6 +143,15 @@ class TimedImpactNode(ImpactNode):
     def _record_processing(self, elapsed_s: float) -> None:
         self.times.append(elapsed_s)
         super()._record_processing(elapsed_s)
+
+    def _publish_reports(self) -> None:
+        if not self._reports:
+            return
+        made = self.reports_made
+        start, cpu = time.perf_counter(), time.thread_time()
+        super()._publish_reports()
+        if self.reports_made > made:  # made for a subscriber, not dropped for nobody
+            self.report_times.append((time.perf_counter() - start, time.thread_time() - cpu))
 
 
 class BrokenDownImpactNode(TimedImpactNode):
@@ -159,6 +181,10 @@ class BrokenDownImpactNode(TimedImpactNode):
             finally:
                 self._phase[phase] = self._phase.get(phase, 0.0) + time.thread_time() - cpu
         return timed
+
+    def _publish_reports(self) -> None:
+        self._phase = {}  # the reports' publications are not a message's phases
+        super()._publish_reports()
 
     def _take(self, stream: str, header: object, add_sample: object, *values: object,
               **kwargs: object) -> None:
@@ -234,6 +260,9 @@ def serve() -> int:
     figures['mean'] = float(np.mean(node.times) * 1e6) if node.times else math.nan
     figures['cpu'] = percentiles([t * 1e6 for t in node.cpu_times])
     figures['cpu']['mean'] = float(np.mean(node.cpu_times) * 1e6) if node.cpu_times else math.nan
+    figures['reports'] = {'wall': percentiles([w * 1e6 for w, _ in node.report_times]),
+                          'cpu': percentiles([c * 1e6 for _, c in node.report_times]),
+                          'made': node.reports_made}
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
@@ -389,6 +418,13 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  the same, this thread's CPU time (time waiting for a core not counted): median "
           f"{cpu['median']:.1f} us, mean {cpu['mean']:.1f} us, p99 {cpu['p99']:.1f} us, max "
           f"{cpu['max']:.1f} us")
+    reports = processing['reports']
+    if reports['made']:
+        print(f"  ~/impact_report: {reports['made']} records made and sent after the drain, in "
+              f"{reports['cpu']['count']} flushes (not in the processing above): CPU per flush "
+              f"median {reports['cpu']['median']:.1f} us, p99 {reports['cpu']['p99']:.1f} us, "
+              f"max {reports['cpu']['max']:.1f} us; wall median "
+              f"{reports['wall']['median']:.1f} us, p99 {reports['wall']['p99']:.1f} us")
     print(f"  impacts: {processing['impacts']} detected, {len(received)} received, "
           f"{processing['dropped']} samples dropped")
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
@@ -445,6 +481,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                     start = time.thread_time()
                     node._take(stream, message.header, add, *values)
                     cpu.append(time.thread_time() - start)
+                    node._publish_reports()  # as after a drain (no subscriber: none made)
                     predicted.append(predictor.last_ns != before)
                     published.append(predicted[-1] and predictor.predicting)
         cpu_runs.append(cpu)

@@ -27,9 +27,22 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from .bat import BatProfile
-from .geometry import dot, norm, Quaternion, scale, sub, Vector
+from .geometry import Quaternion, Vector
 from .toi import _kernel, ImpactResult
 from ..errors import CoreError
+
+
+def _frozen(cls: type, **values: object) -> object:
+    """
+    Return an instance of the frozen dataclass ``cls`` holding ``values`` (every field).
+
+    Its ``__dict__`` filled at once: a forecast is made on every prediction, and the frozen
+    ``__init__`` sets each field through ``object.__setattr__`` (twice the time). Extra keys
+    (``_kernel_args``, the numbers the kernel gave) are kept beside the fields.
+    """
+    instance = object.__new__(cls)
+    instance.__dict__.update(values)
+    return instance
 
 
 @dataclass(frozen=True)
@@ -54,14 +67,39 @@ class BallForecast:
         The drag deceleration is ``drag * |v| * v``, ``drag = rho Cd A / (2 m)``: about 0.006
         per metre for a baseball.
         """
-        speed = norm(velocity)
-        acceleration = sub(gravity, scale(velocity, drag * speed))
-        return cls(t0=t0, position=position, velocity=velocity, acceleration=acceleration)
+        return cls.from_kernel_args(_kernel.ballistic(t0, position, velocity, gravity, drag))
+
+    @classmethod
+    def fitted(cls, times: List[float], points: List[Vector], first: int, end: int, t0: float,
+               gravity: Vector, drag: float) -> Optional['BallForecast']:
+        """
+        Return ``ballistic`` from the parabola fitted to samples [first, end) at t0, in one call.
+
+        The compiled kernel reads the window from the stream's lists (times in s, points in m)
+        into contiguous arrays, fits the least-squares parabola in (time - t0) / span
+        (``kinematics.fit_polynomial``'s fit, to the bit) and takes its value and rate at t0.
+
+        :returns: the forecast, or None when the fit is rank deficient (the caller's
+            ``fit_polynomial`` solves it with LAPACK, then ``ballistic``).
+        :raises TypeError, IndexError: lists that are not the stream's, or a window outside.
+        """
+        args = _kernel.ball_forecast(times, points, first, end, t0, 2, gravity, drag)
+        return None if args is NotImplemented else cls.from_kernel_args(args)
+
+    @classmethod
+    def from_kernel_args(cls, args: Tuple[float, ...]) -> 'BallForecast':
+        """Return the forecast of the kernel's 10 numbers (``kernel_args``), keeping them."""
+        return _frozen(cls, t0=args[0], position=args[1:4], velocity=args[4:7],
+                       acceleration=args[7:10], _kernel_args=args)
 
     @property
     def kernel_args(self) -> Tuple[float, ...]:
         """Return the forecast as the kernel takes it: t0, position, velocity, acceleration."""
-        return (self.t0, *self.position, *self.velocity, *self.acceleration)
+        args = self.__dict__.get('_kernel_args')
+        if args is None:
+            args = (self.t0, *self.position, *self.velocity, *self.acceleration)
+            self.__dict__['_kernel_args'] = args
+        return args
 
     def at(self, t: float) -> Vector:
         """Return the ball centre (m) at time t (s)."""
@@ -124,11 +162,57 @@ class BatForecast(_BatPath):
     rate: float
     rate_change: float
 
+    @classmethod
+    def fitted(cls, times: List[float], rows: List[Sequence[float]], first: int,
+               end: int, degree: int) -> Optional['BatForecast']:
+        """
+        Return the bat extrapolated from its samples [first, end) (at least 3), in one call.
+
+        The compiled kernel reads the window from the stream's lists (times in s; rows: knob
+        and tip in m and the cumulative turn in rad, 10 floats each, ``kinematics.turn_rows``)
+        into contiguous arrays and fits them with one least-squares polynomial of ``degree``
+        in (time - t) / span at the newest sample's time t (``kinematics.bat_rates``' shared
+        fit, to the bit); ``from_rates`` makes the forecast from its rates.
+
+        :returns: the forecast from t, or None when the fit is rank deficient (the caller's
+            ``fit_polynomial`` solves it with LAPACK, then ``from_rates``).
+        :raises TypeError, IndexError, ValueError: lists that are not the stream's, a window
+            outside them or of fewer than 3 samples.
+        """
+        args = _kernel.bat_forecast(times, rows, first, end, degree)
+        return None if args is NotImplemented else cls.from_kernel_args(args)
+
+    @classmethod
+    def from_rates(cls, t0: float, first: Sequence[float], second: Sequence[float],
+                   knob: Vector, tip: Vector) -> 'BatForecast':
+        """
+        Return the bat from t0 (s) on, from its fit's rates and its knob and tip (m) at t0.
+
+        ``first`` and ``second``: the first and second time derivatives of the knob, tip and
+        cumulative turn fit (10 each). The pivot is the axis point that accelerates least
+        (``kinematics.least_accelerating``), moving with the rates interpolated there; the
+        turn is about the angular velocity's axis, at its rate and the angular acceleration
+        along it (a fixed axis cannot follow the part across). The compiled kernel's;
+        ``fitted`` does the fit and this in one call.
+        """
+        return cls.from_kernel_args(_kernel.bat_from_rates(t0, first, second, knob, tip))
+
+    @classmethod
+    def from_kernel_args(cls, args: Tuple[float, ...]) -> 'BatForecast':
+        """Return the forecast of the kernel's 21 numbers (``kernel_args``), keeping them."""
+        return _frozen(cls, t0=args[0], pivot=args[1:4], pivot_velocity=args[4:7],
+                       pivot_acceleration=args[7:10], knob_arm=args[10:13], tip_arm=args[13:16],
+                       axis=args[16:19], rate=args[19], rate_change=args[20], _kernel_args=args)
+
     @property
     def kernel_args(self) -> Tuple[float, ...]:
         """Return the forecast as the kernel takes it: its 21 numbers in field order."""
-        return (self.t0, *self.pivot, *self.pivot_velocity, *self.pivot_acceleration,
-                *self.knob_arm, *self.tip_arm, *self.axis, self.rate, self.rate_change)
+        args = self.__dict__.get('_kernel_args')
+        if args is None:
+            args = (self.t0, *self.pivot, *self.pivot_velocity, *self.pivot_acceleration,
+                    *self.knob_arm, *self.tip_arm, *self.axis, self.rate, self.rate_change)
+            self.__dict__['_kernel_args'] = args
+        return args
 
 
 @dataclass(frozen=True)
@@ -227,21 +311,6 @@ def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:
 def in_force_after(period: float) -> int:
     """Return for how long (ns) a prediction stays in force: ``period``, at least 1 ns."""
     return max(int(round(period * 1e9)), 1)
-
-
-def turn_axis_and_rates(rate_vector: Sequence[float],
-                        change_vector: Sequence[float]) -> Tuple[Vector, float, float]:
-    """
-    Return (unit axis, rate rad/s, rate change rad/s^2) of a turn about one fixed axis.
-
-    The axis is the angular velocity's direction; the angular acceleration is taken along it
-    (its part across the axis would tilt the swing plane, which a fixed axis cannot follow).
-    """
-    rate = norm(rate_vector)
-    if rate == 0.0:
-        return (0.0, 0.0, 1.0), 0.0, 0.0
-    axis = scale(rate_vector, 1.0 / rate)
-    return axis, rate, dot(change_vector, axis)
 
 
 MAX_PLAN_POSES = 10_000

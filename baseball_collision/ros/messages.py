@@ -283,11 +283,27 @@ def event_output(event: Event, frame_id: str, markers: ImpactMarkers,
     :raises KeyError: an event type the table does not know.
     """
     output = _EVENT_OUTPUTS[type(event)](event, frame_id, markers)
-    if config is None or type(event) not in EVENT_NAMES:
+    report = None if config is None else event_report(event, frame_id, config)
+    if report is None:
         return output
-    report = String(data=record_text(event_record(event, frame_id, config)))
     return EventOutput(  # not dataclasses.replace: it looks the fields up on every call
         messages=output.messages + (('impact_report', report),), log=output.log,
         level=output.level, throttled=output.throttled,
         echoes_clock_jump=output.echoes_clock_jump, predicting=output.predicting,
         impact_ns=output.impact_ns)
+
+
+def event_report(event: Event, frame_id: str, config: DetectorConfig) -> Optional[String]:
+    """
+    Return an event's ``~/impact_report`` message: its record as one line of JSON, or None.
+
+    An impact's, near miss's or prediction's ``core.records.event_record`` (``std_msgs/String``),
+    exactly what ``analyze --json`` writes for it (without analyze's ``bag`` and ``time_s``);
+    None for the other events, which have no record.
+
+    :param frame_id: the tracking frame, for the record.
+    :param config: the detector configuration that found the event (names the ``zone``).
+    """
+    if type(event) not in EVENT_NAMES:
+        return None
+    return String(data=record_text(event_record(event, frame_id, config)))

@@ -17,7 +17,9 @@ events come back out as messages:
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
   and its lead time (``lead_s``) beside the predicted instant (``stamp_ns``). Made only while
-  the topic has a subscriber (volatile: nobody else would get it).
+  the topic has a subscriber (volatile: nobody else would get it), after the executor callback
+  that took the waiting input messages (the intake's drain, at most ``DRAIN_LIMIT`` of them),
+  so no message handled in it and no arm's output waits for a record.
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
   at each impact, and the live bat and ball (stamped with their samples' stamp, published only
   when a new sample came; a ``DELETEALL`` on every state reset).
@@ -37,12 +39,13 @@ the drop warnings are in ``inputs``, conversions in ``messages``, markers in
 ``config/impact_node.yaml`` for every parameter.
 """
 
+from collections import deque
 from dataclasses import replace
 import math
 import sys
 import threading
 import time
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Deque, Dict, List, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
@@ -65,11 +68,13 @@ from .inputs import (
     DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
-    describe_listening, event_output, EventOutput, format_stamp, NS_PER_S, plan_arrays,
-    stamp_to_ns)
+    describe_listening, event_output, event_report, EventOutput, format_stamp, NS_PER_S,
+    plan_arrays, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
-from ..core.detector import Detector, Event, Impact, NODE_NAME, SPECS, StateReset
+from ..core.detector import (
+    Detector, DetectorConfig, Event, Impact, NODE_NAME, SPECS, StateReset)
 from ..core.prediction import MAX_PLAN_POSES
+from ..core.records import EVENT_NAMES
 from ..core.scene import Scene
 from ..errors import CoreError, RosError
 
@@ -113,6 +118,8 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
+        # (event, frame, config) of the reports to make once the inputs are drained
+        self._reports: Deque[Tuple[Event, str, DetectorConfig]] = deque()
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
@@ -158,7 +165,8 @@ class ImpactNode(Node):
             callback = input_callback(self._take, each, self.detector)
             subscription = self.endpoints.subscribe(
                 each.stream, each.msg_type, s[each.topic_parameter],
-                self._intake.wrap(callback), input_qos(s['qos'], s['qos_depth']))
+                self._then_reports(self._intake.wrap(callback)),
+                input_qos(s['qos'], s['qos_depth']))
             self._intake.attach(subscription, callback)
         if s['bat_plan_topic']:
             self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
@@ -209,16 +217,13 @@ class ImpactNode(Node):
             expected = self.detector.frame_id
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
-            # a report is made only for a subscriber (~/impact_report is volatile: one
-            # published while nobody is matched reaches nobody; a prediction's record and JSON
-            # are a third of the message that predicts)
-            config = self.detector.config if events and self._outputs[
-                'impact_report'].get_subscription_count() else None
             for event in events:
                 if event.__class__ is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                self._publish(event_output(event, frame or expected or '', self._markers,
-                                           config))
+                self._publish(event_output(event, frame or expected or '', self._markers))
+                if event.__class__ in EVENT_NAMES:  # its report: after the drain
+                    self._reports.append((event, frame or expected or '',
+                                          self.detector.config))
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -226,6 +231,31 @@ class ImpactNode(Node):
             warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
                  expected, each.stamp_ns, stats.dropped[each.reason])
         self._record_processing(time.perf_counter() - start)
+
+    def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
+        """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
+        def handled(message: Any, info: Any) -> None:
+            on_message(message, info)
+            self._publish_reports()
+        return handled
+
+    def _publish_reports(self) -> None:
+        """
+        Make and publish the ``~/impact_report`` of each event queued by ``_take``, in order.
+
+        Called after each input's executor callback, once the intake has drained the queues
+        (no message waiting, or ``DRAIN_LIMIT`` taken), so a record and its JSON (a third of the
+        message that predicts, with a recorder subscribed) delay no message taken in it and no
+        output an arm reads: those went out as each message was handled. Made only
+        while the topic has a subscriber (it is volatile: a record published to nobody
+        reaches nobody); without one the queue is emptied.
+        """
+        reports, publisher = self._reports, self._outputs['impact_report']
+        if reports and publisher.get_subscription_count() == 0:
+            reports.clear()
+        while reports:
+            event, frame, config = reports.popleft()
+            publisher.publish(event_report(event, frame, config))
 
     def _record_processing(self, elapsed_s: float) -> None:
         """Account the wall time (s) one message took in its callback."""

@@ -6,8 +6,11 @@ import math
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
+from baseball_collision.core.detector.kinematics import (
+    bat_rates, fit_polynomial, least_accelerating, turn_rows)
 from baseball_collision.core.prediction import (
-    BallForecast, BatForecast, first_contact, planned_bat, turn_axis_and_rates)
+    BallForecast, BatForecast, first_contact, planned_bat)
+from baseball_collision.core.toi import _kernel
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample, truth_dict
@@ -43,8 +46,114 @@ def test_bat_forecast_turns_about_its_pivot() -> None:
     knob, tip = bat.at(1.0)
     assert tip == pytest.approx((0.0, 0.8, 1.0)) and knob == pytest.approx((0.0, -0.1, 1.0))
     assert bat.reach() == pytest.approx(0.8)
-    assert turn_axis_and_rates((0.0, 0.0, -3.0), (0.0, 1.0, 6.0)) == ((0.0, 0.0, -1.0), 3.0, -6.0)
-    assert turn_axis_and_rates((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))[1] == 0.0
+
+
+def test_a_bat_from_its_rates_pivots_where_it_accelerates_least() -> None:
+    """
+    The pivot is the least-accelerating axis point, moving with the rates interpolated there.
+
+    Knob accelerating (0, 4, 0) and tip (0, -2, 0) m/s^2: the point at 2/3 of the way is still;
+    the turn is about the angular velocity's axis, its acceleration taken along it.
+    """
+    knob, tip = (0.0, 0.0, 1.0), (0.9, 0.0, 1.0)
+    first = (1.0, 0.0, 0.0, 4.0, 3.0, 0.0, 0.0, 0.0, -3.0, 0.5)
+    second = (0.0, 4.0, 0.0, 0.0, -2.0, 0.0, 0.0, 1.0, 6.0, 0.0)
+    bat = BatForecast.from_rates(0.5, first, second, knob, tip)
+    assert least_accelerating(second[:3], second[3:6]) == pytest.approx(2.0 / 3.0)
+    assert bat.t0 == 0.5 and bat.pivot == pytest.approx((0.6, 0.0, 1.0))
+    assert bat.pivot_velocity == pytest.approx((3.0, 2.0, 0.0))
+    assert bat.pivot_acceleration == pytest.approx((0.0, 0.0, 0.0))
+    assert bat.knob_arm == pytest.approx((-0.6, 0.0, 0.0))
+    assert bat.tip_arm == pytest.approx((0.3, 0.0, 0.0))
+    assert (bat.axis, bat.rate, bat.rate_change) == ((0.0, 0.0, -1.0), 3.0, -6.0)
+    still = BatForecast.from_rates(0.0, (0.0,) * 10, (1.0,) * 10, knob, tip)
+    assert (still.axis, still.rate, still.rate_change) == ((0.0, 0.0, 1.0), 0.0, 0.0)
+    assert still.kernel_args == BatForecast(**{
+        name: getattr(still, name) for name in BatForecast.__dataclass_fields__}).kernel_args
+
+
+def test_the_forecasts_are_the_fits_of_the_impact_velocities_to_the_bit(barrel) -> None:
+    """
+    ``fitted`` (one kernel call on the stream's lists) gives what the separate steps give.
+
+    The ball: ``fit_polynomial``'s parabola, then ``ballistic``; the bat: ``bat_rates``' shared
+    knob + tip + turn fit at its newest sample (the impacts' velocities), then ``from_rates``;
+    every number the same to the bit, on each frame of a tracked swing with 1 mm noise.
+    """
+    detector = Detector(DetectorConfig(prediction_horizon=0.0))
+    samples = sample(barrel, 360.0, np.random.default_rng(3), jitter_s=2e-4, noise_m=0.001)
+    ball, bat = detector._predictor.ball, detector._predictor.bat  # the test looks inside
+    gravity, checked = (0.0, 0.0, -9.80665), 0
+    for stamp, role, values in samples.messages('pose'):
+        detector.add(role, stamp, values)
+        if len(ball.times) < 3 or len(bat.times) < 3:
+            continue
+        t0 = max(ball.times[-1], bat.times[-1])
+        indices = ball.history(t0, 0.1)
+        first, end = indices[0], indices[-1] + 1
+        fitted = BallForecast.fitted(ball.times, ball.values, first, end, t0, gravity, 0.0061)
+        position, velocity, _ = fit_polynomial(ball.times[first:end], ball.values[first:end],
+                                               t0, 2)
+        assert fitted.kernel_args == BallForecast.ballistic(
+            t0, position, velocity, gravity, 0.0061).kernel_args
+        indices = bat.history(t0, 0.061)
+        first, end = indices[0], indices[-1] + 1
+        if len(indices) < 3:
+            continue
+        start, latest = bat.times[end - 1], bat.values[end - 1]
+        rows = turn_rows(bat, first, end)
+        fitted = BatForecast.fitted(bat.times, rows, first, end, 3)
+        _, rates, changes = fit_polynomial(bat.times[first:end], rows[first:end], start, 3)
+        assert fitted == BatForecast.from_rates(start, rates, changes, latest.knob, latest.tip)
+        (fraction, pivot_velocity, pivot_acceleration), (swing, _, _) = bat_rates(
+            bat, start, 0.061, 3, 3, indices)
+        assert fitted.pivot == tuple(a + (b - a) * fraction
+                                     for a, b in zip(latest.knob, latest.tip))
+        assert (fitted.pivot_velocity, fitted.pivot_acceleration) == (pivot_velocity,
+                                                                      pivot_acceleration)
+        assert tuple(a * fitted.rate for a in fitted.axis) == pytest.approx(swing, rel=1e-15)
+        checked += 1
+    assert checked > 100
+
+
+def test_the_forecasts_refuse_a_window_outside_the_samples() -> None:
+    """Bad lists or windows raise; a rank-deficient fit is left to LAPACK (None)."""
+    times, points = [0.0, 0.01, 0.02], [(0.0, 0.0, 1.0), (0.1, 0.0, 1.0), (0.2, 0.0, 1.0)]
+    rows = [point + point + (0.0, 0.0, 0.0, 0.0) for point in points]
+    assert BallForecast.fitted(times, points, 0, 3, 0.02, (0.0, 0.0, -9.8), 0.0).velocity == \
+        pytest.approx((10.0, 0.0, 0.0))
+    with pytest.raises(IndexError):
+        BallForecast.fitted(times, points, 1, 4, 0.02, (0.0, 0.0, -9.8), 0.0)
+    with pytest.raises(IndexError):
+        BatForecast.fitted(times, rows, 0, 4, 3)
+    with pytest.raises(ValueError):
+        BatForecast.fitted(times, rows, 1, 3, 3)  # fewer than 3 samples
+    with pytest.raises(TypeError):
+        BallForecast.fitted(tuple(times), points, 0, 3, 0.02, (0.0, 0.0, -9.8), 0.0)
+    with pytest.raises(TypeError):
+        BatForecast.fitted(times, [None] + rows[1:], 0, 3, 3)  # a row not made
+    with pytest.raises(TypeError):
+        BatForecast.fitted(times, [(0.0,) * 9] + rows[1:], 0, 3, 3)  # a row too short
+    close = [0.0, 1.0 - 1e-15, 1.0]  # a parabola through two coincident stamps
+    assert _kernel.ball_forecast(close, points, 0, 3, 1.0, 2, (0.0, 0.0, 0.0), 0.0) is \
+        NotImplemented
+    assert BallForecast.fitted(close, points, 0, 3, 1.0, (0.0, 0.0, 0.0), 0.0) is None
+    assert BatForecast.fitted(close, rows, 0, 3, 3) is None
+
+
+def test_a_rank_deficient_fit_falls_back_to_lapack(barrel, monkeypatch) -> None:
+    """With the kernel's fits refused, the predictions come from LAPACK's: the same, rounded."""
+    config = DetectorConfig(prediction_horizon=0.3)
+    _, events = _feed(Detector(config), barrel)
+    monkeypatch.setattr(BallForecast, 'fitted', classmethod(lambda cls, *args: None))
+    monkeypatch.setattr(BatForecast, 'fitted', classmethod(lambda cls, *args: None))
+    _, fallback = _feed(Detector(config), barrel)
+    made = [e for e in events if isinstance(e, Prediction)]
+    again = [e for e in fallback if isinstance(e, Prediction)]
+    assert made and len(made) == len(again)
+    for a, b in zip(made, again):
+        assert abs(a.stamp_ns - b.stamp_ns) <= 1
+        assert a.point == pytest.approx(b.point, abs=1e-9)
 
 
 def _turned(vector, axis, angle: float) -> np.ndarray:

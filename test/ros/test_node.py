@@ -535,6 +535,46 @@ def test_no_report_is_made_without_a_subscriber(harness: Callable[..., Harness])
     assert h.received['predicted'] and published == []
 
 
+def test_reports_are_made_after_the_drain(harness: Callable[..., Harness]) -> None:
+    """
+    A record is made and sent once no input message waits, after what an arm reads.
+
+    Each report goes out after the drain (no input being taken), in the events' order, after
+    the ``~/predicted_impact`` or ``~/impact`` of its event; the node's queue ends empty.
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    h.wait(lambda: h.node._outputs['impact_report'].get_subscription_count() > 0, 5.0,
+           'the report matched')
+    sent: List[Tuple[str, bool]] = []
+
+    def logged(name: str, publisher: Any) -> Any:
+        class Logged:
+            """The publisher, saying what went out and whether the intake was draining."""
+
+            def __getattr__(self, attribute: str) -> Any:
+                return getattr(publisher, attribute)
+
+            def publish(self, message: Any) -> None:
+                sent.append((name, h.node._intake._draining))
+                publisher.publish(message)
+        return Logged()
+
+    for name in ('predicted_impact', 'impact', 'impact_report'):
+        h.node._outputs[name] = logged(name, h.node._outputs[name])
+    h.processed(publish_swing(h, 'pose', pitch()))
+    h.wait(lambda: h.received['impact'] and any(
+        json.loads(m.data)['event'] == 'impact' for m in h.received['report']), 2.0, 'reports')
+    reports = [i for i, (name, _) in enumerate(sent) if name == 'impact_report']
+    outputs = [i for i, (name, _) in enumerate(sent) if name != 'impact_report']
+    events = [sent[i][0] for i in outputs]
+    assert reports and len(reports) == len(outputs) and not h.node._reports
+    assert not any(sent[i][1] for i in reports)  # none while the intake was draining
+    assert all(e < r for e, r in zip(outputs, reports))  # each after its event's output
+    records = [json.loads(m.data)['event'] for m in h.received['report']]
+    assert records == ['prediction' if name == 'predicted_impact' else 'impact'
+                       for name in events]
+
+
 def test_a_stale_second_publisher_is_dropped_not_a_reset(harness: Callable[..., Harness],
                                                          truth_ns: int) -> None:
     """Issue 12.1 live: a replay left running 3 s behind: dropped and said, the hit found."""

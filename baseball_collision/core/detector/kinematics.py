@@ -22,7 +22,7 @@ import numpy as np
 
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
 from .streams import Stream
-from ..geometry import dot, lerp, scale, sub, Vector
+from ..geometry import lerp, scale, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
     turn_between, unit_axis)
@@ -146,13 +146,12 @@ def least_accelerating(knob: Sequence[float], tip: Sequence[float]) -> float:
     Return the fraction along knob-tip of the axis point with the smallest acceleration.
 
     Every axis point's acceleration is linear in the fraction between the knob's and the
-    tip's (m/s^2); the smallest is taken, within [-0.5, 1] (0 when both are equal).
+    tip's (m/s^2); the smallest is taken, within [-0.5, 1] (0 when both are equal). The
+    compiled kernel's (the prediction's bat forecast uses the same function).
+
+    :raises TypeError: knob or tip not 3 numbers.
     """
-    change = sub(tip, knob)
-    size = dot(change, change)
-    if size == 0.0:
-        return 0.0
-    return min(1.0, max(-0.5, -dot(knob, change) / size))
+    return _kernel.least_accelerating(knob, tip)
 
 
 def pivot_fraction(stream: Stream, t: float, window: float, degree: int) -> float:
@@ -195,8 +194,7 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     shared = turn_degree is not None and min(turn_degree, len(indices) - 1) == min(
         fit_degree, len(indices) - 1)
     if shared:
-        stream.turn(end - 1)  # fills every turn of the segment up to it
-        rows = _turn_rows(stream, first, end)
+        rows = turn_rows(stream, first, end)[first:end]
     else:
         rows = [value.knob + value.tip for value in stream.values[first:end]]
     coefficients, span = _fit(sample_times, rows, t, fit_degree)
@@ -218,12 +216,15 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     return pivot, ((rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2]))
 
 
-def _turn_rows(stream: Stream, first: int, end: int) -> List[Tuple[float, ...]]:
+def turn_rows(stream: Stream, first: int, end: int) -> List[Optional[Tuple[float, ...]]]:
     """
-    Return knob + tip + cumulative turn of bat samples [first, end) (turns filled), as rows.
+    Return the rows knob + tip + cumulative turn of a bat stream, filled for samples [first, end).
 
-    Each row is made once and kept in ``stream.aligned`` (a sample and its turn never change).
+    Fills every turn of the segment up to sample end - 1 (``Stream.turn``). Each row is made
+    once and kept in ``stream.aligned`` (a sample and its turn never change), aligned with the
+    samples; rows outside [first, end) may be None.
     """
+    stream.turn(end - 1)
     rows = stream.aligned.setdefault('turn_rows', [])
     if len(rows) < end:
         rows.extend([None] * (end - len(rows)))
@@ -232,7 +233,7 @@ def _turn_rows(stream: Stream, first: int, end: int) -> List[Tuple[float, ...]]:
         for i in range(first, end):
             if rows[i] is None:
                 rows[i] = values[i].knob + values[i].tip + turns[i]
-    return rows[first:end]
+    return rows
 
 
 def pivot_rates(stream: Stream, t: float, window: float, degree: int) -> Optional[Rates]:

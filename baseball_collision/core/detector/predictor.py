@@ -15,12 +15,12 @@ from typing import List, Optional, Sequence, Tuple, Union
 from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
 from .gate import Clock
-from .kinematics import bat_rates, fit_polynomial
+from .kinematics import fit_polynomial, turn_rows
 from .streams import Stream
-from ..geometry import lerp, scale, sub, Vector
+from ..geometry import lerp, scale, Vector
 from ..prediction import (
     BallForecast, BatForecast, check_plan_size, first_contact, planned_bat, PlannedBat,
-    prediction_due, states_at, turn_axis_and_rates)
+    prediction_due, states_at)
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
@@ -144,20 +144,36 @@ class Predictor:
         return math.dist(b1, middle) <= reach
 
     def _ball_forecast(self, t0: float) -> Optional[BallForecast]:
-        """Return the ball's ballistic forecast from a parabola fitted to its latest samples."""
+        """
+        Return the ball's ballistic forecast from a parabola fitted to its latest samples.
+
+        Fit and forecast in one kernel call on the window (``BallForecast.fitted``); a
+        rank-deficient fit by LAPACK's least squares (``fit_polynomial``).
+        """
         ball = self.ball
-        indices = ball.history(t0, self.config.prediction_window)
+        config = self.config
+        indices = ball.history(t0, config.prediction_window)
         if len(indices) < 3:
             return None
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
-        position, velocity, _ = fit_polynomial(ball.times[first:end], ball.values[first:end],
-                                               t0, 2)
-        gravity = scale(self.config.up_axis, -self.config.gravity)
-        return BallForecast.ballistic(t0, tuple(position), tuple(velocity), gravity,
-                                      self.config.ball_drag)
+        gravity = scale(config.up_axis, -config.gravity)
+        forecast = BallForecast.fitted(ball.times, ball.values, first, end, t0, gravity,
+                                       config.ball_drag)
+        if forecast is None:
+            position, velocity, _ = fit_polynomial(ball.times[first:end],
+                                                   ball.values[first:end], t0, 2)
+            forecast = BallForecast.ballistic(t0, position, velocity, gravity, config.ball_drag)
+        return forecast
 
     def _bat_forecast(self, t0: float) -> Union[BatForecast, PlannedBat, None]:
-        """Return the bat's forecast: the commanded plan when it covers t0, else extrapolated."""
+        """
+        Return the bat's forecast: the commanded plan when it covers t0, else extrapolated.
+
+        Extrapolated from the newest bat sample itself (a fit lags an accelerating swing), with
+        the rates of the same knob + tip + turn fit as an impact's velocities
+        (``kinematics.bat_rates``), fitted and turned into the forecast in one kernel call
+        (``BatForecast.fitted``); a rank-deficient fit by LAPACK's least squares.
+        """
         if self.plan is not None:
             if self.plan_on_clock is None:  # once: the clock's origin stays until a reset
                 first, plan = self.plan
@@ -167,20 +183,16 @@ class Predictor:
                 return self.plan_on_clock
         bat = self.bat
         config = self.config
-        window, degree = config.velocity_window, min(config.velocity_degree, PREDICTION_DEGREE)
-        indices = bat.history(t0, window)
+        degree = min(config.velocity_degree, PREDICTION_DEGREE)  # <= 3: bat_rates' shared fit
+        indices = bat.history(t0, config.velocity_window)
         if len(indices) < 3:
             return None
-        # start from the newest bat sample itself (a fit lags an accelerating swing); the same
-        # fits as an impact's velocities give the rates (``kinematics``)
-        start = bat.times[indices[-1]]
-        latest = bat.values[indices[-1]]
-        pivot_state, turn_state = bat_rates(bat, start, window, degree, degree, indices)
-        fraction, pivot_velocity, pivot_acceleration = pivot_state
-        rate, _, change = turn_state
-        axis, turn, turn_change = turn_axis_and_rates(rate, change)
-        pivot = lerp(latest.knob, latest.tip, fraction)
-        return BatForecast(t0=start, pivot=pivot, pivot_velocity=pivot_velocity,
-                           pivot_acceleration=pivot_acceleration,
-                           knob_arm=sub(latest.knob, pivot), tip_arm=sub(latest.tip, pivot),
-                           axis=axis, rate=turn, rate_change=turn_change)
+        first, end = indices[0], indices[-1] + 1  # the history is contiguous
+        rows = turn_rows(bat, first, end)
+        forecast = BatForecast.fitted(bat.times, rows, first, end, degree)
+        if forecast is None:
+            start, latest = bat.times[end - 1], bat.values[end - 1]
+            _, rates, changes = fit_polynomial(bat.times[first:end], rows[first:end], start,
+                                               degree)
+            forecast = BatForecast.from_rates(start, rates, changes, latest.knob, latest.tip)
+        return forecast

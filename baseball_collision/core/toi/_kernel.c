@@ -40,6 +40,12 @@
  *        profile() does -> (t, ImpactResult), None, or NotImplemented (forecasts not finite)
  *   forecast(ball, bat, t), bat_bounds(bat, ta, tb)  the same forecasts at one instant
  *   polyfit(times, rows, t, degree)  least squares by Householder QR (core.detector.kinematics)
+ *   ball_forecast(times, points, first, end, t0, degree, gravity, drag),
+ *   bat_forecast(times, rows, first, end, degree)  the prediction's forecasts (core.prediction)
+ *        fitted to a window of the detector's sample lists, read into contiguous arrays: the
+ *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
+ *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
+ *        least_accelerating(knob, tip) (kinematics)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -1577,19 +1583,26 @@ static bool read_coefficients(PyObject *o, double *c, Py_ssize_t count)
   return read_floats_or(o, c, count, "coefficients", PyExc_ValueError);
 }
 
-static PyObject *float_list(const double *x, int count)
+/* count floats as a new list, or a new tuple */
+static PyObject *float_sequence(const double *x, int count, bool tuple)
 {
-  PyObject *list = PyList_New(count);
-  for (int i = 0; list != NULL && i < count; i++) {
+  PyObject *sequence = tuple ? PyTuple_New(count) : PyList_New(count);
+  for (int i = 0; sequence != NULL && i < count; i++) {
     PyObject *item = PyFloat_FromDouble(x[i]);
     if (item == NULL) {
-      Py_CLEAR(list);
+      Py_CLEAR(sequence);
       break;
     }
-    PyList_SET_ITEM(list, i, item);
+    if (tuple) {
+      PyTuple_SET_ITEM(sequence, i, item);
+    } else {
+      PyList_SET_ITEM(sequence, i, item);
+    }
   }
-  return list;
+  return sequence;
 }
+
+static PyObject *float_list(const double *x, int count) { return float_sequence(x, count, false); }
 
 static PyObject *py_quadratic_roots(PyObject *self, PyObject *args)
 {
@@ -1872,6 +1885,320 @@ done:
   return result;
 }
 
+
+/* ------------------------------------------------------------------------------------------ */
+/* the prediction's forecasts from the detector's latest samples (core.detector.predictor) */
+
+/* one float of a sequence item: a float read directly, anything else converted */
+static inline double item_double(PyObject *o)
+{
+  return PyFloat_CheckExact(o) ? PyFloat_AS_DOUBLE(o) : PyFloat_AsDouble(o);
+}
+
+/*
+ * The window [first, end) of a stream as contiguous arrays: x = (time - t) / span with
+ * span = max(t - times[first], 1e-9) (as polyfit), and the first m floats of each row into y
+ * (n x m, row-major). Lists of tuples of floats are read directly. False with an exception.
+ */
+static bool gather_window(PyObject *times, PyObject *rows, Py_ssize_t first, Py_ssize_t end,
+                          int m, double t, double *x, double *y, double *span)
+{
+  if (!PyList_Check(times) || !PyList_Check(rows)) {
+    PyErr_SetString(PyExc_TypeError, "a forecast's times and rows must be lists");
+    return false;
+  }
+  if (first < 0 || end <= first || end > PyList_GET_SIZE(times) ||
+      end > PyList_GET_SIZE(rows)) {
+    PyErr_SetString(PyExc_IndexError, "a forecast's window is outside its samples");
+    return false;
+  }
+  double t_first = item_double(PyList_GET_ITEM(times, first));
+  if (t_first == -1.0 && PyErr_Occurred()) {
+    return false;
+  }
+  *span = max_of(t - t_first, 1e-9);
+  for (Py_ssize_t i = first; i < end; i++) {
+    double time = item_double(PyList_GET_ITEM(times, i));
+    if (time == -1.0 && PyErr_Occurred()) {
+      return false;
+    }
+    x[i - first] = (time - t) / *span;
+    PyObject *row = PyList_GET_ITEM(rows, i);
+    double *out = y + (i - first) * m;
+    if (PyTuple_CheckExact(row) && PyTuple_GET_SIZE(row) >= m) {
+      for (int k = 0; k < m; k++) {
+        out[k] = item_double(PyTuple_GET_ITEM(row, k));
+      }
+      if (PyErr_Occurred()) {
+        return false;
+      }
+    } else if (row == Py_None || !read_floats(row, out, m, "a sample of the forecast's window")) {
+      if (!PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "a sample of the forecast's window is missing");
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
+/*
+ * The least-squares polynomial of degree min(degree, n - 1) through the window (x, y), and its
+ * value, first and second time derivatives at x = 0 (kinematics.derivatives' arithmetic, so
+ * the same bits as polyfit followed by it): d[0..m), d[m..2m), d[2m..3m). False when rank
+ * deficient (the caller asks LAPACK); -1 with an exception (no memory).
+ */
+static int fit_at_zero(const double *x, Py_ssize_t n, int degree, double *y, int m, double span,
+                       double *d)
+{
+  int p = (int)((degree < n - 1 ? degree : n - 1) + 1);
+  double *a = PyMem_Malloc(sizeof(double) * (size_t)(n * p + p * m));
+  if (a == NULL) {
+    PyErr_NoMemory();
+    return -1;
+  }
+  double *c = a + n * p;
+  bool solved = householder_fit(x, n, p, a, y, m, c);
+  if (solved) {
+    double squared = pow(span, 2.0); /* Python's span ** 2 */
+    for (int k = 0; k < m; k++) {
+      d[k] = c[k];
+      d[m + k] = p > 1 ? c[m + k] / span : 0.0 * c[k];
+      d[2 * m + k] = p > 2 ? 2.0 * c[2 * m + k] / squared : 0.0 * c[k];
+    }
+  }
+  PyMem_Free(a);
+  return solved;
+}
+
+static PyObject *float_tuple(const double *x, int count) { return float_sequence(x, count, true); }
+
+/*
+ * The ball under gravity and quadratic drag from its state at t0 (BallForecast.ballistic):
+ * acceleration = gravity - drag |v| v; out = t0, position, velocity, acceleration.
+ */
+static void ballistic(double t0, const double *position, const double *velocity,
+                      const double *gravity, double drag, double *out)
+{
+  double speed = sqrt(velocity[0] * velocity[0] + velocity[1] * velocity[1] +
+                      velocity[2] * velocity[2]);
+  double s = drag * speed;
+  out[0] = t0;
+  for (int k = 0; k < 3; k++) {
+    out[1 + k] = position[k];
+    out[4 + k] = velocity[k];
+    out[7 + k] = gravity[k] - velocity[k] * s;
+  }
+}
+
+/*
+ * The fraction along knob-tip of the axis point with the smallest acceleration, from the
+ * knob's and the tip's (m/s^2; every axis point's is linear in the fraction between them),
+ * within [-0.5, 1]; 0 when both are equal (kinematics.least_accelerating)
+ */
+static double least_accelerating(Vec knob, Vec tip)
+{
+  Vec change = v_sub(tip, knob);
+  double size = v_dot(change, change);
+  return size == 0.0 ? 0.0 : min_of(1.0, max_of(-0.5, -v_dot(knob, change) / size));
+}
+
+/*
+ * The extrapolated bat from the rates at t0 of its knob + tip + cumulative turn fit (first and
+ * second time derivatives of the 10 components) and its knob and tip at t0: the pivot is the
+ * axis point that accelerates least (kinematics.least_accelerating) moving with the fit's
+ * velocity and acceleration there, turning about the angular velocity's axis at its rate and
+ * the angular acceleration along it (prediction.turn_axis_and_rates). out: BatForecast's 21
+ * numbers.
+ */
+static void bat_from_rates(double t0, const double *first, const double *second, Vec knob,
+                           Vec tip, double *out)
+{
+  Vec knob_accel = {second[0], second[1], second[2]}, tip_accel = {second[3], second[4], second[5]};
+  double fraction = least_accelerating(knob_accel, tip_accel);
+  Vec velocity = v_lerp((Vec){first[0], first[1], first[2]}, (Vec){first[3], first[4], first[5]},
+                        fraction);
+  Vec acceleration = v_lerp(knob_accel, tip_accel, fraction);
+  Vec rate = {first[6], first[7], first[8]}, rate_change = {second[6], second[7], second[8]};
+  double turn = sqrt(rate.x * rate.x + rate.y * rate.y + rate.z * rate.z);
+  Vec axis = {0.0, 0.0, 1.0};
+  double turn_change = 0.0;
+  if (turn != 0.0) {
+    axis = v_scale(rate, 1.0 / turn);
+    turn_change = v_dot(rate_change, axis);
+  }
+  Vec pivot = v_lerp(knob, tip, fraction);
+  Vec parts[6] = {pivot, velocity, acceleration, v_sub(knob, pivot), v_sub(tip, pivot), axis};
+  out[0] = t0;
+  for (int i = 0; i < 6; i++) {
+    out[1 + 3 * i] = parts[i].x;
+    out[2 + 3 * i] = parts[i].y;
+    out[3 + 3 * i] = parts[i].z;
+  }
+  out[19] = turn;
+  out[20] = turn_change;
+}
+
+#define BALL_COMPONENTS 3
+#define BAT_COMPONENTS 10 /* knob, tip, cumulative turn (swing x, y, z, roll) */
+
+/*
+ * ball_forecast(times, points, first, end, t0, degree, gravity, drag) -> the BallForecast's 10
+ * numbers (t0, position, velocity, acceleration), or NotImplemented (a rank-deficient fit)
+ */
+static PyObject *py_ball_forecast(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, end;
+  long degree;
+  double t0, drag, gravity[3];
+  if (nargs != 8) {
+    PyErr_SetString(PyExc_TypeError,
+                    "ball_forecast(times, points, first, end, t0, degree, gravity, drag)");
+    return NULL;
+  }
+  if (((first = PyLong_AsSsize_t(args[2])) == -1 && PyErr_Occurred()) ||
+      ((end = PyLong_AsSsize_t(args[3])) == -1 && PyErr_Occurred()) ||
+      ((degree = PyLong_AsLong(args[5])) == -1 && PyErr_Occurred()) ||
+      !read_floats(args[6], gravity, 3, "gravity")) {
+    return NULL;
+  }
+  if (!read_number(args[4], &t0) || !read_number(args[7], &drag) || degree < 0 ||
+      degree > MAX_FIT_DEGREE) {
+    PyErr_SetString(PyExc_ValueError, "ball_forecast: numbers t0 and drag, 0 <= degree <= 15");
+    return NULL;
+  }
+  Py_ssize_t n = end - first;
+  double *memory = n > 0 ? PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BALL_COMPONENTS)))
+                         : NULL;
+  if (n > 0 && memory == NULL) {
+    return PyErr_NoMemory();
+  }
+  double *x = memory, *y = memory + n, span, d[3 * BALL_COMPONENTS], out[10];
+  PyObject *result = NULL;
+  if (gather_window(args[0], args[1], first, end, BALL_COMPONENTS, t0, x, y, &span)) {
+    int solved = fit_at_zero(x, n, (int)degree, y, BALL_COMPONENTS, span, d);
+    if (solved > 0) {
+      ballistic(t0, d, d + BALL_COMPONENTS, gravity, drag, out);
+      result = float_tuple(out, 10);
+    } else if (solved == 0) {
+      result = Py_NewRef(Py_NotImplemented);
+    }
+  }
+  PyMem_Free(memory);
+  return result;
+}
+
+/* ballistic(t0, position, velocity, gravity, drag) -> the BallForecast's 10 numbers */
+static PyObject *py_ballistic(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t0, drag, position[3], velocity[3], gravity[3], out[10];
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError, "ballistic(t0, position, velocity, gravity, drag)");
+    return NULL;
+  }
+  if (!read_floats(args[1], position, 3, "position") ||
+      !read_floats(args[2], velocity, 3, "velocity") ||
+      !read_floats(args[3], gravity, 3, "gravity")) {
+    return NULL;
+  }
+  if (!read_number(args[0], &t0) || !read_number(args[4], &drag)) {
+    PyErr_SetString(PyExc_TypeError, "ballistic(): numbers t0 and drag expected");
+    return NULL;
+  }
+  ballistic(t0, position, velocity, gravity, drag, out);
+  return float_tuple(out, 10);
+}
+
+/*
+ * bat_forecast(times, rows, first, end, degree) -> the BatForecast's 21 numbers from the bat's
+ * samples [first, end) (rows: knob + tip + cumulative turn, 10 floats each; at least 3
+ * samples), fitted at and extrapolated from the newest, or NotImplemented (rank deficient)
+ */
+static PyObject *py_bat_forecast(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, end;
+  long degree;
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError, "bat_forecast(times, rows, first, end, degree)");
+    return NULL;
+  }
+  if (((first = PyLong_AsSsize_t(args[2])) == -1 && PyErr_Occurred()) ||
+      ((end = PyLong_AsSsize_t(args[3])) == -1 && PyErr_Occurred()) ||
+      ((degree = PyLong_AsLong(args[4])) == -1 && PyErr_Occurred())) {
+    return NULL;
+  }
+  if (degree < 0 || degree > MAX_FIT_DEGREE || end - first < 3) {
+    PyErr_SetString(PyExc_ValueError, "bat_forecast: 0 <= degree <= 15, at least 3 samples");
+    return NULL;
+  }
+  if (!PyList_Check(args[0]) || end > PyList_GET_SIZE(args[0]) || first < 0) {
+    PyErr_SetString(PyExc_IndexError, "a forecast's window is outside its samples");
+    return NULL;
+  }
+  double t = item_double(PyList_GET_ITEM(args[0], end - 1)); /* the newest sample's time */
+  if (t == -1.0 && PyErr_Occurred()) {
+    return NULL;
+  }
+  Py_ssize_t n = end - first;
+  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BAT_COMPONENTS)));
+  if (memory == NULL) {
+    return PyErr_NoMemory();
+  }
+  double *x = memory, *y = memory + n, span, d[3 * BAT_COMPONENTS], out[21];
+  PyObject *result = NULL;
+  if (gather_window(args[0], args[1], first, end, BAT_COMPONENTS, t, x, y, &span)) {
+    /* the newest row, before the fit overwrites y: knob and tip at t */
+    const double *last = y + (n - 1) * BAT_COMPONENTS;
+    Vec knob = {last[0], last[1], last[2]}, tip = {last[3], last[4], last[5]};
+    int solved = fit_at_zero(x, n, (int)degree, y, BAT_COMPONENTS, span, d);
+    if (solved > 0) {
+      bat_from_rates(t, d + BAT_COMPONENTS, d + 2 * BAT_COMPONENTS, knob, tip, out);
+      result = float_tuple(out, 21);
+    } else if (solved == 0) {
+      result = Py_NewRef(Py_NotImplemented);
+    }
+  }
+  PyMem_Free(memory);
+  return result;
+}
+
+/* least_accelerating(knob, tip) -> the fraction of the least-accelerating axis point */
+static PyObject *py_least_accelerating(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double ends[6];
+  if (nargs != 2) {
+    PyErr_SetString(PyExc_TypeError, "least_accelerating(knob, tip)");
+    return NULL;
+  }
+  if (!read_floats(args[0], ends, 3, "knob") || !read_floats(args[1], ends + 3, 3, "tip")) {
+    return NULL;
+  }
+  return PyFloat_FromDouble(least_accelerating((Vec){ends[0], ends[1], ends[2]},
+                                               (Vec){ends[3], ends[4], ends[5]}));
+}
+
+/* bat_from_rates(t0, first, second, knob, tip) -> the BatForecast's 21 numbers (10 rates each) */
+static PyObject *py_bat_from_rates(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t0, first[BAT_COMPONENTS], second[BAT_COMPONENTS], ends[6], out[21];
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError, "bat_from_rates(t0, first, second, knob, tip)");
+    return NULL;
+  }
+  if (!read_floats(args[1], first, BAT_COMPONENTS, "first derivatives") ||
+      !read_floats(args[2], second, BAT_COMPONENTS, "second derivatives") ||
+      !read_floats(args[3], ends, 3, "knob") || !read_floats(args[4], ends + 3, 3, "tip")) {
+    return NULL;
+  }
+  if (!read_number(args[0], &t0)) {
+    PyErr_SetString(PyExc_TypeError, "bat_from_rates(): a number t0 expected");
+    return NULL;
+  }
+  bat_from_rates(t0, first, second, (Vec){ends[0], ends[1], ends[2]},
+                 (Vec){ends[3], ends[4], ends[5]}, out);
+  return float_tuple(out, 21);
+}
+
 /* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
@@ -1899,6 +2226,18 @@ static PyMethodDef methods[] = {
     {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
      "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
      "(time - t) / span, or NotImplemented (rank deficient)"},
+    {"ball_forecast", (PyCFunction)(void (*)(void))py_ball_forecast, METH_FASTCALL,
+     "ball_forecast(times, points, first, end, t0, degree, gravity, drag): the ballistic "
+     "forecast's 10 numbers from a fit of the samples [first, end), or NotImplemented"},
+    {"ballistic", (PyCFunction)(void (*)(void))py_ballistic, METH_FASTCALL,
+     "ballistic(t0, position, velocity, gravity, drag): the ballistic forecast's 10 numbers"},
+    {"bat_forecast", (PyCFunction)(void (*)(void))py_bat_forecast, METH_FASTCALL,
+     "bat_forecast(times, rows, first, end, degree): the extrapolated bat's 21 numbers from a "
+     "fit of the samples [first, end) at the newest, or NotImplemented"},
+    {"bat_from_rates", (PyCFunction)(void (*)(void))py_bat_from_rates, METH_FASTCALL,
+     "bat_from_rates(t0, first, second, knob, tip): the extrapolated bat's 21 numbers"},
+    {"least_accelerating", (PyCFunction)(void (*)(void))py_least_accelerating, METH_FASTCALL,
+     "least_accelerating(knob, tip): the fraction along knob-tip accelerating least"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},
