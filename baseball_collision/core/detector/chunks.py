@@ -21,10 +21,16 @@ end a plan). A plan taken whole doubles the next one's length (``PLAN_MAX`` up t
 ``PLAN_LONGEST``), and only the samples a fast-forward keeps after its trim become the
 streams' Python lists.
 
+With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
+``Predictor.predict``: a fast-forward sums the bat's turns up to its newest sample at each
+frame's cursor as the predictor does (``streams.sum_turns``), and a due frame that could
+forecast or clear a prediction (:func:`_prediction_stops`) is a stop; the other due frames
+only move the predictor's ``last_ns``.
+
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
-``spline`` and ``c2`` models (``c2`` not under ``tracker_noise`` auto) and no prediction is
-planned; anything else goes sample by sample.
+``spline`` and ``c2`` models (``c2`` not under ``tracker_noise`` auto) is planned; anything
+else goes sample by sample.
 """
 
 from bisect import bisect_left
@@ -40,13 +46,15 @@ from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .scheduler import Scheduler
-from .streams import SILENT_KEEP, Stream
+from .streams import SILENT_KEEP, Stream, sum_turns, Turn
 from ..geometry import norm, Vector
 from ..motion import BatSample, samples_ahead
+from ..prediction import prediction_due
 from ...errors import CoreError
 
 if TYPE_CHECKING:  # (the detector imports this module)
     from .detector import Detector
+    from .predictor import Predictor
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 """A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
@@ -97,6 +105,11 @@ class Plan:
     :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
         position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
+    :ivar predicting: with prediction on, whether a prediction was in force when planned (a
+        stop that changes it overturns the plan).
+    :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` after each
+        sample; ``newest``: the bat's newest sample at the cursor after each sample that moves
+        it (counted as ``counts``), -1 after one that does not.
 
     The indices are Python lists once planned (``fast_forward`` runs between stops a few
     samples apart near a contact); the samples stay arrays, and only those a fast-forward
@@ -104,7 +117,7 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'values', 'pre')
+                 'stamps', 'values', 'pre', 'predicting', 'last_due', 'newest')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -124,8 +137,7 @@ class Plan:
 def plannable(config: DetectorConfig) -> bool:
     """Return whether chunks are ever planned under a configuration (else one at a time)."""
     return (config.bat_input == 'pose' and config.model in FAST_MODELS
-            and (config.model != 'c2' or config.tracker_noise >= 0.0)
-            and config.prediction_horizon <= 0.0)
+            and (config.model != 'c2' or config.tracker_noise >= 0.0))
 
 
 def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
@@ -166,7 +178,7 @@ class Arrays:
 def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
                frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
                roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-               frames: Sequence[str]) -> Plan:
+               frames: Sequence[str], predictor: Optional['Predictor'] = None) -> Plan:
     """
     Plan a chunk (see the module): which samples are stops, where the walk goes after each.
 
@@ -175,6 +187,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     :param cursor: the scheduler's cursor (s).
     :param roles: role codes (``ROLE_CODES``); ``stamps``: int64 ns; ``values``: (n, 7)
         float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
+    :param predictor: the detector's, when prediction is on (``prediction_horizon`` > 0).
     """
     # the plan ends before the first sample not after its stream's last (dropped, held or a
     # jump back: nothing after it can be planned until it is settled)
@@ -201,6 +214,9 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
+    plan.predicting, plan.last_due, plan.newest = False, None, None
+    if predictor is not None and n:
+        stops |= _prediction_stops(config, plan, arrays, predictor, origin)
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
@@ -211,6 +227,66 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
     return plan
+
+
+def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
+                      predictor: 'Predictor', origin: int) -> np.ndarray:
+    """
+    Return which samples must stop for the predictor; set the plan's ``last_due`` and ``newest``.
+
+    After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` sums the bat's
+    turns up to its newest sample at the cursor; on a due frame (``prediction_due``) it sets
+    ``last_ns``, then forecasts when armed and ``_may_reach`` holds, else clears a prediction
+    in force. A frame between stops only visits far intervals, which arm: its due frame
+    stops when a bat plan is set, a prediction is in force, or the ball may reach the bat
+    (``_may_reach`` from the newest two samples of each stream, decided here with ``SLACK``
+    to spare); else it only moves ``last_ns``.
+    """
+    n = plan.n
+    visited = plan.visited
+    moved = visited > np.concatenate(([1], visited[:-1]))
+    cursors = plan.union[visited - 1]
+    plan.newest = np.where(moved, np.searchsorted(arrays.times[1], cursors, 'right') - 1,
+                           -1).tolist()
+    frames = np.flatnonzero(moved)
+    # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
+    now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()
+    last, period = predictor.last_ns, config.prediction_period
+    due, due_ns = [], []
+    for j, stamp in zip(frames.tolist(), now):
+        if prediction_due(last, stamp, period):
+            last = stamp
+            due.append(j)
+            due_ns.append(stamp)
+    after = np.searchsorted(np.array(due, dtype=np.int64), np.arange(n), 'right') - 1
+    plan.last_due = [predictor.last_ns if k < 0 else due_ns[k] for k in after.tolist()]
+    plan.predicting = predictor.predicting
+    stops = np.zeros(n, bool)
+    if not due:
+        return stops
+    due = np.array(due, dtype=np.int64)
+    if predictor.plan is not None or predictor.predicting:
+        stops[due] = True
+        return stops
+    ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
+    ball_times, bat_times = arrays.times
+    b0, b1 = arrays.ball[ball - 1], arrays.ball[ball]
+    k0, k1 = arrays.knobs[bat - 1], arrays.knobs[bat]
+    t0, t1 = arrays.tips[bat - 1], arrays.tips[bat]
+    with np.errstate(all='ignore'):
+        ball_speed = _norms(b1 - b0) / (ball_times[ball] - ball_times[ball - 1])
+        bat_speed = np.maximum(_norms(k1 - k0), _norms(t1 - t0)) / (
+            bat_times[bat] - bat_times[bat - 1])
+        middle = k1 + (t1 - k1) * 0.5
+        reach = (0.5 * _norms(t1 - k1) + config.ball_radius + config.profile.max_radius
+                 + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
+        stops[due] = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
+    return stops
+
+
+def _norms(rows: np.ndarray) -> np.ndarray:
+    """Return the length of each row of an (m, 3) array."""
+    return np.sqrt(np.einsum('ij,ij->i', rows, rows))
 
 
 def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stream,
@@ -517,10 +593,11 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
 
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
-        with the scheduler: the intervals, then the trim).
+        with the scheduler: the intervals, then the trim, then the prediction).
     :returns: the newest stamp taken (ns).
     """
     newest = 0
+    turns = _run_turns(plan, pos, end, bat) if walk and plan.newest is not None else None
     for s, stream in enumerate((ball, bat)):
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
@@ -552,6 +629,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                            stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
             stream.path_key = None
+    if turns is not None:  # (the kept samples' turns: the run's last len(bat.times))
+        bat.turns[:] = turns[len(turns) - len(bat.times):]
     if walk:
         before = plan.visited[pos - 1] if pos else 1
         after = plan.visited[end - 1]
@@ -566,6 +645,29 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
         stats.newest_stamp_ns = newest
     return newest
+
+
+def _run_turns(plan: Plan, pos: int, end: int, bat: Stream) -> List[Optional[Turn]]:
+    """
+    Return the bat's turns after plan samples pos..end-1 as ``Predictor.predict`` leaves them.
+
+    From the stream's first sample before the run to the run's last: each frame sums the turns
+    up to the bat's newest sample at its cursor (``Plan.newest``) after its step's trim
+    (``Plan.starts``), the same sums in the same order (``streams.sum_turns``).
+    """
+    counts, starts, newest = plan.counts[1], plan.starts[1], plan.newest
+    a = counts[pos - 1] if pos else plan.pre[1]
+    b = counts[end - 1]
+    base = a - len(bat.times)  # the stream's first sample, counted as the plan counts
+    turns = bat.turns + [None] * (b - a)
+    first, last = a - plan.pre[1], b - plan.pre[1]
+    rows = (map(tuple, column[first:last].tolist()) for column in plan.values[1])
+    samples = bat.values + list(map(BatSample, *rows))
+    for j in range(pos, end):
+        k = newest[j]
+        if k >= 0:
+            sum_turns(turns, samples, k - base, starts[j] - base)
+    return turns
 
 
 CHUNK_MIN = 16
@@ -611,7 +713,8 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
                           intake.votes.frame, detector._ball, detector._bat,
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
-                          frame_ids[i:j])
+                          frame_ids[i:j], detector._predictor
+                          if detector.config.prediction_horizon > 0.0 else None)
         if plan.n == 0:  # its first sample is out of order: the per-sample path says why
             _one(detector, chunk, i, events, drops)
             i += 1
@@ -632,15 +735,19 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     Take a plan of the chunk's samples from i: runs fast-forwarded, each stop as ``add`` would.
 
     :returns: the samples taken: all the plan's, or up to the first stop that did not end as
-        planned (dropped, held, reset, trimmed otherwise: the rest is planned again).
+        planned (dropped, held, reset, trimmed otherwise, a prediction made or cleared, the
+        predictor's last frame another: the rest is planned again).
     """
     stats = detector.stats
+    predictor, last_due = detector._predictor, plan.last_due
     pos = 0
     while True:
         end = plan.next_stop(pos)
         if end > pos:
             start = time.perf_counter()
             _fast_forward(detector, plan, pos, end, events, walk=True)
+            if last_due is not None:
+                predictor.last_ns = last_due[end - 1]
             _time(stats, start, end - pos)
         if end >= plan.n:
             return plan.n
@@ -657,6 +764,10 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
         if stats.resets != resets or stats.last_drop_reason is not None or \
                 stats.late_drops or not plan.held(
                     end, detector._ball, detector._bat, detector._scheduler.cursor):
+            return pos
+        if last_due is not None and (predictor is not detector._predictor
+                                     or predictor.predicting != plan.predicting
+                                     or predictor.last_ns != last_due[end]):
             return pos
 
 
