@@ -24,8 +24,9 @@ streams' Python lists.
 With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
 ``Predictor.predict``: a fast-forward sums the bat's turns up to its newest sample at each
 frame's cursor as the predictor does (``streams.sum_turns``), and a due frame that could
-forecast or clear a prediction (:func:`_prediction_stops`) is a stop; the other due frames
-only move the predictor's ``last_ns``.
+forecast or clear a prediction (:func:`_prediction_stops`) is a stop: taken by the run before
+it, then ``Predictor.predict`` (its walk is the plan's, far); the other due frames only move
+the predictor's ``last_ns``.
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
@@ -105,11 +106,12 @@ class Plan:
     :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
         position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
-    :ivar predicting: with prediction on, whether a prediction was in force when planned (a
-        stop that changes it overturns the plan).
-    :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` after each
-        sample; ``newest``: the bat's newest sample at the cursor after each sample that moves
-        it (counted as ``counts``), -1 after one that does not.
+    :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` before the
+        plan, then after each sample (n + 1); ``due``: the due frames (samples, sorted);
+        ``forecasts``: per sample, whether it stops for the predictor alone (it passes every
+        check and only visits far intervals); ``newest``: the bat's newest sample at the
+        cursor after each sample that moves it (counted as ``counts``), -1 after one that
+        does not.
 
     The indices are Python lists once planned (``fast_forward`` runs between stops a few
     samples apart near a contact); the samples stay arrays, and only those a fast-forward
@@ -117,12 +119,17 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'values', 'pre', 'predicting', 'last_due', 'newest')
+                 'stamps', 'values', 'pre', 'last_due', 'due', 'forecasts', 'newest')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
         k = bisect_left(self.stops, pos)
         return self.stops[k] if k < len(self.stops) else self.n
+
+    def stops_at(self, j: int) -> bool:
+        """Return whether sample j is a stop."""
+        k = bisect_left(self.stops, j)
+        return k < len(self.stops) and self.stops[k] == j
 
     def held(self, j: int, ball: Stream, bat: Stream, cursor: Optional[float]) -> bool:
         """Return whether the state after the per-sample path took sample j is the planned one."""
@@ -214,9 +221,11 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
-    plan.predicting, plan.last_due, plan.newest = False, None, None
+    plan.last_due = plan.due = plan.forecasts = plan.newest = None
     if predictor is not None and n:
-        stops |= _prediction_stops(config, plan, arrays, predictor, origin)
+        forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
+        stops |= forecasts
+        plan.forecasts = forecasts.tolist()
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
@@ -232,15 +241,17 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
 def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
                       predictor: 'Predictor', origin: int) -> np.ndarray:
     """
-    Return which samples must stop for the predictor; set the plan's ``last_due`` and ``newest``.
+    Return which samples must stop for the predictor; set the plan's due frames, ``newest``.
 
     After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` sums the bat's
     turns up to its newest sample at the cursor; on a due frame (``prediction_due``) it sets
     ``last_ns``, then forecasts when armed and ``_may_reach`` holds, else clears a prediction
     in force. A frame between stops only visits far intervals, which arm: its due frame
-    stops when a bat plan is set, a prediction is in force, or the ball may reach the bat
-    (``_may_reach`` from the newest two samples of each stream, decided here with ``SLACK``
-    to spare); else it only moves ``last_ns``.
+    stops when a bat plan is set or the ball may reach the bat (``_may_reach`` from the
+    newest two samples of each stream, decided here with ``SLACK`` to spare), and, with a
+    prediction in force, the first due frame that does not (it clears it); the other due
+    frames only move ``last_ns``. A stop that makes a prediction (the next due frame not a
+    stop) or leaves ``last_ns`` elsewhere overturns the plan (``_follow``).
     """
     n = plan.n
     visited = plan.visited
@@ -259,13 +270,14 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
             due.append(j)
             due_ns.append(stamp)
     after = np.searchsorted(np.array(due, dtype=np.int64), np.arange(n), 'right') - 1
-    plan.last_due = [predictor.last_ns if k < 0 else due_ns[k] for k in after.tolist()]
-    plan.predicting = predictor.predicting
+    plan.last_due = [predictor.last_ns] + [predictor.last_ns if k < 0 else due_ns[k]
+                                           for k in after.tolist()]
+    plan.due = due
     stops = np.zeros(n, bool)
     if not due:
         return stops
     due = np.array(due, dtype=np.int64)
-    if predictor.plan is not None or predictor.predicting:
+    if predictor.plan is not None:  # (it may move the bat anywhere: _may_reach is True)
         stops[due] = True
         return stops
     ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
@@ -280,7 +292,10 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
         middle = k1 + (t1 - k1) * 0.5
         reach = (0.5 * _norms(t1 - k1) + config.ball_radius + config.profile.max_radius
                  + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
-        stops[due] = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
+        reaching = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
+    stops[due] = reaching
+    if predictor.predicting and not reaching.all():
+        stops[due[np.argmin(reaching)]] = True  # the first that does not: it clears
     return stops
 
 
@@ -743,32 +758,43 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     pos = 0
     while True:
         end = plan.next_stop(pos)
-        if end > pos:
+        # a stop for the predictor alone is taken with the run, then predicts
+        forecast = end < plan.n and plan.forecasts is not None and plan.forecasts[end]
+        stop = end + 1 if forecast else end
+        if stop > pos:
             start = time.perf_counter()
-            _fast_forward(detector, plan, pos, end, events, walk=True)
+            _fast_forward(detector, plan, pos, stop, events, walk=True)
             if last_due is not None:
-                predictor.last_ns = last_due[end - 1]
-            _time(stats, start, end - pos)
+                predictor.last_ns = last_due[end]  # (a stop's frame predicts from there)
+            if forecast:
+                predictor.predict(detector._scheduler.cursor, detector._episodes.armed, events)
+            _time(stats, start, stop - pos)
         if end >= plan.n:
             return plan.n
-        resets = stats.resets
-        if plan.checked[end]:
-            # it passes every check: append it as planned, walk as add would
-            start = time.perf_counter()
-            _fast_forward(detector, plan, end, end + 1, events, walk=False)
-            detector._advance(events)
-            _time(stats, start, 1)
-        else:
-            _one(detector, chunk, i + end, events, drops)
         pos = end + 1
-        if stats.resets != resets or stats.last_drop_reason is not None or \
-                stats.late_drops or not plan.held(
-                    end, detector._ball, detector._bat, detector._scheduler.cursor):
+        if not forecast:
+            resets = stats.resets
+            if plan.checked[end]:
+                # it passes every check: append it as planned, walk as add would
+                start = time.perf_counter()
+                _fast_forward(detector, plan, end, end + 1, events, walk=False)
+                detector._advance(events)
+                _time(stats, start, 1)
+            else:
+                _one(detector, chunk, i + end, events, drops)
+            if stats.resets != resets or stats.last_drop_reason is not None or \
+                    stats.late_drops or not plan.held(
+                        end, detector._ball, detector._bat, detector._scheduler.cursor):
+                return pos
+        if last_due is not None and (predictor.last_ns != last_due[pos] or (
+                predictor.predicting and not _clears(plan, end))):
             return pos
-        if last_due is not None and (predictor is not detector._predictor
-                                     or predictor.predicting != plan.predicting
-                                     or predictor.last_ns != last_due[end]):
-            return pos
+
+
+def _clears(plan: Plan, j: int) -> bool:
+    """Return whether the plan's next due frame after sample j is a stop (or there is none)."""
+    k = bisect_left(plan.due, j + 1)
+    return k == len(plan.due) or plan.stops_at(plan.due[k])
 
 
 def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
