@@ -24,6 +24,7 @@ Identical output to feeding the samples one at a time is the contract
 
 from bisect import bisect_left
 from collections import Counter
+import math
 import time
 from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
@@ -34,7 +35,8 @@ from .events import DetectorStats, Event, Role
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
 from .streams import Stream, sum_turns, Turn
-from ..motion import BatSample
+from ..geometry import Vector
+from ..motion import BatSample, turn_between
 from ...errors import CoreError
 
 if TYPE_CHECKING:  # (the detector imports this module)
@@ -122,21 +124,73 @@ def _run_turns(plan: Plan, pos: int, end: int, bat: Stream) -> List[Optional[Tur
 
     From the stream's first sample before the run to the run's last: each frame sums the turns
     up to the bat's newest sample at its cursor (``Plan.newest``) after its step's trim
-    (``Plan.starts``), the same sums in the same order (``streams.sum_turns``).
+    (``Plan.starts``), the same sums in the same order (``streams.sum_turns``), of the same
+    steps (:func:`turn_steps` between two of the plan's samples, else ``turn_between``).
     """
-    counts, starts, newest = plan.counts[1], plan.starts[1], plan.newest
-    a = counts[pos - 1] if pos else plan.pre[1]
+    counts, starts, newest, pre = plan.counts[1], plan.starts[1], plan.newest, plan.pre[1]
+    a = counts[pos - 1] if pos else pre
     b = counts[end - 1]
     base = a - len(bat.times)  # the stream's first sample, counted as the plan counts
     turns = bat.turns + [None] * (b - a)
-    first, last = a - plan.pre[1], b - plan.pre[1]
-    rows = (map(tuple, column[first:last].tolist()) for column in plan.values[1])
-    samples = bat.values + list(map(BatSample, *rows))
+    values = bat.values
+    if plan.steps is None:
+        plan.steps = turn_steps(*(plan.values[1][c] for c in (0, 1, 3)))
+    steps = plan.steps
+
+    def step(i: int) -> Tuple[Vector, float]:
+        """Return the turn to sample i (counted from ``base``) from the one before."""
+        i += base
+        if i > pre:
+            return steps[i - pre - 1]
+        new = plan.values[1]  # (i == pre: the plan's first sample after the stream's last)
+        sample = values[i - base] if i < a else BatSample(
+            *(tuple(new[c][i - pre].tolist()) for c in range(4)))
+        return turn_between(values[i - 1 - base], sample)
     for j in range(pos, end):
         k = newest[j]
         if k >= 0:
-            sum_turns(turns, samples, k - base, starts[j] - base)
+            sum_turns(turns, k - base, starts[j] - base, step)
     return turns
+
+
+def turn_steps(knob: np.ndarray, tip: np.ndarray,
+               quaternion: np.ndarray) -> List[Tuple[Vector, float]]:
+    """
+    Return ``motion.turn_between`` from each bat sample to the next (m - 1 of m, pose input).
+
+    The same operations in the same order on arrays (the angles by ``math.atan2`` itself), so
+    the same bits: each step's swing rotation vector (rad, world frame) and roll (rad).
+
+    :param knob, tip: (m, 3) points (m); ``quaternion``: (m, 4) unit, (x, y, z, w).
+    """
+    with np.errstate(all='ignore'):
+        d = tip - knob
+        ux, uy, uz = d[:-1].T
+        vx, vy, vz = d[1:].T
+        tx, ty, tz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+        sine = np.sqrt(tx * tx + ty * ty + tz * tz)
+        angle = np.array(list(map(math.atan2, sine.tolist(),
+                                  (ux * vx + uy * vy + uz * vz).tolist())))
+        factor = angle / sine
+        moving = sine > 0.0
+        swing = np.stack((np.where(moving, tx * factor, 0.0), np.where(moving, ty * factor, 0.0),
+                          np.where(moving, tz * factor, 0.0)), axis=1)
+        x0, y0, z0, w0 = quaternion[:-1].T
+        x1, y1, z1, w1 = quaternion[1:].T
+        w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
+        x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
+        y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0
+        z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0
+        sign = np.where(w < 0.0, -1.0, 1.0)  # (the shorter arc: an exact sign flip)
+        w, x, y, z = w * sign, x * sign, y * sign, z * sign
+        part = np.sqrt(x * x + y * y + z * z)
+        half = np.array(list(map(math.atan2, part.tolist(), w.tolist())))
+        g = 2.0 * half / part
+        mx, my, mz = ux + vx, uy + vy, uz + vz
+        length = np.sqrt(mx * mx + my * my + mz * mz)
+        roll = ((x * g) * mx + (y * g) * my + (z * g) * mz) / length
+        roll = np.where((part == 0.0) | (length == 0.0), 0.0, roll)
+    return list(zip(map(tuple, swing.tolist()), roll.tolist()))
 
 
 CHUNK_MIN = 16

@@ -82,7 +82,8 @@ class Plan:
         ``forecasts``: per sample, whether it stops for the predictor alone (it passes every
         check and only visits far intervals); ``newest``: the bat's newest sample at the
         cursor after each sample that moves it (counted as ``counts``), -1 after one that
-        does not.
+        does not; ``steps``: the bat's turn from each of the chunk's bat samples to the next
+        (``chunks.turn_steps``), made when a run first sums turns.
 
     The indices are Python lists once planned (``fast_forward`` runs between stops a few
     samples apart near a contact); the samples stay arrays, and only those a fast-forward
@@ -90,7 +91,7 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'values', 'pre', 'last_due', 'due', 'forecasts', 'newest')
+                 'stamps', 'values', 'pre', 'last_due', 'due', 'forecasts', 'newest', 'steps')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -192,7 +193,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
-    plan.last_due = plan.due = plan.forecasts = plan.newest = None
+    plan.last_due = plan.due = plan.forecasts = plan.newest = plan.steps = None
     if predictor is not None and n:
         forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
         stops |= forecasts

@@ -19,7 +19,7 @@ import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.motion import BatSample
+from baseball_collision.core.motion import BatSample, turn_between
 from baseball_collision.errors import CoreError
 from hypothesis import given, HealthCheck, settings, strategies as st
 import numpy as np
@@ -485,3 +485,23 @@ def test_vectorised_far_test_is_the_scalar_one(model: str, points: List[Tuple[fl
     for k in range(3):
         for margin in (clearance[k] - 1e-7, clearance[k] + 1e-7):
             assert clearly_apart(ball, bat, k, k, margin, model, 1.0) == (clearance[k] > margin)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(rows=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 10), min_size=2, max_size=12),
+       repeat=st.integers(0, 11))
+def test_turn_steps_are_turn_between_to_the_bit(rows: List[Tuple[float, ...]],
+                                                repeat: int) -> None:
+    """``turn_steps`` over arrays: ``turn_between`` of each pair of samples, bit for bit."""
+    rows = list(rows)
+    rows.insert(repeat % len(rows), rows[repeat % len(rows)])  # (no turn at all: zeros)
+    samples = []
+    for row in rows:
+        q = np.array(row[6:10])
+        q = q / (np.linalg.norm(q) or 1.0)
+        samples.append(BatSample(knob=tuple(row[0:3]), tip=tuple(row[3:6]),
+                                 position=tuple(row[0:3]), quaternion=tuple(q.tolist())))
+    steps = chunks_module.turn_steps(*(np.array([getattr(s, name) for s in samples])
+                                       for name in ('knob', 'tip', 'quaternion')))
+    expected = [turn_between(a, b) for a, b in zip(samples, samples[1:])]
+    assert [repr(step) for step in steps] == [repr(step) for step in expected]
