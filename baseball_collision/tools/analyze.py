@@ -11,10 +11,9 @@ the :class:`BagAnalysis` files the events; with ``--predict`` the frame stamps a
 the predictions; with ``--out-bag`` every input topic and what the node would publish are
 written into an MCAP (:mod:`.outbag`). When only events (and the frame stamps) are wanted the
 bag goes a chunk of arrays at a time to ``Detector.add_chunk`` (:func:`run_detector_chunks`);
-a sink that needs each
-sample gets the loop of :meth:`Detector.add <baseball_collision.core.detector.Detector.add>`
-per sample (:func:`run_detector`): the same events either way. The result is compared with the
-truth file beside the bag when there is one.
+a sink that needs each sample gets the loop of :meth:`Detector.add
+<baseball_collision.core.detector.Detector.add>` per sample (:func:`run_detector`): the same
+events either way. The result is compared with the truth file beside the bag when there is one.
 """
 
 from collections import Counter
