@@ -9,11 +9,11 @@ sample to the detector in the bag's order, then
 :meth:`~baseball_collision.core.detector.Detector.finish`, handing samples and events to sinks:
 the :class:`BagAnalysis` files the events; with ``--predict`` the frame stamps are kept to score
 the predictions; with ``--out-bag`` every input topic and what the node would publish are
-written into an MCAP (:mod:`.outbag`). When only events are wanted the bag goes a chunk of
-arrays at a time to ``Detector.add_chunk`` (:func:`run_detector_chunks`); a sink that needs each
-sample gets the loop of :meth:`Detector.add <baseball_collision.core.detector.Detector.add>`
-per sample (:func:`run_detector`): the same events either way. The result is compared with the
-truth file beside the bag when there is one.
+written into an MCAP (:mod:`.outbag`). When only events (and the frame stamps) are wanted the
+bag goes a chunk of arrays at a time to ``Detector.add_chunk`` (:func:`run_detector_chunks`);
+a sink that needs each sample gets the loop of :meth:`Detector.add
+<baseball_collision.core.detector.Detector.add>` per sample (:func:`run_detector`): the same
+events either way. The result is compared with the truth file beside the bag when there is one.
 """
 
 from collections import Counter
@@ -231,6 +231,10 @@ class FrameStamps:
         """Keep the stamp."""
         self.stamps.append(stamp_ns)
 
+    def on_chunk(self, chunk: Any) -> None:
+        """Keep a chunk's stamps (a ``SampleChunk``: the chunked loop needs no sample sink)."""
+        self.stamps += chunk.stamps_ns.tolist()
+
 
 # ----------------------------------------------------------------------------------------------
 # The loop
@@ -314,7 +318,9 @@ def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[An
                         bar: Any = None,
                         drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
     """
-    :func:`run_detector` a chunk at a time, for event sinks only (no sample sink).
+    :func:`run_detector` a chunk at a time, for event and chunk sinks only (no sample sink).
+
+    A chunk sink's ``on_chunk`` is given each chunk before the detector.
 
     Each chunk goes to ``detector.add_chunk`` (the common case with numpy, the rest sample by
     sample: the same events as :func:`run_detector`); its events go to the event sinks with
@@ -323,18 +329,21 @@ def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[An
     :param chunks: :class:`~baseball_collision.bags.SampleChunk` in the bag's order.
     :param detector: a :class:`~baseball_collision.core.detector.Detector` (or anything with
         its ``add_chunk`` and ``finish()``).
-    :param sinks: objects with ``on_events`` (others are ignored).
+    :param sinks: objects with ``on_events`` and/or ``on_chunk`` (others are ignored).
     :param bar: a progress bar (``update(n)``) or None.
     :param drops: counts ``(role, reason)`` of every dropped sample when given.
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
         or (lambda events, log_time_ns, frame_id: None)
+    on_chunk = _fan_out([sink.on_chunk for sink in sinks if hasattr(sink, 'on_chunk')])
     count, first, log_time, frame = 0, None, 0, ''
     for chunk in chunks:
         n = len(chunk.stamps_ns)
         if first is None:
             first = int(chunk.stamps_ns[0])
+        if on_chunk is not None:
+            on_chunk(chunk)
         events = detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values,
                                     chunk.frame_ids, drops)
         log_time, frame = int(chunk.log_times_ns[-1]), chunk.frame_ids[-1]
@@ -412,10 +421,11 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                 sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
             try:
-                if any(hasattr(sink, 'on_sample') for sink in sinks):
+                if any(hasattr(sink, 'on_sample') and not hasattr(sink, 'on_chunk')
+                       for sink in sinks):
                     result.messages, result.first_stamp_ns = run_detector(
                         bag.samples(), detector, sinks, bar, result.drops_by_role)
-                else:  # events only: a chunk at a time
+                else:  # events (and the frames' stamps) only: a chunk at a time
                     result.messages, result.first_stamp_ns = run_detector_chunks(
                         bag.chunks(CHUNK), detector, sinks, bar, result.drops_by_role)
                 if copy is not None:

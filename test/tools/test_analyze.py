@@ -29,9 +29,9 @@ from typing import Any, Callable, Dict, List, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
 from baseball_collision.core.detector import (
-    DetectorConfig, Impact, NearMiss, Prediction, StreamGap)
+    Detector, DetectorConfig, Impact, NearMiss, Prediction, StreamGap)
 from baseball_collision.tools.analyze import (
-    BagAnalysis, CHUNK, FrameStamps, progress_bar, run_detector)
+    AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, FrameStamps, progress_bar, run_detector)
 from baseball_collision.tools.parameters import output_topics
 from baseball_collision.tools.truth import truth_path
 import pytest
@@ -170,6 +170,31 @@ def test_predict_scores_predictions_and_exports_them(
                                str(tmp_path / 'q.json')])
     assert code == 0 and 'predictions:' not in stdout
     assert 'predictions' not in json.loads((tmp_path / 'q.json').read_text())
+
+
+@pytest.mark.parametrize('period', [0.0, 0.01])
+@pytest.mark.parametrize('name', ['pitches_360hz.mcap', 'pitches_90hz.mcap'])
+def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
+        name: str, period: float) -> None:
+    """
+    ``--predict`` feeds the detector a chunk at a time: the frames kept from each chunk.
+
+    The events, drops, counters and frame stamps are those of the loop one sample at a time
+    (``run_detector``, which ``--predict`` ran before).
+    """
+    options = AnalysisOptions(model='spline', prediction_horizon=0.3,
+                              parameters={'prediction_period': period})
+    chunked = analyze_bag(bag_path(name), options, progress=False)
+    with BagReader(bag_path(name)) as bag:
+        one = BagAnalysis(path=bag_path(name), selection=bag.selection, config=chunked.config)
+        detector = Detector(chunked.config)
+        count, _ = run_detector(bag.samples(), detector, [one, FrameStamps(one.frames_ns)],
+                                None, one.drops_by_role)
+    assert chunked.predictions and chunked.impacts
+    assert count == chunked.messages and one.frames_ns == chunked.frames_ns
+    for name in ('impacts', 'near_misses', 'predictions', 'gaps', 'resets', 'drops_by_role'):
+        assert getattr(one, name) == getattr(chunked, name), name
+    assert detector.stats.intervals == chunked.stats.intervals
 
 
 # ---- the loop and its sinks -----------------------------------------------------------------

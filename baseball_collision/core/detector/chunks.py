@@ -2,65 +2,49 @@
 A chunk of samples at once: the common case (far from any contact) with numpy.
 
 ``Detector.add_chunk`` takes the samples a bag (or a subscription) delivered, in arrival
-order. :func:`plan_chunk` looks at all of them at once, as if each were accepted: which pass
-every check with room to spare (the value checks, the frame, the intake's stamp rules, the
-speed bound), where the watermark and the cursor go after each, which union intervals that
-walk visits, and which of those the sweep's far tests clear with room to spare: the first
-(``broadphase.apart_margins``, the scalar ``clearly_apart`` on arrays: bounding spheres and
-hulls of the raw samples), then where it does not, the second (``broadphase.path_margins``:
-the motion paths' spheres, as ``Sweep.interval`` builds them). A run of such samples is
-fast-forwarded (:func:`fast_forward`): appended to the streams, the cursor moved, the intervals
-counted and the episodes told "far", the streams trimmed exactly as the per-sample path trims
-them. Every other sample (a drop, a held or voted one, one that makes a near interval
-decidable) is a *stop*: it goes through the per-sample path (``Detector.add``), so each rule
-keeps its one implementation; when it did not end as the plan assumed (dropped, held, reset,
-trimmed otherwise) the rest of the chunk is planned again (:func:`feed_chunk`, the
-detector's ``add_chunk``). A stream's first sample after a gap is planned as the intake takes
-it: held until the stream's next sample, which takes both (a pause between pitches does not
-end a plan). A plan taken whole doubles the next one's length (``PLAN_MAX`` up to
-``PLAN_LONGEST``), and only the samples a fast-forward keeps after its trim become the
-streams' Python lists.
+order, and has them planned (``plans.plan_chunk``: which samples are stops, where the walk
+goes after each). A run of samples between stops is fast-forwarded (:func:`fast_forward`):
+appended to the streams, the cursor moved, the intervals counted and the episodes told
+"far", the streams trimmed exactly as the per-sample path trims them. Every stop goes through
+the per-sample path (``Detector.add``), so each rule keeps its one implementation; when it
+did not end as the plan assumed (dropped, held, reset, trimmed otherwise) the rest of the
+chunk is planned again (:func:`feed_chunk`, the detector's ``add_chunk``). A plan taken whole
+doubles the next one's length (``PLAN_MAX`` up to ``PLAN_LONGEST``), and only the samples a
+fast-forward keeps after its trim become the streams' Python lists.
+
+With prediction on, a fast-forward sums the bat's turns up to its newest sample at each
+frame's cursor as ``Predictor.predict`` does (``streams.sum_turns``), and moves the
+predictor's ``last_ns``; a stop for the predictor alone (a due frame that could forecast or
+clear a prediction) is taken by the run before it, then ``Predictor.predict`` (its walk is
+the plan's, far).
 
 Identical output to feeding the samples one at a time is the contract
-(test/core/detector/test_chunks.py). Only pose input with the ``linear``, ``rigid``,
-``spline`` and ``c2`` models (``c2`` not under ``tracker_noise`` auto) and no prediction is
-planned; anything else goes sample by sample.
+(test/core/detector/test_chunks.py).
 """
 
 from bisect import bisect_left
 from collections import Counter
+import math
 import time
 from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
-from .broadphase import apart_margins, path_margins
-from .config import DetectorConfig
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
-from .gate import FAR_AHEAD_NS, HOLD_FACTOR
+from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
-from .streams import SILENT_KEEP, Stream
-from ..geometry import norm, Vector
-from ..motion import BatSample, samples_ahead
+from .streams import Stream, sum_turns, Turn
+from ..geometry import Vector
+from ..motion import BatSample, turn_between
 from ...errors import CoreError
 
 if TYPE_CHECKING:  # (the detector imports this module)
     from .detector import Detector
 
-ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
-"""A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
+__all__ = ['CHUNK_MIN', 'fast_forward', 'feed_chunk', 'PLAN_LONGEST', 'PLAN_MAX', 'ROLE_CODES']
 
-BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
 _ROLES = (Role.BALL, Role.BAT_POSE)
-
-FAST_MODELS = ('linear', 'rigid', 'spline', 'c2')
-"""Models whose far test is vectorised (``c2``: its first stage, ``broadphase.apart_margins``;
-not under ``tracker_noise`` auto, whose estimate takes every sample in turn)."""
-
-SLACK = 1e-9
-"""Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
-the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
 
 PLAN_MAX = 512
 """Samples planned at once after a plan was overturned: a plan the per-sample path overturns
@@ -72,443 +56,6 @@ PLAN_LONGEST = 8192
 numpy calls is shared by more samples); the length carries over to the next chunk
 (``Detector._plan_length``), and goes back to ``PLAN_MAX`` when a plan is overturned."""
 
-TRIM_FROM = 64
-"""``Stream.trim`` leaves streams shorter than this alone."""
-
-TRIM_KEEP = 5
-"""``Stream.trim`` keeps this many samples before its cut (``keep`` + 1)."""
-
-
-class Plan:
-    """
-    What a chunk does if every sample in it is accepted (arrays over its n samples).
-
-    :ivar n: the samples planned.
-    :ivar stops: indices of the samples that must go through the per-sample path, sorted.
-    :ivar checked: which samples pass every check (a stop among them only makes a near
-        interval decidable: it is appended as planned, then walked by the scheduler).
-    :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
-        counted from the stream's first kept sample when planned (a held sample counts from
-        the sample that takes it).
-    :ivar starts: per stream, the index of its first kept sample after each sample's trim.
-    :ivar union: the cursor, then every union time after it (s).
-    :ivar visited: after each sample, how many of ``union`` the cursor has reached.
-    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
-    :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
-        position and quaternion arrays.
-    :ivar pre: per stream, samples it held when planned.
-
-    The indices are Python lists once planned (``fast_forward`` runs between stops a few
-    samples apart near a contact); the samples stay arrays, and only those a fast-forward
-    keeps after its trim become the streams' lists and tuples.
-    """
-
-    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'values', 'pre')
-
-    def next_stop(self, pos: int) -> int:
-        """Return the first stop at or after sample ``pos`` (``n`` for none)."""
-        k = bisect_left(self.stops, pos)
-        return self.stops[k] if k < len(self.stops) else self.n
-
-    def held(self, j: int, ball: Stream, bat: Stream, cursor: Optional[float]) -> bool:
-        """Return whether the state after the per-sample path took sample j is the planned one."""
-        for s, stream in enumerate((ball, bat)):
-            count = self.counts[s][j]
-            if len(stream.times) != count - self.starts[s][j] or \
-                    stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
-                return False
-        return cursor == self.union[self.visited[j] - 1]
-
-
-def plannable(config: DetectorConfig) -> bool:
-    """Return whether chunks are ever planned under a configuration (else one at a time)."""
-    return (config.bat_input == 'pose' and config.model in FAST_MODELS
-            and (config.model != 'c2' or config.tracker_noise >= 0.0)
-            and config.prediction_horizon <= 0.0)
-
-
-def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
-           cursor: Optional[float], waiting: bool) -> bool:
-    """Return whether a chunk can be planned now (else its samples go one at a time)."""
-    return (plannable(config) and origin is not None and cursor is not None
-            and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
-            and 3 <= len(bat.times) <= SILENT_KEEP // 2)
-
-
-class Arrays:
-    """
-    Both streams' kept samples, then a chunk's, as arrays (``plan_chunk``'s working set).
-
-    :ivar pre: per stream, samples it held when planned.
-    :ivar times, stamps, breaks: per stream (s, ns, bool).
-    :ivar ball: ball points (m_ball, 3); ``knobs``, ``tips``, ``positions``: (m_bat, 3);
-        ``quaternions``: (m_bat, 4) unit.
-    :ivar new: the chunk's own: ball points, then the bat's knob, tip, position, quaternion.
-    """
-
-    __slots__ = ('pre', 'times', 'stamps', 'breaks', 'ball', 'knobs', 'tips', 'positions',
-                 'quaternions', 'new')
-
-    def cut(self, m_ball: int, m_bat: int) -> None:
-        """Keep each stream's first m_ball and m_bat samples (the chunk's first samples)."""
-        self.times = (self.times[0][:m_ball], self.times[1][:m_bat])
-        self.stamps = (self.stamps[0][:m_ball], self.stamps[1][:m_bat])
-        self.breaks = (self.breaks[0][:m_ball], self.breaks[1][:m_bat])
-        self.ball = self.ball[:m_ball]
-        self.knobs, self.tips = self.knobs[:m_bat], self.tips[:m_bat]
-        self.positions, self.quaternions = self.positions[:m_bat], self.quaternions[:m_bat]
-        k = m_bat - self.pre[1]
-        self.new = (self.new[0][:m_ball - self.pre[0]],) + tuple(column[:k]
-                                                                 for column in self.new[1:])
-
-
-def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
-               frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
-               roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-               frames: Sequence[str]) -> Plan:
-    """
-    Plan a chunk (see the module): which samples are stops, where the walk goes after each.
-
-    :param offsets: (knob, tip) in the bat's body frame (m).
-    :param origin: the clock's origin (ns); ``frame``: the tracking frame (None: none yet).
-    :param cursor: the scheduler's cursor (s).
-    :param roles: role codes (``ROLE_CODES``); ``stamps``: int64 ns; ``values``: (n, 7)
-        float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
-    """
-    # the plan ends before the first sample not after its stream's last (dropped, held or a
-    # jump back: nothing after it can be planned until it is settled)
-    n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
-    is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
-    arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
-    ok, gap = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
-                      frames[:n])
-    # the plan ends at its first sample that fails a check (the per-sample path will most
-    # likely drop it, hold it or break its stream there, and what follows be planned again),
-    # except a stream's first sample after a gap, held until its next takes it
-    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], ball, bat)
-    if end < n:
-        n = end
-        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
-        arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
-    plan = Plan()
-    plan.n, plan.pre = n, arrays.pre
-    for x, y in held:  # both go through the per-sample path
-        ok[y if y < n else x] = False
-    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
-    far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
-                         if n else plan.union[:0])
-    stops = ~ok
-    stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
-    stops |= _trim_starts(config, plan, arrays, done, counts, visited)
-    # the indices as lists for fast_forward; the samples stay arrays, made lists (the
-    # streams' own values) only for those a fast-forward keeps
-    plan.stops = np.flatnonzero(stops).tolist()
-    plan.checked = ok.tolist()
-    plan.counts = [counts.tolist() for counts in plan.counts]
-    plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
-    plan.times, plan.stamps = arrays.times, arrays.stamps
-    new_ball, knob, tip, position, quaternion = arrays.new
-    plan.values = (new_ball, (knob, tip, position, quaternion))
-    return plan
-
-
-def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stream,
-            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray,
-            values: np.ndarray) -> Arrays:
-    """Return the streams' kept samples and the chunk's (its poses made knob and tip)."""
-    arrays = Arrays()
-    with np.errstate(all='ignore'):
-        t = (stamps - origin) * 1e-9
-        position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
-        magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
-                            + quaternion[:, 1] * quaternion[:, 1]
-                            + quaternion[:, 2] * quaternion[:, 2]
-                            + quaternion[:, 3] * quaternion[:, 3])
-        quaternion = quaternion / magnitude[:, None]
-        knob = _pose_points(position, quaternion, offsets[0])
-        tip = _pose_points(position, quaternion, offsets[1])
-    new_ball = values[is_ball, :3]
-    arrays.new = (new_ball, knob, tip, position, quaternion)
-    pre_bat = bat.values
-    arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
-    arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
-        np.concatenate((np.array([getattr(s, name) for s in pre_bat], dtype=float), column))
-        for name, column in (('knob', knob), ('tip', tip), ('position', position),
-                             ('quaternion', quaternion)))
-    arrays.pre = (len(ball.times), len(bat.times))
-    arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
-                    np.concatenate((np.array(bat.times), t[is_bat])))
-    arrays.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
-                     np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
-    arrays.breaks = (
-        np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
-        np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
-    return arrays
-
-
-def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
-            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-            frames: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return which samples pass every check with room to spare (values, frame, order).
-
-    Second, which pass every check but the order's as the first sample after a gap that the
-    intake holds for its stream's next (``_order_checks``).
-    """
-    n = len(stamps)
-    with np.errstate(all='ignore'):
-        ok = _value_checks(config, values, is_ball, is_bat)
-        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
-            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
-        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
-    gap = ok.copy()
-    for s, mine, points in ((0, is_ball, (arrays.ball,)),
-                            (1, is_bat, (arrays.knobs, arrays.tips))):
-        in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
-                                            arrays.pre[s])
-        ok[mine] &= in_order
-        gap[mine] &= after_gap
-    return ok, gap
-
-
-def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
-          is_bat: np.ndarray, cursor: float,
-          held: Sequence[Tuple[int, int]] = ()
-          ) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray]:
-    """
-    Set the plan's counts, union times and cursor steps: the watermark after each sample.
-
-    The walk is made of steps, each sample taken: in arrival order, but a held sample is taken
-    just before the sample that takes it (``_held_gaps``), and starts a new segment.
-
-    :param held: (sample, the sample that takes it).
-    :returns: per sample, the steps taken after it (``done``); per stream, the count after each
-        step from 0 (none taken); the cursor's union index after each step (from 0).
-    """
-    n = len(is_ball)
-    order = np.arange(n)
-    done = order + 1
-    if held:
-        pending = np.zeros(n + 1, np.int64)
-        key = order.astype(float)
-        for x, y in held:
-            pending[x] += 1
-            pending[min(y, n)] -= 1
-            key[x] = y - 0.5  # just before y (y past the plan's end: never taken in it)
-            s = 0 if is_ball[x] else 1
-            arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
-        done -= np.cumsum(pending[:n])
-        order = np.argsort(key, kind='stable')[:int(done[-1])]
-    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
-              for s, mine in ((0, is_ball), (1, is_bat))]
-    plan.counts = (counts[0][done], counts[1][done])
-    ahead = samples_ahead(config.model, config.look_ahead)
-    watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
-                           arrays.times[1][counts[1] - 1 - ahead])
-    union = np.union1d(arrays.times[0], arrays.times[1])
-    plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
-    plan.visited = visited[done]
-    return done, counts, visited
-
-
-def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
-                   starts: np.ndarray) -> np.ndarray:
-    """
-    Return which union intervals (by their start times, s) the sweep's far tests clear.
-
-    Both streams without a gap over them, then the first test (``apart_margins``) or, where it
-    does not clear, the second (``path_margins``), each by ``SLACK`` more than the sweep's
-    margin.
-    """
-    far = np.ones(len(starts), bool)
-    located = []
-    for s in (0, 1):
-        k = np.searchsorted(arrays.times[s], starts, 'right') - 1
-        times, cut = arrays.times[s], arrays.breaks[s]
-        far &= _continuous(times, cut, k, config.max_gap)
-        before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
-        after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
-        located.append((k, before, after))
-    if not len(starts):
-        return far
-    (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
-    margin = (config.ball_radius + config.profile.max_radius + 1e-6
-              + max(config.near_miss_threshold, config.rearm_distance))
-    with np.errstate(all='ignore'):
-        margin += SLACK * (1.0 + float(np.abs(arrays.ball).max(initial=0.0))
-                           + float(np.abs(arrays.tips).max(initial=0.0)))
-        clear = far & (apart_margins(
-            arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
-            ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
-            config.model, config.look_ahead, config.spline_window, margin) > margin)
-        # the sweep's second test (the motion paths' spheres) where the first did not clear
-        # (c2's second stage is apart_margins' own)
-        near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
-        if len(near):
-            clear[near] = path_margins(
-                arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
-                bat_k[near], ball_before[near], ball_after[near], bat_before[near],
-                bat_after[near], arrays.times[0], arrays.times[1], config.model,
-                max(map(norm, offsets))) > margin
-    return clear
-
-
-def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.ndarray,
-                 counts: List[np.ndarray], visited: np.ndarray) -> np.ndarray:
-    """
-    Set the plan's trims (as the per-sample path makes them after each step of ``_walk``).
-
-    :returns: which samples must stop: a stream that may be silent trims on its own.
-    """
-    history = 1.5 * max(config.velocity_window, config.prediction_window)
-    cursors = plan.union[visited[1:] - 1]
-    plan.starts = []
-    silent = np.zeros(len(visited), bool)
-    for s in (0, 1):
-        cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
-        starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
-        silent[1:] |= lengths > SILENT_KEEP
-    # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
-    made = np.cumsum(silent)
-    return made[done] > made[np.concatenate(([0], done[:-1]))]
-
-
-def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
-               stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[int, List[Tuple[int, int]]]:
-    """
-    Return where a plan ends, and its held samples with the sample that takes each.
-
-    A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
-    as new; its stream's next sample takes it, then itself. The plan follows that (both go
-    through the per-sample path); it ends after its first sample that fails a check
-    otherwise, or whose next does. A wrong guess costs a plan: ``Plan.held`` compares the
-    state after each such sample with the plan's.
-    """
-    n = len(ok)
-    failing = np.flatnonzero(~ok).tolist()
-    if not failing:
-        return n, []
-    following = np.full(n, n)
-    for mine in (is_ball, is_bat):
-        own = np.flatnonzero(mine)
-        following[own[:-1]] = own[1:]
-    waiting = np.zeros(n, bool)
-    newest = max(ball.stamps[-1], bat.stamps[-1])
-    held: List[Tuple[int, int]] = []
-    for x in failing:
-        y = int(following[x])
-        if not gap[x] or y >= n or not ok[y]:
-            return x + 1, held
-        before = stamps[:x][~waiting[:x]]
-        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
-            return x + 1, held  # (taken at once: as new as a sample taken)
-        held.append((x, y))
-        waiting[x] = True
-    return n, held
-
-
-def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
-    """Return the chunk's length up to its first sample of a stream not after the one before."""
-    own = stamps[mine]
-    previous = np.concatenate((stream.stamps[-1:], own[:-1]))
-    bad = np.flatnonzero(own <= previous) if len(previous) == len(own) else np.array([0])
-    return int(np.flatnonzero(mine)[bad[0]]) if len(bad) else len(stamps)
-
-
-def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
-    """Return the samples whose walk visits the given intervals (m: the m-th union time)."""
-    steps = np.searchsorted(visited, intervals, 'right')
-    return steps[steps < n]
-
-
-def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
-                  is_bat: np.ndarray) -> np.ndarray:
-    """Return which samples pass the value checks (``gate``) with room to spare."""
-    finite = np.isfinite(values)
-    ok = is_ball & finite[:, :3].all(1)
-    q = values[:, 3:7]
-    magnitude = np.sqrt((q * q).sum(1))
-    pose = is_bat & finite.all(1) & (np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
-    # a pose at the origin may be a lost body: the per-sample path decides
-    pose &= ~(values[:, :3] == 0.0).all(1)
-    return ok | pose
-
-
-def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
-                  points: Sequence[np.ndarray], pre: int) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
-
-    The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
-    bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
-    sample before it were accepted. Second, which start a new segment after a gap longer than
-    ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
-    before, under ``time_jump_reset``): the next sample takes them.
-    """
-    new = np.arange(pre, len(stamps))
-    step = (stamps[new] - stamps[new - 1]).astype(float)
-    step1 = (stamps[new - 1] - stamps[new - 2]).astype(float)
-    step2 = (stamps[new - 2] - stamps[new - 3]).astype(float)
-    reset_ns = int(round(config.time_jump_reset * 1e9))
-    factor = HOLD_FACTOR * (1.0 - SLACK)
-    ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
-    dt = times[new] - times[new - 1]
-    ok &= dt <= config.max_gap * (1.0 - SLACK)
-    limit = config.max_speed * dt * (1.0 - SLACK)
-    for each in points:
-        d = each[new] - each[new - 1]
-        ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
-    gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
-        dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
-    return ok, gap
-
-
-def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
-                max_gap: float) -> np.ndarray:
-    """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
-    inside = (k >= 0) & (k + 1 < len(times))
-    j = np.where(inside, k, 0)
-    return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
-
-
-def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return a stream's first kept sample after each sample's trim, and its length before it.
-
-    ``Stream.trim`` after each sample: a stream of ``TRIM_FROM`` samples or more drops those
-    before its cut. ``counts`` and ``cuts`` never decrease, so the sample that trims next after
-    one that trimmed at j (leaving the stream from ``cuts[j]``) is known for every j at once;
-    the trims are that chain from the first (with a long history, every sample).
-    """
-    n = len(counts)
-    following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
-                                      np.searchsorted(cuts, cuts + 1, 'left')),
-                           np.arange(1, n + 1)).tolist()
-    at = []  # the samples that trim
-    j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
-    while j < n:
-        at.append(j)
-        j = following[j]
-    trims = np.array(at, dtype=np.int64)
-    starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
-    after = starts[np.searchsorted(trims, np.arange(n), 'right')]
-    return after, counts - np.concatenate(([0], after[:-1]))
-
-
-def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
-    """``geometry.pose_point`` over rows, with the same operations in the same order."""
-    x, y, z, w = quaternion.T
-    v0, v1, v2 = offset
-    cx = y * v2 - z * v1
-    cy = z * v0 - x * v2
-    cz = x * v1 - y * v0
-    return np.stack((position[:, 0] + (v0 + 2.0 * (w * cx + y * cz - z * cy)),
-                     position[:, 1] + (v1 + 2.0 * (w * cy + z * cx - x * cz)),
-                     position[:, 2] + (v2 + 2.0 * (w * cz + x * cy - y * cx))), axis=1)
-
 
 def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                  scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
@@ -517,10 +64,11 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
 
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
-        with the scheduler: the intervals, then the trim).
+        with the scheduler: the intervals, then the trim, then the prediction).
     :returns: the newest stamp taken (ns).
     """
     newest = 0
+    turns = _run_turns(plan, pos, end, bat) if walk and plan.newest is not None else None
     for s, stream in enumerate((ball, bat)):
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
@@ -552,6 +100,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                            stream.turns, *stream.aligned.values()):
                 del buffer[:cut]
             stream.path_key = None
+    if turns is not None:  # (the kept samples' turns: the run's last len(bat.times))
+        bat.turns[:] = turns[len(turns) - len(bat.times):]
     if walk:
         before = plan.visited[pos - 1] if pos else 1
         after = plan.visited[end - 1]
@@ -566,6 +116,81 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
         stats.newest_stamp_ns = newest
     return newest
+
+
+def _run_turns(plan: Plan, pos: int, end: int, bat: Stream) -> List[Optional[Turn]]:
+    """
+    Return the bat's turns after plan samples pos..end-1 as ``Predictor.predict`` leaves them.
+
+    From the stream's first sample before the run to the run's last: each frame sums the turns
+    up to the bat's newest sample at its cursor (``Plan.newest``) after its step's trim
+    (``Plan.starts``), the same sums in the same order (``streams.sum_turns``), of the same
+    steps (:func:`turn_steps` between two of the plan's samples, else ``turn_between``).
+    """
+    counts, starts, newest, pre = plan.counts[1], plan.starts[1], plan.newest, plan.pre[1]
+    a = counts[pos - 1] if pos else pre
+    b = counts[end - 1]
+    base = a - len(bat.times)  # the stream's first sample, counted as the plan counts
+    turns = bat.turns + [None] * (b - a)
+    values = bat.values
+    if plan.steps is None:
+        plan.steps = turn_steps(*(plan.values[1][c] for c in (0, 1, 3)))
+    steps = plan.steps
+
+    def step(i: int) -> Tuple[Vector, float]:
+        """Return the turn to sample i (counted from ``base``) from the one before."""
+        i += base
+        if i > pre:
+            return steps[i - pre - 1]
+        new = plan.values[1]  # (i == pre: the plan's first sample after the stream's last)
+        sample = values[i - base] if i < a else BatSample(
+            *(tuple(new[c][i - pre].tolist()) for c in range(4)))
+        return turn_between(values[i - 1 - base], sample)
+    for j in range(pos, end):
+        k = newest[j]
+        if k >= 0:
+            sum_turns(turns, k - base, starts[j] - base, step)
+    return turns
+
+
+def turn_steps(knob: np.ndarray, tip: np.ndarray,
+               quaternion: np.ndarray) -> List[Tuple[Vector, float]]:
+    """
+    Return ``motion.turn_between`` from each bat sample to the next (m - 1 of m, pose input).
+
+    The same operations in the same order on arrays (the angles by ``math.atan2`` itself), so
+    the same bits: each step's swing rotation vector (rad, world frame) and roll (rad).
+
+    :param knob, tip: (m, 3) points (m); ``quaternion``: (m, 4) unit, (x, y, z, w).
+    """
+    with np.errstate(all='ignore'):
+        d = tip - knob
+        ux, uy, uz = d[:-1].T
+        vx, vy, vz = d[1:].T
+        tx, ty, tz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+        sine = np.sqrt(tx * tx + ty * ty + tz * tz)
+        angle = np.array(list(map(math.atan2, sine.tolist(),
+                                  (ux * vx + uy * vy + uz * vz).tolist())))
+        factor = angle / sine
+        moving = sine > 0.0
+        swing = np.stack((np.where(moving, tx * factor, 0.0), np.where(moving, ty * factor, 0.0),
+                          np.where(moving, tz * factor, 0.0)), axis=1)
+        x0, y0, z0, w0 = quaternion[:-1].T
+        x1, y1, z1, w1 = quaternion[1:].T
+        w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
+        x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
+        y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0
+        z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0
+        sign = np.where(w < 0.0, -1.0, 1.0)  # (the shorter arc: an exact sign flip)
+        w, x, y, z = w * sign, x * sign, y * sign, z * sign
+        part = np.sqrt(x * x + y * y + z * z)
+        half = np.array(list(map(math.atan2, part.tolist(), w.tolist())))
+        g = 2.0 * half / part
+        mx, my, mz = ux + vx, uy + vy, uz + vz
+        length = np.sqrt(mx * mx + my * my + mz * mz)
+        roll = ((x * g) * mx + (y * g) * my + (z * g) * mz) / length
+        roll = np.where((part == 0.0) | (length == 0.0), 0.0, roll)
+    return list(zip(map(tuple, swing.tolist()), roll.tolist()))
 
 
 CHUNK_MIN = 16
@@ -611,7 +236,8 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
                           intake.votes.frame, detector._ball, detector._bat,
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
-                          frame_ids[i:j])
+                          frame_ids[i:j], detector._predictor
+                          if detector.config.prediction_horizon > 0.0 else None)
         if plan.n == 0:  # its first sample is out of order: the per-sample path says why
             _one(detector, chunk, i, events, drops)
             i += 1
@@ -632,32 +258,51 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     Take a plan of the chunk's samples from i: runs fast-forwarded, each stop as ``add`` would.
 
     :returns: the samples taken: all the plan's, or up to the first stop that did not end as
-        planned (dropped, held, reset, trimmed otherwise: the rest is planned again).
+        planned (dropped, held, reset, trimmed otherwise, a prediction made or cleared, the
+        predictor's last frame another: the rest is planned again).
     """
     stats = detector.stats
+    predictor, last_due = detector._predictor, plan.last_due
     pos = 0
     while True:
         end = plan.next_stop(pos)
-        if end > pos:
+        # a stop for the predictor alone is taken with the run, then predicts
+        forecast = end < plan.n and plan.forecasts is not None and plan.forecasts[end]
+        stop = end + 1 if forecast else end
+        if stop > pos:
             start = time.perf_counter()
-            _fast_forward(detector, plan, pos, end, events, walk=True)
-            _time(stats, start, end - pos)
+            _fast_forward(detector, plan, pos, stop, events, walk=True)
+            if last_due is not None:
+                predictor.last_ns = last_due[end]  # (a stop's frame predicts from there)
+            if forecast:
+                predictor.predict(detector._scheduler.cursor, detector._episodes.armed, events)
+            _time(stats, start, stop - pos)
         if end >= plan.n:
             return plan.n
-        resets = stats.resets
-        if plan.checked[end]:
-            # it passes every check: append it as planned, walk as add would
-            start = time.perf_counter()
-            _fast_forward(detector, plan, end, end + 1, events, walk=False)
-            detector._advance(events)
-            _time(stats, start, 1)
-        else:
-            _one(detector, chunk, i + end, events, drops)
         pos = end + 1
-        if stats.resets != resets or stats.last_drop_reason is not None or \
-                stats.late_drops or not plan.held(
-                    end, detector._ball, detector._bat, detector._scheduler.cursor):
+        if not forecast:
+            resets = stats.resets
+            if plan.checked[end]:
+                # it passes every check: append it as planned, walk as add would
+                start = time.perf_counter()
+                _fast_forward(detector, plan, end, end + 1, events, walk=False)
+                detector._advance(events)
+                _time(stats, start, 1)
+            else:
+                _one(detector, chunk, i + end, events, drops)
+            if stats.resets != resets or stats.last_drop_reason is not None or \
+                    stats.late_drops or not plan.held(
+                        end, detector._ball, detector._bat, detector._scheduler.cursor):
+                return pos
+        if last_due is not None and (predictor.last_ns != last_due[pos] or (
+                predictor.predicting and not _clears(plan, end))):
             return pos
+
+
+def _clears(plan: Plan, j: int) -> bool:
+    """Return whether the plan's next due frame after sample j is a stop (or there is none)."""
+    k = bisect_left(plan.due, j + 1)
+    return k == len(plan.due) or plan.stops_at(plan.due[k])
 
 
 def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,

@@ -8,7 +8,7 @@ really moved); nothing is interpolated across a segment break or a gap longer th
 """
 
 from bisect import bisect_right
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from ..motion import BatSample, turn_between
 
@@ -149,16 +149,33 @@ class Stream:
 
     def turn(self, k: int) -> Turn:
         """Return the cumulative turn of bat sample k, summing the missing steps once."""
-        turns = self.turns
-        first = k
-        while turns[first] is None:
-            if first == 0:  # trimmed past the segment start: a new (zero) reference; only
-                turns[0] = _ZERO_TURN  # differences of turns are ever used
-                break
-            first -= 1  # a segment's first sample always has its turn (zero)
-        for i in range(first + 1, k + 1):
-            swing, roll = turn_between(self.values[i - 1], self.values[i])
-            last = turns[i - 1]
-            turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
-                        last[3] + roll)
-        return turns[k]
+        values = self.values
+        return sum_turns(self.turns, k, 0, lambda i: turn_between(values[i - 1], values[i]))
+
+
+Step = Callable[[int], Tuple[Tuple[float, float, float], float]]
+"""The bat's turn from sample i - 1 to sample i (``motion.turn_between``: swing vector, roll)."""
+
+
+def sum_turns(turns: List[Optional[Turn]], k: int, first_kept: int, step: Step) -> Turn:
+    """
+    Fill ``turns[k]`` (a bat's cumulative turns, rad) and the missing ones before it; return it.
+
+    The steps from the last known turn at or before k are summed in order (``step``); when
+    none is known from ``first_kept`` (the stream's first sample after its trim) on, the
+    stream was trimmed past its segment's start and ``turns[first_kept]`` becomes the new zero
+    reference (only differences of turns are ever used). ``Stream.turn`` on its own lists; the
+    chunk path on a fast-forward's samples, trimmed later.
+    """
+    first = k
+    while turns[first] is None:
+        if first == first_kept:  # trimmed past the segment start: a new (zero) reference
+            turns[first] = _ZERO_TURN
+            break
+        first -= 1  # a segment's first sample always has its turn (zero)
+    for i in range(first + 1, k + 1):
+        swing, roll = step(i)
+        last = turns[i - 1]
+        turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
+                    last[3] + roll)
+    return turns[k]

@@ -4,19 +4,22 @@ Tests for baseball_collision.core.detector.chunks: ``Detector.add_chunk`` is ``a
 Sessions of pitches (hits, misses, grazes) tracked at 360 Hz, with faults injected (non-finite
 values, duplicate and out-of-order stamps, stamps glitched ahead, stray frames, lost bodies,
 gaps, a jump back), are fed once sample by sample and once in random chunk sizes: the events,
-the drops (by role and reason) and the counters must be identical.
+the drops (by role and reason) and the counters must be identical, and so must the streams
+(their turns too) and the predictor's state with prediction on.
 """
 
 from collections import Counter
 import math
-from typing import List, Sequence, Tuple
+from typing import Callable, List, Optional, Sequence, Tuple
 
-from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
+from baseball_collision.core.detector import (
+    Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared)
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.chunks import ROLE_CODES
+from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.motion import BatSample
+from baseball_collision.core.motion import BatSample, turn_between
 from baseball_collision.errors import CoreError
 from hypothesis import given, HealthCheck, settings, strategies as st
 import numpy as np
@@ -88,9 +91,16 @@ def inject(rows: List[Row], faults: Sequence[Tuple[int, str]]) -> List[Row]:
     return rows
 
 
-def one_at_a_time(config: DetectorConfig, rows: Sequence[Row]) -> Tuple[list, Counter, Detector]:
+Prepare = Optional[Callable[[Detector], None]]
+"""Called on each new detector before it is fed (a bat plan set), or None."""
+
+
+def one_at_a_time(config: DetectorConfig, rows: Sequence[Row],
+                  prepare: Prepare = None) -> Tuple[list, Counter, Detector]:
     """Feed rows through ``add``; return (events, drops by (role, reason), detector)."""
     detector, events, drops = Detector(config), [], Counter()
+    if prepare is not None:
+        prepare(detector)
     for role, stamp, values, frame in rows:
         events += detector.add(role, stamp, values, frame)
         if detector.stats.last_drop_reason is not None:
@@ -112,10 +122,12 @@ def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, Lis
             np.array([row[1] for row in rows], np.int64), values, [row[3] for row in rows])
 
 
-def in_chunks(config: DetectorConfig, rows: Sequence[Row],
-              sizes: Sequence[int]) -> Tuple[list, Counter, Detector]:
+def in_chunks(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int],
+              prepare: Prepare = None) -> Tuple[list, Counter, Detector]:
     """Feed rows through ``add_chunk`` in chunks of the given sizes (cycled)."""
     detector, events, drops = Detector(config), [], Counter()
+    if prepare is not None:
+        prepare(detector)
     i, k = 0, 0
     while i < len(rows):
         part = rows[i:i + sizes[k % len(sizes)]]
@@ -127,10 +139,11 @@ def in_chunks(config: DetectorConfig, rows: Sequence[Row],
     return events, drops, detector
 
 
-def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int]) -> list:
+def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int],
+                prepare: Prepare = None) -> list:
     """Assert chunks give the events, drops and counters of one sample at a time."""
-    expected, expected_drops, one = one_at_a_time(config, rows)
-    events, drops, chunked = in_chunks(config, rows, sizes)
+    expected, expected_drops, one = one_at_a_time(config, rows, prepare)
+    events, drops, chunked = in_chunks(config, rows, sizes, prepare)
     assert events == expected
     assert drops == expected_drops
     for name in STATS:
@@ -138,8 +151,10 @@ def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int
     assert chunked.watermark_ns == one.watermark_ns
     for name in ('_ball', '_bat'):  # the streams trimmed alike
         kept, expected_kept = getattr(chunked, name), getattr(one, name)
-        for buffer in ('times', 'stamps', 'values', 'breaks'):
+        for buffer in ('times', 'stamps', 'values', 'breaks', 'turns'):
             assert getattr(kept, buffer) == getattr(expected_kept, buffer), (name, buffer)
+    for name in ('last_ns', 'predicting'):
+        assert getattr(chunked._predictor, name) == getattr(one._predictor, name), name
     return events
 
 
@@ -169,12 +184,108 @@ def test_most_samples_skip_the_per_sample_path(monkeypatch: pytest.MonkeyPatch) 
     assert taken[0] > 0.5 * len(rows)  # (the rest: each pitch near the bat, the wraps)
 
 
-def test_points_and_prediction_go_sample_by_sample() -> None:
-    """Knob and tip input, and prediction on, are not planned: still the same events."""
+def test_points_go_sample_by_sample() -> None:
+    """Knob and tip input is not planned: still the same events."""
     assert_same(DetectorConfig(model='rigid', bat_input='points'),
                 session(HEIGHTS[:2], bat_as='points'), (100, 1000))
-    assert_same(DetectorConfig(model='rigid', bat_input='pose', prediction_horizon=0.3),
-                session(HEIGHTS[:2]), (500,))
+
+
+def predicting(model: str, period: float) -> DetectorConfig:
+    """Return a pose-input configuration that predicts 0.3 s ahead every ``period`` s."""
+    return DetectorConfig(model=model, bat_input='pose', prediction_horizon=0.3,
+                          prediction_period=period)
+
+
+def count_taken(monkeypatch: pytest.MonkeyPatch) -> List[int]:
+    """Count the samples ``fast_forward`` takes in runs (walked) from now on: [count]."""
+    taken = [0]
+    original = chunks_module.fast_forward
+
+    def counting(plan, pos, end, *args, **kwargs):  # type: ignore[no-untyped-def]
+        if kwargs.get('walk', True):
+            taken[0] += end - pos
+        return original(plan, pos, end, *args, **kwargs)
+    monkeypatch.setattr(chunks_module, 'fast_forward', counting)
+    return taken
+
+
+def planned_swing(detector: Detector) -> None:
+    """Give the detector the first pitch's swing as a commanded bat plan (every 5 ms)."""
+    times = np.arange(0.0, 0.25, 0.005)
+    poses = [pose(min(t, 0.2)) for t in times]
+    detector.set_bat_plan([BASE_NS + 50_000 + int(round(t * 1e9)) for t in times],
+                          [p.tolist() for p, _ in poses], [q.tolist() for _, q in poses])
+
+
+@pytest.mark.parametrize('period', [0.0, 0.004, 0.01])
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+def test_prediction_planned_same_as_one_at_a_time(model: str, period: float,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    With prediction on, chunks are planned: predictions and clears as one sample at a time.
+
+    Pitches 2 s apart, tracked throughout: the frames while a pitch flies are stops (due ones
+    forecast, the ball may reach the bat), the ones while ball and bat rest are taken in runs,
+    which sum the bat's turns and move the predictor's last frame as it would. Every frame
+    where ``_may_reach`` holds one at a time is a stop in chunks, where it holds too.
+    """
+    reaching: List[int] = []
+    may_reach = Predictor._may_reach
+
+    def recording(self: Predictor, t0: float) -> bool:
+        result = may_reach(self, t0)
+        if result:
+            reaching.append(self.clock.stamp(t0))
+        return result
+    monkeypatch.setattr(Predictor, '_may_reach', recording)
+    rows = session((1.0, 2.0, 1.3), spacing=2.0)
+    one_at_a_time(predicting(model, period), rows)
+    expected, reaching[:] = list(reaching), []
+    taken = count_taken(monkeypatch)
+    events = assert_same(predicting(model, period), rows, (4096, 333))
+    assert reaching == expected + expected  # (assert_same runs both ways)
+    assert any(isinstance(e, Impact) for e in events)
+    assert any(isinstance(e, Prediction) for e in events)
+    assert any(isinstance(e, PredictionCleared) for e in events)
+    assert taken[0] > 0.5 * len(rows)
+
+
+@pytest.mark.parametrize('period', [0.0, 0.01])
+def test_prediction_with_a_bat_plan_same_as_one_at_a_time(period: float) -> None:
+    """A commanded bat plan may reach anywhere: every due frame stops, the same events."""
+    events = assert_same(predicting('spline', period), session((1.0, 1.2), spacing=1.0),
+                         (700, 5000), planned_swing)
+    assert any(isinstance(e, Prediction) and e.planned for e in events)
+
+
+@pytest.mark.parametrize('period', [0.0, 0.01])
+def test_prediction_across_pauses_same_as_one_at_a_time(period: float) -> None:
+    """
+    Tracking pauses 0.1 s after each pitch: across them, predictions as one at a time.
+
+    A pause moves the cursor past the fits' history at once: the bat's turns are trimmed
+    past the last one summed, and the next frame sums from a new zero reference.
+    """
+    rows = [row for row in session((1.0, 1.3, 0.95, 1.1), spacing=0.6)
+            if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
+    events = assert_same(predicting('rigid', period), rows, (8192,))
+    assert any(isinstance(e, Prediction) for e in events)
+
+
+@settings(max_examples=examples(8), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(model=st.sampled_from(['linear', 'rigid', 'spline', 'c2']),
+       period=st.sampled_from([0.0, 0.003, 0.01, 0.05]),
+       plan=st.booleans(),
+       sizes=st.lists(st.integers(1, 9000), min_size=1, max_size=4),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=5))
+def test_prediction_long_sessions_any_chunks_and_faults(model: str, period: float, plan: bool,
+                                                        sizes: List[int],
+                                                        faults: List[Tuple[int, str]]) -> None:
+    """Prediction on, long sessions, any chunks and faults: the same as one at a time."""
+    rows = inject(session((1.0, 1.2), spacing=4.0), faults)
+    assert_same(predicting(model, period), rows, sizes, planned_swing if plan else None)
 
 
 @settings(max_examples=examples(25), deadline=None,
@@ -374,3 +485,23 @@ def test_vectorised_far_test_is_the_scalar_one(model: str, points: List[Tuple[fl
     for k in range(3):
         for margin in (clearance[k] - 1e-7, clearance[k] + 1e-7):
             assert clearly_apart(ball, bat, k, k, margin, model, 1.0) == (clearance[k] > margin)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(rows=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 10), min_size=2, max_size=12),
+       repeat=st.integers(0, 11))
+def test_turn_steps_are_turn_between_to_the_bit(rows: List[Tuple[float, ...]],
+                                                repeat: int) -> None:
+    """``turn_steps`` over arrays: ``turn_between`` of each pair of samples, bit for bit."""
+    rows = list(rows)
+    rows.insert(repeat % len(rows), rows[repeat % len(rows)])  # (no turn at all: zeros)
+    samples = []
+    for row in rows:
+        q = np.array(row[6:10])
+        q = q / (np.linalg.norm(q) or 1.0)
+        samples.append(BatSample(knob=tuple(row[0:3]), tip=tuple(row[3:6]),
+                                 position=tuple(row[0:3]), quaternion=tuple(q.tolist())))
+    steps = chunks_module.turn_steps(*(np.array([getattr(s, name) for s in samples])
+                                       for name in ('knob', 'tip', 'quaternion')))
+    expected = [turn_between(a, b) for a, b in zip(samples, samples[1:])]
+    assert [repr(step) for step in steps] == [repr(step) for step in expected]

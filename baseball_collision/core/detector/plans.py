@@ -1,0 +1,573 @@
+"""
+A chunk's plan: what its samples do if each is accepted, computed on arrays (numpy).
+
+:func:`plan_chunk` looks at a chunk's samples (in arrival order) all at once, as if each were
+accepted: which pass every check with room to spare (the value checks, the frame, the
+intake's stamp rules, the speed bound), where the watermark and the cursor go after each,
+which union intervals that walk visits, and which of those the sweep's far tests clear with
+room to spare: the first (``broadphase.apart_margins``, the scalar ``clearly_apart`` on
+arrays: bounding spheres and hulls of the raw samples), then where it does not, the second
+(``broadphase.path_margins``: the motion paths' spheres, as ``Sweep.interval`` builds them);
+and how each step trims the streams. Every other sample (a drop, a held or voted one, one
+that makes a near interval decidable) is a *stop*. A stream's first sample after a gap is
+planned as the intake takes it: held until the stream's next sample, which takes both (a
+pause between pitches does not end a plan).
+
+With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
+``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
+(:func:`_prediction_stops`: stops), the predictor's ``last_ns`` after each sample, and the
+bat's newest sample at each frame's cursor (whose turns the predictor sums).
+
+``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
+path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models (``c2``
+not under ``tracker_noise`` auto) is planned (:func:`plannable`).
+"""
+
+from bisect import bisect_left
+from typing import List, Optional, Sequence, Tuple, TYPE_CHECKING
+
+import numpy as np
+
+from .broadphase import apart_margins, path_margins
+from .config import DetectorConfig
+from .events import Role
+from .gate import FAR_AHEAD_NS, HOLD_FACTOR
+from .streams import SILENT_KEEP, Stream
+from ..geometry import norm, Vector
+from ..motion import samples_ahead
+from ..prediction import prediction_due
+
+if TYPE_CHECKING:  # (the predictor is only passed in)
+    from .predictor import Predictor
+
+ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
+"""A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
+
+BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
+FAST_MODELS = ('linear', 'rigid', 'spline', 'c2')
+"""Models whose far test is vectorised (``c2``: its first stage, ``broadphase.apart_margins``;
+not under ``tracker_noise`` auto, whose estimate takes every sample in turn)."""
+
+SLACK = 1e-9
+"""Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
+the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
+
+TRIM_FROM = 64
+"""``Stream.trim`` leaves streams shorter than this alone."""
+
+TRIM_KEEP = 5
+"""``Stream.trim`` keeps this many samples before its cut (``keep`` + 1)."""
+
+
+class Plan:
+    """
+    What a chunk does if every sample in it is accepted (arrays over its n samples).
+
+    :ivar n: the samples planned.
+    :ivar stops: indices of the samples that must go through the per-sample path, sorted.
+    :ivar checked: which samples pass every check (a stop among them only makes a near
+        interval decidable: it is appended as planned, then walked by the scheduler).
+    :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
+        counted from the stream's first kept sample when planned (a held sample counts from
+        the sample that takes it).
+    :ivar starts: per stream, the index of its first kept sample after each sample's trim.
+    :ivar union: the cursor, then every union time after it (s).
+    :ivar visited: after each sample, how many of ``union`` the cursor has reached.
+    :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
+    :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
+        position and quaternion arrays.
+    :ivar pre: per stream, samples it held when planned.
+    :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` before the
+        plan, then after each sample (n + 1); ``due``: the due frames (samples, sorted);
+        ``forecasts``: per sample, whether it stops for the predictor alone (it passes every
+        check and only visits far intervals); ``newest``: the bat's newest sample at the
+        cursor after each sample that moves it (counted as ``counts``), -1 after one that
+        does not; ``steps``: the bat's turn from each of the chunk's bat samples to the next
+        (``chunks.turn_steps``), made when a run first sums turns.
+
+    The indices are Python lists once planned (``fast_forward`` runs between stops a few
+    samples apart near a contact); the samples stay arrays, and only those a fast-forward
+    keeps after its trim become the streams' lists and tuples.
+    """
+
+    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
+                 'stamps', 'values', 'pre', 'last_due', 'due', 'forecasts', 'newest', 'steps')
+
+    def next_stop(self, pos: int) -> int:
+        """Return the first stop at or after sample ``pos`` (``n`` for none)."""
+        k = bisect_left(self.stops, pos)
+        return self.stops[k] if k < len(self.stops) else self.n
+
+    def stops_at(self, j: int) -> bool:
+        """Return whether sample j is a stop."""
+        k = bisect_left(self.stops, j)
+        return k < len(self.stops) and self.stops[k] == j
+
+    def held(self, j: int, ball: Stream, bat: Stream, cursor: Optional[float]) -> bool:
+        """Return whether the state after the per-sample path took sample j is the planned one."""
+        for s, stream in enumerate((ball, bat)):
+            count = self.counts[s][j]
+            if len(stream.times) != count - self.starts[s][j] or \
+                    stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
+                return False
+        return cursor == self.union[self.visited[j] - 1]
+
+
+def plannable(config: DetectorConfig) -> bool:
+    """Return whether chunks are ever planned under a configuration (else one at a time)."""
+    return (config.bat_input == 'pose' and config.model in FAST_MODELS
+            and (config.model != 'c2' or config.tracker_noise >= 0.0))
+
+
+def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,
+           cursor: Optional[float], waiting: bool) -> bool:
+    """Return whether a chunk can be planned now (else its samples go one at a time)."""
+    return (plannable(config) and origin is not None and cursor is not None
+            and not waiting and 3 <= len(ball.times) <= SILENT_KEEP // 2
+            and 3 <= len(bat.times) <= SILENT_KEEP // 2)
+
+
+class Arrays:
+    """
+    Both streams' kept samples, then a chunk's, as arrays (``plan_chunk``'s working set).
+
+    :ivar pre: per stream, samples it held when planned.
+    :ivar times, stamps, breaks: per stream (s, ns, bool).
+    :ivar ball: ball points (m_ball, 3); ``knobs``, ``tips``, ``positions``: (m_bat, 3);
+        ``quaternions``: (m_bat, 4) unit.
+    :ivar new: the chunk's own: ball points, then the bat's knob, tip, position, quaternion.
+    """
+
+    __slots__ = ('pre', 'times', 'stamps', 'breaks', 'ball', 'knobs', 'tips', 'positions',
+                 'quaternions', 'new')
+
+    def cut(self, m_ball: int, m_bat: int) -> None:
+        """Keep each stream's first m_ball and m_bat samples (the chunk's first samples)."""
+        self.times = (self.times[0][:m_ball], self.times[1][:m_bat])
+        self.stamps = (self.stamps[0][:m_ball], self.stamps[1][:m_bat])
+        self.breaks = (self.breaks[0][:m_ball], self.breaks[1][:m_bat])
+        self.ball = self.ball[:m_ball]
+        self.knobs, self.tips = self.knobs[:m_bat], self.tips[:m_bat]
+        self.positions, self.quaternions = self.positions[:m_bat], self.quaternions[:m_bat]
+        k = m_bat - self.pre[1]
+        self.new = (self.new[0][:m_ball - self.pre[0]],) + tuple(column[:k]
+                                                                 for column in self.new[1:])
+
+
+def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
+               frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
+               roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+               frames: Sequence[str], predictor: Optional['Predictor'] = None) -> Plan:
+    """
+    Plan a chunk (see the module): which samples are stops, where the walk goes after each.
+
+    :param offsets: (knob, tip) in the bat's body frame (m).
+    :param origin: the clock's origin (ns); ``frame``: the tracking frame (None: none yet).
+    :param cursor: the scheduler's cursor (s).
+    :param roles: role codes (``ROLE_CODES``); ``stamps``: int64 ns; ``values``: (n, 7)
+        float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
+    :param predictor: the detector's, when prediction is on (``prediction_horizon`` > 0).
+    """
+    # the plan ends before the first sample not after its stream's last (dropped, held or a
+    # jump back: nothing after it can be planned until it is settled)
+    n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
+    is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
+    arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
+    ok, gap = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
+                      frames[:n])
+    # the plan ends at its first sample that fails a check (the per-sample path will most
+    # likely drop it, hold it or break its stream there, and what follows be planned again),
+    # except a stream's first sample after a gap, held until its next takes it
+    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], ball, bat)
+    if end < n:
+        n = end
+        is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
+        arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
+    plan = Plan()
+    plan.n, plan.pre = n, arrays.pre
+    for x, y in held:  # both go through the per-sample path
+        ok[y if y < n else x] = False
+    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
+    far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
+                         if n else plan.union[:0])
+    stops = ~ok
+    stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
+    stops |= _trim_starts(config, plan, arrays, done, counts, visited)
+    plan.last_due = plan.due = plan.forecasts = plan.newest = plan.steps = None
+    if predictor is not None and n:
+        forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
+        stops |= forecasts
+        plan.forecasts = forecasts.tolist()
+    # the indices as lists for fast_forward; the samples stay arrays, made lists (the
+    # streams' own values) only for those a fast-forward keeps
+    plan.stops = np.flatnonzero(stops).tolist()
+    plan.checked = ok.tolist()
+    plan.counts = [counts.tolist() for counts in plan.counts]
+    plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
+    plan.times, plan.stamps = arrays.times, arrays.stamps
+    new_ball, knob, tip, position, quaternion = arrays.new
+    plan.values = (new_ball, (knob, tip, position, quaternion))
+    return plan
+
+
+def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
+                      predictor: 'Predictor', origin: int) -> np.ndarray:
+    """
+    Return which samples must stop for the predictor; set the plan's due frames, ``newest``.
+
+    After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` sums the bat's
+    turns up to its newest sample at the cursor; on a due frame (``prediction_due``) it sets
+    ``last_ns``, then forecasts when armed and ``_may_reach`` holds, else clears a prediction
+    in force. A frame between stops only visits far intervals, which arm: its due frame
+    stops when a bat plan is set or the ball may reach the bat (``_may_reach`` from the
+    newest two samples of each stream, decided here with ``SLACK`` to spare), and, with a
+    prediction in force, the first due frame that does not (it clears it); the other due
+    frames only move ``last_ns``. A stop that makes a prediction (the next due frame not a
+    stop) or leaves ``last_ns`` elsewhere overturns the plan (``_follow``).
+    """
+    n = plan.n
+    visited = plan.visited
+    moved = visited > np.concatenate(([1], visited[:-1]))
+    cursors = plan.union[visited - 1]
+    plan.newest = np.where(moved, np.searchsorted(arrays.times[1], cursors, 'right') - 1,
+                           -1).tolist()
+    frames = np.flatnonzero(moved)
+    # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
+    now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()
+    last, period = predictor.last_ns, config.prediction_period
+    due, due_ns = [], []
+    for j, stamp in zip(frames.tolist(), now):
+        if prediction_due(last, stamp, period):
+            last = stamp
+            due.append(j)
+            due_ns.append(stamp)
+    after = np.searchsorted(np.array(due, dtype=np.int64), np.arange(n), 'right') - 1
+    plan.last_due = [predictor.last_ns] + [predictor.last_ns if k < 0 else due_ns[k]
+                                           for k in after.tolist()]
+    plan.due = due
+    stops = np.zeros(n, bool)
+    if not due:
+        return stops
+    due = np.array(due, dtype=np.int64)
+    if predictor.plan is not None:  # (it may move the bat anywhere: _may_reach is True)
+        stops[due] = True
+        return stops
+    ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
+    ball_times, bat_times = arrays.times
+    b0, b1 = arrays.ball[ball - 1], arrays.ball[ball]
+    k0, k1 = arrays.knobs[bat - 1], arrays.knobs[bat]
+    t0, t1 = arrays.tips[bat - 1], arrays.tips[bat]
+    with np.errstate(all='ignore'):
+        ball_speed = _norms(b1 - b0) / (ball_times[ball] - ball_times[ball - 1])
+        bat_speed = np.maximum(_norms(k1 - k0), _norms(t1 - t0)) / (
+            bat_times[bat] - bat_times[bat - 1])
+        middle = k1 + (t1 - k1) * 0.5
+        reach = (0.5 * _norms(t1 - k1) + config.ball_radius + config.profile.max_radius
+                 + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
+        reaching = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
+    stops[due] = reaching
+    if predictor.predicting and not reaching.all():
+        stops[due[np.argmin(reaching)]] = True  # the first that does not: it clears
+    return stops
+
+
+def _norms(rows: np.ndarray) -> np.ndarray:
+    """Return the length of each row of an (m, 3) array."""
+    return np.sqrt(np.einsum('ij,ij->i', rows, rows))
+
+
+def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stream,
+            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray,
+            values: np.ndarray) -> Arrays:
+    """Return the streams' kept samples and the chunk's (its poses made knob and tip)."""
+    arrays = Arrays()
+    with np.errstate(all='ignore'):
+        t = (stamps - origin) * 1e-9
+        position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
+        magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
+                            + quaternion[:, 1] * quaternion[:, 1]
+                            + quaternion[:, 2] * quaternion[:, 2]
+                            + quaternion[:, 3] * quaternion[:, 3])
+        quaternion = quaternion / magnitude[:, None]
+        knob = _pose_points(position, quaternion, offsets[0])
+        tip = _pose_points(position, quaternion, offsets[1])
+    new_ball = values[is_ball, :3]
+    arrays.new = (new_ball, knob, tip, position, quaternion)
+    pre_bat = bat.values
+    arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
+    arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
+        np.concatenate((np.array([getattr(s, name) for s in pre_bat], dtype=float), column))
+        for name, column in (('knob', knob), ('tip', tip), ('position', position),
+                             ('quaternion', quaternion)))
+    arrays.pre = (len(ball.times), len(bat.times))
+    arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
+                    np.concatenate((np.array(bat.times), t[is_bat])))
+    arrays.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
+                     np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
+    arrays.breaks = (
+        np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
+        np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
+    return arrays
+
+
+def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
+            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
+            frames: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return which samples pass every check with room to spare (values, frame, order).
+
+    Second, which pass every check but the order's as the first sample after a gap that the
+    intake holds for its stream's next (``_order_checks``).
+    """
+    n = len(stamps)
+    with np.errstate(all='ignore'):
+        ok = _value_checks(config, values, is_ball, is_bat)
+        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
+            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
+        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
+    gap = ok.copy()
+    for s, mine, points in ((0, is_ball, (arrays.ball,)),
+                            (1, is_bat, (arrays.knobs, arrays.tips))):
+        in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
+                                            arrays.pre[s])
+        ok[mine] &= in_order
+        gap[mine] &= after_gap
+    return ok, gap
+
+
+def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
+          is_bat: np.ndarray, cursor: float,
+          held: Sequence[Tuple[int, int]] = ()
+          ) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray]:
+    """
+    Set the plan's counts, union times and cursor steps: the watermark after each sample.
+
+    The walk is made of steps, each sample taken: in arrival order, but a held sample is taken
+    just before the sample that takes it (``_held_gaps``), and starts a new segment.
+
+    :param held: (sample, the sample that takes it).
+    :returns: per sample, the steps taken after it (``done``); per stream, the count after each
+        step from 0 (none taken); the cursor's union index after each step (from 0).
+    """
+    n = len(is_ball)
+    order = np.arange(n)
+    done = order + 1
+    if held:
+        pending = np.zeros(n + 1, np.int64)
+        key = order.astype(float)
+        for x, y in held:
+            pending[x] += 1
+            pending[min(y, n)] -= 1
+            key[x] = y - 0.5  # just before y (y past the plan's end: never taken in it)
+            s = 0 if is_ball[x] else 1
+            arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
+        done -= np.cumsum(pending[:n])
+        order = np.argsort(key, kind='stable')[:int(done[-1])]
+    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
+              for s, mine in ((0, is_ball), (1, is_bat))]
+    plan.counts = (counts[0][done], counts[1][done])
+    ahead = samples_ahead(config.model, config.look_ahead)
+    watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
+                           arrays.times[1][counts[1] - 1 - ahead])
+    union = np.union1d(arrays.times[0], arrays.times[1])
+    plan.union = union = np.concatenate(([cursor], union[union > cursor]))
+    visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    plan.visited = visited[done]
+    return done, counts, visited
+
+
+def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
+                   starts: np.ndarray) -> np.ndarray:
+    """
+    Return which union intervals (by their start times, s) the sweep's far tests clear.
+
+    Both streams without a gap over them, then the first test (``apart_margins``) or, where it
+    does not clear, the second (``path_margins``), each by ``SLACK`` more than the sweep's
+    margin.
+    """
+    far = np.ones(len(starts), bool)
+    located = []
+    for s in (0, 1):
+        k = np.searchsorted(arrays.times[s], starts, 'right') - 1
+        times, cut = arrays.times[s], arrays.breaks[s]
+        far &= _continuous(times, cut, k, config.max_gap)
+        before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
+        after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
+        located.append((k, before, after))
+    if not len(starts):
+        return far
+    (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
+    margin = (config.ball_radius + config.profile.max_radius + 1e-6
+              + max(config.near_miss_threshold, config.rearm_distance))
+    with np.errstate(all='ignore'):
+        margin += SLACK * (1.0 + float(np.abs(arrays.ball).max(initial=0.0))
+                           + float(np.abs(arrays.tips).max(initial=0.0)))
+        clear = far & (apart_margins(
+            arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
+            ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
+            config.model, config.look_ahead, config.spline_window, margin) > margin)
+        # the sweep's second test (the motion paths' spheres) where the first did not clear
+        # (c2's second stage is apart_margins' own)
+        near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
+        if len(near):
+            clear[near] = path_margins(
+                arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
+                bat_k[near], ball_before[near], ball_after[near], bat_before[near],
+                bat_after[near], arrays.times[0], arrays.times[1], config.model,
+                max(map(norm, offsets))) > margin
+    return clear
+
+
+def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.ndarray,
+                 counts: List[np.ndarray], visited: np.ndarray) -> np.ndarray:
+    """
+    Set the plan's trims (as the per-sample path makes them after each step of ``_walk``).
+
+    :returns: which samples must stop: a stream that may be silent trims on its own.
+    """
+    history = 1.5 * max(config.velocity_window, config.prediction_window)
+    cursors = plan.union[visited[1:] - 1]
+    plan.starts = []
+    silent = np.zeros(len(visited), bool)
+    for s in (0, 1):
+        cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
+        starts, lengths = _trims(counts[s][1:], cuts)
+        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
+        silent[1:] |= lengths > SILENT_KEEP
+    # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
+    made = np.cumsum(silent)
+    return made[done] > made[np.concatenate(([0], done[:-1]))]
+
+
+def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
+               stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[int, List[Tuple[int, int]]]:
+    """
+    Return where a plan ends, and its held samples with the sample that takes each.
+
+    A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
+    as new; its stream's next sample takes it, then itself. The plan follows that (both go
+    through the per-sample path); it ends after its first sample that fails a check
+    otherwise, or whose next does. A wrong guess costs a plan: ``Plan.held`` compares the
+    state after each such sample with the plan's.
+    """
+    n = len(ok)
+    failing = np.flatnonzero(~ok).tolist()
+    if not failing:
+        return n, []
+    following = np.full(n, n)
+    for mine in (is_ball, is_bat):
+        own = np.flatnonzero(mine)
+        following[own[:-1]] = own[1:]
+    waiting = np.zeros(n, bool)
+    newest = max(ball.stamps[-1], bat.stamps[-1])
+    held: List[Tuple[int, int]] = []
+    for x in failing:
+        y = int(following[x])
+        if not gap[x] or y >= n or not ok[y]:
+            return x + 1, held
+        before = stamps[:x][~waiting[:x]]
+        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
+            return x + 1, held  # (taken at once: as new as a sample taken)
+        held.append((x, y))
+        waiting[x] = True
+    return n, held
+
+
+def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
+    """Return the chunk's length up to its first sample of a stream not after the one before."""
+    own = stamps[mine]
+    previous = np.concatenate((stream.stamps[-1:], own[:-1]))
+    bad = np.flatnonzero(own <= previous) if len(previous) == len(own) else np.array([0])
+    return int(np.flatnonzero(mine)[bad[0]]) if len(bad) else len(stamps)
+
+
+def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
+    """Return the samples whose walk visits the given intervals (m: the m-th union time)."""
+    steps = np.searchsorted(visited, intervals, 'right')
+    return steps[steps < n]
+
+
+def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
+                  is_bat: np.ndarray) -> np.ndarray:
+    """Return which samples pass the value checks (``gate``) with room to spare."""
+    finite = np.isfinite(values)
+    ok = is_ball & finite[:, :3].all(1)
+    q = values[:, 3:7]
+    magnitude = np.sqrt((q * q).sum(1))
+    pose = is_bat & finite.all(1) & (np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
+    # a pose at the origin may be a lost body: the per-sample path decides
+    pose &= ~(values[:, :3] == 0.0).all(1)
+    return ok | pose
+
+
+def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
+                  points: Sequence[np.ndarray], pre: int) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
+
+    The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
+    bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
+    sample before it were accepted. Second, which start a new segment after a gap longer than
+    ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
+    before, under ``time_jump_reset``): the next sample takes them.
+    """
+    new = np.arange(pre, len(stamps))
+    step = (stamps[new] - stamps[new - 1]).astype(float)
+    step1 = (stamps[new - 1] - stamps[new - 2]).astype(float)
+    step2 = (stamps[new - 2] - stamps[new - 3]).astype(float)
+    reset_ns = int(round(config.time_jump_reset * 1e9))
+    factor = HOLD_FACTOR * (1.0 - SLACK)
+    ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
+    dt = times[new] - times[new - 1]
+    ok &= dt <= config.max_gap * (1.0 - SLACK)
+    limit = config.max_speed * dt * (1.0 - SLACK)
+    for each in points:
+        d = each[new] - each[new - 1]
+        ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
+    gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
+        dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
+    return ok, gap
+
+
+def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
+                max_gap: float) -> np.ndarray:
+    """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
+    inside = (k >= 0) & (k + 1 < len(times))
+    j = np.where(inside, k, 0)
+    return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
+
+
+def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return a stream's first kept sample after each sample's trim, and its length before it.
+
+    ``Stream.trim`` after each sample: a stream of ``TRIM_FROM`` samples or more drops those
+    before its cut. ``counts`` and ``cuts`` never decrease, so the sample that trims next after
+    one that trimmed at j (leaving the stream from ``cuts[j]``) is known for every j at once;
+    the trims are that chain from the first (with a long history, every sample).
+    """
+    n = len(counts)
+    following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
+                                      np.searchsorted(cuts, cuts + 1, 'left')),
+                           np.arange(1, n + 1)).tolist()
+    at = []  # the samples that trim
+    j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
+    while j < n:
+        at.append(j)
+        j = following[j]
+    trims = np.array(at, dtype=np.int64)
+    starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
+    after = starts[np.searchsorted(trims, np.arange(n), 'right')]
+    return after, counts - np.concatenate(([0], after[:-1]))
+
+
+def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
+    """``geometry.pose_point`` over rows, with the same operations in the same order."""
+    x, y, z, w = quaternion.T
+    v0, v1, v2 = offset
+    cx = y * v2 - z * v1
+    cy = z * v0 - x * v2
+    cz = x * v1 - y * v0
+    return np.stack((position[:, 0] + (v0 + 2.0 * (w * cx + y * cz - z * cy)),
+                     position[:, 1] + (v1 + 2.0 * (w * cy + z * cx - x * cz)),
+                     position[:, 2] + (v2 + 2.0 * (w * cz + x * cy - y * cx))), axis=1)

@@ -1,0 +1,93 @@
+"""
+Tests for baseball_collision.core.detector.plans: a chunk's plan computed on arrays.
+
+Its array steps against the scalar code they stand for: the poses' knob and tip points
+(``geometry.pose_point``, to the bit) and the trims after each step (``Stream.trim``). The plan
+as a whole is tested by feeding chunks (test_chunks.py): the same as one sample at a time.
+"""
+
+from typing import List, Tuple
+
+from baseball_collision.core.detector.plans import _pose_points, _trims, TRIM_FROM, TRIM_KEEP
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.geometry import pose_point
+from hypothesis import given, settings, strategies as st
+import numpy as np
+from support import examples
+
+FINITE = st.floats(-10.0, 10.0, allow_nan=False)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(rows=st.lists(st.tuples(*[FINITE] * 7), min_size=1, max_size=20),
+       offset=st.tuples(*[FINITE] * 3))
+def test_pose_points_are_pose_point_to_the_bit(rows: List[Tuple[float, ...]],
+                                               offset: Tuple[float, float, float]) -> None:
+    """``_pose_points`` over rows gives ``pose_point`` of each row, bit for bit."""
+    values = np.array(rows)
+    quaternion = values[:, 3:]
+    magnitude = np.sqrt((quaternion * quaternion).sum(1))
+    quaternion = quaternion / np.where(magnitude > 0.0, magnitude, 1.0)[:, None]
+    points = _pose_points(values[:, :3], quaternion, offset)
+    for row, position, q in zip(points.tolist(), values[:, :3].tolist(), quaternion.tolist()):
+        assert tuple(row) == pose_point(tuple(position), tuple(q), offset)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(steps=st.lists(st.tuples(st.integers(0, 3), st.floats(0.0, 0.02)), min_size=1,
+                      max_size=300))
+def test_trims_are_the_stream_trim_after_each_step(steps: List[Tuple[int, float]]) -> None:
+    """
+    ``_trims``: each step's first kept sample and length before its trim, as ``Stream.trim``.
+
+    A stream gets some samples per step, 1 ms apart, then is trimmed before a cursor that
+    moves on by a random amount (behind its newest sample), with no history window.
+    """
+    stream = Stream('ball')
+    counts, cuts, starts, lengths = [], [], [], []
+    total, cursor = 0, 0.0
+    for added, advance in steps:
+        for _ in range(added):
+            stream.append(total * 1e-3, total + 1, (0.0, 0.0, 0.0), False)
+            total += 1
+        cursor = min(cursor + advance, (total - 1) * 1e-3) if total else 0.0
+        counts.append(total)
+        times = np.arange(total) * 1e-3
+        cuts.append(int(np.searchsorted(times, cursor, 'right')) - TRIM_KEEP)
+        lengths.append(len(stream.times))
+        if total:
+            stream.trim(cursor, 0.0)
+        starts.append(total - len(stream.times))
+    after, before = _trims(np.array(counts), np.array(cuts))
+    assert after.tolist() == starts
+    assert before.tolist() == lengths
+
+
+def _trimmed_one_at_a_time(counts: List[int], cuts: List[int]) -> Tuple[List[int], List[int]]:
+    """After each sample: a stream of TRIM_FROM or more drops what is before a later cut."""
+    start, after, lengths = 0, [], []
+    for count, cut in zip(counts, cuts):
+        lengths.append(count - start)
+        if count - start >= TRIM_FROM and cut > start:
+            start = cut
+        after.append(start)
+    return after, lengths
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 40)), min_size=1, max_size=600),
+       st.integers(0, 200), st.integers(0, 2 * TRIM_FROM))
+def test_trims_are_the_rule_applied_sample_by_sample(
+        steps: List[Tuple[int, int]], first: int, lag: int) -> None:
+    """
+    ``_trims`` against the trim rule applied sample by sample.
+
+    Histories shorter and longer than ``TRIM_FROM`` (then every sample trims), so a stream's
+    length reaches ``TRIM_FROM`` exactly.
+    """
+    counts = np.cumsum([step for step, _ in steps]) + first
+    cuts = np.maximum.accumulate(counts - lag - np.array([jitter for _, jitter in steps]))
+    after, lengths = _trims(counts, cuts)
+    expected_after, expected_lengths = _trimmed_one_at_a_time(counts.tolist(), cuts.tolist())
+    assert after.tolist() == expected_after
+    assert lengths.tolist() == expected_lengths
