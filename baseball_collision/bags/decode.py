@@ -199,6 +199,24 @@ class SampleChunk(NamedTuple):
     log_times_ns: np.ndarray
 
 
+def chunk_rows(chunk: SampleChunk) -> Iterator[Sample]:
+    """
+    Yield a chunk's samples one by one: what :func:`chunk_samples` made the chunk of.
+
+    A bat pose's values are its 7 floats, any other sample's its 3.
+    """
+    new = tuple.__new__
+    for code, stamp, frame_id, row, log_time in zip(
+            chunk.roles.tolist(), chunk.stamps_ns.tolist(), chunk.frame_ids,
+            chunk.values.tolist(), chunk.log_times_ns.tolist()):
+        role = _ROLE_NAMES[code]
+        yield new(Sample, (role, stamp, frame_id, tuple(row if role == 'bat_pose' else row[:3]),
+                           log_time))
+
+
+_ROLE_NAMES = {code: role for role, code in ROLE_CODES.items()}
+
+
 def chunk_samples(samples: Iterable[Sample], size: int) -> Iterator[SampleChunk]:
     """
     Yield ``samples`` as chunks of at most ``size`` (the last may be shorter; none empty).

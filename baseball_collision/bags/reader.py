@@ -20,11 +20,16 @@ from rosbags.highlevel import AnyReader
 
 from .common import BagFile, first_line, NS_PER_S
 from .decode import (
-    decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, values_from_message)
+    chunk_rows, decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, Spans,
+    values_from_message)
 from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from ..errors import BagError
+
+
+CHUNK_SIZE = 8192
+"""Samples decoded at a time when :meth:`BagReader.samples` reads an MCAP bag by chunks."""
 
 
 class BagReader(BagFile):
@@ -139,7 +144,8 @@ class BagReader(BagFile):
         Yield the selected topics' messages as samples, in the bag's log-time order.
 
         Streams (memory does not grow with the bag). Only the selected topics' connections are
-        read.
+        read. An indexed MCAP bag is decoded a piece of a file chunk at a time (:meth:`chunks`)
+        and its samples taken from the arrays (:func:`.decode.chunk_rows`): the same samples.
 
         :returns: an iterator of :class:`Sample`.
         :raises BagError: the bag is not open, or is corrupt (raised while iterating).
@@ -147,7 +153,7 @@ class BagReader(BagFile):
         reader = self._open_reader()
         return self._samples(reader)
 
-    def chunks(self, size: int = 8192) -> Iterator[SampleChunk]:
+    def chunks(self, size: int = CHUNK_SIZE) -> Iterator[SampleChunk]:
         """
         Yield the samples of :meth:`samples` as arrays, at most ``size`` at a time.
 
@@ -184,7 +190,13 @@ class BagReader(BagFile):
                            'messages its index lists on the selected topics')
 
     def _samples(self, reader: AnyReader) -> Iterator[Sample]:
-        """Yield samples (the generator behind :meth:`samples`)."""
+        """Yield samples (the generator behind :meth:`samples`): an MCAP bag's by chunks."""
+        with self._reading():
+            spans = mcap_spans(reader, self._connections)
+        if spans is not None:
+            for chunk in self._span_chunks(reader, spans, CHUNK_SIZE):
+                yield from chunk_rows(chunk)
+            return
         expected = self.message_count
 
         def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
@@ -196,27 +208,40 @@ class BagReader(BagFile):
 
     def _chunks(self, reader: AnyReader, size: int) -> Iterator[SampleChunk]:
         """Yield chunks (the generator behind :meth:`chunks`)."""
+        with self._reading():
+            spans = mcap_spans(reader, self._connections)
+        if spans is not None:  # an indexed MCAP bag: its chunks' messages in place
+            yield from self._span_chunks(reader, spans, size)
+            return
         expected = self.message_count
 
         def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
             return self._slow(reader, route, raw)
         count = 0
         with self._reading():
-            spans = mcap_spans(reader, self._connections)
-            if spans is not None:  # an indexed MCAP bag: its chunks' messages in place
-                for each in spans:
-                    for first in range(0, len(each.codes), size):
-                        piece = each.piece(first, first + size)
-                        count += len(piece.codes)
-                        yield decode_spans(piece, self._routes, slow)
-            else:
-                messages = reader.messages(connections=self._connections)
-                while True:
-                    batch = list(itertools.islice(messages, size))
-                    if not batch:
-                        break
-                    count += len(batch)
-                    yield decode_chunk(batch, self._routes, slow)
+            messages = reader.messages(connections=self._connections)
+            while True:
+                batch = list(itertools.islice(messages, size))
+                if not batch:
+                    break
+                count += len(batch)
+                yield decode_chunk(batch, self._routes, slow)
+        self._check_count(count, expected)
+
+    def _span_chunks(self, reader: AnyReader, spans: Iterator[Spans],
+                     size: int) -> Iterator[SampleChunk]:
+        """Yield an MCAP bag's chunks (:mod:`.mcap`), each file chunk in pieces of ``size``."""
+        expected = self.message_count
+
+        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
+            return self._slow(reader, route, raw)
+        count = 0
+        with self._reading():
+            for each in spans:
+                for first in range(0, len(each.codes), size):
+                    piece = each.piece(first, first + size)
+                    count += len(piece.codes)
+                    yield decode_spans(piece, self._routes, slow)
         self._check_count(count, expected)
 
     def _slow(self, reader: AnyReader, route: Route,

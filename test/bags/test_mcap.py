@@ -5,7 +5,7 @@ import shutil
 from typing import Any, List, Optional, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, POSE_STAMPED
-from baseball_collision.bags import mcap
+from baseball_collision.bags import mcap, reader as reader_module
 from baseball_collision.bags.decode import decode_chunk, decode_spans
 from baseball_collision.bags.mcap import mcap_spans
 from baseball_collision.errors import BagError
@@ -184,3 +184,23 @@ def test_spans_decode_as_their_messages_do() -> None:
                       decode_chunk(messages, bag._routes, lambda *a: bag._slow(reader, *a)))
         for a, b in zip(*pieces):
             assert np.array_equal(np.asarray(a), np.asarray(b))
+
+
+def test_samples_of_an_mcap_bag_are_rosbags_path_samples(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``samples`` by chunks (MCAP) gives the per-message path's samples, field for field."""
+    _write(tmp_path / 'bag', [T0 + (k // 2) * 2_777_777 for k in range(3000)],
+           frames=('world', '', 'mocap_world_frame_with_a_long_name'))
+    bags = [tmp_path / 'bag', REPO / 'bags' / 'pitches_90hz.mcap']
+    by_chunks = []
+    for path in bags:
+        with BagReader(path) as bag:
+            by_chunks.append(list(bag.samples()))
+    monkeypatch.setattr(reader_module, 'mcap_spans', lambda *a: None)  # rosbags' reader
+    for path, samples in zip(bags, by_chunks):
+        with BagReader(path) as bag:
+            expected = list(bag.samples())
+        assert len(samples) == len(expected) > 500
+        assert samples == expected
+        assert all(type(a.stamp_ns) is int and len(a.values) == len(b.values)
+                   for a, b in zip(samples, expected))

@@ -11,6 +11,7 @@ from typing import Any, List
 from baseball_collision.bags import (
     BagReader, BagWriter, count_messages, POINT_STAMPED, POSE_STAMPED, read_samples,
     TopicSelection)
+from baseball_collision.bags import reader as reader_module
 from baseball_collision.bags.decode import chunk_samples, SampleChunk
 from baseball_collision.errors import BagError
 import numpy as np
@@ -177,18 +178,28 @@ def test_unrelated_topics_are_never_decoded(tmp_path: Path, monkeypatch: Any) ->
                     reference_message(TS2, POSE_STAMPED, stamp, 'w', (0, 0, 0, 0, 0, 0, 1.0)),
                     POSE_STAMPED))
     requested = []
-    original = AnyReader.messages
+    original, spans = AnyReader.messages, reader_module.mcap_spans
 
     def spy(self: AnyReader, connections: Any = (), *args: Any, **kwargs: Any) -> Any:
         requested.append(sorted(c.topic for c in connections))
         return original(self, connections, *args, **kwargs)
 
+    def spans_spy(reader: AnyReader, connections: Any) -> Any:
+        requested.append(sorted(c.topic for c in connections))
+        return spans(reader, connections)
+
     monkeypatch.setattr(AnyReader, 'messages', spy)
+    monkeypatch.setattr(reader_module, 'mcap_spans', spans_spy)  # the MCAP chunks in place
     with BagReader(path) as bag:
         assert bag.message_count == 10
         samples = list(bag.samples())
     assert requested == [['/ball', '/bat_pose']]
     assert [s.role for s in samples] == ['ball', 'bat_pose'] * 5
+    requested.clear()
+    monkeypatch.setattr(reader_module, 'mcap_spans', lambda *a: None)  # rosbags' reader
+    with BagReader(path) as bag:
+        assert [s.role for s in bag.samples()] == ['ball', 'bat_pose'] * 5
+    assert requested == [['/ball', '/bat_pose']]
 
 
 def test_message_count_matches_what_is_read(tmp_path: Path) -> None:
