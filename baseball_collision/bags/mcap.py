@@ -26,7 +26,7 @@ from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 import numpy as np
 from rosbags.rosbag2 import ReaderError
 from rosbags.rosbag2.reader import DirectoryReader
-from rosbags.rosbag2.storage_mcap import decompress, McapReader
+from rosbags.rosbag2.storage_mcap import decompress, McapReader, read_exact
 
 from .decode import Spans
 
@@ -123,10 +123,10 @@ def _chunk_spans(bio: Any, chunk: Any, lookup: np.ndarray, connections: List[Any
         raises (an unknown compression, a size or checksum mismatch).
     """
     bio.seek(chunk.chunk_start_offset + _RECORD + 24)
-    crc = _CRC.unpack(_read(bio, 4))[0]
+    crc = _CRC.unpack(read_exact(bio, 4))[0]
     bio.seek(chunk.chunk_start_offset + _RECORD + 40 + len(chunk.compression))
     size = chunk.uncompressed_size
-    data = decompress(_read(bio, chunk.compressed_size), chunk.compression, size, crc)
+    data = decompress(read_exact(bio, chunk.compressed_size), chunk.compression, size, crc)
     buffer = np.frombuffer(data, np.uint8)
     records = _indexed(bio, chunk, buffer)
     if records is None:
@@ -235,11 +235,3 @@ def _walk(data: bytes) -> Records:
         raise ReaderError(f'Truncated record at offset {pos} of a chunk') from error
     return (np.array(offsets, np.int64), np.array(lengths, np.int64),
             np.array(channels, np.int64), np.array(log_times, np.uint64).astype(np.int64))
-
-
-def _read(bio: Any, size: int) -> bytes:
-    """Return exactly ``size`` bytes from ``bio``; :raises ReaderError: fewer."""
-    data = bio.read(size)
-    if len(data) != size:
-        raise ReaderError(f'Truncated record: expected {size} bytes, got {len(data)}.')
-    return data

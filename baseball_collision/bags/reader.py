@@ -12,6 +12,7 @@ Errors
 """
 
 from contextlib import contextmanager
+from functools import partial
 import itertools
 import os
 from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
@@ -199,8 +200,7 @@ class BagReader(BagFile):
             return
         expected = self.message_count
 
-        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
-            return self._slow(reader, route, raw)
+        slow = partial(self._slow, reader)
         with self._reading():
             count = yield from decode_samples(
                 reader.messages(connections=self._connections), self._routes, slow)
@@ -215,8 +215,7 @@ class BagReader(BagFile):
             return
         expected = self.message_count
 
-        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
-            return self._slow(reader, route, raw)
+        slow = partial(self._slow, reader)
         count = 0
         with self._reading():
             messages = reader.messages(connections=self._connections)
@@ -233,8 +232,7 @@ class BagReader(BagFile):
         """Yield an MCAP bag's chunks (:mod:`.mcap`), each file chunk in pieces of ``size``."""
         expected = self.message_count
 
-        def slow(route: Route, raw: bytes) -> Tuple[int, str, Tuple[float, ...]]:
-            return self._slow(reader, route, raw)
+        slow = partial(self._slow, reader)
         count = 0
         with self._reading():
             for each in spans:
