@@ -90,12 +90,13 @@ COLUMNS = (
     ('sweet_spot_speed_error_pct_p50', '{:.2f}'), ('sweet_spot_speed_error_pct_p99', '{:.2f}'),
     ('time_within_1_sigma', '{:.2f}'), ('time_within_2_sigma', '{:.2f}'),
     ('location_within_1_sigma', '{:.2f}'), ('location_within_2_sigma', '{:.2f}'),
-    ('speed_within_1_sigma', '{:.2f}'), ('speed_within_2_sigma', '{:.2f}'))
+    ('speed_within_1_sigma', '{:.2f}'), ('speed_within_2_sigma', '{:.2f}'),
+    ('ball_speed_error_pct_p50', '{:.2f}'), ('ball_speed_error_pct_p99', '{:.2f}'))
 
 HEADER = ('| family | rate Hz | noise mm | method | recall | precision | time err p50 us | '
           'p99 us | '
           'bias us | spot err p50 mm | p99 mm | speed err p50 % | p99 % | time 1s | 2s | '
-          'spot 1s | 2s | speed 1s | 2s |')
+          'spot 1s | 2s | speed 1s | 2s | ball speed err p50 % | p99 % |')
 
 
 def _runner(label: str, bat: str, noise_m: float) -> Callable:

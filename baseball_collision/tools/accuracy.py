@@ -43,6 +43,8 @@ class PitchResult:
     :ivar time_sigma_s, location_sigma_m: the impact's reported 1-sigma uncertainties (the
         location's of its distance from the knob).
     :ivar speed_sigma: its sweet-spot speed uncertainty over the true speed.
+    :ivar ball_speed_error: detected / true ball speed at the impact - 1 (None without a true
+        one).
     """
 
     name: str
@@ -59,6 +61,7 @@ class PitchResult:
     location_sigma_m: Optional[float] = None
     speed_sigma: Optional[float] = None
     knob_distance_error_m: Optional[float] = None
+    ball_speed_error: Optional[float] = None
 
 
 def _span(truth: Mapping[str, Any]) -> Optional[Tuple[int, int]]:
@@ -96,6 +99,7 @@ def compare_pitch(truth: Mapping[str, Any], impacts: Sequence[Impact],
     first = impacts[match]
     true_speed = float(truth['sweet_spot_speed_mps'])
     true_knob = truth.get('distance_from_knob_m')
+    true_ball = truth.get('ball_speed_mps')
     return PitchResult(
         detected=True, false_impacts=len(impacts) - 1,
         time_error_s=(first.stamp_ns - int(truth['stamp_ns'])) * 1e-9,
@@ -106,7 +110,9 @@ def compare_pitch(truth: Mapping[str, Any], impacts: Sequence[Impact],
         time_sigma_s=getattr(first, 'time_uncertainty_s', None),
         location_sigma_m=getattr(first, 'distance_from_knob_uncertainty_m', None),
         speed_sigma=_relative(getattr(first, 'sweet_spot_speed_uncertainty_mps', None),
-                              true_speed), **common)
+                              true_speed),
+        ball_speed_error=(None if not true_ball
+                          else first.ball_speed_mps / float(true_ball) - 1.0), **common)
 
 
 def _relative(sigma: Optional[float], scale: float) -> Optional[float]:
@@ -163,8 +169,9 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
 
     :returns: ``pitches``, ``contacts``, ``recall``, ``precision``, ``false_impacts``,
         ``time_error_us_p50/p99/max``, ``location_error_mm_p50/p99/max``,
-        ``sweet_spot_speed_error_pct_p50/p99/max`` (absolute values), ``time_error_us_mean``
-        (signed: the bias), and per quantity ``<name>_within_1_sigma`` and
+        ``sweet_spot_speed_error_pct_p50/p99/max``, ``ball_speed_error_pct_p50/p99/max``
+        (absolute values; the ball's over the impacts with a true ball speed),
+        ``time_error_us_mean`` (signed: the bias), and per quantity ``<name>_within_1_sigma`` and
         ``<name>_within_2_sigma``: the fraction of impacts whose error was within one and two
         of their reported sigmas (NaN when none reported one).
     """
@@ -176,6 +183,7 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
     times = [r.time_error_s * 1e6 for r in matched]
     spots = [r.location_error_m * 1e3 for r in matched]
     speeds = [r.sweet_spot_speed_error * 100.0 for r in matched]
+    balls = [r.ball_speed_error * 100.0 for r in matched if r.ball_speed_error is not None]
     summary = {
         'pitches': float(len(results)), 'contacts': float(len(contacts)),
         'recall': true_positive / len(contacts) if contacts else math.nan,
@@ -183,7 +191,8 @@ def summarize(results: Sequence[PitchResult], min_clearance_m: float = 1e-4) -> 
         'false_impacts': float(sum(r.false_impacts for r in results)),
     }
     for name, values in (('time_error_us', times), ('location_error_mm', spots),
-                         ('sweet_spot_speed_error_pct', speeds)):
+                         ('sweet_spot_speed_error_pct', speeds),
+                         ('ball_speed_error_pct', balls)):
         summary[f'{name}_p50'] = _percentile(values, 50)
         summary[f'{name}_p99'] = _percentile(values, 99)
         summary[f'{name}_max'] = float(np.max(np.abs(values))) if values else math.nan

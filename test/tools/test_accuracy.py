@@ -34,6 +34,10 @@ def test_compare_pitch_measures_the_first_impact() -> None:
     assert result.time_error_s == pytest.approx(20e-9)
     assert result.location_error_m == pytest.approx(0.002)
     assert result.sweet_spot_speed_error == pytest.approx(0.01)
+    assert result.ball_speed_error is None  # the truth gives no ball speed
+    with_ball = compare_pitch(dict(HIT, ball_speed_mps=50.0), [_impact(1_000_020, 0.15, 30.0)])
+    assert with_ball.ball_speed_error == pytest.approx(40.0 / 50.0 - 1.0)
+    assert summarize([with_ball])['ball_speed_error_pct_p99'] == pytest.approx(20.0)
     assert compare_pitch(HIT, []).detected is False
 
 

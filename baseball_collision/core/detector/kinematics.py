@@ -437,7 +437,8 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     splines through the last samples up to t, extrapolated by their last piece
     (``spline_velocities``). Otherwise the window fits of the interval before the impact's
     (smoothed with ``tracker_noise``), which end at the impact interval's opening frame,
-    differentiated at t: the ball's centre, the bat's knob (the pivot, fraction 0) and its
+    differentiated at t: the ball's centre (with noise its flight fit where the guard passes,
+    ``fitting.ball_flight``, as the sweep's paths), the bat's knob (the pivot, fraction 0) and its
     swing u x u' (``fitting.swing_rate``). Neither reaches the interval's closing frame, which
     a bat braking right after the contact has already slowed (benchmarks/bench_accuracy.py
     compares the choices). At a segment's first interval, where nothing comes before, the
@@ -462,7 +463,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     j = velocity_interval(ball, k, gap) if before else k
     if j != k or config.look_ahead:
         ball_path = c2_point_path(ball, j, c2_window(ball, j, gap, 0, size),
-                                  stream_noise(ball, config))
+                                  stream_noise(ball, config), config)
     k = bat.interval(bat_path.t0)
     j = velocity_interval(bat, k, gap) if before else k
     if mode in ('knot', 'poly') and exact and j != k:
