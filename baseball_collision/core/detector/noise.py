@@ -17,7 +17,11 @@ same noise to the bit):
 
 The estimate is 1.4826 times the median absolute residual (the normal's scale from its median
 absolute deviation: a few residuals spoilt by motion or a glitch do not move it), 0 until
-``MIN_RESIDUALS`` residuals are in.
+``MIN_RESIDUALS`` residuals are in, and 0 below ``NOISE_FLOOR`` (exact samples: interpolated).
+
+Limit (measured, ``test_noise.py``): a bat pose's position has no rigid length to
+check, so its residuals are fourth differences, and at 90 Hz a swing's own motion puts about
+0.2 mm into them (0.7-1.5 um at 360 Hz): tell ``tracker_noise`` for pose bats at low rates.
 """
 
 from collections import deque
@@ -36,6 +40,14 @@ MIN_RESIDUALS = 12
 
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
+
+NOISE_FLOOR = 1e-6
+"""m: an estimate below this is 0 (the samples are exact and interpolated). Exact samples
+estimate float rounding and their motion's own differences: up to 3e-9 m (a pitch's drag at
+90 Hz), 8e-17 m (a knob-tip bat's length); a bat pose's 0.7-1.5 um at 360 Hz is its swing's own
+motion (the limit below). A smoother told 1 um
+is no more accurate than the interpolant on every family at 90 and 360 Hz, and its sigmas then
+miss the interpolation's own error (BENCHMARKS.md, "`tracker_noise: auto` on exact samples")."""
 
 
 def divided_difference_weights(times: Sequence[float]) -> np.ndarray:
@@ -72,7 +84,8 @@ class NoiseEstimate:
         if found:
             self.residuals.extend(found)
             if len(self.residuals) >= MIN_RESIDUALS:
-                self.sigma = MAD_TO_SIGMA * float(np.median(np.abs(self.residuals)))
+                sigma = MAD_TO_SIGMA * float(np.median(np.abs(self.residuals)))
+                self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
         return self.sigma
 
     def _residuals(self, stream: Stream) -> Optional[Sequence[float]]:

@@ -58,18 +58,39 @@ def test_auto_recovers_the_noise_of_knob_tip_swings(rate: float, noise_mm: float
 
 @pytest.mark.parametrize('rate', [90.0, 360.0])
 def test_auto_finds_no_noise_on_clean_swings(rate: float) -> None:
-    """Exact samples: the ball's and the knob-tip bat's estimates are below 1 um."""
-    assert max(_streams('points', rate, 0.0, 40)) < 1e-6
+    """Exact samples: the ball's and the knob-tip bat's estimates are 0 (below NOISE_FLOOR)."""
+    assert _streams('points', rate, 0.0, 40) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+def test_auto_on_exact_samples_reports_what_exact_interpolation_does(rate: float) -> None:
+    """
+    ``tracker_noise: auto`` on exact samples: the same impacts, to the last field, as 0.
+
+    The estimate is 0, not a rounding-level sigma that would smooth the samples and report
+    sigmas of that size in place of the interpolation's own error estimate.
+    """
+    scenario = make_scenario('barrel', np.random.default_rng(8), family='tilted')
+    samples = sample(scenario, rate, np.random.default_rng(8), jitter_s=2e-4, grid_s=1e-3)
+    found = []
+    for noise in (AUTO_NOISE, 0.0):
+        detector = Detector(DetectorConfig(bat_input='points', model='c2',
+                                           tracker_noise=noise))
+        events = [event for stamp, role, values in samples.messages('points')
+                  for event in detector.add(role, stamp, values)] + detector.finish()
+        found.append([event for event in events if isinstance(event, Impact)])
+    assert len(found[0]) == 1 and found[0] == found[1]
+    assert found[0][0].time_uncertainty_s > 1e-8
 
 
 def test_auto_from_poses_is_close_at_360_hz_and_biased_up_by_the_swing_at_90() -> None:
     """
-    A pose's position: within 25 % at 360 Hz with 1 mm, clean under 0.05 mm.
+    A pose's position: within 25 % at 360 Hz with 1 mm, exact samples about 1 um.
 
     At 90 Hz the swing's own fourth differences show as 0.1-0.4 mm (the module docstring).
     """
     assert _streams('pose', 360.0, 1e-3, 50)[1] == pytest.approx(1e-3, rel=0.25)
-    assert _streams('pose', 360.0, 0.0, 50)[1] < 5e-5
+    assert _streams('pose', 360.0, 0.0, 50)[1] < 5e-6  # the swing's own differences
     assert 5e-5 < _streams('pose', 90.0, 0.0, 50)[1] < 5e-4
 
 
