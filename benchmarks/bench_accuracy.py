@@ -58,6 +58,7 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
     'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
+    'c2-la2-auto': {'model': 'c2', 'look_ahead': 2, 'tracker_noise': -1.0},
     'c2-smoother-noise': {'model': 'c2', FLIGHT: None},
     'c2-smoother-auto': {'model': 'c2', 'tracker_noise': -1.0, FLIGHT: None},
 }

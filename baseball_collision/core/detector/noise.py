@@ -24,11 +24,10 @@ check, so its residuals are fourth differences, and at 90 Hz a swing's own motio
 0.2 mm into them (0.7-1.5 um at 360 Hz): tell ``tracker_noise`` for pose bats at low rates.
 """
 
+from bisect import bisect_left, insort
 from collections import deque
 import math
-from typing import Deque, Optional, Sequence
-
-import numpy as np
+from typing import Deque, List, Optional, Sequence
 
 from .streams import Stream
 
@@ -50,28 +49,41 @@ is no more accurate than the interpolant on every family at 90 and 360 Hz, and i
 miss the interpolation's own error (BENCHMARKS.md, "`tracker_noise: auto` on exact samples")."""
 
 
-def divided_difference_weights(times: Sequence[float]) -> np.ndarray:
-    """Return the weights of the divided difference over ``times`` (s, distinct), unscaled."""
-    t = np.asarray(times, dtype=float)
-    gaps = t[:, None] - t[None, :]
-    np.fill_diagonal(gaps, 1.0)
-    return 1.0 / np.prod(gaps, axis=1)
+def divided_difference_weights(times: Sequence[float]) -> List[float]:
+    """
+    Return the weights of the divided difference over ``times`` (s, distinct), unscaled.
+
+    In plain floats, each weight 1 / prod over the other stamps of (t_i - t_j), multiplied in
+    stamp order: the same on every machine (no BLAS kernel in the way).
+    """
+    weights = []
+    for i, ti in enumerate(times):
+        product = 1.0
+        for j, tj in enumerate(times):
+            if j != i:
+                product *= ti - tj
+        weights.append(1.0 / product)
+    return weights
 
 
 class NoiseEstimate:
     """
     One stream's noise estimate (m, 1 sigma per coordinate), from its newest samples.
 
+    The median is kept, not recomputed: the residuals' absolute values stay sorted as they come
+    and go (``HISTORY`` of them), so a sample costs a bisection and a short move, not a sort.
+
     :param kind: ``'point'`` (fourth differences of the values, or of a pose's position) or
         ``'length'`` (changes of a knob-tip bat's length).
     """
 
-    __slots__ = ('kind', 'residuals', 'sigma')
+    __slots__ = ('kind', 'residuals', 'sigma', '_sorted')
 
     def __init__(self, kind: str) -> None:
         self.kind = kind
         self.residuals: Deque[float] = deque(maxlen=HISTORY)
         self.sigma = 0.0
+        self._sorted: List[float] = []  # the residuals' absolute values, ascending
 
     def update(self, stream: Stream) -> float:
         """
@@ -82,9 +94,18 @@ class NoiseEstimate:
         """
         found = self._residuals(stream)
         if found:
-            self.residuals.extend(found)
-            if len(self.residuals) >= MIN_RESIDUALS:
-                sigma = MAD_TO_SIGMA * float(np.median(np.abs(self.residuals)))
+            residuals, ordered = self.residuals, self._sorted
+            for residual in found:
+                if len(residuals) == HISTORY:
+                    del ordered[bisect_left(ordered, abs(residuals[0]))]
+                residuals.append(residual)
+                insort(ordered, abs(residual))
+            count = len(ordered)
+            if count >= MIN_RESIDUALS:
+                middle = count // 2
+                median = (ordered[middle] if count % 2
+                          else (ordered[middle - 1] + ordered[middle]) / 2.0)
+                sigma = MAD_TO_SIGMA * median
                 self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
         return self.sigma
 
@@ -98,5 +119,16 @@ class NoiseEstimate:
             old, new = values
             return (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),)
         weights = divided_difference_weights(stream.times[-count:])
-        points = np.array([getattr(value, 'position', value) for value in values], dtype=float)
-        return (weights @ points / math.sqrt(float(weights @ weights))).tolist()
+        points = [getattr(value, 'position', value) for value in values]
+        middle = points[2]  # the weights sum to 0: taken about it, the motion cancels less
+        gain = math.sqrt(_dot(weights, weights))
+        return [_dot(weights, [point[axis] - middle[axis] for point in points]) / gain
+                for axis in range(3)]
+
+
+def _dot(a: Sequence[float], b: Sequence[float]) -> float:
+    """Return sum(a_i b_i) added left to right (``sum`` compensates from Python 3.12 on)."""
+    total = 0.0
+    for x, y in zip(a, b):
+        total += x * y
+    return total

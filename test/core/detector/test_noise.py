@@ -146,7 +146,7 @@ def test_fourth_differences_vanish_on_cubics_and_have_unit_noise_gain(steps,
                                                                       coefficients) -> None:
     """On uneven stamps the weights kill any cubic; normalised, noise keeps its variance."""
     times = np.concatenate([[0.0], np.cumsum(steps)])
-    weights = divided_difference_weights(times)
+    weights = np.array(divided_difference_weights(times))
     cubic = np.polyval(coefficients, times)
     gain = math.sqrt(float(weights @ weights))
     assert abs(weights @ cubic) / gain <= 1e-9 * (1.0 + np.abs(cubic).max())
