@@ -305,20 +305,22 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
 
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
-                    look_ahead: int, pitch_every: float = WORST_SPACING_S) -> None:
+                    look_ahead: int, pitch_every: float = WORST_SPACING_S,
+                    tracker_noise: float = 0.0) -> None:
     """Print (d) for ``baseline`` and ``model`` in pairs on one bag, the throughput ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
         written, _ = write_bag(path, messages, pitch_every)
         print(f'{written:,} messages ({storage}); {pairs} pairs, {baseline} first; '
-              f'{model} with look_ahead {look_ahead}')
+              f'{model} with look_ahead {look_ahead}, tracker_noise {tracker_noise:g}')
         best = {baseline: (0.0, 0.0), model: (0.0, 0.0)}
         ratios = []
         for pair in range(pairs):
             rates = {}
             for name in (baseline, model):
-                options = AnalysisOptions(model=name, parameters={'look_ahead': look_ahead}
-                                          if name == 'c2' else {})
+                options = AnalysisOptions(model=name, parameters={
+                    'look_ahead': look_ahead, 'tracker_noise': tracker_noise}
+                    if name == 'c2' else {})
                 cpu = cpu_seconds()
                 result, wall = timed(analyze_bag, path, options)
                 cpu = cpu_seconds() - cpu
@@ -435,6 +437,8 @@ def main() -> None:
                         help='compare --model against this model in this process instead')
     parser.add_argument('--pairs', type=int, default=3, help='pairs with --against (3)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
+    parser.add_argument('--tracker-noise', type=float, default=0.0, metavar='M',
+                        help="c2's tracker_noise with --against (0; -1: auto)")
     parser.add_argument('--repeats', type=int, default=3,
                         help='runs per --jobs, --whole or --interleave figure (3)')
     parser.add_argument('--pitch-every', type=float, default=WORST_SPACING_S, metavar='SECONDS',
@@ -457,7 +461,7 @@ def main() -> None:
         return
     if args.against:
         against_figures(args.messages or 30_000, args.storage, args.model, args.against,
-                        args.pairs, args.look_ahead, args.pitch_every)
+                        args.pairs, args.look_ahead, args.pitch_every, args.tracker_noise)
         return
     if args.jobs:
         jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,

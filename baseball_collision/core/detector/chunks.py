@@ -32,6 +32,7 @@ import numpy as np
 
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
+from .noise import NoiseEstimate
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
 from .streams import Stream, sum_turns, Turn
@@ -59,12 +60,16 @@ numpy calls is shared by more samples); the length carries over to the next chun
 
 def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                  scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
-                 events: List[Event], walk: bool = True) -> int:
+                 events: List[Event], walk: bool = True,
+                 noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None) -> int:
     """
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
 
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
         with the scheduler: the intervals, then the trim, then the prediction).
+    :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
+        takes the run's samples (``NoiseEstimate.take_points``, a bat pose's positions), as
+        ``Detector.add`` updates them after each sample, and sets the stream's ``noise``.
     :returns: the newest stamp taken (ns).
     """
     newest = 0
@@ -77,6 +82,13 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         # the trim after the run, counted from the stream's first sample: samples it would
         # drop as soon as they are appended are never made (nor turned into lists)
         cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
+        if b > a and noise is not None:  # every sample of the run, kept or trimmed at once
+            positions = plan.values[0] if s == 0 else plan.values[1][2]
+            values = positions[a - plan.pre[s]:b - plan.pre[s]]
+            old = stream.values[-4:]
+            stream.noise = noise[s].take_points(
+                (stream.times[-4:], old if s == 0 else [v.position for v in old],
+                 stream.breaks[-4:]), plan.times[s][a:b], values)
         if b > a:
             c = max(a, a + cut - kept)
             stream.times += plan.times[s][c:b].tolist()
@@ -310,7 +322,7 @@ def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
     """Take plan samples [first, end) as planned (:func:`fast_forward`); note the newest."""
     newest = fast_forward(plan, first, end, detector._ball, detector._bat,
                           detector._scheduler, detector._episodes, detector.stats, events,
-                          walk=walk)
+                          walk=walk, noise=detector._noise)
     intake = detector._intake
     if intake.newest is None or newest > intake.newest:
         intake.newest = newest

@@ -27,7 +27,9 @@ check, so its residuals are fourth differences, and at 90 Hz a swing's own motio
 from bisect import bisect_left, insort
 from collections import deque
 import math
-from typing import Deque, List, Optional, Sequence
+from typing import Deque, List, Optional, Sequence, Tuple
+
+import numpy as np
 
 from .streams import Stream
 
@@ -36,6 +38,9 @@ HISTORY = 384
 
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
+
+REBUILD = 48
+"""More residuals than this at once: the sorted list is made again, not updated one by one."""
 
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
@@ -94,20 +99,79 @@ class NoiseEstimate:
         """
         found = self._residuals(stream)
         if found:
-            residuals, ordered = self.residuals, self._sorted
+            self._take(found)
+        return self.sigma
+
+    def take_points(self, before: Tuple[Sequence[float], Sequence[Sequence[float]],
+                                        Sequence[bool]],
+                    times: np.ndarray, points: np.ndarray) -> float:
+        """
+        Take the residuals of new samples of one segment's points at once; return the estimate.
+
+        What ``update`` does after each of them in turn, to the bit (the chunk path's
+        fast-forwards): each residual is that sample's window of five, with the same
+        operations on arrays (IEEE element by element, no fused multiply-add), in order.
+
+        :param before: the stream's newest samples before them (up to four): stamps (s),
+            points (m) and whether each starts a segment.
+        :param times: the new samples' stamps (s), none starting a segment; ``points`` (n, 3).
+        """
+        if self.kind != 'point':
+            raise ValueError('take_points is for point streams')
+        old_times, old_points, old_breaks = before
+        old_times, old_points = list(old_times)[-4:], [tuple(p) for p in old_points][-4:]
+        old_breaks = list(old_breaks)[-4:]
+        last_break = max((i for i, broken in enumerate(old_breaks) if broken), default=-1)
+        # sample i of all (the old then the new) has a residual when i >= 4 and none of i-3..i
+        # starts a segment: the new ones from the fourth after the old's last break
+        first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
+        if first >= len(times):
+            return self.sigma
+        t = np.concatenate((np.asarray(old_times, dtype=float), np.asarray(times, float)))
+        p = np.concatenate((np.asarray(old_points, dtype=float).reshape(-1, 3),
+                            np.asarray(points, dtype=float)))
+        ends = np.arange(len(old_times) + first, len(t))  # each residual's newest sample
+        windows = [ends - 4 + k for k in range(5)]
+        weights = []
+        for i in range(5):
+            product = np.ones(len(ends))
+            for j in range(5):
+                if j != i:
+                    product = product * (t[windows[i]] - t[windows[j]])
+            weights.append(1.0 / product)
+        gain = np.zeros(len(ends))
+        for w in weights:
+            gain = gain + w * w
+        gain = np.sqrt(gain)
+        middle = p[windows[2]]
+        rows = []
+        for axis in range(3):
+            total = np.zeros(len(ends))
+            for w, index in zip(weights, windows):
+                total = total + w * (p[index, axis] - middle[:, axis])
+            rows.append(total / gain)
+        self._take(np.stack(rows, axis=1).ravel().tolist())
+        return self.sigma
+
+    def _take(self, found: Sequence[float]) -> None:
+        """Take residuals (m) in order; set the estimate from the newest ``HISTORY``."""
+        residuals, ordered = self.residuals, self._sorted
+        if len(found) > REBUILD:  # many at once (a fast-forward): the newest, sorted afresh
+            residuals.extend(found)
+            ordered[:] = sorted(map(abs, residuals))
+        else:
             for residual in found:
                 if len(residuals) == HISTORY:
                     del ordered[bisect_left(ordered, abs(residuals[0]))]
                 residuals.append(residual)
                 insort(ordered, abs(residual))
-            count = len(ordered)
-            if count >= MIN_RESIDUALS:
-                middle = count // 2
-                median = (ordered[middle] if count % 2
-                          else (ordered[middle - 1] + ordered[middle]) / 2.0)
-                sigma = MAD_TO_SIGMA * median
-                self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
-        return self.sigma
+        count = len(ordered)
+        if count >= MIN_RESIDUALS:
+            middle = count // 2
+            median = (ordered[middle] if count % 2
+                      else (ordered[middle - 1] + ordered[middle]) / 2.0)
+            sigma = MAD_TO_SIGMA * median
+            self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
 
     def _residuals(self, stream: Stream) -> Optional[Sequence[float]]:
         """Return the residuals (m) the newest sample completes, or None."""

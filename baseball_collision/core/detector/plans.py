@@ -19,8 +19,8 @@ With prediction on, every sample whose walk moves the cursor (a frame) is also a
 bat's newest sample at each frame's cursor (whose turns the predictor sums).
 
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
-path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models (``c2``
-not under ``tracker_noise`` auto) is planned (:func:`plannable`).
+path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models is planned
+(:func:`plannable`).
 """
 
 from bisect import bisect_left
@@ -46,7 +46,8 @@ ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 BALL, BAT_POSE = ROLE_CODES['ball'], ROLE_CODES['bat_pose']
 FAST_MODELS = ('linear', 'rigid', 'spline', 'c2')
 """Models whose far test is vectorised (``c2``: its first stage, ``broadphase.apart_margins``;
-not under ``tracker_noise`` auto, whose estimate takes every sample in turn)."""
+the far tests read no noise, so under ``tracker_noise`` auto too: a fast-forward gives the
+estimators the run's samples in bulk, ``chunks.fast_forward``)."""
 
 SLACK = 1e-9
 """Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
@@ -115,8 +116,7 @@ class Plan:
 
 def plannable(config: DetectorConfig) -> bool:
     """Return whether chunks are ever planned under a configuration (else one at a time)."""
-    return (config.bat_input == 'pose' and config.model in FAST_MODELS
-            and (config.model != 'c2' or config.tracker_noise >= 0.0))
+    return config.bat_input == 'pose' and config.model in FAST_MODELS
 
 
 def usable(config: DetectorConfig, origin: Optional[int], ball: Stream, bat: Stream,

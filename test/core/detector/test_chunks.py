@@ -151,8 +151,11 @@ def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int
     assert chunked.watermark_ns == one.watermark_ns
     for name in ('_ball', '_bat'):  # the streams trimmed alike
         kept, expected_kept = getattr(chunked, name), getattr(one, name)
-        for buffer in ('times', 'stamps', 'values', 'breaks', 'turns'):
+        for buffer in ('times', 'stamps', 'values', 'breaks', 'turns', 'noise'):
             assert getattr(kept, buffer) == getattr(expected_kept, buffer), (name, buffer)
+    if one._noise is not None:  # tracker_noise auto: the estimators' state alike
+        for mine, theirs in zip(chunked._noise, one._noise):
+            assert mine.residuals == theirs.residuals and mine.sigma == theirs.sigma
     for name in ('last_ns', 'predicting'):
         assert getattr(chunked._predictor, name) == getattr(one._predictor, name), name
     return events
@@ -382,8 +385,30 @@ def test_c2_chunks_same_at_any_look_ahead_and_window(look_ahead: int, window: in
                                spline_window=window), rows, sizes)
 
 
-def test_c2_under_auto_noise_goes_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -> None:
-    """``tracker_noise`` auto estimates from every sample in turn: no chunk is planned."""
+def noisy(rows: Sequence[Row], sigma: float, seed: int) -> List[Row]:
+    """Return rows with Gaussian noise of ``sigma`` (m) on every position (not quaternions)."""
+    rng = np.random.default_rng(seed)
+    return [(role, stamp, tuple(float(v + e) for v, e in zip(values[:3], rng.normal(
+        0.0, sigma, 3))) + tuple(values[3:]), frame) for role, stamp, values, frame in rows]
+
+
+@settings(max_examples=examples(6), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(sigma=st.sampled_from([0.0, 2e-4, 1e-3]), look_ahead=st.integers(0, 2),
+       sizes=st.lists(st.integers(1, 3000), min_size=1, max_size=3),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=3))
+def test_c2_under_auto_noise_planned_same_as_one_at_a_time(
+        sigma: float, look_ahead: int, sizes: List[int],
+        faults: List[Tuple[int, str]]) -> None:
+    """``tracker_noise`` auto is planned: the estimators take a run's samples in bulk, alike."""
+    rows = inject(noisy(session(HEIGHTS[:2]), sigma, 5), faults)
+    assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0,
+                               look_ahead=look_ahead), rows, sizes)
+
+
+def test_c2_under_auto_noise_is_planned(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A noisy session under auto: chunks are planned, and the estimates are the noise's."""
     planned = []
     original = chunks_module.plan_chunk
 
@@ -391,11 +416,14 @@ def test_c2_under_auto_noise_goes_sample_by_sample(monkeypatch: pytest.MonkeyPat
         planned.append(1)
         return original(*args, **kwargs)
     monkeypatch.setattr(chunks_module, 'plan_chunk', counting)
-    rows = session(HEIGHTS[:1])
-    assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0), rows, (500,))
-    assert not planned
-    assert_same(DetectorConfig(model='c2', bat_input='pose'), rows, (500,))
-    assert planned
+    rows = noisy(session(HEIGHTS[:1]), 1e-3, 9)
+    events = assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0),
+                         rows, (500,))
+    assert planned and any(isinstance(e, Impact) for e in events)
+    _, _, chunked = in_chunks(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0),
+                              rows, (500,))
+    assert 0.5e-3 < chunked._ball.noise < 2e-3  # (the scene's ball starts and stops)
+    assert 0.5e-3 < chunked._bat.noise < 2e-3
 
 
 def test_bad_chunks_are_refused() -> None:
