@@ -36,6 +36,7 @@ from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath
 from ..motion.c2 import rotation_to
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
+from ..motion.splines import not_a_knot_slope_rows
 
 SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
@@ -99,7 +100,7 @@ def widened(stream: Stream, window: range) -> range:
 
 
 def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
-    return not_a_knot_slopes(times, rows).tolist()
+    return not_a_knot_slope_rows(times, rows)
 
 
 def kept_history(config: Any) -> float:

@@ -30,7 +30,7 @@ from typing import List, Sequence, Tuple
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
-from .splines import not_a_knot_slopes
+from .splines import not_a_knot_slope_rows
 from ..geometry import cross, dot, norm, sub, Vector
 
 
@@ -160,7 +160,7 @@ class C2BatPath(BatPath):
         :param times, samples: the window (seconds, bat samples); k: the interval in it.
         """
         first, rows = c2_rows(samples, k)
-        slopes = not_a_knot_slopes(times[first:first + len(rows)], rows).tolist()
+        slopes = not_a_knot_slope_rows(times[first:first + len(rows)], rows)
         s0, s1 = slopes[k - first], slopes[k + 1 - first]
         return cls(times[k], times[k + 1], samples[k], samples[k + 1],
                    (tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
