@@ -99,10 +99,6 @@ def widened(stream: Stream, window: range) -> range:
     return range(first, window.stop)
 
 
-def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
-    return not_a_knot_slope_rows(times, rows)
-
-
 def kept_history(config: Any) -> float:
     """
     Return how far (s) behind the detector's cursor every stream keeps its samples.
@@ -172,9 +168,9 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
         return PointPath(times[j], times[j + 1], tuple(values[j].tolist()),
                          tuple(values[j + 1].tolist()), tuple(slopes[j].tolist()),
                          tuple(slopes[j + 1].tolist()))
-    slopes = _slopes(times, [stream.values[i] for i in window])
-    return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1],
-                     tuple(slopes[j]), tuple(slopes[j + 1]))
+    slopes = not_a_knot_slope_rows(times, stream.values[window.start:window.stop], j)
+    return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
+                     slopes[1])
 
 
 def bat_variances(sample: BatSample, noise: float) -> List[float]:

@@ -30,8 +30,8 @@ def not_a_knot_slopes(times: Sequence[float],
 
 
 def not_a_knot_slope_rows(times: Sequence[float],
-                          values: Union[np.ndarray, Sequence[Sequence[float]]]
-                          ) -> List[Tuple[float, ...]]:
+                          values: Union[np.ndarray, Sequence[Sequence[float]]],
+                          start: int = 0) -> List[Tuple[float, ...]]:
     """
     Return ``not_a_knot_slopes`` as rows of floats (one tuple per knot): the same numbers.
 
@@ -39,10 +39,14 @@ def not_a_knot_slope_rows(times: Sequence[float],
     on the steps only, so it is eliminated once (``_eliminated``, kept for the next call on the
     same stamps: a ball's and a bat's windows of one interval usually share them) and each
     column is solved in turn (``_solve_column``).
+
+    :param start: the first knot whose slopes are wanted (0 <= start < n): the rows of knots
+        ``start`` .. n - 1 are returned; the back-substitution stops there (a window's interval
+        is at its end: two rows instead of n).
     """
     if len(times) <= 3:
         return [tuple(row) for row in _short_slopes(
-            np.asarray(times, dtype=float), np.asarray(values, dtype=float)).tolist()]
+            np.asarray(times, dtype=float), np.asarray(values, dtype=float)).tolist()[start:]]
     key = tuple(times)
     last = _LAST_SYSTEM[0]
     if last is not None and last[0] == key:
@@ -51,7 +55,7 @@ def not_a_knot_slope_rows(times: Sequence[float],
         system = _eliminated(key)
         _LAST_SYSTEM[0] = (key, system)
     columns = values.T.tolist() if isinstance(values, np.ndarray) else zip(*values)
-    return list(zip(*[_solve_column(system, column) for column in columns]))
+    return list(zip(*[_solve_column(system, column, start) for column in columns]))
 
 
 _LAST_SYSTEM: list = [None]
@@ -89,13 +93,15 @@ def _eliminated(times: Sequence[float]) -> System:
     return h, factors, diagonal, above, ends
 
 
-def _solve_column(system: System, y: Sequence[float]) -> List[float]:
+def _solve_column(system: System, y: Sequence[float], start: int = 0) -> List[float]:
     """
     Return the slopes of one column of values through an ``_eliminated`` system.
 
     In plain floats, so the slopes are the same bits on every machine: LAPACK's solve, which
     this replaced, rounds as the BLAS kernels a CPU is given (``c2``'s answers moved by 1 ns
     on an AVX-512 machine; with this solve they are the same under either kernel, measured).
+
+    :param start: the first knot wanted: the slopes of knots ``start`` .. n - 1.
     """
     h, factors, diagonal, above, (first, h0_squared, span0, hl_squared, last, span1) = system
     d = [(b - a) / step for a, b, step in zip(y, y[1:], h)]
@@ -109,10 +115,10 @@ def _solve_column(system: System, y: Sequence[float]) -> List[float]:
     s = r / diagonal[-1]
     slopes = rhs  # overwritten from the end: rhs[i] is read before slopes[i] is written
     slopes[-1] = s
-    for i in range(len(rhs) - 2, -1, -1):
+    for i in range(len(rhs) - 2, start - 1, -1):
         s = (rhs[i] - above[i] * s) / diagonal[i]
         slopes[i] = s
-    return slopes
+    return slopes[start:]
 
 
 def _short_slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
