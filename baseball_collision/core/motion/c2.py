@@ -31,7 +31,7 @@ from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
 from .splines import not_a_knot_slope_rows
-from ..geometry import cross, dot, norm, sub, Vector
+from ..geometry import cross, norm, sub, Vector
 
 
 def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
@@ -87,12 +87,16 @@ _AXES_KEPT = 4096
 
 def rotation_to(reference: Vector, direction: Vector) -> Vector:
     """Return the rotation vector (rad, across ``reference``) turning it onto ``direction``."""
-    turn = cross(reference, direction)
-    sine = norm(turn)
+    # geometry's cross, norm and dot written out (the same operations: a chart takes one per
+    # sample of every window)
+    rx, ry, rz = reference
+    dx, dy, dz = direction
+    tx, ty, tz = ry * dz - rz * dy, rz * dx - rx * dz, rx * dy - ry * dx
+    sine = math.sqrt(tx * tx + ty * ty + tz * tz)
     if sine < 1e-15:
         return (0.0, 0.0, 0.0)
-    angle = math.atan2(sine, dot(reference, direction)) / sine
-    return (turn[0] * angle, turn[1] * angle, turn[2] * angle)
+    angle = math.atan2(sine, rx * dx + ry * dy + rz * dz) / sine
+    return (tx * angle, ty * angle, tz * angle)
 
 
 def rotate(reference: Vector, rotation: Vector) -> Vector:

@@ -9,7 +9,7 @@ error is O(h^4) in value and O(h^3) in slope on every piece, also on uneven stam
 Practical Guide to Splines, ch. IV). Two samples give the chord, three the parabola.
 """
 
-from typing import List, Sequence, Tuple, Union
+from typing import Iterable, List, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -38,7 +38,7 @@ def not_a_knot_slope_rows(times: Sequence[float],
     Plain floats (numpy's per-call cost dominates at these sizes): the system's matrix depends
     on the steps only, so it is eliminated once (``_eliminated``, kept for the next call on the
     same stamps: a ball's and a bat's windows of one interval usually share them) and each
-    column is solved in turn (``_solve_column``).
+    column is solved in turn (``_solve_columns``).
 
     :param start: the first knot whose slopes are wanted (0 <= start < n): the rows of knots
         ``start`` .. n - 1 are returned; the back-substitution stops there (a window's interval
@@ -55,7 +55,7 @@ def not_a_knot_slope_rows(times: Sequence[float],
         system = _eliminated(key)
         _LAST_SYSTEM[0] = (key, system)
     columns = values.T.tolist() if isinstance(values, np.ndarray) else zip(*values)
-    return list(zip(*[_solve_column(system, column, start) for column in columns]))
+    return list(zip(*_solve_columns(system, columns, start)))
 
 
 _LAST_SYSTEM: list = [None]
@@ -93,32 +93,37 @@ def _eliminated(times: Sequence[float]) -> System:
     return h, factors, diagonal, above, ends
 
 
-def _solve_column(system: System, y: Sequence[float], start: int = 0) -> List[float]:
+def _solve_columns(system: System, columns: Iterable[Sequence[float]],
+                   start: int = 0) -> List[List[float]]:
     """
-    Return the slopes of one column of values through an ``_eliminated`` system.
+    Return the slopes of each column of values through an ``_eliminated`` system.
 
     In plain floats, so the slopes are the same bits on every machine: LAPACK's solve, which
     this replaced, rounds as the BLAS kernels a CPU is given (``c2``'s answers moved by 1 ns
     on an AVX-512 machine; with this solve they are the same under either kernel, measured).
 
-    :param start: the first knot wanted: the slopes of knots ``start`` .. n - 1.
+    :param columns: each the values (n,) at the knots.
+    :param start: the first knot wanted: the slopes of knots ``start`` .. n - 1, per column.
     """
     h, factors, diagonal, above, (first, h0_squared, span0, hl_squared, last, span1) = system
-    d = [(b - a) / step for a, b, step in zip(y, y[1:], h)]
-    rhs = [(first * d[0] + h0_squared * d[1]) / span0]
-    rhs += [3.0 * (ha * x + hb * z) for ha, hb, x, z in zip(h[1:], h, d, d[1:])]
-    rhs.append((hl_squared * d[-2] + last * d[-1]) / span1)
-    r = rhs[0]
-    for i in range(1, len(rhs)):
-        r = rhs[i] - factors[i] * r
-        rhs[i] = r
-    s = r / diagonal[-1]
-    slopes = rhs  # overwritten from the end: rhs[i] is read before slopes[i] is written
-    slopes[-1] = s
-    for i in range(len(rhs) - 2, start - 1, -1):
-        s = (rhs[i] - above[i] * s) / diagonal[i]
-        slopes[i] = s
-    return slopes[start:]
+    inner = list(zip(h[1:], h, factors[1:]))
+    last_factor, last_pivot = factors[-1], diagonal[-1]
+    back = range(len(h) - 1, start - 1, -1)
+    solved = []
+    for y in columns:
+        d = [(b - a) / step for a, b, step in zip(y, y[1:], h)]
+        r = (first * d[0] + h0_squared * d[1]) / span0
+        # forward: each inner row's right-hand side, less its factor times the row above's
+        rhs = [r]
+        rhs += [r := 3.0 * (ha * x + hb * z) - f * r for (ha, hb, f), x, z in zip(inner, d, d[1:])]
+        s = ((hl_squared * d[-2] + last * d[-1]) / span1 - last_factor * r) / last_pivot
+        slopes = [s]  # back from the last knot
+        for i in back:
+            s = (rhs[i] - above[i] * s) / diagonal[i]
+            slopes.append(s)
+        slopes.reverse()
+        solved.append(slopes)
+    return solved
 
 
 def _short_slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
