@@ -148,14 +148,21 @@ def end_state(times: Sequence[float], values: np.ndarray,
     :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns).
     :returns: ((columns,) values, (columns,) rates per second).
     """
-    y = np.asarray(values, dtype=float)
-    slopes = not_a_knot_slopes(times, y)
+    rows = values.tolist() if isinstance(values, np.ndarray) else values
+    start = len(times) - 2
+    m0_rows, m1_rows = not_a_knot_slope_rows(times, rows, start)
     t0, t1 = float(times[-2]), float(times[-1])
     h = t1 - t0
     s = (t - t0) / h
-    # the cubic Hermite y0 + m0 s + c s^2 + d s^3 (s in steps) with end slopes m0, m1
-    m0, m1 = slopes[-2] * h, slopes[-1] * h
-    chord = y[-1] - y[-2]
-    c = 3.0 * chord - 2.0 * m0 - m1
-    d = m0 + m1 - 2.0 * chord
-    return y[-2] + s * (m0 + s * (c + s * d)), (m0 + s * (2.0 * c + 3.0 * s * d)) / h
+    at, rates = [], []
+    # per column, the cubic Hermite y0 + m0 s + c s^2 + d s^3 (s in steps) with end slopes
+    # m0, m1 (plain floats: the same operations as on the arrays of the columns)
+    for y0, y1, slope0, slope1 in zip(rows[-2], rows[-1], m0_rows, m1_rows):
+        y0, y1 = float(y0), float(y1)
+        m0, m1 = slope0 * h, slope1 * h
+        chord = y1 - y0
+        c = 3.0 * chord - 2.0 * m0 - m1
+        d = m0 + m1 - 2.0 * chord
+        at.append(y0 + s * (m0 + s * (c + s * d)))
+        rates.append((m0 + s * (2.0 * c + 3.0 * s * d)) / h)
+    return np.array(at), np.array(rates)
