@@ -160,7 +160,7 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
         return PointPath(t0, t1, fit.at(t0), fit.at(t1), fit.velocity(t0), fit.velocity(t1))
     if noise > 0.0:
         window = widened(stream, window)
-    times = [stream.times[i] for i in window]
+    times = stream.times[window.start:window.stop]
     j = k - window.start
     if noise > 0.0:
         values, slopes = smooth(times, np.asarray(stream.values[window.start:window.stop]),
@@ -245,7 +245,7 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
     """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
     if noise > 0.0:
         window = widened(stream, window)
-    times = [stream.times[i] for i in window]
+    times = stream.times[window.start:window.stop]
     samples = stream.values[window.start:window.stop]
     if noise > 0.0:
         return smoothed_bat_path(times, samples, k - window.start, noise)

@@ -141,10 +141,15 @@ def _chart_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[f
     reference = axis_and_length(samples[j])[0]
     rows: List[Tuple[float, ...]] = []
     first, last = 0, len(samples)
+    kept = _AXES.get
     for i, sample in enumerate(samples):
-        direction, length = axis_and_length(sample)
-        rotation = rotation_to(reference, direction)
-        if norm(rotation) > MAX_CHART_ANGLE:
+        found = kept(id(sample))  # axis_and_length's lookup, in the loop
+        if found is None or found[0] is not sample:
+            found = (sample, *axis_and_length(sample))
+        length = found[2]
+        rotation = rotation_to(reference, found[1])
+        x, y, z = rotation
+        if math.sqrt(x * x + y * y + z * z) > MAX_CHART_ANGLE:  # its norm
             if i < j:
                 first, rows = i + 1, []
                 continue
