@@ -15,7 +15,8 @@ MARGIN = 0.11
 
 
 def _every_bound(ball, bat, k: int, look_ahead: int, size: int) -> str:
-    """Return the far test's answer with every bound computed (the test before the skips).
+    """
+    Return the far test's answer with every bound computed (the test before the skips).
 
     'first' or 'second': clear by that stage; 'near': not clear.
     """
