@@ -36,6 +36,7 @@ from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath
 from ..motion.c2 import rotation_to
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
+from ..motion.splines import not_a_knot_slope_rows
 
 SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
@@ -96,10 +97,6 @@ def widened(stream: Stream, window: range) -> range:
            and newest - times[first - 1] <= NOISE_SPAN):
         first -= 1
     return range(first, window.stop)
-
-
-def _slopes(times: Sequence[float], rows: Sequence[Sequence[float]]) -> list:
-    return not_a_knot_slopes(times, rows).tolist()
 
 
 def kept_history(config: Any) -> float:
@@ -163,7 +160,7 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
         return PointPath(t0, t1, fit.at(t0), fit.at(t1), fit.velocity(t0), fit.velocity(t1))
     if noise > 0.0:
         window = widened(stream, window)
-    times = [stream.times[i] for i in window]
+    times = stream.times[window.start:window.stop]
     j = k - window.start
     if noise > 0.0:
         values, slopes = smooth(times, np.asarray(stream.values[window.start:window.stop]),
@@ -171,9 +168,9 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
         return PointPath(times[j], times[j + 1], tuple(values[j].tolist()),
                          tuple(values[j + 1].tolist()), tuple(slopes[j].tolist()),
                          tuple(slopes[j + 1].tolist()))
-    slopes = _slopes(times, [stream.values[i] for i in window])
-    return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1],
-                     tuple(slopes[j]), tuple(slopes[j + 1]))
+    slopes = not_a_knot_slope_rows(times, stream.values[window.start:window.stop], j)
+    return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
+                     slopes[1])
 
 
 def bat_variances(sample: BatSample, noise: float) -> List[float]:
@@ -248,7 +245,7 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
     """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
     if noise > 0.0:
         window = widened(stream, window)
-    times = [stream.times[i] for i in window]
+    times = stream.times[window.start:window.stop]
     samples = stream.values[window.start:window.stop]
     if noise > 0.0:
         return smoothed_bat_path(times, samples, k - window.start, noise)

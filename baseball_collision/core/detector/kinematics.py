@@ -22,7 +22,7 @@ import numpy as np
 
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
 from .streams import Stream
-from ..geometry import lerp, scale, Vector
+from ..geometry import cross, lerp, scale, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
     turn_between, unit_axis)
@@ -313,10 +313,12 @@ def chart_swing(reference: Vector, turn: np.ndarray, turn_rate: np.ndarray) -> V
         (rad) turning it onto the bat's direction u; ``turn_rate``: its rate (rad/s).
     """
     step = 1e-4  # s: the chart's map differentiated numerically along the rate
-    ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
-    behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
-    direction = np.array(rotate(reference, tuple(turn)))
-    return tuple(np.cross(direction, (ahead - behind) / (2.0 * step)).tolist())
+    turn, turn_rate = [float(x) for x in turn], [float(x) for x in turn_rate]
+    # plain floats, the same operations as numpy's on the 3-vectors (np.cross is cross's)
+    ahead = rotate(reference, tuple(x + step * r for x, r in zip(turn, turn_rate)))
+    behind = rotate(reference, tuple(x - step * r for x, r in zip(turn, turn_rate)))
+    direction = rotate(reference, tuple(turn))
+    return cross(direction, tuple((a - b) / (2.0 * step) for a, b in zip(ahead, behind)))
 
 
 def knot_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector]:

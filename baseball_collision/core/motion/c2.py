@@ -25,13 +25,13 @@ derivative of knob + length * direction.
 """
 
 import math
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
-from .splines import not_a_knot_slopes
-from ..geometry import cross, dot, norm, sub, Vector
+from .splines import not_a_knot_slope_rows
+from ..geometry import cross, norm, sub, Vector
 
 
 def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
@@ -53,19 +53,50 @@ MAX_CHART_ANGLE = 2.5
 
 def unit_axis(sample: BatSample) -> Vector:
     """Return the unit knob-to-tip direction of a bat sample."""
+    return axis_and_length(sample)[0]
+
+
+def axis_and_length(sample: BatSample) -> Tuple[Vector, float]:
+    """
+    Return a bat sample's unit knob-to-tip direction and its length (m), kept per sample.
+
+    Each window charts its samples again (about ``spline_window`` times each): the two are
+    made once per sample object (samples are never changed) and kept in ``_AXES`` by identity
+    (the entry holds the sample, so its id cannot be reused while it is there; at most
+    ``_AXES_KEPT`` entries, then it starts again).
+    """
+    found = _AXES.get(id(sample))
+    if found is not None and found[0] is sample:
+        return found[1], found[2]
     axis = sub(sample.tip, sample.knob)
-    length = norm(axis)
-    return (axis[0] / length, axis[1] / length, axis[2] / length)
+    size = norm(axis)
+    direction = (axis[0] / size, axis[1] / size, axis[2] / size)
+    length = math.dist(sample.tip, sample.knob)
+    if len(_AXES) >= _AXES_KEPT:
+        _AXES.clear()
+    _AXES[id(sample)] = (sample, direction, length)
+    return direction, length
+
+
+_AXES: dict = {}
+"""``axis_and_length``'s answers: id(sample) -> (sample, direction, length)."""
+
+_AXES_KEPT = 4096
+"""Most samples ``_AXES`` holds."""
 
 
 def rotation_to(reference: Vector, direction: Vector) -> Vector:
     """Return the rotation vector (rad, across ``reference``) turning it onto ``direction``."""
-    turn = cross(reference, direction)
-    sine = norm(turn)
+    # geometry's cross, norm and dot written out (the same operations: a chart takes one per
+    # sample of every window)
+    rx, ry, rz = reference
+    dx, dy, dz = direction
+    tx, ty, tz = ry * dz - rz * dy, rz * dx - rx * dz, rx * dy - ry * dx
+    sine = math.sqrt(tx * tx + ty * ty + tz * tz)
     if sine < 1e-15:
         return (0.0, 0.0, 0.0)
-    angle = math.atan2(sine, dot(reference, direction)) / sine
-    return (turn[0] * angle, turn[1] * angle, turn[2] * angle)
+    angle = math.atan2(sine, rx * dx + ry * dy + rz * dz) / sine
+    return (tx * angle, ty * angle, tz * angle)
 
 
 def rotate(reference: Vector, rotation: Vector) -> Vector:
@@ -107,19 +138,25 @@ def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float
 
 def _chart_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
     """Return ``c2_rows``' answer, computed."""
-    reference = unit_axis(samples[j])
+    reference = axis_and_length(samples[j])[0]
     rows: List[Tuple[float, ...]] = []
     first, last = 0, len(samples)
+    kept = _AXES.get
     for i, sample in enumerate(samples):
-        rotation = rotation_to(reference, unit_axis(sample))
-        if norm(rotation) > MAX_CHART_ANGLE:
+        found = kept(id(sample))  # axis_and_length's lookup, in the loop
+        if found is None or found[0] is not sample:
+            found = (sample, *axis_and_length(sample))
+        length = found[2]
+        rotation = rotation_to(reference, found[1])
+        x, y, z = rotation
+        if math.sqrt(x * x + y * y + z * z) > MAX_CHART_ANGLE:  # its norm
             if i < j:
                 first, rows = i + 1, []
                 continue
             if i > j + 1:
                 last = i
                 break
-        rows.append((*sample.knob, *rotation, math.dist(sample.tip, sample.knob)))
+        rows.append((*sample.knob, *rotation, length))
     return first, rows[:last - first]
 
 
@@ -133,23 +170,35 @@ class C2BatPath(BatPath):
     :param length_slopes: (start, end) rates of the knob-to-tip length (m/s).
     """
 
-    __slots__ = ('knob', 'turn', 'length', 'reference')
+    __slots__ = ('knob', 'turn', 'length', 'reference', 'spread')
     kind = PathKind.C2
 
     def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
                  knob_slopes: Tuple[Vector, Vector], turn_slopes: Tuple[Vector, Vector],
                  length_slopes: Tuple[float, float]) -> None:
         super().__init__(t0, t1, sample0, sample1)
+        self.spread: Optional[float] = None
         self.knob = PointPath(t0, t1, sample0.knob, sample1.knob, *knob_slopes)
-        self.reference = unit_axis(sample0)
-        closing = rotation_to(self.reference, unit_axis(sample1))
+        self.reference, length0 = axis_and_length(sample0)
+        direction, length1 = axis_and_length(sample1)
+        closing = rotation_to(self.reference, direction)
         self.turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
-        length0 = math.dist(sample0.tip, sample0.knob)
-        length1 = math.dist(sample1.tip, sample1.knob)
         self.length = AngleCubic(t0, t1, length0, length1, *length_slopes)
         self.lever = max(length0, length1)
         self.angle = norm(closing)
-        self.radius += self.deviation(t0, t1)
+        self.spread = self.deviation(t0, t1)
+        self.radius += self.spread
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """
+        Return a bound (m) on how far any axis point leaves its chord over [ta, tb].
+
+        Over the whole interval the one computed when the path was made (``spread``); else
+        ``_deviation``'s.
+        """
+        if ta == self.t0 and tb == self.t1 and self.spread is not None:
+            return self.spread
+        return self._deviation(ta, tb)
 
     @classmethod
     def fitted(cls, times: Sequence[float], samples: Sequence[BatSample],
@@ -160,8 +209,7 @@ class C2BatPath(BatPath):
         :param times, samples: the window (seconds, bat samples); k: the interval in it.
         """
         first, rows = c2_rows(samples, k)
-        slopes = not_a_knot_slopes(times[first:first + len(rows)], rows).tolist()
-        s0, s1 = slopes[k - first], slopes[k + 1 - first]
+        s0, s1 = not_a_knot_slope_rows(times[first:first + len(rows)], rows, k - first)[:2]
         return cls(times[k], times[k + 1], samples[k], samples[k + 1],
                    (tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
                    (s0[6], s1[6]))
@@ -173,9 +221,9 @@ class C2BatPath(BatPath):
         return knob, (knob[0] + length * d[0], knob[1] + length * d[1],
                       knob[2] + length * d[2])
 
-    def deviation(self, ta: float, tb: float) -> float:
+    def _deviation(self, ta: float, tb: float) -> float:
         """
-        Return a bound (m) on how far any axis point leaves its chord over [ta, tb].
+        Return ``deviation``'s bound, computed.
 
         An axis point is p = knob + f L u (0 <= f <= 1) and leaves its chord by at most
         max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|;

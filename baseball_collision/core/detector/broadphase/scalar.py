@@ -10,8 +10,7 @@ of the rotating part; for the spline, ``bulge_bounds``; for ``c2``, the bounds o
 import math
 from typing import Callable, List, Sequence
 
-from .c2 import c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO
-from ..fitting import c2_window
+from .c2 import c2_clearly_apart
 from ..streams import Stream
 from ...geometry import sub, Vector
 from ...motion import BatSample
@@ -105,24 +104,9 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
         ball_radius += ball_bulge
         bat_radius += bat_growth
     elif model == 'c2':
-        # first from numbers kept per sample (``c2_jump_bulge``), then the exact weights
-        quick = c2_jump_bulge(ball, ball_k, look_ahead, size, max_gap)
-        reach = None if quick is None else c2_reach(bat, bat_k, look_ahead, size, max_gap)
-        if reach is not None and (math.dist(ball_centre, reach[0]) - ball_radius - quick
-                                  - reach[1] > margin):
-            return True
-        window = c2_window(ball, ball_k, max_gap, look_ahead, size)
-        times = ball.times[window.start:window.stop]
-        steps = [b - a for a, b in zip(times, times[1:])]
-        if max(steps) > C2_STEP_RATIO * min(steps):
-            return False
-        ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
-                                ball_k - window.start)
-        growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
-        if growth is None:
-            return False
-        bat_radius += growth
-        return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+        return c2_clearly_apart(ball, bat, ball_k, bat_k, (ball_centre, ball_radius, bat_centre,
+                                                           bat_radius), margin, max_gap,
+                                look_ahead, size)
     return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
             or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
 
