@@ -160,8 +160,9 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
     ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
-    (``event_output``: the events' messages and reports), ``publish <output>``; ``predicted``
-    and ``published`` say whether it predicted (was due) and published a prediction.
+    (``event_output``, and the node's ``PredictionOutput``: the events' messages),
+    ``publish <output>``; ``predicted`` and ``published`` say whether it predicted (was due)
+    and published a prediction.
     """
 
     def __init__(self) -> None:
@@ -172,6 +173,8 @@ class BrokenDownImpactNode(TimedImpactNode):
             self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
                 f'publish {name}', self._outputs[name].publish))
         self._predictor = self.detector._predictor  # the benchmark looks inside
+        if hasattr(self, '_prediction_output'):  # a prediction's message, refilled: 'messages'
+            self._prediction_output = self._timed('messages', self._prediction_output)
 
     def _timed(self, phase: str, function: object) -> object:
         def timed(*args: object, **kwargs: object) -> object:
