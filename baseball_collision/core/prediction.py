@@ -17,7 +17,9 @@ positions metres. The detector builds the two forecasts from its latest samples 
   chord error tolerance, skipping every stretch where the ball cannot reach the bat. The
   forecasts' paths, that reach test and the search are the compiled kernel's (``toi/_kernel.c``,
   one implementation); the classes here hold the forecasts and ask the kernel (``at``,
-  ``pivot_travel``, ...).
+  ``pivot_travel``, ...). The detector's predictions skip the objects: ``ball_numbers`` and
+  ``bat_numbers`` give the kernel's numbers of a fitted forecast, ``contact_of`` and
+  ``states_of`` search and evaluate them.
 """
 
 from dataclasses import dataclass
