@@ -49,6 +49,7 @@ import random
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from typing import Any, Dict, List, Optional, Tuple
 
@@ -160,8 +161,9 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
     ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
-    (``event_output``: the events' messages and reports), ``publish <output>``; ``predicted``
-    and ``published`` say whether it predicted (was due) and published a prediction.
+    (``event_output``, and the node's ``PredictionOutput``: the events' messages),
+    ``publish <output>``; ``predicted`` and ``published`` say whether it predicted (was due)
+    and published a prediction.
     """
 
     def __init__(self) -> None:
@@ -172,6 +174,8 @@ class BrokenDownImpactNode(TimedImpactNode):
             self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
                 f'publish {name}', self._outputs[name].publish))
         self._predictor = self.detector._predictor  # the benchmark looks inside
+        if hasattr(self, '_prediction_output'):  # a prediction's message, refilled: 'messages'
+            self._prediction_output = self._timed('messages', self._prediction_output)
 
     def _timed(self, phase: str, function: object) -> object:
         def timed(*args: object, **kwargs: object) -> object:
@@ -311,15 +315,27 @@ def listen() -> int:
 
 def _child(mode: str, env: Dict[str, str], *ros_args: str) -> subprocess.Popen:
     """Start this file in a child mode (``--serve``, ``--listen``) with ROS arguments."""
-    return subprocess.Popen([sys.executable, __file__, mode, '--ros-args', *ros_args], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    log = tempfile.TemporaryFile('w+')  # its stderr (a pipe read only at the end could fill)
+    child = subprocess.Popen([sys.executable, __file__, mode, '--ros-args', *ros_args], env=env,
+                             stdout=subprocess.PIPE, stderr=log, text=True)
+    child.log = log
+    return child
 
 
 def _stop(child: subprocess.Popen) -> object:
-    """Stop a child with SIGINT and return the JSON it printed last."""
+    """
+    Stop a child with SIGINT and return the JSON it printed last.
+
+    :raises RuntimeError: it printed none (its exit status and the end of its stderr said).
+    """
     child.send_signal(signal.SIGINT)
     out, _ = child.communicate(timeout=30)
-    return json.loads(out.strip().splitlines()[-1])
+    lines = out.strip().splitlines()
+    if not lines:
+        child.log.seek(0)
+        raise RuntimeError(f'{child.args[2]} printed no figures (exit status {child.returncode})'
+                           f': {child.log.read()[-2000:]}')
+    return json.loads(lines[-1])
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,

@@ -17,7 +17,9 @@ positions metres. The detector builds the two forecasts from its latest samples 
   chord error tolerance, skipping every stretch where the ball cannot reach the bat. The
   forecasts' paths, that reach test and the search are the compiled kernel's (``toi/_kernel.c``,
   one implementation); the classes here hold the forecasts and ask the kernel (``at``,
-  ``pivot_travel``, ...).
+  ``pivot_travel``, ...). The detector's predictions skip the objects: ``ball_numbers`` and
+  ``bat_numbers`` give the kernel's numbers of a fitted forecast, ``contact_of`` and
+  ``states_of`` search and evaluate them.
 """
 
 from dataclasses import dataclass
@@ -32,13 +34,14 @@ from .toi import _kernel, ImpactResult
 from ..errors import CoreError
 
 
-def _frozen(cls: type, **values: object) -> object:
+def frozen(cls: type, **values: object) -> object:
     """
     Return an instance of the frozen dataclass ``cls`` holding ``values`` (every field).
 
-    Its ``__dict__`` filled at once: a forecast is made on every prediction, and the frozen
-    ``__init__`` sets each field through ``object.__setattr__`` (twice the time). Extra keys
-    (``_kernel_args``, the numbers the kernel gave) are kept beside the fields.
+    Its ``__dict__`` filled at once: a forecast or a prediction is made on every prediction, and
+    the frozen ``__init__`` sets each field through ``object.__setattr__`` (twice the time).
+    Extra keys (``_kernel_args``, the numbers the kernel gave) are kept beside the fields.
+    ``cls`` must not have ``__slots__``.
     """
     instance = object.__new__(cls)
     instance.__dict__.update(values)
@@ -83,14 +86,14 @@ class BallForecast:
             ``fit_polynomial`` solves it with LAPACK, then ``ballistic``).
         :raises TypeError, IndexError: lists that are not the stream's, or a window outside.
         """
-        args = _kernel.ball_forecast(times, points, first, end, t0, 2, gravity, drag)
-        return None if args is NotImplemented else cls.from_kernel_args(args)
+        args = ball_numbers(times, points, first, end, t0, gravity, drag)
+        return None if args is None else cls.from_kernel_args(args)
 
     @classmethod
     def from_kernel_args(cls, args: Tuple[float, ...]) -> 'BallForecast':
         """Return the forecast of the kernel's 10 numbers (``kernel_args``), keeping them."""
-        return _frozen(cls, t0=args[0], position=args[1:4], velocity=args[4:7],
-                       acceleration=args[7:10], _kernel_args=args)
+        return frozen(cls, t0=args[0], position=args[1:4], velocity=args[4:7],
+                      acceleration=args[7:10], _kernel_args=args)
 
     @property
     def kernel_args(self) -> Tuple[float, ...]:
@@ -179,8 +182,8 @@ class BatForecast(_BatPath):
         :raises TypeError, IndexError, ValueError: lists that are not the stream's, a window
             outside them or of fewer than 3 samples.
         """
-        args = _kernel.bat_forecast(times, rows, first, end, degree)
-        return None if args is NotImplemented else cls.from_kernel_args(args)
+        args = bat_numbers(times, rows, first, end, degree)
+        return None if args is None else cls.from_kernel_args(args)
 
     @classmethod
     def from_rates(cls, t0: float, first: Sequence[float], second: Sequence[float],
@@ -200,9 +203,9 @@ class BatForecast(_BatPath):
     @classmethod
     def from_kernel_args(cls, args: Tuple[float, ...]) -> 'BatForecast':
         """Return the forecast of the kernel's 21 numbers (``kernel_args``), keeping them."""
-        return _frozen(cls, t0=args[0], pivot=args[1:4], pivot_velocity=args[4:7],
-                       pivot_acceleration=args[7:10], knob_arm=args[10:13], tip_arm=args[13:16],
-                       axis=args[16:19], rate=args[19], rate_change=args[20], _kernel_args=args)
+        return frozen(cls, t0=args[0], pivot=args[1:4], pivot_velocity=args[4:7],
+                      pivot_acceleration=args[7:10], knob_arm=args[10:13], tip_arm=args[13:16],
+                      axis=args[16:19], rate=args[19], rate_change=args[20], _kernel_args=args)
 
     @property
     def kernel_args(self) -> Tuple[float, ...]:
@@ -256,6 +259,32 @@ class PlannedBat(_BatPath):
         return bool(self.times) and self.times[0] <= t <= self.times[-1]
 
 
+def ball_numbers(times: List[float], points: List[Vector], first: int, end: int, t0: float,
+                 gravity: Vector, drag: float) -> Optional[Tuple[float, ...]]:
+    """
+    Return ``BallForecast.fitted``'s forecast as the kernel's 10 numbers (``kernel_args``).
+
+    No forecast object is made: a prediction hands the numbers straight to ``contact_of``.
+
+    :returns: the numbers, or None when the fit is rank deficient.
+    :raises TypeError, IndexError: lists that are not the stream's, or a window outside.
+    """
+    args = _kernel.ball_forecast(times, points, first, end, t0, 2, gravity, drag)
+    return None if args is NotImplemented else args
+
+
+def bat_numbers(times: List[float], rows: List[Sequence[float]], first: int, end: int,
+                degree: int) -> Optional[Tuple[float, ...]]:
+    """
+    Return ``BatForecast.fitted``'s forecast as the kernel's 21 numbers (``kernel_args``).
+
+    :returns: the numbers, or None when the fit is rank deficient.
+    :raises TypeError, IndexError, ValueError: as ``BatForecast.fitted``.
+    """
+    args = _kernel.bat_forecast(times, rows, first, end, degree)
+    return None if args is NotImplemented else args
+
+
 def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
                   profile: BatProfile, tolerance: float,
                   coarse_step: float = 0.01) -> Optional[Tuple[float, ImpactResult]]:
@@ -276,9 +305,21 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
     :raises CoreError: forecasts that leave finite numbers over the horizon, or arguments out
         of range.
     """
+    return contact_of(ball.kernel_args, bat.kernel_args, t_start, horizon, ball_radius, profile,
+                      tolerance, coarse_step)
+
+
+def contact_of(ball: Tuple[float, ...], bat: tuple, t_start: float, horizon: float,
+               ball_radius: float, profile: BatProfile, tolerance: float,
+               coarse_step: float = 0.01) -> Optional[Tuple[float, ImpactResult]]:
+    """
+    Return ``first_contact`` of the forecasts given as the kernel's numbers (``kernel_args``).
+
+    :raises CoreError: as ``first_contact``.
+    """
     try:
-        found = _kernel.first_contact(ball.kernel_args, bat.kernel_args, t_start, horizon,
-                                      ball_radius, profile, tolerance, coarse_step)
+        found = _kernel.first_contact(ball, bat, t_start, horizon, ball_radius, profile,
+                                      tolerance, coarse_step)
     except (TypeError, ValueError) as error:
         raise CoreError(f'cannot search the forecasts: {error}') from error
     if found is NotImplemented:
@@ -295,7 +336,13 @@ def states_at(ball: BallForecast, bat, t: float) -> Tuple[Vector, Vector, Vector
 
     :param bat: a ``BatForecast`` or a ``PlannedBat``.
     """
-    return _kernel.forecast(ball.kernel_args, bat.kernel_args, t)[:4]
+    return states_of(ball.kernel_args, bat.kernel_args, t)
+
+
+def states_of(ball: Tuple[float, ...], bat: tuple,
+              t: float) -> Tuple[Vector, Vector, Vector, Vector]:
+    """Return ``states_at`` of the forecasts given as the kernel's numbers (``kernel_args``)."""
+    return _kernel.forecast(ball, bat, t)[:4]
 
 
 def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:

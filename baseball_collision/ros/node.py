@@ -69,10 +69,10 @@ from .inputs import (
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
     describe_listening, event_output, event_report, EventOutput, format_stamp, NS_PER_S,
-    plan_arrays, stamp_to_ns)
+    plan_arrays, PredictionOutput, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
-    Detector, DetectorConfig, Event, Impact, NODE_NAME, SPECS, StateReset)
+    Detector, DetectorConfig, Event, Impact, NODE_NAME, Prediction, SPECS, StateReset)
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
 from ..core.scene import Scene
@@ -118,6 +118,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
+        self._prediction_output = PredictionOutput()  # ~/predicted_impact's message, refilled
         # (event, frame, config) of the reports to make once the inputs are drained
         self._reports: Deque[Tuple[Event, str, DetectorConfig]] = deque()
         self._clock_jump_at = -math.inf
@@ -218,10 +219,14 @@ class ImpactNode(Node):
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
             for event in events:
-                if event.__class__ is StateReset:
+                kind = event.__class__
+                if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                self._publish(event_output(event, frame or expected or '', self._markers))
-                if event.__class__ in EVENT_NAMES:  # its report: after the drain
+                if kind is Prediction:  # its message refilled (event_output's, made once)
+                    self._publish(self._prediction_output(event, frame or expected or ''))
+                else:
+                    self._publish(event_output(event, frame or expected or '', self._markers))
+                if kind in EVENT_NAMES:  # its report: after the drain
                     self._reports.append((event, frame or expected or '',
                                           self.detector.config))
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
@@ -278,9 +283,9 @@ class ImpactNode(Node):
             self._outputs[name].publish(message)
         if output.impact_ns is not None:
             self.tally.last_impact_ns = output.impact_ns
-        logger = self.get_logger()
         if not output.log:
             return
+        logger = self.get_logger()
         if output.throttled:
             if self._log_throttle.allows('event'):
                 logger.info(output.log)

@@ -6,6 +6,7 @@ import math
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
+from baseball_collision.core.detector import predictor
 from baseball_collision.core.detector.kinematics import (
     bat_rates, fit_polynomial, least_accelerating, turn_rows)
 from baseball_collision.core.prediction import (
@@ -145,9 +146,11 @@ def test_a_rank_deficient_fit_falls_back_to_lapack(barrel, monkeypatch) -> None:
     """With the kernel's fits refused, the predictions come from LAPACK's: the same, rounded."""
     config = DetectorConfig(prediction_horizon=0.3)
     _, events = _feed(Detector(config), barrel)
-    monkeypatch.setattr(BallForecast, 'fitted', classmethod(lambda cls, *args: None))
-    monkeypatch.setattr(BatForecast, 'fitted', classmethod(lambda cls, *args: None))
+    refused = []
+    monkeypatch.setattr(predictor, 'ball_numbers', lambda *args: refused.append('ball'))
+    monkeypatch.setattr(predictor, 'bat_numbers', lambda *args: refused.append('bat'))
     _, fallback = _feed(Detector(config), barrel)
+    assert 'ball' in refused and 'bat' in refused
     made = [e for e in events if isinstance(e, Prediction)]
     again = [e for e in fallback if isinstance(e, Prediction)]
     assert made and len(made) == len(again)

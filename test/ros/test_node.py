@@ -451,6 +451,8 @@ def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Har
     assert predicted, 'no prediction before the impact'
     closest = predicted[-1]  # made at the last frame before the contact
     assert abs(stamp_ns(closest) - truth_ns) < 2_000_000
+    # the node refills one message: each prediction went out with its own values
+    assert len({(stamp_ns(m), m.point.x) for m in predicted}) > 1
     # the start-up False is latched for transient-local subscribers; this probe is volatile
     assert [m.data for m in h.received['predicting']][-2:] == [True, False]
 

@@ -5,7 +5,8 @@ After every processed frame (when ``prediction_horizon`` > 0 and the detector is
 ``prediction_period`` > 0 only on a frame at least that long after the last one that did) the
 ball's latest samples give a ballistic forecast, and the bat's either its commanded plan (a
 robot arm's, when it covers the instant) or a rigid-body extrapolation of its latest motion;
-``prediction.first_contact`` searches them for the first contact within the horizon.
+``prediction.contact_of`` (``first_contact`` on the kernel's numbers) searches them for the
+first contact within the horizon.
 """
 
 from dataclasses import replace
@@ -19,8 +20,8 @@ from .kinematics import fit_polynomial, turn_rows
 from .streams import Stream
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
-    BallForecast, BatForecast, check_plan_size, first_contact, planned_bat, PlannedBat,
-    prediction_due, states_at)
+    ball_numbers, BallForecast, bat_numbers, BatForecast, check_plan_size, contact_of, frozen,
+    planned_bat, PlannedBat, prediction_due, states_of)
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
@@ -35,13 +36,16 @@ class Predictor:
     """
     Forecasts from the ball and bat streams; the commanded plan; whether a contact is predicted.
 
+    The forecasts go from the kernel's fits to its search as the kernel's numbers
+    (``prediction.ball_numbers``, ``bat_numbers``, ``contact_of``): no forecast object is made.
+
     :param config: the detector's configuration (``DetectorConfig``).
     :param clock: the detector's clock; ``ball``, ``bat``: its streams.
     :param offsets: (knob, tip) in the bat's body frame (m), for a plan's poses.
     """
 
-    __slots__ = ('config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
-                 'plan_on_clock', 'predicting', 'last_ns')
+    __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
+                 'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -53,6 +57,20 @@ class Predictor:
         self.plan_on_clock: Optional[PlannedBat] = None
         self.predicting = False
         self.last_ns: Optional[int] = None  # the stamp of the last frame that predicted
+
+    @property
+    def config(self) -> DetectorConfig:
+        """Return the configuration in force."""
+        return self._config
+
+    @config.setter
+    def config(self, config: DetectorConfig) -> None:
+        """Set the configuration, and what every prediction derives from it (made once)."""
+        self._config = config
+        self._gravity = scale(config.up_axis, -config.gravity)  # m/s^2
+        # a forecast is good to millimetres at best: a coarser chord tolerance than for
+        # impacts costs it nothing
+        self._tolerance = PREDICTION_CHORD_FACTOR * config.max_chord_error
 
     def set_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
                  quaternions: Sequence[Sequence[float]]) -> None:
@@ -85,7 +103,7 @@ class Predictor:
         same sums in the same order), so a frame that predicts after a period does not sum the
         whole period's turns at once: the work is spread over the frames.
         """
-        config = self.config
+        config = self._config
         now_ns = self.clock.stamp(t0)
         bat = self.bat
         newest = bat.interval(t0)
@@ -97,27 +115,25 @@ class Predictor:
         found = None
         if armed and self._may_reach(t0):
             ball = self._ball_forecast(t0)
-            bat = self._bat_forecast(t0)
-            if ball is not None and bat is not None:
-                # a forecast is good to millimetres at best: a coarser chord tolerance than for
-                # impacts costs it nothing
-                found = first_contact(ball, bat, t0, config.prediction_horizon,
-                                      config.ball_radius, config.profile,
-                                      PREDICTION_CHORD_FACTOR * config.max_chord_error)
+            forecast = None if ball is None else self._bat_forecast(t0)
+            if forecast is not None:
+                planned = forecast.__class__ is PlannedBat
+                bat_args = forecast.kernel_args if planned else forecast
+                found = contact_of(ball, bat_args, t0, config.prediction_horizon,
+                                   config.ball_radius, config.profile, self._tolerance)
         if found is None:
             if self.predicting:
                 self.predicting = False
                 events.append(PredictionCleared(made_at_ns=now_ns))
             return
         t, hit = found
-        ball_position, ball_velocity, knob, tip = states_at(ball, bat, t)
+        ball_position, ball_velocity, knob, tip = states_of(ball, bat_args, t)
         self.predicting = True
-        events.append(Prediction(
-            stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
+        events.append(frozen(  # the frozen __init__ would set its ten fields one by one
+            Prediction, stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
-            ball_position=ball_position, ball_velocity=ball_velocity,
-            planned=isinstance(bat, PlannedBat)))
+            ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
 
     def _may_reach(self, t0: float) -> bool:
         """
@@ -138,41 +154,43 @@ class Predictor:
         bat_speed = max(math.dist(s0.knob, s1.knob), math.dist(s0.tip, s1.tip)) / (
             bat.times[-1] - bat.times[-2])
         middle = lerp(s1.knob, s1.tip, 0.5)
-        config = self.config
+        config = self._config
         reach = (0.5 * math.dist(s1.knob, s1.tip) + config.ball_radius + self.max_radius
                  + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
         return math.dist(b1, middle) <= reach
 
-    def _ball_forecast(self, t0: float) -> Optional[BallForecast]:
+    def _ball_forecast(self, t0: float) -> Optional[Tuple[float, ...]]:
         """
         Return the ball's ballistic forecast from a parabola fitted to its latest samples.
 
-        Fit and forecast in one kernel call on the window (``BallForecast.fitted``); a
-        rank-deficient fit by LAPACK's least squares (``fit_polynomial``).
+        As the kernel's 10 numbers (``BallForecast.kernel_args``): fit and forecast in one
+        kernel call on the window (``prediction.ball_numbers``); a rank-deficient fit by
+        LAPACK's least squares (``fit_polynomial``). None with fewer than 3 samples.
         """
         ball = self.ball
-        config = self.config
+        config = self._config
         indices = ball.history(t0, config.prediction_window)
         if len(indices) < 3:
             return None
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
-        gravity = scale(config.up_axis, -config.gravity)
-        forecast = BallForecast.fitted(ball.times, ball.values, first, end, t0, gravity,
-                                       config.ball_drag)
+        forecast = ball_numbers(ball.times, ball.values, first, end, t0, self._gravity,
+                                config.ball_drag)
         if forecast is None:
             position, velocity, _ = fit_polynomial(ball.times[first:end],
                                                    ball.values[first:end], t0, 2)
-            forecast = BallForecast.ballistic(t0, position, velocity, gravity, config.ball_drag)
+            forecast = BallForecast.ballistic(t0, position, velocity, self._gravity,
+                                              config.ball_drag).kernel_args
         return forecast
 
-    def _bat_forecast(self, t0: float) -> Union[BatForecast, PlannedBat, None]:
+    def _bat_forecast(self, t0: float) -> Union[Tuple[float, ...], PlannedBat, None]:
         """
         Return the bat's forecast: the commanded plan when it covers t0, else extrapolated.
 
         Extrapolated from the newest bat sample itself (a fit lags an accelerating swing), with
         the rates of the same knob + tip + turn fit as an impact's velocities
         (``kinematics.bat_rates``), fitted and turned into the forecast in one kernel call
-        (``BatForecast.fitted``); a rank-deficient fit by LAPACK's least squares.
+        (``prediction.bat_numbers``: the kernel's 21 numbers, ``BatForecast.kernel_args``); a
+        rank-deficient fit by LAPACK's least squares. None with fewer than 3 samples.
         """
         if self.plan is not None:
             if self.plan_on_clock is None:  # once: the clock's origin stays until a reset
@@ -182,17 +200,18 @@ class Predictor:
             if self.plan_on_clock.times[-1] > t0:
                 return self.plan_on_clock
         bat = self.bat
-        config = self.config
+        config = self._config
         degree = min(config.velocity_degree, PREDICTION_DEGREE)  # <= 3: bat_rates' shared fit
         indices = bat.history(t0, config.velocity_window)
         if len(indices) < 3:
             return None
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
         rows = turn_rows(bat, first, end)
-        forecast = BatForecast.fitted(bat.times, rows, first, end, degree)
+        forecast = bat_numbers(bat.times, rows, first, end, degree)
         if forecast is None:
             start, latest = bat.times[end - 1], bat.values[end - 1]
             _, rates, changes = fit_polynomial(bat.times[first:end], rows[first:end], start,
                                                degree)
-            forecast = BatForecast.from_rates(start, rates, changes, latest.knob, latest.tip)
+            forecast = BatForecast.from_rates(start, rates, changes, latest.knob,
+                                              latest.tip).kernel_args
         return forecast

@@ -1720,8 +1720,8 @@ static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize
  * y are overwritten; the p x m coefficients go to c. False when the matrix is (numerically)
  * rank deficient.
  */
-static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, double *y, int m,
-                            double *c)
+static inline __attribute__((always_inline)) bool householder_steps(
+    const double *x, Py_ssize_t n, int p, double *a, double *y, int m, double *c)
 {
   for (Py_ssize_t i = 0; i < n; i++) {
     double power = 1.0;
@@ -1747,41 +1747,44 @@ static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, dou
     if (vv > 0.0) {
       /* the columns right of j in a, then y's: each one's sum in the order of its rows (so
        * the result is that of one column at a time), the rows walked contiguously */
-      double s[MAX_FIT_DEGREE + 1 + MAX_FIT_COMPONENTS];
+      double sa[MAX_FIT_DEGREE + 1], sy[MAX_FIT_COMPONENTS]; /* a's columns, y's */
       int right = p - j - 1;
       for (int k = 0; k < right; k++) {
-        s[k] = vj * a[j * p + j + 1 + k];
+        sa[k] = vj * a[j * p + j + 1 + k];
       }
       for (int k = 0; k < m; k++) {
-        s[right + k] = vj * y[j * m + k];
+        sy[k] = vj * y[j * m + k];
       }
       for (Py_ssize_t i = j + 1; i < n; i++) {
         double v = a[i * p + j];
         const double *ra = a + i * p + j + 1, *ry = y + i * m;
         for (int k = 0; k < right; k++) {
-          s[k] += v * ra[k];
+          sa[k] += v * ra[k];
         }
         for (int k = 0; k < m; k++) {
-          s[right + k] += v * ry[k];
+          sy[k] += v * ry[k];
         }
       }
-      for (int k = 0; k < right + m; k++) {
-        s[k] = 2.0 * s[k] / vv;
-      }
       for (int k = 0; k < right; k++) {
-        a[j * p + j + 1 + k] -= s[k] * vj;
+        sa[k] = 2.0 * sa[k] / vv;
       }
       for (int k = 0; k < m; k++) {
-        y[j * m + k] -= s[right + k] * vj;
+        sy[k] = 2.0 * sy[k] / vv;
+      }
+      for (int k = 0; k < right; k++) {
+        a[j * p + j + 1 + k] -= sa[k] * vj;
+      }
+      for (int k = 0; k < m; k++) {
+        y[j * m + k] -= sy[k] * vj;
       }
       for (Py_ssize_t i = j + 1; i < n; i++) {
         double v = a[i * p + j];
         double *ra = a + i * p + j + 1, *ry = y + i * m;
         for (int k = 0; k < right; k++) {
-          ra[k] -= s[k] * v;
+          ra[k] -= sa[k] * v;
         }
         for (int k = 0; k < m; k++) {
-          ry[k] -= s[right + k] * v;
+          ry[k] -= sy[k] * v;
         }
       }
     }
@@ -1803,6 +1806,23 @@ static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, dou
     }
   }
   return true;
+}
+
+/*
+ * householder_steps, with the forecasts' shapes (the ball's parabola in 3 coordinates, the bat's
+ * cubic in its 10 components) as constants, so the compiler unrolls the loops over the columns:
+ * the same operations in the same order on every element, so the same bits
+ */
+static bool householder_fit(const double *x, Py_ssize_t n, int p, double *a, double *y, int m,
+                            double *c)
+{
+  if (p == 3 && m == 3) {
+    return householder_steps(x, n, 3, a, y, 3, c);
+  }
+  if (p == 4 && m == 10) {
+    return householder_steps(x, n, 4, a, y, 10, c);
+  }
+  return householder_steps(x, n, p, a, y, m, c);
 }
 
 /*

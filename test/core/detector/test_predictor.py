@@ -1,12 +1,17 @@
 """Tests for the detector's predictor: the plan on the detector's clock, the reach test."""
 
+from dataclasses import asdict, FrozenInstanceError, replace
+import math
+
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DetectorConfig, Prediction, PredictionCleared
 from baseball_collision.core.detector.gate import Clock
-from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.core.detector.kinematics import turn_rows
+from baseball_collision.core.detector.predictor import PREDICTION_CHORD_FACTOR, Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
-from baseball_collision.core.prediction import MAX_PLAN_POSES, PlannedBat
+from baseball_collision.core.prediction import (
+    BallForecast, BatForecast, MAX_PLAN_POSES, PlannedBat)
 from baseball_collision.errors import CoreError
 import pytest
 
@@ -70,6 +75,39 @@ def test_a_ball_flying_at_a_still_bat_is_predicted() -> None:
     assert prediction.lead_s == pytest.approx(expected, abs=2e-4)
     assert prediction.bat_fraction == pytest.approx(fraction, abs=1e-3)
     assert not prediction.planned
+    # made without the frozen __init__: the same as the constructor's, in every use
+    fields = {name: getattr(prediction, name) for name in Prediction.__dataclass_fields__}
+    made = Prediction(**fields)
+    assert prediction == made and hash(prediction) == hash(made)
+    assert repr(prediction) == repr(made) and asdict(prediction) == asdict(made)
+    assert replace(prediction, lead_s=1.0) == replace(made, lead_s=1.0)
+    with pytest.raises(FrozenInstanceError):
+        prediction.lead_s = 1.0
+
+
+def test_the_forecast_is_the_kernels_numbers_of_the_forecast_objects() -> None:
+    """``_ball_forecast`` and ``_bat_forecast`` give what the forecast classes' fits hold."""
+    balls = [(2.0 - 40.0 * 0.005 * i, 0.5, 1.0 + 0.001 * i * i) for i in range(6)]
+    bats = [((0.0, 0.01 * i, 1.0), (0.86 * math.cos(0.1 * i), 0.86 * math.sin(0.1 * i), 1.0))
+            for i in range(6)]
+    predictor = _predictor(balls, bats)
+    config = predictor.config
+    ball, bat = predictor.ball, predictor.bat
+    gravity = (0.0, 0.0, -config.gravity)
+    assert predictor._ball_forecast(0.025) == BallForecast.fitted(
+        ball.times, ball.values, 0, 6, 0.025, gravity, config.ball_drag).kernel_args
+    assert predictor._bat_forecast(0.025) == BatForecast.fitted(
+        bat.times, turn_rows(bat, 0, 6), 0, 6, 3).kernel_args
+    assert predictor._ball_forecast(0.005) is None  # fewer than 3 samples
+
+
+def test_a_new_configuration_moves_what_the_predictions_derive_from_it() -> None:
+    """Gravity and the chord tolerance follow ``config`` (the detector's ``reconfigure``)."""
+    predictor = _predictor([(5.0, 0.0, 1.0)] * 3, [((0, 0, 1), (0, 0.86, 1))] * 3)
+    predictor.config = replace(predictor.config, gravity=1.5, max_chord_error=0.002,
+                               up_axis=(0.0, 1.0, 0.0))
+    assert predictor._gravity == (0.0, -1.5, 0.0)
+    assert predictor._tolerance == PREDICTION_CHORD_FACTOR * 0.002
 
 
 def test_a_plan_too_large_is_refused_before_any_work() -> None:
