@@ -127,25 +127,27 @@ class Stream:
         after = k + 2 if k + 2 < len(self.times) and self.continuous(k + 1, max_gap) else None
         return before, after
 
-    def history(self, t: float, window: float) -> List[int]:
+    def history(self, t: float, window: float) -> range:
         """
         Return indices of samples at or before t in t's segment, ``window`` s back from the last.
 
         At least the last two samples of the segment (when it has them), at most
-        ``MAX_HISTORY``.
+        ``MAX_HISTORY``: a contiguous range (no list made).
         """
-        k = self.interval(t)
+        times = self.times
+        k = bisect_right(times, t) - 1
         if k < 0:
-            return []
-        times, breaks = self.times, self.breaks
-        first = max(bisect_right(times, times[k] - window - 1e-9), k - MAX_HISTORY + 1, 0)
-        first = min(first, max(k - 1, 0))
+            return range(0)
+        first = bisect_right(times, times[k] - window - 1e-9, max(k - MAX_HISTORY + 1, 0), k)
+        if first > k - 1:
+            first = k - 1 if k else 0
+        breaks = self.breaks
         if True in breaks[first + 1:k + 1]:  # stay within the segment
             for i in range(k, first, -1):
                 if breaks[i]:
                     first = i
                     break
-        return list(range(first, k + 1))
+        return range(first, k + 1)
 
     def turn(self, k: int) -> Turn:
         """Return the cumulative turn of bat sample k, summing the missing steps once."""

@@ -1,10 +1,14 @@
 """Tests for the detector's sample buffer: intervals, segments, history, trimming, turns."""
 
 import math
+from typing import List, Set
 
 from baseball_collision.core.detector.streams import MAX_HISTORY, Stream
 from baseball_collision.core.motion import BatSample
+from hypothesis import given, settings, strategies as st
+import numpy as np
 import pytest
+from support import examples
 
 
 def _filled(times, breaks=()) -> Stream:
@@ -29,11 +33,11 @@ def test_intervals_and_continuity() -> None:
 def test_history_stays_in_the_segment_and_the_window() -> None:
     """The window back from t, at least two samples, never across a segment break."""
     stream = _filled([0.01 * i for i in range(10)], breaks={5})
-    assert stream.history(0.085, 0.025) == [6, 7, 8]  # back from the last sample, 0.08
-    assert stream.history(0.085, 0.05) == [5, 6, 7, 8]  # not across the break at 5
-    assert stream.history(0.055, 1.0) == [5]
-    assert stream.history(0.045, 0.0) == [3, 4]  # at least two
-    assert stream.history(-0.5, 1.0) == []
+    assert list(stream.history(0.085, 0.025)) == [6, 7, 8]  # back from the last sample, 0.08
+    assert list(stream.history(0.085, 0.05)) == [5, 6, 7, 8]  # not across the break at 5
+    assert list(stream.history(0.055, 1.0)) == [5]
+    assert list(stream.history(0.045, 0.0)) == [3, 4]  # at least two
+    assert list(stream.history(-0.5, 1.0)) == []
     long = _filled([0.001 * i for i in range(200)])
     assert len(long.history(0.199, 10.0)) == MAX_HISTORY
 
@@ -77,3 +81,26 @@ def test_trim_beside_a_silent_stream_keeps_own_history() -> None:
     empty.trim_beside(Stream('bat'), None, 0.1)
     assert empty.times[0] == pytest.approx(2.895, abs=0.002)
     assert empty.times[-1] == 2.999
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(steps=st.lists(st.floats(1e-3, 0.05), min_size=1, max_size=90),
+       breaks=st.sets(st.integers(1, 89), max_size=4), t=st.floats(-0.1, 3.0),
+       window=st.floats(0.0, 2.0))
+def test_history_is_the_segment_window_rule(steps: List[float], breaks: Set[int], t: float,
+                                            window: float) -> None:
+    """Sample by sample: the samples at or before t, in its segment, ``window`` back, 2-64."""
+    stream = Stream('ball')
+    times = np.concatenate(([0.0], np.cumsum(steps))).tolist()
+    for i, time in enumerate(times):
+        stream.append(time, i, (0.0, 0.0, 0.0), i == 0 or i in breaks)
+    k = max((i for i, time in enumerate(times) if time <= t), default=-1)
+    if k < 0:
+        assert list(stream.history(t, window)) == []
+        return
+    start = max(i for i in range(k + 1) if i == 0 or i in breaks)
+    inside = [i for i in range(start, k + 1) if times[i] > times[k] - window - 1e-9][
+        -MAX_HISTORY:]
+    if len(inside) < 2 and k > start:  # at least the last two of the segment
+        inside = [k - 1, k]
+    assert list(stream.history(t, window)) == inside
