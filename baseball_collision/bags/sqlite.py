@@ -99,12 +99,11 @@ def _spans(sources: List[Tuple[Any, Dict]], connections: List[Any],
            size: int) -> Iterator[Spans]:
     """Yield the rows of every file in turn as spans of ``size`` (the last fewer)."""
     code_of = {id(connection): code for code, connection in enumerate(connections)}
-    parts: List[Tuple[np.ndarray, Rows]] = []
+    parts: List[Tuple[Tuple[np.ndarray, np.ndarray], Rows]] = []
     pending = 0
     for storage, channels in sources:
-        lookup = np.full(max(channels) + 1, -1, np.int64)  # topic id -> connection code
-        for topic, connection in channels.items():
-            lookup[topic] = code_of[id(connection)]
+        topics = np.array(sorted(channels), np.int64)  # (any int64: not an index)
+        lookup = (topics, np.array([code_of[id(channels[t])] for t in topics.tolist()], np.int64))
         ids = tuple(set(channels))
         cursor = storage.dbconn.execute(query(ids), ids)
         while True:
@@ -120,16 +119,19 @@ def _spans(sources: List[Tuple[Any, Dict]], connections: List[Any],
         yield _batch(parts, connections)
 
 
-def _batch(parts: List[Tuple[np.ndarray, Rows]], connections: List[Any]) -> Spans:
+def _batch(parts: List[Tuple[Tuple[np.ndarray, np.ndarray], Rows]],
+           connections: List[Any]) -> Spans:
     """
     Return rows (of one or more files, each with its topic lookup) as one span.
 
+    :param parts: each file's rows with ``(its selected topic ids sorted, their codes)``.
     :raises TypeError: a row whose time or data is not an integer or bytes (a damaged file).
     """
     codes, log_times, lengths, pieces = [], [], [], []
-    for lookup, rows in parts:
+    for (topics, topic_codes), rows in parts:
         n = len(rows)
-        codes.append(lookup[np.fromiter(map(_TOPIC, rows), np.int64, n)])
+        codes.append(topic_codes[np.searchsorted(topics, np.fromiter(map(_TOPIC, rows),
+                                                                     np.int64, n))])
         log_times.append(np.fromiter(map(_LOG_TIME, rows), np.int64, n))
         data = list(map(_DATA, rows))
         lengths.append(np.fromiter(map(len, data), np.int64, n))

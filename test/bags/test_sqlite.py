@@ -328,3 +328,19 @@ def test_a_damaged_file_is_a_bag_error_naming_the_bag(tmp_path: Path) -> None:
         db.execute('UPDATE messages SET data = 5 WHERE id = 7')
     with BagReader(tmp_path / 'bag') as bag, pytest.raises(BagError, match='bag'):
         list(bag.chunks(16))
+
+
+def test_topic_ids_of_any_size(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Topic ids far apart or negative (a foreign writer's): mapped, not used as an index."""
+    _write(tmp_path / 'bag', _pairs(300, tie=2))
+    with sqlite3.connect(tmp_path / 'bag' / 'bag.db3') as db:
+        for old, new in ((1, 2**40), (2, -5)):
+            db.execute('UPDATE topics SET id = ? WHERE id = ?', (new, old))
+            db.execute('UPDATE messages SET topic_id = ? WHERE topic_id = ?', (new, old))
+    bare = tmp_path / 'bare.db3'
+    shutil.copy(tmp_path / 'bag' / 'bag.db3', bare)
+    for path in (tmp_path / 'bag', bare):
+        fast, expected, lengths = _both(path, ['/ball', '/bat'], 64)
+        _same(fast, expected)
+        assert len(expected) == 300 and {m[0].topic for m in expected} == {'/ball', '/bat'}
+        _as_rosbags_reads(path, 64, monkeypatch)
