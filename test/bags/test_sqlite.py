@@ -15,9 +15,8 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.typesys import get_typestore, Stores
-from ruamel.yaml import YAML
-
 from support.bagfiles import reference_message
+import yaml
 
 REPO = Path(__file__).resolve().parents[2]
 TS2 = get_typestore(Stores.ROS2_JAZZY)
@@ -215,11 +214,11 @@ def test_unrelated_topics_and_an_empty_selection(tmp_path: Path,
 def _split(directory: Path, parts: Sequence[Path]) -> None:
     """Make a bag directory of several bags' .db3 files, in this order (one metadata.yaml)."""
     directory.mkdir()
-    yaml = YAML(typ='safe')
     metadata: Any = None
     for k, part in enumerate(parts):
         shutil.copy(part / f'{part.name}.db3', directory / f'{directory.name}_{k}.db3')
-        info = yaml.load((part / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+        info = yaml.safe_load((part / 'metadata.yaml').read_text())[
+            'rosbag2_bagfile_information']
         if metadata is None:
             metadata = info
             metadata['relative_file_paths'] = []
@@ -232,7 +231,7 @@ def _split(directory: Path, parts: Sequence[Path]) -> None:
                 mine['message_count'] += theirs['message_count']
         metadata['relative_file_paths'].append(f'{directory.name}_{k}.db3')
     with (directory / 'metadata.yaml').open('w') as out:
-        yaml.dump({'rosbag2_bagfile_information': metadata}, out)
+        yaml.safe_dump({'rosbag2_bagfile_information': metadata}, out)
 
 
 def test_a_bag_split_over_several_files(tmp_path: Path,
