@@ -26,11 +26,10 @@ from operator import itemgetter
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
-from rosbags.rosbag2.reader import DirectoryReader
 from rosbags.rosbag2.storage_sqlite3 import Sqlite3Reader
 
 from .decode import Spans
-from .mcap import _channel_map
+from .mcap import storage_pairs
 
 _TOPIC, _LOG_TIME, _DATA = itemgetter(0), itemgetter(1), itemgetter(2)
 
@@ -78,19 +77,8 @@ def sqlite_spans(reader: Any, connections: Sequence[Any],
 
 def _sources(reader: Any, connections: Sequence[Any]) -> Optional[List[Tuple[Any, Dict]]]:
     """Return each sqlite3 file with ``{topic id: given connection}``, or None."""
-    readers = getattr(reader, 'readers', None)
-    if not connections or not getattr(reader, 'is2', False) or not readers or len(readers) != 1:
-        return None
-    storage = getattr(readers[0], 'storage', None)
-    if isinstance(storage, Sqlite3Reader):
-        pairs = [(storage, {c.id: c for c in connections})]
-    elif isinstance(storage, DirectoryReader) and \
-            storage.metadata.compression_mode != 'message' and storage.storages and \
-            all(isinstance(each, Sqlite3Reader) for each in storage.storages):
-        pairs = [(each, _channel_map(each, connections)) for each in storage.storages]
-    else:
-        return None
-    if any(each.dbconn is None for each, _ in pairs):
+    pairs = storage_pairs(reader, connections, Sqlite3Reader) if connections else None
+    if pairs is None or any(each.dbconn is None for each, _ in pairs):
         return None
     return [(each, channels) for each, channels in pairs if channels]  # (as rosbags skips)
 
