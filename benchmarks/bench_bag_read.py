@@ -2,7 +2,7 @@
 Bag benchmark: writing, reading (raw, deserialised, samples), skipped topics, unrelated messages.
 
 Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S]
-[--unrelated COUNTS]``.
+[--unrelated COUNTS] [--repeats R]``.
 
 1. Writes a bag of ``N`` messages (default 1,000,000; half ball PointStamped, half bat
    PoseStamped, both at 360 Hz on a millisecond grid) with :class:`BagWriter` into a temporary
@@ -10,9 +10,15 @@ Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S
    alone (raw bytes), (b) (a) plus ``AnyReader.deserialize`` of every message, (c)
    :func:`baseball_collision.bags.read_samples` (open, select topics, decode, build samples),
    (d) ``BagReader.chunks`` (what ``analyze`` reads: 8,192 samples at a time as arrays, decoded
-   in bulk) and (e) the same chunks built from the per-message samples of (c) (how ``chunks``
-   worked before the bulk decode), checked equal to (d). Wall time and CPU time: on a machine
+   in bulk), (e) the same chunks built from the per-message samples of (c) (how ``chunks``
+   worked before the bulk decode), checked equal to (d), and (f) ``BagReader.chunks`` through
+   rosbags' ``AnyReader.messages`` (how ``chunks`` read MCAP before ``bags/mcap.py`` and sqlite3
+   before ``bags/sqlite.py``; ROS 1 reads so anyway). Wall time and CPU time: on a machine
    shared with other work the CPU rates and their ratios are the steadier figures.
+   ``--repeats R`` runs (a)-(f) in turn R times and keeps each one's best wall and best CPU
+   time. Last, ``decode_spans`` on the bag's spans (MCAP chunks, sqlite3 batches: read once,
+   then decoded in turn, best of 5): each group gathered as rows of a sliding-window view of
+   the buffer (now) against a 2-D index of every byte (before), the same chunks.
 2. A bag of 50,000 undecodable messages on another topic and 10 tracker samples: the time
    :class:`BagReader` takes to skip them (they are never read).
 3. For each storage (MCAP, sqlite3, ROS 1): three simulated pitches interleaved with each count
@@ -26,6 +32,8 @@ Prints the figures; asserts nothing.
 """
 
 import argparse
+from contextlib import contextmanager
+from functools import partial
 import itertools
 import math
 from pathlib import Path
@@ -34,10 +42,12 @@ import shutil
 import tempfile
 import time
 import tracemalloc
-from typing import Callable, List, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Sequence, Tuple
+from unittest import mock
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
-from baseball_collision.bags.decode import chunk_samples, SampleChunk
+from baseball_collision.bags import decode as decode_module, reader as reader_module
+from baseball_collision.bags.decode import chunk_samples, decode_spans, SampleChunk
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
@@ -125,6 +135,60 @@ def per_message_chunks(path: Path) -> int:
         return sum(len(chunk.stamps_ns) for chunk in chunk_samples(bag.samples(), 8192))
 
 
+def rosbags_chunks(path: Path) -> int:
+    """Read every sample with ``BagReader.chunks`` through rosbags' reader; return how many."""
+    with rosbags_path():
+        return bulk_chunks(path)
+
+
+@contextmanager
+def rosbags_path() -> Iterator[None]:
+    """Make ``BagReader`` read every bag through ``AnyReader.messages`` (no spans)."""
+    with mock.patch.object(reader_module, 'mcap_spans', lambda *a: None), \
+            mock.patch.object(reader_module, 'sqlite_spans', lambda *a: None):
+        yield
+
+
+def indexed_gather(spans: decode_module.Spans, routes: Dict[int, Any], slow: Any) -> SampleChunk:
+    """``decode_spans`` as it gathered a group before: a 2-D index of every byte (baseline)."""
+    buffer, starts, lengths = spans.buffer, spans.starts, spans.lengths
+
+    def table(members: np.ndarray) -> np.ndarray:
+        return buffer[starts[members][:, None] + np.arange(lengths[members[0]])]
+    return decode_module._decode(
+        [routes[id(connection)] for connection in spans.connections], spans.codes, lengths,
+        table, spans.messages, spans.log_times_ns, routes, slow)
+
+
+def gather_figures(path: Path, rounds: int = 5) -> None:
+    """Print ``decode_spans`` (sliding-window rows) against the 2-D index, in turn."""
+    with BagReader(path) as bag:
+        reader = bag._open_reader()
+        spans = bag._spans(reader, 8192)
+        if spans is None:
+            print('decode_spans: this bag is read through rosbags (no spans)')
+            return
+        spans = list(spans)
+        slow = partial(bag._slow, reader)
+        best = {}
+        for _ in range(rounds):
+            for name, run in (('now', decode_spans), ('before', indexed_gather)):
+                start = time.process_time()
+                chunks = [run(each, bag._routes, slow) for each in spans]
+                seconds = time.process_time() - start
+                best[name] = min(best.get(name, seconds), seconds)
+                if name == 'now':
+                    now = chunks
+                else:
+                    same = all(np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
+                               and np.array_equal(a.stamps_ns, b.stamps_ns)
+                               and a.frame_ids == b.frame_ids for a, b in zip(now, chunks))
+    count = sum(len(each.codes) for each in spans)
+    print(f'decode_spans, {count} messages in {len(spans)} spans, CPU best of {rounds}: '
+          f'2-D index (before) {best["before"]:.3f} s, sliding window (now) {best["now"]:.3f} s: '
+          f'{best["before"] / best["now"]:.2f}x; the same chunks: {same}')
+
+
 def same_chunks(path: Path) -> bool:
     """
     Return whether bulk and per-message chunks hold the same samples (values to the bit).
@@ -142,31 +206,41 @@ def same_chunks(path: Path) -> bool:
             and np.array_equal(a.log_times_ns, b.log_times_ns))
 
 
-def read_figures(directory: Path, messages: int, storage: str) -> None:
-    """Section 1: write the bag, time the readers."""
+def read_figures(directory: Path, messages: int, storage: str, repeats: int = 1) -> None:
+    """Section 1: write the bag, time the readers (in turn, best of ``repeats``)."""
     path = directory / SUFFIXES[storage]
     seconds = write_bag(path, messages)
     size = path.stat().st_size / 1e6
     print(f'BagWriter: {messages} messages ({storage}, {size:.0f} MB) in {seconds:.1f} s: '
           f'{messages / seconds:,.0f} msg/s; peak RSS {peak_mb():.0f} MB')
+    best: Dict[str, Tuple[int, float, float]] = {}
+    for _ in range(repeats):
+        for name, run in (('(a) rosbags raw messages()', raw_read),
+                          ('(b) raw + reader.deserialize', deserialize_all),
+                          ('(c) bags.read_samples', samples),
+                          ('(d) BagReader.chunks (bulk)', bulk_chunks),
+                          ('(e) chunks of (c), per message', per_message_chunks),
+                          ("(f) chunks via rosbags' reader", rosbags_chunks)):
+            count, seconds, cpu = timed_cpu(lambda: run(path))
+            old = best.get(name, (count, seconds, cpu))
+            best[name] = (count, min(old[1], seconds), min(old[2], cpu))
     results = {}
-    for name, run in (('(a) rosbags raw messages()', raw_read),
-                      ('(b) raw + reader.deserialize', deserialize_all),
-                      ('(c) bags.read_samples', samples),
-                      ('(d) BagReader.chunks (bulk)', bulk_chunks),
-                      ('(e) chunks of (c), per message', per_message_chunks)):
-        count, seconds, cpu = timed_cpu(lambda: run(path))
+    for name, (count, seconds, cpu) in best.items():
         results[name] = count / seconds, count / cpu
         print(f'{name:32s} {count} msgs in {seconds:6.2f} s: {count / seconds:>10,.0f} msg/s; '
               f'CPU {cpu:6.2f} s: {count / cpu:>10,.0f} msg/s')
-    (raw, raw_cpu), (deserialized, _), (ours, _), (bulk, bulk_cpu), (each, each_cpu) = (
-        results.values())
+    (raw, raw_cpu), (deserialized, _), (ours, _), (bulk, bulk_cpu), (each, each_cpu), (
+        before, before_cpu) = results.values()
     print(f'read_samples / raw = {ours / raw:.2f}, read_samples / deserialize = '
           f'{ours / deserialized:.2f}; peak RSS {peak_mb():.0f} MB')
     print(f'chunks / raw = {bulk / raw:.2f} (CPU: {bulk_cpu / raw_cpu:.2f}); per-message chunks '
           f'/ raw = {each / raw:.2f} (CPU: {each_cpu / raw_cpu:.2f}); bulk / per message = '
           f'{bulk / each:.2f}x (CPU: {bulk_cpu / each_cpu:.2f}x); the same samples: '
           f'{same_chunks(path)}')
+    print(f"chunks (d) / chunks via rosbags' reader (f) = {bulk / before:.2f}x (CPU: "
+          f'{bulk_cpu / before_cpu:.2f}x); (f) / raw = {before / raw:.2f} (CPU: '
+          f'{before_cpu / raw_cpu:.2f})')
+    gather_figures(path)
 
 
 def skipped_figure(directory: Path, noise: int = 50_000) -> None:
@@ -263,6 +337,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     parser.add_argument('--messages', type=int, default=1_000_000)
     parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
+    parser.add_argument('--repeats', type=int, default=1,
+                        help="section 1's readers in turn this many times, best of each")
     parser.add_argument('--unrelated', default='20000,200000',
                         help='unrelated message counts of section 3, comma-separated ('
                         'ROS 1 uses 10000,60000 unless given); empty to skip the section')
@@ -270,7 +346,7 @@ def main() -> None:
     counts = [int(c) for c in args.unrelated.split(',') if c.strip()]
     with tempfile.TemporaryDirectory() as tmp:
         directory = Path(tmp)
-        read_figures(directory, args.messages, args.storage)
+        read_figures(directory, args.messages, args.storage, args.repeats)
         skipped_figure(directory)
         if counts:
             ros1 = counts if args.unrelated != '20000,200000' else [10_000, 60_000]

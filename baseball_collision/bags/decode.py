@@ -25,6 +25,7 @@ from typing import (
     Any, Callable, Dict, Generator, Iterable, Iterator, List, NamedTuple, Sequence, Tuple)
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
 from .common import FRAME_CACHE_LIMIT
 from ..core.detector.chunks import ROLE_CODES
@@ -348,14 +349,16 @@ def decode_spans(spans: Spans, routes: Dict[int, Route], slow: SlowDecoder) -> S
     Return the samples of the messages in ``spans`` (not empty): :func:`decode_chunk`'s.
 
     The same chunk as ``decode_chunk(spans.messages(range(n)), routes, slow)``, without making
-    the messages: a group of one layout is gathered from the buffer as a 2-D array.
+    the messages: a group of one layout is gathered from the buffer as a 2-D array (the rows of
+    a sliding-window view of the buffer at the group's starts: one index a message, not one a
+    byte, 8x cheaper).
 
     :raises Exception: whatever ``slow`` raises.
     """
     buffer, starts, lengths = spans.buffer, spans.starts, spans.lengths
 
     def table(members: np.ndarray) -> np.ndarray:
-        return buffer[starts[members][:, None] + np.arange(lengths[members[0]])]
+        return sliding_window_view(buffer, int(lengths[members[0]]))[starts[members]]
     return _decode([routes[id(connection)] for connection in spans.connections], spans.codes,
                    lengths, table, spans.messages, spans.log_times_ns, routes, slow)
 

@@ -58,19 +58,31 @@ def mcap_spans(reader: Any, connections: Sequence[Any]) -> Optional[Iterator[Spa
     return _spans(sources, list(connections))
 
 
-def _sources(reader: Any, connections: Sequence[Any]) -> Optional[List[Tuple[Any, Dict, List]]]:
-    """Return each MCAP storage with its channel map and its selected chunks in order, or None."""
+def storage_pairs(reader: Any, connections: Sequence[Any],
+                  kind: type) -> Optional[List[Tuple[Any, Dict[int, Any]]]]:
+    """
+    Return each storage file of the reader's one ROS 2 bag with ``{its id: given connection}``.
+
+    :param kind: the storage class every file must be (``McapReader``, ``Sqlite3Reader``).
+    :returns: None for several bags, ROS 1, another storage, or per-message compression.
+    """
     readers = getattr(reader, 'readers', None)
     if not getattr(reader, 'is2', False) or not readers or len(readers) != 1:
         return None
     storage = getattr(readers[0], 'storage', None)
-    if isinstance(storage, McapReader):
-        pairs = [(storage, {c.id: c for c in connections})]
-    elif isinstance(storage, DirectoryReader) and \
+    if isinstance(storage, kind):
+        return [(storage, {c.id: c for c in connections})]
+    if isinstance(storage, DirectoryReader) and \
             storage.metadata.compression_mode != 'message' and storage.storages and \
-            all(isinstance(each, McapReader) for each in storage.storages):
-        pairs = [(each, _channel_map(each, connections)) for each in storage.storages]
-    else:
+            all(isinstance(each, kind) for each in storage.storages):
+        return [(each, _channel_map(each, connections)) for each in storage.storages]
+    return None
+
+
+def _sources(reader: Any, connections: Sequence[Any]) -> Optional[List[Tuple[Any, Dict, List]]]:
+    """Return each MCAP storage with its channel map and its selected chunks in order, or None."""
+    pairs = storage_pairs(reader, connections, McapReader)
+    if pairs is None:
         return None
     sources = []
     for mcap, channels in pairs:
@@ -89,7 +101,7 @@ def _sources(reader: Any, connections: Sequence[Any]) -> Optional[List[Tuple[Any
     return sources
 
 
-def _channel_map(storage: McapReader, connections: Sequence[Any]) -> Dict[int, Any]:
+def _channel_map(storage: Any, connections: Sequence[Any]) -> Dict[int, Any]:
     """Return ``{channel id: connection}`` of one file of a bag directory (rosbags' rule)."""
     channels = {}
     for own in storage.connections:

@@ -26,11 +26,12 @@ from .decode import (
 from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
+from .sqlite import sqlite_spans
 from ..errors import BagError
 
 
 CHUNK_SIZE = 8192
-"""Samples decoded at a time when :meth:`BagReader.samples` reads an MCAP bag by chunks."""
+"""Samples decoded at a time when :meth:`BagReader.samples` reads by chunks (MCAP, sqlite3)."""
 
 
 class BagReader(BagFile):
@@ -145,7 +146,7 @@ class BagReader(BagFile):
         Yield the selected topics' messages as samples, in the bag's log-time order.
 
         Streams (memory does not grow with the bag). Only the selected topics' connections are
-        read. An indexed MCAP bag is decoded a piece of a file chunk at a time (:meth:`chunks`)
+        read. An indexed MCAP bag or a sqlite3 bag is decoded a chunk at a time (:meth:`chunks`)
         and its samples taken from the arrays (:func:`.decode.chunk_rows`): the same samples.
 
         :returns: an iterator of :class:`Sample`.
@@ -161,8 +162,10 @@ class BagReader(BagFile):
         Each chunk's messages are decoded in bulk (:func:`.decode.decode_chunk`): the same
         samples. An indexed MCAP bag is read a chunk of the file at a time, each cut into
         pieces of ``size`` (the last of each fewer), its messages decoded where they lie
-        (:mod:`.mcap`, :func:`.decode.decode_spans`); any other bag ``size`` at a time through
-        rosbags' reader (the last fewer). Memory stays one chunk's whatever the bag's size.
+        (:mod:`.mcap`, :func:`.decode.decode_spans`); a sqlite3 bag's rows are taken ``size``
+        at a time from rosbags' own query (:mod:`.sqlite`, the last fewer) and decoded the same
+        way; any other bag ``size`` at a time through rosbags' reader (the last fewer). Memory
+        stays one chunk's whatever the bag's size.
 
         :raises BagError: as :meth:`samples`.
         """
@@ -191,9 +194,8 @@ class BagReader(BagFile):
                            'messages its index lists on the selected topics')
 
     def _samples(self, reader: AnyReader) -> Iterator[Sample]:
-        """Yield samples (the generator behind :meth:`samples`): an MCAP bag's by chunks."""
-        with self._reading():
-            spans = mcap_spans(reader, self._connections)
+        """Yield samples (the generator behind :meth:`samples`): MCAP's and sqlite3's by chunks."""
+        spans = self._spans(reader, CHUNK_SIZE)
         if spans is not None:
             for chunk in self._span_chunks(reader, spans, CHUNK_SIZE):
                 yield from chunk_rows(chunk)
@@ -208,9 +210,8 @@ class BagReader(BagFile):
 
     def _chunks(self, reader: AnyReader, size: int) -> Iterator[SampleChunk]:
         """Yield chunks (the generator behind :meth:`chunks`)."""
-        with self._reading():
-            spans = mcap_spans(reader, self._connections)
-        if spans is not None:  # an indexed MCAP bag: its chunks' messages in place
+        spans = self._spans(reader, size)
+        if spans is not None:  # MCAP chunks' messages in place, sqlite3 rows in batches
             yield from self._span_chunks(reader, spans, size)
             return
         expected = self.message_count
@@ -227,9 +228,24 @@ class BagReader(BagFile):
                 yield decode_chunk(batch, self._routes, slow)
         self._check_count(count, expected)
 
+    def _spans(self, reader: AnyReader, size: int) -> Optional[Iterator[Spans]]:
+        """
+        Return the selected messages as spans (:mod:`.mcap`, :mod:`.sqlite`), or None.
+
+        None: the bag is read through rosbags' ``AnyReader.messages`` (ROS 1, per-message
+        compression, ...). ``size``: the messages of a sqlite3 bag's spans.
+
+        :raises BagError: the bag's index cannot be read.
+        """
+        with self._reading():
+            spans = mcap_spans(reader, self._connections)
+            if spans is None:
+                spans = sqlite_spans(reader, self._connections, size)
+        return spans
+
     def _span_chunks(self, reader: AnyReader, spans: Iterator[Spans],
                      size: int) -> Iterator[SampleChunk]:
-        """Yield an MCAP bag's chunks (:mod:`.mcap`), each file chunk in pieces of ``size``."""
+        """Yield spans' chunks (MCAP file chunks, sqlite3 batches) in pieces of ``size``."""
         expected = self.message_count
 
         slow = partial(self._slow, reader)
