@@ -228,9 +228,13 @@ def turn_rows(stream: Stream, first: int, end: int) -> List[Optional[Tuple[float
     rows = stream.aligned.setdefault('turn_rows', [])
     if len(rows) < end:
         rows.extend([None] * (end - len(rows)))
-    if None in rows[first:end]:
-        values, turns = stream.values, stream.turns
-        for i in range(first, end):
+    values, turns = stream.values, stream.turns
+    last = end - 1
+    while last >= first and rows[last] is None:  # the newest samples: what is usually missing
+        rows[last] = values[last].knob + values[last].tip + turns[last]
+        last -= 1
+    if None in rows[first:last + 1]:
+        for i in range(first, last + 1):
             if rows[i] is None:
                 rows[i] = values[i].knob + values[i].tip + turns[i]
     return rows

@@ -4,7 +4,7 @@ import math
 
 from baseball_collision.core.detector.kinematics import (
     bat_rates, fit_coefficients, fit_polynomial, impact_velocities, pivot_degree, pivot_fraction,
-    pivot_rates, point_velocity, turn_rates)
+    pivot_rates, point_velocity, turn_rates, turn_rows)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import dot, lerp, sub
 from baseball_collision.core.motion import BatPath, BatSample, PointPath
@@ -156,3 +156,23 @@ def test_impact_velocities_fall_back_to_the_chords() -> None:
     assert velocities.swing == pytest.approx((0.0, 0.0, OMEGA))
     with_history = impact_velocities(ball, bat, 0.01, 0.061, 5, ball_path, bat_path)
     assert with_history.from_history
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(calls=st.lists(st.tuples(st.integers(0, 39), st.integers(1, 40)), min_size=1,
+                      max_size=8))
+def test_turn_rows_are_knob_tip_and_turn_for_any_windows(calls) -> None:
+    """Windows in any order (forward, back, holes between): each row is knob + tip + turn."""
+    stream = Stream('bat')
+    for i in range(40):
+        angle = 0.3 * i
+        knob = (0.01 * i, 0.0, 1.0)
+        tip = (knob[0] + 0.8 * math.cos(angle), 0.8 * math.sin(angle), 1.0)
+        stream.append(0.01 * i, i, BatSample(knob, tip), i == 0)
+    for first, end in calls:
+        first = min(first, end - 1)
+        rows = turn_rows(stream, first, end)
+        for i in range(first, end):
+            assert rows[i] == stream.values[i].knob + stream.values[i].tip + stream.turn(i)
+        assert all(row is None or row == stream.values[i].knob + stream.values[i].tip
+                   + stream.turns[i] for i, row in enumerate(rows))
