@@ -39,6 +39,10 @@ HISTORY = 384
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
 
+SHORT_RUN = 16
+"""A fast-forward of at most this many residual samples takes them one by one in plain floats
+(the arrays' fixed cost is more than theirs; the same numbers to the bit)."""
+
 REBUILD = 48
 """More residuals than this at once: the sorted list is made again, not updated one by one."""
 
@@ -127,6 +131,14 @@ class NoiseEstimate:
         first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
         if first >= len(times):
             return self.sigma
+        if len(times) - first <= SHORT_RUN:  # a few: in plain floats, as ``update`` does
+            t = [float(x) for x in old_times] + np.asarray(times, float).tolist()
+            p = old_points + np.asarray(points, float).tolist()
+            found: List[float] = []
+            for end in range(len(old_times) + first, len(t)):
+                found += _point_residuals(t[end - 4:end + 1], p[end - 4:end + 1])
+            self._take(found)
+            return self.sigma
         t = np.concatenate((np.asarray(old_times, dtype=float), np.asarray(times, float)))
         p = np.concatenate((np.asarray(old_points, dtype=float).reshape(-1, 3),
                             np.asarray(points, dtype=float)))
@@ -182,12 +194,17 @@ class NoiseEstimate:
         if self.kind == 'length':
             old, new = values
             return (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),)
-        weights = divided_difference_weights(stream.times[-count:])
-        points = [getattr(value, 'position', value) for value in values]
-        middle = points[2]  # the weights sum to 0: taken about it, the motion cancels less
-        gain = math.sqrt(_dot(weights, weights))
-        return [_dot(weights, [point[axis] - middle[axis] for point in points]) / gain
-                for axis in range(3)]
+        return _point_residuals(stream.times[-count:],
+                                [getattr(value, 'position', value) for value in values])
+
+
+def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]) -> List[float]:
+    """Return the residuals (m) of the middle of five samples (``take_points``: on arrays)."""
+    weights = divided_difference_weights(times)
+    middle = points[2]  # the weights sum to 0: taken about it, the motion cancels less
+    gain = math.sqrt(_dot(weights, weights))
+    return [_dot(weights, [point[axis] - middle[axis] for point in points]) / gain
+            for axis in range(3)]
 
 
 def _dot(a: Sequence[float], b: Sequence[float]) -> float:
