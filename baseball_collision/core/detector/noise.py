@@ -60,19 +60,17 @@ miss the interpolation's own error (BENCHMARKS.md, "`tracker_noise: auto` on exa
 
 def divided_difference_weights(times: Sequence[float]) -> List[float]:
     """
-    Return the weights of the divided difference over ``times`` (s, distinct), unscaled.
+    Return the weights of the fourth divided difference over five ``times`` (s, distinct).
 
-    In plain floats, each weight 1 / prod over the other stamps of (t_i - t_j), multiplied in
-    stamp order: the same on every machine (no BLAS kernel in the way).
+    Unscaled, in plain floats: each weight 1 / prod over the other stamps of (t_i - t_j),
+    multiplied in stamp order (the same on every machine: no BLAS kernel in the way).
     """
-    weights = []
-    for i, ti in enumerate(times):
-        product = 1.0
-        for j, tj in enumerate(times):
-            if j != i:
-                product *= ti - tj
-        weights.append(1.0 / product)
-    return weights
+    t0, t1, t2, t3, t4 = times
+    return [1.0 / ((t0 - t1) * (t0 - t2) * (t0 - t3) * (t0 - t4)),
+            1.0 / ((t1 - t0) * (t1 - t2) * (t1 - t3) * (t1 - t4)),
+            1.0 / ((t2 - t0) * (t2 - t1) * (t2 - t3) * (t2 - t4)),
+            1.0 / ((t3 - t0) * (t3 - t1) * (t3 - t2) * (t3 - t4)),
+            1.0 / ((t4 - t0) * (t4 - t1) * (t4 - t2) * (t4 - t3))]
 
 
 class NoiseEstimate:
@@ -199,17 +197,14 @@ class NoiseEstimate:
 
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]) -> List[float]:
-    """Return the residuals (m) of the middle of five samples (``take_points``: on arrays)."""
-    weights = divided_difference_weights(times)
-    middle = points[2]  # the weights sum to 0: taken about it, the motion cancels less
-    gain = math.sqrt(_dot(weights, weights))
-    return [_dot(weights, [point[axis] - middle[axis] for point in points]) / gain
-            for axis in range(3)]
+    """
+    Return the residuals (m) of the middle of five samples (``take_points``: on arrays).
 
-
-def _dot(a: Sequence[float], b: Sequence[float]) -> float:
-    """Return sum(a_i b_i) added left to right (``sum`` compensates from Python 3.12 on)."""
-    total = 0.0
-    for x, y in zip(a, b):
-        total += x * y
-    return total
+    Each a sum added left to right from 0.0 (``sum`` compensates from Python 3.12 on), about
+    the middle sample: the weights sum to 0, so the motion cancels less.
+    """
+    w0, w1, w2, w3, w4 = divided_difference_weights(times)
+    gain = math.sqrt(0.0 + w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3 + w4 * w4)
+    p0, p1, p2, p3, p4 = points
+    return [(0.0 + w0 * (p0[a] - p2[a]) + w1 * (p1[a] - p2[a]) + w2 * (p2[a] - p2[a])
+             + w3 * (p3[a] - p2[a]) + w4 * (p4[a] - p2[a])) / gain for a in range(3)]
