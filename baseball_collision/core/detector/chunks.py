@@ -82,14 +82,14 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         # the trim after the run, counted from the stream's first sample: samples it would
         # drop as soon as they are appended are never made (nor turned into lists)
         cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
-        if b > a and noise is not None:  # every sample of the run, kept or trimmed at once
-            positions = plan.values[0] if s == 0 else plan.values[1][2]
-            values = positions[a - plan.pre[s]:b - plan.pre[s]]
-            old = stream.values[-4:]
-            stream.noise = noise[s].take_points(
-                (stream.times[-4:], old if s == 0 else [v.position for v in old],
-                 stream.breaks[-4:]), plan.times[s][a:b], values)
         if b > a:
+            if noise is not None:  # every sample of the run, kept or trimmed at once
+                positions = plan.values[0] if s == 0 else plan.values[1][2]
+                old = stream.values[-4:]
+                stream.noise = noise[s].take_points(
+                    (stream.times[-4:], old if s == 0 else [v.position for v in old],
+                     stream.breaks[-4:]), plan.times[s][a:b],
+                    positions[a - plan.pre[s]:b - plan.pre[s]])
             c = max(a, a + cut - kept)
             stream.times += plan.times[s][c:b].tolist()
             stream.stamps += plan.stamps[s][c:b].tolist()
