@@ -75,9 +75,10 @@ def test_look_ahead_does_not_bend_a_braking_impact_late() -> None:
     On swings whose bat brakes within 1-3 ms after contact (the ``braking`` family, 90 Hz,
     points), a re-fit from the samples up to the interval's closing frame is the look-ahead-0
     fit itself; the fits with 1 and 2 frames of look-ahead must be biased late by no more than
-    10 us beyond it (measured here +66, +71, +67 us; over bench_accuracy's 24 scenarios +71,
-    +69, +60), every bias within 0.1 ms: the late bias comes from the braked closing frame,
-    which every fit of the interval holds, not from the look-ahead.
+    10 us beyond it (measured here +35, +41, +40 us; over bench_accuracy's 64 braking
+    scenarios +23 for look-ahead 0 and +21 for 2), every bias within 0.1 ms: the late bias
+    comes from the braked closing frame, which every fit of the interval holds, not from the
+    look-ahead.
     """
     rng = np.random.default_rng(11)
     scenarios = [make_scenario(kind, rng, family='braking')

@@ -12,8 +12,11 @@ A family says what ``scenarios.make_scenario`` adds to the drawn swing (:data:`F
   side of the peak: angular jerk);
 * ``'lefty'``: jerky, batting left-handed (the mirror image of a right-handed swing through the
   plane x = 0);
-* ``'braking'``: jerky, either side, and after a contact the bat loses 10-35 % of its angular
-  speed over 1-3 ms, as a real bat does when it hits a ball (misses do not brake).
+* ``'braking'``: jerky, either side, and after a contact the bat loses angular speed over 1-3
+  ms, as a real bat does when it hits a ball: 10-35 % for a square hit at the sweet spot, any
+  other contact that times its share of such a hit's angular impulse about the hands
+  (``scenarios.impulse_share``: a tick or a hit on the end cap hardly slows it; misses do not
+  brake).
 
 The extras are drawn after everything a ``'plane'`` swing draws, so they never change it.
 """

@@ -266,11 +266,51 @@ def _settle_clearance(scenario: Scenario, clearance: float, velocity: np.ndarray
 
 
 def _braked(scenario: Scenario) -> Scenario:
-    """Return the scenario with its swing braking from the first contact on (if it brakes)."""
+    """
+    Return the scenario with its swing braking from the first contact on (if it brakes).
+
+    The swing's drawn ``brake_fraction`` is what a square hit at the sweet spot takes away; the
+    contact's own takes that times its ``impulse_share`` (a tick or an end-cap hit hardly
+    slows a bat). The first contact is before the brake, so the truth stays as it is.
+    """
     truth, swing = scenario.truth, scenario.swing
     if not truth.contact or not swing.brake_fraction:
         return scenario
-    return replace(scenario, swing=replace(swing, brake_time=truth.time_s), truth=truth)
+    fraction = swing.brake_fraction * impulse_share(scenario)
+    return replace(scenario, swing=replace(swing, brake_time=truth.time_s,
+                                           brake_fraction=fraction), truth=truth)
+
+
+def impulse_share(scenario: Scenario) -> float:
+    """
+    Return how much of a square sweet-spot hit's swing-slowing impulse the first contact has.
+
+    A ball slows the swing by its angular impulse about the hands along the swing's angular
+    velocity: the impulse along the contact normal, which grows with the normal part of the
+    ball's speed relative to the bat's surface point there (a graze or a tick meets the bat
+    almost tangentially), times its lever about the hands across the normal (an end-cap hit
+    pushes along the bat: almost no lever). The share is ``(closing / relative speed) *
+    (lever / the sweet spot's lever)``, clipped to [0, 1]: 1 for a square hit at (or beyond)
+    the sweet spot, about 0.1 for a tick 0.3 mm deep, near 0 for the end cap.
+
+    :returns: 0 for a scenario without a contact.
+    """
+    truth, swing = scenario.truth, scenario.swing
+    if not truth.contact:
+        return 0.0
+    t = truth.time_s
+    point, normal = np.asarray(truth.point), np.asarray(truth.normal)
+    omega = swing.angular_velocity(t)
+    on_axis = swing.point(t, truth.bat_fraction)
+    surface_velocity = swing.point_velocity(t, truth.bat_fraction) + np.cross(
+        omega, point - on_axis)
+    relative = scenario.pitch.velocity(t) - surface_velocity
+    closing = -float(relative @ normal)  # > 0: the ball moves into the bat
+    lever = float(np.cross(point - swing.hands_position(t), normal) @ omega) / float(
+        np.linalg.norm(omega))
+    sweet_lever = swing.sweet_spot_fraction() * swing.length - swing.grip_from_knob
+    share = (closing / float(np.linalg.norm(relative))) * (lever / sweet_lever)
+    return min(max(share, 0.0), 1.0)
 
 
 def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,

@@ -1,8 +1,10 @@
 """Tests for baseball_collision.tools.sim scenarios: every kind is what it says, reproducibly."""
 
 from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.geometry import quaternion_to_matrix
 from baseball_collision.errors import ToolError
-from baseball_collision.tools.sim import make_scenario, Scenario
+from baseball_collision.tools.sim import CLOSE_KINDS, KINDS, make_scenario, Scenario
+from baseball_collision.tools.sim.scenarios import impulse_share
 import numpy as np
 import pytest
 
@@ -75,3 +77,51 @@ def test_make_scenario_is_reproducible_and_refuses_unknown_kinds() -> None:
     assert a.name == b.name and a.truth == b.truth
     with pytest.raises(ToolError):
         make_scenario('homer', np.random.default_rng(0))
+
+
+def _share_by_differences(scenario: Scenario) -> float:
+    """impulse_share from finite differences: the gap's rate, the pose's and the ball's motion."""
+    truth, swing, step = scenario.truth, scenario.swing, 1e-6
+    t, point, normal = truth.time_s, np.asarray(truth.point), np.asarray(truth.normal)
+    closing = -float(scenario.gap(t + step) - scenario.gap(t - step)) / (2.0 * step)
+    position, quaternion = swing.pose(t)
+    body = np.array(quaternion_to_matrix(tuple(quaternion))).T @ (point - position)
+
+    def surface(time: float) -> np.ndarray:
+        where, turn = swing.pose(time)
+        return where + np.array(quaternion_to_matrix(tuple(turn))) @ body
+
+    relative = (scenario.pitch.position(t + step) - scenario.pitch.position(t - step)
+                - surface(t + step) + surface(t - step)) / (2.0 * step)
+    omega = swing.angular_velocity(t)
+    lever = np.cross(point - swing.hands_position(t), normal) @ omega / np.linalg.norm(omega)
+    sweet_lever = swing.sweet_spot_fraction() * swing.length - swing.grip_from_knob
+    return float(np.clip(closing / np.linalg.norm(relative) * lever / sweet_lever, 0.0, 1.0))
+
+
+def test_a_braking_bat_slows_with_the_contacts_impulse() -> None:
+    """
+    The braking family's brake is the drawn 10-35 % times the contact's ``impulse_share``.
+
+    The share agrees with one from finite differences (the gap's rate at the contact for the
+    closing speed, the pose's motion for the bat's surface point); a tick hardly brakes (its
+    ball meets the bat almost tangentially), a handle hit less than a barrel hit (its lever
+    about the hands is short), and misses do not brake.
+    """
+    rng = np.random.default_rng(5)
+    shares = {}
+    for kind in KINDS + CLOSE_KINDS:
+        for _ in range(4):
+            scenario = make_scenario(kind, rng, family='braking')
+            swing = scenario.swing
+            if not scenario.truth.contact:
+                assert swing.brake_time is None and impulse_share(scenario) == 0.0
+                continue
+            share = impulse_share(scenario)
+            assert 0.0 <= share <= 1.0
+            assert share == pytest.approx(_share_by_differences(scenario), abs=1e-4)
+            assert swing.brake_time == scenario.truth.time_s
+            assert 0.10 * share - 1e-12 <= swing.brake_fraction <= 0.35 * share + 1e-12
+            shares.setdefault(kind, []).append(share)
+    assert max(shares['tick']) < 0.05
+    assert max(shares['handle']) < 0.5 < float(np.median(shares['barrel']))
