@@ -21,7 +21,10 @@ absolute deviation: a few residuals spoilt by motion or a glitch do not move it)
 
 Limit (measured, ``test_noise.py``): a bat pose's position has no rigid length to
 check, so its residuals are fourth differences, and at 90 Hz a swing's own motion puts about
-0.2 mm into them (0.7-1.5 um at 360 Hz): tell ``tracker_noise`` for pose bats at low rates.
+0.2 mm into them (0.7-1.5 um at 360 Hz). The median reads that only while the swing is most of
+the history: with the bat tracked 0.35 s or more before the contact (its stance and load), an
+exact pose at 90 Hz estimates 0 again on every family (BENCHMARKS.md, "A pose bat's phantom
+noise"). For a pose bat whose stream starts with the swing, tell ``tracker_noise``.
 """
 
 from bisect import bisect_left, insort
