@@ -8,21 +8,23 @@ its own velocity, turning with an angular velocity fitted to the cumulative turn
 With too few samples before the impact, the chords of the spanning interval stand in.
 
 Under the ``c2`` model (``c2_velocities``) the velocities come from samples before the impact
-only: the rates of the window fits that end at the impact interval's opening frame (smoothed
-with noise), extrapolated to the impact, or with exact samples at a high rate the splines
-through the samples up to the impact (O(h^3)): the knob's velocity and the swing angular
-velocity u x u' of the direction chart, the ball's centre its velocity. A bat braking right
-after the contact does not reach them.
+only: with exact samples at a high rate the splines through the samples up to the impact
+(O(h^3)): the knob's velocity and the swing angular velocity u x u' of the direction chart, the
+ball's centre its velocity; with exact samples at a low rate the least-squares fits above
+(half the error of the splines' extrapolation there); with noise the rates of the window fits
+that end at the impact interval's opening frame, smoothed, extrapolated to the impact. A bat
+braking right after the contact does not reach them.
 """
 
 from dataclasses import dataclass
+import math
 from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
 from .streams import Stream
-from ..geometry import cross, lerp, scale, Vector
+from ..geometry import add, cross, lerp, scale, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
     turn_between, unit_axis)
@@ -413,6 +415,20 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
     return config.spline_window if many == (stream_noise(bat, config) == 0.0) else 0
 
 
+def rigid_bat(velocities: ImpactVelocities, knob: Vector,
+              tip: Vector) -> Tuple[Vector, Vector, Vector]:
+    """
+    Return the bat's (unit direction, angular velocity (rad/s), pivot point (m)) at an impact.
+
+    The angular velocity is the swing's plus the roll about the bat's own axis; a point p of
+    the bat then moves at ``rigid_point_velocity(velocities.pivot, omega, pivot, p)``.
+    """
+    length = math.dist(knob, tip)
+    direction = tuple((e - k) / length for k, e in zip(knob, tip))
+    omega = add(velocities.swing, scale(direction, velocities.roll))
+    return direction, omega, lerp(knob, tip, velocities.pivot_fraction)
+
+
 def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:
     """
     Return the interval whose window fits give ``c2``'s velocities for an impact in interval k.
@@ -424,24 +440,30 @@ def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:
 
 
 VELOCITIES = 'auto'
-"""c2's impact velocities: 'auto' (below), 'before' (the window fits ending at the interval's
-opening frame, extrapolated to t), 'knot' (as 'before', but with exact bat samples the bat's
-window fitted with a knot at t: ``knot_bat_rates``; measured, not chosen: BENCHMARKS.md,
-"Contact-aware fits"), 'poly' (as 'knot', with ``poly_bat_rates``: one interpolating
-polynomial; measured, not chosen: "Higher-order fits before the contact"), 'window' (the
-look-ahead-0 window fits' rates at t: they reach the closing frame, after the contact) or
-'fits' (``spline_window_for``: the former choice); the others are kept for bench_accuracy's
-comparison."""
+"""c2's impact velocities: 'auto' (below: 'fits' with exact samples, else 'before'), 'before' (the
+window fits ending at the interval's opening frame, extrapolated to t), 'knot' (as 'before',
+but with exact bat samples the bat's window fitted with a knot at t: ``knot_bat_rates``;
+measured, not chosen: BENCHMARKS.md, "Contact-aware fits"), 'poly' (as 'knot', with
+``poly_bat_rates``: one interpolating polynomial; measured, not chosen: "Higher-order fits
+before the contact"), 'window' (the look-ahead-0 window fits' rates at t: they reach the
+closing frame, after the contact) or 'fits' (``spline_window_for``: with exact samples the
+splines up to t at a high rate, the least-squares fits at a low rate; with noise the other way
+round); the others are kept for bench_accuracy's comparison (BENCHMARKS.md, "Exact samples at a
+low rate: the least-squares fits again")."""
 
 
 def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
-                  bat_path: C2BatPath, config: Any) -> ImpactVelocities:
+                  bat_path: C2BatPath, config: Any,
+                  mode: Optional[str] = None) -> ImpactVelocities:
     """
     Return the ``c2`` velocities at an impact at t (s), from samples before the impact only.
 
-    Exact samples at a high rate (more than ``SPARSE_SAMPLES`` in ``velocity_window``): the
+    ``mode``: a rule of ``VELOCITIES`` (None: ``VELOCITIES``'s). Under 'auto', exact samples
+    of both bodies: at a high rate (more than ``SPARSE_SAMPLES`` in ``velocity_window``) the
     splines through the last samples up to t, extrapolated by their last piece
-    (``spline_velocities``). Otherwise the window fits of the interval before the impact's
+    (``spline_velocities``), at a low rate the least-squares fits of the samples up to t
+    (``impact_velocities``: ``velocity_degree`` over ``velocity_window``). Otherwise
+    ('before') the window fits of the interval before the impact's
     (smoothed with ``tracker_noise``), which end at the impact interval's opening frame,
     differentiated at t: the ball's centre (with noise its flight fit where the guard passes,
     ``fitting.ball_flight``, as the sweep's paths), the bat's knob (the pivot, fraction 0) and its
@@ -451,15 +473,10 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     interval's own fits without look-ahead stand in. The roll rate comes from the turns of
     poses (``turn_rates``, 0 for points).
     """
-    mode = VELOCITIES
+    mode = VELOCITIES if mode is None else mode
     exact = stream_noise(bat, config) == 0.0
     if mode == 'auto':
-        if exact and stream_noise(ball, config) == 0.0 and len(
-                bat.history(t, config.velocity_window)) > SPARSE_SAMPLES:
-            found = spline_velocities(ball, bat, t, config.spline_window)
-            if found is not None:
-                return found
-        mode = 'before'
+        mode = 'fits' if exact and stream_noise(ball, config) == 0.0 else 'before'
     if mode == 'fits':
         return impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  ball_path, bat_path, spline_window_for(bat, t, config))

@@ -18,9 +18,9 @@ from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise
 from .gate import Clock
-from .kinematics import c2_velocities, impact_velocities
+from .kinematics import c2_velocities, impact_velocities, rigid_bat
 from .streams import Stream
-from ..geometry import add, dot, lerp, norm, profile_gap, rigid_point_velocity, scale, Vector
+from ..geometry import add, dot, norm, profile_gap, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
 from ..toi import closest_offset, ImpactResult, profile_contact
 
@@ -185,13 +185,10 @@ class Sweep:
             velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
                                            config.velocity_degree, ball_path, bat_path)
         length = math.dist(knob, tip)
-        direction = tuple((e - k) / length for k, e in zip(knob, tip))
-        # the roll turns about the bat's own axis
-        omega = add(velocities.swing, scale(direction, velocities.roll))
+        direction, omega, pivot = rigid_bat(velocities, knob, tip)
         sweet = max(0.0, length - config.sweet_spot_from_tip)
         sweet_point = add(knob, tuple(sweet * d for d in direction))
         # rigid body: every point moves with the pivot plus the turn about it
-        pivot = lerp(knob, tip, velocities.pivot_fraction)
         sweet_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point)
         bat_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, hit.point)
         sweet_speed = norm(sweet_velocity)

@@ -33,8 +33,10 @@ between the impact and the one the model of next lower order solves over the sam
 lowest, against rigid). It measures the lower-order model's error more than the deciding
 one's: by design an over-estimate of the time and the spot (measured 2-30 times the error on
 the simulator's swings); the speed's can fall short where both models take their velocities
-from the same least-squares fits (``c2`` at a low rate). When the alternative finds no
-impact, coarse bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
+from the same least-squares fits (``c2`` at a low rate: there the speed's is at least the
+difference from the speed ``c2``'s noise rule would give, the window fits before the impact
+extrapolated to it, ``before_rule_speed``). When the alternative finds no impact, coarse
+bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
 
 Not covered: a bias the fits share. On the simulator's braking swings (the bat decelerating
 over 1-3 ms after the contact) the interval's closing frame is already after the contact, and
@@ -56,10 +58,11 @@ from .fitting import (
     bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN,
     point_gains, stream_noise, swing_rate)
 from .gate import Clock
-from .kinematics import velocity_interval
+from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_interval
 from .streams import Stream
 from .sweep import Sweep
-from ..geometry import axis_angle_quaternions, pose_point, quaternion_multiply, Vector
+from ..geometry import (
+    axis_angle_quaternions, norm, pose_point, quaternion_multiply, rigid_point_velocity, Vector)
 from ..motion import BatSample
 
 PERTURBATIONS = 16
@@ -259,6 +262,27 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     return time_sigma, spot_sigma, speed_sigma
 
 
+def before_rule_speed(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
+                      offsets: Tuple[Vector, Vector], impact: Impact) -> float:
+    """
+    Return the sweet-spot speed (m/s) of a ``c2`` impact by the window fits before it.
+
+    ``kinematics.c2_velocities``' 'before' rule (its rule under noise) at the impact's time,
+    with the impact's knob and tip: a second estimate from the same samples before the impact
+    as the least-squares fits that give exact samples' speed at a low rate.
+    """
+    t = clock.time(impact.stamp_ns)
+    ta = clock.time(impact.interval_start_ns)
+    stats = DetectorStats()
+    sweep = Sweep(config, clock, stats, ball, bat, EpisodeTracker(config, clock, stats), offsets)
+    velocities = c2_velocities(ball, bat, t, *sweep.paths(ball.interval(ta), bat.interval(ta)),
+                               config, 'before')
+    direction, omega, pivot = rigid_bat(velocities, impact.knob, impact.tip)
+    reach = max(0.0, math.dist(impact.knob, impact.tip) - config.sweet_spot_from_tip)
+    sweet_point = tuple(k + reach * d for k, d in zip(impact.knob, direction))
+    return norm(rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point))
+
+
 def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                        offsets: Tuple[Vector, Vector], impact: Impact) -> Impact:
     """
@@ -293,6 +317,11 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     if uncertainty is None:
         uncertainty = difference(config, replace(config, model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)
+        if config.model == 'c2' and spline_window_for(bat, clock.time(impact.stamp_ns),
+                                                      config) == 0:
+            other = before_rule_speed(config, clock, ball, bat, offsets, impact)
+            uncertainty = (uncertainty[0], uncertainty[1], max(
+                uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
     if not all(math.isfinite(x) for x in uncertainty):
         uncertainty = (tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps)
     return replace(impact, time_uncertainty_s=uncertainty[0],

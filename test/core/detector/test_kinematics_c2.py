@@ -1,5 +1,6 @@
 """Tests for the c2 model's impact velocities: the splines' rates from samples before t."""
 
+from dataclasses import replace
 import math
 from typing import Callable, Tuple
 
@@ -7,7 +8,7 @@ from baseball_collision.core.detector import DetectorConfig, kinematics
 from baseball_collision.core.detector.fitting import (
     ball_flight, c2_bat_path, c2_point_path, c2_window)
 from baseball_collision.core.detector.kinematics import (
-    c2_velocities, knot_bat_rates, poly_bat_rates, spline_velocities)
+    c2_velocities, impact_velocities, knot_bat_rates, poly_bat_rates, spline_velocities)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 import numpy as np
@@ -147,6 +148,33 @@ def test_a_bat_braking_after_the_opening_frame_does_not_reach_the_velocities(
     tip = _sweet_rate((found[1].pivot, found[1].swing), t, spin, tilt)
     within = 3e-2 if rule == 'poly' else 1e-2  # the polynomial's own error here: 2.2 %
     assert np.linalg.norm(tip - truth) < within * np.linalg.norm(truth)
+
+
+def test_exact_samples_take_the_fits_at_a_low_rate_and_the_splines_at_a_high_one() -> None:
+    """
+    The 'auto' rule with exact samples: 90 Hz the least-squares fits, 360 Hz the splines.
+
+    Both from the samples up to t only. With noise it is the window fits before the impact
+    interval ('before'), whatever the rate.
+    """
+    spin, tilt = 40.0, 2.0
+    config = DetectorConfig(model='c2', bat_input='points')
+    for rate, expected in ((90.0, 'fits'), (360.0, 'splines')):
+        ball, bat = _streams(rate, spin, tilt)
+        k = len(bat.times) - 2
+        t = bat.times[k] + 0.4 / rate
+        window = c2_window(bat, k, config.max_gap, 0, config.spline_window)
+        paths = (c2_point_path(ball, k, window), c2_bat_path(bat, k, window))
+        found = c2_velocities(ball, bat, t, *paths, config)
+        fits = impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
+                                 *paths)
+        splines = spline_velocities(ball, bat, t, config.spline_window)
+        assert found == (fits if expected == 'fits' else splines)
+        assert found != (splines if expected == 'fits' else fits)
+        assert found != c2_velocities(ball, bat, t, *paths, config, 'before')
+        noisy = replace(config, tracker_noise=1e-4)
+        assert c2_velocities(ball, bat, t, *paths, noisy) == c2_velocities(
+            ball, bat, t, *paths, noisy, 'before')
 
 
 def test_a_noisy_ball_velocity_comes_from_its_flight_fit_before_the_contact() -> None:

@@ -5,7 +5,7 @@ from typing import List, Sequence, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
 from baseball_collision.core.detector.uncertainty import (
-    ALTERNATIVE, excerpt, resolve, union_intervals)
+    ALTERNATIVE, before_rule_speed, excerpt, resolve, union_intervals)
 from baseball_collision.tools.accuracy import run_samples, summarize
 from baseball_collision.tools.sim import FAMILIES, KINDS, make_scenario, sample
 import numpy as np
@@ -84,6 +84,29 @@ def test_noise_free_c2_estimate_is_positive_and_covers_the_time_error() -> None:
     impact, = [e for e in events if isinstance(e, Impact)]
     assert impact.time_uncertainty_s > 0.0 and impact.sweet_spot_speed_uncertainty_mps > 0.0
     assert abs(result.time_error_s) <= impact.time_uncertainty_s < 2e-4
+
+
+def test_noise_free_c2_speed_at_a_low_rate_is_at_least_the_two_rules_difference() -> None:
+    """
+    Exact samples at 90 Hz: c2's and spline's speeds both come from the least-squares fits.
+
+    Their difference is then no error estimate (0 here), so the speed's is at least the
+    difference from c2's other rule before the impact (the window fits extrapolated:
+    ``before_rule_speed``); over the exact families that covers the error in 0.62-0.82 of
+    impacts within 1 sigma (BENCHMARKS.md, "Exact samples at a low rate").
+    """
+    for family, seed in (('tilted', 6), ('jerky', 3)):
+        scenario, samples = _samples(family, 90.0, 0.0, seed)
+        config = DetectorConfig(bat_input='points', model='c2')
+        detector, (impact,) = _impacts(config, samples)
+        _, (other,) = _impacts(replace(config, model='spline'), samples)
+        ball, bat = (excerpt(s, 0, len(s.times) - 1) for s in (detector._ball, detector._bat))
+        before = before_rule_speed(config, detector._clock, ball, bat, detector._offsets,
+                                   impact)
+        gap = abs(before - impact.sweet_spot_speed_mps)
+        assert 1e-3 < gap < 0.05 * impact.sweet_spot_speed_mps
+        assert impact.sweet_spot_speed_uncertainty_mps == pytest.approx(max(gap, abs(
+            other.sweet_spot_speed_mps - impact.sweet_spot_speed_mps)), rel=1e-9, abs=1e-12)
 
 
 def test_resolve_on_unshaken_copies_reproduces_the_impact() -> None:
