@@ -33,10 +33,10 @@ between the impact and the one the model of next lower order solves over the sam
 lowest, against rigid). It measures the lower-order model's error more than the deciding
 one's: by design an over-estimate of the time and the spot (measured 2-30 times the error on
 the simulator's swings); the speed's can fall short where both models take their velocities
-from the same least-squares fits (``c2`` at a low rate: there the speed's is at least the
-difference from the speed ``c2``'s noise rule would give, the window fits before the impact
-extrapolated to it, ``before_rule_speed``). When the alternative finds no impact, coarse
-bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
+from the same least-squares fits (``rigid``, ``spline``, and ``c2`` at a low rate: there the
+speed's is at least the difference from the speed ``c2``'s noise rule would give, the window
+fits before the impact extrapolated to it, ``before_rule_speed``). When the alternative finds
+no impact, coarse bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
 
 Not covered: a bias the fits share. On the simulator's braking swings (the bat decelerating
 over 1-3 ms after the contact) the interval's closing frame is already after the contact, and
@@ -265,14 +265,16 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
 def before_rule_speed(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                       offsets: Tuple[Vector, Vector], impact: Impact) -> float:
     """
-    Return the sweet-spot speed (m/s) of a ``c2`` impact by the window fits before it.
+    Return the sweet-spot speed (m/s) at an impact by ``c2``'s window fits before it.
 
-    ``kinematics.c2_velocities``' 'before' rule (its rule under noise) at the impact's time,
-    with the impact's knob and tip: a second estimate from the same samples before the impact
-    as the least-squares fits that give exact samples' speed at a low rate.
+    ``kinematics.c2_velocities``' 'before' rule (``c2``'s rule under noise) at the impact's
+    time, with the impact's knob and tip, whatever the model: a second estimate from the same
+    samples before the impact as the least-squares fits that give the speed of ``rigid`` and
+    ``spline``, and of ``c2`` with exact samples at a low rate.
     """
     t = clock.time(impact.stamp_ns)
     ta = clock.time(impact.interval_start_ns)
+    config = replace(config, model='c2')
     stats = DetectorStats()
     sweep = Sweep(config, clock, stats, ball, bat, EpisodeTracker(config, clock, stats), offsets)
     velocities = c2_velocities(ball, bat, t, *sweep.paths(ball.interval(ta), bat.interval(ta)),
@@ -317,8 +319,8 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     if uncertainty is None:
         uncertainty = difference(config, replace(config, model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)
-        if config.model == 'c2' and spline_window_for(bat, clock.time(impact.stamp_ns),
-                                                      config) == 0:
+        if config.model != 'c2' or spline_window_for(bat, clock.time(impact.stamp_ns),
+                                                     config) == 0:
             other = before_rule_speed(config, clock, ball, bat, offsets, impact)
             uncertainty = (uncertainty[0], uncertainty[1], max(
                 uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
