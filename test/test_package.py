@@ -31,12 +31,12 @@ def test_package_xml_declares_the_runtime_dependencies() -> None:
 IMPORT_TO_ROSDEP = {
     'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'matplotlib': 'python3-matplotlib',
     'tqdm': 'python3-tqdm', 'rosbags': 'python3-rosbags-pip', 'pytest': 'python3-pytest',
-    'hypothesis': 'python3-hypothesis',
+    'hypothesis': 'python3-hypothesis', 'threadpoolctl': 'python3-threadpoolctl',
 }
 """Python modules whose rosdep key is not their own name."""
 
 IMPORT_TO_PIP = {'numpy': 'numpy', 'yaml': 'PyYAML', 'rosbags': 'rosbags', 'tqdm': 'tqdm',
-                 'matplotlib': 'matplotlib'}
+                 'matplotlib': 'matplotlib', 'threadpoolctl': 'threadpoolctl'}
 """Modules that come from PyPI (not from ROS), by their distribution name."""
 
 

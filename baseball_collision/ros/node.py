@@ -77,6 +77,7 @@ from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
 from ..core.scene import Scene
 from ..errors import CoreError, RosError
+from ..threads import single_threaded_blas
 
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
@@ -444,6 +445,7 @@ def main(args: Optional[List[str]] = None) -> int:
     :returns: the exit code: 0 after a clean shutdown, 1 for a bad configuration, 2 when rcl
         refuses the command line (e.g. an unreadable params file).
     """
+    single_threaded_blas()
     logger = rclpy.logging.get_logger(NODE_NAME)
     try:
         rclpy.init(args=args)

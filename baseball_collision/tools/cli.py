@@ -30,6 +30,7 @@ from ..atomic import cleanup_on_signals, Terminated
 from ..bags import TOPIC_FLAGS
 from ..core.motion import MODELS
 from ..errors import BaseballCollisionError, ToolError
+from ..threads import single_threaded_blas
 
 PROG = 'baseball-collision'
 EXIT_BAD_INPUT = 2
@@ -351,6 +352,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         143 terminated (SIGTERM), 129 hung up (SIGHUP); interrupted or terminated, no partial
         output is left behind.
     """
+    single_threaded_blas()
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
