@@ -41,7 +41,14 @@ a bag), best wall and best CPU time (the child's user + system) of each.
 ``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
 bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
 each pair's throughputs and the best-of ratio (issue 11's goal for a new default model: it
-keeps >= 0.8 of the old one's throughput); both models' events are listed.
+keeps >= 0.8 of the old one's throughput); both models' events are listed. With ``--split``:
+where each model's CPU time goes instead, per part of the detector (process-time timers
+around the sweep's far test, paths, sub-steps, impact velocities, uncertainty, the noise
+estimate, the chunks' fast-forwards and plans, ...), best of ``--repeats``.
+
+``--look-ahead`` and ``--tracker-noise`` set ``c2``'s parameters in every mode (``--profile``
+and (d), (e) included); ``--bag-noise M`` writes the worst case with M m of tracking noise
+per coordinate (``simulate --noise``), where ``tracker_noise`` > 0 or auto smooths.
 
 ``--interleave``: instead, (a), (d) and (e) in turn, ``--repeats`` times on one bag (default
 30,000 messages), each figure the best CPU time (``time.process_time``) and the best wall
@@ -87,21 +94,27 @@ SUFFIXES = {'mcap': 'bench.mcap', 'sqlite3': 'bench.db3', 'rosbag1': 'bench.bag'
 MESSAGES_PER_PITCH = 290  # 0.4 s at 360 Hz, ball + bat pose
 
 
-def write_bag(path: Path, messages: int, pitch_every: float = WORST_SPACING_S
-              ) -> Tuple[int, float]:
+def write_bag(path: Path, messages: int, pitch_every: float = WORST_SPACING_S,
+              noise: float = 0.0) -> Tuple[int, float]:
     """
     Write the benchmark bag; return (messages written, seconds).
 
     :param pitch_every: seconds from one pitch to the next: ``WORST_SPACING_S`` (the worst
         case: ``simulate``'s recording, nothing between pitches), or more (a session:
         :func:`write_session_bag`).
+    :param noise: the worst case's tracking noise (m per coordinate, ``simulate --noise``;
+        0: exact samples).
+    :raises ValueError: noise asked of a session.
     """
     start = time.perf_counter()
     if pitch_every > WORST_SPACING_S:
+        if noise:
+            raise ValueError('--bag-noise writes the worst case only (--pitch-every 0.5)')
         written = write_session_bag(path, messages, pitch_every)
         return written, time.perf_counter() - start
     spec = RecordingSpec(count=messages // MESSAGES_PER_PITCH + 1, rate_hz=360.0, grid_s=0.001,
-                         bat='pose', spacing_s=WORST_SPACING_S, unique=24, seed=1)
+                         bat='pose', spacing_s=WORST_SPACING_S, unique=24, seed=1,
+                         noise_m=noise)
     document = write_recording(path, spec)
     return document['messages'], time.perf_counter() - start
 
@@ -196,17 +209,26 @@ def null_loop(path: Path) -> int:
     return result.messages
 
 
-def per_sample(path: Path, model: str) -> BagAnalysis:
-    """Run the detector one sample at a time (``Detector.add``, analyze before chunks)."""
+def per_sample(path: Path, model: str, parameters: Optional[dict] = None) -> BagAnalysis:
+    """
+    Run the detector one sample at a time (``Detector.add``, analyze before chunks).
+
+    :param parameters: node parameters (``model_parameters``), as ``AnalysisOptions`` takes.
+    """
     options = AnalysisOptions(model=model)
     with options.reader(path) as bag:
-        config = build_config({}, bat_input=bag.selection.bat_mode, model=model)
+        config = build_config(parameters or {}, bat_input=bag.selection.bat_mode, model=model)
         result = BagAnalysis(path=path, selection=bag.selection, config=config)
         detector = Detector(config)
         result.messages, result.first_stamp_ns = run_detector(
             bag.samples(), detector, [result], None, result.drops_by_role)
     result.stats = detector.stats
     return result
+
+
+def model_parameters(model: str, look_ahead: int, tracker_noise: float) -> dict:
+    """Return the node parameters ``--look-ahead`` and ``--tracker-noise`` set (``c2`` only)."""
+    return {'look_ahead': look_ahead, 'tracker_noise': tracker_noise} if model == 'c2' else {}
 
 
 def timed(run, *args) -> Tuple[object, float]:
@@ -306,11 +328,11 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
                     look_ahead: int, pitch_every: float = WORST_SPACING_S,
-                    tracker_noise: float = 0.0) -> None:
+                    tracker_noise: float = 0.0, bag_noise: float = 0.0) -> None:
     """Print (d) for ``baseline`` and ``model`` in pairs on one bag, the throughput ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
-        written, _ = write_bag(path, messages, pitch_every)
+        written, _ = write_bag(path, messages, pitch_every, bag_noise)
         print(f'{written:,} messages ({storage}); {pairs} pairs, {baseline} first; '
               f'{model} with look_ahead {look_ahead}, tracker_noise {tracker_noise:g}')
         best = {baseline: (0.0, 0.0), model: (0.0, 0.0)}
@@ -318,9 +340,8 @@ def against_figures(messages: int, storage: str, model: str, baseline: str, pair
         for pair in range(pairs):
             rates = {}
             for name in (baseline, model):
-                options = AnalysisOptions(model=name, parameters={
-                    'look_ahead': look_ahead, 'tracker_noise': tracker_noise}
-                    if name == 'c2' else {})
+                options = AnalysisOptions(model=name, parameters=model_parameters(
+                    name, look_ahead, tracker_noise))
                 cpu = cpu_seconds()
                 result, wall = timed(analyze_bag, path, options)
                 cpu = cpu_seconds() - cpu
@@ -338,6 +359,105 @@ def against_figures(messages: int, storage: str, model: str, baseline: str, pair
         print(f'best of {pairs}: {model} / {baseline} = {wall:.2f} wall, {cpu:.2f} CPU '
               f'[goal >= 0.8: {verdict}]; pairs (CPU) '
               + ', '.join(f'{r[1]:.2f}' for r in ratios))
+
+
+SPLIT_PARTS = (
+    ('detector.sweep', 'clearly_apart', 'far test (scalar, the sweep)'),
+    ('detector.sweep.Sweep', 'paths', 'paths (window fits, path objects)'),
+    ('detector.sweep.Sweep', '_gap_at', 'sub-step end gaps'),
+    ('detector.sweep.Sweep', '_substep', 'sub-step solves, episodes'),
+    ('detector.sweep.Sweep', '_impact', 'impact velocities'),
+    ('detector.detector.Detector', '_measure', 'uncertainty (its own re-solves apart)'),
+    ('detector.episodes.EpisodeTracker', 'close', 'near misses closed (lowest gap)'),
+    ('detector.noise.NoiseEstimate', 'take_points', 'noise estimate (auto)'),
+    ('detector.noise.NoiseEstimate', 'update', 'noise estimate (auto)'),
+    ('detector.chunks', 'fast_forward', 'chunk fast-forwards'),
+    ('detector.chunks', 'plan_chunk', 'chunk plans'),
+    ('detector.sweep.Sweep', 'interval', 'the rest of the sweep (locate, far, walk)'),
+    ('detector.detector.Detector', '_advance', 'the rest of the walk (scheduler)'),
+    ('detector.detector.Detector', 'add', 'the rest of Detector.add (stops)'),
+)
+"""``--split``'s parts: (module or class under ``baseball_collision.core``, function, label).
+Each part's own time (its callees among the parts counted in theirs)."""
+
+
+def split_figures(messages: int, storage: str, model: str, baseline: str, repeats: int,
+                  parameters: dict, pitch_every: float = WORST_SPACING_S,
+                  bag_noise: float = 0.0) -> None:
+    """
+    Print where ``analyze_bag``'s CPU time goes for ``baseline`` and ``model``, per part.
+
+    Each of ``SPLIT_PARTS`` is wrapped in a process-time timer for the run (put back after),
+    and charged its own time only (a part called inside another counts in its own line); the
+    timers' own cost (about 1 us a call) is in the figures. Best of ``repeats`` per model
+    (by total), run in turn.
+    """
+    import importlib
+    own: dict = {}
+    calls: dict = {}
+    stack: list = []
+    clock = time.process_time
+
+    def timer(function, label):
+        def timed_part(*args, **kwargs):
+            now = clock()
+            if stack:
+                own[stack[-1][0]] = own.get(stack[-1][0], 0.0) + now - stack[-1][1]
+            stack.append([label, now])
+            calls[label] = calls.get(label, 0) + 1
+            try:
+                return function(*args, **kwargs)
+            finally:
+                now = clock()
+                label_, start = stack.pop()
+                own[label_] = own.get(label_, 0.0) + now - start
+                if stack:
+                    stack[-1][1] = now
+        return timed_part
+
+    wrapped = []
+    for owner_name, name, label in SPLIT_PARTS:
+        module_name, _, rest = owner_name.rpartition('.')
+        if rest[0].isupper():
+            owner = getattr(importlib.import_module(f'baseball_collision.core.{module_name}'),
+                            rest)
+        else:
+            owner = importlib.import_module(f'baseball_collision.core.{owner_name}')
+        original = owner.__dict__[name]
+        wrapped.append((owner, name, original))
+        setattr(owner, name, timer(original, label))
+    best: dict = {}
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / SUFFIXES[storage]
+            written, _ = write_bag(path, messages, pitch_every, bag_noise)
+            for _ in range(repeats):
+                for name in (baseline, model):
+                    options = AnalysisOptions(model=name, parameters=parameters
+                                              if name == model else {})
+                    own.clear()
+                    calls.clear()
+                    start = clock()
+                    analyze_bag(path, options)
+                    total = clock() - start
+                    if name not in best or total < best[name][0]:
+                        best[name] = (total, dict(own), dict(calls))
+    finally:
+        for owner, name, original in wrapped:
+            setattr(owner, name, original)
+    print(f'{written:,} messages ({storage}); CPU s per part (calls), best of {repeats}; '
+          f'{model} with {parameters or "its defaults"}')
+    labels = list(dict.fromkeys(label for _, _, label in SPLIT_PARTS))
+    print(f"  {'part':44s} {baseline:>16s} {model:>16s} {'extra':>8s}")
+    rows = [('whole analyze_bag', best[baseline][0], best[model][0], '', '')]
+    for label in labels:
+        rows.append((label, best[baseline][1].get(label, 0.0), best[model][1].get(label, 0.0),
+                     best[baseline][2].get(label, 0), best[model][2].get(label, 0)))
+    parts = sum(row[1] for row in rows[1:]), sum(row[2] for row in rows[1:])
+    rows.append(('outside the parts (read, decode, the loop)', best[baseline][0] - parts[0],
+                 best[model][0] - parts[1], '', ''))
+    for label, a, b, n_a, n_b in rows:
+        print(f'  {label:44s} {a:7.3f} {str(n_a):>8s} {b:7.3f} {str(n_b):>8s} {b - a:+8.3f}')
 
 
 def cpu_seconds() -> float:
@@ -438,7 +558,12 @@ def main() -> None:
     parser.add_argument('--pairs', type=int, default=3, help='pairs with --against (3)')
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
     parser.add_argument('--tracker-noise', type=float, default=0.0, metavar='M',
-                        help="c2's tracker_noise with --against (0; -1: auto)")
+                        help="c2's tracker_noise (0; -1: auto)")
+    parser.add_argument('--bag-noise', type=float, default=0.0, metavar='M',
+                        help='the worst-case bag with this tracking noise (m; 0: exact)')
+    parser.add_argument('--split', action='store_true',
+                        help='with --against: where the time goes, per part (process-time '
+                        'timers), best of --repeats per model')
     parser.add_argument('--repeats', type=int, default=3,
                         help='runs per --jobs, --whole or --interleave figure (3)')
     parser.add_argument('--pitch-every', type=float, default=WORST_SPACING_S, metavar='SECONDS',
@@ -459,9 +584,16 @@ def main() -> None:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,
                               args.pitch_every, args.before)
         return
+    if args.against and args.split:
+        split_figures(args.messages or 30_000, args.storage, args.model, args.against,
+                      args.repeats, model_parameters(args.model, args.look_ahead,
+                                                     args.tracker_noise),
+                      args.pitch_every, args.bag_noise)
+        return
     if args.against:
         against_figures(args.messages or 30_000, args.storage, args.model, args.against,
-                        args.pairs, args.look_ahead, args.pitch_every, args.tracker_noise)
+                        args.pairs, args.look_ahead, args.pitch_every, args.tracker_noise,
+                        args.bag_noise)
         return
     if args.jobs:
         jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
@@ -470,7 +602,7 @@ def main() -> None:
     args.messages = args.messages or 1_000_000
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[args.storage]
-        written, seconds = write_bag(path, args.messages, args.pitch_every)
+        written, seconds = write_bag(path, args.messages, args.pitch_every, args.bag_noise)
         size = path.stat().st_size / 1e6
         print(f'wrote {written:,} messages ({args.storage}, {size:.0f} MB) in {seconds:.1f} s')
         raw, raw_s = timed(raw_read, path)
@@ -482,7 +614,8 @@ def main() -> None:
         looped, loop_s = timed(null_loop, path)
         print(f'(c) analyze loop, no detector {looped:>9,} msgs in {loop_s:6.2f} s: '
               f'{looped / loop_s:>9,.0f} msg/s')
-        options = AnalysisOptions(model=args.model)
+        parameters = model_parameters(args.model, args.look_ahead, args.tracker_noise)
+        options = AnalysisOptions(model=args.model, parameters=parameters)
         profiler = cProfile.Profile() if args.profile else None
         if profiler is not None:
             profiler.enable()
@@ -508,7 +641,7 @@ def main() -> None:
                   f'{part / n * 1e6:6.2f} us/msg')
         print(f'    analyze / raw read = {rate / (raw / raw_s):.2f}; analyze without the detector '
               f'(c) = {looped / loop_s / (raw / raw_s):.2f} of the raw read rate')
-        before, before_s = timed(per_sample, path, args.model)
+        before, before_s = timed(per_sample, path, args.model, parameters)
         same = (before.impacts, before.near_misses, before.drops_by_role, before.stats.intervals,
                 before.stats.substeps) == (result.impacts, result.near_misses,
                                            result.drops_by_role, result.stats.intervals,

@@ -68,8 +68,9 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
         with the scheduler: the intervals, then the trim, then the prediction).
     :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
-        takes the run's samples (``NoiseEstimate.take_points``, a bat pose's positions), as
-        ``Detector.add`` updates them after each sample, and sets the stream's ``noise``.
+        takes the run's samples as ``Detector.add`` updates them after each sample (at once,
+        ``NoiseEstimate.take_points``, a bat pose's positions; a run of one sample appended,
+        ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``.
     :returns: the newest stamp taken (ns).
     """
     newest = 0
@@ -83,14 +84,18 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         # drop as soon as they are appended are never made (nor turned into lists)
         cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
         if b > a:
-            if noise is not None:  # every sample of the run, kept or trimmed at once
+            c = max(a, a + cut - kept)
+            # one sample appended (most runs near a contact): the estimator takes it after the
+            # append, as ``Detector.add`` does (``update``); else every sample of the run,
+            # kept or trimmed at once, before it (``take_points``: the same numbers)
+            single = noise is not None and b - a == 1 and c == a
+            if noise is not None and not single:
                 positions = plan.values[0] if s == 0 else plan.values[1][2]
                 old = stream.values[-4:]
                 stream.noise = noise[s].take_points(
                     (stream.times[-4:], old if s == 0 else [v.position for v in old],
                      stream.breaks[-4:]), plan.times[s][a:b],
                     positions[a - plan.pre[s]:b - plan.pre[s]])
-            c = max(a, a + cut - kept)
             stream.times += plan.times[s][c:b].tolist()
             stream.stamps += plan.stamps[s][c:b].tolist()
             stream.breaks += [False] * (b - c)
@@ -101,6 +106,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                 stream.turns += [None] * (b - c)
             else:
                 stream.values += map(tuple, plan.values[0][first:last].tolist())
+            if single:
+                stream.noise = noise[s].update(stream)
             stats.received[_ROLES[s]] += b - a
             stream.speed_drops = 0
             stamp = int(plan.stamps[s][b - 1])

@@ -25,7 +25,7 @@ noise nothing changes.
 """
 
 import math
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -138,12 +138,44 @@ def ball_flight(stream: Stream, k: int, window: range, noise: float,
     tolerance = AUTO_NOISE_TOLERANCE if config.tracker_noise < 0.0 else 1.0
     for last in ((window.stop - 1, k) if end == 'closing' else (k,)):
         found = flight_window(stream, last, config.max_gap, span)
-        fit = flight_or_none([stream.times[i] for i in found],
-                             np.asarray(stream.values[found.start:found.stop], dtype=float),
-                             noise, degree, FLIGHT_MIN_SAMPLES, tolerance)
+        times = stream.times[found.start:found.stop]
+        values = stream.values[found.start:found.stop]
+        fit = _kept(('flight', noise, degree, FLIGHT_MIN_SAMPLES, tolerance, tuple(times)),
+                    values, lambda: flight_or_none(
+                        times, np.asarray(values, dtype=float), noise, degree,
+                        FLIGHT_MIN_SAMPLES, tolerance))
         if fit is not None:
             return fit
     return None
+
+
+def _kept(key: Tuple[Any, ...], samples: List[Any], fit: Callable[[], Any]) -> Any:
+    """
+    Return ``fit()`` for a window's samples, kept: a window fitted again gets the same object.
+
+    An impact fits its windows again under noise (its velocities, then its uncertainty's
+    gains and its re-solve without look-ahead: ``uncertainty``), each fit a smoother or a
+    least-squares solve. A fit reads only its stamps and samples (never changed once taken:
+    ``Stream``) and the settings in ``key``, so the answer is kept by the stamps (in ``key``)
+    and the samples' identities; the entry holds the samples, so no other object can take
+    their ids while it is kept (at most ``_FITS_KEPT`` entries, then it starts again).
+
+    :param key: what else the fit depends on (noise, settings), and the stamps (s).
+    """
+    key = (*key, *map(id, samples))
+    found = _FITS.get(key)
+    if found is None:
+        if len(_FITS) >= _FITS_KEPT:
+            _FITS.clear()
+        found = _FITS[key] = (samples, fit())
+    return found[1]
+
+
+_FITS: dict = {}
+"""``_kept``'s answers: key -> (the samples, the fit)."""
+
+_FITS_KEPT = 64
+"""Most fits ``_FITS`` holds."""
 
 
 def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
@@ -247,8 +279,10 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
         window = widened(stream, window)
     times = stream.times[window.start:window.stop]
     samples = stream.values[window.start:window.stop]
-    if noise > 0.0:
-        return smoothed_bat_path(times, samples, k - window.start, noise)
+    if noise > 0.0:  # (kept: ``_kept``)
+        j = k - window.start
+        return _kept(('bat', noise, j, SMOOTHER, MARKER_SPREAD_M, tuple(times)), samples,
+                     lambda: smoothed_bat_path(times, samples, j, noise))
     return C2BatPath.fitted(times, samples, k - window.start)
 
 

@@ -176,9 +176,34 @@ def _likeliest(p: np.ndarray, scaled: np.ndarray, columns: int) -> float:
 
 
 def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.ndarray]:
-    """Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty``."""
-    p, u = np.linalg.eigh(penalty(times, kind))
-    return np.maximum(p, 0.0), u
+    """
+    Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty`` (read-only).
+
+    They depend on the stamps and the kind only, and one window's stamps are smoothed again and
+    again (the ball's and the bat's windows of an interval share them; an impact's velocities
+    and uncertainty fit its windows again): the last ``_EIGEN_KEPT`` answers are kept by
+    (stamps, kind) and the same arrays given again, so the same bits.
+
+    :raises ValueError: an unknown kind (``penalty``).
+    """
+    key = (tuple([float(t) for t in times]), kind)
+    found = _EIGEN.get(key)
+    if found is None:
+        p, u = np.linalg.eigh(penalty(times, kind))
+        p = np.maximum(p, 0.0)
+        p.setflags(write=False)
+        u.setflags(write=False)
+        if len(_EIGEN) >= _EIGEN_KEPT:
+            _EIGEN.clear()
+        found = _EIGEN[key] = (p, u)
+    return found
+
+
+_EIGEN: dict = {}
+"""``penalty_eigen``'s answers: (stamps as a tuple of floats, kind) -> (eigenvalues, vectors)."""
+
+_EIGEN_KEPT = 128
+"""Most answers ``_EIGEN`` holds (then it starts again): a few pitches' windows."""
 
 
 def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Sequence[float],

@@ -251,3 +251,41 @@ def test_flight_fit_is_the_same_in_chunks_and_one_sample_at_a_time(monkeypatch) 
     assert events == expected
     assert sum(isinstance(event, Impact) for event in events) == 2
     assert any(taken)
+
+
+def _fields(path: C2BatPath) -> tuple:
+    """Return a bat path's numbers (its pieces' coefficients and bounds), to compare bits."""
+    return (path.t0, path.t1, path.centre, path.radius, path.spread, path.reference,
+            *((part.a, part.b, part.c, part.d, part.end)
+              for part in (path.knob, path.turn, path.length)))
+
+
+def test_a_window_fitted_again_under_noise_is_the_kept_fit() -> None:
+    """The same window and noise give the same object, bit-equal to a fit made afresh."""
+    ball, bat = _streams(360.0, 1e-3, 5, count=60)
+    config = DetectorConfig(model='c2', bat_input='points', tracker_noise=1e-3)
+    k = 50
+    window = c2_window(bat, k, 0.05, 2, 8)
+    fitting._FITS.clear()
+    path = c2_bat_path(bat, k, window, 1e-3)
+    assert c2_bat_path(bat, k, window, 1e-3) is path
+    wide = widened(bat, window)
+    fresh = fitting.smoothed_bat_path(bat.times[wide.start:wide.stop],
+                                      bat.values[wide.start:wide.stop], k - wide.start, 1e-3)
+    assert _fields(path) == _fields(fresh)
+    # another noise, another window, other samples on the same stamps: fitted, not kept
+    assert c2_bat_path(bat, k, window, 2e-3) is not path
+    assert c2_bat_path(bat, k - 1, c2_window(bat, k - 1, 0.05, 2, 8), 1e-3) is not path
+    other = Stream('bat')
+    for t, stamp, value, broken in zip(bat.times, bat.stamps, bat.values, bat.breaks):
+        other.append(t, stamp, BatSample(value.knob, tuple(x + 1e-4 for x in value.tip)),
+                     broken)
+    moved = c2_bat_path(other, k, window, 1e-3)
+    assert moved is not path and _fields(moved) != _fields(path)
+    fit = ball_flight(ball, k, c2_window(ball, k, 0.05, 2, 8), 1e-3, config)
+    assert fit is not None
+    assert ball_flight(ball, k, c2_window(ball, k, 0.05, 2, 8), 1e-3, config) is fit
+    assert ball_flight(ball, k, c2_window(ball, k, 0.05, 2, 8), 2e-3, config) is not fit
+    for _ in range(fitting._FITS_KEPT + 3):  # bounded
+        c2_bat_path(bat, k, window, 1e-3 * (1.0 + 1e-3 * len(fitting._FITS)))
+        assert len(fitting._FITS) <= fitting._FITS_KEPT

@@ -1,7 +1,8 @@
 """Tests for the window smoothing splines: Reinsch's rule, the not-a-knot penalty, the weight."""
 
+from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
-    natural_slopes, penalty, smooth, smoother_matrix, smoothing_weight)
+    natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix, smoothing_weight)
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -166,3 +167,32 @@ def test_mismatched_shapes_and_unknown_choices_are_refused() -> None:
         smooth(times, values, [1e-6, 1e-6], kind='quintic')
     with pytest.raises(ValueError, match='target'):
         smooth(times, values, [1e-6, 1e-6], target='gcv')
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=4, max_size=31),
+       kind=st.sampled_from(('not-a-knot', 'natural')))
+def test_penalty_eigen_kept_by_stamps_is_the_computed_answer(steps, kind) -> None:
+    """A kept answer is the same arrays, bit-equal to a fresh one; other stamps, another."""
+    times = _times(steps)
+    smoothing._EIGEN.clear()
+    first = penalty_eigen(times, kind)
+    p, u = np.linalg.eigh(penalty(times, kind))
+    assert np.array_equal(first[0], np.maximum(p, 0.0)) and np.array_equal(first[1], u)
+    again = penalty_eigen(list(times), kind)  # the same stamps as a list of floats
+    assert again[0] is first[0] and again[1] is first[1]
+    assert not first[0].flags.writeable and not first[1].flags.writeable
+    moved = times.copy()
+    moved[-1] = np.nextafter(moved[-1], np.inf)  # one ulp later: not the same window
+    other = penalty_eigen(moved, kind)
+    assert other[1] is not first[1]
+    p, u = np.linalg.eigh(penalty(moved, kind))
+    assert np.array_equal(other[0], np.maximum(p, 0.0)) and np.array_equal(other[1], u)
+
+
+def test_penalty_eigen_keeps_a_bounded_number() -> None:
+    """The kept answers never pass ``_EIGEN_KEPT``."""
+    smoothing._EIGEN.clear()
+    for k in range(smoothing._EIGEN_KEPT + 5):
+        penalty_eigen(_times([0.01 + 1e-6 * k] * 6), 'not-a-knot')
+        assert len(smoothing._EIGEN) <= smoothing._EIGEN_KEPT
