@@ -46,6 +46,10 @@ SHORT_RUN = 16
 """A fast-forward of at most this many residual samples takes them one by one in plain floats
 (the arrays' fixed cost is more than theirs; the same numbers to the bit)."""
 
+_SLOTS = np.arange(5)
+_OTHERS = np.array([[j for j in range(5) if j != i] for i in range(5)])
+"""The five slots of a window and, for each, the other four in order (``take_points``)."""
+
 REBUILD = 48
 """More residuals than this at once: the sorted list is made again, not updated one by one."""
 
@@ -143,27 +147,18 @@ class NoiseEstimate:
         t = np.concatenate((np.asarray(old_times, dtype=float), np.asarray(times, float)))
         p = np.concatenate((np.asarray(old_points, dtype=float).reshape(-1, 3),
                             np.asarray(points, dtype=float)))
-        ends = np.arange(len(old_times) + first, len(t))  # each residual's newest sample
-        windows = [ends - 4 + k for k in range(5)]
-        weights = []
-        for i in range(5):
-            product = np.ones(len(ends))
-            for j in range(5):
-                if j != i:
-                    product = product * (t[windows[i]] - t[windows[j]])
-            weights.append(1.0 / product)
-        gain = np.zeros(len(ends))
-        for w in weights:
-            gain = gain + w * w
-        gain = np.sqrt(gain)
-        middle = p[windows[2]]
-        rows = []
-        for axis in range(3):
-            total = np.zeros(len(ends))
-            for w, index in zip(weights, windows):
-                total = total + w * (p[index, axis] - middle[:, axis])
-            rows.append(total / gain)
-        self._take(np.stack(rows, axis=1).ravel().tolist())
+        start = len(old_times) + first - 4  # the first residual's window's oldest sample
+        count = len(t) - 4 - start
+        # slot k of every window (k = 0..4 down the first axis), and each slot less each other
+        stamps = np.stack([t[start + k:start + k + count] for k in range(5)])
+        differences = stamps[:, None, :] - stamps[None, :, :]
+        # 1 / the product over the other slots, multiplied in slot order (a reduction over a
+        # leading axis adds or multiplies row after row: the order ``update`` takes)
+        weights = 1.0 / np.multiply.reduce(differences[_SLOTS[:, None], _OTHERS], axis=1)
+        gain = np.sqrt(np.add.reduce(weights * weights, axis=0))
+        values = np.stack([p[start + k:start + k + count] for k in range(5)])
+        rows = np.add.reduce(weights[:, :, None] * (values - values[2]), axis=0) / gain[:, None]
+        self._take(rows.ravel().tolist())
         return self.sigma
 
     def _take(self, found: Sequence[float]) -> None:
