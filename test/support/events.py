@@ -1,8 +1,8 @@
 """Detector events of the shared swing (``scenes``), for tests of what the node makes of them."""
 
-from typing import List
+from typing import Any, List, Tuple
 
-from baseball_collision.core.detector import Detector, DetectorConfig, Event
+from baseball_collision.core.detector import Detector, DetectorConfig, Event, Impact
 
 from .scenes import BASE_NS, pitch, pose
 
@@ -20,3 +20,13 @@ def swing_events(height: float = 1.0, horizon: float = 0.0) -> List[Event]:
         events += detector.add_ball(stamp, pitch(height)(i / 360.0), 'world')
         events += detector.add_bat_pose(stamp, *pose(i / 360.0), 'world')
     return events + detector.finish()
+
+
+def detect(config: DetectorConfig, samples: Any) -> Tuple[Detector, List[Impact]]:
+    """Return a detector fed every message of ``samples`` (``sim.sample``) and its impacts."""
+    detector = Detector(config)
+    events: List[Event] = []
+    for stamp, role, values in samples.messages(config.bat_input):
+        events += detector.add(role, stamp, values)
+    events += detector.finish()
+    return detector, [event for event in events if isinstance(event, Impact)]

@@ -7,17 +7,13 @@ from baseball_collision.core.geometry import profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
+from support.events import detect
 
 
 def _impacts(config: DetectorConfig, seed: int, kind: str) -> Tuple[Detector, List[Impact]]:
     scenario = make_scenario(kind, np.random.default_rng(seed), family='tilted')
-    samples = sample(scenario, 90.0, np.random.default_rng(seed), jitter_s=2e-4, grid_s=1e-3)
-    detector = Detector(config)
-    events = []
-    for stamp, role, values in samples.messages(config.bat_input):
-        events += detector.add(role, stamp, values)
-    events += detector.finish()
-    return detector, [event for event in events if isinstance(event, Impact)]
+    return detect(config, sample(scenario, 90.0, np.random.default_rng(seed), jitter_s=2e-4,
+                                 grid_s=1e-3))
 
 
 def _first_contact_of_the_paths(detector: Detector, impact: Impact) -> float:

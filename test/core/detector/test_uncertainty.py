@@ -1,15 +1,16 @@
 """Tests for the impacts' 1-sigma uncertainties: re-solves, noise-free estimate, calibration."""
 
 from dataclasses import replace
-from typing import List, Sequence, Tuple
+from typing import Sequence
 
-from baseball_collision.core.detector import Detector, DetectorConfig, Impact
+from baseball_collision.core.detector import DetectorConfig, Impact
 from baseball_collision.core.detector.uncertainty import (
     ALTERNATIVE, before_rule_speed, excerpt, resolve, union_intervals)
 from baseball_collision.tools.accuracy import run_samples, summarize
 from baseball_collision.tools.sim import FAMILIES, KINDS, make_scenario, sample
 import numpy as np
 import pytest
+from support.events import detect
 
 CONTACT_KINDS = ('barrel', 'end_cap', 'handle')
 
@@ -21,13 +22,7 @@ def _samples(family: str, rate: float, noise_m: float, seed: int):
                             marker_spread_m=0.3 if noise_m else None)
 
 
-def _impacts(config: DetectorConfig, samples) -> Tuple[Detector, List[Impact]]:
-    detector = Detector(config)
-    events = []
-    for stamp, role, values in samples.messages(config.bat_input):
-        events += detector.add(role, stamp, values)
-    events += detector.finish()
-    return detector, [e for e in events if isinstance(e, Impact)]
+_impacts = detect
 
 
 @pytest.mark.parametrize('bat_input', ['points', 'pose'])
