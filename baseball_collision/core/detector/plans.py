@@ -29,6 +29,7 @@ from typing import List, Optional, Sequence, Tuple, TYPE_CHECKING
 import numpy as np
 
 from .broadphase import apart_margins, path_margins
+from .broadphase.arrays import rows
 from .config import DetectorConfig
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
@@ -254,9 +255,9 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
         return stops
     ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
     ball_times, bat_times = arrays.times
-    b0, b1 = arrays.ball[ball - 1], arrays.ball[ball]
-    k0, k1 = arrays.knobs[bat - 1], arrays.knobs[bat]
-    t0, t1 = arrays.tips[bat - 1], arrays.tips[bat]
+    b0, b1 = rows(arrays.ball, ball - 1), rows(arrays.ball, ball)
+    k0, k1 = rows(arrays.knobs, bat - 1), rows(arrays.knobs, bat)
+    t0, t1 = rows(arrays.tips, bat - 1), rows(arrays.tips, bat)
     with np.errstate(all='ignore'):
         ball_speed = _norms(b1 - b0) / (ball_times[ball] - ball_times[ball - 1])
         bat_speed = np.maximum(_norms(k1 - k0), _norms(t1 - t0)) / (
@@ -283,7 +284,9 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
     arrays = Arrays()
     with np.errstate(all='ignore'):
         t = (stamps - origin) * 1e-9
-        position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
+        # (np.compress: the rows of a boolean mask, the same copy as values[is_bat], cheaper)
+        pose = np.compress(is_bat, values, axis=0)
+        position, quaternion = pose[:, :3], pose[:, 3:7]
         magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
                             + quaternion[:, 1] * quaternion[:, 1]
                             + quaternion[:, 2] * quaternion[:, 2]
@@ -291,7 +294,7 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
         quaternion = quaternion / magnitude[:, None]
         knob = _pose_points(position, quaternion, offsets[0])
         tip = _pose_points(position, quaternion, offsets[1])
-    new_ball = values[is_ball, :3]
+    new_ball = np.compress(is_ball, values[:, :3], axis=0)
     arrays.new = (new_ball, knob, tip, position, quaternion)
     pre_bat = bat.values
     arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
@@ -490,13 +493,17 @@ def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
 def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
                   is_bat: np.ndarray) -> np.ndarray:
     """Return which samples pass the value checks (``gate``) with room to spare."""
+    # (each test on the columns in turn: the same as numpy's row reductions, which cost more
+    # on rows of 3 or 4: the squares summed left to right, as ``(q * q).sum(1)`` sums them)
     finite = np.isfinite(values)
-    ok = is_ball & finite[:, :3].all(1)
-    q = values[:, 3:7]
-    magnitude = np.sqrt((q * q).sum(1))
-    pose = is_bat & finite.all(1) & (np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
+    point = finite[:, 0] & finite[:, 1] & finite[:, 2]
+    ok = is_ball & point
+    q0, q1, q2, q3 = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
+    magnitude = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    pose = is_bat & point & finite[:, 3] & finite[:, 4] & finite[:, 5] & finite[:, 6] & (
+        np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
     # a pose at the origin may be a lost body: the per-sample path decides
-    pose &= ~(values[:, :3] == 0.0).all(1)
+    pose &= ~((values[:, 0] == 0.0) & (values[:, 1] == 0.0) & (values[:, 2] == 0.0))
     return ok | pose
 
 
@@ -511,18 +518,25 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
     before, under ``time_jump_reset``): the next sample takes them.
     """
-    new = np.arange(pre, len(stamps))
-    step = (stamps[new] - stamps[new - 1]).astype(float)
-    step1 = (stamps[new - 1] - stamps[new - 2]).astype(float)
-    step2 = (stamps[new - 2] - stamps[new - 3]).astype(float)
+    if pre < 3:
+        raise ValueError(f'order checks need 3 kept samples before the new, got {pre}')
+    m = len(stamps)
+
+    def back(array: np.ndarray, k: int) -> np.ndarray:
+        """Return the rows k before each new sample's (a view)."""
+        return array[pre - k:m - k]
+
+    step = (back(stamps, 0) - back(stamps, 1)).astype(float)
+    step1 = (back(stamps, 1) - back(stamps, 2)).astype(float)
+    step2 = (back(stamps, 2) - back(stamps, 3)).astype(float)
     reset_ns = int(round(config.time_jump_reset * 1e9))
     factor = HOLD_FACTOR * (1.0 - SLACK)
     ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
-    dt = times[new] - times[new - 1]
+    dt = back(times, 0) - back(times, 1)
     ok &= dt <= config.max_gap * (1.0 - SLACK)
     limit = config.max_speed * dt * (1.0 - SLACK)
     for each in points:
-        d = each[new] - each[new - 1]
+        d = back(each, 0) - back(each, 1)
         ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
     gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
         dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
@@ -548,17 +562,31 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     """
     n = len(counts)
     following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
-                                      np.searchsorted(cuts, cuts + 1, 'left')),
-                           np.arange(1, n + 1)).tolist()
+                                      _next_greater(cuts)), np.arange(1, n + 1)).tolist()
     at = []  # the samples that trim
     j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
     while j < n:
         at.append(j)
         j = following[j]
-    trims = np.array(at, dtype=np.int64)
+    trims = np.zeros(n, bool)
+    trims[at] = True
     starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
-    after = starts[np.searchsorted(trims, np.arange(n), 'right')]
+    after = starts[np.cumsum(trims)]  # (cumsum: the trims at or before each sample)
     return after, counts - np.concatenate(([0], after[:-1]))
+
+
+def _next_greater(values: np.ndarray) -> np.ndarray:
+    """
+    Return, for each of nondecreasing integers, the index of the first one greater (n: none).
+
+    ``np.searchsorted(values, values + 1, 'left')`` in one pass: the start of the next run of
+    equal values.
+    """
+    n = len(values)
+    rises = np.flatnonzero(values[1:] != values[:-1]) + 1  # where a run starts
+    following = np.full(n, n, dtype=np.int64)
+    following[rises - 1] = rises
+    return np.minimum.accumulate(following[::-1])[::-1]
 
 
 def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
