@@ -1,9 +1,14 @@
 """Tests for baseball_collision.bags decoding: the fixed-offset fast path against rosbags."""
 
 from pathlib import Path
+from typing import List
 
 from baseball_collision.bags import BagReader, POSE_STAMPED, read_samples, Sample
+from baseball_collision.bags.decode import _groups, BULK_GROUP
+from hypothesis import given, settings, strategies as st
+import numpy as np
 import pytest
+from support import examples
 from support.bagfiles import expected_samples, read_by_rosbags, reference_bag, tracker_rows
 
 
@@ -41,3 +46,20 @@ def test_ball_pose_gives_its_position(tmp_path: Path, name: str) -> None:
         samples = list(bag.samples())
     assert samples == expected_samples(rows, {'/ball': 'ball', '/bat/pose': 'bat_pose'})
     assert all(len(s.values) == 3 for s in samples if s.role == 'ball')
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.integers(0, 12), max_size=400), st.integers(1, 3))
+def test_groups_are_the_sorted_groups_of_equal_keys(kinds: List[int], lengths: int) -> None:
+    """
+    ``_groups``: each key's indices in order, by key, the groups of ``BULK_GROUP`` or more.
+
+    Against a sort (``np.unique`` and a stable ``argsort``), with fewer and more distinct keys
+    than ``GROUPS_PICKED``.
+    """
+    keys = np.array(kinds, dtype=np.int64) * 1000 + np.arange(len(kinds)) % lengths
+    got = _groups(keys)
+    distinct = sorted(set(keys.tolist()))
+    expected = [np.flatnonzero(keys == key) for key in distinct]
+    expected = [members for members in expected if len(members) >= BULK_GROUP]
+    assert [members.tolist() for members in got] == [members.tolist() for members in expected]
