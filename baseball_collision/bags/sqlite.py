@@ -146,10 +146,12 @@ class _File:
     time, less the rows of that time taken already), ``LIMIT count``: the rows' bytes
     concatenated, their log times and their codes and lengths as text. The same index walked
     from the same entry gives the same rows in the same order; a Python object per row is
-    not made. A batch that cannot be read so (a log time not an integer or data not a blob in
-    a damaged file, a batch too big for one SQLite string, an error, more than ``BATCH_TIES``
-    rows of one log time to skip) leaves the rest of the file to the row path: rosbags' query
-    from that place, row by row (which raises what a damaged file raises).
+    not made. A batch that cannot be read so leaves the rest of the file to the row path,
+    rosbags' query from that place row by row (which raises what a damaged file raises): a
+    damaged row (data not a blob; a log time not an integer: text or a blob, which the index
+    sorts after every number, a real, whose text does not parse as an integer, a null, which
+    makes the counts disagree), a batch too big for one SQLite string, an error, or more than
+    ``BATCH_TIES`` rows of one log time to skip.
 
     :param connection: the file's open apsw connection (rosbags').
     :param topics: the selected topic ids; ``codes``: each one's connection code.
@@ -187,11 +189,14 @@ class _File:
         assert self.index is not None
         text, arguments = _batch_query(self.topics, self.start, self.skip, count, self.index)
         try:
-            (n, last, data, times, mixed, typed), = self.connection.execute(text, arguments)
+            (n, last, data, times, mixed, kind), = self.connection.execute(text, arguments)
             if not n:
                 return Part(0, *(np.zeros(0, np.int64),) * 3, b'')
-            if typed != 1 or not isinstance(data, bytes):
-                return None  # (a damaged row: the row path raises as rosbags' rows would)
+            # a damaged row (data not a blob: 'blob' is the least type name; a log time not
+            # an integer: the last in the index, or text that is not integers): the row path
+            # raises as rosbags' rows would make it
+            if kind != 'blob' or type(last) is not int or not isinstance(data, bytes):
+                return None
             log_times = np.fromstring(times, np.int64, sep=',')
             mixed = np.fromstring(mixed, np.int64, sep=',')
         except Exception:  # (too big for one string, an error: the row path says)
@@ -258,7 +263,7 @@ def _batch_query(topics: List[int], start: Optional[int], skip: int, count: int,
     return ' '.join([
         "SELECT count(*),max(time),CAST(group_concat(data,'') AS BLOB),group_concat(time),",
         f'group_concat(code*{1 << _LENGTH_BITS}+length(data)),',
-        "min(typeof(time)='integer' AND typeof(data)='blob') FROM",
+        'max(typeof(data)) FROM',
         f'(SELECT CASE topics.id {cases} END AS code,messages.timestamp AS time,',
         f'messages.data AS data {where} ORDER BY timestamp LIMIT ? OFFSET ?)']), (
         list(topics) + arguments + [count, skip])

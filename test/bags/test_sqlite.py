@@ -389,7 +389,7 @@ def _outcome(path: Path, size: int) -> Any:
 
 
 @pytest.mark.parametrize('column, value', [('data', 5), ('data', 'text'), ('timestamp', 2.5),
-                                           ('timestamp', 'late')])
+                                           ('timestamp', 'late'), ('timestamp', b'\x00\x01')])
 @pytest.mark.parametrize('row', [7, 90])
 def test_a_damaged_file_reads_as_row_by_row(tmp_path: Path, column: str, value: Any,
                                             row: int, monkeypatch: pytest.MonkeyPatch) -> None:
