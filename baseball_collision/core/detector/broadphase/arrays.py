@@ -40,7 +40,9 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     :param ball_times, bat_times: the samples' times (s) (spline only).
     :param model: ``linear``, ``rigid``, ``spline`` or ``c2``.
     :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
-    :param margin: ``c2``: intervals whose first stage clears this (m) skip the second.
+    :param margin: intervals whose first bound clears this (m) skip the second: ``c2``'s
+        second stage, the other models' hulls (their clearance is then the spheres' alone,
+        which already clears it).
     :returns: the clearance of each interval (m,).
     :raises ValueError: an unknown model.
     """
@@ -79,8 +81,16 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     ball_radius = ball_radius + ball_bulge
     bat_radius = bat_radius + bat_growth
     sphere = _dist(ball_centre, bat_centre) - ball_radius - bat_radius
-    return np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
-                      - bat_growth)
+    near = np.flatnonzero(~(sphere > margin))  # (the hulls only where the spheres do not clear)
+    if len(near) == len(sphere):
+        return np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
+                          - bat_growth)
+    if len(near):
+        hull = hull_separations(*(rows(each, near) for each in (b0, b1, k0, e0, k1, e1)))
+        for growth in (ball_bulge, bat_growth):
+            hull = hull - (growth[near] if isinstance(growth, np.ndarray) else growth)
+        sphere[near] = np.maximum(sphere[near], hull)
+    return sphere
 
 
 def rows(points: np.ndarray, index: np.ndarray) -> np.ndarray:

@@ -155,3 +155,29 @@ def test_rows_are_fancy_indexing(seed: int, n: int, shape, columns: int) -> None
     index = rng.integers(-n, n, shape)
     taken = rows(points, index)
     assert taken.shape == points[index].shape and np.array_equal(taken, points[index])
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 40), m=st.integers(1, 30),
+       model=st.sampled_from(['linear', 'rigid', 'spline']), margin=st.floats(-1.0, 3.0))
+def test_a_margin_skips_only_hulls_that_cannot_matter(seed: int, n: int, m: int, model: str,
+                                                      margin: float) -> None:
+    """
+    With a margin, the intervals the spheres clear skip the hulls: the same decisions.
+
+    Where the clearance is not above the margin it is the whole clearance, to the bit.
+    """
+    rng = np.random.default_rng(seed)
+    ball, knob, tip, position = (rng.normal(size=(n, 3)) for _ in range(4))
+    times = np.cumsum(rng.uniform(0.001, 0.01, n))
+    ball_k, bat_k = rng.integers(0, n - 1, m), rng.integers(0, n - 1, m)
+    before = np.where(ball_k >= 1, ball_k - 1, -1)
+    after = np.where(bat_k + 2 < n, bat_k + 2, -1)
+    arguments = (ball, knob, tip, position, ball_k, bat_k, before, -np.ones(m, np.int64),
+                 np.where(bat_k >= 1, bat_k - 1, -1), after, times, times, model)
+    with np.errstate(all='ignore'):
+        whole = apart_margins(*arguments)
+        cut = apart_margins(*arguments, margin=margin)
+    assert ((cut > margin) == (whole > margin)).all()
+    kept = ~(whole > margin)
+    assert cut[kept].tobytes() == whole[kept].tobytes()
