@@ -294,7 +294,7 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
         quaternion = quaternion / magnitude[:, None]
         knob = _pose_points(position, quaternion, offsets[0])
         tip = _pose_points(position, quaternion, offsets[1])
-    new_ball = np.compress(is_ball, values[:, :3], axis=0)
+    new_ball = np.compress(is_ball, values, axis=0)[:, :3]  # (whole rows: cheaper)
     arrays.new = (new_ball, knob, tip, position, quaternion)
     pre_bat = bat.values
     arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
@@ -372,7 +372,9 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     ahead = samples_ahead(config.model, config.look_ahead)
     watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
                            arrays.times[1][counts[1] - 1 - ahead])
-    union = np.union1d(arrays.times[0], arrays.times[1])
+    # np.union1d of two sorted arrays: merged (a stable sort of two runs), then deduplicated
+    union = np.sort(np.concatenate(arrays.times), kind='stable')
+    union = union[np.concatenate(([True], union[1:] != union[:-1]))]
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
     visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
     plan.visited = visited[done]
@@ -561,7 +563,7 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     the trims are that chain from the first (with a long history, every sample).
     """
     n = len(counts)
-    following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
+    following = np.maximum(np.maximum(_first_reaching(counts, cuts + TRIM_FROM),
                                       _next_greater(cuts)), np.arange(1, n + 1)).tolist()
     at = []  # the samples that trim
     j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
@@ -573,6 +575,22 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
     after = starts[np.cumsum(trims)]  # (cumsum: the trims at or before each sample)
     return after, counts - np.concatenate(([0], after[:-1]))
+
+
+def _first_reaching(counts: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """
+    Return, for each target, the index of the first count at or above it (n: none).
+
+    ``np.searchsorted(counts, targets, 'left')``; where the counts go up by one at a time
+    (a stream's count after each step), read from where each count is first reached.
+    """
+    n = len(counts)
+    rises = np.flatnonzero(counts[1:] != counts[:-1]) + 1  # where each count is first reached
+    if not n or int(counts[-1]) - int(counts[0]) != len(rises):
+        return np.searchsorted(counts, targets, 'left')
+    above = targets - int(counts[0])  # (the rise of each target: the above-th, from 1)
+    first = np.concatenate(([0], rises, [n]))
+    return first[np.clip(above, 0, len(rises) + 1)]
 
 
 def _next_greater(values: np.ndarray) -> np.ndarray:

@@ -10,8 +10,8 @@ from typing import List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.plans import (
-    _next_greater, _order_checks, _pose_points, _trims, _value_checks, SLACK, TRIM_FROM,
-    TRIM_KEEP)
+    _first_reaching, _next_greater, _order_checks, _pose_points, _trims, _value_checks, SLACK,
+    TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from hypothesis import given, settings, strategies as st
@@ -143,3 +143,14 @@ def test_order_checks_need_three_kept_samples() -> None:
         _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 2)
     ok, gap = _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 3)
     assert ok.tolist() == [True, True] and gap.tolist() == [False, False]
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.integers(0, 2), max_size=200), st.integers(-5, 5),
+       st.lists(st.integers(-10, 250), max_size=60))
+def test_first_reaching_is_the_search(steps: List[int], first: int, targets: List[int]) -> None:
+    """``_first_reaching``: ``searchsorted(counts, targets)``, counts rising by one or more."""
+    counts = np.cumsum(np.array(steps, dtype=np.int64)) + first
+    wanted = np.array(targets, dtype=np.int64)
+    assert _first_reaching(counts, wanted).tolist() == np.searchsorted(
+        counts, wanted, 'left').tolist()
