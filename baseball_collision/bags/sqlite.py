@@ -197,7 +197,7 @@ class _File:
             # raises as rosbags' rows would make it
             if kind != 'blob' or type(last) is not int or not isinstance(data, bytes):
                 return None
-            log_times = np.fromstring(times, np.int64, sep=',')
+            log_times = np.fromstring(times, np.int64, sep=',') + (self.start or 0)
             mixed = np.fromstring(mixed, np.int64, sep=',')
         except Exception:  # (too big for one string, an error: the row path says)
             return None
@@ -257,16 +257,21 @@ def _from(topics: List[int], start: Optional[int], skip: int,
 
 def _batch_query(topics: List[int], start: Optional[int], skip: int, count: int,
                  index: str) -> Tuple[str, List[int]]:
-    """Return the batch query of ``count`` rows from a place (see :class:`_File`)."""
+    """
+    Return the batch query of ``count`` rows from a place (see :class:`_File`).
+
+    Its log times are given less ``start`` (shorter text; one too far off to subtract becomes
+    a real, which does not parse as an integer).
+    """
     where, arguments = _where(topics, start, index)
     cases = ' '.join(f'WHEN ? THEN {code}' for code in range(len(topics)))
     return ' '.join([
-        "SELECT count(*),max(time),CAST(group_concat(data,'') AS BLOB),group_concat(time),",
+        "SELECT count(*),max(time),CAST(group_concat(data,'') AS BLOB),group_concat(time-?),",
         f'group_concat(code*{1 << _LENGTH_BITS}+length(data)),',
         'max(typeof(data)) FROM',
         f'(SELECT CASE topics.id {cases} END AS code,messages.timestamp AS time,',
         f'messages.data AS data {where} ORDER BY timestamp LIMIT ? OFFSET ?)']), (
-        list(topics) + arguments + [count, skip])
+        [start or 0] + list(topics) + arguments + [count, skip])
 
 
 _WALK = re.compile(r'(?:SCAN|SEARCH) messages USING (?:COVERING )?INDEX (\S+)')

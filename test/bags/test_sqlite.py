@@ -429,3 +429,20 @@ def test_topic_ids_of_any_size(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) 
         _same(fast, expected)
         assert len(expected) == 300 and {m[0].topic for m in expected} == {'/ball', '/bat'}
         _as_rosbags_reads(path, 64, monkeypatch)
+
+
+def test_log_times_too_far_apart_for_a_difference(tmp_path: Path) -> None:
+    """
+    Log times too far apart to subtract: the rest row by row, rosbags' rows still.
+
+    A batch's log times are sent less the last batch's: one too far off (past int64) is a
+    real in SQLite, which does not parse as an integer.
+    """
+    _write(tmp_path / 'bag', _pairs(100))
+    with sqlite3.connect(tmp_path / 'bag' / 'bag.db3') as db:
+        for k in range(20):
+            db.execute('UPDATE messages SET timestamp = ? WHERE id = ?', (-2**63 + k, k + 1))
+    fast, expected, lengths = _both(tmp_path / 'bag', ['/bat', '/ball'], 16)
+    _same(fast, expected)
+    _cut(lengths, 100, 16)
+    assert expected[0][1] == -2**63 and expected[-1][1] > 0
