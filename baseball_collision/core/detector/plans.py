@@ -395,9 +395,10 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     for s in (0, 1):
         k = np.searchsorted(arrays.times[s], starts, 'right') - 1
         times, cut = arrays.times[s], arrays.breaks[s]
-        far &= _continuous(times, cut, k, config.max_gap)
-        before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
-        after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
+        closed = _closed(times, cut, config.max_gap)
+        far &= _continuous(closed, k)
+        before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
+        after = np.where(_continuous(closed, k + 1), k + 2, -1)
         located.append((k, before, after))
     if not len(starts):
         return far
@@ -545,12 +546,17 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     return ok, gap
 
 
-def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
-                max_gap: float) -> np.ndarray:
+def _closed(times: np.ndarray, breaks: np.ndarray, max_gap: float) -> np.ndarray:
+    """``Stream.continuous`` over each of a stream's sample intervals (i, i + 1)."""
+    return ~breaks[1:] & (times[1:] - times[:-1] <= max_gap)
+
+
+def _continuous(closed: np.ndarray, k: np.ndarray) -> np.ndarray:
     """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
-    inside = (k >= 0) & (k + 1 < len(times))
-    j = np.where(inside, k, 0)
-    return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
+    inside = (k >= 0) & (k < len(closed))
+    if not len(closed):
+        return inside
+    return inside & closed[np.where(inside, k, 0)]
 
 
 def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:

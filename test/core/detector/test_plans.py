@@ -10,8 +10,8 @@ from typing import List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.plans import (
-    _first_reaching, _next_greater, _order_checks, _pose_points, _trims, _value_checks, SLACK,
-    TRIM_FROM, TRIM_KEEP)
+    _closed, _continuous, _first_reaching, _next_greater, _order_checks, _pose_points, _trims,
+    _value_checks, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from hypothesis import given, settings, strategies as st
@@ -154,3 +154,17 @@ def test_first_reaching_is_the_search(steps: List[int], first: int, targets: Lis
     wanted = np.array(targets, dtype=np.int64)
     assert _first_reaching(counts, wanted).tolist() == np.searchsorted(
         counts, wanted, 'left').tolist()
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.tuples(st.floats(0.0, 0.05), st.booleans()), min_size=1, max_size=60),
+       st.lists(st.integers(-3, 64), max_size=40), st.floats(0.0, 0.05))
+def test_continuous_is_the_stream_rule(samples: List[Tuple[float, bool]], ks: List[int],
+                                       max_gap: float) -> None:
+    """``_continuous`` from ``_closed``: k and k + 1 in range, no break at k + 1, a short step."""
+    times = np.cumsum([step for step, _ in samples])
+    breaks = np.array([cut for _, cut in samples])
+    k = np.array(ks, dtype=np.int64)
+    got = _continuous(_closed(times, breaks, max_gap), k).tolist()
+    assert got == [0 <= j and j + 1 < len(times) and not breaks[j + 1]
+                   and bool(times[j + 1] - times[j] <= max_gap) for j in ks]
