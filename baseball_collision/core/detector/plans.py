@@ -296,12 +296,13 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
         tip = _pose_points(position, quaternion, offsets[1])
     new_ball = np.compress(is_ball, values, axis=0)[:, :3]  # (whole rows: cheaper)
     arrays.new = (new_ball, knob, tip, position, quaternion)
-    pre_bat = bat.values
+    kept = np.array([(*s.knob, *s.tip, *s.position, *s.quaternion) for s in bat.values],
+                    dtype=float).reshape(-1, 13)  # (the bat's kept samples: one conversion)
     arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
     arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
-        np.concatenate((np.array([getattr(s, name) for s in pre_bat], dtype=float), column))
-        for name, column in (('knob', knob), ('tip', tip), ('position', position),
-                             ('quaternion', quaternion)))
+        np.concatenate((kept[:, first:end], column))
+        for first, end, column in ((0, 3, knob), (3, 6, tip), (6, 9, position),
+                                   (9, 13, quaternion)))
     arrays.pre = (len(ball.times), len(bat.times))
     arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
                     np.concatenate((np.array(bat.times), t[is_bat])))
@@ -333,8 +334,9 @@ def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: A
                             (1, is_bat, (arrays.knobs, arrays.tips))):
         in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
                                             arrays.pre[s])
-        ok[mine] &= in_order
-        gap[mine] &= after_gap
+        own = np.flatnonzero(mine)  # (once for both)
+        ok[own] &= in_order
+        gap[own] &= after_gap
     return ok, gap
 
 
@@ -366,9 +368,10 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
             arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
         done -= np.cumsum(pending[:n])
         order = np.argsort(key, kind='stable')[:int(done[-1])]
-    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
+    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order] if held else mine)))
               for s, mine in ((0, is_ball), (1, is_bat))]
-    plan.counts = (counts[0][done], counts[1][done])
+    # (nothing held: each sample one step, ``done`` every step from the first)
+    plan.counts = (counts[0][done], counts[1][done]) if held else (counts[0][1:], counts[1][1:])
     ahead = samples_ahead(config.model, config.look_ahead)
     watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
                            arrays.times[1][counts[1] - 1 - ahead])
@@ -377,7 +380,7 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     union = union[np.concatenate(([True], union[1:] != union[:-1]))]
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
     visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
-    plan.visited = visited[done]
+    plan.visited = visited[done] if held else visited[1:]
     return done, counts, visited
 
 
