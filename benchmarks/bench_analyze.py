@@ -30,10 +30,11 @@ is >= 100,000 messages/s end to end.
 
 ``--whole``: instead, the goal of issue 13 as a user meets it: the whole ``baseball-collision
 analyze BAG --quiet`` process (interpreter start-up, imports, the kernel's load included) against
-a whole process that only iterates rosbags' raw messages of the same bag, and against (a) in
-this process, best of ``--repeats`` each, wall time and the processes' CPU time (steadier on a
-shared machine) (goal: analyze >= 0.5 of the raw read rate). With ``--before DIR`` (a source
-tree of another commit with its kernel built, e.g. a ``git worktree`` and ``setup.py build_ext
+a whole process that only iterates rosbags' raw messages of the same bag (the two in turn,
+``--repeats`` pairs: each pair's ratio is printed too), and against (a) in this process, best
+of ``--repeats`` each, wall time and the processes' CPU time (steadier on a shared machine)
+(goal: analyze >= 0.5 of the raw read rate). With ``--before DIR`` (a source tree of another
+commit with its kernel built, e.g. a ``git worktree`` and ``setup.py build_ext
 --inplace``), ``python -m baseball_collision.tools.cli analyze`` also runs from DIR and from this
 tree in turn, on the bag and on a bag of 300 messages (the start-up: interpreter, imports, opening
 a bag), best wall and best CPU time (the child's user + system) of each. With ``--split``,
@@ -337,12 +338,6 @@ def split_figures(path: Path, model: str, repeats: int) -> None:
             print(f'  {label:42s} {seconds:6.3f}')
 
 
-def process_seconds(command: list, repeats: int) -> Tuple[float, float]:
-    """Return the best wall time and the best CPU time (s) over ``repeats`` runs of a command."""
-    runs = [process_times(command) for _ in range(repeats)]
-    return min(run[0] for run in runs), min(run[1] for run in runs)
-
-
 def process_times(command: list, cwd: Optional[Path] = None) -> Tuple[float, float]:
     """
     Return (wall s, CPU s: user + system) of one run of a command (which must succeed).
@@ -391,12 +386,14 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
         path = Path(tmp) / SUFFIXES[storage]
         written, _ = write_bag(path, messages, pitch_every)
         raw_in = min(timed(raw_read, path)[1] for _ in range(repeats))
-        raw_process, raw_cpu = process_seconds(
-            [sys.executable, '-c', RAW_READ_PROCESS.format(bag=str(path))], repeats)
+        # the two processes in turn, so a load that comes and goes meets both alike
         cli = str(Path(sys.executable).with_name('baseball-collision'))
-        analyze_process, analyze_cpu = process_seconds(
-            [cli, 'analyze', str(path), '--model', model, '--quiet', '--no-progress'], repeats)
-        print(f'{written:,} messages ({storage}), best of {repeats} each')
+        runs = [(process_times([sys.executable, '-c', RAW_READ_PROCESS.format(bag=str(path))]),
+                 process_times([cli, 'analyze', str(path), '--model', model, '--quiet',
+                                '--no-progress'])) for _ in range(repeats)]
+        raw_process, raw_cpu = (min(raw[k] for raw, _ in runs) for k in (0, 1))
+        analyze_process, analyze_cpu = (min(mine[k] for _, mine in runs) for k in (0, 1))
+        print(f'{written:,} messages ({storage}), best of {repeats} each, in turn')
         for label, seconds in (('rosbags raw read, in this process (a)', raw_in),
                                ('rosbags raw read, whole process', raw_process),
                                ('rosbags raw read, whole process, CPU time', raw_cpu),
@@ -411,6 +408,10 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
             ratio = seconds / mine
             print(f'analyze process / {label:26s} = {ratio:.2f} of its rate '
                   f"[goal >= 0.5: {'met' if ratio >= 0.5 else 'NOT met'}]")
+        for k, what in ((0, 'wall'), (1, 'CPU')):
+            pairs = sorted(raw[k] / mine[k] for raw, mine in runs)
+            print(f'  each pair in turn, by {what}: ' + ', '.join(f'{r:.2f}' for r in pairs)
+                  + f' (median {pairs[len(pairs) // 2]:.2f})')
         if before is not None:
             before_after_processes(path, written, model, repeats, before)
         if split:
