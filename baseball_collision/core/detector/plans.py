@@ -24,7 +24,7 @@ path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` mode
 """
 
 from bisect import bisect_left
-from typing import List, Optional, Sequence, Tuple, TYPE_CHECKING
+from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
@@ -87,9 +87,10 @@ class Plan:
         does not; ``steps``: the bat's turn from each of the chunk's bat samples to the next
         (``chunks.turn_steps``), made when a run first sums turns.
 
-    The indices are Python lists once planned (``fast_forward`` runs between stops a few
-    samples apart near a contact); the samples stay arrays, and only those a fast-forward
-    keeps after its trim become the streams' lists and tuples.
+    The stops are a Python list once planned; the other per-sample indices and the union are
+    read as Python numbers one at a time (:class:`Items`: a run reads a few of its thousands);
+    the samples stay arrays, and only those a fast-forward keeps after its trim become the
+    streams' lists and tuples.
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
@@ -113,6 +114,34 @@ class Plan:
                     stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
                 return False
         return cursor == self.union[self.visited[j] - 1]
+
+
+class Items:
+    """
+    A 1-D array read as a list of Python numbers: ``items[j]`` is ``array.item(j)``.
+
+    What a plan reads a few of per run (``fast_forward``): the same ``int``, ``float`` and
+    ``bool`` values a ``tolist()`` would give, without making the list.
+
+    :param array: the values (not copied: left unchanged).
+    """
+
+    __slots__ = ('item', 'size')
+
+    def __init__(self, array: np.ndarray) -> None:
+        self.item, self.size = array.item, len(array)
+
+    def __getitem__(self, j: int) -> Any:
+        """
+        Return value j as a Python number (negative j from the end).
+
+        :raises IndexError: j out of range.
+        """
+        return self.item(j)
+
+    def __len__(self) -> int:
+        """Return how many values."""
+        return self.size
 
 
 def plannable(config: DetectorConfig) -> bool:
@@ -202,9 +231,9 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
-    plan.checked = ok.tolist()
-    plan.counts = [counts.tolist() for counts in plan.counts]
-    plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
+    plan.checked = Items(ok)
+    plan.counts = [Items(counts) for counts in plan.counts]
+    plan.visited, plan.union = Items(plan.visited), Items(plan.union)
     plan.times, plan.stamps = arrays.times, arrays.stamps
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
@@ -441,7 +470,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     for s in (0, 1):
         cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
         starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
+        plan.starts.append(Items(np.concatenate(([0], starts))[done]))
         silent[1:] |= lengths > SILENT_KEEP
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)

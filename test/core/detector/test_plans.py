@@ -11,7 +11,7 @@ from typing import List, Tuple
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.plans import (
     _closed, _continuous, _first_reaching, _next_greater, _order_checks, _pose_points, _trims,
-    _value_checks, SLACK, TRIM_FROM, TRIM_KEEP)
+    _value_checks, Items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from hypothesis import given, settings, strategies as st
@@ -168,3 +168,18 @@ def test_continuous_is_the_stream_rule(samples: List[Tuple[float, bool]], ks: Li
     got = _continuous(_closed(times, breaks, max_gap), k).tolist()
     assert got == [0 <= j and j + 1 < len(times) and not breaks[j + 1]
                    and bool(times[j + 1] - times[j] <= max_gap) for j in ks]
+
+
+@pytest.mark.parametrize('values', [[3, -1, 2**40], [0.5, -0.0, 1e300], [True, False], []])
+def test_items_read_as_the_list(values: list) -> None:
+    """``Items``: each value as ``tolist()`` gives it (the same type), negative j, the length."""
+    array = np.array(values)
+    items = Items(array)
+    listed = array.tolist()
+    assert len(items) == len(listed)
+    assert [(items[j], type(items[j])) for j in range(len(listed))] == [
+        (v, type(v)) for v in listed]
+    if listed:
+        assert items[-1] == listed[-1] and type(items[-1]) is type(listed[-1])
+    with pytest.raises(IndexError):
+        items[len(listed)]
