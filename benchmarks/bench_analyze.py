@@ -30,13 +30,17 @@ is >= 100,000 messages/s end to end.
 
 ``--whole``: instead, the goal of issue 13 as a user meets it: the whole ``baseball-collision
 analyze BAG --quiet`` process (interpreter start-up, imports, the kernel's load included) against
-a whole process that only iterates rosbags' raw messages of the same bag, and against (a) in
-this process, best of ``--repeats`` each, wall time and the processes' CPU time (steadier on a
-shared machine) (goal: analyze >= 0.5 of the raw read rate). With ``--before DIR`` (a source
-tree of another commit with its kernel built, e.g. a ``git worktree`` and ``setup.py build_ext
+a whole process that only iterates rosbags' raw messages of the same bag (the two in turn,
+``--repeats`` pairs: each pair's ratio is printed too), and against (a) in this process, best
+of ``--repeats`` each, wall time and the processes' CPU time (steadier on a shared machine)
+(goal: analyze >= 0.5 of the raw read rate). With ``--before DIR`` (a source tree of another
+commit with its kernel built, e.g. a ``git worktree`` and ``setup.py build_ext
 --inplace``), ``python -m baseball_collision.tools.cli analyze`` also runs from DIR and from this
 tree in turn, on the bag and on a bag of 300 messages (the start-up: interpreter, imports, opening
-a bag), best wall and best CPU time (the child's user + system) of each.
+a bag), best wall and best CPU time (the child's user + system) of each. With ``--split``,
+each process again with a CPU timer per stage (``time.process_time``: the raw read's imports,
+typestore, open and ``messages()``; analyze's imports, open, the reader's rows and batch arrays,
+decode, and the detector with its chunk planning), best of ``--repeats`` per stage.
 
 ``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
 bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
@@ -248,10 +252,112 @@ with AnyReader([Path({bag!r})], default_typestore=get_typestore(Stores.ROS2_JAZZ
 """The raw-read peer as a process: rosbags alone (the same loop as bench_bag_read.raw_read)."""
 
 
-def process_seconds(command: list, repeats: int) -> Tuple[float, float]:
-    """Return the best wall time and the best CPU time (s) over ``repeats`` runs of a command."""
-    runs = [process_times(command) for _ in range(repeats)]
-    return min(run[0] for run in runs), min(run[1] for run in runs)
+SPLIT_START = """
+import resource, time
+clock = time.process_time
+marks = [('interpreter start-up', clock())]
+
+
+def mark(label):
+    marks.append((label, clock()))
+
+
+def report():
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    total = usage.ru_utime + usage.ru_stime
+    named = dict((label, b - a) for (_, a), (label, b) in zip([('', 0.0)] + marks, marks))
+    named.update(extra)
+    named['process (user + system)'] = total
+    print(repr(named))
+
+
+extra = {{}}
+"""
+
+RAW_SPLIT = SPLIT_START + """
+from pathlib import Path
+from rosbags.highlevel import AnyReader
+from rosbags.typesys import get_typestore, Stores
+mark('imports')
+store = get_typestore(Stores.ROS2_JAZZY)
+mark('the Jazzy typestore')
+reader = AnyReader([Path({bag!r})], default_typestore=store)
+reader.open()
+mark('open (rosbags)')
+count = sum(1 for _ in reader.messages())
+mark('read: messages()')
+reader.close()
+report()
+"""
+"""The raw-read process with a CPU timer per stage (the same work as RAW_READ_PROCESS)."""
+
+ANALYZE_SPLIT = SPLIT_START + """
+from pathlib import Path
+from baseball_collision.tools import cli  # (the console script's imports)
+from baseball_collision.bags import BagReader
+from baseball_collision.bags.decode import decode_spans
+from baseball_collision.core.detector import chunks, Detector
+from baseball_collision.tools.parameters import build_config
+mark('imports')
+planned = chunks.plan_chunk
+
+
+def plan(*arguments):
+    start = clock()
+    try:
+        return planned(*arguments)
+    finally:
+        extra['  of it: planning chunks'] = extra.get('  of it: planning chunks', 0.0) + (
+            clock() - start)
+
+
+chunks.plan_chunk = plan
+bag = BagReader(Path({bag!r}))
+bag.open()
+reader = bag._open_reader()
+detector = Detector(build_config({{}}, bat_input=bag.selection.bat_mode, model={model!r}))
+mark('open (rosbags) and set-up')
+spans = bag._spans(reader, 8192)
+took = dict.fromkeys(('read: rows and batch arrays', 'decode', 'detector'), 0.0)
+while True:
+    start = clock()
+    each = next(spans, None)
+    took['read: rows and batch arrays'] += clock() - start
+    if each is None:
+        break
+    for first in range(0, len(each.codes), 8192):
+        start = clock()
+        chunk = decode_spans(each.piece(first, first + 8192), bag._routes, None)
+        middle = clock()
+        detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values, chunk.frame_ids, None)
+        took['decode'] += middle - start
+        took['detector'] += clock() - middle
+start = clock()
+detector.finish()
+took['detector'] += clock() - start
+bag.close()
+marks.extend((label, marks[-1][1] + seconds) for label, seconds in took.items())
+report()
+"""
+"""analyze's work on a sqlite3 or indexed MCAP bag with a CPU timer per stage (its chunks read
+as ``BagReader.chunks`` reads them, by the reader's spans)."""
+
+
+def split_figures(path: Path, model: str, repeats: int) -> None:
+    """Print where the raw-read process's and analyze's CPU time goes, best of each stage."""
+    for name, script in (('rosbags raw read', RAW_SPLIT), ('analyze', ANALYZE_SPLIT)):
+        best: dict = {}
+        for _ in range(repeats):
+            environment = {k: v for k, v in os.environ.items()
+                           if k != 'PYTHONDONTWRITEBYTECODE'}
+            output = subprocess.run(
+                [sys.executable, '-c', script.format(bag=str(path), model=model)], check=True,
+                capture_output=True, text=True, env=environment).stdout
+            for label, seconds in eval(output.strip().splitlines()[-1]).items():  # noqa: S307
+                best[label] = min(best.get(label, math.inf), seconds)
+        print(f'{name}, CPU s by stage (best of {repeats} each):')
+        for label, seconds in best.items():
+            print(f'  {label:42s} {seconds:6.3f}')
 
 
 def process_times(command: list, cwd: Optional[Path] = None) -> Tuple[float, float]:
@@ -296,18 +402,20 @@ def before_after_processes(path: Path, written: int, model: str, repeats: int,
 
 def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
                           pitch_every: float = WORST_SPACING_S,
-                          before: Optional[Path] = None) -> None:
+                          before: Optional[Path] = None, split: bool = False) -> None:
     """Print analyze as a whole process against a raw-read process on one bag, the ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
         written, _ = write_bag(path, messages, pitch_every)
         raw_in = min(timed(raw_read, path)[1] for _ in range(repeats))
-        raw_process, raw_cpu = process_seconds(
-            [sys.executable, '-c', RAW_READ_PROCESS.format(bag=str(path))], repeats)
+        # the two processes in turn, so a load that comes and goes meets both alike
         cli = str(Path(sys.executable).with_name('baseball-collision'))
-        analyze_process, analyze_cpu = process_seconds(
-            [cli, 'analyze', str(path), '--model', model, '--quiet', '--no-progress'], repeats)
-        print(f'{written:,} messages ({storage}), best of {repeats} each')
+        runs = [(process_times([sys.executable, '-c', RAW_READ_PROCESS.format(bag=str(path))]),
+                 process_times([cli, 'analyze', str(path), '--model', model, '--quiet',
+                                '--no-progress'])) for _ in range(repeats)]
+        raw_process, raw_cpu = (min(raw[k] for raw, _ in runs) for k in (0, 1))
+        analyze_process, analyze_cpu = (min(mine[k] for _, mine in runs) for k in (0, 1))
+        print(f'{written:,} messages ({storage}), best of {repeats} each, in turn')
         for label, seconds in (('rosbags raw read, in this process (a)', raw_in),
                                ('rosbags raw read, whole process', raw_process),
                                ('rosbags raw read, whole process, CPU time', raw_cpu),
@@ -322,8 +430,14 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
             ratio = seconds / mine
             print(f'analyze process / {label:26s} = {ratio:.2f} of its rate '
                   f"[goal >= 0.5: {'met' if ratio >= 0.5 else 'NOT met'}]")
+        for k, what in ((0, 'wall'), (1, 'CPU')):
+            pairs = sorted(raw[k] / mine[k] for raw, mine in runs)
+            print(f'  each pair in turn, by {what}: ' + ', '.join(f'{r:.2f}' for r in pairs)
+                  + f' (median {pairs[len(pairs) // 2]:.2f})')
         if before is not None:
             before_after_processes(path, written, model, repeats, before)
+        if split:
+            split_figures(path, model, repeats)
 
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
@@ -572,6 +686,8 @@ def main() -> None:
                         'throughout (batting practice: 8-15)')
     parser.add_argument('--before', type=Path, default=None, metavar='DIR',
                         help='with --whole: also analyze from this source tree, in turn')
+    parser.add_argument('--split', action='store_true',
+                        help='with --whole: CPU time by stage in each process (timers)')
     parser.add_argument('--interleave', action='store_true',
                         help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
@@ -582,7 +698,7 @@ def main() -> None:
         return
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,
-                              args.pitch_every, args.before)
+                              args.pitch_every, args.before, args.split)
         return
     if args.against and args.split:
         split_figures(args.messages or 30_000, args.storage, args.model, args.against,

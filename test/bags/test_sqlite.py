@@ -7,6 +7,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.bags import reader as reader_module
+from baseball_collision.bags import sqlite as sqlite_module
 from baseball_collision.bags.decode import decode_chunk, decode_spans, SampleChunk
 from baseball_collision.bags.sqlite import query, sqlite_spans
 from baseball_collision.errors import BagError
@@ -148,31 +149,89 @@ def test_a_bag_directory_and_its_bare_file(tmp_path: Path, mode: CompressionMode
             _cut(lengths, len(expected), size)
 
 
-def test_the_query_is_rosbags_own(tmp_path: Path) -> None:
-    """The text and arguments run on the file's connection are those rosbags runs."""
-    _write(tmp_path / 'bag', _pairs(50) + [('/chatter', T0, ())])
+class _Spy:
+    """A file's apsw connection, recording what is executed on it (and failing batches)."""
 
-    class Spy:
-        """The file's apsw connection, recording what is executed on it."""
+    def __init__(self, connection: Any, fail_batches: bool = False) -> None:
+        self.connection, self.executed, self.fail = connection, [], fail_batches
 
-        def __init__(self, connection: Any) -> None:
-            self.connection, self.executed = connection, []
+    def execute(self, text: str, arguments: Any = ()) -> Any:
+        self.executed.append((text, tuple(arguments)))
+        if self.fail and text.startswith('SELECT count(*)'):
+            raise RuntimeError('a batch that cannot be read')
+        return self.connection.execute(text, arguments)
 
-        def execute(self, text: str, arguments: Any = None) -> Any:
-            self.executed.append((text, tuple(arguments)))
-            return self.connection.execute(text, arguments)
 
-    with AnyReader([tmp_path / 'bag']) as reader:
+Executed = List[Tuple[str, Any]]
+
+
+def _spied(path: Path, size: int,
+           fail_batches: bool = False) -> Tuple[List[Any], List[Any], Executed]:
+    """Return (the spans' messages, rosbags' messages, what the spans ran on the file)."""
+    with AnyReader([path]) as reader:
         storage = reader.readers[0].storage.storages[0]
-        spy = storage.dbconn = Spy(storage.dbconn)
+        spy = storage.dbconn = _Spy(storage.dbconn, fail_batches)
         selected = [c for c in reader.connections if c.topic in ('/bat', '/ball')]
-        rosbags = list(reader.messages(connections=selected))
-        fast = [m for each in sqlite_spans(reader, selected, 64)
+        fast = [m for each in sqlite_spans(reader, selected, size)
                 for m in each.messages(range(len(each.codes)))]
         storage.dbconn = spy.connection
-    _same(fast, rosbags)
-    assert len(spy.executed) == 2 and spy.executed[0] == spy.executed[1]
-    assert spy.executed[1][0] == query(spy.executed[1][1])
+        rosbags = list(reader.messages(connections=selected))
+    return fast, rosbags, spy.executed
+
+
+def test_the_query_is_rosbags_own(tmp_path: Path) -> None:
+    """
+    What runs on the file's connection is rosbags' query, or its batches checked against it.
+
+    The plan of rosbags' own text with its arguments is read first; the batches walk the index
+    it walks; with batches declined (no timestamp index: rosbags' plan sorts) the query run
+    is rosbags' text and arguments, once.
+    """
+    _write(tmp_path / 'bag', _pairs(50) + [('/chatter', T0, ())])
+    with AnyReader([tmp_path / 'bag']) as reader:
+        storage = reader.readers[0].storage.storages[0]
+        spy = storage.dbconn = _Spy(storage.dbconn)
+        selected = [c for c in reader.connections if c.topic in ('/bat', '/ball')]
+        rosbags = list(reader.messages(connections=selected))
+        storage.dbconn = spy.connection
+    (text, arguments), = spy.executed
+    assert text == query(arguments)
+    fast, expected, executed = _spied(tmp_path / 'bag', 16)
+    _same(fast, expected)
+    assert [(m[1], m[2]) for m in fast] == [(m[1], m[2]) for m in rosbags]
+    assert ('EXPLAIN QUERY PLAN ' + text, arguments) in executed
+    batches = [each for each in executed if each[0].startswith('SELECT count(*)')]
+    assert len(batches) == 4 and all('INDEXED BY "timestamp_idx"' in t for t, _ in batches)
+    assert not any(t == text for t, _ in executed)  # (the rows never taken one by one)
+    with sqlite3.connect(tmp_path / 'bag' / 'bag.db3') as db:
+        db.execute('DROP INDEX timestamp_idx')
+    fast, expected, executed = _spied(tmp_path / 'bag', 16)
+    _same(fast, expected)
+    assert [each for each in executed if not each[0].startswith(('EXPLAIN', 'PRAGMA'))] == [
+        (text, arguments)]
+
+
+@pytest.mark.parametrize('size', [1, 5, 64])
+def test_ties_across_batches_and_a_batch_that_fails(tmp_path: Path, size: int,
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Log times shared by many rows, cut by batches anywhere: rosbags' rows, cut alike.
+
+    Ties longer than a batch (a batch of one log time after another), longer than
+    ``BATCH_TIES`` (the rest row by row from there), and every batch failing (row by row).
+    """
+    messages = _pairs(120, tie=40) + _pairs(30, tie=1)[::-1] + _pairs(9, tie=3)
+    messages = [(topic, log_time + (k >= 120) * 10**9, values)
+                for k, (topic, log_time, values) in enumerate(messages)]
+    _write(tmp_path / 'bag', messages)
+    for ties in (sqlite_module.BATCH_TIES, 50, 0):
+        monkeypatch.setattr(sqlite_module, 'BATCH_TIES', ties)
+        fast, expected, lengths = _both(tmp_path / 'bag', ['/bat', '/ball'], size)
+        _same(fast, expected)
+        _cut(lengths, len(messages), size)
+    fast, expected, executed = _spied(tmp_path / 'bag', size, fail_batches=True)
+    _same(fast, expected)
+    assert sum(t.startswith('SELECT count(*)') for t, _ in executed) == 1  # then row by row
 
 
 def test_ties_across_topics_come_in_rosbags_order(tmp_path: Path) -> None:
@@ -320,13 +379,40 @@ def test_a_corrupt_message_is_rosbags_paths_bag_error(tmp_path: Path, cut: bool,
     assert errors[0] == errors[1] and 'corrupt' in errors[0] and 'bag' in errors[0]
 
 
-def test_a_damaged_file_is_a_bag_error_naming_the_bag(tmp_path: Path) -> None:
-    """A row whose data is not a blob (a foreign writer): a BagError, not a crash."""
+def _outcome(path: Path, size: int) -> Any:
+    """Return a bag's chunks, or the BagError reading them raised (its message)."""
+    try:
+        with BagReader(path) as bag:
+            return list(bag.chunks(size))
+    except BagError as error:
+        return str(error)
+
+
+@pytest.mark.parametrize('column, value', [('data', 5), ('data', 'text'), ('timestamp', 2.5),
+                                           ('timestamp', 'late'), ('timestamp', b'\x00\x01')])
+@pytest.mark.parametrize('row', [7, 90])
+def test_a_damaged_file_reads_as_row_by_row(tmp_path: Path, column: str, value: Any,
+                                            row: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A row whose data is not a blob or log time not an integer (a foreign writer's).
+
+    In the first batch or a later one: the batch that holds it leaves the rest to the row
+    path, so the outcome is the row path's throughout (batches declined): a BagError naming
+    the bag for data that is not bytes, or the same chunks.
+    """
     _write(tmp_path / 'bag', _pairs(100))
     with sqlite3.connect(tmp_path / 'bag' / 'bag.db3') as db:
-        db.execute('UPDATE messages SET data = 5 WHERE id = 7')
-    with BagReader(tmp_path / 'bag') as bag, pytest.raises(BagError, match='bag'):
-        list(bag.chunks(16))
+        db.execute(f'UPDATE messages SET {column} = ? WHERE id = ?', (value, row))
+    got = _outcome(tmp_path / 'bag', 16)
+    with monkeypatch.context() as patch:
+        patch.setattr(sqlite_module, '_walked_index', lambda *a: None)
+        expected = _outcome(tmp_path / 'bag', 16)
+    if column == 'data':
+        assert isinstance(got, str) and 'bag' in got
+    if isinstance(expected, str):
+        assert got == expected
+    else:
+        _same_chunks(got, expected)
 
 
 def test_topic_ids_of_any_size(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -343,3 +429,20 @@ def test_topic_ids_of_any_size(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) 
         _same(fast, expected)
         assert len(expected) == 300 and {m[0].topic for m in expected} == {'/ball', '/bat'}
         _as_rosbags_reads(path, 64, monkeypatch)
+
+
+def test_log_times_too_far_apart_for_a_difference(tmp_path: Path) -> None:
+    """
+    Log times too far apart to subtract: the rest row by row, rosbags' rows still.
+
+    A batch's log times are sent less the last batch's: one too far off (past int64) is a
+    real in SQLite, which does not parse as an integer.
+    """
+    _write(tmp_path / 'bag', _pairs(100))
+    with sqlite3.connect(tmp_path / 'bag' / 'bag.db3') as db:
+        for k in range(20):
+            db.execute('UPDATE messages SET timestamp = ? WHERE id = ?', (-2**63 + k, k + 1))
+    fast, expected, lengths = _both(tmp_path / 'bag', ['/bat', '/ball'], 16)
+    _same(fast, expected)
+    _cut(lengths, 100, 16)
+    assert expected[0][1] == -2**63 and expected[-1][1] > 0

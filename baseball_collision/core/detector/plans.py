@@ -24,11 +24,12 @@ path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` mode
 """
 
 from bisect import bisect_left
-from typing import List, Optional, Sequence, Tuple, TYPE_CHECKING
+from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
 from .broadphase import apart_margins, path_margins
+from .broadphase.arrays import rows
 from .config import DetectorConfig
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
@@ -86,9 +87,10 @@ class Plan:
         does not; ``steps``: the bat's turn from each of the chunk's bat samples to the next
         (``chunks.turn_steps``), made when a run first sums turns.
 
-    The indices are Python lists once planned (``fast_forward`` runs between stops a few
-    samples apart near a contact); the samples stay arrays, and only those a fast-forward
-    keeps after its trim become the streams' lists and tuples.
+    The stops are a Python list once planned; the other per-sample indices and the union are
+    read as Python numbers one at a time (:class:`Items`: a run reads a few of its thousands);
+    the samples stay arrays, and only those a fast-forward keeps after its trim become the
+    streams' lists and tuples.
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
@@ -112,6 +114,34 @@ class Plan:
                     stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
                 return False
         return cursor == self.union[self.visited[j] - 1]
+
+
+class Items:
+    """
+    A 1-D array read as a list of Python numbers: ``items[j]`` is ``array.item(j)``.
+
+    What a plan reads a few of per run (``fast_forward``): the same ``int``, ``float`` and
+    ``bool`` values a ``tolist()`` would give, without making the list.
+
+    :param array: the values (not copied: left unchanged).
+    """
+
+    __slots__ = ('item', 'size')
+
+    def __init__(self, array: np.ndarray) -> None:
+        self.item, self.size = array.item, len(array)
+
+    def __getitem__(self, j: int) -> Any:
+        """
+        Return value j as a Python number (negative j from the end).
+
+        :raises IndexError: j out of range.
+        """
+        return self.item(j)
+
+    def __len__(self) -> int:
+        """Return how many values."""
+        return self.size
 
 
 def plannable(config: DetectorConfig) -> bool:
@@ -201,9 +231,9 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
-    plan.checked = ok.tolist()
-    plan.counts = [counts.tolist() for counts in plan.counts]
-    plan.visited, plan.union = plan.visited.tolist(), plan.union.tolist()
+    plan.checked = Items(ok)
+    plan.counts = [Items(counts) for counts in plan.counts]
+    plan.visited, plan.union = Items(plan.visited), Items(plan.union)
     plan.times, plan.stamps = arrays.times, arrays.stamps
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
@@ -254,9 +284,9 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
         return stops
     ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
     ball_times, bat_times = arrays.times
-    b0, b1 = arrays.ball[ball - 1], arrays.ball[ball]
-    k0, k1 = arrays.knobs[bat - 1], arrays.knobs[bat]
-    t0, t1 = arrays.tips[bat - 1], arrays.tips[bat]
+    b0, b1 = rows(arrays.ball, ball - 1), rows(arrays.ball, ball)
+    k0, k1 = rows(arrays.knobs, bat - 1), rows(arrays.knobs, bat)
+    t0, t1 = rows(arrays.tips, bat - 1), rows(arrays.tips, bat)
     with np.errstate(all='ignore'):
         ball_speed = _norms(b1 - b0) / (ball_times[ball] - ball_times[ball - 1])
         bat_speed = np.maximum(_norms(k1 - k0), _norms(t1 - t0)) / (
@@ -283,7 +313,9 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
     arrays = Arrays()
     with np.errstate(all='ignore'):
         t = (stamps - origin) * 1e-9
-        position, quaternion = values[is_bat, :3], values[is_bat, 3:7]
+        # (np.compress: the rows of a boolean mask, the same copy as values[is_bat], cheaper)
+        pose = np.compress(is_bat, values, axis=0)
+        position, quaternion = pose[:, :3], pose[:, 3:7]
         magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
                             + quaternion[:, 1] * quaternion[:, 1]
                             + quaternion[:, 2] * quaternion[:, 2]
@@ -291,14 +323,15 @@ def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stre
         quaternion = quaternion / magnitude[:, None]
         knob = _pose_points(position, quaternion, offsets[0])
         tip = _pose_points(position, quaternion, offsets[1])
-    new_ball = values[is_ball, :3]
+    new_ball = np.compress(is_ball, values, axis=0)[:, :3]  # (whole rows: cheaper)
     arrays.new = (new_ball, knob, tip, position, quaternion)
-    pre_bat = bat.values
+    kept = np.array([(*s.knob, *s.tip, *s.position, *s.quaternion) for s in bat.values],
+                    dtype=float).reshape(-1, 13)  # (the bat's kept samples: one conversion)
     arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
     arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
-        np.concatenate((np.array([getattr(s, name) for s in pre_bat], dtype=float), column))
-        for name, column in (('knob', knob), ('tip', tip), ('position', position),
-                             ('quaternion', quaternion)))
+        np.concatenate((kept[:, first:end], column))
+        for first, end, column in ((0, 3, knob), (3, 6, tip), (6, 9, position),
+                                   (9, 13, quaternion)))
     arrays.pre = (len(ball.times), len(bat.times))
     arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
                     np.concatenate((np.array(bat.times), t[is_bat])))
@@ -330,8 +363,9 @@ def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: A
                             (1, is_bat, (arrays.knobs, arrays.tips))):
         in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
                                             arrays.pre[s])
-        ok[mine] &= in_order
-        gap[mine] &= after_gap
+        own = np.flatnonzero(mine)  # (once for both)
+        ok[own] &= in_order
+        gap[own] &= after_gap
     return ok, gap
 
 
@@ -363,16 +397,19 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
             arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
         done -= np.cumsum(pending[:n])
         order = np.argsort(key, kind='stable')[:int(done[-1])]
-    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order])))
+    counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order] if held else mine)))
               for s, mine in ((0, is_ball), (1, is_bat))]
-    plan.counts = (counts[0][done], counts[1][done])
+    # (nothing held: each sample one step, ``done`` every step from the first)
+    plan.counts = (counts[0][done], counts[1][done]) if held else (counts[0][1:], counts[1][1:])
     ahead = samples_ahead(config.model, config.look_ahead)
     watermark = np.minimum(arrays.times[0][counts[0] - 1 - ahead],
                            arrays.times[1][counts[1] - 1 - ahead])
-    union = np.union1d(arrays.times[0], arrays.times[1])
+    # np.union1d of two sorted arrays: merged (a stable sort of two runs), then deduplicated
+    union = np.sort(np.concatenate(arrays.times), kind='stable')
+    union = union[np.concatenate(([True], union[1:] != union[:-1]))]
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
     visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
-    plan.visited = visited[done]
+    plan.visited = visited[done] if held else visited[1:]
     return done, counts, visited
 
 
@@ -390,9 +427,10 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     for s in (0, 1):
         k = np.searchsorted(arrays.times[s], starts, 'right') - 1
         times, cut = arrays.times[s], arrays.breaks[s]
-        far &= _continuous(times, cut, k, config.max_gap)
-        before = np.where((k >= 1) & _continuous(times, cut, k - 1, config.max_gap), k - 1, -1)
-        after = np.where(_continuous(times, cut, k + 1, config.max_gap), k + 2, -1)
+        closed = _closed(times, cut, config.max_gap)
+        far &= _continuous(closed, k)
+        before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
+        after = np.where(_continuous(closed, k + 1), k + 2, -1)
         located.append((k, before, after))
     if not len(starts):
         return far
@@ -432,7 +470,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     for s in (0, 1):
         cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
         starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(np.concatenate(([0], starts))[done].tolist())
+        plan.starts.append(Items(np.concatenate(([0], starts))[done]))
         silent[1:] |= lengths > SILENT_KEEP
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)
@@ -490,13 +528,17 @@ def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
 def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
                   is_bat: np.ndarray) -> np.ndarray:
     """Return which samples pass the value checks (``gate``) with room to spare."""
+    # (each test on the columns in turn: the same as numpy's row reductions, which cost more
+    # on rows of 3 or 4: the squares summed left to right, as ``(q * q).sum(1)`` sums them)
     finite = np.isfinite(values)
-    ok = is_ball & finite[:, :3].all(1)
-    q = values[:, 3:7]
-    magnitude = np.sqrt((q * q).sum(1))
-    pose = is_bat & finite.all(1) & (np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
+    point = finite[:, 0] & finite[:, 1] & finite[:, 2]
+    ok = is_ball & point
+    q0, q1, q2, q3 = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
+    magnitude = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    pose = is_bat & point & finite[:, 3] & finite[:, 4] & finite[:, 5] & finite[:, 6] & (
+        np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
     # a pose at the origin may be a lost body: the per-sample path decides
-    pose &= ~(values[:, :3] == 0.0).all(1)
+    pose &= ~((values[:, 0] == 0.0) & (values[:, 1] == 0.0) & (values[:, 2] == 0.0))
     return ok | pose
 
 
@@ -511,30 +553,42 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
     before, under ``time_jump_reset``): the next sample takes them.
     """
-    new = np.arange(pre, len(stamps))
-    step = (stamps[new] - stamps[new - 1]).astype(float)
-    step1 = (stamps[new - 1] - stamps[new - 2]).astype(float)
-    step2 = (stamps[new - 2] - stamps[new - 3]).astype(float)
+    if pre < 3:
+        raise ValueError(f'order checks need 3 kept samples before the new, got {pre}')
+    m = len(stamps)
+
+    def back(array: np.ndarray, k: int) -> np.ndarray:
+        """Return the rows k before each new sample's (a view)."""
+        return array[pre - k:m - k]
+
+    step = (back(stamps, 0) - back(stamps, 1)).astype(float)
+    step1 = (back(stamps, 1) - back(stamps, 2)).astype(float)
+    step2 = (back(stamps, 2) - back(stamps, 3)).astype(float)
     reset_ns = int(round(config.time_jump_reset * 1e9))
     factor = HOLD_FACTOR * (1.0 - SLACK)
     ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
-    dt = times[new] - times[new - 1]
+    dt = back(times, 0) - back(times, 1)
     ok &= dt <= config.max_gap * (1.0 - SLACK)
     limit = config.max_speed * dt * (1.0 - SLACK)
     for each in points:
-        d = each[new] - each[new - 1]
+        d = back(each, 0) - back(each, 1)
         ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
     gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
         dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
     return ok, gap
 
 
-def _continuous(times: np.ndarray, breaks: np.ndarray, k: np.ndarray,
-                max_gap: float) -> np.ndarray:
+def _closed(times: np.ndarray, breaks: np.ndarray, max_gap: float) -> np.ndarray:
+    """``Stream.continuous`` over each of a stream's sample intervals (i, i + 1)."""
+    return ~breaks[1:] & (times[1:] - times[:-1] <= max_gap)
+
+
+def _continuous(closed: np.ndarray, k: np.ndarray) -> np.ndarray:
     """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
-    inside = (k >= 0) & (k + 1 < len(times))
-    j = np.where(inside, k, 0)
-    return inside & ~breaks[j + 1] & (times[j + 1] - times[j] <= max_gap)
+    inside = (k >= 0) & (k < len(closed))
+    if not len(closed):
+        return inside
+    return inside & closed[np.where(inside, k, 0)]
 
 
 def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -547,18 +601,48 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     the trims are that chain from the first (with a long history, every sample).
     """
     n = len(counts)
-    following = np.maximum(np.maximum(np.searchsorted(counts, cuts + TRIM_FROM, 'left'),
-                                      np.searchsorted(cuts, cuts + 1, 'left')),
-                           np.arange(1, n + 1)).tolist()
-    at = []  # the samples that trim
+    following = np.maximum(np.maximum(_first_reaching(counts, cuts + TRIM_FROM),
+                                      _next_greater(cuts)), np.arange(1, n + 1)).item
+    at = []  # the samples that trim (about one step in seven: read one at a time, not listed)
     j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
     while j < n:
         at.append(j)
-        j = following[j]
-    trims = np.array(at, dtype=np.int64)
+        j = following(j)
+    trims = np.zeros(n, bool)
+    trims[at] = True
     starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
-    after = starts[np.searchsorted(trims, np.arange(n), 'right')]
+    after = starts[np.cumsum(trims)]  # (cumsum: the trims at or before each sample)
     return after, counts - np.concatenate(([0], after[:-1]))
+
+
+def _first_reaching(counts: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """
+    Return, for each target, the index of the first count at or above it (n: none).
+
+    ``np.searchsorted(counts, targets, 'left')``; where the counts go up by one at a time
+    (a stream's count after each step), read from where each count is first reached.
+    """
+    n = len(counts)
+    rises = np.flatnonzero(counts[1:] != counts[:-1]) + 1  # where each count is first reached
+    if not n or int(counts[-1]) - int(counts[0]) != len(rises):
+        return np.searchsorted(counts, targets, 'left')
+    above = targets - int(counts[0])  # (the rise of each target: the above-th, from 1)
+    first = np.concatenate(([0], rises, [n]))
+    return first[np.clip(above, 0, len(rises) + 1)]
+
+
+def _next_greater(values: np.ndarray) -> np.ndarray:
+    """
+    Return, for each of nondecreasing integers, the index of the first one greater (n: none).
+
+    ``np.searchsorted(values, values + 1, 'left')`` in one pass: the start of the next run of
+    equal values.
+    """
+    n = len(values)
+    rises = np.flatnonzero(values[1:] != values[:-1]) + 1  # where a run starts
+    following = np.full(n, n, dtype=np.int64)
+    following[rises - 1] = rises
+    return np.minimum.accumulate(following[::-1])[::-1]
 
 
 def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:

@@ -8,11 +8,15 @@ as a whole is tested by feeding chunks (test_chunks.py): the same as one sample 
 
 from typing import List, Tuple
 
-from baseball_collision.core.detector.plans import _pose_points, _trims, TRIM_FROM, TRIM_KEEP
+from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector.plans import (
+    _closed, _continuous, _first_reaching, _next_greater, _order_checks, _pose_points, _trims,
+    _value_checks, Items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from hypothesis import given, settings, strategies as st
 import numpy as np
+import pytest
 from support import examples
 
 FINITE = st.floats(-10.0, 10.0, allow_nan=False)
@@ -91,3 +95,91 @@ def test_trims_are_the_rule_applied_sample_by_sample(
     expected_after, expected_lengths = _trimmed_one_at_a_time(counts.tolist(), cuts.tolist())
     assert after.tolist() == expected_after
     assert lengths.tolist() == expected_lengths
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.integers(0, 3), max_size=300), st.integers(-5, 5))
+def test_next_greater_is_the_search_for_one_more(steps: List[int], first: int) -> None:
+    """``_next_greater`` of nondecreasing integers: ``searchsorted(values, values + 1)``."""
+    values = np.cumsum(np.array(steps, dtype=np.int64)) + first
+    assert _next_greater(values).tolist() == np.searchsorted(values, values + 1, 'left').tolist()
+
+
+SPECIAL = st.sampled_from([0.0, -0.0, 1.0, 0.5, 1.0005, 0.9995, np.nan, np.inf, -np.inf])
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.lists(st.one_of(FINITE, SPECIAL), min_size=7,
+                                                  max_size=7)), min_size=1, max_size=40),
+       st.booleans())
+def test_value_checks_are_the_row_reductions(rows: List[Tuple[bool, List[float]]],
+                                             unit: bool) -> None:
+    """
+    ``_value_checks`` on columns in turn: the row reductions it stands for, sample by sample.
+
+    Points and poses with NaN, infinities, zeros and quaternions at the tolerance's edges.
+    """
+    values = np.array([v for _, v in rows])
+    if unit:  # quaternions near unit length, where the magnitude's last bit can matter
+        q = values[:, 3:7]
+        values[:, 3:7] = q / np.where(np.isfinite(q).all(1) & ((q * q).sum(1) > 0),
+                                      np.sqrt((q * q).sum(1)), 1.0)[:, None]
+    is_ball = np.array([ball for ball, _ in rows])
+    ok = _value_checks(DetectorConfig(), values, is_ball, ~is_ball)
+    finite = np.isfinite(values)
+    q = values[:, 3:7]
+    with np.errstate(all='ignore'):
+        pose = (~is_ball & finite.all(1)
+                & (np.abs(np.sqrt((q * q).sum(1)) - 1.0) < 1e-3 * (1.0 - SLACK))
+                & ~(values[:, :3] == 0.0).all(1))
+    assert ok.tolist() == ((is_ball & finite[:, :3].all(1)) | pose).tolist()
+
+
+def test_order_checks_need_three_kept_samples() -> None:
+    """``_order_checks`` compares each new sample with the three before: fewer is an error."""
+    stamps = np.arange(1, 6, dtype=np.int64) * 10_000_000
+    times = stamps * 1e-9
+    with pytest.raises(ValueError, match='3 kept samples'):
+        _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 2)
+    ok, gap = _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 3)
+    assert ok.tolist() == [True, True] and gap.tolist() == [False, False]
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.integers(0, 2), max_size=200), st.integers(-5, 5),
+       st.lists(st.integers(-10, 250), max_size=60))
+def test_first_reaching_is_the_search(steps: List[int], first: int, targets: List[int]) -> None:
+    """``_first_reaching``: ``searchsorted(counts, targets)``, counts rising by one or more."""
+    counts = np.cumsum(np.array(steps, dtype=np.int64)) + first
+    wanted = np.array(targets, dtype=np.int64)
+    assert _first_reaching(counts, wanted).tolist() == np.searchsorted(
+        counts, wanted, 'left').tolist()
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(st.lists(st.tuples(st.floats(0.0, 0.05), st.booleans()), min_size=1, max_size=60),
+       st.lists(st.integers(-3, 64), max_size=40), st.floats(0.0, 0.05))
+def test_continuous_is_the_stream_rule(samples: List[Tuple[float, bool]], ks: List[int],
+                                       max_gap: float) -> None:
+    """``_continuous`` from ``_closed``: k and k + 1 in range, no break at k + 1, a short step."""
+    times = np.cumsum([step for step, _ in samples])
+    breaks = np.array([cut for _, cut in samples])
+    k = np.array(ks, dtype=np.int64)
+    got = _continuous(_closed(times, breaks, max_gap), k).tolist()
+    assert got == [0 <= j and j + 1 < len(times) and not breaks[j + 1]
+                   and bool(times[j + 1] - times[j] <= max_gap) for j in ks]
+
+
+@pytest.mark.parametrize('values', [[3, -1, 2**40], [0.5, -0.0, 1e300], [True, False], []])
+def test_items_read_as_the_list(values: list) -> None:
+    """``Items``: each value as ``tolist()`` gives it (the same type), negative j, the length."""
+    array = np.array(values)
+    items = Items(array)
+    listed = array.tolist()
+    assert len(items) == len(listed)
+    assert [(items[j], type(items[j])) for j in range(len(listed))] == [
+        (v, type(v)) for v in listed]
+    if listed:
+        assert items[-1] == listed[-1] and type(items[-1]) is type(listed[-1])
+    with pytest.raises(IndexError):
+        items[len(listed)]

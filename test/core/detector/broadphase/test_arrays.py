@@ -3,6 +3,7 @@
 from baseball_collision.core.detector import Detector
 from baseball_collision.core.detector.broadphase import (
     apart_margins, hull_separation, hull_separations)
+from baseball_collision.core.detector.broadphase.arrays import rows
 from hypothesis import given, settings, strategies as st
 import numpy as np
 from support import examples
@@ -73,3 +74,110 @@ def test_hull_separation_scalar_and_arrays_agree(points) -> None:
     scalar = hull_separation(*points)
     array = hull_separations(*(np.array([p], dtype=float) for p in points))[0]
     assert scalar == array or abs(scalar - array) <= 1e-9 * (1.0 + abs(scalar))
+
+
+def _dist(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Return the row-wise distances of two (m, 3) arrays (as the array code sums them)."""
+    d = a - b
+    return np.sqrt(np.einsum('ij,ij->i', d, d))
+
+
+def _bulges_by_rule(points, times, k, before, after):
+    """``bulge_bounds`` of one picked point over intervals k, written out as the rule."""
+    h = times[k + 1] - times[k]
+    here, there = points[k], points[k + 1]
+    bound = 3.04 * _dist(here, there)
+    has = before >= 0
+    b = np.where(has, before, k)
+    bound = bound + np.where(has, 0.885 * h / np.where(has, times[k] - times[b], 1.0)
+                             * _dist(points[b], here), 0.0)
+    has = after >= 0
+    a = np.where(has, after, k + 1)
+    return bound + np.where(has, 0.635 * h / np.where(has, times[a] - times[k + 1], 1.0)
+                            * _dist(there, points[a]), 0.0)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 40), m=st.integers(1, 30),
+       model=st.sampled_from(['linear', 'rigid', 'spline']))
+def test_apart_margins_are_the_bounds_written_out_to_the_bit(seed: int, n: int, m: int,
+                                                             model: str) -> None:
+    """
+    ``apart_margins`` gives the spheres' and hulls' bounds of its docstring, bit for bit.
+
+    The reference is the rule written out with fancy indexing, each bulge on its own (the
+    array code shares the bat's neighbours and weights and takes rows with ``np.take``).
+    """
+    rng = np.random.default_rng(seed)
+    ball, knob, tip, position = (rng.normal(size=(n, 3)) for _ in range(4))
+    ball_times = np.cumsum(rng.uniform(0.001, 0.01, n))
+    bat_times = np.cumsum(rng.uniform(0.001, 0.01, n))
+    ball_k, bat_k = rng.integers(0, n - 1, m), rng.integers(0, n - 1, m)
+    ball_before = np.where(rng.random(m) < 0.7, ball_k - 1, -1)
+    ball_after = np.where((rng.random(m) < 0.7) & (ball_k + 2 < n), ball_k + 2, -1)
+    bat_before = np.where(rng.random(m) < 0.7, bat_k - 1, -1)
+    bat_after = np.where((rng.random(m) < 0.7) & (bat_k + 2 < n), bat_k + 2, -1)
+    ball_before[ball_k == 0], bat_before[bat_k == 0] = -1, -1
+    with np.errstate(all='ignore'):
+        clearance = apart_margins(ball, knob, tip, position, ball_k, bat_k, ball_before,
+                                  ball_after, bat_before, bat_after, ball_times, bat_times, model)
+        dist = _dist
+        b0, b1, k0, k1 = ball[ball_k], ball[ball_k + 1], knob[bat_k], knob[bat_k + 1]
+        e0, e1 = tip[bat_k], tip[bat_k + 1]
+        ball_centre, bat_centre = (b0 + b1) * 0.5, (k0 + e0 + k1 + e1) * 0.25
+        bat_radius = np.maximum(np.maximum(dist(k0, bat_centre), dist(e0, bat_centre)),
+                                np.maximum(dist(k1, bat_centre), dist(e1, bat_centre)))
+        ball_bulge = bat_growth = 0.0
+        if model == 'rigid':
+            bat_growth = 0.5 * (np.maximum(dist(k0, k1), dist(e0, e1))
+                                + dist(position[bat_k], position[bat_k + 1]))
+        elif model == 'spline':
+            ball_bulge = _bulges_by_rule(ball, ball_times, ball_k, ball_before, ball_after)
+            bat_growth = (_bulges_by_rule(knob, bat_times, bat_k, bat_before, bat_after)
+                          + 0.25 * np.pi * dist(e0 - k0, e1 - k1)
+                          + np.pi * _bulges_by_rule(tip - knob, bat_times, bat_k, bat_before,
+                                                    bat_after)
+                          + np.abs(dist(k0, e0) - dist(k1, e1)))
+        sphere = (dist(ball_centre, bat_centre) - (0.5 * dist(b0, b1) + ball_bulge)
+                  - (bat_radius + bat_growth))
+        expected = np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
+                              - bat_growth)
+    assert clearance.tobytes() == expected.tobytes()
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 20), shape=st.sampled_from(
+    [(0,), (5,), (3, 4)]), columns=st.integers(1, 7))
+def test_rows_are_fancy_indexing(seed: int, n: int, shape, columns: int) -> None:
+    """``rows`` takes the same rows as ``points[index]`` (negative indices from the end)."""
+    rng = np.random.default_rng(seed)
+    points = rng.normal(size=(n, columns))
+    index = rng.integers(-n, n, shape)
+    taken = rows(points, index)
+    assert taken.shape == points[index].shape and np.array_equal(taken, points[index])
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 40), m=st.integers(1, 30),
+       model=st.sampled_from(['linear', 'rigid', 'spline']), margin=st.floats(-1.0, 3.0))
+def test_a_margin_skips_only_hulls_that_cannot_matter(seed: int, n: int, m: int, model: str,
+                                                      margin: float) -> None:
+    """
+    With a margin, the intervals the spheres clear skip the hulls: the same decisions.
+
+    Where the clearance is not above the margin it is the whole clearance, to the bit.
+    """
+    rng = np.random.default_rng(seed)
+    ball, knob, tip, position = (rng.normal(size=(n, 3)) for _ in range(4))
+    times = np.cumsum(rng.uniform(0.001, 0.01, n))
+    ball_k, bat_k = rng.integers(0, n - 1, m), rng.integers(0, n - 1, m)
+    before = np.where(ball_k >= 1, ball_k - 1, -1)
+    after = np.where(bat_k + 2 < n, bat_k + 2, -1)
+    arguments = (ball, knob, tip, position, ball_k, bat_k, before, -np.ones(m, np.int64),
+                 np.where(bat_k >= 1, bat_k - 1, -1), after, times, times, model)
+    with np.errstate(all='ignore'):
+        whole = apart_margins(*arguments)
+        cut = apart_margins(*arguments, margin=margin)
+    assert ((cut > margin) == (whole > margin)).all()
+    kept = ~(whole > margin)
+    assert cut[kept].tobytes() == whole[kept].tobytes()
