@@ -22,7 +22,11 @@ def single_threaded_blas() -> None:
     threadpool_limits(limits=1, user_api='blas')
 
 
-def blas_threads() -> int:
-    """Return the most threads any BLAS library loaded in this process may use (0: none)."""
+def blas_threads(*_: object) -> int:
+    """
+    Return the most threads any BLAS library loaded in this process may use (0: none).
+
+    Any arguments are ignored (so a process pool can ``map`` it).
+    """
     return max((pool['num_threads'] for pool in threadpool_info()
                 if pool.get('user_api') == 'blas'), default=0)

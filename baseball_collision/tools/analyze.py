@@ -37,6 +37,7 @@ from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
 from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
+from ..threads import single_threaded_blas
 
 PROGRESS_MIN_MESSAGES = 100_000
 """Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
@@ -492,6 +493,12 @@ def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool]) -> BagAnalysis:
     return analyze_bag(path, options, progress=False, use_truth=use_truth)
 
 
+def _start_worker() -> None:
+    """Set a pool process up: its signals (``worker_signals``) and one BLAS thread."""
+    worker_signals()
+    single_threaded_blas()
+
+
 def _pool_context() -> Any:
     """
     Return forkserver where there is one, with this module preloaded; else spawn.
@@ -547,7 +554,7 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
         # are let go (close, join)
-        with _pool_context().Pool(workers, initializer=worker_signals) as pool:
+        with _pool_context().Pool(workers, initializer=_start_worker) as pool:
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:

@@ -14,7 +14,9 @@ import sys
 from typing import Callable, List, Tuple
 
 from baseball_collision.errors import ToolError
-from baseball_collision.tools.analyze import analyze_bags, bag_paths, BagAnalysis, is_bag
+from baseball_collision.threads import blas_threads
+from baseball_collision.tools.analyze import (
+    _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag)
 import pytest
 from support.bundled import bag_path
 
@@ -63,6 +65,12 @@ def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) ->
     assert all(a.impacts for a in pooled) and all(a.truth is None for a in pooled[:2])
     assert pooled[2].truth is not None  # the truth file beside the bundled bag
     assert len(pooled[2].truth.matched) == len(alone[2].truth.matched) > 0
+
+
+def test_a_pool_worker_runs_blas_on_one_thread() -> None:
+    """``analyze``'s workers set one BLAS thread as they start, as its own process does."""
+    with _pool_context().Pool(2, initializer=_start_worker) as pool:
+        assert pool.map(blas_threads, range(2)) == [1, 1]
 
 
 def test_the_first_failing_bag_in_input_order_is_the_error(tmp_path: Path) -> None:
