@@ -343,7 +343,7 @@ report()
 as ``BagReader.chunks`` reads them, by the reader's spans)."""
 
 
-def split_figures(path: Path, model: str, repeats: int) -> None:
+def stage_figures(path: Path, model: str, repeats: int) -> None:
     """Print where the raw-read process's and analyze's CPU time goes, best of each stage."""
     for name, script in (('rosbags raw read', RAW_SPLIT), ('analyze', ANALYZE_SPLIT)):
         best: dict = {}
@@ -437,7 +437,7 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
         if before is not None:
             before_after_processes(path, written, model, repeats, before)
         if split:
-            split_figures(path, model, repeats)
+            stage_figures(path, model, repeats)
 
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
@@ -677,7 +677,8 @@ def main() -> None:
                         help='the worst-case bag with this tracking noise (m; 0: exact)')
     parser.add_argument('--split', action='store_true',
                         help='with --against: where the time goes, per part (process-time '
-                        'timers), best of --repeats per model')
+                        'timers), best of --repeats per model; with --whole: CPU time by '
+                        'stage in each process (timers)')
     parser.add_argument('--repeats', type=int, default=3,
                         help='runs per --jobs, --whole or --interleave figure (3)')
     parser.add_argument('--pitch-every', type=float, default=WORST_SPACING_S, metavar='SECONDS',
@@ -686,8 +687,6 @@ def main() -> None:
                         'throughout (batting practice: 8-15)')
     parser.add_argument('--before', type=Path, default=None, metavar='DIR',
                         help='with --whole: also analyze from this source tree, in turn')
-    parser.add_argument('--split', action='store_true',
-                        help='with --whole: CPU time by stage in each process (timers)')
     parser.add_argument('--interleave', action='store_true',
                         help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
