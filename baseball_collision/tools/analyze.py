@@ -501,17 +501,24 @@ def _start_worker() -> None:
 
 def _pool_context() -> Any:
     """
-    Return forkserver where there is one, with this module preloaded; else spawn.
+    Return fork with this process on one thread, else forkserver (module preloaded), else spawn.
 
-    Not fork: a child forked while another thread holds a lock (a progress bar's monitor, the
-    batch solver's pool, an earlier pool's handlers) can deadlock before it runs a line, and
-    with the parent's Python signal handlers it then ignores the SIGTERM that ends the pool:
-    ``Pool.terminate`` waited for it forever (4 runs in 30 under load). The fork server is a
-    clean single-threaded process that imports the analysis once; workers fork from it in ms.
+    A forked worker starts in milliseconds with what this process has imported; the fork
+    server's first worker waits for its imports (about 0.3 s, against 0.4-0.6 s a 250k-message
+    bag). But a child forked while another thread holds a lock (a progress bar's monitor, the
+    batch solver's pool, an earlier pool's handlers) can deadlock before it runs a line, and with
+    the parent's Python signal handlers it then ignores the SIGTERM that ends the pool:
+    ``Pool.terminate`` waited for it forever (4 runs in 30 under load). So fork only from a
+    process with no other thread (the command line's, before any bar); otherwise the fork
+    server, a clean single-threaded process that imports the analysis once.
     """
     import multiprocessing  # (only a pool needs it)
+    import threading
 
-    if 'forkserver' in multiprocessing.get_all_start_methods():
+    methods = multiprocessing.get_all_start_methods()
+    if threading.active_count() == 1 and 'fork' in methods:
+        return multiprocessing.get_context('fork')
+    if 'forkserver' in methods:
         context = multiprocessing.get_context('forkserver')
         context.set_forkserver_preload([__name__])
         return context
@@ -546,15 +553,16 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
                             use_truth=use_truth) for path in bags]
     tasks = [(path, options, use_truth) for path in bags]
     bar = None
-    if progress and sys.stderr.isatty():
-        from tqdm import tqdm
-        bar = tqdm(total=len(bags), unit='bag', desc=f'{workers} jobs', file=sys.stderr,
-                   leave=False, dynamic_ncols=True)
     results: List[BagAnalysis] = []
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
-        # are let go (close, join)
+        # are let go (close, join). The bar (and its monitor thread) only after the workers
+        # are started: ``_pool_context`` forks them only from a process with one thread.
         with _pool_context().Pool(workers, initializer=_start_worker) as pool:
+            if progress and sys.stderr.isatty():
+                from tqdm import tqdm
+                bar = tqdm(total=len(bags), unit='bag', desc=f'{workers} jobs',
+                           file=sys.stderr, leave=False, dynamic_ncols=True)
             for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:

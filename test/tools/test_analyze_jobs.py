@@ -67,6 +67,22 @@ def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) ->
     assert len(pooled[2].truth.matched) == len(alone[2].truth.matched) > 0
 
 
+def test_the_pool_forks_only_from_a_process_with_one_thread() -> None:
+    """Fork (workers in ms) from a single-threaded process; the fork server once a thread runs."""
+    script = ('import threading\n'
+              'from baseball_collision.tools.analyze import _pool_context\n'
+              'print(_pool_context().get_start_method())\n'
+              'stop = threading.Event()\n'
+              'thread = threading.Thread(target=stop.wait)\n'
+              'thread.start()\n'
+              'print(_pool_context().get_start_method())\n'
+              'stop.set()\n'
+              'thread.join()\n')
+    methods = subprocess.run([sys.executable, '-c', script], check=True, capture_output=True,
+                             text=True).stdout.split()
+    assert methods == ['fork', 'forkserver']
+
+
 def test_a_pool_worker_runs_blas_on_one_thread() -> None:
     """``analyze``'s workers set one BLAS thread as they start, as its own process does."""
     with _pool_context().Pool(2, initializer=_start_worker) as pool:
