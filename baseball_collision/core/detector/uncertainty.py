@@ -84,7 +84,13 @@ def seed_for(impact: Impact) -> List[int]:
 
 
 def excerpt(stream: Stream, first: int, last: int) -> Stream:
-    """Return a new stream of samples first..last of ``stream`` (a segment starts at first)."""
+    """
+    Return a new stream of samples first..last of ``stream`` (a segment starts at first).
+
+    A bat's cumulative turns come along where the stream has summed them from first on (one
+    reference: only their differences are used), so a re-solve does not sum them again;
+    otherwise the copy starts from zero at first.
+    """
     copy = Stream(stream.name)
     copy.times = stream.times[first:last + 1]
     copy.stamps = stream.stamps[first:last + 1]
@@ -92,7 +98,10 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
     copy.breaks = [True] + stream.breaks[first + 1:last + 1]
     copy.noise = stream.noise
     if copy.values and isinstance(copy.values[0], BatSample):
-        copy.turns = [(0.0, 0.0, 0.0, 0.0) if broken else None for broken in copy.breaks]
+        if stream.turns[first] is not None:
+            copy.turns = stream.turns[first:last + 1]
+        else:
+            copy.turns = [(0.0, 0.0, 0.0, 0.0) if broken else None for broken in copy.breaks]
     return copy
 
 
