@@ -79,6 +79,12 @@ from ..core.scene import Scene
 from ..errors import CoreError, RosError
 from ..threads import single_threaded_blas
 
+
+def _no_markers(impact: Impact, frame: str) -> None:
+    """Make no markers (the node makes an impact's after its other messages are out)."""
+    return None
+
+
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
 
@@ -225,6 +231,11 @@ class ImpactNode(Node):
                     self._clear_markers(event.stamp_ns, expected or frame)
                 if kind is Prediction:  # its message refilled (event_output's, made once)
                     self._publish(self._prediction_output(event, frame or expected or ''))
+                elif kind is Impact:  # ~/impact out first; its markers (0.5 ms to make) then
+                    self._publish(event_output(event, frame or expected or '', _no_markers))
+                    markers = self._markers(event, frame or expected or '')
+                    if markers is not None:
+                        self._outputs['markers'].publish(markers)
                 else:
                     self._publish(event_output(event, frame or expected or '', self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
