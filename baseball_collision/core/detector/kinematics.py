@@ -415,18 +415,22 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
     return config.spline_window if many == (stream_noise(bat, config) == 0.0) else 0
 
 
-def rigid_bat(velocities: ImpactVelocities, knob: Vector,
-              tip: Vector) -> Tuple[Vector, Vector, Vector]:
+def rigid_bat(velocities: ImpactVelocities, knob: Vector, tip: Vector,
+              sweet_spot_from_tip: float) -> Tuple[Vector, Vector, Vector]:
     """
-    Return the bat's (unit direction, angular velocity (rad/s), pivot point (m)) at an impact.
+    Return the bat's (angular velocity (rad/s), pivot point, sweet spot (m)) at an impact.
 
     The angular velocity is the swing's plus the roll about the bat's own axis; a point p of
-    the bat then moves at ``rigid_point_velocity(velocities.pivot, omega, pivot, p)``.
+    the bat then moves at ``rigid_point_velocity(velocities.pivot, omega, pivot, p)``. The
+    sweet spot is the axis point ``sweet_spot_from_tip`` (m) from the tip (the knob on a
+    shorter bat).
     """
     length = math.dist(knob, tip)
     direction = tuple((e - k) / length for k, e in zip(knob, tip))
     omega = add(velocities.swing, scale(direction, velocities.roll))
-    return direction, omega, lerp(knob, tip, velocities.pivot_fraction)
+    sweet = max(0.0, length - sweet_spot_from_tip)
+    sweet_point = add(knob, tuple(sweet * d for d in direction))
+    return omega, lerp(knob, tip, velocities.pivot_fraction), sweet_point
 
 
 def velocity_interval(stream: Stream, k: int, max_gap: float) -> int:

@@ -20,7 +20,7 @@ from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise
 from .gate import Clock
 from .kinematics import c2_velocities, impact_velocities, rigid_bat
 from .streams import Stream
-from ..geometry import add, dot, norm, profile_gap, rigid_point_velocity, Vector
+from ..geometry import dot, norm, profile_gap, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
 from ..toi import closest_offset, ImpactResult, profile_contact
 
@@ -235,9 +235,7 @@ class Sweep:
             velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
                                            config.velocity_degree, ball_path, bat_path)
         length = math.dist(knob, tip)
-        direction, omega, pivot = rigid_bat(velocities, knob, tip)
-        sweet = max(0.0, length - config.sweet_spot_from_tip)
-        sweet_point = add(knob, tuple(sweet * d for d in direction))
+        omega, pivot, sweet_point = rigid_bat(velocities, knob, tip, config.sweet_spot_from_tip)
         # rigid body: every point moves with the pivot plus the turn about it
         sweet_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point)
         bat_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, hit.point)

@@ -288,9 +288,8 @@ def before_rule_speed(config: DetectorConfig, clock: Clock, ball: Stream, bat: S
     sweep = Sweep(config, clock, stats, ball, bat, EpisodeTracker(config, clock, stats), offsets)
     velocities = c2_velocities(ball, bat, t, *sweep.paths(ball.interval(ta), bat.interval(ta)),
                                config, 'before')
-    direction, omega, pivot = rigid_bat(velocities, impact.knob, impact.tip)
-    reach = max(0.0, math.dist(impact.knob, impact.tip) - config.sweet_spot_from_tip)
-    sweet_point = tuple(k + reach * d for k, d in zip(impact.knob, direction))
+    omega, pivot, sweet_point = rigid_bat(velocities, impact.knob, impact.tip,
+                                          config.sweet_spot_from_tip)
     return norm(rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point))
 
 
