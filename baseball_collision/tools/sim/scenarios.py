@@ -10,12 +10,12 @@ hold. A scenario runs over ``[0, t_end]`` seconds of scenario time.
 
 from dataclasses import dataclass, replace
 import math
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
 from .common import as_times, check_number, SQRT_TWO_PI, TimeLike, unit
-from .families import check_family, draw_extras, mirrored
+from .families import check_family, draw_extras, Extras, mirrored
 from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch
 from .swings import Swing
 from .truth import compute_truth, segment_gaps, Truth
@@ -103,12 +103,12 @@ def _segment_radius(profile: BatProfile, fraction: float) -> float:
 
 
 def _draw_swing(rng: np.random.Generator, contact_time: float, geometry: PoseBatGeometry,
-                family: str = 'plane') -> Swing:
+                family: str = 'plane') -> Tuple[Swing, Extras]:
     """
     Draw a swing of a family, its reference at the contact time, sweet spot 28-34.5 m/s.
 
     The fixed-plane draws come first and in today's order, so ``'plane'`` swings are unchanged;
-    a family's extras (``families.draw_extras``) follow.
+    a family's extras (``families.draw_extras``) follow, and are returned with the swing.
     """
     azimuth = math.radians(rng.uniform(-20.0, 15.0))  # of the bat from +x toward +y
     elevation = math.radians(rng.uniform(-30.0, 5.0))  # barrel below the hands when < 0
@@ -155,7 +155,7 @@ def _draw_swing(rng: np.random.Generator, contact_time: float, geometry: PoseBat
         tilt_rate=extras.tilt_rate, tilt_acceleration=extras.tilt_acceleration,
         angular_skew=extras.skew, hands_jerk=extras.hands_jerk,
         brake_fraction=extras.brake_fraction, brake_duration=extras.brake_duration)
-    return mirrored(swing) if extras.left else swing
+    return (mirrored(swing) if extras.left else swing), extras
 
 
 def _draw_ball_velocity(rng: np.random.Generator, contact: np.ndarray, drag_constant: float,
@@ -186,7 +186,7 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
     """
     contact_time = lead_s + rng.uniform(-0.005, 0.005)
     t_end = lead_s + trail_s
-    swing = _draw_swing(rng, contact_time, geometry, family)
+    swing, extras = _draw_swing(rng, contact_time, geometry, family)
     length = swing.length
     segments = profile.segments()
     if kind == 'barrel':
@@ -241,7 +241,7 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
                         profile=profile, ball_radius=ball_radius)
     if kind in CLOSE_KINDS:
         scenario = _settle_clearance(scenario, clearance, velocity, contact_time, release_y)
-    return _braked(scenario)
+    return rebounded(_braked(scenario), extras.restitution, extras.mass_share)
 
 
 def _settle_clearance(scenario: Scenario, clearance: float, velocity: np.ndarray,
@@ -281,6 +281,50 @@ def _braked(scenario: Scenario) -> Scenario:
                                            brake_fraction=fraction), truth=truth)
 
 
+def rebounded(scenario: Scenario, restitution: float, mass_share: float) -> Scenario:
+    """
+    Return the scenario with its ball pushed off the bat from the first contact on.
+
+    The push is along the contact normal (no friction): the ball's speed into the bat's
+    surface, ``u`` (m/s, from ``surface_motion``), changes by ``-(1 + restitution) *
+    mass_share * u``, over ``Pitch.rebound_duration`` from the contact instant. The first
+    contact is before the push, so the truth stays as it is. Unchanged without a contact or
+    with ``restitution`` 0.
+
+    :param restitution: the coefficient of restitution (0-1).
+    :param mass_share: the bat's effective mass at the spot over the sum of it and the ball's
+        (0-1).
+    """
+    truth = scenario.truth
+    if not truth.contact or not restitution:
+        return scenario
+    relative, normal = surface_motion(scenario)
+    into = float(relative @ normal)  # < 0: the ball moves into the bat
+    change = -(1.0 + restitution) * mass_share * min(into, 0.0) * normal
+    pitch = replace(scenario.pitch, rebound_time=truth.time_s,
+                    rebound_change=tuple(change.tolist()))
+    return replace(scenario, pitch=pitch, truth=truth)
+
+
+def surface_motion(scenario: Scenario) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the ball's velocity relative to the bat's surface point it first touches (m/s).
+
+    With the unit contact normal (from the bat's axis toward the ball) at the first contact.
+
+    :raises ToolError: a scenario without a contact.
+    """
+    truth, swing = scenario.truth, scenario.swing
+    if not truth.contact:
+        raise ToolError(f'scenario {scenario.name!r} has no contact')
+    t = truth.time_s
+    point, normal = np.asarray(truth.point), np.asarray(truth.normal)
+    on_axis = swing.point(t, truth.bat_fraction)
+    surface_velocity = swing.point_velocity(t, truth.bat_fraction) + np.cross(
+        swing.angular_velocity(t), point - on_axis)
+    return scenario.pitch.velocity(t) - surface_velocity, normal
+
+
 def impulse_share(scenario: Scenario) -> float:
     """
     Return how much of a square sweet-spot hit's swing-slowing impulse the first contact has.
@@ -299,12 +343,9 @@ def impulse_share(scenario: Scenario) -> float:
     if not truth.contact:
         return 0.0
     t = truth.time_s
-    point, normal = np.asarray(truth.point), np.asarray(truth.normal)
+    point = np.asarray(truth.point)
     omega = swing.angular_velocity(t)
-    on_axis = swing.point(t, truth.bat_fraction)
-    surface_velocity = swing.point_velocity(t, truth.bat_fraction) + np.cross(
-        omega, point - on_axis)
-    relative = scenario.pitch.velocity(t) - surface_velocity
+    relative, normal = surface_motion(scenario)
     closing = -float(relative @ normal)  # > 0: the ball moves into the bat
     lever = float(np.cross(point - swing.hands_position(t), normal) @ omega) / float(
         np.linalg.norm(omega))

@@ -64,3 +64,28 @@ def test_pitch_refuses_bad_input() -> None:
         Pitch((0.0, 17.0, 1.8), (0.0, -40.0, 0.0), step=0.0)
     with pytest.raises(ToolError):
         Pitch.through((0.0, 0.0, 1.0), (0.0, 40.0, 0.0), 0.1)
+
+
+def test_a_rebound_adds_its_change_smoothly_after_its_instant() -> None:
+    """
+    A pushed ball: unchanged before the push, the whole change after it, smooth in between.
+
+    The velocity is the position's derivative (central differences) inside and around the
+    push; the position gained by its end is half the change times its duration.
+    """
+    free = Pitch((0.0, 17.0, 1.8), (0.0, -40.0, 0.0), duration=0.6)
+    change = (3.0, 70.0, -20.0)
+    pushed = Pitch((0.0, 17.0, 1.8), (0.0, -40.0, 0.0), duration=0.6, rebound_time=0.4,
+                   rebound_change=change, rebound_duration=6e-4)
+    early = np.linspace(0.0, 0.4, 9)
+    assert np.array_equal(pushed.position(early), free.position(early))
+    after = np.array([0.4006, 0.45, 0.5])
+    assert np.allclose(pushed.velocity(after) - free.velocity(after), change, atol=1e-12)
+    assert np.allclose(pushed.position(0.4006) - free.position(0.4006),
+                       0.5 * 6e-4 * np.array(change), atol=1e-12)
+    step = 1e-7
+    for t in (0.4, 0.4001, 0.4003, 0.4006, 0.401):
+        slope = (pushed.position(t + step) - pushed.position(t - step)) / (2.0 * step)
+        assert np.allclose(slope, pushed.velocity(t), atol=1e-5)
+    with pytest.raises(ToolError):
+        Pitch((0.0, 17.0, 1.8), (0.0, -40.0, 0.0), rebound_time=0.4, rebound_duration=0.0)

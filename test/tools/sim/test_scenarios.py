@@ -1,10 +1,12 @@
 """Tests for baseball_collision.tools.sim scenarios: every kind is what it says, reproducibly."""
 
+from dataclasses import replace
+
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.geometry import quaternion_to_matrix
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.sim import CLOSE_KINDS, KINDS, make_scenario, Scenario
-from baseball_collision.tools.sim.scenarios import impulse_share
+from baseball_collision.tools.sim.scenarios import impulse_share, surface_motion
 import numpy as np
 import pytest
 
@@ -125,3 +127,33 @@ def test_a_braking_bat_slows_with_the_contacts_impulse() -> None:
             shares.setdefault(kind, []).append(share)
     assert max(shares['tick']) < 0.05
     assert max(shares['handle']) < 0.5 < float(np.median(shares['barrel']))
+
+
+def test_a_rebounding_ball_leaves_the_bat_as_from_a_hit() -> None:
+    """
+    The rebound family: the ball's speed into the bat's surface reverses at the contact.
+
+    It changes by -(1 + e) q times itself along the normal (e 0.45-0.55, q 0.6-0.8: a
+    square hit leaves at 30-50 m/s), not across it, after ``rebound_duration``; the truth is
+    the flight's before the push, and the swing brakes as the braking family's does.
+    """
+    rng = np.random.default_rng(9)
+    for kind in ('barrel', 'handle', 'tick', 'miss_over'):
+        scenario = make_scenario(kind, rng, family='rebound')
+        pitch = scenario.pitch
+        if not scenario.truth.contact:
+            assert pitch.rebound_time is None
+            continue
+        t = scenario.truth.time_s
+        assert pitch.rebound_time == t
+        relative, normal = surface_motion(scenario)
+        into = float(relative @ normal)
+        gained = pitch.velocity(t + pitch.rebound_duration) - pitch.velocity(t)
+        free = replace(pitch, rebound_time=None)
+        gained = gained - (free.velocity(t + pitch.rebound_duration) - free.velocity(t))
+        ratio = float(gained @ normal) / -into
+        assert 0.45 * 1.6 - 1e-9 <= ratio <= 1.55 * 0.8 + 1e-9
+        assert np.linalg.norm(gained - (gained @ normal) * normal) < 1e-9
+        if kind == 'barrel':
+            assert 30.0 < np.linalg.norm(pitch.velocity(t + 0.002)) < 55.0
+        assert scenario.swing.brake_time == t
