@@ -31,6 +31,7 @@ import numpy as np
 from .broadphase import apart_margins, path_margins
 from .broadphase.arrays import rows
 from .config import DetectorConfig
+from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .streams import SILENT_KEEP, Stream
@@ -446,13 +447,20 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
             config.model, config.look_ahead, config.spline_window, margin) > margin)
         # the sweep's second test (the motion paths' spheres) where the first did not clear
         # (c2's second stage is apart_margins' own)
+        # (nor, for the spline, before a departure: its tangent there skips the sample after)
         near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
         if len(near):
-            clear[near] = path_margins(
+            # the ball's free flight where it has left it (``departure``), as apart_margins
+            reach = departure_reaches(arrays.ball, arrays.times[0], ball_k[near])
+            ahead = departure_reaches(arrays.ball, arrays.times[0], np.minimum(
+                ball_k[near] + 1, len(arrays.times[0]) - 2))
+            clear[near] = (path_margins(
                 arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
                 bat_k[near], ball_before[near], ball_after[near], bat_before[near],
                 bat_after[near], arrays.times[0], arrays.times[1], config.model,
-                max(map(norm, offsets))) > margin
+                max(map(norm, offsets))) - reach > margin)
+            if config.model == 'spline':
+                clear[near] &= ~(ahead > DEPARTURE_FLOOR)
     return clear
 
 

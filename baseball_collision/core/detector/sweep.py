@@ -14,6 +14,7 @@ from typing import Any, Callable, List, Optional, Tuple
 
 from .broadphase import clearly_apart
 from .config import DetectorConfig
+from .departure import flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise
@@ -159,16 +160,8 @@ class Sweep:
         key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
         c2 = self.model == 'c2'
         config = self.config
-        if ball.path_key != key and c2:
-            ball.path = c2_point_path(ball, ball_k, c2_window(
-                ball, ball_k, config.max_gap, config.look_ahead, config.spline_window),
-                stream_noise(ball, config), config)
-            ball.path_key = key
         if ball.path_key != key:
-            before, after = _neighbours(ball, ball_k, self.config.max_gap)
-            ball.path = PointPath.build(self.model, ball.times[ball_k], ball.times[ball_k + 1],
-                                        ball.values[ball_k], ball.values[ball_k + 1], before,
-                                        after)
+            ball.path = self._ball_path(ball_k)
             ball.path_key = key
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
         if bat.path_key != key and c2:
@@ -183,6 +176,32 @@ class Sweep:
                                      self.offsets)
             bat.path_key = key
         return ball.path, bat.path
+
+    def _ball_path(self, k: int) -> PointPath:
+        """
+        Return the ball's path over its sample interval k under the model.
+
+        Where the closing sample has left the ball's free flight (``departure.leaves_flight``:
+        a hit turns the ball round before the next frame), the free flight's parabola instead,
+        for every model but ``c2`` with noise (whose flight fit's guard turns to the fit ending
+        at the opening frame: ``fitting.ball_flight``); and a spline's tangent does not reach
+        across such a departure for the interval before it.
+        """
+        ball, config = self.ball, self.config
+        gap, noise = config.max_gap, stream_noise(ball, config)
+        if self.model == 'c2':
+            path = c2_point_path(ball, k, c2_window(ball, k, gap, config.look_ahead,
+                                                    config.spline_window), noise, config)
+            if noise > 0.0:
+                return path
+        else:
+            before, after = _neighbours(ball, k, gap)
+            if after is not None and leaves_flight(ball, k + 1, noise, gap) is not None:
+                after = None
+            path = PointPath.build(self.model, ball.times[k], ball.times[k + 1], ball.values[k],
+                                   ball.values[k + 1], before, after)
+        departed = leaves_flight(ball, k, noise, gap)
+        return path if departed is None else flight_path(ball, k, departed)
 
     def _gap_at(self, state: State) -> float:
         """Return the gap (m) at a state, reusing the last one computed."""

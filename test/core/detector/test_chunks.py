@@ -21,6 +21,7 @@ from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, turn_between
 from baseball_collision.errors import CoreError
+from baseball_collision.tools.sim import make_scenario, sample
 from hypothesis import given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
@@ -405,6 +406,31 @@ def test_c2_under_auto_noise_planned_same_as_one_at_a_time(
     rows = inject(noisy(session(HEIGHTS[:2]), sigma, 5), faults)
     assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0,
                                look_ahead=look_ahead), rows, sizes)
+
+
+def hits(seeds: Sequence[int], rate: float = 360.0, noise_m: float = 0.0) -> List[Row]:
+    """Return barrel hits of the ``rebound`` family (the ball leaves the bat), 1 s apart."""
+    rows: List[Row] = []
+    for i, seed in enumerate(seeds):
+        scenario = make_scenario('barrel', np.random.default_rng(seed), family='rebound')
+        samples = sample(scenario, rate, np.random.default_rng(seed), jitter_s=2e-4,
+                         grid_s=1e-3, noise_m=noise_m, start_ns=BASE_NS + i * 1_000_000_000)
+        rows += [(role, stamp, values, 'world') for stamp, role, values in samples.messages()]
+    return rows
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_hits_the_ball_rebounds_from_same_in_chunks(model: str, noise_m: float) -> None:
+    """
+    Hits whose ball leaves the bat: each found, the same in chunks as one at a time.
+
+    The far tests on arrays must leave the free flight's interval to the sweep: both frames
+    around a hit are far from the bat.
+    """
+    config = DetectorConfig(model=model, bat_input='pose')
+    events = assert_same(config, hits(range(3), noise_m=noise_m), (7, 300, 2000))
+    assert sum(isinstance(e, Impact) for e in events) == 3
 
 
 def test_c2_under_auto_noise_is_planned(monkeypatch: pytest.MonkeyPatch) -> None:

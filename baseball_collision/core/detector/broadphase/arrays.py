@@ -11,6 +11,7 @@ from typing import Optional
 import numpy as np
 
 from .c2 import _AFTER_ONE, _AFTER_TWO, _FAR_OFFSET, _WEIGHT_LIST, C2_JUMP_BEFORE, C2_STEP_RATIO
+from ..departure import departure_reaches
 
 
 def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
@@ -43,12 +44,15 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     :param margin: intervals whose first bound clears this (m) skip the second: ``c2``'s
         second stage, the other models' hulls (their clearance is then the spheres' alone,
         which already clears it).
-    :returns: the clearance of each interval (m,).
+    :returns: the clearance of each interval (m,), less the ball's ``departure_reaches``
+        (the scalar test's margin grows by its ``departure_reach``).
     :raises ValueError: an unknown model.
     """
+    reach = departure_reaches(ball, ball_times, ball_k)
     if model == 'c2':
         return _c2_margins(ball, bat_knob, bat_tip, ball_k, bat_k, ball_times, bat_times,
-                           look_ahead, size, margin)
+                           look_ahead, size, margin + reach) - reach
+    margin = margin + reach
     b0, b1 = rows(ball, ball_k), rows(ball, ball_k + 1)
     k0, k1 = rows(bat_knob, bat_k), rows(bat_knob, bat_k + 1)
     e0, e1 = rows(bat_tip, bat_k), rows(bat_tip, bat_k + 1)
@@ -84,13 +88,13 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     near = np.flatnonzero(~(sphere > margin))  # (the hulls only where the spheres do not clear)
     if len(near) == len(sphere):
         return np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
-                          - bat_growth)
+                          - bat_growth) - reach
     if len(near):
         hull = hull_separations(*(rows(each, near) for each in (b0, b1, k0, e0, k1, e1)))
         for growth in (ball_bulge, bat_growth):
             hull = hull - (growth[near] if isinstance(growth, np.ndarray) else growth)
         sphere[near] = np.maximum(sphere[near], hull)
-    return sphere
+    return sphere - reach
 
 
 def rows(points: np.ndarray, index: np.ndarray) -> np.ndarray:

@@ -11,6 +11,7 @@ import math
 from typing import Callable, List, Sequence
 
 from .c2 import c2_clearly_apart
+from ..departure import departure_reach
 from ..streams import Stream
 from ...geometry import sub, Vector
 from ...motion import BatSample
@@ -68,7 +69,11 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
     :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
     :param model: the motion model between samples.
     :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
+
+    The ball's bounds hold for the free flight's path too, which the sweep takes where the
+    ball's closing sample has left it (a hit): the margin grows by ``departure_reach``.
     """
+    margin += departure_reach(ball, ball_k, max_gap)
     b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
     s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
     k0, e0, k1, e1 = s0.knob, s0.tip, s1.knob, s1.tip

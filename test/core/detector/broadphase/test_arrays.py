@@ -4,6 +4,7 @@ from baseball_collision.core.detector import Detector
 from baseball_collision.core.detector.broadphase import (
     apart_margins, hull_separation, hull_separations)
 from baseball_collision.core.detector.broadphase.arrays import rows
+from baseball_collision.core.detector.departure import departure_reaches
 from hypothesis import given, settings, strategies as st
 import numpy as np
 from support import examples
@@ -105,6 +106,8 @@ def test_apart_margins_are_the_bounds_written_out_to_the_bit(seed: int, n: int, 
     """
     ``apart_margins`` gives the spheres' and hulls' bounds of its docstring, bit for bit.
 
+    Less the ball's departure reach (``departure.departure_reaches``) on every interval.
+
     The reference is the rule written out with fancy indexing, each bulge on its own (the
     array code shares the bat's neighbours and weights and takes rows with ``np.take``).
     """
@@ -141,7 +144,7 @@ def test_apart_margins_are_the_bounds_written_out_to_the_bit(seed: int, n: int, 
         sphere = (dist(ball_centre, bat_centre) - (0.5 * dist(b0, b1) + ball_bulge)
                   - (bat_radius + bat_growth))
         expected = np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
-                              - bat_growth)
+                              - bat_growth) - departure_reaches(ball, ball_times, ball_k)
     assert clearance.tobytes() == expected.tobytes()
 
 

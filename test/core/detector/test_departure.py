@@ -1,0 +1,162 @@
+"""Tests for baseball_collision.core.detector.departure: a ball that leaves its free flight."""
+
+import math
+from typing import List, Sequence
+
+from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector.departure import (
+    DEPARTURE_FLOOR, departure_reach, departure_reaches, flight_path, leaves_flight, parabola,
+    SCATTER_INTERVALS)
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.tools.sim import make_scenario, sample
+from hypothesis import given, settings, strategies as st
+import numpy as np
+import pytest
+from support import examples
+from support.events import detect
+
+RATE = 90.0
+
+
+def _stream(times: Sequence[float], points: Sequence[Sequence[float]],
+            breaks: Sequence[int] = ()) -> Stream:
+    """Return a ball stream of the points at the times (s), a segment starting at ``breaks``."""
+    stream = Stream('ball')
+    for i, (t, p) in enumerate(zip(times, points)):
+        stream.append(float(t), int(round(t * 1e9)), tuple(float(x) for x in p), i in breaks)
+    return stream
+
+
+def _rebound(seed: int, noise_m: float = 0.0, rate: float = RATE):
+    """Return a 'rebound' barrel hit and its samples (knob and tip markers)."""
+    scenario = make_scenario('barrel', np.random.default_rng(seed), family='rebound')
+    samples = sample(scenario, rate, np.random.default_rng(seed), jitter_s=2e-4, grid_s=1e-3,
+                     noise_m=noise_m, marker_spread_m=0.3 if noise_m else None)
+    return scenario, samples
+
+
+def _ball(samples) -> Stream:
+    times = (samples.ball_stamps_ns - samples.start_ns) * 1e-9
+    return _stream(times, samples.ball_positions)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.02), min_size=4, max_size=4),
+       coefficients=st.lists(st.floats(-50.0, 50.0), min_size=9, max_size=9))
+def test_a_parabola_is_its_own_free_flight(steps: List[float],
+                                           coefficients: List[float]) -> None:
+    """On uneven stamps a quadratic's samples never depart; the flight path is the quadratic."""
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    c = np.array(coefficients).reshape(3, 3)
+    points = [c[0] + c[1] * t + c[2] * t * t for t in times]
+    stream = _stream(times, points)
+    for k in (2, 3):
+        assert leaves_flight(stream, k, 0.0, 1.0) is None
+        assert departure_reach(stream, k, 1.0) <= (
+            np.linalg.norm(2.0 * c[2]) * (times[k + 1] - times[k]) ** 2 / 8.0 + 1e-9)
+    path = flight_path(stream, 3, parabola(stream, 3, 1.0))
+    for t in np.linspace(times[3], times[4], 7):
+        expected = c[0] + c[1] * t + c[2] * t * t
+        assert math.dist(path.at(float(t)), expected) < 1e-9 * (1.0 + np.abs(expected).max())
+
+
+def test_a_hit_departs_at_its_interval_only() -> None:
+    """The frame after a hit departs from the free flight; no interval of the pitch before."""
+    for seed in range(4):
+        scenario, samples = _rebound(seed)
+        stream = _ball(samples)
+        contact = stream.interval(scenario.truth.time_s)
+        departed = [k for k in range(len(stream.times) - 1)
+                    if leaves_flight(stream, k, 0.0, 1.0) is not None]
+        assert departed[0] == contact
+        assert departure_reach(stream, contact, 1.0) > 0.05  # m: centimetres at least
+
+
+def test_noise_is_not_a_departure() -> None:
+    """
+    A pitch with 1 mm of noise: no interval departs, told the noise or not (its own scatter).
+
+    Not told, from the intervals with ``SCATTER_INTERVALS`` before them (at a segment's first
+    ones nothing tells noise from a departure but the floor). Fails with the chi-square alone
+    when the noise is not told.
+    """
+    departed = told = 0
+    for seed in range(12):
+        _, samples = _rebound(seed, noise_m=1e-3)
+        stream = _ball(samples)
+        end = stream.interval(0.12)  # before every contact
+        for k in range(end):
+            if k >= 2 + SCATTER_INTERVALS:
+                departed += leaves_flight(stream, k, 0.0, 1.0) is not None
+            told += leaves_flight(stream, k, 1e-3, 1.0) is not None
+    assert departed <= 1 and told <= 1
+
+
+def test_a_noisy_hit_departs() -> None:
+    """With 1 mm of noise, told or not, the frame after a hit still departs (most hits)."""
+    found = 0
+    for seed in range(8):
+        scenario, samples = _rebound(seed, noise_m=1e-3)
+        stream = _ball(samples)
+        contact = stream.interval(scenario.truth.time_s)
+        found += all(leaves_flight(stream, contact, noise, 1.0) is not None
+                     for noise in (0.0, 1e-3))
+    assert found >= 7
+
+
+def test_segments_and_gaps_have_no_parabola() -> None:
+    """Three samples before the closing one, in its segment and without a long gap, or none."""
+    times = [0.0, 0.01, 0.02, 0.03, 0.04, 0.2, 0.21]
+    points = [(t, 0.0, 0.0) for t in times]
+    assert parabola(_stream(times, points), 2, 0.05) is not None
+    assert parabola(_stream(times, points, breaks=(2,)), 2, 0.05) is None
+    assert parabola(_stream(times, points), 4, 0.05) is None  # the gap after it
+    assert parabola(_stream(times, points), 1, 0.05) is None
+    assert departure_reach(_stream(times, points), 4, 0.05) == 0.0
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 30))
+def test_vectorised_reach_is_the_scalar_one(seed: int, n: int) -> None:
+    """``departure_reaches`` is ``departure_reach`` to rounding in a segment, never below it."""
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.001, 0.02, n))
+    points = rng.normal(size=(n, 3))
+    breaks = {int(b) for b in rng.integers(1, n, 2)} if rng.random() < 0.5 else set()
+    stream = _stream(times, points, breaks)
+    k = np.arange(n - 1)
+    found = departure_reaches(points, times, k)
+    for j in k:
+        scalar = departure_reach(stream, int(j), 1.0)
+        assert found[j] >= scalar - 1e-12 * (1.0 + scalar)
+        if parabola(stream, int(j), 1.0) is not None:
+            assert abs(found[j] - scalar) <= 1e-12 * (1.0 + scalar)
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_every_model_finds_a_hit_the_ball_rebounds_from(model: str, noise_m: float) -> None:
+    """
+    A hit whose ball rebounds is found, near its true instant, by every model.
+
+    Without the free flight no model finds it (the frames after it show the ball going away).
+    Noise not told (``tracker_noise`` 0): the departure is told apart from the scatter.
+    """
+    errors = []
+    for seed in range(3):
+        scenario, samples = _rebound(seed, noise_m)
+        _, impacts = detect(DetectorConfig(model=model, bat_input='points'), samples)
+        assert len(impacts) == 1
+        t = (impacts[0].stamp_ns - samples.start_ns) * 1e-9
+        errors.append(abs(t - scenario.truth.time_s))
+    assert max(errors) < (2e-4 if model != 'linear' or noise_m else 1e-3)
+
+
+def test_floor_is_a_millimetre() -> None:
+    """The exact test's floor: a closing sample a millimetre off is not a departure."""
+    times = [0.0, 0.01, 0.02, 0.03]
+    points = [(0.0, 0.0, 0.0), (0.4, 0.0, 0.0), (0.8, 0.0, 0.0),
+              (1.2 + 0.9 * DEPARTURE_FLOOR, 0.0, 0.0)]
+    assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is None
+    points[3] = (1.2 + 1.1 * DEPARTURE_FLOOR, 0.0, 0.0)
+    assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is not None
