@@ -34,9 +34,10 @@ from .streams import Stream
 from ..geometry import Vector
 from ..motion import PointPath
 
-DEPARTURE_FLOOR = 1e-3
+DEPARTURE_FLOOR = 2e-4
 """m: a closing sample nearer than this to the free flight has not departed (exact samples: the
-parabola's own error is micrometres; a hit moves the ball that far 15-30 us after contact)."""
+parabola's own error is micrometres at 90 Hz, a third of a millimetre at 30 Hz, where the
+scatter test tells it apart; a hit moves the ball that far 3-6 us after the contact)."""
 
 DEPARTURE_CHI_SQUARE = 21.11
 """The chi-square (3 degrees of freedom) a noisy closing sample must exceed: its upper 1e-4

@@ -184,14 +184,18 @@ class Sweep:
         Where the closing sample has left the ball's free flight (``departure.leaves_flight``:
         a hit turns the ball round before the next frame), the free flight's parabola instead,
         for every model but ``c2`` with noise (whose flight fit's guard turns to the fit ending
-        at the opening frame: ``fitting.ball_flight``); and a spline's tangent does not reach
-        across such a departure for the interval before it.
+        at the opening frame: ``fitting.ball_flight``); and neither a spline's tangent nor a
+        ``c2`` look-ahead reaches across a departure after the interval.
         """
         ball, config = self.ball, self.config
         gap, noise = config.max_gap, stream_noise(ball, config)
         if self.model == 'c2':
-            path = c2_point_path(ball, k, c2_window(ball, k, gap, config.look_ahead,
-                                                    config.spline_window), noise, config)
+            window = c2_window(ball, k, gap, config.look_ahead, config.spline_window)
+            for j in range(k + 1, window.stop - 1):  # the look-ahead ends at a departure
+                if leaves_flight(ball, j, noise, gap) is not None:
+                    window = range(window.start, j + 1)
+                    break
+            path = c2_point_path(ball, k, window, noise, config)
             if noise > 0.0:
                 return path
         else:

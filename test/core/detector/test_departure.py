@@ -152,8 +152,8 @@ def test_every_model_finds_a_hit_the_ball_rebounds_from(model: str, noise_m: flo
     assert max(errors) < (2e-4 if model != 'linear' or noise_m else 1e-3)
 
 
-def test_floor_is_a_millimetre() -> None:
-    """The exact test's floor: a closing sample a millimetre off is not a departure."""
+def test_floor() -> None:
+    """A closing sample less than ``DEPARTURE_FLOOR`` off the free flight has not departed."""
     times = [0.0, 0.01, 0.02, 0.03]
     points = [(0.0, 0.0, 0.0), (0.4, 0.0, 0.0), (0.8, 0.0, 0.0),
               (1.2 + 0.9 * DEPARTURE_FLOOR, 0.0, 0.0)]
