@@ -1,5 +1,6 @@
 """Tests for baseball_collision.core.detector.departure: a ball that leaves its free flight."""
 
+from dataclasses import replace
 import math
 from typing import List, Sequence
 
@@ -7,8 +8,9 @@ from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.departure import (
     DEPARTURE_FLOOR, departure_reach, departure_reaches, flight_path, leaves_flight, parabola,
     SCATTER_INTERVALS)
+from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.tools.sim import make_scenario, sample
+from baseball_collision.tools.sim import CLOSE_KINDS, KINDS, make_scenario, sample
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -160,3 +162,44 @@ def test_floor() -> None:
     assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is None
     points[3] = (1.2 + 1.1 * DEPARTURE_FLOOR, 0.0, 0.0)
     assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is not None
+
+
+def test_look_ahead_rebounds_within_microseconds() -> None:
+    """
+    ``c2`` at look-ahead 2 on hits whose ball rebounds: within 10 us of the truth.
+
+    The bat unbraked, so the ball alone is tested (one closing frame 0.25 ms after the contact,
+    the two after it decimetres off the free flight).
+    """
+    rng = np.random.default_rng(7)
+    kinds = KINDS + CLOSE_KINDS
+    scenarios = [make_scenario(kind, rng, family='rebound') for kind in kinds for _ in range(8)]
+    errors = []
+    for i in (16, 23, 27):  # handle hits and a graze
+        scenario = scenarios[i]
+        swing = replace(scenario.swing, brake_time=None, brake_fraction=0.0)
+        scenario = replace(scenario, swing=swing, truth=scenario.truth)
+        samples = sample(scenario, RATE, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3)
+        _, impacts = detect(DetectorConfig(model='c2', look_ahead=2, bat_input='points'),
+                            samples)
+        errors.append(abs((impacts[0].stamp_ns - samples.start_ns) * 1e-9
+                          - scenario.truth.time_s))
+    assert max(errors) < 1e-5
+
+
+def test_a_look_ahead_stops_at_a_departure() -> None:
+    """The ball's ``c2`` path before a hit's interval, at look-ahead 2, is fitted up to it only."""
+    scenario, samples = _rebound(1)
+    config = DetectorConfig(model='c2', look_ahead=2, bat_input='points')
+    detector, _ = detect(config, samples)
+    ball = detector._ball
+    k = ball.interval(scenario.truth.time_s)
+    assert leaves_flight(ball, k, 0.0, config.max_gap) is not None
+    ball.path_key = None
+    path = detector._sweep.paths(k - 1, detector._bat.interval(scenario.truth.time_s))[0]
+    window = c2_window(ball, k - 1, config.max_gap, 2, config.spline_window)
+    assert window.stop - 1 == k + 2  # the look-ahead reaches two frames after the hit
+    kept = c2_point_path(ball, k - 1, range(window.start, k + 1))
+    bent = c2_point_path(ball, k - 1, window)
+    t = 0.5 * (path.t0 + path.t1)
+    assert path.at(t) == kept.at(t) and math.dist(bent.at(t), kept.at(t)) > 1e-3
