@@ -51,9 +51,11 @@ SCATTER_RATIO = 25.0
 ratio of two chi-squares of 3 and 12 degrees of freedom, each over its own, passes 25 about
 once in 70,000 draws (F(3, 12) > 25)."""
 
-Parabola = Tuple[Tuple[float, float, float], Vector, Vector, Vector]
-"""Lagrange weights of samples k - 2, k - 1, k at the closing stamp; the parabola's value
-(m) there; its velocity (m/s) at the opening stamp and at the closing stamp."""
+Parabola = Tuple[float, float, float, Vector, Vector]
+"""The free flight over an interval: the closing sample's distance from the parabola (m), the
+noise gain of that difference (1 + the squared Lagrange weights), the parabola's bulge from its
+own chord over the interval (m), its value at the closing stamp (m) and its acceleration
+(m/s^2)."""
 
 
 def parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
@@ -61,25 +63,49 @@ def parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
     Return the parabola through a point stream's samples k - 2, k - 1 and k, or None.
 
     None when they and sample k + 1 are not all in one segment without a gap over
-    ``max_gap`` (s), or k < 2.
+    ``max_gap`` (s), or k < 2. Kept per interval in ``stream.aligned`` once sample k + 1 is
+    there (the four samples never change): the far test and the sweep ask for it in turn.
     """
-    if k < 2 or k + 1 >= len(stream.times) or not all(
-            stream.continuous(i, max_gap) for i in (k - 2, k - 1, k)):
+    times = stream.times
+    if k + 1 >= len(times):
         return None
-    t0, t1, t2, t3 = stream.times[k - 2:k + 2]
-    p0, p1, p2 = stream.values[k - 2:k + 1]
-    w0 = (t3 - t1) * (t3 - t2) / ((t0 - t1) * (t0 - t2))
-    w1 = (t3 - t0) * (t3 - t2) / ((t1 - t0) * (t1 - t2))
-    w2 = (t3 - t0) * (t3 - t1) / ((t2 - t0) * (t2 - t1))
-    end = tuple(w0 * a + w1 * b + w2 * c for a, b, c in zip(p0, p1, p2))
-    # the parabola's derivative at t: the Lagrange weights' derivatives
-    rates = []
-    for t in (t2, t3):
-        d0 = ((t - t1) + (t - t2)) / ((t0 - t1) * (t0 - t2))
-        d1 = ((t - t0) + (t - t2)) / ((t1 - t0) * (t1 - t2))
-        d2 = ((t - t0) + (t - t1)) / ((t2 - t0) * (t2 - t1))
-        rates.append(tuple(d0 * a + d1 * b + d2 * c for a, b, c in zip(p0, p1, p2)))
-    return (w0, w1, w2), end, rates[0], rates[1]
+    kept = stream.aligned.setdefault('parabolas', [])
+    if k < len(kept):
+        entry = kept[k]
+        if entry is not None and entry[0] == max_gap:
+            return entry[1]
+    else:
+        kept.extend([None] * (k + 1 - len(kept)))
+    found = _parabola(stream, k, max_gap)
+    kept[k] = (max_gap, found)
+    return found
+
+
+def _parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
+    """Return ``parabola``'s answer, computed (sample k + 1 is there)."""
+    times, breaks = stream.times, stream.breaks
+    if k < 2 or breaks[k - 1] or breaks[k] or breaks[k + 1]:
+        return None
+    t0, t1, t2, t3 = times[k - 2:k + 2]
+    h0, h1, h = t1 - t0, t2 - t1, t3 - t2
+    if h0 > max_gap or h1 > max_gap or h > max_gap:
+        return None
+    (x0, y0, z0), (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stream.values[k - 2:k + 2]
+    # Lagrange's weights of the three samples at t3 (they sum to 1)
+    w0 = (t3 - t1) * h / ((t0 - t1) * (t0 - t2))
+    w1 = (t3 - t0) * h / ((t1 - t0) * (t1 - t2))
+    w2 = 1.0 - w0 - w1
+    end = (w0 * x0 + w1 * x1 + w2 * x2, w0 * y0 + w1 * y1 + w2 * y2,
+           w0 * z0 + w1 * z1 + w2 * z2)
+    # twice the second divided difference
+    span = 0.5 * (t2 - t0)
+    acceleration = (((x2 - x1) / h1 - (x1 - x0) / h0) / span,
+                    ((y2 - y1) / h1 - (y1 - y0) / h0) / span,
+                    ((z2 - z1) / h1 - (z1 - z0) / h0) / span)
+    ax, ay, az = acceleration
+    miss = math.dist((x3, y3, z3), end)
+    bend = math.sqrt(ax * ax + ay * ay + az * az) * h * h / 8.0
+    return miss, 1.0 + w0 * w0 + w1 * w1 + w2 * w2, bend, end, acceleration
 
 
 def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[Parabola]:
@@ -97,30 +123,29 @@ def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
     fitted = parabola(stream, k, max_gap)
     if fitted is None:
         return None
-    miss, spread = _miss(stream, k, fitted)
+    miss, spread = fitted[0], fitted[1]
     if miss <= DEPARTURE_FLOOR or miss * miss <= DEPARTURE_CHI_SQUARE * noise * noise * spread:
         return None
     scatter = []
     for j in range(k - SCATTER_INTERVALS, k):
         before = parabola(stream, j, max_gap) if j >= 0 else None
         if before is not None:
-            other, other_spread = _miss(stream, j, before)
-            scatter.append(other * other / other_spread)
+            scatter.append(before[0] * before[0] / before[1])
     if scatter and miss * miss <= SCATTER_RATIO * spread * sum(scatter) / len(scatter):
         return None
     return fitted
 
 
-def _miss(stream: Stream, k: int, fitted: Parabola) -> Tuple[float, float]:
-    """Return the closing sample's distance (m) from the parabola and 1 + its weights' squares."""
-    weights, end, _, _ = fitted
-    return math.dist(stream.values[k + 1], end), 1.0 + sum(w * w for w in weights)
-
-
 def flight_path(stream: Stream, k: int, fitted: Parabola) -> PointPath:
     """Return the ball's path over interval k on the free flight's parabola (``parabola``)."""
-    _, end, rate0, rate1 = fitted
-    return PointPath(stream.times[k], stream.times[k + 1], stream.values[k], end, rate0, rate1)
+    end, acceleration = fitted[3], fitted[4]
+    t1, t2, t3 = stream.times[k - 1:k + 2]
+    p1, p2 = stream.values[k - 1:k + 1]
+    # the chord's slope is the parabola's at the chord's middle
+    opening = tuple((b - a) / (t2 - t1) + 0.5 * c * (t2 - t1)
+                    for a, b, c in zip(p1, p2, acceleration))
+    closing = tuple(v + c * (t3 - t2) for v, c in zip(opening, acceleration))
+    return PointPath(t2, t3, p2, end, opening, closing)
 
 
 def departure_reach(stream: Stream, k: int, max_gap: float) -> float:
@@ -132,27 +157,32 @@ def departure_reach(stream: Stream, k: int, max_gap: float) -> float:
     parabola (``parabola``).
     """
     fitted = parabola(stream, k, max_gap)
-    if fitted is None:
-        return 0.0
-    _, end, rate0, rate1 = fitted
-    h = stream.times[k + 1] - stream.times[k]
-    bend = math.dist(rate0, rate1) * h / 8.0  # |a| h^2 / 8, a = (rate1 - rate0) / h
-    return math.dist(stream.values[k + 1], end) + bend
+    return 0.0 if fitted is None else fitted[0] + fitted[2]
 
 
-def departure_reaches(points: np.ndarray, times: np.ndarray, k: np.ndarray) -> np.ndarray:
+def departure_reaches(points: np.ndarray, times: np.ndarray, k: np.ndarray,
+                      closed: Optional[np.ndarray] = None) -> np.ndarray:
     """
     Return ``departure_reach`` over arrays of intervals, never below it.
 
-    Every interval from the third sample on is given its parabola, across segments and gaps
-    too (more than the scalar function, which gives those 0), rounded as numpy rounds: a caller
-    that must not fall below the scalar bound adds a tolerance.
+    Every interval from the third sample on is given its parabola; with ``closed`` (each
+    sample interval's ``Stream.continuous``), as the scalar function, only those whose samples
+    k - 2 to k + 1 are one segment without a long gap (elsewhere 0); without it, across
+    segments and gaps too (more than the scalar function gives). Rounded as numpy rounds: a
+    caller that must not fall below the scalar bound adds a tolerance.
 
     :param points: (n, 3) a stream's samples (m); ``times``: (n,) their times (s).
     :param k: the intervals (m,), each with a sample after it.
+    :param closed: (n - 1,) booleans, or None.
     """
     reach = np.zeros(len(k))
-    inside = np.flatnonzero(k >= 2)
+    keep = k >= 2
+    if closed is not None:
+        for back in (2, 1, 0):
+            i = k - back
+            inside = (i >= 0) & (i < len(closed))
+            keep &= inside & closed[np.where(inside, i, 0)]
+    inside = np.flatnonzero(keep)
     if not len(inside):
         return reach
     j = k[inside]
@@ -161,7 +191,7 @@ def departure_reaches(points: np.ndarray, times: np.ndarray, k: np.ndarray) -> n
     with np.errstate(all='ignore'):
         w0 = (t3 - t1) * (t3 - t2) / ((t0 - t1) * (t0 - t2))
         w1 = (t3 - t0) * (t3 - t2) / ((t1 - t0) * (t1 - t2))
-        w2 = (t3 - t0) * (t3 - t1) / ((t2 - t0) * (t2 - t1))
+        w2 = 1.0 - w0 - w1
         end = w0[:, None] * p0 + w1[:, None] * p1 + w2[:, None] * p2
         # the parabola's acceleration: twice its second divided difference
         second = 2.0 * ((p2 - p1) / (t2 - t1)[:, None] - (p1 - p0) / (t1 - t0)[:, None]) / (

@@ -19,7 +19,8 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                   bat_k: np.ndarray, ball_before: np.ndarray, ball_after: np.ndarray,
                   bat_before: np.ndarray, bat_after: np.ndarray, ball_times: np.ndarray,
                   bat_times: np.ndarray, model: str, look_ahead: int = 0,
-                  size: int = 8, margin: float = math.inf) -> np.ndarray:
+                  size: int = 8, margin: float = math.inf,
+                  ball_closed: Optional[np.ndarray] = None) -> np.ndarray:
     """
     Return ``clearly_apart``'s clearance (m) for many intervals at once.
 
@@ -44,11 +45,13 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     :param margin: intervals whose first bound clears this (m) skip the second: ``c2``'s
         second stage, the other models' hulls (their clearance is then the spheres' alone,
         which already clears it).
+    :param ball_closed: each ball sample interval's ``Stream.continuous`` (n_ball - 1,), for
+        the ball's departure reach as the scalar test's; None: that reach across segments too.
     :returns: the clearance of each interval (m,), less the ball's ``departure_reaches``
         (the scalar test's margin grows by its ``departure_reach``).
     :raises ValueError: an unknown model.
     """
-    reach = departure_reaches(ball, ball_times, ball_k)
+    reach = departure_reaches(ball, ball_times, ball_k, ball_closed)
     if model == 'c2':
         return _c2_margins(ball, bat_knob, bat_tip, ball_k, bat_k, ball_times, bat_times,
                            look_ahead, size, margin + reach) - reach
