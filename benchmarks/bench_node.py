@@ -23,10 +23,16 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
+* the slowest 1 % (by wall and by CPU time): how many of those messages predicted, published
+  a prediction, made an impact, ran a garbage collection, came after more than 0.5 ms idle, or
+  were ball messages (against how many of all messages were), and the p99 of the messages
+  that were not of each kind; and every garbage collection in the node process (in a message
+  or between), by generation, with its CPU time.
 * breakdown (``--breakdown``): where a message that predicts spends its CPU time (the
   callback thread's clock): the detector (of which the prediction), building the messages of
   its events, each publication and the rest of the callback; median and p90 over the
-  messages that predicted, and over those that published a prediction.
+  messages that predicted, and over those that published a prediction; the same phases'
+  wall time beside (``wall ...``).
 * ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
   ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
   every prediction's record; without it nobody subscribes to them.
@@ -41,6 +47,8 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
 """
 
 import argparse
+from array import array
+import gc
 import json
 import math
 import os
@@ -51,7 +59,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.ros import node as node_module
@@ -119,7 +127,25 @@ class TimedImpactNode(ImpactNode):
         self.report_times: List[Tuple[float, float]] = []  # per flush of reports: wall, CPU (s)
         self.reports_made = 0
         self._entry_ns = 0
+        # per message, six numbers in a row: predicted, published a prediction, made an impact,
+        # the oldest generation a garbage collection in it collected (-1: none), idle before it
+        # (s), ball 1 / bat 0 (an array: recording them must make no garbage to collect)
+        self.kinds = array('d')
+        self._gc: List[int] = []  # the generations collected during the current message
+        self._gc_started = 0.0
+        self.collections: List[Tuple[int, float]] = []
+        self._left = time.monotonic()  # when the previous message's handling ended
         super().__init__()
+        self._watched = self.detector._predictor  # the benchmark looks inside
+        gc.callbacks.append(self._on_gc)
+        published = self._outputs['predicted_impact'].publish
+        self.predictions_sent = 0
+
+        def counted_prediction(message: PointStamped) -> None:
+            self.predictions_sent += 1
+            published(message)
+        self._outputs['predicted_impact'] = _Wrapped(self._outputs['predicted_impact'],
+                                                     counted_prediction)
         publish = self._outputs['impact'].publish
 
         def timed_publish(message: PointStamped) -> None:
@@ -135,11 +161,25 @@ class TimedImpactNode(ImpactNode):
             report(message)
         self._outputs['impact_report'] = _Wrapped(self._outputs['impact_report'], counted_report)
 
+    def _on_gc(self, phase: str, info: Dict[str, int]) -> None:
+        if phase == 'start':
+            self._gc.append(info['generation'])
+            self._gc_started = time.thread_time()
+        else:  # every collection in the process, inside a message or not: (generation, CPU s)
+            self.collections.append((info['generation'], time.thread_time() - self._gc_started))
+
     def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
+        idle = self._entry_ns * 1e-9 - self._left
+        before, impacts = self._watched.last_ns, self.detector.stats.impacts
+        sent, self._gc = self.predictions_sent, []
         cpu = time.thread_time()
         super()._take(*args, **kwargs)  # (sequence number, send time: keywords)
         self.cpu_times.append(time.thread_time() - cpu)
+        self._left = time.monotonic()
+        self.kinds.extend((self._watched.last_ns != before, self.predictions_sent > sent,
+                           self.detector.stats.impacts > impacts, max(self._gc, default=-1),
+                           idle, args[0] == 'ball'))
 
     def _record_processing(self, elapsed_s: float) -> None:
         self.times.append(elapsed_s)
@@ -169,6 +209,7 @@ class BrokenDownImpactNode(TimedImpactNode):
     def __init__(self) -> None:
         self.phases: List[Dict[str, float]] = []
         self._phase: Dict[str, float] = {}
+        self._walls: Dict[str, float] = {}  # the same phases' wall time (s)
         super().__init__()
         for name in list(self._outputs):
             self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
@@ -179,11 +220,12 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     def _timed(self, phase: str, function: object) -> object:
         def timed(*args: object, **kwargs: object) -> object:
-            cpu = time.thread_time()
+            cpu, wall = time.thread_time(), time.perf_counter()
             try:
                 return function(*args, **kwargs)
             finally:
                 self._phase[phase] = self._phase.get(phase, 0.0) + time.thread_time() - cpu
+                self._walls[phase] = self._walls.get(phase, 0.0) + time.perf_counter() - wall
         return timed
 
     def _publish_reports(self) -> None:
@@ -192,14 +234,45 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     def _take(self, stream: str, header: object, add_sample: object, *values: object,
               **kwargs: object) -> None:
-        self._phase = {}
+        self._phase, self._walls = {}, {}
         before = self._predictor.last_ns
         super()._take(stream, header, self._timed('detector', add_sample), *values, **kwargs)
         phase = self._phase
         phase['total'] = self.cpu_times[-1]
+        phase.update({f'wall {name}': value for name, value in self._walls.items()})
+        phase['wall total'] = self.times[-1]
         phase['predicted'] = float(self._predictor.last_ns != before)
         phase['published'] = float('publish predicted_impact' in phase)
         self.phases.append(phase)
+
+
+KIND_NAMES = ('predicted', 'published a prediction', 'made an impact', 'ran a GC collection',
+              'came after > 0.5 ms idle', 'ball')
+
+
+def top_percent(times_s: List[float], kinds: Sequence[float],
+                share: float = 0.01) -> Dict[str, Any]:
+    """
+    Return what the slowest ``share`` of the messages were, and the p99 without each kind.
+
+    ``kinds``: six numbers per message in a row, as ``TimedImpactNode.kinds`` keeps them.
+    Returns {'count': messages in the top, 'threshold_us': the least time among them, 'kinds':
+    {name: [in the top, of all messages]}, 'p99_without_us': {name: p99 (us) of the messages
+    not of that kind}}.
+    """
+    times = np.asarray(times_s) * 1e6
+    if not times.size:
+        return {'count': 0, 'threshold_us': math.nan, 'kinds': {}, 'p99_without_us': {}}
+    array = np.asarray(kinds, dtype=float).reshape(-1, len(KIND_NAMES))
+    flags = np.stack([array[:, 0] > 0, array[:, 1] > 0, array[:, 2] > 0, array[:, 3] >= 0,
+                      array[:, 4] > 0.5e-3, array[:, 5] > 0], axis=1)
+    count = max(1, int(round(share * times.size)))
+    top = np.argsort(times, kind='stable')[-count:]
+    return {'count': count, 'threshold_us': float(times[top].min()),
+            'kinds': {name: [int(flags[top, i].sum()), int(flags[:, i].sum())]
+                      for i, name in enumerate(KIND_NAMES)},
+            'p99_without_us': {name: float(np.percentile(times[~flags[:, i]], 99))
+                               for i, name in enumerate(KIND_NAMES) if (~flags[:, i]).any()}}
 
 
 def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]]]:
@@ -212,7 +285,8 @@ def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]
         for name in names + ['rest']:
             if name == 'rest':  # the callback outside the detector, messages and publishing
                 values = [p['total'] - sum(v for k, v in p.items() if k not in (
-                    'total', 'prediction', 'predicted', 'published')) for p in chosen]
+                    'total', 'prediction', 'predicted', 'published')
+                    and not k.startswith('wall')) for p in chosen]
             else:
                 values = [p.get(name, 0.0) for p in chosen]
             values_us = np.asarray(values) * 1e6
@@ -267,6 +341,12 @@ def serve() -> int:
     figures['reports'] = {'wall': percentiles([w * 1e6 for w, _ in node.report_times]),
                           'cpu': percentiles([c * 1e6 for _, c in node.report_times]),
                           'made': node.reports_made}
+    figures['top'] = {'wall': top_percent(node.times, node.kinds),
+                      'cpu': top_percent(node.cpu_times, node.kinds)}
+    figures['collections'] = {
+        generation: [len(cpu), float(np.median(cpu) * 1e6), float(np.max(cpu) * 1e6)]
+        for generation in range(3)
+        for cpu in [[c for g, c in node.collections if g == generation]] if cpu}
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
@@ -446,6 +526,16 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
           f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
           f"max {latency['max']:.3f} ms")
+    print('  garbage collections in the node process (in a message or not): '
+          + (', '.join(f'generation {g}: {n}, CPU median {m:.0f} us, max {x:.0f} us'
+                       for g, (n, m, x) in processing['collections'].items()) or 'none'))
+    for clock, top in processing['top'].items():
+        print(f"  the slowest 1 % by {clock} time ({top['count']} messages, from "
+              f"{top['threshold_us']:.1f} us), of them / of all: "
+              + ', '.join(f'{name} {a} / {b}' for name, (a, b) in top['kinds'].items()))
+        print(f'    {clock} p99 of the messages that did not ...: '
+              + ', '.join(f'{name.split()[0]} {v:.1f} us'
+                          for name, v in top['p99_without_us'].items()))
     for kind, table in processing.get('breakdown', {}).items():
         print(f'  CPU time of the messages that {kind}, median / p90 us: '
               + ', '.join(f'{name} {m:.1f} / {p90:.1f}' for name, (m, p90) in table.items()))
