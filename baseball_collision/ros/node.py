@@ -68,8 +68,8 @@ from .inputs import (
     DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
-    describe_listening, event_output, event_report, EventOutput, format_stamp, NS_PER_S,
-    plan_arrays, PredictionOutput, stamp_to_ns)
+    describe_listening, event_output, event_report, EventOutput, FLAG_CDR, format_stamp,
+    NS_PER_S, plan_arrays, PredictionOutput, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, Prediction, SPECS, StateReset)
@@ -125,7 +125,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
-        self._prediction_output = PredictionOutput()  # ~/predicted_impact's message, refilled
+        self._prediction_output = PredictionOutput()  # ~/predicted_impact's CDR bytes
         # (event, frame, config) of the reports to make once the inputs are drained
         self._reports: Deque[Tuple[Event, str, DetectorConfig]] = deque()
         self._clock_jump_at = -math.inf
@@ -146,7 +146,7 @@ class ImpactNode(Node):
         self.endpoints = Endpoints(self, self.tally)
         self._outputs = {name: self.endpoints.advertise(msg_type, topic, qos)
                          for name, msg_type, topic, qos in _OUTPUTS}
-        self._outputs['impact_predicted'].publish(Bool(data=False))  # latched
+        self._outputs['impact_predicted'].publish(FLAG_CDR[False])  # latched
         self._subscribe_inputs()
         self.create_service(Trigger, '~/reset', self._on_reset)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -229,7 +229,7 @@ class ImpactNode(Node):
                 kind = event.__class__
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                if kind is Prediction:  # its message refilled (event_output's, made once)
+                if kind is Prediction:  # its message's CDR bytes (PredictionOutput)
                     self._publish(self._prediction_output(event, frame or expected or ''))
                 elif kind is Impact:  # ~/impact out first; its markers (0.5 ms to make) then
                     self._publish(event_output(event, frame or expected or '', _no_markers))
@@ -312,7 +312,7 @@ class ImpactNode(Node):
         """Publish a change of ~/impact_predicted (latched)."""
         if predicting != self._predicting:
             self._predicting = predicting
-            self._outputs['impact_predicted'].publish(Bool(data=predicting))
+            self._outputs['impact_predicted'].publish(FLAG_CDR[predicting])  # a Bool's bytes
 
     def _publish_live_markers(self) -> None:
         """
