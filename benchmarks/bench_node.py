@@ -3,7 +3,7 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
-[--consumers]``, ``--in-process RUNS`` for the node alone in this process, or
+[--consumers] [--no-freeze]``, ``--in-process RUNS`` for the node alone in this process, or
 ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
@@ -327,6 +327,8 @@ def serve() -> int:
         Predictor.predict = _phase_timed('prediction', Predictor.predict)
         node_module.event_output = _phase_timed('messages', node_module.event_output)
     node = BrokenDownImpactNode() if broken_down else TimedImpactNode()
+    if os.environ.get('BENCH_NODE_NO_FREEZE') != '1':  # as impact_node's main does
+        node_module.freeze_start_up()
     _NODE[:] = [node]
     try:
         rclpy.spin(node)
@@ -420,12 +422,13 @@ def _stop(child: subprocess.Popen) -> object:
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
         period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
-        broken_down: bool = False, consumers: bool = False) -> None:
+        broken_down: bool = False, consumers: bool = False, freeze: bool = True) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0',
+               BENCH_NODE_NO_FREEZE='1' if not freeze else '0',
                BENCH_NODE_CONSUMERS='1' if consumers else '0')
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
@@ -505,7 +508,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
           f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
           f"markers {'on' if markers else 'off'}, "
           f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches'
-          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else ''))
+          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else '')
+          + ('' if freeze else ', start-up objects not frozen'))
     print(f"  processing per message (callback wall time, {processing['count']} messages): "
           f"median {processing['median']:.1f} us, mean {processing['mean']:.1f} us, "
           f"p99 {processing['p99']:.1f} us, max {processing['max']:.1f} us; the first three "
@@ -655,6 +659,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--consumers', action='store_true',
                         help='the listener also subscribes to ~/predicted_impact and '
                         '~/impact_report (an arm controller and a recorder)')
+    parser.add_argument('--no-freeze', action='store_true',
+                        help='the node process does not freeze its start-up objects out of the '
+                        'garbage collector (as impact_node does: node.freeze_start_up)')
     parser.add_argument('--breakdown', action='store_true',
                         help="split the predicting messages' CPU time into phases")
     parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
@@ -671,7 +678,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                    args.model)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead, args.breakdown, args.consumers)
+        args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze)
     return 0
 
 
