@@ -329,6 +329,7 @@ def serve() -> int:
     node = BrokenDownImpactNode() if broken_down else TimedImpactNode()
     if os.environ.get('BENCH_NODE_NO_FREEZE') != '1':  # as impact_node's main does
         node_module.freeze_start_up()
+        node.collections.clear()  # its own collection is start-up's, not the messages'
     _NODE[:] = [node]
     try:
         rclpy.spin(node)

@@ -239,16 +239,17 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
 
 class PredictionOutput:
     """
-    What a prediction becomes: its ``~/predicted_impact`` point, ``~/impact_predicted`` on.
+    A prediction's ``~/predicted_impact`` point as the serialised CDR bytes of its message.
 
-    The point goes out as its serialised CDR bytes (what rclpy's ``Publisher.publish`` sends
-    for bytes, ``publish_raw``): the very bytes a ``PointStamped`` serialises to (the CDR
-    padding aside, which no reader reads), packed with one ``struct`` call (under a
-    microsecond). Publishing a ``PointStamped`` instead makes rclpy convert it into a C message
-    and serialise that, inside the message that predicts (about 16 us of the publication's
-    80 us of CPU time with an arm subscribed, BENCHMARKS.md). A subscriber receives a
-    ``PointStamped`` either way. The layout depends on the frame's name only: made once per
-    frame.
+    What rclpy's ``Publisher.publish`` sends for bytes (``publish_raw``): the very bytes the
+    ``PointStamped`` of ``event_output`` serialises to (the CDR padding aside, which no reader
+    reads), packed with one ``struct`` call. Publishing the ``PointStamped`` makes rclpy
+    convert it into a C message and serialise that inside the message that predicts (about 16
+    us of the publication's 80-110 us of CPU time with an arm subscribed, BENCHMARKS.md), and
+    an ``EventOutput`` made per prediction cost 3-10 us more. A subscriber receives the same
+    ``PointStamped`` either way. The node turns ``~/impact_predicted`` on (``FLAG_CDR``) and
+    publishes these bytes, as ``event_output``'s output says. The layout depends on the frame's
+    name only: made once per frame.
     """
 
     __slots__ = ('_frame_id', '_layout', '_frame')
@@ -258,15 +259,9 @@ class PredictionOutput:
         self._layout = struct.Struct('<')
         self._frame = b''
 
-    def __call__(self, prediction: Prediction, frame_id: str,
-                 markers: Optional[ImpactMarkers] = None) -> EventOutput:
-        """Return the output of ``prediction`` in ``frame_id`` (``markers``: unused)."""
-        return EventOutput(messages=(('predicted_impact', self.serialized(
-            prediction.stamp_ns, frame_id, prediction.point)),), predicting=True)
-
-    def serialized(self, stamp_ns: int, frame_id: str, v: Vector) -> bytes:
+    def __call__(self, prediction: Prediction, frame_id: str) -> bytes:
         """
-        Return a point (m) stamped with integer nanoseconds as a ``PointStamped``'s CDR bytes.
+        Return ``prediction``'s point (m) in ``frame_id``, stamped with its instant, as CDR bytes.
 
         Little-endian CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it: the stamp's
         ``int32`` seconds and ``uint32`` nanoseconds, the frame's length (with its NUL) and
@@ -279,9 +274,9 @@ class PredictionOutput:
             padding = -(12 + len(frame)) % 8  # the doubles align to 8 from the payload's start
             self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x3d')
             self._frame_id, self._frame = frame_id, frame
-        sec, nanosec = divmod(stamp_ns, NS_PER_S)
+        sec, nanosec = divmod(prediction.stamp_ns, NS_PER_S)
         return self._layout.pack(_CDR_LE, sec, nanosec, len(self._frame), self._frame,
-                                 float(v[0]), float(v[1]), float(v[2]))
+                                 *prediction.point)
 
 
 _CDR_LE = bytes((0, 1, 0, 0))

@@ -230,8 +230,10 @@ class ImpactNode(Node):
                 kind = event.__class__
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                if kind is Prediction:  # its message's CDR bytes (PredictionOutput)
-                    self._publish(self._prediction_output(event, frame or expected or ''))
+                if kind is Prediction:  # on, and the point: its message's CDR bytes
+                    self._set_predicting(True)
+                    self._outputs['predicted_impact'].publish(
+                        self._prediction_output(event, frame or expected or ''))
                 elif kind is Impact:  # ~/impact out first; its markers (0.5 ms to make) then
                     self._publish(event_output(event, frame or expected or '', _no_markers))
                     markers = self._markers(event, frame or expected or '')
