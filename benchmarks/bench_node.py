@@ -551,7 +551,7 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
 
 
 def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
-               model: str = 'rigid') -> None:
+               model: str = 'rigid', freeze: bool = True) -> None:
     """
     Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
 
@@ -560,6 +560,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     each on the thread's CPU clock; each message's least time over the runs filters out the
     other work on a shared machine. Percentiles over all messages, and medians over those
     that predicted and those that published a prediction (no subscriber: no reports made).
+    After each run, the CPU time of a full garbage collection (``gc.collect()``) with the node
+    and its messages alive; ``freeze``: the start-up objects frozen after the first node is made
+    (``node.freeze_start_up``, as ``impact_node`` does), else not.
     """
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'OFF'
@@ -569,9 +572,11 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
     overrides = [Parameter('prediction_horizon', value=horizon),
                  Parameter('prediction_period', value=period), Parameter('model', value=model)]
-    cpu_runs, predicted, published = [], [], []
-    for _ in range(runs):
+    cpu_runs, predicted, published, full = [], [], [], []
+    for run in range(runs):
         node = ImpactNode(parameter_overrides=overrides)
+        if freeze and not run:
+            node_module.freeze_start_up()
         predictor = node.detector._predictor  # the benchmark looks inside
         ball_msg, bat_msg = PointStamped(), PoseStamped()
         ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
@@ -596,6 +601,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                     predicted.append(predictor.last_ns != before)
                     published.append(predicted[-1] and predictor.predicting)
         cpu_runs.append(cpu)
+        start = time.thread_time()
+        gc.collect()
+        full.append(time.thread_time() - start)
         node.destroy_node()
     rclpy.try_shutdown()
     least = np.min(np.array(cpu_runs), axis=0) * 1e6
@@ -610,6 +618,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
         if chosen.any():
             print(f'  the {chosen.sum()} that {name}: median {np.median(least[chosen]):.1f} us, '
                   f'p90 {np.percentile(least[chosen], 90):.1f} us')
+    print('  a full garbage collection after each run (start-up objects '
+          f"{'frozen' if freeze else 'not frozen'}): "
+          + ', '.join(f'{t * 1e3:.2f}' for t in full) + ' ms CPU')
 
 
 def startup(runs: int) -> None:
@@ -676,7 +687,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 0
     if args.in_process:
         in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
-                   args.model)
+                   args.model, not args.no_freeze)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
         args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze)
