@@ -244,9 +244,9 @@ class PredictionOutput:
     What rclpy's ``Publisher.publish`` sends for bytes (``publish_raw``): the very bytes the
     ``PointStamped`` of ``event_output`` serialises to (the CDR padding aside, which no reader
     reads), packed with one ``struct`` call. Publishing the ``PointStamped`` makes rclpy
-    convert it into a C message and serialise that inside the message that predicts (about 16
-    us of the publication's 80-110 us of CPU time with an arm subscribed, BENCHMARKS.md), and
-    an ``EventOutput`` made per prediction cost 3-10 us more. A subscriber receives the same
+    convert it into a C message and serialise that inside the message that predicts: with an
+    arm subscribed, a fifth to two fifths of the send's CPU time (BENCHMARKS.md, "sixth
+    pass"); and the node makes no ``EventOutput`` per prediction. A subscriber receives the same
     ``PointStamped`` either way. The node turns ``~/impact_predicted`` on (``FLAG_CDR``) and
     publishes these bytes, as ``event_output``'s output says. The layout depends on the frame's
     name only: made once per frame.

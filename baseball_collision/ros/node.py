@@ -455,12 +455,13 @@ def freeze_start_up() -> int:
     """
     Collect once, then keep every object alive now out of later garbage collections.
 
-    After start-up the process holds some 10^5 objects (rclpy, numpy, the message types, the
-    node) that live as long as it does; a full (generation 2) collection walks them all, about
-    28 ms inside a message on the benchmark machine, once every few ten thousand messages
-    (BENCHMARKS.md). ``gc.freeze`` moves them into the permanent generation, so a collection
-    walks only what was made since. The collection first frees start-up's own garbage cycles,
-    which a freeze would keep. Call it once, after the node is made.
+    After start-up the process holds some 44,000 objects (rclpy, numpy, the message types, the
+    node) that live as long as it does; a full (generation 2) collection walks them all: 23-26
+    ms of CPU on the benchmark machine, about once in 8,000-40,000 messages at 1 kHz per
+    stream, delaying the messages behind it (0.4-1.1 ms once frozen; BENCHMARKS.md, "sixth
+    pass"). ``gc.freeze`` moves them into the permanent generation, so a collection walks only
+    what was made since. The collection first frees start-up's own garbage cycles, which a
+    freeze would keep. Call it once, after the node is made.
 
     :returns: the objects frozen (``gc.get_freeze_count()``).
     """
