@@ -3,7 +3,7 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
-[--consumers]``, ``--in-process RUNS`` for the node alone in this process, or
+[--consumers] [--no-freeze]``, ``--in-process RUNS`` for the node alone in this process, or
 ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
@@ -23,10 +23,16 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
+* the slowest 1 % (by wall and by CPU time): how many of those messages predicted, published
+  a prediction, made an impact, ran a garbage collection, came after more than 0.5 ms idle, or
+  were ball messages (against how many of all messages were), and the p99 of the messages
+  that were not of each kind; and every garbage collection in the node process (in a message
+  or between), by generation, with its CPU time.
 * breakdown (``--breakdown``): where a message that predicts spends its CPU time (the
   callback thread's clock): the detector (of which the prediction), building the messages of
   its events, each publication and the rest of the callback; median and p90 over the
-  messages that predicted, and over those that published a prediction.
+  messages that predicted, and over those that published a prediction; the same phases'
+  wall time beside (``wall ...``).
 * ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
   ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
   every prediction's record; without it nobody subscribes to them.
@@ -41,6 +47,8 @@ swing that hits the ball; between pitches both streams pause longer than ``max_g
 """
 
 import argparse
+from array import array
+import gc
 import json
 import math
 import os
@@ -51,7 +59,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.ros import node as node_module
@@ -119,7 +127,25 @@ class TimedImpactNode(ImpactNode):
         self.report_times: List[Tuple[float, float]] = []  # per flush of reports: wall, CPU (s)
         self.reports_made = 0
         self._entry_ns = 0
+        # per message, six numbers in a row: predicted, published a prediction, made an impact,
+        # the oldest generation a garbage collection in it collected (-1: none), idle before it
+        # (s), ball 1 / bat 0 (an array: recording them must make no garbage to collect)
+        self.kinds = array('d')
+        self._gc: List[int] = []  # the generations collected during the current message
+        self._gc_started = 0.0
+        self.collections: List[Tuple[int, float]] = []
+        self._left = time.monotonic()  # when the previous message's handling ended
         super().__init__()
+        self._watched = self.detector._predictor  # the benchmark looks inside
+        gc.callbacks.append(self._on_gc)
+        published = self._outputs['predicted_impact'].publish
+        self.predictions_sent = 0
+
+        def counted_prediction(message: PointStamped) -> None:
+            self.predictions_sent += 1
+            published(message)
+        self._outputs['predicted_impact'] = _Wrapped(self._outputs['predicted_impact'],
+                                                     counted_prediction)
         publish = self._outputs['impact'].publish
 
         def timed_publish(message: PointStamped) -> None:
@@ -135,11 +161,25 @@ class TimedImpactNode(ImpactNode):
             report(message)
         self._outputs['impact_report'] = _Wrapped(self._outputs['impact_report'], counted_report)
 
+    def _on_gc(self, phase: str, info: Dict[str, int]) -> None:
+        if phase == 'start':
+            self._gc.append(info['generation'])
+            self._gc_started = time.thread_time()
+        else:  # every collection in the process, inside a message or not: (generation, CPU s)
+            self.collections.append((info['generation'], time.thread_time() - self._gc_started))
+
     def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
+        idle = self._entry_ns * 1e-9 - self._left
+        before, impacts = self._watched.last_ns, self.detector.stats.impacts
+        sent, self._gc = self.predictions_sent, []
         cpu = time.thread_time()
         super()._take(*args, **kwargs)  # (sequence number, send time: keywords)
         self.cpu_times.append(time.thread_time() - cpu)
+        self._left = time.monotonic()
+        self.kinds.extend((self._watched.last_ns != before, self.predictions_sent > sent,
+                           self.detector.stats.impacts > impacts, max(self._gc, default=-1),
+                           idle, args[0] == 'ball'))
 
     def _record_processing(self, elapsed_s: float) -> None:
         self.times.append(elapsed_s)
@@ -169,6 +209,7 @@ class BrokenDownImpactNode(TimedImpactNode):
     def __init__(self) -> None:
         self.phases: List[Dict[str, float]] = []
         self._phase: Dict[str, float] = {}
+        self._walls: Dict[str, float] = {}  # the same phases' wall time (s)
         super().__init__()
         for name in list(self._outputs):
             self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
@@ -179,11 +220,12 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     def _timed(self, phase: str, function: object) -> object:
         def timed(*args: object, **kwargs: object) -> object:
-            cpu = time.thread_time()
+            cpu, wall = time.thread_time(), time.perf_counter()
             try:
                 return function(*args, **kwargs)
             finally:
                 self._phase[phase] = self._phase.get(phase, 0.0) + time.thread_time() - cpu
+                self._walls[phase] = self._walls.get(phase, 0.0) + time.perf_counter() - wall
         return timed
 
     def _publish_reports(self) -> None:
@@ -192,14 +234,45 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     def _take(self, stream: str, header: object, add_sample: object, *values: object,
               **kwargs: object) -> None:
-        self._phase = {}
+        self._phase, self._walls = {}, {}
         before = self._predictor.last_ns
         super()._take(stream, header, self._timed('detector', add_sample), *values, **kwargs)
         phase = self._phase
         phase['total'] = self.cpu_times[-1]
+        phase.update({f'wall {name}': value for name, value in self._walls.items()})
+        phase['wall total'] = self.times[-1]
         phase['predicted'] = float(self._predictor.last_ns != before)
         phase['published'] = float('publish predicted_impact' in phase)
         self.phases.append(phase)
+
+
+KIND_NAMES = ('predicted', 'published a prediction', 'made an impact', 'ran a GC collection',
+              'came after > 0.5 ms idle', 'ball')
+
+
+def top_percent(times_s: List[float], kinds: Sequence[float],
+                share: float = 0.01) -> Dict[str, Any]:
+    """
+    Return what the slowest ``share`` of the messages were, and the p99 without each kind.
+
+    ``kinds``: six numbers per message in a row, as ``TimedImpactNode.kinds`` keeps them.
+    Returns {'count': messages in the top, 'threshold_us': the least time among them, 'kinds':
+    {name: [in the top, of all messages]}, 'p99_without_us': {name: p99 (us) of the messages
+    not of that kind}}.
+    """
+    times = np.asarray(times_s) * 1e6
+    if not times.size:
+        return {'count': 0, 'threshold_us': math.nan, 'kinds': {}, 'p99_without_us': {}}
+    array = np.asarray(kinds, dtype=float).reshape(-1, len(KIND_NAMES))
+    flags = np.stack([array[:, 0] > 0, array[:, 1] > 0, array[:, 2] > 0, array[:, 3] >= 0,
+                      array[:, 4] > 0.5e-3, array[:, 5] > 0], axis=1)
+    count = max(1, int(round(share * times.size)))
+    top = np.argsort(times, kind='stable')[-count:]
+    return {'count': count, 'threshold_us': float(times[top].min()),
+            'kinds': {name: [int(flags[top, i].sum()), int(flags[:, i].sum())]
+                      for i, name in enumerate(KIND_NAMES)},
+            'p99_without_us': {name: float(np.percentile(times[~flags[:, i]], 99))
+                               for i, name in enumerate(KIND_NAMES) if (~flags[:, i]).any()}}
 
 
 def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]]]:
@@ -212,7 +285,8 @@ def breakdown(phases: List[Dict[str, float]]) -> Dict[str, Dict[str, List[float]
         for name in names + ['rest']:
             if name == 'rest':  # the callback outside the detector, messages and publishing
                 values = [p['total'] - sum(v for k, v in p.items() if k not in (
-                    'total', 'prediction', 'predicted', 'published')) for p in chosen]
+                    'total', 'prediction', 'predicted', 'published')
+                    and not k.startswith('wall')) for p in chosen]
             else:
                 values = [p.get(name, 0.0) for p in chosen]
             values_us = np.asarray(values) * 1e6
@@ -253,6 +327,9 @@ def serve() -> int:
         Predictor.predict = _phase_timed('prediction', Predictor.predict)
         node_module.event_output = _phase_timed('messages', node_module.event_output)
     node = BrokenDownImpactNode() if broken_down else TimedImpactNode()
+    if os.environ.get('BENCH_NODE_NO_FREEZE') != '1':  # as impact_node's main does
+        node_module.freeze_start_up()
+        node.collections.clear()  # its own collection is start-up's, not the messages'
     _NODE[:] = [node]
     try:
         rclpy.spin(node)
@@ -267,6 +344,12 @@ def serve() -> int:
     figures['reports'] = {'wall': percentiles([w * 1e6 for w, _ in node.report_times]),
                           'cpu': percentiles([c * 1e6 for _, c in node.report_times]),
                           'made': node.reports_made}
+    figures['top'] = {'wall': top_percent(node.times, node.kinds),
+                      'cpu': top_percent(node.cpu_times, node.kinds)}
+    figures['collections'] = {
+        generation: [len(cpu), float(np.median(cpu) * 1e6), float(np.max(cpu) * 1e6)]
+        for generation in range(3)
+        for cpu in [[c for g, c in node.collections if g == generation]] if cpu}
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
@@ -340,12 +423,13 @@ def _stop(child: subprocess.Popen) -> object:
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
         period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
-        broken_down: bool = False, consumers: bool = False) -> None:
+        broken_down: bool = False, consumers: bool = False, freeze: bool = True) -> None:
     """Start the node and listener processes, publish the pitches, print the figures."""
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0',
+               BENCH_NODE_NO_FREEZE='1' if not freeze else '0',
                BENCH_NODE_CONSUMERS='1' if consumers else '0')
     server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
@@ -425,7 +509,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
           f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
           f"markers {'on' if markers else 'off'}, "
           f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches'
-          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else ''))
+          + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else '')
+          + ('' if freeze else ', start-up objects not frozen'))
     print(f"  processing per message (callback wall time, {processing['count']} messages): "
           f"median {processing['median']:.1f} us, mean {processing['mean']:.1f} us, "
           f"p99 {processing['p99']:.1f} us, max {processing['max']:.1f} us; the first three "
@@ -446,6 +531,16 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
           f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
           f"max {latency['max']:.3f} ms")
+    print('  garbage collections in the node process (in a message or not): '
+          + (', '.join(f'generation {g}: {n}, CPU median {m:.0f} us, max {x:.0f} us'
+                       for g, (n, m, x) in processing['collections'].items()) or 'none'))
+    for clock, top in processing['top'].items():
+        print(f"  the slowest 1 % by {clock} time ({top['count']} messages, from "
+              f"{top['threshold_us']:.1f} us), of them / of all: "
+              + ', '.join(f'{name} {a} / {b}' for name, (a, b) in top['kinds'].items()))
+        print(f'    {clock} p99 of the messages that did not ...: '
+              + ', '.join(f'{name.split()[0]} {v:.1f} us'
+                          for name, v in top['p99_without_us'].items()))
     for kind, table in processing.get('breakdown', {}).items():
         print(f'  CPU time of the messages that {kind}, median / p90 us: '
               + ', '.join(f'{name} {m:.1f} / {p90:.1f}' for name, (m, p90) in table.items()))
@@ -456,7 +551,7 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
 
 
 def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
-               model: str = 'rigid') -> None:
+               model: str = 'rigid', freeze: bool = True) -> None:
     """
     Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
 
@@ -465,6 +560,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     each on the thread's CPU clock; each message's least time over the runs filters out the
     other work on a shared machine. Percentiles over all messages, and medians over those
     that predicted and those that published a prediction (no subscriber: no reports made).
+    After each run, the CPU time of a full garbage collection (``gc.collect()``) with the node
+    and its messages alive; ``freeze``: the start-up objects frozen after the first node is made
+    (``node.freeze_start_up``, as ``impact_node`` does), else not.
     """
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'OFF'
@@ -474,9 +572,11 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
     overrides = [Parameter('prediction_horizon', value=horizon),
                  Parameter('prediction_period', value=period), Parameter('model', value=model)]
-    cpu_runs, predicted, published = [], [], []
-    for _ in range(runs):
+    cpu_runs, predicted, published, full = [], [], [], []
+    for run in range(runs):
         node = ImpactNode(parameter_overrides=overrides)
+        if freeze and not run:
+            node_module.freeze_start_up()
         predictor = node.detector._predictor  # the benchmark looks inside
         ball_msg, bat_msg = PointStamped(), PoseStamped()
         ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
@@ -501,6 +601,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                     predicted.append(predictor.last_ns != before)
                     published.append(predicted[-1] and predictor.predicting)
         cpu_runs.append(cpu)
+        start = time.thread_time()
+        gc.collect()
+        full.append(time.thread_time() - start)
         node.destroy_node()
     rclpy.try_shutdown()
     least = np.min(np.array(cpu_runs), axis=0) * 1e6
@@ -515,6 +618,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
         if chosen.any():
             print(f'  the {chosen.sum()} that {name}: median {np.median(least[chosen]):.1f} us, '
                   f'p90 {np.percentile(least[chosen], 90):.1f} us')
+    print('  a full garbage collection after each run (start-up objects '
+          f"{'frozen' if freeze else 'not frozen'}): "
+          + ', '.join(f'{t * 1e3:.2f}' for t in full) + ' ms CPU')
 
 
 def startup(runs: int) -> None:
@@ -565,6 +671,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--consumers', action='store_true',
                         help='the listener also subscribes to ~/predicted_impact and '
                         '~/impact_report (an arm controller and a recorder)')
+    parser.add_argument('--no-freeze', action='store_true',
+                        help='the node process does not freeze its start-up objects out of the '
+                        'garbage collector (as impact_node does: node.freeze_start_up)')
     parser.add_argument('--breakdown', action='store_true',
                         help="split the predicting messages' CPU time into phases")
     parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
@@ -578,10 +687,10 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 0
     if args.in_process:
         in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
-                   args.model)
+                   args.model, not args.no_freeze)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead, args.breakdown, args.consumers)
+        args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze)
     return 0
 
 

@@ -9,6 +9,7 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 """
 
 from dataclasses import dataclass
+import struct
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
 
 from builtin_interfaces.msg import Time as TimeMsg
@@ -77,8 +78,8 @@ def point_stamped(stamp_ns: int, frame_id: str, v: Vector,
     Return a point (m) stamped with integer nanoseconds, as a geometry_msgs/PointStamped.
 
     Filled in place (a message built from keyword arguments makes and checks each nested
-    default first: 14 us against 9 us, on every prediction); into ``message`` when given (a
-    message made once and refilled: ``PredictionOutput``), else into a new one.
+    default first: 14 us against 9 us); into ``message`` when given (a message made once and
+    refilled), else into a new one.
     """
     if message is None:
         message = PointStamped()
@@ -238,32 +239,58 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
 
 class PredictionOutput:
     """
-    What a prediction becomes: its ``~/predicted_impact`` point, ``~/impact_predicted`` on.
+    A prediction's ``~/predicted_impact`` point as the serialised CDR bytes of its message.
 
-    The message and the ``EventOutput`` holding it are made once and refilled by each call: a
-    publisher may reuse a message, since rclpy's ``publish`` converts it into a C message of
-    its own and sends that before it returns (nothing keeps the Python message). A node keeps
-    one (its predictions are published under its lock, each before the next is made); what a
-    call returns is valid until the next call. Filling the kept message costs about a sixth of
-    making one (``PointStamped()`` makes and checks its header, stamp and point first).
+    What rclpy's ``Publisher.publish`` sends for bytes (``publish_raw``): the very bytes the
+    ``PointStamped`` of ``event_output`` serialises to (the CDR padding aside, which no reader
+    reads), packed with one ``struct`` call. Publishing the ``PointStamped`` makes rclpy
+    convert it into a C message and serialise that inside the message that predicts: with an
+    arm subscribed, a fifth to two fifths of the send's CPU time (BENCHMARKS.md, "sixth
+    pass"); and the node makes no ``EventOutput`` per prediction. A subscriber receives the same
+    ``PointStamped`` either way. The node turns ``~/impact_predicted`` on (``FLAG_CDR``) and
+    publishes these bytes, as ``event_output``'s output says. The layout depends on the frame's
+    name only: made once per frame.
     """
 
-    __slots__ = ('message', 'output')
+    __slots__ = ('_frame_id', '_layout', '_frame')
 
     def __init__(self) -> None:
-        self.message = PointStamped()
-        self.output = EventOutput(messages=(('predicted_impact', self.message),),
-                                  predicting=True)
+        self._frame_id: Optional[str] = None
+        self._layout = struct.Struct('<')
+        self._frame = b''
 
-    def __call__(self, prediction: Prediction, frame_id: str,
-                 markers: Optional[ImpactMarkers] = None) -> EventOutput:
-        """Return the output of ``prediction`` in ``frame_id`` (``markers``: unused)."""
-        point_stamped(prediction.stamp_ns, frame_id, prediction.point, self.message)
-        return self.output
+    def __call__(self, prediction: Prediction, frame_id: str) -> bytes:
+        """
+        Return ``prediction``'s point (m) in ``frame_id``, stamped with its instant, as CDR bytes.
+
+        Little-endian CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it: the stamp's
+        ``int32`` seconds and ``uint32`` nanoseconds, the frame's length (with its NUL) and
+        UTF-8 bytes, padding to 8 bytes, then x, y, z as ``float64``.
+
+        :raises struct.error: a stamp outside ``builtin_interfaces/Time``'s range.
+        """
+        if frame_id != self._frame_id:
+            frame = frame_id.encode() + b'\0'
+            padding = -(12 + len(frame)) % 8  # the doubles align to 8 from the payload's start
+            self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x3d')
+            self._frame_id, self._frame = frame_id, frame
+        sec, nanosec = divmod(prediction.stamp_ns, NS_PER_S)
+        return self._layout.pack(_CDR_LE, sec, nanosec, len(self._frame), self._frame,
+                                 *prediction.point)
+
+
+_CDR_LE = bytes((0, 1, 0, 0))
+"""The CDR encapsulation header of a little-endian plain CDR payload (``CDR_LE``)."""
+
+FLAG_CDR = {value: _CDR_LE + bytes((value, 0, 0, 0)) for value in (False, True)}
+"""``~/impact_predicted``'s two ``std_msgs/Bool`` messages as CDR bytes (padded to 4 bytes, as
+rmw_fastrtps serialises them): published as they are, no message made or converted."""
 
 
 def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    return PredictionOutput()(prediction, frame_id, markers)
+    # as a message (the node publishes PredictionOutput's bytes of the same message)
+    return EventOutput(messages=(('predicted_impact', point_stamped(
+        prediction.stamp_ns, frame_id, prediction.point)),), predicting=True)
 
 
 def _prediction_cleared(event: PredictionCleared, frame_id: str,

@@ -41,6 +41,7 @@ the drop warnings are in ``inputs``, conversions in ``messages``, markers in
 
 from collections import deque
 from dataclasses import replace
+import gc
 import math
 import sys
 import threading
@@ -68,8 +69,8 @@ from .inputs import (
     DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
-    describe_listening, event_output, event_report, EventOutput, format_stamp, NS_PER_S,
-    plan_arrays, PredictionOutput, stamp_to_ns)
+    describe_listening, event_output, event_report, EventOutput, FLAG_CDR, format_stamp,
+    NS_PER_S, plan_arrays, PredictionOutput, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, Prediction, SPECS, StateReset)
@@ -125,7 +126,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
-        self._prediction_output = PredictionOutput()  # ~/predicted_impact's message, refilled
+        self._prediction_output = PredictionOutput()  # ~/predicted_impact's CDR bytes
         # (event, frame, config) of the reports to make once the inputs are drained
         self._reports: Deque[Tuple[Event, str, DetectorConfig]] = deque()
         self._clock_jump_at = -math.inf
@@ -146,7 +147,7 @@ class ImpactNode(Node):
         self.endpoints = Endpoints(self, self.tally)
         self._outputs = {name: self.endpoints.advertise(msg_type, topic, qos)
                          for name, msg_type, topic, qos in _OUTPUTS}
-        self._outputs['impact_predicted'].publish(Bool(data=False))  # latched
+        self._outputs['impact_predicted'].publish(FLAG_CDR[False])  # latched
         self._subscribe_inputs()
         self.create_service(Trigger, '~/reset', self._on_reset)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
@@ -229,8 +230,10 @@ class ImpactNode(Node):
                 kind = event.__class__
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                if kind is Prediction:  # its message refilled (event_output's, made once)
-                    self._publish(self._prediction_output(event, frame or expected or ''))
+                if kind is Prediction:  # on, and the point: its message's CDR bytes
+                    self._set_predicting(True)
+                    self._outputs['predicted_impact'].publish(
+                        self._prediction_output(event, frame or expected or ''))
                 elif kind is Impact:  # ~/impact out first; its markers (0.5 ms to make) then
                     self._publish(event_output(event, frame or expected or '', _no_markers))
                     markers = self._markers(event, frame or expected or '')
@@ -312,7 +315,7 @@ class ImpactNode(Node):
         """Publish a change of ~/impact_predicted (latched)."""
         if predicting != self._predicting:
             self._predicting = predicting
-            self._outputs['impact_predicted'].publish(Bool(data=predicting))
+            self._outputs['impact_predicted'].publish(FLAG_CDR[predicting])  # a Bool's bytes
 
     def _publish_live_markers(self) -> None:
         """
@@ -448,6 +451,25 @@ class ImpactNode(Node):
         super().destroy_node()
 
 
+def freeze_start_up() -> int:
+    """
+    Collect once, then keep every object alive now out of later garbage collections.
+
+    After start-up the process holds some 44,000 objects (rclpy, numpy, the message types, the
+    node) that live as long as it does; a full (generation 2) collection walks them all: 23-26
+    ms of CPU on the benchmark machine, about once in 8,000-40,000 messages at 1 kHz per
+    stream, delaying the messages behind it (0.4-1.1 ms once frozen; BENCHMARKS.md, "sixth
+    pass"). ``gc.freeze`` moves them into the permanent generation, so a collection walks only
+    what was made since. The collection first frees start-up's own garbage cycles, which a
+    freeze would keep. Call it once, after the node is made.
+
+    :returns: the objects frozen (``gc.get_freeze_count()``).
+    """
+    gc.collect()
+    gc.freeze()
+    return gc.get_freeze_count()
+
+
 def main(args: Optional[List[str]] = None) -> int:
     """
     Run the node until Ctrl-C or shutdown.
@@ -467,6 +489,7 @@ def main(args: Optional[List[str]] = None) -> int:
     node = None
     try:
         node = ImpactNode()
+        freeze_start_up()
         rclpy.spin(node)
     except RosError as error:
         logger.error(f'invalid configuration, not starting: {error}')

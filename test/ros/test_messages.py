@@ -9,11 +9,13 @@ from baseball_collision.core.detector import (
     StateReset, StreamGap)
 from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
-    describe_drop, event_output, format_stamp, ns_to_stamp, plan_arrays, PredictionOutput,
-    stamp_to_ns)
+    describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp, plan_arrays,
+    PredictionOutput, stamp_to_ns)
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path
 import pytest
+from rclpy.serialization import deserialize_message, serialize_message
+from std_msgs.msg import Bool
 from support.events import swing_events
 from support.scenes import BASE_NS
 from visualization_msgs.msg import MarkerArray
@@ -92,14 +94,21 @@ def test_near_miss_prediction_gap_and_reset() -> None:
     assert stamp_to_ns(predicted.header.stamp) == prediction.stamp_ns
     assert predicted.header.frame_id == 'world'
     assert (predicted.point.x, predicted.point.y, predicted.point.z) == prediction.point
-    made_once = PredictionOutput()  # the node's: one message, refilled
+    made_once = PredictionOutput()  # the node's: the message's CDR bytes
     predictions = [e for e in swing_events(horizon=0.3) if isinstance(e, Prediction)][-2:]
     assert len(predictions) == 2 and predictions[0].stamp_ns != predictions[1].stamp_ns
-    for each in predictions:
-        refilled = made_once(each, 'world')
-        assert refilled is made_once.output and refilled.messages[0][1] is made_once.message
-        assert refilled == event_output(each, 'world', None)  # the same fields and message
-        assert stamp_to_ns(made_once.message.header.stamp) == each.stamp_ns
+    for frame in ('world', '', 'camera_7', 'caméra'):  # lengths 6, 1, 9, 8 with the NUL
+        for each in predictions:
+            data, expected = made_once(each, frame), event_output(each, frame, None)
+            assert isinstance(data, bytes) and expected.predicting is True
+            assert deserialize_message(data, PointStamped) == expected.messages[0][1]
+            # the same bytes as rclpy's own serialisation, but for the padding (not zeroed)
+            serialised = serialize_message(expected.messages[0][1])
+            assert len(data) == len(serialised) and data[:16] == serialised[:16]
+            assert data[-24:] == serialised[-24:]
+    for value in (False, True):
+        assert deserialize_message(FLAG_CDR[value], Bool) == Bool(data=value)
+        assert len(FLAG_CDR[value]) == len(serialize_message(Bool(data=value)))
     gap = event_output(StreamGap('ball', BASE_NS, BASE_NS + 80_000_000), 'world', None)
     assert gap.throttled and not gap.messages and '80.0 ms' in gap.log
     reset = event_output(StateReset(BASE_NS, 'time_jump_backwards'), 'world', None)

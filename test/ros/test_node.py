@@ -8,6 +8,7 @@ published reliably after the subscriptions matched, and every expectation is on 
 so no result depends on arrival timing.
 """
 
+import gc
 import json
 import math
 import os
@@ -24,7 +25,7 @@ from baseball_collision.core.detector import DROP_REASONS, PARAMETERS
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
-from baseball_collision.ros.node import ImpactNode
+from baseball_collision.ros.node import freeze_start_up, ImpactNode
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseStamped
 from nav_msgs.msg import Path as PathMsg
@@ -451,10 +452,26 @@ def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Har
     assert predicted, 'no prediction before the impact'
     closest = predicted[-1]  # made at the last frame before the contact
     assert abs(stamp_ns(closest) - truth_ns) < 2_000_000
-    # the node refills one message: each prediction went out with its own values
+    assert {m.header.frame_id for m in predicted} == {'world'}  # CDR bytes: the whole message
+    # the node packs each prediction's bytes: each went out with its own values
     assert len({(stamp_ns(m), m.point.x) for m in predicted}) > 1
     # the start-up False is latched for transient-local subscribers; this probe is volatile
     assert [m.data for m in h.received['predicting']][-2:] == [True, False]
+
+
+def test_start_up_objects_are_frozen_out_of_the_collections() -> None:
+    """freeze_start_up keeps what lives now out of later collections; new objects stay in."""
+    kept = [object()]  # a container: tracked by the collector
+    assert any(each is kept for each in gc.get_objects())
+    try:
+        frozen = freeze_start_up()
+        assert frozen == gc.get_freeze_count() > 0
+        assert not any(each is kept for each in gc.get_objects())  # a full collection skips it
+        made_after = [object()]
+        assert any(each is made_after for each in gc.get_objects())
+    finally:
+        gc.unfreeze()  # this test process's collector as it was
+    assert any(each is kept for each in gc.get_objects())
 
 
 def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Harness],
