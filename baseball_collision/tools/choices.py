@@ -1,5 +1,5 @@
 """
-What ``baseball-collision simulate`` accepts: scenario kinds, bat layouts and limits.
+What ``baseball-collision simulate`` accepts: kinds, swing families, bat layouts, limits.
 
 Plain constants with no imports: the command line builds ``simulate``'s options from them at
 every start (``analyze`` too), and :mod:`.sim` and :mod:`.recording` import them from here, so
@@ -8,6 +8,9 @@ starting the command line imports neither the simulator nor the recording writer
 
 KINDS = ('barrel', 'end_cap', 'handle', 'graze', 'miss_over', 'miss_under')
 """Scenario kinds ``sim.make_scenario`` builds (``sim.Scenario`` also accepts ``'custom'``)."""
+
+FAMILIES = ('plane', 'tilted', 'jerky', 'lefty', 'braking', 'rebound')
+"""The swing families ``sim.make_scenario`` draws (``sim.families``), today's fixed plane first."""
 
 BAT_CHOICES = ('both', 'pose', 'points')
 """How the bat is written: pose and points, the pose only, or knob and tip points only."""

@@ -21,7 +21,7 @@ import sys
 import time
 from typing import Any, Callable, List, NoReturn, Optional
 
-from .choices import BAT_CHOICES, KINDS, MAX_RATE_HZ, MAX_SEED
+from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
 from .truth import truth_path
@@ -116,7 +116,7 @@ def _simulate(args: argparse.Namespace) -> int:
     spec = RecordingSpec(
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
-        frame_id=args.frame_id, bat=args.bat, unique=args.unique)
+        frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
@@ -212,6 +212,11 @@ def _add_simulate(commands: Any) -> None:
     simulate.add_argument('--count', type=_count, default=12, help='pitches (default 12)')
     simulate.add_argument('--kinds', type=_kinds, default=list(KINDS),
                           help=f"comma-separated kinds, cycled (default {','.join(KINDS)})")
+    simulate.add_argument('--family', choices=FAMILIES, default='plane',
+                          help='swings: plane (a fixed swing plane, the default), tilted (the '
+                          'plane tilting 1-3 rad/s), jerky (accelerating hands, angular jerk), '
+                          'lefty, braking (the bat slowing after a contact) or rebound (a real '
+                          'hit: braking, and the ball leaving the bat)')
     simulate.add_argument('--rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ), default=360.0,
                           help='tracker rate in Hz, at most 100000 (default 360)')
     simulate.add_argument('--jitter', type=_number(0.0, True, 's'), default=0.0002,

@@ -23,7 +23,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from .choices import BAT_CHOICES, KINDS, MAX_RATE_HZ, MAX_SEED
+from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED
 from .outputs import Outputs
 from .sim import DEFAULT_START_NS, make_scenario, sample, Scenario, truth_dict
 from .truth import TRUTH_FORMAT, truth_path
@@ -57,6 +57,8 @@ class RecordingSpec:
     :ivar trail_s: time tracked after it (s).
     :ivar unique: draw only this many scenarios and cycle them (a large benchmark bag); None:
         every pitch is drawn.
+    :ivar family: the swing family (``sim.FAMILIES``: ``'plane'``, today's fixed-plane swing;
+        ``'rebound'`` a real hit, the bat braking and the ball leaving it).
     """
 
     count: int = 12
@@ -73,6 +75,7 @@ class RecordingSpec:
     lead_s: float = 0.25
     trail_s: float = 0.15
     unique: Optional[int] = None
+    family: str = 'plane'
 
     def check(self) -> None:
         """
@@ -88,6 +91,9 @@ class RecordingSpec:
         if unknown:
             raise ToolError(
                 f"unknown kind(s) {', '.join(unknown)}; choose from {', '.join(KINDS)}")
+        if self.family not in FAMILIES:
+            raise ToolError(
+                f"family must be one of {', '.join(FAMILIES)}, got {self.family!r}")
         if self.bat not in BAT_CHOICES:
             raise ToolError(f"bat must be one of {', '.join(BAT_CHOICES)}, got {self.bat}")
         for name in ('rate_hz', 'spacing_s', 'lead_s', 'trail_s'):
@@ -122,7 +128,7 @@ def _scenarios(spec: RecordingSpec, rng: np.random.Generator) -> List[Scenario]:
     """Draw the scenarios of a recording (``unique`` of them at most, cycled)."""
     drawn = spec.count if spec.unique is None else min(spec.unique, spec.count)
     pool = [make_scenario(spec.kinds[i % len(spec.kinds)], rng, lead_s=spec.lead_s,
-                          trail_s=spec.trail_s) for i in range(drawn)]
+                          trail_s=spec.trail_s, family=spec.family) for i in range(drawn)]
     return [pool[i % drawn] for i in range(spec.count)]
 
 

@@ -43,13 +43,14 @@ DEPARTURE_CHI_SQUARE = 21.11
 """The chi-square (3 degrees of freedom) a noisy closing sample must exceed: its upper 1e-4
 quantile, so a ball in free flight is called departed in about one interval in 10,000."""
 
-SCATTER_INTERVALS = 4
+SCATTER_INTERVALS = 12
 """Intervals before one whose closing samples' misses measure the stream's scatter."""
 
-SCATTER_RATIO = 25.0
-"""How many times the scatter's mean square (per unit of spread) a departure must exceed: the
-ratio of two chi-squares of 3 and 12 degrees of freedom, each over its own, passes 25 about
-once in 70,000 draws (F(3, 12) > 25)."""
+SCATTER_RATIO = 13.0
+"""How many times the scatter's mean square (per unit of spread) a departure must exceed: a
+ratio of two chi-squares, of 3 and 36 degrees of freedom, each over its own, passes 13 about
+once in 100,000 draws (F(3, 36), 12 intervals before it; with 4, F(3, 12), once in 2,500:
+a segment's first intervals, which a free flight's parabola serves as well)."""
 
 Parabola = Tuple[float, float, float, Vector, Vector]
 """The free flight over an interval: the closing sample's distance from the parabola (m), the

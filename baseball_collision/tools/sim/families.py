@@ -34,10 +34,8 @@ from typing import Tuple
 import numpy as np
 
 from .swings import Swing
+from ..choices import FAMILIES  # the command line's options read them without the simulator
 from ...errors import ToolError
-
-FAMILIES = ('plane', 'tilted', 'jerky', 'lefty', 'braking', 'rebound')
-"""The swing families, today's first."""
 
 
 def check_family(family: str) -> str:

@@ -84,14 +84,14 @@ def test_noise_is_not_a_departure() -> None:
     """
     departed = told = 0
     for seed in range(12):
-        _, samples = _rebound(seed, noise_m=1e-3)
+        _, samples = _rebound(seed, noise_m=1e-3, rate=360.0)
         stream = _ball(samples)
         end = stream.interval(0.12)  # before every contact
         for k in range(end):
             if k >= 2 + SCATTER_INTERVALS:
                 departed += leaves_flight(stream, k, 0.0, 1.0) is not None
             told += leaves_flight(stream, k, 1e-3, 1.0) is not None
-    assert departed <= 1 and told <= 1
+    assert departed <= 2 and told <= 2  # of about 360 and 500 intervals
 
 
 def test_a_noisy_hit_departs() -> None:
