@@ -117,11 +117,21 @@ def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
     bound, and outside the scatter of the ``SCATTER_INTERVALS`` intervals before it (their own
     closing samples' misses, each scaled by its Lagrange weights, against
     ``SCATTER_RATIO``): samples noisier than the noise told (``tracker_noise`` 0 on a noisy
-    tracker) scatter that much in free flight too.
+    tracker) scatter that much in free flight too. Not where sample k - 1 or k departed
+    itself: a parabola through a departure (the frames just after a hit) is no free flight.
 
     :param noise: the stream's noise (m, 1 sigma per coordinate; 0 for exact samples).
     """
-    fitted = parabola(stream, k, max_gap)
+    fitted = _departed(stream, k, noise, max_gap)
+    if fitted is None or any(_departed(stream, j, noise, max_gap) is not None
+                             for j in (k - 1, k - 2)):
+        return None
+    return fitted
+
+
+def _departed(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[Parabola]:
+    """Return ``leaves_flight``'s answer but for its last rule (the samples' own departures)."""
+    fitted = parabola(stream, k, max_gap) if k >= 0 else None
     if fitted is None:
         return None
     miss, spread = fitted[0], fitted[1]

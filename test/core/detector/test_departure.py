@@ -71,6 +71,7 @@ def test_a_hit_departs_at_its_interval_only() -> None:
         departed = [k for k in range(len(stream.times) - 1)
                     if leaves_flight(stream, k, 0.0, 1.0) is not None]
         assert departed[0] == contact
+        assert departed == [contact]  # the parabolas after it run through the hit: no flight
         assert departure_reach(stream, contact, 1.0) > 0.05  # m: centimetres at least
 
 
