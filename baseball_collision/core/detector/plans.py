@@ -423,7 +423,7 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     margin.
     """
     far = np.ones(len(starts), bool)
-    located = []
+    located, segments = [], []
     for s in (0, 1):
         k = np.searchsorted(arrays.times[s], starts, 'right') - 1
         times, cut = arrays.times[s], arrays.breaks[s]
@@ -432,6 +432,7 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
         before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
         after = np.where(_continuous(closed, k + 1), k + 2, -1)
         located.append((k, before, after))
+        segments.append(closed)
     if not len(starts):
         return far
     (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
@@ -443,7 +444,8 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
         clear = far & (apart_margins(
             arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
             ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
-            config.model, config.look_ahead, config.spline_window, margin) > margin)
+            config.model, config.look_ahead, config.spline_window, margin,
+            tuple(segments)) > margin)
         # the sweep's second test (the motion paths' spheres) where the first did not clear
         # (c2's second stage is apart_margins' own)
         near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
