@@ -427,6 +427,31 @@ def test_c2_under_auto_noise_is_planned(monkeypatch: pytest.MonkeyPatch) -> None
     assert 0.5e-3 < chunked._bat.noise < 2e-3
 
 
+def test_a_near_stop_is_appended_with_the_run_before_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A near stop that passes every check is appended by its run's fast-forward, not its own.
+
+    One append, trim and bulk noise estimate where there were two (only a stop right after
+    another appends alone); the events, drops, counters and streams stay those of ``add``.
+    """
+    calls: Counter = Counter()
+    original = chunks_module.fast_forward
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls['with its run' if kwargs.get('stop') else 'run' if kwargs.get('walk', True)
+              else 'alone'] += 1
+        return original(*args, **kwargs)
+    monkeypatch.setattr(chunks_module, 'fast_forward', counting)
+    # both streams on one clock (a mocap system's): near a contact, each ball sample (the
+    # watermark does not move) is a run of one before its bat sample's stop
+    rows = [(role, stamp - 50_000 if role == 'bat_pose' else stamp, values, frame)
+            for role, stamp, values, frame in session(HEIGHTS[:2])]
+    events = assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0),
+                         rows, (500,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert calls['with its run'] > 10 * calls['alone']
+
+
 def test_bad_chunks_are_refused() -> None:
     """Arrays of different lengths, or an unknown role code, are a CoreError."""
     detector = Detector(DetectorConfig(bat_input='pose'))
