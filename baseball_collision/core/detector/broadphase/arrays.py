@@ -317,8 +317,10 @@ def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np
     ``c2_jump_bulge`` over many intervals k of one stream (m; inf where it gives no bound).
 
     Over every sample a full window could hold within ``bounds`` (each interval's first and
-    last sample, :func:`_segments`), counted from the arrays' first sample: the jumps of every
-    sample taken at once, then each interval's weighted sum over its window's.
+    last sample, :func:`_segments`), counted from the arrays' first sample: the sum over the
+    jumps is taken for every sample at once (the jumps before the first sample are 0, as the
+    first's own), then read at k; the few windows ``bounds`` cut shorter (a pitch's first
+    and last after a pause) are summed again over their own samples.
 
     :param points: the ball's samples or the bat's knobs (n, 3); ``lengths``: the bat's
         knob-to-tip lengths (n,), None for the ball; ``times``: (n,) s.
@@ -334,19 +336,39 @@ def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np
         if lengths is not None:
             la, lb, lc = lengths[:-2], lengths[1:-1], lengths[2:]
             jumps[1:n - 1] += np.abs((lc - lb) / h1[:, 0] - (lb - la) / h0[:, 0])
-    first = np.maximum(k + 2 - size, bounds[0])
-    last = np.minimum(k + 1 + look_ahead, bounds[1])
-    # the weighted jumps of the window's samples before k + 1 (from first + 1), its longest
-    # and shortest step (into first + 1 ... last)
-    bound = np.zeros(len(k))
+    # per sample m: the weighted jumps before it, the longest and shortest step in its window
+    # reaching the stream's ends only, then read at k
+    padded = np.concatenate((np.zeros(size), jumps[:n]))
+    before = np.zeros(n)
     for a in range(size - 2):
-        bound += np.where(k - a > first, C2_JUMP_BEFORE[a] * jumps[np.maximum(k - a, 0)], 0.0)
-    longest, shortest = np.full(len(k), -np.inf), np.full(len(k), np.inf)
+        before += C2_JUMP_BEFORE[a] * padded[size - a:size - a + n]
+    high = np.concatenate((np.full(size, -np.inf), [-np.inf], steps[1:],
+                           np.full(look_ahead + 2, -np.inf)))
+    low = np.concatenate((np.full(size, np.inf), [np.inf], steps[1:],
+                          np.full(look_ahead + 2, np.inf)))
+    longest, shortest = np.full(n, -np.inf), np.full(n, np.inf)
     for o in range(3 - size, look_ahead + 2):
-        inside = (k + o > first) & (k + o <= last)
-        step = steps[np.clip(k + o, 0, n - 1)]
-        longest = np.maximum(longest, np.where(inside, step, -np.inf))
-        shortest = np.minimum(shortest, np.where(inside, step, np.inf))
+        longest = np.maximum(longest, high[size + o:size + o + n])
+        shortest = np.minimum(shortest, low[size + o:size + o + n])
+    bound, longest, shortest = before[k], longest[k], shortest[k]
+    last = np.minimum(k + 1 + look_ahead, n - 1)
+    # the windows ``bounds`` cut shorter: their own sums (the same terms, those inside)
+    first = np.maximum(k + 2 - size, bounds[0])
+    cut = np.flatnonzero((first > k + 2 - size) & (first > 0) | (bounds[1] < last))
+    if len(cut):
+        i, first = k[cut], first[cut]
+        last[cut] = end = np.minimum(last[cut], bounds[1][cut])
+        sums = np.zeros(len(cut))
+        for a in range(size - 2):
+            sums += np.where(i - a > first, C2_JUMP_BEFORE[a] * jumps[np.maximum(i - a, 0)],
+                             0.0)
+        most, least = np.full(len(cut), -np.inf), np.full(len(cut), np.inf)
+        for o in range(3 - size, look_ahead + 2):
+            inside = (i + o > first) & (i + o <= end)
+            step = steps[np.clip(i + o, 0, n - 1)]
+            most = np.maximum(most, np.where(inside, step, -np.inf))
+            least = np.minimum(least, np.where(inside, step, np.inf))
+        bound[cut], longest[cut], shortest[cut] = sums, most, least
     after = last - k
     bound = bound + np.where(after > 1, _AFTER_ONE * jumps[k + 1], 0.0)
     bound = bound + np.where(after > 2, _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2]), 0.0)
