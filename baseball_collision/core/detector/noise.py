@@ -40,6 +40,10 @@ from .streams import Stream
 HISTORY = 384
 """Residuals each stream's estimate is the median of (coordinates count singly)."""
 
+KEPT_SAMPLES = HISTORY // 3
+"""Points whose residuals (three each) the estimate keeps: a longer run's older ones are not
+computed (``take_points``)."""
+
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
 
@@ -128,7 +132,8 @@ class NoiseEstimate:
 
         What ``update`` does after each of them in turn, to the bit (the chunk path's
         fast-forwards): each residual is that sample's window of five, with the same
-        operations on arrays (IEEE element by element, no fused multiply-add), in order.
+        operations on arrays (IEEE element by element, no fused multiply-add), in order; of a
+        run longer than ``KEPT_SAMPLES`` only the newest, as the others' would not be kept.
 
         :param before: the stream's newest samples before them (up to four): stamps (s),
             points (m) and whether each starts a segment.
@@ -158,6 +163,8 @@ class NoiseEstimate:
                             np.asarray(points, dtype=float)))
         start = len(old_times) + first - 4  # the first residual's window's oldest sample
         count = len(t) - 4 - start
+        if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
+            start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
         # slot k of every window (k = 0..4 down the first axis), and each slot less each other
         stamps = np.stack([t[start + k:start + k + count] for k in range(5)])
         differences = stamps[:, None, :] - stamps[None, :, :]

@@ -156,7 +156,9 @@ def test_fourth_differences_vanish_on_cubics_and_have_unit_noise_gain(steps,
 
 
 @settings(max_examples=examples(40), deadline=None)
-@given(seed=st.integers(0, 10_000), runs=st.lists(st.integers(1, 40), min_size=1, max_size=12),
+@given(seed=st.integers(0, 10_000),
+       runs=st.lists(st.one_of(st.integers(1, 40), st.integers(120, 300)), min_size=1,
+                     max_size=12),
        breaks=st.lists(st.integers(0, 200), max_size=5), history=st.integers(0, 8))
 def test_points_taken_in_bulk_are_updates_in_turn(seed: int, runs: List[int],
                                                   breaks: List[int], history: int) -> None:
