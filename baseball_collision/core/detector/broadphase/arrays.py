@@ -358,17 +358,14 @@ def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np
     if len(cut):
         i, first = k[cut], first[cut]
         last[cut] = end = np.minimum(last[cut], bounds[1][cut])
-        sums = np.zeros(len(cut))
-        for a in range(size - 2):
-            sums += np.where(i - a > first, C2_JUMP_BEFORE[a] * jumps[np.maximum(i - a, 0)],
-                             0.0)
-        most, least = np.full(len(cut), -np.inf), np.full(len(cut), np.inf)
-        for o in range(3 - size, look_ahead + 2):
-            inside = (i + o > first) & (i + o <= end)
-            step = steps[np.clip(i + o, 0, n - 1)]
-            most = np.maximum(most, np.where(inside, step, -np.inf))
-            least = np.minimum(least, np.where(inside, step, np.inf))
-        bound[cut], longest[cut], shortest[cut] = sums, most, least
+        back = i[:, None] - np.arange(size - 2)  # (the samples k - a, a = 0 .. size - 3)
+        bound[cut] = np.where(back > first[:, None], np.array(C2_JUMP_BEFORE[:size - 2])
+                              * jumps[np.maximum(back, 0)], 0.0).sum(1)
+        into = i[:, None] + np.arange(3 - size, look_ahead + 2)  # (the steps into them)
+        inside = (into > first[:, None]) & (into <= end[:, None])
+        step = steps[np.clip(into, 0, n - 1)]
+        longest[cut] = np.where(inside, step, -np.inf).max(1)
+        shortest[cut] = np.where(inside, step, np.inf).min(1)
     after = last - k
     bound = bound + np.where(after > 1, _AFTER_ONE * jumps[k + 1], 0.0)
     bound = bound + np.where(after > 2, _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2]), 0.0)
