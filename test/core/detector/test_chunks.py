@@ -464,53 +464,6 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles + 7, stamps, values, frames)
 
 
-@settings(max_examples=examples(100), deadline=None)
-@given(look_ahead=st.integers(0, 2), size=st.integers(4, 10),
-       steps=st.lists(st.floats(0.002, 0.006), min_size=14, max_size=14),
-       start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
-       spin=st.floats(-60.0, 60.0), tilt=st.floats(-3.0, 3.0), jitter=st.floats(0.0, 0.05),
-       seed=st.integers(0, 1000))
-def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
-        look_ahead: int, size: int, steps: List[float], start: Tuple[float, float, float],
-        velocity: float, spin: float, tilt: float, jitter: float, seed: int) -> None:
-    """
-    ``apart_margins`` for ``c2``: ``clearly_apart`` clears every interval it clears.
-
-    Without look-ahead, where the interval's whole window is in the streams (at least
-    ``size`` samples up to its closing frame) the two are the same bound: just above the
-    vectorised clearance the scalar test does not clear it either, so the vectorised test is
-    not looser than it must be. (With look-ahead it also counts the ``look_ahead`` samples
-    before the scalar window's first, which a break after the interval would bring in.)
-    """
-    rng = np.random.default_rng(seed)
-    times = np.concatenate(([0.0], np.cumsum(steps)))
-    ball, bat = Stream('ball'), Stream('bat')
-    balls, knobs, tips = [], [], []
-    for t in times:
-        point = tuple(float(x) for x in np.array(start) + velocity * t * np.array([1.0, 0.2, 0.0])
-                      + rng.normal(0.0, jitter, 3))
-        knob, tip = tilting_bat(t, spin, tilt, rng, jitter)
-        knob, tip = tuple(knob.tolist()), tuple(tip.tolist())
-        ball.append(float(t), int(t * 1e9), point, False)
-        bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,
-                                                     quaternion=(0.0, 0.0, 0.0, 1.0)), False)
-        balls.append(point)
-        knobs.append(knob)
-        tips.append(tip)
-    ks = np.arange(len(times) - 2 - look_ahead)
-    none = np.full(len(ks), -1)
-    clearance = apart_margins(np.array(balls), np.array(knobs), np.array(tips), None, ks, ks,
-                              none, none, none, none, times, times, 'c2', look_ahead, size)
-    scale = 1e-9 * (1.0 + np.abs(balls).max() + np.abs(tips).max())
-    for k in ks:
-        if not np.isfinite(clearance[k]):
-            continue
-        assert clearly_apart(ball, bat, k, k, clearance[k] - scale, 'c2', 1.0, look_ahead, size)
-        if k + 2 >= size and look_ahead == 0:
-            assert not clearly_apart(ball, bat, k, k, clearance[k] + scale, 'c2', 1.0,
-                                     look_ahead, size)
-
-
 def _c2_streams(times: np.ndarray, breaks: Sequence[bool], start: Tuple[float, float, float],
                 velocity: float, spin: float, tilt: float, jitter: float, seed: int
                 ) -> Tuple[Stream, Stream, np.ndarray, np.ndarray, np.ndarray]:
@@ -530,6 +483,41 @@ def _c2_streams(times: np.ndarray, breaks: Sequence[bool], start: Tuple[float, f
         knobs.append(knob)
         tips.append(tip)
     return ball, bat, np.array(balls), np.array(knobs), np.array(tips)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(look_ahead=st.integers(0, 2), size=st.integers(4, 10),
+       steps=st.lists(st.floats(0.002, 0.006), min_size=14, max_size=14),
+       start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
+       spin=st.floats(-60.0, 60.0), tilt=st.floats(-3.0, 3.0), jitter=st.floats(0.0, 0.05),
+       seed=st.integers(0, 1000))
+def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
+        look_ahead: int, size: int, steps: List[float], start: Tuple[float, float, float],
+        velocity: float, spin: float, tilt: float, jitter: float, seed: int) -> None:
+    """
+    ``apart_margins`` for ``c2``: ``clearly_apart`` clears every interval it clears.
+
+    Without look-ahead, where the interval's whole window is in the streams (at least
+    ``size`` samples up to its closing frame) the two are the same bound: just above the
+    vectorised clearance the scalar test does not clear it either, so the vectorised test is
+    not looser than it must be. (With look-ahead it also counts the ``look_ahead`` samples
+    before the scalar window's first, which a break after the interval would bring in.)
+    """
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    ball, bat, balls, knobs, tips = _c2_streams(times, [False] * len(times), start, velocity,
+                                                spin, tilt, jitter, seed)
+    ks = np.arange(len(times) - 2 - look_ahead)
+    none = np.full(len(ks), -1)
+    clearance = apart_margins(balls, knobs, tips, None, ks, ks, none, none, none, none, times,
+                              times, 'c2', look_ahead, size)
+    scale = 1e-9 * (1.0 + np.abs(balls).max() + np.abs(tips).max())
+    for k in ks:
+        if not np.isfinite(clearance[k]):
+            continue
+        assert clearly_apart(ball, bat, k, k, clearance[k] - scale, 'c2', 1.0, look_ahead, size)
+        if k + 2 >= size and look_ahead == 0:
+            assert not clearly_apart(ball, bat, k, k, clearance[k] + scale, 'c2', 1.0,
+                                     look_ahead, size)
 
 
 @settings(max_examples=examples(100), deadline=None)
