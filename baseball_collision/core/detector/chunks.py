@@ -61,12 +61,16 @@ numpy calls is shared by more samples); the length carries over to the next chun
 def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                  scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
                  events: List[Event], walk: bool = True,
-                 noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None) -> int:
+                 noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None,
+                 stop: bool = False) -> int:
     """
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
 
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
         with the scheduler: the intervals, then the trim, then the prediction).
+    :param stop: also append sample ``end`` after the run's walk and trim (a near stop that
+        passes every check, whose own walk the caller makes; without prediction): one
+        append, one trim and one bulk estimate instead of two of each, the same state.
     :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
         takes the run's samples as ``Detector.add`` updates them after each sample (at once,
         ``NoiseEstimate.take_points``, a bat pose's positions; a run of one sample appended,
@@ -78,7 +82,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     for s, stream in enumerate((ball, bat)):
         counts = plan.counts[s]
         a = counts[pos - 1] if pos else plan.pre[s]
-        b = counts[end - 1]
+        b = counts[end] if stop else counts[end - 1]
         kept = len(stream.times)
         # the trim after the run, counted from the stream's first sample: samples it would
         # drop as soon as they are appended are never made (nor turned into lists)
@@ -128,7 +132,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         if after > before:
             stats.intervals += after - before
             episodes.far(events)
-    stats.calls += end - pos
+    stats.calls += end - pos + stop
     stats.last_drop_reason = None
     if stats.late_drops:
         stats.late_drops = []
@@ -288,9 +292,11 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
         # a stop for the predictor alone is taken with the run, then predicts
         forecast = end < plan.n and plan.forecasts is not None and plan.forecasts[end]
         stop = end + 1 if forecast else end
+        # a near stop that passes every check is appended with the run before it
+        joined = stop > pos and end < plan.n and last_due is None and plan.checked[end]
         if stop > pos:
             start = time.perf_counter()
-            _fast_forward(detector, plan, pos, stop, events, walk=True)
+            _fast_forward(detector, plan, pos, stop, events, walk=True, stop=joined)
             if last_due is not None:
                 predictor.last_ns = last_due[end]  # (a stop's frame predicts from there)
             if forecast:
@@ -304,7 +310,8 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
             if plan.checked[end]:
                 # it passes every check: append it as planned, walk as add would
                 start = time.perf_counter()
-                _fast_forward(detector, plan, end, end + 1, events, walk=False)
+                if not joined:
+                    _fast_forward(detector, plan, end, end + 1, events, walk=False)
                 detector._advance(events)
                 _time(stats, start, 1)
             else:
@@ -325,11 +332,11 @@ def _clears(plan: Plan, j: int) -> bool:
 
 
 def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
-                  events: List[Event], walk: bool) -> None:
-    """Take plan samples [first, end) as planned (:func:`fast_forward`); note the newest."""
+                  events: List[Event], walk: bool, stop: bool = False) -> None:
+    """Take plan samples [first, end) (and ``stop``: end) as planned; note the newest."""
     newest = fast_forward(plan, first, end, detector._ball, detector._bat,
                           detector._scheduler, detector._episodes, detector.stats, events,
-                          walk=walk, noise=detector._noise)
+                          walk=walk, noise=detector._noise, stop=stop)
     intake = detector._intake
     if intake.newest is None or newest > intake.newest:
         intake.newest = newest

@@ -29,6 +29,7 @@ noise"). For a pose bat whose stream starts with the swing, tell ``tracker_noise
 
 from bisect import bisect_left, insort
 from collections import deque
+from itertools import islice
 import math
 from typing import Deque, List, Optional, Sequence, Tuple
 
@@ -38,6 +39,10 @@ from .streams import Stream
 
 HISTORY = 384
 """Residuals each stream's estimate is the median of (coordinates count singly)."""
+
+KEPT_SAMPLES = HISTORY // 3
+"""Points whose residuals (three each) the estimate keeps: a longer run's older ones are not
+computed (``take_points``)."""
 
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
@@ -51,7 +56,8 @@ _OTHERS = np.array([[j for j in range(5) if j != i] for i in range(5)])
 """The five slots of a window and, for each, the other four in order (``take_points``)."""
 
 REBUILD = 48
-"""More residuals than this at once: the sorted list is made again, not updated one by one."""
+"""More residuals than this at once: the sorted list is made again (when an estimate next
+needs it), not updated one by one."""
 
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
@@ -86,18 +92,25 @@ class NoiseEstimate:
 
     The median is kept, not recomputed: the residuals' absolute values stay sorted as they come
     and go (``HISTORY`` of them), so a sample costs a bisection and a short move, not a sort.
+    Where more than half the residuals are so small that the median cannot reach
+    ``NOISE_FLOOR`` (``_small``: exact samples), the estimate is 0 without it: they are
+    counted as they come and go, and the sorted list is made again only when an estimate
+    needs it (the same estimate, to the bit).
 
     :param kind: ``'point'`` (fourth differences of the values, or of a pose's position) or
         ``'length'`` (changes of a knob-tip bat's length).
     """
 
-    __slots__ = ('kind', 'residuals', 'sigma', '_sorted')
+    __slots__ = ('kind', 'residuals', 'sigma', '_sorted', '_small', '_below')
 
     def __init__(self, kind: str) -> None:
         self.kind = kind
         self.residuals: Deque[float] = deque(maxlen=HISTORY)
         self.sigma = 0.0
-        self._sorted: List[float] = []  # the residuals' absolute values, ascending
+        # the residuals' absolute values, ascending (None: not kept, made again when needed)
+        self._sorted: Optional[List[float]] = []
+        self._small: Deque[bool] = deque(maxlen=HISTORY)  # each residual's ``_small``
+        self._below = 0  # how many residuals are small
 
     def update(self, stream: Stream) -> float:
         """
@@ -119,7 +132,8 @@ class NoiseEstimate:
 
         What ``update`` does after each of them in turn, to the bit (the chunk path's
         fast-forwards): each residual is that sample's window of five, with the same
-        operations on arrays (IEEE element by element, no fused multiply-add), in order.
+        operations on arrays (IEEE element by element, no fused multiply-add), in order; of a
+        run longer than ``KEPT_SAMPLES`` only the newest, as the others' would not be kept.
 
         :param before: the stream's newest samples before them (up to four): stamps (s),
             points (m) and whether each starts a segment.
@@ -149,6 +163,8 @@ class NoiseEstimate:
                             np.asarray(points, dtype=float)))
         start = len(old_times) + first - 4  # the first residual's window's oldest sample
         count = len(t) - 4 - start
+        if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
+            start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
         # slot k of every window (k = 0..4 down the first axis), and each slot less each other
         stamps = np.stack([t[start + k:start + k + count] for k in range(5)])
         differences = stamps[:, None, :] - stamps[None, :, :]
@@ -158,28 +174,53 @@ class NoiseEstimate:
         gain = np.sqrt(np.add.reduce(weights * weights, axis=0))
         values = np.stack([p[start + k:start + k + count] for k in range(5)])
         rows = np.add.reduce(weights[:, :, None] * (values - values[2]), axis=0) / gain[:, None]
-        self._take(rows.ravel().tolist())
+        self._take(rows.ravel().tolist(),
+                   (MAD_TO_SIGMA * np.abs(rows) < NOISE_FLOOR).ravel().tolist())
         return self.sigma
 
-    def _take(self, found: Sequence[float]) -> None:
-        """Take residuals (m) in order; set the estimate from the newest ``HISTORY``."""
-        residuals, ordered = self.residuals, self._sorted
-        if len(found) > REBUILD:  # many at once (a fast-forward): the newest, sorted afresh
-            residuals.extend(found)
-            ordered[:] = sorted(map(abs, residuals))
-        else:
-            for residual in found:
+    def _take(self, found: Sequence[float], small: Optional[Sequence[bool]] = None) -> None:
+        """
+        Take residuals (m) in order; set the estimate from the newest ``HISTORY``.
+
+        :param small: whether each is small (``_small``), when the caller knows (the same
+            comparison on arrays).
+        """
+        residuals, flags, ordered = self.residuals, self._small, self._sorted
+        if small is None:
+            small = [MAD_TO_SIGMA * abs(residual) < NOISE_FLOOR for residual in found]
+        if len(found) <= REBUILD:  # one by one, the oldest leaving as each comes
+            below = self._below
+            for residual, flag in zip(found, small):
                 if len(residuals) == HISTORY:
-                    del ordered[bisect_left(ordered, abs(residuals[0]))]
+                    below -= flags[0]
+                    if ordered is not None:
+                        del ordered[bisect_left(ordered, abs(residuals[0]))]
                 residuals.append(residual)
-                insort(ordered, abs(residual))
-        count = len(ordered)
-        if count >= MIN_RESIDUALS:
-            middle = count // 2
-            median = (ordered[middle] if count % 2
-                      else (ordered[middle - 1] + ordered[middle]) / 2.0)
-            sigma = MAD_TO_SIGMA * median
-            self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
+                flags.append(flag)
+                below += flag
+                if ordered is not None:
+                    insort(ordered, abs(residual))
+        else:  # many at once (a fast-forward): the sorted list made again when needed
+            leaving = min(len(residuals) + len(found) - HISTORY, len(residuals))
+            below = self._below + sum(small[-HISTORY:]) - (
+                sum(islice(flags, leaving)) if leaving > 0 else 0)
+            residuals.extend(found)
+            flags.extend(small)
+            ordered = self._sorted = None
+        self._below = below
+        count = len(residuals)
+        if count < MIN_RESIDUALS:
+            return
+        middle = count // 2
+        if below > middle:  # (the median is at most the middle-th smallest: small)
+            self.sigma = 0.0
+            return
+        if ordered is None:
+            ordered = self._sorted = sorted(map(abs, residuals))
+        median = (ordered[middle] if count % 2
+                  else (ordered[middle - 1] + ordered[middle]) / 2.0)
+        sigma = MAD_TO_SIGMA * median
+        self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
 
     def _residuals(self, stream: Stream) -> Optional[Sequence[float]]:
         """Return the residuals (m) the newest sample completes, or None."""
@@ -192,6 +233,16 @@ class NoiseEstimate:
             return (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),)
         return _point_residuals(stream.times[-count:],
                                 [getattr(value, 'position', value) for value in values])
+
+
+def _small(residual: float) -> bool:
+    """
+    Return whether a residual (m) is too small for a median to reach ``NOISE_FLOOR``.
+
+    ``MAD_TO_SIGMA`` times it is below the floor: a median no larger (it is at most the
+    middle-th smallest residual, and rounding is monotone) gives an estimate of 0.
+    """
+    return MAD_TO_SIGMA * abs(residual) < NOISE_FLOOR
 
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]) -> List[float]:

@@ -424,17 +424,16 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     margin.
     """
     far = np.ones(len(starts), bool)
-    located = []
+    located, segments = [], []
     for s in (0, 1):
         k = np.searchsorted(arrays.times[s], starts, 'right') - 1
         times, cut = arrays.times[s], arrays.breaks[s]
         closed = _closed(times, cut, config.max_gap)
-        if s == 0:
-            ball_closed = closed
         far &= _continuous(closed, k)
         before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
         after = np.where(_continuous(closed, k + 1), k + 2, -1)
         located.append((k, before, after))
+        segments.append(closed)
     if not len(starts):
         return far
     (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
@@ -447,16 +446,16 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
             arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
             ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
             config.model, config.look_ahead, config.spline_window, margin,
-            ball_closed) > margin)
+            tuple(segments)) > margin)
         # the sweep's second test (the motion paths' spheres) where the first did not clear
         # (c2's second stage is apart_margins' own)
         # (nor, for the spline, before a departure: its tangent there skips the sample after)
         near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
         if len(near):
             # the ball's free flight where it has left it (``departure``), as apart_margins
-            reach = departure_reaches(arrays.ball, arrays.times[0], ball_k[near], ball_closed)
+            reach = departure_reaches(arrays.ball, arrays.times[0], ball_k[near], segments[0])
             ahead = departure_reaches(arrays.ball, arrays.times[0], np.minimum(
-                ball_k[near] + 1, len(arrays.times[0]) - 2), ball_closed)
+                ball_k[near] + 1, len(arrays.times[0]) - 2), segments[0])
             clear[near] = (path_margins(
                 arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
                 bat_k[near], ball_before[near], ball_after[near], bat_before[near],

@@ -17,6 +17,7 @@ from baseball_collision.core.detector import (
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.chunks import ROLE_CODES
+import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, turn_between
@@ -452,6 +453,31 @@ def test_c2_under_auto_noise_is_planned(monkeypatch: pytest.MonkeyPatch) -> None
     assert 0.5e-3 < chunked._bat.noise < 2e-3
 
 
+def test_a_near_stop_is_appended_with_the_run_before_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A near stop that passes every check is appended by its run's fast-forward, not its own.
+
+    One append, trim and bulk noise estimate where there were two (only a stop right after
+    another appends alone); the events, drops, counters and streams stay those of ``add``.
+    """
+    calls: Counter = Counter()
+    original = chunks_module.fast_forward
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls['with its run' if kwargs.get('stop') else 'run' if kwargs.get('walk', True)
+              else 'alone'] += 1
+        return original(*args, **kwargs)
+    monkeypatch.setattr(chunks_module, 'fast_forward', counting)
+    # both streams on one clock (a mocap system's): near a contact, each ball sample (the
+    # watermark does not move) is a run of one before its bat sample's stop
+    rows = [(role, stamp - 50_000 if role == 'bat_pose' else stamp, values, frame)
+            for role, stamp, values, frame in session(HEIGHTS[:2])]
+    events = assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0),
+                         rows, (500,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert calls['with its run'] > 10 * calls['alone']
+
+
 def test_bad_chunks_are_refused() -> None:
     """Arrays of different lengths, or an unknown role code, are a CoreError."""
     detector = Detector(DetectorConfig(bat_input='pose'))
@@ -462,6 +488,27 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles, stamps, values[:, :3], frames)
     with pytest.raises(CoreError):
         detector.add_chunk(roles + 7, stamps, values, frames)
+
+
+def _c2_streams(times: np.ndarray, breaks: Sequence[bool], start: Tuple[float, float, float],
+                velocity: float, spin: float, tilt: float, jitter: float, seed: int
+                ) -> Tuple[Stream, Stream, np.ndarray, np.ndarray, np.ndarray]:
+    """Return a ball and a tilting bat sampled at ``times`` as streams and as arrays."""
+    rng = np.random.default_rng(seed)
+    ball, bat = Stream('ball'), Stream('bat')
+    balls, knobs, tips = [], [], []
+    for t, broken in zip(times, breaks):
+        point = tuple(float(x) for x in np.array(start) + velocity * t * np.array([1.0, 0.2, 0.0])
+                      + rng.normal(0.0, jitter, 3))
+        knob, tip = tilting_bat(t, spin, tilt, rng, jitter)
+        knob, tip = tuple(knob.tolist()), tuple(tip.tolist())
+        ball.append(float(t), int(t * 1e9), point, broken)
+        bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,
+                                                     quaternion=(0.0, 0.0, 0.0, 1.0)), broken)
+        balls.append(point)
+        knobs.append(knob)
+        tips.append(tip)
+    return ball, bat, np.array(balls), np.array(knobs), np.array(tips)
 
 
 @settings(max_examples=examples(100), deadline=None)
@@ -482,25 +529,13 @@ def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
     not looser than it must be. (With look-ahead it also counts the ``look_ahead`` samples
     before the scalar window's first, which a break after the interval would bring in.)
     """
-    rng = np.random.default_rng(seed)
     times = np.concatenate(([0.0], np.cumsum(steps)))
-    ball, bat = Stream('ball'), Stream('bat')
-    balls, knobs, tips = [], [], []
-    for t in times:
-        point = tuple(float(x) for x in np.array(start) + velocity * t * np.array([1.0, 0.2, 0.0])
-                      + rng.normal(0.0, jitter, 3))
-        knob, tip = tilting_bat(t, spin, tilt, rng, jitter)
-        knob, tip = tuple(knob.tolist()), tuple(tip.tolist())
-        ball.append(float(t), int(t * 1e9), point, False)
-        bat.append(float(t), int(t * 1e9), BatSample(knob=knob, tip=tip, position=knob,
-                                                     quaternion=(0.0, 0.0, 0.0, 1.0)), False)
-        balls.append(point)
-        knobs.append(knob)
-        tips.append(tip)
+    ball, bat, balls, knobs, tips = _c2_streams(times, [False] * len(times), start, velocity,
+                                                spin, tilt, jitter, seed)
     ks = np.arange(len(times) - 2 - look_ahead)
     none = np.full(len(ks), -1)
-    clearance = apart_margins(np.array(balls), np.array(knobs), np.array(tips), None, ks, ks,
-                              none, none, none, none, times, times, 'c2', look_ahead, size)
+    clearance = apart_margins(balls, knobs, tips, None, ks, ks, none, none, none, none, times,
+                              times, 'c2', look_ahead, size)
     scale = 1e-9 * (1.0 + np.abs(balls).max() + np.abs(tips).max())
     for k in ks:
         if not np.isfinite(clearance[k]):
@@ -509,6 +544,76 @@ def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
         if k + 2 >= size and look_ahead == 0:
             assert not clearly_apart(ball, bat, k, k, clearance[k] + scale, 'c2', 1.0,
                                      look_ahead, size)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(look_ahead=st.integers(0, 2), size=st.integers(4, 10),
+       steps=st.lists(st.floats(0.004, 0.006), min_size=20, max_size=20),
+       cut=st.integers(1, 18), kind=st.sampled_from(['pause', 'break', 'short gap']),
+       start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
+       spin=st.floats(-60.0, 60.0), tilt=st.floats(-3.0, 3.0), jitter=st.floats(0.0, 0.05),
+       seed=st.integers(0, 1000))
+def test_vectorised_c2_far_test_across_segments_is_confirmed_by_the_scalar_one(
+        look_ahead: int, size: int, steps: List[float], cut: int, kind: str,
+        start: Tuple[float, float, float], velocity: float, spin: float, tilt: float,
+        jitter: float, seed: int) -> None:
+    """
+    ``apart_margins`` for ``c2`` with the streams' segments: ``clearly_apart`` confirms it.
+
+    Two segments: after a pause of 0.1 s (more than ``C2_STEP_RATIO`` steps: its windows stop
+    there in both tests), a break without a gap, or a gap just over ``max_gap`` but within the
+    steps' ratio (the scalar first stage's window crosses it).
+    """
+    steps = list(steps)
+    breaks = [False] * (len(steps) + 1)
+    max_gap = 0.05
+    if kind == 'pause':
+        steps[cut] = 0.1
+    elif kind == 'break':
+        breaks[cut + 1] = True
+    else:
+        max_gap, steps[cut] = 0.009, 0.0095
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    ball, bat, balls, knobs, tips = _c2_streams(times, breaks, start, velocity, spin, tilt,
+                                                jitter, seed)
+    closed = plans_module._closed(times, np.array(breaks), max_gap)
+    ks = np.arange(len(times) - 1)
+    none = np.full(len(ks), -1)
+    clearance = apart_margins(balls, knobs, tips, None, ks, ks, none, none, none, none, times,
+                              times, 'c2', look_ahead, size, closed=(closed, closed))
+    scale = 1e-9 * (1.0 + np.abs(balls).max() + np.abs(tips).max())
+    for k in ks[closed]:
+        if np.isfinite(clearance[k]):
+            assert clearly_apart(ball, bat, k, k, clearance[k] - scale, 'c2', max_gap,
+                                 look_ahead, size)
+
+
+def test_vectorised_c2_far_test_clears_a_segment_start_after_a_pause() -> None:
+    """
+    A pause between pitches ends the ``c2`` windows on arrays as it ends the scalar test's.
+
+    The ball 4 m from the bat, 360 Hz, a 0.1 s pause: with the segments every interval on
+    either side is cleared on arrays, as the scalar test clears it; without them the windows
+    that reach across the pause give no bound (their steps are uneven).
+    """
+    steps = [1 / 360] * 40
+    steps[20] = 0.1
+    times = np.concatenate(([0.0], np.cumsum(steps)))
+    breaks = [False] * len(times)
+    ball, bat, balls, knobs, tips = _c2_streams(times, breaks, (5.0, 0.0, 1.0), 1.0, 20.0,
+                                                1.0, 0.0, 1)
+    closed = plans_module._closed(times, np.array(breaks), 0.05)
+    ks = np.flatnonzero(closed)
+    none = np.full(len(ks), -1)
+    arguments = (balls, knobs, tips, None, ks, ks, none, none, none, none, times, times, 'c2',
+                 2, 8)
+    margin = 1.0
+    segments = apart_margins(*arguments, closed=(closed, closed))
+    assert (segments > margin).all()
+    assert all(clearly_apart(ball, bat, k, k, margin, 'c2', 0.05, 2, 8) for k in ks)
+    alone = apart_margins(*arguments)  # (the look-ahead's two before, the window's six after)
+    across = ((ks >= 18) & (ks <= 19)) | ((ks >= 21) & (ks <= 26))
+    assert not (alone[across] > margin).any() and (alone[~across] > margin).all()
 
 
 @settings(max_examples=examples(200), deadline=None)

@@ -5,7 +5,7 @@ from typing import List, Tuple
 
 from baseball_collision.core.detector import AUTO_NOISE, Detector, DetectorConfig, Impact
 from baseball_collision.core.detector.noise import (
-    divided_difference_weights, MIN_RESIDUALS, NoiseEstimate)
+    divided_difference_weights, MAD_TO_SIGMA, MIN_RESIDUALS, NOISE_FLOOR, NoiseEstimate)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
@@ -156,7 +156,9 @@ def test_fourth_differences_vanish_on_cubics_and_have_unit_noise_gain(steps,
 
 
 @settings(max_examples=examples(40), deadline=None)
-@given(seed=st.integers(0, 10_000), runs=st.lists(st.integers(1, 40), min_size=1, max_size=12),
+@given(seed=st.integers(0, 10_000),
+       runs=st.lists(st.one_of(st.integers(1, 40), st.integers(120, 300)), min_size=1,
+                     max_size=12),
        breaks=st.lists(st.integers(0, 200), max_size=5), history=st.integers(0, 8))
 def test_points_taken_in_bulk_are_updates_in_turn(seed: int, runs: List[int],
                                                   breaks: List[int], history: int) -> None:
@@ -196,3 +198,34 @@ def test_points_taken_in_bulk_are_updates_in_turn(seed: int, runs: List[int],
                 mirror.append(float(times[k]), k, tuple(points[k].tolist()), False)
             i = run
     assert list(bulk.residuals) == list(one.residuals) and bulk.sigma == one.sigma
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(batches=st.lists(st.tuples(st.integers(1, 120), st.floats(0.0, 1.0),
+                                  st.sampled_from([1e-12, 1e-9, 5e-7, 6.7e-7, 1e-6, 1e-3])),
+                        min_size=1, max_size=12),
+       seed=st.integers(0, 1000))
+def test_the_estimate_is_the_median_of_the_newest_residuals(
+        batches: List[Tuple[int, float, float]], seed: int) -> None:
+    """
+    The estimate is ``MAD_TO_SIGMA`` times the newest ``HISTORY`` residuals' median.
+
+    After any mix of small and large residuals, one by one or many at once (0 below
+    ``NOISE_FLOOR``). Each batch holds a share of residuals far below the floor and the rest
+    of one size (some about the floor's median itself), so that the small ones are about
+    half of those kept: where they are more than half the estimate is 0 without the sorted
+    list, else it is read off the list made again.
+    """
+    rng = np.random.default_rng(seed)
+    estimate = NoiseEstimate('point')
+    for size, share, scale in batches:
+        found = np.where(rng.random(size) < share, 1e-12, scale) * rng.choice([-1.0, 1.0], size)
+        estimate._take((found * rng.uniform(0.5, 1.5, size)).tolist())
+        kept = sorted(map(abs, estimate.residuals))
+        expected = 0.0
+        if len(kept) >= MIN_RESIDUALS:
+            middle = len(kept) // 2
+            median = (kept[middle] if len(kept) % 2
+                      else (kept[middle - 1] + kept[middle]) / 2.0)
+            expected = MAD_TO_SIGMA * median if MAD_TO_SIGMA * median >= NOISE_FLOOR else 0.0
+        assert estimate.sigma == expected

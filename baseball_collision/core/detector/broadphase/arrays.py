@@ -6,7 +6,7 @@ samples, computed with numpy's own rounding.
 """
 
 import math
-from typing import Optional
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -20,7 +20,7 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                   bat_before: np.ndarray, bat_after: np.ndarray, ball_times: np.ndarray,
                   bat_times: np.ndarray, model: str, look_ahead: int = 0,
                   size: int = 8, margin: float = math.inf,
-                  ball_closed: Optional[np.ndarray] = None) -> np.ndarray:
+                  closed: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> np.ndarray:
     """
     Return ``clearly_apart``'s clearance (m) for many intervals at once.
 
@@ -29,9 +29,11 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     spheres' gap, the hulls' separation less both growths); ``clearly_apart`` says True where
     it exceeds ``margin``. For ``c2``, the clearance of its first stage (``c2_jump_bulge`` and
     ``c2_reach``) with the jumps and steps of every sample a full window could hold, counted
-    from the arrays' first sample: never below the scalar test's bound, as long as the arrays
-    start at or before the stream's first kept sample (-inf where the steps are too uneven:
-    the scalar test decides). Computed with numpy's own rounding: a caller that must agree
+    from the arrays' first sample, then of its second (``c2_bulge``, ``c2_bat_growth``) where
+    the first does not clear: never above the scalar test's, as long as the arrays start at or
+    before the stream's first kept sample (-inf where the steps are too uneven: the scalar
+    test decides). With ``closed``, each window stops at its segment's ends as the scalar
+    test's do (:func:`_segments`). Computed with numpy's own rounding: a caller that must agree
     with the scalar test compares with a tolerance.
 
     :param ball: ball samples (n_ball, 3); ``bat_knob``, ``bat_tip``: bat samples (n_bat, 3).
@@ -45,16 +47,19 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     :param margin: intervals whose first bound clears this (m) skip the second: ``c2``'s
         second stage, the other models' hulls (their clearance is then the spheres' alone,
         which already clears it).
-    :param ball_closed: each ball sample interval's ``Stream.continuous`` (n_ball - 1,), for
-        the ball's departure reach as the scalar test's; None: that reach across segments too.
+    :param closed: per stream (ball, bat), whether each sample interval (i, i + 1) is
+        continuous (``Stream.continuous``: no break at i + 1, no gap over ``max_gap``): for
+        ``c2``'s windows, and for the ball's departure reach, which then stops at its segment's
+        ends as the scalar test's; None: neither takes a segment into account (as if the
+        streams were one segment each; bounds as large or larger).
     :returns: the clearance of each interval (m,), less the ball's ``departure_reaches``
         (the scalar test's margin grows by its ``departure_reach``).
     :raises ValueError: an unknown model.
     """
-    reach = departure_reaches(ball, ball_times, ball_k, ball_closed)
+    reach = departure_reaches(ball, ball_times, ball_k, None if closed is None else closed[0])
     if model == 'c2':
         return _c2_margins(ball, bat_knob, bat_tip, ball_k, bat_k, ball_times, bat_times,
-                           look_ahead, size, margin + reach) - reach
+                           look_ahead, size, margin + reach, closed or (None, None)) - reach
     margin = margin + reach
     b0, b1 = rows(ball, ball_k), rows(ball, ball_k + 1)
     k0, k1 = rows(bat_knob, bat_k), rows(bat_knob, bat_k + 1)
@@ -136,20 +141,23 @@ def hull_separations(b0: np.ndarray, b1: np.ndarray, k0: np.ndarray, e0: np.ndar
 
 def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                 ball_k: np.ndarray, bat_k: np.ndarray, ball_times: np.ndarray,
-                bat_times: np.ndarray, look_ahead: int, size: int,
-                margin: float) -> np.ndarray:
+                bat_times: np.ndarray, look_ahead: int, size: int, margin: float,
+                closed: Tuple[Optional[np.ndarray], Optional[np.ndarray]]) -> np.ndarray:
     """
     ``apart_margins`` for ``c2``: the larger clearance of ``clearly_apart``'s two stages.
 
     The second only where the first is not above ``margin`` (m).
 
     Each over the samples a full window could hold (``size`` before the interval's closing
-    frame, ``look_ahead`` after it): a superset of the scalar test's window and chart, and
-    every bound grows with the samples it sums over.
+    frame, ``look_ahead`` after it, within the ends :func:`_segments` gives each stage): a
+    superset of the scalar test's window and chart, and every bound grows with the samples it
+    sums over.
     """
     lengths = _dist(bat_tip, bat_knob)
-    quick = _c2_jump_bulges(ball, None, ball_times, ball_k, look_ahead, size)
-    bulge = _c2_jump_bulges(bat_knob, lengths, bat_times, bat_k, look_ahead, size)
+    quick = _c2_jump_bulges(ball, None, ball_times, ball_k, look_ahead, size,
+                            _segments(ball_times, closed[0], ball_k, True))
+    bulge = _c2_jump_bulges(bat_knob, lengths, bat_times, bat_k, look_ahead, size,
+                            _segments(bat_times, closed[1], bat_k, True))
     b0, b1 = rows(ball, ball_k), rows(ball, ball_k + 1)
     k0, k1 = rows(bat_knob, bat_k), rows(bat_knob, bat_k + 1)
     ball_centre, ball_radius = (b0 + b1) * 0.5, 0.5 * _dist(b0, b1)
@@ -159,26 +167,70 @@ def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     if len(near) == len(first):
         return np.fmax(first, _c2_window_margins(ball, bat_knob, bat_tip, lengths, ball_k,
                                                  bat_k, ball_times, bat_times, look_ahead,
-                                                 size))
+                                                 size, closed))
     if len(near):
         first[near] = np.fmax(first[near], _c2_window_margins(
             ball, bat_knob, bat_tip, lengths, ball_k[near], bat_k[near], ball_times, bat_times,
-            look_ahead, size))
+            look_ahead, size, closed))
     return first
+
+
+def _segments(times: np.ndarray, closed: Optional[np.ndarray], k: np.ndarray,
+              uneven: bool) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return the first and the last sample a ``c2`` window over each interval k may hold.
+
+    Without ``uneven``, its segment's (no step that is not ``closed`` inside): the bounds of
+    ``c2_window``, which the scalar test's second stage fits. With ``uneven``, those of
+    ``c2_jump_bulge``, which sums over a window that ignores segments and takes
+    ``c2_window``'s only where that one's steps are uneven: a segment's end counts only where
+    its step is more than ``C2_STEP_RATIO`` times the interval's own, or less than its
+    fraction, so that every window holding both is uneven (the same comparison in the same
+    floats as the scalar test's: a pause between pitches at a tracker's rate), else the
+    stream's own end.
+
+    :param closed: whether each sample interval (i, i + 1) is continuous, or None (no
+        segments: the stream's ends).
+    :returns: (first, last) sample indices, k's shape.
+    """
+    n = len(times)
+    first, last = np.zeros(len(k), np.int64), np.full(len(k), n - 1, np.int64)
+    if closed is None:
+        return first, last
+    ends = np.flatnonzero(~closed) + 1  # samples whose step in crosses a segment's end
+    if not len(ends):
+        return first, last
+    before = np.searchsorted(ends, k, 'right') - 1
+    after = np.searchsorted(ends, k + 2, 'left')
+    cut = before >= 0
+    first = np.where(cut, ends[np.maximum(before, 0)], 0)
+    stop = after < len(ends)
+    last = np.where(stop, ends[np.minimum(after, len(ends) - 1)] - 1, n - 1)
+    if uneven:
+        h = times[k + 1] - times[k]
+        step = times[first] - times[np.maximum(first - 1, 0)]
+        cut &= (step > C2_STEP_RATIO * h) | (h > C2_STEP_RATIO * step)
+        step = times[np.minimum(last + 1, n - 1)] - times[last]
+        stop &= (step > C2_STEP_RATIO * h) | (h > C2_STEP_RATIO * step)
+        first, last = np.where(cut, first, 0), np.where(stop, last, n - 1)
+    return first, last
 
 
 def _c2_window_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                        lengths: np.ndarray, ball_k: np.ndarray, bat_k: np.ndarray,
                        ball_times: np.ndarray, bat_times: np.ndarray, look_ahead: int,
-                       size: int) -> np.ndarray:
+                       size: int,
+                       closed: Tuple[Optional[np.ndarray], Optional[np.ndarray]]) -> np.ndarray:
     """Return the clearance (m) of ``clearly_apart``'s second ``c2`` stage over many intervals."""
     ball_k, ball_of = np.unique(ball_k, return_inverse=True)
     bat_k, bat_of = np.unique(bat_k, return_inverse=True)
     # the window's weights (``c2_bulge``, ``c2_bat_growth``), once per sample interval
-    ball_window = _Windows(ball_times, ball_k, look_ahead, size)
+    ball_window = _Windows(ball_times, ball_k, look_ahead, size,
+                           _segments(ball_times, closed[0], ball_k, False))
     ball_bulge = ball_window.bulges(rows(ball, ball_window.index))[ball_of]
     ball_uneven = ball_window.uneven[ball_of]
-    bat_window = _Windows(bat_times, bat_k, look_ahead, size)
+    bat_window = _Windows(bat_times, bat_k, look_ahead, size,
+                          _segments(bat_times, closed[1], bat_k, False))
     index = bat_window.index
     axes = (bat_tip - bat_knob) / lengths[:, None]
     origin = rows(axes, bat_k)
@@ -219,8 +271,8 @@ class _Windows:
     """
     The samples a full ``c2`` window could hold, for many intervals k of one stream.
 
-    From ``size`` samples before each interval's closing frame (not before the stream's
-    first) to ``look_ahead`` after it (not past its last).
+    From ``size`` samples before each interval's closing frame (not before the first of
+    ``bounds``) to ``look_ahead`` after it (not past the last of ``bounds``).
 
     :ivar index: (m, W) the sample k + o of each interval, o from 2 - ``size`` to
         ``look_ahead`` + 1 (clipped into the stream); ``weights``: (m, W) ``C2_SAFETY`` times
@@ -229,12 +281,13 @@ class _Windows:
         test gives no bound).
     """
 
-    def __init__(self, times: np.ndarray, k: np.ndarray, look_ahead: int, size: int) -> None:
+    def __init__(self, times: np.ndarray, k: np.ndarray, look_ahead: int, size: int,
+                 bounds: Tuple[np.ndarray, np.ndarray]) -> None:
         n = len(times)
         offsets = np.arange(2 - size, look_ahead + 2)
         m = k[:, None] + offsets
-        first = np.maximum(k + 2 - size, 0)[:, None]
-        inside = (m >= first) & (m <= np.minimum(k + 1 + look_ahead, n - 1)[:, None])
+        first = np.maximum(k + 2 - size, bounds[0])[:, None]
+        inside = (m >= first) & (m <= np.minimum(k + 1 + look_ahead, bounds[1])[:, None])
         self.index = np.minimum(np.maximum(m, 0), n - 1)
         self.weights = np.where(inside, np.array(_WEIGHT_LIST)[_FAR_OFFSET + offsets], 0.0)
         self.centre = size - 2  # the column of offset 0
@@ -263,13 +316,16 @@ class _Windows:
 
 
 def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np.ndarray,
-                    k: np.ndarray, look_ahead: int, size: int) -> np.ndarray:
+                    k: np.ndarray, look_ahead: int, size: int,
+                    bounds: Tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """
     ``c2_jump_bulge`` over many intervals k of one stream (m; inf where it gives no bound).
 
-    Over every sample a full window could hold, counted from the arrays' first sample: the
-    sum over the jumps is taken for every sample at once (the jumps before the first sample
-    are 0, as the first's own), then read at k.
+    Over every sample a full window could hold within ``bounds`` (each interval's first and
+    last sample, :func:`_segments`), counted from the arrays' first sample: the sum over the
+    jumps is taken for every sample at once (the jumps before the first sample are 0, as the
+    first's own), then read at k; the few windows ``bounds`` cut shorter (a pitch's first
+    and last after a pause) are summed again over their own samples.
 
     :param points: the ball's samples or the bat's knobs (n, 3); ``lengths``: the bat's
         knob-to-tip lengths (n,), None for the ball; ``times``: (n,) s.
@@ -286,6 +342,7 @@ def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np
             la, lb, lc = lengths[:-2], lengths[1:-1], lengths[2:]
             jumps[1:n - 1] += np.abs((lc - lb) / h1[:, 0] - (lb - la) / h0[:, 0])
     # per sample m: the weighted jumps before it, the longest and shortest step in its window
+    # reaching the stream's ends only, then read at k
     padded = np.concatenate((np.zeros(size), jumps[:n]))
     before = np.zeros(n)
     for a in range(size - 2):
@@ -298,11 +355,25 @@ def _c2_jump_bulges(points: np.ndarray, lengths: Optional[np.ndarray], times: np
     for o in range(3 - size, look_ahead + 2):
         longest = np.maximum(longest, high[size + o:size + o + n])
         shortest = np.minimum(shortest, low[size + o:size + o + n])
-    after = np.minimum(k + 1 + look_ahead, n - 1) - k
-    bound = before[k]
+    bound, longest, shortest = before[k], longest[k], shortest[k]
+    last = np.minimum(k + 1 + look_ahead, n - 1)
+    # the windows ``bounds`` cut shorter: their own sums (the same terms, those inside)
+    first = np.maximum(k + 2 - size, bounds[0])
+    cut = np.flatnonzero((first > k + 2 - size) & (first > 0) | (bounds[1] < last))
+    if len(cut):
+        i, first = k[cut], first[cut]
+        last[cut] = end = np.minimum(last[cut], bounds[1][cut])
+        back = i[:, None] - np.arange(size - 2)  # (the samples k - a, a = 0 .. size - 3)
+        bound[cut] = np.where(back > first[:, None], np.array(C2_JUMP_BEFORE[:size - 2])
+                              * jumps[np.maximum(back, 0)], 0.0).sum(1)
+        into = i[:, None] + np.arange(3 - size, look_ahead + 2)  # (the steps into them)
+        inside = (into > first[:, None]) & (into <= end[:, None])
+        step = steps[np.clip(into, 0, n - 1)]
+        longest[cut] = np.where(inside, step, -np.inf).max(1)
+        shortest[cut] = np.where(inside, step, np.inf).min(1)
+    after = last - k
     bound = bound + np.where(after > 1, _AFTER_ONE * jumps[k + 1], 0.0)
     bound = bound + np.where(after > 2, _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2]), 0.0)
-    longest, shortest = longest[k], shortest[k]
     return np.where(longest > C2_STEP_RATIO * shortest, np.inf, longest * bound)
 
 
