@@ -8,17 +8,17 @@ Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [-
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
 family (``sim.FAMILIES``: today's fixed plane, a tilting plane, jerky hands and angular jerk,
-left-handed, braking after contact), pitches with gravity and drag, exact first contact by
-dense evaluation. Each is sampled at each rate with 0.2 ms stamp jitter on a 1 ms stamp grid
-(uneven steps, as real mocap), and at each noise level per coordinate (the ball; the bat as
-knob and tip markers with their own noise, or as a pose with that position noise and noise /
-0.3 m rad of orientation noise: a rigid-body solve over markers 0.3 m apart); ``--noise-on``
-keeps the noise to the ball or the bat (the other exact, each body's draws the same as with
-both: an error budget). ``--lead`` is the tracked time before the contact (s; 0.15 by
-default, the same scenes; a pitch is in flight for about 0.4 s). Every method sees the same
-samples. ``reference`` is the plain per-coordinate cubic spline over the whole pitch
-(``tools.reference``: not-a-knot without noise, Reinsch's smoothing spline with the known
-noise), across the contact; the detector's models keep to its rules.
+left-handed, braking after contact, and a real hit: braking, the ball leaving the bat), pitches
+with gravity and drag, exact first contact by dense evaluation. Each is sampled at each rate
+with 0.2 ms stamp jitter on a 1 ms stamp grid (uneven steps, as real mocap), and at each noise
+level per coordinate (the ball; the bat as knob and tip markers with their own noise, or as a
+pose with that position noise and noise / 0.3 m rad of orientation noise: a rigid-body solve
+over markers 0.3 m apart); ``--noise-on`` keeps the noise to the ball or the bat (the other
+exact, each body's draws the same as with both: an error budget). ``--lead`` is the tracked
+time before the contact (s; 0.15 by default, the same scenes; a pitch is in flight for about
+0.4 s). Every method sees the same samples. ``reference`` is the plain per-coordinate cubic
+spline over the whole pitch (``tools.reference``: not-a-knot without noise, Reinsch's smoothing
+spline with the known noise), across the contact; the detector's models keep to its rules.
 
 Recall and precision count contacts and misses clearer than 0.1 mm without noise, 3 mm with;
 errors are over every matched contact (absolute; ``bias`` is the signed mean time error);
