@@ -286,6 +286,46 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
     return C2BatPath.fitted(times, samples, k - window.start)
 
 
+def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int) -> Optional[C2BatPath]:
+    """
+    Return the bat's ``c2`` path over interval k continued from before it, or None.
+
+    The window spline of interval k - 1 (no look-ahead: up to interval k's opening frame), its
+    last piece continued to interval k's closing stamp: where the bat would have gone had
+    nothing slowed it, for an interval whose closing frame is after a hit (the bat brakes in
+    the 1-3 ms after it). The chart is moved onto interval k's opening direction, as its own
+    path's. None without two samples before k in its segment.
+    """
+    window = c2_window(stream, k - 1, max_gap, 0, size)
+    if k < 2 or window.start > k - 2 or window.stop - 1 != k:
+        return None
+    times = stream.times[window.start:window.stop]
+    samples = stream.values[window.start:window.stop]
+    j = k - 1 - window.start
+    first, rows = c2_rows(samples, j)
+    if first > j - 1:
+        return None
+    slopes = not_a_knot_slope_rows(times[first:first + len(rows)], rows, j - first)
+    value0, value1 = np.array(rows[j - first]), np.array(rows[j + 1 - first])
+    rate0, rate1 = np.array(slopes[0]), np.array(slopes[1])
+    h = times[j + 1] - times[j]
+    s = (stream.times[k + 1] - times[j]) / h
+    # the cubic Hermite piece of [times[j], times[j + 1]] at s > 1 (value and rate)
+    value = ((2 * s ** 3 - 3 * s ** 2 + 1) * value0 + (s ** 3 - 2 * s ** 2 + s) * h * rate0
+             + (3 * s ** 2 - 2 * s ** 3) * value1 + (s ** 3 - s ** 2) * h * rate1)
+    rate = ((6 * s ** 2 - 6 * s) * (value0 - value1) / h + (3 * s ** 2 - 4 * s + 1) * rate0
+            + (3 * s ** 2 - 2 * s) * rate1)
+    reference, origin = unit_axis(samples[j]), unit_axis(stream.values[k])
+    direction = rotate(reference, tuple(value[3:6].tolist()))
+    knob = tuple(value[:3].tolist())
+    ahead = BatSample(knob, tuple(x + value[6] * u for x, u in zip(knob, direction)))
+    turn0 = _recharted(reference, origin, value1[3:6], rate1[3:6])[1]
+    turn1 = _recharted(reference, origin, value[3:6], rate[3:6])[1]
+    return C2BatPath(stream.times[k], stream.times[k + 1], stream.values[k], ahead,
+                     (tuple(rate1[:3].tolist()), tuple(rate[:3].tolist())), (turn0, turn1),
+                     (float(rate1[6]), float(rate[6])))
+
+
 def swing_rate(path: C2BatPath, t: float) -> Vector:
     """Return the swing angular velocity (rad/s) of a ``c2`` bat path at t (s): u x u'."""
     turn, rate = np.array(path.turn.at(t)), np.array(path.turn.velocity(t))

@@ -17,9 +17,9 @@ from .config import DetectorConfig
 from .departure import flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
-from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise
+from .fitting import c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, stream_noise
 from .gate import Clock
-from .kinematics import c2_velocities, impact_velocities, rigid_bat
+from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
 from ..geometry import dot, norm, profile_gap, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -239,12 +239,65 @@ class Sweep:
                 found = self._refined(earlier if hit.initially_overlapping else start, end,
                                       paths)
                 t, hit = found if found is not None else (start.t + hit.time, hit)
+                ahead = self._bat_ahead(interval, paths)
+                again = None if ahead is None else self._first_contact(interval, ahead)
+                if again is not None:
+                    (t, hit), paths = again, ahead
                 impact = self._impact(t, hit, interval, paths)
                 events.append(impact if self.measure is None else self.measure(impact))
                 self.stats.impacts += 1
                 return True
         episodes.track(start, end, gap0, gap1, events)
         return False
+
+    def _bat_ahead(self, interval: Tuple[float, float], paths: Paths) -> Optional[Paths]:
+        """
+        Return the paths with the bat continued from before the interval at a hit, or None.
+
+        Where the ball has left its flight over the interval (``departure``: a hit), the bat's
+        closing frame is after the contact, which slows a real bat within 1-3 ms: its path
+        through that frame is late. Under ``c2`` with exact bat samples at a high rate (more
+        than ``SPARSE_SAMPLES`` in ``velocity_window``, the velocities' rule) the bat's path
+        continued from the window up to the opening frame (``fitting.c2_bat_ahead``) is the
+        better one there (BENCHMARKS.md, "The bat at a hit"); at a low rate its continuation
+        over a whole step is the larger error. None elsewhere.
+        """
+        ball, bat, config = self.ball, self.bat, self.config
+        if self.model != 'c2' or stream_noise(bat, config) > 0.0:
+            return None
+        ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
+        if leaves_flight(ball, ball_k, stream_noise(ball, config), config.max_gap) is None:
+            return None
+        if len(bat.history(bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES:
+            return None
+        path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window)
+        return None if path is None else (paths[0], path)
+
+    def _first_contact(self, interval: Tuple[float, float],
+                       paths: Paths) -> Optional[Tuple[float, ImpactResult]]:
+        """
+        Return the first contact (s, the solver's result) over the interval on other paths.
+
+        Sub-stepped as ``interval`` does, the contact solved again in finer chords; None
+        without one, or with the ball already touching at the interval's start.
+        """
+        ta, tb = interval
+        config = self.config
+        deviation = paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb)
+        n = substeps_for(deviation, config.max_chord_error)
+        start = self._state_at(ta, paths)
+        for j in range(1, n + 1):
+            stop = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
+            hit = profile_contact(start.ball, stop.ball, start.tip, stop.tip, start.knob,
+                                  stop.knob, config.ball_radius, config.profile,
+                                  stop.t - start.t)
+            if hit is not None:
+                if hit.initially_overlapping:
+                    return None
+                found = self._refined(start, stop, paths)
+                return found if found is not None else (start.t + hit.time, hit)
+            start = stop
+        return None
 
     def _impact(self, t: float, hit: ImpactResult, interval: Tuple[float, float],
                 paths: Paths) -> Impact:

@@ -2,12 +2,13 @@
 
 from collections import Counter
 import math
+from typing import Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, fitting, Impact
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.fitting import (
-    ball_flight, bat_gains, c2_bat_path, c2_point_path, c2_window, flight_window, kept_history,
-    point_gains, swing_rate, widened)
+    ball_flight, bat_gains, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_window,
+    kept_history, point_gains, swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
 from baseball_collision.core.motion.flight import flight_or_none
@@ -289,3 +290,33 @@ def test_a_window_fitted_again_under_noise_is_the_kept_fit() -> None:
     for _ in range(fitting._FITS_KEPT + 3):  # bounded
         c2_bat_path(bat, k, window, 1e-3 * (1.0 + 1e-3 * len(fitting._FITS)))
         assert len(fitting._FITS) <= fitting._FITS_KEPT
+
+
+def test_the_bat_continued_from_before_is_a_cubic_swing_itself() -> None:
+    """
+    ``c2_bat_ahead``: a bat whose knob and turn are cubics in time continues on them exactly.
+
+    The window's not-a-knot spline reproduces cubics, and its last piece continued over the
+    next interval is the same cubic, on uneven stamps.
+    """
+    times = np.cumsum([0.0, 0.003, 0.002, 0.003, 0.003, 0.002, 0.003, 0.002])
+    axis = np.array([0.2, 0.3, 1.0]) / np.linalg.norm([0.2, 0.3, 1.0])
+
+    def ends(t: float) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
+        knob = np.array([0.1, 0.2, 1.0]) + np.array([2.0, -1.0, 0.5]) * t + 40.0 * t ** 3
+        angle = 30.0 * t + 400.0 * t * t - 5000.0 * t ** 3
+        start = np.cross(axis, [1.0, 0.0, 0.0])
+        start = start / np.linalg.norm(start)
+        direction = (math.cos(angle) * start + math.sin(angle) * np.cross(axis, start))
+        return tuple(knob.tolist()), tuple((knob + 0.84 * direction).tolist())
+
+    stream = Stream('bat')
+    for i, t in enumerate(times):
+        knob, tip = ends(float(t))
+        stream.append(float(t), int(round(t * 1e9)), BatSample(knob, tip), i == 0)
+    k = len(times) - 2
+    path = c2_bat_ahead(stream, k, 1.0, 8)
+    for t in np.linspace(times[k], times[k + 1], 5):
+        knob, tip = path.at(float(t))
+        expected = ends(float(t))
+        assert math.dist(knob, expected[0]) < 1e-9 and math.dist(tip, expected[1]) < 1e-9
