@@ -14,7 +14,7 @@ from typing import Any, Callable, List, Optional, Tuple
 
 from .broadphase import clearly_apart
 from .config import DetectorConfig
-from .departure import flight_path, leaves_flight
+from .departure import DEPARTURE_FLOOR, flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, stream_noise
@@ -27,6 +27,10 @@ from ..toi import closest_offset, ImpactResult, profile_contact
 
 Paths = Tuple[PointPath, BatPath]
 """The ball's and the bat's paths over an interval."""
+
+BAT_DEPARTURE_RATIO = 4.0
+"""How many times farther than the frame before a hit's closing bat frame must be from the bat's
+continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
@@ -259,8 +263,11 @@ class Sweep:
         through that frame is late. Under ``c2`` with exact bat samples at a high rate (more
         than ``SPARSE_SAMPLES`` in ``velocity_window``, the velocities' rule) the bat's path
         continued from the window up to the opening frame (``fitting.c2_bat_ahead``) is the
-        better one there (BENCHMARKS.md, "The bat at a hit"); at a low rate its continuation
-        over a whole step is the larger error. None elsewhere.
+        better one there (BENCHMARKS.md, "A ball that leaves the bat"), where the closing frame
+        has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous
+        frame left its own (the samples follow their continuation closely: exact, not noisy;
+        the bat braked); at a low rate its continuation over a whole step is the larger error.
+        None elsewhere.
         """
         ball, bat, config = self.ball, self.bat, self.config
         if self.model != 'c2' or stream_noise(bat, config) > 0.0:
@@ -271,7 +278,17 @@ class Sweep:
         if len(bat.history(bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES:
             return None
         path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window)
-        return None if path is None else (paths[0], path)
+        before = c2_bat_ahead(bat, bat_k - 1, config.max_gap, config.spline_window)
+        if path is None or before is None:
+            return None
+        # the bat's own departure: its closing frame far off the continuation (a brake), where
+        # the same continuation one frame earlier met its frame (samples exact enough for it)
+        closing, opening = bat.values[bat_k + 1], bat.values[bat_k]
+        miss = max(map(math.dist, path.at(path.t1), (closing.knob, closing.tip)))
+        scatter = max(map(math.dist, before.at(before.t1), (opening.knob, opening.tip)))
+        if miss <= DEPARTURE_FLOOR or miss <= BAT_DEPARTURE_RATIO * scatter:
+            return None
+        return paths[0], path
 
     def _first_contact(self, interval: Tuple[float, float],
                        paths: Paths) -> Optional[Tuple[float, ImpactResult]]:
