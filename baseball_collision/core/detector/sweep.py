@@ -244,8 +244,9 @@ class Sweep:
                                       paths)
                 t, hit = found if found is not None else (start.t + hit.time, hit)
                 ahead = self._bat_ahead(interval, paths)
-                again = None if ahead is None else self._first_contact(interval, ahead)
-                if again is not None:
+                again = None if ahead is None else self._refined(
+                    self._state_at(interval[0], ahead), self._state_at(interval[1], ahead), ahead)
+                if again is not None and not again[1].initially_overlapping:
                     (t, hit), paths = again, ahead
                 impact = self._impact(t, hit, interval, paths)
                 events.append(impact if self.measure is None else self.measure(impact))
@@ -289,32 +290,6 @@ class Sweep:
         if miss <= DEPARTURE_FLOOR or miss <= BAT_DEPARTURE_RATIO * scatter:
             return None
         return paths[0], path
-
-    def _first_contact(self, interval: Tuple[float, float],
-                       paths: Paths) -> Optional[Tuple[float, ImpactResult]]:
-        """
-        Return the first contact (s, the solver's result) over the interval on other paths.
-
-        Sub-stepped as ``interval`` does, the contact solved again in finer chords; None
-        without one, or with the ball already touching at the interval's start.
-        """
-        ta, tb = interval
-        config = self.config
-        deviation = paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb)
-        n = substeps_for(deviation, config.max_chord_error)
-        start = self._state_at(ta, paths)
-        for j in range(1, n + 1):
-            stop = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
-            hit = profile_contact(start.ball, stop.ball, start.tip, stop.tip, start.knob,
-                                  stop.knob, config.ball_radius, config.profile,
-                                  stop.t - start.t)
-            if hit is not None:
-                if hit.initially_overlapping:
-                    return None
-                found = self._refined(start, stop, paths)
-                return found if found is not None else (start.t + hit.time, hit)
-            start = stop
-        return None
 
     def _impact(self, t: float, hit: ImpactResult, interval: Tuple[float, float],
                 paths: Paths) -> Impact:
