@@ -299,31 +299,23 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int) -> Optional[
     window = c2_window(stream, k - 1, max_gap, 0, size)
     if k < 2 or window.start > k - 2 or window.stop - 1 != k:
         return None
-    times = stream.times[window.start:window.stop]
-    samples = stream.values[window.start:window.stop]
-    j = k - 1 - window.start
-    first, rows = c2_rows(samples, j)
-    if first > j - 1:
-        return None
-    slopes = not_a_knot_slope_rows(times[first:first + len(rows)], rows, j - first)
-    value0, value1 = np.array(rows[j - first]), np.array(rows[j + 1 - first])
-    rate0, rate1 = np.array(slopes[0]), np.array(slopes[1])
-    h = times[j + 1] - times[j]
-    s = (stream.times[k + 1] - times[j]) / h
-    # the cubic Hermite piece of [times[j], times[j + 1]] at s > 1 (value and rate)
-    value = ((2 * s ** 3 - 3 * s ** 2 + 1) * value0 + (s ** 3 - 2 * s ** 2 + s) * h * rate0
-             + (3 * s ** 2 - 2 * s ** 3) * value1 + (s ** 3 - s ** 2) * h * rate1)
-    rate = ((6 * s ** 2 - 6 * s) * (value0 - value1) / h + (3 * s ** 2 - 4 * s + 1) * rate0
-            + (3 * s ** 2 - 2 * s) * rate1)
-    reference, origin = unit_axis(samples[j]), unit_axis(stream.values[k])
-    direction = rotate(reference, tuple(value[3:6].tolist()))
-    knob = tuple(value[:3].tolist())
-    ahead = BatSample(knob, tuple(x + value[6] * u for x, u in zip(knob, direction)))
-    turn0 = _recharted(reference, origin, value1[3:6], rate1[3:6])[1]
-    turn1 = _recharted(reference, origin, value[3:6], rate[3:6])[1]
-    return C2BatPath(stream.times[k], stream.times[k + 1], stream.values[k], ahead,
-                     (tuple(rate1[:3].tolist()), tuple(rate[:3].tolist())), (turn0, turn1),
-                     (float(rate1[6]), float(rate[6])))
+    before = c2_bat_path(stream, k - 1, window)  # in the chart of sample k - 1's direction
+    t0, t1 = stream.times[k], stream.times[k + 1]
+    length = before.length
+
+    def lengthening(t: float) -> float:  # the length cubic's rate (m/s), continued as ``at``
+        s = (t - length.t0) / length.h
+        return (length.b + s * (2.0 * length.c + 3.0 * s * length.d)) / length.h
+
+    knob = before.knob.at(t1)
+    direction = rotate(before.reference, before.turn.at(t1))
+    ahead = BatSample(knob, tuple(x + length.at(t1) * u for x, u in zip(knob, direction)))
+    origin = unit_axis(stream.values[k])
+    turn0, turn1 = (_recharted(before.reference, origin, np.array(before.turn.at(t)),
+                               np.array(before.turn.velocity(t)))[1] for t in (t0, t1))
+    return C2BatPath(t0, t1, stream.values[k], ahead,
+                     (before.knob.velocity(t0), before.knob.velocity(t1)), (turn0, turn1),
+                     (lengthening(t0), lengthening(t1)))
 
 
 def swing_rate(path: C2BatPath, t: float) -> Vector:
