@@ -2,9 +2,10 @@
 Cost of an impact's uncertainties: the re-solves at each impact, against the whole pitch.
 
 Run: ``.venv/bin/python benchmarks/bench_uncertainty.py [--rates R ...] [--noises MM ...]
-[--models M ...]``.
+[--models M ...] [--families F ...]``.
 
-One barrel hit per swing family (``sim.FAMILIES``), knob and tip points, 0.2 ms stamp jitter on
+One barrel hit per swing family (``sim.FAMILIES``, or those given: ``rebound`` alone is the cost
+at a hit, whose bat's brake takes two more re-solves), knob and tip points, 0.2 ms stamp jitter on
 a 1 ms grid. Per rate, noise and model: the median over the impacts of the best of 5 timings
 of ``uncertainty.impact_uncertainty`` (with noise: under ``c2`` the linear propagation, plus
 one re-solve with a look-ahead; under the other models 16 re-solves; without noise one
@@ -49,6 +50,7 @@ def main() -> None:
     parser.add_argument('--rates', nargs='+', type=float, default=[90.0, 360.0])
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 1.0])
     parser.add_argument('--models', nargs='+', default=['rigid', 'c2'])
+    parser.add_argument('--families', nargs='+', default=list(FAMILIES), choices=FAMILIES)
     args = parser.parse_args()
     for rate in args.rates:
         for noise_mm in args.noises:
@@ -56,7 +58,8 @@ def main() -> None:
                 config = DetectorConfig(bat_input='points', model=model,
                                         tracker_noise=noise_mm * 1e-3)
                 costs, ratios = [], []
-                for i, family in enumerate(FAMILIES):
+                for family in args.families:
+                    i = FAMILIES.index(family)
                     scenario = make_scenario('barrel', np.random.default_rng(i), family=family)
                     samples = sample(scenario, rate, np.random.default_rng(i), jitter_s=2e-4,
                                      grid_s=1e-3, noise_m=noise_mm * 1e-3,

@@ -286,7 +286,8 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
     return C2BatPath.fitted(times, samples, k - window.start)
 
 
-def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int) -> Optional[C2BatPath]:
+def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
+                 noise: float = 0.0) -> Optional[C2BatPath]:
     """
     Return the bat's ``c2`` path over interval k continued from before it, or None.
 
@@ -294,12 +295,14 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int) -> Optional[
     last piece continued to interval k's closing stamp: where the bat would have gone had
     nothing slowed it, for an interval whose closing frame is after a hit (the bat brakes in
     the 1-3 ms after it). The chart is moved onto interval k's opening direction, as its own
-    path's. None without two samples before k in its segment.
+    path's. None without two samples before k in its segment. With ``noise`` (m, 1 sigma per
+    coordinate) the window is smoothed (``c2_bat_path``) and the path starts on it, not on the
+    opening sample.
     """
     window = c2_window(stream, k - 1, max_gap, 0, size)
     if k < 2 or window.start > k - 2 or window.stop - 1 != k:
         return None
-    before = c2_bat_path(stream, k - 1, window)  # in the chart of sample k - 1's direction
+    before = c2_bat_path(stream, k - 1, window, noise)  # in sample k - 1's chart
     t0, t1 = stream.times[k], stream.times[k + 1]
     length = before.length
 
@@ -307,13 +310,16 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int) -> Optional[
         s = (t - length.t0) / length.h
         return (length.b + s * (2.0 * length.c + 3.0 * s * length.d)) / length.h
 
-    knob = before.knob.at(t1)
-    direction = rotate(before.reference, before.turn.at(t1))
-    ahead = BatSample(knob, tuple(x + length.at(t1) * u for x, u in zip(knob, direction)))
-    origin = unit_axis(stream.values[k])
+    def at(t: float) -> BatSample:  # the continued bat at t (s)
+        knob = before.knob.at(t)
+        direction = rotate(before.reference, before.turn.at(t))
+        return BatSample(knob, tuple(x + length.at(t) * u for x, u in zip(knob, direction)))
+
+    opening = at(t0) if noise > 0.0 else stream.values[k]
+    origin = unit_axis(opening)
     turn0, turn1 = (_recharted(before.reference, origin, np.array(before.turn.at(t)),
                                np.array(before.turn.velocity(t)))[1] for t in (t0, t1))
-    return C2BatPath(t0, t1, stream.values[k], ahead,
+    return C2BatPath(t0, t1, opening, at(t1),
                      (before.knob.velocity(t0), before.knob.velocity(t1)), (turn0, turn1),
                      (lengthening(t0), lengthening(t1)))
 

@@ -48,10 +48,12 @@ class Sweep:
     :param offsets: (knob, tip) in the bat's body frame (m), for rigid paths from poses.
     :ivar measure: None, or what adds an impact's uncertainties (the detector sets
         ``uncertainty.impact_uncertainty``; its own re-solves leave it None).
+    :ivar bat_ahead: None: a hit's bat continued by ``_bat_ahead``'s rule; True: wherever the
+        ball left its flight (under ``c2``); False: never (``uncertainty``'s re-solves).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
-                 'max_radius', 'last_gap', 'measure')
+                 'max_radius', 'last_gap', 'measure', 'bat_ahead')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -61,6 +63,7 @@ class Sweep:
         self.max_radius = config.profile.max_radius
         self.last_gap: Optional[Tuple[State, float]] = None  # the last gap computed (m)
         self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
+        self.bat_ahead: Optional[bool] = None  # the rule (``_bat_ahead``), or always / never
 
     def interval(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s), appending the events it makes."""
@@ -268,14 +271,20 @@ class Sweep:
         has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous
         frame left its own (the samples follow their continuation closely: exact, not noisy;
         the bat braked); at a low rate its continuation over a whole step is the larger error.
-        None elsewhere.
+        None elsewhere. ``bat_ahead`` True takes the continuation at every hit (with noise: of
+        the smoothed window), False never.
         """
         ball, bat, config = self.ball, self.bat, self.config
-        if self.model != 'c2' or stream_noise(bat, config) > 0.0:
+        if self.model != 'c2' or self.bat_ahead is False or (
+                self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
         if leaves_flight(ball, ball_k, stream_noise(ball, config), config.max_gap) is None:
             return None
+        if self.bat_ahead:
+            path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
+                                stream_noise(bat, config))
+            return None if path is None else (paths[0], path)
         if len(bat.history(bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES:
             return None
         path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window)

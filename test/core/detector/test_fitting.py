@@ -320,3 +320,31 @@ def test_the_bat_continued_from_before_is_a_cubic_swing_itself() -> None:
         knob, tip = path.at(float(t))
         expected = ends(float(t))
         assert math.dist(knob, expected[0]) < 1e-9 and math.dist(tip, expected[1]) < 1e-9
+
+
+def test_a_noisy_bat_is_continued_from_its_smoothed_window() -> None:
+    """
+    ``c2_bat_ahead`` with noise: the smoothed window's own path, from the opening stamp on.
+
+    It starts where the window's smoother puts the bat at the opening frame (not on the noisy
+    sample) and goes on along that smoother's last piece to the closing stamp.
+    """
+    scenario = make_scenario('barrel', np.random.default_rng(4), family='rebound')
+    samples = sample(scenario, 90.0, np.random.default_rng(4), jitter_s=2e-4, grid_s=1e-3,
+                     noise_m=1e-3, marker_spread_m=0.3)
+    stream = Stream('bat')
+    for i, (stamp, knob, tip) in enumerate(zip(samples.bat_stamps_ns.tolist(),
+                                               samples.knobs.tolist(), samples.tips.tolist())):
+        stream.append((stamp - samples.start_ns) * 1e-9, stamp, BatSample(tuple(knob), tuple(tip)),
+                      i == 0)
+    k = len(stream.times) // 2
+    window = c2_window(stream, k - 1, 1.0, 0, 8)
+    smoothed = c2_bat_path(stream, k - 1, window, 1e-3)
+    path = c2_bat_ahead(stream, k, 1.0, 8, 1e-3)
+    t0, t1 = stream.times[k], stream.times[k + 1]
+    for got, smooth, raw in zip(path.at(t0), smoothed.at(t0),
+                                (stream.values[k].knob, stream.values[k].tip)):
+        assert math.dist(got, smooth) < 1e-9 and math.dist(got, raw) > 1e-5
+    for got, smooth in zip(path.at(t1), smoothed.at(t1)):  # the smoother's piece, continued
+        assert math.dist(got, smooth) < 1e-9
+    assert c2_bat_ahead(stream, k, 1.0, 8).at(t0)[0] == stream.values[k].knob  # exact: on it
