@@ -169,6 +169,7 @@ def _params_with(tmp_path: Path, **changes: Any) -> Path:
 CASES = [(name, {}) for name in sorted(BAGS)] + [
     ('pitches_90hz.mcap', {'bat_input': 'points'}),
     ('pitches_120hz_sqlite3', {'model': 'spline'}),
+    ('pitches_180hz_rebound.mcap', {'model': 'c2'}),  # departures, the bat continued at hits
 ]
 
 

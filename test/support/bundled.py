@@ -11,6 +11,7 @@ BAGS = {
     'pitches_120hz_sqlite3': 120.0,
     'pitches_240hz_noisy.bag': 240.0,
     'pitches_360hz.mcap': 360.0,
+    'pitches_180hz_rebound.mcap': 180.0,
 }
 """Bundled bags and their nominal rates (Hz)."""
 

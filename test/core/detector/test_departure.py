@@ -1,20 +1,28 @@
 """Tests for baseball_collision.core.detector.departure: a ball that leaves its free flight."""
 
 from dataclasses import replace
+import json
 import math
-from typing import List, Sequence
+from typing import Any, Dict, List, Sequence
 
-from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.bags import BagReader
+from baseball_collision.core.detector import DetectorConfig, sweep
 from baseball_collision.core.detector.departure import (
     DEPARTURE_FLOOR, departure_reach, departure_reaches, flight_path, leaves_flight, parabola,
     SCATTER_INTERVALS)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.sweep import Sweep
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
+from baseball_collision.tools.parameters import load_parameters
+from baseball_collision.tools.report import entry
 from baseball_collision.tools.sim import CLOSE_KINDS, KINDS, make_scenario, sample
+from baseball_collision.tools.truth import truth_path
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
+from support.bundled import bag_path, BAGS, check_against_truth, PARAMS, time_bound_ns
 from support.events import detect
 
 RATE = 90.0
@@ -255,3 +263,62 @@ def test_the_bat_is_continued_only_where_it_braked_off_its_continuation() -> Non
                                 detector._bat.interval(interval[0]))
             taken[noise_m] += sweep._bat_ahead(interval, paths) is not None
     assert taken[0.0] >= 6 and taken[1e-3] <= 2
+
+
+REBOUND_BAG = 'pitches_180hz_rebound.mcap'
+"""The bundled bag of real hits (``simulate --family rebound``, 180 Hz)."""
+
+
+def _in_time(document: Dict[str, Any], truth: Dict[str, Any], rate_hz: float) -> int:
+    """Return how many true contacts have one impact within the bundled time bound."""
+    return sum(1 for pitch in truth['pitches'] if pitch['contact'] and [
+        impact for impact in document['impacts']
+        if pitch['start_ns'] <= impact['stamp_ns'] <= pitch['end_ns']
+        and abs(impact['stamp_ns'] - pitch['stamp_ns']) <= time_bound_ns(rate_hz)])
+
+
+@pytest.mark.parametrize('model', ['rigid', 'spline', 'c2'])
+def test_the_bundled_bag_of_real_hits(model: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    ``analyze`` on the bundled rebound bag: every contact, the ball leaving after each.
+
+    Every contact within the bundled bounds (``check_against_truth``); at each impact the ball
+    came in toward the plate (-y) and the frames after it show it braked by more than 5 m/s
+    along y, and going back toward the pitcher (+y) after the barrel and handle hits; under
+    ``c2`` the bat is continued at some hits (``Sweep._bat_ahead``: 180 Hz is a high rate).
+    With the departure decision switched off, contacts are missed or misplaced.
+    """
+    path, rate = bag_path(REBOUND_BAG), BAGS[REBOUND_BAG]
+    truth = json.loads(truth_path(path).read_text())
+    options = AnalysisOptions(parameters=load_parameters(PARAMS), model=model)
+    continued = []
+    bat_ahead = Sweep._bat_ahead
+
+    def counted(*args: Any) -> Any:
+        continued.append(bat_ahead(*args))
+        return continued[-1]
+
+    def document() -> Dict[str, Any]:
+        analysis = analyze_bag(path, options, progress=False)
+        return {'impacts': [entry(analysis, e) for e in analysis.impacts],
+                'near_misses': [entry(analysis, e) for e in analysis.near_misses]}
+
+    monkeypatch.setattr(Sweep, '_bat_ahead', counted)
+    found = document()
+    check_against_truth(found, truth, rate)
+    assert _in_time(found, truth, rate) == 8
+    assert any(continued) == (model == 'c2')
+    with BagReader(path) as bag:
+        balls = [s for s in bag.samples() if s.role == 'ball']
+    stamps = np.array([s.stamp_ns for s in balls])
+    y = np.array([s.values[1] for s in balls])
+    for pitch, impact in zip([p for p in truth['pitches'] if p['contact']], found['impacts']):
+        assert pitch['start_ns'] <= impact['stamp_ns'] <= pitch['end_ns']
+        i = int(np.searchsorted(stamps, impact['stamp_ns']))  # the first frame after the hit
+        before, after = ((y[j + 1] - y[j]) / ((stamps[j + 1] - stamps[j]) * 1e-9)
+                         for j in (i - 2, i))
+        assert impact['ball_velocity'][1] < 0.0 and before < 0.0, pitch['name']
+        assert after > before + 5.0, pitch['name']
+        assert (after > 0.0) == (pitch['kind'] in ('barrel', 'handle')), pitch['name']
+    monkeypatch.setattr(sweep, 'leaves_flight', lambda *args: None)
+    assert _in_time(document(), truth, rate) < 8
