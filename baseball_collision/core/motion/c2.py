@@ -35,19 +35,6 @@ from ..geometry import cross, norm, Vector
 from ..toi import _kernel
 
 
-def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
-    """Return bounds of |v|, |v'| and |v''| of a scalar cubic over [ta, tb]."""
-    span = tb - ta
-    second = 0.0
-    if cubic.curved:
-        second = max(abs(cubic.accel0 + cubic.accel_rate * (t - cubic.t0) / cubic.h)
-                     for t in (ta, tb))
-    s = (ta - cubic.t0) / cubic.h
-    first = abs((cubic.b + s * (2.0 * cubic.c + 3.0 * s * cubic.d)) / cubic.h) + second * span
-    value = max(abs(cubic.at(ta)), abs(cubic.at(tb))) + second * span * span / 8.0
-    return value, first, second
-
-
 MAX_CHART_ANGLE = 2.5
 """Largest turn (rad) of a window sample's direction from the interval's opening direction."""
 
@@ -203,13 +190,9 @@ class C2BatPath(BatPath):
         max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|;
         u is the rotation vector r mapped onto the sphere (its exponential map, whose first
         derivative is at most 1 and second at most 2 in norm): |u'| <= |r'| and
-        |u''| <= |r''| + 2 |r'|^2.
+        |u''| <= |r''| + 2 |r'|^2. Each bound from the pieces' power-basis coefficients: a
+        second derivative at an end of [ta, tb] (it is linear), a first at ta plus the second's
+        bound times the span, |L| at an end plus |L''| (tb - ta)^2 / 8. Computed by the kernel
+        (``toi._kernel.c2_deviation``).
         """
-        span = tb - ta
-        turn = self.turn
-        second = turn.max_acceleration(ta, tb)
-        first = norm(turn.velocity(ta)) + second * span
-        value, rate, change = _scalar_bounds(self.length, ta, tb)
-        knob = self.knob.max_acceleration(ta, tb)
-        bend = second + 2.0 * first * first
-        return (knob + change + 2.0 * rate * first + value * bend) * span * span / 8.0
+        return _kernel.c2_deviation(self.knob, self.turn, self.length, ta, tb)

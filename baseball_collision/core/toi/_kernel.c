@@ -2226,6 +2226,14 @@ static PyObject *py_bat_from_rates(PyObject *self, PyObject *const *args, Py_ssi
 
 static PyObject *math_dist = NULL; /* math.dist, a bat's length (its own exact summation) */
 static PyObject *knob_name = NULL, *tip_name = NULL; /* "knob", "tip" */
+/* the path pieces' attributes c2_deviation reads (motion.points: PointPath, AngleCubic) */
+enum {
+  PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
+  PIECE_ACCEL_RATE, PIECE_CURVED, PIECE_NAMES
+};
+static const char *piece_attributes[PIECE_NAMES] = {
+    "t0", "t1", "h", "a", "end", "b", "c", "d", "accel0", "accel_rate", "curved"};
+static PyObject *piece_names[PIECE_NAMES];
 static volatile double squared_power = 2.0; /* pow(x, 2): Python's x ** 2 (libm's pow, which
                                                may differ from x * x in the last bit; volatile:
                                                not folded into x * x) */
@@ -2507,6 +2515,215 @@ done:
   return result;
 }
 
+/* a float attribute of a path piece; false with an exception */
+static bool attr_double(PyObject *o, PyObject *name, double *x)
+{
+  PyObject *value = PyObject_GetAttr(o, name);
+  if (value == NULL) {
+    return false;
+  }
+  *x = PyFloat_AsDouble(value);
+  Py_DECREF(value);
+  return !(*x == -1.0 && PyErr_Occurred());
+}
+
+/* a 3-vector attribute of a path piece; false with an exception */
+static bool attr_vec(PyObject *o, PyObject *name, Vec *v)
+{
+  PyObject *value = PyObject_GetAttr(o, name);
+  if (value == NULL) {
+    return false;
+  }
+  bool ok = read_vec(value, v);
+  Py_DECREF(value);
+  if (!ok) {
+    PyErr_Format(PyExc_TypeError, "a path piece's %U must be 3 numbers", name);
+  }
+  return ok;
+}
+
+/* a piece's ``curved`` flag: 1, 0, or -1 with an exception */
+static int attr_curved(PyObject *o)
+{
+  PyObject *value = PyObject_GetAttr(o, piece_names[PIECE_CURVED]);
+  if (value == NULL) {
+    return -1;
+  }
+  int curved = PyObject_IsTrue(value);
+  Py_DECREF(value);
+  return curved;
+}
+
+/*
+ * The largest |p''| over [ta, tb] of a point piece (motion.points.PointPath): p''(s) =
+ * accel0 + accel_rate s, s = (t - t0) / h, linear, so at an end; 0 for a chord. -1 with an
+ * exception.
+ */
+static double piece_max_acceleration(PyObject *piece, double ta, double tb)
+{
+  int curved = attr_curved(piece);
+  double t0, h;
+  Vec a0, rate;
+  if (curved <= 0) {
+    return curved == 0 ? 0.0 : -1.0;
+  }
+  if (!attr_double(piece, piece_names[PIECE_T0], &t0) ||
+      !attr_double(piece, piece_names[PIECE_H], &h) ||
+      !attr_vec(piece, piece_names[PIECE_ACCEL0], &a0) ||
+      !attr_vec(piece, piece_names[PIECE_ACCEL_RATE], &rate)) {
+    return -1.0;
+  }
+  double worst = 0.0;
+  double ends[2] = {ta, tb};
+  for (int i = 0; i < 2; i++) {
+    double s = (ends[i] - t0) / h;
+    Vec p = {a0.x + rate.x * s, a0.y + rate.y * s, a0.z + rate.z * s};
+    worst = max_of(worst, sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+  }
+  return worst;
+}
+
+/*
+ * c2_deviation(knob, turn, length, ta, tb) -> a bound (m) on how far any axis point of a c2
+ * bat (motion.c2.C2BatPath: its knob and rotation vector point pieces, its length an angle
+ * piece) leaves its chord over [ta, tb] (s): max |p''| (tb - ta)^2 / 8 with
+ * |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|, |u'| <= |r'|, |u''| <= |r''| + 2 |r'|^2
+ * (C2BatPath._deviation), each bound from the pieces' stored power-basis coefficients.
+ */
+static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double ta, tb;
+  if (nargs != 5 || !read_number(args[3], &ta) || !read_number(args[4], &tb)) {
+    PyErr_SetString(PyExc_TypeError, "c2_deviation(knob, turn, length, ta, tb)");
+    return NULL;
+  }
+  PyObject *turn = args[1], *length = args[2];
+  double span = tb - ta;
+  /* the rotation vector: |r''| at most ``second``, |r'| at most ``first`` */
+  double second = piece_max_acceleration(turn, ta, tb);
+  double t0, h, t1, a, end, b, c, d, accel0, accel_rate;
+  Vec vb, vc, vd;
+  if (second < 0.0 || !attr_double(turn, piece_names[PIECE_T0], &t0) ||
+      !attr_double(turn, piece_names[PIECE_H], &h) ||
+      !attr_vec(turn, piece_names[PIECE_B], &vb) || !attr_vec(turn, piece_names[PIECE_C], &vc) ||
+      !attr_vec(turn, piece_names[PIECE_D], &vd)) {
+    return NULL;
+  }
+  double s = (ta - t0) / h;
+  Vec rate = {(vb.x + s * (2.0 * vc.x + 3.0 * s * vd.x)) / h,
+              (vb.y + s * (2.0 * vc.y + 3.0 * s * vd.y)) / h,
+              (vb.z + s * (2.0 * vc.z + 3.0 * s * vd.z)) / h};
+  double first = sqrt(rate.x * rate.x + rate.y * rate.y + rate.z * rate.z) + second * span;
+  /* the length: |L| at most ``value``, |L'| at most ``lengthening``, |L''| at most ``change`` */
+  int curved = attr_curved(length);
+  if (curved < 0 || !attr_double(length, piece_names[PIECE_T0], &t0) ||
+      !attr_double(length, piece_names[PIECE_T1], &t1) ||
+      !attr_double(length, piece_names[PIECE_H], &h) ||
+      !attr_double(length, piece_names[PIECE_A], &a) ||
+      !attr_double(length, piece_names[PIECE_END], &end) ||
+      !attr_double(length, piece_names[PIECE_B], &b) ||
+      !attr_double(length, piece_names[PIECE_C], &c) ||
+      !attr_double(length, piece_names[PIECE_D], &d)) {
+    return NULL;
+  }
+  double change = 0.0;
+  if (curved) {
+    if (!attr_double(length, piece_names[PIECE_ACCEL0], &accel0) ||
+        !attr_double(length, piece_names[PIECE_ACCEL_RATE], &accel_rate)) {
+      return NULL;
+    }
+    change = max_of(fabs(accel0 + accel_rate * (ta - t0) / h),
+                    fabs(accel0 + accel_rate * (tb - t0) / h));
+  }
+  s = (ta - t0) / h;
+  double lengthening = fabs((b + s * (2.0 * c + 3.0 * s * d)) / h) + change * span;
+  double at[2], ends[2] = {ta, tb};
+  for (int i = 0; i < 2; i++) { /* AngleCubic.at: its ends as given */
+    double u = (ends[i] - t0) / h;
+    at[i] = ends[i] == t0 ? a : ends[i] == t1 ? end : a + u * (b + u * (c + u * d));
+  }
+  double value = max_of(fabs(at[0]), fabs(at[1])) + change * span * span / 8.0;
+  double knob = piece_max_acceleration(args[0], ta, tb);
+  if (knob < 0.0) {
+    return NULL;
+  }
+  double bend = second + 2.0 * first * first;
+  return PyFloat_FromDouble((knob + change + 2.0 * lengthening * first + value * bend) * span *
+                            span / 8.0);
+}
+
+/* whether flag i of a sequence is true: 1, 0, or -1 with an exception */
+static inline int flag_at(PyObject *list, Py_ssize_t i)
+{
+  return PyObject_IsTrue(PySequence_Fast_GET_ITEM(list, i));
+}
+
+/*
+ * c2_window(times, breaks, k, max_gap, look_ahead, size) -> the range of a stream's samples a
+ * c2 fit of interval k takes (core.detector.fitting.c2_window): up to look_ahead samples
+ * after its closing frame, back to ``size`` in all, none across a break (``breaks[i]``: sample
+ * i starts a segment) or a step longer than max_gap (s). IndexError: k outside the samples.
+ */
+static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k, look_ahead, size;
+  double max_gap;
+  if (nargs != 6 || ((k = PyNumber_AsSsize_t(args[2], PyExc_OverflowError)) == -1 &&
+                     PyErr_Occurred()) ||
+      !read_number(args[3], &max_gap) ||
+      ((look_ahead = PyNumber_AsSsize_t(args[4], PyExc_OverflowError)) == -1 &&
+       PyErr_Occurred()) ||
+      ((size = PyNumber_AsSsize_t(args[5], PyExc_OverflowError)) == -1 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_window(times, breaks, k, max_gap, look_ahead, size)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *breaks = times ? PySequence_Fast(args[1], "breaks must be a sequence") : NULL;
+  PyObject *result = NULL;
+  if (breaks == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (k < 0 || k >= n || PySequence_Fast_GET_SIZE(breaks) != n) {
+    PyErr_SetString(PyExc_IndexError, "c2_window: k outside the samples");
+    goto done;
+  }
+  Py_ssize_t last = k + 1, end = k + 1 + look_ahead < n - 1 ? k + 1 + look_ahead : n - 1;
+  int broken = 0;
+  while (last < end) {
+    if ((broken = flag_at(breaks, last + 1)) != 0) {
+      break;
+    }
+    double step = item_double(PySequence_Fast_GET_ITEM(times, last + 1)) -
+                  item_double(PySequence_Fast_GET_ITEM(times, last));
+    if (PyErr_Occurred() || !(step <= max_gap)) {
+      break;
+    }
+    last++;
+  }
+  Py_ssize_t first = k, start = last - size + 1 > 0 ? last - size + 1 : 0;
+  while (broken >= 0 && !PyErr_Occurred() && first > start) {
+    if ((broken = flag_at(breaks, first)) != 0) {
+      break;
+    }
+    double step = item_double(PySequence_Fast_GET_ITEM(times, first)) -
+                  item_double(PySequence_Fast_GET_ITEM(times, first - 1));
+    if (PyErr_Occurred() || !(step <= max_gap)) {
+      break;
+    }
+    first--;
+  }
+  if (!PyErr_Occurred()) {
+    result = PyObject_CallFunction((PyObject *)&PyRange_Type, "nn", first, last + 1);
+  }
+done:
+  Py_XDECREF(times);
+  Py_XDECREF(breaks);
+  return result;
+}
+
 /*
  * point_residuals(times, points, start, count, scale, floor) -> (residuals, small): the noise
  * estimate's residuals (m) of the middle samples of the windows of five from start, start + 1,
@@ -2648,6 +2865,12 @@ static PyMethodDef methods[] = {
     {"c2_chart", (PyCFunction)(void (*)(void))py_c2_chart, METH_FASTCALL,
      "c2_chart(samples, j, max_angle): (first, rows) of the c2 window's chart: knob, rotation "
      "vector from samples[j]'s direction, length"},
+    {"c2_window", (PyCFunction)(void (*)(void))py_c2_window, METH_FASTCALL,
+     "c2_window(times, breaks, k, max_gap, look_ahead, size): the range of samples a c2 fit of "
+     "interval k takes"},
+    {"c2_deviation", (PyCFunction)(void (*)(void))py_c2_deviation, METH_FASTCALL,
+     "c2_deviation(knob, turn, length, ta, tb): a bound (m) on a c2 bat's axis points' "
+     "distance from their chords over [ta, tb]"},
     {"point_residuals", (PyCFunction)(void (*)(void))py_point_residuals, METH_FASTCALL,
      "point_residuals(times, points, start, count, scale, floor): the noise estimate's "
      "residuals of count windows of five from start, three each, and whether each is small"},
@@ -2691,6 +2914,13 @@ PyMODINIT_FUNC PyInit__kernel(void)
   Py_XDECREF(math);
   knob_name = PyUnicode_InternFromString("knob");
   tip_name = PyUnicode_InternFromString("tip");
+  for (int i = 0; i < PIECE_NAMES; i++) {
+    piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
+    if (piece_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
   if (math_dist == NULL || knob_name == NULL || tip_name == NULL) {
     Py_DECREF(m);
     return NULL;
