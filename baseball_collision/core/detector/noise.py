@@ -128,13 +128,15 @@ class NoiseEstimate:
         first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
         if first >= len(times):
             return self.sigma
-        t = [float(x) for x in old_times] + np.asarray(times, float).tolist()
-        p = old_points + np.asarray(points, float).tolist()
         start = len(old_times) + first - 4  # the first residual's window's oldest sample
-        count = len(t) - 4 - start
+        count = len(old_times) + len(times) - 4 - start
         if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
             start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
-        self._take(*_kernel.point_residuals(t, p, start, count, MAD_TO_SIGMA, NOISE_FLOOR))
+        # the samples from ``start`` on (old, then new), as floats
+        new = max(start - len(old_times), 0)
+        t = [float(x) for x in old_times[start:]] + np.asarray(times[new:], float).tolist()
+        p = old_points[start:] + np.asarray(points[new:], float).tolist()
+        self._take(*_kernel.point_residuals(t, p, 0, count, MAD_TO_SIGMA, NOISE_FLOOR))
         return self.sigma
 
     def _take(self, found: Sequence[float], small: Optional[Sequence[bool]] = None) -> None:
