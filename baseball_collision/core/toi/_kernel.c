@@ -46,6 +46,13 @@
  *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
+ *   not_a_knot(times, rows, start), c2_chart(samples, j, max_angle), bat_axis(sample),
+ *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
+ *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
+ *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
+ *        chart, the window's samples and a c2 bat path's deviation bound
+ *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
+ *        (core.detector.noise)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -1604,6 +1611,21 @@ static PyObject *float_sequence(const double *x, int count, bool tuple)
 
 static PyObject *float_list(const double *x, int count) { return float_sequence(x, count, false); }
 
+/* rows of m floats each (row-major), as a list of tuples (or of lists) */
+static PyObject *float_rows(const double *y, Py_ssize_t rows, Py_ssize_t m, bool tuples)
+{
+  PyObject *list = PyList_New(rows);
+  for (Py_ssize_t i = 0; list != NULL && i < rows; i++) {
+    PyObject *row = float_sequence(y + i * m, (int)m, tuples);
+    if (row == NULL) {
+      Py_CLEAR(list);
+      break;
+    }
+    PyList_SET_ITEM(list, i, row);
+  }
+  return list;
+}
+
 static PyObject *py_quadratic_roots(PyObject *self, PyObject *args)
 {
   double a, b, c, roots[2];
@@ -1886,15 +1908,7 @@ static PyObject *py_polyfit(PyObject *self, PyObject *const *args, Py_ssize_t na
     result = Py_NewRef(Py_NotImplemented);
     goto done;
   }
-  PyObject *coefficients = PyList_New(p);
-  for (int j = 0; coefficients != NULL && j < p; j++) {
-    PyObject *row = float_list(c + j * m, (int)m);
-    if (row == NULL) {
-      Py_CLEAR(coefficients);
-      break;
-    }
-    PyList_SET_ITEM(coefficients, j, row);
-  }
+  PyObject *coefficients = float_rows(c, p, m, false);
   if (coefficients != NULL) {
     result = Py_BuildValue("(Nd)", coefficients, span);
   }
@@ -2292,6 +2306,13 @@ static void not_a_knot_solve(const double *t, Py_ssize_t n, const double *y, Py_
   }
 }
 
+/* an integer (anything with __index__); false with an exception */
+static bool read_index(PyObject *o, Py_ssize_t *i)
+{
+  *i = PyNumber_AsSsize_t(o, PyExc_OverflowError);
+  return !(*i == -1 && PyErr_Occurred());
+}
+
 /* n rows of m floats (each a sequence) into y (n x m, row-major); false with an exception */
 static bool read_rows(PyObject *rows, Py_ssize_t n, Py_ssize_t m, double *y, const char *what)
 {
@@ -2312,21 +2333,6 @@ static bool read_rows(PyObject *rows, Py_ssize_t n, Py_ssize_t m, double *y, con
   return true;
 }
 
-/* rows of m floats each, as a list of tuples */
-static PyObject *tuple_rows(const double *y, Py_ssize_t rows, Py_ssize_t m)
-{
-  PyObject *list = PyList_New(rows);
-  for (Py_ssize_t i = 0; list != NULL && i < rows; i++) {
-    PyObject *row = float_tuple(y + i * m, (int)m);
-    if (row == NULL) {
-      Py_CLEAR(list);
-      break;
-    }
-    PyList_SET_ITEM(list, i, row);
-  }
-  return list;
-}
-
 /*
  * not_a_knot(times, rows, start) -> the slopes (value units per s) of knots start..n-1 of the
  * not-a-knot spline through n >= 4 rows of m values each (each column on its own), one tuple
@@ -2335,7 +2341,8 @@ static PyObject *tuple_rows(const double *y, Py_ssize_t rows, Py_ssize_t m)
 static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Py_ssize_t start;
-  if (nargs != 3 || ((start = PyNumber_AsSsize_t(args[2], PyExc_OverflowError)) == -1 && PyErr_Occurred())) {
+  if (nargs != 3 ||
+      !read_index(args[2], &start)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "not_a_knot(times, rows, start)");
     }
@@ -2371,7 +2378,7 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
     goto done;
   }
   not_a_knot_solve(t, n, y, m, start, out, work);
-  result = tuple_rows(out, n - start, m);
+  result = float_rows(out, n - start, m, true);
 done:
   PyMem_Free(memory);
   Py_XDECREF(times);
@@ -2457,7 +2464,8 @@ static PyObject *py_c2_chart(PyObject *self, PyObject *const *args, Py_ssize_t n
 {
   Py_ssize_t j;
   double max_angle;
-  if (nargs != 3 || ((j = PyNumber_AsSsize_t(args[1], PyExc_OverflowError)) == -1 && PyErr_Occurred()) ||
+  if (nargs != 3 ||
+      !read_index(args[1], &j) ||
       !read_number(args[2], &max_angle)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "c2_chart(samples, j, max_angle)");
@@ -2505,7 +2513,7 @@ static PyObject *py_c2_chart(PyObject *self, PyObject *const *args, Py_ssize_t n
     row[0] = knob.x, row[1] = knob.y, row[2] = knob.z;
     row[3] = r.x, row[4] = r.y, row[5] = r.z, row[6] = length;
   }
-  PyObject *list = tuple_rows(rows, count, 7);
+  PyObject *list = float_rows(rows, count, 7, true);
   if (list != NULL) {
     result = Py_BuildValue("(nN)", first, list);
   }
@@ -2668,12 +2676,10 @@ static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t 
 {
   Py_ssize_t k, look_ahead, size;
   double max_gap;
-  if (nargs != 6 || ((k = PyNumber_AsSsize_t(args[2], PyExc_OverflowError)) == -1 &&
-                     PyErr_Occurred()) ||
+  if (nargs != 6 || !read_index(args[2], &k) ||
       !read_number(args[3], &max_gap) ||
-      ((look_ahead = PyNumber_AsSsize_t(args[4], PyExc_OverflowError)) == -1 &&
-       PyErr_Occurred()) ||
-      ((size = PyNumber_AsSsize_t(args[5], PyExc_OverflowError)) == -1 && PyErr_Occurred())) {
+      !read_index(args[4], &look_ahead) ||
+      !read_index(args[5], &size)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "c2_window(times, breaks, k, max_gap, look_ahead, size)");
     }
@@ -2737,8 +2743,9 @@ static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ss
 {
   Py_ssize_t start, count;
   double scale, floor;
-  if (nargs != 6 || ((start = PyNumber_AsSsize_t(args[2], PyExc_OverflowError)) == -1 && PyErr_Occurred()) ||
-      ((count = PyNumber_AsSsize_t(args[3], PyExc_OverflowError)) == -1 && PyErr_Occurred()) ||
+  if (nargs != 6 ||
+      !read_index(args[2], &start) ||
+      !read_index(args[3], &count) ||
       !read_number(args[4], &scale) || !read_number(args[5], &floor)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError,
