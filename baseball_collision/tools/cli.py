@@ -250,7 +250,8 @@ def _add_analyze(commands: Any) -> None:
         description='Run the impact detector over ROS 2 (MCAP, sqlite3) and ROS 1 bags: every '
         "sample in the bag's order, then the end of the recording. Prints one row per impact "
         'and near miss, a summary, and the comparison with the truth file beside the bag if '
-        'there is one. Model: --model, else the parameter file, else spline.')
+        'there is one. Model: --model, else the parameter file, else c2 with look_ahead 2 and '
+        'tracker_noise auto (each unless the parameter file sets it).')
     analyze.add_argument('bags', metavar='BAG', nargs='+',
                          help='bag directory, .mcap, .db3 or ROS 1 .bag file, or a directory '
                          'of bags (each bag in it, by name)')
@@ -263,7 +264,8 @@ def _add_analyze(commands: Any) -> None:
                          help='node section to read in --params and node of the --out-bag '
                          'topics (default impact_node)')
     analyze.add_argument('--model', choices=MODELS,
-                         help='motion model between samples (default: --params, else spline)')
+                         help='motion model between samples (default: --params, else c2 with '
+                         'look_ahead 2 and tracker_noise auto)')
     analyze.add_argument('--ball-radius', type=_number(0.0, False, 'm'), metavar='M',
                          help='ball radius in m (default: --params, else 0.0366)')
     analyze.add_argument('--bat-radius', type=_number(0.0, False, 'm'), metavar='M',

@@ -16,8 +16,15 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional
 from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
 from ..errors import CoreError, ToolError
 
-OFFLINE_MODEL = 'spline'
+OFFLINE_MODEL = 'c2'
 """Motion model used offline when neither a flag nor the parameter file names one."""
+
+OFFLINE_PARAMETERS: Dict[str, Any] = {'look_ahead': 2, 'tracker_noise': -1.0}
+"""The offline model's settings, each where the parameter file does not give it (and only when
+the model is the offline default: a model named by a flag or the file keeps the node's
+defaults): ``c2`` fitting 2 frames past each interval, with each stream's noise estimated from
+its samples (auto). The most accurate offline setting measured, at 0.8 or more of ``spline``'s
+``analyze`` throughput on the worst-case bag (BENCHMARKS.md, "A compiled window fit")."""
 
 TOPIC_PARAMETERS = {'ball': 'ball_topic', 'bat_pose': 'bat_pose_topic', 'knob': 'knob_topic',
                     'tip': 'tip_topic', 'bat_plan': 'bat_plan_topic'}
@@ -196,17 +203,20 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
 
     :param parameters: flat node parameters (e.g. from :func:`load_parameters`; may be empty).
     :param bat_input: ``'pose'`` or ``'points'``, as the bag's selected topics give it.
-    :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`.
+    :param model: motion model flag; None: the file's ``model``, else :data:`OFFLINE_MODEL`
+        with :data:`OFFLINE_PARAMETERS` where the file does not set them.
     :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
     :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
     :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
     :returns: the configuration.
     :raises ToolError: a value the node would refuse (the message names the parameter).
     """
-    flags = {'model': model or parameters.get('model') or OFFLINE_MODEL, 'bat_input': bat_input,
+    named = model or parameters.get('model')
+    flags = {'model': named or OFFLINE_MODEL, 'bat_input': bat_input,
              'ball_radius': ball_radius, 'bat_radius': bat_radius,
              'prediction_horizon': prediction_horizon}
-    values = dict(parameters, **{name: v for name, v in flags.items() if v is not None})
+    values = dict({} if named else OFFLINE_PARAMETERS, **parameters)
+    values.update((name, v) for name, v in flags.items() if v is not None)
     try:
         return DetectorConfig.from_parameters(values)
     except CoreError as error:

@@ -6,7 +6,7 @@ from typing import Callable, List, Tuple
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.parameters import (
-    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, output_topics)
+    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics)
 import pytest
 from support import REPO_ROOT
 
@@ -64,6 +64,26 @@ def test_bad_parameter_files(tmp_path: Path, text: str, words: list) -> None:
         assert word in message
     with pytest.raises(ToolError, match='cannot read parameter file'):
         load_parameters(tmp_path / 'missing.yaml')
+
+
+def test_the_offline_default_is_c2_with_look_ahead_2_and_auto_noise() -> None:
+    """
+    No model named: ``c2``, look-ahead 2, noise auto, each where the file does not say.
+
+    A model named by a flag or by the file keeps the node's defaults (a node's file gives the
+    node's answers).
+    """
+    config = build_config({}, bat_input='pose')
+    assert (config.model, config.look_ahead, config.tracker_noise) == ('c2', 2, -1.0)
+    assert OFFLINE_PARAMETERS == {'look_ahead': 2, 'tracker_noise': -1.0}
+    config = build_config({'look_ahead': 1, 'max_gap': 1.0}, bat_input='pose')
+    assert (config.model, config.look_ahead, config.tracker_noise) == ('c2', 1, -1.0)
+    config = build_config({'tracker_noise': 0.001}, bat_input='points')
+    assert (config.look_ahead, config.tracker_noise) == (2, 0.001)
+    for named in (build_config({'model': 'c2'}, bat_input='pose'),
+                  build_config({}, bat_input='pose', model='c2')):
+        assert (named.model, named.look_ahead, named.tracker_noise) == ('c2', 0, 0.0)
+    assert build_config({}, bat_input='pose', model='spline').tracker_noise == 0.0
 
 
 def test_flags_win_over_the_parameter_file() -> None:

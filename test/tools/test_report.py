@@ -54,7 +54,7 @@ def test_json_schema(tmp_path: Path, run_cli: RunCli) -> None:
                         'impacts', 'near_misses', 'dropped', 'gaps', 'resets', 'truth'}
     assert bag['topics']['bat_pose'] == '/bat_pose' and bag['topics']['bat_input'] == 'pose'
     assert '/bat_knob' in bag['topics']['note']
-    assert bag['messages'] == 3480 and bag['model'] == 'spline'
+    assert bag['messages'] == 3480 and bag['model'] == 'c2'  # the offline default
 
 
 def test_c2_json_follows_the_schema(tmp_path: Path, run_cli: RunCli) -> None:

@@ -37,6 +37,7 @@ from ..motion.c2 import rotation_to
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
 from ..motion.splines import not_a_knot_slope_rows
+from ..toi import _kernel
 
 SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
@@ -78,15 +79,13 @@ def stream_noise(stream: Stream, config: Any) -> float:
 
 
 def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int) -> range:
-    """Return the indices of the samples fitted for interval k (both of its ends included)."""
-    times, breaks = stream.times, stream.breaks  # continuous(i): no break at i + 1, no long gap
-    last, end = k + 1, min(k + 1 + look_ahead, len(times) - 1)
-    while last < end and not breaks[last + 1] and times[last + 1] - times[last] <= max_gap:
-        last += 1
-    first, start = k, max(last - size + 1, 0)
-    while first > start and not breaks[first] and times[first] - times[first - 1] <= max_gap:
-        first -= 1
-    return range(first, last + 1)
+    """
+    Return the indices of the samples fitted for interval k (both of its ends included).
+
+    Up to ``look_ahead`` samples after its closing frame, back to ``size`` in all, none across
+    a break or a step longer than ``max_gap`` (s): the kernel's (``toi._kernel.c2_window``).
+    """
+    return _kernel.c2_window(stream.times, stream.breaks, k, max_gap, look_ahead, size)
 
 
 def widened(stream: Stream, window: range) -> range:

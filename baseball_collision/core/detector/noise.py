@@ -36,6 +36,7 @@ from typing import Deque, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .streams import Stream
+from ..toi import _kernel
 
 HISTORY = 384
 """Residuals each stream's estimate is the median of (coordinates count singly)."""
@@ -46,14 +47,6 @@ computed (``take_points``)."""
 
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
-
-SHORT_RUN = 16
-"""A fast-forward of at most this many residual samples takes them one by one in plain floats
-(the arrays' fixed cost is more than theirs; the same numbers to the bit)."""
-
-_SLOTS = np.arange(5)
-_OTHERS = np.array([[j for j in range(5) if j != i] for i in range(5)])
-"""The five slots of a window and, for each, the other four in order (``take_points``)."""
 
 REBUILD = 48
 """More residuals than this at once: the sorted list is made again (when an estimate next
@@ -69,21 +62,6 @@ estimate float rounding and their motion's own differences: up to 3e-9 m (a pitc
 motion (the limit below). A smoother told 1 um
 is no more accurate than the interpolant on every family at 90 and 360 Hz, and its sigmas then
 miss the interpolation's own error (BENCHMARKS.md, "`tracker_noise: auto` on exact samples")."""
-
-
-def divided_difference_weights(times: Sequence[float]) -> List[float]:
-    """
-    Return the weights of the fourth divided difference over five ``times`` (s, distinct).
-
-    Unscaled, in plain floats: each weight 1 / prod over the other stamps of (t_i - t_j),
-    multiplied in stamp order (the same on every machine: no BLAS kernel in the way).
-    """
-    t0, t1, t2, t3, t4 = times
-    return [1.0 / ((t0 - t1) * (t0 - t2) * (t0 - t3) * (t0 - t4)),
-            1.0 / ((t1 - t0) * (t1 - t2) * (t1 - t3) * (t1 - t4)),
-            1.0 / ((t2 - t0) * (t2 - t1) * (t2 - t3) * (t2 - t4)),
-            1.0 / ((t3 - t0) * (t3 - t1) * (t3 - t2) * (t3 - t4)),
-            1.0 / ((t4 - t0) * (t4 - t1) * (t4 - t2) * (t4 - t3))]
 
 
 class NoiseEstimate:
@@ -131,9 +109,9 @@ class NoiseEstimate:
         Take the residuals of new samples of one segment's points at once; return the estimate.
 
         What ``update`` does after each of them in turn, to the bit (the chunk path's
-        fast-forwards): each residual is that sample's window of five, with the same
-        operations on arrays (IEEE element by element, no fused multiply-add), in order; of a
-        run longer than ``KEPT_SAMPLES`` only the newest, as the others' would not be kept.
+        fast-forwards): each residual is that sample's window of five, the kernel's
+        (``_point_residuals``); of a run longer than ``KEPT_SAMPLES`` only the newest, as the
+        others' would not be kept.
 
         :param before: the stream's newest samples before them (up to four): stamps (s),
             points (m) and whether each starts a segment.
@@ -150,32 +128,15 @@ class NoiseEstimate:
         first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
         if first >= len(times):
             return self.sigma
-        if len(times) - first <= SHORT_RUN:  # a few: in plain floats, as ``update`` does
-            t = [float(x) for x in old_times] + np.asarray(times, float).tolist()
-            p = old_points + np.asarray(points, float).tolist()
-            found: List[float] = []
-            for end in range(len(old_times) + first, len(t)):
-                found += _point_residuals(t[end - 4:end + 1], p[end - 4:end + 1])
-            self._take(found)
-            return self.sigma
-        t = np.concatenate((np.asarray(old_times, dtype=float), np.asarray(times, float)))
-        p = np.concatenate((np.asarray(old_points, dtype=float).reshape(-1, 3),
-                            np.asarray(points, dtype=float)))
         start = len(old_times) + first - 4  # the first residual's window's oldest sample
-        count = len(t) - 4 - start
+        count = len(old_times) + len(times) - 4 - start
         if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
             start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
-        # slot k of every window (k = 0..4 down the first axis), and each slot less each other
-        stamps = np.stack([t[start + k:start + k + count] for k in range(5)])
-        differences = stamps[:, None, :] - stamps[None, :, :]
-        # 1 / the product over the other slots, multiplied in slot order (a reduction over a
-        # leading axis adds or multiplies row after row: the order ``update`` takes)
-        weights = 1.0 / np.multiply.reduce(differences[_SLOTS[:, None], _OTHERS], axis=1)
-        gain = np.sqrt(np.add.reduce(weights * weights, axis=0))
-        values = np.stack([p[start + k:start + k + count] for k in range(5)])
-        rows = np.add.reduce(weights[:, :, None] * (values - values[2]), axis=0) / gain[:, None]
-        self._take(rows.ravel().tolist(),
-                   (MAD_TO_SIGMA * np.abs(rows) < NOISE_FLOOR).ravel().tolist())
+        # the samples from ``start`` on (old, then new), as floats
+        new = max(start - len(old_times), 0)
+        t = [float(x) for x in old_times[start:]] + np.asarray(times[new:], float).tolist()
+        p = old_points[start:] + np.asarray(points[new:], float).tolist()
+        self._take(*_kernel.point_residuals(t, p, 0, count, MAD_TO_SIGMA, NOISE_FLOOR))
         return self.sigma
 
     def _take(self, found: Sequence[float], small: Optional[Sequence[bool]] = None) -> None:
@@ -247,13 +208,12 @@ def _small(residual: float) -> bool:
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]) -> List[float]:
     """
-    Return the residuals (m) of the middle of five samples (``take_points``: on arrays).
+    Return the residuals (m) of the middle of five samples (s, m), one per coordinate.
 
-    Each a sum added left to right from 0.0 (``sum`` compensates from Python 3.12 on), about
-    the middle sample: the weights sum to 0, so the motion cancels less.
+    The compiled kernel's (``toi._kernel.point_residuals``, which ``take_points`` runs over a
+    whole run): the fourth divided difference's weights (each 1 over the product of its
+    stamp's differences from the other four, multiplied in stamp order), each residual a sum
+    added left to right from 0.0 about the middle sample (the weights sum to 0, so the motion
+    cancels less), over the root sum of the squared weights.
     """
-    w0, w1, w2, w3, w4 = divided_difference_weights(times)
-    gain = math.sqrt(0.0 + w0 * w0 + w1 * w1 + w2 * w2 + w3 * w3 + w4 * w4)
-    p0, p1, p2, p3, p4 = points
-    return [(0.0 + w0 * (p0[a] - p2[a]) + w1 * (p1[a] - p2[a]) + w2 * (p2[a] - p2[a])
-             + w3 * (p3[a] - p2[a]) + w4 * (p4[a] - p2[a])) / gain for a in range(3)]
+    return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR)[0]

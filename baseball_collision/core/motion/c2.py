@@ -31,20 +31,8 @@ from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
 from .splines import not_a_knot_slope_rows
-from ..geometry import cross, norm, sub, Vector
-
-
-def _scalar_bounds(cubic: AngleCubic, ta: float, tb: float) -> Tuple[float, float, float]:
-    """Return bounds of |v|, |v'| and |v''| of a scalar cubic over [ta, tb]."""
-    span = tb - ta
-    second = 0.0
-    if cubic.curved:
-        second = max(abs(cubic.accel0 + cubic.accel_rate * (t - cubic.t0) / cubic.h)
-                     for t in (ta, tb))
-    s = (ta - cubic.t0) / cubic.h
-    first = abs((cubic.b + s * (2.0 * cubic.c + 3.0 * s * cubic.d)) / cubic.h) + second * span
-    value = max(abs(cubic.at(ta)), abs(cubic.at(tb))) + second * span * span / 8.0
-    return value, first, second
+from ..geometry import cross, norm, Vector
+from ..toi import _kernel
 
 
 MAX_CHART_ANGLE = 2.5
@@ -60,18 +48,16 @@ def axis_and_length(sample: BatSample) -> Tuple[Vector, float]:
     """
     Return a bat sample's unit knob-to-tip direction and its length (m), kept per sample.
 
-    Each window charts its samples again (about ``spline_window`` times each): the two are
-    made once per sample object (samples are never changed) and kept in ``_AXES`` by identity
+    The kernel's (``toi._kernel.bat_axis``: (tip - knob) over its norm, and
+    ``math.dist(tip, knob)``, as the window's chart takes them). Kept: the two are made once
+    per sample object (samples are never changed) and kept in ``_AXES`` by identity
     (the entry holds the sample, so its id cannot be reused while it is there; at most
     ``_AXES_KEPT`` entries, then it starts again).
     """
     found = _AXES.get(id(sample))
     if found is not None and found[0] is sample:
         return found[1], found[2]
-    axis = sub(sample.tip, sample.knob)
-    size = norm(axis)
-    direction = (axis[0] / size, axis[1] / size, axis[2] / size)
-    length = math.dist(sample.tip, sample.knob)
+    direction, length = _kernel.bat_axis(sample)
     if len(_AXES) >= _AXES_KEPT:
         _AXES.clear()
     _AXES[id(sample)] = (sample, direction, length)
@@ -86,17 +72,14 @@ _AXES_KEPT = 4096
 
 
 def rotation_to(reference: Vector, direction: Vector) -> Vector:
-    """Return the rotation vector (rad, across ``reference``) turning it onto ``direction``."""
-    # geometry's cross, norm and dot written out (the same operations: a chart takes one per
-    # sample of every window)
-    rx, ry, rz = reference
-    dx, dy, dz = direction
-    tx, ty, tz = ry * dz - rz * dy, rz * dx - rx * dz, rx * dy - ry * dx
-    sine = math.sqrt(tx * tx + ty * ty + tz * tz)
-    if sine < 1e-15:
-        return (0.0, 0.0, 0.0)
-    angle = math.atan2(sine, rx * dx + ry * dy + rz * dz) / sine
-    return (tx * angle, ty * angle, tz * angle)
+    """
+    Return the rotation vector (rad, across ``reference``) turning it onto ``direction``.
+
+    Both unit. The kernel's (``toi._kernel.rotation_to``, as the window's chart takes it):
+    the axis reference x direction scaled by atan2(its norm, their dot product) over its norm;
+    (0, 0, 0) where that norm is below 1e-15.
+    """
+    return _kernel.rotation_to(reference, direction)
 
 
 def rotate(reference: Vector, rotation: Vector) -> Vector:
@@ -119,8 +102,10 @@ def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float
     """
     Return the window's rows for the interval from samples[j] to samples[j + 1].
 
-    The same samples (by identity: a stream's samples are never changed) and j as the last
-    call give its answer again (the rows are shared: read them only).
+    Charted by the kernel (``toi._kernel.c2_chart``: each sample's direction and length as
+    ``axis_and_length`` makes them, its rotation vector as ``rotation_to``). The same samples
+    (by identity: a stream's samples are never changed) and j as the last call give its
+    answer again (the rows are shared: read them only).
 
     :returns: (the first sample kept, its rows onward): per sample the 7 fitted coordinates
         knob (m), rotation vector from samples[j]'s direction (rad), length (m). Samples before
@@ -131,33 +116,9 @@ def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float
             and last_call[0] is samples[0] and last_call[1] is samples[j]
             and last_call[2] is samples[-1]):
         return last_call[5]
-    found = _chart_rows(samples, j)
+    found = _kernel.c2_chart(samples, j, MAX_CHART_ANGLE)
     _LAST_ROWS[0] = (samples[0], samples[j], samples[-1], len(samples), j, found)
     return found
-
-
-def _chart_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
-    """Return ``c2_rows``' answer, computed."""
-    reference = axis_and_length(samples[j])[0]
-    rows: List[Tuple[float, ...]] = []
-    first, last = 0, len(samples)
-    kept = _AXES.get
-    for i, sample in enumerate(samples):
-        found = kept(id(sample))  # axis_and_length's lookup, in the loop
-        if found is None or found[0] is not sample:
-            found = (sample, *axis_and_length(sample))
-        length = found[2]
-        rotation = rotation_to(reference, found[1])
-        x, y, z = rotation
-        if math.sqrt(x * x + y * y + z * z) > MAX_CHART_ANGLE:  # its norm
-            if i < j:
-                first, rows = i + 1, []
-                continue
-            if i > j + 1:
-                last = i
-                break
-        rows.append((*sample.knob, *rotation, length))
-    return first, rows[:last - first]
 
 
 class C2BatPath(BatPath):
@@ -229,13 +190,9 @@ class C2BatPath(BatPath):
         max |p''| (tb - ta)^2 / 8, with |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|;
         u is the rotation vector r mapped onto the sphere (its exponential map, whose first
         derivative is at most 1 and second at most 2 in norm): |u'| <= |r'| and
-        |u''| <= |r''| + 2 |r'|^2.
+        |u''| <= |r''| + 2 |r'|^2. Each bound from the pieces' power-basis coefficients: a
+        second derivative at an end of [ta, tb] (it is linear), a first at ta plus the second's
+        bound times the span, |L| at an end plus |L''| (tb - ta)^2 / 8. Computed by the kernel
+        (``toi._kernel.c2_deviation``).
         """
-        span = tb - ta
-        turn = self.turn
-        second = turn.max_acceleration(ta, tb)
-        first = norm(turn.velocity(ta)) + second * span
-        value, rate, change = _scalar_bounds(self.length, ta, tb)
-        knob = self.knob.max_acceleration(ta, tb)
-        bend = second + 2.0 * first * first
-        return (knob + change + 2.0 * rate * first + value * bend) * span * span / 8.0
+        return _kernel.c2_deviation(self.knob, self.turn, self.length, ta, tb)

@@ -5,7 +5,9 @@ A compiled kernel and numpy; no ROS imports. Units: metres and seconds. The modu
 
 * ``_kernel`` (``_kernel.c``, built by setup.py): the one implementation of the solver: the
   contact polynomials (end caps' quadratics, the side's quartic), the derivative chain and
-  bracketed roots, the broad phase, the capsule and profile solvers, the batch over rows;
+  bracketed roots, the broad phase, the capsule and profile solvers, the batch over rows; and
+  the hot per-window arithmetic of the motion models and the noise estimate (``c2``'s
+  not-a-knot solve, bat chart, window and deviation bound; ``tracker_noise`` auto's residuals);
 * ``result``: ``ImpactResult``, ``Feature`` and the tolerances (the kernel's);
 * ``scalar``: ``time_of_impact``, ``time_of_impact_profile``, ``profile_contact`` (the hot
   paths' entry on checked tuples) and ``closest_offset``: the kernel, with the argument errors;

@@ -46,6 +46,13 @@
  *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
+ *   not_a_knot(times, rows, start), c2_chart(samples, j, max_angle), bat_axis(sample),
+ *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
+ *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
+ *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
+ *        chart, the window's samples and a c2 bat path's deviation bound
+ *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
+ *        (core.detector.noise)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -1604,6 +1611,21 @@ static PyObject *float_sequence(const double *x, int count, bool tuple)
 
 static PyObject *float_list(const double *x, int count) { return float_sequence(x, count, false); }
 
+/* rows of m floats each (row-major), as a list of tuples (or of lists) */
+static PyObject *float_rows(const double *y, Py_ssize_t rows, Py_ssize_t m, bool tuples)
+{
+  PyObject *list = PyList_New(rows);
+  for (Py_ssize_t i = 0; list != NULL && i < rows; i++) {
+    PyObject *row = float_sequence(y + i * m, (int)m, tuples);
+    if (row == NULL) {
+      Py_CLEAR(list);
+      break;
+    }
+    PyList_SET_ITEM(list, i, row);
+  }
+  return list;
+}
+
 static PyObject *py_quadratic_roots(PyObject *self, PyObject *args)
 {
   double a, b, c, roots[2];
@@ -1886,15 +1908,7 @@ static PyObject *py_polyfit(PyObject *self, PyObject *const *args, Py_ssize_t na
     result = Py_NewRef(Py_NotImplemented);
     goto done;
   }
-  PyObject *coefficients = PyList_New(p);
-  for (int j = 0; coefficients != NULL && j < p; j++) {
-    PyObject *row = float_list(c + j * m, (int)m);
-    if (row == NULL) {
-      Py_CLEAR(coefficients);
-      break;
-    }
-    PyList_SET_ITEM(coefficients, j, row);
-  }
+  PyObject *coefficients = float_rows(c, p, m, false);
   if (coefficients != NULL) {
     result = Py_BuildValue("(Nd)", coefficients, span);
   }
@@ -2220,6 +2234,596 @@ static PyObject *py_bat_from_rates(PyObject *self, PyObject *const *args, Py_ssi
 }
 
 /* ------------------------------------------------------------------------------------------ */
+/* the c2 model's window fits (core.motion.splines, core.motion.c2) and the noise estimate's
+ * residuals (core.detector.noise): plain doubles, each operation in the order the Python they
+ * replaced took, so the same bits */
+
+static PyObject *math_dist = NULL; /* math.dist, a bat's length (its own exact summation) */
+static PyObject *knob_name = NULL, *tip_name = NULL; /* "knob", "tip" */
+/* the path pieces' attributes c2_deviation reads (motion.points: PointPath, AngleCubic) */
+enum {
+  PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
+  PIECE_ACCEL_RATE, PIECE_CURVED, PIECE_NAMES
+};
+static const char *piece_attributes[PIECE_NAMES] = {
+    "t0", "t1", "h", "a", "end", "b", "c", "d", "accel0", "accel_rate", "curved"};
+static PyObject *piece_names[PIECE_NAMES];
+static volatile double squared_power = 2.0; /* pow(x, 2): Python's x ** 2 (libm's pow, which
+                                               may differ from x * x in the last bit; volatile:
+                                               not folded into x * x) */
+
+/*
+ * The slopes at knots start..n-1 of the not-a-knot cubic spline through n >= 4 knots: stamps
+ * t (s, increasing), values y (n x m, row-major); out: (n - start) x m, row-major. The
+ * tridiagonal system (its matrix from the steps only) eliminated by Thomas' forward sweep
+ * without pivoting (the first elimination leaves h0 + h1 on the diagonal, the inner rows are
+ * diagonally dominant), then each column solved. work: at least 6 n doubles.
+ */
+static void not_a_knot_solve(const double *t, Py_ssize_t n, const double *y, Py_ssize_t m,
+                             Py_ssize_t start, double *out, double *work)
+{
+  double *h = work, *diagonal = h + n, *above = diagonal + n, *factors = above + n;
+  double *rhs = factors + n, *d = rhs + n;
+  for (Py_ssize_t i = 0; i < n - 1; i++) {
+    h[i] = t[i + 1] - t[i];
+  }
+  double h0 = h[0], h1 = h[1], hm = h[n - 3], hl = h[n - 2];
+  /* inner row i: below h[i], diagonal 2 (h[i - 1] + h[i]), above h[i - 1] */
+  diagonal[0] = h1;
+  above[0] = h0 + h1;
+  for (Py_ssize_t i = 1; i < n - 1; i++) {
+    diagonal[i] = 2.0 * (h[i - 1] + h[i]);
+    above[i] = h[i - 1];
+  }
+  diagonal[n - 1] = hm;
+  factors[0] = 0.0;
+  for (Py_ssize_t i = 1; i < n; i++) {
+    double factor = (i < n - 1 ? h[i] : hl + hm) / diagonal[i - 1];
+    diagonal[i] -= factor * above[i - 1];
+    factors[i] = factor;
+  }
+  double first = (h0 + 2.0 * (h0 + h1)) * h1, h0_squared = pow(h0, squared_power);
+  double span0 = h0 + h1, hl_squared = pow(hl, squared_power);
+  double last = (2.0 * (hm + hl) + hl) * hm, span1 = hm + hl;
+  for (Py_ssize_t c = 0; c < m; c++) {
+    for (Py_ssize_t i = 0; i < n - 1; i++) {
+      d[i] = (y[(i + 1) * m + c] - y[i * m + c]) / h[i];
+    }
+    double r = (first * d[0] + h0_squared * d[1]) / span0;
+    rhs[0] = r;
+    /* forward: each inner row's right-hand side, less its factor times the row above's */
+    for (Py_ssize_t i = 1; i < n - 1; i++) {
+      r = 3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i]) - factors[i] * r;
+      rhs[i] = r;
+    }
+    double s = ((hl_squared * d[n - 3] + last * d[n - 2]) / span1 - factors[n - 1] * r) /
+               diagonal[n - 1];
+    out[(n - 1 - start) * m + c] = s; /* back from the last knot */
+    for (Py_ssize_t i = n - 2; i >= start; i--) {
+      s = (rhs[i] - above[i] * s) / diagonal[i];
+      out[(i - start) * m + c] = s;
+    }
+  }
+}
+
+/* an integer (anything with __index__); false with an exception */
+static bool read_index(PyObject *o, Py_ssize_t *i)
+{
+  *i = PyNumber_AsSsize_t(o, PyExc_OverflowError);
+  return !(*i == -1 && PyErr_Occurred());
+}
+
+/* n rows of m floats (each a sequence) into y (n x m, row-major); false with an exception */
+static bool read_rows(PyObject *rows, Py_ssize_t n, Py_ssize_t m, double *y, const char *what)
+{
+  for (Py_ssize_t i = 0; i < n; i++) {
+    PyObject *row = PySequence_Fast_GET_ITEM(rows, i);
+    double *out = y + i * m;
+    if (PyTuple_CheckExact(row) && PyTuple_GET_SIZE(row) == m) {
+      for (Py_ssize_t k = 0; k < m; k++) {
+        out[k] = item_double(PyTuple_GET_ITEM(row, k));
+      }
+      if (PyErr_Occurred()) {
+        return false;
+      }
+    } else if (!read_floats_or(row, out, m, what, PyExc_ValueError)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/*
+ * not_a_knot(times, rows, start) -> the slopes (value units per s) of knots start..n-1 of the
+ * not-a-knot spline through n >= 4 rows of m values each (each column on its own), one tuple
+ * per knot. ValueError: fewer than 4 knots, rows of unequal lengths, start outside [0, n).
+ */
+static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t start;
+  if (nargs != 3 ||
+      !read_index(args[2], &start)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "not_a_knot(times, rows, start)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (rows == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (n < 4 || PySequence_Fast_GET_SIZE(rows) != n || start < 0 || start >= n) {
+    PyErr_SetString(PyExc_ValueError,
+                    "not_a_knot: at least 4 knots, as many rows as times, 0 <= start < n");
+    goto done;
+  }
+  Py_ssize_t m = PyObject_Length(PySequence_Fast_GET_ITEM(rows, 0));
+  if (m < 0) {
+    goto done;
+  }
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (7 + 2 * m)));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *t = memory, *y = t + n, *out = y + n * m, *work = out + n * m;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
+  }
+  if (PyErr_Occurred() || !read_rows(rows, n, m, y, "a row of the spline's values")) {
+    goto done;
+  }
+  not_a_knot_solve(t, n, y, m, start, out, work);
+  result = float_rows(out, n - start, m, true);
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  return result;
+}
+
+/*
+ * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
+ * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
+ * exception (no knob or tip of 3 numbers).
+ */
+static bool bat_axis(PyObject *sample, Vec *knob, Vec *direction, double *length)
+{
+  PyObject *knob_object = PyObject_GetAttr(sample, knob_name);
+  PyObject *tip_object = knob_object ? PyObject_GetAttr(sample, tip_name) : NULL;
+  bool ok = false;
+  Vec tip;
+  if (tip_object == NULL) {
+    goto done;
+  }
+  if (!read_vec(knob_object, knob) || !read_vec(tip_object, &tip)) {
+    PyErr_SetString(PyExc_TypeError, "a bat sample's knob and tip must be 3 numbers each");
+    goto done;
+  }
+  Vec axis = v_sub(tip, *knob);
+  double size = sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
+  *direction = (Vec){axis.x / size, axis.y / size, axis.z / size};
+  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, tip_object, knob_object, NULL);
+  if (dist != NULL) {
+    *length = PyFloat_AsDouble(dist);
+    ok = !PyErr_Occurred();
+    Py_DECREF(dist);
+  }
+done:
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
+  return ok;
+}
+
+/* the rotation vector (rad, across reference) turning unit reference onto unit direction */
+static Vec rotation_to(Vec r, Vec d)
+{
+  Vec t = {r.y * d.z - r.z * d.y, r.z * d.x - r.x * d.z, r.x * d.y - r.y * d.x};
+  double sine = sqrt(t.x * t.x + t.y * t.y + t.z * t.z);
+  if (sine < 1e-15) {
+    return (Vec){0.0, 0.0, 0.0};
+  }
+  double angle = atan2(sine, r.x * d.x + r.y * d.y + r.z * d.z) / sine;
+  return (Vec){t.x * angle, t.y * angle, t.z * angle};
+}
+
+/* bat_axis(sample) -> (unit knob-to-tip direction, length in m) */
+static PyObject *py_bat_axis(PyObject *self, PyObject *sample)
+{
+  Vec knob, direction;
+  double length;
+  if (!bat_axis(sample, &knob, &direction, &length)) {
+    return NULL;
+  }
+  return Py_BuildValue("(N d)", vec_tuple(direction), length);
+}
+
+/* rotation_to(reference, direction) -> the rotation vector (rad) turning one onto the other */
+static PyObject *py_rotation_to(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec reference, direction;
+  if (nargs != 2 || !read_vec(args[0], &reference) || !read_vec(args[1], &direction)) {
+    PyErr_SetString(PyExc_TypeError, "rotation_to(reference, direction): two 3-vectors");
+    return NULL;
+  }
+  return vec_tuple(rotation_to(reference, direction));
+}
+
+/*
+ * c2_chart(samples, j, max_angle) -> (first, rows): the c2 window's rows for the interval from
+ * samples[j] to samples[j + 1] (core.motion.c2.c2_rows): per sample from ``first`` on, its
+ * knob (m), the rotation vector (rad) from samples[j]'s direction onto its own, its length
+ * (m). A sample before j turned more than max_angle (rad) from it starts the window after
+ * it; one after j + 1 ends the window before it.
+ */
+static PyObject *py_c2_chart(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t j;
+  double max_angle;
+  if (nargs != 3 ||
+      !read_index(args[1], &j) ||
+      !read_number(args[2], &max_angle)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_chart(samples, j, max_angle)");
+    }
+    return NULL;
+  }
+  PyObject *samples = PySequence_Fast(args[0], "samples must be a sequence");
+  if (samples == NULL) {
+    return NULL;
+  }
+  PyObject *result = NULL;
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(samples);
+  double *rows = NULL;
+  if (j < 0 || j >= n) {
+    PyErr_SetString(PyExc_IndexError, "c2_chart: j outside the samples");
+    goto done;
+  }
+  rows = PyMem_Malloc(sizeof(double) * (size_t)(7 * n));
+  if (rows == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  Vec knob, reference, direction;
+  double length;
+  if (!bat_axis(PySequence_Fast_GET_ITEM(samples, j), &knob, &reference, &length)) {
+    goto done;
+  }
+  Py_ssize_t first = 0, count = 0;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    if (!bat_axis(PySequence_Fast_GET_ITEM(samples, i), &knob, &direction, &length)) {
+      goto done;
+    }
+    Vec r = rotation_to(reference, direction);
+    if (sqrt(r.x * r.x + r.y * r.y + r.z * r.z) > max_angle) {
+      if (i < j) {
+        first = i + 1;
+        count = 0;
+        continue;
+      }
+      if (i > j + 1) {
+        break;
+      }
+    }
+    double *row = rows + 7 * count++;
+    row[0] = knob.x, row[1] = knob.y, row[2] = knob.z;
+    row[3] = r.x, row[4] = r.y, row[5] = r.z, row[6] = length;
+  }
+  PyObject *list = float_rows(rows, count, 7, true);
+  if (list != NULL) {
+    result = Py_BuildValue("(nN)", first, list);
+  }
+done:
+  PyMem_Free(rows);
+  Py_DECREF(samples);
+  return result;
+}
+
+/* a float attribute of a path piece; false with an exception */
+static bool attr_double(PyObject *o, PyObject *name, double *x)
+{
+  PyObject *value = PyObject_GetAttr(o, name);
+  if (value == NULL) {
+    return false;
+  }
+  *x = PyFloat_AsDouble(value);
+  Py_DECREF(value);
+  return !(*x == -1.0 && PyErr_Occurred());
+}
+
+/* a 3-vector attribute of a path piece; false with an exception */
+static bool attr_vec(PyObject *o, PyObject *name, Vec *v)
+{
+  PyObject *value = PyObject_GetAttr(o, name);
+  if (value == NULL) {
+    return false;
+  }
+  bool ok = read_vec(value, v);
+  Py_DECREF(value);
+  if (!ok) {
+    PyErr_Format(PyExc_TypeError, "a path piece's %U must be 3 numbers", name);
+  }
+  return ok;
+}
+
+/* a piece's ``curved`` flag: 1, 0, or -1 with an exception */
+static int attr_curved(PyObject *o)
+{
+  PyObject *value = PyObject_GetAttr(o, piece_names[PIECE_CURVED]);
+  if (value == NULL) {
+    return -1;
+  }
+  int curved = PyObject_IsTrue(value);
+  Py_DECREF(value);
+  return curved;
+}
+
+/*
+ * The largest |p''| over [ta, tb] of a point piece (motion.points.PointPath): p''(s) =
+ * accel0 + accel_rate s, s = (t - t0) / h, linear, so at an end; 0 for a chord. -1 with an
+ * exception.
+ */
+static double piece_max_acceleration(PyObject *piece, double ta, double tb)
+{
+  int curved = attr_curved(piece);
+  double t0, h;
+  Vec a0, rate;
+  if (curved <= 0) {
+    return curved == 0 ? 0.0 : -1.0;
+  }
+  if (!attr_double(piece, piece_names[PIECE_T0], &t0) ||
+      !attr_double(piece, piece_names[PIECE_H], &h) ||
+      !attr_vec(piece, piece_names[PIECE_ACCEL0], &a0) ||
+      !attr_vec(piece, piece_names[PIECE_ACCEL_RATE], &rate)) {
+    return -1.0;
+  }
+  double worst = 0.0;
+  double ends[2] = {ta, tb};
+  for (int i = 0; i < 2; i++) {
+    double s = (ends[i] - t0) / h;
+    Vec p = {a0.x + rate.x * s, a0.y + rate.y * s, a0.z + rate.z * s};
+    worst = max_of(worst, sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+  }
+  return worst;
+}
+
+/*
+ * c2_deviation(knob, turn, length, ta, tb) -> a bound (m) on how far any axis point of a c2
+ * bat (motion.c2.C2BatPath: its knob and rotation vector point pieces, its length an angle
+ * piece) leaves its chord over [ta, tb] (s): max |p''| (tb - ta)^2 / 8 with
+ * |p''| <= |knob''| + |L''| + 2 |L'| |u'| + L |u''|, |u'| <= |r'|, |u''| <= |r''| + 2 |r'|^2
+ * (C2BatPath._deviation), each bound from the pieces' stored power-basis coefficients.
+ */
+static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double ta, tb;
+  if (nargs != 5 || !read_number(args[3], &ta) || !read_number(args[4], &tb)) {
+    PyErr_SetString(PyExc_TypeError, "c2_deviation(knob, turn, length, ta, tb)");
+    return NULL;
+  }
+  PyObject *turn = args[1], *length = args[2];
+  double span = tb - ta;
+  /* the rotation vector: |r''| at most ``second``, |r'| at most ``first`` */
+  double second = piece_max_acceleration(turn, ta, tb);
+  double t0, h, t1, a, end, b, c, d, accel0, accel_rate;
+  Vec vb, vc, vd;
+  if (second < 0.0 || !attr_double(turn, piece_names[PIECE_T0], &t0) ||
+      !attr_double(turn, piece_names[PIECE_H], &h) ||
+      !attr_vec(turn, piece_names[PIECE_B], &vb) || !attr_vec(turn, piece_names[PIECE_C], &vc) ||
+      !attr_vec(turn, piece_names[PIECE_D], &vd)) {
+    return NULL;
+  }
+  double s = (ta - t0) / h;
+  Vec rate = {(vb.x + s * (2.0 * vc.x + 3.0 * s * vd.x)) / h,
+              (vb.y + s * (2.0 * vc.y + 3.0 * s * vd.y)) / h,
+              (vb.z + s * (2.0 * vc.z + 3.0 * s * vd.z)) / h};
+  double first = sqrt(rate.x * rate.x + rate.y * rate.y + rate.z * rate.z) + second * span;
+  /* the length: |L| at most ``value``, |L'| at most ``lengthening``, |L''| at most ``change`` */
+  int curved = attr_curved(length);
+  if (curved < 0 || !attr_double(length, piece_names[PIECE_T0], &t0) ||
+      !attr_double(length, piece_names[PIECE_T1], &t1) ||
+      !attr_double(length, piece_names[PIECE_H], &h) ||
+      !attr_double(length, piece_names[PIECE_A], &a) ||
+      !attr_double(length, piece_names[PIECE_END], &end) ||
+      !attr_double(length, piece_names[PIECE_B], &b) ||
+      !attr_double(length, piece_names[PIECE_C], &c) ||
+      !attr_double(length, piece_names[PIECE_D], &d)) {
+    return NULL;
+  }
+  double change = 0.0;
+  if (curved) {
+    if (!attr_double(length, piece_names[PIECE_ACCEL0], &accel0) ||
+        !attr_double(length, piece_names[PIECE_ACCEL_RATE], &accel_rate)) {
+      return NULL;
+    }
+    change = max_of(fabs(accel0 + accel_rate * (ta - t0) / h),
+                    fabs(accel0 + accel_rate * (tb - t0) / h));
+  }
+  s = (ta - t0) / h;
+  double lengthening = fabs((b + s * (2.0 * c + 3.0 * s * d)) / h) + change * span;
+  double at[2], ends[2] = {ta, tb};
+  for (int i = 0; i < 2; i++) { /* AngleCubic.at: its ends as given */
+    double u = (ends[i] - t0) / h;
+    at[i] = ends[i] == t0 ? a : ends[i] == t1 ? end : a + u * (b + u * (c + u * d));
+  }
+  double value = max_of(fabs(at[0]), fabs(at[1])) + change * span * span / 8.0;
+  double knob = piece_max_acceleration(args[0], ta, tb);
+  if (knob < 0.0) {
+    return NULL;
+  }
+  double bend = second + 2.0 * first * first;
+  return PyFloat_FromDouble((knob + change + 2.0 * lengthening * first + value * bend) * span *
+                            span / 8.0);
+}
+
+/* whether flag i of a sequence is true: 1, 0, or -1 with an exception */
+static inline int flag_at(PyObject *list, Py_ssize_t i)
+{
+  return PyObject_IsTrue(PySequence_Fast_GET_ITEM(list, i));
+}
+
+/*
+ * c2_window(times, breaks, k, max_gap, look_ahead, size) -> the range of a stream's samples a
+ * c2 fit of interval k takes (core.detector.fitting.c2_window): up to look_ahead samples
+ * after its closing frame, back to ``size`` in all, none across a break (``breaks[i]``: sample
+ * i starts a segment) or a step longer than max_gap (s). IndexError: k outside the samples.
+ */
+static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k, look_ahead, size;
+  double max_gap;
+  if (nargs != 6 || !read_index(args[2], &k) ||
+      !read_number(args[3], &max_gap) ||
+      !read_index(args[4], &look_ahead) ||
+      !read_index(args[5], &size)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_window(times, breaks, k, max_gap, look_ahead, size)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *breaks = times ? PySequence_Fast(args[1], "breaks must be a sequence") : NULL;
+  PyObject *result = NULL;
+  if (breaks == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (k < 0 || k >= n || PySequence_Fast_GET_SIZE(breaks) != n) {
+    PyErr_SetString(PyExc_IndexError, "c2_window: k outside the samples");
+    goto done;
+  }
+  Py_ssize_t last = k + 1, end = k + 1 + look_ahead < n - 1 ? k + 1 + look_ahead : n - 1;
+  int broken = 0;
+  while (last < end) {
+    if ((broken = flag_at(breaks, last + 1)) != 0) {
+      break;
+    }
+    double step = item_double(PySequence_Fast_GET_ITEM(times, last + 1)) -
+                  item_double(PySequence_Fast_GET_ITEM(times, last));
+    if (PyErr_Occurred() || !(step <= max_gap)) {
+      break;
+    }
+    last++;
+  }
+  Py_ssize_t first = k, start = last - size + 1 > 0 ? last - size + 1 : 0;
+  while (broken >= 0 && !PyErr_Occurred() && first > start) {
+    if ((broken = flag_at(breaks, first)) != 0) {
+      break;
+    }
+    double step = item_double(PySequence_Fast_GET_ITEM(times, first)) -
+                  item_double(PySequence_Fast_GET_ITEM(times, first - 1));
+    if (PyErr_Occurred() || !(step <= max_gap)) {
+      break;
+    }
+    first--;
+  }
+  if (!PyErr_Occurred()) {
+    result = PyObject_CallFunction((PyObject *)&PyRange_Type, "nn", first, last + 1);
+  }
+done:
+  Py_XDECREF(times);
+  Py_XDECREF(breaks);
+  return result;
+}
+
+/*
+ * point_residuals(times, points, start, count, scale, floor) -> (residuals, small): the noise
+ * estimate's residuals (m) of the middle samples of the windows of five from start, start + 1,
+ * ... (count of them), three per window (x, y, z): the fourth divided difference on the
+ * window's stamps (each weight 1 over the product of its stamp's differences from the others,
+ * in stamp order), about the middle sample, added left to right from 0.0, over its noise gain
+ * (the root sum of the squared weights); and for each whether scale |residual| < floor.
+ * IndexError: a window outside the samples.
+ */
+static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t start, count;
+  double scale, floor;
+  if (nargs != 6 ||
+      !read_index(args[2], &start) ||
+      !read_index(args[3], &count) ||
+      !read_number(args[4], &scale) || !read_number(args[5], &floor)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "point_residuals(times, points, start, count, scale, floor)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *points = times ? PySequence_Fast(args[1], "points must be a sequence") : NULL;
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (points == NULL) {
+    goto done;
+  }
+  if (start < 0 || count < 0 || start + count + 4 > PySequence_Fast_GET_SIZE(times) ||
+      start + count + 4 > PySequence_Fast_GET_SIZE(points)) {
+    PyErr_SetString(PyExc_IndexError, "point_residuals: a window outside the samples");
+    goto done;
+  }
+  Py_ssize_t n = count + 4;
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *t = memory, *p = t + n, *out = p + 3 * n;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] = item_double(PySequence_Fast_GET_ITEM(times, start + i));
+    Vec v;
+    if (PyErr_Occurred() || !read_vec(PySequence_Fast_GET_ITEM(points, start + i), &v)) {
+      if (!PyErr_Occurred()) {
+        PyErr_SetString(PyExc_TypeError, "point_residuals: a point must be 3 numbers");
+      }
+      goto done;
+    }
+    p[3 * i] = v.x, p[3 * i + 1] = v.y, p[3 * i + 2] = v.z;
+  }
+  for (Py_ssize_t k = 0; k < count; k++) {
+    const double *s = t + k, *q = p + 3 * k;
+    double w[5];
+    for (int i = 0; i < 5; i++) {
+      double product = 1.0;
+      bool started = false;
+      for (int o = 0; o < 5; o++) {
+        if (o != i) { /* (t_i - t_o) multiplied in stamp order, the first as it is */
+          product = started ? product * (s[i] - s[o]) : s[i] - s[o];
+          started = true;
+        }
+      }
+      w[i] = 1.0 / product;
+    }
+    double gain = sqrt(0.0 + w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3] +
+                       w[4] * w[4]);
+    for (int a = 0; a < 3; a++) {
+      double middle = q[6 + a];
+      out[3 * k + a] = (0.0 + w[0] * (q[a] - middle) + w[1] * (q[3 + a] - middle) +
+                        w[2] * (q[6 + a] - middle) + w[3] * (q[9 + a] - middle) +
+                        w[4] * (q[12 + a] - middle)) / gain;
+    }
+  }
+  PyObject *residuals = float_list(out, (int)(3 * count));
+  PyObject *small = residuals ? PyList_New(3 * count) : NULL;
+  for (Py_ssize_t i = 0; small != NULL && i < 3 * count; i++) {
+    PyList_SET_ITEM(small, i, Py_NewRef(scale * fabs(out[i]) < floor ? Py_True : Py_False));
+  }
+  if (small != NULL) {
+    result = PyTuple_Pack(2, residuals, small);
+    Py_DECREF(small);
+  }
+  Py_XDECREF(residuals);
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(times);
+  Py_XDECREF(points);
+  return result;
+}
+
+/* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
     {"bind", py_bind, METH_VARARGS,
@@ -2258,6 +2862,25 @@ static PyMethodDef methods[] = {
      "bat_from_rates(t0, first, second, knob, tip): the extrapolated bat's 21 numbers"},
     {"least_accelerating", (PyCFunction)(void (*)(void))py_least_accelerating, METH_FASTCALL,
      "least_accelerating(knob, tip): the fraction along knob-tip accelerating least"},
+    {"not_a_knot", (PyCFunction)(void (*)(void))py_not_a_knot, METH_FASTCALL,
+     "not_a_knot(times, rows, start): the not-a-knot spline's slopes at knots start..n-1, "
+     "a tuple per knot (n >= 4)"},
+    {"bat_axis", py_bat_axis, METH_O,
+     "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"rotation_to", (PyCFunction)(void (*)(void))py_rotation_to, METH_FASTCALL,
+     "rotation_to(reference, direction): the rotation vector (rad) turning one onto the other"},
+    {"c2_chart", (PyCFunction)(void (*)(void))py_c2_chart, METH_FASTCALL,
+     "c2_chart(samples, j, max_angle): (first, rows) of the c2 window's chart: knob, rotation "
+     "vector from samples[j]'s direction, length"},
+    {"c2_window", (PyCFunction)(void (*)(void))py_c2_window, METH_FASTCALL,
+     "c2_window(times, breaks, k, max_gap, look_ahead, size): the range of samples a c2 fit of "
+     "interval k takes"},
+    {"c2_deviation", (PyCFunction)(void (*)(void))py_c2_deviation, METH_FASTCALL,
+     "c2_deviation(knob, turn, length, ta, tb): a bound (m) on a c2 bat's axis points' "
+     "distance from their chords over [ta, tb]"},
+    {"point_residuals", (PyCFunction)(void (*)(void))py_point_residuals, METH_FASTCALL,
+     "point_residuals(times, points, start, count, scale, floor): the noise estimate's "
+     "residuals of count windows of five from start, three each, and whether each is small"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},
@@ -2290,6 +2913,22 @@ PyMODINIT_FUNC PyInit__kernel(void)
   if (PyModule_AddObject(m, "TOUCH_TOLERANCE", PyFloat_FromDouble(TOUCH_TOLERANCE)) < 0 ||
       PyModule_AddObject(m, "DEGENERATE_AXIS", PyFloat_FromDouble(DEGENERATE_AXIS)) < 0 ||
       PyModule_AddObject(m, "ROOT_SLACK", PyFloat_FromDouble(ROOT_SLACK)) < 0) {
+    Py_DECREF(m);
+    return NULL;
+  }
+  PyObject *math = PyImport_ImportModule("math");
+  math_dist = math ? PyObject_GetAttrString(math, "dist") : NULL;
+  Py_XDECREF(math);
+  knob_name = PyUnicode_InternFromString("knob");
+  tip_name = PyUnicode_InternFromString("tip");
+  for (int i = 0; i < PIECE_NAMES; i++) {
+    piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
+    if (piece_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
+  if (math_dist == NULL || knob_name == NULL || tip_name == NULL) {
     Py_DECREF(m);
     return NULL;
   }

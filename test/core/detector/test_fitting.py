@@ -348,3 +348,36 @@ def test_a_noisy_bat_is_continued_from_its_smoothed_window() -> None:
     for got, smooth in zip(path.at(t1), smoothed.at(t1)):  # the smoother's piece, continued
         assert math.dist(got, smooth) < 1e-9
     assert c2_bat_ahead(stream, k, 1.0, 8).at(t0)[0] == stream.values[k].knob  # exact: on it
+
+
+def test_c2_window_is_the_longest_continuous_run_about_its_interval() -> None:
+    """
+    ``c2_window`` (the kernel's): interval k's ends, up to ``look_ahead`` samples after.
+
+    Back to ``size`` samples in all; nothing across a segment break or a step over
+    ``max_gap``; and it stops only where one of those says so (random streams).
+    """
+    rng = np.random.default_rng(21)
+    max_gap = 0.03
+    for _ in range(3000):
+        n = int(rng.integers(2, 20))
+        stream = Stream('ball')
+        t = float(rng.uniform(0.0, 10.0))
+        for i in range(n):
+            t += float(rng.choice([0.0028, 0.0028, 0.0028, 0.011, 0.02, 0.1]))
+            stream.append(t, i, (0.0, 0.0, 0.0), i == 0 or bool(rng.random() < 0.05))
+        k = int(rng.integers(0, n - 1))
+        look_ahead, size = int(rng.integers(0, 4)), int(rng.integers(2, 12))
+        window = fitting.c2_window(stream, k, max_gap, look_ahead, size)
+        times, breaks = stream.times, stream.breaks
+
+        def joined(i: int) -> bool:  # sample i continues sample i - 1's segment
+            return not breaks[i] and times[i] - times[i - 1] <= max_gap
+        assert window.start <= k and window.stop - 1 >= k + 1
+        assert all(joined(i) for i in range(window.start + 1, window.stop) if i != k + 1)
+        last = window.stop - 1
+        assert last - (k + 1) <= look_ahead
+        assert last - (k + 1) == look_ahead or last == n - 1 or not joined(last + 1)
+        assert last - window.start + 1 <= max(size, last - k + 1)
+        assert (last - window.start + 1 >= size or window.start == 0
+                or not joined(window.start) or window.start == k)

@@ -1,11 +1,10 @@
 """Tests for ``tracker_noise: auto``: each stream's noise estimated from its own samples."""
 
-import math
 from typing import List, Tuple
 
 from baseball_collision.core.detector import AUTO_NOISE, Detector, DetectorConfig, Impact
 from baseball_collision.core.detector.noise import (
-    divided_difference_weights, MAD_TO_SIGMA, MIN_RESIDUALS, NOISE_FLOOR, NoiseEstimate)
+    _point_residuals, MAD_TO_SIGMA, MIN_RESIDUALS, NOISE_FLOOR, NoiseEstimate)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
@@ -144,15 +143,17 @@ def test_length_residuals_are_half_the_length_change() -> None:
        coefficients=st.lists(st.floats(-100.0, 100.0), min_size=4, max_size=4))
 def test_fourth_differences_vanish_on_cubics_and_have_unit_noise_gain(steps,
                                                                       coefficients) -> None:
-    """On uneven stamps the weights kill any cubic; normalised, noise keeps its variance."""
-    times = np.concatenate([[0.0], np.cumsum(steps)])
-    weights = np.array(divided_difference_weights(times))
+    """On uneven stamps the residual of a cubic is 0; of noise, a variate of its sigma."""
+    times = np.concatenate([[0.0], np.cumsum(steps)]).tolist()
     cubic = np.polyval(coefficients, times)
-    gain = math.sqrt(float(weights @ weights))
-    assert abs(weights @ cubic) / gain <= 1e-9 * (1.0 + np.abs(cubic).max())
+    scale = 1.0 + np.abs(cubic).max()
+    # each coordinate a cubic: its own, twice it, and its negative
+    points = [(c, 2.0 * c, -c) for c in cubic.tolist()]
+    assert max(map(abs, _point_residuals(times, points))) <= 2e-9 * scale
     rng = np.random.default_rng(3)
-    noise = rng.normal(0.0, 1.0, (20000, 5))
-    assert np.std(noise @ weights / gain) == pytest.approx(1.0, rel=0.03)
+    noise = rng.normal(0.0, 1.0, (7000, 5, 3))
+    residuals = [r for window in noise.tolist() for r in _point_residuals(times, window)]
+    assert np.std(residuals) == pytest.approx(1.0, rel=0.03)
 
 
 @settings(max_examples=examples(40), deadline=None)

@@ -10,6 +10,7 @@ from baseball_collision.core.motion.splines import (
     end_state, not_a_knot_slope_rows, not_a_knot_slopes)
 from hypothesis import given, settings, strategies as st
 import numpy as np
+import pytest
 from support import examples
 
 
@@ -100,3 +101,55 @@ def test_kept_axes_and_deviation_are_the_computed_ones() -> None:
                          ((5.0, 1.0, 0.0), (4.0, 2.0, 1.0)), (0.1, -0.2))
         assert path.deviation(0.0, 0.01) == path._deviation(0.0, 0.01)
         assert path.deviation(0.0, 0.005) == path._deviation(0.0, 0.005)
+
+
+def test_chart_rows_are_each_samples_knob_turn_and_length() -> None:
+    """
+    The kernel's chart: per sample its knob, ``rotation_to`` from sample j's axis, its length.
+
+    Swings turning up to a radian a frame: a sample before j turned more than
+    ``MAX_CHART_ANGLE`` from sample j starts the window after it, one after j + 1 ends it.
+    """
+    rng = np.random.default_rng(12)
+    cut_before = cut_after = 0
+    for _ in range(400):
+        n = int(rng.integers(2, 14))
+        turns = np.cumsum(rng.uniform(0.0, 1.0, n)) + rng.uniform(-3.0, 3.0)
+        samples = []
+        for angle, lift in zip(turns, rng.uniform(-0.3, 0.3, n)):
+            knob = tuple(rng.normal(size=3).tolist())
+            axis = (math.cos(angle) * math.cos(lift), math.sin(angle) * math.cos(lift),
+                    math.sin(lift))
+            length = float(rng.uniform(0.8, 0.9))
+            samples.append(BatSample(knob, tuple(k + length * a for k, a in zip(knob, axis))))
+        j = int(rng.integers(0, n - 1))
+        c2_model._LAST_ROWS[0] = None
+        first, rows = c2_model.c2_rows(samples, j)
+        reference = unit_axis(samples[j])
+        expected, expected_first = [], 0
+        for i, sample in enumerate(samples):
+            turn = c2_model.rotation_to(reference, unit_axis(sample))
+            if norm(turn) > c2_model.MAX_CHART_ANGLE and i < j:
+                expected, expected_first = [], i + 1
+                continue
+            if norm(turn) > c2_model.MAX_CHART_ANGLE and i > j + 1:
+                break
+            expected.append((*sample.knob, *turn, c2_model.axis_and_length(sample)[1]))
+        assert (first, rows) == (expected_first, expected)
+        cut_before += first > 0
+        cut_after += first + len(rows) < n
+    assert cut_before > 20 and cut_after > 20  # both ends' cuts were taken
+
+
+def test_kernel_not_a_knot_refuses_short_or_uneven_windows() -> None:
+    """Fewer than four knots, rows of other lengths, a start outside: ValueError."""
+    from baseball_collision.core.toi import _kernel
+    times = [0.0, 0.01, 0.02, 0.03]
+    with pytest.raises(ValueError):
+        _kernel.not_a_knot(times[:3], [(1.0,)] * 3, 0)
+    with pytest.raises(ValueError):
+        _kernel.not_a_knot(times, [(1.0,), (2.0,), (3.0, 4.0), (5.0,)], 0)
+    with pytest.raises(ValueError):
+        _kernel.not_a_knot(times, [(1.0,)] * 4, 4)
+    assert _kernel.not_a_knot(times, [(1.0,), (2.0,), (3.0,), (4.0,)], 2) == [
+        (pytest.approx(100.0),), (pytest.approx(100.0),)]
