@@ -207,14 +207,16 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
         with :data:`OFFLINE_PARAMETERS` where the file does not set them.
     :param ball_radius: ball radius flag (m); None: the file's, else the detector default.
     :param bat_radius: constant bat radius flag (m), replacing the profile; None: the file's.
-    :param prediction_horizon: ``--predict`` horizon (s); None: the file's (default off).
+    :param prediction_horizon: ``--predict`` horizon (s); None: no prediction, whatever the
+        file says (its ``prediction_horizon`` is the node's; ``prediction_period`` and the
+        other prediction parameters come from the file or the table, as the node's do).
     :returns: the configuration.
     :raises ToolError: a value the node would refuse (the message names the parameter).
     """
     named = model or parameters.get('model')
     flags = {'model': named or OFFLINE_MODEL, 'bat_input': bat_input,
              'ball_radius': ball_radius, 'bat_radius': bat_radius,
-             'prediction_horizon': prediction_horizon}
+             'prediction_horizon': 0.0 if prediction_horizon is None else prediction_horizon}
     values = dict({} if named else OFFLINE_PARAMETERS, **parameters)
     values.update((name, v) for name, v in flags.items() if v is not None)
     try:

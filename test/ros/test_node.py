@@ -493,8 +493,9 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
 
 
 def make_plan_harness(make: Callable[..., Harness]) -> Harness:
-    """Return a started pose harness with a plan publisher and a 0.3 s horizon."""
-    h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan'})
+    """Return a started pose harness with a plan publisher, a 0.3 s horizon, every frame."""
+    h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan',
+              'prediction_period': 0.0})  # every frame: the scene's ball is tracked ~30 ms
     h.publisher(PointStamped, 'ball')
     h.publisher(PoseStamped, 'bat_pose')
     h.publisher(PathMsg, 'bat_plan')

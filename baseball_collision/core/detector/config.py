@@ -299,12 +299,13 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),
     ParameterSpec(
-        'prediction_horizon', _D, 0.0, 'How far ahead to predict the coming impact after every '
-        'processed frame (s); 0 = no ~/predicted_impact.', 's', _closed(0.0, 2.0)),
+        'prediction_horizon', _D, 0.3, 'How far ahead to predict the coming impact after every '
+        'processed frame (s); 0 = no ~/predicted_impact (a DetectorConfig made in code predicts '
+        'only when given one).', 's', _closed(0.0, 2.0)),
     ParameterSpec(
-        'prediction_period', _D, 0.0, "Predict at most this often (s, by the frames' stamps): a "
-        'frame less than this after the last prediction keeps it; 0 = every processed frame.',
-        's', _closed(0.0, 1.0)),
+        'prediction_period', _D, 0.01, "Predict at most this often (s, by the frames' stamps): "
+        'a frame less than this after the last prediction keeps it; 0 = every processed frame '
+        '(a DetectorConfig made in code: every frame).', 's', _closed(0.0, 1.0)),
     ParameterSpec(
         'prediction_window', _D, 0.1, "Span of the latest ball samples the prediction's "
         'ballistic fit uses (s).', 's', _closed(0.001, 1.0)),
@@ -463,9 +464,11 @@ class DetectorConfig:
     :ivar velocity_window: span (s) of the samples before an impact that its velocities are
         fitted to (six samples at 90 Hz, twenty-two at 360 Hz).
     :ivar prediction_horizon: how far ahead (s) to predict the coming impact after every
-        processed frame; 0 turns prediction off.
+        processed frame; 0 turns prediction off. Made in code it is 0 unless given; from
+        parameters (the node, a parameter file) the table's 0.3.
     :ivar prediction_period: predict at most this often (s between the stamps of the frames
-        that predict); a frame sooner keeps the last prediction in force. 0: every frame.
+        that predict); a frame sooner keeps the last prediction in force. 0: every frame (made
+        in code, unless given); from parameters the table's 0.01.
     :ivar prediction_window: span (s) of the latest samples the prediction's state is fitted to.
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
@@ -503,8 +506,8 @@ class DetectorConfig:
     velocity_window: float = DEFAULTS['velocity_window']
     velocity_degree: int = DEFAULTS['velocity_degree']
     tracker_noise: float = DEFAULTS['tracker_noise']
-    prediction_horizon: float = DEFAULTS['prediction_horizon']
-    prediction_period: float = DEFAULTS['prediction_period']
+    prediction_horizon: float = 0.0  # made in code: predicts only when asked (the node: 0.3)
+    prediction_period: float = 0.0  # made in code: every frame (the node: 0.01)
     prediction_window: float = DEFAULTS['prediction_window']
     ball_drag: float = DEFAULTS['ball_drag']
     gravity: float = DEFAULTS['gravity']

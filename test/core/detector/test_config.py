@@ -1,6 +1,6 @@
 """The one parameter table: its entries, validate_parameters, and DetectorConfig built from it."""
 
-from dataclasses import fields
+from dataclasses import fields, replace
 import math
 from typing import Any, Dict
 
@@ -32,13 +32,22 @@ def test_every_entry_is_whole() -> None:
 
 
 def test_detector_config_takes_its_defaults_from_the_table() -> None:
-    """Every DetectorConfig field but profile and geometry is a parameter, default and all."""
+    """
+    Every DetectorConfig field but profile and geometry is a parameter, default and all.
+
+    But for prediction: the table's (the node's) predicts 0.3 s ahead every 10 ms; a config
+    made in code predicts only when given a horizon, and then every frame.
+    """
     assert DETECTOR_FIELDS <= set(SPECS)
     config = DetectorConfig()
+    off = {'prediction_horizon': 0.0, 'prediction_period': 0.0}
     for name in DETECTOR_FIELDS:
-        expected = DEFAULTS[name]
+        expected = off.get(name, DEFAULTS[name])
         assert getattr(config, name) == (tuple(expected) if name == 'up_axis' else expected)
-    assert DetectorConfig.from_parameters({}) == config
+    assert (DEFAULTS['prediction_horizon'], DEFAULTS['prediction_period']) == (0.3, 0.01)
+    assert DetectorConfig.from_parameters({}) == replace(
+        config, prediction_horizon=0.3, prediction_period=0.01)
+    assert DetectorConfig.from_parameters(off) == config
     assert config.profile == WOOD_BAT_34
     assert config.geometry.tip_offset == (0.0, 0.0, DEFAULTS['tip_offset'])
 
