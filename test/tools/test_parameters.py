@@ -100,6 +100,21 @@ def test_flags_win_over_the_parameter_file() -> None:
         build_config({'ball_radius': -1.0}, bat_input='pose')
 
 
+def test_analyze_predicts_only_with_predict() -> None:
+    """
+    The file's ``prediction_horizon`` is the node's (on by default): analyze predicts on --predict.
+
+    Then at the file's ``prediction_period``, else the table's (the node's cadence).
+    """
+    node_file = {'prediction_horizon': 0.3, 'prediction_period': 0.02}
+    assert build_config({}, bat_input='pose').prediction_horizon == 0.0
+    assert build_config(node_file, bat_input='pose').prediction_horizon == 0.0
+    config = build_config(node_file, bat_input='pose', prediction_horizon=0.2)
+    assert (config.prediction_horizon, config.prediction_period) == (0.2, 0.02)
+    config = build_config({}, bat_input='pose', prediction_horizon=0.3)
+    assert (config.prediction_horizon, config.prediction_period) == (0.3, 0.01)
+
+
 def test_output_topics_are_the_nodes() -> None:
     """The output bag uses the node's private topic names."""
     assert output_topics(NODE_NAME) == {
