@@ -76,7 +76,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import Detector, DetectorConfig
@@ -389,7 +389,7 @@ def before_after_processes(path: Path, written: int, model: str, repeats: int,
         for name, tree in trees.items():
             for bag in (tiny, path):
                 command = [sys.executable, '-m', 'baseball_collision.tools.cli', 'analyze',
-                           str(bag), '--model', model, '--quiet', '--no-progress']
+                           str(bag), *model_flag(model), '--quiet', '--no-progress']
                 times = process_times(command, cwd=tree)
                 old = best.get((name, bag), (float('inf'),) * 2)
                 best[name, bag] = tuple(min(a, b) for a, b in zip(old, times))
@@ -398,6 +398,11 @@ def before_after_processes(path: Path, written: int, model: str, repeats: int,
         (tiny_wall, tiny_cpu), (wall, cpu) = best[name, tiny], best[name, path]
         print(f'  {name:40s} {small} messages: {tiny_wall:5.2f} s wall, {tiny_cpu:5.2f} s CPU; '
               f'{written:,}: {wall:6.2f} s wall, {cpu:6.2f} s CPU ({written / wall:,.0f} msg/s)')
+
+
+def model_flag(model: str) -> List[str]:
+    """Return ``analyze``'s model flag: none for 'default' (the offline default)."""
+    return [] if model == 'default' else ['--model', model]
 
 
 def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
@@ -411,7 +416,7 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
         # the two processes in turn, so a load that comes and goes meets both alike
         cli = str(Path(sys.executable).with_name('baseball-collision'))
         runs = [(process_times([sys.executable, '-c', RAW_READ_PROCESS.format(bag=str(path))]),
-                 process_times([cli, 'analyze', str(path), '--model', model, '--quiet',
+                 process_times([cli, 'analyze', str(path), *model_flag(model), '--quiet',
                                 '--no-progress'])) for _ in range(repeats)]
         raw_process, raw_cpu = (min(raw[k] for raw, _ in runs) for k in (0, 1))
         analyze_process, analyze_cpu = (min(mine[k] for _, mine in runs) for k in (0, 1))
@@ -592,7 +597,7 @@ def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: in
             paths.append(path)
         print(f'wrote {bags} bags of {written:,} messages ({storage}), the last in '
               f'{seconds:.1f} s')
-        options = AnalysisOptions(model=model)
+        options = AnalysisOptions(model=None if model == 'default' else model)
         times = {}
         found = {}
         for jobs in (1, bags):
@@ -661,7 +666,9 @@ def main() -> None:
     parser.add_argument('--messages', type=int, default=None,
                         help='messages per bag (1,000,000; with --jobs 250,000)')
     parser.add_argument('--storage', choices=sorted(SUFFIXES), default='mcap')
-    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='spline')
+    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2', 'default'),
+                        default='spline', help='default: the offline default of analyze (no '
+                        '--model flag; with --whole and --jobs only)')
     parser.add_argument('--profile', action='store_true', help='cProfile the analyze run')
     parser.add_argument('--jobs', type=int, default=None, metavar='K',
                         help='time the process pool over K bags instead')
