@@ -259,6 +259,10 @@ def turn_rates(stream: Stream, t: float, window: float, degree: int) -> Optional
     From the samples up to t only: the rotations between consecutive samples are summed into a
     cumulative rotation (exact for a turn about a fixed axis, and close when the axis moves
     slowly), fitted like a point (``point_velocity``). None with fewer than two samples.
+
+    :param window: how far back (s) from t: within the history every stream keeps behind the
+        detector's cursor (``fitting.kept_history``), so that the node, whatever the order its
+        streams' samples arrive in, and ``analyze`` fit the same samples.
     """
     indices = stream.history(t, window)
     if len(indices) < 2:
@@ -375,13 +379,14 @@ def poly_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector
             chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
 
 
-def spline_velocities(ball: Stream, bat: Stream, t: float,
-                      size: int) -> Optional[ImpactVelocities]:
+def spline_velocities(ball: Stream, bat: Stream, t: float, size: int,
+                      window: float) -> Optional[ImpactVelocities]:
     """
     Return the ``c2`` velocities at t (s) from the last ``size`` samples up to t of each stream.
 
     The bat pivots about its knob (fraction 0); the roll rate comes from the turns of poses
-    (``turn_rates``, 0 for points). None with fewer than two samples of a body.
+    over ``window`` (s) up to t (``turn_rates``, 0 for points). None with fewer than two
+    samples of a body.
     """
     ball_indices = ball.history(t, 1.0)[-size:]
     bat_indices = bat.history(t, 1.0)[-size:]
@@ -395,7 +400,7 @@ def spline_velocities(ball: Stream, bat: Stream, t: float,
     swing = chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6])
     roll = 0.0
     if samples[-1].quaternion is not None:
-        rates_of_turn = turn_rates(bat, t, 1.0, 3)
+        rates_of_turn = turn_rates(bat, t, window, 3)
         roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
     return ImpactVelocities(tuple(ball_velocity.tolist()), 0.0,
                             tuple(rates[:3].tolist()), swing, roll, True)
@@ -475,7 +480,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     a bat braking right after the contact has already slowed (benchmarks/bench_accuracy.py
     compares the choices). At a segment's first interval, where nothing comes before, the
     interval's own fits without look-ahead stand in. The roll rate comes from the turns of
-    poses (``turn_rates``, 0 for points).
+    poses over ``velocity_window`` (``turn_rates``, 0 for points).
     """
     mode = VELOCITIES if mode is None else mode
     exact = stream_noise(bat, config) == 0.0
@@ -503,7 +508,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
         knob_rate, swing = bat_path.knob.velocity(t), swing_rate(bat_path, t)
     roll = 0.0
     if bat.values[k].quaternion is not None:
-        rates_of_turn = turn_rates(bat, t, 1.0, 3)
+        rates_of_turn = turn_rates(bat, t, config.velocity_window, 3)
         roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
     return ImpactVelocities(ball_path.velocity(t), 0.0, knob_rate, swing, roll, True)
 
@@ -519,7 +524,7 @@ def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree
     ``spline_window`` > 0: the ``c2`` splines' rates instead (``spline_velocities``).
     """
     if spline_window:
-        found = spline_velocities(ball, bat, t, spline_window)
+        found = spline_velocities(ball, bat, t, spline_window, window)
         if found is not None:
             return found
     ball_velocity = point_velocity(ball, t, _point, window, min(2, degree))

@@ -114,23 +114,32 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
     return copy
 
 
-def _span(stream: Stream, start: float, end: float, config: DetectorConfig) -> Tuple[int, int]:
-    """Return the sample indices a re-solve of [start, end] (s) can need from a stream."""
+def _span(stream: Stream, start: float, end: float, config: DetectorConfig, upto: float,
+          tb: float) -> Tuple[int, int]:
+    """
+    Return the sample indices a re-solve of [start, end] (s) can need.
+
+    None after ``upto`` (s) but the impact's own: its interval's closing sample after ``tb`` (s)
+    and the look-ahead's, which the sweep had.
+    """
     back = max(config.spline_window, MAX_WINDOW) + MARGIN_SAMPLES
     reach = max(config.velocity_window, NOISE_SPAN)
     if fitting.FLIGHT is not None and stream_noise(stream, config) > 0.0:
         reach = max(reach, kept_history(config))  # a flight fit's window
     first = bisect_right(stream.times, start - reach - 1e-6) - 1 - back
     last = bisect_left(stream.times, end) + config.look_ahead + 1 + MARGIN_SAMPLES
-    return max(first, 0), min(last, len(stream.times) - 1)
+    held = max(bisect_right(stream.times, upto) - 1,
+               bisect_left(stream.times, tb) + config.look_ahead)
+    return max(first, 0), min(last, held, len(stream.times) - 1)
 
 
-def union_intervals(ball: Stream, bat: Stream, ta: float, tb: float) -> List[Tuple[float, float]]:
-    """Return the union intervals before [ta, tb] (s), it and after it, where they exist."""
+def union_intervals(ball: Stream, bat: Stream, ta: float, tb: float,
+                    upto: float = math.inf) -> List[Tuple[float, float]]:
+    """Return the union intervals before [ta, tb] (s), it and after it (to upto), if any."""
     before = [s.times[k] for s in (ball, bat)
               for k in (bisect_left(s.times, ta) - 1,) if k >= 0]
     after = [s.times[k] for s in (ball, bat)
-             for k in (bisect_right(s.times, tb),) if k < len(s.times)]
+             for k in (bisect_right(s.times, tb),) if k < len(s.times) and s.times[k] <= upto]
     intervals = [(max(before), ta)] if before else []
     intervals.append((ta, tb))
     if after:
@@ -332,10 +341,13 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
     hit = leaves_flight(ball, ball.interval(ta), stream_noise(ball, config),
                         config.max_gap) is not None
-    intervals = union_intervals(ball, bat, ta, tb)
+    # nothing newer than the oldest stream's newest sample: what the streams hold at an impact
+    # whatever the order their samples arrived in (the node's) or were read in (``analyze``)
+    upto = min(ball.times[-1], bat.times[-1])
+    intervals = union_intervals(ball, bat, ta, tb, upto)
     start, end = intervals[0][0], intervals[-1][1]
-    ball_first, ball_last = _span(ball, start, end, config)
-    bat_first, bat_last = _span(bat, start, end, config)
+    ball_first, ball_last = _span(ball, start, end, config, upto, tb)
+    bat_first, bat_last = _span(bat, start, end, config, upto, tb)
     ball, bat = excerpt(ball, ball_first, ball_last), excerpt(bat, bat_first, bat_last)
     ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     uncertainty: Optional[Uncertainty] = None

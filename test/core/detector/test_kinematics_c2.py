@@ -44,7 +44,7 @@ def test_velocities_come_from_samples_before_t_and_converge() -> None:
     spin, tilt = 40.0, 2.0
     ball, bat = _streams(360.0, spin, tilt)
     t = bat.times[-1] + 0.5 / 360.0
-    found = spline_velocities(ball, bat, t, 8)
+    found = spline_velocities(ball, bat, t, 8, 0.061)
     assert found is not None and found.from_history and found.pivot_fraction == 0.0
     assert np.allclose(found.ball, (-40.0, 0.0, -9.8 * t), atol=1e-6)
     knob_rate = np.array(found.pivot)
@@ -63,7 +63,7 @@ def test_too_few_samples_give_none() -> None:
     ball, bat = Stream('ball'), Stream('bat')
     ball.append(0.0, 0, (0.0, 0.0, 0.0), True)
     bat.append(0.0, 0, BatSample((0.0, 0.0, 0.0), (0.8, 0.0, 0.0)), True)
-    assert spline_velocities(ball, bat, 0.001, 8) is None
+    assert spline_velocities(ball, bat, 0.001, 8, 0.061) is None
 
 
 def _sweet_rate(found, t: float, spin: float, tilt: float) -> np.ndarray:
@@ -168,7 +168,8 @@ def test_exact_samples_take_the_fits_at_a_low_rate_and_the_splines_at_a_high_one
         found = c2_velocities(ball, bat, t, *paths, config)
         fits = impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                  *paths)
-        splines = spline_velocities(ball, bat, t, config.spline_window)
+        splines = spline_velocities(ball, bat, t, config.spline_window,
+                                    config.velocity_window)
         assert found == (fits if expected == 'fits' else splines)
         assert found != (splines if expected == 'fits' else fits)
         assert found != c2_velocities(ball, bat, t, *paths, config, 'before')
