@@ -281,15 +281,14 @@ class Sweep:
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
         if leaves_flight(ball, ball_k, stream_noise(ball, config), config.max_gap) is None:
             return None
-        if self.bat_ahead:
-            path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
-                                stream_noise(bat, config))
+        path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
+                            stream_noise(bat, config))
+        if path is None or self.bat_ahead:
             return None if path is None else (paths[0], path)
         if len(bat.history(bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES:
             return None
-        path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window)
         before = c2_bat_ahead(bat, bat_k - 1, config.max_gap, config.spline_window)
-        if path is None or before is None:
+        if before is None:
             return None
         # the bat's own departure: its closing frame far off the continuation (a brake), where
         # the same continuation one frame earlier met its frame (samples exact enough for it)
