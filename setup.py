@@ -53,10 +53,10 @@ setup(
     tests_require=['pytest'],
     entry_points={
         'console_scripts': [
-            'impact_node = baseball_collision.ros.node:main',
-            'baseball-collision = baseball_collision.tools.cli:main',
+            'impact_node = baseball_collision.entry_points:impact_node',
+            'baseball-collision = baseball_collision.entry_points:command_line',
             # the same CLI under a name ros2 run completes like the node's
-            'baseball_collision = baseball_collision.tools.cli:main',
+            'baseball_collision = baseball_collision.entry_points:command_line',
         ],
     },
 )
