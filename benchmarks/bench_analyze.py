@@ -63,7 +63,10 @@ time: on a machine shared with other work, CPU time moves less than wall time.
 same process, best of ``--repeats``; prints the speed-up (goal for two bags on two cores:
 >= 1.7x one job) and checks both runs found the same events. With ``--whole`` too: whole
 ``baseball-collision analyze BAG ... --jobs 1`` and ``--jobs K`` processes in turn instead (as a
-user runs them: start-up and the pool's start included), best wall and CPU time of each.
+user runs them: start-up and the pool's start included), best wall and CPU time of each. The
+in-process pool forks from this process, whose numpy started OpenBLAS's threads; the command
+line starts numpy with one (``entry_points``): run ``OPENBLAS_NUM_THREADS=1 ... --jobs K`` to
+measure the pool as the command line runs it.
 """
 
 import argparse
@@ -295,6 +298,8 @@ report()
 
 ANALYZE_SPLIT = SPLIT_START + """
 from pathlib import Path
+from baseball_collision.entry_points import one_blas_thread_from_start
+one_blas_thread_from_start()  # as the console script does, before numpy loads
 from baseball_collision.tools import cli  # (the console script's imports)
 from baseball_collision.bags import BagReader
 from baseball_collision.bags.decode import decode_spans
@@ -347,14 +352,15 @@ as ``BagReader.chunks`` reads them, by the reader's spans)."""
 
 def stage_figures(path: Path, model: str, repeats: int) -> None:
     """Print where the raw-read process's and analyze's CPU time goes, best of each stage."""
+    model_argument = None if model == 'default' else model  # build_config's offline default
     for name, script in (('rosbags raw read', RAW_SPLIT), ('analyze', ANALYZE_SPLIT)):
         best: dict = {}
         for _ in range(repeats):
             environment = {k: v for k, v in os.environ.items()
                            if k != 'PYTHONDONTWRITEBYTECODE'}
             output = subprocess.run(
-                [sys.executable, '-c', script.format(bag=str(path), model=model)], check=True,
-                capture_output=True, text=True, env=environment).stdout
+                [sys.executable, '-c', script.format(bag=str(path), model=model_argument)],
+                check=True, capture_output=True, text=True, env=environment).stdout
             for label, seconds in eval(output.strip().splitlines()[-1]).items():  # noqa: S307
                 best[label] = min(best.get(label, math.inf), seconds)
         print(f'{name}, CPU s by stage (best of {repeats} each):')
