@@ -594,17 +594,22 @@ def cpu_seconds() -> float:
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
+def write_bags(folder: Path, bags: int, messages: int, storage: str,
+               pitch_every: float) -> Tuple[List[Path], int]:
+    """Write ``bags`` bags of ``messages`` in ``folder``; return their paths, messages each."""
+    paths = []
+    for k in range(bags):
+        paths.append(folder / f'{k}_{SUFFIXES[storage]}')
+        written, seconds = write_bag(paths[-1], messages, pitch_every)
+    print(f'wrote {bags} bags of {written:,} messages ({storage}), the last in {seconds:.1f} s')
+    return paths, written
+
+
 def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: int,
                  pitch_every: float = WORST_SPACING_S) -> None:
     """Write ``bags`` bags; print analyze_bags with one job and with ``bags`` jobs, the ratio."""
     with tempfile.TemporaryDirectory() as tmp:
-        paths = []
-        for k in range(bags):
-            path = Path(tmp) / f'{k}_{SUFFIXES[storage]}'
-            written, seconds = write_bag(path, messages, pitch_every)
-            paths.append(path)
-        print(f'wrote {bags} bags of {written:,} messages ({storage}), the last in '
-              f'{seconds:.1f} s')
+        paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
         options = AnalysisOptions(model=None if model == 'default' else model)
         times = {}
         found = {}
@@ -635,17 +640,13 @@ def whole_jobs_figures(bags: int, messages: int, storage: str, model: str, repea
                        pitch_every: float = WORST_SPACING_S) -> None:
     """Print whole ``analyze --jobs 1`` and ``--jobs K`` processes over K bags, in turn."""
     with tempfile.TemporaryDirectory() as tmp:
-        paths = []
-        for k in range(bags):
-            path = Path(tmp) / f'{k}_{SUFFIXES[storage]}'
-            written, _ = write_bag(path, messages, pitch_every)
-            paths.append(str(path))
+        paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
         cli = str(Path(sys.executable).with_name('baseball-collision'))
         best = {}
         for _ in range(repeats):
             for jobs in (1, bags):
-                times = process_times([cli, 'analyze', *paths, *model_flag(model), '--jobs',
-                                       str(jobs), '--quiet', '--no-progress'])
+                times = process_times([cli, 'analyze', *map(str, paths), *model_flag(model),
+                                       '--jobs', str(jobs), '--quiet', '--no-progress'])
                 old = best.get(jobs, (float('inf'),) * 2)
                 best[jobs] = tuple(min(a, b) for a, b in zip(old, times))
         total = bags * written
