@@ -59,6 +59,10 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-noise': {'model': 'c2'},
     'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
     'c2-la2-auto': {'model': 'c2', 'look_ahead': 2, 'tracker_noise': -1.0},
+    'c2-jerk-noise': {'model': 'c2', SMOOTHER: ('jerk', 'likelihood')},
+    'c2-jerk-auto': {'model': 'c2', 'tracker_noise': -1.0, SMOOTHER: ('jerk', 'likelihood')},
+    'c2-la2-jerk-auto': {'model': 'c2', 'look_ahead': 2, 'tracker_noise': -1.0,
+                         SMOOTHER: ('jerk', 'likelihood')},
     'c2-smoother-noise': {'model': 'c2', FLIGHT: None},
     'c2-smoother-auto': {'model': 'c2', 'tracker_noise': -1.0, FLIGHT: None},
 }
@@ -72,7 +76,8 @@ METHODS.update({
 """Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
 not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``),
 ``c2-auto`` estimates each stream's (``tracker_noise: auto``). The smoothers (``fitting.SMOOTHER``:
-Reinsch's natural spline and weight rule, the not-a-knot penalty with the residual rules) and the
+Reinsch's natural spline and weight rule, the not-a-knot penalty with the residual rules; the
+``c2-[la2-]jerk-*`` labels: the Kalman/RTS smoother of a constant-jerk model) and the
 other c2 velocity rules (``c2-fits``: the former least-squares fits; ``c2-window``: the window fits
 reaching the closing frame; ``c2-knot``: with exact samples the bat's window before the impact
 fitted with a knot at it; ``c2-poly``: with exact samples that window interpolated by one

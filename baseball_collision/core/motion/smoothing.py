@@ -12,6 +12,13 @@ weight. Two penalties (``PENALTIES``), both linear in the values:
   of ``f`` (the knots 2 .. n - 3; at 1 and n - 2 not-a-knot makes them 0), each scaled to the
   mean step. Every cubic costs nothing, so a cubic motion comes through unbiased at the ends
   too; 4 samples or fewer are interpolated.
+* ``jerk``: the constant-jerk motion model of a Kalman/RTS smoother (state position, velocity,
+  acceleration and jerk; the jerk a random walk: white noise in its derivative, the snap) as
+  a prior on the values at the knots, its initial state unknown (diffuse): ``P`` is the
+  precision of the knot values under that model (:func:`jerk_precision`), so ``(I + lam P)^-1 y``
+  is the RTS smoother's smoothed position with the snap's intensity ``sigma^2 / lam`` (Wahba
+  1978: the smoothing spline of degree 7 at its knots), and its slopes the smoothed state's
+  velocities (:func:`jerk_slopes`). Every cubic costs nothing, as above.
 
 The weight is chosen from the noise (``variances``, per column, the square of the 1-sigma noise
 of each coordinate; the columns of one call share one weight): with ``target='samples'``
@@ -34,7 +41,7 @@ import numpy as np
 
 from .splines import not_a_knot_slopes
 
-PENALTIES = ('natural', 'not-a-knot')
+PENALTIES = ('natural', 'not-a-knot', 'jerk')
 """The roughness penalties ``smooth`` knows."""
 
 TARGETS = ('samples', 'dof', 'likelihood')
@@ -95,10 +102,94 @@ def penalty(times: Sequence[float], kind: str) -> np.ndarray:
             return np.zeros((n, n))
         q, r = natural_parts(h)
         return q @ np.linalg.solve(r, q.T) * mean ** 3
+    if kind == 'jerk':
+        return jerk_precision(t / mean)
     if kind != 'not-a-knot':
         raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
     jumps = third_jumps(t) * mean ** 3
     return jumps.T @ jumps
+
+
+def jerk_steps(h: float) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return (F, Q): the constant-jerk model's transition and process noise over a step h.
+
+    The state (position, velocity, acceleration, jerk) moves by ``F`` over ``h`` and gains
+    noise of covariance ``Q`` (the snap white with unit intensity: Q's entry (i, j) is
+    ``h^(7 - i - j) / ((3 - i)! (3 - j)! (7 - i - j))``), in the unit of time of ``h``.
+    """
+    powers = h ** np.arange(8)
+    factorials = np.array([1.0, 1.0, 2.0, 6.0])
+    i = np.arange(4)
+    transition = np.where(i[None, :] >= i[:, None],
+                          powers[np.abs(i[None, :] - i[:, None])]
+                          / factorials[np.abs(i[None, :] - i[:, None])], 0.0)
+    order = 7 - i[:, None] - i[None, :]
+    noise = powers[order] / (factorials[3 - i][:, None] * factorials[3 - i][None, :] * order)
+    return transition, noise
+
+
+def jerk_precision(times: Sequence[float]) -> np.ndarray:
+    """
+    Return the precision (n x n) of the values at ``times`` under the constant-jerk model.
+
+    The knots' states are a Gauss-Markov chain (:func:`jerk_steps`), the first one diffuse, so
+    their joint precision is the sum of each step's ``[-F, I]^T Q^-1 [-F, I]``; the values'
+    precision is its Schur complement on the positions (the velocities, accelerations and
+    jerks marginalised). Its null space is the cubics (projected out of the rounding of that
+    subtraction). None below 5 knots: zeros.
+
+    :param times: (n,) strictly increasing, in a unit of time near the steps (e.g. the mean
+        step) for conditioning.
+    """
+    t = np.asarray(times, dtype=float)
+    n = len(t)
+    if n < 5:
+        return np.zeros((n, n))
+    joint, positions, rest = _jerk_joint(t)
+    across = joint[np.ix_(positions, rest)]
+    precision = joint[np.ix_(positions, positions)] - across @ np.linalg.solve(
+        joint[np.ix_(rest, rest)], across.T)
+    # the subtraction leaves rounding of the joint's large entries in the cubics' directions:
+    # projected out (the exact precision is zero on them), the null space is the cubics' to
+    # the last bits
+    cubics, _ = np.linalg.qr(np.vander(t - t.mean(), 4, increasing=True))
+    outside = np.eye(n) - cubics @ cubics.T
+    precision = outside @ precision @ outside
+    return 0.5 * (precision + precision.T)
+
+
+def jerk_slopes(times: Sequence[float], values: np.ndarray) -> np.ndarray:
+    """
+    Return the constant-jerk model's velocities at the knots given its positions there.
+
+    The states that cost least under the model with the positions held (the smoothed state's
+    velocities once the positions are the smoothed ones): the interpolant of the model's
+    prior, a spline of degree 7. Fewer than 5 knots: the not-a-knot slopes (one cubic).
+
+    :param times: (n,) strictly increasing (s); ``values``: (n, columns). Slopes per second.
+    """
+    t = np.asarray(times, dtype=float)
+    y = np.asarray(values, dtype=float)
+    if len(t) < 5:
+        return not_a_knot_slopes(t, y)
+    unit = float(np.mean(np.diff(t)))
+    joint, positions, rest = _jerk_joint(t / unit)
+    states = -np.linalg.solve(joint[np.ix_(rest, rest)], joint[np.ix_(rest, positions)] @ y)
+    return states[0::3] / unit  # (rest holds velocity, acceleration, jerk at each knot)
+
+
+def _jerk_joint(t: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return the knots' states' joint precision (4n x 4n), the positions' and the others' rows."""
+    n = len(t)
+    joint = np.zeros((4 * n, 4 * n))
+    identity = np.eye(4)
+    for k, h in enumerate(np.diff(t)):
+        transition, noise = jerk_steps(float(h))
+        link = np.hstack([-transition, identity])
+        joint[4 * k:4 * k + 8, 4 * k:4 * k + 8] += link.T @ np.linalg.solve(noise, link)
+    positions = np.arange(0, 4 * n, 4)
+    return joint, positions, np.setdiff1d(np.arange(4 * n), positions)
 
 
 def third_jumps(times: Sequence[float]) -> np.ndarray:
@@ -255,5 +346,6 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
     v = np.asarray(variances, dtype=float)
     fitted = smoother_matrix(times, y, v, kind, target, eigen) @ y
     fitted[:, v <= 0.0] = y[:, v <= 0.0]
-    slopes = (natural_slopes if kind == 'natural' else not_a_knot_slopes)(times, fitted)
+    slopes = {'natural': natural_slopes, 'jerk': jerk_slopes}.get(kind, not_a_knot_slopes)(
+        times, fitted)
     return fitted, slopes

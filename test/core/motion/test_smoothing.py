@@ -1,8 +1,9 @@
-"""Tests for the window smoothing splines: Reinsch's rule, the not-a-knot penalty, the weight."""
+"""Tests for the window smoothing splines: Reinsch's rule, the not-a-knot and jerk penalties."""
 
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
-    natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix, smoothing_weight)
+    jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
+    smoothing_weight)
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -30,17 +31,102 @@ def test_natural_rule_matches_the_reference_reinsch_spline() -> None:
 
 @settings(max_examples=examples(60), deadline=None)
 @given(steps=steps, coefficients=st.lists(st.floats(-50.0, 50.0), min_size=4, max_size=4),
-       weight=st.floats(-6.0, 6.0))
-def test_not_a_knot_penalty_leaves_every_cubic_alone(steps, coefficients, weight) -> None:
+       weight=st.floats(-6.0, 6.0), kind=st.sampled_from(('not-a-knot', 'jerk')))
+def test_the_penalties_leave_every_cubic_alone(steps, coefficients, weight, kind) -> None:
     """Every cubic costs nothing: whatever the weight, a cubic's samples come back unchanged."""
     times = _times(steps)
     a, b, c, d = coefficients
     cubic = a + b * times + c * times ** 2 + d * times ** 3
-    matrix = penalty(times, 'not-a-knot')
+    matrix = penalty(times, kind)
     scale = 1.0 + np.abs(cubic).max()
     assert np.allclose(matrix @ cubic, 0.0, atol=1e-7 * scale * max(1.0, np.abs(matrix).max()))
     smoothed = np.linalg.solve(np.eye(len(times)) + 10.0 ** weight * matrix, cubic)
     assert np.allclose(smoothed, cubic, atol=1e-6 * scale)
+    _, slopes = smooth(times, cubic[:, None], [1e-6], kind)  # and its slopes are the cubic's
+    derivative = b + 2.0 * c * times + 3.0 * d * times ** 2
+    unit = float(np.mean(steps))  # (rounding of values of this scale, per this time)
+    assert np.allclose(slopes[:, 0], derivative,
+                       atol=1e-6 * (1.0 + np.abs(derivative).max()) + 1e-8 * scale / unit)
+
+
+def _rts_states(times: np.ndarray, values: np.ndarray, noise_variance: float,
+                snap_intensity: float, diffuse: float = 1e7) -> np.ndarray:
+    """
+    Brute force: the states of a Kalman filter and RTS smoother, constant-jerk model.
+
+    Written out step by step (predict, update in Joseph's form, then the backward pass), the
+    first state's covariance ``diffuse`` times the identity in place of an unknown one.
+    """
+    state, covariance = np.array([values[0], 0.0, 0.0, 0.0]), np.eye(4) * diffuse
+    read = np.array([1.0, 0.0, 0.0, 0.0])
+    filtered, predicted, transitions = [], [], []
+    for k, (t, y) in enumerate(zip(times, values)):
+        if k:
+            transition, noise = jerk_steps(t - times[k - 1])
+            state = transition @ state
+            covariance = transition @ covariance @ transition.T + snap_intensity * noise
+            transitions.append(transition)
+        predicted.append((state, covariance))
+        gain = covariance @ read / (read @ covariance @ read + noise_variance)
+        state = state + gain * (y - read @ state)
+        kept = np.eye(4) - np.outer(gain, read)  # (Joseph's form: the diffuse start's rounding)
+        covariance = kept @ covariance @ kept.T + noise_variance * np.outer(gain, gain)
+        filtered.append((state, covariance))
+    smoothed = [filtered[-1][0]]
+    for k in range(len(times) - 2, -1, -1):
+        state, covariance = filtered[k]
+        ahead, ahead_covariance = predicted[k + 1]
+        gain = covariance @ transitions[k].T @ np.linalg.inv(ahead_covariance)
+        smoothed.append(state + gain @ (smoothed[-1] - ahead))
+    return np.array(smoothed[::-1])
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, log_intensity=st.floats(-3.0, 3.0))
+def test_jerk_penalty_is_the_rts_smoother_of_the_constant_jerk_model(
+        steps, log_intensity) -> None:
+    """
+    (I + lam P)^-1 y is the RTS smoother's position, lam the noise over the snap's intensity.
+
+    And the slopes through those positions (``jerk_slopes``) are its velocities.
+    """
+    times = _times(steps)
+    unit = float(np.mean(np.diff(times)))  # penalty's time unit: the mean step
+    rng = np.random.default_rng(len(steps))
+    values = np.sin(40.0 * times) + rng.normal(0.0, 1e-2, len(times))
+    noise_variance, intensity = 1e-4, 10.0 ** log_intensity
+    mine = np.linalg.solve(np.eye(len(times)) + noise_variance / intensity
+                           * penalty(times, 'jerk'), values)
+    expected = _rts_states(times / unit, values, noise_variance, intensity)
+    # (the reference's finite start and its rounding leave up to a few 1e-5: measured over 300
+    # windows, 1.4e-5 and 5.4e-5; a wrong model or step is off by 1e-2 and more)
+    assert np.allclose(mine, expected[:, 0], atol=1e-4)
+    slopes = jerk_slopes(times, mine[:, None])[:, 0] * unit  # per mean step, as the states
+    assert np.allclose(slopes, expected[:, 1], atol=2e-4 * max(1.0, np.abs(slopes).max()))
+
+
+@pytest.mark.parametrize('step', [0.3, 1.0, 2.5])
+def test_jerk_steps_are_the_integrated_model(step: float) -> None:
+    """
+    Brute force: F is exp(A h) and Q the integral of exp(A s) b b^T exp(A s)^T over [0, h].
+
+    A shifts each state into the one before it (position' = velocity, ...), b drives the
+    jerk with unit white noise; the integral by Simpson's rule on a fine grid.
+    """
+    shift = np.eye(4, k=1)
+
+    def propagate(s: float) -> np.ndarray:  # exp(A s): A is nilpotent, its series ends
+        return sum(np.linalg.matrix_power(shift * s, k) / np.prod(range(1, k + 1))
+                   for k in range(4))
+    grid = np.linspace(0.0, step, 2001)
+    drive = np.array([propagate(s)[:, 3] for s in grid])  # exp(A s) b
+    integrand = drive[:, :, None] * drive[:, None, :]
+    weights = np.ones(len(grid))
+    weights[1:-1:2], weights[2:-1:2] = 4.0, 2.0
+    integral = np.tensordot(weights, integrand, axes=1) * (grid[1] - grid[0]) / 3.0
+    transition, noise = jerk_steps(step)
+    assert np.allclose(transition, propagate(step), rtol=1e-12, atol=1e-12)
+    assert np.allclose(noise, integral, rtol=1e-9, atol=1e-12)
 
 
 @settings(max_examples=examples(40), deadline=None)
@@ -82,7 +168,7 @@ def test_natural_slopes_are_a_natural_spline() -> None:
     assert abs(start) < 1e-9 and abs(end) < 1e-9
 
 
-@pytest.mark.parametrize('kind', ['natural', 'not-a-knot'])
+@pytest.mark.parametrize('kind', ['natural', 'not-a-knot', 'jerk'])
 def test_the_weight_meets_its_rule(kind: str) -> None:
     """
     The chosen weight makes the weighted residuals what the rule asks (samples or dof).
@@ -100,7 +186,7 @@ def test_the_weight_meets_its_rule(kind: str) -> None:
         residual = np.sum((noisy - matrix @ noisy) ** 2 / variances)
         goal = 3 * (len(times) - (np.trace(matrix) if target == 'dof' else 0.0))
         if np.allclose(matrix @ matrix, matrix, atol=1e-9):
-            assert residual < goal and (kind, target) == ('not-a-knot', 'samples')
+            assert residual < goal and kind != 'natural' and target == 'samples'
         else:
             assert residual == pytest.approx(goal, rel=1e-6)
 
@@ -171,7 +257,7 @@ def test_mismatched_shapes_and_unknown_choices_are_refused() -> None:
 
 @settings(max_examples=examples(40), deadline=None)
 @given(steps=st.lists(st.floats(0.002, 0.012), min_size=4, max_size=31),
-       kind=st.sampled_from(('not-a-knot', 'natural')))
+       kind=st.sampled_from(('not-a-knot', 'natural', 'jerk')))
 def test_penalty_eigen_kept_by_stamps_is_the_computed_answer(steps, kind) -> None:
     """A kept answer is the same arrays, bit-equal to a fresh one; other stamps, another."""
     times = _times(steps)
