@@ -9,8 +9,10 @@ Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qo
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
 and records the wall time of every message callback (conversion, detector, publishing); a
-second child (``--listen``) records when each ``/impact_node/impact`` arrives. Each pitch is a
-swing that hits the ball; between pitches both streams pause longer than ``max_gap``.
+second child (``--listen``) records when each ``/impact_node/impact`` arrives. The node's child
+starts numpy with one BLAS thread, as the ``impact_node`` script does (``entry_points``). Each
+pitch is a swing that hits the ball; between pitches both streams pause longer than
+``max_gap``.
 
 * processing: median, mean, p99 and max over every message of the wall time inside the
   node's handling of that one message (``ImpactNode._take``: the stamp and the tally, the
@@ -62,6 +64,7 @@ import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.entry_points import BLAS_THREAD_VARIABLES
 from baseball_collision.ros import node as node_module
 from baseball_collision.ros.node import ImpactNode
 from geometry_msgs.msg import PointStamped, PoseStamped
@@ -431,7 +434,9 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     env = dict(os.environ, BENCH_NODE_BREAKDOWN='1' if broken_down else '0',
                BENCH_NODE_NO_FREEZE='1' if not freeze else '0',
                BENCH_NODE_CONSUMERS='1' if consumers else '0')
-    server = _child('--serve', env, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
+    # the node's process starts numpy as the impact_node script does (entry_points)
+    served = dict(env, **{name: env.get(name, '1') for name in BLAS_THREAD_VARIABLES})
+    server = _child('--serve', served, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
                     '-p', f'model:={model}', '-p', f'look_ahead:={look_ahead}')
