@@ -8,7 +8,8 @@ computer, two trackers, a pool of ``analyze`` workers) the threads wait for each
 0.11-0.14 ms with one on a loaded 2-core machine (BENCHMARKS.md, "One BLAS thread"). The answers
 are the same to the bit. ``threadpoolctl`` (a small, well-kept library: scikit-learn's) sets the
 limit at run time for whichever BLAS numpy loaded (OpenBLAS, MKL, BLIS; x86 or arm64), which an
-environment variable cannot once numpy is imported.
+environment variable cannot once numpy is imported. (The console scripts set those variables
+before numpy loads too, ``entry_points``, which also spares OpenBLAS starting its threads.)
 
 A program that makes a ``Detector`` in its own process keeps its own threads; it can call
 :func:`single_threaded_blas` too.
