@@ -133,6 +133,14 @@ def test_colcon_build_installs_executables_and_data(tmp_path: Path) -> None:
             assert (share / bag.relative_to(REPO_ROOT)).is_file(), bag
     assert not (REPO_ROOT / 'build').exists() and not (REPO_ROOT / 'install').exists()
     _installed_kernel_is_used(prefix, env, tmp_path)
+    # the installed command line runs from the install (through ``entry_points``)
+    site = next((prefix / 'lib').glob('python3*/site-packages'))
+    completed = subprocess.run(
+        [sys.executable, str(prefix / 'lib' / 'baseball_collision' / 'baseball-collision'),
+         '--help'], cwd=tmp_path, capture_output=True, text=True, timeout=60,
+        env=dict(env, PYTHONPATH=str(site)))
+    assert completed.returncode == 0, completed.stderr
+    assert 'analyze' in completed.stdout
 
 
 def _installed_kernel_is_used(prefix: Path, env: dict, cwd: Path) -> None:
