@@ -38,6 +38,7 @@ from .streams import SILENT_KEEP, Stream
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
 from ..prediction import prediction_due
+from ..toi import _kernel
 
 if TYPE_CHECKING:  # (the predictor is only passed in)
     from .predictor import Predictor
@@ -612,14 +613,11 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     """
     n = len(counts)
     following = np.maximum(np.maximum(_first_reaching(counts, cuts + TRIM_FROM),
-                                      _next_greater(cuts)), np.arange(1, n + 1)).item
-    at = []  # the samples that trim (about one step in seven: read one at a time, not listed)
-    j = max(int(np.searchsorted(counts, TRIM_FROM, 'left')), int(np.searchsorted(cuts, 1, 'left')))
-    while j < n:
-        at.append(j)
-        j = following(j)
-    trims = np.zeros(n, bool)
-    trims[at] = True
+                                      _next_greater(cuts)), np.arange(1, n + 1))
+    trims = np.zeros(n, bool)  # the samples that trim (about one in five: the chain, compiled)
+    _kernel.chain_marks(following.astype(np.int64, copy=False),
+                        max(int(np.searchsorted(counts, TRIM_FROM, 'left')),
+                            int(np.searchsorted(cuts, 1, 'left'))), trims)
     starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
     after = starts[np.cumsum(trims)]  # (cumsum: the trims at or before each sample)
     return after, counts - np.concatenate(([0], after[:-1]))

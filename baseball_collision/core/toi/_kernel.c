@@ -53,6 +53,8 @@
  *        chart, the window's samples and a c2 bat path's deviation bound
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
  *        (core.detector.noise)
+ *   chain_marks(following, start, marks)  the samples a chunk's plan trims at
+ *        (core.detector.plans)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -2823,6 +2825,56 @@ done:
   return result;
 }
 
+/*
+ * chain_marks(following, start, marks): marks[j] = True for j = start, following[start],
+ * following[following[start]], ... while j < n (core.detector.plans._trims: the samples that
+ * trim). following: a contiguous int64 array of n entries, each greater than its index;
+ * marks: a contiguous writable bool array of n. ValueError: other buffers, or an entry not
+ * greater than its index (the walk would not end).
+ */
+static PyObject *py_chain_marks(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t j;
+  if (nargs != 3 || !read_index(args[1], &j)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "chain_marks(following, start, marks)");
+    }
+    return NULL;
+  }
+  Py_buffer next, marks;
+  if (PyObject_GetBuffer(args[0], &next, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    return NULL;
+  }
+  if (PyObject_GetBuffer(args[2], &marks, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE) < 0) {
+    PyBuffer_Release(&next);
+    return NULL;
+  }
+  Py_ssize_t n = marks.len;
+  PyObject *result = NULL;
+  if (next.itemsize != sizeof(int64_t) || next.format == NULL ||
+      (strcmp(next.format, "q") != 0 && strcmp(next.format, "l") != 0) ||
+      next.len != n * (Py_ssize_t)sizeof(int64_t) || marks.itemsize != 1 ||
+      marks.format == NULL || strcmp(marks.format, "?") != 0) {
+    PyErr_SetString(PyExc_ValueError, "chain_marks: following must be n int64, marks n bool");
+    goto done;
+  }
+  const int64_t *following = next.buf;
+  bool *marked = marks.buf;
+  while (j >= 0 && j < n) {
+    marked[j] = true;
+    if (following[j] <= j) {
+      PyErr_SetString(PyExc_ValueError, "chain_marks: an entry not after its index");
+      goto done;
+    }
+    j = (Py_ssize_t)following[j];
+  }
+  result = Py_NewRef(Py_None);
+done:
+  PyBuffer_Release(&next);
+  PyBuffer_Release(&marks);
+  return result;
+}
+
 /* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
@@ -2872,6 +2924,8 @@ static PyMethodDef methods[] = {
     {"c2_chart", (PyCFunction)(void (*)(void))py_c2_chart, METH_FASTCALL,
      "c2_chart(samples, j, max_angle): (first, rows) of the c2 window's chart: knob, rotation "
      "vector from samples[j]'s direction, length"},
+    {"chain_marks", (PyCFunction)(void (*)(void))py_chain_marks, METH_FASTCALL,
+     "chain_marks(following, start, marks): mark start, following[start], ... below n"},
     {"c2_window", (PyCFunction)(void (*)(void))py_c2_window, METH_FASTCALL,
      "c2_window(times, breaks, k, max_gap, look_ahead, size): the range of samples a c2 fit of "
      "interval k takes"},

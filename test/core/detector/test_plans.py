@@ -14,12 +14,41 @@ from baseball_collision.core.detector.plans import (
     _value_checks, Items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
+from baseball_collision.core.toi import _kernel
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
 
 FINITE = st.floats(-10.0, 10.0, allow_nan=False)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(jumps=st.lists(st.integers(1, 6), min_size=0, max_size=40), start=st.integers(0, 45))
+def test_chain_marks_walks_the_chain(jumps: List[int], start: int) -> None:
+    """The kernel's ``chain_marks`` marks start, following[start], ... below n, as a walk."""
+    n = len(jumps)
+    following = np.arange(n, dtype=np.int64) + np.array(jumps, dtype=np.int64)
+    expected = np.zeros(n, bool)
+    j = start
+    while j < n:
+        expected[j] = True
+        j = int(following[j])
+    marks = np.zeros(n, bool)
+    _kernel.chain_marks(following, start, marks)
+    assert np.array_equal(marks, expected)
+
+
+def test_chain_marks_refuses_what_would_not_end_or_is_not_its_arrays() -> None:
+    """An entry not after its index, or buffers of other types or sizes: ValueError."""
+    marks = np.zeros(3, bool)
+    with pytest.raises(ValueError, match='not after its index'):
+        _kernel.chain_marks(np.array([1, 1, 3], np.int64), 0, marks)
+    for following, out in ((np.array([1, 2, 3], np.int32), marks),
+                           (np.array([1, 2, 3], np.int64), np.zeros(3, np.int64)),
+                           (np.array([1, 2], np.int64), marks)):
+        with pytest.raises(ValueError, match='int64'):
+            _kernel.chain_marks(following, 0, out)
 
 
 @settings(max_examples=examples(200), deadline=None)
