@@ -399,11 +399,16 @@ def listen() -> int:
 # the publishing process
 
 
-def _child(mode: str, env: Dict[str, str], *ros_args: str) -> subprocess.Popen:
-    """Start this file in a child mode (``--serve``, ``--listen``) with ROS arguments."""
+def _child(mode: str, env: Dict[str, str], *ros_args: str,
+           prefix: Sequence[str] = ()) -> subprocess.Popen:
+    """
+    Start this file in a child mode (``--serve``, ``--listen``) with ROS arguments.
+
+    :param prefix: a command the child runs under (e.g. ``chrt -f 50``).
+    """
     log = tempfile.TemporaryFile('w+')  # its stderr (a pipe read only at the end could fill)
-    child = subprocess.Popen([sys.executable, __file__, mode, '--ros-args', *ros_args], env=env,
-                             stdout=subprocess.PIPE, stderr=log, text=True)
+    child = subprocess.Popen([*prefix, sys.executable, __file__, mode, '--ros-args', *ros_args],
+                             env=env, stdout=subprocess.PIPE, stderr=log, text=True)
     child.log = log
     return child
 
@@ -426,8 +431,13 @@ def _stop(child: subprocess.Popen) -> object:
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
         period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
-        broken_down: bool = False, consumers: bool = False, freeze: bool = True) -> None:
-    """Start the node and listener processes, publish the pitches, print the figures."""
+        broken_down: bool = False, consumers: bool = False, freeze: bool = True,
+        fifo: int = 0) -> None:
+    """
+    Start the node and listener processes, publish the pitches, print the figures.
+
+    :param fifo: > 0: the node's process (all its threads) under SCHED_FIFO at this priority.
+    """
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
@@ -439,7 +449,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     server = _child('--serve', served, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
-                    '-p', f'model:={model}', '-p', f'look_ahead:={look_ahead}')
+                    '-p', f'model:={model}', '-p', f'look_ahead:={look_ahead}',
+                    prefix=('chrt', '-f', str(fifo)) if fifo else ())
     listener = _child('--listen', env)
     rclpy.init()
     node = rclpy.create_node('bench_publisher')
@@ -679,6 +690,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--no-freeze', action='store_true',
                         help='the node process does not freeze its start-up objects out of the '
                         'garbage collector (as impact_node does: node.freeze_start_up)')
+    parser.add_argument('--fifo', type=int, metavar='PRIORITY', default=0,
+                        help="run the node's process under SCHED_FIFO at this priority (chrt -f; "
+                        'a real-time deployment; needs the right to)')
     parser.add_argument('--breakdown', action='store_true',
                         help="split the predicting messages' CPU time into phases")
     parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
@@ -695,7 +709,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                    args.model, not args.no_freeze)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
-        args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze)
+        args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze,
+        args.fifo)
     return 0
 
 
