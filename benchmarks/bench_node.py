@@ -3,7 +3,8 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
-[--consumers] [--no-freeze]``, ``--in-process RUNS`` for the node alone in this process, or
+[--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS`` for the node alone in
+this process, or
 ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
@@ -35,6 +36,9 @@ pitch is a swing that hits the ball; between pitches both streams pause longer t
   its events, each publication and the rest of the callback; median and p90 over the
   messages that predicted, and over those that published a prediction; the same phases'
   wall time beside (``wall ...``).
+* ``--fifo P``: the node's process, all its threads, under ``SCHED_FIFO`` priority P
+  (``chrt -f P``; a real-time deployment: ``ros2 run --prefix``), the others at normal
+  priority.
 * ``--consumers``: the listener also subscribes to ``~/predicted_impact`` and
   ``~/impact_report`` (a batting arm's controller and a recorder), so the node makes and sends
   every prediction's record; without it nobody subscribes to them.
