@@ -4,8 +4,7 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
 [--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS`` for the node alone in
-this process, or
-``--startup RUNS`` for the start-up time alone.
+this process, or ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
