@@ -10,16 +10,22 @@ import the node or the command line. Nothing here imports numpy.
 """
 
 import os
-from typing import List, Optional
+from typing import List, MutableMapping, Optional
 
 BLAS_THREAD_VARIABLES = ('OPENBLAS_NUM_THREADS', 'MKL_NUM_THREADS', 'BLIS_NUM_THREADS')
 """The variables numpy's BLAS libraries (OpenBLAS, MKL, BLIS) read for their thread count."""
 
 
-def one_blas_thread_from_start() -> None:
-    """Ask every BLAS library numpy may load for one thread, where the user did not say."""
+def one_blas_thread_from_start(environment: Optional[MutableMapping[str, str]] = None) -> None:
+    """
+    Ask every BLAS library numpy may load for one thread, where the user did not say.
+
+    :param environment: the variables to set (None: this process's, ``os.environ``; a child's
+        environment to start it so).
+    """
+    environment = os.environ if environment is None else environment
     for variable in BLAS_THREAD_VARIABLES:
-        os.environ.setdefault(variable, '1')
+        environment.setdefault(variable, '1')
 
 
 def impact_node(args: Optional[List[str]] = None) -> int:

@@ -67,7 +67,7 @@ import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector.predictor import Predictor
-from baseball_collision.entry_points import BLAS_THREAD_VARIABLES
+from baseball_collision.entry_points import one_blas_thread_from_start
 from baseball_collision.ros import node as node_module
 from baseball_collision.ros.node import ImpactNode
 from geometry_msgs.msg import PointStamped, PoseStamped
@@ -448,7 +448,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
                BENCH_NODE_NO_FREEZE='1' if not freeze else '0',
                BENCH_NODE_CONSUMERS='1' if consumers else '0')
     # the node's process starts numpy as the impact_node script does (entry_points)
-    served = dict(env, **{name: env.get(name, '1') for name in BLAS_THREAD_VARIABLES})
+    served = dict(env)
+    one_blas_thread_from_start(served)
     server = _child('--serve', served, '-p', f'qos:={qos_name}', '-p', 'qos_depth:=1000',
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',

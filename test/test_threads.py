@@ -4,6 +4,8 @@ import os
 import subprocess
 import sys
 
+from baseball_collision.entry_points import BLAS_THREAD_VARIABLES
+
 TWO_THREADS = dict(os.environ, OPENBLAS_NUM_THREADS='2', OMP_NUM_THREADS='2')
 """A child's environment in which numpy's BLAS starts with two threads, whatever the cores."""
 
@@ -52,8 +54,7 @@ def test_importing_the_package_loads_neither_numpy_nor_the_core() -> None:
 def test_the_console_scripts_start_numpy_with_one_blas_thread() -> None:
     """Through ``entry_points`` numpy's BLAS has one thread before any run-time limit."""
     environment = {name: value for name, value in TWO_THREADS.items()
-                   if name not in ('OPENBLAS_NUM_THREADS', 'MKL_NUM_THREADS',
-                                   'BLIS_NUM_THREADS')}  # OpenBLAS then reads OMP_NUM_THREADS
+                   if name not in BLAS_THREAD_VARIABLES}  # OpenBLAS then reads OMP_NUM_THREADS
     script = ('import contextlib, io\n'
               'from baseball_collision import threads\n'
               'seen = []\n'

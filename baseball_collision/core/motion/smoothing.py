@@ -3,7 +3,7 @@ Cubic smoothing splines over a window of noisy samples on uneven stamps: numpy o
 
 A smoothing spline is the cubic spline ``f`` through smoothed values ``f = (I + lam P)^-1 y``
 at the knots, ``P`` a roughness penalty (symmetric, positive semi-definite) and ``lam`` its
-weight. Two penalties (``PENALTIES``), both linear in the values:
+weight. Three penalties (``PENALTIES``), each linear in the values:
 
 * ``natural``: Reinsch (1967), the integral of f''^2, ``P = Q R^-1 Q^T``: the natural cubic
   smoothing spline (f'' = 0 at both ends). Its straight lines cost nothing; at a window's end
