@@ -42,6 +42,10 @@ from ..toi import _kernel
 SMOOTHER = ('not-a-knot', 'likelihood')
 """The smoothing penalty and weight rule (``smoothing.PENALTIES``, ``smoothing.TARGETS``)."""
 
+BAT_GROUPS = (slice(0, 3), slice(3, 6), slice(6, 7))
+"""A bat chart row's columns (``c2_rows``: knob, rotation vector, length) that share a
+smoothing weight (``bat_variances``: one noise per group)."""
+
 MARKER_SPREAD_M = 0.3
 """The spread of a bat's markers (m): a pose's orientation noise is sigma / this (rad)."""
 
@@ -195,10 +199,10 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     j = k - window.start
     if noise > 0.0:
         values, slopes = smooth(times, np.asarray(stream.values[window.start:window.stop]),
-                                [noise * noise] * 3, *SMOOTHER)
+                                [noise * noise] * 3, *SMOOTHER, start=j)
         return PointPath(times[j], times[j + 1], tuple(values[j].tolist()),
-                         tuple(values[j + 1].tolist()), tuple(slopes[j].tolist()),
-                         tuple(slopes[j + 1].tolist()))
+                         tuple(values[j + 1].tolist()), tuple(slopes[0].tolist()),
+                         tuple(slopes[1].tolist()))
     slopes = not_a_knot_slope_rows(times, stream.values[window.start:window.stop], j)
     return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
                      slopes[1])
@@ -248,12 +252,8 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
     first, rows = c2_rows(samples, k)
     window = times[first:first + len(rows)]
     variances = bat_variances(samples[k], noise)
-    values = np.asarray(rows, dtype=float)
-    fitted, slopes = np.empty_like(values), np.empty_like(values)
-    eigen = penalty_eigen(window, SMOOTHER[0])
-    for columns in (slice(0, 3), slice(3, 6), slice(6, 7)):
-        fitted[:, columns], slopes[:, columns] = smooth(window, values[:, columns],
-                                                        variances[columns], *SMOOTHER, eigen)
+    fitted, slopes = smooth(window, np.asarray(rows, dtype=float), variances, *SMOOTHER,
+                            penalty_eigen(window, SMOOTHER[0]), BAT_GROUPS, k - first)
     reference = unit_axis(samples[k])
     ends = []
     for i in (k - first, k + 1 - first):
@@ -264,9 +264,10 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
         original = samples[first + i]
         ends.append(BatSample(knob, tip, original.position, original.quaternion))
     origin = unit_axis(ends[0])
-    turns = [_recharted(reference, origin, fitted[i, 3:6], slopes[i, 3:6])[1]
-             for i in (k - first, k + 1 - first)]
-    s0, s1 = slopes[k - first], slopes[k + 1 - first]
+    # (the slopes are those of the interval's knots on: its own two first)
+    turns = [_recharted(reference, origin, fitted[k - first + i, 3:6], slopes[i, 3:6])[1]
+             for i in (0, 1)]
+    s0, s1 = slopes[0], slopes[1]
     return C2BatPath(times[k], times[k + 1], ends[0], ends[1],
                      (tuple(s0[:3].tolist()), tuple(s1[:3].tolist())), (turns[0], turns[1]),
                      (float(s0[6]), float(s1[6])))
@@ -404,7 +405,7 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
     value_errors, rate_errors = np.zeros(3), np.zeros(3)
     eigen = penalty_eigen(times, SMOOTHER[0]) if noise > 0.0 else None
     value, rate = piece_weights(times, np.eye(len(times)), j - first, t)
-    for group, columns in enumerate((slice(0, 3), slice(3, 6), slice(6, 7))):
+    for group, columns in enumerate(BAT_GROUPS):
         if eigen is not None:
             smoother = smoother_matrix(times, values[:, columns], variances[columns],
                                        *SMOOTHER, eigen)

@@ -39,7 +39,8 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .splines import not_a_knot_slopes
+from .splines import not_a_knot_slope_rows, not_a_knot_slopes
+from ..toi import _kernel
 
 PENALTIES = ('natural', 'not-a-knot', 'jerk')
 """The roughness penalties ``smooth`` knows."""
@@ -200,32 +201,33 @@ def third_jumps(times: Sequence[float]) -> np.ndarray:
 
     :param times: (n,) strictly increasing (s).
     """
-    t = np.asarray(times, dtype=float)
-    n = len(t)
+    n = len(times)
     if n < 5:
         return np.zeros((0, n))
-    h = np.diff(t)
-    basis = np.eye(n)
-    slopes = not_a_knot_slopes(t, basis)  # linear in the values: one column per unit value
-    chords = np.diff(basis, axis=0) / h[:, None]
-    third = 6.0 * (slopes[:-1] + slopes[1:] - 2.0 * chords) / (h * h)[:, None]
-    return third[2:n - 2] - third[1:n - 3]
+    # each unit value's not-a-knot slopes (the spline is linear in its values), each piece's
+    # third derivative 6 (s0 + s1 - 2 chord) / h^2 and its jumps, in the compiled kernel
+    return np.frombuffer(_kernel.third_jumps(
+        times.tolist() if isinstance(times, np.ndarray) else times)).reshape(n - 4, n)
 
 
 def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
-                     target: str) -> float:
+                     target: str, terms: Optional['WeightTerms'] = None) -> float:
     """
     Return the weight lam (dimensionless, inf for the stiffest fit) for eigen-coordinates z.
 
     :param p: (n,) the penalty's eigenvalues; ``z``: (n, columns) the values in its
         eigenvectors; ``variances``: (columns,) > 0.
+    :param terms: ``WeightTerms(p)`` when the caller has them (``PenaltyEigen.terms``: made
+        once per window); the same numbers either way.
     """
     n = len(p)
     scaled = (z * z / variances[None, :]).sum(axis=1)
     columns = len(variances)
-    rough = p > 1e-9 * max(float(np.max(p)), 1e-300)
+    if terms is None:
+        terms = WeightTerms(p)
+    rough = terms.rough
     if target == 'likelihood':
-        return _likeliest(p[rough], scaled[rough], columns)
+        return _likeliest(terms, scaled[rough], columns)
 
     def excess(lam: float) -> float:
         shrink = lam * p / (1.0 + lam * p)
@@ -248,27 +250,72 @@ def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
     return 10.0 ** low
 
 
-def _likeliest(p: np.ndarray, scaled: np.ndarray, columns: int) -> float:
+class WeightTerms:
+    """
+    What the weight of largest likelihood needs of a penalty's eigenvalues alone.
+
+    The eigenvalues that count (``rough``: the penalty's null space drops out, as in REML),
+    the grid of log10 weights (``LOG_WEIGHTS`` in steps of 0.1), and per grid weight lam the
+    sum of log(1 + 1 / (lam p_i)) (``spread_logs``) and the factors 1 / (1 + 1 / (lam p_i))
+    (``shrinks``, one row per weight). They depend on the stamps only, so a window's are made
+    once (``PenaltyEigen.terms``) for each group of columns it smooths.
+
+    :param p: (n,) the penalty's eigenvalues (>= 0).
+    """
+
+    __slots__ = ('rough', 'logs', 'spread_logs', 'shrinks')
+
+    def __init__(self, p: np.ndarray) -> None:
+        self.rough = p > 1e-9 * max(float(np.max(p)), 1e-300) if len(p) else np.zeros(0, bool)
+        kept = p[self.rough]
+        self.logs = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
+        spread = 1.0 + 1.0 / (10.0 ** self.logs[:, None] * kept[None, :])
+        self.spread_logs = np.log(spread).sum(axis=1)
+        self.shrinks = 1.0 / spread
+
+
+def _likeliest(terms: WeightTerms, scaled: np.ndarray, columns: int) -> float:
     """
     Return the weight of largest marginal likelihood (inf when that is the stiffest fit).
 
     The penalty as a Gaussian prior of precision lam P / sigma^2 on the values: each rough
     eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)), and
-    ``scaled`` holds z_i^2 / sigma^2 summed over the ``columns``. Searched on a grid of
-    ``LOG_WEIGHTS`` in steps of 0.1 (the null space drops out, as in REML).
+    ``scaled`` holds z_i^2 / sigma^2 summed over the ``columns`` (the rough ones only). Searched
+    on the grid of ``terms`` (the null space drops out, as in REML).
     """
-    if not len(p):
+    if not len(scaled):
         return np.inf
-    logs = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
-    spread = 1.0 + 1.0 / (10.0 ** logs[:, None] * p[None, :])
-    cost = columns * np.log(spread).sum(axis=1) + (scaled[None, :] / spread).sum(axis=1)
+    cost = columns * terms.spread_logs + terms.shrinks @ scaled
     best = int(np.argmin(cost))
-    return np.inf if best == len(logs) - 1 else float(10.0 ** logs[best])
+    return np.inf if best == len(terms.logs) - 1 else float(10.0 ** terms.logs[best])
 
 
-def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.ndarray]:
+class PenaltyEigen(tuple):
+    """
+    A window's penalty's (eigenvalues, eigenvectors), read-only, and its ``WeightTerms``.
+
+    A pair (``p, u = eigen`` unpacks it); ``terms`` makes the weight search's terms on first
+    use and keeps them.
+    """
+
+    def __new__(cls, values: np.ndarray, vectors: np.ndarray) -> 'PenaltyEigen':
+        """Return the pair (eigenvalues, eigenvectors)."""
+        return super().__new__(cls, (values, vectors))
+
+    @property
+    def terms(self) -> WeightTerms:
+        """Return the weight search's terms of these eigenvalues (made once)."""
+        found = self.__dict__.get('_terms')
+        if found is None:
+            found = self.__dict__['_terms'] = WeightTerms(self[0])
+        return found
+
+
+def penalty_eigen(times: Sequence[float], kind: str) -> PenaltyEigen:
     """
     Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty`` (read-only).
+
+    As a ``PenaltyEigen``: the pair, with the weight search's terms made on first use.
 
     They depend on the stamps and the kind only, and one window's stamps are smoothed again and
     again (the ball's and the bat's windows of an interval share them; an impact's velocities
@@ -286,7 +333,7 @@ def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.nda
         u.setflags(write=False)
         if len(_EIGEN) >= _EIGEN_KEPT:
             _EIGEN.clear()
-        found = _EIGEN[key] = (p, u)
+        found = _EIGEN[key] = PenaltyEigen(p, u)
     return found
 
 
@@ -309,6 +356,59 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
         groups over one window share it).
     :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
+    y, v = _checked(times, values, variances, target)
+    eigen = eigen if eigen is not None else penalty_eigen(times, kind)
+    p, u = eigen
+    keep = _keep(eigen, u.T @ y, v, target)
+    return np.eye(len(times)) if keep is None else (u * keep[None, :]) @ u.T
+
+
+def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
+           kind: str = 'not-a-knot', target: str = 'likelihood',
+           eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+           groups: Sequence[slice] = (slice(None),), start: int = 0
+           ) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return (smoothed values, slopes per second) at the knots: see the module docstring.
+
+    Columns of zero variance come back as given (interpolated). Each group of columns has its
+    own weight: ``smooth(..., groups=(a, b))`` is ``smooth`` of columns ``a`` and of columns
+    ``b`` in turn, in one pass (the eigenvectors applied once, the slopes solved once).
+
+    :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns);
+        ``variances``: (columns,) the noise variance of each column; ``eigen``: as for
+        ``smoother_matrix``; ``groups``: slices of the columns, each smoothed with one weight.
+    :param start: the slopes of knots ``start`` .. n - 1 only (rows n - ``start``; the values
+        are all n): a window's interval is near its end (``not-a-knot`` only).
+    :raises ValueError: an unknown penalty or target, or shapes that do not match; ``start``
+        not 0 with another penalty.
+    """
+    y, v = _checked(times, values, variances, target)
+    eigen = eigen if eigen is not None else penalty_eigen(times, kind)
+    p, u = eigen
+    z = u.T @ y
+    fitted = y.copy()
+    for group in groups:
+        keep = _keep(eigen, z[:, group], v[group], target)
+        if keep is not None:
+            fitted[:, group] = u @ (keep[:, None] * z[:, group])
+    fitted[:, v <= 0.0] = y[:, v <= 0.0]
+    if start:
+        if kind != 'not-a-knot':
+            raise ValueError(f'the slopes from knot {start} are not-a-knot only, not {kind!r}')
+        return fitted, np.array(not_a_knot_slope_rows(times, fitted, start))
+    slopes = {'natural': natural_slopes, 'jerk': jerk_slopes}.get(kind, not_a_knot_slopes)(
+        times, fitted)
+    return fitted, slopes
+
+
+def _checked(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
+             target: str) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return values (n, columns) and variances (columns,) as float arrays.
+
+    :raises ValueError: an unknown target, or shapes that do not match.
+    """
     y = np.asarray(values, dtype=float)
     v = np.asarray(variances, dtype=float)
     if target not in TARGETS:
@@ -316,36 +416,21 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     if y.ndim != 2 or y.shape[0] != len(times) or v.shape != (y.shape[1],):
         raise ValueError(f'values {y.shape} and variances {v.shape} do not match '
                          f'{len(times)} stamps')
-    n = len(times)
-    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
+    return y, v
+
+
+def _keep(eigen: Tuple[np.ndarray, np.ndarray], z: np.ndarray, v: np.ndarray,
+          target: str) -> Optional[np.ndarray]:
+    """
+    Return the smoother's factor on each eigen-coordinate, or None for the identity.
+
+    1 / (1 + lam p) with the weight chosen on the noisy columns of z (the values in the
+    eigenvectors); None where no column is noisy or the penalty is zero (nothing smoothed).
+    """
+    p = eigen[0]
     noisy = v > 0.0
     if not np.any(noisy) or not np.any(p > 0.0):
-        return np.eye(n)
-    z = u.T @ y[:, noisy]
-    lam = smoothing_weight(p, z, v[noisy], target)
-    keep = 1.0 / (1.0 + lam * p) if np.isfinite(lam) else (
+        return None
+    lam = smoothing_weight(p, z[:, noisy], v[noisy], target, getattr(eigen, 'terms', None))
+    return 1.0 / (1.0 + lam * p) if np.isfinite(lam) else (
         p <= 1e-9 * float(np.max(p))).astype(float)
-    return (u * keep[None, :]) @ u.T
-
-
-def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
-           kind: str = 'not-a-knot', target: str = 'likelihood',
-           eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None
-           ) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return (smoothed values, slopes per second) at the knots: see the module docstring.
-
-    Columns of zero variance come back as given (interpolated).
-
-    :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns);
-        ``variances``: (columns,) the noise variance of each column; ``eigen``: as for
-        ``smoother_matrix``.
-    :raises ValueError: an unknown penalty or target, or shapes that do not match.
-    """
-    y = np.asarray(values, dtype=float)
-    v = np.asarray(variances, dtype=float)
-    fitted = smoother_matrix(times, y, v, kind, target, eigen) @ y
-    fitted[:, v <= 0.0] = y[:, v <= 0.0]
-    slopes = {'natural': natural_slopes, 'jerk': jerk_slopes}.get(kind, not_a_knot_slopes)(
-        times, fitted)
-    return fitted, slopes

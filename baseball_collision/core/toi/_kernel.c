@@ -46,7 +46,8 @@
  *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
- *   not_a_knot(times, rows, start), c2_chart(samples, j, max_angle), bat_axis(sample),
+ *   not_a_knot(times, rows, start), third_jumps(times), c2_chart(samples, j, max_angle),
+ *   bat_axis(sample),
  *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
@@ -2389,6 +2390,73 @@ done:
 }
 
 /*
+ * third_jumps(times) -> bytes: the (n - 4) x n matrix J (row-major doubles, per s^3) whose
+ * product with values gives the not-a-knot interpolant's third-derivative jumps at the inner
+ * knots 2..n-3 (core.motion.smoothing.third_jumps): the slopes of each unit value's spline
+ * (not_a_knot_solve on the identity), each piece's third derivative 6 (s0 + s1 - 2 chord) / h^2
+ * in numpy's order of operations, and the differences of consecutive pieces'. ValueError:
+ * fewer than 5 stamps.
+ */
+static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
+{
+  PyObject *times = PySequence_Fast(arg, "times must be a sequence");
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (times == NULL) {
+    return NULL;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (n < 5) {
+    PyErr_SetString(PyExc_ValueError, "third_jumps: at least 5 stamps");
+    goto done;
+  }
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (8 + 3 * n)));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *t = memory, *basis = t + n, *slopes = basis + n * n, *third = slopes + n * n;
+  double *work = third + n * n; /* 6 n */
+  double *h = work + 6 * n;     /* n - 1 */
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
+  }
+  if (PyErr_Occurred()) {
+    goto done;
+  }
+  for (Py_ssize_t i = 0; i < n * n; i++) {
+    basis[i] = 0.0;
+  }
+  for (Py_ssize_t i = 0; i < n; i++) {
+    basis[i * n + i] = 1.0;
+  }
+  not_a_knot_solve(t, n, basis, n, 0, slopes, work);
+  for (Py_ssize_t i = 0; i < n - 1; i++) {
+    h[i] = t[i + 1] - t[i];
+  }
+  for (Py_ssize_t i = 0; i < n - 1; i++) { /* piece i's third derivative per unit value c */
+    double hh = h[i] * h[i];
+    for (Py_ssize_t c = 0; c < n; c++) {
+      double chord = (basis[(i + 1) * n + c] - basis[i * n + c]) / h[i];
+      third[i * n + c] = 6.0 * (slopes[i * n + c] + slopes[(i + 1) * n + c] - 2.0 * chord) / hh;
+    }
+  }
+  result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * (n - 4) * n);
+  if (result != NULL) {
+    double *jumps = (double *)PyBytes_AS_STRING(result);
+    for (Py_ssize_t r = 0; r < n - 4; r++) { /* the jump at knot r + 2 */
+      for (Py_ssize_t c = 0; c < n; c++) {
+        jumps[r * n + c] = third[(r + 2) * n + c] - third[(r + 1) * n + c];
+      }
+    }
+  }
+done:
+  PyMem_Free(memory);
+  Py_DECREF(times);
+  return result;
+}
+
+/*
  * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
  * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
  * exception (no knob or tip of 3 numbers).
@@ -2917,6 +2985,9 @@ static PyMethodDef methods[] = {
     {"not_a_knot", (PyCFunction)(void (*)(void))py_not_a_knot, METH_FASTCALL,
      "not_a_knot(times, rows, start): the not-a-knot spline's slopes at knots start..n-1, "
      "a tuple per knot (n >= 4)"},
+    {"third_jumps", py_third_jumps, METH_O,
+     "third_jumps(times): the not-a-knot interpolant's third-derivative jumps at the inner "
+     "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
     {"rotation_to", (PyCFunction)(void (*)(void))py_rotation_to, METH_FASTCALL,

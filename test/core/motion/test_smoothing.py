@@ -282,3 +282,91 @@ def test_penalty_eigen_keeps_a_bounded_number() -> None:
     for k in range(smoothing._EIGEN_KEPT + 5):
         penalty_eigen(_times([0.01 + 1e-6 * k] * 6), 'not-a-knot')
         assert len(smoothing._EIGEN) <= smoothing._EIGEN_KEPT
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=31),
+       sigmas=st.lists(st.sampled_from((0.0, 1e-4, 1e-3, 1e-2)), min_size=7, max_size=7),
+       seed=st.integers(0, 2 ** 16))
+def test_groups_smooth_as_each_group_alone(steps, sigmas, seed) -> None:
+    """One call with groups is each group's own call: its weight, values and slopes."""
+    times = _times(steps)
+    rng = np.random.default_rng(seed)
+    values = np.c_[np.sin(20.0 * times[:, None] + rng.uniform(0, 6, 7)) * rng.uniform(0.1, 2, 7)]
+    values = values + rng.normal(0.0, 1.0, values.shape) * np.array(sigmas)
+    variances = np.array(sigmas) ** 2
+    groups = (slice(0, 3), slice(3, 6), slice(6, 7))
+    smoothing._EIGEN.clear()
+    fitted, slopes = smooth(times, values, variances, groups=groups)
+    for group in groups:
+        alone, alone_slopes = smooth(times, values[:, group], variances[group])
+        scale = 1.0 + np.abs(values[:, group]).max()
+        assert np.allclose(fitted[:, group], alone, rtol=0.0, atol=1e-12 * scale)
+        assert np.allclose(slopes[:, group], alone_slopes, rtol=0.0,
+                           atol=1e-9 * scale / float(np.min(steps)))
+        matrix = smoother_matrix(times, values[:, group], variances[group])
+        noisy = variances[group] > 0.0  # (the matrix smooths every column; smooth keeps exact
+        assert np.allclose((matrix @ values[:, group])[:, noisy], alone[:, noisy], rtol=0.0,
+                           atol=1e-12 * scale)  # ones as given)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=4, max_size=31), data=st.data())
+def test_slopes_from_a_knot_are_those_knots_slopes(steps, data) -> None:
+    """``start`` gives the same slopes of knots start.. (to the bit) and all the values."""
+    times = _times(steps)
+    start = data.draw(st.integers(0, len(times) - 2))
+    values = np.c_[np.sin(25.0 * times), times ** 2] + np.array([[1e-3, -1e-3]] * len(times))
+    fitted, slopes = smooth(times, values, [1e-6, 0.0])
+    fitted_from, slopes_from = smooth(times, values, [1e-6, 0.0], start=start)
+    assert np.array_equal(fitted_from, fitted)
+    assert np.array_equal(slopes_from, slopes[start:])
+    with pytest.raises(ValueError, match='not-a-knot only'):
+        smooth(times, values, [1e-6, 0.0], kind='natural', start=max(start, 1))
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, seed=st.integers(0, 2 ** 16),
+       target=st.sampled_from(smoothing.TARGETS))
+def test_the_weight_terms_kept_with_the_eigen_give_the_same_weight(steps, seed, target) -> None:
+    """``PenaltyEigen.terms`` made once give the weight computed without them, to the bit."""
+    times = _times(steps)
+    smoothing._EIGEN.clear()
+    eigen = penalty_eigen(times, 'not-a-knot')
+    p, u = eigen  # (a pair)
+    rng = np.random.default_rng(seed)
+    z = u.T @ (np.sin(15.0 * times)[:, None] + rng.normal(0.0, 1e-3, (len(times), 2)))
+    variances = np.array([1e-6, 4e-6])
+    expected = smoothing_weight(p, z, variances, target)
+    assert eigen.terms is eigen.terms  # made once
+    assert smoothing_weight(p, z, variances, target, eigen.terms) == expected
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=st.lists(st.floats(0.001, 0.02), min_size=4, max_size=40),
+       offset=st.floats(0.0, 1e4), seed=st.integers(0, 2 ** 16))
+def test_third_jumps_are_the_interpolants_third_derivative_jumps(steps, offset, seed) -> None:
+    """
+    Brute force: J @ values are the jumps of the not-a-knot spline's third derivative.
+
+    The spline through random values from its slopes (``not_a_knot_slopes``), each piece's
+    third derivative from its Hermite form, their differences at knots 2 .. n - 3; zero on a
+    cubic; none below 5 stamps.
+    """
+    times = offset + _times(steps)
+    n = len(times)
+    jumps = smoothing.third_jumps(times)
+    assert jumps.shape == (max(n - 4, 0), n)
+    if n < 5:
+        return
+    assert np.array_equal(smoothing.third_jumps(list(times)), jumps)
+    values = np.random.default_rng(seed).normal(0.0, 1.0, n)
+    slopes = smoothing.not_a_knot_slopes(times, values[:, None])[:, 0]
+    h = np.diff(times)
+    third = [6.0 * (slopes[i] + slopes[i + 1] - 2.0 * (values[i + 1] - values[i]) / h[i])
+             / h[i] ** 2 for i in range(n - 1)]
+    expected = [third[i] - third[i - 1] for i in range(2, n - 2)]
+    size = np.abs(third).max()
+    assert np.allclose(jumps @ values, expected, rtol=0.0, atol=1e-9 * size)
+    cubic = 1.0 + 2.0 * (times - offset) - 3.0 * (times - offset) ** 3
+    assert np.allclose(jumps @ cubic, 0.0, atol=1e-7 * np.abs(jumps).max())
