@@ -85,6 +85,7 @@ from typing import List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import Detector, DetectorConfig
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, analyze_bags, BagAnalysis, CHUNK, run_detector,
     run_detector_chunks)
@@ -734,6 +735,9 @@ def main() -> None:
     parser.add_argument('--interleave', action='store_true',
                         help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
+    # the analyses in this process on one BLAS thread, as ``baseball-collision analyze`` runs
+    # them (cli.main): OpenBLAS's threads on the smoother's 32-wide matrices cost 10x
+    single_threaded_blas()
     print(f'bag: {density(args.pitch_every)}')
     if args.interleave:
         interleaved_figures(args.messages or 30_000, args.storage, args.model, args.repeats,
