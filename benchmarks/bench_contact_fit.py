@@ -44,6 +44,7 @@ from baseball_collision.core.motion import BatSample, c2_rows, end_state, not_a_
 from baseball_collision.core.motion import rotate, unit_axis
 from baseball_collision.core.motion.broken import broken_fit
 from baseball_collision.core.motion.smoothing import smooth
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
 import numpy as np
 
@@ -225,6 +226,7 @@ def main() -> None:
     parser.add_argument('--diagnose', action='store_true',
                         help="also left@last, cartesian and truth-fd (where left's error is)")
     args = parser.parse_args()
+    single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     poly = [tuple(int(x) for x in item.split('/')) for item in args.poly]
     started = time.perf_counter()
     labels = (['left'] + (['left@last', 'cartesian', 'truth-fd'] if args.diagnose else [])

@@ -22,6 +22,7 @@ import time
 from typing import List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.sim import DEFAULT_START_NS, KINDS, make_scenario, sample
 import numpy as np
 
@@ -72,6 +73,7 @@ def main() -> None:
     parser.add_argument('--per-message', action='store_true',
                         help='CPU time per Detector.add per model instead (bat as a pose)')
     args = parser.parse_args()
+    single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.per_message:
         messages = session(args.pitches, args.rate, args.seed, 'pose')
         print(f'| model | CPU per Detector.add, {args.rate:.0f} Hz per stream, {len(messages)} '

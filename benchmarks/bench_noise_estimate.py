@@ -16,6 +16,7 @@ import tempfile
 import types
 
 from baseball_collision.core.detector import detector as detector_module
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -38,6 +39,7 @@ def main() -> None:
     parser.add_argument('--messages', type=int, default=30_000)
     parser.add_argument('--repeats', type=int, default=2)
     args = parser.parse_args()
+    single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     estimators = {'before': load_estimator(args.before),
                   'now': detector_module.NoiseEstimate}
     options = AnalysisOptions(model='c2', parameters={'tracker_noise': -1.0})

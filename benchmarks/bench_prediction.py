@@ -25,6 +25,7 @@ import time
 from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, Scenario, truth_dict
 from baseball_collision.tools.truth import LEADS_S, PredictionIndex
 import numpy as np
@@ -153,6 +154,7 @@ def main() -> None:
     parser.add_argument('--changes', action='store_true',
                         help='only how much consecutive predictions move (every 10 ms)')
     args = parser.parse_args()
+    single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.cost_only:
         cost(args.seed)
         return

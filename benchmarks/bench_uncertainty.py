@@ -19,6 +19,7 @@ import time
 from typing import Callable, List
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
+from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
 import numpy as np
 
@@ -52,6 +53,7 @@ def main() -> None:
     parser.add_argument('--models', nargs='+', default=['rigid', 'c2'])
     parser.add_argument('--families', nargs='+', default=list(FAMILIES), choices=FAMILIES)
     args = parser.parse_args()
+    single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     for rate in args.rates:
         for noise_mm in args.noises:
             for model in args.models:
