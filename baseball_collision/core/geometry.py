@@ -1,5 +1,5 @@
 """
-Geometry on plain float tuples: vectors, rotations, poses, rigid bodies, capsule distance.
+Geometry on plain float tuples: vectors, rotations, poses, rigid bodies.
 
 One copy of each building block for the whole package. The scalar hot paths (solver, motion
 models, detector) work on tuples of three floats: for vectors this small, plain float arithmetic
@@ -13,13 +13,13 @@ is several times faster than numpy's per-call overhead. Quaternions are in ROS o
 * batches of quaternions (numpy): ``quaternion_multiply``, ``axis_angle_quaternions``,
   ``matrix_to_quaternion``;
 * poses and rigid bodies: ``pose_point``, ``interpolate_pose``, ``rigid_point_velocity``;
-* capsule distance: ``closest_on_segment``, ``unit_normal``, ``profile_gap`` (ball to a union
-  of capsules; the batch solver has its numpy sibling);
 * argument checks: ``finite_vector``, ``finite_number`` (raising the caller's layer's error).
+
+The distance of a ball to a bat's capsules is the compiled kernel's (``toi.profile_gap``).
 """
 
 import math
-from typing import Optional, Protocol, Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -264,80 +264,6 @@ def rigid_point_velocity(pivot_velocity: Vector, angular_velocity: Vector, pivot
                          point: Vector) -> Vector:
     """Return the velocity (m/s) of a rigid body's point: v_pivot + omega x (point - pivot)."""
     return add(pivot_velocity, cross(angular_velocity, sub(point, pivot)))
-
-
-# ----------------------------------------------------------------------------------------------
-# capsule distance
-
-
-class Capsules(Protocol):
-    """A union of capsules on a segment's axis (``BatProfile``): see ``segments``."""
-
-    def segments(self) -> Sequence[Tuple[float, float, float]]:
-        """Return the capsules as (fraction_start, fraction_end, radius (m)) along the axis."""
-
-
-def closest_on_segment(point: Vector, start: Vector, end: Vector) -> Tuple[float, Vector]:
-    """Return the fraction along start-end (clipped to [0, 1]) and the closest segment point."""
-    axis = sub(end, start)
-    axis2 = dot(axis, axis)
-    fraction = 0.0 if axis2 == 0.0 else min(1.0, max(0.0, dot(sub(point, start), axis) / axis2))
-    return fraction, lerp(start, end, fraction)
-
-
-def unit_normal(offset: Vector, axis: Vector, relative_velocity: Vector) -> Vector:
-    """
-    Return ``offset`` (from an axis point to a ball centre) as a unit vector.
-
-    For a ball centre on the axis (no direction), a unit vector across the axis: against the
-    ball's ``relative_velocity`` when it has a part across the axis, else across x or y.
-    """
-    length = math.sqrt(dot(offset, offset))
-    if 1e-12 < length < math.inf:
-        return scale(offset, 1.0 / length)
-    axis2 = dot(axis, axis)
-    for candidate in (scale(relative_velocity, -1.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)):
-        if axis2 > 0.0:
-            along = dot(candidate, axis) / axis2
-            candidate = sub(candidate, scale(axis, along))
-        length = math.sqrt(dot(candidate, candidate))
-        if 1e-12 < length < math.inf:
-            return scale(candidate, 1.0 / length)
-    return (0.0, 0.0, 1.0)
-
-
-def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
-                profile: Capsules) -> Tuple[float, Vector, float]:
-    """
-    Return the gap between a ball and a profiled bat at one instant (no input checking).
-
-    The one scalar point-to-capsules distance of the package (the batch solver has its numpy
-    sibling); hand-written on tuples, as it runs per sub-step of the detector.
-
-    :param ball: ball centre (metres); ``knob``, ``tip``: the bat's ends (metres).
-    :param ball_radius: metres.
-    :param profile: the bat's radius profile (a ``BatProfile``), scaled to knob-tip.
-    :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
-        ball centre; fraction along knob-tip of the closest axis point).
-    """
-    axis = sub(tip, knob)
-    offset = sub(ball, knob)
-    uu = dot(axis, axis)
-    wu = dot(offset, axis)
-    ww = dot(offset, offset)
-    along = wu / uu if uu > 0.0 else 0.0
-    best_gap, best_fraction = math.inf, 0.0
-    for f0, f1, radius in profile.segments():
-        fraction = f0 if along < f0 else (f1 if along > f1 else along)
-        # |offset - fraction * axis|, without building the vector
-        gap = math.sqrt(max(0.0, ww - fraction * (2.0 * wu - fraction * uu))) - radius
-        if gap < best_gap:
-            best_gap, best_fraction = gap, fraction
-    closest = sub(offset, scale(axis, best_fraction))
-    length = math.sqrt(dot(closest, closest))
-    normal = scale(closest, 1.0 / length) if length > 0.0 else unit_normal(
-        closest, axis, (0.0, 0.0, 0.0))
-    return best_gap - ball_radius, normal, best_fraction
 
 
 # ----------------------------------------------------------------------------------------------

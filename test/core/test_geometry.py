@@ -1,12 +1,10 @@
-"""Tests for baseball_collision.core.geometry: rotations, poses, rigid bodies, capsule gaps."""
+"""Tests for baseball_collision.core.geometry: rotations, poses, rigid bodies."""
 
 import math
 
-from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.geometry import (
-    closest_on_segment, interpolate_pose, pose_point, profile_gap, quaternion_angle,
-    quaternion_to_matrix, rigid_point_velocity, rotate, rotation_between, slerp_quaternions,
-    slerp_vectors, swing_rotation, turn_about, unit_normal)
+    interpolate_pose, pose_point, quaternion_angle, quaternion_to_matrix, rigid_point_velocity,
+    rotate, rotation_between, slerp_quaternions, slerp_vectors, swing_rotation, turn_about)
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -105,51 +103,3 @@ def test_rigid_point_velocity_adds_the_turn() -> None:
     """A point 1 m out along x on a body turning at 2 rad/s about z moves at 2 m/s along y."""
     assert rigid_point_velocity((0.5, 0.0, 0.0), (0.0, 0.0, 2.0), (1.0, 1.0, 0.0),
                                 (2.0, 1.0, 0.0)) == (0.5, 2.0, 0.0)
-
-
-def test_closest_on_segment_clips_to_the_ends() -> None:
-    """Projections beyond either end go to that end; a zero-length segment is its start."""
-    start, end = (0.0, 0.0, 0.0), (2.0, 0.0, 0.0)
-    assert closest_on_segment((1.0, 5.0, 0.0), start, end) == (0.5, (1.0, 0.0, 0.0))
-    assert closest_on_segment((-3.0, 1.0, 0.0), start, end) == (0.0, start)
-    assert closest_on_segment((9.0, 1.0, 0.0), start, end) == (1.0, end)
-    assert closest_on_segment((9.0, 1.0, 0.0), start, start) == (0.0, start)
-
-
-def test_unit_normal_has_a_direction_even_on_the_axis() -> None:
-    """A ball centre on the axis gets a unit normal across it, against its approach."""
-    assert unit_normal((0.0, 3.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0)) == (0.0, 1.0, 0.0)
-    across = unit_normal((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.3, 0.0, -2.0))
-    assert across == pytest.approx((0.0, 0.0, 1.0))
-    still = unit_normal((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-    assert abs(still[0]) < 1e-12 and math.hypot(*still) == pytest.approx(1.0)
-
-
-millimetre = st.integers(-1000, 1000).map(lambda k: k / 1000.0)
-grid_point = st.tuples(millimetre, millimetre, millimetre)
-"""A point on a millimetre grid (m): no denormal lengths (whose unit vectors are not unit)."""
-
-
-@settings(max_examples=examples(300), deadline=None)
-@given(ball=grid_point, knob=grid_point, tip=grid_point)
-def test_profile_gap_is_the_distance_to_the_nearest_capsule(ball, knob, tip) -> None:
-    """The gap equals a dense search over the profile's capsules; the normal is unit length."""
-    gap, normal, fraction = profile_gap(ball, knob, tip, 0.0366, WOOD_BAT_34)
-    knob_a, axis = np.array(knob), np.array(tip) - np.array(knob)
-    best = math.inf
-    for f0, f1, radius in WOOD_BAT_34.segments():
-        for f in np.linspace(f0, f1, 400):
-            best = min(best, math.dist(ball, knob_a + f * axis) - radius)
-    assert gap <= best - 0.0366 + 1e-12
-    assert gap >= best - 0.0366 - 1e-3 * (1.0 + np.linalg.norm(axis))
-    assert math.hypot(*normal) == pytest.approx(1.0)
-    assert 0.0 <= fraction <= 1.0
-
-
-def test_profile_gap_of_a_capsule() -> None:
-    """A constant profile: 10 cm from the axis of a 3 cm bat is a 7 cm gap, minus the ball."""
-    capsule = BatProfile.constant(0.03)
-    gap, normal, fraction = profile_gap((0.5, 0.1, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0),
-                                        0.02, capsule)
-    assert gap == pytest.approx(0.05) and normal == pytest.approx((0, 1, 0))
-    assert fraction == 0.5

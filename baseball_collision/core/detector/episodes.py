@@ -21,7 +21,8 @@ from .events import DetectorStats, NearMiss
 from .gate import Clock
 from .streams import Stream
 from ..bat import BatProfile
-from ..geometry import profile_gap, scale, Vector
+from ..geometry import scale, Vector
+from ..toi import lowest_gap_place, profile_gap
 
 
 @dataclass(slots=True)
@@ -71,33 +72,13 @@ class LowestGap:
     tip: Vector
 
 
-_GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
-
-
 def lowest_gap(start: State, end: State, ball_radius: float, profile: BatProfile) -> LowestGap:
-    """Return the smallest gap over a linear sub-step, by golden-section search (40 steps)."""
-    def state(s: float) -> Tuple[Vector, Vector, Vector]:
-        return tuple(tuple(a + (b - a) * s for a, b in zip(p, q))
-                     for p, q in ((start.ball, end.ball), (start.knob, end.knob),
-                                  (start.tip, end.tip)))
-
-    def gap(s: float) -> float:
-        return profile_gap(*state(s), ball_radius, profile)[0]
-
-    lo, hi = 0.0, 1.0
-    x1, x2 = hi - _GOLDEN * (hi - lo), lo + _GOLDEN * (hi - lo)
-    g1, g2 = gap(x1), gap(x2)
-    for _ in range(40):
-        if g1 < g2:
-            hi, x2, g2 = x2, x1, g1
-            x1 = hi - _GOLDEN * (hi - lo)
-            g1 = gap(x1)
-        else:
-            lo, x1, g1 = x1, x2, g2
-            x2 = lo + _GOLDEN * (hi - lo)
-            g2 = gap(x2)
-    _, s = min((gap(0.0), 0.0), (gap(1.0), 1.0), (min(g1, g2), x1 if g1 < g2 else x2))
-    ball, knob, tip = state(s)
+    """Return the smallest gap over a linear sub-step (the kernel's golden-section search)."""
+    s = lowest_gap_place(start.ball, end.ball, start.knob, end.knob, start.tip, end.tip,
+                         ball_radius, profile)
+    ball, knob, tip = (tuple(a + (b - a) * s for a, b in zip(p, q))
+                       for p, q in ((start.ball, end.ball), (start.knob, end.knob),
+                                    (start.tip, end.tip)))
     value, normal, fraction = profile_gap(ball, knob, tip, ball_radius, profile)
     return LowestGap(t=start.t + (end.t - start.t) * s, gap=value, normal=normal,
                      fraction=fraction, ball=ball, knob=knob, tip=tip)

@@ -21,9 +21,9 @@ from .fitting import c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, stream
 from .gate import Clock
 from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
-from ..geometry import dot, norm, profile_gap, rigid_point_velocity, Vector
+from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
-from ..toi import closest_offset, ImpactResult, profile_contact
+from ..toi import closest_offset, ImpactResult, profile_contact, profile_gap
 
 Paths = Tuple[PointPath, BatPath]
 """The ball's and the bat's paths over an interval."""

@@ -10,22 +10,23 @@ A compiled kernel and numpy; no ROS imports. Units: metres and seconds. The modu
   not-a-knot solve, bat chart, window and deviation bound; ``tracker_noise`` auto's residuals);
 * ``result``: ``ImpactResult``, ``Feature`` and the tolerances (the kernel's);
 * ``scalar``: ``time_of_impact``, ``time_of_impact_profile``, ``profile_contact`` (the hot
-  paths' entry on checked tuples) and ``closest_offset``: the kernel, with the argument errors;
+  paths' entry on checked tuples), ``closest_offset``, and the gap at one instant
+  (``profile_gap``) and its lowest over a linear sub-step (``lowest_gap_place``): the kernel,
+  with the argument errors;
 * ``batch``: ``time_of_impact_batch`` (the kernel over rows, on every core) and ``distance``,
   the gap over time;
 * ``seed``: the seed derivation's method and its infinite-line gap, kept for comparison.
-
-``profile_gap``, the gap at one instant, is ``geometry.profile_gap`` (one copy in core).
 """
 
 from .batch import distance, time_of_impact_batch
 from .result import ArrayLike, Feature, ImpactResult, TOUCH_TOLERANCE
-from .scalar import closest_offset, profile_contact, time_of_impact, time_of_impact_profile
+from .scalar import (
+    closest_offset, lowest_gap_place, profile_contact, profile_gap, time_of_impact,
+    time_of_impact_profile)
 from .seed import line_distance, seed_time_of_impact
-from ..geometry import profile_gap
 
 __all__ = [
     'TOUCH_TOLERANCE', 'ArrayLike', 'ImpactResult', 'closest_offset', 'time_of_impact',
     'time_of_impact_profile', 'profile_gap', 'line_distance', 'distance', 'seed_time_of_impact',
-    'time_of_impact_batch', 'Feature', 'profile_contact',
+    'time_of_impact_batch', 'Feature', 'profile_contact', 'lowest_gap_place',
 ]

@@ -969,6 +969,136 @@ static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t na
   return profile_result(tau, best, dt, piece, rb);
 }
 
+/*
+ * The gap (m) of a ball centre to the cached profile's capsules at one instant, less the ball's
+ * radius; the fraction along knob-tip of the closest axis point in *fraction and the offset
+ * from that point to the ball in *closest (core.toi.profile_gap; each operation in the order
+ * of the Python it replaced, so the same bits).
+ */
+static double profile_gap_at(Vec ball, Vec knob, Vec tip, double ball_radius, double *fraction,
+                             Vec *closest, Vec *axis_out)
+{
+  Vec axis = v_sub(tip, knob), offset = v_sub(ball, knob);
+  double uu = v_dot(axis, axis), wu = v_dot(offset, axis), ww = v_dot(offset, offset);
+  double along = uu > 0.0 ? wu / uu : 0.0;
+  double best_gap = INFINITY, best_fraction = 0.0;
+  for (int i = 0; i < profile_cache.count; i++) {
+    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
+    double f = along < f0 ? f0 : (along > f1 ? f1 : along);
+    /* |offset - f axis|, without building the vector */
+    double gap = sqrt(max_of(0.0, ww - f * (2.0 * wu - f * uu))) - profile_cache.segments[i][2];
+    if (gap < best_gap) {
+      best_gap = gap;
+      best_fraction = f;
+    }
+  }
+  *fraction = best_fraction;
+  if (closest != NULL) {
+    *closest = v_sub(offset, v_scale(axis, best_fraction));
+    *axis_out = axis;
+  }
+  return best_gap - ball_radius;
+}
+
+/* a state on a linear sub-step: a + (b - a) s for ball, knob and tip (episodes' state) */
+static double sub_step_gap(const Vec *p, double s, double ball_radius)
+{
+  double fraction;
+  return profile_gap_at(v_lerp(p[0], p[1], s), v_lerp(p[2], p[3], s), v_lerp(p[4], p[5], s),
+                        ball_radius, &fraction, NULL, NULL);
+}
+
+/*
+ * profile_gap(ball, knob, tip, ball_radius, profile) -> (gap in m, negative when overlapping;
+ * unit normal from the bat axis to the ball centre; fraction along knob-tip of the closest axis
+ * point). TypeError: a point that is not 3 numbers, a radius that is not a number.
+ */
+static PyObject *py_profile_gap(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec ball, knob, tip, closest, axis;
+  double ball_radius, fraction;
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError, "profile_gap(ball, knob, tip, ball_radius, profile)");
+    return NULL;
+  }
+  if (!read_vec(args[0], &ball) || !read_vec(args[1], &knob) || !read_vec(args[2], &tip) ||
+      !read_number(args[3], &ball_radius)) {
+    PyErr_SetString(PyExc_TypeError,
+                    "profile_gap: ball, knob and tip must be 3 numbers, ball_radius a number");
+    return NULL;
+  }
+  if (!load_profile(args[4])) {
+    return NULL;
+  }
+  double gap = profile_gap_at(ball, knob, tip, ball_radius, &fraction, &closest, &axis);
+  double length = sqrt(v_dot(closest, closest));
+  Vec normal = length > 0.0 ? v_scale(closest, 1.0 / length)
+                            : unit_normal(closest, axis, (Vec){0.0, 0.0, 0.0});
+  PyObject *normal_tuple = vec_tuple(normal);
+  if (normal_tuple == NULL) {
+    return NULL;
+  }
+  return Py_BuildValue("(dNd)", gap, normal_tuple, fraction);
+}
+
+/*
+ * lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile) -> s in [0, 1]:
+ * where on a linear sub-step (each body from its first point to its second) the gap to the
+ * profile is smallest, by golden-section search (40 steps), against both ends: the smallest
+ * (gap, s) as Python's min orders the pairs (core.detector.episodes.lowest_gap). TypeError as
+ * profile_gap.
+ */
+static PyObject *py_lowest_gap(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec p[6];
+  double ball_radius;
+  if (nargs != 8) {
+    PyErr_SetString(PyExc_TypeError,
+                    "lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile)");
+    return NULL;
+  }
+  for (int i = 0; i < 6; i++) {
+    if (!read_vec(args[i], &p[i])) {
+      PyErr_SetString(PyExc_TypeError, "lowest_gap: every point must be 3 numbers");
+      return NULL;
+    }
+  }
+  if (!read_number(args[6], &ball_radius)) {
+    PyErr_SetString(PyExc_TypeError, "lowest_gap: ball_radius must be a number");
+    return NULL;
+  }
+  if (!load_profile(args[7])) {
+    return NULL;
+  }
+  const double golden = (sqrt(5.0) - 1.0) / 2.0;
+  double lo = 0.0, hi = 1.0;
+  double x1 = hi - golden * (hi - lo), x2 = lo + golden * (hi - lo);
+  double g1 = sub_step_gap(p, x1, ball_radius), g2 = sub_step_gap(p, x2, ball_radius);
+  for (int i = 0; i < 40; i++) {
+    if (g1 < g2) {
+      hi = x2, x2 = x1, g2 = g1;
+      x1 = hi - golden * (hi - lo);
+      g1 = sub_step_gap(p, x1, ball_radius);
+    } else {
+      lo = x1, x1 = x2, g1 = g2;
+      x2 = lo + golden * (hi - lo);
+      g2 = sub_step_gap(p, x2, ball_radius);
+    }
+  }
+  /* min((gap(0), 0), (gap(1), 1), (min(g1, g2), x1 if g1 < g2 else x2)): pairs by gap, then s */
+  double gaps[3] = {sub_step_gap(p, 0.0, ball_radius), sub_step_gap(p, 1.0, ball_radius),
+                    min_of(g1, g2)};
+  double places[3] = {0.0, 1.0, g1 < g2 ? x1 : x2};
+  int best = 0;
+  for (int i = 1; i < 3; i++) {
+    bool less = gaps[i] == gaps[best] ? places[i] < places[best] : gaps[i] < gaps[best];
+    if (less) {
+      best = i;
+    }
+  }
+  return PyFloat_FromDouble(places[best]);
+}
+
 static PyObject *py_closest_offset(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Vec p[6];
@@ -2985,6 +3115,12 @@ static PyMethodDef methods[] = {
     {"not_a_knot", (PyCFunction)(void (*)(void))py_not_a_knot, METH_FASTCALL,
      "not_a_knot(times, rows, start): the not-a-knot spline's slopes at knots start..n-1, "
      "a tuple per knot (n >= 4)"},
+    {"profile_gap", (PyCFunction)(void (*)(void))py_profile_gap, METH_FASTCALL,
+     "profile_gap(ball, knob, tip, ball_radius, profile): (gap in m, unit normal from the axis "
+     "to the ball, fraction along knob-tip)"},
+    {"lowest_gap", (PyCFunction)(void (*)(void))py_lowest_gap, METH_FASTCALL,
+     "lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile): where on a "
+     "linear sub-step (0-1) the gap is smallest (golden section, 40 steps)"},
     {"third_jumps", py_third_jumps, METH_O,
      "third_jumps(times): the not-a-knot interpolant's third-derivative jumps at the inner "
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},

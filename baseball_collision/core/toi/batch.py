@@ -129,7 +129,7 @@ def _segment_offsets(point: np.ndarray, start: np.ndarray,
     """
     Return the fraction along each segment (clipped to [0, 1]) and the offset from it.
 
-    The numpy sibling of ``geometry.closest_on_segment``: rows of (..., 3) arrays, a segment
+    The numpy sibling of the kernel's ``closest_on_segment``: rows of (..., 3) arrays, a segment
     from ``start`` along ``axis``; a zero-length segment is its start.
     """
     axis2 = _dot(axis, axis)

@@ -74,6 +74,37 @@ def closest_offset(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, kno
     return _kernel.closest_offset(ball0, ball1, tip0, tip1, knob0, knob1)
 
 
+def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
+                profile: BatProfile) -> Tuple[float, Vector, float]:
+    """
+    Return the gap between a ball and a profiled bat at one instant (no input checking).
+
+    The package's one scalar point-to-capsules distance, the kernel's (the batch solver has its
+    numpy sibling): it runs per sub-step of the detector.
+
+    :param ball: ball centre (metres); ``knob``, ``tip``: the bat's ends (metres).
+    :param ball_radius: metres.
+    :param profile: the bat's radius profile (a ``BatProfile``), scaled to knob-tip.
+    :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
+        ball centre; fraction along knob-tip of the closest axis point).
+    :raises TypeError: a point that is not 3 numbers, a radius that is not a number.
+    """
+    return _kernel.profile_gap(ball, knob, tip, ball_radius, profile)
+
+
+def lowest_gap_place(ball0: Vector, ball1: Vector, knob0: Vector, knob1: Vector, tip0: Vector,
+                     tip1: Vector, ball_radius: float, profile: BatProfile) -> float:
+    """
+    Return where (0-1) on a linear sub-step the gap of ball and bat is smallest.
+
+    Each body moves on its chord (from its first point to its second). A golden-section search
+    of ``profile_gap`` (40 steps) against both ends; of equal gaps, the earlier place.
+
+    :raises TypeError: as ``profile_gap``.
+    """
+    return _kernel.lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile)
+
+
 def time_of_impact(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,
                    knob0: ArrayLike, knob1: ArrayLike, ball_radius: float, bat_radius: float,
                    dt: float = 1.0) -> Optional[ImpactResult]:

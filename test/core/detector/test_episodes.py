@@ -6,8 +6,8 @@ from baseball_collision.core.detector.episodes import (
     bat_at_rest, EpisodeTracker, lowest_gap, State)
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.geometry import profile_gap
 from baseball_collision.core.motion import BatSample
+from baseball_collision.core.toi import profile_gap
 import pytest
 
 KNOB, TIP = (0.0, 0.0, 1.0), (0.0, WOOD_BAT_34.length, 1.0)

@@ -3,7 +3,7 @@
 from typing import List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
-from baseball_collision.core.geometry import profile_gap
+from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest

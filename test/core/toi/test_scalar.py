@@ -4,8 +4,8 @@ import math
 
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.toi import (
-    distance, ImpactResult, time_of_impact, time_of_impact_batch, time_of_impact_profile,
-    TOUCH_TOLERANCE)
+    distance, ImpactResult, lowest_gap_place, profile_gap, time_of_impact, time_of_impact_batch,
+    time_of_impact_profile, TOUCH_TOLERANCE)
 from baseball_collision.errors import CoreError
 from hypothesis import assume, given, HealthCheck, settings, strategies as st
 import numpy as np
@@ -286,3 +286,100 @@ def test_every_row_layout_gives_the_same_result() -> None:
                           0.1, 0.1) is not None
     with pytest.raises(CoreError, match='ball0'):
         time_of_impact(np.zeros(4), *points[1:], 0.1, 0.1)
+
+
+# ----------------------------------------------------------------------------------------------
+# The gap at one instant, and its lowest over a linear sub-step
+
+millimetre = st.integers(-1000, 1000).map(lambda k: k / 1000.0)
+grid_point = st.tuples(millimetre, millimetre, millimetre)
+"""A point on a millimetre grid (m): no denormal lengths (whose unit vectors are not unit)."""
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(ball=grid_point, knob=grid_point, tip=grid_point)
+def test_profile_gap_is_the_distance_to_the_nearest_capsule(ball, knob, tip) -> None:
+    """The gap equals a dense search over the profile's capsules; the normal is unit length."""
+    gap, normal, fraction = profile_gap(ball, knob, tip, 0.0366, WOOD_BAT_34)
+    knob_a, axis = np.array(knob), np.array(tip) - np.array(knob)
+    best = math.inf
+    for f0, f1, radius in WOOD_BAT_34.segments():
+        for f in np.linspace(f0, f1, 400):
+            best = min(best, math.dist(ball, knob_a + f * axis) - radius)
+    assert gap <= best - 0.0366 + 1e-12
+    assert gap >= best - 0.0366 - 1e-3 * (1.0 + np.linalg.norm(axis))
+    assert math.hypot(*normal) == pytest.approx(1.0)
+    assert 0.0 <= fraction <= 1.0
+
+
+def test_profile_gap_of_a_capsule() -> None:
+    """A constant profile: 10 cm from the axis of a 3 cm bat is a 7 cm gap, minus the ball."""
+    capsule = BatProfile.constant(0.03)
+    gap, normal, fraction = profile_gap((0.5, 0.1, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0),
+                                        0.02, capsule)
+    assert gap == pytest.approx(0.05) and normal == pytest.approx((0, 1, 0))
+    assert fraction == 0.5
+    # beyond either end the closest axis point is that end (a capsule's cap)
+    assert profile_gap((-0.3, 0.4, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.02,
+                       capsule)[2] == 0.0
+    assert profile_gap((1.3, 0.4, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.02,
+                       capsule)[2] == 1.0
+
+
+def test_profile_gap_has_a_normal_even_on_the_axis() -> None:
+    """A ball centre on the bat's axis gets a unit normal across the axis; a bad point refused."""
+    capsule = BatProfile.constant(0.03)
+    gap, normal, fraction = profile_gap((0.5, 0.0, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0),
+                                        0.02, capsule)
+    assert gap == pytest.approx(-0.05) and fraction == 0.5
+    assert math.hypot(*normal) == pytest.approx(1.0) and abs(normal[0]) < 1e-12
+    with pytest.raises(TypeError, match='3 numbers'):
+        profile_gap((0.5, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.02, capsule)
+
+
+def _golden_place(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile) -> float:
+    """Search as the kernel must, step by step in Python (the same place to the bit)."""
+    def gap(s):
+        state = [tuple(a + (b - a) * s for a, b in zip(p, q))
+                 for p, q in ((ball0, ball1), (knob0, knob1), (tip0, tip1))]
+        return profile_gap(*state, ball_radius, profile)[0]
+
+    golden = (math.sqrt(5.0) - 1.0) / 2.0
+    lo, hi = 0.0, 1.0
+    x1, x2 = hi - golden * (hi - lo), lo + golden * (hi - lo)
+    g1, g2 = gap(x1), gap(x2)
+    for _ in range(40):
+        if g1 < g2:
+            hi, x2, g2 = x2, x1, g1
+            x1 = hi - golden * (hi - lo)
+            g1 = gap(x1)
+        else:
+            lo, x1, g1 = x1, x2, g2
+            x2 = lo + golden * (hi - lo)
+            g2 = gap(x2)
+    return min((gap(0.0), 0.0), (gap(1.0), 1.0), (min(g1, g2), x1 if g1 < g2 else x2))[1]
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(points=st.lists(grid_point, min_size=6, max_size=6))
+def test_lowest_gap_place_is_the_golden_section_search(points) -> None:
+    """
+    The kernel's search is the step-by-step search in Python, to the bit.
+
+    Its gap is no more than a dense scan's lowest where the gap has one valley along the
+    sub-step.
+    """
+    ball0, ball1, knob0, knob1, tip0, tip1 = points
+    place = lowest_gap_place(ball0, ball1, knob0, knob1, tip0, tip1, 0.0366, WOOD_BAT_34)
+    assert place == _golden_place(ball0, ball1, knob0, knob1, tip0, tip1, 0.0366, WOOD_BAT_34)
+    assert 0.0 <= place <= 1.0
+
+    def gap(s):
+        return profile_gap(*[tuple(a + (b - a) * s for a, b in zip(p, q))
+                             for p, q in ((ball0, ball1), (knob0, knob1), (tip0, tip1))],
+                           0.0366, WOOD_BAT_34)[0]
+
+    dense = [gap(s) for s in np.linspace(0.0, 1.0, 401)]
+    falls = np.diff(dense) < 0.0
+    if not np.any(falls[np.argmax(~falls):]):  # down, then up (or flat): one valley
+        assert gap(place) <= min(dense) + 1e-9
