@@ -52,7 +52,8 @@ estimate, the chunks' fast-forwards and plans, ...), best of ``--repeats``.
 
 ``--look-ahead`` and ``--tracker-noise`` set ``c2``'s parameters in every mode (``--profile``
 and (d), (e) included); ``--bag-noise M`` writes the worst case with M m of tracking noise
-per coordinate (``simulate --noise``), where ``tracker_noise`` > 0 or auto smooths.
+per coordinate (``simulate --noise``), where ``tracker_noise`` > 0 or auto smooths;
+``--steady-clock`` stamps it as a tracker stamping its own frames does (no jitter, no grid).
 
 ``--interleave``: instead, (a), (d) and (e) in turn, ``--repeats`` times on one bag (default
 30,000 messages), each figure the best CPU time (``time.process_time``) and the best wall
@@ -105,7 +106,7 @@ MESSAGES_PER_PITCH = 290  # 0.4 s at 360 Hz, ball + bat pose
 
 
 def write_bag(path: Path, messages: int, pitch_every: float = WORST_SPACING_S,
-              noise: float = 0.0) -> Tuple[int, float]:
+              noise: float = 0.0, steady: bool = False) -> Tuple[int, float]:
     """
     Write the benchmark bag; return (messages written, seconds).
 
@@ -114,15 +115,19 @@ def write_bag(path: Path, messages: int, pitch_every: float = WORST_SPACING_S,
         :func:`write_session_bag`).
     :param noise: the worst case's tracking noise (m per coordinate, ``simulate --noise``;
         0: exact samples).
+    :param steady: the worst case's stamps on a steady clock (a tracker stamping its frames:
+        no jitter, no millisecond grid) instead of 0.2 ms of jitter on a millisecond grid.
     :raises ValueError: noise asked of a session.
     """
     start = time.perf_counter()
     if pitch_every > WORST_SPACING_S:
-        if noise:
-            raise ValueError('--bag-noise writes the worst case only (--pitch-every 0.5)')
+        if noise or steady:
+            raise ValueError('--bag-noise and --steady-clock write the worst case only '
+                             '(--pitch-every 0.5)')
         written = write_session_bag(path, messages, pitch_every)
         return written, time.perf_counter() - start
-    spec = RecordingSpec(count=messages // MESSAGES_PER_PITCH + 1, rate_hz=360.0, grid_s=0.001,
+    spec = RecordingSpec(count=messages // MESSAGES_PER_PITCH + 1, rate_hz=360.0,
+                         grid_s=None if steady else 0.001, jitter_s=0.0 if steady else 0.0002,
                          bat='pose', spacing_s=WORST_SPACING_S, unique=24, seed=1,
                          noise_m=noise)
     document = write_recording(path, spec)
@@ -456,11 +461,12 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,
                     look_ahead: int, pitch_every: float = WORST_SPACING_S,
-                    tracker_noise: float = 0.0, bag_noise: float = 0.0) -> None:
+                    tracker_noise: float = 0.0, bag_noise: float = 0.0,
+                    steady: bool = False) -> None:
     """Print (d) for ``baseline`` and ``model`` in pairs on one bag, the throughput ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
-        written, _ = write_bag(path, messages, pitch_every, bag_noise)
+        written, _ = write_bag(path, messages, pitch_every, bag_noise, steady)
         print(f'{written:,} messages ({storage}); {pairs} pairs, {baseline} first; '
               f'{model} with look_ahead {look_ahead}, tracker_noise {tracker_noise:g}')
         best = {baseline: (0.0, 0.0), model: (0.0, 0.0)}
@@ -511,7 +517,7 @@ Each part's own time (its callees among the parts counted in theirs)."""
 
 def split_figures(messages: int, storage: str, model: str, baseline: str, repeats: int,
                   parameters: dict, pitch_every: float = WORST_SPACING_S,
-                  bag_noise: float = 0.0) -> None:
+                  bag_noise: float = 0.0, steady: bool = False) -> None:
     """
     Print where ``analyze_bag``'s CPU time goes for ``baseline`` and ``model``, per part.
 
@@ -558,7 +564,7 @@ def split_figures(messages: int, storage: str, model: str, baseline: str, repeat
     try:
         with tempfile.TemporaryDirectory() as tmp:
             path = Path(tmp) / SUFFIXES[storage]
-            written, _ = write_bag(path, messages, pitch_every, bag_noise)
+            written, _ = write_bag(path, messages, pitch_every, bag_noise, steady)
             for _ in range(repeats):
                 for name in (baseline, model):
                     options = AnalysisOptions(model=name, parameters=parameters
@@ -720,6 +726,8 @@ def main() -> None:
                         help="c2's tracker_noise (0; -1: auto)")
     parser.add_argument('--bag-noise', type=float, default=0.0, metavar='M',
                         help='the worst-case bag with this tracking noise (m; 0: exact)')
+    parser.add_argument('--steady-clock', action='store_true',
+                        help="the worst case's stamps on a steady clock (no jitter, no grid)")
     parser.add_argument('--split', action='store_true',
                         help='with --against: where the time goes, per part (process-time '
                         'timers), best of --repeats per model; with --whole: CPU time by '
@@ -755,12 +763,12 @@ def main() -> None:
         split_figures(args.messages or 30_000, args.storage, args.model, args.against,
                       args.repeats, model_parameters(args.model, args.look_ahead,
                                                      args.tracker_noise),
-                      args.pitch_every, args.bag_noise)
+                      args.pitch_every, args.bag_noise, args.steady_clock)
         return
     if args.against:
         against_figures(args.messages or 30_000, args.storage, args.model, args.against,
                         args.pairs, args.look_ahead, args.pitch_every, args.tracker_noise,
-                        args.bag_noise)
+                        args.bag_noise, args.steady_clock)
         return
     if args.jobs:
         jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
@@ -769,7 +777,8 @@ def main() -> None:
     args.messages = args.messages or 1_000_000
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[args.storage]
-        written, seconds = write_bag(path, args.messages, args.pitch_every, args.bag_noise)
+        written, seconds = write_bag(path, args.messages, args.pitch_every, args.bag_noise,
+                                     args.steady_clock)
         size = path.stat().st_size / 1e6
         print(f'wrote {written:,} messages ({args.storage}, {size:.0f} MB) in {seconds:.1f} s')
         raw, raw_s = timed(raw_read, path)

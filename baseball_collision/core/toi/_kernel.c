@@ -46,8 +46,8 @@
  *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
- *   not_a_knot(times, rows, start), third_jumps(times), c2_chart(samples, j, max_angle),
- *   bat_axis(sample),
+ *   not_a_knot(times, rows, start), third_jumps(times), polynomial_basis(times, count),
+ *   c2_chart(samples, j, max_angle), bat_axis(sample),
  *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
@@ -2587,6 +2587,90 @@ done:
 }
 
 /*
+ * polynomial_basis(times, count) -> bytes: an orthonormal basis (n x count, row-major doubles)
+ * of the polynomials of degree < count at the stamps (core.motion.smoothing: a penalty's null
+ * space): the powers of the stamps centred on their mean and scaled to [-1, 1], each
+ * orthogonalised against the ones before twice (modified Gram-Schmidt, re-orthogonalised) and
+ * normalised. ValueError: count not in 1..n, or stamps all equal.
+ */
+static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t count;
+  if (nargs != 2 || !read_index(args[1], &count)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "polynomial_basis(times, count)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  if (times == NULL) {
+    return NULL;
+  }
+  PyObject *result = NULL;
+  double *t = NULL;
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (count < 1 || count > n) {
+    PyErr_SetString(PyExc_ValueError, "polynomial_basis: 1 <= count <= the stamps");
+    goto done;
+  }
+  t = PyMem_Malloc(sizeof(double) * (size_t)n);
+  if (t == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double mean = 0.0, reach = 0.0;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
+    mean += t[i];
+  }
+  if (PyErr_Occurred()) {
+    goto done;
+  }
+  mean /= (double)n;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] -= mean;
+    reach = max_of(reach, fabs(t[i]));
+  }
+  if (!(reach > 0.0) && count > 1) {
+    PyErr_SetString(PyExc_ValueError, "polynomial_basis: the stamps are all equal");
+    goto done;
+  }
+  result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * n * count);
+  if (result == NULL) {
+    goto done;
+  }
+  double *q = (double *)PyBytes_AS_STRING(result);
+  for (Py_ssize_t c = 0; c < count; c++) {
+    for (Py_ssize_t i = 0; i < n; i++) { /* the power c of the scaled stamp */
+      q[i * count + c] = c == 0 ? 1.0 : pow(t[i] / reach, (double)c);
+    }
+    for (int pass = 0; pass < 2; pass++) {
+      for (Py_ssize_t b = 0; b < c; b++) {
+        double along = 0.0;
+        for (Py_ssize_t i = 0; i < n; i++) {
+          along += q[i * count + b] * q[i * count + c];
+        }
+        for (Py_ssize_t i = 0; i < n; i++) {
+          q[i * count + c] -= along * q[i * count + b];
+        }
+      }
+    }
+    double size = 0.0;
+    for (Py_ssize_t i = 0; i < n; i++) {
+      size += q[i * count + c] * q[i * count + c];
+    }
+    size = sqrt(size);
+    for (Py_ssize_t i = 0; i < n; i++) {
+      q[i * count + c] /= size;
+    }
+  }
+done:
+  PyMem_Free(t);
+  Py_DECREF(times);
+  return result;
+}
+
+/*
  * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
  * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
  * exception (no knob or tip of 3 numbers).
@@ -3121,6 +3205,9 @@ static PyMethodDef methods[] = {
     {"lowest_gap", (PyCFunction)(void (*)(void))py_lowest_gap, METH_FASTCALL,
      "lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile): where on a "
      "linear sub-step (0-1) the gap is smallest (golden section, 40 steps)"},
+    {"polynomial_basis", (PyCFunction)(void (*)(void))py_polynomial_basis, METH_FASTCALL,
+     "polynomial_basis(times, count): an orthonormal basis of the polynomials of degree < count "
+     "at the stamps, n x count doubles as bytes"},
     {"third_jumps", py_third_jumps, METH_O,
      "third_jumps(times): the not-a-knot interpolant's third-derivative jumps at the inner "
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},

@@ -4,6 +4,7 @@ from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
     smoothing_weight)
+from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -255,25 +256,66 @@ def test_mismatched_shapes_and_unknown_choices_are_refused() -> None:
         smooth(times, values, [1e-6, 1e-6], target='gcv')
 
 
+def _is_the_eigen_of(eigen, matrix: np.ndarray, times: np.ndarray, kind: str,
+                     orthonormal: float = 1e-12) -> None:
+    """Assert: orthonormal vectors that rebuild ``matrix``, the null space its polynomials."""
+    p, u = eigen
+    nulls = 2 if kind == 'natural' else 4  # (lines cost nothing under it, cubics under the rest)
+    assert np.all(p[:nulls] == 0.0) and np.all(p[nulls:] >= 0.0)
+    assert np.allclose(u.T @ u, np.eye(len(p)), rtol=0.0, atol=orthonormal)
+    scale = np.abs(matrix).max()
+    assert np.allclose((u * p) @ u.T, matrix, rtol=0.0, atol=1e-9 * scale)
+    polynomials = np.vander(times - times.mean(), nulls, increasing=True)
+    inside = u[:, :nulls] @ (u[:, :nulls].T @ polynomials)  # (projected on the null space)
+    assert np.allclose(inside, polynomials, rtol=0.0, atol=1e-12 * np.abs(polynomials).max())
+
+
 @settings(max_examples=examples(40), deadline=None)
-@given(steps=st.lists(st.floats(0.002, 0.012), min_size=4, max_size=31),
-       kind=st.sampled_from(('not-a-knot', 'natural', 'jerk')))
-def test_penalty_eigen_kept_by_stamps_is_the_computed_answer(steps, kind) -> None:
-    """A kept answer is the same arrays, bit-equal to a fresh one; other stamps, another."""
-    times = _times(steps)
+@given(steps=st.lists(st.integers(1_000_000, 12_000_000), min_size=4, max_size=31),
+       start=st.integers(0, 10 ** 12), kind=st.sampled_from(('not-a-knot', 'natural', 'jerk')))
+def test_penalty_eigen_kept_by_steps_is_the_computed_answer(steps, start, kind) -> None:
+    """
+    The answer is the penalty's of the window's steps (ns), wherever the window starts.
+
+    The eigen of the penalty of stamps rebuilt from the steps, its null space (the
+    polynomials it leaves alone) exact; a window with the same steps elsewhere gets the same
+    arrays; a step a nanosecond longer, another.
+    """
+    stamps = start + np.concatenate([[0], np.cumsum(steps)])  # ns
+    times = (stamps - 10 ** 11) * 1e-9  # s, as the detector's clock has them
     smoothing._EIGEN.clear()
     first = penalty_eigen(times, kind)
-    p, u = np.linalg.eigh(penalty(times, kind))
-    assert np.array_equal(first[0], np.maximum(p, 0.0)) and np.array_equal(first[1], u)
-    again = penalty_eigen(list(times), kind)  # the same stamps as a list of floats
-    assert again[0] is first[0] and again[1] is first[1]
+    rebuilt = np.concatenate([[0.0], np.cumsum(np.array(steps, dtype=float)) * 1e-9])
+    _is_the_eigen_of(first, penalty(rebuilt, kind), rebuilt, kind)
     assert not first[0].flags.writeable and not first[1].flags.writeable
-    moved = times.copy()
-    moved[-1] = np.nextafter(moved[-1], np.inf)  # one ulp later: not the same window
-    other = penalty_eigen(moved, kind)
+    elsewhere = penalty_eigen(list(times + 3.25), kind)  # the same steps, later
+    assert elsewhere[0] is first[0] and elsewhere[1] is first[1]
+    longer = stamps.copy()
+    longer[-1] += 1  # its last step a nanosecond longer: another window
+    other = penalty_eigen((longer - 10 ** 11) * 1e-9, kind)
     assert other[1] is not first[1]
-    p, u = np.linalg.eigh(penalty(moved, kind))
-    assert np.array_equal(other[0], np.maximum(p, 0.0)) and np.array_equal(other[1], u)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, kind=st.sampled_from(('not-a-knot', 'natural', 'jerk')))
+def test_penalty_eigen_leaves_the_null_space_exact(steps, kind) -> None:
+    """On any steps (not whole nanoseconds), the polynomials are the null space to rounding."""
+    times = _times(steps)
+    smoothing._EIGEN.clear()
+    eigen = penalty_eigen(times, kind)
+    rebuilt = np.concatenate([[0.0], np.cumsum(np.rint(np.diff(times) * 1e9)) * 1e-9])
+    _is_the_eigen_of(eigen, penalty(rebuilt, kind), rebuilt, kind)
+
+
+def test_penalty_eigen_of_stamps_closer_than_a_nanosecond() -> None:
+    """Steps under a nanosecond are no key: such a window is kept by its own stamps."""
+    smoothing._EIGEN.clear()
+    times = np.array([0.0, 1e-10, 0.002, 0.004, 0.006, 0.008])
+    eigen = penalty_eigen(times, 'not-a-knot')
+    # (a step of 0.1 ns among 2 ms ones: the penalty's scale is 1e16, and its eigenvectors are
+    # orthogonal to a few 1e-6)
+    _is_the_eigen_of(eigen, penalty(times, 'not-a-knot'), times, 'not-a-knot', 1e-5)
+    assert penalty_eigen(times, 'not-a-knot') is eigen
 
 
 def test_penalty_eigen_keeps_a_bounded_number() -> None:
@@ -370,3 +412,21 @@ def test_third_jumps_are_the_interpolants_third_derivative_jumps(steps, offset, 
     assert np.allclose(jumps @ values, expected, rtol=0.0, atol=1e-9 * size)
     cubic = 1.0 + 2.0 * (times - offset) - 3.0 * (times - offset) ** 3
     assert np.allclose(jumps @ cubic, 0.0, atol=1e-7 * np.abs(jumps).max())
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=st.lists(st.floats(1e-4, 0.02), min_size=1, max_size=40),
+       offset=st.floats(-1e3, 1e3), count=st.integers(1, 5))
+def test_the_kernels_polynomial_basis(steps, offset, count) -> None:
+    """Orthonormal columns spanning the polynomials of degree < count; out-of-range refused."""
+    times = offset + _times(steps)
+    n = len(times)
+    if count > n:
+        with pytest.raises(ValueError, match='count'):
+            _kernel.polynomial_basis(times.tolist(), count)
+        return
+    basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), count)).reshape(n, count)
+    assert np.allclose(basis.T @ basis, np.eye(count), rtol=0.0, atol=1e-12)
+    scaled = (times - times.mean()) / np.abs(times - times.mean()).max()
+    powers = np.vander(scaled, count, increasing=True)
+    assert np.allclose(basis @ (basis.T @ powers), powers, rtol=0.0, atol=1e-9)
