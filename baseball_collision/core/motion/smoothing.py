@@ -336,7 +336,7 @@ def penalty_eigen(times: Sequence[float], kind: str) -> PenaltyEigen:
     """
     t = np.asarray(times, dtype=float)
     steps = np.rint(np.diff(t) * 1e9)
-    whole = bool(np.all(steps >= 1.0)) and bool(np.all(steps < 2.0 ** 53))
+    whole = len(steps) > 0 and float(steps.min()) >= 1.0
     key = (steps.tobytes() if whole else tuple(t.tolist()), whole, kind)
     found = _EIGEN.get(key)
     if found is None:
@@ -362,13 +362,15 @@ def _eigen_beside_null(matrix: np.ndarray, times: np.ndarray,
     steps). So the null space's eigenvalues are made zero and its eigenvectors an orthonormal
     basis of the polynomials (QR), and the others are projected off it.
     """
-    p, u = np.linalg.eigh(matrix)
+    p, u = np.linalg.eigh(matrix)  # (ascending: the null space's first)
     null = min(degree + 1, len(times))
     basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), null)).reshape(-1, null)
     rough = u[:, null:]
-    rough = rough - basis @ (basis.T @ rough)
-    p = np.concatenate((np.zeros(null), np.maximum(p[null:], 0.0)))
-    return np.where(p > NULL_EIGENVALUE * float(np.max(p)), p, 0.0), np.hstack((basis, rough))
+    rough -= basis @ (basis.T @ rough)
+    u[:, :null] = basis
+    p[:null] = 0.0
+    p[p <= NULL_EIGENVALUE * p[-1]] = 0.0  # (and any rounding below zero)
+    return p, u
 
 
 NULL_DEGREE = {'natural': 1, 'not-a-knot': 3, 'jerk': 3}
