@@ -356,11 +356,12 @@ def _eigen_beside_null(matrix: np.ndarray, times: np.ndarray,
     Return a penalty's eigenvalues and eigenvectors with its null space exact.
 
     The null space is the polynomials of ``degree`` at the stamps (``NULL_DEGREE``). Decomposed
-    as it is, its eigenvalues are rounding, not zero (with a weight of 1e12 that took 0.1 % off
-    a window's cubic motion, millimetres of a swing), and the eigenvectors beside it leave it
-    by rounding times the penalty's scale over the smallest rough eigenvalue (2e-8 on uneven
-    steps). So the null space's eigenvalues are made zero and its eigenvectors an orthonormal
-    basis of the polynomials (QR), and the others are projected off it.
+    as it is, its eigenvalues are rounding, not zero (with a weight of 1e12 that took up to
+    0.2 % off a window's cubic motion, a millimetre of a swing), and the eigenvectors beside it
+    leave it by rounding times the penalty's scale over the smallest rough eigenvalue (2e-8 on
+    uneven steps). So the null space's eigenvalues are made zero and its eigenvectors an
+    orthonormal basis of the polynomials (the kernel's ``polynomial_basis``), and the others
+    are projected off it.
     """
     p, u = np.linalg.eigh(matrix)  # (ascending: the null space's first)
     null = min(degree + 1, len(times))
