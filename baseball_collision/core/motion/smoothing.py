@@ -368,6 +368,10 @@ def _eigen_beside_null(matrix: np.ndarray, times: np.ndarray,
     basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), null)).reshape(-1, null)
     rough = u[:, null:]
     rough -= basis @ (basis.T @ rough)
+    if rough.size and np.abs(rough.T @ rough - np.eye(len(times) - null)).max() > 1e-13:
+        # (an ill-conditioned penalty, steps of very different lengths: what the projection
+        # took off was more than rounding) orthonormal again, in the eigenvalues' order
+        rough[:] = np.linalg.qr(rough)[0]
     u[:, :null] = basis
     p[:null] = 0.0
     p[p <= NULL_EIGENVALUE * p[-1]] = 0.0  # (and any rounding below zero)
@@ -400,7 +404,7 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     """
     y, v = _checked(times, values, variances, target)
     eigen = eigen if eigen is not None else penalty_eigen(times, kind)
-    p, u = eigen
+    u = eigen[1]
     keep = _keep(eigen, u.T @ y, v, target)
     return np.eye(len(times)) if keep is None else (u * keep[None, :]) @ u.T
 
@@ -427,7 +431,7 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
     """
     y, v = _checked(times, values, variances, target)
     eigen = eigen if eigen is not None else penalty_eigen(times, kind)
-    p, u = eigen
+    u = eigen[1]
     z = u.T @ y
     fitted = y.copy()
     for group in groups:
