@@ -97,6 +97,20 @@ def reference_gap(tau: np.ndarray, ball0, ball1, tip0, tip1, knob0, knob1,
     return np.array(gaps)
 
 
+def sampling_decides(min_gap: float, ball0, ball1, tip0, tip1, knob0, knob1,
+                     samples: int) -> bool:
+    """
+    Return whether dense sampling's smallest gap (m) decides contact over an interval.
+
+    The gap changes with tau at most as fast as the ball plus the faster bat end move (every
+    point of the segment moves at most as fast as its faster end), so between two of
+    ``samples`` evenly spaced samples the true gap is within half a step times that of the
+    sampled one: a gap nearer zero than that (and 0.1 mm) may hide a touch between samples.
+    """
+    speed = math.dist(ball0, ball1) + max(math.dist(tip0, tip1), math.dist(knob0, knob1))
+    return abs(min_gap) > 1e-4 + 0.5 * speed / (samples - 1)
+
+
 def reference_first_contact(ball0, ball1, tip0, tip1, knob0, knob1, radius: float,
                             samples: int = 4001) -> Tuple[Optional[float], float]:
     """Return (first contact tau or None, smallest sampled gap)."""

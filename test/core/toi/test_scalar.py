@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from support import examples
 from support.scenes import (
-    agrees, point, POINT_NAMES, profile_reference, reference_first_contact, swing_interval,
-    vector_args, VECTORS)
+    agrees, point, POINT_NAMES, profile_reference, reference_first_contact, sampling_decides,
+    swing_interval, vector_args, VECTORS)
 
 # property tests that filter out near-grazes (sampling cannot decide them)
 FILTERING = {'deadline': None, 'suppress_health_check': [HealthCheck.filter_too_much]}
@@ -51,7 +51,7 @@ interval = st.floats(1e-3, 0.1, allow_nan=False)
 def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: float) -> None:
     """Contact verdict and time agree with dense sampling wherever sampling is decisive."""
     expected, min_gap = reference_first_contact(*points, ball_radius + bat_radius)
-    assume(abs(min_gap) > 1e-4)  # sampling cannot decide a near-graze
+    assume(sampling_decides(min_gap, *points, 4001))  # sampling cannot decide a near-graze
     result = time_of_impact(*points, ball_radius, bat_radius, dt)
     if expected is None:
         assert result is None
@@ -68,7 +68,7 @@ def test_matches_brute_force(points, ball_radius: float, bat_radius: float, dt: 
 def test_swings_match_brute_force(points, ball_radius: float, bat_radius: float) -> None:
     """Realistic swings: contact verdict, time, and the contact lies on both surfaces."""
     expected, min_gap = reference_first_contact(*points, ball_radius + bat_radius)
-    assume(abs(min_gap) > 1e-4)
+    assume(sampling_decides(min_gap, *points, 4001))
     dt = 1.0 / 90.0
     result = time_of_impact(*points, ball_radius, bat_radius, dt)
     assert (result is None) == (expected is None)
@@ -223,7 +223,7 @@ def test_profile_matches_brute_force(points) -> None:
     """The default wood bat: first contact of the union of capsules, against dense sampling."""
     tau = np.linspace(0.0, 1.0, 2001)
     gaps = profile_reference(tau, points, 0.0366, WOOD_BAT_34)
-    assume(abs(gaps.min()) > 1e-4)
+    assume(sampling_decides(float(gaps.min()), *points, len(tau)))
     hits = np.flatnonzero(gaps <= 0.0)
     dt = 1.0 / 120.0
     result = time_of_impact_profile(*points, 0.0366, WOOD_BAT_34, dt)
