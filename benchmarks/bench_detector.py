@@ -2,7 +2,7 @@
 Detector throughput: samples per second through the scalar path, per motion model.
 
 Run: ``.venv/bin/python benchmarks/bench_detector.py [--pitches N] [--rate HZ]
-[--per-message]``.
+[--per-message [--noise MM] [--predict HORIZON PERIOD]]``.
 
 A session like a batting-practice recording: N simulated pitches (every kind), ball and bat
 each tracked from 0.45 s before contact (about the release) to 0.2 s after, at 360 Hz with
@@ -15,6 +15,8 @@ linear chord model is the baseline, run in the same process on the same samples.
 ``Detector.add`` (thread CPU time, so time the process waited for a core under load does not
 count) per model, bat as a pose: median, p99 and max, best of 3 passes for each figure; the
 node's callback adds the message conversion and publishing to it, the same for every model.
+``--noise MM`` puts tracking noise on the samples and ``--predict HORIZON PERIOD`` predicts as
+the node does (its defaults: 0.3 0.01); the ``c2 auto`` row smooths (``tracker_noise`` -1).
 """
 
 import argparse
@@ -27,13 +29,14 @@ from baseball_collision.tools.sim import DEFAULT_START_NS, KINDS, make_scenario,
 import numpy as np
 
 
-def session(pitches: int, rate_hz: float, seed: int, bat: str) -> List[Tuple[int, str, tuple]]:
+def session(pitches: int, rate_hz: float, seed: int, bat: str,
+            noise_m: float = 0.0) -> List[Tuple[int, str, tuple]]:
     """Return the messages (stamp_ns, role, values) of a session of ``pitches`` pitches."""
     rng = np.random.default_rng(seed)
     messages: List[Tuple[int, str, tuple]] = []
     for index in range(pitches):
         scenario = make_scenario(KINDS[index % len(KINDS)], rng, lead_s=0.45, trail_s=0.2)
-        samples = sample(scenario, rate_hz, rng, jitter_s=2e-4,
+        samples = sample(scenario, rate_hz, rng, jitter_s=2e-4, noise_m=noise_m,
                          start_ns=DEFAULT_START_NS + index * 2_000_000_000)
         messages += samples.messages(bat)
     return messages
@@ -52,9 +55,21 @@ def run(messages: List[Tuple[int, str, tuple]], model: str, bat: str) -> Tuple[f
     return len(messages) / (time.perf_counter() - start), impacts
 
 
-def per_message(messages: List[Tuple[int, str, tuple]], model: str) -> np.ndarray:
-    """Return the CPU time (us) of every ``Detector.add`` of one pass through a fresh detector."""
-    detector = Detector(DetectorConfig(model=model, bat_input='pose'))
+PER_MESSAGE_MODELS = {'rigid': {'model': 'rigid'}, 'spline': {'model': 'spline'},
+                      'c2': {'model': 'c2'}, 'c2 auto': {'model': 'c2', 'tracker_noise': -1.0}}
+"""The per-message rows: the node's models (``c2 auto``: ``tracker_noise`` -1, smoothing)."""
+
+
+def per_message(messages: List[Tuple[int, str, tuple]], model: str,
+                prediction: Tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+    """
+    Return the CPU time (us) of every ``Detector.add`` of one pass through a fresh detector.
+
+    :param model: a row of ``PER_MESSAGE_MODELS``; ``prediction``: (horizon, period) in s.
+    """
+    detector = Detector(DetectorConfig(bat_input='pose', prediction_horizon=prediction[0],
+                                       prediction_period=prediction[1],
+                                       **PER_MESSAGE_MODELS[model]))
     clock = time.thread_time
     spent = np.empty(len(messages))
     for index, (stamp, role, values) in enumerate(messages):
@@ -72,15 +87,21 @@ def main() -> None:
     parser.add_argument('--seed', type=int, default=3)
     parser.add_argument('--per-message', action='store_true',
                         help='CPU time per Detector.add per model instead (bat as a pose)')
+    parser.add_argument('--noise', type=float, default=0.0, metavar='MM',
+                        help='tracking noise on the samples (mm per coordinate; --per-message)')
+    parser.add_argument('--predict', type=float, nargs=2, default=(0.0, 0.0),
+                        metavar=('HORIZON', 'PERIOD'),
+                        help='predict this far ahead at most this often (s; --per-message)')
     args = parser.parse_args()
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.per_message:
-        messages = session(args.pitches, args.rate, args.seed, 'pose')
+        messages = session(args.pitches, args.rate, args.seed, 'pose', args.noise * 1e-3)
         print(f'| model | CPU per Detector.add, {args.rate:.0f} Hz per stream, {len(messages)} '
-              'messages: median us | p99 us | max us |')
+              f'messages, {args.noise:g} mm, prediction {args.predict[0]:g} s every '
+              f'{args.predict[1]:g} s: median us | p99 us | max us |')
         print('|---|---|---|---|')
-        for model in ('rigid', 'spline', 'c2'):
-            runs = [per_message(messages, model) for _ in range(3)]
+        for model in PER_MESSAGE_MODELS:
+            runs = [per_message(messages, model, args.predict) for _ in range(3)]
             median, p99, top = (min(float(f(run)) for run in runs) for f in (
                 np.median, lambda run: np.percentile(run, 99), np.max))
             print(f'| {model} | {median:.1f} | {p99:.1f} | {top:.0f} |')
