@@ -2520,6 +2520,33 @@ done:
 }
 
 /*
+ * A sequence of stamps (any numbers) as a new array of doubles (PyMem_Free it), its length in
+ * *n; NULL with an exception (not a sequence, an item not a number, no memory).
+ */
+static double *read_stamps(PyObject *o, Py_ssize_t *n)
+{
+  PyObject *times = PySequence_Fast(o, "times must be a sequence");
+  if (times == NULL) {
+    return NULL;
+  }
+  *n = PySequence_Fast_GET_SIZE(times);
+  double *t = PyMem_Malloc(sizeof(double) * (size_t)(*n > 0 ? *n : 1));
+  if (t == NULL) {
+    PyErr_NoMemory();
+  } else {
+    for (Py_ssize_t i = 0; i < *n; i++) {
+      t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
+    }
+    if (PyErr_Occurred()) {
+      PyMem_Free(t);
+      t = NULL;
+    }
+  }
+  Py_DECREF(times);
+  return t;
+}
+
+/*
  * third_jumps(times) -> bytes: the (n - 4) x n matrix J (row-major doubles, per s^3) whose
  * product with values gives the not-a-knot interpolant's third-derivative jumps at the inner
  * knots 2..n-3 (core.motion.smoothing.third_jumps): the slopes of each unit value's spline
@@ -2529,31 +2556,24 @@ done:
  */
 static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
 {
-  PyObject *times = PySequence_Fast(arg, "times must be a sequence");
+  Py_ssize_t n;
+  double *t = read_stamps(arg, &n), *memory = NULL;
   PyObject *result = NULL;
-  double *memory = NULL;
-  if (times == NULL) {
+  if (t == NULL) {
     return NULL;
   }
-  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
   if (n < 5) {
     PyErr_SetString(PyExc_ValueError, "third_jumps: at least 5 stamps");
     goto done;
   }
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (8 + 3 * n)));
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (7 + 3 * n)));
   if (memory == NULL) {
     PyErr_NoMemory();
     goto done;
   }
-  double *t = memory, *basis = t + n, *slopes = basis + n * n, *third = slopes + n * n;
+  double *basis = memory, *slopes = basis + n * n, *third = slopes + n * n;
   double *work = third + n * n; /* 6 n */
   double *h = work + 6 * n;     /* n - 1 */
-  for (Py_ssize_t i = 0; i < n; i++) {
-    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
-  }
-  if (PyErr_Occurred()) {
-    goto done;
-  }
   for (Py_ssize_t i = 0; i < n * n; i++) {
     basis[i] = 0.0;
   }
@@ -2582,7 +2602,7 @@ static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
   }
 done:
   PyMem_Free(memory);
-  Py_DECREF(times);
+  PyMem_Free(t);
   return result;
 }
 
@@ -2602,29 +2622,19 @@ static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_s
     }
     return NULL;
   }
-  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
-  if (times == NULL) {
+  Py_ssize_t n;
+  double *t = read_stamps(args[0], &n);
+  PyObject *result = NULL;
+  if (t == NULL) {
     return NULL;
   }
-  PyObject *result = NULL;
-  double *t = NULL;
-  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
   if (count < 1 || count > n) {
     PyErr_SetString(PyExc_ValueError, "polynomial_basis: 1 <= count <= the stamps");
     goto done;
   }
-  t = PyMem_Malloc(sizeof(double) * (size_t)n);
-  if (t == NULL) {
-    PyErr_NoMemory();
-    goto done;
-  }
   double mean = 0.0, reach = 0.0;
   for (Py_ssize_t i = 0; i < n; i++) {
-    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
     mean += t[i];
-  }
-  if (PyErr_Occurred()) {
-    goto done;
   }
   mean /= (double)n;
   for (Py_ssize_t i = 0; i < n; i++) {
@@ -2666,7 +2676,6 @@ static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_s
   }
 done:
   PyMem_Free(t);
-  Py_DECREF(times);
   return result;
 }
 
