@@ -52,7 +52,8 @@ estimate, the chunks' fast-forwards and plans, ...), best of ``--repeats``.
 
 ``--look-ahead`` and ``--tracker-noise`` set ``c2``'s parameters in every mode (``--profile``
 and (d), (e) included); ``--bag-noise M`` writes the worst case with M m of tracking noise
-per coordinate (``simulate --noise``), where ``tracker_noise`` > 0 or auto smooths;
+per coordinate (``simulate --noise``; a session too, between its pitches as well), where
+``tracker_noise`` > 0 or auto smooths;
 ``--steady-clock`` stamps it as a tracker stamping its own frames does (no jitter, no grid).
 
 ``--interleave``: instead, (a), (d) and (e) in turn, ``--repeats`` times on one bag (default
@@ -113,18 +114,17 @@ def write_bag(path: Path, messages: int, pitch_every: float = WORST_SPACING_S,
     :param pitch_every: seconds from one pitch to the next: ``WORST_SPACING_S`` (the worst
         case: ``simulate``'s recording, nothing between pitches), or more (a session:
         :func:`write_session_bag`).
-    :param noise: the worst case's tracking noise (m per coordinate, ``simulate --noise``;
-        0: exact samples).
+    :param noise: the tracking noise (m per coordinate, ``simulate --noise``; 0: exact
+        samples), of the worst case or of a session.
     :param steady: the worst case's stamps on a steady clock (a tracker stamping its frames:
         no jitter, no millisecond grid) instead of 0.2 ms of jitter on a millisecond grid.
-    :raises ValueError: noise asked of a session.
+    :raises ValueError: a steady clock asked of a session.
     """
     start = time.perf_counter()
     if pitch_every > WORST_SPACING_S:
-        if noise or steady:
-            raise ValueError('--bag-noise and --steady-clock write the worst case only '
-                             '(--pitch-every 0.5)')
-        written = write_session_bag(path, messages, pitch_every)
+        if steady:
+            raise ValueError('--steady-clock writes the worst case only (--pitch-every 0.5)')
+        written = write_session_bag(path, messages, pitch_every, noise)
         return written, time.perf_counter() - start
     spec = RecordingSpec(count=messages // MESSAGES_PER_PITCH + 1, rate_hz=360.0,
                          grid_s=None if steady else 0.001, jitter_s=0.0 if steady else 0.0002,
@@ -143,7 +143,8 @@ def density(pitch_every: float) -> str:
             'message within 0.25 s of one)')
 
 
-def write_session_bag(path: Path, messages: int, pitch_every: float) -> int:
+def write_session_bag(path: Path, messages: int, pitch_every: float,
+                      noise: float = 0.0) -> int:
     """
     Write a batting-practice session of at least ``messages`` messages; return how many.
 
@@ -151,7 +152,9 @@ def write_session_bag(path: Path, messages: int, pitch_every: float) -> int:
     millisecond grid), one every ``pitch_every`` s, with tracking continuous between them: a
     ``PITCH_GAP_S`` pause after each pitch (the ball leaves the volume, as in the worst case),
     then ball and bat at 360 Hz until the next pitch, the ball waiting at its release point
-    and the bat held where the swing starts, swaying 3 mm at 0.5 Hz.
+    and the bat held where the swing starts, swaying 3 mm at 0.5 Hz. With ``noise`` (m), every
+    position, in the pitches and between them, has Gaussian noise of that much per
+    coordinate (as ``simulate --noise``: one draw per pose, the orientation exact).
     """
     rng = np.random.default_rng(1)
     pool = [make_scenario(KINDS[i % len(KINDS)], rng, lead_s=0.25, trail_s=0.15)
@@ -164,7 +167,7 @@ def write_session_bag(path: Path, messages: int, pitch_every: float) -> int:
         while written < messages:
             start = DEFAULT_START_NS + int(round(index * pitch_every * 1e9))
             pitch = sample(pool[index % len(pool)], 360.0, rng, jitter_s=0.0002, grid_s=0.001,
-                           start_ns=start).messages('pose')
+                           noise_m=noise, start_ns=start).messages('pose')
             ball = next(values for _, role, values in pitch if role == 'ball')
             bat = next(values for _, role, values in pitch if role == 'bat_pose')
             k = 0
@@ -173,9 +176,11 @@ def write_session_bag(path: Path, messages: int, pitch_every: float) -> int:
                 if stamp >= pitch[0][0]:
                     break
                 sway = 0.003 * math.sin(math.pi * (stamp - start) * 1e-9)
-                writer.write_point('/ball', stamp, 'world', ball)
+                shake = rng.normal(0.0, noise, 6) if noise else np.zeros(6)
+                writer.write_point('/ball', stamp, 'world', np.asarray(ball) + shake[:3])
                 writer.write_pose('/bat_pose', stamp, 'world',
-                                  (bat[0] + sway, bat[1], bat[2] + sway), bat[3:])
+                                  (bat[0] + sway + shake[3], bat[1] + shake[4],
+                                   bat[2] + sway + shake[5]), bat[3:])
                 written, k = written + 2, k + 1
             for stamp, role, values in pitch:
                 if role == 'ball':
@@ -421,11 +426,12 @@ def model_flag(model: str) -> List[str]:
 
 def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
                           pitch_every: float = WORST_SPACING_S,
-                          before: Optional[Path] = None, split: bool = False) -> None:
+                          before: Optional[Path] = None, split: bool = False,
+                          bag_noise: float = 0.0) -> None:
     """Print analyze as a whole process against a raw-read process on one bag, the ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / SUFFIXES[storage]
-        written, _ = write_bag(path, messages, pitch_every)
+        written, _ = write_bag(path, messages, pitch_every, bag_noise)
         raw_in = min(timed(raw_read, path)[1] for _ in range(repeats))
         # the two processes in turn, so a load that comes and goes meets both alike
         cli = str(Path(sys.executable).with_name('baseball-collision'))
@@ -725,7 +731,7 @@ def main() -> None:
     parser.add_argument('--tracker-noise', type=float, default=0.0, metavar='M',
                         help="c2's tracker_noise (0; -1: auto)")
     parser.add_argument('--bag-noise', type=float, default=0.0, metavar='M',
-                        help='the worst-case bag with this tracking noise (m; 0: exact)')
+                        help='the bag with this tracking noise (m; 0: exact)')
     parser.add_argument('--steady-clock', action='store_true',
                         help="the worst case's stamps on a steady clock (no jitter, no grid)")
     parser.add_argument('--split', action='store_true',
@@ -757,7 +763,7 @@ def main() -> None:
         return
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,
-                              args.pitch_every, args.before, args.split)
+                              args.pitch_every, args.before, args.split, args.bag_noise)
         return
     if args.against and args.split:
         split_figures(args.messages or 30_000, args.storage, args.model, args.against,
