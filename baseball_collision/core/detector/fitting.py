@@ -145,8 +145,7 @@ def ball_flight(stream: Stream, k: int, window: range, noise: float,
         values = stream.values[found.start:found.stop]
         fit = _kept(('flight', noise, degree, FLIGHT_MIN_SAMPLES, tolerance, tuple(times)),
                     values, lambda: flight_or_none(
-                        times, np.asarray(values, dtype=float), noise, degree,
-                        FLIGHT_MIN_SAMPLES, tolerance))
+                        times, values, noise, degree, FLIGHT_MIN_SAMPLES, tolerance))
         if fit is not None:
             return fit
     return None

@@ -40,6 +40,7 @@
  *        profile() does -> (t, ImpactResult), None, or NotImplemented (forecasts not finite)
  *   forecast(ball, bat, t), bat_bounds(bat, ta, tb)  the same forecasts at one instant
  *   polyfit(times, rows, t, degree)  least squares by Householder QR (core.detector.kinematics)
+ *   flight_fit(times, rows, degree)  a ball's flight fit by the same QR (core.motion.flight)
  *   ball_forecast(times, points, first, end, t0, degree, gravity, drag),
  *   bat_forecast(times, rows, first, end, degree)  the prediction's forecasts (core.prediction)
  *        fitted to a window of the detector's sample lists, read into contiguous arrays: the
@@ -2520,6 +2521,84 @@ done:
 }
 
 /*
+ * flight_fit(times, rows, degree) -> (centre, scale, coefficients: degree + 1 lists of 3,
+ * residual sum of squares) or NotImplemented (rank deficient): a ball's flight fit
+ * (core.motion.flight.fit_flight), the least-squares polynomial of each coordinate of rows (n
+ * points) in tau = (time - centre) / scale, the window's times centred and scaled onto
+ * [-1, 1], by householder_fit; the residuals' sum of squares over the three coordinates is the
+ * squared norm of what the reflectors leave below the first degree + 1 rows. ValueError: fewer
+ * than degree + 2 points, rows and times of different lengths, times that do not increase
+ * strictly, a degree outside 0..MAX_FIT_DEGREE.
+ */
+static PyObject *py_flight_fit(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t degree;
+  if (nargs != 3 || !read_index(args[2], &degree)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "flight_fit(times, rows, degree)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *result = NULL;
+  double *memory = NULL;
+  if (rows == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (degree < 0 || degree > MAX_FIT_DEGREE) {
+    PyErr_Format(PyExc_ValueError, "flight_fit: degree 0 to %d", MAX_FIT_DEGREE);
+    goto done;
+  }
+  if (PySequence_Fast_GET_SIZE(rows) != n || n < degree + 2) {
+    PyErr_Format(PyExc_ValueError, "flight_fit: a degree-%zd fit needs %zd points and as many "
+                 "times, got %zd and %zd", degree, degree + 2, PySequence_Fast_GET_SIZE(rows), n);
+    goto done;
+  }
+  int p = (int)degree + 1;
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (2 + p + 3) + p * 3));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *t = memory, *x = t + n, *a = x + n, *y = a + n * p, *c = y + n * 3;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
+    if (PyErr_Occurred() ||
+        !read_floats_or(PySequence_Fast_GET_ITEM(rows, i), y + i * 3, 3, "a point of the flight fit",
+                        PyExc_ValueError)) {
+      goto done;
+    }
+    if (i > 0 && !(t[i] > t[i - 1])) {
+      PyErr_SetString(PyExc_ValueError, "flight_fit: times must increase strictly");
+      goto done;
+    }
+  }
+  double centre = 0.5 * (t[0] + t[n - 1]), scale = 0.5 * (t[n - 1] - t[0]);
+  for (Py_ssize_t i = 0; i < n; i++) {
+    x[i] = (t[i] - centre) / scale;
+  }
+  if (!householder_fit(x, n, p, a, y, 3, c)) {
+    result = Py_NewRef(Py_NotImplemented);
+    goto done;
+  }
+  double residual = 0.0;
+  for (Py_ssize_t i = p * 3; i < n * 3; i++) {
+    residual += y[i] * y[i];
+  }
+  PyObject *coefficients = float_rows(c, p, 3, false);
+  if (coefficients != NULL) {
+    result = Py_BuildValue("(ddNd)", centre, scale, coefficients, residual);
+  }
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  return result;
+}
+
+/*
  * A sequence of stamps (any numbers) as a new array of doubles (PyMem_Free it), its length in
  * *n; NULL with an exception (not a sequence, an item not a number, no memory).
  */
@@ -3190,6 +3269,9 @@ static PyMethodDef methods[] = {
      "forecast(ball or None, bat or None, t): (ball centre, ball velocity, knob, tip, pivot)"},
     {"bat_bounds", (PyCFunction)(void (*)(void))py_bat_bounds, METH_FASTCALL,
      "bat_bounds(bat, ta, tb): (pivot travel bound, turning rate bound, reach)"},
+    {"flight_fit", (PyCFunction)(void (*)(void))py_flight_fit, METH_FASTCALL,
+     "flight_fit(times, rows, degree): (centre, scale, coefficients, residual sum of squares) of "
+     "a ball's flight fit, or NotImplemented (rank deficient)"},
     {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
      "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
      "(time - t) / span, or NotImplemented (rank deficient)"},

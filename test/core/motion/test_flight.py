@@ -2,8 +2,10 @@
 
 from baseball_collision.core.motion.flight import (
     chi_square_bound, fit_flight, flight_or_none)
+from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
+from support import examples
 
 
 def _pitch(times: np.ndarray) -> np.ndarray:
@@ -111,3 +113,32 @@ def test_tolerance_admits_a_noise_estimated_somewhat_low() -> None:
     assert flight_or_none(t, noisy, 8e-4, 2, 8) is None
     assert flight_or_none(t, noisy, 8e-4, 2, 8, 1.25) is not None
     assert fit.excess == pytest.approx(np.sqrt(fit.chi_square / fit.dof))
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(count=st.integers(4, 60), degree=st.integers(2, 3), seed=st.integers(0, 2 ** 32 - 1),
+       start=st.floats(0.0, 2e9))
+def test_fit_is_numpys_least_squares(count: int, degree: int, seed: int, start: float) -> None:
+    """Coefficients, residuals and the operator are numpy's least squares (SVD) to rounding."""
+    rng = np.random.default_rng(seed)
+    t = start + _stamps(rng.uniform(90.0, 360.0), count, seed)
+    if count < degree + 2 or not np.all(np.diff(t) > 0.0):
+        return
+    values = rng.normal(0.0, 1.0, (count, 3))
+    fit = fit_flight(t.tolist(), [tuple(row) for row in values.tolist()], 0.5, degree)
+    tau = (t - 0.5 * (t[0] + t[-1])) / (0.5 * (t[-1] - t[0]))
+    expected, residuals, _, _ = np.linalg.lstsq(tau[:, None] ** np.arange(degree + 1), values,
+                                                rcond=None)
+    assert np.allclose(fit.coefficients, expected, rtol=1e-9, atol=1e-9)
+    assert fit.chi_square * 0.25 == pytest.approx(float(np.sum(residuals)), rel=1e-9, abs=1e-12)
+    assert np.allclose(fit.solve @ values, expected, rtol=1e-8, atol=1e-8)
+    assert fit.dof == 3 * (count - degree - 1)
+
+
+def test_bunched_stamps_are_no_fit() -> None:
+    """Stamps bunched to a rounding's width are rank deficient: fit_flight raises, no fit."""
+    t = [1.0, 1.0 + 1e-15, 1.0 + 2e-15, 1.0 + 3e-15, 2.0]
+    values = np.zeros((5, 3))
+    with pytest.raises(ValueError, match='bunched'):
+        fit_flight(t, values, 1e-3, 3)
+    assert flight_or_none(t, values, 1e-3, 3, 4) is None
