@@ -30,12 +30,14 @@ space: a least-squares line or cubic) leaves less than that, it is taken. With
 ``target='likelihood'`` the weight of largest marginal likelihood when the penalty is read as
 a Gaussian prior (the smoother is then the Kalman/RTS smoother of that prior, as a cubic
 smoothing spline is that of an integrated white-noise acceleration: Wahba 1978); it stays put
-where the residual rules are flat, and can be the stiffest fit too. A column of zero
+where the residual rules are flat, and can be the stiffest fit too (searched on a grid of
+log10 weights 0.1 apart by the compiled kernel, ``toi._kernel.likeliest``). A column of zero
 variance is interpolated. Values are smoothed per column, so ``slopes`` are those of the
 interpolating spline (natural or not-a-knot) through the smoothed values.
 """
 
-from typing import Optional, Sequence, Tuple
+import math
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -211,23 +213,19 @@ def third_jumps(times: Sequence[float]) -> np.ndarray:
 
 
 def smoothing_weight(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
-                     target: str, terms: Optional['WeightTerms'] = None) -> float:
+                     target: str) -> float:
     """
     Return the weight lam (dimensionless, inf for the stiffest fit) for eigen-coordinates z.
 
     :param p: (n,) the penalty's eigenvalues; ``z``: (n, columns) the values in its
         eigenvectors; ``variances``: (columns,) > 0.
-    :param terms: ``WeightTerms(p)`` when the caller has them (``PenaltyEigen.terms``: made
-        once per window); the same numbers either way.
     """
+    if target == 'likelihood':
+        return _likeliest(p, z, variances, ((0, len(variances)),))[0]
     n = len(p)
     scaled = (z * z / variances[None, :]).sum(axis=1)
     columns = len(variances)
-    if terms is None:
-        terms = WeightTerms(p)
-    rough = terms.rough
-    if target == 'likelihood':
-        return _likeliest(terms, scaled[rough], columns)
+    rough = p > NULL_EIGENVALUE * max(float(np.max(p)), 1e-300) if n else np.zeros(0, bool)
 
     def excess(lam: float) -> float:
         shrink = lam * p / (1.0 + lam * p)
@@ -255,73 +253,31 @@ NULL_EIGENVALUE = 1e-9
 makes it zero; the weight search leaves it out)."""
 
 
-class WeightTerms:
+LIKELIHOOD_GRID = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
+"""The log10 weights ``target='likelihood'`` searches (``LOG_WEIGHTS`` in steps of 0.1)."""
+
+
+def _likeliest(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
+               bounds: Sequence[Tuple[int, int]]) -> Tuple[float, ...]:
     """
-    What the weight of largest likelihood needs of a penalty's eigenvalues alone.
-
-    The eigenvalues that count (``rough``: the penalty's null space drops out, as in REML),
-    the grid of log10 weights (``LOG_WEIGHTS`` in steps of 0.1), and per grid weight lam the
-    sum of log(1 + 1 / (lam p_i)) (``spread_logs``) and the factors 1 / (1 + 1 / (lam p_i))
-    (``shrinks``, one row per weight). They depend on the stamps only, so a window's are made
-    once (``PenaltyEigen.terms``) for each group of columns it smooths.
-
-    :param p: (n,) the penalty's eigenvalues (>= 0).
-    """
-
-    __slots__ = ('rough', 'logs', 'spread_logs', 'shrinks')
-
-    def __init__(self, p: np.ndarray) -> None:
-        self.rough = (p > NULL_EIGENVALUE * max(float(np.max(p)), 1e-300) if len(p)
-                      else np.zeros(0, bool))
-        kept = p[self.rough]
-        self.logs = np.arange(LOG_WEIGHTS[0], LOG_WEIGHTS[1] + 1e-9, 0.1)
-        spread = 1.0 + 1.0 / (10.0 ** self.logs[:, None] * kept[None, :])
-        self.spread_logs = np.log(spread).sum(axis=1)
-        self.shrinks = 1.0 / spread
-
-
-def _likeliest(terms: WeightTerms, scaled: np.ndarray, columns: int) -> float:
-    """
-    Return the weight of largest marginal likelihood (inf when that is the stiffest fit).
+    Return the weight of largest marginal likelihood for each group of columns.
 
     The penalty as a Gaussian prior of precision lam P / sigma^2 on the values: each rough
-    eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)), and
-    ``scaled`` holds z_i^2 / sigma^2 summed over the ``columns`` (the rough ones only). Searched
-    on the grid of ``terms`` (the null space drops out, as in REML).
+    eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)) (the null
+    space drops out, as in REML). Searched on ``LIKELIHOOD_GRID`` by the compiled kernel
+    (``toi._kernel.likeliest``: the cost it minimises is in its comment). Per group
+    (``bounds``: column ranges): the weight, inf when that is the stiffest fit, NaN when no
+    column of the group is noisy (variance > 0) or the penalty is zero.
     """
-    if not len(scaled):
-        return np.inf
-    cost = columns * terms.spread_logs + terms.shrinks @ scaled
-    best = int(np.argmin(cost))
-    return np.inf if best == len(terms.logs) - 1 else float(10.0 ** terms.logs[best])
+    return _kernel.likeliest(np.ascontiguousarray(p, dtype=float),
+                             np.ascontiguousarray(z, dtype=float),
+                             np.ascontiguousarray(variances, dtype=float), bounds,
+                             LIKELIHOOD_GRID, NULL_EIGENVALUE)
 
 
-class PenaltyEigen(tuple):
-    """
-    A window's penalty's (eigenvalues, eigenvectors), read-only, and its ``WeightTerms``.
-
-    A pair (``p, u = eigen`` unpacks it); ``terms`` makes the weight search's terms on first
-    use and keeps them.
-    """
-
-    def __new__(cls, values: np.ndarray, vectors: np.ndarray) -> 'PenaltyEigen':
-        """Return the pair (eigenvalues, eigenvectors)."""
-        return super().__new__(cls, (values, vectors))
-
-    @property
-    def terms(self) -> WeightTerms:
-        """Return the weight search's terms of these eigenvalues (made once)."""
-        found = self.__dict__.get('_terms')
-        if found is None:
-            found = self.__dict__['_terms'] = WeightTerms(self[0])
-        return found
-
-
-def penalty_eigen(times: Sequence[float], kind: str) -> PenaltyEigen:
+def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return the eigenvalues (>= 0) and eigenvectors of a window's ``penalty`` (read-only).
-
-    As a ``PenaltyEigen``: the pair, with the weight search's terms made on first use.
 
     A penalty depends on the window's steps only, not on where the window starts. Taken to
     the nanosecond (the detector's stamps are whole nanoseconds), the steps are the key: one
@@ -346,7 +302,7 @@ def penalty_eigen(times: Sequence[float], kind: str) -> PenaltyEigen:
         u.setflags(write=False)
         if len(_EIGEN) >= _EIGEN_KEPT:
             _EIGEN.clear()
-        found = _EIGEN[key] = PenaltyEigen(p, u)
+        found = _EIGEN[key] = (p, u)
     return found
 
 
@@ -403,10 +359,9 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
     y, v = _checked(times, values, variances, target)
-    eigen = eigen if eigen is not None else penalty_eigen(times, kind)
-    u = eigen[1]
-    keep = _keep(eigen, u.T @ y, v, target)
-    return np.eye(len(times)) if keep is None else (u * keep[None, :]) @ u.T
+    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
+    lam = _weights(p, u.T @ y, v, target, (slice(None),))[0]
+    return np.eye(len(times)) if math.isnan(lam) else (u * _factors(p, lam)[None, :]) @ u.T
 
 
 def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
@@ -430,14 +385,12 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
         not 0 with another penalty.
     """
     y, v = _checked(times, values, variances, target)
-    eigen = eigen if eigen is not None else penalty_eigen(times, kind)
-    u = eigen[1]
+    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     z = u.T @ y
     fitted = y.copy()
-    for group in groups:
-        keep = _keep(eigen, z[:, group], v[group], target)
-        if keep is not None:
-            fitted[:, group] = u @ (keep[:, None] * z[:, group])
+    for group, lam in zip(groups, _weights(p, z, v, target, groups)):
+        if not math.isnan(lam):
+            fitted[:, group] = u @ (_factors(p, lam)[:, None] * z[:, group])
     fitted[:, v <= 0.0] = y[:, v <= 0.0]
     if start:
         if kind != 'not-a-knot':
@@ -465,18 +418,39 @@ def _checked(times: Sequence[float], values: np.ndarray, variances: Sequence[flo
     return y, v
 
 
-def _keep(eigen: Tuple[np.ndarray, np.ndarray], z: np.ndarray, v: np.ndarray,
-          target: str) -> Optional[np.ndarray]:
+def _weights(p: np.ndarray, z: np.ndarray, v: np.ndarray, target: str,
+             groups: Sequence[slice]) -> List[float]:
     """
-    Return the smoother's factor on each eigen-coordinate, or None for the identity.
+    Return each group's weight on the noisy columns of z (the values in the eigenvectors).
 
-    1 / (1 + lam p) with the weight chosen on the noisy columns of z (the values in the
-    eigenvectors); None where no column is noisy or the penalty is zero (nothing smoothed).
+    NaN where the group has no noisy column or the penalty is zero (nothing smoothed); inf
+    for the stiffest fit.
+
+    :raises ValueError: a group that is not a contiguous slice.
     """
-    p = eigen[0]
-    noisy = v > 0.0
-    if not np.any(noisy) or not np.any(p > 0.0):
-        return None
-    lam = smoothing_weight(p, z[:, noisy], v[noisy], target, getattr(eigen, 'terms', None))
-    return 1.0 / (1.0 + lam * p) if np.isfinite(lam) else (
+    bounds = []
+    for group in groups:
+        start, stop, step = group.indices(len(v))
+        if step != 1:
+            raise ValueError(f'a group of columns must be contiguous, got {group!r}')
+        bounds.append((start, stop))
+    if target == 'likelihood':
+        return list(_likeliest(p, z, v, bounds))
+    if not np.any(p > 0.0):
+        return [math.nan] * len(bounds)
+    weights = []
+    for start, stop in bounds:
+        noisy = v[start:stop] > 0.0
+        weights.append(smoothing_weight(p, z[:, start:stop][:, noisy], v[start:stop][noisy],
+                                        target) if np.any(noisy) else math.nan)
+    return weights
+
+
+def _factors(p: np.ndarray, lam: float) -> np.ndarray:
+    """
+    Return the smoother's factor on each eigen-coordinate: 1 / (1 + lam p).
+
+    At lam = inf (the stiffest fit) 1 on the null space and 0 off it: its projection.
+    """
+    return 1.0 / (1.0 + lam * p) if math.isfinite(lam) else (
         p <= NULL_EIGENVALUE * float(np.max(p))).astype(float)

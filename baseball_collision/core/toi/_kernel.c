@@ -48,6 +48,8 @@
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
  *   not_a_knot(times, rows, start), third_jumps(times), polynomial_basis(times, count),
+ *   likeliest(p, z, variances, bounds, grid, null_eigenvalue)  the smoothing weight
+ *        (core.motion.smoothing),
  *   c2_chart(samples, j, max_angle), bat_axis(sample),
  *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -2759,6 +2761,208 @@ done:
 }
 
 /*
+ * A contiguous float64 buffer of any length: its view (release it) and its count of doubles;
+ * false with an exception (not such a buffer).
+ */
+static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const char *what)
+{
+  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    return false;
+  }
+  if (view->itemsize != sizeof(double) || view->format == NULL ||
+      strchr(view->format, 'd') == NULL) {
+    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous float64 array", what);
+    PyBuffer_Release(view);
+    return false;
+  }
+  *count = view->len / (Py_ssize_t)sizeof(double);
+  return true;
+}
+
+/* x scaled into [0.5, 1) with its power of two added to *exponent (a product kept in range) */
+static inline double renormalised(double x, long *exponent)
+{
+  int e;
+  double m = frexp(x, &e);
+  *exponent += e;
+  return m;
+}
+
+/*
+ * likeliest(p, z, variances, bounds, grid, null_eigenvalue) -> a tuple of weights, one per
+ * group of columns: the smoothing weight of largest marginal likelihood
+ * (core.motion.smoothing.smoothing_weight with target 'likelihood': the module docstring
+ * there). p: the penalty's n eigenvalues (>= 0); z: the values in its eigenvectors (n x c,
+ * row-major); variances: the c columns' noise variances; bounds: (start, stop) column ranges,
+ * the groups, each with one weight; grid: the log10 weights searched.
+ *
+ * The eigenvalues above null_eigenvalue times the largest count (the rough ones; the null
+ * space drops out, as in REML). For a group's noisy columns (variance > 0), with s_i the sum of
+ * z_i^2 / variance over them and k their count, each grid weight lam costs
+ *   k sum_i log(1 + 1 / (lam p_i)) + sum_i s_i / (1 + 1 / (lam p_i))
+ * over the rough i (the negative log-likelihood of z under the prior's variances
+ * sigma^2 (1 + 1 / (lam p_i)), constants dropped); the first smallest cost is taken
+ * (numpy.argmin's rule, a NaN first). The sum of logs is taken as the log of a product of
+ * the factors 1 + lam p_i (kept in range by its power of two) less m log(lam) and the sum of
+ * log(p_i): one log a grid weight, not one a term. A group's weight: 10^grid[best]; inf where
+ * best is the grid's last (the stiffest fit: the null space's projection); NaN where no column
+ * is noisy or no eigenvalue is positive (nothing to smooth). ValueError: buffers of the wrong type or shapes, bounds outside the
+ * columns.
+ */
+static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double null_eigenvalue;
+  if (nargs != 6 || !read_number(args[5], &null_eigenvalue)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "likeliest(p, z, variances, bounds, grid, null_eigenvalue)");
+    }
+    return NULL;
+  }
+  Py_buffer views[4];
+  Py_ssize_t counts[4];
+  int held = 0;
+  PyObject *result = NULL, *bounds = NULL;
+  double *memory = NULL;
+  static const char *names[4] = {"likeliest: p", "likeliest: z", "likeliest: variances",
+                                 "likeliest: grid"};
+  static const int positions[4] = {0, 1, 2, 4};
+  for (; held < 4; held++) {
+    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held])) {
+      goto done;
+    }
+  }
+  const double *p = views[0].buf, *z = views[1].buf, *variances = views[2].buf;
+  const double *grid = views[3].buf;
+  Py_ssize_t n = counts[0], c = counts[2], points = counts[3];
+  if (counts[1] != n * c || points < 1) {
+    PyErr_SetString(PyExc_ValueError, "likeliest: z must be n x c, the grid not empty");
+    goto done;
+  }
+  bounds = PySequence_Fast(args[3], "likeliest: bounds must be a sequence");
+  if (bounds == NULL) {
+    goto done;
+  }
+  Py_ssize_t groups = PySequence_Fast_GET_SIZE(bounds);
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (groups + 2) + 2 * groups + 1));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *rough = memory;                 /* the rough eigenvalues, m of them */
+  double *scaled = rough + n;             /* per group, its s_i over the rough i (m each) */
+  double *shrink = scaled + n * groups;   /* one grid weight's 1 / (1 + 1 / (lam p_i)) */
+  double *cost = shrink + n;              /* per group, the grid weight's cost */
+  double *best_cost = cost + groups;      /* per group, the lowest so far */
+  Py_ssize_t *best = NULL, *noisy = NULL;
+  double largest = 1e-300;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    largest = max_of(largest, p[i]);
+  }
+  Py_ssize_t m = 0;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    if (p[i] > null_eigenvalue * largest) {
+      rough[m++] = p[i];
+    }
+  }
+  best = PyMem_Malloc(sizeof(Py_ssize_t) * (size_t)(2 * groups + 1));
+  if (best == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  noisy = best + groups;
+  for (Py_ssize_t k = 0; k < groups; k++) {
+    Py_ssize_t start = -1, stop = -1;
+    PyObject *pair = PySequence_Fast(PySequence_Fast_GET_ITEM(bounds, k), "a bound");
+    if (pair != NULL && PySequence_Fast_GET_SIZE(pair) == 2) {
+      start = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 0), NULL);
+      stop = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 1), NULL);
+    }
+    Py_XDECREF(pair);
+    if (PyErr_Occurred() || start < 0 || stop > c || start > stop) {
+      PyErr_Clear();
+      PyErr_SetString(PyExc_ValueError, "likeliest: bounds must be (start, stop) columns");
+      PyMem_Free(best);
+      goto done;
+    }
+    noisy[k] = 0;
+    for (Py_ssize_t j = start; j < stop; j++) {
+      noisy[k] += variances[j] > 0.0;
+    }
+    Py_ssize_t r = 0;
+    for (Py_ssize_t i = 0; i < n; i++) { /* the rough rows, in order */
+      if (!(p[i] > null_eigenvalue * largest)) {
+        continue;
+      }
+      double sum = 0.0;
+      for (Py_ssize_t j = start; j < stop; j++) {
+        if (variances[j] > 0.0) {
+          sum += z[i * c + j] * z[i * c + j] / variances[j];
+        }
+      }
+      scaled[k * n + r++] = sum;
+    }
+    best[k] = -1;
+  }
+  /* sum_i log(1 + 1 / (lam p_i)) = sum_i log(1 + lam p_i) - m log(lam) - sum_i log(p_i): the
+   * last is the window's, the first the log of a product of factors >= 1 */
+  double logs_of_p = 0.0;
+  for (Py_ssize_t i = 0; i < m; i++) {
+    logs_of_p += log(rough[i]);
+  }
+  for (Py_ssize_t g = 0; g < points && m > 0; g++) {
+    double lam = pow(10.0, grid[g]), product = 1.0;
+    long exponent = 0;
+    for (Py_ssize_t i = 0; i < m; i++) { /* (no carried dependency: vectorised) */
+      double x = lam * rough[i];
+      shrink[i] = x / (1.0 + x);
+    }
+    for (Py_ssize_t i = 0; i < m; i++) {
+      product *= 1.0 + lam * rough[i];
+      if (!(product < 1e150)) {
+        product = renormalised(product, &exponent);
+      }
+    }
+    double logs = log(product) + (double)exponent * M_LN2 - (double)m * grid[g] * M_LN10 -
+                  logs_of_p;
+    for (Py_ssize_t k = 0; k < groups; k++) {
+      if (noisy[k] == 0 || (best[k] >= 0 && isnan(best_cost[k]))) {
+        continue;
+      }
+      double sum = 0.0;
+      for (Py_ssize_t i = 0; i < m; i++) {
+        sum += shrink[i] * scaled[k * n + i];
+      }
+      double here = (double)noisy[k] * logs + sum;
+      if (best[k] < 0 || isnan(here) || here < best_cost[k]) {
+        best[k] = g;
+        best_cost[k] = here;
+      }
+    }
+  }
+  result = PyTuple_New(groups);
+  for (Py_ssize_t k = 0; result != NULL && k < groups; k++) {
+    double weight = noisy[k] == 0 || m == 0 ? NAN
+                    : best[k] == points - 1 ? INFINITY
+                    : pow(10.0, grid[best[k]]);
+    PyObject *item = PyFloat_FromDouble(weight);
+    if (item == NULL) {
+      Py_CLEAR(result);
+      break;
+    }
+    PyTuple_SET_ITEM(result, k, item);
+  }
+  PyMem_Free(best);
+done:
+  PyMem_Free(memory);
+  Py_XDECREF(bounds);
+  while (held > 0) {
+    PyBuffer_Release(&views[--held]);
+  }
+  return result;
+}
+
+/*
  * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
  * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
  * exception (no knob or tip of 3 numbers).
@@ -3272,6 +3476,9 @@ static PyMethodDef methods[] = {
     {"flight_fit", (PyCFunction)(void (*)(void))py_flight_fit, METH_FASTCALL,
      "flight_fit(times, rows, degree): (centre, scale, coefficients, residual sum of squares) of "
      "a ball's flight fit, or NotImplemented (rank deficient)"},
+    {"likeliest", (PyCFunction)(void (*)(void))py_likeliest, METH_FASTCALL,
+     "likeliest(p, z, variances, bounds, grid, null_eigenvalue): the smoothing weight of "
+     "largest marginal likelihood per group of columns (inf: the stiffest; NaN: none noisy)"},
     {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
      "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
      "(time - t) / span, or NotImplemented (rank deficient)"},

@@ -367,21 +367,61 @@ def test_slopes_from_a_knot_are_those_knots_slopes(steps, data) -> None:
         smooth(times, values, [1e-6, 0.0], kind='natural', start=max(start, 1))
 
 
-@settings(max_examples=examples(40), deadline=None)
-@given(steps=steps, seed=st.integers(0, 2 ** 16),
-       target=st.sampled_from(smoothing.TARGETS))
-def test_the_weight_terms_kept_with_the_eigen_give_the_same_weight(steps, seed, target) -> None:
-    """``PenaltyEigen.terms`` made once give the weight computed without them, to the bit."""
+def _grid_costs(p: np.ndarray, z: np.ndarray, variances: np.ndarray) -> np.ndarray:
+    """Return the likelihood's costs on the grid, written out in numpy: a sum of logs each."""
+    rough = p > smoothing.NULL_EIGENVALUE * max(float(np.max(p)), 1e-300)
+    scaled = (z * z / variances[None, :]).sum(axis=1)[rough]
+    costs = []
+    for log in smoothing.LIKELIHOOD_GRID:
+        spread = 1.0 + 1.0 / (10.0 ** log * p[rough])
+        costs.append(len(variances) * np.sum(np.log(spread)) + np.sum(scaled / spread))
+    return np.array(costs)
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps, seed=st.integers(0, 2 ** 16), scale=st.floats(1e-4, 1e2))
+def test_the_kernels_weight_search_is_the_grid_search(steps, seed, scale) -> None:
+    """
+    ``_kernel.likeliest`` picks the grid weight a plain sum of logs picks, group by group.
+
+    Its costs are a product's log (one division a term), not a sum of logs: another weight
+    only where the two weights' costs tie to rounding.
+    """
     times = _times(steps)
-    smoothing._EIGEN.clear()
-    eigen = penalty_eigen(times, 'not-a-knot')
-    p, u = eigen  # (a pair)
+    p, u = penalty_eigen(times, 'not-a-knot')
     rng = np.random.default_rng(seed)
-    z = u.T @ (np.sin(15.0 * times)[:, None] + rng.normal(0.0, 1e-3, (len(times), 2)))
-    variances = np.array([1e-6, 4e-6])
-    expected = smoothing_weight(p, z, variances, target)
-    assert eigen.terms is eigen.terms  # made once
-    assert smoothing_weight(p, z, variances, target, eigen.terms) == expected
+    values = np.c_[np.sin(15.0 * times), times ** 3, np.cos(30.0 * times), times]
+    values = scale * values + rng.normal(0.0, 1e-3, values.shape)
+    variances = np.array([1e-6, 4e-6, 0.0, 1e-6])
+    z = u.T @ values
+    groups = ((0, 2), (2, 3), (1, 4), (0, 4))
+    found = _kernel.likeliest(p, z, variances, groups, smoothing.LIKELIHOOD_GRID,
+                              smoothing.NULL_EIGENVALUE)
+    assert np.isnan(found[1])  # no noisy column: nothing to smooth
+    grid = smoothing.LIKELIHOOD_GRID
+    for (start, stop), weight in zip(groups, found):
+        noisy = variances[start:stop] > 0.0
+        if not noisy.any():
+            continue
+        costs = _grid_costs(p, z[:, start:stop][:, noisy], variances[start:stop][noisy])
+        chosen = len(grid) - 1 if weight == np.inf else int(np.argmin(np.abs(
+            10.0 ** grid - weight)))
+        assert weight == np.inf or weight == 10.0 ** grid[chosen]
+        best = int(np.argmin(costs))
+        assert costs[chosen] - costs[best] <= 1e-12 * (abs(costs[best]) + 1.0)
+        assert smoothing_weight(p, z[:, start:stop][:, noisy], variances[start:stop][noisy],
+                                'likelihood') == weight
+
+
+def test_the_kernels_weight_search_refuses_bad_input() -> None:
+    """Wrong shapes or types and bounds outside the columns raise; no penalty gives NaN."""
+    p, z, v = np.ones(5), np.ones((5, 2)), np.ones(2)
+    grid = smoothing.LIKELIHOOD_GRID
+    for args in ((p, np.ones((4, 2)), v, ((0, 2),)), (p, z, v, ((0, 3),)),
+                 (p, z, v, ((1, 0),)), (p, z, v, ('ab',)), (p.astype(np.float32), z, v, ())):
+        with pytest.raises(ValueError):
+            _kernel.likeliest(*args, grid, smoothing.NULL_EIGENVALUE)
+    assert np.isnan(_kernel.likeliest(np.zeros(5), z, v, ((0, 2),), grid, 1e-9)[0])
 
 
 @settings(max_examples=examples(60), deadline=None)
