@@ -19,7 +19,13 @@ from threadpoolctl import threadpool_info, threadpool_limits
 
 
 def single_threaded_blas() -> None:
-    """Limit every BLAS library loaded in this process to one thread, from now on."""
+    """
+    Limit every BLAS library loaded in this process to one thread, from now on.
+
+    numpy is imported first, so its BLAS is loaded and limited even when nothing has imported
+    numpy yet (a limit set before a library loads does not reach it).
+    """
+    import numpy  # noqa: F401 (loads numpy's BLAS)
     threadpool_limits(limits=1, user_api='blas')
 
 

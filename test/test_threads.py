@@ -20,6 +20,16 @@ def test_single_threaded_blas_limits_numpys_blas_in_a_fresh_process() -> None:
     assert (int(before), int(after)) == (2, 1)
 
 
+def test_single_threaded_blas_before_numpy_is_imported_still_limits_it() -> None:
+    """Called before anything imports numpy, the limit still reaches numpy's BLAS."""
+    script = ('import sys; from baseball_collision.threads import blas_threads, '
+              'single_threaded_blas; before = "numpy" in sys.modules; single_threaded_blas(); '
+              'import numpy; print(before, blas_threads())')
+    found = subprocess.run([sys.executable, '-c', script], check=True, env=TWO_THREADS,
+                           capture_output=True, text=True).stdout.split()
+    assert found == ['False', '1']
+
+
 def test_the_node_and_the_command_line_limit_blas_at_start() -> None:
     """``impact_node``'s and ``baseball-collision``'s main set it before anything else."""
     script = ('import contextlib, io, sys\n'
