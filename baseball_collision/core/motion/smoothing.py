@@ -323,8 +323,11 @@ def _eigen_beside_null(matrix: np.ndarray, times: np.ndarray,
     null = min(degree + 1, len(times))
     basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), null)).reshape(-1, null)
     rough = u[:, null:]
-    rough -= basis @ (basis.T @ rough)
-    if rough.size and np.abs(rough.T @ rough - np.eye(len(times) - null)).max() > 1e-13:
+    leaked = basis.T @ rough  # (the rough eigenvectors' parts in the null space)
+    rough -= basis @ leaked
+    # orthonormal columns less their parts c_i in a subspace are off orthonormal by c_i . c_j,
+    # at most the largest |c_i|^2
+    if rough.size and float((leaked * leaked).sum(axis=0).max()) > 1e-13:
         # (an ill-conditioned penalty, steps of very different lengths: what the projection
         # took off was more than rounding) orthonormal again, in the eigenvalues' order
         rough[:] = np.linalg.qr(rough)[0]
@@ -360,7 +363,7 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     """
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
-    lam = _weights(p, u.T @ y, v, target, (slice(None),))[0]
+    lam = _weights(p, u.T @ y, v, target, ((0, len(v)),))[0]
     return np.eye(len(times)) if math.isnan(lam) else (u * _factors(p, lam)[None, :]) @ u.T
 
 
@@ -387,11 +390,11 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     z = u.T @ y
-    fitted = y.copy()
-    for group, lam in zip(groups, _weights(p, z, v, target, groups)):
-        if not math.isnan(lam):
-            fitted[:, group] = u @ (_factors(p, lam)[:, None] * z[:, group])
-    fitted[:, v <= 0.0] = y[:, v <= 0.0]
+    bounds = _bounds(groups, len(v))
+    y = np.ascontiguousarray(y)
+    fitted = np.frombuffer(_kernel.smoothed(p, u, z, y, v, bounds,
+                                            _weights(p, z, v, target, bounds),
+                                            NULL_EIGENVALUE)).reshape(y.shape)
     if start:
         if kind != 'not-a-knot':
             raise ValueError(f'the slopes from knot {start} are not-a-knot only, not {kind!r}')
@@ -418,22 +421,29 @@ def _checked(times: Sequence[float], values: np.ndarray, variances: Sequence[flo
     return y, v
 
 
-def _weights(p: np.ndarray, z: np.ndarray, v: np.ndarray, target: str,
-             groups: Sequence[slice]) -> List[float]:
+def _bounds(groups: Sequence[slice], columns: int) -> List[Tuple[int, int]]:
     """
-    Return each group's weight on the noisy columns of z (the values in the eigenvectors).
-
-    NaN where the group has no noisy column or the penalty is zero (nothing smoothed); inf
-    for the stiffest fit.
+    Return each group's (start, stop) columns.
 
     :raises ValueError: a group that is not a contiguous slice.
     """
     bounds = []
     for group in groups:
-        start, stop, step = group.indices(len(v))
+        start, stop, step = group.indices(columns)
         if step != 1:
             raise ValueError(f'a group of columns must be contiguous, got {group!r}')
         bounds.append((start, stop))
+    return bounds
+
+
+def _weights(p: np.ndarray, z: np.ndarray, v: np.ndarray, target: str,
+             bounds: Sequence[Tuple[int, int]]) -> List[float]:
+    """
+    Return each group's weight (``bounds``: its columns) on the noisy columns of z.
+
+    z: the values in the eigenvectors. NaN where the group has no noisy column or the penalty
+    is zero (nothing smoothed); inf for the stiffest fit.
+    """
     if target == 'likelihood':
         return list(_likeliest(p, z, v, bounds))
     if not np.any(p > 0.0):

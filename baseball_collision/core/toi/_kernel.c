@@ -48,8 +48,9 @@
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
  *   not_a_knot(times, rows, start), third_jumps(times), polynomial_basis(times, count),
- *   likeliest(p, z, variances, bounds, grid, null_eigenvalue)  the smoothing weight
- *        (core.motion.smoothing),
+ *   likeliest(p, z, variances, bounds, grid, null_eigenvalue),
+ *   smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue)  the smoothing weight and
+ *        the smoothed values (core.motion.smoothing),
  *   c2_chart(samples, j, max_angle), bat_axis(sample),
  *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -2779,6 +2780,24 @@ static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const c
   return true;
 }
 
+/* a group's (start, stop) columns, 0 <= start <= stop <= c; false with a ValueError */
+static bool read_bound(PyObject *o, Py_ssize_t c, Py_ssize_t *start, Py_ssize_t *stop)
+{
+  *start = *stop = -1;
+  PyObject *pair = PySequence_Fast(o, "a bound");
+  if (pair != NULL && PySequence_Fast_GET_SIZE(pair) == 2) {
+    *start = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 0), NULL);
+    *stop = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 1), NULL);
+  }
+  Py_XDECREF(pair);
+  if (PyErr_Occurred() || *start < 0 || *stop > c || *start > *stop) {
+    PyErr_Clear();
+    PyErr_SetString(PyExc_ValueError, "bounds must be (start, stop) columns");
+    return false;
+  }
+  return true;
+}
+
 /* x scaled into [0.5, 1) with its power of two added to *exponent (a product kept in range) */
 static inline double renormalised(double x, long *exponent)
 {
@@ -2872,16 +2891,8 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   }
   noisy = best + groups;
   for (Py_ssize_t k = 0; k < groups; k++) {
-    Py_ssize_t start = -1, stop = -1;
-    PyObject *pair = PySequence_Fast(PySequence_Fast_GET_ITEM(bounds, k), "a bound");
-    if (pair != NULL && PySequence_Fast_GET_SIZE(pair) == 2) {
-      start = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 0), NULL);
-      stop = PyNumber_AsSsize_t(PySequence_Fast_GET_ITEM(pair, 1), NULL);
-    }
-    Py_XDECREF(pair);
-    if (PyErr_Occurred() || start < 0 || stop > c || start > stop) {
-      PyErr_Clear();
-      PyErr_SetString(PyExc_ValueError, "likeliest: bounds must be (start, stop) columns");
+    Py_ssize_t start, stop;
+    if (!read_bound(PySequence_Fast_GET_ITEM(bounds, k), c, &start, &stop)) {
       PyMem_Free(best);
       goto done;
     }
@@ -2956,6 +2967,116 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
 done:
   PyMem_Free(memory);
   Py_XDECREF(bounds);
+  while (held > 0) {
+    PyBuffer_Release(&views[--held]);
+  }
+  return result;
+}
+
+/*
+ * smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue) -> bytearray: a window's
+ * smoothed values (n x c, row-major doubles; core.motion.smoothing.smooth). p: the penalty's n
+ * eigenvalues; u: its eigenvectors (n x n, row-major, one per column); z = u^T y (n x c);
+ * y: the values (n x c); variances: the c columns' noise variances; bounds: (start, stop)
+ * column ranges, the groups; weights: one per group (likeliest's or another rule's). A group's
+ * columns become u (f z) with f_i = 1 / (1 + lam p_i), or at lam = inf 1 on the null space
+ * (p_i <= null_eigenvalue times the largest) and 0 off it; a group of weight NaN, and every
+ * column of zero variance, keep y. ValueError: buffers of the wrong type or shapes, bounds
+ * outside the columns, a weights sequence not as long as the bounds.
+ */
+static PyObject *py_smoothed(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double null_eigenvalue;
+  if (nargs != 8 || !read_number(args[7], &null_eigenvalue)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue)");
+    }
+    return NULL;
+  }
+  Py_buffer views[5];
+  Py_ssize_t counts[5];
+  int held = 0;
+  PyObject *result = NULL, *bounds = NULL, *weights = NULL;
+  double *factor = NULL;
+  static const char *names[5] = {"smoothed: p", "smoothed: u", "smoothed: z", "smoothed: y",
+                                 "smoothed: variances"};
+  for (; held < 5; held++) {
+    if (!get_doubles(args[held], &views[held], &counts[held], names[held])) {
+      goto done;
+    }
+  }
+  const double *p = views[0].buf, *u = views[1].buf, *z = views[2].buf, *y = views[3].buf;
+  const double *variances = views[4].buf;
+  Py_ssize_t n = counts[0], c = counts[4];
+  if (counts[1] != n * n || counts[2] != n * c || counts[3] != n * c) {
+    PyErr_SetString(PyExc_ValueError, "smoothed: u must be n x n, z and y n x c");
+    goto done;
+  }
+  bounds = PySequence_Fast(args[5], "smoothed: bounds must be a sequence");
+  weights = bounds ? PySequence_Fast(args[6], "smoothed: weights must be a sequence") : NULL;
+  if (weights == NULL) {
+    goto done;
+  }
+  Py_ssize_t groups = PySequence_Fast_GET_SIZE(bounds);
+  if (PySequence_Fast_GET_SIZE(weights) != groups) {
+    PyErr_SetString(PyExc_ValueError, "smoothed: one weight per group");
+    goto done;
+  }
+  factor = PyMem_Malloc(sizeof(double) * (size_t)(n * (c + 1) + 1));
+  if (factor == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *scaled = factor + n; /* f_i z_i,j */
+  result = PyByteArray_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * n * c);
+  if (result == NULL) {
+    goto done;
+  }
+  double *out = (double *)PyByteArray_AS_STRING(result);
+  memcpy(out, y, sizeof(double) * (size_t)(n * c));
+  double largest = 0.0;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    largest = max_of(largest, p[i]);
+  }
+  for (Py_ssize_t k = 0; k < groups; k++) {
+    Py_ssize_t start, stop;
+    if (!read_bound(PySequence_Fast_GET_ITEM(bounds, k), c, &start, &stop)) {
+      Py_CLEAR(result);
+      goto done;
+    }
+    double lam = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(weights, k));
+    if (PyErr_Occurred()) {
+      Py_CLEAR(result);
+      goto done;
+    }
+    if (isnan(lam)) {
+      continue;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+      factor[i] = isinf(lam) ? (p[i] <= null_eigenvalue * largest ? 1.0 : 0.0)
+                             : 1.0 / (1.0 + lam * p[i]);
+    }
+    for (Py_ssize_t j = start; j < stop; j++) {
+      if (!(variances[j] > 0.0)) {
+        continue;
+      }
+      for (Py_ssize_t i = 0; i < n; i++) {
+        scaled[i] = factor[i] * z[i * c + j];
+      }
+      for (Py_ssize_t r = 0; r < n; r++) {
+        double sum = 0.0;
+        for (Py_ssize_t i = 0; i < n; i++) {
+          sum += u[r * n + i] * scaled[i];
+        }
+        out[r * c + j] = sum;
+      }
+    }
+  }
+done:
+  PyMem_Free(factor);
+  Py_XDECREF(bounds);
+  Py_XDECREF(weights);
   while (held > 0) {
     PyBuffer_Release(&views[--held]);
   }
@@ -3479,6 +3600,9 @@ static PyMethodDef methods[] = {
     {"likeliest", (PyCFunction)(void (*)(void))py_likeliest, METH_FASTCALL,
      "likeliest(p, z, variances, bounds, grid, null_eigenvalue): the smoothing weight of "
      "largest marginal likelihood per group of columns (inf: the stiffest; NaN: none noisy)"},
+    {"smoothed", (PyCFunction)(void (*)(void))py_smoothed, METH_FASTCALL,
+     "smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue): a window's smoothed "
+     "values (a bytearray of n x c doubles)"},
     {"polyfit", (PyCFunction)(void (*)(void))py_polyfit, METH_FASTCALL,
      "polyfit(times, rows, t, degree): (coefficients, span) of a least-squares polynomial in "
      "(time - t) / span, or NotImplemented (rank deficient)"},

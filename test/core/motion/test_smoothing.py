@@ -470,3 +470,38 @@ def test_the_kernels_polynomial_basis(steps, offset, count) -> None:
     scaled = (times - times.mean()) / np.abs(times - times.mean()).max()
     powers = np.vander(scaled, count, increasing=True)
     assert np.allclose(basis @ (basis.T @ powers), powers, rtol=0.0, atol=1e-9)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, seed=st.integers(0, 2 ** 16), log_weight=st.floats(-12.0, 12.0))
+def test_the_kernels_smoothed_values_are_the_eigenvectors_products(steps, seed,
+                                                                   log_weight) -> None:
+    """``_kernel.smoothed`` is u (f z) per group (numpy's), y where NaN or zero variance."""
+    times = _times(steps)
+    p, u = penalty_eigen(times, 'not-a-knot')
+    rng = np.random.default_rng(seed)
+    y = rng.normal(0.0, 1.0, (len(times), 5))
+    variances = np.array([1e-6, 0.0, 1e-6, 1e-6, 1e-6])
+    z = u.T @ y
+    bounds = ((0, 2), (2, 3), (3, 5))
+    weights = (10.0 ** log_weight, np.inf, np.nan)
+    fitted = np.frombuffer(_kernel.smoothed(p, u, z, y, variances, bounds, weights,
+                                            smoothing.NULL_EIGENVALUE)).reshape(y.shape)
+    factors = 1.0 / (1.0 + weights[0] * p)
+    assert np.allclose(fitted[:, 0], u @ (factors * z[:, 0]), rtol=1e-12, atol=1e-12)
+    assert np.array_equal(fitted[:, 1], y[:, 1])  # zero variance: as given
+    null = (p <= smoothing.NULL_EIGENVALUE * p.max()).astype(float)
+    assert np.allclose(fitted[:, 2], u @ (null * z[:, 2]), rtol=1e-12, atol=1e-12)
+    assert np.array_equal(fitted[:, 3:], y[:, 3:])  # NaN: nothing smoothed
+
+
+def test_the_kernels_smoothed_values_refuse_bad_input() -> None:
+    """Shapes that do not match, bounds outside the columns, a weight short: ValueErrors."""
+    p, u, y, v = np.ones(4), np.eye(4), np.ones((4, 2)), np.ones(2)
+    for args in ((p, np.eye(3), y, y, v, ((0, 2),), (1.0,)),
+                 (p, u, y, np.ones((4, 3)), v, ((0, 2),), (1.0,)),
+                 (p, u, y, y, v, ((0, 3),), (1.0,)),
+                 (p, u, y, y, v, ((0, 2),), ()),
+                 (p, u, y.astype(np.float32), y, v, ((0, 2),), (1.0,))):
+        with pytest.raises(ValueError):
+            _kernel.smoothed(*args, smoothing.NULL_EIGENVALUE)
