@@ -33,7 +33,6 @@ from .streams import Stream
 from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
     unit_axis
-from ..motion.c2 import rotation_to
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
 from ..motion.splines import not_a_knot_slope_rows
@@ -229,16 +228,10 @@ def _recharted(reference: Vector, origin: Vector, turn: np.ndarray,
     Return a rotation vector and its rate (rad, rad/s) moved from one chart to another.
 
     :param reference: the old chart's origin direction, in which ``turn`` and ``rate`` are;
-        ``origin``: the new chart's.
+        ``origin``: the new chart's. The rate by central differences ``_STEP`` rad along it
+        (the kernel's ``toi._kernel.recharted``).
     """
-    speed = float(np.linalg.norm(rate))
-    at = rotation_to(origin, rotate(reference, tuple(turn.tolist())))
-    if speed == 0.0:
-        return at, (0.0, 0.0, 0.0)
-    step = _STEP / speed  # s
-    ahead = rotation_to(origin, rotate(reference, tuple((turn + step * rate).tolist())))
-    behind = rotation_to(origin, rotate(reference, tuple((turn - step * rate).tolist())))
-    return at, tuple((a - b) / (2.0 * step) for a, b in zip(ahead, behind))
+    return _kernel.recharted(reference, origin, turn, rate, _STEP)
 
 
 def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: int,

@@ -24,14 +24,13 @@ contact) cannot bend the interval. Each path is a ``MotionPath`` over one interv
 derivative of knob + length * direction.
 """
 
-import math
 from typing import List, Optional, Sequence, Tuple
 
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
 from .splines import not_a_knot_slope_rows
-from ..geometry import cross, norm, Vector
+from ..geometry import norm, Vector
 from ..toi import _kernel
 
 
@@ -83,14 +82,14 @@ def rotation_to(reference: Vector, direction: Vector) -> Vector:
 
 
 def rotate(reference: Vector, rotation: Vector) -> Vector:
-    """Return ``reference`` turned by a rotation vector across it (Rodrigues), unit."""
-    angle = norm(rotation)
-    if angle < 1e-15:
-        return reference
-    across = cross(rotation, reference)
-    c, s = math.cos(angle), math.sin(angle) / angle
-    return (c * reference[0] + s * across[0], c * reference[1] + s * across[1],
-            c * reference[2] + s * across[2])
+    """
+    Return ``reference`` turned by a rotation vector across it (Rodrigues), unit.
+
+    The kernel's (``toi._kernel.rotate``): the angle |rotation|, then
+    ``cos(angle) reference + sin(angle) / angle (rotation x reference)``; ``reference`` itself
+    below 1e-15 rad.
+    """
+    return _kernel.rotate(reference, rotation)
 
 
 _LAST_ROWS: list = [None]

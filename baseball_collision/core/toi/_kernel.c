@@ -52,7 +52,9 @@
  *   smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue)  the smoothing weight and
  *        the smoothed values (core.motion.smoothing),
  *   c2_chart(samples, j, max_angle), bat_axis(sample),
- *   rotation_to(reference, direction), c2_window(times, breaks, k, max_gap, look_ahead, size),
+ *   rotation_to(reference, direction), rotate(reference, rotation),
+ *   recharted(reference, origin, turn, rate, step),
+ *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
@@ -3128,6 +3130,66 @@ static Vec rotation_to(Vec r, Vec d)
   return (Vec){t.x * angle, t.y * angle, t.z * angle};
 }
 
+/* reference turned by a rotation vector across it (Rodrigues; core.motion.c2.rotate, its
+ * operations in its order); *same true (and the result reference) below 1e-15 rad */
+static Vec rotate_by(Vec f, Vec r, bool *same)
+{
+  double angle = sqrt(r.x * r.x + r.y * r.y + r.z * r.z);
+  *same = angle < 1e-15;
+  if (*same) {
+    return f;
+  }
+  Vec across = {r.y * f.z - r.z * f.y, r.z * f.x - r.x * f.z, r.x * f.y - r.y * f.x};
+  double c = cos(angle), s = sin(angle) / angle;
+  return (Vec){c * f.x + s * across.x, c * f.y + s * across.y, c * f.z + s * across.z};
+}
+
+/* rotate(reference, rotation) -> reference turned by the rotation vector (the same object
+ * below 1e-15 rad) */
+static PyObject *py_rotate(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec reference, rotation;
+  if (nargs != 2 || !read_vec(args[0], &reference) || !read_vec(args[1], &rotation)) {
+    PyErr_SetString(PyExc_TypeError, "rotate(reference, rotation): two 3-vectors");
+    return NULL;
+  }
+  bool same;
+  Vec turned = rotate_by(reference, rotation, &same);
+  return same ? Py_NewRef(args[0]) : vec_tuple(turned);
+}
+
+/*
+ * recharted(reference, origin, turn, rate, step) -> (rotation vector, its rate): a rotation
+ * vector and its rate (rad, rad/s) moved from the chart about unit ``reference`` to the one
+ * about unit ``origin`` (core.detector.fitting._recharted): the direction reference turned by
+ * ``turn``, charted from origin; the rate by central differences, turn +- (step / |rate|)
+ * rate (step in rad); (0, 0, 0) where the rate is zero.
+ */
+static PyObject *py_recharted(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec reference, origin, turn, rate;
+  double step;
+  if (nargs != 5 || !read_vec(args[0], &reference) || !read_vec(args[1], &origin) ||
+      !read_vec(args[2], &turn) || !read_vec(args[3], &rate) || !read_number(args[4], &step)) {
+    PyErr_SetString(PyExc_TypeError,
+                    "recharted(reference, origin, turn, rate, step): four 3-vectors, a number");
+    return NULL;
+  }
+  bool same;
+  Vec at = rotation_to(origin, rotate_by(reference, turn, &same));
+  double speed = sqrt(rate.x * rate.x + rate.y * rate.y + rate.z * rate.z);
+  Vec change = {0.0, 0.0, 0.0};
+  if (speed != 0.0) {
+    double h = step / speed; /* s */
+    Vec forward = {turn.x + h * rate.x, turn.y + h * rate.y, turn.z + h * rate.z};
+    Vec ahead = rotation_to(origin, rotate_by(reference, forward, &same));
+    Vec behind = rotation_to(origin, rotate_by(reference, v_sub(turn, v_scale(rate, h)), &same));
+    change = (Vec){(ahead.x - behind.x) / (2.0 * h), (ahead.y - behind.y) / (2.0 * h),
+                   (ahead.z - behind.z) / (2.0 * h)};
+  }
+  return Py_BuildValue("(NN)", vec_tuple(at), vec_tuple(change));
+}
+
 /* bat_axis(sample) -> (unit knob-to-tip direction, length in m) */
 static PyObject *py_bat_axis(PyObject *self, PyObject *sample)
 {
@@ -3635,6 +3697,11 @@ static PyMethodDef methods[] = {
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"rotate", (PyCFunction)(void (*)(void))py_rotate, METH_FASTCALL,
+     "rotate(reference, rotation): reference turned by a rotation vector across it (Rodrigues)"},
+    {"recharted", (PyCFunction)(void (*)(void))py_recharted, METH_FASTCALL,
+     "recharted(reference, origin, turn, rate, step): a rotation vector and its rate moved from "
+     "one chart to another"},
     {"rotation_to", (PyCFunction)(void (*)(void))py_rotation_to, METH_FASTCALL,
      "rotation_to(reference, direction): the rotation vector (rad) turning one onto the other"},
     {"c2_chart", (PyCFunction)(void (*)(void))py_c2_chart, METH_FASTCALL,

@@ -11,10 +11,13 @@ from baseball_collision.core.detector.fitting import (
     kept_history, point_gains, swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
+from baseball_collision.core.motion.c2 import rotate, rotation_to
 from baseball_collision.core.motion.flight import flight_or_none
 from baseball_collision.tools.sim import DEFAULT_START_NS as START_NS, make_scenario, sample
+from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
+from support import examples
 
 
 def _swing(t: float):
@@ -381,3 +384,25 @@ def test_c2_window_is_the_longest_continuous_run_about_its_interval() -> None:
         assert last - window.start + 1 <= max(size, last - k + 1)
         assert (last - window.start + 1 >= size or window.start == 0
                 or not joined(window.start) or window.start == k)
+
+
+_vectors = st.tuples(*[st.floats(-3.0, 3.0)] * 3)
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(turn=_vectors, rate=_vectors, tilt=_vectors)
+def test_recharted_rate_is_the_derivative_in_the_new_chart(turn, rate, tilt) -> None:
+    """A rotation vector's rate moved to another chart: the new chart's vector's derivative."""
+    reference = (0.0, 0.0, 1.0)
+    turn = tuple(0.3 * x for x in turn[:2]) + (0.0,)  # (across the reference)
+    origin = rotate(reference, tuple(0.2 * x for x in tilt[:2]) + (0.0,))
+    rate = tuple(rate[:2]) + (0.0,)
+    at, moved = fitting._recharted(reference, origin, np.array(turn), np.array(rate))
+    assert at == rotation_to(origin, rotate(reference, turn))
+
+    def charted(t: float) -> np.ndarray:
+        return np.array(rotation_to(origin, rotate(reference, tuple(
+            x + t * r for x, r in zip(turn, rate)))))
+
+    h = 1e-6
+    assert np.allclose(moved, (charted(h) - charted(-h)) / (2 * h), atol=1e-4)

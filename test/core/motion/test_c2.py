@@ -3,6 +3,7 @@
 import math
 
 from baseball_collision.core.motion import BatSample, C2BatPath, not_a_knot_slopes
+from baseball_collision.core.motion.c2 import rotate
 from hypothesis import given, settings, strategies as st
 import numpy as np
 from support import examples
@@ -86,3 +87,26 @@ def test_path_never_leaves_its_chord_by_more_than_the_bound(steps, tilt, noise, 
             assert math.dist(p, path.centre) <= path.radius + 1e-12
     if noise == 0.0:  # a rigid bat keeps its length
         assert abs(math.dist(*path.at(path.t0 + 0.37 * path.h)) - 0.86) < 1e-3
+
+
+vectors = st.tuples(*[st.floats(-3.0, 3.0)] * 3)
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(direction=vectors, rotation=vectors)
+def test_rotate_is_rodrigues_step_by_step(direction, rotation) -> None:
+    """The kernel's rotate is Rodrigues' formula written out in Python, to the bit."""
+    length = math.sqrt(sum(x * x for x in direction))
+    if length < 1e-3:
+        return
+    reference = tuple(x / length for x in direction)
+    angle = math.sqrt(rotation[0] * rotation[0] + rotation[1] * rotation[1]
+                      + rotation[2] * rotation[2])
+    if angle < 1e-15:
+        assert rotate(reference, rotation) is reference
+        return
+    across = (rotation[1] * reference[2] - rotation[2] * reference[1],
+              rotation[2] * reference[0] - rotation[0] * reference[2],
+              rotation[0] * reference[1] - rotation[1] * reference[0])
+    c, s = math.cos(angle), math.sin(angle) / angle
+    assert rotate(reference, rotation) == tuple(c * f + s * a for f, a in zip(reference, across))
