@@ -92,13 +92,13 @@ def c2_window(stream: Stream, k: int, max_gap: float, look_ahead: int, size: int
 
 
 def widened(stream: Stream, window: range) -> range:
-    """Return a window reaching ``NOISE_SPAN`` back from its newest sample, in its segment."""
-    times, breaks = stream.times, stream.breaks
-    first, newest = window.start, times[window.stop - 1]
-    while (first > 0 and not breaks[first] and window.stop - first < MAX_WINDOW
-           and newest - times[first - 1] <= NOISE_SPAN):
-        first -= 1
-    return range(first, window.stop)
+    """
+    Return a window reaching ``NOISE_SPAN`` back from its newest sample, in its segment.
+
+    At most ``MAX_WINDOW`` samples (the kernel's ``toi._kernel.reach_back``).
+    """
+    return range(_kernel.reach_back(stream.times, stream.breaks, window.start, window.stop,
+                                    math.inf, NOISE_SPAN, MAX_WINDOW), window.stop)
 
 
 def kept_history(config: Any) -> float:
@@ -113,13 +113,13 @@ def kept_history(config: Any) -> float:
 
 
 def flight_window(stream: Stream, last: int, max_gap: float, span: float) -> range:
-    """Return the samples up to ``last`` within ``span`` s of it, in its segment, no long gap."""
-    times, breaks = stream.times, stream.breaks
-    first, newest = last, times[last]
-    while (first > 0 and not breaks[first] and times[first] - times[first - 1] <= max_gap
-           and newest - times[first - 1] <= span):
-        first -= 1
-    return range(first, last + 1)
+    """
+    Return the samples up to ``last`` within ``span`` s of it, in its segment, no long gap.
+
+    No step longer than ``max_gap`` (s); the kernel's ``toi._kernel.reach_back``.
+    """
+    return range(_kernel.reach_back(stream.times, stream.breaks, last, last + 1, max_gap, span,
+                                    last + 2), last + 1)
 
 
 def ball_flight(stream: Stream, k: int, window: range, noise: float,

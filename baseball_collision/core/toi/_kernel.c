@@ -55,6 +55,7 @@
  *   rotation_to(reference, direction), rotate(reference, rotation),
  *   recharted(reference, origin, turn, rate, step),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
+ *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
@@ -3426,6 +3427,61 @@ static inline int flag_at(PyObject *list, Py_ssize_t i)
 }
 
 /*
+ * reach_back(times, breaks, first, stop, max_gap, span, most) -> the first sample of a window
+ * of a stream's samples ending at stop - 1, reached back from ``first``
+ * (core.detector.fitting.widened, flight_window): one sample further while there is one
+ * before, ``first`` does not start a segment (``breaks[first]``), the window holds fewer than
+ * ``most`` samples, the step before ``first`` is at most max_gap and the sample before is at
+ * most ``span`` before the newest (times in s). IndexError: first or stop outside the samples.
+ */
+static PyObject *py_reach_back(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, stop, most;
+  double max_gap, span;
+  if (nargs != 7 || !read_index(args[2], &first) || !read_index(args[3], &stop) ||
+      !read_number(args[4], &max_gap) || !read_number(args[5], &span) ||
+      !read_index(args[6], &most)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "reach_back(times, breaks, first, stop, max_gap, span, most)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *breaks = times ? PySequence_Fast(args[1], "breaks must be a sequence") : NULL;
+  PyObject *result = NULL;
+  if (breaks == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (first < 0 || stop > n || first >= stop || PySequence_Fast_GET_SIZE(breaks) != n) {
+    PyErr_SetString(PyExc_IndexError, "reach_back: first or stop outside the samples");
+    goto done;
+  }
+  double newest = item_double(PySequence_Fast_GET_ITEM(times, stop - 1));
+  double here = item_double(PySequence_Fast_GET_ITEM(times, first));
+  while (!PyErr_Occurred() && first > 0 && stop - first < most) {
+    int broken = flag_at(breaks, first);
+    if (broken != 0) {
+      break;
+    }
+    double before = item_double(PySequence_Fast_GET_ITEM(times, first - 1));
+    if (!(here - before <= max_gap) || !(newest - before <= span)) {
+      break;
+    }
+    first--;
+    here = before;
+  }
+  if (!PyErr_Occurred()) {
+    result = PyLong_FromSsize_t(first);
+  }
+done:
+  Py_XDECREF(times);
+  Py_XDECREF(breaks);
+  return result;
+}
+
+/*
  * c2_window(times, breaks, k, max_gap, look_ahead, size) -> the range of a stream's samples a
  * c2 fit of interval k takes (core.detector.fitting.c2_window): up to look_ahead samples
  * after its closing frame, back to ``size`` in all, none across a break (``breaks[i]``: sample
@@ -3709,6 +3765,9 @@ static PyMethodDef methods[] = {
      "vector from samples[j]'s direction, length"},
     {"chain_marks", (PyCFunction)(void (*)(void))py_chain_marks, METH_FASTCALL,
      "chain_marks(following, start, marks): mark start, following[start], ... below n"},
+    {"reach_back", (PyCFunction)(void (*)(void))py_reach_back, METH_FASTCALL,
+     "reach_back(times, breaks, first, stop, max_gap, span, most): a window's first sample, "
+     "reached back within its segment, a span and a count"},
     {"c2_window", (PyCFunction)(void (*)(void))py_c2_window, METH_FASTCALL,
      "c2_window(times, breaks, k, max_gap, look_ahead, size): the range of samples a c2 fit of "
      "interval k takes"},

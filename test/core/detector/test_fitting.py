@@ -406,3 +406,30 @@ def test_recharted_rate_is_the_derivative_in_the_new_chart(turn, rate, tilt) -> 
 
     h = 1e-6
     assert np.allclose(moved, (charted(h) - charted(-h)) / (2 * h), atol=1e-4)
+
+
+def _reach_back(times, breaks, first, stop, max_gap, span, most) -> int:
+    """Return the window's first sample, reached back one step at a time (the kernel's loop)."""
+    newest = times[stop - 1]
+    while (first > 0 and not breaks[first] and stop - first < most
+           and times[first] - times[first - 1] <= max_gap and newest - times[first - 1] <= span):
+        first -= 1
+    return first
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(steps=st.lists(st.floats(0.001, 0.06), min_size=2, max_size=80),
+       broken=st.sets(st.integers(1, 79), max_size=4), data=st.data())
+def test_windows_reach_back_as_a_loop_over_the_samples(steps, broken, data) -> None:
+    """``widened`` and ``flight_window`` stop where a break, a gap, the span or the count says."""
+    times = list(np.cumsum([1.7e9] + steps))
+    stream = Stream('bat')
+    stream.times, stream.breaks = times, [i in broken for i in range(len(times))]
+    last = data.draw(st.integers(0, len(times) - 1))
+    for max_gap, span in ((0.05, 0.15), (0.02, 0.09), (math.inf, 1.0)):
+        assert flight_window(stream, last, max_gap, span) == range(_reach_back(
+            times, stream.breaks, last, last + 1, max_gap, span, len(times) + 1), last + 1)
+    start = data.draw(st.integers(0, last))
+    assert widened(stream, range(start, last + 1)) == range(_reach_back(
+        times, stream.breaks, start, last + 1, math.inf, fitting.NOISE_SPAN,
+        fitting.MAX_WINDOW), last + 1)
