@@ -2783,6 +2783,32 @@ static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const c
   return true;
 }
 
+/*
+ * count contiguous float64 buffers, args[positions[i]] into views[i] and their lengths (in
+ * doubles) into counts[i]; false with an exception (and none held) where one is not such a
+ * buffer. Release them with release_views.
+ */
+static bool get_views(PyObject *const *args, const int *positions, int count,
+                      const char *const *names, Py_buffer *views, Py_ssize_t *counts)
+{
+  for (int held = 0; held < count; held++) {
+    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held])) {
+      while (held > 0) {
+        PyBuffer_Release(&views[--held]);
+      }
+      return false;
+    }
+  }
+  return true;
+}
+
+static void release_views(Py_buffer *views, int count)
+{
+  for (int i = 0; i < count; i++) {
+    PyBuffer_Release(&views[i]);
+  }
+}
+
 /* a group's (start, stop) columns, 0 <= start <= stop <= c; false with a ValueError */
 static bool read_bound(PyObject *o, Py_ssize_t c, Py_ssize_t *start, Py_ssize_t *stop)
 {
@@ -2828,8 +2854,8 @@ static inline double renormalised(double x, long *exponent)
  * the factors 1 + lam p_i (kept in range by its power of two) less m log(lam) and the sum of
  * log(p_i): one log a grid weight, not one a term. A group's weight: 10^grid[best]; inf where
  * best is the grid's last (the stiffest fit: the null space's projection); NaN where no column
- * is noisy or no eigenvalue is positive (nothing to smooth). ValueError: buffers of the wrong type or shapes, bounds outside the
- * columns.
+ * is noisy or no eigenvalue is positive (nothing to smooth). ValueError: buffers of the wrong
+ * type or shapes, bounds outside the columns.
  */
 static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -2843,17 +2869,14 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   }
   Py_buffer views[4];
   Py_ssize_t counts[4];
-  int held = 0;
+  static const char *const names[4] = {"likeliest: p", "likeliest: z", "likeliest: variances",
+                                       "likeliest: grid"};
+  static const int positions[4] = {0, 1, 2, 4};
+  if (!get_views(args, positions, 4, names, views, counts)) {
+    return NULL;
+  }
   PyObject *result = NULL, *bounds = NULL;
   double *memory = NULL;
-  static const char *names[4] = {"likeliest: p", "likeliest: z", "likeliest: variances",
-                                 "likeliest: grid"};
-  static const int positions[4] = {0, 1, 2, 4};
-  for (; held < 4; held++) {
-    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held])) {
-      goto done;
-    }
-  }
   const double *p = views[0].buf, *z = views[1].buf, *variances = views[2].buf;
   const double *grid = views[3].buf;
   Py_ssize_t n = counts[0], c = counts[2], points = counts[3];
@@ -2970,9 +2993,7 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
 done:
   PyMem_Free(memory);
   Py_XDECREF(bounds);
-  while (held > 0) {
-    PyBuffer_Release(&views[--held]);
-  }
+  release_views(views, 4);
   return result;
 }
 
@@ -2999,16 +3020,14 @@ static PyObject *py_smoothed(PyObject *self, PyObject *const *args, Py_ssize_t n
   }
   Py_buffer views[5];
   Py_ssize_t counts[5];
-  int held = 0;
+  static const char *const names[5] = {"smoothed: p", "smoothed: u", "smoothed: z",
+                                       "smoothed: y", "smoothed: variances"};
+  static const int positions[5] = {0, 1, 2, 3, 4};
+  if (!get_views(args, positions, 5, names, views, counts)) {
+    return NULL;
+  }
   PyObject *result = NULL, *bounds = NULL, *weights = NULL;
   double *factor = NULL;
-  static const char *names[5] = {"smoothed: p", "smoothed: u", "smoothed: z", "smoothed: y",
-                                 "smoothed: variances"};
-  for (; held < 5; held++) {
-    if (!get_doubles(args[held], &views[held], &counts[held], names[held])) {
-      goto done;
-    }
-  }
   const double *p = views[0].buf, *u = views[1].buf, *z = views[2].buf, *y = views[3].buf;
   const double *variances = views[4].buf;
   Py_ssize_t n = counts[0], c = counts[4];
@@ -3080,9 +3099,7 @@ done:
   PyMem_Free(factor);
   Py_XDECREF(bounds);
   Py_XDECREF(weights);
-  while (held > 0) {
-    PyBuffer_Release(&views[--held]);
-  }
+  release_views(views, 5);
   return result;
 }
 
