@@ -20,7 +20,7 @@ prediction's fits use), whose reflectors leave the residuals' sum of squares bes
 coefficients. The solution operator (``FlightFit.solve``, for the uncertainties) is made only
 when asked, from the normal equations: on [-1, 1] those of a parabola or a cubic are well
 conditioned (condition number 10-65 on evenly spaced samples, at most about 5e4 on stamps
-bunched at random), so it gives the coefficients to within a few units of the last place.
+bunched at random), so it gives the coefficients to about 1e-14 relative (1e-11 at worst).
 
 The goodness-of-fit guard (``FlightFit.free``) is a chi-square test of the residuals against
 the noise: ``sum (y - f)^2 / sigma^2`` over the three coordinates against the upper

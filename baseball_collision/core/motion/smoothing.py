@@ -381,7 +381,8 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
 
     :param times: (n,) strictly increasing (s), n >= 2; ``values``: (n, columns);
         ``variances``: (columns,) the noise variance of each column; ``eigen``: as for
-        ``smoother_matrix``; ``groups``: slices of the columns, each smoothed with one weight.
+        ``smoother_matrix``; ``groups``: contiguous slices of the columns, each smoothed
+        with one weight (the kernel's ``toi._kernel.smoothed`` applies them).
     :param start: the slopes of knots ``start`` .. n - 1 only (rows n - ``start``; the values
         are all n): a window's interval is near its end (``not-a-knot`` only).
     :raises ValueError: an unknown penalty or target, or shapes that do not match; ``start``
@@ -460,7 +461,9 @@ def _factors(p: np.ndarray, lam: float) -> np.ndarray:
     """
     Return the smoother's factor on each eigen-coordinate: 1 / (1 + lam p).
 
-    At lam = inf (the stiffest fit) 1 on the null space and 0 off it: its projection.
+    At lam = inf (the stiffest fit) 1 on the null space and 0 off it: its projection. (The
+    kernel's ``smoothed`` applies the same factors to a window's values; this is for
+    ``smoother_matrix``.)
     """
     return 1.0 / (1.0 + lam * p) if math.isfinite(lam) else (
         p <= NULL_EIGENVALUE * float(np.max(p))).astype(float)
