@@ -142,3 +142,12 @@ def test_bunched_stamps_are_no_fit() -> None:
     with pytest.raises(ValueError, match='bunched'):
         fit_flight(t, values, 1e-3, 3)
     assert flight_or_none(t, values, 1e-3, 3, 4) is None
+
+
+def test_a_sample_that_is_not_a_number_gives_no_fit() -> None:
+    """A NaN coordinate makes the residuals NaN: the guard fails (no fit), nothing raises."""
+    t = _stamps(360.0, 20, 4)
+    values = _pitch(t)
+    values[7, 1] = np.nan
+    assert flight_or_none(t, values, 1e-3, 2, 8) is None
+    assert not fit_flight(t, values, 1e-3).free
