@@ -98,6 +98,8 @@ def penalty(times: Sequence[float], kind: str) -> np.ndarray:
     """
     t = np.asarray(times, dtype=float)
     n = len(t)
+    if kind == 'not-a-knot':  # (the third jumps scaled by the mean step cubed, J^T J)
+        return np.frombuffer(_kernel.not_a_knot_penalty(t.tolist())).reshape(n, n)
     h = np.diff(t)
     mean = float(np.mean(h))
     if kind == 'natural':
@@ -107,10 +109,7 @@ def penalty(times: Sequence[float], kind: str) -> np.ndarray:
         return q @ np.linalg.solve(r, q.T) * mean ** 3
     if kind == 'jerk':
         return jerk_precision(t / mean)
-    if kind != 'not-a-knot':
-        raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
-    jumps = third_jumps(t) * mean ** 3
-    return jumps.T @ jumps
+    raise ValueError(f"penalty must be one of {', '.join(PENALTIES)}, got {kind!r}")
 
 
 def jerk_steps(h: float) -> Tuple[np.ndarray, np.ndarray]:
@@ -290,13 +289,13 @@ def penalty_eigen(times: Sequence[float], kind: str) -> Tuple[np.ndarray, np.nda
 
     :raises ValueError: an unknown kind (``penalty``).
     """
-    t = np.asarray(times, dtype=float)
-    steps = np.rint(np.diff(t) * 1e9)
-    whole = len(steps) > 0 and float(steps.min()) >= 1.0
-    key = (steps.tobytes() if whole else tuple(t.tolist()), whole, kind)
+    steps = _kernel.step_key(times.tolist() if isinstance(times, np.ndarray) else times)
+    whole = steps is not None
+    key = (steps if whole else tuple(np.asarray(times, dtype=float).tolist()), whole, kind)
     found = _EIGEN.get(key)
     if found is None:
-        rebuilt = np.concatenate(([0.0], np.cumsum(steps) * 1e-9)) if whole else t
+        rebuilt = (np.concatenate(([0.0], np.cumsum(np.frombuffer(steps)) * 1e-9)) if whole
+                   else np.asarray(times, dtype=float))
         p, u = _eigen_beside_null(penalty(rebuilt, kind), rebuilt, NULL_DEGREE[kind])
         p.setflags(write=False)
         u.setflags(write=False)
@@ -320,20 +319,15 @@ def _eigen_beside_null(matrix: np.ndarray, times: np.ndarray,
     are projected off it.
     """
     p, u = np.linalg.eigh(matrix)  # (ascending: the null space's first)
+    p, u = np.ascontiguousarray(p), np.ascontiguousarray(u)
     null = min(degree + 1, len(times))
-    basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), null)).reshape(-1, null)
-    rough = u[:, null:]
-    leaked = basis.T @ rough  # (the rough eigenvectors' parts in the null space)
-    rough -= basis @ leaked
-    # orthonormal columns less their parts c_i in a subspace are off orthonormal by c_i . c_j,
-    # at most the largest |c_i|^2
-    if rough.size and float((leaked * leaked).sum(axis=0).max()) > 1e-13:
+    # the kernel's: the basis in the first columns, the others less their parts c_i in it, the
+    # null eigenvalues (and any rounding below zero) zero; orthonormal columns less their
+    # parts are off orthonormal by c_i . c_j, at most the largest |c_i|^2, which it returns
+    if _kernel.beside_null(p, u, times.tolist(), null, NULL_EIGENVALUE) > 1e-13:
         # (an ill-conditioned penalty, steps of very different lengths: what the projection
         # took off was more than rounding) orthonormal again, in the eigenvalues' order
-        rough[:] = np.linalg.qr(rough)[0]
-    u[:, :null] = basis
-    p[:null] = 0.0
-    p[p <= NULL_EIGENVALUE * p[-1]] = 0.0  # (and any rounding below zero)
+        u[:, null:] = np.linalg.qr(u[:, null:])[0]
     return p, u
 
 

@@ -48,6 +48,7 @@
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
  *   not_a_knot(times, rows, start), third_jumps(times), polynomial_basis(times, count),
+ *   step_key(times), not_a_knot_penalty(times), beside_null(p, u, times, count, null_eigenvalue),
  *   likeliest(p, z, variances, bounds, grid, null_eigenvalue),
  *   smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue)  the smoothing weight and
  *        the smoothed values (core.motion.smoothing),
@@ -2572,8 +2573,8 @@ static PyObject *py_flight_fit(PyObject *self, PyObject *const *args, Py_ssize_t
   for (Py_ssize_t i = 0; i < n; i++) {
     t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
     if (PyErr_Occurred() ||
-        !read_floats_or(PySequence_Fast_GET_ITEM(rows, i), y + i * 3, 3, "a point of the flight fit",
-                        PyExc_ValueError)) {
+        !read_floats_or(PySequence_Fast_GET_ITEM(rows, i), y + i * 3, 3,
+                        "a point of the flight fit", PyExc_ValueError)) {
       goto done;
     }
     if (i > 0 && !(t[i] > t[i - 1])) {
@@ -2639,22 +2640,14 @@ static double *read_stamps(PyObject *o, Py_ssize_t *n)
  * in numpy's order of operations, and the differences of consecutive pieces'. ValueError:
  * fewer than 5 stamps.
  */
-static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
+/* the (n - 4) x n third-jump rows of stamps t (third_jumps' comment) into jumps, n >= 5; false
+ * with MemoryError */
+static bool third_jump_rows(const double *t, Py_ssize_t n, double *jumps)
 {
-  Py_ssize_t n;
-  double *t = read_stamps(arg, &n), *memory = NULL;
-  PyObject *result = NULL;
-  if (t == NULL) {
-    return NULL;
-  }
-  if (n < 5) {
-    PyErr_SetString(PyExc_ValueError, "third_jumps: at least 5 stamps");
-    goto done;
-  }
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (7 + 3 * n)));
+  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (7 + 3 * n)));
   if (memory == NULL) {
     PyErr_NoMemory();
-    goto done;
+    return false;
   }
   double *basis = memory, *slopes = basis + n * n, *third = slopes + n * n;
   double *work = third + n * n; /* 6 n */
@@ -2676,17 +2669,31 @@ static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
       third[i * n + c] = 6.0 * (slopes[i * n + c] + slopes[(i + 1) * n + c] - 2.0 * chord) / hh;
     }
   }
-  result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * (n - 4) * n);
-  if (result != NULL) {
-    double *jumps = (double *)PyBytes_AS_STRING(result);
-    for (Py_ssize_t r = 0; r < n - 4; r++) { /* the jump at knot r + 2 */
-      for (Py_ssize_t c = 0; c < n; c++) {
-        jumps[r * n + c] = third[(r + 2) * n + c] - third[(r + 1) * n + c];
-      }
+  for (Py_ssize_t r = 0; r < n - 4; r++) { /* the jump at knot r + 2 */
+    for (Py_ssize_t c = 0; c < n; c++) {
+      jumps[r * n + c] = third[(r + 2) * n + c] - third[(r + 1) * n + c];
     }
   }
-done:
   PyMem_Free(memory);
+  return true;
+}
+
+static PyObject *py_third_jumps(PyObject *self, PyObject *arg)
+{
+  Py_ssize_t n;
+  double *t = read_stamps(arg, &n);
+  PyObject *result = NULL;
+  if (t == NULL) {
+    return NULL;
+  }
+  if (n < 5) {
+    PyErr_SetString(PyExc_ValueError, "third_jumps: at least 5 stamps");
+  } else {
+    result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * (n - 4) * n);
+    if (result != NULL && !third_jump_rows(t, n, (double *)PyBytes_AS_STRING(result))) {
+      Py_CLEAR(result);
+    }
+  }
   PyMem_Free(t);
   return result;
 }
@@ -2698,25 +2705,10 @@ done:
  * orthogonalised against the ones before twice (modified Gram-Schmidt, re-orthogonalised) and
  * normalised. ValueError: count not in 1..n, or stamps all equal.
  */
-static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/* polynomial_basis' columns of stamps t (centred here) into q (n x count); false with a
+ * ValueError (stamps all equal, count > 1) */
+static bool polynomial_columns(double *t, Py_ssize_t n, Py_ssize_t count, double *q)
 {
-  Py_ssize_t count;
-  if (nargs != 2 || !read_index(args[1], &count)) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "polynomial_basis(times, count)");
-    }
-    return NULL;
-  }
-  Py_ssize_t n;
-  double *t = read_stamps(args[0], &n);
-  PyObject *result = NULL;
-  if (t == NULL) {
-    return NULL;
-  }
-  if (count < 1 || count > n) {
-    PyErr_SetString(PyExc_ValueError, "polynomial_basis: 1 <= count <= the stamps");
-    goto done;
-  }
   double mean = 0.0, reach = 0.0;
   for (Py_ssize_t i = 0; i < n; i++) {
     mean += t[i];
@@ -2728,13 +2720,8 @@ static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_s
   }
   if (!(reach > 0.0) && count > 1) {
     PyErr_SetString(PyExc_ValueError, "polynomial_basis: the stamps are all equal");
-    goto done;
+    return false;
   }
-  result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * n * count);
-  if (result == NULL) {
-    goto done;
-  }
-  double *q = (double *)PyBytes_AS_STRING(result);
   for (Py_ssize_t c = 0; c < count; c++) {
     for (Py_ssize_t i = 0; i < n; i++) { /* the power c of the scaled stamp */
       q[i * count + c] = c == 0 ? 1.0 : pow(t[i] / reach, (double)c);
@@ -2759,7 +2746,203 @@ static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_s
       q[i * count + c] /= size;
     }
   }
+  return true;
+}
+
+static PyObject *py_polynomial_basis(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t count;
+  if (nargs != 2 || !read_index(args[1], &count)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "polynomial_basis(times, count)");
+    }
+    return NULL;
+  }
+  Py_ssize_t n;
+  double *t = read_stamps(args[0], &n);
+  PyObject *result = NULL;
+  if (t == NULL) {
+    return NULL;
+  }
+  if (count < 1 || count > n) {
+    PyErr_SetString(PyExc_ValueError, "polynomial_basis: 1 <= count <= the stamps");
+  } else {
+    result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * n * count);
+    if (result != NULL && !polynomial_columns(t, n, count, (double *)PyBytes_AS_STRING(result))) {
+      Py_CLEAR(result);
+    }
+  }
+  PyMem_Free(t);
+  return result;
+}
+
+/*
+ * step_key(times) -> bytes or None: a window's steps to the nanosecond (n - 1 doubles, each
+ * rint((t[i + 1] - t[i]) * 1e9), numpy's order), the key a penalty is kept by
+ * (core.motion.smoothing.penalty_eigen); None with fewer than 2 stamps or a step under 1 ns
+ * (or not a number).
+ */
+static PyObject *py_step_key(PyObject *self, PyObject *arg)
+{
+  Py_ssize_t n;
+  double *t = read_stamps(arg, &n);
+  if (t == NULL) {
+    return NULL;
+  }
+  PyObject *result = NULL;
+  bool whole = n >= 2;
+  for (Py_ssize_t i = 0; whole && i < n - 1; i++) {
+    t[i] = rint((t[i + 1] - t[i]) * 1e9);
+    whole = t[i] >= 1.0;
+  }
+  result = whole ? PyBytes_FromStringAndSize((const char *)t,
+                                             (Py_ssize_t)sizeof(double) * (n - 1))
+                 : Py_NewRef(Py_None);
+  PyMem_Free(t);
+  return result;
+}
+
+/*
+ * not_a_knot_penalty(times) -> bytes: the not-a-knot roughness penalty P (n x n, row-major,
+ * dimensionless; core.motion.smoothing.penalty): with J the third-jump rows (third_jumps) and
+ * m the mean step, (m^3 J)^T (m^3 J); zeros below 5 stamps.
+ */
+static PyObject *py_not_a_knot_penalty(PyObject *self, PyObject *arg)
+{
+  Py_ssize_t n;
+  double *t = read_stamps(arg, &n), *jumps = NULL;
+  if (t == NULL) {
+    return NULL;
+  }
+  PyObject *result = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)sizeof(double) * n * n);
+  if (result == NULL) {
+    goto done;
+  }
+  double *penalty = (double *)PyBytes_AS_STRING(result);
+  memset(penalty, 0, sizeof(double) * (size_t)(n * n));
+  if (n < 5) {
+    goto done;
+  }
+  jumps = PyMem_Malloc(sizeof(double) * (size_t)((n - 4) * n));
+  if (jumps == NULL) {
+    PyErr_NoMemory();
+    Py_CLEAR(result);
+    goto done;
+  }
+  if (!third_jump_rows(t, n, jumps)) {
+    Py_CLEAR(result);
+    goto done;
+  }
+  double mean = 0.0;
+  for (Py_ssize_t i = 0; i < n - 1; i++) {
+    mean += t[i + 1] - t[i];
+  }
+  double scale = pow(mean / (double)(n - 1), 3.0);
+  for (Py_ssize_t i = 0; i < (n - 4) * n; i++) {
+    jumps[i] *= scale;
+  }
+  for (Py_ssize_t a = 0; a < n; a++) {
+    for (Py_ssize_t b = a; b < n; b++) {
+      double sum = 0.0;
+      for (Py_ssize_t r = 0; r < n - 4; r++) {
+        sum += jumps[r * n + a] * jumps[r * n + b];
+      }
+      penalty[a * n + b] = penalty[b * n + a] = sum;
+    }
+  }
 done:
+  PyMem_Free(jumps);
+  PyMem_Free(t);
+  return result;
+}
+
+/*
+ * beside_null(p, u, times, count, null_eigenvalue) -> float: a penalty's eigenvalues p (n,
+ * ascending) and eigenvectors u (n x n, row-major, one per column), both writable, given their
+ * null space exactly (core.motion.smoothing._eigen_beside_null): u's first ``count`` columns
+ * become polynomial_basis(times, count), the others less their parts in it, p's first count
+ * zero and any at most null_eigenvalue times the largest zero. Returns the largest squared
+ * norm of a column's removed parts (columns orthonormal before are off orthonormal by at most
+ * it). ValueError: arrays of the wrong shapes, count not in 1..n, stamps all equal.
+ */
+static PyObject *py_beside_null(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t count;
+  double null_eigenvalue;
+  if (nargs != 5 || !read_index(args[3], &count) || !read_number(args[4], &null_eigenvalue)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "beside_null(p, u, times, count, null_eigenvalue)");
+    }
+    return NULL;
+  }
+  Py_ssize_t n;
+  double *t = read_stamps(args[2], &n), *basis = NULL;
+  if (t == NULL) {
+    return NULL;
+  }
+  PyObject *result = NULL;
+  Py_buffer values, vectors;
+  bool have_values = false, have_vectors = false;
+  if (count < 1 || count > n) {
+    PyErr_SetString(PyExc_ValueError, "beside_null: 1 <= count <= the stamps");
+    goto done;
+  }
+  if (!(have_values = get_buffer(args[0], &values, n, true)) ||
+      !(have_vectors = get_buffer(args[1], &vectors, n * n, true))) {
+    goto done;
+  }
+  basis = PyMem_Malloc(sizeof(double) * (size_t)(n * count + count));
+  if (basis == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *part = basis + n * count;
+  if (!polynomial_columns(t, n, count, basis)) {
+    goto done;
+  }
+  double *p = values.buf, *u = vectors.buf, leak = 0.0;
+  for (Py_ssize_t j = count; j < n; j++) {
+    double size = 0.0;
+    for (Py_ssize_t b = 0; b < count; b++) {
+      double along = 0.0;
+      for (Py_ssize_t i = 0; i < n; i++) {
+        along += basis[i * count + b] * u[i * n + j];
+      }
+      part[b] = along;
+      size += along * along;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+      double off = 0.0;
+      for (Py_ssize_t b = 0; b < count; b++) {
+        off += basis[i * count + b] * part[b];
+      }
+      u[i * n + j] -= off;
+    }
+    leak = max_of(leak, size);
+  }
+  for (Py_ssize_t i = 0; i < n; i++) {
+    for (Py_ssize_t b = 0; b < count; b++) {
+      u[i * n + b] = basis[i * count + b];
+    }
+  }
+  for (Py_ssize_t b = 0; b < count; b++) {
+    p[b] = 0.0;
+  }
+  double floor = null_eigenvalue * p[n - 1];
+  for (Py_ssize_t i = 0; i < n; i++) {
+    if (p[i] <= floor) {
+      p[i] = 0.0;
+    }
+  }
+  result = PyFloat_FromDouble(leak);
+done:
+  if (have_values) {
+    PyBuffer_Release(&values);
+  }
+  if (have_vectors) {
+    PyBuffer_Release(&vectors);
+  }
+  PyMem_Free(basis);
   PyMem_Free(t);
   return result;
 }
@@ -3765,6 +3948,13 @@ static PyMethodDef methods[] = {
     {"polynomial_basis", (PyCFunction)(void (*)(void))py_polynomial_basis, METH_FASTCALL,
      "polynomial_basis(times, count): an orthonormal basis of the polynomials of degree < count "
      "at the stamps, n x count doubles as bytes"},
+    {"step_key", py_step_key, METH_O,
+     "step_key(times): a window's steps to the nanosecond as bytes, or None"},
+    {"not_a_knot_penalty", py_not_a_knot_penalty, METH_O,
+     "not_a_knot_penalty(times): the not-a-knot roughness penalty (n x n doubles)"},
+    {"beside_null", (PyCFunction)(void (*)(void))py_beside_null, METH_FASTCALL,
+     "beside_null(p, u, times, count, null_eigenvalue): a penalty's eigenpairs given their null "
+     "space exactly (in place); the largest squared part removed"},
     {"third_jumps", py_third_jumps, METH_O,
      "third_jumps(times): the not-a-knot interpolant's third-derivative jumps at the inner "
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},

@@ -3,7 +3,7 @@
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
-    smoothing_weight)
+    smoothing_weight, third_jumps)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
@@ -505,3 +505,53 @@ def test_the_kernels_smoothed_values_refuse_bad_input() -> None:
                  (p, u, y.astype(np.float32), y, v, ((0, 2),), (1.0,))):
         with pytest.raises(ValueError):
             _kernel.smoothed(*args, smoothing.NULL_EIGENVALUE)
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps, start=st.floats(0.0, 2e9))
+def test_the_kernels_step_key_is_numpys_rounded_steps(steps, start) -> None:
+    """``_kernel.step_key`` is ``rint(diff(t) * 1e9)`` to the bit; None under 1 ns or 2 stamps."""
+    times = start + _times(steps)
+    expected = np.rint(np.diff(times) * 1e9)
+    found = _kernel.step_key(times.tolist())
+    if expected.min() >= 1.0:
+        assert found == expected.tobytes()
+    else:
+        assert found is None
+    assert _kernel.step_key([1.0]) is None
+    assert _kernel.step_key([1.0, 1.0 + 1e-10]) is None
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps)
+def test_the_kernels_penalty_is_the_scaled_third_jumps_product(steps) -> None:
+    """``penalty(..., 'not-a-knot')`` is (m^3 J)^T (m^3 J), J the third jumps, m the mean step."""
+    times = _times(steps)
+    jumps = third_jumps(times) * float(np.mean(np.diff(times))) ** 3
+    expected = jumps.T @ jumps
+    found = penalty(times, 'not-a-knot')
+    assert np.array_equal(found, found.T)
+    assert np.allclose(found, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+    assert np.array_equal(penalty(times[:4], 'not-a-knot'), np.zeros((4, 4)))
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps, degree=st.sampled_from([1, 3]))
+def test_the_kernels_null_space_is_the_projection_written_out(steps, degree) -> None:
+    """``_kernel.beside_null``: the basis in front, the rest less its parts, the leak returned."""
+    times = _times(steps)
+    p, u = np.linalg.eigh(penalty(times, 'not-a-knot'))
+    count = degree + 1
+    basis = np.frombuffer(_kernel.polynomial_basis(times.tolist(), count)).reshape(-1, count)
+    parts = basis.T @ u[:, count:]
+    rough = u[:, count:] - basis @ parts
+    expected_p = p.copy()
+    expected_p[:count] = 0.0
+    expected_p[expected_p <= smoothing.NULL_EIGENVALUE * expected_p[-1]] = 0.0
+    leak = _kernel.beside_null(p, u, times.tolist(), count, smoothing.NULL_EIGENVALUE)
+    assert leak == pytest.approx(float((parts * parts).sum(axis=0).max()), rel=1e-9, abs=1e-20)
+    assert np.array_equal(u[:, :count], basis)
+    assert np.allclose(u[:, count:], rough, atol=1e-13)
+    assert np.array_equal(p, expected_p)
+    with pytest.raises(ValueError):
+        _kernel.beside_null(p, u[:-1], times.tolist(), count, 1e-9)
