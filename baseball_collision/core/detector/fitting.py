@@ -222,8 +222,8 @@ def bat_variances(sample: BatSample, noise: float) -> List[float]:
     return [noise * noise] * 3 + [across * (1.0 - a * a) for a in axis] + [along]
 
 
-def _recharted(reference: Vector, origin: Vector, turn: np.ndarray,
-               rate: np.ndarray) -> Tuple[Vector, Vector]:
+def _recharted(reference: Vector, origin: Vector, turn: Sequence[float],
+               rate: Sequence[float]) -> Tuple[Vector, Vector]:
     """
     Return a rotation vector and its rate (rad, rad/s) moved from one chart to another.
 
@@ -309,8 +309,8 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
 
     opening = at(t0) if noise > 0.0 else stream.values[k]
     origin = unit_axis(opening)
-    turn0, turn1 = (_recharted(before.reference, origin, np.array(before.turn.at(t)),
-                               np.array(before.turn.velocity(t)))[1] for t in (t0, t1))
+    turn0, turn1 = (_recharted(before.reference, origin, before.turn.at(t),
+                               before.turn.velocity(t))[1] for t in (t0, t1))
     return C2BatPath(t0, t1, opening, at(t1),
                      (before.knob.velocity(t0), before.knob.velocity(t1)), (turn0, turn1),
                      (lengthening(t0), lengthening(t1)))
