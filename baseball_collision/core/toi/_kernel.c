@@ -1134,15 +1134,35 @@ static double solve_row(const Vec *p, double rb, double rt, double dt)
   return tau * dt;
 }
 
-/* a C-contiguous buffer of `items` float64 values */
-static bool get_buffer(PyObject *o, Py_buffer *view, Py_ssize_t items, bool writable)
+/*
+ * A contiguous float64 buffer of any length (writable if asked): its view (release it) and its
+ * count of doubles; false with an exception (not such a buffer).
+ */
+static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const char *what,
+                        bool writable)
 {
   int flags = PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | (writable ? PyBUF_WRITABLE : 0);
   if (PyObject_GetBuffer(o, view, flags) < 0) {
     return false;
   }
-  if (view->len != items * (Py_ssize_t)sizeof(double) || view->itemsize != sizeof(double) ||
-      view->format == NULL || strchr(view->format, 'd') == NULL) {
+  if (view->itemsize != sizeof(double) || view->format == NULL ||
+      strchr(view->format, 'd') == NULL) {
+    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous float64 array", what);
+    PyBuffer_Release(view);
+    return false;
+  }
+  *count = view->len / (Py_ssize_t)sizeof(double);
+  return true;
+}
+
+/* a C-contiguous buffer of `items` float64 values */
+static bool get_buffer(PyObject *o, Py_buffer *view, Py_ssize_t items, bool writable)
+{
+  Py_ssize_t count;
+  if (!get_doubles(o, view, &count, "a buffer", writable)) {
+    return false;
+  }
+  if (count != items) {
     PyErr_Format(PyExc_ValueError, "expected a contiguous buffer of %zd float64 values", items);
     PyBuffer_Release(view);
     return false;
@@ -2948,25 +2968,6 @@ done:
 }
 
 /*
- * A contiguous float64 buffer of any length: its view (release it) and its count of doubles;
- * false with an exception (not such a buffer).
- */
-static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const char *what)
-{
-  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
-    return false;
-  }
-  if (view->itemsize != sizeof(double) || view->format == NULL ||
-      strchr(view->format, 'd') == NULL) {
-    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous float64 array", what);
-    PyBuffer_Release(view);
-    return false;
-  }
-  *count = view->len / (Py_ssize_t)sizeof(double);
-  return true;
-}
-
-/*
  * count contiguous float64 buffers, args[positions[i]] into views[i] and their lengths (in
  * doubles) into counts[i]; false with an exception (and none held) where one is not such a
  * buffer. Release them with release_views.
@@ -2975,7 +2976,7 @@ static bool get_views(PyObject *const *args, const int *positions, int count,
                       const char *const *names, Py_buffer *views, Py_ssize_t *counts)
 {
   for (int held = 0; held < count; held++) {
-    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held])) {
+    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held], false)) {
       while (held > 0) {
         PyBuffer_Release(&views[--held]);
       }
