@@ -34,6 +34,7 @@ import numpy as np
 from .streams import Stream
 from ..geometry import Vector
 from ..motion import PointPath
+from ..toi import _kernel
 
 DEPARTURE_FLOOR = 2e-4
 """m: a closing sample nearer than this to the free flight has not departed (exact samples: the
@@ -180,36 +181,19 @@ def departure_reaches(points: np.ndarray, times: np.ndarray, k: np.ndarray,
     Every interval from the third sample on is given its parabola; with ``closed`` (each
     sample interval's ``Stream.continuous``), as the scalar function, only those whose samples
     k - 2 to k + 1 are one segment without a long gap (elsewhere 0); without it, across
-    segments and gaps too (more than the scalar function gives). Rounded as numpy rounds: a
-    caller that must not fall below the scalar bound adds a tolerance.
+    segments and gaps too (more than the scalar function gives). The compiled kernel's
+    ``departure_reaches``, rounded as it rounds: a caller that must not fall below the scalar
+    bound adds a tolerance. inf where the parabola is not finite.
 
     :param points: (n, 3) a stream's samples (m); ``times``: (n,) their times (s).
-    :param k: the intervals (m,), each with a sample after it.
+    :param k: the intervals (m,), each from the third sample on with a sample after it.
     :param closed: (n - 1,) booleans, or None.
+    :raises ValueError: arrays of the wrong shapes, or an interval without a sample after it.
     """
-    reach = np.zeros(len(k))
-    keep = k >= 2
-    if closed is not None:
-        for back in (2, 1, 0):
-            i = k - back
-            inside = (i >= 0) & (i < len(closed))
-            keep &= inside & closed[np.where(inside, i, 0)]
-    inside = np.flatnonzero(keep)
-    if not len(inside):
-        return reach
-    j = k[inside]
-    t0, t1, t2, t3 = (times[j + offset] for offset in (-2, -1, 0, 1))
-    p0, p1, p2, p3 = (points[j + offset] for offset in (-2, -1, 0, 1))
-    with np.errstate(all='ignore'):
-        w0 = (t3 - t1) * (t3 - t2) / ((t0 - t1) * (t0 - t2))
-        w1 = (t3 - t0) * (t3 - t2) / ((t1 - t0) * (t1 - t2))
-        w2 = 1.0 - w0 - w1
-        end = w0[:, None] * p0 + w1[:, None] * p1 + w2[:, None] * p2
-        # the parabola's acceleration: twice its second divided difference
-        second = 2.0 * ((p2 - p1) / (t2 - t1)[:, None] - (p1 - p0) / (t1 - t0)[:, None]) / (
-            t2 - t0)[:, None]
-        bend = np.sqrt(np.einsum('ij,ij->i', second, second)) * (t3 - t2) ** 2 / 8.0
-        miss = np.sqrt(np.einsum('ij,ij->i', p3 - end, p3 - end))
-        found = miss + bend
-    reach[inside] = np.where(np.isfinite(found), found, np.inf)
+    reach = np.empty(len(k))
+    _kernel.departure_reaches(np.ascontiguousarray(points, dtype=float),
+                              np.ascontiguousarray(times, dtype=float),
+                              np.ascontiguousarray(k, dtype=np.int64),
+                              None if closed is None else np.ascontiguousarray(closed, dtype=bool),
+                              reach)
     return reach

@@ -64,6 +64,10 @@
  *        (core.detector.noise)
  *   chain_marks(following, start, marks)  the samples a chunk's plan trims at
  *        (core.detector.plans)
+ *   c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
+ *        look_ahead, size, margin, constants, out)  the c2 far test over a chunk's union
+ *        intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
+ *        closed, out) the ball's departure reach over them (core.detector.departure)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -3890,6 +3894,495 @@ done:
 }
 
 /* ------------------------------------------------------------------------------------------ */
+/*
+ * c2_margins: core.detector.broadphase.arrays' far test of the c2 model over many union
+ * intervals at once (a chunk's plan), the clearance of clearly_apart's two stages per interval.
+ * The bounds are those of core.detector.broadphase.c2 (c2_jump_bulge and c2_reach first, then
+ * c2_bulge and c2_bat_growth), over the samples a full window could hold: see that module and
+ * arrays.apart_margins' docstring.
+ */
+
+#define C2_FAR_OFFSET 40 /* broadphase.c2._FAR_OFFSET: the weights' offsets reach 40 before */
+
+typedef struct {          /* the constants of broadphase.c2, as apart_margins passes them */
+  double step_ratio;      /* C2_STEP_RATIO */
+  double after_one;       /* _AFTER_ONE */
+  double after_two;       /* _AFTER_TWO */
+  const double *before;   /* C2_JUMP_BEFORE: C2_FAR_OFFSET coefficients */
+  const double *weights;  /* _WEIGHT_LIST: offsets -C2_FAR_OFFSET .. 3 */
+} C2Constants;
+
+typedef struct {          /* one stream's samples and what the far test keeps per sample */
+  Py_ssize_t n;
+  const double *points;   /* the ball's points or the bat's knobs (n x 3) */
+  const double *tips;     /* the bat's tips (n x 3), NULL for the ball */
+  const double *times;    /* s */
+  const bool *closed;     /* n - 1: whether each sample interval is continuous; NULL: all */
+  double *steps;          /* n: times[m] - times[m - 1], steps[0] = 0 */
+  double *jumps;          /* n + 3: the chord-velocity jumps (the bat's plus its length's) */
+  double *lengths;        /* n: the bat's knob-to-tip lengths */
+  Py_ssize_t *previous;   /* n: the last segment start (a sample whose step in is not closed)
+                             at or before each sample, -1 for none */
+  Py_ssize_t *next;       /* n: the first at or after it, n for none */
+} C2Track;
+
+static inline double row_dist(const double *a, Py_ssize_t i, const double *b, Py_ssize_t j)
+{
+  double dx = a[3 * i] - b[3 * j], dy = a[3 * i + 1] - b[3 * j + 1];
+  double dz = a[3 * i + 2] - b[3 * j + 2];
+  return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+/* numpy.maximum: a NaN in either gives NaN */
+static inline double nan_max(double a, double b) { return isnan(a) || a > b ? a : b; }
+
+/* fill a track's steps, jumps, lengths and segment starts (arrays.py's _c2_jump_bulges and
+ * _segments, once per stream) */
+static void c2_track_fill(C2Track *s)
+{
+  Py_ssize_t n = s->n;
+  const double *p = s->points, *t = s->times;
+  for (Py_ssize_t m = 0; m < n; m++) {
+    s->steps[m] = m ? t[m] - t[m - 1] : 0.0;
+    if (s->tips != NULL) {
+      s->lengths[m] = row_dist(s->tips, m, p, m);
+    }
+  }
+  for (Py_ssize_t m = 0; m < n + 3; m++) {
+    s->jumps[m] = 0.0;
+  }
+  for (Py_ssize_t m = 1; m + 1 < n; m++) {
+    double h0 = s->steps[m], h1 = s->steps[m + 1], sum = 0.0;
+    for (int c = 0; c < 3; c++) {
+      double d = (p[3 * (m + 1) + c] - p[3 * m + c]) / h1
+                 - (p[3 * m + c] - p[3 * (m - 1) + c]) / h0;
+      sum += d * d;
+    }
+    s->jumps[m] = sqrt(sum);
+    if (s->tips != NULL) {
+      const double *l = s->lengths;
+      s->jumps[m] += fabs((l[m + 1] - l[m]) / h1 - (l[m] - l[m - 1]) / h0);
+    }
+  }
+  Py_ssize_t last = -1;
+  for (Py_ssize_t m = 0; m < n; m++) {
+    if (m > 0 && s->closed != NULL && !s->closed[m - 1]) {
+      last = m;
+    }
+    s->previous[m] = last;
+  }
+  last = n;
+  for (Py_ssize_t m = n - 1; m >= 0; m--) {
+    if (m > 0 && s->closed != NULL && !s->closed[m - 1]) {
+      last = m;
+    }
+    s->next[m] = last;
+  }
+}
+
+/* the first and last sample a window over interval k may hold (arrays._segments) */
+static void c2_segment(const C2Track *s, Py_ssize_t k, bool uneven, double ratio,
+                       Py_ssize_t *first, Py_ssize_t *last)
+{
+  Py_ssize_t n = s->n, before = s->previous[k], after = k + 2 < n ? s->next[k + 2] : n;
+  bool cut = before >= 0, stop = after < n;
+  *first = cut ? before : 0;
+  *last = stop ? after - 1 : n - 1;
+  if (uneven) {
+    const double *t = s->times;
+    double h = t[k + 1] - t[k];
+    double step = t[*first] - t[*first > 0 ? *first - 1 : 0];
+    cut = cut && (step > ratio * h || h > ratio * step);
+    step = t[*last + 1 < n ? *last + 1 : n - 1] - t[*last];
+    stop = stop && (step > ratio * h || h > ratio * step);
+    *first = cut ? *first : 0;
+    *last = stop ? *last : n - 1;
+  }
+}
+
+/* c2_jump_bulge over interval k of a track (m; inf where the steps are too uneven) */
+static double c2_jump_bound(const C2Track *s, Py_ssize_t k, int look_ahead, int size,
+                            const C2Constants *c)
+{
+  Py_ssize_t low, high;
+  c2_segment(s, k, true, c->step_ratio, &low, &high);
+  Py_ssize_t first = k + 2 - size > low ? k + 2 - size : low;
+  Py_ssize_t last = k + 1 + look_ahead;
+  last = last < s->n - 1 ? last : s->n - 1;
+  last = last < high ? last : high;
+  double bound = 0.0, longest = -INFINITY, shortest = INFINITY;
+  for (int a = 0; a < size - 2; a++) {
+    if (k - a > first) {
+      bound += c->before[a] * s->jumps[k - a];
+    }
+  }
+  for (Py_ssize_t m = first + 1; m <= last; m++) {
+    longest = longest > s->steps[m] ? longest : s->steps[m];
+    shortest = shortest < s->steps[m] ? shortest : s->steps[m];
+  }
+  if (last - k > 1) {
+    bound += c->after_one * s->jumps[k + 1];
+  }
+  if (last - k > 2) {
+    bound += c->after_two * (2.0 * s->jumps[k + 1] + s->jumps[k + 2]);
+  }
+  return longest > c->step_ratio * shortest ? INFINITY : longest * bound;
+}
+
+typedef struct {          /* a full window's samples over interval k (arrays._Windows) */
+  Py_ssize_t k, count;
+  Py_ssize_t index[C2_FAR_OFFSET + 4];
+  double weight[C2_FAR_OFFSET + 4];
+  bool uneven;
+} C2Window;
+
+static void c2_window_of(const C2Track *s, Py_ssize_t k, int look_ahead, int size,
+                         const C2Constants *c, C2Window *w)
+{
+  Py_ssize_t low, high, n = s->n;
+  c2_segment(s, k, false, c->step_ratio, &low, &high);
+  Py_ssize_t first = k + 2 - size > low ? k + 2 - size : low;
+  Py_ssize_t end = k + 1 + look_ahead < high ? k + 1 + look_ahead : high;
+  double longest = -INFINITY, shortest = INFINITY;
+  w->k = k;
+  w->count = 0;
+  for (int o = 2 - size; o <= look_ahead + 1; o++) {
+    Py_ssize_t m = k + o;
+    bool inside = m >= first && m <= end;
+    Py_ssize_t i = m < 0 ? 0 : m > n - 1 ? n - 1 : m;
+    w->index[w->count] = i;
+    w->weight[w->count++] = inside ? c->weights[C2_FAR_OFFSET + o] : 0.0;
+    if (inside && m > first) {
+      longest = longest > s->steps[i] ? longest : s->steps[i];
+      shortest = shortest < s->steps[i] ? shortest : s->steps[i];
+    }
+  }
+  w->uneven = longest > c->step_ratio * shortest;
+}
+
+/* c2_bulge over a window of dim-wide values (values[i * dim ...] for sample i) */
+static double c2_window_bulge(const C2Window *w, const double *times, const double *values,
+                              int dim)
+{
+  Py_ssize_t k = w->k;
+  double t0 = times[k], h = times[k + 1] - t0, rate[3], bound = 0.0;
+  for (int c = 0; c < dim; c++) {
+    rate[c] = (values[dim * (k + 1) + c] - values[dim * k + c]) / h;
+  }
+  for (Py_ssize_t j = 0; j < w->count; j++) {
+    if (w->weight[j] == 0.0) {
+      continue;
+    }
+    Py_ssize_t i = w->index[j];
+    double dt = times[i] - t0, sum = 0.0;
+    for (int c = 0; c < dim; c++) {
+      double d = values[dim * i + c] - values[dim * k + c] - rate[c] * dt;
+      sum += d * d;
+    }
+    bound += w->weight[j] * sqrt(sum);
+  }
+  return bound;
+}
+
+/* the unit axis of bat sample i */
+static inline Vec c2_axis(const C2Track *s, Py_ssize_t i)
+{
+  Vec d = v_sub(row3(s->tips, i), row3(s->points, i));
+  double l = s->lengths[i];
+  return (Vec){d.x / l, d.y / l, d.z / l};
+}
+
+/* the clearance (m) of clearly_apart's second c2 stage over one interval (arrays'
+ * _c2_window_margins): -inf where a window's steps are too uneven, or not a number */
+static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ssize_t bk,
+                                  Py_ssize_t tk, int look_ahead, int size,
+                                  const C2Constants *c)
+{
+  C2Window bw, tw;
+  c2_window_of(ball, bk, look_ahead, size, c, &bw);
+  c2_window_of(bat, tk, look_ahead, size, c, &tw);
+  double ball_bulge = c2_window_bulge(&bw, ball->times, ball->points, 3);
+  /* the bat's window in its chart: rotation vectors from its direction at tk */
+  double turns[3 * (C2_FAR_OFFSET + 4)], lengths[C2_FAR_OFFSET + 4];
+  double knobs[3 * (C2_FAR_OFFSET + 4)], times[C2_FAR_OFFSET + 4];
+  C2Window local = tw;
+  Vec origin = c2_axis(bat, tk);
+  for (Py_ssize_t j = 0; j < tw.count; j++) {
+    Py_ssize_t i = tw.index[j];
+    Vec r = rotation_to(origin, c2_axis(bat, i));
+    turns[3 * j] = r.x, turns[3 * j + 1] = r.y, turns[3 * j + 2] = r.z;
+    for (int d = 0; d < 3; d++) {
+      knobs[3 * j + d] = bat->points[3 * i + d];
+    }
+    lengths[j] = bat->lengths[i];
+    times[j] = bat->times[i];
+    local.index[j] = j;
+  }
+  local.k = size - 2; /* (the column of offset 0) */
+  double knob = c2_window_bulge(&local, times, knobs, 3);
+  double turn = c2_window_bulge(&local, times, turns, 3);
+  double stretch = c2_window_bulge(&local, times, lengths, 1);
+  const double *r1 = turns + 3 * (size - 1); /* (offset 1: the turn onto sample tk + 1) */
+  double half_cos = cos(0.5 * sqrt(r1[0] * r1[0] + r1[1] * r1[1] + r1[2] * r1[2]));
+  double length0 = bat->lengths[tk], length1 = bat->lengths[tk + 1];
+  double growth = knob + stretch + (nan_max(length0, length1) + stretch) * (1.0 - half_cos + turn)
+                  + 0.25 * fabs(length1 - length0) * v_norm(v_sub(origin, c2_axis(bat, tk + 1)));
+  Vec b0 = row3(ball->points, bk), b1 = row3(ball->points, bk + 1);
+  Vec k0 = row3(bat->points, tk), k1 = row3(bat->points, tk + 1);
+  Vec e0 = row3(bat->tips, tk), e1 = row3(bat->tips, tk + 1);
+  Vec ball_centre = v_scale((Vec){b0.x + b1.x, b0.y + b1.y, b0.z + b1.z}, 0.5);
+  Vec bat_centre = v_scale((Vec){k0.x + e0.x + k1.x + e1.x, k0.y + e0.y + k1.y + e1.y,
+                                 k0.z + e0.z + k1.z + e1.z}, 0.25);
+  double bat_radius = nan_max(
+      nan_max(v_norm(v_sub(k0, bat_centre)), v_norm(v_sub(e0, bat_centre))),
+      nan_max(v_norm(v_sub(k1, bat_centre)), v_norm(v_sub(e1, bat_centre))));
+  double second = v_norm(v_sub(ball_centre, bat_centre)) - 0.5 * v_norm(v_sub(b0, b1)) - ball_bulge
+                  - bat_radius - growth;
+  return bw.uneven || tw.uneven || isnan(second) ? -INFINITY : second;
+}
+
+/* a contiguous buffer of n items of one of the given struct formats (itemsize bytes); false
+ * with a ValueError */
+static bool get_items(PyObject *o, Py_buffer *view, Py_ssize_t n, Py_ssize_t itemsize,
+                      const char *formats, const char *what)
+{
+  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    return false;
+  }
+  if (view->itemsize != itemsize || view->format == NULL || strlen(view->format) != 1 ||
+      strchr(formats, view->format[0]) == NULL || view->len != n * itemsize) {
+    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous array of %zd items", what, n);
+    PyBuffer_Release(view);
+    return false;
+  }
+  return true;
+}
+
+/*
+ * c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
+ *            look_ahead, size, margin, constants, out): out[i] = the c2 far test's clearance
+ * (m) of union interval i, between the ball's sample interval ball_k[i] and the bat's bat_k[i]:
+ * the first stage's (c2_jump_bulge of the ball, c2_reach of the bat), and where that is not
+ * above margin[i] (m) the larger with the second's (c2_bulge, c2_bat_growth; numpy.fmax),
+ * each over the samples a full window could hold within its segment
+ * (core.detector.broadphase.arrays).
+ * ball: (n_ball x 3) float64; knob, tip: (n_bat x 3); ball_k, bat_k: m int64, each in
+ * [0, n - 2]; times: s; closed: n - 1 bools (whether each sample interval is continuous) or
+ * None; look_ahead 0 .. 2; size 2 .. 42; margin: m float64; constants: C2_STEP_RATIO,
+ * _AFTER_ONE, _AFTER_TWO, the 40 of C2_JUMP_BEFORE and the 44 of _WEIGHT_LIST
+ * (broadphase.c2); out: m float64, written.
+ * ValueError: other buffers, shapes or numbers; MemoryError.
+ */
+static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t look_ahead, size;
+  if (nargs != 14 || !read_index(args[9], &look_ahead) || !read_index(args[10], &size)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, "
+                      "ball_closed, bat_closed, look_ahead, size, margin, constants, out)");
+    }
+    return NULL;
+  }
+  if (look_ahead < 0 || look_ahead > 2 || size < 2 || size > C2_FAR_OFFSET + 2) {
+    PyErr_SetString(PyExc_ValueError, "c2_margins: look_ahead 0 .. 2, size 2 .. 42");
+    return NULL;
+  }
+  enum { BALL, KNOB, TIP, BALL_TIMES, BAT_TIMES, MARGIN, CONSTANTS, OUT, DOUBLES };
+  static const int positions[OUT] = {0, 1, 2, 5, 6, 11, 12};
+  static const char *const names[OUT] = {
+      "c2_margins: ball", "c2_margins: knob", "c2_margins: tip", "c2_margins: ball_times",
+      "c2_margins: bat_times", "c2_margins: margin", "c2_margins: constants"};
+  Py_buffer views[DOUBLES], indices[2], closed[2];
+  Py_ssize_t counts[DOUBLES];
+  int held_indices = 0, held_closed = 0;
+  PyObject *result = NULL;
+  void *memory = NULL;
+  if (!get_views(args, positions, OUT, names, views, counts)) {
+    return NULL;
+  }
+  if (!get_doubles(args[13], &views[OUT], &counts[OUT], "c2_margins: out", true)) {
+    release_views(views, OUT);
+    return NULL;
+  }
+  Py_ssize_t nb = counts[BALL_TIMES], nt = counts[BAT_TIMES], m = counts[OUT];
+  if (counts[BALL] != 3 * nb || counts[KNOB] != 3 * nt || counts[TIP] != 3 * nt ||
+      counts[MARGIN] != m ||
+      counts[CONSTANTS] != 3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4 || nb < 2 || nt < 2) {
+    PyErr_SetString(PyExc_ValueError, "c2_margins: shapes do not match");
+    goto done;
+  }
+  for (; held_indices < 2; held_indices++) {
+    if (!get_items(args[3 + held_indices], &indices[held_indices], m, sizeof(int64_t), "ql",
+                   held_indices ? "c2_margins: bat_k" : "c2_margins: ball_k")) {
+      goto done;
+    }
+  }
+  for (; held_closed < 2; held_closed++) {
+    PyObject *o = args[7 + held_closed];
+    if (o != Py_None &&
+        !get_items(o, &closed[held_closed], (held_closed ? nt : nb) - 1, 1, "?",
+                   held_closed ? "c2_margins: bat_closed" : "c2_margins: ball_closed")) {
+      goto done;
+    }
+  }
+  const int64_t *ball_k = indices[0].buf, *bat_k = indices[1].buf;
+  for (Py_ssize_t i = 0; i < m; i++) {
+    if (ball_k[i] < 0 || ball_k[i] > nb - 2 || bat_k[i] < 0 || bat_k[i] > nt - 2) {
+      PyErr_SetString(PyExc_ValueError, "c2_margins: an interval out of its stream");
+      goto done;
+    }
+  }
+  /* per track: steps, jumps (+3), lengths (doubles); previous, next (indices) */
+  Py_ssize_t doubles = 2 * nb + 3 * nt + 6, whole = 2 * (nb + nt);
+  memory = PyMem_Malloc(doubles * sizeof(double) + whole * sizeof(Py_ssize_t));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *d = memory;
+  Py_ssize_t *x = (Py_ssize_t *)(d + doubles);
+  C2Track ball = {nb, views[BALL].buf, NULL, views[BALL_TIMES].buf,
+                  args[7] == Py_None ? NULL : closed[0].buf, d, d + nb, NULL, x, x + nb};
+  d += 2 * nb + 3;
+  x += 2 * nb;
+  C2Track bat = {nt, views[KNOB].buf, views[TIP].buf, views[BAT_TIMES].buf,
+                 args[8] == Py_None ? NULL : closed[1].buf, d, d + nt, d + 2 * nt + 3, x, x + nt};
+  const double *k = views[CONSTANTS].buf;
+  C2Constants constants = {k[0], k[1], k[2], k + 3, k + 3 + C2_FAR_OFFSET};
+  const double *margin = views[MARGIN].buf;
+  double *out = views[OUT].buf;
+  int la = (int)look_ahead, w = (int)size;
+  Py_BEGIN_ALLOW_THREADS
+  c2_track_fill(&ball);
+  c2_track_fill(&bat);
+  for (Py_ssize_t i = 0; i < m; i++) {
+    Py_ssize_t bk = ball_k[i], tk = bat_k[i];
+    double quick = c2_jump_bound(&ball, bk, la, w, &constants);
+    double bulge = c2_jump_bound(&bat, tk, la, w, &constants);
+    const double *b = ball.points, *kn = bat.points;
+    double centre[3], middle[3], sum = 0.0;
+    for (int c = 0; c < 3; c++) {
+      centre[c] = (b[3 * bk + c] + b[3 * (bk + 1) + c]) * 0.5;
+      middle[c] = (kn[3 * tk + c] + kn[3 * (tk + 1) + c]) * 0.5;
+      sum += (centre[c] - middle[c]) * (centre[c] - middle[c]);
+    }
+    double reach = 0.5 * row_dist(kn, tk, kn, tk + 1) + bulge
+                   + nan_max(bat.lengths[tk], bat.lengths[tk + 1]);
+    double first = sqrt(sum) - 0.5 * row_dist(b, bk, b, bk + 1) - quick - reach;
+    if (!(first > margin[i])) {
+      double second = c2_window_clearance(&ball, &bat, bk, tk, la, w, &constants);
+      first = isnan(first) || second > first ? second : first; /* numpy.fmax */
+    }
+    out[i] = first;
+  }
+  Py_END_ALLOW_THREADS
+  result = Py_NewRef(Py_None);
+done:
+  PyMem_Free(memory);
+  for (int i = 0; i < held_closed; i++) {
+    if (args[7 + i] != Py_None) {
+      PyBuffer_Release(&closed[i]);
+    }
+  }
+  for (int i = 0; i < held_indices; i++) {
+    PyBuffer_Release(&indices[i]);
+  }
+  release_views(views, DOUBLES);
+  return result;
+}
+
+
+/*
+ * departure_reaches(points, times, k, closed, out): out[i] = core.detector.departure's
+ * departure_reach over interval k[i] of a stream (m): the closing sample's distance from the
+ * parabola through samples k - 2, k - 1, k plus that parabola's bulge from its chord over the
+ * interval (its acceleration times h^2 / 8); inf where that is not a finite number; 0 before
+ * the third sample (k < 2) and, with closed (n - 1 bools, or None), where samples k - 2 to
+ * k + 1 are not one continuous run. points: (n x 3) float64; times: n (s); k: m int64, at most
+ * n - 2 where 2 or more; out: m float64, written. ValueError: other buffers or shapes.
+ */
+static PyObject *py_departure_reaches(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError, "departure_reaches(points, times, k, closed, out)");
+    return NULL;
+  }
+  Py_buffer points, times, out, index, closed;
+  Py_ssize_t count, n, m;
+  PyObject *result = NULL;
+  if (!get_doubles(args[0], &points, &count, "departure_reaches: points", false)) {
+    return NULL;
+  }
+  if (!get_doubles(args[1], &times, &n, "departure_reaches: times", false)) {
+    PyBuffer_Release(&points);
+    return NULL;
+  }
+  if (!get_doubles(args[4], &out, &m, "departure_reaches: out", true)) {
+    PyBuffer_Release(&times);
+    PyBuffer_Release(&points);
+    return NULL;
+  }
+  bool have_index = false, have_closed = false;
+  if (count != 3 * n) {
+    PyErr_SetString(PyExc_ValueError, "departure_reaches: points and times do not match");
+    goto done;
+  }
+  if (!(have_index = get_items(args[2], &index, m, sizeof(int64_t), "ql",
+                               "departure_reaches: k"))) {
+    goto done;
+  }
+  if (args[3] != Py_None &&
+      !(have_closed = get_items(args[3], &closed, n > 0 ? n - 1 : 0, 1, "?",
+                                "departure_reaches: closed"))) {
+    goto done;
+  }
+  const int64_t *k = index.buf;
+  const bool *continuous = have_closed ? closed.buf : NULL;
+  const double *p = points.buf, *t = times.buf;
+  double *reach = out.buf;
+  for (Py_ssize_t i = 0; i < m; i++) {
+    if (k[i] >= 2 && k[i] > n - 2) {
+      PyErr_SetString(PyExc_ValueError, "departure_reaches: an interval without a sample after it");
+      goto done;
+    }
+  }
+  for (Py_ssize_t i = 0; i < m; i++) {
+    Py_ssize_t j = (Py_ssize_t)k[i];
+    reach[i] = 0.0;
+    if (j < 2 || (continuous != NULL &&
+                  !(continuous[j - 2] && continuous[j - 1] && j < n - 1 && continuous[j]))) {
+      continue;
+    }
+    double t0 = t[j - 2], t1 = t[j - 1], t2 = t[j], t3 = t[j + 1];
+    double w0 = (t3 - t1) * (t3 - t2) / ((t0 - t1) * (t0 - t2));
+    double w1 = (t3 - t0) * (t3 - t2) / ((t1 - t0) * (t1 - t2));
+    double w2 = 1.0 - w0 - w1, miss = 0.0, bend = 0.0;
+    for (int c = 0; c < 3; c++) {
+      double p0 = p[3 * (j - 2) + c], p1 = p[3 * (j - 1) + c], p2 = p[3 * j + c];
+      double d = p[3 * (j + 1) + c] - (w0 * p0 + w1 * p1 + w2 * p2);
+      double second = 2.0 * ((p2 - p1) / (t2 - t1) - (p1 - p0) / (t1 - t0)) / (t2 - t0);
+      miss += d * d;
+      bend += second * second;
+    }
+    double found = sqrt(miss) + sqrt(bend) * ((t3 - t2) * (t3 - t2)) / 8.0;
+    reach[i] = isfinite(found) ? found : INFINITY;
+  }
+  result = Py_NewRef(Py_None);
+done:
+  if (have_closed) {
+    PyBuffer_Release(&closed);
+  }
+  if (have_index) {
+    PyBuffer_Release(&index);
+  }
+  PyBuffer_Release(&out);
+  PyBuffer_Release(&times);
+  PyBuffer_Release(&points);
+  return result;
+}
+
+/* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
     {"bind", py_bind, METH_VARARGS,
@@ -3973,6 +4466,11 @@ static PyMethodDef methods[] = {
      "vector from samples[j]'s direction, length"},
     {"chain_marks", (PyCFunction)(void (*)(void))py_chain_marks, METH_FASTCALL,
      "chain_marks(following, start, marks): mark start, following[start], ... below n"},
+    {"departure_reaches", (PyCFunction)(void (*)(void))py_departure_reaches, METH_FASTCALL,
+     "departure_reaches(points, times, k, closed, out): departure_reach over many intervals"},
+    {"c2_margins", (PyCFunction)(void (*)(void))py_c2_margins, METH_FASTCALL,
+     "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, "
+     "bat_closed, look_ahead, size, margin, constants, out): the c2 far test's clearances"},
     {"reach_back", (PyCFunction)(void (*)(void))py_reach_back, METH_FASTCALL,
      "reach_back(times, breaks, first, stop, max_gap, span, most): a window's first sample, "
      "reached back within its segment, a span and a count"},

@@ -324,3 +324,16 @@ def test_the_bundled_bag_of_real_hits(model: str, monkeypatch: pytest.MonkeyPatc
         assert (after > 0.0) == (pitch['kind'] in ('barrel', 'handle')), pitch['name']
     monkeypatch.setattr(sweep, 'leaves_flight', lambda *args: None)
     assert _in_time(document(), truth, rate) < 8
+
+
+def test_vectorised_reach_refuses_an_interval_without_a_sample_after_it() -> None:
+    """An interval at the stream's last sample, or points that do not match, are a ValueError."""
+    times = np.arange(5) * 0.01
+    points = np.zeros((5, 3))
+    assert departure_reaches(points, times, np.array([-1, 0, 1])).tolist() == [0.0] * 3
+    with pytest.raises(ValueError):
+        departure_reaches(points, times, np.array([4]))
+    with pytest.raises(ValueError):
+        departure_reaches(points[:4], times, np.array([2]))
+    with pytest.raises(ValueError):
+        departure_reaches(points, times, np.array([2]), np.ones(3, bool))

@@ -7,6 +7,7 @@ from baseball_collision.core.detector.broadphase.arrays import rows
 from baseball_collision.core.detector.departure import departure_reaches
 from hypothesis import assume, given, settings, strategies as st
 import numpy as np
+import pytest
 from support import examples
 from support.far import closest_distance, MOTIONS, turning_swing
 
@@ -196,3 +197,45 @@ def test_a_margin_skips_only_hulls_that_cannot_matter(seed: int, n: int, m: int,
     assert ((cut > margin) == (whole > margin)).all()
     kept = ~(whole > margin)
     assert cut[kept].tobytes() == whole[kept].tobytes()
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(3, 40), m=st.integers(1, 30),
+       look_ahead=st.integers(0, 2), size=st.integers(4, 12), margin=st.floats(-1.0, 3.0),
+       segments=st.booleans())
+def test_c2_clearance_of_an_interval_does_not_depend_on_the_others(
+        seed: int, n: int, m: int, look_ahead: int, size: int, margin: float,
+        segments: bool) -> None:
+    """
+    ``c2``'s clearance of each interval is the same asked alone or among others, to the bit.
+
+    The kernel's ``c2_margins`` keeps per-sample numbers across the intervals of one call.
+    """
+    rng = np.random.default_rng(seed)
+    ball, knob = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    tip = knob + rng.normal(size=(n, 3))
+    times = np.cumsum(rng.uniform(0.002, 0.006, n))
+    closed = (rng.random(n - 1) > 0.2, rng.random(n - 1) > 0.2) if segments else None
+    ball_k, bat_k = rng.integers(0, n - 1, m), rng.integers(0, n - 1, m)
+    none = -np.ones(m, np.int64)
+
+    def clearance(i: slice) -> np.ndarray:
+        return apart_margins(ball, knob, tip, None, ball_k[i], bat_k[i], none[i], none[i],
+                             none[i], none[i], times, times, 'c2', look_ahead, size, margin,
+                             closed)
+
+    together = clearance(slice(None))
+    alone = np.concatenate([clearance(slice(i, i + 1)) for i in range(m)])
+    assert together.tobytes() == alone.tobytes()
+
+
+def test_c2_clearance_refuses_an_interval_outside_its_streams() -> None:
+    """An interval without a sample after it, or arrays that do not match, are a ValueError."""
+    n = 6
+    points, times = np.zeros((n, 3)), np.arange(n) * 0.01
+    tips = points + 1.0
+    for ball_k, bat_k, tip in (([n - 1], [0], tips), ([0], [-1], tips), ([0], [0], tips[1:])):
+        one = np.array([-1])
+        with pytest.raises(ValueError):
+            apart_margins(points, points, tip, None, np.array(ball_k), np.array(bat_k), one,
+                          one, one, one, times, times, 'c2', 0, 8)
