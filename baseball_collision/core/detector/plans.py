@@ -204,9 +204,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # jump back: nothing after it can be planned until it is settled)
     n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
     is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
-    arrays = _arrays(offsets, origin, ball, bat, is_ball, is_bat, stamps[:n], values[:n])
-    ok, gap = _checks(config, origin, frame, arrays, is_ball, is_bat, stamps[:n], values[:n],
-                      frames[:n])
+    arrays, ok, gap = _arrays(config, offsets, origin, ball, bat, is_ball, is_bat, roles[:n],
+                              stamps[:n], values[:n], frame, frames[:n])
     # the plan ends at its first sample that fails a check (the per-sample path will most
     # likely drop it, hold it or break its stream there, and what follows be planned again),
     # except a stream's first sample after a gap, held until its next takes it
@@ -308,67 +307,60 @@ def _norms(rows: np.ndarray) -> np.ndarray:
     return np.sqrt(np.einsum('ij,ij->i', rows, rows))
 
 
-def _arrays(offsets: Tuple[Vector, Vector], origin: int, ball: Stream, bat: Stream,
-            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray,
-            values: np.ndarray) -> Arrays:
-    """Return the streams' kept samples and the chunk's (its poses made knob and tip)."""
+def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int, ball: Stream,
+            bat: Stream, is_ball: np.ndarray, is_bat: np.ndarray, roles: np.ndarray,
+            stamps: np.ndarray, values: np.ndarray, frame: Optional[str],
+            frames: Sequence[str]) -> Tuple[Arrays, np.ndarray, np.ndarray]:
+    """
+    Return the streams' kept samples and the chunk's (its poses made knob and tip), and checks.
+
+    The chunk's rows are the kernel's ``plan_rows`` (the per-sample path's operations in its
+    order: the same bits), which also checks each sample's values and stamp. Second, which
+    samples pass every check with room to spare (values, frame, order); third, which pass
+    every check but the order's as the first sample after a gap that the intake holds for its
+    stream's next (``_order_checks``).
+    """
     arrays = Arrays()
-    with np.errstate(all='ignore'):
-        t = (stamps - origin) * 1e-9
-        # (np.compress: the rows of a boolean mask, the same copy as values[is_bat], cheaper)
-        pose = np.compress(is_bat, values, axis=0)
-        position, quaternion = pose[:, :3], pose[:, 3:7]
-        magnitude = np.sqrt(quaternion[:, 0] * quaternion[:, 0]
-                            + quaternion[:, 1] * quaternion[:, 1]
-                            + quaternion[:, 2] * quaternion[:, 2]
-                            + quaternion[:, 3] * quaternion[:, 3])
-        quaternion = quaternion / magnitude[:, None]
-        knob = _pose_points(position, quaternion, offsets[0])
-        tip = _pose_points(position, quaternion, offsets[1])
-    new_ball = np.compress(is_ball, values, axis=0)[:, :3]  # (whole rows: cheaper)
-    arrays.new = (new_ball, knob, tip, position, quaternion)
+    pre = arrays.pre = (len(ball.times), len(bat.times))
+    m_ball = pre[0] + int(np.count_nonzero(is_ball))
+    m_bat = pre[1] + int(np.count_nonzero(is_bat))
+    arrays.ball, arrays.knobs, arrays.tips, arrays.positions = (
+        np.empty((m, 3)) for m in (m_ball, m_bat, m_bat, m_bat))
+    arrays.quaternions = np.empty((m_bat, 4))
+    arrays.times = (np.empty(m_ball), np.empty(m_bat))
+    arrays.stamps = (np.empty(m_ball, np.int64), np.empty(m_bat, np.int64))
+    # the kept samples (a few dozen): from the streams' lists
+    arrays.ball[:pre[0]] = np.array(ball.values, dtype=float).reshape(-1, 3)
     kept = np.array([(*s.knob, *s.tip, *s.position, *s.quaternion) for s in bat.values],
                     dtype=float).reshape(-1, 13)  # (the bat's kept samples: one conversion)
-    arrays.ball = np.concatenate((np.array(ball.values, dtype=float).reshape(-1, 3), new_ball))
-    arrays.knobs, arrays.tips, arrays.positions, arrays.quaternions = (
-        np.concatenate((kept[:, first:end], column))
-        for first, end, column in ((0, 3, knob), (3, 6, tip), (6, 9, position),
-                                   (9, 13, quaternion)))
-    arrays.pre = (len(ball.times), len(bat.times))
-    arrays.times = (np.concatenate((np.array(ball.times), t[is_ball])),
-                    np.concatenate((np.array(bat.times), t[is_bat])))
-    arrays.stamps = (np.concatenate((np.array(ball.stamps, dtype=np.int64), stamps[is_ball])),
-                     np.concatenate((np.array(bat.stamps, dtype=np.int64), stamps[is_bat])))
+    for column, (first, end) in zip((arrays.knobs, arrays.tips, arrays.positions,
+                                     arrays.quaternions), ((0, 3), (3, 6), (6, 9), (9, 13))):
+        column[:pre[1]] = kept[:, first:end]
+    for s, stream in enumerate((ball, bat)):
+        arrays.times[s][:pre[s]] = stream.times
+        arrays.stamps[s][:pre[s]] = stream.stamps
+    ok = np.empty(len(stamps), bool)
+    _kernel.plan_rows(roles, stamps, values, origin, (BALL, BAT_POSE), offsets,
+                      (1e-3 * (1.0 - SLACK), FAR_AHEAD_NS), arrays.times[0], arrays.stamps[0],
+                      arrays.ball, arrays.times[1], arrays.stamps[1], arrays.knobs, arrays.tips,
+                      arrays.positions, arrays.quaternions, pre, ok)
+    arrays.new = (arrays.ball[pre[0]:], arrays.knobs[pre[1]:], arrays.tips[pre[1]:],
+                  arrays.positions[pre[1]:], arrays.quaternions[pre[1]:])
     arrays.breaks = (
-        np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(is_ball.sum(), bool))),
-        np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(is_bat.sum(), bool))))
-    return arrays
-
-
-def _checks(config: DetectorConfig, origin: int, frame: Optional[str], arrays: Arrays,
-            is_ball: np.ndarray, is_bat: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-            frames: Sequence[str]) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return which samples pass every check with room to spare (values, frame, order).
-
-    Second, which pass every check but the order's as the first sample after a gap that the
-    intake holds for its stream's next (``_order_checks``).
-    """
+        np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(m_ball - pre[0], bool))),
+        np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(m_bat - pre[1], bool))))
     n = len(stamps)
-    with np.errstate(all='ignore'):
-        ok = _value_checks(config, values, is_ball, is_bat)
-        if frames.count(frame or '') != n:  # (the common case: one frame throughout)
-            ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
-        ok &= (stamps > 0) & (stamps - origin <= FAR_AHEAD_NS)
+    if frames.count(frame or '') != n:  # (the common case: one frame throughout)
+        ok &= np.fromiter((not f or f == frame for f in frames), bool, n)
     gap = ok.copy()
-    for s, mine, points in ((0, is_ball, (arrays.ball,)),
+    for s, mine, points in ((0, is_ball, (arrays.ball, None)),
                             (1, is_bat, (arrays.knobs, arrays.tips))):
         in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
-                                            arrays.pre[s])
+                                            pre[s])
         own = np.flatnonzero(mine)  # (once for both)
         ok[own] &= in_order
         gap[own] &= after_gap
-    return ok, gap
+    return arrays, ok, gap
 
 
 def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
@@ -536,25 +528,9 @@ def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
     return steps[steps < n]
 
 
-def _value_checks(config: DetectorConfig, values: np.ndarray, is_ball: np.ndarray,
-                  is_bat: np.ndarray) -> np.ndarray:
-    """Return which samples pass the value checks (``gate``) with room to spare."""
-    # (each test on the columns in turn: the same as numpy's row reductions, which cost more
-    # on rows of 3 or 4: the squares summed left to right, as ``(q * q).sum(1)`` sums them)
-    finite = np.isfinite(values)
-    point = finite[:, 0] & finite[:, 1] & finite[:, 2]
-    ok = is_ball & point
-    q0, q1, q2, q3 = values[:, 3], values[:, 4], values[:, 5], values[:, 6]
-    magnitude = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    pose = is_bat & point & finite[:, 3] & finite[:, 4] & finite[:, 5] & finite[:, 6] & (
-        np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK))
-    # a pose at the origin may be a lost body: the per-sample path decides
-    pose &= ~((values[:, 0] == 0.0) & (values[:, 1] == 0.0) & (values[:, 2] == 0.0))
-    return ok | pose
-
-
 def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
-                  points: Sequence[np.ndarray], pre: int) -> Tuple[np.ndarray, np.ndarray]:
+                  points: Tuple[np.ndarray, Optional[np.ndarray]],
+                  pre: int) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
 
@@ -562,30 +538,18 @@ def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
     bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
     sample before it were accepted. Second, which start a new segment after a gap longer than
     ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
-    before, under ``time_jump_reset``): the next sample takes them.
+    before, under ``time_jump_reset``): the next sample takes them. The kernel's
+    ``order_checks``, each bound less ``SLACK`` (more where it must be exceeded).
+
+    :param points: the stream's points (the ball's, None), or the bat's knobs and tips.
+    :raises ValueError: fewer than 3 kept samples.
     """
     if pre < 3:
         raise ValueError(f'order checks need 3 kept samples before the new, got {pre}')
-    m = len(stamps)
-
-    def back(array: np.ndarray, k: int) -> np.ndarray:
-        """Return the rows k before each new sample's (a view)."""
-        return array[pre - k:m - k]
-
-    step = (back(stamps, 0) - back(stamps, 1)).astype(float)
-    step1 = (back(stamps, 1) - back(stamps, 2)).astype(float)
-    step2 = (back(stamps, 2) - back(stamps, 3)).astype(float)
-    reset_ns = int(round(config.time_jump_reset * 1e9))
-    factor = HOLD_FACTOR * (1.0 - SLACK)
-    ok = (step > 0) & (step <= reset_ns) & (step < factor * step1) & (step < factor * step2)
-    dt = back(times, 0) - back(times, 1)
-    ok &= dt <= config.max_gap * (1.0 - SLACK)
-    limit = config.max_speed * dt * (1.0 - SLACK)
-    for each in points:
-        d = back(each, 0) - back(each, 1)
-        ok &= np.sqrt(np.einsum('ij,ij->i', d, d)) < limit
-    gap = (step > 0) & (step <= reset_ns * (1.0 - SLACK)) & (
-        dt > config.max_gap * (1.0 + SLACK)) & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)
+    ok, gap = np.empty(len(stamps) - pre, bool), np.empty(len(stamps) - pre, bool)
+    _kernel.order_checks(stamps, times, points[0], points[1], pre,
+                         (float(round(config.time_jump_reset * 1e9)), HOLD_FACTOR,
+                          config.max_gap, config.max_speed, SLACK), ok, gap)
     return ok, gap
 
 
@@ -651,15 +615,3 @@ def _next_greater(values: np.ndarray) -> np.ndarray:
     following = np.full(n, n, dtype=np.int64)
     following[rises - 1] = rises
     return np.minimum.accumulate(following[::-1])[::-1]
-
-
-def _pose_points(position: np.ndarray, quaternion: np.ndarray, offset: Vector) -> np.ndarray:
-    """``geometry.pose_point`` over rows, with the same operations in the same order."""
-    x, y, z, w = quaternion.T
-    v0, v1, v2 = offset
-    cx = y * v2 - z * v1
-    cy = z * v0 - x * v2
-    cz = x * v1 - y * v0
-    return np.stack((position[:, 0] + (v0 + 2.0 * (w * cx + y * cz - z * cy)),
-                     position[:, 1] + (v1 + 2.0 * (w * cy + z * cx - x * cz)),
-                     position[:, 2] + (v2 + 2.0 * (w * cz + x * cy - y * cx))), axis=1)

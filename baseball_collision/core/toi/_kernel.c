@@ -62,8 +62,10 @@
  *        chart, the window's samples and a c2 bat path's deviation bound
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
  *        (core.detector.noise)
- *   chain_marks(following, start, marks)  the samples a chunk's plan trims at
- *        (core.detector.plans)
+ *   chain_marks(following, start, marks)  the samples a chunk's plan trims at,
+ *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
+ *        a plan's arrays and their value checks, order_checks(stamps, times, first, second,
+ *        pre, limits, ok, gap)  a stream's order checks (core.detector.plans)
  *   c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
  *        look_ahead, size, margin, constants, out)  the c2 far test over a chunk's union
  *        intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
@@ -4382,6 +4384,272 @@ done:
   return result;
 }
 
+
+/* a - b wrapped to int64 as numpy's int64 subtraction wraps (no undefined overflow) */
+static inline int64_t wrapped_difference(int64_t a, int64_t b)
+{
+  return (int64_t)((uint64_t)a - (uint64_t)b);
+}
+
+/*
+ * plan_rows(roles, stamps, values, origin, codes, offsets, limits, ball_times, ball_stamps,
+ *           ball, bat_times, bat_stamps, knobs, tips, positions, quaternions, pre, ok):
+ * core.detector.plans' chunk rows as arrays: each ball sample (role codes[0]) and bat pose
+ * (codes[1]) of the chunk written after its stream's pre[0] and pre[1] kept rows, in order:
+ * its time (stamp - origin) * 1e-9 (s), its stamp, the ball's point, the pose's position, its
+ * quaternion made unit and the knob and tip at offsets (knob, tip: body frame, m) as
+ * geometry.pose_point places them (the per-sample path's operations in its order, so the same
+ * bits); and ok[i]: whether sample i passes the value checks with room to spare (a finite
+ * point; a pose's quaternion finite and its length within limits[0] of 1, its position not the
+ * origin) and its stamp is after 0 and at most limits[1] ns after the origin. roles: n int8;
+ * stamps: n int64; values: (n x 7) float64; the outputs contiguous, written: float64 times,
+ * int64 stamps, (rows x 3) points, (rows x 4) quaternions, n bools. ValueError: other buffers,
+ * or outputs that do not hold the chunk's samples after pre.
+ */
+static PyObject *py_plan_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  long long origin, far_ahead;
+  Py_ssize_t codes[2], pre[2];
+  Vec offsets[2];
+  double tolerance;
+  if (nargs != 18 || !PyTuple_Check(args[4]) || PyTuple_GET_SIZE(args[4]) != 2 ||
+      !PyTuple_Check(args[5]) || PyTuple_GET_SIZE(args[5]) != 2 || !PyTuple_Check(args[6]) ||
+      PyTuple_GET_SIZE(args[6]) != 2 || !PyTuple_Check(args[16]) ||
+      PyTuple_GET_SIZE(args[16]) != 2) {
+    PyErr_SetString(PyExc_TypeError,
+                    "plan_rows(roles, stamps, values, origin, codes, offsets, limits, "
+                    "ball_times, ball_stamps, ball, bat_times, bat_stamps, knobs, tips, "
+                    "positions, quaternions, pre, ok)");
+    return NULL;
+  }
+  origin = PyLong_AsLongLong(args[3]);
+  far_ahead = PyLong_AsLongLong(PyTuple_GET_ITEM(args[6], 1));
+  if (PyErr_Occurred() || !read_index(PyTuple_GET_ITEM(args[4], 0), &codes[0]) ||
+      !read_index(PyTuple_GET_ITEM(args[4], 1), &codes[1]) ||
+      !read_index(PyTuple_GET_ITEM(args[16], 0), &pre[0]) ||
+      !read_index(PyTuple_GET_ITEM(args[16], 1), &pre[1]) ||
+      !read_number(PyTuple_GET_ITEM(args[6], 0), &tolerance)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "plan_rows: origin, codes, limits or pre not numbers");
+    }
+    return NULL;
+  }
+  if (!read_vec(PyTuple_GET_ITEM(args[5], 0), &offsets[0]) ||
+      !read_vec(PyTuple_GET_ITEM(args[5], 1), &offsets[1])) {
+    PyErr_SetString(PyExc_TypeError, "plan_rows: offsets must be two 3-vectors");
+    return NULL;
+  }
+  /* the float64 outputs, then the values */
+  enum { BALL_TIMES, BALL, BAT_TIMES, KNOBS, TIPS, POSITIONS, QUATERNIONS, VALUES, DOUBLES };
+  static const int positions[DOUBLES] = {7, 9, 10, 12, 13, 14, 15, 2};
+  static const char *const names[DOUBLES] = {
+      "plan_rows: ball_times", "plan_rows: ball", "plan_rows: bat_times", "plan_rows: knobs",
+      "plan_rows: tips", "plan_rows: positions", "plan_rows: quaternions", "plan_rows: values"};
+  Py_buffer views[DOUBLES], roles, stamps, ball_stamps, bat_stamps, ok;
+  Py_ssize_t counts[DOUBLES];
+  int held = 0, others = 0;
+  PyObject *result = NULL;
+  for (; held < DOUBLES; held++) {
+    if (!get_doubles(args[positions[held]], &views[held], &counts[held], names[held],
+                     held != VALUES)) {
+      goto done;
+    }
+  }
+  Py_ssize_t n = counts[VALUES] / 7, m_ball = counts[BALL_TIMES], m_bat = counts[BAT_TIMES];
+  Py_buffer *buffers[5] = {&roles, &stamps, &ball_stamps, &bat_stamps, &ok};
+  static const int places[5] = {0, 1, 8, 11, 17};
+  const Py_ssize_t lengths[5] = {n, n, m_ball, m_bat, n}, sizes[5] = {1, 8, 8, 8, 1};
+  static const char *const formats[5] = {"b", "ql", "ql", "ql", "?"};
+  static const char *const what[5] = {"plan_rows: roles", "plan_rows: stamps",
+                                      "plan_rows: ball_stamps", "plan_rows: bat_stamps",
+                                      "plan_rows: ok"};
+  for (; others < 5; others++) {
+    if (!get_items(args[places[others]], buffers[others], lengths[others], sizes[others],
+                   formats[others], what[others])) {
+      goto done;
+    }
+    if (others >= 2 && buffers[others]->readonly) {
+      PyErr_Format(PyExc_ValueError, "%s: not writable", what[others]);
+      others++;
+      goto done;
+    }
+  }
+  if (counts[VALUES] != 7 * n || counts[BALL] != 3 * m_ball || counts[KNOBS] != 3 * m_bat ||
+      counts[TIPS] != 3 * m_bat || counts[POSITIONS] != 3 * m_bat ||
+      counts[QUATERNIONS] != 4 * m_bat || pre[0] < 0 || pre[1] < 0) {
+    PyErr_SetString(PyExc_ValueError, "plan_rows: shapes do not match");
+    goto done;
+  }
+  const int8_t *role = roles.buf;
+  Py_ssize_t balls = 0, bats = 0;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    balls += role[i] == codes[0];
+    bats += role[i] == codes[1];
+  }
+  if (pre[0] + balls != m_ball || pre[1] + bats != m_bat) {
+    PyErr_SetString(PyExc_ValueError, "plan_rows: outputs do not hold the chunk's samples");
+    goto done;
+  }
+  const int64_t *stamp = stamps.buf;
+  const double *v = views[VALUES].buf;
+  double *ball_time = views[BALL_TIMES].buf, *ball = views[BALL].buf;
+  double *bat_time = views[BAT_TIMES].buf, *knob = views[KNOBS].buf, *tip = views[TIPS].buf;
+  double *position = views[POSITIONS].buf, *quaternion = views[QUATERNIONS].buf;
+  int64_t *ball_stamp = ball_stamps.buf, *bat_stamp = bat_stamps.buf;
+  bool *passes = ok.buf;
+  Py_ssize_t b = pre[0], t = pre[1];
+  for (Py_ssize_t i = 0; i < n; i++, v += 7) {
+    bool in_time = stamp[i] > 0 && wrapped_difference(stamp[i], origin) <= far_ahead;
+    double time = (double)wrapped_difference(stamp[i], origin) * 1e-9;
+    bool point = isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+    if (role[i] == codes[0]) {
+      ball_time[b] = time;
+      ball_stamp[b] = stamp[i];
+      for (int c = 0; c < 3; c++) {
+        ball[3 * b + c] = v[c];
+      }
+      b++;
+      passes[i] = point && in_time;
+    } else if (role[i] == codes[1]) {
+      double magnitude = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+      double *q = quaternion + 4 * t;
+      for (int c = 0; c < 4; c++) {
+        q[c] = v[3 + c] / magnitude;
+      }
+      Vec p = {v[0], v[1], v[2]};
+      Vec k = pose_point(p, q, offsets[0]), e = pose_point(p, q, offsets[1]);
+      double *rows[3] = {position + 3 * t, knob + 3 * t, tip + 3 * t};
+      const Vec points[3] = {p, k, e};
+      for (int r = 0; r < 3; r++) {
+        rows[r][0] = points[r].x, rows[r][1] = points[r].y, rows[r][2] = points[r].z;
+      }
+      bat_time[t] = time;
+      bat_stamp[t] = stamp[i];
+      t++;
+      passes[i] = point && isfinite(v[3]) && isfinite(v[4]) && isfinite(v[5]) &&
+                  isfinite(v[6]) && fabs(magnitude - 1.0) < tolerance &&
+                  !(v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) && in_time;
+    } else {
+      passes[i] = false;
+    }
+  }
+  result = Py_NewRef(Py_None);
+done:
+  for (int i = 0; i < others; i++) {
+    PyBuffer_Release(buffers[i]);
+  }
+  release_views(views, held);
+  return result;
+}
+
+/*
+ * order_checks(stamps, times, first, second, pre, limits, ok, gap): core.detector.plans'
+ * order checks of a stream's samples after its pre kept ones, each against the sample before
+ * as if every sample before it were accepted. ok: its step (ns) is positive, at most the
+ * reset (limits[0], ns), under limits[1] (the hold factor) times (1 - limits[4]) times each of
+ * the two steps before; its time step at most max_gap (limits[2], s) times (1 - limits[4]);
+ * each of its points (first, second: rows x 3, second None for one) moved less than max_speed
+ * (limits[3], m/s) times its time step times (1 - limits[4]). gap: its step is positive, at
+ * most the reset times (1 - limits[4]), its time step over max_gap times (1 + limits[4]) and
+ * its step over the hold factor times (1 + limits[4]) times the step before. stamps: rows
+ * int64; times: rows float64 (s); ok, gap: rows - pre bools, written. ValueError: other
+ * buffers or shapes, pre below 3.
+ */
+static PyObject *py_order_checks(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t pre;
+  double limit[5];
+  PyObject *seq = NULL;
+  if (nargs != 8 || !read_index(args[4], &pre) ||
+      (seq = PySequence_Fast(args[5], "order_checks: limits")) == NULL ||
+      PySequence_Fast_GET_SIZE(seq) != 5) {
+    Py_XDECREF(seq);
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "order_checks(stamps, times, first, second, pre, limits, ok, gap)");
+    }
+    return NULL;
+  }
+  for (int i = 0; i < 5; i++) {
+    if (!read_number(PySequence_Fast_GET_ITEM(seq, i), &limit[i])) {
+      Py_DECREF(seq);
+      PyErr_SetString(PyExc_TypeError, "order_checks: limits must be 5 numbers");
+      return NULL;
+    }
+  }
+  Py_DECREF(seq);
+  Py_buffer times, first, second, stamps, ok, gap;
+  Py_ssize_t rows, count, other;
+  PyObject *result = NULL;
+  int held = 0;
+  Py_buffer *order[6] = {&times, &first, &second, &stamps, &ok, &gap};
+  if (!get_doubles(args[1], &times, &rows, "order_checks: times", false)) {
+    return NULL;
+  }
+  held = 1;
+  if (!get_doubles(args[2], &first, &count, "order_checks: first", false)) {
+    goto done;
+  }
+  held = 2;
+  bool two = args[3] != Py_None;
+  if (two && !get_doubles(args[3], &second, &other, "order_checks: second", false)) {
+    goto done;
+  }
+  held = 3;
+  if (count != 3 * rows || (two && other != 3 * rows) || pre < 3 || pre > rows) {
+    PyErr_SetString(PyExc_ValueError, "order_checks: shapes do not match (or pre below 3)");
+    goto done;
+  }
+  if (!get_items(args[0], &stamps, rows, 8, "ql", "order_checks: stamps")) {
+    goto done;
+  }
+  held = 4;
+  if (!get_items(args[6], &ok, rows - pre, 1, "?", "order_checks: ok")) {
+    goto done;
+  }
+  held = 5;
+  if (!get_items(args[7], &gap, rows - pre, 1, "?", "order_checks: gap")) {
+    goto done;
+  }
+  held = 6;
+  if (ok.readonly || gap.readonly) {
+    PyErr_SetString(PyExc_ValueError, "order_checks: ok and gap must be writable");
+    goto done;
+  }
+  const int64_t *s = stamps.buf;
+  const double *t = times.buf, *points[2] = {first.buf, two ? second.buf : NULL};
+  bool *in_order = ok.buf, *after_gap = gap.buf;
+  double reset = limit[0], hold = limit[1], max_gap = limit[2], max_speed = limit[3];
+  double slack = limit[4], factor = hold * (1.0 - slack);
+  for (Py_ssize_t k = pre; k < rows; k++) {
+    double step = (double)wrapped_difference(s[k], s[k - 1]);
+    double step1 = (double)wrapped_difference(s[k - 1], s[k - 2]);
+    double step2 = (double)wrapped_difference(s[k - 2], s[k - 3]);
+    double dt = t[k] - t[k - 1];
+    bool passes = step > 0 && step <= reset && step < factor * step1 && step < factor * step2 &&
+                  dt <= max_gap * (1.0 - slack);
+    double bound = max_speed * dt * (1.0 - slack);
+    for (int p = 0; p < 2 && passes; p++) {
+      if (points[p] != NULL) {
+        const double *a = points[p] + 3 * (k - 1), *b = points[p] + 3 * k;
+        double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+        passes = sqrt(dx * dx + dy * dy + dz * dz) < bound;
+      }
+    }
+    in_order[k - pre] = passes;
+    after_gap[k - pre] = step > 0 && step <= reset * (1.0 - slack) &&
+                         dt > max_gap * (1.0 + slack) && step > hold * (1.0 + slack) * step1;
+  }
+  result = Py_NewRef(Py_None);
+done:
+  for (int i = held - 1; i >= 0; i--) {
+    if (i != 2 || two) {
+      PyBuffer_Release(order[i]);
+    }
+  }
+  return result;
+}
+
 /* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
@@ -4468,6 +4736,13 @@ static PyMethodDef methods[] = {
      "chain_marks(following, start, marks): mark start, following[start], ... below n"},
     {"departure_reaches", (PyCFunction)(void (*)(void))py_departure_reaches, METH_FASTCALL,
      "departure_reaches(points, times, k, closed, out): departure_reach over many intervals"},
+    {"plan_rows", (PyCFunction)(void (*)(void))py_plan_rows, METH_FASTCALL,
+     "plan_rows(roles, stamps, values, origin, codes, offsets, limits, ball_times, ball_stamps, "
+     "ball, bat_times, bat_stamps, knobs, tips, positions, quaternions, pre, ok): a chunk's "
+     "rows as a plan's arrays, and its value checks"},
+    {"order_checks", (PyCFunction)(void (*)(void))py_order_checks, METH_FASTCALL,
+     "order_checks(stamps, times, first, second, pre, limits, ok, gap): a plan's order checks "
+     "of a stream's new samples"},
     {"c2_margins", (PyCFunction)(void (*)(void))py_c2_margins, METH_FASTCALL,
      "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, "
      "bat_closed, look_ahead, size, margin, constants, out): the c2 far test's clearances"},

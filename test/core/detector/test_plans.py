@@ -6,12 +6,14 @@ Its array steps against the scalar code they stand for: the poses' knob and tip 
 as a whole is tested by feeding chunks (test_chunks.py): the same as one sample at a time.
 """
 
+import math
 from typing import List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
+from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _first_reaching, _next_greater, _order_checks, _pose_points, _trims,
-    _value_checks, Items, SLACK, TRIM_FROM, TRIM_KEEP)
+    _closed, _continuous, _first_reaching, _next_greater, _order_checks, _trims, BALL, BAT_POSE,
+    Items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from baseball_collision.core.toi import _kernel
@@ -49,21 +51,6 @@ def test_chain_marks_refuses_what_would_not_end_or_is_not_its_arrays() -> None:
                            (np.array([1, 2], np.int64), marks)):
         with pytest.raises(ValueError, match='int64'):
             _kernel.chain_marks(following, 0, out)
-
-
-@settings(max_examples=examples(200), deadline=None)
-@given(rows=st.lists(st.tuples(*[FINITE] * 7), min_size=1, max_size=20),
-       offset=st.tuples(*[FINITE] * 3))
-def test_pose_points_are_pose_point_to_the_bit(rows: List[Tuple[float, ...]],
-                                               offset: Tuple[float, float, float]) -> None:
-    """``_pose_points`` over rows gives ``pose_point`` of each row, bit for bit."""
-    values = np.array(rows)
-    quaternion = values[:, 3:]
-    magnitude = np.sqrt((quaternion * quaternion).sum(1))
-    quaternion = quaternion / np.where(magnitude > 0.0, magnitude, 1.0)[:, None]
-    points = _pose_points(values[:, :3], quaternion, offset)
-    for row, position, q in zip(points.tolist(), values[:, :3].tolist(), quaternion.tolist()):
-        assert tuple(row) == pose_point(tuple(position), tuple(q), offset)
 
 
 @settings(max_examples=examples(200), deadline=None)
@@ -137,31 +124,90 @@ def test_next_greater_is_the_search_for_one_more(steps: List[int], first: int) -
 SPECIAL = st.sampled_from([0.0, -0.0, 1.0, 0.5, 1.0005, 0.9995, np.nan, np.inf, -np.inf])
 
 
-@settings(max_examples=examples(200), deadline=None)
-@given(st.lists(st.tuples(st.booleans(), st.lists(st.one_of(FINITE, SPECIAL), min_size=7,
-                                                  max_size=7)), min_size=1, max_size=40),
-       st.booleans())
-def test_value_checks_are_the_row_reductions(rows: List[Tuple[bool, List[float]]],
-                                             unit: bool) -> None:
-    """
-    ``_value_checks`` on columns in turn: the row reductions it stands for, sample by sample.
+def _plan_rows(roles: np.ndarray, stamps: np.ndarray, values: np.ndarray, origin: int,
+               offsets: Tuple[Tuple[float, ...], Tuple[float, ...]], pre: Tuple[int, int]
+               ) -> Tuple[np.ndarray, ...]:
+    """Return the kernel's ``plan_rows`` outputs for a chunk after ``pre`` kept rows (zeros)."""
+    m_ball, m_bat = pre[0] + int((roles == BALL).sum()), pre[1] + int((roles == BAT_POSE).sum())
+    outputs = (np.zeros(m_ball), np.zeros(m_ball, np.int64), np.zeros((m_ball, 3)),
+               np.zeros(m_bat), np.zeros(m_bat, np.int64), np.zeros((m_bat, 3)),
+               np.zeros((m_bat, 3)), np.zeros((m_bat, 3)), np.zeros((m_bat, 4)))
+    ok = np.zeros(len(roles), bool)
+    _kernel.plan_rows(roles, stamps, values, origin, (BALL, BAT_POSE), offsets,
+                      (1e-3 * (1.0 - SLACK), FAR_AHEAD_NS), *outputs, pre, ok)
+    return (*outputs, ok)
 
-    Points and poses with NaN, infinities, zeros and quaternions at the tolerance's edges.
+
+@settings(max_examples=examples(200), deadline=None)
+@given(rows=st.lists(st.tuples(st.integers(0, 3), st.integers(-2, 3 * 10 ** 15),
+                               st.lists(st.one_of(FINITE, SPECIAL), min_size=7, max_size=7)),
+                     min_size=1, max_size=40),
+       offsets=st.tuples(st.tuples(*[FINITE] * 3), st.tuples(*[FINITE] * 3)),
+       pre=st.tuples(st.integers(0, 3), st.integers(0, 3)), unit=st.booleans(),
+       origin=st.integers(0, 10 ** 15))
+def test_plan_rows_are_the_per_sample_path_to_the_bit(rows: List[Tuple[int, int, List[float]]],
+                                                      offsets, pre: Tuple[int, int],
+                                                      unit: bool, origin: int) -> None:
     """
-    values = np.array([v for _, v in rows])
+    ``plan_rows``: each sample's row as the per-sample path makes it, bit for bit, and checks.
+
+    Times ``(stamp - origin) * 1e-9``; a pose's quaternion as ``gate.unit_pose`` makes it unit,
+    its knob and tip ``geometry.pose_point``. The value checks are the row reductions they
+    stand for, with room to spare (NaN, infinities, zeros, quaternions at the tolerance's
+    edges), and the stamp after 0 and at most ``FAR_AHEAD_NS`` after the origin.
+    """
+    roles = np.array([role for role, _, _ in rows], np.int8)
+    stamps = np.array([stamp for _, stamp, _ in rows], np.int64)
+    values = np.array([v for _, _, v in rows])
     if unit:  # quaternions near unit length, where the magnitude's last bit can matter
         q = values[:, 3:7]
-        values[:, 3:7] = q / np.where(np.isfinite(q).all(1) & ((q * q).sum(1) > 0),
-                                      np.sqrt((q * q).sum(1)), 1.0)[:, None]
-    is_ball = np.array([ball for ball, _ in rows])
-    ok = _value_checks(DetectorConfig(), values, is_ball, ~is_ball)
-    finite = np.isfinite(values)
-    q = values[:, 3:7]
-    with np.errstate(all='ignore'):
-        pose = (~is_ball & finite.all(1)
-                & (np.abs(np.sqrt((q * q).sum(1)) - 1.0) < 1e-3 * (1.0 - SLACK))
-                & ~(values[:, :3] == 0.0).all(1))
-    assert ok.tolist() == ((is_ball & finite[:, :3].all(1)) | pose).tolist()
+        with np.errstate(all='ignore'):
+            values[:, 3:7] = q / np.where(np.isfinite(q).all(1) & ((q * q).sum(1) > 0),
+                                          np.sqrt((q * q).sum(1)), 1.0)[:, None]
+    (ball_times, ball_stamps, ball, bat_times, bat_stamps, knobs, tips, positions, quaternions,
+     ok) = _plan_rows(roles, stamps, values, origin, offsets, pre)
+    b, t = pre
+    for role, stamp, row, passes in zip(roles.tolist(), stamps.tolist(), values.tolist(),
+                                        ok.tolist()):
+        time = (stamp - origin) * 1e-9
+        finite = [x * 0.0 == 0.0 for x in row]
+        in_time = stamp > 0 and stamp - origin <= FAR_AHEAD_NS
+        if role == BALL:
+            assert (ball_times[b], ball_stamps[b]) == (time, stamp)
+            assert ball[b].tobytes() == np.array(row[:3]).tobytes()
+            assert passes == (all(finite[:3]) and in_time)
+            b += 1
+        elif role == BAT_POSE:
+            assert (bat_times[t], bat_stamps[t]) == (time, stamp)
+            assert positions[t].tobytes() == np.array(row[:3]).tobytes()
+            magnitude = math.sqrt(sum(x * x for x in row[3:]) if all(finite) else math.nan)
+            pose = unit_pose((row[:3], row[3:]))
+            if isinstance(pose, tuple):
+                position, quaternion = pose
+                assert tuple(quaternions[t].tolist()) == quaternion
+                assert tuple(knobs[t].tolist()) == pose_point(position, quaternion, offsets[0])
+                assert tuple(tips[t].tolist()) == pose_point(position, quaternion, offsets[1])
+            assert passes == (all(finite) and abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK)
+                              and row[:3] != [0.0, 0.0, 0.0] and in_time)
+            t += 1
+        else:
+            assert not passes
+    assert (b, t) == (len(ball_times), len(bat_times))
+
+
+def test_plan_rows_refuses_outputs_that_do_not_hold_the_chunk() -> None:
+    """Outputs of another length than the kept rows and the chunk's, roles not int8: errors."""
+    roles = np.array([BALL, BAT_POSE, BAT_POSE], np.int8)
+    stamps = np.array([1, 2, 3], np.int64)
+    values = np.tile([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0], (3, 1))
+    with pytest.raises(ValueError, match='do not hold'):
+        _kernel.plan_rows(roles, stamps, values, 0, (BALL, BAT_POSE), ((0, 0, 0), (1, 0, 0)),
+                          (1e-3, 10), np.zeros(1), np.zeros(1, np.int64), np.zeros((1, 3)),
+                          np.zeros(1), np.zeros(1, np.int64), np.zeros((1, 3)),
+                          np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 4)), (0, 0),
+                          np.zeros(3, bool))
+    with pytest.raises(ValueError, match='roles'):
+        _plan_rows(roles.astype(np.int64), stamps, values, 0, ((0.0, 0.0, 0.0),) * 2, (0, 0))
 
 
 def test_order_checks_need_three_kept_samples() -> None:
@@ -169,9 +215,49 @@ def test_order_checks_need_three_kept_samples() -> None:
     stamps = np.arange(1, 6, dtype=np.int64) * 10_000_000
     times = stamps * 1e-9
     with pytest.raises(ValueError, match='3 kept samples'):
-        _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 2)
-    ok, gap = _order_checks(DetectorConfig(), stamps, times, [np.zeros((5, 3))], 3)
+        _order_checks(DetectorConfig(), stamps, times, (np.zeros((5, 3)), None), 2)
+    ok, gap = _order_checks(DetectorConfig(), stamps, times, (np.zeros((5, 3)), None), 3)
     assert ok.tolist() == [True, True] and gap.tolist() == [False, False]
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(steps=st.lists(st.sampled_from([1, 2_000_000, 2_777_778, 5_000_000, 6_944_444, 7_000_000,
+                                       20_000_000, 60_000_000, 3 * 10 ** 9, -5, 0]),
+                      min_size=4, max_size=40),
+       moves=st.lists(st.floats(0.0, 0.4), min_size=40, max_size=40), pre=st.integers(3, 4),
+       two=st.booleans())
+def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[float], pre: int,
+                                                 two: bool) -> None:
+    """
+    ``_order_checks`` (the kernel's): the stamp, gap and speed bounds in numpy, sample by sample.
+
+    Steps on the bounds' edges (the hold factor, ``max_gap``, the reset), back and repeated
+    stamps, points moving near the speed bound.
+    """
+    config = DetectorConfig()
+    stamps = np.cumsum(np.array([10 ** 9] + steps, dtype=np.int64))
+    m = len(stamps)
+    times = (stamps - stamps[0]) * 1e-9
+    rng = np.random.default_rng(len(steps))
+    first = np.cumsum(np.array(moves[:m])[:, None] * rng.normal(size=(m, 3)), axis=0)
+    second = first + 0.8 if two else None
+    ok, gap = _order_checks(config, stamps, times, (first, second), pre)
+    step = (stamps[pre:] - stamps[pre - 1:-1]).astype(float)
+    step1 = (stamps[pre - 1:-1] - stamps[pre - 2:-2]).astype(float)
+    step2 = (stamps[pre - 2:-2] - stamps[pre - 3:-3]).astype(float)
+    reset = round(config.time_jump_reset * 1e9)
+    dt = times[pre:] - times[pre - 1:-1]
+    speed = config.max_speed * dt * (1.0 - SLACK)
+    moved = np.linalg.norm(first[pre:] - first[pre - 1:-1], axis=1)
+    expected = ((step > 0) & (step <= reset) & (step < HOLD_FACTOR * (1.0 - SLACK) * step1)
+                & (step < HOLD_FACTOR * (1.0 - SLACK) * step2)
+                & (dt <= config.max_gap * (1.0 - SLACK)) & (moved < speed))
+    if two:
+        expected &= np.linalg.norm(second[pre:] - second[pre - 1:-1], axis=1) < speed
+    assert ok.tolist() == expected.tolist()
+    assert gap.tolist() == ((step > 0) & (step <= reset * (1.0 - SLACK))
+                            & (dt > config.max_gap * (1.0 + SLACK))
+                            & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)).tolist()
 
 
 @settings(max_examples=examples(200), deadline=None)
