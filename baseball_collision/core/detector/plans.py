@@ -571,47 +571,11 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     Return a stream's first kept sample after each sample's trim, and its length before it.
 
     ``Stream.trim`` after each sample: a stream of ``TRIM_FROM`` samples or more drops those
-    before its cut. ``counts`` and ``cuts`` never decrease, so the sample that trims next after
-    one that trimmed at j (leaving the stream from ``cuts[j]``) is known for every j at once;
-    the trims are that chain from the first (with a long history, every sample).
+    before its cut (the kernel's ``trims``, one pass).
+
+    :param counts: the stream's samples after each sample; ``cuts``: where its trim would cut.
     """
-    n = len(counts)
-    following = np.maximum(np.maximum(_first_reaching(counts, cuts + TRIM_FROM),
-                                      _next_greater(cuts)), np.arange(1, n + 1))
-    trims = np.zeros(n, bool)  # the samples that trim (about one in five: the chain, compiled)
-    _kernel.chain_marks(following.astype(np.int64, copy=False),
-                        max(int(np.searchsorted(counts, TRIM_FROM, 'left')),
-                            int(np.searchsorted(cuts, 1, 'left'))), trims)
-    starts = np.concatenate(([0], cuts[trims])).astype(np.int64)  # the first kept after each
-    after = starts[np.cumsum(trims)]  # (cumsum: the trims at or before each sample)
-    return after, counts - np.concatenate(([0], after[:-1]))
-
-
-def _first_reaching(counts: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """
-    Return, for each target, the index of the first count at or above it (n: none).
-
-    ``np.searchsorted(counts, targets, 'left')``; where the counts go up by one at a time
-    (a stream's count after each step), read from where each count is first reached.
-    """
-    n = len(counts)
-    rises = np.flatnonzero(counts[1:] != counts[:-1]) + 1  # where each count is first reached
-    if not n or int(counts[-1]) - int(counts[0]) != len(rises):
-        return np.searchsorted(counts, targets, 'left')
-    above = targets - int(counts[0])  # (the rise of each target: the above-th, from 1)
-    first = np.concatenate(([0], rises, [n]))
-    return first[np.clip(above, 0, len(rises) + 1)]
-
-
-def _next_greater(values: np.ndarray) -> np.ndarray:
-    """
-    Return, for each of nondecreasing integers, the index of the first one greater (n: none).
-
-    ``np.searchsorted(values, values + 1, 'left')`` in one pass: the start of the next run of
-    equal values.
-    """
-    n = len(values)
-    rises = np.flatnonzero(values[1:] != values[:-1]) + 1  # where a run starts
-    following = np.full(n, n, dtype=np.int64)
-    following[rises - 1] = rises
-    return np.minimum.accumulate(following[::-1])[::-1]
+    after, lengths = np.empty(len(counts), np.int64), np.empty(len(counts), np.int64)
+    _kernel.trims(np.ascontiguousarray(counts, dtype=np.int64),
+                  np.ascontiguousarray(cuts, dtype=np.int64), TRIM_FROM, after, lengths)
+    return after, lengths

@@ -62,7 +62,7 @@
  *        chart, the window's samples and a c2 bat path's deviation bound
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
  *        (core.detector.noise)
- *   chain_marks(following, start, marks)  the samples a chunk's plan trims at,
+ *   trims(counts, cuts, trim_from, after, lengths)  a stream's trims over a chunk's plan,
  *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
  *        a plan's arrays and their value checks, order_checks(stamps, times, first, second,
  *        pre, limits, ok, gap)  a stream's order checks (core.detector.plans)
@@ -1158,6 +1158,23 @@ static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const c
     return false;
   }
   *count = view->len / (Py_ssize_t)sizeof(double);
+  return true;
+}
+
+/* a contiguous buffer of n items of one of the given struct formats (itemsize bytes); false
+ * with a ValueError */
+static bool get_items(PyObject *o, Py_buffer *view, Py_ssize_t n, Py_ssize_t itemsize,
+                      const char *formats, const char *what)
+{
+  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    return false;
+  }
+  if (view->itemsize != itemsize || view->format == NULL || strlen(view->format) != 1 ||
+      strchr(formats, view->format[0]) == NULL || view->len != n * itemsize) {
+    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous array of %zd items", what, n);
+    PyBuffer_Release(view);
+    return false;
+  }
   return true;
 }
 
@@ -3846,52 +3863,55 @@ done:
 }
 
 /*
- * chain_marks(following, start, marks): marks[j] = True for j = start, following[start],
- * following[following[start]], ... while j < n (core.detector.plans._trims: the samples that
- * trim). following: a contiguous int64 array of n entries, each greater than its index;
- * marks: a contiguous writable bool array of n. ValueError: other buffers, or an entry not
- * greater than its index (the walk would not end).
+ * trims(counts, cuts, trim_from, after, lengths): a stream's trims after each step of a chunk's
+ * plan (core.detector.plans._trims): with start the stream's first kept sample (0 before the
+ * first step), at step j lengths[j] = counts[j] - start, then where that is at least trim_from
+ * and cuts[j] > start the stream drops what is before cuts[j] (start = cuts[j]); after[j] =
+ * start. counts (the stream's samples after each step), cuts (where each step's trim would cut):
+ * contiguous int64 arrays of n; after, lengths: writable ones of n. ValueError: other buffers.
  */
-static PyObject *py_chain_marks(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *py_trims(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-  Py_ssize_t j;
-  if (nargs != 3 || !read_index(args[1], &j)) {
+  Py_ssize_t trim_from;
+  if (nargs != 5 || !read_index(args[2], &trim_from)) {
     if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "chain_marks(following, start, marks)");
+      PyErr_SetString(PyExc_TypeError, "trims(counts, cuts, trim_from, after, lengths)");
     }
     return NULL;
   }
-  Py_buffer next, marks;
-  if (PyObject_GetBuffer(args[0], &next, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
-    return NULL;
-  }
-  if (PyObject_GetBuffer(args[2], &marks, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | PyBUF_WRITABLE) < 0) {
-    PyBuffer_Release(&next);
-    return NULL;
-  }
-  Py_ssize_t n = marks.len;
+  Py_buffer views[4];
+  static const int places[4] = {0, 1, 3, 4};
+  static const char *const what[4] = {"trims: counts", "trims: cuts", "trims: after",
+                                      "trims: lengths"};
+  Py_ssize_t n = PyObject_Length(args[0]);
+  int held = 0;
   PyObject *result = NULL;
-  if (next.itemsize != sizeof(int64_t) || next.format == NULL ||
-      (strcmp(next.format, "q") != 0 && strcmp(next.format, "l") != 0) ||
-      next.len != n * (Py_ssize_t)sizeof(int64_t) || marks.itemsize != 1 ||
-      marks.format == NULL || strcmp(marks.format, "?") != 0) {
-    PyErr_SetString(PyExc_ValueError, "chain_marks: following must be n int64, marks n bool");
-    goto done;
+  if (n < 0) {
+    return NULL;
   }
-  const int64_t *following = next.buf;
-  bool *marked = marks.buf;
-  while (j >= 0 && j < n) {
-    marked[j] = true;
-    if (following[j] <= j) {
-      PyErr_SetString(PyExc_ValueError, "chain_marks: an entry not after its index");
+  for (; held < 4; held++) {
+    if (!get_items(args[places[held]], &views[held], n, sizeof(int64_t), "ql", what[held])) {
       goto done;
     }
-    j = (Py_ssize_t)following[j];
+  }
+  if (views[2].readonly || views[3].readonly) {
+    PyErr_SetString(PyExc_ValueError, "trims: after and lengths must be writable");
+    goto done;
+  }
+  const int64_t *counts = views[0].buf, *cuts = views[1].buf;
+  int64_t *after = views[2].buf, *lengths = views[3].buf, start = 0;
+  for (Py_ssize_t j = 0; j < n; j++) {
+    lengths[j] = counts[j] - start;
+    if (lengths[j] >= trim_from && cuts[j] > start) {
+      start = cuts[j];
+    }
+    after[j] = start;
   }
   result = Py_NewRef(Py_None);
 done:
-  PyBuffer_Release(&next);
-  PyBuffer_Release(&marks);
+  for (int i = 0; i < held; i++) {
+    PyBuffer_Release(&views[i]);
+  }
   return result;
 }
 
@@ -4141,23 +4161,6 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
   double second = v_norm(v_sub(ball_centre, bat_centre)) - 0.5 * v_norm(v_sub(b0, b1)) - ball_bulge
                   - bat_radius - growth;
   return bw.uneven || tw.uneven || isnan(second) ? -INFINITY : second;
-}
-
-/* a contiguous buffer of n items of one of the given struct formats (itemsize bytes); false
- * with a ValueError */
-static bool get_items(PyObject *o, Py_buffer *view, Py_ssize_t n, Py_ssize_t itemsize,
-                      const char *formats, const char *what)
-{
-  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
-    return false;
-  }
-  if (view->itemsize != itemsize || view->format == NULL || strlen(view->format) != 1 ||
-      strchr(formats, view->format[0]) == NULL || view->len != n * itemsize) {
-    PyErr_Format(PyExc_ValueError, "%s: expected a contiguous array of %zd items", what, n);
-    PyBuffer_Release(view);
-    return false;
-  }
-  return true;
 }
 
 /*
@@ -4732,8 +4735,8 @@ static PyMethodDef methods[] = {
     {"c2_chart", (PyCFunction)(void (*)(void))py_c2_chart, METH_FASTCALL,
      "c2_chart(samples, j, max_angle): (first, rows) of the c2 window's chart: knob, rotation "
      "vector from samples[j]'s direction, length"},
-    {"chain_marks", (PyCFunction)(void (*)(void))py_chain_marks, METH_FASTCALL,
-     "chain_marks(following, start, marks): mark start, following[start], ... below n"},
+    {"trims", (PyCFunction)(void (*)(void))py_trims, METH_FASTCALL,
+     "trims(counts, cuts, trim_from, after, lengths): a stream's trims after each step"},
     {"departure_reaches", (PyCFunction)(void (*)(void))py_departure_reaches, METH_FASTCALL,
      "departure_reaches(points, times, k, closed, out): departure_reach over many intervals"},
     {"plan_rows", (PyCFunction)(void (*)(void))py_plan_rows, METH_FASTCALL,

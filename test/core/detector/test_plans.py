@@ -1,9 +1,10 @@
 """
 Tests for baseball_collision.core.detector.plans: a chunk's plan computed on arrays.
 
-Its array steps against the scalar code they stand for: the poses' knob and tip points
-(``geometry.pose_point``, to the bit) and the trims after each step (``Stream.trim``). The plan
-as a whole is tested by feeding chunks (test_chunks.py): the same as one sample at a time.
+Its array steps against the scalar code they stand for: the chunk's rows (``gate.unit_pose``
+and ``geometry.pose_point``, to the bit), the value and order checks, and the trims after each
+step (``Stream.trim``). The plan as a whole is tested by feeding chunks (test_chunks.py): the
+same as one sample at a time.
 """
 
 import math
@@ -12,8 +13,8 @@ from typing import List, Tuple
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _first_reaching, _next_greater, _order_checks, _trims, BALL, BAT_POSE,
-    Items, SLACK, TRIM_FROM, TRIM_KEEP)
+    _closed, _continuous, _order_checks, _trims, BALL, BAT_POSE, Items, SLACK, TRIM_FROM,
+    TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from baseball_collision.core.toi import _kernel
@@ -25,32 +26,18 @@ from support import examples
 FINITE = st.floats(-10.0, 10.0, allow_nan=False)
 
 
-@settings(max_examples=examples(200), deadline=None)
-@given(jumps=st.lists(st.integers(1, 6), min_size=0, max_size=40), start=st.integers(0, 45))
-def test_chain_marks_walks_the_chain(jumps: List[int], start: int) -> None:
-    """The kernel's ``chain_marks`` marks start, following[start], ... below n, as a walk."""
-    n = len(jumps)
-    following = np.arange(n, dtype=np.int64) + np.array(jumps, dtype=np.int64)
-    expected = np.zeros(n, bool)
-    j = start
-    while j < n:
-        expected[j] = True
-        j = int(following[j])
-    marks = np.zeros(n, bool)
-    _kernel.chain_marks(following, start, marks)
-    assert np.array_equal(marks, expected)
-
-
-def test_chain_marks_refuses_what_would_not_end_or_is_not_its_arrays() -> None:
-    """An entry not after its index, or buffers of other types or sizes: ValueError."""
-    marks = np.zeros(3, bool)
-    with pytest.raises(ValueError, match='not after its index'):
-        _kernel.chain_marks(np.array([1, 1, 3], np.int64), 0, marks)
-    for following, out in ((np.array([1, 2, 3], np.int32), marks),
-                           (np.array([1, 2, 3], np.int64), np.zeros(3, np.int64)),
-                           (np.array([1, 2], np.int64), marks)):
-        with pytest.raises(ValueError, match='int64'):
-            _kernel.chain_marks(following, 0, out)
+def test_trims_refuses_what_is_not_its_arrays() -> None:
+    """The kernel's ``trims``: buffers of other types or sizes, read-only outputs: errors."""
+    counts = np.arange(3, dtype=np.int64)
+    out = np.zeros(3, np.int64)
+    for arguments in ((counts.astype(np.int32), counts, out, out),
+                      (counts, counts[:2], out, out), (counts, counts, np.zeros(3), out)):
+        with pytest.raises(ValueError):
+            _kernel.trims(arguments[0], arguments[1], TRIM_FROM, *arguments[2:])
+    frozen = np.zeros(3, np.int64)
+    frozen.flags.writeable = False
+    with pytest.raises((ValueError, BufferError)):
+        _kernel.trims(counts, counts, TRIM_FROM, frozen, out)
 
 
 @settings(max_examples=examples(200), deadline=None)
@@ -111,14 +98,6 @@ def test_trims_are_the_rule_applied_sample_by_sample(
     expected_after, expected_lengths = _trimmed_one_at_a_time(counts.tolist(), cuts.tolist())
     assert after.tolist() == expected_after
     assert lengths.tolist() == expected_lengths
-
-
-@settings(max_examples=examples(200), deadline=None)
-@given(st.lists(st.integers(0, 3), max_size=300), st.integers(-5, 5))
-def test_next_greater_is_the_search_for_one_more(steps: List[int], first: int) -> None:
-    """``_next_greater`` of nondecreasing integers: ``searchsorted(values, values + 1)``."""
-    values = np.cumsum(np.array(steps, dtype=np.int64)) + first
-    assert _next_greater(values).tolist() == np.searchsorted(values, values + 1, 'left').tolist()
 
 
 SPECIAL = st.sampled_from([0.0, -0.0, 1.0, 0.5, 1.0005, 0.9995, np.nan, np.inf, -np.inf])
@@ -258,17 +237,6 @@ def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[f
     assert gap.tolist() == ((step > 0) & (step <= reset * (1.0 - SLACK))
                             & (dt > config.max_gap * (1.0 + SLACK))
                             & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)).tolist()
-
-
-@settings(max_examples=examples(200), deadline=None)
-@given(st.lists(st.integers(0, 2), max_size=200), st.integers(-5, 5),
-       st.lists(st.integers(-10, 250), max_size=60))
-def test_first_reaching_is_the_search(steps: List[int], first: int, targets: List[int]) -> None:
-    """``_first_reaching``: ``searchsorted(counts, targets)``, counts rising by one or more."""
-    counts = np.cumsum(np.array(steps, dtype=np.int64)) + first
-    wanted = np.array(targets, dtype=np.int64)
-    assert _first_reaching(counts, wanted).tolist() == np.searchsorted(
-        counts, wanted, 'left').tolist()
 
 
 @settings(max_examples=examples(200), deadline=None)
