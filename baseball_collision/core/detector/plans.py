@@ -260,7 +260,7 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     visited = plan.visited
     moved = visited > np.concatenate(([1], visited[:-1]))
     cursors = plan.union[visited - 1]
-    plan.newest = np.where(moved, np.searchsorted(arrays.times[1], cursors, 'right') - 1,
+    plan.newest = np.where(moved, _search_right(arrays.times[1], cursors) - 1,
                            -1).tolist()
     frames = np.flatnonzero(moved)
     # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
@@ -402,7 +402,7 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     union = np.sort(np.concatenate(arrays.times), kind='stable')
     union = union[np.concatenate(([True], union[1:] != union[:-1]))]
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    visited = np.maximum(np.searchsorted(union, watermark, 'right'), 1)
+    visited = np.maximum(_search_right(union, watermark), 1)
     plan.visited = visited[done] if held else visited[1:]
     return done, counts, visited
 
@@ -418,13 +418,19 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
     """
     far = np.ones(len(starts), bool)
     located, segments = [], []
+    # (the neighbours in a segment: the spline's bulges and the rigid and spline paths' spheres
+    # read them; the linear and c2 far tests do not, and are given -1: none)
+    neighbours = config.model in ('rigid', 'spline')
     for s in (0, 1):
-        k = np.searchsorted(arrays.times[s], starts, 'right') - 1
+        k = _search_right(arrays.times[s], starts) - 1
         times, cut = arrays.times[s], arrays.breaks[s]
         closed = _closed(times, cut, config.max_gap)
         far &= _continuous(closed, k)
-        before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
-        after = np.where(_continuous(closed, k + 1), k + 2, -1)
+        if neighbours:
+            before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
+            after = np.where(_continuous(closed, k + 1), k + 2, -1)
+        else:
+            before = after = np.full(len(k), -1)
         located.append((k, before, after))
         segments.append(closed)
     if not len(starts):
@@ -471,7 +477,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     plan.starts = []
     silent = np.zeros(len(visited), bool)
     for s in (0, 1):
-        cuts = np.searchsorted(arrays.times[s], cursors - history, 'right') - TRIM_KEEP
+        cuts = _search_right(arrays.times[s], cursors - history) - TRIM_KEEP
         starts, lengths = _trims(counts[s][1:], cuts)
         plan.starts.append(Items(np.concatenate(([0], starts))[done]))
         silent[1:] |= lengths > SILENT_KEEP
@@ -579,3 +585,16 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     _kernel.trims(np.ascontiguousarray(counts, dtype=np.int64),
                   np.ascontiguousarray(cuts, dtype=np.int64), TRIM_FROM, after, lengths)
     return after, lengths
+
+
+def _search_right(times: np.ndarray, keys: np.ndarray) -> np.ndarray:
+    """
+    Return ``np.searchsorted(times, keys, 'right')`` (int64), for ascending times and keys (s).
+
+    The kernel's ``sorted_search``: a walk from each key's place to the next (a binary search
+    each cost 4x more on a chunk's thousands of keys), the same indices.
+    """
+    found = np.empty(len(keys), np.int64)
+    _kernel.sorted_search(np.ascontiguousarray(times, dtype=float),
+                          np.ascontiguousarray(keys, dtype=float), True, found)
+    return found

@@ -63,6 +63,7 @@
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
  *        (core.detector.noise)
  *   trims(counts, cuts, trim_from, after, lengths)  a stream's trims over a chunk's plan,
+ *   sorted_search(array, keys, right, out)  numpy.searchsorted walked for ascending keys,
  *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
  *        a plan's arrays and their value checks, order_checks(stamps, times, first, second,
  *        pre, limits, ok, gap)  a stream's order checks (core.detector.plans)
@@ -4653,6 +4654,81 @@ done:
   return result;
 }
 
+
+/* numpy's order of float64: NaN after every number */
+static inline bool sorts_before(double x, double y) { return x < y || (y != y && x == x); }
+
+/*
+ * sorted_search(array, keys, right, out): numpy.searchsorted(array, keys, 'right' if right else
+ * 'left') into out, for an ascending float64 array (numpy's order: NaN last) and keys mostly
+ * ascending: each search starts from the last key's place and gallops on (a key below the
+ * last searches from the start), so ascending keys cost a walk, not a binary search each.
+ * array: n float64; keys: m float64; out: m int64, written. ValueError: other buffers.
+ */
+static PyObject *py_sorted_search(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 4) {
+    PyErr_SetString(PyExc_TypeError, "sorted_search(array, keys, right, out)");
+    return NULL;
+  }
+  int right = PyObject_IsTrue(args[2]);
+  if (right < 0) {
+    return NULL;
+  }
+  Py_buffer array, keys, out;
+  Py_ssize_t n, m;
+  if (!get_doubles(args[0], &array, &n, "sorted_search: array", false)) {
+    return NULL;
+  }
+  if (!get_doubles(args[1], &keys, &m, "sorted_search: keys", false)) {
+    PyBuffer_Release(&array);
+    return NULL;
+  }
+  PyObject *result = NULL;
+  if (!get_items(args[3], &out, m, sizeof(int64_t), "ql", "sorted_search: out")) {
+    goto done;
+  }
+  if (out.readonly) {
+    PyErr_SetString(PyExc_ValueError, "sorted_search: out must be writable");
+    PyBuffer_Release(&out);
+    goto done;
+  }
+  const double *a = array.buf, *key = keys.buf;
+  int64_t *place = out.buf;
+  Py_ssize_t lo = 0; /* every entry before lo goes before the key (ascending keys) */
+  for (Py_ssize_t i = 0; i < m; i++) {
+    double x = key[i];
+    if (i > 0 && sorts_before(x, key[i - 1])) {
+      lo = 0;
+    }
+    /* the first index whose entry does not go before x: for 'right' an entry equal to x goes
+       before it, for 'left' not */
+#define GOES_BEFORE(v) (right ? !sorts_before(x, (v)) : sorts_before((v), x))
+    Py_ssize_t step = 1, hi = lo;
+    while (hi < n && GOES_BEFORE(a[hi])) {
+      lo = hi + 1;
+      hi = lo + step - 1 < n ? lo + step - 1 : n;
+      step *= 2;
+    }
+    while (lo < hi) {
+      Py_ssize_t mid = lo + (hi - lo) / 2;
+      if (GOES_BEFORE(a[mid])) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+#undef GOES_BEFORE
+    place[i] = lo;
+  }
+  PyBuffer_Release(&out);
+  result = Py_NewRef(Py_None);
+done:
+  PyBuffer_Release(&keys);
+  PyBuffer_Release(&array);
+  return result;
+}
+
 /* ------------------------------------------------------------------------------------------ */
 
 static PyMethodDef methods[] = {
@@ -4746,6 +4822,8 @@ static PyMethodDef methods[] = {
     {"order_checks", (PyCFunction)(void (*)(void))py_order_checks, METH_FASTCALL,
      "order_checks(stamps, times, first, second, pre, limits, ok, gap): a plan's order checks "
      "of a stream's new samples"},
+    {"sorted_search", (PyCFunction)(void (*)(void))py_sorted_search, METH_FASTCALL,
+     "sorted_search(array, keys, right, out): numpy.searchsorted for keys mostly ascending"},
     {"c2_margins", (PyCFunction)(void (*)(void))py_c2_margins, METH_FASTCALL,
      "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, "
      "bat_closed, look_ahead, size, margin, constants, out): the c2 far test's clearances"},

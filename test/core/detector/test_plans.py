@@ -203,7 +203,7 @@ def test_order_checks_need_three_kept_samples() -> None:
 @given(steps=st.lists(st.sampled_from([1, 2_000_000, 2_777_778, 5_000_000, 6_944_444, 7_000_000,
                                        20_000_000, 60_000_000, 3 * 10 ** 9, -5, 0]),
                       min_size=4, max_size=40),
-       moves=st.lists(st.floats(0.0, 0.4), min_size=40, max_size=40), pre=st.integers(3, 4),
+       moves=st.lists(st.floats(0.0, 0.4), min_size=41, max_size=41), pre=st.integers(3, 4),
        two=st.booleans())
 def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[float], pre: int,
                                                  two: bool) -> None:
@@ -266,3 +266,25 @@ def test_items_read_as_the_list(values: list) -> None:
         assert items[-1] == listed[-1] and type(items[-1]) is type(listed[-1])
     with pytest.raises(IndexError):
         items[len(listed)]
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(array=st.lists(st.one_of(st.floats(-3.0, 3.0), st.sampled_from(
+    [0.0, 1.0, np.inf, -np.inf, np.nan])), max_size=40),
+       keys=st.lists(st.one_of(st.floats(-4.0, 4.0), st.sampled_from(
+           [0.0, 1.0, np.inf, -np.inf, np.nan])), max_size=40),
+       ascending=st.booleans(), right=st.booleans())
+def test_sorted_search_is_numpys_searchsorted(array: List[float], keys: List[float],
+                                              ascending: bool, right: bool) -> None:
+    """
+    The kernel's ``sorted_search``: ``np.searchsorted`` (NaN last), keys ascending or not.
+
+    Equal entries, infinities and NaN in both.
+    """
+    values = np.sort(np.array(array, dtype=float))
+    wanted = np.array(keys, dtype=float)
+    if ascending:
+        wanted = np.sort(wanted)
+    found = np.empty(len(wanted), np.int64)
+    _kernel.sorted_search(values, wanted, right, found)
+    assert found.tolist() == np.searchsorted(values, wanted, 'right' if right else 'left').tolist()
