@@ -113,7 +113,7 @@ class Plan:
         for s, stream in enumerate((ball, bat)):
             count = self.counts[s][j]
             if len(stream.times) != count - self.starts[s][j] or \
-                    stream.stamps[-1] != self.stamps[s][count - 1] or stream.breaks[-1]:
+                    stream.stamps[-1] != self.stamps[s].item(count - 1) or stream.breaks[-1]:
                 return False
         return cursor == self.union[self.visited[j] - 1]
 
