@@ -1,5 +1,5 @@
 """
-A chunk's plan: what its samples do if each is accepted, computed on arrays (numpy).
+A chunk's plan: what its samples do if each is accepted, computed on arrays.
 
 :func:`plan_chunk` looks at a chunk's samples (in arrival order) all at once, as if each were
 accepted: which pass every check with room to spare (the value checks, the frame, the
@@ -21,6 +21,11 @@ bat's newest sample at each frame's cursor (whose turns the predictor sums).
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
 path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models is planned
 (:func:`plannable`).
+
+The passes over a chunk's thousands of samples are numpy's, and the compiled kernel's
+(``toi._kernel``) where numpy took many passes for one rule: the chunk's rows and value
+checks (``plan_rows``), the order checks, the trims, the searches of ascending keys and the
+``c2`` far test (``broadphase.arrays``).
 """
 
 from bisect import bisect_left

@@ -1162,12 +1162,13 @@ static bool get_doubles(PyObject *o, Py_buffer *view, Py_ssize_t *count, const c
   return true;
 }
 
-/* a contiguous buffer of n items of one of the given struct formats (itemsize bytes); false
- * with a ValueError */
+/* a contiguous buffer of n items of one of the given struct formats (itemsize bytes), writable
+ * if asked; false with a ValueError (numpy's own for a read-only array) */
 static bool get_items(PyObject *o, Py_buffer *view, Py_ssize_t n, Py_ssize_t itemsize,
-                      const char *formats, const char *what)
+                      const char *formats, const char *what, bool writable)
 {
-  if (PyObject_GetBuffer(o, view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+  int flags = PyBUF_FORMAT | PyBUF_C_CONTIGUOUS | (writable ? PyBUF_WRITABLE : 0);
+  if (PyObject_GetBuffer(o, view, flags) < 0) {
     return false;
   }
   if (view->itemsize != itemsize || view->format == NULL || strlen(view->format) != 1 ||
@@ -3891,13 +3892,10 @@ static PyObject *py_trims(PyObject *self, PyObject *const *args, Py_ssize_t narg
     return NULL;
   }
   for (; held < 4; held++) {
-    if (!get_items(args[places[held]], &views[held], n, sizeof(int64_t), "ql", what[held])) {
+    if (!get_items(args[places[held]], &views[held], n, sizeof(int64_t), "ql", what[held],
+                   held >= 2)) {
       goto done;
     }
-  }
-  if (views[2].readonly || views[3].readonly) {
-    PyErr_SetString(PyExc_ValueError, "trims: after and lengths must be writable");
-    goto done;
   }
   const int64_t *counts = views[0].buf, *cuts = views[1].buf;
   int64_t *after = views[2].buf, *lengths = views[3].buf, start = 0;
@@ -4220,7 +4218,7 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   }
   for (; held_indices < 2; held_indices++) {
     if (!get_items(args[3 + held_indices], &indices[held_indices], m, sizeof(int64_t), "ql",
-                   held_indices ? "c2_margins: bat_k" : "c2_margins: ball_k")) {
+                   held_indices ? "c2_margins: bat_k" : "c2_margins: ball_k", false)) {
       goto done;
     }
   }
@@ -4228,7 +4226,8 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
     PyObject *o = args[7 + held_closed];
     if (o != Py_None &&
         !get_items(o, &closed[held_closed], (held_closed ? nt : nb) - 1, 1, "?",
-                   held_closed ? "c2_margins: bat_closed" : "c2_margins: ball_closed")) {
+                   held_closed ? "c2_margins: bat_closed" : "c2_margins: ball_closed",
+                   false)) {
       goto done;
     }
   }
@@ -4335,12 +4334,12 @@ static PyObject *py_departure_reaches(PyObject *self, PyObject *const *args, Py_
     goto done;
   }
   if (!(have_index = get_items(args[2], &index, m, sizeof(int64_t), "ql",
-                               "departure_reaches: k"))) {
+                               "departure_reaches: k", false))) {
     goto done;
   }
   if (args[3] != Py_None &&
       !(have_closed = get_items(args[3], &closed, n > 0 ? n - 1 : 0, 1, "?",
-                                "departure_reaches: closed"))) {
+                                "departure_reaches: closed", false))) {
     goto done;
   }
   const int64_t *k = index.buf;
@@ -4469,12 +4468,7 @@ static PyObject *py_plan_rows(PyObject *self, PyObject *const *args, Py_ssize_t 
                                       "plan_rows: ok"};
   for (; others < 5; others++) {
     if (!get_items(args[places[others]], buffers[others], lengths[others], sizes[others],
-                   formats[others], what[others])) {
-      goto done;
-    }
-    if (others >= 2 && buffers[others]->readonly) {
-      PyErr_Format(PyExc_ValueError, "%s: not writable", what[others]);
-      others++;
+                   formats[others], what[others], others >= 2)) {
       goto done;
     }
   }
@@ -4604,22 +4598,18 @@ static PyObject *py_order_checks(PyObject *self, PyObject *const *args, Py_ssize
     PyErr_SetString(PyExc_ValueError, "order_checks: shapes do not match (or pre below 3)");
     goto done;
   }
-  if (!get_items(args[0], &stamps, rows, 8, "ql", "order_checks: stamps")) {
+  if (!get_items(args[0], &stamps, rows, 8, "ql", "order_checks: stamps", false)) {
     goto done;
   }
   held = 4;
-  if (!get_items(args[6], &ok, rows - pre, 1, "?", "order_checks: ok")) {
+  if (!get_items(args[6], &ok, rows - pre, 1, "?", "order_checks: ok", true)) {
     goto done;
   }
   held = 5;
-  if (!get_items(args[7], &gap, rows - pre, 1, "?", "order_checks: gap")) {
+  if (!get_items(args[7], &gap, rows - pre, 1, "?", "order_checks: gap", true)) {
     goto done;
   }
   held = 6;
-  if (ok.readonly || gap.readonly) {
-    PyErr_SetString(PyExc_ValueError, "order_checks: ok and gap must be writable");
-    goto done;
-  }
   const int64_t *s = stamps.buf;
   const double *t = times.buf, *points[2] = {first.buf, two ? second.buf : NULL};
   bool *in_order = ok.buf, *after_gap = gap.buf;
@@ -4685,12 +4675,7 @@ static PyObject *py_sorted_search(PyObject *self, PyObject *const *args, Py_ssiz
     return NULL;
   }
   PyObject *result = NULL;
-  if (!get_items(args[3], &out, m, sizeof(int64_t), "ql", "sorted_search: out")) {
-    goto done;
-  }
-  if (out.readonly) {
-    PyErr_SetString(PyExc_ValueError, "sorted_search: out must be writable");
-    PyBuffer_Release(&out);
+  if (!get_items(args[3], &out, m, sizeof(int64_t), "ql", "sorted_search: out", true)) {
     goto done;
   }
   const double *a = array.buf, *key = keys.buf;

@@ -36,7 +36,7 @@ def test_trims_refuses_what_is_not_its_arrays() -> None:
             _kernel.trims(arguments[0], arguments[1], TRIM_FROM, *arguments[2:])
     frozen = np.zeros(3, np.int64)
     frozen.flags.writeable = False
-    with pytest.raises((ValueError, BufferError)):
+    with pytest.raises(ValueError, match='read-only'):
         _kernel.trims(counts, counts, TRIM_FROM, frozen, out)
 
 

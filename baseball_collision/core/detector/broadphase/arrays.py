@@ -2,7 +2,8 @@
 ``clearly_apart`` over arrays: the far test of many union intervals at once (``analyze``'s chunks).
 
 The same bounds as the scalar test (:mod:`.scalar`, :mod:`.c2`), over numpy arrays of the raw
-samples, computed with numpy's own rounding.
+samples, computed with numpy's own rounding; ``c2``'s by the compiled kernel
+(``toi._kernel.c2_margins``), with its own.
 """
 
 import math
