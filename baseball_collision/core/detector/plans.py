@@ -95,7 +95,7 @@ class Plan:
         (``chunks.turn_steps``), made when a run first sums turns.
 
     The stops are a Python list once planned; the other per-sample indices and the union are
-    read as Python numbers one at a time (:class:`Items`: a run reads a few of its thousands);
+    read as Python numbers one at a time (:func:`items`: a run reads a few of its thousands);
     the samples stay arrays, and only those a fast-forward keeps after its trim become the
     streams' lists and tuples.
     """
@@ -123,32 +123,18 @@ class Plan:
         return cursor == self.union[self.visited[j] - 1]
 
 
-class Items:
+def items(array: np.ndarray) -> Sequence[Any]:
     """
-    A 1-D array read as a list of Python numbers: ``items[j]`` is ``array.item(j)``.
+    Return a 1-D array read as a list of Python numbers: item j is ``array.item(j)``.
 
     What a plan reads a few of per run (``fast_forward``): the same ``int``, ``float`` and
-    ``bool`` values a ``tolist()`` would give, without making the list.
+    ``bool`` values a ``tolist()`` would give, without making the list. A memoryview of the
+    array (made contiguous): its items are read in C, negative j from the end, IndexError out
+    of range.
 
-    :param array: the values (not copied: left unchanged).
+    :param array: the values (not copied when contiguous: left unchanged).
     """
-
-    __slots__ = ('item', 'size')
-
-    def __init__(self, array: np.ndarray) -> None:
-        self.item, self.size = array.item, len(array)
-
-    def __getitem__(self, j: int) -> Any:
-        """
-        Return value j as a Python number (negative j from the end).
-
-        :raises IndexError: j out of range.
-        """
-        return self.item(j)
-
-    def __len__(self) -> int:
-        """Return how many values."""
-        return self.size
+    return memoryview(np.ascontiguousarray(array))
 
 
 def plannable(config: DetectorConfig) -> bool:
@@ -237,9 +223,9 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
     # streams' own values) only for those a fast-forward keeps
     plan.stops = np.flatnonzero(stops).tolist()
-    plan.checked = Items(ok)
-    plan.counts = [Items(counts) for counts in plan.counts]
-    plan.visited, plan.union = Items(plan.visited), Items(plan.union)
+    plan.checked = items(ok)
+    plan.counts = [items(counts) for counts in plan.counts]
+    plan.visited, plan.union = items(plan.visited), items(plan.union)
     plan.times, plan.stamps = arrays.times, arrays.stamps
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
@@ -484,7 +470,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     for s in (0, 1):
         cuts = _search_right(arrays.times[s], cursors - history) - TRIM_KEEP
         starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(Items(np.concatenate(([0], starts))[done]))
+        plan.starts.append(items(np.concatenate(([0], starts))[done]))
         silent[1:] |= lengths > SILENT_KEEP
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)

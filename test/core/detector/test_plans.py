@@ -13,7 +13,7 @@ from typing import List, Tuple
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _order_checks, _trims, BALL, BAT_POSE, Items, SLACK, TRIM_FROM,
+    _closed, _continuous, _order_checks, _trims, BALL, BAT_POSE, items, SLACK, TRIM_FROM,
     TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
@@ -255,17 +255,18 @@ def test_continuous_is_the_stream_rule(samples: List[Tuple[float, bool]], ks: Li
 
 @pytest.mark.parametrize('values', [[3, -1, 2**40], [0.5, -0.0, 1e300], [True, False], []])
 def test_items_read_as_the_list(values: list) -> None:
-    """``Items``: each value as ``tolist()`` gives it (the same type), negative j, the length."""
+    """``items``: each value as ``tolist()`` gives it (the same type), negative j, the length."""
     array = np.array(values)
-    items = Items(array)
+    read = items(array)
     listed = array.tolist()
-    assert len(items) == len(listed)
-    assert [(items[j], type(items[j])) for j in range(len(listed))] == [
+    assert len(read) == len(listed)
+    assert [(read[j], type(read[j])) for j in range(len(listed))] == [
         (v, type(v)) for v in listed]
     if listed:
-        assert items[-1] == listed[-1] and type(items[-1]) is type(listed[-1])
+        assert read[-1] == listed[-1] and type(read[-1]) is type(listed[-1])
+        assert items(np.array(values)[::-1])[0] == listed[-1]  # (a strided view, made contiguous)
     with pytest.raises(IndexError):
-        items[len(listed)]
+        read[len(listed)]
 
 
 @settings(max_examples=examples(300), deadline=None)
