@@ -85,8 +85,9 @@ class NoiseEstimate:
         self.kind = kind
         self.residuals: Deque[float] = deque(maxlen=HISTORY)
         self.sigma = 0.0
-        # the residuals' absolute values, ascending (None: not kept, made again when needed)
-        self._sorted: Optional[List[float]] = []
+        # the residuals' absolute values, ascending (None: not kept, made when an estimate first
+        # needs it: exact samples never do, and then no residual is sorted in)
+        self._sorted: Optional[List[float]] = None
         self._small: Deque[bool] = deque(maxlen=HISTORY)  # each residual's ``_small``
         self._below = 0  # how many residuals are small
 
@@ -99,7 +100,7 @@ class NoiseEstimate:
         """
         found = self._residuals(stream)
         if found:
-            self._take(found)
+            self._take(*found)
         return self.sigma
 
     def take_points(self, before: Tuple[Sequence[float], Sequence[Sequence[float]],
@@ -183,15 +184,16 @@ class NoiseEstimate:
         sigma = MAD_TO_SIGMA * median
         self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
 
-    def _residuals(self, stream: Stream) -> Optional[Sequence[float]]:
-        """Return the residuals (m) the newest sample completes, or None."""
+    def _residuals(self, stream: Stream) -> Optional[Tuple[Sequence[float], Sequence[bool]]]:
+        """Return the residuals (m) the newest sample completes and which are small, or None."""
         count = 2 if self.kind == 'length' else 5
         if len(stream.times) < count or any(stream.breaks[-count + 1:]):
             return None
         values = stream.values[-count:]
         if self.kind == 'length':
             old, new = values
-            return (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),)
+            residual = 0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob))
+            return (residual,), (_small(residual),)
         return _point_residuals(stream.times[-count:],
                                 [getattr(value, 'position', value) for value in values])
 
@@ -206,14 +208,16 @@ def _small(residual: float) -> bool:
     return MAD_TO_SIGMA * abs(residual) < NOISE_FLOOR
 
 
-def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]) -> List[float]:
+def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
+                     ) -> Tuple[List[float], List[bool]]:
     """
-    Return the residuals (m) of the middle of five samples (s, m), one per coordinate.
+    Return the residuals (m) of the middle of five samples (s, m) and which are small.
 
-    The compiled kernel's (``toi._kernel.point_residuals``, which ``take_points`` runs over a
-    whole run): the fourth divided difference's weights (each 1 over the product of its
-    stamp's differences from the other four, multiplied in stamp order), each residual a sum
-    added left to right from 0.0 about the middle sample (the weights sum to 0, so the motion
-    cancels less), over the root sum of the squared weights.
+    One residual per coordinate; small as ``_small`` says. The compiled kernel's
+    (``toi._kernel.point_residuals``, which ``take_points`` runs over a whole run): the fourth
+    divided difference's weights (each 1 over the product of its stamp's differences from the
+    other four, multiplied in stamp order), each residual a sum added left to right from 0.0
+    about the middle sample (the weights sum to 0, so the motion cancels less), over the root
+    sum of the squared weights.
     """
-    return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR)[0]
+    return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR)
