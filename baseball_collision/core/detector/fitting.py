@@ -31,8 +31,7 @@ import numpy as np
 
 from .streams import Stream
 from ..geometry import cross, Vector
-from ..motion import BatSample, c2_rows, C2BatPath, not_a_knot_slopes, PointPath, rotate, \
-    unit_axis
+from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
 from ..motion.splines import not_a_knot_slope_rows
@@ -339,15 +338,17 @@ def piece_weights(times: Sequence[float], smoother: np.ndarray, j: int,
     ``value_weights @ values``, rate (per s) = ``rate_weights @ values``; both linear.
     """
     n = len(times)
-    slopes = not_a_knot_slopes(times, np.eye(n))
+    # (each unit sample's slopes at knots j and j + 1: the kernel's back-substitution stops
+    # there, the same numbers as the whole solve's)
+    slopes = np.array(not_a_knot_slope_rows(times, np.eye(n), j)[:2])
     h = times[j + 1] - times[j]
     s = (t - times[j]) / h
     value = np.zeros(n)
     value[j], value[j + 1] = 2 * s ** 3 - 3 * s ** 2 + 1, 3 * s ** 2 - 2 * s ** 3
-    value += h * ((s ** 3 - 2 * s ** 2 + s) * slopes[j] + (s ** 3 - s ** 2) * slopes[j + 1])
+    value += h * ((s ** 3 - 2 * s ** 2 + s) * slopes[0] + (s ** 3 - s ** 2) * slopes[1])
     rate = np.zeros(n)
     rate[j], rate[j + 1] = (6 * s ** 2 - 6 * s) / h, (6 * s - 6 * s ** 2) / h
-    rate += (3 * s ** 2 - 4 * s + 1) * slopes[j] + (3 * s ** 2 - 2 * s) * slopes[j + 1]
+    rate += (3 * s ** 2 - 4 * s + 1) * slopes[0] + (3 * s ** 2 - 2 * s) * slopes[1]
     return value @ smoother, rate @ smoother
 
 
