@@ -54,8 +54,9 @@ def not_a_knot_slope_rows(times: Sequence[float],
             np.asarray(times, dtype=float), np.asarray(values, dtype=float)).tolist()[start:]]
     if isinstance(times, np.ndarray):
         times = times.tolist()
-    return _kernel.not_a_knot(times, values.tolist() if isinstance(values, np.ndarray)
-                              else values, start)
+    # (an array's rows as they lie in it, float64: the same numbers as its rows' floats)
+    return _kernel.not_a_knot(times, np.ascontiguousarray(values, dtype=float)
+                              if isinstance(values, np.ndarray) else values, start)
 
 
 def _short_slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:

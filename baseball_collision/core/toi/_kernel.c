@@ -2522,7 +2522,8 @@ static bool read_rows(PyObject *rows, Py_ssize_t n, Py_ssize_t m, double *y, con
 /*
  * not_a_knot(times, rows, start) -> the slopes (value units per s) of knots start..n-1 of the
  * not-a-knot spline through n >= 4 rows of m values each (each column on its own), one tuple
- * per knot. ValueError: fewer than 4 knots, rows of unequal lengths, start outside [0, n).
+ * per knot. rows: a sequence of rows, or an (n x m) C-contiguous float64 array (read as it
+ * lies). ValueError: fewer than 4 knots, rows of unequal lengths, start outside [0, n).
  */
 static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -2535,19 +2536,35 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
     return NULL;
   }
   PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
-  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
-  PyObject *result = NULL;
+  PyObject *rows = NULL, *result = NULL;
   double *memory = NULL;
-  if (rows == NULL) {
+  /* rows as a 2-D C-contiguous float64 array (numpy's), read as it lies: the same numbers as
+     its rows' floats */
+  Py_buffer array;
+  bool have_array = false;
+  if (times != NULL && PyObject_CheckBuffer(args[1])) {
+    if (PyObject_GetBuffer(args[1], &array, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) == 0) {
+      have_array = array.ndim == 2 && array.itemsize == sizeof(double) &&
+                   array.format != NULL && strcmp(array.format, "d") == 0;
+      if (!have_array) {
+        PyBuffer_Release(&array);
+      }
+    } else {
+      PyErr_Clear();
+    }
+  }
+  if (times == NULL ||
+      (!have_array && (rows = PySequence_Fast(args[1], "rows must be a sequence")) == NULL)) {
     goto done;
   }
   Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
-  if (n < 4 || PySequence_Fast_GET_SIZE(rows) != n || start < 0 || start >= n) {
+  Py_ssize_t count = have_array ? array.shape[0] : PySequence_Fast_GET_SIZE(rows);
+  if (n < 4 || count != n || start < 0 || start >= n) {
     PyErr_SetString(PyExc_ValueError,
                     "not_a_knot: at least 4 knots, as many rows as times, 0 <= start < n");
     goto done;
   }
-  Py_ssize_t m = PyObject_Length(PySequence_Fast_GET_ITEM(rows, 0));
+  Py_ssize_t m = have_array ? array.shape[1] : PyObject_Length(PySequence_Fast_GET_ITEM(rows, 0));
   if (m < 0) {
     goto done;
   }
@@ -2560,13 +2577,20 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
   for (Py_ssize_t i = 0; i < n; i++) {
     t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
   }
-  if (PyErr_Occurred() || !read_rows(rows, n, m, y, "a row of the spline's values")) {
+  if (have_array) {
+    memcpy(y, array.buf, sizeof(double) * (size_t)(n * m));
+  }
+  if (PyErr_Occurred() ||
+      (!have_array && !read_rows(rows, n, m, y, "a row of the spline's values"))) {
     goto done;
   }
   not_a_knot_solve(t, n, y, m, start, out, work);
   result = float_rows(out, n - start, m, true);
 done:
   PyMem_Free(memory);
+  if (have_array) {
+    PyBuffer_Release(&array);
+  }
   Py_XDECREF(times);
   Py_XDECREF(rows);
   return result;

@@ -8,6 +8,7 @@ from baseball_collision.core.motion import BatSample, C2BatPath, rotate, unit_ax
 from baseball_collision.core.motion import c2 as c2_model
 from baseball_collision.core.motion.splines import (
     end_state, not_a_knot_slope_rows, not_a_knot_slopes)
+from baseball_collision.core.toi import _kernel
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -143,7 +144,6 @@ def test_chart_rows_are_each_samples_knob_turn_and_length() -> None:
 
 def test_kernel_not_a_knot_refuses_short_or_uneven_windows() -> None:
     """Fewer than four knots, rows of other lengths, a start outside: ValueError."""
-    from baseball_collision.core.toi import _kernel
     times = [0.0, 0.01, 0.02, 0.03]
     with pytest.raises(ValueError):
         _kernel.not_a_knot(times[:3], [(1.0,)] * 3, 0)
@@ -153,3 +153,19 @@ def test_kernel_not_a_knot_refuses_short_or_uneven_windows() -> None:
         _kernel.not_a_knot(times, [(1.0,)] * 4, 4)
     assert _kernel.not_a_knot(times, [(1.0,), (2.0,), (3.0,), (4.0,)], 2) == [
         (pytest.approx(100.0),), (pytest.approx(100.0),)]
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 34), m=st.integers(1, 9),
+       start=st.integers(0, 33))
+def test_kernel_reads_an_array_as_its_rows(seed: int, n: int, m: int, start: int) -> None:
+    """The kernel's ``not_a_knot`` on an array: the same tuples as on its rows, strided too."""
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.001, 0.01, n)).tolist()
+    values = rng.normal(size=(n, 2 * m))
+    start = min(start, n - 1)
+    rows = [tuple(row) for row in values[:, :m].tolist()]
+    assert _kernel.not_a_knot(times, np.ascontiguousarray(values[:, :m]), start) == \
+        _kernel.not_a_knot(times, rows, start)
+    assert _kernel.not_a_knot(times, values[:, :m], start) == _kernel.not_a_knot(times, rows,
+                                                                                 start)
