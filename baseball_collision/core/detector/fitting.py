@@ -189,7 +189,8 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     fit = ball_flight(stream, k, window, noise, config)
     if fit is not None:
         t0, t1 = stream.times[k], stream.times[k + 1]
-        return PointPath(t0, t1, fit.at(t0), fit.at(t1), fit.velocity(t0), fit.velocity(t1))
+        (p0, v0), (p1, v1) = fit.state(t0), fit.state(t1)
+        return PointPath(t0, t1, p0, p1, v0, v1)
     if noise > 0.0:
         window = widened(stream, window)
     times = stream.times[window.start:window.stop]

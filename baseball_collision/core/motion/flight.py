@@ -35,6 +35,7 @@ scaled up by the residuals' excess over the noise when they have one: Birge's ra
 from dataclasses import dataclass
 from functools import cached_property
 import math
+from operator import mul
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -130,7 +131,8 @@ class FlightFit:
 
     def _combined(self, row: List[float]) -> Tuple[float, float, float]:
         """Return the three coordinates' polynomials combined with one basis row."""
-        return tuple(sum(r * c for r, c in zip(row, column)) for column in self._columns)
+        # (each a sum of the products in order from 0, as ``sum`` over a generator adds them)
+        return tuple(sum(map(mul, row, column)) for column in self._columns)
 
     def at(self, t: float) -> Tuple[float, float, float]:
         """Return the fitted position (m) at t (s)."""
@@ -139,6 +141,11 @@ class FlightFit:
     def velocity(self, t: float) -> Tuple[float, float, float]:
         """Return the fitted rate of the position (m/s) at t (s)."""
         return self._combined(self._rows(t)[1])
+
+    def state(self, t: float) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
+        """Return ``at(t)`` and ``velocity(t)`` (m, m/s) from one basis row."""
+        value, rate = self._rows(t)
+        return self._combined(value), self._combined(rate)
 
     def weights(self, t: float) -> Tuple[np.ndarray, np.ndarray]:
         """
