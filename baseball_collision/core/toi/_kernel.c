@@ -4236,7 +4236,7 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   Py_ssize_t nb = counts[BALL_TIMES], nt = counts[BAT_TIMES], m = counts[OUT];
   if (counts[BALL] != 3 * nb || counts[KNOB] != 3 * nt || counts[TIP] != 3 * nt ||
       counts[MARGIN] != m ||
-      counts[CONSTANTS] != 3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4 || nb < 2 || nt < 2) {
+      counts[CONSTANTS] != 3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4) {
     PyErr_SetString(PyExc_ValueError, "c2_margins: shapes do not match");
     goto done;
   }

@@ -230,10 +230,17 @@ def test_c2_clearance_of_an_interval_does_not_depend_on_the_others(
 
 
 def test_c2_clearance_refuses_an_interval_outside_its_streams() -> None:
-    """An interval without a sample after it, or arrays that do not match, are a ValueError."""
+    """
+    An interval without a sample after it, or arrays that do not match, are a ValueError.
+
+    No interval at all is an empty answer, whatever the streams (a single sample too).
+    """
     n = 6
     points, times = np.zeros((n, 3)), np.arange(n) * 0.01
     tips = points + 1.0
+    none = np.zeros(0, np.int64)
+    assert len(apart_margins(points[:1], points[:1], tips[:1], None, none, none, none, none,
+                             none, none, times[:1], times[:1], 'c2', 0, 8)) == 0
     for ball_k, bat_k, tip in (([n - 1], [0], tips), ([0], [-1], tips), ([0], [0], tips[1:])):
         one = np.array([-1])
         with pytest.raises(ValueError):
