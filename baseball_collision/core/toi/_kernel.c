@@ -3971,11 +3971,10 @@ typedef struct {          /* one stream's samples and what the far test keeps pe
   Py_ssize_t *next;       /* n: the first at or after it, n for none */
 } C2Track;
 
-static inline double row_dist(const double *a, Py_ssize_t i, const double *b, Py_ssize_t j)
+/* (a + b) / 2 as numpy's (a + b) * 0.5 rounds it */
+static inline Vec v_middle(Vec a, Vec b)
 {
-  double dx = a[3 * i] - b[3 * j], dy = a[3 * i + 1] - b[3 * j + 1];
-  double dz = a[3 * i + 2] - b[3 * j + 2];
-  return sqrt(dx * dx + dy * dy + dz * dz);
+  return (Vec){(a.x + b.x) * 0.5, (a.y + b.y) * 0.5, (a.z + b.z) * 0.5};
 }
 
 /* numpy.maximum: a NaN in either gives NaN */
@@ -3990,7 +3989,7 @@ static void c2_track_fill(C2Track *s)
   for (Py_ssize_t m = 0; m < n; m++) {
     s->steps[m] = m ? t[m] - t[m - 1] : 0.0;
     if (s->tips != NULL) {
-      s->lengths[m] = row_dist(s->tips, m, p, m);
+      s->lengths[m] = v_norm(v_sub(row3(s->tips, m), row3(p, m)));
     }
   }
   for (Py_ssize_t m = 0; m < n + 3; m++) {
@@ -4175,7 +4174,7 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
   Vec b0 = row3(ball->points, bk), b1 = row3(ball->points, bk + 1);
   Vec k0 = row3(bat->points, tk), k1 = row3(bat->points, tk + 1);
   Vec e0 = row3(bat->tips, tk), e1 = row3(bat->tips, tk + 1);
-  Vec ball_centre = v_scale((Vec){b0.x + b1.x, b0.y + b1.y, b0.z + b1.z}, 0.5);
+  Vec ball_centre = v_middle(b0, b1);
   Vec bat_centre = v_scale((Vec){k0.x + e0.x + k1.x + e1.x, k0.y + e0.y + k1.y + e1.y,
                                  k0.z + e0.z + k1.z + e1.z}, 0.25);
   double bat_radius = nan_max(
@@ -4289,16 +4288,12 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
     Py_ssize_t bk = ball_k[i], tk = bat_k[i];
     double quick = c2_jump_bound(&ball, bk, la, w, &constants);
     double bulge = c2_jump_bound(&bat, tk, la, w, &constants);
-    const double *b = ball.points, *kn = bat.points;
-    double centre[3], middle[3], sum = 0.0;
-    for (int c = 0; c < 3; c++) {
-      centre[c] = (b[3 * bk + c] + b[3 * (bk + 1) + c]) * 0.5;
-      middle[c] = (kn[3 * tk + c] + kn[3 * (tk + 1) + c]) * 0.5;
-      sum += (centre[c] - middle[c]) * (centre[c] - middle[c]);
-    }
-    double reach = 0.5 * row_dist(kn, tk, kn, tk + 1) + bulge
+    Vec b0 = row3(ball.points, bk), b1 = row3(ball.points, bk + 1);
+    Vec k0 = row3(bat.points, tk), k1 = row3(bat.points, tk + 1);
+    double reach = 0.5 * v_norm(v_sub(k0, k1)) + bulge
                    + nan_max(bat.lengths[tk], bat.lengths[tk + 1]);
-    double first = sqrt(sum) - 0.5 * row_dist(b, bk, b, bk + 1) - quick - reach;
+    double first = v_norm(v_sub(v_middle(b0, b1), v_middle(k0, k1))) -
+                   0.5 * v_norm(v_sub(b0, b1)) - quick - reach;
     if (!(first > margin[i])) {
       double second = c2_window_clearance(&ball, &bat, bk, tk, la, w, &constants);
       first = isnan(first) || second > first ? second : first; /* numpy.fmax */
@@ -4380,7 +4375,7 @@ static PyObject *py_departure_reaches(PyObject *self, PyObject *const *args, Py_
     Py_ssize_t j = (Py_ssize_t)k[i];
     reach[i] = 0.0;
     if (j < 2 || (continuous != NULL &&
-                  !(continuous[j - 2] && continuous[j - 1] && j < n - 1 && continuous[j]))) {
+                  !(continuous[j - 2] && continuous[j - 1] && continuous[j]))) {
       continue;
     }
     double t0 = t[j - 2], t1 = t[j - 1], t2 = t[j], t3 = t[j + 1];
