@@ -1,10 +1,15 @@
-"""Tests for baseball_collision.threads: the package's processes run BLAS on one thread."""
+"""Tests for baseball_collision.threads: BLAS on one thread, and reading ahead on another."""
 
 import os
 import subprocess
 import sys
+import threading
+import time
+from typing import Any, Dict, Iterator, List
 
 from baseball_collision.entry_points import BLAS_THREAD_VARIABLES
+from baseball_collision.threads import ReadAhead
+import pytest
 
 TWO_THREADS = dict(os.environ, OPENBLAS_NUM_THREADS='2', OMP_NUM_THREADS='2')
 """A child's environment in which numpy's BLAS starts with two threads, whatever the cores."""
@@ -89,3 +94,73 @@ def test_the_console_scripts_start_numpy_with_one_blas_thread() -> None:
                                check=True, env=environment, capture_output=True,
                                text=True).stdout.split()
         assert found[-1:] == [expected], (entry, found)
+
+
+def _counted(count: int, taken: List[int], seen: Dict[str, Any]) -> Iterator[int]:
+    """Yield 0 .. count - 1, noting each in ``taken`` and the thread and the end in ``seen``."""
+    try:
+        for item in range(count):
+            seen['thread'] = threading.current_thread().name
+            taken.append(item)
+            yield item
+    finally:
+        seen['finally'] = threading.current_thread().name
+
+
+@pytest.mark.parametrize('depth', [1, 2, 5])
+def test_read_ahead_gives_every_item_in_order_taken_on_its_thread(depth: int) -> None:
+    """The items come in order, taken on the ``read-ahead`` thread, which then ends."""
+    taken: List[int] = []
+    seen: Dict[str, Any] = {}
+    assert list(ReadAhead(_counted(50, taken, seen), depth)) == list(range(50))
+    assert seen == {'thread': 'read-ahead', 'finally': 'read-ahead'}
+    assert not [t for t in threading.enumerate() if t.name == 'read-ahead']
+    assert list(ReadAhead([], depth)) == []
+    with pytest.raises(ValueError, match='at least 1'):
+        ReadAhead([1], depth - depth)
+
+
+def test_read_ahead_takes_at_most_its_depth_ahead() -> None:
+    """With the reader waiting, the thread has taken the items given, ``depth`` and one more."""
+    for depth in (1, 3):
+        taken: List[int] = []
+        ahead = ReadAhead(_counted(100, taken, {}), depth)
+        assert next(ahead) == 0
+        deadline = time.monotonic() + 5.0
+        while len(taken) < depth + 2 and time.monotonic() < deadline:
+            time.sleep(0.001)  # (until it is blocked: the queue full, one item in hand)
+        time.sleep(0.05)
+        assert len(taken) == depth + 2, (depth, taken)
+        ahead.close()
+
+
+def test_what_taking_an_item_raises_comes_in_its_place() -> None:
+    """An error comes after the items before it, the same exception object; then the end."""
+    error = KeyError('the fourth')
+
+    def failing() -> Iterator[int]:
+        yield from (1, 2, 3)
+        raise error
+    ahead = ReadAhead(failing(), 2)
+    assert [next(ahead) for _ in range(3)] == [1, 2, 3]
+    with pytest.raises(KeyError) as caught:
+        next(ahead)
+    assert caught.value is error
+    assert list(ahead) == []
+
+
+def test_closing_stops_the_thread_and_runs_the_generators_finally_on_it() -> None:
+    """``close`` (or a ``with`` block's end) mid-way: the generator closed, the thread gone."""
+    taken: List[int] = []
+    seen: Dict[str, Any] = {}
+    with ReadAhead(_counted(10_000, taken, seen), 2) as ahead:
+        assert [next(ahead) for _ in range(3)] == [0, 1, 2]
+    assert seen['finally'] == 'read-ahead' and len(taken) < 10
+    assert not [t for t in threading.enumerate() if t.name == 'read-ahead']
+    with pytest.raises(ValueError, match='closed while reading ahead'):
+        next(ahead)
+    ahead.close()  # (again: nothing)
+    ended = ReadAhead(iter([1]), 1)
+    assert list(ended) == [1]
+    ended.close()  # (closed after its end: still just ended)
+    assert list(ended) == []

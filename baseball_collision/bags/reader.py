@@ -28,6 +28,7 @@ from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from .sqlite import sqlite_spans
 from ..errors import BagError
+from ..threads import ReadAhead
 
 
 CHUNK_SIZE = 8192
@@ -71,6 +72,7 @@ class BagReader(BagFile):
         self._connections: List[Any] = []
         self._routes: Dict[int, Route] = {}
         self._types: Dict[str, Tuple[str, ...]] = {}
+        self._ahead: List[ReadAhead[SampleChunk]] = []
 
     def _setup(self, reader: AnyReader) -> None:
         """
@@ -155,7 +157,7 @@ class BagReader(BagFile):
         reader = self._open_reader()
         return self._samples(reader)
 
-    def chunks(self, size: int = CHUNK_SIZE) -> Iterator[SampleChunk]:
+    def chunks(self, size: int = CHUNK_SIZE, read_ahead: int = 0) -> Iterator[SampleChunk]:
         """
         Yield the samples of :meth:`samples` as arrays, at most ``size`` at a time.
 
@@ -167,10 +169,29 @@ class BagReader(BagFile):
         way; any other bag ``size`` at a time through rosbags' reader (the last fewer). Memory
         stays one chunk's whatever the bag's size.
 
+        With ``read_ahead`` > 0 an MCAP or sqlite3 bag's next file chunks or batches (that
+        many) are read on a background thread while the chunk before is decoded and used
+        (:class:`~..threads.ReadAhead`): the same chunks, and what reading raises comes in its
+        place. The thread reads the file, decompresses, checks and queries (SQLite), which
+        release the GIL, so on a spare core the reading overlaps the caller's work; the decode
+        stays on the caller's thread (it holds the GIL: on that thread it would only contend).
+        Memory: that many file chunks or batches more. Other bags are read as without it.
+        :meth:`close` stops the thread before it closes the bag.
+
         :raises BagError: as :meth:`samples`.
+        :raises ValueError: ``read_ahead`` below 0.
         """
+        if read_ahead < 0:
+            raise ValueError(f'read ahead by 0 or more batches, not {read_ahead}')
         reader = self._open_reader()
-        return self._chunks(reader, size)
+        return self._chunks(reader, size, read_ahead)
+
+    def close(self) -> None:
+        """Stop any chunks read ahead (waiting for their thread), then close the bag."""
+        for ahead in self._ahead:
+            ahead.close()
+        self._ahead.clear()
+        super().close()
 
     @contextmanager
     def _reading(self) -> Iterator[None]:
@@ -208,11 +229,17 @@ class BagReader(BagFile):
                 reader.messages(connections=self._connections), self._routes, slow)
         self._check_count(count, expected)
 
-    def _chunks(self, reader: AnyReader, size: int) -> Iterator[SampleChunk]:
+    def _chunks(self, reader: AnyReader, size: int, read_ahead: int = 0) -> Iterator[SampleChunk]:
         """Yield chunks (the generator behind :meth:`chunks`)."""
         spans = self._spans(reader, size)
         if spans is not None:  # MCAP chunks' messages in place, sqlite3 rows in batches
-            yield from self._span_chunks(reader, spans, size)
+            if read_ahead == 0:
+                yield from self._span_chunks(reader, spans, size)
+                return
+            ahead = ReadAhead(spans, read_ahead)
+            self._ahead.append(ahead)
+            with ahead:
+                yield from self._span_chunks(reader, ahead, size)
             return
         expected = self.message_count
 

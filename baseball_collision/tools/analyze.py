@@ -385,7 +385,7 @@ def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
 
 def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(), *,
                 out_bag: Optional[BagWriter] = None, progress: bool = True,
-                use_truth: bool = True) -> BagAnalysis:
+                use_truth: bool = True, read_ahead: int = 1) -> BagAnalysis:
     """
     Run the detector over a bag: every selected sample in the bag's order, then ``finish()``.
 
@@ -394,6 +394,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     :param out_bag: an open writer that receives the input samples and the event messages.
     :param progress: show a progress bar on stderr for long bags (see :func:`progress_bar`).
     :param use_truth: compare with the truth file beside the bag when there is one.
+    :param read_ahead: chunks read and decoded ahead on a background thread while the
+        detector works (``BagReader.chunks``; 0: none): on a spare core the reading overlaps
+        the detector, the same events.
     :returns: the analysis.
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
         topics or with topics of the wrong type), a bad setting, or a failure writing
@@ -428,7 +431,8 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                         bag.samples(), detector, sinks, bar, result.drops_by_role)
                 else:  # events (and the frames' stamps) only: a chunk at a time
                     result.messages, result.first_stamp_ns = run_detector_chunks(
-                        bag.chunks(CHUNK), detector, sinks, bar, result.drops_by_role)
+                        bag.chunks(CHUNK, read_ahead), detector, sinks, bar,
+                        result.drops_by_role)
                 if copy is not None:
                     copy.close()
                     result.notes += copy.notes()

@@ -6,6 +6,7 @@ import sqlite3
 import struct
 import subprocess
 import sys
+import threading
 from typing import Any, List
 
 from baseball_collision.bags import (
@@ -138,6 +139,75 @@ def test_bulk_chunks_of_the_bundled_bags(name: str) -> None:
     with BagReader(bag_path(name)) as bag:
         got = list(bag.chunks(8192))
     _same_chunks(got, _per_message(bag_path(name), 8192))
+    with BagReader(bag_path(name)) as bag:  # (and read ahead, in small chunks)
+        _same_chunks(list(bag.chunks(500, read_ahead=2)), _per_message(bag_path(name), 500))
+
+
+def _reading_threads() -> List[threading.Thread]:
+    """Return the live read-ahead threads."""
+    return [thread for thread in threading.enumerate() if thread.name == 'read-ahead']
+
+
+@pytest.mark.parametrize('name', ['dir_mcap', 'dir_sqlite3', 'ros1.bag'])
+def test_chunks_read_ahead_are_the_same_chunks(tmp_path: Path, name: str,
+                                               monkeypatch: Any) -> None:
+    """
+    ``chunks(read_ahead=k)`` gives the chunks of ``chunks()``, reading on another thread.
+
+    MCAP file chunks and sqlite3 batches are read on the read-ahead thread (the decode on the
+    caller's); a ROS 1 bag is read as without it. The thread is gone once the chunks end.
+    """
+    path = tmp_path / name
+    _multi_chunk_bag(path) if name == 'dir_mcap' else reference_bag(path, tracker_rows(900))
+    with BagReader(path) as bag:
+        expected = list(bag.chunks(100))
+    decoded_on = set()
+    decode = reader_module.decode_spans
+
+    def watched(*args: Any) -> SampleChunk:
+        decoded_on.add(threading.current_thread().name)
+        return decode(*args)
+    monkeypatch.setattr(reader_module, 'decode_spans', watched)
+    spans_on = set()
+    spans = reader_module.BagReader._spans
+
+    def watched_spans(self: BagReader, *args: Any) -> Any:
+        found = spans(self, *args)
+        if found is None:
+            return None
+
+        def taken() -> Any:
+            for each in found:
+                spans_on.add(threading.current_thread().name)
+                yield each
+        return taken()
+    monkeypatch.setattr(reader_module.BagReader, '_spans', watched_spans)
+    for depth in (1, 3):
+        with BagReader(path) as bag:
+            _same_chunks(list(bag.chunks(100, read_ahead=depth)), expected)
+            assert not _reading_threads()
+    if name == 'ros1.bag':
+        assert not spans_on and not decoded_on
+    else:
+        assert spans_on == {'read-ahead'} and decoded_on == {threading.current_thread().name}
+    with BagReader(path) as bag, pytest.raises(ValueError, match='not -1'):
+        bag.chunks(100, read_ahead=-1)
+
+
+@pytest.mark.parametrize('name', ['dir_mcap', 'dir_sqlite3'])
+def test_closing_a_bag_stops_its_read_ahead(tmp_path: Path, name: str) -> None:
+    """A bag closed with chunks still unread stops the read-ahead thread first, then closes."""
+    path = tmp_path / name
+    _multi_chunk_bag(path) if name == 'dir_mcap' else reference_bag(path, tracker_rows(900))
+    bag = BagReader(path)
+    bag.open()
+    chunks = bag.chunks(10, read_ahead=2)
+    first = next(chunks)
+    assert len(first.stamps_ns) == 10 and _reading_threads()
+    bag.close()
+    assert not _reading_threads()
+    with pytest.raises(BagError, match='closed while reading ahead'):
+        list(chunks)  # (the file chunk or batch in hand, then not taken for the bag's end)
 
 
 def test_the_jazzy_typestore_is_built_only_for_a_bag_without_definitions(
@@ -316,9 +386,10 @@ def test_corruption_found_while_iterating_is_a_bag_error(tmp_path: Path) -> None
                 seen += 1
         assert seen > 1000, 'the error should come lazily, after the intact chunks'
         assert words in str(caught.value) and '\n' not in str(caught.value)
-        for size in (1000, 8192):  # the bad message inside a chunk's group, or first in it
-            seen = 0
+        for size, ahead in ((1000, 0), (8192, 0), (1000, 2)):  # the bad message inside a
+            seen = 0  # chunk's group or first in it; read ahead on another thread
             with pytest.raises(BagError) as caught, BagReader(tmp_path / name) as bag:
-                for chunk in bag.chunks(size):
+                for chunk in bag.chunks(size, read_ahead=ahead):
                     seen += len(chunk.stamps_ns)
             assert seen >= 1000 and words in str(caught.value)
+            assert not _reading_threads()

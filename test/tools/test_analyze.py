@@ -203,6 +203,25 @@ def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
     assert detector.stats.intervals == chunked.stats.intervals
 
 
+@pytest.mark.parametrize('name', ['pitches_120hz_sqlite3', 'pitches_180hz_rebound.mcap'])
+def test_reading_ahead_finds_the_events_of_reading_in_turn(
+        name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``analyze_bag`` reads a bag ahead on another thread (by default): the same events."""
+    asked = []
+    chunks = BagReader.chunks
+
+    def watched(self: BagReader, size: int, read_ahead: int = 0) -> Any:
+        asked.append(read_ahead)
+        return chunks(self, size, read_ahead)
+    monkeypatch.setattr(BagReader, 'chunks', watched)
+    ahead = analyze_bag(bag_path(name), progress=False)
+    in_turn = analyze_bag(bag_path(name), progress=False, read_ahead=0)
+    assert asked == [1, 0] and ahead.impacts
+    for part in ('impacts', 'near_misses', 'gaps', 'resets', 'drops_by_role'):
+        assert getattr(ahead, part) == getattr(in_turn, part), part
+    assert ahead.messages == in_turn.messages
+
+
 # ---- the loop and its sinks -----------------------------------------------------------------
 
 def test_progress_bar_only_on_long_bags_or_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
