@@ -312,6 +312,17 @@ def test_analyze_loads_no_simulator_plotting_or_ros() -> None:
     assert modules_loaded(code, ('baseball_collision.tools.sim', 'matplotlib', 'rclpy')) == []
 
 
+def test_the_command_lines_start_up_leaves_what_a_run_may_not_need() -> None:
+    """
+    The command line and analyze import numpy's random generators and a thread pool lazily.
+
+    Only a noisy impact's uncertainty draws random numbers and only a big batch of queries
+    takes threads (about 16 ms of every start-up when imported with the modules).
+    """
+    code = 'import baseball_collision.tools.cli, baseball_collision.tools.analyze'
+    assert modules_loaded(code, ('numpy.random', 'concurrent.futures')) == []
+
+
 class _Frames:
     """A sequence of frame stamps counting its item reads (``reads``)."""
 

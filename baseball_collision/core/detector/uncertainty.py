@@ -177,7 +177,7 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     return found
 
 
-def _shaken_points(stream: Stream, sigma: float, rng: np.random.Generator) -> Stream:
+def _shaken_points(stream: Stream, sigma: float, rng: 'np.random.Generator') -> Stream:
     copy = excerpt(stream, 0, len(stream.times) - 1)
     points = np.asarray(stream.values, dtype=float)
     copy.values = [tuple(p) for p in (points + rng.normal(0.0, sigma, points.shape)).tolist()]
@@ -185,7 +185,7 @@ def _shaken_points(stream: Stream, sigma: float, rng: np.random.Generator) -> St
 
 
 def _shaken_bat(stream: Stream, sigma: float, offsets: Tuple[Vector, Vector],
-                rng: np.random.Generator) -> Stream:
+                rng: 'np.random.Generator') -> Stream:
     copy = excerpt(stream, 0, len(stream.times) - 1)
     samples = stream.values
     if samples[0].quaternion is None:

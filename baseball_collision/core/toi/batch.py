@@ -7,16 +7,18 @@ per core: every row gets exactly the scalar path's answer. ``distance`` is the g
 numpy.
 """
 
-from concurrent.futures import ThreadPoolExecutor
 import itertools
 import os
-from typing import List, Optional, Tuple, Union
+from typing import List, Optional, Tuple, TYPE_CHECKING, Union
 
 import numpy as np
 
 from . import _kernel
 from .result import ArrayLike
 from ...errors import CoreError
+
+if TYPE_CHECKING:  # (imported when a batch first needs its threads: 5 ms of every start-up)
+    from concurrent.futures import ThreadPoolExecutor
 
 CHUNK_ROWS = 8192
 """Fewest rows worth a thread of their own (a few ms of work on a contact-heavy set)."""
@@ -26,7 +28,7 @@ CHUNKS_PER_THREAD = 32
 the last one to finish waits for at most a short chunk (a static split by threads waited for
 the slowest half: 1.76x on two cores with load 0.5-0.9 from other processes)."""
 
-_pool: Optional[ThreadPoolExecutor] = None
+_pool: Optional['ThreadPoolExecutor'] = None
 _pool_pid = 0
 
 
@@ -38,10 +40,11 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def _threads() -> ThreadPoolExecutor:
+def _threads() -> 'ThreadPoolExecutor':
     """Return the pool (a new one in a forked child, where the parent's threads do not exist)."""
     global _pool, _pool_pid
     if _pool is None or _pool_pid != os.getpid():
+        from concurrent.futures import ThreadPoolExecutor
         _pool = ThreadPoolExecutor(max_workers=cores(), thread_name_prefix='toi_batch')
         _pool_pid = os.getpid()
     return _pool
