@@ -2443,13 +2443,16 @@ static volatile double squared_power = 2.0; /* pow(x, 2): Python's x ** 2 (libm'
  * t (s, increasing), values y (n x m, row-major); out: (n - start) x m, row-major. The
  * tridiagonal system (its matrix from the steps only) eliminated by Thomas' forward sweep
  * without pivoting (the first elimination leaves h0 + h1 on the diagonal, the inner rows are
- * diagonally dominant), then each column solved. work: at least 6 n doubles.
+ * diagonally dominant), then each column solved: knot by knot, every column at each knot (the
+ * columns' divisions independent of one another, not one column's chain after another's;
+ * each column's operations those of a column alone), each right-hand side kept in out until
+ * the back substitution replaces it. work: at least 4 n + 2 m doubles.
  */
 static void not_a_knot_solve(const double *t, Py_ssize_t n, const double *y, Py_ssize_t m,
                              Py_ssize_t start, double *out, double *work)
 {
   double *h = work, *diagonal = h + n, *above = diagonal + n, *factors = above + n;
-  double *rhs = factors + n, *d = rhs + n;
+  double *r = factors + n, *chord = r + m; /* per column: the sweep's last value, chord i - 1 */
   for (Py_ssize_t i = 0; i < n - 1; i++) {
     h[i] = t[i + 1] - t[i];
   }
@@ -2471,23 +2474,39 @@ static void not_a_knot_solve(const double *t, Py_ssize_t n, const double *y, Py_
   double first = (h0 + 2.0 * (h0 + h1)) * h1, h0_squared = pow(h0, squared_power);
   double span0 = h0 + h1, hl_squared = pow(hl, squared_power);
   double last = (2.0 * (hm + hl) + hl) * hm, span1 = hm + hl;
+#define CHORD(i, c) ((y[((i) + 1) * m + (c)] - y[(i) * m + (c)]) / h[i])
   for (Py_ssize_t c = 0; c < m; c++) {
-    for (Py_ssize_t i = 0; i < n - 1; i++) {
-      d[i] = (y[(i + 1) * m + c] - y[i * m + c]) / h[i];
+    double d0 = CHORD(0, c);
+    r[c] = (first * d0 + h0_squared * CHORD(1, c)) / span0;
+    chord[c] = d0;
+    if (start == 0) {
+      out[c] = r[c];
     }
-    double r = (first * d[0] + h0_squared * d[1]) / span0;
-    rhs[0] = r;
-    /* forward: each inner row's right-hand side, less its factor times the row above's */
-    for (Py_ssize_t i = 1; i < n - 1; i++) {
-      r = 3.0 * (h[i] * d[i - 1] + h[i - 1] * d[i]) - factors[i] * r;
-      rhs[i] = r;
+  }
+  /* forward: each inner row's right-hand side, less its factor times the row above's */
+  for (Py_ssize_t i = 1; i < n - 1; i++) {
+    double *row = i >= start ? out + (i - start) * m : NULL;
+    for (Py_ssize_t c = 0; c < m; c++) {
+      double d = CHORD(i, c);
+      r[c] = 3.0 * (h[i] * chord[c] + h[i - 1] * d) - factors[i] * r[c];
+      chord[c] = d;
+      if (row != NULL) {
+        row[c] = r[c];
+      }
     }
-    double s = ((hl_squared * d[n - 3] + last * d[n - 2]) / span1 - factors[n - 1] * r) /
-               diagonal[n - 1];
-    out[(n - 1 - start) * m + c] = s; /* back from the last knot */
-    for (Py_ssize_t i = n - 2; i >= start; i--) {
-      s = (rhs[i] - above[i] * s) / diagonal[i];
-      out[(i - start) * m + c] = s;
+  }
+  double *row = out + (n - 1 - start) * m; /* back from the last knot */
+  for (Py_ssize_t c = 0; c < m; c++) {
+    r[c] = ((hl_squared * CHORD(n - 3, c) + last * CHORD(n - 2, c)) / span1 -
+            factors[n - 1] * r[c]) / diagonal[n - 1];
+    row[c] = r[c];
+  }
+#undef CHORD
+  for (Py_ssize_t i = n - 2; i >= start; i--) {
+    row = out + (i - start) * m;
+    for (Py_ssize_t c = 0; c < m; c++) {
+      r[c] = (row[c] - above[i] * r[c]) / diagonal[i];
+      row[c] = r[c];
     }
   }
 }
@@ -2568,12 +2587,12 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
   if (m < 0) {
     goto done;
   }
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (7 + 2 * m)));
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (5 + 2 * m) + 2 * m));
   if (memory == NULL) {
     PyErr_NoMemory();
     goto done;
   }
-  double *t = memory, *y = t + n, *out = y + n * m, *work = out + n * m;
+  double *t = memory, *y = t + n, *out = y + n * m, *work = out + n * m; /* 4 n + 2 m */
   for (Py_ssize_t i = 0; i < n; i++) {
     t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
   }
@@ -2910,13 +2929,22 @@ static PyObject *py_not_a_knot_penalty(PyObject *self, PyObject *arg)
   for (Py_ssize_t i = 0; i < (n - 4) * n; i++) {
     jumps[i] *= scale;
   }
-  for (Py_ssize_t a = 0; a < n; a++) {
-    for (Py_ssize_t b = a; b < n; b++) {
-      double sum = 0.0;
-      for (Py_ssize_t r = 0; r < n - 4; r++) {
-        sum += jumps[r * n + a] * jumps[r * n + b];
+  /* the upper triangle row by row of J, each entry's sum in the order of the rows (its terms
+   * independent of one another's: no chain of additions waiting on the one before), then
+   * mirrored */
+  for (Py_ssize_t r = 0; r < n - 4; r++) {
+    const double *row = jumps + r * n;
+    for (Py_ssize_t a = 0; a < n; a++) {
+      double left = row[a];
+      double *out = penalty + a * n;
+      for (Py_ssize_t b = a; b < n; b++) {
+        out[b] += left * row[b];
       }
-      penalty[a * n + b] = penalty[b * n + a] = sum;
+    }
+  }
+  for (Py_ssize_t a = 0; a < n; a++) {
+    for (Py_ssize_t b = a + 1; b < n; b++) {
+      penalty[b * n + a] = penalty[a * n + b];
     }
   }
 done:
