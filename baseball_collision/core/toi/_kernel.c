@@ -3089,6 +3089,8 @@ static bool read_bound(PyObject *o, Py_ssize_t c, Py_ssize_t *start, Py_ssize_t 
 }
 
 /* x scaled into [0.5, 1) with its power of two added to *exponent (a product kept in range) */
+enum { LANES = 4 }; /* likeliest's grid weights taken at a time */
+
 static inline double renormalised(double x, long *exponent)
 {
   int e;
@@ -3150,16 +3152,17 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
     goto done;
   }
   Py_ssize_t groups = PySequence_Fast_GET_SIZE(bounds);
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (groups + 2) + 2 * groups + 1));
+  memory = PyMem_Malloc(sizeof(double) *
+                        (size_t)(n * (groups + 1 + LANES) + groups * (1 + LANES) + 1));
   if (memory == NULL) {
     PyErr_NoMemory();
     goto done;
   }
   double *rough = memory;                 /* the rough eigenvalues, m of them */
   double *scaled = rough + n;             /* per group, its s_i over the rough i (m each) */
-  double *shrink = scaled + n * groups;   /* one grid weight's 1 / (1 + 1 / (lam p_i)) */
-  double *cost = shrink + n;              /* per group, the grid weight's cost */
-  double *best_cost = cost + groups;      /* per group, the lowest so far */
+  double *shrink = scaled + n * groups;   /* per lane, its weight's 1 / (1 + 1 / (lam p_i)) */
+  double *cost = shrink + n * LANES;      /* per group and lane, the grid weight's cost */
+  double *best_cost = cost + groups * LANES; /* per group, the lowest so far */
   Py_ssize_t *best = NULL, *noisy = NULL;
   double largest = 1e-300;
   for (Py_ssize_t i = 0; i < n; i++) {
@@ -3208,33 +3211,61 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   for (Py_ssize_t i = 0; i < m; i++) {
     logs_of_p += log(rough[i]);
   }
-  for (Py_ssize_t g = 0; g < points && m > 0; g++) {
-    double lam = pow(10.0, grid[g]), product = 1.0;
-    long exponent = 0;
-    for (Py_ssize_t i = 0; i < m; i++) { /* (no carried dependency: vectorised) */
-      double x = lam * rough[i];
-      shrink[i] = x / (1.0 + x);
+  /* LANES grid weights at a time, each lane's numbers by the operations of a weight alone
+   * (its product and sums in the order of the eigenvalues): the lanes' chains of products and
+   * sums are independent, so they overlap; the costs are then compared in the grid's order */
+  for (Py_ssize_t g0 = 0; g0 < points && m > 0; g0 += LANES) {
+    Py_ssize_t lanes = points - g0 < LANES ? points - g0 : LANES;
+    double lam[LANES], product[LANES], logs[LANES], power[LANES];
+    long exponent[LANES];
+    for (Py_ssize_t l = 0; l < LANES; l++) { /* (past the grid's end: its last weight again) */
+      power[l] = grid[g0 + (l < lanes ? l : lanes - 1)];
+      lam[l] = pow(10.0, power[l]);
+      product[l] = 1.0;
+      exponent[l] = 0;
+    }
+    for (Py_ssize_t l = 0; l < LANES; l++) { /* (no carried dependency: vectorised) */
+      for (Py_ssize_t i = 0; i < m; i++) {
+        double x = lam[l] * rough[i];
+        shrink[l * n + i] = x / (1.0 + x);
+      }
     }
     for (Py_ssize_t i = 0; i < m; i++) {
-      product *= 1.0 + lam * rough[i];
-      if (!(product < 1e150)) {
-        product = renormalised(product, &exponent);
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        product[l] *= 1.0 + lam[l] * rough[i];
+      }
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        if (!(product[l] < 1e150)) {
+          product[l] = renormalised(product[l], &exponent[l]);
+        }
       }
     }
-    double logs = log(product) + (double)exponent * M_LN2 - (double)m * grid[g] * M_LN10 -
-                  logs_of_p;
+    for (Py_ssize_t l = 0; l < LANES; l++) {
+      logs[l] = log(product[l]) + (double)exponent[l] * M_LN2 -
+                (double)m * power[l] * M_LN10 - logs_of_p;
+    }
     for (Py_ssize_t k = 0; k < groups; k++) {
-      if (noisy[k] == 0 || (best[k] >= 0 && isnan(best_cost[k]))) {
-        continue;
+      double *sum = cost + k * LANES;
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        sum[l] = 0.0;
       }
-      double sum = 0.0;
       for (Py_ssize_t i = 0; i < m; i++) {
-        sum += shrink[i] * scaled[k * n + i];
+        for (Py_ssize_t l = 0; l < LANES; l++) {
+          sum[l] += shrink[l * n + i] * scaled[k * n + i];
+        }
       }
-      double here = (double)noisy[k] * logs + sum;
-      if (best[k] < 0 || isnan(here) || here < best_cost[k]) {
-        best[k] = g;
-        best_cost[k] = here;
+    }
+    for (Py_ssize_t l = 0; l < lanes; l++) {
+      Py_ssize_t g = g0 + l;
+      for (Py_ssize_t k = 0; k < groups; k++) {
+        if (noisy[k] == 0 || (best[k] >= 0 && isnan(best_cost[k]))) {
+          continue;
+        }
+        double here = (double)noisy[k] * logs[l] + cost[k * LANES + l];
+        if (best[k] < 0 || isnan(here) || here < best_cost[k]) {
+          best[k] = g;
+          best_cost[k] = here;
+        }
       }
     }
   }
