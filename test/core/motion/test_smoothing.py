@@ -367,12 +367,13 @@ def test_slopes_from_a_knot_are_those_knots_slopes(steps, data) -> None:
         smooth(times, values, [1e-6, 0.0], kind='natural', start=max(start, 1))
 
 
-def _grid_costs(p: np.ndarray, z: np.ndarray, variances: np.ndarray) -> np.ndarray:
+def _grid_costs(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
+                grid: np.ndarray = smoothing.LIKELIHOOD_GRID) -> np.ndarray:
     """Return the likelihood's costs on the grid, written out in numpy: a sum of logs each."""
     rough = p > smoothing.NULL_EIGENVALUE * max(float(np.max(p)), 1e-300)
     scaled = (z * z / variances[None, :]).sum(axis=1)[rough]
     costs = []
-    for log in smoothing.LIKELIHOOD_GRID:
+    for log in grid:
         spread = 1.0 + 1.0 / (10.0 ** log * p[rough])
         costs.append(len(variances) * np.sum(np.log(spread)) + np.sum(scaled / spread))
     return np.array(costs)
@@ -411,6 +412,30 @@ def test_the_kernels_weight_search_is_the_grid_search(steps, seed, scale) -> Non
         assert costs[chosen] - costs[best] <= 1e-12 * (abs(costs[best]) + 1.0)
         assert smoothing_weight(p, z[:, start:stop][:, noisy], variances[start:stop][noisy],
                                 'likelihood') == weight
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(steps=steps, seed=st.integers(0, 2 ** 16),
+       grid=st.lists(st.floats(-6.0, 6.0), min_size=1, max_size=9, unique=True))
+def test_the_kernels_weight_search_on_grids_of_any_length(steps, seed, grid) -> None:
+    """
+    On a grid of 1-9 weights (the kernel takes them four at a time) the weight is the cheapest.
+
+    The grid's last weight is the stiffest fit (inf); a tie to rounding may pick either.
+    """
+    times = _times(steps)
+    p, u = penalty_eigen(times, 'not-a-knot')
+    rng = np.random.default_rng(seed)
+    values = np.c_[np.sin(15.0 * times), times ** 3] + rng.normal(0.0, 1e-3, (len(times), 2))
+    variances = np.array([1e-6, 4e-6])
+    z = u.T @ values
+    grid = np.array(sorted(grid))
+    weight, = _kernel.likeliest(p, z, variances, ((0, 2),), grid, smoothing.NULL_EIGENVALUE)
+    costs = _grid_costs(p, z, variances, grid)
+    chosen = len(grid) - 1 if weight == np.inf else int(np.argmin(np.abs(10.0 ** grid - weight)))
+    assert weight == np.inf or weight == 10.0 ** grid[chosen]
+    best = int(np.argmin(costs))
+    assert costs[chosen] - costs[best] <= 1e-12 * (abs(costs[best]) + 1.0)
 
 
 def test_the_kernels_weight_search_refuses_bad_input() -> None:
