@@ -15,8 +15,10 @@ from typing import Callable, List, Tuple
 
 from baseball_collision.errors import ToolError
 from baseball_collision.threads import blas_threads
+from baseball_collision.tools import analyze
 from baseball_collision.tools.analyze import (
-    _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag)
+    _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag,
+    worker_read_ahead)
 import pytest
 from support.bundled import bag_path
 
@@ -65,6 +67,14 @@ def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) ->
     assert all(a.impacts for a in pooled) and all(a.truth is None for a in pooled[:2])
     assert pooled[2].truth is not None  # the truth file beside the bundled bag
     assert len(pooled[2].truth.matched) == len(alone[2].truth.matched) > 0
+
+
+def test_workers_read_ahead_only_with_a_core_to_spare(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A worker on every core reads in turn; fewer workers than cores read one chunk ahead."""
+    monkeypatch.setattr(analyze, 'cores', lambda: 4)
+    assert [worker_read_ahead(workers) for workers in (1, 2, 3, 4, 5)] == [1, 1, 1, 0, 0]
+    monkeypatch.setattr(analyze, 'cores', lambda: 1)
+    assert worker_read_ahead(1) == 0
 
 
 def test_the_pool_forks_only_from_a_process_with_one_thread() -> None:

@@ -10,7 +10,8 @@ import enum
 import math
 from typing import Optional, Protocol, Tuple, TypeVar
 
-from ..geometry import add, dot, norm, Quaternion, rotation_between, sub, swing_rotation, Vector
+from ..geometry import Quaternion, sub, swing_rotation, Vector
+from ..toi import _kernel
 from ...errors import CoreError
 
 MODELS = ('linear', 'rigid', 'spline', 'c2')
@@ -160,16 +161,10 @@ def turn_between(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
 
     :returns: (swing rotation vector: axis times angle in radians, world frame, across the
         bat; roll angle about the bat's own axis in radians, 0 for knob/tip points). The swing
-        part comes from the knob-to-tip directions, so a roll of the bat cannot leak into it.
+        part comes from the knob-to-tip directions, so a roll of the bat cannot leak into it:
+        ``geometry.swing_rotation`` of the two knob-to-tip vectors; the roll is the world-frame
+        rotation between the quaternions (``geometry.rotation_between``) along the mean of
+        those vectors, 0 without both quaternions, for equal ones or a zero mean. Computed by
+        the kernel (``toi._kernel.turn_between``: those functions' operations in their order).
     """
-    d0 = sub(a.tip, a.knob)
-    d1 = sub(b.tip, b.knob)
-    swing = swing_rotation(d0, d1)
-    if a.quaternion is None or b.quaternion is None:
-        return swing, 0.0
-    full = rotation_between(a.quaternion, b.quaternion)
-    mean_axis = add(d0, d1)
-    length = norm(mean_axis)
-    if full is None or length == 0.0:
-        return swing, 0.0
-    return swing, dot(full, mean_axis) / length
+    return _kernel.turn_between(a, b)

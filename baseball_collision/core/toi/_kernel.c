@@ -54,6 +54,7 @@
  *        the smoothed values (core.motion.smoothing),
  *   c2_chart(samples, j, max_angle), bat_axis(sample),
  *   rotation_to(reference, direction), rotate(reference, rotation),
+ *   turn_between(a, b)  how the bat turned between two samples (core.motion.base),
  *   recharted(reference, origin, turn, rate, step),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
@@ -2426,6 +2427,7 @@ static PyObject *py_bat_from_rates(PyObject *self, PyObject *const *args, Py_ssi
 
 static PyObject *math_dist = NULL; /* math.dist, a bat's length (its own exact summation) */
 static PyObject *knob_name = NULL, *tip_name = NULL; /* "knob", "tip" */
+static PyObject *quaternion_name = NULL;              /* "quaternion" */
 /* the path pieces' attributes c2_deviation reads (motion.points: PointPath, AngleCubic) */
 enum {
   PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
@@ -3466,6 +3468,90 @@ static PyObject *py_rotate(PyObject *self, PyObject *const *args, Py_ssize_t nar
   bool same;
   Vec turned = rotate_by(reference, rotation, &same);
   return same ? Py_NewRef(args[0]) : vec_tuple(turned);
+}
+
+/*
+ * A bat sample's knob-to-tip vector (tip - knob, m) and its quaternion (x, y, z, w; *posed
+ * false when the sample's quaternion is None). False with an exception (no knob or tip of 3
+ * numbers, a quaternion not None nor 4 numbers).
+ */
+static bool bat_turn_parts(PyObject *sample, Vec *axis, double quaternion[4], bool *posed)
+{
+  PyObject *knob_object = PyObject_GetAttr(sample, knob_name);
+  PyObject *tip_object = knob_object ? PyObject_GetAttr(sample, tip_name) : NULL;
+  PyObject *quaternion_object = tip_object ? PyObject_GetAttr(sample, quaternion_name) : NULL;
+  bool ok = false;
+  Vec knob, tip;
+  if (quaternion_object == NULL) {
+    goto done;
+  }
+  if (!read_vec(knob_object, &knob) || !read_vec(tip_object, &tip)) {
+    PyErr_SetString(PyExc_TypeError, "a bat sample's knob and tip must be 3 numbers each");
+    goto done;
+  }
+  *axis = v_sub(tip, knob);
+  *posed = quaternion_object != Py_None;
+  ok = !*posed || read_floats(quaternion_object, quaternion, 4, "a bat sample's quaternion");
+done:
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
+  Py_XDECREF(quaternion_object);
+  return ok;
+}
+
+/*
+ * turn_between(a, b) -> ((x, y, z), roll): how the bat turned from sample a to sample b
+ * (core.motion.base.turn_between, the docstring there): the swing rotation turning a's
+ * knob-to-tip vector d0 onto b's d1 (their cross product times atan2(its norm, d0 . d1) over
+ * its norm, zero where the norm is not positive: geometry.swing_rotation), and the roll: the
+ * world-frame rotation vector of q1 conj(q0) along the shorter arc (geometry.rotation_between)
+ * along the mean axis d0 + d1 (its dot product with it over the axis' norm); 0.0 without both
+ * quaternions, when the quaternions are equal up to sign, or when d0 + d1 is zero. Each
+ * operation in the order of those functions: the same bits. TypeError: a sample without a
+ * knob and tip of 3 numbers, or a quaternion neither None nor 4 numbers.
+ */
+static PyObject *py_turn_between(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec d0, d1;
+  double q0[4], q1[4];
+  bool posed0, posed1;
+  if (nargs != 2) {
+    PyErr_SetString(PyExc_TypeError, "turn_between(a, b): two bat samples");
+    return NULL;
+  }
+  if (!bat_turn_parts(args[0], &d0, q0, &posed0) || !bat_turn_parts(args[1], &d1, q1, &posed1)) {
+    return NULL;
+  }
+  Vec turn = {d0.y * d1.z - d0.z * d1.y, d0.z * d1.x - d0.x * d1.z, d0.x * d1.y - d0.y * d1.x};
+  double sine = sqrt(turn.x * turn.x + turn.y * turn.y + turn.z * turn.z);
+  Vec swing = {0.0, 0.0, 0.0};
+  if (sine > 0.0) {
+    double angle = atan2(sine, d0.x * d1.x + d0.y * d1.y + d0.z * d1.z) / sine;
+    swing = (Vec){turn.x * angle, turn.y * angle, turn.z * angle};
+  }
+  double roll = 0.0;
+  if (posed0 && posed1) {
+    double x0 = q0[0], y0 = q0[1], z0 = q0[2], w0 = q0[3];
+    double x1 = q1[0], y1 = q1[1], z1 = q1[2], w1 = q1[3];
+    double w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0;
+    double x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0;
+    double y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0;
+    double z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0;
+    if (w < 0.0) {
+      w = -w, x = -x, y = -y, z = -z;
+    }
+    double vector_part = sqrt(x * x + y * y + z * z);
+    Vec mean_axis = {d0.x + d1.x, d0.y + d1.y, d0.z + d1.z};
+    double length = sqrt(mean_axis.x * mean_axis.x + mean_axis.y * mean_axis.y +
+                         mean_axis.z * mean_axis.z);
+    if (vector_part != 0.0 && length != 0.0) {
+      double angle = 2.0 * atan2(vector_part, w) / vector_part;
+      Vec full = {x * angle, y * angle, z * angle};
+      roll = (full.x * mean_axis.x + full.y * mean_axis.y + full.z * mean_axis.z) / length;
+    }
+  }
+  PyObject *swing_tuple = vec_tuple(swing);
+  return swing_tuple ? Py_BuildValue("(Nd)", swing_tuple, roll) : NULL;
 }
 
 /*
@@ -4864,6 +4950,8 @@ static PyMethodDef methods[] = {
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"turn_between", (PyCFunction)(void (*)(void))py_turn_between, METH_FASTCALL,
+     "turn_between(a, b): the bat's swing rotation vector and roll from sample a to b"},
     {"rotate", (PyCFunction)(void (*)(void))py_rotate, METH_FASTCALL,
      "rotate(reference, rotation): reference turned by a rotation vector across it (Rodrigues)"},
     {"recharted", (PyCFunction)(void (*)(void))py_recharted, METH_FASTCALL,
@@ -4942,6 +5030,7 @@ PyMODINIT_FUNC PyInit__kernel(void)
   Py_XDECREF(math);
   knob_name = PyUnicode_InternFromString("knob");
   tip_name = PyUnicode_InternFromString("tip");
+  quaternion_name = PyUnicode_InternFromString("quaternion");
   for (int i = 0; i < PIECE_NAMES; i++) {
     piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
     if (piece_names[i] == NULL) {
@@ -4949,7 +5038,7 @@ PyMODINIT_FUNC PyInit__kernel(void)
       return NULL;
     }
   }
-  if (math_dist == NULL || knob_name == NULL || tip_name == NULL) {
+  if (math_dist == NULL || knob_name == NULL || tip_name == NULL || quaternion_name == NULL) {
     Py_DECREF(m);
     return NULL;
   }

@@ -1,12 +1,18 @@
 """Tests for baseball_collision.core.motion.base: models, tangents, sub-steps, bat turns."""
 
 import math
+import struct
+from typing import Tuple
 
+from baseball_collision.core.geometry import (
+    add, dot, norm, rotation_between, sub, swing_rotation, Vector)
 from baseball_collision.core.motion import (
     BatSample, check_model, hermite_slope, hermite_tangent, MODELS, PathKind, SAMPLES_AHEAD,
     substeps_for, swing_between, turn_between)
 from baseball_collision.errors import CoreError
+from hypothesis import given, settings, strategies as st
 import pytest
+from support import examples
 
 
 def test_hermite_tangent_is_exact_for_a_parabola_on_uneven_steps() -> None:
@@ -71,3 +77,55 @@ def test_turn_between_bat_samples() -> None:
     posed_b = BatSample(a.knob, a.tip, (0.0, 0.0, 0.0), roll)
     swing, rolled = turn_between(posed_a, posed_b)
     assert swing == (0.0, 0.0, 0.0) and rolled == pytest.approx(0.3)
+
+
+def _turn_from_geometry(a: BatSample, b: BatSample) -> Tuple[Vector, float]:
+    """Return ``turn_between``'s answer composed from the geometry module's functions."""
+    d0, d1 = sub(a.tip, a.knob), sub(b.tip, b.knob)
+    swing = swing_rotation(d0, d1)
+    if a.quaternion is None or b.quaternion is None:
+        return swing, 0.0
+    full = rotation_between(a.quaternion, b.quaternion)
+    mean_axis = add(d0, d1)
+    length = norm(mean_axis)
+    if full is None or length == 0.0:
+        return swing, 0.0
+    return swing, dot(full, mean_axis) / length
+
+
+def _bits(turn: Tuple[Vector, float]) -> bytes:
+    return struct.pack('<4d', *turn[0], turn[1])
+
+
+finite = st.floats(-10.0, 10.0, allow_nan=False)
+vectors = st.tuples(finite, finite, finite)
+quaternions = st.one_of(st.none(), st.tuples(finite, finite, finite, finite).filter(
+    lambda q: sum(x * x for x in q) > 1e-6).map(
+    lambda q: tuple(x / math.sqrt(sum(y * y for y in q)) for x in q)))
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(knob=vectors, tip=vectors, knob1=vectors, tip1=vectors, q0=quaternions, q1=quaternions,
+       case=st.sampled_from(['any', 'same', 'reversed', 'flipped', 'no axis']))
+def test_turn_between_is_the_geometry_of_its_docstring_to_the_bit(knob, tip, knob1, tip1, q0, q1,
+                                                                  case) -> None:
+    """The kernel's turn is the swing rotation and the roll along the mean axis, to the bit."""
+    a = BatSample(knob, tip, knob, q0)
+    b = {'any': BatSample(knob1, tip1, knob1, q1), 'same': a,
+         'reversed': BatSample(tip, knob, tip, q1),
+         'flipped': BatSample(knob1, tip1, knob1, None if q0 is None else tuple(-x for x in q0)),
+         'no axis': BatSample(knob1, knob1, knob1, q1)}[case]
+    found = turn_between(a, b)
+    assert type(found[1]) is float and all(type(x) is float for x in found[0])
+    assert _bits(found) == _bits(_turn_from_geometry(a, b))
+
+
+def test_turn_between_refuses_what_is_not_a_bat_sample() -> None:
+    """A knob or tip that is not 3 numbers, or a quaternion neither None nor 4, raise."""
+    a = BatSample((0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    for bad in (BatSample((0.0, 0.0), (1.0, 0.0, 0.0)),
+                BatSample((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 1.0))):
+        with pytest.raises(TypeError):
+            turn_between(a, bad)
+    with pytest.raises(AttributeError):
+        turn_between(a, (0.0, 0.0, 0.0))
