@@ -26,6 +26,7 @@ import json
 import math
 from pathlib import Path
 import sys
+import threading
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
@@ -214,7 +215,9 @@ def test_reading_ahead_finds_the_events_of_reading_in_turn(
         asked.append(read_ahead)
         return chunks(self, size, read_ahead)
     monkeypatch.setattr(BagReader, 'chunks', watched)
+    threads = threading.active_count()
     ahead = analyze_bag(bag_path(name), progress=False)
+    assert threading.active_count() == threads  # (its reading thread ended: a pool may fork)
     in_turn = analyze_bag(bag_path(name), progress=False, read_ahead=0)
     assert asked == [1, 0] and ahead.impacts
     for part in ('impacts', 'near_misses', 'gaps', 'resets', 'drops_by_role'):
