@@ -3398,21 +3398,36 @@ done:
 }
 
 /*
+ * A bat sample's knob and tip (m), and the objects they were read from (new references in
+ * *knob_object and *tip_object, or NULL: the caller releases them). False with an exception
+ * (no knob or tip of 3 numbers).
+ */
+static bool bat_ends(PyObject *sample, Vec *knob, Vec *tip, PyObject **knob_object,
+                     PyObject **tip_object)
+{
+  *knob_object = PyObject_GetAttr(sample, knob_name);
+  *tip_object = *knob_object ? PyObject_GetAttr(sample, tip_name) : NULL;
+  if (*tip_object == NULL) {
+    return false;
+  }
+  if (!read_vec(*knob_object, knob) || !read_vec(*tip_object, tip)) {
+    PyErr_SetString(PyExc_TypeError, "a bat sample's knob and tip must be 3 numbers each");
+    return false;
+  }
+  return true;
+}
+
+/*
  * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
  * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
  * exception (no knob or tip of 3 numbers).
  */
 static bool bat_axis(PyObject *sample, Vec *knob, Vec *direction, double *length)
 {
-  PyObject *knob_object = PyObject_GetAttr(sample, knob_name);
-  PyObject *tip_object = knob_object ? PyObject_GetAttr(sample, tip_name) : NULL;
+  PyObject *knob_object = NULL, *tip_object = NULL;
   bool ok = false;
   Vec tip;
-  if (tip_object == NULL) {
-    goto done;
-  }
-  if (!read_vec(knob_object, knob) || !read_vec(tip_object, &tip)) {
-    PyErr_SetString(PyExc_TypeError, "a bat sample's knob and tip must be 3 numbers each");
+  if (!bat_ends(sample, knob, &tip, &knob_object, &tip_object)) {
     goto done;
   }
   Vec axis = v_sub(tip, *knob);
@@ -3477,16 +3492,11 @@ static PyObject *py_rotate(PyObject *self, PyObject *const *args, Py_ssize_t nar
  */
 static bool bat_turn_parts(PyObject *sample, Vec *axis, double quaternion[4], bool *posed)
 {
-  PyObject *knob_object = PyObject_GetAttr(sample, knob_name);
-  PyObject *tip_object = knob_object ? PyObject_GetAttr(sample, tip_name) : NULL;
-  PyObject *quaternion_object = tip_object ? PyObject_GetAttr(sample, quaternion_name) : NULL;
+  PyObject *knob_object = NULL, *tip_object = NULL, *quaternion_object = NULL;
   bool ok = false;
   Vec knob, tip;
-  if (quaternion_object == NULL) {
-    goto done;
-  }
-  if (!read_vec(knob_object, &knob) || !read_vec(tip_object, &tip)) {
-    PyErr_SetString(PyExc_TypeError, "a bat sample's knob and tip must be 3 numbers each");
+  if (!bat_ends(sample, &knob, &tip, &knob_object, &tip_object) ||
+      (quaternion_object = PyObject_GetAttr(sample, quaternion_name)) == NULL) {
     goto done;
   }
   *axis = v_sub(tip, knob);
