@@ -16,11 +16,11 @@ before numpy loads too, ``entry_points``, which also spares OpenBLAS starting it
 A program that makes a ``Detector`` in its own process keeps its own threads; it can call
 :func:`single_threaded_blas` too.
 
-**Reading ahead** (:class:`ReadAhead`): ``analyze`` takes a bag's next chunk (a sqlite3 batch's
-query, an MCAP chunk's read and decompression, the decode) on a background thread while the
-detector works on the one before. SQLite, file reads and most of numpy's copying release the
-GIL, so on a machine with a spare core the two overlap; the chunks and their order are the
-same, so are the events.
+**Reading ahead** (:class:`ReadAhead`): ``analyze`` reads a bag's next file chunk or batch (a
+sqlite3 batch's query, an MCAP chunk's read, checksum and decompression) on a background thread
+while the detector works on the chunk before. SQLite, file reads, checksums and decompression
+run without the GIL, so on a machine with a spare core the two overlap; the chunks and their
+order are the same, so are the events.
 """
 
 import queue

@@ -394,9 +394,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     :param out_bag: an open writer that receives the input samples and the event messages.
     :param progress: show a progress bar on stderr for long bags (see :func:`progress_bar`).
     :param use_truth: compare with the truth file beside the bag when there is one.
-    :param read_ahead: chunks read and decoded ahead on a background thread while the
-        detector works (``BagReader.chunks``; 0: none): on a spare core the reading overlaps
-        the detector, the same events.
+    :param read_ahead: an MCAP or sqlite3 bag's file chunks or batches read ahead on a
+        background thread while the detector works (``BagReader.chunks``; 0: none): on a
+        spare core the reading overlaps the detector, the same events.
     :returns: the analysis.
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
         topics or with topics of the wrong type), a bad setting, or a failure writing
@@ -503,8 +503,8 @@ def worker_read_ahead(workers: int) -> int:
     Return the chunks a pool worker reads ahead (``analyze_bag``'s ``read_ahead``).
 
     One while a core is spare; none with a worker on every core, where a reading thread would
-    only take the other workers' time (each bag's reading then costs about 10-20 % more CPU
-    for no gain in wall time).
+    only take the other workers' time (reading ahead costs a bag's analysis 6-16 % more CPU,
+    and gains wall time only on a spare core: BENCHMARKS.md, "Reading a bag ahead").
     """
     return 1 if workers < cores() else 0
 
