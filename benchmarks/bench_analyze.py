@@ -40,7 +40,9 @@ tree in turn, on the bag and on a bag of 300 messages (the start-up: interpreter
 a bag), best wall and best CPU time (the child's user + system) of each. With ``--split``,
 each process again with a CPU timer per stage (``time.process_time``: the raw read's imports,
 typestore, open and ``messages()``; analyze's imports, open, the reader's rows and batch arrays,
-decode, and the detector with its chunk planning), best of ``--repeats`` per stage.
+decode, and the detector with its chunk planning; the bag read in turn, without ``analyze``'s
+reading thread: each stage's CPU, not the wall time that thread overlaps), best of
+``--repeats`` per stage.
 
 ``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
 bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
