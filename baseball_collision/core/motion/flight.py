@@ -206,5 +206,7 @@ def _fitted(times: Sequence[float], values: Sequence[Sequence[float]], sigma: fl
     if found is NotImplemented:
         return None
     centre, scale, coefficients, residual = found
+    variance = sigma * sigma  # (0 under 1e-154 m: beyond any residual, the guard turns it away)
     return FlightFit(centre, scale, np.array(coefficients), tuple(times),
-                     residual / (sigma * sigma), 3 * (len(times) - degree - 1))
+                     residual / variance if variance > 0.0 else math.inf,
+                     3 * (len(times) - degree - 1))

@@ -90,6 +90,13 @@ def test_an_untold_noise_fails_the_guard() -> None:
     assert not fit_flight(t, noisy, 2e-4).free
 
 
+def test_a_noise_too_small_to_square_fails_the_guard_without_a_crash() -> None:
+    """Told 1e-300 m (its square is 0): the guard turns the fit away, dividing by nothing."""
+    t = _stamps(90.0, 13, 6)
+    assert flight_or_none(t, _pitch(t), 1e-300, 2, 5) is None
+    assert flight_or_none(t, _pitch(t), 1e-3, 2, 5) is not None  # (the same pitch, told 1 mm)
+
+
 @pytest.mark.parametrize('times, values, sigma, degree', [
     ([0.0, 0.1, 0.2], np.zeros((3, 3)), 1e-3, 2),
     ([0.0, 0.1, 0.2, 0.3], np.zeros((4, 2)), 1e-3, 2),
