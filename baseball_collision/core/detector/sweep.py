@@ -75,7 +75,8 @@ class Sweep:
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
         if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
-                         config.max_gap, config.look_ahead, config.spline_window):
+                         config.max_gap, config.look_ahead, config.spline_window,
+                         stream_noise(self.ball, config) + stream_noise(self.bat, config)):
             self.episodes.far(events)
             return
         paths = self.paths(*located)

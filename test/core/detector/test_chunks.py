@@ -541,9 +541,10 @@ def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
         if not np.isfinite(clearance[k]):
             continue
         assert clearly_apart(ball, bat, k, k, clearance[k] - scale, 'c2', 1.0, look_ahead, size)
-        if k + 2 >= size and look_ahead == 0:
+        if k + 2 >= size and look_ahead == 0:  # (the spheres' bound: the scalar test's hulls,
+            # which the vectorised test does not take, left out by unbounded noise)
             assert not clearly_apart(ball, bat, k, k, clearance[k] + scale, 'c2', 1.0,
-                                     look_ahead, size)
+                                     look_ahead, size, math.inf)
 
 
 @settings(max_examples=examples(100), deadline=None)

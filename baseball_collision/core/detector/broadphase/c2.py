@@ -202,19 +202,27 @@ def _knob_sphere(s0: BatSample, s1: BatSample) -> Tuple[Vector, float, float]:
 
 def c2_clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int,
                      spheres: Tuple[Vector, float, Vector, float], margin: float,
-                     max_gap: float, look_ahead: int, size: int) -> bool:
+                     max_gap: float, look_ahead: int, size: int,
+                     hull: float = -math.inf) -> bool:
     """
     Return whether the ``c2`` ball and bat stay more than ``margin`` (m) apart over the intervals.
 
     ``broadphase.clearly_apart``'s test for ``c2``: first from numbers kept per sample
     (``c2_jump_bulge`` of the ball, ``c2_reach`` of the bat), then from the windows' weights
-    (``c2_bulge`` of the ball, ``c2_bat_growth``). Every bulge bound is >= 0 (or None: no
-    bound) and rounding is monotone, so where a stage's spheres are not apart by ``margin``
-    even without their bulges, the bulges cannot clear it: they are not computed (the same
-    answer, measured: on the worst-case bench bag 86 % of the second stage's windows).
+    (``c2_bulge`` of the ball, ``c2_bat_growth``) around the spheres or the hulls. Every bulge
+    bound is >= 0 (or None: no bound) and rounding is monotone, so where a stage's spheres and
+    hulls are not apart by ``margin`` even without their bulges, the bulges cannot clear it:
+    they are not computed (the same answer, measured: on the worst-case bench bag 86 % of the
+    second stage's windows). The hulls: the ball's path leaves its chord by at most its bulge,
+    and every axis point of the bat its own chord, which lies in the hull of the bat's four
+    end points, by at most the bat's growth; a ball beside the bat, inside the bat's sphere,
+    is often far from its hull.
 
     :param spheres: (ball chord's middle, half its length, the bat's four end points' centre,
         their largest distance from it) in m: ``clearly_apart``'s spheres before any bulge.
+    :param hull: a lower bound (m) on the distance between the hull of the ball's two samples
+        and that of the bat's four end points (``hull_separation``, less what smoothing may
+        add); -inf: none.
     """
     ball_centre, ball_radius, bat_centre, bat_radius = spheres
     centre, half_chord, longest = _knob_sphere(bat.values[bat_k], bat.values[bat_k + 1])
@@ -224,20 +232,22 @@ def c2_clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int,
         if reach is not None and (math.dist(ball_centre, reach[0]) - ball_radius - quick
                                   - reach[1] > margin):
             return True
-    if not math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin:
+    if not (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+            or hull > margin):
         return False
     window = c2_window(ball, ball_k, max_gap, look_ahead, size)
     times = ball.times[window.start:window.stop]
     steps = [b - a for a, b in zip(times, times[1:])]
     if max(steps) > C2_STEP_RATIO * min(steps):
         return False
-    ball_radius += c2_bulge(times, ball.values[window.start:window.stop],
-                            ball_k - window.start)
+    bulge = c2_bulge(times, ball.values[window.start:window.stop], ball_k - window.start)
+    ball_radius += bulge
     growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
     if growth is None:
         return False
     bat_radius += growth
-    return math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+    return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
+            or hull - bulge - growth > margin)
 
 
 def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:

@@ -57,18 +57,30 @@ def bulge_bounds(stream: Stream, k: int, picks: Sequence[Pick], max_gap: float) 
     return bounds
 
 
+NOISE_REACH = 20.0
+"""How far (in the streams' 1-sigma noise, ball's plus bat's) the ``c2`` paths smoothed under
+noise may leave the raw samples' spline that the hull bound holds for. Measured, paths at 9
+instants of every interval with paths (``analyze`` on a noisy session at 1 mm, the noisy
+worst cases at 1 and 2 mm, the bundled 240 Hz noisy bag): p99 3.8-4.2 sigma, at most 6.1
+(the ball's free flight at a hit, which the margin's ``departure_reach`` covers, aside)."""
+
+
 def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: float,
-                  model: str, max_gap: float, look_ahead: int = 0, size: int = 8) -> bool:
+                  model: str, max_gap: float, look_ahead: int = 0, size: int = 8,
+                  noise: float = 0.0) -> bool:
     """
     Return whether ball and bat stay more than ``margin`` (m) apart over both sample intervals.
 
     Two lower bounds on the distance between any point of the ball's path and any point of the
-    bat's axis over the intervals: the bounding spheres' gap, then (``linear``, ``rigid``,
-    ``spline``) the hulls' separation along one direction (:func:`hull_separation`).
+    bat's axis over the intervals: the bounding spheres' gap, then the hulls' separation along
+    one direction (:func:`hull_separation`), each less how far the paths may leave them.
 
     :param ball_k, bat_k: the streams' sample intervals (``Stream.interval``) in play.
     :param model: the motion model between samples.
     :param look_ahead, size: the ``c2`` model's look-ahead and window (samples).
+    :param noise: the ball's plus the bat's tracking noise (m, 1 sigma): ``c2`` smooths the
+        samples under noise, and its paths may leave the samples' hulls by ``NOISE_REACH``
+        times it more.
 
     The ball's bounds hold for the free flight's path too, which the sweep takes where the
     ball's closing sample has left it (a hit): the margin grows by ``departure_reach``.
@@ -111,7 +123,8 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
     elif model == 'c2':
         return c2_clearly_apart(ball, bat, ball_k, bat_k, (ball_centre, ball_radius, bat_centre,
                                                            bat_radius), margin, max_gap,
-                                look_ahead, size)
+                                look_ahead, size, hull_separation(b0, b1, k0, e0, k1, e1)
+                                - NOISE_REACH * noise)
     return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
             or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
 

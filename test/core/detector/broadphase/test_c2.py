@@ -148,19 +148,22 @@ def _segment_distances(points: np.ndarray, knobs: np.ndarray, tips: np.ndarray) 
 @given(look_ahead=st.integers(0, 2),
        steps=st.lists(st.floats(0.004, 0.012), min_size=12, max_size=12),
        tilt=st.floats(-3.0, 3.0), spin=st.floats(-60.0, 60.0), noise=st.floats(0.0, 0.01),
-       miss=st.floats(0.0, 0.6), fraction=st.floats(0.0, 1.0), seed=st.integers(0, 1000))
+       miss=st.floats(0.0, 0.6), fraction=st.floats(0.0, 1.0), seed=st.integers(0, 1000),
+       told=st.booleans())
 def test_far_test_never_calls_far_a_pass_within_contact(look_ahead, steps, tilt, spin, noise,
-                                                        miss, fraction, seed) -> None:
+                                                        miss, fraction, seed, told) -> None:
     """
     ``clearly_apart`` under ``c2`` never says far where the fitted paths come within reach.
 
     A bat swinging about a tilting axis with noisy knob and tip, a ball passing a point of it
     ``miss`` metres off at mid-swing; for every interval the test calls far, the ball's
     distance from the bat's axis segment, sampled densely along the model's own paths, stays
-    above the margin (the contact distance).
+    above the margin (the contact distance). Told the noise, ``c2`` smooths, and the test
+    is given the streams' noise as the sweep gives it.
     """
     detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5,
-                                       look_ahead=look_ahead, bat_length_tolerance=1.0))
+                                       look_ahead=look_ahead, bat_length_tolerance=1.0,
+                                       tracker_noise=noise if told else 0.0))
     rng = np.random.default_rng(seed)
     times = np.concatenate([[0.0], np.cumsum(steps)])
     middle = 0.5 * times[-1]
@@ -177,7 +180,8 @@ def test_far_test_never_calls_far_a_pass_within_contact(look_ahead, steps, tilt,
     ball, bat = detector._ball, detector._bat
     margin = detector.config.ball_radius + detector.config.profile.max_radius
     for k in range(len(bat.times) - 1):
-        if not clearly_apart(ball, bat, k, k, margin, 'c2', 0.05, look_ahead, 8):
+        if not clearly_apart(ball, bat, k, k, margin, 'c2', 0.05, look_ahead, 8,
+                             2.0 * noise if told else 0.0):
             continue
         ball_path, bat_path = detector._sweep.paths(k, k)
         samples = np.linspace(bat.times[k], bat.times[k + 1], 200)

@@ -4,7 +4,9 @@ import math
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.core.detector.broadphase import (
-    c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO, clearly_apart)
+    c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO, clearly_apart,
+    hull_separation)
+from baseball_collision.core.detector.broadphase.scalar import NOISE_REACH
 from baseball_collision.core.detector.fitting import c2_window
 import numpy as np
 from support.far import tilting_bat
@@ -14,11 +16,12 @@ MARGIN = 0.11
 """m: a margin like the detector's (ball radius, bat radius, near-miss threshold)."""
 
 
-def _every_bound(ball, bat, k: int, look_ahead: int, size: int) -> str:
+def _every_bound(ball, bat, k: int, look_ahead: int, size: int, noise: float = 0.0) -> str:
     """
     Return the far test's answer with every bound computed (the test before the skips).
 
-    'first' or 'second': clear by that stage; 'near': not clear.
+    'first' or 'second': clear by that stage (the second by the spheres or by the hulls, the
+    hulls' bound less ``NOISE_REACH`` times the noise); 'near': not clear.
     """
     b0, b1 = ball.values[k], ball.values[k + 1]
     s0, s1 = bat.values[k], bat.values[k + 1]
@@ -38,11 +41,13 @@ def _every_bound(ball, bat, k: int, look_ahead: int, size: int) -> str:
     steps = [b - a for a, b in zip(times, times[1:])]
     if max(steps) > C2_STEP_RATIO * min(steps):
         return 'near'
-    ball_radius += c2_bulge(times, ball.values[window.start:window.stop], k - window.start)
+    bulge = c2_bulge(times, ball.values[window.start:window.stop], k - window.start)
     growth = c2_bat_growth(bat, k, c2_window(bat, k, 0.05, look_ahead, size))
     if growth is None:
         return 'near'
-    clear = math.dist(ball_centre, bat_centre) - ball_radius - (bat_radius + growth) > MARGIN
+    hull = hull_separation(b0, b1, k0, e0, k1, e1) - NOISE_REACH * noise
+    clear = (math.dist(ball_centre, bat_centre) - (ball_radius + bulge) - (bat_radius + growth)
+             > MARGIN or hull - bulge - growth > MARGIN)
     return 'second' if clear else 'near'
 
 
@@ -73,21 +78,53 @@ def test_the_skips_change_no_answer() -> None:
     assert set(answers) == {'first', 'second', 'near'}  # (about 1,500, 500 and 250)
 
 
+def _held_bat_and_ball(across: float):
+    """Return the streams of a held bat (along x) and a ball beside its middle, ``across`` off."""
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5))
+    for i in range(12):
+        t = 0.0028 * i
+        stamp = BASE_NS + int(round(t * 1e9))
+        detector.add_knob(stamp, (0.0, 1e-4 * t, 1.0))
+        detector.add_tip(stamp, (0.86, 1e-4 * t, 1.0))
+        detector.add_ball(stamp, (0.43 + 0.5 * t, across, 1.0))
+    return detector._ball, detector._bat
+
+
 def test_the_second_stage_at_its_edge() -> None:
-    """A held bat, balls passing it 50 um apart across the margin: the same answers."""
+    """
+    A held bat, balls passing it 50 um apart across the spheres' margin: the same answers.
+
+    Beside the bat's middle the bat's four ends' sphere is 0.43 m, the ball's 1.4 mm; the hulls
+    would clear every one, so they are left out (under unbounded noise they bound nothing).
+    """
     answers = []
     for offset in np.linspace(-2e-3, 2e-3, 81):  # 50 um apart
-        detector = Detector(DetectorConfig(model='c2', bat_input='points', max_speed=1e5))
-        for i in range(12):
-            t = 0.0028 * i
-            stamp = BASE_NS + int(round(t * 1e9))
-            detector.add_knob(stamp, (0.0, 1e-4 * t, 1.0))
-            detector.add_tip(stamp, (0.86, 1e-4 * t, 1.0))
-            # beside the bat's middle: its four ends' sphere is 0.43 m, the ball's 1.4 mm
-            detector.add_ball(stamp, (0.43 + 0.5 * t, 0.43 + MARGIN + 0.0014 + offset, 1.0))
-        ball, bat = detector._ball, detector._bat
+        ball, bat = _held_bat_and_ball(0.43 + MARGIN + 0.0014 + offset)
         k = len(bat.times) - 3
-        expected = _every_bound(ball, bat, k, 0, 8)
-        assert clearly_apart(ball, bat, k, k, MARGIN, 'c2', 0.05, 0, 8) is (expected != 'near')
+        expected = _every_bound(ball, bat, k, 0, 8, math.inf)
+        assert clearly_apart(ball, bat, k, k, MARGIN, 'c2', 0.05, 0, 8,
+                             math.inf) is (expected != 'near')
         answers.append(expected)
     assert set(answers) == {'second', 'near'}
+
+
+def test_the_hulls_clear_a_ball_beside_the_bat_at_their_edge() -> None:
+    """
+    Balls beside a held bat's middle, 50 um apart across the margin: the hulls clear them.
+
+    Inside the bat's four ends' sphere, the hulls clear the balls beyond the margin (and
+    ``NOISE_REACH`` times the noise), and not those within it.
+    """
+    for noise in (0.0, 0.001):
+        answers = []
+        edge = MARGIN + NOISE_REACH * noise
+        for offset in np.linspace(-2e-3, 2e-3, 81):
+            ball, bat = _held_bat_and_ball(edge + offset)
+            k = len(bat.times) - 3
+            expected = _every_bound(ball, bat, k, 0, 8, noise)
+            assert clearly_apart(ball, bat, k, k, MARGIN, 'c2', 0.05, 0, 8,
+                                 noise) is (expected != 'near')
+            if abs(offset) > 5e-4:  # (the ball's own chord and the bat's drift aside)
+                assert expected == ('second' if offset > 0.0 else 'near'), (noise, offset)
+            answers.append(expected)
+        assert set(answers) == {'second', 'near'}
