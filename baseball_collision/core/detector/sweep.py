@@ -12,7 +12,7 @@ contact while armed is an ``Impact``; every sub-step without one feeds the near-
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
-from .broadphase import clearly_apart
+from .broadphase import c2_path_apart, clearly_apart
 from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
@@ -74,9 +74,14 @@ class Sweep:
         config = self.config
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
         if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
                          config.max_gap, config.look_ahead, config.spline_window,
-                         stream_noise(self.ball, config) + stream_noise(self.bat, config)):
+                         ball_noise + bat_noise) or (
+                self.model == 'c2' and ball_noise > 0.0 and c2_path_apart(
+                    self._kept_ball_path(located[0]), self.ball, self.bat, located[0],
+                    located[1], margin, config.max_gap, config.look_ahead,
+                    config.spline_window, bat_noise)):
             self.episodes.far(events)
             return
         paths = self.paths(*located)
@@ -164,13 +169,10 @@ class Sweep:
 
     def paths(self, ball_k: int, bat_k: int) -> Paths:
         """Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached)."""
-        ball, bat = self.ball, self.bat
-        key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
+        bat = self.bat
+        ball_path = self._kept_ball_path(ball_k)
         c2 = self.model == 'c2'
         config = self.config
-        if ball.path_key != key:
-            ball.path = self._ball_path(ball_k)
-            ball.path_key = key
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
         if bat.path_key != key and c2:
             bat.path = c2_bat_path(bat, bat_k, c2_window(
@@ -183,7 +185,16 @@ class Sweep:
                                      bat.values[bat_k], bat.values[bat_k + 1], before, after,
                                      self.offsets)
             bat.path_key = key
-        return ball.path, bat.path
+        return ball_path, bat.path
+
+    def _kept_ball_path(self, ball_k: int) -> PointPath:
+        """Return the ball's path over its sample interval ball_k (kept by its stamps)."""
+        ball = self.ball
+        key = (ball.stamps[ball_k], ball.stamps[ball_k + 1])
+        if ball.path_key != key:
+            ball.path = self._ball_path(ball_k)
+            ball.path_key = key
+        return ball.path
 
     def _ball_path(self, k: int) -> PointPath:
         """

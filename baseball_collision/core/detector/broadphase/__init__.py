@@ -12,7 +12,8 @@ first ``c2_jump_bulge`` and ``c2_reach`` from numbers kept per sample, then ``c2
 In four parts, one job each:
 
 * ``scalar``: the test the node's sweep runs on one interval (:func:`clearly_apart`,
-  :func:`hull_separation`, :func:`bulge_bounds`);
+  :func:`hull_separation`, :func:`bulge_bounds`; under noise, ``c2``'s with the ball's own
+  path, :func:`c2_path_apart`);
 * ``c2``: the ``c2`` model's bulge bounds for it (cardinal weights, kept jumps, the window);
 * ``arrays``: the same test over many intervals at once for ``analyze``'s chunks
   (:func:`apart_margins`, :func:`hull_separations`, ``c2``'s on arrays);
@@ -24,9 +25,10 @@ from .c2 import (
     c2_bat_growth, c2_bulge, C2_JUMP_BEFORE, c2_jump_bulge, c2_reach, C2_SAFETY, C2_STEP_RATIO,
     C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE)
 from .paths import path_margins
-from .scalar import bulge_bounds, clearly_apart, hull_separation, Pick
+from .scalar import bulge_bounds, c2_path_apart, clearly_apart, hull_separation, Pick
 
 __all__ = ['apart_margins', 'bulge_bounds', 'c2_bat_growth', 'c2_bulge', 'c2_jump_bulge',
+           'c2_path_apart',
            'C2_JUMP_BEFORE', 'c2_reach', 'C2_SAFETY', 'C2_STEP_RATIO', 'C2_WEIGHTS_AFTER',
            'C2_WEIGHTS_BEFORE', 'clearly_apart', 'hull_separation', 'hull_separations',
            'path_margins', 'Pick']

@@ -10,11 +10,12 @@ of the rotating part; for the spline, ``bulge_bounds``; for ``c2``, the bounds o
 import math
 from typing import Callable, List, Sequence
 
-from .c2 import c2_clearly_apart
+from .c2 import c2_bat_growth, c2_clearly_apart
 from ..departure import departure_reach
+from ..fitting import c2_window
 from ..streams import Stream
 from ...geometry import sub, Vector
-from ...motion import BatSample
+from ...motion import BatSample, PointPath
 
 Pick = Callable[[object], Vector]
 """Picks the point followed from a sample value (the ball itself, the knob, the axis)."""
@@ -127,6 +128,32 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
                                 - NOISE_REACH * noise)
     return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
             or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
+
+
+def c2_path_apart(ball_path: PointPath, ball: Stream, bat: Stream, ball_k: int, bat_k: int,
+                  margin: float, max_gap: float, look_ahead: int, size: int,
+                  bat_noise: float) -> bool:
+    """
+    Return whether the ``c2`` bat stays more than ``margin`` (m) from the ball's own path.
+
+    Under noise ``c2`` fits the ball (its flight fit, or its smoothed window) and the sweep
+    takes that path, which leaves the chord of its own two ends by at most its ``bulge``;
+    ``clearly_apart``'s bounds are the samples' spline's, whose bulge carries the noise times
+    the window's weights (70-120 mm at 1 mm of noise, against micrometres for a flight fit).
+    Here the hulls' separation of the path's two ends and the bat's four end points, less the
+    path's bulge, the bat's growth (``c2_bat_growth``) and ``NOISE_REACH`` times the bat's
+    noise (m, 1 sigma: its path is smoothed too); the margin grows by the ball's
+    ``departure_reach`` as in ``clearly_apart``.
+
+    :param ball_path: the sweep's path of the ball over its sample interval ``ball_k``.
+    """
+    growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
+    if growth is None:
+        return False
+    s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
+    return (hull_separation(ball_path.a, ball_path.end, s0.knob, s0.tip, s1.knob, s1.tip)
+            - ball_path.bulge - growth - NOISE_REACH * bat_noise
+            > margin + departure_reach(ball, ball_k, max_gap))
 
 
 def hull_separation(b0: Vector, b1: Vector, k0: Vector, e0: Vector, k1: Vector,
