@@ -27,11 +27,8 @@ exact pose at 90 Hz estimates 0 again on every family (BENCHMARKS.md, "A pose ba
 noise"). For a pose bat whose stream starts with the swing, tell ``tracker_noise``.
 """
 
-from bisect import bisect_left, insort
-from collections import deque
-from itertools import islice
 import math
-from typing import Deque, List, Optional, Sequence, Tuple
+from typing import List, Sequence, Tuple
 
 import numpy as np
 
@@ -68,28 +65,39 @@ class NoiseEstimate:
     """
     One stream's noise estimate (m, 1 sigma per coordinate), from its newest samples.
 
-    The median is kept, not recomputed: the residuals' absolute values stay sorted as they come
-    and go (``HISTORY`` of them), so a sample costs a bisection and a short move, not a sort.
-    Where more than half the residuals are so small that the median cannot reach
-    ``NOISE_FLOOR`` (``_small``: exact samples), the estimate is 0 without it: they are
-    counted as they come and go, and the sorted list is made again only when an estimate
-    needs it (the same estimate, to the bit).
+    The median is kept, not recomputed, by the kernel (``toi._kernel.NoiseMedian``): the
+    residuals' absolute values stay sorted as they come and go (``HISTORY`` of them), so a
+    sample costs a bisection and a short move, not a sort. Where more than half the residuals
+    are so small that the median cannot reach ``NOISE_FLOOR`` (``MAD_TO_SIGMA`` times one is
+    below it: exact samples), the estimate is 0 without it: they are counted as they come and
+    go, and the values are sorted again only when an estimate needs them (the same estimate,
+    to the bit). More than ``REBUILD`` residuals at once (a fast-forward) are sorted again
+    when next needed.
 
     :param kind: ``'point'`` (fourth differences of the values, or of a pose's position) or
         ``'length'`` (changes of a knob-tip bat's length).
     """
 
-    __slots__ = ('kind', 'residuals', 'sigma', '_sorted', '_small', '_below')
+    __slots__ = ('kind', '_median')
 
     def __init__(self, kind: str) -> None:
         self.kind = kind
-        self.residuals: Deque[float] = deque(maxlen=HISTORY)
-        self.sigma = 0.0
-        # the residuals' absolute values, ascending (None: not kept, made when an estimate first
-        # needs it: exact samples never do, and then no residual is sorted in)
-        self._sorted: Optional[List[float]] = None
-        self._small: Deque[bool] = deque(maxlen=HISTORY)  # each residual's ``_small``
-        self._below = 0  # how many residuals are small
+        self._median = _kernel.NoiseMedian(HISTORY, MAD_TO_SIGMA, NOISE_FLOOR, MIN_RESIDUALS,
+                                           REBUILD)
+
+    @property
+    def sigma(self) -> float:
+        """Return the estimate (m): 0 until ``MIN_RESIDUALS`` are in, and below the floor."""
+        return self._median.sigma
+
+    @property
+    def residuals(self) -> List[float]:
+        """Return the kept residuals, oldest first (m; the newest ``HISTORY``)."""
+        return self._median.residuals()
+
+    def take(self, found: Sequence[float]) -> float:
+        """Take residuals (m) in order; return the estimate from the newest ``HISTORY`` (m)."""
+        return self._median.take(found)
 
     def update(self, stream: Stream) -> float:
         """
@@ -98,10 +106,17 @@ class NoiseEstimate:
         A point's residual is that of its third-newest sample, so it needs five samples of one
         segment; a length change needs two.
         """
-        found = self._residuals(stream)
-        if found:
-            self._take(*found)
-        return self.sigma
+        if self.kind == 'length':
+            if len(stream.times) < 2 or stream.breaks[-1]:
+                return self._median.sigma
+            old, new = stream.values[-2:]
+            return self._median.take(
+                (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),))
+        if len(stream.times) < 5 or any(stream.breaks[-4:]):
+            return self._median.sigma
+        return self._median.take_points(
+            stream.times[-5:], [getattr(value, 'position', value) for value in stream.values[-5:]],
+            None, None, 0, 1)
 
     def take_points(self, before: Tuple[Sequence[float], Sequence[Sequence[float]],
                                         Sequence[bool]],
@@ -116,96 +131,27 @@ class NoiseEstimate:
 
         :param before: the stream's newest samples before them (up to four): stamps (s),
             points (m) and whether each starts a segment.
-        :param times: the new samples' stamps (s), none starting a segment; ``points`` (n, 3).
+        :param times: the new samples' stamps (s), none starting a segment; ``points`` (n, 3):
+            contiguous float64 arrays (else copied).
         """
         if self.kind != 'point':
             raise ValueError('take_points is for point streams')
         old_times, old_points, old_breaks = before
-        old_times, old_points = list(old_times)[-4:], [tuple(p) for p in old_points][-4:]
+        old_times, old_points = list(old_times)[-4:], list(old_points)[-4:]
         old_breaks = list(old_breaks)[-4:]
         last_break = max((i for i, broken in enumerate(old_breaks) if broken), default=-1)
         # sample i of all (the old then the new) has a residual when i >= 4 and none of i-3..i
         # starts a segment: the new ones from the fourth after the old's last break
         first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
         if first >= len(times):
-            return self.sigma
+            return self._median.sigma
         start = len(old_times) + first - 4  # the first residual's window's oldest sample
         count = len(old_times) + len(times) - 4 - start
         if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
             start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
-        # the samples from ``start`` on (old, then new), as floats
-        new = max(start - len(old_times), 0)
-        t = [float(x) for x in old_times[start:]] + np.asarray(times[new:], float).tolist()
-        p = old_points[start:] + np.asarray(points[new:], float).tolist()
-        self._take(*_kernel.point_residuals(t, p, 0, count, MAD_TO_SIGMA, NOISE_FLOOR))
-        return self.sigma
-
-    def _take(self, found: Sequence[float], small: Optional[Sequence[bool]] = None) -> None:
-        """
-        Take residuals (m) in order; set the estimate from the newest ``HISTORY``.
-
-        :param small: whether each is small (``_small``), when the caller knows (the same
-            comparison on arrays).
-        """
-        residuals, flags, ordered = self.residuals, self._small, self._sorted
-        if small is None:
-            small = [MAD_TO_SIGMA * abs(residual) < NOISE_FLOOR for residual in found]
-        if len(found) <= REBUILD:  # one by one, the oldest leaving as each comes
-            below = self._below
-            for residual, flag in zip(found, small):
-                if len(residuals) == HISTORY:
-                    below -= flags[0]
-                    if ordered is not None:
-                        del ordered[bisect_left(ordered, abs(residuals[0]))]
-                residuals.append(residual)
-                flags.append(flag)
-                below += flag
-                if ordered is not None:
-                    insort(ordered, abs(residual))
-        else:  # many at once (a fast-forward): the sorted list made again when needed
-            leaving = min(len(residuals) + len(found) - HISTORY, len(residuals))
-            below = self._below + sum(small[-HISTORY:]) - (
-                sum(islice(flags, leaving)) if leaving > 0 else 0)
-            residuals.extend(found)
-            flags.extend(small)
-            ordered = self._sorted = None
-        self._below = below
-        count = len(residuals)
-        if count < MIN_RESIDUALS:
-            return
-        middle = count // 2
-        if below > middle:  # (the median is at most the middle-th smallest: small)
-            self.sigma = 0.0
-            return
-        if ordered is None:
-            ordered = self._sorted = sorted(map(abs, residuals))
-        median = (ordered[middle] if count % 2
-                  else (ordered[middle - 1] + ordered[middle]) / 2.0)
-        sigma = MAD_TO_SIGMA * median
-        self.sigma = sigma if sigma >= NOISE_FLOOR else 0.0
-
-    def _residuals(self, stream: Stream) -> Optional[Tuple[Sequence[float], Sequence[bool]]]:
-        """Return the residuals (m) the newest sample completes and which are small, or None."""
-        count = 2 if self.kind == 'length' else 5
-        if len(stream.times) < count or any(stream.breaks[-count + 1:]):
-            return None
-        values = stream.values[-count:]
-        if self.kind == 'length':
-            old, new = values
-            residual = 0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob))
-            return (residual,), (_small(residual),)
-        return _point_residuals(stream.times[-count:],
-                                [getattr(value, 'position', value) for value in values])
-
-
-def _small(residual: float) -> bool:
-    """
-    Return whether a residual (m) is too small for a median to reach ``NOISE_FLOOR``.
-
-    ``MAD_TO_SIGMA`` times it is below the floor: a median no larger (it is at most the
-    middle-th smallest residual, and rounding is monotone) gives an estimate of 0.
-    """
-    return MAD_TO_SIGMA * abs(residual) < NOISE_FLOOR
+        return self._median.take_points(
+            old_times, old_points, np.ascontiguousarray(times, float),
+            np.ascontiguousarray(points, float), start, count)
 
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
@@ -213,11 +159,11 @@ def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
     """
     Return the residuals (m) of the middle of five samples (s, m) and which are small.
 
-    One residual per coordinate; small as ``_small`` says. The compiled kernel's
-    (``toi._kernel.point_residuals``, which ``take_points`` runs over a whole run): the fourth
-    divided difference's weights (each 1 over the product of its stamp's differences from the
-    other four, multiplied in stamp order), each residual a sum added left to right from 0.0
-    about the middle sample (the weights sum to 0, so the motion cancels less), over the root
-    sum of the squared weights.
+    One residual per coordinate; small: ``MAD_TO_SIGMA`` times it below ``NOISE_FLOOR``. The
+    compiled kernel's (``toi._kernel.point_residuals``; ``NoiseMedian.take_points`` computes
+    the same over a whole run): the fourth divided difference's weights (each 1 over the
+    product of its stamp's differences from the other four, multiplied in stamp order), each
+    residual a sum added left to right from 0.0 about the middle sample (the weights sum to 0,
+    so the motion cancels less), over the root sum of the squared weights.
     """
     return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR)

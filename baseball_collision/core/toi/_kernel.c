@@ -61,8 +61,9 @@
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
- *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals
- *        (core.detector.noise)
+ *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals,
+ *        and NoiseMedian(capacity, scale, floor, min_count, rebuild) its running median
+ *        estimate (core.detector.noise)
  *   trims(counts, cuts, trim_from, after, lengths)  a stream's trims over a chunk's plan,
  *   sorted_search(array, keys, right, out)  numpy.searchsorted walked for ascending keys,
  *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
@@ -3951,13 +3952,61 @@ done:
 }
 
 /*
+ * The noise estimate's residuals (m) of the middle samples of `count` windows of five: the
+ * window k is t[k..k+4] (s) and p[3k..3k+14] (m, x y z each); out[3k + a] the fourth divided
+ * difference of coordinate a on the window's stamps (each weight 1 over the product of its
+ * stamp's differences from the others, in stamp order), about the middle sample, added left
+ * to right from 0.0, over its noise gain (the root sum of the squared weights).
+ */
+static void fourth_difference_rows(const double *t, const double *p, Py_ssize_t count,
+                                   double *out)
+{
+  for (Py_ssize_t k = 0; k < count; k++) {
+    const double *s = t + k, *q = p + 3 * k;
+    double w[5];
+    for (int i = 0; i < 5; i++) {
+      double product = 1.0;
+      bool started = false;
+      for (int o = 0; o < 5; o++) {
+        if (o != i) { /* (t_i - t_o) multiplied in stamp order, the first as it is */
+          product = started ? product * (s[i] - s[o]) : s[i] - s[o];
+          started = true;
+        }
+      }
+      w[i] = 1.0 / product;
+    }
+    double gain = sqrt(0.0 + w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3] +
+                       w[4] * w[4]);
+    for (int a = 0; a < 3; a++) {
+      double middle = q[6 + a];
+      out[3 * k + a] = (0.0 + w[0] * (q[a] - middle) + w[1] * (q[3 + a] - middle) +
+                        w[2] * (q[6 + a] - middle) + w[3] * (q[9 + a] - middle) +
+                        w[4] * (q[12 + a] - middle)) / gain;
+    }
+  }
+}
+
+/* item i of a sequence (PySequence_Fast) into t[i] and p[3i..3i+2]; false with an exception */
+static bool read_point_sample(PyObject *times, PyObject *points, Py_ssize_t i, double *t,
+                              double *p)
+{
+  *t = item_double(PySequence_Fast_GET_ITEM(times, i));
+  Vec v;
+  if (PyErr_Occurred() || !read_vec(PySequence_Fast_GET_ITEM(points, i), &v)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "point residuals: a point must be 3 numbers");
+    }
+    return false;
+  }
+  p[0] = v.x, p[1] = v.y, p[2] = v.z;
+  return true;
+}
+
+/*
  * point_residuals(times, points, start, count, scale, floor) -> (residuals, small): the noise
  * estimate's residuals (m) of the middle samples of the windows of five from start, start + 1,
- * ... (count of them), three per window (x, y, z): the fourth divided difference on the
- * window's stamps (each weight 1 over the product of its stamp's differences from the others,
- * in stamp order), about the middle sample, added left to right from 0.0, over its noise gain
- * (the root sum of the squared weights); and for each whether scale |residual| < floor.
- * IndexError: a window outside the samples.
+ * ... (count of them), three per window (x, y, z; fourth_difference_rows), and for each
+ * whether scale |residual| < floor. IndexError: a window outside the samples.
  */
 static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -3993,39 +4042,11 @@ static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ss
   }
   double *t = memory, *p = t + n, *out = p + 3 * n;
   for (Py_ssize_t i = 0; i < n; i++) {
-    t[i] = item_double(PySequence_Fast_GET_ITEM(times, start + i));
-    Vec v;
-    if (PyErr_Occurred() || !read_vec(PySequence_Fast_GET_ITEM(points, start + i), &v)) {
-      if (!PyErr_Occurred()) {
-        PyErr_SetString(PyExc_TypeError, "point_residuals: a point must be 3 numbers");
-      }
+    if (!read_point_sample(times, points, start + i, t + i, p + 3 * i)) {
       goto done;
     }
-    p[3 * i] = v.x, p[3 * i + 1] = v.y, p[3 * i + 2] = v.z;
   }
-  for (Py_ssize_t k = 0; k < count; k++) {
-    const double *s = t + k, *q = p + 3 * k;
-    double w[5];
-    for (int i = 0; i < 5; i++) {
-      double product = 1.0;
-      bool started = false;
-      for (int o = 0; o < 5; o++) {
-        if (o != i) { /* (t_i - t_o) multiplied in stamp order, the first as it is */
-          product = started ? product * (s[i] - s[o]) : s[i] - s[o];
-          started = true;
-        }
-      }
-      w[i] = 1.0 / product;
-    }
-    double gain = sqrt(0.0 + w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3] +
-                       w[4] * w[4]);
-    for (int a = 0; a < 3; a++) {
-      double middle = q[6 + a];
-      out[3 * k + a] = (0.0 + w[0] * (q[a] - middle) + w[1] * (q[3 + a] - middle) +
-                        w[2] * (q[6 + a] - middle) + w[3] * (q[9 + a] - middle) +
-                        w[4] * (q[12 + a] - middle)) / gain;
-    }
-  }
+  fourth_difference_rows(t, p, count, out);
   PyObject *residuals = float_list(out, (int)(3 * count));
   PyObject *small = residuals ? PyList_New(3 * count) : NULL;
   for (Py_ssize_t i = 0; small != NULL && i < 3 * count; i++) {
@@ -4042,6 +4063,315 @@ done:
   Py_XDECREF(points);
   return result;
 }
+
+/*
+ * NoiseMedian(capacity, scale, floor, min_count, rebuild): tracker_noise auto's running
+ * estimate (core.detector.noise.NoiseEstimate), `sigma` = scale times the median of the newest
+ * `capacity` residuals' absolute values (m); 0 below `floor`; unchanged (0) while fewer than
+ * `min_count` are in. The residuals are kept in a ring in arrival order, their absolute values
+ * ascending only while an estimate needs them: where more than half are small (scale |r| <
+ * floor, counted as they come and go) the median cannot reach the floor and the estimate is 0
+ * without them. Taken up to `rebuild` at once, the sorted values move by a bisection and a
+ * memmove each; more at once, they are sorted again when an estimate next needs them. NaN
+ * residuals sort last (no crash; such a median is NaN and the estimate 0).
+ *
+ *   take(residuals) -> sigma: residuals (m) in order
+ *   take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals of
+ *       `count` windows of five from sample `start` of the samples old (sequences of stamps in
+ *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
+ *       None), as point_residuals gives them; IndexError: a window outside the samples
+ *   residuals() -> the kept residuals (m), oldest first
+ */
+typedef struct {
+  PyObject_HEAD
+  Py_ssize_t capacity, min_count, rebuild;
+  double scale, floor, sigma;
+  Py_ssize_t head, count, below; /* the oldest residual's slot, how many, how many are small */
+  bool ordered;                  /* whether `sorted` holds the |residuals| ascending */
+  double *ring, *sorted;
+  unsigned char *small;
+} NoiseMedian;
+
+static int ascending(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  if (isnan(x) || isnan(y)) {
+    return isnan(x) - isnan(y);
+  }
+  return (x > y) - (x < y);
+}
+
+/* the first index of sorted[0..n) not below x (bisect_left; NaN: past the numbers) */
+static Py_ssize_t first_not_below(const double *sorted, Py_ssize_t n, double x)
+{
+  Py_ssize_t lo = 0, hi = n;
+  if (isnan(x)) {
+    for (lo = n; lo > 0 && isnan(sorted[lo - 1]); lo--) {
+    }
+    return lo;
+  }
+  while (lo < hi) {
+    Py_ssize_t mid = lo + (hi - lo) / 2;
+    if (sorted[mid] < x) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
+/* the first index of sorted[0..n) above x (bisect_right; NaN: the end) */
+static Py_ssize_t first_above(const double *sorted, Py_ssize_t n, double x)
+{
+  Py_ssize_t lo = 0, hi = n;
+  while (lo < hi) {
+    Py_ssize_t mid = lo + (hi - lo) / 2;
+    if (x < sorted[mid]) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  return lo;
+}
+
+/* take n residuals (m) in order and set the estimate */
+static void median_take(NoiseMedian *m, const double *found, Py_ssize_t n)
+{
+  Py_ssize_t capacity = m->capacity;
+  bool keep = m->ordered && n <= m->rebuild; /* else sorted again when next needed */
+  Py_ssize_t first = n > capacity ? n - capacity : 0; /* older ones would leave at once */
+  for (Py_ssize_t i = first; i < n; i++) {
+    double r = found[i];
+    unsigned char flag = m->scale * fabs(r) < m->floor;
+    Py_ssize_t slot;
+    if (m->count == capacity) { /* the oldest leaves */
+      slot = m->head;
+      m->head = m->head + 1 == capacity ? 0 : m->head + 1;
+      m->below -= m->small[slot];
+      if (keep) {
+        Py_ssize_t j = first_not_below(m->sorted, capacity, fabs(m->ring[slot]));
+        memmove(m->sorted + j, m->sorted + j + 1, sizeof(double) * (size_t)(capacity - 1 - j));
+      }
+      m->count--;
+    } else {
+      slot = m->head + m->count;
+      slot = slot >= capacity ? slot - capacity : slot;
+    }
+    m->ring[slot] = r;
+    m->small[slot] = flag;
+    m->below += flag;
+    if (keep) {
+      double a = fabs(r);
+      Py_ssize_t j = first_above(m->sorted, m->count, a);
+      memmove(m->sorted + j + 1, m->sorted + j, sizeof(double) * (size_t)(m->count - j));
+      m->sorted[j] = a;
+    }
+    m->count++;
+  }
+  m->ordered = keep;
+  if (m->count < m->min_count) {
+    return;
+  }
+  Py_ssize_t middle = m->count / 2;
+  if (m->below > middle) { /* the median is at most the middle-th smallest: small */
+    m->sigma = 0.0;
+    return;
+  }
+  if (!m->ordered) {
+    for (Py_ssize_t i = 0, slot = m->head; i < m->count; i++) {
+      m->sorted[i] = fabs(m->ring[slot]);
+      slot = slot + 1 == capacity ? 0 : slot + 1;
+    }
+    qsort(m->sorted, (size_t)m->count, sizeof(double), ascending);
+    m->ordered = true;
+  }
+  double median = m->count % 2 ? m->sorted[middle]
+                               : (m->sorted[middle - 1] + m->sorted[middle]) / 2.0;
+  double sigma = m->scale * median;
+  m->sigma = sigma >= m->floor ? sigma : 0.0;
+}
+
+static void median_dealloc(NoiseMedian *m)
+{
+  PyMem_Free(m->ring);
+  PyMem_Free(m->sorted);
+  PyMem_Free(m->small);
+  Py_TYPE(m)->tp_free((PyObject *)m);
+}
+
+static PyObject *median_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
+{
+  Py_ssize_t capacity, min_count, rebuild;
+  double scale, floor;
+  static char *names[] = {"capacity", "scale", "floor", "min_count", "rebuild", NULL};
+  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "nddnn", names, &capacity, &scale, &floor,
+                                   &min_count, &rebuild)) {
+    return NULL;
+  }
+  if (capacity < 1) {
+    PyErr_SetString(PyExc_ValueError, "NoiseMedian: capacity must be at least 1");
+    return NULL;
+  }
+  NoiseMedian *m = (NoiseMedian *)type->tp_alloc(type, 0);
+  if (m == NULL) {
+    return NULL;
+  }
+  m->capacity = capacity, m->min_count = min_count, m->rebuild = rebuild;
+  m->scale = scale, m->floor = floor, m->sigma = 0.0;
+  m->head = m->count = m->below = 0;
+  m->ordered = false; /* (sorted when an estimate first needs it: exact samples never do) */
+  m->ring = PyMem_Malloc(sizeof(double) * (size_t)capacity);
+  m->sorted = PyMem_Malloc(sizeof(double) * (size_t)capacity);
+  m->small = PyMem_Malloc((size_t)capacity);
+  if (m->ring == NULL || m->sorted == NULL || m->small == NULL) {
+    Py_DECREF(m);
+    return PyErr_NoMemory();
+  }
+  return (PyObject *)m;
+}
+
+static PyObject *median_take_method(NoiseMedian *m, PyObject *arg)
+{
+  PyObject *found = PySequence_Fast(arg, "take: residuals must be a sequence");
+  if (found == NULL) {
+    return NULL;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(found);
+  double *values = PyMem_Malloc(sizeof(double) * (size_t)(n + 1));
+  if (values == NULL) {
+    Py_DECREF(found);
+    return PyErr_NoMemory();
+  }
+  for (Py_ssize_t i = 0; i < n && !PyErr_Occurred(); i++) {
+    values[i] = item_double(PySequence_Fast_GET_ITEM(found, i));
+  }
+  Py_DECREF(found);
+  if (!PyErr_Occurred()) {
+    median_take(m, values, n);
+  }
+  PyMem_Free(values);
+  return PyErr_Occurred() ? NULL : PyFloat_FromDouble(m->sigma);
+}
+
+static PyObject *median_take_points(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t start, count;
+  if (nargs != 6 || !read_index(args[4], &start) || !read_index(args[5], &count)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "take_points(old_times, old_points, times, points, start, count)");
+    }
+    return NULL;
+  }
+  PyObject *old_times = PySequence_Fast(args[0], "old_times must be a sequence");
+  PyObject *old_points = old_times ? PySequence_Fast(args[1], "old_points must be a sequence")
+                                   : NULL;
+  Py_buffer views[2];
+  int viewed = 0;
+  double *memory = NULL;
+  PyObject *result = NULL;
+  if (old_points == NULL) {
+    goto done;
+  }
+  Py_ssize_t old = PySequence_Fast_GET_SIZE(old_times), fresh = 0, coordinates = 0;
+  if (PySequence_Fast_GET_SIZE(old_points) != old) {
+    PyErr_SetString(PyExc_ValueError, "take_points: old_times and old_points differ in length");
+    goto done;
+  }
+  if (args[2] != Py_None || args[3] != Py_None) {
+    if (!get_doubles(args[2], &views[0], &fresh, "take_points: times", false)) {
+      goto done;
+    }
+    viewed = 1;
+    if (!get_doubles(args[3], &views[1], &coordinates, "take_points: points", false)) {
+      goto done;
+    }
+    viewed = 2;
+    if (coordinates != 3 * fresh) {
+      PyErr_SetString(PyExc_ValueError, "take_points: points must be (len(times), 3)");
+      goto done;
+    }
+  }
+  if (start < 0 || count < 0 || start + count + 4 > old + fresh) {
+    PyErr_SetString(PyExc_IndexError, "take_points: a window outside the samples");
+    goto done;
+  }
+  Py_ssize_t n = count + 4;
+  memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  double *t = memory, *p = t + n, *out = p + 3 * n;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    Py_ssize_t at = start + i;
+    if (at < old) {
+      if (!read_point_sample(old_times, old_points, at, t + i, p + 3 * i)) {
+        goto done;
+      }
+    } else {
+      const double *x = views[1].buf;
+      t[i] = ((const double *)views[0].buf)[at - old];
+      memcpy(p + 3 * i, x + 3 * (at - old), 3 * sizeof(double));
+    }
+  }
+  fourth_difference_rows(t, p, count, out);
+  median_take(m, out, 3 * count);
+  result = PyFloat_FromDouble(m->sigma);
+done:
+  PyMem_Free(memory);
+  release_views(views, viewed);
+  Py_XDECREF(old_times);
+  Py_XDECREF(old_points);
+  return result;
+}
+
+static PyObject *median_residuals(NoiseMedian *m, PyObject *Py_UNUSED(ignored))
+{
+  PyObject *list = PyList_New(m->count);
+  for (Py_ssize_t i = 0, slot = m->head; list != NULL && i < m->count; i++) {
+    PyObject *x = PyFloat_FromDouble(m->ring[slot]);
+    if (x == NULL) {
+      Py_CLEAR(list);
+      break;
+    }
+    PyList_SET_ITEM(list, i, x);
+    slot = slot + 1 == m->capacity ? 0 : slot + 1;
+  }
+  return list;
+}
+
+static PyMethodDef median_methods[] = {
+    {"take", (PyCFunction)median_take_method, METH_O,
+     "take(residuals) -> sigma: residuals (m) in order; the estimate (m)."},
+    {"take_points", (PyCFunction)(void (*)(void))median_take_points, METH_FASTCALL,
+     "take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals "
+     "of count windows of five from sample start of the old samples then the new arrays."},
+    {"residuals", (PyCFunction)median_residuals, METH_NOARGS,
+     "residuals() -> the kept residuals (m), oldest first."},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyMemberDef median_members[] = {
+    {"sigma", T_DOUBLE, offsetof(NoiseMedian, sigma), READONLY, "The estimate (m, 1 sigma)."},
+    {"count", T_PYSSIZET, offsetof(NoiseMedian, count), READONLY, "Residuals kept."},
+    {NULL, 0, 0, 0, NULL},
+};
+
+static PyTypeObject NoiseMedianType = {
+    PyVarObject_HEAD_INIT(NULL, 0)
+    .tp_name = "baseball_collision.core.toi._kernel.NoiseMedian",
+    .tp_basicsize = sizeof(NoiseMedian),
+    .tp_dealloc = (destructor)median_dealloc,
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "NoiseMedian(capacity, scale, floor, min_count, rebuild): tracker_noise auto's "
+              "running median estimate (core.detector.noise).",
+    .tp_methods = median_methods,
+    .tp_members = median_members,
+    .tp_new = median_new,
+};
 
 /*
  * trims(counts, cuts, trim_from, after, lengths): a stream's trims after each step of a chunk's
@@ -5029,7 +5359,9 @@ PyMODINIT_FUNC PyInit__kernel(void)
   if (m == NULL) {
     return NULL;
   }
-  if (PyModule_AddObject(m, "TOUCH_TOLERANCE", PyFloat_FromDouble(TOUCH_TOLERANCE)) < 0 ||
+  if (PyType_Ready(&NoiseMedianType) < 0 ||
+      PyModule_AddObject(m, "NoiseMedian", Py_NewRef((PyObject *)&NoiseMedianType)) < 0 ||
+      PyModule_AddObject(m, "TOUCH_TOLERANCE", PyFloat_FromDouble(TOUCH_TOLERANCE)) < 0 ||
       PyModule_AddObject(m, "DEGENERATE_AXIS", PyFloat_FromDouble(DEGENERATE_AXIS)) < 0 ||
       PyModule_AddObject(m, "ROOT_SLACK", PyFloat_FromDouble(ROOT_SLACK)) < 0) {
     Py_DECREF(m);

@@ -4,7 +4,7 @@ from typing import List, Tuple
 
 from baseball_collision.core.detector import AUTO_NOISE, Detector, DetectorConfig, Impact
 from baseball_collision.core.detector.noise import (
-    _point_residuals, MAD_TO_SIGMA, MIN_RESIDUALS, NOISE_FLOOR, NoiseEstimate)
+    _point_residuals, HISTORY, MAD_TO_SIGMA, MIN_RESIDUALS, NOISE_FLOOR, NoiseEstimate)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
@@ -221,7 +221,7 @@ def test_the_estimate_is_the_median_of_the_newest_residuals(
     estimate = NoiseEstimate('point')
     for size, share, scale in batches:
         found = np.where(rng.random(size) < share, 1e-12, scale) * rng.choice([-1.0, 1.0], size)
-        estimate._take((found * rng.uniform(0.5, 1.5, size)).tolist())
+        estimate.take((found * rng.uniform(0.5, 1.5, size)).tolist())
         kept = sorted(map(abs, estimate.residuals))
         expected = 0.0
         if len(kept) >= MIN_RESIDUALS:
@@ -230,3 +230,53 @@ def test_the_estimate_is_the_median_of_the_newest_residuals(
                       else (kept[middle - 1] + kept[middle]) / 2.0)
             expected = MAD_TO_SIGMA * median if MAD_TO_SIGMA * median >= NOISE_FLOOR else 0.0
         assert estimate.sigma == expected
+
+
+def test_the_kept_residuals_are_the_newest_in_order_and_take_points_checks_its_input() -> None:
+    """
+    The kernel's median keeps the newest ``HISTORY`` residuals in arrival order; bad input.
+
+    Residuals taken one by one after a sort (the sorted values moved), then many at once,
+    then more than it holds; ``take_points`` refuses windows outside its samples and points
+    of another length than the stamps, and its arrays may be any float arrays (copied).
+    """
+    estimate = NoiseEstimate('point')
+    values = [(-1.0) ** i * 1e-3 * (1 + i % 7) for i in range(1000)]
+    estimate.take(values[:30])
+    estimate.take(values[30:31])
+    assert estimate.residuals == values[:31]
+    estimate.take(values[31:200])
+    assert estimate.residuals == values[:200]
+    estimate.take(values[200:])
+    assert estimate.residuals == values[-HISTORY:]
+    assert estimate.sigma == MAD_TO_SIGMA * sorted(map(abs, values[-HISTORY:]))[HISTORY // 2]
+    median = estimate._median
+    times, points = np.arange(6.0) * 0.01, np.zeros((6, 3))
+    with pytest.raises(IndexError, match='outside'):
+        median.take_points([], [], times, points, 0, 3)
+    with pytest.raises(ValueError, match='len'):
+        median.take_points([], [], times, points[:5], 0, 1)
+    with pytest.raises(ValueError, match='length'):
+        median.take_points([0.0], [], times, points, 0, 1)
+    with pytest.raises(TypeError, match='3 numbers'):
+        median.take_points([0.0], [(0.0, 1.0)], times, points, 0, 1)
+    strided = NoiseEstimate('point')
+    strided.take_points(((), (), ()), times[::-1][::-1], np.asfortranarray(points))
+    assert strided.residuals == [0.0] * 6
+
+
+def test_a_nan_residual_neither_crashes_nor_gives_a_number_it_should_not() -> None:
+    """
+    Residuals that are NaN (differences that overflowed) sort last: no crash, no NaN estimate.
+
+    Under half of them NaN, the estimate is the finite ones' median; all NaN, 0.
+    """
+    estimate = NoiseEstimate('point')
+    estimate.take([1e-3] * 100)
+    estimate.take([float('nan')] * 10)
+    assert estimate.sigma == MAD_TO_SIGMA * 1e-3
+    for _ in range(HISTORY):
+        estimate.take([float('nan')])
+    assert estimate.sigma == 0.0 and len(estimate.residuals) == HISTORY
+    estimate.take([2e-3] * HISTORY)
+    assert estimate.sigma == MAD_TO_SIGMA * 2e-3
