@@ -38,6 +38,7 @@ from .scheduler import Scheduler
 from .streams import Stream, sum_turns, Turn
 from ..geometry import Vector
 from ..motion import BatSample, turn_between
+from ..toi import _kernel
 from ...errors import CoreError
 
 if TYPE_CHECKING:  # (the detector imports this module)
@@ -105,8 +106,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
             stream.breaks += [False] * (b - c)
             first, last = c - plan.pre[s], b - plan.pre[s]
             if s:  # bat samples are made as they are taken (a plan may end early)
-                stream.values += map(BatSample, *(map(tuple, column[first:last].tolist())
-                                                  for column in plan.values[1]))
+                stream.values += _kernel.bat_samples(BatSample, *plan.values[1], first, last)
                 stream.turns += [None] * (b - c)
             else:
                 stream.values += map(tuple, plan.values[0][first:last].tolist())

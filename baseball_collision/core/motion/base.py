@@ -53,7 +53,7 @@ class PathKind(enum.StrEnum):
     """c2: knob, unit direction (renormalised) and length, each a windowed not-a-knot spline."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class BatSample:
     """
     One bat sample: knob and tip (metres), and the pose when the bat came as a pose.

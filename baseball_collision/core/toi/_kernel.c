@@ -61,6 +61,8 @@
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
+ *   bat_samples(cls, knob, tip, position, quaternion, first, last)  a chunk's bat samples as
+ *        BatSample instances (core.detector.chunks),
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals,
  *        and NoiseMedian(capacity, scale, floor, min_count, rebuild) its running median
  *        estimate (core.detector.noise)
@@ -2429,6 +2431,7 @@ static PyObject *py_bat_from_rates(PyObject *self, PyObject *const *args, Py_ssi
 static PyObject *math_dist = NULL; /* math.dist, a bat's length (its own exact summation) */
 static PyObject *knob_name = NULL, *tip_name = NULL; /* "knob", "tip" */
 static PyObject *quaternion_name = NULL;              /* "quaternion" */
+static PyObject *position_name = NULL;                /* "position" */
 /* the path pieces' attributes c2_deviation reads (motion.points: PointPath, AngleCubic) */
 enum {
   PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
@@ -3952,6 +3955,100 @@ done:
 }
 
 /*
+ * bat_samples(cls, knob, tip, position, quaternion, first, last) -> [cls(knob[i], tip[i],
+ * position[i], quaternion[i]) for i in first .. last - 1]: a chunk's bat samples as the streams
+ * keep them (core.detector.chunks.fast_forward), each field a tuple of floats; the arrays
+ * contiguous float64, (m, 3) three times and (m, 4). A class with __slots__ for the four fields
+ * (core.motion.BatSample, a frozen dataclass) is filled in straight, as its own __init__ fills
+ * it; another is called. ValueError: other arrays, or rows outside them.
+ */
+static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, last;
+  if (nargs != 7 || !PyType_Check(args[0]) || !read_index(args[5], &first) ||
+      !read_index(args[6], &last)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "bat_samples(cls, knob, tip, position, quaternion, first, last)");
+    }
+    return NULL;
+  }
+  PyTypeObject *type = (PyTypeObject *)args[0];
+  static const int widths[4] = {3, 3, 3, 4};
+  PyObject *names[4] = {knob_name, tip_name, position_name, quaternion_name};
+  Py_buffer views[4];
+  int viewed = 0;
+  PyObject *result = NULL;
+  Py_ssize_t rows = -1;
+  for (; viewed < 4; viewed++) {
+    Py_ssize_t count;
+    if (!get_doubles(args[1 + viewed], &views[viewed], &count, "bat_samples", false)) {
+      goto done;
+    }
+    if (count % widths[viewed] != 0 || (rows >= 0 && count / widths[viewed] != rows)) {
+      viewed++;
+      PyErr_SetString(PyExc_ValueError,
+                      "bat_samples: arrays of (m, 3), (m, 3), (m, 3) and (m, 4)");
+      goto done;
+    }
+    rows = count / widths[viewed];
+  }
+  if (first < 0 || last < first || last > rows) {
+    PyErr_SetString(PyExc_ValueError, "bat_samples: rows outside the arrays");
+    goto done;
+  }
+  /* the fields' slots: member descriptors holding an object at an offset (else -1: call) */
+  Py_ssize_t offsets[4];
+  for (int f = 0; f < 4; f++) {
+    PyObject *descriptor = PyObject_GetAttr(args[0], names[f]);
+    if (descriptor == NULL) {
+      PyErr_Clear();
+    }
+    offsets[f] = -1;
+    if (descriptor != NULL && Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
+      PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
+      if (member->type == T_OBJECT_EX) {
+        offsets[f] = member->offset;
+      }
+    }
+    Py_XDECREF(descriptor);
+  }
+  bool direct = offsets[0] >= 0 && offsets[1] >= 0 && offsets[2] >= 0 && offsets[3] >= 0;
+  result = PyList_New(last - first);
+  for (Py_ssize_t i = first; result != NULL && i < last; i++) {
+    PyObject *fields[4] = {NULL, NULL, NULL, NULL};
+    bool ok = true;
+    for (int f = 0; f < 4; f++) {
+      const double *x = (const double *)views[f].buf + widths[f] * i;
+      fields[f] = ok ? float_tuple(x, widths[f]) : NULL;
+      ok = ok && fields[f] != NULL;
+    }
+    PyObject *sample = NULL;
+    if (ok && direct) {
+      sample = type->tp_alloc(type, 0);
+      for (int f = 0; sample != NULL && f < 4; f++) {
+        *(PyObject **)((char *)sample + offsets[f]) = fields[f]; /* stolen */
+        fields[f] = NULL;
+      }
+    } else if (ok) {
+      sample = PyObject_CallFunctionObjArgs(args[0], fields[0], fields[1], fields[2], fields[3],
+                                            NULL);
+    }
+    for (int f = 0; f < 4; f++) {
+      Py_XDECREF(fields[f]);
+    }
+    if (sample == NULL) {
+      Py_CLEAR(result);
+      break;
+    }
+    PyList_SET_ITEM(result, i - first, sample);
+  }
+done:
+  release_views(views, viewed);
+  return result;
+}
+
+/*
  * The noise estimate's residuals (m) of the middle samples of `count` windows of five: the
  * window k is t[k..k+4] (s) and p[3k..3k+14] (m, x y z each); out[3k + a] the fourth divided
  * difference of coordinate a on the window's stamps (each weight 1 over the product of its
@@ -5327,6 +5424,9 @@ static PyMethodDef methods[] = {
     {"c2_deviation", (PyCFunction)(void (*)(void))py_c2_deviation, METH_FASTCALL,
      "c2_deviation(knob, turn, length, ta, tb): a bound (m) on a c2 bat's axis points' "
      "distance from their chords over [ta, tb]"},
+    {"bat_samples", (PyCFunction)(void (*)(void))py_bat_samples, METH_FASTCALL,
+     "bat_samples(cls, knob, tip, position, quaternion, first, last): a chunk's bat samples "
+     "(rows first .. last - 1 of the arrays) as cls instances of tuples."},
     {"point_residuals", (PyCFunction)(void (*)(void))py_point_residuals, METH_FASTCALL,
      "point_residuals(times, points, start, count, scale, floor): the noise estimate's "
      "residuals of count windows of five from start, three each, and whether each is small"},
@@ -5373,6 +5473,7 @@ PyMODINIT_FUNC PyInit__kernel(void)
   knob_name = PyUnicode_InternFromString("knob");
   tip_name = PyUnicode_InternFromString("tip");
   quaternion_name = PyUnicode_InternFromString("quaternion");
+  position_name = PyUnicode_InternFromString("position");
   for (int i = 0; i < PIECE_NAMES; i++) {
     piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
     if (piece_names[i] == NULL) {
@@ -5380,7 +5481,8 @@ PyMODINIT_FUNC PyInit__kernel(void)
       return NULL;
     }
   }
-  if (math_dist == NULL || knob_name == NULL || tip_name == NULL || quaternion_name == NULL) {
+  if (math_dist == NULL || knob_name == NULL || tip_name == NULL || quaternion_name == NULL ||
+      position_name == NULL) {
     Py_DECREF(m);
     return NULL;
   }

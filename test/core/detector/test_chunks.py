@@ -665,3 +665,43 @@ def test_turn_steps_are_turn_between_to_the_bit(rows: List[Tuple[float, ...]],
                                        for name in ('knob', 'tip', 'quaternion')))
     expected = [turn_between(a, b) for a, b in zip(samples, samples[1:])]
     assert [repr(step) for step in steps] == [repr(step) for step in expected]
+
+
+def test_the_kernels_bat_samples_are_the_samples_the_arrays_make() -> None:
+    """
+    ``_kernel.bat_samples`` gives the rows' ``BatSample`` s, equal field by field, and checks.
+
+    Filled into the frozen dataclass's slots directly (the same instances its constructor
+    makes: equal, hashed alike, frozen); a class without those slots is called; arrays of
+    other shapes, rows outside them and non-float arrays are refused.
+    """
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(5)
+    knob, tip, position = rng.normal(size=(3, 9, 3))
+    quaternion = rng.normal(size=(9, 4))
+    made = _kernel.bat_samples(BatSample, knob, tip, position, quaternion, 2, 7)
+    columns = (knob, tip, position, quaternion)
+    expected = [BatSample(*(tuple(column[i].tolist()) for column in columns)) for i in range(2, 7)]
+    assert made == expected and list(map(hash, made)) == list(map(hash, expected))
+    assert all(type(x) is BatSample and type(x.knob) is tuple and type(x.knob[0]) is float
+               for x in made)
+    with pytest.raises(AttributeError):
+        made[0].knob = (0.0, 0.0, 0.0)
+    assert _kernel.bat_samples(BatSample, knob, tip, position, quaternion, 4, 4) == []
+
+    class Plain:
+        """A class without the slots: called with the four fields."""
+
+        def __init__(self, *fields: Tuple[float, ...]) -> None:
+            self.fields = fields
+
+    plain = _kernel.bat_samples(Plain, knob, tip, position, quaternion, 8, 9)[0]
+    assert plain.fields == (tuple(knob[8].tolist()), tuple(tip[8].tolist()),
+                            tuple(position[8].tolist()), tuple(quaternion[8].tolist()))
+    for arrays, first, last in (((knob, tip, position, quaternion[:8]), 0, 1),
+                                ((knob, tip, position, knob), 0, 1),
+                                ((knob, tip, position, quaternion), 5, 10),
+                                ((knob, tip, position, quaternion), 3, 2),
+                                ((knob.astype(np.float32), tip, position, quaternion), 0, 1)):
+        with pytest.raises(ValueError):
+            _kernel.bat_samples(BatSample, *arrays, first, last)
