@@ -260,7 +260,8 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
                           intake.votes.frame, detector._ball, detector._bat,
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
                           frame_ids[i:j], detector._predictor
-                          if detector.config.prediction_horizon > 0.0 else None)
+                          if detector.config.prediction_horizon > 0.0 else None,
+                          detector._noise)
         if plan.n == 0:  # its first sample is out of order: the per-sample path says why
             _one(detector, chunk, i, events, drops)
             i += 1

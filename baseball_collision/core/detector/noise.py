@@ -42,6 +42,10 @@ KEPT_SAMPLES = HISTORY // 3
 """Points whose residuals (three each) the estimate keeps: a longer run's older ones are not
 computed (``take_points``)."""
 
+BOUND_BLOCK = 256
+"""Samples of a chunk that share one upper bound on the estimate (``NoiseEstimate.bounds``): a
+few hits' residuals among those of 1,000 samples or so move the bound little."""
+
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
 
@@ -117,6 +121,35 @@ class NoiseEstimate:
         return self._median.take_points(
             stream.times[-5:], [getattr(value, 'position', value) for value in stream.values[-5:]],
             None, None, 0, 1)
+
+    def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
+               pre: int) -> np.ndarray:
+        """
+        Return an upper bound (m) on the estimate after each of a chunk's samples.
+
+        For a plan's far test (``plans``), which must clear an interval only where the sweep's
+        own test will, whatever the estimate is by then. The estimate is ``MAD_TO_SIGMA``
+        times a median of at least as many residuals as it holds now (and ``MIN_RESIDUALS``),
+        so at most that times the matching order statistic of any set holding them: per
+        ``BOUND_BLOCK`` samples, the residuals of every window of five from the sample where
+        ``HISTORY`` residuals have surely come to the block's last (those without a possible
+        break among their four newest give three each), with the kept residuals where that
+        reaches before the chunk. The kernel's (``NoiseMedian.bounds``).
+
+        :param times, points: the stream's kept samples, then the chunk's (n,) s and (n, 3) m.
+        :param breaks: (n,) where a segment starts, or may start (a sample the per-sample path
+            takes: the plan cannot tell).
+        :param pre: the kept samples.
+        :returns: (n - pre,) bounds (m), inf where a residual is not a number.
+        :raises ValueError: shapes that do not match, or a length stream's estimate.
+        """
+        if self.kind != 'point':
+            raise ValueError('bounds are for point streams')
+        out = np.empty(len(times) - pre)
+        self._median.bounds(np.ascontiguousarray(times, float),
+                            np.ascontiguousarray(points, float),
+                            np.ascontiguousarray(breaks, bool), pre, BOUND_BLOCK, out)
+        return out
 
     def take_points(self, before: Tuple[Sequence[float], Sequence[Sequence[float]],
                                         Sequence[bool]],

@@ -33,12 +33,13 @@ from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
-from .broadphase import apart_margins, path_margins
+from .broadphase import apart_margins, NOISE_REACH, path_margins
 from .broadphase.arrays import rows
 from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
+from .noise import NoiseEstimate
 from .streams import SILENT_KEEP, Stream
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
@@ -180,7 +181,8 @@ class Arrays:
 def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
                frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
                roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-               frames: Sequence[str], predictor: Optional['Predictor'] = None) -> Plan:
+               frames: Sequence[str], predictor: Optional['Predictor'] = None,
+               noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None) -> Plan:
     """
     Plan a chunk (see the module): which samples are stops, where the walk goes after each.
 
@@ -190,6 +192,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     :param roles: role codes (``ROLE_CODES``); ``stamps``: int64 ns; ``values``: (n, 7)
         float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
     :param predictor: the detector's, when prediction is on (``prediction_horizon`` > 0).
+    :param noise: the detector's noise estimators under ``tracker_noise`` auto (``c2``'s far
+        test bounds what they may say by then: ``_hull_reaches``).
     """
     # the plan ends before the first sample not after its stream's last (dropped, held or a
     # jump back: nothing after it can be planned until it is settled)
@@ -210,8 +214,9 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     for x, y in held:  # both go through the per-sample path
         ok[y if y < n else x] = False
     done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
-    far = _far_intervals(config, offsets, arrays, plan.union[:int(plan.visited[-1]) - 1]
-                         if n else plan.union[:0])
+    starts = plan.union[:int(plan.visited[-1]) - 1] if n else plan.union[:0]
+    far = _far_intervals(config, offsets, arrays, starts, _hull_reaches(
+        config, plan, arrays, is_ball, is_bat, ok, len(starts), noise))
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
@@ -398,14 +403,48 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     return done, counts, visited
 
 
+def _hull_reaches(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
+                  is_bat: np.ndarray, ok: np.ndarray, count: int,
+                  noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]]
+                  ) -> Optional[np.ndarray]:
+    """
+    Return what ``c2``'s far test takes off the hulls for smoothing per union interval (m).
+
+    The sweep's takes ``NOISE_REACH`` times the ball's and the bat's noise as they are when it
+    sweeps the interval: ``tracker_noise`` when told; under auto, each stream's estimate after
+    its newest sample at the step whose walk visits the interval (``_visiting``), at most its
+    ``NoiseEstimate.bounds`` (every sample the plan does not take with room to spare may start
+    a segment). None: no hulls (another model, or auto without the estimators).
+    """
+    if config.model != 'c2':
+        return None
+    if config.tracker_noise >= 0.0:
+        return np.full(count, NOISE_REACH * 2.0 * config.tracker_noise)
+    if noise is None:
+        return None
+    steps = np.minimum(np.searchsorted(plan.visited, np.arange(count) + 1, 'right'),
+                       len(ok) - 1)  # (every interval up to the last is visited: ``_visiting``)
+    reach = np.zeros(count)
+    for s, (mine, points) in enumerate(((is_ball, arrays.ball), (is_bat, arrays.positions))):
+        pre = arrays.pre[s]
+        breaks = arrays.breaks[s].copy()
+        breaks[pre:] |= ~ok[mine][:len(breaks) - pre]
+        # (first the estimate now: after a kept sample, none of the chunk's taken yet)
+        bounds = np.concatenate(([noise[s].sigma], noise[s].bounds(arrays.times[s], points,
+                                                                   breaks, pre)))
+        reach += bounds[np.asarray(plan.counts[s])[steps] - pre]
+    return NOISE_REACH * reach
+
+
 def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
-                   starts: np.ndarray) -> np.ndarray:
+                   starts: np.ndarray, hull_reach: Optional[np.ndarray] = None) -> np.ndarray:
     """
     Return which union intervals (by their start times, s) the sweep's far tests clear.
 
     Both streams without a gap over them, then the first test (``apart_margins``) or, where it
     does not clear, the second (``path_margins``), each by ``SLACK`` more than the sweep's
-    margin.
+    margin. ``hull_reach``: ``c2``'s allowance for smoothing off the hulls (m, per interval;
+    None: no hulls).
     """
     far = np.ones(len(starts), bool)
     located, segments = [], []
@@ -436,7 +475,7 @@ def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], array
             arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
             ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
             config.model, config.look_ahead, config.spline_window, margin,
-            tuple(segments)) > margin)
+            tuple(segments), hull_reach) > margin)
         # the sweep's second test (the motion paths' spheres) where the first did not clear
         # (c2's second stage is apart_margins' own)
         # (nor, for the spline, before a departure: its tangent there skips the sample after)

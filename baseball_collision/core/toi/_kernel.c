@@ -72,8 +72,8 @@
  *        a plan's arrays and their value checks, order_checks(stamps, times, first, second,
  *        pre, limits, ok, gap)  a stream's order checks (core.detector.plans)
  *   c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
- *        look_ahead, size, margin, constants, out)  the c2 far test over a chunk's union
- *        intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
+ *        look_ahead, size, margin, constants, out, hull_reach)  the c2 far test over a chunk's
+ *        union intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
  *        closed, out) the ball's departure reach over them (core.detector.departure)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
@@ -4178,6 +4178,7 @@ done:
  *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
  *       None), as point_residuals gives them; IndexError: a window outside the samples
  *   residuals() -> the kept residuals (m), oldest first
+ *   bounds(times, points, breaks, pre, block, out): upper bounds on the estimate over a chunk
  */
 typedef struct {
   PyObject_HEAD
@@ -4425,6 +4426,151 @@ done:
   return result;
 }
 
+/* |x|, and NaN as inf (a bound: no number) */
+static inline double magnitude(double x) { return isnan(x) ? INFINITY : fabs(x); }
+
+/* the k-th largest (k >= 1) of x[0..n) (reordered), by Hoare's selection */
+static double kth_largest(double *x, Py_ssize_t n, Py_ssize_t k)
+{
+  Py_ssize_t lo = 0, hi = n - 1, want = k - 1; /* (descending: want is its index) */
+  while (lo < hi) {
+    double pivot = x[lo + (hi - lo) / 2];
+    Py_ssize_t i = lo, j = hi;
+    while (i <= j) {
+      while (x[i] > pivot) {
+        i++;
+      }
+      while (x[j] < pivot) {
+        j--;
+      }
+      if (i <= j) {
+        double swap = x[i];
+        x[i++] = x[j];
+        x[j--] = swap;
+      }
+    }
+    if (want <= j) {
+      hi = j;
+    } else if (want >= i) {
+      lo = i;
+    } else {
+      break;
+    }
+  }
+  return x[want];
+}
+
+/*
+ * NoiseMedian.bounds(times, points, breaks, pre, block, out): for a chunk's samples of a
+ * point stream, an upper bound (m) on the estimate after each (core.detector.plans: the far
+ * test's allowance for smoothing under tracker_noise auto). times: n float64 (s), points:
+ * (n, 3) float64 (m), breaks: n bools (where a segment starts or may start), the stream's kept
+ * samples then the chunk's from pre; out: n - pre float64, written per block of `block`
+ * samples. The estimate after sample i is scale times the median of its window W_i (the newest
+ * residuals up to i, at least max(count, min_count) of them once it is not 0), so at most
+ * scale times W_i's ceil(max(count, min_count) / 2)-th largest |residual|, at most that of any
+ * superset U: here, for a block, every window of five ending at a sample from the one where
+ * `capacity` residuals are sure to have come (samples without a break among their four newest
+ * give three each) to the block's last, and the kept residuals where that reaches before the
+ * chunk. ValueError: other buffers or shapes.
+ */
+static PyObject *median_bounds(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t pre, block;
+  if (nargs != 6 || !read_index(args[3], &pre) || !read_index(args[4], &block)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "bounds(times, points, breaks, pre, block, out)");
+    }
+    return NULL;
+  }
+  Py_buffer views[3], flags;
+  Py_ssize_t n = 0, coordinates = 0, written = 0;
+  int viewed = 0, flagged = 0;
+  double *scratch = NULL, *found = NULL;
+  PyObject *result = NULL;
+  if (!get_doubles(args[0], &views[0], &n, "bounds: times", false)) {
+    goto done;
+  }
+  viewed = 1;
+  if (!get_doubles(args[1], &views[1], &coordinates, "bounds: points", false)) {
+    goto done;
+  }
+  viewed = 2;
+  if (!get_doubles(args[5], &views[2], &written, "bounds: out", true)) {
+    goto done;
+  }
+  viewed = 3;
+  if (!get_items(args[2], &flags, n, 1, "?", "bounds: breaks", false)) {
+    goto done;
+  }
+  flagged = 1;
+  if (coordinates != 3 * n || pre < 0 || pre > n || written != n - pre || block < 1) {
+    PyErr_SetString(PyExc_ValueError, "bounds: shapes do not match");
+    goto done;
+  }
+  const double *t = views[0].buf, *p = views[1].buf;
+  const bool *breaks = flags.buf;
+  double *out = views[2].buf;
+  Py_ssize_t first = pre > 4 ? pre : 4; /* the first sample with a window of five */
+  Py_ssize_t windows = n > first ? n - first : 0;
+  found = PyMem_Malloc(sizeof(double) * (size_t)(3 * windows + 1));
+  scratch = PyMem_Malloc(sizeof(double) * (size_t)(3 * windows + m->capacity + 1));
+  if (found == NULL || scratch == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  for (Py_ssize_t j = first; j < n; j++) {
+    fourth_difference_rows(t + j - 4, p + 3 * (j - 4), 1, found + 3 * (j - first));
+  }
+  Py_ssize_t least = m->count > m->min_count ? m->count : m->min_count;
+  Py_ssize_t k = (least + 1) / 2, sure = (m->capacity + 2) / 3;
+  for (Py_ssize_t start = pre; start < n; start += block) {
+    Py_ssize_t end = start + block < n ? start + block : n;
+    /* back from the block's first sample to where `sure` samples give residuals for sure */
+    Py_ssize_t from = start, given = 0;
+    for (; from >= pre && given < sure; from--) {
+      bool gives = from >= 4;
+      for (Py_ssize_t b = from - 3; gives && b <= from; b++) {
+        gives = !breaks[b];
+      }
+      given += gives;
+    }
+    from = given < sure ? pre : from + 1;
+    Py_ssize_t count = 0;
+    if (given < sure) { /* the kept residuals too */
+      for (Py_ssize_t i = 0, slot = m->head; i < m->count; i++) {
+        scratch[count++] = magnitude(m->ring[slot]);
+        slot = slot + 1 == m->capacity ? 0 : slot + 1;
+      }
+    }
+    for (Py_ssize_t j = from > first ? from : first; j < end; j++) {
+      for (int a = 0; a < 3; a++) {
+        scratch[count++] = magnitude(found[3 * (j - first) + a]);
+      }
+    }
+    double bound = 0.0;
+    if (count >= k) {
+      bound = kth_largest(scratch, count, k);
+    } else {
+      for (Py_ssize_t i = 0; i < count; i++) {
+        bound = scratch[i] > bound ? scratch[i] : bound;
+      }
+    }
+    for (Py_ssize_t j = start; j < end; j++) {
+      out[j - pre] = m->scale * bound;
+    }
+  }
+  result = Py_NewRef(Py_None);
+done:
+  PyMem_Free(found);
+  PyMem_Free(scratch);
+  if (flagged) {
+    PyBuffer_Release(&flags);
+  }
+  release_views(views, viewed);
+  return result;
+}
+
 static PyObject *median_residuals(NoiseMedian *m, PyObject *Py_UNUSED(ignored))
 {
   PyObject *list = PyList_New(m->count);
@@ -4446,6 +4592,9 @@ static PyMethodDef median_methods[] = {
     {"take_points", (PyCFunction)(void (*)(void))median_take_points, METH_FASTCALL,
      "take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals "
      "of count windows of five from sample start of the old samples then the new arrays."},
+    {"bounds", (PyCFunction)(void (*)(void))median_bounds, METH_FASTCALL,
+     "bounds(times, points, breaks, pre, block, out): an upper bound (m) on the estimate "
+     "after each of a chunk's samples, per block of samples."},
     {"residuals", (PyCFunction)median_residuals, METH_NOARGS,
      "residuals() -> the kept residuals (m), oldest first."},
     {NULL, NULL, 0, NULL},
@@ -4718,11 +4867,40 @@ static inline Vec c2_axis(const C2Track *s, Py_ssize_t i)
   return (Vec){d.x / l, d.y / l, d.z / l};
 }
 
+/*
+ * A lower bound (m) on the distance between the hulls of (b0, b1) and (k0, e0, k1, e1):
+ * core.detector.broadphase.scalar.hull_separation, the same operations in its order; -inf
+ * where its direction has no length (or is not a number).
+ */
+static double hull_separation(Vec b0, Vec b1, Vec k0, Vec e0, Vec k1, Vec e1)
+{
+  Vec c = v_middle(b0, b1), m = v_middle(k0, k1);
+  Vec a = v_sub(v_middle(e0, e1), m);
+  double along = a.x * a.x + a.y * a.y + a.z * a.z;
+  double s = along > 0.0 ? ((c.x - m.x) * a.x + (c.y - m.y) * a.y + (c.z - m.z) * a.z) / along
+                         : 0.0;
+  s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+  Vec n = {c.x - m.x - s * a.x, c.y - m.y - s * a.y, c.z - m.z - s * a.z};
+  double length = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  if (!(length > 0.0)) {
+    return -INFINITY;
+  }
+  n = (Vec){n.x / length, n.y / length, n.z / length};
+  double lowest = fmin(n.x * b0.x + n.y * b0.y + n.z * b0.z, n.x * b1.x + n.y * b1.y + n.z * b1.z);
+  double highest = fmax(fmax(n.x * k0.x + n.y * k0.y + n.z * k0.z,
+                             n.x * e0.x + n.y * e0.y + n.z * e0.z),
+                        fmax(n.x * k1.x + n.y * k1.y + n.z * k1.z,
+                             n.x * e1.x + n.y * e1.y + n.z * e1.z));
+  return lowest - highest;
+}
+
 /* the clearance (m) of clearly_apart's second c2 stage over one interval (arrays'
- * _c2_window_margins): -inf where a window's steps are too uneven, or not a number */
+ * _c2_window_margins), the larger of the spheres' and the hulls' (less hull_reach, m: what
+ * smoothing may add; inf: no hull): -inf where a window's steps are too uneven, or not a
+ * number */
 static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ssize_t bk,
                                   Py_ssize_t tk, int look_ahead, int size,
-                                  const C2Constants *c)
+                                  const C2Constants *c, double hull_reach)
 {
   C2Window bw, tw;
   c2_window_of(ball, bk, look_ahead, size, c, &bw);
@@ -4764,32 +4942,38 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
       nan_max(v_norm(v_sub(k1, bat_centre)), v_norm(v_sub(e1, bat_centre))));
   double second = v_norm(v_sub(ball_centre, bat_centre)) - 0.5 * v_norm(v_sub(b0, b1)) - ball_bulge
                   - bat_radius - growth;
+  if (hull_reach < INFINITY) {
+    double hull = hull_separation(b0, b1, k0, e0, k1, e1) - hull_reach - ball_bulge - growth;
+    second = isnan(second) || hull > second ? hull : second;
+  }
   return bw.uneven || tw.uneven || isnan(second) ? -INFINITY : second;
 }
 
 /*
  * c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
- *            look_ahead, size, margin, constants, out): out[i] = the c2 far test's clearance
- * (m) of union interval i, between the ball's sample interval ball_k[i] and the bat's bat_k[i]:
- * the first stage's (c2_jump_bulge of the ball, c2_reach of the bat), and where that is not
- * above margin[i] (m) the larger with the second's (c2_bulge, c2_bat_growth; numpy.fmax),
- * each over the samples a full window could hold within its segment
- * (core.detector.broadphase.arrays).
+ *            look_ahead, size, margin, constants, out, hull_reach): out[i] = the c2 far test's
+ * clearance (m) of union interval i, between the ball's sample interval ball_k[i] and the bat's
+ * bat_k[i]: the first stage's (c2_jump_bulge of the ball, c2_reach of the bat), and where that
+ * is not above margin[i] (m) the larger with the second's (c2_bulge, c2_bat_growth around the
+ * spheres, and around the hulls less hull_reach[i] (m: what smoothing may add; inf or
+ * hull_reach None: no hull); numpy.fmax), each over the samples a full window could hold
+ * within its segment (core.detector.broadphase.arrays).
  * ball: (n_ball x 3) float64; knob, tip: (n_bat x 3); ball_k, bat_k: m int64, each in
  * [0, n - 2]; times: s; closed: n - 1 bools (whether each sample interval is continuous) or
  * None; look_ahead 0 .. 2; size 2 .. 42; margin: m float64; constants: C2_STEP_RATIO,
  * _AFTER_ONE, _AFTER_TWO, the 40 of C2_JUMP_BEFORE and the 44 of _WEIGHT_LIST
- * (broadphase.c2); out: m float64, written.
+ * (broadphase.c2); out: m float64, written; hull_reach: m float64 or None.
  * ValueError: other buffers, shapes or numbers; MemoryError.
  */
 static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Py_ssize_t look_ahead, size;
-  if (nargs != 14 || !read_index(args[9], &look_ahead) || !read_index(args[10], &size)) {
+  if (nargs != 15 || !read_index(args[9], &look_ahead) || !read_index(args[10], &size)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError,
                       "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, "
-                      "ball_closed, bat_closed, look_ahead, size, margin, constants, out)");
+                      "ball_closed, bat_closed, look_ahead, size, margin, constants, out, "
+                      "hull_reach)");
     }
     return NULL;
   }
@@ -4802,9 +4986,9 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   static const char *const names[OUT] = {
       "c2_margins: ball", "c2_margins: knob", "c2_margins: tip", "c2_margins: ball_times",
       "c2_margins: bat_times", "c2_margins: margin", "c2_margins: constants"};
-  Py_buffer views[DOUBLES], indices[2], closed[2];
+  Py_buffer views[DOUBLES], indices[2], closed[2], reaches;
   Py_ssize_t counts[DOUBLES];
-  int held_indices = 0, held_closed = 0;
+  int held_indices = 0, held_closed = 0, held_reaches = 0;
   PyObject *result = NULL;
   void *memory = NULL;
   if (!get_views(args, positions, OUT, names, views, counts)) {
@@ -4836,6 +5020,13 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
       goto done;
     }
   }
+  if (args[14] != Py_None) {
+    if (!get_buffer(args[14], &reaches, m, false)) {
+      goto done;
+    }
+    held_reaches = 1;
+  }
+  const double *hull_reach = held_reaches ? reaches.buf : NULL;
   const int64_t *ball_k = indices[0].buf, *bat_k = indices[1].buf;
   for (Py_ssize_t i = 0; i < m; i++) {
     if (ball_k[i] < 0 || ball_k[i] > nb - 2 || bat_k[i] < 0 || bat_k[i] > nt - 2) {
@@ -4877,7 +5068,8 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
     double first = v_norm(v_sub(v_middle(b0, b1), v_middle(k0, k1))) -
                    0.5 * v_norm(v_sub(b0, b1)) - quick - reach;
     if (!(first > margin[i])) {
-      double second = c2_window_clearance(&ball, &bat, bk, tk, la, w, &constants);
+      double second = c2_window_clearance(&ball, &bat, bk, tk, la, w, &constants,
+                                          hull_reach ? hull_reach[i] : INFINITY);
       first = isnan(first) || second > first ? second : first; /* numpy.fmax */
     }
     out[i] = first;
@@ -4886,6 +5078,9 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   result = Py_NewRef(Py_None);
 done:
   PyMem_Free(memory);
+  if (held_reaches) {
+    PyBuffer_Release(&reaches);
+  }
   for (int i = 0; i < held_closed; i++) {
     if (args[7 + i] != Py_None) {
       PyBuffer_Release(&closed[i]);
@@ -5414,7 +5609,8 @@ static PyMethodDef methods[] = {
      "sorted_search(array, keys, right, out): numpy.searchsorted for keys mostly ascending"},
     {"c2_margins", (PyCFunction)(void (*)(void))py_c2_margins, METH_FASTCALL,
      "c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, "
-     "bat_closed, look_ahead, size, margin, constants, out): the c2 far test's clearances"},
+     "bat_closed, look_ahead, size, margin, constants, out, hull_reach): the c2 far test's "
+     "clearances"},
     {"reach_back", (PyCFunction)(void (*)(void))py_reach_back, METH_FASTCALL,
      "reach_back(times, breaks, first, stop, max_gap, span, most): a window's first sample, "
      "reached back within its segment, a span and a count"},

@@ -399,13 +399,19 @@ def noisy(rows: Sequence[Row], sigma: float, seed: int) -> List[Row]:
 @given(sigma=st.sampled_from([0.0, 2e-4, 1e-3]), look_ahead=st.integers(0, 2),
        sizes=st.lists(st.integers(1, 3000), min_size=1, max_size=3),
        faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
-                       max_size=3))
-def test_c2_under_auto_noise_planned_same_as_one_at_a_time(
+                       max_size=3), told=st.sampled_from([-1.0, -1.0, 0.0, 1e-3]))
+def test_c2_under_noise_planned_same_as_one_at_a_time(
         sigma: float, look_ahead: int, sizes: List[int],
-        faults: List[Tuple[int, str]]) -> None:
-    """``tracker_noise`` auto is planned: the estimators take a run's samples in bulk, alike."""
+        faults: List[Tuple[int, str]], told: float) -> None:
+    """
+    Under noise, auto or told, ``c2`` is planned as taken one at a time.
+
+    Under auto the estimators take a run's samples in bulk, alike; the plan's far test takes
+    the hulls less what the estimates may be by each interval (``NoiseEstimate.bounds``), or
+    the noise told.
+    """
     rows = inject(noisy(session(HEIGHTS[:2]), sigma, 5), faults)
-    assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0,
+    assert_same(DetectorConfig(model='c2', bat_input='pose', tracker_noise=told,
                                look_ahead=look_ahead), rows, sizes)
 
 

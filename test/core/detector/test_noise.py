@@ -280,3 +280,41 @@ def test_a_nan_residual_neither_crashes_nor_gives_a_number_it_should_not() -> No
     assert estimate.sigma == 0.0 and len(estimate.residuals) == HISTORY
     estimate.take([2e-3] * HISTORY)
     assert estimate.sigma == MAD_TO_SIGMA * 2e-3
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(seed=st.integers(0, 10_000), kept=st.integers(0, 450), new=st.integers(1, 1200),
+       noise=st.sampled_from([0.0, 1e-7, 1e-3]), hits=st.integers(0, 40),
+       possible=st.lists(st.integers(0, 1200), max_size=12), real=st.floats(0.0, 1.0))
+def test_the_bounds_hold_the_estimate_after_every_sample(
+        seed: int, kept: int, new: int, noise: float, hits: int, possible: List[int],
+        real: float) -> None:
+    """
+    ``bounds`` never falls below the estimate after any of a chunk's samples.
+
+    A point moving on a curve with noise, a share of samples kicked (hits: large residuals),
+    ``kept`` samples taken before the chunk, then the chunk's one by one; of its possible
+    breaks (``breaks`` True) some start a segment, the others do not, as at the plan's stops.
+    """
+    rng = np.random.default_rng(seed)
+    total = kept + new
+    times = np.cumsum(rng.uniform(0.001, 0.004, total))
+    points = np.outer(np.sin(3.0 * times), (1.0, 2.0, -0.5))
+    points += rng.normal(0.0, noise or 1e-300, (total, 3))
+    points[rng.integers(0, total, hits)] += rng.normal(0.0, 0.05, (hits, 3))
+    starts = {0} | {kept + b for b in possible if kept + b < total}
+    taken = {s for s in starts if s < kept or rng.random() < real} | {0}
+    estimate, stream = NoiseEstimate('point'), Stream('ball')
+    for i in range(kept):
+        stream.append(float(times[i]), i, tuple(points[i].tolist()), i in taken)
+        estimate.update(stream)
+    breaks = np.array([i in starts for i in range(total)])
+    bounds = estimate.bounds(times, points, breaks, kept)
+    assert bounds.shape == (new,)
+    for i in range(kept, total):
+        stream.append(float(times[i]), i, tuple(points[i].tolist()), i in taken)
+        assert estimate.update(stream) <= bounds[i - kept]
+    with pytest.raises(ValueError, match='shapes'):
+        estimate.bounds(times, points[:-1], breaks, kept)
+    with pytest.raises(ValueError, match='point streams'):
+        NoiseEstimate('length').bounds(times, points, breaks, kept)

@@ -25,10 +25,11 @@ from .c2 import (
     c2_bat_growth, c2_bulge, C2_JUMP_BEFORE, c2_jump_bulge, c2_reach, C2_SAFETY, C2_STEP_RATIO,
     C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE)
 from .paths import path_margins
-from .scalar import bulge_bounds, c2_path_apart, clearly_apart, hull_separation, Pick
+from .scalar import (
+    bulge_bounds, c2_path_apart, clearly_apart, hull_separation, NOISE_REACH, Pick)
 
 __all__ = ['apart_margins', 'bulge_bounds', 'c2_bat_growth', 'c2_bulge', 'c2_jump_bulge',
            'c2_path_apart',
            'C2_JUMP_BEFORE', 'c2_reach', 'C2_SAFETY', 'C2_STEP_RATIO', 'C2_WEIGHTS_AFTER',
            'C2_WEIGHTS_BEFORE', 'clearly_apart', 'hull_separation', 'hull_separations',
-           'path_margins', 'Pick']
+           'NOISE_REACH', 'path_margins', 'Pick']

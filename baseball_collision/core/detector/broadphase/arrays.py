@@ -22,7 +22,8 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                   bat_before: np.ndarray, bat_after: np.ndarray, ball_times: np.ndarray,
                   bat_times: np.ndarray, model: str, look_ahead: int = 0,
                   size: int = 8, margin: float = math.inf,
-                  closed: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> np.ndarray:
+                  closed: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                  hull_reach: Optional[np.ndarray] = None) -> np.ndarray:
     """
     Return ``clearly_apart``'s clearance (m) for many intervals at once.
 
@@ -61,7 +62,8 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     reach = departure_reaches(ball, ball_times, ball_k, None if closed is None else closed[0])
     if model == 'c2':
         return _c2_margins(ball, bat_knob, bat_tip, ball_k, bat_k, ball_times, bat_times,
-                           look_ahead, size, margin + reach, closed or (None, None)) - reach
+                           look_ahead, size, margin + reach, closed or (None, None),
+                           hull_reach) - reach
     margin = margin + reach
     b0, b1 = rows(ball, ball_k), rows(ball, ball_k + 1)
     k0, k1 = rows(bat_knob, bat_k), rows(bat_knob, bat_k + 1)
@@ -144,7 +146,8 @@ def hull_separations(b0: np.ndarray, b1: np.ndarray, k0: np.ndarray, e0: np.ndar
 def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                 ball_k: np.ndarray, bat_k: np.ndarray, ball_times: np.ndarray,
                 bat_times: np.ndarray, look_ahead: int, size: int, margin: np.ndarray,
-                closed: Tuple[Optional[np.ndarray], Optional[np.ndarray]]) -> np.ndarray:
+                closed: Tuple[Optional[np.ndarray], Optional[np.ndarray]],
+                hull_reach: Optional[np.ndarray] = None) -> np.ndarray:
     """
     ``apart_margins`` for ``c2``: the larger clearance of ``clearly_apart``'s two stages.
 
@@ -177,7 +180,9 @@ def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                          for each in closed),
                        look_ahead, size,
                        np.ascontiguousarray(np.broadcast_to(margin, clearance.shape), dtype=float),
-                       _C2_CONSTANTS, clearance)
+                       _C2_CONSTANTS, clearance,
+                       None if hull_reach is None else np.ascontiguousarray(
+                           np.broadcast_to(hull_reach, clearance.shape), dtype=float))
     return clearance
 
 

@@ -4,8 +4,8 @@ import math
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.core.detector.broadphase import (
-    c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO, clearly_apart,
-    hull_separation)
+    apart_margins, c2_bat_growth, c2_bulge, c2_jump_bulge, c2_reach, C2_STEP_RATIO,
+    clearly_apart, hull_separation)
 from baseball_collision.core.detector.broadphase.scalar import NOISE_REACH
 from baseball_collision.core.detector.fitting import c2_window
 import numpy as np
@@ -128,3 +128,33 @@ def test_the_hulls_clear_a_ball_beside_the_bat_at_their_edge() -> None:
                 assert expected == ('second' if offset > 0.0 else 'near'), (noise, offset)
             answers.append(expected)
         assert set(answers) == {'second', 'near'}
+
+
+def test_the_arrays_hulls_clear_what_the_scalar_hulls_clear() -> None:
+    """
+    ``apart_margins``' ``c2`` clearance takes the hulls too, less ``hull_reach``: as the sweep's.
+
+    The balls beside a held bat's middle: with ``hull_reach`` (``NOISE_REACH`` times the
+    noise) the arrays clear those the scalar test clears, to 10 um of its edge; without it
+    (None: no hulls) they clear none, the bat's sphere holding them all.
+    """
+    for noise in (0.0, 0.001):
+        edge = MARGIN + NOISE_REACH * noise
+        for offset in np.linspace(-2e-3, 2e-3, 41):
+            ball, bat = _held_bat_and_ball(edge + offset)
+            k = len(bat.times) - 3
+            scalar = clearly_apart(ball, bat, k, k, MARGIN, 'c2', 0.05, 0, 8, noise)
+            arrays = (np.array(ball.values), np.array([s.knob for s in bat.values]),
+                      np.array([s.tip for s in bat.values]))
+            none, at = np.array([-1]), np.array([k])
+            times = (np.array(ball.times), np.array(bat.times))
+
+            def clearance(hull_reach):
+                return float(apart_margins(*arrays, None, at, at, none, none, none, none,
+                                           *times, 'c2', 0, 8, MARGIN, None, hull_reach)[0])
+            with_hulls = clearance(np.array([NOISE_REACH * noise]))
+            assert not clearance(None) > MARGIN
+            if abs(with_hulls - MARGIN) > 1e-5:
+                assert (with_hulls > MARGIN) is scalar, (noise, offset)
+            if abs(offset) > 5e-4:
+                assert scalar is bool(offset > 0.0)
