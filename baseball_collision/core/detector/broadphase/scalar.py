@@ -147,13 +147,14 @@ def c2_path_apart(ball_path: PointPath, ball: Stream, bat: Stream, ball_k: int, 
 
     :param ball_path: the sweep's path of the ball over its sample interval ``ball_k``.
     """
-    growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
-    if growth is None:
-        return False
     s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
-    return (hull_separation(ball_path.a, ball_path.end, s0.knob, s0.tip, s1.knob, s1.tip)
-            - ball_path.bulge - growth - NOISE_REACH * bat_noise
-            > margin + departure_reach(ball, ball_k, max_gap))
+    apart = (hull_separation(ball_path.a, ball_path.end, s0.knob, s0.tip, s1.knob, s1.tip)
+             - ball_path.bulge)
+    margin += departure_reach(ball, ball_k, max_gap)
+    if not apart - NOISE_REACH * bat_noise > margin:
+        return False  # (nor with the growth, >= 0, taken off too: rounding is monotone)
+    growth = c2_bat_growth(bat, bat_k, c2_window(bat, bat_k, max_gap, look_ahead, size))
+    return growth is not None and apart - growth - NOISE_REACH * bat_noise > margin
 
 
 def hull_separation(b0: Vector, b1: Vector, k0: Vector, e0: Vector, k1: Vector,
