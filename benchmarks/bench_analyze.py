@@ -237,15 +237,21 @@ def per_sample(path: Path, model: str, parameters: Optional[dict] = None) -> Bag
 
     :param parameters: node parameters (``model_parameters``), as ``AnalysisOptions`` takes.
     """
-    options = AnalysisOptions(model=model)
+    options = AnalysisOptions(model=named_model(model))
     with options.reader(path) as bag:
-        config = build_config(parameters or {}, bat_input=bag.selection.bat_mode, model=model)
+        config = build_config(parameters or {}, bat_input=bag.selection.bat_mode,
+                              model=named_model(model))
         result = BagAnalysis(path=path, selection=bag.selection, config=config)
         detector = Detector(config)
         result.messages, result.first_stamp_ns = run_detector(
             bag.samples(), detector, [result], None, result.drops_by_role)
     result.stats = detector.stats
     return result
+
+
+def named_model(model: str) -> Optional[str]:
+    """Return ``--model``'s name for ``analyze``: None for 'default' (its offline default)."""
+    return None if model == 'default' else model
 
 
 def model_parameters(model: str, look_ahead: int, tracker_noise: float) -> dict:
@@ -365,7 +371,7 @@ as ``BagReader.chunks`` reads them, by the reader's spans)."""
 
 def stage_figures(path: Path, model: str, repeats: int) -> None:
     """Print where the raw-read process's and analyze's CPU time goes, best of each stage."""
-    model_argument = None if model == 'default' else model  # build_config's offline default
+    model_argument = named_model(model)  # build_config's offline default
     for name, script in (('rosbags raw read', RAW_SPLIT), ('analyze', ANALYZE_SPLIT)):
         best: dict = {}
         for _ in range(repeats):
@@ -482,7 +488,7 @@ def against_figures(messages: int, storage: str, model: str, baseline: str, pair
         for pair in range(pairs):
             rates = {}
             for name in (baseline, model):
-                options = AnalysisOptions(model=name, parameters=model_parameters(
+                options = AnalysisOptions(model=named_model(name), parameters=model_parameters(
                     name, look_ahead, tracker_noise))
                 cpu = cpu_seconds()
                 result, wall = timed(analyze_bag, path, options)
@@ -575,7 +581,7 @@ def split_figures(messages: int, storage: str, model: str, baseline: str, repeat
             written, _ = write_bag(path, messages, pitch_every, bag_noise, steady)
             for _ in range(repeats):
                 for name in (baseline, model):
-                    options = AnalysisOptions(model=name, parameters=parameters
+                    options = AnalysisOptions(model=named_model(name), parameters=parameters
                                               if name == model else {})
                     own.clear()
                     calls.clear()
@@ -625,7 +631,7 @@ def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: in
     """Write ``bags`` bags; print analyze_bags with one job and with ``bags`` jobs, the ratio."""
     with tempfile.TemporaryDirectory() as tmp:
         paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
-        options = AnalysisOptions(model=None if model == 'default' else model)
+        options = AnalysisOptions(model=named_model(model))
         times = {}
         found = {}
         for jobs in (1, bags):
@@ -683,7 +689,7 @@ def interleaved_figures(messages: int, storage: str, model: str, repeats: int,
         written, _ = write_bag(path, messages, pitch_every)
         runs = (('raw', raw_read, (path,)),
                 ('chunks', partial(analyze_bag, progress=False),
-                 (path, AnalysisOptions(model=model))),
+                 (path, AnalysisOptions(model=named_model(model)))),
                 ('one', per_sample, (path, model)))
         best, found = {}, {}
         for _ in range(repeats):
@@ -799,7 +805,7 @@ def main() -> None:
         print(f'(c) analyze loop, no detector {looped:>9,} msgs in {loop_s:6.2f} s: '
               f'{looped / loop_s:>9,.0f} msg/s')
         parameters = model_parameters(args.model, args.look_ahead, args.tracker_noise)
-        options = AnalysisOptions(model=args.model, parameters=parameters)
+        options = AnalysisOptions(model=named_model(args.model), parameters=parameters)
         profiler = cProfile.Profile() if args.profile else None
         if profiler is not None:
             profiler.enable()
