@@ -243,7 +243,7 @@ def braked(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     interval (``Sweep.bat_ahead`` False, True). An answer that finds no impact is left out; 0
     when neither does.
     """
-    c2 = replace(config, model='c2')
+    c2 = config.variant(model='c2')
     found = (resolve(c2, clock, excerpt(ball, 0, len(ball.times) - 1),
                      excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb, ahead)
              for ahead in (False, True))
@@ -321,7 +321,7 @@ def before_rule_speed(config: DetectorConfig, clock: Clock, ball: Stream, bat: S
     """
     t = clock.time(impact.stamp_ns)
     ta = clock.time(impact.interval_start_ns)
-    config = replace(config, model='c2')
+    config = config.variant(model='c2')
     stats = DetectorStats()
     sweep = Sweep(config, clock, stats, ball, bat, EpisodeTracker(config, clock, stats), offsets)
     velocities = c2_velocities(ball, bat, t, *sweep.paths(ball.interval(ta), bat.interval(ta)),
@@ -354,7 +354,7 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     if (ball_sigma > 0.0 or bat_sigma > 0.0) and config.model == 'c2':
         uncertainty = propagated(config, clock, ball, bat, impact)
         if config.look_ahead:
-            bent = difference(config, replace(config, look_ahead=0), clock, ball, bat, offsets,
+            bent = difference(config, config.variant(look_ahead=0), clock, ball, bat, offsets,
                               impact, ta, tb)
             uncertainty = tuple(math.hypot(x, y) for x, y in zip(uncertainty, bent))
     elif ball_sigma > 0.0 or bat_sigma > 0.0:
@@ -368,7 +368,7 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
         if len(found) >= 2:
             uncertainty = tuple(float(x) for x in np.std(np.array(found), axis=0, ddof=1))
     if uncertainty is None:
-        uncertainty = difference(config, replace(config, model=ALTERNATIVE[config.model]),
+        uncertainty = difference(config, config.variant(model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)
         if config.model != 'c2' or spline_window_for(bat, clock.time(impact.stamp_ns),
                                                      config) == 0:

@@ -152,3 +152,15 @@ def test_range_notation_and_membership() -> None:
     assert str(half_open) == '(0.0, 1.0]' and str(Range(1, 6)) == '[1, 6]'
     assert 0.0 not in half_open and 1.0 in half_open and 0.5 in half_open
     assert math.nan not in half_open and 1.0 not in Range(0.0, 1.0, high_open=True)
+
+
+def test_a_variant_is_the_configuration_replaced_and_checked_once() -> None:
+    """``variant`` is ``dataclasses.replace``'s configuration, kept; a bad change is refused."""
+    config = DetectorConfig(model='c2', bat_input='pose', look_ahead=2, tracker_noise=-1.0)
+    variant = config.variant(look_ahead=0, model='spline')
+    assert variant == replace(config, look_ahead=0, model='spline') and variant != config
+    assert config.variant(model='spline', look_ahead=0) is variant  # (kept, any order)
+    assert DetectorConfig(model='c2', bat_input='pose', look_ahead=2,
+                          tracker_noise=-1.0).variant(look_ahead=0, model='spline') is variant
+    with pytest.raises(CoreError, match='look_ahead'):
+        config.variant(look_ahead=7)
