@@ -4083,20 +4083,53 @@ static void fourth_difference_rows(const double *t, const double *p, Py_ssize_t 
   }
 }
 
-/* item i of a sequence (PySequence_Fast) into t[i] and p[3i..3i+2]; false with an exception */
-static bool read_point_sample(PyObject *times, PyObject *points, Py_ssize_t i, double *t,
-                              double *p)
+/*
+ * The residuals of `count` windows of five from sample `start` of the samples old (sequences
+ * from PySequence_Fast: stamps in s, points in m) then new (`fresh` of them: stamps and
+ * (fresh, 3) points, contiguous; or none), fourth_difference_rows' (3 per window), in a block
+ * of memory the caller frees (PyMem_Free); NULL with an exception (IndexError: a window
+ * outside the samples; TypeError: a point that is not 3 numbers).
+ */
+static double *window_residuals(PyObject *old_times, PyObject *old_points, const double *times,
+                                const double *points, Py_ssize_t fresh, Py_ssize_t start,
+                                Py_ssize_t count, const char *what, double **residuals)
 {
-  *t = item_double(PySequence_Fast_GET_ITEM(times, i));
-  Vec v;
-  if (PyErr_Occurred() || !read_vec(PySequence_Fast_GET_ITEM(points, i), &v)) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "point residuals: a point must be 3 numbers");
-    }
-    return false;
+  Py_ssize_t old = PySequence_Fast_GET_SIZE(old_times);
+  if (PySequence_Fast_GET_SIZE(old_points) < old) {
+    old = PySequence_Fast_GET_SIZE(old_points);
   }
-  p[0] = v.x, p[1] = v.y, p[2] = v.z;
-  return true;
+  if (start < 0 || count < 0 || start + count + 4 > old + fresh) {
+    PyErr_Format(PyExc_IndexError, "%s: a window outside the samples", what);
+    return NULL;
+  }
+  Py_ssize_t n = count + 4;
+  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
+  if (memory == NULL) {
+    PyErr_NoMemory();
+    return NULL;
+  }
+  double *t = memory, *p = t + n;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    Py_ssize_t at = start + i;
+    if (at >= old) {
+      t[i] = times[at - old];
+      memcpy(p + 3 * i, points + 3 * (at - old), 3 * sizeof(double));
+      continue;
+    }
+    t[i] = item_double(PySequence_Fast_GET_ITEM(old_times, at));
+    Vec v;
+    if (PyErr_Occurred() || !read_vec(PySequence_Fast_GET_ITEM(old_points, at), &v)) {
+      if (!PyErr_Occurred()) {
+        PyErr_Format(PyExc_TypeError, "%s: a point must be 3 numbers", what);
+      }
+      PyMem_Free(memory);
+      return NULL;
+    }
+    p[3 * i] = v.x, p[3 * i + 1] = v.y, p[3 * i + 2] = v.z;
+  }
+  *residuals = p + 3 * n;
+  fourth_difference_rows(t, p, count, *residuals);
+  return memory;
 }
 
 /*
@@ -4122,28 +4155,12 @@ static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ss
   PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
   PyObject *points = times ? PySequence_Fast(args[1], "points must be a sequence") : NULL;
   PyObject *result = NULL;
-  double *memory = NULL;
-  if (points == NULL) {
+  double *memory = NULL, *out = NULL;
+  if (points == NULL ||
+      (memory = window_residuals(times, points, NULL, NULL, 0, start, count,
+                                 "point_residuals", &out)) == NULL) {
     goto done;
   }
-  if (start < 0 || count < 0 || start + count + 4 > PySequence_Fast_GET_SIZE(times) ||
-      start + count + 4 > PySequence_Fast_GET_SIZE(points)) {
-    PyErr_SetString(PyExc_IndexError, "point_residuals: a window outside the samples");
-    goto done;
-  }
-  Py_ssize_t n = count + 4;
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
-  if (memory == NULL) {
-    PyErr_NoMemory();
-    goto done;
-  }
-  double *t = memory, *p = t + n, *out = p + 3 * n;
-  for (Py_ssize_t i = 0; i < n; i++) {
-    if (!read_point_sample(times, points, start + i, t + i, p + 3 * i)) {
-      goto done;
-    }
-  }
-  fourth_difference_rows(t, p, count, out);
   PyObject *residuals = float_list(out, (int)(3 * count));
   PyObject *small = residuals ? PyList_New(3 * count) : NULL;
   for (Py_ssize_t i = 0; small != NULL && i < 3 * count; i++) {
@@ -4392,30 +4409,13 @@ static PyObject *median_take_points(NoiseMedian *m, PyObject *const *args, Py_ss
       goto done;
     }
   }
-  if (start < 0 || count < 0 || start + count + 4 > old + fresh) {
-    PyErr_SetString(PyExc_IndexError, "take_points: a window outside the samples");
-    goto done;
-  }
-  Py_ssize_t n = count + 4;
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
+  double *out = NULL;
+  memory = window_residuals(old_times, old_points, viewed ? views[0].buf : NULL,
+                            viewed ? views[1].buf : NULL, fresh, start, count, "take_points",
+                            &out);
   if (memory == NULL) {
-    PyErr_NoMemory();
     goto done;
   }
-  double *t = memory, *p = t + n, *out = p + 3 * n;
-  for (Py_ssize_t i = 0; i < n; i++) {
-    Py_ssize_t at = start + i;
-    if (at < old) {
-      if (!read_point_sample(old_times, old_points, at, t + i, p + 3 * i)) {
-        goto done;
-      }
-    } else {
-      const double *x = views[1].buf;
-      t[i] = ((const double *)views[0].buf)[at - old];
-      memcpy(p + 3 * i, x + 3 * (at - old), 3 * sizeof(double));
-    }
-  }
-  fourth_difference_rows(t, p, count, out);
   median_take(m, out, 3 * count);
   result = PyFloat_FromDouble(m->sigma);
 done:
