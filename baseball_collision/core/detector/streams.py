@@ -10,7 +10,8 @@ really moved); nothing is interpolated across a segment break or a gap longer th
 from bisect import bisect_right
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
-from ..motion import BatSample, turn_between
+from ..motion import BatSample
+from ..toi import _kernel
 
 Turn = Tuple[float, float, float, float]
 """Cumulative (swing x, y, z, roll) turn of a bat sample since its segment's first (rad)."""
@@ -150,9 +151,16 @@ class Stream:
         return range(first, k + 1)
 
     def turn(self, k: int) -> Turn:
-        """Return the cumulative turn of bat sample k, summing the missing steps once."""
-        values = self.values
-        return sum_turns(self.turns, k, 0, lambda i: turn_between(values[i - 1], values[i]))
+        """
+        Return the cumulative turn of bat sample k, summing the missing steps once.
+
+        ``sum_turns`` with ``turn_between``'s steps, in the kernel (``_kernel.fill_turns``: the
+        same sums; at an impact the steps since the last one known, hundreds on a session).
+        """
+        turns = self.turns
+        found = turns[k]
+        return found if found is not None else _kernel.fill_turns(
+            self.values, turns, 0, k if k >= 0 else k + len(turns))
 
 
 Step = Callable[[int], Tuple[Tuple[float, float, float], float]]

@@ -54,7 +54,8 @@
  *        the smoothed values (core.motion.smoothing),
  *   c2_chart(samples, j, max_angle), bat_axis(sample),
  *   rotation_to(reference, direction), rotate(reference, rotation),
- *   turn_between(a, b)  how the bat turned between two samples (core.motion.base),
+ *   turn_between(a, b)  how the bat turned between two samples (core.motion.base), and
+ *        fill_turns(values, turns, first_kept, k) their sums (core.detector.streams),
  *   recharted(reference, origin, turn, rate, step),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
@@ -3524,17 +3525,14 @@ done:
  * operation in the order of those functions: the same bits. TypeError: a sample without a
  * knob and tip of 3 numbers, or a quaternion neither None nor 4 numbers.
  */
-static PyObject *py_turn_between(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/* how the bat turned from sample a to sample b (turn_between's numbers); false with an exception */
+static bool bat_turn(PyObject *a, PyObject *b, Vec *swing_out, double *roll_out)
 {
   Vec d0, d1;
   double q0[4], q1[4];
   bool posed0, posed1;
-  if (nargs != 2) {
-    PyErr_SetString(PyExc_TypeError, "turn_between(a, b): two bat samples");
-    return NULL;
-  }
-  if (!bat_turn_parts(args[0], &d0, q0, &posed0) || !bat_turn_parts(args[1], &d1, q1, &posed1)) {
-    return NULL;
+  if (!bat_turn_parts(a, &d0, q0, &posed0) || !bat_turn_parts(b, &d1, q1, &posed1)) {
+    return false;
   }
   Vec turn = {d0.y * d1.z - d0.z * d1.y, d0.z * d1.x - d0.x * d1.z, d0.x * d1.y - d0.y * d1.x};
   double sine = sqrt(turn.x * turn.x + turn.y * turn.y + turn.z * turn.z);
@@ -3564,8 +3562,87 @@ static PyObject *py_turn_between(PyObject *self, PyObject *const *args, Py_ssize
       roll = (full.x * mean_axis.x + full.y * mean_axis.y + full.z * mean_axis.z) / length;
     }
   }
+  *swing_out = swing;
+  *roll_out = roll;
+  return true;
+}
+
+static PyObject *py_turn_between(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 2) {
+    PyErr_SetString(PyExc_TypeError, "turn_between(a, b): two bat samples");
+    return NULL;
+  }
+  Vec swing;
+  double roll;
+  if (!bat_turn(args[0], args[1], &swing, &roll)) {
+    return NULL;
+  }
   PyObject *swing_tuple = vec_tuple(swing);
   return swing_tuple ? Py_BuildValue("(Nd)", swing_tuple, roll) : NULL;
+}
+
+/*
+ * fill_turns(values, turns, first_kept, k) -> turns[k]: a bat stream's cumulative turns
+ * (core.detector.streams.sum_turns with turn_between's steps, the same sums in the same
+ * order): turns (a list of (x, y, z, roll) tuples or None) filled from the last known at or
+ * before k; where none is known from first_kept on, turns[first_kept] becomes (0, 0, 0, 0).
+ * values: the bat samples (a list as long). IndexError: k outside them.
+ */
+static PyObject *py_fill_turns(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first_kept, k;
+  if (nargs != 4 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+      !read_index(args[2], &first_kept) || !read_index(args[3], &k)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "fill_turns(values, turns, first_kept, k): two lists");
+    }
+    return NULL;
+  }
+  PyObject *values = args[0], *turns = args[1];
+  Py_ssize_t n = PyList_GET_SIZE(turns);
+  if (k < 0 || k >= n || k >= PyList_GET_SIZE(values) || first_kept < 0 || first_kept > k) {
+    PyErr_SetString(PyExc_IndexError, "fill_turns: k outside the samples");
+    return NULL;
+  }
+  Py_ssize_t first = k;
+  while (PyList_GET_ITEM(turns, first) == Py_None) {
+    if (first == first_kept) { /* trimmed past the segment start: a new (zero) reference */
+      double zero[4] = {0.0, 0.0, 0.0, 0.0};
+      PyObject *reference = float_tuple(zero, 4);
+      if (reference == NULL || PyList_SetItem(turns, first, reference) < 0) {
+        return NULL;
+      }
+      break;
+    }
+    first--;
+  }
+  double last[4];
+  PyObject *known = PyList_GET_ITEM(turns, first);
+  if (!PyTuple_Check(known) || PyTuple_GET_SIZE(known) != 4) {
+    PyErr_SetString(PyExc_TypeError, "fill_turns: a turn must be 4 numbers");
+    return NULL;
+  }
+  for (int c = 0; c < 4; c++) {
+    last[c] = item_double(PyTuple_GET_ITEM(known, c));
+  }
+  if (PyErr_Occurred()) {
+    return NULL;
+  }
+  for (Py_ssize_t i = first + 1; i <= k; i++) {
+    Vec swing;
+    double roll;
+    if (!bat_turn(PyList_GET_ITEM(values, i - 1), PyList_GET_ITEM(values, i), &swing, &roll)) {
+      return NULL;
+    }
+    last[0] = last[0] + swing.x, last[1] = last[1] + swing.y, last[2] = last[2] + swing.z;
+    last[3] = last[3] + roll;
+    PyObject *turn = float_tuple(last, 4);
+    if (turn == NULL || PyList_SetItem(turns, i, turn) < 0) {
+      return NULL;
+    }
+  }
+  return Py_NewRef(PyList_GET_ITEM(turns, k));
 }
 
 /*
@@ -5582,6 +5659,8 @@ static PyMethodDef methods[] = {
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"fill_turns", (PyCFunction)(void (*)(void))py_fill_turns, METH_FASTCALL,
+     "fill_turns(values, turns, first_kept, k): a bat stream's cumulative turns up to k"},
     {"turn_between", (PyCFunction)(void (*)(void))py_turn_between, METH_FASTCALL,
      "turn_between(a, b): the bat's swing rotation vector and roll from sample a to b"},
     {"rotate", (PyCFunction)(void (*)(void))py_rotate, METH_FASTCALL,

@@ -104,3 +104,48 @@ def test_history_is_the_segment_window_rule(steps: List[float], breaks: Set[int]
     if len(inside) < 2 and k > start:  # at least the last two of the segment
         inside = [k - 1, k]
     assert list(stream.history(t, window)) == inside
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(1, 80), posed=st.booleans(),
+       breaks=st.sets(st.integers(1, 79), max_size=4), known=st.sets(st.integers(0, 79),
+                                                                     max_size=5),
+       first_kept=st.integers(0, 79), asks=st.lists(st.integers(0, 79), min_size=1,
+                                                    max_size=6))
+def test_the_kernels_turns_are_the_python_sums(seed: int, n: int, posed: bool,
+                                               breaks: Set[int], known: Set[int],
+                                               first_kept: int, asks: List[int]) -> None:
+    """
+    ``Stream.turn`` (the kernel's ``fill_turns``) fills the turns as ``sum_turns`` does.
+
+    Random poses (or knob-tip samples), segment starts and turns already known anywhere; the
+    same tuples, to the bit, whichever samples are asked for in whatever order, and with a
+    zero reference where none is known from ``first_kept`` on.
+    """
+    from baseball_collision.core.detector.streams import sum_turns
+    from baseball_collision.core.motion import turn_between
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(seed)
+    stream = Stream('bat')
+    for i in range(n):
+        knob = tuple(rng.normal(size=3).tolist())
+        tip = tuple((np.asarray(knob) + rng.normal(size=3)).tolist())
+        q = rng.normal(size=4)
+        quaternion = tuple((q / np.linalg.norm(q)).tolist()) if posed else None
+        stream.append(0.01 * i, i, BatSample(knob, tip, knob if posed else None,
+                                             quaternion), i in breaks)
+    for i in known:
+        if i < n:
+            stream.turns[i] = tuple(rng.normal(size=4).tolist())
+    mine, theirs = list(stream.turns), list(stream.turns)
+    values = stream.values
+    for k in asks:
+        if k < n:
+            start = min(first_kept, k)
+            assert _kernel.fill_turns(values, mine, start, k) == sum_turns(
+                theirs, k, start, lambda i: turn_between(values[i - 1], values[i]))
+            assert mine == theirs
+    with pytest.raises(IndexError):
+        _kernel.fill_turns(values, mine, 0, n)
+    with pytest.raises(TypeError):
+        _kernel.fill_turns(tuple(values), mine, 0, 0)
