@@ -43,8 +43,9 @@ KEPT_SAMPLES = HISTORY // 3
 computed (``take_points``)."""
 
 BOUND_BLOCK = 256
-"""Samples of a chunk that share one upper bound on the estimate (``NoiseEstimate.bounds``): a
-few hits' residuals among those of 1,000 samples or so move the bound little."""
+"""Samples of a chunk that share one upper bound on the estimate (``NoiseEstimate.bounds``):
+each block's bound is an order statistic of its windows' residuals and those of the
+``KEPT_SAMPLES`` before it (about 1,150), so a few hits' large residuals move it little."""
 
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
