@@ -10,7 +10,8 @@ Paths of one point (the ball) and of one angle over a sample interval: chords an
 from typing import Optional
 
 from .base import hermite_slope, hermite_tangent, Neighbour
-from ..geometry import lerp, norm, sub, Vector
+from ..geometry import norm, Vector
+from ..toi import _kernel
 
 
 class PointPath:
@@ -29,32 +30,14 @@ class PointPath:
 
     def __init__(self, t0: float, t1: float, p0: Vector, p1: Vector,
                  m0: Optional[Vector] = None, m1: Optional[Vector] = None) -> None:
-        self.t0, self.t1 = t0, t1
-        h = self.h = t1 - t0
-        self.a = p0
-        self.end = p1
-        self.curved = m0 is not None and m1 is not None
-        chord = sub(p1, p0)
-        if self.curved:
-            # power basis in s = (t - t0) / h: p = a + b s + c s^2 + d s^3
-            b = self.b = (h * m0[0], h * m0[1], h * m0[2])
-            e = (h * m1[0], h * m1[1], h * m1[2])
-            c = self.c = (3.0 * chord[0] - 2.0 * b[0] - e[0], 3.0 * chord[1] - 2.0 * b[1] - e[1],
-                          3.0 * chord[2] - 2.0 * b[2] - e[2])
-            d = self.d = (b[0] + e[0] - 2.0 * chord[0], b[1] + e[1] - 2.0 * chord[1],
-                          b[2] + e[2] - 2.0 * chord[2])
-            # p''(t) = accel0 + accel_rate * s (m/s^2)
-            h2 = h * h
-            self.accel0 = (2.0 * c[0] / h2, 2.0 * c[1] / h2, 2.0 * c[2] / h2)
-            self.accel_rate = (6.0 * d[0] / h2, 6.0 * d[1] / h2, 6.0 * d[2] / h2)
-            # p(s) - chord(s) = c (s^2 - s) + d (s^3 - s); |s^2 - s| <= 1/4, |s^3 - s| <= 0.385
-            self.bulge = 0.25 * norm(c) + 0.3849 * norm(d)
-        else:
-            self.b = chord
-            self.c = self.d = (0.0, 0.0, 0.0)
-            self.bulge = 0.0
-        self.centre = lerp(p0, p1, 0.5)
-        self.radius = 0.5 * norm(chord) + self.bulge
+        # in the kernel (``toi._kernel.point_path_init``, the same operations in this order):
+        # the power basis in s = (t - t0) / h, p = a + b s + c s^2 + d s^3 with b = h m0,
+        # e = h m1, c = 3 chord - 2 b - e, d = b + e - 2 chord; p''(t) = accel0 + accel_rate s
+        # with accel0 = 2 c / h^2, accel_rate = 6 d / h^2; p(s) - chord(s) = c (s^2 - s) +
+        # d (s^3 - s), |s^2 - s| <= 1/4 and |s^3 - s| <= 0.385, so bulge = 0.25 |c| +
+        # 0.3849 |d|; a chord: b = the chord, c = d = 0, bulge 0; centre: the chord's middle,
+        # radius: half the chord plus the bulge
+        _kernel.point_path_init(self, t0, t1, p0, p1, m0, m1)
 
     @classmethod
     def build(cls, model: str, t0: float, t1: float, p0: Vector, p1: Vector,

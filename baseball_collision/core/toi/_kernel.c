@@ -57,6 +57,7 @@
  *   turn_between(a, b)  how the bat turned between two samples (core.motion.base), and
  *        fill_turns(values, turns, first_kept, k) their sums (core.detector.streams),
  *   recharted(reference, origin, turn, rate, step),
+ *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -3646,6 +3647,90 @@ static PyObject *py_fill_turns(PyObject *self, PyObject *const *args, Py_ssize_t
 }
 
 /*
+ * point_path_init(path, t0, t1, p0, p1, m0, m1): fill a core.motion.points.PointPath's slots as
+ * its Python constructor did, the same operations in its order: t0, t1, a = p0 and end = p1 as
+ * given, h = t1 - t0, curved, and for a cubic (m0 and m1 given, m/s) b = h m0, c, d, accel0,
+ * accel_rate and bulge (0.25 |c| + 0.3849 |d|), for a chord b = p1 - p0, c = d = 0 and bulge
+ * 0; centre (the chord's middle) and radius (half the chord plus the bulge). TypeError: points
+ * that are not 3 numbers, times that are not numbers.
+ */
+static PyObject *path_names[3]; /* "centre", "radius", "bulge" (interned at import) */
+
+static bool set_number(PyObject *o, PyObject *name, double x)
+{
+  PyObject *value = PyFloat_FromDouble(x);
+  int failed = value == NULL || PyObject_SetAttr(o, name, value) < 0;
+  Py_XDECREF(value);
+  return !failed;
+}
+
+static bool set_vec(PyObject *o, PyObject *name, Vec v)
+{
+  PyObject *value = vec_tuple(v);
+  int failed = value == NULL || PyObject_SetAttr(o, name, value) < 0;
+  Py_XDECREF(value);
+  return !failed;
+}
+
+static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t0, t1;
+  Vec p0, p1, m0 = {0.0, 0.0, 0.0}, m1 = {0.0, 0.0, 0.0};
+  if (nargs != 7 || !read_number(args[1], &t0) || !read_number(args[2], &t1) ||
+      !read_vec(args[3], &p0) || !read_vec(args[4], &p1)) {
+    PyErr_SetString(PyExc_TypeError, "point_path_init(path, t0, t1, p0, p1, m0, m1): times "
+                                     "and points of 3 numbers");
+    return NULL;
+  }
+  bool curved = args[5] != Py_None && args[6] != Py_None;
+  if (curved && (!read_vec(args[5], &m0) || !read_vec(args[6], &m1))) {
+    PyErr_SetString(PyExc_TypeError, "point_path_init: velocities of 3 numbers");
+    return NULL;
+  }
+  PyObject *path = args[0];
+  double h = t1 - t0;
+  Vec chord = v_sub(p1, p0);
+  if (PyObject_SetAttr(path, piece_names[PIECE_T0], args[1]) < 0 ||
+      PyObject_SetAttr(path, piece_names[PIECE_T1], args[2]) < 0 ||
+      !set_number(path, piece_names[PIECE_H], h) ||
+      PyObject_SetAttr(path, piece_names[PIECE_A], args[3]) < 0 ||
+      PyObject_SetAttr(path, piece_names[PIECE_END], args[4]) < 0 ||
+      PyObject_SetAttr(path, piece_names[PIECE_CURVED], curved ? Py_True : Py_False) < 0) {
+    return NULL;
+  }
+  double bulge = 0.0;
+  if (curved) {
+    Vec b = {h * m0.x, h * m0.y, h * m0.z}, e = {h * m1.x, h * m1.y, h * m1.z};
+    Vec c = {3.0 * chord.x - 2.0 * b.x - e.x, 3.0 * chord.y - 2.0 * b.y - e.y,
+             3.0 * chord.z - 2.0 * b.z - e.z};
+    Vec d = {b.x + e.x - 2.0 * chord.x, b.y + e.y - 2.0 * chord.y, b.z + e.z - 2.0 * chord.z};
+    double h2 = h * h;
+    bulge = 0.25 * v_norm(c) + 0.3849 * v_norm(d);
+    if (!set_vec(path, piece_names[PIECE_B], b) || !set_vec(path, piece_names[PIECE_C], c) ||
+        !set_vec(path, piece_names[PIECE_D], d) ||
+        !set_vec(path, piece_names[PIECE_ACCEL0],
+                 (Vec){2.0 * c.x / h2, 2.0 * c.y / h2, 2.0 * c.z / h2}) ||
+        !set_vec(path, piece_names[PIECE_ACCEL_RATE],
+                 (Vec){6.0 * d.x / h2, 6.0 * d.y / h2, 6.0 * d.z / h2})) {
+      return NULL;
+    }
+  } else {
+    Vec zero = {0.0, 0.0, 0.0};
+    if (!set_vec(path, piece_names[PIECE_B], chord) ||
+        !set_vec(path, piece_names[PIECE_C], zero) || !set_vec(path, piece_names[PIECE_D], zero)) {
+      return NULL;
+    }
+  }
+  if (!set_number(path, path_names[2], bulge) ||
+      !set_vec(path, path_names[0], (Vec){p0.x + (p1.x - p0.x) * 0.5, p0.y + (p1.y - p0.y) * 0.5,
+                                          p0.z + (p1.z - p0.z) * 0.5}) ||
+      !set_number(path, path_names[1], 0.5 * v_norm(chord) + bulge)) {
+    return NULL;
+  }
+  Py_RETURN_NONE;
+}
+
+/*
  * recharted(reference, origin, turn, rate, step) -> (rotation vector, its rate): a rotation
  * vector and its rate (rad, rad/s) moved from the chart about unit ``reference`` to the one
  * about unit ``origin`` (core.detector.fitting._recharted): the direction reference turned by
@@ -5659,6 +5744,8 @@ static PyMethodDef methods[] = {
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"point_path_init", (PyCFunction)(void (*)(void))py_point_path_init, METH_FASTCALL,
+     "point_path_init(path, t0, t1, p0, p1, m0, m1): a PointPath's slots filled"},
     {"fill_turns", (PyCFunction)(void (*)(void))py_fill_turns, METH_FASTCALL,
      "fill_turns(values, turns, first_kept, k): a bat stream's cumulative turns up to k"},
     {"turn_between", (PyCFunction)(void (*)(void))py_turn_between, METH_FASTCALL,
@@ -5749,6 +5836,14 @@ PyMODINIT_FUNC PyInit__kernel(void)
   tip_name = PyUnicode_InternFromString("tip");
   quaternion_name = PyUnicode_InternFromString("quaternion");
   position_name = PyUnicode_InternFromString("position");
+  static const char *path_attributes[3] = {"centre", "radius", "bulge"};
+  for (int i = 0; i < 3; i++) {
+    path_names[i] = PyUnicode_InternFromString(path_attributes[i]);
+    if (path_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
   for (int i = 0; i < PIECE_NAMES; i++) {
     piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
     if (piece_names[i] == NULL) {

@@ -74,3 +74,51 @@ def test_a_uniform_turn_has_no_deviation() -> None:
     angle = AngleCubic(0.0, 0.5, 0.0, 1.0)
     assert angle.at(0.25) == 0.5 and angle.deviation(0.0, 0.5) == 0.0 and angle.bulge == 0.0
     assert math.isclose(angle.at(0.5), 1.0)
+
+
+def _reference_slots(t0, t1, p0, p1, m0, m1) -> dict:
+    """Return the path's slots by ``PointPath``'s formulas, written out in Python in its order."""
+    h = t1 - t0
+    chord = tuple(b - a for a, b in zip(p0, p1))
+    slots = {'t0': t0, 't1': t1, 'h': h, 'a': p0, 'end': p1,
+             'curved': m0 is not None and m1 is not None}
+    if slots['curved']:
+        b = tuple(h * m for m in m0)
+        e = tuple(h * m for m in m1)
+        c = tuple(3.0 * q - 2.0 * x - y for q, x, y in zip(chord, b, e))
+        d = tuple(x + y - 2.0 * q for q, x, y in zip(chord, b, e))
+        h2 = h * h
+        slots.update(b=b, c=c, d=d, accel0=tuple(2.0 * x / h2 for x in c),
+                     accel_rate=tuple(6.0 * x / h2 for x in d),
+                     bulge=0.25 * math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+                     + 0.3849 * math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
+    else:
+        slots.update(b=chord, c=(0.0, 0.0, 0.0), d=(0.0, 0.0, 0.0), bulge=0.0)
+    slots['centre'] = tuple(a + (b - a) * 0.5 for a, b in zip(p0, p1))
+    slots['radius'] = 0.5 * math.sqrt(sum(x * x for x in chord)) + slots['bulge']
+    return slots
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(t0=st.floats(-1e3, 1e3), h=st.floats(1e-6, 1.0),
+       points=st.lists(st.floats(-1e3, 1e3), min_size=12, max_size=12),
+       curved=st.booleans())
+def test_the_kernel_fills_a_point_path_as_its_formulas_say(t0: float, h: float, points: list,
+                                                           curved: bool) -> None:
+    """
+    ``PointPath`` (filled by ``_kernel.point_path_init``) holds its formulas' numbers, bit for bit.
+
+    Every slot against the formulas written out in Python, a chord and a cubic; the ends and
+    stamps are the objects given; bad points are refused.
+    """
+    p0, p1 = tuple(points[0:3]), tuple(points[3:6])
+    m0, m1 = (tuple(points[6:9]), tuple(points[9:12])) if curved else (None, None)
+    t1 = t0 + h
+    path = PointPath(t0, t1, p0, p1, m0, m1)
+    for name, value in _reference_slots(t0, t1, p0, p1, m0, m1).items():
+        assert getattr(path, name) == value and type(getattr(path, name)) is type(value), name
+    assert path.a is p0 and path.end is p1
+    with pytest.raises(TypeError):
+        PointPath(t0, t1, p0[:2], p1)
+    with pytest.raises(TypeError):
+        PointPath(t0, t1, p0, p1, m0 or p0, (1.0, 'x', 2.0))
