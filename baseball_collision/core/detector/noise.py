@@ -117,11 +117,8 @@ class NoiseEstimate:
             old, new = stream.values[-2:]
             return self._median.take(
                 (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),))
-        if len(stream.times) < 5 or any(stream.breaks[-4:]):
-            return self._median.sigma
-        return self._median.take_points(
-            stream.times[-5:], [getattr(value, 'position', value) for value in stream.values[-5:]],
-            None, None, 0, 1)
+        # (the kernel's: five samples of one segment, the values' points or poses' positions)
+        return self._median.take_stream(stream.times, stream.values, stream.breaks)
 
     def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
                pre: int) -> np.ndarray:

@@ -4357,6 +4357,7 @@ done:
  *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
  *       None), as point_residuals gives them; IndexError: a window outside the samples
  *   residuals() -> the kept residuals (m), oldest first
+ *   take_stream(times, values, breaks) -> sigma: the newest sample's residuals (update's)
  *   bounds(times, points, breaks, pre, block, out): upper bounds on the estimate over a chunk
  */
 typedef struct {
@@ -4733,6 +4734,67 @@ done:
   return result;
 }
 
+/*
+ * NoiseMedian.take_stream(times, values, breaks) -> sigma: the residuals a point stream's newest
+ * sample completes (core.detector.noise.NoiseEstimate.update): the window of its five newest
+ * samples, none of the four newest starting a segment (else nothing is taken), each value a
+ * point or a bat sample's position (getattr(value, 'position', value)). times, values,
+ * breaks: the stream's lists.
+ */
+static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 3 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+      !PyList_Check(args[2])) {
+    PyErr_SetString(PyExc_TypeError, "take_stream(times, values, breaks): three lists");
+    return NULL;
+  }
+  PyObject *times = args[0], *values = args[1], *breaks = args[2];
+  Py_ssize_t n = PyList_GET_SIZE(times);
+  if (n < 5 || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
+    return PyFloat_FromDouble(m->sigma);
+  }
+  for (Py_ssize_t i = n - 4; i < n; i++) {
+    int broken = PyObject_IsTrue(PyList_GET_ITEM(breaks, i));
+    if (broken < 0) {
+      return NULL;
+    }
+    if (broken) {
+      return PyFloat_FromDouble(m->sigma);
+    }
+  }
+  PyObject *points = PyList_New(5);
+  if (points == NULL) {
+    return NULL;
+  }
+  for (Py_ssize_t i = 0; i < 5; i++) {
+    PyObject *value = PyList_GET_ITEM(values, n - 5 + i);
+    PyObject *point = PyTuple_Check(value) ? Py_NewRef(value)
+                                           : PyObject_GetAttr(value, position_name);
+    if (point == NULL && PyErr_ExceptionMatches(PyExc_AttributeError)) {
+      PyErr_Clear(); /* (getattr(value, 'position', value): a point of another type) */
+      point = Py_NewRef(value);
+    }
+    if (point == NULL) {
+      Py_DECREF(points);
+      return NULL;
+    }
+    PyList_SET_ITEM(points, i, point);
+  }
+  PyObject *window = PyList_GetSlice(times, n - 5, n);
+  double *memory = NULL, *out = NULL;
+  if (window != NULL) {
+    memory = window_residuals(window, points, NULL, NULL, 0, 0, 1, "take_stream", &out);
+  }
+  Py_XDECREF(window);
+  Py_DECREF(points);
+  if (memory == NULL) {
+    return NULL;
+  }
+  median_take(m, out, 3);
+  PyMem_Free(memory);
+  return PyFloat_FromDouble(m->sigma);
+}
+
 static PyObject *median_residuals(NoiseMedian *m, PyObject *Py_UNUSED(ignored))
 {
   PyObject *list = PyList_New(m->count);
@@ -4751,6 +4813,9 @@ static PyObject *median_residuals(NoiseMedian *m, PyObject *Py_UNUSED(ignored))
 static PyMethodDef median_methods[] = {
     {"take", (PyCFunction)median_take_method, METH_O,
      "take(residuals) -> sigma: residuals (m) in order; the estimate (m)."},
+    {"take_stream", (PyCFunction)(void (*)(void))median_take_stream, METH_FASTCALL,
+     "take_stream(times, values, breaks) -> sigma: the residuals a point stream's newest sample "
+     "completes."},
     {"take_points", (PyCFunction)(void (*)(void))median_take_points, METH_FASTCALL,
      "take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals "
      "of count windows of five from sample start of the old samples then the new arrays."},

@@ -318,3 +318,24 @@ def test_the_bounds_hold_the_estimate_after_every_sample(
         estimate.bounds(times, points[:-1], breaks, kept)
     with pytest.raises(ValueError, match='point streams'):
         NoiseEstimate('length').bounds(times, points, breaks, kept)
+
+
+def test_a_point_streams_update_takes_its_five_newest_points_or_positions() -> None:
+    """
+    ``update`` takes the residuals of the five newest samples' points (a pose's positions).
+
+    The same residuals as ``_point_residuals`` of those points, for tuples, lists and poses
+    alike; nothing while a break is among the four newest.
+    """
+    rng = np.random.default_rng(4)
+    times = np.cumsum(rng.uniform(0.002, 0.004, 9)).tolist()
+    points = rng.normal(0.0, 1e-3, (9, 3)).tolist()
+    for make in (tuple, list, lambda p: BatSample((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), tuple(p),
+                                                  (0.0, 0.0, 0.0, 1.0))):
+        stream, estimate = Stream('s'), NoiseEstimate('point')
+        for i in range(9):
+            stream.append(times[i], i, make(points[i]), i in (0, 6))
+            estimate.update(stream)
+        expected = [r for k in (4, 5) for r in _point_residuals(times[k - 4:k + 1],
+                                                                points[k - 4:k + 1])[0]]
+        assert estimate.residuals == expected  # (6 starts a segment: 6, 7, 8 take nothing)
