@@ -58,6 +58,8 @@
  *        fill_turns(values, turns, first_kept, k) their sums (core.detector.streams),
  *   recharted(reference, origin, turn, rate, step),
  *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
+ *   window_bulge(times, rows, j, weights, offset, column, width)  the c2 far test's bulge
+ *        bounds (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -3730,6 +3732,102 @@ static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ss
   Py_RETURN_NONE;
 }
 
+/* width numbers of a row (a sequence) from column on into x; false with an exception */
+static bool read_columns(PyObject *row, Py_ssize_t column, Py_ssize_t width, double *x)
+{
+  PyObject *items = PySequence_Fast(row, "a row must be a sequence");
+  if (items == NULL) {
+    return false;
+  }
+  bool ok = PySequence_Fast_GET_SIZE(items) >= column + width;
+  for (Py_ssize_t c = 0; ok && c < width; c++) {
+    x[c] = item_double(PySequence_Fast_GET_ITEM(items, column + c));
+    ok = !PyErr_Occurred();
+  }
+  Py_DECREF(items);
+  if (!ok && !PyErr_Occurred()) {
+    PyErr_SetString(PyExc_TypeError, "window_bulge: a row too short");
+  }
+  return ok;
+}
+
+/*
+ * window_bulge(times, rows, j, weights, offset, column, width) -> the c2 far test's bulge bound
+ * (m) over interval j of a window (core.detector.broadphase.c2: c2_bulge, width 3: points;
+ * c2_bat_growth's length, width 1): sum over the samples i of weights[offset + i] times
+ * |row_i - chord_j(t_i)| (the columns column .. column + width - 1 of each row; the chord
+ * through rows j and j + 1 extended), those of weight 0 left out, added in order from 0.0 (the
+ * Python's operations in its order). A weight past the list counts 0 (zip). ValueError: j or
+ * offset outside; TypeError: rows that are not numbers.
+ */
+static PyObject *py_window_bulge(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t j, offset, column, width;
+  if (nargs != 7 || !read_index(args[2], &j) || !read_index(args[4], &offset) ||
+      !read_index(args[5], &column) || !read_index(args[6], &width)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "window_bulge(times, rows, j, weights, offset, column, width)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *weights = rows ? PySequence_Fast(args[3], "weights must be a sequence") : NULL;
+  PyObject *result = NULL;
+  if (weights == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times), m = PySequence_Fast_GET_SIZE(weights);
+  if (PySequence_Fast_GET_SIZE(rows) < n) {
+    n = PySequence_Fast_GET_SIZE(rows);
+  }
+  if (j < 0 || j + 1 >= n || offset < 0 || column < 0 || (width != 1 && width != 3)) {
+    PyErr_SetString(PyExc_ValueError, "window_bulge: an interval or columns outside the window");
+    goto done;
+  }
+  double start[3], rate[3], value[3];
+  double t0 = item_double(PySequence_Fast_GET_ITEM(times, j));
+  double h = item_double(PySequence_Fast_GET_ITEM(times, j + 1)) - t0;
+  if (!read_columns(PySequence_Fast_GET_ITEM(rows, j), column, width, start) ||
+      !read_columns(PySequence_Fast_GET_ITEM(rows, j + 1), column, width, rate)) {
+    goto done;
+  }
+  for (int c = 0; c < width; c++) {
+    rate[c] = (rate[c] - start[c]) / h;
+  }
+  double bound = 0.0;
+  for (Py_ssize_t i = 0; i < n && offset + i < m; i++) {
+    double weight = item_double(PySequence_Fast_GET_ITEM(weights, offset + i));
+    if (PyErr_Occurred()) {
+      goto done;
+    }
+    if (weight == 0.0) {
+      continue;
+    }
+    double dt = item_double(PySequence_Fast_GET_ITEM(times, i)) - t0;
+    if (PyErr_Occurred() || !read_columns(PySequence_Fast_GET_ITEM(rows, i), column, width,
+                                          value)) {
+      goto done;
+    }
+    if (width == 1) {
+      bound += weight * fabs(value[0] - start[0] - rate[0] * dt);
+    } else {
+      double dx = value[0] - start[0] - rate[0] * dt, dy = value[1] - start[1] - rate[1] * dt;
+      double dz = value[2] - start[2] - rate[2] * dt;
+      bound += weight * sqrt(dx * dx + dy * dy + dz * dz);
+    }
+  }
+  if (!PyErr_Occurred()) {
+    result = PyFloat_FromDouble(bound);
+  }
+done:
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  Py_XDECREF(weights);
+  return result;
+}
+
 /*
  * recharted(reference, origin, turn, rate, step) -> (rotation vector, its rate): a rotation
  * vector and its rate (rad, rad/s) moved from the chart about unit ``reference`` to the one
@@ -5809,6 +5907,8 @@ static PyMethodDef methods[] = {
      "knots per unit value, (n - 4) x n doubles as bytes (n >= 5)"},
     {"bat_axis", py_bat_axis, METH_O,
      "bat_axis(sample): (unit knob-to-tip direction, length in m)"},
+    {"window_bulge", (PyCFunction)(void (*)(void))py_window_bulge, METH_FASTCALL,
+     "window_bulge(times, rows, j, weights, offset, column, width): the c2 far test's bulge"},
     {"point_path_init", (PyCFunction)(void (*)(void))py_point_path_init, METH_FASTCALL,
      "point_path_init(path, t0, t1, p0, p1, m0, m1): a PointPath's slots filled"},
     {"fill_turns", (PyCFunction)(void (*)(void))py_fill_turns, METH_FASTCALL,

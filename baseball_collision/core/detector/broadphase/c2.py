@@ -16,6 +16,7 @@ from ..fitting import c2_window
 from ..streams import Stream
 from ...geometry import norm, Vector
 from ...motion import BatSample, c2_rows, unit_axis
+from ...toi import _kernel
 
 
 C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.18, 0.048, 0.013, 0.0034, 0.0009, 0.0002)
@@ -49,27 +50,9 @@ def c2_bulge(times: Sequence[float], points: Sequence[Vector], j: int) -> float:
     most sum_i |r_i| w_i: r_i each sample's distance from the chord's line extended, w_i the
     cardinal bound by its distance from the interval (``C2_WEIGHTS_*``), times
     ``C2_SAFETY``. Valid for steps within ``C2_STEP_RATIO`` of each other (the caller checks).
+    The kernel's (``toi._kernel.window_bulge``: the terms added in the samples' order).
     """
-    t0, h = times[j], times[j + 1] - times[j]
-    (x0, y0, z0), p1 = points[j], points[j + 1]
-    vx, vy, vz = (p1[0] - x0) / h, (p1[1] - y0) / h, (p1[2] - z0) / h
-    bound = 0.0
-    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
-    for weight, t, p in zip(weights, times, points):
-        if weight:
-            dt = t - t0
-            dx, dy, dz = p[0] - x0 - vx * dt, p[1] - y0 - vy * dt, p[2] - z0 - vz * dt
-            bound += weight * math.sqrt(dx * dx + dy * dy + dz * dz)
-    return bound
-
-
-def _scalar_bulge(times: Sequence[float], values: Sequence[float], j: int) -> float:
-    """``c2_bulge`` of one number per sample."""
-    t0, v0 = times[j], values[j]
-    rate = (values[j + 1] - v0) / (times[j + 1] - t0)
-    weights = _WEIGHT_LIST[_FAR_OFFSET - j:_FAR_OFFSET - j + len(times)]
-    return sum(weight * abs(v - v0 - rate * (t - t0))
-               for weight, t, v in zip(weights, times, values) if weight)
+    return _kernel.window_bulge(times, points, j, _WEIGHT_LIST, _FAR_OFFSET - j, 0, 3)
 
 
 def _jump_coefficients() -> Tuple[float, ...]:
@@ -270,9 +253,10 @@ def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
             b - a for a, b in zip(times, times[1:])):
         return None
     i = j - first
-    knob = c2_bulge(times, [row[0:3] for row in rows], i)
-    turn = c2_bulge(times, [row[3:6] for row in rows], i)
-    stretch = _scalar_bulge(times, [row[6] for row in rows], i)
+    # (each group of the rows' columns: knob, rotation vector, length; ``c2_bulge``'s bound)
+    knob, turn, stretch = (_kernel.window_bulge(times, rows, i, _WEIGHT_LIST, _FAR_OFFSET - i,
+                                                column, width)
+                           for column, width in ((0, 3), (3, 3), (6, 1)))
     half_cos = math.cos(0.5 * norm(rows[i + 1][3:6]))
     length0, length1 = rows[i][6], rows[i + 1][6]
     return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)

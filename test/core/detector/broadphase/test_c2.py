@@ -10,6 +10,7 @@ from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.motion import not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
 import numpy as np
+import pytest
 from support import examples
 from support.far import tilting_bat
 from support.scenes import BASE_NS
@@ -254,3 +255,39 @@ def test_under_noise_the_balls_own_path_clears_a_ball_the_samples_bounds_cannot(
                              2, 8, noise)
         found[across] = (samples, path)
     assert found == {0.3: (False, True), 0.2: (False, False)}
+
+
+def _bulge_written_out(times, rows, j, column, width) -> float:
+    """Return the cardinal-weight bulge bound of the module docstring, written out in Python."""
+    from baseball_collision.core.detector.broadphase.c2 import _FAR_OFFSET, _WEIGHT_LIST
+    t0, h = times[j], times[j + 1] - times[j]
+    start = rows[j][column:column + width]
+    rate = [(b - a) / h for a, b in zip(start, rows[j + 1][column:column + width])]
+    bound = 0.0
+    for weight, t, row in zip(_WEIGHT_LIST[_FAR_OFFSET - j:], times, rows):
+        if weight:
+            d = [v - s - r * (t - t0) for v, s, r in zip(row[column:column + width], start, rate)]
+            bound += weight * (abs(d[0]) if width == 1 else math.sqrt(
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
+    return bound
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 34), at=st.floats(0.0, 1.0))
+def test_the_kernels_window_bulge_is_the_bound_written_out(seed: int, n: int, at: float) -> None:
+    """``window_bulge`` (``c2_bulge``, the growth's groups) is the sum written out, to the bit."""
+    from baseball_collision.core.detector.broadphase.c2 import _FAR_OFFSET, _WEIGHT_LIST
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.001, 0.01, n)).tolist()
+    rows = [tuple(rng.normal(size=7).tolist()) for _ in range(n)]
+    j = min(int(at * (n - 1)), n - 2)
+    assert c2_bulge(times, [row[:3] for row in rows], j) == _bulge_written_out(
+        times, rows, j, 0, 3)
+    for column, width in ((3, 3), (6, 1)):
+        assert _kernel.window_bulge(times, rows, j, _WEIGHT_LIST, _FAR_OFFSET - j, column,
+                                    width) == _bulge_written_out(times, rows, j, column, width)
+    with pytest.raises(ValueError):
+        _kernel.window_bulge(times, rows, n - 1, _WEIGHT_LIST, 0, 0, 3)
+    with pytest.raises(TypeError):
+        _kernel.window_bulge(times, rows, j, _WEIGHT_LIST, _FAR_OFFSET - j, 5, 3)
