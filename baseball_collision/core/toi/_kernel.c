@@ -819,6 +819,28 @@ static PyObject *not_implemented(void) { Py_RETURN_NOTIMPLEMENTED; }
 /* ------------------------------------------------------------------------------------------ */
 /* Python entry points */
 
+/*
+ * Where a class with __slots__ keeps field `name`: the offset of its member descriptor's object
+ * (a writable T_OBJECT_EX slot, filled in straight as the class's own __init__ would), or -1
+ * (another kind of attribute). False with an exception: the class has no such attribute.
+ */
+static bool slot_offset(PyObject *type, PyObject *name, Py_ssize_t *offset)
+{
+  PyObject *descriptor = PyObject_GetAttr(type, name);
+  if (descriptor == NULL) {
+    return false;
+  }
+  *offset = -1;
+  if (Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
+    PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
+    if (member->type == T_OBJECT_EX && !(member->flags & READONLY)) {
+      *offset = member->offset;
+    }
+  }
+  Py_DECREF(descriptor);
+  return true;
+}
+
 static PyObject *py_bind(PyObject *self, PyObject *args)
 {
   PyObject *type, *names, *members;
@@ -836,18 +858,9 @@ static PyObject *py_bind(PyObject *self, PyObject *args)
   /* a class with __slots__: each field is a member descriptor holding an object at an offset */
   Py_ssize_t offsets[7];
   for (int i = 0; i < 7; i++) {
-    PyObject *descriptor = PyObject_GetAttr(type, PyTuple_GET_ITEM(names, i));
-    if (descriptor == NULL) {
+    if (!slot_offset(type, PyTuple_GET_ITEM(names, i), &offsets[i])) {
       return NULL;
     }
-    offsets[i] = -1;
-    if (Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
-      PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
-      if (member->type == T_OBJECT_EX && !(member->flags & READONLY)) {
-        offsets[i] = member->offset;
-      }
-    }
-    Py_DECREF(descriptor);
   }
   for (int i = 0; i < 7; i++) {
     slot_offsets[i] = offsets[0] < 0 ? -1 : offsets[i];
@@ -4257,21 +4270,13 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
     PyErr_SetString(PyExc_ValueError, "bat_samples: rows outside the arrays");
     goto done;
   }
-  /* the fields' slots: member descriptors holding an object at an offset (else -1: call) */
+  /* the fields' slots (slot_offset; else -1: the class is called) */
   Py_ssize_t offsets[4];
   for (int f = 0; f < 4; f++) {
-    PyObject *descriptor = PyObject_GetAttr(args[0], names[f]);
-    if (descriptor == NULL) {
-      PyErr_Clear();
+    if (!slot_offset(args[0], names[f], &offsets[f])) {
+      PyErr_Clear(); /* (no such attribute: the class is called) */
+      offsets[f] = -1;
     }
-    offsets[f] = -1;
-    if (descriptor != NULL && Py_IS_TYPE(descriptor, &PyMemberDescr_Type)) {
-      PyMemberDef *member = ((PyMemberDescrObject *)descriptor)->d_member;
-      if (member->type == T_OBJECT_EX) {
-        offsets[f] = member->offset;
-      }
-    }
-    Py_XDECREF(descriptor);
   }
   bool direct = offsets[0] >= 0 && offsets[1] >= 0 && offsets[2] >= 0 && offsets[3] >= 0;
   result = PyList_New(last - first);
