@@ -46,8 +46,6 @@ if TYPE_CHECKING:  # (the detector imports this module)
 
 __all__ = ['CHUNK_MIN', 'fast_forward', 'feed_chunk', 'PLAN_LONGEST', 'PLAN_MAX', 'ROLE_CODES']
 
-_ROLES = (Role.BALL, Role.BAT_POSE)
-
 PLAN_MAX = 512
 """Samples planned at once after a plan was overturned: a plan the per-sample path overturns
 (a drop) is made again for the rest, so a bound keeps that cost flat."""
@@ -78,51 +76,17 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``.
     :returns: the newest stamp taken (ns).
     """
-    newest = 0
     turns = _run_turns(plan, pos, end, bat) if walk and plan.newest is not None else None
-    for s, stream in enumerate((ball, bat)):
-        counts = plan.counts[s]
-        a = counts[pos - 1] if pos else plan.pre[s]
-        b = counts[end] if stop else counts[end - 1]
-        kept = len(stream.times)
-        # the trim after the run, counted from the stream's first sample: samples it would
-        # drop as soon as they are appended are never made (nor turned into lists)
-        cut = plan.starts[s][end - 1] - (a - kept) if walk else 0
-        if b > a:
-            c = max(a, a + cut - kept)
-            # one sample appended (most runs near a contact): the estimator takes it after the
-            # append, as ``Detector.add`` does (``update``); else every sample of the run,
-            # kept or trimmed at once, before it (``take_points``: the same numbers)
-            single = noise is not None and b - a == 1 and c == a
-            if noise is not None and not single:
-                positions = plan.values[0] if s == 0 else plan.values[1][2]
-                old = stream.values[-4:]
-                stream.noise = noise[s].take_points(
-                    (stream.times[-4:], old if s == 0 else [v.position for v in old],
-                     stream.breaks[-4:]), plan.times[s][a:b],
-                    positions[a - plan.pre[s]:b - plan.pre[s]])
-            stream.times += plan.times[s][c:b].tolist()
-            stream.stamps += plan.stamps[s][c:b].tolist()
-            stream.breaks += [False] * (b - c)
-            first, last = c - plan.pre[s], b - plan.pre[s]
-            if s:  # bat samples are made as they are taken (a plan may end early)
-                stream.values += _kernel.bat_samples(BatSample, *plan.values[1], first, last)
-                stream.turns += [None] * (b - c)
-            else:
-                stream.values += map(tuple, plan.values[0][first:last].tolist())
-            if single:
-                stream.noise = noise[s].update(stream)
-            stats.received[_ROLES[s]] += b - a
-            stream.speed_drops = 0
-            stamp = int(plan.stamps[s][b - 1])
-            if stamp > newest:
-                newest = stamp
-        if cut > 0:
-            cut = min(cut, kept)
-            for buffer in (stream.times, stream.stamps, stream.values, stream.breaks,
-                           stream.turns, *stream.aligned.values()):
-                del buffer[:cut]
-            stream.path_key = None
+    # each stream in turn (the kernel's): its run's samples appended but those the trim after
+    # the run drops at once (never made), the estimate taken (one sample appended: after the
+    # append, as ``Detector.add`` does, ``update``; else every sample of the run before it,
+    # ``take_points``: the same numbers), then the trim
+    newest, ball_taken, bat_taken = _kernel.fast_forward_streams(
+        plan, pos, end, ball, bat, walk, stop, noise, BatSample)
+    if ball_taken:
+        stats.received[Role.BALL] += ball_taken
+    if bat_taken:
+        stats.received[Role.BAT_POSE] += bat_taken
     if turns is not None:  # (the kept samples' turns: the run's last len(bat.times))
         bat.turns[:] = turns[len(turns) - len(bat.times):]
     if walk:

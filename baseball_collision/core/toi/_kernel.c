@@ -66,7 +66,8 @@
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
  *   bat_samples(cls, knob, tip, position, quaternion, first, last)  a chunk's bat samples as
- *        BatSample instances (core.detector.chunks),
+ *        BatSample instances, and fast_forward_streams(plan, pos, end, ball, bat, walk, stop,
+ *        noise, sample_class) a run of them taken into the streams (core.detector.chunks),
  *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals,
  *        and NoiseMedian(capacity, scale, floor, min_count, rebuild) its running median
  *        estimate (core.detector.noise)
@@ -4235,18 +4236,10 @@ done:
  * (core.motion.BatSample, a frozen dataclass) is filled in straight, as its own __init__ fills
  * it; another is called. ValueError: other arrays, or rows outside them.
  */
-static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *bat_sample_list(PyObject *cls, PyObject *const *arrays, Py_ssize_t first,
+                                 Py_ssize_t last)
 {
-  Py_ssize_t first, last;
-  if (nargs != 7 || !PyType_Check(args[0]) || !read_index(args[5], &first) ||
-      !read_index(args[6], &last)) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError,
-                      "bat_samples(cls, knob, tip, position, quaternion, first, last)");
-    }
-    return NULL;
-  }
-  PyTypeObject *type = (PyTypeObject *)args[0];
+  PyTypeObject *type = (PyTypeObject *)cls;
   static const int widths[4] = {3, 3, 3, 4};
   PyObject *names[4] = {knob_name, tip_name, position_name, quaternion_name};
   Py_buffer views[4];
@@ -4255,7 +4248,7 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
   Py_ssize_t rows = -1;
   for (; viewed < 4; viewed++) {
     Py_ssize_t count;
-    if (!get_doubles(args[1 + viewed], &views[viewed], &count, "bat_samples", false)) {
+    if (!get_doubles(arrays[viewed], &views[viewed], &count, "bat_samples", false)) {
       goto done;
     }
     if (count % widths[viewed] != 0 || (rows >= 0 && count / widths[viewed] != rows)) {
@@ -4273,7 +4266,7 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
   /* the fields' slots (slot_offset; else -1: the class is called) */
   Py_ssize_t offsets[4];
   for (int f = 0; f < 4; f++) {
-    if (!slot_offset(args[0], names[f], &offsets[f])) {
+    if (!slot_offset(cls, names[f], &offsets[f])) {
       PyErr_Clear(); /* (no such attribute: the class is called) */
       offsets[f] = -1;
     }
@@ -4296,7 +4289,7 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
         fields[f] = NULL;
       }
     } else if (ok) {
-      sample = PyObject_CallFunctionObjArgs(args[0], fields[0], fields[1], fields[2], fields[3],
+      sample = PyObject_CallFunctionObjArgs(cls, fields[0], fields[1], fields[2], fields[3],
                                             NULL);
     }
     for (int f = 0; f < 4; f++) {
@@ -4311,6 +4304,348 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
 done:
   release_views(views, viewed);
   return result;
+}
+
+static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, last;
+  if (nargs != 7 || !PyType_Check(args[0]) || !read_index(args[5], &first) ||
+      !read_index(args[6], &last)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "bat_samples(cls, knob, tip, position, quaternion, first, last)");
+    }
+    return NULL;
+  }
+  return bat_sample_list(args[0], args + 1, first, last);
+}
+
+/* the attribute names fast_forward_streams reads and sets (interned at import) */
+enum {
+  FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
+  FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_TAKE_POINTS, FF_UPDATE, FF_NAMES
+};
+static const char *ff_attributes[FF_NAMES] = {
+    "counts", "pre",   "starts",      "times",    "stamps",      "values", "breaks",
+    "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update"};
+static PyObject *ff_names[FF_NAMES];
+
+/* item i of a sequence of ints (a plan's list or memoryview) as an index; false with an error */
+static bool index_at(PyObject *sequence, Py_ssize_t i, Py_ssize_t *out)
+{
+  PyObject *item = PySequence_GetItem(sequence, i);
+  if (item == NULL) {
+    return false;
+  }
+  bool ok = read_index(item, out);
+  Py_DECREF(item);
+  return ok;
+}
+
+/* item s of a plan attribute that holds one per stream (new reference; NULL with an error) */
+static PyObject *stream_item(PyObject *plan, int name, int s)
+{
+  PyObject *pair = PyObject_GetAttr(plan, ff_names[name]);
+  PyObject *item = pair ? PySequence_GetItem(pair, s) : NULL;
+  Py_XDECREF(pair);
+  return item;
+}
+
+/*
+ * appends items [c, b) of a contiguous int64 or float64 array to a list, as Python numbers;
+ * `last` (if not NULL) is set to item b - 1 of an int64 array (b > 0)
+ */
+static bool append_numbers(PyObject *list, PyObject *array, Py_ssize_t c, Py_ssize_t b,
+                           bool integers, long long *last)
+{
+  Py_buffer view;
+  if (PyObject_GetBuffer(array, &view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    return false;
+  }
+  bool ok = view.itemsize == 8 && view.format != NULL && strlen(view.format) == 1 &&
+            strchr(integers ? "lq" : "d", view.format[0]) != NULL && b <= view.len / 8;
+  if (!ok) {
+    PyErr_SetString(PyExc_ValueError, "fast_forward_streams: a plan's stamps must be int64 "
+                                      "and its times float64, holding the samples taken");
+  }
+  for (Py_ssize_t i = c; ok && i < b; i++) {
+    PyObject *item = integers ? PyLong_FromLongLong(((const long long *)view.buf)[i])
+                              : PyFloat_FromDouble(((const double *)view.buf)[i]);
+    ok = item != NULL && PyList_Append(list, item) == 0;
+    Py_XDECREF(item);
+  }
+  if (ok && last != NULL) {
+    *last = ((const long long *)view.buf)[b - 1];
+  }
+  PyBuffer_Release(&view);
+  return ok;
+}
+
+/* appends `count` references to one object to a list */
+static bool append_repeated(PyObject *list, PyObject *item, Py_ssize_t count)
+{
+  for (Py_ssize_t i = 0; i < count; i++) {
+    if (PyList_Append(list, item) < 0) {
+      return false;
+    }
+  }
+  return true;
+}
+
+/* appends a list's items to another */
+static bool append_all(PyObject *list, PyObject *items)
+{
+  Py_ssize_t n = PyList_GET_SIZE(list);
+  return PyList_SetSlice(list, n, n, items) == 0;
+}
+
+/* the newest up to four items of a list (new reference) */
+static PyObject *newest_four(PyObject *list)
+{
+  Py_ssize_t n = PyList_GET_SIZE(list);
+  return PyList_GetSlice(list, n > 4 ? n - 4 : 0, n);
+}
+
+/*
+ * The noise estimator of stream s takes a run's samples a .. b - 1 before they are appended
+ * (NoiseEstimate.take_points, with the stream's newest four samples: their stamps, points or
+ * poses' positions, and breaks); the stream's estimate becomes its answer.
+ */
+static bool take_run_noise(PyObject *estimator, PyObject *stream, PyObject *plan, int s,
+                           Py_ssize_t a, Py_ssize_t b, Py_ssize_t pre, PyObject *lists[3])
+{
+  PyObject *values = stream_item(plan, FF_VALUES, s);
+  PyObject *positions = values == NULL || s == 0 ? values : PySequence_GetItem(values, 2);
+  if (s == 1) {
+    Py_XDECREF(values);
+  }
+  PyObject *times = stream_item(plan, FF_TIMES, s);
+  PyObject *old_times = newest_four(lists[0]), *old_values = newest_four(lists[1]);
+  PyObject *old_breaks = newest_four(lists[2]);
+  PyObject *old_points = NULL, *run_times = NULL, *run_points = NULL, *result = NULL;
+  if (positions == NULL || times == NULL || old_times == NULL || old_values == NULL ||
+      old_breaks == NULL) {
+    goto done;
+  }
+  if (s == 0) {
+    old_points = Py_NewRef(old_values);
+  } else {
+    Py_ssize_t n = PyList_GET_SIZE(old_values);
+    old_points = PyList_New(n);
+    for (Py_ssize_t i = 0; old_points != NULL && i < n; i++) {
+      PyObject *position = PyObject_GetAttr(PyList_GET_ITEM(old_values, i), position_name);
+      if (position == NULL) {
+        Py_CLEAR(old_points);
+        break;
+      }
+      PyList_SET_ITEM(old_points, i, position);
+    }
+  }
+  run_times = old_points ? PySequence_GetSlice(times, a, b) : NULL;
+  run_points = run_times ? PySequence_GetSlice(positions, a - pre, b - pre) : NULL;
+  if (run_points != NULL) {
+    PyObject *before = PyTuple_Pack(3, old_times, old_points, old_breaks);
+    result = before ? PyObject_CallMethodObjArgs(estimator, ff_names[FF_TAKE_POINTS], before,
+                                                 run_times, run_points, NULL)
+                    : NULL;
+    Py_XDECREF(before);
+  }
+done:
+  Py_XDECREF(positions);
+  Py_XDECREF(times);
+  Py_XDECREF(old_times);
+  Py_XDECREF(old_values);
+  Py_XDECREF(old_breaks);
+  Py_XDECREF(old_points);
+  Py_XDECREF(run_times);
+  Py_XDECREF(run_points);
+  bool ok = result != NULL && PyObject_SetAttr(stream, ff_names[FF_NOISE], result) == 0;
+  Py_XDECREF(result);
+  return ok;
+}
+
+/*
+ * One stream's part of a fast-forward (fast_forward_streams): the run's samples appended (those
+ * its trim keeps), its noise estimate, its trim. Adds the samples it took to *taken and raises
+ * *newest to the newest stamp taken. False with an exception.
+ */
+static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end,
+                           PyObject *stream, bool walk, bool stop, PyObject *noise,
+                           PyObject *sample_class, Py_ssize_t *taken, long long *newest)
+{
+  enum { TIMES, VALUES, BREAKS, STAMPS, TURNS, LISTS };
+  static const int list_names[LISTS] = {FF_TIMES, FF_VALUES, FF_BREAKS, FF_STAMPS, FF_TURNS};
+  PyObject *lists[LISTS] = {NULL, NULL, NULL, NULL, NULL};
+  PyObject *counts = NULL, *starts = NULL, *pre_object = NULL, *estimator = NULL;
+  bool ok = false;
+  for (int i = 0; i < LISTS; i++) {
+    lists[i] = PyObject_GetAttr(stream, ff_names[list_names[i]]);
+    if (lists[i] == NULL) {
+      goto done;
+    }
+    if (!PyList_Check(lists[i])) {
+      PyErr_SetString(PyExc_TypeError, "fast_forward_streams: a stream's samples are lists");
+      goto done;
+    }
+  }
+  counts = stream_item(plan, FF_COUNTS, s);
+  starts = counts ? stream_item(plan, FF_STARTS, s) : NULL;
+  pre_object = starts ? stream_item(plan, FF_PRE, s) : NULL;
+  Py_ssize_t pre, a, b, start = 0;
+  if (pre_object == NULL || !read_index(pre_object, &pre) ||
+      !(pos ? index_at(counts, pos - 1, &a) : (a = pre, true)) ||
+      !index_at(counts, stop ? end : end - 1, &b) ||
+      (walk && !index_at(starts, end - 1, &start))) {
+    goto done;
+  }
+  Py_ssize_t kept = PyList_GET_SIZE(lists[TIMES]);
+  /* the trim after the run, counted from the stream's first sample */
+  Py_ssize_t cut = walk ? start - (a - kept) : 0;
+  if (b > a) {
+    Py_ssize_t c = a + cut - kept > a ? a + cut - kept : a;
+    /* one sample appended: the estimator takes it after the append (update); else the run's
+     * samples at once before it (take_points) */
+    bool single = noise != Py_None && b - a == 1 && c == a;
+    if (noise != Py_None) {
+      estimator = PySequence_GetItem(noise, s);
+      if (estimator == NULL ||
+          (!single && !take_run_noise(estimator, stream, plan, s, a, b, pre, lists))) {
+        goto done;
+      }
+    }
+    PyObject *times = stream_item(plan, FF_TIMES, s);
+    bool appended = times != NULL && append_numbers(lists[TIMES], times, c, b, false, NULL);
+    Py_XDECREF(times);
+    PyObject *stamps = appended ? stream_item(plan, FF_STAMPS, s) : NULL;
+    long long stamp = 0;
+    appended = stamps != NULL && append_numbers(lists[STAMPS], stamps, c, b, true, &stamp) &&
+               append_repeated(lists[BREAKS], Py_False, b - c);
+    PyObject *values = appended ? stream_item(plan, FF_VALUES, s) : NULL;
+    PyObject *made = NULL;
+    if (values != NULL && s == 1) {
+      PyObject *arrays = PySequence_Fast(values, "fast_forward_streams: a plan's bat arrays");
+      if (arrays != NULL && PySequence_Fast_GET_SIZE(arrays) != 4) {
+        PyErr_SetString(PyExc_ValueError, "fast_forward_streams: four bat arrays");
+      } else if (arrays != NULL) {
+        made = bat_sample_list(sample_class, PySequence_Fast_ITEMS(arrays), c - pre, b - pre);
+      }
+      Py_XDECREF(arrays);
+      appended = made != NULL && append_all(lists[VALUES], made) &&
+                 append_repeated(lists[TURNS], Py_None, b - c);
+    } else if (values != NULL) {
+      Py_buffer view;
+      Py_ssize_t count;
+      appended = get_doubles(values, &view, &count, "fast_forward_streams", false);
+      if (appended) {
+        if (count < 3 * (b - pre)) {
+          PyErr_SetString(PyExc_ValueError, "fast_forward_streams: ball rows outside the plan");
+          appended = false;
+        } else {
+          made = float_rows((const double *)view.buf + 3 * (c - pre), b - c, 3, true);
+          appended = made != NULL && append_all(lists[VALUES], made);
+        }
+        PyBuffer_Release(&view);
+      }
+    } else {
+      appended = false;
+    }
+    Py_XDECREF(made);
+    Py_XDECREF(values);
+    Py_XDECREF(stamps);
+    if (!appended) {
+      goto done;
+    }
+    if (single) {
+      PyObject *estimate = PyObject_CallMethodOneArg(estimator, ff_names[FF_UPDATE], stream);
+      bool set = estimate != NULL && PyObject_SetAttr(stream, ff_names[FF_NOISE], estimate) == 0;
+      Py_XDECREF(estimate);
+      if (!set) {
+        goto done;
+      }
+    }
+    *taken += b - a;
+    PyObject *zero = PyLong_FromLong(0);
+    bool set = zero != NULL && PyObject_SetAttr(stream, ff_names[FF_SPEED_DROPS], zero) == 0;
+    Py_XDECREF(zero);
+    if (!set) {
+      goto done;
+    }
+    if (stamp > *newest) {
+      *newest = stamp;
+    }
+  }
+  if (cut > 0) {
+    cut = cut < kept ? cut : kept;
+    for (int i = 0; i < LISTS; i++) {
+      if (PyList_SetSlice(lists[i], 0, cut, NULL) < 0) {
+        goto done;
+      }
+    }
+    PyObject *aligned = PyObject_GetAttr(stream, ff_names[FF_ALIGNED]);
+    PyObject *buffers = aligned ? PyDict_Values(aligned) : NULL;
+    Py_XDECREF(aligned);
+    if (buffers == NULL) {
+      goto done;
+    }
+    for (Py_ssize_t i = 0; i < PyList_GET_SIZE(buffers); i++) {
+      if (PySequence_DelSlice(PyList_GET_ITEM(buffers, i), 0, cut) < 0) {
+        Py_DECREF(buffers);
+        goto done;
+      }
+    }
+    Py_DECREF(buffers);
+    if (PyObject_SetAttr(stream, ff_names[FF_PATH_KEY], Py_None) < 0) {
+      goto done;
+    }
+  }
+  ok = true;
+done:
+  for (int i = 0; i < LISTS; i++) {
+    Py_XDECREF(lists[i]);
+  }
+  Py_XDECREF(counts);
+  Py_XDECREF(starts);
+  Py_XDECREF(pre_object);
+  Py_XDECREF(estimator);
+  return ok;
+}
+
+/*
+ * fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class)
+ *   -> (newest stamp taken or 0, samples taken by the ball, by the bat)
+ * The streams' part of core.detector.chunks.fast_forward, ball then bat, each as its Python
+ * did: the run's samples a .. b - 1 of the plan (b from sample end with `stop`) appended as
+ * the streams' lists (stamps as ints, times as floats, ball points as tuples, bat samples
+ * made as bat_samples makes them: those the run's trim keeps), the noise estimate taken
+ * (`noise`: the two NoiseEstimate objects, or None), speed_drops 0, then the trim (`walk`:
+ * to the plan's start after the run) of every list and of `aligned`'s, path_key None.
+ */
+static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t pos, end;
+  int walk, stop;
+  if (nargs != 9 || !read_index(args[1], &pos) || !read_index(args[2], &end) ||
+      (walk = PyObject_IsTrue(args[5])) < 0 || (stop = PyObject_IsTrue(args[6])) < 0 ||
+      !PyType_Check(args[8])) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "fast_forward_streams(plan, pos, end, ball, bat, walk, "
+                                       "stop, noise, sample_class)");
+    }
+    return NULL;
+  }
+  if (pos < 0 || end <= pos) {
+    PyErr_SetString(PyExc_ValueError, "fast_forward_streams: an empty or negative run");
+    return NULL;
+  }
+  Py_ssize_t taken[2] = {0, 0};
+  long long newest = 0;
+  for (int s = 0; s < 2; s++) {
+    if (!forward_stream(args[0], s, pos, end, args[3 + s], walk, stop, args[7], args[8],
+                        &taken[s], &newest)) {
+      return NULL;
+    }
+  }
+  return Py_BuildValue("Lnn", newest, taken[0], taken[1]);
 }
 
 /*
@@ -5959,6 +6294,10 @@ static PyMethodDef methods[] = {
     {"bat_samples", (PyCFunction)(void (*)(void))py_bat_samples, METH_FASTCALL,
      "bat_samples(cls, knob, tip, position, quaternion, first, last): a chunk's bat samples "
      "(rows first .. last - 1 of the arrays) as cls instances of tuples."},
+    {"fast_forward_streams", (PyCFunction)(void (*)(void))py_fast_forward_streams,
+     METH_FASTCALL,
+     "fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class): the "
+     "streams' part of a chunk's fast-forward -> (newest stamp, taken by ball, by bat)"},
     {"point_residuals", (PyCFunction)(void (*)(void))py_point_residuals, METH_FASTCALL,
      "point_residuals(times, points, start, count, scale, floor): the noise estimate's "
      "residuals of count windows of five from start, three each, and whether each is small"},
@@ -6017,6 +6356,13 @@ PyMODINIT_FUNC PyInit__kernel(void)
   for (int i = 0; i < PIECE_NAMES; i++) {
     piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
     if (piece_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
+  for (int i = 0; i < FF_NAMES; i++) {
+    ff_names[i] = PyUnicode_InternFromString(ff_attributes[i]);
+    if (ff_names[i] == NULL) {
       Py_DECREF(m);
       return NULL;
     }

@@ -711,3 +711,53 @@ def test_the_kernels_bat_samples_are_the_samples_the_arrays_make() -> None:
                                 ((knob.astype(np.float32), tip, position, quaternion), 0, 1)):
         with pytest.raises(ValueError):
             _kernel.bat_samples(BatSample, *arrays, first, last)
+
+
+def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
+    """
+    ``_kernel.fast_forward_streams`` (the streams' part of ``fast_forward``) checks its input.
+
+    Its taking samples as ``add`` does is the module's contract, tested above; here a run that
+    is empty or reversed, missing arguments, a plan without its lists, stamps that are not
+    int64 and streams whose samples are not lists are each an exception, the streams left
+    as they were where the check comes first.
+    """
+    from baseball_collision.core.toi import _kernel
+
+    class Planned:
+        """The plan's fields ``fast_forward_streams`` reads: two ball and two bat samples."""
+
+        n = 2
+        pre = (0, 0)
+        counts = ([1, 1], [0, 1])
+        starts = ([0, 0], [0, 0])
+        times = (np.array([0.0, 0.01]), np.array([0.0]))
+        stamps = (np.array([0, 10_000_000], np.int64), np.array([0], np.int64))
+        values = (np.zeros((2, 3)), (np.zeros((1, 3)),) * 3 + (np.array([[0.0, 0, 0, 1]]),))
+
+    ball, bat = Stream('ball'), Stream('bat')
+    plan = Planned()
+    assert _kernel.fast_forward_streams(plan, 0, 2, ball, bat, True, False, None,
+                                        BatSample) == (0, 1, 1)
+    assert ball.times == [0.0] and ball.values == [(0.0, 0.0, 0.0)] and bat.stamps == [0]
+    assert bat.values == [BatSample((0.0,) * 3, (0.0,) * 3, (0.0,) * 3, (0.0, 0.0, 0.0, 1.0))]
+    assert bat.turns == [None] and ball.breaks == [False]
+    for pos, end in ((1, 1), (2, 1), (-1, 1)):
+        with pytest.raises(ValueError):
+            _kernel.fast_forward_streams(plan, pos, end, ball, bat, True, False, None,
+                                         BatSample)
+    with pytest.raises(TypeError):
+        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None)
+    with pytest.raises(AttributeError):
+        _kernel.fast_forward_streams(object(), 0, 1, Stream('ball'), Stream('bat'), True,
+                                     False, None, BatSample)
+    plan.stamps = (np.array([0.0, 1e7]), plan.stamps[1])
+    fresh = Stream('ball')
+    with pytest.raises(ValueError):
+        _kernel.fast_forward_streams(plan, 0, 1, fresh, Stream('bat'), True, False, None,
+                                     BatSample)
+    tupled = Stream('ball')
+    tupled.times = ()  # type: ignore[assignment]
+    with pytest.raises(TypeError):
+        _kernel.fast_forward_streams(Planned(), 0, 1, tupled, Stream('bat'), True, False, None,
+                                     BatSample)
