@@ -59,7 +59,8 @@
  *   recharted(reference, origin, turn, rate, step),
  *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
  *   window_bulge(times, rows, j, weights, offset, column, width)  the c2 far test's bulge
- *        bounds (core.detector.broadphase.c2),
+ *        bounds, fill_jumps(times, values, steps, jumps, last, reach, bat) its per-sample
+ *        chord-velocity jumps (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -4320,6 +4321,129 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
   return bat_sample_list(args[0], args + 1, first, last);
 }
 
+/* Python's float ** 2 (float_pow: libm's pow of the absolute value; the exponent kept from
+ * being folded into a product) */
+static double python_square(double x)
+{
+  volatile double two = 2.0;
+  return pow(fabs(x), two);
+}
+
+/* a bat sample's length, math.dist(tip, knob) (NAN with an exception) */
+static double bat_length(PyObject *sample)
+{
+  Vec knob, tip;
+  PyObject *knob_object = NULL, *tip_object = NULL;
+  double length = NAN;
+  if (bat_ends(sample, &knob, &tip, &knob_object, &tip_object)) {
+    PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, tip_object, knob_object, NULL);
+    if (dist != NULL) {
+      length = PyFloat_AsDouble(dist);
+      Py_DECREF(dist);
+    }
+  }
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
+  return length;
+}
+
+/* item i of a list of floats (NAN with an exception) */
+static double list_double(PyObject *list, Py_ssize_t i)
+{
+  return PyFloat_AsDouble(PyList_GET_ITEM(list, i));
+}
+
+/* appends a float to a list */
+static bool append_double(PyObject *list, double x)
+{
+  PyObject *item = PyFloat_FromDouble(x);
+  bool ok = item != NULL && PyList_Append(list, item) == 0;
+  Py_XDECREF(item);
+  return ok;
+}
+
+/*
+ * fill_jumps(times, values, steps, jumps, last, reach, bat) -> None: the c2 far test's
+ * per-sample numbers (core.detector.broadphase.c2._fill_jumps), appended to the lists steps
+ * (times[m] - times[m - 1], 0.0 at 0) up to sample last and jumps (the chord velocities' jump
+ * at sample m, of the ball, or of the bat's knob plus the same of its length, math.dist(tip,
+ * knob)) up to last - 1, the entries more than `reach` before last not yet there NaN; the
+ * same operations in the same order as the Python (** 2 as libm's pow). TypeError: not lists
+ * or samples; IndexError: last beyond the samples.
+ */
+static PyObject *py_fill_jumps(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t last, reach;
+  int bat;
+  if (nargs != 7 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+      !PyList_Check(args[2]) || !PyList_Check(args[3]) || !read_index(args[4], &last) ||
+      !read_index(args[5], &reach) || (bat = PyObject_IsTrue(args[6])) < 0) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "fill_jumps(times, values, steps, jumps, last, reach, bat): four lists");
+    }
+    return NULL;
+  }
+  PyObject *times = args[0], *values = args[1], *steps = args[2], *jumps = args[3];
+  if (last < 0 || last >= PyList_GET_SIZE(times) || last >= PyList_GET_SIZE(values)) {
+    PyErr_SetString(PyExc_IndexError, "fill_jumps: last beyond the samples");
+    return NULL;
+  }
+  Py_ssize_t skip = last - reach;
+  while (PyList_GET_SIZE(steps) < skip) {
+    if (!append_double(steps, NAN)) {
+      return NULL;
+    }
+  }
+  while (PyList_GET_SIZE(jumps) < skip) {
+    if (!append_double(jumps, NAN)) {
+      return NULL;
+    }
+  }
+  for (Py_ssize_t m = PyList_GET_SIZE(steps); m <= last; m++) {
+    double step = m ? list_double(times, m) - list_double(times, m - 1) : 0.0;
+    if (PyErr_Occurred() || !append_double(steps, step)) {
+      return NULL;
+    }
+  }
+  for (Py_ssize_t m = PyList_GET_SIZE(jumps); m < last; m++) {
+    if (m == 0) {
+      if (!append_double(jumps, 0.0)) {
+        return NULL;
+      }
+      continue;
+    }
+    double h0 = list_double(steps, m), h1 = list_double(steps, m + 1), stretch = 0.0;
+    PyObject *samples[3] = {PyList_GET_ITEM(values, m - 1), PyList_GET_ITEM(values, m),
+                            PyList_GET_ITEM(values, m + 1)};
+    Vec p[3];
+    if (bat) {
+      double length[3];
+      for (int i = 0; i < 3; i++) {
+        length[i] = bat_length(samples[i]);
+      }
+      stretch = fabs((length[2] - length[1]) / h1 - (length[1] - length[0]) / h0);
+    }
+    for (int i = 0; i < 3 && !PyErr_Occurred(); i++) {
+      PyObject *point = bat ? PyObject_GetAttr(samples[i], knob_name) : Py_NewRef(samples[i]);
+      if (point != NULL && !read_vec(point, &p[i])) {
+        PyErr_SetString(PyExc_TypeError, "fill_jumps: points of 3 numbers");
+      }
+      Py_XDECREF(point);
+    }
+    if (PyErr_Occurred()) {
+      return NULL;
+    }
+    double jump = stretch + sqrt(python_square((p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0) +
+                                 python_square((p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0) +
+                                 python_square((p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0));
+    if (!append_double(jumps, jump)) {
+      return NULL;
+    }
+  }
+  Py_RETURN_NONE;
+}
+
 /* the attribute names fast_forward_streams reads and sets (interned at import) */
 enum {
   FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
@@ -6294,6 +6418,9 @@ static PyMethodDef methods[] = {
     {"bat_samples", (PyCFunction)(void (*)(void))py_bat_samples, METH_FASTCALL,
      "bat_samples(cls, knob, tip, position, quaternion, first, last): a chunk's bat samples "
      "(rows first .. last - 1 of the arrays) as cls instances of tuples."},
+    {"fill_jumps", (PyCFunction)(void (*)(void))py_fill_jumps, METH_FASTCALL,
+     "fill_jumps(times, values, steps, jumps, last, reach, bat): the c2 far test's steps and "
+     "chord-velocity jumps per sample, appended"},
     {"fast_forward_streams", (PyCFunction)(void (*)(void))py_fast_forward_streams,
      METH_FASTCALL,
      "fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class): the "

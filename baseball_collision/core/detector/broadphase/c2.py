@@ -78,7 +78,8 @@ def _fill_jumps(stream: Stream, last: int, reach: int) -> List[float]:
     knob-to-tip length (both bulges at once: they are added up in ``c2_reach``); up to
     ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used); samples more than ``reach``
     before ``last`` not yet filled hold NaN (the window that reads them has not come yet, and
-    no later window reaches them: a run the chunk path fast-forwarded).
+    no later window reaches them: a run the chunk path fast-forwarded). The kernel's
+    (``toi._kernel.fill_jumps``: the same operations in the same order).
 
     :returns: the jumps.
     """
@@ -86,30 +87,9 @@ def _fill_jumps(stream: Stream, last: int, reach: int) -> List[float]:
     if 'steps' not in aligned:
         aligned['steps'], aligned['jumps'] = [], []
     steps, jumps = aligned['steps'], aligned['jumps']
-    times, values = stream.times, stream.values
-    skip = last - reach
-    if len(steps) < skip:
-        steps += [math.nan] * (skip - len(steps))
-    if len(jumps) < skip:
-        jumps += [math.nan] * (skip - len(jumps))
-    for m in range(len(steps), last + 1):
-        steps.append(times[m] - times[m - 1] if m else 0.0)
-    bat = values[0].__class__ is BatSample
-    for m in range(len(jumps), last):
-        if m == 0:
-            jumps.append(0.0)
-            continue
-        h0, h1 = steps[m], steps[m + 1]
-        a, b, c = values[m - 1], values[m], values[m + 1]
-        stretch = 0.0
-        if bat:
-            la, lb, lc = (math.dist(a.tip, a.knob), math.dist(b.tip, b.knob),
-                          math.dist(c.tip, c.knob))
-            stretch = abs((lc - lb) / h1 - (lb - la) / h0)
-            a, b, c = a.knob, b.knob, c.knob
-        jumps.append(stretch + math.sqrt(((c[0] - b[0]) / h1 - (b[0] - a[0]) / h0) ** 2
-                                         + ((c[1] - b[1]) / h1 - (b[1] - a[1]) / h0) ** 2
-                                         + ((c[2] - b[2]) / h1 - (b[2] - a[2]) / h0) ** 2))
+    values = stream.values
+    _kernel.fill_jumps(stream.times, values, steps, jumps, last, reach,
+                       values[0].__class__ is BatSample)
     return jumps
 
 

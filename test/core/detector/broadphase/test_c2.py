@@ -7,7 +7,7 @@ from baseball_collision.core.detector.broadphase import (
     c2_bat_growth, c2_bulge, c2_jump_bulge, c2_path_apart, c2_reach, C2_STEP_RATIO,
     C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE, clearly_apart)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
-from baseball_collision.core.motion import not_a_knot_slopes
+from baseball_collision.core.motion import BatSample, not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -291,3 +291,61 @@ def test_the_kernels_window_bulge_is_the_bound_written_out(seed: int, n: int, at
         _kernel.window_bulge(times, rows, n - 1, _WEIGHT_LIST, 0, 0, 3)
     with pytest.raises(TypeError):
         _kernel.window_bulge(times, rows, j, _WEIGHT_LIST, _FAR_OFFSET - j, 5, 3)
+
+
+def _jumps_written_out(times, values, steps, jumps, last, reach):  # type: ignore[no-untyped-def]
+    """``_fill_jumps`` as its Python was: steps, then chord-velocity jumps, appended."""
+    skip = last - reach
+    steps += [math.nan] * max(0, skip - len(steps))
+    jumps += [math.nan] * max(0, skip - len(jumps))
+    for m in range(len(steps), last + 1):
+        steps.append(times[m] - times[m - 1] if m else 0.0)
+    bat = isinstance(values[0], BatSample)
+    for m in range(len(jumps), last):
+        if m == 0:
+            jumps.append(0.0)
+            continue
+        h0, h1 = steps[m], steps[m + 1]
+        a, b, c = values[m - 1], values[m], values[m + 1]
+        stretch = 0.0
+        if bat:
+            la, lb, lc = (math.dist(a.tip, a.knob), math.dist(b.tip, b.knob),
+                          math.dist(c.tip, c.knob))
+            stretch = abs((lc - lb) / h1 - (lb - la) / h0)
+            a, b, c = a.knob, b.knob, c.knob
+        jumps.append(stretch + math.sqrt(((c[0] - b[0]) / h1 - (b[0] - a[0]) / h0) ** 2
+                                         + ((c[1] - b[1]) / h1 - (b[1] - a[1]) / h0) ** 2
+                                         + ((c[2] - b[2]) / h1 - (b[2] - a[2]) / h0) ** 2))
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 40), bat=st.booleans(),
+       filled=st.integers(0, 40), reach=st.integers(1, 40),
+       scale=st.sampled_from([1e-3, 1.0, 1e3]))
+def test_the_kernels_jumps_are_the_python_written_out(seed: int, n: int, bat: bool, filled: int,
+                                                      reach: int, scale: float) -> None:
+    """
+    ``_kernel.fill_jumps`` (the far test's kept jumps) appends the Python's numbers, to the bit.
+
+    Points or bat samples on uneven stamps, lists already filled part of the way (or more than
+    the kernel is asked), entries skipped before the reach (NaN), the last sample at the end.
+    """
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.001, 0.01, n)).tolist()
+    points = (rng.normal(size=(n, 6)) * scale).tolist()
+    values = ([BatSample(tuple(p[:3]), tuple(p[3:])) for p in points] if bat
+              else [tuple(p[:3]) for p in points])
+    last = n - 1
+    start = min(filled, last)
+    steps, jumps = [], []
+    _jumps_written_out(times, values, steps, jumps, start, reach)  # (filled before)
+    expected_steps, expected_jumps = list(steps), list(jumps)
+    _jumps_written_out(times, values, expected_steps, expected_jumps, last, reach)
+    _kernel.fill_jumps(times, values, steps, jumps, last, reach, bat)
+    assert np.array_equal(np.array(steps), np.array(expected_steps), equal_nan=True)
+    assert np.array_equal(np.array(jumps), np.array(expected_jumps), equal_nan=True)
+    with pytest.raises(IndexError):
+        _kernel.fill_jumps(times, values, steps, jumps, n, reach, bat)
+    with pytest.raises(TypeError):
+        _kernel.fill_jumps(tuple(times), values, steps, jumps, last, reach, bat)
