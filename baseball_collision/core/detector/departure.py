@@ -26,7 +26,6 @@ bulge), and the tests grow the ball's bounds by it on every interval, departed o
 need neither the noise nor the decision.
 """
 
-import math
 from typing import Optional, Tuple
 
 import numpy as np
@@ -85,30 +84,14 @@ def parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
 
 
 def _parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
-    """Return ``parabola``'s answer, computed (sample k + 1 is there)."""
-    times, breaks = stream.times, stream.breaks
-    if k < 2 or breaks[k - 1] or breaks[k] or breaks[k + 1]:
-        return None
-    t0, t1, t2, t3 = times[k - 2:k + 2]
-    h0, h1, h = t1 - t0, t2 - t1, t3 - t2
-    if h0 > max_gap or h1 > max_gap or h > max_gap:
-        return None
-    (x0, y0, z0), (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = stream.values[k - 2:k + 2]
-    # Lagrange's weights of the three samples at t3 (they sum to 1)
-    w0 = (t3 - t1) * h / ((t0 - t1) * (t0 - t2))
-    w1 = (t3 - t0) * h / ((t1 - t0) * (t1 - t2))
-    w2 = 1.0 - w0 - w1
-    end = (w0 * x0 + w1 * x1 + w2 * x2, w0 * y0 + w1 * y1 + w2 * y2,
-           w0 * z0 + w1 * z1 + w2 * z2)
-    # twice the second divided difference
-    span = 0.5 * (t2 - t0)
-    acceleration = (((x2 - x1) / h1 - (x1 - x0) / h0) / span,
-                    ((y2 - y1) / h1 - (y1 - y0) / h0) / span,
-                    ((z2 - z1) / h1 - (z1 - z0) / h0) / span)
-    ax, ay, az = acceleration
-    miss = math.dist((x3, y3, z3), end)
-    bend = math.sqrt(ax * ax + ay * ay + az * az) * h * h / 8.0
-    return miss, 1.0 + w0 * w0 + w1 * w1 + w2 * w2, bend, end, acceleration
+    """
+    Return ``parabola``'s answer, computed (sample k + 1 is there).
+
+    The kernel's (``toi._kernel.parabola``, the same operations in the same order): Lagrange's
+    weights of samples k - 2 .. k at the closing stamp, the parabola's value there, twice the
+    second divided difference (its acceleration), the closing sample's ``math.dist`` from it.
+    """
+    return _kernel.parabola(stream.times, stream.values, stream.breaks, k, max_gap)
 
 
 def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[Parabola]:

@@ -337,3 +337,52 @@ def test_vectorised_reach_refuses_an_interval_without_a_sample_after_it() -> Non
         departure_reaches(points[:4], times, np.array([2]))
     with pytest.raises(ValueError):
         departure_reaches(points, times, np.array([2]), np.ones(3, bool))
+
+
+def _parabola_written_out(times, values, breaks, k, max_gap):  # type: ignore[no-untyped-def]
+    """``departure._parabola`` as its Python was."""
+    if k < 2 or breaks[k - 1] or breaks[k] or breaks[k + 1]:
+        return None
+    t0, t1, t2, t3 = times[k - 2:k + 2]
+    h0, h1, h = t1 - t0, t2 - t1, t3 - t2
+    if h0 > max_gap or h1 > max_gap or h > max_gap:
+        return None
+    (x0, y0, z0), (x1, y1, z1), (x2, y2, z2), (x3, y3, z3) = values[k - 2:k + 2]
+    w0 = (t3 - t1) * h / ((t0 - t1) * (t0 - t2))
+    w1 = (t3 - t0) * h / ((t1 - t0) * (t1 - t2))
+    w2 = 1.0 - w0 - w1
+    end = (w0 * x0 + w1 * x1 + w2 * x2, w0 * y0 + w1 * y1 + w2 * y2,
+           w0 * z0 + w1 * z1 + w2 * z2)
+    span = 0.5 * (t2 - t0)
+    acceleration = (((x2 - x1) / h1 - (x1 - x0) / h0) / span,
+                    ((y2 - y1) / h1 - (y1 - y0) / h0) / span,
+                    ((z2 - z1) / h1 - (z1 - z0) / h0) / span)
+    ax, ay, az = acceleration
+    miss = math.dist((x3, y3, z3), end)
+    bend = math.sqrt(ax * ax + ay * ay + az * az) * h * h / 8.0
+    return miss, 1.0 + w0 * w0 + w1 * w1 + w2 * w2, bend, end, acceleration
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 12), gap=st.floats(0.002, 0.02),
+       scale=st.sampled_from([1e-3, 1.0, 40.0]))
+def test_the_kernels_parabola_is_the_python_written_out(seed: int, n: int, gap: float,
+                                                        scale: float) -> None:
+    """
+    ``_kernel.parabola`` is the free flight's Python written out, to the bit (or both None).
+
+    Uneven stamps (some steps over the gap), breaks, every interval of the stream; k + 1
+    beyond the samples and points that are not 3 numbers are refused.
+    """
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.001, 0.012, n)).tolist()
+    values = [tuple(p) for p in (rng.normal(size=(n, 3)) * scale).tolist()]
+    breaks = (rng.random(n) < 0.15).tolist()
+    for k in range(n - 1):
+        assert _kernel.parabola(times, values, breaks, k, gap) == _parabola_written_out(
+            times, values, breaks, k, gap)
+    with pytest.raises(IndexError):
+        _kernel.parabola(times, values, breaks, n - 1, gap)
+    with pytest.raises(TypeError):
+        _kernel.parabola(times, [(0.0, 1.0)] * n, [False] * n, 2, 1.0)
