@@ -77,6 +77,8 @@
  *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
  *        a plan's arrays and their value checks, order_checks(stamps, times, first, second,
  *        pre, limits, ok, gap)  a stream's order checks (core.detector.plans)
+ *   hull_separation(b0, b1, k0, e0, k1, e1), far_spheres(b0, b1, k0, e0, k1, e1)  the scalar
+ *        far test's hull bound and its spheres (core.detector.broadphase.scalar),
  *   c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
  *        look_ahead, size, margin, constants, out, hull_reach)  the c2 far test over a chunk's
  *        union intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
@@ -5771,6 +5773,88 @@ static double hull_separation(Vec b0, Vec b1, Vec k0, Vec e0, Vec k1, Vec e1)
   return lowest - highest;
 }
 
+/* the six points of a hull_separation call (Python entries), read into p; false with a
+ * TypeError */
+static bool read_hull_points(PyObject *const *args, Vec p[6], const char *name)
+{
+  for (int i = 0; i < 6; i++) {
+    if (!read_vec(args[i], &p[i])) {
+      PyErr_Format(PyExc_TypeError, "%s: six points of 3 numbers", name);
+      return false;
+    }
+  }
+  return true;
+}
+
+/* hull_separation(b0, b1, k0, e0, k1, e1) -> the bound (m) above, from Python */
+static PyObject *py_hull_separation(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec p[6];
+  if (nargs != 6) {
+    PyErr_SetString(PyExc_TypeError, "hull_separation(b0, b1, k0, e0, k1, e1)");
+    return NULL;
+  }
+  if (!read_hull_points(args, p, "hull_separation")) {
+    return NULL;
+  }
+  return PyFloat_FromDouble(hull_separation(p[0], p[1], p[2], p[3], p[4], p[5]));
+}
+
+/* math.dist(a, b) as a double (NAN with an exception) */
+static double python_dist(PyObject *a, PyObject *b)
+{
+  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, a, b, NULL);
+  double x = dist ? PyFloat_AsDouble(dist) : NAN;
+  Py_XDECREF(dist);
+  return x;
+}
+
+/*
+ * far_spheres(b0, b1, k0, e0, k1, e1) -> (ball centre, ball radius, bat centre, bat radius,
+ * hull): the scalar far test's bounds before any bulge (core.detector.broadphase.scalar
+ * .clearly_apart, the same operations in its order): the ball chord's middle and half its
+ * math.dist, the mean of the bat's four end points and the largest math.dist of one from it
+ * (the first of equals, as max), and hull_separation of the six points. TypeError: not six
+ * points of 3 numbers.
+ */
+static PyObject *py_far_spheres(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Vec p[6];
+  if (nargs != 6) {
+    PyErr_SetString(PyExc_TypeError, "far_spheres(b0, b1, k0, e0, k1, e1)");
+    return NULL;
+  }
+  if (!read_hull_points(args, p, "far_spheres")) {
+    return NULL;
+  }
+  Vec b0 = p[0], b1 = p[1], k0 = p[2], e0 = p[3], k1 = p[4], e1 = p[5];
+  Vec ball_centre = {(b0.x + b1.x) * 0.5, (b0.y + b1.y) * 0.5, (b0.z + b1.z) * 0.5};
+  Vec bat_centre = {(k0.x + e0.x + k1.x + e1.x) * 0.25, (k0.y + e0.y + k1.y + e1.y) * 0.25,
+                    (k0.z + e0.z + k1.z + e1.z) * 0.25};
+  PyObject *ball_tuple = vec_tuple(ball_centre);
+  PyObject *bat_tuple = ball_tuple ? vec_tuple(bat_centre) : NULL;
+  PyObject *result = NULL;
+  if (bat_tuple == NULL) {
+    goto done;
+  }
+  double ball_radius = 0.5 * python_dist(args[0], args[1]);
+  double bat_radius = python_dist(args[2], bat_tuple);
+  for (int i = 3; i < 6 && !PyErr_Occurred(); i++) {
+    double d = python_dist(args[i], bat_tuple);
+    if (d > bat_radius) {
+      bat_radius = d;
+    }
+  }
+  if (!PyErr_Occurred()) {
+    result = Py_BuildValue("OdOdd", ball_tuple, ball_radius, bat_tuple, bat_radius,
+                           hull_separation(b0, b1, k0, e0, k1, e1));
+  }
+done:
+  Py_XDECREF(ball_tuple);
+  Py_XDECREF(bat_tuple);
+  return result;
+}
+
 /* the clearance (m) of clearly_apart's second c2 stage over one interval (arrays'
  * _c2_window_margins), the larger of the spheres' and the hulls' (less hull_reach, m: what
  * smoothing may add; inf: no hull): -inf where a window's steps are too uneven, or not a
@@ -6506,6 +6590,11 @@ static PyMethodDef methods[] = {
     {"bat_samples", (PyCFunction)(void (*)(void))py_bat_samples, METH_FASTCALL,
      "bat_samples(cls, knob, tip, position, quaternion, first, last): a chunk's bat samples "
      "(rows first .. last - 1 of the arrays) as cls instances of tuples."},
+    {"hull_separation", (PyCFunction)(void (*)(void))py_hull_separation, METH_FASTCALL,
+     "hull_separation(b0, b1, k0, e0, k1, e1): a lower bound (m) on the distance between the "
+     "hulls of (b0, b1) and (k0, e0, k1, e1)"},
+    {"far_spheres", (PyCFunction)(void (*)(void))py_far_spheres, METH_FASTCALL,
+     "far_spheres(b0, b1, k0, e0, k1, e1): the scalar far test's spheres and hull separation"},
     {"parabola", (PyCFunction)(void (*)(void))py_parabola, METH_FASTCALL,
      "parabola(times, values, breaks, k, max_gap): the free flight through samples k - 2 .. k "
      "at sample k + 1, or None"},

@@ -16,6 +16,7 @@ from ..fitting import c2_window
 from ..streams import Stream
 from ...geometry import sub, Vector
 from ...motion import BatSample, PointPath
+from ...toi import _kernel
 
 Pick = Callable[[object], Vector]
 """Picks the point followed from a sample value (the ball itself, the knob, the axis)."""
@@ -90,13 +91,10 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
     b0, b1 = ball.values[ball_k], ball.values[ball_k + 1]
     s0, s1 = bat.values[bat_k], bat.values[bat_k + 1]
     k0, e0, k1, e1 = s0.knob, s0.tip, s1.knob, s1.tip
-    ball_centre = ((b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5)
-    ball_radius = 0.5 * math.dist(b0, b1)
-    bat_centre = ((k0[0] + e0[0] + k1[0] + e1[0]) * 0.25,
-                  (k0[1] + e0[1] + k1[1] + e1[1]) * 0.25,
-                  (k0[2] + e0[2] + k1[2] + e1[2]) * 0.25)
-    bat_radius = max(math.dist(k0, bat_centre), math.dist(e0, bat_centre),
-                     math.dist(k1, bat_centre), math.dist(e1, bat_centre))
+    # the ball chord's middle and half its length, the bat's four end points' mean and their
+    # largest distance from it (math.dist), and hull_separation: the kernel's, in this order
+    ball_centre, ball_radius, bat_centre, bat_radius, hull = _kernel.far_spheres(
+        b0, b1, k0, e0, k1, e1)
     # how far the paths leave the hulls of their end samples: the ball's of its chord, every
     # axis point of the bat's of the four points (where the chords of its ends are)
     ball_bulge = bat_growth = 0.0
@@ -124,10 +122,9 @@ def clearly_apart(ball: Stream, bat: Stream, ball_k: int, bat_k: int, margin: fl
     elif model == 'c2':
         return c2_clearly_apart(ball, bat, ball_k, bat_k, (ball_centre, ball_radius, bat_centre,
                                                            bat_radius), margin, max_gap,
-                                look_ahead, size, hull_separation(b0, b1, k0, e0, k1, e1)
-                                - NOISE_REACH * noise)
+                                look_ahead, size, hull - NOISE_REACH * noise)
     return (math.dist(ball_centre, bat_centre) - ball_radius - bat_radius > margin
-            or hull_separation(b0, b1, k0, e0, k1, e1) - ball_bulge - bat_growth > margin)
+            or hull - ball_bulge - bat_growth > margin)
 
 
 def c2_path_apart(ball_path: PointPath, ball: Stream, bat: Stream, ball_k: int, bat_k: int,
@@ -167,20 +164,7 @@ def hull_separation(b0: Vector, b1: Vector, k0: Vector, e0: Vector, k1: Vector,
     the bat's middle segment (the knobs' middle to the tips' middle) to the ball chord's middle:
     nearly the hulls' own separating direction when the ball is beside the bat. A ball chord
     crossing that segment gives a negative number (no bound); so does a direction of zero length.
+    The kernel's (``toi._kernel.hull_separation``; the plan's far test over arrays takes the
+    same function).
     """
-    cx, cy, cz = (b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5
-    mx, my, mz = (k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5
-    ax = (e0[0] + e1[0]) * 0.5 - mx
-    ay = (e0[1] + e1[1]) * 0.5 - my
-    az = (e0[2] + e1[2]) * 0.5 - mz
-    along = ax * ax + ay * ay + az * az
-    s = ((cx - mx) * ax + (cy - my) * ay + (cz - mz) * az) / along if along > 0.0 else 0.0
-    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
-    nx, ny, nz = cx - mx - s * ax, cy - my - s * ay, cz - mz - s * az
-    length = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if not length > 0.0:
-        return -math.inf
-    nx, ny, nz = nx / length, ny / length, nz / length
-    return (min(nx * b0[0] + ny * b0[1] + nz * b0[2], nx * b1[0] + ny * b1[1] + nz * b1[2])
-            - max(nx * k0[0] + ny * k0[1] + nz * k0[2], nx * e0[0] + ny * e0[1] + nz * e0[2],
-                  nx * k1[0] + ny * k1[1] + nz * k1[2], nx * e1[0] + ny * e1[1] + nz * e1[2]))
+    return _kernel.hull_separation(b0, b1, k0, e0, k1, e1)

@@ -8,6 +8,7 @@ from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import PointPath
 from hypothesis import given, settings, strategies as st
 import numpy as np
+import pytest
 from support import examples
 from support.scenes import BASE_NS
 
@@ -82,3 +83,50 @@ def test_a_ball_through_the_bat_is_never_clear() -> None:
             detector.add_tip(stamp, (0.8, 0.0, 1.0))
             detector.add_ball(stamp, (0.4, y, 1.0))
         assert not clearly_apart(detector._ball, detector._bat, 1, 1, 0.0, model, 0.05)
+
+
+def _hull_written_out(b0, b1, k0, e0, k1, e1):  # type: ignore[no-untyped-def]
+    """``hull_separation`` as its Python was."""
+    cx, cy, cz = (b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5
+    mx, my, mz = (k0[0] + k1[0]) * 0.5, (k0[1] + k1[1]) * 0.5, (k0[2] + k1[2]) * 0.5
+    ax, ay, az = ((e0[0] + e1[0]) * 0.5 - mx, (e0[1] + e1[1]) * 0.5 - my,
+                  (e0[2] + e1[2]) * 0.5 - mz)
+    along = ax * ax + ay * ay + az * az
+    s = ((cx - mx) * ax + (cy - my) * ay + (cz - mz) * az) / along if along > 0.0 else 0.0
+    s = 0.0 if s < 0.0 else 1.0 if s > 1.0 else s
+    nx, ny, nz = cx - mx - s * ax, cy - my - s * ay, cz - mz - s * az
+    length = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if not length > 0.0:
+        return -math.inf
+    nx, ny, nz = nx / length, ny / length, nz / length
+    return (min(nx * b0[0] + ny * b0[1] + nz * b0[2], nx * b1[0] + ny * b1[1] + nz * b1[2])
+            - max(nx * k0[0] + ny * k0[1] + nz * k0[2], nx * e0[0] + ny * e0[1] + nz * e0[2],
+                  nx * k1[0] + ny * k1[1] + nz * k1[2], nx * e1[0] + ny * e1[1] + nz * e1[2]))
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(points=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 3), min_size=6, max_size=6),
+       scale=st.sampled_from([1e-3, 1.0, 50.0]))
+def test_the_kernels_spheres_and_hull_are_the_python_written_out(points, scale) -> None:
+    """
+    ``_kernel.far_spheres`` and ``hull_separation`` are the far test's Python, to the bit.
+
+    The ball chord's middle and half its ``math.dist``, the bat ends' mean and their largest
+    distance from it, the hulls' separation (-inf where its direction has no length: also a
+    ball chord on the bat's middle segment); anything but six points of 3 numbers refused.
+    """
+    from baseball_collision.core.detector.broadphase import hull_separation
+    from baseball_collision.core.toi import _kernel
+    b0, b1, k0, e0, k1, e1 = (tuple(x * scale for x in p) for p in points)
+    centre = ((k0[0] + e0[0] + k1[0] + e1[0]) * 0.25, (k0[1] + e0[1] + k1[1] + e1[1]) * 0.25,
+              (k0[2] + e0[2] + k1[2] + e1[2]) * 0.25)
+    expected = (((b0[0] + b1[0]) * 0.5, (b0[1] + b1[1]) * 0.5, (b0[2] + b1[2]) * 0.5),
+                0.5 * math.dist(b0, b1), centre,
+                max(math.dist(k0, centre), math.dist(e0, centre), math.dist(k1, centre),
+                    math.dist(e1, centre)), _hull_written_out(b0, b1, k0, e0, k1, e1))
+    assert _kernel.far_spheres(b0, b1, k0, e0, k1, e1) == expected
+    assert hull_separation(b0, b1, k0, e0, k1, e1) == expected[4]
+    with pytest.raises(TypeError):
+        _kernel.far_spheres(b0, b1, k0, e0, k1)
+    with pytest.raises(TypeError):
+        _kernel.hull_separation(b0, b1, k0, e0, k1, (0.0, 1.0))
