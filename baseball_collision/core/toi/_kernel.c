@@ -59,8 +59,9 @@
  *   recharted(reference, origin, turn, rate, step),
  *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
  *   window_bulge(times, rows, j, weights, offset, column, width)  the c2 far test's bulge
- *        bounds, fill_jumps(times, values, steps, jumps, last, reach, bat) its per-sample
- *        chord-velocity jumps (core.detector.broadphase.c2),
+ *        bounds, c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size,
+ *        max_gap, bat, constants) its bound from kept per-sample chord-velocity jumps
+ *        (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -4174,30 +4175,16 @@ done:
  * after its closing frame, back to ``size`` in all, none across a break (``breaks[i]``: sample
  * i starts a segment) or a step longer than max_gap (s). IndexError: k outside the samples.
  */
-static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/*
+ * The samples [*first, *last] of c2_window(times, breaks, k, max_gap, look_ahead, size) (fast
+ * sequences of one length n, 0 <= k < n); false with an exception (a stamp or break that is
+ * not a number or flag).
+ */
+static bool c2_window_bounds(PyObject *times, PyObject *breaks, Py_ssize_t k, double max_gap,
+                             Py_ssize_t look_ahead, Py_ssize_t size, Py_ssize_t *first_out,
+                             Py_ssize_t *last_out)
 {
-  Py_ssize_t k, look_ahead, size;
-  double max_gap;
-  if (nargs != 6 || !read_index(args[2], &k) ||
-      !read_number(args[3], &max_gap) ||
-      !read_index(args[4], &look_ahead) ||
-      !read_index(args[5], &size)) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "c2_window(times, breaks, k, max_gap, look_ahead, size)");
-    }
-    return NULL;
-  }
-  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
-  PyObject *breaks = times ? PySequence_Fast(args[1], "breaks must be a sequence") : NULL;
-  PyObject *result = NULL;
-  if (breaks == NULL) {
-    goto done;
-  }
   Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
-  if (k < 0 || k >= n || PySequence_Fast_GET_SIZE(breaks) != n) {
-    PyErr_SetString(PyExc_IndexError, "c2_window: k outside the samples");
-    goto done;
-  }
   Py_ssize_t last = k + 1, end = k + 1 + look_ahead < n - 1 ? k + 1 + look_ahead : n - 1;
   int broken = 0;
   while (last < end) {
@@ -4223,7 +4210,37 @@ static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     first--;
   }
-  if (!PyErr_Occurred()) {
+  *first_out = first;
+  *last_out = last;
+  return !PyErr_Occurred();
+}
+
+static PyObject *py_c2_window(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k, look_ahead, size;
+  double max_gap;
+  if (nargs != 6 || !read_index(args[2], &k) ||
+      !read_number(args[3], &max_gap) ||
+      !read_index(args[4], &look_ahead) ||
+      !read_index(args[5], &size)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_window(times, breaks, k, max_gap, look_ahead, size)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *breaks = times ? PySequence_Fast(args[1], "breaks must be a sequence") : NULL;
+  PyObject *result = NULL;
+  if (breaks == NULL) {
+    goto done;
+  }
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (k < 0 || k >= n || PySequence_Fast_GET_SIZE(breaks) != n) {
+    PyErr_SetString(PyExc_IndexError, "c2_window: k outside the samples");
+    goto done;
+  }
+  Py_ssize_t first, last;
+  if (c2_window_bounds(times, breaks, k, max_gap, look_ahead, size, &first, &last)) {
     result = PyObject_CallFunction((PyObject *)&PyRange_Type, "nn", first, last + 1);
   }
 done:
@@ -4366,53 +4383,39 @@ static bool append_double(PyObject *list, double x)
 }
 
 /*
- * fill_jumps(times, values, steps, jumps, last, reach, bat) -> None: the c2 far test's
- * per-sample numbers (core.detector.broadphase.c2._fill_jumps), appended to the lists steps
- * (times[m] - times[m - 1], 0.0 at 0) up to sample last and jumps (the chord velocities' jump
- * at sample m, of the ball, or of the bat's knob plus the same of its length, math.dist(tip,
- * knob)) up to last - 1, the entries more than `reach` before last not yet there NaN; the
- * same operations in the same order as the Python (** 2 as libm's pow). TypeError: not lists
- * or samples; IndexError: last beyond the samples.
+ * The c2 far test's per-sample numbers of a stream (core.detector.broadphase.c2.c2_jump_bulge),
+ * appended to the lists steps (times[m] - times[m - 1], 0.0 at 0) up to sample last and jumps
+ * (the chord velocities' jump at sample m, of the ball, or of the bat's knob plus the same of
+ * its length, math.dist(tip, knob), each sample's once) up to last - 1, the entries more than
+ * `reach` before last not yet there NaN; the same operations in the same order as the Python
+ * it replaced (** 2 as libm's pow). False with an exception (TypeError: not samples).
  */
-static PyObject *py_fill_jumps(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static bool fill_jump_lists(PyObject *times, PyObject *values, PyObject *steps,
+                            PyObject *jumps, Py_ssize_t last, Py_ssize_t reach, bool bat)
 {
-  Py_ssize_t last, reach;
-  int bat;
-  if (nargs != 7 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
-      !PyList_Check(args[2]) || !PyList_Check(args[3]) || !read_index(args[4], &last) ||
-      !read_index(args[5], &reach) || (bat = PyObject_IsTrue(args[6])) < 0) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError,
-                      "fill_jumps(times, values, steps, jumps, last, reach, bat): four lists");
-    }
-    return NULL;
-  }
-  PyObject *times = args[0], *values = args[1], *steps = args[2], *jumps = args[3];
-  if (last < 0 || last >= PyList_GET_SIZE(times) || last >= PyList_GET_SIZE(values)) {
-    PyErr_SetString(PyExc_IndexError, "fill_jumps: last beyond the samples");
-    return NULL;
-  }
   Py_ssize_t skip = last - reach;
   while (PyList_GET_SIZE(steps) < skip) {
     if (!append_double(steps, NAN)) {
-      return NULL;
+      return false;
     }
   }
   while (PyList_GET_SIZE(jumps) < skip) {
     if (!append_double(jumps, NAN)) {
-      return NULL;
+      return false;
     }
   }
   for (Py_ssize_t m = PyList_GET_SIZE(steps); m <= last; m++) {
     double step = m ? list_double(times, m) - list_double(times, m - 1) : 0.0;
     if (PyErr_Occurred() || !append_double(steps, step)) {
-      return NULL;
+      return false;
     }
   }
+  double length[3] = {NAN, NAN, NAN}; /* samples m - 1, m, m + 1 (the bat's) */
+  Py_ssize_t known = -1;              /* length[] holds m - 1 .. m + 1 for m == known */
   for (Py_ssize_t m = PyList_GET_SIZE(jumps); m < last; m++) {
     if (m == 0) {
       if (!append_double(jumps, 0.0)) {
-        return NULL;
+        return false;
       }
       continue;
     }
@@ -4421,30 +4424,127 @@ static PyObject *py_fill_jumps(PyObject *self, PyObject *const *args, Py_ssize_t
                             PyList_GET_ITEM(values, m + 1)};
     Vec p[3];
     if (bat) {
-      double length[3];
-      for (int i = 0; i < 3; i++) {
-        length[i] = bat_length(samples[i]);
+      if (known == m - 1) {
+        length[0] = length[1], length[1] = length[2];
+        length[2] = bat_length(samples[2]);
+      } else {
+        for (int i = 0; i < 3; i++) {
+          length[i] = bat_length(samples[i]);
+        }
       }
+      known = m;
       stretch = fabs((length[2] - length[1]) / h1 - (length[1] - length[0]) / h0);
     }
     for (int i = 0; i < 3 && !PyErr_Occurred(); i++) {
       PyObject *point = bat ? PyObject_GetAttr(samples[i], knob_name) : Py_NewRef(samples[i]);
       if (point != NULL && !read_vec(point, &p[i])) {
-        PyErr_SetString(PyExc_TypeError, "fill_jumps: points of 3 numbers");
+        PyErr_SetString(PyExc_TypeError, "c2_jump_bulge: points of 3 numbers");
       }
       Py_XDECREF(point);
     }
     if (PyErr_Occurred()) {
-      return NULL;
+      return false;
     }
     double jump = stretch + sqrt(python_square((p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0) +
                                  python_square((p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0) +
                                  python_square((p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0));
     if (!append_double(jumps, jump)) {
-      return NULL;
+      return false;
     }
   }
-  Py_RETURN_NONE;
+  return true;
+}
+
+/* the longest and shortest of steps[first + 1 .. last] (Python's max and min: the first of
+ * equals, a NaN kept only where it comes first) */
+static void step_extremes(PyObject *steps, Py_ssize_t first, Py_ssize_t last, double *longest,
+                          double *shortest)
+{
+  *longest = *shortest = list_double(steps, first + 1);
+  for (Py_ssize_t m = first + 2; m <= last; m++) {
+    double step = list_double(steps, m);
+    if (step > *longest) {
+      *longest = step;
+    }
+    if (step < *shortest) {
+      *shortest = step;
+    }
+  }
+}
+
+/*
+ * c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size, max_gap, bat,
+ * constants) -> the bound (m) or None: core.detector.broadphase.c2.c2_jump_bulge (its docstring
+ * says what it bounds), the same operations in the same order: the lists steps and jumps (the
+ * stream's kept per-sample numbers) filled as far as the window reaches, then over the
+ * samples a full window could hold (or c2_window's own where their steps are uneven) the
+ * longest step times the sum of C2_JUMP_BEFORE[a] jumps[k - a] (from 0.0, in order) plus the
+ * look-ahead terms; None where the steps are more than the ratio apart. constants:
+ * (C2_STEP_RATIO, _AFTER_ONE, _AFTER_TWO, C2_JUMP_BEFORE). TypeError: not lists or samples;
+ * IndexError: k's interval beyond the samples.
+ */
+static PyObject *py_c2_jump_bulge(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k, look_ahead, size;
+  double max_gap, ratio, after_one, after_two;
+  int bat;
+  PyObject *before = NULL;
+  if (nargs != 11 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+      !PyList_Check(args[2]) || !PyList_Check(args[3]) || !PyList_Check(args[4]) ||
+      !read_index(args[5], &k) || !read_index(args[6], &look_ahead) ||
+      !read_index(args[7], &size) || !read_number(args[8], &max_gap) ||
+      (bat = PyObject_IsTrue(args[9])) < 0 || !PyTuple_Check(args[10]) ||
+      !PyArg_ParseTuple(args[10], "dddO!", &ratio, &after_one, &after_two, &PyTuple_Type,
+                        &before)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_jump_bulge(times, values, breaks, steps, jumps, k, "
+                                       "look_ahead, size, max_gap, bat, constants): lists");
+    }
+    return NULL;
+  }
+  PyObject *times = args[0], *values = args[1], *breaks = args[2], *steps = args[3];
+  PyObject *jumps = args[4];
+  Py_ssize_t n = PyList_GET_SIZE(times);
+  if (k < 0 || k + 1 >= n || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
+    PyErr_SetString(PyExc_IndexError, "c2_jump_bulge: interval k beyond the samples");
+    return NULL;
+  }
+  Py_ssize_t first = k + 2 - size > 0 ? k + 2 - size : 0;
+  Py_ssize_t last = k + 1 + look_ahead < n - 1 ? k + 1 + look_ahead : n - 1;
+  if (PyList_GET_SIZE(jumps) < last &&
+      !fill_jump_lists(times, values, steps, jumps, last, size + look_ahead + 1, bat)) {
+    return NULL;
+  }
+  if (PyList_GET_SIZE(steps) <= last || PyList_GET_SIZE(jumps) < last) {
+    PyErr_SetString(PyExc_IndexError, "c2_jump_bulge: steps and jumps shorter than the window");
+    return NULL;
+  }
+  double longest, shortest;
+  step_extremes(steps, first, last, &longest, &shortest);
+  if (longest > ratio * shortest) {
+    if (!c2_window_bounds(times, breaks, k, max_gap, look_ahead, size, &first, &last)) {
+      return NULL;
+    }
+    step_extremes(steps, first, last, &longest, &shortest);
+    if (longest > ratio * shortest) {
+      Py_RETURN_NONE;
+    }
+  }
+  double bound = 0.0;
+  Py_ssize_t count = PyTuple_GET_SIZE(before);
+  for (Py_ssize_t a = 0; a < count && k - a > first; a++) {
+    bound += PyFloat_AsDouble(PyTuple_GET_ITEM(before, a)) * list_double(jumps, k - a);
+  }
+  if (last > k + 1) {
+    bound += after_one * list_double(jumps, k + 1);
+    if (last > k + 2) {
+      bound += after_two * (2.0 * list_double(jumps, k + 1) + list_double(jumps, k + 2));
+    }
+  }
+  if (PyErr_Occurred()) {
+    return NULL;
+  }
+  return PyFloat_FromDouble(longest * bound);
 }
 
 /*
@@ -6598,9 +6698,9 @@ static PyMethodDef methods[] = {
     {"parabola", (PyCFunction)(void (*)(void))py_parabola, METH_FASTCALL,
      "parabola(times, values, breaks, k, max_gap): the free flight through samples k - 2 .. k "
      "at sample k + 1, or None"},
-    {"fill_jumps", (PyCFunction)(void (*)(void))py_fill_jumps, METH_FASTCALL,
-     "fill_jumps(times, values, steps, jumps, last, reach, bat): the c2 far test's steps and "
-     "chord-velocity jumps per sample, appended"},
+    {"c2_jump_bulge", (PyCFunction)(void (*)(void))py_c2_jump_bulge, METH_FASTCALL,
+     "c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size, max_gap, bat, "
+     "constants): the c2 far test's bound from its kept per-sample jumps, or None"},
     {"fast_forward_streams", (PyCFunction)(void (*)(void))py_fast_forward_streams,
      METH_FASTCALL,
      "fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class): the "

@@ -9,8 +9,7 @@ over the whole bat, ``c2_bat_growth``; the scalar far test of both stages,
 """
 
 import math
-from operator import mul
-from typing import List, Optional, Sequence, Tuple
+from typing import Optional, Sequence, Tuple
 
 from ..fitting import c2_window
 from ..streams import Stream
@@ -67,30 +66,8 @@ C2_JUMP_BEFORE = _jump_coefficients()
 
 _AFTER_ONE, _AFTER_TWO = (C2_SAFETY * weight for weight in C2_WEIGHTS_AFTER)
 
-
-def _fill_jumps(stream: Stream, last: int, reach: int) -> List[float]:
-    """
-    Fill the stream's per-sample steps and chord-velocity jumps up to sample ``last``.
-
-    Kept in ``stream.aligned`` (each computed once): ``steps[m]`` = times[m] - times[m - 1]
-    (s), ``jumps[m]`` = |v_m+1 - v_m| (m/s) with v_m = (p_m - p_m-1) / steps[m] the chord
-    velocity into sample m of the ball, or for the bat that of its knob plus the same of its
-    knob-to-tip length (both bulges at once: they are added up in ``c2_reach``); up to
-    ``last`` (jumps: ``last`` - 1); index 0 holds 0 (never used); samples more than ``reach``
-    before ``last`` not yet filled hold NaN (the window that reads them has not come yet, and
-    no later window reaches them: a run the chunk path fast-forwarded). The kernel's
-    (``toi._kernel.fill_jumps``: the same operations in the same order).
-
-    :returns: the jumps.
-    """
-    aligned = stream.aligned
-    if 'steps' not in aligned:
-        aligned['steps'], aligned['jumps'] = [], []
-    steps, jumps = aligned['steps'], aligned['jumps']
-    values = stream.values
-    _kernel.fill_jumps(stream.times, values, steps, jumps, last, reach,
-                       values[0].__class__ is BatSample)
-    return jumps
+_JUMP_CONSTANTS = (C2_STEP_RATIO, _AFTER_ONE, _AFTER_TWO, C2_JUMP_BEFORE)
+"""What the kernel's ``c2_jump_bulge`` takes of the module's constants."""
 
 
 def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
@@ -98,7 +75,7 @@ def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
     """
     Bound (m) how far the ``c2`` spline over interval k leaves its chord, from kept numbers.
 
-    Of the ball; of the bat, its knob's bulge plus its length's (``_fill_jumps``). Never
+    Of the ball; of the bat, its knob's bulge plus its length's. Never
     below ``c2_bulge``'s bound: a sample i before k is off the chord's line by
     r_i = sum over m = i..k-1 of (v_k - v_m) h_m, so |r_i| <= H sum over p = i..k-1 of
     (p - i + 1) J_p+1 (H the longest step, J_m = |v_m+1 - v_m| the chord-velocity jump at
@@ -109,34 +86,24 @@ def c2_jump_bulge(stream: Stream, k: int, look_ahead: int, size: int,
     fewer than ``c2_window``'s, so never a smaller bound; where their steps are uneven (a
     segment's start within them), over ``c2_window``'s own.
 
+    The numbers are kept in ``stream.aligned`` (each computed once): ``steps[m]`` =
+    times[m] - times[m - 1] (s) and ``jumps[m]`` = |v_m+1 - v_m| (m/s), v_m = (p_m - p_m-1) /
+    steps[m] the chord velocity into sample m of the ball, or for the bat that of its knob plus
+    the same of its knob-to-tip length (``math.dist``); index 0 holds 0 (never used); samples
+    more than the window's reach before the newest asked for, not yet filled, hold NaN (no
+    later window reaches them: a run the chunk path fast-forwarded). The kernel's
+    (``toi._kernel.c2_jump_bulge``: the operations of the Python it replaced, in its order).
+
     :returns: the bound (m), or None: the window's steps are not within ``C2_STEP_RATIO`` of
         each other (no bound).
     """
-    first = k + 2 - size
-    if first < 0:
-        first = 0
-    last = k + 1 + look_ahead
-    if last >= len(stream.times):
-        last = len(stream.times) - 1
-    jumps = stream.aligned.get('jumps')
-    if jumps is None or len(jumps) < last:
-        jumps = _fill_jumps(stream, last, size + look_ahead + 1)
-    steps = stream.aligned['steps']
-    inside = steps[first + 1:last + 1]
-    longest = max(inside)
-    if longest > C2_STEP_RATIO * min(inside):
-        window = c2_window(stream, k, max_gap, look_ahead, size)
-        first, last = window.start, window.stop - 1
-        inside = steps[first + 1:last + 1]
-        longest = max(inside)
-        if longest > C2_STEP_RATIO * min(inside):
-            return None
-    bound = sum(map(mul, C2_JUMP_BEFORE, jumps[k:first:-1]))
-    if last > k + 1:
-        bound += _AFTER_ONE * jumps[k + 1]
-        if last > k + 2:
-            bound += _AFTER_TWO * (2.0 * jumps[k + 1] + jumps[k + 2])
-    return longest * bound
+    aligned = stream.aligned
+    if 'steps' not in aligned:
+        aligned['steps'], aligned['jumps'] = [], []
+    values = stream.values
+    return _kernel.c2_jump_bulge(stream.times, values, stream.breaks, aligned['steps'],
+                                 aligned['jumps'], k, look_ahead, size, max_gap,
+                                 values[0].__class__ is BatSample, _JUMP_CONSTANTS)
 
 
 def c2_reach(stream: Stream, k: int, look_ahead: int, size: int,

@@ -1,12 +1,14 @@
 """Tests for the c2 model's far test: its cardinal weights and its bound on the fitted paths."""
 
 import math
+from operator import mul
 
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.core.detector.broadphase import (
-    c2_bat_growth, c2_bulge, c2_jump_bulge, c2_path_apart, c2_reach, C2_STEP_RATIO,
-    C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE, clearly_apart)
+    c2_bat_growth, c2_bulge, C2_JUMP_BEFORE, c2_jump_bulge, c2_path_apart, c2_reach, C2_SAFETY,
+    C2_STEP_RATIO, C2_WEIGHTS_AFTER, C2_WEIGHTS_BEFORE, clearly_apart)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
+from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, not_a_knot_slopes
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -294,7 +296,7 @@ def test_the_kernels_window_bulge_is_the_bound_written_out(seed: int, n: int, at
 
 
 def _jumps_written_out(times, values, steps, jumps, last, reach):  # type: ignore[no-untyped-def]
-    """``_fill_jumps`` as its Python was: steps, then chord-velocity jumps, appended."""
+    """Append the kept numbers as their Python did: steps, then chord-velocity jumps."""
     skip = last - reach
     steps += [math.nan] * max(0, skip - len(steps))
     jumps += [math.nan] * max(0, skip - len(jumps))
@@ -318,34 +320,63 @@ def _jumps_written_out(times, values, steps, jumps, last, reach):  # type: ignor
                                          + ((c[2] - b[2]) / h1 - (b[2] - a[2]) / h0) ** 2))
 
 
-@settings(max_examples=examples(200), deadline=None)
-@given(seed=st.integers(0, 10_000), n=st.integers(2, 40), bat=st.booleans(),
-       filled=st.integers(0, 40), reach=st.integers(1, 40),
-       scale=st.sampled_from([1e-3, 1.0, 1e3]))
-def test_the_kernels_jumps_are_the_python_written_out(seed: int, n: int, bat: bool, filled: int,
-                                                      reach: int, scale: float) -> None:
-    """
-    ``_kernel.fill_jumps`` (the far test's kept jumps) appends the Python's numbers, to the bit.
+def _jump_bulge_written_out(stream, steps, jumps, k, look_ahead, size,  # type: ignore
+                            max_gap):
+    """``c2_jump_bulge`` as its Python was, on the given kept lists."""
+    first, last = max(k + 2 - size, 0), min(k + 1 + look_ahead, len(stream.times) - 1)
+    if len(jumps) < last:
+        _jumps_written_out(stream.times, stream.values, steps, jumps, last,
+                           size + look_ahead + 1)
+    inside = steps[first + 1:last + 1]
+    longest = max(inside)
+    if longest > C2_STEP_RATIO * min(inside):
+        window = c2_window(stream, k, max_gap, look_ahead, size)
+        first, last = window.start, window.stop - 1
+        inside = steps[first + 1:last + 1]
+        longest = max(inside)
+        if longest > C2_STEP_RATIO * min(inside):
+            return None
+    bound = sum(map(mul, C2_JUMP_BEFORE, jumps[k:first:-1]))
+    after_one, after_two = (C2_SAFETY * weight for weight in C2_WEIGHTS_AFTER)
+    if last > k + 1:
+        bound += after_one * jumps[k + 1]
+        if last > k + 2:
+            bound += after_two * (2.0 * jumps[k + 1] + jumps[k + 2])
+    return longest * bound
 
-    Points or bat samples on uneven stamps, lists already filled part of the way (or more than
-    the kernel is asked), entries skipped before the reach (NaN), the last sample at the end.
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(3, 40), bat=st.booleans(),
+       look_ahead=st.integers(0, 2), size=st.integers(4, 32), uneven=st.booleans(),
+       scale=st.sampled_from([1e-3, 1.0, 1e3]))
+def test_the_kernels_jump_bulge_is_the_python_written_out(seed: int, n: int, bat: bool,
+                                                          look_ahead: int, size: int,
+                                                          uneven: bool, scale: float) -> None:
     """
-    from baseball_collision.core.toi import _kernel
+    ``c2_jump_bulge`` (the kernel's) is the Python it replaced, to the bit, kept lists too.
+
+    Points or bat samples on uneven stamps (a few steps 10 times the others: the window's own
+    fallback, or no bound), breaks, intervals asked in order with skips (the kept lists then
+    hold NaN, as after a fast-forwarded run); interval k beyond the samples is refused.
+    """
     rng = np.random.default_rng(seed)
-    times = np.cumsum(rng.uniform(0.001, 0.01, n)).tolist()
+    steps_s = rng.uniform(0.002, 0.003, n)
+    if uneven:
+        steps_s[rng.integers(0, n, 2)] *= 10.0
     points = (rng.normal(size=(n, 6)) * scale).tolist()
-    values = ([BatSample(tuple(p[:3]), tuple(p[3:])) for p in points] if bat
-              else [tuple(p[:3]) for p in points])
-    last = n - 1
-    start = min(filled, last)
+    stream = Stream('bat' if bat else 'ball')
+    stream.times = np.cumsum(steps_s).tolist()
+    stream.stamps = [int(t * 1e9) for t in stream.times]
+    stream.values = ([BatSample(tuple(p[:3]), tuple(p[3:])) for p in points] if bat
+                     else [tuple(p[:3]) for p in points])
+    stream.breaks = [True] + (rng.random(n - 1) < 0.05).tolist()
     steps, jumps = [], []
-    _jumps_written_out(times, values, steps, jumps, start, reach)  # (filled before)
-    expected_steps, expected_jumps = list(steps), list(jumps)
-    _jumps_written_out(times, values, expected_steps, expected_jumps, last, reach)
-    _kernel.fill_jumps(times, values, steps, jumps, last, reach, bat)
-    assert np.array_equal(np.array(steps), np.array(expected_steps), equal_nan=True)
-    assert np.array_equal(np.array(jumps), np.array(expected_jumps), equal_nan=True)
+    for k in sorted(set(rng.integers(0, n - 1, 6).tolist())):
+        expected = _jump_bulge_written_out(stream, steps, jumps, k, look_ahead, size, 0.05)
+        assert c2_jump_bulge(stream, k, look_ahead, size, 0.05) == expected
+        assert np.array_equal(np.array(stream.aligned['steps']), np.array(steps),
+                              equal_nan=True)
+        assert np.array_equal(np.array(stream.aligned['jumps']), np.array(jumps),
+                              equal_nan=True)
     with pytest.raises(IndexError):
-        _kernel.fill_jumps(times, values, steps, jumps, n, reach, bat)
-    with pytest.raises(TypeError):
-        _kernel.fill_jumps(tuple(times), values, steps, jumps, last, reach, bat)
+        c2_jump_bulge(stream, n - 1, look_ahead, size, 0.05)
