@@ -60,8 +60,9 @@
  *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
  *   window_bulge(times, rows, j, weights, offset, column, width)  the c2 far test's bulge
  *        bounds, c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size,
- *        max_gap, bat, constants) its bound from kept per-sample chord-velocity jumps
- *        (core.detector.broadphase.c2),
+ *        max_gap, bat, constants) its bound from kept per-sample chord-velocity jumps,
+ *        bat_growth(times, rows, i, sample0, sample1, weights, far_offset, ratio) the bat's
+ *        growth over a charted window (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
@@ -3472,6 +3473,15 @@ done:
   return ok;
 }
 
+/* math.dist(a, b) as a double (NAN with an exception) */
+static double python_dist(PyObject *a, PyObject *b)
+{
+  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, a, b, NULL);
+  double x = dist ? PyFloat_AsDouble(dist) : NAN;
+  Py_XDECREF(dist);
+  return x;
+}
+
 /* the rotation vector (rad, across reference) turning unit reference onto unit direction */
 static Vec rotation_to(Vec r, Vec d)
 {
@@ -3779,6 +3789,55 @@ static bool read_columns(PyObject *row, Py_ssize_t column, Py_ssize_t width, dou
  * Python's operations in its order). A weight past the list counts 0 (zip). ValueError: j or
  * offset outside; TypeError: rows that are not numbers.
  */
+/* window_bulge's bound on fast sequences (times, rows, weights); false with an exception */
+static bool window_bulge_of(PyObject *times, PyObject *rows, PyObject *weights, Py_ssize_t j,
+                            Py_ssize_t offset, Py_ssize_t column, Py_ssize_t width,
+                            double *out)
+{
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times), m = PySequence_Fast_GET_SIZE(weights);
+  if (PySequence_Fast_GET_SIZE(rows) < n) {
+    n = PySequence_Fast_GET_SIZE(rows);
+  }
+  if (j < 0 || j + 1 >= n || offset < 0 || column < 0 || (width != 1 && width != 3)) {
+    PyErr_SetString(PyExc_ValueError, "window_bulge: an interval or columns outside the window");
+    return false;
+  }
+  double start[3], rate[3], value[3];
+  double t0 = item_double(PySequence_Fast_GET_ITEM(times, j));
+  double h = item_double(PySequence_Fast_GET_ITEM(times, j + 1)) - t0;
+  if (!read_columns(PySequence_Fast_GET_ITEM(rows, j), column, width, start) ||
+      !read_columns(PySequence_Fast_GET_ITEM(rows, j + 1), column, width, rate)) {
+    return false;
+  }
+  for (int c = 0; c < width; c++) {
+    rate[c] = (rate[c] - start[c]) / h;
+  }
+  double bound = 0.0;
+  for (Py_ssize_t i = 0; i < n && offset + i < m; i++) {
+    double weight = item_double(PySequence_Fast_GET_ITEM(weights, offset + i));
+    if (PyErr_Occurred()) {
+      return false;
+    }
+    if (weight == 0.0) {
+      continue;
+    }
+    double dt = item_double(PySequence_Fast_GET_ITEM(times, i)) - t0;
+    if (PyErr_Occurred() || !read_columns(PySequence_Fast_GET_ITEM(rows, i), column, width,
+                                          value)) {
+      return false;
+    }
+    if (width == 1) {
+      bound += weight * fabs(value[0] - start[0] - rate[0] * dt);
+    } else {
+      double dx = value[0] - start[0] - rate[0] * dt, dy = value[1] - start[1] - rate[1] * dt;
+      double dz = value[2] - start[2] - rate[2] * dt;
+      bound += weight * sqrt(dx * dx + dy * dy + dz * dz);
+    }
+  }
+  *out = bound;
+  return !PyErr_Occurred();
+}
+
 static PyObject *py_window_bulge(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Py_ssize_t j, offset, column, width;
@@ -3794,56 +3853,97 @@ static PyObject *py_window_bulge(PyObject *self, PyObject *const *args, Py_ssize
   PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
   PyObject *weights = rows ? PySequence_Fast(args[3], "weights must be a sequence") : NULL;
   PyObject *result = NULL;
+  double bound;
+  if (weights != NULL && window_bulge_of(times, rows, weights, j, offset, column, width,
+                                         &bound)) {
+    result = PyFloat_FromDouble(bound);
+  }
+  Py_XDECREF(times);
+  Py_XDECREF(rows);
+  Py_XDECREF(weights);
+  return result;
+}
+
+/*
+ * bat_growth(times, rows, i, sample0, sample1, weights, far_offset, ratio) -> the bound (m) or
+ * None: core.detector.broadphase.c2.c2_bat_growth after its chart (rows: c2_rows' of the
+ * window, times their stamps, i the interval; sample0 and sample1 its bat samples), the same
+ * operations in the same order: None where the longest step is more than `ratio` times the
+ * shortest; else window_bulge of the knob, rotation-vector and length columns (weights from
+ * far_offset - i), and B_k + B_L + (L + B_L) (1 - cos(|r_i+1| / 2) + B_r) + |dL| |du| / 4 with
+ * du the unit axes' math.dist. ValueError: i outside the rows; TypeError: not rows of 7.
+ */
+static PyObject *py_bat_growth(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t i, far_offset;
+  double ratio;
+  if (nargs != 8 || !read_index(args[2], &i) || !read_index(args[6], &far_offset) ||
+      !read_number(args[7], &ratio)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "bat_growth(times, rows, i, sample0, sample1, weights, "
+                                       "far_offset, ratio)");
+    }
+    return NULL;
+  }
+  PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
+  PyObject *rows = times ? PySequence_Fast(args[1], "rows must be a sequence") : NULL;
+  PyObject *weights = rows ? PySequence_Fast(args[5], "weights must be a sequence") : NULL;
+  PyObject *result = NULL, *u0 = NULL, *u1 = NULL;
   if (weights == NULL) {
     goto done;
   }
-  Py_ssize_t n = PySequence_Fast_GET_SIZE(times), m = PySequence_Fast_GET_SIZE(weights);
-  if (PySequence_Fast_GET_SIZE(rows) < n) {
-    n = PySequence_Fast_GET_SIZE(rows);
-  }
-  if (j < 0 || j + 1 >= n || offset < 0 || column < 0 || (width != 1 && width != 3)) {
-    PyErr_SetString(PyExc_ValueError, "window_bulge: an interval or columns outside the window");
+  Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
+  if (n < 2 || PySequence_Fast_GET_SIZE(rows) != n || i < 0 || i + 1 >= n) {
+    PyErr_SetString(PyExc_ValueError, "bat_growth: interval i outside the rows");
     goto done;
   }
-  double start[3], rate[3], value[3];
-  double t0 = item_double(PySequence_Fast_GET_ITEM(times, j));
-  double h = item_double(PySequence_Fast_GET_ITEM(times, j + 1)) - t0;
-  if (!read_columns(PySequence_Fast_GET_ITEM(rows, j), column, width, start) ||
-      !read_columns(PySequence_Fast_GET_ITEM(rows, j + 1), column, width, rate)) {
+  /* max and min of the steps, as Python's over the generator (the first of equals) */
+  double longest = item_double(PySequence_Fast_GET_ITEM(times, 1)) -
+                   item_double(PySequence_Fast_GET_ITEM(times, 0));
+  double shortest = longest;
+  for (Py_ssize_t m = 2; m < n; m++) {
+    double step = item_double(PySequence_Fast_GET_ITEM(times, m)) -
+                  item_double(PySequence_Fast_GET_ITEM(times, m - 1));
+    longest = step > longest ? step : longest;
+    shortest = step < shortest ? step : shortest;
+  }
+  if (PyErr_Occurred()) {
     goto done;
   }
-  for (int c = 0; c < width; c++) {
-    rate[c] = (rate[c] - start[c]) / h;
+  if (longest > ratio * shortest) {
+    result = Py_NewRef(Py_None);
+    goto done;
   }
-  double bound = 0.0;
-  for (Py_ssize_t i = 0; i < n && offset + i < m; i++) {
-    double weight = item_double(PySequence_Fast_GET_ITEM(weights, offset + i));
-    if (PyErr_Occurred()) {
-      goto done;
-    }
-    if (weight == 0.0) {
-      continue;
-    }
-    double dt = item_double(PySequence_Fast_GET_ITEM(times, i)) - t0;
-    if (PyErr_Occurred() || !read_columns(PySequence_Fast_GET_ITEM(rows, i), column, width,
-                                          value)) {
-      goto done;
-    }
-    if (width == 1) {
-      bound += weight * fabs(value[0] - start[0] - rate[0] * dt);
-    } else {
-      double dx = value[0] - start[0] - rate[0] * dt, dy = value[1] - start[1] - rate[1] * dt;
-      double dz = value[2] - start[2] - rate[2] * dt;
-      bound += weight * sqrt(dx * dx + dy * dy + dz * dz);
-    }
+  double knob, turn, stretch, closing[3], lengths[2];
+  if (!window_bulge_of(times, rows, weights, i, far_offset - i, 0, 3, &knob) ||
+      !window_bulge_of(times, rows, weights, i, far_offset - i, 3, 3, &turn) ||
+      !window_bulge_of(times, rows, weights, i, far_offset - i, 6, 1, &stretch) ||
+      !read_columns(PySequence_Fast_GET_ITEM(rows, i + 1), 3, 3, closing) ||
+      !read_columns(PySequence_Fast_GET_ITEM(rows, i), 6, 1, &lengths[0]) ||
+      !read_columns(PySequence_Fast_GET_ITEM(rows, i + 1), 6, 1, &lengths[1])) {
+    goto done;
   }
+  double half_cos = cos(0.5 * sqrt(closing[0] * closing[0] + closing[1] * closing[1] +
+                                   closing[2] * closing[2]));
+  double longer = lengths[1] > lengths[0] ? lengths[1] : lengths[0];
+  Vec knob0, knob1, axis0, axis1;
+  double length0, length1;
+  if (!bat_axis(args[3], &knob0, &axis0, &length0) ||
+      !bat_axis(args[4], &knob1, &axis1, &length1) || (u0 = vec_tuple(axis0)) == NULL ||
+      (u1 = vec_tuple(axis1)) == NULL) {
+    goto done;
+  }
+  double du = python_dist(u0, u1);
   if (!PyErr_Occurred()) {
-    result = PyFloat_FromDouble(bound);
+    result = PyFloat_FromDouble((knob + stretch + (longer + stretch) * (1.0 - half_cos + turn)) +
+                                0.25 * fabs(lengths[1] - lengths[0]) * du);
   }
 done:
   Py_XDECREF(times);
   Py_XDECREF(rows);
   Py_XDECREF(weights);
+  Py_XDECREF(u0);
+  Py_XDECREF(u1);
   return result;
 }
 
@@ -5900,15 +6000,6 @@ static PyObject *py_hull_separation(PyObject *self, PyObject *const *args, Py_ss
   return PyFloat_FromDouble(hull_separation(p[0], p[1], p[2], p[3], p[4], p[5]));
 }
 
-/* math.dist(a, b) as a double (NAN with an exception) */
-static double python_dist(PyObject *a, PyObject *b)
-{
-  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, a, b, NULL);
-  double x = dist ? PyFloat_AsDouble(dist) : NAN;
-  Py_XDECREF(dist);
-  return x;
-}
-
 /*
  * far_spheres(b0, b1, k0, e0, k1, e1) -> (ball centre, ball radius, bat centre, bat radius,
  * hull): the scalar far test's bounds before any bulge (core.detector.broadphase.scalar
@@ -6698,6 +6789,9 @@ static PyMethodDef methods[] = {
     {"parabola", (PyCFunction)(void (*)(void))py_parabola, METH_FASTCALL,
      "parabola(times, values, breaks, k, max_gap): the free flight through samples k - 2 .. k "
      "at sample k + 1, or None"},
+    {"bat_growth", (PyCFunction)(void (*)(void))py_bat_growth, METH_FASTCALL,
+     "bat_growth(times, rows, i, sample0, sample1, weights, far_offset, ratio): how far the c2 "
+     "bat's axis points may leave their chords over a window's interval i, or None"},
     {"c2_jump_bulge", (PyCFunction)(void (*)(void))py_c2_jump_bulge, METH_FASTCALL,
      "c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size, max_gap, bat, "
      "constants): the c2 far test's bound from its kept per-sample jumps, or None"},

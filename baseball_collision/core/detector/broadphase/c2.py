@@ -13,8 +13,8 @@ from typing import Optional, Sequence, Tuple
 
 from ..fitting import c2_window
 from ..streams import Stream
-from ...geometry import norm, Vector
-from ...motion import BatSample, c2_rows, unit_axis
+from ...geometry import Vector
+from ...motion import BatSample, c2_rows
 from ...toi import _kernel
 
 
@@ -191,21 +191,13 @@ def c2_bat_growth(stream: Stream, k: int, window: range) -> Optional[float]:
     within B_k + B_L + (L + B_L) (1 - cos(theta / 2) + B_r) + |dL| |du| / 4. None: no bound
     (uneven steps).
     """
-    times = stream.times[window.start:window.stop]
     samples = stream.values[window.start:window.stop]
     j = k - window.start
     first, rows = c2_rows(samples, j)
-    times = times[first:first + len(rows)]
-    if max(b - a for a, b in zip(times, times[1:])) > C2_STEP_RATIO * min(
-            b - a for a, b in zip(times, times[1:])):
-        return None
-    i = j - first
-    # (each group of the rows' columns: knob, rotation vector, length; ``c2_bulge``'s bound)
-    knob, turn, stretch = (_kernel.window_bulge(times, rows, i, _WEIGHT_LIST, _FAR_OFFSET - i,
-                                                column, width)
-                           for column, width in ((0, 3), (3, 3), (6, 1)))
-    half_cos = math.cos(0.5 * norm(rows[i + 1][3:6]))
-    length0, length1 = rows[i][6], rows[i + 1][6]
-    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
-            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(samples[j]),
-                                                        unit_axis(samples[j + 1])))
+    start = window.start + first
+    # the kernel's, the same operations in the same order: the steps' spread, each group of
+    # the rows' columns (knob, rotation vector, length: ``c2_bulge``'s bound), the unit axes'
+    # math.dist
+    return _kernel.bat_growth(stream.times[start:start + len(rows)], rows, j - first,
+                              samples[j], samples[j + 1], _WEIGHT_LIST, _FAR_OFFSET,
+                              C2_STEP_RATIO)

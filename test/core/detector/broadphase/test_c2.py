@@ -380,3 +380,64 @@ def test_the_kernels_jump_bulge_is_the_python_written_out(seed: int, n: int, bat
                               equal_nan=True)
     with pytest.raises(IndexError):
         c2_jump_bulge(stream, n - 1, look_ahead, size, 0.05)
+
+
+def _growth_written_out(stream, k, window):  # type: ignore[no-untyped-def]
+    """``c2_bat_growth`` as its Python was (its chart and window bulges the kernel's)."""
+    from baseball_collision.core.detector.broadphase.c2 import _FAR_OFFSET, _WEIGHT_LIST
+    from baseball_collision.core.motion import c2_rows, unit_axis
+    from baseball_collision.core.toi import _kernel
+    times = stream.times[window.start:window.stop]
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = times[first:first + len(rows)]
+    if max(b - a for a, b in zip(times, times[1:])) > C2_STEP_RATIO * min(
+            b - a for a, b in zip(times, times[1:])):
+        return None
+    i = j - first
+    knob, turn, stretch = (_kernel.window_bulge(times, rows, i, _WEIGHT_LIST, _FAR_OFFSET - i,
+                                                column, width)
+                           for column, width in ((0, 3), (3, 3), (6, 1)))
+    r = rows[i + 1][3:6]
+    half_cos = math.cos(0.5 * math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]))
+    length0, length1 = rows[i][6], rows[i + 1][6]
+    return (knob + stretch + (max(length0, length1) + stretch) * (1.0 - half_cos + turn)
+            + 0.25 * abs(length1 - length0) * math.dist(unit_axis(samples[j]),
+                                                        unit_axis(samples[j + 1])))
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(3, 34), look_ahead=st.integers(0, 2),
+       size=st.integers(4, 32), uneven=st.booleans(), turn=st.floats(0.0, 1.5))
+def test_the_kernels_bat_growth_is_the_python_written_out(seed: int, n: int, look_ahead: int,
+                                                          size: int, uneven: bool,
+                                                          turn: float) -> None:
+    """
+    ``c2_bat_growth`` (the kernel's after the chart) is the Python it replaced, to the bit.
+
+    A turning, stretching bat with jitter on uneven stamps (a few steps 10 times the others:
+    no bound), turns past the chart's limit (shorter windows), every interval; an interval
+    outside the rows is refused.
+    """
+    from baseball_collision.core.toi import _kernel
+    rng = np.random.default_rng(seed)
+    steps = rng.uniform(0.002, 0.003, n)
+    if uneven:
+        steps[rng.integers(0, n, 2)] *= 10.0
+    stream = Stream('bat')
+    stream.times = np.cumsum(steps).tolist()
+    angles = np.cumsum(rng.uniform(0.0, turn, n))
+    knobs = rng.normal(size=(n, 3)) * 0.01
+    lengths = 0.8 + rng.normal(size=n) * 0.01
+    tips = knobs + lengths[:, None] * np.stack(
+        (np.cos(angles), np.sin(angles), 0.1 * rng.normal(size=n)), axis=1)
+    stream.values = [BatSample(tuple(a), tuple(b))
+                     for a, b in zip(knobs.tolist(), tips.tolist())]
+    stream.breaks = [True] + [False] * (n - 1)
+    for k in range(n - 1):
+        window = c2_window(stream, k, 1.0, look_ahead, size)
+        assert c2_bat_growth(stream, k, window) == _growth_written_out(stream, k, window)
+    with pytest.raises(ValueError):
+        _kernel.bat_growth(stream.times[:3], [(0.0,) * 7] * 3, 2, stream.values[0],
+                           stream.values[1], [1.0], 40, 4.0)
