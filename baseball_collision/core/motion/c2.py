@@ -175,11 +175,10 @@ class C2BatPath(BatPath):
                    (s0[6], s1[6]))
 
     def _inside(self, t: float) -> Ends:
-        knob = self.knob.at(t)
-        d = rotate(self.reference, self.turn.at(t))
-        length = self.length.at(t)
-        return knob, (knob[0] + length * d[0], knob[1] + length * d[1],
-                      knob[2] + length * d[2])
+        # the kernel's (``toi._kernel.c2_inside``, these operations in this order): the knob
+        # piece at t; the reference turned by the turn piece at t (``rotate``), d; the tip
+        # knob + length(t) d
+        return _kernel.c2_inside(self, t)
 
     def _deviation(self, ta: float, tb: float) -> float:
         """

@@ -65,6 +65,7 @@
  *        growth over a charted window (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
+ *   c2_inside(path, t)  a c2 bat path's knob and tip at t,
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
@@ -4139,6 +4140,115 @@ static double piece_max_acceleration(PyObject *piece, double ta, double tb)
   return worst;
 }
 
+/* a c2 bat path's pieces (motion.c2.C2BatPath: "turn", "length", "reference"; interned) */
+static PyObject *c2_path_names[3];
+
+/*
+ * A point piece's position at t (motion.points.PointPath.at): the stored end object at t0 or
+ * t1, else a + s (b + s (c + s d)), s = (t - t0) / h, per coordinate; into *value, and as a new
+ * reference (the end object itself, or a new tuple) when `object` is not NULL. False with an
+ * exception.
+ */
+static bool point_piece_at(PyObject *piece, double t, Vec *value, PyObject **object)
+{
+  double t0, t1, h;
+  if (!attr_double(piece, piece_names[PIECE_T0], &t0) ||
+      !attr_double(piece, piece_names[PIECE_T1], &t1)) {
+    return false;
+  }
+  if (t == t0 || t == t1) {
+    PyObject *end = PyObject_GetAttr(piece, piece_names[t == t0 ? PIECE_A : PIECE_END]);
+    if (end == NULL || !read_vec(end, value)) {
+      if (end != NULL) {
+        PyErr_SetString(PyExc_TypeError, "a path piece's ends must be 3 numbers");
+      }
+      Py_XDECREF(end);
+      return false;
+    }
+    if (object != NULL) {
+      *object = end;
+    } else {
+      Py_DECREF(end);
+    }
+    return true;
+  }
+  Vec a, b, c, d;
+  if (!attr_double(piece, piece_names[PIECE_H], &h) ||
+      !attr_vec(piece, piece_names[PIECE_A], &a) || !attr_vec(piece, piece_names[PIECE_B], &b) ||
+      !attr_vec(piece, piece_names[PIECE_C], &c) || !attr_vec(piece, piece_names[PIECE_D], &d)) {
+    return false;
+  }
+  double s = (t - t0) / h;
+  *value = (Vec){a.x + s * (b.x + s * (c.x + s * d.x)), a.y + s * (b.y + s * (c.y + s * d.y)),
+                 a.z + s * (b.z + s * (c.z + s * d.z))};
+  if (object != NULL && (*object = vec_tuple(*value)) == NULL) {
+    return false;
+  }
+  return true;
+}
+
+/* an angle piece's value at t (motion.points.AngleCubic.at); false with an exception */
+static bool angle_piece_at(PyObject *piece, double t, double *value)
+{
+  double t0, t1, h, a, b, c, d;
+  if (!attr_double(piece, piece_names[PIECE_T0], &t0) ||
+      !attr_double(piece, piece_names[PIECE_T1], &t1)) {
+    return false;
+  }
+  if (t == t0 || t == t1) {
+    return attr_double(piece, piece_names[t == t0 ? PIECE_A : PIECE_END], value);
+  }
+  if (!attr_double(piece, piece_names[PIECE_H], &h) ||
+      !attr_double(piece, piece_names[PIECE_A], &a) ||
+      !attr_double(piece, piece_names[PIECE_B], &b) ||
+      !attr_double(piece, piece_names[PIECE_C], &c) ||
+      !attr_double(piece, piece_names[PIECE_D], &d)) {
+    return false;
+  }
+  double s = (t - t0) / h;
+  *value = a + s * (b + s * (c + s * d));
+  return true;
+}
+
+/*
+ * c2_inside(path, t) -> (knob, tip): a c2 bat path at t (motion.c2.C2BatPath._inside, the same
+ * operations in the same order): its knob piece at t, its reference direction turned by the
+ * turn piece at t (rotate), the tip the knob plus the length piece at t times it.
+ * AttributeError / TypeError: not such a path.
+ */
+static PyObject *py_c2_inside(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t;
+  if (nargs != 2 || !read_number(args[1], &t)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_inside(path, t)");
+    }
+    return NULL;
+  }
+  PyObject *knob_piece = PyObject_GetAttr(args[0], knob_name);
+  PyObject *turn_piece = knob_piece ? PyObject_GetAttr(args[0], c2_path_names[0]) : NULL;
+  PyObject *length_piece = turn_piece ? PyObject_GetAttr(args[0], c2_path_names[1]) : NULL;
+  PyObject *knob = NULL, *result = NULL;
+  Vec reference, knob_at, turn_at;
+  double length;
+  if (length_piece != NULL && attr_vec(args[0], c2_path_names[2], &reference) &&
+      point_piece_at(knob_piece, t, &knob_at, &knob) &&
+      point_piece_at(turn_piece, t, &turn_at, NULL) &&
+      angle_piece_at(length_piece, t, &length)) {
+    bool same;
+    Vec d = rotate_by(reference, turn_at, &same);
+    PyObject *tip = vec_tuple((Vec){knob_at.x + length * d.x, knob_at.y + length * d.y,
+                                    knob_at.z + length * d.z});
+    result = tip ? PyTuple_Pack(2, knob, tip) : NULL;
+    Py_XDECREF(tip);
+  }
+  Py_XDECREF(knob);
+  Py_XDECREF(knob_piece);
+  Py_XDECREF(turn_piece);
+  Py_XDECREF(length_piece);
+  return result;
+}
+
 /*
  * c2_deviation(knob, turn, length, ta, tb) -> a bound (m) on how far any axis point of a c2
  * bat (motion.c2.C2BatPath: its knob and rotation vector point pieces, its length an angle
@@ -4441,14 +4551,6 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
   return bat_sample_list(args[0], args + 1, first, last);
 }
 
-/* Python's float ** 2 (float_pow: libm's pow of the absolute value; the exponent kept from
- * being folded into a product) */
-static double python_square(double x)
-{
-  volatile double two = 2.0;
-  return pow(fabs(x), two);
-}
-
 /* a bat sample's length, math.dist(tip, knob) (NAN with an exception) */
 static double bat_length(PyObject *sample)
 {
@@ -4545,9 +4647,12 @@ static bool fill_jump_lists(PyObject *times, PyObject *values, PyObject *steps,
     if (PyErr_Occurred()) {
       return false;
     }
-    double jump = stretch + sqrt(python_square((p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0) +
-                                 python_square((p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0) +
-                                 python_square((p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0));
+    /* (Python's ** 2: libm's pow, squared_power) */
+    double dx = (p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0;
+    double dy = (p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0;
+    double dz = (p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0;
+    double jump = stretch + sqrt(pow(dx, squared_power) + pow(dy, squared_power) +
+                                 pow(dz, squared_power));
     if (!append_double(jumps, jump)) {
       return false;
     }
@@ -6789,6 +6894,8 @@ static PyMethodDef methods[] = {
     {"parabola", (PyCFunction)(void (*)(void))py_parabola, METH_FASTCALL,
      "parabola(times, values, breaks, k, max_gap): the free flight through samples k - 2 .. k "
      "at sample k + 1, or None"},
+    {"c2_inside", (PyCFunction)(void (*)(void))py_c2_inside, METH_FASTCALL,
+     "c2_inside(path, t): a c2 bat path's (knob, tip) at t"},
     {"bat_growth", (PyCFunction)(void (*)(void))py_bat_growth, METH_FASTCALL,
      "bat_growth(times, rows, i, sample0, sample1, weights, far_offset, ratio): how far the c2 "
      "bat's axis points may leave their chords over a window's interval i, or None"},
@@ -6857,6 +6964,14 @@ PyMODINIT_FUNC PyInit__kernel(void)
   for (int i = 0; i < PIECE_NAMES; i++) {
     piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
     if (piece_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
+  static const char *c2_path_attributes[3] = {"turn", "length", "reference"};
+  for (int i = 0; i < 3; i++) {
+    c2_path_names[i] = PyUnicode_InternFromString(c2_path_attributes[i]);
+    if (c2_path_names[i] == NULL) {
       Py_DECREF(m);
       return NULL;
     }

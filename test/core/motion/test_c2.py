@@ -110,3 +110,34 @@ def test_rotate_is_rodrigues_step_by_step(direction, rotation) -> None:
               rotation[0] * reference[1] - rotation[1] * reference[0])
     c, s = math.cos(angle), math.sin(angle) / angle
     assert rotate(reference, rotation) == tuple(c * f + s * a for f, a in zip(reference, across))
+
+
+@settings(max_examples=examples(150), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=7),
+       tilt=st.floats(-3.0, 3.0), k=st.integers(0, 3), at=st.floats(0.0, 1.0))
+def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at) -> None:
+    """
+    A ``c2`` bat path's (knob, tip) inside its interval is its pieces' Python, to the bit.
+
+    The knob piece's cubic, the reference turned by the turn piece's (``rotate``), the tip the
+    knob plus the length piece's value times that direction; at the ends, the samples' own.
+    """
+    from baseball_collision.core.toi import _kernel
+    times = np.concatenate([[0.0], np.cumsum(steps)])
+    path = _path(times, _swing(times, tilt), k)
+
+    def cubic(piece, t):  # type: ignore[no-untyped-def]
+        s = (t - piece.t0) / piece.h
+        a, b, c, d = piece.a, piece.b, piece.c, piece.d
+        if isinstance(a, float):
+            return a + s * (b + s * (c + s * d))
+        return tuple(a[i] + s * (b[i] + s * (c[i] + s * d[i])) for i in range(3))
+    t = path.t0 + at * path.h
+    if path.t0 < t < path.t1:
+        knob = cubic(path.knob, t)
+        d = rotate(path.reference, cubic(path.turn, t))
+        length = cubic(path.length, t)
+        tip = (knob[0] + length * d[0], knob[1] + length * d[1], knob[2] + length * d[2])
+        assert path.at(t) == (knob, tip)
+    assert _kernel.c2_inside(path, path.t0)[0] is path.knob.a
+    assert _kernel.c2_inside(path, path.t1)[0] is path.knob.end
