@@ -761,3 +761,37 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
     with pytest.raises(TypeError):
         _kernel.fast_forward_streams(Planned(), 0, 1, tupled, Stream('bat'), True, False, None,
                                      BatSample)
+
+
+def test_after_a_plan_its_first_sample_ends_the_next_go_unplanned(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A plan that ends at its first sample (failing a check) is followed by samples unplanned.
+
+    At each pitch's start (every stream starts a segment) the plans' checks turn away a few
+    samples in a row (steps the intake may hold); planning each cost a plan of one sample.
+    The next ``UNPLANNED_AFTER_ONE`` samples go through ``add`` at once: fewer such plans,
+    and the events, drops, counters and streams those of ``add`` in turn.
+    """
+    rows = session(HEIGHTS[:4])
+    order = {row[1]: i for i, row in enumerate(rows)}
+    plan_chunk = chunks_module.plan_chunk
+
+    def singles(unplanned: int) -> List[int]:
+        planned: List[Tuple[int, int, bool]] = []
+
+        def recording(*args, **kwargs):  # type: ignore[no-untyped-def]
+            plan = plan_chunk(*args, **kwargs)
+            planned.append((order[int(args[8][0])], plan.n, plan.n > 0 and plan.checked[0]))
+            return plan
+        monkeypatch.setattr(chunks_module, 'plan_chunk', recording)
+        monkeypatch.setattr(chunks_module, 'UNPLANNED_AFTER_ONE', unplanned)
+        assert_same(DetectorConfig(model='c2', bat_input='pose'), rows, (700,))
+        ends = [i for i, n, checked in planned if n == 1 and not checked]
+        for i in ends:  # within its chunk, the next plan after the samples taken unplanned
+            later = [j for j, _, _ in planned if j > i and j // 700 == i // 700]
+            assert not later or later[0] >= i + 1 + unplanned
+        return ends
+    rule = chunks_module.UNPLANNED_AFTER_ONE
+    without, with_rule = singles(0), singles(rule)
+    assert rule > 0 and len(with_rule) < len(without)
