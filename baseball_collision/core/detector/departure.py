@@ -66,32 +66,14 @@ def parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
 
     None when they and sample k + 1 are not all in one segment without a gap over
     ``max_gap`` (s), or k < 2. Kept per interval in ``stream.aligned`` once sample k + 1 is
-    there (the four samples never change): the far test and the sweep ask for it in turn.
+    there (the four samples never change): the far test and the sweep ask for it in turn. The
+    kernel's (``toi._kernel.kept_parabola``, the same operations in the same order as the
+    Python it replaced): Lagrange's weights of samples k - 2 .. k at the closing stamp, the
+    parabola's value there, twice the second divided difference (its acceleration), the
+    closing sample's ``math.dist`` from it.
     """
-    times = stream.times
-    if k + 1 >= len(times):
-        return None
-    kept = stream.aligned.setdefault('parabolas', [])
-    if k < len(kept):
-        entry = kept[k]
-        if entry is not None and entry[0] == max_gap:
-            return entry[1]
-    else:
-        kept.extend([None] * (k + 1 - len(kept)))
-    found = _parabola(stream, k, max_gap)
-    kept[k] = (max_gap, found)
-    return found
-
-
-def _parabola(stream: Stream, k: int, max_gap: float) -> Optional[Parabola]:
-    """
-    Return ``parabola``'s answer, computed (sample k + 1 is there).
-
-    The kernel's (``toi._kernel.parabola``, the same operations in the same order): Lagrange's
-    weights of samples k - 2 .. k at the closing stamp, the parabola's value there, twice the
-    second divided difference (its acceleration), the closing sample's ``math.dist`` from it.
-    """
-    return _kernel.parabola(stream.times, stream.values, stream.breaks, k, max_gap)
+    return _kernel.kept_parabola(stream.times, stream.values, stream.breaks, stream.aligned, k,
+                                 max_gap)
 
 
 def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[Parabola]:

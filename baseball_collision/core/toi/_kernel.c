@@ -85,8 +85,9 @@
  *   c2_margins(ball, knob, tip, ball_k, bat_k, ball_times, bat_times, ball_closed, bat_closed,
  *        look_ahead, size, margin, constants, out, hull_reach)  the c2 far test over a chunk's
  *        union intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
- *        closed, out) the ball's departure reach over them, parabola(times, values, breaks, k,
- *        max_gap) its free flight over one (core.detector.departure)
+ *        closed, out) the ball's departure reach over them, kept_parabola(times, values,
+ *        breaks, aligned, k, max_gap) its free flight over one, kept per interval
+ *        (core.detector.departure)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -4142,6 +4143,7 @@ static double piece_max_acceleration(PyObject *piece, double ta, double tb)
 
 /* a c2 bat path's pieces (motion.c2.C2BatPath: "turn", "length", "reference"; interned) */
 static PyObject *c2_path_names[3];
+static PyObject *parabolas_name; /* "parabolas": a stream's kept parabolas (kept_parabola) */
 
 /*
  * A point piece's position at t (motion.points.PointPath.at): the stored end object at t0 or
@@ -4752,93 +4754,6 @@ static PyObject *py_c2_jump_bulge(PyObject *self, PyObject *const *args, Py_ssiz
   return PyFloat_FromDouble(longest * bound);
 }
 
-/*
- * parabola(times, values, breaks, k, max_gap) -> (miss, spread, bend, end, acceleration) or
- * None: the free flight through a point stream's samples k - 2 .. k (lists: stamps in s,
- * points of 3 numbers, breaks) at sample k + 1 (core.detector.departure._parabola, the same
- * operations in the same order): None for k < 2, a break at k - 1, k or k + 1, or a step
- * over max_gap (s). Lagrange's weights at t3, the parabola's value there (end), twice the
- * second divided difference (acceleration, m/s^2), math.dist of sample k + 1 from end
- * (miss), 1 plus the squared weights (spread), the bulge |a| h^2 / 8 (bend). TypeError: not
- * lists or points; IndexError: k + 1 beyond them.
- */
-static PyObject *py_parabola(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
-{
-  Py_ssize_t k;
-  double max_gap;
-  if (nargs != 5 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
-      !PyList_Check(args[2]) || !read_index(args[3], &k) ||
-      ((max_gap = PyFloat_AsDouble(args[4])) == -1.0 && PyErr_Occurred())) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "parabola(times, values, breaks, k, max_gap): lists");
-    }
-    return NULL;
-  }
-  PyObject *times = args[0], *values = args[1], *breaks = args[2];
-  if (k + 1 >= PyList_GET_SIZE(times) || k + 1 >= PyList_GET_SIZE(values) ||
-      k + 1 >= PyList_GET_SIZE(breaks)) {
-    PyErr_SetString(PyExc_IndexError, "parabola: sample k + 1 beyond the lists");
-    return NULL;
-  }
-  if (k < 2) {
-    Py_RETURN_NONE;
-  }
-  for (Py_ssize_t i = k - 1; i <= k + 1; i++) {
-    int broken = PyObject_IsTrue(PyList_GET_ITEM(breaks, i));
-    if (broken < 0) {
-      return NULL;
-    }
-    if (broken) {
-      Py_RETURN_NONE;
-    }
-  }
-  double t0 = list_double(times, k - 2), t1 = list_double(times, k - 1);
-  double t2 = list_double(times, k), t3 = list_double(times, k + 1);
-  if (PyErr_Occurred()) {
-    return NULL;
-  }
-  double h0 = t1 - t0, h1 = t2 - t1, h = t3 - t2;
-  if (h0 > max_gap || h1 > max_gap || h > max_gap) {
-    Py_RETURN_NONE;
-  }
-  Vec p[3];
-  for (int i = 0; i < 3; i++) {
-    if (!read_vec(PyList_GET_ITEM(values, k - 2 + i), &p[i])) {
-      PyErr_SetString(PyExc_TypeError, "parabola: points of 3 numbers");
-      return NULL;
-    }
-  }
-  /* Lagrange's weights of the three samples at t3 (they sum to 1) */
-  double w0 = (t3 - t1) * h / ((t0 - t1) * (t0 - t2));
-  double w1 = (t3 - t0) * h / ((t1 - t0) * (t1 - t2));
-  double w2 = 1.0 - w0 - w1;
-  double end[3] = {w0 * p[0].x + w1 * p[1].x + w2 * p[2].x,
-                   w0 * p[0].y + w1 * p[1].y + w2 * p[2].y,
-                   w0 * p[0].z + w1 * p[1].z + w2 * p[2].z};
-  /* twice the second divided difference */
-  double span = 0.5 * (t2 - t0);
-  double acceleration[3] = {((p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0) / span,
-                            ((p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0) / span,
-                            ((p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0) / span};
-  double ax = acceleration[0], ay = acceleration[1], az = acceleration[2];
-  double bend = sqrt(ax * ax + ay * ay + az * az) * h * h / 8.0;
-  double spread = 1.0 + w0 * w0 + w1 * w1 + w2 * w2;
-  PyObject *end_tuple = float_tuple(end, 3);
-  PyObject *acceleration_tuple = end_tuple ? float_tuple(acceleration, 3) : NULL;
-  PyObject *closing = acceleration_tuple ? PySequence_Tuple(PyList_GET_ITEM(values, k + 1))
-                                         : NULL;
-  PyObject *miss = closing ? PyObject_CallFunctionObjArgs(math_dist, closing, end_tuple, NULL)
-                           : NULL;
-  PyObject *result = miss ? Py_BuildValue("OddOO", miss, spread, bend, end_tuple,
-                                          acceleration_tuple)
-                          : NULL;
-  Py_XDECREF(end_tuple);
-  Py_XDECREF(acceleration_tuple);
-  Py_XDECREF(closing);
-  Py_XDECREF(miss);
-  return result;
-}
-
 /* the attribute names fast_forward_streams reads and sets (interned at import) */
 enum {
   FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
@@ -5165,6 +5080,143 @@ static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, 
     }
   }
   return Py_BuildValue("Lnn", newest, taken[0], taken[1]);
+}
+
+/*
+ * The free flight (miss, spread, bend, end, acceleration) through a point stream's samples
+ * k - 2 .. k (lists: stamps in s, points of 3 numbers, breaks) at sample k + 1, the operations
+ * of the Python it replaced in its order (core.detector.departure.parabola), or None: k < 2, a
+ * break at k - 1, k or k + 1, or a step over max_gap (s). Lagrange's weights at t3, the
+ * parabola's value there (end), twice the second divided difference (acceleration, m/s^2),
+ * math.dist of sample k + 1 from end (miss), 1 plus the squared weights (spread), the bulge
+ * |a| h^2 / 8 (bend). A new reference; NULL with TypeError (not points) or IndexError (k + 1
+ * beyond the lists).
+ */
+static PyObject *parabola_of(PyObject *times, PyObject *values, PyObject *breaks, Py_ssize_t k,
+                             double max_gap)
+{
+  if (k + 1 >= PyList_GET_SIZE(times) || k + 1 >= PyList_GET_SIZE(values) ||
+      k + 1 >= PyList_GET_SIZE(breaks)) {
+    PyErr_SetString(PyExc_IndexError, "parabola: sample k + 1 beyond the lists");
+    return NULL;
+  }
+  if (k < 2) {
+    Py_RETURN_NONE;
+  }
+  for (Py_ssize_t i = k - 1; i <= k + 1; i++) {
+    int broken = PyObject_IsTrue(PyList_GET_ITEM(breaks, i));
+    if (broken < 0) {
+      return NULL;
+    }
+    if (broken) {
+      Py_RETURN_NONE;
+    }
+  }
+  double t0 = list_double(times, k - 2), t1 = list_double(times, k - 1);
+  double t2 = list_double(times, k), t3 = list_double(times, k + 1);
+  if (PyErr_Occurred()) {
+    return NULL;
+  }
+  double h0 = t1 - t0, h1 = t2 - t1, h = t3 - t2;
+  if (h0 > max_gap || h1 > max_gap || h > max_gap) {
+    Py_RETURN_NONE;
+  }
+  Vec p[3];
+  for (int i = 0; i < 3; i++) {
+    if (!read_vec(PyList_GET_ITEM(values, k - 2 + i), &p[i])) {
+      PyErr_SetString(PyExc_TypeError, "parabola: points of 3 numbers");
+      return NULL;
+    }
+  }
+  /* Lagrange's weights of the three samples at t3 (they sum to 1) */
+  double w0 = (t3 - t1) * h / ((t0 - t1) * (t0 - t2));
+  double w1 = (t3 - t0) * h / ((t1 - t0) * (t1 - t2));
+  double w2 = 1.0 - w0 - w1;
+  double end[3] = {w0 * p[0].x + w1 * p[1].x + w2 * p[2].x,
+                   w0 * p[0].y + w1 * p[1].y + w2 * p[2].y,
+                   w0 * p[0].z + w1 * p[1].z + w2 * p[2].z};
+  /* twice the second divided difference */
+  double span = 0.5 * (t2 - t0);
+  double acceleration[3] = {((p[2].x - p[1].x) / h1 - (p[1].x - p[0].x) / h0) / span,
+                            ((p[2].y - p[1].y) / h1 - (p[1].y - p[0].y) / h0) / span,
+                            ((p[2].z - p[1].z) / h1 - (p[1].z - p[0].z) / h0) / span};
+  double ax = acceleration[0], ay = acceleration[1], az = acceleration[2];
+  double bend = sqrt(ax * ax + ay * ay + az * az) * h * h / 8.0;
+  double spread = 1.0 + w0 * w0 + w1 * w1 + w2 * w2;
+  PyObject *end_tuple = float_tuple(end, 3);
+  PyObject *acceleration_tuple = end_tuple ? float_tuple(acceleration, 3) : NULL;
+  PyObject *closing = acceleration_tuple ? PySequence_Tuple(PyList_GET_ITEM(values, k + 1))
+                                         : NULL;
+  PyObject *miss = closing ? PyObject_CallFunctionObjArgs(math_dist, closing, end_tuple, NULL)
+                           : NULL;
+  PyObject *result = miss ? Py_BuildValue("OddOO", miss, spread, bend, end_tuple,
+                                          acceleration_tuple)
+                          : NULL;
+  Py_XDECREF(end_tuple);
+  Py_XDECREF(acceleration_tuple);
+  Py_XDECREF(closing);
+  Py_XDECREF(miss);
+  return result;
+}
+
+/*
+ * kept_parabola(times, values, breaks, aligned, k, max_gap) -> parabola(...)'s answer, kept per
+ * interval in aligned["parabolas"] (a list aligned with the samples: (max_gap, answer) at k,
+ * None where none was asked) once sample k + 1 is there (core.detector.departure.parabola);
+ * None when it is not, or for k < 2.
+ */
+static PyObject *py_kept_parabola(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k;
+  double max_gap;
+  if (nargs != 6 || !PyList_Check(args[0]) || !PyDict_Check(args[3]) ||
+      !read_index(args[4], &k) ||
+      ((max_gap = PyFloat_AsDouble(args[5])) == -1.0 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "kept_parabola(times, values, breaks, aligned, k, max_gap)");
+    }
+    return NULL;
+  }
+  if (k < 2 || k + 1 >= PyList_GET_SIZE(args[0])) {
+    Py_RETURN_NONE;
+  }
+  PyObject *kept = PyDict_GetItemWithError(args[3], parabolas_name); /* borrowed */
+  if (kept == NULL) {
+    if (PyErr_Occurred() || (kept = PyList_New(0)) == NULL) {
+      return NULL;
+    }
+    int stored = PyDict_SetItem(args[3], parabolas_name, kept);
+    Py_DECREF(kept); /* (the dict holds it) */
+    if (stored < 0) {
+      return NULL;
+    }
+  }
+  if (!PyList_Check(kept)) {
+    PyErr_SetString(PyExc_TypeError, "kept_parabola: aligned['parabolas'] must be a list");
+    return NULL;
+  }
+  if (k < PyList_GET_SIZE(kept)) {
+    PyObject *entry = PyList_GET_ITEM(kept, k);
+    if (entry != Py_None && PyTuple_Check(entry) && PyTuple_GET_SIZE(entry) == 2 &&
+        PyFloat_Check(PyTuple_GET_ITEM(entry, 0)) &&
+        PyFloat_AS_DOUBLE(PyTuple_GET_ITEM(entry, 0)) == max_gap) {
+      return Py_NewRef(PyTuple_GET_ITEM(entry, 1));
+    }
+  } else if (!append_repeated(kept, Py_None, k + 1 - PyList_GET_SIZE(kept))) {
+    return NULL;
+  }
+  if (!PyList_Check(args[1]) || !PyList_Check(args[2])) {
+    PyErr_SetString(PyExc_TypeError, "kept_parabola: lists of values and breaks");
+    return NULL;
+  }
+  PyObject *found = parabola_of(args[0], args[1], args[2], k, max_gap);
+  PyObject *entry = found ? Py_BuildValue("(dO)", max_gap, found) : NULL;
+  if (entry == NULL || PyList_SetItem(kept, k, entry) < 0) { /* (steals entry) */
+    Py_XDECREF(found);
+    return NULL;
+  }
+  return found;
 }
 
 /*
@@ -6891,9 +6943,9 @@ static PyMethodDef methods[] = {
      "hulls of (b0, b1) and (k0, e0, k1, e1)"},
     {"far_spheres", (PyCFunction)(void (*)(void))py_far_spheres, METH_FASTCALL,
      "far_spheres(b0, b1, k0, e0, k1, e1): the scalar far test's spheres and hull separation"},
-    {"parabola", (PyCFunction)(void (*)(void))py_parabola, METH_FASTCALL,
-     "parabola(times, values, breaks, k, max_gap): the free flight through samples k - 2 .. k "
-     "at sample k + 1, or None"},
+    {"kept_parabola", (PyCFunction)(void (*)(void))py_kept_parabola, METH_FASTCALL,
+     "kept_parabola(times, values, breaks, aligned, k, max_gap): parabola's answer, kept per "
+     "interval in aligned['parabolas']"},
     {"c2_inside", (PyCFunction)(void (*)(void))py_c2_inside, METH_FASTCALL,
      "c2_inside(path, t): a c2 bat path's (knob, tip) at t"},
     {"bat_growth", (PyCFunction)(void (*)(void))py_bat_growth, METH_FASTCALL,
@@ -6967,6 +7019,11 @@ PyMODINIT_FUNC PyInit__kernel(void)
       Py_DECREF(m);
       return NULL;
     }
+  }
+  parabolas_name = PyUnicode_InternFromString("parabolas");
+  if (parabolas_name == NULL) {
+    Py_DECREF(m);
+    return NULL;
   }
   static const char *c2_path_attributes[3] = {"turn", "length", "reference"};
   for (int i = 0; i < 3; i++) {

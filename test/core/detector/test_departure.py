@@ -340,7 +340,7 @@ def test_vectorised_reach_refuses_an_interval_without_a_sample_after_it() -> Non
 
 
 def _parabola_written_out(times, values, breaks, k, max_gap):  # type: ignore[no-untyped-def]
-    """``departure._parabola`` as its Python was."""
+    """``departure.parabola``'s computation as its Python was."""
     if k < 2 or breaks[k - 1] or breaks[k] or breaks[k + 1]:
         return None
     t0, t1, t2, t3 = times[k - 2:k + 2]
@@ -369,20 +369,26 @@ def _parabola_written_out(times, values, breaks, k, max_gap):  # type: ignore[no
 def test_the_kernels_parabola_is_the_python_written_out(seed: int, n: int, gap: float,
                                                         scale: float) -> None:
     """
-    ``_kernel.parabola`` is the free flight's Python written out, to the bit (or both None).
+    ``parabola`` (the kernel's, kept) is the free flight's Python written out, to the bit.
 
-    Uneven stamps (some steps over the gap), breaks, every interval of the stream; k + 1
-    beyond the samples and points that are not 3 numbers are refused.
+    Uneven stamps (some steps over the gap), breaks, every interval of the stream in a
+    shuffled order, each asked twice (the kept answer the same object) and under another gap
+    (computed again); none without a sample after the interval or before the third;
+    points that are not 3 numbers are refused.
     """
-    from baseball_collision.core.toi import _kernel
     rng = np.random.default_rng(seed)
     times = np.cumsum(rng.uniform(0.001, 0.012, n)).tolist()
     values = [tuple(p) for p in (rng.normal(size=(n, 3)) * scale).tolist()]
     breaks = (rng.random(n) < 0.15).tolist()
-    for k in range(n - 1):
-        assert _kernel.parabola(times, values, breaks, k, gap) == _parabola_written_out(
-            times, values, breaks, k, gap)
-    with pytest.raises(IndexError):
-        _kernel.parabola(times, values, breaks, n - 1, gap)
+    stream = _stream(times, values)
+    stream.breaks = breaks
+    for k in rng.permutation(n - 1).tolist():
+        found = parabola(stream, k, gap)
+        assert found == _parabola_written_out(times, values, breaks, k, gap)
+        assert parabola(stream, k, gap) is found
+        wider = _parabola_written_out(times, values, breaks, k, 2.0 * gap)
+        assert parabola(stream, k, 2.0 * gap) == wider
+    assert parabola(stream, n - 1, gap) is None
+    bad = _stream(times, [(0.0, 1.0)] * n)
     with pytest.raises(TypeError):
-        _kernel.parabola(times, [(0.0, 1.0)] * n, [False] * n, 2, 1.0)
+        parabola(bad, 2, 1.0)
