@@ -53,6 +53,9 @@ ratio of two chi-squares, of 3 and 36 degrees of freedom, each over its own, pas
 once in 100,000 draws (F(3, 36), 12 intervals before it; with 4, F(3, 12), once in 2,500:
 a segment's first intervals, which a free flight's parabola serves as well)."""
 
+_RULES = (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO)
+"""The rules as the kernel's ``leaves_flight`` takes them."""
+
 Parabola = Tuple[float, float, float, Vector, Vector]
 """The free flight over an interval: the closing sample's distance from the parabola (m), the
 noise gain of that difference (1 + the squared Lagrange weights), the parabola's bulge from its
@@ -86,32 +89,13 @@ def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
     ``SCATTER_RATIO``): samples noisier than the noise told (``tracker_noise`` 0 on a noisy
     tracker) scatter that much in free flight too. Not where sample k - 1 or k departed
     itself: a parabola through a departure (the frames just after a hit) is no free flight.
+    The kernel's (``toi._kernel.leaves_flight``: the rules of the Python it replaced in its
+    order, the scatter's mean square summed from 0.0).
 
     :param noise: the stream's noise (m, 1 sigma per coordinate; 0 for exact samples).
     """
-    fitted = _departed(stream, k, noise, max_gap)
-    if fitted is None or any(_departed(stream, j, noise, max_gap) is not None
-                             for j in (k - 1, k - 2)):
-        return None
-    return fitted
-
-
-def _departed(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[Parabola]:
-    """Return ``leaves_flight``'s answer but for its last rule (the samples' own departures)."""
-    fitted = parabola(stream, k, max_gap) if k >= 0 else None
-    if fitted is None:
-        return None
-    miss, spread = fitted[0], fitted[1]
-    if miss <= DEPARTURE_FLOOR or miss * miss <= DEPARTURE_CHI_SQUARE * noise * noise * spread:
-        return None
-    scatter = []
-    for j in range(k - SCATTER_INTERVALS, k):
-        before = parabola(stream, j, max_gap) if j >= 0 else None
-        if before is not None:
-            scatter.append(before[0] * before[0] / before[1])
-    if scatter and miss * miss <= SCATTER_RATIO * spread * sum(scatter) / len(scatter):
-        return None
-    return fitted
+    return _kernel.leaves_flight(stream.times, stream.values, stream.breaks, stream.aligned, k,
+                                 noise, max_gap, _RULES)
 
 
 def flight_path(stream: Stream, k: int, fitted: Parabola) -> PointPath:

@@ -86,8 +86,9 @@
  *        look_ahead, size, margin, constants, out, hull_reach)  the c2 far test over a chunk's
  *        union intervals (core.detector.broadphase.arrays), and departure_reaches(points, times, k,
  *        closed, out) the ball's departure reach over them, kept_parabola(times, values,
- *        breaks, aligned, k, max_gap) its free flight over one, kept per interval
- *        (core.detector.departure)
+ *        breaks, aligned, k, max_gap) its free flight over one, kept per interval, and
+ *        leaves_flight(times, values, breaks, aligned, k, noise, max_gap, rules) whether its
+ *        closing sample left it (core.detector.departure)
  *   and the building blocks, for the tests: quadratic_roots, bracketed_root, critical_points,
  *   touch_candidates, quadratic_entry, cap_quadratics, side_quartic.
  *
@@ -5165,28 +5166,20 @@ static PyObject *parabola_of(PyObject *times, PyObject *values, PyObject *breaks
  * None where none was asked) once sample k + 1 is there (core.detector.departure.parabola);
  * None when it is not, or for k < 2.
  */
-static PyObject *py_kept_parabola(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/* kept_parabola's answer (a new reference, None included; NULL with an exception) for the
+ * lists times, values, breaks and the dict aligned */
+static PyObject *kept_parabola_of(PyObject *times, PyObject *values, PyObject *breaks,
+                                  PyObject *aligned, Py_ssize_t k, double max_gap)
 {
-  Py_ssize_t k;
-  double max_gap;
-  if (nargs != 6 || !PyList_Check(args[0]) || !PyDict_Check(args[3]) ||
-      !read_index(args[4], &k) ||
-      ((max_gap = PyFloat_AsDouble(args[5])) == -1.0 && PyErr_Occurred())) {
-    if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError,
-                      "kept_parabola(times, values, breaks, aligned, k, max_gap)");
-    }
-    return NULL;
-  }
-  if (k < 2 || k + 1 >= PyList_GET_SIZE(args[0])) {
+  if (k < 2 || k + 1 >= PyList_GET_SIZE(times)) {
     Py_RETURN_NONE;
   }
-  PyObject *kept = PyDict_GetItemWithError(args[3], parabolas_name); /* borrowed */
+  PyObject *kept = PyDict_GetItemWithError(aligned, parabolas_name); /* borrowed */
   if (kept == NULL) {
     if (PyErr_Occurred() || (kept = PyList_New(0)) == NULL) {
       return NULL;
     }
-    int stored = PyDict_SetItem(args[3], parabolas_name, kept);
+    int stored = PyDict_SetItem(aligned, parabolas_name, kept);
     Py_DECREF(kept); /* (the dict holds it) */
     if (stored < 0) {
       return NULL;
@@ -5206,17 +5199,127 @@ static PyObject *py_kept_parabola(PyObject *self, PyObject *const *args, Py_ssiz
   } else if (!append_repeated(kept, Py_None, k + 1 - PyList_GET_SIZE(kept))) {
     return NULL;
   }
-  if (!PyList_Check(args[1]) || !PyList_Check(args[2])) {
+  if (!PyList_Check(values) || !PyList_Check(breaks)) {
     PyErr_SetString(PyExc_TypeError, "kept_parabola: lists of values and breaks");
     return NULL;
   }
-  PyObject *found = parabola_of(args[0], args[1], args[2], k, max_gap);
+  PyObject *found = parabola_of(times, values, breaks, k, max_gap);
   PyObject *entry = found ? Py_BuildValue("(dO)", max_gap, found) : NULL;
   if (entry == NULL || PyList_SetItem(kept, k, entry) < 0) { /* (steals entry) */
     Py_XDECREF(found);
     return NULL;
   }
   return found;
+}
+
+/*
+ * kept_parabola(times, values, breaks, aligned, k, max_gap) -> the free flight above over
+ * interval k of a point stream, kept per interval in aligned["parabolas"] (a list aligned
+ * with the samples: (max_gap, answer) at k, None where none was asked) once sample k + 1 is
+ * there (core.detector.departure.parabola); None when it is not, or for k < 2.
+ */
+static PyObject *py_kept_parabola(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k;
+  double max_gap;
+  if (nargs != 6 || !PyList_Check(args[0]) || !PyDict_Check(args[3]) ||
+      !read_index(args[4], &k) ||
+      ((max_gap = PyFloat_AsDouble(args[5])) == -1.0 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "kept_parabola(times, values, breaks, aligned, k, max_gap)");
+    }
+    return NULL;
+  }
+  return kept_parabola_of(args[0], args[1], args[2], args[3], k, max_gap);
+}
+
+typedef struct { /* departure's constants (core.detector.departure) */
+  double floor;       /* DEPARTURE_FLOOR (m) */
+  double chi_square;  /* DEPARTURE_CHI_SQUARE */
+  Py_ssize_t scatter; /* SCATTER_INTERVALS */
+  double ratio;       /* SCATTER_RATIO */
+} DepartureRules;
+
+/*
+ * departure's _departed: the parabola of interval k when its closing sample left it (more
+ * than the floor, outside the noise's chi-square bound and the scatter of the intervals
+ * before), else None; the Python's operations in its order (the scatter's sum from 0.0). A new
+ * reference; NULL with an exception.
+ */
+static PyObject *departed_of(PyObject *const *lists, PyObject *aligned, Py_ssize_t k,
+                             double noise, double max_gap, const DepartureRules *rules)
+{
+  if (k < 0) {
+    Py_RETURN_NONE;
+  }
+  PyObject *fitted = kept_parabola_of(lists[0], lists[1], lists[2], aligned, k, max_gap);
+  if (fitted == NULL || fitted == Py_None) {
+    return fitted;
+  }
+  double miss = PyFloat_AsDouble(PyTuple_GET_ITEM(fitted, 0));
+  double spread = PyFloat_AsDouble(PyTuple_GET_ITEM(fitted, 1));
+  if (miss <= rules->floor || miss * miss <= rules->chi_square * noise * noise * spread) {
+    Py_DECREF(fitted);
+    Py_RETURN_NONE;
+  }
+  double sum = 0.0;
+  Py_ssize_t count = 0;
+  for (Py_ssize_t j = k - rules->scatter; j < k; j++) {
+    if (j < 0) {
+      continue;
+    }
+    PyObject *before = kept_parabola_of(lists[0], lists[1], lists[2], aligned, j, max_gap);
+    if (before == NULL) {
+      Py_DECREF(fitted);
+      return NULL;
+    }
+    if (before != Py_None) {
+      double m = PyFloat_AsDouble(PyTuple_GET_ITEM(before, 0));
+      sum += m * m / PyFloat_AsDouble(PyTuple_GET_ITEM(before, 1));
+      count++;
+    }
+    Py_DECREF(before);
+  }
+  if (count && miss * miss <= rules->ratio * spread * sum / (double)count) {
+    Py_DECREF(fitted);
+    Py_RETURN_NONE;
+  }
+  return fitted;
+}
+
+/*
+ * leaves_flight(times, values, breaks, aligned, k, noise, max_gap, rules) -> the free flight's
+ * parabola when sample k + 1 has departed from it, else None (core.detector.departure
+ * .leaves_flight: departed itself, and neither sample k - 1 nor k departed); rules:
+ * (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO).
+ */
+static PyObject *py_leaves_flight(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t k;
+  double noise, max_gap;
+  DepartureRules rules;
+  if (nargs != 8 || !PyList_Check(args[0]) || !PyDict_Check(args[3]) ||
+      !read_index(args[4], &k) || !read_number(args[5], &noise) ||
+      !read_number(args[6], &max_gap) ||
+      !PyArg_ParseTuple(args[7], "ddnd", &rules.floor, &rules.chi_square, &rules.scatter,
+                        &rules.ratio)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "leaves_flight(times, values, breaks, aligned, k, "
+                                       "noise, max_gap, rules)");
+    }
+    return NULL;
+  }
+  PyObject *fitted = departed_of(args, args[3], k, noise, max_gap, &rules);
+  for (Py_ssize_t j = k - 1; fitted != NULL && fitted != Py_None && j >= k - 2; j--) {
+    PyObject *own = departed_of(args, args[3], j, noise, max_gap, &rules);
+    if (own == NULL || own != Py_None) {
+      Py_DECREF(fitted);
+      fitted = own == NULL ? NULL : Py_NewRef(Py_None);
+    }
+    Py_XDECREF(own);
+  }
+  return fitted;
 }
 
 /*
@@ -6943,6 +7046,9 @@ static PyMethodDef methods[] = {
      "hulls of (b0, b1) and (k0, e0, k1, e1)"},
     {"far_spheres", (PyCFunction)(void (*)(void))py_far_spheres, METH_FASTCALL,
      "far_spheres(b0, b1, k0, e0, k1, e1): the scalar far test's spheres and hull separation"},
+    {"leaves_flight", (PyCFunction)(void (*)(void))py_leaves_flight, METH_FASTCALL,
+     "leaves_flight(times, values, breaks, aligned, k, noise, max_gap, rules): the free "
+     "flight's parabola over interval k when its closing sample departed from it, or None"},
     {"kept_parabola", (PyCFunction)(void (*)(void))py_kept_parabola, METH_FASTCALL,
      "kept_parabola(times, values, breaks, aligned, k, max_gap): parabola's answer, kept per "
      "interval in aligned['parabolas']"},

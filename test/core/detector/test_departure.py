@@ -392,3 +392,59 @@ def test_the_kernels_parabola_is_the_python_written_out(seed: int, n: int, gap: 
     bad = _stream(times, [(0.0, 1.0)] * n)
     with pytest.raises(TypeError):
         parabola(bad, 2, 1.0)
+
+
+def _leaves_written_out(times, values, breaks, k, noise, max_gap):  # type: ignore
+    """``departure.leaves_flight`` as its Python was (its parabolas written out too)."""
+    from baseball_collision.core.detector.departure import (
+        DEPARTURE_CHI_SQUARE, SCATTER_RATIO)
+
+    def fit(j):  # type: ignore[no-untyped-def]
+        return (_parabola_written_out(times, values, breaks, j, max_gap)
+                if 0 <= j and j + 1 < len(times) else None)
+
+    def departed(j):  # type: ignore[no-untyped-def]
+        fitted = fit(j) if j >= 0 else None
+        if fitted is None:
+            return None
+        miss, spread = fitted[0], fitted[1]
+        if miss <= DEPARTURE_FLOOR or miss * miss <= DEPARTURE_CHI_SQUARE * noise * noise * spread:
+            return None
+        scatter = []
+        for i in range(j - SCATTER_INTERVALS, j):
+            before = fit(i) if i >= 0 else None
+            if before is not None:
+                scatter.append(before[0] * before[0] / before[1])
+        if scatter and miss * miss <= SCATTER_RATIO * spread * sum(scatter) / len(scatter):
+            return None
+        return fitted
+    fitted = departed(k)
+    if fitted is None or any(departed(j) is not None for j in (k - 1, k - 2)):
+        return None
+    return fitted
+
+
+@settings(max_examples=examples(150), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(4, 40), noise=st.sampled_from(
+    [0.0, 1e-4, 1e-3]), hit=st.floats(0.2, 0.8))
+def test_the_kernels_departure_is_the_python_written_out(seed: int, n: int, noise: float,
+                                                         hit: float) -> None:
+    """
+    ``leaves_flight`` (the kernel's) is the Python it replaced, to the bit, at every interval.
+
+    A pitched ball with tracking noise on jittered stamps, hit back part-way (a departure),
+    some segments broken; every interval asked, in a shuffled order.
+    """
+    rng = np.random.default_rng(seed)
+    times = np.cumsum(rng.uniform(0.002, 0.004, n))
+    turn = times[int(hit * (n - 1))]
+    x = np.where(times < turn, -40.0 * times, -40.0 * turn + 50.0 * (times - turn))
+    points = np.stack((x, 0.1 * times, 1.0 - 4.9 * times ** 2), axis=1)
+    points += rng.normal(0.0, noise, points.shape)
+    values = [tuple(p) for p in points.tolist()]
+    breaks = [True] + (rng.random(n - 1) < 0.05).tolist()
+    stream = _stream(times.tolist(), values)
+    stream.breaks = list(breaks)
+    for k in rng.permutation(n - 1).tolist():
+        assert leaves_flight(stream, k, noise, 0.01) == _leaves_written_out(
+            stream.times, values, breaks, k, noise, 0.01)
