@@ -247,22 +247,23 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
     fitted, slopes = smooth(window, np.asarray(rows, dtype=float), variances, *SMOOTHER,
                             penalty_eigen(window, SMOOTHER[0]), BAT_GROUPS, k - first)
     reference = unit_axis(samples[k])
+    # the interval's two rows and the slopes at its knots (its own two first), read as Python
+    # floats once (the same numbers: numpy's small reads cost more inside the detector's loop)
+    rows0, rows1 = fitted[k - first:k + 2 - first].tolist()
+    s0, s1 = slopes[:2].tolist()
     ends = []
-    for i in (k - first, k + 1 - first):
-        knob = tuple(fitted[i, :3].tolist())
-        direction = rotate(reference, tuple(fitted[i, 3:6].tolist()))
-        length = float(fitted[i, 6])
+    for i, row in ((k - first, rows0), (k + 1 - first, rows1)):
+        knob = tuple(row[:3])
+        direction = rotate(reference, tuple(row[3:6]))
+        length = row[6]
         tip = tuple(p + length * d for p, d in zip(knob, direction))
         original = samples[first + i]
         ends.append(BatSample(knob, tip, original.position, original.quaternion))
     origin = unit_axis(ends[0])
-    # (the slopes are those of the interval's knots on: its own two first)
-    turns = [_recharted(reference, origin, fitted[k - first + i, 3:6], slopes[i, 3:6])[1]
-             for i in (0, 1)]
-    s0, s1 = slopes[0], slopes[1]
-    return C2BatPath(times[k], times[k + 1], ends[0], ends[1],
-                     (tuple(s0[:3].tolist()), tuple(s1[:3].tolist())), (turns[0], turns[1]),
-                     (float(s0[6]), float(s1[6])))
+    turns = [_recharted(reference, origin, row[3:6], slope[3:6])[1]
+             for row, slope in ((rows0, s0), (rows1, s1))]
+    return C2BatPath(times[k], times[k + 1], ends[0], ends[1], (tuple(s0[:3]), tuple(s1[:3])),
+                     (turns[0], turns[1]), (s0[6], s1[6]))
 
 
 def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2BatPath:
