@@ -198,9 +198,8 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     if noise > 0.0:
         values, slopes = smooth(times, np.asarray(stream.values[window.start:window.stop]),
                                 [noise * noise] * 3, *SMOOTHER, start=j)
-        return PointPath(times[j], times[j + 1], tuple(values[j].tolist()),
-                         tuple(values[j + 1].tolist()), tuple(slopes[0].tolist()),
-                         tuple(slopes[1].tolist()))
+        (v0, v1), (s0, s1) = values[j:j + 2].tolist(), slopes[:2].tolist()  # (floats at once)
+        return PointPath(times[j], times[j + 1], tuple(v0), tuple(v1), tuple(s0), tuple(s1))
     slopes = not_a_knot_slope_rows(times, stream.values[window.start:window.stop], j)
     return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
                      slopes[1])
