@@ -5160,12 +5160,6 @@ static PyObject *parabola_of(PyObject *times, PyObject *values, PyObject *breaks
   return result;
 }
 
-/*
- * kept_parabola(times, values, breaks, aligned, k, max_gap) -> parabola(...)'s answer, kept per
- * interval in aligned["parabolas"] (a list aligned with the samples: (max_gap, answer) at k,
- * None where none was asked) once sample k + 1 is there (core.detector.departure.parabola);
- * None when it is not, or for k < 2.
- */
 /* kept_parabola's answer (a new reference, None included; NULL with an exception) for the
  * lists times, values, breaks and the dict aligned */
 static PyObject *kept_parabola_of(PyObject *times, PyObject *values, PyObject *breaks,
@@ -7050,8 +7044,8 @@ static PyMethodDef methods[] = {
      "leaves_flight(times, values, breaks, aligned, k, noise, max_gap, rules): the free "
      "flight's parabola over interval k when its closing sample departed from it, or None"},
     {"kept_parabola", (PyCFunction)(void (*)(void))py_kept_parabola, METH_FASTCALL,
-     "kept_parabola(times, values, breaks, aligned, k, max_gap): parabola's answer, kept per "
-     "interval in aligned['parabolas']"},
+     "kept_parabola(times, values, breaks, aligned, k, max_gap): the free flight over interval "
+     "k of a point stream, kept per interval in aligned['parabolas'], or None"},
     {"c2_inside", (PyCFunction)(void (*)(void))py_c2_inside, METH_FASTCALL,
      "c2_inside(path, t): a c2 bat path's (knob, tip) at t"},
     {"bat_growth", (PyCFunction)(void (*)(void))py_bat_growth, METH_FASTCALL,
