@@ -379,12 +379,13 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     if held:
         pending = np.zeros(n + 1, np.int64)
         key = order.astype(float)
+        before = [np.concatenate(([0], np.cumsum(mine))) for mine in (is_ball, is_bat)]
         for x, y in held:
             pending[x] += 1
             pending[min(y, n)] -= 1
             key[x] = y - 0.5  # just before y (y past the plan's end: never taken in it)
-            s = 0 if is_ball[x] else 1
-            arrays.breaks[s][arrays.pre[s] + int((is_bat if s else is_ball)[:x].sum())] = True
+            s = 0 if is_ball[x] else 1  # (its stream's samples before it: before[s][x])
+            arrays.breaks[s][arrays.pre[s] + int(before[s][x])] = True
         done -= np.cumsum(pending[:n])
         order = np.argsort(key, kind='stable')[:int(done[-1])]
     counts = [arrays.pre[s] + np.concatenate(([0], np.cumsum(mine[order] if held else mine)))
@@ -535,18 +536,22 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
     for mine in (is_ball, is_bat):
         own = np.flatnonzero(mine)
         following[own[:-1]] = own[1:]
-    waiting = np.zeros(n, bool)
     newest = max(ball.stamps[-1], bat.stamps[-1])
     held: List[Tuple[int, int]] = []
+    # the newest stamp of the samples before x that do not wait, kept as x goes on: only the
+    # last held sample (where the scan stopped) waits among those not yet scanned
+    top, scanned = newest, 0
     for x in failing:
         y = int(following[x])
         if not gap[x] or y >= n or not ok[y]:
             return x + 1, held
-        before = stamps[:x][~waiting[:x]]
-        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
+        start = scanned + 1 if held and held[-1][0] == scanned else scanned
+        if start < x:
+            top = max(top, int(stamps[start:x].max()))
+        scanned = x
+        if stamps[x] <= top:
             return x + 1, held  # (taken at once: as new as a sample taken)
         held.append((x, y))
-        waiting[x] = True
     return n, held
 
 

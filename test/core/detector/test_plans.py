@@ -13,8 +13,8 @@ from typing import List, Tuple
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _order_checks, _trims, BALL, BAT_POSE, items, SLACK, TRIM_FROM,
-    TRIM_KEEP)
+    _closed, _continuous, _held_gaps, _order_checks, _trims, BALL, BAT_POSE, items, SLACK,
+    TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import pose_point
 from baseball_collision.core.toi import _kernel
@@ -289,3 +289,50 @@ def test_sorted_search_is_numpys_searchsorted(array: List[float], keys: List[flo
     found = np.empty(len(wanted), np.int64)
     _kernel.sorted_search(values, wanted, right, found)
     assert found.tolist() == np.searchsorted(values, wanted, 'right' if right else 'left').tolist()
+
+
+def _held_gaps_written_out(ok, gap, is_ball, is_bat, stamps, ball, bat):  # type: ignore
+    """``plans._held_gaps`` as its Python was (the samples before each one scanned again)."""
+    n = len(ok)
+    failing = np.flatnonzero(~ok).tolist()
+    if not failing:
+        return n, []
+    following = np.full(n, n)
+    for mine in (is_ball, is_bat):
+        own = np.flatnonzero(mine)
+        following[own[:-1]] = own[1:]
+    waiting = np.zeros(n, bool)
+    newest = max(ball.stamps[-1], bat.stamps[-1])
+    held = []
+    for x in failing:
+        y = int(following[x])
+        if not gap[x] or y >= n or not ok[y]:
+            return x + 1, held
+        before = stamps[:x][~waiting[:x]]
+        if stamps[x] <= max(newest, int(before.max()) if len(before) else newest):
+            return x + 1, held
+        held.append((x, y))
+        waiting[x] = True
+    return n, held
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 60), failing=st.floats(0.0, 0.5),
+       ahead=st.integers(-3, 3))
+def test_held_gaps_are_the_scan_written_out(seed: int, n: int, failing: float,
+                                            ahead: int) -> None:
+    """
+    Where a plan ends and its held samples: the same as scanning the samples before each.
+
+    Random checks failed and passed, gap starts among the failures, the two streams' samples
+    mixed, stamps out of order among them and about the streams' newest.
+    """
+    rng = np.random.default_rng(seed)
+    ok = rng.random(n) >= failing
+    gap = ~ok & (rng.random(n) < 0.8)
+    is_ball = rng.random(n) < 0.5
+    stamps = (np.cumsum(rng.integers(-2, 5, n)) + 100).astype(np.int64)
+    ball, bat = Stream('ball'), Stream('bat_pose')
+    ball.stamps, bat.stamps = [100 + ahead], [99]
+    assert _held_gaps(ok, gap, is_ball, ~is_ball, stamps, ball, bat) == _held_gaps_written_out(
+        ok, gap, is_ball, ~is_ball, stamps, ball, bat)
