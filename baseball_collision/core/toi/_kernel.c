@@ -3448,6 +3448,15 @@ static bool bat_ends(PyObject *sample, Vec *knob, Vec *tip, PyObject **knob_obje
   return true;
 }
 
+/* math.dist(a, b) as a double (NAN with an exception) */
+static double python_dist(PyObject *a, PyObject *b)
+{
+  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, a, b, NULL);
+  double x = dist ? PyFloat_AsDouble(dist) : NAN;
+  Py_XDECREF(dist);
+  return x;
+}
+
 /*
  * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
  * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
@@ -3464,25 +3473,12 @@ static bool bat_axis(PyObject *sample, Vec *knob, Vec *direction, double *length
   Vec axis = v_sub(tip, *knob);
   double size = sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
   *direction = (Vec){axis.x / size, axis.y / size, axis.z / size};
-  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, tip_object, knob_object, NULL);
-  if (dist != NULL) {
-    *length = PyFloat_AsDouble(dist);
-    ok = !PyErr_Occurred();
-    Py_DECREF(dist);
-  }
+  *length = python_dist(tip_object, knob_object);
+  ok = !PyErr_Occurred();
 done:
   Py_XDECREF(knob_object);
   Py_XDECREF(tip_object);
   return ok;
-}
-
-/* math.dist(a, b) as a double (NAN with an exception) */
-static double python_dist(PyObject *a, PyObject *b)
-{
-  PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, a, b, NULL);
-  double x = dist ? PyFloat_AsDouble(dist) : NAN;
-  Py_XDECREF(dist);
-  return x;
 }
 
 /* the rotation vector (rad, across reference) turning unit reference onto unit direction */
@@ -4557,25 +4553,15 @@ static PyObject *py_bat_samples(PyObject *self, PyObject *const *args, Py_ssize_
 /* a bat sample's length, math.dist(tip, knob) (NAN with an exception) */
 static double bat_length(PyObject *sample)
 {
-  Vec knob, tip;
-  PyObject *knob_object = NULL, *tip_object = NULL;
-  double length = NAN;
-  if (bat_ends(sample, &knob, &tip, &knob_object, &tip_object)) {
-    PyObject *dist = PyObject_CallFunctionObjArgs(math_dist, tip_object, knob_object, NULL);
-    if (dist != NULL) {
-      length = PyFloat_AsDouble(dist);
-      Py_DECREF(dist);
-    }
-  }
-  Py_XDECREF(knob_object);
-  Py_XDECREF(tip_object);
-  return length;
+  Vec knob, direction;
+  double length;
+  return bat_axis(sample, &knob, &direction, &length) ? length : NAN;
 }
 
 /* item i of a list of floats (NAN with an exception) */
 static double list_double(PyObject *list, Py_ssize_t i)
 {
-  return PyFloat_AsDouble(PyList_GET_ITEM(list, i));
+  return item_double(PyList_GET_ITEM(list, i));
 }
 
 /* appends a float to a list */
@@ -5148,15 +5134,13 @@ static PyObject *parabola_of(PyObject *times, PyObject *values, PyObject *breaks
   PyObject *acceleration_tuple = end_tuple ? float_tuple(acceleration, 3) : NULL;
   PyObject *closing = acceleration_tuple ? PySequence_Tuple(PyList_GET_ITEM(values, k + 1))
                                          : NULL;
-  PyObject *miss = closing ? PyObject_CallFunctionObjArgs(math_dist, closing, end_tuple, NULL)
-                           : NULL;
-  PyObject *result = miss ? Py_BuildValue("OddOO", miss, spread, bend, end_tuple,
-                                          acceleration_tuple)
-                          : NULL;
+  double miss = closing ? python_dist(closing, end_tuple) : NAN;
+  PyObject *result = closing && !PyErr_Occurred()
+                         ? Py_BuildValue("dddOO", miss, spread, bend, end_tuple, acceleration_tuple)
+                         : NULL;
   Py_XDECREF(end_tuple);
   Py_XDECREF(acceleration_tuple);
   Py_XDECREF(closing);
-  Py_XDECREF(miss);
   return result;
 }
 
