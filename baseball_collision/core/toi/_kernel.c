@@ -6003,6 +6003,7 @@ typedef struct {          /* the constants of broadphase.c2, as apart_margins pa
   double after_two;       /* _AFTER_TWO */
   const double *before;   /* C2_JUMP_BEFORE: C2_FAR_OFFSET coefficients */
   const double *weights;  /* _WEIGHT_LIST: offsets -C2_FAR_OFFSET .. 3 */
+  double max_angle;       /* core.motion.c2.MAX_CHART_ANGLE (rad) */
 } C2Constants;
 
 typedef struct {          /* one stream's samples and what the far test keeps per sample */
@@ -6125,8 +6126,22 @@ typedef struct {          /* a full window's samples over interval k (arrays._Wi
   Py_ssize_t k, count;
   Py_ssize_t index[C2_FAR_OFFSET + 4];
   double weight[C2_FAR_OFFSET + 4];
+  Py_ssize_t from, to;    /* the entries of the samples inside the window: from .. to */
   bool uneven;
 } C2Window;
+
+/* whether the steps between a window's entries from .. to are more than ratio apart */
+static bool c2_window_uneven(const C2Track *s, const C2Window *w, Py_ssize_t from,
+                             Py_ssize_t to, double ratio)
+{
+  double longest = -INFINITY, shortest = INFINITY;
+  for (Py_ssize_t j = from + 1; j <= to; j++) {
+    double step = s->steps[w->index[j]];
+    longest = longest > step ? longest : step;
+    shortest = shortest < step ? shortest : step;
+  }
+  return longest > ratio * shortest;
+}
 
 static void c2_window_of(const C2Track *s, Py_ssize_t k, int look_ahead, int size,
                          const C2Constants *c, C2Window *w)
@@ -6135,21 +6150,22 @@ static void c2_window_of(const C2Track *s, Py_ssize_t k, int look_ahead, int siz
   c2_segment(s, k, false, c->step_ratio, &low, &high);
   Py_ssize_t first = k + 2 - size > low ? k + 2 - size : low;
   Py_ssize_t end = k + 1 + look_ahead < high ? k + 1 + look_ahead : high;
-  double longest = -INFINITY, shortest = INFINITY;
   w->k = k;
   w->count = 0;
+  w->from = 0;
+  w->to = -1;
   for (int o = 2 - size; o <= look_ahead + 1; o++) {
     Py_ssize_t m = k + o;
     bool inside = m >= first && m <= end;
     Py_ssize_t i = m < 0 ? 0 : m > n - 1 ? n - 1 : m;
+    if (inside) {
+      w->from = m == first ? w->count : w->from;
+      w->to = w->count;
+    }
     w->index[w->count] = i;
     w->weight[w->count++] = inside ? c->weights[C2_FAR_OFFSET + o] : 0.0;
-    if (inside && m > first) {
-      longest = longest > s->steps[i] ? longest : s->steps[i];
-      shortest = shortest < s->steps[i] ? shortest : s->steps[i];
-    }
   }
-  w->uneven = longest > c->step_ratio * shortest;
+  w->uneven = c2_window_uneven(s, w, w->from, w->to, c->step_ratio);
 }
 
 /* c2_bulge over a window of dim-wide values (values[i * dim ...] for sample i) */
@@ -6286,8 +6302,8 @@ done:
 
 /* the clearance (m) of clearly_apart's second c2 stage over one interval (arrays'
  * _c2_window_margins), the larger of the spheres' and the hulls' (less hull_reach, m: what
- * smoothing may add; inf: no hull): -inf where a window's steps are too uneven, or not a
- * number */
+ * smoothing may add; inf: no hull), the bat's window cut as its chart cuts it (c2_chart):
+ * -inf where a window's steps are too uneven, or not a number */
 static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ssize_t bk,
                                   Py_ssize_t tk, int look_ahead, int size,
                                   const C2Constants *c, double hull_reach)
@@ -6301,6 +6317,7 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
   double knobs[3 * (C2_FAR_OFFSET + 4)], times[C2_FAR_OFFSET + 4];
   C2Window local = tw;
   Vec origin = c2_axis(bat, tk);
+  Py_ssize_t zero = size - 2, from = tw.from, to = tw.to; /* (zero: the entry of offset 0) */
   for (Py_ssize_t j = 0; j < tw.count; j++) {
     Py_ssize_t i = tw.index[j];
     Vec r = rotation_to(origin, c2_axis(bat, i));
@@ -6311,8 +6328,21 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
     lengths[j] = bat->lengths[i];
     times[j] = bat->times[i];
     local.index[j] = j;
+    /* the chart's cut (c2_chart): a sample before tk turned more than its limit from tk's
+     * direction starts the window after it, one after tk + 1 ends the window before it */
+    if (j >= from && j <= to && sqrt(r.x * r.x + r.y * r.y + r.z * r.z) > c->max_angle) {
+      if (j < zero) {
+        from = j + 1;
+      } else if (j > zero + 1 && to == tw.to) {
+        to = j - 1;
+      }
+    }
   }
-  local.k = size - 2; /* (the column of offset 0) */
+  for (Py_ssize_t j = 0; j < tw.count; j++) {
+    local.weight[j] = j >= from && j <= to ? tw.weight[j] : 0.0;
+  }
+  tw.uneven = c2_window_uneven(bat, &tw, from, to, c->step_ratio);
+  local.k = zero;
   double knob = c2_window_bulge(&local, times, knobs, 3);
   double turn = c2_window_bulge(&local, times, turns, 3);
   double stretch = c2_window_bulge(&local, times, lengths, 1);
@@ -6352,7 +6382,8 @@ static double c2_window_clearance(const C2Track *ball, const C2Track *bat, Py_ss
  * [0, n - 2]; times: s; closed: n - 1 bools (whether each sample interval is continuous) or
  * None; look_ahead 0 .. 2; size 2 .. 42; margin: m float64; constants: C2_STEP_RATIO,
  * _AFTER_ONE, _AFTER_TWO, the 40 of C2_JUMP_BEFORE and the 44 of _WEIGHT_LIST
- * (broadphase.c2); out: m float64, written; hull_reach: m float64 or None.
+ * (broadphase.c2), MAX_CHART_ANGLE (core.motion.c2); out: m float64, written; hull_reach: m
+ * float64 or None.
  * ValueError: other buffers, shapes or numbers; MemoryError.
  */
 static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -6391,7 +6422,7 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   Py_ssize_t nb = counts[BALL_TIMES], nt = counts[BAT_TIMES], m = counts[OUT];
   if (counts[BALL] != 3 * nb || counts[KNOB] != 3 * nt || counts[TIP] != 3 * nt ||
       counts[MARGIN] != m ||
-      counts[CONSTANTS] != 3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4) {
+      counts[CONSTANTS] != 3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4 + 1) {
     PyErr_SetString(PyExc_ValueError, "c2_margins: shapes do not match");
     goto done;
   }
@@ -6440,7 +6471,8 @@ static PyObject *py_c2_margins(PyObject *self, PyObject *const *args, Py_ssize_t
   C2Track bat = {nt, views[KNOB].buf, views[TIP].buf, views[BAT_TIMES].buf,
                  args[8] == Py_None ? NULL : closed[1].buf, d, d + nt, d + 2 * nt + 3, x, x + nt};
   const double *k = views[CONSTANTS].buf;
-  C2Constants constants = {k[0], k[1], k[2], k + 3, k + 3 + C2_FAR_OFFSET};
+  C2Constants constants = {k[0], k[1], k[2], k + 3, k + 3 + C2_FAR_OFFSET,
+                           k[3 + C2_FAR_OFFSET + C2_FAR_OFFSET + 4]};
   const double *margin = views[MARGIN].buf;
   double *out = views[OUT].buf;
   int la = (int)look_ahead, w = (int)size;

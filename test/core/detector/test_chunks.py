@@ -23,7 +23,7 @@ from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, turn_between
 from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample
-from hypothesis import given, HealthCheck, settings, strategies as st
+from hypothesis import example, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
@@ -523,6 +523,8 @@ def _c2_streams(times: np.ndarray, breaks: Sequence[bool], start: Tuple[float, f
        start=st.tuples(*[st.floats(-2.0, 2.0)] * 3), velocity=st.floats(-40.0, 40.0),
        spin=st.floats(-60.0, 60.0), tilt=st.floats(-3.0, 3.0), jitter=st.floats(0.0, 0.05),
        seed=st.integers(0, 1000))
+@example(look_ahead=0, size=10, steps=[0.00390625] * 6 + [0.005859375] * 6 + [0.00390625] * 2,
+         start=(0.0, 0.0, 0.0), velocity=0.0, spin=51.0, tilt=0.0, jitter=0.0, seed=0)
 def test_vectorised_c2_far_test_is_confirmed_by_the_scalar_one(
         look_ahead: int, size: int, steps: List[float], start: Tuple[float, float, float],
         velocity: float, spin: float, tilt: float, jitter: float, seed: int) -> None:

@@ -13,6 +13,7 @@ import numpy as np
 
 from .c2 import _AFTER_ONE, _AFTER_TWO, _WEIGHT_LIST, C2_JUMP_BEFORE, C2_STEP_RATIO
 from ..departure import departure_reaches
+from ...motion import MAX_CHART_ANGLE
 from ...toi import _kernel
 
 
@@ -157,7 +158,10 @@ def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
 
     Each over the samples a full window could hold (``size`` before the interval's closing
     frame, ``look_ahead`` after it): a superset of the scalar test's window and chart, and every
-    bound grows with the samples it sums over. Within each stream's segments (``closed``): the
+    bound grows with the samples it sums over. The bat's second-stage window is cut as its
+    chart cuts it (a sample turned more than ``MAX_CHART_ANGLE`` from the interval's opening
+    direction ends it there, ``c2_rows``), which cuts a superset where it cuts the scalar's
+    window. Within each stream's segments (``closed``): the
     second stage's windows stop at a segment's ends, as ``c2_window``'s; the first stage's
     (``c2_jump_bulge``) sum over a window that ignores segments and takes ``c2_window``'s only
     where that one's steps are uneven, so a segment's end counts only where its step is more
@@ -186,7 +190,8 @@ def _c2_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
     return clearance
 
 
-_C2_CONSTANTS = np.array([C2_STEP_RATIO, _AFTER_ONE, _AFTER_TWO, *C2_JUMP_BEFORE, *_WEIGHT_LIST])
+_C2_CONSTANTS = np.array([C2_STEP_RATIO, _AFTER_ONE, _AFTER_TWO, *C2_JUMP_BEFORE, *_WEIGHT_LIST,
+                          MAX_CHART_ANGLE])
 """The ``c2`` bounds' constants as the kernel's ``c2_margins`` takes them (``.c2``)."""
 
 
