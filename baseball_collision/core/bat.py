@@ -4,11 +4,15 @@ Bat geometry: the radius profile along the knob-to-tip axis, and knob/tip from a
 Pure Python + numpy; no ROS imports. Lengths are metres.
 
 A bat profile is a list of stations ``(distance_from_knob, radius)``. Between two consecutive
-stations the bat is a capsule (segment with rounded ends) whose radius is the mean of the two
-station radii, so a taper is followed to within half the radius step between stations. Stations
-are given for a bat of ``length`` metres and are scaled to the measured knob-to-tip distance when
-the bat is tracked, so every sub-segment end is a fixed fraction of knob-to-tip: it moves
-linearly when knob and tip do, and the exact linear solver applies to every piece.
+stations the bat is a round cone: the hull of the spheres at the two stations, each of its
+station's radius (the union of the spheres along the axis whose radius grows linearly from one
+station to the next). So the surface follows the taper without a step at any station: adjacent
+pieces share the station's sphere, and the round cone's side stands off the straight taper by
+r (1 / cos a - 1) at a slope a (under 5 um on a wood bat's steepest taper). A piece of one
+radius is a capsule. Stations are given for a bat of ``length`` metres and are scaled to the
+measured knob-to-tip distance when the bat is tracked, so every piece's ends are fixed
+fractions of knob-to-tip: they move linearly when knob and tip do, and the exact linear solver
+applies to every piece (its side's contact is still the first root of a quartic).
 """
 
 from dataclasses import dataclass
@@ -27,7 +31,7 @@ SWEET_SPOT_FROM_TIP = 6.0 * INCH
 """Statcast's bat-speed point: 6 inches from the barrel end (metres)."""
 
 MAX_STATIONS = 256
-"""Most stations a profile may have: a turned bat needs a few dozen; every station is a capsule
+"""Most stations a profile may have: a turned bat needs a few dozen; every station starts a piece
 the detector solves for, so a million of them would take minutes per sample."""
 
 
@@ -97,24 +101,23 @@ class BatProfile:
         """Largest radius of the profile (metres)."""
         return max(radius for _, radius in self.stations)
 
-    def segments(self) -> Tuple[Tuple[float, float, float], ...]:
+    def segments(self) -> Tuple[Tuple[float, float, float, float], ...]:
         """
-        Capsules making up the bat as ``(fraction_start, fraction_end, radius)``.
+        Return the round cones making up the bat: ``(fraction_start, fraction_end, r0, r1)``.
 
-        Fractions are of the knob-to-tip distance (0 at the knob, 1 at the tip). One station
-        gives a single sphere (start == end).
+        Fractions are of the knob-to-tip distance (0 at the knob, 1 at the tip), radii in
+        metres (each piece the hull of the spheres of those radii at its ends; equal radii: a
+        capsule). One station gives a single sphere (start == end).
         """
         return self._segments
 
-    def _build_segments(self) -> Tuple[Tuple[float, float, float], ...]:
+    def _build_segments(self) -> Tuple[Tuple[float, float, float, float], ...]:
         if len(self.stations) == 1:
             distance, radius = self.stations[0]
             fraction = distance / self.length
-            return ((fraction, fraction, radius),)
-        pieces = []
-        for (d0, r0), (d1, r1) in zip(self.stations[:-1], self.stations[1:]):
-            pieces.append((d0 / self.length, d1 / self.length, 0.5 * (r0 + r1)))
-        return tuple(pieces)
+            return ((fraction, fraction, radius, radius),)
+        return tuple((d0 / self.length, d1 / self.length, r0, r1)
+                     for (d0, r0), (d1, r1) in zip(self.stations[:-1], self.stations[1:]))
 
     def radius_at(self, fraction: float) -> float:
         """Radius (metres) at a fraction of knob-to-tip, interpolated between stations."""

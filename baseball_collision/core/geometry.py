@@ -15,7 +15,8 @@ is several times faster than numpy's per-call overhead. Quaternions are in ROS o
 * poses and rigid bodies: ``pose_point``, ``interpolate_pose``, ``rigid_point_velocity``;
 * argument checks: ``finite_vector``, ``finite_number`` (raising the caller's layer's error).
 
-The distance of a ball to a bat's capsules is the compiled kernel's (``toi.profile_gap``).
+The distance of a ball to a bat's profile (its round cones) is the compiled kernel's
+(``toi.profile_gap``).
 """
 
 import math

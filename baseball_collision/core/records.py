@@ -119,8 +119,8 @@ def contact_from_tip(impact: Impact) -> float:
     """
     Return an impact's spot as its record gives it: distance (m) from the tip along the axis.
 
-    A side hit's is the closest axis point's (the impact's own ``distance_from_tip_m``); an
-    end hit's is the contact point's own, not the end cap centre's.
+    A side hit's is the impact's own ``distance_from_tip_m`` (the contact point's place along
+    the axis); an end hit's is the contact point's own too, not the end cap centre's.
     """
     if impact.feature == 'side':
         return impact.distance_from_tip_m

@@ -105,12 +105,16 @@ class Scene:
 
 
 def bat_items(namespace: str, knob: Vector, tip: Vector,
-              segments: Sequence[Tuple[float, float, float]], lifetime_s: float) -> List[Item]:
+              segments: Sequence[Tuple[float, float, float, float]],
+              lifetime_s: float) -> List[Item]:
     """
     Return the bat as one cylinder (or sphere) per profile segment, ids 0, 1, ...
 
+    A round cone is drawn as a cylinder of its mean radius (a marker has no cone).
+
     :param knob, tip: bat ends (m).
-    :param segments: ``BatProfile.segments()``: (fraction_start, fraction_end, radius m).
+    :param segments: ``BatProfile.segments()``: (fraction_start, fraction_end, radius_start,
+        radius_end m).
     :param lifetime_s: how long they stay (s).
     """
     axis = sub(tip, knob)
@@ -118,7 +122,8 @@ def bat_items(namespace: str, knob: Vector, tip: Vector,
     direction = scale(axis, 1.0 / length) if length > 0.0 else (0.0, 0.0, 1.0)
     orientation = quaternion_from_z(direction)
     items = []
-    for index, (f0, f1, radius) in enumerate(segments):
+    for index, (f0, f1, radius_start, radius_end) in enumerate(segments):
+        radius = 0.5 * (radius_start + radius_end)
         piece = (f1 - f0) * length
         centre = add(knob, scale(axis, 0.5 * (f0 + f1)))
         if piece > 0.0:

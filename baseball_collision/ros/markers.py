@@ -59,13 +59,14 @@ def scene_markers(scene: Scene) -> MarkerArray:
 
 
 def bat_markers(header: Header, namespace: str, knob: Vector, tip: Vector,
-                segments: Sequence[Tuple[float, float, float]],
+                segments: Sequence[Tuple[float, float, float, float]],
                 duration: DurationMsg) -> List[Marker]:
     """
     Return the bat as one cylinder (or sphere) per profile segment (``core.scene.bat_items``).
 
     :param knob, tip: bat ends (m).
-    :param segments: ``BatProfile.segments()``: (fraction_start, fraction_end, radius m).
+    :param segments: ``BatProfile.segments()``: (fraction_start, fraction_end, radius_start,
+        radius_end m).
     :param duration: the markers' lifetime.
     """
     seconds = duration.sec + duration.nanosec / NS_PER_S

@@ -111,8 +111,9 @@ class LiveImpact:
     :ivar point: contact point (m).
     :ivar bat_velocity: ``~/impact_velocity`` linear: bat surface velocity at the point (m/s).
     :ivar angular_velocity: ``~/impact_velocity`` angular (rad/s).
-    :ivar distance_from_tip_m: the closest axis point's distance from the tip, within the
-        profile's ends (m): the spot the truth files give (an end cap's centre for its hits).
+    :ivar distance_from_tip_m: the contact point's place along the axis from the tip, within
+        the profile's ends (m): the spot the truth files give (an end cap's centre for its
+        hits).
     :ivar contact_from_tip_m: the contact point's own distance from the tip along the axis (m),
         as the record gives it (what is printed).
     :ivar sweet_spot_speed_mps: speed of the sweet spot, by rigid motion from the twist (m/s).
@@ -200,7 +201,8 @@ class BatTrack:
         axis = sub(tip, knob)
         length = norm(axis)
         direction = scale(axis, 1.0 / length)
-        # the closest axis point, within the profile's ends (as the detector reports a spot)
+        # the contact point's place along the axis, within the profile's ends (as the detector
+        # reports a spot)
         segments = self.config.profile.segments()
         fraction = dot(sub(impact.point, knob), direction) / length
         fraction = min(max(fraction, segments[0][0]), segments[-1][1])

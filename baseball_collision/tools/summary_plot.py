@@ -30,16 +30,17 @@ def _silhouette(config: DetectorConfig) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return the bat's outline: distance from the knob (cm) and radius (cm) along it.
 
-    The profile's capsules: a cylinder per segment, the rounded caps at both ends.
+    The profile's round cones: the taper from station to station, the rounded caps at both
+    ends.
     """
     profile = config.profile
     length = profile.length * 100.0
     segments = profile.segments()
     xs: List[float] = []
     radii: List[float] = []
-    for start, end, radius in segments:
+    for start, end, radius_start, radius_end in segments:
         xs += [start * length, end * length]
-        radii += [radius * 100.0, radius * 100.0]
+        radii += [radius_start * 100.0, radius_end * 100.0]
     angles = np.linspace(0.0, 0.5 * np.pi, 24)
     knob_r, tip_r = radii[0], radii[-1]
     knob_x = xs[0] - knob_r * np.cos(angles)

@@ -21,11 +21,12 @@ def test_default_bat_is_34_inches_with_a_2_61_inch_barrel() -> None:
     assert WOOD_BAT_34.radius_at(0.2) < 0.5 * WOOD_BAT_34.max_radius  # thin handle
 
 
-def test_segments_are_fractions_with_mean_radii() -> None:
-    """Segments run between consecutive stations as fractions of the length."""
+def test_segments_are_fractions_with_their_stations_radii() -> None:
+    """Round cones run between consecutive stations (fractions of the length), each end its own."""
     profile = BatProfile(stations=((0.0, 0.01), (0.5, 0.03), (1.0, 0.03)), length=1.0)
-    assert profile.segments() == ((0.0, 0.5, 0.02), (0.5, 1.0, 0.03))
-    assert BatProfile(stations=((0.4, 0.02),), length=1.0).segments() == ((0.4, 0.4, 0.02),)
+    assert profile.segments() == ((0.0, 0.5, 0.01, 0.03), (0.5, 1.0, 0.03, 0.03))
+    assert BatProfile(stations=((0.4, 0.02),), length=1.0).segments() == (
+        (0.4, 0.4, 0.02, 0.02),)
 
 
 @pytest.mark.parametrize('stations, length', [

@@ -17,7 +17,8 @@ def test_the_bat_is_one_piece_per_profile_segment_along_knob_tip() -> None:
     knob, tip = (0.0, 0.0, 1.0), (0.0, 0.8636, 1.0)
     items = bat_items('bat', knob, tip, WOOD_BAT_34.segments(), 0.5)
     assert [item.number for item in items] == list(range(len(WOOD_BAT_34.segments())))
-    for item, (f0, f1, radius) in zip(items, WOOD_BAT_34.segments()):
+    for item, (f0, f1, r0, r1) in zip(items, WOOD_BAT_34.segments()):
+        radius = 0.5 * (r0 + r1)  # (a round cone drawn at its mean radius)
         assert item.shape == Shape.CYLINDER and item.lifetime_s == 0.5
         assert item.position == pytest.approx((0.0, 0.8636 * 0.5 * (f0 + f1), 1.0))
         assert item.size == pytest.approx((2 * radius, 2 * radius, (f1 - f0) * 0.8636))

@@ -33,7 +33,8 @@ def test_bat_is_one_piece_per_profile_segment_along_knob_tip() -> None:
     markers = bat_markers(Header(frame_id='world'), 'bat', knob, tip, WOOD_BAT_34.segments(),
                           lifetime(0.5))
     assert len(markers) == len(WOOD_BAT_34.segments())
-    for marker, (f0, f1, radius) in zip(markers, WOOD_BAT_34.segments()):
+    for marker, (f0, f1, r0, r1) in zip(markers, WOOD_BAT_34.segments()):
+        radius = 0.5 * (r0 + r1)  # (a round cone drawn at its mean radius)
         assert marker.type == Marker.CYLINDER and marker.ns == 'bat'
         assert marker.pose.position.y == pytest.approx(0.8636 * 0.5 * (f0 + f1))
         assert marker.scale.z == pytest.approx((f1 - f0) * 0.8636)

@@ -130,16 +130,39 @@ def reference_first_contact(ball0, ball1, tip0, tip1, knob0, knob1, radius: floa
     return hi, float(gaps.min())
 
 
+def cone_reference_gap(ball: np.ndarray, start: np.ndarray, end: np.ndarray, r0: float,
+                       r1: float) -> np.ndarray:
+    """
+    Return the gap (m) of points to a round cone, row by row, by ternary search.
+
+    The round cone is the union of the spheres on start-end whose radius grows linearly from
+    r0 to r1: the gap is the least over the fraction g of |ball - (start + g (end - start))|
+    - r(g), convex in g, found by 100 ternary steps on [0, 1] (no closed form: the solver's own
+    is what this checks). Rows: (N, 3) arrays.
+    """
+    lo, hi = np.zeros(len(ball)), np.ones(len(ball))
+
+    def gap(g: np.ndarray) -> np.ndarray:
+        return (np.linalg.norm(ball - start - g[:, None] * (end - start), axis=1)
+                - (r0 + g * (r1 - r0)))
+    for _ in range(100):
+        a, b = lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0
+        left = gap(a) <= gap(b)
+        lo, hi = np.where(left, lo, a), np.where(left, b, hi)
+    return np.minimum(gap(0.5 * (lo + hi)), np.minimum(gap(np.zeros(len(ball))),
+                                                       gap(np.ones(len(ball)))))
+
+
 def profile_reference(tau: np.ndarray, points: Sequence, ball_radius: float,
                       profile: BatProfile) -> np.ndarray:
-    """Return the gap to the union of a profile's capsules at normalised times tau."""
+    """Return the gap to the union of a profile's round cones at normalised times tau."""
     ball0, ball1, tip0, tip1, knob0, knob1 = (np.asarray(p, float) for p in points)
-    gaps = []
-    for f0, f1, r in profile.segments():
-        k0, k1 = knob0 + f0 * (tip0 - knob0), knob1 + f0 * (tip1 - knob1)
-        e0, e1 = knob0 + f1 * (tip0 - knob0), knob1 + f1 * (tip1 - knob1)
-        gaps.append(reference_gap(tau, ball0, ball1, e0, e1, k0, k1, ball_radius + r))
-    return np.min(gaps, axis=0)
+    tau = np.asarray(tau, dtype=float)[:, None]
+    ball, tip, knob = (a + (b - a) * tau for a, b in ((ball0, ball1), (tip0, tip1),
+                                                      (knob0, knob1)))
+    gaps = [cone_reference_gap(ball, knob + f0 * (tip - knob), knob + f1 * (tip - knob), r0, r1)
+            for f0, f1, r0, r1 in profile.segments()]
+    return np.min(gaps, axis=0) - ball_radius
 
 
 coordinate = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)

@@ -1,5 +1,5 @@
 """
-Exact time of impact between a moving ball and a moving bat (capsules and profiles).
+Exact time of impact between a moving ball and a moving bat (capsules, profiled round cones).
 
 A compiled kernel and numpy; no ROS imports. Units: metres and seconds. The modules:
 

@@ -10,6 +10,12 @@
  *   knob end (lambda < 0):                |w|^2 - R^2 = 0
  *   tip end (lambda > 1):                 |w - u|^2 - R^2 = 0
  *
+ * A profile's piece is a round cone (the hull of the spheres at its two stations, radius R at
+ * the knob end and R + d at the tip end): its side is the quartic
+ * (|w|^2 - R^2)(|u|^2 - d^2) - (w.u + R d)^2 = 0 with lambda = (w.u + R d) / (|u|^2 - d^2), its
+ * ends the spheres of their own radii (side_quartic, cone_closest; d = 0 is the capsule, to
+ * the bit).
+ *
  * Coordinates are shifted to the knob's start and scaled to the interval's extent before any
  * coefficient is formed. The end caps' quadratics are solved in closed form; the side's quartic
  * on its monotone pieces (the derivative chain: the roots of P'' split [0, 1] into pieces on
@@ -114,7 +120,7 @@
 #define TOUCH_TOLERANCE 1e-9 /* a gap (m) at or below which ball and bat count as touching */
 #define DEGENERATE_AXIS 1e-24 /* |u|^2 in scaled units below which the bat has no axis */
 #define ROOT_SLACK 1e-10 /* scaled gap allowed at a side root for rounding */
-#define MAX_SEGMENTS 64 /* capsules of one bat profile */
+#define MAX_SEGMENTS 64 /* pieces (round cones) of one bat profile */
 
 typedef struct {
   double x, y, z;
@@ -160,6 +166,32 @@ static double closest_on_segment(Vec p, Vec start, Vec end, Vec *closest)
   double fraction = 0.0;
   if (axis2 != 0.0) {
     fraction = min_of(1.0, max_of(0.0, v_dot(v_sub(p, start), axis) / axis2));
+  }
+  *closest = v_lerp(start, end, fraction);
+  return fraction;
+}
+
+/*
+ * Fraction along start-end (clipped to [0, 1]) of the axis point whose sphere is nearest p, on a
+ * round cone whose radius grows by dr from start to end (the hull of the spheres at its ends:
+ * the distance from p to the sphere at fraction f, |p - a(f)| - r0 - f dr, is convex in f; its
+ * minimum lies dr d / (L sqrt(L^2 - dr^2)) past the foot of p's perpendicular, d the distance
+ * from the axis and L the length). The point in *closest. dr 0: closest_on_segment, the same
+ * bits; an axis no longer than |dr| (one end's sphere holds the other's): the larger end.
+ */
+static double cone_closest(Vec p, Vec start, Vec end, double dr, Vec *closest)
+{
+  if (dr == 0.0) {
+    return closest_on_segment(p, start, end, closest);
+  }
+  Vec axis = v_sub(end, start);
+  double axis2 = v_dot(axis, axis), fraction = dr > 0.0 ? 1.0 : 0.0;
+  if (axis2 > dr * dr) {
+    Vec offset = v_sub(p, start);
+    double along = v_dot(offset, axis) / axis2;
+    Vec across = v_sub(offset, v_scale(axis, along));
+    double slide = dr * sqrt(v_dot(across, across)) / sqrt(axis2 * (axis2 - dr * dr));
+    fraction = min_of(1.0, max_of(0.0, along + slide));
   }
   *closest = v_lerp(start, end, fraction);
   return fraction;
@@ -417,8 +449,9 @@ typedef struct {
   double scale;
 } Scaled;
 
-/* the end caps' quadratics (a, b, c): a tau^2 + b tau + c = |p|^2 - R^2, p = w (knob), w - u */
-static void cap_quadratics(const Scaled *s, double rr, double caps[2][3])
+/* the end caps' quadratics (a, b, c): a tau^2 + b tau + c = |p|^2 - R^2, p = w (knob, R^2 rr),
+ * w - u (tip, R^2 rr_tip) */
+static void cap_quadratics(const Scaled *s, double rr, double rr_tip, double caps[2][3])
 {
   Vec v0 = v_sub(s->w0, s->u0), v1 = v_sub(s->w1, s->u1);
   caps[0][0] = v_dot(s->w1, s->w1);
@@ -426,11 +459,17 @@ static void cap_quadratics(const Scaled *s, double rr, double caps[2][3])
   caps[0][2] = v_dot(s->w0, s->w0) - rr;
   caps[1][0] = v_dot(v1, v1);
   caps[1][1] = 2.0 * v_dot(v0, v1);
-  caps[1][2] = v_dot(v0, v0) - rr;
+  caps[1][2] = v_dot(v0, v0) - rr_tip;
 }
 
-/* the side's quartic |w x u|^2 - rr |u|^2 and the quadratics |u|^2 and w.u (5 coefficients) */
-static void side_quartic(const Scaled *s, double rr, double *quartic, double *uu, double *wu)
+/*
+ * the side's quartic |w x u|^2 - rr |u|^2 and the quadratics |u|^2 and w.u (5 coefficients); on
+ * a round cone (radius r at the knob end, r + d at the tip end, rr = r^2; d 0 for a capsule)
+ * less d^2 |w|^2 + 2 r d w.u: (|w|^2 - r^2)(|u|^2 - d^2) - (w.u + r d)^2, zero where the ball
+ * touches the sphere at fraction (w.u + r d) / (|u|^2 - d^2) (minimising |w - f u|^2 - (r + f d)^2)
+ */
+static void side_quartic(const Scaled *s, double rr, double r, double d, double *quartic,
+                         double *uu, double *wu)
 {
   Vec c0 = v_cross(s->w0, s->u0);
   Vec c1 = v_sub(v_cross(s->w0, s->u1), v_cross(s->u0, s->w1));
@@ -448,6 +487,12 @@ static void side_quartic(const Scaled *s, double rr, double *quartic, double *uu
   wu[1] = v_dot(s->w0, s->u1) + v_dot(s->w1, s->u0);
   wu[2] = v_dot(s->w1, s->u1);
   wu[3] = wu[4] = 0.0;
+  if (d != 0.0) {
+    double ww[3] = {v_dot(s->w0, s->w0), 2.0 * v_dot(s->w0, s->w1), v_dot(s->w1, s->w1)};
+    for (int i = 0; i < 3; i++) {
+      quartic[i] -= d * d * ww[i] + 2.0 * r * d * wu[i];
+    }
+  }
 }
 
 /* the interval's points p (b0, b1, e0, e1, s0, s1) shifted to the knob and scaled */
@@ -470,20 +515,24 @@ static Scaled scaled(const Vec *p, double radius)
   return (Scaled){w0s, v_sub(wes, w0s), u0s, v_sub(ues, u0s), extent};
 }
 
-/* the gap between ball and capsule at tau in scaled units, and d(gap)/d(tau) in *rate */
-static double scaled_gap(const Scaled *s, double tau, double r, double *rate)
+/* the gap between ball and capsule (round cone: radius r at the knob end, r + d at the tip)
+ * at tau in scaled units, and d(gap)/d(tau) in *rate */
+static double scaled_gap(const Scaled *s, double tau, double r, double d, double *rate)
 {
   static const Vec origin = {0.0, 0.0, 0.0};
   Vec w = v_advance(s->w0, s->w1, tau), u = v_advance(s->u0, s->u1, tau), closest;
-  double fraction = closest_on_segment(w, origin, u, &closest);
+  double fraction = cone_closest(w, origin, u, d, &closest);
   Vec offset = v_sub(w, closest);
   double length = sqrt(v_dot(offset, offset));
+  if (d != 0.0) {
+    r += fraction * d;
+  }
   if (length == 0.0) {
     *rate = 0.0;
     return -r;
   }
-  /* the closest point slides along the axis, but offset is normal to it: only the motion of
-     the ball relative to the bat point at that fraction changes the gap to first order */
+  /* the closest point slides along the axis, but the gap is least there: only the motion of
+     the ball relative to the bat point at that fraction changes it to first order */
   *rate = v_dot(offset, v_sub(s->w1, v_scale(s->u1, fraction))) / length;
   return length - r;
 }
@@ -493,9 +542,9 @@ static double scaled_gap(const Scaled *s, double tau, double r, double *rate)
  * most; a step that is large (a graze, where the rate vanishes) or does not reduce the gap is
  * not taken. The scaled gap at the tau returned goes to *gap_out.
  */
-static double polish(const Scaled *s, double tau, double r, double *gap_out)
+static double polish(const Scaled *s, double tau, double r, double d, double *gap_out)
 {
-  double rate, gap = scaled_gap(s, tau, r, &rate);
+  double rate, gap = scaled_gap(s, tau, r, d, &rate);
   for (int i = 0; i < 2; i++) {
     if (rate == 0.0 || gap == 0.0) {
       break;
@@ -504,7 +553,7 @@ static double polish(const Scaled *s, double tau, double r, double *gap_out)
     if (fabs(step) > 1e-6 || !(0.0 <= tau - step && tau - step <= 1.0) || tau - step == tau) {
       break; /* (a step within half a unit of tau's last place: the gap there is this one) */
     }
-    double new_rate, new_gap = scaled_gap(s, tau - step, r, &new_rate);
+    double new_rate, new_gap = scaled_gap(s, tau - step, r, d, &new_rate);
     if (fabs(new_gap) >= fabs(gap)) {
       break;
     }
@@ -516,18 +565,20 @@ static double polish(const Scaled *s, double tau, double r, double *gap_out)
   return tau;
 }
 
-/* earliest tau in [0, 1] of contact (gap <= TOUCH_TOLERANCE) with a capsule of radius */
-static bool first_contact_tau(const Scaled *s, double radius, double *out)
+/* earliest tau in [0, 1] of contact (gap <= TOUCH_TOLERANCE) with a capsule of radius, or a
+ * round cone of radius at the knob end and radius + growth at the tip end */
+static bool first_contact_tau(const Scaled *s, double radius, double growth, double *out)
 {
-  double r = radius / s->scale;
-  double rr = r * r;
+  double r = radius / s->scale, d = growth / s->scale;
+  double rr = r * r, r_tip = r + d, rr_tip = d != 0.0 ? r_tip * r_tip : rr;
   double tol = TOUCH_TOLERANCE / s->scale;
   double cap_slack = (r + tol) * (r + tol) - rr;
+  double slacks[2] = {cap_slack, d != 0.0 ? (r_tip + tol) * (r_tip + tol) - rr_tip : cap_slack};
   double caps[2][3], tau, best = 0.0;
   bool have = false;
-  cap_quadratics(s, rr, caps);
+  cap_quadratics(s, rr, rr_tip, caps);
   for (int i = 0; i < 2; i++) {
-    if (quadratic_entry(caps[i][0], caps[i][1], caps[i][2], cap_slack, &tau) &&
+    if (quadratic_entry(caps[i][0], caps[i][1], caps[i][2], slacks[i], &tau) &&
         (!have || tau < best)) {
       best = tau;
       have = true;
@@ -539,21 +590,25 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
   }
   if (have) {
     double gap;
-    best = polish(s, best, r, &gap);
+    best = polish(s, best, r, d, &gap);
   }
   double quartic[5], uu[5], wu[5];
-  side_quartic(s, rr, quartic, uu, wu);
+  side_quartic(s, rr, r, d, quartic, uu, wu);
   if (max_of(max_of(uu[0], fabs(uu[1])), uu[2]) <= DEGENERATE_AXIS) {
     *out = best; /* zero-length bat: a sphere, the end caps say it all */
     return have;
   }
   Candidates it = {0};
-  Slack slack = {cap_slack, uu};
+  Slack slack = {max_of(slacks[0], slacks[1]), uu};
   while (next_candidate(quartic, slack, &it, &tau)) {
     if (have && tau >= best) {
       break;
     }
     double axis2 = poly(uu, tau), along = poly(wu, tau);
+    if (d != 0.0) { /* (the sphere the side's quartic touches, on a round cone) */
+      axis2 -= d * d;
+      along += r * d;
+    }
     if (axis2 <= DEGENERATE_AXIS || !(0.0 <= along && along <= axis2)) {
       continue;
     }
@@ -561,9 +616,9 @@ static bool first_contact_tau(const Scaled *s, double radius, double *out)
        at the polished root, confirms a root is a touch of the side */
     double polished = tau, gap, rate;
     if (tau > 0.0) {
-      polished = polish(s, tau, r, &gap);
+      polished = polish(s, tau, r, d, &gap);
     } else {
-      gap = scaled_gap(s, tau, r, &rate);
+      gap = scaled_gap(s, tau, r, d, &rate);
     }
     if (gap <= tol + ROOT_SLACK) {
       *out = have ? min_of(best, polished) : polished;
@@ -603,13 +658,21 @@ static bool may_touch(const Vec *p, double radius)
   return v_dot(closest, closest) <= (reach + margin) * (reach + margin);
 }
 
-static bool capsule_tau(const Vec *p, double radius, double *tau)
+/* the first contact's tau with a round cone: both radii (ball and bat) radius at the knob end,
+ * radius + growth at the tip end (growth 0: a capsule) */
+static bool cone_tau(const Vec *p, double radius, double growth, double *tau)
 {
-  if (!may_touch(p, radius)) {
+  double largest = radius + max_of(0.0, growth);
+  if (!may_touch(p, largest)) {
     return false;
   }
-  Scaled s = scaled(p, radius);
-  return first_contact_tau(&s, radius, tau);
+  Scaled s = scaled(p, largest);
+  return first_contact_tau(&s, radius, growth, tau);
+}
+
+static bool capsule_tau(const Vec *p, double radius, double *tau)
+{
+  return cone_tau(p, radius, 0.0, tau);
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -683,15 +746,21 @@ static PyObject *vec_tuple(Vec v)
   return tuple;
 }
 
-/* the ImpactResult for contact at tau on a capsule piece spanning fractions f0-f1 of the bat */
+/* the ImpactResult for contact at tau on a capsule piece spanning fractions f0-f1 of the bat
+ * (a round cone: radius bat_radius at f0, tip_radius at f1), its spot within the bat's first
+ * and last station (fractions lowest, highest) */
 static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_radius,
-                            double bat_radius, double f0, double f1, bool knob_end,
-                            bool tip_end)
+                            double bat_radius, double tip_radius, double f0, double f1,
+                            bool knob_end, bool tip_end, double lowest, double highest)
 {
   /* p: b0, b1, e0 (tip), e1, s0 (knob), s1 */
   Vec ball = v_lerp(p[0], p[1], tau), tip = v_lerp(p[2], p[3], tau);
   Vec knob = v_lerp(p[4], p[5], tau), centre;
-  double local = closest_on_segment(ball, knob, tip, &centre);
+  double local = cone_closest(ball, knob, tip, tip_radius - bat_radius, &centre);
+  bool cone = tip_radius != bat_radius;
+  if (cone) {
+    bat_radius += (tip_radius - bat_radius) * local;
+  }
   Vec bat_motion = v_lerp(v_sub(p[5], p[4]), v_sub(p[3], p[2]), local);
   Vec rel_velocity = v_scale(v_sub(v_sub(p[1], p[0]), bat_motion), 1.0 / dt);
   Vec normal = unit_normal(v_sub(ball, centre), v_sub(tip, knob), rel_velocity);
@@ -706,6 +775,15 @@ static PyObject *contact_at(double tau, double dt, const Vec *p, double ball_rad
   }
   Vec point = {centre.x + normal.x * bat_radius, centre.y + normal.y * bat_radius,
                centre.z + normal.z * bat_radius};
+  Vec axis = v_sub(tip, knob);
+  double axis2 = v_dot(axis, axis);
+  if ((cone || local <= 0.0 || local >= 1.0) && feature == 0 && axis2 > 0.0) {
+    /* on a taper, or a piece's end sphere where it meets the next, the normal leans along the
+       axis: the spot is the contact point's own place along it (a capsule side's is its
+       sphere's centre, the same place) */
+    fraction = f0 + (f1 - f0) * (local + bat_radius * v_dot(normal, axis) / axis2);
+    fraction = min_of(highest, max_of(lowest, fraction));
+  }
   if (result_type == NULL) {
     PyErr_SetString(PyExc_RuntimeError, "_kernel.bind() was not called");
     return NULL;
@@ -903,16 +981,33 @@ static PyObject *py_capsule(PyObject *self, PyObject *const *args, Py_ssize_t na
   if (!capsule_tau(p, rb + rt, &tau)) {
     Py_RETURN_NONE;
   }
-  return contact_at(tau, dt, p, rb, rt, 0.0, 1.0, true, true);
+  return contact_at(tau, dt, p, rb, rt, rt, 0.0, 1.0, true, true, 0.0, 1.0);
 }
 
-/* the last profile seen and its capsules (the detector asks with one profile all the time) */
+/* the last profile seen and its pieces (the detector asks with one profile all the time) */
 static struct {
   PyObject *profile;
   int count;
-  double segments[MAX_SEGMENTS][3];
+  double segments[MAX_SEGMENTS][4]; /* f0, f1, radius at f0, radius at f1 */
   double max_radius;
 } profile_cache = {NULL, 0, {{0}}, 0.0};
+
+/* 4 numbers from a sequence into out; false (an exception set) when it is not one */
+static bool read_four(PyObject *o, double out[4])
+{
+  PyObject *seq = PySequence_Fast(o, "a profile piece must be 4 numbers");
+  bool ok = seq != NULL && PySequence_Fast_GET_SIZE(seq) == 4;
+  for (Py_ssize_t i = 0; ok && i < 4; i++) {
+    out[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq, i));
+    ok = !PyErr_Occurred();
+  }
+  Py_XDECREF(seq);
+  if (!ok) {
+    PyErr_Clear();
+    PyErr_SetString(PyExc_TypeError, "a profile piece must be 4 numbers");
+  }
+  return ok;
+}
 
 static bool load_profile(PyObject *profile)
 {
@@ -926,20 +1021,12 @@ static bool load_profile(PyObject *profile)
   if (ok) {
     Py_ssize_t n = PySequence_Fast_GET_SIZE(seq);
     if (n < 1 || n > MAX_SEGMENTS) {
-      PyErr_Format(PyExc_ValueError, "a bat profile needs 1 to %d capsules, got %zd",
+      PyErr_Format(PyExc_ValueError, "a bat profile needs 1 to %d pieces, got %zd",
                    MAX_SEGMENTS, n);
       ok = false;
     }
     for (Py_ssize_t i = 0; ok && i < n; i++) {
-      Vec v;
-      if (!read_vec(PySequence_Fast_GET_ITEM(seq, i), &v)) {
-        PyErr_SetString(PyExc_TypeError, "a profile capsule must be 3 numbers");
-        ok = false;
-        break;
-      }
-      profile_cache.segments[i][0] = v.x;
-      profile_cache.segments[i][1] = v.y;
-      profile_cache.segments[i][2] = v.z;
+      ok = read_four(PySequence_Fast_GET_ITEM(seq, i), profile_cache.segments[i]);
     }
     if (ok) {
       profile_cache.max_radius = PyFloat_AsDouble(max_radius);
@@ -959,7 +1046,7 @@ static bool load_profile(PyObject *profile)
 }
 
 /*
- * First contact of a ball with the cached profile's capsules over one interval (points p: b0,
+ * First contact of a ball with the cached profile's pieces over one interval (points p: b0,
  * b1, tip0, tip1, knob0, knob1): false when none; else its tau, the capsule's index and the
  * capsule's moving ends in piece (b0, b1, tip0, tip1, knob0, knob1).
  */
@@ -971,11 +1058,12 @@ static bool profile_tau(const Vec *p, double rb, double *best_tau, int *best, Ve
   }
   bool have = false;
   for (int i = 0; i < count; i++) {
-    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
-    double radius = profile_cache.segments[i][2], tau;
+    const double *piece_of = profile_cache.segments[i];
+    double f0 = piece_of[0], f1 = piece_of[1], tau;
     Vec capsule[6] = {p[0], p[1], v_lerp(p[4], p[2], f1), v_lerp(p[5], p[3], f1),
                       v_lerp(p[4], p[2], f0), v_lerp(p[5], p[3], f0)};
-    if (capsule_tau(capsule, rb + radius, &tau) && (!have || tau < *best_tau)) {
+    if (cone_tau(capsule, rb + piece_of[2], piece_of[3] - piece_of[2], &tau) &&
+        (!have || tau < *best_tau)) {
       have = true;
       *best_tau = tau;
       *best = i;
@@ -988,9 +1076,10 @@ static bool profile_tau(const Vec *p, double rb, double *best_tau, int *best, Ve
 /* the ImpactResult of profile_tau's contact */
 static PyObject *profile_result(double tau, int best, double dt, const Vec *piece, double rb)
 {
-  return contact_at(tau, dt, piece, rb, profile_cache.segments[best][2],
-                    profile_cache.segments[best][0], profile_cache.segments[best][1], best == 0,
-                    best == profile_cache.count - 1);
+  const double *piece_of = profile_cache.segments[best];
+  return contact_at(tau, dt, piece, rb, piece_of[2], piece_of[3], piece_of[0], piece_of[1],
+                    best == 0, best == profile_cache.count - 1, profile_cache.segments[0][0],
+                    profile_cache.segments[profile_cache.count - 1][1]);
 }
 
 static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
@@ -1016,7 +1105,7 @@ static PyObject *py_profile(PyObject *self, PyObject *const *args, Py_ssize_t na
 }
 
 /*
- * The gap (m) of a ball centre to the cached profile's capsules at one instant, less the ball's
+ * The gap (m) of a ball centre to the cached profile's pieces at one instant, less the ball's
  * radius; the fraction along knob-tip of the closest axis point in *fraction and the offset
  * from that point to the ball in *closest (core.toi.profile_gap; each operation in the order
  * of the Python it replaced, so the same bits).
@@ -1027,21 +1116,48 @@ static double profile_gap_at(Vec ball, Vec knob, Vec tip, double ball_radius, do
   Vec axis = v_sub(tip, knob), offset = v_sub(ball, knob);
   double uu = v_dot(axis, axis), wu = v_dot(offset, axis), ww = v_dot(offset, offset);
   double along = uu > 0.0 ? wu / uu : 0.0;
-  double best_gap = INFINITY, best_fraction = 0.0;
+  double best_gap = INFINITY, best_fraction = 0.0, best_radius = 0.0;
+  bool best_cone = false;
   for (int i = 0; i < profile_cache.count; i++) {
-    double f0 = profile_cache.segments[i][0], f1 = profile_cache.segments[i][1];
-    double f = along < f0 ? f0 : (along > f1 ? f1 : along);
+    const double *piece = profile_cache.segments[i];
+    double f0 = piece[0], f1 = piece[1], at = along, radius = piece[2];
+    if (piece[3] != piece[2] && f1 > f0 && uu > 0.0) {
+      /* a round cone: the nearest sphere slides past the perpendicular's foot (cone_closest),
+         its radius growing by slope per unit of fraction */
+      double slope = (piece[3] - piece[2]) / (f1 - f0);
+      if (uu > slope * slope) {
+        double across = sqrt(max_of(0.0, ww - along * wu));
+        at = along + slope * across / sqrt(uu * (uu - slope * slope));
+      } else {
+        at = slope > 0.0 ? f1 : f0;
+      }
+    }
+    double f = at < f0 ? f0 : (at > f1 ? f1 : at);
+    if (piece[3] != piece[2] && f1 > f0) {
+      radius += (piece[3] - piece[2]) * ((f - f0) / (f1 - f0));
+    }
     /* |offset - f axis|, without building the vector */
-    double gap = sqrt(max_of(0.0, ww - f * (2.0 * wu - f * uu))) - profile_cache.segments[i][2];
+    double gap = sqrt(max_of(0.0, ww - f * (2.0 * wu - f * uu))) - radius;
     if (gap < best_gap) {
       best_gap = gap;
       best_fraction = f;
+      best_radius = radius;
+      best_cone = piece[3] != piece[2] || f == f0 || f == f1; /* (or a piece's end sphere) */
     }
   }
   *fraction = best_fraction;
   if (closest != NULL) {
     *closest = v_sub(offset, v_scale(axis, best_fraction));
     *axis_out = axis;
+    double first = profile_cache.segments[0][0];
+    double last = profile_cache.segments[profile_cache.count - 1][1];
+    double length = sqrt(v_dot(*closest, *closest));
+    if (best_cone && first < best_fraction && best_fraction < last && length > 0.0 && uu > 0.0) {
+      /* the spot on a taper or a piece's end sphere: the surface point's own place along the
+         axis (as contact_at's) */
+      double spot = best_fraction + best_radius * (v_dot(*closest, axis) / length) / uu;
+      *fraction = min_of(last, max_of(first, spot));
+    }
   }
   return best_gap - ball_radius;
 }
@@ -1926,7 +2042,7 @@ static PyObject *py_cap_quadratics(PyObject *self, PyObject *const *args, Py_ssi
     }
     return NULL;
   }
-  cap_quadratics(&s, rr, caps);
+  cap_quadratics(&s, rr, rr, caps);
   return Py_BuildValue("((ddd)(ddd))", caps[0][0], caps[0][1], caps[0][2], caps[1][0],
                        caps[1][1], caps[1][2]);
 }
@@ -1941,7 +2057,7 @@ static PyObject *py_side_quartic(PyObject *self, PyObject *const *args, Py_ssize
     }
     return NULL;
   }
-  side_quartic(&s, rr, q, uu, wu);
+  side_quartic(&s, rr, 0.0, 0.0, q, uu, wu);
   return Py_BuildValue("((ddddd)(ddd)(ddd))", q[0], q[1], q[2], q[3], q[4], uu[0], uu[1],
                        uu[2], wu[0], wu[1], wu[2]);
 }

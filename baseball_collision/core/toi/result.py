@@ -37,7 +37,8 @@ class ImpactResult:
     :ivar time: seconds from the interval start to first contact (0.0 when touching at the start).
     :ivar point: contact point on the bat surface, world frame (metres).
     :ivar normal: unit vector from the bat axis towards the ball centre at contact.
-    :ivar bat_fraction: where along the bat axis, 0 at the knob and 1 at the tip.
+    :ivar bat_fraction: where along the bat axis, 0 at the knob and 1 at the tip: the contact
+        point's place along it (on an end cap, that end's station).
     :ivar initially_overlapping: ball and bat were already touching or overlapping at time 0.
     :ivar gap: signed surface gap at ``time`` (metres): ~0 at a fresh contact, negative when
         overlapping at the start, within (0, TOUCH_TOLERANCE] for a graze.

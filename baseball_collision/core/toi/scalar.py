@@ -1,5 +1,5 @@
 """
-Exact time of impact on plain floats: one ball against a capsule or a profile of capsules.
+Exact time of impact on plain floats: one ball against a capsule or a profile of round cones.
 
 Thin wrappers of the compiled kernel (``_kernel.c``, the one implementation of the solver),
 which solves one interval in which every point moves linearly: coordinates are shifted to the
@@ -79,14 +79,15 @@ def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
     """
     Return the gap between a ball and a profiled bat at one instant (no input checking).
 
-    The package's one scalar point-to-capsules distance, the kernel's (the batch solver has its
-    numpy sibling): it runs per sub-step of the detector.
+    The package's one scalar point-to-profile distance (its round cones), the kernel's (the
+    batch solver has its numpy sibling, for one capsule): it runs per sub-step of the detector.
 
     :param ball: ball centre (metres); ``knob``, ``tip``: the bat's ends (metres).
     :param ball_radius: metres.
     :param profile: the bat's radius profile (a ``BatProfile``), scaled to knob-tip.
     :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
-        ball centre; fraction along knob-tip of the closest axis point).
+        ball centre; fraction along knob-tip of the nearest bat point: its place along the
+        axis, within the first and last station).
     :raises TypeError: a point that is not 3 numbers, a radius that is not a number.
     """
     return _kernel.profile_gap(ball, knob, tip, ball_radius, profile)
@@ -137,7 +138,7 @@ def time_of_impact_profile(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, 
     """
     First contact between a ball and a bat given by a radius profile, or None.
 
-    The profile is a union of capsules on sub-segments of knob-tip (see ``bat.BatProfile``);
+    The profile is a union of round cones on sub-segments of knob-tip (see ``bat.BatProfile``);
     each piece's ends are fixed fractions of knob-tip, so they move linearly and each piece is
     solved exactly. ``bat_fraction`` in the result is along the whole knob-tip axis.
 

@@ -96,12 +96,6 @@ def _kind_holds(kind: str, truth: Truth) -> bool:
     return -0.010 <= truth.min_gap_m <= -0.001  # graze
 
 
-def _segment_radius(profile: BatProfile, fraction: float) -> float:
-    """Return the radius (m) of the profile capsule spanning ``fraction`` (the largest one)."""
-    radii = [r for f0, f1, r in profile.segments() if f0 <= fraction <= f1]
-    return max(radii) if radii else profile.radius_at(fraction)
-
-
 def _draw_swing(rng: np.random.Generator, contact_time: float, geometry: PoseBatGeometry,
                 family: str = 'plane') -> Tuple[Swing, Extras]:
     """
@@ -200,7 +194,7 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
     else:
         fraction = 1.0 - rng.uniform(0.06, 0.35) / length
     spot = swing.point(contact_time, fraction)
-    reach = ball_radius + _segment_radius(profile, fraction)
+    reach = ball_radius + profile.radius_at(fraction)
     release_y = rng.uniform(16.5, 17.0)
     drag_constant = Pitch((0.0, 0.0, 0.0), (0.0, -1.0, 0.0), duration=1e-3).drag_constant
     velocity = _draw_ball_velocity(rng, spot, drag_constant, release_y)

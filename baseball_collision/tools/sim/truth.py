@@ -3,8 +3,9 @@ The exact truth of a scenario: first contact, contact spot and speeds, smallest 
 
 The first contact of the continuous motion is found by dense evaluation of the gap on a 20 us
 grid, local minima refined so a shallow graze is not lost, and bisection to 1e-12 s, against the
-same geometry the package uses: the ball sphere against the union of the capsules of
-``profile.segments()`` placed on knob-tip by fraction (``core.toi.distance`` over the grid,
+same geometry the package uses: the ball sphere against the union of the round cones of
+``profile.segments()`` placed on knob-tip by fraction (each piece's nearest sphere in closed
+form over the grid, :func:`segment_gaps`, written here apart from the solver's;
 ``core.toi.profile_gap`` at the instants found).
 """
 
@@ -18,7 +19,7 @@ from .common import check_number, Vector
 from .pitches import BALL_RADIUS, Pitch
 from .swings import Swing
 from ...core.bat import BatProfile, WOOD_BAT_34
-from ...core.toi import distance, profile_gap
+from ...core.toi import profile_gap
 from ...errors import ToolError
 
 TRUTH_GRID_S = 2e-5
@@ -42,7 +43,7 @@ class Truth:
     :ivar point: contact point on the bat surface (m).
     :ivar normal: unit normal at contact, from the bat axis toward the ball centre.
     :ivar bat_fraction: contact position along knob-tip (0 knob, 1 tip), as the solver reports
-        it (the closest axis point of the touching capsule).
+        it (the contact point's place along the axis; on an end cap, that end's station).
     :ivar distance_from_knob_m: ``bat_fraction * length`` (m).
     :ivar distance_from_tip_m: ``(1 - bat_fraction) * length`` (m).
     :ivar feature: ``'side'``, ``'knob_end'`` or ``'tip_end'``: the part of the bat touched.
@@ -53,7 +54,8 @@ class Truth:
     :ivar min_gap_time_s: when it happens (s).
     :ivar min_gap_vector: ``min_gap_m`` times the unit normal from the bat axis toward the ball
         centre at that instant: from the bat surface to the ball surface for a miss (m).
-    :ivar min_gap_fraction: fraction along knob-tip of the closest axis point at that instant.
+    :ivar min_gap_fraction: fraction along knob-tip of the nearest bat point at that instant
+        (``core.toi.profile_gap``'s).
     """
 
     contact: bool
@@ -75,19 +77,37 @@ class Truth:
 
 def segment_gaps(ball: np.ndarray, knob: np.ndarray, tip: np.ndarray, profile: BatProfile,
                  ball_radius: float) -> np.ndarray:
-    """Return the gap (m) of the ball to every capsule of the profile: (S, N) for (N, 3) input."""
+    """
+    Return the gap (m) of the ball to every piece of the profile: (S, N) for (N, 3) input.
+
+    A piece is the union of the spheres along its axis whose radius grows linearly from its
+    start's to its end's; the gap is the least over them of the distance to the sphere, a
+    convex function of the axis fraction f, least at ``dr d / (L sqrt(L^2 - dr^2))`` past the
+    foot of the ball centre's perpendicular (d its distance from the axis, L the piece's
+    length, dr its radius growth), then clipped to the piece.
+    """
     axis = tip - knob
     rows = []
-    for f0, f1, radius in profile.segments():
+    for f0, f1, r0, r1 in profile.segments():
         start = knob + f0 * axis
-        end = knob + f1 * axis
-        rows.append(distance(0.0, ball, ball, end, end, start, start, ball_radius, radius, 1.0))
+        piece = (f1 - f0) * axis
+        offset = ball - start
+        length2 = np.einsum('ij,ij->i', piece, piece)
+        growth = r1 - r0
+        with np.errstate(invalid='ignore', divide='ignore'):
+            along = np.where(length2 > 0.0, np.einsum('ij,ij->i', offset, piece) / length2, 0.0)
+            across = np.linalg.norm(offset - along[:, None] * piece, axis=1)
+            slide = growth * across / np.sqrt(length2 * (length2 - growth * growth))
+        fraction = np.clip(np.where(length2 > growth * growth, along + slide,
+                                    1.0 if growth > 0.0 else 0.0), 0.0, 1.0)
+        rows.append(np.linalg.norm(offset - fraction[:, None] * piece, axis=1)
+                    - (r0 + fraction * growth) - ball_radius)
     return np.array(rows)
 
 
 @dataclass(frozen=True)
 class _Closest:
-    """The closest capsule of a profile to the ball at one instant."""
+    """The closest piece of a profile to the ball at one instant."""
 
     gap: float
     point: np.ndarray
@@ -216,7 +236,7 @@ def compute_truth(swing: Swing, pitch: Pitch, t_end: float, profile: BatProfile 
     """
     Return the exact truth of a swing against a pitch over [0, t_end] seconds.
 
-    The gap (ball sphere against the union of the profile's capsules on knob-tip) of the
+    The gap (ball sphere against the union of the profile's round cones on knob-tip) of the
     continuous motion is evaluated on a grid of ``grid_s``; every grid local minimum within twice
     the largest grid-to-grid change of zero is refined (nested sub-grids), so a touch shorter than
     the grid step is not lost, and the first sign change is narrowed to

@@ -280,11 +280,11 @@ def test_config_from_parameters() -> None:
         'bat_length': 0.8, 'bat_axis': '-x', 'knob_offset': 0.1, 'tip_offset': 0.9,
         'up_axis': [0, 2, 0], 'node_only_parameter': 'ignored'})
     assert config.model == 'spline' and config.max_gap == 1.0
-    assert config.profile.segments() == ((0.0, 0.625, 0.025), (0.625, 1.0, 0.03))
+    assert config.profile.segments() == ((0.0, 0.625, 0.02, 0.03), (0.625, 1.0, 0.03, 0.03))
     assert config.geometry.tip_offset == (-0.9, 0.0, 0.0)
     assert config.up_axis == (0.0, 1.0, 0.0)
     capsule = DetectorConfig.from_parameters({'bat_radius': 0.03})
-    assert capsule.profile.segments() == ((0.0, 1.0, 0.03),)
+    assert capsule.profile.segments() == ((0.0, 1.0, 0.03, 0.03),)
     assert DetectorConfig.from_parameters({}).profile == WOOD_BAT_34
 
 

@@ -2,6 +2,7 @@
 
 from dataclasses import asdict, FrozenInstanceError, replace
 import math
+from typing import Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DetectorConfig, Prediction, PredictionCleared
@@ -13,6 +14,7 @@ from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
     BallForecast, BatForecast, MAX_PLAN_POSES, PlannedBat)
 from baseball_collision.errors import CoreError
+import numpy as np
 import pytest
 
 BASE_NS = 1_700_000_000_000_000_000
@@ -69,11 +71,25 @@ def test_a_ball_flying_at_a_still_bat_is_predicted() -> None:
     predictor.predict(0.025, True, events)
     assert [type(e) for e in events] == [Prediction] and predictor.predicting
     prediction = events[0]
-    fraction = 0.5 / 0.86
-    radius = next(r for f0, f1, r in WOOD_BAT_34.segments() if f0 <= fraction <= f1)
-    expected = (balls[-1][0] - 0.0366 - radius) / 40.0  # to the bat's surface (drag: 0.1 ms)
+    # where the ball (centre at y = 0.5 m) meets the tapered bat, by dense search: the nearest
+    # of the spheres along the axis (radius as the stations give it), the contact point between
+    fractions = np.linspace(0.0, 1.0, 200001)
+    radii = np.interp(fractions * WOOD_BAT_34.length, *zip(*WOOD_BAT_34.stations))
+
+    def reach(x: float) -> Tuple[float, int]:
+        gaps = np.hypot(0.86 * fractions - 0.5, x) - radii
+        return float(gaps.min()), int(gaps.argmin())
+    low, high = 0.0, 0.2
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if reach(middle)[0] < 0.0366 else (low, middle)
+    nearest = reach(high)[1]
+    offset = np.array([high, 0.5 - 0.86 * fractions[nearest]])
+    along = 0.86 * fractions[nearest] + radii[nearest] * offset[1] / np.linalg.norm(offset)
+    expected = (balls[-1][0] - high) / 40.0  # to the bat's surface (drag: 0.1 ms)
     assert prediction.lead_s == pytest.approx(expected, abs=2e-4)
-    assert prediction.bat_fraction == pytest.approx(fraction, abs=1e-3)
+    assert prediction.bat_fraction == pytest.approx(along / 0.86, abs=2e-5)
+    assert abs(prediction.bat_fraction - 0.5 / 0.86) > 1e-3  # (the taper moves it)
     assert not prediction.planned
     # made without the frozen __init__: the same as the constructor's, in every use
     fields = {name: getattr(prediction, name) for name in Prediction.__dataclass_fields__}

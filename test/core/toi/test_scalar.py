@@ -220,7 +220,7 @@ def test_constant_profile_equals_the_capsule() -> None:
 @settings(max_examples=examples(60), **FILTERING)
 @given(points=swing_interval())
 def test_profile_matches_brute_force(points) -> None:
-    """The default wood bat: first contact of the union of capsules, against dense sampling."""
+    """The default wood bat: first contact of the union of round cones, against dense sampling."""
     tau = np.linspace(0.0, 1.0, 2001)
     gaps = profile_reference(tau, points, 0.0366, WOOD_BAT_34)
     assume(sampling_decides(float(gaps.min()), *points, len(tau)))
@@ -231,6 +231,31 @@ def test_profile_matches_brute_force(points) -> None:
     if result is not None:
         first = tau[hits[0]]
         assert tau[max(hits[0] - 1, 0)] - 1e-12 <= result.time / dt <= first + 1e-12
+
+
+def test_profile_spot_follows_the_ball_across_a_station() -> None:
+    """
+    A ball met across the 10-inch station (handle into taper) is touched where it is.
+
+    The pieces are round cones, so the surface has no step at a station: the spot moves with
+    the ball's place along the bat, within the taper's lean (slope times the ball radius, 1 mm
+    here), strictly increasing. (Capsules of each piece's mean radius stood 1.65 mm proud at
+    the station: a ball up to 12.7 mm before it touched the step's rounded end, the spot
+    snapped to the station.)
+    """
+    length, station = WOOD_BAT_34.length, 10.0 * 0.0254
+    knob, tip = (0.0, 0.0, 0.0), (length, 0.0, 0.0)
+    spots = []
+    for place in station + np.linspace(-0.015, 0.015, 31):
+        result = time_of_impact_profile((place, 0.2, 0.0), (place, 0.0, 0.0), tip, tip, knob,
+                                        knob, 0.0366, WOOD_BAT_34, 0.01)
+        spots.append(result.bat_fraction * length)
+        assert abs(spots[-1] - place) < 1.1e-3, place
+        # the ball's centre then at the ball radius plus the bat's own radius from the axis,
+        # within what the taper's lean adds (under 0.02 mm)
+        height = 0.2 - 20.0 * result.time
+        assert 0.0 <= height - (0.0366 + WOOD_BAT_34.radius_at(place / length)) < 2e-5, place
+    assert np.all(np.diff(spots) > 0.0)
 
 
 def test_profile_thin_handle_lets_a_ball_pass() -> None:
@@ -298,14 +323,15 @@ grid_point = st.tuples(millimetre, millimetre, millimetre)
 
 @settings(max_examples=examples(300), deadline=None)
 @given(ball=grid_point, knob=grid_point, tip=grid_point)
-def test_profile_gap_is_the_distance_to_the_nearest_capsule(ball, knob, tip) -> None:
-    """The gap equals a dense search over the profile's capsules; the normal is unit length."""
+def test_profile_gap_is_the_distance_to_the_nearest_piece(ball, knob, tip) -> None:
+    """The gap equals a dense search over the profile's round cones; the normal is unit length."""
     gap, normal, fraction = profile_gap(ball, knob, tip, 0.0366, WOOD_BAT_34)
     knob_a, axis = np.array(knob), np.array(tip) - np.array(knob)
     best = math.inf
-    for f0, f1, radius in WOOD_BAT_34.segments():
-        for f in np.linspace(f0, f1, 400):
-            best = min(best, math.dist(ball, knob_a + f * axis) - radius)
+    for f0, f1, r0, r1 in WOOD_BAT_34.segments():
+        for g in np.linspace(0.0, 1.0, 400):
+            best = min(best, math.dist(ball, knob_a + (f0 + g * (f1 - f0)) * axis)
+                       - (r0 + g * (r1 - r0)))
     assert gap <= best - 0.0366 + 1e-12
     assert gap >= best - 0.0366 - 1e-3 * (1.0 + np.linalg.norm(axis))
     assert math.hypot(*normal) == pytest.approx(1.0)
