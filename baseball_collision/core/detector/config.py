@@ -241,7 +241,8 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         read_only=_GEOMETRY),
     ParameterSpec(
         'bat_profile', _A, (), 'Bat radius profile, flat [distance_from_knob, radius, ...] (m), '
-        f'at most {MAX_STATIONS} stations; unset or empty = the default 34-inch wood bat.', 'm',
+        f'at most {MAX_STATIONS} stations, the radius tapering linearly between them; unset or '
+        'empty = the default 34-inch wood bat.', 'm',
         read_only=_GEOMETRY, max_items=2 * MAX_STATIONS),
     ParameterSpec(
         'bat_length', _D, 0.0, 'Knob-to-tip length the profile was measured on (m); 0 = the '
