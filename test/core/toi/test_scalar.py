@@ -233,6 +233,53 @@ def test_profile_matches_brute_force(points) -> None:
         assert tau[max(hits[0] - 1, 0)] - 1e-12 <= result.time / dt <= first + 1e-12
 
 
+@st.composite
+def tapered_profile(draw) -> BatProfile:
+    """Draw a profile of 2-5 stations with steep and gentle tapers, thin and thick pieces."""
+    count = draw(st.integers(2, 5))
+    gaps = draw(st.lists(st.floats(0.02, 0.4), min_size=count - 1, max_size=count - 1))
+    start = draw(st.floats(0.0, 0.05))
+    distances = start + np.concatenate(([0.0], np.cumsum(gaps)))
+    radii = draw(st.lists(st.floats(0.005, 0.06), min_size=count, max_size=count))
+    return BatProfile(stations=tuple(zip(distances.tolist(), radii)),
+                      length=float(distances[-1]) + draw(st.floats(0.0, 0.05)))
+
+
+@settings(max_examples=examples(80), **FILTERING)
+@given(points=swing_interval(), profile=tapered_profile())
+def test_tapered_profiles_match_brute_force(points, profile: BatProfile) -> None:
+    """
+    Any profile's round cones, steep tapers too: the first contact as dense sampling finds it.
+
+    The reference takes each piece's nearest sphere by ternary search (``cone_reference_gap``);
+    the spot is the contact point's own place along the axis, within the first and last
+    station, and a first touch's contact point lies on the ball's surface.
+    """
+    tau = np.linspace(0.0, 1.0, 2001)
+    gaps = profile_reference(tau, points, 0.0366, profile)
+    assume(sampling_decides(float(gaps.min()), *points, len(tau)))
+    hits = np.flatnonzero(gaps <= 0.0)
+    dt = 1.0 / 120.0
+    result = time_of_impact_profile(*points, 0.0366, profile, dt)
+    assert (result is None) == (hits.size == 0)
+    if result is None:
+        return
+    assert tau[max(hits[0] - 1, 0)] - 1e-12 <= result.time / dt <= tau[hits[0]] + 1e-12
+    ball0, ball1, tip0, tip1, knob0, knob1 = points
+    s = result.time / dt
+    ball, knob, tip = (a + (b - a) * s for a, b in ((ball0, ball1), (knob0, knob1),
+                                                    (tip0, tip1)))
+    if not result.initially_overlapping:  # (touching: the point on both surfaces)
+        assert np.linalg.norm(np.asarray(result.point) - ball) == pytest.approx(0.0366,
+                                                                                abs=1e-6)
+    axis = tip - knob
+    along = float((np.asarray(result.point) - knob) @ axis / (axis @ axis))
+    first, last = profile.segments()[0][0], profile.segments()[-1][1]
+    assert first - 1e-12 <= result.bat_fraction <= last + 1e-12
+    if result.feature.value == 'side':
+        assert result.bat_fraction == pytest.approx(min(max(along, first), last), abs=1e-9)
+
+
 def test_profile_spot_follows_the_ball_across_a_station() -> None:
     """
     A ball met across the 10-inch station (handle into taper) is touched where it is.
