@@ -221,35 +221,12 @@ def test_constant_profile_equals_the_capsule() -> None:
 @given(points=swing_interval())
 def test_profile_matches_brute_force(points) -> None:
     """The default wood bat: first contact of the union of round cones, against dense sampling."""
-    tau = np.linspace(0.0, 1.0, 2001)
-    gaps = profile_reference(tau, points, 0.0366, WOOD_BAT_34)
-    assume(sampling_decides(float(gaps.min()), *points, len(tau)))
-    hits = np.flatnonzero(gaps <= 0.0)
-    dt = 1.0 / 120.0
-    result = time_of_impact_profile(*points, 0.0366, WOOD_BAT_34, dt)
-    assert (result is None) == (hits.size == 0)
-    if result is not None:
-        first = tau[hits[0]]
-        assert tau[max(hits[0] - 1, 0)] - 1e-12 <= result.time / dt <= first + 1e-12
+    _matches_brute_force(points, WOOD_BAT_34)
 
 
-@st.composite
-def tapered_profile(draw) -> BatProfile:
-    """Draw a profile of 2-5 stations with steep and gentle tapers, thin and thick pieces."""
-    count = draw(st.integers(2, 5))
-    gaps = draw(st.lists(st.floats(0.02, 0.4), min_size=count - 1, max_size=count - 1))
-    start = draw(st.floats(0.0, 0.05))
-    distances = start + np.concatenate(([0.0], np.cumsum(gaps)))
-    radii = draw(st.lists(st.floats(0.005, 0.06), min_size=count, max_size=count))
-    return BatProfile(stations=tuple(zip(distances.tolist(), radii)),
-                      length=float(distances[-1]) + draw(st.floats(0.0, 0.05)))
-
-
-@settings(max_examples=examples(80), **FILTERING)
-@given(points=swing_interval(), profile=tapered_profile())
-def test_tapered_profiles_match_brute_force(points, profile: BatProfile) -> None:
+def _matches_brute_force(points, profile: BatProfile) -> None:
     """
-    Any profile's round cones, steep tapers too: the first contact as dense sampling finds it.
+    Check a profile's first contact over an interval against dense sampling.
 
     The reference takes each piece's nearest sphere by ternary search (``cone_reference_gap``);
     the spot is the contact point's own place along the axis, within the first and last
@@ -278,6 +255,25 @@ def test_tapered_profiles_match_brute_force(points, profile: BatProfile) -> None
     assert first - 1e-12 <= result.bat_fraction <= last + 1e-12
     if result.feature.value == 'side':
         assert result.bat_fraction == pytest.approx(min(max(along, first), last), abs=1e-9)
+
+
+@st.composite
+def tapered_profile(draw) -> BatProfile:
+    """Draw a profile of 2-5 stations with steep and gentle tapers, thin and thick pieces."""
+    count = draw(st.integers(2, 5))
+    gaps = draw(st.lists(st.floats(0.02, 0.4), min_size=count - 1, max_size=count - 1))
+    start = draw(st.floats(0.0, 0.05))
+    distances = start + np.concatenate(([0.0], np.cumsum(gaps)))
+    radii = draw(st.lists(st.floats(0.005, 0.06), min_size=count, max_size=count))
+    return BatProfile(stations=tuple(zip(distances.tolist(), radii)),
+                      length=float(distances[-1]) + draw(st.floats(0.0, 0.05)))
+
+
+@settings(max_examples=examples(80), **FILTERING)
+@given(points=swing_interval(), profile=tapered_profile())
+def test_tapered_profiles_match_brute_force(points, profile: BatProfile) -> None:
+    """Any profile's round cones, steep tapers too: first contact as dense sampling finds it."""
+    _matches_brute_force(points, profile)
 
 
 def test_profile_spot_follows_the_ball_across_a_station() -> None:
