@@ -8,8 +8,8 @@ stations the bat is a round cone: the hull of the spheres at the two stations, e
 station's radius (the union of the spheres along the axis whose radius grows linearly from one
 station to the next). So the surface follows the taper without a step at any station: adjacent
 pieces share the station's sphere, and the round cone's side stands off the straight taper by
-r (1 / cos a - 1) at a slope a (under 5 um on a wood bat's steepest taper). A piece of one
-radius is a capsule. Stations are given for a bat of ``length`` metres and are scaled to the
+r (1 / cos a - 1) at a slope a (at most 0.073 mm on the default bat's steepest taper). A piece
+of one radius is a capsule. Stations are given for a bat of ``length`` metres and are scaled to the
 measured knob-to-tip distance when the bat is tracked, so every piece's ends are fixed
 fractions of knob-to-tip: they move linearly when knob and tip do, and the exact linear solver
 applies to every piece (its side's contact is still the first root of a quartic).
