@@ -36,7 +36,10 @@ the simulator's swings); the speed's can fall short where both models take their
 from the same least-squares fits (``rigid``, ``spline``, and ``c2`` at a low rate: there the
 speed's is at least the difference from the speed ``c2``'s noise rule would give, the window
 fits before the impact extrapolated to it, ``before_rule_speed``). When the alternative finds
-no impact, coarse bounds stand in: the interval's length, the ball's radius, 10 % of the speed.
+no impact (a tick it sees pass just clear of the bat), its closest approach stands in for the
+time and the spot, and 10 % of the speed for the speed; when it does not even see the ball
+within the near-miss threshold, coarse bounds: the interval's length, the ball's radius, 10 %
+of the speed. (The same for ``c2``'s look-ahead difference above.)
 
 At a hit (the ball left its free flight over the impact's interval: ``departure``) every
 model's time uncertainty also holds the bat's brake: the interval's closing bat frame is after
@@ -54,7 +57,7 @@ the time comes out late by about 2 sigma at 1 mm and 90 Hz.
 from bisect import bisect_left, bisect_right
 from dataclasses import replace
 import math
-from typing import List, Optional, Tuple
+from typing import List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -62,7 +65,7 @@ from . import fitting
 from .config import DetectorConfig
 from .departure import leaves_flight
 from .episodes import EpisodeTracker
-from .events import DetectorStats, Impact
+from .events import DetectorStats, Event, Impact, NearMiss
 from .fitting import (
     bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN,
     point_gains, stream_noise, swing_rate)
@@ -149,23 +152,29 @@ def union_intervals(ball: Stream, bat: Stream, ta: float, tb: float,
 
 def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
             offsets: Tuple[Vector, Vector], ta: float, tb: float,
-            bat_ahead: Optional[bool] = None) -> Optional[Impact]:
+            bat_ahead: Optional[bool] = None,
+            closest: bool = False) -> Optional[Union[Impact, NearMiss]]:
     """
     Return the first impact about the union interval [ta, tb] (s), or None.
 
     A fresh, armed sweep over the given streams (copies: a sweep caches its paths on them) of
     [ta, tb]; of the union interval before it too when the contact was already there at ta,
     of the one after it when there was none. ``bat_ahead``: the sweep's (``Sweep.bat_ahead``).
+    ``closest``: without an impact, the closest approach over what was swept instead (a
+    ``NearMiss``: the ball passed within the near-miss threshold), if any.
     """
     stats = DetectorStats()
     episodes = EpisodeTracker(config, clock, stats)
     sweep = Sweep(config, clock, stats, ball, bat, episodes, offsets)
     sweep.bat_ahead = bat_ahead
+    passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:
         events: List = []
         episodes.armed = True
+        episodes.zone_clear = episodes.zone_clear or closest  # (any approach an episode)
         sweep.interval(start, end, events)
+        passes.extend(event for event in events if event.__class__ is NearMiss)
         return next((event for event in events if event.__class__ is Impact), None)
 
     intervals = union_intervals(ball, bat, ta, tb)
@@ -173,7 +182,10 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     if found is not None and found.initially_overlapping and intervals[0][1] == ta:
         return first_impact(*intervals[0]) or found
     if found is None and intervals[-1][0] == tb:
-        return first_impact(*intervals[-1])
+        found = first_impact(*intervals[-1])
+    if found is None and closest:
+        episodes.close(passes)  # (a pass still open at the end of what was swept)
+        return min(passes, key=lambda event: event.gap_m, default=None)
     return found
 
 
@@ -222,12 +234,20 @@ def difference(config: DetectorConfig, other: DetectorConfig, clock: Clock, ball
     """
     Return how far the impact solved under ``other`` is from ``impact`` (s, m, m/s).
 
-    The coarse bounds (the module docstring) when ``other`` finds none.
+    Where ``other`` finds no impact (a tick it sees pass just clear), the time and spot of its
+    closest approach stand in for its impact's, with the coarse speed bound; where it does not
+    see the ball come within the near-miss threshold either, the coarse bounds (the module
+    docstring).
     """
     found = resolve(other, clock, excerpt(ball, 0, len(ball.times) - 1),
-                    excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb)
+                    excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb, closest=True)
     if found is None:
         return tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps
+    if found.__class__ is NearMiss:
+        length = math.dist(impact.knob, impact.tip)
+        return (abs(found.stamp_ns - impact.stamp_ns) * 1e-9,
+                abs(found.bat_fraction * length - impact.distance_from_knob_m),
+                0.1 * impact.sweet_spot_speed_mps)
     return (abs(found.stamp_ns - impact.stamp_ns) * 1e-9,
             abs(found.distance_from_knob_m - impact.distance_from_knob_m),
             abs(found.sweet_spot_speed_mps - impact.sweet_spot_speed_mps))

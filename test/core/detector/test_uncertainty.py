@@ -3,7 +3,7 @@
 from dataclasses import replace
 from typing import Dict, List, Sequence
 
-from baseball_collision.core.detector import DetectorConfig, Impact
+from baseball_collision.core.detector import DetectorConfig, Impact, NearMiss
 from baseball_collision.core.detector.uncertainty import (
     ALTERNATIVE, before_rule_speed, braked, excerpt, resolve, union_intervals)
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
@@ -131,6 +131,35 @@ def test_resolve_on_unshaken_copies_reproduces_the_impact() -> None:
     detector.finish()
     (impact, again), = seen
     assert again == impact
+
+
+def test_a_tick_the_other_fit_sees_pass_clear_takes_its_closest_approach() -> None:
+    """
+    A 1 mm-noise tick that ``c2`` without its look-ahead sees pass just clear of the bat.
+
+    The look-ahead difference then comes from that fit's closest approach (its ``NearMiss``):
+    the time's sigma under a frame and the spot's under the ball's radius (the coarse bounds
+    gave the whole interval and the ball's radius), the true errors within them.
+    """
+    scenario = make_scenario('tick', np.random.default_rng(26), family='plane')
+    samples = sample(scenario, 90.0, np.random.default_rng(26), jitter_s=2e-4, grid_s=1e-3,
+                     noise_m=1e-3, marker_spread_m=0.3)
+    config = DetectorConfig(bat_input='points', model='c2', look_ahead=2, tracker_noise=-1.0)
+    events, result = run_samples(scenario, samples, config)
+    impact, = [e for e in events if isinstance(e, Impact)]
+    detector, _ = _impacts(config, samples)
+    clock = detector._clock
+    ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
+    streams = [excerpt(s, 0, len(s.times) - 1) for s in (detector._ball, detector._bat)]
+    without = config.variant(look_ahead=0)
+    assert resolve(without, clock, *streams, detector._offsets, ta, tb) is None
+    streams = [excerpt(s, 0, len(s.times) - 1) for s in (detector._ball, detector._bat)]
+    near = resolve(without, clock, *streams, detector._offsets, ta, tb, closest=True)
+    assert isinstance(near, NearMiss) and 0.0 < near.gap_m < 1e-3
+    assert abs(near.stamp_ns - impact.stamp_ns) * 1e-9 <= impact.time_uncertainty_s < tb - ta
+    assert impact.distance_from_knob_uncertainty_m < 0.5 * config.ball_radius
+    assert abs(result.time_error_s) <= impact.time_uncertainty_s
+    assert abs(result.knob_distance_error_m) <= impact.distance_from_knob_uncertainty_m
 
 
 def test_union_intervals_neighbour_the_impacts_interval() -> None:
