@@ -24,13 +24,13 @@ contact) cannot bend the interval. Each path is a ``MotionPath`` over one interv
 derivative of knob + length * direction.
 """
 
-from typing import List, Optional, Sequence, Tuple
+from typing import List, Sequence, Tuple
 
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
 from .splines import not_a_knot_slope_rows
-from ..geometry import norm, Vector
+from ..geometry import Vector
 from ..toi import _kernel
 
 
@@ -136,18 +136,15 @@ class C2BatPath(BatPath):
     def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
                  knob_slopes: Tuple[Vector, Vector], turn_slopes: Tuple[Vector, Vector],
                  length_slopes: Tuple[float, float]) -> None:
-        super().__init__(t0, t1, sample0, sample1)
-        self.spread: Optional[float] = None
-        self.knob = PointPath(t0, t1, sample0.knob, sample1.knob, *knob_slopes)
-        self.reference, length0 = axis_and_length(sample0)
-        direction, length1 = axis_and_length(sample1)
-        closing = rotation_to(self.reference, direction)
-        self.turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
-        self.length = AngleCubic(t0, t1, length0, length1, *length_slopes)
-        self.lever = max(length0, length1)
-        self.angle = norm(closing)
-        self.spread = self.deviation(t0, t1)
-        self.radius += self.spread
+        # in the kernel (``toi._kernel.c2_path_init``, the same operations in this order): the
+        # ``BatPath`` part (the four ends' mean, the largest ``math.dist`` from it); the knob a
+        # ``PointPath`` of the samples' knobs; the reference direction and both lengths the
+        # samples' ``axis_and_length``; the turn a ``PointPath`` from (0, 0, 0) to the rotation
+        # vector onto sample1's direction (``rotation_to``); the length an ``AngleCubic``; the
+        # lever the longer length, the angle the turn's norm; the spread ``_deviation`` over
+        # [t0, t1], added to the radius
+        _kernel.c2_path_init(self, PointPath, AngleCubic, t0, t1, sample0, sample1,
+                             knob_slopes, turn_slopes, length_slopes)
 
     def deviation(self, ta: float, tb: float) -> float:
         """

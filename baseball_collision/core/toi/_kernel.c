@@ -64,6 +64,8 @@
  *        fill_turns(values, turns, first_kept, k) their sums (core.detector.streams),
  *   recharted(reference, origin, turn, rate, step),
  *   point_path_init(path, t0, t1, p0, p1, m0, m1)  a PointPath's slots (core.motion.points),
+ *   c2_path_init(path, point_class, angle_class, t0, t1, sample0, sample1, knob_slopes,
+ *        turn_slopes, length_slopes)  a C2BatPath's slots (core.motion.c2),
  *   window_bulge(times, rows, j, weights, offset, column, width)  the c2 far test's bulge
  *        bounds, c2_jump_bulge(times, values, breaks, steps, jumps, k, look_ahead, size,
  *        max_gap, bat, constants) its bound from kept per-sample chord-velocity jumps,
@@ -4433,6 +4435,205 @@ static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize
                             span / 8.0);
 }
 
+/* a c2 bat path's own attributes c2_path_init sets (interned at import) */
+enum { C2_SAMPLE0, C2_SAMPLE1, C2_ANGLE, C2_LEVER, C2_SPREAD, C2_OWN_NAMES };
+static const char *c2_own_attributes[C2_OWN_NAMES] = {"sample0", "sample1", "angle", "lever",
+                                                      "spread"};
+static PyObject *c2_own_names[C2_OWN_NAMES];
+
+/* a new instance of a Python class with __slots__, its __init__ not called; NULL with an error */
+static PyObject *bare_instance(PyObject *cls)
+{
+  if (!PyType_Check(cls)) {
+    PyErr_SetString(PyExc_TypeError, "c2_path_init: PointPath and AngleCubic must be classes");
+    return NULL;
+  }
+  PyTypeObject *type = (PyTypeObject *)cls;
+  PyObject *nothing = PyTuple_New(0);
+  PyObject *made = nothing ? type->tp_new(type, nothing, NULL) : NULL;
+  Py_XDECREF(nothing);
+  return made;
+}
+
+/*
+ * An AngleCubic's slots (motion.points.AngleCubic.__init__, its operations in its order): t0,
+ * t1 as given, h = t1 - t0, a = v0, end = v1, curved (both rates given), and b, c, d, accel0,
+ * accel_rate, bulge for a cubic (b = h m0, e = h m1, c = 3 chord - 2 b - e, d = b + e -
+ * 2 chord, 2 c / h^2, 6 d / h^2, 0.25 |c| + 0.3849 |d|), else b = the chord, c = d = 0 and
+ * bulge 0. False with an exception.
+ */
+static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_object,
+                             double t0, double t1, double v0, double v1, PyObject *m0_object,
+                             PyObject *m1_object)
+{
+  double h = t1 - t0, chord = v1 - v0, m0 = 0.0, m1 = 0.0;
+  bool curved = m0_object != Py_None && m1_object != Py_None;
+  if (curved && (!read_number(m0_object, &m0) || !read_number(m1_object, &m1))) {
+    PyErr_SetString(PyExc_TypeError, "c2_path_init: length rates must be numbers or None");
+    return false;
+  }
+  if (PyObject_SetAttr(piece, piece_names[PIECE_T0], t0_object) < 0 ||
+      PyObject_SetAttr(piece, piece_names[PIECE_T1], t1_object) < 0 ||
+      !set_number(piece, piece_names[PIECE_H], h) || !set_number(piece, piece_names[PIECE_A], v0) ||
+      !set_number(piece, piece_names[PIECE_END], v1) ||
+      PyObject_SetAttr(piece, piece_names[PIECE_CURVED], curved ? Py_True : Py_False) < 0) {
+    return false;
+  }
+  if (!curved) {
+    return set_number(piece, piece_names[PIECE_B], chord) &&
+           set_number(piece, piece_names[PIECE_C], 0.0) &&
+           set_number(piece, piece_names[PIECE_D], 0.0) &&
+           set_number(piece, path_names[2], 0.0);
+  }
+  double b = h * m0, e = h * m1;
+  double c = 3.0 * chord - 2.0 * b - e, d = b + e - 2.0 * chord, h2 = h * h;
+  return set_number(piece, piece_names[PIECE_B], b) && set_number(piece, piece_names[PIECE_C], c) &&
+         set_number(piece, piece_names[PIECE_D], d) &&
+         set_number(piece, piece_names[PIECE_ACCEL0], 2.0 * c / h2) &&
+         set_number(piece, piece_names[PIECE_ACCEL_RATE], 6.0 * d / h2) &&
+         set_number(piece, path_names[2], 0.25 * fabs(c) + 0.3849 * fabs(d));
+}
+
+/* item i (0 or 1) of a pair of slopes (a sequence of two), a new reference; NULL with an error */
+static PyObject *slope_item(PyObject *pair, Py_ssize_t i)
+{
+  if (!PySequence_Check(pair) || PySequence_Size(pair) != 2) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "c2_path_init: slopes must be pairs (start, end)");
+    }
+    return NULL;
+  }
+  return PySequence_GetItem(pair, i);
+}
+
+/*
+ * c2_path_init(path, point_class, angle_class, t0, t1, sample0, sample1, knob_slopes,
+ * turn_slopes, length_slopes): fill a motion.c2.C2BatPath's slots as its Python constructor
+ * did, the same operations in its order: the BatPath part (t0, t1 as given, h, the samples,
+ * centre the mean of the four ends, radius the largest math.dist from it); the knob a PointPath
+ * (point_class, through point_path_init) from the samples' knobs with knob_slopes; the
+ * reference and the lengths the samples' bat_axis; the turn a PointPath from (0, 0, 0) to the
+ * rotation vector turning the reference onto sample1's direction, with turn_slopes; the length
+ * an AngleCubic (angle_class) with length_slopes; lever the longer length, angle the turn's
+ * norm, spread the path's c2_deviation over [t0, t1], radius grown by it. Slopes: pairs of
+ * start and end rates (None for none). TypeError: arguments not of those kinds.
+ */
+static PyObject *py_c2_path_init(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double t0, t1;
+  if (nargs != 10 || !read_number(args[3], &t0) || !read_number(args[4], &t1)) {
+    PyErr_SetString(PyExc_TypeError, "c2_path_init(path, point_class, angle_class, t0, t1, "
+                                     "sample0, sample1, knob_slopes, turn_slopes, "
+                                     "length_slopes): times must be numbers");
+    return NULL;
+  }
+  PyObject *path = args[0], *t0_object = args[3], *t1_object = args[4];
+  PyObject *sample0 = args[5], *sample1 = args[6];
+  PyObject *ends[4] = {NULL, NULL, NULL, NULL}; /* knob0, tip0, knob1, tip1 */
+  PyObject *centre = NULL, *knob = NULL, *turn = NULL, *length = NULL, *origin = NULL;
+  PyObject *closing = NULL, *reference = NULL, *spread = NULL, *slopes[6] = {NULL};
+  PyObject *result = NULL;
+  Vec k0, e0, k1, e1, knob0, knob1, axis0, axis1;
+  double length0, length1;
+  if (!bat_ends(sample0, &k0, &e0, &ends[0], &ends[1]) ||
+      !bat_ends(sample1, &k1, &e1, &ends[2], &ends[3]) ||
+      !bat_axis(sample0, &knob0, &axis0, &length0) ||
+      !bat_axis(sample1, &knob1, &axis1, &length1)) {
+    goto done;
+  }
+  for (int i = 0; i < 6; i++) {
+    if ((slopes[i] = slope_item(args[7 + i / 2], i % 2)) == NULL) {
+      goto done;
+    }
+  }
+  /* the BatPath part */
+  Vec middle = {0.25 * (k0.x + e0.x + k1.x + e1.x), 0.25 * (k0.y + e0.y + k1.y + e1.y),
+                0.25 * (k0.z + e0.z + k1.z + e1.z)};
+  if ((centre = vec_tuple(middle)) == NULL) {
+    goto done;
+  }
+  double radius = -INFINITY;
+  for (int i = 0; i < 4; i++) {
+    double d = python_dist(ends[i], centre);
+    if (PyErr_Occurred()) {
+      goto done;
+    }
+    if (i == 0 || d > radius) {
+      radius = d;
+    }
+  }
+  double h = t1 - t0;
+  if (PyObject_SetAttr(path, piece_names[PIECE_T0], t0_object) < 0 ||
+      PyObject_SetAttr(path, piece_names[PIECE_T1], t1_object) < 0 ||
+      !set_number(path, piece_names[PIECE_H], h) ||
+      PyObject_SetAttr(path, c2_own_names[C2_SAMPLE0], sample0) < 0 ||
+      PyObject_SetAttr(path, c2_own_names[C2_SAMPLE1], sample1) < 0 ||
+      PyObject_SetAttr(path, path_names[0], centre) < 0) {
+    goto done;
+  }
+  /* the knob, the turn and the length pieces */
+  Vec rotation = rotation_to(axis0, axis1);
+  PyObject *call[7];
+  if ((knob = bare_instance(args[1])) == NULL || (turn = bare_instance(args[1])) == NULL ||
+      (length = bare_instance(args[2])) == NULL ||
+      (origin = vec_tuple((Vec){0.0, 0.0, 0.0})) == NULL ||
+      (closing = vec_tuple(rotation)) == NULL || (reference = vec_tuple(axis0)) == NULL) {
+    goto done;
+  }
+  PyObject *knob_call[7] = {knob, t0_object, t1_object, ends[0], ends[2], slopes[0], slopes[1]};
+  PyObject *made = py_point_path_init(NULL, knob_call, 7);
+  if (made == NULL) {
+    goto done;
+  }
+  Py_DECREF(made);
+  PyObject *turn_call[7] = {turn, t0_object, t1_object, origin, closing, slopes[2], slopes[3]};
+  made = py_point_path_init(NULL, turn_call, 7);
+  if (made == NULL) {
+    goto done;
+  }
+  Py_DECREF(made);
+  if (!fill_angle_cubic(length, t0_object, t1_object, t0, t1, length0, length1, slopes[4],
+                        slopes[5])) {
+    goto done;
+  }
+  double lever = length1 > length0 ? length1 : length0;
+  double angle = sqrt(rotation.x * rotation.x + rotation.y * rotation.y +
+                      rotation.z * rotation.z);
+  if (PyObject_SetAttr(path, knob_name, knob) < 0 ||
+      PyObject_SetAttr(path, c2_path_names[0], turn) < 0 ||
+      PyObject_SetAttr(path, c2_path_names[1], length) < 0 ||
+      PyObject_SetAttr(path, c2_path_names[2], reference) < 0 ||
+      !set_number(path, c2_own_names[C2_LEVER], lever) ||
+      !set_number(path, c2_own_names[C2_ANGLE], angle)) {
+    goto done;
+  }
+  call[0] = knob, call[1] = turn, call[2] = length, call[3] = t0_object, call[4] = t1_object;
+  spread = py_c2_deviation(NULL, call, 5);
+  double grown = spread ? PyFloat_AsDouble(spread) : NAN;
+  if (spread == NULL || PyErr_Occurred() ||
+      PyObject_SetAttr(path, c2_own_names[C2_SPREAD], spread) < 0 ||
+      !set_number(path, path_names[1], radius + grown)) {
+    goto done;
+  }
+  result = Py_NewRef(Py_None);
+done:
+  for (int i = 0; i < 4; i++) {
+    Py_XDECREF(ends[i]);
+  }
+  for (int i = 0; i < 6; i++) {
+    Py_XDECREF(slopes[i]);
+  }
+  Py_XDECREF(centre);
+  Py_XDECREF(knob);
+  Py_XDECREF(turn);
+  Py_XDECREF(length);
+  Py_XDECREF(origin);
+  Py_XDECREF(closing);
+  Py_XDECREF(reference);
+  Py_XDECREF(spread);
+  return result;
+}
+
 /* whether flag i of a sequence is true: 1, 0, or -1 with an exception */
 static inline int flag_at(PyObject *list, Py_ssize_t i)
 {
@@ -7124,6 +7325,9 @@ static PyMethodDef methods[] = {
      "window_bulge(times, rows, j, weights, offset, column, width): the c2 far test's bulge"},
     {"point_path_init", (PyCFunction)(void (*)(void))py_point_path_init, METH_FASTCALL,
      "point_path_init(path, t0, t1, p0, p1, m0, m1): a PointPath's slots filled"},
+    {"c2_path_init", (PyCFunction)(void (*)(void))py_c2_path_init, METH_FASTCALL,
+     "c2_path_init(path, point_class, angle_class, t0, t1, sample0, sample1, knob_slopes, "
+     "turn_slopes, length_slopes): a C2BatPath's slots filled"},
     {"fill_turns", (PyCFunction)(void (*)(void))py_fill_turns, METH_FASTCALL,
      "fill_turns(values, turns, first_kept, k): a bat stream's cumulative turns up to k"},
     {"turn_between", (PyCFunction)(void (*)(void))py_turn_between, METH_FASTCALL,
@@ -7261,6 +7465,13 @@ PyMODINIT_FUNC PyInit__kernel(void)
   for (int i = 0; i < 3; i++) {
     c2_path_names[i] = PyUnicode_InternFromString(c2_path_attributes[i]);
     if (c2_path_names[i] == NULL) {
+      Py_DECREF(m);
+      return NULL;
+    }
+  }
+  for (int i = 0; i < C2_OWN_NAMES; i++) {
+    c2_own_names[i] = PyUnicode_InternFromString(c2_own_attributes[i]);
+    if (c2_own_names[i] == NULL) {
       Py_DECREF(m);
       return NULL;
     }

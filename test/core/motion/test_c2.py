@@ -141,3 +141,97 @@ def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at) -> Non
         assert path.at(t) == (knob, tip)
     assert _kernel.c2_inside(path, path.t0)[0] is path.knob.a
     assert _kernel.c2_inside(path, path.t1)[0] is path.knob.end
+
+
+def _reference_path(t0, t1, sample0, sample1, knob_slopes, turn_slopes, length_slopes):
+    """Return the slots of ``C2BatPath``'s constructor as it was in Python (written out)."""
+    from baseball_collision.core.motion import AngleCubic, PointPath
+    from baseball_collision.core.motion.c2 import axis_and_length, rotation_to
+    k0, e0, k1, e1 = sample0.knob, sample0.tip, sample1.knob, sample1.tip
+    centre = (0.25 * (k0[0] + e0[0] + k1[0] + e1[0]), 0.25 * (k0[1] + e0[1] + k1[1] + e1[1]),
+              0.25 * (k0[2] + e0[2] + k1[2] + e1[2]))
+    radius = max(math.dist(k0, centre), math.dist(e0, centre), math.dist(k1, centre),
+                 math.dist(e1, centre))
+    knob = PointPath(t0, t1, k0, k1, *knob_slopes)
+    reference, length0 = axis_and_length(sample0)
+    direction, length1 = axis_and_length(sample1)
+    closing = rotation_to(reference, direction)
+    turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
+    length = AngleCubic(t0, t1, length0, length1, *length_slopes)
+    from baseball_collision.core.toi import _kernel
+    spread = _kernel.c2_deviation(knob, turn, length, t0, t1)
+    return {'t0': t0, 't1': t1, 'h': t1 - t0, 'sample0': sample0, 'sample1': sample1,
+            'centre': centre, 'radius': radius + spread, 'knob': knob, 'turn': turn,
+            'length': length, 'reference': reference, 'lever': max(length0, length1),
+            'angle': math.sqrt(closing[0] * closing[0] + closing[1] * closing[1]
+                               + closing[2] * closing[2]), 'spread': spread}
+
+
+def _same_piece(made, reference) -> bool:
+    """Return whether two path pieces hold the same numbers (bit for bit) in every slot."""
+    for name in type(reference).__slots__:
+        if hasattr(reference, name) != hasattr(made, name):
+            return False
+        if hasattr(reference, name):
+            mine, theirs = getattr(made, name), getattr(reference, name)
+            if mine != theirs or type(mine) is not type(theirs):
+                return False
+    return True
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=7),
+       tilt=st.floats(-3.0, 3.0), k=st.integers(0, 3),
+       slopes=st.lists(st.floats(-50.0, 50.0), min_size=14, max_size=14),
+       plain=st.sampled_from(['none', 'knob', 'turn', 'length']))
+def test_the_kernel_fills_a_c2_path_as_its_python_did(steps, tilt, k, slopes, plain) -> None:
+    """
+    ``C2BatPath`` (filled by ``_kernel.c2_path_init``) is its old Python constructor, to the bit.
+
+    Every slot of the path and of its three pieces against that constructor written out, on
+    fitted windows and on arbitrary slopes (each piece also without slopes: a chord, a uniform
+    turn); the samples and stamps are the objects given; bad arguments are refused.
+    """
+    times = np.concatenate([[0.0], np.cumsum(steps)]).tolist()
+    ends = _swing(np.array(times), tilt)
+    samples = [BatSample(tuple(row[:3]), tuple(row[3:])) for row in ends.tolist()]
+    pairs = [((tuple(slopes[0:3]), tuple(slopes[3:6])) if plain != 'knob' else (None, None)),
+             ((tuple(slopes[6:9]), tuple(slopes[9:12])) if plain != 'turn' else (None, None)),
+             ((slopes[12], slopes[13]) if plain != 'length' else (None, None))]
+    from baseball_collision.core.motion.c2 import c2_rows
+    from baseball_collision.core.motion.splines import not_a_knot_slope_rows
+    first, rows = c2_rows(samples, k)
+    s0, s1 = not_a_knot_slope_rows(times[first:first + len(rows)], rows, k - first)[:2]
+    window_pairs = ((tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
+                    (s0[6], s1[6]))
+    built = C2BatPath(times[k], times[k + 1], samples[k], samples[k + 1], *pairs)
+    for path, given_pairs in ((built, pairs), (C2BatPath.fitted(times, samples, k),
+                                               window_pairs)):
+        reference = _reference_path(times[k], times[k + 1], samples[k], samples[k + 1],
+                                    *given_pairs)
+        for name, value in reference.items():
+            mine = getattr(path, name)
+            if name in ('knob', 'turn', 'length'):
+                assert _same_piece(mine, value), name
+            else:
+                assert mine == value and type(mine) is type(value), name
+    assert built.sample0 is samples[k] and built.t1 is times[k + 1]
+    assert built.knob.a is samples[k].knob and built.knob.end is samples[k + 1].knob
+    assert built.deviation(built.t0, built.t1) == built.spread
+
+
+def test_a_c2_path_refuses_what_is_not_a_path() -> None:
+    """Bad samples, slopes or times raise TypeError, not a half-filled path."""
+    import pytest
+    a, b = BatSample((0.0, 0.0, 0.0), (0.8, 0.0, 0.0)), BatSample((0.0, 0.1, 0.0), (0.8, 0.2, 0.0))
+    good = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+    with pytest.raises(TypeError):
+        C2BatPath(0.0, 0.01, a, b, good, good, (0.0,))  # length slopes not a pair
+    with pytest.raises(TypeError):
+        C2BatPath(0.0, 0.01, a, b, good, good, (0.0, 'x'))
+    with pytest.raises(TypeError):
+        C2BatPath('0', 0.01, a, b, good, good, (0.0, 0.0))
+    with pytest.raises((TypeError, AttributeError)):
+        C2BatPath(0.0, 0.01, a, (0.0, 0.0, 0.0), good, good, (0.0, 0.0))
+    with pytest.raises(TypeError):
+        C2BatPath(0.0, 0.01, a, b, ((0.0, 0.0), (0.0, 0.0, 0.0)), good, (0.0, 0.0))
