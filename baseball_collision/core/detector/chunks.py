@@ -32,6 +32,7 @@ import numpy as np
 
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
+from .intake import Offer
 from .noise import NoiseEstimate
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
@@ -237,7 +238,7 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
                           detector._scheduler.cursor, roles[i:j], stamps[i:j], values[i:j],
                           frame_ids[i:j], detector._predictor
                           if detector.config.prediction_horizon > 0.0 else None,
-                          detector._noise)
+                          detector._noise, intake.newest)
         if plan.n == 0:  # its first sample is out of order: the per-sample path says why
             _one(detector, chunk, i, events, drops)
             i += 1
@@ -265,7 +266,7 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     """
     stats = detector.stats
     predictor, last_due = detector._predictor, plan.last_due
-    pos = 0
+    pos, resets = 0, stats.resets
     while True:
         end = plan.next_stop(pos)
         # a stop for the predictor alone is taken with the run, then predicts
@@ -285,7 +286,6 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
             return plan.n
         pos = end + 1
         if not forecast:
-            resets = stats.resets
             if plan.checked[end]:
                 # it passes every check: append it as planned, walk as add would
                 start = time.perf_counter()
@@ -298,10 +298,34 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
             if stats.resets != resets or stats.last_drop_reason is not None or \
                     stats.late_drops or not plan.held(
                         end, detector._ball, detector._bat, detector._scheduler.cursor):
-                return pos
+                return _overturned(detector, plan, chunk, i, pos, resets)
         if last_due is not None and (predictor.last_ns != last_due[pos] or (
                 predictor.predicting and not _clears(plan, end))):
-            return pos
+            return _overturned(detector, plan, chunk, i, pos, resets)
+
+
+def _overturned(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int, pos: int,
+                resets: int) -> int:
+    """
+    Return pos: the plan's samples taken before an overturn; leave its held samples waiting.
+
+    A held sample before pos whose taker is not (``Plan.holds``) waits in the intake, as the
+    per-sample path left it (its values checked as ``add`` checks them, counted as received),
+    unless the detector was reset since the plan began (which forgot it).
+    """
+    if detector.stats.resets == resets:
+        roles, stamps, values, frame_ids = chunk
+        for x, y in plan.holds:
+            if x < pos <= y:
+                role = detector.ROLES[roles[i + x]]
+                row = values[i + x, :7 if role == Role.BAT_POSE else 3].tolist()
+                check = (detector._check_point if role is Role.BALL  # (pose input: planned)
+                         else detector._check_pose_values)
+                frame = frame_ids[i + x]
+                detector._intake.held[role] = Offer(role, int(stamps[i + x]), check(role, row),
+                                                    frame if frame is not None else '')
+                detector.stats.received[role] += 1
+    return pos
 
 
 def _clears(plan: Plan, j: int) -> bool:

@@ -11,7 +11,8 @@ arrays: bounding spheres and hulls of the raw samples), then where it does not, 
 and how each step trims the streams. Every other sample (a drop, a held or voted one, one
 that makes a near interval decidable) is a *stop*. A stream's first sample after a gap is
 planned as the intake takes it: held until the stream's next sample, which takes both (a
-pause between pitches does not end a plan).
+pause between pitches does not end a plan); without prediction neither is a stop (the
+fast-forward that takes the second appends both, the first starting a segment).
 
 With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
 ``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
@@ -84,6 +85,9 @@ class Plan:
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
     :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
+    :ivar breaks: per stream, which of them starts a segment (bool arrays, as ``times``): a
+        held sample taken with the one that takes it (``holds``), none of the others taken.
+    :ivar holds: (held sample, the sample that takes it), both in the plan and taken as planned.
     :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
         position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
@@ -102,7 +106,8 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'values', 'pre', 'last_due', 'due', 'forecasts', 'newest', 'steps')
+                 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due', 'forecasts',
+                 'newest', 'steps')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -182,7 +187,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
                frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
                roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
                frames: Sequence[str], predictor: Optional['Predictor'] = None,
-               noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None) -> Plan:
+               noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None,
+               newest: Optional[int] = None) -> Plan:
     """
     Plan a chunk (see the module): which samples are stops, where the walk goes after each.
 
@@ -194,6 +200,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     :param predictor: the detector's, when prediction is on (``prediction_horizon`` > 0).
     :param noise: the detector's noise estimators under ``tracker_noise`` auto (``c2``'s far
         test bounds what they may say by then: ``_hull_reaches``).
+    :param newest: the intake's newest stamp taken (ns; ``Intake.newest``, which a sample
+        after a gap must pass to be held; None: the streams' newest).
     """
     # the plan ends before the first sample not after its stream's last (dropped, held or a
     # jump back: nothing after it can be planned until it is settled)
@@ -204,15 +212,25 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     # the plan ends at its first sample that fails a check (the per-sample path will most
     # likely drop it, hold it or break its stream there, and what follows be planned again),
     # except a stream's first sample after a gap, held until its next takes it
-    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], ball, bat)
+    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], max(
+        ball.stamps[-1], bat.stamps[-1]) if newest is None else newest)
     if end < n:
         n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
         arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
     plan = Plan()
     plan.n, plan.pre = n, arrays.pre
-    for x, y in held:  # both go through the per-sample path
-        ok[y if y < n else x] = False
+    # a held sample and the one that takes it are taken as planned (the run that takes the
+    # second appends both, the first starting a segment: ``Plan.breaks``); with prediction on
+    # (whose turn sums restart there) or when the second is past the plan's end, through the
+    # per-sample path
+    through = predictor is None
+    plan.holds = [(x, y) for x, y in held if y < n] if through else []
+    for x, y in held:
+        if through and y < n:
+            ok[x] = True
+        else:
+            ok[y if y < n else x] = False
     done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
     starts = plan.union[:int(plan.visited[-1]) - 1] if n else plan.union[:0]
     far = _far_intervals(config, offsets, arrays, starts, _hull_reaches(
@@ -231,7 +249,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan.checked = items(ok)
     plan.counts = [items(counts) for counts in plan.counts]
     plan.visited, plan.union = items(plan.visited), items(plan.union)
-    plan.times, plan.stamps = arrays.times, arrays.stamps
+    plan.times, plan.stamps, plan.breaks = arrays.times, arrays.stamps, arrays.breaks
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
     return plan
@@ -518,15 +536,15 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
 
 
 def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
-               stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[int, List[Tuple[int, int]]]:
+               stamps: np.ndarray, newest: int) -> Tuple[int, List[Tuple[int, int]]]:
     """
     Return where a plan ends, and its held samples with the sample that takes each.
 
     A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
-    as new; its stream's next sample takes it, then itself. The plan follows that (both go
-    through the per-sample path); it ends after its first sample that fails a check
-    otherwise, or whose next does. A wrong guess costs a plan: ``Plan.held`` compares the
-    state after each such sample with the plan's.
+    as new (``newest``, ns: the intake's newest before the chunk, then the samples taken); its
+    stream's next sample takes it, then itself. The plan follows that (``plan_chunk``: taken
+    as planned, or through the per-sample path); it ends after its first sample that fails a
+    check otherwise, or whose next does.
     """
     n = len(ok)
     failing = np.flatnonzero(~ok).tolist()
@@ -536,7 +554,6 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
     for mine in (is_ball, is_bat):
         own = np.flatnonzero(mine)
         following[own[:-1]] = own[1:]
-    newest = max(ball.stamps[-1], bat.stamps[-1])
     held: List[Tuple[int, int]] = []
     # the newest stamp of the samples before x that do not wait, kept as x goes on: only the
     # last held sample (where the scan stopped) waits among those not yet scanned

@@ -5067,6 +5067,7 @@ static const char *ff_attributes[FF_NAMES] = {
     "counts", "pre",   "starts",      "times",    "stamps",      "values", "breaks",
     "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update"};
 static PyObject *ff_names[FF_NAMES];
+static PyObject *zero_turn; /* (0.0, 0.0, 0.0, 0.0): a segment's first cumulative turn */
 
 /* item i of a sequence of ints (a plan's list or memoryview) as an index; false with an error */
 static bool index_at(PyObject *sequence, Py_ssize_t i, Py_ssize_t *out)
@@ -5147,10 +5148,12 @@ static PyObject *newest_four(PyObject *list)
 /*
  * The noise estimator of stream s takes a run's samples a .. b - 1 before they are appended
  * (NoiseEstimate.take_points, with the stream's newest four samples: their stamps, points or
- * poses' positions, and breaks); the stream's estimate becomes its answer.
+ * poses' positions, and breaks; none with `fresh`: sample a starts a segment); the stream's
+ * estimate becomes its answer.
  */
 static bool take_run_noise(PyObject *estimator, PyObject *stream, PyObject *plan, int s,
-                           Py_ssize_t a, Py_ssize_t b, Py_ssize_t pre, PyObject *lists[3])
+                           Py_ssize_t a, Py_ssize_t b, Py_ssize_t pre, PyObject *lists[3],
+                           bool fresh)
 {
   PyObject *values = stream_item(plan, FF_VALUES, s);
   PyObject *positions = values == NULL || s == 0 ? values : PySequence_GetItem(values, 2);
@@ -5158,8 +5161,9 @@ static bool take_run_noise(PyObject *estimator, PyObject *stream, PyObject *plan
     Py_XDECREF(values);
   }
   PyObject *times = stream_item(plan, FF_TIMES, s);
-  PyObject *old_times = newest_four(lists[0]), *old_values = newest_four(lists[1]);
-  PyObject *old_breaks = newest_four(lists[2]);
+  PyObject *old_times = fresh ? PyList_New(0) : newest_four(lists[0]);
+  PyObject *old_values = fresh ? PyList_New(0) : newest_four(lists[1]);
+  PyObject *old_breaks = fresh ? PyList_New(0) : newest_four(lists[2]);
   PyObject *old_points = NULL, *run_times = NULL, *run_points = NULL, *result = NULL;
   if (positions == NULL || times == NULL || old_times == NULL || old_values == NULL ||
       old_breaks == NULL) {
@@ -5215,7 +5219,9 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
   static const int list_names[LISTS] = {FF_TIMES, FF_VALUES, FF_BREAKS, FF_STAMPS, FF_TURNS};
   PyObject *lists[LISTS] = {NULL, NULL, NULL, NULL, NULL};
   PyObject *counts = NULL, *starts = NULL, *pre_object = NULL, *estimator = NULL;
-  bool ok = false;
+  PyObject *flags_object = NULL;
+  Py_buffer flags_view;
+  bool flags_held = false, ok = false;
   for (int i = 0; i < LISTS; i++) {
     lists[i] = PyObject_GetAttr(stream, ff_names[list_names[i]]);
     if (lists[i] == NULL) {
@@ -5244,11 +5250,36 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
     /* one sample appended: the estimator takes it after the append (update); else the run's
      * samples at once before it (take_points) */
     bool single = noise != Py_None && b - a == 1 && c == a;
+    /* where a sample starts a segment (the plan's breaks: a held first sample after a gap,
+     * taken with the sample that takes it) */
+    flags_object = stream_item(plan, FF_BREAKS, s);
+    if (flags_object == NULL ||
+        PyObject_GetBuffer(flags_object, &flags_view, PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+      goto done;
+    }
+    flags_held = true;
+    if (flags_view.itemsize != 1 || flags_view.format == NULL ||
+        strcmp(flags_view.format, "?") != 0 || flags_view.len < b) {
+      PyErr_SetString(PyExc_ValueError, "fast_forward_streams: a plan's breaks must be bool "
+                                        "arrays holding the samples taken");
+      goto done;
+    }
+    const bool *flags = (const bool *)flags_view.buf;
     if (noise != Py_None) {
       estimator = PySequence_GetItem(noise, s);
-      if (estimator == NULL ||
-          (!single && !take_run_noise(estimator, stream, plan, s, a, b, pre, lists))) {
+      if (estimator == NULL) {
         goto done;
+      }
+      /* the run in parts, each from a segment's start (or the run's) to the next's */
+      for (Py_ssize_t part = a; !single && part < b;) {
+        Py_ssize_t next = part + 1;
+        while (next < b && !flags[next]) {
+          next++;
+        }
+        if (!take_run_noise(estimator, stream, plan, s, part, next, pre, lists, flags[part])) {
+          goto done;
+        }
+        part = next;
       }
     }
     PyObject *times = stream_item(plan, FF_TIMES, s);
@@ -5256,8 +5287,10 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
     Py_XDECREF(times);
     PyObject *stamps = appended ? stream_item(plan, FF_STAMPS, s) : NULL;
     long long stamp = 0;
-    appended = stamps != NULL && append_numbers(lists[STAMPS], stamps, c, b, true, &stamp) &&
-               append_repeated(lists[BREAKS], Py_False, b - c);
+    appended = stamps != NULL && append_numbers(lists[STAMPS], stamps, c, b, true, &stamp);
+    for (Py_ssize_t i = c; appended && i < b; i++) {
+      appended = PyList_Append(lists[BREAKS], flags[i] ? Py_True : Py_False) == 0;
+    }
     PyObject *values = appended ? stream_item(plan, FF_VALUES, s) : NULL;
     PyObject *made = NULL;
     if (values != NULL && s == 1) {
@@ -5268,8 +5301,11 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
         made = bat_sample_list(sample_class, PySequence_Fast_ITEMS(arrays), c - pre, b - pre);
       }
       Py_XDECREF(arrays);
-      appended = made != NULL && append_all(lists[VALUES], made) &&
-                 append_repeated(lists[TURNS], Py_None, b - c);
+      appended = made != NULL && append_all(lists[VALUES], made);
+      for (Py_ssize_t i = c; appended && i < b; i++) { /* (Stream.append's: a segment's first
+                                                        * turn is zero) */
+        appended = PyList_Append(lists[TURNS], flags[i] ? zero_turn : Py_None) == 0;
+      }
     } else if (values != NULL) {
       Py_buffer view;
       Py_ssize_t count;
@@ -5345,6 +5381,10 @@ done:
   Py_XDECREF(starts);
   Py_XDECREF(pre_object);
   Py_XDECREF(estimator);
+  if (flags_held) {
+    PyBuffer_Release(&flags_view);
+  }
+  Py_XDECREF(flags_object);
   return ok;
 }
 
@@ -5354,9 +5394,11 @@ done:
  * The streams' part of core.detector.chunks.fast_forward, ball then bat, each as its Python
  * did: the run's samples a .. b - 1 of the plan (b from sample end with `stop`) appended as
  * the streams' lists (stamps as ints, times as floats, ball points as tuples, bat samples
- * made as bat_samples makes them: those the run's trim keeps), the noise estimate taken
- * (`noise`: the two NoiseEstimate objects, or None), speed_drops 0, then the trim (`walk`:
- * to the plan's start after the run) of every list and of `aligned`'s, path_key None.
+ * made as bat_samples makes them: those the run's trim keeps; a sample's break the plan's
+ * `breaks`, a bat's turn zero where it breaks, else None), the noise estimate taken (`noise`:
+ * the two NoiseEstimate objects, or None; a segment started in the run taken from its start),
+ * speed_drops 0, then the trim (`walk`: to the plan's start after the run) of every list and
+ * of `aligned`'s, path_key None.
  */
 static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -7468,6 +7510,12 @@ PyMODINIT_FUNC PyInit__kernel(void)
       Py_DECREF(m);
       return NULL;
     }
+  }
+  double zeros[4] = {0.0, 0.0, 0.0, 0.0};
+  zero_turn = float_tuple(zeros, 4);
+  if (zero_turn == NULL) {
+    Py_DECREF(m);
+    return NULL;
   }
   for (int i = 0; i < C2_OWN_NAMES; i++) {
     c2_own_names[i] = PyUnicode_InternFromString(c2_own_attributes[i]);

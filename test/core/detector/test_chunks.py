@@ -371,6 +371,85 @@ def test_plans_run_across_pauses_between_pitches(model: str,
     assert len(planned) < len(heights)
 
 
+def _paused(heights: Sequence[float]) -> List[Row]:
+    """Return a session tracked only in the first 0.5 s of every 0.6 s (a pause per pitch)."""
+    return [row for row in session(heights, spacing=0.6)
+            if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
+
+
+def _restarts(rows: Sequence[Row]) -> List[int]:
+    """Return the indices of each stream's first two samples after a pause (held, taker)."""
+    found: List[int] = []
+    previous: dict = {}
+    pending: set = set()
+    for i, (role, stamp, _, _) in enumerate(rows):
+        if role in pending:
+            found.append(i)
+            pending.discard(role)
+        elif role in previous and stamp - previous[role] > 50_000_000:
+            found.append(i)
+            pending.add(role)
+        previous[role] = stamp
+    return found
+
+
+@pytest.mark.parametrize('model', ['spline', 'c2'])
+def test_samples_after_a_pause_are_fast_forwarded(model: str,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A stream's held first sample after a pause and the one that takes it skip ``add``.
+
+    The run that takes the second appends both, the first starting a segment (its turn zero,
+    its stream's noise taken from it): the same events, drops, counters and streams as one at
+    a time, and none of those samples through the per-sample path (all of them were before).
+    """
+    through = []
+    original = chunks_module._one
+
+    def counting(detector, chunk, k, events, drops):  # type: ignore[no-untyped-def]
+        through.append(int(chunk[1][k]))
+        return original(detector, chunk, k, events, drops)
+    monkeypatch.setattr(chunks_module, '_one', counting)
+    rows = _paused((1.0, 1.3, 0.95, 1.1))
+    restarts = {rows[i][1] for i in _restarts(rows)}
+    assert len(restarts) >= 12  # (two streams, two samples each, three pauses)
+    config = DetectorConfig(model=model, bat_input='pose', look_ahead=2 if model == 'c2' else 0,
+                            tracker_noise=-1.0 if model == 'c2' else 0.0)
+    events = assert_same(config, rows, (8192,))
+    assert any(isinstance(e, Impact) for e in events)
+    assert not restarts & set(through)
+
+
+def test_a_plan_overturned_between_a_held_sample_and_its_taker_leaves_it_waiting(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A plan that ends between a held sample and the one that takes it leaves the first waiting.
+
+    Each plan is made to stop at the sample after a held one and to find the state there not
+    the planned one (as a misjudged plan would): the held sample then waits in the intake as
+    ``add`` left it, and what follows goes one at a time: the same as one at a time.
+    """
+    forced = []
+    original_plan, original_held = chunks_module.plan_chunk, plans_module.Plan.held
+
+    def stopping(*args, **kwargs):  # type: ignore[no-untyped-def]
+        plan = original_plan(*args, **kwargs)
+        inside = [x + 1 for x, y in plan.holds if y > x + 1]
+        plan.stops = sorted(set(plan.stops) | set(inside))
+        return plan
+
+    def misjudged(plan, j, ball, bat, cursor):  # type: ignore[no-untyped-def]
+        if any(x + 1 == j < y for x, y in plan.holds):
+            forced.append(j)
+            return False
+        return original_held(plan, j, ball, bat, cursor)
+    monkeypatch.setattr(chunks_module, 'plan_chunk', stopping)
+    monkeypatch.setattr(plans_module.Plan, 'held', misjudged)
+    assert_same(DetectorConfig(model='c2', bat_input='pose', look_ahead=2, tracker_noise=-1.0),
+                _paused((1.0, 1.3, 0.95)), (8192,))
+    assert forced
+
+
 @settings(max_examples=examples(6), deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(look_ahead=st.integers(0, 2), window=st.integers(4, 12),
@@ -721,8 +800,9 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
 
     Its taking samples as ``add`` does is the module's contract, tested above; here a run that
     is empty or reversed, missing arguments, a plan without its lists, stamps that are not
-    int64 and streams whose samples are not lists are each an exception, the streams left
-    as they were where the check comes first.
+    int64, breaks that are not bool and streams whose samples are not lists are each an
+    exception, the streams left as they were where the check comes first; a sample the plan
+    says starts a segment is appended as one (its bat turn zero).
     """
     from baseball_collision.core.toi import _kernel
 
@@ -735,6 +815,7 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
         starts = ([0, 0], [0, 0])
         times = (np.array([0.0, 0.01]), np.array([0.0]))
         stamps = (np.array([0, 10_000_000], np.int64), np.array([0], np.int64))
+        breaks = (np.zeros(2, bool), np.zeros(1, bool))
         values = (np.zeros((2, 3)), (np.zeros((1, 3)),) * 3 + (np.array([[0.0, 0, 0, 1]]),))
 
     ball, bat = Stream('ball'), Stream('bat')
@@ -758,6 +839,16 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
     with pytest.raises(ValueError):
         _kernel.fast_forward_streams(plan, 0, 1, fresh, Stream('bat'), True, False, None,
                                      BatSample)
+    flagged = Planned()
+    flagged.breaks = (np.zeros(2, np.int8), flagged.breaks[1])  # (not bool)
+    with pytest.raises(ValueError):
+        _kernel.fast_forward_streams(flagged, 0, 1, Stream('ball'), Stream('bat'), True, False,
+                                     None, BatSample)
+    flagged.breaks = (np.array([True, True]), np.array([True]))  # each sample starts a segment
+    broken = (Stream('ball'), Stream('bat'))
+    _kernel.fast_forward_streams(flagged, 0, 2, *broken, True, False, None, BatSample)
+    assert broken[0].breaks == [True] and broken[1].breaks == [True]
+    assert broken[1].turns == [(0.0, 0.0, 0.0, 0.0)]
     tupled = Stream('ball')
     tupled.times = ()  # type: ignore[assignment]
     with pytest.raises(TypeError):
