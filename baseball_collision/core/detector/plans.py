@@ -222,8 +222,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan.n, plan.pre = n, arrays.pre
     # a held sample and the one that takes it are taken as planned (the run that takes the
     # second appends both, the first starting a segment: ``Plan.breaks``); with prediction on
-    # (whose turn sums restart there) or when the second is past the plan's end, through the
-    # per-sample path
+    # (whose turn sums restart there), when the second is past the plan's end or a stop
+    # (below), through the per-sample path
     through = predictor is None
     plan.holds = [(x, y) for x, y in held if y < n] if through else []
     for x, y in held:
@@ -238,6 +238,15 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
+    if plan.holds:
+        # a taker that stops walks and trims once for its held sample's step and its own, the
+        # per-sample path twice (a trim leaves a short stream alone): both through it
+        stopped = [(x, y) for x, y in plan.holds if stops[y]]
+        for x, y in stopped:
+            ok[x] = ok[y] = False
+            stops[x] = stops[y] = True
+        if stopped:
+            plan.holds = [hold for hold in plan.holds if not stops[hold[1]]]
     plan.last_due = plan.due = plan.forecasts = plan.newest = plan.steps = None
     if predictor is not None and n:
         forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
