@@ -7122,9 +7122,11 @@ done:
  * order checks of a stream's samples after its pre kept ones, each against the sample before
  * as if every sample before it were accepted. ok: its step (ns) is positive, at most the
  * reset (limits[0], ns), under limits[1] (the hold factor) times (1 - limits[4]) times each of
- * the two steps before; its time step at most max_gap (limits[2], s) times (1 - limits[4]);
- * each of its points (first, second: rows x 3, second None for one) moved less than max_speed
- * (limits[3], m/s) times its time step times (1 - limits[4]). gap: its step is positive, at
+ * the two steps before or (from the fifth sample on) times the median of the (up to) eight
+ * steps before (gate.hold_ahead's upper median); its time step at most max_gap (limits[2], s)
+ * times (1 - limits[4]); each of its points (first, second: rows x 3, second None for one)
+ * moved less than max_speed (limits[3], m/s) times its time step times (1 - limits[4]).
+ * gap: its step is positive, at
  * most the reset times (1 - limits[4]), its time step over max_gap times (1 + limits[4]) and
  * its step over the hold factor times (1 + limits[4]) times the step before. stamps: rows
  * int64; times: rows float64 (s); ok, gap: rows - pre bools, written. ValueError: other
@@ -7197,8 +7199,21 @@ static PyObject *py_order_checks(PyObject *self, PyObject *const *args, Py_ssize
     double step1 = (double)wrapped_difference(s[k - 1], s[k - 2]);
     double step2 = (double)wrapped_difference(s[k - 2], s[k - 3]);
     double dt = t[k] - t[k - 1];
-    bool passes = step > 0 && step <= reset && step < factor * step1 && step < factor * step2 &&
-                  dt <= max_gap * (1.0 - slack);
+    bool unheld = step < factor * step1 && step < factor * step2;
+    if (!unheld && k >= 4) { /* gate.hold_ahead's own rule then: the median of the last eight */
+      double recent[8];
+      int count = 0;
+      for (Py_ssize_t i = k - 1; i >= 1 && i >= k - 8; i--) {
+        double value = (double)wrapped_difference(s[i], s[i - 1]);
+        int j = count++;
+        for (; j > 0 && recent[j - 1] > value; j--) { /* (kept sorted as they come) */
+          recent[j] = recent[j - 1];
+        }
+        recent[j] = value;
+      }
+      unheld = step < factor * recent[count / 2];
+    }
+    bool passes = step > 0 && step <= reset && unheld && dt <= max_gap * (1.0 - slack);
     double bound = max_speed * dt * (1.0 - slack);
     for (int p = 0; p < 2 && passes; p++) {
       if (points[p] != NULL) {

@@ -211,7 +211,8 @@ def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[f
     ``_order_checks`` (the kernel's): the stamp, gap and speed bounds in numpy, sample by sample.
 
     Steps on the bounds' edges (the hold factor, ``max_gap``, the reset), back and repeated
-    stamps, points moving near the speed bound.
+    stamps, points moving near the speed bound; a step past the two before judged by the
+    median of the last eight, as ``gate.hold_ahead`` judges it.
     """
     config = DetectorConfig()
     stamps = np.cumsum(np.array([10 ** 9] + steps, dtype=np.int64))
@@ -228,8 +229,13 @@ def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[f
     dt = times[pre:] - times[pre - 1:-1]
     speed = config.max_speed * dt * (1.0 - SLACK)
     moved = np.linalg.norm(first[pre:] - first[pre - 1:-1], axis=1)
-    expected = ((step > 0) & (step <= reset) & (step < HOLD_FACTOR * (1.0 - SLACK) * step1)
-                & (step < HOLD_FACTOR * (1.0 - SLACK) * step2)
+    factor = HOLD_FACTOR * (1.0 - SLACK)
+    unheld = (step < factor * step1) & (step < factor * step2)
+    for i, k in enumerate(range(pre, m)):  # else from the fifth sample: the last eight's median
+        if not unheld[i] and k >= 4:
+            recent = stamps[max(0, k - 9):k]
+            unheld[i] = step[i] < factor * sorted(np.diff(recent).tolist())[(len(recent) - 1) // 2]
+    expected = ((step > 0) & (step <= reset) & unheld
                 & (dt <= config.max_gap * (1.0 - SLACK)) & (moved < speed))
     if two:
         expected &= np.linalg.norm(second[pre:] - second[pre - 1:-1], axis=1) < speed
@@ -237,6 +243,28 @@ def test_order_checks_are_the_bounds_written_out(steps: List[int], moves: List[f
     assert gap.tolist() == ((step > 0) & (step <= reset * (1.0 - SLACK))
                             & (dt > config.max_gap * (1.0 + SLACK))
                             & (step > HOLD_FACTOR * (1.0 + SLACK) * step1)).tolist()
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(steps=st.lists(st.integers(1, 6), min_size=4, max_size=30), pre=st.integers(3, 9))
+def test_a_sample_the_order_checks_pass_is_not_held(steps: List[int], pre: int) -> None:
+    """
+    A sample ``_order_checks`` passes is one ``gate.hold_ahead`` takes at once (not held).
+
+    Jittered clocks on a millisecond grid (steps of 1-6 ms, so a long step after a short one
+    is common): every sample passed is not held by the intake's own rule.
+    """
+    from baseball_collision.core.detector.gate import hold_ahead
+    config = DetectorConfig()
+    stamps = np.cumsum(np.array([10 ** 9] + [step * 1_000_000 for step in steps], np.int64))
+    if len(stamps) <= pre:
+        return
+    times = (stamps - stamps[0]) * 1e-9
+    ok, _ = _order_checks(config, stamps, times, (np.zeros((len(stamps), 3)), None), pre)
+    reset = round(config.time_jump_reset * 1e9)
+    for k in range(pre, len(stamps)):
+        if ok[k - pre]:
+            assert not hold_ahead(stamps[:k].tolist(), int(stamps[k]), reset), k
 
 
 @settings(max_examples=examples(200), deadline=None)
