@@ -12,7 +12,7 @@ contact while armed is an ``Impact``; every sub-step without one feeds the near-
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
-from .broadphase import c2_path_apart, clearly_apart
+from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
@@ -22,7 +22,7 @@ from .gate import Clock
 from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
-from ..motion import BatPath, PointPath, substeps_for
+from ..motion import BatPath, C2BatPath, PointPath, substeps_for
 from ..toi import closest_offset, ImpactResult, profile_contact, profile_gap
 
 Paths = Tuple[PointPath, BatPath]
@@ -35,6 +35,9 @@ continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
 0.02 mm): about 5 chords a sub-step, only at impacts (``Sweep._refined``)."""
+
+ZONE_STEPS = 16
+"""Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
 
 class Sweep:
@@ -84,6 +87,10 @@ class Sweep:
                     config.spline_window, bat_noise)):
             self.episodes.far(events)
             return
+        if (bat_noise > 0.0 and self.model == 'c2' and self.episodes.episode is None
+                and self._outside_zone(located, ta, tb, bat_noise)):
+            self.episodes.far(events)  # (what the sweep's sub-steps would come to: see there)
+            return
         paths = self.paths(*located)
         ball_path, bat_path = paths
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
@@ -115,6 +122,50 @@ class Sweep:
                              earlier):
                 return
             earlier, previous, gap_previous = previous, state, gap
+
+    def _outside_zone(self, located: Tuple[int, int], ta: float, tb: float,
+                      bat_noise: float) -> bool:
+        """
+        Return whether the ball stays beyond the near-miss and re-arm distances over [ta, tb].
+
+        Under noise, before the bat's window is smoothed (the costly part of an interval near
+        the bat), on the bat's ``c2`` spline through its window's raw samples, which the
+        smoothed path leaves by at most ``NOISE_REACH`` times the bat's noise (the far test's
+        bound), and the ball's own path: in at least ``ZONE_STEPS`` sub-steps, each within
+        ``max_chord_error`` of its chords, the gap at every point of one is at least the mean
+        of its ends' less half of how far the ball and the farther bat end moved (the gap is
+        1-Lipschitz in each). When even that clears both distances by the bounds, the sweep's
+        own sub-steps would find no contact and only gaps beyond them: with no near miss open,
+        the same as ``EpisodeTracker.far`` (armed, the zone cleared). False as soon as a gap
+        comes closer.
+        """
+        config = self.config
+        floor = (max(config.near_miss_threshold, config.rearm_distance)
+                 + NOISE_REACH * bat_noise + config.max_chord_error)
+        ball_k, bat_k = located
+        bat = self.bat
+        ball_path = self._kept_ball_path(ball_k)
+        window = c2_window(bat, bat_k, config.max_gap, config.look_ahead, config.spline_window)
+        raw = C2BatPath.fitted(bat.times[window.start:window.stop],
+                               bat.values[window.start:window.stop], bat_k - window.start)
+        n = max(substeps_for(ball_path.deviation(ta, tb) + raw.deviation(ta, tb),
+                             config.max_chord_error), ZONE_STEPS)
+        radius, profile = config.ball_radius, config.profile
+        before = None
+        for j in range(n + 1):
+            t = tb if j == n else ta + (tb - ta) * j / n
+            ball = ball_path.at(t)
+            knob, tip = raw.at(t)
+            gap = profile_gap(ball, knob, tip, radius, profile)[0]
+            if not gap > floor:
+                return False
+            if before is not None:
+                moved = math.dist(ball, before[0]) + max(math.dist(knob, before[1]),
+                                                         math.dist(tip, before[2]))
+                if not 0.5 * (gap + before[3] - moved) > floor:
+                    return False
+            before = (ball, knob, tip, gap)
+        return True
 
     @staticmethod
     def _state_at(t: float, paths: Paths) -> State:

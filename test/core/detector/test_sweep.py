@@ -60,3 +60,72 @@ def test_an_impact_is_the_first_contact_of_the_paths(model: str,
             errors[factor].append(abs(detector._clock.time(impact.stamp_ns) - truth))
     assert max(errors[refined]) < 3e-7 and max(errors[1.0]) > 1e-6, errors
     assert max(errors[refined]) < 0.1 * max(errors[1.0]), errors
+
+
+def _noisy_pitches(seeds, rate: float = 360.0, noise_m: float = 1e-3):  # type: ignore
+    """Return (scenario, samples) of simulated pitches of every kind under tracking noise."""
+    from baseball_collision.tools.sim import CLOSE_KINDS, KINDS
+    kinds = KINDS + CLOSE_KINDS
+    for seed in seeds:
+        kind = kinds[seed % len(kinds)]
+        scenario = make_scenario(kind, np.random.default_rng(seed), family='tilted')
+        yield scenario, sample(scenario, rate, np.random.default_rng(seed), jitter_s=2e-4,
+                               grid_s=1e-3, noise_m=noise_m, marker_spread_m=0.3)
+
+
+def test_an_interval_outside_the_zone_stays_outside_on_the_smoothed_paths(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Where ``_outside_zone`` clears an interval, the smoothed paths stay beyond both distances.
+
+    Under 1 mm of noise (auto), every interval it clears, its paths as the sweep would have
+    smoothed them, the gap at 400 instants: over the near-miss threshold and the re-arm
+    distance. It clears many (the point of it), and never one with a near miss open.
+    """
+    cleared: List[Tuple[Detector, Tuple[int, int], float, float]] = []
+    original = sweep.Sweep._outside_zone
+
+    def watching(self, located, ta, tb, bat_noise):  # type: ignore[no-untyped-def]
+        assert self.episodes.episode is None
+        found = original(self, located, ta, tb, bat_noise)
+        if found:
+            paths = self.paths(*located)  # (the smoothed paths, as the sweep builds them)
+            config = self.config
+            for t in np.linspace(ta, tb, 400):
+                knob, tip = paths[1].at(float(t))
+                gap = profile_gap(paths[0].at(float(t)), knob, tip, config.ball_radius,
+                                  config.profile)[0]
+                assert gap > max(config.near_miss_threshold, config.rearm_distance), (t, gap)
+            cleared.append((ta, tb))
+        return found
+    monkeypatch.setattr(sweep.Sweep, '_outside_zone', watching)
+    config = DetectorConfig(bat_input='points', model='c2', look_ahead=2, tracker_noise=-1.0)
+    for _, samples in _noisy_pitches(range(12)):
+        detect(config, samples)
+    assert len(cleared) > 50
+
+
+@pytest.mark.parametrize('noise_m', [2e-4, 1e-3, 3e-3])
+def test_clearing_the_zone_changes_no_event(noise_m: float,
+                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    The intervals ``_outside_zone`` clears come to what their sweep would have: every event.
+
+    The same pitches (hits, grazes, near misses, clear misses) under noise, with and without
+    it: the same impacts, near misses and gaps, to the last bit, uncertainties included.
+    """
+    config = DetectorConfig(bat_input='points', model='c2', look_ahead=2, tracker_noise=-1.0)
+    runs = {}
+    for shortcut in (True, False):
+        if not shortcut:
+            monkeypatch.setattr(sweep.Sweep, '_outside_zone', lambda *args: False)
+        events = []
+        for _, samples in _noisy_pitches(range(20, 30), noise_m=noise_m):
+            detector = Detector(config)
+            for stamp, role, values in samples.messages(config.bat_input):
+                events += detector.add(role, stamp, values)
+            events += detector.finish()
+        runs[shortcut] = [repr(event) for event in events]
+    assert runs[True] == runs[False]
+    assert any('Impact(' in event for event in runs[True])
+    assert any('NearMiss(' in event for event in runs[True])
