@@ -3,10 +3,12 @@ One union interval, swept: from the streams' samples to exact solves, impacts an
 
 For each interval between consecutive union times the sweep locates both streams' sample
 intervals (a ``StreamGap`` where one spans more than ``max_gap``: not interpolated), then tries
-ever finer far tests: the raw samples (``broadphase``), the motion paths' bounding spheres, the
-chords' closest approach. An interval that may come close is cut into sub-steps small enough
-for the chord error bound and each is solved exactly (``toi.profile_contact``). The first
-contact while armed is an ``Impact``; every sub-step without one feeds the near-miss episodes.
+ever finer far tests: the raw samples (``broadphase``), under noise the near-miss zone on the
+bat's raw spline before its window is smoothed (``Sweep._outside_zone``), the motion paths'
+bounding spheres, the chords' closest approach. An interval that may come close is cut into
+sub-steps small enough for the chord error bound and each is solved exactly
+(``toi.profile_contact``). The first contact while armed is an ``Impact``; every sub-step
+without one feeds the near-miss episodes.
 """
 
 import math
