@@ -2582,7 +2582,7 @@ enum {
   PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
   PIECE_ACCEL_RATE, PIECE_CURVED, PIECE_NAMES
 };
-static const char *piece_attributes[PIECE_NAMES] = {
+static const char *const piece_attributes[PIECE_NAMES] = {
     "t0", "t1", "h", "a", "end", "b", "c", "d", "accel0", "accel_rate", "curved"};
 static PyObject *piece_names[PIECE_NAMES];
 static volatile double squared_power = 2.0; /* pow(x, 2): Python's x ** 2 (libm's pow, which
@@ -4437,8 +4437,8 @@ static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize
 
 /* a c2 bat path's own attributes c2_path_init sets (interned at import) */
 enum { C2_SAMPLE0, C2_SAMPLE1, C2_ANGLE, C2_LEVER, C2_SPREAD, C2_OWN_NAMES };
-static const char *c2_own_attributes[C2_OWN_NAMES] = {"sample0", "sample1", "angle", "lever",
-                                                      "spread"};
+static const char *const c2_own_attributes[C2_OWN_NAMES] = {"sample0", "sample1", "angle",
+                                                            "lever", "spread"};
 static PyObject *c2_own_names[C2_OWN_NAMES];
 
 /* a new instance of a Python class with __slots__, its __init__ not called; NULL with an error */
@@ -5063,7 +5063,7 @@ enum {
   FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
   FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_TAKE_POINTS, FF_UPDATE, FF_NAMES
 };
-static const char *ff_attributes[FF_NAMES] = {
+static const char *const ff_attributes[FF_NAMES] = {
     "counts", "pre",   "starts",      "times",    "stamps",      "values", "breaks",
     "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update"};
 static PyObject *ff_names[FF_NAMES];
@@ -7477,6 +7477,18 @@ static struct PyModuleDef module = {
     .m_methods = methods,
 };
 
+/* interns each of count attribute names into names; false with an exception */
+static bool intern_names(PyObject **names, const char *const *attributes, int count)
+{
+  for (int i = 0; i < count; i++) {
+    names[i] = PyUnicode_InternFromString(attributes[i]);
+    if (names[i] == NULL) {
+      return false;
+    }
+  }
+  return true;
+}
+
 PyMODINIT_FUNC PyInit__kernel(void)
 {
   PyObject *m = PyModule_Create(&module);
@@ -7498,53 +7510,19 @@ PyMODINIT_FUNC PyInit__kernel(void)
   tip_name = PyUnicode_InternFromString("tip");
   quaternion_name = PyUnicode_InternFromString("quaternion");
   position_name = PyUnicode_InternFromString("position");
-  static const char *path_attributes[3] = {"centre", "radius", "bulge"};
-  for (int i = 0; i < 3; i++) {
-    path_names[i] = PyUnicode_InternFromString(path_attributes[i]);
-    if (path_names[i] == NULL) {
-      Py_DECREF(m);
-      return NULL;
-    }
-  }
-  for (int i = 0; i < PIECE_NAMES; i++) {
-    piece_names[i] = PyUnicode_InternFromString(piece_attributes[i]);
-    if (piece_names[i] == NULL) {
-      Py_DECREF(m);
-      return NULL;
-    }
-  }
-  parabolas_name = PyUnicode_InternFromString("parabolas");
-  if (parabolas_name == NULL) {
-    Py_DECREF(m);
-    return NULL;
-  }
-  static const char *c2_path_attributes[3] = {"turn", "length", "reference"};
-  for (int i = 0; i < 3; i++) {
-    c2_path_names[i] = PyUnicode_InternFromString(c2_path_attributes[i]);
-    if (c2_path_names[i] == NULL) {
-      Py_DECREF(m);
-      return NULL;
-    }
-  }
+  static const char *const path_attributes[3] = {"centre", "radius", "bulge"};
+  static const char *const c2_path_attributes[3] = {"turn", "length", "reference"};
   double zeros[4] = {0.0, 0.0, 0.0, 0.0};
+  parabolas_name = PyUnicode_InternFromString("parabolas");
   zero_turn = float_tuple(zeros, 4);
-  if (zero_turn == NULL) {
+  if (parabolas_name == NULL || zero_turn == NULL ||
+      !intern_names(path_names, path_attributes, 3) ||
+      !intern_names(piece_names, piece_attributes, PIECE_NAMES) ||
+      !intern_names(c2_path_names, c2_path_attributes, 3) ||
+      !intern_names(c2_own_names, c2_own_attributes, C2_OWN_NAMES) ||
+      !intern_names(ff_names, ff_attributes, FF_NAMES)) {
     Py_DECREF(m);
     return NULL;
-  }
-  for (int i = 0; i < C2_OWN_NAMES; i++) {
-    c2_own_names[i] = PyUnicode_InternFromString(c2_own_attributes[i]);
-    if (c2_own_names[i] == NULL) {
-      Py_DECREF(m);
-      return NULL;
-    }
-  }
-  for (int i = 0; i < FF_NAMES; i++) {
-    ff_names[i] = PyUnicode_InternFromString(ff_attributes[i]);
-    if (ff_names[i] == NULL) {
-      Py_DECREF(m);
-      return NULL;
-    }
   }
   if (math_dist == NULL || knob_name == NULL || tip_name == NULL || quaternion_name == NULL ||
       position_name == NULL) {
