@@ -7,7 +7,7 @@ from baseball_collision.core.toi import (
     distance, ImpactResult, lowest_gap_place, profile_gap, time_of_impact, time_of_impact_batch,
     time_of_impact_profile, TOUCH_TOLERANCE)
 from baseball_collision.errors import CoreError
-from hypothesis import assume, given, HealthCheck, settings, strategies as st
+from hypothesis import assume, example, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
@@ -431,12 +431,17 @@ def _golden_place(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile) 
 
 @settings(max_examples=examples(200), deadline=None)
 @given(points=st.lists(grid_point, min_size=6, max_size=6))
+@example(points=[(-0.039, -0.817, -0.698), (-0.065, 0.445, 0.635), (-0.347, -0.289, 0.172),
+                 (0.291, 0.296, -0.374), (-0.505, 0.164, 0.537), (0.674, -0.196, -0.101)])
 def test_lowest_gap_place_is_the_golden_section_search(points) -> None:
     """
     The kernel's search is the step-by-step search in Python, to the bit.
 
     Its gap is no more than a dense scan's lowest where the gap has one valley along the
-    sub-step.
+    sub-step, also looked at closer about its floor: the gap is the least of the bat's
+    pieces', and two pieces' valleys can lie within one step of the scan (the example: 5 um
+    apart in depth, a bump between them that 401 points do not show, and the search settles in
+    the shallower one).
     """
     ball0, ball1, knob0, knob1, tip0, tip1 = points
     place = lowest_gap_place(ball0, ball1, knob0, knob1, tip0, tip1, 0.0366, WOOD_BAT_34)
@@ -448,7 +453,13 @@ def test_lowest_gap_place_is_the_golden_section_search(points) -> None:
                              for p, q in ((ball0, ball1), (knob0, knob1), (tip0, tip1))],
                            0.0366, WOOD_BAT_34)[0]
 
-    dense = [gap(s) for s in np.linspace(0.0, 1.0, 401)]
-    falls = np.diff(dense) < 0.0
-    if not np.any(falls[np.argmax(~falls):]):  # down, then up (or flat): one valley
-        assert gap(place) <= min(dense) + 1e-9
+    def one_valley(values) -> bool:  # down, then up (or flat)
+        falls = np.diff(values) < 0.0
+        return not np.any(falls[np.argmax(~falls):])
+    grid = np.linspace(0.0, 1.0, 401)
+    dense = [gap(s) for s in grid]
+    lowest = int(np.argmin(dense))
+    floor = [gap(s) for s in np.linspace(grid[max(lowest - 1, 0)], grid[min(lowest + 1, 400)],
+                                         2001)]
+    if one_valley(dense) and one_valley(floor):
+        assert gap(place) <= min(dense + floor) + 1e-9
