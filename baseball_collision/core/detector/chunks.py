@@ -314,11 +314,10 @@ def _overturned(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int
     unless the detector was reset since the plan began (which forgot it).
     """
     if detector.stats.resets == resets:
-        roles, stamps, values, frame_ids = chunk
+        _, stamps, _, frame_ids = chunk
         for x, y in plan.holds:
             if x < pos <= y:
-                role = detector.ROLES[roles[i + x]]
-                row = values[i + x, :7 if role == Role.BAT_POSE else 3].tolist()
+                role, row = _row(detector, chunk, i + x)
                 check = (detector._check_point if role is Role.BALL  # (pose input: planned)
                          else detector._check_pose_values)
                 frame = frame_ids[i + x]
@@ -348,9 +347,8 @@ def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
 def _one(detector: 'Detector', chunk: Tuple[Any, ...], k: int, events: List[Event],
          drops: Optional[Counter]) -> None:
     """Add sample k of a chunk through ``Detector.add``; count its drops."""
-    roles, stamps, values, frame_ids = chunk
-    role = detector.ROLES[roles[k]]
-    row = values[k, :7 if role == Role.BAT_POSE else 3].tolist()
+    role, row = _row(detector, chunk, k)
+    _, stamps, _, frame_ids = chunk
     events.extend(detector.add(role, int(stamps[k]), row, frame_ids[k]))
     if drops is not None:
         stats = detector.stats
@@ -358,6 +356,13 @@ def _one(detector: 'Detector', chunk: Tuple[Any, ...], k: int, events: List[Even
             drops[role, stats.last_drop_reason] += 1
         for late in stats.late_drops:
             drops[late.role, late.reason] += 1
+
+
+def _row(detector: 'Detector', chunk: Tuple[Any, ...], k: int) -> Tuple[Role, List[float]]:
+    """Return sample k of a chunk as ``add`` takes it: its role and its values (3 or 7)."""
+    roles, _, values, _ = chunk
+    role = detector.ROLES[roles[k]]
+    return role, values[k, :7 if role == Role.BAT_POSE else 3].tolist()
 
 
 def _time(stats: DetectorStats, start: float, samples: int) -> None:

@@ -24,7 +24,7 @@ from .gate import Clock
 from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
-from ..motion import BatPath, C2BatPath, PointPath, substeps_for
+from ..motion import BatPath, PointPath, substeps_for
 from ..toi import closest_offset, ImpactResult, profile_contact, profile_gap
 
 Paths = Tuple[PointPath, BatPath]
@@ -148,8 +148,7 @@ class Sweep:
         bat = self.bat
         ball_path = self._kept_ball_path(ball_k)
         window = c2_window(bat, bat_k, config.max_gap, config.look_ahead, config.spline_window)
-        raw = C2BatPath.fitted(bat.times[window.start:window.stop],
-                               bat.values[window.start:window.stop], bat_k - window.start)
+        raw = c2_bat_path(bat, bat_k, window)  # (without noise: through the raw samples)
         n = max(substeps_for(ball_path.deviation(ta, tb) + raw.deviation(ta, tb),
                              config.max_chord_error), ZONE_STEPS)
         radius, profile = config.ball_radius, config.profile

@@ -3576,24 +3576,30 @@ static double python_dist(PyObject *a, PyObject *b)
 }
 
 /*
- * A bat sample's knob (m), unit knob-to-tip direction ((tip - knob) over the square root of
- * its summed squares, geometry.norm) and length (m, math.dist(tip, knob)). False with an
- * exception (no knob or tip of 3 numbers).
+ * The unit knob-to-tip direction ((tip - knob) over the square root of its summed squares,
+ * geometry.norm) and the length (m, math.dist of the objects the ends were read from) of a
+ * bat's ends. False with an exception.
+ */
+static bool ends_axis(Vec knob, Vec tip, PyObject *knob_object, PyObject *tip_object,
+                      Vec *direction, double *length)
+{
+  Vec axis = v_sub(tip, knob);
+  double size = sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
+  *direction = (Vec){axis.x / size, axis.y / size, axis.z / size};
+  *length = python_dist(tip_object, knob_object);
+  return !PyErr_Occurred();
+}
+
+/*
+ * A bat sample's knob (m), unit knob-to-tip direction and length (m): ``ends_axis`` of its
+ * ends. False with an exception (no knob or tip of 3 numbers).
  */
 static bool bat_axis(PyObject *sample, Vec *knob, Vec *direction, double *length)
 {
   PyObject *knob_object = NULL, *tip_object = NULL;
-  bool ok = false;
   Vec tip;
-  if (!bat_ends(sample, knob, &tip, &knob_object, &tip_object)) {
-    goto done;
-  }
-  Vec axis = v_sub(tip, *knob);
-  double size = sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
-  *direction = (Vec){axis.x / size, axis.y / size, axis.z / size};
-  *length = python_dist(tip_object, knob_object);
-  ok = !PyErr_Occurred();
-done:
+  bool ok = bat_ends(sample, knob, &tip, &knob_object, &tip_object) &&
+            ends_axis(*knob, tip, knob_object, tip_object, direction, length);
   Py_XDECREF(knob_object);
   Py_XDECREF(tip_object);
   return ok;
@@ -4533,12 +4539,12 @@ static PyObject *py_c2_path_init(PyObject *self, PyObject *const *args, Py_ssize
   PyObject *centre = NULL, *knob = NULL, *turn = NULL, *length = NULL, *origin = NULL;
   PyObject *closing = NULL, *reference = NULL, *spread = NULL, *slopes[6] = {NULL};
   PyObject *result = NULL;
-  Vec k0, e0, k1, e1, knob0, knob1, axis0, axis1;
+  Vec k0, e0, k1, e1, axis0, axis1;
   double length0, length1;
   if (!bat_ends(sample0, &k0, &e0, &ends[0], &ends[1]) ||
       !bat_ends(sample1, &k1, &e1, &ends[2], &ends[3]) ||
-      !bat_axis(sample0, &knob0, &axis0, &length0) ||
-      !bat_axis(sample1, &knob1, &axis1, &length1)) {
+      !ends_axis(k0, e0, ends[0], ends[1], &axis0, &length0) ||
+      !ends_axis(k1, e1, ends[2], ends[3], &axis1, &length1)) {
     goto done;
   }
   for (int i = 0; i < 6; i++) {
