@@ -33,7 +33,7 @@ from .streams import Stream
 from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import flight_or_none, FlightFit
-from ..motion.smoothing import penalty_eigen, smooth, smoother_matrix
+from ..motion.smoothing import penalty_eigen, smooth, smoother_norms
 from ..motion.splines import not_a_knot_slope_rows
 from ..toi import _kernel
 
@@ -329,14 +329,14 @@ def swing_rate(path: C2BatPath, t: float) -> Vector:
     return cross(direction, tuple(((ahead - behind) / (2.0 * step)).tolist()))
 
 
-def piece_weights(times: Sequence[float], smoother: np.ndarray, j: int,
-                  t: float) -> Tuple[np.ndarray, np.ndarray]:
+def piece_weights(times: Sequence[float], j: int, t: float) -> np.ndarray:
     """
-    Return the weights of a window's samples in its spline's value and rate at t (s).
+    Return the weights (2, n) of a window's samples in its spline's value and rate at t (s).
 
-    The spline is the not-a-knot interpolant through ``smoother @ values`` (the identity:
-    through the samples), evaluated on its piece j (t in [times[j], times[j + 1]]): value =
-    ``value_weights @ values``, rate (per s) = ``rate_weights @ values``; both linear.
+    The spline is the not-a-knot interpolant through the n samples, evaluated on its piece j
+    (t in [times[j], times[j + 1]]): value = ``weights[0] @ values``, rate (per s) =
+    ``weights[1] @ values``; both linear. Through smoothed values ``A @ values``, they are
+    ``weights @ A``.
     """
     n = len(times)
     # (each unit sample's slopes at knots j and j + 1: the kernel's back-substitution stops
@@ -344,13 +344,12 @@ def piece_weights(times: Sequence[float], smoother: np.ndarray, j: int,
     slopes = np.array(not_a_knot_slope_rows(times, np.eye(n), j)[:2])
     h = times[j + 1] - times[j]
     s = (t - times[j]) / h
-    value = np.zeros(n)
-    value[j], value[j + 1] = 2 * s ** 3 - 3 * s ** 2 + 1, 3 * s ** 2 - 2 * s ** 3
-    value += h * ((s ** 3 - 2 * s ** 2 + s) * slopes[0] + (s ** 3 - s ** 2) * slopes[1])
-    rate = np.zeros(n)
-    rate[j], rate[j + 1] = (6 * s ** 2 - 6 * s) / h, (6 * s - 6 * s ** 2) / h
-    rate += (3 * s ** 2 - 4 * s + 1) * slopes[0] + (3 * s ** 2 - 2 * s) * slopes[1]
-    return value @ smoother, rate @ smoother
+    weights = np.zeros((2, n))
+    weights[0, j], weights[0, j + 1] = 2 * s ** 3 - 3 * s ** 2 + 1, 3 * s ** 2 - 2 * s ** 3
+    weights[0] += h * ((s ** 3 - 2 * s ** 2 + s) * slopes[0] + (s ** 3 - s ** 2) * slopes[1])
+    weights[1, j], weights[1, j + 1] = (6 * s ** 2 - 6 * s) / h, (6 * s - 6 * s ** 2) / h
+    weights[1] += (3 * s ** 2 - 4 * s + 1) * slopes[0] + (3 * s ** 2 - 2 * s) * slopes[1]
+    return weights
 
 
 def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
@@ -371,11 +370,13 @@ def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
     if noise > 0.0:
         window = widened(stream, window)
     times = [stream.times[i] for i in window]
-    values = np.asarray(stream.values[window.start:window.stop], dtype=float)
-    smoother = (smoother_matrix(times, values, [noise * noise] * 3, *SMOOTHER) if noise > 0.0
-                else np.eye(len(times)))
-    value, rate = piece_weights(times, smoother, k - window.start, t)
-    return float(np.linalg.norm(value)), float(np.linalg.norm(rate))
+    weights = piece_weights(times, k - window.start, t)
+    if noise > 0.0:
+        values = np.asarray(stream.values[window.start:window.stop], dtype=float)
+        value, rate = smoother_norms(times, weights, values, [noise * noise] * 3, *SMOOTHER)[0]
+    else:
+        value, rate = np.linalg.norm(weights, axis=1)
+    return float(value), float(rate)
 
 
 def bat_gains(stream: Stream, window: range, k: int, t: float,
@@ -394,18 +395,12 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
     times = [stream.times[i] for i in window][first:first + len(rows)]
     values = np.asarray(rows, dtype=float)
     variances = bat_variances(samples[j], noise)
-    sigmas = (noise, math.sqrt(variances[3] + variances[4] + variances[5]) / math.sqrt(2.0),
-              math.sqrt(variances[6]))
-    value_errors, rate_errors = np.zeros(3), np.zeros(3)
-    eigen = penalty_eigen(times, SMOOTHER[0]) if noise > 0.0 else None
-    value, rate = piece_weights(times, np.eye(len(times)), j - first, t)
-    for group, columns in enumerate(BAT_GROUPS):
-        if eigen is not None:
-            smoother = smoother_matrix(times, values[:, columns], variances[columns],
-                                       *SMOOTHER, eigen)
-            value_errors[group] = sigmas[group] * float(np.linalg.norm(value @ smoother))
-            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate @ smoother))
-        else:
-            value_errors[group] = sigmas[group] * float(np.linalg.norm(value))
-            rate_errors[group] = sigmas[group] * float(np.linalg.norm(rate))
-    return value_errors, rate_errors
+    sigmas = np.array((noise, math.sqrt(variances[3] + variances[4] + variances[5])
+                       / math.sqrt(2.0), math.sqrt(variances[6])))
+    weights = piece_weights(times, j - first, t)
+    if noise > 0.0:
+        norms = smoother_norms(times, weights, values, variances, *SMOOTHER,
+                               penalty_eigen(times, SMOOTHER[0]), BAT_GROUPS)
+    else:
+        norms = np.tile(np.linalg.norm(weights, axis=1), (len(BAT_GROUPS), 1))
+    return sigmas * norms[:, 0], sigmas * norms[:, 1]

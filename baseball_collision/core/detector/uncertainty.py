@@ -74,7 +74,8 @@ from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_in
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import (
-    axis_angle_quaternions, norm, pose_point, quaternion_multiply, rigid_point_velocity, Vector)
+    add, advance, axis_angle_quaternions, cross, dot, norm, pose_point, quaternion_multiply,
+    rigid_point_velocity, scale, sub, Vector)
 from ..motion import BatSample
 
 PERTURBATIONS = 16
@@ -299,33 +300,33 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     j = velocity_interval(bat, k, gap)  # the velocities' windows: samples before the impact
     _, (knob_rate, turn_rate, _) = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,
                                              bat_sigma)
-    normal = np.asarray(impact.normal)
-    axis = np.subtract(impact.tip, impact.knob)
-    bat_length = float(np.linalg.norm(axis))
-    axis /= bat_length
+    normal = impact.normal  # (3-vectors as tuples: ``geometry``'s helpers, no numpy)
+    bat_length = math.dist(impact.tip, impact.knob)
+    axis = scale(sub(impact.tip, impact.knob), 1.0 / bat_length)
     reach = impact.bat_fraction * bat_length
-    gap_spread = math.sqrt(ball_error ** 2 + knob ** 2 + (reach * turn) ** 2 * float(
-        np.sum(np.cross(axis, normal) ** 2)) + (impact.bat_fraction * length * float(
-            axis @ normal)) ** 2)
+    side = cross(axis, normal)
+    gap_spread = math.sqrt(ball_error ** 2 + knob ** 2 + (reach * turn) ** 2 * dot(side, side)
+                           + (impact.bat_fraction * length * dot(axis, normal)) ** 2)
     closing = abs(impact.relative_normal_speed_mps)
     time_sigma = gap_spread / closing if closing > 0.0 else clock.time(
         impact.interval_end_ns) - ta
-    arm = np.subtract(impact.ball_position, impact.knob)
-    sliding = float(np.subtract(impact.ball_velocity, impact.bat_velocity) @ axis)
-    spot_sigma = math.sqrt(ball_error ** 2 + knob ** 2 + turn ** 2 * float(
-        np.sum(np.cross(axis, arm) ** 2)) + (time_sigma * sliding) ** 2)
-    velocity = np.asarray(impact.sweet_spot_velocity)
-    speed = float(np.linalg.norm(velocity))
-    across = float(np.sum(np.cross(axis, velocity / speed) ** 2)) if speed > 0.0 else 1.0
+    arm = cross(axis, sub(impact.ball_position, impact.knob))
+    sliding = dot(sub(impact.ball_velocity, impact.bat_velocity), axis)
+    spot_sigma = math.sqrt(ball_error ** 2 + knob ** 2 + turn ** 2 * dot(arm, arm)
+                           + (time_sigma * sliding) ** 2)
+    velocity = impact.sweet_spot_velocity
+    speed = norm(velocity)
+    across = cross(axis, scale(velocity, 1.0 / speed)) if speed > 0.0 else None
     lever = max(0.0, bat_length - config.sweet_spot_from_tip)
-    speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * across)
+    speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * (
+        1.0 if across is None else dot(across, across)))
     if j != k:  # the extrapolation over up to a step: its own error estimate, the difference
         path = c2_bat_path(bat, k, c2_window(bat, k, gap, 0, size), bat_sigma)  # from the
-        knob_at, tip_at = (np.asarray(end) for end in path.at(t))  # interval's own fits
-        sweet = knob_at + lever * (tip_at - knob_at) / float(np.linalg.norm(tip_at - knob_at))
-        interpolated = np.asarray(path.knob.velocity(t)) + np.cross(swing_rate(path, t),
-                                                                    sweet - knob_at)
-        speed_sigma = max(speed_sigma, abs(float(np.linalg.norm(interpolated)) - speed))
+        knob_at, tip_at = path.at(t)  # interval's own fits
+        sweet = advance(knob_at, sub(tip_at, knob_at), lever / math.dist(tip_at, knob_at))
+        interpolated = add(path.knob.velocity(t), cross(swing_rate(path, t),
+                                                        sub(sweet, knob_at)))
+        speed_sigma = max(speed_sigma, abs(norm(interpolated) - speed))
     return time_sigma, spot_sigma, speed_sigma
 
 

@@ -3,7 +3,7 @@
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
-    smoothing_weight, third_jumps)
+    smoother_norms, smoothing_weight, third_jumps)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
@@ -350,6 +350,29 @@ def test_groups_smooth_as_each_group_alone(steps, sigmas, seed) -> None:
         noisy = variances[group] > 0.0  # (the matrix smooths every column; smooth keeps exact
         assert np.allclose((matrix @ values[:, group])[:, noisy], alone[:, noisy], rtol=0.0,
                            atol=1e-12 * scale)  # ones as given)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=31),
+       sigmas=st.lists(st.sampled_from((0.0, 1e-4, 1e-3, 1e-2)), min_size=7, max_size=7),
+       seed=st.integers(0, 2 ** 16))
+def test_smoother_norms_are_the_norms_through_each_groups_matrix(steps, sigmas, seed) -> None:
+    """``smoother_norms``: each row's norm through its group's ``smoother_matrix`` (1e-12)."""
+    times = _times(steps)
+    rng = np.random.default_rng(seed)
+    values = np.c_[np.sin(20.0 * times[:, None] + rng.uniform(0, 6, 7)) * rng.uniform(0.1, 2, 7)]
+    values = values + rng.normal(0.0, 1.0, values.shape) * np.array(sigmas)
+    variances = np.array(sigmas) ** 2
+    groups = (slice(0, 3), slice(3, 6), slice(6, 7))
+    rows = rng.normal(0.0, 1.0, (2, len(times)))
+    norms = smoother_norms(times, rows, values, variances, groups=groups)
+    assert norms.shape == (3, 2)
+    for group, found in zip(groups, norms):
+        matrix = smoother_matrix(times, values[:, group], variances[group])
+        expected = np.linalg.norm(rows @ matrix, axis=1)
+        assert np.allclose(found, expected, rtol=1e-12, atol=0.0), (found, expected)
+        if not np.any(variances[group] > 0.0):  # (interpolated: the rows' own norms)
+            assert np.array_equal(found, np.linalg.norm(rows, axis=1))
 
 
 @settings(max_examples=examples(40), deadline=None)
