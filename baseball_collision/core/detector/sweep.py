@@ -25,7 +25,7 @@ from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMP
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
-from ..toi import closest_offset, ImpactResult, profile_contact, profile_gap
+from ..toi import _kernel, closest_offset, ImpactResult, profile_contact, profile_gap
 
 Paths = Tuple[PointPath, BatPath]
 """The ball's and the bat's paths over an interval."""
@@ -139,7 +139,8 @@ class Sweep:
         1-Lipschitz in each). When even that clears both distances by the bounds, the sweep's
         own sub-steps would find no contact and only gaps beyond them: with no near miss open,
         the same as ``EpisodeTracker.far`` (armed, the zone cleared). False as soon as a gap
-        comes closer.
+        comes closer. The instants' loop is the kernel's (``toi._kernel.zone_clear``; each
+        distance moved the square root of the summed squares).
         """
         config = self.config
         floor = (max(config.near_miss_threshold, config.rearm_distance)
@@ -151,22 +152,8 @@ class Sweep:
         raw = c2_bat_path(bat, bat_k, window)  # (without noise: through the raw samples)
         n = max(substeps_for(ball_path.deviation(ta, tb) + raw.deviation(ta, tb),
                              config.max_chord_error), ZONE_STEPS)
-        radius, profile = config.ball_radius, config.profile
-        before = None
-        for j in range(n + 1):
-            t = tb if j == n else ta + (tb - ta) * j / n
-            ball = ball_path.at(t)
-            knob, tip = raw.at(t)
-            gap = profile_gap(ball, knob, tip, radius, profile)[0]
-            if not gap > floor:
-                return False
-            if before is not None:
-                moved = math.dist(ball, before[0]) + max(math.dist(knob, before[1]),
-                                                         math.dist(tip, before[2]))
-                if not 0.5 * (gap + before[3] - moved) > floor:
-                    return False
-            before = (ball, knob, tip, gap)
-        return True
+        return _kernel.zone_clear(ball_path, raw, ta, tb, n, config.ball_radius,
+                                  config.profile, floor)
 
     @staticmethod
     def _state_at(t: float, paths: Paths) -> State:

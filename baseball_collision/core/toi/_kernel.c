@@ -73,7 +73,9 @@
  *        growth over a charted window (core.detector.broadphase.c2),
  *   c2_window(times, breaks, k, max_gap, look_ahead, size),
  *   reach_back(times, breaks, first, stop, max_gap, span, most),
- *   c2_inside(path, t)  a c2 bat path's knob and tip at t,
+ *   c2_inside(path, t)  a c2 bat path's knob and tip at t, zone_clear(ball_path, bat_path, ta,
+ *        tb, n, ball_radius, profile, floor) whether a ball stays beyond floor from one
+ *        (core.detector.sweep's near-miss zone),
  *   c2_deviation(knob, turn, length, ta, tb)  the c2 model's window fit (core.motion.splines,
  *        core.motion.c2, core.detector.fitting): the not-a-knot spline's slopes, the bat's
  *        chart, the window's samples and a c2 bat path's deviation bound
@@ -4334,6 +4336,33 @@ static bool angle_piece_at(PyObject *piece, double t, double *value)
 }
 
 /*
+ * A c2 bat path's knob and tip at t inside its interval (c2_inside's numbers): *knob_object a
+ * new reference to the knob as c2_inside returns it when knob_object is not NULL (the caller
+ * releases it, also on failure). False with an exception.
+ */
+static bool c2_inside_at(PyObject *path, double t, Vec *knob, Vec *tip, PyObject **knob_object)
+{
+  PyObject *knob_piece = PyObject_GetAttr(path, knob_name);
+  PyObject *turn_piece = knob_piece ? PyObject_GetAttr(path, c2_path_names[0]) : NULL;
+  PyObject *length_piece = turn_piece ? PyObject_GetAttr(path, c2_path_names[1]) : NULL;
+  Vec reference, turn_at;
+  double length;
+  bool ok = length_piece != NULL && attr_vec(path, c2_path_names[2], &reference) &&
+            point_piece_at(knob_piece, t, knob, knob_object) &&
+            point_piece_at(turn_piece, t, &turn_at, NULL) &&
+            angle_piece_at(length_piece, t, &length);
+  if (ok) {
+    bool same;
+    Vec d = rotate_by(reference, turn_at, &same);
+    *tip = (Vec){knob->x + length * d.x, knob->y + length * d.y, knob->z + length * d.z};
+  }
+  Py_XDECREF(knob_piece);
+  Py_XDECREF(turn_piece);
+  Py_XDECREF(length_piece);
+  return ok;
+}
+
+/*
  * c2_inside(path, t) -> (knob, tip): a c2 bat path at t (motion.c2.C2BatPath._inside, the same
  * operations in the same order): its knob piece at t, its reference direction turned by the
  * turn piece at t (rotate), the tip the knob plus the length piece at t times it.
@@ -4348,27 +4377,13 @@ static PyObject *py_c2_inside(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     return NULL;
   }
-  PyObject *knob_piece = PyObject_GetAttr(args[0], knob_name);
-  PyObject *turn_piece = knob_piece ? PyObject_GetAttr(args[0], c2_path_names[0]) : NULL;
-  PyObject *length_piece = turn_piece ? PyObject_GetAttr(args[0], c2_path_names[1]) : NULL;
-  PyObject *knob = NULL, *result = NULL;
-  Vec reference, knob_at, turn_at;
-  double length;
-  if (length_piece != NULL && attr_vec(args[0], c2_path_names[2], &reference) &&
-      point_piece_at(knob_piece, t, &knob_at, &knob) &&
-      point_piece_at(turn_piece, t, &turn_at, NULL) &&
-      angle_piece_at(length_piece, t, &length)) {
-    bool same;
-    Vec d = rotate_by(reference, turn_at, &same);
-    PyObject *tip = vec_tuple((Vec){knob_at.x + length * d.x, knob_at.y + length * d.y,
-                                    knob_at.z + length * d.z});
-    result = tip ? PyTuple_Pack(2, knob, tip) : NULL;
-    Py_XDECREF(tip);
+  PyObject *knob = NULL, *tip = NULL, *result = NULL;
+  Vec knob_at, tip_at;
+  if (c2_inside_at(args[0], t, &knob_at, &tip_at, &knob) && (tip = vec_tuple(tip_at)) != NULL) {
+    result = PyTuple_Pack(2, knob, tip);
   }
+  Py_XDECREF(tip);
   Py_XDECREF(knob);
-  Py_XDECREF(knob_piece);
-  Py_XDECREF(turn_piece);
-  Py_XDECREF(length_piece);
   return result;
 }
 
@@ -4446,6 +4461,74 @@ enum { C2_SAMPLE0, C2_SAMPLE1, C2_ANGLE, C2_LEVER, C2_SPREAD, C2_OWN_NAMES };
 static const char *const c2_own_attributes[C2_OWN_NAMES] = {"sample0", "sample1", "angle",
                                                             "lever", "spread"};
 static PyObject *c2_own_names[C2_OWN_NAMES];
+
+/* a c2 bat path's knob and tip at t (motion.bat_paths.BatPath.at: its samples' at its ends, else
+ * c2_inside_at); false with an exception */
+static bool c2_ends_at(PyObject *path, double t, Vec *knob, Vec *tip)
+{
+  double t0, t1;
+  if (!attr_double(path, piece_names[PIECE_T0], &t0) ||
+      !attr_double(path, piece_names[PIECE_T1], &t1)) {
+    return false;
+  }
+  if (t != t0 && t != t1) {
+    return c2_inside_at(path, t, knob, tip, NULL);
+  }
+  PyObject *sample = PyObject_GetAttr(path, c2_own_names[t == t0 ? C2_SAMPLE0 : C2_SAMPLE1]);
+  bool ok = sample != NULL && attr_vec(sample, knob_name, knob) && attr_vec(sample, tip_name, tip);
+  Py_XDECREF(sample);
+  return ok;
+}
+
+/*
+ * zone_clear(ball_path, bat_path, ta, tb, n, ball_radius, profile, floor) -> whether a ball on a
+ * point path (motion.points.PointPath) stays farther than floor (m) from a c2 bat
+ * (motion.c2.C2BatPath) over [ta, tb] (s), by the bound of core.detector.sweep.Sweep.
+ * _outside_zone (the same operations in the same order): at the n + 1 instants ta + (tb - ta) j /
+ * n (tb the last) the gap (profile_gap) beyond floor, and between each two the mean of their
+ * gaps less half of how far the ball and the farther bat end moved (each the square root of the
+ * summed squares) beyond it. False as soon as one is not. TypeError / AttributeError: not such
+ * paths or numbers.
+ */
+static PyObject *py_zone_clear(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double ta, tb, ball_radius, floor;
+  long n;
+  if (nargs != 8 || !read_number(args[2], &ta) || !read_number(args[3], &tb) ||
+      (n = PyLong_AsLong(args[4])) < 1 || !read_number(args[5], &ball_radius) ||
+      !read_number(args[7], &floor)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "zone_clear(ball_path, bat_path, ta, tb, n >= 1, "
+                                       "ball_radius, profile, floor)");
+    }
+    return NULL;
+  }
+  if (!load_profile(args[6])) {
+    return NULL;
+  }
+  Vec ball, knob, tip, before_ball = {0.0, 0.0, 0.0}, before_knob = before_ball;
+  Vec before_tip = before_ball;
+  double before_gap = 0.0, fraction;
+  for (long j = 0; j <= n; j++) {
+    double t = j == n ? tb : ta + (tb - ta) * (double)j / (double)n;
+    if (!point_piece_at(args[0], t, &ball, NULL) || !c2_ends_at(args[1], t, &knob, &tip)) {
+      return NULL;
+    }
+    double gap = profile_gap_at(ball, knob, tip, ball_radius, &fraction, NULL, NULL);
+    if (!(gap > floor)) {
+      Py_RETURN_FALSE;
+    }
+    if (j > 0) {
+      double moved = v_norm(v_sub(ball, before_ball)) +
+                     max_of(v_norm(v_sub(knob, before_knob)), v_norm(v_sub(tip, before_tip)));
+      if (!(0.5 * (gap + before_gap - moved) > floor)) {
+        Py_RETURN_FALSE;
+      }
+    }
+    before_ball = ball, before_knob = knob, before_tip = tip, before_gap = gap;
+  }
+  Py_RETURN_TRUE;
+}
 
 /* a new instance of a Python class with __slots__, its __init__ not called; NULL with an error */
 static PyObject *bare_instance(PyObject *cls)
@@ -7447,6 +7530,9 @@ static PyMethodDef methods[] = {
      "k of a point stream, kept per interval in aligned['parabolas'], or None"},
     {"c2_inside", (PyCFunction)(void (*)(void))py_c2_inside, METH_FASTCALL,
      "c2_inside(path, t): a c2 bat path's (knob, tip) at t"},
+    {"zone_clear", (PyCFunction)(void (*)(void))py_zone_clear, METH_FASTCALL,
+     "zone_clear(ball_path, bat_path, ta, tb, n, ball_radius, profile, floor): whether the ball "
+     "stays beyond floor from a c2 bat over [ta, tb] by the near-miss zone's bound"},
     {"bat_growth", (PyCFunction)(void (*)(void))py_bat_growth, METH_FASTCALL,
      "bat_growth(times, rows, i, sample0, sample1, weights, far_offset, ratio): how far the c2 "
      "bat's axis points may leave their chords over a window's interval i, or None"},

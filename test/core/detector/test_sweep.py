@@ -1,9 +1,12 @@
 """Tests for the sweep: an impact is the first contact of the paths, not of their chords."""
 
+import math
+from types import SimpleNamespace
 from typing import List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
-from baseball_collision.core.toi import profile_gap
+from baseball_collision.core.geometry import norm, sub
+from baseball_collision.core.toi import _kernel, profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
@@ -103,6 +106,57 @@ def test_an_interval_outside_the_zone_stays_outside_on_the_smoothed_paths(
     for _, samples in _noisy_pitches(range(12)):
         detect(config, samples)
     assert len(cleared) > 50
+
+
+def _zone_bounds(ball_path, bat_path, ta: float, tb: float, n: int, ball_radius: float,
+                 profile) -> List[float]:  # type: ignore[no-untyped-def]
+    """``_outside_zone``'s bounds written out: each instant's gap, each sub-step's lowest."""
+    bounds: List[float] = []
+    before = None
+    for j in range(n + 1):
+        t = tb if j == n else ta + (tb - ta) * j / n
+        ball = ball_path.at(t)
+        knob, tip = bat_path.at(t)
+        gap = profile_gap(ball, knob, tip, ball_radius, profile)[0]
+        bounds.append(gap)
+        if before is not None:
+            moved = norm(sub(ball, before[0])) + max(norm(sub(knob, before[1])),
+                                                     norm(sub(tip, before[2])))
+            bounds.append(0.5 * (gap + before[3] - moved))
+        before = (ball, knob, tip, gap)
+    return bounds
+
+
+def test_the_zone_loop_is_its_bounds_written_out(monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    The kernel's ``zone_clear`` clears exactly above the lowest of the bounds written out.
+
+    For each interval the sweep asks about under noise: with the floor the lowest bound
+    (written out in Python, each gap and each sub-step's mean less half the distances moved),
+    not clear; a floor one float below it, clear: the kernel's numbers are those, to the bit.
+    """
+    asked = []
+    zone_clear = _kernel.zone_clear
+
+    def recording(*args):  # type: ignore[no-untyped-def]
+        asked.append(args)
+        return zone_clear(*args)
+    monkeypatch.setattr(sweep, '_kernel', SimpleNamespace(zone_clear=recording))
+    config = DetectorConfig(bat_input='points', model='c2', look_ahead=2, tracker_noise=-1.0)
+    for _, samples in _noisy_pitches(range(3)):
+        detect(config, samples)
+    assert len(asked) > 20
+    for ball_path, bat_path, ta, tb, n, ball_radius, profile, floor in asked:
+        lowest = min(_zone_bounds(ball_path, bat_path, ta, tb, n, ball_radius, profile))
+        assert zone_clear(ball_path, bat_path, ta, tb, n, ball_radius, profile, floor) == (
+            lowest > floor)
+        assert not zone_clear(ball_path, bat_path, ta, tb, n, ball_radius, profile, lowest)
+        assert zone_clear(ball_path, bat_path, ta, tb, n, ball_radius, profile,
+                          math.nextafter(lowest, -math.inf))
+    with pytest.raises(TypeError):
+        zone_clear(ball_path, bat_path, ta, tb, 0, ball_radius, profile, floor)
+    with pytest.raises(AttributeError):
+        zone_clear(ball_path, ball_path, ta, tb, n, ball_radius, profile, floor)
 
 
 @pytest.mark.parametrize('noise_m', [2e-4, 1e-3, 3e-3])
