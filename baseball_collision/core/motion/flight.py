@@ -35,7 +35,6 @@ scaled up by the residuals' excess over the noise when they have one: Birge's ra
 from dataclasses import dataclass
 from functools import cached_property
 import math
-from operator import mul
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -129,23 +128,22 @@ class FlightFit:
         """Return the coefficients per coordinate, as floats (made once)."""
         return self.coefficients.T.tolist()
 
-    def _combined(self, row: List[float]) -> Tuple[float, float, float]:
-        """Return the three coordinates' polynomials combined with one basis row."""
-        # (each a sum of the products in order from 0, as ``sum`` over a generator adds them)
-        return tuple(sum(map(mul, row, column)) for column in self._columns)
-
     def at(self, t: float) -> Tuple[float, float, float]:
         """Return the fitted position (m) at t (s)."""
-        return self._combined(self._rows(t)[0])
+        return self.state(t)[0]
 
     def velocity(self, t: float) -> Tuple[float, float, float]:
         """Return the fitted rate of the position (m/s) at t (s)."""
-        return self._combined(self._rows(t)[1])
+        return self.state(t)[1]
 
     def state(self, t: float) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
-        """Return ``at(t)`` and ``velocity(t)`` (m, m/s) from one basis row."""
-        value, rate = self._rows(t)
-        return self._combined(value), self._combined(rate)
+        """
+        Return the fitted position and its rate (m, m/s) at t (s) from one basis row.
+
+        The kernel's (``toi._kernel.flight_state``): ``_rows``' basis, each coordinate's
+        coefficients combined with it in order from the lowest power, as ``sum`` adds them.
+        """
+        return _kernel.flight_state(self._columns, self.centre, self.scale, t)
 
     def weights(self, t: float) -> Tuple[np.ndarray, np.ndarray]:
         """

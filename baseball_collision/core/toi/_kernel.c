@@ -46,7 +46,8 @@
  *        profile() does -> (t, ImpactResult), None, or NotImplemented (forecasts not finite)
  *   forecast(ball, bat, t), bat_bounds(bat, ta, tb)  the same forecasts at one instant
  *   polyfit(times, rows, t, degree)  least squares by Householder QR (core.detector.kinematics)
- *   flight_fit(times, rows, degree)  a ball's flight fit by the same QR (core.motion.flight)
+ *   flight_fit(times, rows, degree)  a ball's flight fit by the same QR, flight_state(columns,
+ *        centre, scale, t) its position and rate at t (core.motion.flight)
  *   ball_forecast(times, points, first, end, t0, degree, gravity, drag),
  *   bat_forecast(times, rows, first, end, degree)  the prediction's forecasts (core.prediction)
  *        fitted to a window of the detector's sample lists, read into contiguous arrays: the
@@ -2844,6 +2845,64 @@ done:
   Py_XDECREF(times);
   Py_XDECREF(rows);
   return result;
+}
+
+/*
+ * flight_state(columns, centre, scale, t) -> ((x, y, z), (vx, vy, vz)): a flight fit's position
+ * (m) and rate (m/s) at t (s) (core.motion.flight.FlightFit.state, the same operations in the
+ * same order): the basis row in tau = (t - centre) / scale and its rate per second, power by
+ * power as FlightFit._rows builds them, each coordinate's column (its coefficients from the
+ * lowest power up) combined as Python's sum adds the products. TypeError: not 3 columns of one
+ * count (1 to MAX_FIT_DEGREE + 1) of numbers, or not numbers.
+ */
+static PyObject *py_flight_state(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  double centre, scale, t;
+  if (nargs != 4 || !read_number(args[1], &centre) || !read_number(args[2], &scale) ||
+      !read_number(args[3], &t)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "flight_state(columns, centre, scale, t)");
+    }
+    return NULL;
+  }
+  double c[3][MAX_FIT_DEGREE + 1];
+  PyObject *columns = PySequence_Fast(args[0], "flight_state: columns must be a sequence");
+  if (columns == NULL) {
+    return NULL;
+  }
+  Py_ssize_t p = PySequence_Fast_GET_SIZE(columns) == 3
+                     ? PyObject_Length(PySequence_Fast_GET_ITEM(columns, 0)) : -1;
+  bool ok = p >= 1 && p <= MAX_FIT_DEGREE + 1;
+  for (int i = 0; ok && i < 3; i++) {
+    ok = read_floats(PySequence_Fast_GET_ITEM(columns, i), c[i], p, "flight_state's column");
+  }
+  Py_DECREF(columns);
+  if (!ok) {
+    if (!PyErr_Occurred() || PyErr_ExceptionMatches(PyExc_TypeError)) {
+      PyErr_Clear();
+      PyErr_Format(PyExc_TypeError, "flight_state: 3 columns of 1 to %d numbers each",
+                   MAX_FIT_DEGREE + 1);
+    }
+    return NULL;
+  }
+  double value[MAX_FIT_DEGREE + 1] = {1.0}, rate[MAX_FIT_DEGREE + 1] = {0.0};
+  double tau = (t - centre) / scale;
+  for (Py_ssize_t power = 1; power < p; power++) {
+    rate[power] = (double)power * value[power - 1] / scale;
+    value[power] = value[power - 1] * tau;
+  }
+  double position[3], velocity[3];
+  for (int i = 0; i < 3; i++) {
+    double at = 0.0, moving = 0.0;
+    for (Py_ssize_t k = 0; k < p; k++) {
+      at += value[k] * c[i][k];
+      moving += rate[k] * c[i][k];
+    }
+    position[i] = at;
+    velocity[i] = moving;
+  }
+  return Py_BuildValue("((ddd)(ddd))", position[0], position[1], position[2], velocity[0],
+                       velocity[1], velocity[2]);
 }
 
 /*
@@ -7419,6 +7478,8 @@ static PyMethodDef methods[] = {
      "forecast(ball or None, bat or None, t): (ball centre, ball velocity, knob, tip, pivot)"},
     {"bat_bounds", (PyCFunction)(void (*)(void))py_bat_bounds, METH_FASTCALL,
      "bat_bounds(bat, ta, tb): (pivot travel bound, turning rate bound, reach)"},
+    {"flight_state", (PyCFunction)(void (*)(void))py_flight_state, METH_FASTCALL,
+     "flight_state(columns, centre, scale, t): a flight fit's position and rate at t"},
     {"flight_fit", (PyCFunction)(void (*)(void))py_flight_fit, METH_FASTCALL,
      "flight_fit(times, rows, degree): (centre, scale, coefficients, residual sum of squares) of "
      "a ball's flight fit, or NotImplemented (rank deficient)"},

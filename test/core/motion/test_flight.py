@@ -158,3 +158,43 @@ def test_a_sample_that_is_not_a_number_gives_no_fit() -> None:
     values[7, 1] = np.nan
     assert flight_or_none(t, values, 1e-3, 2, 8) is None
     assert not fit_flight(t, values, 1e-3).free
+
+
+@settings(max_examples=examples(100), deadline=None)
+@given(count=st.integers(5, 60), degree=st.integers(0, 5), seed=st.integers(0, 2 ** 32 - 1),
+       at=st.floats(-0.5, 1.5))
+def test_the_state_is_the_basis_row_combined_in_order(count: int, degree: int, seed: int,
+                                                      at: float) -> None:
+    """
+    ``state`` (the kernel's) is the basis row and its rate combined as Python's sum, to the bit.
+
+    Written out: ``_rows``' row at t, each coordinate's coefficients multiplied in order from
+    the lowest power and summed from 0; ``at`` and ``velocity`` are its two halves.
+    """
+    rng = np.random.default_rng(seed)
+    t = _stamps(rng.uniform(90.0, 360.0), count, seed)
+    if count < degree + 2 or not np.all(np.diff(t) > 0.0):
+        return
+    fit = fit_flight(t.tolist(), rng.normal(0.0, 5.0, (count, 3)), 1e-3, degree)
+    when = float(t[0] + at * (t[-1] - t[0]))
+    value, rate = fit._rows(when)
+    columns = fit.coefficients.T.tolist()
+    expected = (tuple(sum(v * c for v, c in zip(value, column)) for column in columns),
+                tuple(sum(r * c for r, c in zip(rate, column)) for column in columns))
+    assert fit.state(when) == expected
+    assert (fit.at(when), fit.velocity(when)) == expected
+
+
+def test_a_state_of_columns_that_do_not_match_raises() -> None:
+    """The kernel's ``flight_state``: 3 columns of one count of numbers, else a TypeError."""
+    from baseball_collision.core.toi import _kernel
+    with pytest.raises(TypeError):
+        _kernel.flight_state([[1.0, 2.0], [1.0, 2.0]], 0.0, 1.0, 0.5)
+    with pytest.raises(TypeError):
+        _kernel.flight_state([[1.0, 2.0], [1.0], [1.0, 2.0]], 0.0, 1.0, 0.5)
+    with pytest.raises(TypeError):
+        _kernel.flight_state([[1.0, 'a'], [1.0, 2.0], [1.0, 2.0]], 0.0, 1.0, 0.5)
+    with pytest.raises(TypeError):
+        _kernel.flight_state([[]] * 3, 0.0, 1.0, 0.5)
+    constant = _kernel.flight_state([[1.0], [2.0], [3.0]], 0.0, 1.0, 0.5)
+    assert constant == ((1.0, 2.0, 3.0), (0.0, 0.0, 0.0))
