@@ -326,18 +326,31 @@ def test_penalty_eigen_keeps_a_bounded_number() -> None:
         assert len(smoothing._EIGEN) <= smoothing._EIGEN_KEPT
 
 
-@settings(max_examples=examples(40), deadline=None)
-@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=31),
-       sigmas=st.lists(st.sampled_from((0.0, 1e-4, 1e-3, 1e-2)), min_size=7, max_size=7),
-       seed=st.integers(0, 2 ** 16))
-def test_groups_smooth_as_each_group_alone(steps, sigmas, seed) -> None:
-    """One call with groups is each group's own call: its weight, values and slopes."""
+GROUPS = (slice(0, 3), slice(3, 6), slice(6, 7))
+"""A bat row's groups of columns (knob, rotation vector, length), as ``fitting.BAT_GROUPS``."""
+
+seven_columns = given(
+    steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=31),
+    sigmas=st.lists(st.sampled_from((0.0, 1e-4, 1e-3, 1e-2)), min_size=7, max_size=7),
+    seed=st.integers(0, 2 ** 16))
+"""Windows of 6-32 stamps and seven noisy columns (``_seven_columns``), some exact."""
+
+
+def _seven_columns(steps, sigmas, seed):  # type: ignore[no-untyped-def]
+    """Return (times, values (n, 7), variances, rng): smooth motions with the given noise."""
     times = _times(steps)
     rng = np.random.default_rng(seed)
     values = np.c_[np.sin(20.0 * times[:, None] + rng.uniform(0, 6, 7)) * rng.uniform(0.1, 2, 7)]
     values = values + rng.normal(0.0, 1.0, values.shape) * np.array(sigmas)
-    variances = np.array(sigmas) ** 2
-    groups = (slice(0, 3), slice(3, 6), slice(6, 7))
+    return times, values, np.array(sigmas) ** 2, rng
+
+
+@settings(max_examples=examples(40), deadline=None)
+@seven_columns
+def test_groups_smooth_as_each_group_alone(steps, sigmas, seed) -> None:
+    """One call with groups is each group's own call: its weight, values and slopes."""
+    times, values, variances, _ = _seven_columns(steps, sigmas, seed)
+    groups = GROUPS
     smoothing._EIGEN.clear()
     fitted, slopes = smooth(times, values, variances, groups=groups)
     for group in groups:
@@ -353,21 +366,14 @@ def test_groups_smooth_as_each_group_alone(steps, sigmas, seed) -> None:
 
 
 @settings(max_examples=examples(40), deadline=None)
-@given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=31),
-       sigmas=st.lists(st.sampled_from((0.0, 1e-4, 1e-3, 1e-2)), min_size=7, max_size=7),
-       seed=st.integers(0, 2 ** 16))
+@seven_columns
 def test_smoother_norms_are_the_norms_through_each_groups_matrix(steps, sigmas, seed) -> None:
     """``smoother_norms``: each row's norm through its group's ``smoother_matrix`` (1e-12)."""
-    times = _times(steps)
-    rng = np.random.default_rng(seed)
-    values = np.c_[np.sin(20.0 * times[:, None] + rng.uniform(0, 6, 7)) * rng.uniform(0.1, 2, 7)]
-    values = values + rng.normal(0.0, 1.0, values.shape) * np.array(sigmas)
-    variances = np.array(sigmas) ** 2
-    groups = (slice(0, 3), slice(3, 6), slice(6, 7))
+    times, values, variances, rng = _seven_columns(steps, sigmas, seed)
     rows = rng.normal(0.0, 1.0, (2, len(times)))
-    norms = smoother_norms(times, rows, values, variances, groups=groups)
+    norms = smoother_norms(times, rows, values, variances, groups=GROUPS)
     assert norms.shape == (3, 2)
-    for group, found in zip(groups, norms):
+    for group, found in zip(GROUPS, norms):
         matrix = smoother_matrix(times, values[:, group], variances[group])
         expected = np.linalg.norm(rows @ matrix, axis=1)
         assert np.allclose(found, expected, rtol=1e-12, atol=0.0), (found, expected)
