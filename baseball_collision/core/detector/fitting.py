@@ -399,8 +399,7 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
                        / math.sqrt(2.0), math.sqrt(variances[6])))
     weights = piece_weights(times, j - first, t)
     if noise > 0.0:
-        norms = smoother_norms(times, weights, values, variances, *SMOOTHER,
-                               penalty_eigen(times, SMOOTHER[0]), BAT_GROUPS)
+        norms = smoother_norms(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
     else:
         norms = np.tile(np.linalg.norm(weights, axis=1), (len(BAT_GROUPS), 1))
     return sigmas * norms[:, 0], sigmas * norms[:, 1]
