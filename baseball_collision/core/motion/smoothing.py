@@ -264,9 +264,11 @@ def _likeliest(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
     The penalty as a Gaussian prior of precision lam P / sigma^2 on the values: each rough
     eigen-coordinate z_i is then normal with variance sigma^2 (1 + 1 / (lam p_i)) (the null
     space drops out, as in REML). Searched on ``LIKELIHOOD_GRID`` by the compiled kernel
-    (``toi._kernel.likeliest``: the cost it minimises is in its comment). Per group
-    (``bounds``: column ranges): the weight, inf when that is the stiffest fit, NaN when no
-    column of the group is noisy (variance > 0) or the penalty is zero.
+    (``toi._kernel.likeliest``: the cost it minimises is in its comment; every 16th weight
+    first, then only the stretches between whose lower bound may hold a cheaper one: the
+    weight the whole grid gives, to the bit). Per group (``bounds``: column ranges): the
+    weight, inf when that is the stiffest fit, NaN when no column of the group is noisy
+    (variance > 0) or the penalty is zero.
     """
     return _kernel.likeliest(np.ascontiguousarray(p, dtype=float),
                              np.ascontiguousarray(z, dtype=float),

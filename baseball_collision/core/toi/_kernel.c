@@ -3311,6 +3311,68 @@ static inline double renormalised(double x, long *exponent)
   return m;
 }
 
+enum { LIKELIHOOD_STRIDE = 16 }; /* likeliest's first weights: every 16th of the grid */
+#define LIKELIHOOD_SLACK 1e-10      /* its bounds' allowance for rounding, of their terms' size */
+
+/*
+ * likeliest's costs of the grid weights which[0 .. count): point_logs[g] the log part
+ * sum_i log(1 + 1 / (lam p_i)) (a group's cost has k times it), point_sums[k * points + g]
+ * group k's sum_i s_i / (1 + 1 / (lam p_i)). LANES weights at a time, each lane's numbers by
+ * the operations of its weight alone (its product and sums in the order of the eigenvalues),
+ * so a weight's numbers are the same whichever others it is taken with; the lanes' chains of
+ * products and sums are independent, so they overlap. shrink: LANES x n scratch.
+ */
+static void likeliest_costs(const Py_ssize_t *which, Py_ssize_t count, const double *grid,
+                            const double *rough, Py_ssize_t m, Py_ssize_t n, double logs_of_p,
+                            const double *scaled, Py_ssize_t groups, double *shrink,
+                            double *point_logs, double *point_sums, Py_ssize_t points)
+{
+  for (Py_ssize_t w0 = 0; w0 < count; w0 += LANES) {
+    Py_ssize_t lanes = count - w0 < LANES ? count - w0 : LANES;
+    double lam[LANES], product[LANES], power[LANES], sum[LANES];
+    long exponent[LANES];
+    for (Py_ssize_t l = 0; l < LANES; l++) { /* (past the list's end: its last weight again) */
+      power[l] = grid[which[w0 + (l < lanes ? l : lanes - 1)]];
+      lam[l] = pow(10.0, power[l]);
+      product[l] = 1.0;
+      exponent[l] = 0;
+    }
+    for (Py_ssize_t l = 0; l < LANES; l++) { /* (no carried dependency: vectorised) */
+      for (Py_ssize_t i = 0; i < m; i++) {
+        double x = lam[l] * rough[i];
+        shrink[l * n + i] = x / (1.0 + x);
+      }
+    }
+    for (Py_ssize_t i = 0; i < m; i++) {
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        product[l] *= 1.0 + lam[l] * rough[i];
+      }
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        if (!(product[l] < 1e150)) {
+          product[l] = renormalised(product[l], &exponent[l]);
+        }
+      }
+    }
+    for (Py_ssize_t l = 0; l < lanes; l++) {
+      point_logs[which[w0 + l]] = log(product[l]) + (double)exponent[l] * M_LN2 -
+                                  (double)m * power[l] * M_LN10 - logs_of_p;
+    }
+    for (Py_ssize_t k = 0; k < groups; k++) {
+      for (Py_ssize_t l = 0; l < LANES; l++) {
+        sum[l] = 0.0;
+      }
+      for (Py_ssize_t i = 0; i < m; i++) {
+        for (Py_ssize_t l = 0; l < LANES; l++) {
+          sum[l] += shrink[l * n + i] * scaled[k * n + i];
+        }
+      }
+      for (Py_ssize_t l = 0; l < lanes; l++) {
+        point_sums[k * points + which[w0 + l]] = sum[l];
+      }
+    }
+  }
+}
+
 /*
  * likeliest(p, z, variances, bounds, grid, null_eigenvalue) -> a tuple of weights, one per
  * group of columns: the smoothing weight of largest marginal likelihood
@@ -3325,12 +3387,13 @@ static inline double renormalised(double x, long *exponent)
  *   k sum_i log(1 + 1 / (lam p_i)) + sum_i s_i / (1 + 1 / (lam p_i))
  * over the rough i (the negative log-likelihood of z under the prior's variances
  * sigma^2 (1 + 1 / (lam p_i)), constants dropped); the first smallest cost is taken
- * (numpy.argmin's rule, a NaN first). The sum of logs is taken as the log of a product of
- * the factors 1 + lam p_i (kept in range by its power of two) less m log(lam) and the sum of
- * log(p_i): one log a grid weight, not one a term. A group's weight: 10^grid[best]; inf where
- * best is the grid's last (the stiffest fit: the null space's projection); NaN where no column
- * is noisy or no eigenvalue is positive (nothing to smooth). ValueError: buffers of the wrong
- * type or shapes, bounds outside the columns.
+ * (numpy.argmin's rule, a NaN first), found by bounds without costing every weight (below: the
+ * same weight as the whole grid's, to the bit). The sum of logs is taken as the log of a
+ * product of the factors 1 + lam p_i (kept in range by its power of two) less m log(lam) and
+ * the sum of log(p_i): one log a grid weight, not one a term. A group's weight: 10^grid[best];
+ * inf where best is the grid's last (the stiffest fit: the null space's projection); NaN where
+ * no column is noisy or no eigenvalue is positive (nothing to smooth). ValueError: buffers of
+ * the wrong type or shapes, bounds outside the columns.
  */
 static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -3365,7 +3428,7 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   }
   Py_ssize_t groups = PySequence_Fast_GET_SIZE(bounds);
   memory = PyMem_Malloc(sizeof(double) *
-                        (size_t)(n * (groups + 1 + LANES) + groups * (1 + LANES) + 1));
+                        (size_t)(n * (groups + 1 + LANES) + groups + 1));
   if (memory == NULL) {
     PyErr_NoMemory();
     goto done;
@@ -3373,8 +3436,7 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   double *rough = memory;                 /* the rough eigenvalues, m of them */
   double *scaled = rough + n;             /* per group, its s_i over the rough i (m each) */
   double *shrink = scaled + n * groups;   /* per lane, its weight's 1 / (1 + 1 / (lam p_i)) */
-  double *cost = shrink + n * LANES;      /* per group and lane, the grid weight's cost */
-  double *best_cost = cost + groups * LANES; /* per group, the lowest so far */
+  double *best_cost = shrink + n * LANES; /* per group, the lowest so far */
   Py_ssize_t *best = NULL, *noisy = NULL;
   double largest = 1e-300;
   for (Py_ssize_t i = 0; i < n; i++) {
@@ -3423,61 +3485,82 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
   for (Py_ssize_t i = 0; i < m; i++) {
     logs_of_p += log(rough[i]);
   }
-  /* LANES grid weights at a time, each lane's numbers by the operations of a weight alone
-   * (its product and sums in the order of the eigenvalues): the lanes' chains of products and
-   * sums are independent, so they overlap; the costs are then compared in the grid's order */
-  for (Py_ssize_t g0 = 0; g0 < points && m > 0; g0 += LANES) {
-    Py_ssize_t lanes = points - g0 < LANES ? points - g0 : LANES;
-    double lam[LANES], product[LANES], logs[LANES], power[LANES];
-    long exponent[LANES];
-    for (Py_ssize_t l = 0; l < LANES; l++) { /* (past the grid's end: its last weight again) */
-      power[l] = grid[g0 + (l < lanes ? l : lanes - 1)];
-      lam[l] = pow(10.0, power[l]);
-      product[l] = 1.0;
-      exponent[l] = 0;
+  /* The costs searched by bounds, each weight costed as it would be alone
+   * (likeliest_costs): every LIKELIHOOD_STRIDE-th weight and the last first. Between two of
+   * them a group's cost is at least its log part at the upper (the part falls as the weight
+   * grows) plus its sum at the lower (the sum rises): a stretch whose bound is above every
+   * group's cheapest so far by more than LIKELIHOOD_SLACK of its terms (rounding) holds no
+   * weight as cheap and is left uncosted; the others are costed. The first smallest cost in the
+   * grid's order is then the one a search of the whole grid finds (numpy.argmin's rule); a
+   * cost or a bound that is not finite costs the whole grid. */
+  Py_ssize_t *coarse = NULL, *more = NULL, coarse_count = 0, more_count = 0;
+  double *point_logs = NULL, *point_sums = NULL; /* per weight; per group and weight */
+  unsigned char *wanted = NULL;
+  if (m > 0) {
+    coarse = PyMem_Malloc(sizeof(Py_ssize_t) * (size_t)(2 * points));
+    point_logs = PyMem_Malloc(sizeof(double) * (size_t)(points * (groups + 1)));
+    wanted = PyMem_Calloc((size_t)points, 1);
+    if (coarse == NULL || point_logs == NULL || wanted == NULL) {
+      PyErr_NoMemory();
+      goto searched;
     }
-    for (Py_ssize_t l = 0; l < LANES; l++) { /* (no carried dependency: vectorised) */
-      for (Py_ssize_t i = 0; i < m; i++) {
-        double x = lam[l] * rough[i];
-        shrink[l * n + i] = x / (1.0 + x);
+    more = coarse + points;
+    point_sums = point_logs + points;
+    for (Py_ssize_t g = 0; g < points; g += LIKELIHOOD_STRIDE) {
+      coarse[coarse_count++] = g;
+    }
+    if (coarse[coarse_count - 1] != points - 1) {
+      coarse[coarse_count++] = points - 1;
+    }
+    likeliest_costs(coarse, coarse_count, grid, rough, m, n, logs_of_p, scaled, groups, shrink,
+                    point_logs, point_sums, points);
+  }
+  bool whole = false;
+  for (Py_ssize_t k = 0; k < groups && m > 0 && !whole; k++) {
+    if (noisy[k] == 0) {
+      continue;
+    }
+    double lowest = INFINITY;
+    for (Py_ssize_t c = 0; c < coarse_count; c++) {
+      double here = (double)noisy[k] * point_logs[coarse[c]] + point_sums[k * points + coarse[c]];
+      whole = whole || !isfinite(here);
+      lowest = min_of(lowest, here);
+    }
+    for (Py_ssize_t c = 0; c + 1 < coarse_count && !whole; c++) {
+      Py_ssize_t a = coarse[c], b = coarse[c + 1];
+      double falling = (double)noisy[k] * point_logs[b], rising = point_sums[k * points + a];
+      double slack = LIKELIHOOD_SLACK *
+                     (1.0 + fabs(lowest) + fabs(falling) + fabs(rising) +
+                      (double)noisy[k] * (fabs((double)m * grid[b] * M_LN10) + fabs(logs_of_p)));
+      whole = !isfinite(falling + rising);
+      if (!(falling + rising > lowest + slack)) {
+        memset(wanted + a + 1, 1, (size_t)(b - a - 1));
       }
     }
-    for (Py_ssize_t i = 0; i < m; i++) {
-      for (Py_ssize_t l = 0; l < LANES; l++) {
-        product[l] *= 1.0 + lam[l] * rough[i];
-      }
-      for (Py_ssize_t l = 0; l < LANES; l++) {
-        if (!(product[l] < 1e150)) {
-          product[l] = renormalised(product[l], &exponent[l]);
-        }
+  }
+  for (Py_ssize_t c = 0; c + 1 < coarse_count; c++) {
+    for (Py_ssize_t g = coarse[c] + 1; g < coarse[c + 1]; g++) {
+      if (whole || wanted[g]) {
+        more[more_count++] = g;
       }
     }
-    for (Py_ssize_t l = 0; l < LANES; l++) {
-      logs[l] = log(product[l]) + (double)exponent[l] * M_LN2 -
-                (double)m * power[l] * M_LN10 - logs_of_p;
-    }
+  }
+  if (more_count > 0) {
+    likeliest_costs(more, more_count, grid, rough, m, n, logs_of_p, scaled, groups, shrink,
+                    point_logs, point_sums, points);
+  }
+  /* the costed weights in the grid's order (the two ascending lists merged) */
+  for (Py_ssize_t c = 0, d = 0; c < coarse_count || d < more_count;) {
+    Py_ssize_t g = d >= more_count || (c < coarse_count && coarse[c] < more[d]) ? coarse[c++]
+                                                                               : more[d++];
     for (Py_ssize_t k = 0; k < groups; k++) {
-      double *sum = cost + k * LANES;
-      for (Py_ssize_t l = 0; l < LANES; l++) {
-        sum[l] = 0.0;
+      if (noisy[k] == 0 || (best[k] >= 0 && isnan(best_cost[k]))) {
+        continue;
       }
-      for (Py_ssize_t i = 0; i < m; i++) {
-        for (Py_ssize_t l = 0; l < LANES; l++) {
-          sum[l] += shrink[l * n + i] * scaled[k * n + i];
-        }
-      }
-    }
-    for (Py_ssize_t l = 0; l < lanes; l++) {
-      Py_ssize_t g = g0 + l;
-      for (Py_ssize_t k = 0; k < groups; k++) {
-        if (noisy[k] == 0 || (best[k] >= 0 && isnan(best_cost[k]))) {
-          continue;
-        }
-        double here = (double)noisy[k] * logs[l] + cost[k * LANES + l];
-        if (best[k] < 0 || isnan(here) || here < best_cost[k]) {
-          best[k] = g;
-          best_cost[k] = here;
-        }
+      double here = (double)noisy[k] * point_logs[g] + point_sums[k * points + g];
+      if (best[k] < 0 || isnan(here) || here < best_cost[k]) {
+        best[k] = g;
+        best_cost[k] = here;
       }
     }
   }
@@ -3493,6 +3576,10 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     PyTuple_SET_ITEM(result, k, item);
   }
+searched:
+  PyMem_Free(coarse);
+  PyMem_Free(point_logs);
+  PyMem_Free(wanted);
   PyMem_Free(best);
 done:
   PyMem_Free(memory);

@@ -1,5 +1,7 @@
 """Tests for the window smoothing splines: Reinsch's rule, the not-a-knot and jerk penalties."""
 
+import math
+
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
@@ -465,6 +467,79 @@ def test_the_kernels_weight_search_on_grids_of_any_length(steps, seed, grid) -> 
     assert weight == np.inf or weight == 10.0 ** grid[chosen]
     best = int(np.argmin(costs))
     assert costs[chosen] - costs[best] <= 1e-12 * (abs(costs[best]) + 1.0)
+
+
+def _whole_grid_pick(p, z, variances, bounds, grid) -> list:  # type: ignore[no-untyped-def]
+    """
+    ``_kernel.likeliest`` written out over every grid weight, its operations in its order.
+
+    Per weight: the product of 1 + lam p_i kept in range by ``frexp`` and its log less the
+    logs of lam and of p; per group the sum of s_i lam p_i / (1 + lam p_i); the first smallest
+    cost (a NaN first), as ``numpy.argmin``.
+    """
+    largest = max([1e-300] + [float(x) for x in p])
+    rough = [float(x) for x in p if x > smoothing.NULL_EIGENVALUE * largest]
+    rows = [i for i, x in enumerate(p) if x > smoothing.NULL_EIGENVALUE * largest]
+    logs_of_p = 0.0
+    for x in rough:
+        logs_of_p += math.log(x)
+    picks = []
+    for start, stop in bounds:
+        columns = [j for j in range(start, stop) if variances[j] > 0.0]
+        scaled = []
+        for i in rows:
+            total = 0.0
+            for j in columns:
+                total += z[i, j] * z[i, j] / variances[j]
+            scaled.append(total)
+        best, best_cost = -1, 0.0
+        for g, power in enumerate(grid):
+            lam = 10.0 ** power
+            product, exponent = 1.0, 0
+            for x in rough:
+                product *= 1.0 + lam * x
+                if not product < 1e150:
+                    product, e = math.frexp(product)
+                    exponent += e
+            logs = (math.log(product) + exponent * 0.69314718055994530942
+                    - len(rough) * power * 2.30258509299404568402 - logs_of_p)
+            total = 0.0
+            for x, s in zip(rough, scaled):
+                total += lam * x / (1.0 + lam * x) * s
+            cost = len(columns) * logs + total
+            if best >= 0 and math.isnan(best_cost):
+                break
+            if best < 0 or math.isnan(cost) or cost < best_cost:
+                best, best_cost = g, cost
+        picks.append(math.nan if not columns or not rough else
+                     math.inf if best == len(grid) - 1 else 10.0 ** grid[best])
+    return picks
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=steps, seed=st.integers(0, 2 ** 16), scale=st.floats(1e-4, 1e3),
+       points=st.sampled_from((0, 1, 2, 16, 17, 33, 120, 300)))
+def test_the_weight_search_by_bounds_is_the_whole_grids(steps, seed, scale, points) -> None:
+    """
+    The kernel's search by bounds picks what costing every grid weight picks, to the bit.
+
+    It costs every 16th weight and only the stretches between whose bound may hold a cheaper
+    one; written out over the whole grid (its numbers by the same operations), the same
+    weights, for the smoother's grid (``points`` 0) and grids of 1-300 weights.
+    """
+    times = _times(steps)
+    p, u = penalty_eigen(times, 'not-a-knot')
+    rng = np.random.default_rng(seed)
+    values = np.c_[np.sin(15.0 * times), times ** 3, np.cos(30.0 * times), times]
+    values = scale * values + rng.normal(0.0, 1e-3, values.shape)
+    variances = np.array([1e-6, 4e-6, 0.0, 1e-6]) * rng.uniform(0.1, 10.0)
+    z = np.ascontiguousarray(u.T @ values)
+    grid = (smoothing.LIKELIHOOD_GRID if points == 0
+            else np.sort(rng.uniform(-12.0, 12.0, points)))
+    groups = ((0, 2), (2, 3), (1, 4), (0, 4), (3, 4))
+    found = _kernel.likeliest(p, z, variances, groups, grid, smoothing.NULL_EIGENVALUE)
+    expected = _whole_grid_pick(p, z, variances, groups, grid)
+    assert [x if x == x else 'nan' for x in found] == [x if x == x else 'nan' for x in expected]
 
 
 def test_the_kernels_weight_search_refuses_bad_input() -> None:
