@@ -3532,7 +3532,7 @@ static PyObject *py_likeliest(PyObject *self, PyObject *const *args, Py_ssize_t 
       double slack = LIKELIHOOD_SLACK *
                      (1.0 + fabs(lowest) + fabs(falling) + fabs(rising) +
                       (double)noisy[k] * (fabs((double)m * grid[b] * M_LN10) + fabs(logs_of_p)));
-      whole = !isfinite(falling + rising);
+      whole = whole || !isfinite(falling + rising);
       if (!(falling + rising > lowest + slack)) {
         memset(wanted + a + 1, 1, (size_t)(b - a - 1));
       }
