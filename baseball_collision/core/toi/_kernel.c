@@ -4621,7 +4621,10 @@ static bool c2_ends_at(PyObject *path, double t, Vec *knob, Vec *tip)
     return c2_inside_at(path, t, knob, tip, NULL);
   }
   PyObject *sample = PyObject_GetAttr(path, c2_own_names[t == t0 ? C2_SAMPLE0 : C2_SAMPLE1]);
-  bool ok = sample != NULL && attr_vec(sample, knob_name, knob) && attr_vec(sample, tip_name, tip);
+  PyObject *knob_object = NULL, *tip_object = NULL;
+  bool ok = sample != NULL && bat_ends(sample, knob, tip, &knob_object, &tip_object);
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
   Py_XDECREF(sample);
   return ok;
 }
