@@ -316,10 +316,12 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                            + (time_sigma * sliding) ** 2)
     velocity = impact.sweet_spot_velocity
     speed = norm(velocity)
-    across = cross(axis, scale(velocity, 1.0 / speed)) if speed > 0.0 else None
+    across = 1.0  # (the share of the speed across the bat: all of it without a direction)
+    if speed > 0.0:
+        turning = cross(axis, scale(velocity, 1.0 / speed))
+        across = dot(turning, turning)
     lever = max(0.0, bat_length - config.sweet_spot_from_tip)
-    speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * (
-        1.0 if across is None else dot(across, across)))
+    speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * across)
     if j != k:  # the extrapolation over up to a step: its own error estimate, the difference
         path = c2_bat_path(bat, k, c2_window(bat, k, gap, 0, size), bat_sigma)  # from the
         knob_at, tip_at = path.at(t)  # interval's own fits
