@@ -2,7 +2,7 @@
 Cost of an impact's uncertainties: the re-solves at each impact, against the whole pitch.
 
 Run: ``.venv/bin/python benchmarks/bench_uncertainty.py [--rates R ...] [--noises MM ...]
-[--models M ...] [--families F ...]``.
+[--models M ...] [--families F ...] [--spread DRAWS [--look-ahead N] [--auto]]``.
 
 One barrel hit per swing family (``sim.FAMILIES``, or those given: ``rebound`` alone is the cost
 at a hit, whose bat's brake takes two more re-solves), knob and tip points, 0.2 ms stamp jitter on
@@ -12,6 +12,13 @@ one re-solve with a look-ahead; under the other models 16 re-solves; without noi
 re-solve), and the ratio to
 the best of 3 timings of the detector over the whole pitch without it (the cost per message
 when there is no impact is unchanged: the uncertainties are measured only at an impact).
+
+``--spread DRAWS``: instead, whether the time's sigma is the spread of its errors. Per family,
+a barrel, an end-cap and a handle hit, each sampled ``DRAWS`` times with fresh noise (the same
+stamps' jitter drawn again with it), under ``c2`` (``--look-ahead``, told the noise or with
+``--auto`` estimating it): the time error's mean and standard deviation over the draws, the
+median sigma reported, and how often the error was within it (a Monte Carlo: no truth but the
+simulator's, no percentile over unlike swings).
 """
 
 import argparse
@@ -20,6 +27,7 @@ from typing import Callable, List
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
 from baseball_collision.threads import single_threaded_blas
+from baseball_collision.tools.accuracy import run_samples
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
 import numpy as np
 
@@ -45,15 +53,53 @@ def _pitch(config: DetectorConfig, messages: List, measured: bool) -> Detector:
     return detector
 
 
+def spread_rows(rates: List[float], noises: List[float], families: List[str], draws: int,
+                look_ahead: int, auto: bool) -> None:
+    """Print, per family, rate, noise and hit, the time errors' spread against their sigma."""
+    print('| family | Hz | noise mm | hit | error mean us | error sd us | sigma median us | '
+          'within 1 sigma |')
+    print('|---|---|---|---|---|---|---|---|')
+    for family in families:
+        rng = np.random.default_rng(7)
+        scenarios = [(kind, make_scenario(kind, rng, family=family))
+                     for kind in ('barrel', 'end_cap', 'handle')]
+        for rate in rates:
+            for noise_mm in noises:
+                config = DetectorConfig(bat_input='points', model='c2', look_ahead=look_ahead,
+                                        tracker_noise=-1.0 if auto else noise_mm * 1e-3)
+                for kind, scenario in scenarios:
+                    errors, sigmas = [], []
+                    for draw in range(draws):
+                        samples = sample(scenario, rate, np.random.default_rng(1000 + draw),
+                                         jitter_s=2e-4, grid_s=1e-3, noise_m=noise_mm * 1e-3,
+                                         marker_spread_m=0.3)
+                        result = run_samples(scenario, samples, config)[1]
+                        if result.detected and result.time_sigma_s is not None:
+                            errors.append(result.time_error_s * 1e6)
+                            sigmas.append(result.time_sigma_s * 1e6)
+                    errors_array = np.array(errors)
+                    print(f'| {family} | {rate:g} | {noise_mm:g} | {kind} | '
+                          f'{errors_array.mean():+.1f} | {errors_array.std(ddof=1):.1f} | '
+                          f'{np.median(sigmas):.1f} | '
+                          f'{np.mean(np.abs(errors_array) <= np.array(sigmas)):.2f} |', flush=True)
+
+
 def main() -> None:
-    """Print one line per rate, noise and model."""
+    """Print one line per rate, noise and model (or with ``--spread``, the sigmas' check)."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
     parser.add_argument('--rates', nargs='+', type=float, default=[90.0, 360.0])
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 1.0])
     parser.add_argument('--models', nargs='+', default=['rigid', 'c2'])
     parser.add_argument('--families', nargs='+', default=list(FAMILIES), choices=FAMILIES)
+    parser.add_argument('--spread', type=int, default=0, metavar='DRAWS')
+    parser.add_argument('--look-ahead', type=int, default=0, choices=(0, 1, 2))
+    parser.add_argument('--auto', action='store_true')
     args = parser.parse_args()
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
+    if args.spread:
+        spread_rows(args.rates, [n for n in args.noises if n > 0.0] or [1.0], args.families,
+                    args.spread, args.look_ahead, args.auto)
+        return
     for rate in args.rates:
         for noise_mm in args.noises:
             for model in args.models:

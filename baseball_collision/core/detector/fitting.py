@@ -33,7 +33,7 @@ from .streams import Stream
 from ..geometry import cross, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import flight_or_none, FlightFit
-from ..motion.smoothing import penalty_eigen, smooth, smoother_norms
+from ..motion.smoothing import penalty_eigen, smooth, smoother_norms, smoother_rows
 from ..motion.splines import not_a_knot_slope_rows
 from ..toi import _kernel
 
@@ -380,12 +380,16 @@ def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
 
 
 def bat_gains(stream: Stream, window: range, k: int, t: float,
-              noise: float) -> Tuple[np.ndarray, np.ndarray]:
+              noise: float) -> Tuple[np.ndarray, np.ndarray, Tuple[float, float]]:
     """
     Return the 1-sigma errors the noise makes in a ``c2`` bat's knob, direction and length.
 
-    :returns: (value errors, rate errors), each (knob per coordinate in m, direction across the
-        bat in rad, length in m) and per second for the rates, at t (s) on interval k.
+    :returns: (value errors, rate errors, correlations): the errors (knob per coordinate in m,
+        direction across the bat in rad, length in m; per second for the rates) at t (s) on
+        interval k, and for the value and the rate the correlation of the knob's smoother row
+        with the direction's, (a_knob . a_direction) / (|a_knob| |a_direction|): the samples'
+        noise reaches both through them (from knob and tip points, a knob marker's noise moves
+        the knob and turns the direction: ``uncertainty.propagated`` takes it).
     """
     if noise > 0.0:
         window = widened(stream, window)
@@ -399,7 +403,11 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
                        / math.sqrt(2.0), math.sqrt(variances[6])))
     weights = piece_weights(times, j - first, t)
     if noise > 0.0:
-        norms = smoother_norms(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
+        through = smoother_rows(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
     else:
-        norms = np.tile(np.linalg.norm(weights, axis=1), (len(BAT_GROUPS), 1))
-    return sigmas * norms[:, 0], sigmas * norms[:, 1]
+        through = np.array([weights] * len(BAT_GROUPS))
+    norms = np.linalg.norm(through, axis=2)
+    products = np.sum(through[0] * through[1], axis=1)
+    correlations = tuple(float(x / y) if y > 0.0 else 0.0
+                         for x, y in zip(products, norms[0] * norms[1]))
+    return sigmas * norms[:, 0], sigmas * norms[:, 1], correlations

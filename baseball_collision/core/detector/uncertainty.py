@@ -8,7 +8,11 @@ With tracking noise under ``c2`` (``tracker_noise`` > 0, or each stream's estima
 linear propagation (``propagated``): its paths are linear in their windows' samples, so the
 noise gives each path's position and rate at the impact a known spread, carried to the gap
 along the contact normal (the time, over the closing speed), to the contact's place along the
-bat (the spot) and to the sweet spot's velocity (the speed). No re-solve, about a millisecond.
+bat (the spot) and to the sweet spot's velocity (the speed). From knob and tip points the
+knob's error and the direction's are correlated (a knob marker's noise moves the knob and
+turns the bat the other way), and the gap keeps their covariance (``fitting.bat_gains``'
+correlation); a pose's position and orientation noise are taken apart (its origin at the knob,
+the default geometry). No re-solve, about a millisecond.
 The ball's spread is its flight fit's (``fitting.point_gains``: the least-squares covariance,
 widened by the residuals' excess over the noise) where the detector took one, else its
 smoother's.
@@ -295,18 +299,28 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                                 ball_sigma, config)
     ball_error = ball_sigma * ball_value
     k = bat.interval(ta)
-    (knob, turn, length), _ = bat_gains(bat, c2_window(bat, k, gap, config.look_ahead, size),
-                                        k, t, bat_sigma)
+    (knob, turn, length), _, (correlation, _) = bat_gains(
+        bat, c2_window(bat, k, gap, config.look_ahead, size), k, t, bat_sigma)
     j = velocity_interval(bat, k, gap)  # the velocities' windows: samples before the impact
-    _, (knob_rate, turn_rate, _) = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,
-                                             bat_sigma)
+    _, (knob_rate, turn_rate, _), _ = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,
+                                                bat_sigma)
     normal = impact.normal  # (3-vectors as tuples: ``geometry``'s helpers, no numpy)
     bat_length = math.dist(impact.tip, impact.knob)
     axis = scale(sub(impact.tip, impact.knob), 1.0 / bat_length)
     reach = impact.bat_fraction * bat_length
     side = cross(axis, normal)
-    gap_spread = math.sqrt(ball_error ** 2 + knob ** 2 + (reach * turn) ** 2 * dot(side, side)
-                           + (impact.bat_fraction * length * dot(axis, normal)) ** 2)
+    across = dot(side, side)
+    # From knob and tip points the direction's noise is the two markers' difference across the
+    # bat over its length, so a knob marker's noise moves the knob and turns the bat the other
+    # way: the contact point (1 - f) knob + f tip across the bat, not knob + f (tip - knob) with
+    # the two apart. Their covariance along the normal, -f sigma^2 (a_knob . a_direction)
+    # |side|^2, is -sqrt(2) rho knob (reach turn) |side|^2 (turn = sqrt(2) sigma |a| / length,
+    # rho the smoother rows' correlation); a pose's position and orientation noise are apart.
+    shared = 0.0
+    if bat.values[-1].quaternion is None:
+        shared = -math.sqrt(2.0) * correlation * knob * reach * turn * across
+    gap_spread = math.sqrt(max(0.0, ball_error ** 2 + knob ** 2 + (reach * turn) ** 2 * across
+                               + shared + (impact.bat_fraction * length * dot(axis, normal)) ** 2))
     closing = abs(impact.relative_normal_speed_mps)
     time_sigma = gap_spread / closing if closing > 0.0 else clock.time(
         impact.interval_end_ns) - ta

@@ -363,19 +363,19 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     return np.eye(len(times)) if math.isnan(lam) else (u * _factors(p, lam)[None, :]) @ u.T
 
 
-def smoother_norms(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
-                   variances: Sequence[float], kind: str = 'not-a-knot',
-                   target: str = 'likelihood',
-                   eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
-                   groups: Sequence[slice] = (slice(None),)) -> np.ndarray:
+def smoother_rows(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
+                  variances: Sequence[float], kind: str = 'not-a-knot',
+                  target: str = 'likelihood',
+                  eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                  groups: Sequence[slice] = (slice(None),)) -> np.ndarray:
     """
-    Return (groups, rows): the norm of each row through each group's ``smoother_matrix``.
+    Return (groups, rows, n): each row through each group's ``smoother_matrix``, turned into U.
 
-    Row r and group g give ``|r @ A_g|``, A_g the smoother of g's columns of ``values`` (their
-    weight chosen on them, as ``smooth`` with ``groups`` does). A_g is ``U diag(f) U^T`` with U
-    the penalty's orthonormal eigenvectors, so ``|r @ A_g| = |(r @ U) f|``: no matrix formed
-    (the same norm as ``smoother_matrix``'s to rounding). A group with no noisy column is
-    interpolated: the row's own norm.
+    Row r and group g give ``(r @ A_g) @ U``, A_g the smoother of g's columns of ``values``
+    (their weight chosen on them, as ``smooth`` with ``groups`` does). A_g is ``U diag(f) U^T``
+    with U the penalty's orthonormal eigenvectors, so that is ``(r @ U) f``: no matrix formed,
+    and the norms and dot products of the rows are those of ``r @ A_g`` (to rounding). A group
+    with no noisy column is interpolated: ``r @ U``.
 
     :param times: (n,) strictly increasing (s); ``rows``: (r, n) weights of the n values (e.g. a
         spline's value at t: ``fitting.piece_weights``); ``values``, ``variances``, ``kind``,
@@ -385,11 +385,24 @@ def smoother_norms(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     bounds = _bounds(groups, len(v))
-    rows = np.asarray(rows, dtype=float)
-    along = rows @ u
-    return np.array([np.linalg.norm(rows if math.isnan(lam) else along * _factors(p, lam),
-                                    axis=1)
+    along = np.asarray(rows, dtype=float) @ u
+    return np.array([along if math.isnan(lam) else along * _factors(p, lam)
                      for lam in _weights(p, u.T @ y, v, target, bounds)])
+
+
+def smoother_norms(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
+                   variances: Sequence[float], kind: str = 'not-a-knot',
+                   target: str = 'likelihood',
+                   eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                   groups: Sequence[slice] = (slice(None),)) -> np.ndarray:
+    """
+    Return (groups, rows): the norm of each row through each group's ``smoother_matrix``.
+
+    Row r and group g give ``|r @ A_g|`` (``smoother_rows``' norms). Arguments and errors as
+    for ``smoother_rows``.
+    """
+    return np.linalg.norm(smoother_rows(times, rows, values, variances, kind, target, eigen,
+                                        groups), axis=2)
 
 
 def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float],

@@ -110,10 +110,13 @@ def test_propagated_spreads_match_a_monte_carlo_of_the_paths(rate: float) -> Non
 
     The propagated 1-sigma errors (``point_gains``, ``bat_gains``) agree within 25 % with the
     standard deviations measured across draws (ball per coordinate, the knob per coordinate,
-    the direction across the bat, the knob's rate).
+    the direction across the bat, the knob's rate), and so does the spread across the bat of
+    the point 0.8 of the way to the tip, with the knob's and the direction's correlation
+    (from knob and tip points a knob marker's noise turns the bat the other way: without it
+    the spread comes out 1.4-1.7 times too large).
     """
-    noise, k = 1e-3, 22
-    measured = {'ball': [], 'knob': [], 'turn': [], 'knob_rate': []}
+    noise, k, fraction = 1e-3, 22, 0.8
+    measured = {'ball': [], 'knob': [], 'turn': [], 'knob_rate': [], 'point': []}
     predicted = None
     for seed in range(150):
         ball, bat = _streams(rate, noise, 100 + seed)
@@ -125,15 +128,25 @@ def test_propagated_spreads_match_a_monte_carlo_of_the_paths(rate: float) -> Non
         measured['knob'].append(knob)
         measured['turn'].append(np.subtract(tip, knob) / math.dist(tip, knob))
         measured['knob_rate'].append(path.knob.velocity(t))
+        measured['point'].append(np.add(knob, fraction * np.subtract(tip, knob)))
         if predicted is None:
             predicted = (point_gains(ball, window, k, t, noise)[0] * noise,
                          bat_gains(bat, window, k, t, noise))
     spread = {name: np.std(np.array(values), axis=0) for name, values in measured.items()}
-    ball_error, ((knob, turn, _), (knob_rate, _, _)) = predicted
+    ball_error, ((knob, turn, _), (knob_rate, _, _), (correlation, _)) = predicted
     assert np.mean(spread['ball']) == pytest.approx(ball_error, rel=0.25)
     assert np.mean(spread['knob']) == pytest.approx(knob, rel=0.25)
     assert np.sqrt(np.sum(spread['turn'] ** 2) / 2.0) == pytest.approx(turn, rel=0.25)
     assert np.mean(spread['knob_rate']) == pytest.approx(knob_rate, rel=0.25)
+    axis = np.mean(measured['turn'], axis=0)
+    axis /= np.linalg.norm(axis)
+    across = np.linalg.svd(np.eye(3) - np.outer(axis, axis))[0][:, :2]  # two unit normals
+    point_spread = np.sqrt(np.mean(np.var(np.array(measured['point']) @ across, axis=0)))
+    lever = fraction * 0.86 * turn
+    assert 0.5 < correlation <= 1.0
+    assert point_spread == pytest.approx(math.sqrt(
+        knob ** 2 + lever ** 2 - math.sqrt(2.0) * correlation * knob * lever), rel=0.25)
+    assert math.hypot(knob, lever) > 1.3 * point_spread  # (the correlation left out)
 
 
 @pytest.fixture

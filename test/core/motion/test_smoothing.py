@@ -5,7 +5,7 @@ import math
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
-    smoother_norms, smoothing_weight, third_jumps)
+    smoother_norms, smoother_rows, smoothing_weight, third_jumps)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
@@ -380,7 +380,28 @@ def test_smoother_norms_are_the_norms_through_each_groups_matrix(steps, sigmas, 
         expected = np.linalg.norm(rows @ matrix, axis=1)
         assert np.allclose(found, expected, rtol=1e-12, atol=0.0), (found, expected)
         if not np.any(variances[group] > 0.0):  # (interpolated: the rows' own norms)
-            assert np.array_equal(found, np.linalg.norm(rows, axis=1))
+            assert np.allclose(found, np.linalg.norm(rows, axis=1), rtol=1e-12, atol=0.0)
+
+
+@settings(max_examples=examples(40), deadline=None)
+@seven_columns
+def test_smoother_rows_keep_the_products_through_the_groups(steps, sigmas, seed) -> None:
+    """
+    ``smoother_rows``: in the eigenbasis, the dot products of rows through two groups' smoothers.
+
+    (r A_g) . (s A_h), A_g each group's ``smoother_matrix``, to 1e-12 of the norms' product:
+    what ``fitting.bat_gains`` correlates the knob's and the direction's errors by.
+    """
+    times, values, variances, rng = _seven_columns(steps, sigmas, seed)
+    rows = rng.normal(0.0, 1.0, (2, len(times)))
+    through = smoother_rows(times, rows, values, variances, groups=GROUPS)
+    assert through.shape == (3, 2, len(times))
+    matrices = [smoother_matrix(times, values[:, group], variances[group]) for group in GROUPS]
+    for g, h in ((0, 1), (0, 2), (1, 2), (1, 1)):
+        expected = (rows @ matrices[g]) @ (rows @ matrices[h]).T
+        scale = np.outer(np.linalg.norm(rows @ matrices[g], axis=1),
+                         np.linalg.norm(rows @ matrices[h], axis=1))
+        assert np.allclose(through[g] @ through[h].T, expected, rtol=0.0, atol=1e-12 * scale.max())
 
 
 @settings(max_examples=examples(40), deadline=None)
