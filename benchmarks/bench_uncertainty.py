@@ -56,9 +56,9 @@ def _pitch(config: DetectorConfig, messages: List, measured: bool) -> Detector:
 def spread_rows(rates: List[float], noises: List[float], families: List[str], draws: int,
                 look_ahead: int, auto: bool) -> None:
     """Print, per family, rate, noise and hit, the time errors' spread against their sigma."""
-    print('| family | Hz | noise mm | hit | error mean us | error sd us | sigma median us | '
-          'within 1 sigma |')
-    print('|---|---|---|---|---|---|---|---|')
+    print('| family | Hz | noise mm | hit | time error mean / sd us | sigma median us | '
+          'within 1 sigma | speed error mean / sd % | sigma median % | within 1 sigma |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
     for family in families:
         rng = np.random.default_rng(7)
         scenarios = [(kind, make_scenario(kind, rng, family=family))
@@ -68,20 +68,23 @@ def spread_rows(rates: List[float], noises: List[float], families: List[str], dr
                 config = DetectorConfig(bat_input='points', model='c2', look_ahead=look_ahead,
                                         tracker_noise=-1.0 if auto else noise_mm * 1e-3)
                 for kind, scenario in scenarios:
-                    errors, sigmas = [], []
+                    rows = []  # per draw: time error, its sigma (us), speed error, sigma (%)
                     for draw in range(draws):
                         samples = sample(scenario, rate, np.random.default_rng(1000 + draw),
                                          jitter_s=2e-4, grid_s=1e-3, noise_m=noise_mm * 1e-3,
                                          marker_spread_m=0.3)
                         result = run_samples(scenario, samples, config)[1]
                         if result.detected and result.time_sigma_s is not None:
-                            errors.append(result.time_error_s * 1e6)
-                            sigmas.append(result.time_sigma_s * 1e6)
-                    errors_array = np.array(errors)
-                    print(f'| {family} | {rate:g} | {noise_mm:g} | {kind} | '
-                          f'{errors_array.mean():+.1f} | {errors_array.std(ddof=1):.1f} | '
-                          f'{np.median(sigmas):.1f} | '
-                          f'{np.mean(np.abs(errors_array) <= np.array(sigmas)):.2f} |', flush=True)
+                            rows.append((result.time_error_s * 1e6, result.time_sigma_s * 1e6,
+                                         result.sweet_spot_speed_error * 100.0,
+                                         result.speed_sigma * 100.0))
+                    cells = []
+                    for error, sigma in np.array(rows).T.reshape(2, 2, -1):
+                        cells.append(f'{error.mean():+.2f} / {error.std(ddof=1):.2f} | '
+                                     f'{np.median(sigma):.2f} | '
+                                     f'{np.mean(np.abs(error) <= sigma):.2f}')
+                    print(f'| {family} | {rate:g} | {noise_mm:g} | {kind} | ' + ' | '.join(cells)
+                          + ' |', flush=True)
 
 
 def main() -> None:
