@@ -380,16 +380,16 @@ def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
 
 
 def bat_gains(stream: Stream, window: range, k: int, t: float,
-              noise: float) -> Tuple[np.ndarray, np.ndarray, Tuple[float, float]]:
+              noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
     """
     Return the 1-sigma errors the noise makes in a ``c2`` bat's knob, direction and length.
 
-    :returns: (value errors, rate errors, correlations): the errors (knob per coordinate in m,
+    :returns: (value errors, rate errors, correlation): the errors (knob per coordinate in m,
         direction across the bat in rad, length in m; per second for the rates) at t (s) on
-        interval k, and for the value and the rate the correlation of the knob's smoother row
-        with the direction's, (a_knob . a_direction) / (|a_knob| |a_direction|): the samples'
-        noise reaches both through them (from knob and tip points, a knob marker's noise moves
-        the knob and turns the direction: ``uncertainty.propagated`` takes it).
+        interval k, and the correlation of the knob's smoother row for the value with the
+        direction's, (a_knob . a_direction) / (|a_knob| |a_direction|): the samples' noise
+        reaches both through them (from knob and tip points, a knob marker's noise moves the
+        knob and turns the direction: ``uncertainty.propagated`` takes it).
     """
     if noise > 0.0:
         window = widened(stream, window)
@@ -407,7 +407,6 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
     else:
         through = np.array([weights] * len(BAT_GROUPS))
     norms = np.linalg.norm(through, axis=2)
-    products = np.sum(through[0] * through[1], axis=1)
-    correlations = tuple(float(x / y) if y > 0.0 else 0.0
-                         for x, y in zip(products, norms[0] * norms[1]))
-    return sigmas * norms[:, 0], sigmas * norms[:, 1], correlations
+    scale = float(norms[0, 0] * norms[1, 0])
+    correlation = float(through[0, 0] @ through[1, 0]) / scale if scale > 0.0 else 0.0
+    return sigmas * norms[:, 0], sigmas * norms[:, 1], correlation

@@ -299,7 +299,7 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                                 ball_sigma, config)
     ball_error = ball_sigma * ball_value
     k = bat.interval(ta)
-    (knob, turn, length), _, (correlation, _) = bat_gains(
+    (knob, turn, length), _, correlation = bat_gains(
         bat, c2_window(bat, k, gap, config.look_ahead, size), k, t, bat_sigma)
     j = velocity_interval(bat, k, gap)  # the velocities' windows: samples before the impact
     _, (knob_rate, turn_rate, _), _ = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,

@@ -133,7 +133,7 @@ def test_propagated_spreads_match_a_monte_carlo_of_the_paths(rate: float) -> Non
             predicted = (point_gains(ball, window, k, t, noise)[0] * noise,
                          bat_gains(bat, window, k, t, noise))
     spread = {name: np.std(np.array(values), axis=0) for name, values in measured.items()}
-    ball_error, ((knob, turn, _), (knob_rate, _, _), (correlation, _)) = predicted
+    ball_error, ((knob, turn, _), (knob_rate, _, _), correlation) = predicted
     assert np.mean(spread['ball']) == pytest.approx(ball_error, rel=0.25)
     assert np.mean(spread['knob']) == pytest.approx(knob, rel=0.25)
     assert np.sqrt(np.sum(spread['turn'] ** 2) / 2.0) == pytest.approx(turn, rel=0.25)
