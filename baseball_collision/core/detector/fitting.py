@@ -210,15 +210,21 @@ def bat_variances(sample: BatSample, noise: float) -> List[float]:
     Return the noise variance of each of a bat sample's ``c2_rows`` columns.
 
     Knob (m^2), rotation vector (rad^2: the direction's noise across the bat, split over the
-    axes by how far each is from the bat), length (m^2).
+    axes by how far each is from the bat), length (m^2). A pose's knob also moves with its
+    orientation's noise (``noise / MARKER_SPREAD_M`` rad per axis) by its offset o from the
+    pose's origin: ``across * (|o|^2 - o_e^2)`` more on axis e (none with the origin at the knob).
     """
     axis = unit_axis(sample)
     if sample.quaternion is None:
         length = math.dist(sample.tip, sample.knob)
         across, along = 2.0 * (noise / length) ** 2, 2.0 * noise * noise
+        knob = [noise * noise] * 3
     else:
         across, along = (noise / MARKER_SPREAD_M) ** 2, 0.0
-    return [noise * noise] * 3 + [across * (1.0 - a * a) for a in axis] + [along]
+        offset = [k - p for k, p in zip(sample.knob, sample.position)]
+        reach = sum(o * o for o in offset)
+        knob = [noise * noise + across * (reach - o * o) for o in offset]
+    return knob + [across * (1.0 - a * a) for a in axis] + [along]
 
 
 def _recharted(reference: Vector, origin: Vector, turn: Sequence[float],

@@ -11,8 +11,9 @@ along the contact normal (the time, over the closing speed), to the contact's pl
 bat (the spot) and to the sweet spot's velocity (the speed). From knob and tip points the
 knob's error and the direction's are correlated (a knob marker's noise moves the knob and
 turns the bat the other way), and the gap keeps their covariance (``fitting.bat_gains``'
-correlation); a pose's position and orientation noise are taken apart (its origin at the knob,
-the default geometry). No re-solve, about a millisecond.
+correlation); a pose's orientation noise moves its knob too, by the knob's offset from the
+pose's origin (``fitting.bat_variances``), sharing the direction's rows: the contact point moves
+as far from the origin as it is. No re-solve, about a millisecond.
 The ball's spread is its flight fit's (``fitting.point_gains``: the least-squares covariance,
 widened by the residuals' excess over the noise) where the detector took one, else its
 smoother's.
@@ -80,7 +81,7 @@ from .sweep import Sweep
 from ..geometry import (
     add, advance, axis_angle_quaternions, cross, dot, norm, pose_point, quaternion_multiply,
     rigid_point_velocity, scale, sub, Vector)
-from ..motion import BatSample
+from ..motion import BatSample, unit_axis
 
 PERTURBATIONS = 16
 """Re-solves per impact under perturbed samples (noise, models but ``c2``)."""
@@ -315,10 +316,21 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     # way: the contact point (1 - f) knob + f tip across the bat, not knob + f (tip - knob) with
     # the two apart. Their covariance along the normal, -f sigma^2 (a_knob . a_direction)
     # |side|^2, is -sqrt(2) rho knob (reach turn) |side|^2 (turn = sqrt(2) sigma |a| / length,
-    # rho the smoother rows' correlation); a pose's position and orientation noise are apart.
-    shared = 0.0
-    if bat.values[-1].quaternion is None:
+    # rho the smoother rows' correlation). A pose's position and orientation noise are apart,
+    # but the orientation's moves the knob too, by its offset o from the pose's origin (the
+    # sample's, its part along the bat turned onto the impact's axis): along the normal by
+    # |a_knob| (sigma / MARKER_SPREAD_M) |o x normal|, sharing the direction's rows (rho):
+    # the contact point then moves as if it were o + reach along the bat from the origin.
+    pose = bat.values[k]
+    if pose.quaternion is None:
         shared = -math.sqrt(2.0) * correlation * knob * reach * turn * across
+    else:
+        offset, pose_axis = sub(pose.knob, pose.position), unit_axis(pose)
+        along = dot(offset, pose_axis)
+        moved = cross(add(sub(offset, scale(pose_axis, along)), scale(axis, along)), normal)
+        spin = knob / MARKER_SPREAD_M
+        shared = (spin * spin * dot(moved, moved)
+                  + 2.0 * correlation * spin * reach * turn * dot(moved, side))
     gap_spread = math.sqrt(max(0.0, ball_error ** 2 + knob ** 2 + (reach * turn) ** 2 * across
                                + shared + (impact.bat_fraction * length * dot(axis, normal)) ** 2))
     closing = abs(impact.relative_normal_speed_mps)
