@@ -2,7 +2,8 @@
 Cost of an impact's uncertainties: the re-solves at each impact, against the whole pitch.
 
 Run: ``.venv/bin/python benchmarks/bench_uncertainty.py [--rates R ...] [--noises MM ...]
-[--models M ...] [--families F ...] [--spread DRAWS [--look-ahead N] [--auto]]``.
+[--models M ...] [--families F ...] [--spread DRAWS [--look-ahead N] [--auto] [--bat pose
+[--origin M]]]``.
 
 One barrel hit per swing family (``sim.FAMILIES``, or those given: ``rebound`` alone is the cost
 at a hit, whose bat's brake takes two more re-solves), knob and tip points, 0.2 ms stamp jitter on
@@ -16,15 +17,18 @@ when there is no impact is unchanged: the uncertainties are measured only at an 
 ``--spread DRAWS``: instead, whether the time's sigma is the spread of its errors. Per family,
 a barrel, an end-cap and a handle hit, each sampled ``DRAWS`` times with fresh noise (the same
 stamps' jitter drawn again with it), under ``c2`` (``--look-ahead``, told the noise or with
-``--auto`` estimating it): the time error's mean and standard deviation over the draws, the
-median sigma reported, and how often the error was within it (a Monte Carlo: no truth but the
-simulator's, no percentile over unlike swings).
+``--auto`` estimating it), the bat as knob and tip points or (``--bat pose``) a pose whose
+origin is ``--origin`` m along the bat from the knob: the time error's mean and standard
+deviation over the draws, the median sigma reported, and how often the error was within it
+(a Monte Carlo: no truth but the simulator's, no percentile over unlike swings); the same for
+the sweet-spot speed.
 """
 
 import argparse
 import time
 from typing import Callable, List
 
+from baseball_collision.core.bat import PoseBatGeometry, WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
 from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.accuracy import run_samples
@@ -54,19 +58,23 @@ def _pitch(config: DetectorConfig, messages: List, measured: bool) -> Detector:
 
 
 def spread_rows(rates: List[float], noises: List[float], families: List[str], draws: int,
-                look_ahead: int, auto: bool) -> None:
+                look_ahead: int, auto: bool, bat: str = 'points', origin: float = 0.0) -> None:
     """Print, per family, rate, noise and hit, the time errors' spread against their sigma."""
+    length = WOOD_BAT_34.length
+    geometry = PoseBatGeometry(knob_offset=(0.0, 0.0, -origin),
+                               tip_offset=(0.0, 0.0, length - origin))
     print('| family | Hz | noise mm | hit | time error mean / sd us | sigma median us | '
           'within 1 sigma | speed error mean / sd % | sigma median % | within 1 sigma |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for family in families:
         rng = np.random.default_rng(7)
-        scenarios = [(kind, make_scenario(kind, rng, family=family))
+        scenarios = [(kind, make_scenario(kind, rng, family=family, geometry=geometry))
                      for kind in ('barrel', 'end_cap', 'handle')]
         for rate in rates:
             for noise_mm in noises:
-                config = DetectorConfig(bat_input='points', model='c2', look_ahead=look_ahead,
-                                        tracker_noise=-1.0 if auto else noise_mm * 1e-3)
+                config = DetectorConfig(bat_input=bat, model='c2', look_ahead=look_ahead,
+                                        tracker_noise=-1.0 if auto else noise_mm * 1e-3,
+                                        geometry=geometry)
                 for kind, scenario in scenarios:
                     rows = []  # per draw: time error, its sigma (us), speed error, sigma (%)
                     for draw in range(draws):
@@ -97,11 +105,14 @@ def main() -> None:
     parser.add_argument('--spread', type=int, default=0, metavar='DRAWS')
     parser.add_argument('--look-ahead', type=int, default=0, choices=(0, 1, 2))
     parser.add_argument('--auto', action='store_true')
+    parser.add_argument('--bat', choices=('points', 'pose'), default='points')
+    parser.add_argument('--origin', type=float, default=0.0, metavar='M',
+                        help="the pose's origin along the bat from the knob (m)")
     args = parser.parse_args()
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.spread:
         spread_rows(args.rates, [n for n in args.noises if n > 0.0] or [1.0], args.families,
-                    args.spread, args.look_ahead, args.auto)
+                    args.spread, args.look_ahead, args.auto, args.bat, args.origin)
         return
     for rate in args.rates:
         for noise_mm in args.noises:
