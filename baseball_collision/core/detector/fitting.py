@@ -30,7 +30,7 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .streams import Stream
-from ..geometry import cross, Vector
+from ..geometry import cross, dot, sub, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_norms, smoother_rows
@@ -221,8 +221,8 @@ def bat_variances(sample: BatSample, noise: float) -> List[float]:
         knob = [noise * noise] * 3
     else:
         across, along = (noise / MARKER_SPREAD_M) ** 2, 0.0
-        offset = [k - p for k, p in zip(sample.knob, sample.position)]
-        reach = sum(o * o for o in offset)
+        offset = sub(sample.knob, sample.position)
+        reach = dot(offset, offset)
         knob = [noise * noise + across * (reach - o * o) for o in offset]
     return knob + [across * (1.0 - a * a) for a in axis] + [along]
 
