@@ -99,3 +99,51 @@ def end_state(times: Sequence[float], values: np.ndarray,
         at.append(y0 + s * (m0 + s * (c + s * d)))
         rates.append((m0 + s * (2.0 * c + 3.0 * s * d)) / h)
     return np.array(at), np.array(rates)
+
+
+QUINTIC_STEP_RATIO = 2.0
+"""``c2`` takes the quintic for a window only where its longest step is at most this times its
+shortest (the far test's cardinal weights for the quintic are measured within it)."""
+
+
+def not_a_knot_quintic_rows(times: Sequence[float],
+                            values: Union[np.ndarray, Sequence[Sequence[float]]],
+                            start: int = 0) -> Tuple[List[Tuple[float, ...]],
+                                                     List[Tuple[float, ...]]]:
+    """
+    Return the slopes and second derivatives of the not-a-knot quintic spline, as rows.
+
+    The degree-5 spline through (times, values) whose knots are the stamps but the second,
+    third, third-to-last and second-to-last (de Boor's not-a-knot choice for an odd degree: the
+    end pieces as accurate as the inner ones), so for a function with a bounded sixth
+    derivative O(h^6) off in value, O(h^5) in slope and O(h^4) in second derivative, on uneven
+    stamps too; six samples give the one quintic through them. Solved by the compiled kernel
+    (``toi._kernel.not_a_knot_quintic``: B-spline collocation by de Boor's recurrence, the
+    totally positive system eliminated without pivoting, in a fixed order: the same bits on
+    every machine).
+
+    :param times: (n,) strictly increasing (s), n >= 6.
+    :param values: (n, columns) floats, an array or rows: each column is fitted on its own.
+    :param start: the first knot whose derivatives are wanted (0 <= start < n).
+    :returns: (slopes, second derivatives) of knots ``start`` .. n - 1, a tuple per knot
+        (value units per second and per second squared).
+    :raises ValueError: fewer than 6 samples, rows of unequal lengths, ``start`` outside.
+    """
+    if isinstance(times, np.ndarray):
+        times = times.tolist()
+    return _kernel.not_a_knot_quintic(times, np.ascontiguousarray(values, dtype=float)
+                                      if isinstance(values, np.ndarray) else values, start)
+
+
+def quintic_window(times: Sequence[float], j: int) -> bool:
+    """
+    Return whether ``c2`` fits interval j of an exact window by the quintic spline.
+
+    Six samples or more, at least one after the interval (a window's last piece is left to the
+    cubic: the quintic's end weights amplify whatever noise the samples carry; the velocities
+    extrapolated from it are the same), and steps within ``QUINTIC_STEP_RATIO`` of each other.
+    """
+    if len(times) < 6 or j + 2 >= len(times):
+        return False
+    steps = [b - a for a, b in zip(times, times[1:])]
+    return max(steps) <= QUINTIC_STEP_RATIO * min(steps)

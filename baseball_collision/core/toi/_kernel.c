@@ -54,8 +54,9 @@
  *        same QR and derivatives as polyfit + kinematics.derivatives, to the bit; ballistic()
  *        and bat_from_rates() the same forecasts from given rates (after a LAPACK fit), and
  *        least_accelerating(knob, tip) (kinematics)
- *   not_a_knot(times, rows, start), third_jumps(times), polynomial_basis(times, count),
- *   step_key(times), not_a_knot_penalty(times), beside_null(p, u, times, count, null_eigenvalue),
+ *   not_a_knot(times, rows, start), not_a_knot_quintic(times, rows, start), third_jumps(times),
+ *   polynomial_basis(times, count), step_key(times), not_a_knot_penalty(times),
+ *   beside_null(p, u, times, count, null_eigenvalue),
  *   likeliest(p, z, variances, bounds, grid, null_eigenvalue),
  *   smoothed(p, u, z, y, variances, bounds, weights, null_eigenvalue)  the smoothing weight and
  *        the smoothed values (core.motion.smoothing),
@@ -2583,10 +2584,10 @@ static PyObject *position_name = NULL;                /* "position" */
 /* the path pieces' attributes c2_deviation reads (motion.points: PointPath, AngleCubic) */
 enum {
   PIECE_T0, PIECE_T1, PIECE_H, PIECE_A, PIECE_END, PIECE_B, PIECE_C, PIECE_D, PIECE_ACCEL0,
-  PIECE_ACCEL_RATE, PIECE_CURVED, PIECE_NAMES
+  PIECE_ACCEL_RATE, PIECE_CURVED, PIECE_E, PIECE_F, PIECE_NAMES
 };
 static const char *const piece_attributes[PIECE_NAMES] = {
-    "t0", "t1", "h", "a", "end", "b", "c", "d", "accel0", "accel_rate", "curved"};
+    "t0", "t1", "h", "a", "end", "b", "c", "d", "accel0", "accel_rate", "curved", "e", "f"};
 static PyObject *piece_names[PIECE_NAMES];
 static volatile double squared_power = 2.0; /* pow(x, 2): Python's x ** 2 (libm's pow, which
                                                may differ from x * x in the last bit; volatile:
@@ -2665,6 +2666,136 @@ static void not_a_knot_solve(const double *t, Py_ssize_t n, const double *y, Py_
   }
 }
 
+#define QUINTIC 5 /* the degree of quintic_solve's spline */
+
+/*
+ * The derivatives (per s) of the degree-`degree` B-splines nonzero on [T[left], T[left + 1]]
+ * (B_{left-degree} .. B_left) from the same of degree - 1 (`lower`, `degree` of them):
+ * B'_{i,d} = d (B_{i,d-1} / (T[i+d] - T[i]) - B_{i+1,d-1} / (T[i+d+1] - T[i+1])) (de Boor, A
+ * Practical Guide to Splines, ch. X). Every span divided by holds [T[left], T[left + 1]].
+ */
+static void spline_derivatives(const double *T, Py_ssize_t left, int degree, const double *lower,
+                               double *out)
+{
+  for (int r = 0; r <= degree; r++) {
+    Py_ssize_t i = left - degree + r;
+    double sum = 0.0;
+    if (r > 0) {
+      sum += lower[r - 1] / (T[i + degree] - T[i]);
+    }
+    if (r < degree) {
+      sum -= lower[r] / (T[i + degree + 1] - T[i + 1]);
+    }
+    out[r] = degree * sum;
+  }
+}
+
+/*
+ * The 6 B-splines of degree 5 on knots T nonzero at x in [T[left], T[left + 1]] (B_{left-5} ..
+ * B_left): their values, first and second derivatives (per s and s^2), by de Boor's recurrence
+ * (BSPLVB) keeping the values of degree 3 and 4 for the derivatives.
+ */
+static void quintic_basis(const double *T, Py_ssize_t left, double x, double *values,
+                          double *first, double *second)
+{
+  double before[QUINTIC + 1], after[QUINTIC + 1], cubic[4], quartic[5], quartic_rate[5];
+  values[0] = 1.0;
+  for (int j = 1; j <= QUINTIC; j++) {
+    before[j] = x - T[left + 1 - j];
+    after[j] = T[left + j] - x;
+    double saved = 0.0;
+    for (int r = 0; r < j; r++) {
+      double term = values[r] / (after[r + 1] + before[j - r]);
+      values[r] = saved + after[r + 1] * term;
+      saved = before[j - r] * term;
+    }
+    values[j] = saved;
+    if (j == 3) {
+      memcpy(cubic, values, sizeof cubic);
+    } else if (j == 4) {
+      memcpy(quartic, values, sizeof quartic);
+    }
+  }
+  spline_derivatives(T, left, QUINTIC, quartic, first);
+  spline_derivatives(T, left, 4, cubic, quartic_rate);
+  spline_derivatives(T, left, QUINTIC, quartic_rate, second);
+}
+
+/* the knot interval [T[left], T[left + 1]] quintic_solve evaluates stamp i (of n) in */
+static inline Py_ssize_t quintic_left(Py_ssize_t i, Py_ssize_t n)
+{
+  return i + 3 < QUINTIC ? QUINTIC : i + 3 > n - 1 ? n - 1 : i + 3;
+}
+
+/*
+ * The slopes and second derivatives at knots start..n-1 of the not-a-knot quintic spline
+ * through n >= 6 knots: the degree-5 spline interpolating (t, y) whose knots are the stamps but
+ * t[1], t[2], t[n-3] and t[n-2] (de Boor's not-a-knot choice for an odd degree: the pieces on
+ * either side of each left-out stamp are one quintic, so the end pieces are as accurate as the
+ * inner ones; six knots give the one quintic through them). Stamps t (s, increasing), values y
+ * (n x m, row-major); slopes and seconds: (n - start) x m each, row-major. B-spline
+ * collocation: the basis at each stamp (quintic_basis), the n x n system (its matrix from the
+ * stamps alone) eliminated without pivoting, which is stable for it (a collocation matrix at
+ * sites in its B-splines' supports is totally positive: de Boor, ch. XIII), every column at
+ * each step in a fixed order (the same bits on every machine), then each knot's derivatives
+ * from its six B-splines'. work: at least n (n + 13 + m) + 6 doubles.
+ */
+static void quintic_solve(const double *t, Py_ssize_t n, const double *y, Py_ssize_t m,
+                          Py_ssize_t start, double *slopes, double *seconds, double *work)
+{
+  double *T = work, *a = T + n + 6, *d1 = a + n * n, *d2 = d1 + 6 * n, *c = d2 + 6 * n;
+  for (int r = 0; r <= QUINTIC; r++) {
+    T[r] = t[0];
+    T[n + r] = t[n - 1];
+  }
+  for (Py_ssize_t i = 3; i <= n - 4; i++) {
+    T[i + 3] = t[i];
+  }
+  memset(a, 0, sizeof(double) * (size_t)(n * n));
+  for (Py_ssize_t i = 0; i < n; i++) { /* row i: the six B-splines at stamp i */
+    Py_ssize_t left = quintic_left(i, n);
+    quintic_basis(T, left, t[i], a + i * n + left - QUINTIC, d1 + 6 * i, d2 + 6 * i);
+  }
+  memcpy(c, y, sizeof(double) * (size_t)(n * m));
+  for (Py_ssize_t p = 0; p < n - 1; p++) { /* forward elimination, no pivoting */
+    double pivot = a[p * n + p];
+    for (Py_ssize_t i = p + 1; i < n && i <= p + QUINTIC; i++) {
+      double below = a[i * n + p];
+      if (below == 0.0) {
+        continue;
+      }
+      double factor = below / pivot;
+      for (Py_ssize_t j = p; j < n; j++) {
+        a[i * n + j] -= factor * a[p * n + j];
+      }
+      for (Py_ssize_t k = 0; k < m; k++) {
+        c[i * m + k] -= factor * c[p * m + k];
+      }
+    }
+  }
+  for (Py_ssize_t p = n - 1; p >= 0; p--) { /* back substitution: the coefficients */
+    for (Py_ssize_t k = 0; k < m; k++) {
+      double sum = c[p * m + k];
+      for (Py_ssize_t j = p + 1; j < n; j++) {
+        sum -= a[p * n + j] * c[j * m + k];
+      }
+      c[p * m + k] = sum / a[p * n + p];
+    }
+  }
+  for (Py_ssize_t i = start; i < n; i++) {
+    const double *coefficients = c + (quintic_left(i, n) - QUINTIC) * m;
+    for (Py_ssize_t k = 0; k < m; k++) {
+      double rate = 0.0, bend = 0.0;
+      for (int r = 0; r <= QUINTIC; r++) {
+        rate += d1[6 * i + r] * coefficients[r * m + k];
+        bend += d2[6 * i + r] * coefficients[r * m + k];
+      }
+      slopes[(i - start) * m + k] = rate;
+      seconds[(i - start) * m + k] = bend;
+    }
+  }
+}
+
 /* an integer (anything with __index__); false with an exception */
 static bool read_index(PyObject *o, Py_ssize_t *i)
 {
@@ -2694,17 +2825,20 @@ static bool read_rows(PyObject *rows, Py_ssize_t n, Py_ssize_t m, double *y, con
 
 /*
  * not_a_knot(times, rows, start) -> the slopes (value units per s) of knots start..n-1 of the
- * not-a-knot spline through n >= 4 rows of m values each (each column on its own), one tuple
- * per knot. rows: a sequence of rows, or an (n x m) C-contiguous float64 array (read as it
- * lies). ValueError: fewer than 4 knots, rows of unequal lengths, start outside [0, n).
+ * not-a-knot cubic spline through n >= 4 rows of m values each (each column on its own), one
+ * tuple per knot. not_a_knot_quintic(times, rows, start) -> (slopes, second derivatives (per
+ * s^2)) of the same knots of the not-a-knot quintic spline (quintic_solve) through n >= 6 rows,
+ * each a tuple per knot. rows: a sequence of rows, or an (n x m) C-contiguous float64 array
+ * (read as it lies). ValueError: too few knots, rows of unequal lengths, start outside [0, n).
  */
-static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+static PyObject *spline_derivative_rows(PyObject *const *args, Py_ssize_t nargs, bool quintic)
 {
+  const char *name = quintic ? "not_a_knot_quintic" : "not_a_knot";
   Py_ssize_t start;
   if (nargs != 3 ||
       !read_index(args[2], &start)) {
     if (!PyErr_Occurred()) {
-      PyErr_SetString(PyExc_TypeError, "not_a_knot(times, rows, start)");
+      PyErr_Format(PyExc_TypeError, "%s(times, rows, start)", name);
     }
     return NULL;
   }
@@ -2732,21 +2866,24 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
   }
   Py_ssize_t n = PySequence_Fast_GET_SIZE(times);
   Py_ssize_t count = have_array ? array.shape[0] : PySequence_Fast_GET_SIZE(rows);
-  if (n < 4 || count != n || start < 0 || start >= n) {
-    PyErr_SetString(PyExc_ValueError,
-                    "not_a_knot: at least 4 knots, as many rows as times, 0 <= start < n");
+  Py_ssize_t fewest = quintic ? QUINTIC + 1 : 4;
+  if (n < fewest || count != n || start < 0 || start >= n) {
+    PyErr_Format(PyExc_ValueError,
+                 "%s: at least %zd knots, as many rows as times, 0 <= start < n", name, fewest);
     goto done;
   }
   Py_ssize_t m = have_array ? array.shape[1] : PyObject_Length(PySequence_Fast_GET_ITEM(rows, 0));
   if (m < 0) {
     goto done;
   }
-  memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (5 + 2 * m) + 2 * m));
+  /* t, y, two outputs, and the larger work: 4 n + 2 m (cubic), n (n + 13 + m) + 6 (quintic) */
+  size_t work_size = quintic ? (size_t)(n * (n + 13 + m) + 6) : (size_t)(4 * n + 2 * m);
+  memory = PyMem_Malloc(sizeof(double) * ((size_t)(n * (1 + 3 * m)) + work_size));
   if (memory == NULL) {
     PyErr_NoMemory();
     goto done;
   }
-  double *t = memory, *y = t + n, *out = y + n * m, *work = out + n * m; /* 4 n + 2 m */
+  double *t = memory, *y = t + n, *out = y + n * m, *bends = out + n * m, *work = bends + n * m;
   for (Py_ssize_t i = 0; i < n; i++) {
     t[i] = item_double(PySequence_Fast_GET_ITEM(times, i));
   }
@@ -2757,8 +2894,17 @@ static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t
       (!have_array && !read_rows(rows, n, m, y, "a row of the spline's values"))) {
     goto done;
   }
-  not_a_knot_solve(t, n, y, m, start, out, work);
-  result = float_rows(out, n - start, m, true);
+  if (!quintic) {
+    not_a_knot_solve(t, n, y, m, start, out, work);
+    result = float_rows(out, n - start, m, true);
+  } else {
+    quintic_solve(t, n, y, m, start, out, bends, work);
+    PyObject *rates = float_rows(out, n - start, m, true);
+    PyObject *seconds = rates ? float_rows(bends, n - start, m, true) : NULL;
+    result = seconds ? PyTuple_Pack(2, rates, seconds) : NULL;
+    Py_XDECREF(rates);
+    Py_XDECREF(seconds);
+  }
 done:
   PyMem_Free(memory);
   if (have_array) {
@@ -2767,6 +2913,16 @@ done:
   Py_XDECREF(times);
   Py_XDECREF(rows);
   return result;
+}
+
+static PyObject *py_not_a_knot(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  return spline_derivative_rows(args, nargs, false);
+}
+
+static PyObject *py_not_a_knot_quintic(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  return spline_derivative_rows(args, nargs, true);
 }
 
 /*
@@ -3974,19 +4130,50 @@ static bool set_vec(PyObject *o, PyObject *name, Vec v)
   return !failed;
 }
 
+/*
+ * The quintic Hermite's power-basis coefficients d, e, f (of s^3, s^4, s^5; s = (t - t0) / h)
+ * given the rest: chord = p1 - p0, b = h m0, c = h^2 g0 / 2, slope1 = h m1 and bend1 = h^2 g1
+ * (m the end rates, g the end second derivatives): the end value, slope and second derivative
+ * at s = 1 are d + e + f = chord - b - c, 3 d + 4 e + 5 f = slope1 - b - 2 c and
+ * 6 d + 12 e + 20 f = bend1 - 2 c.
+ */
+static void quintic_hermite(double chord, double b, double c, double slope1, double bend1,
+                            double *d, double *e, double *f)
+{
+  double value = chord - b - c, slope = slope1 - b - 2.0 * c, bend = bend1 - 2.0 * c;
+  *d = 10.0 * value - 4.0 * slope + 0.5 * bend;
+  *e = -15.0 * value + 7.0 * slope - bend;
+  *f = 6.0 * value - 3.0 * slope + 0.5 * bend;
+}
+
+/* the largest |p(s) - chord(s)| over [0, 1] of s^k - s, k = 2 .. 5, rounded up: 1/4, and
+ * k^(-k/(k-1)) - k^(-1/(k-1)) in size (0.38490, 0.47247, 0.53499) */
+static const double SPAN_BULGE[4] = {0.25, 0.3849, 0.4725, 0.535};
+
+/*
+ * point_path_init(path, t0, t1, p0, p1, m0, m1[, g0, g1]): a PointPath's slots
+ * (motion.points.PointPath.__init__): a chord (m0, m1 None), the cubic Hermite with end
+ * velocities m0, m1, or the quintic Hermite with end accelerations g0, g1 too (m/s^2; None or
+ * left out: the cubic). TypeError: times not numbers, points not 3 numbers.
+ */
 static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   double t0, t1;
-  Vec p0, p1, m0 = {0.0, 0.0, 0.0}, m1 = {0.0, 0.0, 0.0};
-  if (nargs != 7 || !read_number(args[1], &t0) || !read_number(args[2], &t1) ||
+  Vec p0, p1, m0 = {0.0, 0.0, 0.0}, m1 = {0.0, 0.0, 0.0}, g0, g1;
+  if ((nargs != 7 && nargs != 9) || !read_number(args[1], &t0) || !read_number(args[2], &t1) ||
       !read_vec(args[3], &p0) || !read_vec(args[4], &p1)) {
-    PyErr_SetString(PyExc_TypeError, "point_path_init(path, t0, t1, p0, p1, m0, m1): times "
-                                     "and points of 3 numbers");
+    PyErr_SetString(PyExc_TypeError, "point_path_init(path, t0, t1, p0, p1, m0, m1[, g0, g1]): "
+                                     "times and points of 3 numbers");
     return NULL;
   }
   bool curved = args[5] != Py_None && args[6] != Py_None;
   if (curved && (!read_vec(args[5], &m0) || !read_vec(args[6], &m1))) {
     PyErr_SetString(PyExc_TypeError, "point_path_init: velocities of 3 numbers");
+    return NULL;
+  }
+  bool quintic = curved && nargs == 9 && args[7] != Py_None && args[8] != Py_None;
+  if (quintic && (!read_vec(args[7], &g0) || !read_vec(args[8], &g1))) {
+    PyErr_SetString(PyExc_TypeError, "point_path_init: accelerations of 3 numbers");
     return NULL;
   }
   PyObject *path = args[0];
@@ -4001,7 +4188,29 @@ static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ss
     return NULL;
   }
   double bulge = 0.0;
-  if (curved) {
+  if (quintic) {
+    double h2 = h * h, b[3], c[3], d[3], e[3], f[3];
+    double chords[3] = {chord.x, chord.y, chord.z}, rate0[3] = {m0.x, m0.y, m0.z};
+    double rate1[3] = {m1.x, m1.y, m1.z}, bend0[3] = {g0.x, g0.y, g0.z};
+    double bend1[3] = {g1.x, g1.y, g1.z};
+    for (int i = 0; i < 3; i++) {
+      b[i] = h * rate0[i];
+      c[i] = 0.5 * h2 * bend0[i];
+      quintic_hermite(chords[i], b[i], c[i], h * rate1[i], h2 * bend1[i], &d[i], &e[i], &f[i]);
+    }
+    Vec vb = {b[0], b[1], b[2]}, vc = {c[0], c[1], c[2]}, vd = {d[0], d[1], d[2]};
+    Vec ve = {e[0], e[1], e[2]}, vf = {f[0], f[1], f[2]};
+    bulge = SPAN_BULGE[0] * v_norm(vc) + SPAN_BULGE[1] * v_norm(vd) +
+            SPAN_BULGE[2] * v_norm(ve) + SPAN_BULGE[3] * v_norm(vf);
+    if (!set_vec(path, piece_names[PIECE_B], vb) || !set_vec(path, piece_names[PIECE_C], vc) ||
+        !set_vec(path, piece_names[PIECE_D], vd) || !set_vec(path, piece_names[PIECE_E], ve) ||
+        !set_vec(path, piece_names[PIECE_F], vf) ||
+        !set_vec(path, piece_names[PIECE_ACCEL0], (Vec){g0.x, g0.y, g0.z}) ||
+        !set_vec(path, piece_names[PIECE_ACCEL_RATE],
+                 (Vec){6.0 * d[0] / h2, 6.0 * d[1] / h2, 6.0 * d[2] / h2})) {
+      return NULL;
+    }
+  } else if (curved) {
     Vec b = {h * m0.x, h * m0.y, h * m0.z}, e = {h * m1.x, h * m1.y, h * m1.z};
     Vec c = {3.0 * chord.x - 2.0 * b.x - e.x, 3.0 * chord.y - 2.0 * b.y - e.y,
              3.0 * chord.z - 2.0 * b.z - e.z};
@@ -4022,6 +4231,10 @@ static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ss
         !set_vec(path, piece_names[PIECE_C], zero) || !set_vec(path, piece_names[PIECE_D], zero)) {
       return NULL;
     }
+  }
+  if (!quintic && (PyObject_SetAttr(path, piece_names[PIECE_E], Py_None) < 0 ||
+                   PyObject_SetAttr(path, piece_names[PIECE_F], Py_None) < 0)) {
+    return NULL;
   }
   if (!set_number(path, path_names[2], bulge) ||
       !set_vec(path, path_names[0], (Vec){p0.x + (p1.x - p0.x) * 0.5, p0.y + (p1.y - p0.y) * 0.5,
@@ -4381,10 +4594,44 @@ static int attr_curved(PyObject *o)
   return curved;
 }
 
+/* whether a path piece is a quintic (its ``e`` is not None): 1, 0, or -1 with an exception */
+static int piece_quintic(PyObject *piece)
+{
+  PyObject *value = PyObject_GetAttr(piece, piece_names[PIECE_E]);
+  if (value == NULL) {
+    return -1;
+  }
+  int quintic = value != Py_None;
+  Py_DECREF(value);
+  return quintic;
+}
+
+/*
+ * A bound on the largest |p''| over [sa, sb] (in steps; times h^2) of a quintic with power
+ * coefficients c, d, e, f of s^2 .. s^5 (`dim` coordinates each): p'' h^2 = 2 c + 6 d s +
+ * 12 e s^2 + 20 f s^3, bounded by Taylor's theorem about sa: |p''(sa)| + |p'''(sa)| (sb - sa)
+ * + max |p''''| (sb - sa)^2 / 2, where p'''' h^4 = 24 e + 120 f s is linear (so at an end).
+ */
+static double quintic_bend_bound(const double *c, const double *d, const double *e,
+                                 const double *f, int dim, double sa, double sb)
+{
+  double bend = 0.0, jerk = 0.0, snap_a = 0.0, snap_b = 0.0, span = sb - sa;
+  for (int i = 0; i < dim; i++) {
+    double second = 2.0 * c[i] + sa * (6.0 * d[i] + sa * (12.0 * e[i] + sa * 20.0 * f[i]));
+    double third = 6.0 * d[i] + sa * (24.0 * e[i] + sa * 60.0 * f[i]);
+    double fourth_a = 24.0 * e[i] + 120.0 * f[i] * sa, fourth_b = 24.0 * e[i] + 120.0 * f[i] * sb;
+    bend += second * second;
+    jerk += third * third;
+    snap_a += fourth_a * fourth_a;
+    snap_b += fourth_b * fourth_b;
+  }
+  return sqrt(bend) + sqrt(jerk) * span + max_of(sqrt(snap_a), sqrt(snap_b)) * span * span * 0.5;
+}
+
 /*
  * The largest |p''| over [ta, tb] of a point piece (motion.points.PointPath): p''(s) =
- * accel0 + accel_rate s, s = (t - t0) / h, linear, so at an end; 0 for a chord. -1 with an
- * exception.
+ * accel0 + accel_rate s, s = (t - t0) / h, linear, so at an end; 0 for a chord; of a quintic,
+ * quintic_bend_bound over h^2. -1 with an exception.
  */
 static double piece_max_acceleration(PyObject *piece, double ta, double tb)
 {
@@ -4393,6 +4640,19 @@ static double piece_max_acceleration(PyObject *piece, double ta, double tb)
   Vec a0, rate;
   if (curved <= 0) {
     return curved == 0 ? 0.0 : -1.0;
+  }
+  int quintic = piece_quintic(piece);
+  if (quintic != 0) {
+    Vec c, d, e, f;
+    if (quintic < 0 || !attr_double(piece, piece_names[PIECE_T0], &t0) ||
+        !attr_double(piece, piece_names[PIECE_H], &h) ||
+        !attr_vec(piece, piece_names[PIECE_C], &c) || !attr_vec(piece, piece_names[PIECE_D], &d) ||
+        !attr_vec(piece, piece_names[PIECE_E], &e) || !attr_vec(piece, piece_names[PIECE_F], &f)) {
+      return -1.0;
+    }
+    double cs[3] = {c.x, c.y, c.z}, ds[3] = {d.x, d.y, d.z}, es[3] = {e.x, e.y, e.z};
+    double fs[3] = {f.x, f.y, f.z};
+    return quintic_bend_bound(cs, ds, es, fs, 3, (ta - t0) / h, (tb - t0) / h) / (h * h);
   }
   if (!attr_double(piece, piece_names[PIECE_T0], &t0) ||
       !attr_double(piece, piece_names[PIECE_H], &h) ||
@@ -4443,15 +4703,24 @@ static bool point_piece_at(PyObject *piece, double t, Vec *value, PyObject **obj
     }
     return true;
   }
-  Vec a, b, c, d;
-  if (!attr_double(piece, piece_names[PIECE_H], &h) ||
+  Vec a, b, c, d, e, f;
+  int quintic = piece_quintic(piece);
+  if (quintic < 0 || !attr_double(piece, piece_names[PIECE_H], &h) ||
       !attr_vec(piece, piece_names[PIECE_A], &a) || !attr_vec(piece, piece_names[PIECE_B], &b) ||
-      !attr_vec(piece, piece_names[PIECE_C], &c) || !attr_vec(piece, piece_names[PIECE_D], &d)) {
+      !attr_vec(piece, piece_names[PIECE_C], &c) || !attr_vec(piece, piece_names[PIECE_D], &d) ||
+      (quintic && (!attr_vec(piece, piece_names[PIECE_E], &e) ||
+                   !attr_vec(piece, piece_names[PIECE_F], &f)))) {
     return false;
   }
   double s = (t - t0) / h;
-  *value = (Vec){a.x + s * (b.x + s * (c.x + s * d.x)), a.y + s * (b.y + s * (c.y + s * d.y)),
-                 a.z + s * (b.z + s * (c.z + s * d.z))};
+  if (quintic) {
+    *value = (Vec){a.x + s * (b.x + s * (c.x + s * (d.x + s * (e.x + s * f.x)))),
+                   a.y + s * (b.y + s * (c.y + s * (d.y + s * (e.y + s * f.y)))),
+                   a.z + s * (b.z + s * (c.z + s * (d.z + s * (e.z + s * f.z))))};
+  } else {
+    *value = (Vec){a.x + s * (b.x + s * (c.x + s * d.x)), a.y + s * (b.y + s * (c.y + s * d.y)),
+                   a.z + s * (b.z + s * (c.z + s * d.z))};
+  }
   if (object != NULL && (*object = vec_tuple(*value)) == NULL) {
     return false;
   }
@@ -4469,15 +4738,20 @@ static bool angle_piece_at(PyObject *piece, double t, double *value)
   if (t == t0 || t == t1) {
     return attr_double(piece, piece_names[t == t0 ? PIECE_A : PIECE_END], value);
   }
-  if (!attr_double(piece, piece_names[PIECE_H], &h) ||
+  int quintic = piece_quintic(piece);
+  double e, f;
+  if (quintic < 0 || !attr_double(piece, piece_names[PIECE_H], &h) ||
       !attr_double(piece, piece_names[PIECE_A], &a) ||
       !attr_double(piece, piece_names[PIECE_B], &b) ||
       !attr_double(piece, piece_names[PIECE_C], &c) ||
-      !attr_double(piece, piece_names[PIECE_D], &d)) {
+      !attr_double(piece, piece_names[PIECE_D], &d) ||
+      (quintic && (!attr_double(piece, piece_names[PIECE_E], &e) ||
+                   !attr_double(piece, piece_names[PIECE_F], &f)))) {
     return false;
   }
   double s = (t - t0) / h;
-  *value = a + s * (b + s * (c + s * d));
+  *value = quintic ? a + s * (b + s * (c + s * (d + s * (e + s * f))))
+                   : a + s * (b + s * (c + s * d));
   return true;
 }
 
@@ -4551,33 +4825,45 @@ static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize
   double span = tb - ta;
   /* the rotation vector: |r''| at most ``second``, |r'| at most ``first`` */
   double second = piece_max_acceleration(turn, ta, tb);
-  double t0, h, t1, a, end, b, c, d, accel0, accel_rate;
-  Vec vb, vc, vd;
-  if (second < 0.0 || !attr_double(turn, piece_names[PIECE_T0], &t0) ||
+  double t0, h, t1, a, end, b, c, d, e = 0.0, f = 0.0, accel0, accel_rate;
+  Vec vb, vc, vd, ve = {0.0, 0.0, 0.0}, vf = {0.0, 0.0, 0.0};
+  int quintic = second < 0.0 ? -1 : piece_quintic(turn);
+  if (quintic < 0 || !attr_double(turn, piece_names[PIECE_T0], &t0) ||
       !attr_double(turn, piece_names[PIECE_H], &h) ||
       !attr_vec(turn, piece_names[PIECE_B], &vb) || !attr_vec(turn, piece_names[PIECE_C], &vc) ||
-      !attr_vec(turn, piece_names[PIECE_D], &vd)) {
+      !attr_vec(turn, piece_names[PIECE_D], &vd) ||
+      (quintic && (!attr_vec(turn, piece_names[PIECE_E], &ve) ||
+                   !attr_vec(turn, piece_names[PIECE_F], &vf)))) {
     return NULL;
   }
   double s = (ta - t0) / h;
-  Vec rate = {(vb.x + s * (2.0 * vc.x + 3.0 * s * vd.x)) / h,
-              (vb.y + s * (2.0 * vc.y + 3.0 * s * vd.y)) / h,
-              (vb.z + s * (2.0 * vc.z + 3.0 * s * vd.z)) / h};
+  Vec rate = quintic ? (Vec){
+      (vb.x + s * (2.0 * vc.x + s * (3.0 * vd.x + s * (4.0 * ve.x + 5.0 * s * vf.x)))) / h,
+      (vb.y + s * (2.0 * vc.y + s * (3.0 * vd.y + s * (4.0 * ve.y + 5.0 * s * vf.y)))) / h,
+      (vb.z + s * (2.0 * vc.z + s * (3.0 * vd.z + s * (4.0 * ve.z + 5.0 * s * vf.z)))) / h}
+                     : (Vec){(vb.x + s * (2.0 * vc.x + 3.0 * s * vd.x)) / h,
+                             (vb.y + s * (2.0 * vc.y + 3.0 * s * vd.y)) / h,
+                             (vb.z + s * (2.0 * vc.z + 3.0 * s * vd.z)) / h};
   double first = sqrt(rate.x * rate.x + rate.y * rate.y + rate.z * rate.z) + second * span;
   /* the length: |L| at most ``value``, |L'| at most ``lengthening``, |L''| at most ``change`` */
   int curved = attr_curved(length);
-  if (curved < 0 || !attr_double(length, piece_names[PIECE_T0], &t0) ||
+  quintic = curved < 0 ? -1 : piece_quintic(length);
+  if (quintic < 0 || !attr_double(length, piece_names[PIECE_T0], &t0) ||
       !attr_double(length, piece_names[PIECE_T1], &t1) ||
       !attr_double(length, piece_names[PIECE_H], &h) ||
       !attr_double(length, piece_names[PIECE_A], &a) ||
       !attr_double(length, piece_names[PIECE_END], &end) ||
       !attr_double(length, piece_names[PIECE_B], &b) ||
       !attr_double(length, piece_names[PIECE_C], &c) ||
-      !attr_double(length, piece_names[PIECE_D], &d)) {
+      !attr_double(length, piece_names[PIECE_D], &d) ||
+      (quintic && (!attr_double(length, piece_names[PIECE_E], &e) ||
+                   !attr_double(length, piece_names[PIECE_F], &f)))) {
     return NULL;
   }
   double change = 0.0;
-  if (curved) {
+  if (quintic) {
+    change = quintic_bend_bound(&c, &d, &e, &f, 1, (ta - t0) / h, (tb - t0) / h) / (h * h);
+  } else if (curved) {
     if (!attr_double(length, piece_names[PIECE_ACCEL0], &accel0) ||
         !attr_double(length, piece_names[PIECE_ACCEL_RATE], &accel_rate)) {
       return NULL;
@@ -4586,11 +4872,15 @@ static PyObject *py_c2_deviation(PyObject *self, PyObject *const *args, Py_ssize
                     fabs(accel0 + accel_rate * (tb - t0) / h));
   }
   s = (ta - t0) / h;
-  double lengthening = fabs((b + s * (2.0 * c + 3.0 * s * d)) / h) + change * span;
+  double lengthening =
+      fabs(quintic ? (b + s * (2.0 * c + s * (3.0 * d + s * (4.0 * e + 5.0 * s * f)))) / h
+                   : (b + s * (2.0 * c + 3.0 * s * d)) / h) + change * span;
   double at[2], ends[2] = {ta, tb};
   for (int i = 0; i < 2; i++) { /* AngleCubic.at: its ends as given */
     double u = (ends[i] - t0) / h;
-    at[i] = ends[i] == t0 ? a : ends[i] == t1 ? end : a + u * (b + u * (c + u * d));
+    at[i] = ends[i] == t0 ? a : ends[i] == t1 ? end
+          : quintic ? a + u * (b + u * (c + u * (d + u * (e + u * f))))
+                    : a + u * (b + u * (c + u * d));
   }
   double value = max_of(fabs(at[0]), fabs(at[1])) + change * span * span / 8.0;
   double knob = piece_max_acceleration(args[0], ta, tb);
@@ -4702,12 +4992,17 @@ static PyObject *bare_instance(PyObject *cls)
  */
 static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_object,
                              double t0, double t1, double v0, double v1, PyObject *m0_object,
-                             PyObject *m1_object)
+                             PyObject *m1_object, PyObject *g0_object, PyObject *g1_object)
 {
-  double h = t1 - t0, chord = v1 - v0, m0 = 0.0, m1 = 0.0;
+  double h = t1 - t0, chord = v1 - v0, m0 = 0.0, m1 = 0.0, g0 = 0.0, g1 = 0.0;
   bool curved = m0_object != Py_None && m1_object != Py_None;
   if (curved && (!read_number(m0_object, &m0) || !read_number(m1_object, &m1))) {
     PyErr_SetString(PyExc_TypeError, "c2_path_init: length rates must be numbers or None");
+    return false;
+  }
+  bool quintic = curved && g0_object != Py_None && g1_object != Py_None;
+  if (quintic && (!read_number(g0_object, &g0) || !read_number(g1_object, &g1))) {
+    PyErr_SetString(PyExc_TypeError, "c2_path_init: length accelerations must be numbers");
     return false;
   }
   if (PyObject_SetAttr(piece, piece_names[PIECE_T0], t0_object) < 0 ||
@@ -4717,11 +5012,28 @@ static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_
       PyObject_SetAttr(piece, piece_names[PIECE_CURVED], curved ? Py_True : Py_False) < 0) {
     return false;
   }
+  if (!quintic && (PyObject_SetAttr(piece, piece_names[PIECE_E], Py_None) < 0 ||
+                   PyObject_SetAttr(piece, piece_names[PIECE_F], Py_None) < 0)) {
+    return false;
+  }
   if (!curved) {
     return set_number(piece, piece_names[PIECE_B], chord) &&
            set_number(piece, piece_names[PIECE_C], 0.0) &&
            set_number(piece, piece_names[PIECE_D], 0.0) &&
            set_number(piece, path_names[2], 0.0);
+  }
+  if (quintic) {
+    double h2 = h * h, b = h * m0, c = 0.5 * h2 * g0, d, e, f;
+    quintic_hermite(chord, b, c, h * m1, h2 * g1, &d, &e, &f);
+    return set_number(piece, piece_names[PIECE_B], b) &&
+           set_number(piece, piece_names[PIECE_C], c) &&
+           set_number(piece, piece_names[PIECE_D], d) &&
+           set_number(piece, piece_names[PIECE_E], e) &&
+           set_number(piece, piece_names[PIECE_F], f) &&
+           set_number(piece, piece_names[PIECE_ACCEL0], g0) &&
+           set_number(piece, piece_names[PIECE_ACCEL_RATE], 6.0 * d / h2) &&
+           set_number(piece, path_names[2], SPAN_BULGE[0] * fabs(c) + SPAN_BULGE[1] * fabs(d) +
+                                                SPAN_BULGE[2] * fabs(e) + SPAN_BULGE[3] * fabs(f));
   }
   double b = h * m0, e = h * m1;
   double c = 3.0 * chord - 2.0 * b - e, d = b + e - 2.0 * chord, h2 = h * h;
@@ -4759,17 +5071,20 @@ static PyObject *slope_item(PyObject *pair, Py_ssize_t i)
 static PyObject *py_c2_path_init(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   double t0, t1;
-  if (nargs != 10 || !read_number(args[3], &t0) || !read_number(args[4], &t1)) {
+  if ((nargs != 10 && nargs != 11) || !read_number(args[3], &t0) || !read_number(args[4], &t1)) {
     PyErr_SetString(PyExc_TypeError, "c2_path_init(path, point_class, angle_class, t0, t1, "
                                      "sample0, sample1, knob_slopes, turn_slopes, "
-                                     "length_slopes): times must be numbers");
+                                     "length_slopes[, seconds]): times must be numbers");
     return NULL;
   }
+  /* seconds: None, or (knob, turn, length) second derivatives, each a (start, end) pair */
+  PyObject *bends = nargs == 11 && args[10] != Py_None ? args[10] : NULL;
   PyObject *path = args[0], *t0_object = args[3], *t1_object = args[4];
   PyObject *sample0 = args[5], *sample1 = args[6];
   PyObject *ends[4] = {NULL, NULL, NULL, NULL}; /* knob0, tip0, knob1, tip1 */
   PyObject *centre = NULL, *knob = NULL, *turn = NULL, *length = NULL, *origin = NULL;
   PyObject *closing = NULL, *reference = NULL, *spread = NULL, *slopes[6] = {NULL};
+  PyObject *seconds[6] = {NULL};
   PyObject *result = NULL;
   Vec k0, e0, k1, e1, axis0, axis1;
   double length0, length1;
@@ -4781,6 +5096,14 @@ static PyObject *py_c2_path_init(PyObject *self, PyObject *const *args, Py_ssize
   }
   for (int i = 0; i < 6; i++) {
     if ((slopes[i] = slope_item(args[7 + i / 2], i % 2)) == NULL) {
+      goto done;
+    }
+  }
+  for (int i = 0; bends != NULL && i < 6; i++) {
+    PyObject *pair = PySequence_GetItem(bends, i / 2);
+    seconds[i] = pair ? slope_item(pair, i % 2) : NULL;
+    Py_XDECREF(pair);
+    if (seconds[i] == NULL) {
       goto done;
     }
   }
@@ -4818,20 +5141,23 @@ static PyObject *py_c2_path_init(PyObject *self, PyObject *const *args, Py_ssize
       (closing = vec_tuple(rotation)) == NULL || (reference = vec_tuple(axis0)) == NULL) {
     goto done;
   }
-  PyObject *knob_call[7] = {knob, t0_object, t1_object, ends[0], ends[2], slopes[0], slopes[1]};
-  PyObject *made = py_point_path_init(NULL, knob_call, 7);
+  Py_ssize_t count = bends != NULL ? 9 : 7;
+  PyObject *knob_call[9] = {knob, t0_object, t1_object, ends[0], ends[2], slopes[0], slopes[1],
+                            seconds[0], seconds[1]};
+  PyObject *made = py_point_path_init(NULL, knob_call, count);
   if (made == NULL) {
     goto done;
   }
   Py_DECREF(made);
-  PyObject *turn_call[7] = {turn, t0_object, t1_object, origin, closing, slopes[2], slopes[3]};
-  made = py_point_path_init(NULL, turn_call, 7);
+  PyObject *turn_call[9] = {turn, t0_object, t1_object, origin, closing, slopes[2], slopes[3],
+                            seconds[2], seconds[3]};
+  made = py_point_path_init(NULL, turn_call, count);
   if (made == NULL) {
     goto done;
   }
   Py_DECREF(made);
   if (!fill_angle_cubic(length, t0_object, t1_object, t0, t1, length0, length1, slopes[4],
-                        slopes[5])) {
+                        slopes[5], bends ? seconds[4] : Py_None, bends ? seconds[5] : Py_None)) {
     goto done;
   }
   double lever = length1 > length0 ? length1 : length0;
@@ -4860,6 +5186,7 @@ done:
   }
   for (int i = 0; i < 6; i++) {
     Py_XDECREF(slopes[i]);
+    Py_XDECREF(seconds[i]);
   }
   Py_XDECREF(centre);
   Py_XDECREF(knob);
@@ -7597,6 +7924,9 @@ static PyMethodDef methods[] = {
     {"not_a_knot", (PyCFunction)(void (*)(void))py_not_a_knot, METH_FASTCALL,
      "not_a_knot(times, rows, start): the not-a-knot spline's slopes at knots start..n-1, "
      "a tuple per knot (n >= 4)"},
+    {"not_a_knot_quintic", (PyCFunction)(void (*)(void))py_not_a_knot_quintic, METH_FASTCALL,
+     "not_a_knot_quintic(times, rows, start): the not-a-knot quintic spline's (slopes, second "
+     "derivatives) at knots start..n-1, each a tuple per knot (n >= 6)"},
     {"profile_gap", (PyCFunction)(void (*)(void))py_profile_gap, METH_FASTCALL,
      "profile_gap(ball, knob, tip, ball_radius, profile): (gap in m, unit normal from the axis "
      "to the ball, fraction along knob-tip)"},
