@@ -34,7 +34,7 @@ from ..geometry import cross, dot, sub, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import flight_or_none, FlightFit
 from ..motion.smoothing import penalty_eigen, smooth, smoother_norms, smoother_rows
-from ..motion.splines import not_a_knot_slope_rows
+from ..motion.splines import not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window
 from ..toi import _kernel
 
 SMOOTHER = ('not-a-knot', 'likelihood')
@@ -183,6 +183,9 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     """
     Return the ball's ``c2`` path over interval k: its window spline's piece (smoothed).
 
+    Exact, the quintic spline's piece where ``quintic_window`` takes the window, else the
+    cubic's (as the bat's: ``motion.c2``).
+
     With noise and a ``config`` (its ``max_gap`` and trim history), the flight fit instead where
     ``ball_flight`` finds one.
     """
@@ -200,7 +203,12 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
                                 [noise * noise] * 3, *SMOOTHER, start=j)
         (v0, v1), (s0, s1) = values[j:j + 2].tolist(), slopes[:2].tolist()  # (floats at once)
         return PointPath(times[j], times[j + 1], tuple(v0), tuple(v1), tuple(s0), tuple(s1))
-    slopes = not_a_knot_slope_rows(times, stream.values[window.start:window.stop], j)
+    values = stream.values[window.start:window.stop]
+    if quintic_window(times, j):
+        slopes, bends = not_a_knot_quintic_rows(times, values, j)
+        return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1],
+                         slopes[0], slopes[1], bends[0], bends[1])
+    slopes = not_a_knot_slope_rows(times, values, j)
     return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
                      slopes[1])
 
@@ -304,10 +312,6 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
     t0, t1 = stream.times[k], stream.times[k + 1]
     length = before.length
 
-    def lengthening(t: float) -> float:  # the length cubic's rate (m/s), continued as ``at``
-        s = (t - length.t0) / length.h
-        return (length.b + s * (2.0 * length.c + 3.0 * s * length.d)) / length.h
-
     def at(t: float) -> BatSample:  # the continued bat at t (s)
         knob = before.knob.at(t)
         direction = rotate(before.reference, before.turn.at(t))
@@ -319,7 +323,7 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
                                before.turn.velocity(t))[1] for t in (t0, t1))
     return C2BatPath(t0, t1, opening, at(t1),
                      (before.knob.velocity(t0), before.knob.velocity(t1)), (turn0, turn1),
-                     (lengthening(t0), lengthening(t1)))
+                     (length.velocity(t0), length.velocity(t1)))
 
 
 def swing_rate(path: C2BatPath, t: float) -> Vector:

@@ -19,17 +19,26 @@ off in position (the chart is smooth, so the order carries over to the direction
 in velocity, on uneven stamps and in the window's end pieces too
 (not-a-knot), so halving the step divides the position error by about 16. With look-ahead 0
 the fit ends at the interval's closing frame: frames after it (the bat braking after a
-contact) cannot bend the interval. Each path is a ``MotionPath`` over one interval;
+contact) cannot bend the interval.
+
+The bat's exact windows with a sample after the interval (look-ahead 1 or 2), six samples or
+more and even steps (``splines.quintic_window``) take the not-a-knot *quintic* spline instead
+(``splines.not_a_knot_quintic_rows``; each piece a quintic Hermite through the spline's values,
+slopes and second derivatives at its ends, which is the spline's own piece): O(h^6) in position
+and O(h^5) in velocity for a motion with a bounded sixth derivative (BENCHMARKS.md, "The quintic
+spline for ``c2``'s exact windows"). A window's last piece (look-ahead 0, and the velocities
+extrapolated from before an impact) stays cubic: there the quintic's end weights amplify
+untold noise. Each path is a ``MotionPath`` over one interval;
 ``C2BatPath.deviation`` bounds how far any bat axis point leaves its chord from the second
 derivative of knob + length * direction.
 """
 
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 from .base import BatSample, PathKind
 from .bat_paths import BatPath, Ends
 from .points import AngleCubic, PointPath
-from .splines import not_a_knot_slope_rows
+from .splines import not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window
 from ..geometry import Vector
 from ..toi import _kernel
 
@@ -128,6 +137,8 @@ class C2BatPath(BatPath):
     :param turn_slopes: (start, end) rates (rad/s) of the rotation vector from the opening
         direction (which it turns onto the closing one).
     :param length_slopes: (start, end) rates of the knob-to-tip length (m/s).
+    :param seconds: None (cubic pieces), or the (start, end) second derivatives of the knob
+        (m/s^2), the rotation vector (rad/s^2) and the length (m/s^2): quintic pieces.
     """
 
     __slots__ = ('knob', 'turn', 'length', 'reference', 'spread')
@@ -135,16 +146,18 @@ class C2BatPath(BatPath):
 
     def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
                  knob_slopes: Tuple[Vector, Vector], turn_slopes: Tuple[Vector, Vector],
-                 length_slopes: Tuple[float, float]) -> None:
+                 length_slopes: Tuple[float, float],
+                 seconds: Optional[Tuple[Tuple[Vector, Vector], Tuple[Vector, Vector],
+                                         Tuple[float, float]]] = None) -> None:
         # in the kernel (``toi._kernel.c2_path_init``, the same operations in this order): the
         # ``BatPath`` part (the four ends' mean, the largest ``math.dist`` from it); the knob a
         # ``PointPath`` of the samples' knobs; the reference direction and both lengths the
         # samples' ``axis_and_length``; the turn a ``PointPath`` from (0, 0, 0) to the rotation
         # vector onto sample1's direction (``rotation_to``); the length an ``AngleCubic``; the
         # lever the longer length, the angle the turn's norm; the spread ``_deviation`` over
-        # [t0, t1], added to the radius
+        # [t0, t1], added to the radius. With ``seconds`` each piece is a quintic
         _kernel.c2_path_init(self, PointPath, AngleCubic, t0, t1, sample0, sample1,
-                             knob_slopes, turn_slopes, length_slopes)
+                             knob_slopes, turn_slopes, length_slopes, seconds)
 
     def deviation(self, ta: float, tb: float) -> float:
         """
@@ -163,13 +176,23 @@ class C2BatPath(BatPath):
         """
         Return the path over [times[k], times[k + 1]] from the window's splines.
 
+        Cubic, or quintic where ``splines.quintic_window`` takes the (charted) window.
+
         :param times, samples: the window (seconds, bat samples); k: the interval in it.
         """
         first, rows = c2_rows(samples, k)
-        s0, s1 = not_a_knot_slope_rows(times[first:first + len(rows)], rows, k - first)[:2]
+        window = times[first:first + len(rows)]
+        seconds = None
+        if quintic_window(window, k - first):
+            slopes, bends = not_a_knot_quintic_rows(window, rows, k - first)
+            g0, g1 = bends[:2]
+            seconds = ((g0[:3], g1[:3]), (g0[3:6], g1[3:6]), (g0[6], g1[6]))
+            s0, s1 = slopes[:2]
+        else:
+            s0, s1 = not_a_knot_slope_rows(window, rows, k - first)[:2]
         return cls(times[k], times[k + 1], samples[k], samples[k + 1],
                    (tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
-                   (s0[6], s1[6]))
+                   (s0[6], s1[6]), seconds)
 
     def _inside(self, t: float) -> Ends:
         # the kernel's (``toi._kernel.c2_inside``, these operations in this order): the knob

@@ -57,20 +57,32 @@ def _worst_error(rate: float, look_ahead: int) -> float:
 
 
 def test_error_falls_with_the_fourth_power_of_the_step() -> None:
-    """Halving the step on a tilting swing cuts the tip's error by about 16 (order 4)."""
-    for look_ahead in (0, 1, 2):
+    """
+    Halving the step on a tilting swing cuts the tip's error by about 16 (order 4).
+
+    With a sample after the interval (look-ahead 1 or 2: the quintic) by about 64 (order 6).
+    """
+    for look_ahead, least in ((0, 10.0), (1, 40.0), (2, 40.0)):
         coarse, fine = _worst_error(180.0, look_ahead), _worst_error(360.0, look_ahead)
-        assert coarse / fine > 10.0, (look_ahead, coarse, fine)
-    assert _worst_error(360.0, 1) < 1e-5
+        assert coarse / fine > least, (look_ahead, coarse, fine)
+    assert _worst_error(360.0, 1) < 1e-6
 
 
 @settings(max_examples=examples(150), deadline=None)
 @given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=7),
        tilt=st.floats(-3.0, 3.0), noise=st.floats(0.0, 0.01), seed=st.integers(0, 1000),
-       k=st.integers(0, 3), cut=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)))
+       k=st.integers(0, 3), cut=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)),
+       even=st.booleans())
 def test_path_never_leaves_its_chord_by_more_than_the_bound(steps, tilt, noise, seed, k,
-                                                            cut) -> None:
-    """Every axis point stays within deviation(ta, tb) of its chord, and in the sphere."""
+                                                            cut, even) -> None:
+    """
+    Every axis point stays within deviation(ta, tb) of its chord, and in the sphere.
+
+    Cubic and (``even``: steps within a factor 2, so a sample after the interval makes it one)
+    quintic pieces.
+    """
+    if even:
+        steps = [0.006 + 0.6 * (step - 0.002) for step in steps]
     times = np.concatenate([[0.0], np.cumsum(steps)])
     ends = _swing(times, tilt) + np.random.default_rng(seed).normal(0.0, noise, (len(times), 6))
     path = _path(times, ends, k)
@@ -119,32 +131,39 @@ def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at) -> Non
     """
     A ``c2`` bat path's (knob, tip) inside its interval is its pieces' Python, to the bit.
 
-    The knob piece's cubic, the reference turned by the turn piece's (``rotate``), the tip the
-    knob plus the length piece's value times that direction; at the ends, the samples' own.
+    The knob piece's polynomial (a cubic, or a quintic in a window with a sample after the
+    interval), the reference turned by the turn piece's (``rotate``), the tip the knob plus the
+    length piece's value times that direction; at the ends, the samples' own.
     """
     from baseball_collision.core.toi import _kernel
     times = np.concatenate([[0.0], np.cumsum(steps)])
     path = _path(times, _swing(times, tilt), k)
 
-    def cubic(piece, t):  # type: ignore[no-untyped-def]
+    def polynomial(piece, t):  # type: ignore[no-untyped-def]
         s = (t - piece.t0) / piece.h
-        a, b, c, d = piece.a, piece.b, piece.c, piece.d
+        a, b, c, d, e, f = piece.a, piece.b, piece.c, piece.d, piece.e, piece.f
         if isinstance(a, float):
-            return a + s * (b + s * (c + s * d))
+            return (a + s * (b + s * (c + s * (d + s * (e + s * f))))) if e is not None else (
+                a + s * (b + s * (c + s * d)))
+        if e is not None:
+            return tuple(a[i] + s * (b[i] + s * (c[i] + s * (d[i] + s * (e[i] + s * f[i]))))
+                         for i in range(3))
         return tuple(a[i] + s * (b[i] + s * (c[i] + s * d[i])) for i in range(3))
     t = path.t0 + at * path.h
     if path.t0 < t < path.t1:
-        knob = cubic(path.knob, t)
-        d = rotate(path.reference, cubic(path.turn, t))
-        length = cubic(path.length, t)
+        knob = polynomial(path.knob, t)
+        d = rotate(path.reference, polynomial(path.turn, t))
+        length = polynomial(path.length, t)
         tip = (knob[0] + length * d[0], knob[1] + length * d[1], knob[2] + length * d[2])
         assert path.at(t) == (knob, tip)
     assert _kernel.c2_inside(path, path.t0)[0] is path.knob.a
     assert _kernel.c2_inside(path, path.t1)[0] is path.knob.end
 
 
-def _reference_path(t0, t1, sample0, sample1, knob_slopes, turn_slopes, length_slopes):
+def _reference_path(t0, t1, sample0, sample1, knob_slopes, turn_slopes, length_slopes,
+                    seconds=None):
     """Return the slots of ``C2BatPath``'s constructor as it was in Python (written out)."""
+    knob_seconds, turn_seconds, length_seconds = seconds or ((), (), ())
     from baseball_collision.core.motion import AngleCubic, PointPath
     from baseball_collision.core.motion.c2 import axis_and_length, rotation_to
     k0, e0, k1, e1 = sample0.knob, sample0.tip, sample1.knob, sample1.tip
@@ -152,12 +171,12 @@ def _reference_path(t0, t1, sample0, sample1, knob_slopes, turn_slopes, length_s
               0.25 * (k0[2] + e0[2] + k1[2] + e1[2]))
     radius = max(math.dist(k0, centre), math.dist(e0, centre), math.dist(k1, centre),
                  math.dist(e1, centre))
-    knob = PointPath(t0, t1, k0, k1, *knob_slopes)
+    knob = PointPath(t0, t1, k0, k1, *knob_slopes, *knob_seconds)
     reference, length0 = axis_and_length(sample0)
     direction, length1 = axis_and_length(sample1)
     closing = rotation_to(reference, direction)
-    turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes)
-    length = AngleCubic(t0, t1, length0, length1, *length_slopes)
+    turn = PointPath(t0, t1, (0.0, 0.0, 0.0), closing, *turn_slopes, *turn_seconds)
+    length = AngleCubic(t0, t1, length0, length1, *length_slopes, *length_seconds)
     from baseball_collision.core.toi import _kernel
     spread = _kernel.c2_deviation(knob, turn, length, t0, t1)
     return {'t0': t0, 't1': t1, 'h': t1 - t0, 'sample0': sample0, 'sample1': sample1,
@@ -183,14 +202,17 @@ def _same_piece(made, reference) -> bool:
 @given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=7),
        tilt=st.floats(-3.0, 3.0), k=st.integers(0, 3),
        slopes=st.lists(st.floats(-50.0, 50.0), min_size=14, max_size=14),
-       plain=st.sampled_from(['none', 'knob', 'turn', 'length']))
-def test_the_kernel_fills_a_c2_path_as_its_python_did(steps, tilt, k, slopes, plain) -> None:
+       plain=st.sampled_from(['none', 'knob', 'turn', 'length']),
+       bends=st.none() | st.lists(st.floats(-5e3, 5e3), min_size=14, max_size=14))
+def test_the_kernel_fills_a_c2_path_as_its_python_did(steps, tilt, k, slopes, plain,
+                                                      bends) -> None:
     """
     ``C2BatPath`` (filled by ``_kernel.c2_path_init``) is its old Python constructor, to the bit.
 
     Every slot of the path and of its three pieces against that constructor written out, on
-    fitted windows and on arbitrary slopes (each piece also without slopes: a chord, a uniform
-    turn); the samples and stamps are the objects given; bad arguments are refused.
+    fitted windows (cubic, or quintic with a sample after the interval) and on arbitrary slopes
+    and second derivatives (each piece also without slopes: a chord, a uniform turn); the
+    samples and stamps are the objects given; bad arguments are refused.
     """
     times = np.concatenate([[0.0], np.cumsum(steps)]).tolist()
     ends = _swing(np.array(times), tilt)
@@ -198,17 +220,28 @@ def test_the_kernel_fills_a_c2_path_as_its_python_did(steps, tilt, k, slopes, pl
     pairs = [((tuple(slopes[0:3]), tuple(slopes[3:6])) if plain != 'knob' else (None, None)),
              ((tuple(slopes[6:9]), tuple(slopes[9:12])) if plain != 'turn' else (None, None)),
              ((slopes[12], slopes[13]) if plain != 'length' else (None, None))]
+    seconds = None if bends is None else (
+        (tuple(bends[0:3]), tuple(bends[3:6])), (tuple(bends[6:9]), tuple(bends[9:12])),
+        (bends[12], bends[13]))
     from baseball_collision.core.motion.c2 import c2_rows
-    from baseball_collision.core.motion.splines import not_a_knot_slope_rows
+    from baseball_collision.core.motion.splines import (
+        not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window)
     first, rows = c2_rows(samples, k)
-    s0, s1 = not_a_knot_slope_rows(times[first:first + len(rows)], rows, k - first)[:2]
+    window_seconds = None
+    if quintic_window(times[first:first + len(rows)], k - first):
+        (s0, s1), (g0, g1) = (pair[:2] for pair in not_a_knot_quintic_rows(
+            times[first:first + len(rows)], rows, k - first))
+        window_seconds = ((g0[:3], g1[:3]), (g0[3:6], g1[3:6]), (g0[6], g1[6]))
+    else:
+        s0, s1 = not_a_knot_slope_rows(times[first:first + len(rows)], rows, k - first)[:2]
     window_pairs = ((tuple(s0[:3]), tuple(s1[:3])), (tuple(s0[3:6]), tuple(s1[3:6])),
                     (s0[6], s1[6]))
-    built = C2BatPath(times[k], times[k + 1], samples[k], samples[k + 1], *pairs)
-    for path, given_pairs in ((built, pairs), (C2BatPath.fitted(times, samples, k),
-                                               window_pairs)):
+    built = C2BatPath(times[k], times[k + 1], samples[k], samples[k + 1], *pairs, seconds)
+    for path, given_pairs, given_seconds in (
+            (built, pairs, seconds),
+            (C2BatPath.fitted(times, samples, k), window_pairs, window_seconds)):
         reference = _reference_path(times[k], times[k + 1], samples[k], samples[k + 1],
-                                    *given_pairs)
+                                    *given_pairs, given_seconds)
         for name, value in reference.items():
             mine = getattr(path, name)
             if name in ('knob', 'turn', 'length'):

@@ -1,10 +1,10 @@
 """
 The ``c2`` model's bulge bounds for the scalar far test, from the raw samples.
 
-The spline through a window is linear in its samples and reproduces lines, so it leaves the
-chord by at most a weighted sum of the samples' distances from the chord's line
-(``c2_bulge``); cheaper, from numbers kept per sample, ``c2_jump_bulge`` and ``c2_reach``;
-over the whole bat, ``c2_bat_growth``; the scalar far test of both stages,
+The spline through a window (cubic or quintic: ``motion.c2``) is linear in its samples and
+reproduces lines, so it leaves the chord by at most a weighted sum of the samples' distances
+from the chord's line (``c2_bulge``); cheaper, from numbers kept per sample, ``c2_jump_bulge``
+and ``c2_reach``; over the whole bat, ``c2_bat_growth``; the scalar far test of both stages,
 ``c2_clearly_apart``.
 """
 
@@ -18,13 +18,19 @@ from ...motion import BatSample, c2_rows
 from ...toi import _kernel
 
 
-C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.18, 0.048, 0.013, 0.0034, 0.0009, 0.0002)
+C2_WEIGHTS_BEFORE = (4.8, 2.5, 0.67, 0.22, 0.1, 0.048, 0.019, 0.009, 0.0036, 0.0016, 0.0007,
+                     0.0003, 0.00012)
 """Bounds of |l_i - chord| over interval k of the window spline's cardinal function l_i, for
-samples i = k - 1, k - 2, ... (then 0.0001 each): measured over windows of 2-16 samples with
-steps within a factor 4 of each other (test/core/detector/broadphase/test_c2.py re-measures)."""
+samples i = k - 1, k - 2, ... (then 0.0001 each): measured over the cubic's windows of 2-16
+samples with steps within a factor 4 of each other (the first three, and the cubic's 0.18,
+0.048, 0.013, 0.0034, 0.0009, 0.0002 after them), and over the quintic's (``motion.c2``: 6-32
+samples, a sample after k, steps within ``splines.QUINTIC_STEP_RATIO``: from k - 4 on its
+weights reach further back, 0.195, 0.084, 0.040, 0.015, 0.0074, 0.0029, 0.0013, 0.00056,
+0.00024, 0.00009 at most over 9,000 random windows), with about 20 % more
+(test/core/detector/broadphase/test_c2.py re-measures both)."""
 
 C2_WEIGHTS_AFTER = (3.4, 1.1)
-"""The same for samples k + 2 and k + 3 (look-ahead 1 and 2)."""
+"""The same for samples k + 2 and k + 3 (look-ahead 1 and 2; the quintic's 0.38 and 0.066)."""
 
 C2_SAFETY = 1.25
 """Factor on the weights."""

@@ -10,6 +10,9 @@ from baseball_collision.core.detector.broadphase import (
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, not_a_knot_slopes
+from baseball_collision.core.motion.points import quintic_coefficients
+from baseball_collision.core.motion.splines import (
+    not_a_knot_quintic_rows, QUINTIC_STEP_RATIO, quintic_window)
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -32,11 +35,37 @@ def test_weights_bound_every_cardinal_spline() -> None:
             for i in set(range(n)) - {k, k + 1}:
                 piece = ((s ** 3 - 2 * s ** 2 + s) * h * slopes[k, i]
                          + (s ** 3 - s ** 2) * h * slopes[k + 1, i])
-                offset = i - k
-                weight = (C2_WEIGHTS_AFTER[offset - 2] if offset > 0 else
-                          C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(C2_WEIGHTS_BEFORE)
-                          else 1e-4)
-                assert np.max(np.abs(piece)) <= weight
+                assert np.max(np.abs(piece)) <= _weight(i - k)
+
+
+def _weight(offset: int) -> float:
+    """Return the cardinal weight of the sample ``offset`` from the interval's opening one."""
+    return (C2_WEIGHTS_AFTER[offset - 2] if offset > 0 else
+            C2_WEIGHTS_BEFORE[-offset - 1] if -offset <= len(C2_WEIGHTS_BEFORE) else 1e-4)
+
+
+def test_weights_bound_every_cardinal_quintic_spline() -> None:
+    """Brute force: the quintic windows' cardinal pieces stay within the weights too."""
+    rng = np.random.default_rng(6)
+    s = np.linspace(0.0, 1.0, 101)
+    largest = {}
+    for _ in range(400):
+        n = int(rng.integers(6, 33))
+        times = np.concatenate([[0.0], np.cumsum(np.exp(rng.uniform(
+            0.0, math.log(QUINTIC_STEP_RATIO), n - 1)))])
+        for k in range(max(0, n - 4), n - 2):
+            assert quintic_window(times.tolist(), k)
+            h = times[k + 1] - times[k]
+            slopes, seconds = not_a_knot_quintic_rows(times, np.eye(n), k)
+            for i in set(range(n)) - {k, k + 1}:
+                b, c = h * slopes[0][i], 0.5 * h * h * seconds[0][i]
+                d, e, f = quintic_coefficients(0.0, b, c, h * slopes[1][i], h * h * seconds[1][i])
+                piece = s * (b + s * (c + s * (d + s * (e + s * f))))
+                size = float(np.max(np.abs(piece)))
+                largest[i - k] = max(largest.get(i - k, 0.0), size)
+                assert size <= _weight(i - k)
+    # (the quintic's weights reach further back than the cubic's: the bound was raised for it)
+    assert largest[-5] > 0.048 and largest[-8] > 0.0009
 
 
 @settings(max_examples=examples(200), deadline=None)
