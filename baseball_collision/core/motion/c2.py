@@ -21,8 +21,9 @@ in velocity, on uneven stamps and in the window's end pieces too
 the fit ends at the interval's closing frame: frames after it (the bat braking after a
 contact) cannot bend the interval.
 
-The bat's exact windows with a sample after the interval (look-ahead 1 or 2), six samples or
-more and even steps (``splines.quintic_window``) take the not-a-knot *quintic* spline instead
+The bat's (and the ball's: ``detector.fitting.c2_point_path``) exact windows with a sample
+after the interval (look-ahead 1 or 2), six samples or more and steps within a factor 2
+(``splines.quintic_window``) take the not-a-knot *quintic* spline instead
 (``splines.not_a_knot_quintic_rows``; each piece a quintic Hermite through the spline's values,
 slopes and second derivatives at its ends, which is the spline's own piece): O(h^6) in position
 and O(h^5) in velocity for a motion with a bounded sixth derivative (BENCHMARKS.md, "The quintic

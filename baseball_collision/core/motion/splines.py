@@ -1,5 +1,5 @@
 """
-Cubic splines through samples on uneven stamps: the slopes at the knots (compiled kernel).
+Cubic and quintic splines through samples on uneven stamps: their derivatives at the knots.
 
 A cubic spline is a piecewise cubic Hermite: its values and its slopes at the knots fix it.
 ``not_a_knot_slopes`` returns the slopes of the C2 interpolating spline whose third
@@ -7,6 +7,9 @@ derivative is continuous at the second and the second-to-last knots (not-a-knot)
 pieces are as accurate as the inner ones: for a function with a bounded fourth derivative the
 error is O(h^4) in value and O(h^3) in slope on every piece, also on uneven stamps (de Boor, A
 Practical Guide to Splines, ch. IV). Two samples give the chord, three the parabola.
+``not_a_knot_quintic_rows`` gives the same of the not-a-knot quintic spline, and its second
+derivatives: a piecewise quintic Hermite, O(h^6) in value (``c2``'s exact windows with a sample
+after the interval: ``quintic_window``).
 """
 
 from typing import List, Sequence, Tuple, Union
@@ -139,9 +142,9 @@ def quintic_window(times: Sequence[float], j: int) -> bool:
     """
     Return whether ``c2`` fits interval j of an exact window by the quintic spline.
 
-    Six samples or more, at least one after the interval (a window's last piece is left to the
-    cubic: the quintic's end weights amplify whatever noise the samples carry; the velocities
-    extrapolated from it are the same), and steps within ``QUINTIC_STEP_RATIO`` of each other.
+    Six samples or more, at least one after the interval (a window's last piece, and so the
+    velocities extrapolated from it, is left to the cubic: the quintic's end weights amplify
+    whatever noise the samples carry), and steps within ``QUINTIC_STEP_RATIO`` of each other.
     """
     if len(times) < 6 or j + 2 >= len(times):
         return False

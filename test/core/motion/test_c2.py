@@ -126,8 +126,9 @@ def test_rotate_is_rodrigues_step_by_step(direction, rotation) -> None:
 
 @settings(max_examples=examples(150), deadline=None)
 @given(steps=st.lists(st.floats(0.002, 0.012), min_size=5, max_size=7),
-       tilt=st.floats(-3.0, 3.0), k=st.integers(0, 3), at=st.floats(0.0, 1.0))
-def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at) -> None:
+       tilt=st.floats(-3.0, 3.0), k=st.integers(0, 3), at=st.floats(0.0, 1.0),
+       even=st.booleans())
+def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at, even) -> None:
     """
     A ``c2`` bat path's (knob, tip) inside its interval is its pieces' Python, to the bit.
 
@@ -136,8 +137,12 @@ def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at) -> Non
     length piece's value times that direction; at the ends, the samples' own.
     """
     from baseball_collision.core.toi import _kernel
+    if even:  # (steps within a factor 2: a quintic where a sample follows the interval)
+        steps = [0.006 + 0.6 * (step - 0.002) for step in steps]
     times = np.concatenate([[0.0], np.cumsum(steps)])
     path = _path(times, _swing(times, tilt), k)
+    if even:
+        assert (path.knob.e is not None) == (k + 2 < len(times))
 
     def polynomial(piece, t):  # type: ignore[no-untyped-def]
         s = (t - piece.t0) / piece.h
