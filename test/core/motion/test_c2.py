@@ -78,11 +78,11 @@ def test_path_never_leaves_its_chord_by_more_than_the_bound(steps, tilt, noise, 
     """
     Every axis point stays within deviation(ta, tb) of its chord, and in the sphere.
 
-    Cubic and (``even``: steps within a factor 2, so a sample after the interval makes it one)
+    Cubic and (``even``: steps within a factor 1.85, so a sample after the interval makes it one)
     quintic pieces.
     """
     if even:
-        steps = [0.006 + 0.6 * (step - 0.002) for step in steps]
+        steps = [0.0065 + 0.55 * (step - 0.002) for step in steps]
     times = np.concatenate([[0.0], np.cumsum(steps)])
     ends = _swing(times, tilt) + np.random.default_rng(seed).normal(0.0, noise, (len(times), 6))
     path = _path(times, ends, k)
@@ -137,8 +137,8 @@ def test_the_kernels_inside_is_the_python_written_out(steps, tilt, k, at, even) 
     length piece's value times that direction; at the ends, the samples' own.
     """
     from baseball_collision.core.toi import _kernel
-    if even:  # (steps within a factor 2: a quintic where a sample follows the interval)
-        steps = [0.006 + 0.6 * (step - 0.002) for step in steps]
+    if even:  # (steps within a factor 1.85: a quintic where a sample follows the interval)
+        steps = [0.0065 + 0.55 * (step - 0.002) for step in steps]
     times = np.concatenate([[0.0], np.cumsum(steps)])
     path = _path(times, _swing(times, tilt), k)
     if even:
