@@ -34,7 +34,7 @@ def quintic_coefficients(chord: float, b: float, c: float, slope1: float,
             6.0 * value - 3.0 * slope + 0.5 * bend)
 
 
-SPAN_BULGE = (0.25, 0.3849, 0.4725, 0.535)
+SPAN_BULGE = (0.25, 0.38491, 0.4725, 0.535)
 """The largest |s^k - s| over [0, 1] for k = 2 .. 5, rounded up (a piece's bulge per
 coefficient): 1/4, then k^(-k/(k-1)) - k^(-1/(k-1)) in size."""
 
@@ -84,8 +84,8 @@ class PointPath:
         # the power basis in s = (t - t0) / h, p = a + b s + c s^2 + d s^3 with b = h m0,
         # e = h m1, c = 3 chord - 2 b - e, d = b + e - 2 chord; p''(t) = accel0 + accel_rate s
         # with accel0 = 2 c / h^2, accel_rate = 6 d / h^2; p(s) - chord(s) = c (s^2 - s) +
-        # d (s^3 - s), |s^2 - s| <= 1/4 and |s^3 - s| <= 0.385, so bulge = 0.25 |c| +
-        # 0.3849 |d|; a chord: b = the chord, c = d = 0, bulge 0; centre: the chord's middle,
+        # d (s^3 - s), |s^2 - s| <= 1/4 and |s^3 - s| <= 0.3849002, so bulge = 0.25 |c| +
+        # 0.38491 |d|; a chord: b = the chord, c = d = 0, bulge 0; centre: the chord's middle,
         # radius: half the chord plus the bulge; e = f = None. A quintic (g0, g1 given too):
         # c = h^2 g0 / 2, d, e, f from ``quintic_coefficients``, accel0 = g0, accel_rate =
         # 6 d / h^2 (p'' = accel0 + accel_rate s + ...), bulge: ``SPAN_BULGE`` times |c| .. |f|
@@ -202,7 +202,7 @@ class AngleCubic:
             h2 = h * h
             self.accel0 = 2.0 * c / h2
             self.accel_rate = 6.0 * d / h2
-            self.bulge = 0.25 * abs(c) + 0.3849 * abs(d)
+            self.bulge = 0.25 * abs(c) + 0.38491 * abs(d)
         else:
             self.b = chord
             self.c = self.d = 0.0

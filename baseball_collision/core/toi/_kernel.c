@@ -4108,7 +4108,7 @@ static PyObject *py_fill_turns(PyObject *self, PyObject *const *args, Py_ssize_t
  * point_path_init(path, t0, t1, p0, p1, m0, m1): fill a core.motion.points.PointPath's slots as
  * its Python constructor did, the same operations in its order: t0, t1, a = p0 and end = p1 as
  * given, h = t1 - t0, curved, and for a cubic (m0 and m1 given, m/s) b = h m0, c, d, accel0,
- * accel_rate and bulge (0.25 |c| + 0.3849 |d|), for a chord b = p1 - p0, c = d = 0 and bulge
+ * accel_rate and bulge (0.25 |c| + 0.38491 |d|), for a chord b = p1 - p0, c = d = 0 and bulge
  * 0; centre (the chord's middle) and radius (half the chord plus the bulge). TypeError: points
  * that are not 3 numbers, times that are not numbers.
  */
@@ -4147,8 +4147,8 @@ static void quintic_hermite(double chord, double b, double c, double slope1, dou
 }
 
 /* the largest |p(s) - chord(s)| over [0, 1] of s^k - s, k = 2 .. 5, rounded up: 1/4, and
- * k^(-k/(k-1)) - k^(-1/(k-1)) in size (0.38490, 0.47247, 0.53499) */
-static const double SPAN_BULGE[4] = {0.25, 0.3849, 0.4725, 0.535};
+ * k^(-k/(k-1)) - k^(-1/(k-1)) in size (0.384900, 0.472470, 0.534992) */
+static const double SPAN_BULGE[4] = {0.25, 0.38491, 0.4725, 0.535};
 
 /*
  * point_path_init(path, t0, t1, p0, p1, m0, m1[, g0, g1]): a PointPath's slots
@@ -4216,7 +4216,7 @@ static PyObject *py_point_path_init(PyObject *self, PyObject *const *args, Py_ss
              3.0 * chord.z - 2.0 * b.z - e.z};
     Vec d = {b.x + e.x - 2.0 * chord.x, b.y + e.y - 2.0 * chord.y, b.z + e.z - 2.0 * chord.z};
     double h2 = h * h;
-    bulge = 0.25 * v_norm(c) + 0.3849 * v_norm(d);
+    bulge = 0.25 * v_norm(c) + 0.38491 * v_norm(d);
     if (!set_vec(path, piece_names[PIECE_B], b) || !set_vec(path, piece_names[PIECE_C], c) ||
         !set_vec(path, piece_names[PIECE_D], d) ||
         !set_vec(path, piece_names[PIECE_ACCEL0],
@@ -4987,7 +4987,7 @@ static PyObject *bare_instance(PyObject *cls)
  * An AngleCubic's slots (motion.points.AngleCubic.__init__, its operations in its order): t0,
  * t1 as given, h = t1 - t0, a = v0, end = v1, curved (both rates given), and b, c, d, accel0,
  * accel_rate, bulge for a cubic (b = h m0, e = h m1, c = 3 chord - 2 b - e, d = b + e -
- * 2 chord, 2 c / h^2, 6 d / h^2, 0.25 |c| + 0.3849 |d|), else b = the chord, c = d = 0 and
+ * 2 chord, 2 c / h^2, 6 d / h^2, 0.25 |c| + 0.38491 |d|), else b = the chord, c = d = 0 and
  * bulge 0. False with an exception.
  */
 static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_object,
@@ -5041,7 +5041,7 @@ static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_
          set_number(piece, piece_names[PIECE_D], d) &&
          set_number(piece, piece_names[PIECE_ACCEL0], 2.0 * c / h2) &&
          set_number(piece, piece_names[PIECE_ACCEL_RATE], 6.0 * d / h2) &&
-         set_number(piece, path_names[2], 0.25 * fabs(c) + 0.3849 * fabs(d));
+         set_number(piece, path_names[2], 0.25 * fabs(c) + 0.38491 * fabs(d));
 }
 
 /* item i (0 or 1) of a pair of slopes (a sequence of two), a new reference; NULL with an error */

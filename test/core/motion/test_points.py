@@ -3,7 +3,7 @@
 import math
 
 from baseball_collision.core.motion import AngleCubic, hermite_tangent, PointPath
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
@@ -99,7 +99,7 @@ def _reference_slots(t0, t1, p0, p1, m0, m1, g0=None, g1=None) -> dict:
         d, e, f = tuple(d), tuple(e), tuple(f)
         slots.update(b=b, c=c, d=d, e=e, f=f, accel0=tuple(g0),
                      accel_rate=tuple(6.0 * x / h2 for x in d),
-                     bulge=0.25 * _norm(c) + 0.3849 * _norm(d) + 0.4725 * _norm(e)
+                     bulge=0.25 * _norm(c) + 0.38491 * _norm(d) + 0.4725 * _norm(e)
                      + 0.535 * _norm(f))
     elif slots['curved']:
         b = tuple(h * m for m in m0)
@@ -110,7 +110,7 @@ def _reference_slots(t0, t1, p0, p1, m0, m1, g0=None, g1=None) -> dict:
         slots.update(b=b, c=c, d=d, accel0=tuple(2.0 * x / h2 for x in c),
                      accel_rate=tuple(6.0 * x / h2 for x in d),
                      bulge=0.25 * math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
-                     + 0.3849 * math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
+                     + 0.38491 * math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
     else:
         slots.update(b=chord, c=(0.0, 0.0, 0.0), d=(0.0, 0.0, 0.0), bulge=0.0)
     slots['centre'] = tuple(a + (b - a) * 0.5 for a, b in zip(p0, p1))
@@ -147,6 +147,8 @@ def test_the_kernel_fills_a_point_path_as_its_formulas_say(t0: float, h: float, 
 
 
 @settings(max_examples=examples(200), deadline=None)
+@example(values=[0.0] * 9 + [1.0] + [0.0] * 8, t0=0.0, h=0.0625, cut=(0.0, 0.0))  # (s^3 - s:
+# its largest size 2 / 3^1.5 = 0.3849002 was rounded down to 0.3849 in every bulge until this)
 @given(values=st.lists(st.floats(-2.0, 2.0), min_size=18, max_size=18),
        t0=st.floats(-1.0, 1.0), h=st.floats(1e-3, 0.1), cut=st.tuples(
            st.floats(0.0, 1.0), st.floats(0.0, 1.0)))

@@ -79,9 +79,9 @@ def _hermite_bulge(h: np.ndarray, chord: np.ndarray, m0: np.ndarray,
     c = 3.0 * chord - 2.0 * b - e
     d = b + e - 2.0 * chord
     if chord.ndim == 2:
-        return 0.25 * np.sqrt(np.einsum('ij,ij->i', c, c)) + 0.3849 * np.sqrt(
+        return 0.25 * np.sqrt(np.einsum('ij,ij->i', c, c)) + 0.38491 * np.sqrt(
             np.einsum('ij,ij->i', d, d))
-    return 0.25 * np.abs(c) + 0.3849 * np.abs(d)
+    return 0.25 * np.abs(c) + 0.38491 * np.abs(d)
 
 
 def _cubic_bulges(points: np.ndarray, times: np.ndarray, k: np.ndarray, before: np.ndarray,
