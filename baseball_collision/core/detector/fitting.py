@@ -279,8 +279,14 @@ def smoothed_bat_path(times: Sequence[float], samples: Sequence[BatSample], k: i
                      (turns[0], turns[1]), (s0[6], s1[6]))
 
 
-def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2BatPath:
-    """Return the bat's ``c2`` path over interval k: knob, direction and length splines."""
+def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0,
+                continued: bool = False) -> C2BatPath:
+    """
+    Return the bat's ``c2`` path over interval k: knob, direction and length splines.
+
+    :param continued: exact, the path is to be continued past the window's end (its last piece
+        may be quintic: ``C2BatPath.fitted``).
+    """
     if noise > 0.0:
         window = widened(stream, window)
     times = stream.times[window.start:window.stop]
@@ -289,7 +295,7 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0) -> C2
         j = k - window.start
         return _kept(('bat', noise, j, SMOOTHER, MARKER_SPREAD_M, tuple(times)), samples,
                      lambda: smoothed_bat_path(times, samples, j, noise))
-    return C2BatPath.fitted(times, samples, k - window.start)
+    return C2BatPath.fitted(times, samples, k - window.start, continued)
 
 
 def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
@@ -300,15 +306,16 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
     The window spline of interval k - 1 (no look-ahead: up to interval k's opening frame), its
     last piece continued to interval k's closing stamp: where the bat would have gone had
     nothing slowed it, for an interval whose closing frame is after a hit (the bat brakes in
-    the 1-3 ms after it). The chart is moved onto interval k's opening direction, as its own
-    path's. None without two samples before k in its segment. With ``noise`` (m, 1 sigma per
-    coordinate) the window is smoothed (``c2_bat_path``) and the path starts on it, not on the
-    opening sample.
+    the 1-3 ms after it). Exact, that piece is the quintic spline's where its window takes one
+    (``splines.quintic_window``, continued). The chart is moved onto interval k's opening
+    direction, as its own path's. None without two samples before k in its segment. With
+    ``noise`` (m, 1 sigma per coordinate) the window is smoothed (``c2_bat_path``) and the path
+    starts on it, not on the opening sample.
     """
     window = c2_window(stream, k - 1, max_gap, 0, size)
     if k < 2 or window.start > k - 2 or window.stop - 1 != k:
         return None
-    before = c2_bat_path(stream, k - 1, window, noise)  # in sample k - 1's chart
+    before = c2_bat_path(stream, k - 1, window, noise, True)  # in sample k - 1's chart
     t0, t1 = stream.times[k], stream.times[k + 1]
     length = before.length
 

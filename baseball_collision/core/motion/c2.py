@@ -172,19 +172,21 @@ class C2BatPath(BatPath):
         return self._deviation(ta, tb)
 
     @classmethod
-    def fitted(cls, times: Sequence[float], samples: Sequence[BatSample],
-               k: int) -> 'C2BatPath':
+    def fitted(cls, times: Sequence[float], samples: Sequence[BatSample], k: int,
+               continued: bool = False) -> 'C2BatPath':
         """
         Return the path over [times[k], times[k + 1]] from the window's splines.
 
         Cubic, or quintic where ``splines.quintic_window`` takes the (charted) window.
 
         :param times, samples: the window (seconds, bat samples); k: the interval in it.
+        :param continued: the path is to be continued past the window's end
+            (``splines.quintic_window``'s).
         """
         first, rows = c2_rows(samples, k)
         window = times[first:first + len(rows)]
         seconds = None
-        if quintic_window(window, k - first):
+        if quintic_window(window, k - first, continued):
             slopes, bends = not_a_knot_quintic_rows(window, rows, k - first)
             g0, g1 = bends[:2]
             seconds = ((g0[:3], g1[:3]), (g0[3:6], g1[3:6]), (g0[6], g1[6]))

@@ -138,15 +138,19 @@ def not_a_knot_quintic_rows(times: Sequence[float],
                                       if isinstance(values, np.ndarray) else values, start)
 
 
-def quintic_window(times: Sequence[float], j: int) -> bool:
+def quintic_window(times: Sequence[float], j: int, continued: bool = False) -> bool:
     """
     Return whether ``c2`` fits interval j of an exact window by the quintic spline.
 
     Six samples or more, at least one after the interval (a window's last piece, and so the
     velocities extrapolated from it, is left to the cubic: the quintic's end weights amplify
     whatever noise the samples carry), and steps within ``QUINTIC_STEP_RATIO`` of each other.
+
+    :param continued: the piece is to be continued past the window's end (a hit's bat carried
+        on from before its interval, ``detector.fitting.c2_bat_ahead``, which its rule takes
+        only from samples that follow their own continuation): the last piece may be quintic.
     """
-    if len(times) < 6 or j + 2 >= len(times):
+    if len(times) < 6 or j + (1 if continued else 2) >= len(times):
         return False
     steps = [b - a for a, b in zip(times, times[1:])]
     return max(steps) <= QUINTIC_STEP_RATIO * min(steps)
