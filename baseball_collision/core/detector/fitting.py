@@ -299,7 +299,7 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0,
 
 
 def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
-                 noise: float = 0.0) -> Optional[C2BatPath]:
+                 noise: float = 0.0, quintic: bool = False) -> Optional[C2BatPath]:
     """
     Return the bat's ``c2`` path over interval k continued from before it, or None.
 
@@ -310,12 +310,15 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
     (``splines.quintic_window``, continued). The chart is moved onto interval k's opening
     direction, as its own path's. None without two samples before k in its segment. With
     ``noise`` (m, 1 sigma per coordinate) the window is smoothed (``c2_bat_path``) and the path
-    starts on it, not on the opening sample.
+    starts on it, not on the opening sample. ``quintic``: None too where the continued piece is
+    not a quintic.
     """
     window = c2_window(stream, k - 1, max_gap, 0, size)
     if k < 2 or window.start > k - 2 or window.stop - 1 != k:
         return None
     before = c2_bat_path(stream, k - 1, window, noise, True)  # in sample k - 1's chart
+    if quintic and before.knob.e is None:
+        return None
     t0, t1 = stream.times[k], stream.times[k + 1]
     length = before.length
 

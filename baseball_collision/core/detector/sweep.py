@@ -315,15 +315,16 @@ class Sweep:
 
         Where the ball has left its flight over the interval (``departure``: a hit), the bat's
         closing frame is after the contact, which slows a real bat within 1-3 ms: its path
-        through that frame is late. Under ``c2`` with exact bat samples at a high rate (more
-        than ``SPARSE_SAMPLES`` in ``velocity_window``, the velocities' rule) the bat's path
+        through that frame is late. Under ``c2`` with exact bat samples the bat's path
         continued from the window up to the opening frame (``fitting.c2_bat_ahead``) is the
         better one there (BENCHMARKS.md, "A ball that leaves the bat"), where the closing frame
         has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous
         frame left its own (the samples follow their continuation closely: exact, not noisy;
-        the bat braked); at a low rate its continuation over a whole step is the larger error.
-        None elsewhere. ``bat_ahead`` True takes the continuation at every hit (with noise: of
-        the smoothed window), False never.
+        the bat braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the
+        velocities' rule) only a quintic continuation (``splines.quintic_window``): a cubic's
+        over a whole step is the larger error in the spot there (BENCHMARKS.md, "A hit's bat
+        continued on the quintic"). None elsewhere. ``bat_ahead`` True takes the continuation
+        at every hit (with noise: of the smoothed window), False never.
         """
         ball, bat, config = self.ball, self.bat, self.config
         if self.model != 'c2' or self.bat_ahead is False or (
@@ -332,13 +333,14 @@ class Sweep:
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
         if leaves_flight(ball, ball_k, stream_noise(ball, config), config.max_gap) is None:
             return None
+        quintic = self.bat_ahead is None and len(bat.history(
+            bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES
         path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
-                            stream_noise(bat, config))
+                            stream_noise(bat, config), quintic)
         if path is None or self.bat_ahead:
             return None if path is None else (paths[0], path)
-        if len(bat.history(bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES:
-            return None
-        before = c2_bat_ahead(bat, bat_k - 1, config.max_gap, config.spline_window)
+        before = c2_bat_ahead(bat, bat_k - 1, config.max_gap, config.spline_window,
+                              quintic=quintic)
         if before is None:
             return None
         # the bat's own departure: its closing frame far off the continuation (a brake), where

@@ -275,11 +275,12 @@ def test_noise_free_hits_carry_the_brake_in_their_time_uncertainty() -> None:
 
 def test_a_hits_brake_share_is_its_distance_from_the_continued_bats_answer() -> None:
     """
-    ``braked``: at a 90 Hz hit, how far the impact is from the bat continued past the brake.
+    ``braked``: at a 90 Hz hit, how far the impact is from the farther of its two answers.
 
-    At 90 Hz the sweep keeps the bat through its closing frame (``Sweep.bat_ahead`` None
-    answers as False); continued (True) the answer is earlier; the share is their distance,
-    and the time uncertainty holds it. A swing whose ball flies on (no hit) has none.
+    Through the braked closing frame (``Sweep.bat_ahead`` False) the answer is later than with
+    the bat continued on the quintic from before the interval (True), which the sweep's rule
+    (None) takes at this exact hit; the share is their distance, and the time uncertainty holds
+    it. A swing whose ball flies on (no hit) has none.
     """
     config = DetectorConfig(bat_input='points', model='c2')
     for family, hit in (('rebound', True), ('plane', False)):
@@ -290,14 +291,13 @@ def test_a_hits_brake_share_is_its_distance_from_the_continued_bats_answer() -> 
         kept, continued = (resolve(config, clock, excerpt(ball, 0, len(ball.times) - 1),
                                    excerpt(bat, 0, len(bat.times) - 1), detector._offsets,
                                    ta, tb, ahead) for ahead in (False, True))
-        assert kept.stamp_ns == impact.stamp_ns
         share = braked(config, clock, ball, bat, detector._offsets, impact, ta, tb)
         if hit:
-            assert continued.stamp_ns < impact.stamp_ns - 10_000
-            assert share == (impact.stamp_ns - continued.stamp_ns) * 1e-9
+            assert continued.stamp_ns == impact.stamp_ns < kept.stamp_ns - 10_000
+            assert share == (kept.stamp_ns - impact.stamp_ns) * 1e-9
             assert impact.time_uncertainty_s >= share
         else:
-            assert continued.stamp_ns == impact.stamp_ns and share == 0.0
+            assert continued.stamp_ns == kept.stamp_ns == impact.stamp_ns and share == 0.0
 
 
 def test_a_poses_knob_moves_with_its_orientation_by_its_offset() -> None:
