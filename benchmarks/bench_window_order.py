@@ -20,7 +20,9 @@ swings (``--per-kind`` of each contact kind per family, 0.2 ms jitter on a 1 ms 
 knob and tip with the noise per coordinate, the window's rows as the detector charts them,
 ``c2_rows``): at the true contact instant t* the model's bat against the true ball, the gap
 over the gap's rate there: a time error (us) p50 / p99, told the samples are exact. The
-quintic is solved by B-spline collocation in numpy here (de Boor's recurrence, a dense solve).
+quintic is solved by B-spline collocation in numpy here (de Boor's recurrence, a dense solve),
+the fits compared as fits, apart from the detector (which since session 36 takes the quintic for
+exact windows with a sample after the interval: ``motion.splines.not_a_knot_quintic_rows``).
 """
 
 import argparse
