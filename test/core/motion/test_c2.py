@@ -259,7 +259,7 @@ def test_the_kernel_fills_a_c2_path_as_its_python_did(steps, tilt, k, slopes, pl
 
 
 def test_a_c2_path_refuses_what_is_not_a_path() -> None:
-    """Bad samples, slopes or times raise TypeError, not a half-filled path."""
+    """Bad samples, slopes, second derivatives or times raise, not a half-filled path."""
     import pytest
     a, b = BatSample((0.0, 0.0, 0.0), (0.8, 0.0, 0.0)), BatSample((0.0, 0.1, 0.0), (0.8, 0.2, 0.0))
     good = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
@@ -273,3 +273,12 @@ def test_a_c2_path_refuses_what_is_not_a_path() -> None:
         C2BatPath(0.0, 0.01, a, (0.0, 0.0, 0.0), good, good, (0.0, 0.0))
     with pytest.raises(TypeError):
         C2BatPath(0.0, 0.01, a, b, ((0.0, 0.0), (0.0, 0.0, 0.0)), good, (0.0, 0.0))
+    # second derivatives (quintic pieces): three pairs, of 3, 3 and 1 numbers
+    for seconds in (5, (good, good, (0.0, 'x')), (good, good, (0.0,)),
+                    (good, ((1.0, 2.0), (1.0, 2.0, 3.0)), (0.0, 0.0))):
+        with pytest.raises(TypeError):
+            C2BatPath(0.0, 0.01, a, b, good, good, (0.0, 0.0), seconds)
+    with pytest.raises(IndexError):
+        C2BatPath(0.0, 0.01, a, b, good, good, (0.0, 0.0), ((0.0, 0.0),))
+    assert C2BatPath(0.0, 0.01, a, b, good, good, (0.0, 0.0), (good, good, (0.0, 0.0))
+                     ).length.e is not None
