@@ -82,7 +82,7 @@ class PointPath:
                  g0: Optional[Vector] = None, g1: Optional[Vector] = None) -> None:
         # in the kernel (``toi._kernel.point_path_init``, the same operations in this order):
         # the power basis in s = (t - t0) / h, p = a + b s + c s^2 + d s^3 with b = h m0,
-        # e = h m1, c = 3 chord - 2 b - e, d = b + e - 2 chord; p''(t) = accel0 + accel_rate s
+        # h m1 as m, c = 3 chord - 2 b - m, d = b + m - 2 chord; p''(t) = accel0 + accel_rate s
         # with accel0 = 2 c / h^2, accel_rate = 6 d / h^2; p(s) - chord(s) = c (s^2 - s) +
         # d (s^3 - s), |s^2 - s| <= 1/4 and |s^3 - s| <= 0.3849002, so bulge = 0.25 |c| +
         # 0.38491 |d|; a chord: b = the chord, c = d = 0, bulge 0; centre: the chord's middle,

@@ -4985,10 +4985,12 @@ static PyObject *bare_instance(PyObject *cls)
 
 /*
  * An AngleCubic's slots (motion.points.AngleCubic.__init__, its operations in its order): t0,
- * t1 as given, h = t1 - t0, a = v0, end = v1, curved (both rates given), and b, c, d, accel0,
- * accel_rate, bulge for a cubic (b = h m0, e = h m1, c = 3 chord - 2 b - e, d = b + e -
- * 2 chord, 2 c / h^2, 6 d / h^2, 0.25 |c| + 0.38491 |d|), else b = the chord, c = d = 0 and
- * bulge 0. False with an exception.
+ * t1 as given, h = t1 - t0, a = v0, end = v1, curved (both rates given), e = f = None, and b,
+ * c, d, accel0, accel_rate, bulge for a cubic (b = h m0, with h m1 as m: c = 3 chord - 2 b - m,
+ * d = b + m - 2 chord, 2 c / h^2, 6 d / h^2, 0.25 |c| + 0.38491 |d|), else b = the chord,
+ * c = d = 0 and bulge 0; with the rates' rates g0, g1 too, the quintic (quintic_hermite:
+ * b = h m0, c = h^2 g0 / 2, d, e, f; accel0 = g0, accel_rate = 6 d / h^2, the bulge by
+ * SPAN_BULGE). False with an exception.
  */
 static bool fill_angle_cubic(PyObject *piece, PyObject *t0_object, PyObject *t1_object,
                              double t0, double t1, double v0, double v1, PyObject *m0_object,
