@@ -8,12 +8,14 @@ its own velocity, turning with an angular velocity fitted to the cumulative turn
 With too few samples before the impact, the chords of the spanning interval stand in.
 
 Under the ``c2`` model (``c2_velocities``) the velocities come from samples before the impact
-only: with exact samples at a high rate the splines through the samples up to the impact
-(O(h^3)): the knob's velocity and the swing angular velocity u x u' of the direction chart, the
-ball's centre its velocity; with exact samples at a low rate the least-squares fits above
-(half the error of the splines' extrapolation there); with noise the rates of the window fits
-that end at the impact interval's opening frame, smoothed, extrapolated to the impact. A bat
-braking right after the contact does not reach them.
+only: with exact samples at a high rate the splines through the samples up to the impact,
+extrapolated by their last piece: the knob's velocity and the swing angular velocity u x u' of
+the direction chart from the quintic spline (O(h^5)) where the samples show that it pays
+(``quintic_bat_rates``), else from the cubic (O(h^3)), the ball's centre its velocity from the
+cubic; with exact samples at a low rate the least-squares fits above (half the error of the
+splines' extrapolation there); with noise the rates of the window fits that end at the impact
+interval's opening frame, smoothed, extrapolated to the impact. A bat braking right after the
+contact does not reach them.
 """
 
 from dataclasses import dataclass
@@ -379,14 +381,55 @@ def poly_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector
             chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
 
 
+QUINTIC_CHECK_RATIO = 0.5
+"""``quintic_bat_rates`` takes the quintic spline where, continued from the samples before the
+newest, it misses the newest by at most this times the cubic spline's continuation's miss.
+Measured at the impacts of bench_accuracy's families (exact samples, 0.2 ms jitter; 1st to 99th
+percentile): 0.17-0.44 at 120 Hz, 0.03-0.16 at 240 and 360 Hz; with 0.1 mm of noise or more 0.5
+and up at 90 Hz, 1.5 and up above (the quintic's end amplifies noise; BENCHMARKS.md, "The
+sweet-spot speed of exact samples from the quintic spline")."""
+
+
+def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
+                      t: float) -> Optional[Tuple[Vector, Vector]]:
+    """
+    Return the bat's knob velocity (m/s) and swing angular velocity (rad/s) at t (s), or None.
+
+    From exact samples before t only: the quintic spline of the ``c2`` chart rows through them
+    (``C2BatPath.fitted``, continued), its last piece continued to t (its rates' error falls as
+    h^5 where the cubic's falls as h^3), where the samples show that it pays: the same spline
+    through all but the newest sample, continued to the newest, misses it (the larger of knob
+    and tip) by at most ``QUINTIC_CHECK_RATIO`` times the cubic spline's continuation does.
+    Noise the detector was not told of fails that check (the quintic's end weights amplify
+    it). None where the check fails, or where either window takes no quintic
+    (``splines.quintic_window``: six samples or more, so seven here, steps within a factor 2).
+
+    :param times, samples: the window (s, bat samples), oldest first, all at or before t.
+    """
+    newest = len(samples) - 1
+    if newest < 6:
+        return None
+    path = C2BatPath.fitted(times, samples, newest - 1, True)
+    shorter = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2, True)
+    if path.knob.e is None or shorter.knob.e is None:
+        return None
+    cubic = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2)
+    misses = [max(map(math.dist, fit.at(times[-1]), (samples[-1].knob, samples[-1].tip)))
+              for fit in (shorter, cubic)]
+    if misses[0] > QUINTIC_CHECK_RATIO * misses[1]:
+        return None
+    return path.knob.velocity(t), swing_rate(path, t)
+
+
 def spline_velocities(ball: Stream, bat: Stream, t: float, size: int,
                       window: float) -> Optional[ImpactVelocities]:
     """
     Return the ``c2`` velocities at t (s) from the last ``size`` samples up to t of each stream.
 
-    The bat pivots about its knob (fraction 0); the roll rate comes from the turns of poses
-    over ``window`` (s) up to t (``turn_rates``, 0 for points). None with fewer than two
-    samples of a body.
+    The bat pivots about its knob (fraction 0): its rates from the quintic spline where
+    ``quintic_bat_rates`` takes it, else the cubic's last piece extrapolated (``end_state``);
+    the ball's from the cubic's. The roll rate comes from the turns of poses over ``window``
+    (s) up to t (``turn_rates``, 0 for points). None with fewer than two samples of a body.
     """
     ball_indices = ball.history(t, 1.0)[-size:]
     bat_indices = bat.history(t, 1.0)[-size:]
@@ -395,15 +438,18 @@ def spline_velocities(ball: Stream, bat: Stream, t: float, size: int,
     ball_velocity = end_state([ball.times[i] for i in ball_indices],
                               [ball.values[i] for i in ball_indices], t)[1]
     samples = [bat.values[i] for i in bat_indices]
-    first, rows = c2_rows(samples, len(samples) - 2)
-    state, rates = end_state([bat.times[i] for i in bat_indices[first:]], rows, t)
-    swing = chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6])
+    times = [bat.times[i] for i in bat_indices]
+    found = quintic_bat_rates(times, samples, t)
+    if found is None:
+        first, rows = c2_rows(samples, len(samples) - 2)
+        state, rates = end_state(times[first:], rows, t)
+        found = (tuple(rates[:3].tolist()),
+                 chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
     roll = 0.0
     if samples[-1].quaternion is not None:
         rates_of_turn = turn_rates(bat, t, window, 3)
         roll = rates_of_turn[1] if rates_of_turn is not None else 0.0
-    return ImpactVelocities(tuple(ball_velocity.tolist()), 0.0,
-                            tuple(rates[:3].tolist()), swing, roll, True)
+    return ImpactVelocities(tuple(ball_velocity.tolist()), 0.0, found[0], found[1], roll, True)
 
 
 def spline_window_for(bat: Stream, t: float, config: Any) -> int:
@@ -412,7 +458,8 @@ def spline_window_for(bat: Stream, t: float, config: Any) -> int:
 
     Chosen by measurement (benchmarks/bench_accuracy.py): without tracking noise the splines
     when the velocity window holds more than ``SPARSE_SAMPLES`` samples (a high rate: their
-    error falls as h^3), the fits at a low rate; with noise (``tracker_noise`` > 0) the other
+    error falls as h^3, the quintic's as h^5), the fits at a low rate (where the quintic's
+    extrapolation is worse than the fits too); with noise (``tracker_noise`` > 0) the other
     way round: at a high rate the fits average the noise, at a low rate they interpolate it
     and the spline's extrapolation is the smaller error.
     """
