@@ -25,6 +25,7 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
+from .noise import NOISE_FLOOR
 from .streams import Stream
 from ..geometry import add, cross, lerp, scale, Vector
 from ..motion import (
@@ -399,9 +400,10 @@ def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
     (``C2BatPath.fitted``, continued), its last piece continued to t (its rates' error falls as
     h^5 where the cubic's falls as h^3), where the samples show that it pays: the same spline
     through all but the newest sample, continued to the newest, misses it (the larger of knob
-    and tip) by at most ``QUINTIC_CHECK_RATIO`` times the cubic spline's continuation does.
-    Noise the detector was not told of fails that check (the quintic's end weights amplify
-    it). None where the check fails, or where either window takes no quintic
+    and tip) by at most ``QUINTIC_CHECK_RATIO`` times the cubic spline's continuation does, or
+    by at most ``noise.NOISE_FLOOR`` (both exact to within rounding: a bat turning steadily
+    about a fixed axis). Noise the detector was not told of fails that check (the quintic's end
+    weights amplify it). None where the check fails, or where either window takes no quintic
     (``splines.quintic_window``: six samples or more, so seven here, steps within a factor 2).
 
     :param times, samples: the window (s, bat samples), oldest first, all at or before t.
@@ -416,7 +418,7 @@ def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
     cubic = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2)
     misses = [max(map(math.dist, fit.at(times[-1]), (samples[-1].knob, samples[-1].tip)))
               for fit in (shorter, cubic)]
-    if misses[0] > QUINTIC_CHECK_RATIO * misses[1]:
+    if misses[0] > max(QUINTIC_CHECK_RATIO * misses[1], NOISE_FLOOR):
         return None
     return path.knob.velocity(t), swing_rate(path, t)
 
