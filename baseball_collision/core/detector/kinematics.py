@@ -562,6 +562,33 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
     return ImpactVelocities(ball_path.velocity(t), 0.0, knob_rate, swing, roll, True)
 
 
+def fit_velocities(ball: Stream, bat: Stream, t: float, ball_path: MotionPath,
+                   bat_path: BatPath, config: Any) -> ImpactVelocities:
+    """
+    Return the velocities at an impact at t (s) under ``linear``, ``rigid`` and ``spline``.
+
+    The least-squares fits of the samples up to t (``impact_velocities``: ``velocity_degree``
+    over ``velocity_window``). With exact bat samples (``tracker_noise`` 0, or estimated 0) at
+    a high rate (more than ``SPARSE_SAMPLES`` in ``velocity_window``) the bat's knob velocity
+    and swing come from the quintic spline through its last ``spline_window`` samples up to t
+    instead, where its check passes (``quintic_bat_rates``, as ``c2``'s): the fits' bias on an
+    accelerating swing does not fall with the rate (sweet-spot speed p99 about 1 % from 240 Hz
+    to 1 kHz), the quintic's does (BENCHMARKS.md, "The sweet-spot speed of exact samples from
+    the quintic spline"). Noise fails the check, and the fits average it as before.
+    """
+    velocities = impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
+                                   ball_path, bat_path)
+    if (not velocities.from_history or stream_noise(bat, config) > 0.0
+            or len(bat.history(t, config.velocity_window)) <= SPARSE_SAMPLES):
+        return velocities
+    indices = bat.history(t, 1.0)[-config.spline_window:]
+    found = quintic_bat_rates([bat.times[i] for i in indices], [bat.values[i] for i in indices],
+                              t)
+    if found is None:
+        return velocities
+    return ImpactVelocities(velocities.ball, 0.0, found[0], found[1], velocities.roll, True)
+
+
 def impact_velocities(ball: Stream, bat: Stream, t: float, window: float, degree: int,
                       ball_path: MotionPath, bat_path: BatPath,
                       spline_window: int = 0) -> ImpactVelocities:

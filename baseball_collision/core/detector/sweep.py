@@ -21,7 +21,7 @@ from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, stream_noise
 from .gate import Clock
-from .kinematics import c2_velocities, impact_velocities, rigid_bat, SPARSE_SAMPLES
+from .kinematics import c2_velocities, fit_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -361,8 +361,7 @@ class Sweep:
         if self.model == 'c2':
             velocities = c2_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
         else:
-            velocities = impact_velocities(self.ball, self.bat, t, config.velocity_window,
-                                           config.velocity_degree, ball_path, bat_path)
+            velocities = fit_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
         length = math.dist(knob, tip)
         omega, pivot, sweet_point = rigid_bat(velocities, knob, tip, config.sweet_spot_from_tip)
         # rigid body: every point moves with the pivot plus the turn about it
