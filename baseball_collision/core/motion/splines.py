@@ -106,7 +106,13 @@ def end_state(times: Sequence[float], values: np.ndarray,
 
 QUINTIC_STEP_RATIO = 2.0
 """``c2`` takes the quintic for a window only where its longest step is at most this times its
-shortest (the far test's cardinal weights for the quintic are measured within it)."""
+shortest (the far test's cardinal weights for the quintic are measured within it), to within
+``STEP_RATIO_TOLERANCE``."""
+
+STEP_RATIO_TOLERANCE = 1e-6
+"""Relative slack on ``QUINTIC_STEP_RATIO``: stamps on a millisecond grid (integer nanoseconds)
+become seconds from the clock's origin with rounding, which puts a 4 ms step a few 1e-16 s above
+or below twice a 2 ms one; at the ratio itself the rule would follow the rounding."""
 
 
 def not_a_knot_quintic_rows(times: Sequence[float],
@@ -144,7 +150,8 @@ def quintic_window(times: Sequence[float], j: int, continued: bool = False) -> b
 
     Six samples or more, at least one after the interval (a window's last piece, and so the
     velocities extrapolated from it, is left to the cubic: the quintic's end weights amplify
-    whatever noise the samples carry), and steps within ``QUINTIC_STEP_RATIO`` of each other.
+    whatever noise the samples carry), and steps within ``QUINTIC_STEP_RATIO`` of each other
+    (to within ``STEP_RATIO_TOLERANCE``).
 
     :param continued: the piece is to be continued past the window's end (a hit's bat carried
         on from before its interval, ``detector.fitting.c2_bat_ahead``, which its rule takes
@@ -153,4 +160,4 @@ def quintic_window(times: Sequence[float], j: int, continued: bool = False) -> b
     if len(times) < 6 or j + (1 if continued else 2) >= len(times):
         return False
     steps = [b - a for a, b in zip(times, times[1:])]
-    return max(steps) <= QUINTIC_STEP_RATIO * min(steps)
+    return max(steps) <= QUINTIC_STEP_RATIO * (1.0 + STEP_RATIO_TOLERANCE) * min(steps)

@@ -136,3 +136,21 @@ def test_the_quintic_window_rule() -> None:
     uneven = even[:-1] + [even[-2] + 0.01 * (QUINTIC_STEP_RATIO + 0.01)]
     assert not quintic_window(uneven, 3)
     assert quintic_window(even[:-1] + [even[-2] + 0.0099 * QUINTIC_STEP_RATIO], 3)
+
+
+def test_the_quintic_window_rule_holds_the_ratio_itself_whatever_the_rounding() -> None:
+    """
+    Steps of 2 and 4 ms on a millisecond grid are within the factor 2, however they round.
+
+    Integer-nanosecond stamps 4.001 s on, in seconds: the 4 ms step comes out a rounding
+    above twice a 2 ms one (0.004000000000000448 against 0.0019999999999997797), which the
+    plain comparison refused; a step 2e-5 longer than the factor is still refused.
+    """
+    from baseball_collision.core.motion.splines import quintic_window
+    grid_ms = (4001, 4003, 4007, 4009, 4012, 4014, 4017, 4020)
+    times = [ms * 1_000_000 * 1e-9 for ms in grid_ms]
+    steps = [b - a for a, b in zip(times, times[1:])]
+    assert max(steps) > 2.0 * min(steps)  # the rounding this test is about
+    assert quintic_window(times, 4)
+    longer = times[:2] + [t + 2e-8 for t in times[2:]]  # the 4 ms step 20 ns longer
+    assert not quintic_window(longer, 4)
