@@ -228,7 +228,8 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         _closed(0, 2), read_only=_GEOMETRY),
     ParameterSpec(
         'spline_window', _I, 8, 'c2: samples in the spline fitted for an interval (4-32), the '
-        'newest its closing frame plus look_ahead.', 'samples', _closed(4, 32),
+        'newest its closing frame plus look_ahead; every model: in the quintic spline behind '
+        'impact velocities from exact samples at a high rate.', 'samples', _closed(4, 32),
         read_only=_GEOMETRY),
     ParameterSpec(
         'bat_axis', _S, 'z', 'Bat body axis from knob to tip in the pose frame (pose input).',
@@ -445,7 +446,8 @@ class DetectorConfig:
     :ivar model: motion model between samples: ``'linear'``, ``'rigid'``, ``'spline'`` or
         ``'c2'``.
     :ivar look_ahead: ``c2``: samples after an interval's closing frame its fit may use (0-2).
-    :ivar spline_window: ``c2``: samples in each interval's spline (4-32).
+    :ivar spline_window: ``c2``: samples in each interval's spline (4-32); every model: in the
+        quintic spline behind impact velocities from exact samples at a high rate.
     :ivar bat_input: ``'pose'`` (one pose stream) or ``'points'`` (knob and tip streams).
     :ivar ball_radius: metres.
     :ivar profile: the bat's radius profile (stations from the knob), scaled to knob-tip.

@@ -38,9 +38,10 @@ between the impact and the one the model of next lower order solves over the sam
 lowest, against rigid). It measures the lower-order model's error more than the deciding
 one's: by design an over-estimate of the time and the spot (measured 2-30 times the error on
 the simulator's swings); the speed's can fall short where both models take their velocities
-from the same least-squares fits (``rigid``, ``spline``, and ``c2`` at a low rate: there the
-speed's is at least the difference from the speed ``c2``'s noise rule would give, the window
-fits before the impact extrapolated to it, ``before_rule_speed``). When the alternative finds
+from the same fits (the least-squares fits, or with exact samples at a high rate the same
+quintic spline: ``kinematics.quintic_bat_rates``), so for every model it is at least the
+difference from the speed ``c2``'s noise rule would give, the window fits before the impact
+extrapolated to it (``before_rule_speed``). When the alternative finds
 no impact (a tick it sees pass just clear of the bat), its closest approach stands in for the
 time and the spot, and 10 % of the speed for the speed; when it does not even see the ball
 within the near-miss threshold, coarse bounds: the interval's length, the ball's radius, 10 %
@@ -75,7 +76,7 @@ from .fitting import (
     bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN,
     point_gains, stream_noise, swing_rate)
 from .gate import Clock
-from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_interval
+from .kinematics import c2_velocities, rigid_bat, velocity_interval
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import (
@@ -419,11 +420,9 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     if uncertainty is None:
         uncertainty = difference(config, config.variant(model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)
-        if config.model != 'c2' or spline_window_for(bat, clock.time(impact.stamp_ns),
-                                                     config) == 0:
-            other = before_rule_speed(config, clock, ball, bat, offsets, impact)
-            uncertainty = (uncertainty[0], uncertainty[1], max(
-                uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
+        other = before_rule_speed(config, clock, ball, bat, offsets, impact)
+        uncertainty = (uncertainty[0], uncertainty[1], max(
+            uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
     if hit:  # the bat's brake (the module docstring)
         brake = braked(config, clock, ball, bat, offsets, impact, ta, tb)
         uncertainty = (math.hypot(uncertainty[0], brake), uncertainty[1], uncertainty[2])
