@@ -336,17 +336,30 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
                      (length.velocity(t0), length.velocity(t1)))
 
 
-def swing_rate(path: C2BatPath, t: float) -> Vector:
-    """Return the swing angular velocity (rad/s) of a ``c2`` bat path at t (s): u x u'."""
-    turn, rate = np.array(path.turn.at(t)), np.array(path.turn.velocity(t))
+def chart_swing(reference: Vector, turn: Sequence[float], rate: Sequence[float]) -> Vector:
+    """
+    Return the swing angular velocity u x u' (rad/s) of a direction chart's rotation vector.
+
+    u = ``rotate(reference, turn)``; u' by central differences ``_STEP`` rad along the rate
+    (the map's curvature makes their error about 1e-9 of the rate).
+
+    :param reference: the chart's origin direction (unit); ``turn``: the rotation vector
+        (rad) turning it onto the bat's direction u; ``rate``: its rate (rad/s).
+    """
+    turn, rate = np.asarray(turn, dtype=float), np.asarray(rate, dtype=float)
     speed = float(np.linalg.norm(rate))
-    direction = rotate(path.reference, tuple(turn.tolist()))
+    direction = rotate(reference, tuple(turn.tolist()))
     if speed == 0.0:
         return (0.0, 0.0, 0.0)
     step = _STEP / speed
-    ahead = np.array(rotate(path.reference, tuple((turn + step * rate).tolist())))
-    behind = np.array(rotate(path.reference, tuple((turn - step * rate).tolist())))
+    ahead = np.array(rotate(reference, tuple((turn + step * rate).tolist())))
+    behind = np.array(rotate(reference, tuple((turn - step * rate).tolist())))
     return cross(direction, tuple(((ahead - behind) / (2.0 * step)).tolist()))
+
+
+def swing_rate(path: C2BatPath, t: float) -> Vector:
+    """Return the swing angular velocity (rad/s) of a ``c2`` bat path at t (s): u x u'."""
+    return chart_swing(path.reference, path.turn.at(t), path.turn.velocity(t))
 
 
 def piece_weights(times: Sequence[float], j: int, t: float) -> np.ndarray:

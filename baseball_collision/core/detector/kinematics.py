@@ -24,13 +24,14 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .fitting import c2_bat_path, c2_point_path, c2_window, stream_noise, swing_rate
+from .fitting import (
+    c2_bat_path, c2_point_path, c2_window, chart_swing, stream_noise, swing_rate)
 from .noise import NOISE_FLOOR
 from .streams import Stream
-from ..geometry import add, cross, lerp, scale, Vector
+from ..geometry import add, lerp, scale, Vector
 from ..motion import (
-    BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, rotate,
-    turn_between, unit_axis)
+    BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, turn_between,
+    unit_axis)
 from ..motion.broken import broken_fit
 from ..toi import _kernel
 
@@ -316,22 +317,6 @@ class ImpactVelocities:
     swing: Vector
     roll: float
     from_history: bool
-
-
-def chart_swing(reference: Vector, turn: np.ndarray, turn_rate: np.ndarray) -> Vector:
-    """
-    Return the swing angular velocity u x u' (rad/s) of a direction chart's rotation vector.
-
-    :param reference: the chart's origin direction (unit); ``turn``: the rotation vector
-        (rad) turning it onto the bat's direction u; ``turn_rate``: its rate (rad/s).
-    """
-    step = 1e-4  # s: the chart's map differentiated numerically along the rate
-    turn, turn_rate = [float(x) for x in turn], [float(x) for x in turn_rate]
-    # plain floats, the same operations as numpy's on the 3-vectors (np.cross is cross's)
-    ahead = rotate(reference, tuple(x + step * r for x, r in zip(turn, turn_rate)))
-    behind = rotate(reference, tuple(x - step * r for x, r in zip(turn, turn_rate)))
-    direction = rotate(reference, tuple(turn))
-    return cross(direction, tuple((a - b) / (2.0 * step) for a, b in zip(ahead, behind)))
 
 
 def knot_bat_rates(bat: Stream, window: range, t: float) -> Tuple[Vector, Vector]:

@@ -2,7 +2,7 @@
 
 import math
 
-from baseball_collision.core.detector.kinematics import chart_swing
+from baseball_collision.core.detector.fitting import chart_swing
 from baseball_collision.core.geometry import cross, dot, norm
 from baseball_collision.core.motion import BatSample, C2BatPath, rotate, unit_axis
 from baseball_collision.core.motion import c2 as c2_model
@@ -60,8 +60,11 @@ def test_end_state_on_floats_is_the_array_form(n: int, columns: int, seed: int,
 
 
 def _array_chart_swing(reference, turn, turn_rate):
-    """Return ``chart_swing`` by numpy on 3-vectors (its former form)."""
-    step = 1e-4
+    """Return ``chart_swing`` by numpy on 3-vectors (1e-4 rad along the rate)."""
+    speed = np.linalg.norm(turn_rate)
+    if speed == 0.0:
+        return (0.0, 0.0, 0.0)
+    step = 1e-4 / speed
     ahead = np.array(rotate(reference, tuple(turn + step * turn_rate)))
     behind = np.array(rotate(reference, tuple(turn - step * turn_rate)))
     direction = np.array(rotate(reference, tuple(turn)))
@@ -69,7 +72,7 @@ def _array_chart_swing(reference, turn, turn_rate):
 
 
 def test_chart_swing_and_rotation_to_are_their_former_forms() -> None:
-    """Random charts: ``chart_swing`` and ``rotation_to`` give the former bits."""
+    """Random charts: ``chart_swing`` and ``rotation_to`` give the numpy forms' bits."""
     rng = np.random.default_rng(8)
     for i in range(3000):
         reference = rng.normal(size=3)
