@@ -5,7 +5,10 @@ Velocities at an impact come from samples up to the impact only (a real hit dece
 bat in the next frames, so an interpolant spanning the impact would under-read the speed). The
 bat is a rigid body: a pivot near the hands (the axis point that accelerates least) moving with
 its own velocity, turning with an angular velocity fitted to the cumulative turn of its samples.
-With too few samples before the impact, the chords of the spanning interval stand in.
+With too few samples before the impact, the chords of the spanning interval stand in. With exact
+bat samples at a high rate the bat's knob velocity and swing come from the quintic spline
+through its samples up to the impact instead, where they pass its check (``fit_velocities``,
+``quintic_bat_rates``).
 
 Under the ``c2`` model (``c2_velocities``) the velocities come from samples before the impact
 only: with exact samples at a high rate the splines through the samples up to the impact,
