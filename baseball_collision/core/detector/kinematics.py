@@ -551,7 +551,7 @@ def c2_velocities(ball: Stream, bat: Stream, t: float, ball_path: PointPath,
 
 
 def fit_velocities(ball: Stream, bat: Stream, t: float, ball_path: MotionPath,
-                   bat_path: BatPath, config: Any) -> ImpactVelocities:
+                   bat_path: BatPath, config: Any, quintic: bool = True) -> ImpactVelocities:
     """
     Return the velocities at an impact at t (s) under ``linear``, ``rigid`` and ``spline``.
 
@@ -563,10 +563,11 @@ def fit_velocities(ball: Stream, bat: Stream, t: float, ball_path: MotionPath,
     accelerating swing does not fall with the rate (sweet-spot speed p99 about 1 % from 240 Hz
     to 1 kHz), the quintic's does (BENCHMARKS.md, "The sweet-spot speed of exact samples from
     the quintic spline"). Noise fails the check, and the fits average it as before.
+    ``quintic`` False: the fits alone.
     """
     velocities = impact_velocities(ball, bat, t, config.velocity_window, config.velocity_degree,
                                    ball_path, bat_path)
-    if (not velocities.from_history or stream_noise(bat, config) > 0.0
+    if (not quintic or not velocities.from_history or stream_noise(bat, config) > 0.0
             or len(bat.history(t, config.velocity_window)) <= SPARSE_SAMPLES):
         return velocities
     indices = bat.history(t, 1.0)[-config.spline_window:]

@@ -55,10 +55,13 @@ class Sweep:
         ``uncertainty.impact_uncertainty``; its own re-solves leave it None).
     :ivar bat_ahead: None: a hit's bat continued by ``_bat_ahead``'s rule; True: wherever the
         ball left its flight (under ``c2``); False: never (``uncertainty``'s re-solves).
+    :ivar quintic_rates: True: ``kinematics.fit_velocities``' rule (the quintic's bat rates from
+        exact samples at a high rate); False: the least-squares fits alone (``uncertainty``'s
+        re-solve by the model of lower order, an estimate apart from the quintic).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
-                 'max_radius', 'last_gap', 'measure', 'bat_ahead')
+                 'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -69,6 +72,7 @@ class Sweep:
         self.last_gap: Optional[Tuple[State, float]] = None  # the last gap computed (m)
         self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
         self.bat_ahead: Optional[bool] = None  # the rule (``_bat_ahead``), or always / never
+        self.quintic_rates = True  # ``fit_velocities``' rule, or the fits alone
 
     def interval(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s), appending the events it makes."""
@@ -361,7 +365,8 @@ class Sweep:
         if self.model == 'c2':
             velocities = c2_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
         else:
-            velocities = fit_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
+            velocities = fit_velocities(self.ball, self.bat, t, ball_path, bat_path, config,
+                                        self.quintic_rates)
         length = math.dist(knob, tip)
         omega, pivot, sweet_point = rigid_bat(velocities, knob, tip, config.sweet_spot_from_tip)
         # rigid body: every point moves with the pivot plus the turn about it

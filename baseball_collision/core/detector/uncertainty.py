@@ -37,11 +37,12 @@ between the impact and the one the model of next lower order solves over the sam
 (``ALTERNATIVE``: c2 against spline, spline against rigid, rigid against linear; linear, the
 lowest, against rigid). It measures the lower-order model's error more than the deciding
 one's: by design an over-estimate of the time and the spot (measured 2-30 times the error on
-the simulator's swings); the speed's can fall short where both models take their velocities
-from the same fits (the least-squares fits, or with exact samples at a high rate the same
-quintic spline: ``kinematics.quintic_bat_rates``), so for every model it is at least the
-difference from the speed ``c2``'s noise rule would give, the window fits before the impact
-extrapolated to it (``before_rule_speed``). When the alternative finds
+the simulator's swings). The lower-order model's velocities are its least-squares fits' (not
+the quintic's bat rates ``kinematics.fit_velocities`` takes from exact samples at a high rate,
+which both would share). The speed's can fall short where both models take their velocities
+from the same least-squares fits (``rigid``, ``spline``, and ``c2`` at a low rate: there the
+speed's is at least the difference from the speed ``c2``'s noise rule would give, the window
+fits before the impact extrapolated to it, ``before_rule_speed``). When the alternative finds
 no impact (a tick it sees pass just clear of the bat), its closest approach stands in for the
 time and the spot, and 10 % of the speed for the speed; when it does not even see the ball
 within the near-miss threshold, coarse bounds: the interval's length, the ball's radius, 10 %
@@ -76,7 +77,7 @@ from .fitting import (
     bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW, NOISE_SPAN,
     point_gains, stream_noise, swing_rate)
 from .gate import Clock
-from .kinematics import c2_velocities, rigid_bat, velocity_interval
+from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_interval
 from .streams import Stream
 from .sweep import Sweep
 from ..geometry import (
@@ -159,21 +160,22 @@ def union_intervals(ball: Stream, bat: Stream, ta: float, tb: float,
 
 def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
             offsets: Tuple[Vector, Vector], ta: float, tb: float,
-            bat_ahead: Optional[bool] = None,
-            closest: bool = False) -> Optional[Union[Impact, NearMiss]]:
+            bat_ahead: Optional[bool] = None, closest: bool = False,
+            quintic_rates: bool = True) -> Optional[Union[Impact, NearMiss]]:
     """
     Return the first impact about the union interval [ta, tb] (s), or None.
 
     A fresh, armed sweep over the given streams (copies: a sweep caches its paths on them) of
     [ta, tb]; of the union interval before it too when the contact was already there at ta,
-    of the one after it when there was none. ``bat_ahead``: the sweep's (``Sweep.bat_ahead``).
-    ``closest``: without an impact, the closest approach over what was swept instead (a
-    ``NearMiss``: the ball passed within the near-miss threshold), if any.
+    of the one after it when there was none. ``bat_ahead``, ``quintic_rates``: the sweep's
+    (``Sweep.bat_ahead``, ``Sweep.quintic_rates``). ``closest``: without an impact, the closest
+    approach over what was swept instead (a ``NearMiss``: the ball passed within the near-miss
+    threshold), if any.
     """
     stats = DetectorStats()
     episodes = EpisodeTracker(config, clock, stats)
     sweep = Sweep(config, clock, stats, ball, bat, episodes, offsets)
-    sweep.bat_ahead = bat_ahead
+    sweep.bat_ahead, sweep.quintic_rates = bat_ahead, quintic_rates
     passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:
@@ -241,13 +243,18 @@ def difference(config: DetectorConfig, other: DetectorConfig, clock: Clock, ball
     """
     Return how far the impact solved under ``other`` is from ``impact`` (s, m, m/s).
 
+    ``other``'s velocities are its least-squares fits' (``Sweep.quintic_rates`` False): from
+    exact samples at a high rate both would otherwise share the quintic's bat rates, and their
+    difference would say nothing of its error.
+
     Where ``other`` finds no impact (a tick it sees pass just clear), the time and spot of its
     closest approach stand in for its impact's, with the coarse speed bound; where it does not
     see the ball come within the near-miss threshold either, the coarse bounds (the module
     docstring).
     """
     found = resolve(other, clock, excerpt(ball, 0, len(ball.times) - 1),
-                    excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb, closest=True)
+                    excerpt(bat, 0, len(bat.times) - 1), offsets, ta, tb, closest=True,
+                    quintic_rates=False)
     if found is None:
         return tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps
     if found.__class__ is NearMiss:
@@ -420,9 +427,11 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     if uncertainty is None:
         uncertainty = difference(config, config.variant(model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)
-        other = before_rule_speed(config, clock, ball, bat, offsets, impact)
-        uncertainty = (uncertainty[0], uncertainty[1], max(
-            uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
+        if config.model != 'c2' or spline_window_for(bat, clock.time(impact.stamp_ns),
+                                                     config) == 0:
+            other = before_rule_speed(config, clock, ball, bat, offsets, impact)
+            uncertainty = (uncertainty[0], uncertainty[1], max(
+                uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
     if hit:  # the bat's brake (the module docstring)
         brake = braked(config, clock, ball, bat, offsets, impact, ta, tb)
         uncertainty = (math.hypot(uncertainty[0], brake), uncertainty[1], uncertainty[2])
