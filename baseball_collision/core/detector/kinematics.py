@@ -399,14 +399,16 @@ def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
     newest = len(samples) - 1
     if newest < 6:
         return None
-    path = C2BatPath.fitted(times, samples, newest - 1, True)
     shorter = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2, True)
-    if path.knob.e is None or shorter.knob.e is None:
+    if shorter.knob.e is None:
         return None
     cubic = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2)
     misses = [max(map(math.dist, fit.at(times[-1]), (samples[-1].knob, samples[-1].tip)))
               for fit in (shorter, cubic)]
     if misses[0] > max(QUINTIC_CHECK_RATIO * misses[1], NOISE_FLOOR):
+        return None  # (the check first: noisy samples, the common refusal, fit no more)
+    path = C2BatPath.fitted(times, samples, newest - 1, True)
+    if path.knob.e is None:
         return None
     return path.knob.velocity(t), swing_rate(path, t)
 
