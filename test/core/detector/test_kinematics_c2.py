@@ -179,6 +179,13 @@ def _cubic_rates(times, samples, t: float):
             chart_swing(unit_axis(samples[-2]), state[3:6], rates[3:6]))
 
 
+def _shaken(samples, sigma: float, rng: np.random.Generator):
+    """Return the bat samples with Gaussian noise of sigma (m) on each knob and tip coordinate."""
+    return [BatSample(tuple((np.array(sample.knob) + rng.normal(0.0, sigma, 3)).tolist()),
+                      tuple((np.array(sample.tip) + rng.normal(0.0, sigma, 3)).tolist()))
+            for sample in samples]
+
+
 def _relative_error(found, t: float, spin: float, tilt: float) -> float:
     """Return the tip velocity's error relative to its speed."""
     truth = _tip_velocity(t, spin, tilt)
@@ -237,10 +244,7 @@ def test_noise_the_detector_was_not_told_of_fails_the_quintic_check(rate: float)
     """0.1 mm of noise on knob and tip: the quintic's check refuses every draw (None)."""
     times, samples, t = _window_at(rate, 40.0, 2.0)
     for seed in range(20):
-        rng = np.random.default_rng(seed)
-        noisy = [BatSample(tuple((np.array(sample.knob) + rng.normal(0.0, 1e-4, 3)).tolist()),
-                           tuple((np.array(sample.tip) + rng.normal(0.0, 1e-4, 3)).tolist()))
-                 for sample in samples]
+        noisy = _shaken(samples, 1e-4, np.random.default_rng(seed))
         assert quintic_bat_rates(times, noisy, t) is None
 
 
@@ -287,12 +291,10 @@ def test_the_fit_models_take_the_quintic_rates_from_exact_samples_at_a_high_rate
                                          (240.0, 0.0, True, False), (240.0, 1e-4, False, False)):
         ball, bat = _streams(rate, spin, tilt)
         if noise_m:
-            rng = np.random.default_rng(3)
             shaken = Stream('bat')
-            for i, (stamp, sample) in enumerate(zip(bat.times, bat.values)):
-                shaken.append(stamp, i, BatSample(
-                    tuple((np.array(sample.knob) + rng.normal(0.0, noise_m, 3)).tolist()),
-                    tuple((np.array(sample.tip) + rng.normal(0.0, noise_m, 3)).tolist())), i == 0)
+            noisy = _shaken(bat.values, noise_m, np.random.default_rng(3))
+            for i, (stamp, sample) in enumerate(zip(bat.times, noisy)):
+                shaken.append(stamp, i, sample, i == 0)
             bat = shaken
         k = len(bat.times) - 2
         t = bat.times[k] + 0.5 / rate
