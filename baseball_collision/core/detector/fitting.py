@@ -187,13 +187,11 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     cubic's (as the bat's: ``motion.c2``).
 
     With noise and a ``config`` (its ``max_gap`` and trim history), the flight fit instead where
-    ``ball_flight`` finds one.
+    ``ball_flight`` finds one (``flight_point_path``).
     """
     fit = ball_flight(stream, k, window, noise, config)
     if fit is not None:
-        t0, t1 = stream.times[k], stream.times[k + 1]
-        (p0, v0), (p1, v1) = fit.state(t0), fit.state(t1)
-        return PointPath(t0, t1, p0, p1, v0, v1)
+        return flight_point_path(stream, k, fit)
     if noise > 0.0:
         window = widened(stream, window)
     times = stream.times[window.start:window.stop]
@@ -211,6 +209,13 @@ def c2_point_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     slopes = not_a_knot_slope_rows(times, values, j)
     return PointPath(times[j], times[j + 1], stream.values[k], stream.values[k + 1], slopes[0],
                      slopes[1])
+
+
+def flight_point_path(stream: Stream, k: int, fit: FlightFit) -> PointPath:
+    """Return the ball's path over interval k on its flight fit (``ball_flight``'s)."""
+    t0, t1 = stream.times[k], stream.times[k + 1]
+    (p0, v0), (p1, v1) = fit.state(t0), fit.state(t1)
+    return PointPath(t0, t1, p0, p1, v0, v1)
 
 
 def bat_variances(sample: BatSample, noise: float) -> List[float]:

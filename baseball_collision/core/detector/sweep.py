@@ -19,7 +19,9 @@ from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, flight_path, leaves_flight
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
-from .fitting import c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, stream_noise
+from .fitting import (
+    ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
+    stream_noise)
 from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
@@ -245,9 +247,11 @@ class Sweep:
 
         Where the closing sample has left the ball's free flight (``departure.leaves_flight``:
         a hit turns the ball round before the next frame), the free flight's parabola instead,
-        for every model but ``c2`` with noise (whose flight fit's guard turns to the fit ending
-        at the opening frame: ``fitting.ball_flight``); and neither a spline's tangent nor a
-        ``c2`` look-ahead reaches across a departure after the interval.
+        but where ``c2`` with noise takes a flight fit (whose guard turns from a departed frame
+        to the fit ending at the opening frame: ``fitting.ball_flight``); and neither a
+        spline's tangent nor a ``c2`` look-ahead reaches across a departure after the interval.
+        A ``c2`` smoother is no free flight either (noise so small that a parabola over the
+        flight fit's span fails its guard: the smoother then follows the departed frame).
         """
         ball, config = self.ball, self.config
         gap, noise = config.max_gap, stream_noise(ball, config)
@@ -257,9 +261,10 @@ class Sweep:
                 if leaves_flight(ball, j, noise, gap) is not None:
                     window = range(window.start, j + 1)
                     break
-            path = c2_point_path(ball, k, window, noise, config)
-            if noise > 0.0:
-                return path
+            fit = ball_flight(ball, k, window, noise, config)
+            if fit is not None:
+                return flight_point_path(ball, k, fit)
+            path = c2_point_path(ball, k, window, noise)
         else:
             before, after = _neighbours(ball, k, gap)
             if after is not None and leaves_flight(ball, k + 1, noise, gap) is not None:
