@@ -102,7 +102,7 @@ class Detector:
         self._sweep.measure = self._measure
         self._noise = None if config.tracker_noise >= 0.0 else (
             NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
-                                                  else 'point'))
+                                                  else 'pose'))
 
     def _measure(self, impact: Impact) -> Impact:
         """Return an impact with its 1-sigma uncertainties (``uncertainty``)."""

@@ -5,12 +5,18 @@ A robust difference-based estimate over a sliding history (``HISTORY`` residuals
 updated as samples arrive (the node and ``analyze`` see the same samples, so they estimate the
 same noise to the bit):
 
-* a point (the ball, a bat pose's position): the residual of each sample against the cubic
+* the ball (a point, or a pose's position): the residual of each sample against the cubic
   through its four neighbours in the segment (two before, two after), i.e. the fourth divided
   difference of five consecutive samples on their own, uneven stamps, divided by its noise
   gain (the root sum of squares of its weights), so that for pure noise of sigma per
   coordinate it is a normal variate of that sigma. A motion with a bounded fourth derivative
-  adds about f'''' h^4 / 6: nothing on a ballistic path, much on a bat circling at 90 Hz;
+  adds about f'''' h^4 / 6: nothing on a ballistic path;
+* a bat pose's position: the same four orders higher (``POSE_SPAN``), the residual against
+  the polynomial of degree 7 through its eight neighbours (the eighth divided difference of
+  nine samples over its gain): a bat circling at 90 Hz puts much of its motion into fourth
+  differences (0.2 mm) and some micrometres into eighth ones. Its fourth differences are
+  estimated beside them, and where they read more than ``EXACT_RATIO`` times the eighth ones
+  (the swing's own motion dwarfs the noise) the pose is taken as exact;
 * a bat as knob and tip points: the change of the knob-tip length between consecutive samples
   (a rigid bat's length is constant: the change is the noise along the bat of both ends, of
   variance 4 sigma^2), divided by 2. No motion enters it, at any rate.
@@ -19,12 +25,14 @@ The estimate is 1.4826 times the median absolute residual (the normal's scale fr
 absolute deviation: a few residuals spoilt by motion or a glitch do not move it), 0 until
 ``MIN_RESIDUALS`` residuals are in, and 0 below ``NOISE_FLOOR`` (exact samples: interpolated).
 
-Limit (measured, ``test_noise.py``): a bat pose's position has no rigid length to
-check, so its residuals are fourth differences, and at 90 Hz a swing's own motion puts about
-0.2 mm into them (0.7-1.5 um at 360 Hz). The median reads that only while the swing is most of
-the history: with the bat tracked 0.35 s or more before the contact (its stance and load), an
-exact pose at 90 Hz estimates 0 again on every family (BENCHMARKS.md, "A pose bat's phantom
-noise"). For a pose bat whose stream starts with the swing, tell ``tracker_noise``.
+A bat pose's position has no rigid length to check, so its residuals hold some of its motion
+too (measured, ``test_noise.py`` and BENCHMARKS.md, "A bat pose's noise from eighth
+differences"): in a swing tracked from 0.15 s before the contact, the largest estimate at 90
+Hz is 13 um (median; 30 at most) from eighth differences, against 0.2 mm from fourth ones
+(the estimate before session 38) and 44 um from sixth ones; 1.5 um at 120 Hz, nothing from
+180 Hz on. Where the noise is as small as the swing's eighth differences, the swing fills the
+fourth differences many times over and the pose is taken as exact (``EXACT_RATIO``):
+interpolating it is then at least as accurate.
 """
 
 import math
@@ -54,6 +62,27 @@ REBUILD = 48
 """More residuals than this at once: the sorted list is made again (when an estimate next
 needs it), not updated one by one."""
 
+POINT_SPAN = 5
+"""Samples of a point's residual window (the ball's): fourth differences."""
+
+POSE_SPAN = 9
+"""Samples of a bat pose position's residual window: eighth differences, which read a swing's
+own motion 15-100 times less than fourth ones at 90-120 Hz (none at all from 180 Hz), and
+real noise as well (BENCHMARKS.md, "A bat pose's noise from eighth differences")."""
+
+SPANS = {'point': POINT_SPAN, 'pose': POSE_SPAN}
+"""The residual window of each kind of point stream (samples)."""
+
+EXACT_RATIO = 4.0
+"""A bat pose is taken as exact where its estimate (``POSE_SPAN`` differences) is below its
+fourth differences' estimate over this: its own motion then puts more than four times the
+noise into the residual of each sample against the cubic through its neighbours, and
+interpolating it is at least as accurate as smoothing it with that noise (measured on noise
+told or not: the crossing at 30-100 um at 90 Hz, where the swing's fourth differences are
+0.2 mm, 10-30 um at 120 Hz (57 um), 3-10 at 180 (11) and 1 at 360 (1): a quarter to a third;
+BENCHMARKS.md, "A bat pose's noise from eighth differences"). A ball's or a knob-tip bat's
+residuals hold no motion to compare with."""
+
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
 
@@ -79,46 +108,80 @@ class NoiseEstimate:
     to the bit). More than ``REBUILD`` residuals at once (a fast-forward) are sorted again
     when next needed.
 
-    :param kind: ``'point'`` (fourth differences of the values, or of a pose's position) or
+    :param kind: ``'point'`` (the ball: fourth differences of its points, or of a pose's
+        positions), ``'pose'`` (a bat pose: sixth differences of its positions) or
         ``'length'`` (changes of a knob-tip bat's length).
+    :raises ValueError: another kind.
     """
 
-    __slots__ = ('kind', '_median')
+    __slots__ = ('kind', '_median', '_motion')
 
     def __init__(self, kind: str) -> None:
+        if kind not in SPANS and kind != 'length':
+            raise ValueError(f"kind must be 'point', 'pose' or 'length', not {kind!r}")
         self.kind = kind
-        self._median = _kernel.NoiseMedian(HISTORY, MAD_TO_SIGMA, NOISE_FLOOR, MIN_RESIDUALS,
-                                           REBUILD)
+        self._median = self._made(SPANS.get(kind, POINT_SPAN))
+        # (a pose's fourth differences too: how much of its motion the cubic leaves)
+        self._motion = self._made(POINT_SPAN) if kind == 'pose' else None
+
+    @staticmethod
+    def _made(span: int) -> _kernel.NoiseMedian:
+        return _kernel.NoiseMedian(HISTORY, MAD_TO_SIGMA, NOISE_FLOOR, MIN_RESIDUALS, REBUILD,
+                                   span)
+
+    @property
+    def span(self) -> int:
+        """Return the samples of a point residual's window (``POINT_SPAN`` or ``POSE_SPAN``)."""
+        return self._median.span
 
     @property
     def sigma(self) -> float:
-        """Return the estimate (m): 0 until ``MIN_RESIDUALS`` are in, and below the floor."""
-        return self._median.sigma
+        """
+        Return the estimate (m): 0 until ``MIN_RESIDUALS`` are in, and below the floor.
+
+        The floor: ``NOISE_FLOOR``; for a pose, also its fourth differences' estimate over
+        ``EXACT_RATIO`` (the swing's own motion there dwarfs the noise).
+        """
+        sigma = self._median.sigma
+        if self._motion is not None and EXACT_RATIO * sigma < self._motion.sigma:
+            return 0.0
+        return sigma
 
     @property
     def residuals(self) -> List[float]:
         """Return the kept residuals, oldest first (m; the newest ``HISTORY``)."""
         return self._median.residuals()
 
+    @property
+    def motion_residuals(self) -> List[float]:
+        """Return a pose's kept fourth-difference residuals, oldest first (m; else none)."""
+        return [] if self._motion is None else self._motion.residuals()
+
     def take(self, found: Sequence[float]) -> float:
         """Take residuals (m) in order; return the estimate from the newest ``HISTORY`` (m)."""
-        return self._median.take(found)
+        self._median.take(found)
+        return self.sigma
 
     def update(self, stream: Stream) -> float:
         """
         Take the residual(s) the stream's newest sample completes; return the estimate (m).
 
-        A point's residual is that of its third-newest sample, so it needs five samples of one
-        segment; a length change needs two.
+        A point's residual is that of the middle one of its ``span`` newest samples, so it
+        needs that many samples of one segment (a pose's fourth differences, five); a length
+        change needs two.
         """
         if self.kind == 'length':
             if len(stream.times) < 2 or stream.breaks[-1]:
-                return self._median.sigma
+                return self.sigma
             old, new = stream.values[-2:]
-            return self._median.take(
-                (0.5 * (math.dist(new.tip, new.knob) - math.dist(old.tip, old.knob)),))
-        # (the kernel's: five samples of one segment, the values' points or poses' positions)
-        return self._median.take_stream(stream.times, stream.values, stream.breaks)
+            self._median.take((0.5 * (math.dist(new.tip, new.knob) -
+                                      math.dist(old.tip, old.knob)),))
+            return self.sigma
+        # (the kernel's: span samples of one segment, the values' points or poses' positions)
+        self._median.take_stream(stream.times, stream.values, stream.breaks)
+        if self._motion is not None:
+            self._motion.take_stream(stream.times, stream.values, stream.breaks)
+        return self.sigma
 
     def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
                pre: int) -> np.ndarray:
@@ -129,10 +192,10 @@ class NoiseEstimate:
         own test will, whatever the estimate is by then. The estimate is ``MAD_TO_SIGMA``
         times a median of at least as many residuals as it holds now (and ``MIN_RESIDUALS``),
         so at most that times the matching order statistic of any set holding them: per
-        ``BOUND_BLOCK`` samples, the residuals of every window of five from the sample where
-        ``HISTORY`` residuals have surely come to the block's last (those without a possible
-        break among their four newest give three each), with the kept residuals where that
-        reaches before the chunk. The kernel's (``NoiseMedian.bounds``).
+        ``BOUND_BLOCK`` samples, the residuals of every window of ``span`` from the sample
+        where ``HISTORY`` residuals have surely come to the block's last (those without a
+        possible break among their ``span - 1`` newest give three each), with the kept
+        residuals where that reaches before the chunk. The kernel's (``NoiseMedian.bounds``).
 
         :param times, points: the stream's kept samples, then the chunk's (n,) s and (n, 3) m.
         :param breaks: (n,) where a segment starts, or may start (a sample the per-sample path
@@ -141,7 +204,7 @@ class NoiseEstimate:
         :returns: (n - pre,) bounds (m), inf where a residual is not a number.
         :raises ValueError: shapes that do not match, or a length stream's estimate.
         """
-        if self.kind != 'point':
+        if self.kind == 'length':
             raise ValueError('bounds are for point streams')
         out = np.empty(len(times) - pre)
         self._median.bounds(np.ascontiguousarray(times, float),
@@ -156,45 +219,64 @@ class NoiseEstimate:
         Take the residuals of new samples of one segment's points at once; return the estimate.
 
         What ``update`` does after each of them in turn, to the bit (the chunk path's
-        fast-forwards): each residual is that sample's window of five, the kernel's
-        (``_point_residuals``); of a run longer than ``KEPT_SAMPLES`` only the newest, as the
-        others' would not be kept.
+        fast-forwards): each residual is that of its window of ``span`` samples, the
+        kernel's (``_point_residuals``); of a run longer than ``KEPT_SAMPLES`` only the newest,
+        as the others' would not be kept.
 
-        :param before: the stream's newest samples before them (up to four): stamps (s),
-            points (m) and whether each starts a segment.
+        :param before: the stream's newest samples before them (its windows reach the newest
+            ``span - 1``): stamps (s), points (m) and whether each starts a segment.
         :param times: the new samples' stamps (s), none starting a segment; ``points`` (n, 3):
             contiguous float64 arrays (else copied).
         """
-        if self.kind != 'point':
+        if self.kind == 'length':
             raise ValueError('take_points is for point streams')
-        old_times, old_points, old_breaks = before
-        old_times, old_points = list(old_times)[-4:], list(old_points)[-4:]
-        old_breaks = list(old_breaks)[-4:]
-        last_break = max((i for i, broken in enumerate(old_breaks) if broken), default=-1)
-        # sample i of all (the old then the new) has a residual when i >= 4 and none of i-3..i
-        # starts a segment: the new ones from the fourth after the old's last break
-        first = max(4 - len(old_times), last_break + 4 - len(old_times), 0)
-        if first >= len(times):
-            return self._median.sigma
-        start = len(old_times) + first - 4  # the first residual's window's oldest sample
-        count = len(old_times) + len(times) - 4 - start
-        if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
-            start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
-        return self._median.take_points(
-            old_times, old_points, np.ascontiguousarray(times, float),
-            np.ascontiguousarray(points, float), start, count)
+        reach = self.span - 1  # a window's samples before its newest (the widest here)
+        old_times, old_points, old_breaks = (list(old)[-reach:] for old in before)
+        times = np.ascontiguousarray(times, float)
+        points = np.ascontiguousarray(points, float)
+        for median in (self._median, self._motion):
+            if median is not None:
+                _take_run(median, old_times, old_points, old_breaks, times, points)
+        return self.sigma
+
+
+def _take_run(median: _kernel.NoiseMedian, old_times: List[float],
+              old_points: List[Sequence[float]], old_breaks: List[bool], times: np.ndarray,
+              points: np.ndarray) -> None:
+    """Take a run's residuals into one median (``NoiseEstimate.take_points``'s arguments)."""
+    reach = median.span - 1  # a window's samples before its newest
+    if len(old_times) > reach:
+        old_times, old_points = old_times[-reach:], old_points[-reach:]
+        old_breaks = old_breaks[-reach:]
+    last_break = len(old_breaks) - 1
+    while last_break >= 0 and not old_breaks[last_break]:
+        last_break -= 1
+    # sample i of all (the old then the new) has a residual when i >= reach and none of
+    # i-reach+1..i starts a segment: the new ones from the reach-th after the old's break
+    first = max(reach - len(old_times), last_break + reach - len(old_times), 0)
+    if first >= len(times):
+        return
+    start = len(old_times) + first - reach  # the first residual's window's oldest sample
+    count = len(old_times) + len(times) - reach - start
+    if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
+        start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
+    median.take_points(old_times, old_points, times, points, start, count)
 
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
                      ) -> Tuple[List[float], List[bool]]:
     """
-    Return the residuals (m) of the middle of five samples (s, m) and which are small.
+    Return the residuals (m) of the middle of an odd number of samples (s, m), which are small.
 
     One residual per coordinate; small: ``MAD_TO_SIGMA`` times it below ``NOISE_FLOOR``. The
     compiled kernel's (``toi._kernel.point_residuals``; ``NoiseMedian.take_points`` computes
-    the same over a whole run): the fourth divided difference's weights (each 1 over the
-    product of its stamp's differences from the other four, multiplied in stamp order), each
-    residual a sum added left to right from 0.0 about the middle sample (the weights sum to 0,
-    so the motion cancels less), over the root sum of the squared weights.
+    the same over a whole run): the window's highest divided difference's weights (each 1
+    over the product of its stamp's differences from the others, multiplied in stamp order),
+    each residual a sum added left to right from 0.0 about the middle sample (the weights sum
+    to 0, so the motion cancels less), over the root sum of the squared weights. Five
+    samples: the ball's fourth differences; seven: a bat pose's sixth.
+
+    :raises ValueError: a window of an even number of samples, or of fewer than 3 or more than
+        9.
     """
-    return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR)
+    return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR, len(times))

@@ -41,7 +41,7 @@ from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .noise import NoiseEstimate
-from .streams import SILENT_KEEP, Stream
+from .streams import SILENT_KEEP, Stream, TRIM_KEEP as KEPT_BEFORE_CUT
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
 from ..prediction import prediction_due
@@ -66,7 +66,7 @@ the scalar code's by a few ulps, and only a sample well inside every bound skips
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
 
-TRIM_KEEP = 5
+TRIM_KEEP = KEPT_BEFORE_CUT + 1
 """``Stream.trim`` keeps this many samples before its cut (``keep`` + 1)."""
 
 

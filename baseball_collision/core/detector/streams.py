@@ -29,6 +29,12 @@ stream that only lags (a live subscription behind the other under load, a replay
 rate) catches up within them, so nothing it will still pair with is dropped; the memory stays
 bounded (about 0.4 MB) when the other is dead."""
 
+TRIM_KEEP = 6
+"""Samples a trim keeps before its cut's: it keeps ``TRIM_KEEP`` + 2 at least, which with the
+next sample make the nine of a bat pose's noise window (``noise.POSE_SPAN``), however short
+the fits' history is (the node one sample at a time, trimmed between them, and ``analyze``'s
+fast-forwards, trimmed after a run, then estimate the same)."""
+
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 
 
@@ -79,8 +85,12 @@ class Stream:
         if isinstance(value, BatSample):
             self.turns.append(_ZERO_TURN if self.breaks[-1] else None)
 
-    def trim(self, before: float, history: float, keep: int = 4) -> None:
-        """Forget samples more than ``history`` s and ``keep`` samples before time ``before``."""
+    def trim(self, before: float, history: float, keep: int = TRIM_KEEP) -> None:
+        """
+        Forget samples more than ``history`` s and ``keep`` samples before time ``before``.
+
+        What is kept is at least ``keep`` + 2 samples (``before``'s own interval too).
+        """
         if len(self.times) < 64:
             return
         index = min(bisect_right(self.times, before - history),

@@ -84,9 +84,9 @@
  *   bat_samples(cls, knob, tip, position, quaternion, first, last)  a chunk's bat samples as
  *        BatSample instances, and fast_forward_streams(plan, pos, end, ball, bat, walk, stop,
  *        noise, sample_class) a run of them taken into the streams (core.detector.chunks),
- *   point_residuals(times, points, start, count, scale, floor)  tracker_noise auto's residuals,
- *        and NoiseMedian(capacity, scale, floor, min_count, rebuild) its running median
- *        estimate (core.detector.noise)
+ *   point_residuals(times, points, start, count, scale, floor[, span])  tracker_noise auto's
+ *        residuals, and NoiseMedian(capacity, scale, floor, min_count, rebuild[, span]) its
+ *        running median estimate (core.detector.noise)
  *   trims(counts, cuts, trim_from, after, lengths)  a stream's trims over a chunk's plan,
  *   sorted_search(array, keys, right, out)  numpy.searchsorted walked for ascending keys,
  *   plan_rows(roles, stamps, values, origin, codes, offsets, limits, ...)  a chunk's rows as
@@ -5705,16 +5705,20 @@ static bool append_all(PyObject *list, PyObject *items)
   return PyList_SetSlice(list, n, n, items) == 0;
 }
 
-/* the newest up to four items of a list (new reference) */
-static PyObject *newest_four(PyObject *list)
+/* the widest window of the noise estimate's residuals (samples) */
+#define MAX_SPAN 9
+
+/* the newest up to MAX_SPAN - 1 items of a list (new reference) */
+static PyObject *newest_before(PyObject *list)
 {
   Py_ssize_t n = PyList_GET_SIZE(list);
-  return PyList_GetSlice(list, n > 4 ? n - 4 : 0, n);
+  return PyList_GetSlice(list, n > MAX_SPAN - 1 ? n - (MAX_SPAN - 1) : 0, n);
 }
 
 /*
  * The noise estimator of stream s takes a run's samples a .. b - 1 before they are appended
- * (NoiseEstimate.take_points, with the stream's newest four samples: their stamps, points or
+ * (NoiseEstimate.take_points, with the stream's newest MAX_SPAN - 1 samples, of which its
+ * windows take what they reach: their stamps, points or
  * poses' positions, and breaks; none with `fresh`: sample a starts a segment); the stream's
  * estimate becomes its answer.
  */
@@ -5728,9 +5732,9 @@ static bool take_run_noise(PyObject *estimator, PyObject *stream, PyObject *plan
     Py_XDECREF(values);
   }
   PyObject *times = stream_item(plan, FF_TIMES, s);
-  PyObject *old_times = fresh ? PyList_New(0) : newest_four(lists[0]);
-  PyObject *old_values = fresh ? PyList_New(0) : newest_four(lists[1]);
-  PyObject *old_breaks = fresh ? PyList_New(0) : newest_four(lists[2]);
+  PyObject *old_times = fresh ? PyList_New(0) : newest_before(lists[0]);
+  PyObject *old_values = fresh ? PyList_New(0) : newest_before(lists[1]);
+  PyObject *old_breaks = fresh ? PyList_New(0) : newest_before(lists[2]);
   PyObject *old_points = NULL, *run_times = NULL, *run_points = NULL, *result = NULL;
   if (positions == NULL || times == NULL || old_times == NULL || old_values == NULL ||
       old_breaks == NULL) {
@@ -6227,60 +6231,64 @@ static PyObject *py_leaves_flight(PyObject *self, PyObject *const *args, Py_ssiz
 }
 
 /*
- * The noise estimate's residuals (m) of the middle samples of `count` windows of five: the
- * window k is t[k..k+4] (s) and p[3k..3k+14] (m, x y z each); out[3k + a] the fourth divided
- * difference of coordinate a on the window's stamps (each weight 1 over the product of its
- * stamp's differences from the others, in stamp order), about the middle sample, added left
- * to right from 0.0, over its noise gain (the root sum of the squared weights).
+ * The noise estimate's residuals (m) of the middle samples of `count` windows of `span` (odd,
+ * 3 to MAX_SPAN): the window k is t[k..k+span-1] (s) and p[3k..3(k+span)-1] (m, x y z each);
+ * out[3k + a] the (span - 1)-th divided difference of coordinate a on the window's stamps
+ * (each weight 1 over the product of its stamp's differences from the others, in stamp
+ * order), about the middle sample, added left to right from 0.0, over its noise gain (the
+ * root sum of the squared weights, added likewise): the middle sample's residual against the
+ * polynomial of degree span - 2 through the others, scaled to the noise's sigma.
  */
-static void fourth_difference_rows(const double *t, const double *p, Py_ssize_t count,
-                                   double *out)
+static void difference_rows(const double *t, const double *p, int span, Py_ssize_t count,
+                            double *out)
 {
   for (Py_ssize_t k = 0; k < count; k++) {
     const double *s = t + k, *q = p + 3 * k;
-    double w[5];
-    for (int i = 0; i < 5; i++) {
+    double w[MAX_SPAN], gain = 0.0;
+    for (int i = 0; i < span; i++) {
       double product = 1.0;
       bool started = false;
-      for (int o = 0; o < 5; o++) {
+      for (int o = 0; o < span; o++) {
         if (o != i) { /* (t_i - t_o) multiplied in stamp order, the first as it is */
           product = started ? product * (s[i] - s[o]) : s[i] - s[o];
           started = true;
         }
       }
       w[i] = 1.0 / product;
+      gain += w[i] * w[i];
     }
-    double gain = sqrt(0.0 + w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3] +
-                       w[4] * w[4]);
+    gain = sqrt(gain);
     for (int a = 0; a < 3; a++) {
-      double middle = q[6 + a];
-      out[3 * k + a] = (0.0 + w[0] * (q[a] - middle) + w[1] * (q[3 + a] - middle) +
-                        w[2] * (q[6 + a] - middle) + w[3] * (q[9 + a] - middle) +
-                        w[4] * (q[12 + a] - middle)) / gain;
+      double middle = q[3 * (span / 2) + a], sum = 0.0;
+      for (int i = 0; i < span; i++) {
+        sum += w[i] * (q[3 * i + a] - middle);
+      }
+      out[3 * k + a] = sum / gain;
     }
   }
 }
 
 /*
- * The residuals of `count` windows of five from sample `start` of the samples old (sequences
+ * The residuals of `count` windows of `span` from sample `start` of the samples old (sequences
  * from PySequence_Fast: stamps in s, points in m) then new (`fresh` of them: stamps and
- * (fresh, 3) points, contiguous; or none), fourth_difference_rows' (3 per window), in a block
- * of memory the caller frees (PyMem_Free); NULL with an exception (IndexError: a window
- * outside the samples; TypeError: a point that is not 3 numbers).
+ * (fresh, 3) points, contiguous; or none), difference_rows' (3 per window), in a block of
+ * memory the caller frees (PyMem_Free); NULL with an exception (IndexError: a window outside
+ * the samples; TypeError: a point that is not 3 numbers).
  */
 static double *window_residuals(PyObject *old_times, PyObject *old_points, const double *times,
-                                const double *points, Py_ssize_t fresh, Py_ssize_t start,
-                                Py_ssize_t count, const char *what, double **residuals)
+                                const double *points, Py_ssize_t fresh, int span,
+                                Py_ssize_t start, Py_ssize_t count, const char *what,
+                                double **residuals)
 {
   Py_ssize_t old = PySequence_Fast_GET_SIZE(old_times);
   if (PySequence_Fast_GET_SIZE(old_points) < old) {
     old = PySequence_Fast_GET_SIZE(old_points);
   }
-  if (start < 0 || count < 0 || start + count + 4 > old + fresh) {
+  if (start < 0 || count < 0 || start + count + span - 1 > old + fresh) {
     PyErr_Format(PyExc_IndexError, "%s: a window outside the samples", what);
     return NULL;
   }
-  Py_ssize_t n = count + 4;
+  Py_ssize_t n = count + span - 1;
   double *memory = PyMem_Malloc(sizeof(double) * (size_t)(4 * n + 3 * count + 1));
   if (memory == NULL) {
     PyErr_NoMemory();
@@ -6306,28 +6314,43 @@ static double *window_residuals(PyObject *old_times, PyObject *old_points, const
     p[3 * i] = v.x, p[3 * i + 1] = v.y, p[3 * i + 2] = v.z;
   }
   *residuals = p + 3 * n;
-  fourth_difference_rows(t, p, count, *residuals);
+  difference_rows(t, p, span, count, *residuals);
   return memory;
 }
 
+/* whether a window of residuals may span this many samples (ValueError if not) */
+static bool valid_span(Py_ssize_t span)
+{
+  if (span < 3 || span > MAX_SPAN || span % 2 == 0) {
+    PyErr_Format(PyExc_ValueError, "span must be odd, from 3 to %d samples", MAX_SPAN);
+    return false;
+  }
+  return true;
+}
+
 /*
- * point_residuals(times, points, start, count, scale, floor) -> (residuals, small): the noise
- * estimate's residuals (m) of the middle samples of the windows of five from start, start + 1,
- * ... (count of them), three per window (x, y, z; fourth_difference_rows), and for each
- * whether scale |residual| < floor. IndexError: a window outside the samples.
+ * point_residuals(times, points, start, count, scale, floor[, span]) -> (residuals, small): the
+ * noise estimate's residuals (m) of the middle samples of the windows of `span` (5 if not
+ * given) from start, start + 1, ... (count of them), three per window (x, y, z;
+ * difference_rows), and for each whether scale |residual| < floor. IndexError: a window
+ * outside the samples; ValueError: a span that is not odd from 3 to MAX_SPAN.
  */
 static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
-  Py_ssize_t start, count;
+  Py_ssize_t start, count, span = 5;
   double scale, floor;
-  if (nargs != 6 ||
+  if ((nargs != 6 && nargs != 7) ||
       !read_index(args[2], &start) ||
       !read_index(args[3], &count) ||
-      !read_number(args[4], &scale) || !read_number(args[5], &floor)) {
+      !read_number(args[4], &scale) || !read_number(args[5], &floor) ||
+      (nargs == 7 && !read_index(args[6], &span))) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError,
-                      "point_residuals(times, points, start, count, scale, floor)");
+                      "point_residuals(times, points, start, count, scale, floor[, span])");
     }
+    return NULL;
+  }
+  if (!valid_span(span)) {
     return NULL;
   }
   PyObject *times = PySequence_Fast(args[0], "times must be a sequence");
@@ -6335,7 +6358,7 @@ static PyObject *py_point_residuals(PyObject *self, PyObject *const *args, Py_ss
   PyObject *result = NULL;
   double *memory = NULL, *out = NULL;
   if (points == NULL ||
-      (memory = window_residuals(times, points, NULL, NULL, 0, start, count,
+      (memory = window_residuals(times, points, NULL, NULL, 0, (int)span, start, count,
                                  "point_residuals", &out)) == NULL) {
     goto done;
   }
@@ -6357,7 +6380,7 @@ done:
 }
 
 /*
- * NoiseMedian(capacity, scale, floor, min_count, rebuild): tracker_noise auto's running
+ * NoiseMedian(capacity, scale, floor, min_count, rebuild, span=5): tracker_noise auto's running
  * estimate (core.detector.noise.NoiseEstimate), `sigma` = scale times the median of the newest
  * `capacity` residuals' absolute values (m); 0 below `floor`; unchanged (0) while fewer than
  * `min_count` are in. The residuals are kept in a ring in arrival order, their absolute values
@@ -6369,7 +6392,7 @@ done:
  *
  *   take(residuals) -> sigma: residuals (m) in order
  *   take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals of
- *       `count` windows of five from sample `start` of the samples old (sequences of stamps in
+ *       `count` windows of `span` from sample `start` of the samples old (sequences of stamps in
  *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
  *       None), as point_residuals gives them; IndexError: a window outside the samples
  *   residuals() -> the kept residuals (m), oldest first
@@ -6379,6 +6402,7 @@ done:
 typedef struct {
   PyObject_HEAD
   Py_ssize_t capacity, min_count, rebuild;
+  int span;                      /* the samples of a residual's window (odd) */
   double scale, floor, sigma;
   Py_ssize_t head, count, below; /* the oldest residual's slot, how many, how many are small */
   bool ordered;                  /* whether `sorted` holds the |residuals| ascending */
@@ -6497,11 +6521,12 @@ static void median_dealloc(NoiseMedian *m)
 
 static PyObject *median_new(PyTypeObject *type, PyObject *args, PyObject *kwargs)
 {
-  Py_ssize_t capacity, min_count, rebuild;
+  Py_ssize_t capacity, min_count, rebuild, span = 5;
   double scale, floor;
-  static char *names[] = {"capacity", "scale", "floor", "min_count", "rebuild", NULL};
-  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "nddnn", names, &capacity, &scale, &floor,
-                                   &min_count, &rebuild)) {
+  static char *names[] = {"capacity", "scale", "floor", "min_count", "rebuild", "span", NULL};
+  if (!PyArg_ParseTupleAndKeywords(args, kwargs, "nddnn|n", names, &capacity, &scale, &floor,
+                                   &min_count, &rebuild, &span) ||
+      !valid_span(span)) {
     return NULL;
   }
   if (capacity < 1) {
@@ -6513,6 +6538,7 @@ static PyObject *median_new(PyTypeObject *type, PyObject *args, PyObject *kwargs
     return NULL;
   }
   m->capacity = capacity, m->min_count = min_count, m->rebuild = rebuild;
+  m->span = (int)span;
   m->scale = scale, m->floor = floor, m->sigma = 0.0;
   m->head = m->count = m->below = 0;
   m->ordered = false; /* (sorted when an estimate first needs it: exact samples never do) */
@@ -6590,8 +6616,8 @@ static PyObject *median_take_points(NoiseMedian *m, PyObject *const *args, Py_ss
   }
   double *out = NULL;
   memory = window_residuals(old_times, old_points, viewed ? views[0].buf : NULL,
-                            viewed ? views[1].buf : NULL, fresh, start, count, "take_points",
-                            &out);
+                            viewed ? views[1].buf : NULL, fresh, m->span, start, count,
+                            "take_points", &out);
   if (memory == NULL) {
     goto done;
   }
@@ -6648,9 +6674,9 @@ static double kth_largest(double *x, Py_ssize_t n, Py_ssize_t k)
  * samples. The estimate after sample i is scale times the median of its window W_i (the newest
  * residuals up to i, at least max(count, min_count) of them once it is not 0), so at most
  * scale times W_i's ceil(max(count, min_count) / 2)-th largest |residual|, at most that of any
- * superset U: here, for a block, every window of five ending at a sample from the one where
- * `capacity` residuals are sure to have come (samples without a break among their four newest
- * give three each) to the block's last, and the kept residuals where that reaches before the
+ * superset U: here, for a block, every window of `span` ending at a sample from the one where
+ * `capacity` residuals are sure to have come (samples without a break among their span - 1
+ * newest give three each) to the block's last, and the kept residuals where that reaches before the
  * chunk. ValueError: other buffers or shapes.
  */
 static PyObject *median_bounds(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
@@ -6690,7 +6716,8 @@ static PyObject *median_bounds(NoiseMedian *m, PyObject *const *args, Py_ssize_t
   const double *t = views[0].buf, *p = views[1].buf;
   const bool *breaks = flags.buf;
   double *out = views[2].buf;
-  Py_ssize_t first = pre > 4 ? pre : 4; /* the first sample with a window of five */
+  int reach = m->span - 1;                    /* a window's samples before its newest */
+  Py_ssize_t first = pre > reach ? pre : reach; /* the first sample with a whole window */
   Py_ssize_t windows = n > first ? n - first : 0;
   found = PyMem_Malloc(sizeof(double) * (size_t)(3 * windows + 1));
   scratch = PyMem_Malloc(sizeof(double) * (size_t)(3 * windows + m->capacity + 1));
@@ -6699,7 +6726,7 @@ static PyObject *median_bounds(NoiseMedian *m, PyObject *const *args, Py_ssize_t
     goto done;
   }
   for (Py_ssize_t j = first; j < n; j++) {
-    fourth_difference_rows(t + j - 4, p + 3 * (j - 4), 1, found + 3 * (j - first));
+    difference_rows(t + j - reach, p + 3 * (j - reach), m->span, 1, found + 3 * (j - first));
   }
   Py_ssize_t least = m->count > m->min_count ? m->count : m->min_count;
   Py_ssize_t k = (least + 1) / 2, sure = (m->capacity + 2) / 3;
@@ -6708,8 +6735,8 @@ static PyObject *median_bounds(NoiseMedian *m, PyObject *const *args, Py_ssize_t
     /* back from the block's first sample to where `sure` samples give residuals for sure */
     Py_ssize_t from = start, given = 0;
     for (; from >= pre && given < sure; from--) {
-      bool gives = from >= 4;
-      for (Py_ssize_t b = from - 3; gives && b <= from; b++) {
+      bool gives = from >= reach;
+      for (Py_ssize_t b = from - reach + 1; gives && b <= from; b++) {
         gives = !breaks[b];
       }
       given += gives;
@@ -6752,8 +6779,8 @@ done:
 
 /*
  * NoiseMedian.take_stream(times, values, breaks) -> sigma: the residuals a point stream's newest
- * sample completes (core.detector.noise.NoiseEstimate.update): the window of its five newest
- * samples, none of the four newest starting a segment (else nothing is taken), each value a
+ * sample completes (core.detector.noise.NoiseEstimate.update): the window of its `span` newest
+ * samples, none of the span - 1 newest starting a segment (else nothing is taken), each value a
  * point or a bat sample's position (getattr(value, 'position', value)). times, values,
  * breaks: the stream's lists.
  */
@@ -6765,11 +6792,11 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
     return NULL;
   }
   PyObject *times = args[0], *values = args[1], *breaks = args[2];
-  Py_ssize_t n = PyList_GET_SIZE(times);
-  if (n < 5 || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
+  Py_ssize_t n = PyList_GET_SIZE(times), span = m->span;
+  if (n < span || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
     return PyFloat_FromDouble(m->sigma);
   }
-  for (Py_ssize_t i = n - 4; i < n; i++) {
+  for (Py_ssize_t i = n - span + 1; i < n; i++) {
     int broken = PyObject_IsTrue(PyList_GET_ITEM(breaks, i));
     if (broken < 0) {
       return NULL;
@@ -6778,12 +6805,12 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
       return PyFloat_FromDouble(m->sigma);
     }
   }
-  PyObject *points = PyList_New(5);
+  PyObject *points = PyList_New(span);
   if (points == NULL) {
     return NULL;
   }
-  for (Py_ssize_t i = 0; i < 5; i++) {
-    PyObject *value = PyList_GET_ITEM(values, n - 5 + i);
+  for (Py_ssize_t i = 0; i < span; i++) {
+    PyObject *value = PyList_GET_ITEM(values, n - span + i);
     PyObject *point = PyTuple_Check(value) ? Py_NewRef(value)
                                            : PyObject_GetAttr(value, position_name);
     if (point == NULL && PyErr_ExceptionMatches(PyExc_AttributeError)) {
@@ -6796,10 +6823,11 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
     }
     PyList_SET_ITEM(points, i, point);
   }
-  PyObject *window = PyList_GetSlice(times, n - 5, n);
+  PyObject *window = PyList_GetSlice(times, n - span, n);
   double *memory = NULL, *out = NULL;
   if (window != NULL) {
-    memory = window_residuals(window, points, NULL, NULL, 0, 0, 1, "take_stream", &out);
+    memory = window_residuals(window, points, NULL, NULL, 0, m->span, 0, 1, "take_stream",
+                              &out);
   }
   Py_XDECREF(window);
   Py_DECREF(points);
@@ -6834,7 +6862,7 @@ static PyMethodDef median_methods[] = {
      "completes."},
     {"take_points", (PyCFunction)(void (*)(void))median_take_points, METH_FASTCALL,
      "take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals "
-     "of count windows of five from sample start of the old samples then the new arrays."},
+     "of count windows of span from sample start of the old samples then the new arrays."},
     {"bounds", (PyCFunction)(void (*)(void))median_bounds, METH_FASTCALL,
      "bounds(times, points, breaks, pre, block, out): an upper bound (m) on the estimate "
      "after each of a chunk's samples, per block of samples."},
@@ -6846,6 +6874,7 @@ static PyMethodDef median_methods[] = {
 static PyMemberDef median_members[] = {
     {"sigma", T_DOUBLE, offsetof(NoiseMedian, sigma), READONLY, "The estimate (m, 1 sigma)."},
     {"count", T_PYSSIZET, offsetof(NoiseMedian, count), READONLY, "Residuals kept."},
+    {"span", T_INT, offsetof(NoiseMedian, span), READONLY, "Samples of a residual's window."},
     {NULL, 0, 0, 0, NULL},
 };
 
@@ -6855,8 +6884,8 @@ static PyTypeObject NoiseMedianType = {
     .tp_basicsize = sizeof(NoiseMedian),
     .tp_dealloc = (destructor)median_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
-    .tp_doc = "NoiseMedian(capacity, scale, floor, min_count, rebuild): tracker_noise auto's "
-              "running median estimate (core.detector.noise).",
+    .tp_doc = "NoiseMedian(capacity, scale, floor, min_count, rebuild, span=5): tracker_noise "
+              "auto's running median estimate (core.detector.noise).",
     .tp_methods = median_methods,
     .tp_members = median_members,
     .tp_new = median_new,
@@ -8027,8 +8056,9 @@ static PyMethodDef methods[] = {
      "fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class): the "
      "streams' part of a chunk's fast-forward -> (newest stamp, taken by ball, by bat)"},
     {"point_residuals", (PyCFunction)(void (*)(void))py_point_residuals, METH_FASTCALL,
-     "point_residuals(times, points, start, count, scale, floor): the noise estimate's "
-     "residuals of count windows of five from start, three each, and whether each is small"},
+     "point_residuals(times, points, start, count, scale, floor[, span]): the noise "
+     "estimate's residuals of count windows of span (5) from start, three each, and whether "
+     "each is small"},
     {"quadratic_roots", py_quadratic_roots, METH_VARARGS, "real roots, ascending"},
     {"bracketed_root", py_bracketed_root, METH_VARARGS,
      "bracketed_root(c, order, lo, hi, f_lo): root of the order-th derivative (0 or 1)"},

@@ -17,6 +17,7 @@ from baseball_collision.core.detector import (
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.chunks import ROLE_CODES
+from baseball_collision.core.detector.noise import HISTORY, POSE_SPAN
 import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
@@ -158,6 +159,7 @@ def assert_same(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int
     if one._noise is not None:  # tracker_noise auto: the estimators' state alike
         for mine, theirs in zip(chunked._noise, one._noise):
             assert mine.residuals == theirs.residuals and mine.sigma == theirs.sigma
+            assert mine.motion_residuals == theirs.motion_residuals
     for name in ('last_ns', 'predicting'):
         assert getattr(chunked._predictor, name) == getattr(one._predictor, name), name
     return events
@@ -900,3 +902,22 @@ def test_after_a_plan_its_first_sample_ends_the_next_go_unplanned(
     rule = chunks_module.UNPLANNED_AFTER_ONE
     without, with_rule = singles(0), singles(rule)
     assert rule > 0 and len(with_rule) < len(without)
+
+
+@pytest.mark.parametrize('look_ahead', [0, 2])
+def test_a_pose_bats_noise_windows_outlast_the_shortest_history(look_ahead: int) -> None:
+    """
+    The shortest fit windows (1 ms): a trim still leaves a pose's sixth-difference window.
+
+    The streams trim to their newest few samples after every step once long; one at a time a
+    trim falls between the samples a chunk's run takes at once, so the run's noise windows
+    must not reach past what the trim keeps (``streams.TRIM_KEEP``; one less fails): the
+    estimators' residuals and estimates the same either way.
+    """
+    config = DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0,
+                            look_ahead=look_ahead, velocity_window=0.001,
+                            prediction_window=0.001)
+    rows = noisy(session(HEIGHTS[:2]), 3e-4, 11)
+    assert_same(config, rows, (5000,))
+    _, _, chunked = in_chunks(config, rows, (5000,))
+    assert chunked._noise[1].span == POSE_SPAN and len(chunked._noise[1].residuals) == HISTORY
