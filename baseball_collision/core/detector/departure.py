@@ -53,7 +53,17 @@ ratio of two chi-squares, of 3 and 36 degrees of freedom, each over its own, pas
 once in 100,000 draws (F(3, 36), 12 intervals before it; with 4, F(3, 12), once in 2,500:
 a segment's first intervals, which a free flight's parabola serves as well)."""
 
-_RULES = (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO)
+FEW_SCATTER_RATIOS = (261.0, 33.0, 18.0)
+"""The ratio a departure must exceed with only one, two or three intervals before it (a
+segment's first: the quantile of F(3, 3), F(3, 6), F(3, 9) that a free flight's noise passes
+once in 2,500, as ``SCATTER_RATIO`` with four; Monte Carlo, 2e7 draws). With none and no noise
+told, a departure cannot be told from the noise, and none is called: a noisy ball (1.4-2.2 mm
+off its first parabola at 60 Hz with 0.3 mm of noise) was called departed there, and a
+departed sample blocks the next two intervals, so a hit within the first samples of a ball's
+stream was lost (BENCHMARKS.md, "A hit in a ball stream's first frames")."""
+
+_RULES = (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO,
+          FEW_SCATTER_RATIOS)
 """The rules as the kernel's ``leaves_flight`` takes them."""
 
 Parabola = Tuple[float, float, float, Vector, Vector]

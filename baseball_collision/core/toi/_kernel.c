@@ -6147,13 +6147,16 @@ typedef struct { /* departure's constants (core.detector.departure) */
   double chi_square;  /* DEPARTURE_CHI_SQUARE */
   Py_ssize_t scatter; /* SCATTER_INTERVALS */
   double ratio;       /* SCATTER_RATIO */
+  double few[3];      /* FEW_SCATTER_RATIOS: with 1, 2, 3 intervals of scatter */
 } DepartureRules;
 
 /*
  * departure's _departed: the parabola of interval k when its closing sample left it (more
  * than the floor, outside the noise's chi-square bound and the scatter of the intervals
- * before), else None; the Python's operations in its order (the scatter's sum from 0.0). A new
- * reference; NULL with an exception.
+ * before: their ratio FEW_SCATTER_RATIOS with one to three of them, SCATTER_RATIO with more;
+ * none with no noise told and no interval before to scatter), else None; the Python's
+ * operations in its order (the scatter's sum from 0.0). A new reference; NULL with an
+ * exception.
  */
 static PyObject *departed_of(PyObject *const *lists, PyObject *aligned, Py_ssize_t k,
                              double noise, double max_gap, const DepartureRules *rules)
@@ -6189,7 +6192,8 @@ static PyObject *departed_of(PyObject *const *lists, PyObject *aligned, Py_ssize
     }
     Py_DECREF(before);
   }
-  if (count && miss * miss <= rules->ratio * spread * sum / (double)count) {
+  double ratio = count > 3 ? rules->ratio : count ? rules->few[count - 1] : 0.0;
+  if (count ? miss * miss <= ratio * spread * sum / (double)count : !(noise > 0.0)) {
     Py_DECREF(fitted);
     Py_RETURN_NONE;
   }
@@ -6200,7 +6204,8 @@ static PyObject *departed_of(PyObject *const *lists, PyObject *aligned, Py_ssize
  * leaves_flight(times, values, breaks, aligned, k, noise, max_gap, rules) -> the free flight's
  * parabola when sample k + 1 has departed from it, else None (core.detector.departure
  * .leaves_flight: departed itself, and neither sample k - 1 nor k departed); rules:
- * (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO).
+ * (DEPARTURE_FLOOR, DEPARTURE_CHI_SQUARE, SCATTER_INTERVALS, SCATTER_RATIO,
+ * FEW_SCATTER_RATIOS).
  */
 static PyObject *py_leaves_flight(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -6210,8 +6215,8 @@ static PyObject *py_leaves_flight(PyObject *self, PyObject *const *args, Py_ssiz
   if (nargs != 8 || !PyList_Check(args[0]) || !PyDict_Check(args[3]) ||
       !read_index(args[4], &k) || !read_number(args[5], &noise) ||
       !read_number(args[6], &max_gap) ||
-      !PyArg_ParseTuple(args[7], "ddnd", &rules.floor, &rules.chi_square, &rules.scatter,
-                        &rules.ratio)) {
+      !PyArg_ParseTuple(args[7], "ddnd(ddd)", &rules.floor, &rules.chi_square, &rules.scatter,
+                        &rules.ratio, &rules.few[0], &rules.few[1], &rules.few[2])) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "leaves_flight(times, values, breaks, aligned, k, "
                                        "noise, max_gap, rules)");

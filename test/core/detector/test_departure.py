@@ -8,8 +8,8 @@ from typing import Any, Dict, List, Sequence
 from baseball_collision.bags import BagReader
 from baseball_collision.core.detector import DetectorConfig, sweep
 from baseball_collision.core.detector.departure import (
-    DEPARTURE_FLOOR, departure_reach, departure_reaches, flight_path, leaves_flight, parabola,
-    SCATTER_INTERVALS)
+    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, flight_path,
+    leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep
@@ -191,14 +191,59 @@ def test_c2_finds_a_rebound_under_noise_too_small_for_the_flight_fit(
         assert abs(t - scenario.truth.time_s) < 2e-4
 
 
+@pytest.mark.parametrize('model', ['rigid', 'spline', 'c2'])
+def test_a_hit_in_a_noisy_ball_streams_first_frames_is_found(model: str) -> None:
+    """
+    A ball tracked from 60 ms before a hit, at 60 Hz with 0.3 mm of noise not told: found.
+
+    The hit's interval is the stream's fourth; its first parabola's closing sample, off by the
+    noise, was called departed and blocked the hit's own departure (each of these was lost).
+    """
+    rng = np.random.default_rng(7)
+    scenarios = [make_scenario(kind, rng, family='rebound', lead_s=0.06)
+                 for kind in ('barrel', 'end_cap') for _ in range(2)]
+    for i, scenario in enumerate(scenarios):
+        samples = sample(scenario, 60.0, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
+                         noise_m=3e-4, marker_spread_m=0.3)
+        _, impacts = detect(DetectorConfig(model=model, bat_input='points'), samples)
+        assert len(impacts) == 1
+        t = (impacts[0].stamp_ns - samples.start_ns) * 1e-9
+        assert abs(t - scenario.truth.time_s) < 1e-3
+
+
 def test_floor() -> None:
     """A closing sample less than ``DEPARTURE_FLOOR`` off the free flight has not departed."""
-    times = [0.0, 0.01, 0.02, 0.03]
-    points = [(0.0, 0.0, 0.0), (0.4, 0.0, 0.0), (0.8, 0.0, 0.0),
-              (1.2 + 0.9 * DEPARTURE_FLOOR, 0.0, 0.0)]
-    assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is None
-    points[3] = (1.2 + 1.1 * DEPARTURE_FLOOR, 0.0, 0.0)
-    assert leaves_flight(_stream(times, points), 2, 0.0, 1.0) is not None
+    times = [0.0, 0.01, 0.02, 0.03, 0.04]
+    points = [(0.4 * i, 0.0, 0.0) for i in range(4)] + [(1.6 + 0.9 * DEPARTURE_FLOOR, 0.0, 0.0)]
+    assert leaves_flight(_stream(times, points), 3, 0.0, 1.0) is None
+    points[4] = (1.6 + 1.1 * DEPARTURE_FLOOR, 0.0, 0.0)
+    assert leaves_flight(_stream(times, points), 3, 0.0, 1.0) is not None
+
+
+def test_a_segments_first_intervals_need_their_noise_told_or_more_scatter() -> None:
+    """
+    The first interval with a parabola departs only with noise told; the next few need more.
+
+    Without noise told its closing sample's miss cannot be told from noise (a noisy ball's
+    first parabola misses by millimetres: it blocked the next two intervals, where a hit
+    then went unseen). With one to three intervals before, the ratio to their scatter is
+    ``FEW_SCATTER_RATIOS``' (261, 33, 18) rather than ``SCATTER_RATIO``'s 13.
+    """
+    times = [0.01 * i for i in range(8)]
+    line = [(0.4 * i, 0.0, 0.0) for i in range(8)]
+    far = list(line[:3]) + [(1.2 + 0.05, 0.0, 0.0)]
+    assert leaves_flight(_stream(times[:4], far), 2, 0.0, 1.0) is None
+    assert leaves_flight(_stream(times[:4], far), 2, 1e-3, 1.0) is not None  # (noise told)
+    # one interval of scatter before: sample 3 off by 1 mm, then sample 4 off by 11 or 30 mm
+    for off, departs in ((0.011, False), (0.03, True)):
+        points = list(line[:5])
+        points[3] = (1.2 + 1e-3, 0.0, 0.0)
+        points[4] = (1.6 + off, 0.0, 0.0)
+        stream = _stream(times[:5], points)
+        (before, spread_before), (miss, spread) = (parabola(stream, k, 1.0)[:2] for k in (2, 3))
+        ratio = miss * miss / (spread * before * before / spread_before)
+        assert (ratio > FEW_SCATTER_RATIOS[0]) == departs and ratio > SCATTER_RATIO
+        assert (leaves_flight(stream, 3, 0.0, 1.0) is not None) == departs
 
 
 def test_look_ahead_rebounds_within_microseconds() -> None:
@@ -417,9 +462,14 @@ def test_the_kernels_parabola_is_the_python_written_out(seed: int, n: int, gap: 
 
 
 def _leaves_written_out(times, values, breaks, k, noise, max_gap):  # type: ignore
-    """``departure.leaves_flight`` as its Python was (its parabolas written out too)."""
+    """
+    ``departure.leaves_flight`` as its Python was (its parabolas written out too).
+
+    With session 38's ratios for a segment's first intervals (``FEW_SCATTER_RATIOS``), and no
+    departure without noise told where no interval before it scatters.
+    """
     from baseball_collision.core.detector.departure import (
-        DEPARTURE_CHI_SQUARE, SCATTER_RATIO)
+        DEPARTURE_CHI_SQUARE, FEW_SCATTER_RATIOS, SCATTER_RATIO)
 
     def fit(j):  # type: ignore[no-untyped-def]
         return (_parabola_written_out(times, values, breaks, j, max_gap)
@@ -437,7 +487,10 @@ def _leaves_written_out(times, values, breaks, k, noise, max_gap):  # type: igno
             before = fit(i) if i >= 0 else None
             if before is not None:
                 scatter.append(before[0] * before[0] / before[1])
-        if scatter and miss * miss <= SCATTER_RATIO * spread * sum(scatter) / len(scatter):
+        if not scatter:
+            return fitted if noise > 0.0 else None
+        ratio = SCATTER_RATIO if len(scatter) > 3 else FEW_SCATTER_RATIOS[len(scatter) - 1]
+        if miss * miss <= ratio * spread * sum(scatter) / len(scatter):
             return None
         return fitted
     fitted = departed(k)
