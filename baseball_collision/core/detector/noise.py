@@ -48,7 +48,7 @@ HISTORY = 384
 
 KEPT_SAMPLES = HISTORY // 3
 """Points whose residuals (three each) the estimate keeps: a longer run's older ones are not
-computed (``take_points``)."""
+computed (``take_points``: the kernel's ``NoiseMedian.take_run``, its capacity over 3)."""
 
 BOUND_BLOCK = 256
 """Samples of a chunk that share one upper bound on the estimate (``NoiseEstimate.bounds``):
@@ -230,37 +230,13 @@ class NoiseEstimate:
         """
         if self.kind == 'length':
             raise ValueError('take_points is for point streams')
-        reach = self.span - 1  # a window's samples before its newest (the widest here)
-        old_times, old_points, old_breaks = (list(old)[-reach:] for old in before)
+        old_times, old_points, old_breaks = before
         times = np.ascontiguousarray(times, float)
         points = np.ascontiguousarray(points, float)
-        for median in (self._median, self._motion):
-            if median is not None:
-                _take_run(median, old_times, old_points, old_breaks, times, points)
+        self._median.take_run(old_times, old_points, old_breaks, times, points)
+        if self._motion is not None:
+            self._motion.take_run(old_times, old_points, old_breaks, times, points)
         return self.sigma
-
-
-def _take_run(median: _kernel.NoiseMedian, old_times: List[float],
-              old_points: List[Sequence[float]], old_breaks: List[bool], times: np.ndarray,
-              points: np.ndarray) -> None:
-    """Take a run's residuals into one median (``NoiseEstimate.take_points``'s arguments)."""
-    reach = median.span - 1  # a window's samples before its newest
-    if len(old_times) > reach:
-        old_times, old_points = old_times[-reach:], old_points[-reach:]
-        old_breaks = old_breaks[-reach:]
-    last_break = len(old_breaks) - 1
-    while last_break >= 0 and not old_breaks[last_break]:
-        last_break -= 1
-    # sample i of all (the old then the new) has a residual when i >= reach and none of
-    # i-reach+1..i starts a segment: the new ones from the reach-th after the old's break
-    first = max(reach - len(old_times), last_break + reach - len(old_times), 0)
-    if first >= len(times):
-        return
-    start = len(old_times) + first - reach  # the first residual's window's oldest sample
-    count = len(old_times) + len(times) - reach - start
-    if count > KEPT_SAMPLES:  # (the older ones' residuals would leave at once: not made)
-        start, count = start + count - KEPT_SAMPLES, KEPT_SAMPLES
-    median.take_points(old_times, old_points, times, points, start, count)
 
 
 def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]

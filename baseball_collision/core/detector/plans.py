@@ -41,7 +41,7 @@ from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .noise import NoiseEstimate
-from .streams import SILENT_KEEP, Stream, TRIM_KEEP as KEPT_BEFORE_CUT
+from .streams import SILENT_KEEP, Stream, TRIM_LEAVES
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
 from ..prediction import prediction_due
@@ -66,7 +66,7 @@ the scalar code's by a few ulps, and only a sample well inside every bound skips
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
 
-TRIM_KEEP = KEPT_BEFORE_CUT + 1
+TRIM_KEEP = 5
 """``Stream.trim`` keeps this many samples before its cut (``keep`` + 1)."""
 
 
@@ -535,7 +535,8 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     plan.starts = []
     silent = np.zeros(len(visited), bool)
     for s in (0, 1):
-        cuts = _search_right(arrays.times[s], cursors - history) - TRIM_KEEP
+        cuts = np.minimum(_search_right(arrays.times[s], cursors - history) - TRIM_KEEP,
+                          counts[s][1:] - TRIM_LEAVES)
         starts, lengths = _trims(counts[s][1:], cuts)
         plan.starts.append(items(np.concatenate(([0], starts))[done]))
         silent[1:] |= lengths > SILENT_KEEP

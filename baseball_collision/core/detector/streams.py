@@ -29,11 +29,12 @@ stream that only lags (a live subscription behind the other under load, a replay
 rate) catches up within them, so nothing it will still pair with is dropped; the memory stays
 bounded (about 0.4 MB) when the other is dead."""
 
-TRIM_KEEP = 6
-"""Samples a trim keeps before its cut's: it keeps ``TRIM_KEEP`` + 2 at least, which with the
-next sample make the nine of a bat pose's noise window (``noise.POSE_SPAN``), however short
-the fits' history is (the node one sample at a time, trimmed between them, and ``analyze``'s
-fast-forwards, trimmed after a run, then estimate the same)."""
+TRIM_LEAVES = 8
+"""Samples a trim leaves at least: with the next sample, the nine of a bat pose's noise window
+(``noise.POSE_SPAN``), however short the fits' history is, so that the node (one sample at a
+time, trimmed between them) and ``analyze``'s fast-forwards (trimmed after a run) estimate
+the same. With the fits' usual history a trim leaves many more (it binds only below about
+20 ms of history)."""
 
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 
@@ -85,16 +86,17 @@ class Stream:
         if isinstance(value, BatSample):
             self.turns.append(_ZERO_TURN if self.breaks[-1] else None)
 
-    def trim(self, before: float, history: float, keep: int = TRIM_KEEP) -> None:
+    def trim(self, before: float, history: float, keep: int = 4) -> None:
         """
         Forget samples more than ``history`` s and ``keep`` samples before time ``before``.
 
-        What is kept is at least ``keep`` + 2 samples (``before``'s own interval too).
+        At least the newest ``TRIM_LEAVES`` stay.
         """
         if len(self.times) < 64:
             return
-        index = min(bisect_right(self.times, before - history),
-                    bisect_right(self.times, before)) - 1 - keep
+        index = min(min(bisect_right(self.times, before - history),
+                        bisect_right(self.times, before)) - 1 - keep,
+                    len(self.times) - TRIM_LEAVES)
         if index > 0:
             for buffer in (self.times, self.stamps, self.values, self.breaks, self.turns,
                            *self.aligned.values()):

@@ -6396,19 +6396,22 @@ done:
  * residuals sort last (no crash; such a median is NaN and the estimate 0).
  *
  *   take(residuals) -> sigma: residuals (m) in order
- *   take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals of
+ *   take_points(old_times, old_points, times, points, start, count) -> None: the residuals of
  *       `count` windows of `span` from sample `start` of the samples old (sequences of stamps in
  *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
  *       None), as point_residuals gives them; IndexError: a window outside the samples
  *   residuals() -> the kept residuals (m), oldest first
- *   take_stream(times, values, breaks) -> sigma: the newest sample's residuals (update's)
+ *   take_stream(times, values, breaks) -> None: the newest sample's residuals (update's)
+ *   sigma: the estimate, set from the residuals held when read (a take sets it no sooner: an
+ *       estimate nobody reads is not sorted for)
  *   bounds(times, points, breaks, pre, block, out): upper bounds on the estimate over a chunk
  */
 typedef struct {
   PyObject_HEAD
   Py_ssize_t capacity, min_count, rebuild;
   int span;                      /* the samples of a residual's window (odd) */
-  double scale, floor, sigma;
+  double scale, floor, sigma;    /* sigma: the estimate, when `stale` is false */
+  bool stale;                    /* residuals taken since sigma was set (median_settle) */
   Py_ssize_t head, count, below; /* the oldest residual's slot, how many, how many are small */
   bool ordered;                  /* whether `sorted` holds the |residuals| ascending */
   double *ring, *sorted;
@@ -6459,8 +6462,8 @@ static Py_ssize_t first_above(const double *sorted, Py_ssize_t n, double x)
   return lo;
 }
 
-/* take n residuals (m) in order and set the estimate */
-static void median_take(NoiseMedian *m, const double *found, Py_ssize_t n)
+/* take n residuals (m) in order; the estimate is set when next read (median_settle) */
+static void median_push(NoiseMedian *m, const double *found, Py_ssize_t n)
 {
   Py_ssize_t capacity = m->capacity;
   bool keep = m->ordered && n <= m->rebuild; /* else sorted again when next needed */
@@ -6494,6 +6497,17 @@ static void median_take(NoiseMedian *m, const double *found, Py_ssize_t n)
     m->count++;
   }
   m->ordered = keep;
+  m->stale = m->stale || n > 0;
+}
+
+/* set the estimate from the residuals held, where any came since it was set */
+static void median_settle(NoiseMedian *m)
+{
+  if (!m->stale) {
+    return;
+  }
+  m->stale = false;
+  Py_ssize_t capacity = m->capacity;
   if (m->count < m->min_count) {
     return;
   }
@@ -6514,6 +6528,13 @@ static void median_take(NoiseMedian *m, const double *found, Py_ssize_t n)
                                : (m->sorted[middle - 1] + m->sorted[middle]) / 2.0;
   double sigma = m->scale * median;
   m->sigma = sigma >= m->floor ? sigma : 0.0;
+}
+
+/* take n residuals (m) in order and set the estimate */
+static void median_take(NoiseMedian *m, const double *found, Py_ssize_t n)
+{
+  median_push(m, found, n);
+  median_settle(m);
 }
 
 static void median_dealloc(NoiseMedian *m)
@@ -6544,7 +6565,7 @@ static PyObject *median_new(PyTypeObject *type, PyObject *args, PyObject *kwargs
   }
   m->capacity = capacity, m->min_count = min_count, m->rebuild = rebuild;
   m->span = (int)span;
-  m->scale = scale, m->floor = floor, m->sigma = 0.0;
+  m->scale = scale, m->floor = floor, m->sigma = 0.0, m->stale = false;
   m->head = m->count = m->below = 0;
   m->ordered = false; /* (sorted when an estimate first needs it: exact samples never do) */
   m->ring = PyMem_Malloc(sizeof(double) * (size_t)capacity);
@@ -6626,13 +6647,78 @@ static PyObject *median_take_points(NoiseMedian *m, PyObject *const *args, Py_ss
   if (memory == NULL) {
     goto done;
   }
-  median_take(m, out, 3 * count);
-  result = PyFloat_FromDouble(m->sigma);
+  median_push(m, out, 3 * count);
+  result = Py_NewRef(Py_None);
 done:
   PyMem_Free(memory);
   release_views(views, viewed);
   Py_XDECREF(old_times);
   Py_XDECREF(old_points);
+  return result;
+}
+
+/*
+ * NoiseMedian.take_run(old_times, old_points, old_breaks, times, points) -> None: the residuals
+ * of a run of new samples of one segment (times: contiguous float64 (n,), points (n, 3)) after
+ * the stream's newest samples before it (sequences: stamps in s, points in m, whether each
+ * starts a segment; its windows reach the newest span - 1): every window of `span` ending at a
+ * new sample without a segment's start among its span - 1 newest, of the newest capacity / 3
+ * of them only (the older ones' residuals would leave at once), as take_stream after each of
+ * them in turn would take them (core.detector.noise.NoiseEstimate.take_points).
+ */
+static PyObject *median_take_run(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 5) {
+    PyErr_SetString(PyExc_TypeError,
+                    "take_run(old_times, old_points, old_breaks, times, points)");
+    return NULL;
+  }
+  Py_ssize_t reach = m->span - 1, old_count = PyObject_Length(args[0]);
+  Py_ssize_t fresh = PyObject_Length(args[3]);
+  PyObject *breaks = PySequence_Fast(args[2], "take_run: old_breaks must be a sequence");
+  if (old_count < 0 || fresh < 0 || breaks == NULL) {
+    Py_XDECREF(breaks);
+    return NULL;
+  }
+  if (PySequence_Fast_GET_SIZE(breaks) != old_count) {
+    Py_DECREF(breaks);
+    PyErr_SetString(PyExc_ValueError, "take_run: old_times and old_breaks differ in length");
+    return NULL;
+  }
+  Py_ssize_t old = old_count < reach ? old_count : reach; /* the newest old samples used */
+  Py_ssize_t last_break = -1; /* among them, from the oldest used */
+  for (Py_ssize_t i = old - 1; i >= 0 && last_break < 0; i--) {
+    int broken = PyObject_IsTrue(PySequence_Fast_GET_ITEM(breaks, old_count - old + i));
+    if (broken < 0) {
+      Py_DECREF(breaks);
+      return NULL;
+    }
+    last_break = broken ? i : -1;
+  }
+  Py_DECREF(breaks);
+  /* sample i of all (the old used, then the new) has a residual when i >= reach and none of
+   * i - reach + 1 .. i starts a segment: the new ones from the reach-th after the last break */
+  Py_ssize_t first = reach - old;
+  first = last_break + reach - old > first ? last_break + reach - old : first;
+  first = first > 0 ? first : 0;
+  if (first >= fresh) {
+    Py_RETURN_NONE;
+  }
+  Py_ssize_t start = old + first - reach; /* the first window's oldest sample, of those used */
+  Py_ssize_t count = old + fresh - reach - start, kept = m->capacity / 3;
+  if (count > kept) {
+    start += count - kept, count = kept;
+  }
+  PyObject *start_object = PyLong_FromSsize_t(old_count - old + start);
+  PyObject *count_object = start_object ? PyLong_FromSsize_t(count) : NULL;
+  PyObject *result = NULL;
+  if (count_object != NULL) {
+    PyObject *const forwarded[6] = {args[0], args[1], args[3], args[4], start_object,
+                                    count_object};
+    result = median_take_points(m, forwarded, 6);
+  }
+  Py_XDECREF(start_object);
+  Py_XDECREF(count_object);
   return result;
 }
 
@@ -6783,7 +6869,7 @@ done:
 }
 
 /*
- * NoiseMedian.take_stream(times, values, breaks) -> sigma: the residuals a point stream's newest
+ * NoiseMedian.take_stream(times, values, breaks) -> None: the residuals a point stream's newest
  * sample completes (core.detector.noise.NoiseEstimate.update): the window of its `span` newest
  * samples, none of the span - 1 newest starting a segment (else nothing is taken), each value a
  * point or a bat sample's position (getattr(value, 'position', value)). times, values,
@@ -6799,7 +6885,7 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
   PyObject *times = args[0], *values = args[1], *breaks = args[2];
   Py_ssize_t n = PyList_GET_SIZE(times), span = m->span;
   if (n < span || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
-    return PyFloat_FromDouble(m->sigma);
+    Py_RETURN_NONE;
   }
   for (Py_ssize_t i = n - span + 1; i < n; i++) {
     int broken = PyObject_IsTrue(PyList_GET_ITEM(breaks, i));
@@ -6807,7 +6893,7 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
       return NULL;
     }
     if (broken) {
-      return PyFloat_FromDouble(m->sigma);
+      Py_RETURN_NONE;
     }
   }
   PyObject *points = PyList_New(span);
@@ -6839,9 +6925,9 @@ static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ss
   if (memory == NULL) {
     return NULL;
   }
-  median_take(m, out, 3);
+  median_push(m, out, 3);
   PyMem_Free(memory);
-  return PyFloat_FromDouble(m->sigma);
+  Py_RETURN_NONE;
 }
 
 static PyObject *median_residuals(NoiseMedian *m, PyObject *Py_UNUSED(ignored))
@@ -6863,10 +6949,13 @@ static PyMethodDef median_methods[] = {
     {"take", (PyCFunction)median_take_method, METH_O,
      "take(residuals) -> sigma: residuals (m) in order; the estimate (m)."},
     {"take_stream", (PyCFunction)(void (*)(void))median_take_stream, METH_FASTCALL,
-     "take_stream(times, values, breaks) -> sigma: the residuals a point stream's newest sample "
+     "take_stream(times, values, breaks) -> None: the residuals a point stream's newest sample "
      "completes."},
+    {"take_run", (PyCFunction)(void (*)(void))median_take_run, METH_FASTCALL,
+     "take_run(old_times, old_points, old_breaks, times, points) -> None: the residuals of a "
+     "run of new samples after the stream's newest, every whole window of span."},
     {"take_points", (PyCFunction)(void (*)(void))median_take_points, METH_FASTCALL,
-     "take_points(old_times, old_points, times, points, start, count) -> sigma: the residuals "
+     "take_points(old_times, old_points, times, points, start, count) -> None: the residuals "
      "of count windows of span from sample start of the old samples then the new arrays."},
     {"bounds", (PyCFunction)(void (*)(void))median_bounds, METH_FASTCALL,
      "bounds(times, points, breaks, pre, block, out): an upper bound (m) on the estimate "
@@ -6876,8 +6965,19 @@ static PyMethodDef median_methods[] = {
     {NULL, NULL, 0, NULL},
 };
 
+static PyObject *median_sigma(NoiseMedian *m, void *Py_UNUSED(closure))
+{
+  median_settle(m);
+  return PyFloat_FromDouble(m->sigma);
+}
+
+static PyGetSetDef median_getset[] = {
+    {"sigma", (getter)median_sigma, NULL,
+     "The estimate (m, 1 sigma), set from the residuals held when read.", NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
 static PyMemberDef median_members[] = {
-    {"sigma", T_DOUBLE, offsetof(NoiseMedian, sigma), READONLY, "The estimate (m, 1 sigma)."},
     {"count", T_PYSSIZET, offsetof(NoiseMedian, count), READONLY, "Residuals kept."},
     {"span", T_INT, offsetof(NoiseMedian, span), READONLY, "Samples of a residual's window."},
     {NULL, 0, 0, 0, NULL},
@@ -6893,6 +6993,7 @@ static PyTypeObject NoiseMedianType = {
               "auto's running median estimate (core.detector.noise).",
     .tp_methods = median_methods,
     .tp_members = median_members,
+    .tp_getset = median_getset,
     .tp_new = median_new,
 };
 

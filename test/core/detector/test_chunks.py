@@ -911,7 +911,7 @@ def test_a_pose_bats_noise_windows_outlast_the_shortest_history(look_ahead: int)
 
     The streams trim to their newest few samples after every step once long; one at a time a
     trim falls between the samples a chunk's run takes at once, so the run's noise windows
-    must not reach past what the trim keeps (``streams.TRIM_KEEP``; one less fails): the
+    must not reach past what the trim leaves (``streams.TRIM_LEAVES``; one less fails): the
     estimators' residuals and estimates the same either way.
     """
     config = DetectorConfig(model='c2', bat_input='pose', tracker_noise=-1.0,

@@ -303,7 +303,8 @@ def test_the_kept_residuals_are_the_newest_in_order_and_take_points_checks_its_i
 
     Residuals taken one by one after a sort (the sorted values moved), then many at once,
     then more than it holds; ``take_points`` refuses windows outside its samples and points
-    of another length than the stamps, and its arrays may be any float arrays (copied).
+    of another length than the stamps, ``take_run`` breaks of another length than the stamps,
+    and their arrays may be any float arrays (copied).
     """
     estimate = NoiseEstimate('point')
     values = [(-1.0) ** i * 1e-3 * (1 + i % 7) for i in range(1000)]
@@ -325,6 +326,10 @@ def test_the_kept_residuals_are_the_newest_in_order_and_take_points_checks_its_i
         median.take_points([0.0], [], times, points, 0, 1)
     with pytest.raises(TypeError, match='3 numbers'):
         median.take_points([0.0], [(0.0, 1.0)], times, points, 0, 1)
+    with pytest.raises(ValueError, match='old_breaks'):
+        median.take_run([0.0], [(0.0, 0.0, 0.0)], [], times, points)
+    with pytest.raises(TypeError, match='take_run'):
+        median.take_run([], [], [], times)
     strided = NoiseEstimate('point')
     strided.take_points(((), (), ()), times[::-1][::-1], np.asfortranarray(points))
     assert strided.residuals == [0.0] * 6

@@ -2,8 +2,7 @@
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.scheduler import Scheduler
-from baseball_collision.core.detector.streams import (
-    SILENT_AFTER, SILENT_KEEP, Stream, TRIM_KEEP)
+from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP, Stream
 
 
 def _streams(ball_times, bat_times):
@@ -58,7 +57,7 @@ def test_trims_behind_the_cursor() -> None:
     scheduler = Scheduler(config, ball, bat)
     _walk(scheduler)
     history = 1.5 * max(config.velocity_window, config.prediction_window)
-    assert ball.times[0] >= 0.399 - history - 0.001 * (TRIM_KEEP + 1) - 1e-9
+    assert ball.times[0] >= 0.399 - history - 0.005 - 1e-9
     assert len(ball.times) < 400 and len(bat.times) < 400
 
 

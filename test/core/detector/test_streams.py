@@ -3,7 +3,7 @@
 import math
 from typing import List, Set
 
-from baseball_collision.core.detector.streams import MAX_HISTORY, Stream, TRIM_KEEP
+from baseball_collision.core.detector.streams import MAX_HISTORY, Stream
 from baseball_collision.core.motion import BatSample
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -47,8 +47,8 @@ def test_trim_keeps_what_the_fits_need() -> None:
     stream = _filled([0.001 * i for i in range(100)])
     stream.path_key = (1, 2)
     stream.trim(0.0995, 0.01)
-    # the last sample at or before 0.0995 - 0.01 is 0.089; TRIM_KEEP more are kept before it
-    assert stream.times[0] == pytest.approx(0.089 - 0.001 * TRIM_KEEP, abs=1e-12)
+    # the last sample at or before 0.0995 - 0.01 is 0.089; four more are kept before it
+    assert stream.times[0] == pytest.approx(0.085, abs=1e-12)
     assert stream.path_key is None
     short = _filled([0.0, 0.01])
     short.trim(1.0, 0.0)
