@@ -3,7 +3,7 @@ Accuracy benchmark: motion models against continuous-time truth, per family, rat
 
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
 [--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
-[--noise-on both|ball|bat] [--lead S] [--pooled]``.
+[--noise-on both|ball|bat] [--lead S] [--ball-dropout FRAMES] [--pooled]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -16,7 +16,9 @@ pose with that position noise and noise / 0.3 m rad of orientation noise: a rigi
 over markers 0.3 m apart); ``--noise-on`` keeps the noise to the ball or the bat (the other
 exact, each body's draws the same as with both: an error budget). ``--lead`` is the tracked
 time before the contact (s; 0.15 by default, the same scenes; a pitch is in flight for about
-0.4 s). Every method sees the same samples. ``reference`` is the plain per-coordinate cubic
+0.4 s); ``--ball-dropout`` drops 0.08 s of the ball's samples ending that many frames before the
+contact's interval (the stream restarts there: a tracker that lost the ball). Every method
+sees the same samples. ``reference`` is the plain per-coordinate cubic
 spline over the whole pitch (``tools.reference``: not-a-knot without noise, Reinsch's smoothing
 spline with the known noise), across the contact; the detector's models keep to its rules.
 
@@ -28,14 +30,15 @@ Markdown tables for BENCHMARKS.md.
 """
 
 import argparse
+from dataclasses import replace
 import time
-from typing import Callable, Dict, List, Sequence, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, fitting, kinematics
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.reference import reference_result
 from baseball_collision.tools.sim import (
-    CLOSE_KINDS, FAMILIES, KINDS, make_scenario, NOISE_ON, sample)
+    CLOSE_KINDS, FAMILIES, KINDS, make_scenario, NOISE_ON, sample, Samples, Scenario)
 import numpy as np
 
 SMOOTHER, VELOCITIES = ('fitting', 'SMOOTHER'), ('kinematics', 'VELOCITIES')
@@ -140,14 +143,38 @@ def _row(family: str, rate: float, noise_mm: float, label: str, results) -> Dict
     return summary
 
 
+DROPOUT_S = 0.08
+"""s of ball samples ``--ball-dropout`` drops (longer than ``max_gap``: the stream restarts)."""
+
+
+def dropped_ball(scenario: Scenario, samples: Samples, frames: int) -> Samples:
+    """
+    Return the samples without ``DROPOUT_S`` of the ball's, ending ``frames`` before the contact.
+
+    The ball's stream restarts ``frames`` samples before the opening sample of the interval
+    holding the contact (or the closest approach of a miss): a tracker that lost the ball and
+    found it again just before the bat.
+    """
+    times = (samples.ball_stamps_ns - samples.start_ns) * 1e-9
+    truth = scenario.truth
+    moment = truth.time_s if truth.time_s is not None else truth.min_gap_time_s
+    end = max(int(np.searchsorted(times, moment)) - 1 - frames, 0)
+    keep = ~((times > times[end] - DROPOUT_S) & (np.arange(len(times)) < end))
+    return replace(samples, ball_stamps_ns=samples.ball_stamps_ns[keep],
+                   ball_positions=samples.ball_positions[keep])
+
+
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
-        pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15) -> List[Tuple]:
+        pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15,
+        dropout: Optional[int] = None) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
     ``pooled``: one row per rate, noise and method over all the families instead;
-    ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact.
+    ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact;
+    ``dropout``: the ball's stream restarting that many frames before the contact
+    (``dropped_ball``), or None.
     """
     rows = []
     pools: Dict[Tuple, List[PitchResult]] = {}
@@ -162,6 +189,9 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
                                   noise_m=noise, marker_spread_m=0.3 if noise else None,
                                   noise_on=noise_on)
                            for i, s in enumerate(scenarios)]
+                if dropout is not None:
+                    samples = [dropped_ball(s, smp, dropout)
+                               for s, smp in zip(scenarios, samples)]
                 for label in methods:
                     score = _runner(label, bat, noise)
                     results: List[PitchResult] = [score(s, smp)
@@ -197,6 +227,9 @@ def main() -> None:
                         help='s tracked before the contact (the pitch flies about 0.4 s)')
     parser.add_argument('--pooled', action='store_true',
                         help='one row per rate, noise and method over all the families')
+    parser.add_argument('--ball-dropout', type=int, metavar='FRAMES',
+                        help=f'drop {DROPOUT_S:g} s of ball samples ending FRAMES samples '
+                        "before the contact's interval (the ball's stream restarts there)")
     args = parser.parse_args()
     if args.quick:
         args.per_kind, args.rates, args.noises = 1, [90.0, 360.0], [0.0, 1.0]
@@ -204,11 +237,14 @@ def main() -> None:
     count = args.per_kind * len(KINDS + CLOSE_KINDS)
     print(f'{count} scenarios per family ({args.per_kind} of each of '
           f'{len(KINDS + CLOSE_KINDS)} kinds), seed {args.seed}, bat as {args.bat}, noise on '
-          f'{args.noise_on}, {args.lead:g} s before the contact\n')
+          f'{args.noise_on}, {args.lead:g} s before the contact'
+          + ('' if args.ball_dropout is None else
+             f', the ball lost {DROPOUT_S:g} s until {args.ball_dropout} frames before it')
+          + '\n')
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
-        args.bat, args.pooled, args.noise_on, args.lead)
+        args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 
