@@ -109,7 +109,7 @@ class NoiseEstimate:
     when next needed.
 
     :param kind: ``'point'`` (the ball: fourth differences of its points, or of a pose's
-        positions), ``'pose'`` (a bat pose: sixth differences of its positions) or
+        positions), ``'pose'`` (a bat pose: eighth differences of its positions) or
         ``'length'`` (changes of a knob-tip bat's length).
     :raises ValueError: another kind.
     """
@@ -250,7 +250,7 @@ def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
     over the product of its stamp's differences from the others, multiplied in stamp order),
     each residual a sum added left to right from 0.0 about the middle sample (the weights sum
     to 0, so the motion cancels less), over the root sum of the squared weights. Five
-    samples: the ball's fourth differences; seven: a bat pose's sixth.
+    samples: the ball's fourth differences; nine: a bat pose's eighth.
 
     :raises ValueError: a window of an even number of samples, or of fewer than 3 or more than
         9.

@@ -33,8 +33,8 @@ TRIM_LEAVES = 8
 """Samples a trim leaves at least: with the next sample, the nine of a bat pose's noise window
 (``noise.POSE_SPAN``), however short the fits' history is, so that the node (one sample at a
 time, trimmed between them) and ``analyze``'s fast-forwards (trimmed after a run) estimate
-the same. With the fits' usual history a trim leaves many more (it binds only below about
-20 ms of history)."""
+the same. With the fits' usual history a trim leaves many more (it binds only where the
+history holds fewer than three samples)."""
 
 _ZERO_TURN = (0.0, 0.0, 0.0, 0.0)
 

@@ -6400,6 +6400,8 @@ done:
  *       `count` windows of `span` from sample `start` of the samples old (sequences of stamps in
  *       s and points in m) then new (times: contiguous float64 (n,), points (n, 3), or both
  *       None), as point_residuals gives them; IndexError: a window outside the samples
+ *   take_run(old_times, old_points, old_breaks, times, points) -> None: take_points over every
+ *       whole window of a run of new samples after the stream's newest (its breaks too)
  *   residuals() -> the kept residuals (m), oldest first
  *   take_stream(times, values, breaks) -> None: the newest sample's residuals (update's)
  *   sigma: the estimate, set from the residuals held when read (a take sets it no sooner: an
