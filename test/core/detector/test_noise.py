@@ -8,6 +8,7 @@ from baseball_collision.core.detector.noise import (
     NoiseEstimate, POINT_SPAN, POSE_SPAN)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
+from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -214,6 +215,8 @@ def test_a_window_of_another_span_or_kind_is_refused() -> None:
         _point_residuals((times * 3)[:11], (points * 3)[:11])
     with pytest.raises(ValueError, match="'pose'"):
         NoiseEstimate('ball')
+    with pytest.raises(ValueError, match='odd'):
+        _kernel.NoiseMedian(HISTORY, MAD_TO_SIGMA, NOISE_FLOOR, MIN_RESIDUALS, 48, 11)
 
 
 @settings(max_examples=examples(40), deadline=None)
