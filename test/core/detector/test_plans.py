@@ -15,7 +15,7 @@ from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, uni
 from baseball_collision.core.detector.plans import (
     _closed, _continuous, _held_gaps, _order_checks, _trims, BALL, BAT_POSE, items, SLACK,
     TRIM_FROM, TRIM_KEEP)
-from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.streams import Stream, TRIM_LEAVES
 from baseball_collision.core.geometry import pose_point
 from baseball_collision.core.toi import _kernel
 from hypothesis import given, settings, strategies as st
@@ -48,7 +48,8 @@ def test_trims_are_the_stream_trim_after_each_step(steps: List[Tuple[int, float]
     ``_trims``: each step's first kept sample and length before its trim, as ``Stream.trim``.
 
     A stream gets some samples per step, 1 ms apart, then is trimmed before a cursor that
-    moves on by a random amount (behind its newest sample), with no history window.
+    moves on by a random amount (behind its newest sample), with no history window: where the
+    cursor is near the newest sample, the trim's floor (``TRIM_LEAVES``) decides the cut.
     """
     stream = Stream('ball')
     counts, cuts, starts, lengths = [], [], [], []
@@ -60,7 +61,9 @@ def test_trims_are_the_stream_trim_after_each_step(steps: List[Tuple[int, float]
         cursor = min(cursor + advance, (total - 1) * 1e-3) if total else 0.0
         counts.append(total)
         times = np.arange(total) * 1e-3
-        cuts.append(int(np.searchsorted(times, cursor, 'right')) - TRIM_KEEP)
+        # (as ``plans._trim_starts`` makes them: at most TRIM_LEAVES from the newest)
+        cuts.append(min(int(np.searchsorted(times, cursor, 'right')) - TRIM_KEEP,
+                        total - TRIM_LEAVES))
         lengths.append(len(stream.times))
         if total:
             stream.trim(cursor, 0.0)
