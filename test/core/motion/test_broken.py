@@ -91,7 +91,11 @@ def test_one_sample_after_the_break_changes_nothing(steps, where, sigma) -> None
     """
     The fit broken after the last sample is the fit with one more sample after the break.
 
-    A right side of two knots is any line: that sample pins nothing, exact or smoothed.
+    A right side of two knots is any line: that sample pins nothing, exact or smoothed. Exact,
+    each number to 1e-7 of itself; smoothed, to 1e-7 of the largest of its kind: the smoother
+    solves a larger system with the extra sample, and its rounding is relative to the fit's
+    scale (a slope of 0.2 beside slopes of 30 differed by 5e-8; the worst of 4,000 random
+    draws, 7.9e-9 of the scale).
     """
     times = _times(steps)
     values = np.c_[np.sin(30.0 * times), times ** 4] + np.random.default_rng(len(steps)).normal(
@@ -100,7 +104,10 @@ def test_one_sample_after_the_break_changes_nothing(steps, where, sigma) -> None
     alone = broken_fit(times[:-1], values[:-1], [sigma ** 2] * 2, t_break)
     with_after = broken_fit(times, values, [sigma ** 2] * 2, t_break)
     for a, b in zip(alone, with_after):
-        assert np.allclose(a, b, rtol=1e-7, atol=1e-9)
+        if sigma == 0.0:
+            assert np.allclose(a, b, rtol=1e-7, atol=1e-9)
+        else:
+            assert np.abs(a - b).max() <= 1e-7 * max(1.0, np.abs(b).max())
 
 
 def test_a_break_at_a_sample_is_no_knot_of_its_own() -> None:
