@@ -3,7 +3,7 @@ Accuracy benchmark: motion models against continuous-time truth, per family, rat
 
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
 [--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
-[--noise-on both|ball|bat] [--lead S] [--ball-dropout FRAMES] [--pooled]``.
+[--noise-on both|ball|bat] [--lead S] [--ball-dropout FRAMES] [--ball-rate HZ] [--pooled]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -17,7 +17,9 @@ over markers 0.3 m apart); ``--noise-on`` keeps the noise to the ball or the bat
 exact, each body's draws the same as with both: an error budget). ``--lead`` is the tracked
 time before the contact (s; 0.15 by default, the same scenes; a pitch is in flight for about
 0.4 s); ``--ball-dropout`` drops 0.08 s of the ball's samples ending that many frames before the
-contact's interval (the stream restarts there: a tracker that lost the ball). Every method
+contact's interval (the stream restarts there: a tracker that lost the ball); ``--ball-rate``
+samples the ball at its own rate (cameras beside a bat tracked by mocap or a robot's joints at
+``--rates``). Every method
 sees the same samples. ``reference`` is the plain per-coordinate cubic
 spline over the whole pitch (``tools.reference``: not-a-knot without noise, Reinsch's smoothing
 spline with the known noise), across the contact; the detector's models keep to its rules.
@@ -167,14 +169,14 @@ def dropped_ball(scenario: Scenario, samples: Samples, frames: int) -> Samples:
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
         pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15,
-        dropout: Optional[int] = None) -> List[Tuple]:
+        dropout: Optional[int] = None, ball_rate: Optional[float] = None) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
     ``pooled``: one row per rate, noise and method over all the families instead;
     ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact;
     ``dropout``: the ball's stream restarting that many frames before the contact
-    (``dropped_ball``), or None.
+    (``dropped_ball``), or None; ``ball_rate``: the ball's own rate (Hz), or None for each rate.
     """
     rows = []
     pools: Dict[Tuple, List[PitchResult]] = {}
@@ -187,7 +189,7 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
                 noise = noise_mm * 1e-3
                 samples = [sample(s, rate, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
                                   noise_m=noise, marker_spread_m=0.3 if noise else None,
-                                  noise_on=noise_on)
+                                  noise_on=noise_on, ball_rate_hz=ball_rate)
                            for i, s in enumerate(scenarios)]
                 if dropout is not None:
                     samples = [dropped_ball(s, smp, dropout)
@@ -230,6 +232,8 @@ def main() -> None:
     parser.add_argument('--ball-dropout', type=int, metavar='FRAMES',
                         help=f'drop {DROPOUT_S:g} s of ball samples ending FRAMES samples '
                         "before the contact's interval (the ball's stream restarts there)")
+    parser.add_argument('--ball-rate', type=float, metavar='HZ',
+                        help="the ball's own rate (the bat's are --rates)")
     args = parser.parse_args()
     if args.quick:
         args.per_kind, args.rates, args.noises = 1, [90.0, 360.0], [0.0, 1.0]
@@ -240,11 +244,12 @@ def main() -> None:
           f'{args.noise_on}, {args.lead:g} s before the contact'
           + ('' if args.ball_dropout is None else
              f', the ball lost {DROPOUT_S:g} s until {args.ball_dropout} frames before it')
+          + ('' if args.ball_rate is None else f', the ball at {args.ball_rate:g} Hz')
           + '\n')
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
-        args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout)
+        args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout, args.ball_rate)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

@@ -103,7 +103,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         scheduler.cursor = plan.union[after - 1]
         if after > before:
             stats.intervals += after - before
-            episodes.far(events)
+            episodes.far(events, plan.union[after - 2])
     stats.calls += end - pos + stop
     stats.last_drop_reason = None
     if stats.late_drops:

@@ -4,7 +4,10 @@ Arming and near misses: when a contact counts as an impact, and when a pass is a
 The detector is armed when it has seen the ball clear of the bat: a ball already overlapping
 the bat at a start, a reset or a gap has no known first-contact time (an invented one is worse
 than none), and after an impact the trackers keep reporting the ball inside or beyond the bat
-for frames, so it re-arms only once the ball has separated by ``rearm_distance``.
+for frames, so it re-arms only once the ball has separated by ``rearm_distance``, and only on
+intervals from the ball's first frame after the impact on: up to that frame the ball's path is
+its free flight continued through the contact (``departure``), which passes through the bat and
+out beyond it, where a bat tracked at a higher rate than the ball has more intervals.
 
 A near miss is an episode: it opens when an armed pass comes into ``near_miss_threshold`` from
 outside it, follows the sub-steps around the smallest gap seen, and closes when the ball moves
@@ -108,20 +111,29 @@ class EpisodeTracker:
         not yet seen clear of the bat (after a start, a reset or a gap).
     :ivar zone_clear: armed and seen outside the near-miss threshold since.
     :ivar episode: the open near-miss episode, or None.
+    :ivar rearm_from: after an impact, the ball's first frame after it (s, detector clock):
+        no sub-step or interval starting before it re-arms.
     """
 
-    __slots__ = ('config', 'clock', 'stats', 'armed', 'zone_clear', 'episode')
+    __slots__ = ('config', 'clock', 'stats', 'armed', 'zone_clear', 'episode', 'rearm_from')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats) -> None:
         self.config, self.clock, self.stats = config, clock, stats
         self.armed: Optional[bool] = None
         self.zone_clear = False
         self.episode: Optional[Episode] = None
+        self.rearm_from = -math.inf
 
-    def far(self, events: List) -> None:
-        """Note an interval with the ball far from the bat all through it: separated."""
-        self.armed = True
-        self.zone_clear = True
+    def far(self, events: List, start: float) -> None:
+        """
+        Note an interval with the ball far from the bat all through it: separated.
+
+        :param start: the interval's start (s, detector clock); for a run of intervals, the
+            last one's.
+        """
+        if self.armed is not False or start >= self.rearm_from:
+            self.armed = True
+            self.zone_clear = True
         if self.episode is not None:
             self.close(events)
 
@@ -130,20 +142,27 @@ class EpisodeTracker:
         self.close(events)
         self.armed = None
         self.zone_clear = False
+        self.rearm_from = -math.inf
 
-    def arm(self, gap: float) -> Optional[bool]:
-        """Return whether armed at the start of a sub-step whose start gap (m) is ``gap``."""
+    def arm(self, gap: float, start: float) -> Optional[bool]:
+        """Return whether armed at the start (s) of a sub-step whose start gap (m) is ``gap``."""
         if self.armed is None and gap > 0.0:
             self.armed = True
-        elif self.armed is False and gap > self.config.rearm_distance:
+        elif (self.armed is False and gap > self.config.rearm_distance
+              and start >= self.rearm_from):
             self.armed = True
         return self.armed
 
-    def impact(self) -> None:
-        """Note an impact: disarmed, and the pass ended in contact (no near miss)."""
+    def impact(self, ball_frame: float) -> None:
+        """
+        Note an impact: disarmed, and the pass ended in contact (no near miss).
+
+        :param ball_frame: the ball's first frame after the impact (s, detector clock).
+        """
         self.armed = False
         self.zone_clear = False
         self.episode = None
+        self.rearm_from = ball_frame
 
     def track(self, start: State, end: State, gap0: float, gap1: float, events: List) -> None:
         """
@@ -171,7 +190,7 @@ class EpisodeTracker:
                 episode.gap, episode.around, episode.follow = gap1, [(start, end)], True
             if gap1 >= threshold:
                 self.close(events)
-        if self.armed is False and gap1 > config.rearm_distance:
+        if self.armed is False and gap1 > config.rearm_distance and start.t >= self.rearm_from:
             self.armed = True
 
     def close(self, events: List) -> None:

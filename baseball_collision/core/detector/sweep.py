@@ -93,18 +93,18 @@ class Sweep:
                     self._kept_ball_path(located[0]), self.ball, self.bat, located[0],
                     located[1], margin, config.max_gap, config.look_ahead,
                     config.spline_window, bat_noise)):
-            self.episodes.far(events)
+            self.episodes.far(events, ta)
             return
         if (bat_noise > 0.0 and self.model == 'c2' and self.episodes.episode is None
                 and self._outside_zone(located, ta, tb, bat_noise)):
-            self.episodes.far(events)  # (what the sweep's sub-steps would come to: see there)
+            self.episodes.far(events, ta)  # (what the sweep's sub-steps would come to: see there)
             return
         paths = self.paths(*located)
         ball_path, bat_path = paths
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
         if apart > margin:
             # the bounding spheres of both whole sample intervals are clear: far apart
-            self.episodes.far(events)
+            self.episodes.far(events, ta)
             return
         ball_a, ball_b = ball_path.at(ta), ball_path.at(tb)
         knob_a, tip_a = bat_path.at(ta)
@@ -112,7 +112,7 @@ class Sweep:
         deviation = ball_path.deviation(ta, tb) + bat_path.deviation(ta, tb)
         reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
         if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
-            self.episodes.far(events)
+            self.episodes.far(events, ta)
             return
         n = substeps_for(deviation, config.max_chord_error)
         self.stats.substeps += n
@@ -297,12 +297,13 @@ class Sweep:
         made the impact.
         """
         episodes = self.episodes
-        if episodes.arm(gap0):
+        if episodes.arm(gap0, start.t):
             config = self.config
             hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
                                   config.ball_radius, config.profile, end.t - start.t)
             if hit is not None:
-                episodes.impact()
+                ball = self.ball
+                episodes.impact(ball.times[ball.interval(interval[0]) + 1])
                 found = self._refined(earlier if hit.initially_overlapping else start, end,
                                       paths)
                 t, hit = found if found is not None else (start.t + hit.time, hit)

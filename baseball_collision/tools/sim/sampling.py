@@ -96,24 +96,26 @@ def _stamps(t_end: float, rate_hz: float, rng: np.random.Generator, jitter_s: fl
 def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
            jitter_s: float = 0.0, grid_s: Optional[float] = None, noise_m: float = 0.0,
            start_ns: int = DEFAULT_START_NS, bat_offset_s: float = 0.0,
-           marker_spread_m: Optional[float] = None, noise_on: str = 'both') -> Samples:
+           marker_spread_m: Optional[float] = None, noise_on: str = 'both',
+           ball_rate_hz: Optional[float] = None) -> Samples:
     """
     Sample a scenario as a tracker would.
 
-    Sample ``k`` is nominally at ``k / rate_hz`` seconds (plus ``bat_offset_s`` for the bat),
-    plus Gaussian jitter of ``jitter_s``, rounded to the nanosecond and then to ``grid_s`` when
-    given (``grid_s=0.001`` at 360 Hz gives the 2 and 3 ms steps of real mocap). Stamps outside
-    [0, t_end] and repeats are dropped, so stamps strictly increase. Positions are the truth at
-    the stamped instant, plus Gaussian noise of ``noise_m`` per axis: one draw per ball sample,
-    one per bat sample added to the pose position and so to knob and tip alike (knob and tip
-    stay those of the pose). With ``marker_spread_m`` the bat is tracked as a motion-capture
-    rigid body is: knob and tip are markers with their own noise of ``noise_m`` each, and the
-    pose has ``noise_m`` on its position and ``noise_m / marker_spread_m`` rad per axis on its
-    orientation (a small random rotation, applied in the world frame), the noise of a
-    rigid-body solve over markers that far apart. With ``bat_offset_s == 0`` the bat has the
-    ball's stamps. ``noise_on`` keeps the noise to one body (``'ball'`` or ``'bat'``; the other
-    is exact): every draw is still made, so each body's noise is the one it has with
-    ``'both'`` (an error budget compares like with like).
+    Sample ``k`` is nominally at ``k / rate_hz`` seconds (plus ``bat_offset_s`` for the bat; the
+    ball's at ``k / ball_rate_hz`` when given: a ball tracked by cameras beside a bat tracked by
+    mocap or by a robot's own kinematics), plus Gaussian jitter of ``jitter_s``, rounded to the
+    nanosecond and then to ``grid_s`` when given (``grid_s=0.001`` at 360 Hz gives the 2 and 3 ms
+    steps of real mocap). Stamps outside [0, t_end] and repeats are dropped, so stamps strictly
+    increase. Positions are the truth at the stamped instant, plus Gaussian noise of ``noise_m``
+    per axis: one draw per ball sample, one per bat sample added to the pose position and so to
+    knob and tip alike (knob and tip stay those of the pose). With ``marker_spread_m`` the bat is
+    tracked as a motion-capture rigid body is: knob and tip are markers with their own noise of
+    ``noise_m`` each, and the pose has ``noise_m`` on its position and ``noise_m /
+    marker_spread_m`` rad per axis on its orientation (a small random rotation, applied in the
+    world frame), the noise of a rigid-body solve over markers that far apart. With
+    ``bat_offset_s == 0`` and one rate the bat has the ball's stamps. ``noise_on`` keeps the noise
+    to one body (``'ball'`` or ``'bat'``; the other is exact): every draw is still made, so each
+    body's noise is the one it has with ``'both'`` (an error budget compares like with like).
 
     :param scenario: what to sample.
     :param rate_hz: nominal sample rate (Hz, > 0).
@@ -127,6 +129,7 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
         position noise shared by pose, knob and tip.
     :param noise_on: ``'both'``, ``'ball'`` or ``'bat'``: the bodies whose samples get the
         noise.
+    :param ball_rate_hz: the ball's nominal sample rate (Hz, > 0), or None for ``rate_hz``.
 
     :returns: The samples.
 
@@ -134,6 +137,8 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
         ``noise_on``.
     """
     rate_hz = check_number('rate_hz', rate_hz, positive=True)
+    ball_rate_hz = rate_hz if ball_rate_hz is None else check_number(
+        'ball_rate_hz', ball_rate_hz, positive=True)
     jitter_s = check_number('jitter_s', jitter_s, minimum=0.0)
     noise_m = check_number('noise_m', noise_m, minimum=0.0)
     bat_offset_s = check_number('bat_offset_s', bat_offset_s)
@@ -149,8 +154,8 @@ def sample(scenario: Scenario, rate_hz: float, rng: np.random.Generator, *,
         start = int(start_ns)
     except (TypeError, ValueError) as error:
         raise ToolError(f'start_ns must be an integer, got {start_ns!r}') from error
-    ball_rel = _stamps(scenario.t_end, rate_hz, rng, jitter_s, grid_s, 0.0)
-    if bat_offset_s == 0.0:
+    ball_rel = _stamps(scenario.t_end, ball_rate_hz, rng, jitter_s, grid_s, 0.0)
+    if bat_offset_s == 0.0 and ball_rate_hz == rate_hz:
         bat_rel = ball_rel
     else:
         bat_rel = _stamps(scenario.t_end, rate_hz, rng, jitter_s, grid_s, bat_offset_s)

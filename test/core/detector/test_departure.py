@@ -6,7 +6,8 @@ import math
 from typing import Any, Dict, List, Sequence
 
 from baseball_collision.bags import BagReader
-from baseball_collision.core.detector import DetectorConfig, sweep
+from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
+from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.departure import (
     DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, flight_path,
     leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
@@ -209,6 +210,41 @@ def test_a_hit_in_a_noisy_ball_streams_first_frames_is_found(model: str) -> None
         assert len(impacts) == 1
         t = (impacts[0].stamp_ns - samples.start_ns) * 1e-9
         assert abs(t - scenario.truth.time_s) < 1e-3
+
+
+@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline', 'c2'])
+def test_a_bat_tracked_faster_than_the_ball_has_one_impact_per_hit(model: str) -> None:
+    """
+    A ball at 60 Hz (cameras) beside a bat at 1 kHz (a robot's joints): one impact a hit.
+
+    Between the hit and the ball's next frame the bat's intervals see the ball on its free
+    flight continued through the contact, out beyond the bat: that re-armed the detector, and
+    the next frame, the ball still on the bat, was a second impact (every model, rebounds at
+    the barrel). The same events sample by sample as in chunks (the bat as poses).
+    """
+    rng = np.random.default_rng(7)
+    scenarios = [make_scenario('barrel', rng, family='rebound') for _ in range(4)]
+    for i, scenario in enumerate(scenarios):
+        samples = sample(scenario, 1000.0, np.random.default_rng(i), jitter_s=2e-4,
+                         grid_s=1e-3, ball_rate_hz=60.0)
+        config = DetectorConfig(model=model)
+        detector, impacts = detect(config, samples)
+        assert len(impacts) == 1, scenario.name
+        t = (impacts[0].stamp_ns - samples.start_ns) * 1e-9
+        assert abs(t - scenario.truth.time_s) < (1e-3 if model == 'linear' else 2e-4)
+        chunked, events = Detector(config), []
+        for part in np.array_split(np.arange(len(messages := samples.messages('pose'))), 3):
+            rows = [messages[j] for j in part]
+            values = np.zeros((len(rows), 7))
+            for r, (_, _, row) in enumerate(rows):
+                values[r, :len(row)] = row
+            events += chunked.add_chunk(np.array([ROLE_CODES[role] for _, role, _ in rows],
+                                                 np.int8),
+                                        np.array([stamp for stamp, _, _ in rows], np.int64),
+                                        values, ['world'] * len(rows))
+        events += chunked.finish()
+        assert [e for e in events if isinstance(e, Impact)] == impacts
+        assert chunked.stats.intervals == detector.stats.intervals
 
 
 def test_floor() -> None:

@@ -34,7 +34,7 @@ def _pass(tracker: EpisodeTracker, gap: float, steps: int = 40) -> list:
     states = [State(t, _ball(t, gap), KNOB, TIP) for t in times]
     gaps = [profile_gap(s.ball, KNOB, TIP, 0.0366, WOOD_BAT_34)[0] for s in states]
     for j in range(steps):
-        if tracker.arm(gaps[j]):
+        if tracker.arm(gaps[j], times[j]):
             pass  # no contact in these passes
         tracker.track(states[j], states[j + 1], gaps[j], gaps[j + 1], events)
     return events
@@ -43,17 +43,41 @@ def _pass(tracker: EpisodeTracker, gap: float, steps: int = 40) -> list:
 def test_arming_needs_the_ball_seen_clear() -> None:
     """Not armed until clear; disarmed by an impact until the ball separates by rearm."""
     tracker, _ = _tracker()
-    assert tracker.arm(-0.01) is None  # overlapping from the start: no first contact known
-    assert tracker.arm(0.001) is True
-    tracker.impact()
-    assert tracker.arm(0.05) is False  # within rearm_distance (0.1 m)
-    assert tracker.arm(0.2) is True
+    assert tracker.arm(-0.01, 0.0) is None  # overlapping from the start: no first contact known
+    assert tracker.arm(0.001, 0.001) is True
+    tracker.impact(0.003)
+    assert tracker.arm(0.05, 0.003) is False  # within rearm_distance (0.1 m)
+    assert tracker.arm(0.2, 0.004) is True
+
+
+def test_no_rearming_before_the_balls_next_frame() -> None:
+    """
+    After an impact, nothing before the ball's first frame after it re-arms.
+
+    There the ball's path is its free flight continued through the contact (a departure), out
+    beyond the bat: a bat tracked at a higher rate than the ball has intervals in between.
+    """
+    tracker, _ = _tracker()
+    tracker.far([], 0.0)
+    tracker.impact(0.010)  # the ball's next frame at 10 ms
+    assert tracker.arm(0.2, 0.005) is False
+    far_state, next_state = (State(t, _ball(t, 0.3), KNOB, TIP) for t in (0.005, 0.006))
+    tracker.track(far_state, next_state, 0.3, 0.3, [])
+    assert tracker.armed is False
+    tracker.far([], 0.009)
+    assert tracker.armed is False and not tracker.zone_clear
+    tracker.far([], 0.010)  # from the frame on: a real sample, clear by rearm_distance
+    assert tracker.armed is True and tracker.zone_clear
+    tracker.impact(0.020)
+    tracker.track(far_state, next_state, 0.3, 0.3, [])
+    tracker.interrupted([])  # a gap: the streams start again, clear of the bat must be seen
+    assert tracker.arm(0.001, 0.012) is True
 
 
 def test_a_close_pass_is_one_near_miss_at_its_closest() -> None:
     """Into the threshold from outside, then out: one NearMiss with the smallest gap."""
     tracker, stats = _tracker()
-    tracker.far([])  # armed and clear of the zone
+    tracker.far([], -1.0)  # armed and clear of the zone
     events = _pass(tracker, 0.05)
     misses = [e for e in events if isinstance(e, NearMiss)]
     assert len(misses) == 1 and stats.near_misses == 1
@@ -79,11 +103,11 @@ def test_no_near_miss_without_coming_in_from_outside() -> None:
 def test_an_impact_ends_the_episode_without_a_near_miss() -> None:
     """Contact during an episode: the pass was a hit, not a near miss."""
     tracker, stats = _tracker()
-    tracker.far([])
+    tracker.far([], -1.0)
     states = [State(t, _ball(t, 0.05), KNOB, TIP) for t in (-0.002, -0.001)]
     tracker.track(states[0], states[1], 0.2, 0.1, [])
     assert tracker.episode is not None
-    tracker.impact()
+    tracker.impact(0.0)
     events = []
     tracker.close(events)
     assert events == [] and stats.near_misses == 0
@@ -92,7 +116,7 @@ def test_an_impact_ends_the_episode_without_a_near_miss() -> None:
 def test_a_gap_closes_the_episode_and_disarms() -> None:
     """A stream gap reports the open episode's near miss and needs the ball seen clear again."""
     tracker, stats = _tracker()
-    tracker.far([])
+    tracker.far([], -1.0)
     events = []
     states = [State(t, _ball(t, 0.0), KNOB, TIP) for t in (-0.004, -0.002, 0.0)]
     gaps = [profile_gap(s.ball, KNOB, TIP, 0.0366, WOOD_BAT_34)[0] for s in states]

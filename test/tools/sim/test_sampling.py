@@ -78,6 +78,23 @@ def test_jitter_noise_and_bat_offset(scenarios: dict) -> None:
         assert np.abs(got_knob - knob).max() < 1e-12
 
 
+def test_the_ball_at_its_own_rate(scenarios: dict) -> None:
+    """``ball_rate_hz``: the ball's stamps at that rate, the bat's at ``rate_hz``; truth at both."""
+    scenario = scenarios['barrel'][0]
+    samples = sample(scenario, 1000.0, np.random.default_rng(2), grid_s=1e-3,
+                     start_ns=START_NS, ball_rate_hz=60.0)
+    ball_steps = np.diff(samples.ball_stamps_ns) * 1e-9
+    bat_steps = np.diff(samples.bat_stamps_ns) * 1e-9
+    assert np.all((ball_steps >= 0.016) & (ball_steps <= 0.017))
+    assert np.all(bat_steps == 0.001)
+    t_ball = (samples.ball_stamps_ns - START_NS) * 1e-9
+    assert np.array_equal(samples.ball_positions, scenario.pitch.position(t_ball))
+    knobs, _ = scenario.swing.knob_tip((samples.bat_stamps_ns - START_NS) * 1e-9)
+    assert np.array_equal(samples.knobs, knobs)
+    same = sample(scenario, 90.0, np.random.default_rng(2), jitter_s=2e-4, ball_rate_hz=90.0)
+    assert np.array_equal(same.ball_stamps_ns, same.bat_stamps_ns)
+
+
 @pytest.mark.parametrize('spread', [None, 0.3])
 def test_noise_on_one_body(scenarios: dict, spread) -> None:
     """``noise_on`` keeps one body exact and gives the other the noise it has with 'both'."""
@@ -99,10 +116,11 @@ def test_noise_on_one_body(scenarios: dict, spread) -> None:
 
 
 def test_sample_refuses_bad_input(scenarios: dict) -> None:
-    """Non-positive rates, negative jitter or noise, an unknown body raise ToolError."""
+    """Non-positive rates (the bat's or the ball's), negative jitter or noise, an unknown body."""
     scenario = scenarios['barrel'][0]
     for kwargs in ({'rate_hz': 0.0}, {'rate_hz': 90.0, 'jitter_s': -1.0},
                    {'rate_hz': 90.0, 'noise_m': -1.0}, {'rate_hz': 90.0, 'grid_s': 0.0},
-                   {'rate_hz': 90.0, 'noise_on': 'glove'}):
+                   {'rate_hz': 90.0, 'noise_on': 'glove'},
+                   {'rate_hz': 90.0, 'ball_rate_hz': -60.0}):
         with pytest.raises(ToolError):
             sample(scenario, rng=np.random.default_rng(0), **kwargs)
