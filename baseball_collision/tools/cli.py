@@ -116,13 +116,15 @@ def _simulate(args: argparse.Namespace) -> int:
     spec = RecordingSpec(
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
-        frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family)
+        frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family,
+        ball_rate_hz=args.ball_rate)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
     print(f"wrote {args.out}: {document['messages']:,} messages, {spec.count} pitches "
-          f'({contacts} with contact) at {spec.rate_hz:g} Hz on '
-          f"{', '.join(document['topics'].values())}; truth in "
+          f'({contacts} with contact) at {spec.rate_hz:g} Hz'
+          + ('' if spec.ball_rate_hz is None else f', the ball at {spec.ball_rate_hz:g} Hz')
+          + f" on {', '.join(document['topics'].values())}; truth in "
           f'{truth_path(args.out)}')
     return 0
 
@@ -219,6 +221,9 @@ def _add_simulate(commands: Any) -> None:
                           'hit: braking, and the ball leaving the bat)')
     simulate.add_argument('--rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ), default=360.0,
                           help='tracker rate in Hz, at most 100000 (default 360)')
+    simulate.add_argument('--ball-rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ),
+                          default=None, help="the ball's own rate in Hz (cameras beside a bat "
+                          "tracked by mocap or a robot's joints at --rate); default: --rate")
     simulate.add_argument('--jitter', type=_number(0.0, True, 's'), default=0.0002,
                           help='stamp jitter standard deviation in s (default 0.0002)')
     simulate.add_argument('--grid', type=_number(1e-9, True, 's'), default=None,

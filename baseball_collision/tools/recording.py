@@ -59,6 +59,8 @@ class RecordingSpec:
         every pitch is drawn.
     :ivar family: the swing family (``sim.FAMILIES``: ``'plane'``, today's fixed-plane swing;
         ``'rebound'`` a real hit, the bat braking and the ball leaving it).
+    :ivar ball_rate_hz: the ball's own nominal rate (Hz; cameras beside a bat tracked by mocap
+        or a robot's joints at ``rate_hz``), None for ``rate_hz``.
     """
 
     count: int = 12
@@ -76,6 +78,7 @@ class RecordingSpec:
     trail_s: float = 0.15
     unique: Optional[int] = None
     family: str = 'plane'
+    ball_rate_hz: Optional[float] = None
 
     def check(self) -> None:
         """
@@ -112,8 +115,12 @@ class RecordingSpec:
                 f'({self.lead_s + self.trail_s:.2f} s) by more than 0.01 s')
         if self.unique is not None and self.unique < 1:
             raise ToolError(f'unique must be >= 1, got {self.unique}')
-        if self.rate_hz > MAX_RATE_HZ:
-            raise ToolError(f'rate_hz must be at most {MAX_RATE_HZ:,.0f} Hz, got {self.rate_hz:g}')
+        for name in ('rate_hz', 'ball_rate_hz'):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and 0.0 < value <= MAX_RATE_HZ):
+                raise ToolError(
+                    f'{name} must be a finite number > 0 and at most {MAX_RATE_HZ:,.0f} Hz, '
+                    f'got {value:g}')
         if not 0 <= self.seed <= MAX_SEED:
             raise ToolError(f'seed must be a whole number from 0 to 2^64 - 1, got {self.seed}')
         end_ns = self.start_ns + (self.count - 1) * self.spacing_s * 1e9 + (
@@ -164,7 +171,8 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
             for index, scenario in enumerate(_scenarios(spec, rng)):
                 start = spec.start_ns + int(round(index * spec.spacing_s * 1e9))
                 samples = sample(scenario, spec.rate_hz, rng, jitter_s=spec.jitter_s,
-                                 grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start)
+                                 grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start,
+                                 ball_rate_hz=spec.ball_rate_hz)
                 for stamp, role, values in samples.messages(spec.bat):
                     if role == 'bat_pose':
                         writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],

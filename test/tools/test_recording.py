@@ -75,6 +75,32 @@ def test_simulate_a_family_of_real_hits(tmp_path: Path, run_cli: RunCli) -> None
     assert run_cli(['simulate', str(tmp_path / 'x.mcap'), '--family', 'curved'])[0] != 0
 
 
+def test_simulate_a_ball_slower_than_the_bat(tmp_path: Path, run_cli: RunCli) -> None:
+    """``--ball-rate``: the ball at its own rate beside the bat's; analyze finds every contact."""
+    bag = tmp_path / 'arm.mcap'
+    code, stdout, stderr = run_cli(['simulate', str(bag), '--count', '3', '--rate', '1000',
+                                    '--grid', '0.001', '--ball-rate', '60', '--bat', 'pose',
+                                    '--kinds', 'barrel,handle,miss_over', '--seed', '4'])
+    assert code == 0, stderr
+    assert 'at 1000 Hz, the ball at 60 Hz on /ball, /bat_pose' in stdout
+    truth = json.loads(truth_path(bag).read_text())
+    assert truth['spec']['ball_rate_hz'] == 60.0 and truth['spec']['rate_hz'] == 1000.0
+    with BagReader(bag) as reader:
+        samples = list(reader.samples())
+    counts = {}
+    for role, low, high in (('ball', 15_000_000, 18_000_000), ('bat_pose', 1_000_000, 2_000_000)):
+        stamps = [s.stamp_ns for s in samples if s.role == role]
+        steps = {b - a for a, b in zip(stamps, stamps[1:]) if b - a < 10**8}
+        assert low <= min(steps) and max(steps) <= high, role  # (jitter on a 1 ms grid)
+        counts[role] = len(stamps)
+    assert counts['bat_pose'] > 14 * counts['ball']
+    out = tmp_path / 'a.json'
+    assert run_cli(['analyze', str(bag), '--json', str(out)])[0] == 0
+    check_against_truth(json.loads(out.read_text()), truth, 60.0)
+    with pytest.raises(ToolError, match='ball_rate_hz'):
+        RecordingSpec(ball_rate_hz=0.0).check()
+
+
 def test_simulate_is_deterministic(tmp_path: Path, run_cli: RunCli) -> None:
     """Same seed, same truth; the bundled truth files regenerate from their commands."""
     for name in ('a.mcap', 'b.mcap'):

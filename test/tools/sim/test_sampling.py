@@ -79,7 +79,7 @@ def test_jitter_noise_and_bat_offset(scenarios: dict) -> None:
 
 
 def test_the_ball_at_its_own_rate(scenarios: dict) -> None:
-    """``ball_rate_hz``: the ball's stamps at that rate, the bat's at ``rate_hz``; truth at both."""
+    """``ball_rate_hz``: the ball's stamps at that rate, the bat's at ``rate_hz``, both true."""
     scenario = scenarios['barrel'][0]
     samples = sample(scenario, 1000.0, np.random.default_rng(2), grid_s=1e-3,
                      start_ns=START_NS, ball_rate_hz=60.0)
