@@ -19,7 +19,7 @@ from typing import Any, Dict, List
 REPO_ROOT = Path(__file__).resolve().parents[2]
 BASELINE = Path(__file__).with_name('bundled_baseline.json')
 BAGS = ('pitches_90hz.mcap', 'pitches_120hz_sqlite3', 'pitches_240hz_noisy.bag',
-        'pitches_360hz.mcap', 'pitches_180hz_rebound.mcap')
+        'pitches_360hz.mcap', 'pitches_180hz_rebound.mcap', 'pitches_1khz_arm.mcap')
 MODELS = ('linear', 'rigid', 'spline', 'c2')
 RUNS: Dict[str, List[str]] = {
     **{model: ['--model', model] for model in MODELS},

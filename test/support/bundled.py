@@ -12,8 +12,9 @@ BAGS = {
     'pitches_240hz_noisy.bag': 240.0,
     'pitches_360hz.mcap': 360.0,
     'pitches_180hz_rebound.mcap': 180.0,
+    'pitches_1khz_arm.mcap': 60.0,
 }
-"""Bundled bags and their nominal rates (Hz)."""
+"""Bundled bags and their nominal rates (Hz; the arm's bag: its ball's, the slower stream)."""
 
 PARAMS = REPO_ROOT / 'config' / 'impact_node.yaml'
 SPOT_BOUND_M = 0.005
