@@ -355,11 +355,6 @@ def prediction_due(last_ns: Optional[int], now_ns: int, period: float) -> bool:
     return last_ns is None or now_ns < last_ns or now_ns - last_ns >= round(period * 1e9)
 
 
-def in_force_after(period: float) -> int:
-    """Return for how long (ns) a prediction stays in force: ``period``, at least 1 ns."""
-    return max(int(round(period * 1e9)), 1)
-
-
 MAX_PLAN_POSES = 10_000
 """Poses a commanded bat plan may hold: 10 s at 1 kHz; a plan is the coming swing, re-sent as
 the arm re-plans, not a whole session."""

@@ -34,7 +34,8 @@ from .truth import (
 from ..atomic import worker_signals
 from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
-    Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, StateReset, StreamGap)
+    Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
+    StateReset, StreamGap)
 from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 from ..threads import single_threaded_blas
@@ -59,7 +60,8 @@ class BagAnalysis:
     :ivar config: the detector configuration used.
     :ivar impacts, near_misses, gaps, resets: the detector's events, in order.
     :ivar predictions: predicted impacts (with ``--predict``), in order.
-    :ivar frames_ns: every sample stamp (ns), kept with ``--predict`` to score predictions.
+    :ivar cleared_ns: when the detector cleared its prediction (``PredictionCleared``'s
+        ``made_at_ns``), in order: a prediction is in force until the next or such a clearing.
     :ivar stats: the detector's counters (``dropped`` by reason).
     :ivar messages: samples read and fed.
     :ivar seconds: wall time of reading and detecting (s).
@@ -78,7 +80,7 @@ class BagAnalysis:
     gaps: List[StreamGap] = field(default_factory=list)
     resets: List[StateReset] = field(default_factory=list)
     predictions: List[Prediction] = field(default_factory=list)
-    frames_ns: List[int] = field(default_factory=list)
+    cleared_ns: List[int] = field(default_factory=list)
     stats: DetectorStats = field(default_factory=DetectorStats)
     messages: int = 0
     seconds: float = 0.0
@@ -103,6 +105,8 @@ class BagAnalysis:
             kind = event_kind(event)
             if kind is not None:
                 getattr(self, kind.collection).append(event)
+            elif event.__class__ is PredictionCleared:
+                self.cleared_ns.append(event.made_at_ns)
 
     def silenced_topics(self) -> List[str]:
         """
@@ -135,12 +139,12 @@ class BagAnalysis:
 
         The reference is the true contact when a truth file matched the impact, else the
         detected impact itself; predictions made up to :data:`SCORE_WINDOW_NS` before it
-        count. One ``PredictionIndex.errors`` dict per impact; the frames are sorted once.
+        count. One ``PredictionIndex.errors`` dict per impact; the predictions are indexed once.
         """
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
-        index = PredictionIndex(self.predictions, self.frames_ns, self.config.prediction_period)
+        index = PredictionIndex(self.predictions, self.cleared_ns)
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)
@@ -219,22 +223,6 @@ class EventSink(Protocol):
 
     def on_events(self, events: Sequence[Any], log_time_ns: int, frame_id: str) -> None:
         """Take the events of one sample (or of ``finish()``: the last sample's time, frame)."""
-
-
-class FrameStamps:
-    """A sample sink keeping every sample stamp (ns): the frames predictions are scored at."""
-
-    def __init__(self, stamps: List[int]) -> None:
-        self.stamps = stamps
-
-    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
-                  log_time_ns: int) -> None:
-        """Keep the stamp."""
-        self.stamps.append(stamp_ns)
-
-    def on_chunk(self, chunk: Any) -> None:
-        """Keep a chunk's stamps (a ``SampleChunk``: the chunked loop needs no sample sink)."""
-        self.stamps += chunk.stamps_ns.tolist()
 
 
 # ----------------------------------------------------------------------------------------------
@@ -413,8 +401,6 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
                                   prediction_horizon=options.prediction_horizon)
             result = BagAnalysis(path=path, selection=bag.selection, config=config)
             sinks: List[Any] = [result]
-            if config.prediction_horizon > 0.0:
-                sinks.append(FrameStamps(result.frames_ns))
             detector = Detector(config)
             copy = None
             if out_bag is not None:

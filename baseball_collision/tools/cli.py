@@ -281,8 +281,8 @@ def _add_analyze(commands: Any) -> None:
                          help='also predict each coming impact this far ahead (default 0.3 s, '
                          'as the node does with prediction_horizon) and score the predictions '
                          'at 200, 100, 50 and 20 ms before each impact (time error ms / point '
-                         "error cm; '-' where the last frame that far ahead predicted no impact: "
-                         'the ball or bat not yet tracked, or the contact beyond the horizon)')
+                         "error cm; '-' where no prediction was in force that far ahead: the "
+                         'ball or bat not yet tracked, or the contact beyond the horizon)')
     analyze.add_argument('--json', metavar='FILE', help='write events and counts as JSON')
     analyze.add_argument('--csv', metavar='FILE', help='write one row per event as CSV')
     analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '

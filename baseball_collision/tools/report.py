@@ -138,8 +138,8 @@ def format_report(analysis: BagAnalysis) -> str:
     return '\n'.join(lines)
 
 
-NO_PREDICTION = ("'-': the last frame that far ahead predicted no impact (the ball or bat not "
-                 'yet tracked, or the contact beyond the horizon)')
+NO_PREDICTION = ("'-': no prediction in force that far ahead (the ball or bat not yet "
+                 'tracked, or the contact beyond the horizon)')
 """What a ``-`` lead cell means (the report's prediction header and ``--help`` say it)."""
 
 

@@ -24,7 +24,6 @@ from typing import Any, Dict, List, Mapping, Optional, Protocol, Sequence, Tuple
 import numpy as np
 
 from ..core.detector import Prediction
-from ..core.prediction import in_force_after
 from ..errors import ToolError
 
 TRUTH_FORMAT = 'baseball_collision.truth/1'
@@ -282,31 +281,36 @@ def compare_truth(impacts: Sequence[ImpactLike], near_misses: Sequence[EventLike
 
 class PredictionIndex:
     """
-    Predictions and frames indexed once, to score the predictions of many contacts.
+    Predictions and their clearings indexed once, to score the predictions of many contacts.
 
-    Built in O(frames log frames + predictions); each contact is then scored in O(leads x
-    log frames) (:meth:`errors`).
+    A prediction is in force from the frame that made it until the next prediction or the
+    next ``PredictionCleared``: what the node's ``~/predicted_impact`` and
+    ``~/impact_predicted`` say in between (a frame that does not predict, within the
+    ``prediction_period`` or before the detector can process it, keeps it in force; a bat
+    tracked faster than the ball has many such frames). Built in O(n log n) over the
+    predictions and clearings; each contact is then scored in O(leads x log n)
+    (:meth:`errors`).
 
     :param predictions: every prediction, in any order (the last one made at a frame counts).
-    :param frames_ns: every processed frame stamp (ns), in any order.
-    :param period: the detector's ``prediction_period`` (s): a frame scores the prediction in
-        force, the last made less than this before it (0: only one made at the frame itself).
+    :param cleared_ns: when each ``PredictionCleared`` was made (its ``made_at_ns``), any order.
     """
 
-    def __init__(self, predictions: Sequence[Prediction], frames_ns: Sequence[int],
-                 period: float = 0.0) -> None:
+    def __init__(self, predictions: Sequence[Prediction], cleared_ns: Sequence[int] = ()) -> None:
         by_frame: Dict[int, Prediction] = {}
         for prediction in predictions:
             by_frame[prediction.made_at_ns] = prediction  # the last one made at a frame
         self.made = np.array(sorted(by_frame), dtype=np.int64)
         self.made_predictions = [by_frame[int(stamp)] for stamp in self.made]
-        self.in_force_ns = in_force_after(period)
-        self.frames = np.sort(np.asarray(frames_ns, dtype=np.int64))
+        self.cleared = np.sort(np.asarray(cleared_ns, dtype=np.int64))
 
-    def in_force(self, frame_ns: int) -> Optional[Prediction]:
-        """Return the prediction in force at a frame (ns): made at it or within the period."""
-        index = int(np.searchsorted(self.made, frame_ns, side='right')) - 1
-        if index < 0 or frame_ns - int(self.made[index]) >= self.in_force_ns:
+    def in_force(self, at_ns: int) -> Optional[Prediction]:
+        """Return the prediction in force at a stamp (ns): the last made, unless cleared since."""
+        index = int(np.searchsorted(self.made, at_ns, side='right')) - 1
+        if index < 0:
+            return None
+        made = int(self.made[index])
+        cleared = int(np.searchsorted(self.cleared, at_ns, side='right')) - 1
+        if cleared >= 0 and int(self.cleared[cleared]) > made:
             return None
         return self.made_predictions[index]
 
@@ -322,10 +326,7 @@ class PredictionIndex:
         """
         result: Dict[float, Optional[Tuple[float, float]]] = {}
         for lead in leads_s:
-            cut = contact_ns - int(round(lead * 1e9))
-            index = int(np.searchsorted(self.frames, cut, side='right')) - 1
-            frame = int(self.frames[index]) if index >= 0 else None
-            chosen = self.in_force(frame) if frame is not None else None
+            chosen = self.in_force(contact_ns - int(round(lead * 1e9)))
             if chosen is not None and (chosen.made_at_ns >= contact_ns or (
                     window_ns is not None and contact_ns - chosen.made_at_ns > window_ns)):
                 chosen = None
@@ -335,22 +336,21 @@ class PredictionIndex:
         return result
 
 
-def prediction_errors(predictions: Sequence[Prediction], frames_ns: Sequence[int],
+def prediction_errors(predictions: Sequence[Prediction], cleared_ns: Sequence[int],
                       contact_ns: int, contact_point: Sequence[float],
                       leads_s: Sequence[float] = LEADS_S) -> Dict[float,
                                                                   Optional[Tuple[float, float]]]:
     """
     Score predictions of one contact at several lead times.
 
-    For each lead L the prediction scored is the one made at the last processed frame at
-    least L before the contact; a frame that had no prediction scores None (not predicted).
-    (With a ``prediction_period`` the one in force at that frame: ``PredictionIndex``.)
-    (For many contacts build one :class:`PredictionIndex` and call its ``errors``.)
+    For each lead L the prediction scored is the one in force L before the contact: the last
+    made by then, unless a ``PredictionCleared`` came after it (None: nothing was predicted
+    then). (For many contacts build one :class:`PredictionIndex` and call its ``errors``.)
 
     :param predictions: the predictions made before the contact.
-    :param frames_ns: every processed frame stamp (ns) (the union of the sample stamps).
+    :param cleared_ns: when the detector cleared a prediction (``PredictionCleared.made_at_ns``).
     :param contact_ns: the contact's stamp (ns); ``contact_point`` its point (m).
     :returns: ``{lead: (time error s, point error m) or None}``; errors are predicted minus
         true, the point error a distance.
     """
-    return PredictionIndex(predictions, frames_ns).errors(contact_ns, contact_point, leads_s)
+    return PredictionIndex(predictions, cleared_ns).errors(contact_ns, contact_point, leads_s)

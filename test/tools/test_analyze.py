@@ -32,8 +32,9 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 from baseball_collision.bags import BagReader, POINT_STAMPED
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, StreamGap)
+import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
-    AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, FrameStamps, progress_bar, run_detector)
+    AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
 from baseball_collision.tools.parameters import output_topics
 from baseball_collision.tools.truth import truth_path
 import pytest
@@ -157,7 +158,7 @@ def test_predict_scores_predictions_and_exports_them(
                                     '--out-bag', str(out)])
     assert code == 0, stderr
     assert 'predictions:' in stdout and 'error against the truth' in stdout
-    assert "'-': the last frame that far ahead predicted no impact" in stdout
+    assert "'-': no prediction in force that far ahead" in stdout
     document = json.loads(json_out.read_text())
     predictions = document['predictions']
     assert predictions and all(p['stamp_ns'] > p['made_at_ns'] for p in predictions)
@@ -184,9 +185,9 @@ def test_predict_scores_predictions_and_exports_them(
 def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
         name: str, period: float) -> None:
     """
-    ``--predict`` feeds the detector a chunk at a time: the frames kept from each chunk.
+    ``--predict`` feeds the detector a chunk at a time.
 
-    The events, drops, counters and frame stamps are those of the loop one sample at a time
+    The events, drops, counters and clearings are those of the loop one sample at a time
     (``run_detector``, which ``--predict`` ran before).
     """
     options = AnalysisOptions(model='spline', prediction_horizon=0.3,
@@ -195,11 +196,11 @@ def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
     with BagReader(bag_path(name)) as bag:
         one = BagAnalysis(path=bag_path(name), selection=bag.selection, config=chunked.config)
         detector = Detector(chunked.config)
-        count, _ = run_detector(bag.samples(), detector, [one, FrameStamps(one.frames_ns)],
-                                None, one.drops_by_role)
-    assert chunked.predictions and chunked.impacts
-    assert count == chunked.messages and one.frames_ns == chunked.frames_ns
-    for name in ('impacts', 'near_misses', 'predictions', 'gaps', 'resets', 'drops_by_role'):
+        count, _ = run_detector(bag.samples(), detector, [one], None, one.drops_by_role)
+    assert chunked.predictions and chunked.impacts and chunked.cleared_ns
+    assert count == chunked.messages
+    for name in ('impacts', 'near_misses', 'predictions', 'cleared_ns', 'gaps', 'resets',
+                 'drops_by_role'):
         assert getattr(one, name) == getattr(chunked, name), name
     assert detector.stats.intervals == chunked.stats.intervals
 
@@ -285,13 +286,12 @@ def test_one_loop_feeds_the_detector_and_every_sink() -> None:
     samples = [('ball', 10, 'w', (0.0, 0.0, 0.0), 100),
                ('bat_pose', 20, 'w', (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0), 200),
                ('ball', 30, 'v', (0.0, 0.0, 1.0), 300)]
-    detector, sink, bar, stamps = _Detector(), _Sink(), _Bar(), []
+    detector, sink, bar = _Detector(), _Sink(), _Bar()
     result = BagAnalysis(path=Path('x.mcap'), selection=None, config=DetectorConfig())
-    count, first = run_detector(iter(samples), detector, [result, FrameStamps(stamps), sink],
-                                bar)
+    count, first = run_detector(iter(samples), detector, [result, sink], bar)
     assert (count, first) == (3, 10) and bar.updates == [3]
     assert detector.fed == [('ball', 10, 'w'), ('bat_pose', 20, 'w'), ('ball', 30, 'v')]
-    assert stamps == [10, 20, 30] and sink.samples == samples
+    assert sink.samples == samples
     assert sink.events == [([MISS], 200, 'w'), ([GAP], 300, 'v')]  # finish: the last sample's
     assert result.near_misses == [MISS] and result.gaps == [GAP] and result.impacts == []
 
@@ -326,38 +326,30 @@ def test_the_command_lines_start_up_leaves_what_a_run_may_not_need() -> None:
     assert modules_loaded(code, ('numpy.random', 'concurrent.futures')) == []
 
 
-class _Frames:
-    """A sequence of frame stamps counting its item reads (``reads``)."""
-
-    def __init__(self, stamps: List[int]) -> None:
-        self.stamps, self.reads = stamps, 0
-
-    def __len__(self) -> int:
-        return len(self.stamps)
-
-    def __getitem__(self, index: int) -> int:
-        self.reads += 1
-        return self.stamps[index]
-
-
-def test_prediction_scores_sort_the_frames_once() -> None:
-    """300 impacts, 10 predictions each: every frame read about once, not once per impact."""
+def test_prediction_scores_index_the_predictions_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """300 impacts, 10 predictions and a clearing each: one index for all, each scored right."""
     events = swing_events(horizon=0.3)
     impact = next(e for e in events if isinstance(e, Impact))
     prediction = next(e for e in events if isinstance(e, Prediction))
     analysis = BagAnalysis(path=Path('b.mcap'), selection=None,
                            config=DetectorConfig(prediction_horizon=0.3))
-    stamps = []
     for i in range(300):
         base = i * 1_000_000_000
         analysis.impacts.append(replace(impact, stamp_ns=base + 500_000_000))
         for k in range(10):
             made = base + 250_000_000 + 25_000_000 * k
-            stamps.append(made)
             analysis.predictions.append(replace(prediction, made_at_ns=made,
                                                 stamp_ns=base + 500_000_000))
-    analysis.frames_ns = _Frames(stamps)
+        analysis.cleared_ns.append(base + 510_000_000)  # the contact happened: cleared
+    built = []
+    index_class = analyze_module.PredictionIndex
+
+    def counted(*args: Any) -> Any:
+        built.append(args)
+        return index_class(*args)
+
+    monkeypatch.setattr(analyze_module, 'PredictionIndex', counted)
     scores = analysis.prediction_scores()
-    assert len(scores) == 300 and all(score[0.2] == (0.0, pytest.approx(
-        math.dist(prediction.point, impact.point))) for score in scores)
-    assert analysis.frames_ns.reads <= 2 * len(stamps)
+    assert len(built) == 1 and len(scores) == 300
+    assert all(score[0.2] == (0.0, pytest.approx(math.dist(prediction.point, impact.point)))
+               for score in scores)

@@ -239,8 +239,7 @@ def test_help_says_what_a_missing_prediction_means(run_cli: RunCli) -> None:
     """The analyze help explains the '-' of a --predict lead cell."""
     code, stdout, _ = run_cli(['analyze', '--help'])
     assert code == 0
-    assert "'-' where the last frame that far ahead predicted no impact" in ' '.join(
-        stdout.split())
+    assert "'-' where no prediction was in force that far ahead" in ' '.join(stdout.split())
 
 
 def test_demo_domain_is_chosen_or_refused(run_cli: RunCli) -> None:

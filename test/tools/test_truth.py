@@ -87,29 +87,37 @@ def test_truth_files_are_checked(tmp_path: Path) -> None:
             load_truth(path)
 
 
-def test_predictions_are_scored_at_the_last_frame_before_each_lead() -> None:
-    """Per lead: the prediction made at the last frame at least that far ahead, or None."""
+def test_predictions_are_scored_by_the_one_in_force_at_each_lead() -> None:
+    """
+    Per lead: the last prediction made that far ahead, unless cleared since; else None.
+
+    In force as the node publishes it: from the frame that made it to the next prediction or
+    clearing, however many frames in between did not predict (a bat tracked faster than the
+    ball, a prediction period).
+    """
     def predicted(made_at_ns: int, stamp_ns: int) -> Prediction:
         return Prediction(stamp_ns=stamp_ns, made_at_ns=made_at_ns, lead_s=0.0,
                           point=(0.0, 0.0, 0.01), normal=(0.0, 0.0, 1.0), bat_fraction=0.9,
                           distance_from_tip_m=0.1, ball_position=(0.0, 0.0, 0.0),
                           ball_velocity=(0.0, 0.0, 0.0), planned=False)
     contact = 1_000_000_000
-    frames = [contact - 150_000_000, contact - 60_000_000, contact - 30_000_000]
-    scores = prediction_errors([predicted(frames[0], contact + 2_000_000),
-                                predicted(frames[2], contact - 1_000_000)], frames, contact,
-                               (0.0, 0.0, 0.0))
+    made = [predicted(contact - 150_000_000, contact + 2_000_000),
+            predicted(contact - 30_000_000, contact - 1_000_000)]
+    scores = prediction_errors(made, [contact - 60_000_000], contact, (0.0, 0.0, 0.0))
     assert list(scores) == list(LEADS_S)
-    assert scores[0.2] is None  # no frame that early
+    assert scores[0.2] is None  # nothing made that early
     assert scores[0.1] == (pytest.approx(2e-3), pytest.approx(0.01))
-    assert scores[0.05] is None  # the frame at 60 ms made no prediction
+    assert scores[0.05] is None  # cleared at 60 ms
     assert scores[0.02] == (pytest.approx(-1e-3), pytest.approx(0.01))
-    # with a prediction period, a frame scores the prediction in force: made less than the
-    # period before it (the 60 ms frame keeps the 150 ms one for a 0.1 s period, not 0.05 s)
-    made = [predicted(frames[0], contact + 2_000_000)]
-    kept = PredictionIndex(made, frames, 0.1).errors(contact, (0.0, 0.0, 0.0))
-    assert kept[0.05] == (pytest.approx(2e-3), pytest.approx(0.01))
-    assert PredictionIndex(made, frames, 0.05).errors(contact, (0.0, 0.0, 0.0))[0.05] is None
+    kept = prediction_errors(made[:1], [], contact, (0.0, 0.0, 0.0))
+    assert kept[0.05] == kept[0.02] == (pytest.approx(2e-3), pytest.approx(0.01))
+    index = PredictionIndex(made, [contact - 60_000_000, contact + 5_000_000])
+    assert index.in_force(contact - 60_000_001) is made[0]
+    assert index.in_force(contact - 60_000_000) is None
+    assert index.in_force(contact - 30_000_000) is made[1]
+    assert index.in_force(contact + 5_000_000) is None
+    late = index.errors(contact, (0.0, 0.0, 0.0), window_ns=100_000_000)
+    assert late[0.1] is None and late[0.02] is not None  # made 150 ms before: not its own
 
 
 def _damaged(text: str) -> str:
