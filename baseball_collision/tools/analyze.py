@@ -144,7 +144,9 @@ class BagAnalysis:
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
-        index = PredictionIndex(self.predictions, self.cleared_ns)
+        # (a reset ends the prediction in force too: the node turns ~/impact_predicted off)
+        index = PredictionIndex(self.predictions,
+                                self.cleared_ns + [reset.stamp_ns for reset in self.resets])
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)

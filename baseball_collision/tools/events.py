@@ -6,7 +6,8 @@ Every place in the tools that treats events by type (filing them into a
 type up once in :data:`EVENT_KINDS`. The record of an event (JSON, CSV, the table's cells, the
 node's ``~/impact_report``) is made in one place,
 :func:`baseball_collision.core.records.event_record`. Events of a type not in the table
-(``PredictionCleared``) are not kept.
+are not kept (of a ``PredictionCleared`` a :class:`BagAnalysis` keeps when it came, which ends the
+prediction in force when predictions are scored).
 """
 
 from dataclasses import dataclass

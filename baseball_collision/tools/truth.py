@@ -292,7 +292,8 @@ class PredictionIndex:
     (:meth:`errors`).
 
     :param predictions: every prediction, in any order (the last one made at a frame counts).
-    :param cleared_ns: when each ``PredictionCleared`` was made (its ``made_at_ns``), any order.
+    :param cleared_ns: when each ``PredictionCleared`` was made (its ``made_at_ns``), or the
+        detector was reset (a ``StateReset``'s stamp), any order.
     """
 
     def __init__(self, predictions: Sequence[Prediction], cleared_ns: Sequence[int] = ()) -> None:

@@ -31,12 +31,12 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
 from baseball_collision.core.detector import (
-    Detector, DetectorConfig, Impact, NearMiss, Prediction, StreamGap)
+    Detector, DetectorConfig, Impact, NearMiss, Prediction, StateReset, StreamGap)
 import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
 from baseball_collision.tools.parameters import output_topics
-from baseball_collision.tools.truth import truth_path
+from baseball_collision.tools.truth import LEADS_S, truth_path
 import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
@@ -324,6 +324,23 @@ def test_the_command_lines_start_up_leaves_what_a_run_may_not_need() -> None:
     """
     code = 'import baseball_collision.tools.cli, baseball_collision.tools.analyze'
     assert modules_loaded(code, ('numpy.random', 'concurrent.futures')) == []
+
+
+def test_a_reset_ends_the_prediction_in_force() -> None:
+    """A prediction is scored until the next, a clearing or a reset (the node's flag goes off)."""
+    events = swing_events(horizon=0.3)
+    impact = next(e for e in events if isinstance(e, Impact))
+    prediction = next(e for e in events if isinstance(e, Prediction))
+    analysis = BagAnalysis(path=Path('b.mcap'), selection=None,
+                           config=DetectorConfig(prediction_horizon=0.3))
+    analysis.impacts.append(replace(impact, stamp_ns=1_000_000_000))
+    analysis.predictions.append(replace(prediction, made_at_ns=700_000_000,
+                                        stamp_ns=1_000_000_000))
+    kept = analysis.prediction_scores()[0]
+    assert all(kept[lead] is not None for lead in LEADS_S)
+    analysis.resets.append(StateReset(stamp_ns=920_000_000, reason='requested'))
+    scores = analysis.prediction_scores()[0]
+    assert scores[0.1] is not None and scores[0.05] is None and scores[0.02] is None
 
 
 def test_prediction_scores_index_the_predictions_once(monkeypatch: pytest.MonkeyPatch) -> None:
