@@ -60,8 +60,8 @@ class BagAnalysis:
     :ivar config: the detector configuration used.
     :ivar impacts, near_misses, gaps, resets: the detector's events, in order.
     :ivar predictions: predicted impacts (with ``--predict``), in order.
-    :ivar cleared_ns: when the detector cleared its prediction (``PredictionCleared``'s
-        ``made_at_ns``), in order: a prediction is in force until the next or such a clearing.
+    :ivar cleared: the detector's ``PredictionCleared`` events, in order: a prediction is in
+        force until the next one or such a clearing.
     :ivar stats: the detector's counters (``dropped`` by reason).
     :ivar messages: samples read and fed.
     :ivar seconds: wall time of reading and detecting (s).
@@ -80,7 +80,7 @@ class BagAnalysis:
     gaps: List[StreamGap] = field(default_factory=list)
     resets: List[StateReset] = field(default_factory=list)
     predictions: List[Prediction] = field(default_factory=list)
-    cleared_ns: List[int] = field(default_factory=list)
+    cleared: List[PredictionCleared] = field(default_factory=list)
     stats: DetectorStats = field(default_factory=DetectorStats)
     messages: int = 0
     seconds: float = 0.0
@@ -105,8 +105,6 @@ class BagAnalysis:
             kind = event_kind(event)
             if kind is not None:
                 getattr(self, kind.collection).append(event)
-            elif event.__class__ is PredictionCleared:
-                self.cleared_ns.append(event.made_at_ns)
 
     def silenced_topics(self) -> List[str]:
         """
@@ -145,8 +143,8 @@ class BagAnalysis:
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
         # (a reset ends the prediction in force too: the node turns ~/impact_predicted off)
-        index = PredictionIndex(self.predictions,
-                                self.cleared_ns + [reset.stamp_ns for reset in self.resets])
+        index = PredictionIndex(self.predictions, [event.made_at_ns for event in self.cleared]
+                                + [reset.stamp_ns for reset in self.resets])
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)

@@ -5,15 +5,15 @@ Every place in the tools that treats events by type (filing them into a
 :class:`~baseball_collision.tools.analyze.BagAnalysis`, writing them to an output bag) looks the
 type up once in :data:`EVENT_KINDS`. The record of an event (JSON, CSV, the table's cells, the
 node's ``~/impact_report``) is made in one place,
-:func:`baseball_collision.core.records.event_record`. Events of a type not in the table
-are not kept (of a ``PredictionCleared`` a :class:`BagAnalysis` keeps when it came, which ends the
-prediction in force when predictions are scored).
+:func:`baseball_collision.core.records.event_record`. Events of a type not in the table are not
+kept. (A ``PredictionCleared`` has no record: it is kept because it ends the prediction in force
+when predictions are scored.)
 """
 
 from dataclasses import dataclass
 from typing import Any, Dict, Optional
 
-from ..core.detector import Impact, NearMiss, Prediction, StateReset, StreamGap
+from ..core.detector import Impact, NearMiss, Prediction, PredictionCleared, StateReset, StreamGap
 
 
 @dataclass(frozen=True)
@@ -33,6 +33,7 @@ EVENT_KINDS: Dict[type, EventKind] = {
     Impact: EventKind('impact', 'impacts'),
     NearMiss: EventKind('near_miss', 'near_misses'),
     Prediction: EventKind('prediction', 'predictions'),
+    PredictionCleared: EventKind('prediction_cleared', 'cleared'),
     StreamGap: EventKind('gap', 'gaps'),
     StateReset: EventKind('reset', 'resets'),
 }

@@ -31,7 +31,8 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, POINT_STAMPED
 from baseball_collision.core.detector import (
-    Detector, DetectorConfig, Impact, NearMiss, Prediction, StateReset, StreamGap)
+    Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
+    StreamGap)
 import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
@@ -197,9 +198,9 @@ def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
         one = BagAnalysis(path=bag_path(name), selection=bag.selection, config=chunked.config)
         detector = Detector(chunked.config)
         count, _ = run_detector(bag.samples(), detector, [one], None, one.drops_by_role)
-    assert chunked.predictions and chunked.impacts and chunked.cleared_ns
+    assert chunked.predictions and chunked.impacts and chunked.cleared
     assert count == chunked.messages
-    for name in ('impacts', 'near_misses', 'predictions', 'cleared_ns', 'gaps', 'resets',
+    for name in ('impacts', 'near_misses', 'predictions', 'cleared', 'gaps', 'resets',
                  'drops_by_role'):
         assert getattr(one, name) == getattr(chunked, name), name
     assert detector.stats.intervals == chunked.stats.intervals
@@ -357,7 +358,7 @@ def test_prediction_scores_index_the_predictions_once(monkeypatch: pytest.Monkey
             made = base + 250_000_000 + 25_000_000 * k
             analysis.predictions.append(replace(prediction, made_at_ns=made,
                                                 stamp_ns=base + 500_000_000))
-        analysis.cleared_ns.append(base + 510_000_000)  # the contact happened: cleared
+        analysis.cleared.append(PredictionCleared(made_at_ns=base + 510_000_000))  # (hit)
     built = []
     index_class = analyze_module.PredictionIndex
 
