@@ -379,6 +379,31 @@ and up at 90 Hz, 1.5 and up above (the quintic's end amplifies noise; BENCHMARKS
 sweet-spot speed of exact samples from the quintic spline")."""
 
 
+def quintic_check(times: Sequence[float], samples: Sequence[BatSample]) -> Optional[bool]:
+    """
+    Return whether the bat's samples follow the quintic spline closely: exact, not noisy.
+
+    The quintic spline of the ``c2`` chart rows through all but the newest sample, continued to
+    the newest, misses it (the larger of knob and tip) by at most ``QUINTIC_CHECK_RATIO`` times
+    the cubic spline's continuation does, or by at most ``noise.NOISE_FLOOR``: noise the
+    detector was not told of fails it (the quintic's end weights amplify it). None where no
+    quintic is fitted (``splines.quintic_window``: seven samples or more here, steps within a
+    factor 2).
+
+    :param times, samples: the window (s, bat samples), oldest first.
+    """
+    newest = len(samples) - 1
+    if newest < 6:
+        return None
+    shorter = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2, True)
+    if shorter.knob.e is None:
+        return None
+    cubic = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2)
+    misses = [max(map(math.dist, fit.at(times[-1]), (samples[-1].knob, samples[-1].tip)))
+              for fit in (shorter, cubic)]
+    return misses[0] <= max(QUINTIC_CHECK_RATIO * misses[1], NOISE_FLOOR)
+
+
 def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
                       t: float) -> Optional[Tuple[Vector, Vector]]:
     """
@@ -391,23 +416,15 @@ def quintic_bat_rates(times: Sequence[float], samples: Sequence[BatSample],
     and tip) by at most ``QUINTIC_CHECK_RATIO`` times the cubic spline's continuation does, or
     by at most ``noise.NOISE_FLOOR`` (both exact to within rounding: a bat turning steadily
     about a fixed axis). Noise the detector was not told of fails that check (the quintic's end
-    weights amplify it). None where the check fails, or where either window takes no quintic
-    (``splines.quintic_window``: six samples or more, so seven here, steps within a factor 2).
+    weights amplify it: ``quintic_check``). None where the check fails, or where either window
+    takes no quintic (``splines.quintic_window``: six samples or more, so seven here, steps
+    within a factor 2).
 
     :param times, samples: the window (s, bat samples), oldest first, all at or before t.
     """
-    newest = len(samples) - 1
-    if newest < 6:
-        return None
-    shorter = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2, True)
-    if shorter.knob.e is None:
-        return None
-    cubic = C2BatPath.fitted(times[:-1], samples[:-1], newest - 2)
-    misses = [max(map(math.dist, fit.at(times[-1]), (samples[-1].knob, samples[-1].tip)))
-              for fit in (shorter, cubic)]
-    if misses[0] > max(QUINTIC_CHECK_RATIO * misses[1], NOISE_FLOOR):
+    if not quintic_check(times, samples):
         return None  # (the check first: noisy samples, the common refusal, fit no more)
-    path = C2BatPath.fitted(times, samples, newest - 1, True)
+    path = C2BatPath.fitted(times, samples, len(samples) - 2, True)
     if path.knob.e is None:
         return None
     return path.knob.velocity(t), swing_rate(path, t)

@@ -23,7 +23,7 @@ from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
     stream_noise)
 from .gate import Clock
-from .kinematics import c2_velocities, fit_velocities, rigid_bat, SPARSE_SAMPLES
+from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, substeps_for
@@ -333,7 +333,11 @@ class Sweep:
         the bat braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the
         velocities' rule) only a quintic continuation (``splines.quintic_window``): a cubic's
         over a whole step is the larger error in the spot there (BENCHMARKS.md, "A hit's bat
-        continued on the quintic"). None elsewhere. ``bat_ahead`` True takes the continuation
+        continued on the quintic"). At a higher rate only where the window up to the opening
+        frame passes the velocities' quintic check (``kinematics.quintic_check``): a cubic
+        continued from noisy samples the detector was not told of is worse than the frame that
+        braked (BENCHMARKS.md, "A hit's bat continued only from samples that pass the quintic
+        check"). None elsewhere. ``bat_ahead`` True takes the continuation
         at every hit (with noise: of the smoothed window), False never.
         """
         ball, bat, config = self.ball, self.bat, self.config
@@ -345,6 +349,11 @@ class Sweep:
             return None
         quintic = self.bat_ahead is None and len(bat.history(
             bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES
+        if self.bat_ahead is None and not quintic:
+            window = bat.history(bat.times[bat_k], 1.0)[-config.spline_window:]
+            if quintic_check([bat.times[i] for i in window],
+                             [bat.values[i] for i in window]) is False:
+                return None  # noise the detector was not told of: its continuation is worse
         path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
                             stream_noise(bat, config), quintic)
         if path is None or self.bat_ahead:
