@@ -324,24 +324,24 @@ class Sweep:
         Return the paths with the bat continued from before the interval at a hit, or None.
 
         Where the ball has left its flight over the interval (``departure``: a hit), the bat's
-        closing frame is after the contact, which slows a real bat within 1-3 ms: its path
-        through that frame is late. Under ``c2`` with exact bat samples the bat's path
-        continued from the window up to the opening frame (``fitting.c2_bat_ahead``) is the
-        better one there (BENCHMARKS.md, "A ball that leaves the bat"), where the closing frame
-        has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous
-        frame left its own (the samples follow their continuation closely: exact, not noisy;
-        the bat braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the
-        velocities' rule) only a quintic continuation (``splines.quintic_window``): a cubic's
-        over a whole step is the larger error in the spot there (BENCHMARKS.md, "A hit's bat
-        continued on the quintic"). At a higher rate only where the window up to the opening
-        frame passes the velocities' quintic check (``kinematics.quintic_check``): a cubic
-        continued from noisy samples the detector was not told of is worse than the frame that
-        braked (BENCHMARKS.md, "A hit's bat continued only from samples that pass the quintic
-        check"). None elsewhere. ``bat_ahead`` True takes the continuation
-        at every hit (with noise: of the smoothed window), False never.
+        closing frame is after the contact, which slows a real bat within 1-3 ms: its path through
+        that frame is late, under every model. With exact bat samples the bat's path continued from
+        ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the better one there
+        (BENCHMARKS.md, "A ball that leaves the bat"; for every model, as the ball's free flight
+        is: "A hit's bat continued under every model"), where the closing frame has left that
+        continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous frame left its own
+        (the samples follow their continuation closely: exact, not noisy; the bat braked). At a low
+        rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities' rule) only a
+        quintic continuation (``splines.quintic_window``): a cubic's over a whole step is the
+        larger error in the spot there (BENCHMARKS.md, "A hit's bat continued on the quintic"). At
+        a higher rate only where the window up to the opening frame passes the velocities' quintic
+        check (``kinematics.quintic_check``): a cubic continued from noisy samples the detector was
+        not told of is worse than the frame that braked (BENCHMARKS.md, "A hit's bat continued only
+        from samples that pass the quintic check"). None elsewhere. ``bat_ahead`` True takes the
+        continuation at every hit (with noise: of the smoothed window), False never.
         """
         ball, bat, config = self.ball, self.bat, self.config
-        if self.model != 'c2' or self.bat_ahead is False or (
+        if self.bat_ahead is False or (
                 self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
