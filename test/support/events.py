@@ -1,8 +1,10 @@
 """Detector events of the shared swing (``scenes``), for tests of what the node makes of them."""
 
-from typing import Any, List, Tuple
+from typing import Any, List, Sequence, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Event, Impact
+from baseball_collision.core.detector.chunks import ROLE_CODES
+import numpy as np
 
 from .scenes import BASE_NS, pitch, pose
 
@@ -30,3 +32,16 @@ def detect(config: DetectorConfig, samples: Any) -> Tuple[Detector, List[Impact]
         events += detector.add(role, stamp, values)
     events += detector.finish()
     return detector, [event for event in events if isinstance(event, Impact)]
+
+
+Row = Tuple[str, int, Tuple[float, ...], str]
+"""(role, stamp in ns, values, frame_id)."""
+
+
+def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, List[str]]:
+    """Return rows as ``add_chunk``'s arrays."""
+    values = np.zeros((len(rows), 7))
+    for r, row in enumerate(rows):
+        values[r, :len(row[2])] = row[2]
+    return (np.array([ROLE_CODES[row[0]] for row in rows], np.int8),
+            np.array([row[1] for row in rows], np.int64), values, [row[3] for row in rows])

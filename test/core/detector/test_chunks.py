@@ -16,7 +16,6 @@ from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared)
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
-from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.noise import HISTORY, POSE_SPAN
 import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import Predictor
@@ -28,11 +27,9 @@ from hypothesis import example, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
+from support.events import arrays, Row
 from support.far import tilting_bat
 from support.scenes import BASE_NS, pitch, pose, swing
-
-Row = Tuple[str, int, Tuple[float, ...], str]
-"""(role, stamp in ns, values, frame_id)."""
 
 STATS = ('received', 'dropped', 'impacts', 'near_misses', 'gaps', 'resets', 'intervals',
          'substeps', 'newest_stamp_ns', 'last_drop_reason')
@@ -114,15 +111,6 @@ def one_at_a_time(config: DetectorConfig, rows: Sequence[Row],
     for late in detector.stats.late_drops:
         drops[late.role, late.reason] += 1
     return events, drops, detector
-
-
-def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, List[str]]:
-    """Return rows as ``add_chunk``'s arrays."""
-    values = np.zeros((len(rows), 7))
-    for r, row in enumerate(rows):
-        values[r, :len(row[2])] = row[2]
-    return (np.array([ROLE_CODES[row[0]] for row in rows], np.int8),
-            np.array([row[1] for row in rows], np.int64), values, [row[3] for row in rows])
 
 
 def in_chunks(config: DetectorConfig, rows: Sequence[Row], sizes: Sequence[int],
@@ -799,13 +787,13 @@ def test_the_kernels_bat_samples_are_the_samples_the_arrays_make() -> None:
     plain = _kernel.bat_samples(Plain, knob, tip, position, quaternion, 8, 9)[0]
     assert plain.fields == (tuple(knob[8].tolist()), tuple(tip[8].tolist()),
                             tuple(position[8].tolist()), tuple(quaternion[8].tolist()))
-    for arrays, first, last in (((knob, tip, position, quaternion[:8]), 0, 1),
-                                ((knob, tip, position, knob), 0, 1),
-                                ((knob, tip, position, quaternion), 5, 10),
-                                ((knob, tip, position, quaternion), 3, 2),
-                                ((knob.astype(np.float32), tip, position, quaternion), 0, 1)):
+    for columns, first, last in (((knob, tip, position, quaternion[:8]), 0, 1),
+                                 ((knob, tip, position, knob), 0, 1),
+                                 ((knob, tip, position, quaternion), 5, 10),
+                                 ((knob, tip, position, quaternion), 3, 2),
+                                 ((knob.astype(np.float32), tip, position, quaternion), 0, 1)):
         with pytest.raises(ValueError):
-            _kernel.bat_samples(BatSample, *arrays, first, last)
+            _kernel.bat_samples(BatSample, *columns, first, last)
 
 
 def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:

@@ -8,7 +8,6 @@ from typing import Any, Dict, List, Sequence
 from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
-from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.departure import (
     DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, flight_path,
     leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
@@ -26,7 +25,7 @@ import numpy as np
 import pytest
 from support import examples
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS, time_bound_ns
-from support.events import detect
+from support.events import arrays, detect
 
 RATE = 90.0
 
@@ -235,15 +234,9 @@ def test_a_bat_tracked_faster_than_the_ball_has_one_impact_per_hit(model: str) -
         t = (impacts[0].stamp_ns - samples.start_ns) * 1e-9
         assert abs(t - scenario.truth.time_s) < (1e-3 if model == 'linear' else 2e-4)
         chunked, events = Detector(config), []
-        for part in np.array_split(np.arange(len(messages := samples.messages('pose'))), 3):
-            rows = [messages[j] for j in part]
-            values = np.zeros((len(rows), 7))
-            for r, (_, _, row) in enumerate(rows):
-                values[r, :len(row)] = row
-            events += chunked.add_chunk(np.array([ROLE_CODES[role] for _, role, _ in rows],
-                                                 np.int8),
-                                        np.array([stamp for stamp, _, _ in rows], np.int64),
-                                        values, ['world'] * len(rows))
+        rows = [(role, stamp, values, 'world') for stamp, role, values in samples.messages('pose')]
+        for part in np.array_split(np.arange(len(rows)), 3):
+            events += chunked.add_chunk(*arrays([rows[j] for j in part]))
         events += chunked.finish()
         assert [e for e in events if isinstance(e, Impact)] == impacts
         assert chunked.stats.intervals == detector.stats.intervals
