@@ -28,7 +28,7 @@ from baseball_collision.core.detector import chunks
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.report import to_json
 from baseball_collision.tools.truth import compare_truth, load_truth, truth_path
-from bench_analyze import density, WORST_SPACING_S, write_bag
+from bench_analyze import density, named_model, WORST_SPACING_S, write_bag
 
 
 def _timed(function, *args, **kwargs):
@@ -105,7 +105,9 @@ def main() -> None:
     """Write the bag, time the runs in turn and the report steps, print the figures."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--messages', type=int, default=2_880_000)
-    parser.add_argument('--model', default='spline', choices=('linear', 'rigid', 'spline'))
+    parser.add_argument('--model', default='spline',
+                        choices=('linear', 'rigid', 'spline', 'c2', 'default'),
+                        help="motion model (default spline; 'default': analyze's own)")
     parser.add_argument('--period', type=float, default=0.0,
                         help='prediction_period of the predicting run (s; default 0)')
     parser.add_argument('--pitch-every', type=float, default=WORST_SPACING_S, metavar='SECONDS',
@@ -121,8 +123,9 @@ def main() -> None:
         path = Path(directory) / 'bench.mcap'
         written, seconds = write_bag(path, args.messages, args.pitch_every)
         print(f'bag: {written:,} messages written in {seconds:.1f} s')
-        plain_options = AnalysisOptions(model=args.model)
-        options = AnalysisOptions(model=args.model, prediction_horizon=0.3,
+        model = named_model(args.model)
+        plain_options = AnalysisOptions(model=model)
+        options = AnalysisOptions(model=model, prediction_horizon=0.3,
                                   parameters={'prediction_period': args.period})
         for round_ in range(args.repeats):
             with StopCount() as plain_stops:

@@ -12,11 +12,9 @@ chunk is planned again (:func:`feed_chunk`, the detector's ``add_chunk``). A pla
 doubles the next one's length (``PLAN_MAX`` up to ``PLAN_LONGEST``), and only the samples a
 fast-forward keeps after its trim become the streams' Python lists.
 
-With prediction on, a fast-forward sums the bat's turns up to its newest sample at each
-frame's cursor as ``Predictor.predict`` does (``streams.sum_turns``), and moves the
-predictor's ``last_ns``; a stop for the predictor alone (a due frame that could forecast or
-clear a prediction) is taken by the run before it, then ``Predictor.predict`` (its walk is
-the plan's, far).
+With prediction on, a fast-forward moves the predictor's ``last_ns``; a stop for the
+predictor alone (a due frame that could forecast or clear a prediction) is taken by the run
+before it, then ``Predictor.predict`` (its walk is the plan's, far).
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py).
@@ -24,7 +22,6 @@ Identical output to feeding the samples one at a time is the contract
 
 from bisect import bisect_left
 from collections import Counter
-import math
 import time
 from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
@@ -36,9 +33,8 @@ from .intake import Offer
 from .noise import NoiseEstimate
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
-from .streams import Stream, sum_turns, Turn
-from ..geometry import Vector
-from ..motion import BatSample, turn_between
+from .streams import Stream
+from ..motion import BatSample
 from ..toi import _kernel
 from ...errors import CoreError
 
@@ -76,7 +72,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
         with the scheduler: the intervals, then the trim, then the prediction).
     :param stop: also append sample ``end`` after the run's walk and trim (a near stop that
-        passes every check, whose own walk the caller makes; without prediction): one
+        passes every check, whose own walk the caller makes): one
         append, one trim and one bulk estimate instead of two of each, the same state.
     :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
         takes the run's samples as ``Detector.add`` updates them after each sample (at once,
@@ -84,7 +80,6 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``.
     :returns: the newest stamp taken (ns).
     """
-    turns = _run_turns(plan, pos, end, bat) if walk and plan.newest is not None else None
     # each stream in turn (the kernel's): its run's samples appended but those the trim after
     # the run drops at once (never made), the estimate taken (one sample appended: after the
     # append, as ``Detector.add`` does, ``update``; else every sample of the run before it,
@@ -95,8 +90,6 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         stats.received[Role.BALL] += ball_taken
     if bat_taken:
         stats.received[Role.BAT_POSE] += bat_taken
-    if turns is not None:  # (the kept samples' turns: the run's last len(bat.times))
-        bat.turns[:] = turns[len(turns) - len(bat.times):]
     if walk:
         before = plan.visited[pos - 1] if pos else 1
         after = plan.visited[end - 1]
@@ -111,81 +104,6 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
         stats.newest_stamp_ns = newest
     return newest
-
-
-def _run_turns(plan: Plan, pos: int, end: int, bat: Stream) -> List[Optional[Turn]]:
-    """
-    Return the bat's turns after plan samples pos..end-1 as ``Predictor.predict`` leaves them.
-
-    From the stream's first sample before the run to the run's last: each frame sums the turns
-    up to the bat's newest sample at its cursor (``Plan.newest``) after its step's trim
-    (``Plan.starts``), the same sums in the same order (``streams.sum_turns``), of the same
-    steps (:func:`turn_steps` between two of the plan's samples, else ``turn_between``).
-    """
-    counts, starts, newest, pre = plan.counts[1], plan.starts[1], plan.newest, plan.pre[1]
-    a = counts[pos - 1] if pos else pre
-    b = counts[end - 1]
-    base = a - len(bat.times)  # the stream's first sample, counted as the plan counts
-    turns = bat.turns + [None] * (b - a)
-    values = bat.values
-    if plan.steps is None:
-        plan.steps = turn_steps(*(plan.values[1][c] for c in (0, 1, 3)))
-    steps = plan.steps
-
-    def step(i: int) -> Tuple[Vector, float]:
-        """Return the turn to sample i (counted from ``base``) from the one before."""
-        i += base
-        if i > pre:
-            return steps[i - pre - 1]
-        new = plan.values[1]  # (i == pre: the plan's first sample after the stream's last)
-        sample = values[i - base] if i < a else BatSample(
-            *(tuple(new[c][i - pre].tolist()) for c in range(4)))
-        return turn_between(values[i - 1 - base], sample)
-    for j in range(pos, end):
-        k = newest[j]
-        if k >= 0:
-            sum_turns(turns, k - base, starts[j] - base, step)
-    return turns
-
-
-def turn_steps(knob: np.ndarray, tip: np.ndarray,
-               quaternion: np.ndarray) -> List[Tuple[Vector, float]]:
-    """
-    Return ``motion.turn_between`` from each bat sample to the next (m - 1 of m, pose input).
-
-    The same operations in the same order on arrays (the angles by ``math.atan2`` itself), so
-    the same bits: each step's swing rotation vector (rad, world frame) and roll (rad).
-
-    :param knob, tip: (m, 3) points (m); ``quaternion``: (m, 4) unit, (x, y, z, w).
-    """
-    with np.errstate(all='ignore'):
-        d = tip - knob
-        ux, uy, uz = d[:-1].T
-        vx, vy, vz = d[1:].T
-        tx, ty, tz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-        sine = np.sqrt(tx * tx + ty * ty + tz * tz)
-        angle = np.array(list(map(math.atan2, sine.tolist(),
-                                  (ux * vx + uy * vy + uz * vz).tolist())))
-        factor = angle / sine
-        moving = sine > 0.0
-        swing = np.stack((np.where(moving, tx * factor, 0.0), np.where(moving, ty * factor, 0.0),
-                          np.where(moving, tz * factor, 0.0)), axis=1)
-        x0, y0, z0, w0 = quaternion[:-1].T
-        x1, y1, z1, w1 = quaternion[1:].T
-        w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
-        x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
-        y = -w1 * y0 + y1 * w0 - z1 * x0 + x1 * z0
-        z = -w1 * z0 + z1 * w0 - x1 * y0 + y1 * x0
-        sign = np.where(w < 0.0, -1.0, 1.0)  # (the shorter arc: an exact sign flip)
-        w, x, y, z = w * sign, x * sign, y * sign, z * sign
-        part = np.sqrt(x * x + y * y + z * z)
-        half = np.array(list(map(math.atan2, part.tolist(), w.tolist())))
-        g = 2.0 * half / part
-        mx, my, mz = ux + vx, uy + vy, uz + vz
-        length = np.sqrt(mx * mx + my * my + mz * mz)
-        roll = ((x * g) * mx + (y * g) * my + (z * g) * mz) / length
-        roll = np.where((part == 0.0) | (length == 0.0), 0.0, roll)
-    return list(zip(map(tuple, swing.tolist()), roll.tolist()))
 
 
 CHUNK_MIN = 16
@@ -273,7 +191,7 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
         forecast = end < plan.n and plan.forecasts is not None and plan.forecasts[end]
         stop = end + 1 if forecast else end
         # a near stop that passes every check is appended with the run before it
-        joined = stop > pos and end < plan.n and last_due is None and plan.checked[end]
+        joined = stop > pos and end < plan.n and not forecast and plan.checked[end]
         if stop > pos:
             start = time.perf_counter()
             _fast_forward(detector, plan, pos, stop, events, walk=True, stop=joined)

@@ -11,13 +11,12 @@ arrays: bounding spheres and hulls of the raw samples), then where it does not, 
 and how each step trims the streams. Every other sample (a drop, a held or voted one, one
 that makes a near interval decidable) is a *stop*. A stream's first sample after a gap is
 planned as the intake takes it: held until the stream's next sample, which takes both (a
-pause between pitches does not end a plan); without prediction neither is a stop (the
-fast-forward that takes the second appends both, the first starting a segment).
+pause between pitches does not end a plan); neither is a stop (the fast-forward that takes
+the second appends both, the first starting a segment).
 
 With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
 ``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
-(:func:`_prediction_stops`: stops), the predictor's ``last_ns`` after each sample, and the
-bat's newest sample at each frame's cursor (whose turns the predictor sums).
+(:func:`_prediction_stops`: stops) and the predictor's ``last_ns`` after each sample.
 
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
 path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models is planned
@@ -94,10 +93,7 @@ class Plan:
     :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` before the
         plan, then after each sample (n + 1); ``due``: the due frames (samples, sorted);
         ``forecasts``: per sample, whether it stops for the predictor alone (it passes every
-        check and only visits far intervals); ``newest``: the bat's newest sample at the
-        cursor after each sample that moves it (counted as ``counts``), -1 after one that
-        does not; ``steps``: the bat's turn from each of the chunk's bat samples to the next
-        (``chunks.turn_steps``), made when a run first sums turns.
+        check and only visits far intervals).
 
     The stops are a Python list once planned; the other per-sample indices and the union are
     read as Python numbers one at a time (:func:`items`: a run reads a few of its thousands);
@@ -106,8 +102,7 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due', 'forecasts',
-                 'newest', 'steps')
+                 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due', 'forecasts')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -221,16 +216,11 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan = Plan()
     plan.n, plan.pre = n, arrays.pre
     # a held sample and the one that takes it are taken as planned (the run that takes the
-    # second appends both, the first starting a segment: ``Plan.breaks``); with prediction on
-    # (whose turn sums restart there), when the second is past the plan's end or a stop
-    # (below), through the per-sample path
-    through = predictor is None
-    plan.holds = [(x, y) for x, y in held if y < n] if through else []
+    # second appends both, the first starting a segment: ``Plan.breaks``); when the second is
+    # past the plan's end, the first through the per-sample path (a stop after it: below)
+    plan.holds = [(x, y) for x, y in held if y < n]
     for x, y in held:
-        if through and y < n:
-            ok[x] = True
-        else:
-            ok[y if y < n else x] = False
+        ok[x] = y < n
     done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
     starts = plan.union[:int(plan.visited[-1]) - 1] if n else plan.union[:0]
     far = _far_intervals(config, offsets, arrays, starts, _hull_reaches(
@@ -247,7 +237,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
             stops[x] = stops[y] = True
         if stopped:
             plan.holds = [hold for hold in plan.holds if not stops[hold[1]]]
-    plan.last_due = plan.due = plan.forecasts = plan.newest = plan.steps = None
+    plan.last_due = plan.due = plan.forecasts = None
     if predictor is not None and n:
         forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
         stops |= forecasts
@@ -267,24 +257,22 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
 def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
                       predictor: 'Predictor', origin: int) -> np.ndarray:
     """
-    Return which samples must stop for the predictor; set the plan's due frames, ``newest``.
+    Return which samples must stop for the predictor; set the plan's due frames.
 
-    After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` sums the bat's
-    turns up to its newest sample at the cursor; on a due frame (``prediction_due``) it sets
-    ``last_ns``, then forecasts when armed and ``_may_reach`` holds, else clears a prediction
-    in force. A frame between stops only visits far intervals, which arm: its due frame
-    stops when a bat plan is set or the ball may reach the bat (``_may_reach`` from the
-    newest two samples of each stream, decided here with ``SLACK`` to spare), and, with a
-    prediction in force, the first due frame that does not (it clears it); the other due
-    frames only move ``last_ns``. A stop that makes a prediction (the next due frame not a
-    stop) or leaves ``last_ns`` elsewhere overturns the plan (``_follow``).
+    After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` runs; on a
+    due frame (``prediction_due``) it sets ``last_ns``, then forecasts when armed and
+    ``_may_reach`` holds, else clears a prediction in force. A frame between stops only
+    visits far intervals, which arm: its due frame stops when a bat plan is set or the ball
+    may reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
+    with ``SLACK`` to spare), and, with a prediction in force, the first due frame that does
+    not (it clears it); the other due frames only move ``last_ns``. A stop that makes a
+    prediction (the next due frame not a stop) or leaves ``last_ns`` elsewhere overturns the
+    plan (``_follow``).
     """
     n = plan.n
     visited = plan.visited
     moved = visited > np.concatenate(([1], visited[:-1]))
     cursors = plan.union[visited - 1]
-    plan.newest = np.where(moved, _search_right(arrays.times[1], cursors) - 1,
-                           -1).tolist()
     frames = np.flatnonzero(moved)
     # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
     now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()

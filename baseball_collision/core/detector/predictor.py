@@ -98,17 +98,12 @@ class Predictor:
         Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended.
 
         Nothing at all, the last prediction staying in force, when t0 is less than
-        ``prediction_period`` after the last frame that predicted (``prediction_due``). Every
-        frame sums the bat's cumulative turn up to its newest sample at t0 (``Stream.turn``, the
-        same sums in the same order), so a frame that predicts after a period does not sum the
-        whole period's turns at once: the work is spread over the frames.
+        ``prediction_period`` after the last frame that predicted (``prediction_due``). The
+        bat's cumulative turns are summed only when a forecast needs them (``turn_rows``: the
+        kernel's ``fill_turns``, a microsecond for a period's steps), as for an impact.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
-        bat = self.bat
-        newest = bat.interval(t0)
-        if newest >= 0:  # the bat's turns as its samples come, not all at the predicting frame
-            bat.turn(newest)
         if not prediction_due(self.last_ns, now_ns, config.prediction_period):
             return
         self.last_ns = now_ns

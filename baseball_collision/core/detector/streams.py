@@ -8,7 +8,7 @@ really moved); nothing is interpolated across a segment break or a gap longer th
 """
 
 from bisect import bisect_right
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from ..motion import BatSample
 from ..toi import _kernel
@@ -166,38 +166,13 @@ class Stream:
         """
         Return the cumulative turn of bat sample k, summing the missing steps once.
 
-        ``sum_turns`` with ``turn_between``'s steps, in the kernel (``_kernel.fill_turns``: the
-        same sums; at an impact the steps since the last one known, hundreds on a session).
+        ``motion.turn_between``'s steps from the last turn known at or before k, summed in
+        order in the kernel (``_kernel.fill_turns``; at an impact or a forecast the steps since
+        the last one known, hundreds on a session); where none is known from the stream's first
+        sample on (trimmed past its segment's start), that sample becomes the new zero
+        reference (only differences of turns are ever used).
         """
         turns = self.turns
         found = turns[k]
         return found if found is not None else _kernel.fill_turns(
             self.values, turns, 0, k if k >= 0 else k + len(turns))
-
-
-Step = Callable[[int], Tuple[Tuple[float, float, float], float]]
-"""The bat's turn from sample i - 1 to sample i (``motion.turn_between``: swing vector, roll)."""
-
-
-def sum_turns(turns: List[Optional[Turn]], k: int, first_kept: int, step: Step) -> Turn:
-    """
-    Fill ``turns[k]`` (a bat's cumulative turns, rad) and the missing ones before it; return it.
-
-    The steps from the last known turn at or before k are summed in order (``step``); when
-    none is known from ``first_kept`` (the stream's first sample after its trim) on, the
-    stream was trimmed past its segment's start and ``turns[first_kept]`` becomes the new zero
-    reference (only differences of turns are ever used). ``Stream.turn`` on its own lists; the
-    chunk path on a fast-forward's samples, trimmed later.
-    """
-    first = k
-    while turns[first] is None:
-        if first == first_kept:  # trimmed past the segment start: a new (zero) reference
-            turns[first] = _ZERO_TURN
-            break
-        first -= 1  # a segment's first sample always has its turn (zero)
-    for i in range(first + 1, k + 1):
-        swing, roll = step(i)
-        last = turns[i - 1]
-        turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
-                    last[3] + roll)
-    return turns[k]

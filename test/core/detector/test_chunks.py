@@ -20,7 +20,7 @@ from baseball_collision.core.detector.noise import HISTORY, POSE_SPAN
 import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.motion import BatSample, turn_between
+from baseball_collision.core.motion import BatSample
 from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample
 from hypothesis import example, given, HealthCheck, settings, strategies as st
@@ -221,7 +221,7 @@ def test_prediction_planned_same_as_one_at_a_time(model: str, period: float,
 
     Pitches 2 s apart, tracked throughout: the frames while a pitch flies are stops (due ones
     forecast, the ball may reach the bat), the ones while ball and bat rest are taken in runs,
-    which sum the bat's turns and move the predictor's last frame as it would. Every frame
+    which move the predictor's last frame as it would. Every frame
     where ``_may_reach`` holds one at a time is a stop in chunks, where it holds too.
     """
     reaching: List[int] = []
@@ -734,26 +734,6 @@ def test_vectorised_far_test_is_the_scalar_one(model: str, points: List[Tuple[fl
     for k in range(3):
         for margin in (clearance[k] - 1e-7, clearance[k] + 1e-7):
             assert clearly_apart(ball, bat, k, k, margin, model, 1.0) == (clearance[k] > margin)
-
-
-@settings(max_examples=examples(200), deadline=None)
-@given(rows=st.lists(st.tuples(*[st.floats(-3.0, 3.0)] * 10), min_size=2, max_size=12),
-       repeat=st.integers(0, 11))
-def test_turn_steps_are_turn_between_to_the_bit(rows: List[Tuple[float, ...]],
-                                                repeat: int) -> None:
-    """``turn_steps`` over arrays: ``turn_between`` of each pair of samples, bit for bit."""
-    rows = list(rows)
-    rows.insert(repeat % len(rows), rows[repeat % len(rows)])  # (no turn at all: zeros)
-    samples = []
-    for row in rows:
-        q = np.array(row[6:10])
-        q = q / (np.linalg.norm(q) or 1.0)
-        samples.append(BatSample(knob=tuple(row[0:3]), tip=tuple(row[3:6]),
-                                 position=tuple(row[0:3]), quaternion=tuple(q.tolist())))
-    steps = chunks_module.turn_steps(*(np.array([getattr(s, name) for s in samples])
-                                       for name in ('knob', 'tip', 'quaternion')))
-    expected = [turn_between(a, b) for a, b in zip(samples, samples[1:])]
-    assert [repr(step) for step in steps] == [repr(step) for step in expected]
 
 
 def test_the_kernels_bat_samples_are_the_samples_the_arrays_make() -> None:

@@ -1,7 +1,7 @@
 """Tests for the detector's sample buffer: intervals, segments, history, trimming, turns."""
 
 import math
-from typing import List, Set
+from typing import Callable, List, Optional, Set, Tuple
 
 from baseball_collision.core.detector.streams import MAX_HISTORY, Stream
 from baseball_collision.core.motion import BatSample
@@ -106,6 +106,30 @@ def test_history_is_the_segment_window_rule(steps: List[float], breaks: Set[int]
     assert list(stream.history(t, window)) == inside
 
 
+def _python_sums(turns: List[Optional[Tuple[float, ...]]], k: int, first_kept: int,
+                 step: Callable[[int], Tuple[Tuple[float, float, float], float]]
+                 ) -> Tuple[float, ...]:
+    """
+    Fill ``turns[k]`` and the missing turns before it as plain Python sums them (the reference).
+
+    The steps (``step(i)``: the turn from sample i - 1 to i) from the last known turn at or
+    before k, in order; where none is known from ``first_kept`` on, ``turns[first_kept]`` is
+    the zero reference.
+    """
+    first = k
+    while turns[first] is None:
+        if first == first_kept:
+            turns[first] = (0.0, 0.0, 0.0, 0.0)
+            break
+        first -= 1
+    for i in range(first + 1, k + 1):
+        swing, roll = step(i)
+        last = turns[i - 1]
+        turns[i] = (last[0] + swing[0], last[1] + swing[1], last[2] + swing[2],
+                    last[3] + roll)
+    return turns[k]
+
+
 @settings(max_examples=examples(60), deadline=None)
 @given(seed=st.integers(0, 10_000), n=st.integers(1, 80), posed=st.booleans(),
        breaks=st.sets(st.integers(1, 79), max_size=4), known=st.sets(st.integers(0, 79),
@@ -116,13 +140,12 @@ def test_the_kernels_turns_are_the_python_sums(seed: int, n: int, posed: bool,
                                                breaks: Set[int], known: Set[int],
                                                first_kept: int, asks: List[int]) -> None:
     """
-    ``Stream.turn`` (the kernel's ``fill_turns``) fills the turns as ``sum_turns`` does.
+    ``Stream.turn`` (the kernel's ``fill_turns``) fills the turns as plain Python sums them.
 
     Random poses (or knob-tip samples), segment starts and turns already known anywhere; the
     same tuples, to the bit, whichever samples are asked for in whatever order, and with a
     zero reference where none is known from ``first_kept`` on.
     """
-    from baseball_collision.core.detector.streams import sum_turns
     from baseball_collision.core.motion import turn_between
     from baseball_collision.core.toi import _kernel
     rng = np.random.default_rng(seed)
@@ -142,7 +165,7 @@ def test_the_kernels_turns_are_the_python_sums(seed: int, n: int, posed: bool,
     for k in asks:
         if k < n:
             start = min(first_kept, k)
-            assert _kernel.fill_turns(values, mine, start, k) == sum_turns(
+            assert _kernel.fill_turns(values, mine, start, k) == _python_sums(
                 theirs, k, start, lambda i: turn_between(values[i - 1], values[i]))
             assert mine == theirs
     with pytest.raises(IndexError):
