@@ -12,10 +12,11 @@ and how each step trims the streams. Every other sample (a drop, a held or voted
 that makes a near interval decidable) is a *stop*. A stream's first sample after a gap is
 planned as the intake takes it: held until the stream's next sample, which takes both (a
 pause between pitches does not end a plan); neither is a stop (the fast-forward that takes
-the second appends both, the first starting a segment).
+the second appends both, the first starting a segment), unless the second is one, or with
+prediction on its held sample's step is a due frame.
 
-With prediction on, every sample whose walk moves the cursor (a frame) is also a frame of
-``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
+With prediction on, every step of the walk that moves the cursor (a frame) is also a frame
+of ``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
 (:func:`_prediction_stops`: stops) and the predictor's ``last_ns`` after each sample.
 
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
@@ -217,7 +218,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan.n, plan.pre = n, arrays.pre
     # a held sample and the one that takes it are taken as planned (the run that takes the
     # second appends both, the first starting a segment: ``Plan.breaks``); when the second is
-    # past the plan's end, the first through the per-sample path (a stop after it: below)
+    # past the plan's end, the first through the per-sample path, and both when the second is
+    # a stop (below)
     plan.holds = [(x, y) for x, y in held if y < n]
     for x, y in held:
         ok[x] = y < n
@@ -228,18 +230,20 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
-    if plan.holds:
-        # a taker that stops walks and trims once for its held sample's step and its own, the
-        # per-sample path twice (a trim leaves a short stream alone): both through it
-        stopped = [(x, y) for x, y in plan.holds if stops[y]]
-        for x, y in stopped:
-            ok[x] = ok[y] = False
-            stops[x] = stops[y] = True
-        if stopped:
-            plan.holds = [hold for hold in plan.holds if not stops[hold[1]]]
+    # a taker that stops walks and trims once for its held sample's step and its own, the
+    # per-sample path twice (a trim leaves a short stream alone): both through it
+    _through(plan, ok, stops, [(x, y) for x, y in plan.holds if stops[y]])
     plan.last_due = plan.due = plan.forecasts = None
     if predictor is not None and n:
-        forecasts = _prediction_stops(config, plan, arrays, predictor, origin) & ~stops
+        forecasts, due_steps = _prediction_stops(config, plan, arrays, predictor, origin,
+                                                 done, counts, visited)
+        # a taker whose held sample's step is a due frame: the per-sample path predicts after
+        # that step (and after its own), a fast-forward after its last only: both through it
+        if plan.holds:
+            takers = np.array([y for _, y in plan.holds], dtype=np.int64)
+            due_held = np.isin(done[takers] - 1, due_steps).tolist()
+            _through(plan, ok, stops, [hold for hold, due in zip(plan.holds, due_held) if due])
+        forecasts &= ~stops
         stops |= forecasts
         plan.forecasts = forecasts.tolist()
     # the indices as lists for fast_forward; the samples stay arrays, made lists (the
@@ -254,25 +258,39 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     return plan
 
 
-def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
-                      predictor: 'Predictor', origin: int) -> np.ndarray:
-    """
-    Return which samples must stop for the predictor; set the plan's due frames.
+def _through(plan: Plan, ok: np.ndarray, stops: np.ndarray,
+             pairs: Sequence[Tuple[int, int]]) -> None:
+    """Send held samples and their takers (``pairs`` of ``Plan.holds``) through ``add``."""
+    for x, y in pairs:
+        ok[x] = ok[y] = False
+        stops[x] = stops[y] = True
+    if pairs:
+        plan.holds = [hold for hold in plan.holds if not stops[hold[1]]]
 
-    After each frame (a sample whose walk moves the cursor) ``Predictor.predict`` runs; on a
-    due frame (``prediction_due``) it sets ``last_ns``, then forecasts when armed and
-    ``_may_reach`` holds, else clears a prediction in force. A frame between stops only
-    visits far intervals, which arm: its due frame stops when a bat plan is set or the ball
-    may reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
-    with ``SLACK`` to spare), and, with a prediction in force, the first due frame that does
-    not (it clears it); the other due frames only move ``last_ns``. A stop that makes a
+
+def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
+                      predictor: 'Predictor', origin: int, done: np.ndarray,
+                      counts: List[np.ndarray], visited: np.ndarray
+                      ) -> Tuple[np.ndarray, np.ndarray]:
+    """
+    Return which samples must stop for the predictor and the due steps; set the due frames.
+
+    ``done``, ``counts``, ``visited``: the walk's steps (``_walk``; a sample that takes a held
+    one makes two, each a frame of the per-sample path where it moves the cursor). After each
+    frame (a step that moves the cursor) ``Predictor.predict`` runs; on a due frame
+    (``prediction_due``) it sets ``last_ns``, then forecasts when armed and ``_may_reach``
+    holds, else clears a prediction in force. A frame between stops only visits far
+    intervals, which arm: its due frame stops when a bat plan is set or the ball may reach the
+    bat (``_may_reach`` from the newest two samples of each stream, decided here with
+    ``SLACK`` to spare), and, with a prediction in force, the first due frame that does not
+    (it clears it); the other due frames only move ``last_ns``. A stop that makes a
     prediction (the next due frame not a stop) or leaves ``last_ns`` elsewhere overturns the
     plan (``_follow``).
     """
     n = plan.n
-    visited = plan.visited
-    moved = visited > np.concatenate(([1], visited[:-1]))
-    cursors = plan.union[visited - 1]
+    steps = visited[1:int(done[-1]) + 1]  # the cursor's union index after each step
+    moved = steps > np.concatenate(([1], steps[:-1]))
+    cursors = plan.union[steps - 1]
     frames = np.flatnonzero(moved)
     # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
     now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()
@@ -281,20 +299,21 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     for j, stamp in zip(frames.tolist(), now):
         if prediction_due(last, stamp, period):
             last = stamp
-            due.append(j)
+            due.append(j + 1)
             due_ns.append(stamp)
-    after = np.searchsorted(np.array(due, dtype=np.int64), np.arange(n), 'right') - 1
+    due_steps = np.array(due, dtype=np.int64)
+    after = np.searchsorted(due_steps, done, 'right') - 1
     plan.last_due = [predictor.last_ns] + [predictor.last_ns if k < 0 else due_ns[k]
                                            for k in after.tolist()]
-    plan.due = due
+    due = np.searchsorted(done, due_steps)  # the sample that makes each due step
+    plan.due = due.tolist()
     stops = np.zeros(n, bool)
-    if not due:
-        return stops
-    due = np.array(due, dtype=np.int64)
+    if not len(due):
+        return stops, due_steps
     if predictor.plan is not None:  # (it may move the bat anywhere: _may_reach is True)
         stops[due] = True
-        return stops
-    ball, bat = plan.counts[0][due] - 1, plan.counts[1][due] - 1  # the newest of each
+        return stops, due_steps
+    ball, bat = counts[0][due_steps] - 1, counts[1][due_steps] - 1  # the newest of each
     ball_times, bat_times = arrays.times
     b0, b1 = rows(arrays.ball, ball - 1), rows(arrays.ball, ball)
     k0, k1 = rows(arrays.knobs, bat - 1), rows(arrays.knobs, bat)
@@ -310,7 +329,7 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     stops[due] = reaching
     if predictor.predicting and not reaching.all():
         stops[due[np.argmin(reaching)]] = True  # the first that does not: it clears
-    return stops
+    return stops, due_steps
 
 
 def _norms(rows: np.ndarray) -> np.ndarray:

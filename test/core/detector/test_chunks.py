@@ -254,17 +254,32 @@ def test_prediction_with_a_bat_plan_same_as_one_at_a_time(period: float) -> None
 
 
 @pytest.mark.parametrize('period', [0.0, 0.01])
-def test_prediction_across_pauses_same_as_one_at_a_time(period: float) -> None:
+@pytest.mark.parametrize('model', ['rigid', 'spline'])
+def test_prediction_across_pauses_same_as_one_at_a_time(model: str, period: float,
+                                                        monkeypatch: pytest.MonkeyPatch) -> None:
     """
     Tracking pauses 0.1 s after each pitch: across them, predictions as one at a time.
 
     A pause moves the cursor past the fits' history at once: the bat's turns are trimmed
-    past the last one summed, and the next frame sums from a new zero reference.
+    past the last one summed, and the next forecast sums from a new zero reference. Each
+    stream's first sample after it is held until its next, which takes both in two steps,
+    each a frame where it moves the cursor: a pair whose held sample's step is a due frame
+    goes through ``add``, which predicts after each (``spline``, a frame behind, with every
+    frame due: period 0; ``rigid``'s bat takers stop anyway, their interval across the pause
+    near).
     """
+    through: List[int] = []
+    send = plans_module._through
+
+    def counting(plan, ok, stops, pairs) -> None:  # (a taker that stops already: the first)
+        through.append(sum(not stops[y] for _, y in pairs))
+        send(plan, ok, stops, pairs)
+    monkeypatch.setattr(plans_module, '_through', counting)
     rows = [row for row in session((1.0, 1.3, 0.95, 1.1), spacing=0.6)
             if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
-    events = assert_same(predicting('rigid', period), rows, (8192,))
+    events = assert_same(predicting(model, period), rows, (8192,))
     assert any(isinstance(e, Prediction) for e in events)
+    assert (sum(through) > 0) == (model == 'spline' and period == 0.0)
 
 
 @settings(max_examples=examples(8), deadline=None,
