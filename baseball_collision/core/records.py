@@ -127,15 +127,23 @@ def contact_from_tip(impact: Impact) -> float:
     return along_axis_from_tip(impact.point, impact.knob, impact.tip)
 
 
+_AS_IS = frozenset((int, str, bool, type(None)))
+"""Classes :func:`plain` returns unchanged without a test (their subclasses, e.g. str enums,
+are tested)."""
+
+
 def plain(value: Any) -> Any:
     """Return ``value`` as strict JSON data: tuples as lists, str enums as str, NaN/inf None."""
+    if value.__class__ in _AS_IS:
+        return value
     if isinstance(value, float):
         return value if math.isfinite(value) else None
     if isinstance(value, (tuple, list)):  # a vector's finite floats without a call each
         return [item if item.__class__ is float and math.isfinite(item) else plain(item)
                 for item in value]
     if isinstance(value, dict):
-        return {str(key): plain(item) for key, item in value.items()}
+        return {key if key.__class__ is str else str(key): plain(item)
+                for key, item in value.items()}
     if isinstance(value, bool) or value is None:
         return value
     if isinstance(value, str):
