@@ -255,7 +255,8 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
     clock_sub, clocks = ros.collect(Clock, '/clock')
     process = subprocess.Popen(
         [str(SCRIPT), 'replay', str(bag_path('pitches_90hz.mcap')), '--rate', '40', '--loop',
-         '--wait-for', '/clock'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+         '--wait-for', '/clock'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        env=dict(os.environ, PYTHONFAULTHANDLER='1'))  # (a hang's stacks: SIGABRT below)
     try:
         deadline = time.monotonic() + 20.0
         jumped = False
@@ -269,8 +270,12 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
         try:  # it ends within a second when the machine is quiet; 60 s for a loaded one
             stdout, stderr = process.communicate(timeout=60)
         except subprocess.TimeoutExpired:  # never leave a looping replay behind
-            process.kill()
-            stdout, stderr = process.communicate()
+            process.send_signal(signal.SIGABRT)  # its threads' Python stacks into stderr
+            try:
+                stdout, stderr = process.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                stdout, stderr = process.communicate()
         ros.node.destroy_subscription(clock_sub)
     assert process.returncode == 0, stderr
     # the real count and elapsed time, not "in 0.0 s" and "(0 loops)"
