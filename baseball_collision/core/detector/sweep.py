@@ -16,7 +16,7 @@ from typing import Any, Callable, List, Optional, Tuple
 
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
-from .departure import DEPARTURE_FLOOR, flight_path, leaves_flight
+from .departure import DEPARTURE_FLOOR, flight_path, judging_noise, leaves_flight
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
@@ -254,11 +254,11 @@ class Sweep:
         flight fit's span fails its guard: the smoother then follows the departed frame).
         """
         ball, config = self.ball, self.config
-        gap, noise = config.max_gap, stream_noise(ball, config)
+        gap, noise, judged = config.max_gap, stream_noise(ball, config), judging_noise(config)
         if self.model == 'c2':
             window = c2_window(ball, k, gap, config.look_ahead, config.spline_window)
             for j in range(k + 1, window.stop - 1):  # the look-ahead ends at a departure
-                if leaves_flight(ball, j, noise, gap) is not None:
+                if leaves_flight(ball, j, judged, gap) is not None:
                     window = range(window.start, j + 1)
                     break
             fit = ball_flight(ball, k, window, noise, config)
@@ -267,11 +267,11 @@ class Sweep:
             path = c2_point_path(ball, k, window, noise)
         else:
             before, after = _neighbours(ball, k, gap)
-            if after is not None and leaves_flight(ball, k + 1, noise, gap) is not None:
+            if after is not None and leaves_flight(ball, k + 1, judged, gap) is not None:
                 after = None
             path = PointPath.build(self.model, ball.times[k], ball.times[k + 1], ball.values[k],
                                    ball.values[k + 1], before, after)
-        departed = leaves_flight(ball, k, noise, gap)
+        departed = leaves_flight(ball, k, judged, gap)
         return path if departed is None else flight_path(ball, k, departed)
 
     def _gap_at(self, state: State) -> float:
@@ -345,7 +345,7 @@ class Sweep:
                 self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
-        if leaves_flight(ball, ball_k, stream_noise(ball, config), config.max_gap) is None:
+        if leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
             return None
         quintic = self.bat_ahead is None and len(bat.history(
             bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES

@@ -70,7 +70,7 @@ import numpy as np
 
 from . import fitting
 from .config import DetectorConfig
-from .departure import leaves_flight
+from .departure import judging_noise, leaves_flight
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Impact, NearMiss
 from .fitting import (
@@ -396,7 +396,7 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     :param config, clock, ball, bat, offsets: the detector's, as they were when it found it.
     """
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
-    hit = leaves_flight(ball, ball.interval(ta), stream_noise(ball, config),
+    hit = leaves_flight(ball, ball.interval(ta), judging_noise(config),
                         config.max_gap) is not None
     # nothing newer than the oldest stream's newest sample: what the streams hold at an impact
     # whatever the order their samples arrived in (the node's) or were read in (``analyze``)
