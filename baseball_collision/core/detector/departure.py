@@ -11,14 +11,15 @@ closing stamp. Free flight misses it by the parabola's own error (the accelerati
 about three steps: micrometres for a pitch at 90 Hz) plus the noise; a hit by the velocity it
 gained times the time since the contact: centimetres.
 
-``leaves_flight`` calls the closing sample departed when it is more than ``DEPARTURE_FLOOR``
-from the parabola, outside the noise's ``DEPARTURE_CHI_SQUARE`` bound (three coordinates, each
-with the variance the noise gives the difference: sigma^2 (1 + sum of the squared Lagrange
-weights)), and far outside the misses of the intervals just before it (the samples' own
-scatter, whatever noise was told); a parabola through a departed sample is no free flight, so
-the two intervals after a departure do not depart. The sweep then moves the ball over that
-interval on the parabola (``flight_path``): where it would have gone, which is where the bat
-met it, and what it did after does not matter to the first contact.
+``leaves_flight`` calls the closing sample departed when it is more than ``DEPARTURE_FLOOR`` from
+the parabola, outside the told noise's ``DEPARTURE_CHI_SQUARE`` bound (none under ``tracker_noise``
+auto, whose estimate holds the frames judged: ``judging_noise``; three coordinates, each with the
+variance the noise gives the difference: sigma^2 (1 + sum of the squared Lagrange weights)), and
+far outside the misses of the intervals just before it (the samples' own scatter, whatever noise
+was told); a parabola through a departed sample is no free flight, so the two intervals after a
+departure do not depart. The sweep then moves the ball over that interval on the parabola
+(``flight_path``): where it would have gone, which is where the bat met it, and what it did after
+does not matter to the first contact.
 
 The far tests must let that path through: ``departure_reach`` bounds how far it strays from the
 interval's chord (the closing sample's distance from the parabola, plus the parabola's own
