@@ -6,8 +6,9 @@ Run: ``.venv/bin/python benchmarks/bench_prediction.py [--per-kind N] [--seed S]
 Scenarios: N of each contact kind (barrel, end cap, handle) from ``simulation.make_scenario``,
 tracked from 0.4 s before contact (about the release). Each is sampled at 90 and 360 Hz with
 timestamp jitter and 1 mm position noise and fed to a detector with a 0.3 s prediction horizon.
-For each lead time L the prediction taken is the one made at the last processed frame at least
-L before the true contact; a frame without a prediction counts as not predicted. Errors: the
+For each lead time L the prediction scored is the one in force L before the true contact (the
+last made, unless a ``PredictionCleared`` came since: what the node publishes; none counts as
+not predicted). Errors: the
 predicted impact stamp minus the true one (ms), and the distance (cm) from the predicted to the
 true contact point.
 
@@ -25,6 +26,7 @@ import time
 from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
+from baseball_collision.core.detector.events import PredictionCleared
 from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, Scenario, truth_dict
 from baseball_collision.tools.truth import LEADS_S, PredictionIndex
@@ -44,7 +46,7 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
     """
     Return {lead: (time error ms, point error cm) or None} for one scenario.
 
-    With ``prediction_period`` ``period`` (s); a frame scores the prediction in force at it.
+    With ``prediction_period`` ``period`` (s); a lead scores the prediction in force then.
     """
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
@@ -53,12 +55,15 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []
+    cleared: List[int] = []
     for stamp, role, values in samples.messages('pose'):
-        predictions += [e for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
+        for event in detector.add(role, stamp, values):
+            if isinstance(event, Prediction):
+                predictions.append(event)
+            elif isinstance(event, PredictionCleared):
+                cleared.append(event.made_at_ns)
     truth = truth_dict(scenario, samples.start_ns)
-    frames = set(samples.ball_stamps_ns.tolist()) | set(samples.bat_stamps_ns.tolist())
-    scored = PredictionIndex(predictions, list(frames), period).errors(truth['stamp_ns'],
-                                                                       truth['point'])
+    scored = PredictionIndex(predictions, cleared).errors(truth['stamp_ns'], truth['point'])
     return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
             for lead, error in scored.items()}
 
