@@ -422,9 +422,9 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
         ``smoother_matrix``; ``groups``: contiguous slices of the columns, each smoothed
         with one weight (the kernel's ``toi._kernel.smoothed`` applies them).
     :param start: the slopes of knots ``start`` .. n - 1 only (rows n - ``start``; the values
-        are all n): a window's interval is near its end (``not-a-knot`` only).
-    :raises ValueError: an unknown penalty or target, or shapes that do not match; ``start``
-        not 0 with another penalty.
+        are all n): a window's interval is near its end (``not-a-knot`` solves only those;
+        another penalty solves all and keeps those).
+    :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
@@ -434,13 +434,11 @@ def smooth(times: Sequence[float], values: np.ndarray, variances: Sequence[float
     fitted = np.frombuffer(_kernel.smoothed(p, u, z, y, v, bounds,
                                             _weights(p, z, v, target, bounds),
                                             NULL_EIGENVALUE)).reshape(y.shape)
-    if start:
-        if kind != 'not-a-knot':
-            raise ValueError(f'the slopes from knot {start} are not-a-knot only, not {kind!r}')
+    if start and kind == 'not-a-knot':
         return fitted, np.array(not_a_knot_slope_rows(times, fitted, start))
     slopes = {'natural': natural_slopes, 'jerk': jerk_slopes}.get(kind, not_a_knot_slopes)(
         times, fitted)
-    return fitted, slopes
+    return fitted, slopes[start:]
 
 
 def _checked(times: Sequence[float], values: np.ndarray, variances: Sequence[float],

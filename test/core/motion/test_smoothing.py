@@ -413,16 +413,20 @@ def test_smoother_rows_keep_the_products_through_the_groups(steps, sigmas, seed)
 @settings(max_examples=examples(40), deadline=None)
 @given(steps=st.lists(st.floats(0.002, 0.012), min_size=4, max_size=31), data=st.data())
 def test_slopes_from_a_knot_are_those_knots_slopes(steps, data) -> None:
-    """``start`` gives the same slopes of knots start.. (to the bit) and all the values."""
+    """
+    ``start`` gives the same slopes of knots start.. (to the bit) and all the values.
+
+    Under every penalty: ``not-a-knot`` solves only those rows, the others all of them.
+    """
     times = _times(steps)
     start = data.draw(st.integers(0, len(times) - 2))
     values = np.c_[np.sin(25.0 * times), times ** 2] + np.array([[1e-3, -1e-3]] * len(times))
-    fitted, slopes = smooth(times, values, [1e-6, 0.0])
-    fitted_from, slopes_from = smooth(times, values, [1e-6, 0.0], start=start)
-    assert np.array_equal(fitted_from, fitted)
-    assert np.array_equal(slopes_from, slopes[start:])
-    with pytest.raises(ValueError, match='not-a-knot only'):
-        smooth(times, values, [1e-6, 0.0], kind='natural', start=max(start, 1))
+    for kind in ('not-a-knot', 'natural', 'jerk'):
+        fitted, slopes = smooth(times, values, [1e-6, 0.0], kind)
+        fitted_from, slopes_from = smooth(times, values, [1e-6, 0.0], kind, start=start)
+        assert np.array_equal(fitted_from, fitted)
+        assert np.array_equal(slopes_from, slopes[start:])
+        assert slopes_from.shape == (len(times) - start, 2)
 
 
 def _grid_costs(p: np.ndarray, z: np.ndarray, variances: np.ndarray,
