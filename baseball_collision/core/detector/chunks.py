@@ -22,6 +22,7 @@ Identical output to feeding the samples one at a time is the contract
 
 from bisect import bisect_left
 from collections import Counter
+import math
 import time
 from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 
@@ -30,7 +31,7 @@ import numpy as np
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .intake import Offer
-from .noise import NoiseEstimate
+from .noise import NoiseEstimate, record_estimates
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
 from .streams import Stream
@@ -77,23 +78,33 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
         takes the run's samples as ``Detector.add`` updates them after each sample (at once,
         ``NoiseEstimate.take_points``, a bat pose's positions; a run of one sample appended,
-        ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``.
+        ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``;
+        those after the cursor (the run's, when it walks) one by one, each estimate kept as
+        ``Detector.add`` keeps it (``noise.record_estimates``): the sweeps of the intervals
+        after the cursor read them.
     :returns: the newest stamp taken (ns).
     """
+    if walk:
+        before = plan.visited[pos - 1] if pos else 1
+        after = plan.visited[end - 1]
+        cursor = plan.union[after - 1]
+    else:
+        cursor = scheduler.cursor if scheduler.cursor is not None else -math.inf
     # each stream in turn (the kernel's): its run's samples appended but those the trim after
-    # the run drops at once (never made), the estimate taken (one sample appended: after the
-    # append, as ``Detector.add`` does, ``update``; else every sample of the run before it,
-    # ``take_points``: the same numbers), then the trim
+    # the run drops at once (never made), the estimate taken of those up to the cursor (one
+    # sample appended: after the append, as ``Detector.add`` does, ``update``; else every
+    # sample of the run before it, ``take_points``: the same numbers), then the trim
     newest, ball_taken, bat_taken = _kernel.fast_forward_streams(
-        plan, pos, end, ball, bat, walk, stop, noise, BatSample)
+        plan, pos, end, ball, bat, walk, stop, noise, BatSample, cursor)
+    if noise is not None:
+        record_estimates(ball, noise[0], ball_taken, cursor)
+        record_estimates(bat, noise[1], bat_taken, cursor)
     if ball_taken:
         stats.received[Role.BALL] += ball_taken
     if bat_taken:
         stats.received[Role.BAT_POSE] += bat_taken
     if walk:
-        before = plan.visited[pos - 1] if pos else 1
-        after = plan.visited[end - 1]
-        scheduler.cursor = plan.union[after - 1]
+        scheduler.cursor = cursor
         if after > before:
             stats.intervals += after - before
             episodes.far(events, plan.union[after - 2])

@@ -38,7 +38,7 @@ from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role,
 from .gate import (
     Clock, FAR_AHEAD_NS, finite_point, LengthCheck, lost_body, speed_check, unit_pose)
 from .intake import Intake, Offer
-from .noise import NoiseEstimate
+from .noise import NoiseEstimate, record
 from .pairing import Pairing
 from .predictor import Predictor
 from .scheduler import Scheduler
@@ -100,6 +100,7 @@ class Detector:
         self._scheduler = Scheduler(config, self._ball, self._bat)
         self._predictor = Predictor(config, self._clock, self._ball, self._bat, self._offsets)
         self._sweep.measure = self._measure
+        self._sweep.recorded = config.tracker_noise < 0.0  # (estimates kept: ``noise.record``)
         self._noise = None if config.tracker_noise >= 0.0 else (
             NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
                                                   else 'pose'))
@@ -343,6 +344,7 @@ class Detector:
             ball.append(t, stamp, offer.value, new_segment)
             if self._noise is not None:
                 ball.noise = self._noise[0].update(ball)
+                record(ball)
             self._advance(events)
             return None
         if role is _BAT_POSE:
@@ -378,6 +380,7 @@ class Detector:
         bat.append(t, stamp, sample, new_segment)
         if self._noise is not None:
             bat.noise = self._noise[1].update(bat)
+            record(bat)
         self._advance(events)
         return None
 

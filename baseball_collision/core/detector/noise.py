@@ -35,6 +35,7 @@ fourth differences many times over and the pose is taken as exact (``EXACT_RATIO
 interpolating it is then at least as accurate.
 """
 
+from bisect import bisect_right
 import math
 from typing import List, Sequence, Tuple
 
@@ -82,6 +83,14 @@ told or not: the crossing at 30-100 um at 90 Hz, where the swing's fourth differ
 0.2 mm, 10-30 um at 120 Hz (57 um), 3-10 at 180 (11) and 1 at 360 (1): a quarter to a third;
 BENCHMARKS.md, "A bat pose's noise from eighth differences"). A ball's or a knob-tip bat's
 residuals hold no motion to compare with."""
+
+ESTIMATES = 'noise'
+"""The key of ``Stream.aligned``'s list of the estimate after each sample (m): what the sweep of
+an interval reads, the estimate after its stream's sample ``samples_ahead`` past the interval's
+closing frame (``Sweep.interval``), so that it does not depend on how far the stream has run
+ahead of the other when the interval is swept (the node's two streams arrive skewed, a bag's in
+its recorded order). None where a fast-forward took a sample at or before the cursor (no sweep
+reads those)."""
 
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
@@ -170,17 +179,29 @@ class NoiseEstimate:
         needs that many samples of one segment (a pose's fourth differences, five); a length
         change needs two.
         """
+        return self.update_at(stream, len(stream.times) - 1)
+
+    def update_at(self, stream: Stream, last: int) -> float:
+        """
+        Take the residual(s) the stream's sample ``last`` completes; return the estimate (m).
+
+        ``update`` as it was when ``last`` was the newest (the samples after it unread).
+        """
+        first = max(last + 1 - POSE_SPAN, 0)  # (the widest window)
+        times = stream.times[first:last + 1]
+        values = stream.values[first:last + 1]
+        breaks = stream.breaks[first:last + 1]
         if self.kind == 'length':
-            if len(stream.times) < 2 or stream.breaks[-1]:
+            if len(times) < 2 or breaks[-1]:
                 return self.sigma
-            old, new = stream.values[-2:]
+            old, new = values[-2:]
             self._median.take((0.5 * (math.dist(new.tip, new.knob) -
                                       math.dist(old.tip, old.knob)),))
             return self.sigma
         # (the kernel's: span samples of one segment, the values' points or poses' positions)
-        self._median.take_stream(stream.times, stream.values, stream.breaks)
+        self._median.take_stream(times, values, breaks)
         if self._motion is not None:
-            self._motion.take_stream(stream.times, stream.values, stream.breaks)
+            self._motion.take_stream(times, values, breaks)
         return self.sigma
 
     def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
@@ -256,3 +277,34 @@ def _point_residuals(times: Sequence[float], points: Sequence[Sequence[float]]
         9.
     """
     return _kernel.point_residuals(times, points, 0, 1, MAD_TO_SIGMA, NOISE_FLOOR, len(times))
+
+
+def record(stream: Stream) -> None:
+    """Keep the stream's estimate (``noise``) as the one after its newest (``ESTIMATES``)."""
+    kept = stream.aligned.setdefault(ESTIMATES, [])
+    if len(kept) < len(stream.times) - 1:
+        kept.extend([None] * (len(stream.times) - 1 - len(kept)))
+    kept.append(stream.noise)
+
+
+def record_estimates(stream: Stream, estimator: NoiseEstimate, taken: int,
+                     after: float) -> None:
+    """
+    Take a fast-forward's newest samples after ``after`` (s) one by one, keeping each estimate.
+
+    The kernel's fast-forward took its run's samples up to ``after`` at once and left the
+    others (``_kernel.fast_forward_streams``'s ``record_after``): each is taken here as
+    ``Detector.add`` takes it (``update_at``: ``update`` as of that sample), and the estimate
+    after it kept (``ESTIMATES``; None for the run's others); the stream's ``noise`` is the newest.
+
+    :param taken: the run's samples of this stream (its newest, all appended where they are
+        after ``after``: a run's trim stays behind the cursor).
+    """
+    times = stream.times
+    trailing = min(taken, len(times) - bisect_right(times, after))
+    kept = stream.aligned.setdefault(ESTIMATES, [])
+    if len(kept) < len(times) - trailing:
+        kept.extend([None] * (len(times) - trailing - len(kept)))
+    for last in range(len(times) - trailing, len(times)):
+        stream.noise = estimator.update_at(stream, last)
+        kept.append(stream.noise)

@@ -24,10 +24,12 @@ from .fitting import (
     stream_noise)
 from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
+from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
-from ..motion import BatPath, PointPath, substeps_for
+from ..motion import BatPath, PointPath, samples_ahead, substeps_for
 from ..toi import _kernel, closest_offset, ImpactResult, profile_contact, profile_gap
+from ...errors import CoreError
 
 Paths = Tuple[PointPath, BatPath]
 """The ball's and the bat's paths over an interval."""
@@ -63,7 +65,8 @@ class Sweep:
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
-                 'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates')
+                 'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'recorded',
+                 'ahead')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -75,6 +78,8 @@ class Sweep:
         self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
         self.bat_ahead: Optional[bool] = None  # the rule (``_bat_ahead``), or always / never
         self.quintic_rates = True  # ``fit_velocities``' rule, or the fits alone
+        self.recorded = False  # the streams' noise from each sample's kept estimate
+        self.ahead = samples_ahead(config.model, config.look_ahead)
 
     def interval(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s), appending the events it makes."""
@@ -83,6 +88,8 @@ class Sweep:
             return
         self.stats.intervals += 1
         config = self.config
+        if self.recorded:
+            self._estimates(located)
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
         ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
@@ -130,6 +137,27 @@ class Sweep:
                              earlier):
                 return
             earlier, previous, gap_previous = previous, state, gap
+
+    def _estimates(self, located: Tuple[int, int]) -> None:
+        """
+        Set each stream's noise to its estimate after its sample ``ahead`` past the closing one.
+
+        Under ``tracker_noise`` auto: the samples an interval's fits may use end there
+        (``samples_ahead``), whichever stream has run further ahead when it is swept
+        (``noise.ESTIMATES``); at the recording's end, the newest.
+
+        :raises CoreError: no estimate kept for that sample (a fast-forward took it before the
+            cursor: a broken invariant, never an answer made from another estimate).
+        """
+        ahead = self.ahead
+        for stream, k in ((self.ball, located[0]), (self.bat, located[1])):
+            kept = stream.aligned.get(ESTIMATES, ())
+            last = min(k + 1 + ahead, len(stream.times) - 1)
+            estimate = kept[last] if last < len(kept) else None
+            if estimate is None:
+                raise CoreError(f'no noise estimate kept for {stream.name} sample '
+                                f'{stream.stamps[last]} ns')
+            stream.noise = estimate
 
     def _outside_zone(self, located: Tuple[int, int], ta: float, tb: float,
                       bat_noise: float) -> bool:

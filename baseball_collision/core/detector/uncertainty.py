@@ -83,7 +83,7 @@ from .sweep import Sweep
 from ..geometry import (
     add, advance, axis_angle_quaternions, cross, dot, norm, pose_point, quaternion_multiply,
     rigid_point_velocity, scale, sub, Vector)
-from ..motion import BatSample, unit_axis
+from ..motion import BatSample, samples_ahead, unit_axis
 
 PERTURBATIONS = 16
 """Re-solves per impact under perturbed samples (noise, models but ``c2``)."""
@@ -142,6 +142,18 @@ def _span(stream: Stream, start: float, end: float, config: DetectorConfig, upto
     held = max(bisect_right(stream.times, upto) - 1,
                bisect_left(stream.times, tb) + config.look_ahead)
     return max(first, 0), min(last, held, len(stream.times) - 1)
+
+
+def _held(stream: Stream, tb: float, config: DetectorConfig) -> float:
+    """
+    Return the time (s) of the stream's newest sample an interval ending at tb (s) waits for.
+
+    Its sample ``samples_ahead`` past the first at or after tb: the scheduler sweeps the
+    interval only once both streams hold theirs (or the recording has ended: its newest).
+    """
+    times = stream.times
+    last = bisect_left(times, tb) + samples_ahead(config.model, config.look_ahead)
+    return times[min(last, len(times) - 1)]
 
 
 def union_intervals(ball: Stream, bat: Stream, ta: float, tb: float,
@@ -398,9 +410,10 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
     hit = leaves_flight(ball, ball.interval(ta), judging_noise(config),
                         config.max_gap) is not None
-    # nothing newer than the oldest stream's newest sample: what the streams hold at an impact
-    # whatever the order their samples arrived in (the node's) or were read in (``analyze``)
-    upto = min(ball.times[-1], bat.times[-1])
+    # nothing newer than what either stream surely held when the interval was swept: its
+    # sample ``samples_ahead`` past the interval's closing one (the newest at the recording's
+    # end), whatever the order the samples arrived in (the node's) or were read in (``analyze``)
+    upto = min(_held(ball, tb, config), _held(bat, tb, config))
     intervals = union_intervals(ball, bat, ta, tb, upto)
     start, end = intervals[0][0], intervals[-1][1]
     ball_first, ball_last = _span(ball, start, end, config, upto, tb)

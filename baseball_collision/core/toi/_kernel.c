@@ -5784,7 +5784,8 @@ done:
  */
 static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end,
                            PyObject *stream, bool walk, bool stop, PyObject *noise,
-                           PyObject *sample_class, Py_ssize_t *taken, long long *newest)
+                           double record_after, PyObject *sample_class, Py_ssize_t *taken,
+                           long long *newest)
 {
   enum { TIMES, VALUES, BREAKS, STAMPS, TURNS, LISTS };
   static const int list_names[LISTS] = {FF_TIMES, FF_VALUES, FF_BREAKS, FF_STAMPS, FF_TURNS};
@@ -5818,9 +5819,32 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
   Py_ssize_t cut = walk ? start - (a - kept) : 0;
   if (b > a) {
     Py_ssize_t c = a + cut - kept > a ? a + cut - kept : a;
+    /* the run's samples after record_after (s) are left to the caller's estimator, one by one
+     * (chunks.fast_forward: the estimate after each is kept for the sweeps that will read it) */
+    Py_ssize_t feed_end = b;
+    if (noise != Py_None) {
+      PyObject *run_times = stream_item(plan, FF_TIMES, s);
+      if (run_times == NULL) {
+        goto done;
+      }
+      while (feed_end > a) {
+        PyObject *item = PySequence_GetItem(run_times, feed_end - 1);
+        double t = item ? PyFloat_AsDouble(item) : -1.0;
+        Py_XDECREF(item);
+        if (PyErr_Occurred()) {
+          Py_DECREF(run_times);
+          goto done;
+        }
+        if (!(t > record_after)) {
+          break;
+        }
+        feed_end--;
+      }
+      Py_DECREF(run_times);
+    }
     /* one sample appended: the estimator takes it after the append (update); else the run's
      * samples at once before it (take_points) */
-    bool single = noise != Py_None && b - a == 1 && c == a;
+    bool single = noise != Py_None && feed_end == b && b - a == 1 && c == a;
     /* where a sample starts a segment (the plan's breaks: a held first sample after a gap,
      * taken with the sample that takes it) */
     flags_object = stream_item(plan, FF_BREAKS, s);
@@ -5842,9 +5866,9 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
         goto done;
       }
       /* the run in parts, each from a segment's start (or the run's) to the next's */
-      for (Py_ssize_t part = a; !single && part < b;) {
+      for (Py_ssize_t part = a; !single && part < feed_end;) {
         Py_ssize_t next = part + 1;
-        while (next < b && !flags[next]) {
+        while (next < feed_end && !flags[next]) {
           next++;
         }
         if (!take_run_noise(estimator, stream, plan, s, part, next, pre, lists, flags[part])) {
@@ -5960,27 +5984,29 @@ done:
 }
 
 /*
- * fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class)
+ * fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class, record_after)
  *   -> (newest stamp taken or 0, samples taken by the ball, by the bat)
  * The streams' part of core.detector.chunks.fast_forward, ball then bat, each as its Python
  * did: the run's samples a .. b - 1 of the plan (b from sample end with `stop`) appended as
  * the streams' lists (stamps as ints, times as floats, ball points as tuples, bat samples
  * made as bat_samples makes them: those the run's trim keeps; a sample's break the plan's
  * `breaks`, a bat's turn zero where it breaks, else None), the noise estimate taken (`noise`:
- * the two NoiseEstimate objects, or None; a segment started in the run taken from its start),
- * speed_drops 0, then the trim (`walk`: to the plan's start after the run) of every list and
- * of `aligned`'s, path_key None.
+ * the two NoiseEstimate objects, or None; a segment started in the run taken from its start)
+ * of the run's samples up to record_after (s; those after it the caller's estimators take one
+ * by one), speed_drops 0, then the trim (`walk`: to the plan's start after the run) of every
+ * list and of `aligned`'s, path_key None.
  */
 static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Py_ssize_t pos, end;
   int walk, stop;
-  if (nargs != 9 || !read_index(args[1], &pos) || !read_index(args[2], &end) ||
+  double record_after = nargs == 10 ? PyFloat_AsDouble(args[9]) : 0.0;
+  if (nargs != 10 || !read_index(args[1], &pos) || !read_index(args[2], &end) ||
       (walk = PyObject_IsTrue(args[5])) < 0 || (stop = PyObject_IsTrue(args[6])) < 0 ||
-      !PyType_Check(args[8])) {
+      !PyType_Check(args[8]) || (record_after == -1.0 && PyErr_Occurred())) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "fast_forward_streams(plan, pos, end, ball, bat, walk, "
-                                       "stop, noise, sample_class)");
+                                       "stop, noise, sample_class, record_after)");
     }
     return NULL;
   }
@@ -5991,8 +6017,8 @@ static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, 
   Py_ssize_t taken[2] = {0, 0};
   long long newest = 0;
   for (int s = 0; s < 2; s++) {
-    if (!forward_stream(args[0], s, pos, end, args[3 + s], walk, stop, args[7], args[8],
-                        &taken[s], &newest)) {
+    if (!forward_stream(args[0], s, pos, end, args[3 + s], walk, stop, args[7], record_after,
+                        args[8], &taken[s], &newest)) {
       return NULL;
     }
   }

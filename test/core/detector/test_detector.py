@@ -353,28 +353,35 @@ def _arrived(messages: List, lead: str, lag: int) -> List:
     return order + second[j:]
 
 
-@pytest.mark.parametrize('model', ['rigid', 'c2'])
-def test_the_same_impacts_whatever_order_the_streams_arrive_in(model: str) -> None:
+@pytest.mark.parametrize('model, noise, rate, ball_rate', [
+    ('rigid', 0.0, 180.0, None), ('c2', 0.0, 180.0, None), ('rigid', 3e-4, 180.0, None),
+    ('c2', 3e-4, 180.0, None), ('c2', 0.0, 1000.0, 60.0), ('c2', 3e-4, 1000.0, 60.0)])
+def test_the_same_impacts_whatever_order_the_streams_arrive_in(
+        model: str, noise: float, rate: float, ball_rate: float) -> None:
     """
     The node's two streams can arrive skewed: the impacts are ``analyze``'s all the same.
 
-    Real hits (the ball leaves the bat, its sigma holds the brake) of bat poses at 180 Hz, the
-    bat's or the ball's stream ahead of the other by up to 20 samples (0.11 s): the same
-    impacts with the same uncertainties, to the bit up to 5 samples ahead, and to 1e-9 at 20
-    (the bat's summed turns then restart from another sample: rounding). The roll rate once
-    fitted every sample its stream still held, and an impact's re-solves took whatever samples
-    had come after it: both moved with the order.
+    Real hits (the ball leaves the bat, its sigma holds the brake) of bat poses at 180 Hz (the
+    ball too) or 1 kHz (a 60 Hz ball), exact or with 0.3 mm of noise the detector estimates
+    (``tracker_noise`` auto, the default), the bat's or the ball's stream ahead of the other by
+    up to 20 samples: the same impacts with the same uncertainties, to the bit up to 5 samples
+    ahead, and to 1e-9 at 20 (the bat's summed turns then restart from another sample:
+    rounding). The roll rate once fitted every sample its stream still held, an impact's
+    re-solves took whatever samples had come after it (then what the slower stream held), and
+    a sweep read each stream's noise estimate as of its newest sample: each moved with the
+    order.
     """
     rng = np.random.default_rng(5)
     messages = []
     for i, kind in enumerate(('barrel', 'handle', 'end_cap')):
         scenario = make_scenario(kind, rng, family='rebound')
-        samples = sample(scenario, 180.0, rng, jitter_s=2e-4, grid_s=1e-3,
+        samples = sample(scenario, rate, rng, jitter_s=2e-4, grid_s=1e-3, noise_m=noise,
+                         marker_spread_m=0.3 if noise else None, ball_rate_hz=ball_rate,
                          start_ns=BASE_NS + i * 2_000_000_000)
         messages += samples.messages('pose')
 
     def impacts(order: List) -> List[Impact]:
-        detector = Detector(DetectorConfig(model=model))
+        detector = Detector(DetectorConfig(model=model, tracker_noise=-1.0))
         events = [e for stamp, role, values in order for e in detector.add(role, stamp, values)]
         return [e for e in events + detector.finish() if isinstance(e, Impact)]
 
