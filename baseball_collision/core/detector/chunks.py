@@ -31,7 +31,7 @@ import numpy as np
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .intake import Offer
-from .noise import NoiseEstimate, record_estimates
+from .noise import NoiseEstimate
 from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
 from .streams import Stream
@@ -79,9 +79,9 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         takes the run's samples as ``Detector.add`` updates them after each sample (at once,
         ``NoiseEstimate.take_points``, a bat pose's positions; a run of one sample appended,
         ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``;
-        those after the cursor (the run's, when it walks) one by one, each estimate kept as
-        ``Detector.add`` keeps it (``noise.record_estimates``): the sweeps of the intervals
-        after the cursor read them.
+        those after the cursor (the run's, when it walks) but each stream's first
+        ``scheduler.ahead`` there one by one, each estimate kept as ``Detector.add`` keeps it
+        (``noise.ESTIMATES``): the sweeps of the intervals after the cursor read them.
     :returns: the newest stamp taken (ns).
     """
     if walk:
@@ -95,10 +95,7 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     # sample appended: after the append, as ``Detector.add`` does, ``update``; else every
     # sample of the run before it, ``take_points``: the same numbers), then the trim
     newest, ball_taken, bat_taken = _kernel.fast_forward_streams(
-        plan, pos, end, ball, bat, walk, stop, noise, BatSample, cursor)
-    if noise is not None:
-        record_estimates(ball, noise[0], ball_taken, cursor)
-        record_estimates(bat, noise[1], bat_taken, cursor)
+        plan, pos, end, ball, bat, walk, stop, noise, BatSample, cursor, scheduler.ahead)
     if ball_taken:
         stats.received[Role.BALL] += ball_taken
     if bat_taken:

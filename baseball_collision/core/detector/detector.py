@@ -100,10 +100,10 @@ class Detector:
         self._scheduler = Scheduler(config, self._ball, self._bat)
         self._predictor = Predictor(config, self._clock, self._ball, self._bat, self._offsets)
         self._sweep.measure = self._measure
-        self._sweep.recorded = config.tracker_noise < 0.0  # (estimates kept: ``noise.record``)
         self._noise = None if config.tracker_noise >= 0.0 else (
             NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
                                                   else 'pose'))
+        self._sweep.estimators = self._noise  # (their estimates kept: ``noise.record``)
 
     def _measure(self, impact: Impact) -> Impact:
         """Return an impact with its 1-sigma uncertainties (``uncertainty``)."""

@@ -35,7 +35,6 @@ fourth differences many times over and the pose is taken as exact (``EXACT_RATIO
 interpolating it is then at least as accurate.
 """
 
-from bisect import bisect_right
 import math
 from typing import List, Sequence, Tuple
 
@@ -89,8 +88,11 @@ ESTIMATES = 'noise'
 an interval reads, the estimate after its stream's sample ``samples_ahead`` past the interval's
 closing frame (``Sweep.interval``), so that it does not depend on how far the stream has run
 ahead of the other when the interval is swept (the node's two streams arrive skewed, a bag's in
-its recorded order). None where a fast-forward took a sample at or before the cursor (no sweep
-reads those)."""
+its recorded order). Kept by ``record`` after each sample ``Detector.add`` takes, and by a
+fast-forward for its run's samples after the cursor but the stream's ``samples_ahead`` first
+there (the kernel's ``record_trailing``, one by one with ``update_at``); None for its others
+(no sweep reads those: at the recording's end a sweep takes the estimator's own for the
+newest). The kernel keeps it under this key too."""
 
 MAD_TO_SIGMA = 1.4826
 """A normal variate's sigma over its median absolute value."""
@@ -187,21 +189,17 @@ class NoiseEstimate:
 
         ``update`` as it was when ``last`` was the newest (the samples after it unread).
         """
-        first = max(last + 1 - POSE_SPAN, 0)  # (the widest window)
-        times = stream.times[first:last + 1]
-        values = stream.values[first:last + 1]
-        breaks = stream.breaks[first:last + 1]
         if self.kind == 'length':
-            if len(times) < 2 or breaks[-1]:
+            if last < 1 or stream.breaks[last]:
                 return self.sigma
-            old, new = values[-2:]
+            old, new = stream.values[last - 1], stream.values[last]
             self._median.take((0.5 * (math.dist(new.tip, new.knob) -
                                       math.dist(old.tip, old.knob)),))
             return self.sigma
         # (the kernel's: span samples of one segment, the values' points or poses' positions)
-        self._median.take_stream(times, values, breaks)
+        self._median.take_stream(stream.times, stream.values, stream.breaks, last)
         if self._motion is not None:
-            self._motion.take_stream(times, values, breaks)
+            self._motion.take_stream(stream.times, stream.values, stream.breaks, last)
         return self.sigma
 
     def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
@@ -285,26 +283,3 @@ def record(stream: Stream) -> None:
     if len(kept) < len(stream.times) - 1:
         kept.extend([None] * (len(stream.times) - 1 - len(kept)))
     kept.append(stream.noise)
-
-
-def record_estimates(stream: Stream, estimator: NoiseEstimate, taken: int,
-                     after: float) -> None:
-    """
-    Take a fast-forward's newest samples after ``after`` (s) one by one, keeping each estimate.
-
-    The kernel's fast-forward took its run's samples up to ``after`` at once and left the
-    others (``_kernel.fast_forward_streams``'s ``record_after``): each is taken here as
-    ``Detector.add`` takes it (``update_at``: ``update`` as of that sample), and the estimate
-    after it kept (``ESTIMATES``; None for the run's others); the stream's ``noise`` is the newest.
-
-    :param taken: the run's samples of this stream (its newest, all appended where they are
-        after ``after``: a run's trim stays behind the cursor).
-    """
-    times = stream.times
-    trailing = min(taken, len(times) - bisect_right(times, after))
-    kept = stream.aligned.setdefault(ESTIMATES, [])
-    if len(kept) < len(times) - trailing:
-        kept.extend([None] * (len(times) - trailing - len(kept)))
-    for last in range(len(times) - trailing, len(times)):
-        stream.noise = estimator.update_at(stream, last)
-        kept.append(stream.noise)

@@ -24,7 +24,7 @@ from .fitting import (
     stream_noise)
 from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
-from .noise import ESTIMATES
+from .noise import ESTIMATES, NoiseEstimate
 from .streams import Stream
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, PointPath, samples_ahead, substeps_for
@@ -65,7 +65,7 @@ class Sweep:
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
-                 'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'recorded',
+                 'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
@@ -78,7 +78,9 @@ class Sweep:
         self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
         self.bat_ahead: Optional[bool] = None  # the rule (``_bat_ahead``), or always / never
         self.quintic_rates = True  # ``fit_velocities``' rule, or the fits alone
-        self.recorded = False  # the streams' noise from each sample's kept estimate
+        # tracker_noise auto: the ball's and the bat's estimators, whose kept estimates set the
+        # streams' noise at each interval (``_estimates``); None: the streams' noise as it is
+        self.estimators: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None
         self.ahead = samples_ahead(config.model, config.look_ahead)
 
     def interval(self, ta: float, tb: float, events: List) -> None:
@@ -88,7 +90,7 @@ class Sweep:
             return
         self.stats.intervals += 1
         config = self.config
-        if self.recorded:
+        if self.estimators is not None:
             self._estimates(located)
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
@@ -144,19 +146,24 @@ class Sweep:
 
         Under ``tracker_noise`` auto: the samples an interval's fits may use end there
         (``samples_ahead``), whichever stream has run further ahead when it is swept
-        (``noise.ESTIMATES``); at the recording's end, the newest.
+        (``noise.ESTIMATES``); at the recording's end, the newest (the estimator's own where a
+        fast-forward kept none for it).
 
-        :raises CoreError: no estimate kept for that sample (a fast-forward took it before the
-            cursor: a broken invariant, never an answer made from another estimate).
+        :raises CoreError: no estimate kept for that sample (a fast-forward took it at once: a
+            broken invariant, never an answer made from another estimate).
         """
-        ahead = self.ahead
-        for stream, k in ((self.ball, located[0]), (self.bat, located[1])):
+        ahead, estimators = self.ahead, self.estimators
+        for stream, k, estimator in ((self.ball, located[0], estimators[0]),
+                                     (self.bat, located[1], estimators[1])):
             kept = stream.aligned.get(ESTIMATES, ())
-            last = min(k + 1 + ahead, len(stream.times) - 1)
+            newest = len(stream.times) - 1
+            last = min(k + 1 + ahead, newest)
             estimate = kept[last] if last < len(kept) else None
             if estimate is None:
-                raise CoreError(f'no noise estimate kept for {stream.name} sample '
-                                f'{stream.stamps[last]} ns')
+                if last != newest:
+                    raise CoreError(f'no noise estimate kept for {stream.name} sample '
+                                    f'{stream.stamps[last]} ns')
+                estimate = estimator.sigma
             stream.noise = estimate
 
     def _outside_zone(self, located: Tuple[int, int], ta: float, tb: float,

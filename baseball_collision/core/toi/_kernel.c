@@ -5628,11 +5628,12 @@ static PyObject *py_c2_jump_bulge(PyObject *self, PyObject *const *args, Py_ssiz
 /* the attribute names fast_forward_streams reads and sets (interned at import) */
 enum {
   FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
-  FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_TAKE_POINTS, FF_UPDATE, FF_NAMES
+  FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_TAKE_POINTS, FF_UPDATE, FF_UPDATE_AT, FF_NAMES
 };
 static const char *const ff_attributes[FF_NAMES] = {
     "counts", "pre",   "starts",      "times",    "stamps",      "values", "breaks",
-    "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update"};
+    "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update",
+    "update_at"};
 static PyObject *ff_names[FF_NAMES];
 static PyObject *zero_turn; /* (0.0, 0.0, 0.0, 0.0): a segment's first cumulative turn */
 
@@ -5778,14 +5779,67 @@ done:
 }
 
 /*
+ * The newest `trailing` samples of a stream (a run's after record_after), taken one by one by
+ * its estimator (NoiseEstimate.update_at, each as if it were the newest), each estimate kept in
+ * stream.aligned['noise'] (core.detector.noise.ESTIMATES: None for the samples before them that
+ * have none), the stream's noise the newest. False with an exception.
+ */
+static bool record_trailing(PyObject *estimator, PyObject *stream, Py_ssize_t size,
+                            Py_ssize_t trailing)
+{
+  PyObject *aligned = PyObject_GetAttr(stream, ff_names[FF_ALIGNED]);
+  if (aligned == NULL) {
+    return false;
+  }
+  PyObject *kept = PyDict_GetItemWithError(aligned, ff_names[FF_NOISE]); /* borrowed */
+  if (kept == NULL && !PyErr_Occurred()) {
+    kept = PyList_New(0);
+    if (kept != NULL && PyDict_SetItem(aligned, ff_names[FF_NOISE], kept) < 0) {
+      Py_CLEAR(kept);
+    }
+    Py_XDECREF(kept); /* (the dict holds it) */
+  }
+  Py_DECREF(aligned); /* (the stream holds it) */
+  if (kept == NULL) {
+    return false;
+  }
+  if (!PyList_Check(kept) || PyList_GET_SIZE(kept) > size - trailing) {
+    PyErr_SetString(PyExc_ValueError, "fast_forward_streams: a stream's kept noise estimates "
+                                      "must be a list no longer than its samples before the run");
+    return false;
+  }
+  while (PyList_GET_SIZE(kept) < size - trailing) {
+    if (PyList_Append(kept, Py_None) < 0) {
+      return false;
+    }
+  }
+  PyObject *estimate = NULL;
+  for (Py_ssize_t j = size - trailing; j < size; j++) {
+    PyObject *index = PyLong_FromSsize_t(j);
+    Py_XDECREF(estimate);
+    estimate = index ? PyObject_CallMethodObjArgs(estimator, ff_names[FF_UPDATE_AT], stream,
+                                                  index, NULL)
+                     : NULL;
+    Py_XDECREF(index);
+    if (estimate == NULL || PyList_Append(kept, estimate) < 0) {
+      Py_XDECREF(estimate);
+      return false;
+    }
+  }
+  bool ok = estimate == NULL || PyObject_SetAttr(stream, ff_names[FF_NOISE], estimate) == 0;
+  Py_XDECREF(estimate);
+  return ok;
+}
+
+/*
  * One stream's part of a fast-forward (fast_forward_streams): the run's samples appended (those
  * its trim keeps), its noise estimate, its trim. Adds the samples it took to *taken and raises
  * *newest to the newest stamp taken. False with an exception.
  */
 static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end,
                            PyObject *stream, bool walk, bool stop, PyObject *noise,
-                           double record_after, PyObject *sample_class, Py_ssize_t *taken,
-                           long long *newest)
+                           double record_after, Py_ssize_t ahead, PyObject *sample_class,
+                           Py_ssize_t *taken, long long *newest)
 {
   enum { TIMES, VALUES, BREAKS, STAMPS, TURNS, LISTS };
   static const int list_names[LISTS] = {FF_TIMES, FF_VALUES, FF_BREAKS, FF_STAMPS, FF_TURNS};
@@ -5814,15 +5868,28 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
       (walk && !index_at(starts, end - 1, &start))) {
     goto done;
   }
-  Py_ssize_t kept = PyList_GET_SIZE(lists[TIMES]);
+  Py_ssize_t kept = PyList_GET_SIZE(lists[TIMES]), trailing = 0;
   /* the trim after the run, counted from the stream's first sample */
   Py_ssize_t cut = walk ? start - (a - kept) : 0;
   if (b > a) {
     Py_ssize_t c = a + cut - kept > a ? a + cut - kept : a;
-    /* the run's samples after record_after (s) are left to the caller's estimator, one by one
-     * (chunks.fast_forward: the estimate after each is kept for the sweeps that will read it) */
+    /* the run's samples after record_after (s) but the `ahead` first of the stream's (which no
+     * sweep reads: an interval after it is swept with the estimate of the sample `ahead` past its
+     * closing one, or at the end the newest, the estimator's own) are taken one by one after
+     * the trim, each estimate kept for the sweeps that will read it (record_trailing) */
     Py_ssize_t feed_end = b;
     if (noise != Py_None) {
+      Py_ssize_t unread = ahead; /* of the stream's samples after record_after */
+      for (Py_ssize_t i = kept - 1; i >= 0 && unread > 0; i--) {
+        double t = PyFloat_AsDouble(PyList_GET_ITEM(lists[TIMES], i));
+        if (t == -1.0 && PyErr_Occurred()) {
+          goto done;
+        }
+        if (!(t > record_after)) {
+          break;
+        }
+        unread--;
+      }
       PyObject *run_times = stream_item(plan, FF_TIMES, s);
       if (run_times == NULL) {
         goto done;
@@ -5841,10 +5908,12 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
         feed_end--;
       }
       Py_DECREF(run_times);
+      feed_end = feed_end + unread < b ? feed_end + unread : b;
     }
     /* one sample appended: the estimator takes it after the append (update); else the run's
      * samples at once before it (take_points) */
     bool single = noise != Py_None && feed_end == b && b - a == 1 && c == a;
+    trailing = b - feed_end;
     /* where a sample starts a segment (the plan's breaks: a held first sample after a gap,
      * taken with the sample that takes it) */
     flags_object = stream_item(plan, FF_BREAKS, s);
@@ -5967,6 +6036,10 @@ static bool forward_stream(PyObject *plan, int s, Py_ssize_t pos, Py_ssize_t end
       goto done;
     }
   }
+  if (trailing > 0 &&
+      !record_trailing(estimator, stream, PyList_GET_SIZE(lists[TIMES]), trailing)) {
+    goto done;
+  }
   ok = true;
 done:
   for (int i = 0; i < LISTS; i++) {
@@ -5984,30 +6057,37 @@ done:
 }
 
 /*
- * fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class, record_after)
- *   -> (newest stamp taken or 0, samples taken by the ball, by the bat)
+ * fast_forward_streams(plan, pos, end, ball, bat, walk, stop, noise, sample_class, record_after,
+ *                      ahead) -> (newest stamp taken or 0, samples taken by the ball, by the bat)
  * The streams' part of core.detector.chunks.fast_forward, ball then bat, each as its Python
  * did: the run's samples a .. b - 1 of the plan (b from sample end with `stop`) appended as
  * the streams' lists (stamps as ints, times as floats, ball points as tuples, bat samples
  * made as bat_samples makes them: those the run's trim keeps; a sample's break the plan's
  * `breaks`, a bat's turn zero where it breaks, else None), the noise estimate taken (`noise`:
  * the two NoiseEstimate objects, or None; a segment started in the run taken from its start)
- * of the run's samples up to record_after (s; those after it the caller's estimators take one
- * by one), speed_drops 0, then the trim (`walk`: to the plan's start after the run) of every
- * list and of `aligned`'s, path_key None.
+ * of the run's samples up to record_after (s), speed_drops 0, then the trim (`walk`: to the
+ * plan's start after the run) of every list and of `aligned`'s, path_key None; then the run's
+ * samples after record_after but the stream's `ahead` first there taken one by one, each
+ * estimate kept (record_trailing).
  */
 static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   Py_ssize_t pos, end;
   int walk, stop;
-  double record_after = nargs == 10 ? PyFloat_AsDouble(args[9]) : 0.0;
-  if (nargs != 10 || !read_index(args[1], &pos) || !read_index(args[2], &end) ||
+  Py_ssize_t ahead = 0;
+  double record_after = nargs == 11 ? PyFloat_AsDouble(args[9]) : 0.0;
+  if (nargs != 11 || !read_index(args[1], &pos) || !read_index(args[2], &end) ||
       (walk = PyObject_IsTrue(args[5])) < 0 || (stop = PyObject_IsTrue(args[6])) < 0 ||
-      !PyType_Check(args[8]) || (record_after == -1.0 && PyErr_Occurred())) {
+      !PyType_Check(args[8]) || (record_after == -1.0 && PyErr_Occurred()) ||
+      !read_index(args[10], &ahead)) {
     if (!PyErr_Occurred()) {
       PyErr_SetString(PyExc_TypeError, "fast_forward_streams(plan, pos, end, ball, bat, walk, "
-                                       "stop, noise, sample_class, record_after)");
+                                       "stop, noise, sample_class, record_after, ahead)");
     }
+    return NULL;
+  }
+  if (ahead < 0) {
+    PyErr_SetString(PyExc_ValueError, "fast_forward_streams: ahead must not be negative");
     return NULL;
   }
   if (pos < 0 || end <= pos) {
@@ -6018,7 +6098,7 @@ static PyObject *py_fast_forward_streams(PyObject *self, PyObject *const *args, 
   long long newest = 0;
   for (int s = 0; s < 2; s++) {
     if (!forward_stream(args[0], s, pos, end, args[3 + s], walk, stop, args[7], record_after,
-                        args[8], &taken[s], &newest)) {
+                        ahead, args[8], &taken[s], &newest)) {
       return NULL;
     }
   }
@@ -6429,7 +6509,8 @@ done:
  *   take_run(old_times, old_points, old_breaks, times, points) -> None: take_points over every
  *       whole window of a run of new samples after the stream's newest (its breaks too)
  *   residuals() -> the kept residuals (m), oldest first
- *   take_stream(times, values, breaks) -> None: the newest sample's residuals (update's)
+ *   take_stream(times, values, breaks[, last]) -> None: the newest sample's residuals
+ *       (update's), or sample last's as if it were the newest (update_at's)
  *   sigma: the estimate, set from the residuals held when read (a take sets it no sooner: an
  *       estimate nobody reads is not sorted for)
  *   bounds(times, points, breaks, pre, block, out): upper bounds on the estimate over a chunk
@@ -6897,22 +6978,35 @@ done:
 }
 
 /*
- * NoiseMedian.take_stream(times, values, breaks) -> None: the residuals a point stream's newest
- * sample completes (core.detector.noise.NoiseEstimate.update): the window of its `span` newest
- * samples, none of the span - 1 newest starting a segment (else nothing is taken), each value a
- * point or a bat sample's position (getattr(value, 'position', value)). times, values,
- * breaks: the stream's lists.
+ * NoiseMedian.take_stream(times, values, breaks[, last]) -> None: the residuals a point stream's
+ * newest sample completes (core.detector.noise.NoiseEstimate.update): the window of its `span`
+ * newest samples, none of the span - 1 newest starting a segment (else nothing is taken), each
+ * value a point or a bat sample's position (getattr(value, 'position', value)). times, values,
+ * breaks: the stream's lists; with `last` (0 <= last < their length), sample last's, as if the
+ * lists ended there (NoiseEstimate.update_at). IndexError: last beyond the lists.
  */
 static PyObject *median_take_stream(NoiseMedian *m, PyObject *const *args, Py_ssize_t nargs)
 {
-  if (nargs != 3 || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
-      !PyList_Check(args[2])) {
-    PyErr_SetString(PyExc_TypeError, "take_stream(times, values, breaks): three lists");
+  Py_ssize_t last = -1;
+  if ((nargs != 3 && nargs != 4) || !PyList_Check(args[0]) || !PyList_Check(args[1]) ||
+      !PyList_Check(args[2]) || (nargs == 4 && !read_index(args[3], &last))) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "take_stream(times, values, breaks[, last]): three "
+                                       "lists and an index");
+    }
     return NULL;
   }
   PyObject *times = args[0], *values = args[1], *breaks = args[2];
-  Py_ssize_t n = PyList_GET_SIZE(times), span = m->span;
-  if (n < span || PyList_GET_SIZE(values) != n || PyList_GET_SIZE(breaks) != n) {
+  Py_ssize_t size = PyList_GET_SIZE(times), span = m->span;
+  if (PyList_GET_SIZE(values) != size || PyList_GET_SIZE(breaks) != size) {
+    Py_RETURN_NONE;
+  }
+  if (nargs == 4 && (last < 0 || last >= size)) {
+    PyErr_SetString(PyExc_IndexError, "take_stream: last beyond the lists");
+    return NULL;
+  }
+  Py_ssize_t n = nargs == 4 ? last + 1 : size; /* the samples up to last, as if the newest */
+  if (n < span) {
     Py_RETURN_NONE;
   }
   for (Py_ssize_t i = n - span + 1; i < n; i++) {
@@ -6977,8 +7071,8 @@ static PyMethodDef median_methods[] = {
     {"take", (PyCFunction)median_take_method, METH_O,
      "take(residuals) -> sigma: residuals (m) in order; the estimate (m)."},
     {"take_stream", (PyCFunction)(void (*)(void))median_take_stream, METH_FASTCALL,
-     "take_stream(times, values, breaks) -> None: the residuals a point stream's newest sample "
-     "completes."},
+     "take_stream(times, values, breaks[, last]) -> None: the residuals a point stream's newest "
+     "sample (or sample last) completes."},
     {"take_run", (PyCFunction)(void (*)(void))median_take_run, METH_FASTCALL,
      "take_run(old_times, old_points, old_breaks, times, points) -> None: the residuals of a "
      "run of new samples after the stream's newest, every whole window of span."},

@@ -16,7 +16,7 @@ from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared)
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
-from baseball_collision.core.detector.noise import HISTORY, POSE_SPAN
+from baseball_collision.core.detector.noise import ESTIMATES, HISTORY, POSE_SPAN
 import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
@@ -818,47 +818,51 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
     ball, bat = Stream('ball'), Stream('bat')
     plan = Planned()
     assert _kernel.fast_forward_streams(plan, 0, 2, ball, bat, True, False, None,
-                                        BatSample, 0.0) == (0, 1, 1)
+                                        BatSample, 0.0, 0) == (0, 1, 1)
     assert ball.times == [0.0] and ball.values == [(0.0, 0.0, 0.0)] and bat.stamps == [0]
     assert bat.values == [BatSample((0.0,) * 3, (0.0,) * 3, (0.0,) * 3, (0.0, 0.0, 0.0, 1.0))]
     assert bat.turns == [None] and ball.breaks == [False]
     for pos, end in ((1, 1), (2, 1), (-1, 1)):
         with pytest.raises(ValueError):
             _kernel.fast_forward_streams(plan, pos, end, ball, bat, True, False, None,
-                                         BatSample, 0.0)
+                                         BatSample, 0.0, 0)
     with pytest.raises(TypeError):
-        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None, BatSample)
+        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None, BatSample, 0.0)
     with pytest.raises(TypeError):
-        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None, BatSample, 'x')
+        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None, BatSample, 'x',
+                                     0)
+    with pytest.raises(ValueError):
+        _kernel.fast_forward_streams(plan, 0, 1, ball, bat, True, False, None, BatSample, 0.0,
+                                     -1)
     with pytest.raises(AttributeError):
         _kernel.fast_forward_streams(object(), 0, 1, Stream('ball'), Stream('bat'), True,
-                                     False, None, BatSample, 0.0)
+                                     False, None, BatSample, 0.0, 0)
     plan.stamps = (np.array([0.0, 1e7]), plan.stamps[1])
     fresh = Stream('ball')
     with pytest.raises(ValueError):
         _kernel.fast_forward_streams(plan, 0, 1, fresh, Stream('bat'), True, False, None,
-                                     BatSample, 0.0)
+                                     BatSample, 0.0, 0)
     flagged = Planned()
     flagged.breaks = (np.zeros(2, np.int8), flagged.breaks[1])  # (not bool)
     with pytest.raises(ValueError):
         _kernel.fast_forward_streams(flagged, 0, 1, Stream('ball'), Stream('bat'), True, False,
-                                     None, BatSample, 0.0)
+                                     None, BatSample, 0.0, 0)
     flagged.breaks = (np.array([True, True]), np.array([True]))  # each sample starts a segment
     broken = (Stream('ball'), Stream('bat'))
-    _kernel.fast_forward_streams(flagged, 0, 2, *broken, True, False, None, BatSample, 0.0)
+    _kernel.fast_forward_streams(flagged, 0, 2, *broken, True, False, None, BatSample, 0.0, 0)
     assert broken[0].breaks == [True] and broken[1].breaks == [True]
     assert broken[1].turns == [(0.0, 0.0, 0.0, 0.0)]
     tupled = Stream('ball')
     tupled.times = ()  # type: ignore[assignment]
     with pytest.raises(TypeError):
         _kernel.fast_forward_streams(Planned(), 0, 1, tupled, Stream('bat'), True, False, None,
-                                     BatSample, 0.0)
+                                     BatSample, 0.0, 0)
 
     class Spy:
         """An estimator that counts the samples the kernel hands it."""
 
         def __init__(self) -> None:
-            self.taken: List[int] = []
+            self.taken: List[Any] = []
 
         def take_points(self, before: Any, times: np.ndarray, points: np.ndarray) -> float:
             self.taken.append(len(times))
@@ -868,17 +872,29 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
             self.taken.append(-1)  # one sample, after its append
             return 0.0
 
-    # the samples after record_after (s) are the caller's to take (``noise.record_estimates``)
+        def update_at(self, stream: Stream, last: int) -> float:
+            self.taken.append(('at', last))  # one of the run's after record_after
+            return 1e-3 * (last + 1)
+
+    # the samples after record_after (s) but the stream's `ahead` first there are taken one by
+    # one (``update_at``), each estimate kept (``noise.ESTIMATES``: None before them), the
+    # stream's noise the newest
     balls = Planned()
     balls.counts = ([1, 2], [0, 0])  # (two ball samples, at 0 and 0.01 s)
-    for plan, after, taken in ((balls, 0.02, [2]), (balls, 0.005, [1]), (balls, -1.0, []),
-                               (Planned(), 0.02, [-1]), (Planned(), -1.0, [])):
+    for plan, after, ahead, taken, kept in (
+            (balls, 0.02, 0, [2], None), (balls, 0.005, 0, [1, ('at', 1)], [None, 2e-3]),
+            (balls, -1.0, 0, [('at', 0), ('at', 1)], [1e-3, 2e-3]),
+            (balls, -1.0, 1, [1, ('at', 1)], [None, 2e-3]), (balls, -1.0, 2, [2], None),
+            (Planned(), 0.02, 0, [-1], None), (Planned(), -1.0, 0, [('at', 0)], [1e-3])):
         spies = (Spy(), Spy())
         streams = Stream('ball'), Stream('bat')
         _kernel.fast_forward_streams(plan, 0, 2, *streams, False, False, spies, BatSample,
-                                     after)
+                                     after, ahead)
         assert spies[0].taken == taken, after
         assert len(streams[0].times) == plan.counts[0][1]  # every sample appended
+        assert streams[0].aligned.get(ESTIMATES) == kept, after
+        if kept is not None:
+            assert streams[0].noise == kept[-1]
 
 
 def test_after_a_plan_its_first_sample_ends_the_next_go_unplanned(

@@ -416,3 +416,33 @@ def test_a_point_streams_update_takes_its_newest_points_or_positions(kind: str) 
         expected = [r for k in (reach, reach + 1)
                     for r in _point_residuals(times[k - reach:k + 1], points[k - reach:k + 1])[0]]
         assert estimate.residuals == expected
+
+
+@pytest.mark.parametrize('kind', ['point', 'pose', 'length'])
+def test_update_at_a_sample_is_update_when_it_was_the_newest(kind: str) -> None:
+    """
+    ``update_at(stream, j)`` takes what ``update`` took when sample j was the newest.
+
+    Every sample of a stream with a break, taken one by one after the whole stream is there
+    (a fast-forward's samples after the cursor), gives the estimates and residuals of updates
+    after each append, to the bit; a sample beyond the stream is an IndexError.
+    """
+    rng = np.random.default_rng(6)
+    n = 3 * MIN_RESIDUALS + 20
+    times = np.cumsum(rng.uniform(0.002, 0.004, n)).tolist()
+    points = rng.normal(0.0, 1e-3, (n, 3))
+    values = [BatSample(tuple(p), tuple(p + (0.8, 0.0, 0.0) + rng.normal(0.0, 1e-3, 3)),
+                        tuple(p), (0.0, 0.0, 0.0, 1.0)) for p in points] \
+        if kind != 'point' else [tuple(p) for p in points]
+    after, at = NoiseEstimate(kind), NoiseEstimate(kind)
+    stream = Stream('s')
+    expected = []
+    for i in range(n):
+        stream.append(times[i], i, values[i], i in (0, n // 2))
+        expected.append(after.update(stream))
+    found = [at.update_at(stream, j) for j in range(n)]
+    assert found == expected and at.residuals == after.residuals
+    assert max(found) > 0.0
+    if kind != 'length':
+        with pytest.raises(IndexError):
+            at.update_at(stream, n)
