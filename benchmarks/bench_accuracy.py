@@ -50,6 +50,7 @@ FLIGHT = ('fitting', 'FLIGHT')
 METHODS: Dict[object, Dict[object, object]] = {
     'linear': {'model': 'linear'},
     'rigid': {'model': 'rigid'},
+    'rigid-auto': {'model': 'rigid', 'tracker_noise': -1.0},
     'spline': {'model': 'spline'},
     'c2': {'model': 'c2'},
     'c2-la1': {'model': 'c2', 'look_ahead': 1},
@@ -116,9 +117,10 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
         return lambda scenario, samples: reference_result(scenario, samples, noise_m)
     if label == 'reference-interp':
         return lambda scenario, samples: reference_result(scenario, samples, 0.0)
-    noise = {'tracker_noise': noise_m} if label.endswith('-noise') else {}
+    # (a method interpolates unless it says otherwise: tracker_noise 0, not the default auto)
+    noise = {'tracker_noise': noise_m if label.endswith('-noise') else 0.0}
     fields = {key: value for key, value in METHODS[label].items() if isinstance(key, str)}
-    config = DetectorConfig(bat_input=bat, **fields, **noise)
+    config = DetectorConfig(bat_input=bat, **{**noise, **fields})
     modules = {'fitting': fitting, 'kinematics': kinematics}
     constants = {key: getattr(modules[key[0]], key[1]) for key in (SMOOTHER, VELOCITIES, FLIGHT)}
     constants.update((key, value) for key, value in METHODS[label].items()

@@ -2,9 +2,9 @@
 impact_node benchmark: processing time per message and end-to-end impact latency at 1 kHz.
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
-[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--breakdown]
-[--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS`` for the node alone in
-this process, or ``--startup RUNS`` for the start-up time alone.
+[--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--tracker-noise M]
+[--breakdown] [--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS`` for the
+node alone in this process, or ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -66,6 +66,7 @@ import tempfile
 import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+from baseball_collision.core.detector import DEFAULTS
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.entry_points import one_blas_thread_from_start
 from baseball_collision.ros import node as node_module
@@ -433,13 +434,14 @@ def _stop(child: subprocess.Popen) -> object:
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
-        period: float = 0.0, model: str = 'rigid', look_ahead: int = 0,
+        period: float = 0.0, model: str = DEFAULTS['model'], look_ahead: int = 0,
         broken_down: bool = False, consumers: bool = False, freeze: bool = True,
-        fifo: int = 0) -> None:
+        fifo: int = 0, tracker_noise: Optional[float] = None) -> None:
     """
     Start the node and listener processes, publish the pitches, print the figures.
 
     :param fifo: > 0: the node's process (all its threads) under SCHED_FIFO at this priority.
+    :param tracker_noise: the node's ``tracker_noise`` (m; -1 auto), None for its default.
     """
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ.setdefault('ROS_DOMAIN_ID', str(random.SystemRandom().randint(1, 101)))
@@ -454,6 +456,7 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
                     '-p', f'publish_markers:={str(markers).lower()}',
                     '-p', f'prediction_horizon:={horizon}', '-p', f'prediction_period:={period}',
                     '-p', f'model:={model}', '-p', f'look_ahead:={look_ahead}',
+                    *(() if tracker_noise is None else ('-p', f'tracker_noise:={tracker_noise}')),
                     prefix=('chrt', '-f', str(fifo)) if fifo else ())
     listener = _child('--listen', env)
     rclpy.init()
@@ -526,7 +529,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     to_node, in_node = percentiles(to_node), percentiles(in_node)
     to_listener = percentiles(to_listener)
     print(f'impact_node at {rate:.0f} Hz per stream (ball PointStamped + bat PoseStamped), '
-          f'qos {qos_name}, model {model} (look_ahead {look_ahead}), '
+          f'qos {qos_name}, model {model} (look_ahead {look_ahead}, tracker_noise '
+          f"{DEFAULTS['tracker_noise'] if tracker_noise is None else tracker_noise:g}), "
           f"markers {'on' if markers else 'off'}, "
           f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches'
           + (', subscribers on ~/predicted_impact and ~/impact_report' if consumers else '')
@@ -571,7 +575,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
 
 
 def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
-               model: str = 'rigid', freeze: bool = True) -> None:
+               model: str = DEFAULTS['model'], freeze: bool = True, look_ahead: int = 0,
+               tracker_noise: Optional[float] = None) -> None:
     """
     Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
 
@@ -591,7 +596,10 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     per_pitch = int(SWING_S * rate)
     pitch_ns = per_pitch * step_ns + int(PAUSE_S * 1e9)
     overrides = [Parameter('prediction_horizon', value=horizon),
-                 Parameter('prediction_period', value=period), Parameter('model', value=model)]
+                 Parameter('prediction_period', value=period), Parameter('model', value=model),
+                 Parameter('look_ahead', value=look_ahead)]
+    if tracker_noise is not None:
+        overrides.append(Parameter('tracker_noise', value=tracker_noise))
     cpu_runs, predicted, published, full = [], [], [], []
     for run in range(runs):
         node = ImpactNode(parameter_overrides=overrides)
@@ -628,8 +636,10 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     rclpy.try_shutdown()
     least = np.min(np.array(cpu_runs), axis=0) * 1e6
     predicted, published = np.array(predicted), np.array(published)
-    print(f'impact_node in this process at {rate:.0f} Hz per stream, model {model}, '
-          f'prediction_horizon {horizon} s, prediction_period {period} s, {pitches} pitches: '
+    noise = DEFAULTS['tracker_noise'] if tracker_noise is None else tracker_noise
+    print(f'impact_node in this process at {rate:.0f} Hz per stream, model {model} '
+          f'(look_ahead {look_ahead}, tracker_noise {noise:g}), prediction_horizon {horizon} s, '
+          f'prediction_period {period} s, {pitches} pitches: '
           f'CPU per message, least of {runs} runs')
     print(f'  all {least.size} messages: median {np.median(least):.1f} us, mean '
           f'{least.mean():.1f} us, p99 {np.percentile(least, 99):.1f} us')
@@ -685,9 +695,12 @@ def main(argv: Optional[List[str]] = None) -> int:
                         help='prediction_horizon (0: off, the default; 0.3 for the goal)')
     parser.add_argument('--period', type=float, default=0.0, metavar='SECONDS',
                         help='prediction_period (0: every frame, the default)')
-    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'), default='rigid',
-                        help='motion model (rigid)')
+    parser.add_argument('--model', choices=('linear', 'rigid', 'spline', 'c2'),
+                        default=DEFAULTS['model'], help=f"motion model ({DEFAULTS['model']})")
     parser.add_argument('--look-ahead', type=int, default=0, help='c2 look_ahead (0)')
+    parser.add_argument('--tracker-noise', type=float, metavar='METRES', default=None,
+                        help="the node's tracker_noise (m; -1: auto; default: the node's, "
+                        f"{DEFAULTS['tracker_noise']:g})")
     parser.add_argument('--consumers', action='store_true',
                         help='the listener also subscribes to ~/predicted_impact and '
                         '~/impact_report (an arm controller and a recorder)')
@@ -710,11 +723,11 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 0
     if args.in_process:
         in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
-                   args.model, not args.no_freeze)
+                   args.model, not args.no_freeze, args.look_ahead, args.tracker_noise)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
         args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze,
-        args.fifo)
+        args.fifo, args.tracker_noise)
     return 0
 
 

@@ -322,7 +322,7 @@ def test_runtime_parameters(harness: Callable[..., Harness]) -> None:
         for word in words:
             assert word in refused.reason, (name, refused.reason)
     assert h.node.get_parameter('ball_topic').value == 'ball'
-    assert h.node.detector.config.model == 'rigid'
+    assert h.node.detector.config.model == 'c2'
     assert h.node.detector.config.near_miss_threshold == 0.3
 
 

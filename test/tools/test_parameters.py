@@ -21,9 +21,10 @@ def _write(path: Path, text: str) -> Path:
 def test_the_bundled_parameter_files_parse() -> None:
     """Both config files give the node's section, flattened, and build a detector config."""
     pose = load_parameters(REPO_ROOT / 'config' / 'impact_node.yaml')
-    assert pose['model'] == 'rigid' and pose['bat_input'] == 'pose'
+    assert pose['model'] == 'c2' and pose['bat_input'] == 'pose'
     config = build_config(pose, bat_input='pose')
-    assert config.model == 'rigid' and config.profile == WOOD_BAT_34
+    assert (config.model, config.look_ahead, config.tracker_noise) == ('c2', 0, -1.0)
+    assert config.profile == WOOD_BAT_34
     points = load_parameters(REPO_ROOT / 'config' / 'impact_node_points.yaml')
     config = build_config(points, bat_input='points')
     assert config.bat_input == 'points' and config.frame_id == 'mocap'
@@ -82,8 +83,10 @@ def test_the_offline_default_is_c2_with_look_ahead_2_and_auto_noise() -> None:
     assert (config.look_ahead, config.tracker_noise) == (2, 0.001)
     for named in (build_config({'model': 'c2'}, bat_input='pose'),
                   build_config({}, bat_input='pose', model='c2')):
-        assert (named.model, named.look_ahead, named.tracker_noise) == ('c2', 0, 0.0)
-    assert build_config({}, bat_input='pose', model='spline').tracker_noise == 0.0
+        assert (named.model, named.look_ahead, named.tracker_noise) == ('c2', 0, -1.0)
+    assert build_config({}, bat_input='pose', model='spline').tracker_noise == -1.0
+    told = build_config({'tracker_noise': 0.0}, bat_input='pose', model='rigid')
+    assert (told.model, told.look_ahead, told.tracker_noise) == ('rigid', 0, 0.0)
 
 
 def test_flags_win_over_the_parameter_file() -> None:

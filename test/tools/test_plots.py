@@ -47,9 +47,10 @@ def test_plot_names_tell_bags_of_the_same_name_apart() -> None:
 
 @pytest.fixture(scope='module')
 def rigid_90hz() -> Dict[str, Any]:
-    """Analyse the 90 Hz bag with the node's parameters (rigid model); keep its windows."""
+    """Analyse the 90 Hz bag with the node's parameters and the rigid model; keep its windows."""
     analysis = analyze_bag(bag_path('pitches_90hz.mcap'),
-                           AnalysisOptions(parameters=load_parameters(PARAMS)), progress=False)
+                           AnalysisOptions(parameters=load_parameters(PARAMS), model='rigid'),
+                           progress=False)
     assert analysis.config.model == 'rigid'
     return {'analysis': analysis, 'windows': collect_windows(analysis)}
 

@@ -217,8 +217,8 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         read_only=_TOPIC),
     # ---- motion model and bat geometry (read-only)
     ParameterSpec(
-        'model', _S, 'rigid', 'Motion between samples: linear (chords), rigid (translation + '
-        'SLERP, live default), spline (cubic; waits one sample) or c2 (windowed not-a-knot '
+        'model', _S, 'c2', 'Motion between samples: linear (chords), rigid (translation + '
+        'SLERP), spline (cubic; waits one sample) or c2 (the default: windowed not-a-knot '
         'spline of knob, direction and length; waits look_ahead samples).', choices=MODELS,
         read_only=_GEOMETRY),
     ParameterSpec(
@@ -296,9 +296,10 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'velocity_window', _D, 0.061, 'Span of the samples before an impact its velocities are '
         'fitted to (s).', 's', _closed(0.001, 1.0)),
     ParameterSpec(
-        'tracker_noise', _D, 0.0, 'Tracking noise, 1 sigma per coordinate (m); 0 = exact '
-        'samples (interpolated); > 0: c2 smooths its windows with it; negative (-1) = auto: '
-        'estimated per stream from its samples.', 'm', _closed(-1.0, 0.1)),
+        'tracker_noise', _D, -1.0, 'Tracking noise, 1 sigma per coordinate (m); 0 = exact '
+        'samples (interpolated); > 0: c2 smooths its windows with it; negative (-1, the '
+        'default) = auto: estimated per stream from its samples (exact ones read as 0).', 'm',
+        _closed(-1.0, 0.1)),
     ParameterSpec(
         'velocity_degree', _I, 5, "Degree of the bat's velocity fit (1-6); lower it for a noisy "
         'low-rate tracker (3 at 90 Hz with 1 mm noise).', '', _closed(1, 6)),

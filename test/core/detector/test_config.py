@@ -88,7 +88,7 @@ def test_validate_fills_converts_and_ignores_unknown_names() -> None:
     assert set(checked) == set(SPECS)
     assert checked['max_gap'] == 1.0 and isinstance(checked['max_gap'], float)
     assert checked['up_axis'] == [0.0, 2.0, 0.0] and checked['bat_profile'] == []
-    assert checked['qos_depth'] == 100 and checked['model'] == 'rigid'
+    assert checked['qos_depth'] == 100 and checked['model'] == 'c2'
     config = DetectorConfig.from_parameters(checked)
     assert config.max_gap == 1.0 and config.up_axis == (0.0, 1.0, 0.0)
 

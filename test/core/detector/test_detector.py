@@ -306,7 +306,7 @@ def test_reconfigure_takes_thresholds_and_refuses_the_rest() -> None:
         detector.reconfigure(DetectorConfig(model='spline'))
     with pytest.raises(CoreError, match='bat_input'):
         detector.reconfigure(DetectorConfig(bat_input='points'))
-    assert detector.config.model == 'rigid'
+    assert detector.config.model == 'c2'
 
 
 def test_add_by_role_dispatches_like_the_typed_calls(truth_s: float) -> None:
