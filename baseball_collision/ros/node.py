@@ -396,13 +396,19 @@ class ImpactNode(Node):
         """
         Set parameters all at once (see rclpy), checked with the core's rules first.
 
-        A refusal gives the same one-line reason as at start-up; a read-only parameter is
-        refused saying why and to restart. A change applies to the running detector.
+        A refusal gives the same one-line reason as at start-up; a read-only parameter, or a
+        change the running detector cannot take (``Detector.refusal``: ``tracker_noise`` to auto
+        from the told noise it started with), is refused saying why and to restart. A change
+        applies to the running detector.
 
         :returns: the aggregate result.
         """
         try:
             settings, parameters = check_change(self.settings, parameter_list)
+            with self._lock:
+                reason = self.detector.refusal(settings.detector)
+            if reason is not None:
+                raise RosError(reason)
         except RosError as refusal:
             self.get_logger().warning(f'refusing to set parameters at runtime: {refusal}')
             return SetParametersResult(successful=False, reason=str(refusal))

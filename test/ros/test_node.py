@@ -324,6 +324,20 @@ def test_runtime_parameters(harness: Callable[..., Harness]) -> None:
     assert h.node.get_parameter('ball_topic').value == 'ball'
     assert h.node.detector.config.model == 'c2'
     assert h.node.detector.config.near_miss_threshold == 0.3
+    ok = h.set_parameters(tracker_noise=0.001)[0]  # auto -> told (and back): the estimates go on
+    assert ok.successful and h.node.detector.config.tracker_noise == 0.001
+    assert h.set_parameters(tracker_noise=-1.0)[0].successful
+
+
+def test_auto_noise_from_a_told_start_is_refused(harness: Callable[..., Harness]) -> None:
+    """A node started with a told noise refuses auto at runtime, saying to restart."""
+    h = harness({'tracker_noise': 0.0}).start()
+    refused = h.set_parameters(tracker_noise=-1.0)[0]
+    assert not refused.successful
+    assert 'tracker_noise' in refused.reason and 'restart' in refused.reason
+    assert h.node.get_parameter('tracker_noise').value == 0.0
+    assert h.node.detector.config.tracker_noise == 0.0
+    assert h.set_parameters(tracker_noise=0.002)[0].successful
 
 
 def test_bad_value_in_process_raises_node_config_error(monkeypatch: pytest.MonkeyPatch) -> None:

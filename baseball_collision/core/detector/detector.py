@@ -124,16 +124,31 @@ class Detector:
         for part in (self._episodes, self._sweep, self._scheduler, self._predictor, self._intake):
             part.config = config
 
+    def refusal(self, config: DetectorConfig) -> Optional[str]:
+        """
+        Return why the running detector cannot take ``config`` (a restart can), or None.
+
+        It changes one of ``RESTART_FIELDS``, or asks for ``tracker_noise`` auto where the
+        detector started with a told noise (its streams' estimates were never kept; from auto a
+        told value and back are fine: the estimates go on).
+        """
+        changed = [name for name in self.RESTART_FIELDS
+                   if getattr(config, name) != getattr(self._config, name)]
+        if config.tracker_noise < 0.0 and self._noise is None:
+            changed.append('tracker_noise (to auto, from the told noise it started with)')
+        if changed:
+            return f"{', '.join(changed)} cannot change while running: restart"
+        return None
+
     def reconfigure(self, config: DetectorConfig) -> None:
         """
         Swap in a new configuration that differs only in thresholds.
 
-        :raises CoreError: the new config changes one of ``RESTART_FIELDS``.
+        :raises CoreError: the running detector cannot take it (``refusal`` says why).
         """
-        changed = [name for name in self.RESTART_FIELDS
-                   if getattr(config, name) != getattr(self._config, name)]
-        if changed:
-            raise CoreError(f"{', '.join(changed)} cannot change while running: restart")
+        reason = self.refusal(config)
+        if reason is not None:
+            raise CoreError(reason)
         self.config = config
 
     def set_bat_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],

@@ -307,6 +307,16 @@ def test_reconfigure_takes_thresholds_and_refuses_the_rest() -> None:
     with pytest.raises(CoreError, match='bat_input'):
         detector.reconfigure(DetectorConfig(bat_input='points'))
     assert detector.config.model == 'c2'
+    # auto noise: to a told value and back (the estimates go on), but not to auto from a told
+    # value it started with (no estimates were kept)
+    detector.reconfigure(DetectorConfig(tracker_noise=1e-3))
+    detector.reconfigure(DetectorConfig(tracker_noise=-1.0))
+    told = Detector(DetectorConfig(tracker_noise=0.0))
+    told.reconfigure(DetectorConfig(tracker_noise=1e-3))
+    assert 'tracker_noise' in told.refusal(DetectorConfig(tracker_noise=-1.0))
+    with pytest.raises(CoreError, match='tracker_noise .to auto.*restart'):
+        told.reconfigure(DetectorConfig(tracker_noise=-1.0))
+    assert told.config.tracker_noise == 1e-3 and detector.refusal(detector.config) is None
 
 
 def test_add_by_role_dispatches_like_the_typed_calls(truth_s: float) -> None:
