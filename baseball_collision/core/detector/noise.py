@@ -122,10 +122,12 @@ class NoiseEstimate:
     :param kind: ``'point'`` (the ball: fourth differences of its points, or of a pose's
         positions), ``'pose'`` (a bat pose: eighth differences of its positions) or
         ``'length'`` (changes of a knob-tip bat's length).
+    :ivar medians: the kernel's medians a point's residuals go to (its own; a pose's fourth
+        differences' too), which a fast-forward feeds directly.
     :raises ValueError: another kind.
     """
 
-    __slots__ = ('kind', '_median', '_motion')
+    __slots__ = ('kind', '_median', '_motion', 'medians')
 
     def __init__(self, kind: str) -> None:
         if kind not in SPANS and kind != 'length':
@@ -134,6 +136,8 @@ class NoiseEstimate:
         self._median = self._made(SPANS.get(kind, POINT_SPAN))
         # (a pose's fourth differences too: how much of its motion the cubic leaves)
         self._motion = self._made(POINT_SPAN) if kind == 'pose' else None
+        # (every median a sample's residuals go to: what the kernel's fast-forward feeds)
+        self.medians = (self._median,) if self._motion is None else (self._median, self._motion)
 
     @staticmethod
     def _made(span: int) -> _kernel.NoiseMedian:
@@ -197,9 +201,8 @@ class NoiseEstimate:
                                       math.dist(old.tip, old.knob)),))
             return self.sigma
         # (the kernel's: span samples of one segment, the values' points or poses' positions)
-        self._median.take_stream(stream.times, stream.values, stream.breaks, last)
-        if self._motion is not None:
-            self._motion.take_stream(stream.times, stream.values, stream.breaks, last)
+        for median in self.medians:
+            median.take_stream(stream.times, stream.values, stream.breaks, last)
         return self.sigma
 
     def bounds(self, times: np.ndarray, points: np.ndarray, breaks: np.ndarray,
@@ -252,9 +255,8 @@ class NoiseEstimate:
         old_times, old_points, old_breaks = before
         times = np.ascontiguousarray(times, float)
         points = np.ascontiguousarray(points, float)
-        self._median.take_run(old_times, old_points, old_breaks, times, points)
-        if self._motion is not None:
-            self._motion.take_run(old_times, old_points, old_breaks, times, points)
+        for median in self.medians:
+            median.take_run(old_times, old_points, old_breaks, times, points)
         return self.sigma
 
 

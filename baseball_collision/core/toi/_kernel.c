@@ -5628,12 +5628,13 @@ static PyObject *py_c2_jump_bulge(PyObject *self, PyObject *const *args, Py_ssiz
 /* the attribute names fast_forward_streams reads and sets (interned at import) */
 enum {
   FF_COUNTS, FF_PRE, FF_STARTS, FF_TIMES, FF_STAMPS, FF_VALUES, FF_BREAKS, FF_TURNS, FF_ALIGNED,
-  FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_TAKE_POINTS, FF_UPDATE, FF_UPDATE_AT, FF_NAMES
+  FF_NOISE, FF_SPEED_DROPS, FF_PATH_KEY, FF_MEDIANS, FF_TAKE_RUN, FF_SIGMA, FF_UPDATE,
+  FF_UPDATE_AT, FF_NAMES
 };
 static const char *const ff_attributes[FF_NAMES] = {
     "counts", "pre",   "starts",      "times",    "stamps",      "values", "breaks",
-    "turns",  "aligned", "noise", "speed_drops", "path_key", "take_points", "update",
-    "update_at"};
+    "turns",  "aligned", "noise", "speed_drops", "path_key", "medians", "take_run", "sigma",
+    "update", "update_at"};
 static PyObject *ff_names[FF_NAMES];
 static PyObject *zero_turn; /* (0.0, 0.0, 0.0, 0.0): a segment's first cumulative turn */
 
@@ -5718,7 +5719,8 @@ static PyObject *newest_before(PyObject *list)
 
 /*
  * The noise estimator of stream s takes a run's samples a .. b - 1 before they are appended
- * (NoiseEstimate.take_points, with the stream's newest MAX_SPAN - 1 samples, of which its
+ * (NoiseEstimate.take_points: each of its medians' take_run, with the stream's newest
+ * MAX_SPAN - 1 samples, of which its
  * windows take what they reach: their stamps, points or
  * poses' positions, and breaks; none with `fresh`: sample a starts a segment); the stream's
  * estimate becomes its answer.
@@ -5758,11 +5760,21 @@ static bool take_run_noise(PyObject *estimator, PyObject *stream, PyObject *plan
   run_times = old_points ? PySequence_GetSlice(times, a, b) : NULL;
   run_points = run_times ? PySequence_GetSlice(positions, a - pre, b - pre) : NULL;
   if (run_points != NULL) {
-    PyObject *before = PyTuple_Pack(3, old_times, old_points, old_breaks);
-    result = before ? PyObject_CallMethodObjArgs(estimator, ff_names[FF_TAKE_POINTS], before,
-                                                 run_times, run_points, NULL)
-                    : NULL;
-    Py_XDECREF(before);
+    /* each of the estimator's medians takes the run (NoiseEstimate.take_points without its
+     * conversions: the plan's arrays are contiguous float64 already), then its estimate */
+    PyObject *medians = PyObject_GetAttr(estimator, ff_names[FF_MEDIANS]);
+    PyObject *each = medians ? PySequence_Fast(medians, "an estimator's medians") : NULL;
+    bool taken = each != NULL;
+    for (Py_ssize_t i = 0; taken && i < PySequence_Fast_GET_SIZE(each); i++) {
+      PyObject *done_run = PyObject_CallMethodObjArgs(
+          PySequence_Fast_GET_ITEM(each, i), ff_names[FF_TAKE_RUN], old_times, old_points,
+          old_breaks, run_times, run_points, NULL);
+      taken = done_run != NULL;
+      Py_XDECREF(done_run);
+    }
+    Py_XDECREF(each);
+    Py_XDECREF(medians);
+    result = taken ? PyObject_GetAttr(estimator, ff_names[FF_SIGMA]) : NULL;
   }
 done:
   Py_XDECREF(positions);

@@ -861,12 +861,15 @@ def test_the_kernels_fast_forward_refuses_what_is_not_a_plan() -> None:
     class Spy:
         """An estimator that counts the samples the kernel hands it."""
 
+        sigma = 0.0
+
         def __init__(self) -> None:
             self.taken: List[Any] = []
+            self.medians = (self,)  # (its one median: itself)
 
-        def take_points(self, before: Any, times: np.ndarray, points: np.ndarray) -> float:
+        def take_run(self, old_times: Any, old_points: Any, old_breaks: Any, times: np.ndarray,
+                     points: np.ndarray) -> None:
             self.taken.append(len(times))
-            return 0.0
 
         def update(self, stream: Stream) -> float:
             self.taken.append(-1)  # one sample, after its append
