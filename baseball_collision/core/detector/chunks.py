@@ -77,7 +77,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
         append, one trim and one bulk estimate instead of two of each, the same state.
     :param noise: under ``tracker_noise`` auto, the ball's and the bat's estimators: each
         takes the run's samples as ``Detector.add`` updates them after each sample (at once,
-        ``NoiseEstimate.take_points``, a bat pose's positions; a run of one sample appended,
+        ``NoiseEstimate.take_points``' ``take_run`` of each of its ``medians``, a bat pose's
+        positions; a run of one sample appended,
         ``NoiseEstimate.update`` itself, after the append) and sets the stream's ``noise``;
         those after the cursor (the run's, when it walks) but each stream's first
         ``scheduler.ahead`` there one by one, each estimate kept as ``Detector.add`` keeps it
