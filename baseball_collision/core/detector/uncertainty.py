@@ -27,8 +27,12 @@ and its orientation by sigma / ``MARKER_SPREAD_M`` rad per axis, the noise of a 
 rigid body solved over markers that far apart), by the same model, windows and velocity fits
 as the detector. For estimates close to linear in the samples the spread of the re-solves
 around the reported impact is the spread of the reported impact around the truth. Re-solves
-that miss (a graze) are left out. The uncertainty is that standard deviation. With fewer than
-two hits, the noise-free estimate below stands in. The random source is seeded from the
+that miss (a graze) are left out. The uncertainty is that standard deviation; the speed's holds
+in quadrature the fits' own bias as the noise-free estimate below bounds it (the difference from
+``before_rule_speed``: the least-squares fits behind these models' speeds are biased on an
+accelerating swing, which no shaking of the samples shows; without it `rigid`'s speed was
+within its 1 sigma in 4-25 % of impacts at 0.3-2 mm, BENCHMARKS.md, "The node's default"). With
+fewer than two hits, the noise-free estimate below stands in. The random source is seeded from the
 impact's stamps (``seed_for``), so the node and ``analyze``, given the same samples, report
 the same uncertainties to the bit.
 
@@ -436,7 +440,10 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
             if hit is not None:
                 found.append(_quantities(hit))
         if len(found) >= 2:
-            uncertainty = tuple(float(x) for x in np.std(np.array(found), axis=0, ddof=1))
+            spread = tuple(float(x) for x in np.std(np.array(found), axis=0, ddof=1))
+            other = before_rule_speed(config, clock, ball, bat, offsets, impact)
+            uncertainty = (spread[0], spread[1],
+                           math.hypot(spread[2], other - impact.sweet_spot_speed_mps))
     if uncertainty is None:
         uncertainty = difference(config, config.variant(model=ALTERNATIVE[config.model]),
                                  clock, ball, bat, offsets, impact, ta, tb)

@@ -214,12 +214,12 @@ def test_union_intervals_neighbour_the_impacts_interval() -> None:
 
 
 def _coverage(noises_mm: Sequence[float], families: Sequence[str], per_kind: int,
-              look_ahead: int, rate: float = 90.0,
-              auto: bool = False) -> Dict[str, List[PitchResult]]:
+              look_ahead: int, rate: float = 90.0, auto: bool = False,
+              model: str = 'c2') -> Dict[str, List[PitchResult]]:
     """
     Return each family's pitch results, per_kind of each contact kind at each noise.
 
-    ``c2`` told the noise, or with ``auto`` estimating it (``tracker_noise`` -1).
+    ``model`` (``c2``) told the noise, or with ``auto`` estimating it (``tracker_noise`` -1).
     """
     results: Dict[str, List[PitchResult]] = {}
     for family in families:
@@ -227,7 +227,7 @@ def _coverage(noises_mm: Sequence[float], families: Sequence[str], per_kind: int
                                    family=family)
                      for i, kind in enumerate(k for k in CONTACT_KINDS for _ in range(per_kind))]
         for noise_mm in noises_mm:
-            config = DetectorConfig(bat_input='points', model='c2', look_ahead=look_ahead,
+            config = DetectorConfig(bat_input='points', model=model, look_ahead=look_ahead,
                                     tracker_noise=-1.0 if auto else noise_mm * 1e-3)
             for i, scenario in enumerate(scenarios):
                 samples = sample(scenario, rate, np.random.default_rng(i + int(noise_mm * 10)),
@@ -288,6 +288,21 @@ def test_the_offline_defaults_uncertainties_are_calibrated_or_generous() -> None
     for name in ('time', 'location', 'speed'):
         assert 0.60 <= summary[f'{name}_within_1_sigma'] <= 0.90, (name, summary)
         assert 0.90 <= summary[f'{name}_within_2_sigma'] <= 1.0, (name, summary)
+
+
+def test_rigids_speed_under_noise_holds_its_fits_bias() -> None:
+    """
+    ``rigid`` under auto noise: its speed sigma holds the fits' bias, not only the spread.
+
+    The perturbations' spread alone covered the speed error within 2 sigma in 10-47 % of
+    impacts at 0.3-2 mm (BENCHMARKS.md, "The node's default"): the least-squares fits behind
+    the speed are biased on an accelerating swing, which no shaking shows. With the bias bound
+    (``before_rule_speed``) in quadrature, on a seeded set at 360 Hz and 1 mm: at least half
+    within 2 sigma (measured 0.88; 0.25 without it).
+    """
+    results = _coverage((1.0,), ('plane', 'jerky'), 4, 0, 360.0, auto=True, model='rigid')
+    hits = summarize([r for family in results.values() for r in family])
+    assert hits['speed_within_2_sigma'] >= 0.5, hits
 
 
 def test_noise_free_hits_carry_the_brake_in_their_time_uncertainty() -> None:
