@@ -240,10 +240,12 @@ class NoiseEstimate:
         """
         Take the residuals of new samples of one segment's points at once; return the estimate.
 
-        What ``update`` does after each of them in turn, to the bit (the chunk path's
-        fast-forwards): each residual is that of its window of ``span`` samples, the
-        kernel's (``_point_residuals``); of a run longer than ``KEPT_SAMPLES`` only the newest,
-        as the others' would not be kept.
+        What ``update`` does after each of them in turn, to the bit: each residual is that of
+        its window of ``span`` samples, the kernel's (``_point_residuals``); of a run longer
+        than ``KEPT_SAMPLES`` only the newest, as the others' would not be kept. The chunk
+        path's fast-forward does the same from the kernel (each of ``medians``' ``take_run`` on
+        the plan's arrays, already contiguous float64, then ``sigma``), without this method's
+        conversions.
 
         :param before: the stream's newest samples before them (its windows reach the newest
             ``span - 1``): stamps (s), points (m) and whether each starts a segment.
