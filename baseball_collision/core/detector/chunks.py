@@ -94,7 +94,8 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     # each stream in turn (the kernel's): its run's samples appended but those the trim after
     # the run drops at once (never made), the estimate taken of those up to the cursor (one
     # sample appended: after the append, as ``Detector.add`` does, ``update``; else every
-    # sample of the run before it, ``take_points``: the same numbers), then the trim
+    # sample of the run before it, each median's ``take_run``: the same numbers), then the
+    # trim, then those after the cursor one by one (``update_at``), each estimate kept
     newest, ball_taken, bat_taken = _kernel.fast_forward_streams(
         plan, pos, end, ball, bat, walk, stop, noise, BatSample, cursor, scheduler.ahead)
     if ball_taken:
