@@ -18,13 +18,14 @@ positions metres. The detector builds the two forecasts from its latest samples 
   forecasts' paths, that reach test and the search are the compiled kernel's (``toi/_kernel.c``,
   one implementation); the classes here hold the forecasts and ask the kernel (``at``,
   ``pivot_travel``, ...). The detector's predictions skip the objects: ``ball_numbers`` and
-  ``bat_numbers`` give the kernel's numbers of a fitted forecast, ``contact_of`` and
-  ``states_of`` search and evaluate them.
+  ``bat_window_numbers`` give the kernel's numbers of a fitted forecast, ``contact_of`` and
+  ``states_of`` search and evaluate them, and ``forecast_outcomes`` does all three for many
+  frames of arrays at once (a chunk's plan).
 """
 
 from dataclasses import dataclass
 import math
-from typing import List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -285,9 +286,66 @@ def bat_numbers(times: List[float], rows: List[Sequence[float]], first: int, end
     return None if args is NotImplemented else args
 
 
+def bat_window_numbers(times: List[float], values: List[Any], rows: List[Any], first: int,
+                       end: int, degree: int) -> Optional[Tuple[float, ...]]:
+    """
+    Return a bat stream's forecast from its samples [first, end) as the kernel's 21 numbers.
+
+    What ``bat_numbers`` gives of the rows knob + tip + the turn since sample ``first`` (the
+    window's own, so that any window of the same samples gives the same bits, however the
+    stream was trimmed or its cumulative turns summed): each sample's turn from the one before
+    is made once into ``rows`` (the stream's ``aligned['step_rows']``, extended to ``end``:
+    knob + tip + that turn; ``bat_window_rows`` gives the window's summed rows).
+
+    :param times: the stream's times (s); ``values``: its ``BatSample`` list.
+    :returns: the numbers, or None when the fit is rank deficient.
+    :raises TypeError, IndexError, ValueError: lists that are not a bat stream's, a window
+        outside them or of fewer than 3 samples, a degree outside 0-15.
+    """
+    args = _kernel.bat_window_forecast(times, values, rows, first, end, degree)
+    return None if args is NotImplemented else args
+
+
+COARSE_STEP = 0.01
+"""``first_contact``'s coarse step (s) unless told another: the stretch of the horizon whose
+reach is tested before it is solved."""
+
+FOUND, UNDECIDED = 1, 2
+"""``forecast_outcomes``' codes of a frame whose forecasts meet, and of one the kernel leaves to
+the predictor (a rank-deficient fit, or forecasts that leave finite numbers); 0: none."""
+
+
+def forecast_outcomes(ball: Tuple[np.ndarray, np.ndarray], bat: Tuple[np.ndarray, ...],
+                      windows: np.ndarray, t0s: np.ndarray, gravity: Vector, drag: float,
+                      degree: int, horizon: float, ball_radius: float, profile: BatProfile,
+                      tolerance: float) -> np.ndarray:
+    """
+    Return what a prediction from each of many frames of two streams held as arrays finds.
+
+    Frame k forecasts from time ``t0s[k]`` (s) with the ball's samples
+    ``windows[k, 0]:windows[k, 1]`` and the bat's ``windows[k, 2]:windows[k, 3]``, as the
+    detector's predictor does from its streams (``ball_numbers`` of degree 2, the bat's
+    ``bat_window_numbers``, ``contact_of`` over ``horizon``), the same bits, all in one
+    kernel call.
+
+    :param ball: times (m,) and points (m, 3); ``bat``: times (m,), knobs and tips (m, 3),
+        unit quaternions (m, 4) (float64, C-contiguous).
+    :param windows: (frames, 4) int64; a window of fewer than 3 samples finds nothing.
+    :returns: int8 per frame: ``FOUND``, 0 (none), or ``UNDECIDED``.
+    :raises CoreError: arrays of the wrong types or shapes, or windows outside them.
+    """
+    out = np.zeros(len(t0s), np.int8)
+    try:
+        _kernel.forecast_outcomes(*ball, *bat, windows, t0s, out, gravity, drag, degree,
+                                  horizon, ball_radius, profile, tolerance, COARSE_STEP)
+    except (TypeError, ValueError, IndexError) as error:
+        raise CoreError(f'cannot forecast the frames: {error}') from error
+    return out
+
+
 def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
                   profile: BatProfile, tolerance: float,
-                  coarse_step: float = 0.01) -> Optional[Tuple[float, ImpactResult]]:
+                  coarse_step: float = COARSE_STEP) -> Optional[Tuple[float, ImpactResult]]:
     """
     Return the first contact of the forecasts within [t_start, t_start + horizon], or None.
 
@@ -311,7 +369,7 @@ def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_
 
 def contact_of(ball: Tuple[float, ...], bat: tuple, t_start: float, horizon: float,
                ball_radius: float, profile: BatProfile, tolerance: float,
-               coarse_step: float = 0.01) -> Optional[Tuple[float, ImpactResult]]:
+               coarse_step: float = COARSE_STEP) -> Optional[Tuple[float, ImpactResult]]:
     """
     Return ``first_contact`` of the forecasts given as the kernel's numbers (``kernel_args``).
 

@@ -7,10 +7,14 @@ from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
 from baseball_collision.core.detector import predictor
+from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import (
     bat_rates, fit_polynomial, least_accelerating, turn_rows)
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
-    BallForecast, BatForecast, first_contact, planned_bat)
+    BallForecast, bat_window_numbers, BatForecast, contact_of, first_contact, forecast_outcomes,
+    FOUND, planned_bat, UNDECIDED)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.errors import CoreError
@@ -148,7 +152,7 @@ def test_a_rank_deficient_fit_falls_back_to_lapack(barrel, monkeypatch) -> None:
     _, events = _feed(Detector(config), barrel)
     refused = []
     monkeypatch.setattr(predictor, 'ball_numbers', lambda *args: refused.append('ball'))
-    monkeypatch.setattr(predictor, 'bat_numbers', lambda *args: refused.append('bat'))
+    monkeypatch.setattr(predictor, 'bat_window_numbers', lambda *args: refused.append('bat'))
     _, fallback = _feed(Detector(config), barrel)
     assert 'ball' in refused and 'bat' in refused
     made = [e for e in events if isinstance(e, Prediction)]
@@ -411,3 +415,93 @@ def test_bad_plans_are_refused() -> None:
     detector.set_bat_plan([1, 2], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2)
     detector.set_bat_plan([], [], [])
     assert detector._predictor.plan is None
+
+
+def _streams(scenario, noise: float) -> tuple:
+    """Return a scenario sampled at 360 Hz as a ball and a bat pose stream, and its arrays."""
+    samples = sample(scenario, 360.0, np.random.default_rng(5), jitter_s=2e-4, noise_m=noise)
+    origin = int(samples.ball_stamps_ns[0])
+    ball, bat = Stream('ball'), Stream('bat')
+    for stamp, point in zip(samples.ball_stamps_ns.tolist(), samples.ball_positions.tolist()):
+        ball.append((stamp - origin) * 1e-9, stamp, tuple(point), False)
+    rows = zip(samples.bat_stamps_ns.tolist(), samples.knobs.tolist(), samples.tips.tolist(),
+               samples.bat_positions.tolist(), samples.bat_quaternions.tolist())
+    for stamp, knob, tip, position, quaternion in rows:
+        bat.append((stamp - origin) * 1e-9, stamp,
+                   BatSample(tuple(knob), tuple(tip), tuple(position), tuple(quaternion)), False)
+    arrays = ((np.array(ball.times), samples.ball_positions),
+              (np.array(bat.times), samples.knobs, samples.tips, samples.bat_quaternions))
+    return ball, bat, origin, arrays
+
+
+@pytest.mark.parametrize('noise', [0.0, 0.001])
+def test_forecast_outcomes_are_the_predictors_at_every_frame(barrel, noise: float) -> None:
+    """
+    ``forecast_outcomes`` on arrays finds a contact at exactly the frames the predictor does.
+
+    Every bat frame of a tracked barrel hit (360 Hz, exact and with 1 mm of noise): the
+    predictor's forecasts from its streams (``_ball_forecast``, ``_bat_forecast``,
+    ``contact_of``) and the kernel's from the same samples as arrays, with the windows
+    ``Stream.history`` gives; the frames that find one are some, not all.
+    """
+    ball, bat, origin, arrays = _streams(barrel, noise)
+    config = DetectorConfig(prediction_horizon=0.3)
+    clock = Clock()
+    clock.origin = origin
+    made = predictor.Predictor(config, clock, ball, bat, ((0.0,) * 3, (0.0, 0.0, 0.86)))
+    t0s, windows, expected = bat.times[1:], [], []
+    for t0 in t0s:
+        a, b = ball.history(t0, config.prediction_window), bat.history(t0, config.velocity_window)
+        windows.append((a.start, a.stop, b.start, b.stop) if len(a) and len(b) else (0, 0, 0, 0))
+        forecasts = made._ball_forecast(t0), made._bat_forecast(t0)
+        expected.append(None not in forecasts and contact_of(
+            *forecasts, t0, 0.3, config.ball_radius, config.profile, made._tolerance) is not None)
+    outcomes = forecast_outcomes(*arrays, np.array(windows, np.int64), np.array(t0s),
+                                 made._gravity, config.ball_drag, 3, 0.3, config.ball_radius,
+                                 config.profile, made._tolerance)
+    assert UNDECIDED not in outcomes
+    assert (outcomes == FOUND).tolist() == expected
+    assert 20 < sum(expected) < len(expected) - 20
+
+
+def test_a_bat_forecast_is_its_windows_whatever_came_before(barrel) -> None:
+    """
+    The predictor's bat forecast is its window's alone: the turn summed from its first sample.
+
+    The same window of a stream whose cumulative turns were summed (``turn_rows``) and of one
+    trimmed to start there give the same numbers, to the bit; its rows' turns are the
+    cumulative turns' differences, the first zero. Bad windows raise.
+    """
+    _, bat, _, _ = _streams(barrel, 0.0)
+    trimmed = Stream('bat')
+    for t, stamp, value in zip(bat.times[40:], bat.stamps[40:], bat.values[40:]):
+        trimmed.append(t, stamp, value, False)
+    cumulative = turn_rows(bat, 0, 70)
+    for first in (40, 45, 50):
+        numbers = bat_window_numbers(bat.times, bat.values, [], first, 70, 3)
+        assert numbers == bat_window_numbers(trimmed.times, trimmed.values, [], first - 40,
+                                             30, 3)
+        rows = _kernel.bat_window_rows(bat.values, [], first, 70)
+        assert rows[0][6:] == (0.0,) * 4
+        for row, total in zip(rows, cumulative[first:70]):
+            assert row[:6] == total[:6]
+            assert row[6:] == pytest.approx([a - b for a, b in zip(total[6:],
+                                                                   cumulative[first][6:])],
+                                            abs=1e-12)
+        assert BatForecast.fitted(bat.times, [None] * first + rows, first, 70, 3).kernel_args \
+            == numbers
+    kept = []
+    assert bat_window_numbers(bat.times, bat.values, kept, 10, 20, 3) == \
+        bat_window_numbers(bat.times, bat.values, [], 10, 20, 3)
+    assert len(kept) == 20 and kept[:10] == [None] * 10  # (made where asked, kept)
+    with pytest.raises(ValueError):
+        bat_window_numbers(bat.times, bat.values, [], 10, 12, 3)  # fewer than 3 samples
+    with pytest.raises(IndexError):
+        bat_window_numbers(bat.times, bat.values, [], 10, len(bat.values) + 1, 3)
+    with pytest.raises(TypeError):
+        bat_window_numbers(bat.times, bat.values, (), 10, 20, 3)
+    with pytest.raises(CoreError):
+        forecast_outcomes((np.zeros(3), np.zeros((3, 3))), (np.zeros(3), np.zeros((3, 3)),
+                                                            np.zeros((3, 3)), np.zeros((2, 4))),
+                          np.zeros((1, 4), np.int64), np.zeros(1), (0.0, 0.0, -9.8), 0.0, 3,
+                          0.3, 0.0366, WOOD_BAT_34, 0.001)

@@ -30,7 +30,7 @@ checks (``plan_rows``), the order checks, the trims, the searches of ascending k
 """
 
 from bisect import bisect_left
-from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -41,14 +41,12 @@ from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .noise import NoiseEstimate
-from .streams import SILENT_KEEP, Stream, TRIM_LEAVES
+from .predictor import PREDICTION_DEGREE, Predictor
+from .streams import MAX_HISTORY, SILENT_KEEP, Stream, TRIM_LEAVES
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
-from ..prediction import prediction_due
+from ..prediction import forecast_outcomes, prediction_due
 from ..toi import _kernel
-
-if TYPE_CHECKING:  # (the predictor is only passed in)
-    from .predictor import Predictor
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
 """A role's code in ``add_chunk``'s ``roles`` array (the order of ``Role``)."""
@@ -81,7 +79,8 @@ class Plan:
     :ivar counts: per stream (ball, bat), the stream's sample count after each sample,
         counted from the stream's first kept sample when planned (a held sample counts from
         the sample that takes it).
-    :ivar starts: per stream, the index of its first kept sample after each sample's trim.
+    :ivar starts: per stream, the index of its first kept sample after each sample's trim;
+        ``step_starts``: after each step of the walk (from 0, none taken; an array).
     :ivar union: the cursor, then every union time after it (s).
     :ivar visited: after each sample, how many of ``union`` the cursor has reached.
     :ivar times, stamps: per stream, the kept samples then the chunk's (s, ns; arrays).
@@ -102,8 +101,9 @@ class Plan:
     streams' lists and tuples.
     """
 
-    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'union', 'visited', 'times',
-                 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due', 'forecasts')
+    __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'step_starts', 'union', 'visited',
+                 'times', 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due',
+                 'forecasts')
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -182,7 +182,7 @@ class Arrays:
 def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
                frame: Optional[str], ball: Stream, bat: Stream, cursor: float,
                roles: np.ndarray, stamps: np.ndarray, values: np.ndarray,
-               frames: Sequence[str], predictor: Optional['Predictor'] = None,
+               frames: Sequence[str], predictor: Optional[Predictor] = None,
                noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None,
                newest: Optional[int] = None) -> Plan:
     """
@@ -269,7 +269,7 @@ def _through(plan: Plan, ok: np.ndarray, stops: np.ndarray,
 
 
 def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
-                      predictor: 'Predictor', origin: int, done: np.ndarray,
+                      predictor: Predictor, origin: int, done: np.ndarray,
                       counts: List[np.ndarray], visited: np.ndarray
                       ) -> Tuple[np.ndarray, np.ndarray]:
     """
@@ -326,10 +326,63 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
         reach = (0.5 * _norms(t1 - k1) + config.ball_radius + config.profile.max_radius
                  + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
         reaching = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
-    stops[due] = reaching
-    if predictor.predicting and not reaching.all():
-        stops[due[np.argmin(reaching)]] = True  # the first that does not: it clears
+    finds = np.zeros(len(due), bool)
+    reached = np.flatnonzero(reaching)
+    if len(reached):
+        finds[reached] = _forecasts_find(config, plan, arrays, predictor, counts,
+                                         due_steps[reached], cursors)
+    # a due frame forecasts (a stop) when it may find a contact, or when the one before may
+    # have (a prediction may be in force: it clears it)
+    stops[due] = finds | np.concatenate(([predictor.predicting], finds[:-1]))
     return stops, due_steps
+
+
+def _forecasts_find(config: DetectorConfig, plan: Plan, arrays: Arrays, predictor: Predictor,
+                    counts: List[np.ndarray], due_steps: np.ndarray,
+                    cursors: np.ndarray) -> np.ndarray:
+    """
+    Return which due frames' forecasts may find a contact (the kernel's, all in one call).
+
+    Each frame's windows are ``Stream.history``'s on the streams as that step of the walk
+    leaves them (its counts, its trim's start: ``Plan.step_starts``), its time the cursor;
+    the outcomes are
+    ``prediction.forecast_outcomes``' (the predictor's own fits and search on the same
+    samples: the same bits), and an undecided one (left to the predictor) may find.
+    """
+    t0s = np.ascontiguousarray(cursors[due_steps - 1])
+    windows = np.empty((len(due_steps), 4), np.int64)
+    for s, window in ((0, config.prediction_window), (1, config.velocity_window)):
+        windows[:, 2 * s:2 * s + 2] = _histories(
+            arrays.times[s], arrays.breaks[s], plan.step_starts[s][due_steps],
+            counts[s][due_steps], t0s, window)
+    outcomes = forecast_outcomes(
+        (arrays.times[0], arrays.ball),
+        (arrays.times[1], arrays.knobs, arrays.tips, arrays.quaternions), windows, t0s,
+        predictor._gravity, config.ball_drag, min(config.velocity_degree, PREDICTION_DEGREE),
+        config.prediction_horizon, config.ball_radius, config.profile, predictor._tolerance)
+    return outcomes != 0
+
+
+def _histories(times: np.ndarray, breaks: np.ndarray, starts: np.ndarray, counts: np.ndarray,
+               t0s: np.ndarray, window: float) -> np.ndarray:
+    """
+    Return ``Stream.history(t0, window)`` of a stream's samples [start, count) per frame.
+
+    As (first, end) rows in the arrays' indices (end - first < 3: too few for a forecast).
+    ``times``: the stream's kept samples and the chunk's, increasing; ``breaks``: which start
+    a segment.
+    """
+    k = np.minimum(np.searchsorted(times, t0s, 'right'), counts) - 1
+    empty = k < starts
+    k = np.where(empty, starts, k)
+    # bisect_right(times, times[k] - window - 1e-9, max(k - MAX_HISTORY + 1, start), k)
+    first = np.clip(np.searchsorted(times, times[k] - window - 1e-9, 'right'),
+                    np.maximum(k - MAX_HISTORY + 1, starts), k)
+    first = np.where(first > k - 1, np.where(k > starts, k - 1, starts), first)
+    # within the segment: from its newest break in (first, k]
+    newest_break = np.maximum.accumulate(np.where(breaks, np.arange(len(breaks)), -1))
+    first = np.maximum(first, newest_break[k])
+    return np.stack((first, np.where(empty, first, k + 1)), axis=1)
 
 
 def _norms(rows: np.ndarray) -> np.ndarray:
@@ -539,13 +592,14 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     """
     history = 1.5 * max(config.velocity_window, config.prediction_window)
     cursors = plan.union[visited[1:] - 1]
-    plan.starts = []
+    plan.starts, plan.step_starts = [], [None, None]
     silent = np.zeros(len(visited), bool)
     for s in (0, 1):
         cuts = np.minimum(_search_right(arrays.times[s], cursors - history) - TRIM_KEEP,
                           counts[s][1:] - TRIM_LEAVES)
         starts, lengths = _trims(counts[s][1:], cuts)
-        plan.starts.append(items(np.concatenate(([0], starts))[done]))
+        plan.step_starts[s] = np.concatenate(([0], starts))
+        plan.starts.append(items(plan.step_starts[s][done]))
         silent[1:] |= lengths > SILENT_KEEP
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)

@@ -16,16 +16,21 @@ from typing import List, Optional, Sequence, Tuple, Union
 from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
 from .gate import Clock
-from .kinematics import fit_polynomial, turn_rows
+from .kinematics import fit_polynomial
 from .streams import Stream
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
-    ball_numbers, BallForecast, bat_numbers, BatForecast, check_plan_size, contact_of, frozen,
-    planned_bat, PlannedBat, prediction_due, states_of)
+    ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
+    frozen, planned_bat, PlannedBat, prediction_due, states_of)
+from ..toi import _kernel
 from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
 """A prediction's sub-steps may leave the forecast paths by this many ``max_chord_error``."""
+
+STEP_ROWS = 'step_rows'
+"""A bat stream's ``aligned`` list of knob + tip + the turn from the sample before, per sample
+(``prediction.bat_window_numbers``)."""
 
 PREDICTION_DEGREE = 3
 """Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
@@ -37,7 +42,8 @@ class Predictor:
     Forecasts from the ball and bat streams; the commanded plan; whether a contact is predicted.
 
     The forecasts go from the kernel's fits to its search as the kernel's numbers
-    (``prediction.ball_numbers``, ``bat_numbers``, ``contact_of``): no forecast object is made.
+    (``prediction.ball_numbers``, ``bat_window_numbers``, ``contact_of``): no forecast object
+    is made.
 
     :param config: the detector's configuration (``DetectorConfig``).
     :param clock: the detector's clock; ``ball``, ``bat``: its streams.
@@ -99,8 +105,7 @@ class Predictor:
 
         Nothing at all, the last prediction staying in force, when t0 is less than
         ``prediction_period`` after the last frame that predicted (``prediction_due``). The
-        bat's cumulative turns are summed only when a forecast needs them (``turn_rows``: the
-        kernel's ``fill_turns``, a microsecond for a period's steps), as for an impact.
+        bat's turns are summed over the forecast's own window (``_bat_forecast``).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -183,9 +188,12 @@ class Predictor:
 
         Extrapolated from the newest bat sample itself (a fit lags an accelerating swing), with
         the rates of the same knob + tip + turn fit as an impact's velocities
-        (``kinematics.bat_rates``), fitted and turned into the forecast in one kernel call
-        (``prediction.bat_numbers``: the kernel's 21 numbers, ``BatForecast.kernel_args``); a
-        rank-deficient fit by LAPACK's least squares. None with fewer than 3 samples.
+        (``kinematics.bat_rates``), its turn summed from the window's first sample (each
+        sample's step kept in ``aligned[STEP_ROWS]``), fitted and turned into the forecast in
+        one kernel call (``prediction.bat_window_numbers``: the kernel's 21 numbers,
+        ``BatForecast.kernel_args``; a chunk's plan computes the same from arrays,
+        ``prediction.forecast_outcomes``); a rank-deficient fit by LAPACK's least squares.
+        None with fewer than 3 samples.
         """
         if self.plan is not None:
             if self.plan_on_clock is None:  # once: the clock's origin stays until a reset
@@ -201,12 +209,12 @@ class Predictor:
         if len(indices) < 3:
             return None
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
-        rows = turn_rows(bat, first, end)
-        forecast = bat_numbers(bat.times, rows, first, end, degree)
+        steps = bat.aligned.setdefault(STEP_ROWS, [])
+        forecast = bat_window_numbers(bat.times, bat.values, steps, first, end, degree)
         if forecast is None:
             start, latest = bat.times[end - 1], bat.values[end - 1]
-            _, rates, changes = fit_polynomial(bat.times[first:end], rows[first:end], start,
-                                               degree)
+            rows = _kernel.bat_window_rows(bat.values, steps, first, end)
+            _, rates, changes = fit_polynomial(bat.times[first:end], rows, start, degree)
             forecast = BatForecast.from_rates(start, rates, changes, latest.knob,
                                               latest.tip).kernel_args
         return forecast

@@ -1783,6 +1783,41 @@ static bool read_bat(PyObject *o, BatPath *b, PlanViews *views)
 }
 
 /*
+ * The first contact of the forecasts within [t_start, t_start + horizon] (a plan: the part it
+ * covers), scanned in coarse steps: a step is skipped when the ball stays farther from the
+ * bat's pivot than the bat reaches (plus the radii, the loaded profile's, and what both can
+ * travel in the step), else solved on chord sub-steps (first_in_step, whose outputs it sets).
+ */
+static Search search_first(const BallPath *ball, const BatPath *bat, double t_start,
+                           double horizon, double rb, double tolerance, double coarse,
+                           double *t_hit, double *tau, double *dt, int *best, Vec *piece)
+{
+  double end = t_start + horizon;
+  Search found = SEARCH_NONE;
+  if (!bat->planned || bat->n > 0) {
+    if (bat->planned) {
+      t_start = max_of(t_start, bat->times[0]);
+      end = min_of(end, bat->times[bat->n - 1]);
+    }
+    double reach = bat_reach(bat) + rb + profile_cache.max_radius;
+    double ball_accel = v_norm(ball->a);
+    for (double ta = t_start; ta < end && found == SEARCH_NONE;) {
+      double tb = min_of(end, ta + coarse), h = tb - ta;
+      /* the largest distance either body can move from its position at ta within the step */
+      double travel = v_norm(ball_velocity_at(ball, ta)) * h + 0.5 * ball_accel * h * h +
+                      pivot_travel(bat, ta, tb) + 1e-9;
+      double gap = v_norm(v_sub(ball_at(ball, ta), pivot_at(bat, ta)));
+      if (!(gap > reach + travel)) {
+        found = first_in_step(ball, bat, ta, tb, rb, tolerance, ball_accel, t_hit, tau, dt,
+                              best, piece);
+      }
+      ta = tb;
+    }
+  }
+  return found;
+}
+
+/*
  * first_contact(ball, bat, t_start, horizon, ball_radius, profile, tolerance, coarse_step)
  * -> (t, ImpactResult), None, or NotImplemented (the forecasts left finite numbers)
  */
@@ -1813,31 +1848,11 @@ static PyObject *py_first_contact(PyObject *self, PyObject *const *args, Py_ssiz
   if (!load_profile(args[5]) || !read_bat(args[1], &bat, &views)) {
     return NULL;
   }
-  double end = t_start + horizon;
-  Search found = SEARCH_NONE;
   double t_hit = 0.0, tau = 0.0, dt = 0.0;
   int best = 0;
   Vec piece[6];
-  if (!bat.planned || bat.n > 0) {
-    if (bat.planned) {
-      t_start = max_of(t_start, bat.times[0]);
-      end = min_of(end, bat.times[bat.n - 1]);
-    }
-    double reach = bat_reach(&bat) + rb + profile_cache.max_radius;
-    double ball_accel = v_norm(ball.a);
-    for (double ta = t_start; ta < end && found == SEARCH_NONE;) {
-      double tb = min_of(end, ta + coarse), h = tb - ta;
-      /* the largest distance either body can move from its position at ta within the step */
-      double travel = v_norm(ball_velocity_at(&ball, ta)) * h + 0.5 * ball_accel * h * h +
-                      pivot_travel(&bat, ta, tb) + 1e-9;
-      double gap = v_norm(v_sub(ball_at(&ball, ta), pivot_at(&bat, ta)));
-      if (!(gap > reach + travel)) {
-        found = first_in_step(&ball, &bat, ta, tb, rb, tolerance, ball_accel, &t_hit, &tau,
-                              &dt, &best, piece);
-      }
-      ta = tb;
-    }
-  }
+  Search found = search_first(&ball, &bat, t_start, horizon, rb, tolerance, coarse, &t_hit,
+                              &tau, &dt, &best, piece);
   release_plan(&views);
   if (found == SEARCH_BAD) {
     return not_implemented();
@@ -2416,6 +2431,59 @@ static void bat_from_rates(double t0, const double *first, const double *second,
 #define BAT_COMPONENTS 10 /* knob, tip, cumulative turn (swing x, y, z, roll) */
 
 /*
+ * The ball's forecast (its 10 numbers in out) from the polynomial of `degree` through its
+ * window (x, y: gather_window's, the fit's origin t0): 1, or 0 when rank deficient, -1 with an
+ * exception (no memory). y is overwritten.
+ */
+static int ball_fit_forecast(const double *x, Py_ssize_t n, int degree, double *y, double span,
+                             double t0, const double *gravity, double drag, double *out)
+{
+  double d[3 * BALL_COMPONENTS];
+  int solved = fit_at_zero(x, n, degree, y, BALL_COMPONENTS, span, d);
+  if (solved > 0) {
+    ballistic(t0, d, d + BALL_COMPONENTS, gravity, drag, out);
+  }
+  return solved;
+}
+
+/*
+ * The bat's forecast (its 21 numbers in out) from the polynomial of `degree` through its window
+ * (x, y: knob + tip + cumulative turn rows, the fit's origin t, the newest sample's time),
+ * extrapolated from the newest row's knob and tip: as ball_fit_forecast.
+ */
+static int bat_fit_forecast(const double *x, Py_ssize_t n, int degree, double *y, double span,
+                            double t, double *out)
+{
+  /* the newest row, before the fit overwrites y: knob and tip at t */
+  const double *last = y + (n - 1) * BAT_COMPONENTS;
+  Vec knob = {last[0], last[1], last[2]}, tip = {last[3], last[4], last[5]};
+  double d[3 * BAT_COMPONENTS];
+  int solved = fit_at_zero(x, n, degree, y, BAT_COMPONENTS, span, d);
+  if (solved > 0) {
+    bat_from_rates(t, d + BAT_COMPONENTS, d + 2 * BAT_COMPONENTS, knob, tip, out);
+  }
+  return solved;
+}
+
+/*
+ * Rows of knob + tip + the turn from the sample before (y, n x 10) made knob + tip + the turn
+ * since the first row, in place: the first row's turn zero, each next the last plus its step,
+ * summed in order.
+ */
+static void cumulate_turns(double *y, Py_ssize_t n)
+{
+  for (int c = 6; c < BAT_COMPONENTS; c++) {
+    y[c] = 0.0;
+  }
+  for (Py_ssize_t i = 1; i < n; i++) {
+    double *row = y + i * BAT_COMPONENTS;
+    for (int c = 6; c < BAT_COMPONENTS; c++) {
+      row[c] = row[c - BAT_COMPONENTS] + row[c];
+    }
+  }
+}
+
+/*
  * ball_forecast(times, points, first, end, t0, degree, gravity, drag) -> the BallForecast's 10
  * numbers (t0, position, velocity, acceleration), or NotImplemented (a rank-deficient fit)
  */
@@ -2446,12 +2514,11 @@ static PyObject *py_ball_forecast(PyObject *self, PyObject *const *args, Py_ssiz
   if (n > 0 && memory == NULL) {
     return PyErr_NoMemory();
   }
-  double *x = memory, *y = memory + n, span, d[3 * BALL_COMPONENTS], out[10];
+  double *x = memory, *y = memory + n, span, out[10];
   PyObject *result = NULL;
   if (gather_window(args[0], args[1], first, end, BALL_COMPONENTS, t0, x, y, &span)) {
-    int solved = fit_at_zero(x, n, (int)degree, y, BALL_COMPONENTS, span, d);
+    int solved = ball_fit_forecast(x, n, (int)degree, y, span, t0, gravity, drag, out);
     if (solved > 0) {
-      ballistic(t0, d, d + BALL_COMPONENTS, gravity, drag, out);
       result = float_tuple(out, 10);
     } else if (solved == 0) {
       result = Py_NewRef(Py_NotImplemented);
@@ -2517,15 +2584,11 @@ static PyObject *py_bat_forecast(PyObject *self, PyObject *const *args, Py_ssize
   if (memory == NULL) {
     return PyErr_NoMemory();
   }
-  double *x = memory, *y = memory + n, span, d[3 * BAT_COMPONENTS], out[21];
+  double *x = memory, *y = memory + n, span, out[21];
   PyObject *result = NULL;
   if (gather_window(args[0], args[1], first, end, BAT_COMPONENTS, t, x, y, &span)) {
-    /* the newest row, before the fit overwrites y: knob and tip at t */
-    const double *last = y + (n - 1) * BAT_COMPONENTS;
-    Vec knob = {last[0], last[1], last[2]}, tip = {last[3], last[4], last[5]};
-    int solved = fit_at_zero(x, n, (int)degree, y, BAT_COMPONENTS, span, d);
+    int solved = bat_fit_forecast(x, n, (int)degree, y, span, t, out);
     if (solved > 0) {
-      bat_from_rates(t, d + BAT_COMPONENTS, d + 2 * BAT_COMPONENTS, knob, tip, out);
       result = float_tuple(out, 21);
     } else if (solved == 0) {
       result = Py_NewRef(Py_NotImplemented);
@@ -3984,15 +4047,13 @@ done:
  * operation in the order of those functions: the same bits. TypeError: a sample without a
  * knob and tip of 3 numbers, or a quaternion neither None nor 4 numbers.
  */
-/* how the bat turned from sample a to sample b (turn_between's numbers); false with an exception */
-static bool bat_turn(PyObject *a, PyObject *b, Vec *swing_out, double *roll_out)
+/*
+ * How the bat turned from one pose to the next (turn_between's numbers): d0, d1 the knob-to-tip
+ * vectors, q0, q1 the quaternions (x, y, z, w) or NULL (no roll without both).
+ */
+static void turn_step(Vec d0, const double *q0, Vec d1, const double *q1, Vec *swing_out,
+                      double *roll_out)
 {
-  Vec d0, d1;
-  double q0[4], q1[4];
-  bool posed0, posed1;
-  if (!bat_turn_parts(a, &d0, q0, &posed0) || !bat_turn_parts(b, &d1, q1, &posed1)) {
-    return false;
-  }
   Vec turn = {d0.y * d1.z - d0.z * d1.y, d0.z * d1.x - d0.x * d1.z, d0.x * d1.y - d0.y * d1.x};
   double sine = sqrt(turn.x * turn.x + turn.y * turn.y + turn.z * turn.z);
   Vec swing = {0.0, 0.0, 0.0};
@@ -4001,7 +4062,7 @@ static bool bat_turn(PyObject *a, PyObject *b, Vec *swing_out, double *roll_out)
     swing = (Vec){turn.x * angle, turn.y * angle, turn.z * angle};
   }
   double roll = 0.0;
-  if (posed0 && posed1) {
+  if (q0 != NULL && q1 != NULL) {
     double x0 = q0[0], y0 = q0[1], z0 = q0[2], w0 = q0[3];
     double x1 = q1[0], y1 = q1[1], z1 = q1[2], w1 = q1[3];
     double w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0;
@@ -4023,6 +4084,19 @@ static bool bat_turn(PyObject *a, PyObject *b, Vec *swing_out, double *roll_out)
   }
   *swing_out = swing;
   *roll_out = roll;
+}
+
+/* how the bat turned from sample a to sample b (turn_between's numbers); false with an exception */
+static bool bat_turn(PyObject *a, PyObject *b, Vec *swing_out, double *roll_out)
+{
+  Vec d0, d1;
+  double q0[4], q1[4];
+  bool posed0, posed1;
+  if (!bat_turn_parts(a, &d0, q0, &posed0) || !bat_turn_parts(b, &d1, q1, &posed1)) {
+    return false;
+  }
+  turn_step(d0, posed0 && posed1 ? q0 : NULL, d1, posed0 && posed1 ? q1 : NULL, swing_out,
+            roll_out);
   return true;
 }
 
@@ -4102,6 +4176,376 @@ static PyObject *py_fill_turns(PyObject *self, PyObject *const *args, Py_ssize_t
     }
   }
   return Py_NewRef(PyList_GET_ITEM(turns, k));
+}
+
+/*
+ * A bat sample's knob, tip and quaternion (*posed false when it has none); false with an
+ * exception (as bat_turn_parts).
+ */
+static bool bat_pose_parts(PyObject *sample, Vec *knob, Vec *tip, double quaternion[4],
+                           bool *posed)
+{
+  PyObject *knob_object = NULL, *tip_object = NULL, *quaternion_object = NULL;
+  bool ok = bat_ends(sample, knob, tip, &knob_object, &tip_object) &&
+            (quaternion_object = PyObject_GetAttr(sample, quaternion_name)) != NULL;
+  if (ok) {
+    *posed = quaternion_object != Py_None;
+    ok = !*posed || read_floats(quaternion_object, quaternion, 4, "a bat sample's quaternion");
+  }
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
+  Py_XDECREF(quaternion_object);
+  return ok;
+}
+
+/*
+ * A bat stream's step rows [first, end) made where missing: rows (a list, extended with None
+ * up to end) holds, per sample, knob + tip + the turn from the sample before (turn_step; zeros
+ * for the stream's first sample), made once (a sample never changes). False with an exception.
+ */
+static bool fill_step_rows(PyObject *values, PyObject *rows, Py_ssize_t first, Py_ssize_t end)
+{
+  if (!PyList_Check(values) || !PyList_Check(rows)) {
+    PyErr_SetString(PyExc_TypeError, "a bat window's samples and rows must be lists");
+    return false;
+  }
+  if (first < 0 || end <= first || end > PyList_GET_SIZE(values)) {
+    PyErr_SetString(PyExc_IndexError, "a bat window is outside its samples");
+    return false;
+  }
+  while (PyList_GET_SIZE(rows) < end) {
+    if (PyList_Append(rows, Py_None) < 0) {
+      return false;
+    }
+  }
+  Vec knob, tip, before_knob, before_tip;
+  double q[4], before_q[4];
+  bool posed, before_posed, before_read = false;
+  for (Py_ssize_t i = first; i < end; i++) {
+    if (PyList_GET_ITEM(rows, i) != Py_None) {
+      before_read = false;
+      continue;
+    }
+    if (!bat_pose_parts(PyList_GET_ITEM(values, i), &knob, &tip, q, &posed)) {
+      return false;
+    }
+    Vec swing = {0.0, 0.0, 0.0};
+    double roll = 0.0;
+    if (i > 0) {
+      if (!before_read && !bat_pose_parts(PyList_GET_ITEM(values, i - 1), &before_knob,
+                                          &before_tip, before_q, &before_posed)) {
+        return false;
+      }
+      bool both = before_posed && posed;
+      turn_step(v_sub(before_tip, before_knob), both ? before_q : NULL, v_sub(tip, knob),
+                both ? q : NULL, &swing, &roll);
+    }
+    double row[BAT_COMPONENTS] = {knob.x, knob.y, knob.z, tip.x,   tip.y,
+                                  tip.z,  swing.x, swing.y, swing.z, roll};
+    PyObject *made = float_tuple(row, BAT_COMPONENTS);
+    if (made == NULL || PyList_SetItem(rows, i, made) < 0) {
+      return false;
+    }
+    before_knob = knob, before_tip = tip, before_posed = posed, before_read = true;
+    memcpy(before_q, q, sizeof q);
+  }
+  return true;
+}
+
+/*
+ * bat_window_forecast(times, values, rows, first, end, degree) -> the BatForecast's 21 numbers
+ * from a bat stream's samples [first, end) (at least 3), or NotImplemented (rank deficient):
+ * knob + tip + the turn since the window's first sample (its step rows, fill_step_rows, summed
+ * in order), fitted at and extrapolated from the newest (as bat_forecast).
+ */
+static PyObject *py_bat_window_forecast(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, end;
+  long degree;
+  if (nargs != 6 || !read_index(args[3], &first) || !read_index(args[4], &end) ||
+      ((degree = PyLong_AsLong(args[5])) == -1 && PyErr_Occurred())) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError,
+                      "bat_window_forecast(times, values, rows, first, end, degree)");
+    }
+    return NULL;
+  }
+  if (degree < 0 || degree > MAX_FIT_DEGREE || end - first < 3) {
+    PyErr_SetString(PyExc_ValueError,
+                    "bat_window_forecast: 0 <= degree <= 15, at least 3 samples");
+    return NULL;
+  }
+  if (!fill_step_rows(args[1], args[2], first, end)) {
+    return NULL;
+  }
+  if (!PyList_Check(args[0]) || end > PyList_GET_SIZE(args[0])) {
+    PyErr_SetString(PyExc_IndexError, "a bat window is outside its times");
+    return NULL;
+  }
+  double t = item_double(PyList_GET_ITEM(args[0], end - 1));
+  if (t == -1.0 && PyErr_Occurred()) {
+    return NULL;
+  }
+  Py_ssize_t n = end - first;
+  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BAT_COMPONENTS)));
+  if (memory == NULL) {
+    return PyErr_NoMemory();
+  }
+  double *x = memory, *y = memory + n, span, out[21];
+  PyObject *result = NULL;
+  if (gather_window(args[0], args[2], first, end, BAT_COMPONENTS, t, x, y, &span)) {
+    cumulate_turns(y, n);
+    int solved = bat_fit_forecast(x, n, (int)degree, y, span, t, out);
+    if (solved > 0) {
+      result = float_tuple(out, 21);
+    } else if (solved == 0) {
+      result = Py_NewRef(Py_NotImplemented);
+    }
+  }
+  PyMem_Free(memory);
+  return result;
+}
+
+/*
+ * bat_window_rows(values, rows, first, end) -> [knob + tip + turn since sample first, ...]: the
+ * rows bat_window_forecast fits (10-tuples; its step rows made where missing)
+ */
+static PyObject *py_bat_window_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t first, end;
+  if (nargs != 4 || !read_index(args[2], &first) || !read_index(args[3], &end)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "bat_window_rows(values, rows, first, end)");
+    }
+    return NULL;
+  }
+  if (!fill_step_rows(args[0], args[1], first, end)) {
+    return NULL;
+  }
+  Py_ssize_t n = end - first;
+  double *y = PyMem_Malloc(sizeof(double) * (size_t)(n * BAT_COMPONENTS));
+  if (y == NULL) {
+    return PyErr_NoMemory();
+  }
+  bool ok = true;
+  for (Py_ssize_t i = 0; ok && i < n; i++) {
+    PyObject *row = PyList_GET_ITEM(args[1], first + i);
+    for (int c = 0; ok && c < BAT_COMPONENTS; c++) {
+      y[i * BAT_COMPONENTS + c] = item_double(PyTuple_GET_ITEM(row, c));
+      ok = !PyErr_Occurred();
+    }
+  }
+  PyObject *result = NULL;
+  if (ok) {
+    cumulate_turns(y, n);
+    result = PyList_New(n);
+    for (Py_ssize_t i = 0; result != NULL && i < n; i++) {
+      PyObject *row = float_tuple(y + i * BAT_COMPONENTS, BAT_COMPONENTS);
+      if (row == NULL) {
+        Py_CLEAR(result);
+      } else {
+        PyList_SET_ITEM(result, i, row);
+      }
+    }
+  }
+  PyMem_Free(y);
+  return result;
+}
+
+/* what forecast_outcomes says of a frame */
+enum { OUTCOME_NONE = 0, OUTCOME_FOUND = 1, OUTCOME_UNDECIDED = 2 };
+
+/*
+ * forecast_outcomes(ball_times, ball_points, bat_times, knobs, tips, quaternions, windows, t0s,
+ *                   out, gravity, drag, degree, horizon, ball_radius, profile, tolerance,
+ *                   coarse_step) -> None
+ * The predictor's forecasts at many frames of two streams held as arrays (a chunk's plan:
+ * contiguous float64, points (m, 3), quaternions (m, 4)): frame k's ball window is samples
+ * windows[4k] .. windows[4k + 1] - 1, its bat window windows[4k + 2] .. windows[4k + 3] - 1
+ * (int64), its time t0s[k]. Each is what Predictor.predict computes from the same samples: the
+ * ball's forecast (ball_forecast, degree 2, from t0), the bat's (bat_window_forecast: step rows
+ * from these arrays, the first sample's turn zero) and their first contact within the horizon
+ * (first_contact). out[k] (int8): 1 a contact found, 0 none (or a window of fewer than 3
+ * samples), 2 undecided (a rank-deficient fit, which the predictor fits again with LAPACK, or
+ * forecasts that leave finite numbers, which it reports).
+ */
+static PyObject *py_forecast_outcomes(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  if (nargs != 17) {
+    PyErr_SetString(PyExc_TypeError,
+                    "forecast_outcomes(ball_times, ball_points, bat_times, knobs, tips, "
+                    "quaternions, windows, t0s, out, gravity, drag, degree, horizon, "
+                    "ball_radius, profile, tolerance, coarse_step)");
+    return NULL;
+  }
+  double gravity[3], drag, horizon, rb, tolerance, coarse;
+  long degree;
+  if (!read_floats(args[9], gravity, 3, "gravity") || !read_number(args[10], &drag) ||
+      ((degree = PyLong_AsLong(args[11])) == -1 && PyErr_Occurred()) ||
+      !read_number(args[12], &horizon) || !read_number(args[13], &rb) ||
+      !read_number(args[15], &tolerance) || !read_number(args[16], &coarse)) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "forecast_outcomes: numbers expected");
+    }
+    return NULL;
+  }
+  if (degree < 0 || degree > MAX_FIT_DEGREE || !non_negative(rb) || !(tolerance > 0.0) ||
+      !(coarse > 0.0) || !isfinite(horizon)) {
+    PyErr_SetString(PyExc_ValueError, "forecast_outcomes: 0 <= degree <= 15, ball_radius >= 0, "
+                    "tolerance > 0, coarse_step > 0, a finite horizon");
+    return NULL;
+  }
+  if (!load_profile(args[14])) {
+    return NULL;
+  }
+  Py_buffer views[9];
+  int held = 0;
+  PyObject *result = NULL;
+  double *memory = NULL, *steps = NULL;
+  Py_ssize_t counts[8];
+  for (; held < 8; held++) {
+    if (held != 6) {
+      if (!get_doubles(args[held], &views[held], &counts[held], "forecast_outcomes", false)) {
+        goto done;
+      }
+      continue;
+    }
+    if (PyObject_GetBuffer(args[6], &views[6], PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+      goto done;
+    }
+    counts[6] = views[6].len / 8;
+    if (views[6].itemsize != 8 || views[6].format == NULL || strlen(views[6].format) != 1 ||
+        strchr("lq", views[6].format[0]) == NULL) {
+      held++;
+      PyErr_SetString(PyExc_ValueError, "forecast_outcomes: windows must be int64");
+      goto done;
+    }
+  }
+  Py_ssize_t frames = counts[7];
+  if (!get_items(args[8], &views[8], frames, 1, "bBb?", "forecast_outcomes' out", true)) {
+    goto done;
+  }
+  held = 9;
+  Py_ssize_t m_ball = counts[0], m_bat = counts[2];
+  if (counts[1] != 3 * m_ball || counts[3] != 3 * m_bat || counts[4] != 3 * m_bat ||
+      counts[5] != 4 * m_bat || counts[6] != 4 * frames) {
+    PyErr_SetString(PyExc_ValueError, "forecast_outcomes: arrays of mismatched lengths");
+    goto done;
+  }
+  const double *ball_times = views[0].buf, *ball_points = views[1].buf;
+  const double *bat_times = views[2].buf, *knobs = views[3].buf, *tips = views[4].buf;
+  const double *quaternions = views[5].buf, *t0s = views[7].buf;
+  const long long *windows = views[6].buf;
+  signed char *out = views[8].buf;
+  Py_ssize_t widest = 0, step_from = m_bat, step_end = 0;
+  for (Py_ssize_t k = 0; k < frames; k++) {
+    const long long *w = windows + 4 * k;
+    if (w[0] < 0 || w[1] > m_ball || w[2] < 0 || w[3] > m_bat) {
+      PyErr_SetString(PyExc_IndexError, "forecast_outcomes: a window outside the samples");
+      goto done;
+    }
+    for (int s = 0; s < 2; s++) {
+      Py_ssize_t n = (Py_ssize_t)(w[2 * s + 1] - w[2 * s]);
+      widest = n > widest ? n : widest;
+    }
+    if (w[3] - w[2] >= 3) {
+      step_from = w[2] + 1 < step_from ? (Py_ssize_t)w[2] + 1 : step_from;
+      step_end = w[3] > step_end ? (Py_ssize_t)w[3] : step_end;
+    }
+  }
+  /* each bat sample's turn from the one before, once (the windows overlap) */
+  if (step_end > step_from) {
+    steps = PyMem_Malloc(sizeof(double) * 4 * (size_t)(step_end - step_from));
+    if (steps == NULL) {
+      PyErr_NoMemory();
+      goto done;
+    }
+    for (Py_ssize_t i = step_from; i < step_end; i++) {
+      Vec swing;
+      double roll;
+      turn_step(v_sub(row3(tips, i - 1), row3(knobs, i - 1)), quaternions + 4 * (i - 1),
+                v_sub(row3(tips, i), row3(knobs, i)), quaternions + 4 * i, &swing, &roll);
+      double *step = steps + 4 * (i - step_from);
+      step[0] = swing.x, step[1] = swing.y, step[2] = swing.z, step[3] = roll;
+    }
+  }
+  memory = widest > 0 ? PyMem_Malloc(sizeof(double) * (size_t)(widest * (1 + BAT_COMPONENTS)))
+                      : NULL;
+  if (widest > 0 && memory == NULL) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  for (Py_ssize_t k = 0; k < frames; k++) {
+    const long long *w = windows + 4 * k;
+    Py_ssize_t a = (Py_ssize_t)w[0], na = (Py_ssize_t)(w[1] - w[0]);
+    Py_ssize_t b = (Py_ssize_t)w[2], nb = (Py_ssize_t)(w[3] - w[2]);
+    out[k] = OUTCOME_NONE;
+    if (na < 3 || nb < 3) {
+      continue;
+    }
+    double t0 = t0s[k], *x = memory, *y = memory + widest, span, ball[10], bat[21];
+    span = max_of(t0 - ball_times[a], 1e-9);
+    for (Py_ssize_t i = 0; i < na; i++) {
+      x[i] = (ball_times[a + i] - t0) / span;
+      memcpy(y + 3 * i, ball_points + 3 * (a + i), 3 * sizeof(double));
+    }
+    int solved = ball_fit_forecast(x, na, 2, y, span, t0, gravity, drag, ball);
+    if (solved < 0) {
+      goto done;
+    }
+    if (solved == 0) {
+      out[k] = OUTCOME_UNDECIDED;
+      continue;
+    }
+    double t = bat_times[b + nb - 1];
+    span = max_of(t - bat_times[b], 1e-9);
+    for (Py_ssize_t i = 0; i < nb; i++) {
+      double *row = y + BAT_COMPONENTS * i;
+      x[i] = (bat_times[b + i] - t) / span;
+      memcpy(row, knobs + 3 * (b + i), 3 * sizeof(double));
+      memcpy(row + 3, tips + 3 * (b + i), 3 * sizeof(double));
+      if (i > 0) {
+        memcpy(row + 6, steps + 4 * (b + i - step_from), 4 * sizeof(double));
+      }
+    }
+    cumulate_turns(y, nb);
+    solved = bat_fit_forecast(x, nb, (int)degree, y, span, t, bat);
+    if (solved < 0) {
+      goto done;
+    }
+    if (solved == 0) {
+      out[k] = OUTCOME_UNDECIDED;
+      continue;
+    }
+    BallPath ball_path = {ball[0], {ball[1], ball[2], ball[3]}, {ball[4], ball[5], ball[6]},
+                          {ball[7], ball[8], ball[9]}};
+    BatPath bat_path;
+    memset(&bat_path, 0, sizeof bat_path);
+    bat_path.t0 = bat[0];
+    bat_path.pivot = (Vec){bat[1], bat[2], bat[3]};
+    bat_path.pivot_velocity = (Vec){bat[4], bat[5], bat[6]};
+    bat_path.pivot_acceleration = (Vec){bat[7], bat[8], bat[9]};
+    bat_path.knob_arm = (Vec){bat[10], bat[11], bat[12]};
+    bat_path.tip_arm = (Vec){bat[13], bat[14], bat[15]};
+    bat_path.axis = (Vec){bat[16], bat[17], bat[18]};
+    bat_path.rate = bat[19];
+    bat_path.rate_change = bat[20];
+    double t_hit, tau, dt;
+    int best;
+    Vec piece[6];
+    Search found = search_first(&ball_path, &bat_path, t0, horizon, rb, tolerance, coarse,
+                                &t_hit, &tau, &dt, &best, piece);
+    out[k] = found == SEARCH_FOUND ? OUTCOME_FOUND
+                                   : found == SEARCH_BAD ? OUTCOME_UNDECIDED : OUTCOME_NONE;
+  }
+  result = Py_NewRef(Py_None);
+done:
+  for (int i = 0; i < held; i++) {
+    PyBuffer_Release(&views[i]);
+  }
+  PyMem_Free(memory);
+  PyMem_Free(steps);
+  return result;
 }
 
 /*
@@ -8226,6 +8670,15 @@ static PyMethodDef methods[] = {
     {"c2_path_init", (PyCFunction)(void (*)(void))py_c2_path_init, METH_FASTCALL,
      "c2_path_init(path, point_class, angle_class, t0, t1, sample0, sample1, knob_slopes, "
      "turn_slopes, length_slopes): a C2BatPath's slots filled"},
+    {"bat_window_forecast", (PyCFunction)(void (*)(void))py_bat_window_forecast, METH_FASTCALL,
+     "bat_window_forecast(times, values, rows, first, end, degree): a bat stream's window's "
+     "forecast (21 numbers) with the turn since its first sample, or NotImplemented"},
+    {"bat_window_rows", (PyCFunction)(void (*)(void))py_bat_window_rows, METH_FASTCALL,
+     "bat_window_rows(values, rows, first, end): the rows bat_window_forecast fits"},
+    {"forecast_outcomes", (PyCFunction)(void (*)(void))py_forecast_outcomes, METH_FASTCALL,
+     "forecast_outcomes(ball_times, ball_points, bat_times, knobs, tips, quaternions, windows, "
+     "t0s, out, gravity, drag, degree, horizon, ball_radius, profile, tolerance, coarse_step): "
+     "the predictor's outcome at many frames of arrays (1 found, 0 none, 2 undecided)"},
     {"fill_turns", (PyCFunction)(void (*)(void))py_fill_turns, METH_FASTCALL,
      "fill_turns(values, turns, first_kept, k): a bat stream's cumulative turns up to k"},
     {"turn_between", (PyCFunction)(void (*)(void))py_turn_between, METH_FASTCALL,
