@@ -13,8 +13,9 @@ doubles the next one's length (``PLAN_MAX`` up to ``PLAN_LONGEST``), and only th
 fast-forward keeps after its trim become the streams' Python lists.
 
 With prediction on, a fast-forward moves the predictor's ``last_ns``; a stop for the
-predictor alone (a due frame that could forecast or clear a prediction) is taken by the run
-before it, then ``Predictor.predict`` (its walk is the plan's, far).
+predictor alone (a due frame whose forecasts may meet, by the plan's, or that may clear a
+prediction) is taken by the run before it, then ``Predictor.predict`` (its walk is the
+plan's, far).
 
 Identical output to feeding the samples one at a time is the contract
 (test/core/detector/test_chunks.py).

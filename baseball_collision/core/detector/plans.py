@@ -16,7 +16,9 @@ the second appends both, the first starting a segment), unless the second is one
 prediction on its held sample's step is a due frame.
 
 With prediction on, every step of the walk that moves the cursor (a frame) is also a frame
-of ``Predictor.predict``: the plan says which due frames could forecast or clear a prediction
+of ``Predictor.predict``: the plan forecasts every due frame where the ball may reach the bat
+on its arrays, all in one kernel call (``prediction.forecast_outcomes``: the predictor's fits
+and search, the same bits), and says which could make or clear a prediction
 (:func:`_prediction_stops`: stops) and the predictor's ``last_ns`` after each sample.
 
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
@@ -280,12 +282,15 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     frame (a step that moves the cursor) ``Predictor.predict`` runs; on a due frame
     (``prediction_due``) it sets ``last_ns``, then forecasts when armed and ``_may_reach``
     holds, else clears a prediction in force. A frame between stops only visits far
-    intervals, which arm: its due frame stops when a bat plan is set or the ball may reach the
-    bat (``_may_reach`` from the newest two samples of each stream, decided here with
-    ``SLACK`` to spare), and, with a prediction in force, the first due frame that does not
-    (it clears it); the other due frames only move ``last_ns``. A stop that makes a
-    prediction (the next due frame not a stop) or leaves ``last_ns`` elsewhere overturns the
-    plan (``_follow``).
+    intervals, which arm: its due frame stops when a bat plan is set, or when the ball may
+    reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
+    with ``SLACK`` to spare) and its forecasts may meet (``_forecasts_find``), or when the due
+    frame before may have made a prediction (it makes another or clears it); the other due
+    frames only move ``last_ns``. A prediction the predictor makes is one the plan allowed
+    for (a forecast that meets is one ``forecast_outcomes`` finds on the same samples), so
+    the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
+    prediction in force before a due frame that is not a stop, overturns the plan
+    (``_follow``).
     """
     n = plan.n
     steps = visited[1:int(done[-1]) + 1]  # the cursor's union index after each step
