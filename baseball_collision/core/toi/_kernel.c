@@ -2550,6 +2550,37 @@ static PyObject *py_ballistic(PyObject *self, PyObject *const *args, Py_ssize_t 
 }
 
 /*
+ * The bat's forecast (21 numbers, a tuple) from its window [first, end) of a stream's lists
+ * (times; rows of knob + tip + cumulative turn, or with `steps` of knob + tip + the turn from
+ * the sample before: cumulate_turns), fitted at t (the newest sample's time); NotImplemented
+ * when rank deficient; NULL with an exception.
+ */
+static PyObject *bat_window_result(PyObject *times, PyObject *rows, Py_ssize_t first,
+                                   Py_ssize_t end, int degree, double t, bool steps)
+{
+  Py_ssize_t n = end - first;
+  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BAT_COMPONENTS)));
+  if (memory == NULL) {
+    return PyErr_NoMemory();
+  }
+  double *x = memory, *y = memory + n, span, out[21];
+  PyObject *result = NULL;
+  if (gather_window(times, rows, first, end, BAT_COMPONENTS, t, x, y, &span)) {
+    if (steps) {
+      cumulate_turns(y, n);
+    }
+    int solved = bat_fit_forecast(x, n, degree, y, span, t, out);
+    if (solved > 0) {
+      result = float_tuple(out, 21);
+    } else if (solved == 0) {
+      result = Py_NewRef(Py_NotImplemented);
+    }
+  }
+  PyMem_Free(memory);
+  return result;
+}
+
+/*
  * bat_forecast(times, rows, first, end, degree) -> the BatForecast's 21 numbers from the bat's
  * samples [first, end) (rows: knob + tip + cumulative turn, 10 floats each; at least 3
  * samples), fitted at and extrapolated from the newest, or NotImplemented (rank deficient)
@@ -2579,23 +2610,7 @@ static PyObject *py_bat_forecast(PyObject *self, PyObject *const *args, Py_ssize
   if (t == -1.0 && PyErr_Occurred()) {
     return NULL;
   }
-  Py_ssize_t n = end - first;
-  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BAT_COMPONENTS)));
-  if (memory == NULL) {
-    return PyErr_NoMemory();
-  }
-  double *x = memory, *y = memory + n, span, out[21];
-  PyObject *result = NULL;
-  if (gather_window(args[0], args[1], first, end, BAT_COMPONENTS, t, x, y, &span)) {
-    int solved = bat_fit_forecast(x, n, (int)degree, y, span, t, out);
-    if (solved > 0) {
-      result = float_tuple(out, 21);
-    } else if (solved == 0) {
-      result = Py_NewRef(Py_NotImplemented);
-    }
-  }
-  PyMem_Free(memory);
-  return result;
+  return bat_window_result(args[0], args[1], first, end, (int)degree, t, false);
 }
 
 /* least_accelerating(knob, tip) -> the fraction of the least-accelerating axis point */
@@ -4286,24 +4301,7 @@ static PyObject *py_bat_window_forecast(PyObject *self, PyObject *const *args, P
   if (t == -1.0 && PyErr_Occurred()) {
     return NULL;
   }
-  Py_ssize_t n = end - first;
-  double *memory = PyMem_Malloc(sizeof(double) * (size_t)(n * (1 + BAT_COMPONENTS)));
-  if (memory == NULL) {
-    return PyErr_NoMemory();
-  }
-  double *x = memory, *y = memory + n, span, out[21];
-  PyObject *result = NULL;
-  if (gather_window(args[0], args[2], first, end, BAT_COMPONENTS, t, x, y, &span)) {
-    cumulate_turns(y, n);
-    int solved = bat_fit_forecast(x, n, (int)degree, y, span, t, out);
-    if (solved > 0) {
-      result = float_tuple(out, 21);
-    } else if (solved == 0) {
-      result = Py_NewRef(Py_NotImplemented);
-    }
-  }
-  PyMem_Free(memory);
-  return result;
+  return bat_window_result(args[0], args[2], first, end, (int)degree, t, true);
 }
 
 /*
