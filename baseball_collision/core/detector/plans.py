@@ -299,14 +299,9 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     frames = np.flatnonzero(moved)
     # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
     now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()
-    last, period = predictor.last_ns, config.prediction_period
-    due, due_ns = [], []
-    for j, stamp in zip(frames.tolist(), now):
-        if prediction_due(last, stamp, period):
-            last = stamp
-            due.append(j + 1)
-            due_ns.append(stamp)
-    due_steps = np.array(due, dtype=np.int64)
+    due = _due_frames(now, predictor.last_ns, config.prediction_period)
+    due_ns = [now[k] for k in due]
+    due_steps = frames[due] + 1
     after = np.searchsorted(due_steps, done, 'right') - 1
     plan.last_due = [predictor.last_ns] + [predictor.last_ns if k < 0 else due_ns[k]
                                            for k in after.tolist()]
@@ -340,6 +335,27 @@ def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
     # have (a prediction may be in force: it clears it)
     stops[due] = finds | np.concatenate(([predictor.predicting], finds[:-1]))
     return stops, due_steps
+
+
+def _due_frames(now: List[int], last: Optional[int], period: float) -> List[int]:
+    """
+    Return which frames predict: ``prediction_due`` frame by frame, each due one the last.
+
+    ``now``: the frames' stamps (ns), not decreasing (the cursor's, as a plan walks it), so
+    after the first due frame the next is the first at least ``period`` after it: found by
+    bisection, a step per due frame (every frame with a period of 0).
+    """
+    if not now:
+        return []
+    if round(period * 1e9) <= 0:
+        return list(range(len(now)))
+    k = 0 if prediction_due(last, now[0], period) else bisect_left(
+        now, last + round(period * 1e9))  # (last is not None, and now[0] not before it)
+    due = []
+    while k < len(now):
+        due.append(k)
+        k = bisect_left(now, now[k] + round(period * 1e9), k + 1)
+    return due
 
 
 def _forecasts_find(config: DetectorConfig, plan: Plan, arrays: Arrays, predictor: Predictor,

@@ -8,15 +8,16 @@ is tested by feeding chunks (test_chunks.py): the same as one sample at a time.
 """
 
 import math
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.core.detector.gate import FAR_AHEAD_NS, HOLD_FACTOR, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _held_gaps, _histories, _order_checks, _trims, BALL, BAT_POSE, items,
-    SLACK, TRIM_FROM, TRIM_KEEP)
+    _closed, _continuous, _due_frames, _held_gaps, _histories, _order_checks, _trims, BALL,
+    BAT_POSE, items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream, TRIM_LEAVES
 from baseball_collision.core.geometry import pose_point
+from baseball_collision.core.prediction import prediction_due
 from baseball_collision.core.toi import _kernel
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -413,3 +414,25 @@ def _assert_histories(times: np.ndarray, flags: np.ndarray, starts: np.ndarray,
         expected = stream.history(float(t0), window)
         assert (first - start, end - start) == (
             (expected.start, expected.stop) if len(expected) else (first - start, first - start))
+
+
+@settings(max_examples=examples(300), deadline=None)
+@given(steps=st.lists(st.sampled_from([0, 1, 2_777_777, 2_777_778, 5_000_000, 10_000_000]),
+                      max_size=200),
+       start=st.integers(0, 10 ** 9), last=st.one_of(st.none(), st.integers(0, 2 * 10 ** 9)),
+       period=st.sampled_from([0.0, 1e-10, 0.004, 0.01, 0.0100000004, 0.3]))
+def test_due_frames_are_prediction_due_frame_by_frame(steps: List[int], start: int,
+                                                      last: Optional[int], period: float) -> None:
+    """
+    ``_due_frames``: the frames ``prediction_due`` says predict, each due one the last.
+
+    Not decreasing stamps (equal ones too), from before, at or after the last frame that
+    predicted (or none), with periods of none, under a nanosecond, and a rounded one.
+    """
+    now = (start + np.cumsum(steps, dtype=np.int64)).tolist()
+    expected, current = [], last
+    for k, stamp in enumerate(now):
+        if prediction_due(current, stamp, period):
+            expected.append(k)
+            current = stamp
+    assert _due_frames(now, last, period) == expected
