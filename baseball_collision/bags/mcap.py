@@ -24,6 +24,7 @@ import struct
 from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from rosbags.rosbag2 import ReaderError
 from rosbags.rosbag2.reader import DirectoryReader
 from rosbags.rosbag2.storage_mcap import decompress, McapReader, read_exact
@@ -37,7 +38,6 @@ _INDEX = struct.Struct('<BQHI')  # a message index record: opcode, length, chann
 _MESSAGE_OP, _INDEX_OP = 0x05, 0x07
 _RECORD = 9  # a record's opcode and length before its body
 _DATA = _RECORD + 22  # a message record's data after its channel, sequence and two times
-_BYTE = np.arange(8)
 
 
 def mcap_spans(reader: Any, connections: Sequence[Any]) -> Optional[Iterator[Spans]]:
@@ -184,20 +184,23 @@ def _indexed(bio: Any, chunk: Any, buffer: np.ndarray) -> Optional[Records]:
         pos += _RECORD + length
     if pos != len(index) or not found:
         return None
-    offsets = np.sort(np.concatenate(found)).astype(np.int64)
+    # (each channel's entries in order: a stable sort merges their runs)
+    offsets = np.sort(np.concatenate(found), kind='stable').astype(np.int64)
     if offsets[0] < 0 or offsets[-1] > size - _DATA or \
             not _no_messages(buffer[:offsets[0]].tobytes()):
         return None
-    lengths = _at(buffer, offsets + 1, '<u8')
+    # each record's opcode, length, channel, sequence and log time: one row a record
+    heads = sliding_window_view(buffer, _RECORD + 14)[offsets]
+    lengths = _field(heads, 1, '<u8')
     if (lengths > size).any():
         return None
     lengths = lengths.astype(np.int64)
     ends = offsets + _RECORD + lengths
-    if (buffer[offsets] != _MESSAGE_OP).any() or (lengths < 22).any() or \
+    if (heads[:, 0] != _MESSAGE_OP).any() or (lengths < 22).any() or \
             ends[-1] != size or (ends[:-1] != offsets[1:]).any():
         return None
-    return (offsets, lengths, _at(buffer, offsets + _RECORD, '<u2'),
-            _at(buffer, offsets + _RECORD + 6, '<u8').astype(np.int64))
+    return (offsets, lengths, _field(heads, _RECORD, '<u2').astype(np.int64),
+            _field(heads, _RECORD + 6, '<u8').astype(np.int64))
 
 
 def _no_messages(prefix: bytes) -> bool:
@@ -208,11 +211,9 @@ def _no_messages(prefix: bytes) -> bool:
         return False
 
 
-def _at(buffer: np.ndarray, offsets: np.ndarray, kind: str) -> np.ndarray:
-    """Return the little-endian integers of type ``kind`` at each offset of the buffer."""
-    width = np.dtype(kind).itemsize
-    return buffer[offsets[:, None] + _BYTE[:width]].view(kind)[:, 0].astype(
-        np.uint64 if width == 8 else np.int64)
+def _field(rows: np.ndarray, at: int, kind: str) -> np.ndarray:
+    """Return the little-endian integers of type ``kind`` at byte ``at`` of each uint8 row."""
+    return rows[:, at:at + np.dtype(kind).itemsize].copy().view(kind)[:, 0]
 
 
 def _walk(data: bytes) -> Records:
