@@ -181,17 +181,20 @@ def test_predict_scores_predictions_and_exports_them(
     assert 'predictions' not in json.loads((tmp_path / 'q.json').read_text())
 
 
+@pytest.mark.parametrize('model', ['spline', None])
 @pytest.mark.parametrize('period', [0.0, 0.01])
-@pytest.mark.parametrize('name', ['pitches_360hz.mcap', 'pitches_90hz.mcap'])
+@pytest.mark.parametrize('name', ['pitches_360hz.mcap', 'pitches_90hz.mcap',
+                                  'pitches_240hz_noisy.bag', 'pitches_1khz_arm.mcap'])
 def test_predict_goes_a_chunk_at_a_time_with_the_events_of_the_sample_loop(
-        name: str, period: float) -> None:
+        name: str, period: float, model: Optional[str]) -> None:
     """
     ``--predict`` feeds the detector a chunk at a time.
 
     The events, drops, counters and clearings are those of the loop one sample at a time
-    (``run_detector``, which ``--predict`` ran before).
+    (``run_detector``, which ``--predict`` ran before), under ``spline`` and the offline
+    default (its noise estimated), on exact and noisy bags and a 60 Hz ball beside a 1 kHz bat.
     """
-    options = AnalysisOptions(model='spline', prediction_horizon=0.3,
+    options = AnalysisOptions(model=model, prediction_horizon=0.3,
                               parameters={'prediction_period': period})
     chunked = analyze_bag(bag_path(name), options, progress=False)
     with BagReader(bag_path(name)) as bag:
