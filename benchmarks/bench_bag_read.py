@@ -17,8 +17,9 @@ Run: ``.venv/bin/python benchmarks/bench_bag_read.py [--messages N] [--storage S
    shared with other work the CPU rates and their ratios are the steadier figures.
    ``--repeats R`` runs (a)-(f) in turn R times and keeps each one's best wall and best CPU
    time. Last, ``decode_spans`` on the bag's spans (MCAP chunks, sqlite3 batches: read once,
-   then decoded in turn, best of 5): each group gathered as rows of a sliding-window view of
-   the buffer (now) against a 2-D index of every byte (before), the same chunks.
+   then decoded in turn, best of 5): each group read by the kernel where it lies
+   (``_kernel.decode_group``, now) against numpy on its rows gathered from a sliding-window
+   view (before), the same chunks.
 2. A bag of 50,000 undecodable messages on another topic and 10 tracker samples: the time
    :class:`BagReader` takes to skip them (they are never read).
 3. For each storage (MCAP, sqlite3, ROS 1): three simulated pitches interleaved with each count
@@ -48,9 +49,11 @@ from unittest import mock
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
 from baseball_collision.bags import decode as decode_module, reader as reader_module
 from baseball_collision.bags.decode import chunk_samples, decode_spans, SampleChunk
+from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from rosbags.highlevel import AnyReader
 from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
 from rosbags.typesys import get_typestore, Stores
@@ -149,19 +152,48 @@ def rosbags_path() -> Iterator[None]:
         yield
 
 
-def indexed_gather(spans: decode_module.Spans, routes: Dict[int, Any], slow: Any) -> SampleChunk:
-    """``decode_spans`` as it gathered a group before: a 2-D index of every byte (baseline)."""
-    buffer, starts, lengths = spans.buffer, spans.starts, spans.lengths
+def numpy_rows(spans: decode_module.Spans, routes: Dict[int, Any], slow: Any) -> SampleChunk:
+    """
+    ``decode_spans`` as it read a group before the kernel did (baseline): numpy on its rows.
 
-    def table(members: np.ndarray) -> np.ndarray:
-        return buffer[starts[members][:, None] + np.arange(lengths[members[0]])]
-    return decode_module._decode(
-        [routes[id(connection)] for connection in spans.connections], spans.codes, lengths,
-        table, spans.messages, spans.log_times_ns, routes, slow)
+    Each group's messages gathered as rows of a sliding-window view of the buffer, its frame_id
+    fields compared as opaque values, its stamps and float64s viewed from column copies and
+    scattered into the chunk (session 41's ``_decode``); the rest one by one.
+    """
+    buffer, starts, lengths, which = spans.buffer, spans.starts, spans.lengths, spans.codes
+    owners = [routes[id(connection)] for connection in spans.connections]
+    n = len(which)
+    roles, stamps = np.empty(n, np.int8), np.empty(n, np.int64)
+    frames, values, done = np.empty(n, object), np.zeros((n, 7)), np.zeros(n, bool)
+    for members in decode_module._groups(which * (int(lengths.max()) + 1) + lengths):
+        route = owners[int(which[members[0]])]
+        table = sliding_window_view(buffer, int(lengths[members[0]]))[starts[members]]
+        try:
+            frame_id, offset, end = decode_module._layout(route, table[0].tobytes())
+        except ValueError:
+            continue
+        field = np.ascontiguousarray(table[:, 12:end]).view(f'V{end - 12}')[:, 0]
+        rows = field == field[0]
+        if route.cdr:
+            rows &= (table[:, 0] == 0) & (table[:, 1] == 1)
+        table, members = table[rows], members[rows]
+        seconds = table[:, 4:8].copy().view('<i4' if route.cdr else '<u4')[:, 0]
+        stamps[members] = seconds.astype(np.int64) * 1_000_000_000 + table[:, 8:12].copy().view(
+            '<u4')[:, 0]
+        values[members, :route.floats] = table[:, offset:offset + 8 * route.floats].copy().view(
+            '<f8')
+        roles[members], frames[members], done[members] = ROLE_CODES[route.role], frame_id, True
+    rest = np.flatnonzero(~done)
+    if len(rest):
+        others = next(chunk_samples(decode_module.decode_samples(spans.messages(rest), routes,
+                                                                 slow), len(rest)))
+        roles[rest], stamps[rest] = others.roles, others.stamps_ns
+        frames[rest], values[rest] = others.frame_ids, others.values
+    return SampleChunk(roles, stamps, frames.tolist(), values, spans.log_times_ns)
 
 
 def gather_figures(path: Path, rounds: int = 5) -> None:
-    """Print ``decode_spans`` (sliding-window rows) against the 2-D index, in turn."""
+    """Print ``decode_spans`` (the kernel's) against numpy on each group's rows, in turn."""
     with BagReader(path) as bag:
         reader = bag._open_reader()
         spans = bag._spans(reader, 8192)
@@ -172,7 +204,7 @@ def gather_figures(path: Path, rounds: int = 5) -> None:
         slow = partial(bag._slow, reader)
         best = {}
         for _ in range(rounds):
-            for name, run in (('now', decode_spans), ('before', indexed_gather)):
+            for name, run in (('now', decode_spans), ('before', numpy_rows)):
                 start = time.process_time()
                 chunks = [run(each, bag._routes, slow) for each in spans]
                 seconds = time.process_time() - start
@@ -182,10 +214,11 @@ def gather_figures(path: Path, rounds: int = 5) -> None:
                 else:
                     same = all(np.array_equal(a.values.view(np.int64), b.values.view(np.int64))
                                and np.array_equal(a.stamps_ns, b.stamps_ns)
+                               and np.array_equal(a.roles, b.roles)
                                and a.frame_ids == b.frame_ids for a, b in zip(now, chunks))
     count = sum(len(each.codes) for each in spans)
     print(f'decode_spans, {count} messages in {len(spans)} spans, CPU best of {rounds}: '
-          f'2-D index (before) {best["before"]:.3f} s, sliding window (now) {best["now"]:.3f} s: '
+          f'numpy rows (before) {best["before"]:.3f} s, the kernel (now) {best["now"]:.3f} s: '
           f'{best["before"] / best["now"]:.2f}x; the same chunks: {same}')
 
 

@@ -11,9 +11,9 @@ ROS 1 seconds are read as uint32 as ROS 1 defines them (rosbags' deserialiser re
 int32, so the two differ only for stamps after 2038).
 
 A chunk of raw messages is decoded in bulk (:func:`decode_chunk`): the messages of one
-connection with one length and one frame_id field have one layout, so their bytes, joined, are
-a 2-D array whose columns are the stamps and the float64s (``np.frombuffer``, no per-message
-unpacking); every other message goes through :func:`decode_samples`, the same samples.
+connection with one length and one frame_id field have one layout, so the compiled kernel reads
+their stamps and float64s at its offsets where they lie (``_kernel.decode_group``, no
+per-message Python); every other message goes through :func:`decode_samples`, the same samples.
 
 Measured by ``benchmarks/bench_bag_read.py``: keep the loop of :func:`decode_samples` flat.
 """
@@ -25,10 +25,10 @@ from typing import (
     Any, Callable, Dict, Generator, Iterable, Iterator, List, NamedTuple, Sequence, Tuple)
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from .common import FRAME_CACHE_LIMIT
 from ..core.detector.chunks import ROLE_CODES
+from ..core.toi import _kernel
 
 
 class Sample(NamedTuple):
@@ -258,33 +258,27 @@ microseconds), a message through :func:`decode_samples` one to two, so a chunk o
 groups (frame_ids of many lengths) is not made slower than message by message."""
 
 
-def _layout(route: Route, table: np.ndarray) -> Tuple[str, int, np.ndarray]:
+def _layout(route: Route, first: bytes) -> Tuple[str, int, int]:
     """
-    Return ``(frame_id, float64 offset, rows)`` of messages of one length as ``table``'s rows.
+    Return ``(frame_id, float64 offset, frame_id field end)`` of a group's first message.
 
-    ``rows`` (bool) marks the messages the fixed layout reads exactly as :func:`decode_samples`
-    would: the first message's frame_id field, a little-endian CDR header (CDR), and the
-    float64s within the message.
+    The layout the group's messages of the same length are read with where their frame_id
+    field is the first's byte for byte (and, in CDR, their header little-endian): exactly as
+    :func:`decode_samples` would read them (``_kernel.decode_group``).
 
-    :param table: (k, length) uint8, one message per row.
-    :raises ValueError: the first message's header or frame_id field is malformed.
+    :raises ValueError: the first message's header or frame_id field is malformed, or its
+        float64s would run past its end.
     """
-    length = table.shape[1]
+    length = len(first)
     if length < 16:
         raise ValueError('shorter than a header')
-    end = 16 + int.from_bytes(table[0, 12:16].tobytes(), 'little')
+    end = 16 + int.from_bytes(first[12:16], 'little')
     if end > length:
         raise ValueError('frame_id runs past the end of the message')
-    frame_id, offset = route.lookup(table[0, 12:end].tobytes())
+    frame_id, offset = route.lookup(first[12:end])
     if offset + 8 * route.floats > length:
         raise ValueError('float64s past the end of the message')
-    # each row's frame_id field against the first's, as one opaque value a row (a byte
-    # comparison, cheaper than a row reduction over its bytes)
-    field = np.ascontiguousarray(table[:, 12:end]).view(f'V{end - 12}')[:, 0]
-    rows = field == field[0]
-    if route.cdr:
-        rows &= (table[:, 0] == 0) & (table[:, 1] == 1)
-    return frame_id, offset, rows
+    return frame_id, offset, end
 
 
 class Spans(NamedTuple):
@@ -338,11 +332,11 @@ def decode_chunk(messages: Sequence[RawMessage], routes: Dict[int, Route],
     owners, which = np.unique(np.fromiter(map(id, map(_CONNECTION, messages)), np.int64, n),
                               return_inverse=True)
 
-    def table(members: np.ndarray) -> np.ndarray:
-        return np.frombuffer(b''.join(itemgetter(*members)(raws)), np.uint8).reshape(
-            len(members), -1)
+    def group(members: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        joined = np.frombuffer(b''.join(itemgetter(*members)(raws)), np.uint8)
+        return joined, np.arange(len(members), dtype=np.int64) * (len(joined) // len(members))
     return _decode([routes[int(owner)] for owner in owners], which,
-                   np.fromiter(map(len, raws), np.int64, n), table,
+                   np.fromiter(map(len, raws), np.int64, n), group,
                    lambda rest: [messages[k] for k in rest],
                    np.fromiter(map(_LOG_TIME, messages), np.int64, n), routes, slow)
 
@@ -352,22 +346,18 @@ def decode_spans(spans: Spans, routes: Dict[int, Route], slow: SlowDecoder) -> S
     Return the samples of the messages in ``spans`` (not empty): :func:`decode_chunk`'s.
 
     The same chunk as ``decode_chunk(spans.messages(range(n)), routes, slow)``, without making
-    the messages: a group of one layout is gathered from the buffer as a 2-D array (the rows of
-    a sliding-window view of the buffer at the group's starts: one index a message, not one a
-    byte, 8x cheaper).
+    the messages: a group of one layout is read where it lies in the buffer.
 
     :raises Exception: whatever ``slow`` raises.
     """
-    buffer, starts, lengths = spans.buffer, spans.starts, spans.lengths
-
-    def table(members: np.ndarray) -> np.ndarray:
-        return sliding_window_view(buffer, int(lengths[members[0]]))[starts[members]]
+    buffer, starts = spans.buffer, spans.starts
     return _decode([routes[id(connection)] for connection in spans.connections], spans.codes,
-                   lengths, table, spans.messages, spans.log_times_ns, routes, slow)
+                   spans.lengths, lambda members: (buffer, starts[members]), spans.messages,
+                   spans.log_times_ns, routes, slow)
 
 
 def _decode(owners: Sequence[Route], which: np.ndarray, lengths: np.ndarray,
-            table_of: Callable[[np.ndarray], np.ndarray],
+            group_of: Callable[[np.ndarray], Tuple[np.ndarray, np.ndarray]],
             messages_of: Callable[[np.ndarray], Sequence[RawMessage]], log_times: np.ndarray,
             routes: Dict[int, Route], slow: SlowDecoder) -> SampleChunk:
     """
@@ -375,8 +365,9 @@ def _decode(owners: Sequence[Route], which: np.ndarray, lengths: np.ndarray,
 
     :param owners: the route of each connection code; ``which``: each message's code.
     :param lengths: each message's length in bytes.
-    :param table_of: a group's messages (indices, all of one length) as a (k, length) uint8
-        array; ``messages_of``: messages (indices) as triplets, for :func:`decode_samples`.
+    :param group_of: a group's messages (indices, all of one length) as a uint8 buffer and
+        where each starts in it (int64); ``messages_of``: messages (indices) as triplets, for
+        :func:`decode_samples`.
     """
     n = len(which)
     roles = np.empty(n, np.int8)
@@ -385,25 +376,27 @@ def _decode(owners: Sequence[Route], which: np.ndarray, lengths: np.ndarray,
     values = np.zeros((n, 7))
     done = np.zeros(n, bool)
     named = set()  # the frame_ids of the groups decoded in bulk
+    read = []  # (members, frame_id, role code) of each group read in bulk
     for members in _groups(which * (int(lengths.max()) + 1) + lengths):
         route = owners[int(which[members[0]])]
-        table = table_of(members)
+        buffer, starts = group_of(members)
+        length = int(lengths[members[0]])
         try:
-            frame_id, offset, rows = _layout(route, table)
+            frame_id, offset, end = _layout(
+                route, buffer[int(starts[0]):int(starts[0]) + length].tobytes())
         except ValueError:
             continue  # each through decode_samples (and its checks)
-        if not rows.all():
-            table, members = table[rows], members[rows]
         named.add(frame_id)
-        signed = '<i4' if route.cdr else '<u4'
-        seconds = table[:, 4:8].copy().view(signed)[:, 0].astype(np.int64)
-        stamps[members] = seconds * 1_000_000_000 + table[:, 8:12].copy().view('<u4')[:, 0]
-        floats = table[:, offset:offset + 8 * route.floats].copy().view('<f8')
-        values[members, :route.floats] = floats
-        roles[members] = ROLE_CODES[route.role]
-        frames[members] = frame_id
-        done[members] = True
+        # its messages of the first's layout: stamps, float64s and done, in the kernel
+        _kernel.decode_group(buffer, starts, members, length, end, offset, route.floats,
+                             route.cdr, stamps, values, done)
+        read.append((members, frame_id, ROLE_CODES[route.role]))
     rest = np.flatnonzero(~done)
+    for members, frame_id, role in read:
+        mine = members[done[members]]
+        roles[mine] = role
+        if len(rest) or len(named) > 1:  # (else one frame_id throughout: no array needed)
+            frames[mine] = frame_id
     if len(rest):
         others = next(chunk_samples(decode_samples(messages_of(rest), routes, slow), len(rest)))
         roles[rest] = others.roles

@@ -5,6 +5,7 @@ from typing import List
 
 from baseball_collision.bags import BagReader, POSE_STAMPED, read_samples, Sample
 from baseball_collision.bags.decode import _groups, _layout, BULK_GROUP, Route
+from baseball_collision.core.toi import _kernel
 from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
@@ -66,23 +67,69 @@ def test_groups_are_the_sorted_groups_of_equal_keys(kinds: List[int], lengths: i
 
 
 @settings(max_examples=examples(200), deadline=None)
-@given(st.integers(0, 2 ** 32 - 1), st.integers(0, 12), st.integers(1, 40))
-def test_layout_keeps_the_rows_of_the_first_frame_field(seed: int, name: int, k: int) -> None:
+@given(st.integers(0, 2 ** 32 - 1), st.integers(0, 12), st.integers(1, 40), st.booleans())
+def test_a_group_keeps_the_rows_of_the_first_frame_field(seed: int, name: int, k: int,
+                                                         cdr: bool) -> None:
     """
-    ``_layout``'s rows: those whose frame_id field is the first's byte for byte (a CDR header).
+    A group read in bulk: the messages whose frame_id field is the first's byte for byte.
 
-    Rows changed in any byte of the field (its length included) or of the header are left out.
+    ``_layout`` of the first message, then ``_kernel.decode_group``: rows changed in any byte
+    of the field (its length included) or, in CDR, of the header's first two are left out;
+    the others' stamps (int32 seconds in CDR, uint32 in ROS 1) and float64s are the bytes'.
     """
     rng = np.random.default_rng(seed)
-    frame = bytes(rng.integers(97, 123, name, dtype=np.uint8)) + b'\x00'
+    frame = bytes(rng.integers(97, 123, name, dtype=np.uint8)) + (b'\x00' if cdr else b'')
     field = len(frame).to_bytes(4, 'little') + frame
-    head = b'\x00\x01\x00\x00' + b'\x00' * 8
-    message = head + field + b'\x00' * ((-len(field)) % 8) + b'\x00' * 56
+    head = (b'\x00\x01\x00\x00' if cdr else b'\x07\x00\x00\x00') + b'\x00' * 8
+    pad = (-len(field)) % 8 if cdr else 0
+    message = head + field + b'\x00' * pad + b'\x00' * 56
     table = np.tile(np.frombuffer(message, np.uint8), (k, 1))
+    table[:, 4:12] = rng.integers(0, 256, (k, 8), dtype=np.uint8)  # the stamps
+    floats_at = 12 + len(field) + pad
+    table[:, floats_at:] = rng.integers(0, 256, (k, 56), dtype=np.uint8)
     for row in rng.integers(1, k, rng.integers(0, k)).tolist() if k > 1 else []:  # (not the first)
         table[row, int(rng.integers(0, 12 + len(field)))] ^= int(rng.integers(1, 256))
-    _, _, rows = _layout(Route('ball', True, 3, 'geometry_msgs/msg/PointStamped'), table)
-    end = 12 + len(field)
-    expected = (table[:, 12:end] == table[0, 12:end]).all(axis=1) & (table[:, 0] == 0) & (
-        table[:, 1] == 1)
-    assert rows.tolist() == expected.tolist()
+    route = Route('bat_pose', cdr, 7, 'geometry_msgs/msg/PoseStamped')
+    _, offset, end = _layout(route, table[0].tobytes())
+    assert (offset, end) == (floats_at, 12 + len(field))
+    members = rng.permutation(k + 3)[:k].astype(np.int64)  # (rows of a bigger chunk)
+    stamps, values = np.zeros(k + 3, np.int64), np.zeros((k + 3, 7))
+    done = np.zeros(k + 3, bool)
+    count = _kernel.decode_group(table.ravel(), np.arange(k, dtype=np.int64) * table.shape[1],
+                                 members, table.shape[1], end, offset, 7, cdr, stamps, values,
+                                 done)
+    expected = (table[:, 12:end] == table[0, 12:end]).all(axis=1)
+    if cdr:
+        expected &= (table[:, 0] == 0) & (table[:, 1] == 1)
+    assert done[members].tolist() == expected.tolist() and count == expected.sum()
+    assert not done[np.setdiff1d(np.arange(k + 3), members)].any()
+    kept = members[expected]
+    seconds = table[expected, 4:8].copy().view('<i4' if cdr else '<u4')[:, 0].astype(np.int64)
+    nanoseconds = table[expected, 8:12].copy().view('<u4')[:, 0]
+    assert stamps[kept].tolist() == (seconds * 1_000_000_000 + nanoseconds).tolist()
+    read = table[expected, floats_at:floats_at + 56].copy().view('<f8')
+    assert values[kept].tobytes() == read.tobytes()  # (NaNs too, bit for bit)
+
+
+def test_a_group_refuses_what_is_not_its_layout() -> None:
+    """``decode_group``: a message past the buffer, a row past the chunk, bad arrays: errors."""
+    buffer = np.zeros(64, np.uint8)
+    stamps, values, done = np.zeros(2, np.int64), np.zeros((2, 7)), np.zeros(2, bool)
+    starts, members = np.array([0, 40], np.int64), np.array([0, 1], np.int64)
+    good = (buffer, starts[:1], members[:1], 32, 20, 24, 1, True, stamps, values, done)
+    assert _kernel.decode_group(*good) == 0  # (a zero header is not little-endian CDR)
+    with pytest.raises(ValueError, match='outside the buffer'):
+        _kernel.decode_group(buffer, starts, members, 32, 20, 24, 1, True, stamps, values, done)
+    with pytest.raises(IndexError):
+        _kernel.decode_group(buffer, starts[:1], members[1:] + 5, 32, 20, 24, 1, True, stamps,
+                             values, done)
+    for bad in ((8, 20, 24, 1), (32, 40, 24, 1), (32, 20, 24, 2)):  # layouts past the message
+        with pytest.raises(ValueError):
+            _kernel.decode_group(buffer, starts[:1], members[:1], *bad, True, stamps, values,
+                                 done)
+    with pytest.raises(ValueError):
+        _kernel.decode_group(buffer, starts[:1].astype(np.int32), members[:1], 32, 20, 24, 1,
+                             True, stamps, values, done)
+    with pytest.raises(ValueError):
+        _kernel.decode_group(buffer, starts[:1], members[:1], 32, 20, 24, 1, True, stamps,
+                             np.zeros((2, 6)), done)

@@ -8249,6 +8249,122 @@ static inline int64_t wrapped_difference(int64_t a, int64_t b)
   return (int64_t)((uint64_t)a - (uint64_t)b);
 }
 
+/* little-endian unsigned integers of `bytes` bytes at p (whatever the host's order) */
+static inline unsigned long long little_endian(const unsigned char *p, int bytes)
+{
+  unsigned long long x = 0;
+  for (int b = bytes - 1; b >= 0; b--) {
+    x = x << 8 | p[b];
+  }
+  return x;
+}
+
+/*
+ * decode_group(buffer, starts, members, length, frame_end, offset, floats, cdr, stamps, values,
+ *              done) -> how many were read
+ * A group of raw stamped messages of one layout (bags.decode's bulk path): message i is
+ * buffer[starts[i]:starts[i] + length] (uint8; starts int64). Each whose frame_id field (bytes
+ * 12 to frame_end) is the first message's byte for byte, and with `cdr` whose first two bytes
+ * are 0 and 1 (little-endian CDR), is read into the chunk's row members[i] (int64): stamps[row]
+ * its seconds at byte 4 (int32 with `cdr`, else uint32) times 1e9 plus its nanoseconds at
+ * byte 8 (uint32), values[row, :floats] (values (n, 7) float64) the `floats` little-endian
+ * float64s at `offset`, done[row] true (bool). ValueError: arrays of other types or sizes, a
+ * layout outside the messages or a message outside the buffer; IndexError: a row outside.
+ */
+static PyObject *py_decode_group(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  Py_ssize_t length, frame_end, offset, floats;
+  int cdr;
+  if (nargs != 11 || !read_index(args[3], &length) || !read_index(args[4], &frame_end) ||
+      !read_index(args[5], &offset) || !read_index(args[6], &floats) ||
+      (cdr = PyObject_IsTrue(args[7])) < 0) {
+    if (!PyErr_Occurred()) {
+      PyErr_SetString(PyExc_TypeError, "decode_group(buffer, starts, members, length, "
+                                       "frame_end, offset, floats, cdr, stamps, values, done)");
+    }
+    return NULL;
+  }
+  Py_buffer views[6];
+  int held = 0;
+  PyObject *result = NULL;
+  if (PyObject_GetBuffer(args[0], &views[0], PyBUF_C_CONTIGUOUS) < 0) {
+    goto done;
+  }
+  held = 1;
+  if (PyObject_GetBuffer(args[1], &views[1], PyBUF_FORMAT | PyBUF_C_CONTIGUOUS) < 0) {
+    goto done;
+  }
+  held = 2;
+  Py_ssize_t k = views[1].len / 8;
+  if (!get_items(args[2], &views[2], k, 8, "lq", "decode_group: members", false)) {
+    goto done;
+  }
+  held = 3;
+  if (!get_doubles(args[9], &views[3], &(Py_ssize_t){0}, "decode_group: values", true)) {
+    goto done;
+  }
+  held = 4;
+  Py_ssize_t rows = views[3].len / (7 * (Py_ssize_t)sizeof(double));
+  if (!get_items(args[8], &views[4], rows, 8, "lq", "decode_group: stamps", true)) {
+    goto done;
+  }
+  held = 5;
+  if (!get_items(args[10], &views[5], rows, 1, "?", "decode_group: done", true)) {
+    goto done;
+  }
+  held = 6;
+  if (views[1].itemsize != 8 || views[1].format == NULL || strlen(views[1].format) != 1 ||
+      strchr("lq", views[1].format[0]) == NULL || views[3].len != rows * 7 * 8 ||
+      floats < 0 || floats > 7 || frame_end < 12 || frame_end > length ||
+      offset + 8 * floats > length || length < 16) {
+    PyErr_SetString(PyExc_ValueError, "decode_group: int64 starts and members, (n, 7) values, "
+                                      "a layout within the messages");
+    goto done;
+  }
+  const unsigned char *bytes = views[0].buf;
+  const long long *starts = views[1].buf, *members = views[2].buf;
+  double *values = views[3].buf;
+  long long *stamps = views[4].buf;
+  bool *read = views[5].buf;
+  for (Py_ssize_t i = 0; i < k; i++) {
+    if (starts[i] < 0 || starts[i] + length > views[0].len) {
+      PyErr_SetString(PyExc_ValueError, "decode_group: a message outside the buffer");
+      goto done;
+    }
+    if (members[i] < 0 || members[i] >= rows) {
+      PyErr_SetString(PyExc_IndexError, "decode_group: a row outside the chunk");
+      goto done;
+    }
+  }
+  Py_ssize_t count = 0;
+  const unsigned char *first = k ? bytes + starts[0] : NULL;
+  for (Py_ssize_t i = 0; i < k; i++) {
+    const unsigned char *m = bytes + starts[i];
+    if (memcmp(m + 12, first + 12, (size_t)(frame_end - 12)) != 0 ||
+        (cdr && (m[0] != 0 || m[1] != 1))) {
+      continue;
+    }
+    unsigned long long seconds = little_endian(m + 4, 4);
+    long long row = members[i];
+    stamps[row] = (cdr ? (long long)(int)(unsigned int)seconds : (long long)seconds) *
+                      1000000000LL + (long long)little_endian(m + 8, 4);
+    for (Py_ssize_t f = 0; f < floats; f++) {
+      unsigned long long word = little_endian(m + offset + 8 * f, 8);
+      double x;
+      memcpy(&x, &word, sizeof x);
+      values[7 * row + f] = x;
+    }
+    read[row] = true;
+    count++;
+  }
+  result = PyLong_FromSsize_t(count);
+done:
+  for (int i = 0; i < held; i++) {
+    PyBuffer_Release(&views[i]);
+  }
+  return result;
+}
+
 /*
  * plan_rows(roles, stamps, values, origin, codes, offsets, limits, ball_times, ball_stamps,
  *           ball, bat_times, bat_stamps, knobs, tips, positions, quaternions, pre, ok):
@@ -8695,6 +8811,9 @@ static PyMethodDef methods[] = {
      "trims(counts, cuts, trim_from, after, lengths): a stream's trims after each step"},
     {"departure_reaches", (PyCFunction)(void (*)(void))py_departure_reaches, METH_FASTCALL,
      "departure_reaches(points, times, k, closed, out): departure_reach over many intervals"},
+    {"decode_group", (PyCFunction)(void (*)(void))py_decode_group, METH_FASTCALL,
+     "decode_group(buffer, starts, members, length, frame_end, offset, floats, cdr, stamps, "
+     "values, done): a group of stamped messages of one layout read into a chunk's rows"},
     {"plan_rows", (PyCFunction)(void (*)(void))py_plan_rows, METH_FASTCALL,
      "plan_rows(roles, stamps, values, origin, codes, offsets, limits, ball_times, ball_stamps, "
      "ball, bat_times, bat_stamps, knobs, tips, positions, quaternions, pre, ok): a chunk's "
