@@ -4028,27 +4028,39 @@ static PyObject *py_rotate(PyObject *self, PyObject *const *args, Py_ssize_t nar
 }
 
 /*
+ * A bat sample's knob, tip and quaternion (x, y, z, w; *posed false when the sample's quaternion
+ * is None). False with an exception (no knob or tip of 3 numbers, a quaternion not None nor 4
+ * numbers).
+ */
+static bool bat_pose_parts(PyObject *sample, Vec *knob, Vec *tip, double quaternion[4],
+                           bool *posed)
+{
+  PyObject *knob_object = NULL, *tip_object = NULL, *quaternion_object = NULL;
+  bool ok = bat_ends(sample, knob, tip, &knob_object, &tip_object) &&
+            (quaternion_object = PyObject_GetAttr(sample, quaternion_name)) != NULL;
+  if (ok) {
+    *posed = quaternion_object != Py_None;
+    ok = !*posed || read_floats(quaternion_object, quaternion, 4, "a bat sample's quaternion");
+  }
+  Py_XDECREF(knob_object);
+  Py_XDECREF(tip_object);
+  Py_XDECREF(quaternion_object);
+  return ok;
+}
+
+/*
  * A bat sample's knob-to-tip vector (tip - knob, m) and its quaternion (x, y, z, w; *posed
  * false when the sample's quaternion is None). False with an exception (no knob or tip of 3
  * numbers, a quaternion not None nor 4 numbers).
  */
 static bool bat_turn_parts(PyObject *sample, Vec *axis, double quaternion[4], bool *posed)
 {
-  PyObject *knob_object = NULL, *tip_object = NULL, *quaternion_object = NULL;
-  bool ok = false;
   Vec knob, tip;
-  if (!bat_ends(sample, &knob, &tip, &knob_object, &tip_object) ||
-      (quaternion_object = PyObject_GetAttr(sample, quaternion_name)) == NULL) {
-    goto done;
+  if (!bat_pose_parts(sample, &knob, &tip, quaternion, posed)) {
+    return false;
   }
   *axis = v_sub(tip, knob);
-  *posed = quaternion_object != Py_None;
-  ok = !*posed || read_floats(quaternion_object, quaternion, 4, "a bat sample's quaternion");
-done:
-  Py_XDECREF(knob_object);
-  Py_XDECREF(tip_object);
-  Py_XDECREF(quaternion_object);
-  return ok;
+  return true;
 }
 
 /*
@@ -4191,26 +4203,6 @@ static PyObject *py_fill_turns(PyObject *self, PyObject *const *args, Py_ssize_t
     }
   }
   return Py_NewRef(PyList_GET_ITEM(turns, k));
-}
-
-/*
- * A bat sample's knob, tip and quaternion (*posed false when it has none); false with an
- * exception (as bat_turn_parts).
- */
-static bool bat_pose_parts(PyObject *sample, Vec *knob, Vec *tip, double quaternion[4],
-                           bool *posed)
-{
-  PyObject *knob_object = NULL, *tip_object = NULL, *quaternion_object = NULL;
-  bool ok = bat_ends(sample, knob, tip, &knob_object, &tip_object) &&
-            (quaternion_object = PyObject_GetAttr(sample, quaternion_name)) != NULL;
-  if (ok) {
-    *posed = quaternion_object != Py_None;
-    ok = !*posed || read_floats(quaternion_object, quaternion, 4, "a bat sample's quaternion");
-  }
-  Py_XDECREF(knob_object);
-  Py_XDECREF(tip_object);
-  Py_XDECREF(quaternion_object);
-  return ok;
 }
 
 /*
