@@ -109,6 +109,8 @@ class Sweep:
             self.episodes.far(events, ta)  # (what the sweep's sub-steps would come to: see there)
             return
         paths = self.paths(*located)
+        if self.episodes.armed is False:
+            self._past_departure(located[0])
         ball_path, bat_path = paths
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
         if apart > margin:
@@ -308,6 +310,22 @@ class Sweep:
                                    ball.values[k + 1], before, after)
         departed = leaves_flight(ball, k, judged, gap)
         return path if departed is None else flight_path(ball, k, departed)
+
+    def _past_departure(self, k: int) -> None:
+        """
+        After an impact, let no sub-step re-arm on a ball interval k whose path is fiction.
+
+        Where interval k's closing sample has left the ball's free flight (``leaves_flight``:
+        the ball turned round in it), the ball's path over it is that flight continued through
+        the bat and beyond (``_ball_path``), not where the ball went: the episodes re-arm only
+        from its closing frame on (``EpisodeTracker.rearm_from``). The frame just after a hit
+        can still look like free flight (the ball had barely turned), so the departure may
+        show an interval later than the impact's.
+        """
+        ball, config = self.ball, self.config
+        if leaves_flight(ball, k, judging_noise(config), config.max_gap) is not None:
+            episodes = self.episodes
+            episodes.rearm_from = max(episodes.rearm_from, ball.times[k + 1])
 
     def _gap_at(self, state: State) -> float:
         """Return the gap (m) at a state, reusing the last one computed."""
