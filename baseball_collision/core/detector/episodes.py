@@ -7,9 +7,10 @@ than none), and after an impact the trackers keep reporting the ball inside or b
 for frames, so it re-arms only once the ball has separated by ``rearm_distance``, and only on
 intervals from the ball's first frame after the impact on: up to that frame the ball's path is
 its free flight continued through the contact (``departure``), which passes through the bat and
-out beyond it, where a bat tracked at a higher rate than the ball has more intervals. Where the
-departure shows only on a later ball interval (the frame just after the hit had barely turned),
-its path is that flight too, and ``rearm_from`` moves to its closing frame
+out beyond it, where a bat tracked at a higher rate than the ball has more intervals. After it,
+a ball interval whose path does not end at its closing sample (the flight continued where the
+departure shows only there, the frame just after the hit having barely turned, or ``c2``'s
+flight fit ending at its opening frame) moves ``rearm_from`` to that closing frame
 (``Sweep._past_departure``).
 
 A near miss is an episode: it opens when an armed pass comes into ``near_miss_threshold`` from

@@ -16,7 +16,8 @@ from typing import Any, Callable, List, Optional, Tuple
 
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
-from .departure import DEPARTURE_FLOOR, flight_path, judging_noise, leaves_flight
+from .departure import (
+    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
@@ -109,9 +110,9 @@ class Sweep:
             self.episodes.far(events, ta)  # (what the sweep's sub-steps would come to: see there)
             return
         paths = self.paths(*located)
-        if self.episodes.armed is False:
-            self._past_departure(located[0])
         ball_path, bat_path = paths
+        if self.episodes.armed is False:
+            self._past_departure(located[0], ball_path)
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
         if apart > margin:
             # the bounding spheres of both whole sample intervals are clear: far apart
@@ -311,19 +312,24 @@ class Sweep:
         departed = leaves_flight(ball, k, judged, gap)
         return path if departed is None else flight_path(ball, k, departed)
 
-    def _past_departure(self, k: int) -> None:
+    def _past_departure(self, k: int, path: PointPath) -> None:
         """
         After an impact, let no sub-step re-arm on a ball interval k whose path is fiction.
 
-        Where interval k's closing sample has left the ball's free flight (``leaves_flight``:
-        the ball turned round in it), the ball's path over it is that flight continued through
-        the bat and beyond (``_ball_path``), not where the ball went: the episodes re-arm only
-        from its closing frame on (``EpisodeTracker.rearm_from``). The frame just after a hit
-        can still look like free flight (the ball had barely turned), so the departure may
-        show an interval later than the impact's.
+        The ball's path over interval k is fiction where it does not end at its closing sample:
+        where that sample has left the ball's free flight (``leaves_flight``: the ball turned
+        round in it), the path is that flight continued through the bat and beyond
+        (``_ball_path``), and where ``c2`` takes a flight fit its guard ends the fit at the
+        opening frame; the path then ends more than the departure floor, and more than the
+        noise's ``DEPARTURE_CHI_SQUARE`` bound, from the sample. The episodes re-arm only from
+        its closing frame on (``EpisodeTracker.rearm_from``). The frame just after a hit can
+        still look like free flight (the ball had barely turned), so the departure may show an
+        interval later than the impact's.
         """
         ball, config = self.ball, self.config
-        if leaves_flight(ball, k, judging_noise(config), config.max_gap) is not None:
+        bound = max(DEPARTURE_FLOOR, math.sqrt(DEPARTURE_CHI_SQUARE) * stream_noise(ball, config))
+        if leaves_flight(ball, k, judging_noise(config), config.max_gap) is not None or \
+                math.dist(path.at(ball.times[k + 1]), ball.values[k + 1]) > bound:
             episodes = self.episodes
             episodes.rearm_from = max(episodes.rearm_from, ball.times[k + 1])
 
