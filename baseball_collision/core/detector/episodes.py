@@ -8,10 +8,10 @@ for frames, so it re-arms only once the ball has separated by ``rearm_distance``
 intervals from the ball's first frame after the impact on: up to that frame the ball's path is
 its free flight continued through the contact (``departure``), which passes through the bat and
 out beyond it, where a bat tracked at a higher rate than the ball has more intervals. After it,
-a ball interval whose path does not end at its closing sample (the flight continued where the
-departure shows only there, the frame just after the hit having barely turned, or ``c2``'s
-flight fit ending at its opening frame) moves ``rearm_from`` to that closing frame
-(``Sweep._past_departure``).
+no sub-step re-arms on a ball interval whose path does not end at its closing sample (the
+flight continued where the departure shows only there, the frame just after the hit having
+barely turned, or ``c2``'s flight fit ending at its opening frame: ``substeps_from``, set by
+``Sweep._past_departure``).
 
 A near miss is an episode: it opens when an armed pass comes into ``near_miss_threshold`` from
 outside it, follows the sub-steps around the smallest gap seen, and closes when the ball moves
@@ -117,16 +117,21 @@ class EpisodeTracker:
     :ivar episode: the open near-miss episode, or None.
     :ivar rearm_from: after an impact, the ball's first frame after it (s, detector clock):
         no sub-step or interval starting before it re-arms.
+    :ivar substeps_from: after an impact, no sub-step starting before this (s) re-arms: the
+        end of the ball intervals whose path missed its closing sample
+        (``Sweep._past_departure``); far intervals, which the chunk plans decide on arrays, go
+        by ``rearm_from`` alone.
     """
 
-    __slots__ = ('config', 'clock', 'stats', 'armed', 'zone_clear', 'episode', 'rearm_from')
+    __slots__ = ('config', 'clock', 'stats', 'armed', 'zone_clear', 'episode', 'rearm_from',
+                 'substeps_from')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats) -> None:
         self.config, self.clock, self.stats = config, clock, stats
         self.armed: Optional[bool] = None
         self.zone_clear = False
         self.episode: Optional[Episode] = None
-        self.rearm_from = -math.inf
+        self.rearm_from = self.substeps_from = -math.inf
 
     def far(self, events: List, start: float) -> None:
         """
@@ -146,14 +151,14 @@ class EpisodeTracker:
         self.close(events)
         self.armed = None
         self.zone_clear = False
-        self.rearm_from = -math.inf
+        self.rearm_from = self.substeps_from = -math.inf
 
     def arm(self, gap: float, start: float) -> Optional[bool]:
         """Return whether armed at the start (s) of a sub-step whose start gap (m) is ``gap``."""
         if self.armed is None and gap > 0.0:
             self.armed = True
         elif (self.armed is False and gap > self.config.rearm_distance
-              and start >= self.rearm_from):
+              and start >= self.rearm_from and start >= self.substeps_from):
             self.armed = True
         return self.armed
 
@@ -167,6 +172,7 @@ class EpisodeTracker:
         self.zone_clear = False
         self.episode = None
         self.rearm_from = ball_frame
+        self.substeps_from = -math.inf
 
     def track(self, start: State, end: State, gap0: float, gap1: float, events: List) -> None:
         """
@@ -194,7 +200,8 @@ class EpisodeTracker:
                 episode.gap, episode.around, episode.follow = gap1, [(start, end)], True
             if gap1 >= threshold:
                 self.close(events)
-        if self.armed is False and gap1 > config.rearm_distance and start.t >= self.rearm_from:
+        if self.armed is False and gap1 > config.rearm_distance and \
+                start.t >= self.rearm_from and start.t >= self.substeps_from:
             self.armed = True
 
     def close(self, events: List) -> None:

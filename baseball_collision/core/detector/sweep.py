@@ -111,8 +111,6 @@ class Sweep:
             return
         paths = self.paths(*located)
         ball_path, bat_path = paths
-        if self.episodes.armed is False:
-            self._past_departure(located[0], ball_path)
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
         if apart > margin:
             # the bounding spheres of both whole sample intervals are clear: far apart
@@ -126,6 +124,8 @@ class Sweep:
         if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
             self.episodes.far(events, ta)
             return
+        if self.episodes.armed is False:
+            self._past_departure(located[0], ball_path)
         n = substeps_for(deviation, config.max_chord_error)
         self.stats.substeps += n
         previous = State(ta, ball_a, knob_a, tip_a)
@@ -321,17 +321,18 @@ class Sweep:
         round in it), the path is that flight continued through the bat and beyond
         (``_ball_path``), and where ``c2`` takes a flight fit its guard ends the fit at the
         opening frame; the path then ends more than the departure floor, and more than the
-        noise's ``DEPARTURE_CHI_SQUARE`` bound, from the sample. The episodes re-arm only from
-        its closing frame on (``EpisodeTracker.rearm_from``). The frame just after a hit can
-        still look like free flight (the ball had barely turned), so the departure may show an
-        interval later than the impact's.
+        noise's ``DEPARTURE_CHI_SQUARE`` bound, from the sample. No sub-step re-arms before
+        its closing frame (``EpisodeTracker.substeps_from``; the far tests, which the chunk
+        plans decide on arrays, keep ``rearm_from``). The frame just after a hit can still look
+        like free flight (the ball had barely turned), so the departure may show an interval
+        later than the impact's.
         """
         ball, config = self.ball, self.config
         bound = max(DEPARTURE_FLOOR, math.sqrt(DEPARTURE_CHI_SQUARE) * stream_noise(ball, config))
         if leaves_flight(ball, k, judging_noise(config), config.max_gap) is not None or \
                 math.dist(path.at(ball.times[k + 1]), ball.values[k + 1]) > bound:
             episodes = self.episodes
-            episodes.rearm_from = max(episodes.rearm_from, ball.times[k + 1])
+            episodes.substeps_from = max(episodes.substeps_from, ball.times[k + 1])
 
     def _gap_at(self, state: State) -> float:
         """Return the gap (m) at a state, reusing the last one computed."""
