@@ -167,10 +167,11 @@ class Stream:
         Return the cumulative turn of bat sample k, summing the missing steps once.
 
         ``motion.turn_between``'s steps from the last turn known at or before k, summed in
-        order in the kernel (``_kernel.fill_turns``; at an impact or a forecast the steps since
-        the last one known, hundreds on a session); where none is known from the stream's first
-        sample on (trimmed past its segment's start), that sample becomes the new zero
-        reference (only differences of turns are ever used).
+        order in the kernel (``_kernel.fill_turns``; at an impact the steps since the last one
+        known, hundreds on a session; a forecast sums its own window's instead, from the
+        stream's ``step_rows``: ``prediction.bat_window_numbers``); where none is known from the
+        stream's first sample on (trimmed past its segment's start), that sample becomes the new
+        zero reference (only differences of turns are ever used).
         """
         turns = self.turns
         found = turns[k]
