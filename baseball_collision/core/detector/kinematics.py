@@ -30,7 +30,7 @@ import numpy as np
 from .fitting import (
     c2_bat_path, c2_point_path, c2_window, chart_swing, stream_noise, swing_rate)
 from .noise import NOISE_FLOOR
-from .streams import Stream
+from .streams import Stream, Turn
 from ..geometry import add, lerp, scale, Vector
 from ..motion import (
     BatPath, BatSample, c2_rows, C2BatPath, end_state, MotionPath, PointPath, turn_between,
@@ -220,9 +220,23 @@ def bat_rates(stream: Stream, t: float, window: float, degree: int,
     if shared:
         rate, change = first[6:], second[6:]
     else:
-        rate, change = fit_rates(sample_times, [stream.turn(i) for i in indices], t,
+        rate, change = fit_rates(sample_times, window_turns(stream, indices[0], end), t,
                                  turn_degree)
     return pivot, ((rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2]))
+
+
+def window_turns(stream: Stream, first: int, end: int) -> List[Turn]:
+    """
+    Return the cumulative turns of bat samples [first, end) of one segment (``Stream.turn``).
+
+    The newest first: one kernel call sums every step missing up to it, in the order a call
+    per sample would (the same numbers), and the rest are then known.
+    """
+    stream.turn(end - 1)
+    turns = stream.turns[first:end]
+    if None in turns:  # (not within one segment: each from its own reference)
+        turns = [stream.turn(i) for i in range(first, end)]
+    return turns
 
 
 def turn_rows(stream: Stream, first: int, end: int) -> List[Optional[Tuple[float, ...]]]:
@@ -274,8 +288,9 @@ def turn_rates(stream: Stream, t: float, window: float, degree: int) -> Optional
     indices = stream.history(t, window)
     if len(indices) < 2:
         return None
-    cumulative = [stream.turn(i) for i in indices]
-    rate, change = fit_rates([stream.times[i] for i in indices], cumulative, t, degree)
+    first, end = indices[0], indices[-1] + 1  # the history is contiguous
+    rate, change = fit_rates(stream.times[first:end], window_turns(stream, first, end), t,
+                             degree)
     return (rate[0], rate[1], rate[2]), rate[3], (change[0], change[1], change[2])
 
 

@@ -4,7 +4,7 @@ import math
 
 from baseball_collision.core.detector.kinematics import (
     bat_rates, fit_coefficients, fit_polynomial, impact_velocities, pivot_degree, pivot_fraction,
-    pivot_rates, point_velocity, turn_rates, turn_rows)
+    pivot_rates, point_velocity, turn_rates, turn_rows, window_turns)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.geometry import dot, lerp, sub
 from baseball_collision.core.motion import BatPath, BatSample, PointPath
@@ -176,3 +176,29 @@ def test_turn_rows_are_knob_tip_and_turn_for_any_windows(calls) -> None:
             assert rows[i] == stream.values[i].knob + stream.values[i].tip + stream.turn(i)
         assert all(row is None or row == stream.values[i].knob + stream.values[i].tip
                    + stream.turns[i] for i, row in enumerate(rows))
+
+
+def _turning_stream(count: int, breaks=()) -> Stream:
+    """Return a bat turning 0.3 rad a sample about a slowly tilting axis, broken at ``breaks``."""
+    stream = Stream('bat')
+    for i in range(count):
+        angle, tilt = 0.3 * i, 0.02 * i
+        knob = (0.01 * i, 0.0, 1.0)
+        tip = (knob[0] + 0.8 * math.cos(angle) * math.cos(tilt), 0.8 * math.sin(angle),
+               1.0 + 0.8 * math.cos(angle) * math.sin(tilt))
+        stream.append(0.01 * i, i, BatSample(knob, tip), i == 0 or i in breaks)
+    return stream
+
+
+@settings(max_examples=examples(60), deadline=None)
+@given(calls=st.lists(st.tuples(st.integers(0, 39), st.integers(1, 40)), min_size=1,
+                      max_size=6),
+       breaks=st.sets(st.integers(1, 39), max_size=2))
+def test_window_turns_are_a_call_per_sample_bit_for_bit(calls, breaks) -> None:
+    """One kernel call from the newest: the same turns as a call per sample, oldest first."""
+    one_call, per_sample = _turning_stream(40, breaks), _turning_stream(40, breaks)
+    for first, end in calls:
+        first = min(first, end - 1)
+        expected = [per_sample.turn(i) for i in range(first, end)]
+        assert window_turns(one_call, first, end) == expected
+    assert None not in window_turns(one_call, 0, 40)  # across the breaks, each its own zero
