@@ -289,8 +289,8 @@ def c2_bat_path(stream: Stream, k: int, window: range, noise: float = 0.0,
     """
     Return the bat's ``c2`` path over interval k: knob, direction and length splines.
 
-    :param continued: exact, the path is to be continued past the window's end (its last piece
-        may be quintic: ``C2BatPath.fitted``).
+    :param continued: exact, the window's last piece may be quintic (``C2BatPath.fitted``):
+        interval k ends the window (``Sweep.paths``), or the path is continued past its end.
     """
     if noise > 0.0:
         window = widened(stream, window)

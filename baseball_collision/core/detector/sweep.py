@@ -251,16 +251,26 @@ class Sweep:
         return indices[0], indices[1]
 
     def paths(self, ball_k: int, bat_k: int) -> Paths:
-        """Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached)."""
+        """
+        Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached).
+
+        ``c2``'s bat, exact (``tracker_noise`` 0, or auto reading none) over an interval that
+        is its window's last piece (look-ahead 0, or a segment's newest samples): that piece
+        may be the quintic spline's (``splines.quintic_window``, ``continued``), as an inner
+        piece is. Its end weights amplify noise the detector was not told of, as the
+        quintic's do at look-ahead 1 (BENCHMARKS.md, "The quintic's last piece at look-ahead
+        0").
+        """
         bat = self.bat
         ball_path = self._kept_ball_path(ball_k)
         c2 = self.model == 'c2'
         config = self.config
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
         if bat.path_key != key and c2:
-            bat.path = c2_bat_path(bat, bat_k, c2_window(
-                bat, bat_k, config.max_gap, config.look_ahead, config.spline_window),
-                stream_noise(bat, config))
+            window = c2_window(bat, bat_k, config.max_gap, config.look_ahead,
+                               config.spline_window)
+            noise = stream_noise(bat, config)
+            bat.path = c2_bat_path(bat, bat_k, window, noise, window.stop == bat_k + 2)
             bat.path_key = key
         if bat.path_key != key:
             before, after = _neighbours(bat, bat_k, self.config.max_gap)

@@ -27,9 +27,12 @@ after the interval (look-ahead 1 or 2), six samples or more and steps within a f
 (``splines.not_a_knot_quintic_rows``; each piece a quintic Hermite through the spline's values,
 slopes and second derivatives at its ends, which is the spline's own piece): O(h^6) in position
 and O(h^5) in velocity for a motion with a bounded sixth derivative (BENCHMARKS.md, "The quintic
-spline for ``c2``'s exact windows"). A window's last piece (look-ahead 0, and the velocities
-extrapolated from before an impact) stays cubic: there the quintic's end weights amplify
-untold noise. Each path is a ``MotionPath`` over one interval;
+spline for ``c2``'s exact windows"). A window's last piece takes it only where the caller says
+(``continued``): the bat's own path over an interval that ends its window (look-ahead 0:
+``detector.sweep.Sweep.paths``) and a hit's bat continued from before its interval; the ball's
+last piece, and the velocities extrapolated from before an impact, stay cubic, where the
+quintic's end weights would amplify untold noise most. Each path is a ``MotionPath`` over one
+interval;
 ``C2BatPath.deviation`` bounds how far any bat axis point leaves its chord from the second
 derivative of knob + length * direction.
 """

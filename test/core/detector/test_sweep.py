@@ -5,12 +5,16 @@ from types import SimpleNamespace
 from typing import List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
+from baseball_collision.core.detector.fitting import c2_window
 from baseball_collision.core.geometry import norm, sub
+from baseball_collision.core.motion import C2BatPath
 from baseball_collision.core.toi import _kernel, profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
 from support.events import detect
+from support.far import tilting_bat
+from support.scenes import BASE_NS
 
 
 def _impacts(config: DetectorConfig, seed: int, kind: str) -> Tuple[Detector, List[Impact]]:
@@ -183,3 +187,31 @@ def test_clearing_the_zone_changes_no_event(noise_m: float,
     assert runs[True] == runs[False]
     assert any('Impact(' in event for event in runs[True])
     assert any('NearMiss(' in event for event in runs[True])
+
+
+@pytest.mark.parametrize('tracker_noise', [0.0, -1.0])
+def test_an_exact_bat_ending_its_window_takes_the_quintic_piece(tracker_noise: float) -> None:
+    """Look-ahead 0, exact: the interval's own bat path is the quintic's last piece, nearer."""
+    rate, spin, tilt = 90.0, 20.0, 2.0
+    detector = Detector(DetectorConfig(model='c2', bat_input='points', look_ahead=0,
+                                       tracker_noise=tracker_noise, max_speed=1e5,
+                                       bat_length_tolerance=1.0))
+    for i in range(9):
+        knob, tip = tilting_bat(i / rate, spin, tilt)
+        stamp = BASE_NS + int(round(i / rate * 1e9))
+        detector.add_knob(stamp, tuple(knob))
+        detector.add_tip(stamp, tuple(tip))
+        detector.add_ball(stamp, (3.0 - 40.0 * i / rate, 1.0, 1.0))
+    bat = detector._bat
+    k = len(bat.times) - 2  # the newest interval: the last piece of its window
+    path = detector._sweep.paths(k, k)[1]
+    window = c2_window(bat, k, 0.05, 0, 8)
+    assert window.stop == k + 2 and path.knob.e is not None  # a quintic's piece
+    cubic = C2BatPath.fitted(bat.times[window.start:window.stop],
+                             bat.values[window.start:window.stop], k - window.start)
+    assert cubic.knob.e is None
+
+    def worst(fit) -> float:
+        return max(float(np.linalg.norm(np.array(fit.at(t)[1]) - tilting_bat(t, spin, tilt)[1]))
+                   for t in np.linspace(bat.times[k], bat.times[k + 1], 41))
+    assert worst(path) < worst(cubic)
