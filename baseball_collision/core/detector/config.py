@@ -223,8 +223,8 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         read_only=_GEOMETRY),
     ParameterSpec(
         'look_ahead', _I, 0, 'c2: samples after an interval its fit may use (0-2), each one '
-        'more frame of latency; 0 keeps the frames after a contact out of its fit; 1 or 2 fit '
-        'exact samples by the quintic spline (6th order).', 'samples',
+        'more frame of latency; 0 keeps the frames after a contact out of its fit; exact samples '
+        'are fitted by the quintic spline (6th order; at 0 the bat only).', 'samples',
         _closed(0, 2), read_only=_GEOMETRY),
     ParameterSpec(
         'spline_window', _I, 8, 'c2: samples in the spline fitted for an interval (4-32), the '
