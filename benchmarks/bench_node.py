@@ -3,8 +3,8 @@ impact_node benchmark: processing time per message and end-to-end impact latency
 
 Run: ``.venv/bin/python benchmarks/bench_node.py [--pitches N] [--rate HZ] [--qos Q]
 [--predict SECONDS] [--period SECONDS] [--model M] [--look-ahead N] [--tracker-noise M]
-[--breakdown] [--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS`` for the
-node alone in this process, or ``--startup RUNS`` for the start-up time alone.
+[--breakdown] [--consumers] [--no-freeze] [--fifo PRIORITY]``, ``--in-process RUNS [--idle US]``
+for the node alone in this process, or ``--startup RUNS`` for the start-up time alone.
 
 Three processes, as in a deployment: this one publishes the ball (PointStamped) and the bat
 (PoseStamped) at ``--rate`` per stream; a child (this file with ``--serve``) runs ``ImpactNode``
@@ -21,7 +21,9 @@ pitch is a swing that hits the ball; between pitches both streams pause longer t
   thread's CPU time over the same span, which a loaded machine inflates less; and the first
   three messages' (no compile pause: the kernel is compiled ahead of time). The
   ``~/impact_report`` records are made and sent after the drain, outside any message's
-  processing: their cost is printed per flush beside it.
+  processing, and so are an impact's error bars, INFO line and markers (its ``~/impact`` and
+  ``~/impact_velocity`` go out in its message): their cost is printed per flush beside it,
+  the flushes that completed an impact apart.
   ``--predict 0.3``: with ``prediction_horizon`` 0.3 s (issue 13's goal: p99 <= 0.3 ms,
   prediction <= 30 us per message mean: the mean with it minus the mean without it);
   ``--period S``: with ``prediction_period`` S (predict at most every S seconds).
@@ -43,7 +45,10 @@ pitch is a swing that hits the ball; between pitches both streams pause longer t
   every prediction's record; without it nobody subscribes to them.
 * in this process (``--in-process RUNS``): the node alone, its callback fed the same
   messages directly (no DDS, no other process), CPU time per message, each message's least
-  over RUNS fresh runs (what a quiet machine would give; ``in_process``).
+  over RUNS fresh runs (what a quiet machine would give; ``in_process``). ``--idle US``: the
+  thread sleeps US microseconds before each message, as the node waits for its next one when
+  deployed (at 1 kHz a stream, about 500 us): what a core left idle between messages costs
+  the next one (its caches).
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
 * latency: from the publish of the message that completes the interval holding the impact
@@ -66,7 +71,7 @@ import tempfile
 import time
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-from baseball_collision.core.detector import DEFAULTS
+from baseball_collision.core.detector import DEFAULTS, PendingUncertainty
 from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.entry_points import one_blas_thread_from_start
 from baseball_collision.ros import node as node_module
@@ -132,6 +137,7 @@ class TimedImpactNode(ImpactNode):
         self.cpu_times: List[float] = []  # this thread's CPU time per message (s)
         self.timeline: List[Tuple[int, int, int]] = []
         self.report_times: List[Tuple[float, float]] = []  # per flush of reports: wall, CPU (s)
+        self.impact_times: List[Tuple[float, float]] = []  # per flush completing an impact
         self.reports_made = 0
         self._entry_ns = 0
         # per message, six numbers in a row: predicted, published a prediction, made an impact,
@@ -192,14 +198,18 @@ class TimedImpactNode(ImpactNode):
         self.times.append(elapsed_s)
         super()._record_processing(elapsed_s)
 
-    def _publish_reports(self) -> None:
+    def _complete_events(self) -> None:
         if not self._reports:
             return
         made = self.reports_made
+        impacts = any(event.__class__ is PendingUncertainty for event, _, _ in self._reports)
         start, cpu = time.perf_counter(), time.thread_time()
-        super()._publish_reports()
-        if self.reports_made > made:  # made for a subscriber, not dropped for nobody
-            self.report_times.append((time.perf_counter() - start, time.thread_time() - cpu))
+        super()._complete_events()
+        spent = (time.perf_counter() - start, time.thread_time() - cpu)
+        if impacts:
+            self.impact_times.append(spent)
+        elif self.reports_made > made:  # made for a subscriber, not dropped for nobody
+            self.report_times.append(spent)
 
 
 class BrokenDownImpactNode(TimedImpactNode):
@@ -235,9 +245,9 @@ class BrokenDownImpactNode(TimedImpactNode):
                 self._walls[phase] = self._walls.get(phase, 0.0) + time.perf_counter() - wall
         return timed
 
-    def _publish_reports(self) -> None:
+    def _complete_events(self) -> None:
         self._phase = {}  # the reports' publications are not a message's phases
-        super()._publish_reports()
+        super()._complete_events()
 
     def _take(self, stream: str, header: object, add_sample: object, *values: object,
               **kwargs: object) -> None:
@@ -351,6 +361,8 @@ def serve() -> int:
     figures['reports'] = {'wall': percentiles([w * 1e6 for w, _ in node.report_times]),
                           'cpu': percentiles([c * 1e6 for _, c in node.report_times]),
                           'made': node.reports_made}
+    figures['completed'] = {'wall': percentiles([w * 1e6 for w, _ in node.impact_times]),
+                            'cpu': percentiles([c * 1e6 for _, c in node.impact_times])}
     figures['top'] = {'wall': top_percent(node.times, node.kinds),
                       'cpu': top_percent(node.cpu_times, node.kinds)}
     figures['collections'] = {
@@ -545,11 +557,18 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
           f"{cpu['max']:.1f} us")
     reports = processing['reports']
     if reports['made']:
-        print(f"  ~/impact_report: {reports['made']} records made and sent after the drain, in "
-              f"{reports['cpu']['count']} flushes (not in the processing above): CPU per flush "
-              f"median {reports['cpu']['median']:.1f} us, p99 {reports['cpu']['p99']:.1f} us, "
-              f"max {reports['cpu']['max']:.1f} us; wall median "
-              f"{reports['wall']['median']:.1f} us, p99 {reports['wall']['p99']:.1f} us")
+        print(f"  ~/impact_report: {reports['made']} records made and sent after the drain, "
+              f"{reports['cpu']['count']} flushes without an impact (not in the processing "
+              f"above): CPU per flush median {reports['cpu']['median']:.1f} us, p99 "
+              f"{reports['cpu']['p99']:.1f} us, max {reports['cpu']['max']:.1f} us; wall "
+              f"median {reports['wall']['median']:.1f} us, p99 {reports['wall']['p99']:.1f} us")
+    completed = processing['completed']
+    if completed['cpu']['count']:
+        print(f"  the {completed['cpu']['count']} flushes that completed an impact (its error "
+              f'bars, line, markers, and the reports): CPU median '
+              f"{completed['cpu']['median']:.1f} us, max {completed['cpu']['max']:.1f} us; wall "
+              f"median {completed['wall']['median']:.1f} us, max "
+              f"{completed['wall']['max']:.1f} us")
     print(f"  impacts: {processing['impacts']} detected, {len(received)} received, "
           f"{processing['dropped']} samples dropped")
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
@@ -576,7 +595,7 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
 
 def in_process(runs: int, pitches: int, rate: float, horizon: float, period: float,
                model: str = DEFAULTS['model'], freeze: bool = True, look_ahead: int = 0,
-               tracker_noise: Optional[float] = None) -> None:
+               tracker_noise: Optional[float] = None, idle_s: float = 0.0) -> None:
     """
     Print the node's CPU time per message fed straight to its callback, least of ``runs`` runs.
 
@@ -587,7 +606,8 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     that predicted and those that published a prediction (no subscriber: no reports made).
     After each run, the CPU time of a full garbage collection (``gc.collect()``) with the node
     and its messages alive; ``freeze``: the start-up objects frozen after the first node is made
-    (``node.freeze_start_up``, as ``impact_node`` does), else not.
+    (``node.freeze_start_up``, as ``impact_node`` does), else not. ``idle_s``: seconds slept
+    before each message (not timed).
     """
     os.environ.pop('RMW_IMPLEMENTATION', None)
     os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'OFF'
@@ -600,7 +620,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                  Parameter('look_ahead', value=look_ahead)]
     if tracker_noise is not None:
         overrides.append(Parameter('tracker_noise', value=tracker_noise))
-    cpu_runs, predicted, published, full = [], [], [], []
+    cpu_runs, completed_runs, predicted, published, full = [], [], [], [], []
     for run in range(runs):
         node = ImpactNode(parameter_overrides=overrides)
         if freeze and not run:
@@ -608,7 +628,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
         predictor = node.detector._predictor  # the benchmark looks inside
         ball_msg, bat_msg = PointStamped(), PoseStamped()
         ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
-        cpu, predicted, published = [], [], []
+        cpu, predicted, published, completed = [], [], [], []
         for k in range(pitches):
             for i in range(per_pitch):
                 stamp = BASE_NS + k * pitch_ns + i * step_ns
@@ -622,13 +642,21 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                         ('bat_pose', bat_msg, node.detector.add_bat_pose,
                          (position, orientation))):
                     before = predictor.last_ns
+                    if idle_s:
+                        time.sleep(idle_s)
                     start = time.thread_time()
                     node._take(stream, message.header, add, *values)
                     cpu.append(time.thread_time() - start)
-                    node._publish_reports()  # as after a drain (no subscriber: none made)
+                    impact = any(event.__class__ is PendingUncertainty
+                                 for event, _, _ in node._reports)
+                    start = time.thread_time()
+                    node._complete_events()  # as after a drain (no subscriber: none made)
+                    if impact:  # its error bars, line and markers
+                        completed.append(time.thread_time() - start)
                     predicted.append(predictor.last_ns != before)
                     published.append(predicted[-1] and predictor.predicting)
         cpu_runs.append(cpu)
+        completed_runs.append(completed)
         start = time.thread_time()
         gc.collect()
         full.append(time.thread_time() - start)
@@ -639,8 +667,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     noise = DEFAULTS['tracker_noise'] if tracker_noise is None else tracker_noise
     print(f'impact_node in this process at {rate:.0f} Hz per stream, model {model} '
           f'(look_ahead {look_ahead}, tracker_noise {noise:g}), prediction_horizon {horizon} s, '
-          f'prediction_period {period} s, {pitches} pitches: '
-          f'CPU per message, least of {runs} runs')
+          f'prediction_period {period} s, {pitches} pitches'
+          + (f', {idle_s * 1e6:g} us idle before each message' if idle_s else '')
+          + f': CPU per message, least of {runs} runs')
     print(f'  all {least.size} messages: median {np.median(least):.1f} us, mean '
           f'{least.mean():.1f} us, p99 {np.percentile(least, 99):.1f} us')
     for name, chosen in (('predicted', predicted), ('published a prediction', published),
@@ -648,6 +677,10 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
         if chosen.any():
             print(f'  the {chosen.sum()} that {name}: median {np.median(least[chosen]):.1f} us, '
                   f'p90 {np.percentile(least[chosen], 90):.1f} us')
+    after = np.min(np.array(completed_runs), axis=0) * 1e6
+    if after.size:
+        print(f'  after the drain, the {after.size} impacts completed (error bars, line, '
+              f'markers): median {np.median(after):.1f} us, max {after.max():.1f} us')
     print('  a full garbage collection after each run (start-up objects '
           f"{'frozen' if freeze else 'not frozen'}): "
           + ', '.join(f'{t * 1e3:.2f}' for t in full) + ' ms CPU')
@@ -715,6 +748,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser.add_argument('--in-process', type=int, metavar='RUNS', default=0,
                         help='feed the node in this process, no DDS: CPU per message, least '
                         'of RUNS runs')
+    parser.add_argument('--idle', type=float, metavar='US', default=0.0,
+                        help='with --in-process: sleep US microseconds before each message')
     parser.add_argument('--startup', type=int, metavar='RUNS', default=0,
                         help='only time the start-up, over RUNS runs')
     args = parser.parse_args(argv)
@@ -723,7 +758,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 0
     if args.in_process:
         in_process(args.in_process, args.pitches, args.rate, args.predict, args.period,
-                   args.model, not args.no_freeze, args.look_ahead, args.tracker_noise)
+                   args.model, not args.no_freeze, args.look_ahead, args.tracker_noise,
+                   args.idle * 1e-6)
         return 0
     run(args.pitches, args.rate, args.qos, not args.no_markers, args.predict, args.period,
         args.model, args.look_ahead, args.breakdown, args.consumers, not args.no_freeze,

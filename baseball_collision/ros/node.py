@@ -8,7 +8,9 @@ events come back out as messages:
 
 * ``~/impact`` (geometry_msgs/PointStamped): stamped with the impact instant, the contact point.
 * ``~/impact_velocity`` (geometry_msgs/TwistStamped): same stamp; bat surface velocity at the
-  contact point (linear, m/s) and bat angular velocity (angular, rad/s).
+  contact point (linear, m/s) and bat angular velocity (angular, rad/s). Both go out as the
+  impact is found; its error bars (``Detector`` with ``deferred_uncertainty``), INFO line and
+  markers follow after the drain, with the reports.
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
@@ -46,7 +48,7 @@ import math
 import sys
 import threading
 import time
-from typing import Any, Callable, Deque, Dict, List, Optional, Tuple
+from typing import Any, Callable, Deque, Dict, List, Optional, Tuple, Union
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
@@ -69,11 +71,12 @@ from .inputs import (
     DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
-    describe_listening, event_output, event_report, EventOutput, FLAG_CDR, format_stamp,
-    NS_PER_S, plan_arrays, PredictionOutput, stamp_to_ns)
+    describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
+    format_stamp, NS_PER_S, plan_arrays, PredictionOutput, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
-    Detector, DetectorConfig, Event, Impact, NODE_NAME, Prediction, SPECS, StateReset)
+    Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction, SPECS,
+    StateReset)
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
 from ..core.scene import Scene
@@ -82,7 +85,7 @@ from ..threads import single_threaded_blas
 
 
 def _no_markers(impact: Impact, frame: str) -> None:
-    """Make no markers (the node makes an impact's after its other messages are out)."""
+    """Make no markers (the node makes an impact's after the drain, with its error bars)."""
     return None
 
 
@@ -127,8 +130,10 @@ class ImpactNode(Node):
         self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._prediction_output = PredictionOutput()  # ~/predicted_impact's CDR bytes
-        # (event, frame, config) of the reports to make once the inputs are drained
-        self._reports: Deque[Tuple[Event, str, DetectorConfig]] = deque()
+        # (event, frame, config) to complete once the inputs are drained: reports, and an
+        # impact's error bars, line and markers (its PendingUncertainty in place of the event)
+        self._reports: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
+            deque()
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
@@ -141,7 +146,7 @@ class ImpactNode(Node):
     def _start(self) -> None:
         """Declare the parameters, make the detector, wire the I/O (raises RosError)."""
         self.settings = declare(self)
-        self.detector = Detector(self.settings.detector)
+        self.detector = Detector(self.settings.detector, deferred_uncertainty=True)
         for warning in start_warnings(self, self.settings.detector):
             self.get_logger().warning(warning)
         self.endpoints = Endpoints(self, self.tally)
@@ -226,24 +231,22 @@ class ImpactNode(Node):
             expected = self.detector.frame_id
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
+            pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
             for event in events:
-                kind = event.__class__
+                kind, where = event.__class__, frame or expected or ''
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
                 if kind is Prediction:  # on, and the point: its message's CDR bytes
                     self._set_predicting(True)
                     self._outputs['predicted_impact'].publish(
-                        self._prediction_output(event, frame or expected or ''))
-                elif kind is Impact:  # ~/impact out first; its markers (0.5 ms to make) then
-                    self._publish(event_output(event, frame or expected or '', _no_markers))
-                    markers = self._markers(event, frame or expected or '')
-                    if markers is not None:
-                        self._outputs['markers'].publish(markers)
+                        self._prediction_output(event, where))
+                elif kind is Impact:  # ~/impact out now; its error bars, line, markers later
+                    self._publish(event_output(event, where, _no_markers), log=False)
+                    event = next(pending)
                 else:
-                    self._publish(event_output(event, frame or expected or '', self._markers))
+                    self._publish(event_output(event, where, self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
-                    self._reports.append((event, frame or expected or '',
-                                          self.detector.config))
+                    self._reports.append((event, where, self.detector.config))
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -256,26 +259,40 @@ class ImpactNode(Node):
         """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
         def handled(message: Any, info: Any) -> None:
             on_message(message, info)
-            self._publish_reports()
+            self._complete_events()
         return handled
 
-    def _publish_reports(self) -> None:
+    def _complete_events(self) -> None:
         """
-        Make and publish the ``~/impact_report`` of each event queued by ``_take``, in order.
+        Complete the queued events in order: impacts' error bars, lines, markers; reports.
 
+        An impact's ``~/impact`` and ``~/impact_velocity`` went out as its message was handled;
+        here its 1-sigma uncertainties are measured (``PendingUncertainty.measure``: re-solves
+        from copies of its samples taken then, 0.3-0.6 ms; the same to the bit as ``analyze``'s),
+        its INFO line logged and its markers published. Then each event's ``~/impact_report``.
         Called after each input's executor callback, once the intake has drained the queues
-        (no message waiting, or ``DRAIN_LIMIT`` taken), so a record and its JSON (a third of the
-        message that predicts, with a recorder subscribed) delay no message taken in it and no
-        output an arm reads: those went out as each message was handled. Made only
-        while the topic has a subscriber (it is volatile: a record published to nobody
-        reaches nobody); without one the queue is emptied.
+        (no message waiting, or ``DRAIN_LIMIT`` taken), so the error bars and a record's JSON (a
+        third of the message that predicts, with a recorder subscribed) delay no message taken
+        in it and no output an arm reads. Records are made only while the topic has a subscriber
+        (it is volatile: a record published to nobody reaches nobody).
         """
         reports, publisher = self._reports, self._outputs['impact_report']
-        if reports and publisher.get_subscription_count() == 0:
-            reports.clear()
+        subscribed = bool(reports) and publisher.get_subscription_count() > 0
         while reports:
             event, frame, config = reports.popleft()
-            publisher.publish(event_report(event, frame, config))
+            if event.__class__ is PendingUncertainty:
+                event = self._measured(event, frame)
+            if subscribed:
+                publisher.publish(event_report(event, frame, config))
+
+    def _measured(self, pending: PendingUncertainty, frame: str) -> Impact:
+        """Return a pending impact with its error bars; log its line, publish its markers."""
+        impact = pending.measure()
+        self.get_logger().info(describe_impact(impact))
+        markers = self._markers(impact, frame)
+        if markers is not None:
+            self._outputs['markers'].publish(markers)
+        return impact
 
     def _record_processing(self, elapsed_s: float) -> None:
         """Account the wall time (s) one message took in its callback."""
@@ -290,15 +307,15 @@ class ImpactNode(Node):
         return impact_markers(impact, frame, self.detector.config,
                               self.settings['marker_lifetime'])
 
-    def _publish(self, output: EventOutput) -> None:
-        """Publish what one event became and log its line."""
+    def _publish(self, output: EventOutput, log: bool = True) -> None:
+        """Publish what one event became and (``log``) log its line."""
         if output.predicting is not None:
             self._set_predicting(output.predicting)
         for name, message in output.messages:
             self._outputs[name].publish(message)
         if output.impact_ns is not None:
             self.tally.last_impact_ns = output.impact_ns
-        if not output.log:
+        if not (log and output.log):
             return
         logger = self.get_logger()
         if output.throttled:

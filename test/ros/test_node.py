@@ -21,7 +21,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector import DROP_REASONS, PARAMETERS
+from baseball_collision.core.detector import DROP_REASONS, PARAMETERS, PendingUncertainty
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
@@ -569,12 +569,15 @@ def test_no_report_is_made_without_a_subscriber(harness: Callable[..., Harness])
     assert h.received['predicted'] and published == []
 
 
-def test_reports_are_made_after_the_drain(harness: Callable[..., Harness]) -> None:
+def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
+                                          monkeypatch: pytest.MonkeyPatch) -> None:
     """
     A record is made and sent once no input message waits, after what an arm reads.
 
     Each report goes out after the drain (no input being taken), in the events' order, after
-    the ``~/predicted_impact`` or ``~/impact`` of its event; the node's queue ends empty.
+    the ``~/predicted_impact`` or ``~/impact`` of its event; the node's queue ends empty. An
+    impact's error bars are measured after the drain too, after its ``~/impact`` went out and
+    before its record (which carries them).
     """
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
     h.wait(lambda: h.node._outputs['impact_report'].get_subscription_count() > 0, 5.0,
@@ -595,9 +598,20 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness]) -> No
 
     for name in ('predicted_impact', 'impact', 'impact_report'):
         h.node._outputs[name] = logged(name, h.node._outputs[name])
+    measure = PendingUncertainty.measure
+
+    def measured(pending: PendingUncertainty) -> Any:
+        sent.append(('measure', h.node._intake._draining))
+        return measure(pending)
+    monkeypatch.setattr(PendingUncertainty, 'measure', measured)
     h.processed(publish_swing(h, 'pose', pitch()))
     h.wait(lambda: h.received['impact'] and any(
         json.loads(m.data)['event'] == 'impact' for m in h.received['report']), 2.0, 'reports')
+    (measuring,) = [i for i, (name, _) in enumerate(sent) if name == 'measure']
+    impact = [name for name, _ in sent].index('impact')
+    assert impact < measuring and not sent[measuring][1]  # after ~/impact, not in the drain
+    assert sent[measuring + 1][0] == 'impact_report'  # then the impact's record
+    del sent[measuring]
     reports = [i for i, (name, _) in enumerate(sent) if name == 'impact_report']
     outputs = [i for i, (name, _) in enumerate(sent) if name != 'impact_report']
     events = [sent[i][0] for i in outputs]

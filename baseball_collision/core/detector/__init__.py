@@ -10,13 +10,14 @@ from .events import (
 from .gate import FAR_AHEAD_NS
 from .kinematics import SPARSE_SAMPLES
 from .predictor import PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE
+from .uncertainty import PendingUncertainty
 from ..toi import Feature
 
 __all__ = [
     'DROP_REASONS', 'FAR_AHEAD_NS', 'MPS_TO_MPH', 'DetectorConfig', 'Impact', 'NearMiss',
     'Prediction', 'PredictionCleared', 'StreamGap', 'StateReset', 'Event', 'DetectorStats',
     'Detector', 'PREDICTION_CHORD_FACTOR', 'PREDICTION_DEGREE', 'SPARSE_SAMPLES', 'DropReason',
-    'Feature', 'ResetReason', 'Role',
+    'Feature', 'ResetReason', 'Role', 'PendingUncertainty',
     # the parameter table (config.py)
     'AUTO_NOISE', 'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
     'validate_parameters', 'unit_vector',

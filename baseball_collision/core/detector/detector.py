@@ -44,7 +44,7 @@ from .predictor import Predictor
 from .scheduler import Scheduler
 from .streams import Stream
 from .sweep import Sweep
-from .uncertainty import impact_uncertainty
+from .uncertainty import PendingUncertainty, uncertainty_basis
 from ..geometry import pose_point, Vector
 from ..motion import BatSample, samples_ahead
 from ...errors import CoreError
@@ -65,6 +65,11 @@ class Detector:
     at the end of a recording processes what is left; ``reset()`` drops all state.
 
     :param config: the detector configuration.
+    :param deferred_uncertainty: the impacts the calls return have their uncertainties zero,
+        and ``take_pending`` hands over what measures them (``PendingUncertainty.measure``:
+        the same uncertainties to the bit, taken when the impact was found), so an adapter can
+        send an impact before its error bars' re-solves (the node). Off: every impact returned
+        carries them.
     """
 
     RESTART_FIELDS = ('model', 'bat_input', 'profile', 'geometry', 'frame_id')
@@ -73,8 +78,10 @@ class Detector:
     ROLES = tuple(Role)
     """Sample roles accepted by ``add``."""
 
-    def __init__(self, config: Optional[DetectorConfig] = None) -> None:
+    def __init__(self, config: Optional[DetectorConfig] = None, *,
+                 deferred_uncertainty: bool = False) -> None:
         self._config = config or DetectorConfig()
+        self._pending: Optional[List[PendingUncertainty]] = [] if deferred_uncertainty else None
         self.stats = DetectorStats()
         self._plan_length = PLAN_MAX  # samples the next chunk plan covers (chunks.feed_chunk)
         self._offsets: Tuple[Vector, Vector] = (
@@ -106,9 +113,25 @@ class Detector:
         self._sweep.estimators = self._noise  # (their estimates kept: ``noise.record``)
 
     def _measure(self, impact: Impact) -> Impact:
-        """Return an impact with its 1-sigma uncertainties (``uncertainty``)."""
-        return impact_uncertainty(self._config, self._clock, self._ball, self._bat,
-                                  self._offsets, impact)
+        """Return an impact with its 1-sigma uncertainties, or keep them pending (deferred)."""
+        pending = uncertainty_basis(self._config, self._clock, self._ball, self._bat,
+                                    self._offsets, impact)
+        if self._pending is None:
+            return pending.measure()
+        self._pending.append(pending)
+        return impact
+
+    def take_pending(self) -> List[PendingUncertainty]:
+        """
+        Return the impacts found since the last call whose uncertainties are pending, in order.
+
+        Only with ``deferred_uncertainty`` (else always empty). ``reset`` keeps them: each holds
+        copies of what it is measured from, and its impact was already returned.
+        """
+        if self._pending is None:
+            return []
+        pending, self._pending = self._pending, []
+        return pending
 
     # ---- configuration -------------------------------------------------------------------
 

@@ -66,7 +66,7 @@ the time comes out late by about 2 sigma at 1 mm and 90 Hz.
 """
 
 from bisect import bisect_left, bisect_right
-from dataclasses import replace
+from dataclasses import dataclass, replace
 import math
 from typing import List, Optional, Tuple, Union
 
@@ -404,12 +404,43 @@ def before_rule_speed(config: DetectorConfig, clock: Clock, ball: Stream, bat: S
     return norm(rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point))
 
 
-def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
-                       offsets: Tuple[Vector, Vector], impact: Impact) -> Impact:
+@dataclass(frozen=True)
+class PendingUncertainty:
     """
-    Return the impact with its 1-sigma uncertainties (see the module docstring).
+    An impact whose uncertainties are yet to be measured, with what they are measured from.
 
-    :param config, clock, ball, bat, offsets: the detector's, as they were when it found it.
+    Taken when the impact is found (``uncertainty_basis``): the configuration, the clock's origin
+    and the bat's offsets then in force, and copies of the samples the re-solves can need (none
+    newer than what the sweep held), so ``measure`` gives the same uncertainties to the bit
+    whenever it runs, whatever the detector took or cleared since (``Detector`` with
+    ``deferred_uncertainty``: the node publishes the impact first).
+
+    :ivar impact: the impact as found, its uncertainties zero.
+    :ivar ta, tb: its union interval (s, on ``clock``).
+    :ivar hit: the ball left its free flight over the interval (``departure``).
+    """
+
+    impact: Impact
+    config: DetectorConfig
+    clock: Clock
+    offsets: Tuple[Vector, Vector]
+    ball: Stream
+    bat: Stream
+    ta: float
+    tb: float
+    hit: bool
+
+    def measure(self) -> Impact:
+        """Return the impact with its 1-sigma uncertainties (the module docstring)."""
+        return _measured(self)
+
+
+def uncertainty_basis(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
+                      offsets: Tuple[Vector, Vector], impact: Impact) -> PendingUncertainty:
+    """
+    Return what an impact's uncertainties are measured from, taken now (``PendingUncertainty``).
+
+    :param config, clock, ball, bat, offsets: the detector's, as they are when it found it.
     """
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
     hit = leaves_flight(ball, ball.interval(ta), judging_noise(config),
@@ -422,7 +453,28 @@ def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: 
     start, end = intervals[0][0], intervals[-1][1]
     ball_first, ball_last = _span(ball, start, end, config, upto, tb)
     bat_first, bat_last = _span(bat, start, end, config, upto, tb)
-    ball, bat = excerpt(ball, ball_first, ball_last), excerpt(bat, bat_first, bat_last)
+    origin = Clock()
+    origin.origin = clock.origin
+    return PendingUncertainty(impact, config, origin, offsets,
+                              excerpt(ball, ball_first, ball_last),
+                              excerpt(bat, bat_first, bat_last), ta, tb, hit)
+
+
+def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
+                       offsets: Tuple[Vector, Vector], impact: Impact) -> Impact:
+    """
+    Return the impact with its 1-sigma uncertainties (see the module docstring).
+
+    :param config, clock, ball, bat, offsets: the detector's, as they were when it found it.
+    """
+    return uncertainty_basis(config, clock, ball, bat, offsets, impact).measure()
+
+
+def _measured(pending: PendingUncertainty) -> Impact:
+    """Return ``pending``'s impact with its 1-sigma uncertainties (re-solved from its copies)."""
+    config, clock, ball, bat, offsets = (pending.config, pending.clock, pending.ball,
+                                         pending.bat, pending.offsets)
+    impact, ta, tb, hit = pending.impact, pending.ta, pending.tb, pending.hit
     ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     uncertainty: Optional[Uncertainty] = None
     if (ball_sigma > 0.0 or bat_sigma > 0.0) and config.model == 'c2':

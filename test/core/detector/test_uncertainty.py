@@ -4,7 +4,8 @@ from dataclasses import replace
 from typing import Dict, List, Sequence
 
 from baseball_collision.core.bat import PoseBatGeometry, WOOD_BAT_34
-from baseball_collision.core.detector import DetectorConfig, Impact, kinematics, NearMiss
+from baseball_collision.core.detector import (
+    Detector, DetectorConfig, Impact, kinematics, NearMiss)
 from baseball_collision.core.detector.fitting import bat_variances, MARKER_SPREAD_M
 from baseball_collision.core.detector.uncertainty import (
     ALTERNATIVE, before_rule_speed, braked, excerpt, resolve, union_intervals)
@@ -48,6 +49,46 @@ def test_noisy_uncertainties_are_positive_and_reproducible_to_the_bit(bat_input:
     assert 0.0 < impact.time_uncertainty_s < 1e-3
     assert 0.0 < impact.distance_from_knob_uncertainty_m < 0.02
     assert 0.0 < impact.sweet_spot_speed_uncertainty_mps < 0.2 * impact.sweet_spot_speed_mps
+
+
+@pytest.mark.parametrize('family, rate, noise_m, model, tracker_noise', [
+    ('rebound', 90.0, 0.0, 'c2', -1.0),      # a hit, exact: the brake's re-solves
+    ('rebound', 120.0, 1e-3, 'c2', -1.0),    # auto noise: the propagated sigmas
+    ('tilted', 90.0, 1e-3, 'c2', 1e-3),      # told noise, look-ahead below
+    ('plane', 240.0, 1e-3, 'rigid', 1e-3),   # the perturbed re-solves
+])
+@pytest.mark.parametrize('look_ahead', [0, 2])
+def test_deferred_uncertainties_are_the_same_measured_at_any_time(
+        family: str, rate: float, noise_m: float, model: str, tracker_noise: float,
+        look_ahead: int) -> None:
+    """
+    Deferred error bars measured late are the ones measured at once, to the bit.
+
+    ``deferred_uncertainty``: the impacts come back without their error bars, in the same
+    order as ``take_pending`` hands over what measures them; measured after the detector has
+    taken every later sample, been finished and been reset, they equal, to the bit, the
+    impacts a detector that measured each as it found it returns (the node sends an impact
+    before its error bars).
+    """
+    _, samples = _samples(family, rate, noise_m, 4)
+    config = DetectorConfig(bat_input='points', model=model, tracker_noise=tracker_noise,
+                            look_ahead=look_ahead)
+    _, measured_at_once = _impacts(config, samples)
+    deferred = Detector(config, deferred_uncertainty=True)
+    returned: List[Impact] = []
+    pending = []
+    for stamp, role, values in samples.messages('points'):
+        returned += [e for e in deferred.add(role, stamp, values) if isinstance(e, Impact)]
+        pending += deferred.take_pending()
+    returned += [e for e in deferred.finish() if isinstance(e, Impact)]
+    pending += deferred.take_pending()
+    deferred.reset()
+    assert measured_at_once and len(pending) == len(returned) == len(measured_at_once)
+    assert all(each.impact is impact for each, impact in zip(pending, returned))
+    assert all(impact.time_uncertainty_s == 0.0 for impact in returned)
+    assert [each.measure() for each in pending] == measured_at_once
+    assert measured_at_once[0].time_uncertainty_s > 0.0
+    assert Detector(config).take_pending() == [] and deferred.take_pending() == []
 
 
 def test_more_noise_gives_larger_uncertainties() -> None:
