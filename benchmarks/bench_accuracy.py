@@ -52,6 +52,7 @@ METHODS: Dict[object, Dict[object, object]] = {
     'rigid': {'model': 'rigid'},
     'rigid-auto': {'model': 'rigid', 'tracker_noise': -1.0},
     'spline': {'model': 'spline'},
+    'spline-auto': {'model': 'spline', 'tracker_noise': -1.0},
     'c2': {'model': 'c2'},
     'c2-la1': {'model': 'c2', 'look_ahead': 1},
     'c2-la2': {'model': 'c2', 'look_ahead': 2},

@@ -31,7 +31,11 @@ that miss (a graze) are left out. The uncertainty is that standard deviation; th
 in quadrature the fits' own bias as the noise-free estimate below bounds it (the difference from
 ``before_rule_speed``: the least-squares fits behind these models' speeds are biased on an
 accelerating swing, which no shaking of the samples shows; without it `rigid`'s speed was
-within its 1 sigma in 4-25 % of impacts at 0.3-2 mm, BENCHMARKS.md, "The node's default"). With
+within its 1 sigma in 4-25 % of impacts at 0.3-2 mm, BENCHMARKS.md, "The node's default"), and
+the time's the fits' own error as the higher-order ``c2`` shows it: the distance from the farther
+of ``c2``'s two answers (``braked`` below, at every impact, not only at a hit; without it the
+time was within 1 sigma in 36-57 % and within 2 in 65-90 % of impacts at 0.5-2 mm, pooled over
+the swing families, BENCHMARKS.md, "`~/impact` before its error bars"). With
 fewer than two hits, the noise-free estimate below stands in. The random source is seeded from the
 impact's stamps (``seed_for``), so the node and ``analyze``, given the same samples, report
 the same uncertainties to the bit.
@@ -474,7 +478,8 @@ def _measured(pending: PendingUncertainty) -> Impact:
     """Return ``pending``'s impact with its 1-sigma uncertainties (re-solved from its copies)."""
     config, clock, ball, bat, offsets = (pending.config, pending.clock, pending.ball,
                                          pending.bat, pending.offsets)
-    impact, ta, tb, hit = pending.impact, pending.ta, pending.tb, pending.hit
+    impact, ta, tb = pending.impact, pending.ta, pending.tb
+    c2_answers = pending.hit  # at a hit: the bat's brake (the module docstring)
     ball_sigma, bat_sigma = stream_noise(ball, config), stream_noise(bat, config)
     uncertainty: Optional[Uncertainty] = None
     if (ball_sigma > 0.0 or bat_sigma > 0.0) and config.model == 'c2':
@@ -484,13 +489,14 @@ def _measured(pending: PendingUncertainty) -> Impact:
                               impact, ta, tb)
             uncertainty = tuple(math.hypot(x, y) for x, y in zip(uncertainty, bent))
     elif ball_sigma > 0.0 or bat_sigma > 0.0:
+        c2_answers = True  # the perturbed fits' own error too (the module docstring)
         rng = np.random.default_rng(seed_for(impact))
         found = []
         for _ in range(PERTURBATIONS):
-            hit = resolve(config, clock, _shaken_points(ball, ball_sigma, rng),
-                          _shaken_bat(bat, bat_sigma, offsets, rng), offsets, ta, tb)
-            if hit is not None:
-                found.append(_quantities(hit))
+            shaken = resolve(config, clock, _shaken_points(ball, ball_sigma, rng),
+                             _shaken_bat(bat, bat_sigma, offsets, rng), offsets, ta, tb)
+            if shaken is not None:
+                found.append(_quantities(shaken))
         if len(found) >= 2:
             spread = tuple(float(x) for x in np.std(np.array(found), axis=0, ddof=1))
             other = before_rule_speed(config, clock, ball, bat, offsets, impact)
@@ -504,7 +510,7 @@ def _measured(pending: PendingUncertainty) -> Impact:
             other = before_rule_speed(config, clock, ball, bat, offsets, impact)
             uncertainty = (uncertainty[0], uncertainty[1], max(
                 uncertainty[2], abs(other - impact.sweet_spot_speed_mps)))
-    if hit:  # the bat's brake (the module docstring)
+    if c2_answers:  # the distance from c2's two answers
         brake = braked(config, clock, ball, bat, offsets, impact, ta, tb)
         uncertainty = (math.hypot(uncertainty[0], brake), uncertainty[1], uncertainty[2])
     if not all(math.isfinite(x) for x in uncertainty):
