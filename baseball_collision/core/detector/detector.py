@@ -434,5 +434,9 @@ class Detector:
                         self._bat, self._clock.time(event.stamp_ns), config.velocity_window,
                         config.rest_tolerance):
                     events[i] = replace(event, bat_at_rest=True)
+                    if self._pending:  # (deferred: its uncertainties measure this one)
+                        self._pending = [replace(pending, impact=events[i])
+                                         if pending.impact is event else pending
+                                         for pending in self._pending]
         if moved and config.prediction_horizon > 0.0:
             self._predictor.predict(self._scheduler.cursor, self._episodes.armed, events)

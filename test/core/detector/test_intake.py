@@ -279,6 +279,11 @@ def test_a_hit_on_a_still_bat_is_flagged_at_rest() -> None:
     assert found[0].sweet_spot_speed_mps == pytest.approx(0.0, abs=1e-9)
     off = Detector(DetectorConfig(bat_input='pose', drop_lost_body=False, rest_tolerance=0.0))
     assert [i.bat_at_rest for i in impacts(_through_the_origin(off, False))] == [False]
+    deferred = Detector(DetectorConfig(bat_input='pose', drop_lost_body=False),
+                        deferred_uncertainty=True)  # (the node's: the flag reaches the record)
+    returned = impacts(_through_the_origin(deferred, moving_bat=False))
+    (pending,) = deferred.take_pending()
+    assert pending.impact is returned[0] and pending.measure() == found[0]
 
 
 # ---- 5: the tracking frame -----------------------------------------------------------------
