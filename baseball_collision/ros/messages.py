@@ -215,15 +215,19 @@ ImpactMarkers = Callable[[Impact, str], Optional[MarkerArray]]
 """Makes the markers of an impact in a frame (None: markers off)."""
 
 
-def _impact(impact: Impact, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    header = stamped_header(impact.stamp_ns, frame_id)
-    velocity = TwistStamped(header=header)
+def impact_velocity(impact: Impact, frame_id: str) -> TwistStamped:
+    """Return an impact's ``~/impact_velocity``: the bat's surface and angular velocity."""
+    velocity = TwistStamped(header=stamped_header(impact.stamp_ns, frame_id))
     velocity.twist.linear.x, velocity.twist.linear.y, velocity.twist.linear.z = \
         impact.bat_velocity
     velocity.twist.angular.x, velocity.twist.angular.y, velocity.twist.angular.z = \
         impact.bat_angular_velocity
+    return velocity
+
+
+def _impact(impact: Impact, frame_id: str, markers: ImpactMarkers) -> EventOutput:
     messages = [('impact', point_stamped(impact.stamp_ns, frame_id, impact.point)),
-                ('impact_velocity', velocity)]
+                ('impact_velocity', impact_velocity(impact, frame_id))]
     array = markers(impact, frame_id)
     if array is not None:
         messages.append(('markers', array))

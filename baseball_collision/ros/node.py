@@ -6,11 +6,12 @@ callback per input) become ``Detector.add_*`` calls: the header stamp becomes in
 nanoseconds (``sec * 10**9 + nanosec``) and the header frame is passed through. The detector's
 events come back out as messages:
 
-* ``~/impact`` (geometry_msgs/PointStamped): stamped with the impact instant, the contact point.
+* ``~/impact`` (geometry_msgs/PointStamped): stamped with the impact instant, the contact point;
+  sent the moment the contact is solved (``Detector``'s ``on_contact``), before its velocities.
 * ``~/impact_velocity`` (geometry_msgs/TwistStamped): same stamp; bat surface velocity at the
-  contact point (linear, m/s) and bat angular velocity (angular, rad/s). Both go out as the
-  impact is found; its error bars (``Detector`` with ``deferred_uncertainty``), INFO line and
-  markers follow after the drain, with the reports.
+  contact point (linear, m/s) and bat angular velocity (angular, rad/s), once they are fitted.
+  The impact's error bars (``Detector`` with ``deferred_uncertainty``), INFO line and markers
+  follow after the drain, with the reports.
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
@@ -72,21 +73,18 @@ from .inputs import (
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
-    format_stamp, NS_PER_S, plan_arrays, PredictionOutput, stamp_to_ns)
+    format_stamp, impact_velocity, NS_PER_S, plan_arrays, point_stamped, PredictionOutput,
+    stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction, SPECS,
     StateReset)
+from ..core.geometry import Vector
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
 from ..core.scene import Scene
 from ..errors import CoreError, RosError
 from ..threads import single_threaded_blas
-
-
-def _no_markers(impact: Impact, frame: str) -> None:
-    """Make no markers (the node makes an impact's after the drain, with its error bars)."""
-    return None
 
 
 CLOCK_ECHO_S = 2.0
@@ -130,6 +128,7 @@ class ImpactNode(Node):
         self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._prediction_output = PredictionOutput()  # ~/predicted_impact's CDR bytes
+        self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
         self._reports: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
@@ -146,7 +145,8 @@ class ImpactNode(Node):
     def _start(self) -> None:
         """Declare the parameters, make the detector, wire the I/O (raises RosError)."""
         self.settings = declare(self)
-        self.detector = Detector(self.settings.detector, deferred_uncertainty=True)
+        self.detector = Detector(self.settings.detector, deferred_uncertainty=True,
+                                 on_contact=self._on_contact)
         for warning in start_warnings(self, self.settings.detector):
             self.get_logger().warning(warning)
         self.endpoints = Endpoints(self, self.tally)
@@ -221,7 +221,7 @@ class ImpactNode(Node):
         """
         start = time.perf_counter()
         stamp = stamp_to_ns(header.stamp)
-        frame = header.frame_id
+        frame = self._frame = header.frame_id
         with self._lock:
             self.tally.arrived(stream, time.monotonic())
             self.tally.stamped(stream, stamp, sequence, sent)
@@ -240,8 +240,8 @@ class ImpactNode(Node):
                     self._set_predicting(True)
                     self._outputs['predicted_impact'].publish(
                         self._prediction_output(event, where))
-                elif kind is Impact:  # ~/impact out now; its error bars, line, markers later
-                    self._publish(event_output(event, where, _no_markers), log=False)
+                elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
+                    self._outputs['impact_velocity'].publish(impact_velocity(event, where))
                     event = next(pending)
                 else:
                     self._publish(event_output(event, where, self._markers))
@@ -254,6 +254,17 @@ class ImpactNode(Node):
             warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
                  expected, each.stamp_ns, stats.dropped[each.reason])
         self._record_processing(time.perf_counter() - start)
+
+    def _on_contact(self, stamp_ns: int, point: Vector) -> None:
+        """
+        Publish ``~/impact`` the moment the detector solves a contact (``Detector.on_contact``).
+
+        Inside ``_take``'s ``add``, before the impact's velocities are fitted: its message's
+        stamp and point are the impact's; ``~/impact_velocity`` follows once it is returned.
+        """
+        self._outputs['impact'].publish(point_stamped(
+            stamp_ns, self._frame or self.detector.frame_id or '', point))
+        self.tally.last_impact_ns = stamp_ns
 
     def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
         """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
@@ -307,15 +318,15 @@ class ImpactNode(Node):
         return impact_markers(impact, frame, self.detector.config,
                               self.settings['marker_lifetime'])
 
-    def _publish(self, output: EventOutput, log: bool = True) -> None:
-        """Publish what one event became and (``log``) log its line."""
+    def _publish(self, output: EventOutput) -> None:
+        """Publish what one event became and log its line."""
         if output.predicting is not None:
             self._set_predicting(output.predicting)
         for name, message in output.messages:
             self._outputs[name].publish(message)
         if output.impact_ns is not None:
             self.tally.last_impact_ns = output.impact_ns
-        if not (log and output.log):
+        if not output.log:
             return
         logger = self.get_logger()
         if output.throttled:

@@ -577,7 +577,9 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
     Each report goes out after the drain (no input being taken), in the events' order, after
     the ``~/predicted_impact`` or ``~/impact`` of its event; the node's queue ends empty. An
     impact's error bars are measured after the drain too, after its ``~/impact`` went out and
-    before its record (which carries them).
+    before its record (which carries them). ``~/impact`` goes out as the contact is solved,
+    before the detector has counted the impact (its velocities fitted), ``~/impact_velocity``
+    after.
     """
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
     h.wait(lambda: h.node._outputs['impact_report'].get_subscription_count() > 0, 5.0,
@@ -593,22 +595,29 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
 
             def publish(self, message: Any) -> None:
                 sent.append((name, h.node._intake._draining))
+                counted.append(h.node.detector.stats.impacts)
                 publisher.publish(message)
         return Logged()
 
-    for name in ('predicted_impact', 'impact', 'impact_report'):
+    counted: List[int] = []  # the detector's impacts as each went out
+    for name in ('predicted_impact', 'impact', 'impact_report', 'impact_velocity'):
         h.node._outputs[name] = logged(name, h.node._outputs[name])
     measure = PendingUncertainty.measure
 
     def measured(pending: PendingUncertainty) -> Any:
         sent.append(('measure', h.node._intake._draining))
+        counted.append(h.node.detector.stats.impacts)
         return measure(pending)
     monkeypatch.setattr(PendingUncertainty, 'measure', measured)
     h.processed(publish_swing(h, 'pose', pitch()))
     h.wait(lambda: h.received['impact'] and any(
         json.loads(m.data)['event'] == 'impact' for m in h.received['report']), 2.0, 'reports')
+    names = [name for name, _ in sent]
+    impact, velocity = names.index('impact'), names.index('impact_velocity')
+    assert names.count('impact') == 1 and impact < velocity
+    assert counted[impact] == 0 and counted[velocity] == 1
+    del sent[velocity]
     (measuring,) = [i for i, (name, _) in enumerate(sent) if name == 'measure']
-    impact = [name for name, _ in sent].index('impact')
     assert impact < measuring and not sent[measuring][1]  # after ~/impact, not in the drain
     assert sent[measuring + 1][0] == 'impact_report'  # then the impact's record
     del sent[measuring]

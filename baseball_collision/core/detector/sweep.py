@@ -58,6 +58,8 @@ class Sweep:
     :param offsets: (knob, tip) in the bat's body frame (m), for rigid paths from poses.
     :ivar measure: None, or what adds an impact's uncertainties (the detector sets
         ``uncertainty.impact_uncertainty``; its own re-solves leave it None).
+    :ivar on_contact: None, or what is told each impact's stamp (ns) and contact point (m) as
+        soon as its contact is solved, before its velocities are fitted (``Detector``'s).
     :ivar bat_ahead: None: a hit's bat continued by ``_bat_ahead``'s rule; True: wherever the
         ball left its flight (under ``c2``); False: never (``uncertainty``'s re-solves).
     :ivar quintic_rates: True: ``kinematics.fit_velocities``' rule (the quintic's bat rates from
@@ -67,7 +69,7 @@ class Sweep:
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
-                 'ahead')
+                 'ahead', 'on_contact')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -77,6 +79,7 @@ class Sweep:
         self.max_radius = config.profile.max_radius
         self.last_gap: Optional[Tuple[State, float]] = None  # the last gap computed (m)
         self.measure: Optional[Callable[[Impact], Impact]] = None  # adds the uncertainties
+        self.on_contact: Optional[Callable[[int, Vector], None]] = None  # told at once
         self.bat_ahead: Optional[bool] = None  # the rule (``_bat_ahead``), or always / never
         self.quintic_rates = True  # ``fit_velocities``' rule, or the fits alone
         # tracker_noise auto: the ball's and the bat's estimators, whose kept estimates set the
@@ -382,6 +385,8 @@ class Sweep:
                     self._state_at(interval[0], ahead), self._state_at(interval[1], ahead), ahead)
                 if again is not None and not again[1].initially_overlapping:
                     (t, hit), paths = again, ahead
+                if self.on_contact is not None:  # before the velocities' fits
+                    self.on_contact(self.clock.stamp(t), tuple(hit.point))
                 impact = self._impact(t, hit, interval, paths)
                 events.append(impact if self.measure is None else self.measure(impact))
                 self.stats.impacts += 1

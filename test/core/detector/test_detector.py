@@ -6,6 +6,7 @@ from typing import Callable, List
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
+from baseball_collision.core.detector import sweep as sweep_module
 from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
@@ -74,6 +75,31 @@ def test_one_impact_at_the_right_instant(model: str, bat_as: str, truth_s: float
     assert impact.relative_normal_speed_mps > 0.0
     assert impact.velocities_from_history and not impact.bat_at_rest
     assert not [e for e in events if isinstance(e, NearMiss)]
+
+
+@pytest.mark.parametrize('model', ['rigid', 'c2'])
+def test_on_contact_tells_each_impact_before_its_velocities(
+        model: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    ``on_contact``: each impact's stamp and point, in order, before its velocities are fitted.
+
+    (The node sends ``~/impact`` from it: the velocities' fits are most of an impact's message.
+    Its error bars deferred, as the node's, so no re-solve fits velocities of its own.)
+    """
+    told: List = []
+    for name in ('c2_velocities', 'fit_velocities'):
+        fit = getattr(sweep_module, name)
+        monkeypatch.setattr(sweep_module, name, lambda *args, fit=fit: (
+            told.append('velocities'), fit(*args))[1])
+    detector = Detector(DetectorConfig(model=model, bat_input='pose'), deferred_uncertainty=True,
+                        on_contact=lambda stamp_ns, point: told.append((stamp_ns, point)))
+    events = []
+    for height in (1.0, 1.09, 1.0):  # a hit, a near miss, a hit
+        events += feed(detector, pitch(height), bat_as='pose')
+        detector.reset()
+    found = impacts(events)
+    assert len(found) == 2 and told == [step for impact in found for step in (
+        (impact.stamp_ns, impact.point), 'velocities')]
 
 
 def test_near_miss_under_the_ball(truth_s: float) -> None:
