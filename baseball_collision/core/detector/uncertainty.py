@@ -35,7 +35,7 @@ within its 1 sigma in 4-25 % of impacts at 0.3-2 mm, BENCHMARKS.md, "The node's 
 the time's the fits' own error as the higher-order ``c2`` shows it: the distance from the farther
 of ``c2``'s two answers (``braked`` below, at every impact, not only at a hit; without it the
 time was within 1 sigma in 36-57 % and within 2 in 65-90 % of impacts at 0.5-2 mm, pooled over
-the swing families, BENCHMARKS.md, "`~/impact` before its error bars"). With
+the swing families, BENCHMARKS.md, "`~/impact` before its error bars and its velocities"). With
 fewer than two hits, the noise-free estimate below stands in. The random source is seeded from the
 impact's stamps (``seed_for``), so the node and ``analyze``, given the same samples, report
 the same uncertainties to the bit.
