@@ -221,8 +221,9 @@ class ImpactNode(Node):
         """
         start = time.perf_counter()
         stamp = stamp_to_ns(header.stamp)
-        frame = self._frame = header.frame_id
+        frame = header.frame_id
         with self._lock:
+            self._frame = frame  # (``_on_contact``'s, inside the add below)
             self.tally.arrived(stream, time.monotonic())
             self.tally.stamped(stream, stamp, sequence, sent)
             events = add_sample(stamp, *values, frame)
