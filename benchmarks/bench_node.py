@@ -51,6 +51,9 @@ pitch is a swing that hits the ball; between pitches both streams pause longer t
   the next one (its caches).
 * start-up (``--startup``): from starting ``.venv/bin/impact_node --ros-args --params-file
   config/impact_node.yaml`` to its "listening" line on stderr (imports, parameters, I/O).
+* prediction latency (``--consumers``): from the publish of the message that made each
+  prediction to the listener's reception of its ``~/predicted_impact``, and the node's part of
+  it (callback entry -> publish).
 * latency: from the publish of the message that completes the interval holding the impact
   (the bat pose at the first stamp after the impact, published after the ball) to the
   reception of ``~/impact`` by the listener; both on the system-wide monotonic clock.
@@ -136,6 +139,10 @@ class TimedImpactNode(ImpactNode):
         self.times: List[float] = []
         self.cpu_times: List[float] = []  # this thread's CPU time per message (s)
         self.timeline: List[Tuple[int, int, int]] = []
+        # per prediction published: (the stamp of the message that made it, callback entry,
+        # ``~/predicted_impact`` publish returned) in monotonic ns
+        self.prediction_timeline: List[Tuple[int, int, int]] = []
+        self._taking_ns = 0
         self.report_times: List[Tuple[float, float]] = []  # per flush of reports: wall, CPU (s)
         self.impact_times: List[Tuple[float, float]] = []  # per flush completing an impact
         self.reports_made = 0
@@ -157,6 +164,8 @@ class TimedImpactNode(ImpactNode):
         def counted_prediction(message: PointStamped) -> None:
             self.predictions_sent += 1
             published(message)
+            self.prediction_timeline.append((self._taking_ns, self._entry_ns,
+                                             time.monotonic_ns()))
         self._outputs['predicted_impact'] = _Wrapped(self._outputs['predicted_impact'],
                                                      counted_prediction)
         publish = self._outputs['impact'].publish
@@ -183,6 +192,8 @@ class TimedImpactNode(ImpactNode):
 
     def _take(self, *args: object, **kwargs: object) -> None:
         self._entry_ns = time.monotonic_ns()
+        stamp = args[1].stamp  # (stream, header, ...)
+        self._taking_ns = stamp.sec * 10**9 + stamp.nanosec
         idle = self._entry_ns * 1e-9 - self._left
         before, impacts = self._watched.last_ns, self.detector.stats.impacts
         sent, self._gc = self.predictions_sent, []
@@ -372,6 +383,7 @@ def serve() -> int:
     figures['impacts'] = node.detector.stats.impacts
     figures['dropped'] = sum(node.detector.stats.dropped.values())
     figures['timeline'] = node.timeline
+    figures['prediction_timeline'] = node.prediction_timeline
     if broken_down:
         figures['breakdown'] = breakdown(node.phases)
     print(json.dumps(figures), flush=True)
@@ -381,10 +393,15 @@ def serve() -> int:
 
 
 def listen() -> int:
-    """Record (impact stamp, monotonic ns at reception) until SIGINT; print them as JSON."""
+    """
+    Record (impact stamp, monotonic ns at reception) until SIGINT; print them as JSON.
+
+    With the consumers, each ``~/predicted_impact``'s reception too (monotonic ns, in order).
+    """
     rclpy.init(args=sys.argv)
     node = rclpy.create_node('bench_listener')
     received: List[Tuple[int, int]] = []
+    predictions: List[int] = []
     node.create_subscription(
         PointStamped, '/impact_node/impact',
         lambda m: received.append((m.header.stamp.sec * 10**9 + m.header.stamp.nanosec,
@@ -396,6 +413,8 @@ def listen() -> int:
         def count(name: str) -> object:
             def received_one(message: object) -> None:
                 counted[name] += 1
+                if name == 'predicted_impact':
+                    predictions.append(time.monotonic_ns())
             return received_one
         node.create_subscription(PointStamped, '/impact_node/predicted_impact',
                                  count('predicted_impact'), 100)
@@ -405,7 +424,7 @@ def listen() -> int:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    print(json.dumps(received), flush=True)
+    print(json.dumps({'impacts': received, 'predictions': predictions}), flush=True)
     node.destroy_node()
     rclpy.try_shutdown()
     return 0
@@ -443,6 +462,33 @@ def _stop(child: subprocess.Popen) -> object:
         raise RuntimeError(f'{child.args[2]} printed no figures (exit status {child.returncode})'
                            f': {child.log.read()[-2000:]}')
     return json.loads(lines[-1])
+
+
+def print_prediction_latency(timeline: List[List[int]], arrivals: List[int],
+                             published: Dict[int, int]) -> None:
+    """
+    Print how long predictions took to reach the arm's controller (the listener), in ms.
+
+    From the publish of the message that made each (the bat's, published after the ball's) to
+    the reception of its ``~/predicted_impact``, and the part from the node's callback entry to
+    its publish: the i-th published with the i-th received (reliable, in order; not when some
+    were lost).
+
+    :param timeline: per prediction published: (its message's stamp, callback entry, publish
+        returned), monotonic ns; ``arrivals``: each reception, monotonic ns; ``published``:
+        stamp -> monotonic ns of that stamp's publish.
+    """
+    if len(timeline) != len(arrivals):
+        print(f'  predictions: {len(timeline)} published, {len(arrivals)} received: latency '
+              'not paired')
+        return
+    total = percentiles([(arrived - published[stamp]) * 1e-6
+                         for (stamp, _, _), arrived in zip(timeline, arrivals)])
+    inside = percentiles([(out - entry) * 1e-6 for _, entry, out in timeline])
+    print(f"  prediction latency ({total['count']} published and received): the predicting "
+          f"sample published -> ~/predicted_impact received median {total['median']:.3f} ms, "
+          f"p99 {total['p99']:.3f} ms; of it callback -> published median "
+          f"{inside['median']:.3f} ms, p99 {inside['p99']:.3f} ms")
 
 
 def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
@@ -515,7 +561,8 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     node.destroy_node()
     rclpy.try_shutdown()
     processing = _stop(server)
-    received = _stop(listener)
+    listened = _stop(listener)
+    received = listened['impacts']
 
     stamps = np.array(sorted(published))
 
@@ -574,6 +621,9 @@ def run(pitches: int, rate: float, qos_name: str, markers: bool, horizon: float,
     print(f"  end-to-end latency, completing publish -> ~/impact received ({latency['count']} "
           f"impacts): median {latency['median']:.3f} ms, p99 {latency['p99']:.3f} ms, "
           f"max {latency['max']:.3f} ms")
+    if consumers:
+        print_prediction_latency(processing['prediction_timeline'], listened['predictions'],
+                                 published)
     print('  garbage collections in the node process (in a message or not): '
           + (', '.join(f'generation {g}: {n}, CPU median {m:.0f} us, max {x:.0f} us'
                        for g, (n, m, x) in processing['collections'].items()) or 'none'))
