@@ -56,8 +56,8 @@ class Sweep:
     :param ball, bat: the streams.
     :param episodes: the arming state and near-miss episodes.
     :param offsets: (knob, tip) in the bat's body frame (m), for rigid paths from poses.
-    :ivar measure: None, or what adds an impact's uncertainties (the detector sets
-        ``uncertainty.impact_uncertainty``; its own re-solves leave it None).
+    :ivar measure: None, or what adds an impact's uncertainties (the detector's: the
+        ``uncertainty`` module's, or with them kept pending; its own re-solves leave it None).
     :ivar on_contact: None, or what is told each impact's stamp (ns) and contact point (m) as
         soon as its contact is solved, before its velocities are fitted (``Detector``'s).
     :ivar bat_ahead: None: a hit's bat continued by ``_bat_ahead``'s rule; True: wherever the
