@@ -237,10 +237,10 @@ class ImpactNode(Node):
                 kind, where = event.__class__, frame or expected or ''
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
-                if kind is Prediction:  # on, and the point: its message's CDR bytes
-                    self._set_predicting(True)
+                if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
                         self._prediction_output(event, where))
+                    self._set_predicting(True)
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(impact_velocity(event, where))
                     event = next(pending)

@@ -579,7 +579,7 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
     impact's error bars are measured after the drain too, after its ``~/impact`` went out and
     before its record (which carries them). ``~/impact`` goes out as the contact is solved,
     before the detector has counted the impact (its velocities fitted), ``~/impact_velocity``
-    after.
+    after; a first prediction's point before ``~/impact_predicted`` turns on.
     """
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
     h.wait(lambda: h.node._outputs['impact_report'].get_subscription_count() > 0, 5.0,
@@ -600,7 +600,8 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
         return Logged()
 
     counted: List[int] = []  # the detector's impacts as each went out
-    for name in ('predicted_impact', 'impact', 'impact_report', 'impact_velocity'):
+    for name in ('predicted_impact', 'impact', 'impact_report', 'impact_velocity',
+                 'impact_predicted'):
         h.node._outputs[name] = logged(name, h.node._outputs[name])
     measure = PendingUncertainty.measure
 
@@ -612,6 +613,10 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
     h.processed(publish_swing(h, 'pose', pitch()))
     h.wait(lambda: h.received['impact'] and any(
         json.loads(m.data)['event'] == 'impact' for m in h.received['report']), 2.0, 'reports')
+    names = [name for name, _ in sent]
+    assert names.index('predicted_impact') < names.index('impact_predicted')  # point, then on
+    kept = [i for i, name in enumerate(names) if name != 'impact_predicted']
+    sent, counted = [sent[i] for i in kept], [counted[i] for i in kept]
     names = [name for name, _ in sent]
     impact, velocity = names.index('impact'), names.index('impact_velocity')
     assert names.count('impact') == 1 and impact < velocity
