@@ -127,6 +127,11 @@ def percentiles(samples: List[float]) -> Dict[str, float]:
 # the node process
 
 
+def completes_an_impact(node: ImpactNode) -> bool:
+    """Return whether the node's next completion (after the drain) measures an impact."""
+    return any(event.__class__ is PendingUncertainty for event, _, _ in node._reports)
+
+
 class TimedImpactNode(ImpactNode):
     """
     ImpactNode that keeps every per-message processing time (s) and an impact timeline.
@@ -213,7 +218,7 @@ class TimedImpactNode(ImpactNode):
         if not self._reports:
             return
         made = self.reports_made
-        impacts = any(event.__class__ is PendingUncertainty for event, _, _ in self._reports)
+        impacts = completes_an_impact(self)
         start, cpu = time.perf_counter(), time.thread_time()
         super()._complete_events()
         spent = (time.perf_counter() - start, time.thread_time() - cpu)
@@ -697,8 +702,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                     start = time.thread_time()
                     node._take(stream, message.header, add, *values)
                     cpu.append(time.thread_time() - start)
-                    impact = any(event.__class__ is PendingUncertainty
-                                 for event, _, _ in node._reports)
+                    impact = completes_an_impact(node)
                     start = time.thread_time()
                     node._complete_events()  # as after a drain (no subscriber: none made)
                     if impact:  # its error bars, line and markers
