@@ -129,7 +129,7 @@ def percentiles(samples: List[float]) -> Dict[str, float]:
 
 def completes_an_impact(node: ImpactNode) -> bool:
     """Return whether the node's next completion (after the drain) measures an impact."""
-    return any(event.__class__ is PendingUncertainty for event, _, _ in node._reports)
+    return any(event.__class__ is PendingUncertainty for event, _, _ in node._to_complete)
 
 
 class TimedImpactNode(ImpactNode):
@@ -215,7 +215,7 @@ class TimedImpactNode(ImpactNode):
         super()._record_processing(elapsed_s)
 
     def _complete_events(self) -> None:
-        if not self._reports:
+        if not self._to_complete:
             return
         made = self.reports_made
         impacts = completes_an_impact(self)

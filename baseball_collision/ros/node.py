@@ -131,7 +131,7 @@ class ImpactNode(Node):
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
-        self._reports: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
+        self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
             deque()
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
@@ -247,7 +247,7 @@ class ImpactNode(Node):
                 else:
                     self._publish(event_output(event, where, self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
-                    self._reports.append((event, where, self.detector.config))
+                    self._to_complete.append((event, where, self.detector.config))
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -288,10 +288,10 @@ class ImpactNode(Node):
         in it and no output an arm reads. Records are made only while the topic has a subscriber
         (it is volatile: a record published to nobody reaches nobody).
         """
-        reports, publisher = self._reports, self._outputs['impact_report']
-        subscribed = bool(reports) and publisher.get_subscription_count() > 0
-        while reports:
-            event, frame, config = reports.popleft()
+        queued, publisher = self._to_complete, self._outputs['impact_report']
+        subscribed = bool(queued) and publisher.get_subscription_count() > 0
+        while queued:
+            event, frame, config = queued.popleft()
             if event.__class__ is PendingUncertainty:
                 event = self._measured(event, frame)
             if subscribed:

@@ -629,7 +629,7 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
     reports = [i for i, (name, _) in enumerate(sent) if name == 'impact_report']
     outputs = [i for i, (name, _) in enumerate(sent) if name != 'impact_report']
     events = [sent[i][0] for i in outputs]
-    assert reports and len(reports) == len(outputs) and not h.node._reports
+    assert reports and len(reports) == len(outputs) and not h.node._to_complete
     assert not any(sent[i][1] for i in reports)  # none while the intake was draining
     assert all(e < r for e, r in zip(outputs, reports))  # each after its event's output
     records = [json.loads(m.data)['event'] for m in h.received['report']]
