@@ -5,7 +5,7 @@ import math
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
-    smoother_norms, smoother_rows, smoothing_weight, third_jumps)
+    smoother_norms, smoother_rows, smoother_shifts, smoothing_weight, third_jumps)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
@@ -408,6 +408,32 @@ def test_smoother_rows_keep_the_products_through_the_groups(steps, sigmas, seed)
         scale = np.outer(np.linalg.norm(rows @ matrices[g], axis=1),
                          np.linalg.norm(rows @ matrices[h], axis=1))
         assert np.allclose(through[g] @ through[h].T, expected, rtol=0.0, atol=1e-12 * scale.max())
+
+
+@settings(max_examples=examples(40), deadline=None)
+@seven_columns
+def test_smoother_shifts_are_the_smoothed_values_less_the_values(steps, sigmas, seed) -> None:
+    """
+    ``smoother_shifts``: each row through its group's smoothed values less through the values.
+
+    ``r @ (A_g - I) @ values`` on g's own columns and the norms of ``r @ (A_g - I)``, A_g each
+    group's ``smoother_matrix``, to 1e-12 of the values' and the rows' scales; zero for a group
+    with no noisy column (not smoothed).
+    """
+    times, values, variances, rng = _seven_columns(steps, sigmas, seed)
+    rows = rng.normal(0.0, 1.0, (2, len(times)))
+    shifts, deviations = smoother_shifts(times, rows, values, variances, groups=GROUPS)
+    assert shifts.shape == (3, 2, values.shape[1]) and deviations.shape == (3, 2, len(times))
+    scale = float(np.abs(rows).sum(axis=1).max() * (1.0 + np.abs(values).max()))
+    for group, moved, apart in zip(GROUPS, shifts, deviations):
+        if not np.any(variances[group] > 0.0):
+            assert not moved.any() and not apart.any()
+            continue
+        change = smoother_matrix(times, values[:, group], variances[group]) - np.eye(len(times))
+        assert np.allclose(moved[:, group], rows @ change @ values[:, group], rtol=0.0,
+                           atol=1e-12 * scale)
+        assert np.allclose(np.linalg.norm(apart, axis=1), np.linalg.norm(rows @ change, axis=1),
+                           rtol=0.0, atol=1e-12 * float(np.abs(rows).sum(axis=1).max()))
 
 
 @settings(max_examples=examples(40), deadline=None)
