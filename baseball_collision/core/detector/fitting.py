@@ -32,8 +32,9 @@ import numpy as np
 from .streams import Stream
 from ..geometry import cross, dot, sub, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
-from ..motion.flight import flight_or_none, FlightFit
-from ..motion.smoothing import penalty_eigen, smooth, smoother_norms, smoother_rows
+from ..motion.flight import fit_flight, flight_or_none, FlightFit
+from ..motion.smoothing import (
+    penalty_eigen, smooth, smoother_norms, smoother_rows, smoother_shifts)
 from ..motion.splines import not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window
 from ..toi import _kernel
 
@@ -132,6 +133,13 @@ def ball_flight(stream: Stream, k: int, window: range, noise: float,
 
     :param window: the interval's ``c2_window`` (its newest sample ends a ``'closing'`` fit).
     """
+    found = _ball_flight(stream, k, window, noise, config)
+    return None if found is None else found[0]
+
+
+def _ball_flight(stream: Stream, k: int, window: range, noise: float,
+                 config: Any) -> Optional[Tuple[FlightFit, List[Any]]]:
+    """Return ``ball_flight``'s fit and the samples it fitted, or None."""
     if FLIGHT is None or config is None or not noise > 0.0:
         return None
     degree, span, end = FLIGHT
@@ -145,7 +153,7 @@ def ball_flight(stream: Stream, k: int, window: range, noise: float,
                     values, lambda: flight_or_none(
                         times, values, noise, degree, FLIGHT_MIN_SAMPLES, tolerance))
         if fit is not None:
-            return fit
+            return fit, values
     return None
 
 
@@ -417,6 +425,65 @@ def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
     return float(value), float(rate)
 
 
+def _bat_rows(stream: Stream, window: range, k: int, t: float,
+              noise: float) -> Tuple[List[float], np.ndarray, List[float], np.ndarray, np.ndarray]:
+    """
+    Return what a ``c2`` bat's gains at t (s) on interval k are taken from.
+
+    (times (s), chart rows (n, 7), their noise variances, the per-group sigmas (knob m,
+    direction across the bat rad, length m), the interpolant's value and rate weights (2, n)).
+    """
+    if noise > 0.0:
+        window = widened(stream, window)
+    samples = stream.values[window.start:window.stop]
+    j = k - window.start
+    first, rows = c2_rows(samples, j)
+    times = [stream.times[i] for i in window][first:first + len(rows)]
+    variances = bat_variances(samples[j], noise)
+    sigmas = np.array((noise, math.sqrt(variances[3] + variances[4] + variances[5])
+                       / math.sqrt(2.0), math.sqrt(variances[6])))
+    return (times, np.asarray(rows, dtype=float), variances, sigmas,
+            piece_weights(times, j - first, t))
+
+
+def _correlation(knob: np.ndarray, direction: np.ndarray) -> float:
+    """Return (a . b) / (|a| |b|) of two weight rows (0 when either is zero)."""
+    scale = float(np.linalg.norm(knob) * np.linalg.norm(direction))
+    return float(knob @ direction) / scale if scale > 0.0 else 0.0
+
+
+def point_shifts(stream: Stream, window: range, k: int, t: float, noise: float,
+                 config: Any = None) -> Tuple[np.ndarray, float]:
+    """
+    Return how far a ``c2`` point's fit is from the next richer one at t, and the noise in it.
+
+    :returns: (shift (3,) m, spread m per coordinate): where its path (``point_gains``') takes
+        a flight fit, the flight fit of one degree more on the same samples less it (none when
+        that fit is rank deficient); where it takes the smoother, the smoothed window's value
+        less the interpolant's (``smoothing.smoother_shifts``); and the 1-sigma spread the
+        noise alone gives that difference (the flight fit's scaled by its residuals' excess, as
+        its gains are). Zero without noise.
+    """
+    if not noise > 0.0:
+        return np.zeros(3), 0.0
+    found = _ball_flight(stream, k, window, noise, config)
+    if found is not None:
+        fit, values = found
+        try:
+            richer = fit_flight(fit.times, values, noise, fit.degree + 1)
+        except ValueError:
+            return np.zeros(3), 0.0
+        moved = np.subtract(richer.at(t), fit.at(t))
+        return moved, fit.excess * noise * float(np.linalg.norm(richer.weights(t)[0]
+                                                                - fit.weights(t)[0]))
+    window = widened(stream, window)
+    times = [stream.times[i] for i in window]
+    values = np.asarray(stream.values[window.start:window.stop], dtype=float)
+    shifts, deviations = smoother_shifts(times, piece_weights(times, k - window.start, t)[:1],
+                                         values, [noise * noise] * 3, *SMOOTHER)
+    return shifts[0, 0], noise * float(np.linalg.norm(deviations[0, 0]))
+
+
 def bat_gains(stream: Stream, window: range, k: int, t: float,
               noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
     """
@@ -429,22 +496,33 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
         reaches both through them (from knob and tip points, a knob marker's noise moves the
         knob and turns the direction: ``uncertainty.propagated`` takes it).
     """
-    if noise > 0.0:
-        window = widened(stream, window)
-    samples = stream.values[window.start:window.stop]
-    j = k - window.start
-    first, rows = c2_rows(samples, j)
-    times = [stream.times[i] for i in window][first:first + len(rows)]
-    values = np.asarray(rows, dtype=float)
-    variances = bat_variances(samples[j], noise)
-    sigmas = np.array((noise, math.sqrt(variances[3] + variances[4] + variances[5])
-                       / math.sqrt(2.0), math.sqrt(variances[6])))
-    weights = piece_weights(times, j - first, t)
+    times, values, variances, sigmas, weights = _bat_rows(stream, window, k, t, noise)
     if noise > 0.0:
         through = smoother_rows(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
     else:
         through = np.array([weights] * len(BAT_GROUPS))
     norms = np.linalg.norm(through, axis=2)
-    scale = float(norms[0, 0] * norms[1, 0])
-    correlation = float(through[0, 0] @ through[1, 0]) / scale if scale > 0.0 else 0.0
+    correlation = _correlation(through[0, 0], through[1, 0])
     return sigmas * norms[:, 0], sigmas * norms[:, 1], correlation
+
+
+def bat_shifts(stream: Stream, window: range, k: int, t: float,
+               noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
+    """
+    Return how far the smoothing moves a ``c2`` bat's knob and direction at t, and the noise in it.
+
+    :returns: (shifts, spreads, correlation): the smoothed window's value at t (s) on interval
+        k less the interpolant's (``smoothing.smoother_shifts``; (7,): the knob's m, the
+        rotation vector's rad in the chart of ``c2_rows``, the length's m), the 1-sigma spread the
+        noise alone gives that difference (knob per coordinate in m, direction across the bat
+        in rad, length in m) and the correlation of its knob and direction rows (as
+        ``bat_gains``'). All zero without noise.
+    """
+    times, values, variances, sigmas, weights = _bat_rows(stream, window, k, t, noise)
+    if not noise > 0.0:
+        return np.zeros(7), np.zeros(3), 0.0
+    shifts, deviations = smoother_shifts(times, weights[:1], values, variances, *SMOOTHER,
+                                         groups=BAT_GROUPS)
+    moved = np.concatenate([shifts[g, 0, group] for g, group in enumerate(BAT_GROUPS)])
+    norms = np.linalg.norm(deviations, axis=2)
+    return moved, sigmas * norms[:, 0], _correlation(deviations[0, 0], deviations[1, 0])

@@ -7,8 +7,8 @@ from typing import Tuple
 from baseball_collision.core.detector import Detector, DetectorConfig, fitting, Impact
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.fitting import (
-    ball_flight, bat_gains, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_window,
-    kept_history, point_gains, swing_rate, widened)
+    ball_flight, bat_gains, bat_shifts, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window,
+    flight_window, kept_history, point_gains, point_shifts, swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
 from baseball_collision.core.motion.c2 import rotate, rotation_to
@@ -232,6 +232,68 @@ def test_flight_gains_match_a_monte_carlo() -> None:
     gain = point_gains(ball, window, k, t, noise, config)[0]
     assert gain < point_gains(ball, window, k, t, noise)[0]
     assert np.mean(np.std(np.array(at), axis=0)) == pytest.approx(gain * noise, rel=0.15)
+
+
+def _jerking_ball(noise: float, seed: int, jerk: float) -> Stream:
+    """Return a ball stream at 360 Hz over 0.2 s with a constant jerk (m/s^3) along x."""
+    rng = np.random.default_rng(seed)
+    ball = Stream('ball')
+    for i, t in enumerate(np.arange(72) / 360.0):
+        exact = (5.0 - 38.0 * t + jerk * t ** 3 / 6.0, 0.1 + 0.5 * t, 1.2 - 4.9 * t * t)
+        ball.append(float(t), i + 1, tuple(np.add(exact, rng.normal(0.0, noise, 3))), i == 0)
+    return ball
+
+
+@pytest.mark.usefixtures('flight')
+def test_a_flight_fits_shift_is_its_distance_from_the_richer_fit() -> None:
+    """
+    ``point_shifts`` of a flight fit: the cubic's position at t less the parabola's.
+
+    A ball whose motion is a cubic (a constant jerk), exact samples fitted as if with 1 mm of
+    noise: the shift is the parabola's own error at t (the truth less its path, to 1e-9 m).
+    Over 200 draws of that noise on a parabola the shifts scatter by the spread reported
+    (+-15 %) about nothing. Without noise, nothing.
+    """
+    config = DetectorConfig(model='c2')
+    k, noise = 64, 1e-3
+    ball = _jerking_ball(0.0, 0, 10.0)
+    window = c2_window(ball, k, config.max_gap, 0, 8)
+    t = 0.4 * ball.times[k] + 0.6 * ball.times[k + 1]
+    shift, _ = point_shifts(ball, window, k, t, noise, config)
+    truth = (5.0 - 38.0 * t + 10.0 * t ** 3 / 6.0, 0.1 + 0.5 * t, 1.2 - 4.9 * t * t)
+    error = np.subtract(truth, c2_point_path(ball, k, window, noise, config).at(t))
+    assert np.abs(error).max() > 1e-5 and np.allclose(shift, error, rtol=0.0, atol=1e-9)
+    shifts = []
+    for seed in range(200):
+        ball = _jerking_ball(noise, 100 + seed, 0.0)
+        shift, spread = point_shifts(ball, window, k, t, noise, config)
+        shifts.append(shift)
+    assert np.mean(np.std(shifts, axis=0)) == pytest.approx(spread, rel=0.15)
+    assert np.abs(np.mean(shifts, axis=0)).max() < 0.3 * spread
+    assert not point_shifts(ball, window, k, t, 0.0, config)[0].any()
+
+
+def test_a_smoothed_bats_shift_is_its_distance_from_the_interpolant() -> None:
+    """
+    ``bat_shifts``: the smoothed window's knob at t less the interpolant's of the same window.
+
+    1 mm of noise at 360 Hz: the knob's shift is the smoothed path's knob less the
+    interpolating path's through the samples the smoother took (``widened``), to 1e-9 m. Over
+    100 draws of that noise the knob's shifts scatter by the spread reported (+-20 %).
+    Without noise, nothing.
+    """
+    k, noise = 20, 1e-3
+    _, bat = _streams(360.0, noise, 1)
+    window = c2_window(bat, k, 0.05, 0, 8)
+    t = 0.5 * (bat.times[k] + bat.times[k + 1])
+    moved, spreads, _ = bat_shifts(bat, window, k, t, noise)
+    apart = np.subtract(c2_bat_path(bat, k, window, noise).at(t)[0],
+                        c2_bat_path(bat, k, widened(bat, window)).at(t)[0])
+    assert np.abs(apart).max() > 1e-5 and np.allclose(moved[:3], apart, rtol=0.0, atol=1e-9)
+    knobs = [bat_shifts(s, window, k, t, noise)[0][:3]
+             for s in (_streams(360.0, noise, 10 + seed)[1] for seed in range(100))]
+    assert np.mean(np.std(knobs, axis=0)) == pytest.approx(spreads[0], rel=0.2)
+    assert not bat_shifts(bat, window, k, t, 0.0)[0].any()
 
 
 def test_flight_fit_is_the_same_in_chunks_and_one_sample_at_a_time(monkeypatch) -> None:
