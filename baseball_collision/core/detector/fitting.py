@@ -398,6 +398,28 @@ def piece_weights(times: Sequence[float], j: int, t: float) -> np.ndarray:
     return weights
 
 
+def quintic_piece_weights(times: Sequence[float], j: int, t: float) -> np.ndarray:
+    """
+    Return the weights (n,) of a window's samples in its quintic spline's value at t (s).
+
+    The not-a-knot quintic interpolant through the n >= 6 samples (``splines``' de Boor
+    spline, the exact windows' ``C2BatPath.fitted``), evaluated on its piece j (t in
+    [times[j], times[j + 1]]) from the quintic Hermite basis of its ends' values, slopes and
+    second derivatives: value = ``weights @ values``, linear.
+    """
+    n = len(times)
+    slopes, bends = not_a_knot_quintic_rows(times, np.eye(n), j)
+    h = times[j + 1] - times[j]
+    s = (t - times[j]) / h
+    weights = h * ((s - 6 * s ** 3 + 8 * s ** 4 - 3 * s ** 5) * np.array(slopes[0])
+                   + (-4 * s ** 3 + 7 * s ** 4 - 3 * s ** 5) * np.array(slopes[1]))
+    weights += h * h * ((s ** 2 - 3 * s ** 3 + 3 * s ** 4 - s ** 5) / 2 * np.array(bends[0])
+                        + (s ** 3 - 2 * s ** 4 + s ** 5) / 2 * np.array(bends[1]))
+    weights[j] += 1 - 10 * s ** 3 + 15 * s ** 4 - 6 * s ** 5
+    weights[j + 1] += 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5
+    return weights
+
+
 def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
                 config: Any = None) -> Tuple[float, float]:
     """
@@ -426,12 +448,14 @@ def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
 
 
 def _bat_rows(stream: Stream, window: range, k: int, t: float,
-              noise: float) -> Tuple[List[float], np.ndarray, List[float], np.ndarray, np.ndarray]:
+              noise: float) -> Tuple[List[float], np.ndarray, List[float], np.ndarray, np.ndarray,
+                                     int]:
     """
     Return what a ``c2`` bat's gains at t (s) on interval k are taken from.
 
     (times (s), chart rows (n, 7), their noise variances, the per-group sigmas (knob m,
-    direction across the bat rad, length m), the interpolant's value and rate weights (2, n)).
+    direction across the bat rad, length m), the interpolant's value and rate weights (2, n),
+    the interval's piece in the window).
     """
     if noise > 0.0:
         window = widened(stream, window)
@@ -443,7 +467,7 @@ def _bat_rows(stream: Stream, window: range, k: int, t: float,
     sigmas = np.array((noise, math.sqrt(variances[3] + variances[4] + variances[5])
                        / math.sqrt(2.0), math.sqrt(variances[6])))
     return (times, np.asarray(rows, dtype=float), variances, sigmas,
-            piece_weights(times, j - first, t))
+            piece_weights(times, j - first, t), j - first)
 
 
 def _correlation(knob: np.ndarray, direction: np.ndarray) -> float:
@@ -496,7 +520,7 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
         reaches both through them (from knob and tip points, a knob marker's noise moves the
         knob and turns the direction: ``uncertainty.propagated`` takes it).
     """
-    times, values, variances, sigmas, weights = _bat_rows(stream, window, k, t, noise)
+    times, values, variances, sigmas, weights, _ = _bat_rows(stream, window, k, t, noise)
     if noise > 0.0:
         through = smoother_rows(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
     else:
@@ -509,20 +533,27 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
 def bat_shifts(stream: Stream, window: range, k: int, t: float,
                noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
     """
-    Return how far the smoothing moves a ``c2`` bat's knob and direction at t, and the noise in it.
+    Return how far the smoothing moves a ``c2`` bat from its interpolant at t, and its noise.
+
+    The interpolant is the quintic spline where the window takes one (``quintic_window``,
+    continued; ``quintic_piece_weights``: the exact samples' own fit, whose end error is far
+    below the cubic's; the smoothed path is a cubic spline, and a cubic interpolant would
+    share its end error), else the cubic.
 
     :returns: (shifts, spreads, correlation): the smoothed window's value at t (s) on interval
         k less the interpolant's (``smoothing.smoother_shifts``; (7,): the knob's m, the
-        rotation vector's rad in the chart of ``c2_rows``, the length's m), the 1-sigma spread the
-        noise alone gives that difference (knob per coordinate in m, direction across the bat
-        in rad, length in m) and the correlation of its knob and direction rows (as
-        ``bat_gains``'). All zero without noise.
+        rotation vector's rad in the chart of ``c2_rows``, the length's m), the 1-sigma
+        spread the noise alone gives that difference (knob per coordinate in m, direction
+        across the bat in rad, length in m) and the correlation of its knob and direction
+        rows (as ``bat_gains``'). All zero without noise.
     """
-    times, values, variances, sigmas, weights = _bat_rows(stream, window, k, t, noise)
+    times, values, variances, sigmas, weights, j = _bat_rows(stream, window, k, t, noise)
     if not noise > 0.0:
         return np.zeros(7), np.zeros(3), 0.0
+    reference = (quintic_piece_weights(times, j, t)[None, :]
+                 if quintic_window(times, j, True) else None)
     shifts, deviations = smoother_shifts(times, weights[:1], values, variances, *SMOOTHER,
-                                         groups=BAT_GROUPS)
+                                         groups=BAT_GROUPS, reference=reference)
     moved = np.concatenate([shifts[g, 0, group] for g, group in enumerate(BAT_GROUPS)])
     norms = np.linalg.norm(deviations, axis=2)
     return moved, sigmas * norms[:, 0], _correlation(deviations[0, 0], deviations[1, 0])

@@ -19,12 +19,13 @@ widened by the residuals' excess over the noise) where the detector took one, el
 smoother's. The gap also holds the fits' own error, which no noise shows: a smoother's bias
 on an accelerating swing, a parabola's on a ball whose drag changes over its window. Each
 fit's move of the gap from the next richer fit of the same samples (``fitting.bat_shifts``,
-``point_shifts``: the smoothed window from its interpolant; the ball's flight fit from one of
-a degree more) is squared, less the variance the noise alone gives that move (the square's
-expectation is the squared bias plus it), and added in quadrature when positive. Without it,
-with 0.1 mm of noise on the ball alone, the time was within 2 sigma in 0.72 of 36 contacts at
-360 Hz (0.92 with it); at 0.5-2 mm 0.91-0.96 (0.96-0.97): BENCHMARKS.md, "The fits' own error
-in the error bars".
+``point_shifts``: the smoothed window from its interpolant, the quintic's where the window
+takes one; the ball's flight fit from one of a degree more) is squared, less the variance the
+noise alone gives that move (the square's expectation is the squared bias plus it), and added
+in quadrature when positive. Without it, with 0.1 mm of noise on the ball alone, the time was
+within 2 sigma in 0.72 of 36 contacts at 360 Hz (0.92 with it); on the calibration test's
+contacts at 0.5-2 mm 0.91-0.96 (0.95-0.99), at 0.1-0.3 mm 0.83-0.94 (0.87-0.97):
+BENCHMARKS.md, "The fits' own error in the error bars".
 Under ``c2`` with a look-ahead, the difference from the same fit without it is added in
 quadrature (how far the frames after the contact bent it: a bias, not noise).
 
@@ -330,9 +331,10 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     The gap also holds the fits' own error, which no noise shows (a smoother's bias on an
     accelerating swing, a parabola's on a ball whose drag changes): how far each fit moves the
     gap from the next richer fit of the same samples (``fitting.bat_shifts``, ``point_shifts``:
-    the smoothed window from its interpolant, the ball's flight fit from one of a degree more),
-    its square less what the noise alone gives that move (the square of a move is the squared
-    bias plus that variance on average), when positive, in quadrature.
+    the smoothed window from its interpolant, the quintic's where the window takes one; the
+    ball's flight fit from one of a degree more), its square less what the noise alone gives
+    that move (the square of a move is the squared bias plus that variance on average), when
+    positive, in quadrature.
     """
     ta = clock.time(impact.interval_start_ns)
     t = clock.time(impact.stamp_ns)

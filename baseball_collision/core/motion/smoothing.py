@@ -394,25 +394,28 @@ def smoother_shifts(times: Sequence[float], rows: np.ndarray, values: np.ndarray
                     variances: Sequence[float], kind: str = 'not-a-knot',
                     target: str = 'likelihood',
                     eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
-                    groups: Sequence[slice] = (slice(None),)) -> Tuple[np.ndarray, np.ndarray]:
+                    groups: Sequence[slice] = (slice(None),),
+                    reference: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return how far each group's smoothing moves each row's value, and that move's weights.
 
     (shifts (groups, rows, columns), deviations (groups, rows, n)): row r and group g give
-    ``r @ (A_g - I) @ values``, the row through the smoothed values less the row through the
-    values themselves (the smoothed spline's value at t less the interpolant's, for a
+    ``r @ A_g @ values - s @ values``, the row through the smoothed values less the reference
+    row s through the values themselves (``reference``, (rows, n); the rows themselves by
+    default: the smoothed spline's value at t less the interpolant's, for a
     ``fitting.piece_weights`` row; only g's own columns are smoothed by A_g), and
-    ``(r @ (A_g - I)) @ U``, its weights turned into U as ``smoother_rows``' (their norm times
-    a column's noise is the shift's spread from that noise alone). A group with no noisy column
+    ``(r @ A_g - s) @ U``, its weights turned into U as ``smoother_rows``' (their norm times a
+    column's noise is the shift's spread from that noise alone). A group with no noisy column
     is not smoothed: its shifts and deviations are zero. Arguments and errors as for
     ``smoother_rows``.
     """
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     along = np.asarray(rows, dtype=float) @ u
+    against = along if reference is None else np.asarray(reference, dtype=float) @ u
     z = u.T @ y
     deviations = np.array([np.zeros_like(along) if math.isnan(lam)
-                           else along * (_factors(p, lam) - 1.0)
+                           else along * _factors(p, lam) - against
                            for lam in _weights(p, z, v, target, _bounds(groups, len(v)))])
     return deviations @ z, deviations
 

@@ -8,11 +8,13 @@ from baseball_collision.core.detector import Detector, DetectorConfig, fitting, 
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.fitting import (
     ball_flight, bat_gains, bat_shifts, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window,
-    flight_window, kept_history, point_gains, point_shifts, swing_rate, widened)
+    flight_window, kept_history, point_gains, point_shifts, quintic_piece_weights, swing_rate,
+    widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
 from baseball_collision.core.motion.c2 import rotate, rotation_to
 from baseball_collision.core.motion.flight import flight_or_none
+from baseball_collision.core.motion.splines import quintic_window
 from baseball_collision.tools.sim import DEFAULT_START_NS as START_NS, make_scenario, sample
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -278,9 +280,9 @@ def test_a_smoothed_bats_shift_is_its_distance_from_the_interpolant() -> None:
     ``bat_shifts``: the smoothed window's knob at t less the interpolant's of the same window.
 
     1 mm of noise at 360 Hz: the knob's shift is the smoothed path's knob less the
-    interpolating path's through the samples the smoother took (``widened``), to 1e-9 m. Over
-    100 draws of that noise the knob's shifts scatter by the spread reported (+-20 %).
-    Without noise, nothing.
+    interpolating path's (the quintic's, as exact samples' paths take it at a window's end)
+    through the samples the smoother took (``widened``), to 1e-9 m. Over 100 draws of that
+    noise the knob's shifts scatter by the spread reported (+-20 %). Without noise, nothing.
     """
     k, noise = 20, 1e-3
     _, bat = _streams(360.0, noise, 1)
@@ -288,12 +290,40 @@ def test_a_smoothed_bats_shift_is_its_distance_from_the_interpolant() -> None:
     t = 0.5 * (bat.times[k] + bat.times[k + 1])
     moved, spreads, _ = bat_shifts(bat, window, k, t, noise)
     apart = np.subtract(c2_bat_path(bat, k, window, noise).at(t)[0],
-                        c2_bat_path(bat, k, widened(bat, window)).at(t)[0])
+                        c2_bat_path(bat, k, widened(bat, window), continued=True).at(t)[0])
     assert np.abs(apart).max() > 1e-5 and np.allclose(moved[:3], apart, rtol=0.0, atol=1e-9)
     knobs = [bat_shifts(s, window, k, t, noise)[0][:3]
              for s in (_streams(360.0, noise, 10 + seed)[1] for seed in range(100))]
     assert np.mean(np.std(knobs, axis=0)) == pytest.approx(spreads[0], rel=0.2)
     assert not bat_shifts(bat, window, k, t, 0.0)[0].any()
+
+
+@settings(max_examples=examples(40), deadline=None)
+@given(steps=st.lists(st.floats(0.8, 1.2), min_size=6, max_size=16), at=st.floats(0.0, 1.0),
+       seed=st.integers(0, 2 ** 16))
+def test_quintic_piece_weights_are_the_exact_paths_quintic(steps, at, seed) -> None:
+    """
+    ``quintic_piece_weights``: a quintic reproduced, and the exact path's knob on its last piece.
+
+    On uneven stamps (steps within 1.5 of each other) the weights sum to 1, give any polynomial
+    of degree 5 at t (1e-9 of its size) and, through a bat window's knobs, the knob of
+    ``C2BatPath.fitted(..., continued=True)`` on the window's last piece (1e-12 m).
+    """
+    rng = np.random.default_rng(seed)
+    times = list(np.cumsum(steps) / 90.0)
+    j = len(times) - 2
+    t = times[j] + at * (times[j + 1] - times[j])
+    assert quintic_window(times, j, True)  # (the path below takes the quintic)
+    weights = quintic_piece_weights(times, j, t)
+    coefficients = rng.normal(0.0, 1.0, 6)
+    assert math.isclose(float(weights.sum()), 1.0, abs_tol=1e-9)
+    polynomial = np.polynomial.Polynomial(coefficients)
+    assert abs(weights @ polynomial(np.array(times)) - polynomial(t)) <= 1e-9 * (
+        1.0 + np.abs(coefficients).sum())
+    bats = [BatSample(tuple(k), tuple(k + np.array((0.0, 0.86, 0.0))))
+            for k in rng.normal(0.0, 0.1, (len(times), 3))]
+    knob = C2BatPath.fitted(times, bats, j, True).at(t)[0]
+    assert np.allclose(weights @ np.array([b.knob for b in bats]), knob, rtol=0.0, atol=1e-12)
 
 
 def test_flight_fit_is_the_same_in_chunks_and_one_sample_at_a_time(monkeypatch) -> None:

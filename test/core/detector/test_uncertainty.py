@@ -290,7 +290,7 @@ def test_uncertainties_are_calibrated_on_noisy_swings(rate: float, auto: bool) -
     the module's docstring).
     With the propagated sigmas (the knob's and the direction's errors correlated, as knob and
     tip points make them), the fits' own error (their moves from the next richer fits, less
-    the noise's share) and the brake's share at the rebounding hits measured 0.71 / 0.96
+    the noise's share) and the brake's share at the rebounding hits measured 0.76 / 0.95
     (time; 0.66 / 0.91 without the fits' own error; 0.74 / 0.985 with the knob's and the
     direction's errors taken apart, the sigma 1.3-2 times the errors' spread), 0.79 / 0.97
     (spot) and 0.68 / 1.00 (speed: velocities from samples before the impact, extrapolated
@@ -302,8 +302,8 @@ def test_uncertainties_are_calibrated_on_noisy_swings(rate: float, auto: bool) -
     average) are held to the same lower bounds in time. The node's default (look-ahead 0, the
     noise estimated: ``auto``), the same contacts and bounds: at 90 Hz 0.70 / 0.96 (time;
     0.64 / 0.93 without the fits' own error), 0.81 / 0.97 (spot), 0.70 / 1.00 (speed), the
-    rebounding hits 0.81 / 1.00; at 360 Hz 0.76 / 0.97 (0.73 / 0.96), 0.68 / 0.94, 0.76 / 1.00,
-    the hits 0.78 / 0.93.
+    rebounding hits 0.81 / 1.00; at 360 Hz 0.79 / 0.99 (0.73 / 0.96), 0.68 / 0.94, 0.76 / 1.00,
+    the hits 0.81 / 0.96.
     """
     families = [family for family in FAMILIES if family != 'braking']
     assert set(CONTACT_KINDS) <= set(KINDS) and 'rebound' in families

@@ -418,7 +418,7 @@ def test_smoother_shifts_are_the_smoothed_values_less_the_values(steps, sigmas, 
 
     ``r @ (A_g - I) @ values`` on g's own columns and the norms of ``r @ (A_g - I)``, A_g each
     group's ``smoother_matrix``, to 1e-12 of the values' and the rows' scales; zero for a group
-    with no noisy column (not smoothed).
+    with no noisy column (not smoothed); against ``reference`` rows s, ``(r @ A_g - s)``.
     """
     times, values, variances, rng = _seven_columns(steps, sigmas, seed)
     rows = rng.normal(0.0, 1.0, (2, len(times)))
@@ -434,6 +434,19 @@ def test_smoother_shifts_are_the_smoothed_values_less_the_values(steps, sigmas, 
                            atol=1e-12 * scale)
         assert np.allclose(np.linalg.norm(apart, axis=1), np.linalg.norm(rows @ change, axis=1),
                            rtol=0.0, atol=1e-12 * float(np.abs(rows).sum(axis=1).max()))
+    reference = rng.normal(0.0, 1.0, rows.shape)  # against other rows: r A_g y - s y
+    shifts, deviations = smoother_shifts(times, rows, values, variances, groups=GROUPS,
+                                         reference=reference)
+    scale = float((np.abs(rows).sum(axis=1).max() + np.abs(reference).sum(axis=1).max())
+                  * (1.0 + np.abs(values).max()))
+    for group, moved, apart in zip(GROUPS, shifts, deviations):
+        if np.any(variances[group] > 0.0):
+            matrix = smoother_matrix(times, values[:, group], variances[group])
+            assert np.allclose(moved[:, group], (rows @ matrix - reference) @ values[:, group],
+                               rtol=0.0, atol=1e-12 * scale)
+            assert np.allclose(np.linalg.norm(apart, axis=1),
+                               np.linalg.norm(rows @ matrix - reference, axis=1), rtol=0.0,
+                               atol=1e-12 * scale)
 
 
 @settings(max_examples=examples(40), deadline=None)
