@@ -33,6 +33,7 @@ from .streams import Stream
 from ..geometry import cross, dot, sub, Vector
 from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import fit_flight, flight_or_none, FlightFit
+from ..motion.points import quintic_coefficients
 from ..motion.smoothing import (
     penalty_eigen, smooth, smoother_norms, smoother_rows, smoother_shifts)
 from ..motion.splines import not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window
@@ -404,20 +405,18 @@ def quintic_piece_weights(times: Sequence[float], j: int, t: float) -> np.ndarra
 
     The not-a-knot quintic interpolant through the n >= 6 samples (``splines``' de Boor
     spline, the exact windows' ``C2BatPath.fitted``), evaluated on its piece j (t in
-    [times[j], times[j + 1]]) from the quintic Hermite basis of its ends' values, slopes and
-    second derivatives: value = ``weights @ values``, linear.
+    [times[j], times[j + 1]]): the piece's quintic Hermite (``points.quintic_coefficients``,
+    linear in its ends, so it takes the weight rows as they are) of its ends' values, slopes
+    and second derivatives. value = ``weights @ values``.
     """
     n = len(times)
-    slopes, bends = not_a_knot_quintic_rows(times, np.eye(n), j)
+    slopes, bends = (np.array(rows) for rows in not_a_knot_quintic_rows(times, np.eye(n), j))
     h = times[j + 1] - times[j]
     s = (t - times[j]) / h
-    weights = h * ((s - 6 * s ** 3 + 8 * s ** 4 - 3 * s ** 5) * np.array(slopes[0])
-                   + (-4 * s ** 3 + 7 * s ** 4 - 3 * s ** 5) * np.array(slopes[1]))
-    weights += h * h * ((s ** 2 - 3 * s ** 3 + 3 * s ** 4 - s ** 5) / 2 * np.array(bends[0])
-                        + (s ** 3 - 2 * s ** 4 + s ** 5) / 2 * np.array(bends[1]))
-    weights[j] += 1 - 10 * s ** 3 + 15 * s ** 4 - 6 * s ** 5
-    weights[j + 1] += 10 * s ** 3 - 15 * s ** 4 + 6 * s ** 5
-    return weights
+    start, end = np.eye(n)[j], np.eye(n)[j + 1]
+    b, c = h * slopes[0], 0.5 * h * h * bends[0]
+    d, e, f = quintic_coefficients(end - start, b, c, h * slopes[1], h * h * bends[1])
+    return start + s * (b + s * (c + s * (d + s * (e + s * f))))
 
 
 def point_gains(stream: Stream, window: range, k: int, t: float, noise: float,
