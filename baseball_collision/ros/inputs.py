@@ -14,9 +14,9 @@ import time
 from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 
 from geometry_msgs.msg import PointStamped, PoseStamped
-import rclpy
 from rclpy.exceptions import InvalidHandle
 
+from .logger import DirectLogger
 from .messages import describe_drop, xyz, xyzw
 
 WARN_PERIOD_S = 2.0
@@ -199,7 +199,7 @@ class DropWarnings:
     """
 
     def __init__(self, logger_name: str) -> None:
-        self._logger = rclpy.logging.get_logger(logger_name)
+        self._logger = DirectLogger(logger_name)
         self._throttle = Throttle()
 
     def warn(self, stream: str, topic: str, reason: str, frame: str, expected: Optional[str],

@@ -68,8 +68,8 @@ from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import report, silent_streams, take_snapshot, Tally
 from .endpoints import Endpoints, input_qos
-from .inputs import (
-    DropWarnings, input_callback, input_streams, Intake, Throttle, WARN_PERIOD_S)
+from .inputs import DropWarnings, input_callback, input_streams, Intake, Throttle
+from .logger import DirectLogger
 from .markers import impact_markers, latest_scene, scene_markers
 from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
@@ -136,6 +136,7 @@ class ImpactNode(Node):
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
+        self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
         try:
             self._start()
         except RosError:
@@ -191,10 +192,10 @@ class ImpactNode(Node):
     def _on_plan(self, message: Path) -> None:
         """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
         if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
-            self.get_logger().warning(
-                f'ignored a bat plan on {self._plan_sub.topic_name}: {len(message.poses)} '
-                f'poses is more than the {MAX_PLAN_POSES} a plan may hold',
-                throttle_duration_sec=WARN_PERIOD_S)
+            if self._log_throttle.allows('plan_size'):
+                self._lines.warning(
+                    f'ignored a bat plan on {self._plan_sub.topic_name}: {len(message.poses)} '
+                    f'poses is more than the {MAX_PLAN_POSES} a plan may hold')
             return
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
@@ -207,8 +208,8 @@ class ImpactNode(Node):
                     return
                 except CoreError as error:
                     reason = str(error)
-        self.get_logger().warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}',
-                                  throttle_duration_sec=WARN_PERIOD_S)
+        if self._log_throttle.allows('plan'):
+            self._lines.warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}')
 
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
               *values: Any, sequence: Optional[int] = None,
@@ -300,7 +301,7 @@ class ImpactNode(Node):
     def _measured(self, pending: PendingUncertainty, frame: str) -> Impact:
         """Return a pending impact with its error bars; log its line, publish its markers."""
         impact = pending.measure()
-        self.get_logger().info(describe_impact(impact))
+        self._lines.info(describe_impact(impact))
         markers = self._markers(impact, frame)
         if markers is not None:
             self._outputs['markers'].publish(markers)
@@ -329,7 +330,7 @@ class ImpactNode(Node):
             self.tally.last_impact_ns = output.impact_ns
         if not output.log:
             return
-        logger = self.get_logger()
+        logger = self._lines
         if output.throttled:
             if self._log_throttle.allows('event'):
                 logger.info(output.log)
@@ -409,13 +410,13 @@ class ImpactNode(Node):
         """Reset the detector, with one warning, when the ROS clock jumps back."""
         if jump.clock_change in (ClockChange.ROS_TIME_ACTIVATED, ClockChange.ROS_TIME_DEACTIVATED):
             active = jump.clock_change == ClockChange.ROS_TIME_ACTIVATED
-            self.get_logger().info(f"ROS time {'activated' if active else 'deactivated'}")
+            self._lines.info(f"ROS time {'activated' if active else 'deactivated'}")
             return
         if jump.delta.nanoseconds >= 0:
             return
         self._reset('time_jump_backwards')
         self._clock_jump_at = time.monotonic()
-        self.get_logger().warning(
+        self._lines.warning(
             f'the ROS clock jumped back by {-jump.delta.nanoseconds * 1e-9:.3f} s (replay '
             'restarted?): detector state reset')
 

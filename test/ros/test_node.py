@@ -31,11 +31,12 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 from nav_msgs.msg import Path as PathMsg
 import numpy as np
 import pytest
+from rcl_interfaces.msg import Log as LogMsg
 from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.parameter import Parameter, parameter_value_to_python
-from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_srvs.srv import Trigger
 from support import REPO_ROOT
@@ -183,6 +184,31 @@ def test_near_miss_publishes_a_gap_and_no_impact(harness: Callable[..., Harness]
     assert miss.header.frame_id == 'world'
     assert abs((stamp_ns(miss) - BASE_NS) * 1e-9 - first_contact(pitch())) < 3e-3
     h.diagnostics_where(lambda v: v['near_misses'] == '1' and v['impacts'] == '0')
+
+
+@pytest.mark.parametrize('height, kind, function, call', [
+    (1.09, 'near miss', '_publish', 'logger.info(output.log)'),
+    (None, 'impact', '_measured', 'self._lines.info(describe_impact(impact))')],
+    ids=['near-miss', 'impact'])
+def test_log_lines_reach_rosout_naming_their_call_site(
+        harness: Callable[..., Harness], height: Optional[float], kind: str, function: str,
+        call: str) -> None:
+    """A near miss's line and an impact's on /rosout: INFO, the node's name, where logged."""
+    h = swing_harness(harness, 'pose')
+    h.received['rosout'] = []
+    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
+        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    h.processed(publish_swing(h, 'pose', pitch() if height is None else pitch(height=height)))
+
+    def lines() -> List[LogMsg]:
+        return [record for record in h.received['rosout']
+                if record.name == 'impact_node' and record.msg.startswith(f'{kind} at ')]
+    h.wait(lambda: lines(), 5.0, f'the {kind} line on /rosout')
+    record, = lines()
+    node_file = os.path.abspath(sys.modules[ImpactNode.__module__].__file__)
+    assert (record.level, record.function, record.file) == (LogMsg.INFO, function, node_file)
+    assert call in Path(node_file).read_text().splitlines()[record.line - 1]
 
 
 # ----------------------------------------------------------------------------------------------
