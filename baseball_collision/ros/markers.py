@@ -7,13 +7,14 @@ is plain data made by :mod:`baseball_collision.core.scene`; this module only con
 ``MarkerArray``. Lengths are metres; lifetimes seconds (0: until replaced).
 """
 
-from typing import Any, List, Mapping, Optional, Sequence, Tuple
+import struct
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from builtin_interfaces.msg import Duration as DurationMsg
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .messages import NS_PER_S, stamped_header, to_point
+from .messages import CDR_LE, NS_PER_S, stamped_header, to_point
 from ..core.detector import DetectorConfig, Impact
 from ..core.geometry import Vector
 from ..core.scene import (
@@ -21,7 +22,7 @@ from ..core.scene import (
     sphere_item)
 
 __all__ = ['bat_ends', 'bat_markers', 'impact_markers', 'latest_scene', 'lifetime',
-           'live_markers', 'scene_markers', 'sphere_marker', 'to_marker']
+           'live_markers', 'scene_cdr', 'scene_markers', 'sphere_marker', 'to_marker']
 
 MARKER_TYPES = {Shape.CYLINDER: Marker.CYLINDER, Shape.SPHERE: Marker.SPHERE,
                 Shape.ARROW: Marker.ARROW, Shape.TEXT: Marker.TEXT_VIEW_FACING}
@@ -56,6 +57,113 @@ def scene_markers(scene: Scene) -> MarkerArray:
     header = stamped_header(scene.stamp_ns, scene.frame_id)
     markers = [Marker(header=header, action=Marker.DELETEALL)] if scene.delete_all else []
     return MarkerArray(markers=markers + [to_marker(item, header) for item in scene.items])
+
+
+def scene_cdr(scene: Scene) -> bytes:
+    """
+    Return the CDR bytes ``scene_markers(scene)`` serialises to: a MarkerArray, no message made.
+
+    Little-endian plain CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it and what
+    rclpy's ``Publisher.publish`` sends for bytes (as ``messages.PredictionOutput``): each
+    marker packed by one ``struct`` call whose layout (its fields' alignment from the payload's
+    start, its strings' lengths, its points) is made once per shape of marker and kept (the
+    padding is zeros; rclpy leaves whatever its buffer held, which no reader reads). Making the
+    markers as messages and having rclpy convert and serialise them costs 15 times as much
+    (``benchmarks/bench_markers.py``: 358 against 24 us for an impact's 12 markers), in the
+    executor's thread at every impact and every live refresh (``marker_rate``).
+
+    :raises struct.error: a stamp outside ``builtin_interfaces/Time``'s range, or an id
+        outside ``int32``.
+    """
+    sec, nanosec = divmod(scene.stamp_ns, NS_PER_S)
+    frame = scene.frame_id.encode() + b'\0'
+    markers = [_DELETE_ALL] if scene.delete_all else []
+    markers += [(item.namespace.encode() + b'\0', item.number, MARKER_TYPES[item.shape],
+                 Marker.ADD, item.position, item.orientation, item.size,
+                 (item.color.r, item.color.g, item.color.b, item.color.a),
+                 divmod(int(item.lifetime_s * NS_PER_S), NS_PER_S), item.points,
+                 item.text.encode() + b'\0') for item in scene.items]
+    parts, offset = [CDR_LE, struct.pack('<I', len(markers))], 4
+    for ns, number, shape, action, position, orientation, size, color, life, points, text \
+            in markers:
+        layout = _marker_layout(offset % 8, len(frame), len(ns), len(text), len(points))
+        parts.append(layout.pack(
+            sec, nanosec, len(frame), frame, len(ns), ns, number, shape, action, *position,
+            *orientation, *size, *color, *life, False, len(points),
+            *(c for point in points for c in point), 0, 1, b'\0', 0, 0, 1, b'\0', 1, b'\0', 0,
+            0, len(text), text, 1, b'\0', 1, b'\0', 0, False))
+        offset += layout.size
+    return b''.join(parts)
+
+
+_DELETE_ALL = (b'\0', 0, 0, Marker.DELETEALL, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0),
+               (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), (0, 0), (), b'\0')
+"""A ``DELETEALL`` marker's fields (``scene_cdr``), as ``Marker(action=DELETEALL)`` has them."""
+
+_LAYOUTS: Dict[Tuple[int, int, int, int, int], struct.Struct] = {}
+"""The marker layouts made so far (``_marker_layout``), by their key."""
+
+_LAYOUTS_KEPT = 1024
+"""Most layouts kept (then they start again): a node meets a few dozen (labels' lengths vary)."""
+
+
+def _marker_layout(start: int, frame: int, ns: int, text: int, points: int) -> struct.Struct:
+    """
+    Return (kept) the ``struct`` layout of one ``visualization_msgs/Marker`` in CDR.
+
+    :param start: the marker's offset in the payload, modulo 8 (its doubles align to 8 from
+        the payload's start); ``frame``, ``ns``, ``text``: the UTF-8 lengths of its header's
+        frame, namespace and text, with their NUL; ``points``: how many points it has.
+    """
+    key = (start, frame, ns, text, points)
+    found = _LAYOUTS.get(key)
+    if found is not None:
+        return found
+    codes, offset = ['<'], start
+
+    def put(code: str, size: int, count: int = 1) -> None:  # aligned to size
+        nonlocal offset
+        padding = -offset % size
+        codes.append(f'{padding}x{count}{code}' if padding else f'{count}{code}')
+        offset += padding + size * count
+
+    def string(length: int) -> None:  # uint32 length (with the NUL), then the bytes
+        nonlocal offset
+        put('I', 4)
+        codes.append(f'{length}s')
+        offset += length
+
+    put('i', 4)  # header: stamp (sec, nanosec), frame_id
+    put('I', 4)
+    string(frame)
+    string(ns)
+    put('i', 4, 3)  # id, type, action
+    put('d', 8, 7 + 3)  # pose (position, orientation), scale
+    put('f', 4, 4)  # color
+    put('i', 4)  # lifetime
+    put('I', 4)
+    put('?', 1)  # frame_locked
+    put('I', 4)  # points
+    if points:
+        put('d', 8, 3 * points)
+    put('I', 4)  # colors (none)
+    string(1)  # texture_resource
+    put('i', 4)  # texture: header (stamp, frame_id), format, data (none)
+    put('I', 4)
+    string(1)
+    string(1)
+    put('I', 4)
+    put('I', 4)  # uv_coordinates (none)
+    string(text)
+    string(1)  # mesh_resource
+    string(1)  # mesh_file: filename, data (none)
+    put('I', 4)
+    put('?', 1)  # mesh_use_embedded_materials
+    layout = struct.Struct(''.join(codes))
+    if len(_LAYOUTS) >= _LAYOUTS_KEPT:
+        _LAYOUTS.clear()
+    _LAYOUTS[key] = layout
+    return layout
 
 
 def bat_markers(header: Header, namespace: str, knob: Vector, tip: Vector,

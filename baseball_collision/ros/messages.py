@@ -279,14 +279,14 @@ class PredictionOutput:
             self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x3d')
             self._frame_id, self._frame = frame_id, frame
         sec, nanosec = divmod(prediction.stamp_ns, NS_PER_S)
-        return self._layout.pack(_CDR_LE, sec, nanosec, len(self._frame), self._frame,
+        return self._layout.pack(CDR_LE, sec, nanosec, len(self._frame), self._frame,
                                  *prediction.point)
 
 
-_CDR_LE = bytes((0, 1, 0, 0))
+CDR_LE = bytes((0, 1, 0, 0))
 """The CDR encapsulation header of a little-endian plain CDR payload (``CDR_LE``)."""
 
-FLAG_CDR = {value: _CDR_LE + bytes((value, 0, 0, 0)) for value in (False, True)}
+FLAG_CDR = {value: CDR_LE + bytes((value, 0, 0, 0)) for value in (False, True)}
 """``~/impact_predicted``'s two ``std_msgs/Bool`` messages as CDR bytes (padded to 4 bytes, as
 rmw_fastrtps serialises them): published as they are, no message made or converted."""
 

@@ -25,7 +25,8 @@ events come back out as messages:
   so no message handled in it and no arm's output waits for a record.
 * ``~/markers`` (visualization_msgs/MarkerArray): the bat profile, ball, contact point and normal
   at each impact, and the live bat and ball (stamped with their samples' stamp, published only
-  when a new sample came; a ``DELETEALL`` on every state reset).
+  when a new sample came; a ``DELETEALL`` on every state reset); sent as the array's CDR bytes
+  (``markers.scene_cdr``), no message made in the executor's thread.
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, messages estimated lost, drops by
   reason, events and resets, processing time and the state (waiting for data, tracking, stale,
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
@@ -70,7 +71,7 @@ from .diagnostics import report, silent_streams, take_snapshot, Tally
 from .endpoints import Endpoints, input_qos
 from .inputs import DropWarnings, input_callback, input_streams, Intake, Throttle
 from .logger import DirectLogger
-from .markers import impact_markers, latest_scene, scene_markers
+from .markers import latest_scene, scene_cdr
 from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
     format_stamp, impact_velocity, NS_PER_S, plan_arrays, point_stamped, PredictionOutput,
@@ -82,7 +83,7 @@ from ..core.detector import (
 from ..core.geometry import Vector
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
-from ..core.scene import Scene
+from ..core.scene import impact_scene, Scene
 from ..errors import CoreError, RosError
 from ..threads import single_threaded_blas
 
@@ -313,12 +314,12 @@ class ImpactNode(Node):
 
     # ---- events --------------------------------------------------------------------------
 
-    def _markers(self, impact: Impact, frame: str) -> Optional[MarkerArray]:
-        """Return an impact's markers, or None when ``publish_markers`` is off."""
+    def _markers(self, impact: Impact, frame: str) -> Optional[bytes]:
+        """Return an impact's markers (CDR bytes), or None when ``publish_markers`` is off."""
         if not self.settings['publish_markers']:
             return None
-        return impact_markers(impact, frame, self.detector.config,
-                              self.settings['marker_lifetime'])
+        return scene_cdr(impact_scene(impact, frame, self.detector.config,
+                                      self.settings['marker_lifetime']))
 
     def _publish(self, output: EventOutput) -> None:
         """Publish what one event became and log its line."""
@@ -366,7 +367,7 @@ class ImpactNode(Node):
         self._markers_stamp = newest
         scene = latest_scene(last, frame, config, 2.0 / self.settings['marker_rate'])
         if scene is not None:
-            self._outputs['markers'].publish(scene_markers(scene))
+            self._outputs['markers'].publish(scene_cdr(scene))
 
     # ---- services and clock --------------------------------------------------------------
 
@@ -393,7 +394,7 @@ class ImpactNode(Node):
         self._last_values.clear()
         self._markers_stamp = None
         if self.settings['publish_markers']:
-            self._outputs['markers'].publish(scene_markers(
+            self._outputs['markers'].publish(scene_cdr(
                 Scene(stamp_ns, frame, (), delete_all=True)))
 
     def _register_clock_jump(self) -> None:

@@ -5,15 +5,17 @@ from dataclasses import replace
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.detector import DetectorConfig, Impact
 from baseball_collision.core.geometry import quaternion_from_z, rotate
-from baseball_collision.core.scene import impact_scene
+from baseball_collision.core.scene import impact_scene, live_scene
 from baseball_collision.ros.markers import (
-    bat_ends, bat_markers, impact_markers, lifetime, live_markers, scene_markers)
-from baseball_collision.ros.messages import stamp_to_ns
+    bat_ends, bat_markers, impact_markers, lifetime, live_markers, scene_cdr, scene_markers)
+from baseball_collision.ros.messages import NS_PER_S, stamp_to_ns
+from hypothesis import given, settings, strategies as st
 import pytest
+from rclpy.serialization import deserialize_message, serialize_message
 from std_msgs.msg import Header
 from support.events import swing_events
 from support.scenes import pose
-from visualization_msgs.msg import Marker
+from visualization_msgs.msg import Marker, MarkerArray
 
 pytestmark = pytest.mark.ros
 
@@ -94,3 +96,34 @@ def test_a_scene_becomes_one_marker_per_item() -> None:
     cleared = scene_markers(replace(scene, delete_all=True, items=()))
     assert [m.action for m in cleared.markers] == [Marker.DELETEALL]
     assert stamp_to_ns(cleared.markers[0].header.stamp) == impact.stamp_ns
+
+
+TEXT = st.characters(blacklist_categories=('Cs',), blacklist_characters='\x00')
+"""Characters a ROS string can carry (UTF-8, no NUL)."""
+
+
+@settings(max_examples=40, deadline=None)
+@given(frame=st.text(TEXT, max_size=12), label=st.text(TEXT, max_size=20),
+       stamp_ns=st.integers(0, 2 ** 31 * NS_PER_S - 1), lifetime_s=st.floats(0.0, 30.0),
+       delete_all=st.booleans(), live=st.booleans(), cut=st.integers(0, 12))
+def test_a_scenes_cdr_bytes_are_the_messages(frame: str, label: str, stamp_ns: int,
+                                             lifetime_s: float, delete_all: bool, live: bool,
+                                             cut: int) -> None:
+    """
+    scene_cdr: the bytes rclpy serialises ``scene_markers``' array to, but for the padding.
+
+    Any frame, label text (UTF-8), stamp and lifetime; an impact's scene or a live one, all or
+    the first ``cut`` of its items (every marker starts at each alignment), DELETEALL or not:
+    deserialised, the same message as rclpy's own bytes give, and as long.
+    """
+    impact = next(e for e in swing_events() if isinstance(e, Impact))
+    config = DetectorConfig()
+    scene = (live_scene(stamp_ns, frame, impact.ball_position, (impact.knob, impact.tip),
+                        config, lifetime_s) if live else
+             impact_scene(impact, frame, config, lifetime_s))
+    items = tuple(replace(item, text=label) if item.text else item for item in scene.items)
+    scene = replace(scene, stamp_ns=stamp_ns, items=items[:cut or None], delete_all=delete_all)
+    packed, serialised = scene_cdr(scene), serialize_message(scene_markers(scene))
+    assert len(packed) == len(serialised)
+    assert deserialize_message(packed, MarkerArray) == deserialize_message(serialised,
+                                                                           MarkerArray)
