@@ -26,8 +26,6 @@ from rclpy.logging import get_logger, LoggingSeverity
 
 _LOG: Optional[Callable[..., Any]] = getattr(rclpy_implementation, 'rclpy_logging_rcutils_log',
                                              None)
-_ENABLED: Optional[Callable[..., bool]] = getattr(
-    rclpy_implementation, 'rclpy_logging_logger_is_enabled_for', None)
 
 
 class DirectLogger:
@@ -53,9 +51,9 @@ class DirectLogger:
 
         :returns: False when the logger's level leaves it out, else True.
         """
-        if _LOG is None or _ENABLED is None:
+        if _LOG is None:
             return self._fallback.log(message, severity)
-        if not _ENABLED(self.name, severity):
+        if not self._fallback.is_enabled_for(severity):
             return False
         frame = sys._getframe(depth)
         code = frame.f_code
