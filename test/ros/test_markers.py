@@ -13,6 +13,7 @@ from hypothesis import given, settings, strategies as st
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 from std_msgs.msg import Header
+from support import examples
 from support.events import swing_events
 from support.scenes import pose
 from visualization_msgs.msg import Marker, MarkerArray
@@ -102,7 +103,7 @@ TEXT = st.characters(blacklist_categories=('Cs',), blacklist_characters='\x00')
 """Characters a ROS string can carry (UTF-8, no NUL)."""
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(frame=st.text(TEXT, max_size=12), label=st.text(TEXT, max_size=20),
        stamp_ns=st.integers(0, 2 ** 31 * NS_PER_S - 1), lifetime_s=st.floats(0.0, 30.0),
        delete_all=st.booleans(), live=st.booleans(), cut=st.integers(0, 12))
