@@ -68,6 +68,7 @@ import os
 from pathlib import Path
 import random
 import signal
+import struct
 import subprocess
 import sys
 import tempfile
@@ -175,10 +176,9 @@ class TimedImpactNode(ImpactNode):
                                                      counted_prediction)
         publish = self._outputs['impact'].publish
 
-        def timed_publish(message: PointStamped) -> None:
-            self.timeline.append((message.header.stamp.sec * 10**9
-                                  + message.header.stamp.nanosec, self._entry_ns,
-                                  time.monotonic_ns()))
+        def timed_publish(message: bytes) -> None:  # (a PointStamped's CDR: its stamp at 4)
+            sec, nanosec = struct.unpack_from('<iI', message, 4)
+            self.timeline.append((sec * 10**9 + nanosec, self._entry_ns, time.monotonic_ns()))
             publish(message)
         self._outputs['impact'] = _Wrapped(self._outputs['impact'], timed_publish)
         report = self._outputs['impact_report'].publish
@@ -234,7 +234,7 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
     ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
-    (``event_output``, and the node's ``PredictionOutput``: the events' messages),
+    (``event_output``, and the node's ``PointStampedCdr``: the events' messages),
     ``publish <output>``; ``predicted`` and ``published`` say whether it predicted (was due)
     and published a prediction.
     """
@@ -248,8 +248,8 @@ class BrokenDownImpactNode(TimedImpactNode):
             self._outputs[name] = _Wrapped(self._outputs[name], self._timed(
                 f'publish {name}', self._outputs[name].publish))
         self._predictor = self.detector._predictor  # the benchmark looks inside
-        if hasattr(self, '_prediction_output'):  # a prediction's message, refilled: 'messages'
-            self._prediction_output = self._timed('messages', self._prediction_output)
+        if hasattr(self, '_point_cdr'):  # a prediction's (or an impact's) bytes: 'messages'
+            self._point_cdr = self._timed('messages', self._point_cdr)
 
     def _timed(self, phase: str, function: object) -> object:
         def timed(*args: object, **kwargs: object) -> object:

@@ -241,19 +241,19 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
     return EventOutput(messages=(('near_miss', message),), log=describe_near_miss(miss))
 
 
-class PredictionOutput:
+class PointStampedCdr:
     """
-    A prediction's ``~/predicted_impact`` point as the serialised CDR bytes of its message.
+    A ``geometry_msgs/PointStamped`` as the serialised CDR bytes of its message.
 
     What rclpy's ``Publisher.publish`` sends for bytes (``publish_raw``): the very bytes the
-    ``PointStamped`` of ``event_output`` serialises to (the CDR padding aside, which no reader
+    ``PointStamped`` of ``point_stamped`` serialises to (the CDR padding aside, which no reader
     reads), packed with one ``struct`` call. Publishing the ``PointStamped`` makes rclpy
-    convert it into a C message and serialise that inside the message that predicts: with an
-    arm subscribed, a fifth to two fifths of the send's CPU time (BENCHMARKS.md, "sixth
-    pass"); and the node makes no ``EventOutput`` per prediction. A subscriber receives the same
-    ``PointStamped`` either way. The node turns ``~/impact_predicted`` on (``FLAG_CDR``) and
-    publishes these bytes, as ``event_output``'s output says. The layout depends on the frame's
-    name only: made once per frame.
+    convert it into a C message and serialise that in the executor's callback: with an arm
+    subscribed, a fifth to two fifths of the send's CPU time (BENCHMARKS.md, "sixth pass").
+    A subscriber receives the same ``PointStamped`` either way. The node publishes a
+    prediction's ``~/predicted_impact`` (and makes no ``EventOutput`` for it) and an impact's
+    ``~/impact`` (the moment its contact is solved) as these bytes. The layout depends on the
+    frame's name only: made once per frame.
     """
 
     __slots__ = ('_frame_id', '_layout', '_frame')
@@ -263,9 +263,9 @@ class PredictionOutput:
         self._layout = struct.Struct('<')
         self._frame = b''
 
-    def __call__(self, prediction: Prediction, frame_id: str) -> bytes:
+    def __call__(self, stamp_ns: int, frame_id: str, point: Vector) -> bytes:
         """
-        Return ``prediction``'s point (m) in ``frame_id``, stamped with its instant, as CDR bytes.
+        Return ``point`` (m) in ``frame_id`` stamped at ``stamp_ns`` (ns) as CDR bytes.
 
         Little-endian CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it: the stamp's
         ``int32`` seconds and ``uint32`` nanoseconds, the frame's length (with its NUL) and
@@ -278,9 +278,8 @@ class PredictionOutput:
             padding = -(12 + len(frame)) % 8  # the doubles align to 8 from the payload's start
             self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x3d')
             self._frame_id, self._frame = frame_id, frame
-        sec, nanosec = divmod(prediction.stamp_ns, NS_PER_S)
-        return self._layout.pack(CDR_LE, sec, nanosec, len(self._frame), self._frame,
-                                 *prediction.point)
+        sec, nanosec = divmod(stamp_ns, NS_PER_S)
+        return self._layout.pack(CDR_LE, sec, nanosec, len(self._frame), self._frame, *point)
 
 
 CDR_LE = bytes((0, 1, 0, 0))
@@ -292,7 +291,7 @@ rmw_fastrtps serialises them): published as they are, no message made or convert
 
 
 def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    # as a message (the node publishes PredictionOutput's bytes of the same message)
+    # as a message (the node publishes PointStampedCdr's bytes of the same message)
     return EventOutput(messages=(('predicted_impact', point_stamped(
         prediction.stamp_ns, frame_id, prediction.point)),), predicting=True)
 

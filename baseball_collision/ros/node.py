@@ -74,8 +74,7 @@ from .logger import DirectLogger
 from .markers import latest_scene, scene_cdr
 from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
-    format_stamp, impact_velocity, NS_PER_S, plan_arrays, point_stamped, PredictionOutput,
-    stamp_to_ns)
+    format_stamp, impact_velocity, NS_PER_S, plan_arrays, PointStampedCdr, stamp_to_ns)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction, SPECS,
@@ -128,7 +127,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
-        self._prediction_output = PredictionOutput()  # ~/predicted_impact's CDR bytes
+        self._point_cdr = PointStampedCdr()  # ~/impact's and ~/predicted_impact's CDR bytes
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
@@ -241,7 +240,7 @@ class ImpactNode(Node):
                     self._clear_markers(event.stamp_ns, expected or frame)
                 if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
-                        self._prediction_output(event, where))
+                        self._point_cdr(event.stamp_ns, where, event.point))
                     self._set_predicting(True)
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(impact_velocity(event, where))
@@ -265,7 +264,7 @@ class ImpactNode(Node):
         Inside ``_take``'s ``add``, before the impact's velocities are fitted: its message's
         stamp and point are the impact's; ``~/impact_velocity`` follows once it is returned.
         """
-        self._outputs['impact'].publish(point_stamped(
+        self._outputs['impact'].publish(self._point_cdr(
             stamp_ns, self._frame or self.detector.frame_id or '', point))
         self.tally.last_impact_ns = stamp_ns
 

@@ -10,7 +10,7 @@ from baseball_collision.core.detector import (
 from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
     describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp, plan_arrays,
-    PredictionOutput, stamp_to_ns)
+    PointStampedCdr, stamp_to_ns)
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path
 import pytest
@@ -94,12 +94,13 @@ def test_near_miss_prediction_gap_and_reset() -> None:
     assert stamp_to_ns(predicted.header.stamp) == prediction.stamp_ns
     assert predicted.header.frame_id == 'world'
     assert (predicted.point.x, predicted.point.y, predicted.point.z) == prediction.point
-    made_once = PredictionOutput()  # the node's: the message's CDR bytes
+    made_once = PointStampedCdr()  # the node's: the message's CDR bytes
     predictions = [e for e in swing_events(horizon=0.3) if isinstance(e, Prediction)][-2:]
     assert len(predictions) == 2 and predictions[0].stamp_ns != predictions[1].stamp_ns
     for frame in ('world', '', 'camera_7', 'caméra'):  # lengths 6, 1, 9, 8 with the NUL
         for each in predictions:
-            data, expected = made_once(each, frame), event_output(each, frame, None)
+            data = made_once(each.stamp_ns, frame, each.point)
+            expected = event_output(each, frame, None)
             assert isinstance(data, bytes) and expected.predicting is True
             assert deserialize_message(data, PointStamped) == expected.messages[0][1]
             # the same bytes as rclpy's own serialisation, but for the padding (not zeroed)
