@@ -546,9 +546,9 @@ def bat_shifts(stream: Stream, window: range, k: int, t: float,
         across the bat in rad, length in m) and the correlation of its knob and direction
         rows (as ``bat_gains``'). All zero without noise.
     """
-    times, values, variances, sigmas, weights, j = _bat_rows(stream, window, k, t, noise)
     if not noise > 0.0:
         return np.zeros(7), np.zeros(3), 0.0
+    times, values, variances, sigmas, weights, j = _bat_rows(stream, window, k, t, noise)
     reference = (quintic_piece_weights(times, j, t)[None, :]
                  if quintic_window(times, j, True) else None)
     shifts, deviations = smoother_shifts(times, weights[:1], values, variances, *SMOOTHER,
