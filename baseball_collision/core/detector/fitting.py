@@ -35,7 +35,7 @@ from ..motion import BatSample, c2_rows, C2BatPath, PointPath, rotate, unit_axis
 from ..motion.flight import fit_flight, flight_or_none, FlightFit
 from ..motion.points import quintic_coefficients
 from ..motion.smoothing import (
-    penalty_eigen, smooth, smoother_norms, smoother_rows, smoother_shifts)
+    penalty_eigen, smooth, smoother_norms, smoother_rows, smoother_shifts, smoother_weights)
 from ..motion.splines import not_a_knot_quintic_rows, not_a_knot_slope_rows, quintic_window
 from ..toi import _kernel
 
@@ -507,8 +507,11 @@ def point_shifts(stream: Stream, window: range, k: int, t: float, noise: float,
     return shifts[0, 0], noise * float(np.linalg.norm(deviations[0, 0]))
 
 
-def bat_gains(stream: Stream, window: range, k: int, t: float,
-              noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
+BatErrors = Tuple[np.ndarray, np.ndarray, float]
+"""``bat_gains``' and ``bat_shifts``' answers: two per-group arrays and a correlation."""
+
+
+def bat_gains(stream: Stream, window: range, k: int, t: float, noise: float) -> BatErrors:
     """
     Return the 1-sigma errors the noise makes in a ``c2`` bat's knob, direction and length.
 
@@ -519,18 +522,10 @@ def bat_gains(stream: Stream, window: range, k: int, t: float,
         reaches both through them (from knob and tip points, a knob marker's noise moves the
         knob and turns the direction: ``uncertainty.propagated`` takes it).
     """
-    times, values, variances, sigmas, weights, _ = _bat_rows(stream, window, k, t, noise)
-    if noise > 0.0:
-        through = smoother_rows(times, weights, values, variances, *SMOOTHER, groups=BAT_GROUPS)
-    else:
-        through = np.array([weights] * len(BAT_GROUPS))
-    norms = np.linalg.norm(through, axis=2)
-    correlation = _correlation(through[0, 0], through[1, 0])
-    return sigmas * norms[:, 0], sigmas * norms[:, 1], correlation
+    return _bat_gains(_bat_rows(stream, window, k, t, noise), noise)
 
 
-def bat_shifts(stream: Stream, window: range, k: int, t: float,
-               noise: float) -> Tuple[np.ndarray, np.ndarray, float]:
+def bat_shifts(stream: Stream, window: range, k: int, t: float, noise: float) -> BatErrors:
     """
     Return how far the smoothing moves a ``c2`` bat from its interpolant at t, and its noise.
 
@@ -548,11 +543,47 @@ def bat_shifts(stream: Stream, window: range, k: int, t: float,
     """
     if not noise > 0.0:
         return np.zeros(7), np.zeros(3), 0.0
-    times, values, variances, sigmas, weights, j = _bat_rows(stream, window, k, t, noise)
+    return _bat_shifts(_bat_rows(stream, window, k, t, noise), t)
+
+
+def bat_errors(stream: Stream, window: range, k: int, t: float,
+               noise: float) -> Tuple[BatErrors, BatErrors]:
+    """
+    Return ``bat_gains`` and ``bat_shifts`` of one window at t (s) at once, the same to the bit.
+
+    The window's rows are gathered, and its groups' smoothing weights searched, once for both.
+    """
+    if not noise > 0.0:
+        return bat_gains(stream, window, k, t, noise), bat_shifts(stream, window, k, t, noise)
+    rows = _bat_rows(stream, window, k, t, noise)
+    times, values, variances = rows[:3]
+    weights = smoother_weights(times, values, variances, *SMOOTHER, groups=BAT_GROUPS)
+    return _bat_gains(rows, noise, weights), _bat_shifts(rows, t, weights)
+
+
+def _bat_gains(rows: Tuple[Any, ...], noise: float,
+               weights: Optional[List[float]] = None) -> BatErrors:
+    """Return ``bat_gains`` from a window's ``_bat_rows`` (its groups' weights, when known)."""
+    times, values, variances, sigmas, piece, _ = rows
+    if noise > 0.0:
+        through = smoother_rows(times, piece, values, variances, *SMOOTHER, groups=BAT_GROUPS,
+                                weights=weights)
+    else:
+        through = np.array([piece] * len(BAT_GROUPS))
+    norms = np.linalg.norm(through, axis=2)
+    correlation = _correlation(through[0, 0], through[1, 0])
+    return sigmas * norms[:, 0], sigmas * norms[:, 1], correlation
+
+
+def _bat_shifts(rows: Tuple[Any, ...], t: float,
+                weights: Optional[List[float]] = None) -> BatErrors:
+    """Return a noisy window's ``bat_shifts`` at t (s) from its ``_bat_rows`` (and weights)."""
+    times, values, variances, sigmas, piece, j = rows
     reference = (quintic_piece_weights(times, j, t)[None, :]
                  if quintic_window(times, j, True) else None)
-    shifts, deviations = smoother_shifts(times, weights[:1], values, variances, *SMOOTHER,
-                                         groups=BAT_GROUPS, reference=reference)
+    shifts, deviations = smoother_shifts(times, piece[:1], values, variances, *SMOOTHER,
+                                         groups=BAT_GROUPS, reference=reference,
+                                         weights=weights)
     moved = np.concatenate([shifts[g, 0, group] for g, group in enumerate(BAT_GROUPS)])
     norms = np.linalg.norm(deviations, axis=2)
     return moved, sigmas * norms[:, 0], _correlation(deviations[0, 0], deviations[1, 0])

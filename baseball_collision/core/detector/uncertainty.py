@@ -91,7 +91,7 @@ from .departure import judging_noise, leaves_flight
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Impact, NearMiss
 from .fitting import (
-    bat_gains, bat_shifts, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW,
+    bat_errors, bat_gains, c2_bat_path, c2_window, kept_history, MARKER_SPREAD_M, MAX_WINDOW,
     NOISE_SPAN, point_gains, point_shifts, stream_noise, swing_rate)
 from .gate import Clock
 from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_interval
@@ -347,8 +347,8 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     ball_shift, ball_spread = point_shifts(ball, ball_window, kb, t, ball_sigma, config)
     k = bat.interval(ta)
     bat_window = c2_window(bat, k, gap, config.look_ahead, size)
-    (knob, turn, length), _, correlation = bat_gains(bat, bat_window, k, t, bat_sigma)
-    bat_shift, spreads, shift_correlation = bat_shifts(bat, bat_window, k, t, bat_sigma)
+    ((knob, turn, length), _, correlation), (bat_shift, spreads, shift_correlation) = \
+        bat_errors(bat, bat_window, k, t, bat_sigma)
     j = velocity_interval(bat, k, gap)  # the velocities' windows: samples before the impact
     _, (knob_rate, turn_rate, _), _ = bat_gains(bat, c2_window(bat, j, gap, 0, size), j, t,
                                                 bat_sigma)

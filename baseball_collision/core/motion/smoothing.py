@@ -363,11 +363,27 @@ def smoother_matrix(times: Sequence[float], values: np.ndarray, variances: Seque
     return np.eye(len(times)) if math.isnan(lam) else (u * _factors(p, lam)[None, :]) @ u.T
 
 
+def smoother_weights(times: Sequence[float], values: np.ndarray, variances: Sequence[float],
+                     kind: str = 'not-a-knot', target: str = 'likelihood',
+                     eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                     groups: Sequence[slice] = (slice(None),)) -> List[float]:
+    """
+    Return each group's smoothing weight, as ``smooth`` chooses it (NaN: not smoothed).
+
+    inf is the stiffest fit. For ``smoother_rows`` and ``smoother_shifts`` of one window (their
+    ``weights``): the search made once. Arguments and errors as for ``smooth``.
+    """
+    y, v = _checked(times, values, variances, target)
+    p, u = eigen if eigen is not None else penalty_eigen(times, kind)
+    return list(_weights(p, u.T @ y, v, target, _bounds(groups, len(v))))
+
+
 def smoother_rows(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
                   variances: Sequence[float], kind: str = 'not-a-knot',
                   target: str = 'likelihood',
                   eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
-                  groups: Sequence[slice] = (slice(None),)) -> np.ndarray:
+                  groups: Sequence[slice] = (slice(None),),
+                  weights: Optional[Sequence[float]] = None) -> np.ndarray:
     """
     Return (groups, rows, n): each row through each group's ``smoother_matrix``, turned into U.
 
@@ -379,15 +395,17 @@ def smoother_rows(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
 
     :param times: (n,) strictly increasing (s); ``rows``: (r, n) weights of the n values (e.g. a
         spline's value at t: ``fitting.piece_weights``); ``values``, ``variances``, ``kind``,
-        ``target``, ``eigen``, ``groups``: as for ``smooth``.
+        ``target``, ``eigen``, ``groups``: as for ``smooth``; ``weights``: the groups'
+        ``smoother_weights`` when the caller has them (else searched here).
     :raises ValueError: an unknown penalty or target, or shapes that do not match.
     """
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
-    bounds = _bounds(groups, len(v))
+    if weights is None:
+        weights = _weights(p, u.T @ y, v, target, _bounds(groups, len(v)))
     along = np.asarray(rows, dtype=float) @ u
     return np.array([along if math.isnan(lam) else along * _factors(p, lam)
-                     for lam in _weights(p, u.T @ y, v, target, bounds)])
+                     for lam in weights])
 
 
 def smoother_shifts(times: Sequence[float], rows: np.ndarray, values: np.ndarray,
@@ -395,7 +413,8 @@ def smoother_shifts(times: Sequence[float], rows: np.ndarray, values: np.ndarray
                     target: str = 'likelihood',
                     eigen: Optional[Tuple[np.ndarray, np.ndarray]] = None,
                     groups: Sequence[slice] = (slice(None),),
-                    reference: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
+                    reference: Optional[np.ndarray] = None,
+                    weights: Optional[Sequence[float]] = None) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return how far each group's smoothing moves each row's value, and that move's weights.
 
@@ -406,17 +425,18 @@ def smoother_shifts(times: Sequence[float], rows: np.ndarray, values: np.ndarray
     ``fitting.piece_weights`` row; only g's own columns are smoothed by A_g), and
     ``(r @ A_g - s) @ U``, its weights turned into U as ``smoother_rows``' (their norm times a
     column's noise is the shift's spread from that noise alone). A group with no noisy column
-    is not smoothed: its shifts and deviations are zero. Arguments and errors as for
-    ``smoother_rows``.
+    is not smoothed: its shifts and deviations are zero. Arguments (``weights`` too) and errors
+    as for ``smoother_rows``.
     """
     y, v = _checked(times, values, variances, target)
     p, u = eigen if eigen is not None else penalty_eigen(times, kind)
     along = np.asarray(rows, dtype=float) @ u
     against = along if reference is None else np.asarray(reference, dtype=float) @ u
     z = u.T @ y
+    if weights is None:
+        weights = _weights(p, z, v, target, _bounds(groups, len(v)))
     deviations = np.array([np.zeros_like(along) if math.isnan(lam)
-                           else along * _factors(p, lam) - against
-                           for lam in _weights(p, z, v, target, _bounds(groups, len(v)))])
+                           else along * _factors(p, lam) - against for lam in weights])
     return deviations @ z, deviations
 
 

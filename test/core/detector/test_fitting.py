@@ -7,9 +7,9 @@ from typing import Tuple
 from baseball_collision.core.detector import Detector, DetectorConfig, fitting, Impact
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.fitting import (
-    ball_flight, bat_gains, bat_shifts, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window,
-    flight_window, kept_history, point_gains, point_shifts, quintic_piece_weights, swing_rate,
-    widened)
+    ball_flight, bat_errors, bat_gains, bat_shifts, c2_bat_ahead, c2_bat_path, c2_point_path,
+    c2_window, flight_window, kept_history, point_gains, point_shifts, quintic_piece_weights,
+    swing_rate, widened)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample, C2BatPath
 from baseball_collision.core.motion.c2 import rotate, rotation_to
@@ -574,3 +574,17 @@ def test_windows_reach_back_as_a_loop_over_the_samples(steps, broken, data) -> N
     assert widened(stream, range(start, last + 1)) == range(_reach_back(
         times, stream.breaks, start, last + 1, math.inf, fitting.NOISE_SPAN,
         fitting.MAX_WINDOW), last + 1)
+
+
+@pytest.mark.parametrize('rate, noise', [(90.0, 1e-3), (360.0, 3e-4), (360.0, 0.0)])
+def test_a_bats_errors_at_once_are_its_gains_and_shifts(rate: float, noise: float) -> None:
+    """``bat_errors``: ``bat_gains`` and ``bat_shifts`` of the same window, to the bit."""
+    _, bat = _streams(rate, noise, 3)
+    for k in (12, 20):
+        window = c2_window(bat, k, 0.05, 0, 8)
+        for t in (bat.times[k], 0.3 * bat.times[k] + 0.7 * bat.times[k + 1]):
+            gains, shifts = bat_errors(bat, window, k, t, noise)
+            for answer, alone in ((gains, bat_gains(bat, window, k, t, noise)),
+                                  (shifts, bat_shifts(bat, window, k, t, noise))):
+                assert all(np.array_equal(a, b) for a, b in zip(answer, alone))
+            assert noise == 0.0 or shifts[0].any()

@@ -5,7 +5,8 @@ import math
 from baseball_collision.core.motion import smoothing
 from baseball_collision.core.motion.smoothing import (
     jerk_slopes, jerk_steps, natural_slopes, penalty, penalty_eigen, smooth, smoother_matrix,
-    smoother_norms, smoother_rows, smoother_shifts, smoothing_weight, third_jumps)
+    smoother_norms, smoother_rows, smoother_shifts, smoother_weights, smoothing_weight,
+    third_jumps)
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.reference import smoothing_spline
 from hypothesis import given, settings, strategies as st
@@ -754,3 +755,29 @@ def test_the_kernels_null_space_is_the_projection_written_out(steps, degree) -> 
     assert np.array_equal(p, expected_p)
     with pytest.raises(ValueError):
         _kernel.beside_null(p, u[:-1], times.tolist(), count, 1e-9)
+
+
+@settings(max_examples=examples(30), deadline=None)
+@seven_columns
+def test_smoother_weights_given_are_the_weights_searched(steps, sigmas, seed) -> None:
+    """
+    ``smoother_weights``: given to the rows and shifts, their answers to the bit.
+
+    One weight per group, NaN where no column is noisy; ``smoother_rows`` and
+    ``smoother_shifts`` given them answer as with their own search.
+    """
+    times, values, variances, rng = _seven_columns(steps, sigmas, seed)
+    rows = rng.normal(0.0, 1.0, (2, len(times)))
+    weights = smoother_weights(times, values, variances, groups=GROUPS)
+    assert len(weights) == len(GROUPS)
+    for group, weight in zip(GROUPS, weights):
+        assert math.isnan(weight) == (not np.any(variances[group] > 0.0))
+    assert np.array_equal(smoother_rows(times, rows, values, variances, groups=GROUPS),
+                          smoother_rows(times, rows, values, variances, groups=GROUPS,
+                                        weights=weights))
+    reference = rng.normal(0.0, 1.0, rows.shape)
+    for searched, handed in zip(
+            smoother_shifts(times, rows, values, variances, groups=GROUPS, reference=reference),
+            smoother_shifts(times, rows, values, variances, groups=GROUPS, reference=reference,
+                            weights=weights)):
+        assert np.array_equal(searched, handed)
