@@ -234,7 +234,7 @@ class BrokenDownImpactNode(TimedImpactNode):
 
     ``phases``: per message, {phase: CPU s}: ``total``, ``detector`` (``Detector.add_*``),
     ``prediction`` (``Predictor.predict``, inside the detector's), ``messages``
-    (``event_output``, and the node's ``PointStampedCdr``: the events' messages),
+    (``event_output``, and the node's ``StampedCdr``: the events' messages),
     ``publish <output>``; ``predicted`` and ``published`` say whether it predicted (was due)
     and published a prediction.
     """

@@ -64,7 +64,7 @@ def scene_cdr(scene: Scene) -> bytes:
     Return the CDR bytes ``scene_markers(scene)`` serialises to: a MarkerArray, no message made.
 
     Little-endian plain CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it and what
-    rclpy's ``Publisher.publish`` sends for bytes (as ``messages.PointStampedCdr``): each
+    rclpy's ``Publisher.publish`` sends for bytes (as ``messages.StampedCdr``): each
     marker packed by one ``struct`` call whose layout (its fields' alignment from the payload's
     start, its strings' lengths, its points) is made once per shape of marker and kept (the
     padding is zeros; rclpy leaves whatever its buffer held, which no reader reads). Making the

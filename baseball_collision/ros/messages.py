@@ -241,45 +241,50 @@ def _near_miss(miss: NearMiss, frame_id: str, markers: ImpactMarkers) -> EventOu
     return EventOutput(messages=(('near_miss', message),), log=describe_near_miss(miss))
 
 
-class PointStampedCdr:
+class StampedCdr:
     """
-    A ``geometry_msgs/PointStamped`` as the serialised CDR bytes of its message.
+    A stamped message of ``float64`` fields after its header, as the CDR bytes it serialises to.
 
-    What rclpy's ``Publisher.publish`` sends for bytes (``publish_raw``): the very bytes the
-    ``PointStamped`` of ``point_stamped`` serialises to (the CDR padding aside, which no reader
-    reads), packed with one ``struct`` call. Publishing the ``PointStamped`` makes rclpy
-    convert it into a C message and serialise that in the executor's callback: with an arm
-    subscribed, a fifth to two fifths of the send's CPU time (BENCHMARKS.md, "sixth pass").
-    A subscriber receives the same ``PointStamped`` either way. The node publishes a
-    prediction's ``~/predicted_impact`` (and makes no ``EventOutput`` for it) and an impact's
-    ``~/impact`` (the moment its contact is solved) as these bytes. The layout depends on the
-    frame's name only: made once per frame.
+    ``count`` doubles: 3 for a ``geometry_msgs/PointStamped`` (or ``Vector3Stamped``), 6 for a
+    ``TwistStamped`` (linear, then angular). What rclpy's ``Publisher.publish`` sends for bytes
+    (``publish_raw``): the very bytes the message of ``point_stamped`` or ``impact_velocity``
+    serialises to (the CDR padding aside, which no reader reads), packed with one ``struct``
+    call. Publishing the message makes rclpy convert it into a C message and serialise that in
+    the executor's callback: with an arm subscribed, a fifth to two fifths of the send's CPU time
+    (BENCHMARKS.md, "sixth pass"). A subscriber receives the same message either way. The node
+    publishes a prediction's ``~/predicted_impact`` (and makes no ``EventOutput`` for it), an
+    impact's ``~/impact`` (the moment its contact is solved) and its ``~/impact_velocity`` as
+    these bytes. The layout depends on the frame's name only: made once per frame.
+
+    :param count: the doubles after the header.
     """
 
-    __slots__ = ('_frame_id', '_layout', '_frame')
+    __slots__ = ('_count', '_frame_id', '_layout', '_frame')
 
-    def __init__(self) -> None:
+    def __init__(self, count: int) -> None:
+        self._count = count
         self._frame_id: Optional[str] = None
         self._layout = struct.Struct('<')
         self._frame = b''
 
-    def __call__(self, stamp_ns: int, frame_id: str, point: Vector) -> bytes:
+    def __call__(self, stamp_ns: int, frame_id: str, values: Sequence[float]) -> bytes:
         """
-        Return ``point`` (m) in ``frame_id`` stamped at ``stamp_ns`` (ns) as CDR bytes.
+        Return ``values`` in ``frame_id`` stamped at ``stamp_ns`` (ns) as CDR bytes.
 
         Little-endian CDR (encapsulation ``CDR_LE``), as rmw_fastrtps serialises it: the stamp's
         ``int32`` seconds and ``uint32`` nanoseconds, the frame's length (with its NUL) and
-        UTF-8 bytes, padding to 8 bytes, then x, y, z as ``float64``.
+        UTF-8 bytes, padding to 8 bytes, then the values as ``float64``.
 
-        :raises struct.error: a stamp outside ``builtin_interfaces/Time``'s range.
+        :raises struct.error: a stamp outside ``builtin_interfaces/Time``'s range, or not
+            ``count`` values.
         """
         if frame_id != self._frame_id:
             frame = frame_id.encode() + b'\0'
             padding = -(12 + len(frame)) % 8  # the doubles align to 8 from the payload's start
-            self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x3d')
+            self._layout = struct.Struct(f'<4siII{len(frame)}s{padding}x{self._count}d')
             self._frame_id, self._frame = frame_id, frame
         sec, nanosec = divmod(stamp_ns, NS_PER_S)
-        return self._layout.pack(CDR_LE, sec, nanosec, len(self._frame), self._frame, *point)
+        return self._layout.pack(CDR_LE, sec, nanosec, len(self._frame), self._frame, *values)
 
 
 CDR_LE = bytes((0, 1, 0, 0))
@@ -291,7 +296,7 @@ rmw_fastrtps serialises them): published as they are, no message made or convert
 
 
 def _prediction(prediction: Prediction, frame_id: str, markers: ImpactMarkers) -> EventOutput:
-    # as a message (the node publishes PointStampedCdr's bytes of the same message)
+    # as a message (the node publishes StampedCdr's bytes of the same message)
     return EventOutput(messages=(('predicted_impact', point_stamped(
         prediction.stamp_ns, frame_id, prediction.point)),), predicting=True)
 

@@ -74,7 +74,7 @@ from .logger import DirectLogger
 from .markers import latest_scene, scene_cdr
 from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
-    format_stamp, impact_velocity, NS_PER_S, plan_arrays, PointStampedCdr, stamp_to_ns)
+    format_stamp, NS_PER_S, plan_arrays, stamp_to_ns, StampedCdr)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction, SPECS,
@@ -127,7 +127,8 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
-        self._point_cdr = PointStampedCdr()  # ~/impact's and ~/predicted_impact's CDR bytes
+        self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
+        self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
@@ -243,7 +244,8 @@ class ImpactNode(Node):
                         self._point_cdr(event.stamp_ns, where, event.point))
                     self._set_predicting(True)
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
-                    self._outputs['impact_velocity'].publish(impact_velocity(event, where))
+                    self._outputs['impact_velocity'].publish(self._twist_cdr(
+                        event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))
                     event = next(pending)
                 else:
                     self._publish(event_output(event, where, self._markers))

@@ -10,7 +10,7 @@ from baseball_collision.core.detector import (
 from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
     describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp, plan_arrays,
-    PointStampedCdr, stamp_to_ns)
+    stamp_to_ns, StampedCdr)
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path
 import pytest
@@ -60,6 +60,12 @@ def test_an_impact_becomes_its_point_velocity_markers_and_a_line() -> None:
         f'{impact.sweet_spot_speed_uncertainty_mps:.2f} m/s')
     on = event_output(impact, 'world', lambda i, frame: MarkerArray())
     assert [name for name, _ in on.messages] == ['impact', 'impact_velocity', 'markers']
+    # the node's bytes of both (StampedCdr): the same messages, as long as rclpy's own
+    for message, count, values in ((point, 3, impact.point), (twist, 6, (
+            *impact.bat_velocity, *impact.bat_angular_velocity))):
+        data = StampedCdr(count)(impact.stamp_ns, 'world', values)
+        assert deserialize_message(data, type(message)) == message
+        assert len(data) == len(serialize_message(message))
 
 
 def test_the_log_line_gives_the_records_spot_also_for_an_end_cap_hit() -> None:
@@ -94,7 +100,7 @@ def test_near_miss_prediction_gap_and_reset() -> None:
     assert stamp_to_ns(predicted.header.stamp) == prediction.stamp_ns
     assert predicted.header.frame_id == 'world'
     assert (predicted.point.x, predicted.point.y, predicted.point.z) == prediction.point
-    made_once = PointStampedCdr()  # the node's: the message's CDR bytes
+    made_once = StampedCdr(3)  # the node's: the message's CDR bytes
     predictions = [e for e in swing_events(horizon=0.3) if isinstance(e, Prediction)][-2:]
     assert len(predictions) == 2 and predictions[0].stamp_ns != predictions[1].stamp_ns
     for frame in ('world', '', 'camera_7', 'caméra'):  # lengths 6, 1, 9, 8 with the NUL
