@@ -106,16 +106,16 @@ TEXT = st.characters(blacklist_categories=('Cs',), blacklist_characters='\x00')
 @settings(max_examples=examples(40), deadline=None)
 @given(frame=st.text(TEXT, max_size=12), label=st.text(TEXT, max_size=20),
        stamp_ns=st.integers(0, 2 ** 31 * NS_PER_S - 1), lifetime_s=st.floats(0.0, 30.0),
-       delete_all=st.booleans(), live=st.booleans(), cut=st.integers(0, 12))
+       delete_all=st.booleans(), live=st.booleans(), cut=st.integers(0, 13))
 def test_a_scenes_cdr_bytes_are_the_messages(frame: str, label: str, stamp_ns: int,
                                              lifetime_s: float, delete_all: bool, live: bool,
                                              cut: int) -> None:
     """
     scene_cdr: the bytes rclpy serialises ``scene_markers``' array to, but for the padding.
 
-    Any frame, label text (UTF-8), stamp and lifetime; an impact's scene or a live one, all or
-    the first ``cut`` of its items (every marker starts at each alignment), DELETEALL or not:
-    deserialised, the same message as rclpy's own bytes give, and as long.
+    Any frame, label text (UTF-8), stamp and lifetime; an impact's scene or a live one, cut to
+    its first ``cut`` items (none to all: each marker starts at every alignment), DELETEALL or
+    not: deserialised, the same message as rclpy's own bytes give, and as long.
     """
     impact = next(e for e in swing_events() if isinstance(e, Impact))
     config = DetectorConfig()
@@ -123,7 +123,7 @@ def test_a_scenes_cdr_bytes_are_the_messages(frame: str, label: str, stamp_ns: i
                         config, lifetime_s) if live else
              impact_scene(impact, frame, config, lifetime_s))
     items = tuple(replace(item, text=label) if item.text else item for item in scene.items)
-    scene = replace(scene, stamp_ns=stamp_ns, items=items[:cut or None], delete_all=delete_all)
+    scene = replace(scene, stamp_ns=stamp_ns, items=items[:cut], delete_all=delete_all)
     packed, serialised = scene_cdr(scene), serialize_message(scene_markers(scene))
     assert len(packed) == len(serialised)
     assert deserialize_message(packed, MarkerArray) == deserialize_message(serialised,
