@@ -53,11 +53,15 @@ DEMO_PARAMS = 'config/impact_node.yaml'
 """The bundled parameter file the node and the offline analysis read."""
 
 NODE_OVERRIDES = ('use_sim_time:=true', 'qos:=reliable_all')
+"""``-p`` overrides given to the node on top of the parameter file (transport only)."""
 
 CATCH_UP_S = 5.0
 """After the replay, how long (s) the demo waits for the node's next impact before it sums up
 (a node on a loaded machine works through its queue long after the replay ended)."""
-"""``-p`` overrides given to the node on top of the parameter file (transport only)."""
+
+MATCH_SETTLE_S = 0.5
+"""How long (s) ``wait_for_node`` waits on once our side sees the node's topics matched, for the
+node's own side to match ours before the replay starts."""
 
 
 def bundled(relative: str) -> Path:
@@ -314,6 +318,11 @@ def wait_for_node(process: 'subprocess.Popen[bytes]', player: Any, topics: List[
     :param ready: e.g. whether our subscriptions matched the node's publishers.
     :param timeout_s: longest wait (s).
     :returns: None when ready, else what went wrong (one line).
+
+    Ready is what our side sees: DDS matches a publisher and a subscription on each side
+    apart, and a message the node publishes before its own side has matched ours is lost (the
+    outputs are volatile); so once ready, the wait goes on for ``MATCH_SETTLE_S`` and checks
+    again (a bag's first impact comes 30-60 ms into a replay at 4-8x).
     """
     deadline = time.monotonic() + timeout_s
     while True:
@@ -322,7 +331,9 @@ def wait_for_node(process: 'subprocess.Popen[bytes]', player: Any, topics: List[
         try:
             player.wait_for_subscribers(topics, 0.2)
             if ready():
-                return None
+                time.sleep(MATCH_SETTLE_S)
+                if ready() and process.poll() is None:
+                    return None
             time.sleep(0.05)
         except RosError:
             pass
