@@ -4,14 +4,14 @@ A node's log lines sent to rcutils without rclpy's per-call look-up of the calle
 rclpy's ``RcutilsLogger.log`` names the line's call site (function, file, line) for rcutils, the
 same as this does, but finds it with ``inspect.getframeinfo`` on each frame from its own up to
 the caller's, and that reads the source file's lines (``linecache``) every time: about 0.2 ms
-a line on an idle machine, 1 ms on a loaded one (``benchmarks/bench_logger.py`` prints both
-against each other), inside the executor callback that logs (a near miss's message, an impact's
-completion). :class:`DirectLogger` reads the caller's code object and line number from its frame
-(what rcutils is given; no file is opened) and hands the line to the same rcutils call rclpy
-makes, so the line's text, severity, logger name, call site, ``/rosout`` record and the
-``--log-level`` filter are those rclpy's own call gives. It keeps no rclpy filters (``once``,
-``skip_first``, ``throttle_duration_sec``): the node throttles before it makes a line
-(``inputs.Throttle``).
+a line on an idle machine (``benchmarks/bench_logger.py`` prints both against each other; about
+1 ms on a loaded one, ``inputs.Throttle``), inside the executor callback that logs (a near
+miss's message, an impact's completion). :class:`DirectLogger` reads the caller's code object
+and line number from its frame (what rcutils is given; no file is opened) and hands the line to
+the same rcutils call rclpy makes, so the line's text, severity, logger name, call site,
+``/rosout`` record and the ``--log-level`` filter are those rclpy's own call gives. It keeps no
+rclpy filters (``once``, ``skip_first``, ``throttle_duration_sec``): the node throttles before
+it makes a line (``inputs.Throttle``).
 
 rcutils' call is rclpy's extension's (``rclpy.impl.implementation_singleton``), as rclpy's logger
 makes it. Where an rclpy lacks it, :class:`DirectLogger` logs through rclpy's own logger instead.

@@ -10,7 +10,8 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 
 from dataclasses import dataclass
 import struct
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type
+from typing import (
+    Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type, Union)
 
 from builtin_interfaces.msg import Time as TimeMsg
 from geometry_msgs.msg import Point, PointStamped, TwistStamped, Vector3Stamped
@@ -211,8 +212,9 @@ class EventOutput:
     impact_ns: Optional[int] = None
 
 
-ImpactMarkers = Callable[[Impact, str], Optional[MarkerArray]]
-"""Makes the markers of an impact in a frame (None: markers off)."""
+ImpactMarkers = Callable[[Impact, str], Optional[Union[MarkerArray, bytes]]]
+"""Makes the markers of an impact in a frame (None: markers off): the array, or its CDR bytes
+(``markers.scene_cdr``, as the node's are); a publisher sends either."""
 
 
 def impact_velocity(impact: Impact, frame_id: str) -> TwistStamped:
