@@ -43,7 +43,7 @@ swing itself) is not bounded by it.
 
 import argparse
 import math
-from typing import Dict, List, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.accuracy import run_samples
@@ -140,13 +140,15 @@ def fitted_speeds(times: np.ndarray, knobs: np.ndarray, tips: np.ndarray, t: flo
 
 
 def noisy_floor(scenario, exact, t_index: int, noise_m: float, draws: int,
-                rng: np.random.Generator) -> Tuple[np.ndarray, Dict[Tuple[int, int], np.ndarray]]:
+                rng: np.random.Generator
+                ) -> Optional[Tuple[np.ndarray, Dict[Tuple[int, int], np.ndarray]]]:
     """
     Return a contact's oracle errors and each fixed rule's (relative, one per scored draw).
 
     :param exact: the scenario's exact samples (the noisy ones' stamps); ``t_index``: how many
         bat frames come before the contact; ``noise_m``: m per coordinate.
-    :returns: (the oracle's errors, {(degree, span in ms): the rule's errors}).
+    :returns: (the oracle's errors, {(degree, span in ms): the rule's errors}), or None with
+        fewer than three frames before the contact.
     """
     t = scenario.truth.time_s
     times = (exact.bat_stamps_ns[:t_index] - exact.start_ns) * 1e-9
@@ -175,6 +177,8 @@ def noisy_floor(scenario, exact, t_index: int, noise_m: float, draws: int,
                 rules[degree, span] = error(degree, frames)[1]
         for frames in range(degree + 2, t_index + 1):
             error(degree, frames)
+    if not errors:  # (fewer than three frames before the contact)
+        return None
     best = min(errors.values(), key=lambda found: found[0])
     return best[1], rules
 
@@ -205,8 +209,11 @@ def noisy_rows(args: argparse.Namespace) -> None:
                     detector.append(result.sweet_spot_speed_error)
                 before = int(np.searchsorted(exact.bat_stamps_ns - exact.start_ns,
                                              scenario.truth.time_s * 1e9))
-                found, by_rule = noisy_floor(scenario, exact, before, noise, args.draws,
-                                             np.random.default_rng(1000 + i))
+                floor = noisy_floor(scenario, exact, before, noise, args.draws,
+                                    np.random.default_rng(1000 + i))
+                if floor is None:
+                    continue
+                found, by_rule = floor
                 oracle.append(found)
                 for rule, column in by_rule.items():
                     rules.setdefault(rule, []).append(column)
