@@ -98,6 +98,13 @@ def oracle_errors(scenario, stamps_s: np.ndarray, orders: Sequence[int]) -> List
     return errors
 
 
+def family_scenarios(family: str, args: argparse.Namespace) -> list:
+    """Return ``bench_accuracy.py``'s scenarios of a family: ``--per-kind`` of each kind."""
+    rng = np.random.default_rng(args.seed)
+    return [make_scenario(kind, rng, family=family, lead_s=0.15)
+            for kind in KINDS + CLOSE_KINDS for _ in range(args.per_kind)]
+
+
 def rotated(rotation: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """Return unit ``reference`` vectors (..., 3) turned by rotation vectors (..., 3)."""
     angle = np.linalg.norm(rotation, axis=-1, keepdims=True)
@@ -193,9 +200,7 @@ def noisy_rows(args: argparse.Namespace) -> None:
           'degree and window) | best fixed rule (degree, span) |')
     print('|---|---|---|---|---|')
     for family in args.families:
-        rng = np.random.default_rng(args.seed)
-        scenarios = [make_scenario(kind, rng, family=family, lead_s=0.15)
-                     for kind in KINDS + CLOSE_KINDS for _ in range(args.per_kind)]
+        scenarios = family_scenarios(family, args)
         for rate in args.rates:
             detector, oracle, rules = [], [], {}
             for i, scenario in enumerate(scenarios):
@@ -250,9 +255,7 @@ def main() -> None:
           + ' | '.join(f'oracle, order {k}' for k in args.orders) + ' |')
     print('|---|---|---|' + '---|' * len(args.orders))
     for family in args.families:
-        rng = np.random.default_rng(args.seed)
-        scenarios = [make_scenario(kind, rng, family=family, lead_s=0.15)
-                     for kind in KINDS + CLOSE_KINDS for _ in range(args.per_kind)]
+        scenarios = family_scenarios(family, args)
         for rate in args.rates:
             detector, oracle = [], []
             for i, scenario in enumerate(scenarios):
