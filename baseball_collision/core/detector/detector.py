@@ -306,18 +306,15 @@ class Detector:
         stats = self.stats  # inline, not a method: this runs for every sample offered
         if stats.late_drops:
             stats.late_drops = []
-        try:
+        try:  # the values only: an error past the checks is the detector's own, raised
             stamp = int(stamp_ns)
-            if stamp <= 0:
-                reason = DropReason.BAD_STAMP
-            else:
-                clean = check(role, value)
-                reason = clean if clean.__class__ is DropReason else self._intake.offer(
-                    Offer(role, stamp, clean, frame_id if frame_id is not None else ''), events)
+            clean = DropReason.BAD_STAMP if stamp <= 0 else check(role, value)
         except (TypeError, ValueError) as error:
             if isinstance(error, CoreError):
                 raise
-            reason = DropReason.NON_FINITE  # not numbers at all
+            clean = DropReason.NON_FINITE  # not numbers at all
+        reason = clean if clean.__class__ is DropReason else self._intake.offer(
+            Offer(role, stamp, clean, frame_id if frame_id is not None else ''), events)
         elapsed = time.perf_counter() - start
         stats.received[role] += 1
         stats.last_drop_reason = reason

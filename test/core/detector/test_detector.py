@@ -214,6 +214,26 @@ def test_garbage_values_do_not_crash() -> None:
     assert detector.stats.dropped['non_finite'] == 3
 
 
+@pytest.mark.parametrize('error', [np.linalg.LinAlgError, TypeError])
+def test_an_error_past_the_value_checks_is_raised_not_counted_as_a_drop(
+        error: type, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A failure inside the detection (a fit's linear algebra, a bug) reaches the caller.
+
+    Only the sample's own values are judged ``non_finite`` when they are not numbers: an
+    error the pipeline raises past those checks is not the sample's fault, and dropping the
+    sample under that reason would lose the impact it completes without a word.
+    """
+    def fails(*args: object) -> None:
+        raise error('the fit failed')
+
+    monkeypatch.setattr(sweep_module, 'c2_velocities', fails)
+    detector = Detector(DetectorConfig(model='c2', bat_input='pose'))
+    with pytest.raises(error, match='the fit failed'):
+        feed(detector, pitch(), bat_as='pose')
+    assert detector.stats.dropped['non_finite'] == 0
+
+
 def test_time_jump_backwards_resets_and_detects_again(truth_s: float) -> None:
     """A bag that restarts: the jump back resets the state, and the replayed hit is found."""
     detector = Detector(DetectorConfig(bat_input='points', time_jump_reset=0.1))
