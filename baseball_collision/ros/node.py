@@ -50,6 +50,7 @@ import math
 import sys
 import threading
 import time
+import traceback
 from typing import Any, Callable, Deque, Dict, List, Optional, Tuple, Union
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -77,8 +78,8 @@ from .messages import (
     format_stamp, NS_PER_S, plan_arrays, stamp_to_ns, StampedCdr)
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
-    Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction, SPECS,
-    StateReset)
+    Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction,
+    ResetReason, SPECS, StateReset)
 from ..core.geometry import Vector
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
@@ -137,6 +138,7 @@ class ImpactNode(Node):
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
+        self._detector_errors = 0  # the detector's own failures (``_detector_failed``)
         self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
         try:
             self._start()
@@ -228,7 +230,12 @@ class ImpactNode(Node):
             self._frame = frame  # (``_on_contact``'s, inside the add below)
             self.tally.arrived(stream, time.monotonic())
             self.tally.stamped(stream, stamp, sequence, sent)
-            events = add_sample(stamp, *values, frame)
+            try:
+                events = add_sample(stamp, *values, frame)
+            except Exception as error:  # the detector's own failure (a bug): not the node's end
+                self._detector_failed(stream, stamp, error)
+                self._record_processing(time.perf_counter() - start)
+                return
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
             expected = self.detector.frame_id
@@ -258,6 +265,31 @@ class ImpactNode(Node):
             warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
                  expected, each.stamp_ns, stats.dropped[each.reason])
         self._record_processing(time.perf_counter() - start)
+
+    def _detector_failed(self, stream: str, stamp_ns: int, error: Exception) -> None:
+        """
+        Go on after the detector raised while it took a sample: reset its state, log the error.
+
+        The state a half-done update left is dropped (``ResetReason.DETECTOR_ERROR``, a reset
+        ``/diagnostics`` counts), ``~/impact_predicted`` turns false and the markers are cleared,
+        as on ``~/reset``; the sample and the pitch it was in are lost. The first failure is
+        logged at ERROR with its traceback, later ones at most once per throttle period. (Called
+        under the node's lock; ``analyze`` stops on the same error instead.)
+        """
+        frame = self.detector.frame_id or ''
+        reset = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns,
+                                    ResetReason.DETECTOR_ERROR)
+        self._set_predicting(False)
+        self._clear_markers(reset.stamp_ns, frame)
+        first = not self._detector_errors
+        self._detector_errors += 1
+        allowed = self._log_throttle.allows('detector_error')  # (the first starts the period)
+        if first or allowed:
+            trace = ''.join(traceback.format_exception(error)) if first else ''
+            self._lines.error(
+                f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} s '
+                f'({type(error).__name__}: {error}); its state was reset and the node goes on '
+                f'({self._detector_errors} failure(s) so far)' + (f'\n{trace}' if trace else ''))
 
     def _on_contact(self, stamp_ns: int, point: Vector) -> None:
         """

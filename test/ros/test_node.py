@@ -22,6 +22,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DROP_REASONS, PARAMETERS, PendingUncertainty
+from baseball_collision.core.detector import sweep as sweep_module
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
@@ -310,6 +311,51 @@ def test_reset_service_clears_the_state(harness: Callable[..., Harness], truth_n
     h.processed(publish_swing(h, 'pose', pitch(), samples=range(10, SAMPLES)) + 20)
     h.wait(lambda: h.received['impact'], 2.0, 'the impact after the reset')
     assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 100_000
+    h.diagnostics_where(lambda v: v['resets'] == '1')
+
+
+def test_a_detector_failure_resets_the_state_logs_an_error_and_the_node_goes_on(
+        harness: Callable[..., Harness], truth_ns: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    The detector raising while it takes a sample (a bug) neither stops the node nor is hidden.
+
+    The velocities of the first hit fail: its state is reset (a reset /diagnostics counts), an
+    ERROR line with the traceback reaches /rosout, and the same swing a second later is found.
+    """
+    failures: List[int] = []
+    fit = sweep_module.c2_velocities
+
+    def fails_once(*args: Any) -> Any:
+        if not failures:
+            failures.append(1)
+            raise ZeroDivisionError('a fit divided by zero')
+        return fit(*args)
+
+    monkeypatch.setattr(sweep_module, 'c2_velocities', fails_once)
+    h = swing_harness(harness, 'pose')
+    h.received['rosout'] = []
+    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
+        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    sent = publish_swing(h, 'pose', pitch())
+    h.processed(sent)
+
+    def errors() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.name == 'impact_node'
+                and record.level == LogMsg.ERROR and 'the detector failed' in record.msg]
+    h.wait(lambda: errors(), 5.0, "the failure's ERROR line on /rosout")
+    record, = errors()
+    assert 'ZeroDivisionError: a fit divided by zero' in record.msg
+    assert 'Traceback' in record.msg and 'fails_once' in record.msg
+    assert failures and h.node.detector.stats.resets == 1 and not h.received['velocity']
+    later = 10**9  # the same swing a second later
+    for i in range(SAMPLES):
+        position, quaternion = pose(i / RATE_HZ)
+        h.publishers['ball'].publish(point_msg(sample_ns(i) + later, pitch()(i / RATE_HZ)))
+        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i) + later, position, quaternion))
+    h.processed(sent + 2 * SAMPLES)
+    h.wait(lambda: h.received['velocity'], 5.0, 'the impact of the swing sent again')
+    assert abs(stamp_ns(h.received['velocity'][0]) - later - truth_ns) < 100_000
     h.diagnostics_where(lambda v: v['resets'] == '1')
 
 

@@ -68,6 +68,9 @@ class ResetReason(enum.StrEnum):
     FRAME_CHANGED = 'frame_changed'
     """The input streams agreed on another frame than the first one seen (a stray): what the
     stray frame's samples built is dropped."""
+    DETECTOR_ERROR = 'detector_error'
+    """The detector raised while it took a sample (a bug): the node dropped the state to go on
+    (``impact_node`` only; ``analyze`` stops on it)."""
 
 
 @dataclass(frozen=True)
