@@ -138,7 +138,7 @@ class ImpactNode(Node):
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
-        self._detector_errors = 0  # the detector's own failures (``_detector_failed``)
+        self._failures = 0  # the package's own failures the node went on after (``_failed``)
         self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
         try:
             self._start()
@@ -272,24 +272,32 @@ class ImpactNode(Node):
 
         The state a half-done update left is dropped (``ResetReason.DETECTOR_ERROR``, a reset
         ``/diagnostics`` counts), ``~/impact_predicted`` turns false and the markers are cleared,
-        as on ``~/reset``; the sample and the pitch it was in are lost. The first failure is
-        logged at ERROR with its traceback, later ones at most once per throttle period. (Called
-        under the node's lock; ``analyze`` stops on the same error instead.)
+        as on ``~/reset``; the sample and the pitch it was in are lost. (Called under the node's
+        lock; ``analyze`` stops on the same error instead.)
         """
         frame = self.detector.frame_id or ''
         reset = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns,
                                     ResetReason.DETECTOR_ERROR)
         self._set_predicting(False)
         self._clear_markers(reset.stamp_ns, frame)
-        first = not self._detector_errors
-        self._detector_errors += 1
-        allowed = self._log_throttle.allows('detector_error')  # (the first starts the period)
+        self._failed(f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} '
+                     's', 'its state was reset', error)
+
+    def _failed(self, what: str, then: str, error: Exception) -> None:
+        """
+        Log the package's own failure (a bug) at ERROR, which the node survives.
+
+        The first with its traceback, later ones at most once per throttle period, each with
+        the count so far.
+        """
+        first = not self._failures
+        self._failures += 1
+        allowed = self._log_throttle.allows('failure')  # (the first starts the period)
         if first or allowed:
             trace = ''.join(traceback.format_exception(error)) if first else ''
-            self._lines.error(
-                f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} s '
-                f'({type(error).__name__}: {error}); its state was reset and the node goes on '
-                f'({self._detector_errors} failure(s) so far)' + (f'\n{trace}' if trace else ''))
+            self._lines.error(f'{what} ({type(error).__name__}: {error}); {then} and the node '
+                              f'goes on ({self._failures} failure(s) so far)'
+                              + (f'\n{trace}' if trace else ''))
 
     def _on_contact(self, stamp_ns: int, point: Vector) -> None:
         """
@@ -328,7 +336,13 @@ class ImpactNode(Node):
         while queued:
             event, frame, config = queued.popleft()
             if event.__class__ is PendingUncertainty:
-                event = self._measured(event, frame)
+                try:
+                    event = self._measured(event, frame)
+                except Exception as error:  # the error bars' own failure (a bug)
+                    self._failed(f'the error bars of the impact at '
+                                 f'{format_stamp(event.impact.stamp_ns)} s failed',
+                                 'its line, markers and report are left out', error)
+                    continue
             if subscribed:
                 publisher.publish(event_report(event, frame, config))
 
