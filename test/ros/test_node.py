@@ -90,6 +90,14 @@ def publish_swing(h: Harness, bat_input: str, ball: Callable[[float], np.ndarray
     return sent
 
 
+def listen_to_rosout(h: Harness) -> None:
+    """Collect every /rosout record (including those sent before) in ``h.received['rosout']``."""
+    h.received['rosout'] = []
+    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
+        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+
+
 def swing_harness(make: Callable[..., Harness], bat_input: str,
                   overrides: Optional[Dict[str, Any]] = None) -> Harness:
     """Return a started harness with the ball and the bat publishers of ``bat_input``."""
@@ -200,10 +208,7 @@ def test_log_lines_reach_rosout_naming_their_call_site(
         call: str) -> None:
     """A near miss's line and an impact's on /rosout: INFO, the node's name, where logged."""
     h = swing_harness(harness, 'pose')
-    h.received['rosout'] = []
-    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
-        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    listen_to_rosout(h)
     h.processed(publish_swing(h, 'pose', pitch() if height is None else pitch(height=height)))
 
     def lines() -> List[LogMsg]:
@@ -337,10 +342,7 @@ def test_a_detector_failure_resets_the_state_logs_an_error_and_the_node_goes_on(
 
     monkeypatch.setattr(sweep_module, 'c2_velocities', fails_once)
     h = swing_harness(harness, 'pose')
-    h.received['rosout'] = []
-    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
-        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    listen_to_rosout(h)
     sent = publish_swing(h, 'pose', pitch())
     h.processed(sent)
 
@@ -377,10 +379,7 @@ def test_an_impacts_error_bars_failing_leave_its_completion_out_and_the_node_goe
 
     monkeypatch.setattr(PendingUncertainty, 'measure', fails_once)
     h = swing_harness(harness, 'pose')
-    h.received['rosout'] = []
-    h.probe.create_subscription(LogMsg, '/rosout', h._collector('rosout'), QoSProfile(
-        depth=1000, reliability=ReliabilityPolicy.RELIABLE,
-        durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    listen_to_rosout(h)
 
     def impact_records() -> List[Dict[str, Any]]:
         return [record for record in (json.loads(m.data) for m in h.received['report'])
