@@ -275,11 +275,7 @@ class ImpactNode(Node):
         as on ``~/reset``; the sample and the pitch it was in are lost. (Called under the node's
         lock; ``analyze`` stops on the same error instead.)
         """
-        frame = self.detector.frame_id or ''
-        reset = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns,
-                                    ResetReason.DETECTOR_ERROR)
-        self._set_predicting(False)
-        self._clear_markers(reset.stamp_ns, frame)
+        self._reset_locked(ResetReason.DETECTOR_ERROR, stamp_ns)
         self._failed(f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} '
                      's', 'its state was reset', error)
 
@@ -430,11 +426,19 @@ class ImpactNode(Node):
     def _reset(self, reason: str) -> Tuple[int, int]:
         """Clear the detector state and the live values; return its stamp (ns) and resets."""
         with self._lock:
-            frame = self.detector.frame_id or ''
-            event = self.detector.reset(self.detector.stats.newest_stamp_ns or 0, reason)
-            self._set_predicting(False)
-            self._clear_markers(event.stamp_ns, frame)
-            return event.stamp_ns, self.detector.stats.resets
+            return self._reset_locked(reason)
+
+    def _reset_locked(self, reason: str, stamp_ns: int = 0) -> Tuple[int, int]:
+        """
+        ``_reset`` with the node's lock held by the caller.
+
+        :param stamp_ns: the reset's stamp (ns) before any sample was taken.
+        """
+        frame = self.detector.frame_id or ''
+        event = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns, reason)
+        self._set_predicting(False)
+        self._clear_markers(event.stamp_ns, frame)
+        return event.stamp_ns, self.detector.stats.resets
 
     def _clear_markers(self, stamp_ns: int, frame: str) -> None:
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
