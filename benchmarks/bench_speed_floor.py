@@ -121,6 +121,29 @@ def charted(direction: np.ndarray, reference: np.ndarray) -> np.ndarray:
     return across / np.where(sine > 0.0, sine, 1.0) * angle
 
 
+def fit_rows(times: np.ndarray, t: float, span: float, degree: int) -> np.ndarray:
+    """
+    Return a least-squares polynomial's coefficients from its samples: (degree + 1, frames).
+
+    The polynomial is in (time - t) / span (s / s), so row k times a frame's values is the
+    k-th derivative at t times span^k / k!.
+    """
+    return np.linalg.pinv(np.vander((times - t) / span, degree + 1, increasing=True))
+
+
+def bat_chart(knobs: np.ndarray, tips: np.ndarray) -> Tuple[np.ndarray, ...]:
+    """
+    Return the bat's rigid chart of (draws, frames, 3) knob and tip positions (m).
+
+    :returns: (lengths (draws, frames, 1) m, the last frame's direction (draws, 1, 3), each
+        frame's rotation vector from it (draws, frames, 3) rad: ``c2``'s coordinates).
+    """
+    lengths = np.linalg.norm(tips - knobs, axis=-1, keepdims=True)
+    directions = (tips - knobs) / lengths
+    reference = directions[:, -1:, :]
+    return lengths, reference, charted(directions, reference)
+
+
 def fitted_speeds(times: np.ndarray, knobs: np.ndarray, tips: np.ndarray, t: float,
                   degree: int, sweet_fraction: float) -> np.ndarray:
     """
@@ -131,12 +154,9 @@ def fitted_speeds(times: np.ndarray, knobs: np.ndarray, tips: np.ndarray, t: flo
         ``sweet_fraction``: the sweet spot's place from knob (0) to tip (1).
     """
     span = t - times[0]
-    solve = np.linalg.pinv(np.vander((times - t) / span, degree + 1, increasing=True))
-    axes = tips - knobs
-    lengths = np.linalg.norm(axes, axis=-1, keepdims=True)
-    directions = axes / lengths
-    reference = directions[:, -1:, :]
-    turns = np.einsum('kw,mwc->mkc', solve, charted(directions, reference))
+    solve = fit_rows(times, t, span, degree)
+    lengths, reference, chart = bat_chart(knobs, tips)
+    turns = np.einsum('kw,mwc->mkc', solve, chart)
     knob_velocity = np.einsum('w,mwc->mc', solve[1], knobs) / span
     around = np.vander(np.array([-_STEP_S, _STEP_S]) / span, degree + 1, increasing=True)
     ends = rotated(np.einsum('sk,mkc->msc', around, turns),

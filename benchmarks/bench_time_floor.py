@@ -37,7 +37,7 @@ from typing import Dict, List, Tuple
 from baseball_collision.core.detector import DetectorConfig
 from baseball_collision.tools.accuracy import run_samples
 from baseball_collision.tools.sim import FAMILIES, sample
-from bench_speed_floor import charted, family_scenarios, rotated
+from bench_speed_floor import bat_chart, family_scenarios, fit_rows, rotated
 import numpy as np
 
 DETECTORS = {
@@ -60,8 +60,7 @@ Fits = Dict[Tuple[int, int, int], np.ndarray]
 
 def weights_at(times: np.ndarray, t: float, degree: int) -> np.ndarray:
     """Return the weights that give a least-squares polynomial's value at t from its samples."""
-    span = max(abs(times[0] - t), abs(times[-1] - t), 1e-9)
-    return np.linalg.pinv(np.vander((times - t) / span, degree + 1, increasing=True))[0]
+    return fit_rows(times, t, max(abs(times[0] - t), abs(times[-1] - t), 1e-9), degree)[0]
 
 
 def axis_points(times: np.ndarray, knobs: np.ndarray, tips: np.ndarray, t: float, degree: int,
@@ -73,13 +72,10 @@ def axis_points(times: np.ndarray, knobs: np.ndarray, tips: np.ndarray, t: float
     the window's last direction onto each; ``knobs``, ``tips``: (draws, frames, 3).
     """
     weights = weights_at(times, t, degree)
-    axes = tips - knobs
-    lengths = np.linalg.norm(axes, axis=-1, keepdims=True)
-    directions = axes / lengths
-    reference = directions[:, -1, :]
-    turn = np.einsum('w,mwc->mc', weights, charted(directions, reference[:, None, :]))
+    lengths, reference, chart = bat_chart(knobs, tips)
+    turn = np.einsum('w,mwc->mc', weights, chart)
     knob = np.einsum('w,mwc->mc', weights, knobs)
-    return knob + rotated(turn, reference) * lengths.mean(axis=1) * fraction
+    return knob + rotated(turn, reference[:, 0, :]) * lengths.mean(axis=1) * fraction
 
 
 def normal_errors(times: np.ndarray, t: float, truth: np.ndarray, normal: np.ndarray,
