@@ -32,6 +32,10 @@ events come back out as messages:
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
 * ``~/reset`` (std_srvs/Trigger): clears the detector state.
 
+Every callback survives the package's own failure (a bug): an ERROR with the traceback (the
+first; later ones throttled), ``internal_errors`` in ``/diagnostics``, and the failed call's work
+skipped; a failure inside the detector also resets its state (``detector_error``).
+
 Inputs are subscribed with ``qos``/``qos_depth`` (``reliable_all``: keep all), which the standard
 ``qos_overrides./TOPIC.subscription.{reliability,history,depth}`` parameters override.
 
@@ -138,7 +142,6 @@ class ImpactNode(Node):
         self._clock_jump_at = -math.inf
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
-        self._failures = 0  # the package's own failures the node went on after (``_failed``)
         self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
         try:
             self._start()
@@ -160,11 +163,13 @@ class ImpactNode(Node):
         self._subscribe_inputs()
         self.create_service(Trigger, '~/reset', self._on_reset)
         steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self.create_timer(self.settings['diagnostics_period'], self._publish_diagnostics,
+        self.create_timer(self.settings['diagnostics_period'],
+                          self._guarded(self._publish_diagnostics, 'publishing /diagnostics'),
                           clock=steady)
         if self.settings['marker_rate'] > 0.0:
-            self.create_timer(1.0 / self.settings['marker_rate'], self._publish_live_markers,
-                              clock=steady)
+            self.create_timer(1.0 / self.settings['marker_rate'],
+                              self._guarded(self._publish_live_markers,
+                                            'publishing the live markers'), clock=steady)
         self._register_clock_jump()
         self.get_logger().info(describe_listening(
             self.settings.values, self.endpoints.topics,
@@ -180,15 +185,17 @@ class ImpactNode(Node):
         self._streams = tuple(each.stream for each in chosen)
         self._intake = Intake()
         for each in chosen:  # a profile each: overrides change it
-            callback = input_callback(self._take, each, self.detector)
+            callback = self._guarded(input_callback(self._take, each, self.detector),
+                                     f'taking a message on the {each.stream} input')
             subscription = self.endpoints.subscribe(
                 each.stream, each.msg_type, s[each.topic_parameter],
                 self._then_reports(self._intake.wrap(callback)),
                 input_qos(s['qos'], s['qos_depth']))
             self._intake.attach(subscription, callback)
         if s['bat_plan_topic']:
-            self._plan_sub = self.create_subscription(Path, s['bat_plan_topic'], self._on_plan,
-                                                      _VIEWS)
+            self._plan_sub = self.create_subscription(
+                Path, s['bat_plan_topic'], self._guarded(self._on_plan, 'taking a bat plan'),
+                _VIEWS)
 
     # ---- input ---------------------------------------------------------------------------
 
@@ -284,16 +291,33 @@ class ImpactNode(Node):
         Log the package's own failure (a bug) at ERROR, which the node survives.
 
         The first with its traceback, later ones at most once per throttle period, each with
-        the count so far.
+        the count so far; ``/diagnostics`` counts them (``internal_errors``, ERROR in a period
+        with one).
         """
-        first = not self._failures
-        self._failures += 1
+        self.tally.failures += 1
+        failures = self.tally.failures
         allowed = self._log_throttle.allows('failure')  # (the first starts the period)
-        if first or allowed:
-            trace = ''.join(traceback.format_exception(error)) if first else ''
+        if failures == 1 or allowed:
+            trace = ''.join(traceback.format_exception(error)) if failures == 1 else ''
             self._lines.error(f'{what} ({type(error).__name__}: {error}); {then} and the node '
-                              f'goes on ({self._failures} failure(s) so far)'
+                              f'goes on ({failures} failure(s) so far)'
                               + (f'\n{trace}' if trace else ''))
+
+    def _guarded(self, callback: Callable[..., None], what: str) -> Callable[..., None]:
+        """
+        Return ``callback`` made to survive its own failure (a bug), logged by ``_failed``.
+
+        For the executor's callbacks (an input's message, the timers, the bat plan, the clock
+        jump): an exception out of one would end ``rclpy.spin`` and the node. What the failed
+        call would have done is skipped (a message's outputs, one diagnostics status, ...); a
+        failure inside the detector's own call also resets its state (``_detector_failed``).
+        """
+        def guarded(*args: Any) -> None:
+            try:
+                callback(*args)
+            except Exception as error:  # the package's own failure: not the node's end
+                self._failed(f'{what} failed', 'it was skipped', error)
+        return guarded
 
     def _on_contact(self, stamp_ns: int, point: Vector) -> None:
         """
@@ -308,9 +332,11 @@ class ImpactNode(Node):
 
     def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
         """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
+        complete = self._guarded(self._complete_events, "completing the impacts' reports")
+
         def handled(message: Any, info: Any) -> None:
             on_message(message, info)
-            self._complete_events()
+            complete()
         return handled
 
     def _complete_events(self) -> None:
@@ -415,8 +441,14 @@ class ImpactNode(Node):
     # ---- services and clock --------------------------------------------------------------
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
-        """Serve ~/reset: clear the detector state (counters are kept); always succeeds."""
-        stamp_ns, resets = self._reset('requested')
+        """Serve ~/reset: clear the detector state (counters are kept); fails only on a bug."""
+        try:
+            stamp_ns, resets = self._reset('requested')
+        except Exception as error:  # the package's own failure: the caller is told
+            self._failed('the reset requested on ~/reset failed', 'it was refused', error)
+            response.success = False
+            response.message = f'the reset failed: {type(error).__name__}: {error} (see the log)'
+            return response
         response.success = True
         response.message = (f'detector state cleared at {format_stamp(stamp_ns)} s (buffers, '
                             f'armed state, open near miss; counters kept; {resets} resets so far)')
@@ -456,7 +488,7 @@ class ImpactNode(Node):
         self._jump_handle = self.get_clock().create_jump_callback(
             JumpThreshold(min_forward=None, min_backward=Duration(nanoseconds=-backwards),
                           on_clock_change=True),
-            post_callback=self._on_clock_jump)
+            post_callback=self._guarded(self._on_clock_jump, "handling the clock's jump"))
 
     def _on_clock_jump(self, jump: TimeJump) -> None:
         """Reset the detector, with one warning, when the ROS clock jumps back."""

@@ -26,6 +26,8 @@ from baseball_collision.core.detector import sweep as sweep_module
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
+from baseball_collision.ros import node as node_module
+from baseball_collision.ros.inputs import Throttle
 from baseball_collision.ros.node import freeze_start_up, ImpactNode
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseStamped
@@ -397,6 +399,80 @@ def test_an_impacts_error_bars_failing_leave_its_completion_out_and_the_node_goe
     record, = impact_records()
     assert abs(record['stamp_ns'] - 10**9 - truth_ns) < 100_000
     assert record['time_uncertainty_s'] > 0.0
+
+
+def test_every_callback_survives_its_own_failure_counted_in_diagnostics(
+        harness: Callable[..., Harness], truth_ns: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A bug raising in any executor callback (not the detector's call) is an ERROR, not the end.
+
+    In turn: an input message (before the detector), the bat plan, ``~/reset`` (which answers
+    ``success: false``), the clock's jump back and the diagnostics timer each raise once; each
+    logs its ERROR, ``/diagnostics`` counts five ``internal_errors`` at ERROR level, and the
+    swing after them all is found.
+    """
+    h = harness({'bat_input': 'pose', 'use_sim_time': True, 'time_jump_reset': 0.5,
+                 'bat_plan_topic': 'bat_plan'})
+    for msg_type, topic in ((PointStamped, 'ball'), (PoseStamped, 'bat_pose'),
+                            (PathMsg, 'bat_plan')):
+        h.publisher(msg_type, topic)
+    h.start()
+    node = h.node
+    node._log_throttle = Throttle(0.0)  # every failure's line, not one per 2 s
+    listen_to_rosout(h)
+
+    def errors(what: str) -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.level == LogMsg.ERROR
+                and record.msg.startswith(what)]
+
+    def once(owner: Any, name: str, error: Exception) -> None:
+        original = getattr(owner, name)
+
+        def fails(*args: Any, **kwargs: Any) -> Any:
+            monkeypatch.setattr(owner, name, original)
+            raise error
+        monkeypatch.setattr(owner, name, fails)
+
+    once(node.tally, 'stamped', KeyError('a stream never seen'))
+    h.processed(publish_swing(h, 'pose', pitch(2.0), samples=range(1)))
+    h.wait(lambda: errors('taking a message on the ball input failed'), 5.0, "the input's ERROR")
+    first, = errors('taking a message on the ball input failed')
+    assert "KeyError: 'a stream never seen'" in first.msg and 'Traceback' in first.msg
+
+    once(node_module, 'plan_arrays', IndexError('a pose out of range'))
+    plan = PathMsg()
+    plan.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3)) for i in range(5)]
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: errors('taking a bat plan failed'), 5.0, "the plan's ERROR")
+    assert 'IndexError: a pose out of range' in errors('taking a bat plan failed')[0].msg
+    assert 'Traceback' not in errors('taking a bat plan failed')[0].msg  # the first's only
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: node.detector._predictor.plan is not None, 5.0, 'the next plan taken')
+
+    once(node, '_reset', RuntimeError('a lock lost'))
+    refused = h.call(Trigger, '/impact_node/reset', Trigger.Request())
+    assert not refused.success and 'RuntimeError: a lock lost' in refused.message
+    assert errors('the reset requested on ~/reset failed')
+    assert h.call(Trigger, '/impact_node/reset', Trigger.Request()).success
+
+    clock = h.probe.create_publisher(ClockMsg, '/clock', RELIABLE)
+    h.wait(lambda: clock.get_subscription_count() > 0, 5.0, '/clock matched')
+    clock.publish(ClockMsg(clock=stamp(100 * 10**9)))
+    h.wait(lambda: node.get_clock().now().nanoseconds == 100 * 10**9, 3.0, 'sim time')
+    once(node, '_reset', ZeroDivisionError('a jump of zero'))
+    clock.publish(ClockMsg(clock=stamp(50 * 10**9)))
+    h.wait(lambda: errors("handling the clock's jump failed"), 5.0, "the jump's ERROR")
+
+    once(node_module, 'report', TypeError('a key without a value'))
+    h.wait(lambda: errors('publishing /diagnostics failed'), 5.0, "the diagnostics' ERROR")
+    status = h.diagnostics_where(lambda v: v['internal_errors'] == '5')
+    assert status.level == DiagnosticStatus.ERROR and '1 internal error(s)' in status.message
+
+    h.received['impact'].clear()
+    h.processed(publish_swing(h, 'pose', pitch(), later_ns=10**9), timeout=10.0)
+    h.wait(lambda: h.received['impact'], 5.0, 'the impact after the failures')
+    assert abs(stamp_ns(h.received['impact'][0]) - 10**9 - truth_ns) < 100_000
+    assert node.tally.failures == 5
 
 
 def test_ros_clock_jump_back_resets_with_a_warning(harness: Callable[..., Harness]) -> None:

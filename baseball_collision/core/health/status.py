@@ -79,7 +79,8 @@ class Snapshot:
     :ivar started, arrivals, last_arrival: as in :class:`Tally`.
     :ivar period: the period ending now.
     :ivar dropped: samples dropped by reason since start-up.
-    :ivar counts: ``impacts``, ``near_misses``, ``gaps``, ``resets`` since start-up.
+    :ivar counts: ``impacts``, ``near_misses``, ``gaps``, ``resets``, ``internal_errors`` (the
+        node's own failures, ``Tally.failures``) since start-up.
     :ivar detector_mean_s, detector_max_s: the detector's wall time per call since start-up.
     :ivar watermark_ns: the detector's watermark (None before any data).
     :ivar last_impact_ns: the last impact's stamp (None before any).
@@ -124,7 +125,7 @@ def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mappi
         arrivals=Counter(tally.arrivals), last_arrival=dict(tally.last_arrival),
         period=tally.next_period(now, sum(dropped.values()), stats.resets), dropped=dropped,
         counts={'impacts': stats.impacts, 'near_misses': stats.near_misses, 'gaps': stats.gaps,
-                'resets': stats.resets},
+                'resets': stats.resets, 'internal_errors': tally.failures},
         detector_mean_s=stats.mean_processing_s, detector_max_s=stats.max_processing_s,
         watermark_ns=watermark_ns, last_impact_ns=tally.last_impact_ns,
         frame_id=frame_id or '', settings=settings, incompatible=tally.incompatible,
@@ -163,15 +164,16 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
 
     Level: OK; WARN when an input is stale, samples were dropped in the period, messages were
     estimated lost (gaps in an input's stamps), the state was reset in the period or a new QoS
-    or type incompatibility was seen; ERROR when every sample of the period was dropped or
-    the state was reset ``RESETS_ERROR`` times in it. Every input silent longer than
+    or type incompatibility was seen; ERROR when every sample of the period was dropped, the
+    state was reset ``RESETS_ERROR`` times in it or the node's own code failed in it (an
+    internal error: a bug, logged with its traceback). Every input silent longer than
     ``idle_timeout`` after data came is the state ``idle`` at OK (a session ended).
     Groups and keys: ``state`` (``state``: waiting for data, tracking, stale, idle;
     ``stale_topics``); ``inputs`` (per stream ``<stream>_topic``, ``<stream>_rate_hz``,
     ``<stream>_received``, ``<stream>_lost``: estimated; ``lost_in_period``); ``drops``
     (``dropped_<reason>`` for every reason in ``DROP_REASONS``, ``dropped_total``,
     ``dropped_in_period``); ``events`` (``impacts``, ``near_misses``, ``gaps``, ``resets``,
-    ``resets_in_period``); ``timing`` (``messages_in_period``,
+    ``internal_errors``, ``resets_in_period``); ``timing`` (``messages_in_period``,
     ``processing_mean_ms``, ``processing_max_ms``: whole callback, over the period;
     ``detector_mean_ms``, ``detector_max_ms``: since start); ``session``
     (``watermark_stamp``, ``last_impact_stamp``, ``frame_id``, ``model``, ``bat_input``,
@@ -208,8 +210,12 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
     if resets_now:
         level = max(level, Level.ERROR if resets_now >= RESETS_ERROR else Level.WARN)
         problems_seen.append(f'state reset {resets_now} time(s) (see the log)')
+    failures_now = snapshot.counts.get('internal_errors', 0) - period.failures
+    if failures_now:
+        level = Level.ERROR
+        problems_seen.append(f'{failures_now} internal error(s) (see the log)')
     if dropped_now:
-        level = Level.WARN
+        level = max(level, Level.WARN)
         problems_seen.append(f'dropped {dropped_now} of {received_now} samples')
         if dropped_now >= received_now:
             level = Level.ERROR

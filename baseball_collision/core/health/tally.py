@@ -22,6 +22,7 @@ class Period:
     :ivar dropped: samples dropped since start-up, when it started.
     :ivar count, total_s, max_s: message callbacks in the period and their wall times (s).
     :ivar resets: the detector's state resets since start-up, when it started.
+    :ivar failures: the node's own failures since start-up, when it started (``Tally``).
     :ivar lost: messages estimated lost per stream since start-up, when it started.
     """
 
@@ -30,6 +31,7 @@ class Period:
     dropped: int
     resets: int = 0
     lost: Counter = field(default_factory=Counter)
+    failures: int = 0
     count: int = 0
     total_s: float = 0.0
     max_s: float = 0.0
@@ -54,6 +56,8 @@ class Tally:
     :ivar incompatible: QoS or type incompatibilities seen; ``incompatible_reported``: as many
         as the last status reported.
     :ivar last_impact_ns: the stamp of the last impact published.
+    :ivar failures: the package's own failures (bugs: an exception out of its code) the node
+        logged and went on after since start-up.
     :ivar gaps: each stream's :class:`StampGaps` (messages estimated lost from the stamps of
         messages without a sequence number).
     :ivar publishers: each stream's :class:`PublisherGaps` (messages lost, from the
@@ -67,6 +71,7 @@ class Tally:
     incompatible: int = 0
     incompatible_reported: int = 0
     last_impact_ns: Optional[int] = None
+    failures: int = 0
     gaps: Dict[str, StampGaps] = field(default_factory=dict)
     publishers: Dict[str, PublisherGaps] = field(default_factory=dict)
 
@@ -115,5 +120,5 @@ class Tally:
         :param dropped: samples dropped since start-up, now; ``resets``: state resets.
         """
         ended, self.period = self.period, Period(now, Counter(self.arrivals), dropped, resets,
-                                                 self.lost())
+                                                 self.lost(), failures=self.failures)
         return ended

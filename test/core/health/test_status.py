@@ -1,10 +1,12 @@
 """The detector's status as plain data: level, message and grouped values, without ROS."""
 
 from collections import Counter
+from dataclasses import replace
 
 from baseball_collision.core.detector import DetectorStats, DROP_REASONS
 from baseball_collision.core.health import (
-    format_stamp, health_status, Level, RESETS_ERROR, silent_streams, take_snapshot, Tally)
+    format_stamp, health_status, HealthStatus, Level, RESETS_ERROR, silent_streams,
+    take_snapshot, Tally)
 
 SETTINGS = {'stale_timeout': 1.0, 'model': 'rigid', 'bat_input': 'pose', 'qos': 'reliable'}
 TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose'}
@@ -67,6 +69,33 @@ def test_losses_and_resets_in_a_period_raise_the_level() -> None:
                                              SETTINGS), {})
         assert status.level == level, resets
         assert dict(status.values())['resets_in_period'] == str(resets)
+
+
+def test_an_internal_error_in_a_period_is_an_error_that_drops_do_not_lower() -> None:
+    """
+    The node's own failure in a period: ERROR naming the count, the total in the values.
+
+    Some drops in the same period (a WARN alone) leave it ERROR, as they leave RESETS_ERROR
+    resets.
+    """
+    def status(failures_before: int, failures: int, resets_before: int,
+               stats: DetectorStats) -> HealthStatus:
+        tally = Tally(started=0.0, failures=failures_before)
+        tally.next_period(9.0, 0, resets_before)
+        tally = replace(_tally(10.0), period=tally.period, failures=failures)
+        return health_status(take_snapshot(10.0, 'n', ('ball', 'bat_pose'), TOPICS, tally,
+                                           stats, None, '', SETTINGS), {})
+
+    dropped = Counter(non_finite=4)
+    failed = status(2, 3, 0, DetectorStats(dropped=dropped))
+    assert failed.level == Level.ERROR
+    assert failed.message == \
+        'tracking; 1 internal error(s) (see the log); dropped 4 of 200 samples'
+    assert dict(failed.values())['internal_errors'] == '3'
+    calm = status(3, 3, 0, DetectorStats())
+    assert calm.level == Level.OK and dict(calm.values())['internal_errors'] == '3'
+    reset = status(0, 0, 5, DetectorStats(resets=5 + RESETS_ERROR, dropped=dropped))
+    assert reset.level == Level.ERROR and 'dropped 4 of 200 samples' in reset.message
 
 
 def test_an_ended_session_is_idle_not_stale() -> None:
