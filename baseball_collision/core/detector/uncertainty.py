@@ -100,13 +100,17 @@ from .sweep import Sweep
 from ..geometry import (
     add, advance, axis_angle_quaternions, cross, dot, norm, pose_point, quaternion_multiply,
     rigid_point_velocity, scale, sub, Vector)
-from ..motion import BatSample, samples_ahead, unit_axis
+from ..motion import BatSample, C2BatPath, samples_ahead, unit_axis
 
 PERTURBATIONS = 16
 """Re-solves per impact under perturbed samples (noise, models but ``c2``)."""
 
 ALTERNATIVE = {'c2': 'spline', 'spline': 'rigid', 'rigid': 'linear', 'linear': 'rigid'}
 """The model each model's noise-free error estimate is taken against."""
+
+SLOPE_STEP_S = 1e-4
+"""Half the central difference (s) that gives the sweet-spot speed's rate of change at an impact:
+the time's error moves the instant the speed is read at (``propagated``)."""
 
 MARGIN_SAMPLES = 3
 """Samples kept beyond the widest window either side of the re-solved intervals."""
@@ -324,9 +328,11 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     spread; it moves the gap along the contact normal (the time: that over the closing speed),
     the contact along the bat (the spot: plus the time's share of the sliding along it), and
     the sweet spot's velocity along itself (the speed; from the windows the velocities come
-    from: ``kinematics.velocity_interval``; where they are extrapolated over up to a step, the
-    larger of that and the extrapolation's own error estimate: the difference from the
-    interval's own fits, which reach its closing frame).
+    from: ``kinematics.velocity_interval``; in quadrature the time's share, its sigma times the
+    rate the speed changes at on those windows' path, which is most of an exact bat's beside a
+    noisy ball; where they are extrapolated over up to a step, the larger of that and the
+    extrapolation's own error estimate: the difference from the interval's own fits, which
+    reach its closing frame).
 
     The gap also holds the fits' own error, which no noise shows (a smoother's bias on an
     accelerating swing, a parabola's on a ball whose drag changes): how far each fit moves the
@@ -379,14 +385,22 @@ def propagated(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
         turned = dot(turning, turning)
     lever = max(0.0, bat_length - config.sweet_spot_from_tip)
     speed_sigma = math.sqrt(knob_rate ** 2 + (lever * turn_rate) ** 2 * turned)
+    before = c2_bat_path(bat, j, c2_window(bat, j, gap, 0, size), bat_sigma)
+    late, early = (norm(_sweet_velocity(before, lever, t + d)) for d in (SLOPE_STEP_S,
+                                                                         -SLOPE_STEP_S))
+    speed_sigma = math.hypot(speed_sigma, time_sigma * (late - early) / (2.0 * SLOPE_STEP_S))
     if j != k:  # the extrapolation over up to a step: its own error estimate, the difference
         path = c2_bat_path(bat, k, c2_window(bat, k, gap, 0, size), bat_sigma)  # from the
-        knob_at, tip_at = path.at(t)  # interval's own fits
-        sweet = advance(knob_at, sub(tip_at, knob_at), lever / math.dist(tip_at, knob_at))
-        interpolated = add(path.knob.velocity(t), cross(swing_rate(path, t),
-                                                        sub(sweet, knob_at)))
+        interpolated = _sweet_velocity(path, lever, t)  # interval's own fits
         speed_sigma = max(speed_sigma, abs(norm(interpolated) - speed))
     return time_sigma, spot_sigma, speed_sigma
+
+
+def _sweet_velocity(path: C2BatPath, lever: float, t: float) -> Vector:
+    """Return the velocity (m/s) at t (s) of a bat path's axis point ``lever`` m from its knob."""
+    knob_at, tip_at = path.at(t)
+    sweet = advance(knob_at, sub(tip_at, knob_at), lever / math.dist(tip_at, knob_at))
+    return add(path.knob.velocity(t), cross(swing_rate(path, t), sub(sweet, knob_at)))
 
 
 @dataclass(frozen=True)

@@ -350,6 +350,39 @@ def test_exact_samples_take_the_fits_at_a_low_rate_and_the_splines_at_a_high_one
             ball, bat, t, *paths, noisy, 'before')
 
 
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+def test_under_auto_each_body_takes_the_rule_of_its_own_samples(rate: float) -> None:
+    """
+    Under auto an exact bat beside a noisy ball keeps the exact samples' rates.
+
+    A robot's own kinematics beside a tracked ball: the bat's rates
+    are the exact samples' ('fits': the least-squares fits at 90 Hz, the splines at 360 Hz),
+    the same to the bit as beside an exact ball, and the ball's its 'before' rule's. (Before,
+    any noise sent both bodies to 'before': the bat's sweet-spot speed p99 at 90 Hz doubled.)
+    """
+    spin, tilt, noise = 40.0, 2.0, 1e-3
+    ball, bat = _streams(rate, spin, tilt)
+    rng = np.random.default_rng(5)
+    noisy = Stream('ball')
+    for i, (time, value) in enumerate(zip(ball.times, ball.values)):
+        noisy.append(time, i, tuple(v + e for v, e in zip(value, rng.normal(0.0, noise, 3))),
+                     i == 0)
+    noisy.noise = noise  # the auto estimate's place (bat.noise stays 0: exact)
+    config = DetectorConfig(model='c2', bat_input='points', tracker_noise=-1.0)
+    k = len(bat.times) - 2
+    t = bat.times[k] + 0.4 / rate
+    window = c2_window(bat, k, config.max_gap, 0, config.spline_window)
+    bat_path = c2_bat_path(bat, k, window)
+    found = c2_velocities(noisy, bat, t, c2_point_path(noisy, k, window, noise, config),
+                          bat_path, config)
+    exact = c2_velocities(ball, bat, t, c2_point_path(ball, k, window), bat_path, config)
+    before = c2_velocities(noisy, bat, t, c2_point_path(noisy, k, window, noise, config),
+                           bat_path, config, 'before')
+    assert found.from_history and found.ball == before.ball != exact.ball
+    assert replace(found, ball=exact.ball) == exact
+    assert (found.pivot, found.swing) != (before.pivot, before.swing)
+
+
 def test_a_noisy_ball_velocity_comes_from_its_flight_fit_before_the_contact() -> None:
     """
     With noise the impact's ball velocity is the flight fit's of the samples before the impact.
