@@ -12,6 +12,9 @@ KINDS = ('barrel', 'end_cap', 'handle', 'graze', 'miss_over', 'miss_under')
 FAMILIES = ('plane', 'tilted', 'jerky', 'lefty', 'braking', 'rebound')
 """The swing families ``sim.make_scenario`` draws (``sim.families``), today's fixed plane first."""
 
+NOISE_ON = ('both', 'ball', 'bat')
+"""The bodies whose samples get the tracking noise (``sim.sample``'s ``noise_on``)."""
+
 BAT_CHOICES = ('both', 'pose', 'points')
 """How the bat is written: pose and points, the pose only, or knob and tip points only."""
 

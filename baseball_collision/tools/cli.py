@@ -21,7 +21,7 @@ import sys
 import time
 from typing import Any, Callable, List, NoReturn, Optional
 
-from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED
+from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
 from .truth import truth_path
@@ -117,7 +117,7 @@ def _simulate(args: argparse.Namespace) -> int:
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
         frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family,
-        ball_rate_hz=args.ball_rate)
+        ball_rate_hz=args.ball_rate, noise_on=args.noise_on)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
@@ -231,6 +231,9 @@ def _add_simulate(commands: Any) -> None:
                           'mocap clock (360 Hz then steps 2 and 3 ms); default: none')
     simulate.add_argument('--noise', type=_number(0.0, True, 'm'), default=0.0,
                           help='position noise per axis in m (default 0)')
+    simulate.add_argument('--noise-on', choices=NOISE_ON, default='both',
+                          help="the bodies with that noise (default both; ball: an arm's bat "
+                          'from its joints beside a camera-tracked ball)')
     simulate.add_argument('--spacing', type=_number(0.0, False, 's'), default=2.0,
                           help='seconds between pitch starts; nothing is published between '
                           'pitches (default 2.0)')

@@ -23,7 +23,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
-from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED
+from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
 from .outputs import Outputs
 from .sim import DEFAULT_START_NS, make_scenario, sample, Scenario, truth_dict
 from .truth import TRUTH_FORMAT, truth_path
@@ -48,6 +48,8 @@ class RecordingSpec:
     :ivar jitter_s: standard deviation of the stamp jitter (s).
     :ivar grid_s: stamp grid (s; e.g. 0.001 for a millisecond mocap clock), None for none.
     :ivar noise_m: position noise per axis (m).
+    :ivar noise_on: the bodies it is on (``'both'``, ``'ball'``, ``'bat'``: ``NOISE_ON``; an
+        arm's bat from its joints is exact beside a camera-tracked ball).
     :ivar spacing_s: time between two pitch starts (s); more than ``lead_s + trail_s``.
     :ivar seed: random seed: the recording is a function of the spec.
     :ivar frame_id: every message's frame.
@@ -79,6 +81,7 @@ class RecordingSpec:
     unique: Optional[int] = None
     family: str = 'plane'
     ball_rate_hz: Optional[float] = None
+    noise_on: str = 'both'
 
     def check(self) -> None:
         """
@@ -97,6 +100,9 @@ class RecordingSpec:
         if self.family not in FAMILIES:
             raise ToolError(
                 f"family must be one of {', '.join(FAMILIES)}, got {self.family!r}")
+        if self.noise_on not in NOISE_ON:
+            raise ToolError(
+                f"noise_on must be one of {', '.join(NOISE_ON)}, got {self.noise_on!r}")
         if self.bat not in BAT_CHOICES:
             raise ToolError(f"bat must be one of {', '.join(BAT_CHOICES)}, got {self.bat}")
         for name in ('rate_hz', 'spacing_s', 'lead_s', 'trail_s'):
@@ -172,7 +178,7 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                 start = spec.start_ns + int(round(index * spec.spacing_s * 1e9))
                 samples = sample(scenario, spec.rate_hz, rng, jitter_s=spec.jitter_s,
                                  grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start,
-                                 ball_rate_hz=spec.ball_rate_hz)
+                                 ball_rate_hz=spec.ball_rate_hz, noise_on=spec.noise_on)
                 for stamp, role, values in samples.messages(spec.bat):
                     if role == 'bat_pose':
                         writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],

@@ -101,6 +101,40 @@ def test_simulate_a_ball_slower_than_the_bat(tmp_path: Path, run_cli: RunCli) ->
         RecordingSpec(ball_rate_hz=0.0).check()
 
 
+def test_simulate_noise_on_one_body(tmp_path: Path, run_cli: RunCli) -> None:
+    """
+    ``--noise-on ball``: an arm's exact bat beside a noisy ball; analyze finds every contact.
+
+    Same seed and noise: the ball's messages are those of ``--noise-on both`` (the same draws),
+    the bat's differ from them; ``--noise-on bat`` shakes the bat, not the ball.
+    """
+    def messages(on: str) -> Tuple[Path, dict]:
+        bag = tmp_path / f'{on}.mcap'
+        code, _, stderr = run_cli(['simulate', str(bag), '--count', '3', '--rate', '240',
+                                   '--noise', '0.001', '--noise-on', on, '--seed', '8',
+                                   '--kinds', 'barrel,handle,miss_over'])
+        assert code == 0, stderr
+        with BagReader(bag) as reader:
+            found: dict = {}
+            for sample in reader.samples():
+                found.setdefault(sample.role, []).append((sample.stamp_ns, sample.values))
+        return bag, found
+
+    ball_bag, on_ball = messages('ball')
+    _, on_both = messages('both')
+    _, on_bat = messages('bat')
+    assert on_ball['ball'] == on_both['ball'] != on_bat['ball']
+    assert on_ball['bat_pose'] != on_both['bat_pose'] == on_bat['bat_pose']  # (the pose read)
+    truth = json.loads(truth_path(ball_bag).read_text())
+    assert truth['spec']['noise_on'] == 'ball' and truth['spec']['noise_m'] == 0.001
+    out = tmp_path / 'a.json'
+    assert run_cli(['analyze', str(ball_bag), '--json', str(out)])[0] == 0
+    check_against_truth(json.loads(out.read_text()), truth, 240.0)
+    assert run_cli(['simulate', str(tmp_path / 'x.mcap'), '--noise-on', 'glove'])[0] != 0
+    with pytest.raises(ToolError, match='noise_on'):
+        RecordingSpec(noise_on='glove').check()
+
+
 def test_simulate_is_deterministic(tmp_path: Path, run_cli: RunCli) -> None:
     """Same seed, same truth; the bundled truth files regenerate from their commands."""
     for name in ('a.mcap', 'b.mcap'):

@@ -14,14 +14,12 @@ import numpy as np
 
 from .common import check_number
 from .scenarios import Scenario
+from ..choices import NOISE_ON  # the command line's options read them without the simulator
 from ...core.geometry import quaternion_multiply
 from ...errors import ToolError
 
 DEFAULT_START_NS = 1_700_000_000_000_000_000
 """Default absolute stamp (ns since the epoch) of the scenario start in ``sample``."""
-
-NOISE_ON = ('both', 'ball', 'bat')
-"""The bodies ``sample`` can put the noise on (``noise_on``)."""
 
 
 @dataclass(frozen=True)
