@@ -550,7 +550,7 @@ class ImpactNode(Node):
             snapshot = take_snapshot(
                 time.monotonic(), self.get_name(), self._streams, self.endpoints.topics,
                 self.tally, self.detector.stats, self.detector.watermark_ns,
-                self.detector.frame_id, settings)
+                self.detector.frame_id, settings, self.detector.noise)
         problems = {stream: self.endpoints.silence(stream) for stream in silent_streams(snapshot)}
         snapshot = replace(snapshot, incompatible=self.tally.incompatible)  # found just now too
         self.tally.incompatible_reported = snapshot.incompatible

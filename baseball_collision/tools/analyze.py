@@ -70,6 +70,8 @@ class BagAnalysis:
     :ivar frame_id: the frame of the events (the configured one, else the first sample's).
     :ivar notes: what the reader should know (a truth file ignored, and why).
     :ivar drops_by_role: dropped samples by ``(role, reason)``.
+    :ivar noise: the ball's and the bat's tracking noise at the bag's end (m, 1 sigma per
+        coordinate: ``Detector.noise``, told or estimated under auto; 0: exact).
     """
 
     path: Path
@@ -89,6 +91,7 @@ class BagAnalysis:
     frame_id: str = ''
     notes: List[str] = field(default_factory=list)
     drops_by_role: Counter = field(default_factory=Counter)
+    noise: Tuple[float, float] = (0.0, 0.0)
 
     @property
     def throughput(self) -> float:
@@ -431,6 +434,7 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
         raise ToolError(str(error) + _file_topics_hint(str(error), options)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
+    result.noise = detector.noise
     result.frame_id = detector.frame_id or config.frame_id or ''
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():

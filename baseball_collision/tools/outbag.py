@@ -87,7 +87,8 @@ class FoxgloveCopy:
         self.node_name = node_name.strip('/').rsplit('/', 1)[-1]  # as the node's get_name()
         self.frame_id = frame_id
         self.settings = {name: parameters.get(name, DEFAULTS[name]) for name in SETTINGS}
-        self.settings.update(model=self.config.model, bat_input=self.config.bat_input)
+        self.settings.update(model=self.config.model, bat_input=self.config.bat_input,
+                             tracker_noise=self.config.tracker_noise)
         self.topics = derived_topics(node_name)
         self._raw = RawBag(input_path)
         self._pending: Iterator[RawMessage] = iter(())
@@ -286,7 +287,7 @@ class FoxgloveCopy:
         snapshot = take_snapshot(
             log_time_ns / NS_PER_S, self.node_name, tuple(self.streams), self.streams,
             self._tally, detector.stats, detector.watermark_ns, detector.frame_id,
-            self.settings)
+            self.settings, detector.noise)
         problems = dict.fromkeys(silent_streams(snapshot), 'no message in the bag then')
         status = health_status(snapshot, problems)
         self.writer.write_message(self.topics['diagnostics'][0],

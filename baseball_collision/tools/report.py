@@ -14,7 +14,7 @@ import csv
 from dataclasses import asdict
 import io
 import json
-from typing import Any, Dict, IO, List, Mapping, Optional, Sequence
+from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
 
 from .analyze import BagAnalysis
 from .truth import LEADS_S, TruthComparison
@@ -168,8 +168,19 @@ def prediction_lines(analysis: BagAnalysis) -> List[str]:
     return lines
 
 
+def noise_text(noise: Tuple[float, float], auto: bool) -> str:
+    """
+    Return what tracking noise the fits took: ``tracker noise (auto): ball 0.95 mm, bat exact``.
+
+    :param noise: the ball's and the bat's (m, 1 sigma per coordinate; 0: exact samples).
+    :param auto: estimated from the samples (``tracker_noise`` auto), else told.
+    """
+    ball, bat = (f'{value * 1e3:.2f} mm' if value > 0.0 else 'exact' for value in noise)
+    return f"tracker noise ({'auto' if auto else 'told'}): ball {ball}, bat {bat}"
+
+
 def summary_line(analysis: BagAnalysis) -> str:
-    """Return the one-line summary: events, drops by reason, gaps, messages, throughput."""
+    """Return the one-line summary: events, drops, gaps, the noise, messages, throughput."""
     dropped = analysis.stats.dropped
     drops = ', '.join(f'{reason} {count}' for reason, count in sorted(dropped.items())
                       if count)
@@ -179,6 +190,7 @@ def summary_line(analysis: BagAnalysis) -> str:
     return (f'summary: {len(analysis.impacts)} impacts, {len(analysis.near_misses)} near misses, '
             f'{sum(dropped.values())} dropped{f" ({drops})" if drops else ""}, '
             f'{len(analysis.gaps)} stream gaps, {len(analysis.resets)} resets; '
+            f'{noise_text(analysis.noise, analysis.config.tracker_noise < 0.0)}; '
             f'{analysis.messages:,} messages in {analysis.seconds:.2f} s '
             f'({analysis.throughput:,.0f} msg/s{share})')
 
@@ -242,6 +254,8 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
         'resets': [asdict(reset) for reset in analysis.resets],
         'truth': None if analysis.truth is None else analysis.truth.as_dict(),
         'notes': list(analysis.notes),
+        'tracker_noise': {'auto': analysis.config.tracker_noise < 0.0,
+                          'ball_m': analysis.noise[0], 'bat_m': analysis.noise[1]},
     }
 
 
@@ -254,7 +268,8 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
     stamp: :func:`entry`); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one
     entry per bag: ``path``, ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``,
     ``first_stamp_ns``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or
-    None, and ``notes``). With ``--predict``: ``predictions`` (every prediction's entry) and, in
+    None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at the
+    bag's end). With ``--predict``: ``predictions`` (every prediction's entry) and, in
     each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.
     """

@@ -287,6 +287,8 @@ def test_waiting_then_tracking_with_rates(harness: Callable[..., Harness]) -> No
         lambda v: v['state'] == 'tracking' and v['ball_received'] == '20')
     assert tracking.level == DiagnosticStatus.OK
     assert values(tracking)['frame_id'] == 'world'
+    noise = (values(tracking)[key] for key in ('tracker_noise', 'ball_noise_mm', 'bat_noise_mm'))
+    assert tuple(noise) == ('auto', '0.000', '0.000')  # exact samples, estimated as such
     # the live bat (one cylinder per profile segment) and ball, in the tracking frame
     h.wait(lambda: any({'live_bat', 'live_ball'} <= {m.ns for m in array.markers}
                        for array in h.received['markers']), 2.0, 'live markers')

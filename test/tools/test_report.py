@@ -67,6 +67,37 @@ def test_c2_json_follows_the_schema(tmp_path: Path, run_cli: RunCli) -> None:
     assert Validator('analyze.schema.json').errors(document) == []
 
 
+def test_the_bags_tracker_noise_is_reported(tmp_path: Path, run_cli: RunCli) -> None:
+    """
+    Each bag says the noise its fits took: estimated (auto) or told, the ball's and the bat's.
+
+    The 240 Hz bag has 0.3 mm of noise on every body: a pose reads about that (its samples
+    shaken as one body), exact ones read exact; told, both are the told value.
+    """
+    def analysed(name: str, *flags: str) -> Tuple[dict, str]:
+        out = tmp_path / f'{len(list(tmp_path.iterdir()))}.json'
+        code, stdout, stderr = run_cli(['analyze', str(bag_path(name)), *flags, '--json',
+                                        str(out)])
+        assert code == 0, stderr
+        document = json.loads(out.read_text())
+        assert Validator('analyze.schema.json').errors(document) == []
+        return document['bags'][0]['tracker_noise'], stdout
+
+    noisy, stdout = analysed('pitches_240hz_noisy.bag')
+    assert noisy['auto'] and noisy['ball_m'] == pytest.approx(3e-4, rel=0.15)
+    assert noisy['bat_m'] == pytest.approx(3e-4, rel=0.15)
+    shown = f"tracker noise (auto): ball {noisy['ball_m'] * 1e3:.2f} mm, bat "
+    assert shown + f"{noisy['bat_m'] * 1e3:.2f} mm; " in stdout
+    exact, stdout = analysed('pitches_90hz.mcap')
+    assert exact == {'auto': True, 'ball_m': 0.0, 'bat_m': 0.0}
+    assert 'tracker noise (auto): ball exact, bat exact; ' in stdout
+    params = tmp_path / 'told.yaml'
+    params.write_text('impact_node:\n  ros__parameters:\n    tracker_noise: 0.0005\n')
+    told, stdout = analysed('pitches_90hz.mcap', '--params', str(params))
+    assert told == {'auto': False, 'ball_m': 0.0005, 'bat_m': 0.0005}
+    assert 'tracker noise (told): ball 0.50 mm, bat 0.50 mm; ' in stdout
+
+
 def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
     """Each CSV row is its event's record; each table row shows the record's values."""
     analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False)

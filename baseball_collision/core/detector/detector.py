@@ -210,6 +210,20 @@ class Detector:
         return self._intake.frame
 
     @property
+    def noise(self) -> Tuple[float, float]:
+        """
+        Return the tracking noise each body's fits take, ball then bat (m, 1 sigma a coordinate).
+
+        The told ``tracker_noise`` for both, or under auto each stream's estimate from its
+        newest samples (``noise.NoiseEstimate.sigma``: 0 for exact samples and until enough
+        have come; a state reset starts it again). The same in the node and ``analyze`` after
+        the same samples.
+        """
+        if self._noise is None:
+            return self._config.tracker_noise, self._config.tracker_noise
+        return self._noise[0].sigma, self._noise[1].sigma
+
+    @property
     def watermark_ns(self) -> Optional[int]:
         """Return the newest instant (ns) up to which everything has been processed."""
         cursor = self._scheduler.cursor

@@ -88,6 +88,8 @@ class Snapshot:
     :ivar settings: ``stale_timeout`` (s), ``model``, ``bat_input``, ``qos``.
     :ivar incompatible, incompatible_reported: as in :class:`Tally`.
     :ivar lost: messages estimated lost per stream since start-up (``Tally.lost``).
+    :ivar noise: the ball's and the bat's tracking noise the fits take now (m, 1 sigma per
+        coordinate: ``Detector.noise``, told or estimated; 0: exact).
     """
 
     now: float
@@ -109,15 +111,18 @@ class Snapshot:
     incompatible: int
     incompatible_reported: int
     lost: Mapping[str, int] = field(default_factory=dict)
+    noise: Tuple[float, float] = (0.0, 0.0)
 
 
 def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mapping[str, str],
                   tally: Tally, stats: DetectorStats, watermark_ns: Optional[int],
-                  frame_id: Optional[str], settings: Mapping[str, object]) -> Snapshot:
+                  frame_id: Optional[str], settings: Mapping[str, object],
+                  noise: Tuple[float, float] = (0.0, 0.0)) -> Snapshot:
     """
     Copy the counters into a snapshot and start the next period of ``tally``.
 
-    :param stats: the detector's counters; ``watermark_ns``, ``frame_id``: its state.
+    :param stats: the detector's counters; ``watermark_ns``, ``frame_id``, ``noise``: its
+        state (``Detector.noise``: m, the ball's and the bat's).
     """
     dropped = dict(stats.dropped)
     return Snapshot(
@@ -129,7 +134,7 @@ def take_snapshot(now: float, name: str, streams: Tuple[str, ...], topics: Mappi
         detector_mean_s=stats.mean_processing_s, detector_max_s=stats.max_processing_s,
         watermark_ns=watermark_ns, last_impact_ns=tally.last_impact_ns,
         frame_id=frame_id or '', settings=settings, incompatible=tally.incompatible,
-        incompatible_reported=tally.incompatible_reported, lost=tally.lost())
+        incompatible_reported=tally.incompatible_reported, lost=tally.lost(), noise=noise)
 
 
 def silent_streams(snapshot: Snapshot) -> List[str]:
@@ -177,7 +182,8 @@ def health_status(snapshot: Snapshot, problems: Mapping[str, str]) -> HealthStat
     ``processing_mean_ms``, ``processing_max_ms``: whole callback, over the period;
     ``detector_mean_ms``, ``detector_max_ms``: since start); ``session``
     (``watermark_stamp``, ``last_impact_stamp``, ``frame_id``, ``model``, ``bat_input``,
-    ``qos``, ``incompatible_qos_events``).
+    ``qos``, ``incompatible_qos_events``, ``tracker_noise``: auto or told, ``ball_noise_mm``,
+    ``bat_noise_mm``: the noise the fits take now, 0 for exact samples).
 
     :param problems: why a silent stream may be silent ('' or missing: nothing known).
     """
@@ -269,7 +275,11 @@ def _groups(snapshot: Snapshot, state: str, stale: List[str], dropped_now: int,
          else format_stamp(snapshot.last_impact_ns)),
         ('frame_id', snapshot.frame_id), ('model', str(settings['model'])),
         ('bat_input', str(settings['bat_input'])), ('qos', str(settings['qos'])),
-        ('incompatible_qos_events', str(snapshot.incompatible)))
+        ('incompatible_qos_events', str(snapshot.incompatible)),
+        ('tracker_noise', 'auto' if float(settings.get('tracker_noise', -1.0)) < 0.0
+         else 'told'),
+        ('ball_noise_mm', f'{snapshot.noise[0] * 1e3:.3f}'),
+        ('bat_noise_mm', f'{snapshot.noise[1] * 1e3:.3f}'))
     return (('state', (('state', state), ('stale_topics', ', '.join(stale)))),
             ('inputs', tuple(inputs)), ('drops', tuple(drops)),
             ('events', tuple((name, str(count)) for name, count in snapshot.counts.items())

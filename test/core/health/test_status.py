@@ -98,6 +98,22 @@ def test_an_internal_error_in_a_period_is_an_error_that_drops_do_not_lower() -> 
     assert reset.level == Level.ERROR and 'dropped 4 of 200 samples' in reset.message
 
 
+def test_the_noise_the_fits_take_is_in_the_session_group() -> None:
+    """``tracker_noise`` (auto or told) and each body's noise (mm; 0.000: exact samples)."""
+    auto = dict(health_status(take_snapshot(10.0, 'n', ('ball', 'bat_pose'), TOPICS,
+                                            _tally(10.0), DetectorStats(), None, '',
+                                            dict(SETTINGS, tracker_noise=-1.0),
+                                            (9.5e-4, 0.0)), {}).values())
+    assert (auto['tracker_noise'], auto['ball_noise_mm'], auto['bat_noise_mm']) == (
+        'auto', '0.950', '0.000')
+    told = dict(health_status(take_snapshot(10.0, 'n', ('ball', 'bat_pose'), TOPICS,
+                                            _tally(10.0), DetectorStats(), None, '',
+                                            dict(SETTINGS, tracker_noise=5e-4),
+                                            (5e-4, 5e-4)), {}).values())
+    assert (told['tracker_noise'], told['ball_noise_mm'], told['bat_noise_mm']) == (
+        'told', '0.500', '0.500')
+
+
 def test_an_ended_session_is_idle_not_stale() -> None:
     """Every input silent past idle_timeout: OK 'idle'; before it: WARN stale; hardware_id."""
     settings = {**SETTINGS, 'idle_timeout': 30.0, 'hardware_id': 'cage_2_mocap'}
