@@ -117,7 +117,7 @@ def _simulate(args: argparse.Namespace) -> int:
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
         frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family,
-        ball_rate_hz=args.ball_rate, noise_on=args.noise_on)
+        ball_rate_hz=args.ball_rate, noise_on=args.noise_on, marker_spread_m=args.marker_spread)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
@@ -231,6 +231,11 @@ def _add_simulate(commands: Any) -> None:
                           'mocap clock (360 Hz then steps 2 and 3 ms); default: none')
     simulate.add_argument('--noise', type=_number(0.0, True, 'm'), default=0.0,
                           help='position noise per axis in m (default 0)')
+    simulate.add_argument('--marker-spread', type=_number(0.0, False, 'm'), default=None,
+                          help="the bat's knob and tip markers each with their own noise, and "
+                          "the pose's orientation noise of a rigid-body solve over markers "
+                          'this far apart in m (a mocap rig: 0.3); default: one draw shakes '
+                          'the whole bat, its knob-tip length exact')
     simulate.add_argument('--noise-on', choices=NOISE_ON, default='both',
                           help="the bodies with that noise (default both; ball: an arm's bat "
                           'from its joints beside a camera-tracked ball)')

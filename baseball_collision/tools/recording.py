@@ -48,6 +48,10 @@ class RecordingSpec:
     :ivar jitter_s: standard deviation of the stamp jitter (s).
     :ivar grid_s: stamp grid (s; e.g. 0.001 for a millisecond mocap clock), None for none.
     :ivar noise_m: position noise per axis (m).
+    :ivar marker_spread_m: None: the bat's noise one draw shared by pose, knob and tip (its
+        knob-tip length exact); else knob and tip markers with their own noise each, and the
+        pose's orientation noise of a rigid-body solve over markers this far apart (m, > 0;
+        ``sim.sample``'s).
     :ivar noise_on: the bodies it is on (``'both'``, ``'ball'``, ``'bat'``: ``NOISE_ON``; an
         arm's bat from its joints is exact beside a camera-tracked ball).
     :ivar spacing_s: time between two pitch starts (s); more than ``lead_s + trail_s``.
@@ -82,6 +86,7 @@ class RecordingSpec:
     family: str = 'plane'
     ball_rate_hz: Optional[float] = None
     noise_on: str = 'both'
+    marker_spread_m: Optional[float] = None
 
     def check(self) -> None:
         """
@@ -100,6 +105,9 @@ class RecordingSpec:
         if self.family not in FAMILIES:
             raise ToolError(
                 f"family must be one of {', '.join(FAMILIES)}, got {self.family!r}")
+        spread = self.marker_spread_m
+        if spread is not None and not (math.isfinite(spread) and spread > 0.0):
+            raise ToolError(f'marker_spread_m must be a finite number > 0, got {spread}')
         if self.noise_on not in NOISE_ON:
             raise ToolError(
                 f"noise_on must be one of {', '.join(NOISE_ON)}, got {self.noise_on!r}")
@@ -178,7 +186,8 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                 start = spec.start_ns + int(round(index * spec.spacing_s * 1e9))
                 samples = sample(scenario, spec.rate_hz, rng, jitter_s=spec.jitter_s,
                                  grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start,
-                                 ball_rate_hz=spec.ball_rate_hz, noise_on=spec.noise_on)
+                                 ball_rate_hz=spec.ball_rate_hz, noise_on=spec.noise_on,
+                                 marker_spread_m=spec.marker_spread_m)
                 for stamp, role, values in samples.messages(spec.bat):
                     if role == 'bat_pose':
                         writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],

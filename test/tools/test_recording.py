@@ -135,6 +135,37 @@ def test_simulate_noise_on_one_body(tmp_path: Path, run_cli: RunCli) -> None:
         RecordingSpec(noise_on='glove').check()
 
 
+def test_simulate_markers_with_their_own_noise(tmp_path: Path, run_cli: RunCli) -> None:
+    """
+    ``--marker-spread 0.3``: knob and tip markers shaken apart, as a mocap rig's are.
+
+    Without it one draw shakes the whole bat, so its knob-tip length stays exact and auto
+    reads the knob and tip points as exact samples; with it their length changes, and auto
+    reads about the noise (the pose about it too, its orientation shaken by 1 mm / 0.3 m).
+    """
+    def noise(*flags: str) -> dict:
+        bag = tmp_path / f'{len(list(tmp_path.iterdir()))}.mcap'
+        assert run_cli(['simulate', str(bag), '--count', '2', '--rate', '240', '--noise',
+                        '0.001', '--seed', '9', *flags])[0] == 0
+        found = {}
+        points = ['--knob-topic', '/bat_knob', '--tip-topic', '/bat_tip']
+        for name, topics in (('pose', []), ('points', points)):
+            out = bag.with_suffix(f'.{name}.json')
+            assert run_cli(['analyze', str(bag), *topics, '--json', str(out), '--quiet'])[0] == 0
+            found[name] = json.loads(out.read_text())['bags'][0]['tracker_noise']['bat_m']
+        truth = json.loads(truth_path(bag).read_text())
+        assert truth['spec']['marker_spread_m'] == (0.3 if flags else None)
+        return found
+
+    shared = noise()
+    assert shared['points'] == 0.0 and shared['pose'] == pytest.approx(1e-3, rel=0.2)
+    markers = noise('--marker-spread', '0.3')
+    assert markers['points'] == pytest.approx(1e-3, rel=0.2)
+    assert markers['pose'] == pytest.approx(1e-3, rel=0.3)
+    with pytest.raises(ToolError, match='marker_spread_m'):
+        RecordingSpec(marker_spread_m=0.0).check()
+
+
 def test_simulate_is_deterministic(tmp_path: Path, run_cli: RunCli) -> None:
     """Same seed, same truth; the bundled truth files regenerate from their commands."""
     for name in ('a.mcap', 'b.mcap'):
