@@ -3,7 +3,8 @@ Accuracy benchmark: motion models against continuous-time truth, per family, rat
 
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
 [--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
-[--noise-on both|ball|bat] [--lead S] [--ball-dropout FRAMES] [--ball-rate HZ] [--pooled]``.
+[--noise-on both|ball|bat] [--shared-noise] [--lead S] [--ball-dropout FRAMES] [--ball-rate HZ]
+[--pooled]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -14,7 +15,9 @@ with 0.2 ms stamp jitter on a 1 ms stamp grid (uneven steps, as real mocap), and
 level per coordinate (the ball; the bat as knob and tip markers with their own noise, or as a
 pose with that position noise and noise / 0.3 m rad of orientation noise: a rigid-body solve
 over markers 0.3 m apart); ``--noise-on`` keeps the noise to the ball or the bat (the other
-exact, each body's draws the same as with both: an error budget). ``--lead`` is the tracked
+exact, each body's draws the same as with both: an error budget); ``--shared-noise`` shakes
+the bat with one draw instead, shared by pose, knob and tip (knob and tip points computed from
+one rigid body's pose: their length exact). ``--lead`` is the tracked
 time before the contact (s; 0.15 by default, the same scenes; a pitch is in flight for about
 0.4 s); ``--ball-dropout`` drops 0.08 s of the ball's samples ending that many frames before the
 contact's interval (the stream restarts there: a tracker that lost the ball); ``--ball-rate``
@@ -172,14 +175,16 @@ def dropped_ball(scenario: Scenario, samples: Samples, frames: int) -> Samples:
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
         pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15,
-        dropout: Optional[int] = None, ball_rate: Optional[float] = None) -> List[Tuple]:
+        dropout: Optional[int] = None, ball_rate: Optional[float] = None,
+        shared: bool = False) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
     ``pooled``: one row per rate, noise and method over all the families instead;
     ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact;
     ``dropout``: the ball's stream restarting that many frames before the contact
-    (``dropped_ball``), or None; ``ball_rate``: the ball's own rate (Hz), or None for each rate.
+    (``dropped_ball``), or None; ``ball_rate``: the ball's own rate (Hz), or None for each rate;
+    ``shared``: one draw shakes the whole bat (no marker spread).
     """
     rows = []
     pools: Dict[Tuple, List[PitchResult]] = {}
@@ -191,7 +196,8 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
             for noise_mm in noises:
                 noise = noise_mm * 1e-3
                 samples = [sample(s, rate, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
-                                  noise_m=noise, marker_spread_m=0.3 if noise else None,
+                                  noise_m=noise,
+                                  marker_spread_m=0.3 if noise and not shared else None,
                                   noise_on=noise_on, ball_rate_hz=ball_rate)
                            for i, s in enumerate(scenarios)]
                 if dropout is not None:
@@ -228,6 +234,8 @@ def main() -> None:
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
     parser.add_argument('--noise-on', choices=NOISE_ON, default='both',
                         help='the bodies with noise (an error budget: ball or bat only)')
+    parser.add_argument('--shared-noise', action='store_true',
+                        help='one draw shakes the whole bat: knob and tip share it')
     parser.add_argument('--lead', type=float, default=0.15,
                         help='s tracked before the contact (the pitch flies about 0.4 s)')
     parser.add_argument('--pooled', action='store_true',
@@ -244,7 +252,8 @@ def main() -> None:
     count = args.per_kind * len(KINDS + CLOSE_KINDS)
     print(f'{count} scenarios per family ({args.per_kind} of each of '
           f'{len(KINDS + CLOSE_KINDS)} kinds), seed {args.seed}, bat as {args.bat}, noise on '
-          f'{args.noise_on}, {args.lead:g} s before the contact'
+          f"{args.noise_on}{' (the bat shaken as one body)' if args.shared_noise else ''}, "
+          f'{args.lead:g} s before the contact'
           + ('' if args.ball_dropout is None else
              f', the ball lost {DROPOUT_S:g} s until {args.ball_dropout} frames before it')
           + ('' if args.ball_rate is None else f', the ball at {args.ball_rate:g} Hz')
@@ -252,7 +261,8 @@ def main() -> None:
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
-        args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout, args.ball_rate)
+        args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout, args.ball_rate,
+        args.shared_noise)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

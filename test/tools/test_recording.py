@@ -1,6 +1,7 @@
 """``simulate``: a bag of simulated pitches with its truth file, and analyze finds the truth."""
 
 import json
+import math
 from pathlib import Path
 from typing import Callable, List, Tuple
 
@@ -8,6 +9,7 @@ from baseball_collision.bags import BagReader, POINT_STAMPED
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.recording import RecordingSpec
 from baseball_collision.tools.truth import truth_path
+import numpy as np
 import pytest
 from support.bundled import bag_path, check_against_truth
 from support.documents import differences
@@ -139,27 +141,36 @@ def test_simulate_markers_with_their_own_noise(tmp_path: Path, run_cli: RunCli) 
     """
     ``--marker-spread 0.3``: knob and tip markers shaken apart, as a mocap rig's are.
 
-    Without it one draw shakes the whole bat, so its knob-tip length stays exact and auto
-    reads the knob and tip points as exact samples; with it their length changes, and auto
-    reads about the noise (the pose about it too, its orientation shaken by 1 mm / 0.3 m).
+    Without it one draw shakes the whole bat: its knob-tip length stays exact (auto reads the
+    noise from the knob's own differences then). With it the length changes by the markers'
+    noise, and auto reads about the noise from knob and tip points and from the pose.
     """
-    def noise(*flags: str) -> dict:
+    def recorded(*flags: str) -> Tuple[float, dict]:
         bag = tmp_path / f'{len(list(tmp_path.iterdir()))}.mcap'
         assert run_cli(['simulate', str(bag), '--count', '2', '--rate', '240', '--noise',
                         '0.001', '--seed', '9', *flags])[0] == 0
+        truth = json.loads(truth_path(bag).read_text())
+        assert truth['spec']['marker_spread_m'] == (0.3 if flags else None)
         found = {}
         points = ['--knob-topic', '/bat_knob', '--tip-topic', '/bat_tip']
         for name, topics in (('pose', []), ('points', points)):
             out = bag.with_suffix(f'.{name}.json')
             assert run_cli(['analyze', str(bag), *topics, '--json', str(out), '--quiet'])[0] == 0
             found[name] = json.loads(out.read_text())['bags'][0]['tracker_noise']['bat_m']
-        truth = json.loads(truth_path(bag).read_text())
-        assert truth['spec']['marker_spread_m'] == (0.3 if flags else None)
-        return found
+        with BagReader(bag, knob='/bat_knob', tip='/bat_tip') as reader:
+            ends: dict = {}
+            for each in reader.samples():
+                ends.setdefault(each.stamp_ns, {})[each.role] = each.values
+        lengths = [math.dist(pair['knob'], pair['tip']) for pair in ends.values()
+                   if {'knob', 'tip'} <= set(pair)]
+        return float(np.std(lengths)), found
 
-    shared = noise()
-    assert shared['points'] == 0.0 and shared['pose'] == pytest.approx(1e-3, rel=0.2)
-    markers = noise('--marker-spread', '0.3')
+    spread, shared = recorded()
+    assert spread < 1e-9  # the length exact
+    assert shared['points'] == pytest.approx(1e-3, rel=0.3)
+    assert shared['pose'] == pytest.approx(1e-3, rel=0.3)
+    spread, markers = recorded('--marker-spread', '0.3')
+    assert spread == pytest.approx(math.sqrt(2.0) * 1e-3, rel=0.2)  # along the bat: two ends
     assert markers['points'] == pytest.approx(1e-3, rel=0.2)
     assert markers['pose'] == pytest.approx(1e-3, rel=0.3)
     with pytest.raises(ToolError, match='marker_spread_m'):

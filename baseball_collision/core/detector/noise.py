@@ -19,7 +19,12 @@ same noise to the bit):
   (the swing's own motion dwarfs the noise) the pose is taken as exact;
 * a bat as knob and tip points: the change of the knob-tip length between consecutive samples
   (a rigid bat's length is constant: the change is the noise along the bat of both ends, of
-  variance 4 sigma^2), divided by 2. No motion enters it, at any rate.
+  variance 4 sigma^2), divided by 2. No motion enters it, at any rate. It cannot see noise the
+  two points share (points computed from one rigid body's noisy pose keep their length), so
+  where the length reads exact the knob's own eighth differences are the estimate, read as a
+  pose's position is (with the same ``EXACT_RATIO`` guard). (Always the larger of the two was
+  measured worse: at 90 Hz the knob's read its motion too, and markers with their own noise
+  were smoothed more than their noise asks, BENCHMARKS.md, session 48.)
 
 The estimate is 1.4826 times the median absolute residual (the normal's scale from its median
 absolute deviation: a few residuals spoilt by motion or a glitch do not move it), 0 until
@@ -36,7 +41,7 @@ interpolating it is then at least as accurate.
 """
 
 import math
-from typing import List, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -106,6 +111,14 @@ is no more accurate than the interpolant on every family at 90 and 360 Hz, and i
 miss the interpolation's own error (BENCHMARKS.md, "`tracker_noise: auto` on exact samples")."""
 
 
+def _guarded(median: '_kernel.NoiseMedian', motion: Optional['_kernel.NoiseMedian']) -> float:
+    """Return a median's estimate (m), or 0 where ``motion``'s reads over ``EXACT_RATIO`` it."""
+    sigma = median.sigma
+    if motion is not None and EXACT_RATIO * sigma < motion.sigma:
+        return 0.0
+    return sigma
+
+
 class NoiseEstimate:
     """
     One stream's noise estimate (m, 1 sigma per coordinate), from its newest samples.
@@ -127,7 +140,7 @@ class NoiseEstimate:
     :raises ValueError: another kind.
     """
 
-    __slots__ = ('kind', '_median', '_motion', 'medians')
+    __slots__ = ('kind', '_median', '_motion', 'medians', '_knob', '_knob_motion')
 
     def __init__(self, kind: str) -> None:
         if kind not in SPANS and kind != 'length':
@@ -138,6 +151,9 @@ class NoiseEstimate:
         self._motion = self._made(POINT_SPAN) if kind == 'pose' else None
         # (every median a sample's residuals go to: what the kernel's fast-forward feeds)
         self.medians = (self._median,) if self._motion is None else (self._median, self._motion)
+        # (a knob-tip bat's knob as a pose's position: the noise its two points share)
+        self._knob = self._made(POSE_SPAN) if kind == 'length' else None
+        self._knob_motion = self._made(POINT_SPAN) if kind == 'length' else None
 
     @staticmethod
     def _made(span: int) -> _kernel.NoiseMedian:
@@ -155,11 +171,13 @@ class NoiseEstimate:
         Return the estimate (m): 0 until ``MIN_RESIDUALS`` are in, and below the floor.
 
         The floor: ``NOISE_FLOOR``; for a pose, also its fourth differences' estimate over
-        ``EXACT_RATIO`` (the swing's own motion there dwarfs the noise).
+        ``EXACT_RATIO`` (the swing's own motion there dwarfs the noise). For knob and tip
+        points, the length's, or where that reads exact (noise the points share keeps it) the
+        knob's, read as a pose's position is.
         """
-        sigma = self._median.sigma
-        if self._motion is not None and EXACT_RATIO * sigma < self._motion.sigma:
-            return 0.0
+        sigma = _guarded(self._median, self._motion)
+        if self._knob is not None and sigma == 0.0:
+            return _guarded(self._knob, self._knob_motion)
         return sigma
 
     @property
@@ -199,6 +217,13 @@ class NoiseEstimate:
             old, new = stream.values[last - 1], stream.values[last]
             self._median.take((0.5 * (math.dist(new.tip, new.knob) -
                                       math.dist(old.tip, old.knob)),))
+            first = last + 1 - POSE_SPAN
+            if first >= 0:  # (the knob's window: the kernel reads the newest span samples)
+                window = slice(first, last + 1)
+                knobs = [value.knob for value in stream.values[window]]
+                times, breaks = stream.times[window], stream.breaks[window]
+                for median in (self._knob, self._knob_motion):
+                    median.take_stream(times, knobs, breaks)
             return self.sigma
         # (the kernel's: span samples of one segment, the values' points or poses' positions)
         for median in self.medians:
