@@ -22,9 +22,13 @@ same noise to the bit):
   variance 4 sigma^2), divided by 2. No motion enters it, at any rate. It cannot see noise the
   two points share (points computed from one rigid body's noisy pose keep their length), so
   where the length reads exact the knob's own eighth differences are the estimate, read as a
-  pose's position is (with the same ``EXACT_RATIO`` guard). (Always the larger of the two was
-  measured worse: at 90 Hz the knob's read its motion too, and markers with their own noise
-  were smoothed more than their noise asks, BENCHMARKS.md, session 48.)
+  pose's position is (with the same ``EXACT_RATIO`` guard), unless the tip's eighth differences
+  read more than ``EXACT_RATIO`` times the knob's: shared noise moves both ends alike (their
+  ratio 0.8-3.9 at 90-360 Hz and 0.1-1 mm), while a swing's own motion, which the knob's read
+  on exact samples at 60 Hz, moves the tip's 6-9 times the knob's. (Always the larger of the
+  length's and the knob's was measured worse: at 90 Hz the knob's read its motion too, and
+  markers with their own noise were smoothed more than their noise asks; BENCHMARKS.md,
+  session 48.)
 
 The estimate is 1.4826 times the median absolute residual (the normal's scale from its median
 absolute deviation: a few residuals spoilt by motion or a glitch do not move it), 0 until
@@ -140,7 +144,7 @@ class NoiseEstimate:
     :raises ValueError: another kind.
     """
 
-    __slots__ = ('kind', '_median', '_motion', 'medians', '_knob', '_knob_motion')
+    __slots__ = ('kind', '_median', '_motion', 'medians', '_knob', '_knob_motion', '_tip')
 
     def __init__(self, kind: str) -> None:
         if kind not in SPANS and kind != 'length':
@@ -154,6 +158,7 @@ class NoiseEstimate:
         # (a knob-tip bat's knob as a pose's position: the noise its two points share)
         self._knob = self._made(POSE_SPAN) if kind == 'length' else None
         self._knob_motion = self._made(POINT_SPAN) if kind == 'length' else None
+        self._tip = self._made(POSE_SPAN) if kind == 'length' else None
 
     @staticmethod
     def _made(span: int) -> _kernel.NoiseMedian:
@@ -173,12 +178,14 @@ class NoiseEstimate:
         The floor: ``NOISE_FLOOR``; for a pose, also its fourth differences' estimate over
         ``EXACT_RATIO`` (the swing's own motion there dwarfs the noise). For knob and tip
         points, the length's, or where that reads exact (noise the points share keeps it) the
-        knob's, read as a pose's position is.
+        knob's, read as a pose's position is, where the tip's eighth differences read at most
+        ``EXACT_RATIO`` times it (more: the swing's motion, not noise).
         """
         sigma = _guarded(self._median, self._motion)
-        if self._knob is not None and sigma == 0.0:
-            return _guarded(self._knob, self._knob_motion)
-        return sigma
+        if self._knob is None or sigma > 0.0:
+            return sigma
+        knob = _guarded(self._knob, self._knob_motion)
+        return 0.0 if EXACT_RATIO * knob < self._tip.sigma else knob
 
     @property
     def residuals(self) -> List[float]:
@@ -220,10 +227,12 @@ class NoiseEstimate:
             first = last + 1 - POSE_SPAN
             if first >= 0:  # (the knob's window: the kernel reads the newest span samples)
                 window = slice(first, last + 1)
-                knobs = [value.knob for value in stream.values[window]]
+                values = stream.values[window]
                 times, breaks = stream.times[window], stream.breaks[window]
+                knobs = [value.knob for value in values]
                 for median in (self._knob, self._knob_motion):
                     median.take_stream(times, knobs, breaks)
+                self._tip.take_stream(times, [value.tip for value in values], breaks)
             return self.sigma
         # (the kernel's: span samples of one segment, the values' points or poses' positions)
         for median in self.medians:
