@@ -665,10 +665,18 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
 
 
 def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
-    """Return the chunk's length up to its first sample of a stream not after the one before."""
+    """
+    Return the chunk's length up to its first sample of a stream not after the one before.
+
+    A stream's very first sample ends it too (the per-sample path starts the stream); a chunk
+    without a sample of the stream is not limited by it.
+    """
     own = stamps[mine]
-    previous = np.concatenate((stream.stamps[-1:], own[:-1]))
-    bad = np.flatnonzero(own <= previous) if len(previous) == len(own) else np.array([0])
+    if not len(own):
+        return len(stamps)
+    if not len(stream.stamps):
+        return int(np.flatnonzero(mine)[0])
+    bad = np.flatnonzero(own <= np.concatenate((stream.stamps[-1:], own[:-1])))
     return int(np.flatnonzero(mine)[bad[0]]) if len(bad) else len(stamps)
 
 

@@ -380,6 +380,28 @@ def test_plans_run_across_pauses_between_pitches(model: str,
     assert len(planned) < len(heights)
 
 
+@pytest.mark.parametrize('untracked', ['ball', 'bat_pose'])
+def test_chunks_without_a_sample_of_one_stream(untracked: str) -> None:
+    """
+    One body tracked throughout, the other only 0.3 s of each 0.6 s pitch: the same events.
+
+    (A robot arm's bat pose at 1 kHz beside a ball seen only in flight: many of its chunks
+    hold no ball sample once the ball's stream has started. Such a chunk ended the plan with
+    an IndexError before.)
+    """
+    rows = [row for row in session((1.0, 1.3, 0.95, 1.1), spacing=0.6)
+            if row[0] != untracked or (row[1] - BASE_NS) % 600_000_000 < 300_000_000]
+    sizes = (50, 97, 400)
+    for size in sizes:
+        parts = [rows[i:i + size] for i in range(0, len(rows), size)]
+        assert any(all(row[0] != untracked for row in part) for part in parts[1:])
+    for config in (DetectorConfig(model='rigid', bat_input='pose'),
+                   DetectorConfig(model='c2', bat_input='pose', look_ahead=2,
+                                  tracker_noise=-1.0, prediction_horizon=0.3)):
+        events = assert_same(config, rows, sizes)
+        assert sum(isinstance(e, Impact) for e in events) == 2  # (two of the four hit)
+
+
 def _paused(heights: Sequence[float]) -> List[Row]:
     """Return a session tracked only in the first 0.5 s of every 0.6 s (a pause per pitch)."""
     return [row for row in session(heights, spacing=0.6)
