@@ -27,6 +27,7 @@ bulge), and the tests grow the ball's bounds by it on every interval, departed o
 need neither the noise nor the decision.
 """
 
+import math
 from typing import Any, Optional, Tuple
 
 import numpy as np
@@ -137,6 +138,46 @@ def flight_path(stream: Stream, k: int, fitted: Parabola) -> PointPath:
                     for a, b, c in zip(p1, p2, acceleration))
     closing = tuple(v + c * (t3 - t2) for v, c in zip(opening, acceleration))
     return PointPath(t2, t3, p2, end, opening, closing)
+
+
+def glitch_path(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[PointPath]:
+    """
+    Return the free flight over interval k when its opening sample k is a glitch, else None.
+
+    A glitch: sample k left the free flight of the samples before it (``leaves_flight``) and
+    sample k + 1, in its segment, is back on that flight: nearer to the parabola through
+    samples k - 3 .. k - 1, continued to its stamp, than sample k was at its own. A ball does
+    not leave its flight and come back; a hit's frames go on leaving it (the distance grows with
+    the time since the contact, so the next frame's is at least the departed one's), and a
+    tracker that reports one frame off the ball (a mislabelled marker, a reflection) comes back.
+    The path is that parabola over [t_k, t_k+1], so sample k moves the ball nowhere; the sweep
+    counts it as a ``ball_glitch`` drop and keeps it out of later windows (``Sweep``).
+
+    :param noise: the noise told (m; ``judging_noise``).
+    """
+    if k < 3 or k + 1 >= len(stream.times) or not stream.continuous(k, max_gap):
+        return None
+    departed = leaves_flight(stream, k - 1, noise, max_gap)
+    if departed is None:
+        return None
+    times, values = stream.times, stream.values
+    t1, t2, t3 = times[k - 3:k]
+
+    def flight(t: float) -> Tuple[Vector, Vector]:
+        # Lagrange's parabola through samples k - 3 .. k - 1, and its slope, at t
+        w = ((t - t2) * (t - t3) / ((t1 - t2) * (t1 - t3)),
+             (t - t1) * (t - t3) / ((t2 - t1) * (t2 - t3)),
+             (t - t1) * (t - t2) / ((t3 - t1) * (t3 - t2)))
+        d = ((2 * t - t2 - t3) / ((t1 - t2) * (t1 - t3)),
+             (2 * t - t1 - t3) / ((t2 - t1) * (t2 - t3)),
+             (2 * t - t1 - t2) / ((t3 - t1) * (t3 - t2)))
+        samples = values[k - 3:k]
+        return (tuple(sum(w[i] * samples[i][c] for i in range(3)) for c in range(3)),
+                tuple(sum(d[i] * samples[i][c] for i in range(3)) for c in range(3)))
+    opening, closing = flight(times[k]), flight(times[k + 1])
+    if math.dist(closing[0], values[k + 1]) >= departed[0]:
+        return None
+    return PointPath(times[k], times[k + 1], opening[0], closing[0], opening[1], closing[1])
 
 
 def departure_reach(stream: Stream, k: int, max_gap: float) -> float:

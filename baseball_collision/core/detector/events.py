@@ -50,6 +50,10 @@ class DropReason(enum.StrEnum):
     LOST_BODY = 'lost_body'
     """A bat pose exactly at the origin with the identity orientation: what motion capture
     publishes for a rigid body it lost (``drop_lost_body``)."""
+    BALL_GLITCH = 'ball_glitch'
+    """A ball sample off its free flight whose next sample came back to it (a mislabelled
+    marker, a reflection): judged where the ball is near the bat, and left out of its paths
+    there (``departure.glitch_path``). Counted when the next sample shows it."""
 
 
 DROP_REASONS = tuple(reason.value for reason in DropReason)

@@ -17,9 +17,10 @@ from typing import Any, Callable, List, Optional, Tuple
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, judging_noise, leaves_flight)
+    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
+    leaves_flight)
 from .episodes import EpisodeTracker, State
-from .events import DetectorStats, Impact, StreamGap
+from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
     stream_noise)
@@ -69,7 +70,7 @@ class Sweep:
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
-                 'ahead', 'on_contact')
+                 'ahead', 'on_contact', 'glitch_ns', 'frame_of')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -86,6 +87,9 @@ class Sweep:
         # streams' noise at each interval (``_estimates``); None: the streams' noise as it is
         self.estimators: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None
         self.ahead = samples_ahead(config.model, config.look_ahead)
+        self.glitch_ns: Optional[int] = None  # the ball glitch last counted (``_glitch``)
+        # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
+        self.frame_of: Callable[[], Optional[str]] = lambda: None
 
     def interval(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s), appending the events it makes."""
@@ -306,8 +310,16 @@ class Sweep:
         """
         ball, config = self.ball, self.config
         gap, noise, judged = config.max_gap, stream_noise(ball, config), judging_noise(config)
+        glitch = glitch_path(ball, k, judged, gap)
+        if glitch is not None:
+            self._glitch(k)
+            return glitch
         if self.model == 'c2':
             window = c2_window(ball, k, gap, config.look_ahead, config.spline_window)
+            for j in range(k - 1, window.start - 1, -1):  # nor from behind a glitch
+                if glitch_path(ball, j, judged, gap) is not None:
+                    window = range(j + 1, window.stop)
+                    break
             for j in range(k + 1, window.stop - 1):  # the look-ahead ends at a departure
                 if leaves_flight(ball, j, judged, gap) is not None:
                     window = range(window.start, j + 1)
@@ -320,10 +332,30 @@ class Sweep:
             before, after = _neighbours(ball, k, gap)
             if after is not None and leaves_flight(ball, k + 1, judged, gap) is not None:
                 after = None
+            if before is not None and glitch_path(ball, k - 1, judged, gap) is not None:
+                before = None
             path = PointPath.build(self.model, ball.times[k], ball.times[k + 1], ball.values[k],
                                    ball.values[k + 1], before, after)
         departed = leaves_flight(ball, k, judged, gap)
         return path if departed is None else flight_path(ball, k, departed)
+
+    def _glitch(self, k: int) -> None:
+        """
+        Count the ball's sample k, a glitch (``departure.glitch_path``), as a dropped sample.
+
+        Once: its interval's path is kept by its stamps, and the sample stays in the stream
+        (every fit near the bat leaves it out: ``_ball_path``). A late drop (``LateDrop``,
+        reason ``ball_glitch``), told by the call that judged it, as the node and ``analyze``
+        tell any other.
+        """
+        stamp = self.ball.stamps[k]
+        if stamp == self.glitch_ns:
+            return
+        self.glitch_ns = stamp
+        stats = self.stats
+        stats.dropped[DropReason.BALL_GLITCH] += 1
+        stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.BALL_GLITCH,
+                                         stamp_ns=stamp, frame_id=self.frame_of() or ''))
 
     def _past_departure(self, k: int, path: PointPath) -> None:
         """
