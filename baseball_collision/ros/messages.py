@@ -172,7 +172,7 @@ _DROP_DETAILS = {
     'bad_frame': 'frame {frame!r} has control characters or bytes that were not UTF-8',
     'lost_body': 'bat pose at the origin with the identity orientation (motion capture lost '
                  'the rigid body; drop_lost_body)',
-    'ball_glitch': 'stamp {stamp} s is off the ball\'s flight and the next sample came back to '
+    'ball_glitch': "stamp {stamp} s is off the ball's flight and the next sample came back to "
                    'it (one bad frame near the bat: left out of its path)',
 }
 
