@@ -12,7 +12,11 @@ reaches its stream it passes, in order:
 * the stamp against its stream's newest (``gate.stamp_check``): a duplicate or a little behind
   is dropped; far behind waits in the ``JumpWatch``: ``JUMP_CONFIRM`` such samples in a row are
   a jump back (the state resets once and they are taken), and a sample on the current clock
-  between them shows another publisher's clock (they are dropped as ``STALE_STAMP``);
+  between them shows another publisher's clock (they are dropped as ``STALE_STAMP``). Another
+  stream's sample on the candidates' own clock (within ``time_jump_reset`` of them) keeps them:
+  the stream that waits is the one behind, its newest a lone sample of the old clock (one
+  delivered after a reset, or two glitched ahead in a row), and without it that stream dropped
+  every sample until the new clock overtook its newest;
 * a step well beyond the stream's usual one (``gate.hold_ahead``) waits for the stream's next
   sample: if that comes before it, it was a lone glitch ahead (dropped as ``STAMP_AHEAD``),
   else it is taken then (a real gap costs one sample of latency on that stream). A step that
@@ -177,8 +181,9 @@ class Intake:
             else:  # the next sample came before it: a lone glitch ahead
                 self._late(held, DropReason.STAMP_AHEAD)
         if stamps and stamp > stamps[-1]:  # in order: the common case
-            if self.jumps.candidates:  # the current clock is alive: those were another clock
-                self._abandon()
+            jumps = self.jumps
+            if jumps.candidates and abs(stamp - jumps.newest) > self.reset_ns:
+                self._abandon()  # the current clock is alive: those were another clock
             if hold_ahead(stamps, stamp, self.reset_ns) and not self._on_clock(stamp):
                 self.held[role] = offer
                 return None

@@ -134,6 +134,38 @@ def test_a_jump_back_needs_samples_in_a_row() -> None:
     assert detector._ball.stamps == [BASE_NS - 5 * SECOND + 100 + k for k in range(JUMP_CONFIRM)]
 
 
+@pytest.mark.parametrize('lone', ['after_a_reset', 'two_ahead'])
+def test_a_stream_behind_its_own_lone_newest_comes_back(lone: str, truth_ns: int) -> None:
+    """
+    One stream's newest is a lone sample of another clock: a reset, then the pitch's hit.
+
+    ``after_a_reset``: a looped recording, the node's reset at the ROS clock's jump back, and one
+    bat sample of the old loop delivered after it (``replay --loop``); ``two_ahead``: two bat
+    samples in a row glitched 5 s ahead. The bat's samples then wait far behind its newest
+    while the ball's, on their clock, come in order. Those kept them from ever making the jump
+    back: every bat sample was dropped as ``stale_stamp`` until the stamps overtook the lone
+    one, the hit lost.
+    """
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    lone_stamps = [stamp_of(71) + 10 * SECOND] if lone == 'after_a_reset' else [
+        stamp_of(3) + 5 * SECOND, stamp_of(4) + 5 * SECOND]
+    events: List[Any] = []
+    if lone == 'after_a_reset':
+        run(detector)
+        detector.reset(stamp_of(71), 'time_jump_backwards')
+        detector.add_bat_pose(lone_stamps[0], *pose(0.2), 'world')  # a longer loop's last, late
+    for i in range(72):
+        t = i / RATE
+        events += detector.add_ball(stamp_of(i), pitch()(t), 'world')
+        if lone == 'two_ahead' and i in (3, 4):
+            events += detector.add_bat_pose(lone_stamps[i - 3], *pose(t), 'world')
+            continue
+        events += detector.add_bat_pose(stamp_of(i), *pose(t), 'world')
+    one_impact_at(events + detector.finish(), truth_ns)
+    assert [e.reason for e in events if isinstance(e, StateReset)] == ['time_jump_backwards']
+    assert 'stale_stamp' not in detector.stats.dropped
+
+
 # ---- 2: one sample glitched ahead ----------------------------------------------------------
 
 
