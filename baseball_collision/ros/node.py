@@ -531,6 +531,8 @@ class ImpactNode(Node):
             with self._lock:
                 self.detector.reconfigure(settings.detector)
                 previous, self.settings = self.settings, settings
+                if settings['prediction_horizon'] <= 0.0:  # off: no prediction in force
+                    self._set_predicting(False)
             if settings['time_jump_reset'] != previous['time_jump_reset']:
                 self._register_clock_jump()
             changes = ', '.join(f'{p.name}={p.value!r}' for p in parameters if p.name in SPECS)
@@ -557,10 +559,27 @@ class ImpactNode(Node):
         return report(snapshot, problems)
 
     def _publish_diagnostics(self) -> None:
-        """Publish the status on /diagnostics (timer, steady clock)."""
+        """Publish the status on /diagnostics (timer, steady clock); end a silent prediction."""
         array = DiagnosticArray(status=[self.diagnostics()])
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
+        self._withdraw_a_silent_prediction()
+
+    def _withdraw_a_silent_prediction(self) -> None:
+        """
+        Turn ``~/impact_predicted`` false once an input has been silent beyond ``stale_timeout``.
+
+        A prediction is cleared by the frame that shows it wrong or past; when the frames stop
+        (the tracker lost the ball, the streams died) none comes, and the flag stayed true for
+        good: an arm waited on a contact that nothing will measure. The detector's prediction
+        is left as it is: its next prediction turns the flag true again.
+        """
+        timeout, now = self.settings['stale_timeout'], time.monotonic()
+        with self._lock:
+            if self._predicting and any(
+                    now - self.tally.last_arrival.get(stream, -math.inf) > timeout
+                    for stream in self._streams):
+                self._set_predicting(False)
 
     def destroy_node(self) -> None:
         """Unregister the clock jump callback, then destroy the node."""

@@ -663,6 +663,29 @@ def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Har
     assert [m.data for m in h.received['predicting']][-2:] == [True, False]
 
 
+@pytest.mark.parametrize('ended_by', ['silence', 'prediction_off'])
+def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
+        harness: Callable[..., Harness], truth_ns: int, ended_by: str) -> None:
+    """
+    The streams stop 8 ms before the predicted contact: ~/impact_predicted turns false.
+
+    Within ``stale_timeout`` and a diagnostics period (``silence``), or at once when the
+    prediction is turned off at runtime (``prediction_off``). It stayed true for good: only a
+    frame could clear it.
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 0.3,
+                                        'diagnostics_period': 0.1})
+    early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3)  # up to ~8 ms before
+    h.processed(publish_swing(h, 'pose', pitch(), samples=early))
+    h.wait(lambda: h.received['predicting'][-1:] and h.received['predicting'][-1].data, 3.0,
+           'a prediction in force')
+    if ended_by == 'prediction_off':
+        result = h.node.set_parameters([Parameter('prediction_horizon', value=0.0)])
+        assert result[0].successful
+    h.wait(lambda: not h.received['predicting'][-1].data, 3.0, 'the prediction withdrawn')
+    assert not h.received['impact']
+
+
 def test_start_up_objects_are_frozen_out_of_the_collections() -> None:
     """freeze_start_up keeps what lives now out of later collections; new objects stay in."""
     kept = [object()]  # a container: tracked by the collector
