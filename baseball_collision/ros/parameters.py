@@ -24,7 +24,8 @@ from rclpy.parameter import Parameter
 from rclpy.validate_topic_name import validate_topic_name
 
 from ..core.detector import (
-    DetectorConfig, Kind, PARAMETERS, ParameterSpec, SPECS, validate_parameters)
+    DetectorConfig, Kind, PARAMETERS, ParameterSpec, SPECS, unknown_parameters,
+    validate_parameters)
 from ..errors import CoreError, RosError
 
 ROS_TYPES = {Kind.BOOL: Parameter.Type.BOOL, Kind.INTEGER: Parameter.Type.INTEGER,
@@ -161,11 +162,10 @@ def start_warnings(node: Node, config: DetectorConfig) -> List[str]:
     warnings = []
     # rclpy has no public accessor for the overrides given on the command line / params file
     overrides: Dict[str, Any] = getattr(node, '_parameter_overrides', {}) or {}
-    unknown = sorted(name for name in overrides if not node.has_parameter(name)
-                     and not name.startswith('qos_overrides.'))
-    if unknown:
-        warnings.append(f"ignoring unknown parameter(s) {', '.join(unknown)}: not parameters "
-                        f'of {node.get_name()} (see config/impact_node.yaml)')
+    unknown = unknown_parameters(
+        [name for name in overrides if not node.has_parameter(name)], node.get_name())
+    if unknown is not None:
+        warnings.append(unknown)
     if config.bat_input == 'pose':
         length = math.dist(config.geometry.knob_offset, config.geometry.tip_offset)
         if abs(length - config.profile.length) > 0.01:

@@ -9,9 +9,11 @@ at runtime (parameter service), and from ``analyze --params`` reading the same f
 from pathlib import Path
 from typing import Any, Callable
 
-from baseball_collision.core.detector import Kind, PARAMETERS, SPECS, validate_parameters
+from baseball_collision.core.detector import (
+    Kind, PARAMETERS, SPECS, unknown_parameters, validate_parameters)
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
+from baseball_collision.ros.parameters import start_warnings
 from baseball_collision.tools.parameters import load_parameters
 import pytest
 from rcl_interfaces.msg import ParameterType
@@ -81,6 +83,22 @@ def test_node_and_analyze_refuse_a_file_with_the_same_message(
     with pytest.raises(ToolError) as analyze_refusal:
         load_parameters(params)
     assert str(analyze_refusal.value) == f'parameter file {params}: {expected}'
+
+
+def test_node_and_analyze_name_unknown_parameters_alike(
+        tmp_path: Path, context: Callable[..., rclpy.Context]) -> None:
+    """Typos in a params file: the node's start-up warning is the one analyze prints."""
+    params = tmp_path / 'typos.yaml'
+    params.write_text('impact_node:\n  ros__parameters:\n    modle: linear\n'
+                      '    use_sim_time: false\n    qos_overrides./ball.subscription.depth: 5\n')
+    node = ImpactNode(context=context('--params-file', str(params)))
+    try:
+        warning = unknown_parameters(load_parameters(params))
+        assert warning == ('ignoring unknown parameter(s) modle (did you mean model?): not '
+                           'parameters of impact_node (see config/impact_node.yaml)')
+        assert start_warnings(node, node.detector.config) == [warning]
+    finally:
+        node.destroy_node()
 
 
 @pytest.mark.parametrize('name, text, value', BAD, ids=[f'{n}={t}' for n, t, _ in BAD])

@@ -10,10 +10,11 @@ tests hold ``config/impact_node.yaml`` and the README's table to it.
 """
 
 from dataclasses import dataclass, field, fields, replace
+import difflib
 from enum import Enum
 from functools import lru_cache
 import math
-from typing import Any, Dict, List, Mapping, Optional, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
 
 from ..bat import BatProfile, MAX_STATIONS, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
 from ..geometry import Vector
@@ -353,6 +354,30 @@ SPECS: Dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
 
 DEFAULTS: Dict[str, Any] = {spec.name: spec.default for spec in PARAMETERS}
 """Every parameter's default by name (arrays as tuples)."""
+
+
+ROS_OWN_PARAMETERS = ('use_sim_time', 'start_type_description_service')
+"""Parameters every rclpy node declares itself (and ``qos_overrides.`` names: its QoS)."""
+
+
+def unknown_parameters(names: Iterable[str], node_name: str = NODE_NAME) -> Optional[str]:
+    """
+    Return a warning naming the parameters among ``names`` the node does not have, or None.
+
+    Typos in a params file (``modle``, ``tracker_noize``): rclpy ignores what no node
+    declares, so the node and ``analyze --params`` say so, each with the nearest parameter
+    name where one is close. ROS's own (``ROS_OWN_PARAMETERS``, ``qos_overrides.*``) are known.
+    """
+    unknown = sorted(name for name in names if name not in SPECS
+                     and name not in ROS_OWN_PARAMETERS and not name.startswith('qos_overrides.'))
+    if not unknown:
+        return None
+    described = []
+    for name in unknown:
+        near = difflib.get_close_matches(name, SPECS, n=1)
+        described.append(f'{name} (did you mean {near[0]}?)' if near else name)
+    return (f"ignoring unknown parameter(s) {', '.join(described)}: not parameters of "
+            f'{node_name} (see config/impact_node.yaml)')
 
 
 def validate_parameters(values: Mapping[str, Any]) -> Dict[str, Any]:
