@@ -9,7 +9,7 @@ nor a message package.
   executor in a daemon thread; closed in the order ENVIRONMENT.md asks (executor, thread, node,
   context).
 * :class:`EventListener`: reliable subscriptions to the node's ``~/impact``,
-  ``~/impact_velocity`` and ``~/near_miss``.
+  ``~/impact_report`` and ``~/near_miss``.
 
 Callbacks run on the executor's thread.
 """
@@ -17,10 +17,11 @@ Callbacks run on the executor's thread.
 import threading
 from typing import Any, Callable, Mapping, Tuple
 
-from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
+from geometry_msgs.msg import PointStamped, Vector3Stamped
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
 
 Vector = Tuple[float, float, float]
 
@@ -75,16 +76,17 @@ class EventListener:
     Subscriptions to a node's event topics, each message handed on as plain values.
 
     :param node: the rclpy node to subscribe with.
-    :param topics: the node's topics by event: ``'impact'``, ``'impact_velocity'``,
+    :param topics: the node's topics by event: ``'impact'``, ``'impact_report'``,
         ``'near_miss'`` (as ``tools.parameters.output_topics`` names them).
     :param on_impact: ``(stamp_ns, contact point)`` per ``~/impact`` message.
-    :param on_velocity: ``(stamp_ns, linear, angular)`` per ``~/impact_velocity`` message.
+    :param on_report: the JSON text of each ``~/impact_report`` record (an impact's, a near
+        miss's, a prediction's: the node makes them while a subscriber listens).
     :param on_near_miss: ``(stamp_ns, gap vector)`` per ``~/near_miss`` message.
     """
 
     def __init__(self, node: Any, topics: Mapping[str, str],
                  on_impact: Callable[[int, Vector], None],
-                 on_velocity: Callable[[int, Vector, Vector], None],
+                 on_report: Callable[[str], None],
                  on_near_miss: Callable[[int, Vector], None]) -> None:
         qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=LISTEN_DEPTH,
                          reliability=ReliabilityPolicy.RELIABLE,
@@ -94,9 +96,7 @@ class EventListener:
                 PointStamped, topics['impact'],
                 lambda message: on_impact(_stamp_ns(message), _xyz(message.point)), qos),
             node.create_subscription(
-                TwistStamped, topics['impact_velocity'],
-                lambda message: on_velocity(_stamp_ns(message), _xyz(message.twist.linear),
-                                            _xyz(message.twist.angular)), qos),
+                String, topics['impact_report'], lambda message: on_report(message.data), qos),
             node.create_subscription(
                 Vector3Stamped, topics['near_miss'],
                 lambda message: on_near_miss(_stamp_ns(message), _xyz(message.vector)), qos)]

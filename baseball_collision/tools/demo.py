@@ -9,7 +9,7 @@ host):
    not lose a message, however far behind a loaded machine leaves the node);
 2. in this process, a :class:`~baseball_collision.ros.replay.BagPlayer` that waits for the
    node's subscriptions, then replays the bag with ``/clock``, and subscriptions to the node's
-   ``~/impact``, ``~/impact_velocity`` and ``~/near_miss`` that print each event as it arrives
+   ``~/impact``, ``~/impact_report`` and ``~/near_miss`` that print each event as it arrives
    (the rclpy side, :class:`~baseball_collision.ros.listener.EventListener`, hands them to
    :class:`LiveEvents` as plain values: this module imports no rclpy);
 3. a summary: the live impacts against the bag's truth file, and against ``analyze`` run
@@ -20,8 +20,8 @@ Exit code 0 when the node ran and stopped cleanly, reported impacts and agreed w
 analysis; 1 otherwise.
 """
 
-from bisect import bisect_right
 from dataclasses import dataclass
+import json
 import math
 import os
 from pathlib import Path
@@ -32,18 +32,15 @@ import sys
 import tempfile
 import threading
 import time
-from typing import Any, Callable, Dict, IO, List, Optional, Tuple
+from typing import Any, Callable, Dict, IO, List, Optional
 
 from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .parameters import load_parameters, NODE_NAME, output_topics
 from .report import truth_line
 from .truth import compare_truth, load_truth
-from ..bags import BagReader
-from ..core.detector import DetectorConfig, MPS_TO_MPH
-from ..core.geometry import add, cross, dot, norm, rotate, scale, sub, Vector
-from ..core.motion import BatPath, BatSample
-from ..core.records import along_axis_from_tip
-from ..errors import BagError, RosError, ToolError
+from ..core.detector import MPS_TO_MPH
+from ..core.geometry import norm, Vector
+from ..errors import RosError, ToolError
 
 PACKAGE = 'baseball_collision'
 DEMO_BAG = 'bags/pitches_360hz.mcap'
@@ -109,27 +106,35 @@ def isolated_environment(domain: Optional[int] = None) -> Dict[str, str]:
 @dataclass
 class LiveImpact:
     """
-    An impact as the node published it, with the spot and speeds derived from the bag's bat.
+    An impact as the node published it: its ``~/impact`` and its ``~/impact_report`` record.
 
     :ivar stamp_ns: the impact instant (``~/impact`` header stamp).
     :ivar point: contact point (m).
-    :ivar bat_velocity: ``~/impact_velocity`` linear: bat surface velocity at the point (m/s).
-    :ivar angular_velocity: ``~/impact_velocity`` angular (rad/s).
-    :ivar distance_from_tip_m: the contact point's place along the axis from the tip, within
-        the profile's ends (m): the spot the truth files give (an end cap's centre for its
-        hits).
-    :ivar contact_from_tip_m: the contact point's own distance from the tip along the axis (m),
-        as the record gives it (what is printed).
-    :ivar sweet_spot_speed_mps: speed of the sweet spot, by rigid motion from the twist (m/s).
+    :ivar distance_from_tip_m: the impact's place along the axis from the tip, within the
+        profile's ends (m): the spot the truth files give (an end cap's station for its hits),
+        from the record's ``bat_fraction``, knob and tip.
+    :ivar contact_from_tip_m: the contact point's own distance from the tip along the axis
+        (m): the record's ``distance_from_tip_m`` (what is printed).
+    :ivar sweet_spot_speed_mps: the record's sweet-spot speed (m/s).
+    :ivar bat_speed_mps: the record's bat speed at the contact point (m/s).
     """
 
     stamp_ns: int
-    point: Vector
-    bat_velocity: Optional[Vector] = None
-    angular_velocity: Optional[Vector] = None
+    point: Optional[Vector] = None
     distance_from_tip_m: float = math.nan
     contact_from_tip_m: float = math.nan
     sweet_spot_speed_mps: float = math.nan
+    bat_speed_mps: float = math.nan
+    reported: bool = False
+
+    def take_record(self, record: Dict[str, Any]) -> None:
+        """Take the numbers of the impact's ``~/impact_report`` record (a parsed JSON dict)."""
+        length = math.dist(record['knob'], record['tip'])
+        self.distance_from_tip_m = (1.0 - record['bat_fraction']) * length
+        self.contact_from_tip_m = record['distance_from_tip_m']
+        self.sweet_spot_speed_mps = record['sweet_spot_speed_mps']
+        self.bat_speed_mps = record['bat_speed_at_contact_mps']
+        self.reported = True
 
 
 @dataclass
@@ -140,134 +145,54 @@ class LiveNearMiss:
     gap_vector: Vector
 
 
-class BatTrack:
-    """
-    The bag's bat over time, to place a contact point on it.
-
-    Between two bat samples the bat moves as the core's motion models move it
-    (:class:`~baseball_collision.core.motion.BatPath`): a pose rigidly (position linear,
-    orientation SLERP), knob and tip points linearly.
-
-    :param path: the bag.
-    :param config: the detector configuration (bat geometry, sweet spot).
-    :param analysis: the offline analysis of the bag (its topic selection is read).
-    :raises ToolError: the bag cannot be read.
-    """
-
-    def __init__(self, path: Path, config: DetectorConfig, analysis: BagAnalysis) -> None:
-        self.config = config
-        self.offsets = (tuple(float(x) for x in config.geometry.knob_offset),
-                        tuple(float(x) for x in config.geometry.tip_offset))
-        self.stamps: List[int] = []
-        self.samples: List[BatSample] = []
-        knobs: Dict[int, Vector] = {}
-        tips: Dict[int, Vector] = {}
-        try:
-            with BagReader(path, analysis.selection) as bag:
-                for role, stamp, _, values, _ in bag.samples():
-                    if role == 'bat_pose':
-                        self.stamps.append(stamp)
-                        self.samples.append(self._pose_sample(values))
-                    elif role == 'knob':
-                        knobs[stamp] = tuple(values)
-                    elif role == 'tip':
-                        tips[stamp] = tuple(values)
-        except BagError as error:
-            raise ToolError(str(error)) from error
-        self.model = 'rigid' if self.samples else 'linear'
-        if not self.samples:
-            self.stamps = sorted(set(knobs) & set(tips))
-            self.samples = [BatSample(knobs[s], tips[s]) for s in self.stamps]
-
-    def _pose_sample(self, values: Tuple[float, ...]) -> BatSample:
-        """Return a pose sample with its knob and tip (as the detector places them)."""
-        position, quaternion = tuple(values[:3]), tuple(values[3:])
-        return BatSample(add(position, rotate(quaternion, self.offsets[0])),
-                         add(position, rotate(quaternion, self.offsets[1])), position,
-                         quaternion)
-
-    def ends(self, stamp_ns: int) -> Optional[Tuple[Vector, Vector]]:
-        """Return (knob, tip) in metres at a stamp, or None outside the samples."""
-        k = bisect_right(self.stamps, stamp_ns) - 1
-        if k < 0 or k + 1 >= len(self.stamps):
-            return None
-        # times in ns from the earlier sample: exact in a float
-        path = BatPath.build(self.model, 0.0, float(self.stamps[k + 1] - self.stamps[k]),
-                             self.samples[k], self.samples[k + 1], offsets=self.offsets)
-        return path.at(float(stamp_ns - self.stamps[k]))
-
-    def place(self, impact: LiveImpact) -> None:
-        """Fill an impact's spot (from the tip) and sweet-spot speed from the bat at its stamp."""
-        ends = self.ends(impact.stamp_ns)
-        if ends is None:
-            return
-        knob, tip = ends
-        axis = sub(tip, knob)
-        length = norm(axis)
-        direction = scale(axis, 1.0 / length)
-        # the contact point's place along the axis, within the profile's ends (as the detector
-        # reports a spot)
-        segments = self.config.profile.segments()
-        fraction = dot(sub(impact.point, knob), direction) / length
-        fraction = min(max(fraction, segments[0][0]), segments[-1][1])
-        impact.distance_from_tip_m = (1.0 - fraction) * length
-        # the contact point's own distance, as the record gives it (an end-cap hit's too)
-        impact.contact_from_tip_m = along_axis_from_tip(impact.point, knob, tip)
-        if impact.bat_velocity is not None and impact.angular_velocity is not None:
-            sweet = sub(tip, scale(direction, self.config.sweet_spot_from_tip))
-            velocity = add(impact.bat_velocity, cross(impact.angular_velocity,
-                                                      sub(sweet, impact.point)))
-            impact.sweet_spot_speed_mps = norm(velocity)
-
-
 class LiveEvents:
     """
     The node's events as they arrive; each printed once complete.
 
-    An impact is complete when both its ``~/impact`` point and its ``~/impact_velocity``
-    twist (same stamp) arrived: it is then placed on the bat (:class:`BatTrack`) and printed.
-    The ``on_*`` methods may be called from another thread.
+    An impact is complete when both its ``~/impact`` message and its ``~/impact_report`` record
+    (same stamp) arrived: it is printed with the record's numbers, the node's own. The ``on_*``
+    methods may be called from another thread.
 
-    :param track: the bag's bat.
     :param first_ns: the bag's first stamp (ns): printed times are seconds from it.
     :param out: where to print.
     """
 
-    def __init__(self, track: BatTrack, first_ns: int, out: IO[str]) -> None:
-        self.track = track
+    def __init__(self, first_ns: int, out: IO[str]) -> None:
         self.first_ns = first_ns
         self.out = out
         self.lock = threading.Lock()
         self.impacts: Dict[int, LiveImpact] = {}
         self.printed: List[LiveImpact] = []
         self.near_misses: List[LiveNearMiss] = []
-        self.twists: Dict[int, Tuple[Vector, Vector]] = {}
+
+    def _impact(self, stamp_ns: int) -> LiveImpact:
+        return self.impacts.setdefault(stamp_ns, LiveImpact(stamp_ns))
 
     def on_impact(self, stamp_ns: int, point: Vector) -> None:
         """Take an ``~/impact`` message: stamp (ns) and contact point (m)."""
         with self.lock:
-            self.impacts[stamp_ns] = LiveImpact(stamp_ns, point)
+            self._impact(stamp_ns).point = point
             self._complete(stamp_ns)
 
-    def on_velocity(self, stamp_ns: int, linear: Vector, angular: Vector) -> None:
-        """Take an ``~/impact_velocity`` message: stamp (ns), m/s and rad/s."""
+    def on_report(self, text: str) -> None:
+        """Take an ``~/impact_report`` record (JSON text); an impact's completes its impact."""
+        record = json.loads(text)
+        if record.get('event') != 'impact':
+            return
         with self.lock:
-            self.twists[stamp_ns] = (linear, angular)
-            self._complete(stamp_ns)
+            self._impact(record['stamp_ns']).take_record(record)
+            self._complete(record['stamp_ns'])
 
     def _complete(self, stamp: int) -> None:
-        impact = self.impacts.get(stamp)
-        twist = self.twists.get(stamp)
-        if impact is None or twist is None or impact in self.printed:
+        impact = self.impacts[stamp]
+        if impact.point is None or not impact.reported or impact in self.printed:
             return
-        impact.bat_velocity, impact.angular_velocity = twist
-        self.track.place(impact)
         self.printed.append(impact)
         self.out.write(
             f'  impact     {(stamp - self.first_ns) * 1e-9:8.4f} s  (stamp {stamp})  '
             f'{impact.contact_from_tip_m * 100:5.1f} cm from the tip, sweet spot '
             f'{impact.sweet_spot_speed_mps * MPS_TO_MPH:5.1f} mph, bat at contact '
-            f'{norm(impact.bat_velocity) * MPS_TO_MPH:5.1f} mph\n')
+            f'{impact.bat_speed_mps * MPS_TO_MPH:5.1f} mph\n')
         self.out.flush()
 
     def on_near_miss(self, stamp_ns: int, vector: Vector) -> None:
@@ -281,7 +206,7 @@ class LiveEvents:
             self.out.flush()
 
     def complete_impacts(self) -> List[LiveImpact]:
-        """Return the impacts received with their velocity, in stamp order."""
+        """Return the impacts received with their records, in stamp order."""
         with self.lock:
             return sorted(self.printed, key=lambda impact: impact.stamp_ns)
 
@@ -369,7 +294,6 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     params = Path(params) if params is not None else bundled(DEMO_PARAMS)
     offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
                           progress=False)
-    track = BatTrack(bag, offline.config, offline)
     env = isolated_environment(domain)
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
                                                  'ROS_AUTOMATIC_DISCOVERY_RANGE')})
@@ -385,7 +309,7 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
             process = subprocess.Popen(command, env=env, stdout=log_file,
                                        stderr=subprocess.STDOUT)
             try:
-                code = _live(process, bag, offline, track, rate, timeout_s, out, log)
+                code = _live(process, bag, offline, rate, timeout_s, out, log)
             finally:
                 node_code = stop_node(process)
         if node_code != 0:
@@ -396,7 +320,7 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
 
 
 def _live(process: 'subprocess.Popen[bytes]', bag: Path, offline: BagAnalysis,
-          track: BatTrack, rate: float, timeout_s: float, out: IO[str], log: Path) -> int:
+          rate: float, timeout_s: float, out: IO[str], log: Path) -> int:
     """Replay into the running node, collect its events, print the summary; return the code."""
     from ..ros.listener import EventListener, RosSession
     from ..ros.replay import BagPlayer, LATE_WARN_S, replay_summary
@@ -404,9 +328,9 @@ def _live(process: 'subprocess.Popen[bytes]', bag: Path, offline: BagAnalysis,
     stop = threading.Event()
     with RosSession('impact_demo') as session:
         try:
-            events = LiveEvents(track, offline.first_stamp_ns or 0, out)
+            events = LiveEvents(offline.first_stamp_ns or 0, out)
             listener = EventListener(session.node, output_topics(NODE_NAME), events.on_impact,
-                                     events.on_velocity, events.on_near_miss)
+                                     events.on_report, events.on_near_miss)
             with BagPlayer(session.node, bag, rate=rate) as player:
                 inputs = list(offline.selection.topics.values())
                 problem = wait_for_node(process, player, inputs, listener.matched, timeout_s)

@@ -1,72 +1,59 @@
-"""The demo's pure side: the bag's bat over time, and the node's events paired and printed."""
+"""The demo's pure side: the node's impacts and their records paired and printed."""
 
 import io
 from pathlib import Path
 
-from baseball_collision.core.geometry import add, lerp, rotate, slerp_quaternions
+from baseball_collision.core.detector import MPS_TO_MPH
+from baseball_collision.core.records import contact_from_tip, event_record, record_text
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
-from baseball_collision.tools.demo import (
-    BatTrack, isolated_environment, LiveEvents, node_command)
+from baseball_collision.tools.demo import isolated_environment, LiveEvents, node_command
 from baseball_collision.tools.parameters import load_parameters
+from baseball_collision.tools.truth import compare_truth, load_truth, truth_path
 import pytest
 from support.bundled import bag_path, PARAMS
 
 BAG = bag_path('pitches_360hz.mcap')
 
 
-def test_the_bat_moves_rigidly_between_pose_samples() -> None:
-    """Between poses: position linear, orientation SLERP; outside the samples: nothing."""
+@pytest.mark.parametrize('report_first', [False, True])
+def test_live_events_print_an_impact_with_the_nodes_own_numbers(report_first: bool) -> None:
+    """
+    ``~/impact`` and its ``~/impact_report`` record in either order: one line, the record's.
+
+    The spot and speeds printed are the node's (before, the demo placed ``~/impact``'s point on
+    the bag's bat moved rigidly: 11.9 cm and 74.9 mph where the node said 11.7 and 74.6).
+    """
     offline = analyze_bag(BAG, AnalysisOptions(parameters=load_parameters(PARAMS)),
                           progress=False)
-    track = BatTrack(BAG, offline.config, offline)
-    geometry = offline.config.geometry
-    k = 40
-    (p0, q0), (p1, q1) = [(s.position, s.quaternion) for s in track.samples[k:k + 2]]
-    stamp = track.stamps[k] + (track.stamps[k + 1] - track.stamps[k]) // 3
-    s = (stamp - track.stamps[k]) / (track.stamps[k + 1] - track.stamps[k])
-    q = slerp_quaternions(q0, q1, s)
-    knob, tip = track.ends(stamp)
-    assert knob == pytest.approx(add(lerp(p0, p1, s), rotate(q, geometry.knob_offset)),
-                                 abs=1e-12)
-    assert tip == pytest.approx(add(lerp(p0, p1, s), rotate(q, geometry.tip_offset)), abs=1e-12)
-    at_sample = track.ends(track.stamps[k])
-    expected = geometry.knob_and_tip(p0, q0)
-    assert at_sample[0] == pytest.approx(expected[0]) and at_sample[1] == pytest.approx(
-        expected[1])
-    assert track.ends(track.stamps[0] - 1) is None and track.ends(track.stamps[-1]) is None
-
-
-def test_knob_and_tip_points_move_linearly() -> None:
-    """A bat given as knob and tip points: each end on its chord."""
-    offline = analyze_bag(BAG, AnalysisOptions(knob_topic='/bat_knob', tip_topic='/bat_tip'),
-                          progress=False)
-    track = BatTrack(BAG, offline.config, offline)
-    assert track.model == 'linear' and len(track.samples) == len(track.stamps) > 100
-    first, second = track.samples[10:12]
-    stamp = (track.stamps[10] + track.stamps[11]) // 2
-    s = (stamp - track.stamps[10]) / (track.stamps[11] - track.stamps[10])
-    knob, tip = track.ends(stamp)
-    assert knob == pytest.approx(lerp(first.knob, second.knob, s), abs=1e-12)
-    assert tip == pytest.approx(lerp(first.tip, second.tip, s), abs=1e-12)
-
-
-def test_live_events_print_an_impact_once_it_has_its_velocity() -> None:
-    """Point and twist in either order: one line, placed on the bat; near misses at once."""
-    offline = analyze_bag(BAG, AnalysisOptions(parameters=load_parameters(PARAMS)),
-                          progress=False)
-    impact = offline.impacts[0]
     out = io.StringIO()
-    events = LiveEvents(BatTrack(BAG, offline.config, offline), offline.first_stamp_ns, out)
-    events.on_velocity(impact.stamp_ns, impact.bat_velocity, impact.bat_angular_velocity)
-    assert out.getvalue() == '' and events.complete_impacts() == []
-    events.on_impact(impact.stamp_ns, impact.point)
-    events.on_velocity(impact.stamp_ns, impact.bat_velocity, impact.bat_angular_velocity)
+    events = LiveEvents(offline.first_stamp_ns, out)
+    events.on_report(record_text(event_record(offline.near_misses[0], 'world', offline.config)))
+    for impact in offline.impacts:
+        record = record_text(event_record(impact, 'world', offline.config))
+        if report_first:
+            events.on_report(record)
+            assert events.complete_impacts() == [] or events.complete_impacts()[-1].stamp_ns \
+                != impact.stamp_ns
+        events.on_impact(impact.stamp_ns, impact.point)
+        if not report_first:
+            events.on_report(record)
     live = events.complete_impacts()
-    assert len(live) == 1 and out.getvalue().count('\n') == 1
-    assert out.getvalue().startswith(f'  impact     {offline.relative_s(impact.stamp_ns):8.4f} s')
-    assert live[0].distance_from_tip_m == pytest.approx(impact.distance_from_tip_m, abs=2e-3)
-    assert live[0].sweet_spot_speed_mps == pytest.approx(impact.sweet_spot_speed_mps, rel=1e-3)
-    events.on_near_miss(impact.stamp_ns + 5, (0.0, 0.03, -0.04))
+    assert [each.stamp_ns for each in live] == [impact.stamp_ns for impact in offline.impacts]
+    assert out.getvalue().count('\n') == len(offline.impacts)
+    first = offline.impacts[0]
+    assert out.getvalue().startswith(
+        f'  impact     {offline.relative_s(first.stamp_ns):8.4f} s  (stamp {first.stamp_ns})  '
+        f'{contact_from_tip(first) * 100:5.1f} cm from the tip, sweet spot '
+        f'{first.sweet_spot_speed_mps * MPS_TO_MPH:5.1f} mph')
+    for each, impact in zip(live, offline.impacts):
+        assert each.distance_from_tip_m == pytest.approx(impact.distance_from_tip_m, abs=1e-12)
+        assert each.sweet_spot_speed_mps == impact.sweet_spot_speed_mps
+    truth = load_truth(truth_path(BAG))
+    comparison = compare_truth(live, [], truth, truth_path(BAG))
+    assert len(comparison.matched) == len(offline.impacts) and not comparison.false_impacts
+    for (pitch, _), each in zip(comparison.matched, live):
+        assert abs(each.distance_from_tip_m - pitch['distance_from_tip_m']) < 1e-3
+    events.on_near_miss(first.stamp_ns + 5, (0.0, 0.03, -0.04))
     assert out.getvalue().splitlines()[-1].endswith(
         'the ball passed   5.0 cm from the bat (under it)')
 
