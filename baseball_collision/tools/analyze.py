@@ -131,6 +131,9 @@ class BagAnalysis:
             if 'wrong_frame' in why and self.config.frame_id:
                 line += (f": frame_id '{self.config.frame_id}' is configured and the bag's "
                          'samples are in another frame')
+            elif 'wrong_frame' in why and self.frame_id:
+                line += (f": their frame_id is not '{self.frame_id}', the tracking frame the "
+                         'other inputs agreed on (every input must share one frame: no TF)')
             lines.append(line)
         return lines
 

@@ -3,12 +3,14 @@
 from pathlib import Path
 from typing import Callable, List, Tuple
 
+from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.parameters import (
     build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics)
 import pytest
 from support import REPO_ROOT
+from support.bagfiles import reference_bag
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
@@ -173,6 +175,23 @@ def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> No
     assert code == 2 and stdout == '' and not out.exists()
     assert 'every sample of /ball (430) and /bat_pose (430) was dropped (wrong_frame)' in stderr
     assert "frame_id 'map' is configured" in stderr and len(stderr.splitlines()) == 1
+
+
+def test_a_bat_in_another_frame_than_the_ball_names_the_tracking_frame(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """No frame_id configured, the bat's samples in another frame: the error names the frame."""
+    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
+             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(40)]
+    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + 10_000_000 * i, 'mocap',
+              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 10_000_000 * i + 2) for i in range(30)]
+    bag = tmp_path / 'frames'
+    reference_bag(bag, sorted(rows, key=lambda row: row[5]))
+    code, _, stderr = run_cli(['analyze', str(bag), '--no-truth'])
+    assert code == 2
+    assert stderr.splitlines() == [
+        f'baseball-collision: error: {bag}: every sample of /bat_pose (30) was dropped '
+        "(wrong_frame): their frame_id is not 'world', the tracking frame the other inputs "
+        'agreed on (every input must share one frame: no TF)']
 
 
 def test_yaml_aliases_and_deep_nesting_are_refused(tmp_path: Path) -> None:
