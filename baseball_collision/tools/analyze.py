@@ -439,6 +439,12 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     result.stats = detector.stats
     result.noise = detector.noise
     result.frame_id = detector.frame_id or config.frame_id or ''
+    received = detector.stats.received
+    if detector.stats.intervals == 0 and received.get('ball') and (
+            received.get('bat_pose') or received.get('knob')):
+        result.notes.append(
+            'the ball and the bat were never tracked at the same time (their stamps do not '
+            'overlap): nothing could be solved; are both stamped by one clock?')
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():
         try:

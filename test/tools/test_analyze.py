@@ -29,7 +29,7 @@ import sys
 import threading
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
-from baseball_collision.bags import BagReader, POINT_STAMPED
+from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
     StreamGap)
@@ -42,6 +42,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
 from support import modules_loaded
+from support.bagfiles import reference_bag
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
 from support.events import swing_events
 
@@ -374,3 +375,21 @@ def test_prediction_scores_index_the_predictions_once(monkeypatch: pytest.Monkey
     assert len(built) == 1 and len(scores) == 300
     assert all(score[0.2] == (0.0, pytest.approx(math.dist(prediction.point, impact.point)))
                for score in scores)
+
+
+@pytest.mark.parametrize('offset_s, noted', [(3600.0, True), (0.0, False)])
+def test_streams_that_never_overlap_in_time_are_noted(tmp_path: Path, offset_s: float,
+                                                      noted: bool) -> None:
+    """A ball stamped an hour off the bat: a note that nothing could be solved, not silence."""
+    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
+             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(40)]
+    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + int(offset_s * 1e9) + 10_000_000 * i,
+              'world', (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 10_000_000 * i + 2)
+             for i in range(40)]
+    bag = tmp_path / 'apart'
+    reference_bag(bag, sorted(rows, key=lambda row: row[5]))
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False)
+    assert (analysis.notes == [
+        'the ball and the bat were never tracked at the same time (their stamps do not '
+        'overlap): nothing could be solved; are both stamped by one clock?']) == noted
+    assert noted or analysis.stats.intervals > 0
