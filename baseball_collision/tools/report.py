@@ -10,6 +10,7 @@ printed table (cm, mph, ms, us). The schemas are ``schema/analyze.schema.json`` 
 ``schema/analyze.csv.json`` (the CSV's columns).
 """
 
+from collections import Counter
 import csv
 from dataclasses import asdict
 import io
@@ -103,7 +104,7 @@ def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
             str(record['stamp_ns']), shown('time_uncertainty_s', lambda s: f'{s * 1e6:.1f}'),
             _cm(record['distance_from_tip_m']),
             shown('distance_from_knob_uncertainty_m', lambda metres: f'{metres * 1e3:.1f}'),
-            record['zone'].replace('_', ' ') if record['event'] == 'impact' else '-',
+            record['zone'].replace('_', ' '),
             shown('sweet_spot_speed_mps', _mph), shown('sweet_spot_speed_uncertainty_mps', _mph),
             shown('ball_speed_mps', _mph),
             shown('attack_angle_deg', lambda degrees: f'{degrees:.1f}'),
@@ -124,8 +125,10 @@ def format_report(analysis: BagAnalysis) -> str:
     if selection.note:
         lines.append(f'note: {selection.note}')
     lines.append(_row([title for title, _ in TABLE_COLUMNS]))
-    for number, event in enumerate(_events(analysis), 1):
-        lines.append(_row(_cells(number, entry(analysis, event))))
+    numbers: Counter = Counter()  # each kind its own: 'impact 5' is the fifth everywhere
+    for event in _events(analysis):
+        numbers[type(event)] += 1
+        lines.append(_row(_cells(numbers[type(event)], entry(analysis, event))))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
     if analysis.config.prediction_horizon > 0.0:
@@ -187,12 +190,19 @@ def summary_line(analysis: BagAnalysis) -> str:
     detector_s = analysis.stats.total_processing_s
     share = f', detector {100.0 * detector_s / analysis.seconds:.0f}%' \
         if analysis.seconds > 0.0 else ''
-    return (f'summary: {len(analysis.impacts)} impacts, {len(analysis.near_misses)} near misses, '
+    return (f'summary: {_count(len(analysis.impacts), "impact")}, '
+            f'{_count(len(analysis.near_misses), "near miss", "near misses")}, '
             f'{sum(dropped.values())} dropped{f" ({drops})" if drops else ""}, '
-            f'{len(analysis.gaps)} stream gaps, {len(analysis.resets)} resets; '
+            f'{_count(len(analysis.gaps), "pause")} in tracking (gaps over max_gap), '
+            f'{_count(len(analysis.resets), "reset")}; '
             f'{noise_text(analysis.noise, analysis.config.tracker_noise < 0.0)}; '
-            f'{analysis.messages:,} messages in {analysis.seconds:.2f} s '
+            f'{analysis.messages:,} input messages in {analysis.seconds:.2f} s '
             f'({analysis.throughput:,.0f} msg/s{share})')
+
+
+def _count(n: int, noun: str, plural: str = '') -> str:
+    """Return ``n noun``, the plural (``noun`` + s unless given) where ``n`` is not 1."""
+    return f'{n} {noun}' if n == 1 else f'{n} {plural or noun + "s"}'
 
 
 def total_line(analyses: Sequence[BagAnalysis], wall_s: Optional[float] = None) -> str:
@@ -207,7 +217,7 @@ def total_line(analyses: Sequence[BagAnalysis], wall_s: Optional[float] = None) 
     elapsed = seconds if wall_s is None else wall_s
     rate = messages / elapsed if elapsed > 0 else 0.0
     timing = f'{seconds:.2f} s' if wall_s is None else (
-        f'{wall_s:.2f} s of wall time ({seconds:.2f} s of bag time)')
+        f'{wall_s:.2f} s of wall time ({seconds:.2f} s summed over the bags)')
     return (f'total: {len(analyses)} bags, {sum(len(a.impacts) for a in analyses)} impacts, '
             f'{sum(len(a.near_misses) for a in analyses)} near misses; {messages:,} messages in '
             f'{timing} ({rate:,.0f} msg/s)')

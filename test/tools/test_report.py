@@ -8,6 +8,7 @@ from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
 from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
+from baseball_collision.tools.plots import plot_names
 from baseball_collision.tools.report import (
     CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, TABLE_COLUMNS, to_json,
     total_line)
@@ -117,7 +118,8 @@ def test_table_and_csv_rows_come_from_one_record_per_event() -> None:
         assert str(record['stamp_ns']) in cells
         assert f"{record['distance_from_tip_m'] * 100:.1f}" in cells
         if record['event'] == 'near_miss':
-            assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 7
+            assert cells[-1] == f"{record['gap_m'] * 100:.1f}" and cells.count('-') == 6
+            assert cells[8] == record['zone'].split('_')[0]  # where it passed ('near miss')
             assert (row['ball_x'], row['contact_x'], row['gap_x']) == (
                 str(event.ball_position[0]), '', str(event.gap_vector[0]))
         else:
@@ -165,3 +167,15 @@ class _Selection:
     ball, ball_type, bat_pose, knob, tip = '/ball', 'p', '/bat_pose', None, None
     bat_mode, note = 'pose', ''
     topics = {'ball': '/ball', 'bat_pose': '/bat_pose'}
+
+
+def test_the_table_numbers_each_kind_as_the_plots_and_predictions_do() -> None:
+    """'impact 5' is the fifth impact in the table, the plot names and the prediction lines."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'))
+    rows = [line.split() for line in format_report(analysis).splitlines()
+            if line.split()[1:2] in (['impact'], ['near'])]
+    impacts = [int(row[0]) for row in rows if row[1] == 'impact']
+    near_misses = [int(row[0]) for row in rows if row[1] == 'near']
+    assert impacts == list(range(1, len(analysis.impacts) + 1)) and len(impacts) == 8
+    assert near_misses == list(range(1, len(analysis.near_misses) + 1))
+    assert plot_names([analysis])[:8] == [f'pitches_90hz_impact_{n}.png' for n in impacts]
