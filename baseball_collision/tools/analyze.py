@@ -24,7 +24,7 @@ from pathlib import Path
 import sys
 import time
 from typing import (
-    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple)
+    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
 
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
@@ -471,15 +471,16 @@ def bag_paths(paths: Iterable[os.PathLike]) -> List[Path]:
     Return the bags named by ``paths``, in order: a directory of bags stands for its bags.
 
     A ROS 2 bag directory (one with ``metadata.yaml``) is itself one bag; any other directory
-    stands for the bags directly inside it (bag files and bag directories, by name); anything
-    else is kept as given (``analyze_bag`` says what is wrong with it).
+    stands for the bags inside it and in its subdirectories (bag files and bag directories, by
+    name at each level, a directory's bags before its subdirectories'; a season of days of
+    bags); anything else is kept as given (``analyze_bag`` says what is wrong with it).
 
     :raises ToolError: a directory that is neither a bag nor holds one.
     """
     found: List[Path] = []
     for path in map(Path, paths):
         if path.is_dir() and not is_bag(path):
-            inside = sorted(entry for entry in path.iterdir() if is_bag(entry))
+            inside = _bags_under(path)
             if not inside:
                 raise ToolError(f'no bags in {path}: neither a ROS 2 bag directory (no '
                                 'metadata.yaml) nor a directory holding .mcap, .db3 or .bag '
@@ -490,11 +491,35 @@ def bag_paths(paths: Iterable[os.PathLike]) -> List[Path]:
     return found
 
 
-def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool, int]) -> BagAnalysis:
+def _bags_under(directory: Path) -> List[Path]:
+    """Return the bags in a directory that is no bag, then in its subdirectories, by name."""
+    entries = sorted(directory.iterdir())
+    bags = [entry for entry in entries if is_bag(entry)]
+    for entry in entries:
+        if entry.is_dir() and not is_bag(entry):
+            bags.extend(_bags_under(entry))
+    return bags
+
+
+Skipped = Tuple[Path, str]
+"""A bag ``analyze_bags`` skipped (``skipped`` given): its path and why (one line)."""
+
+
+def _analyze_one(path: Path, options: AnalysisOptions, use_truth: bool, read_ahead: int,
+                 keep_going: bool, **more: Any) -> Union[BagAnalysis, Skipped]:
+    """Analyse one bag; with ``keep_going`` a ``ToolError`` comes back as (path, why)."""
+    try:
+        return analyze_bag(path, options, use_truth=use_truth, read_ahead=read_ahead, **more)
+    except ToolError as error:
+        if not keep_going:
+            raise
+        return path, str(error)
+
+
+def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool, int, bool]
+                       ) -> Union[BagAnalysis, Skipped]:
     """Analyse one bag in a pool process (no progress bar: the parent counts bags)."""
-    path, options, use_truth, read_ahead = job
-    return analyze_bag(path, options, progress=False, use_truth=use_truth,
-                       read_ahead=read_ahead)
+    return _analyze_one(*job, progress=False)
 
 
 def worker_read_ahead(workers: int) -> int:
@@ -542,7 +567,8 @@ def _pool_context() -> Any:
 
 def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
                  jobs: Optional[int] = None, out_bag: Optional[BagWriter] = None,
-                 progress: bool = True, use_truth: bool = True) -> List[BagAnalysis]:
+                 progress: bool = True, use_truth: bool = True,
+                 skipped: Optional[List[Skipped]] = None) -> List[BagAnalysis]:
     """
     Run :func:`analyze_bag` over bags, ``jobs`` at a time in a process pool; in input order.
 
@@ -555,20 +581,25 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     :param jobs: processes (None: one per core this process may use).
     :param out_bag: an open writer for the output bag (one bag only).
     :param progress: show progress bars (per bag in one process; bags done in a pool).
-    :returns: one :class:`BagAnalysis` per bag, in order.
-    :raises ToolError: as :func:`analyze_bag`, for the first failing bag; ``out_bag`` with
-        more than one bag; a directory without bags.
+    :param skipped: None: the first bag that fails stops the run; a list: a bag that cannot
+        be analysed (a ``ToolError``: corrupt, truncated, not a bag, its topics missing) is
+        appended to it as (path, why) and left out, and the others go on (``--keep-going``).
+    :returns: one :class:`BagAnalysis` per bag analysed, in order.
+    :raises ToolError: as :func:`analyze_bag`, for the first failing bag (``skipped`` None);
+        ``out_bag`` with more than one bag; a directory without bags.
     """
     bags = bag_paths(paths)
     if out_bag is not None and len(bags) > 1:
         raise ToolError('--out-bag takes one BAG; run analyze once per bag')
+    keep_going = skipped is not None
     workers = min(cores() if jobs is None else jobs, len(bags))
     if workers <= 1:
-        return [analyze_bag(path, options, out_bag=out_bag, progress=progress,
-                            use_truth=use_truth) for path in bags]
-    tasks = [(path, options, use_truth, worker_read_ahead(workers)) for path in bags]
+        return _analysed([_analyze_one(path, options, use_truth, 1, keep_going, out_bag=out_bag,
+                                       progress=progress) for path in bags], skipped)
+    tasks = [(path, options, use_truth, worker_read_ahead(workers), keep_going)
+             for path in bags]
     bar = None
-    results: List[BagAnalysis] = []
+    results: List[Union[BagAnalysis, Skipped]] = []
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
         # are let go (close, join). The bar (and its monitor thread) only after the workers
@@ -587,4 +618,16 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     finally:
         if bar is not None:
             bar.close()
-    return results
+    return _analysed(results, skipped)
+
+
+def _analysed(results: List[Union[BagAnalysis, Skipped]],
+              skipped: Optional[List[Skipped]]) -> List[BagAnalysis]:
+    """Return the analyses among ``results``; the bags skipped go to ``skipped``."""
+    analyses = []
+    for result in results:
+        if isinstance(result, BagAnalysis):
+            analyses.append(result)
+        elif skipped is not None:
+            skipped.append(result)
+    return analyses

@@ -19,7 +19,8 @@ import math
 import shlex
 import sys
 import time
-from typing import Any, Callable, List, NoReturn, Optional
+from pathlib import Path
+from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
 from .outputs import Outputs
@@ -147,15 +148,23 @@ def _analyze(args: argparse.Namespace) -> int:
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
         prediction_horizon=args.predict, node_name=args.node_name)
     start = time.perf_counter()
+    skipped: Optional[List[Tuple[Path, str]]] = [] if args.keep_going else None
     with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
         analyses: List[BagAnalysis] = analyze_bags(
             args.bags, options, jobs=args.jobs, out_bag=writer, progress=not args.no_progress,
-            use_truth=not args.no_truth)
-        for analysis in analyses:
+            use_truth=not args.no_truth, skipped=skipped)
+        for analysis in list(analyses):
             silenced = analysis.silenced_topics()
-            if silenced:
+            if silenced and skipped is None:
                 raise ToolError(f"{analysis.path}: {'; '.join(silenced)}")
+            if silenced:
+                skipped.append((analysis.path, f"{analysis.path}: {'; '.join(silenced)}"))
+                analyses.remove(analysis)
+        for _, why in skipped or ():
+            print(f'{PROG}: skipped: {why}', file=sys.stderr)
+        if skipped and not analyses:
+            raise ToolError(f'no bag could be analysed ({len(skipped)} skipped)')
         if args.json:
             outputs.stage_text('json', json_text(analyses))
         if args.csv:
@@ -168,7 +177,7 @@ def _analyze(args: argparse.Namespace) -> int:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
             print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
-    return 0
+    return EXIT_BAD_INPUT if skipped else 0
 
 
 # ----------------------------------------------------------------------------------------------
@@ -271,7 +280,10 @@ def _add_analyze(commands: Any) -> None:
         'tracker_noise auto (each unless the parameter file sets it).')
     analyze.add_argument('bags', metavar='BAG', nargs='+',
                          help='bag directory, .mcap, .db3 or ROS 1 .bag file, or a directory '
-                         'of bags (each bag in it, by name)')
+                         'of bags (each bag in it and in its subdirectories, by name)')
+    analyze.add_argument('--keep-going', action='store_true',
+                         help='skip a bag that cannot be analysed (one line on stderr each) and '
+                         'analyse and write the others; the exit code is still 2')
     analyze.add_argument('--jobs', type=_count, default=None, metavar='N',
                          help='bags analysed at once, each in its own process (default: the '
                          'number of cores)')

@@ -57,6 +57,54 @@ def test_a_bag_directory_is_one_bag_and_a_directory_of_bags_is_its_bags(tmp_path
         bag_paths([directory / 'empty'])
 
 
+def test_a_directory_stands_for_the_bags_in_its_subdirectories_too(tmp_path: Path) -> None:
+    """A season of days of bags: each level's bags by name, then its subdirectories'."""
+    season = tmp_path / 'season'
+    (season / 'day2' / 'late').mkdir(parents=True)
+    (season / 'day1').mkdir()
+    shutil.copy(bag_path(SMALL[0]), season / 'day1' / 'a.mcap')
+    shutil.copy(bag_path(SMALL[0]), season / 'day2' / 'late' / 'c.mcap')
+    shutil.copytree(bag_path(SMALL[1]), season / 'day2' / 'b')  # a bag directory: not entered
+    shutil.copy(bag_path(SMALL[0]), season / 'z.mcap')
+    assert bag_paths([season]) == [season / 'z.mcap', season / 'day1' / 'a.mcap',
+                                   season / 'day2' / 'b', season / 'day2' / 'late' / 'c.mcap']
+
+
+@pytest.mark.parametrize('jobs', [1, 2])
+def test_keep_going_skips_the_bags_that_cannot_be_analysed(tmp_path: Path, jobs: int) -> None:
+    """A truncated and a missing bag among good ones: the good ones analysed, the rest named."""
+    truncated = tmp_path / 'cut.mcap'
+    truncated.write_bytes(bag_path(SMALL[0]).read_bytes()[:4000])
+    paths = [truncated, bag_path(SMALL[0]), tmp_path / 'missing.mcap', bag_path(SMALL[1])]
+    skipped: List[Tuple[Path, str]] = []
+    analyses = analyze_bags(paths, jobs=jobs, progress=False, skipped=skipped)
+    assert [a.path for a in analyses] == [bag_path(SMALL[0]), bag_path(SMALL[1])]
+    assert [path for path, _ in skipped] == [truncated, tmp_path / 'missing.mcap']
+    assert 'cannot read bag' in skipped[0][1] and 'bag not found' in skipped[1][1]
+    alone = analyze_bags(paths[1::2], jobs=1, progress=False)
+    assert [_events(a) for a in analyses] == [_events(a) for a in alone]
+
+
+def test_cli_keep_going_writes_the_good_bags_and_exits_2(tmp_path: Path,
+                                                         run_cli: RunCli) -> None:
+    """``--keep-going``: a line per bag skipped, the others' report and JSON, exit code 2."""
+    truncated = tmp_path / 'cut.mcap'
+    truncated.write_bytes(bag_path(SMALL[0]).read_bytes()[:4000])
+    out = tmp_path / 'o.json'
+    argv = ['analyze', str(bag_path(SMALL[0])), str(truncated), '--json', str(out)]
+    code, stdout, stderr = run_cli(argv + ['--keep-going'])
+    assert code == 2 and stdout.count('summary:') == 1
+    assert stderr.startswith(f'baseball-collision: skipped: cannot read bag {truncated}')
+    assert stderr.count('\n') == 1
+    assert [b['path'] for b in json.loads(out.read_text())['bags']] == [str(bag_path(SMALL[0]))]
+    out.unlink()
+    code, stdout, _ = run_cli(argv)  # without it: the first bad bag ends the run, no output
+    assert code == 2 and stdout == '' and not out.exists()
+    code, _, stderr = run_cli(['analyze', str(truncated), '--keep-going'])
+    assert code == 2 and stderr.splitlines()[-1] == (
+        'baseball-collision: error: no bag could be analysed (1 skipped)')
+
+
 def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) -> None:
     """Two jobs over a directory of bags and a bag: the same analyses, in the input order."""
     paths = [_directory_of_bags(tmp_path), bag_path(SMALL[0])]
