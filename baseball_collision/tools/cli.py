@@ -16,10 +16,10 @@ rclpy is imported only by ``replay`` and ``demo``.
 
 import argparse
 import math
+from pathlib import Path
 import shlex
 import sys
 import time
-from pathlib import Path
 from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
