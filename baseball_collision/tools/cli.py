@@ -149,7 +149,11 @@ def _analyze(args: argparse.Namespace) -> int:
         prediction_horizon=args.predict, node_name=args.node_name)
     start = time.perf_counter()
     skipped: Optional[List[Tuple[Path, str]]] = [] if args.keep_going else None
-    with Outputs(json=args.json, csv=args.csv, plot=args.plot, out_bag=args.out_bag) as outputs:
+    to_stdout = [flag for flag, value in (('json', args.json), ('csv', args.csv)) if value == '-']
+    if len(to_stdout) > 1:
+        raise ToolError('only one of --json and --csv can be - (standard output)')
+    json_file, csv_file = (None if value == '-' else value for value in (args.json, args.csv))
+    with Outputs(json=json_file, csv=csv_file, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
         analyses: List[BagAnalysis] = analyze_bags(
             args.bags, options, jobs=args.jobs, out_bag=writer, progress=not args.no_progress,
@@ -165,15 +169,17 @@ def _analyze(args: argparse.Namespace) -> int:
             print(f'{PROG}: skipped: {why}', file=sys.stderr)
         if skipped and not analyses:
             raise ToolError(f'no bag could be analysed ({len(skipped)} skipped)')
-        if args.json:
+        if json_file:
             outputs.stage_text('json', json_text(analyses))
-        if args.csv:
+        if csv_file:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
             from .plots import write_plots
             outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
-    if not args.quiet:
+    if to_stdout:  # the document alone on standard output, for a pipe
+        sys.stdout.write(json_text(analyses) if args.json == '-' else csv_text(analyses))
+    elif not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
             print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
@@ -307,8 +313,10 @@ def _add_analyze(commands: Any) -> None:
                          'at 200, 100, 50 and 20 ms before each impact (time error ms / point '
                          "error cm; '-' where no prediction was in force that far ahead: the "
                          'ball or bat not yet tracked, or the contact beyond the horizon)')
-    analyze.add_argument('--json', metavar='FILE', help='write events and counts as JSON')
-    analyze.add_argument('--csv', metavar='FILE', help='write one row per event as CSV')
+    analyze.add_argument('--json', metavar='FILE', help="write events and counts as JSON ('-': "
+                         'to standard output, instead of the table)')
+    analyze.add_argument('--csv', metavar='FILE', help="write one row per event as CSV ('-': to "
+                         'standard output, instead of the table)')
     analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '
                          '(created; must not exist)')
     analyze.add_argument('--out-bag', metavar='FILE', help='write an MCAP with the input '

@@ -175,6 +175,26 @@ def test_bad_flags(flags: List[str], words: str, tmp_path: Path,
     assert _listing(tmp_path) == before
 
 
+@pytest.mark.parametrize('flag', ['--json', '--csv'])
+def test_a_document_to_standard_output(flag: str, tmp_path: Path, run_cli: RunCli) -> None:
+    """``--json -`` or ``--csv -``: the document alone on stdout (no table, no file '-')."""
+    bag = str(bag_path('pitches_90hz.mcap'))
+    code, stdout, stderr = run_cli(['analyze', bag, flag, '-'])
+    assert code == 0 and stderr == '' and not Path('-').exists()
+    written = tmp_path / 'out'
+    assert run_cli(['analyze', bag, flag, str(written), '--quiet'])[0] == 0
+    if flag == '--csv':
+        assert stdout == written.read_text()
+    else:  # the same document but the run's own time
+        documents = [json.loads(text) for text in (stdout, written.read_text())]
+        for document in documents:
+            for each in document['bags']:
+                each.pop('seconds')
+        assert documents[0] == documents[1]
+    code, stdout, stderr = run_cli(['analyze', bag, '--json', '-', '--csv', '-'])
+    assert code == 2 and stdout == '' and 'only one of --json and --csv can be -' in stderr
+
+
 def test_unknown_parameters_in_a_params_file_are_named(tmp_path: Path,
                                                        run_cli: RunCli) -> None:
     """Typos in ``--params``: one warning naming each with the nearest name; the rest runs."""
