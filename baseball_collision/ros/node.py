@@ -83,7 +83,7 @@ from .messages import (
 from .parameters import check_change, declare, start_warnings
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction,
-    ResetReason, SPECS, StateReset)
+    ResetReason, SPECS, StateReset, unknown_parameters)
 from ..core.geometry import Vector
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
@@ -450,8 +450,9 @@ class ImpactNode(Node):
             response.message = f'the reset failed: {type(error).__name__}: {error} (see the log)'
             return response
         response.success = True
-        response.message = (f'detector state cleared at {format_stamp(stamp_ns)} s (buffers, '
-                            f'armed state, open near miss; counters kept; {resets} resets so far)')
+        when = f'at {format_stamp(stamp_ns)} s' if stamp_ns else 'before any sample'
+        response.message = (f'detector state cleared {when} (buffers, armed state, open near '
+                            f'miss; counters kept; {resets} resets so far)')
         self.get_logger().info(f'reset requested: {response.message}')
         return response
 
@@ -518,6 +519,11 @@ class ImpactNode(Node):
         :returns: the aggregate result.
         """
         try:
+            unknown = unknown_parameters(
+                [p.name for p in parameter_list if not self.has_parameter(p.name)],
+                self.get_name())
+            if unknown is not None:
+                raise RosError(unknown.removeprefix('ignoring '))
             settings, parameters = check_change(self.settings, parameter_list)
             with self._lock:
                 reason = self.detector.refusal(settings.detector)

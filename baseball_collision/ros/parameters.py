@@ -170,6 +170,7 @@ def start_warnings(node: Node, config: DetectorConfig) -> List[str]:
         length = math.dist(config.geometry.knob_offset, config.geometry.tip_offset)
         if abs(length - config.profile.length) > 0.01:
             warnings.append(
-                f'tip_offset - knob_offset = {length:.4f} m but the bat profile is '
-                f'{config.profile.length:.4f} m long: the profile is stretched to knob-tip')
+                f'the knob-tip distance |tip_offset - knob_offset| = {length:.4f} m but the '
+                f'bat profile is {config.profile.length:.4f} m long: the profile is stretched '
+                'to knob-tip')
     return warnings

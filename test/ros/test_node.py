@@ -316,15 +316,18 @@ def test_incompatible_qos_is_reported(harness: Callable[..., Harness]) -> None:
 def test_reset_service_clears_the_state(harness: Callable[..., Harness], truth_ns: int) -> None:
     """~/reset answers success and clears the buffers; the swing after it is still found."""
     h = swing_harness(harness, 'pose')
+    response = h.call(Trigger, '/impact_node/reset', Trigger.Request())
+    assert response.success and response.message.startswith(
+        'detector state cleared before any sample (')  # (not 'at 0.000000000 s')
     h.processed(publish_swing(h, 'pose', pitch(), samples=range(10)))  # 28 ms: before contact
     assert h.node.detector.watermark_ns is not None
     response = h.call(Trigger, '/impact_node/reset', Trigger.Request())
-    assert response.success and 'cleared' in response.message
-    assert h.node.detector.watermark_ns is None and h.node.detector.stats.resets == 1
+    assert response.success and response.message.startswith('detector state cleared at 17')
+    assert h.node.detector.watermark_ns is None and h.node.detector.stats.resets == 2
     h.processed(publish_swing(h, 'pose', pitch(), samples=range(10, SAMPLES)) + 20)
     h.wait(lambda: h.received['impact'], 2.0, 'the impact after the reset')
     assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 100_000
-    h.diagnostics_where(lambda v: v['resets'] == '1')
+    h.diagnostics_where(lambda v: v['resets'] == '2')
 
 
 def test_a_detector_failure_resets_the_state_logs_an_error_and_the_node_goes_on(

@@ -123,6 +123,19 @@ def test_read_only_refusal_says_why_and_to_restart(harness: Callable[..., Harnes
                                  'restart the node with the new value')
 
 
+def test_an_unknown_parameter_at_runtime_is_refused_by_name(
+        harness: Callable[..., Harness]) -> None:
+    """A typo set at runtime: refused naming it and the nearest parameter (rclpy named none)."""
+    h = harness().start()
+    result = h.set_parameters(modle='linear')[0]
+    assert not result.successful
+    assert result.reason == ('unknown parameter(s) modle (did you mean model?): not parameters '
+                             'of impact_node (see config/impact_node.yaml)')
+    assert h.node.get_parameter('model').value == 'c2'
+    assert h.set_parameters(use_sim_time=False)[0].successful  # rclpy's own are parameters
+    assert SPECS['model'].read_only.startswith('the motion model')
+
+
 def test_descriptors_come_from_the_table(context: Callable[..., rclpy.Context]) -> None:
     """Every parameter declared with the table's type, range, read-only flag and doc."""
     node = ImpactNode(context=context())

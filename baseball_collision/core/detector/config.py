@@ -166,6 +166,7 @@ def _type_name(value: Any) -> str:
 _TOPIC = 'the subscriptions are created at start-up'
 _GEOMETRY = 'the bat geometry shapes the detector buffers'
 _SETUP = 'set once at start-up'
+_MODEL = 'the motion model shapes the paths and the samples the streams keep'
 _D, _I, _S, _B, _A = Kind.DOUBLE, Kind.INTEGER, Kind.STRING, Kind.BOOL, Kind.DOUBLE_ARRAY
 
 
@@ -221,17 +222,17 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'model', _S, 'c2', 'Motion between samples: linear (chords), rigid (translation + '
         'SLERP), spline (cubic; waits one sample) or c2 (the default: windowed not-a-knot '
         'spline of knob, direction and length; waits look_ahead samples).', choices=MODELS,
-        read_only=_GEOMETRY),
+        read_only=_MODEL),
     ParameterSpec(
         'look_ahead', _I, 0, 'c2: samples after an interval its fit may use (0-2), each one '
         'more frame of latency; 0 keeps the frames after a contact out of its fit; exact samples '
         'are fitted by the quintic spline (6th order; at 0 the bat only).', 'samples',
-        _closed(0, 2), read_only=_GEOMETRY),
+        _closed(0, 2), read_only=_MODEL),
     ParameterSpec(
         'spline_window', _I, 8, 'c2: samples in the spline fitted for an interval (4-32), the '
         'newest its closing frame plus look_ahead; every model: in the quintic spline behind '
         'impact velocities from exact samples at a high rate.', 'samples', _closed(4, 32),
-        read_only=_GEOMETRY),
+        read_only=_MODEL),
     ParameterSpec(
         'bat_axis', _S, 'z', 'Bat body axis from knob to tip in the pose frame (pose input).',
         choices=('x', 'y', 'z', '-x', '-y', '-z'), read_only=_GEOMETRY),
