@@ -159,7 +159,8 @@ _DROP_DETAILS = {
     'non_finite': 'NaN or infinite coordinates',
     'duplicate_stamp': 'stamp {stamp} s was already received',
     'out_of_order': 'stamp {stamp} s is older than the newest of its stream',
-    'bad_quaternion': 'orientation is not a unit quaternion',
+    'bad_quaternion': 'orientation is not a unit quaternion (its norm is off 1 by more than '
+                      '0.001)',
     'zero_length_bat': 'knob and tip coincide',
     'bat_length_jump': 'knob-tip length jumped beyond bat_length_tolerance',
     'speed_limit': 'moved faster than max_speed since the previous sample',
