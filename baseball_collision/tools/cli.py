@@ -226,7 +226,7 @@ def _add_simulate(commands: Any) -> None:
         'cycling through barrel, end-cap and handle hits, foul-tip grazes and misses over and '
         'under. Topics are the impact_node defaults: /ball (PointStamped), /bat_pose '
         '(PoseStamped), /bat_knob and /bat_tip (PointStamped), all in one frame. The truth '
-        'file OUT-without-suffix.truth.json is written beside the bag.')
+        'file OUT.truth.json (without its .mcap, .db3 or .bag suffix) is written beside the bag.')
     simulate.add_argument('out', metavar='OUT', help='output bag: NAME.mcap or NAME.db3 (a '
                           'bare ROS 2 file), NAME.bag (ROS 1), or a directory name (a ROS 2 '
                           'bag in --storage)')
