@@ -20,7 +20,7 @@ from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
 from .analyze import BagAnalysis
 from .truth import LEADS_S, TruthComparison
 from ..bags import TopicSelection
-from ..core.detector import MPS_TO_MPH
+from ..core.detector import DetectorConfig, MPS_TO_MPH
 from ..core.records import event_record, plain
 
 JSON_FORMAT = 'baseball_collision.analyze/2'
@@ -121,7 +121,7 @@ def format_report(analysis: BagAnalysis) -> str:
     selection = analysis.selection
     bat = (f'bat {selection.bat_pose} (pose)' if selection.bat_pose
            else f'bat {selection.knob} + {selection.tip} (knob/tip)')
-    lines = [f'{analysis.path}: ball {selection.ball}, {bat}, model {analysis.config.model}']
+    lines = [f'{analysis.path}: ball {selection.ball}, {bat}, {model_text(analysis.config)}']
     if selection.note:
         lines.append(f'note: {selection.note}')
     lines.append(_row([title for title, _ in TABLE_COLUMNS]))
@@ -169,6 +169,18 @@ def prediction_lines(analysis: BagAnalysis) -> List[str]:
         lines.append(f'  impact {number} at {analysis.relative_s(impact.stamp_ns):.4f} s: '
                      + ', '.join(cells))
     return lines
+
+
+def model_text(config: DetectorConfig) -> str:
+    """
+    Return the motion model with what sets its latency: ``model c2 (look-ahead 2)``.
+
+    The node's default and ``analyze``'s differ in the look-ahead alone (0 and 2), which moves
+    the stamps a little: the header says which ran.
+    """
+    if config.model == 'c2':
+        return f'model c2 (look-ahead {config.look_ahead})'
+    return f'model {config.model}'
 
 
 def noise_text(noise: Tuple[float, float], auto: bool) -> str:

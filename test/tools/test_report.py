@@ -179,3 +179,5 @@ def test_the_table_numbers_each_kind_as_the_plots_and_predictions_do() -> None:
     assert impacts == list(range(1, len(analysis.impacts) + 1)) and len(impacts) == 8
     assert near_misses == list(range(1, len(analysis.near_misses) + 1))
     assert plot_names([analysis])[:8] == [f'pitches_90hz_impact_{n}.png' for n in impacts]
+    # the header says which look-ahead ran (the node's default 0, analyze's 2)
+    assert format_report(analysis).splitlines()[0].endswith(', model c2 (look-ahead 2)')
