@@ -68,6 +68,7 @@ METHODS: Dict[object, Dict[object, object]] = {
     'c2-window-noise': {'model': 'c2', VELOCITIES: 'window'},
     'c2-noise': {'model': 'c2'},
     'c2-auto': {'model': 'c2', 'tracker_noise': -1.0},
+    'c2-la1-auto': {'model': 'c2', 'look_ahead': 1, 'tracker_noise': -1.0},
     'c2-la2-auto': {'model': 'c2', 'look_ahead': 2, 'tracker_noise': -1.0},
     'c2-jerk-noise': {'model': 'c2', SMOOTHER: ('jerk', 'likelihood')},
     'c2-jerk-auto': {'model': 'c2', 'tracker_noise': -1.0, SMOOTHER: ('jerk', 'likelihood')},
