@@ -221,6 +221,9 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
                 if not joined:
                     _fast_forward(detector, plan, end, end + 1, events, walk=False)
                 detector._advance(events)
+                if drops is not None:  # a ball glitch its sweep judged (``Sweep._glitch``)
+                    for late in stats.late_drops:
+                        drops[late.role, late.reason] += 1
                 _time(stats, start, 1)
             else:
                 _one(detector, chunk, i + end, events, drops)

@@ -402,6 +402,43 @@ def test_chunks_without_a_sample_of_one_stream(untracked: str) -> None:
         assert sum(isinstance(e, Impact) for e in events) == 2  # (two of the four hit)
 
 
+def test_a_ball_glitch_is_judged_alike_in_chunks() -> None:
+    """
+    Misses with one ball sample each reported on the bat's axis: the same drops and events.
+
+    The glitch is judged by the sweep (a late ``ball_glitch`` drop) where the ball is near the
+    bat, which in a chunk is a stop the plan gives to ``add``.
+    """
+    clean = session((1.1, 1.12, 1.15), spacing=0.6)  # misses 3-8 cm over the bat
+    rows = list(clean)
+    for p in range(3):
+        near = [(_to_axis(np.array(row[2]), (row[1] - BASE_NS) * 1e-9 - 0.6 * p), i)
+                for i, row in enumerate(rows) if row[0] == 'ball'
+                and 0.0 <= (row[1] - BASE_NS) * 1e-9 - 0.6 * p <= 0.2]
+        i = min(near)[1]
+        t = (rows[i][1] - BASE_NS) * 1e-9 - 0.6 * p
+        on_axis = np.array(rows[i][2]) - _to_axis(np.array(rows[i][2]), t, vector=True)
+        rows[i] = ('ball', rows[i][1], tuple(float(x) for x in on_axis), 'world')
+    for config in (DetectorConfig(model='rigid', bat_input='pose'),
+                   DetectorConfig(model='c2', bat_input='pose', look_ahead=2,
+                                  tracker_noise=-1.0)):
+        events, drops, _ = in_chunks(config, rows, (7, 50, 400))
+        expected, before, _ = one_at_a_time(config, clean)  # (the pitches' own restarts)
+        assert drops == before + Counter({('ball', 'ball_glitch'): 3})
+        assert not any(isinstance(e, Impact) for e in events + expected)
+        assert [e for e in events if isinstance(e, NearMiss)] != []
+        assert_same(config, rows, (7, 50, 400))
+
+
+def _to_axis(point: np.ndarray, t: float, vector: bool = False) -> Any:
+    """Return a point's distance (m) from the swing's bat axis at t, or its offset from it."""
+    knob, tip = swing(t)
+    axis = tip - knob
+    along = min(max(float(np.dot(point - knob, axis) / np.dot(axis, axis)), 0.0), 1.0)
+    offset = point - (knob + along * axis)
+    return offset if vector else float(np.linalg.norm(offset))
+
+
 def _paused(heights: Sequence[float]) -> List[Row]:
     """Return a session tracked only in the first 0.5 s of every 0.6 s (a pause per pitch)."""
     return [row for row in session(heights, spacing=0.6)
