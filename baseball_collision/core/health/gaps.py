@@ -228,6 +228,7 @@ class PublisherGaps:
             tracks.remove(track)
             tracks.insert(0, track)
         skipped = sequence - track[0] - 1
+        lost = skipped - self._detours(track, sequence) if skipped else 0
         track[5] = (track[0], track[1])  # the message before: a glitched last stamp's check
         if sent_ns is not None and track[6] is not None and not skipped \
                 and sent_ns >= track[6]:
@@ -237,10 +238,24 @@ class PublisherGaps:
         if track[7] is None:
             track[7] = sent_ns
         if skipped:
-            self._skipped += skipped
+            self._skipped += lost
             track[2].resume(stamp_ns)
         else:
             track[2].take(stamp_ns)
+
+    def _detours(self, track: List, sequence: int) -> int:
+        """
+        Return the numbers a track skips up to ``sequence`` that other tracks hold whole.
+
+        A publisher that stamps a few messages on another clock (stamps seconds behind, a
+        glitch of its clock) puts them on a track of their own; its next message on its own
+        clock comes back to its track having skipped their numbers, which arrived. A track
+        whose first and last numbers both lie inside the skip is such a detour: its numbers
+        (and the losses it counted among them) are not this track's loss. (They were counted
+        lost before: 4 messages stamped 5 s back read as 4 lost.)
+        """
+        return sum(other[0] - other[3] + 1 for other in self._tracks
+                   if other is not track and track[0] < other[3] and other[0] < sequence)
 
     def _attribute(self, sequence: int, stamp_ns: int,
                    sent_ns: Optional[int]) -> Optional[List]:
