@@ -10,10 +10,9 @@ point (cm). The summary (:mod:`.summary_plot`): contact spots on a drawn bat, sw
 per pitch and the near-miss gaps.
 """
 
-import bisect
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -21,15 +20,21 @@ from .analyze import BagAnalysis
 from .summary_plot import summary_figure, ZONE_NAMES
 from .truth import truth_path
 from ..bags import BagReader
-from ..core.detector import DetectorConfig, Impact, MPS_TO_MPH
+from ..core.detector import Detector, DetectorConfig, Impact, MPS_TO_MPH
 from ..core.geometry import Vector
-from ..core.motion import BatPath, BatSample, PointPath
+from ..core.motion import BatSample
 from ..core.records import event_record
 from ..core.toi import profile_gap
 from ..errors import BagError, ToolError
 
 PLOT_WINDOW_S = 0.04
 """Half-width (s) of the time window each plot shows around an impact."""
+
+HISTORY_S = 0.3
+"""How far (s) before its window a plot's detector is fed (its fits' windows and noise estimates
+reach back into it), and ``AHEAD_S`` after (its look-ahead frames)."""
+
+AHEAD_S = 0.1
 
 CURVE_POINTS = 300
 """Instants the gap curves are drawn at."""
@@ -43,7 +48,12 @@ NORMAL_CM = 10.0
 
 @dataclass
 class PlotWindow:
-    """Samples of a bag near one impact (arrays filled after the read)."""
+    """
+    Samples of a bag near one impact (lists filled after the read).
+
+    The lists hold ``HISTORY_S`` before ``start_ns`` and ``AHEAD_S`` after ``end_ns`` too (what
+    the plot's detector is fed); the figure shows [``start_ns``, ``end_ns``].
+    """
 
     impact: Impact
     start_ns: int
@@ -61,6 +71,7 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
     :raises ToolError: the bag cannot be read again.
     """
     half = int(PLOT_WINDOW_S * 1e9)
+    before, after = int(HISTORY_S * 1e9), int(AHEAD_S * 1e9)
     windows = [PlotWindow(impact, impact.stamp_ns - half, impact.stamp_ns + half)
                for impact in analysis.impacts]
     if not windows:
@@ -70,7 +81,7 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
         with BagReader(analysis.path, analysis.selection) as bag:
             for role, stamp, _, values, _ in bag.samples():
                 for window in windows:
-                    if window.start_ns <= stamp <= window.end_ns:
+                    if window.start_ns - before <= stamp <= window.end_ns + after:
                         getattr(window, lists[role]).append((stamp, values))
     except BagError as error:
         raise ToolError(str(error)) from error
@@ -81,57 +92,72 @@ def _as_vector(values: Any) -> Vector:
     return tuple(float(v) for v in values)
 
 
+def shown(window: PlotWindow, samples: List[Tuple[int, Any]]) -> List[Tuple[int, Any]]:
+    """Return the (stamp, values) among ``samples`` within the window the figure shows."""
+    return [(stamp, values) for stamp, values in samples
+            if window.start_ns <= stamp <= window.end_ns]
+
+
 def bat_samples(window: PlotWindow, config: DetectorConfig) -> Tuple[List[int], List[BatSample]]:
     """
-    Return a window's bat samples: stamps (ns) and :class:`BatSample` s (knob, tip, pose).
+    Return the bat samples the figure shows: stamps (ns) and :class:`BatSample` s.
 
     Poses go through the configured bat geometry; knob and tip points are paired at the knob
     stamps (the tip interpolated linearly between its own samples).
     """
     if window.bat:
         samples = []
-        for _, values in window.bat:
+        bats = shown(window, window.bat)
+        for _, values in bats:
             knob, tip = config.geometry.knob_and_tip(values[:3], values[3:])
             samples.append(BatSample(_as_vector(knob), _as_vector(tip), _as_vector(values[:3]),
                                      _as_vector(values[3:])))
-        return [stamp for stamp, _ in window.bat], samples
+        return [stamp for stamp, _ in bats], samples
     if not window.knob or not window.tip:
         return [], []
     tip_stamps = np.array([s for s, _ in window.tip], dtype=float)
     tips = np.array([v for _, v in window.tip], dtype=float).reshape(-1, 3)
     samples = []
-    for stamp, knob in window.knob:
+    knobs = shown(window, window.knob)
+    for stamp, knob in knobs:
         tip = [float(np.interp(stamp, tip_stamps, tips[:, i])) for i in range(3)]
         samples.append(BatSample(_as_vector(knob), tuple(tip)))
-    return [stamp for stamp, _ in window.knob], samples
+    return [stamp for stamp, _ in knobs], samples
 
 
 class ModelGap:
     """
     The gap (m) between ball and bat surface as a motion model moves both between samples.
 
-    The detector's own paths (``core.motion``: ``PointPath`` for the ball, ``BatPath`` for the
-    bat, neighbours within ``max_gap`` for the spline tangents), so the curve of the model
-    that decided an impact touches 0 at it. Times are seconds from an origin stamp.
+    A fresh :class:`~baseball_collision.core.detector.Detector` of the model (prediction off)
+    is fed the window's samples, from ``HISTORY_S`` before it, and asked where it moves the
+    ball and the bat (``Detector.positions_at``): the very paths it solves, `c2`'s window fits,
+    smoothing under noise and a departed ball's free flight included, so the curve of the
+    model that decided an impact touches 0 at it. Under ``tracker_noise`` auto its noise
+    estimates start with that history, where the bag's analysis had the whole bag's. Times
+    are seconds from an origin stamp.
 
-    :param config: the detector configuration (radius, profile, offsets, ``max_gap``).
-    :param model: ``linear``, ``rigid`` or ``spline``.
+    :param config: the detector configuration the impact was found with.
+    :param model: the model to draw (``linear`` for the straight-line comparison).
     :param origin_ns: the stamp of time 0.
-    :param ball: ball stamps (ns) and centres (m), in time order.
-    :param bat: bat stamps (ns) and samples, in time order.
+    :param window: the samples around the impact (:func:`collect_windows`).
+    :param frame_id: the samples' frame.
     """
 
     def __init__(self, config: DetectorConfig, model: str, origin_ns: int,
-                 ball: Tuple[Sequence[int], Sequence[Vector]],
-                 bat: Tuple[Sequence[int], Sequence[BatSample]]) -> None:
-        self.config, self.model = config, model
-        self.ball_t = [(s - origin_ns) * 1e-9 for s in ball[0]]
-        self.balls = [_as_vector(b) for b in ball[1]]
-        self.bat_t = [(s - origin_ns) * 1e-9 for s in bat[0]]
-        self.bats = list(bat[1])
-        geometry = config.geometry
-        self.offsets = (_as_vector(geometry.knob_offset), _as_vector(geometry.tip_offset))
-        self._paths: Dict[Tuple[str, int], Any] = {}
+                 window: PlotWindow, frame_id: str = '') -> None:
+        self.config, self.model, self.origin_ns = config, model, origin_ns
+        self.detector = Detector(config.variant(model=model, prediction_horizon=0.0))
+        roles = {'ball': 'ball', 'bat': 'bat_pose', 'knob': 'knob', 'tip': 'tip'}
+        feed = sorted((stamp, order, roles[name], values)
+                      for order, name in enumerate(roles)
+                      for stamp, values in getattr(window, name))
+        for stamp, _, role, values in feed:
+            self.detector.add(role, stamp, values, frame_id)
+        self.detector.finish()
+        self.ball_t = [(s - origin_ns) * 1e-9 for s, _ in shown(window, window.ball)]
+        bats = shown(window, window.bat or window.knob)
+        self.bat_t = [(s - origin_ns) * 1e-9 for s, _ in bats]
 
     @property
     def span(self) -> Tuple[float, float]:
@@ -140,43 +166,16 @@ class ModelGap:
             return 0.0, 0.0
         return max(self.ball_t[0], self.bat_t[0]), min(self.ball_t[-1], self.bat_t[-1])
 
-    def _neighbours(self, times: List[float], values: List[Any], k: int) -> Tuple[Any, Any]:
-        limit = self.config.max_gap
-        before = (times[k - 1], values[k - 1]) \
-            if k > 0 and times[k] - times[k - 1] <= limit else None
-        after = (times[k + 2], values[k + 2]) \
-            if k + 2 < len(times) and times[k + 2] - times[k + 1] <= limit else None
-        return before, after
-
-    def _path(self, stream: str, t: float) -> Any:
-        if stream == 'ball':
-            times, values = self.ball_t, self.balls
-        else:
-            times, values = self.bat_t, self.bats
-        k = min(max(bisect.bisect_right(times, t) - 1, 0), len(times) - 2)
-        if times[k + 1] - times[k] > self.config.max_gap:
-            return None
-        key = (stream, k)
-        if key not in self._paths:
-            before, after = self._neighbours(times, values, k)
-            if stream == 'ball':
-                self._paths[key] = PointPath.build(self.model, times[k], times[k + 1],
-                                                   values[k], values[k + 1], before, after)
-            else:
-                self._paths[key] = BatPath.build(self.model, times[k], times[k + 1],
-                                                 values[k], values[k + 1], before, after,
-                                                 self.offsets)
-        return self._paths[key]
-
     def at(self, t: float) -> float:
         """Return the gap (m) at ``t`` (s from the origin); NaN outside a sampled interval."""
         start, end = self.span
-        ball_path, bat_path = self._path('ball', t), self._path('bat', t)
-        if not start <= t <= end or ball_path is None or bat_path is None:
+        if not start <= t <= end:
             return float('nan')
-        knob, tip = bat_path.at(t)
-        return profile_gap(ball_path.at(t), knob, tip, self.config.ball_radius,
-                           self.config.profile)[0]
+        where = self.detector.positions_at(self.origin_ns + int(round(t * 1e9)))
+        if where is None:
+            return float('nan')
+        ball, knob, tip = where
+        return profile_gap(ball, knob, tip, self.config.ball_radius, self.config.profile)[0]
 
     def curve(self, times_s: Sequence[float]) -> np.ndarray:
         """Return the gap (m) at each time (s)."""
@@ -216,20 +215,23 @@ def impact_figure(window: PlotWindow, analysis: BagAnalysis, number: int,
                            'bottom': 0.09, 'top': 0.84, 'wspace': 0.2})
     figure.suptitle(impact_title(analysis, impact, number, true_stamp), fontsize=14)
     bat = bat_samples(window, config)
-    ball = ([s for s, _ in window.ball], [v for _, v in window.ball])
-    _gap_panel(gap_axes, impact, config, ball, bat, true_stamp)
+    balls = shown(window, window.ball)
+    ball = ([s for s, _ in balls], [v for _, v in balls])
+    _gap_panel(gap_axes, impact, config, window, analysis.frame_id, bat, true_stamp)
     for axes, plane, title in ((top_axes, (0, 1), 'Seen from above (x, y)'),
                                (side_axes, (1, 2), 'Seen from the side (y, z)')):
         _view_panel(axes, plane, title, ball, bat, impact, config)
     return figure
 
 
-def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig,
-               ball: Tuple[List[int], List[Any]], bat: Tuple[List[int], List[BatSample]],
+def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig, window: PlotWindow,
+               frame_id: str, bat: Tuple[List[int], List[BatSample]],
                true_stamp: Optional[int]) -> None:
     """Draw the gap (cm) against the time from the impact (ms)."""
     origin = impact.stamp_ns
-    gap = ModelGap(config, config.model, origin, ball, bat)
+    gap = ModelGap(config, config.model, origin, window, frame_id)
+    straight = None if config.model == 'linear' else ModelGap(
+        config, 'linear', origin, window, frame_id)
     start, end = gap.span
     low, high = -1.0, 10.0
     if end > start:
@@ -238,18 +240,18 @@ def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig,
         at = np.array([t for t in gap.ball_t if start <= t <= end])
         axes.plot(times * 1e3, curve, color='tab:blue', lw=2.2, zorder=3,
                   label=f'gap, {config.model} model (used)')
-        if config.model != 'linear':
-            straight = ModelGap(config, 'linear', origin, ball, bat).curve(times) * 100.0
-            axes.plot(times * 1e3, straight, color='black', lw=1.2, ls=(0, (4, 3)), zorder=4,
+        if straight is not None:
+            lines = straight.curve(times) * 100.0
+            axes.plot(times * 1e3, lines, color='black', lw=1.2, ls=(0, (4, 3)), zorder=4,
                       label='gap, straight lines (comparison)')
-            curve = np.concatenate([curve, straight])
+            curve = np.concatenate([curve, lines])
         axes.plot(at * 1e3, gap.curve(at) * 100.0, 'o', color='tab:blue', ms=6, zorder=4,
                   label='at ball samples')
         finite = curve[np.isfinite(curve)]
         if finite.size:
             low = min(-1.0, float(finite.min()) - 1.0)
             high = min(float(finite.max()), 40.0) + 2.0
-        _zoom(axes, gap, config, origin, true_stamp, ball, bat)
+        _zoom(axes, gap, straight, origin, true_stamp)
     axes.set_ylim(low, high)
     bat_ms = [(s - origin) * 1e-6 for s in bat[0]]
     axes.plot(bat_ms, [low + 0.04 * (high - low)] * len(bat_ms), '|', color='tab:orange',
@@ -268,17 +270,16 @@ def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig,
     axes.legend(loc='upper right', fontsize='small', framealpha=0.9)
 
 
-def _zoom(axes: Any, gap: ModelGap, config: DetectorConfig, origin: int,
-          true_stamp: Optional[int], ball: Tuple[List[int], List[Any]],
-          bat: Tuple[List[int], List[BatSample]]) -> None:
+def _zoom(axes: Any, gap: ModelGap, straight: Optional[ModelGap], origin: int,
+          true_stamp: Optional[int]) -> None:
     """Draw an inset: the gap within :data:`ZOOM_MS` of the impact, where it crosses 0."""
     inset = axes.inset_axes((0.06, 0.45, 0.3, 0.38))
     start, end = gap.span
     times = np.linspace(max(start, -ZOOM_MS * 1e-3), min(end, ZOOM_MS * 1e-3), 100)
     inset.plot(times * 1e3, gap.curve(times) * 100.0, color='tab:blue', lw=2.2)
-    if config.model != 'linear':
-        inset.plot(times * 1e3, ModelGap(config, 'linear', origin, ball, bat).curve(times)
-                   * 100.0, color='black', lw=1.2, ls=(0, (4, 3)))
+    if straight is not None:
+        inset.plot(times * 1e3, straight.curve(times) * 100.0, color='black', lw=1.2,
+                   ls=(0, (4, 3)))
     if true_stamp is not None:
         inset.axvline((true_stamp - origin) * 1e-6, color='black', lw=4, alpha=0.3)
     inset.axvline(0.0, color='tab:red', lw=1.8, ls=(0, (5, 3)))

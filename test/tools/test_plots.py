@@ -9,7 +9,7 @@ from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.plots import (
-    bat_samples, collect_windows, impact_figure, ModelGap, plot_names)
+    bat_samples, collect_windows, impact_figure, ModelGap, plot_names, shown)
 from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
@@ -56,17 +56,28 @@ def rigid_90hz() -> Dict[str, Any]:
 
 
 def _streams(window: Any, config: DetectorConfig) -> Any:
-    return ([s for s, _ in window.ball], [v for _, v in window.ball]), bat_samples(window, config)
+    balls = shown(window, window.ball)
+    return ([s for s, _ in balls], [v for _, v in balls]), bat_samples(window, config)
 
 
-@pytest.mark.parametrize('model', ['linear', 'rigid', 'spline'])
-def test_model_gap_touches_zero_at_each_impact_of_its_model(model: str) -> None:
-    """The gap curve of the model that found an impact is 0 (within 0.3 mm) at its instant."""
-    analysis = analyze_bag(bag_path('pitches_360hz.mcap'), AnalysisOptions(model=model),
-                           progress=False, use_truth=False)
+@pytest.mark.parametrize('bag, model', [
+    ('pitches_360hz.mcap', 'linear'), ('pitches_360hz.mcap', 'rigid'),
+    ('pitches_360hz.mcap', 'spline'), ('pitches_90hz.mcap', None),
+    ('pitches_180hz_rebound.mcap', None), ('pitches_240hz_noisy.bag', None)])
+def test_model_gap_touches_zero_at_each_impact_of_its_model(bag: str, model: Any) -> None:
+    """
+    The gap curve of the model that found an impact is 0 at its instant (within 0.3 mm).
+
+    ``analyze``'s default (``c2``, look-ahead 2, auto noise: None) too, with a hit's bat
+    continued from before its interval and noise smoothed. Its curve was the straight-line gap
+    before (``BatPath.build`` knows no ``c2``), 1.3-4.5 mm off at end-cap hits.
+    """
+    analysis = analyze_bag(bag_path(bag), AnalysisOptions(model=model), progress=False,
+                           use_truth=False)
+    assert analysis.impacts
     for window in collect_windows(analysis):
-        ball, bat = _streams(window, analysis.config)
-        gap = ModelGap(analysis.config, model, window.impact.stamp_ns, ball, bat)
+        gap = ModelGap(analysis.config, analysis.config.model, window.impact.stamp_ns, window,
+                       analysis.frame_id)
         assert abs(gap.at(0.0)) < 3e-4
 
 
@@ -76,7 +87,7 @@ def test_linear_model_gap_is_the_straight_line_gap(rigid_90hz: Dict[str, Any]) -
     window = rigid_90hz['windows'][0]
     ball, bat = _streams(window, config)
     origin = window.impact.stamp_ns
-    gap = ModelGap(config, 'linear', origin, ball, bat)
+    gap = ModelGap(config, 'linear', origin, window, 'world')
     bat_t = np.array([s - origin for s in bat[0]], dtype=float)
     knobs = np.array([s.knob for s in bat[1]])
     tips = np.array([s.tip for s in bat[1]])
@@ -88,7 +99,7 @@ def test_linear_model_gap_is_the_straight_line_gap(rigid_90hz: Dict[str, Any]) -
         at = [tuple(float(np.interp(stamp, times, values[:, i])) for i in range(3))
               for times, values in ((ball_t, balls), (bat_t, knobs), (bat_t, tips))]
         expected = profile_gap(at[0], at[1], at[2], config.ball_radius, config.profile)[0]
-        assert gap.at(t) == pytest.approx(expected, abs=1e-9)
+        assert gap.at(t) == pytest.approx(expected, abs=1e-7)  # (t to the ns: 40 m/s x 1 ns)
 
 
 def _line(axes: Any, label: str) -> Any:

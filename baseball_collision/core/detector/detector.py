@@ -210,6 +210,27 @@ class Detector:
         """Return the tracking frame: the configured one, else the one the streams agreed on."""
         return self._intake.frame
 
+    def positions_at(self, stamp_ns: int) -> Optional[Tuple[Vector, Vector, Vector]]:
+        """
+        Return where the detector moves the ball and the bat at a stamp: (ball, knob, tip), m.
+
+        On the paths its motion model builds over the sample intervals holding the stamp (the
+        very paths it solves there: windows, smoothing, a ball's free flight after it left the
+        bat, a glitch left out), from the samples it still keeps (about
+        ``kept_history`` behind the newest). None before the first sample, outside the kept
+        samples or across a gap. For plots and inspection; it changes no event.
+
+        :param stamp_ns: the stamp (ns).
+        """
+        if self._clock.origin is None:
+            return None
+        t = self._clock.time(int(stamp_ns))
+        paths = self._sweep.paths_at(t)
+        if paths is None:
+            return None
+        knob, tip = paths[1].at(t)
+        return tuple(paths[0].at(t)), tuple(knob), tuple(tip)
+
     @property
     def noise(self) -> Tuple[float, float]:
         """

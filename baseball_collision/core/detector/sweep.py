@@ -257,6 +257,28 @@ class Sweep:
             indices.append(k)
         return indices[0], indices[1]
 
+    def paths_at(self, t: float) -> Optional[Paths]:
+        """
+        Return the paths over the sample intervals holding t (s), as a sweep builds them there.
+
+        Each stream's interval as ``_locate`` finds it (None outside the samples or across a
+        gap), under ``tracker_noise`` auto with each stream's noise as of that interval
+        (``_estimates``); where the ball left its flight there and the rule continues the bat
+        from before the interval (``_bat_ahead``: a hit), that bat, which solved the hit. For
+        drawing and inspecting the motion the detector solves.
+        """
+        located = []
+        for stream in (self.ball, self.bat):
+            k = stream.interval(t)
+            if k < 0 or k + 1 >= len(stream.times) or \
+                    not stream.continuous(k, self.config.max_gap):
+                return None
+            located.append(k)
+        if self.estimators is not None:
+            self._estimates((located[0], located[1]))
+        paths = self.paths(located[0], located[1])
+        return self._bat_ahead((t, t), paths) or paths
+
     def paths(self, ball_k: int, bat_k: int) -> Paths:
         """
         Return (ball path, bat path) over the sample intervals ball_k and bat_k (cached).
