@@ -35,7 +35,7 @@ from ..atomic import worker_signals
 from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
-    StateReset, StreamGap)
+    StateReset, StreamGap, unknown_parameters)
 from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 from ..threads import single_threaded_blas
@@ -377,7 +377,7 @@ def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
     return f" ({', '.join(named)} from --params; a topic flag overrides it)"
 
 
-def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(), *,
+def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
                 out_bag: Optional[BagWriter] = None, progress: bool = True,
                 use_truth: bool = True, read_ahead: int = 1) -> BagAnalysis:
     """
@@ -395,8 +395,11 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
         topics or with topics of the wrong type), a bad setting, or a failure writing
         ``out_bag``. A damaged truth file is not an error: it is ignored, with a note
-        (``BagAnalysis.notes``).
+        (``BagAnalysis.notes``). ``options`` that are not ``AnalysisOptions``.
     """
+    if not isinstance(options, AnalysisOptions):
+        raise ToolError(f'options must be AnalysisOptions, not {type(options).__name__} (node '
+                        'parameters as a dict: AnalysisOptions(parameters=values))')
     path = Path(path)
     start = time.perf_counter()
     try:
@@ -439,6 +442,9 @@ def analyze_bag(path: os.PathLike, options: AnalysisOptions = AnalysisOptions(),
     result.stats = detector.stats
     result.noise = detector.noise
     result.frame_id = detector.frame_id or config.frame_id or ''
+    unknown = unknown_parameters(options.parameters, options.node_name)
+    if unknown is not None:  # (typos: rclpy would ignore them too)
+        result.notes.append(unknown)
     received = detector.stats.received
     if detector.stats.intervals == 0 and received.get('ball') and (
             received.get('bat_pose') or received.get('knob')):

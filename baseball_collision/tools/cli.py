@@ -137,11 +137,7 @@ def _simulate(args: argparse.Namespace) -> int:
 def _analyze(args: argparse.Namespace) -> int:
     from .analyze import AnalysisOptions, analyze_bags, BagAnalysis
     from .report import csv_text, format_report, json_text, total_line
-    from ..core.detector import unknown_parameters
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
-    unknown = unknown_parameters(parameters, args.node_name)
-    if unknown is not None:
-        print(f'warning: {args.params}: {unknown}', file=sys.stderr)
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,

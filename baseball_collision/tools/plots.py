@@ -182,6 +182,11 @@ class ModelGap:
         return np.array([self.at(t) for t in times_s], dtype=float)
 
 
+def _ms(nanoseconds: int) -> str:
+    """Return a signed time in ms to the microsecond, +0.000 for what rounds to zero."""
+    return f'{round(nanoseconds * 1e-6, 3) + 0.0:+.3f}'
+
+
 def impact_title(analysis: BagAnalysis, impact: Impact, number: int,
                  true_stamp: Optional[int]) -> str:
     """Return an impact figure's two-line title (zone, speed; bag, time, model, truth)."""
@@ -192,7 +197,7 @@ def impact_title(analysis: BagAnalysis, impact: Impact, number: int,
     where = (f'{analysis.path.name}, {analysis.relative_s(impact.stamp_ns):.3f} s into the '
              f'bag, {analysis.config.model} model')
     if true_stamp is not None:
-        where += f', {(impact.stamp_ns - true_stamp) * 1e-6:+.3f} ms from the true contact'
+        where += f', {_ms(impact.stamp_ns - true_stamp)} ms from the true contact'
     return f'{line}\n{where}'
 
 
@@ -258,7 +263,7 @@ def _gap_panel(axes: Any, impact: Impact, config: DetectorConfig, window: PlotWi
               ms=18, mew=2, zorder=4, label='bat samples')
     if true_stamp is not None:
         axes.axvline((true_stamp - origin) * 1e-6, color='black', lw=4, alpha=0.3, zorder=1,
-                     label=f'true contact ({(true_stamp - origin) * 1e-6:+.3f} ms)')
+                     label=f'true contact ({_ms(true_stamp - origin)} ms)')
     axes.axvline(0.0, color='tab:red', lw=1.8, ls=(0, (5, 3)), zorder=5, label='impact found')
     axes.axhline(0.0, color='black', lw=0.8, zorder=1)
     axes.text(0.01, 0.0, ' touching', transform=axes.get_yaxis_transform(), va='bottom',

@@ -33,6 +33,7 @@ from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
     StreamGap)
+from baseball_collision.errors import ToolError
 import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
@@ -393,3 +394,9 @@ def test_streams_that_never_overlap_in_time_are_noted(tmp_path: Path, offset_s: 
         'the ball and the bat were never tracked at the same time (their stamps do not '
         'overlap): nothing could be solved; are both stamped by one clock?']) == noted
     assert noted or analysis.stats.intervals > 0
+
+
+def test_options_of_the_wrong_kind_are_refused() -> None:
+    """analyze_bag(path, a dict): a ToolError saying what to pass (an AttributeError before)."""
+    with pytest.raises(ToolError, match='options must be AnalysisOptions, not dict'):
+        analyze_bag(bag_path('pitches_90hz.mcap'), {'model': 'c2'})

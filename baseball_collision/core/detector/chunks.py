@@ -131,15 +131,23 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
     The detector's own chunk path: it reads the detector's current parts (streams, scheduler,
     intake, clock), which a reset mid-chunk replaces. Arguments and errors as ``add_chunk``.
     """
-    roles = np.asarray(roles, dtype=np.int8)
-    stamps = np.asarray(stamps_ns, dtype=np.int64)
+    given_roles, given_stamps = np.asarray(roles), np.asarray(stamps_ns)
+    if given_roles.dtype.kind not in 'iu' or given_stamps.dtype.kind not in 'iu':
+        raise CoreError('a chunk takes integer role codes (Detector.ROLES: 0 ball, 1 bat_pose, '
+                        '2 knob, 3 tip) and integer stamps in ns, got arrays of '
+                        f'{given_roles.dtype} and {given_stamps.dtype}')
+    if len(given_roles) and (given_roles.min() < 0 or given_roles.max() >= len(detector.ROLES)):
+        raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
+    if frame_ids is None or isinstance(frame_ids, str):
+        raise CoreError('frame_ids: one frame_id per sample (a sequence of str), not '
+                        f'{frame_ids!r}')
+    roles = given_roles.astype(np.int8, copy=False)
+    stamps = given_stamps.astype(np.int64, copy=False)
     values = np.asarray(values, dtype=float)
     n = len(stamps)
     if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
         raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '
                         f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
-    if n and (roles.min() < 0 or roles.max() >= len(detector.ROLES)):
-        raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
     chunk = (roles, stamps, values, frame_ids)
     events: List[Event] = []
     i, length, unplanned = 0, detector._plan_length, 0

@@ -548,11 +548,18 @@ class DetectorConfig:
         """
         Check every value against its parameter (doubles become floats; up_axis unit length).
 
-        :raises CoreError: a value of the wrong type or out of its range, naming the field.
+        :raises CoreError: a value of the wrong type or out of its range, naming the field; a
+            ``profile`` that is not a ``BatProfile`` or a ``geometry`` not a
+            ``PoseBatGeometry``.
         """
         for name in _TABLE_FIELDS:
             object.__setattr__(self, name, SPECS[name].check(getattr(self, name)))
         object.__setattr__(self, 'up_axis', unit_vector(self.up_axis, 'up_axis'))
+        for name, kind in (('profile', BatProfile), ('geometry', PoseBatGeometry)):
+            if not isinstance(getattr(self, name), kind):
+                raise CoreError(f'{name} must be a {kind.__name__}, not '
+                                f'{type(getattr(self, name)).__name__} (the node parameters '
+                                'of the bat: DetectorConfig.from_parameters)')
 
     def variant(self, **changes: Any) -> 'DetectorConfig':
         """

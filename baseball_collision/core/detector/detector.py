@@ -36,7 +36,8 @@ from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
 from .gate import (
-    Clock, FAR_AHEAD_NS, finite_point, LengthCheck, lost_body, speed_check, unit_pose)
+    Clock, FAR_AHEAD_NS, finite_point, integer_stamp, LengthCheck, lost_body, speed_check,
+    unit_pose)
 from .intake import Intake, Offer
 from .noise import NoiseEstimate, record
 from .pairing import Pairing
@@ -85,7 +86,7 @@ class Detector:
     def __init__(self, config: Optional[DetectorConfig] = None, *,
                  deferred_uncertainty: bool = False,
                  on_contact: Optional[Callable[[int, Vector], None]] = None) -> None:
-        self._config = config or DetectorConfig()
+        self._config = _checked(config) if config is not None else DetectorConfig()
         self._on_contact = on_contact
         self._pending: Optional[List[PendingUncertainty]] = [] if deferred_uncertainty else None
         self.stats = DetectorStats()
@@ -174,9 +175,10 @@ class Detector:
         """
         Swap in a new configuration that differs only in thresholds.
 
-        :raises CoreError: the running detector cannot take it (``refusal`` says why).
+        :raises CoreError: not a ``DetectorConfig``, or the running detector cannot take it
+            (``refusal`` says why).
         """
-        reason = self.refusal(config)
+        reason = self.refusal(_checked(config))
         if reason is not None:
             raise CoreError(reason)
         self.config = config
@@ -190,7 +192,8 @@ class Detector:
         plan clears it.
 
         :raises CoreError: more than ``prediction.MAX_PLAN_POSES`` poses (10,000), lists of
-            different lengths, stamps not increasing, or a quaternion not unit length.
+            different lengths, stamps not integer nanoseconds or not increasing, a position
+            not 3 finite numbers, a quaternion not 4 or not unit length.
         """
         self._predictor.set_plan(stamps_ns, positions, quaternions)
 
@@ -198,12 +201,15 @@ class Detector:
         """
         Drop every buffered sample and episode (and the bat plan); counters are kept.
 
+        :param stamp_ns: its stamp (ns, an integer).
         :param reason: a ``ResetReason`` (passed on as given).
         :returns: the ``StateReset`` event describing it.
+        :raises CoreError: a stamp that is not an integer (nothing is cleared then).
         """
+        stamp = integer_stamp(stamp_ns)
         self._clear()
         self.stats.resets += 1
-        return StateReset(stamp_ns=int(stamp_ns), reason=reason)
+        return StateReset(stamp_ns=stamp, reason=reason)
 
     @property
     def frame_id(self) -> Optional[str]:
@@ -283,10 +289,13 @@ class Detector:
 
         :param role: ``'ball'``, ``'knob'`` or ``'tip'`` with values (x, y, z) in metres, or
             ``'bat_pose'`` with values (px, py, pz, qx, qy, qz, qw) (a ``Role``).
-        :param stamp_ns: header stamp (ns).
+        :param stamp_ns: header stamp (ns, an integer).
         :param frame_id: the header's frame.
-        :returns: the events this sample made decidable.
-        :raises CoreError: an unknown role (a programming error, not bad data).
+        :returns: the events this sample made decidable. A sample that cannot be taken is
+            dropped, not raised: ``stats.last_drop_reason`` says why (values that are not 3
+            or 7 numbers: ``non_finite``) and ``stats.dropped`` counts it.
+        :raises CoreError: an unknown role, or a stamp that is not an integer (programming
+            errors, not bad data).
         """
         if role == 'ball':
             return self._timed(self._check_point, _BALL, stamp_ns, values, frame_id)
@@ -316,7 +325,8 @@ class Detector:
         :param drops: when given, counts ``(role, reason)`` of every sample dropped (late drops
             of samples that had waited included).
         :returns: the events the samples made decidable, in order.
-        :raises CoreError: an unknown role code, or arrays of different lengths.
+        :raises CoreError: role codes or stamps that are not integers, an unknown role code,
+            frame_ids that are not one str per sample, or arrays of different lengths.
         """
         return feed_chunk(self, roles, stamps_ns, values, frame_ids, drops)
 
@@ -342,8 +352,8 @@ class Detector:
         stats = self.stats  # inline, not a method: this runs for every sample offered
         if stats.late_drops:
             stats.late_drops = []
+        stamp = stamp_ns if stamp_ns.__class__ is int else integer_stamp(stamp_ns)
         try:  # the values only: an error past the checks is the detector's own, raised
-            stamp = int(stamp_ns)
             clean = DropReason.BAD_STAMP if stamp <= 0 else check(role, value)
         except (TypeError, ValueError) as error:
             if isinstance(error, CoreError):
@@ -479,3 +489,16 @@ class Detector:
                                          for pending in self._pending]
         if moved and config.prediction_horizon > 0.0:
             self._predictor.predict(self._scheduler.cursor, self._episodes.armed, events)
+
+
+def _checked(config: Any) -> DetectorConfig:
+    """
+    Return ``config`` if it is a ``DetectorConfig``.
+
+    :raises CoreError: anything else (a dict of node parameters:
+        ``DetectorConfig.from_parameters`` makes one).
+    """
+    if isinstance(config, DetectorConfig):
+        return config
+    raise CoreError(f'config must be a DetectorConfig, not {type(config).__name__} (node '
+                    'parameters as a dict: DetectorConfig.from_parameters(values))')

@@ -11,11 +11,13 @@ and one far after the clock's origin.
 
 from collections import Counter
 import math
+import numbers
 from typing import Any, Collection, Dict, List, Optional, Sequence, Set, Tuple, Union
 
 from .events import DropReason, ResetReason
 from .streams import Stream
 from ..geometry import Quaternion, Vector
+from ...errors import CoreError
 
 FAR_AHEAD_NS = 10 ** 15
 """A stamp this far (ns, about 11.6 days) after the detector's time origin starts a new one:
@@ -112,6 +114,20 @@ class FrameVote:
     def most_common(self) -> Optional[str]:
         """Return the frame sent most often (the first seen among equals), None for none."""
         return self.counts.most_common(1)[0][0] if self.counts else None
+
+
+def integer_stamp(stamp_ns: Any, what: str = 'stamp_ns') -> int:
+    """
+    Return a stamp given as an integer number of nanoseconds (a Python or numpy integer).
+
+    :raises CoreError: anything else (a float: seconds, or epoch nanoseconds a double cannot
+        hold to the nanosecond; a string). A programming error, never data to drop: it was
+        truncated before and every sample dropped as a duplicate or a bad stamp.
+    """
+    if stamp_ns.__class__ is int or isinstance(stamp_ns, numbers.Integral):
+        return int(stamp_ns)
+    raise CoreError(f'{what} must be an integer number of nanoseconds, not '
+                    f'{type(stamp_ns).__name__} {stamp_ns!r} (seconds? int(round(s * 1e9)))')
 
 
 def finite_point(value: Sequence[float]) -> Optional[Vector]:

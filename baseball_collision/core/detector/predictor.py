@@ -15,7 +15,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 
 from .config import DetectorConfig
 from .events import Prediction, PredictionCleared
-from .gate import Clock
+from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .streams import Stream
 from ..geometry import lerp, scale, Vector
@@ -84,17 +84,27 @@ class Predictor:
         Set (or, with no stamps, clear) a commanded bat trajectory.
 
         :raises CoreError: more than ``MAX_PLAN_POSES`` poses, lists of different lengths,
-            stamps not increasing, or a quaternion not unit length.
+            stamps not integer nanoseconds or not increasing, a position not 3 finite numbers,
+            a quaternion not 4 or not unit length (at once: not at a later sample's forecast).
         """
         self.plan_on_clock = None
-        if not stamps_ns:
+        if not len(stamps_ns):
             self.plan = None
             return
-        first = int(stamps_ns[0])
         try:
             check_plan_size(len(stamps_ns))  # before any work on a huge plan
-            plan = planned_bat([(int(s) - first) * 1e-9 for s in stamps_ns], positions,
-                               quaternions, *self.offsets)
+            stamps = [integer_stamp(s, 'a plan stamp') for s in stamps_ns]
+            if len(positions) != len(stamps) or len(quaternions) != len(stamps):
+                raise ValueError(f'{len(stamps)} stamps, {len(positions)} positions and '
+                                 f'{len(quaternions)} quaternions')
+            for position, quaternion in zip(positions, quaternions):
+                if len(position) != 3 or len(quaternion) != 4 or not all(
+                        math.isfinite(float(x)) for x in (*position, *quaternion)):
+                    raise ValueError('every position must be 3 finite numbers (m) and every '
+                                     'quaternion 4 (x, y, z, w)')
+            first = stamps[0]
+            plan = planned_bat([(s - first) * 1e-9 for s in stamps], positions, quaternions,
+                               *self.offsets)
         except (TypeError, ValueError) as error:
             raise CoreError(f'bad bat plan: {error}') from error
         self.plan = (first, plan)

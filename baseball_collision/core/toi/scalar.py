@@ -43,9 +43,12 @@ def _non_negative(name: str, value: float) -> float:
 
 
 def _interval(dt: float) -> float:
-    number = _non_negative('dt', dt)
-    if number <= 0.0:
-        raise CoreError(f'dt must be > 0 seconds, got {dt!r}')
+    try:
+        number = float(dt)
+    except (TypeError, ValueError) as error:
+        raise CoreError(f'dt must be a number, got {dt!r}') from error
+    if not (math.isfinite(number) and number > 0.0):
+        raise CoreError(f'dt must be finite and > 0 seconds, got {dt!r}')
     return number
 
 
@@ -145,8 +148,11 @@ def time_of_impact_profile(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, 
     :param ball0, ball1, tip0, tip1, knob0, knob1, ball_radius, dt: as for ``time_of_impact``.
     :param profile: the bat's radius profile, scaled to the measured knob-tip distance.
 
-    :raises CoreError: as for ``time_of_impact``.
+    :raises CoreError: as for ``time_of_impact``; a ``profile`` that is not a ``BatProfile``.
     """
+    if not isinstance(profile, BatProfile):
+        raise CoreError(f'profile must be a BatProfile (e.g. WOOD_BAT_34), not '
+                        f'{type(profile).__name__}')
     hit = _kernel.profile(ball0, ball1, tip0, tip1, knob0, knob1, ball_radius, profile, dt)
     if hit is NotImplemented:
         points = _checked(ball0, ball1, tip0, tip1, knob0, knob1)

@@ -653,6 +653,15 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles, stamps, values[:, :3], frames)
     with pytest.raises(CoreError):
         detector.add_chunk(roles + 7, stamps, values, frames)
+    # types a caller may try: role names, seconds, one frame for all (each was truncated,
+    # read char by char or raised deep inside)
+    with pytest.raises(CoreError, match='integer role codes'):
+        detector.add_chunk(['ball'] * 10, stamps, values, frames)
+    with pytest.raises(CoreError, match='integer role codes'):
+        detector.add_chunk(roles, stamps * 1e-9, values, frames)
+    with pytest.raises(CoreError, match='one frame_id per sample'):
+        detector.add_chunk(roles[:5], stamps[:5], values[:5], 'world')
+    assert detector.stats.received == {}  # nothing taken from a refused chunk
 
 
 def _c2_streams(times: np.ndarray, breaks: Sequence[bool], start: Tuple[float, float, float],

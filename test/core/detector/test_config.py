@@ -164,3 +164,15 @@ def test_a_variant_is_the_configuration_replaced_and_checked_once() -> None:
                           tracker_noise=-1.0).variant(look_ahead=0, model='spline') is variant
     with pytest.raises(CoreError, match='look_ahead'):
         config.variant(look_ahead=7)
+
+
+def test_a_config_of_the_wrong_kind_is_refused_by_name() -> None:
+    """A dict for a config, or no profile or geometry: a CoreError (an AttributeError later)."""
+    for field_name, value in (('profile', None), ('profile', 0.03), ('geometry', (0.0, 0.8))):
+        with pytest.raises(CoreError, match=f'^{field_name} must be a '):
+            DetectorConfig(**{field_name: value})
+    with pytest.raises(CoreError, match='config must be a DetectorConfig, not dict'):
+        Detector({'model': 'c2'})
+    detector = Detector()
+    with pytest.raises(CoreError, match='config must be a DetectorConfig, not dict'):
+        detector.reconfigure({'near_miss_threshold': 0.2})

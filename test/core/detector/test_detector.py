@@ -480,3 +480,25 @@ def test_positions_at_are_the_paths_through_the_samples(model: str) -> None:
     assert math.dist(ball, pitch(3.0)(t)) < 1e-6
     assert math.dist(knob, swing(t)[0]) < 3e-3 and math.dist(tip, swing(t)[1]) < 3e-3
     assert detector.positions_at(stamps[-1] + 10**9) is None
+
+
+def test_a_stamp_that_is_not_integer_nanoseconds_is_refused() -> None:
+    """A float stamp (seconds, or epoch ns a double cannot hold) raises; it was truncated."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    for stamp in (1.7e9, 1.5, BASE_NS * 1.0, '1700000000000000000'):
+        with pytest.raises(CoreError, match='integer number of nanoseconds'):
+            detector.add_ball(stamp, (0.0, 0.0, 1.0), 'world')
+        with pytest.raises(CoreError, match='integer number of nanoseconds'):
+            detector.reset(stamp)
+    assert detector.add_ball(np.int64(BASE_NS), (0.0, 0.0, 1.0), 'world') == []
+    assert detector.stats.received == {'ball': 1} and not detector.stats.dropped
+    with pytest.raises(CoreError, match='bad bat plan'):
+        detector.set_bat_plan([BASE_NS * 1.0, BASE_NS + 1e6], [(0, 0, 1)] * 2,
+                              [(0, 0, 0, 1)] * 2)
+    with pytest.raises(CoreError, match='3 finite numbers'):
+        detector.set_bat_plan([BASE_NS, BASE_NS + 1_000_000], [(0, 0, 1), (0, float('nan'), 1)],
+                              [(0, 0, 0, 1)] * 2)
+    with pytest.raises(CoreError, match='3 finite numbers'):
+        detector.set_bat_plan(np.array([BASE_NS, BASE_NS + 1_000_000]), np.zeros((2, 2)),
+                              np.tile([0.0, 0.0, 0.0, 1.0], (2, 1)))
+    detector.set_bat_plan(np.array([], dtype=np.int64), [], [])  # clears, as [] does

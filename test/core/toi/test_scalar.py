@@ -470,3 +470,10 @@ def test_lowest_gap_place_is_the_golden_section_search(points) -> None:
     bracket = ((math.sqrt(5.0) - 1.0) / 2.0) ** 40
     if one_valley(dense) and one_valley(floor):
         assert gap(place) <= min(dense + floor) + 1e-9 + moved * bracket
+
+
+def test_a_profile_that_is_no_profile_is_refused_by_name() -> None:
+    """time_of_impact_profile with profile None: a CoreError naming it (an AttributeError)."""
+    with pytest.raises(CoreError, match='profile must be a BatProfile'):
+        time_of_impact_profile((0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0), (0, -1, 0),
+                               (1, -1, 0), 0.0366, None, 0.01)
