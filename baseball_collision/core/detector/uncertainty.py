@@ -69,7 +69,7 @@ last sample: a marker occluded, dropped samples), the speed is carried over more
 which no model of the same fits shows: the speed's is then at least the difference from the
 speed of the quadratic fit (``CARRY_DEGREE``, a constant acceleration) over the same samples.
 At 90 Hz with two frames lost the speed's error was within 2 sigma in 67 % of impacts, now 100
-% (one frame: 79 -> 100 %; none lost: unchanged, 90 %; BENCHMARKS.md, session 49).
+% (one frame: 79 -> 100 %; none lost: unchanged, 90 %; ``bench_lost_frames.py``).
 
 At a hit (the ball left its free flight over the impact's interval: ``departure``) every
 model's time uncertainty also holds the bat's brake: the interval's closing bat frame is after
