@@ -11,7 +11,6 @@ before the true contact removed; prints the speed error (p50, p99) and how often
 """
 
 import argparse
-from dataclasses import replace
 from typing import Any, List
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact
@@ -27,17 +26,6 @@ def impacts_of(config: DetectorConfig, samples: Any) -> List[Impact]:
         events += detector.add(role, stamp, values)
     events += detector.finish()
     return [event for event in events if isinstance(event, Impact)]
-
-
-def without_frames(samples, contact_ns: int, lost: int):
-    """Return the samples without the bat's last ``lost`` frames before the contact (ns)."""
-    before = np.flatnonzero(samples.bat_stamps_ns < contact_ns)
-    keep = np.ones(len(samples.bat_stamps_ns), bool)
-    keep[before[len(before) - lost:]] = False
-    return replace(samples, bat_stamps_ns=samples.bat_stamps_ns[keep],
-                   bat_positions=samples.bat_positions[keep],
-                   bat_quaternions=samples.bat_quaternions[keep], knobs=samples.knobs[keep],
-                   tips=samples.tips[keep])
 
 
 def main() -> None:
@@ -56,7 +44,7 @@ def main() -> None:
                     scenario = make_scenario('barrel', rng, family=family)
                     samples = sample(scenario, rate, rng, jitter_s=2e-4, grid_s=1e-3)
                     contact_ns = samples.start_ns + int(scenario.truth.time_s * 1e9)
-                    impacts = impacts_of(config, without_frames(samples, contact_ns, lost))
+                    impacts = impacts_of(config, samples.without_bat_frames(contact_ns, lost))
                     if len(impacts) != 1:
                         continue
                     impact, truth = impacts[0], scenario.truth.sweet_spot_speed_mps

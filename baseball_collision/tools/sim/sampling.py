@@ -6,7 +6,7 @@ integer nanoseconds, ``start_ns + round(t * 1e9)``. ``truth_dict``: the truth as
 truth file beside a bag.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -49,6 +49,22 @@ class Samples:
     knobs: np.ndarray
     tips: np.ndarray
     start_ns: int
+
+    def without_bat_frames(self, before_ns: int, count: int) -> 'Samples':
+        """
+        Return these samples without the bat's last ``count`` frames stamped before a stamp.
+
+        Frames a tracker lost: a marker occluded at the contact, samples dropped in transit.
+
+        :param before_ns: the stamp (ns; e.g. the true contact's).
+        """
+        before = np.flatnonzero(self.bat_stamps_ns < before_ns)
+        keep = np.ones(len(self.bat_stamps_ns), bool)
+        keep[before[len(before) - count:]] = False
+        return replace(self, bat_stamps_ns=self.bat_stamps_ns[keep],
+                       bat_positions=self.bat_positions[keep],
+                       bat_quaternions=self.bat_quaternions[keep], knobs=self.knobs[keep],
+                       tips=self.tips[keep])
 
     def messages(self, bat: str = 'pose') -> List[Tuple[int, str, Tuple[float, ...]]]:
         """

@@ -511,17 +511,6 @@ def test_a_poses_time_sigma_follows_its_origin(origin: float) -> None:
     assert float(np.median(sigmas)) == pytest.approx(float(np.std(errors, ddof=1)), rel=0.25)
 
 
-def _bat_frames_lost(samples: Any, contact_ns: int, lost: int) -> Any:
-    """Return the samples without the bat's last ``lost`` frames before the contact (ns)."""
-    before = np.flatnonzero(samples.bat_stamps_ns < contact_ns)
-    keep = np.ones(len(samples.bat_stamps_ns), bool)
-    keep[before[len(before) - lost:]] = False
-    return replace(samples, bat_stamps_ns=samples.bat_stamps_ns[keep],
-                   bat_positions=samples.bat_positions[keep],
-                   bat_quaternions=samples.bat_quaternions[keep], knobs=samples.knobs[keep],
-                   tips=samples.tips[keep])
-
-
 @pytest.mark.parametrize('lost', [0, 2])
 def test_a_speed_carried_across_lost_bat_frames_widens_its_sigma(lost: int) -> None:
     """
@@ -536,7 +525,7 @@ def test_a_speed_carried_across_lost_bat_frames_widens_its_sigma(lost: int) -> N
         for seed in range(3):
             scenario, samples = _samples(family, 90.0, 0.0, seed)
             contact_ns = samples.start_ns + int(scenario.truth.time_s * 1e9)
-            detector, impacts = detect(config, _bat_frames_lost(samples, contact_ns, lost))
+            detector, impacts = detect(config, samples.without_bat_frames(contact_ns, lost))
             assert len(impacts) == 1
             impact = impacts[0]
             t = detector._clock.time(impact.stamp_ns)
