@@ -224,13 +224,16 @@ class Detector:
         very paths it solves there: windows, smoothing, a ball's free flight after it left the
         bat, a glitch left out), from the samples it still keeps (about
         ``kept_history`` behind the newest). None before the first sample, outside the kept
-        samples or across a gap. For plots and inspection; it changes no event.
+        samples or across a gap. For plots and inspection: it makes no event (a ball glitch
+        it meets first is counted, as the sweep counts it).
 
-        :param stamp_ns: the stamp (ns).
+        :param stamp_ns: the stamp (ns, an integer).
+        :raises CoreError: a stamp that is not an integer.
         """
+        stamp = integer_stamp(stamp_ns)
         if self._clock.origin is None:
             return None
-        t = self._clock.time(int(stamp_ns))
+        t = self._clock.time(stamp)
         paths = self._sweep.paths_at(t)
         if paths is None:
             return None
