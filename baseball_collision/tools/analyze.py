@@ -454,10 +454,15 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     truth_file = truth_path(path)
     if use_truth and truth_file.is_file():
         try:
-            result.truth = compare_truth(result.impacts, result.near_misses,
-                                         load_truth(truth_file), truth_file)
+            truth = load_truth(truth_file)
+            result.truth = compare_truth(result.impacts, result.near_misses, truth, truth_file)
         except ToolError as error:
             result.notes.append(f'{error}; the truth file was ignored')
+        else:
+            made_for = Path(str(truth.get('bag', path.name))).name
+            if made_for != path.name:
+                result.notes.append(f'{truth_file.name} was written for {made_for}, not '
+                                    f'{path.name}: compared all the same (a renamed copy?)')
     return result
 
 

@@ -400,3 +400,15 @@ def test_options_of_the_wrong_kind_are_refused() -> None:
     """analyze_bag(path, a dict): a ToolError saying what to pass (an AttributeError before)."""
     with pytest.raises(ToolError, match='options must be AnalysisOptions, not dict'):
         analyze_bag(bag_path('pitches_90hz.mcap'), {'model': 'c2'})
+
+
+def test_a_truth_file_written_for_another_bag_is_named(tmp_path: Path) -> None:
+    """Another bag's truth file under this bag's name: compared, with a note naming its bag."""
+    bag = tmp_path / 'session.mcap'
+    bag.write_bytes(bag_path('pitches_90hz.mcap').read_bytes())
+    truth_path(bag).write_text(truth_path(bag_path('pitches_360hz.mcap')).read_text())
+    analysis = analyze_bag(bag, progress=False)
+    assert analysis.truth is not None
+    assert analysis.notes == ['session.truth.json was written for pitches_360hz.mcap, not '
+                              'session.mcap: compared all the same (a renamed copy?)']
+    assert analyze_bag(bag_path('pitches_90hz.mcap'), progress=False).notes == []
