@@ -130,14 +130,20 @@ def leaves_flight(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
 
 def flight_path(stream: Stream, k: int, fitted: Parabola) -> PointPath:
     """Return the ball's path over interval k on the free flight's parabola (``parabola``)."""
-    end, acceleration = fitted[3], fitted[4]
+    t2, t3 = stream.times[k:k + 2]
+    opening, closing = _slopes(stream, k, fitted)
+    return PointPath(t2, t3, stream.values[k], fitted[3], opening, closing)
+
+
+def _slopes(stream: Stream, k: int, fitted: Parabola) -> Tuple[Vector, Vector]:
+    """Return the parabola's slopes (m/s) at interval k's opening and closing stamps."""
+    acceleration = fitted[4]
     t1, t2, t3 = stream.times[k - 1:k + 2]
     p1, p2 = stream.values[k - 1:k + 1]
     # the chord's slope is the parabola's at the chord's middle
     opening = tuple((b - a) / (t2 - t1) + 0.5 * c * (t2 - t1)
                     for a, b, c in zip(p1, p2, acceleration))
-    closing = tuple(v + c * (t3 - t2) for v, c in zip(opening, acceleration))
-    return PointPath(t2, t3, p2, end, opening, closing)
+    return opening, tuple(v + c * (t3 - t2) for v, c in zip(opening, acceleration))
 
 
 def glitch_path(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[PointPath]:
@@ -160,24 +166,15 @@ def glitch_path(stream: Stream, k: int, noise: float, max_gap: float) -> Optiona
     departed = leaves_flight(stream, k - 1, noise, max_gap)
     if departed is None:
         return None
-    times, values = stream.times, stream.values
-    t1, t2, t3 = times[k - 3:k]
-
-    def flight(t: float) -> Tuple[Vector, Vector]:
-        # Lagrange's parabola through samples k - 3 .. k - 1, and its slope, at t
-        w = ((t - t2) * (t - t3) / ((t1 - t2) * (t1 - t3)),
-             (t - t1) * (t - t3) / ((t2 - t1) * (t2 - t3)),
-             (t - t1) * (t - t2) / ((t3 - t1) * (t3 - t2)))
-        d = ((2 * t - t2 - t3) / ((t1 - t2) * (t1 - t3)),
-             (2 * t - t1 - t3) / ((t2 - t1) * (t2 - t3)),
-             (2 * t - t1 - t2) / ((t3 - t1) * (t3 - t2)))
-        samples = values[k - 3:k]
-        return (tuple(sum(w[i] * samples[i][c] for i in range(3)) for c in range(3)),
-                tuple(sum(d[i] * samples[i][c] for i in range(3)) for c in range(3)))
-    opening, closing = flight(times[k]), flight(times[k + 1])
-    if math.dist(closing[0], values[k + 1]) >= departed[0]:
+    # the parabola (``departed``: its value at t_k, its acceleration) continued over interval k
+    opening, acceleration = departed[3], departed[4]
+    slope = _slopes(stream, k - 1, departed)[1]
+    h = stream.times[k + 1] - stream.times[k]
+    closing = tuple(p + v * h + 0.5 * a * h * h for p, v, a in zip(opening, slope, acceleration))
+    if math.dist(closing, stream.values[k + 1]) >= departed[0]:
         return None
-    return PointPath(times[k], times[k + 1], opening[0], closing[0], opening[1], closing[1])
+    return PointPath(stream.times[k], stream.times[k + 1], opening, closing, slope,
+                     tuple(v + a * h for v, a in zip(slope, acceleration)))
 
 
 def departure_reach(stream: Stream, k: int, max_gap: float) -> float:
