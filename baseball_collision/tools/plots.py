@@ -149,9 +149,10 @@ class ModelGap:
         self.config, self.model, self.origin_ns = config, model, origin_ns
         self.detector = Detector(config.variant(model=model, prediction_horizon=0.0))
         roles = {'ball': 'ball', 'bat': 'bat_pose', 'knob': 'knob', 'tip': 'tip'}
-        feed = sorted((stamp, order, roles[name], values)
-                      for order, name in enumerate(roles)
-                      for stamp, values in getattr(window, name))
+        feed = sorted(((stamp, order, roles[name], values)
+                       for order, name in enumerate(roles)
+                       for stamp, values in getattr(window, name)),
+                      key=lambda sample: sample[:2])  # (never the values: a duplicate stamp)
         for stamp, _, role, values in feed:
             self.detector.add(role, stamp, values, frame_id)
         self.detector.finish()

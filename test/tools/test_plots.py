@@ -9,7 +9,7 @@ from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.plots import (
-    bat_samples, collect_windows, impact_figure, ModelGap, plot_names, shown)
+    bat_samples, collect_windows, impact_figure, ModelGap, plot_names, PlotWindow, shown)
 from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
@@ -155,3 +155,11 @@ def test_summary_figure_spots_speeds_and_misses(rigid_90hz: Dict[str, Any]) -> N
     assert [p.get_height() for p in miss_axes.patches] == pytest.approx(
         [m.gap_m * 100.0 for m in analysis.near_misses])
     assert 'Session summary: pitches_90hz.mcap' in figure._suptitle.get_text()
+
+
+def test_a_duplicate_stamp_in_a_window_is_fed_not_compared() -> None:
+    """Two ball samples of one stamp (a bag with duplicates): the plot's detector drops one."""
+    window = PlotWindow(None, 0, 10)
+    window.ball = [(5, np.array([0.0, 0.0, 1.0])), (5, np.array([0.0, 0.0, 2.0]))]
+    gap = ModelGap(DetectorConfig(), 'c2', 5, window, 'world')
+    assert gap.detector.stats.dropped == {'duplicate_stamp': 1}
