@@ -117,6 +117,7 @@ class LiveImpact:
         (m): the record's ``distance_from_tip_m`` (what is printed).
     :ivar sweet_spot_speed_mps: the record's sweet-spot speed (m/s).
     :ivar bat_speed_mps: the record's bat speed at the contact point (m/s).
+    :ivar reported: its record has come (the numbers above are the node's).
     """
 
     stamp_ns: int
