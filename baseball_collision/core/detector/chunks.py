@@ -141,9 +141,15 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
     if frame_ids is None or isinstance(frame_ids, str):
         raise CoreError('frame_ids: one frame_id per sample (a sequence of str), not '
                         f'{frame_ids!r}')
+    if given_stamps.dtype == np.uint64 and len(given_stamps) and \
+            given_stamps.max() > np.iinfo(np.int64).max:
+        raise CoreError('stamps beyond int64 nanoseconds (after the year 2262)')
     roles = given_roles.astype(np.int8, copy=False)
     stamps = given_stamps.astype(np.int64, copy=False)
-    values = np.asarray(values, dtype=float)
+    try:
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as error:
+        raise CoreError(f'a chunk takes (n, 7) numbers as values: {error}') from error
     n = len(stamps)
     if len(roles) != n or len(frame_ids) != n or values.shape != (n, 7):
         raise CoreError(f'a chunk of {n} stamps needs as many roles, frames and rows of 7 '

@@ -36,8 +36,8 @@ from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
 from .gate import (
-    Clock, FAR_AHEAD_NS, finite_point, integer_stamp, LengthCheck, lost_body, speed_check,
-    unit_pose)
+    Clock, FAR_AHEAD_NS, finite_point, frame_text, integer_stamp, LengthCheck, lost_body,
+    speed_check, unit_pose)
 from .intake import Intake, Offer
 from .noise import NoiseEstimate, record
 from .pairing import Pairing
@@ -150,10 +150,8 @@ class Detector:
 
     @config.setter
     def config(self, config: DetectorConfig) -> None:
-        """Set the configuration in force (``reconfigure`` checks it first)."""
-        self._config = config
-        for part in (self._episodes, self._sweep, self._scheduler, self._predictor, self._intake):
-            part.config = config
+        """Set the configuration in force: ``reconfigure``, with its checks and errors."""
+        self.reconfigure(config)
 
     def refusal(self, config: DetectorConfig) -> Optional[str]:
         """
@@ -181,7 +179,9 @@ class Detector:
         reason = self.refusal(_checked(config))
         if reason is not None:
             raise CoreError(reason)
-        self.config = config
+        self._config = config
+        for part in (self._episodes, self._sweep, self._scheduler, self._predictor, self._intake):
+            part.config = config
 
     def set_bat_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
                      quaternions: Sequence[Sequence[float]]) -> None:
@@ -297,8 +297,8 @@ class Detector:
         :returns: the events this sample made decidable. A sample that cannot be taken is
             dropped, not raised: ``stats.last_drop_reason`` says why (values that are not 3
             or 7 numbers: ``non_finite``) and ``stats.dropped`` counts it.
-        :raises CoreError: an unknown role, or a stamp that is not an integer (programming
-            errors, not bad data).
+        :raises CoreError: an unknown role, a stamp that is not an integer, or a frame_id that
+            is not a str (programming errors, not bad data).
         """
         if role == 'ball':
             return self._timed(self._check_point, _BALL, stamp_ns, values, frame_id)
@@ -328,8 +328,9 @@ class Detector:
         :param drops: when given, counts ``(role, reason)`` of every sample dropped (late drops
             of samples that had waited included).
         :returns: the events the samples made decidable, in order.
-        :raises CoreError: role codes or stamps that are not integers, an unknown role code,
-            frame_ids that are not one str per sample, or arrays of different lengths.
+        :raises CoreError: role codes or stamps that are not integers (or stamps beyond
+            int64), an unknown role code, values that are not numbers, frame_ids that are not
+            one str per sample, or arrays of different lengths.
         """
         return feed_chunk(self, roles, stamps_ns, values, frame_ids, drops)
 
@@ -362,8 +363,10 @@ class Detector:
             if isinstance(error, CoreError):
                 raise
             clean = DropReason.NON_FINITE  # not numbers at all
+        if frame_id.__class__ is not str:
+            frame_id = frame_text(frame_id)
         reason = clean if clean.__class__ is DropReason else self._intake.offer(
-            Offer(role, stamp, clean, frame_id if frame_id is not None else ''), events)
+            Offer(role, stamp, clean, frame_id), events)
         elapsed = time.perf_counter() - start
         stats.received[role] += 1
         stats.last_drop_reason = reason

@@ -121,13 +121,28 @@ def integer_stamp(stamp_ns: Any, what: str = 'stamp_ns') -> int:
     Return a stamp given as an integer number of nanoseconds (a Python or numpy integer).
 
     :raises CoreError: anything else (a float: seconds, or epoch nanoseconds a double cannot
-        hold to the nanosecond; a string). A programming error, never data to drop: it was
-        truncated before and every sample dropped as a duplicate or a bad stamp.
+        hold to the nanosecond; a bool; a string). A programming error, never data to drop: it
+        was truncated before and every sample dropped as a duplicate or a bad stamp.
     """
-    if stamp_ns.__class__ is int or isinstance(stamp_ns, numbers.Integral):
+    if stamp_ns.__class__ is int or (isinstance(stamp_ns, numbers.Integral)
+                                     and not isinstance(stamp_ns, bool)):
         return int(stamp_ns)
     raise CoreError(f'{what} must be an integer number of nanoseconds, not '
                     f'{type(stamp_ns).__name__} {stamp_ns!r} (seconds? int(round(s * 1e9)))')
+
+
+def frame_text(frame_id: Any) -> str:
+    """
+    Return a sample's ``frame_id`` as given (a str), '' for None.
+
+    :raises CoreError: anything else (bytes, a number): a programming error, as a float stamp
+        is, not data to drop.
+    """
+    if frame_id is None:
+        return ''
+    if isinstance(frame_id, str):
+        return str(frame_id)
+    raise CoreError(f'frame_id must be a str, not {type(frame_id).__name__} {frame_id!r}')
 
 
 def finite_point(value: Sequence[float]) -> Optional[Vector]:

@@ -661,6 +661,12 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles, stamps * 1e-9, values, frames)
     with pytest.raises(CoreError, match='one frame_id per sample'):
         detector.add_chunk(roles[:5], stamps[:5], values[:5], 'world')
+    # values that are not numbers (``add`` drops one such sample; a chunk is built as arrays)
+    with pytest.raises(CoreError, match='numbers as values'):
+        detector.add_chunk(roles, stamps, [['x'] * 7] * 10, frames)
+    # unsigned stamps past int64 (they wrapped negative: every sample a bad stamp)
+    with pytest.raises(CoreError, match='beyond int64'):
+        detector.add_chunk(roles, stamps.astype(np.uint64) + np.uint64(2 ** 63), values, frames)
     assert detector.stats.received == {}  # nothing taken from a refused chunk
 
 

@@ -485,7 +485,7 @@ def test_positions_at_are_the_paths_through_the_samples(model: str) -> None:
 def test_a_stamp_that_is_not_integer_nanoseconds_is_refused() -> None:
     """A float stamp (seconds, or epoch ns a double cannot hold) raises; it was truncated."""
     detector = Detector(DetectorConfig(bat_input='pose'))
-    for stamp in (1.7e9, 1.5, BASE_NS * 1.0, '1700000000000000000'):
+    for stamp in (1.7e9, 1.5, BASE_NS * 1.0, '1700000000000000000', True):
         with pytest.raises(CoreError, match='integer number of nanoseconds'):
             detector.add_ball(stamp, (0.0, 0.0, 1.0), 'world')
         with pytest.raises(CoreError, match='integer number of nanoseconds'):
@@ -502,3 +502,27 @@ def test_a_stamp_that_is_not_integer_nanoseconds_is_refused() -> None:
         detector.set_bat_plan(np.array([BASE_NS, BASE_NS + 1_000_000]), np.zeros((2, 2)),
                               np.tile([0.0, 0.0, 0.0, 1.0], (2, 1)))
     detector.set_bat_plan(np.array([], dtype=np.int64), [], [])  # clears, as [] does
+
+
+def test_a_frame_id_that_is_not_a_str_is_refused() -> None:
+    """A frame given as bytes or a number raises ``CoreError`` (it raised AttributeError)."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    for frame in (b'world', 7):
+        with pytest.raises(CoreError, match='frame_id must be a str'):
+            detector.add_ball(BASE_NS, (0.0, 0.0, 1.0), frame)
+        with pytest.raises(CoreError, match='frame_id must be a str'):
+            detector.add_chunk(np.zeros(40, np.int8), BASE_NS + np.arange(40) * 10**7,
+                               np.ones((40, 7)), [frame] * 40)
+    assert detector.add_ball(BASE_NS, (0.0, 0.0, 1.0), None) == []
+    assert detector.stats.received == {'ball': 1} and not detector.stats.dropped
+
+
+def test_the_configuration_is_set_with_reconfigures_checks() -> None:
+    """``detector.config = ...`` refuses what ``reconfigure`` refuses (it took a new input)."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    with pytest.raises(CoreError, match='bat_input cannot change while running'):
+        detector.config = DetectorConfig(bat_input='points')
+    with pytest.raises(CoreError, match='DetectorConfig'):
+        detector.config = {'bat_input': 'pose'}
+    detector.config = DetectorConfig(bat_input='pose', near_miss_threshold=0.2)
+    assert detector.config.near_miss_threshold == 0.2
