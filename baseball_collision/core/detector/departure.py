@@ -28,7 +28,7 @@ need neither the noise nor the decision.
 """
 
 import math
-from typing import Any, Optional, Tuple
+from typing import Any, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -146,20 +146,27 @@ def _slopes(stream: Stream, k: int, fitted: Parabola) -> Tuple[Vector, Vector]:
     return opening, tuple(v + c * (t3 - t2) for v, c in zip(opening, acceleration))
 
 
-def glitch_path(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[PointPath]:
+def glitch_path(stream: Stream, k: int, noise: float, max_gap: float,
+                spread: float = 0.0) -> Optional[PointPath]:
     """
     Return the free flight over interval k when its opening sample k is a glitch, else None.
 
-    A glitch: sample k left the free flight of the samples before it (``leaves_flight``) and
-    sample k + 1, in its segment, is back on that flight: nearer to the parabola through
-    samples k - 3 .. k - 1, continued to its stamp, than sample k was at its own. A ball does
-    not leave its flight and come back; a hit's frames go on leaving it (the distance grows with
-    the time since the contact, so the next frame's is at least the departed one's), and a
-    tracker that reports one frame off the ball (a mislabelled marker, a reflection) comes back.
-    The path is that parabola over [t_k, t_k+1], so sample k moves the ball nowhere; the sweep
-    counts it as a ``ball_glitch`` drop and keeps it out of later windows (``Sweep``).
+    A glitch: sample k left the free flight of the samples before it (``leaves_flight``), and
+    sample k + 1, in its segment, is not where a hit would have taken the ball. A hit at t_c
+    (after sample k - 1) changes the ball's velocity by some dv, so it leaves the flight (the
+    parabola through samples k - 3 .. k - 1, continued) by dv (t - t_c): sample k + 1 is off it
+    along the same line from the flight as sample k, and farther (by the ratio of the times
+    since the contact, at least 1). A glitch (a mislabelled marker, a reflection: a frame off
+    the ball) is not: its next sample is back nearer to the flight than it was, or off in
+    another direction (a second bad frame, a hit's first frame after it), by more than
+    ``hit_bend`` allows. The path is that parabola over [t_k, t_k+1], so sample k moves the
+    ball nowhere; the sweep counts it as a ``ball_glitch`` drop and then forgets it (``Sweep``):
+    the next of two bad frames in a row is then judged against the flight in turn.
 
     :param noise: the noise told (m; ``judging_noise``).
+    :param spread: the stream's noise (m, 1 sigma per coordinate: told or estimated), which
+        blurs where a hit's line runs (``hit_bend``); the flight's own scatter where that is
+        larger (``scatter``: noise not told).
     """
     if k < 3 or k + 1 >= len(stream.times) or not stream.continuous(k, max_gap):
         return None
@@ -169,12 +176,95 @@ def glitch_path(stream: Stream, k: int, noise: float, max_gap: float) -> Optiona
     # the parabola (``departed``: its value at t_k, its acceleration) continued over interval k
     opening, acceleration = departed[3], departed[4]
     slope = _slopes(stream, k - 1, departed)[1]
-    h = stream.times[k + 1] - stream.times[k]
+    times = stream.times
+    h = times[k + 1] - times[k]
     closing = tuple(p + v * h + 0.5 * a * h * h for p, v, a in zip(opening, slope, acceleration))
-    if math.dist(closing, stream.values[k + 1]) >= departed[0]:
-        return None
-    return PointPath(stream.times[k], stream.times[k + 1], opening, closing, slope,
+    off = np.subtract(stream.values[k], opening)
+    after = np.subtract(stream.values[k + 1], closing)
+    if math.hypot(*after) >= departed[0]:  # (``departed[0]``: sample k's distance, ``off``'s)
+        # the hit's line: sample k + 1 off the flight by ratio times sample k's offset
+        ratio = max(1.0, float(after @ off) / float(off @ off))
+        if math.hypot(*(after - ratio * off)) <= hit_bend(
+                times[k - 3:k + 2], ratio, max(spread, scatter(stream, k - 1, max_gap))):
+            return None
+    return PointPath(times[k], times[k + 1], opening, closing, slope,
                      tuple(v + a * h for v, a in zip(slope, acceleration)))
+
+
+HIT_BEND = 200.0
+"""m/s^2: the most a hit ball's path after the contact can bend from a straight departure
+(the difference of its acceleration from the free flight's: drag on its new velocity and
+spin, 10-50 m/s^2 for a batted ball; four times that)."""
+
+
+def hit_bend(times: Sequence[float], ratio: float, spread: float) -> float:
+    """
+    Return how far (m) a hit's next frame may be off the hit's straight line from the flight.
+
+    :param times: the stamps (s) of the flight's three samples, the departed one's and the
+        next one's.
+    :param ratio: how many times the departed sample's offset from the flight the next one's
+        line takes.
+    :param spread: the samples' noise (m, 1 sigma per coordinate).
+    :returns: the bend (``HIT_BEND`` times the next step times the two steps since the
+        flight's last sample, over 2: the most after a contact between those samples) plus the
+        noise's ``DEPARTURE_CHI_SQUARE`` bound on the line's miss: the next offset less
+        ``ratio`` times the departed one, each a sample less the parabola through the three
+        continued to it (Lagrange's weights), so a hit's frame is off by more about once in
+        10,000.
+    """
+    miss = _weights(times[:3], times[4]) - ratio * _weights(times[:3], times[3])
+    noise = spread * math.sqrt(1.0 + ratio * ratio + float(miss @ miss))
+    bend = 0.5 * HIT_BEND * (times[4] - times[3]) * (times[4] - times[2])
+    return bend + math.sqrt(DEPARTURE_CHI_SQUARE) * noise
+
+
+def scatter(stream: Stream, k: int, max_gap: float) -> float:
+    """
+    Return the noise (m, 1 sigma per coordinate) the free flight before interval k shows.
+
+    From the closing samples' misses of its parabolas over the ``SCATTER_INTERVALS`` intervals
+    before it (``parabola``: each miss squared has 3 sigma^2 times its noise gain for its mean,
+    in free flight), as the departure's scatter test reads them: a noisy stream's own spread,
+    whatever noise was told; 0 where there is none.
+    """
+    terms = [fitted[0] * fitted[0] / fitted[1]
+             for fitted in (parabola(stream, j, max_gap)
+                            for j in range(max(k - SCATTER_INTERVALS, 2), k))
+             if fitted is not None]
+    return math.sqrt(sum(terms) / (3.0 * len(terms))) if terms else 0.0
+
+
+def _weights(flight: Sequence[float], at: float) -> np.ndarray:
+    """Return Lagrange's weights of three samples stamped ``flight`` (s) at a stamp (s)."""
+    return np.array([math.prod((at - flight[j]) / (flight[i] - flight[j])
+                               for j in range(3) if j != i) for i in range(3)])
+
+
+def left_flight(stream: Stream, k: int, noise: float, max_gap: float,
+                spread: float = 0.0) -> bool:
+    """
+    Return whether the ball left its free flight over interval k: a hit there.
+
+    Its closing sample departed (``leaves_flight``), or its opening one is a glitch
+    (``glitch_path``: the flight of the samples before it goes on over the interval) and the
+    closing sample is off that flight by more than ``DEPARTURE_FLOOR`` and the noise's
+    ``DEPARTURE_CHI_SQUARE`` bound (``spread``, m, through the continued parabola's weights):
+    a hit just after a glitch, whose closing frame the parabola through the glitch cannot
+    judge.
+
+    :param noise: the noise told (m; ``judging_noise``).
+    """
+    if leaves_flight(stream, k, noise, max_gap) is not None:
+        return True
+    glitch = glitch_path(stream, k, noise, max_gap, spread)
+    if glitch is None:
+        return False
+    times = stream.times
+    weights = _weights(times[k - 3:k], times[k + 1])
+    bound = max(DEPARTURE_FLOOR, math.sqrt(DEPARTURE_CHI_SQUARE * (1.0 + weights @ weights))
+                * spread)
+    return math.dist(glitch.at(times[k + 1]), stream.values[k + 1]) > bound
 
 
 def departure_reach(stream: Stream, k: int, max_gap: float) -> float:

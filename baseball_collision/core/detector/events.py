@@ -51,9 +51,9 @@ class DropReason(enum.StrEnum):
     """A bat pose exactly at the origin with the identity orientation: what motion capture
     publishes for a rigid body it lost (``drop_lost_body``)."""
     BALL_GLITCH = 'ball_glitch'
-    """A ball sample off its free flight whose next sample came back to it (a mislabelled
-    marker, a reflection): judged where the ball is near the bat, and left out of its paths
-    there (``departure.glitch_path``). Counted when the next sample shows it."""
+    """A ball sample off its free flight that no hit explains (a mislabelled marker, a
+    reflection: ``departure.glitch_path``): judged where the ball is near the bat, counted when
+    the next sample shows it, and then forgotten (``Sweep.interval``)."""
 
 
 DROP_REASONS = tuple(reason.value for reason in DropReason)

@@ -8,7 +8,7 @@ really moved); nothing is interpolated across a segment break or a gap longer th
 """
 
 from bisect import bisect_right
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Collection, Dict, List, Optional, Tuple
 
 from ..motion import BatSample
 from ..toi import _kernel
@@ -102,6 +102,30 @@ class Stream:
                            *self.aligned.values()):
                 del buffer[:index]
             self.path_key = None
+
+    def remove(self, k: int, facts: Collection[str] = ()) -> None:
+        """
+        Forget sample k, as if it had never come (a ball glitch: ``Sweep``).
+
+        Its neighbours join up (a segment it started starts at the next sample). Each
+        ``aligned`` list named in ``facts`` (a value per sample that stays what it was: the
+        noise estimate after it) loses its entry k; the others (numbers each made from a few
+        samples about theirs: a ball's parabolas, the far test's steps and jumps) are cut back
+        to k - 1, to be made again from the stream without it.
+        """
+        breaks = self.breaks
+        if breaks[k] and k + 1 < len(breaks):
+            breaks[k + 1] = True
+        for buffer in (self.times, self.stamps, self.values, breaks):
+            del buffer[k]
+        if self.turns:
+            del self.turns[k]
+        for name, kept in self.aligned.items():
+            if name in facts:
+                del kept[k:k + 1]
+            else:
+                del kept[max(k - 1, 0):]
+        self.path_key = None
 
     def trim_beside(self, other: 'Stream', cursor: Optional[float], history: float) -> None:
         """

@@ -11,6 +11,7 @@ sub-steps small enough for the chord error bound and each is solved exactly
 without one feeds the near-miss episodes.
 """
 
+from bisect import bisect_left
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
@@ -18,7 +19,7 @@ from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
     DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
-    leaves_flight)
+    leaves_flight, left_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -70,7 +71,7 @@ class Sweep:
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
-                 'ahead', 'on_contact', 'glitch_ns', 'frame_of')
+                 'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -88,11 +89,39 @@ class Sweep:
         self.estimators: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None
         self.ahead = samples_ahead(config.model, config.look_ahead)
         self.glitch_ns: Optional[int] = None  # the ball glitch last counted (``_glitch``)
+        self.glitches: List[int] = []  # stamps (ns) of the ball glitches still to forget
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
     def interval(self, ta: float, tb: float, events: List) -> None:
-        """Sweep the union interval [ta, tb] (s), appending the events it makes."""
+        """
+        Sweep the union interval [ta, tb] (s), appending the events it makes.
+
+        Where the interval opens at a ball sample that is a glitch (``departure.glitch_path``)
+        and the ball is not clearly apart from the bat, the sample is dropped as
+        ``ball_glitch`` and forgotten before the interval is swept (``Stream.remove``): the
+        interval is then part of the ball's interval from the sample before it to the one
+        after, as if it had never come, and no later fit, departure test, velocity or noise
+        estimate reads it (it stayed, and the test of a hit a few frames on was judged against
+        the scatter it made: the hit was lost). A glitch a fit's window finds behind it
+        (``_ball_path``, over an interval that was clear) is forgotten once the interval is
+        swept.
+        """
+        self._swept(ta, tb, events)
+        if self.glitches:
+            self._forget_glitches()
+
+    def _forget_glitches(self) -> None:
+        """Remove the ball glitches counted (``glitches``) from the ball's stream."""
+        ball, stamps = self.ball, self.ball.stamps
+        for stamp in self.glitches:
+            k = bisect_left(stamps, stamp)
+            if k < len(stamps) and stamps[k] == stamp:
+                ball.remove(k, (ESTIMATES,))
+        self.glitches.clear()
+
+    def _swept(self, ta: float, tb: float, events: List) -> None:
+        """Sweep the union interval [ta, tb] (s) (``interval``)."""
         located = self._locate(ta, events)
         if located is None:
             return
@@ -102,14 +131,25 @@ class Sweep:
             self._estimates(located)
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
-        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
-        if clearly_apart(self.ball, self.bat, located[0], located[1], margin, self.model,
-                         config.max_gap, config.look_ahead, config.spline_window,
-                         ball_noise + bat_noise) or (
-                self.model == 'c2' and ball_noise > 0.0 and c2_path_apart(
-                    self._kept_ball_path(located[0]), self.ball, self.bat, located[0],
-                    located[1], margin, config.max_gap, config.look_ahead,
-                    config.spline_window, bat_noise)):
+        ball, bat = self.ball, self.bat
+        ball_noise, bat_noise = stream_noise(ball, config), stream_noise(bat, config)
+        if clearly_apart(ball, bat, located[0], located[1], margin, self.model, config.max_gap,
+                         config.look_ahead, config.spline_window, ball_noise + bat_noise):
+            self.episodes.far(events, ta)
+            return
+        if ball.times[located[0]] == ta and glitch_path(
+                ball, located[0], judging_noise(config), config.max_gap, ball_noise) is not None:
+            self._glitch(located[0])
+            self._forget_glitches()
+            located = self._locate(ta, events)
+            if located is None:  # (its neighbours are further apart than ``max_gap``)
+                return
+            if self.estimators is not None:
+                self._estimates(located)
+            ball_noise, bat_noise = stream_noise(ball, config), stream_noise(bat, config)
+        if self.model == 'c2' and ball_noise > 0.0 and c2_path_apart(
+                self._kept_ball_path(located[0]), ball, bat, located[0], located[1], margin,
+                config.max_gap, config.look_ahead, config.spline_window, bat_noise):
             self.episodes.far(events, ta)
             return
         if (bat_noise > 0.0 and self.model == 'c2' and self.episodes.episode is None
@@ -332,14 +372,15 @@ class Sweep:
         """
         ball, config = self.ball, self.config
         gap, noise, judged = config.max_gap, stream_noise(ball, config), judging_noise(config)
-        glitch = glitch_path(ball, k, judged, gap)
+        glitch = glitch_path(ball, k, judged, gap, noise)
         if glitch is not None:
             self._glitch(k)
             return glitch
         if self.model == 'c2':
             window = c2_window(ball, k, gap, config.look_ahead, config.spline_window)
             for j in range(k - 1, window.start - 1, -1):  # nor from behind a glitch
-                if glitch_path(ball, j, judged, gap) is not None:
+                if glitch_path(ball, j, judged, gap, noise) is not None:
+                    self._glitch(j)
                     window = range(j + 1, window.stop)
                     break
             for j in range(k + 1, window.stop - 1):  # the look-ahead ends at a departure
@@ -354,7 +395,8 @@ class Sweep:
             before, after = _neighbours(ball, k, gap)
             if after is not None and leaves_flight(ball, k + 1, judged, gap) is not None:
                 after = None
-            if before is not None and glitch_path(ball, k - 1, judged, gap) is not None:
+            if before is not None and glitch_path(ball, k - 1, judged, gap, noise) is not None:
+                self._glitch(k - 1)
                 before = None
             path = PointPath.build(self.model, ball.times[k], ball.times[k + 1], ball.values[k],
                                    ball.values[k + 1], before, after)
@@ -365,15 +407,16 @@ class Sweep:
         """
         Count the ball's sample k, a glitch (``departure.glitch_path``), as a dropped sample.
 
-        Once: its interval's path is kept by its stamps, and the sample stays in the stream
-        (every fit near the bat leaves it out: ``_ball_path``). A late drop (``LateDrop``,
-        reason ``ball_glitch``), told by the call that judged it, as the node and ``analyze``
-        tell any other.
+        Once: its interval's path is kept by its stamps, and the sample leaves the stream once
+        the union interval is swept (``interval``; until then every fit leaves it out:
+        ``_ball_path``). A late drop (``LateDrop``, reason ``ball_glitch``), told by the call
+        that judged it, as the node and ``analyze`` tell any other.
         """
         stamp = self.ball.stamps[k]
         if stamp == self.glitch_ns:
             return
         self.glitch_ns = stamp
+        self.glitches.append(stamp)
         stats = self.stats
         stats.dropped[DropReason.BALL_GLITCH] += 1
         stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.BALL_GLITCH,
@@ -452,29 +495,31 @@ class Sweep:
         """
         Return the paths with the bat continued from before the interval at a hit, or None.
 
-        Where the ball has left its flight over the interval (``departure``: a hit), the bat's
-        closing frame is after the contact, which slows a real bat within 1-3 ms: its path through
-        that frame is late, under every model. With exact bat samples the bat's path continued from
-        ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the better one there
-        (BENCHMARKS.md, "A ball that leaves the bat"; for every model, as the ball's free flight
-        is: "A hit's bat continued under every model"), where the closing frame has left that
-        continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous frame left its own
-        (the samples follow their continuation closely: exact, not noisy; the bat braked). At a low
-        rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities' rule) only a
-        quintic continuation (``splines.quintic_window``): a cubic's over a whole step is the
-        larger error in the spot there (BENCHMARKS.md, "A hit's bat continued on the quintic"). At
-        a higher rate only where the window up to the opening frame passes the velocities' quintic
-        check (``kinematics.quintic_check``): a cubic continued from noisy samples the detector was
-        not told of is worse than the frame that braked (BENCHMARKS.md, "A hit's bat continued only
-        from samples that pass the quintic check"). None elsewhere. ``bat_ahead`` True takes the
-        continuation at every hit (with noise: of the smoothed window), False never.
+        Where the ball has left its flight over the interval (``departure.left_flight``: a hit),
+        the bat's closing frame is after the contact, which slows a real bat within 1-3 ms: its
+        path through that frame is late, under every model. With exact bat samples the bat's path
+        continued from ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the
+        better one there (BENCHMARKS.md, "A ball that leaves the bat"; for every model, as the
+        ball's free flight is: "A hit's bat continued under every model"), where the closing frame
+        has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous frame
+        left its own (the samples follow their continuation closely: exact, not noisy; the bat
+        braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities'
+        rule) only a quintic continuation (``splines.quintic_window``): a cubic's over a whole step
+        is the larger error in the spot there (BENCHMARKS.md, "A hit's bat continued on the
+        quintic"). At a higher rate only where the window up to the opening frame passes the
+        velocities' quintic check (``kinematics.quintic_check``): a cubic continued from noisy
+        samples the detector was not told of is worse than the frame that braked (BENCHMARKS.md, "A
+        hit's bat continued only from samples that pass the quintic check"). None elsewhere.
+        ``bat_ahead`` True takes the continuation at every hit (with noise: of the smoothed
+        window), False never.
         """
         ball, bat, config = self.ball, self.bat, self.config
         if self.bat_ahead is False or (
                 self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
-        if leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
+        if not left_flight(ball, ball_k, judging_noise(config), config.max_gap,
+                           stream_noise(ball, config)):
             return None
         quintic = self.bat_ahead is None and len(bat.history(
             bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES

@@ -55,6 +55,31 @@ def test_trim_keeps_what_the_fits_need() -> None:
     assert len(short.times) == 2  # short buffers are left alone
 
 
+def test_a_removed_sample_is_as_if_it_never_came() -> None:
+    """
+    ``remove``: the sample's neighbours join; per-sample facts lose its entry, the rest is cut.
+
+    The kept parabolas and the far test's numbers, each made from a few samples about its own,
+    are cut back to the one before it and made again on demand; the noise estimate after each
+    sample (a fact) keeps the others' entries where they were; a segment it started starts at
+    the next sample; the path cache goes.
+    """
+    stream = _filled([0.01 * i for i in range(8)], breaks={5})
+    stream.aligned['noise'] = [0.1 * i for i in range(8)]
+    stream.aligned['parabolas'] = list(range(8))
+    stream.path_key = (1, 2)
+    stream.remove(3, ('noise',))
+    assert stream.stamps == [1000, 1001, 1002, 1004, 1005, 1006, 1007]
+    assert stream.times[3] == pytest.approx(0.04) and stream.values[3] == (0.04, 0.0, 0.0)
+    assert stream.aligned['noise'] == pytest.approx([0.0, 0.1, 0.2, 0.4, 0.5, 0.6, 0.7])
+    assert stream.aligned['parabolas'] == [0, 1]
+    assert stream.path_key is None
+    assert stream.breaks == [True, False, False, False, True, False, False]
+    stream.remove(4, ('noise',))  # the sample that started the second segment: the next does
+    assert stream.stamps[4] == 1006 and stream.breaks == [True, False, False, False, True, False]
+    assert len(stream.aligned['noise']) == 6 and stream.aligned['parabolas'] == [0, 1]
+
+
 def test_cumulative_turn_of_bat_samples() -> None:
     """A bat turning 0.1 rad per sample about z sums to k * 0.1 about z; a break restarts."""
     stream = Stream('bat')
