@@ -48,6 +48,11 @@ IMPACT_CHORD_FACTOR = 0.04
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
+UNEXPLAINED_RUN = 3
+"""Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
+ball that really left its flight near the bat without touching it (off the batter's hands) is
+tracked again after them."""
+
 
 class Sweep:
     """
@@ -71,7 +76,8 @@ class Sweep:
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
-                 'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of')
+                 'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
+                 'forgotten_run')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -90,6 +96,10 @@ class Sweep:
         self.ahead = samples_ahead(config.model, config.look_ahead)
         self.glitch_ns: Optional[int] = None  # the ball glitch last counted (``_glitch``)
         self.glitches: List[int] = []  # stamps (ns) of the ball glitches still to forget
+        # a ball sample that left the flight while armed (no contact on the flight before it)
+        # is a glitch too (``_judged_glitch``; not in the uncertainty's re-solves, armed anew)
+        self.unexplained = True
+        self.forgotten_run = 0  # ball samples forgotten in a row for that
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
@@ -110,6 +120,30 @@ class Sweep:
         self._swept(ta, tb, events)
         if self.glitches:
             self._forget_glitches()
+
+    def _judged_glitch(self, k: int, spread: float) -> bool:
+        """
+        Return whether the ball's sample k, near the bat, is a glitch to drop and forget.
+
+        A glitch by ``departure.glitch_path`` (no hit's line), or a departure no contact
+        explains: sample k left the flight (``leaves_flight``) while the detector is armed, so
+        the sweep found no contact on the flight before it, which a hit on this bat would have
+        made (up to ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the
+        ball passed it lie on one line from the flight, as a hit's do).
+
+        :param spread: the ball's noise (m, 1 sigma).
+        """
+        ball, config = self.ball, self.config
+        judged = judging_noise(config)
+        if glitch_path(ball, k, judged, config.max_gap, spread) is not None or (
+                self.unexplained and self.episodes.armed is True
+                and self.forgotten_run < UNEXPLAINED_RUN and k + 1 < len(ball.times)
+                and ball.continuous(k, config.max_gap)
+                and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
+            self.forgotten_run += 1
+            return True
+        self.forgotten_run = 0
+        return False
 
     def _forget_glitches(self) -> None:
         """Remove the ball glitches counted (``glitches``) from the ball's stream."""
@@ -137,8 +171,7 @@ class Sweep:
                          config.look_ahead, config.spline_window, ball_noise + bat_noise):
             self.episodes.far(events, ta)
             return
-        if ball.times[located[0]] == ta and glitch_path(
-                ball, located[0], judging_noise(config), config.max_gap, ball_noise) is not None:
+        if ball.times[located[0]] == ta and self._judged_glitch(located[0], ball_noise):
             self._glitch(located[0])
             self._forget_glitches()
             located = self._locate(ta, events)

@@ -222,6 +222,7 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     episodes = EpisodeTracker(config, clock, stats)
     sweep = Sweep(config, clock, stats, ball, bat, episodes, offsets)
     sweep.bat_ahead, sweep.quintic_rates = bat_ahead, quintic_rates
+    sweep.unexplained = False  # (armed anew after the contact too)
     passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:

@@ -13,7 +13,7 @@ from baseball_collision.core.detector.departure import (
     judging_noise, leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.detector.sweep import Sweep
+from baseball_collision.core.detector.sweep import Sweep, UNEXPLAINED_RUN
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import load_parameters
@@ -743,6 +743,57 @@ def test_ball_frames_on_the_bat_are_glitches_not_an_impact(model: str, kind: str
         dropped = detector.stats.dropped  # (the frame back after one: too far for the speed check)
         assert set(dropped) <= {'ball_glitch', 'speed_limit'} and dropped['ball_glitch']
         assert detector.stats.near_misses == near_misses
+
+
+@pytest.mark.parametrize('model', ['c2', 'c2-la2-auto'])
+@pytest.mark.parametrize('kind', ['miss_over', 'miss_under'])
+def test_frames_stuck_on_the_bat_after_the_ball_passed_are_glitches(model: str,
+                                                                    kind: str) -> None:
+    """
+    Two noisy ball frames reported on the bat just after the ball passed it: no impact.
+
+    Off the flight along one line, as a hit's frames are (the ball seems to have stopped at the
+    bat), so the hit's line passed them with 1 mm of noise at 90 Hz, and an impact was invented
+    (6 of 4,032 audit cases). No contact on the flight explains that departure (the detector
+    is still armed): both frames are dropped as ``ball_glitch`` and forgotten.
+    """
+    config = _config_of(model)
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario(kind, rng, lead_s=0.15, trail_s=0.1)
+        samples = sample(scenario, RATE, rng, noise_m=1e-3)
+        near_misses = detect(config, samples)[0].stats.near_misses
+        k = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.start_ns
+                                 - scenario.truth.min_gap_time_s * 1e9))) + 1
+        for j in (k, k + 1):  # the bat's axis point nearest the ball, at its nearest frame
+            m = int(np.argmin(np.abs(samples.bat_stamps_ns - samples.ball_stamps_ns[j])))
+            knob, axis = samples.knobs[m], samples.tips[m] - samples.knobs[m]
+            along = np.clip((samples.ball_positions[j] - knob) @ axis / (axis @ axis), 0, 1)
+            samples.ball_positions[j] = knob + along * axis
+        detector, impacts = detect(config, samples)
+        assert impacts == []
+        assert detector.stats.dropped['ball_glitch'] == 2
+        assert detector.stats.near_misses == near_misses
+
+
+def test_a_ball_deflected_near_the_bat_by_something_else_is_tracked_again() -> None:
+    """
+    A miss deflected just after it passed the bat (the batter's hands): three frames forgotten.
+
+    No contact on the flight explains the departure, so its first frames are dropped as
+    ``ball_glitch``, but no more than ``UNEXPLAINED_RUN`` in a row: the ball really left its
+    flight, and it is tracked again after them. No impact either way.
+    """
+    config = _config_of('c2')
+    rng = np.random.default_rng(0)
+    scenario = make_scenario('miss_under', rng, lead_s=0.15, trail_s=0.1)
+    samples = sample(scenario, RATE, rng)
+    t = (samples.ball_stamps_ns - samples.start_ns) * 1e-9
+    after = np.clip(t - scenario.truth.min_gap_time_s - 0.002, 0.0, None)
+    samples.ball_positions[:] += np.outer(after, (0.0, 8.0, -12.0))  # m/s from 2 ms on
+    detector, impacts = detect(config, samples)
+    assert impacts == []
+    assert detector.stats.dropped['ball_glitch'] == UNEXPLAINED_RUN
 
 
 @pytest.mark.parametrize('model', ['c2', 'c2-la2-auto', 'rigid'])
