@@ -21,7 +21,7 @@ from typing import Sequence, Tuple
 
 import numpy as np
 
-from .geometry import quaternion_to_matrix
+from .geometry import finite_vector, quaternion_to_matrix, Vector
 from ..errors import CoreError
 
 INCH = 0.0254
@@ -157,23 +157,22 @@ class PoseBatGeometry:
     :ivar tip_offset: barrel end in the bat body frame (metres).
     """
 
-    knob_offset: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    tip_offset: Tuple[float, float, float] = (0.0, 0.0, 34.0 * INCH)
+    knob_offset: Vector = (0.0, 0.0, 0.0)
+    tip_offset: Vector = (0.0, 0.0, 34.0 * INCH)
 
     def __post_init__(self) -> None:
         """
-        Check the offsets are finite and knob and tip are apart.
+        Check the offsets and keep them as tuples of 3 floats (the geometry is hashable).
 
-        :raises CoreError: non-finite offsets or knob and tip closer than 1 mm.
+        :raises CoreError: an offset that is not 3 finite numbers, or knob and tip closer than
+            1 mm.
         """
-        knob = np.asarray(self.knob_offset, dtype=float)
-        tip = np.asarray(self.tip_offset, dtype=float)
-        if knob.shape != (3,) or tip.shape != (3,):
-            raise CoreError('knob_offset and tip_offset must have 3 components')
-        if not (np.all(np.isfinite(knob)) and np.all(np.isfinite(tip))):
-            raise CoreError('knob_offset and tip_offset must be finite')
-        if np.linalg.norm(tip - knob) < 1e-3:
+        knob = finite_vector('knob_offset', self.knob_offset, ' (metres)')
+        tip = finite_vector('tip_offset', self.tip_offset, ' (metres)')
+        if math.dist(knob, tip) < 1e-3:
             raise CoreError('knob_offset and tip_offset must be at least 1 mm apart')
+        object.__setattr__(self, 'knob_offset', knob)
+        object.__setattr__(self, 'tip_offset', tip)
 
     @classmethod
     def along_axis(cls, axis: str, knob_distance: float,

@@ -4,6 +4,7 @@ import math
 
 from baseball_collision.core.bat import (
     BatProfile, INCH, MAX_STATIONS, PoseBatGeometry, WOOD_BAT_34)
+from baseball_collision.core.detector.config import DetectorConfig
 from baseball_collision.core.geometry import quaternion_to_matrix
 from baseball_collision.errors import CoreError
 import numpy as np
@@ -82,3 +83,28 @@ def test_a_profile_has_at_most_max_stations() -> None:
     assert len(BatProfile.from_sequence(stations, 0.8).segments()) == MAX_STATIONS - 1
     with pytest.raises(CoreError, match=f'at most {MAX_STATIONS} stations, got 257'):
         BatProfile.from_sequence(stations + [(0.8, 0.03)], 0.8)
+
+
+def test_pose_geometry_keeps_lists_and_arrays_as_tuples_of_floats() -> None:
+    """Offsets given as a list or an array are kept as tuples: a config variant can hash them."""
+    geometry = PoseBatGeometry(knob_offset=[0, 0, 0], tip_offset=np.array([0.0, 0.0, 0.8636]))
+    assert geometry.knob_offset == (0.0, 0.0, 0.0)
+    assert geometry.tip_offset == (0.0, 0.0, 0.8636)
+    assert all(type(c) is float for c in geometry.knob_offset + geometry.tip_offset)
+    config = DetectorConfig(geometry=geometry)
+    assert config.variant(look_ahead=1).geometry == geometry
+
+
+@pytest.mark.parametrize('knob, tip', [
+    ((0, 0), (0, 0, 1)),
+    ((0, 0, 0), (0, 0, 1, 0)),
+    ([[0, 0, 0]], (0, 0, 1)),
+    ((0, 0, 0), ((0,), (0,), (1,))),
+    ((0, 0, math.nan), (0, 0, 1)),
+    ((0, 0, 0), (0, 0, math.inf)),
+    (None, (0, 0, 1)),
+])
+def test_pose_geometry_refuses_offsets_that_are_not_3_finite_numbers(knob, tip) -> None:
+    """Wrong shapes and non-finite offsets are refused when the geometry is made."""
+    with pytest.raises(CoreError, match='offset must be'):
+        PoseBatGeometry(knob_offset=knob, tip_offset=tip)
