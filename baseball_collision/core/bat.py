@@ -21,7 +21,7 @@ from typing import Sequence, Tuple
 
 import numpy as np
 
-from .geometry import finite_vector, quaternion_to_matrix, Vector
+from .geometry import finite_number, finite_vector, quaternion_to_matrix, Vector
 from ..errors import CoreError
 
 INCH = 0.0254
@@ -50,36 +50,48 @@ class BatProfile:
 
     def __post_init__(self) -> None:
         """
-        Check the stations describe a bat.
+        Check the stations describe a bat; keep them as tuples of floats.
 
-        :raises CoreError: fewer than one station or more than :data:`MAX_STATIONS`,
-            non-finite or non-positive values, distances not strictly increasing, or outside
-            [0, length].
+        :raises CoreError: a length or a station value that is not a number, a station that is
+            not a pair, fewer than one station or more than :data:`MAX_STATIONS`, non-finite or
+            non-positive values, distances not strictly increasing, or outside [0, length].
         """
-        if not (math.isfinite(self.length) and self.length > 0.0):
+        length = finite_number('bat length', self.length)
+        if not length > 0.0:
             raise CoreError(f'bat length must be finite and > 0 m, got {self.length!r}')
-        if len(self.stations) < 1:
+        try:
+            pairs = tuple((distance, radius) for distance, radius in self.stations)
+        except (TypeError, ValueError) as error:
+            raise CoreError('bat profile stations must be pairs (distance_from_knob, radius), '
+                            f'got {self.stations!r}') from error
+        if len(pairs) < 1:
             raise CoreError('a bat profile needs at least one station')
-        if len(self.stations) > MAX_STATIONS:
+        if len(pairs) > MAX_STATIONS:
             raise CoreError(f'a bat profile has at most {MAX_STATIONS} stations, got '
-                            f'{len(self.stations):,}')
+                            f'{len(pairs):,}')
+        stations = tuple((finite_number('station distance', distance),
+                          finite_number('station radius', radius)) for distance, radius in pairs)
         previous = -math.inf
-        for distance, radius in self.stations:
-            if not (math.isfinite(distance) and math.isfinite(radius) and radius > 0.0):
-                raise CoreError(
-                    f'station ({distance!r}, {radius!r}) must be finite with radius > 0 m')
-            if distance <= previous or distance < 0.0 or distance > self.length * (1 + 1e-12):
+        for distance, radius in stations:
+            if not radius > 0.0:
+                raise CoreError(f'station ({distance!r}, {radius!r}) must have radius > 0 m')
+            if distance <= previous or distance < 0.0 or distance > length * (1 + 1e-12):
                 raise CoreError(
                     'station distances must increase strictly within [0, length], '
-                    f'got {distance!r} after {previous!r} (length {self.length!r})')
+                    f'got {distance!r} after {previous!r} (length {length!r})')
             previous = distance
+        object.__setattr__(self, 'stations', stations)
+        object.__setattr__(self, 'length', length)
         object.__setattr__(self, '_segments', self._build_segments())
 
     @classmethod
     def constant(cls, radius: float, length: float = 1.0) -> 'BatProfile':
-        """Return a plain capsule of one radius (metres) over the whole knob-to-tip axis."""
-        return cls(stations=((0.0, float(radius)), (float(length), float(radius))),
-                   length=float(length))
+        """
+        Return a plain capsule of one radius (metres) over the whole knob-to-tip axis.
+
+        :raises CoreError: as the class.
+        """
+        return cls(stations=((0.0, radius), (length, radius)), length=length)
 
     @classmethod
     def from_sequence(cls, stations: Sequence[Sequence[float]],
@@ -89,12 +101,7 @@ class BatProfile:
 
         :raises CoreError: the stations do not describe a bat (see the class).
         """
-        try:
-            pairs = tuple((float(d), float(r)) for d, r in stations)
-        except (TypeError, ValueError) as error:
-            raise CoreError(
-                f'bat profile stations must be pairs of numbers, got {stations!r}') from error
-        return cls(stations=pairs, length=float(length))
+        return cls(stations=stations, length=length)
 
     @property
     def max_radius(self) -> float:
@@ -180,17 +187,18 @@ class PoseBatGeometry:
         """
         Knob and tip on a body axis (``'x'``, ``'y'``, ``'z'``, ``'-x'`` ...) at signed distances.
 
-        :raises CoreError: an unknown axis name.
+        :raises CoreError: an axis that is not an axis name, a distance that is not a finite
+            number, or knob and tip closer than 1 mm.
         """
         names = {'x': 0, 'y': 1, 'z': 2}
-        sign = -1.0 if axis.startswith('-') else 1.0
-        index = names.get(axis.lstrip('+-'))
+        index = names.get(axis.lstrip('+-')) if isinstance(axis, str) else None
         if index is None:
-            raise CoreError(f"bat axis must be one of x, y, z, -x, -y, -z, got '{axis}'")
+            raise CoreError(f'bat axis must be one of x, y, z, -x, -y, -z, got {axis!r}')
+        sign = -1.0 if axis.startswith('-') else 1.0
         knob = [0.0, 0.0, 0.0]
         tip = [0.0, 0.0, 0.0]
-        knob[index] = sign * float(knob_distance)
-        tip[index] = sign * float(tip_distance)
+        knob[index] = sign * finite_number('knob_distance', knob_distance)
+        tip[index] = sign * finite_number('tip_distance', tip_distance)
         return cls(knob_offset=tuple(knob), tip_offset=tuple(tip))
 
     def knob_and_tip(self, position: Sequence[float],

@@ -50,6 +50,32 @@ def test_profile_from_sequence_rejects_non_pairs() -> None:
         BatProfile.from_sequence([0.0, 0.01, 1.0], 1.0)
 
 
+@pytest.mark.parametrize('stations, length', [
+    (((0.0, 0.01), (1.0, 0.01)), 'abc'),
+    (((0.0, 0.01), (1.0, 0.01)), None),
+    (((0.0, 0.01), (1.0, 0.01, 0.5)), 1.0),
+    (((0.0, 0.01), 1.0), 1.0),
+    (((0.0, 0.01), ('x', 0.01)), 1.0),
+    (((0.0, 0.01), (1.0, None)), 1.0),
+    (None, 1.0),
+])
+def test_profile_values_of_the_wrong_type_raise_core_error(stations, length) -> None:
+    """A length or a station that is not a number (or a pair) is refused with CoreError."""
+    with pytest.raises(CoreError):
+        BatProfile(stations=stations, length=length)
+    with pytest.raises(CoreError):
+        BatProfile.from_sequence(stations, length)
+
+
+def test_profile_keeps_lists_and_arrays_as_tuples_of_floats() -> None:
+    """Stations given as lists or an array are kept as tuples of floats (the profile hashes)."""
+    profile = BatProfile(stations=np.array([[0.0, 0.01], [1.0, 0.02]]), length=1)
+    assert profile.stations == ((0.0, 0.01), (1.0, 0.02))
+    assert all(type(v) is float for station in profile.stations for v in station)
+    assert type(profile.length) is float
+    assert hash(profile) == hash(BatProfile(stations=[[0, 0.01], [1, 0.02]], length=1.0))
+
+
 def test_quaternion_to_matrix_turns_about_z() -> None:
     """A quarter turn about z maps x to y."""
     half = math.sqrt(0.5)
@@ -71,8 +97,11 @@ def test_pose_geometry_along_axis() -> None:
     knob, tip = geometry.knob_and_tip((1.0, 2.0, 3.0), (0.0, 0.0, half, half))
     assert knob == pytest.approx([1.1, 2.0, 3.0])
     assert tip == pytest.approx([1.9, 2.0, 3.0])
-    with pytest.raises(CoreError):
-        PoseBatGeometry.along_axis('w', 0.0, 1.0)
+    for axis in ('w', None, ['x'], 3):
+        with pytest.raises(CoreError, match='bat axis must be one of'):
+            PoseBatGeometry.along_axis(axis, 0.0, 1.0)
+    with pytest.raises(CoreError, match='tip_distance must be a number'):
+        PoseBatGeometry.along_axis('x', 0.0, 'far')
     with pytest.raises(CoreError):
         PoseBatGeometry(knob_offset=(0, 0, 0), tip_offset=(0, 0, 0))
 
