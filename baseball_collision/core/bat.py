@@ -35,6 +35,29 @@ MAX_STATIONS = 256
 the detector solves for, so a million of them would take minutes per sample."""
 
 
+def _metres(name: str, value: float) -> float:
+    """
+    Return a length or a coordinate (metres) as a finite float.
+
+    :raises CoreError: a bool (``True`` is no length), not a number, or not finite.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise CoreError(f'{name} must be a number of metres, got {value!r}')
+    return finite_number(name, value)
+
+
+def _point(name: str, value: Sequence[float]) -> Vector:
+    """
+    Return a point (metres) as 3 finite floats.
+
+    :raises CoreError: not 3 numbers (a bool is none), or not all finite.
+    """
+    point = finite_vector(name, value, ' (metres)')
+    if any(isinstance(c, (bool, np.bool_)) for c in value):
+        raise CoreError(f'{name} must be 3 numbers (metres), got {value!r}')
+    return point
+
+
 @dataclass(frozen=True)
 class BatProfile:
     """
@@ -52,11 +75,12 @@ class BatProfile:
         """
         Check the stations describe a bat; keep them as tuples of floats.
 
-        :raises CoreError: a length or a station value that is not a number, a station that is
-            not a pair, fewer than one station or more than :data:`MAX_STATIONS`, non-finite or
-            non-positive values, distances not strictly increasing, or outside [0, length].
+        :raises CoreError: a length or a station value that is not a number (a bool is none),
+            a station that is not a pair, fewer than one station or more than
+            :data:`MAX_STATIONS`, non-finite or non-positive values, distances not strictly
+            increasing, or outside [0, length].
         """
-        length = finite_number('bat length', self.length)
+        length = _metres('bat length', self.length)
         if not length > 0.0:
             raise CoreError(f'bat length must be finite and > 0 m, got {self.length!r}')
         try:
@@ -69,8 +93,8 @@ class BatProfile:
         if len(pairs) > MAX_STATIONS:
             raise CoreError(f'a bat profile has at most {MAX_STATIONS} stations, got '
                             f'{len(pairs):,}')
-        stations = tuple((finite_number('station distance', distance),
-                          finite_number('station radius', radius)) for distance, radius in pairs)
+        stations = tuple((_metres('station distance', distance), _metres('station radius', radius))
+                         for distance, radius in pairs)
         previous = -math.inf
         for distance, radius in stations:
             if not radius > 0.0:
@@ -171,11 +195,11 @@ class PoseBatGeometry:
         """
         Check the offsets and keep them as tuples of 3 floats (the geometry is hashable).
 
-        :raises CoreError: an offset that is not 3 finite numbers, or knob and tip closer than
-            1 mm.
+        :raises CoreError: an offset that is not 3 finite numbers (a bool is none), or knob and
+            tip closer than 1 mm.
         """
-        knob = finite_vector('knob_offset', self.knob_offset, ' (metres)')
-        tip = finite_vector('tip_offset', self.tip_offset, ' (metres)')
+        knob = _point('knob_offset', self.knob_offset)
+        tip = _point('tip_offset', self.tip_offset)
         if math.dist(knob, tip) < 1e-3:
             raise CoreError('knob_offset and tip_offset must be at least 1 mm apart')
         object.__setattr__(self, 'knob_offset', knob)
@@ -187,18 +211,21 @@ class PoseBatGeometry:
         """
         Knob and tip on a body axis (``'x'``, ``'y'``, ``'z'``, ``'-x'`` ...) at signed distances.
 
-        :raises CoreError: an axis that is not an axis name, a distance that is not a finite
-            number, or knob and tip closer than 1 mm.
+        The axis is one of six names: ``'x'``, ``'y'``, ``'z'``, ``'-x'``, ``'-y'``, ``'-z'``;
+        the distances are metres.
+
+        :raises CoreError: an axis that is not one of those six names, a distance that is not a
+            finite number (a bool is none), or knob and tip closer than 1 mm.
         """
-        names = {'x': 0, 'y': 1, 'z': 2}
-        index = names.get(axis.lstrip('+-')) if isinstance(axis, str) else None
-        if index is None:
-            raise CoreError(f'bat axis must be one of x, y, z, -x, -y, -z, got {axis!r}')
+        names = ('x', 'y', 'z', '-x', '-y', '-z')
+        if not (isinstance(axis, str) and axis in names):
+            raise CoreError(f'bat axis must be one of {", ".join(names)}, got {axis!r}')
+        index = names.index(axis) % 3
         sign = -1.0 if axis.startswith('-') else 1.0
         knob = [0.0, 0.0, 0.0]
         tip = [0.0, 0.0, 0.0]
-        knob[index] = sign * finite_number('knob_distance', knob_distance)
-        tip[index] = sign * finite_number('tip_distance', tip_distance)
+        knob[index] = sign * _metres('knob_distance', knob_distance)
+        tip[index] = sign * _metres('tip_distance', tip_distance)
         return cls(knob_offset=tuple(knob), tip_offset=tuple(tip))
 
     def knob_and_tip(self, position: Sequence[float],

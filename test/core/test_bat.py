@@ -97,7 +97,7 @@ def test_pose_geometry_along_axis() -> None:
     knob, tip = geometry.knob_and_tip((1.0, 2.0, 3.0), (0.0, 0.0, half, half))
     assert knob == pytest.approx([1.1, 2.0, 3.0])
     assert tip == pytest.approx([1.9, 2.0, 3.0])
-    for axis in ('w', None, ['x'], 3):
+    for axis in ('w', None, ['x'], 3, '--x', '+-x', '-+x', 'xx', ''):
         with pytest.raises(CoreError, match='bat axis must be one of'):
             PoseBatGeometry.along_axis(axis, 0.0, 1.0)
     with pytest.raises(CoreError, match='tip_distance must be a number'):
@@ -137,3 +137,19 @@ def test_pose_geometry_refuses_offsets_that_are_not_3_finite_numbers(knob, tip) 
     """Wrong shapes and non-finite offsets are refused when the geometry is made."""
     with pytest.raises(CoreError, match='offset must be'):
         PoseBatGeometry(knob_offset=knob, tip_offset=tip)
+
+
+@pytest.mark.parametrize('make', [
+    lambda: BatProfile(stations=((0.0, 0.01), (True, 0.01)), length=1.0),
+    lambda: BatProfile(stations=((0.0, True), (1.0, 0.01)), length=1.0),
+    lambda: BatProfile(stations=((0.0, 0.01), (1.0, 0.01)), length=True),
+    lambda: BatProfile.from_sequence([[False, 0.01], [1.0, 0.01]], 1.0),
+    lambda: PoseBatGeometry(knob_offset=(0.0, 0.0, False), tip_offset=(0.0, 0.0, 0.8)),
+    lambda: PoseBatGeometry(knob_offset=(0, 0, 0), tip_offset=np.array([False, False, True])),
+    lambda: PoseBatGeometry.along_axis('z', 0.0, True),
+    lambda: PoseBatGeometry.along_axis('z', False, 0.8),
+])
+def test_bools_are_not_metres(make) -> None:
+    """A bool is no length or coordinate of the bat: refused, not read as 0 or 1 m."""
+    with pytest.raises(CoreError, match='must be'):
+        make()
