@@ -148,7 +148,7 @@ def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
     else:
         bat = f"bat knob and tip PointStamped on {topics['knob']} and {topics['tip']}"
     kind = 'PointStamped' if settings['ball_type'] == 'point' else 'PoseStamped'
-    frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first frame seen'
+    frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first every input sends'
     return (f"listening: ball {kind} on {topics['ball']}, {bat}; qos {settings['qos']} "
             f"depth {settings['qos_depth']}; model {settings['model']}; frame {frame}; "
             f"publishing {', '.join(published)}")
