@@ -25,7 +25,7 @@ positions metres. The detector builds the two forecasts from its latest samples 
 
 from dataclasses import dataclass
 import math
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -343,8 +343,8 @@ def forecast_outcomes(ball: Tuple[np.ndarray, np.ndarray], bat: Tuple[np.ndarray
     return out
 
 
-def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
-                  profile: BatProfile, tolerance: float,
+def first_contact(ball: BallForecast, bat: Union[BatForecast, PlannedBat], t_start: float,
+                  horizon: float, ball_radius: float, profile: BatProfile, tolerance: float,
                   coarse_step: float = COARSE_STEP) -> Optional[Tuple[float, ImpactResult]]:
     """
     Return the first contact of the forecasts within [t_start, t_start + horizon], or None.
