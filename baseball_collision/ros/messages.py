@@ -23,6 +23,7 @@ from ..core.detector import (
     DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
+from ..core.health import format_stamp
 from ..core.records import contact_from_tip, EVENT_NAMES, event_record, record_text
 
 NS_PER_S = 1_000_000_000
@@ -46,11 +47,6 @@ def stamp_to_ns(stamp: TimeMsg) -> int:
 def ns_to_stamp(stamp_ns: int) -> TimeMsg:
     """Return integer nanoseconds as a ``builtin_interfaces/Time``."""
     return TimeMsg(sec=stamp_ns // NS_PER_S, nanosec=stamp_ns % NS_PER_S)
-
-
-def format_stamp(stamp_ns: int) -> str:
-    """Return integer nanoseconds as ``seconds.nanoseconds`` text."""
-    return f'{stamp_ns // NS_PER_S}.{stamp_ns % NS_PER_S:09d}'
 
 
 def stamped_header(stamp_ns: int, frame_id: str) -> Header:
