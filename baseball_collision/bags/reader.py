@@ -19,7 +19,7 @@ from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
-from .common import BagFile, first_line, NS_PER_S
+from .common import BagFile, first_line
 from .decode import (
     chunk_rows, decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, Spans,
     values_from_message)
@@ -27,6 +27,7 @@ from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from .sqlite import sqlite_spans
+from ..core.health import NS_PER_S
 from ..errors import BagError
 from ..threads import ReadAhead
 

@@ -23,12 +23,8 @@ from ..core.detector import (
     DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
-from ..core.health import format_stamp
+from ..core.health import format_stamp, NS_PER_S
 from ..core.records import contact_from_tip, EVENT_NAMES, event_record, record_text
-
-NS_PER_S = 1_000_000_000
-"""Nanoseconds per second."""
-
 
 # ----------------------------------------------------------------------------------------------
 # stamps and geometry

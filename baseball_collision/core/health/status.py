@@ -23,6 +23,7 @@ RESETS_ERROR = 3
 """State resets within one diagnostics period that make the status ERROR (one makes WARN)."""
 
 NS_PER_S = 1_000_000_000
+"""Nanoseconds per second: the package's one definition (stamps are integer nanoseconds)."""
 
 
 class Level(enum.IntEnum):
