@@ -17,6 +17,7 @@ import numpy as np
 
 from .accuracy import PitchResult
 from .sim import compute_truth, Samples, Scenario, TimeLike, Truth
+from .sim.common import cubic_hermite
 from ..core.bat import SWEET_SPOT_FROM_TIP
 from ..core.motion import not_a_knot_slopes
 from ..core.motion.smoothing import natural_parts
@@ -29,13 +30,8 @@ def _hermite(times: np.ndarray, values: np.ndarray, slopes: np.ndarray, t: np.nd
     h = (times[k + 1] - times[k])[:, None]
     u = (t - times[k])[:, None]
     u = u / h
-    y0, y1, s0, s1 = values[k], values[k + 1], slopes[k] * h, slopes[k + 1] * h
-    if derivative:
-        return ((6.0 * u * u - 6.0 * u) * (y0 - y1) + (3.0 * u * u - 4.0 * u + 1.0) * s0
-                + (3.0 * u * u - 2.0 * u) * s1) / h
-    u2, u3 = u * u, u * u * u
-    return ((2.0 * u3 - 3.0 * u2 + 1.0) * y0 + (u3 - 2.0 * u2 + u) * s0
-            + (3.0 * u2 - 2.0 * u3) * y1 + (u3 - u2) * s1)
+    return cubic_hermite(u, values[k], values[k + 1], slopes[k] * h, slopes[k + 1] * h, h,
+                         derivative)
 
 
 def smoothing_spline(times: np.ndarray, values: np.ndarray,
