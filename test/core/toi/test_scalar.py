@@ -176,10 +176,10 @@ def test_ball_passing_beyond_the_tip_is_no_contact() -> None:
 
 @pytest.mark.parametrize('name, index', [(n, i) for i, n in enumerate(POINT_NAMES)])
 def test_non_finite_point_raises_naming_the_argument(name: str, index: int) -> None:
-    """A NaN or inf coordinate raises a ValueError that names the argument."""
+    """A NaN or inf coordinate raises a CoreError that names the argument."""
     args = [[0.5, 0.2, 0], [0.5, 0.2, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0]]
     args[index] = [0.0, math.nan if index % 2 else math.inf, 0.0]
-    with pytest.raises(ValueError, match=name):
+    with pytest.raises(CoreError, match=name):
         time_of_impact(*args, 0.037, 0.033, 0.01)
 
 
