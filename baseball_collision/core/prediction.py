@@ -386,20 +386,14 @@ def contact_of(ball: Tuple[float, ...], bat: tuple, t_start: float, horizon: flo
     return found
 
 
-def states_at(ball: BallForecast, bat, t: float) -> Tuple[Vector, Vector, Vector, Vector]:
+def states_of(ball: Tuple[float, ...], bat: tuple,
+              t: float) -> Tuple[Vector, Vector, Vector, Vector]:
     """
     Return the ball centre (m), ball velocity (m/s), knob and tip (m) of the forecasts at t (s).
 
-    One kernel call for what ``ball.at``, ``ball.velocity_at`` and ``bat.at`` give one by one.
-
-    :param bat: a ``BatForecast`` or a ``PlannedBat``.
+    The forecasts given as the kernel's numbers (``kernel_args``): one kernel call for what
+    ``at``, ``velocity_at`` and the bat's ``at`` give one by one.
     """
-    return states_of(ball.kernel_args, bat.kernel_args, t)
-
-
-def states_of(ball: Tuple[float, ...], bat: tuple,
-              t: float) -> Tuple[Vector, Vector, Vector, Vector]:
-    """Return ``states_at`` of the forecasts given as the kernel's numbers (``kernel_args``)."""
     return _kernel.forecast(ball, bat, t)[:4]
 
 
