@@ -115,7 +115,7 @@ class Predictor:
             return
         self.last_ns = now_ns
         found = None
-        if armed and self._may_reach(t0):
+        if armed and self._may_reach():
             ball = self._ball_forecast(t0)
             forecast = None if ball is None else self._bat_forecast(t0)
             if forecast is not None:
@@ -137,7 +137,7 @@ class Predictor:
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
 
-    def _may_reach(self, t0: float) -> bool:
+    def _may_reach(self) -> bool:
         """
         Return whether the ball could reach the bat within the prediction horizon.
 

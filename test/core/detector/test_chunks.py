@@ -252,10 +252,10 @@ def test_prediction_planned_same_as_one_at_a_time(model: str, period: float,
     reaching: List[int] = []
     may_reach = Predictor._may_reach
 
-    def recording(self: Predictor, t0: float) -> bool:
-        result = may_reach(self, t0)
+    def recording(self: Predictor) -> bool:
+        result = may_reach(self)
         if result:
-            reaching.append(self.clock.stamp(t0))
+            reaching.append(self.last_ns)  # (the frame predicting: ``predict`` just set it)
         return result
     monkeypatch.setattr(Predictor, '_may_reach', recording)
     rows = session((1.0, 2.0, 1.3), spacing=2.0)
