@@ -43,7 +43,7 @@ setup(
     ],
     # what the package imports from PyPI (package.xml declares the same for rosdep; the ROS 2
     # packages come from ROS itself); test/test_package.py checks both against the imports
-    install_requires=['setuptools', 'numpy', 'PyYAML', 'rosbags', 'threadpoolctl', 'tqdm'],
+    install_requires=['setuptools', 'apsw', 'numpy', 'PyYAML', 'rosbags', 'threadpoolctl', 'tqdm'],
     extras_require={'plots': ['matplotlib']},  # only `analyze --plot` needs it
     zip_safe=False,  # a compiled extension
     maintainer='baseball_collision maintainers',

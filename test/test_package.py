@@ -32,11 +32,12 @@ IMPORT_TO_ROSDEP = {
     'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'matplotlib': 'python3-matplotlib',
     'tqdm': 'python3-tqdm', 'rosbags': 'python3-rosbags-pip', 'pytest': 'python3-pytest',
     'hypothesis': 'python3-hypothesis', 'threadpoolctl': 'python3-threadpoolctl',
+    'apsw': 'python3-rosbags-pip',  # rosbags' SQLite driver, installed with it
 }
 """Python modules whose rosdep key is not their own name."""
 
 IMPORT_TO_PIP = {'numpy': 'numpy', 'yaml': 'PyYAML', 'rosbags': 'rosbags', 'tqdm': 'tqdm',
-                 'matplotlib': 'matplotlib', 'threadpoolctl': 'threadpoolctl'}
+                 'matplotlib': 'matplotlib', 'threadpoolctl': 'threadpoolctl', 'apsw': 'apsw'}
 """Modules that come from PyPI (not from ROS), by their distribution name."""
 
 

@@ -22,7 +22,6 @@ from rosbags.typesys.store import Typestore
 from ..errors import BagError
 
 
-NS_PER_S = 1_000_000_000
 FRAME_CACHE_LIMIT = 1024
 """Most frame_ids a decoder or writer remembers (the cache is emptied when full)."""
 

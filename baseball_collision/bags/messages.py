@@ -17,8 +17,8 @@ from rosbags.interfaces import (
     Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime)
 from rosbags.typesys.store import Typestore
 
-from .common import jazzy_typestore, NS_PER_S
-from ..core.health import HealthStatus
+from .common import jazzy_typestore
+from ..core.health import HealthStatus, NS_PER_S
 from ..core.scene import Item, Scene, Shape
 
 MARKER_ARRAY = 'visualization_msgs/msg/MarkerArray'

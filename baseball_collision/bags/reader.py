@@ -19,7 +19,7 @@ from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
-from .common import BagFile, first_line, NS_PER_S
+from .common import BagFile, first_line
 from .decode import (
     chunk_rows, decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, Spans,
     values_from_message)
@@ -27,6 +27,7 @@ from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
 from .sqlite import sqlite_spans
+from ..core.health import NS_PER_S
 from ..errors import BagError
 from ..threads import ReadAhead
 
@@ -54,7 +55,7 @@ class BagReader(BagFile):
     :param tip: explicit tip topic (only without ``selection``).
     :param prefer_bat: ``'pose'`` or ``'points'``: the bat to auto-select when the bag has both
         (see :func:`select_topics`).
-    :raises ValueError: both a selection and topic names given.
+    :raises BagError: both a selection and topic names given.
     """
 
     def __init__(self, path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
@@ -63,7 +64,7 @@ class BagReader(BagFile):
                  prefer_bat: str = 'pose') -> None:
         overrides = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
         if selection is not None and any(v is not None for v in overrides.values()):
-            raise ValueError('pass either a TopicSelection or topic names, not both')
+            raise BagError('pass either a TopicSelection or topic names, not both')
         super().__init__(path)
         self._given = selection
         self._overrides = overrides
@@ -178,11 +179,10 @@ class BagReader(BagFile):
         Memory: that many file chunks or batches more. Other bags are read as without it.
         :meth:`close` stops the thread before it closes the bag.
 
-        :raises BagError: as :meth:`samples`.
-        :raises ValueError: ``read_ahead`` below 0.
+        :raises BagError: as :meth:`samples`; ``read_ahead`` below 0.
         """
         if read_ahead < 0:
-            raise ValueError(f'read ahead by 0 or more batches, not {read_ahead}')
+            raise BagError(f'read ahead by 0 or more batches, not {read_ahead}')
         reader = self._open_reader()
         return self._chunks(reader, size, read_ahead)
 
@@ -315,12 +315,12 @@ def read_samples(path: Union[str, os.PathLike], selection: Optional[TopicSelecti
     :param selection: topics to read; None to select them with :func:`select_topics`.
     :param overrides: explicit topics ``ball``, ``bat_pose``, ``knob``, ``tip``.
     :returns: an iterator of :class:`Sample`.
-    :raises BagError: see :meth:`BagReader.open` and :meth:`BagReader.samples`.
-    :raises TypeError: an unknown override name.
+    :raises BagError: see :meth:`BagReader.open` and :meth:`BagReader.samples`; an unknown
+        override name.
     """
     unknown = set(overrides) - set(ROLES)
     if unknown:
-        raise TypeError(f'unknown topic roles: {", ".join(sorted(unknown))}')
+        raise BagError(f'unknown topic roles: {", ".join(sorted(unknown))}')
     with BagReader(path, selection, **overrides) as bag:
         yield from bag.samples()
 

@@ -231,11 +231,10 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
     :returns: the selection.
     :raises BagError: a named topic is missing (the message lists the bag's topics) or has the
         wrong type; no candidate or several candidates for a role. The message names the flag
-        to pass.
-    :raises ValueError: ``prefer_bat`` is neither ``'pose'`` nor ``'points'``.
+        to pass. ``prefer_bat`` neither ``'pose'`` nor ``'points'``.
     """
     if prefer_bat not in ('pose', 'points'):
-        raise ValueError(f"prefer_bat must be 'pose' or 'points', got {prefer_bat!r}")
+        raise BagError(f"prefer_bat must be 'pose' or 'points', got {prefer_bat!r}")
     types = topic_types(source)
     given = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
     chosen: Dict[str, str] = {}

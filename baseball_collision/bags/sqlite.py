@@ -32,6 +32,7 @@ from operator import itemgetter
 import re
 from typing import Any, Dict, Iterator, List, NamedTuple, Optional, Sequence, Tuple
 
+import apsw  # (rosbags' SQLite driver: its connections are the files')
 import numpy as np
 from rosbags.rosbag2.storage_sqlite3 import Sqlite3Reader
 
@@ -199,8 +200,8 @@ class _File:
                 return None
             log_times = np.fromstring(times, np.int64, sep=',') + (self.start or 0)
             mixed = np.fromstring(mixed, np.int64, sep=',')
-        except Exception:  # (too big for one string, an error: the row path says)
-            return None
+        except (apsw.Error, ValueError):  # (too big for one string, SQLite's error, log times
+            return None                    # that do not parse as integers: the row path says)
         lengths = mixed & ((1 << _LENGTH_BITS) - 1)
         if len(log_times) != n or len(mixed) != n or int(lengths.sum()) != len(data):
             return None
@@ -299,7 +300,7 @@ def _walked_index(connection: Any, topics: List[int]) -> Optional[str]:
             if _plan_walk(connection, text, arguments) != index:
                 return None
         return index
-    except Exception:  # (a plan that cannot be made or read: the row path)
+    except apsw.Error:  # (a plan that cannot be made or read: the row path)
         return None
 
 

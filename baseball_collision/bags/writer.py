@@ -17,9 +17,10 @@ from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Type, Union
 from rosbags.rosbag1 import Writer as Writer1
 from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
 
-from .common import first_line, jazzy_typestore, noetic_typestore, NS_PER_S
+from .common import first_line, jazzy_typestore, noetic_typestore
 from .names import POINT_STAMPED, POSE_STAMPED, TWIST_STAMPED, VECTOR3_STAMPED
 from ..atomic import check_target, StagedOutput
+from ..core.health import NS_PER_S
 from ..errors import BagError
 
 _STORAGES = ('mcap', 'sqlite3', 'rosbag1')

@@ -21,7 +21,7 @@ from typing import Sequence, Tuple
 
 import numpy as np
 
-from .geometry import quaternion_to_matrix
+from .geometry import finite_number, finite_vector, quaternion_to_matrix, Vector
 from ..errors import CoreError
 
 INCH = 0.0254
@@ -33,6 +33,29 @@ SWEET_SPOT_FROM_TIP = 6.0 * INCH
 MAX_STATIONS = 256
 """Most stations a profile may have: a turned bat needs a few dozen; every station starts a piece
 the detector solves for, so a million of them would take minutes per sample."""
+
+
+def _metres(name: str, value: float) -> float:
+    """
+    Return a length or a coordinate (metres) as a finite float.
+
+    :raises CoreError: a bool (``True`` is no length), not a number, or not finite.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise CoreError(f'{name} must be a number of metres, got {value!r}')
+    return finite_number(name, value)
+
+
+def _point(name: str, value: Sequence[float]) -> Vector:
+    """
+    Return a point (metres) as 3 finite floats.
+
+    :raises CoreError: not 3 numbers (a bool is none), or not all finite.
+    """
+    point = finite_vector(name, value, ' (metres)')
+    if any(isinstance(c, (bool, np.bool_)) for c in value):
+        raise CoreError(f'{name} must be 3 numbers (metres), got {value!r}')
+    return point
 
 
 @dataclass(frozen=True)
@@ -50,36 +73,49 @@ class BatProfile:
 
     def __post_init__(self) -> None:
         """
-        Check the stations describe a bat.
+        Check the stations describe a bat; keep them as tuples of floats.
 
-        :raises CoreError: fewer than one station or more than :data:`MAX_STATIONS`,
-            non-finite or non-positive values, distances not strictly increasing, or outside
-            [0, length].
+        :raises CoreError: a length or a station value that is not a number (a bool is none),
+            a station that is not a pair, fewer than one station or more than
+            :data:`MAX_STATIONS`, non-finite or non-positive values, distances not strictly
+            increasing, or outside [0, length].
         """
-        if not (math.isfinite(self.length) and self.length > 0.0):
+        length = _metres('bat length', self.length)
+        if not length > 0.0:
             raise CoreError(f'bat length must be finite and > 0 m, got {self.length!r}')
-        if len(self.stations) < 1:
+        try:
+            pairs = tuple((distance, radius) for distance, radius in self.stations)
+        except (TypeError, ValueError) as error:
+            raise CoreError('bat profile stations must be pairs (distance_from_knob, radius), '
+                            f'got {self.stations!r}') from error
+        if len(pairs) < 1:
             raise CoreError('a bat profile needs at least one station')
-        if len(self.stations) > MAX_STATIONS:
+        if len(pairs) > MAX_STATIONS:
             raise CoreError(f'a bat profile has at most {MAX_STATIONS} stations, got '
-                            f'{len(self.stations):,}')
+                            f'{len(pairs):,}')
+        stations = tuple((_metres('station distance', distance), _metres('station radius', radius))
+                         for distance, radius in pairs)
         previous = -math.inf
-        for distance, radius in self.stations:
-            if not (math.isfinite(distance) and math.isfinite(radius) and radius > 0.0):
-                raise CoreError(
-                    f'station ({distance!r}, {radius!r}) must be finite with radius > 0 m')
-            if distance <= previous or distance < 0.0 or distance > self.length * (1 + 1e-12):
+        for distance, radius in stations:
+            if not radius > 0.0:
+                raise CoreError(f'station ({distance!r}, {radius!r}) must have radius > 0 m')
+            if distance <= previous or distance < 0.0 or distance > length * (1 + 1e-12):
                 raise CoreError(
                     'station distances must increase strictly within [0, length], '
-                    f'got {distance!r} after {previous!r} (length {self.length!r})')
+                    f'got {distance!r} after {previous!r} (length {length!r})')
             previous = distance
+        object.__setattr__(self, 'stations', stations)
+        object.__setattr__(self, 'length', length)
         object.__setattr__(self, '_segments', self._build_segments())
 
     @classmethod
     def constant(cls, radius: float, length: float = 1.0) -> 'BatProfile':
-        """Return a plain capsule of one radius (metres) over the whole knob-to-tip axis."""
-        return cls(stations=((0.0, float(radius)), (float(length), float(radius))),
-                   length=float(length))
+        """
+        Return a plain capsule of one radius (metres) over the whole knob-to-tip axis.
+
+        :raises CoreError: as the class.
+        """
+        return cls(stations=((0.0, radius), (length, radius)), length=length)
 
     @classmethod
     def from_sequence(cls, stations: Sequence[Sequence[float]],
@@ -89,12 +125,7 @@ class BatProfile:
 
         :raises CoreError: the stations do not describe a bat (see the class).
         """
-        try:
-            pairs = tuple((float(d), float(r)) for d, r in stations)
-        except (TypeError, ValueError) as error:
-            raise CoreError(
-                f'bat profile stations must be pairs of numbers, got {stations!r}') from error
-        return cls(stations=pairs, length=float(length))
+        return cls(stations=stations, length=length)
 
     @property
     def max_radius(self) -> float:
@@ -157,23 +188,22 @@ class PoseBatGeometry:
     :ivar tip_offset: barrel end in the bat body frame (metres).
     """
 
-    knob_offset: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    tip_offset: Tuple[float, float, float] = (0.0, 0.0, 34.0 * INCH)
+    knob_offset: Vector = (0.0, 0.0, 0.0)
+    tip_offset: Vector = (0.0, 0.0, 34.0 * INCH)
 
     def __post_init__(self) -> None:
         """
-        Check the offsets are finite and knob and tip are apart.
+        Check the offsets and keep them as tuples of 3 floats (the geometry is hashable).
 
-        :raises CoreError: non-finite offsets or knob and tip closer than 1 mm.
+        :raises CoreError: an offset that is not 3 finite numbers (a bool is none), or knob and
+            tip closer than 1 mm.
         """
-        knob = np.asarray(self.knob_offset, dtype=float)
-        tip = np.asarray(self.tip_offset, dtype=float)
-        if knob.shape != (3,) or tip.shape != (3,):
-            raise CoreError('knob_offset and tip_offset must have 3 components')
-        if not (np.all(np.isfinite(knob)) and np.all(np.isfinite(tip))):
-            raise CoreError('knob_offset and tip_offset must be finite')
-        if np.linalg.norm(tip - knob) < 1e-3:
+        knob = _point('knob_offset', self.knob_offset)
+        tip = _point('tip_offset', self.tip_offset)
+        if math.dist(knob, tip) < 1e-3:
             raise CoreError('knob_offset and tip_offset must be at least 1 mm apart')
+        object.__setattr__(self, 'knob_offset', knob)
+        object.__setattr__(self, 'tip_offset', tip)
 
     @classmethod
     def along_axis(cls, axis: str, knob_distance: float,
@@ -181,17 +211,21 @@ class PoseBatGeometry:
         """
         Knob and tip on a body axis (``'x'``, ``'y'``, ``'z'``, ``'-x'`` ...) at signed distances.
 
-        :raises CoreError: an unknown axis name.
+        The axis is one of six names: ``'x'``, ``'y'``, ``'z'``, ``'-x'``, ``'-y'``, ``'-z'``;
+        the distances are metres.
+
+        :raises CoreError: an axis that is not one of those six names, a distance that is not a
+            finite number (a bool is none), or knob and tip closer than 1 mm.
         """
-        names = {'x': 0, 'y': 1, 'z': 2}
+        names = ('x', 'y', 'z', '-x', '-y', '-z')
+        if not (isinstance(axis, str) and axis in names):
+            raise CoreError(f'bat axis must be one of {", ".join(names)}, got {axis!r}')
+        index = names.index(axis) % 3
         sign = -1.0 if axis.startswith('-') else 1.0
-        index = names.get(axis.lstrip('+-'))
-        if index is None:
-            raise CoreError(f"bat axis must be one of x, y, z, -x, -y, -z, got '{axis}'")
         knob = [0.0, 0.0, 0.0]
         tip = [0.0, 0.0, 0.0]
-        knob[index] = sign * float(knob_distance)
-        tip[index] = sign * float(tip_distance)
+        knob[index] = sign * _metres('knob_distance', knob_distance)
+        tip[index] = sign * _metres('tip_distance', tip_distance)
         return cls(knob_offset=tuple(knob), tip_offset=tuple(tip))
 
     def knob_and_tip(self, position: Sequence[float],

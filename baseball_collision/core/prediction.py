@@ -25,7 +25,7 @@ positions metres. The detector builds the two forecasts from its latest samples 
 
 from dataclasses import dataclass
 import math
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -343,8 +343,8 @@ def forecast_outcomes(ball: Tuple[np.ndarray, np.ndarray], bat: Tuple[np.ndarray
     return out
 
 
-def first_contact(ball: BallForecast, bat, t_start: float, horizon: float, ball_radius: float,
-                  profile: BatProfile, tolerance: float,
+def first_contact(ball: BallForecast, bat: Union[BatForecast, PlannedBat], t_start: float,
+                  horizon: float, ball_radius: float, profile: BatProfile, tolerance: float,
                   coarse_step: float = COARSE_STEP) -> Optional[Tuple[float, ImpactResult]]:
     """
     Return the first contact of the forecasts within [t_start, t_start + horizon], or None.
@@ -386,20 +386,14 @@ def contact_of(ball: Tuple[float, ...], bat: tuple, t_start: float, horizon: flo
     return found
 
 
-def states_at(ball: BallForecast, bat, t: float) -> Tuple[Vector, Vector, Vector, Vector]:
+def states_of(ball: Tuple[float, ...], bat: tuple,
+              t: float) -> Tuple[Vector, Vector, Vector, Vector]:
     """
     Return the ball centre (m), ball velocity (m/s), knob and tip (m) of the forecasts at t (s).
 
-    One kernel call for what ``ball.at``, ``ball.velocity_at`` and ``bat.at`` give one by one.
-
-    :param bat: a ``BatForecast`` or a ``PlannedBat``.
+    The forecasts given as the kernel's numbers (``kernel_args``): one kernel call for what
+    ``at``, ``velocity_at`` and the bat's ``at`` give one by one.
     """
-    return states_of(ball.kernel_args, bat.kernel_args, t)
-
-
-def states_of(ball: Tuple[float, ...], bat: tuple,
-              t: float) -> Tuple[Vector, Vector, Vector, Vector]:
-    """Return ``states_at`` of the forecasts given as the kernel's numbers (``kernel_args``)."""
     return _kernel.forecast(ball, bat, t)[:4]
 
 
@@ -422,11 +416,11 @@ def check_plan_size(count: int) -> None:
     """
     Refuse a plan of more than ``MAX_PLAN_POSES`` poses.
 
-    :raises ValueError: saying the limit and why.
+    :raises CoreError: saying the limit and why.
     """
     if count > MAX_PLAN_POSES:
-        raise ValueError(f'a bat plan of {count} poses is more than the {MAX_PLAN_POSES} a '
-                         'plan may hold: send the coming swing (seconds), not a session')
+        raise CoreError(f'a bat plan of {count} poses is more than the {MAX_PLAN_POSES} a '
+                        'plan may hold: send the coming swing (seconds), not a session')
 
 
 def planned_bat(times: Sequence[float], positions: Sequence[Sequence[float]],
@@ -435,20 +429,34 @@ def planned_bat(times: Sequence[float], positions: Sequence[Sequence[float]],
     """
     Return a plan from parallel lists, normalising the quaternions.
 
-    :raises ValueError: more than ``MAX_PLAN_POSES`` poses, lists of different lengths, times
-        not increasing, or a quaternion that is not unit length within 1e-3.
+    :param times: seconds, increasing; ``positions``: the pose origins (m); ``quaternions``:
+        their orientations (x, y, z, w); ``knob_offset``, ``tip_offset``: knob and tip in the
+        bat body frame (m).
+    :raises CoreError: more than ``MAX_PLAN_POSES`` poses, lists of different lengths (or not
+        lists), times not increasing numbers, a position not 3 finite numbers, a quaternion not
+        4 numbers or not unit length within 1e-3.
     """
-    check_plan_size(len(times))
-    if not len(times) == len(positions) == len(quaternions):
-        raise ValueError('a bat plan needs as many times, positions and quaternions')
-    if any(b <= a for a, b in zip(times[:-1], times[1:])):
-        raise ValueError('bat plan times must increase')
-    unit: List[Quaternion] = []
-    for q in quaternions:
-        length = math.sqrt(sum(float(x) * float(x) for x in q))
-        if not math.isfinite(length) or abs(length - 1.0) > 1e-3:
-            raise ValueError(f'bat plan quaternion {tuple(q)!r} is not unit length')
-        unit.append(tuple(float(x) / length for x in q))
-    return PlannedBat(times=tuple(float(t) for t in times),
-                      positions=tuple(tuple(float(x) for x in p) for p in positions),
-                      quaternions=tuple(unit), knob_offset=knob_offset, tip_offset=tip_offset)
+    try:
+        check_plan_size(len(times))
+        if not len(times) == len(positions) == len(quaternions):
+            raise ValueError(f'{len(times)} times, {len(positions)} positions and '
+                             f'{len(quaternions)} quaternions: a plan needs as many of each')
+        plan_times = tuple(float(t) for t in times)
+        if any(b <= a for a, b in zip(plan_times[:-1], plan_times[1:])):
+            raise ValueError('bat plan times must increase')
+        plan_positions: List[Vector] = []
+        unit: List[Quaternion] = []
+        for position, quaternion in zip(positions, quaternions):
+            point, q = tuple(float(x) for x in position), tuple(float(x) for x in quaternion)
+            if len(point) != 3 or len(q) != 4 or not all(map(math.isfinite, point)):
+                raise ValueError('every position must be 3 finite numbers (m) and every '
+                                 'quaternion 4 (x, y, z, w)')
+            length = math.sqrt(sum(x * x for x in q))
+            if not math.isfinite(length) or abs(length - 1.0) > 1e-3:
+                raise ValueError(f'bat plan quaternion {q!r} is not unit length')
+            plan_positions.append(point)
+            unit.append(tuple(x / length for x in q))
+    except (TypeError, ValueError) as error:
+        raise CoreError(f'bad bat plan: {error}') from error
+    return PlannedBat(times=plan_times, positions=tuple(plan_positions), quaternions=tuple(unit),
+                      knob_offset=knob_offset, tip_offset=tip_offset)

@@ -15,7 +15,7 @@ Callbacks run on the executor's thread.
 """
 
 import threading
-from typing import Any, Callable, Mapping, Tuple
+from typing import Any, Callable, Mapping
 
 from geometry_msgs.msg import PointStamped, Vector3Stamped
 import rclpy
@@ -23,7 +23,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import String
 
-Vector = Tuple[float, float, float]
+from .messages import stamp_to_ns, xyz
+from ..core.geometry import Vector
 
 LISTEN_DEPTH = 100
 """Keep-last depth of each event subscription (messages)."""
@@ -62,15 +63,6 @@ class RosSession:
         self.close()
 
 
-def _stamp_ns(message: Any) -> int:
-    """Return a stamped message's header stamp in ns."""
-    return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
-
-
-def _xyz(vector: Any) -> Vector:
-    return (vector.x, vector.y, vector.z)
-
-
 class EventListener:
     """
     Subscriptions to a node's event topics, each message handed on as plain values.
@@ -94,12 +86,14 @@ class EventListener:
         self.subscriptions = [
             node.create_subscription(
                 PointStamped, topics['impact'],
-                lambda message: on_impact(_stamp_ns(message), _xyz(message.point)), qos),
+                lambda message: on_impact(stamp_to_ns(message.header.stamp), xyz(message.point)),
+                qos),
             node.create_subscription(
                 String, topics['impact_report'], lambda message: on_report(message.data), qos),
             node.create_subscription(
                 Vector3Stamped, topics['near_miss'],
-                lambda message: on_near_miss(_stamp_ns(message), _xyz(message.vector)), qos)]
+                lambda message: on_near_miss(stamp_to_ns(message.header.stamp),
+                                             xyz(message.vector)), qos)]
 
     def matched(self) -> bool:
         """Return whether every subscription has matched the node's publisher."""

@@ -23,11 +23,8 @@ from ..core.detector import (
     DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
+from ..core.health import format_stamp, NS_PER_S
 from ..core.records import contact_from_tip, EVENT_NAMES, event_record, record_text
-
-NS_PER_S = 1_000_000_000
-"""Nanoseconds per second."""
-
 
 # ----------------------------------------------------------------------------------------------
 # stamps and geometry
@@ -46,11 +43,6 @@ def stamp_to_ns(stamp: TimeMsg) -> int:
 def ns_to_stamp(stamp_ns: int) -> TimeMsg:
     """Return integer nanoseconds as a ``builtin_interfaces/Time``."""
     return TimeMsg(sec=stamp_ns // NS_PER_S, nanosec=stamp_ns % NS_PER_S)
-
-
-def format_stamp(stamp_ns: int) -> str:
-    """Return integer nanoseconds as ``seconds.nanoseconds`` text."""
-    return f'{stamp_ns // NS_PER_S}.{stamp_ns % NS_PER_S:09d}'
 
 
 def stamped_header(stamp_ns: int, frame_id: str) -> Header:
@@ -148,7 +140,7 @@ def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
     else:
         bat = f"bat knob and tip PointStamped on {topics['knob']} and {topics['tip']}"
     kind = 'PointStamped' if settings['ball_type'] == 'point' else 'PoseStamped'
-    frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first frame seen'
+    frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first every input sends'
     return (f"listening: ball {kind} on {topics['ball']}, {bat}; qos {settings['qos']} "
             f"depth {settings['qos_depth']}; model {settings['model']}; frame {frame}; "
             f"publishing {', '.join(published)}")

@@ -231,6 +231,10 @@ class EventSink(Protocol):
         """Take the events of one sample (or of ``finish()``: the last sample's time, frame)."""
 
 
+Sink = Union[SampleSink, EventSink]
+"""What the loops hand samples and events to: a sample sink, an event sink, or both."""
+
+
 # ----------------------------------------------------------------------------------------------
 # The loop
 
@@ -249,7 +253,7 @@ def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., N
 
 
 def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
-                 sinks: Sequence[Any], bar: Any = None,
+                 sinks: Sequence[Sink], bar: Any = None,
                  drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
     """
     Feed every sample to the detector, then ``finish()``; hand samples and events to sinks.
@@ -309,7 +313,7 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     return count, None if first is None else first[1]
 
 
-def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Any],
+def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Sink],
                         bar: Any = None,
                         drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
     """
@@ -409,7 +413,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                                   bat_radius=options.bat_radius,
                                   prediction_horizon=options.prediction_horizon)
             result = BagAnalysis(path=path, selection=bag.selection, config=config)
-            sinks: List[Any] = [result]
+            sinks: List[Sink] = [result]
             detector = Detector(config)
             copy = None
             if out_bag is not None:

@@ -27,11 +27,9 @@ from ..bags import (
     scene_message, STRING, text_message)
 from ..bags.names import POINT_STAMPED, TWIST_STAMPED, VECTOR3_STAMPED
 from ..core.detector import DEFAULTS, Detector, Impact, NearMiss, Prediction, StateReset
-from ..core.health import health_status, silent_streams, take_snapshot, Tally
+from ..core.health import health_status, NS_PER_S, silent_streams, take_snapshot, Tally
 from ..core.records import event_record, record_text
 from ..core.scene import bat_ends, impact_scene, live_scene, Scene
-
-NS_PER_S = 1_000_000_000
 
 EVENTS_QOS = qos_profile(depth=100)
 """The node's event topics: reliable, volatile, 100 deep."""

@@ -16,7 +16,8 @@ from typing import Tuple
 import numpy as np
 
 from .accuracy import PitchResult
-from .sim import compute_truth, Samples, Scenario
+from .sim import compute_truth, Samples, Scenario, TimeLike, Truth
+from .sim.common import cubic_hermite
 from ..core.bat import SWEET_SPOT_FROM_TIP
 from ..core.motion import not_a_knot_slopes
 from ..core.motion.smoothing import natural_parts
@@ -29,13 +30,8 @@ def _hermite(times: np.ndarray, values: np.ndarray, slopes: np.ndarray, t: np.nd
     h = (times[k + 1] - times[k])[:, None]
     u = (t - times[k])[:, None]
     u = u / h
-    y0, y1, s0, s1 = values[k], values[k + 1], slopes[k] * h, slopes[k + 1] * h
-    if derivative:
-        return ((6.0 * u * u - 6.0 * u) * (y0 - y1) + (3.0 * u * u - 4.0 * u + 1.0) * s0
-                + (3.0 * u * u - 2.0 * u) * s1) / h
-    u2, u3 = u * u, u * u * u
-    return ((2.0 * u3 - 3.0 * u2 + 1.0) * y0 + (u3 - 2.0 * u2 + u) * s0
-            + (3.0 * u2 - 2.0 * u3) * y1 + (u3 - u2) * s1)
+    return cubic_hermite(u, values[k], values[k + 1], slopes[k] * h, slopes[k + 1] * h, h,
+                         derivative)
 
 
 def smoothing_spline(times: np.ndarray, values: np.ndarray,
@@ -82,7 +78,7 @@ class _Fitted:
         else:
             self.values, self.slopes = values, not_a_knot_slopes(times, values)
 
-    def at(self, t, derivative: bool = False) -> np.ndarray:
+    def at(self, t: TimeLike, derivative: bool = False) -> np.ndarray:
         """Return the fitted coordinates (or rates) at scenario times t: t.shape + (columns,)."""
         array = np.asarray(t, dtype=float)
         out = _hermite(self.times, self.values, self.slopes,
@@ -98,12 +94,12 @@ class SplineBat:
         self.ends = _Fitted(times, np.hstack([knobs, tips]), sigma)
         self.length = float(np.mean(np.linalg.norm(tips - knobs, axis=1)))
 
-    def knob_tip(self, t) -> Tuple[np.ndarray, np.ndarray]:
+    def knob_tip(self, t: TimeLike) -> Tuple[np.ndarray, np.ndarray]:
         """Return (knob, tip) in metres at scenario time(s) t."""
         both = self.ends.at(t)
         return both[..., :3], both[..., 3:]
 
-    def point_velocity(self, t, fraction: float) -> np.ndarray:
+    def point_velocity(self, t: TimeLike, fraction: float) -> np.ndarray:
         """Return the velocity (m/s) of the axis point at ``fraction``: the splines' rates."""
         rates = self.ends.at(t, derivative=True)
         return rates[..., :3] + float(fraction) * (rates[..., 3:] - rates[..., :3])
@@ -120,16 +116,16 @@ class SplineBall:
         self.path = _Fitted(times, positions, sigma)
         self.release_time, self.end_time = float(times[0]), float(times[-1])
 
-    def position(self, t) -> np.ndarray:
+    def position(self, t: TimeLike) -> np.ndarray:
         """Return the centre (m) at scenario time(s) t."""
         return self.path.at(t)
 
-    def velocity(self, t) -> np.ndarray:
+    def velocity(self, t: TimeLike) -> np.ndarray:
         """Return how fast the ball moves (a vector, m/s) at scenario time(s) t."""
         return self.path.at(t, derivative=True)
 
 
-def reference_truth(scenario: Scenario, samples: Samples, noise_m: float = 0.0):
+def reference_truth(scenario: Scenario, samples: Samples, noise_m: float = 0.0) -> Truth:
     """
     Return what the plain per-coordinate cubic splines say happened (a ``sim.Truth``).
 

@@ -190,7 +190,7 @@ def test_chunks_read_ahead_are_the_same_chunks(tmp_path: Path, name: str,
         assert not spans_on and not decoded_on
     else:
         assert spans_on == {'read-ahead'} and decoded_on == {threading.current_thread().name}
-    with BagReader(path) as bag, pytest.raises(ValueError, match='not -1'):
+    with BagReader(path) as bag, pytest.raises(BagError, match='not -1'):
         bag.chunks(100, read_ahead=-1)
 
 
@@ -293,8 +293,10 @@ def test_selection_from_another_bag_and_explicit_topics(tmp_path: Path) -> None:
     other = TopicSelection(ball='/ball', bat_pose='/somewhere/else')
     with pytest.raises(BagError, match="--bat-pose-topic '/somewhere/else' is not in the bag"):
         list(read_samples(tmp_path / 'a', other))
-    with pytest.raises(ValueError):
+    with pytest.raises(BagError, match='not both'):
         BagReader(tmp_path / 'a', selection, ball='/ball')
+    with pytest.raises(BagError, match='unknown topic roles: bat'):
+        list(read_samples(tmp_path / 'a', bat='/bat/pose'))
     with pytest.raises(BagError, match='is not open'):
         BagReader(tmp_path / 'a').samples()
 

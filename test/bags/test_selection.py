@@ -53,7 +53,7 @@ def test_bat_pose_preferred_to_knob_and_tip_points() -> None:
     assert '--bat-pose-topic' in points.note
     assert select_topics(topics, knob='/bat/knob').note == ''
     assert select_topics({'/ball': POINT_STAMPED, '/bat': POSE_STAMPED}).note == ''
-    with pytest.raises(ValueError):
+    with pytest.raises(BagError, match='prefer_bat'):
         select_topics(topics, prefer_bat='knob')
 
 

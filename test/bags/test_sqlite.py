@@ -5,6 +5,7 @@ import shutil
 import sqlite3
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+import apsw
 from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.bags import reader as reader_module
 from baseball_collision.bags import sqlite as sqlite_module
@@ -150,15 +151,19 @@ def test_a_bag_directory_and_its_bare_file(tmp_path: Path, mode: CompressionMode
 
 
 class _Spy:
-    """A file's apsw connection, recording what is executed on it (and failing batches)."""
+    """
+    A file's apsw connection, recording what is executed on it (and failing batches).
 
-    def __init__(self, connection: Any, fail_batches: bool = False) -> None:
+    :param fail_batches: the error every batch query raises (None: none fails).
+    """
+
+    def __init__(self, connection: Any, fail_batches: Optional[Exception] = None) -> None:
         self.connection, self.executed, self.fail = connection, [], fail_batches
 
     def execute(self, text: str, arguments: Any = ()) -> Any:
         self.executed.append((text, tuple(arguments)))
-        if self.fail and text.startswith('SELECT count(*)'):
-            raise RuntimeError('a batch that cannot be read')
+        if self.fail is not None and text.startswith('SELECT count(*)'):
+            raise self.fail
         return self.connection.execute(text, arguments)
 
 
@@ -166,15 +171,17 @@ Executed = List[Tuple[str, Any]]
 
 
 def _spied(path: Path, size: int,
-           fail_batches: bool = False) -> Tuple[List[Any], List[Any], Executed]:
+           fail_batches: Optional[Exception] = None) -> Tuple[List[Any], List[Any], Executed]:
     """Return (the spans' messages, rosbags' messages, what the spans ran on the file)."""
     with AnyReader([path]) as reader:
         storage = reader.readers[0].storage.storages[0]
         spy = storage.dbconn = _Spy(storage.dbconn, fail_batches)
         selected = [c for c in reader.connections if c.topic in ('/bat', '/ball')]
-        fast = [m for each in sqlite_spans(reader, selected, size)
-                for m in each.messages(range(len(each.codes)))]
-        storage.dbconn = spy.connection
+        try:
+            fast = [m for each in sqlite_spans(reader, selected, size)
+                    for m in each.messages(range(len(each.codes)))]
+        finally:  # (rosbags closes its own connection)
+            storage.dbconn = spy.connection
         rosbags = list(reader.messages(connections=selected))
     return fast, rosbags, spy.executed
 
@@ -229,9 +236,29 @@ def test_ties_across_batches_and_a_batch_that_fails(tmp_path: Path, size: int,
         fast, expected, lengths = _both(tmp_path / 'bag', ['/bat', '/ball'], size)
         _same(fast, expected)
         _cut(lengths, len(messages), size)
-    fast, expected, executed = _spied(tmp_path / 'bag', size, fail_batches=True)
+    fast, expected, executed = _spied(tmp_path / 'bag', size,
+                                      fail_batches=apsw.TooBigError('string or blob too big'))
     _same(fast, expected)
     assert sum(t.startswith('SELECT count(*)') for t, _ in executed) == 1  # then row by row
+
+
+def test_a_bug_on_the_fast_path_is_raised_not_read_around(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Only SQLite's errors (and log times that do not parse) send a file to the row path.
+
+    Anything else raised while a batch or the plan is read is a bug: it comes out, not the
+    rows read another way.
+    """
+    _write(tmp_path / 'bag', _pairs(50))
+    with pytest.raises(RuntimeError, match='a bug in the batch'):
+        _spied(tmp_path / 'bag', 16, fail_batches=RuntimeError('a bug in the batch'))
+
+    def broken_plan(*args: Any) -> None:
+        raise KeyError('a bug in the plan')
+    monkeypatch.setattr(sqlite_module, '_plan_walk', broken_plan)
+    with pytest.raises(KeyError, match='a bug in the plan'):
+        _spied(tmp_path / 'bag', 16)
 
 
 def test_ties_across_topics_come_in_rosbags_order(tmp_path: Path) -> None:

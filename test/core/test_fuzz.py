@@ -10,7 +10,8 @@ Properties:
 
 * the scalar solver raises only its documented ``CoreError`` (a ``ValueError``), and only
   for input that is not finite points, radii >= 0 and dt > 0; a contact it returns lies inside
-  the interval and on the bat; the batch solver never raises for bad rows, gives NaN for them
+  the interval and on the bat, and it misses none the brute-force reference surely sees; the
+  batch solver never raises for bad rows, gives NaN for them
   and a time in [0, dt] or NaN for the others;
 * the detector never raises for any data (only ``CoreError``, for an unknown role); every
   sample offered is accepted or dropped for one of ``DROP_REASONS``, and the drops add up;
@@ -27,9 +28,9 @@ m, stamps of 0 and negative stamps).
 from dataclasses import fields
 import math
 import random
-from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
-from baseball_collision.core.bat import WOOD_BAT_34
+from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StreamGap)
 from baseball_collision.core.toi import (
@@ -39,7 +40,7 @@ from hypothesis import assume, example, given, HealthCheck, settings, strategies
 import numpy as np
 import pytest
 from support import examples
-from support.scenes import BASE_NS, pitch, pose, swing
+from support.scenes import BASE_NS, pitch, pose, profile_reference, swing
 
 TINY = (1e-300, -1e-300, 5e-324, -5e-324, 2.2250738585072014e-308)
 """Denormal and near-denormal magnitudes."""
@@ -116,9 +117,49 @@ def extreme_scale(points: Sequence[Sequence[float]], radii: Sequence[float],
         or slice_ > 1e150
 
 
-def _check_contact(hit: Optional[ImpactResult], dt: float) -> None:
-    """Check a contact's fields: inside the interval, on the bat, a known feature."""
+REFERENCE_SAMPLES = 201
+"""Instants of an interval at which the brute-force reference samples the gap."""
+
+
+def _surely_touching(points: Sequence[Sequence[float]], ball_radius: float,
+                     bat: Union[float, BatProfile]) -> Optional[float]:
+    """
+    Return the first sampled instant (0-1 of dt) at which the bodies surely touch, or None.
+
+    The brute-force reference (``support.scenes.profile_reference``: every body on its chord,
+    the distance to each round cone by ternary search, none of the solver's code) at
+    ``REFERENCE_SAMPLES`` even instants; a capsule of radius ``bat`` (m) is the one-piece
+    profile of radius ``ball_radius + bat`` against the ball's centre. Sure: a gap below
+    -(1e-9 times the scene's largest value + 1e-12) m, and finite (overflowing squares, from
+    about 1e154 m, decide nothing). A zero radius sum never surely touches.
+    """
+    if isinstance(bat, BatProfile):
+        if _surely_touching(points, ball_radius, bat.max_radius) is None:
+            return None  # (the bat lies within the capsule of its largest radius)
+        profile, radius = bat, ball_radius
+    else:
+        total = ball_radius + bat
+        if not (math.isfinite(total) and total > 0.0):
+            return None
+        profile, radius = BatProfile.constant(total), 0.0
+    tau = np.linspace(0.0, 1.0, REFERENCE_SAMPLES)
+    with np.errstate(all='ignore'):
+        gaps = profile_reference(tau, points, radius, profile)
+    scale = max(max(abs(v) for p in points for v in p), ball_radius, profile.max_radius)
+    sure = np.flatnonzero(np.isfinite(gaps) & (gaps < -(1e-9 * scale + 1e-12)))
+    return float(tau[sure[0]]) if sure.size else None
+
+
+def _check_contact(hit: Optional[ImpactResult], dt: float, points: Sequence[Sequence[float]],
+                   ball_radius: float, bat: Union[float, BatProfile]) -> None:
+    """
+    Check a contact's fields: inside the interval, on the bat, a known feature.
+
+    No contact where the reference surely sees one (``_surely_touching``) is a miss.
+    """
     if hit is None:
+        touching = _surely_touching(points, ball_radius, bat)
+        assert touching is None, f'no contact, but the reference touches at {touching} dt'
         return
     assert math.isfinite(hit.time) and 0.0 <= hit.time <= dt, hit
     assert 0.0 <= hit.bat_fraction <= 1.0, hit
@@ -138,10 +179,10 @@ def _check_moderate_contact(hit: Optional[ImpactResult]) -> None:
 def solve_scalar(points: Sequence[Sequence[float]], ball_radius: float, bat_radius: float,
                  dt: float) -> int:
     """Call both scalar solvers; check what they return or raise. Return the calls made."""
-    for radii, solve in (
-            ((ball_radius, bat_radius), lambda: time_of_impact(
+    for radii, bat, solve in (
+            ((ball_radius, bat_radius), bat_radius, lambda: time_of_impact(
                 *points, ball_radius, bat_radius, dt)),
-            ((ball_radius,), lambda: time_of_impact_profile(
+            ((ball_radius,), WOOD_BAT_34, lambda: time_of_impact_profile(
                 *points, ball_radius, WOOD_BAT_34, dt))):
         valid = _valid(points, radii, dt)
         try:
@@ -151,7 +192,7 @@ def solve_scalar(points: Sequence[Sequence[float]], ball_radius: float, bat_radi
             assert isinstance(error, ValueError)
             continue
         assert valid, 'invalid input accepted'
-        _check_contact(hit, dt)
+        _check_contact(hit, dt, points, ball_radius, bat)
         if all(abs(v) <= 1e3 for p in points for v in p) and max(radii) <= 1e3:
             _check_moderate_contact(hit)
     return 2

@@ -270,12 +270,18 @@ def test_plan_interpolates_poses_and_refuses_bad_ones() -> None:
     assert tip == pytest.approx((0.5 + math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0))
     assert plan.covers(0.5) and not plan.covers(1.5)
     assert plan.pivot_travel(0.0, 1.0) == pytest.approx(1.0)
-    with pytest.raises(ValueError, match='increase'):
+    with pytest.raises(CoreError, match='increase'):
         planned_bat([1.0, 0.0], [(0, 0, 0)] * 2, [(0, 0, 0, 1)] * 2, (0, 0, 0), (1, 0, 0))
-    with pytest.raises(ValueError, match='unit'):
+    with pytest.raises(CoreError, match='unit'):
         planned_bat([0.0], [(0, 0, 0)], [(0, 0, 0, 2)], (0, 0, 0), (1, 0, 0))
-    with pytest.raises(ValueError, match='as many'):
+    with pytest.raises(CoreError, match='as many'):
         planned_bat([0.0, 1.0], [(0, 0, 0)], [(0, 0, 0, 1)], (0, 0, 0), (1, 0, 0))
+    for times, positions, quaternions in (
+            (None, [], []), ([0.0], [(0, math.nan, 0)], [(0, 0, 0, 1)]),
+            ([0.0], [(0, 0)], [(0, 0, 0, 1)]), ([0.0], [(0, 0, 0)], [(0, 0, 1)]),
+            (['now'], [(0, 0, 0)], [(0, 0, 0, 1)]), ([0.0], [None], [(0, 0, 0, 1)])):
+        with pytest.raises(CoreError, match='bad bat plan'):
+            planned_bat(times, positions, quaternions, (0, 0, 0), (1, 0, 0))
 
 
 @settings(max_examples=examples(60), deadline=None)

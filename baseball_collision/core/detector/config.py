@@ -205,8 +205,9 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'bat_plan_topic', _S, '', 'Topic of a commanded bat trajectory (nav_msgs/Path of stamped '
         "bat poses, as on bat_pose_topic) that predictions follow; '' = none.", read_only=_TOPIC),
     ParameterSpec(
-        'frame_id', _S, '', "Frame every input must be in; '' = the first frame seen. Other "
-        'frames are dropped (no tf2 here).', read_only='the detector keeps its frame'),
+        'frame_id', _S, '', "Frame every input must be in; '' = the first frame every input "
+        'stream has sent (the first frame seen is taken until then). Other frames are dropped '
+        '(no tf2 here).', read_only='the detector keeps its frame'),
     ParameterSpec(
         'qos', _S, 'sensor_data', "Subscription QoS: 'sensor_data' = best effort (matches any "
         "publisher), 'reliable' = reliable (only reliable publishers) keeping the newest "
@@ -490,7 +491,9 @@ class DetectorConfig:
     :ivar drop_lost_body: drop bat poses exactly at the origin with the identity orientation.
     :ivar rest_tolerance: an impact whose bat stayed within this (m) over the velocity window
         is flagged ``bat_at_rest`` (0: never).
-    :ivar frame_id: frame every input must be in; empty: the first sample's frame.
+    :ivar frame_id: frame every input must be in; empty: the first frame every input stream
+        has sent (or, when too many samples wait, the most common), the first frame seen taken
+        meanwhile (``gate.FrameVote``, ``intake``).
     :ivar up_axis: unit vector up, for the attack angle.
     :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
     :ivar velocity_window: span (s) of the samples before an impact that its velocities are
@@ -513,7 +516,8 @@ class DetectorConfig:
         samples or fewer in the window), to the hands; at higher rates the hands' fit uses at
         most 3 and the ball's always at most 2 (a parabola). The default interpolates at 90 Hz,
         which is exact for clean tracking but amplifies noise: for a noisy low-rate tracker
-        lower it (e.g. 2) or lengthen the window.
+        lower it (3 at 90 Hz with 1 mm of noise, as measured: BENCHMARKS.md) or lengthen the
+        window.
     """
 
     model: str = DEFAULTS['model']

@@ -241,7 +241,10 @@ class DetectorStats:
     :ivar received: samples offered, by role (ball, bat_pose, knob, tip).
     :ivar dropped: samples dropped, by reason (see ``DROP_REASONS``).
     :ivar impacts, near_misses, gaps, resets: events emitted.
-    :ivar intervals: union intervals processed; ``substeps``: exact solves run on them.
+    :ivar intervals: union intervals processed; ``substeps``: the chord sub-steps the sweep
+        cut those the far tests did not clear into for the exact solver (as cut, also when a
+        contact ends the interval early; the finer chords re-solving an impact and the zone
+        test's instants are not counted).
     :ivar last_processing_s, total_processing_s, max_processing_s, calls: wall time spent in
         the detector per call.
     :ivar newest_stamp_ns: newest accepted stamp of any stream (None before any).

@@ -55,14 +55,11 @@ from ..toi import _kernel
 HISTORY = 384
 """Residuals each stream's estimate is the median of (coordinates count singly)."""
 
-KEPT_SAMPLES = HISTORY // 3
-"""Points whose residuals (three each) the estimate keeps: a longer run's older ones are not
-computed (``take_points``: the kernel's ``NoiseMedian.take_run``, its capacity over 3)."""
-
 BOUND_BLOCK = 256
 """Samples of a chunk that share one upper bound on the estimate (``NoiseEstimate.bounds``):
 each block's bound is an order statistic of its windows' residuals and those of the
-``KEPT_SAMPLES`` before it (about 1,150), so a few hits' large residuals move it little."""
+``HISTORY // 3`` samples before it (about 1,150), so a few hits' large residuals move it
+little."""
 
 MIN_RESIDUALS = 12
 """Fewer residuals than this: no estimate yet (0: the samples are interpolated)."""
@@ -276,7 +273,8 @@ class NoiseEstimate:
 
         What ``update`` does after each of them in turn, to the bit: each residual is that of
         its window of ``span`` samples, the kernel's (``_point_residuals``); of a run longer
-        than ``KEPT_SAMPLES`` only the newest, as the others' would not be kept. The chunk
+        than ``HISTORY // 3`` samples (three residuals each) only the newest, as the others'
+        would not be kept (the kernel's ``NoiseMedian.take_run``: its capacity over 3). The chunk
         path's fast-forward does the same from the kernel (each of ``medians``' ``take_run`` on
         the plan's arrays, already contiguous float64, then ``sigma``), without this method's
         conversions.

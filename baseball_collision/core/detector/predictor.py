@@ -88,26 +88,18 @@ class Predictor:
             a quaternion not 4 or not unit length (at once: not at a later sample's forecast).
         """
         self.plan_on_clock = None
-        if not len(stamps_ns):
-            self.plan = None
-            return
         try:
-            check_plan_size(len(stamps_ns))  # before any work on a huge plan
+            count = len(stamps_ns)
+            check_plan_size(count)  # before any work on a huge plan
             stamps = [integer_stamp(s, 'a plan stamp') for s in stamps_ns]
-            if len(positions) != len(stamps) or len(quaternions) != len(stamps):
-                raise ValueError(f'{len(stamps)} stamps, {len(positions)} positions and '
-                                 f'{len(quaternions)} quaternions')
-            for position, quaternion in zip(positions, quaternions):
-                if len(position) != 3 or len(quaternion) != 4 or not all(
-                        math.isfinite(float(x)) for x in (*position, *quaternion)):
-                    raise ValueError('every position must be 3 finite numbers (m) and every '
-                                     'quaternion 4 (x, y, z, w)')
-            first = stamps[0]
-            plan = planned_bat([(s - first) * 1e-9 for s in stamps], positions, quaternions,
-                               *self.offsets)
         except (TypeError, ValueError) as error:
             raise CoreError(f'bad bat plan: {error}') from error
-        self.plan = (first, plan)
+        if not count:
+            self.plan = None
+            return
+        first = stamps[0]
+        self.plan = (first, planned_bat([(s - first) * 1e-9 for s in stamps], positions,
+                                        quaternions, *self.offsets))
 
     def predict(self, t0: float, armed: Optional[bool], events: List) -> None:
         """
@@ -123,7 +115,7 @@ class Predictor:
             return
         self.last_ns = now_ns
         found = None
-        if armed and self._may_reach(t0):
+        if armed and self._may_reach():
             ball = self._ball_forecast(t0)
             forecast = None if ball is None else self._bat_forecast(t0)
             if forecast is not None:
@@ -145,7 +137,7 @@ class Predictor:
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
 
-    def _may_reach(self, t0: float) -> bool:
+    def _may_reach(self) -> bool:
         """
         Return whether the ball could reach the bat within the prediction horizon.
 

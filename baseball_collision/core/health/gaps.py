@@ -8,7 +8,8 @@ publisher's sequence numbers, with the stamps for frames a tracker skipped upstr
 """
 
 from collections import deque
-from typing import List, Optional, Tuple
+from dataclasses import dataclass, field
+from typing import Deque, List, Optional, Tuple
 
 LOSS_FACTOR = 1.5
 """A stamp step more than this many typical steps is a gap: messages lost (see StampGaps)."""
@@ -121,6 +122,32 @@ class StampGaps:
         return sorted(steps)[len(steps) // 2] if len(steps) >= 4 else 0
 
 
+@dataclass(slots=True, eq=False)
+class PublisherTrack:
+    """
+    One publisher's messages on a stream, as :class:`PublisherGaps` attributes them.
+
+    :ivar last: its last sequence number; ``last_stamp``: that message's header stamp (ns).
+    :ivar gaps: frames its tracker skipped upstream, from its stamps between consecutive
+        numbers.
+    :ivar first: its first sequence number; ``first_stamp``: that message's stamp (ns).
+    :ivar before: (number, stamp ns) of the message before the last; None before a second.
+    :ivar last_sent: its writer's send time (ns) of the last message; ``first_sent``: of the
+        first (None where the RMW gives none).
+    :ivar send_steps: the last ``SEND_STEPS`` send steps (ns) between consecutive numbers.
+    """
+
+    last: int
+    last_stamp: int
+    gaps: StampGaps
+    first: int
+    first_stamp: int
+    before: Optional[Tuple[int, int]] = None
+    last_sent: Optional[int] = None
+    first_sent: Optional[int] = None
+    send_steps: Deque[int] = field(default_factory=lambda: deque(maxlen=SEND_STEPS))
+
+
 class PublisherGaps:
     """
     Messages of one stream lost, counted from each publisher's sequence numbers.
@@ -194,17 +221,14 @@ class PublisherGaps:
     __slots__ = ('_tracks', '_skipped', '_typical')
 
     def __init__(self) -> None:
-        # [last number, last stamp ns, StampGaps, first number, first stamp, (number, stamp)
-        # of the message before the last or None, last sent ns or None, first sent ns or None,
-        # the last SEND_STEPS send steps between consecutive numbers], the one used last first
-        self._tracks: List[List] = []
+        self._tracks: List[PublisherTrack] = []  # the one used last first
         self._skipped = 0
         self._typical = 0  # the last typical step a track knew: a new track's until it knows
 
     @property
     def lost(self) -> int:
         """Return the messages lost so far."""
-        return self._skipped + sum(track[2].lost for track in self._tracks)
+        return self._skipped + sum(track.gaps.lost for track in self._tracks)
 
     def take(self, sequence: int, stamp_ns: int, sent_ns: Optional[int] = None) -> None:
         """
@@ -214,36 +238,36 @@ class PublisherGaps:
         """
         tracks = self._tracks
         track = tracks[0] if tracks else None
-        if track is None or sequence != track[0] + 1 \
-                or abs(stamp_ns - track[1] - track[2].typical_ns) > LOSS_GAP_MAX_NS:
+        if track is None or sequence != track.last + 1 \
+                or abs(stamp_ns - track.last_stamp - track.gaps.typical_ns) > LOSS_GAP_MAX_NS:
             track = self._attribute(sequence, stamp_ns, sent_ns)
             if track is None:  # a new publisher (or one that restarted)
                 gaps = StampGaps(confirm=True)
                 gaps.take(stamp_ns)
-                tracks.insert(0, [sequence, stamp_ns, gaps, sequence, stamp_ns, None, sent_ns,
-                                  sent_ns, deque(maxlen=SEND_STEPS)])
+                tracks.insert(0, PublisherTrack(sequence, stamp_ns, gaps, sequence, stamp_ns,
+                                                last_sent=sent_ns, first_sent=sent_ns))
                 if len(tracks) > self.MAX_TRACKS:
                     self._retire(tracks.pop())
                 return
             tracks.remove(track)
             tracks.insert(0, track)
-        skipped = sequence - track[0] - 1
+        skipped = sequence - track.last - 1
         lost = skipped - self._detours(track, sequence) if skipped else 0
-        track[5] = (track[0], track[1])  # the message before: a glitched last stamp's check
-        if sent_ns is not None and track[6] is not None and not skipped \
-                and sent_ns >= track[6]:
-            step = sent_ns - track[6]
-            track[8].append(step)
-        track[0], track[1], track[6] = sequence, stamp_ns, sent_ns
-        if track[7] is None:
-            track[7] = sent_ns
+        track.before = (track.last, track.last_stamp)  # a glitched last stamp's check
+        if sent_ns is not None and track.last_sent is not None and not skipped \
+                and sent_ns >= track.last_sent:
+            step = sent_ns - track.last_sent
+            track.send_steps.append(step)
+        track.last, track.last_stamp, track.last_sent = sequence, stamp_ns, sent_ns
+        if track.first_sent is None:
+            track.first_sent = sent_ns
         if skipped:
             self._skipped += lost
-            track[2].resume(stamp_ns)
+            track.gaps.resume(stamp_ns)
         else:
-            track[2].take(stamp_ns)
+            track.gaps.take(stamp_ns)
 
-    def _detours(self, track: List, sequence: int) -> int:
+    def _detours(self, track: PublisherTrack, sequence: int) -> int:
         """
         Return the numbers a track skips up to ``sequence`` that other tracks hold whole.
 
@@ -254,15 +278,16 @@ class PublisherGaps:
         (and the losses it counted among them) are not this track's loss. (They were counted
         lost before: 4 messages stamped 5 s back read as 4 lost.)
         """
-        return sum(other[0] - other[3] + 1 for other in self._tracks
-                   if other is not track and track[0] < other[3] and other[0] < sequence)
+        return sum(other.last - other.first + 1 for other in self._tracks
+                   if other is not track and track.last < other.first and other.last < sequence)
 
     def _attribute(self, sequence: int, stamp_ns: int,
-                   sent_ns: Optional[int]) -> Optional[List]:
+                   sent_ns: Optional[int]) -> Optional[PublisherTrack]:
         """Return the track a message belongs to (see the class), None for a new one."""
         best, best_rank = None, None
         for track in self._tracks:
-            last, last_stamp, gaps, first, first_stamp, before = track[:6]
+            last, last_stamp, gaps = track.last, track.last_stamp, track.gaps
+            first, first_stamp, before = track.first, track.first_stamp, track.before
             if last >= sequence:
                 continue
             typical = gaps.typical_ns
@@ -270,8 +295,8 @@ class PublisherGaps:
                 self._typical = typical
             else:
                 typical = self._typical
-            sent = sent_ns is not None and track[6] is not None
-            if sent and sent_ns - track[6] < -SENT_SLACK_NS:
+            sent = sent_ns is not None and track.last_sent is not None
+            if sent and sent_ns - track.last_sent < -SENT_SLACK_NS:
                 continue  # a writer sends in order
             steps = sequence - last
             error = stamp_ns - last_stamp - steps * typical
@@ -293,24 +318,24 @@ class PublisherGaps:
                 best, best_rank = track, rank
         return best
 
-    def _retire(self, track: List) -> None:
+    def _retire(self, track: PublisherTrack) -> None:
         """Forget a track, keeping the messages its stamps counted lost."""
-        self._skipped += track[2].lost
+        self._skipped += track.gaps.lost
 
 
-def _sent_hurried(track: List, sequence: int, sent_ns: int) -> bool:
+def _sent_hurried(track: PublisherTrack, sequence: int, sent_ns: int) -> bool:
     """
     Return whether a track's writer would have sent the numbers it skipped in a hurry.
 
     In a hurry: at more than twice its typical pace (the median of its last consecutive send
     steps); most likely another writer's message.
     """
-    steps, skipped = sorted(track[8]), sequence - track[0] - 1
+    steps, skipped = sorted(track.send_steps), sequence - track.last - 1
     return bool(steps) and skipped > 0 and \
-        skipped * steps[len(steps) // 2] > 2 * max(sent_ns - track[6], 0)
+        skipped * steps[len(steps) // 2] > 2 * max(sent_ns - track.last_sent, 0)
 
 
-def _pace_deviation(track: List, stamp_ns: int, sent_ns: int) -> int:
+def _pace_deviation(track: PublisherTrack, stamp_ns: int, sent_ns: int) -> int:
     """
     Return how far (ns) a message's stamp is from where a track's pace puts it.
 
@@ -318,9 +343,9 @@ def _pace_deviation(track: List, stamp_ns: int, sent_ns: int) -> int:
     last (1 until its sends span ``PACE_SPAN_NS``), continued from its last message; a track
     silent for more than ``PACE_HORIZON_NS`` is as far as can be.
     """
-    elapsed = sent_ns - track[6]
+    elapsed = sent_ns - track.last_sent
     if elapsed > PACE_HORIZON_NS:
         return PACE_HORIZON_NS * PACE_BIN_NS  # no pace so far ahead: after any that has one
-    span = track[6] - track[7]
-    pace = (track[1] - track[4]) / span if span >= PACE_SPAN_NS else 1.0
-    return int(abs(stamp_ns - track[1] - pace * elapsed))
+    span = track.last_sent - track.first_sent
+    pace = (track.last_stamp - track.first_stamp) / span if span >= PACE_SPAN_NS else 1.0
+    return int(abs(stamp_ns - track.last_stamp - pace * elapsed))

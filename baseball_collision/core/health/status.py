@@ -23,15 +23,15 @@ RESETS_ERROR = 3
 """State resets within one diagnostics period that make the status ERROR (one makes WARN)."""
 
 NS_PER_S = 1_000_000_000
+"""Nanoseconds per second: the package's one definition (stamps are integer nanoseconds)."""
 
 
 class Level(enum.IntEnum):
-    """A status level, with the values of ``diagnostic_msgs/DiagnosticStatus``."""
+    """A status level, with the values of ``diagnostic_msgs/DiagnosticStatus`` (STALE unused)."""
 
     OK = 0
     WARN = 1
     ERROR = 2
-    STALE = 3
 
 
 Values = Tuple[Tuple[str, str], ...]
@@ -43,7 +43,7 @@ class HealthStatus:
     """
     One status: what ``/diagnostics`` says about the detector.
 
-    :ivar level: OK, WARN, ERROR (or STALE).
+    :ivar level: OK, WARN or ERROR.
     :ivar name: ``<node name>: impact detector``.
     :ivar message: one line: the state and the problems seen.
     :ivar hardware_id: what the status is about.

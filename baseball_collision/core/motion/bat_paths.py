@@ -193,8 +193,7 @@ class SplineBatPath(BatPath):
     within the interval, as a swing's does.
     """
 
-    __slots__ = ('knob', 'turn', 'turn_axis', 'across', 'direction0', 'direction1', 'length0',
-                 'length1')
+    __slots__ = ('knob', 'turn', 'across', 'direction0', 'direction1', 'length0', 'length1')
     kind = PathKind.TURNING
 
     def __init__(self, t0: float, t1: float, sample0: BatSample, sample1: BatSample,
@@ -209,27 +208,27 @@ class SplineBatPath(BatPath):
         self.lever = max(self.length0, self.length1)
         d0 = self.direction0 = scale(axis0, 1.0 / self.length0)
         d1 = self.direction1 = scale(axis1, 1.0 / self.length1)
-        self.turn, self.turn_axis, self.across = self._turning(d0, d1, before, after)
+        self.turn, self.across = self._turning(d0, d1, before, after)
         bulge = self.turn.bulge
         self.radius = self.radius + self.knob.bulge + self.lever * (
             (self.angle + 2.0 * bulge) ** 2 / 8.0 + 2.0 * bulge)
 
     def _turning(self, d0: Vector, d1: Vector, before: BatNeighbour,
-                 after: BatNeighbour) -> Tuple[AngleCubic, Vector, Vector]:
-        """Return the turning angle's cubic, the unit turn axis and the direction across."""
+                 after: BatNeighbour) -> Tuple[AngleCubic, Vector]:
+        """Return the turning angle's cubic and the direction across (d0 turned a right angle)."""
         t0, t1 = self.t0, self.t1
         turn = cross(d0, d1)
         sine = norm(turn)
         self.angle = math.atan2(sine, dot(d0, d1))
         if sine < 1e-12:  # no turn to speak of: the direction stays put
-            return AngleCubic(t0, t1, 0.0, self.angle), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+            return AngleCubic(t0, t1, 0.0, self.angle), (0.0, 0.0, 0.0)
         axis = scale(turn, 1.0 / sine)
         s0, s1 = self.sample0, self.sample1
         # the neighbours' turns about this interval's axis (rad)
         previous = (before[0], -dot(swing_between(before[1], s0), axis)) if before else None
         following = (after[0], self.angle + dot(swing_between(s1, after[1]), axis)) if after \
             else None
-        return (AngleCubic.through(t0, t1, 0.0, self.angle, previous, following), axis,
+        return (AngleCubic.through(t0, t1, 0.0, self.angle, previous, following),
                 cross(axis, d0))
 
     def _inside(self, t: float) -> Ends:

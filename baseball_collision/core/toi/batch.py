@@ -50,15 +50,27 @@ def _threads() -> 'ThreadPoolExecutor':
     return _pool
 
 
+def _as_floats(name: str, value: Union[float, ArrayLike]) -> np.ndarray:
+    """
+    Return ``value`` as a float64 array.
+
+    :raises CoreError: not numbers (a string, a ragged list, an object).
+    """
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as error:
+        raise CoreError(f'{name} must be numbers: {error}') from error
+
+
 def _as_points(name: str, value: ArrayLike) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
+    array = _as_floats(name, value)
     if array.ndim != 2 or array.shape[1] != 3:
         raise CoreError(f'{name} must have shape (N, 3), got {array.shape}')
     return array
 
 
 def _as_column(name: str, value: Union[float, ArrayLike], n: int) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
+    array = _as_floats(name, value)
     if array.ndim == 0:
         return np.full(n, float(array))
     if array.shape != (n,):
@@ -84,7 +96,8 @@ def time_of_impact_batch(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, ti
         path's ``time``, to the bit); NaN where there is no contact, and NaN for rows with
         non-finite values, negative radii or dt <= 0.
 
-    :raises CoreError: arrays of the wrong shape (rows are not checked by raising).
+    :raises CoreError: arguments that are not numbers, or arrays of the wrong shape (rows are
+        not checked by raising).
     """
     points = [_as_points(name, value) for name, value in (
         ('ball0', ball0), ('ball1', ball1), ('tip0', tip0), ('tip1', tip1),

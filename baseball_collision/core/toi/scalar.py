@@ -72,9 +72,12 @@ def closest_offset(ball0: Vector, ball1: Vector, tip0: Vector, tip1: Vector, kno
     The offset moves linearly over the interval, so its smallest value is in closed form (the
     kernel's broad phase, which bounds the gap from below with it).
 
-    :raises TypeError: a point that is not 3 finite numbers.
+    :raises CoreError: a point that is not 3 finite numbers.
     """
-    return _kernel.closest_offset(ball0, ball1, tip0, tip1, knob0, knob1)
+    try:
+        return _kernel.closest_offset(ball0, ball1, tip0, tip1, knob0, knob1)
+    except TypeError as error:
+        raise CoreError(f'closest_offset: {error}') from error
 
 
 def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
@@ -91,9 +94,13 @@ def profile_gap(ball: Vector, knob: Vector, tip: Vector, ball_radius: float,
     :returns: (gap in metres, negative when overlapping; unit normal from the bat axis to the
         ball centre; fraction along knob-tip of the nearest bat point: its place along the
         axis, within the first and last station).
-    :raises TypeError: a point that is not 3 numbers, a radius that is not a number.
+    :raises CoreError: a point that is not 3 numbers, a radius that is not a number, a
+        ``profile`` that is not a ``BatProfile``.
     """
-    return _kernel.profile_gap(ball, knob, tip, ball_radius, profile)
+    try:
+        return _kernel.profile_gap(ball, knob, tip, ball_radius, profile)
+    except (TypeError, ValueError, AttributeError) as error:
+        raise CoreError(f'profile_gap: {error}') from error
 
 
 def lowest_gap_place(ball0: Vector, ball1: Vector, knob0: Vector, knob1: Vector, tip0: Vector,
@@ -104,9 +111,12 @@ def lowest_gap_place(ball0: Vector, ball1: Vector, knob0: Vector, knob1: Vector,
     Each body moves on its chord (from its first point to its second). A golden-section search
     of ``profile_gap`` (40 steps) against both ends; of equal gaps, the earlier place.
 
-    :raises TypeError: as ``profile_gap``.
+    :raises CoreError: as ``profile_gap``.
     """
-    return _kernel.lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile)
+    try:
+        return _kernel.lowest_gap(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile)
+    except (TypeError, ValueError, AttributeError) as error:
+        raise CoreError(f'lowest_gap_place: {error}') from error
 
 
 def time_of_impact(ball0: ArrayLike, ball1: ArrayLike, tip0: ArrayLike, tip1: ArrayLike,

@@ -19,7 +19,8 @@ SQRT_HALF_PI = math.sqrt(0.5 * math.pi)
 SQRT_TWO = math.sqrt(2.0)
 SQRT_TWO_PI = math.sqrt(2.0 * math.pi)
 
-__all__ = ['TimeLike', 'Vector', 'check_vector', 'check_number', 'unit', 'as_times', 'erf']
+__all__ = ['TimeLike', 'Vector', 'check_vector', 'check_number', 'unit', 'as_times', 'erf',
+           'cubic_hermite']
 
 
 def check_vector(name: str, value: Sequence[float]) -> Vector:
@@ -73,3 +74,26 @@ def as_times(t: TimeLike) -> Tuple[np.ndarray, Tuple[int, ...]]:
 def erf(x: np.ndarray) -> np.ndarray:
     """Return the error function of every element of x (numpy has none)."""
     return np.fromiter((math.erf(v) for v in x), dtype=float, count=x.size)
+
+
+def cubic_hermite(s: np.ndarray, p0: np.ndarray, p1: np.ndarray, m0: np.ndarray,
+                  m1: np.ndarray, step: Union[float, np.ndarray],
+                  derivative: bool) -> np.ndarray:
+    """
+    Return cubic Hermite pieces (or their derivatives) at fractions of them: (n, columns).
+
+    The simulator's pitches and the reference splines evaluate their pieces with it.
+
+    :param s: (n, 1) where along each piece (0 at its start, 1 at its end).
+    :param p0, p1: (n, columns) the values at the pieces' ends.
+    :param m0, m1: (n, columns) the slopes at the ends times the pieces' lengths (per unit s).
+    :param step: the pieces' lengths (s): a number or (n, 1).
+    :param derivative: True: the rates (per second) instead of the values.
+    """
+    s2 = s * s
+    if derivative:
+        return ((6.0 * s2 - 6.0 * s) * (p0 - p1) + (3.0 * s2 - 4.0 * s + 1.0) * m0
+                + (3.0 * s2 - 2.0 * s) * m1) / step
+    s3 = s2 * s
+    return ((2.0 * s3 - 3.0 * s2 + 1.0) * p0 + (s3 - 2.0 * s2 + s) * m0
+            + (3.0 * s2 - 2.0 * s3) * p1 + (s3 - s2) * m1)

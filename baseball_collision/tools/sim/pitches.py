@@ -13,7 +13,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from .common import as_times, check_number, check_vector, TimeLike, Vector
+from .common import as_times, check_number, check_vector, cubic_hermite, TimeLike, Vector
 from ...errors import ToolError
 
 GRAVITY = 9.80665
@@ -217,15 +217,7 @@ class Pitch:
         s = (u - index)[:, None]
         p0, p1 = self._positions[index], self._positions[index + 1]
         m0, m1 = self._velocities[index] * self.step, self._velocities[index + 1] * self.step
-        s2 = s * s
-        if derivative:
-            out = ((6.0 * s2 - 6.0 * s) * (p0 - p1) + (3.0 * s2 - 4.0 * s + 1.0) * m0
-                   + (3.0 * s2 - 2.0 * s) * m1) / self.step
-        else:
-            s3 = s2 * s
-            out = ((2.0 * s3 - 3.0 * s2 + 1.0) * p0 + (s3 - 2.0 * s2 + s) * m0
-                   + (3.0 * s2 - 2.0 * s3) * p1 + (s3 - s2) * m1)
-        return out.reshape(shape + (3,))
+        return cubic_hermite(s, p0, p1, m0, m1, self.step, derivative).reshape(shape + (3,))
 
     def position(self, t: TimeLike) -> np.ndarray:
         """

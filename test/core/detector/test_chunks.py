@@ -179,10 +179,34 @@ def test_most_samples_skip_the_per_sample_path(monkeypatch: pytest.MonkeyPatch) 
     assert taken[0] > 0.5 * len(rows)  # (the rest: each pitch near the bat, the wraps)
 
 
-def test_points_go_sample_by_sample() -> None:
-    """Knob and tip input is not planned: still the same events."""
-    assert_same(DetectorConfig(model='rigid', bat_input='points'),
-                session(HEIGHTS[:2], bat_as='points'), (100, 1000))
+def test_points_fall_back_to_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    Knob and tip input is not planned: ``add_chunk`` is ``add`` in a loop, the same events.
+
+    The fall-back's check (no sample is fast-forwarded); the planned path on the same pitches
+    is the next test's.
+    """
+    calls = [0]
+    original = chunks_module.fast_forward
+
+    def counting(*args, **kwargs):  # type: ignore[no-untyped-def]
+        calls[0] += 1
+        return original(*args, **kwargs)
+    monkeypatch.setattr(chunks_module, 'fast_forward', counting)
+    events = assert_same(DetectorConfig(model='rigid', bat_input='points'),
+                         session(HEIGHTS[:2], bat_as='points'), (100, 1000))
+    assert calls[0] == 0
+    assert any(isinstance(e, Impact) for e in events)
+
+
+def test_the_same_pitches_with_a_pose_bat_take_the_array_path(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same two pitches and chunk sizes, the bat as poses: most samples taken on arrays."""
+    taken = count_taken(monkeypatch)
+    rows = session(HEIGHTS[:2])
+    events = assert_same(DetectorConfig(model='rigid', bat_input='pose'), rows, (100, 1000))
+    assert taken[0] > 0.5 * len(rows)
+    assert any(isinstance(e, Impact) for e in events)
 
 
 def predicting(model: str, period: float) -> DetectorConfig:
@@ -228,10 +252,10 @@ def test_prediction_planned_same_as_one_at_a_time(model: str, period: float,
     reaching: List[int] = []
     may_reach = Predictor._may_reach
 
-    def recording(self: Predictor, t0: float) -> bool:
-        result = may_reach(self, t0)
+    def recording(self: Predictor) -> bool:
+        result = may_reach(self)
         if result:
-            reaching.append(self.clock.stamp(t0))
+            reaching.append(self.last_ns)  # (the frame predicting: ``predict`` just set it)
         return result
     monkeypatch.setattr(Predictor, '_may_reach', recording)
     rows = session((1.0, 2.0, 1.3), spacing=2.0)

@@ -502,6 +502,9 @@ def test_a_stamp_that_is_not_integer_nanoseconds_is_refused() -> None:
         detector.set_bat_plan(np.array([BASE_NS, BASE_NS + 1_000_000]), np.zeros((2, 2)),
                               np.tile([0.0, 0.0, 0.0, 1.0], (2, 1)))
     detector.set_bat_plan(np.array([], dtype=np.int64), [], [])  # clears, as [] does
+    for stamps in (None, 7, [BASE_NS, None]):
+        with pytest.raises(CoreError, match='bad bat plan'):
+            detector.set_bat_plan(stamps, [], [])
 
 
 def test_a_frame_id_that_is_not_a_str_is_refused() -> None:

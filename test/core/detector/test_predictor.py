@@ -53,7 +53,7 @@ def test_a_plan_is_put_on_the_detector_clock_once() -> None:
 def test_no_prediction_for_a_ball_out_of_reach() -> None:
     """A ball 50 m away, still: not even searched; a prediction that ends is cleared once."""
     predictor = _predictor([(50.0, 0.0, 1.0)] * 4, [((0, 0, 1), (0, 0.86, 1))] * 4)
-    assert not predictor._may_reach(0.015)
+    assert not predictor._may_reach()
     events = []
     predictor.predict(0.015, True, events)
     assert events == []

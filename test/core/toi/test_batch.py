@@ -45,6 +45,17 @@ def test_batch_shape_errors_raise() -> None:
         time_of_impact_batch(*[np.zeros((2, 3))] * 6, 0.1, np.zeros(3))
 
 
+@pytest.mark.parametrize('position', [0, 2, 3])
+@pytest.mark.parametrize('value', ['abc', [[0.0, 0.0], [0.0]], [object()] * 3])
+def test_batch_arguments_that_are_not_numbers_raise_core_error(position: int, value) -> None:
+    """A string, a ragged list or objects for a point array or a radius: CoreError naming it."""
+    arguments = [np.zeros((2, 3))] * 6 + [0.1, 0.1]
+    arguments[position] = value
+    name = ('ball0', 'ball1', 'tip0', 'tip1', 'knob0', 'knob1', 'ball_radius')[position]
+    with pytest.raises(CoreError, match=f'{name} must be numbers'):
+        time_of_impact_batch(*arguments)
+
+
 def _agreement(points, ball_radius, bat_radius, dt) -> int:
     """Assert batch and scalar give the same time to the bit on every row; return contacts."""
     batch = time_of_impact_batch(*points, ball_radius, bat_radius, dt)

@@ -4,8 +4,8 @@ import math
 
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.toi import (
-    distance, ImpactResult, lowest_gap_place, profile_gap, time_of_impact, time_of_impact_batch,
-    time_of_impact_profile, TOUCH_TOLERANCE)
+    closest_offset, distance, ImpactResult, lowest_gap_place, profile_gap, time_of_impact,
+    time_of_impact_batch, time_of_impact_profile, TOUCH_TOLERANCE)
 from baseball_collision.errors import CoreError
 from hypothesis import assume, example, given, HealthCheck, settings, strategies as st
 import numpy as np
@@ -176,10 +176,10 @@ def test_ball_passing_beyond_the_tip_is_no_contact() -> None:
 
 @pytest.mark.parametrize('name, index', [(n, i) for i, n in enumerate(POINT_NAMES)])
 def test_non_finite_point_raises_naming_the_argument(name: str, index: int) -> None:
-    """A NaN or inf coordinate raises a ValueError that names the argument."""
+    """A NaN or inf coordinate raises a CoreError that names the argument."""
     args = [[0.5, 0.2, 0], [0.5, 0.2, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0], [0, 0, 0]]
     args[index] = [0.0, math.nan if index % 2 else math.inf, 0.0]
-    with pytest.raises(ValueError, match=name):
+    with pytest.raises(CoreError, match=name):
         time_of_impact(*args, 0.037, 0.033, 0.01)
 
 
@@ -402,8 +402,26 @@ def test_profile_gap_has_a_normal_even_on_the_axis() -> None:
                                         0.02, capsule)
     assert gap == pytest.approx(-0.05) and fraction == 0.5
     assert math.hypot(*normal) == pytest.approx(1.0) and abs(normal[0]) < 1e-12
-    with pytest.raises(TypeError, match='3 numbers'):
+    with pytest.raises(CoreError, match='3 numbers'):
         profile_gap((0.5, 0.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 0.02, capsule)
+
+
+def test_closest_offset_and_the_gap_calls_refuse_bad_input_with_core_error() -> None:
+    """A point that is not 3 numbers, a radius not a number, no profile: CoreError, by name."""
+    capsule = BatProfile.constant(0.03)
+    knob, tip = (0.0, 0.0, 0.0), (1.0, 0.0, 0.0)
+    with pytest.raises(CoreError, match='closest_offset'):
+        closest_offset((0.5, 0.0), (0.5, 0.1, 0.0), tip, tip, knob, knob)
+    with pytest.raises(CoreError, match='closest_offset'):
+        closest_offset((0.5, math.nan, 0.0), (0.5, 0.1, 0.0), tip, tip, knob, knob)
+    with pytest.raises(CoreError, match='profile_gap'):
+        profile_gap((0.5, 0.1, 0.0), knob, tip, 'big', capsule)
+    with pytest.raises(CoreError, match='profile_gap'):
+        profile_gap((0.5, 0.1, 0.0), knob, tip, 0.02, None)
+    with pytest.raises(CoreError, match='lowest_gap_place'):
+        lowest_gap_place(None, (0.5, 0.1, 0.0), knob, knob, tip, tip, 0.02, capsule)
+    with pytest.raises(CoreError, match='lowest_gap_place'):
+        lowest_gap_place(*[(0.5, 0.1, 0.0)] * 2, knob, knob, tip, tip, 0.02, 'wood')
 
 
 def _golden_place(ball0, ball1, knob0, knob1, tip0, tip1, ball_radius, profile) -> float:
