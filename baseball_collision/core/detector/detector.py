@@ -453,7 +453,7 @@ class Detector:
         for tp, knob, tip in pairing.pairs(self._config.max_gap):
             reason = self._accept_bat(tp, clock.stamp(tp), BatSample(knob=knob, tip=tip),
                                       events, self._lengths) or reason
-        pairing.trim(self._config.max_gap)
+        pairing.trim()
         return reason
 
     def _accept_bat(self, t: float, stamp: int, sample: BatSample, events: List[Event],

@@ -43,7 +43,7 @@ class Pairing:
                 pairs.append((t, knob_point, tip_point))
         return pairs
 
-    def trim(self, max_gap: float) -> None:
+    def trim(self) -> None:
         """
         Forget what no future pair needs: all but a few samples before the cursor.
 

@@ -56,7 +56,7 @@ def test_a_dead_tip_keeps_the_knob_short() -> None:
     for i in range(5000):
         pairing.knob.append(i * 0.001, 10 + i, (0.0, 0.0, 0.0), False)
         pairing.pairs(max_gap=0.05)
-        pairing.trim(max_gap=0.05)
+        pairing.trim()
         largest = max(largest, len(pairing.knob.times))
     assert largest < max(SILENT_AFTER * 1000, SILENT_KEEP) + 100
 
@@ -68,6 +68,6 @@ def test_a_tip_never_seen_keeps_the_knob_short() -> None:
     for i in range(6000):
         pairing.knob.append(i * 0.001, 10 + i, (0.0, 0.0, 0.0), False)
         pairing.pairs(max_gap=0.05)
-        pairing.trim(max_gap=0.05)
+        pairing.trim()
         largest = max(largest, len(pairing.knob.times))
     assert largest <= SILENT_KEEP + 1 and len(pairing.knob.times) < 3000
