@@ -33,7 +33,7 @@ from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Role
 from .intake import Offer
 from .noise import NoiseEstimate
-from .plans import Plan, plan_chunk, plannable, ROLE_CODES, usable
+from .plans import BALL, BAT_POSE, Plan, plan_chunk, plannable, ROLE_CODES, usable
 from .scheduler import Scheduler
 from .streams import Stream
 from ..motion import BatSample
@@ -49,12 +49,20 @@ PLAN_MAX = 512
 """Samples planned at once after a plan was overturned: a plan the per-sample path overturns
 (a drop) is made again for the rest, so a bound keeps that cost flat."""
 
-UNPLANNED_AFTER_ONE = 2
-"""Samples taken through ``add`` without a plan after a plan that ended at its first sample
-(which failed a check with room to spare: a step the intake may hold, on a jittered clock
-just after a gap). Such samples come in short runs; planning each cost a whole plan's fixed
-numpy calls (about a millisecond) for one sample: 134 of 295 plans on the worst-case bench
-bag. Either path gives the same events (the contract)."""
+PLAN_WORTH = 64
+"""A plan that took fewer samples than this (overturned, or ended by a sample it could not
+take) cost more than taking them through ``add`` (its fixed numpy calls, about a
+millisecond, against about 15 us a sample): after such a plan the next
+``Detector._unplanned_after`` samples go through ``add``, and that doubles up to
+``PLAN_MAX`` while plans keep ending so early, back to ``UNPLANNED_AFTER_EARLY`` once a plan
+goes further. Such plans come in runs: at each pitch's start the plans' checks turn away a
+few samples in a row (steps the intake may hold: 134 of 295 plans on the worst-case bench
+bag took one sample); a stream sent twice by a relay has every other sample a duplicate,
+each ending a plan (170 times slower than without: 118 s for 300k messages, now 7 s).
+Either path gives the same events (the contract)."""
+
+UNPLANNED_AFTER_EARLY = 16
+"""Samples taken through ``add`` after the first plan overturned early (``PLAN_WORTH``)."""
 
 PLAN_LONGEST = 8192
 """Samples planned at once at most: each plan taken whole doubles the next one's length from
@@ -156,13 +164,52 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
                         f'values, got {len(roles)}, {len(frame_ids)}, {values.shape}')
     chunk = (roles, stamps, values, frame_ids)
     events: List[Event] = []
+    # samples whose own stamp or values drop them change nothing but the counters: through
+    # ``add`` first, the last sample last, and the rest planned without them (each ended a
+    # plan: 1 % of a bat's frames lost as NaN made a session 8.6 times slower)
+    dropped = _dropped_alone(roles, stamps, values)
+    last = None
+    if dropped.any():
+        for k in np.flatnonzero(dropped).tolist():
+            if k == n - 1:
+                last = chunk
+            else:
+                _one(detector, chunk, k, events, drops)
+        kept = np.flatnonzero(~dropped)
+        roles, stamps, values = roles[kept], stamps[kept], values[kept]
+        frame_ids = [frame_ids[k] for k in kept.tolist()]
+        chunk, n = (roles, stamps, values, frame_ids), len(kept)
+    _planned(detector, chunk, n, events, drops)
+    if last is not None:
+        _one(detector, last, len(last[1]) - 1, events, drops)
+    return events
+
+
+def _dropped_alone(roles: np.ndarray, stamps: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """
+    Return which samples ``add`` drops for their own stamp or values, whatever came before.
+
+    A stamp not after 0 (``bad_stamp``), or a value that is not finite in the sample's
+    columns (three, seven for a bat pose): ``add`` drops it before the intake (as
+    ``bad_stamp``, ``unexpected_input`` or ``non_finite``), so the detector's state is what it
+    was but for its counters.
+    """
+    finite = np.isfinite(values[:, :3]).all(axis=1)
+    finite &= (roles != BAT_POSE) | np.isfinite(values[:, 3:]).all(axis=1)
+    return (stamps <= 0) | ~finite
+
+
+def _planned(detector: 'Detector', chunk: Tuple[Any, ...], n: int, events: List[Event],
+             drops: Optional[Counter]) -> None:
+    """Take a chunk's n samples in plans and through ``add`` (``feed_chunk``)."""
+    roles, stamps, values, frame_ids = chunk
     i, length, unplanned = 0, detector._plan_length, 0
     while i < n:
         if n - i < CHUNK_MIN or not plannable(detector.config):
             for k in range(i, n):
                 _one(detector, chunk, k, events, drops)
             break
-        if unplanned:  # (after a plan its first sample ended: the next alone, unplanned)
+        if unplanned:  # (after a short plan: ``PLAN_WORTH``)
             _one(detector, chunk, i, events, drops)
             i += 1
             unplanned -= 1
@@ -175,6 +222,14 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
+        first = roles[i]
+        stream = detector._ball if first == BALL else detector._bat if first == BAT_POSE else None
+        if stream is not None and (not stream.stamps or stamps[i] <= stream.stamps[-1]):
+            # out of order for its stream, or its first: the per-sample path says why (a plan
+            # would end before it: ``plans._increasing``)
+            _one(detector, chunk, i, events, drops)
+            i += 1
+            continue
         j = i + length
         plan = plan_chunk(detector.config, detector._offsets, detector._clock.origin,
                           intake.votes.frame, detector._ball, detector._bat,
@@ -182,20 +237,22 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
                           frame_ids[i:j], detector._predictor
                           if detector.config.prediction_horizon > 0.0 else None,
                           detector._noise, intake.newest)
-        if plan.n == 0:  # its first sample is out of order: the per-sample path says why
+        if plan.n == 0:  # its first sample fails a check: the per-sample path says why
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
         taken = _follow(detector, plan, chunk, i, events, drops)
         i += taken
-        if plan.n == 1 and not plan.checked[0]:
-            unplanned = UNPLANNED_AFTER_ONE
         if taken < plan.n:  # overturned
             length = PLAN_MAX
         elif taken == length:
             length = min(2 * length, PLAN_LONGEST)
         detector._plan_length = length  # (kept for the next chunk: a bag comes in many)
-    return events
+        if taken >= PLAN_WORTH or i >= n:
+            detector._unplanned_after = UNPLANNED_AFTER_EARLY
+        else:  # a short plan, overturned or cut short by a sample it could not take
+            unplanned = max(unplanned, detector._unplanned_after)
+            detector._unplanned_after = min(2 * detector._unplanned_after, PLAN_MAX)
 
 
 def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,

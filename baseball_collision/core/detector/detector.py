@@ -31,7 +31,7 @@ from dataclasses import replace
 import time
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
-from .chunks import feed_chunk, PLAN_MAX
+from .chunks import feed_chunk, PLAN_MAX, UNPLANNED_AFTER_EARLY
 from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
@@ -91,6 +91,7 @@ class Detector:
         self._pending: Optional[List[PendingUncertainty]] = [] if deferred_uncertainty else None
         self.stats = DetectorStats()
         self._plan_length = PLAN_MAX  # samples the next chunk plan covers (chunks.feed_chunk)
+        self._unplanned_after = UNPLANNED_AFTER_EARLY  # (after a plan overturned early)
         self._offsets: Tuple[Vector, Vector] = (
             tuple(float(x) for x in self._config.geometry.knob_offset),
             tuple(float(x) for x in self._config.geometry.tip_offset))
