@@ -13,6 +13,7 @@ import json
 import math
 import os
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -55,6 +56,7 @@ pytestmark = pytest.mark.ros
 SCRIPT = Path(sys.executable).parent / 'impact_node'
 CONFIG = REPO_ROOT / 'config' / 'impact_node.yaml'
 POINTS_CONFIG = REPO_ROOT / 'config' / 'impact_node_points.yaml'
+LAUNCH_FILE = REPO_ROOT / 'launch' / 'impact_node.launch.py'
 
 
 @pytest.fixture(scope='module')
@@ -565,6 +567,27 @@ def test_points_params_file_loads(harness: Callable[..., Harness]) -> None:
                                      'tip': '/mocap/bat_tip'}
 
 
+def test_params_files_and_the_launch_remappings_apply_under_a_namespace(
+        harness: Callable[..., Harness]) -> None:
+    """
+    The node under /cage2 (launch ``namespace:=cage2``) takes both shipped files (``/**``).
+
+    The remappings of the launch file's own example map its inputs there; a file named for
+    ``impact_node:`` alone, or ``/ball:=...``, matched only a node in the root namespace.
+    """
+    example = re.search(r'remappings:=(\S+)', LAUNCH_FILE.read_text()).group(1)
+    remappings = [word for pair in example.split(',') for word in ('-r', pair)]
+    h = harness(args=['-r', '__ns:=/cage2', '--params-file', str(CONFIG)] + remappings)
+    assert h.node.get_fully_qualified_name() == '/cage2/impact_node'
+    assert h.node.endpoints.topics == {'ball': '/mocap/ball', 'bat_pose': '/mocap/bat'}
+    points = harness(args=['-r', '__ns:=/cage2', '--params-file', str(POINTS_CONFIG)]).node
+    assert points.detector.config.bat_input == 'points'
+    assert points.detector.config.frame_id == 'mocap'
+    assert points.endpoints.topics == {'ball': '/cage2/mocap/ball',
+                                       'knob': '/cage2/mocap/bat_knob',
+                                       'tip': '/cage2/mocap/bat_tip'}
+
+
 def _env() -> Dict[str, str]:
     """Return the environment for a node process: this run's domain, host-only discovery."""
     env = dict(os.environ)
@@ -617,8 +640,8 @@ def test_console_script_loads_the_params_files_and_stops_on_ctrl_c() -> None:
             process.kill()
             process.wait()
         reader.join(timeout=5)
-    defaults = yaml.safe_load(CONFIG.read_text())['impact_node']['ros__parameters']
-    points = yaml.safe_load(POINTS_CONFIG.read_text())['impact_node']['ros__parameters']
+    defaults = yaml.safe_load(CONFIG.read_text())['/**']['ros__parameters']
+    points = yaml.safe_load(POINTS_CONFIG.read_text())['/**']['ros__parameters']
     expected = dict(defaults, **points, max_gap=1.0, diagnostics_period=0.2)
     assert set(got) == set(expected)
     for name, value in expected.items():
