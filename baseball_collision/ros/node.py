@@ -200,7 +200,15 @@ class ImpactNode(Node):
     # ---- input ---------------------------------------------------------------------------
 
     def _on_plan(self, message: Path) -> None:
-        """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
+        """
+        Take a commanded bat trajectory (stamped poses) for the predictions; empty clears.
+
+        Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses, a frame other than the
+        tracking frame (the configured ``frame_id``, else the trackers'), a frame named before
+        any tracking frame is known (``frame_id`` '' and no sample yet: it cannot be checked),
+        or values the core refuses. A plan naming no frame is taken as in the tracking frame,
+        as samples are.
+        """
         if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
             if self._log_throttle.allows('plan_size'):
                 self._lines.warning(
@@ -210,7 +218,10 @@ class ImpactNode(Node):
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
             expected = self.detector.frame_id
-            if expected is not None and frames - {expected}:
+            if expected is None and frames and stamps:
+                reason = (f'frame {sorted(frames)} cannot be checked: no tracking frame is known '
+                          'yet (set frame_id, or send the plan once the trackers stream)')
+            elif expected is not None and frames - {expected}:
                 reason = f'frame {sorted(frames)} is not the tracking frame {expected!r}'
             else:
                 try:

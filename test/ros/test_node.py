@@ -748,11 +748,44 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
 def make_plan_harness(make: Callable[..., Harness]) -> Harness:
     """Return a started pose harness with a plan publisher, a 0.3 s horizon, every frame."""
     h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan',
-              'prediction_period': 0.0})  # every frame: the scene's ball is tracked ~30 ms
+              'prediction_period': 0.0,  # every frame: the scene's ball is tracked ~30 ms
+              'frame_id': 'world'})  # a plan before the first sample is checked against it
     h.publisher(PointStamped, 'ball')
     h.publisher(PoseStamped, 'bat_pose')
     h.publisher(PathMsg, 'bat_plan')
     return h.start()
+
+
+def test_a_plan_in_a_frame_before_any_tracking_frame_is_refused(
+        harness: Callable[..., Harness]) -> None:
+    """
+    frame_id '': a plan naming a frame before any sample is refused with a WARN, not used.
+
+    Its frame cannot be checked yet (it was taken, and used in whatever frame the trackers then
+    sent); with ``frame_id`` set, the same plan in that frame is taken at once.
+    """
+    plan = PathMsg()
+    plan.header.frame_id = 'base_link'
+    plan.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3), frame='base_link')
+                  for i in range(5)]
+    h = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan'})
+    h.publisher(PathMsg, 'bat_plan')
+    listen_to_rosout(h.start())
+    h.publishers['bat_plan'].publish(plan)
+
+    def warned() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.level == LogMsg.WARN
+                and record.msg.startswith('ignored a bat plan on /bat_plan: ')]
+    h.wait(warned, 5.0, "the plan's WARN")
+    assert "frame ['base_link']" in warned()[0].msg
+    assert 'no tracking frame is known yet' in warned()[0].msg
+    assert h.node.detector._predictor.plan is None
+    configured = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan',
+                          'frame_id': 'base_link'})
+    configured.publisher(PathMsg, 'bat_plan')
+    configured.start().publishers['bat_plan'].publish(plan)
+    configured.wait(lambda: configured.node.detector._predictor.plan is not None, 5.0,
+                    'the plan taken in the configured frame')
 
 
 # ----------------------------------------------------------------------------------------------
