@@ -30,7 +30,9 @@ events come back out as messages:
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, messages estimated lost, drops by
   reason, events and resets, processing time and the state (waiting for data, tracking, stale,
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
-* ``~/reset`` (std_srvs/Trigger): clears the detector state.
+* ``~/reset`` (std_srvs/Trigger): clears the detector state, the bat plan included (the reply,
+  and on other state resets an INFO line, says when a plan in force was dropped: its topic is
+  volatile, the arm must send it again).
 
 Every callback survives the package's own failure (a bug): an ERROR with the traceback (the
 first; later ones throttled), ``internal_errors`` in ``/diagnostics``, and the failed call's work
@@ -132,6 +134,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
+        self._plan: Optional[Tuple[int, int]] = None  # the plan in force: first, last stamp (ns)
         self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
@@ -226,6 +229,7 @@ class ImpactNode(Node):
             else:
                 try:
                     self.detector.set_bat_plan(stamps, positions, quaternions)
+                    self._plan = (stamps[0], stamps[-1]) if stamps else None
                     return
                 except CoreError as error:
                     reason = str(error)
@@ -264,6 +268,8 @@ class ImpactNode(Node):
                 kind, where = event.__class__, frame or expected or ''
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
+                    if self._forget_plan():
+                        self._say_plan_dropped(event.reason)
                 if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
                         self._point_cdr(event.stamp_ns, where, event.point))
@@ -293,7 +299,8 @@ class ImpactNode(Node):
         as on ``~/reset``; the sample and the pitch it was in are lost. (Called under the node's
         lock; ``analyze`` stops on the same error instead.)
         """
-        self._reset_locked(ResetReason.DETECTOR_ERROR, stamp_ns)
+        if self._reset_locked(ResetReason.DETECTOR_ERROR, stamp_ns)[2]:
+            self._say_plan_dropped(ResetReason.DETECTOR_ERROR)
         self._failed(f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} '
                      's', 'its state was reset', error)
 
@@ -452,9 +459,14 @@ class ImpactNode(Node):
     # ---- services and clock --------------------------------------------------------------
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
-        """Serve ~/reset: clear the detector state (counters are kept); fails only on a bug."""
+        """
+        Serve ~/reset: clear the detector state (counters are kept); fails only on a bug.
+
+        The bat plan goes with the state: the reply says when one was in force (the plan topic
+        is volatile, so the arm must send it again).
+        """
         try:
-            stamp_ns, resets = self._reset('requested')
+            stamp_ns, resets, plan_dropped = self._reset('requested')
         except Exception as error:  # the package's own failure: the caller is told
             self._failed('the reset requested on ~/reset failed', 'it was refused', error)
             response.success = False
@@ -463,16 +475,23 @@ class ImpactNode(Node):
         response.success = True
         when = f'at {format_stamp(stamp_ns)} s' if stamp_ns else 'before any sample'
         response.message = (f'detector state cleared {when} (buffers, armed state, open near '
-                            f'miss; counters kept; {resets} resets so far)')
+                            f'miss, bat plan; counters kept; {resets} resets so far)')
+        if plan_dropped:
+            response.message += f'; {self._plan_dropped_text()}'
         self.get_logger().info(f'reset requested: {response.message}')
         return response
 
-    def _reset(self, reason: str) -> Tuple[int, int]:
-        """Clear the detector state and the live values; return its stamp (ns) and resets."""
+    def _reset(self, reason: str) -> Tuple[int, int, bool]:
+        """
+        Clear the detector state and the live values.
+
+        :returns: the reset's stamp (ns), the resets so far, and whether a bat plan in force
+            was dropped with the state.
+        """
         with self._lock:
             return self._reset_locked(reason)
 
-    def _reset_locked(self, reason: str, stamp_ns: int = 0) -> Tuple[int, int]:
+    def _reset_locked(self, reason: str, stamp_ns: int = 0) -> Tuple[int, int, bool]:
         """
         ``_reset`` with the node's lock held by the caller.
 
@@ -482,7 +501,21 @@ class ImpactNode(Node):
         event = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns, reason)
         self._set_predicting(False)
         self._clear_markers(event.stamp_ns, frame)
-        return event.stamp_ns, self.detector.stats.resets
+        return event.stamp_ns, self.detector.stats.resets, self._forget_plan()
+
+    def _forget_plan(self) -> bool:
+        """Forget the bat plan after a state reset (the detector's went too); True if one was."""
+        in_force, self._plan = self._plan is not None, None
+        return in_force
+
+    def _plan_dropped_text(self) -> str:
+        """Return the sentence saying that the bat plan in force was dropped, and what to do."""
+        return (f'the bat plan in force was dropped: send it again on '
+                f'{self._plan_sub.topic_name} (the topic is volatile)')
+
+    def _say_plan_dropped(self, reason: str) -> None:
+        """Log, once at INFO, that a state reset for ``reason`` dropped the bat plan in force."""
+        self._lines.info(f'state reset ({reason}): {self._plan_dropped_text()}')
 
     def _clear_markers(self, stamp_ns: int, frame: str) -> None:
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
@@ -510,11 +543,13 @@ class ImpactNode(Node):
             return
         if jump.delta.nanoseconds >= 0:
             return
-        self._reset('time_jump_backwards')
+        plan_dropped = self._reset('time_jump_backwards')[2]
         self._clock_jump_at = time.monotonic()
         self._lines.warning(
             f'the ROS clock jumped back by {-jump.delta.nanoseconds * 1e-9:.3f} s (replay '
             'restarted?): detector state reset')
+        if plan_dropped:
+            self._say_plan_dropped('time_jump_backwards')
 
     # ---- parameters at runtime, diagnostics ----------------------------------------------
 

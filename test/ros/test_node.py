@@ -482,6 +482,42 @@ def test_every_callback_survives_its_own_failure_counted_in_diagnostics(
     assert node.tally.failures == 5
 
 
+def test_a_state_reset_says_it_dropped_the_bat_plan(harness: Callable[..., Harness]) -> None:
+    """
+    ~/reset and a clock jump drop the bat plan with the state, and say so: the topic is volatile.
+
+    ~/reset's reply names the plan when one was in force (not on a reset without one); the
+    clock jump's reset says it in one INFO line.
+    """
+    h = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan', 'frame_id': 'world',
+                 'use_sim_time': True, 'time_jump_reset': 0.5})
+    h.publisher(PathMsg, 'bat_plan')
+    listen_to_rosout(h.start())
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    plan.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3)) for i in range(5)]
+    predictor = h.node.detector._predictor
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: predictor.plan is not None, 5.0, 'the plan taken')
+    reply = h.call(Trigger, '/impact_node/reset', Trigger.Request()).message
+    assert h.node.detector._predictor.plan is None
+    assert 'the bat plan in force was dropped: send it again on /bat_plan' in reply
+    assert 'dropped' not in h.call(Trigger, '/impact_node/reset', Trigger.Request()).message
+    predictor = h.node.detector._predictor
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: predictor.plan is not None, 5.0, 'the plan taken again')
+    clock = h.probe.create_publisher(ClockMsg, '/clock', RELIABLE)
+    h.wait(lambda: clock.get_subscription_count() > 0, 5.0, '/clock matched')
+    clock.publish(ClockMsg(clock=stamp(100 * 10**9)))
+    h.wait(lambda: h.node.get_clock().now().nanoseconds == 100 * 10**9, 3.0, 'sim time')
+    clock.publish(ClockMsg(clock=stamp(50 * 10**9)))
+    h.wait(lambda: any(
+        record.level == LogMsg.INFO and record.msg.startswith(
+            'state reset (time_jump_backwards): the bat plan in force was dropped: send it '
+            'again on /bat_plan') for record in h.received['rosout']), 5.0, 'the INFO line')
+    assert h.node.detector._predictor.plan is None
+
+
 def test_ros_clock_jump_back_resets_with_a_warning(harness: Callable[..., Harness]) -> None:
     """use_sim_time: /clock jumping back beyond time_jump_reset resets the detector."""
     h = swing_harness(harness, 'pose', {'use_sim_time': True, 'time_jump_reset': 0.5})
