@@ -15,7 +15,7 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched).
+  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -138,6 +138,7 @@ class ImpactNode(Node):
         self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
+        self._contact_ns: Optional[int] = None  # a contact solved in the add being taken
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
         self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
@@ -250,6 +251,7 @@ class ImpactNode(Node):
         frame = header.frame_id
         with self._lock:
             self._frame = frame  # (``_on_contact``'s, inside the add below)
+            self._contact_ns = None
             self.tally.arrived(stream, time.monotonic())
             self.tally.stamped(stream, stamp, sequence, sent)
             try:
@@ -273,7 +275,9 @@ class ImpactNode(Node):
                 if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
                         self._point_cdr(event.stamp_ns, where, event.point))
-                    self._set_predicting(True)
+                    contact = self._contact_ns  # (one made before a contact solved since: off)
+                    if contact is None or event.made_at_ns >= contact:
+                        self._set_predicting(True)
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(self._twist_cdr(
                         event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))
@@ -343,10 +347,16 @@ class ImpactNode(Node):
 
         Inside ``_take``'s ``add``, before the impact's velocities are fitted: its message's
         stamp and point are the impact's; ``~/impact_velocity`` follows once it is returned.
+        ``~/impact_predicted`` turns false right after it: the contact came (the detector's
+        ``PredictionCleared`` comes only at its next frame that predicts, up to
+        ``prediction_period`` later). A prediction the same ``add`` returns that was made before
+        the contact does not turn it on again.
         """
         self._outputs['impact'].publish(self._point_cdr(
             stamp_ns, self._frame or self.detector.frame_id or '', point))
         self.tally.last_impact_ns = stamp_ns
+        self._contact_ns = stamp_ns
+        self._set_predicting(False)
 
     def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
         """Return an input's executor callback: ``on_message`` (and the drain), then reports."""

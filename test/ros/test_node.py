@@ -725,6 +725,23 @@ def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Har
     assert [m.data for m in h.received['predicting']][-2:] == [True, False]
 
 
+def test_an_impact_turns_the_prediction_off_at_once(harness: Callable[..., Harness],
+                                                    truth_ns: int) -> None:
+    """
+    ~/impact_predicted turns false with the ~/impact, not at the next frame that predicts.
+
+    With ``prediction_period`` 0.01 the frame of the contact does not predict and the next
+    one is never sent: ``PredictionCleared`` never comes (``stale_timeout`` is far off).
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'prediction_period': 0.01,
+                                        'stale_timeout': 30.0})
+    contact = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) + 1  # the first frame after it
+    h.processed(publish_swing(h, 'pose', pitch(), samples=range(contact + 1)))
+    h.wait(lambda: h.received['impact'], 5.0, 'the impact')
+    assert any(message.data for message in h.received['predicting'])
+    h.wait(lambda: not h.received['predicting'][-1].data, 5.0, 'the prediction withdrawn')
+
+
 @pytest.mark.parametrize('ended_by', ['silence', 'prediction_off'])
 def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
         harness: Callable[..., Harness], truth_ns: int, ended_by: str) -> None:
