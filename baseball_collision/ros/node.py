@@ -15,7 +15,8 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``).
+  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, or once
+  a stream went ``max_gap`` past the predicted instant without one).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -134,6 +135,7 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
+        self._predicted_ns = 0  # the instant (ns) of the last prediction
         self._plan: Optional[Tuple[int, int]] = None  # the plan in force: first, last stamp (ns)
         self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
@@ -263,6 +265,7 @@ class ImpactNode(Node):
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
             expected = self.detector.frame_id
+            previous = self._last_values.get(stream)
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
             pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
@@ -278,6 +281,7 @@ class ImpactNode(Node):
                     contact = self._contact_ns  # (one made before a contact solved since: off)
                     if contact is None or event.made_at_ns >= contact:
                         self._set_predicting(True)
+                        self._predicted_ns = event.stamp_ns
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(self._twist_cdr(
                         event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))
@@ -286,6 +290,8 @@ class ImpactNode(Node):
                     self._publish(event_output(event, where, self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
                     self._to_complete.append((event, where, self.detector.config))
+            if self._predicting and previous is not None:
+                self._withdraw_a_passed_prediction(stream, stamp, previous[0])
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -626,6 +632,27 @@ class ImpactNode(Node):
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
+
+    def _withdraw_a_passed_prediction(self, stream: str, stamp_ns: int, previous_ns: int) -> None:
+        """
+        Turn ``~/impact_predicted`` false once a stream went ``max_gap`` past its instant.
+
+        Called under the node's lock after a sample of ``stream`` stamped ``stamp_ns`` (ns), its
+        previous one taken being ``previous_ns``. When one stream stops before the predicted
+        contact (the tracker lost the ball) the detector decides nothing more, as it works up
+        to the older stream's newest sample, and the flag stayed true until ``stale_timeout``
+        (checked every ``diagnostics_period``: a second or two by default) ended it. Now it
+        turns false when a stream has taken two samples more than ``max_gap`` past the
+        predicted instant: no contact can be solved there any longer should the stopped
+        stream's next sample come later still (a gap beyond ``max_gap`` is never interpolated),
+        and a working tracker's sample is not that late; the second sample, because a lone
+        stamp glitched ahead waits for the next one (``stamp_ahead``) and is no proof. The
+        detector's prediction is left as it is.
+        """
+        if self._last_values.get(stream, (None,))[0] != stamp_ns:
+            return  # not taken, or a state reset since
+        if previous_ns - self._predicted_ns > round(self.detector.config.max_gap * NS_PER_S):
+            self._set_predicting(False)
 
     def _withdraw_a_silent_prediction(self) -> None:
         """

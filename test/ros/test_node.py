@@ -765,6 +765,30 @@ def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
     assert not h.received['impact']
 
 
+def test_a_prediction_is_withdrawn_once_the_bat_stream_passed_it(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    The ball is lost 8 ms before the predicted contact, the bat streams on: the flag turns false.
+
+    Once the bat's samples are ``max_gap`` past the predicted instant (``stale_timeout``, which
+    ended it before, is far off here).
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
+    lost = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3  # the ball's last frame, ~8 ms before
+    sent = 0
+    for i in range(SAMPLES):  # 0.2 s of bat: far beyond the contact and max_gap (0.05 s)
+        t = i / RATE_HZ
+        if i <= lost:
+            h.publishers['ball'].publish(point_msg(sample_ns(i), pitch()(t)))
+            sent += 1
+        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(t)))
+        sent += 1
+    h.processed(sent)
+    assert any(message.data for message in h.received['predicting'])
+    h.wait(lambda: not h.received['predicting'][-1].data, 5.0, 'the prediction withdrawn')
+    assert not h.received['impact']
+
+
 def test_start_up_objects_are_frozen_out_of_the_collections() -> None:
     """freeze_start_up keeps what lives now out of later collections; new objects stay in."""
     kept = [object()]  # a container: tracked by the collector
