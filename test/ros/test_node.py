@@ -311,6 +311,29 @@ def test_incompatible_qos_is_reported(harness: Callable[..., Harness]) -> None:
     assert status.level >= DiagnosticStatus.WARN and 'incompatible' in status.message
 
 
+def test_a_silent_inputs_incompatible_qos_stays_named_in_diagnostics(
+        harness: Callable[..., Harness]) -> None:
+    """
+    The stale /ball names its best-effort publisher's QoS in every status, not only the first.
+
+    The period that caught the QoS event says 'incompatible QoS or type on a topic'; the ones
+    after it said only '/ball (no data since start)'.
+    """
+    h = harness({'qos': 'reliable', 'stale_timeout': 0.3})
+    h.probe.create_publisher(PointStamped, 'ball', QoSProfile(
+        depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    h.start()
+    h.wait(lambda: h.node.tally.incompatible > 0, 3.0, 'the incompatible QoS event')
+
+    def later_stale() -> List[DiagnosticStatus]:
+        return [status for array in h.received['diagnostics'] for status in array.status
+                if values(status)['state'] == 'stale' and 'on a topic' not in status.message]
+    h.wait(lambda: len(later_stale()) >= 2, 5.0, 'two stale statuses after the event')
+    for status in later_stale():
+        assert ('/ball (no data since start, incompatible QoS: Best effort publisher and '
+                'reliable subscription)') in status.message, status.message
+
+
 # ----------------------------------------------------------------------------------------------
 # services, clock and parameters
 
