@@ -177,10 +177,11 @@ class ImpactNode(Node):
                               self._guarded(self._publish_live_markers,
                                             'publishing the live markers'), clock=steady)
         self._register_clock_jump()
+        plan = getattr(self, '_plan_sub', None)
         self.get_logger().info(describe_listening(
             self.settings.values, self.endpoints.topics,
-            [self._outputs[name].topic_name
-             for name in ('impact', 'impact_velocity', 'near_miss', 'markers')]))
+            [publisher.topic_name for publisher in self._outputs.values()],
+            None if plan is None else plan.topic_name))
 
     # ---- I/O -----------------------------------------------------------------------------
 

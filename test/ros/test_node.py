@@ -845,6 +845,20 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
         assert abs(stamp_ns(message) - truth_ns) < 500_000
 
 
+def test_the_start_up_line_lists_every_topic(harness: Callable[..., Harness]) -> None:
+    """'listening:' names the bat plan's subscription and every topic the node publishes."""
+    h = make_plan_harness(harness)
+    listen_to_rosout(h)
+    h.wait(lambda: any(record.msg.startswith('listening: ') for record in h.received['rosout']),
+           5.0, 'the start-up line')
+    line = next(r.msg for r in h.received['rosout'] if r.msg.startswith('listening: '))
+    assert '; bat plans Path on /bat_plan;' in line
+    published = line.split('; publishing ')[1].split(', ')
+    assert published == [f'/impact_node/{name}' for name in (
+        'predicted_impact', 'impact_predicted', 'impact', 'impact_velocity', 'near_miss',
+        'impact_report', 'markers')] + ['/diagnostics']
+
+
 def make_plan_harness(make: Callable[..., Harness]) -> Harness:
     """Return a started pose harness with a plan publisher, a 0.3 s horizon, every frame."""
     h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan',
