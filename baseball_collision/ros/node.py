@@ -240,6 +240,22 @@ class ImpactNode(Node):
         if self._log_throttle.allows('plan'):
             self._lines.warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}')
 
+    def _warn_plan_unused(self, made_at_ns: int) -> None:
+        """
+        Warn (throttled) that a prediction made at ``made_at_ns`` extrapolated the bat.
+
+        A plan was in force, but the detector takes it only when its last pose is after the
+        instant the prediction starts from (``Prediction.planned`` says whether it did): a
+        plan that ended before it, or stamped on another clock than the trackers'.
+        """
+        if self._log_throttle.allows('plan_unused'):
+            first, last = self._plan
+            self._lines.warning(
+                f'the bat plan on {self._plan_sub.topic_name} ({format_stamp(first)} to '
+                f'{format_stamp(last)} s) was not used: the prediction made at '
+                f'{format_stamp(made_at_ns)} s extrapolated the bat, the plan ending before '
+                "it (stamp the plan on the trackers' clock, over the coming swing)")
+
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
               *values: Any, sequence: Optional[int] = None,
               sent: Optional[int] = None) -> None:
@@ -279,6 +295,8 @@ class ImpactNode(Node):
                 if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
                         self._point_cdr(event.stamp_ns, where, event.point))
+                    if not event.planned and self._plan is not None:
+                        self._warn_plan_unused(event.made_at_ns)
                     contact = self._contact_ns  # (one made before a contact solved since: off)
                     if contact is None or event.made_at_ns >= contact:
                         self._set_predicting(True)

@@ -845,6 +845,33 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
         assert abs(stamp_ns(message) - truth_ns) < 500_000
 
 
+def test_a_plan_the_predictions_cannot_use_is_warned_about(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    A plan stamped 5 s before the trackers' clock: the predictions extrapolate, and a WARN says so.
+
+    The detector takes a plan only where its poses reach past a prediction's start
+    (``Prediction.planned``); it was ignored without a word.
+    """
+    h = make_plan_harness(harness)
+    listen_to_rosout(h)
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    plan.poses = [pose_msg(BASE_NS - 5 * 10**9 + i * 1_000_000, *pose(i * 1e-3))
+                  for i in range(0, 200, 5)]
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: h.node.detector._predictor.plan is not None, 3.0, 'the plan taken')
+    early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3)
+    h.processed(publish_swing(h, 'pose', pitch(), samples=early))
+    h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')
+
+    def warned() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.level == LogMsg.WARN
+                and record.msg.startswith('the bat plan on /bat_plan (')]
+    h.wait(warned, 5.0, "the unused plan's WARN")
+    assert 'was not used: the prediction made at ' in warned()[0].msg
+
+
 def test_the_start_up_line_lists_every_topic(harness: Callable[..., Harness]) -> None:
     """'listening:' names the bat plan's subscription and every topic the node publishes."""
     h = make_plan_harness(harness)
