@@ -4,10 +4,13 @@ Launch ``impact_node`` with its parameters file from the package's share directo
     ros2 launch baseball_collision impact_node.launch.py
     ros2 launch baseball_collision impact_node.launch.py \
         params_file:=/path/to/my_params.yaml use_sim_time:=true namespace:=cage2 \
-        log_level:=debug remappings:=/ball:=/mocap/ball,/bat_pose:=/mocap/bat
+        log_level:=debug remappings:=ball:=/mocap/ball,bat_pose:=/mocap/bat
 
 ``config/impact_node_points.yaml`` (installed beside the default) is the knob + tip example.
-``remappings`` is a comma-separated list of ``FROM:=TO`` (topic or service names).
+Both files name their section ``/**``, so they apply under any ``namespace``.
+``remappings`` is a comma-separated list of ``FROM:=TO`` (topic or service names). Write
+``FROM`` as the node names it: a relative name (``ball``) is expanded in the node's namespace
+and matches ``/cage2/ball``; an absolute ``/ball`` matches only a node in the root namespace.
 """
 
 from typing import List, Tuple
@@ -26,7 +29,7 @@ ARGUMENTS = (  # name, default, description (params_file's default is the share'
     ('use_sim_time', 'false', 'Follow /clock (bag replay) instead of the system clock'),
     ('namespace', '', 'Namespace of the node (its ~/ topics and relative topic names)'),
     ('log_level', 'info', 'Log level: debug, info, warn, error or fatal'),
-    ('remappings', '', 'Comma-separated FROM:=TO remappings, e.g. /ball:=/mocap/ball'),
+    ('remappings', '', 'Comma-separated FROM:=TO remappings, e.g. ball:=/mocap/ball'),
 )
 
 

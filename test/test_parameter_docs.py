@@ -22,7 +22,7 @@ README = REPO_ROOT / 'README.md'
 
 
 def _parameters(path) -> Dict[str, object]:
-    return yaml.safe_load(path.read_text())['impact_node']['ros__parameters']
+    return yaml.safe_load(path.read_text())['/**']['ros__parameters']
 
 
 def _commented_lines() -> List[Tuple[str, str, bool]]:

@@ -5,7 +5,7 @@ ROS delivers nothing between endpoints whose QoS or message types do not match, 
 only through event callbacks. :class:`Endpoints` creates the node's publishers and
 subscriptions with those callbacks: each mismatch is warned about, naming the topic, the side
 and the policy (or both types), and counted in the diagnostics tally; and it tells why a silent
-input may be silent (no publisher, or one of another type).
+input may be silent (no publisher, one of another type, or of incompatible QoS), every time.
 """
 
 from typing import Any, Callable, Dict, Sequence, Set, Tuple
@@ -13,7 +13,9 @@ from typing import Any, Callable, Dict, Sequence, Set, Tuple
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.exceptions import InvalidTopicNameException
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import (
+    DurabilityPolicy, HistoryPolicy, qos_check_compatible, QoSCompatibility, QoSProfile,
+    ReliabilityPolicy)
 from rclpy.qos_overriding_options import QoSOverridingOptions
 
 from .diagnostics import Tally
@@ -50,6 +52,7 @@ class Endpoints:
         self._tally = tally
         self.topics: Dict[str, str] = {}
         self.types: Dict[str, str] = {}
+        self._subscriptions: Dict[str, Any] = {}
         self._type_warned: Set[Tuple[str, Tuple[str, ...]]] = set()
 
     def advertise(self, msg_type: Any, topic: str, qos: QoSProfile) -> Any:
@@ -85,10 +88,16 @@ class Endpoints:
             first = str(error).splitlines()[0].rstrip(':')
             raise RosError(f'{stream} topic {topic!r}: {first}') from error
         self.topics[stream] = subscription.topic_name
+        self._subscriptions[stream] = subscription
         return subscription
 
     def silence(self, stream: str) -> str:
-        """Return why an input may be silent: no publisher, one of another type, or ''."""
+        """
+        Return why an input may be silent: no publisher, one of another type or QoS, or ''.
+
+        Asked of the graph each time, so the reason stays in every status while it holds (the
+        QoS event that warned about a mismatch comes once).
+        """
         infos = self._node.get_publishers_info_by_topic(self.topics[stream])
         if not infos:
             return 'no publisher'
@@ -96,7 +105,16 @@ class Endpoints:
         if others:
             self._incompatible_type(stream, others)
             return f"publisher of {', '.join(others)}, expected {self.types[stream]}"
-        return ''
+        ours = self._subscriptions[stream].qos_profile
+        reasons = []
+        for info in infos:
+            compatibility, reason = qos_check_compatible(info.qos_profile, ours)
+            if compatibility == QoSCompatibility.ERROR:
+                reasons.append(reason.removeprefix('ERROR:').strip().rstrip(';'))
+        if not reasons:
+            return ''
+        some = f' ({len(reasons)} of {len(infos)} publishers)' if len(reasons) < len(infos) else ''
+        return f"incompatible QoS{some}: {'; '.join(sorted(set(reasons)))}"
 
     def _incompatible_qos(self, topic: str, role: str, info: Any) -> None:
         """Warn that an endpoint on ``topic`` has QoS incompatible with ours, naming the policy."""

@@ -128,12 +128,13 @@ def describe_near_miss(miss: NearMiss) -> str:
 
 
 def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
-                       published: Sequence[str]) -> str:
+                       published: Sequence[str], plan_topic: Optional[str] = None) -> str:
     """
     Return the node's start-up line: what it reads, from where, and what it publishes.
 
     :param settings: the node's parameter values; ``topics``: each input stream's resolved
-        topic; ``published``: the resolved event and marker topics.
+        topic; ``published``: every topic the node publishes (resolved); ``plan_topic``: the
+        bat plan's resolved topic (None: not subscribed).
     """
     if settings['bat_input'] == 'pose':
         bat = f"bat PoseStamped on {topics['bat_pose']} (axis {settings['bat_axis']})"
@@ -141,8 +142,9 @@ def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
         bat = f"bat knob and tip PointStamped on {topics['knob']} and {topics['tip']}"
     kind = 'PointStamped' if settings['ball_type'] == 'point' else 'PoseStamped'
     frame = repr(settings['frame_id']) if settings['frame_id'] else 'the first every input sends'
+    plan = '' if plan_topic is None else f'; bat plans Path on {plan_topic}'
     return (f"listening: ball {kind} on {topics['ball']}, {bat}; qos {settings['qos']} "
-            f"depth {settings['qos_depth']}; model {settings['model']}; frame {frame}; "
+            f"depth {settings['qos_depth']}; model {settings['model']}; frame {frame}{plan}; "
             f"publishing {', '.join(published)}")
 
 

@@ -15,7 +15,8 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched).
+  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, or once
+  a stream went ``max_gap`` past the predicted instant without one).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -30,7 +31,9 @@ events come back out as messages:
 * ``/diagnostics`` (diagnostic_msgs/DiagnosticArray): rates, messages estimated lost, drops by
   reason, events and resets, processing time and the state (waiting for data, tracking, stale,
   idle), grouped; ``hardware_id`` the parameter (default the node's name).
-* ``~/reset`` (std_srvs/Trigger): clears the detector state.
+* ``~/reset`` (std_srvs/Trigger): clears the detector state, the bat plan included (the reply,
+  and on other state resets an INFO line, says when a plan in force was dropped: its topic is
+  volatile, the arm must send it again).
 
 Every callback survives the package's own failure (a bug): an ERROR with the traceback (the
 first; later ones throttled), ``internal_errors`` in ``/diagnostics``, and the failed call's work
@@ -132,9 +135,12 @@ class ImpactNode(Node):
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._markers_stamp: Optional[int] = None
         self._predicting = False
+        self._predicted_ns = 0  # the instant (ns) of the last prediction
+        self._plan: Optional[Tuple[int, int]] = None  # the plan in force: first, last stamp (ns)
         self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
+        self._contact_ns: Optional[int] = None  # a contact solved in the add being taken
         # (event, frame, config) to complete once the inputs are drained: reports, and an
         # impact's error bars, line and markers (its PendingUncertainty in place of the event)
         self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
@@ -171,10 +177,11 @@ class ImpactNode(Node):
                               self._guarded(self._publish_live_markers,
                                             'publishing the live markers'), clock=steady)
         self._register_clock_jump()
+        plan = getattr(self, '_plan_sub', None)
         self.get_logger().info(describe_listening(
             self.settings.values, self.endpoints.topics,
-            [self._outputs[name].topic_name
-             for name in ('impact', 'impact_velocity', 'near_miss', 'markers')]))
+            [publisher.topic_name for publisher in self._outputs.values()],
+            None if plan is None else plan.topic_name))
 
     # ---- I/O -----------------------------------------------------------------------------
 
@@ -200,7 +207,15 @@ class ImpactNode(Node):
     # ---- input ---------------------------------------------------------------------------
 
     def _on_plan(self, message: Path) -> None:
-        """Take a commanded bat trajectory (stamped poses) for the predictions; empty clears."""
+        """
+        Take a commanded bat trajectory (stamped poses) for the predictions; empty clears.
+
+        Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses, a frame other than the
+        tracking frame (the configured ``frame_id``, else the trackers'), a frame named before
+        any tracking frame is known (``frame_id`` '' and no sample yet: it cannot be checked),
+        or values the core refuses. A plan naming no frame is taken as in the tracking frame,
+        as samples are.
+        """
         if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
             if self._log_throttle.allows('plan_size'):
                 self._lines.warning(
@@ -210,16 +225,36 @@ class ImpactNode(Node):
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
             expected = self.detector.frame_id
-            if expected is not None and frames - {expected}:
+            if expected is None and frames and stamps:
+                reason = (f'frame {sorted(frames)} cannot be checked: no tracking frame is known '
+                          'yet (set frame_id, or send the plan once the trackers stream)')
+            elif expected is not None and frames - {expected}:
                 reason = f'frame {sorted(frames)} is not the tracking frame {expected!r}'
             else:
                 try:
                     self.detector.set_bat_plan(stamps, positions, quaternions)
+                    self._plan = (stamps[0], stamps[-1]) if stamps else None
                     return
                 except CoreError as error:
                     reason = str(error)
         if self._log_throttle.allows('plan'):
             self._lines.warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}')
+
+    def _warn_plan_unused(self, made_at_ns: int) -> None:
+        """
+        Warn (throttled) that a prediction made at ``made_at_ns`` extrapolated the bat.
+
+        A plan was in force, but the detector takes it only when its last pose is after the
+        instant the prediction starts from (``Prediction.planned`` says whether it did): a
+        plan that ended before it, or stamped on another clock than the trackers'.
+        """
+        if self._log_throttle.allows('plan_unused'):
+            first, last = self._plan
+            self._lines.warning(
+                f'the bat plan on {self._plan_sub.topic_name} ({format_stamp(first)} to '
+                f'{format_stamp(last)} s) was not used: the prediction made at '
+                f'{format_stamp(made_at_ns)} s extrapolated the bat, the plan ending before '
+                "it (stamp the plan on the trackers' clock, over the coming swing)")
 
     def _take(self, stream: str, header: Header, add_sample: Callable[..., List[Event]],
               *values: Any, sequence: Optional[int] = None,
@@ -235,6 +270,7 @@ class ImpactNode(Node):
         frame = header.frame_id
         with self._lock:
             self._frame = frame  # (``_on_contact``'s, inside the add below)
+            self._contact_ns = None
             self.tally.arrived(stream, time.monotonic())
             self.tally.stamped(stream, stamp, sequence, sent)
             try:
@@ -246,6 +282,7 @@ class ImpactNode(Node):
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
             expected = self.detector.frame_id
+            previous = self._last_values.get(stream)
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
             pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
@@ -253,10 +290,17 @@ class ImpactNode(Node):
                 kind, where = event.__class__, frame or expected or ''
                 if kind is StateReset:
                     self._clear_markers(event.stamp_ns, expected or frame)
+                    if self._forget_plan():
+                        self._say_plan_dropped(event.reason)
                 if kind is Prediction:  # the point (its message's CDR bytes), then on
                     self._outputs['predicted_impact'].publish(
                         self._point_cdr(event.stamp_ns, where, event.point))
-                    self._set_predicting(True)
+                    if not event.planned and self._plan is not None:
+                        self._warn_plan_unused(event.made_at_ns)
+                    contact = self._contact_ns  # (one made before a contact solved since: off)
+                    if contact is None or event.made_at_ns >= contact:
+                        self._set_predicting(True)
+                        self._predicted_ns = event.stamp_ns
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(self._twist_cdr(
                         event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))
@@ -265,6 +309,8 @@ class ImpactNode(Node):
                     self._publish(event_output(event, where, self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
                     self._to_complete.append((event, where, self.detector.config))
+            if self._predicting and previous is not None:
+                self._withdraw_a_passed_prediction(stream, stamp, previous[0])
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -282,7 +328,8 @@ class ImpactNode(Node):
         as on ``~/reset``; the sample and the pitch it was in are lost. (Called under the node's
         lock; ``analyze`` stops on the same error instead.)
         """
-        self._reset_locked(ResetReason.DETECTOR_ERROR, stamp_ns)
+        if self._reset_locked(ResetReason.DETECTOR_ERROR, stamp_ns)[2]:
+            self._say_plan_dropped(ResetReason.DETECTOR_ERROR)
         self._failed(f'the detector failed on a {stream} sample stamped {format_stamp(stamp_ns)} '
                      's', 'its state was reset', error)
 
@@ -325,10 +372,16 @@ class ImpactNode(Node):
 
         Inside ``_take``'s ``add``, before the impact's velocities are fitted: its message's
         stamp and point are the impact's; ``~/impact_velocity`` follows once it is returned.
+        ``~/impact_predicted`` turns false right after it: the contact came (the detector's
+        ``PredictionCleared`` comes only at its next frame that predicts, up to
+        ``prediction_period`` later). A prediction the same ``add`` returns that was made before
+        the contact does not turn it on again.
         """
         self._outputs['impact'].publish(self._point_cdr(
             stamp_ns, self._frame or self.detector.frame_id or '', point))
         self.tally.last_impact_ns = stamp_ns
+        self._contact_ns = stamp_ns
+        self._set_predicting(False)
 
     def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
         """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
@@ -441,9 +494,14 @@ class ImpactNode(Node):
     # ---- services and clock --------------------------------------------------------------
 
     def _on_reset(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
-        """Serve ~/reset: clear the detector state (counters are kept); fails only on a bug."""
+        """
+        Serve ~/reset: clear the detector state (counters are kept); fails only on a bug.
+
+        The bat plan goes with the state: the reply says when one was in force (the plan topic
+        is volatile, so the arm must send it again).
+        """
         try:
-            stamp_ns, resets = self._reset('requested')
+            stamp_ns, resets, plan_dropped = self._reset('requested')
         except Exception as error:  # the package's own failure: the caller is told
             self._failed('the reset requested on ~/reset failed', 'it was refused', error)
             response.success = False
@@ -452,16 +510,23 @@ class ImpactNode(Node):
         response.success = True
         when = f'at {format_stamp(stamp_ns)} s' if stamp_ns else 'before any sample'
         response.message = (f'detector state cleared {when} (buffers, armed state, open near '
-                            f'miss; counters kept; {resets} resets so far)')
+                            f'miss, bat plan; counters kept; {resets} resets so far)')
+        if plan_dropped:
+            response.message += f'; {self._plan_dropped_text()}'
         self.get_logger().info(f'reset requested: {response.message}')
         return response
 
-    def _reset(self, reason: str) -> Tuple[int, int]:
-        """Clear the detector state and the live values; return its stamp (ns) and resets."""
+    def _reset(self, reason: str) -> Tuple[int, int, bool]:
+        """
+        Clear the detector state and the live values.
+
+        :returns: the reset's stamp (ns), the resets so far, and whether a bat plan in force
+            was dropped with the state.
+        """
         with self._lock:
             return self._reset_locked(reason)
 
-    def _reset_locked(self, reason: str, stamp_ns: int = 0) -> Tuple[int, int]:
+    def _reset_locked(self, reason: str, stamp_ns: int = 0) -> Tuple[int, int, bool]:
         """
         ``_reset`` with the node's lock held by the caller.
 
@@ -471,7 +536,21 @@ class ImpactNode(Node):
         event = self.detector.reset(self.detector.stats.newest_stamp_ns or stamp_ns, reason)
         self._set_predicting(False)
         self._clear_markers(event.stamp_ns, frame)
-        return event.stamp_ns, self.detector.stats.resets
+        return event.stamp_ns, self.detector.stats.resets, self._forget_plan()
+
+    def _forget_plan(self) -> bool:
+        """Forget the bat plan after a state reset (the detector's went too); True if one was."""
+        in_force, self._plan = self._plan is not None, None
+        return in_force
+
+    def _plan_dropped_text(self) -> str:
+        """Return the sentence saying that the bat plan in force was dropped, and what to do."""
+        return (f'the bat plan in force was dropped: send it again on '
+                f'{self._plan_sub.topic_name} (the topic is volatile)')
+
+    def _say_plan_dropped(self, reason: str) -> None:
+        """Log, once at INFO, that a state reset for ``reason`` dropped the bat plan in force."""
+        self._lines.info(f'state reset ({reason}): {self._plan_dropped_text()}')
 
     def _clear_markers(self, stamp_ns: int, frame: str) -> None:
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
@@ -499,11 +578,13 @@ class ImpactNode(Node):
             return
         if jump.delta.nanoseconds >= 0:
             return
-        self._reset('time_jump_backwards')
+        plan_dropped = self._reset('time_jump_backwards')[2]
         self._clock_jump_at = time.monotonic()
         self._lines.warning(
             f'the ROS clock jumped back by {-jump.delta.nanoseconds * 1e-9:.3f} s (replay '
             'restarted?): detector state reset')
+        if plan_dropped:
+            self._say_plan_dropped('time_jump_backwards')
 
     # ---- parameters at runtime, diagnostics ----------------------------------------------
 
@@ -570,6 +651,27 @@ class ImpactNode(Node):
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
+
+    def _withdraw_a_passed_prediction(self, stream: str, stamp_ns: int, previous_ns: int) -> None:
+        """
+        Turn ``~/impact_predicted`` false once a stream went ``max_gap`` past its instant.
+
+        Called under the node's lock after a sample of ``stream`` stamped ``stamp_ns`` (ns), its
+        previous one taken being ``previous_ns``. When one stream stops before the predicted
+        contact (the tracker lost the ball) the detector decides nothing more, as it works up
+        to the older stream's newest sample, and the flag stayed true until ``stale_timeout``
+        (checked every ``diagnostics_period``: a second or two by default) ended it. Now it
+        turns false when a stream has taken two samples more than ``max_gap`` past the
+        predicted instant: no contact can be solved there any longer should the stopped
+        stream's next sample come later still (a gap beyond ``max_gap`` is never interpolated),
+        and a working tracker's sample is not that late; the second sample, because a lone
+        stamp glitched ahead waits for the next one (``stamp_ahead``) and is no proof. The
+        detector's prediction is left as it is.
+        """
+        if self._last_values.get(stream, (None,))[0] != stamp_ns:
+            return  # not taken, or a state reset since
+        if previous_ns - self._predicted_ns > round(self.detector.config.max_gap * NS_PER_S):
+            self._set_predicting(False)
 
     def _withdraw_a_silent_prediction(self) -> None:
         """

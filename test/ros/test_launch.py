@@ -69,14 +69,14 @@ def test_node_action_runs_impact_node_with_the_params_file(
     context = LaunchContext()
     context.launch_configurations.update({
         'params_file': str(CONFIG), 'use_sim_time': 'true', 'namespace': 'cage2',
-        'log_level': 'debug', 'remappings': '/ball:=/mocap/ball, /bat_pose:=/mocap/bat'})
+        'log_level': 'debug', 'remappings': 'ball:=/mocap/ball, bat_pose:=/mocap/bat'})
     nodes = functions[0].function(context)
     assert len(nodes) == 1 and isinstance(nodes[0], Node)
     node = nodes[0]
     assert node.node_package == 'baseball_collision'
     assert node.node_executable == 'impact_node'
     words = command_line(node, context)
-    assert '/ball:=/mocap/ball' in words and '/bat_pose:=/mocap/bat' in words
+    assert 'ball:=/mocap/ball' in words and 'bat_pose:=/mocap/bat' in words
     assert 'debug' in words and '__ns:=/cage2' in words
     files = [words[i + 1] for i, word in enumerate(words[:-1]) if word == '--params-file']
     assert files[0] == str(CONFIG)

@@ -13,6 +13,7 @@ import json
 import math
 import os
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -55,6 +56,7 @@ pytestmark = pytest.mark.ros
 SCRIPT = Path(sys.executable).parent / 'impact_node'
 CONFIG = REPO_ROOT / 'config' / 'impact_node.yaml'
 POINTS_CONFIG = REPO_ROOT / 'config' / 'impact_node_points.yaml'
+LAUNCH_FILE = REPO_ROOT / 'launch' / 'impact_node.launch.py'
 
 
 @pytest.fixture(scope='module')
@@ -309,6 +311,29 @@ def test_incompatible_qos_is_reported(harness: Callable[..., Harness]) -> None:
     assert status.level >= DiagnosticStatus.WARN and 'incompatible' in status.message
 
 
+def test_a_silent_inputs_incompatible_qos_stays_named_in_diagnostics(
+        harness: Callable[..., Harness]) -> None:
+    """
+    The stale /ball names its best-effort publisher's QoS in every status, not only the first.
+
+    The period that caught the QoS event says 'incompatible QoS or type on a topic'; the ones
+    after it said only '/ball (no data since start)'.
+    """
+    h = harness({'qos': 'reliable', 'stale_timeout': 0.3})
+    h.probe.create_publisher(PointStamped, 'ball', QoSProfile(
+        depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    h.start()
+    h.wait(lambda: h.node.tally.incompatible > 0, 3.0, 'the incompatible QoS event')
+
+    def later_stale() -> List[DiagnosticStatus]:
+        return [status for array in h.received['diagnostics'] for status in array.status
+                if values(status)['state'] == 'stale' and 'on a topic' not in status.message]
+    h.wait(lambda: len(later_stale()) >= 2, 5.0, 'two stale statuses after the event')
+    for status in later_stale():
+        assert ('/ball (no data since start, incompatible QoS: Best effort publisher and '
+                'reliable subscription)') in status.message, status.message
+
+
 # ----------------------------------------------------------------------------------------------
 # services, clock and parameters
 
@@ -480,6 +505,42 @@ def test_every_callback_survives_its_own_failure_counted_in_diagnostics(
     assert node.tally.failures == 5
 
 
+def test_a_state_reset_says_it_dropped_the_bat_plan(harness: Callable[..., Harness]) -> None:
+    """
+    ~/reset and a clock jump drop the bat plan with the state, and say so: the topic is volatile.
+
+    ~/reset's reply names the plan when one was in force (not on a reset without one); the
+    clock jump's reset says it in one INFO line.
+    """
+    h = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan', 'frame_id': 'world',
+                 'use_sim_time': True, 'time_jump_reset': 0.5})
+    h.publisher(PathMsg, 'bat_plan')
+    listen_to_rosout(h.start())
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    plan.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3)) for i in range(5)]
+    predictor = h.node.detector._predictor
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: predictor.plan is not None, 5.0, 'the plan taken')
+    reply = h.call(Trigger, '/impact_node/reset', Trigger.Request()).message
+    assert h.node.detector._predictor.plan is None
+    assert 'the bat plan in force was dropped: send it again on /bat_plan' in reply
+    assert 'dropped' not in h.call(Trigger, '/impact_node/reset', Trigger.Request()).message
+    predictor = h.node.detector._predictor
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: predictor.plan is not None, 5.0, 'the plan taken again')
+    clock = h.probe.create_publisher(ClockMsg, '/clock', RELIABLE)
+    h.wait(lambda: clock.get_subscription_count() > 0, 5.0, '/clock matched')
+    clock.publish(ClockMsg(clock=stamp(100 * 10**9)))
+    h.wait(lambda: h.node.get_clock().now().nanoseconds == 100 * 10**9, 3.0, 'sim time')
+    clock.publish(ClockMsg(clock=stamp(50 * 10**9)))
+    h.wait(lambda: any(
+        record.level == LogMsg.INFO and record.msg.startswith(
+            'state reset (time_jump_backwards): the bat plan in force was dropped: send it '
+            'again on /bat_plan') for record in h.received['rosout']), 5.0, 'the INFO line')
+    assert h.node.detector._predictor.plan is None
+
+
 def test_ros_clock_jump_back_resets_with_a_warning(harness: Callable[..., Harness]) -> None:
     """use_sim_time: /clock jumping back beyond time_jump_reset resets the detector."""
     h = swing_harness(harness, 'pose', {'use_sim_time': True, 'time_jump_reset': 0.5})
@@ -565,6 +626,27 @@ def test_points_params_file_loads(harness: Callable[..., Harness]) -> None:
                                      'tip': '/mocap/bat_tip'}
 
 
+def test_params_files_and_the_launch_remappings_apply_under_a_namespace(
+        harness: Callable[..., Harness]) -> None:
+    """
+    The node under /cage2 (launch ``namespace:=cage2``) takes both shipped files (``/**``).
+
+    The remappings of the launch file's own example map its inputs there; a file named for
+    ``impact_node:`` alone, or ``/ball:=...``, matched only a node in the root namespace.
+    """
+    example = re.search(r'remappings:=(\S+)', LAUNCH_FILE.read_text()).group(1)
+    remappings = [word for pair in example.split(',') for word in ('-r', pair)]
+    h = harness(args=['-r', '__ns:=/cage2', '--params-file', str(CONFIG)] + remappings)
+    assert h.node.get_fully_qualified_name() == '/cage2/impact_node'
+    assert h.node.endpoints.topics == {'ball': '/mocap/ball', 'bat_pose': '/mocap/bat'}
+    points = harness(args=['-r', '__ns:=/cage2', '--params-file', str(POINTS_CONFIG)]).node
+    assert points.detector.config.bat_input == 'points'
+    assert points.detector.config.frame_id == 'mocap'
+    assert points.endpoints.topics == {'ball': '/cage2/mocap/ball',
+                                       'knob': '/cage2/mocap/bat_knob',
+                                       'tip': '/cage2/mocap/bat_tip'}
+
+
 def _env() -> Dict[str, str]:
     """Return the environment for a node process: this run's domain, host-only discovery."""
     env = dict(os.environ)
@@ -617,8 +699,8 @@ def test_console_script_loads_the_params_files_and_stops_on_ctrl_c() -> None:
             process.kill()
             process.wait()
         reader.join(timeout=5)
-    defaults = yaml.safe_load(CONFIG.read_text())['impact_node']['ros__parameters']
-    points = yaml.safe_load(POINTS_CONFIG.read_text())['impact_node']['ros__parameters']
+    defaults = yaml.safe_load(CONFIG.read_text())['/**']['ros__parameters']
+    points = yaml.safe_load(POINTS_CONFIG.read_text())['/**']['ros__parameters']
     expected = dict(defaults, **points, max_gap=1.0, diagnostics_period=0.2)
     assert set(got) == set(expected)
     for name, value in expected.items():
@@ -666,6 +748,23 @@ def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Har
     assert [m.data for m in h.received['predicting']][-2:] == [True, False]
 
 
+def test_an_impact_turns_the_prediction_off_at_once(harness: Callable[..., Harness],
+                                                    truth_ns: int) -> None:
+    """
+    ~/impact_predicted turns false with the ~/impact, not at the next frame that predicts.
+
+    With ``prediction_period`` 0.01 the frame of the contact does not predict and the next
+    one is never sent: ``PredictionCleared`` never comes (``stale_timeout`` is far off).
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'prediction_period': 0.01,
+                                        'stale_timeout': 30.0})
+    contact = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) + 1  # the first frame after it
+    h.processed(publish_swing(h, 'pose', pitch(), samples=range(contact + 1)))
+    h.wait(lambda: h.received['impact'], 5.0, 'the impact')
+    assert any(message.data for message in h.received['predicting'])
+    h.wait(lambda: not h.received['predicting'][-1].data, 5.0, 'the prediction withdrawn')
+
+
 @pytest.mark.parametrize('ended_by', ['silence', 'prediction_off'])
 def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
         harness: Callable[..., Harness], truth_ns: int, ended_by: str) -> None:
@@ -686,6 +785,30 @@ def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
         result = h.node.set_parameters([Parameter('prediction_horizon', value=0.0)])
         assert result[0].successful
     h.wait(lambda: not h.received['predicting'][-1].data, 3.0, 'the prediction withdrawn')
+    assert not h.received['impact']
+
+
+def test_a_prediction_is_withdrawn_once_the_bat_stream_passed_it(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    The ball is lost 8 ms before the predicted contact, the bat streams on: the flag turns false.
+
+    Once the bat's samples are ``max_gap`` past the predicted instant (``stale_timeout``, which
+    ended it before, is far off here).
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
+    lost = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3  # the ball's last frame, ~8 ms before
+    sent = 0
+    for i in range(SAMPLES):  # 0.2 s of bat: far beyond the contact and max_gap (0.05 s)
+        t = i / RATE_HZ
+        if i <= lost:
+            h.publishers['ball'].publish(point_msg(sample_ns(i), pitch()(t)))
+            sent += 1
+        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(t)))
+        sent += 1
+    h.processed(sent)
+    assert any(message.data for message in h.received['predicting'])
+    h.wait(lambda: not h.received['predicting'][-1].data, 5.0, 'the prediction withdrawn')
     assert not h.received['impact']
 
 
@@ -722,14 +845,88 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
         assert abs(stamp_ns(message) - truth_ns) < 500_000
 
 
+def test_a_plan_the_predictions_cannot_use_is_warned_about(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    A plan stamped 5 s before the trackers' clock: the predictions extrapolate, and a WARN says so.
+
+    The detector takes a plan only where its poses reach past a prediction's start
+    (``Prediction.planned``); it was ignored without a word.
+    """
+    h = make_plan_harness(harness)
+    listen_to_rosout(h)
+    plan = PathMsg()
+    plan.header.frame_id = 'world'
+    plan.poses = [pose_msg(BASE_NS - 5 * 10**9 + i * 1_000_000, *pose(i * 1e-3))
+                  for i in range(0, 200, 5)]
+    h.publishers['bat_plan'].publish(plan)
+    h.wait(lambda: h.node.detector._predictor.plan is not None, 3.0, 'the plan taken')
+    early = range(int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3)
+    h.processed(publish_swing(h, 'pose', pitch(), samples=early))
+    h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')
+
+    def warned() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.level == LogMsg.WARN
+                and record.msg.startswith('the bat plan on /bat_plan (')]
+    h.wait(warned, 5.0, "the unused plan's WARN")
+    assert 'was not used: the prediction made at ' in warned()[0].msg
+
+
+def test_the_start_up_line_lists_every_topic(harness: Callable[..., Harness]) -> None:
+    """'listening:' names the bat plan's subscription and every topic the node publishes."""
+    h = make_plan_harness(harness)
+    listen_to_rosout(h)
+    h.wait(lambda: any(record.msg.startswith('listening: ') for record in h.received['rosout']),
+           5.0, 'the start-up line')
+    line = next(r.msg for r in h.received['rosout'] if r.msg.startswith('listening: '))
+    assert '; bat plans Path on /bat_plan;' in line
+    published = line.split('; publishing ')[1].split(', ')
+    assert published == [f'/impact_node/{name}' for name in (
+        'predicted_impact', 'impact_predicted', 'impact', 'impact_velocity', 'near_miss',
+        'impact_report', 'markers')] + ['/diagnostics']
+
+
 def make_plan_harness(make: Callable[..., Harness]) -> Harness:
     """Return a started pose harness with a plan publisher, a 0.3 s horizon, every frame."""
     h = make({'bat_input': 'pose', 'prediction_horizon': 0.3, 'bat_plan_topic': 'bat_plan',
-              'prediction_period': 0.0})  # every frame: the scene's ball is tracked ~30 ms
+              'prediction_period': 0.0,  # every frame: the scene's ball is tracked ~30 ms
+              'frame_id': 'world'})  # a plan before the first sample is checked against it
     h.publisher(PointStamped, 'ball')
     h.publisher(PoseStamped, 'bat_pose')
     h.publisher(PathMsg, 'bat_plan')
     return h.start()
+
+
+def test_a_plan_in_a_frame_before_any_tracking_frame_is_refused(
+        harness: Callable[..., Harness]) -> None:
+    """
+    frame_id '': a plan naming a frame before any sample is refused with a WARN, not used.
+
+    Its frame cannot be checked yet (it was taken, and used in whatever frame the trackers then
+    sent); with ``frame_id`` set, the same plan in that frame is taken at once.
+    """
+    plan = PathMsg()
+    plan.header.frame_id = 'base_link'
+    plan.poses = [pose_msg(BASE_NS + i * 1_000_000, *pose(i * 1e-3), frame='base_link')
+                  for i in range(5)]
+    h = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan'})
+    h.publisher(PathMsg, 'bat_plan')
+    listen_to_rosout(h.start())
+    h.publishers['bat_plan'].publish(plan)
+
+    def warned() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.level == LogMsg.WARN
+                and record.msg.startswith('ignored a bat plan on /bat_plan: ')]
+    h.wait(warned, 5.0, "the plan's WARN")
+    assert "frame ['base_link']" in warned()[0].msg
+    assert 'no tracking frame is known yet' in warned()[0].msg
+    assert h.node.detector._predictor.plan is None
+    configured = harness({'bat_input': 'pose', 'bat_plan_topic': 'bat_plan',
+                          'frame_id': 'base_link'})
+    configured.publisher(PathMsg, 'bat_plan')
+    configured.start().publishers['bat_plan'].publish(plan)
+    configured.wait(lambda: configured.node.detector._predictor.plan is not None, 5.0,
+                    'the plan taken in the configured frame')
 
 
 # ----------------------------------------------------------------------------------------------

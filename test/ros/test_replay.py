@@ -160,7 +160,7 @@ def _params_with(tmp_path: Path, **changes: Any) -> Path:
     import yaml
 
     document = yaml.safe_load(PARAMS.read_text())
-    document['impact_node']['ros__parameters'].update(changes)
+    document['/**']['ros__parameters'].update(changes)
     path = tmp_path / 'params.yaml'
     path.write_text(yaml.safe_dump(document))
     return path
