@@ -361,16 +361,8 @@ def test_long_far_runs_same_as_one_at_a_time(model: str, sizes: List[int],
 
 def test_far_runs_are_planned_long(monkeypatch: pytest.MonkeyPatch) -> None:
     """Each plan taken whole doubles the next, across chunks: far from the bat, thousands long."""
-    lengths = []
-    original = chunks_module.plan_chunk
-
-    def measuring(*args, **kwargs):  # type: ignore[no-untyped-def]
-        plan = original(*args, **kwargs)
-        lengths.append(plan.n)
-        return plan
-    monkeypatch.setattr(chunks_module, 'plan_chunk', measuring)
-    assert_same(DetectorConfig(model='spline', bat_input='pose'),
-                session((1.0, 1.2, 1.1), spacing=12.0), (50_000,))
+    lengths = _plans_made(monkeypatch, session((1.0, 1.2, 1.1), spacing=12.0),
+                          DetectorConfig(model='spline', bat_input='pose'), 50_000)
     assert max(lengths) >= 8 * chunks_module.PLAN_MAX
     assert len(lengths) < 3 * 2 * 12.0 * 360 / chunks_module.PLAN_MAX / 2  # half as many
     # in chunks shorter than that, the length carries over: about one plan a chunk
