@@ -451,18 +451,19 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
         result.notes.append(
             'the ball and the bat were never tracked at the same time (their stamps do not '
             'overlap): nothing could be solved; are both stamped by one clock?')
-    truth_file = truth_path(path)
-    if use_truth and truth_file.is_file():
+    truth_file = truth_path(path) if use_truth else None  # (--no-truth: never looked for)
+    if truth_file is not None and truth_file.is_file():
         try:
             truth = load_truth(truth_file)
             result.truth = compare_truth(result.impacts, result.near_misses, truth, truth_file)
         except ToolError as error:
             result.notes.append(f'{error}; the truth file was ignored')
         else:
-            made_for = Path(str(truth.get('bag', path.name))).name
-            if made_for != path.name:
+            name = Path(os.path.abspath(path)).name  # ('.' is the directory one is in)
+            made_for = Path(str(truth.get('bag', name))).name
+            if made_for != name:
                 result.notes.append(f'{truth_file.name} was written for {made_for}, not '
-                                    f'{path.name}: compared all the same (a renamed copy?)')
+                                    f'{name}: compared all the same (a renamed copy?)')
     return result
 
 

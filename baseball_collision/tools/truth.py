@@ -41,9 +41,17 @@ def truth_path(bag: os.PathLike) -> Path:
     Return where the truth file of a bag lives: beside it, ``<name>.truth.json``.
 
     ``runs/a.mcap`` -> ``runs/a.truth.json`` (the ``.mcap``/``.db3``/``.bag`` suffix is
-    replaced); a bag directory ``runs/a`` -> ``runs/a.truth.json``.
+    replaced); a bag directory ``runs/a`` -> ``runs/a.truth.json``. A path without a name of
+    its own (``.``, ``..``, ``runs/a/..``: a bag directory one is in) is made absolute first:
+    ``.`` inside ``runs/a`` -> ``runs/a.truth.json`` (absolute).
+
+    :raises ToolError: the file system's root (no name, nothing beside it).
     """
     bag = Path(bag)
+    if bag.name in ('', '.', '..'):
+        bag = Path(os.path.abspath(bag))  # (normalised, symbolic links kept: not resolve())
+        if not bag.name:
+            raise ToolError(f'{bag} cannot be a bag with a truth file beside it')
     stem = bag.name[:-len(bag.suffix)] if bag.suffix.lower() in BAG_SUFFIXES else bag.name
     return bag.with_name(f'{stem}.truth.json')
 

@@ -412,3 +412,12 @@ def test_a_truth_file_written_for_another_bag_is_named(tmp_path: Path) -> None:
     assert analysis.notes == ['session.truth.json was written for pitches_360hz.mcap, not '
                               'session.mcap: compared all the same (a renamed copy?)']
     assert analyze_bag(bag_path('pitches_90hz.mcap'), progress=False).notes == []
+
+
+def test_no_truth_never_looks_for_a_truth_file(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``use_truth=False`` (``--no-truth``) does not even work out where the truth would be."""
+    def refuse(bag: Any) -> Any:
+        raise AssertionError(f'truth_path({bag}) called')
+    monkeypatch.setattr(analyze_module, 'truth_path', refuse)
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False)
+    assert analysis.truth is None and len(analysis.impacts) == 8
