@@ -26,6 +26,8 @@ import time
 from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
 
+import numpy as np
+
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
@@ -36,6 +38,7 @@ from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
+from ..core.detector.chunks import ROLE_CODES
 from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 from ..threads import single_threaded_blas
@@ -45,6 +48,9 @@ PROGRESS_MIN_MESSAGES = 100_000
 
 CHUNK = 8192
 """Samples read between two progress bar updates, and given to the detector at once."""
+
+ROLE_NAMES = {code: role for role, code in ROLE_CODES.items()}
+"""A chunk's role codes' roles (``SampleChunk.roles``)."""
 
 SCORE_WINDOW_NS = 500_000_000
 """Predictions made more than this (ns) before an impact are not its predictions."""
@@ -72,6 +78,9 @@ class BagAnalysis:
     :ivar drops_by_role: dropped samples by ``(role, reason)``.
     :ivar noise: the ball's and the bat's tracking noise at the bag's end (m, 1 sigma per
         coordinate: ``Detector.noise``, told or estimated under auto; 0: exact).
+    :ivar stamp_spans: each role's first and last header stamp (ns, the smallest and the
+        largest), of every sample read (dropped ones too).
+    :ivar first_frames: each role's first sample's ``frame_id``.
     """
 
     path: Path
@@ -92,6 +101,8 @@ class BagAnalysis:
     notes: List[str] = field(default_factory=list)
     drops_by_role: Counter = field(default_factory=Counter)
     noise: Tuple[float, float] = (0.0, 0.0)
+    stamp_spans: Dict[str, Tuple[int, int]] = field(default_factory=dict)
+    first_frames: Dict[str, str] = field(default_factory=dict)
 
     @property
     def throughput(self) -> float:
@@ -108,6 +119,55 @@ class BagAnalysis:
             kind = event_kind(event)
             if kind is not None:
                 getattr(self, kind.collection).append(event)
+
+    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
+                  log_time_ns: int) -> None:
+        """Note a sample's role's stamp span and first frame (a sample sink)."""
+        span = self.stamp_spans.get(role)
+        if span is None:
+            self.stamp_spans[role] = (stamp_ns, stamp_ns)
+            self.first_frames[role] = frame_id
+        elif not span[0] <= stamp_ns <= span[1]:
+            self.stamp_spans[role] = (min(span[0], stamp_ns), max(span[1], stamp_ns))
+
+    def on_chunk(self, chunk: Any) -> None:
+        """Note a chunk's roles' stamp spans and first frames (a chunk sink: no sample loop)."""
+        roles, stamps = chunk.roles, chunk.stamps_ns
+        for code in np.flatnonzero(np.bincount(roles, minlength=len(ROLE_NAMES))):
+            role = ROLE_NAMES[code]
+            mine = roles == code
+            low, high = int(stamps[mine].min()), int(stamps[mine].max())
+            span = self.stamp_spans.get(role)
+            if span is None:
+                self.first_frames[role] = chunk.frame_ids[int(np.argmax(mine))]
+                self.stamp_spans[role] = (low, high)
+            elif low < span[0] or high > span[1]:
+                self.stamp_spans[role] = (min(span[0], low), max(span[1], high))
+
+    def unsolved_note(self) -> Optional[str]:
+        """
+        Return why nothing could be solved though the ball and the bat were read (None: solved).
+
+        Their stamps never overlapping (two clocks), or overlapping but with every step of a
+        stream longer than ``max_gap`` (a pause in tracking: never interpolated).
+        """
+        received = self.stats.received
+        bat_roles = [role for role in ('bat_pose', 'knob', 'tip') if received.get(role)]
+        if self.stats.intervals or not received.get('ball') or not bat_roles:
+            return None
+        spans = [self.stamp_spans[role] for role in ['ball'] + bat_roles
+                 if role in self.stamp_spans]
+        if len(spans) > 1 and max(low for low, _ in spans) > min(high for _, high in spans):
+            return ('the ball and the bat were never tracked at the same time (their stamps do '
+                    'not overlap): nothing could be solved; are both stamped by one clock?')
+        pauses = Counter(gap.stream for gap in self.gaps)
+        counted = ', '.join(f'{stream} {count}' for stream, count in sorted(pauses.items()))
+        topics = ', '.join(f'{role} {topic}' for role, topic in self.selection.topics.items())
+        return (f'the ball and the bat were tracked at the same time (their stamps overlap) '
+                f'but nothing could be solved: no stretch had both streams stepping within '
+                f'max_gap ({self.config.max_gap:g} s; pauses in tracking: {counted or "none"}); '
+                f'are these the topics ({topics}), and is a stream that slow? (a larger max_gap '
+                'in --params interpolates longer steps)')
 
     def silenced_topics(self) -> List[str]:
         """
@@ -445,12 +505,9 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     unknown = unknown_parameters(options.parameters, options.node_name)
     if unknown is not None:  # (typos: rclpy would ignore them too)
         result.notes.append(unknown)
-    received = detector.stats.received
-    if detector.stats.intervals == 0 and received.get('ball') and (
-            received.get('bat_pose') or received.get('knob')):
-        result.notes.append(
-            'the ball and the bat were never tracked at the same time (their stamps do not '
-            'overlap): nothing could be solved; are both stamped by one clock?')
+    unsolved = result.unsolved_note()
+    if unsolved is not None:
+        result.notes.append(unsolved)
     truth_file = truth_path(path) if use_truth else None  # (--no-truth: never looked for)
     if truth_file is not None and truth_file.is_file():
         try:
