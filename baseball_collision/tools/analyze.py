@@ -174,7 +174,7 @@ class BagAnalysis:
         Return why selected topics had every one of their samples dropped (empty: none had).
 
         One line per set of reasons: the topics with their counts, the reasons; with a hint
-        when the configured ``frame_id`` dropped them.
+        when the frames disagree (each topic's frame named) or the header stamps are zero.
         """
         silenced: Dict[Tuple[str, ...], List[str]] = {}
         for role, topic in self.selection.topics.items():
@@ -182,20 +182,42 @@ class BagAnalysis:
             reasons = tuple((reason, count) for (dropped_role, reason), count
                             in sorted(self.drops_by_role.items()) if dropped_role == role)
             if received and sum(count for _, count in reasons) >= received:
-                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(
-                    f'{topic} ({received})')
+                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(role)
         lines = []
-        for reasons, topics in silenced.items():
-            why = ', '.join(reasons)
-            line = f"every sample of {' and '.join(topics)} was dropped ({why})"
-            if 'wrong_frame' in why and self.config.frame_id:
-                line += (f": frame_id '{self.config.frame_id}' is configured and the bag's "
-                         'samples are in another frame')
-            elif 'wrong_frame' in why and self.frame_id:
-                line += (f": their frame_id is not '{self.frame_id}', the tracking frame the "
-                         'other inputs agreed on (every input must share one frame: no TF)')
+        for reasons, roles in silenced.items():
+            topics = self.selection.topics
+            counted = ' and '.join(f'{topics[role]} ({self.stats.received.get(role, 0)})'
+                                   for role in roles)
+            line = f"every sample of {counted} was dropped ({', '.join(reasons)})"
+            if 'wrong_frame' in reasons:
+                line += ': ' + self._frames_hint(roles)
+            if 'bad_stamp' in reasons:
+                line += ('; their header stamps are zero (or before 1970): the detector, as the '
+                         'node, times every sample by its header stamp and needs real stamps '
+                         "(the bag's recording times are not used): stamp the tracker's "
+                         'messages')
             lines.append(line)
         return lines
+
+    def _frames_hint(self, dropped: Sequence[str]) -> str:
+        """Return each selected topic's frame, against the configured or tracked frame."""
+        topics = self.selection.topics
+
+        def framed(roles: Sequence[str]) -> str:
+            return ', '.join(f"{topics[role]} in '{self.first_frames[role]}'" for role in roles
+                             if role in self.first_frames)
+
+        kept = [role for role in topics if role not in dropped]
+        frames = framed(dropped) or ' and '.join(topics[role] for role in dropped) + \
+            ' in another frame'
+        if self.config.frame_id:
+            return (f"frame_id '{self.config.frame_id}' is configured and {frames} (every "
+                    'input must be in that frame: no TF)')
+        tracked = f"'{self.frame_id}'" if self.frame_id else "the first sample's frame"
+        others = framed(kept)
+        return (frames + (f', but {others}' if others else '')
+                + f" (the tracking frame is {tracked}, the first sample's); every input must "
+                "share one frame (no TF: transform one stream into the other's frame)")
 
     def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
         """

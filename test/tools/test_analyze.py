@@ -457,3 +457,16 @@ def test_spans_and_frames_of_the_sample_loop_and_the_chunks_agree(tmp_path: Path
         for sample in reader.samples():
             stamps.setdefault(sample.role, []).append(sample.stamp_ns)
     assert chunked.stamp_spans == {role: (min(s), max(s)) for role, s in stamps.items()}
+
+
+def test_header_stamps_all_zero_are_named_as_such(tmp_path: Path, run_cli: RunCli) -> None:
+    """A tracker that leaves header.stamp at 0: the error says so and that stamps are needed."""
+    topics = [('/ball', POINT_STAMPED), ('/bat_pose', POSE_STAMPED)]
+    rows = [(topic, msgtype, 0, 'world', (0.1 * i, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+             10_000_000 * i + k) for i in range(20) for k, (topic, msgtype) in enumerate(topics)]
+    bag = tmp_path / 'unstamped'
+    reference_bag(bag, rows)
+    code, _, stderr = run_cli(['analyze', str(bag), '--no-progress'])
+    assert code == 2 and len(stderr.splitlines()) == 1
+    assert 'every sample of /ball (20) and /bat_pose (20) was dropped (bad_stamp); their ' \
+        'header stamps are zero' in stderr and 'needs real stamps' in stderr
