@@ -2,9 +2,13 @@
 What the bag modules share: the rosbags typestores, opening a bag.
 
 Every bag is opened here (:func:`open_bag`, :class:`BagFile`), so reading samples and replaying
-raw messages refuse the same paths with the same one-line :class:`BagError`.
+raw messages refuse the same paths with the same one-line :class:`BagError`, and read the same
+bags in the same way: an MCAP channel that is not ROS (JSON, protobuf, ...: Foxglove's
+``/foxglove/log``) is left out with a note (:attr:`BagFile.skipped_topics`), the rest of the bag
+read as usual.
 """
 
+import contextlib
 import errno
 import functools
 import os
@@ -12,10 +16,13 @@ from pathlib import Path
 import shutil
 import stat
 import tempfile
+import threading
 from types import TracebackType
-from typing import Any, Optional, Type, TypeVar, Union
+from typing import Any, Dict, Iterator, List, Optional, Type, TypeVar, Union
 
 from rosbags.highlevel import AnyReader
+from rosbags.interfaces import MessageDefinition, MessageDefinitionFormat
+from rosbags.rosbag2 import storage_mcap
 from rosbags.typesys import get_typestore, Stores
 from rosbags.typesys.store import Typestore
 
@@ -96,12 +103,89 @@ def file_format(path: Path) -> Optional[str]:
     return next((suffix for magic, suffix in MAGIC if head.startswith(magic)), None)
 
 
+ROS_ENCODINGS = ('cdr',)
+"""The message encodings of a ROS 2 bag's topics this package reads (rosbag2 records CDR)."""
+
+_SCHEMAS_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def _foreign_schemas_read_as_unknown() -> Iterator[None]:
+    """
+    Within the block, rosbags' MCAP reader takes a schema it does not know as one without text.
+
+    rosbags (0.11) looks a schema's encoding up in a table of ROS ones and raises ``KeyError``
+    for any other (``jsonschema``, ``protobuf``, ...), refusing the whole file for one channel;
+    here such a schema reads as a message definition of format NONE, the channel stays (its
+    ``message_encoding`` tells it apart: :func:`foreign_topics`) and nothing is registered for
+    it. Known encodings go to rosbags' own function unchanged.
+    """
+    original = storage_mcap.get_msgdef
+
+    def tolerant(schema: Any) -> MessageDefinition:
+        try:
+            return original(schema)
+        except KeyError:
+            return MessageDefinition(MessageDefinitionFormat.NONE, '')
+
+    with _SCHEMAS_LOCK:
+        storage_mcap.get_msgdef = tolerant  # type: ignore[assignment]
+        try:
+            yield
+        finally:
+            storage_mcap.get_msgdef = original  # type: ignore[assignment]
+
+
+def foreign_topics(reader: AnyReader) -> Dict[str, str]:
+    """
+    Return the topics of an open ROS 2 reader whose messages are not ROS, with why.
+
+    ``{topic: 'json messages (schema foxglove.Log), not ROS CDR'}``; empty for a ROS 1 bag.
+    """
+    if not reader.is2:
+        return {}
+    foreign: Dict[str, str] = {}
+    for connection in reader.connections:
+        encoding = getattr(connection.ext, 'serialization_format', 'cdr')
+        if encoding not in ROS_ENCODINGS:
+            foreign[connection.topic] = (f'{encoding or "unnamed"} messages (schema '
+                                         f'{connection.msgtype}), not ROS CDR')
+    return foreign
+
+
+def _listed_foreign(path: Path) -> Dict[str, str]:
+    """Return ``{topic: serialization format}`` of a bag directory's topics that are not ROS."""
+    try:
+        import yaml  # (only for this message: rosbags reads the metadata itself)
+        with open(path / 'metadata.yaml') as stream:
+            metadata = yaml.safe_load(stream)['rosbag2_bagfile_information']
+        listed = metadata['topics_with_message_count']
+        return {str(entry['topic_metadata']['name']): str(
+                    entry['topic_metadata']['serialization_format'])
+                for entry in listed
+                if entry['topic_metadata']['serialization_format'] not in ROS_ENCODINGS}
+    except Exception:  # (damaged metadata: rosbags' own error says so)
+        return {}
+
+
+def _foreign_listed(path: Path, foreign: Dict[str, str], error: BaseException) -> BagError:
+    """Return the error for a bag directory whose metadata lists topics that are not ROS."""
+    topics = ', '.join(f'{topic} ({encoding})' for topic, encoding in sorted(foreign.items()))
+    files = ', '.join(str(file) for file in sorted(path.glob('*.mcap'))) or 'its storage file'
+    return BagError(
+        f'cannot read bag {path}: its metadata.yaml lists topics that are not ROS CDR: '
+        f'{topics}, and the reader (rosbags) refuses such a bag directory; analyse its file '
+        f'{files} instead, where they are skipped with a note ({first_line(error)})')
+
+
 def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
     """
     Open a bag with rosbags' :class:`AnyReader` (ROS 2 types default to Jazzy).
 
     A bag file is read by its first bytes: an MCAP named ``.bag`` or ``x.MCAP`` opens as the
-    MCAP it is (through a temporary link with the suffix rosbags expects).
+    MCAP it is (through a temporary link with the suffix rosbags expects). MCAP channels that
+    are not ROS stay in the reader's connections (:func:`foreign_topics` names them); their
+    schemas are not read.
 
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
     :returns: the open reader (close it).
@@ -111,7 +195,7 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
     """
     path = Path(path)
     mode = _status(path).st_mode
-    alias, opened = None, path
+    alias, opened, sniffed = None, path, None
     if stat.S_ISDIR(mode):
         if not (path / 'metadata.yaml').is_file():
             raise BagError(f'not a ROS 2 bag directory (no metadata.yaml): {path}')
@@ -124,14 +208,18 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
         if sniffed is None and path.suffix not in ('.mcap', '.db3', '.bag'):
             raise BagError(
                 f'not a bag: {path} (expected a bag directory or a .mcap, .db3 or .bag file)')
-        if sniffed is not None and sniffed != path.suffix:
-            alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
-            opened = alias / f'bag{sniffed}'
-            os.symlink(path.resolve(), opened)
+    if sniffed is not None and sniffed != path.suffix:
+        alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
+        opened = alias / f'bag{sniffed}'
+        os.symlink(path.resolve(), opened)
     try:
         reader = AnyReader([opened], default_typestore=_JazzyDefaults())  # type: ignore
-        reader.open()
+        with _foreign_schemas_read_as_unknown():
+            reader.open()
     except Exception as error:
+        foreign = _listed_foreign(path) if stat.S_ISDIR(mode) else {}
+        if foreign:
+            raise _foreign_listed(path, foreign, error) from error
         raise BagError(f'cannot read bag {path}: {first_line(error)}') from error
     finally:
         if alias is not None:
@@ -155,7 +243,8 @@ class BagFile:
     A bag read through an :class:`AnyReader`: open and close, context manager, log times.
 
     Subclasses prepare what they read in :meth:`_setup` (called on the open reader; an error
-    there closes it again).
+    there closes it again). Topics whose messages are not ROS (:func:`foreign_topics`) are
+    taken out of the reader's connections before, and listed in :attr:`skipped_topics`.
 
     :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     """
@@ -163,6 +252,10 @@ class BagFile:
     def __init__(self, path: Union[str, os.PathLike]) -> None:
         self.path = Path(path)
         self._reader: Optional[AnyReader] = None
+        self.notes: List[str] = []
+        """What the user should know about how the bag was read (set by :meth:`open`)."""
+        self.skipped_topics: Dict[str, str] = {}
+        """Topics left out because their messages are not ROS, with why (set by :meth:`open`)."""
 
     def open(self) -> None:  # noqa: A003 - the rosbags reader name
         """
@@ -175,6 +268,11 @@ class BagFile:
             raise BagError(f'bag {self.path} is already open')
         reader = open_bag(self.path)
         try:
+            foreign = foreign_topics(reader)
+            if foreign:
+                reader.connections = [c for c in reader.connections if c.topic not in foreign]
+            self.notes = [f'{topic} not read: {why}' for topic, why in sorted(foreign.items())]
+            self.skipped_topics = foreign
             self._setup(reader)
         except BaseException:
             close_quietly(reader)

@@ -112,8 +112,9 @@ class RawBag(BagFile):
             for message in bag.messages(['/ball']):
                 publish(message.topic, message.data)
 
-    A topic with several message types, or (ROS 1) with a type ROS 2 Jazzy does not define, is
-    not offered: it is listed in :attr:`skipped` with the reason.
+    A topic with several message types, or (ROS 1) with a type ROS 2 Jazzy does not define, or
+    whose messages are not ROS (an MCAP's JSON or protobuf channel), is not offered: it is
+    listed in :attr:`skipped` with the reason.
 
     :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     """
@@ -139,6 +140,7 @@ class RawBag(BagFile):
             raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
         if total == 0:
             raise BagError(f'bag {self.path} contains no messages')
+        self.skipped.update(self.skipped_topics)  # (not ROS: taken out by BagFile.open)
         by_topic: Dict[str, List[Any]] = {}
         for connection in connections:
             by_topic.setdefault(connection.topic, []).append(connection)

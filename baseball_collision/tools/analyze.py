@@ -490,7 +490,8 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                                   model=options.model, ball_radius=options.ball_radius,
                                   bat_radius=options.bat_radius,
                                   prediction_horizon=options.prediction_horizon)
-            result = BagAnalysis(path=path, selection=bag.selection, config=config)
+            result = BagAnalysis(path=path, selection=bag.selection, config=config,
+                                 notes=list(bag.notes))
             sinks: List[Any] = [result]
             detector = Detector(config)
             copy = None

@@ -17,15 +17,17 @@ import sqlite3
 import struct
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
-from baseball_collision.bags import count_messages, POINT_STAMPED, POSE_STAMPED, read_samples
+from baseball_collision.bags import (
+    BagReader, count_messages, POINT_STAMPED, POSE_STAMPED, RawBag, read_samples)
 from baseball_collision.errors import BagError
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.cli import main
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
 import pytest
+from rosbags.interfaces import Connection
 from rosbags.rosbag1 import Writer as Writer1
-from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+from rosbags.rosbag2 import storage_mcap, StoragePlugin, Writer as Writer2
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.typesys import get_typestore, Stores
 from support import REPO_ROOT
@@ -35,6 +37,7 @@ BAGS = REPO_ROOT / 'bags'
 TS2 = get_typestore(Stores.ROS2_JAZZY)
 TS1 = get_typestore(Stores.ROS1_NOETIC)
 STRING = 'std_msgs/msg/String'
+NO_HASH = 'RIHS01_' + '0' * 64  # (a type hash for a schema that is not ROS)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -388,3 +391,81 @@ def test_unrelated_messages_are_skipped(storage: str, unrelated: int, tmp_path: 
     assert [impact.stamp_ns for impact in analysis.impacts] == pytest.approx(
         truth, abs=time_bound_ns(360.0))
     assert analysis.messages == len(rows) == count_messages(bag)
+
+
+# ----------------------------------------------------------------------------------------------
+# channels that are not ROS
+
+
+@pytest.fixture
+def foreign_schemas(monkeypatch: pytest.MonkeyPatch) -> Dict[str, Tuple[str, bytes]]:
+    """
+    Let rosbags' MCAP writer record some types with a schema that is not ROS.
+
+    Fill the returned ``{type name: (schema encoding, schema data)}``: rosbags writes a
+    ``ros2msg`` schema for every type; these get the encoding and data of a Foxglove SDK's or
+    bridge's recording instead (a JSON schema, a protobuf descriptor).
+    """
+    foreign: Dict[str, Tuple[str, bytes]] = {}
+    own = storage_mcap.McapWriter.add_msgtype
+
+    def add_msgtype(self: storage_mcap.McapWriter, connection: Connection) -> None:
+        if connection.msgtype not in foreign:
+            own(self, connection)
+            return
+        encoding, data = foreign[connection.msgtype]
+        self.schemas.append(storage_mcap.Schema(len(self.schemas) + 1, connection.msgtype,
+                                                encoding, data.decode('latin-1')))
+        storage_mcap.write_schema(self.chunk.bio, self.schemas[-1])
+
+    monkeypatch.setattr(storage_mcap.McapWriter, 'add_msgtype', add_msgtype)
+    return foreign
+
+
+def test_json_and_protobuf_channels_are_skipped_with_a_note(
+        tmp_path: Path, foreign_schemas: Dict[str, Tuple[str, bytes]],
+        capsys: pytest.CaptureFixture) -> None:
+    """A /foxglove/log in JSON and a protobuf channel: the bag is read all the same, with notes."""
+    foreign_schemas.update({'foxglove.Log': ('jsonschema', b'{"type": "object"}'),
+                            'foxglove.SceneUpdate': ('protobuf', b'\x0a\x00')})
+    rows, truth = pitches(('barrel',))
+    bag = tmp_path / 'foxglove'
+    write_bag(bag, 'mcap', rows)
+    plain = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    shutil.rmtree(bag)
+    writer = Writer2(bag, version=9, storage_plugin=StoragePlugin.MCAP)
+    with writer:
+        tracker = {role: writer.add_connection(topic, msgtype, typestore=TS2) for role, topic,
+                   msgtype in (('ball', '/tracker/ball', POINT_STAMPED),
+                               ('bat_pose', '/tracker/bat_pose', POSE_STAMPED))}
+        log = writer.add_connection('/foxglove/log', 'foxglove.Log', msgdef='', rihs01=NO_HASH,
+                                    serialization_format='json')
+        scene = writer.add_connection('/scene', 'foxglove.SceneUpdate', msgdef='', rihs01=NO_HASH,
+                                      serialization_format='protobuf')
+        for i, (stamp, role, values) in enumerate(rows):
+            writer.write(tracker[role], stamp, _serialize(TS2, role, stamp, 'world', values,
+                                                          False))
+            if i % 10 == 0:
+                writer.write(log, stamp, b'{"message": "hi"}')
+                writer.write(scene, stamp, b'\x0a\x00')
+    with pytest.raises(BagError, match=r'its metadata.yaml lists topics that are not ROS CDR: '
+                       r'/foxglove/log \(json\), /scene \(protobuf\), .* analyse its file '
+                       r'\S+/foxglove/foxglove.mcap instead, where they are skipped'):
+        read_samples(bag).__next__()  # (rosbags refuses such a bag directory)
+    bag = bag / 'foxglove.mcap'  # (a Foxglove SDK or bridge writes bare MCAP files)
+    with BagReader(bag) as reader:
+        assert reader.notes == [
+            '/foxglove/log not read: json messages (schema foxglove.Log), not ROS CDR',
+            '/scene not read: protobuf messages (schema foxglove.SceneUpdate), not ROS CDR']
+        assert '/foxglove/log' not in reader.topics
+    with RawBag(bag) as raw:
+        assert set(raw.skipped) == {'/foxglove/log', '/scene'} and '/scene' not in raw.topics
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    assert [i.stamp_ns for i in analysis.impacts] == [i.stamp_ns for i in plain.impacts]
+    assert len(analysis.impacts) == len(truth) == 1 and analysis.messages == len(rows)
+    assert analysis.notes == reader.notes
+    code, stdout, stderr = run_cli(['analyze', str(bag), '--no-progress', '--out-bag',
+                                    str(tmp_path / 'out.mcap')], capsys)
+    assert code == 0 and stderr == ''
+    assert 'note: --out-bag: /foxglove/log not copied (json messages (schema foxglove.Log), ' \
+        'not ROS CDR)' in stdout.splitlines()
