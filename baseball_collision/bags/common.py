@@ -3,9 +3,12 @@ What the bag modules share: the rosbags typestores, opening a bag.
 
 Every bag is opened here (:func:`open_bag`, :class:`BagFile`), so reading samples and replaying
 raw messages refuse the same paths with the same one-line :class:`BagError`, and read the same
-bags in the same way: an MCAP channel that is not ROS (JSON, protobuf, ...: Foxglove's
-``/foxglove/log``) is left out with a note (:attr:`BagFile.skipped_topics`), the rest of the bag
-read as usual.
+bags in the same way:
+
+* an MCAP channel that is not ROS (JSON, protobuf, ...: Foxglove's ``/foxglove/log``) is left
+  out with a note (:attr:`BagFile.skipped_topics`), the rest of the bag read as usual;
+* an MCAP file without its footer (a recording that crashed, was killed or is still being
+  written) is refused with how to recover it (rosbags' MCAP reader needs the footer).
 """
 
 import contextlib
@@ -106,6 +109,9 @@ def file_format(path: Path) -> Optional[str]:
 ROS_ENCODINGS = ('cdr',)
 """The message encodings of a ROS 2 bag's topics this package reads (rosbag2 records CDR)."""
 
+MCAP_MAGIC = b'\x89MCAP0\r\n'
+"""The bytes an MCAP file starts and, when finished, ends with."""
+
 _SCHEMAS_LOCK = threading.Lock()
 
 
@@ -153,6 +159,34 @@ def foreign_topics(reader: AnyReader) -> Dict[str, str]:
     return foreign
 
 
+def _unfinished_mcap(path: Path) -> Optional[Path]:
+    """Return the MCAP file of a bag that starts as MCAP but does not end as one, or None."""
+    files = sorted(path.glob('*.mcap')) if path.is_dir() else [path]
+    for file in files:
+        try:
+            with open(file, 'rb') as stream:
+                head = stream.read(len(MCAP_MAGIC))
+                stream.seek(0, os.SEEK_END)
+                size = stream.tell()
+                stream.seek(max(size - len(MCAP_MAGIC), 0))
+                tail = stream.read()
+        except OSError:
+            continue
+        if head == MCAP_MAGIC and (size < 2 * len(MCAP_MAGIC) or tail != MCAP_MAGIC):
+            return file
+    return None
+
+
+def _unfinished(path: Path, file: Path, error: BaseException) -> BagError:
+    """Return the error for an MCAP file without its footer, with how to recover it."""
+    return BagError(
+        f'cannot read bag {path}: {file} is an unfinished MCAP recording: it ends without '
+        'the footer a recorder writes when it stops (it crashed or was killed, the file was '
+        'cut short, or it is still being written), which the reader (rosbags) needs; recover '
+        f"what it holds with the mcap CLI, 'mcap recover {file} -o recovered.mcap', and "
+        f'analyse that ({first_line(error)})')
+
+
 def _listed_foreign(path: Path) -> Dict[str, str]:
     """Return ``{topic: serialization format}`` of a bag directory's topics that are not ROS."""
     try:
@@ -190,8 +224,8 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
     :returns: the open reader (close it).
     :raises BagError: path missing, a symbolic link loop, not a bag (a directory without
-        ``metadata.yaml``, a FIFO or device, another file suffix and content), or unreadable
-        or corrupt.
+        ``metadata.yaml``, a FIFO or device, another file suffix and content), an unfinished
+        MCAP recording (with how to recover it), or unreadable or corrupt.
     """
     path = Path(path)
     mode = _status(path).st_mode
@@ -217,6 +251,9 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
         with _foreign_schemas_read_as_unknown():
             reader.open()
     except Exception as error:
+        unfinished = _unfinished_mcap(path)
+        if unfinished is not None:
+            raise _unfinished(path, unfinished, error) from error
         foreign = _listed_foreign(path) if stat.S_ISDIR(mode) else {}
         if foreign:
             raise _foreign_listed(path, foreign, error) from error

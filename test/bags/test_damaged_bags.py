@@ -275,6 +275,21 @@ def _mcap_tail(span: slice, data: bytes) -> Callable[[Path], Path]:
     return make
 
 
+def _mcap_cut(fraction: float, directory: bool = False) -> Callable[[Path], Path]:
+    """Return a maker of a crashed recording: its MCAP file ends early (no footer, summary)."""
+    def make(d: Path) -> Path:
+        data = (BAGS / 'pitches_360hz.mcap').read_bytes()
+        if not directory:
+            (d / 'crashed.mcap').write_bytes(data[:int(len(data) * fraction)])
+            return d / 'crashed.mcap'
+        bag = d / 'crashed'
+        write_bag(bag, 'mcap', pitches(('barrel',))[0])
+        inner = bag / 'crashed.mcap'
+        inner.write_bytes(inner.read_bytes()[:int(inner.stat().st_size * fraction)])
+        return bag
+    return make
+
+
 DAMAGED = {
     'sqlite3_not_a_bag': (_foreign_db3, 'missing tables'),
     'sqlite3_cut_in_half': (_truncated_db3, 'malformed'),
@@ -286,6 +301,10 @@ DAMAGED = {
     'metadata_database_foreign': (_database_foreign, 'missing tables'),
     'mcap_footer_damaged': (_mcap_tail(slice(-30, -8), b'\xff' * 22), 'footer'),
     'mcap_end_magic_damaged': (_mcap_tail(slice(-8, None), b'\x00' * 8), 'magic'),
+    'mcap_crashed_recording': (_mcap_cut(0.95), 'crashed.mcap is an unfinished MCAP recording: '
+                               'it ends without the footer a recorder writes when it stops'),
+    'mcap_crashed_in_a_directory': (_mcap_cut(0.5, directory=True),
+                                    "crashed/crashed.mcap -o recovered.mcap'"),
 }
 
 
@@ -391,6 +410,13 @@ def test_unrelated_messages_are_skipped(storage: str, unrelated: int, tmp_path: 
     assert [impact.stamp_ns for impact in analysis.impacts] == pytest.approx(
         truth, abs=time_bound_ns(360.0))
     assert analysis.messages == len(rows) == count_messages(bag)
+
+
+def test_a_damaged_footer_is_not_called_an_unfinished_recording(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """The file ends as an MCAP (its end magic there), its footer damaged: rosbags' words only."""
+    err = refused(_mcap_tail(slice(-30, -8), b'\xff' * 22)(tmp_path), tmp_path, capsys)
+    assert 'unfinished' not in err and 'mcap recover' not in err
 
 
 # ----------------------------------------------------------------------------------------------
