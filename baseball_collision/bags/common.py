@@ -8,7 +8,12 @@ bags in the same way:
 * an MCAP channel that is not ROS (JSON, protobuf, ...: Foxglove's ``/foxglove/log``) is left
   out with a note (:attr:`BagFile.skipped_topics`), the rest of the bag read as usual;
 * an MCAP file without its footer (a recording that crashed, was killed or is still being
-  written) is refused with how to recover it (rosbags' MCAP reader needs the footer).
+  written) is refused with how to recover it (rosbags' MCAP reader needs the footer);
+* a sqlite3 file with a write-ahead log not yet checkpointed into it (``<file>-wal``: rosbag2's
+  ``resilient`` storage preset, a recording that crashed or is still being written; rosbags
+  opens the file ``immutable`` and would not see those messages) is read through a temporary
+  copy with the log checkpointed, with a note (:attr:`BagFile.notes`); the bag itself is never
+  changed.
 """
 
 import contextlib
@@ -17,11 +22,13 @@ import functools
 import os
 from pathlib import Path
 import shutil
+import sqlite3
 import stat
 import tempfile
 import threading
 from types import TracebackType
 from typing import Any, Dict, Iterator, List, Optional, Type, TypeVar, Union
+import weakref
 
 from rosbags.highlevel import AnyReader
 from rosbags.interfaces import MessageDefinition, MessageDefinitionFormat
@@ -212,20 +219,90 @@ def _foreign_listed(path: Path, foreign: Dict[str, str], error: BaseException) -
         f'{files} instead, where they are skipped with a note ({first_line(error)})')
 
 
-def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
+def _wal_files(path: Path, sniffed: Optional[str]) -> List[Path]:
+    """Return a bag's sqlite3 files that have a write-ahead log with something in it."""
+    if path.is_dir():
+        files = sorted(path.glob('*.db3'))
+    elif sniffed == '.db3' or (sniffed is None and path.suffix == '.db3'):
+        files = [path]
+    else:
+        return []
+    found = []
+    for file in files:
+        try:
+            if os.stat(f'{file}-wal').st_size > 0:
+                found.append(file)
+        except OSError:
+            pass
+    return found
+
+
+def _checkpointed_copy(path: Path, logged: List[Path], notes: Optional[List[str]]) -> Path:
+    """
+    Return a temporary copy of a sqlite3 bag with its write-ahead logs checkpointed.
+
+    The copy (a bag directory: its metadata and storage files; a bare file: ``bag.db3``) is in
+    a new temporary directory, which the caller removes. The bag is only read.
+
+    :raises BagError: the copy cannot be made or checkpointed (with how to do it by hand).
+    """
+    scratch = Path(tempfile.mkdtemp(prefix='.baseball_collision.wal.'))
+    try:
+        if path.is_dir():
+            copy = scratch / path.name
+            shutil.copytree(path, copy, ignore=shutil.ignore_patterns('*-shm', '*-wal'))
+            pairs = [(file, copy / file.name) for file in logged]
+        else:
+            copy = scratch / 'bag.db3'
+            shutil.copyfile(path, copy)
+            pairs = [(path, copy)]
+        for file, copied in pairs:
+            shutil.copyfile(f'{file}-wal', f'{copied}-wal')
+            with contextlib.closing(sqlite3.connect(copied)) as database:
+                busy, _, _ = database.execute('PRAGMA wal_checkpoint(TRUNCATE)').fetchone()
+                if busy:
+                    raise sqlite3.OperationalError('the checkpoint was blocked')
+                database.execute('PRAGMA journal_mode=DELETE')
+    except (OSError, sqlite3.Error) as error:
+        shutil.rmtree(scratch, ignore_errors=True)
+        names = ', '.join(f'{file.name}-wal' for file in logged)
+        reason = getattr(error, 'strerror', None) or first_line(error)
+        raise BagError(
+            f'cannot read bag {path}: {names} holds messages not yet checkpointed into the '
+            'database (a recording that crashed or is still being written), and a temporary '
+            f'checkpointed copy could not be made ({reason}); checkpoint a copy by '
+            "hand (cp -r the bag, then sqlite3 COPY/FILE.db3 'PRAGMA wal_checkpoint') and "
+            'analyse the copy') from error
+    if notes is not None:
+        sizes = ', '.join(f'{file.name}-wal ({os.stat(f"{file}-wal").st_size:,} bytes)'
+                          for file in logged)
+        notes.append(f'{sizes}: a write-ahead log not checkpointed into the database (a '
+                     'recording that crashed or is still being written); read through a '
+                     'temporary copy with the log checkpointed (the bag is not changed)')
+    return scratch
+
+
+_SCRATCH: 'weakref.WeakKeyDictionary[AnyReader, Any]' = weakref.WeakKeyDictionary()
+"""An open reader's temporary copy of its bag: removed when the reader is closed (or freed)."""
+
+
+def open_bag(path: Union[str, os.PathLike], notes: Optional[List[str]] = None) -> AnyReader:
     """
     Open a bag with rosbags' :class:`AnyReader` (ROS 2 types default to Jazzy).
 
     A bag file is read by its first bytes: an MCAP named ``.bag`` or ``x.MCAP`` opens as the
-    MCAP it is (through a temporary link with the suffix rosbags expects). MCAP channels that
-    are not ROS stay in the reader's connections (:func:`foreign_topics` names them); their
-    schemas are not read.
+    MCAP it is (through a temporary link with the suffix rosbags expects). A sqlite3 bag with
+    a write-ahead log not checkpointed is read through a checkpointed temporary copy (removed
+    by :func:`close_quietly`), with a note. MCAP channels that are not ROS stay in the reader's
+    connections (:func:`foreign_topics` names them); their schemas are not read.
 
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
-    :returns: the open reader (close it).
+    :param notes: what the reader should be told about how the bag was read is appended here.
+    :returns: the open reader (close it with :func:`close_quietly`).
     :raises BagError: path missing, a symbolic link loop, not a bag (a directory without
         ``metadata.yaml``, a FIFO or device, another file suffix and content), an unfinished
-        MCAP recording (with how to recover it), or unreadable or corrupt.
+        MCAP recording (with how to recover it), a write-ahead log that cannot be
+        checkpointed into a copy, or unreadable or corrupt.
     """
     path = Path(path)
     mode = _status(path).st_mode
@@ -242,7 +319,12 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
         if sniffed is None and path.suffix not in ('.mcap', '.db3', '.bag'):
             raise BagError(
                 f'not a bag: {path} (expected a bag directory or a .mcap, .db3 or .bag file)')
-    if sniffed is not None and sniffed != path.suffix:
+    scratch = None
+    logged = _wal_files(path, sniffed)
+    if logged:
+        scratch = _checkpointed_copy(path, logged, notes)
+        opened = scratch / path.name if stat.S_ISDIR(mode) else scratch / 'bag.db3'
+    elif sniffed is not None and sniffed != path.suffix:
         alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
         opened = alias / f'bag{sniffed}'
         os.symlink(path.resolve(), opened)
@@ -251,6 +333,8 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
         with _foreign_schemas_read_as_unknown():
             reader.open()
     except Exception as error:
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
         unfinished = _unfinished_mcap(path)
         if unfinished is not None:
             raise _unfinished(path, unfinished, error) from error
@@ -261,15 +345,20 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
     finally:
         if alias is not None:
             shutil.rmtree(alias, ignore_errors=True)
+    if scratch is not None:
+        _SCRATCH[reader] = weakref.finalize(reader, shutil.rmtree, scratch, True)
     return reader
 
 
 def close_quietly(reader: AnyReader) -> None:
-    """Close a reader, ignoring errors (nothing useful to report on close)."""
+    """Close a reader, ignoring errors; remove its temporary copy of the bag, if any."""
     try:
         reader.close()
     except Exception:  # noqa: S110 - a first error, if any, is the one to report
         pass
+    finalizer = _SCRATCH.pop(reader, None)
+    if finalizer is not None:
+        finalizer()
 
 
 OpenedBag = TypeVar('OpenedBag', bound='BagFile')
@@ -303,12 +392,14 @@ class BagFile:
         """
         if self._reader is not None:
             raise BagError(f'bag {self.path} is already open')
-        reader = open_bag(self.path)
+        notes: List[str] = []
+        reader = open_bag(self.path, notes)
         try:
             foreign = foreign_topics(reader)
             if foreign:
                 reader.connections = [c for c in reader.connections if c.topic not in foreign]
-            self.notes = [f'{topic} not read: {why}' for topic, why in sorted(foreign.items())]
+            self.notes = notes + [f'{topic} not read: {why}'
+                                  for topic, why in sorted(foreign.items())]
             self.skipped_topics = foreign
             self._setup(reader)
         except BaseException:

@@ -11,11 +11,13 @@ thousands of messages on an unrelated topic (their time and memory are figures o
 ``benchmarks/bench_bag_read.py``).
 """
 
+import errno
 from pathlib import Path
 import shutil
 import sqlite3
 import struct
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+import tempfile
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.bags import (
     BagReader, count_messages, POINT_STAMPED, POSE_STAMPED, RawBag, read_samples)
@@ -420,7 +422,7 @@ def test_a_damaged_footer_is_not_called_an_unfinished_recording(
 
 
 # ----------------------------------------------------------------------------------------------
-# channels that are not ROS
+# channels that are not ROS, sqlite3 write-ahead logs
 
 
 @pytest.fixture
@@ -495,3 +497,83 @@ def test_json_and_protobuf_channels_are_skipped_with_a_note(
     assert code == 0 and stderr == ''
     assert 'note: --out-bag: /foxglove/log not copied (json messages (schema foxglove.Log), ' \
         'not ROS CDR)' in stdout.splitlines()
+
+
+def _wal_session(bag: Path, db3: Path) -> sqlite3.Connection:
+    """
+    Turn a sqlite3 bag file into a recording still being written in WAL mode; return its writer.
+
+    Half of its messages are moved past the last checkpoint: they are in ``<db3>-wal`` only
+    while the returned connection (the recorder) stays open.
+    """
+    recorder = sqlite3.connect(db3)
+    assert recorder.execute('PRAGMA journal_mode=WAL').fetchone() == ('wal',)
+    recorder.execute('PRAGMA wal_autocheckpoint=0')
+    half = recorder.execute('SELECT count(*) FROM messages').fetchone()[0] // 2
+    rows = recorder.execute('SELECT * FROM messages WHERE id > ?', (half,)).fetchall()
+    recorder.execute('DELETE FROM messages WHERE id > ?', (half,))
+    recorder.commit()
+    recorder.execute('PRAGMA wal_checkpoint(TRUNCATE)')
+    recorder.executemany(f"INSERT INTO messages VALUES ({','.join('?' * len(rows[0]))})", rows)
+    recorder.commit()
+    assert Path(f'{db3}-wal').stat().st_size > 0
+    return recorder
+
+
+def _files(directory: Path) -> Dict[str, bytes]:
+    return {str(path.relative_to(directory)): path.read_bytes()
+            for path in sorted(directory.rglob('*')) if path.is_file()}
+
+
+@pytest.mark.parametrize('layout', ['directory', 'bare'])
+def test_a_sqlite3_write_ahead_log_is_read_through_a_checkpointed_copy(
+        tmp_path: Path, layout: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A recording in WAL mode (rosbag2's resilient preset) still being written, or crashed.
+
+    rosbags opens the file immutable and would read half of it; read through a checkpointed
+    temporary copy, every message is there, with a note; the bag is not changed, the copy
+    removed.
+    """
+    original = analyze_bag(BAGS / 'pitches_120hz_sqlite3', AnalysisOptions(), progress=False,
+                           use_truth=False)
+    bag = _sqlite_bag(tmp_path)
+    db3 = bag / 'pitches_120hz_sqlite3.db3'
+    if layout == 'bare':
+        db3 = db3.rename(tmp_path / 'session.db3')
+        bag = db3
+    scratch = tmp_path / 'tmp'
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, 'tempdir', str(scratch))
+    recorder = _wal_session(bag, db3)
+    try:
+        before = _files(tmp_path / 'bag' if layout == 'directory' else tmp_path)
+        analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+        after = _files(tmp_path / 'bag' if layout == 'directory' else tmp_path)
+    finally:
+        recorder.close()
+    assert analysis.messages == original.messages
+    assert [i.stamp_ns for i in analysis.impacts] == [i.stamp_ns for i in original.impacts]
+    assert len(analysis.notes) == 1 and analysis.notes[0].startswith(f'{db3.name}-wal (')
+    assert 'read through a temporary copy with the log checkpointed' in analysis.notes[0]
+    assert before == after and list(scratch.iterdir()) == []
+    assert analyze_bag(bag, AnalysisOptions(), progress=False).notes == []  # (checkpointed)
+
+
+def test_a_write_ahead_log_that_cannot_be_copied_says_how_to_checkpoint(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """No room for the copy: an error naming the log and the sqlite3 command, no half read."""
+    bag = _sqlite_bag(tmp_path)
+    recorder = _wal_session(bag, bag / 'pitches_120hz_sqlite3.db3')
+
+    def full(*args: Any, **kwargs: Any) -> None:
+        raise OSError(errno.ENOSPC, 'No space left on device')
+    monkeypatch.setattr(shutil, 'copytree', full)
+    try:
+        with pytest.raises(BagError, match=r'pitches_120hz_sqlite3.db3-wal holds messages not '
+                           r'yet checkpointed .* \(No space left on device\); checkpoint a copy '
+                           r'by hand \(cp -r the bag, then sqlite3 COPY/FILE.db3 .PRAGMA '
+                           r'wal_checkpoint.\)'):
+            read_samples(bag).__next__()
+    finally:
+        recorder.close()
