@@ -123,7 +123,8 @@ class BagWriter:
 
     :param path: output path; must not exist, its parent directory must.
     :param storage: ``'mcap'``, ``'sqlite3'`` or ``'rosbag1'``; None to follow the file name.
-    :raises BagError: the output exists, its directory is missing, or storage and name clash.
+    :raises BagError: the output exists, its directory is missing (or is not a directory), or
+        storage and name clash.
     """
 
     def __init__(self, path: Union[str, os.PathLike], storage: Optional[str] = None) -> None:
@@ -135,6 +136,8 @@ class BagWriter:
             raise BagError(f'output {self.path} exists already; not overwriting') from error
         except FileNotFoundError as error:
             raise BagError(f'output directory {self.path.parent} does not exist') from error
+        except NotADirectoryError as error:
+            raise BagError(f'output directory {self.path.parent} is not a directory') from error
         self._ros1 = self.storage == 'rosbag1'
         self._staged: Optional[StagedOutput] = None
         self._inner = self.path
