@@ -165,8 +165,9 @@ def _analyze(args: argparse.Namespace) -> int:
             print(f'{PROG}: skipped: {why}', file=sys.stderr)
         if skipped and not analyses:
             raise ToolError(f'no bag could be analysed ({len(skipped)} skipped)')
+        document = {'plots': bool(args.plot)}
         if json_file:
-            outputs.stage_text('json', json_text(analyses))
+            outputs.stage_text('json', json_text(analyses, **document))
         if csv_file:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
@@ -174,7 +175,8 @@ def _analyze(args: argparse.Namespace) -> int:
             outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
     if to_stdout:  # the document alone on standard output, for a pipe
-        sys.stdout.write(json_text(analyses) if args.json == '-' else csv_text(analyses))
+        sys.stdout.write(json_text(analyses, **document) if args.json == '-'
+                         else csv_text(analyses))
     elif not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
