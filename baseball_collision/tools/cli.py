@@ -165,7 +165,7 @@ def _analyze(args: argparse.Namespace) -> int:
             print(f'{PROG}: skipped: {why}', file=sys.stderr)
         if skipped and not analyses:
             raise ToolError(f'no bag could be analysed ({len(skipped)} skipped)')
-        document = {'plots': bool(args.plot)}
+        document = {'plots': bool(args.plot), 'skipped': skipped}
         if json_file:
             outputs.stage_text('json', json_text(analyses, **document))
         if csv_file:

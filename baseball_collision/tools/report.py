@@ -304,7 +304,8 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
     }
 
 
-def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False) -> Dict[str, Any]:
+def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
+            skipped: Optional[Sequence[Tuple[Any, str]]] = None) -> Dict[str, Any]:
     """
     Return the ``--json`` document for one or several bags.
 
@@ -320,6 +321,8 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False) -> Dict[str
 
     :param plots: ``--plot`` was given: each bag entry lists its PNG files (``plots``,
         :func:`plot_files`).
+    :param skipped: ``--keep-going``'s bags that could not be analysed, ``(path, why)``: the
+        document's ``skipped`` (``[{path, why}]``; None: no such key).
     """
     impacts, near_misses, predictions, bags = [], [], [], []
     dropped: Dict[str, int] = {}
@@ -346,6 +349,8 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False) -> Dict[str
                                 'near_misses': near_misses, 'dropped': dropped, 'bags': bags}
     if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
         document['predictions'] = predictions
+    if skipped is not None:
+        document['skipped'] = [{'path': str(path), 'why': why} for path, why in skipped]
     return document  # the records are plain already, the rest made plain above
 
 
