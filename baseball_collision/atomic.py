@@ -102,14 +102,31 @@ def check_target(target: Union[str, os.PathLike]) -> Path:
     Return ``target`` as a path after checking that an output can be created there.
 
     :raises FileExistsError: the path exists (also a dangling symlink): never overwritten.
+    :raises NotADirectoryError: what should be its directory is a file (or another non-directory).
     :raises FileNotFoundError: its directory does not exist.
     """
     path = Path(target)
     if path.exists() or path.is_symlink():
         raise FileExistsError(17, 'exists already; not overwriting', str(path))
     if not path.parent.is_dir():
+        if path.parent.exists():
+            raise NotADirectoryError(20, 'not a directory', str(path.parent))
         raise FileNotFoundError(2, 'output directory does not exist', str(path.parent))
     return path
+
+
+def check_writable(directory: Union[str, os.PathLike]) -> None:
+    """
+    Check that files can be created in ``directory``: create and remove a hidden empty file.
+
+    The permission bits do not say it all (root ignores them; an immutable directory, a
+    read-only mount, a full disk's quota): this asks the file system itself.
+
+    :raises OSError: the file cannot be created (``PermissionError``, ``EROFS``, ...).
+    """
+    handle, name = tempfile.mkstemp(prefix='.', suffix='.probe', dir=directory)
+    os.close(handle)
+    os.unlink(name)
 
 
 class StagedOutput:

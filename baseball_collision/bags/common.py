@@ -2,20 +2,37 @@
 What the bag modules share: the rosbags typestores, opening a bag.
 
 Every bag is opened here (:func:`open_bag`, :class:`BagFile`), so reading samples and replaying
-raw messages refuse the same paths with the same one-line :class:`BagError`.
+raw messages refuse the same paths with the same one-line :class:`BagError`, and read the same
+bags in the same way:
+
+* an MCAP channel that is not ROS (JSON, protobuf, ...: Foxglove's ``/foxglove/log``) is left
+  out with a note (:attr:`BagFile.skipped_topics`), the rest of the bag read as usual;
+* an MCAP file without its footer (a recording that crashed, was killed or is still being
+  written) is refused with how to recover it (rosbags' MCAP reader needs the footer);
+* a sqlite3 file with a write-ahead log not yet checkpointed into it (``<file>-wal``: rosbag2's
+  ``resilient`` storage preset, a recording that crashed or is still being written; rosbags
+  opens the file ``immutable`` and would not see those messages) is read through a temporary
+  copy with the log checkpointed, with a note (:attr:`BagFile.notes`); the bag itself is never
+  changed.
 """
 
+import contextlib
 import errno
 import functools
 import os
 from pathlib import Path
 import shutil
+import sqlite3
 import stat
 import tempfile
+import threading
 from types import TracebackType
-from typing import Any, Optional, Type, TypeVar, Union
+from typing import Any, Dict, Iterator, List, Optional, Type, TypeVar, Union
+import weakref
 
 from rosbags.highlevel import AnyReader
+from rosbags.interfaces import MessageDefinition, MessageDefinitionFormat
+from rosbags.rosbag2 import storage_mcap
 from rosbags.typesys import get_typestore, Stores
 from rosbags.typesys.store import Typestore
 
@@ -95,22 +112,200 @@ def file_format(path: Path) -> Optional[str]:
     return next((suffix for magic, suffix in MAGIC if head.startswith(magic)), None)
 
 
-def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
+ROS_ENCODINGS = ('cdr',)
+"""The message encodings of a ROS 2 bag's topics this package reads (rosbag2 records CDR)."""
+
+MCAP_MAGIC = b'\x89MCAP0\r\n'
+"""The bytes an MCAP file starts and, when finished, ends with."""
+
+_SCHEMAS_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def _foreign_schemas_read_as_unknown() -> Iterator[None]:
+    """
+    Within the block, rosbags' MCAP reader takes a schema it does not know as one without text.
+
+    rosbags (0.11) looks a schema's encoding up in a table of ROS ones and raises ``KeyError``
+    for any other (``jsonschema``, ``protobuf``, ...), refusing the whole file for one channel;
+    here such a schema reads as a message definition of format NONE, the channel stays (its
+    ``message_encoding`` tells it apart: :func:`foreign_topics`) and nothing is registered for
+    it. Known encodings go to rosbags' own function unchanged.
+    """
+    original = storage_mcap.get_msgdef
+
+    def tolerant(schema: Any) -> MessageDefinition:
+        try:
+            return original(schema)
+        except KeyError:
+            return MessageDefinition(MessageDefinitionFormat.NONE, '')
+
+    with _SCHEMAS_LOCK:
+        storage_mcap.get_msgdef = tolerant  # type: ignore[assignment]
+        try:
+            yield
+        finally:
+            storage_mcap.get_msgdef = original  # type: ignore[assignment]
+
+
+def foreign_topics(reader: AnyReader) -> Dict[str, str]:
+    """
+    Return the topics of an open ROS 2 reader whose messages are not ROS, with why.
+
+    ``{topic: 'json messages (schema foxglove.Log), not ROS CDR'}``; empty for a ROS 1 bag.
+    """
+    if not reader.is2:
+        return {}
+    foreign: Dict[str, str] = {}
+    for connection in reader.connections:
+        encoding = getattr(connection.ext, 'serialization_format', 'cdr')
+        if encoding not in ROS_ENCODINGS:
+            foreign[connection.topic] = (f'{encoding or "unnamed"} messages (schema '
+                                         f'{connection.msgtype}), not ROS CDR')
+    return foreign
+
+
+def _unfinished_mcap(path: Path) -> Optional[Path]:
+    """Return the MCAP file of a bag that starts as MCAP but does not end as one, or None."""
+    files = sorted(path.glob('*.mcap')) if path.is_dir() else [path]
+    for file in files:
+        try:
+            with open(file, 'rb') as stream:
+                head = stream.read(len(MCAP_MAGIC))
+                stream.seek(0, os.SEEK_END)
+                size = stream.tell()
+                stream.seek(max(size - len(MCAP_MAGIC), 0))
+                tail = stream.read()
+        except OSError:
+            continue
+        if head == MCAP_MAGIC and (size < 2 * len(MCAP_MAGIC) or tail != MCAP_MAGIC):
+            return file
+    return None
+
+
+def _unfinished(path: Path, file: Path, error: BaseException) -> BagError:
+    """Return the error for an MCAP file without its footer, with how to recover it."""
+    return BagError(
+        f'cannot read bag {path}: {file} is an unfinished MCAP recording: it ends without '
+        'the footer a recorder writes when it stops (it crashed or was killed, the file was '
+        'cut short, or it is still being written), which the reader (rosbags) needs; recover '
+        f"what it holds with the mcap CLI, 'mcap recover {file} -o recovered.mcap', and "
+        f'analyse that ({first_line(error)})')
+
+
+def _listed_foreign(path: Path) -> Dict[str, str]:
+    """Return ``{topic: serialization format}`` of a bag directory's topics that are not ROS."""
+    try:
+        import yaml  # (only for this message: rosbags reads the metadata itself)
+        with open(path / 'metadata.yaml') as stream:
+            metadata = yaml.safe_load(stream)['rosbag2_bagfile_information']
+        listed = metadata['topics_with_message_count']
+        return {str(entry['topic_metadata']['name']): str(
+                    entry['topic_metadata']['serialization_format'])
+                for entry in listed
+                if entry['topic_metadata']['serialization_format'] not in ROS_ENCODINGS}
+    except Exception:  # (damaged metadata: rosbags' own error says so)
+        return {}
+
+
+def _foreign_listed(path: Path, foreign: Dict[str, str], error: BaseException) -> BagError:
+    """Return the error for a bag directory whose metadata lists topics that are not ROS."""
+    topics = ', '.join(f'{topic} ({encoding})' for topic, encoding in sorted(foreign.items()))
+    files = ', '.join(str(file) for file in sorted(path.glob('*.mcap'))) or 'its storage file'
+    return BagError(
+        f'cannot read bag {path}: its metadata.yaml lists topics that are not ROS CDR: '
+        f'{topics}, and the reader (rosbags) refuses such a bag directory; analyse its file '
+        f'{files} instead, where they are skipped with a note ({first_line(error)})')
+
+
+def _wal_files(path: Path, sniffed: Optional[str]) -> List[Path]:
+    """Return a bag's sqlite3 files that have a write-ahead log with something in it."""
+    if path.is_dir():
+        files = sorted(path.glob('*.db3'))
+    elif sniffed == '.db3' or (sniffed is None and path.suffix == '.db3'):
+        files = [path]
+    else:
+        return []
+    found = []
+    for file in files:
+        try:
+            if os.stat(f'{file}-wal').st_size > 0:
+                found.append(file)
+        except OSError:
+            pass
+    return found
+
+
+def _checkpointed_copy(path: Path, logged: List[Path], notes: Optional[List[str]]) -> Path:
+    """
+    Return a temporary copy of a sqlite3 bag with its write-ahead logs checkpointed.
+
+    The copy (a bag directory: its metadata and storage files; a bare file: ``bag.db3``) is in
+    a new temporary directory, which the caller removes. The bag is only read.
+
+    :raises BagError: the copy cannot be made or checkpointed (with how to do it by hand).
+    """
+    scratch = Path(tempfile.mkdtemp(prefix='.baseball_collision.wal.'))
+    try:
+        if path.is_dir():
+            copy = scratch / path.name
+            shutil.copytree(path, copy, ignore=shutil.ignore_patterns('*-shm', '*-wal'))
+            pairs = [(file, copy / file.name) for file in logged]
+        else:
+            copy = scratch / 'bag.db3'
+            shutil.copyfile(path, copy)
+            pairs = [(path, copy)]
+        for file, copied in pairs:
+            shutil.copyfile(f'{file}-wal', f'{copied}-wal')
+            with contextlib.closing(sqlite3.connect(copied)) as database:
+                busy, _, _ = database.execute('PRAGMA wal_checkpoint(TRUNCATE)').fetchone()
+                if busy:
+                    raise sqlite3.OperationalError('the checkpoint was blocked')
+                database.execute('PRAGMA journal_mode=DELETE')
+    except (OSError, sqlite3.Error) as error:
+        shutil.rmtree(scratch, ignore_errors=True)
+        names = ', '.join(f'{file.name}-wal' for file in logged)
+        reason = getattr(error, 'strerror', None) or first_line(error)
+        raise BagError(
+            f'cannot read bag {path}: {names} holds messages not yet checkpointed into the '
+            'database (a recording that crashed or is still being written), and a temporary '
+            f'checkpointed copy could not be made ({reason}); checkpoint a copy by '
+            "hand (cp -r the bag, then sqlite3 COPY/FILE.db3 'PRAGMA wal_checkpoint') and "
+            'analyse the copy') from error
+    if notes is not None:
+        sizes = ', '.join(f'{file.name}-wal ({os.stat(f"{file}-wal").st_size:,} bytes)'
+                          for file in logged)
+        notes.append(f'{sizes}: a write-ahead log not checkpointed into the database (a '
+                     'recording that crashed or is still being written); read through a '
+                     'temporary copy with the log checkpointed (the bag is not changed)')
+    return scratch
+
+
+_SCRATCH: 'weakref.WeakKeyDictionary[AnyReader, Any]' = weakref.WeakKeyDictionary()
+"""An open reader's temporary copy of its bag: removed when the reader is closed (or freed)."""
+
+
+def open_bag(path: Union[str, os.PathLike], notes: Optional[List[str]] = None) -> AnyReader:
     """
     Open a bag with rosbags' :class:`AnyReader` (ROS 2 types default to Jazzy).
 
     A bag file is read by its first bytes: an MCAP named ``.bag`` or ``x.MCAP`` opens as the
-    MCAP it is (through a temporary link with the suffix rosbags expects).
+    MCAP it is (through a temporary link with the suffix rosbags expects). A sqlite3 bag with
+    a write-ahead log not checkpointed is read through a checkpointed temporary copy (removed
+    by :func:`close_quietly`), with a note. MCAP channels that are not ROS stay in the reader's
+    connections (:func:`foreign_topics` names them); their schemas are not read.
 
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
-    :returns: the open reader (close it).
+    :param notes: what the reader should be told about how the bag was read is appended here.
+    :returns: the open reader (close it with :func:`close_quietly`).
     :raises BagError: path missing, a symbolic link loop, not a bag (a directory without
-        ``metadata.yaml``, a FIFO or device, another file suffix and content), or unreadable
-        or corrupt.
+        ``metadata.yaml``, a FIFO or device, another file suffix and content), an unfinished
+        MCAP recording (with how to recover it), a write-ahead log that cannot be
+        checkpointed into a copy, or unreadable or corrupt.
     """
     path = Path(path)
     mode = _status(path).st_mode
-    alias, opened = None, path
+    alias, opened, sniffed = None, path, None
     if stat.S_ISDIR(mode):
         if not (path / 'metadata.yaml').is_file():
             raise BagError(f'not a ROS 2 bag directory (no metadata.yaml): {path}')
@@ -123,27 +318,46 @@ def open_bag(path: Union[str, os.PathLike]) -> AnyReader:
         if sniffed is None and path.suffix not in ('.mcap', '.db3', '.bag'):
             raise BagError(
                 f'not a bag: {path} (expected a bag directory or a .mcap, .db3 or .bag file)')
-        if sniffed is not None and sniffed != path.suffix:
-            alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
-            opened = alias / f'bag{sniffed}'
-            os.symlink(path.resolve(), opened)
+    scratch = None
+    logged = _wal_files(path, sniffed)
+    if logged:
+        scratch = _checkpointed_copy(path, logged, notes)
+        opened = scratch / path.name if stat.S_ISDIR(mode) else scratch / 'bag.db3'
+    elif sniffed is not None and sniffed != path.suffix:
+        alias = Path(tempfile.mkdtemp(prefix='.baseball_collision.'))
+        opened = alias / f'bag{sniffed}'
+        os.symlink(path.resolve(), opened)
     try:
         reader = AnyReader([opened], default_typestore=_JazzyDefaults())  # type: ignore
-        reader.open()
+        with _foreign_schemas_read_as_unknown():
+            reader.open()
     except Exception as error:
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
+        unfinished = _unfinished_mcap(path)
+        if unfinished is not None:
+            raise _unfinished(path, unfinished, error) from error
+        foreign = _listed_foreign(path) if stat.S_ISDIR(mode) else {}
+        if foreign:
+            raise _foreign_listed(path, foreign, error) from error
         raise BagError(f'cannot read bag {path}: {first_line(error)}') from error
     finally:
         if alias is not None:
             shutil.rmtree(alias, ignore_errors=True)
+    if scratch is not None:
+        _SCRATCH[reader] = weakref.finalize(reader, shutil.rmtree, scratch, True)
     return reader
 
 
 def close_quietly(reader: AnyReader) -> None:
-    """Close a reader, ignoring errors (nothing useful to report on close)."""
+    """Close a reader, ignoring errors; remove its temporary copy of the bag, if any."""
     try:
         reader.close()
     except Exception:  # noqa: S110 - a first error, if any, is the one to report
         pass
+    finalizer = _SCRATCH.pop(reader, None)
+    if finalizer is not None:
+        finalizer()
 
 
 OpenedBag = TypeVar('OpenedBag', bound='BagFile')
@@ -154,7 +368,8 @@ class BagFile:
     A bag read through an :class:`AnyReader`: open and close, context manager, log times.
 
     Subclasses prepare what they read in :meth:`_setup` (called on the open reader; an error
-    there closes it again).
+    there closes it again). Topics whose messages are not ROS (:func:`foreign_topics`) are
+    taken out of the reader's connections before, and listed in :attr:`skipped_topics`.
 
     :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     """
@@ -162,6 +377,10 @@ class BagFile:
     def __init__(self, path: Union[str, os.PathLike]) -> None:
         self.path = Path(path)
         self._reader: Optional[AnyReader] = None
+        self.notes: List[str] = []
+        """What the user should know about how the bag was read (set by :meth:`open`)."""
+        self.skipped_topics: Dict[str, str] = {}
+        """Topics left out because their messages are not ROS, with why (set by :meth:`open`)."""
 
     def open(self) -> None:  # noqa: A003 - the rosbags reader name
         """
@@ -172,8 +391,15 @@ class BagFile:
         """
         if self._reader is not None:
             raise BagError(f'bag {self.path} is already open')
-        reader = open_bag(self.path)
+        notes: List[str] = []
+        reader = open_bag(self.path, notes)
         try:
+            foreign = foreign_topics(reader)
+            if foreign:
+                reader.connections = [c for c in reader.connections if c.topic not in foreign]
+            self.notes = notes + [f'{topic} not read: {why}'
+                                  for topic, why in sorted(foreign.items())]
+            self.skipped_topics = foreign
             self._setup(reader)
         except BaseException:
             close_quietly(reader)

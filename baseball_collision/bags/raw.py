@@ -16,6 +16,7 @@ from typing import (
 
 from rosbags.convert.converter import generate_message_converter
 from rosbags.highlevel import AnyReader
+from rosbags.interfaces import MessageDefinitionFormat
 
 from .common import BagFile, first_line, jazzy_typestore
 from .messages import qos_profile
@@ -87,6 +88,16 @@ def _qos(connections: List[Any]) -> Dict[str, str]:
     return {name: values.pop() if len(values) == 1 else '' for name, values in found.items()}
 
 
+def _definition(connections: List[Any]) -> Tuple[str, str]:
+    """Return the first definition a topic's connections hold: ('msg' or 'idl', text), or none."""
+    formats = {MessageDefinitionFormat.MSG: 'msg', MessageDefinitionFormat.IDL: 'idl'}
+    for connection in connections:
+        msgdef = getattr(connection, 'msgdef', None)
+        if msgdef is not None and msgdef.format in formats and msgdef.data:
+            return formats[msgdef.format], str(msgdef.data)
+    return '', ''
+
+
 def _ros1_converter(reader: AnyReader, msgtype: str) -> Callable[[bytes], Any]:
     """
     Return rosbags' ROS 1 -> ROS 2 (Jazzy) CDR converter of a message type.
@@ -112,8 +123,9 @@ class RawBag(BagFile):
             for message in bag.messages(['/ball']):
                 publish(message.topic, message.data)
 
-    A topic with several message types, or (ROS 1) with a type ROS 2 Jazzy does not define, is
-    not offered: it is listed in :attr:`skipped` with the reason.
+    A topic with several message types, or (ROS 1) with a type ROS 2 Jazzy does not define, or
+    whose messages are not ROS (an MCAP's JSON or protobuf channel), is not offered: it is
+    listed in :attr:`skipped` with the reason.
 
     :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     """
@@ -123,6 +135,7 @@ class RawBag(BagFile):
         self._topics: Dict[str, RawTopic] = {}
         self._order: List[Any] = []
         self._convert: Dict[int, Callable[[bytes], Any]] = {}
+        self._definitions: Dict[str, Tuple[str, str]] = {}
         self.skipped: Dict[str, str] = {}
         """Topics not offered, with why (several types, no ROS 2 type)."""
 
@@ -139,6 +152,7 @@ class RawBag(BagFile):
             raise BagError(f'cannot read bag {self.path}: {first_line(error)}') from error
         if total == 0:
             raise BagError(f'bag {self.path} contains no messages')
+        self.skipped.update(self.skipped_topics)  # (not ROS: taken out by BagFile.open)
         by_topic: Dict[str, List[Any]] = {}
         for connection in connections:
             by_topic.setdefault(connection.topic, []).append(connection)
@@ -154,10 +168,27 @@ class RawBag(BagFile):
             except KeyError:
                 self.skipped[topic] = f'no ROS 2 type {msgtypes[0]}'
                 continue
+            if reader.is2:
+                self._definitions[topic] = _definition(group)
             self._topics[topic] = RawTopic(topic, msgtypes[0],
                                            sum(max(int(c.msgcount), 0) for c in group),
                                            **_qos(group), qos_profiles=_profiles(group))
         self._order = [c for c in connections if c.topic in self._topics]
+
+    def definition(self, topic: str) -> Tuple[str, str]:
+        """
+        Return the message definition a ROS 2 bag holds for a topic's type: (format, text).
+
+        The format is ``'msg'`` (the ``.msg`` text rosbag2 records, the types it uses appended)
+        or ``'idl'``; ``('', '')`` where the bag holds none (an older bag, or ROS 1: its
+        definitions are ROS 1's).
+
+        :raises BagError: the bag is not open, or offers no such topic.
+        """
+        self._open_reader()
+        if topic not in self._topics:
+            raise BagError(f'bag {self.path} offers no topic {topic}')
+        return self._definitions.get(topic, ('', ''))
 
     @property
     def is_ros1(self) -> bool:

@@ -7,14 +7,20 @@ Topic roles
     either one ``bat_pose`` topic or a ``knob`` + ``tip`` pair.
 
 Topic auto-detection (:func:`select_topics`)
-    A topic name is lower-cased and split into words on every non-alphanumeric character. A role
-    is filled automatically only when exactly one topic of an accepted type matches it:
+    A topic name is cut into words (:func:`name_words`): at every character that is not a
+    letter or a digit (``/``, ``_``, ``-``, ``.``), where a lower-case letter meets an upper-case
+    one (``batPose``) and where letters meet digits (``bat2``); the words are lower-cased. A
+    role's words are matched whole: ``/batting_cage/ball`` has the words ``batting``, ``cage``
+    and ``ball``, and no bat. A role is filled automatically only when exactly one topic of an
+    accepted type matches it:
 
-    - ``ball``: PointStamped or PoseStamped; a word contains ``ball`` and no word names a bat
-      part (contains ``bat``, ``knob``, ``handle``, ``barrel``, or is ``tip`` or ``end``).
-    - ``bat_pose``: PoseStamped; a word contains ``bat``.
-    - ``knob``: PointStamped; a word contains ``knob`` or ``handle``.
-    - ``tip``: PointStamped; a word contains ``barrel`` or a word is ``tip`` or ``end``.
+    - ``ball``: PointStamped or PoseStamped; a word is ``ball`` or ends in it (``baseball``,
+      ``softball``), and no word names a bat part (``bat``, ``knob``, ``handle``, ``barrel``,
+      ``tip``, ``end``).
+    - ``bat_pose``: PoseStamped; a word is ``bat``.
+    - ``knob``: PointStamped; a word is ``knob`` or ``handle``.
+    - ``tip``: PointStamped; a word is ``tip``, ``end`` or ``barrel``, and none ``knob`` or
+      ``handle``.
 
     Topics named explicitly are taken as given (type-checked) and removed from the candidates of
     the other roles. When neither a bat pose nor knob/tip topics were named and the bag holds both
@@ -35,11 +41,13 @@ from .names import POINT_STAMPED, POSE_STAMPED, ROLE_TYPES, ROLES, TOPIC_FLAGS
 from ..errors import BagError
 
 _HINTS = {
-    'ball': "a PointStamped or PoseStamped with 'ball' in its name",
-    'bat_pose': "a PoseStamped with 'bat' in its name",
-    'knob': "a PointStamped with 'knob' or 'handle' in its name",
-    'tip': "a PointStamped named with 'tip', 'end' or 'barrel'",
+    'ball': "a PointStamped or PoseStamped with the word 'ball' (or 'baseball') in its name",
+    'bat_pose': "a PoseStamped with the word 'bat' in its name",
+    'knob': "a PointStamped with the word 'knob' or 'handle' in its name",
+    'tip': "a PointStamped with the word 'tip', 'end' or 'barrel' in its name",
 }
+_BAT_PARTS = frozenset(('bat', 'knob', 'handle', 'barrel', 'tip', 'end'))
+_WORD = re.compile(r'[A-Z]+(?![a-z])|[A-Z]?[a-z]+|[0-9]+')
 _TOPIC_LIST_LIMIT = 20
 
 
@@ -138,29 +146,32 @@ def _describe_topics(types: Mapping[str, Tuple[str, ...]]) -> str:
     return f'topics: {_listed(items)}'
 
 
-def _words(topic: str) -> List[str]:
-    """Return the lower-case words of a topic name (split on non-alphanumerics)."""
-    return [word for word in re.split(r'[^a-z0-9]+', topic.lower()) if word]
+def name_words(topic: str) -> List[str]:
+    """
+    Return the lower-case words of a topic name, which auto-detection matches whole.
+
+    Words are cut at every character that is not an ASCII letter or digit, where a lower-case
+    letter meets an upper-case one, and where letters meet digits: ``/batting_cage/ballPos2``
+    -> ``['batting', 'cage', 'ball', 'pos', '2']``.
+    """
+    return [word.lower() for word in _WORD.findall(topic)]
 
 
-def _is_bat_part(words: Sequence[str]) -> bool:
-    """Return True if a topic name mentions a bat or a bat end."""
-    return any(
-        'bat' in w or 'knob' in w or 'handle' in w or 'barrel' in w or w in ('tip', 'end')
-        for w in words)
+def _is_ball(word: str) -> bool:
+    """Return True for a word naming a ball: ``ball`` or a word ending in it (``baseball``)."""
+    return word.endswith('ball')
 
 
 def _name_matches(role: str, topic: str) -> bool:
     """Return True if a topic's name fits a role (see the module's auto-detection rules)."""
-    words = _words(topic)
+    words = set(name_words(topic))
     if role == 'ball':
-        return any('ball' in w for w in words) and not _is_bat_part(words)
+        return any(map(_is_ball, words)) and not words & _BAT_PARTS
     if role == 'bat_pose':
-        return any('bat' in w for w in words)
+        return 'bat' in words
     if role == 'knob':
-        return any('knob' in w or 'handle' in w for w in words)
-    return (any('barrel' in w or w in ('tip', 'end') for w in words)
-            and not any('knob' in w or 'handle' in w for w in words))
+        return bool(words & {'knob', 'handle'})
+    return bool(words & {'tip', 'end', 'barrel'}) and not words & {'knob', 'handle'}
 
 
 def _candidates(role: str, types: Mapping[str, Tuple[str, ...]],

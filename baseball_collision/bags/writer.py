@@ -16,6 +16,8 @@ from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Type, Union
 
 from rosbags.rosbag1 import Writer as Writer1
 from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+from rosbags.typesys import get_types_from_msg, get_typestore, Stores
+from rosbags.typesys.store import Typestore
 
 from .common import first_line, jazzy_typestore, noetic_typestore
 from .names import POINT_STAMPED, POSE_STAMPED, TWIST_STAMPED, VECTOR3_STAMPED
@@ -55,11 +57,12 @@ class _Serializer:
     Builds stamped messages from the typestore and serialises them (ROS 1: ``seq`` per topic).
 
     :param ros1: ROS 1 Noetic types and serialisation; else ROS 2 Jazzy and little-endian CDR.
+    :param typestore: the types (None: the shared Noetic or Jazzy store).
     """
 
-    def __init__(self, ros1: bool) -> None:
+    def __init__(self, ros1: bool, typestore: Optional[Typestore] = None) -> None:
         self.ros1 = ros1
-        self.typestore = noetic_typestore() if ros1 else jazzy_typestore()
+        self.typestore = typestore or (noetic_typestore() if ros1 else jazzy_typestore())
         types = self.typestore.types
         self._time = types['builtin_interfaces/msg/Time']
         self._header = types['std_msgs/msg/Header']
@@ -124,7 +127,8 @@ class BagWriter:
 
     :param path: output path; must not exist, its parent directory must.
     :param storage: ``'mcap'``, ``'sqlite3'`` or ``'rosbag1'``; None to follow the file name.
-    :raises BagError: the output exists, its directory is missing, or storage and name clash.
+    :raises BagError: the output exists, its directory is missing (or is not a directory), or
+        storage and name clash.
     """
 
     def __init__(self, path: Union[str, os.PathLike], storage: Optional[str] = None) -> None:
@@ -136,6 +140,8 @@ class BagWriter:
             raise BagError(f'output {self.path} exists already; not overwriting') from error
         except FileNotFoundError as error:
             raise BagError(f'output directory {self.path.parent} does not exist') from error
+        except NotADirectoryError as error:
+            raise BagError(f'output directory {self.path.parent} is not a directory') from error
         self._ros1 = self.storage == 'rosbag1'
         self._staged: Optional[StagedOutput] = None
         self._inner = self.path
@@ -150,6 +156,37 @@ class BagWriter:
     def typestore(self) -> Any:
         """Return the rosbags typestore to build :meth:`write_message` messages from."""
         return self._serializer.typestore
+
+    def register_definition(self, msgtype: str, definition: str) -> None:
+        """
+        Make a message type known to this bag from its ``.msg`` definition (a bag's own).
+
+        The definition as rosbag2 records it (the type's ``.msg`` text, the types it uses
+        appended after ``====`` lines) is parsed by rosbags (``get_types_from_msg``); the types
+        this bag does not know yet are added to its own copy of the typestore (the shared
+        Jazzy or Noetic store is left as it is), so :meth:`add_topic` can declare the type and
+        the bag records its definition.
+
+        :raises BagError: the definition cannot be parsed, or its types cannot be added (a
+            clash with a known type's definition, a type it uses missing).
+        """
+        try:
+            types = get_types_from_msg(definition, msgtype)
+        except Exception as error:
+            raise BagError(f'cannot read the definition of {msgtype}: '
+                           f'{first_line(error)}') from error
+        store = self.typestore
+        if store is jazzy_typestore() or store is noetic_typestore():
+            store = get_typestore(Stores.ROS1_NOETIC if self._ros1 else Stores.ROS2_JAZZY)
+        try:
+            store.register({name: fields for name, fields in types.items()
+                            if name not in store.fielddefs})
+            store.generate_msgdef(msgtype, ros_version=1 if self._ros1 else 2)
+        except Exception as error:
+            raise BagError(f'cannot add the definition of {msgtype}: '
+                           f'{first_line(error)}') from error
+        if store is not self.typestore:
+            self._serializer = _Serializer(self._ros1, store)
 
     def open(self) -> None:  # noqa: A003 - the rosbags reader/writer name
         """

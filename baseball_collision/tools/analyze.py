@@ -26,6 +26,8 @@ import time
 from typing import (
     Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
 
+import numpy as np
+
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
@@ -36,6 +38,7 @@ from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
+from ..core.detector.chunks import ROLE_CODES
 from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 from ..threads import single_threaded_blas
@@ -45,6 +48,9 @@ PROGRESS_MIN_MESSAGES = 100_000
 
 CHUNK = 8192
 """Samples read between two progress bar updates, and given to the detector at once."""
+
+ROLE_NAMES = {code: role for role, code in ROLE_CODES.items()}
+"""A chunk's role codes' roles (``SampleChunk.roles``)."""
 
 SCORE_WINDOW_NS = 500_000_000
 """Predictions made more than this (ns) before an impact are not its predictions."""
@@ -72,6 +78,9 @@ class BagAnalysis:
     :ivar drops_by_role: dropped samples by ``(role, reason)``.
     :ivar noise: the ball's and the bat's tracking noise at the bag's end (m, 1 sigma per
         coordinate: ``Detector.noise``, told or estimated under auto; 0: exact).
+    :ivar stamp_spans: each role's first and last header stamp (ns, the smallest and the
+        largest), of every sample read (dropped ones too).
+    :ivar first_frames: each role's first sample's ``frame_id``.
     """
 
     path: Path
@@ -92,6 +101,8 @@ class BagAnalysis:
     notes: List[str] = field(default_factory=list)
     drops_by_role: Counter = field(default_factory=Counter)
     noise: Tuple[float, float] = (0.0, 0.0)
+    stamp_spans: Dict[str, Tuple[int, int]] = field(default_factory=dict)
+    first_frames: Dict[str, str] = field(default_factory=dict)
 
     @property
     def throughput(self) -> float:
@@ -109,12 +120,61 @@ class BagAnalysis:
             if kind is not None:
                 getattr(self, kind.collection).append(event)
 
+    def on_sample(self, role: str, stamp_ns: int, frame_id: str, values: Sequence[float],
+                  log_time_ns: int) -> None:
+        """Note a sample's role's stamp span and first frame (a sample sink)."""
+        span = self.stamp_spans.get(role)
+        if span is None:
+            self.stamp_spans[role] = (stamp_ns, stamp_ns)
+            self.first_frames[role] = frame_id
+        elif not span[0] <= stamp_ns <= span[1]:
+            self.stamp_spans[role] = (min(span[0], stamp_ns), max(span[1], stamp_ns))
+
+    def on_chunk(self, chunk: Any) -> None:
+        """Note a chunk's roles' stamp spans and first frames (a chunk sink: no sample loop)."""
+        roles, stamps = chunk.roles, chunk.stamps_ns
+        for code in np.flatnonzero(np.bincount(roles, minlength=len(ROLE_NAMES))):
+            role = ROLE_NAMES[code]
+            mine = roles == code
+            low, high = int(stamps[mine].min()), int(stamps[mine].max())
+            span = self.stamp_spans.get(role)
+            if span is None:
+                self.first_frames[role] = chunk.frame_ids[int(np.argmax(mine))]
+                self.stamp_spans[role] = (low, high)
+            elif low < span[0] or high > span[1]:
+                self.stamp_spans[role] = (min(span[0], low), max(span[1], high))
+
+    def unsolved_note(self) -> Optional[str]:
+        """
+        Return why nothing could be solved though the ball and the bat were read (None: solved).
+
+        Their stamps never overlapping (two clocks), or overlapping but with every step of a
+        stream longer than ``max_gap`` (a pause in tracking: never interpolated).
+        """
+        received = self.stats.received
+        bat_roles = [role for role in ('bat_pose', 'knob', 'tip') if received.get(role)]
+        if self.stats.intervals or not received.get('ball') or not bat_roles:
+            return None
+        spans = [self.stamp_spans[role] for role in ['ball'] + bat_roles
+                 if role in self.stamp_spans]
+        if len(spans) > 1 and max(low for low, _ in spans) > min(high for _, high in spans):
+            return ('the ball and the bat were never tracked at the same time (their stamps do '
+                    'not overlap): nothing could be solved; are both stamped by one clock?')
+        pauses = Counter(gap.stream for gap in self.gaps)
+        counted = ', '.join(f'{stream} {count}' for stream, count in sorted(pauses.items()))
+        topics = ', '.join(f'{role} {topic}' for role, topic in self.selection.topics.items())
+        return (f'the ball and the bat were tracked at the same time (their stamps overlap) '
+                f'but nothing could be solved: no stretch had both streams stepping within '
+                f'max_gap ({self.config.max_gap:g} s; pauses in tracking: {counted or "none"}); '
+                f'are these the topics ({topics}), and is a stream that slow? (a larger max_gap '
+                'in --params interpolates longer steps)')
+
     def silenced_topics(self) -> List[str]:
         """
         Return why selected topics had every one of their samples dropped (empty: none had).
 
         One line per set of reasons: the topics with their counts, the reasons; with a hint
-        when the configured ``frame_id`` dropped them.
+        when the frames disagree (each topic's frame named) or the header stamps are zero.
         """
         silenced: Dict[Tuple[str, ...], List[str]] = {}
         for role, topic in self.selection.topics.items():
@@ -122,20 +182,42 @@ class BagAnalysis:
             reasons = tuple((reason, count) for (dropped_role, reason), count
                             in sorted(self.drops_by_role.items()) if dropped_role == role)
             if received and sum(count for _, count in reasons) >= received:
-                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(
-                    f'{topic} ({received})')
+                silenced.setdefault(tuple(reason for reason, _ in reasons), []).append(role)
         lines = []
-        for reasons, topics in silenced.items():
-            why = ', '.join(reasons)
-            line = f"every sample of {' and '.join(topics)} was dropped ({why})"
-            if 'wrong_frame' in why and self.config.frame_id:
-                line += (f": frame_id '{self.config.frame_id}' is configured and the bag's "
-                         'samples are in another frame')
-            elif 'wrong_frame' in why and self.frame_id:
-                line += (f": their frame_id is not '{self.frame_id}', the tracking frame the "
-                         'other inputs agreed on (every input must share one frame: no TF)')
+        for reasons, roles in silenced.items():
+            topics = self.selection.topics
+            counted = ' and '.join(f'{topics[role]} ({self.stats.received.get(role, 0)})'
+                                   for role in roles)
+            line = f"every sample of {counted} was dropped ({', '.join(reasons)})"
+            if 'wrong_frame' in reasons:
+                line += ': ' + self._frames_hint(roles)
+            if 'bad_stamp' in reasons:
+                line += ('; their header stamps are zero (or before 1970): the detector, as the '
+                         'node, times every sample by its header stamp and needs real stamps '
+                         "(the bag's recording times are not used): stamp the tracker's "
+                         'messages')
             lines.append(line)
         return lines
+
+    def _frames_hint(self, dropped: Sequence[str]) -> str:
+        """Return each selected topic's frame, against the configured or tracked frame."""
+        topics = self.selection.topics
+
+        def framed(roles: Sequence[str]) -> str:
+            return ', '.join(f"{topics[role]} in '{self.first_frames[role]}'" for role in roles
+                             if role in self.first_frames)
+
+        kept = [role for role in topics if role not in dropped]
+        frames = framed(dropped) or ' and '.join(topics[role] for role in dropped) + \
+            ' in another frame'
+        if self.config.frame_id:
+            return (f"frame_id '{self.config.frame_id}' is configured and {frames} (every "
+                    'input must be in that frame: no TF)')
+        tracked = f"'{self.frame_id}'" if self.frame_id else "the first sample's frame"
+        others = framed(kept)
+        return (frames + (f', but {others}' if others else '')
+                + f" (the tracking frame is {tracked}, the first sample's); every input must "
+                "share one frame (no TF: transform one stream into the other's frame)")
 
     def prediction_scores(self) -> List[Dict[float, Optional[Tuple[float, float]]]]:
         """
@@ -412,7 +494,8 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                                   model=options.model, ball_radius=options.ball_radius,
                                   bat_radius=options.bat_radius,
                                   prediction_horizon=options.prediction_horizon)
-            result = BagAnalysis(path=path, selection=bag.selection, config=config)
+            result = BagAnalysis(path=path, selection=bag.selection, config=config,
+                                 notes=list(bag.notes))
             sinks: List[Sink] = [result]
             detector = Detector(config)
             copy = None
@@ -449,24 +532,22 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     unknown = unknown_parameters(options.parameters, options.node_name)
     if unknown is not None:  # (typos: rclpy would ignore them too)
         result.notes.append(unknown)
-    received = detector.stats.received
-    if detector.stats.intervals == 0 and received.get('ball') and (
-            received.get('bat_pose') or received.get('knob')):
-        result.notes.append(
-            'the ball and the bat were never tracked at the same time (their stamps do not '
-            'overlap): nothing could be solved; are both stamped by one clock?')
-    truth_file = truth_path(path)
-    if use_truth and truth_file.is_file():
+    unsolved = result.unsolved_note()
+    if unsolved is not None:
+        result.notes.append(unsolved)
+    truth_file = truth_path(path) if use_truth else None  # (--no-truth: never looked for)
+    if truth_file is not None and truth_file.is_file():
         try:
             truth = load_truth(truth_file)
             result.truth = compare_truth(result.impacts, result.near_misses, truth, truth_file)
         except ToolError as error:
             result.notes.append(f'{error}; the truth file was ignored')
         else:
-            made_for = Path(str(truth.get('bag', path.name))).name
-            if made_for != path.name:
+            name = Path(os.path.abspath(path)).name  # ('.' is the directory one is in)
+            made_for = Path(str(truth.get('bag', name))).name
+            if made_for != name:
                 result.notes.append(f'{truth_file.name} was written for {made_for}, not '
-                                    f'{path.name}: compared all the same (a renamed copy?)')
+                                    f'{name}: compared all the same (a renamed copy?)')
     return result
 
 

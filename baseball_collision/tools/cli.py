@@ -50,6 +50,39 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_BAD_INPUT)
 
 
+class _Command(_Parser):
+    """
+    A subcommand's parser: its own errors (pointing to its own ``--help``), options anywhere.
+
+    argparse hands a subcommand the arguments after its name and, of what it does not take,
+    lets the top-level parser complain, pointing to the top-level help; here the subcommand
+    refuses them itself. With :attr:`intermixed` (``analyze``) options may also stand between
+    the positionals (``analyze A.mcap --json o.json B.mcap``): argparse's intermixed parsing.
+    """
+
+    intermixed = False
+    """Parse options between positionals (``parse_known_intermixed_args``)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._parsing = False
+
+    def parse_known_args(self, args: Any = None, namespace: Any = None) -> Any:
+        """Parse a subcommand's arguments; anything left over is this subcommand's error."""
+        if self._parsing:  # (the intermixed parse's own passes)
+            return super().parse_known_args(args, namespace)
+        self._parsing = True
+        try:
+            parse = super().parse_known_intermixed_args if self.intermixed \
+                else super().parse_known_args
+            namespace, extras = parse(args, namespace)
+        finally:
+            self._parsing = False
+        if extras:
+            self.error(f"unrecognized arguments: {' '.join(extras)}")
+        return namespace, extras
+
+
 def _number(minimum: float, inclusive: bool, what: str,
             maximum: float = math.inf) -> Callable[[str], float]:
     """Return an argparse type: a finite float above ``minimum`` (or at it if inclusive)."""
@@ -165,8 +198,9 @@ def _analyze(args: argparse.Namespace) -> int:
             print(f'{PROG}: skipped: {why}', file=sys.stderr)
         if skipped and not analyses:
             raise ToolError(f'no bag could be analysed ({len(skipped)} skipped)')
+        document = {'plots': bool(args.plot), 'skipped': skipped}
         if json_file:
-            outputs.stage_text('json', json_text(analyses))
+            outputs.stage_text('json', json_text(analyses, **document))
         if csv_file:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
@@ -174,7 +208,8 @@ def _analyze(args: argparse.Namespace) -> int:
             outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
         outputs.commit()
     if to_stdout:  # the document alone on standard output, for a pipe
-        sys.stdout.write(json_text(analyses) if args.json == '-' else csv_text(analyses))
+        sys.stdout.write(json_text(analyses, **document) if args.json == '-'
+                         else csv_text(analyses))
     elif not args.quiet:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
@@ -280,6 +315,7 @@ def _add_analyze(commands: Any) -> None:
         'and near miss, a summary, and the comparison with the truth file beside the bag if '
         'there is one. Model: --model, else the parameter file, else c2 with look_ahead 2 and '
         'tracker_noise auto (each unless the parameter file sets it).')
+    analyze.intermixed = True  # (analyze BAG1 --json o.json BAG2)
     analyze.add_argument('bags', metavar='BAG', nargs='+',
                          help='bag directory, .mcap, .db3 or ROS 1 .bag file, or a directory '
                          'of bags (each bag in it and in its subdirectories, by name)')
@@ -370,7 +406,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog=PROG, description='Find the instant a tracked bat hits a tracked ball: simulate '
         'recordings, analyse bags offline, replay them to the live node, or run the demo.')
     parser.add_argument('--version', action='version', version=f'%(prog)s {__version__}')
-    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND',
+                                     parser_class=_Command)
     for add in (_add_simulate, _add_analyze, _add_replay, _add_demo):
         add(commands)
     return parser

@@ -6,7 +6,9 @@
 
 - every topic of the input bag, as recorded (CDR bytes copied, ROS 1 converted), with the QoS
   profiles its publishers offered (a topic the analysis writes too, e.g. ``/diagnostics`` of a
-  live session, under :data:`RECORDED_PREFIX`);
+  live session, under :data:`RECORDED_PREFIX`); a type ROS 2 Jazzy does not define is written
+  with the ``.msg`` definition the input bag holds for it (one held as IDL only, or none, and
+  the topic is left out with a note);
 - what the node would have published, on the node's topics (:func:`.parameters.output_topics`),
   with the node's QoS: ``~/impact``, ``~/impact_velocity``, ``~/near_miss``,
   ``~/predicted_impact``; ``~/impact_report`` (the JSON record of each impact, near miss and
@@ -30,6 +32,7 @@ from ..core.detector import DEFAULTS, Detector, Impact, NearMiss, Prediction, St
 from ..core.health import health_status, NS_PER_S, silent_streams, take_snapshot, Tally
 from ..core.records import event_record, record_text
 from ..core.scene import bat_ends, impact_scene, live_scene, Scene
+from ..errors import BagError
 
 EVENTS_QOS = qos_profile(depth=100)
 """The node's event topics: reliable, volatile, 100 deep."""
@@ -119,8 +122,10 @@ class FoxgloveCopy:
         kept = []
         for topic in self._raw.topics.values():
             if topic.msgtype not in self.writer.typestore.types:
-                self.skipped[topic.name] = f'{topic.msgtype} is not a ROS 2 Jazzy type'
-                continue
+                why = self._define(topic.name, topic.msgtype)
+                if why:
+                    self.skipped[topic.name] = why
+                    continue
             if topic.name in written:  # recorded from a live node: kept beside the analysis
                 self.renamed[topic.name] = RECORDED_PREFIX + topic.name
             self.writer.add_topic(self.renamed.get(topic.name, topic.name), topic.msgtype,
@@ -133,6 +138,23 @@ class FoxgloveCopy:
             self.writer.add_topic(topic, msgtype, (qos,))
         self._pending = self._raw.messages(kept)
         self._next = next(self._pending, None)
+
+    def _define(self, topic: str, msgtype: str) -> str:
+        """
+        Give the writer the input's own definition of a type Jazzy does not define.
+
+        :returns: '' when the type can now be written; else why the topic is not copied.
+        """
+        kind, text = self._raw.definition(topic)
+        if kind != 'msg':
+            held = 'in the bag only as IDL' if kind == 'idl' else 'not in the bag'
+            return f'{msgtype} is not a ROS 2 Jazzy type and its definition is {held}'
+        try:
+            self.writer.register_definition(msgtype, text)
+        except BagError as error:
+            return f'{msgtype} is not a ROS 2 Jazzy type and its definition in the bag ' \
+                f'cannot be used: {error}'
+        return ''
 
     def close(self) -> None:
         """

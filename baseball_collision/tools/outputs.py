@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, TYPE_CHECKING
 
 from .. import bags
-from ..atomic import check_target, StagedOutput
+from ..atomic import check_target, check_writable, StagedOutput
 from ..errors import BagError, ToolError
 
 if TYPE_CHECKING:  # rosbags is imported only when a bag is written
@@ -30,6 +30,8 @@ def _refused(error: OSError, target: Path) -> ToolError:
     """Return the one-line error for an output that cannot be staged or placed."""
     if isinstance(error, FileExistsError):
         return ToolError(f'output {target} exists already; not overwriting')
+    if isinstance(error, NotADirectoryError) and target.parent.exists():
+        return ToolError(f'output directory {target.parent} is not a directory')
     if isinstance(error, FileNotFoundError) and not target.parent.is_dir():
         return ToolError(f'output directory {target.parent} does not exist')
     return ToolError(f'cannot write {target}: {error.strerror or error}')
@@ -45,10 +47,11 @@ class Outputs:
             outputs.stage_text('json', text)
             outputs.commit()
 
-    :param targets: ``name=path`` per output; every path must not exist, its directory must,
-        and no two may name the same file.
+    :param targets: ``name=path`` per output; every path must not exist, its directory must
+        and must take new files, and no two may name the same file.
     :raises ToolError: from the constructor: two targets name the same file, a target exists,
-        or its directory does not (checked before any work is done).
+        its directory does not or is not a directory, or a file cannot be created in it (a
+        file created and removed there: checked before any work is done).
     """
 
     def __init__(self, **targets: Optional[os.PathLike]) -> None:
@@ -64,6 +67,7 @@ class Outputs:
         for path in self.targets.values():
             try:
                 check_target(path)
+                check_writable(path.parent)
             except OSError as error:
                 raise _refused(error, path) from error
         self._staged: List[StagedOutput] = []

@@ -17,8 +17,8 @@ from typing import Any, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .analyze import BagAnalysis
+from .report import plot_files
 from .summary_plot import summary_figure, ZONE_NAMES
-from .truth import truth_path
 from ..bags import BagReader
 from ..core.detector import Detector, DetectorConfig, Impact, MPS_TO_MPH
 from ..core.geometry import Vector
@@ -337,27 +337,14 @@ def _view_panel(axes: Any, plane: Tuple[int, int], title: str,
     axes.legend(loc='best', fontsize='small', framealpha=0.9)
 
 
-def _stem(analyses: Sequence[BagAnalysis], index: int) -> str:
-    analysis = analyses[index]
-    stem = truth_path(analysis.path).name[:-len('.truth.json')]
-    if sum(1 for a in analyses if a.path.name == analysis.path.name) > 1:
-        stem = f'{index + 1}_{stem}'
-    return stem
-
-
 def plot_names(analyses: Sequence[BagAnalysis]) -> List[str]:
     """
-    Return the PNG names ``--plot`` writes, bag by bag.
+    Return the PNG names ``--plot`` writes, bag by bag (:func:`.report.plot_files`' rule).
 
-    ``<bag name>_impact_<n>.png`` per impact, then ``<bag name>_summary.png``; two bags of one
-    name get their position as a prefix.
+    ``<bag stem>_impact_<n>.png`` per impact, then ``<bag stem>_summary.png``; bags whose
+    stems are the same get their position as a prefix.
     """
-    names = []
-    for index, analysis in enumerate(analyses):
-        stem = _stem(analyses, index)
-        names.extend(f'{stem}_impact_{n}.png' for n in range(1, len(analysis.impacts) + 1))
-        names.append(f'{stem}_summary.png')
-    return names
+    return [name for names in plot_files(analyses) for name in names]
 
 
 def _save(figure: Any, target: Path) -> None:

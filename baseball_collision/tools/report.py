@@ -18,7 +18,7 @@ import json
 from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
 
 from .analyze import BagAnalysis
-from .truth import LEADS_S, TruthComparison
+from .truth import bag_stem, LEADS_S, TruthComparison
 from ..bags import TopicSelection
 from ..core.detector import DetectorConfig, MPS_TO_MPH
 from ..core.records import event_record, plain
@@ -257,6 +257,29 @@ def truth_line(comparison: TruthComparison) -> str:
 # JSON and CSV
 
 
+def plot_files(analyses: Sequence[BagAnalysis]) -> List[List[str]]:
+    """
+    Return the PNG names ``--plot`` writes for each bag: one list per bag, in order.
+
+    ``<stem>_impact_<n>.png`` per impact, then ``<stem>_summary.png``. A bag's stem is its name
+    without a ``.mcap``, ``.db3`` or ``.bag`` suffix (a bag directory: its name; ``.``: the
+    directory's own: :func:`~.truth.bag_stem`). Bags whose stems are the same (compared
+    without case: ``session.mcap``, ``session.bag`` and ``session/`` beside them; one name in
+    two folders) get their position in the run as a prefix: ``2_session``; were a name still
+    taken twice (a bag named ``2_session`` too), every stem gets its position. The names are
+    therefore unique (a stem ends before ``_impact_<n>`` or ``_summary``, which the stem of
+    another bag cannot take apart).
+    """
+    stems = [bag_stem(analysis.path) for analysis in analyses]
+    counts = Counter(stem.casefold() for stem in stems)
+    named = [f'{index}_{stem}' if counts[stem.casefold()] > 1 else stem
+             for index, stem in enumerate(stems, 1)]
+    if len({name.casefold() for name in named}) < len(named):
+        named = [f'{index}_{stem}' for index, stem in enumerate(stems, 1)]
+    return [[f'{stem}_impact_{n}.png' for n in range(1, len(analysis.impacts) + 1)]
+            + [f'{stem}_summary.png'] for stem, analysis in zip(named, analyses)]
+
+
 def _selection_dict(selection: TopicSelection) -> Dict[str, Any]:
     return {'ball': selection.ball, 'ball_type': selection.ball_type,
             'bat_pose': selection.bat_pose, 'knob': selection.knob, 'tip': selection.tip,
@@ -281,7 +304,8 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
     }
 
 
-def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
+def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
+            skipped: Optional[Sequence[Tuple[Any, str]]] = None) -> Dict[str, Any]:
     """
     Return the ``--json`` document for one or several bags.
 
@@ -294,11 +318,17 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
     bag's end). With ``--predict``: ``predictions`` (every prediction's entry) and, in
     each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.
+
+    :param plots: ``--plot`` was given: each bag entry lists its PNG files (``plots``,
+        :func:`plot_files`).
+    :param skipped: ``--keep-going``'s bags that could not be analysed, ``(path, why)``: the
+        document's ``skipped`` (``[{path, why}]``; None: no such key).
     """
     impacts, near_misses, predictions, bags = [], [], [], []
     dropped: Dict[str, int] = {}
 
-    for analysis in analyses:
+    files = plot_files(analyses) if plots else [None] * len(analyses)
+    for analysis, pngs in zip(analyses, files):
         predicting = analysis.config.prediction_horizon > 0.0
         scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
         for impact, score in zip(analysis.impacts, scores):
@@ -313,10 +343,14 @@ def to_json(analyses: Sequence[BagAnalysis]) -> Dict[str, Any]:
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
         bags.append(plain(_bag_entry(analysis)))
-    document = {'format': JSON_FORMAT, 'impacts': impacts, 'near_misses': near_misses,
-                'dropped': dropped, 'bags': bags}
+        if pngs is not None:
+            bags[-1]['plots'] = pngs
+    document: Dict[str, Any] = {'format': JSON_FORMAT, 'impacts': impacts,
+                                'near_misses': near_misses, 'dropped': dropped, 'bags': bags}
     if any(analysis.config.prediction_horizon > 0.0 for analysis in analyses):
         document['predictions'] = predictions
+    if skipped is not None:
+        document['skipped'] = [{'path': str(path), 'why': why} for path, why in skipped]
     return document  # the records are plain already, the rest made plain above
 
 
@@ -326,10 +360,10 @@ def write_json(document: Mapping[str, Any], stream: IO[str]) -> None:
     stream.write('\n')
 
 
-def json_text(analyses: Sequence[BagAnalysis]) -> str:
-    """Return the ``--json`` file's text (:func:`to_json`, :func:`write_json`)."""
+def json_text(analyses: Sequence[BagAnalysis], **options: Any) -> str:
+    """Return the ``--json`` file's text (:func:`to_json` with ``options``, :func:`write_json`)."""
     buffer = io.StringIO()
-    write_json(to_json(analyses), buffer)
+    write_json(to_json(analyses, **options), buffer)
     return buffer.getvalue()
 
 

@@ -36,16 +36,45 @@ LEADS_S = (0.2, 0.1, 0.05, 0.02)
 """Lead times (s) at which predictions are scored."""
 
 
+def _named(bag: Path) -> Path:
+    """
+    Return a bag path with a name of its own: ``.``, ``..``, ``a/..`` made absolute.
+
+    :raises ToolError: the file system's root (no name, nothing beside it).
+    """
+    if bag.name in ('', '.', '..'):
+        bag = Path(os.path.abspath(bag))  # (normalised, symbolic links kept: not resolve())
+        if not bag.name:
+            raise ToolError(f'{bag} cannot be a bag with a truth file beside it')
+    return bag
+
+
+def bag_stem(bag: os.PathLike) -> str:
+    """
+    Return a bag's name without its ``.mcap``, ``.db3`` or ``.bag`` suffix (``.``: resolved).
+
+    ``runs/a.mcap`` -> ``a``; a bag directory ``runs/a`` -> ``a``; ``.`` inside ``runs/a`` ->
+    ``a``. The truth file's name and the ``--plot`` files' start.
+
+    :raises ToolError: the file system's root.
+    """
+    bag = _named(Path(bag))
+    return bag.name[:-len(bag.suffix)] if bag.suffix.lower() in BAG_SUFFIXES else bag.name
+
+
 def truth_path(bag: os.PathLike) -> Path:
     """
     Return where the truth file of a bag lives: beside it, ``<name>.truth.json``.
 
     ``runs/a.mcap`` -> ``runs/a.truth.json`` (the ``.mcap``/``.db3``/``.bag`` suffix is
-    replaced); a bag directory ``runs/a`` -> ``runs/a.truth.json``.
+    replaced: :func:`bag_stem`); a bag directory ``runs/a`` -> ``runs/a.truth.json``. A path
+    without a name of its own (``.``, ``..``, ``runs/a/..``: a bag directory one is in) is made
+    absolute first: ``.`` inside ``runs/a`` -> ``runs/a.truth.json`` (absolute).
+
+    :raises ToolError: the file system's root (no name, nothing beside it).
     """
-    bag = Path(bag)
-    stem = bag.name[:-len(bag.suffix)] if bag.suffix.lower() in BAG_SUFFIXES else bag.name
-    return bag.with_name(f'{stem}.truth.json')
+    bag = _named(Path(bag))
+    return bag.with_name(f'{bag_stem(bag)}.truth.json')
 
 
 PITCH_INTEGERS = ('start_ns', 'end_ns')

@@ -11,21 +11,25 @@ thousands of messages on an unrelated topic (their time and memory are figures o
 ``benchmarks/bench_bag_read.py``).
 """
 
+import errno
 from pathlib import Path
 import shutil
 import sqlite3
 import struct
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+import tempfile
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
-from baseball_collision.bags import count_messages, POINT_STAMPED, POSE_STAMPED, read_samples
+from baseball_collision.bags import (
+    BagReader, count_messages, POINT_STAMPED, POSE_STAMPED, RawBag, read_samples)
 from baseball_collision.errors import BagError
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.cli import main
 from baseball_collision.tools.sim import DEFAULT_START_NS, make_scenario, sample
 import numpy as np
 import pytest
+from rosbags.interfaces import Connection
 from rosbags.rosbag1 import Writer as Writer1
-from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+from rosbags.rosbag2 import storage_mcap, StoragePlugin, Writer as Writer2
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.typesys import get_typestore, Stores
 from support import REPO_ROOT
@@ -35,6 +39,7 @@ BAGS = REPO_ROOT / 'bags'
 TS2 = get_typestore(Stores.ROS2_JAZZY)
 TS1 = get_typestore(Stores.ROS1_NOETIC)
 STRING = 'std_msgs/msg/String'
+NO_HASH = 'RIHS01_' + '0' * 64  # (a type hash for a schema that is not ROS)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -272,6 +277,21 @@ def _mcap_tail(span: slice, data: bytes) -> Callable[[Path], Path]:
     return make
 
 
+def _mcap_cut(fraction: float, directory: bool = False) -> Callable[[Path], Path]:
+    """Return a maker of a crashed recording: its MCAP file ends early (no footer, summary)."""
+    def make(d: Path) -> Path:
+        data = (BAGS / 'pitches_360hz.mcap').read_bytes()
+        if not directory:
+            (d / 'crashed.mcap').write_bytes(data[:int(len(data) * fraction)])
+            return d / 'crashed.mcap'
+        bag = d / 'crashed'
+        write_bag(bag, 'mcap', pitches(('barrel',))[0])
+        inner = bag / 'crashed.mcap'
+        inner.write_bytes(inner.read_bytes()[:int(inner.stat().st_size * fraction)])
+        return bag
+    return make
+
+
 DAMAGED = {
     'sqlite3_not_a_bag': (_foreign_db3, 'missing tables'),
     'sqlite3_cut_in_half': (_truncated_db3, 'malformed'),
@@ -283,6 +303,10 @@ DAMAGED = {
     'metadata_database_foreign': (_database_foreign, 'missing tables'),
     'mcap_footer_damaged': (_mcap_tail(slice(-30, -8), b'\xff' * 22), 'footer'),
     'mcap_end_magic_damaged': (_mcap_tail(slice(-8, None), b'\x00' * 8), 'magic'),
+    'mcap_crashed_recording': (_mcap_cut(0.95), 'crashed.mcap is an unfinished MCAP recording: '
+                               'it ends without the footer a recorder writes when it stops'),
+    'mcap_crashed_in_a_directory': (_mcap_cut(0.5, directory=True),
+                                    "crashed/crashed.mcap -o recovered.mcap'"),
 }
 
 
@@ -388,3 +412,168 @@ def test_unrelated_messages_are_skipped(storage: str, unrelated: int, tmp_path: 
     assert [impact.stamp_ns for impact in analysis.impacts] == pytest.approx(
         truth, abs=time_bound_ns(360.0))
     assert analysis.messages == len(rows) == count_messages(bag)
+
+
+def test_a_damaged_footer_is_not_called_an_unfinished_recording(
+        tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    """The file ends as an MCAP (its end magic there), its footer damaged: rosbags' words only."""
+    err = refused(_mcap_tail(slice(-30, -8), b'\xff' * 22)(tmp_path), tmp_path, capsys)
+    assert 'unfinished' not in err and 'mcap recover' not in err
+
+
+# ----------------------------------------------------------------------------------------------
+# channels that are not ROS, sqlite3 write-ahead logs
+
+
+@pytest.fixture
+def foreign_schemas(monkeypatch: pytest.MonkeyPatch) -> Dict[str, Tuple[str, bytes]]:
+    """
+    Let rosbags' MCAP writer record some types with a schema that is not ROS.
+
+    Fill the returned ``{type name: (schema encoding, schema data)}``: rosbags writes a
+    ``ros2msg`` schema for every type; these get the encoding and data of a Foxglove SDK's or
+    bridge's recording instead (a JSON schema, a protobuf descriptor).
+    """
+    foreign: Dict[str, Tuple[str, bytes]] = {}
+    own = storage_mcap.McapWriter.add_msgtype
+
+    def add_msgtype(self: storage_mcap.McapWriter, connection: Connection) -> None:
+        if connection.msgtype not in foreign:
+            own(self, connection)
+            return
+        encoding, data = foreign[connection.msgtype]
+        self.schemas.append(storage_mcap.Schema(len(self.schemas) + 1, connection.msgtype,
+                                                encoding, data.decode('latin-1')))
+        storage_mcap.write_schema(self.chunk.bio, self.schemas[-1])
+
+    monkeypatch.setattr(storage_mcap.McapWriter, 'add_msgtype', add_msgtype)
+    return foreign
+
+
+def test_json_and_protobuf_channels_are_skipped_with_a_note(
+        tmp_path: Path, foreign_schemas: Dict[str, Tuple[str, bytes]],
+        capsys: pytest.CaptureFixture) -> None:
+    """A /foxglove/log in JSON and a protobuf channel: the bag is read all the same, with notes."""
+    foreign_schemas.update({'foxglove.Log': ('jsonschema', b'{"type": "object"}'),
+                            'foxglove.SceneUpdate': ('protobuf', b'\x0a\x00')})
+    rows, truth = pitches(('barrel',))
+    bag = tmp_path / 'foxglove'
+    write_bag(bag, 'mcap', rows)
+    plain = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    shutil.rmtree(bag)
+    writer = Writer2(bag, version=9, storage_plugin=StoragePlugin.MCAP)
+    with writer:
+        tracker = {role: writer.add_connection(topic, msgtype, typestore=TS2) for role, topic,
+                   msgtype in (('ball', '/tracker/ball', POINT_STAMPED),
+                               ('bat_pose', '/tracker/bat_pose', POSE_STAMPED))}
+        log = writer.add_connection('/foxglove/log', 'foxglove.Log', msgdef='', rihs01=NO_HASH,
+                                    serialization_format='json')
+        scene = writer.add_connection('/scene', 'foxglove.SceneUpdate', msgdef='', rihs01=NO_HASH,
+                                      serialization_format='protobuf')
+        for i, (stamp, role, values) in enumerate(rows):
+            writer.write(tracker[role], stamp, _serialize(TS2, role, stamp, 'world', values,
+                                                          False))
+            if i % 10 == 0:
+                writer.write(log, stamp, b'{"message": "hi"}')
+                writer.write(scene, stamp, b'\x0a\x00')
+    with pytest.raises(BagError, match=r'its metadata.yaml lists topics that are not ROS CDR: '
+                       r'/foxglove/log \(json\), /scene \(protobuf\), .* analyse its file '
+                       r'\S+/foxglove/foxglove.mcap instead, where they are skipped'):
+        read_samples(bag).__next__()  # (rosbags refuses such a bag directory)
+    bag = bag / 'foxglove.mcap'  # (a Foxglove SDK or bridge writes bare MCAP files)
+    with BagReader(bag) as reader:
+        assert reader.notes == [
+            '/foxglove/log not read: json messages (schema foxglove.Log), not ROS CDR',
+            '/scene not read: protobuf messages (schema foxglove.SceneUpdate), not ROS CDR']
+        assert '/foxglove/log' not in reader.topics
+    with RawBag(bag) as raw:
+        assert set(raw.skipped) == {'/foxglove/log', '/scene'} and '/scene' not in raw.topics
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    assert [i.stamp_ns for i in analysis.impacts] == [i.stamp_ns for i in plain.impacts]
+    assert len(analysis.impacts) == len(truth) == 1 and analysis.messages == len(rows)
+    assert analysis.notes == reader.notes
+    code, stdout, stderr = run_cli(['analyze', str(bag), '--no-progress', '--out-bag',
+                                    str(tmp_path / 'out.mcap')], capsys)
+    assert code == 0 and stderr == ''
+    assert 'note: --out-bag: /foxglove/log not copied (json messages (schema foxglove.Log), ' \
+        'not ROS CDR)' in stdout.splitlines()
+
+
+def _wal_session(bag: Path, db3: Path) -> sqlite3.Connection:
+    """
+    Turn a sqlite3 bag file into a recording still being written in WAL mode; return its writer.
+
+    Half of its messages are moved past the last checkpoint: they are in ``<db3>-wal`` only
+    while the returned connection (the recorder) stays open.
+    """
+    recorder = sqlite3.connect(db3)
+    assert recorder.execute('PRAGMA journal_mode=WAL').fetchone() == ('wal',)
+    recorder.execute('PRAGMA wal_autocheckpoint=0')
+    half = recorder.execute('SELECT count(*) FROM messages').fetchone()[0] // 2
+    rows = recorder.execute('SELECT * FROM messages WHERE id > ?', (half,)).fetchall()
+    recorder.execute('DELETE FROM messages WHERE id > ?', (half,))
+    recorder.commit()
+    recorder.execute('PRAGMA wal_checkpoint(TRUNCATE)')
+    recorder.executemany(f"INSERT INTO messages VALUES ({','.join('?' * len(rows[0]))})", rows)
+    recorder.commit()
+    assert Path(f'{db3}-wal').stat().st_size > 0
+    return recorder
+
+
+def _files(directory: Path) -> Dict[str, bytes]:
+    return {str(path.relative_to(directory)): path.read_bytes()
+            for path in sorted(directory.rglob('*')) if path.is_file()}
+
+
+@pytest.mark.parametrize('layout', ['directory', 'bare'])
+def test_a_sqlite3_write_ahead_log_is_read_through_a_checkpointed_copy(
+        tmp_path: Path, layout: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A recording in WAL mode (rosbag2's resilient preset) still being written, or crashed.
+
+    rosbags opens the file immutable and would read half of it; read through a checkpointed
+    temporary copy, every message is there, with a note; the bag is not changed, the copy
+    removed.
+    """
+    original = analyze_bag(BAGS / 'pitches_120hz_sqlite3', AnalysisOptions(), progress=False,
+                           use_truth=False)
+    bag = _sqlite_bag(tmp_path)
+    db3 = bag / 'pitches_120hz_sqlite3.db3'
+    if layout == 'bare':
+        db3 = db3.rename(tmp_path / 'session.db3')
+        bag = db3
+    scratch = tmp_path / 'tmp'
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, 'tempdir', str(scratch))
+    recorder = _wal_session(bag, db3)
+    try:
+        before = _files(tmp_path / 'bag' if layout == 'directory' else tmp_path)
+        analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+        after = _files(tmp_path / 'bag' if layout == 'directory' else tmp_path)
+    finally:
+        recorder.close()
+    assert analysis.messages == original.messages
+    assert [i.stamp_ns for i in analysis.impacts] == [i.stamp_ns for i in original.impacts]
+    assert len(analysis.notes) == 1 and analysis.notes[0].startswith(f'{db3.name}-wal (')
+    assert 'read through a temporary copy with the log checkpointed' in analysis.notes[0]
+    assert before == after and list(scratch.iterdir()) == []
+    assert analyze_bag(bag, AnalysisOptions(), progress=False).notes == []  # (checkpointed)
+
+
+def test_a_write_ahead_log_that_cannot_be_copied_says_how_to_checkpoint(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """No room for the copy: an error naming the log and the sqlite3 command, no half read."""
+    bag = _sqlite_bag(tmp_path)
+    recorder = _wal_session(bag, bag / 'pitches_120hz_sqlite3.db3')
+
+    def full(*args: Any, **kwargs: Any) -> None:
+        raise OSError(errno.ENOSPC, 'No space left on device')
+    monkeypatch.setattr(shutil, 'copytree', full)
+    try:
+        with pytest.raises(BagError, match=r'pitches_120hz_sqlite3.db3-wal holds messages not '
+                           r'yet checkpointed .* \(No space left on device\); checkpoint a copy '
+                           r'by hand \(cp -r the bag, then sqlite3 COPY/FILE.db3 .PRAGMA '
+                           r'wal_checkpoint.\)'):
+            read_samples(bag).__next__()
+    finally:
+        recorder.close()

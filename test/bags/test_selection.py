@@ -5,10 +5,11 @@ from typing import List
 
 from baseball_collision.bags import (
     BagReader, POINT_STAMPED, POSE_STAMPED, read_samples, select_topics, TopicSelection)
+from baseball_collision.bags.selection import name_words
 from baseball_collision.errors import BagError
 import pytest
 from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
-from support.bagfiles import TS2
+from support.bagfiles import reference_bag, TS2
 
 
 def test_auto_detection_unambiguous() -> None:
@@ -28,6 +29,48 @@ def test_auto_detection_unambiguous() -> None:
     named = select_topics({'/baseball_bat/pose': POSE_STAMPED, '/ball': POINT_STAMPED,
                            '/multiple': POINT_STAMPED})
     assert (named.ball, named.bat_pose) == ('/ball', '/baseball_bat/pose')
+
+
+@pytest.mark.parametrize('topic, words', [
+    ('/batting_cage/ball', ['batting', 'cage', 'ball']),
+    ('/tracker/batPose2', ['tracker', 'bat', 'pose', '2']),
+    ('/MOCAP-Bat.tip', ['mocap', 'bat', 'tip']),
+    ('/HTTPServer/baseball', ['http', 'server', 'baseball'])])
+def test_topic_names_are_cut_into_whole_words(topic: str, words: List[str]) -> None:
+    """Words: at / _ - . and other signs, at camelCase and letter-digit boundaries."""
+    assert name_words(topic) == words
+
+
+def test_a_role_word_inside_another_word_is_not_that_role() -> None:
+    """'batting', 'combat', 'handler', 'ballot': no bat, handle or ball (whole words only)."""
+    robot = select_topics({'/ball': POINT_STAMPED, '/batting_robot/goal_pose': POSE_STAMPED,
+                           '/bat_knob': POINT_STAMPED, '/bat_tip': POINT_STAMPED})
+    assert (robot.bat_pose, robot.knob, robot.tip, robot.note) == (
+        None, '/bat_knob', '/bat_tip', '')
+    cage = select_topics({'/batting_cage/ball': POINT_STAMPED,
+                          '/batting_cage/bat': POSE_STAMPED})
+    assert (cage.ball, cage.bat_pose) == ('/batting_cage/ball', '/batting_cage/bat')
+    others = {'/ball': POINT_STAMPED, '/combat/pose': POSE_STAMPED, '/ballot': POINT_STAMPED,
+              '/rig/batPose': POSE_STAMPED, '/handler/point': POINT_STAMPED,
+              '/softball2': POINT_STAMPED, '/extended': POINT_STAMPED}
+    assert select_topics(others, ball='/ball').bat_pose == '/rig/batPose'
+    with pytest.raises(BagError, match='2 ball topics: /ball, /softball2'):
+        select_topics(others)
+
+
+def test_a_batting_robot_bag_is_read_with_its_bat_points(tmp_path: Path) -> None:
+    """A real bag: the robot's goal pose is not the bat; the knob and tip points are."""
+    bag = tmp_path / 'robot'
+    rows = [(topic, msgtype, 10**9 + i, 'world', (0.0,) * 7, 10**9 + i)
+            for i, (topic, msgtype) in enumerate([
+                ('/batting_cage/ball', POINT_STAMPED), ('/batting_robot/goal_pose', POSE_STAMPED),
+                ('/batting_cage/bat_knob', POINT_STAMPED),
+                ('/batting_cage/bat_tip', POINT_STAMPED)])]
+    reference_bag(bag, rows)
+    with BagReader(bag) as reader:
+        selection = reader.selection
+    assert (selection.ball, selection.bat_pose, selection.knob, selection.tip) == (
+        '/batting_cage/ball', None, '/batting_cage/bat_knob', '/batting_cage/bat_tip')
 
 
 def test_explicit_topics_override_detection() -> None:

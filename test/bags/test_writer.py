@@ -7,6 +7,7 @@ from typing import Optional
 from baseball_collision.bags import (
     BagWriter, POINT_STAMPED, read_samples, Sample, TWIST_STAMPED,
     VECTOR3_STAMPED)
+from baseball_collision.bags.common import jazzy_typestore
 from baseball_collision.errors import BagError
 import pytest
 from rosbags.highlevel import AnyReader
@@ -171,3 +172,23 @@ def test_writer_abort_leaves_nothing(tmp_path: Path) -> None:
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(BagError, match='not open'):
         bag.write_point('/ball', 2, 'w', (1.0, 2.0, 3.0))
+
+
+def test_a_type_defined_by_a_bag_is_registered_in_the_writers_own_store(tmp_path: Path) -> None:
+    """register_definition: the type writable here, the shared Jazzy store untouched."""
+    with BagWriter(tmp_path / 'a.mcap') as writer:
+        writer.register_definition('rig_msgs/msg/Marker', 'uint32 id\nstring label\n')
+        writer.add_topic('/rig', 'rig_msgs/msg/Marker')
+        message = writer.typestore.types['rig_msgs/msg/Marker'](id=3, label='x')
+        writer.write_message('/rig', message, 5)
+        writer.write_point('/ball', 7, 'world', (1.0, 2.0, 3.0))
+        with pytest.raises(BagError, match='cannot add the definition of rig_msgs/msg/Markers: '
+                           ".*'rig_msgs/msg/Missing' is unknown"):
+            writer.register_definition('rig_msgs/msg/Markers', 'rig_msgs/Missing[] markers\n')
+        with pytest.raises(BagError, match='cannot read the definition of rig_msgs/msg/Bad'):
+            writer.register_definition('rig_msgs/msg/Bad', 'uint32[ id\n')
+    assert 'rig_msgs/msg/Marker' not in jazzy_typestore().types
+    with AnyReader([tmp_path / 'a.mcap']) as reader:
+        rig = [c for c in reader.connections if c.topic == '/rig']
+        assert [reader.deserialize(raw, 'rig_msgs/msg/Marker').label
+                for _, _, raw in reader.messages(connections=rig)] == ['x']

@@ -29,7 +29,7 @@ import sys
 import threading
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
-from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
+from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
     StreamGap)
@@ -412,3 +412,61 @@ def test_a_truth_file_written_for_another_bag_is_named(tmp_path: Path) -> None:
     assert analysis.notes == ['session.truth.json was written for pitches_360hz.mcap, not '
                               'session.mcap: compared all the same (a renamed copy?)']
     assert analyze_bag(bag_path('pitches_90hz.mcap'), progress=False).notes == []
+
+
+def test_no_truth_never_looks_for_a_truth_file(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``use_truth=False`` (``--no-truth``) does not even work out where the truth would be."""
+    def refuse(bag: Any) -> Any:
+        raise AssertionError(f'truth_path({bag}) called')
+    monkeypatch.setattr(analyze_module, 'truth_path', refuse)
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False)
+    assert analysis.truth is None and len(analysis.impacts) == 8
+
+
+def test_a_stream_too_slow_for_max_gap_is_not_called_another_clock(tmp_path: Path) -> None:
+    """A bat at 10 Hz beside a 100 Hz ball: stamps overlap; the note names max_gap, not clocks."""
+    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
+             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(100)]
+    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + 100_000_000 * i, 'world',
+              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 100_000_000 * i + 2) for i in range(10)]
+    bag = tmp_path / 'slow'
+    reference_bag(bag, sorted(rows, key=lambda row: row[5]))
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False)
+    assert analysis.stats.intervals == 0
+    assert analysis.stamp_spans == {'ball': (1_000_000_000, 1_990_000_000),
+                                    'bat_pose': (1_000_000_000, 1_900_000_000)}
+    assert len(analysis.notes) == 1 and 'do not overlap' not in analysis.notes[0]
+    assert analysis.notes[0].startswith(
+        'the ball and the bat were tracked at the same time (their stamps overlap) but nothing '
+        'could be solved: no stretch had both streams stepping within max_gap (0.05 s; pauses '
+        'in tracking: bat ')
+    assert 'bat_pose /bat_pose' in analysis.notes[0]
+
+
+def test_spans_and_frames_of_the_sample_loop_and_the_chunks_agree(tmp_path: Path) -> None:
+    """Each role's stamp span and first frame: the same a chunk or a sample at a time."""
+    bag = bag_path('pitches_90hz.mcap')
+    chunked = analyze_bag(bag, AnalysisOptions(), progress=False)
+    with BagWriter(tmp_path / 'out.mcap') as writer:
+        sampled = analyze_bag(bag, AnalysisOptions(), progress=False, out_bag=writer)
+    assert chunked.stamp_spans == sampled.stamp_spans and len(chunked.stamp_spans) == 2
+    assert chunked.first_frames == sampled.first_frames == {'ball': 'world',
+                                                            'bat_pose': 'world'}
+    with BagReader(bag) as reader:
+        stamps: Dict[str, List[int]] = {}
+        for sample in reader.samples():
+            stamps.setdefault(sample.role, []).append(sample.stamp_ns)
+    assert chunked.stamp_spans == {role: (min(s), max(s)) for role, s in stamps.items()}
+
+
+def test_header_stamps_all_zero_are_named_as_such(tmp_path: Path, run_cli: RunCli) -> None:
+    """A tracker that leaves header.stamp at 0: the error says so and that stamps are needed."""
+    topics = [('/ball', POINT_STAMPED), ('/bat_pose', POSE_STAMPED)]
+    rows = [(topic, msgtype, 0, 'world', (0.1 * i, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+             10_000_000 * i + k) for i in range(20) for k, (topic, msgtype) in enumerate(topics)]
+    bag = tmp_path / 'unstamped'
+    reference_bag(bag, rows)
+    code, _, stderr = run_cli(['analyze', str(bag), '--no-progress'])
+    assert code == 2 and len(stderr.splitlines()) == 1
+    assert 'every sample of /ball (20) and /bat_pose (20) was dropped (bad_stamp); their ' \
+        'header stamps are zero' in stderr and 'needs real stamps' in stderr

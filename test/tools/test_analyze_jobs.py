@@ -13,6 +13,7 @@ import subprocess
 import sys
 from typing import Callable, List, Tuple
 
+from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED
 from baseball_collision.errors import ToolError
 from baseball_collision.threads import blas_threads
 from baseball_collision.tools import analyze
@@ -20,7 +21,9 @@ from baseball_collision.tools.analyze import (
     _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag,
     worker_read_ahead)
 import pytest
+from support.bagfiles import reference_bag
 from support.bundled import bag_path
+from support.schema import Validator
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
@@ -96,13 +99,39 @@ def test_cli_keep_going_writes_the_good_bags_and_exits_2(tmp_path: Path,
     assert code == 2 and stdout.count('summary:') == 1
     assert stderr.startswith(f'baseball-collision: skipped: cannot read bag {truncated}')
     assert stderr.count('\n') == 1
-    assert [b['path'] for b in json.loads(out.read_text())['bags']] == [str(bag_path(SMALL[0]))]
+    document = json.loads(out.read_text())
+    assert [b['path'] for b in document['bags']] == [str(bag_path(SMALL[0]))]
+    assert [entry['path'] for entry in document['skipped']] == [str(truncated)]
+    assert document['skipped'][0]['why'] == stderr[len('baseball-collision: skipped: '):-1]
+    assert Validator('analyze.schema.json').errors(document) == []
     out.unlink()
     code, stdout, _ = run_cli(argv)  # without it: the first bad bag ends the run, no output
     assert code == 2 and stdout == '' and not out.exists()
     code, _, stderr = run_cli(['analyze', str(truncated), '--keep-going'])
     assert code == 2 and stderr.splitlines()[-1] == (
         'baseball-collision: error: no bag could be analysed (1 skipped)')
+    code, stdout, _ = run_cli(argv[:2] + ['--keep-going', '--json', '-'])
+    assert code == 0 and json.loads(stdout)['skipped'] == []  # (asked to keep going: a list)
+    code, stdout, _ = run_cli(argv[:2] + ['--json', '-'])
+    assert code == 0 and 'skipped' not in json.loads(stdout)
+
+
+def test_keep_going_lists_a_bag_whose_samples_were_all_dropped(tmp_path: Path,
+                                                               run_cli: RunCli) -> None:
+    """Skipped after its analysis (the bat in another frame than the ball): in the JSON too."""
+    rows = [('/ball', POINT_STAMPED, 10**9 + 10**7 * i, 'world', (0.1 * i, 0.0, 1.0),
+             10**7 * i + 1) for i in range(40)]
+    rows += [('/bat_pose', POSE_STAMPED, 10**9 + 10**7 * i, 'mocap',
+              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 10**7 * i + 2) for i in range(40)]
+    frames = tmp_path / 'frames'
+    reference_bag(frames, sorted(rows, key=lambda row: row[5]))
+    code, stdout, stderr = run_cli(['analyze', str(frames), str(bag_path(SMALL[0])),
+                                    '--keep-going', '--json', '-', '--jobs', '1'])
+    document = json.loads(stdout)
+    assert code == 2 and [b['path'] for b in document['bags']] == [str(bag_path(SMALL[0]))]
+    assert document['skipped'] == [{'path': str(frames), 'why': stderr.splitlines()[0][
+        len('baseball-collision: skipped: '):]}]
+    assert "/bat_pose in 'mocap', but /ball in 'world'" in document['skipped'][0]['why']
 
 
 def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) -> None:

@@ -272,6 +272,31 @@ def test_help_on_every_subcommand(command: List[str], run_cli: RunCli) -> None:
     assert code == 0 and stdout.startswith('usage: baseball-collision')
 
 
+def test_options_may_stand_between_the_bags(tmp_path: Path, run_cli: RunCli) -> None:
+    """``analyze BAG1 --json o.json BAG2``: both bags analysed (not 'unrecognized arguments')."""
+    out = tmp_path / 'o.json'
+    first, second = bag_path('pitches_90hz.mcap'), bag_path('pitches_240hz_noisy.bag')
+    code, stdout, stderr = run_cli(['analyze', str(first), '--json', str(out), str(second),
+                                    '--quiet', '--jobs', '1'])
+    assert (code, stdout, stderr) == (0, '', '')
+    paths = [bag['path'] for bag in json.loads(out.read_text())['bags']]
+    assert paths == [str(first), str(second)]
+
+
+@pytest.mark.parametrize('argv, command', [
+    (['analyze', 'a.mcap', '--bogus'], 'analyze'), (['analyze'], 'analyze'),
+    (['analyze', 'a.mcap', '--jobs', 'x'], 'analyze'), (['simulate', 'x.mcap', 'y'], 'simulate'),
+    (['replay'], 'replay'), (['demo', '--rate'], 'demo'), (['bogus'], '')])
+def test_a_usage_error_points_to_the_help_of_its_command(argv: List[str], command: str,
+                                                         run_cli: RunCli) -> None:
+    """One line pointing to ``baseball-collision analyze --help``, not the program's help."""
+    code, stdout, stderr = run_cli(argv)
+    program = ' '.join(['baseball-collision', command]).strip()
+    assert code == 2 and stdout == '' and len(stderr.splitlines()) == 1
+    assert stderr.startswith('baseball-collision: error: ')
+    assert stderr.endswith(f'(see {program} --help)\n'), stderr
+
+
 def test_help_says_what_a_missing_prediction_means(run_cli: RunCli) -> None:
     """The analyze help explains the '-' of a --predict lead cell."""
     code, stdout, _ = run_cli(['analyze', '--help'])

@@ -12,10 +12,12 @@ from typing import Any, Callable, Dict, List, Tuple
 from baseball_collision.bags import BagWriter, RawBag
 from baseball_collision.core.detector import DEFAULTS
 from baseball_collision.tools.parameters import build_config, load_parameters, output_topics
+import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.interfaces import QosDurability, QosReliability
-from rosbags.typesys import get_typestore, Stores
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import get_types_from_msg, get_typestore, Stores
 from support.bundled import bag_path, PARAMS
 
 SETTINGS = {**DEFAULTS, **load_parameters(PARAMS)}
@@ -199,3 +201,56 @@ def test_a_live_sessions_outputs_are_kept_beside_the_analysis(
     recorded = _decode(messages, '/recorded' + topics['impact'], 'geometry_msgs/msg/PointStamped')
     assert [(p.point.x, p.point.y, p.point.z) for p in recorded] == [(1.0, 2.0, 3.0)]
     assert connections[topics['impact']].msgcount == 8
+
+
+def test_custom_types_are_copied_with_the_inputs_own_definitions(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """
+    A rig's own message types, defined in the bag: copied as recorded, with their definitions.
+
+    ``rig_msgs/msg/Markers`` uses ``rig_msgs/msg/Marker`` (rosbag2 appends the definitions a
+    type uses); ``rig_msgs/msg/Blob`` is recorded without a definition: left out, with a note.
+    """
+    store = get_typestore(Stores.ROS2_JAZZY)
+    store.register(get_types_from_msg('uint32 id\nfloat64[] values\nstring label\n',
+                                      'rig_msgs/msg/Marker'))
+    store.register(get_types_from_msg('std_msgs/Header header\nrig_msgs/Marker[] markers\n',
+                                      'rig_msgs/msg/Markers'))
+    types = store.types
+    source = tmp_path / 'rig'
+    with RawBag(bag_path('pitches_90hz.mcap')) as bag, Writer(
+            source, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        markers = writer.add_connection('/rig/markers', 'rig_msgs/msg/Markers', typestore=store)
+        blob = writer.add_connection('/rig/blob', 'rig_msgs/msg/Blob', msgdef='',
+                                     rihs01='RIHS01_' + '0' * 64)
+        connections = {topic.name: writer.add_connection(topic.name, topic.msgtype,
+                                                         typestore=store)
+                       for topic in bag.topics.values()}
+        written = []
+        for number, message in enumerate(bag.messages()):
+            writer.write(connections[message.topic], message.log_time_ns, message.data)
+            if number % 50 == 0:
+                rig = types['rig_msgs/msg/Markers'](
+                    header=types['std_msgs/msg/Header'](
+                        stamp=types['builtin_interfaces/msg/Time'](sec=1, nanosec=number),
+                        frame_id='rig'),
+                    markers=[types['rig_msgs/msg/Marker'](
+                        id=number, values=np.arange(3.0), label='knob')])
+                written.append(bytes(store.serialize_cdr(rig, 'rig_msgs/msg/Markers')))
+                writer.write(markers, message.log_time_ns, written[-1])
+                writer.write(blob, message.log_time_ns, b'\x00\x01\x00\x00\x07\x00\x00\x00')
+    out = tmp_path / 'o.mcap'
+    source = source / 'rig.mcap'  # (bare: rosbags checks no type hash of the blob there)
+    code, stdout, stderr = run_cli(['analyze', str(source), '--out-bag', str(out), '--no-truth'])
+    assert code == 0, stderr
+    notes = [line for line in stdout.splitlines() if line.startswith('note: --out-bag')]
+    assert notes == ['note: --out-bag: /rig/blob not copied (rig_msgs/msg/Blob is not a ROS 2 '
+                     'Jazzy type and its definition is not in the bag)']
+    with AnyReader([out]) as reader:  # (no default types: the bag's own definitions only)
+        copied = [c for c in reader.connections if c.topic == '/rig/markers']
+        assert len(copied) == 1 and copied[0].msgtype == 'rig_msgs/msg/Markers'
+        raw = [bytes(data) for _, _, data in reader.messages(connections=copied)]
+        assert raw == written
+        first = reader.deserialize(raw[0], 'rig_msgs/msg/Markers')
+        assert first.markers[0].label == 'knob' and list(first.markers[0].values) == [0, 1, 2]
+    assert 'rig_msgs/msg/Marker' not in get_typestore(Stores.ROS2_JAZZY).types

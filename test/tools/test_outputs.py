@@ -1,11 +1,15 @@
 """All-or-nothing outputs: staged beside their targets, placed at commit, never overwriting."""
 
+import errno
+import os
 from pathlib import Path
 import subprocess
 import sys
-from typing import Callable, List, Tuple
+from typing import Callable, Iterator, List, Tuple
 
-from baseball_collision.errors import ToolError
+from baseball_collision.bags import BagWriter
+from baseball_collision.errors import BagError, ToolError
+import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.outputs import Outputs
 import pytest
 from support.bundled import bag_path
@@ -74,6 +78,62 @@ def test_one_path_for_two_outputs_is_refused_before_any_work(
         assert code == 2 and stdout == ''
         assert f'{first} and {second} both name' in stderr and len(stderr.splitlines()) == 1
         assert list(tmp_path.iterdir()) == []
+
+
+@pytest.fixture
+def unwritable(tmp_path: Path) -> Iterator[Path]:
+    """
+    Return a directory in which no file can be created (for root too: immutable).
+
+    Read-only permissions where they stop this process; else (root) ``chattr +i``; skipped
+    where neither does.
+    """
+    directory = tmp_path / 'locked'
+    directory.mkdir()
+    directory.chmod(0o555)
+    immutable = False
+    if os.access(directory, os.W_OK):  # (root: the permissions do not apply)
+        immutable = subprocess.run(['chattr', '+i', str(directory)],
+                                   capture_output=True).returncode == 0
+        if not immutable:
+            directory.chmod(0o755)
+            pytest.skip('no way to make a directory unwritable here')
+    try:
+        yield directory
+    finally:
+        if immutable:
+            subprocess.run(['chattr', '-i', str(directory)], check=True)
+        directory.chmod(0o755)
+
+
+@pytest.mark.parametrize('flag', ['--json', '--csv', '--plot', '--out-bag'])
+def test_an_unwritable_output_directory_is_refused_before_any_work(
+        flag: str, unwritable: Path, run_cli: RunCli, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Checked up front (a file made and removed there), not after the whole analysis."""
+    def analysed(*args: object, **kwargs: object) -> None:
+        raise AssertionError('the bags were analysed before the outputs were checked')
+    monkeypatch.setattr(analyze_module, 'analyze_bags', analysed)
+    target = unwritable / 'out.mcap'
+    code, stdout, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap')), flag,
+                                    str(target), '--quiet'])
+    assert code == 2 and stdout == ''
+    refusal = os.strerror(errno.EPERM if os.geteuid() == 0 else errno.EACCES)
+    assert stderr.splitlines() == [
+        f'baseball-collision: error: cannot write {target}: {refusal}']
+    assert list(unwritable.iterdir()) == []
+
+
+def test_a_file_named_as_the_output_directory_is_said_to_be_no_directory(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """--json base.mcap/x.json where base.mcap is a file: not 'does not exist'."""
+    bag = tmp_path / 'base.mcap'
+    bag.write_bytes(bag_path('pitches_90hz.mcap').read_bytes())
+    for flag in ('--json', '--plot', '--out-bag'):
+        code, _, stderr = run_cli(['analyze', str(bag), flag, str(bag / 'x'), '--quiet'])
+        assert code == 2 and stderr == (f'baseball-collision: error: output directory {bag} is '
+                                        'not a directory\n')
+    with pytest.raises(BagError, match=f'output directory {bag} is not a directory'):
+        BagWriter(bag / 'x.mcap')
 
 
 SIGNALLED = """

@@ -1,5 +1,6 @@
 """``--plot``: one PNG per impact and a session summary; what the figures show."""
 
+import json
 from pathlib import Path
 import re
 from typing import Any, Callable, Dict, List, Tuple
@@ -14,6 +15,7 @@ from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
 from support.bundled import bag_path, PARAMS
+from support.schema import Validator
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
@@ -43,6 +45,58 @@ def test_plot_names_tell_bags_of_the_same_name_apart() -> None:
     assert names == ['1_run_impact_1.png', '1_run_impact_2.png', '1_run_summary.png',
                      '2_run_impact_1.png', '2_run_summary.png', 'other_impact_1.png',
                      'other_summary.png']
+
+
+def test_plot_names_of_bags_differing_in_suffix_or_case_are_unique() -> None:
+    """session.mcap, session.bag, session/ (rosbags-convert's) and 2_session.mcap: no clash."""
+    def analysis(path: str, impacts: int) -> BagAnalysis:
+        result = BagAnalysis(path=Path(path), selection=None, config=DetectorConfig())
+        result.impacts = [None] * impacts
+        return result
+    bags = [analysis('d/session.mcap', 1), analysis('d/session.bag', 1), analysis('d/session', 1),
+            analysis('d/other.DB3', 0)]
+    assert plot_names(bags) == [
+        '1_session_impact_1.png', '1_session_summary.png', '2_session_impact_1.png',
+        '2_session_summary.png', '3_session_impact_1.png', '3_session_summary.png',
+        'other_summary.png']
+    assert plot_names([analysis('Run.mcap', 0), analysis('run.db3', 0)]) == [
+        '1_Run_summary.png', '2_run_summary.png']  # (one file on a case-blind file system)
+    taken = [analysis('2_session.mcap', 0), analysis('session.mcap', 0), analysis('session', 0)]
+    names = plot_names(taken)  # '2_session' twice: every bag numbered
+    assert names == ['1_2_session_summary.png', '2_session_summary.png',
+                     '3_session_summary.png'] and len(set(names)) == len(names)
+
+
+def test_bags_of_one_name_keep_their_own_plots_and_say_which(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """A session as MCAP, as ROS 1 and converted to a bag directory: every PNG, each named."""
+    day = tmp_path / 'day'
+    day.mkdir()
+    for count, name, flags in ((1, 'session', ['--storage', 'sqlite3']),
+                               (1, 'session.bag', ['--rate', '120']), (2, 'session.mcap', [])):
+        made = tmp_path / name.replace('.', '_')
+        made.mkdir()
+        code, _, stderr = run_cli(['simulate', str(made / name), '--count', str(count),
+                                   '--kinds', 'barrel', *flags])
+        assert code == 0, stderr
+        (made / name).rename(day / name)
+    plots, out = tmp_path / 'plots', tmp_path / 'o.json'
+    code, _, stderr = run_cli(['analyze', str(day), '--plot', str(plots), '--json', str(out),
+                               '--quiet', '--jobs', '1'])
+    assert code == 0, stderr
+    document = json.loads(out.read_text())
+    listed = {bag['path']: bag['plots'] for bag in document['bags']}
+    assert listed == {str(day / 'session'): ['1_session_impact_1.png', '1_session_summary.png'],
+                      str(day / 'session.bag'): ['2_session_impact_1.png',
+                                                 '2_session_summary.png'],
+                      str(day / 'session.mcap'): ['3_session_impact_1.png',
+                                                  '3_session_impact_2.png',
+                                                  '3_session_summary.png']}
+    assert sorted(file.name for file in plots.iterdir()) == sorted(
+        name for names in listed.values() for name in names)
+    assert Validator('analyze.schema.json').errors(document) == []
+    code, stdout, _ = run_cli(['analyze', str(day), '--json', '-', '--jobs', '1'])
+    assert code == 0 and all('plots' not in bag for bag in json.loads(stdout)['bags'])
 
 
 @pytest.fixture(scope='module')

@@ -25,6 +25,29 @@ def test_truth_file_names() -> None:
     assert truth_path('runs/session.v2') == Path('runs/session.v2.truth.json')
 
 
+def test_a_bag_directory_named_dot_has_its_truth_beside_it(tmp_path: Path, run_cli: RunCli,
+                                                           monkeypatch: pytest.MonkeyPatch
+                                                           ) -> None:
+    """``cd bag && analyze .`` (also ``--no-truth``, ``--plot``): no crash after the analysis."""
+    bag = tmp_path / 'session'
+    code, _, stderr = run_cli(['simulate', str(bag), '--count', '2', '--rate', '120'])
+    assert code == 0, stderr
+    monkeypatch.chdir(bag)
+    assert truth_path('.') == tmp_path / 'session.truth.json'
+    assert truth_path('..') == tmp_path.parent / f'{tmp_path.name}.truth.json'
+    assert truth_path(Path('sub', '..')) == tmp_path / 'session.truth.json'
+    with pytest.raises(ToolError, match='cannot be a bag'):
+        truth_path('/')
+    code, stdout, stderr = run_cli(['analyze', '.', '--no-progress', '--no-truth'])
+    assert code == 0 and stderr == '' and 'truth (' not in stdout
+    code, stdout, stderr = run_cli(['analyze', '.', '--no-progress', '--plot',
+                                    str(tmp_path / 'plots')])
+    assert code == 0 and stderr == '', stderr
+    assert 'truth (session.truth.json): 2/2 contacts found' in stdout
+    assert 'written for' not in stdout  # (the truth file names 'session', the bag's own)
+    assert (tmp_path / 'plots' / 'session_summary.png').is_file()
+
+
 class _Hit:
 
     def __init__(self, stamp_ns: int, from_tip: float = 0.1, speed: float = 30.0) -> None:
