@@ -77,7 +77,7 @@ class Sweep:
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
-                 'forgotten_run')
+                 'forgotten_run', 'impact_t')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -100,6 +100,7 @@ class Sweep:
         # is a glitch too (``_judged_glitch``; not in the uncertainty's re-solves, armed anew)
         self.unexplained = True
         self.forgotten_run = 0  # ball samples forgotten in a row for that
+        self.impact_t: Optional[float] = None  # the last impact found (s), which explains one
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
@@ -126,10 +127,13 @@ class Sweep:
         Return whether the ball's sample k, near the bat, is a glitch to drop and forget.
 
         A glitch by ``departure.glitch_path`` (no hit's line), or a departure no contact
-        explains: sample k left the flight (``leaves_flight``) while the detector is armed, so
-        the sweep found no contact on the flight before it, which a hit on this bat would have
-        made (up to ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the
-        ball passed it lie on one line from the flight, as a hit's do).
+        explains: sample k left the flight (``leaves_flight``) of samples k - 3 .. k - 1
+        while the detector is armed and found no impact since the first of them, so the sweep
+        found no contact on the flight, which a hit on this bat would have made (up to
+        ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
+        lie on one line from the flight, as a hit's do). Not after an impact since: a graze
+        barely turns the ball, whose departure then shows a frame later, after the detector
+        re-armed (a 60 Hz ball's frames after a graze were forgotten, a gap made of them).
 
         :param spread: the ball's noise (m, 1 sigma).
         """
@@ -139,6 +143,7 @@ class Sweep:
                 self.unexplained and self.episodes.armed is True
                 and self.forgotten_run < UNEXPLAINED_RUN and k + 1 < len(ball.times)
                 and ball.continuous(k, config.max_gap)
+                and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
                 and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
             self.forgotten_run += 1
             return True
@@ -515,6 +520,7 @@ class Sweep:
                     self._state_at(interval[0], ahead), self._state_at(interval[1], ahead), ahead)
                 if again is not None and not again[1].initially_overlapping:
                     (t, hit), paths = again, ahead
+                self.impact_t = t
                 if self.on_contact is not None:  # before the velocities' fits
                     self.on_contact(self.clock.stamp(t), tuple(hit.point))
                 impact = self._impact(t, hit, interval, paths)

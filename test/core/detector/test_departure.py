@@ -776,6 +776,25 @@ def test_frames_stuck_on_the_bat_after_the_ball_passed_are_glitches(model: str,
         assert detector.stats.near_misses == near_misses
 
 
+def test_a_grazes_late_departure_is_explained_by_its_impact() -> None:
+    """
+    A graze with the ball at 60 Hz (the bat at 240): its frames after the impact are kept.
+
+    A graze barely turns the ball: its departure shows a frame after the impact's interval,
+    after the detector re-armed, and was taken for one no contact explains: three frames
+    forgotten, a gap over ``max_gap`` made of them (2 of 40 such hits). The impact since the
+    flight's first sample explains it.
+    """
+    for seed in (1000, 1001):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario('graze', rng, family='rebound', lead_s=0.15, trail_s=0.1)
+        samples = sample(scenario, 240.0, rng, ball_rate_hz=60.0)
+        for config in (_config_of('c2'), _config_of('c2-la2-auto')):
+            detector, impacts = detect(config, samples)
+            assert len(impacts) == 1
+            assert not detector.stats.dropped and detector.stats.gaps == 0
+
+
 def test_a_ball_deflected_near_the_bat_by_something_else_is_tracked_again() -> None:
     """
     A miss deflected just after it passed the bat (the batter's hands): three frames forgotten.
