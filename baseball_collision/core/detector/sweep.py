@@ -131,7 +131,9 @@ class Sweep:
         while the detector is armed and found no impact since the first of them, so the sweep
         found no contact on the flight, which a hit on this bat would have made (up to
         ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
-        lie on one line from the flight, as a hit's do). Not after an impact since: a graze
+        lie on one line from the flight, as a hit's do), and only where its neighbours stay
+        within ``max_gap`` of each other (a ball really deflected at 60 Hz made a gap of its
+        forgotten frames). Not after an impact since: a graze
         barely turns the ball, whose departure then shows a frame later, after the detector
         re-armed (a 60 Hz ball's frames after a graze were forgotten, a gap made of them).
 
@@ -143,6 +145,7 @@ class Sweep:
                 self.unexplained and self.episodes.armed is True
                 and self.forgotten_run < UNEXPLAINED_RUN and k + 1 < len(ball.times)
                 and ball.continuous(k, config.max_gap)
+                and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
                 and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
                 and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
             self.forgotten_run += 1
