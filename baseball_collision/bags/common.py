@@ -27,7 +27,7 @@ import stat
 import tempfile
 import threading
 from types import TracebackType
-from typing import Any, Dict, Iterator, List, Optional, Type, TypeVar, Union
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Type, TypeVar, Union
 import weakref
 
 from rosbags.highlevel import AnyReader
@@ -129,7 +129,7 @@ def _foreign_schemas_read_as_unknown() -> Iterator[None]:
     rosbags (0.11) looks a schema's encoding up in a table of ROS ones and raises ``KeyError``
     for any other (``jsonschema``, ``protobuf``, ...), refusing the whole file for one channel;
     here such a schema reads as a message definition of format NONE, the channel stays (its
-    ``message_encoding`` tells it apart: :func:`foreign_topics`) and nothing is registered for
+    ``message_encoding`` tells it apart: :func:`foreign_channels`) and nothing is registered for
     it. Known encodings go to rosbags' own function unchanged.
     """
     original = storage_mcap.get_msgdef
@@ -148,20 +148,22 @@ def _foreign_schemas_read_as_unknown() -> Iterator[None]:
             storage_mcap.get_msgdef = original  # type: ignore[assignment]
 
 
-def foreign_topics(reader: AnyReader) -> Dict[str, str]:
+def foreign_channels(reader: AnyReader) -> List[Tuple[Any, str]]:
     """
-    Return the topics of an open ROS 2 reader whose messages are not ROS, with why.
+    Return the connections of an open ROS 2 reader whose messages are not ROS, each with why.
 
-    ``{topic: 'json messages (schema foxglove.Log), not ROS CDR'}``; empty for a ROS 1 bag.
+    A connection is one MCAP channel: ``(connection, 'json messages (schema foxglove.Log), not
+    ROS CDR')``. A topic may have a ROS channel beside one that is not (a Foxglove bridge's
+    JSON ``/ball`` recorded with the CDR one): only the latter is listed. Empty for a ROS 1 bag.
     """
     if not reader.is2:
-        return {}
-    foreign: Dict[str, str] = {}
+        return []
+    foreign: List[Tuple[Any, str]] = []
     for connection in reader.connections:
         encoding = getattr(connection.ext, 'serialization_format', 'cdr')
         if encoding not in ROS_ENCODINGS:
-            foreign[connection.topic] = (f'{encoding or "unnamed"} messages (schema '
-                                         f'{connection.msgtype}), not ROS CDR')
+            foreign.append((connection, f'{encoding or "unnamed"} messages (schema '
+                                        f'{connection.msgtype}), not ROS CDR'))
     return foreign
 
 
@@ -293,7 +295,7 @@ def open_bag(path: Union[str, os.PathLike], notes: Optional[List[str]] = None) -
     MCAP it is (through a temporary link with the suffix rosbags expects). A sqlite3 bag with
     a write-ahead log not checkpointed is read through a checkpointed temporary copy (removed
     by :func:`close_quietly`), with a note. MCAP channels that are not ROS stay in the reader's
-    connections (:func:`foreign_topics` names them); their schemas are not read.
+    connections (:func:`foreign_channels` lists them); their schemas are not read.
 
     :param path: ROS 2 bag directory, bare ``.mcap`` or ``.db3`` file, or ROS 1 ``.bag`` file.
     :param notes: what the reader should be told about how the bag was read is appended here.
@@ -368,8 +370,10 @@ class BagFile:
     A bag read through an :class:`AnyReader`: open and close, context manager, log times.
 
     Subclasses prepare what they read in :meth:`_setup` (called on the open reader; an error
-    there closes it again). Topics whose messages are not ROS (:func:`foreign_topics`) are
-    taken out of the reader's connections before, and listed in :attr:`skipped_topics`.
+    there closes it again). Channels whose messages are not ROS (:func:`foreign_channels`) are
+    taken out of the reader's connections before, each named in :attr:`notes`; a topic left
+    with no channel is listed in :attr:`skipped_topics` (one with a ROS channel as well is
+    read from that channel).
 
     :param path: ROS 2 bag directory, bare ``.mcap``/``.db3`` file, or ROS 1 ``.bag`` file.
     """
@@ -394,17 +398,37 @@ class BagFile:
         notes: List[str] = []
         reader = open_bag(self.path, notes)
         try:
-            foreign = foreign_topics(reader)
-            if foreign:
-                reader.connections = [c for c in reader.connections if c.topic not in foreign]
-            self.notes = notes + [f'{topic} not read: {why}'
-                                  for topic, why in sorted(foreign.items())]
-            self.skipped_topics = foreign
+            self._leave_out_foreign(reader)
+            self.notes = notes + self.notes
             self._setup(reader)
         except BaseException:
             close_quietly(reader)
             raise
         self._reader = reader
+
+    def _leave_out_foreign(self, reader: AnyReader) -> None:
+        """
+        Take the channels that are not ROS out of an open reader's connections; note each.
+
+        Sets :attr:`notes` (one line per channel) and :attr:`skipped_topics` (the topics left
+        with no channel). By connection, not topic name: a JSON channel on ``/ball`` beside the
+        CDR one leaves the CDR one to be read.
+        """
+        foreign = foreign_channels(reader)
+        left_out = {id(connection) for connection, _ in foreign}
+        if left_out:
+            reader.connections = [c for c in reader.connections if id(c) not in left_out]
+        kept = {connection.topic for connection in reader.connections}
+        self.notes, self.skipped_topics = [], {}
+        for connection, why in sorted(foreign, key=lambda pair: (pair[0].topic, pair[0].id)):
+            topic = connection.topic
+            if topic in kept:
+                self.notes.append(f'{topic}: its channel {connection.id} not read: {why} (its '
+                                  'ROS CDR channel is read)')
+            else:
+                self.notes.append(f'{topic} not read: {why}')
+                self.skipped_topics[topic] = '; '.join(
+                    filter(None, (self.skipped_topics.get(topic), why)))
 
     def _setup(self, reader: AnyReader) -> None:
         """Prepare reading from the open reader (nothing here)."""

@@ -10,16 +10,19 @@ Topic auto-detection (:func:`select_topics`)
     A topic name is cut into words (:func:`name_words`): at every character that is not a
     letter or a digit (``/``, ``_``, ``-``, ``.``), where a lower-case letter meets an upper-case
     one (``batPose``) and where letters meet digits (``bat2``); the words are lower-cased. A
-    role's words are matched whole: ``/batting_cage/ball`` has the words ``batting``, ``cage``
-    and ``ball``, and no bat. A role is filled automatically only when exactly one topic of an
-    accepted type matches it:
+    ball word starts or ends with ``ball`` (``ball``, ``balls``, ``ballpos``, ``baseball``),
+    unless it starts with one of :data:`NOT_BALL` (``ballot``). A bat word starts with ``bat``
+    (``bat``, ``bats``, ``batpose``), unless it starts with one of :data:`NOT_BAT` (``batting``,
+    ``batter``, ``battery``, ``batch``): ``/batting_cage/ball`` has the words ``batting``,
+    ``cage`` and ``ball``, and no bat. A bat word's rest names a part too (``batknob``: the
+    bat and its knob). The other words are matched whole. A role is filled automatically only
+    when exactly one topic of an accepted type matches it:
 
-    - ``ball``: PointStamped or PoseStamped; a word is ``ball`` or ends in it (``baseball``,
-      ``softball``), and no word names a bat part (``bat``, ``knob``, ``handle``, ``barrel``,
-      ``tip``, ``end``).
-    - ``bat_pose``: PoseStamped; a word is ``bat``.
-    - ``knob``: PointStamped; a word is ``knob`` or ``handle``.
-    - ``tip``: PointStamped; a word is ``tip``, ``end`` or ``barrel``, and none ``knob`` or
+    - ``ball``: PointStamped or PoseStamped; a ball word, and no word names the bat or a bat
+      part (``knob``, ``handle``, ``barrel``, ``tip``, ``end``).
+    - ``bat_pose``: PoseStamped; a bat word.
+    - ``knob``: PointStamped; a part ``knob`` or ``handle``.
+    - ``tip``: PointStamped; a part ``tip``, ``end`` or ``barrel``, and none ``knob`` or
       ``handle``.
 
     Topics named explicitly are taken as given (type-checked) and removed from the candidates of
@@ -33,7 +36,7 @@ Topic auto-detection (:func:`select_topics`)
 
 from dataclasses import dataclass, field
 import re
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
@@ -41,11 +44,17 @@ from .names import POINT_STAMPED, POSE_STAMPED, ROLE_TYPES, ROLES, TOPIC_FLAGS
 from ..errors import BagError
 
 _HINTS = {
-    'ball': "a PointStamped or PoseStamped with the word 'ball' (or 'baseball') in its name",
-    'bat_pose': "a PoseStamped with the word 'bat' in its name",
+    'ball': ("a PointStamped or PoseStamped with a word starting or ending with 'ball' in "
+             'its name (ball, ballpos, baseball)'),
+    'bat_pose': ("a PoseStamped with a word starting with 'bat' in its name (bat, batpose; "
+                 'not batting, batter, batch)'),
     'knob': "a PointStamped with the word 'knob' or 'handle' in its name",
     'tip': "a PointStamped with the word 'tip', 'end' or 'barrel' in its name",
 }
+NOT_BALL = ('ballot', 'ballast', 'ballet', 'balloon')
+"""Starts of words that start with 'ball' and are no ball (``ballot``, ``ballots``)."""
+NOT_BAT = ('batting', 'batter', 'batch')
+"""Starts of words that start with 'bat' and are no bat (``battery``, ``batters``, ``batches``)."""
 _BAT_PARTS = frozenset(('bat', 'knob', 'handle', 'barrel', 'tip', 'end'))
 _WORD = re.compile(r'[A-Z]+(?![a-z])|[A-Z]?[a-z]+|[0-9]+')
 _TOPIC_LIST_LIMIT = 20
@@ -158,20 +167,38 @@ def name_words(topic: str) -> List[str]:
 
 
 def _is_ball(word: str) -> bool:
-    """Return True for a word naming a ball: ``ball`` or a word ending in it (``baseball``)."""
-    return word.endswith('ball')
+    """Return True for a ball word: it starts or ends with ``ball``, and is not a ``NOT_BALL``."""
+    return (word.startswith('ball') or word.endswith(('ball', 'balls'))) \
+        and not word.startswith(NOT_BALL)
+
+
+def _parts(words: Iterable[str]) -> Set[str]:
+    """
+    Return the bat and the bat's parts some words name, with the other words.
+
+    A bat word (it starts with ``bat``, and not with a ``NOT_BAT``) names ``bat`` and its rest:
+    ``batknob`` -> ``bat``, ``knob``; the other words name themselves.
+    """
+    parts: Set[str] = set()
+    for word in words:
+        if word.startswith('bat') and not word.startswith(NOT_BAT):
+            parts.update(('bat', word[3:]))
+        else:
+            parts.add(word)
+    return parts
 
 
 def _name_matches(role: str, topic: str) -> bool:
     """Return True if a topic's name fits a role (see the module's auto-detection rules)."""
-    words = set(name_words(topic))
+    words = name_words(topic)
+    parts = _parts(words)
     if role == 'ball':
-        return any(map(_is_ball, words)) and not words & _BAT_PARTS
+        return any(map(_is_ball, words)) and not parts & _BAT_PARTS
     if role == 'bat_pose':
-        return 'bat' in words
+        return 'bat' in parts
     if role == 'knob':
-        return bool(words & {'knob', 'handle'})
-    return bool(words & {'tip', 'end', 'barrel'}) and not words & {'knob', 'handle'}
+        return bool(parts & {'knob', 'handle'})
+    return bool(parts & {'tip', 'end', 'barrel'}) and not parts & {'knob', 'handle'}
 
 
 def _candidates(role: str, types: Mapping[str, Tuple[str, ...]],

@@ -15,8 +15,9 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, or once
-  a stream went ``max_gap`` past the predicted instant without one).
+  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, once
+  every input stream went ``max_gap`` past the predicted instant without one, or once an input
+  has been silent beyond ``stale_timeout``).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -133,6 +134,7 @@ class ImpactNode(Node):
         self.tally = Tally(started=time.monotonic())
         self._lock = threading.Lock()
         self._last_values: Dict[str, Tuple[int, Any]] = {}
+        self._before_newest: Dict[str, int] = {}  # each stream's sample before its newest (ns)
         self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._predicted_ns = 0  # the instant (ns) of the last prediction
@@ -271,7 +273,8 @@ class ImpactNode(Node):
         with self._lock:
             self._frame = frame  # (``_on_contact``'s, inside the add below)
             self._contact_ns = None
-            self.tally.arrived(stream, time.monotonic())
+            arrival = time.monotonic()
+            self.tally.arrived(stream, arrival)
             self.tally.stamped(stream, stamp, sequence, sent)
             try:
                 events = add_sample(stamp, *values, frame)
@@ -285,6 +288,8 @@ class ImpactNode(Node):
             previous = self._last_values.get(stream)
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
+                if previous is not None:
+                    self._before_newest[stream] = previous[0]
             pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
             for event in events:
                 kind, where = event.__class__, frame or expected or ''
@@ -309,8 +314,8 @@ class ImpactNode(Node):
                     self._publish(event_output(event, where, self._markers))
                 if kind in EVENT_NAMES:  # its report: after the drain
                     self._to_complete.append((event, where, self.detector.config))
-            if self._predicting and previous is not None:
-                self._withdraw_a_passed_prediction(stream, stamp, previous[0])
+            if self._predicting:
+                self._withdraw_a_passed_prediction(arrival)
         warn, topics = self._drop_warnings.warn, self.endpoints.topics
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
@@ -555,6 +560,7 @@ class ImpactNode(Node):
     def _clear_markers(self, stamp_ns: int, frame: str) -> None:
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
         self._last_values.clear()
+        self._before_newest.clear()
         self._markers_stamp = None
         if self.settings['publish_markers']:
             self._outputs['markers'].publish(scene_cdr(
@@ -652,25 +658,32 @@ class ImpactNode(Node):
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
 
-    def _withdraw_a_passed_prediction(self, stream: str, stamp_ns: int, previous_ns: int) -> None:
+    def _withdraw_a_passed_prediction(self, now: float) -> None:
         """
-        Turn ``~/impact_predicted`` false once a stream went ``max_gap`` past its instant.
+        Turn ``~/impact_predicted`` false once no input can still bring the predicted contact.
 
-        Called under the node's lock after a sample of ``stream`` stamped ``stamp_ns`` (ns), its
-        previous one taken being ``previous_ns``. When one stream stops before the predicted
-        contact (the tracker lost the ball) the detector decides nothing more, as it works up
-        to the older stream's newest sample, and the flag stayed true until ``stale_timeout``
-        (checked every ``diagnostics_period``: a second or two by default) ended it. Now it
-        turns false when a stream has taken two samples more than ``max_gap`` past the
-        predicted instant: no contact can be solved there any longer should the stopped
-        stream's next sample come later still (a gap beyond ``max_gap`` is never interpolated),
-        and a working tracker's sample is not that late; the second sample, because a lone
-        stamp glitched ahead waits for the next one (``stamp_ahead``) and is no proof. The
-        detector's prediction is left as it is.
+        Called under the node's lock after an input sample was taken, at ``now`` (s, the
+        steady clock its arrival was counted on). The flag turns false when every input stream
+        has taken two samples more than ``max_gap`` past the predicted instant without a contact
+        (the detector's own frames clear a prediction only at its next frame that predicts), or
+        when an input has been silent beyond ``stale_timeout`` (``_silent_locked``; checked here
+        too, so a stream lost while another streams on ends it then, not up to a
+        ``diagnostics_period`` later). Every stream, because one stream's stamps say nothing of
+        another's: a ball tracker whose messages come 60-100 ms after the bat's (a camera beside
+        mocap) still brings the contact after the bat passed the instant, and a rule on one
+        stream alone withdrew the flag before that ``~/impact``, and the late ball's next
+        prediction raised it again. The second sample, because a lone stamp glitched ahead
+        waits for the next one (``stamp_ahead``) and is no proof. A stream that stopped (the
+        ball lost, the bat streaming on) is told from a late one only by its silence: its
+        messages may come in bursts (a camera tracker), so that silence is the configured
+        ``stale_timeout``, not ``max_gap``. The detector's prediction is left as it is.
+
+        :param now: the steady-clock time (s) of the sample just taken.
         """
-        if self._last_values.get(stream, (None,))[0] != stamp_ns:
-            return  # not taken, or a state reset since
-        if previous_ns - self._predicted_ns > round(self.detector.config.max_gap * NS_PER_S):
+        margin = round(self.detector.config.max_gap * NS_PER_S)
+        passed = self._predicted_ns + margin
+        if all(self._before_newest.get(stream, passed) > passed for stream in self._streams) \
+                or self._silent_locked(now):
             self._set_predicting(False)
 
     def _withdraw_a_silent_prediction(self) -> None:
@@ -679,15 +692,24 @@ class ImpactNode(Node):
 
         A prediction is cleared by the frame that shows it wrong or past; when the frames stop
         (the tracker lost the ball, the streams died) none comes, and the flag stayed true for
-        good: an arm waited on a contact that nothing will measure. The detector's prediction
-        is left as it is: its next prediction turns the flag true again.
+        good: an arm waited on a contact that nothing will measure. Checked every
+        ``diagnostics_period`` (all streams silent) and after each input sample (one silent,
+        the others streaming: ``_withdraw_a_passed_prediction``). The detector's prediction is
+        left as it is: its next prediction turns the flag true again.
         """
-        timeout, now = self.settings['stale_timeout'], time.monotonic()
         with self._lock:
-            if self._predicting and any(
-                    now - self.tally.last_arrival.get(stream, -math.inf) > timeout
-                    for stream in self._streams):
+            if self._predicting and self._silent_locked(time.monotonic()):
                 self._set_predicting(False)
+
+    def _silent_locked(self, now: float) -> bool:
+        """
+        Return whether an input has been silent beyond ``stale_timeout`` at ``now``.
+
+        :param now: the steady-clock time (s) to measure the silence to; the node's lock held.
+        """
+        timeout = self.settings['stale_timeout']
+        return any(now - self.tally.last_arrival.get(stream, -math.inf) > timeout
+                   for stream in self._streams)
 
     def destroy_node(self) -> None:
         """Unregister the clock jump callback, then destroy the node."""

@@ -57,7 +57,9 @@ class _Command(_Parser):
     argparse hands a subcommand the arguments after its name and, of what it does not take,
     lets the top-level parser complain, pointing to the top-level help; here the subcommand
     refuses them itself. With :attr:`intermixed` (``analyze``) options may also stand between
-    the positionals (``analyze A.mcap --json o.json B.mcap``): argparse's intermixed parsing.
+    the positionals (``analyze A.mcap --json o.json B.mcap``): argparse's intermixed parsing,
+    ``--`` still ending the options (:meth:`_parse_intermixed`). An unknown option is named
+    alone in the error, not with the positionals after it (``unrecognized arguments: --bogus``).
     """
 
     intermixed = False
@@ -73,13 +75,44 @@ class _Command(_Parser):
             return super().parse_known_args(args, namespace)
         self._parsing = True
         try:
-            parse = super().parse_known_intermixed_args if self.intermixed \
-                else super().parse_known_args
-            namespace, extras = parse(args, namespace)
+            if self.intermixed:
+                args = list(sys.argv[1:] if args is None else args)
+                namespace, extras = self._parse_intermixed(args, namespace)
+            else:
+                namespace, extras = super().parse_known_args(args, namespace)
         finally:
             self._parsing = False
-        if extras:
-            self.error(f"unrecognized arguments: {' '.join(extras)}")
+        if extras:  # (intermixed: positionals after an unknown option are left too)
+            options = [extra for extra in extras if extra.startswith('-')] \
+                if self.intermixed else []
+            self.error(f"unrecognized arguments: {' '.join(options or extras)}")
+        return namespace, extras
+
+    def _parse_intermixed(self, args: List[str], namespace: Any) -> Tuple[Any, List[str]]:
+        """
+        Parse options anywhere among the positionals; what follows ``--`` is positional.
+
+        argparse's intermixed parsing reads an option after ``--`` as one when no positional
+        stands before it (``analyze -- a.mcap --json o.json`` wrote o.json): here the arguments
+        after the first ``--`` are added to the last positional (``analyze``'s bags) as they
+        are, and only those before it are parsed.
+
+        :returns: the namespace and the arguments not taken.
+        """
+        if '--' not in args:
+            return super().parse_known_intermixed_args(args, namespace)
+        cut = args.index('--')
+        head, tail = args[:cut], args[cut + 1:]
+        last = self._get_positional_actions()[-1]
+        saved = last.nargs
+        if tail and saved == '+':
+            last.nargs = '*'  # (the positionals after -- count too)
+        try:
+            namespace, extras = super().parse_known_intermixed_args(head, namespace)
+        finally:
+            last.nargs = saved
+        if tail:
+            setattr(namespace, last.dest, list(getattr(namespace, last.dest, None) or []) + tail)
         return namespace, extras
 
 

@@ -499,6 +499,54 @@ def test_json_and_protobuf_channels_are_skipped_with_a_note(
         'not ROS CDR)' in stdout.splitlines()
 
 
+def test_a_json_channel_on_the_ball_topic_leaves_its_ros_channel_read(
+        tmp_path: Path, foreign_schemas: Dict[str, Tuple[str, bytes]],
+        capsys: pytest.CaptureFixture) -> None:
+    """
+    A Foxglove bridge's JSON /tracker/ball recorded beside the CDR one: the CDR one is read.
+
+    Channels are left out one by one, not by topic name (which took the CDR /tracker/ball too:
+    'no ball topic found'); the note names the channel left out.
+    """
+    foreign_schemas.update({'foxglove.PointInFrame': ('jsonschema', b'{"type": "object"}')})
+    rows, truth = pitches(('barrel',))
+    directory = tmp_path / 'bridge'
+    writer = Writer2(directory, version=9, storage_plugin=StoragePlugin.MCAP)
+    with writer:
+        json_ball = writer.add_connection('/tracker/ball', 'foxglove.PointInFrame', msgdef='',
+                                          rihs01=NO_HASH, serialization_format='json')
+        tracker = {role: writer.add_connection(topic, msgtype, typestore=TS2) for role, topic,
+                   msgtype in (('ball', '/tracker/ball', POINT_STAMPED),
+                               ('bat_pose', '/tracker/bat_pose', POSE_STAMPED))}
+        for stamp, role, values in rows:
+            writer.write(tracker[role], stamp, _serialize(TS2, role, stamp, 'world', values,
+                                                          False))
+            if role == 'ball':
+                writer.write(json_ball, stamp, b'{"x": 0}')
+    bag = directory / 'bridge.mcap'
+    note = ('/tracker/ball: its channel 1 not read: json messages (schema '
+            'foxglove.PointInFrame), not ROS CDR (its ROS CDR channel is read)')
+    with BagReader(bag) as reader:
+        assert reader.notes == [note]
+        assert reader.selection.topics == {'ball': '/tracker/ball',
+                                           'bat_pose': '/tracker/bat_pose'}
+        assert reader.topics['/tracker/ball'] == POINT_STAMPED
+    with RawBag(bag) as raw:
+        assert raw.skipped == {}
+        balls = raw.topics['/tracker/ball'].message_count
+    assert balls == sum(row[1] == 'ball' for row in rows)
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    assert [i.stamp_ns for i in analysis.impacts] == pytest.approx(truth, abs=time_bound_ns(360))
+    assert analysis.messages == len(rows) and analysis.notes == [note]
+    out = tmp_path / 'out.mcap'
+    code, stdout, stderr = run_cli(['analyze', str(bag), '--no-progress', '--no-truth',
+                                    '--out-bag', str(out)], capsys)
+    assert code == 0 and stderr == '' and f'note: {note}' in stdout.splitlines()
+    with RawBag(out) as copied:
+        assert copied.topics['/tracker/ball'].msgtype == POINT_STAMPED
+        assert copied.topics['/tracker/ball'].message_count == balls
+
+
 def _wal_session(bag: Path, db3: Path) -> sqlite3.Connection:
     """
     Turn a sqlite3 bag file into a recording still being written in WAL mode; return its writer.

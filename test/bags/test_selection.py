@@ -42,7 +42,7 @@ def test_topic_names_are_cut_into_whole_words(topic: str, words: List[str]) -> N
 
 
 def test_a_role_word_inside_another_word_is_not_that_role() -> None:
-    """'batting', 'combat', 'handler', 'ballot': no bat, handle or ball (whole words only)."""
+    """'batting', 'combat', 'handler', 'ballot': no bat, handle or ball."""
     robot = select_topics({'/ball': POINT_STAMPED, '/batting_robot/goal_pose': POSE_STAMPED,
                            '/bat_knob': POINT_STAMPED, '/bat_tip': POINT_STAMPED})
     assert (robot.bat_pose, robot.knob, robot.tip, robot.note) == (
@@ -71,6 +71,43 @@ def test_a_batting_robot_bag_is_read_with_its_bat_points(tmp_path: Path) -> None
         selection = reader.selection
     assert (selection.ball, selection.bat_pose, selection.knob, selection.tip) == (
         '/batting_cage/ball', None, '/batting_cage/bat_knob', '/batting_cage/bat_tip')
+
+
+@pytest.mark.parametrize('ball, bat', [('/tracker/ballpos', '/mocap/batpose'),
+                                       ('/balls', '/bats'), ('/rig/baseballs', '/rig/batPose')])
+def test_run_together_role_words_are_found(ball: str, bat: str) -> None:
+    """A word starting with 'ball' is a ball word, one starting with 'bat' a bat word."""
+    selection = select_topics({ball: POINT_STAMPED, bat: POSE_STAMPED,
+                               '/bat_ballot': POINT_STAMPED})
+    assert (selection.ball, selection.bat_pose) == (ball, bat)
+
+
+def test_words_starting_with_bat_that_are_no_bat() -> None:
+    """Batting, batter(y), batch: no bat; a bat word's rest names a part (batknob, battip)."""
+    topics = {'/ball': POINT_STAMPED, '/battery/pose': POSE_STAMPED,
+              '/batteries': POSE_STAMPED, '/batter/pose': POSE_STAMPED,
+              '/batch_pose': POSE_STAMPED, '/battingcage/pose': POSE_STAMPED,
+              '/batknob': POINT_STAMPED, '/battip': POINT_STAMPED}
+    selection = select_topics(topics)
+    assert (selection.ball, selection.bat_pose, selection.knob, selection.tip) == (
+        '/ball', None, '/batknob', '/battip')
+    assert select_topics(dict(topics, **{'/bats/pose': POSE_STAMPED})).bat_pose == '/bats/pose'
+    with pytest.raises(BagError, match='no ball topic found'):
+        select_topics({'/battip/ball': POINT_STAMPED, '/bat': POSE_STAMPED})
+
+
+def test_run_together_topic_names_are_found_in_a_real_bag(tmp_path: Path) -> None:
+    """A tracker's /tracker/ballpos and a mocap's /mocap/batpose: read without any flag."""
+    bag = tmp_path / 'names'
+    rows = [(topic, msgtype, 10**9 + i, 'world', (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+             10**9 + i)
+            for i, (topic, msgtype) in enumerate([
+                ('/tracker/ballpos', POINT_STAMPED), ('/mocap/batpose', POSE_STAMPED),
+                ('/battery/state', POSE_STAMPED)])]
+    reference_bag(bag, rows)
+    with BagReader(bag) as reader:
+        selection = reader.selection
+    assert (selection.ball, selection.bat_pose) == ('/tracker/ballpos', '/mocap/batpose')
 
 
 def test_explicit_topics_override_detection() -> None:

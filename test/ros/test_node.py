@@ -788,27 +788,79 @@ def test_a_prediction_in_force_is_withdrawn_when_no_frame_can_end_it(
     assert not h.received['impact']
 
 
-def test_a_prediction_is_withdrawn_once_the_bat_stream_passed_it(
+class PublishOrder:
+    """A node's output publisher that also notes, in a shared list, what it published."""
+
+    def __init__(self, publisher: Any, name: str, order: List[Tuple[str, Any]]) -> None:
+        self._publisher, self._name, self._order = publisher, name, order
+
+    def publish(self, message: Any) -> None:
+        """Note ``(name, message)``, then publish the message."""
+        self._order.append((self._name, message))
+        self._publisher.publish(message)
+
+    def __getattr__(self, attribute: str) -> Any:
+        """Return the publisher's own attribute (topic_name, get_subscription_count ...)."""
+        return getattr(self._publisher, attribute)
+
+
+@pytest.mark.parametrize('late_samples', [22, 36])  # the ball 61 ms and 100 ms after the bat
+def test_a_late_ball_keeps_the_prediction_until_its_impact(
+        harness: Callable[..., Harness], truth_ns: int, late_samples: int) -> None:
+    """
+    The ball's messages come 61-100 ms after the bat's: ~/impact_predicted turns true once.
+
+    Then false right after the ``~/impact``. The bat passes the predicted instant by
+    ``max_gap`` (18 frames) long before the late ball reaches it: a prediction withdrawn on
+    the bat's stamps alone flapped with each of the ball's next predictions, and turned false
+    before the impact (``stale_timeout`` is far off here).
+    """
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
+    order: List[Tuple[str, Any]] = []
+    for name in ('impact', 'impact_predicted'):
+        h.node._outputs[name] = PublishOrder(h.node._outputs[name], name, order)
+    sent = 0
+    for i in range(SAMPLES + late_samples):
+        t = i / RATE_HZ
+        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(t)))
+        sent += 1
+        if i == late_samples - 1:
+            h.processed(sent)  # the bat's lead taken before the first ball
+        if i >= late_samples:
+            j = i - late_samples
+            h.publishers['ball'].publish(point_msg(sample_ns(j), pitch()(j / RATE_HZ)))
+            sent += 1
+    h.processed(sent)
+    h.wait(lambda: h.received['impact'] and h.received['predicting'][-1:]
+           and not h.received['predicting'][-1].data, 5.0, 'the impact and a cleared prediction')
+    assert [message.data for message in h.received['predicting']] == [True, False]
+    assert [name for name, _ in order] == ['impact_predicted', 'impact', 'impact_predicted']
+
+
+def test_a_prediction_is_withdrawn_when_the_ball_stops_and_the_bat_streams_on(
         harness: Callable[..., Harness], truth_ns: int) -> None:
     """
     The ball is lost 8 ms before the predicted contact, the bat streams on: the flag turns false.
 
-    Once the bat's samples are ``max_gap`` past the predicted instant (``stale_timeout``, which
-    ended it before, is far off here).
+    Once the ball has been silent beyond ``stale_timeout``, at a bat message: the diagnostics
+    period, whose timer also checks it, is far off here.
     """
-    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
+    timeout = 0.3
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': timeout,
+                                        'diagnostics_period': 60.0})
     lost = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3  # the ball's last frame, ~8 ms before
-    sent = 0
-    for i in range(SAMPLES):  # 0.2 s of bat: far beyond the contact and max_gap (0.05 s)
-        t = i / RATE_HZ
-        if i <= lost:
-            h.publishers['ball'].publish(point_msg(sample_ns(i), pitch()(t)))
-            sent += 1
-        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(t)))
-        sent += 1
+    sent = publish_swing(h, 'pose', pitch(), samples=range(lost + 1))
     h.processed(sent)
-    assert any(message.data for message in h.received['predicting'])
-    h.wait(lambda: not h.received['predicting'][-1].data, 5.0, 'the prediction withdrawn')
+    h.wait(lambda: h.received['predicting'][-1:] and h.received['predicting'][-1].data, 3.0,
+           'a prediction in force')
+    ball_lost_at = h.node.tally.last_arrival['ball']  # (the steady clock the node's)
+    i = lost + 1
+    while h.received['predicting'][-1].data and \
+            time.monotonic() - ball_lost_at < timeout + 3.0:
+        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(i / RATE_HZ)))
+        i += 1
+        time.sleep(0.005)
+    assert not h.received['predicting'][-1].data, 'the prediction was not withdrawn'
     assert not h.received['impact']
 
 

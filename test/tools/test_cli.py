@@ -283,6 +283,36 @@ def test_options_may_stand_between_the_bags(tmp_path: Path, run_cli: RunCli) -> 
     assert paths == [str(first), str(second)]
 
 
+def test_double_dash_ends_the_options_between_the_bags(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, run_cli: RunCli) -> None:
+    """
+    After ``--`` every argument is a bag, even one named like an option.
+
+    ``analyze --quiet -- BAG --json j.json`` wrote j.json: argparse's intermixed parsing took
+    the option after ``--`` when no bag stood before it.
+    """
+    monkeypatch.chdir(tmp_path)
+    shutil.copyfile(bag_path('pitches_90hz.mcap'), tmp_path / '--odd.mcap')
+    first = str(bag_path('pitches_90hz.mcap'))
+    code, stdout, stderr = run_cli(['analyze', '--quiet', '--', first, '--json', 'j.json'])
+    assert (code, stdout) == (2, '') and stderr == 'baseball-collision: error: bag not found: ' \
+        '--json\n'
+    assert not (tmp_path / 'j.json').exists()
+    code, stdout, stderr = run_cli(['analyze', first, '--json', 'o.json', '--quiet', '--jobs',
+                                    '1', '--', '--odd.mcap'])
+    assert (code, stdout, stderr) == (0, '', '')
+    assert [bag['path'] for bag in json.loads((tmp_path / 'o.json').read_text())['bags']] == [
+        first, '--odd.mcap']
+
+
+def test_an_unknown_option_between_the_bags_is_named_alone(run_cli: RunCli) -> None:
+    """``analyze A --bogus B``: 'unrecognized arguments: --bogus', not '--bogus B'."""
+    code, stdout, stderr = run_cli(['analyze', 'a.mcap', '--bogus', 'b.bag', '--bogus2=3'])
+    assert (code, stdout) == (2, '')
+    assert stderr == ('baseball-collision: error: unrecognized arguments: --bogus --bogus2=3 '
+                      '(see baseball-collision analyze --help)\n')
+
+
 @pytest.mark.parametrize('argv, command', [
     (['analyze', 'a.mcap', '--bogus'], 'analyze'), (['analyze'], 'analyze'),
     (['analyze', 'a.mcap', '--jobs', 'x'], 'analyze'), (['simulate', 'x.mcap', 'y'], 'simulate'),
