@@ -48,6 +48,20 @@ def reference_message(store: Any, msgtype: str, stamp_ns: int, frame_id: str,
 Row = Tuple[str, str, int, str, Tuple[float, ...], int]  # topic, type, stamp, frame, values, log
 
 
+def still_rows(balls: int, bats: int, bat_step_ns: int, bat_frame: str = 'world') -> List[Row]:
+    """
+    Return a ball moving 1 m/s in 'world' at 100 Hz and a bat pose standing still, log-ordered.
+
+    From stamp 1 s on; the bat every ``bat_step_ns`` in ``bat_frame``; each logged just after its
+    stamp (ns from 0).
+    """
+    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
+             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(balls)]
+    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + bat_step_ns * i, bat_frame,
+              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), bat_step_ns * i + 2) for i in range(bats)]
+    return sorted(rows, key=lambda row: row[5])
+
+
 def reference_bag(path: Path, rows: Sequence[Row], little_endian: bool = True,
                   extra_topics: Sequence[Tuple[str, str]] = ()) -> None:
     """Write a bag with the rosbags writer and typestore serialiser (not the package's)."""

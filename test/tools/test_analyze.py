@@ -43,7 +43,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import get_typestore, Stores
 from support import modules_loaded
-from support.bagfiles import reference_bag
+from support.bagfiles import reference_bag, still_rows
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
 from support.events import swing_events
 
@@ -425,12 +425,8 @@ def test_no_truth_never_looks_for_a_truth_file(monkeypatch: pytest.MonkeyPatch) 
 
 def test_a_stream_too_slow_for_max_gap_is_not_called_another_clock(tmp_path: Path) -> None:
     """A bat at 10 Hz beside a 100 Hz ball: stamps overlap; the note names max_gap, not clocks."""
-    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
-             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(100)]
-    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + 100_000_000 * i, 'world',
-              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 100_000_000 * i + 2) for i in range(10)]
     bag = tmp_path / 'slow'
-    reference_bag(bag, sorted(rows, key=lambda row: row[5]))
+    reference_bag(bag, still_rows(100, 10, 100_000_000))
     analysis = analyze_bag(bag, AnalysisOptions(), progress=False)
     assert analysis.stats.intervals == 0
     assert analysis.stamp_spans == {'ball': (1_000_000_000, 1_990_000_000),

@@ -3,14 +3,13 @@
 from pathlib import Path
 from typing import Callable, List, Tuple
 
-from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.parameters import (
     build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics)
 import pytest
 from support import REPO_ROOT
-from support.bagfiles import reference_bag
+from support.bagfiles import reference_bag, still_rows
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
 
@@ -181,12 +180,8 @@ def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> No
 def test_a_bat_in_another_frame_than_the_ball_names_the_tracking_frame(
         tmp_path: Path, run_cli: RunCli) -> None:
     """No frame_id configured, the bat's samples in another frame: both topics, both frames."""
-    rows = [('/ball', POINT_STAMPED, 1_000_000_000 + 10_000_000 * i, 'world',
-             (0.1 * i, 0.0, 1.0), 10_000_000 * i + 1) for i in range(40)]
-    rows += [('/bat_pose', POSE_STAMPED, 1_000_000_000 + 10_000_000 * i, 'mocap',
-              (1.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0), 10_000_000 * i + 2) for i in range(30)]
     bag = tmp_path / 'frames'
-    reference_bag(bag, sorted(rows, key=lambda row: row[5]))
+    reference_bag(bag, still_rows(40, 30, 10_000_000, 'mocap'))
     code, _, stderr = run_cli(['analyze', str(bag), '--no-truth'])
     assert code == 2
     assert stderr.splitlines() == [
