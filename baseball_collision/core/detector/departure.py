@@ -241,32 +241,6 @@ def _weights(flight: Sequence[float], at: float) -> np.ndarray:
                                for j in range(3) if j != i) for i in range(3)])
 
 
-def left_flight(stream: Stream, k: int, noise: float, max_gap: float,
-                spread: float = 0.0) -> bool:
-    """
-    Return whether the ball left its free flight over interval k: a hit there.
-
-    Its closing sample departed (``leaves_flight``), or its opening one is a glitch
-    (``glitch_path``: the flight of the samples before it goes on over the interval) and the
-    closing sample is off that flight by more than ``DEPARTURE_FLOOR`` and the noise's
-    ``DEPARTURE_CHI_SQUARE`` bound (``spread``, m, through the continued parabola's weights):
-    a hit just after a glitch, whose closing frame the parabola through the glitch cannot
-    judge.
-
-    :param noise: the noise told (m; ``judging_noise``).
-    """
-    if leaves_flight(stream, k, noise, max_gap) is not None:
-        return True
-    glitch = glitch_path(stream, k, noise, max_gap, spread)
-    if glitch is None:
-        return False
-    times = stream.times
-    weights = _weights(times[k - 3:k], times[k + 1])
-    bound = max(DEPARTURE_FLOOR, math.sqrt(DEPARTURE_CHI_SQUARE * (1.0 + weights @ weights))
-                * spread)
-    return math.dist(glitch.at(times[k + 1]), stream.values[k + 1]) > bound
-
-
 def departure_reach(stream: Stream, k: int, max_gap: float) -> float:
     """
     Return how far (m) the free flight's path over interval k can stray beyond its chord's.

@@ -19,7 +19,7 @@ from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
     DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
-    leaves_flight, left_flight)
+    leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -537,7 +537,7 @@ class Sweep:
         """
         Return the paths with the bat continued from before the interval at a hit, or None.
 
-        Where the ball has left its flight over the interval (``departure.left_flight``: a hit),
+        Where the ball has left its flight over the interval (``departure``: a hit),
         the bat's closing frame is after the contact, which slows a real bat within 1-3 ms: its
         path through that frame is late, under every model. With exact bat samples the bat's path
         continued from ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the
@@ -560,8 +560,7 @@ class Sweep:
                 self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
-        if not left_flight(ball, ball_k, judging_noise(config), config.max_gap,
-                           stream_noise(ball, config)):
+        if leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
             return None
         quintic = self.bat_ahead is None and len(bat.history(
             bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES

@@ -93,7 +93,7 @@ import numpy as np
 
 from . import fitting
 from .config import DetectorConfig
-from .departure import judging_noise, left_flight
+from .departure import judging_noise, leaves_flight
 from .episodes import EpisodeTracker
 from .events import DetectorStats, Event, Impact, NearMiss
 from .fitting import (
@@ -530,8 +530,8 @@ def uncertainty_basis(config: DetectorConfig, clock: Clock, ball: Stream, bat: S
     :param config, clock, ball, bat, offsets: the detector's, as they are when it found it.
     """
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
-    hit = left_flight(ball, ball.interval(ta), judging_noise(config), config.max_gap,
-                      stream_noise(ball, config))
+    hit = leaves_flight(ball, ball.interval(ta), judging_noise(config),
+                        config.max_gap) is not None
     # nothing newer than what either stream surely held when the interval was swept: its
     # sample ``samples_ahead`` past the interval's closing one (the newest at the recording's
     # end), whatever the order the samples arrived in (the node's) or were read in (``analyze``)
