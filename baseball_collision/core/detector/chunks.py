@@ -62,7 +62,7 @@ each ending a plan (170 times slower than without: 118 s for 300k messages, now 
 Either path gives the same events (the contract)."""
 
 UNPLANNED_AFTER_EARLY = 16
-"""Samples taken through ``add`` after the first plan overturned early (``PLAN_WORTH``)."""
+"""Samples taken through ``add`` after the first short plan in a row (``PLAN_WORTH``)."""
 
 PLAN_LONGEST = 8192
 """Samples planned at once at most: each plan taken whole doubles the next one's length from
