@@ -40,6 +40,10 @@ class Scheduler:
         """
         Visit every union interval in (cursor, watermark], then trim the streams.
 
+        A visit may forget samples at or before its interval's start (a glitch:
+        ``Stream.remove``); the walk then goes on from the interval's end in the streams as
+        they are.
+
         :param visit: called with each interval in order.
         :param final: the recording ended: every sample is usable.
         :returns: whether the cursor moved.
@@ -69,7 +73,11 @@ class Scheduler:
                 i += 1
             if b == t:
                 j += 1
+            sizes = len(ball_times), len(bat_times)
             visit(cursor, t, events)
+            if sizes != (len(ball_times), len(bat_times)):
+                # the visit forgot a glitch behind t (``Stream.remove``): the indices moved
+                i, j = bisect_right(ball_times, t), bisect_right(bat_times, t)
             cursor = t
         moved = cursor != self.cursor
         self.cursor = cursor

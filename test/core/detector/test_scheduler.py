@@ -33,6 +33,27 @@ def test_walks_the_union_of_both_streams_up_to_the_watermark() -> None:
     assert _walk(scheduler) == (True, [(0.025, 0.03)])
 
 
+def test_a_visit_that_forgets_a_sample_skips_no_union_time() -> None:
+    """
+    A visit that removes the sample its interval opens at (a glitch) leaves the walk whole.
+
+    The walk's indices into the streams moved with the removal: the next union time was
+    skipped, and an interval spanned a sample (a 60 Hz ball beside a 360 Hz bat).
+    """
+    ball, bat = _streams([0.0, 0.01, 0.02, 0.03, 0.04], [0.0, 0.005, 0.015, 0.025, 0.035, 0.045])
+    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    visited = []
+
+    def visit(ta: float, tb: float, events: list) -> None:
+        visited.append((ta, tb))
+        if ta == 0.01 and 0.01 in ball.times:
+            ball.remove(ball.times.index(0.01))
+
+    scheduler.advance(visit, [])
+    assert visited == [(0.0, 0.005), (0.005, 0.01), (0.01, 0.015), (0.015, 0.02),
+                       (0.02, 0.025), (0.025, 0.03), (0.03, 0.035), (0.035, 0.04)]
+
+
 def test_the_spline_waits_for_the_next_sample_until_the_end() -> None:
     """One sample behind each stream's newest; ``final`` walks the rest."""
     ball, bat = _streams([0.0, 0.01, 0.02], [0.0, 0.01, 0.02])
