@@ -169,6 +169,8 @@ _DROP_DETAILS = {
                  'the rigid body; drop_lost_body)',
     'ball_glitch': "stamp {stamp} s is off the ball's flight and the next sample came back to "
                    'it (one bad frame near the bat: left out of its path)',
+    'bat_glitch': 'stamp {stamp} s is off the swing before it and off its neighbours (one bad '
+                  'bat frame that made a contact: left out of its path)',
 }
 
 

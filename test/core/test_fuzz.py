@@ -394,7 +394,7 @@ def _roles(bat_input: str) -> Tuple[str, ...]:
 
 VALUE_FAULTS = ('nan', 'inf', 'large', 'tiny', 'zero_quaternion', 'scaled_quaternion',
                 'zero_length', 'garbage', 'wrong_frame', 'wrong_role', 'teleport', 'bad_frame',
-                'lost_body')
+                'lost_body', 'bat_turned')
 STAMP_FAULTS = ('duplicate', 'out_of_order', 'late', 'jump_back', 'far_future', 'burst', 'gap')
 FAR_STAMP_FAULTS = ('negative', 'zero')
 """Stamps far before every other (an unset header stamp): see ``test_detector_far_stamps_*``."""
@@ -427,6 +427,13 @@ def _faulty_values(rng: random.Random, fault: str, role: str, t: float,
         damaged[:3] = [v + rng.choice((5.0, -40.0, 300.0)) for v in damaged[:3]]
     elif fault == 'lost_body' and role == 'bat_pose':  # what mocap sends for a lost body
         damaged = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+    elif fault == 'bat_turned' and role == 'tip':  # a swapped marker: one frame 15-25 cm off
+        damaged[2] += rng.choice((-1.0, 1.0)) * rng.uniform(0.15, 0.25)
+    elif fault == 'bat_turned' and role == 'bat_pose':  # a rigid body solved 0.2-0.3 rad off
+        half = 0.5 * rng.choice((-1.0, 1.0)) * rng.uniform(0.2, 0.3)
+        x, y, z, w = damaged[3:]
+        c, s = math.cos(half), math.sin(half)  # turned about the world's z axis
+        damaged[3:] = [c * x - s * y, c * y + s * x, c * z + s * w, c * w - s * z]
     return tuple(damaged)
 
 
@@ -441,7 +448,7 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
     A clean 0.2 s swing against a pitch (hit, near miss or far), at 90-1000 Hz with jitter,
     then up to half of the samples damaged: values (NaN, inf, ``special`` magnitudes, denormals,
     bad quaternions, zero-length bats, garbage, wrong and bad frames, wrong roles, teleports,
-    lost bodies) and stamps
+    lost bodies, bat frames turned off the swing) and stamps
     (``stamp_faults``: duplicates, out of order, late, jumps back and far forward, bursts at
     nearly one stamp, gaps).
     """

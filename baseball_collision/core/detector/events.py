@@ -54,6 +54,11 @@ class DropReason(enum.StrEnum):
     """A ball sample off its free flight that no hit explains (a mislabelled marker, a
     reflection: ``departure.glitch_path``): judged where the ball is near the bat, counted when
     the next sample shows it, and then forgotten (``Sweep.interval``)."""
+    BAT_GLITCH = 'bat_glitch'
+    """A bat frame off both its continuation and its neighbours' spline (a swapped marker, a
+    rigid body solved onto the wrong markers: ``bat_glitches``): judged where a contact
+    depends on it, then forgotten (``Sweep``). Counted under the input that was off: the pose,
+    or the knob or the tip."""
 
 
 DROP_REASONS = tuple(reason.value for reason in DropReason)

@@ -105,21 +105,24 @@ class Stream:
 
     def remove(self, k: int, facts: Collection[str] = ()) -> None:
         """
-        Forget sample k, as if it had never come (a ball glitch: ``Sweep``).
+        Forget sample k, as if it had never come (a glitch: ``Sweep``).
 
         Its neighbours join up (a segment it started starts at the next sample). Each
         ``aligned`` list named in ``facts`` (a value per sample that stays what it was: the
         noise estimate after it) loses its entry k; the others (numbers each made from a few
         samples about theirs: a ball's parabolas, the far test's steps and jumps) are cut back
-        to k - 1, to be made again from the stream without it.
+        to k - 1, to be made again from the stream without it; a bat's cumulative turns after
+        it are summed again (``turn``).
         """
         breaks = self.breaks
         if breaks[k] and k + 1 < len(breaks):
             breaks[k + 1] = True
         for buffer in (self.times, self.stamps, self.values, breaks):
             del buffer[k]
-        if self.turns:
-            del self.turns[k]
+        turns = self.turns
+        if turns:  # (a bat's cumulative turns after it were summed through it)
+            del turns[k]
+            turns[k:] = [_ZERO_TURN if broken else None for broken in breaks[k:]]
         for name, kept in self.aligned.items():
             if name in facts:
                 del kept[k:k + 1]
@@ -201,3 +204,25 @@ class Stream:
         found = turns[k]
         return found if found is not None else _kernel.fill_turns(
             self.values, turns, 0, k if k >= 0 else k + len(turns))
+
+
+def excerpt(stream: Stream, first: int, last: int) -> Stream:
+    """
+    Return a new stream of samples first..last of ``stream`` (a segment starts at first).
+
+    A bat's cumulative turns come along where the stream has summed them from first on (one
+    reference: only their differences are used), so a re-solve does not sum them again;
+    otherwise the copy starts from zero at first.
+    """
+    copy = Stream(stream.name)
+    copy.times = stream.times[first:last + 1]
+    copy.stamps = stream.stamps[first:last + 1]
+    copy.values = stream.values[first:last + 1]
+    copy.breaks = [True] + stream.breaks[first + 1:last + 1]
+    copy.noise = stream.noise
+    if copy.values and isinstance(copy.values[0], BatSample):
+        if stream.turns[first] is not None:
+            copy.turns = stream.turns[first:last + 1]
+        else:
+            copy.turns = [_ZERO_TURN if broken else None for broken in copy.breaks]
+    return copy

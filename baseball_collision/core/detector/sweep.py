@@ -15,6 +15,7 @@ from bisect import bisect_left
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
+from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
@@ -77,7 +78,7 @@ class Sweep:
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
-                 'forgotten_run', 'impact_t')
+                 'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -101,6 +102,10 @@ class Sweep:
         self.unexplained = True
         self.forgotten_run = 0  # ball samples forgotten in a row for that
         self.impact_t: Optional[float] = None  # the last impact found (s), which explains one
+        # bat frames off the swing are judged near the ball (``_bat_frames``; not in the
+        # uncertainty's re-solves, of an impact that stood)
+        self.bat_glitches = True
+        self.bat_suspect: Optional[int] = None  # the stamp (ns) of a departed frame to judge
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
@@ -164,6 +169,8 @@ class Sweep:
 
     def _swept(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s) (``interval``)."""
+        if self.bat_suspect is not None:
+            self._judge_suspect()
         located = self._locate(ta, events)
         if located is None:
             return
@@ -198,6 +205,25 @@ class Sweep:
             self.episodes.far(events, ta)  # (what the sweep's sub-steps would come to: see there)
             return
         paths = self.paths(*located)
+        while self.bat_glitches and self.episodes.armed is not False:
+            judged = self._bat_frames((ta, tb), located[1], paths)
+            if judged is not None:
+                paths = judged
+                break
+            located = self._locate(ta, events)  # (bat frames forgotten)
+            if located is None:
+                return
+            if self.estimators is not None:
+                self._estimates(located)
+            paths = self.paths(*located)
+        self._solve(ta, tb, located, paths, events)
+
+    def _solve(self, ta: float, tb: float, located: Tuple[int, int], paths: Paths,
+               events: List) -> None:
+        """Solve the union interval [ta, tb] (s) on the paths over the sample intervals located."""
+        config = self.config
+        margin = (config.ball_radius + self.max_radius + 1e-6
+                  + max(config.near_miss_threshold, config.rearm_distance))
         ball_path, bat_path = paths
         apart = math.dist(ball_path.centre, bat_path.centre) - ball_path.radius - bat_path.radius
         if apart > margin:
@@ -230,6 +256,121 @@ class Sweep:
                              earlier):
                 return
             earlier, previous, gap_previous = previous, state, gap
+
+    def _bat_frames(self, interval: Tuple[float, float], bat_k: int,
+                    paths: Paths) -> Optional[Paths]:
+        """
+        Judge the bat frames the path over bat interval bat_k reads; None if one was forgotten.
+
+        The frames of its window up to its opening one are judged, the oldest first
+        (``bat_glitches.judged``: each against the frames before it, which are judged), and
+        the first glitch is dropped and forgotten: None (the interval is to be located again,
+        and the frames after it judged again without it). Else ``paths`` without a frame after
+        it that departed (``_without_departed``), which is judged once its next frame has come
+        (``bat_suspect``): at look-ahead 0 the next frame may not have come yet.
+        """
+        bat, config = self.bat, self.config
+        max_gap, size = config.max_gap, config.spline_window
+        noise = stream_noise(bat, config)
+        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, bat_k + 1):
+            if bat_glitches.judged(bat, j, max_gap, size, noise):
+                self._bat_glitch(j)
+                return None
+        paths, departed = self._without_departed(interval, bat_k, paths)
+        if departed is not None:
+            self.bat_suspect = departed
+        return paths
+
+    def _without_departed(self, interval: Tuple[float, float], bat_k: int,
+                          paths: Paths) -> Tuple[Paths, Optional[int]]:
+        """
+        Return the paths without a bat frame that departed after bat interval bat_k, its stamp.
+
+        The frames its path reads after its opening one (its closing one, the look-ahead's), in
+        turn: where one departed from its continuation (``bat_glitches.departed``: a glitch
+        whose next frame may not have come yet, or the bat braking after a contact), the bat's
+        path without it and the frames after it
+        (``bat_glitches.path_without``), where a bat can move on it (``_plausible``), and the
+        frame's stamp (ns). Not where both paths touch over the union interval (s): a hit,
+        whose contact comes before the brake, solved as it was (``_touches``). Else ``paths``
+        and None.
+        """
+        bat, config = self.bat, self.config
+        max_gap, size = config.max_gap, config.spline_window
+        noise = stream_noise(bat, config)
+        for j in range(bat_k + 1, min(bat_k + 1 + self.ahead, len(bat.times) - 1) + 1):
+            if not bat.continuous(j - 1, max_gap):
+                break
+            if bat_glitches.departed(bat, j, max_gap, size, noise):
+                path = bat_glitches.path_without(bat, bat_k, j, max_gap, size, noise)
+                if path is None or not self._plausible(path):
+                    break
+                without = paths[0], path
+                if self._touches(interval, paths) and self._touches(interval, without):
+                    break
+                return without, bat.stamps[j]
+        return paths, None
+
+    def _touches(self, interval: Tuple[float, float], paths: Paths) -> bool:
+        """Return whether ``paths`` touch in the sub-steps a sweep of the interval (s) cuts."""
+        ta, tb = interval
+        config = self.config
+        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
+                         config.max_chord_error)
+        start = self._state_at(ta, paths)
+        for j in range(1, n + 1):
+            end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
+            if profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
+                               config.ball_radius, config.profile, end.t - start.t) is not None:
+                return True
+            start = end
+        return False
+
+    def _plausible(self, path: BatPath) -> bool:
+        """
+        Return whether a bat path continued past its samples moves as a bat can.
+
+        Neither end moves, nor the path strays from its chord, by more than ``max_speed``
+        allows over its interval: a continuation of samples a few microseconds apart, or of
+        wild ones, can reach anywhere (and the sweep would cut it in as many sub-steps).
+        """
+        t0, t1 = path.t0, path.t1
+        reach = self.config.max_speed * (t1 - t0)
+        start, end = path.at(t0), path.at(t1)
+        return (path.deviation(t0, t1) <= reach
+                and max(math.dist(start[0], end[0]), math.dist(start[1], end[1])) <= reach)
+
+    def _judge_suspect(self) -> None:
+        """Judge the departed bat frame ``bat_suspect`` once its next frame has come."""
+        bat, stamp = self.bat, self.bat_suspect
+        j = bisect_left(bat.stamps, stamp)
+        if j < len(bat.stamps) and bat.stamps[j] == stamp:
+            if j + 1 >= len(bat.stamps):
+                return  # (its next frame still to come)
+            config = self.config
+            if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
+                                   stream_noise(bat, config)):
+                self._bat_glitch(j)
+        self.bat_suspect = None
+
+    def _bat_glitch(self, j: int) -> None:
+        """
+        Drop bat frame j, a glitch (``bat_glitches``), and forget it.
+
+        A late drop (``LateDrop``, reason ``bat_glitch``) under the input that was off: the
+        pose, or whichever of the knob and the tip is farther from its neighbours' spline.
+        """
+        bat, config = self.bat, self.config
+        if config.bat_input == 'pose':
+            role = Role.BAT_POSE
+        else:
+            knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window)
+            role = Role.KNOB if knob > tip else Role.TIP
+        stats = self.stats
+        stats.dropped[DropReason.BAT_GLITCH] += 1
+        stats.late_drops.append(LateDrop(role=role, reason=DropReason.BAT_GLITCH,
+                                         stamp_ns=bat.stamps[j], frame_id=self.frame_of() or ''))
+        bat.remove(j, (ESTIMATES,))
 
     def _estimates(self, located: Tuple[int, int]) -> None:
         """
@@ -344,9 +485,10 @@ class Sweep:
 
         Each stream's interval as ``_locate`` finds it (None outside the samples or across a
         gap), under ``tracker_noise`` auto with each stream's noise as of that interval
-        (``_estimates``); where the ball left its flight there and the rule continues the bat
-        from before the interval (``_bat_ahead``: a hit), that bat, which solved the hit. For
-        drawing and inspecting the motion the detector solves.
+        (``_estimates``); the bat's without a frame that departed from its continuation
+        (``_without_departed``); where the ball left its flight there and the rule continues
+        the bat from before the interval (``_bat_ahead``: a hit), that bat, which solved the
+        hit. For drawing and inspecting the motion the detector solves.
         """
         located = []
         for stream in (self.ball, self.bat):
@@ -358,6 +500,11 @@ class Sweep:
         if self.estimators is not None:
             self._estimates((located[0], located[1]))
         paths = self.paths(located[0], located[1])
+        if self.bat_glitches:
+            ball, bat = self.ball, self.bat
+            union = (max(ball.times[located[0]], bat.times[located[1]]),
+                     min(ball.times[located[0] + 1], bat.times[located[1] + 1]))
+            paths = self._without_departed(union, located[1], paths)[0]
         return self._bat_ahead((t, t), paths) or paths
 
     def paths(self, ball_k: int, bat_k: int) -> Paths:

@@ -101,7 +101,7 @@ from .fitting import (
     NOISE_SPAN, point_gains, point_shifts, stream_noise, swing_rate)
 from .gate import Clock
 from .kinematics import c2_velocities, rigid_bat, spline_window_for, velocity_interval
-from .streams import Stream
+from .streams import excerpt, Stream
 from .sweep import Sweep
 from ..geometry import (
     add, advance, axis_angle_quaternions, cross, dot, norm, pose_point, quaternion_multiply,
@@ -135,28 +135,6 @@ Uncertainty = Tuple[float, float, float]
 def seed_for(impact: Impact) -> List[int]:
     """Return the random seed of an impact's perturbations (from its stamps, ns)."""
     return [int(impact.stamp_ns), int(impact.interval_start_ns), int(impact.interval_end_ns)]
-
-
-def excerpt(stream: Stream, first: int, last: int) -> Stream:
-    """
-    Return a new stream of samples first..last of ``stream`` (a segment starts at first).
-
-    A bat's cumulative turns come along where the stream has summed them from first on (one
-    reference: only their differences are used), so a re-solve does not sum them again;
-    otherwise the copy starts from zero at first.
-    """
-    copy = Stream(stream.name)
-    copy.times = stream.times[first:last + 1]
-    copy.stamps = stream.stamps[first:last + 1]
-    copy.values = stream.values[first:last + 1]
-    copy.breaks = [True] + stream.breaks[first + 1:last + 1]
-    copy.noise = stream.noise
-    if copy.values and isinstance(copy.values[0], BatSample):
-        if stream.turns[first] is not None:
-            copy.turns = stream.turns[first:last + 1]
-        else:
-            copy.turns = [(0.0, 0.0, 0.0, 0.0) if broken else None for broken in copy.breaks]
-    return copy
 
 
 def _span(stream: Stream, start: float, end: float, config: DetectorConfig, upto: float,
@@ -223,6 +201,7 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     sweep = Sweep(config, clock, stats, ball, bat, episodes, offsets)
     sweep.bat_ahead, sweep.quintic_rates = bat_ahead, quintic_rates
     sweep.unexplained = False  # (armed anew after the contact too)
+    sweep.bat_glitches = False  # (the bat's frames were judged when the impact was found)
     passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:

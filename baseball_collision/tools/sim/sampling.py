@@ -15,7 +15,7 @@ import numpy as np
 from .common import check_number
 from .scenarios import Scenario
 from ..choices import NOISE_ON  # the command line's options read them without the simulator
-from ...core.geometry import quaternion_multiply
+from ...core.geometry import axis_angle_quaternions, quaternion_multiply, quaternion_to_matrix
 from ...errors import ToolError
 
 DEFAULT_START_NS = 1_700_000_000_000_000_000
@@ -65,6 +65,38 @@ class Samples:
                        bat_positions=self.bat_positions[keep],
                        bat_quaternions=self.bat_quaternions[keep], knobs=self.knobs[keep],
                        tips=self.tips[keep])
+
+    def with_bat_frame_turned(self, index: int, toward: Sequence[float],
+                              distance: float) -> 'Samples':
+        """
+        Return these samples with one bat frame turned about its knob: a tracker's glitch.
+
+        A rigid body solved onto the wrong markers, a swapped marker: frame ``index``'s bat is
+        turned about its knob, its length kept, so that its tip moves ``distance`` (m) toward
+        the point ``toward`` (m; across the bat: its part along the bat is left out). The pose
+        (position and orientation) and the knob and tip markers turn alike.
+
+        :raises ToolError: an index outside the frames, or a point on the bat's axis.
+        """
+        if not -len(self.bat_stamps_ns) <= index < len(self.bat_stamps_ns):
+            raise ToolError(f'no bat frame {index} among {len(self.bat_stamps_ns)}')
+        knob, tip = self.knobs[index], self.tips[index]
+        along = (tip - knob) / np.linalg.norm(tip - knob)
+        across = np.asarray(toward, dtype=float) - knob
+        across -= (across @ along) * along
+        if not np.linalg.norm(across) > 0.0:
+            raise ToolError("the point to turn toward is on the bat's axis")
+        axis = np.cross(along, across / np.linalg.norm(across))
+        angle = 2.0 * math.asin(min(1.0, 0.5 * distance / np.linalg.norm(tip - knob)))
+        turn = axis_angle_quaternions(axis, np.array([angle]))[0]
+        matrix = quaternion_to_matrix(turn)
+        arrays = {name: getattr(self, name).copy()
+                  for name in ('bat_positions', 'bat_quaternions', 'knobs', 'tips')}
+        for name in ('bat_positions', 'tips'):
+            arrays[name][index] = knob + matrix @ (arrays[name][index] - knob)
+        arrays['bat_quaternions'][index] = quaternion_multiply(
+            turn, arrays['bat_quaternions'][index])
+        return replace(self, **arrays)
 
     def messages(self, bat: str = 'pose') -> List[Tuple[int, str, Tuple[float, ...]]]:
         """

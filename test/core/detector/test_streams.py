@@ -93,6 +93,27 @@ def test_cumulative_turn_of_bat_samples() -> None:
     assert stream.turn(5) == pytest.approx((0.0, 0.0, 0.1, 0.0))
 
 
+def test_a_removed_bat_samples_turns_after_it_are_summed_again() -> None:
+    """
+    ``remove`` on a bat: the turns after the sample were summed through it; they are again.
+
+    A frame tipped 0.5 rad out of the swing's plane (a glitch) removed: the turn after it is
+    the swing's own 0.4 rad about z, not the sum of the two steps through the glitch.
+    """
+    stream = Stream('bat')
+    for k in range(6):
+        angle, lift = 0.1 * k, (0.5 if k == 3 else 0.0)
+        stream.append(0.01 * k, k + 1, BatSample((0.0, 0.0, 0.0), (
+            math.cos(angle) * math.cos(lift), math.sin(angle) * math.cos(lift),
+            math.sin(lift))), k == 0)
+    through = stream.turn(5)
+    assert math.dist(through[:3], (0.0, 0.0, 0.5)) > 1e-3
+    stream.remove(3)
+    assert stream.turns[3:] == [None, None]
+    assert stream.turn(3) == pytest.approx((0.0, 0.0, 0.4, 0.0))
+    assert stream.turn(4) == pytest.approx((0.0, 0.0, 0.5, 0.0))
+
+
 def test_trim_beside_a_silent_stream_keeps_own_history() -> None:
     """Beside a live stream: behind the cursor; beside a silent or empty one: own newest."""
     times = [0.001 * i for i in range(3000)]

@@ -7,8 +7,9 @@ from baseball_collision.core.bat import PoseBatGeometry, WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, kinematics, NearMiss)
 from baseball_collision.core.detector.fitting import bat_variances, MARKER_SPREAD_M
+from baseball_collision.core.detector.streams import excerpt
 from baseball_collision.core.detector.uncertainty import (
-    ALTERNATIVE, before_rule_speed, braked, carried_far, excerpt, resolve, union_intervals)
+    ALTERNATIVE, before_rule_speed, braked, carried_far, resolve, union_intervals)
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.parameters import OFFLINE_MODEL, OFFLINE_PARAMETERS

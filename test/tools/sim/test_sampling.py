@@ -2,6 +2,7 @@
 
 import json
 
+from baseball_collision.core.bat import PoseBatGeometry
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.sim import sample, truth_dict
 import numpy as np
@@ -124,3 +125,27 @@ def test_sample_refuses_bad_input(scenarios: dict) -> None:
                    {'rate_hz': 90.0, 'ball_rate_hz': -60.0}):
         with pytest.raises(ToolError):
             sample(scenario, rng=np.random.default_rng(0), **kwargs)
+
+
+def test_a_bat_frame_turned_toward_a_point(scenarios: dict) -> None:
+    """One frame's bat turns about its knob, pose and markers alike; the others stay."""
+    samples = sample(scenarios['barrel'][0], 90.0, np.random.default_rng(0))
+    j = len(samples.bat_stamps_ns) // 2
+    knob, tip = samples.knobs[j], samples.tips[j]
+    point = samples.ball_positions[j]
+    turned = samples.with_bat_frame_turned(j, point, 0.15)
+    assert np.linalg.norm(turned.tips[j] - tip) == pytest.approx(0.15)
+    assert np.array_equal(turned.knobs[j], knob)
+    assert np.linalg.norm(turned.tips[j] - knob) == pytest.approx(np.linalg.norm(tip - knob))
+    across = point - knob - ((point - knob) @ (tip - knob)) * (tip - knob) / np.sum(
+        (tip - knob) ** 2)
+    assert (turned.tips[j] - tip) @ across > 0.0  # toward the point
+    rotated = PoseBatGeometry().knob_and_tip(turned.bat_positions[j], turned.bat_quaternions[j])
+    assert np.allclose(rotated, (turned.knobs[j], turned.tips[j]), atol=1e-9)
+    others = np.arange(len(samples.bat_stamps_ns)) != j
+    for name in ('bat_positions', 'bat_quaternions', 'knobs', 'tips'):
+        assert np.array_equal(getattr(turned, name)[others], getattr(samples, name)[others])
+    with pytest.raises(ToolError, match='no bat frame'):
+        samples.with_bat_frame_turned(len(samples.bat_stamps_ns), point, 0.1)
+    with pytest.raises(ToolError, match='axis'):
+        samples.with_bat_frame_turned(j, tip + (tip - knob), 0.1)

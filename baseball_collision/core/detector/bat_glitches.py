@@ -1,0 +1,207 @@
+"""
+A bat frame off the swing: one bad frame that would make a contact the swing does not.
+
+A tracker sometimes reports one bat frame far from where the bat was: a marker swapped or
+mislabelled, a rigid body solved onto the wrong markers, a frame stamped milliseconds off.
+Near a ball passing a few centimetres from the bat, the bat's path through that frame sweeps
+through the ball, and an impact is invented. Two distances judge a bat frame j, each the larger
+of the knob's and the tip's (m):
+
+* its *departure* (``departure``): from the bat continued from the samples before it (the
+  ``c2`` window's spline continued one step: ``fitting.c2_bat_ahead``). A swing's own frames
+  land within 2 cm of it at 90 Hz (exact; 4-7 cm with 1-2 mm of noise, 18 cm at 60 Hz); a frame
+  after a contact, which slows the bat within 1-3 ms, up to 47 cm.
+* its *isolation* (``isolation``): from the ``c2`` spline through its neighbours without it,
+  at its stamp. A swing's own frames lie within 0.1 cm of it at 90 Hz exact (1.5 cm with 2 mm
+  of noise), frames beside a contact's brake within 3.3 cm (5 cm at 60 Hz); a frame turned
+  10 cm at the tip, 6.7 cm or more (measured over the six swing families at 60-360 Hz,
+  BENCHMARKS.md, "A bat frame off the swing").
+
+A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
+as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
+neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
+both distances are large for a swing's own frames), and not in a segment's first frames.
+
+The sweep judges the frames an interval near the ball reads, while a contact would count
+(``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
+read it in their continuation and their spline), and the first glitch is dropped as
+``bat_glitch`` and forgotten. A frame after the opening one (the closing one, the look-ahead's)
+may not have its next frame yet (look-ahead 0): where it clearly departed (``departed``), the
+interval is swept on the bat's path without it (``path_without``), unless both paths touch
+the ball (a hit: its contact comes before the brake, and it is solved as before), and the
+frame is judged once its next has come.
+"""
+
+import math
+from typing import Optional, Tuple
+
+from .fitting import c2_bat_ahead, c2_bat_path, c2_window
+from .streams import excerpt, Stream
+from ..motion import BatPath
+
+BAT_GLITCH_FLOOR = 0.05
+"""m: a bat frame nearer than this to its continuation or to its neighbours' spline is no
+glitch (a swing's frames beside a contact's brake: within 3.3 cm at 90 Hz, 5 cm at 60 Hz)."""
+
+BAT_GLITCH_NOISE = 12.0
+"""How many times the bat's noise (1 sigma per coordinate) the floor is at least: a swing's
+frames lie within 7.5 sigma of their neighbours' spline with 2 mm of noise at 360 Hz."""
+
+ISOLATION_RATIO = 4.0
+"""How many times as isolated as each of the frames before it a glitch is: a swing's own noisy
+frames (0.5-2 mm, 90-360 Hz) are more so in 0.4 % of frames, a still bat's (8 mm) in 0.02 %;
+a frame turned 10 cm at 2 mm of noise, 5.3 times at least."""
+
+SCATTER_FRAMES = 3
+"""Frames whose isolation measures a bat stream's scatter (``judged``)."""
+
+NOISE_KEPT = 1.25
+"""A departure kept for a noise serves up to this many times that noise (``departure``)."""
+
+DEPARTURE_RATIO = 3.0
+"""How many times as far off its continuation as each of the frames before it a departed frame
+is (``departed``): a swing's own noisy frames, up to 2.4-4.8 times."""
+
+REGULAR_STEP = 1.6
+"""How many times their median the steps about a judged frame are at most (``regular``): a
+360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost frame makes a step twice."""
+
+DEPARTURES = 'bat_departures'
+"""The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
+
+
+def glitch_floor(noise: float) -> float:
+    """Return the distance (m) a glitch is off by at least, for the bat's noise (m, 1 sigma)."""
+    return max(BAT_GLITCH_FLOOR, BAT_GLITCH_NOISE * noise)
+
+
+def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> float:
+    """
+    Return how far (m) bat frame j is from the bat continued from the samples before it.
+
+    The larger of the knob's and the tip's distance from ``fitting.c2_bat_ahead`` (the window
+    of ``size`` samples up to frame j - 1; with ``noise``, m 1 sigma per coordinate, smoothed:
+    a continuation through noisy samples swings by tens of sigma) at frame j's stamp; 0 where
+    there is no continuation (fewer than three samples before it in its segment, or a step
+    over ``max_gap`` s to it). Kept per frame in ``stream.aligned`` (``DEPARTURES``: made from
+    frame j and the samples before it, which a forgotten frame cuts back) with the noise it
+    was made for, and made again where the noise is below that or more than ``NOISE_KEPT``
+    times it (``tracker_noise`` auto: an estimate that grows from 0 over a stream's first
+    frames).
+    """
+    kept = stream.aligned.setdefault(DEPARTURES, [])
+    found = kept[j] if j < len(kept) else None
+    if found is not None and found[0] <= noise <= NOISE_KEPT * found[0]:
+        return found[1]
+    value = 0.0
+    if 3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap):
+        path = c2_bat_ahead(stream, j - 1, max_gap, size, noise)
+        value = 0.0 if path is None else max(_distances(path, stream, j))
+    if len(kept) <= j:
+        kept.extend([None] * (j + 1 - len(kept)))
+    kept[j] = (noise, value)
+    return value
+
+
+def isolation(stream: Stream, j: int, max_gap: float, size: int) -> Tuple[float, float]:
+    """
+    Return how far (m) bat frame j's knob and tip are from the spline through its neighbours.
+
+    Their distances, at its stamp, from the ``c2`` path without it over the interval its
+    neighbours make (the window of ``size`` samples about it, up to two after it, through the
+    raw samples); (0, 0) without a neighbour on each side in its segment within ``max_gap`` s
+    of it.
+    """
+    times = stream.times
+    if j < 1 or j + 1 >= len(times) or not (stream.continuous(j - 1, max_gap)
+                                            and stream.continuous(j, max_gap)):
+        return 0.0, 0.0
+    first = max(j - size, 0)
+    without = excerpt(stream, first, min(j + 2, len(times) - 1))
+    without.remove(j - first)
+    k = j - 1 - first
+    return _distances(c2_bat_path(without, k, c2_window(without, k, max_gap, 2, size)),
+                      stream, j)
+
+
+def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> bool:
+    """
+    Return whether bat frame j clearly left its continuation: a glitch or the bat braking.
+
+    Its ``departure`` more than ``glitch_floor`` (for the noise, m 1 sigma per coordinate:
+    told or estimated) and ``DEPARTURE_RATIO`` times each of the ``SCATTER_FRAMES`` frames'
+    before it (the stream's own scatter: a swing's own frames at 90 Hz are 35-46 sigma off
+    their smoothed continuation); only among regular steps (``regular``). Where its next
+    frame has not come (``isolation`` cannot judge it), this alone says the bat's path should
+    not go through it.
+    """
+    if not regular(stream, j - 1):
+        return False
+    found = departure(stream, j, max_gap, size, noise)
+    return found > glitch_floor(noise) and found > (
+        DEPARTURE_RATIO * max(departure(stream, i, max_gap, size, noise)
+                              for i in range(j - SCATTER_FRAMES, j)))
+
+
+def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> bool:
+    """
+    Return whether bat frame j is a glitch.
+
+    Among regular steps (``regular``), departed (``departure``) and isolated (``isolation``)
+    by more than ``glitch_floor``, and
+    isolated more than ``ISOLATION_RATIO`` times as far as any of the ``SCATTER_FRAMES``
+    frames from three before it (whose splines do not reach it): the stream's own scatter,
+    where its noise is not known yet (``tracker_noise`` auto, in a stream's first frames). No
+    frame is judged without them (a segment's first frames).
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    """
+    floor = glitch_floor(noise)
+    if not regular(stream, j) or departure(stream, j, max_gap, size, noise) <= floor:
+        return False
+    isolated = max(isolation(stream, j, max_gap, size))
+    if isolated <= floor:
+        return False
+    scatter = [max(isolation(stream, i, max_gap, size))
+               for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
+               if i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)]
+    return len(scatter) == SCATTER_FRAMES and isolated > ISOLATION_RATIO * max(scatter)
+
+
+def regular(stream: Stream, j: int) -> bool:
+    """
+    Return whether the steps about bat frame j are regular: what the floor was measured on.
+
+    The steps from ``SCATTER_FRAMES`` + 2 frames before it to the one after it are each at most
+    ``REGULAR_STEP`` times their median: a frame beside frames the tracker lost is a whole
+    step or more from a neighbour, and its continuation and its neighbours' spline miss it by
+    far more than a swing's do (12 and 7 cm beside two lost frames at 90 Hz).
+    """
+    first = j - SCATTER_FRAMES - 2
+    if first < 0 or j + 1 >= len(stream.times):
+        return False
+    steps = [b - a for a, b in zip(stream.times[first:j + 1], stream.times[first + 1:j + 2])]
+    return max(steps) <= REGULAR_STEP * sorted(steps)[len(steps) // 2]
+
+
+def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,
+                 noise: float) -> Optional[BatPath]:
+    """
+    Return the bat's ``c2`` path over interval k without its frames from j (> k) on, or None.
+
+    Frame j the interval's closing one: the bat continued from before the interval
+    (``fitting.c2_bat_ahead``); a later one: the interval's window ended before it. With
+    ``noise`` (m, 1 sigma per coordinate) smoothed as the sweep's paths are. None where there
+    is no continuation.
+    """
+    if j == k + 1:
+        return c2_bat_ahead(stream, k, max_gap, size, noise)
+    window = c2_window(stream, k, max_gap, j - k - 2, size)
+    return c2_bat_path(stream, k, window, noise, window.stop == k + 2)
+
+
+def _distances(path: BatPath, stream: Stream, j: int) -> Tuple[float, float]:
+    """Return the knob's and the tip's distances (m) of bat frame j from a path at its stamp."""
+    knob, tip = path.at(stream.times[j])
+    sample = stream.values[j]
+    return math.dist(knob, sample.knob), math.dist(tip, sample.tip)

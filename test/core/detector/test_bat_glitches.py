@@ -1,0 +1,213 @@
+"""Tests for baseball_collision.core.detector.bat_glitches: one bat frame off the swing."""
+
+import math
+from typing import Any, List, Tuple
+
+from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
+from baseball_collision.core.detector.bat_glitches import (
+    departed, departure, isolation, judged, path_without, regular)
+from baseball_collision.core.detector.fitting import c2_bat_ahead
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
+from baseball_collision.tools.choices import FAMILIES
+from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
+from baseball_collision.tools.sim import make_scenario, sample
+import numpy as np
+import pytest
+from support.events import arrays
+
+NODE = DetectorConfig()
+OFFLINE = DetectorConfig(**OFFLINE_PARAMETERS)
+
+
+def _scene(kind: str, seed: int, rate: float, noise_m: float = 0.0, family: str = 'plane'):
+    """Return a scenario and its samples (the ball and the bat at one rate)."""
+    scenario = make_scenario(kind, np.random.default_rng(seed), family=family)
+    return scenario, sample(scenario, rate, np.random.default_rng(seed), noise_m=noise_m)
+
+
+def _closest_frame(scenario: Any, samples: Any) -> int:
+    """Return the bat frame nearest the scenario's closest approach (or contact)."""
+    stamp = samples.start_ns + int(scenario.truth.min_gap_time_s * 1e9)
+    return int(np.argmin(np.abs(samples.bat_stamps_ns - stamp)))
+
+
+def _run(config: DetectorConfig, samples: Any, bat: str) -> Tuple[Detector, List[Any]]:
+    """Return a detector fed the samples one message at a time, and its events."""
+    config = DetectorConfig(**{**config.__dict__, 'bat_input': bat})
+    detector, events = Detector(config), []
+    for stamp, role, values in samples.messages(bat):
+        events += detector.add(role, stamp, values)
+    return detector, events + detector.finish()
+
+
+def _without_frame(samples: Any, index: int) -> Any:
+    """Return the samples without bat frame ``index``."""
+    keep = np.arange(len(samples.bat_stamps_ns)) != index
+    return type(samples)(**{**samples.__dict__, **{
+        name: getattr(samples, name)[keep]
+        for name in ('bat_stamps_ns', 'bat_positions', 'bat_quaternions', 'knobs', 'tips')}})
+
+
+@pytest.mark.parametrize('bat', ['pose', 'points'])
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('rate, seed, noise_m', [(90.0, 3, 0.0), (90.0, 3, 1e-3),
+                                                 (360.0, 0, 0.0), (360.0, 0, 1e-3)])
+def test_a_bat_frame_turned_toward_a_near_miss_is_a_glitch_not_an_impact(
+        bat: str, config: DetectorConfig, rate: float, seed: int, noise_m: float) -> None:
+    """
+    One bat frame turned 10 or 20 cm at the tip toward a ball passing 6-8 cm away.
+
+    The audit's finding: the bat's path through that frame swept through the ball and an
+    impact was invented (about one case in ten of its sweep; these every time). Now the frame
+    is dropped as ``bat_glitch`` (a late drop, under the input that was off) and the pass is
+    the near miss found with the frame deleted (within 2 mm).
+    """
+    for turn in (0.1, 0.2):
+        for offset in (-1, 0, 1):
+            scenario, samples = _scene('miss_over', seed, rate, noise_m)
+            j = _closest_frame(scenario, samples) + offset
+            glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
+            detector, events = _run(config, glitched, bat)
+            assert not any(isinstance(event, Impact) for event in events), (turn, offset)
+            _, clean = _run(config, _without_frame(samples, j), bat)
+            passes = [event for event in events if isinstance(event, NearMiss)]
+            expected = [event for event in clean if isinstance(event, NearMiss)]
+            assert len(passes) == len(expected) == 1
+            assert passes[0].gap_m == pytest.approx(expected[0].gap_m, abs=2e-3)
+            dropped = {str(reason): count for reason, count in detector.stats.dropped.items()
+                       if count}
+            if 'bat_glitch' in dropped:  # (a frame turned away from where the ball passed)
+                assert dropped['bat_glitch'] == 1
+
+
+@pytest.mark.parametrize('bat', ['pose', 'points'])
+def test_the_glitch_is_counted_under_the_input_that_was_off(bat: str) -> None:
+    """The pose, or the tip whose marker was off; dropped once, by the call that judged it."""
+    scenario, samples = _scene('miss_over', 3, 90.0)
+    j = _closest_frame(scenario, samples)
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2)
+    config = DetectorConfig(bat_input=bat)
+    detector, late = Detector(config), []
+    for stamp, role, values in glitched.messages(bat):
+        detector.add(role, stamp, values)
+        late += detector.stats.late_drops
+    assert [(drop.role, drop.reason, drop.stamp_ns) for drop in late] == [
+        ('bat_pose' if bat == 'pose' else 'tip', 'bat_glitch', int(glitched.bat_stamps_ns[j]))]
+
+
+@pytest.mark.parametrize('family', FAMILIES)
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_swings_own_frames_are_no_glitch(family: str, rate: float, noise_m: float) -> None:
+    """Hits (barrel, end cap, graze) and misses of every family: no bat frame dropped."""
+    for seed, kind in enumerate(('barrel', 'end_cap', 'graze', 'miss_under')):
+        scenario, samples = _scene(kind, seed, rate, noise_m, family)
+        for config in (NODE, OFFLINE):
+            detector, events = _run(config, samples, 'points')
+            assert 'bat_glitch' not in detector.stats.dropped, (kind, config.look_ahead)
+            if scenario.truth.contact and kind != 'graze':
+                assert any(isinstance(event, Impact) for event in events)
+
+
+def test_frames_beside_lost_ones_are_not_judged() -> None:
+    """
+    Two bat frames lost before a 90 Hz hit: the frames beside the hole stay.
+
+    Across the hole the continuation and the neighbours' spline miss the next frame by 12 and
+    7 cm: it was judged a glitch, then the next, and the hit was lost. Frames are judged only
+    among regular steps (``regular``).
+    """
+    for family in ('rebound', 'plane', 'jerky'):
+        scenario, samples = _scene('barrel', 0, 90.0, family=family)
+        contact = samples.start_ns + int(scenario.truth.time_s * 1e9)
+        detector, events = _run(OFFLINE, samples.without_bat_frames(contact, 2), 'pose')
+        assert 'bat_glitch' not in detector.stats.dropped
+        assert sum(isinstance(event, Impact) for event in events) == 1
+
+
+def test_a_glitch_is_judged_alike_in_chunks() -> None:
+    """``add_chunk`` (analyze's path) drops the same frame and finds the same near miss."""
+    scenario, samples = _scene('miss_over', 0, 360.0)
+    j = _closest_frame(scenario, samples)
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
+    one = Detector(OFFLINE)
+    single = [event for stamp, role, values in glitched.messages()
+              for event in one.add(role, stamp, values)] + one.finish()
+    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
+    whole = Detector(OFFLINE)
+    chunked = whole.add_chunk(*arrays(rows)) + whole.finish()
+    assert chunked == single and one.stats.dropped == whole.stats.dropped
+    assert one.stats.dropped['bat_glitch'] == 1
+
+
+def _turning(rate: float, count: int, turned: int = -1, off: float = 0.0) -> Stream:
+    """Return a bat stream turning at 40 rad/s about its knob, frame ``turned`` moved ``off``."""
+    bat = Stream('bat')
+    for i in range(count):
+        t = i / rate
+        angle = 40.0 * t + 100.0 * t * t
+        knob = (0.2 * t, 0.0, 1.0)
+        tip = (knob[0] + 0.86 * math.cos(angle), 0.86 * math.sin(angle), 1.0 + (
+            off if i == turned else 0.0))
+        bat.append(t, int(round(t * 1e9)) + 1, BatSample(knob, tip), i == 0)
+    return bat
+
+
+def test_a_frame_off_the_swing_is_departed_isolated_and_judged() -> None:
+    """
+    On a smooth swing the frame moved 15 cm is the first glitch; without it, there is none.
+
+    (The frame after it, whose continuation and neighbours' spline run through it, reads as
+    one too while it stays: the sweep judges the oldest first and forgets each glitch.)
+    """
+    bat = _turning(90.0, 16, turned=10, off=0.15)
+    assert departure(bat, 10, 0.05, 8, 0.0) > 0.1 and max(isolation(bat, 10, 0.05, 8)) > 0.1
+    assert isolation(bat, 10, 0.05, 8)[0] < 1e-9  # (the knob was not moved)
+    assert departed(bat, 10, 0.05, 8, 0.0) and not departed(bat, 9, 0.05, 8, 0.0)
+    verdicts = [judged(bat, j, 0.05, 8, 0.0) for j in range(11)]
+    assert verdicts == [j == 10 for j in range(11)]
+    bat.remove(10)
+    assert not any(judged(bat, j, 0.05, 8, 0.0) for j in range(len(bat.times) - 1))
+    clean = _turning(90.0, 16)
+    assert max(departure(clean, j, 0.05, 8, 0.0) for j in range(16)) < 0.01
+    assert max(max(isolation(clean, j, 0.05, 8)) for j in range(16)) < 0.002
+
+
+def test_a_segments_first_frames_are_not_judged() -> None:
+    """Without three frames' scatter before it (a segment's first), a frame is no glitch."""
+    bat = _turning(90.0, 10, turned=4, off=0.15)
+    assert departure(bat, 4, 0.05, 8, 0.0) > 0.1
+    assert not judged(bat, 4, 0.05, 8, 0.0)
+
+
+def test_steps_are_regular_unless_a_frame_was_lost() -> None:
+    """A frame beside a step twice the others' is not judged (``regular``)."""
+    bat = _turning(90.0, 16)
+    assert regular(bat, 9)
+    del_at = 8
+    bat.remove(del_at)
+    assert not regular(bat, del_at) and not regular(bat, del_at - 1)
+    assert not regular(bat, 2) and not regular(bat, len(bat.times) - 1)  # (too few steps)
+
+
+def test_a_departure_is_kept_for_its_noise() -> None:
+    """Kept per frame; made again where the noise grew past ``NOISE_KEPT`` times (auto)."""
+    bat = _turning(90.0, 16)
+    first = departure(bat, 10, 0.05, 8, 0.0)
+    assert bat.aligned['bat_departures'][10] == (0.0, first)
+    noisy = departure(bat, 10, 0.05, 8, 1e-3)
+    assert bat.aligned['bat_departures'][10] == (1e-3, noisy) and noisy != first
+    assert departure(bat, 10, 0.05, 8, 1.2e-3) == noisy  # (within 1.25 times)
+    bat.remove(9)
+    assert len(bat.aligned['bat_departures']) == 8  # (cut back: made from the frame removed)
+
+
+def test_the_path_without_a_frame() -> None:
+    """The closing frame: the continuation; a later one: the window ended before it."""
+    bat = _turning(90.0, 16)
+    assert path_without(bat, 8, 9, 0.05, 8, 0.0).at(bat.times[9]) == \
+        c2_bat_ahead(bat, 8, 0.05, 8).at(bat.times[9])
+    later = path_without(bat, 8, 11, 0.05, 8, 0.0)
+    assert later.t0 == bat.times[8] and later.t1 == bat.times[9]
+    assert math.dist(later.at(bat.times[9])[1], bat.values[9].tip) < 1e-9
