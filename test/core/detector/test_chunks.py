@@ -199,6 +199,36 @@ def test_points_fall_back_to_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -
     assert any(isinstance(e, Impact) for e in events)
 
 
+def test_points_with_a_bat_point_lost_as_nan_in_the_first_chunk() -> None:
+    """
+    A tip lost as NaN mid-swing, in the first chunk: the same as one sample at a time.
+
+    ``add`` notes the lost frame against the tip's newest sample (its knob is then not paired
+    across it); taken ahead of the chunk's other samples (as a plan's would be) it came before
+    the tip had any, and the knob was paired on the chord, a bat sample ``add`` does not make.
+    """
+    rows = session(HEIGHTS[:1], rate=90.0, bat_as='points')
+    tips = [i for i, row in enumerate(rows) if row[0] == 'tip']
+    role, stamp, values, frame = rows[tips[8]]
+    rows[tips[8]] = (role, stamp, (math.nan,) * 3, frame)
+    assert_same(DetectorConfig(model='c2', bat_input='points'), rows, (len(rows),))
+    _, drops, _ = one_at_a_time(DetectorConfig(model='c2', bat_input='points'), rows)
+    assert drops == Counter({('tip', 'non_finite'): 1})
+
+
+@settings(max_examples=examples(10), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(rate=st.sampled_from([90.0, 360.0]),
+       sizes=st.lists(st.integers(1, 700), min_size=1, max_size=4),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=5))
+def test_points_random_chunks_and_faults_same_as_one_at_a_time(
+        rate: float, sizes: List[int], faults: List[Tuple[int, str]]) -> None:
+    """The bat as knob and tip, any chunk sizes and faults: as one sample at a time."""
+    rows = inject(session(HEIGHTS[:2], rate=rate, bat_as='points'), faults)
+    assert_same(DetectorConfig(model='c2', bat_input='points'), rows, sizes)
+
+
 def test_the_same_pitches_with_a_pose_bat_take_the_array_path(
         monkeypatch: pytest.MonkeyPatch) -> None:
     """The same two pitches and chunk sizes, the bat as poses: most samples taken on arrays."""
