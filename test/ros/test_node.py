@@ -277,6 +277,36 @@ def test_bad_messages_are_dropped_counted_and_never_hit(harness: Callable[..., H
     assert '/ball' in stale.message and '/bat_pose' in stale.message
 
 
+def test_a_tip_lost_as_nan_at_90_hz_is_one_drop(harness: Callable[..., Harness],
+                                                truth_ns: int) -> None:
+    """
+    Knob and tip at 90 Hz, the tip NaN the frame before the contact: one drop, the hit found.
+
+    Its knob is not paired with a tip on the chord across the lost frame (11 cm short of the
+    bat: a second drop, ``bat_length_jump``, warned about on the next tip's message before).
+    """
+    h = swing_harness(harness, 'points', {'stale_timeout': 0.5})
+    ball, knob_out, tip_out = (h.publishers[name] for name in ('ball', 'bat_knob', 'bat_tip'))
+    rate, at = 90.0, pitch()
+    lost = round((truth_ns - BASE_NS) * 1e-9 * rate) - 1
+    frames = 18
+    for i in range(frames):
+        t, ns = i / rate, BASE_NS + int(round(i / rate * 1e9))
+        knob, tip = swing(t)
+        ball.publish(point_msg(ns, at(t)))
+        knob_out.publish(point_msg(ns, knob))
+        tip_out.publish(point_msg(ns, (math.nan, 0.0, 0.0) if i == lost else tip))
+    h.processed(3 * frames)
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact')
+    assert abs(stamp_ns(h.received['impact'][0]) - truth_ns) < 1_000_000
+    counts = values(h.diagnostics_where(
+        lambda v: int(v['ball_received']) + int(v['knob_received']) + int(v['tip_received'])
+        == 3 * frames))
+    assert counts['dropped_total'] == '1' and counts['dropped_non_finite'] == '1'
+    assert counts['dropped_bat_length_jump'] == '0'
+    assert counts['impacts'] == '1'
+
+
 def test_waiting_then_tracking_with_rates(harness: Callable[..., Harness]) -> None:
     """Before data: 'waiting for data' (OK); with data: 'tracking', rates and live markers."""
     h = swing_harness(harness, 'points')

@@ -5,7 +5,8 @@ A chunk of samples at once: the common case (far from any contact) with numpy.
 order, and has them planned (``plans.plan_chunk``: which samples are stops, where the walk
 goes after each). A run of samples between stops is fast-forwarded (:func:`fast_forward`):
 appended to the streams, the cursor moved, the intervals counted and the episodes told
-"far", the streams trimmed exactly as the per-sample path trims them. Every stop goes through
+"far", the streams trimmed exactly as the per-sample path trims them; the duplicates among
+them (a message sent twice) counted as dropped, as ``add`` drops them. Every stop goes through
 the per-sample path (``Detector.add``), so each rule keeps its one implementation; when it
 did not end as the plan assumed (dropped, held, reset, trimmed otherwise) the rest of the
 chunk is planned again (:func:`feed_chunk`, the detector's ``add_chunk``). A plan taken whole
@@ -30,7 +31,7 @@ from typing import Any, List, Optional, Sequence, Tuple, TYPE_CHECKING
 import numpy as np
 
 from .episodes import EpisodeTracker
-from .events import DetectorStats, Event, Role
+from .events import DetectorStats, DropReason, Event, Role
 from .intake import Offer
 from .noise import NoiseEstimate
 from .plans import BALL, BAT_POSE, Plan, plan_chunk, plannable, ROLE_CODES, usable
@@ -57,9 +58,9 @@ millisecond, against about 15 us a sample): after such a plan the next
 ``PLAN_MAX`` while plans keep ending so early, back to ``UNPLANNED_AFTER_EARLY`` once a plan
 goes further. Such plans come in runs: at each pitch's start the plans' checks turn away a
 few samples in a row (steps the intake may hold: 134 of 295 plans on the worst-case bench
-bag took one sample); a stream sent twice by a relay has every other sample a duplicate,
-each ending a plan (170 times slower than without: 118 s for 300k messages, now 7 s).
-Either path gives the same events (the contract)."""
+bag took one sample). (A stream sent twice by a relay, every other sample a duplicate, ended
+a plan at each: 118 s for 300k messages, 7 s with this rule; the plans now drop duplicates
+themselves, ``plans.Plan.duplicates``.) Either path gives the same events (the contract)."""
 
 UNPLANNED_AFTER_EARLY = 16
 """Samples taken through ``add`` after the first short plan in a row (``PLAN_WORTH``)."""
@@ -75,9 +76,13 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
                  scheduler: Scheduler, episodes: EpisodeTracker, stats: DetectorStats,
                  events: List[Event], walk: bool = True,
                  noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]] = None,
-                 stop: bool = False) -> int:
+                 stop: bool = False, drops: Optional[Counter] = None) -> int:
     """
     Take samples pos..end-1 of a plan (none a stop) as the per-sample path would.
+
+    Its duplicates (``Plan.duplicates``) are dropped as ``duplicate_stamp``: counted as
+    received and dropped (in ``drops`` too, when given), the drop reason of the last sample
+    when it is one.
 
     :param walk: False: only append them (a near stop's sample, whose walk the caller makes
         with the scheduler: the intervals, then the trim, then the prediction).
@@ -107,17 +112,27 @@ def fast_forward(plan: Plan, pos: int, end: int, ball: Stream, bat: Stream,
     # trim, then those after the cursor one by one (``update_at``), each estimate kept
     newest, ball_taken, bat_taken = _kernel.fast_forward_streams(
         plan, pos, end, ball, bat, walk, stop, noise, BatSample, cursor, scheduler.ahead)
+    ball_repeated, bat_repeated = plan.duplicates_in(pos, end)
+    ball_taken += ball_repeated
+    bat_taken += bat_repeated
     if ball_taken:
         stats.received[Role.BALL] += ball_taken
     if bat_taken:
         stats.received[Role.BAT_POSE] += bat_taken
+    if ball_repeated or bat_repeated:
+        stats.dropped[DropReason.DUPLICATE_STAMP] += ball_repeated + bat_repeated
+        if drops is not None:
+            for role, repeated in ((Role.BALL, ball_repeated), (Role.BAT_POSE, bat_repeated)):
+                if repeated:
+                    drops[role, DropReason.DUPLICATE_STAMP] += repeated
     if walk:
         scheduler.cursor = cursor
         if after > before:
             stats.intervals += after - before
             episodes.far(events, plan.union[after - 2])
     stats.calls += end - pos + stop
-    stats.last_drop_reason = None
+    stats.last_drop_reason = DropReason.DUPLICATE_STAMP if (
+        (ball_repeated or bat_repeated) and not stop and plan.is_duplicate(end - 1)) else None
     if stats.late_drops:
         stats.late_drops = []
     if stats.newest_stamp_ns is None or newest > stats.newest_stamp_ns:
@@ -166,9 +181,14 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
     events: List[Event] = []
     # samples whose own stamp or values drop them change nothing but the counters: through
     # ``add`` first, the last sample last, and the rest planned without them (each ended a
-    # plan: 1 % of a bat's frames lost as NaN made a session 8.6 times slower)
-    dropped = _dropped_alone(roles, stamps, values)
+    # plan: 1 % of a bat's frames lost as NaN made a session 8.6 times slower). Not where
+    # nothing is planned (knob and tip points, whose lost frame ``add`` notes against its
+    # stream: ``Pairing.missed``): there every sample goes through ``add`` in turn
     last = None
+    if not plannable(detector.config):
+        _planned(detector, chunk, n, events, drops)
+        return events
+    dropped = _dropped_alone(roles, stamps, values)
     if dropped.any():
         for k in np.flatnonzero(dropped).tolist():
             if k == n - 1:
@@ -192,7 +212,8 @@ def _dropped_alone(roles: np.ndarray, stamps: np.ndarray, values: np.ndarray) ->
     A stamp not after 0 (``bad_stamp``), or a value that is not finite in the sample's
     columns (three, seven for a bat pose): ``add`` drops it before the intake (as
     ``bad_stamp``, ``unexpected_input`` or ``non_finite``), so the detector's state is what it
-    was but for its counters.
+    was but for its counters (with a bat pose: a knob or tip point lost changes the pairing,
+    and is never planned).
     """
     finite = np.isfinite(values[:, :3]).all(axis=1)
     finite &= (roles != BAT_POSE) | np.isfinite(values[:, 3:]).all(axis=1)
@@ -225,8 +246,8 @@ def _planned(detector: 'Detector', chunk: Tuple[Any, ...], n: int, events: List[
         first = roles[i]
         stream = detector._ball if first == BALL else detector._bat if first == BAT_POSE else None
         if stream is not None and (not stream.stamps or stamps[i] <= stream.stamps[-1]):
-            # out of order for its stream, or its first: the per-sample path says why (a plan
-            # would end before it: ``plans._increasing``)
+            # not after its stream's newest, or its first: the per-sample path says why (a
+            # plan would end before it, or start with a duplicate: ``plans._ordered``)
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
@@ -276,7 +297,8 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
         joined = stop > pos and end < plan.n and not forecast and plan.checked[end]
         if stop > pos:
             start = time.perf_counter()
-            _fast_forward(detector, plan, pos, stop, events, walk=True, stop=joined)
+            _fast_forward(detector, plan, pos, stop, events, walk=True, stop=joined,
+                          drops=drops)
             if last_due is not None:
                 predictor.last_ns = last_due[end]  # (a stop's frame predicts from there)
             if forecast:
@@ -337,11 +359,12 @@ def _clears(plan: Plan, j: int) -> bool:
 
 
 def _fast_forward(detector: 'Detector', plan: Plan, first: int, end: int,
-                  events: List[Event], walk: bool, stop: bool = False) -> None:
+                  events: List[Event], walk: bool, stop: bool = False,
+                  drops: Optional[Counter] = None) -> None:
     """Take plan samples [first, end) (and ``stop``: end) as planned; note the newest."""
     newest = fast_forward(plan, first, end, detector._ball, detector._bat,
                           detector._scheduler, detector._episodes, detector.stats, events,
-                          walk=walk, noise=detector._noise, stop=stop)
+                          walk=walk, noise=detector._noise, stop=stop, drops=drops)
     intake = detector._intake
     if intake.newest is None or newest > intake.newest:
         intake.newest = newest

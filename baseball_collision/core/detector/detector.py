@@ -15,7 +15,8 @@ How samples become events (each step in its own module):
   ahead, a jump back confirmed by the samples after it) and the physical bounds (speed, bat
   length) apply; a bad sample is dropped for one ``DropReason``, a confirmed jump resets;
 * ``streams``: accepted samples are kept per body in a short buffer; ``pairing`` pairs knob and
-  tip points into bat samples by stamp, interpolating the other point when stamps differ;
+  tip points into bat samples by stamp, interpolating the other point when stamps differ
+  (never across a frame of its stream that came without a point: that frame is one drop);
 * ``scheduler``: the union of both streams' sample times is walked up to the watermark;
 * ``sweep``: each union interval is located in both streams (``StreamGap`` across a long gap),
   tested far apart (``broadphase``, then the motion paths), else cut into sub-steps solved
@@ -36,8 +37,8 @@ from .config import DetectorConfig
 from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
 from .gate import (
-    Clock, FAR_AHEAD_NS, finite_point, frame_text, integer_stamp, LengthCheck, lost_body,
-    speed_check, unit_pose)
+    Clock, FAR_AHEAD_NS, finite_point, frame_check, frame_text, integer_stamp, LengthCheck,
+    lost_body, speed_check, unit_pose)
 from .intake import Intake, Offer
 from .noise import NoiseEstimate, record
 from .pairing import Pairing
@@ -366,8 +367,12 @@ class Detector:
             clean = DropReason.NON_FINITE  # not numbers at all
         if frame_id.__class__ is not str:
             frame_id = frame_text(frame_id)
-        reason = clean if clean.__class__ is DropReason else self._intake.offer(
-            Offer(role, stamp, clean, frame_id), events)
+        if clean.__class__ is DropReason:
+            reason = clean
+            if clean is DropReason.NON_FINITE and (role is _KNOB or role is _TIP):
+                self._missed(role, stamp, frame_id)
+        else:
+            reason = self._intake.offer(Offer(role, stamp, clean, frame_id), events)
         elapsed = time.perf_counter() - start
         stats.received[role] += 1
         stats.last_drop_reason = reason
@@ -411,6 +416,17 @@ class Detector:
             return self._bat
         return self._pairing.knob if role is _KNOB else self._pairing.tip
 
+    def _missed(self, role: Role, stamp: int, frame_id: str) -> None:
+        """
+        Note a knob or tip frame stamped (ns) whose point was not finite (``Pairing.missed``).
+
+        The other point of that frame is then not paired with one interpolated across it: the
+        frame is one drop (``non_finite``), not a second one for the length a chord gives. A
+        frame the tracking frame refuses (another publisher's) is not this tracker's.
+        """
+        if frame_check(frame_id, self._intake.votes.frame) is None:
+            self._pairing.missed(self._stream_of(role), stamp)
+
     def _jump(self, stamp: int, reason: ResetReason, events: List[Event]) -> None:
         """Reset for a time jump at ``stamp`` (ns): close the open episode first."""
         self._episodes.close(events)
@@ -449,7 +465,7 @@ class Detector:
                                position=position, quaternion=quaternion)
             return self._accept_bat(t, stamp, sample, events)
         pairing = self._pairing
-        (pairing.knob if role is _KNOB else pairing.tip).append(t, stamp, offer.value, False)
+        pairing.append(pairing.knob if role is _KNOB else pairing.tip, t, stamp, offer.value)
         reason = None
         for tp, knob, tip in pairing.pairs(self._config.max_gap):
             reason = self._accept_bat(tp, clock.stamp(tp), BatSample(knob=knob, tip=tip),

@@ -9,8 +9,12 @@ room to spare: the first (``broadphase.apart_margins``, the scalar ``clearly_apa
 arrays: bounding spheres and hulls of the raw samples), then where it does not, the second
 (``broadphase.path_margins``: the motion paths' spheres, as ``Sweep.interval`` builds them);
 and how each step trims the streams. Every other sample (a drop, a held or voted one, one
-that makes a near interval decidable) is a *stop*. A stream's first sample after a gap is
-planned as the intake takes it: held until the stream's next sample, which takes both (a
+that makes a near interval decidable) is a *stop*. A sample stamped as its stream's sample
+before it (a duplicate: a relay sending a message twice), whose values and frame pass, is
+planned as the per-sample path drops it (``duplicate_stamp``: its stream, the walk and the
+intake stay as they were): in no stream, no stop (``Plan.duplicates``); unless the sample
+before it is held (below), which the duplicate would take. A stream's first sample after a
+gap is planned as the intake takes it: held until the stream's next sample, which takes both (a
 pause between pitches does not end a plan); neither is a stop (the fast-forward that takes
 the second appends both, the first starting a segment), unless the second is one, or with
 prediction on its held sample's step is a due frame.
@@ -92,6 +96,8 @@ class Plan:
     :ivar values: the chunk's ball points (n_ball, 3), and its bat samples' knob, tip,
         position and quaternion arrays.
     :ivar pre: per stream, samples it held when planned.
+    :ivar duplicates: per stream, the samples dropped as ``duplicate_stamp`` (sorted lists):
+        stamped as the stream's sample before them, which is taken as planned.
     :ivar last_due: with prediction on (else None), the predictor's ``last_ns`` before the
         plan, then after each sample (n + 1); ``due``: the due frames (samples, sorted);
         ``forecasts``: per sample, whether it stops for the predictor alone (it passes every
@@ -104,8 +110,22 @@ class Plan:
     """
 
     __slots__ = ('n', 'stops', 'checked', 'counts', 'starts', 'step_starts', 'union', 'visited',
-                 'times', 'stamps', 'breaks', 'holds', 'values', 'pre', 'last_due', 'due',
-                 'forecasts')
+                 'times', 'stamps', 'breaks', 'holds', 'values', 'pre', 'duplicates',
+                 'last_due', 'due', 'forecasts')
+
+    def duplicates_in(self, pos: int, end: int) -> Tuple[int, int]:
+        """Return how many of samples pos..end-1 are duplicates: the ball's, the bat's."""
+        ball, bat = self.duplicates
+        return (bisect_left(ball, end) - bisect_left(ball, pos),
+                bisect_left(bat, end) - bisect_left(bat, pos))
+
+    def is_duplicate(self, j: int) -> bool:
+        """Return whether sample j is one of the duplicates (dropped as ``duplicate_stamp``)."""
+        for own in self.duplicates:
+            k = bisect_left(own, j)
+            if k < len(own) and own[k] == j:
+                return True
+        return False
 
     def next_stop(self, pos: int) -> int:
         """Return the first stop at or after sample ``pos`` (``n`` for none)."""
@@ -201,23 +221,37 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     :param newest: the intake's newest stamp taken (ns; ``Intake.newest``, which a sample
         after a gap must pass to be held; None: the streams' newest).
     """
-    # the plan ends before the first sample not after its stream's last (dropped, held or a
-    # jump back: nothing after it can be planned until it is settled)
-    n = min(_increasing(stamps, roles == BALL, ball), _increasing(stamps, roles == BAT_POSE, bat))
+    # the plan ends before the first sample behind its stream's last (dropped, held or a jump
+    # back: nothing after it can be planned until it is settled); one stamped as the last is a
+    # duplicate, in no stream
+    ball_end, ball_duplicates, ball_before = _ordered(stamps, roles == BALL, ball)
+    bat_end, bat_duplicates, bat_before = _ordered(stamps, roles == BAT_POSE, bat)
+    n = min(ball_end, bat_end)
+    duplicate = followed = None
+    if len(ball_duplicates) or len(bat_duplicates):
+        duplicate, followed = np.zeros(n, bool), np.zeros(n, bool)
+        for own, before in ((ball_duplicates, ball_before), (bat_duplicates, bat_before)):
+            duplicate[own[own < n]] = True
+            followed[before[(before >= 0) & (before < n)]] = True
     is_ball, is_bat = roles[:n] == BALL, roles[:n] == BAT_POSE
+    if duplicate is not None:
+        is_ball &= ~duplicate
+        is_bat &= ~duplicate
     arrays, ok, gap = _arrays(config, offsets, origin, ball, bat, is_ball, is_bat, roles[:n],
-                              stamps[:n], values[:n], frame, frames[:n])
+                              stamps[:n], values[:n], frame, frames[:n], duplicate)
     # the plan ends at its first sample that fails a check (the per-sample path will most
     # likely drop it, hold it or break its stream there, and what follows be planned again),
     # except a stream's first sample after a gap, held until its next takes it
     end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], max(
-        ball.stamps[-1], bat.stamps[-1]) if newest is None else newest)
+        ball.stamps[-1], bat.stamps[-1]) if newest is None else newest, followed)
     if end < n:
         n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
         arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
     plan = Plan()
     plan.n, plan.pre = n, arrays.pre
+    plan.duplicates = (ball_duplicates[ball_duplicates < n].tolist(),
+                       bat_duplicates[bat_duplicates < n].tolist())
     # a held sample and the one that takes it are taken as planned (the run that takes the
     # second appends both, the first starting a segment: ``Plan.breaks``); when the second is
     # past the plan's end, the first through the per-sample path, and both when the second is
@@ -414,15 +448,17 @@ def _norms(rows: np.ndarray) -> np.ndarray:
 def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int, ball: Stream,
             bat: Stream, is_ball: np.ndarray, is_bat: np.ndarray, roles: np.ndarray,
             stamps: np.ndarray, values: np.ndarray, frame: Optional[str],
-            frames: Sequence[str]) -> Tuple[Arrays, np.ndarray, np.ndarray]:
+            frames: Sequence[str], duplicate: Optional[np.ndarray] = None
+            ) -> Tuple[Arrays, np.ndarray, np.ndarray]:
     """
     Return the streams' kept samples and the chunk's (its poses made knob and tip), and checks.
 
     The chunk's rows are the kernel's ``plan_rows`` (the per-sample path's operations in its
     order: the same bits), which also checks each sample's values and stamp. Second, which
-    samples pass every check with room to spare (values, frame, order); third, which pass
-    every check but the order's as the first sample after a gap that the intake holds for its
-    stream's next (``_order_checks``).
+    samples pass every check with room to spare (values, frame, order; a ``duplicate``, in no
+    stream: its values and frame, ``_duplicates_pass``); third, which pass every check but
+    the order's as the first sample after a gap that the intake holds for its stream's next
+    (``_order_checks``).
     """
     arrays = Arrays()
     pre = arrays.pre = (len(ball.times), len(bat.times))
@@ -444,12 +480,17 @@ def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
         arrays.times[s][:pre[s]] = stream.times
         arrays.stamps[s][:pre[s]] = stream.stamps
     ok = np.empty(len(stamps), bool)
+    if duplicate is not None:  # (rows of no stream: the kernel leaves them out)
+        repeated_points = roles[duplicate] != BAT_POSE
+        roles = np.where(duplicate, np.int8(-1), roles).astype(np.int8)
     _kernel.plan_rows(roles, stamps, values, origin, (BALL, BAT_POSE), offsets,
                       (1e-3 * (1.0 - SLACK), FAR_AHEAD_NS), arrays.times[0], arrays.stamps[0],
                       arrays.ball, arrays.times[1], arrays.stamps[1], arrays.knobs, arrays.tips,
                       arrays.positions, arrays.quaternions, pre, ok)
     arrays.new = (arrays.ball[pre[0]:], arrays.knobs[pre[1]:], arrays.tips[pre[1]:],
                   arrays.positions[pre[1]:], arrays.quaternions[pre[1]:])
+    if duplicate is not None:
+        ok[duplicate] = _duplicates_pass(values[duplicate], repeated_points)
     arrays.breaks = (
         np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(m_ball - pre[0], bool))),
         np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(m_bat - pre[1], bool))))
@@ -628,7 +669,8 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
 
 
 def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
-               stamps: np.ndarray, newest: int) -> Tuple[int, List[Tuple[int, int]]]:
+               stamps: np.ndarray, newest: int, followed: Optional[np.ndarray] = None
+               ) -> Tuple[int, List[Tuple[int, int]]]:
     """
     Return where a plan ends, and its held samples with the sample that takes each.
 
@@ -636,7 +678,8 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
     as new (``newest``, ns: the intake's newest before the chunk, then the samples taken); its
     stream's next sample takes it, then itself. The plan follows that (``plan_chunk``: taken
     as planned, or through the per-sample path); it ends after its first sample that fails a
-    check otherwise, or whose next does.
+    check otherwise, or whose next does, or that a duplicate follows (``followed``: the
+    duplicate would take it, then be dropped).
     """
     n = len(ok)
     failing = np.flatnonzero(~ok).tolist()
@@ -652,7 +695,7 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
     top, scanned = newest, 0
     for x in failing:
         y = int(following[x])
-        if not gap[x] or y >= n or not ok[y]:
+        if not gap[x] or y >= n or not ok[y] or (followed is not None and followed[x]):
             return x + 1, held
         start = scanned + 1 if held and held[-1][0] == scanned else scanned
         if start < x:
@@ -664,20 +707,53 @@ def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.
     return n, held
 
 
-def _increasing(stamps: np.ndarray, mine: np.ndarray, stream: Stream) -> int:
+def _ordered(stamps: np.ndarray, mine: np.ndarray,
+             stream: Stream) -> Tuple[int, np.ndarray, np.ndarray]:
     """
-    Return the chunk's length up to its first sample of a stream not after the one before.
+    Return where a stream's samples (``mine``) end a chunk's plan, its duplicates before that.
 
-    A stream's very first sample ends it too (the per-sample path starts the stream); a chunk
-    without a sample of the stream is not limited by it.
+    The chunk's length up to the stream's first sample behind the one before it; a stream's
+    very first sample ends it too (the per-sample path starts the stream), and a chunk without
+    a sample of the stream is not limited by it. Second, the samples before that stamped as
+    the one before (duplicates, sorted); third, for each, the sample it repeats: the
+    stream's newest before it that is no duplicate (-1: the stream's kept newest).
     """
-    own = stamps[mine]
-    if not len(own):
-        return len(stamps)
+    own_index = np.flatnonzero(mine)
+    none = own_index[:0]
+    if not len(own_index):
+        return len(stamps), none, none
     if not len(stream.stamps):
-        return int(np.flatnonzero(mine)[0])
-    bad = np.flatnonzero(own <= np.concatenate((stream.stamps[-1:], own[:-1])))
-    return int(np.flatnonzero(mine)[bad[0]]) if len(bad) else len(stamps)
+        return int(own_index[0]), none, none
+    own = stamps[own_index]
+    before = np.concatenate((stream.stamps[-1:], own[:-1]))
+    behind = np.flatnonzero(own < before)
+    end = int(own_index[behind[0]]) if len(behind) else len(stamps)
+    same = own == before
+    if not same.any():
+        return end, none, none
+    position = np.arange(len(own))
+    repeated = np.maximum.accumulate(np.where(same, -1, position))[same]
+    duplicates = own_index[same]
+    kept = duplicates < end
+    return (end, duplicates[kept],
+            np.where(repeated >= 0, own_index[np.maximum(repeated, 0)], -1)[kept])
+
+
+def _duplicates_pass(values: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """
+    Return which duplicates' values pass the per-sample path's checks, with room to spare.
+
+    Finite (``non_finite``); a bat pose's quaternion unit within ``SLACK`` less than the
+    tolerance (``bad_quaternion``), its position not the origin (``lost_body``, as
+    ``plan_rows`` checks it). ``values``: their (m, 7) rows; ``points``: which are points
+    (the ball's: their first three columns).
+    """
+    finite = np.isfinite(values[:, :3]).all(axis=1)
+    with np.errstate(all='ignore'):
+        magnitude = np.sqrt(np.einsum('ij,ij->i', values[:, 3:], values[:, 3:]))
+        pose = np.isfinite(values[:, 3:]).all(axis=1) & (
+            np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK)) & (values[:, :3] != 0.0).any(axis=1)
+    return finite & (points | pose)
 
 
 def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:

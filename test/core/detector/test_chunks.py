@@ -3,7 +3,8 @@ Tests for baseball_collision.core.detector.chunks: ``Detector.add_chunk`` is ``a
 
 Sessions of pitches (hits, misses, grazes) tracked at 360 Hz, with faults injected (non-finite
 values, duplicate and out-of-order stamps, stamps glitched ahead, stray frames, lost bodies,
-gaps, a jump back), are fed once sample by sample and once in random chunk sizes: the events,
+gaps, a jump back, a message sent twice: as it was, with other values, in another frame or
+with a bad quaternion), are fed once sample by sample and once in random chunk sizes: the events,
 the drops (by role and reason) and the counters must be identical, and so must the streams
 (their turns too) and the predictor's state with prediction on.
 """
@@ -33,7 +34,8 @@ from support.scenes import BASE_NS, pitch, pose, swing
 
 STATS = ('received', 'dropped', 'impacts', 'near_misses', 'gaps', 'resets', 'intervals',
          'substeps', 'newest_stamp_ns', 'last_drop_reason')
-FAULTS = ('nan', 'duplicate', 'behind', 'ahead', 'frame', 'lost', 'gap', 'jump_back', 'bad_q')
+FAULTS = ('nan', 'duplicate', 'behind', 'ahead', 'frame', 'lost', 'gap', 'jump_back', 'bad_q',
+          'twice', 'twice_moved', 'twice_frame', 'twice_bad_q')
 
 
 def session(heights: Sequence[float], rate: float = 360.0, bat_as: str = 'pose',
@@ -88,6 +90,14 @@ def inject(rows: List[Row], faults: Sequence[Tuple[int, str]]) -> List[Row]:
             del rows[i:i + 60]
         elif kind == 'jump_back':
             rows[i:] = [(r, s - 2_000_000_000, v, f) for r, s, v, f in rows[i:]]
+        elif kind.startswith('twice'):  # the message again, right after it (a relay)
+            if kind == 'twice_moved':
+                values = (values[0] + 0.01,) + values[1:]
+            elif kind == 'twice_frame':
+                frame = 'elsewhere'
+            elif kind == 'twice_bad_q' and role == 'bat_pose':
+                values = values[:3] + tuple(2.0 * q for q in values[3:])
+            rows.insert(i + 1, (role, stamp, values, frame))
     return rows
 
 
@@ -197,6 +207,36 @@ def test_points_fall_back_to_sample_by_sample(monkeypatch: pytest.MonkeyPatch) -
                          session(HEIGHTS[:2], bat_as='points'), (100, 1000))
     assert calls[0] == 0
     assert any(isinstance(e, Impact) for e in events)
+
+
+def test_points_with_a_bat_point_lost_as_nan_in_the_first_chunk() -> None:
+    """
+    A tip lost as NaN mid-swing, in the first chunk: the same as one sample at a time.
+
+    ``add`` notes the lost frame against the tip's newest sample (its knob is then not paired
+    across it); taken ahead of the chunk's other samples (as a plan's would be) it came before
+    the tip had any, and the knob was paired on the chord, a bat sample ``add`` does not make.
+    """
+    rows = session(HEIGHTS[:1], rate=90.0, bat_as='points')
+    tips = [i for i, row in enumerate(rows) if row[0] == 'tip']
+    role, stamp, values, frame = rows[tips[8]]
+    rows[tips[8]] = (role, stamp, (math.nan,) * 3, frame)
+    assert_same(DetectorConfig(model='c2', bat_input='points'), rows, (len(rows),))
+    _, drops, _ = one_at_a_time(DetectorConfig(model='c2', bat_input='points'), rows)
+    assert drops == Counter({('tip', 'non_finite'): 1})
+
+
+@settings(max_examples=examples(10), deadline=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(rate=st.sampled_from([90.0, 360.0]),
+       sizes=st.lists(st.integers(1, 700), min_size=1, max_size=4),
+       faults=st.lists(st.tuples(st.integers(0, 10_000), st.sampled_from(FAULTS)),
+                       max_size=5))
+def test_points_random_chunks_and_faults_same_as_one_at_a_time(
+        rate: float, sizes: List[int], faults: List[Tuple[int, str]]) -> None:
+    """The bat as knob and tip, any chunk sizes and faults: as one sample at a time."""
+    rows = inject(session(HEIGHTS[:2], rate=rate, bat_as='points'), faults)
+    assert_same(DetectorConfig(model='c2', bat_input='points'), rows, sizes)
 
 
 def test_the_same_pitches_with_a_pose_bat_take_the_array_path(
@@ -1035,8 +1075,9 @@ def test_a_stream_sent_twice_is_not_planned_sample_by_sample(
     Every ball sample twice (a relay): a plan every few hundred samples, not every other one.
 
     Each duplicate ended a plan (a plan call of about a millisecond for one sample taken, 170
-    times slower than without); now a duplicate goes straight through ``add`` and short plans
-    back off (``PLAN_WORTH``). The same events, drops and counters either way.
+    times slower than without); then a duplicate went straight through ``add`` and short plans
+    backed off (``PLAN_WORTH``); now the plans drop the duplicates themselves. The same
+    events, drops and counters either way.
     """
     rows = session(HEIGHTS[:2])
     twice = [copy for row in rows for copy in ([row, row] if row[0] == 'ball' else [row])]
@@ -1063,6 +1104,77 @@ def test_samples_lost_as_nan_do_not_end_plans(monkeypatch: pytest.MonkeyPatch) -
         lost[i] = (role, stamp, (math.nan,) * len(values), frame)
     planned = _plans_made(monkeypatch, lost, config, 4096)
     assert len(planned) <= len(clean) + 2
+
+
+@pytest.mark.parametrize('role', ['ball', 'bat_pose'])
+def test_messages_sent_twice_do_not_end_plans(role: str,
+                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    One message of a stream in a hundred sent twice (a relay): as many plans as without them.
+
+    Each copy (its stamp its stream's newest: dropped as ``duplicate_stamp``) ended a plan,
+    about 2x the clean bag's time for 1 % of the ball's messages; the plan now drops it as the
+    per-sample path does, on its arrays. The same events, drops, counters and streams.
+    """
+    rows = session(HEIGHTS[:3])
+    config = DetectorConfig(model='c2', bat_input='pose')
+    clean = _plans_made(monkeypatch, rows, config, 4096)
+    own = [i for i, row in enumerate(rows) if row[0] == role]
+    twice = list(rows)
+    for i in reversed(own[5::100] + own[-1:]):  # (the chunk's last sample too)
+        twice.insert(i + 1, rows[i])
+    planned = _plans_made(monkeypatch, twice, config, 4096)
+    assert len(planned) <= len(clean) + 2
+    _, drops, _ = one_at_a_time(config, twice)
+    _, clean_drops, _ = one_at_a_time(config, rows)  # (speed_limit: each new pitch starts)
+    assert drops - clean_drops == Counter({(role, 'duplicate_stamp'): len(own[5::100]) + 1})
+
+
+@pytest.mark.parametrize('kind, reason', [('twice_moved', 'duplicate_stamp'),
+                                          ('twice_frame', 'wrong_frame'),
+                                          ('twice_bad_q', 'bad_quaternion')])
+def test_a_copy_with_other_values_or_frame_is_judged_as_add_judges(kind: str,
+                                                                   reason: str) -> None:
+    """
+    Bat poses sent again with their stamp but other values, another frame, a bad quaternion.
+
+    A copy is dropped for its stamp only when its values and frame pass (``add`` checks them
+    first): then the plan drops it; else it goes through ``add`` (its reason then), the same
+    drops, events and streams either way.
+    """
+    rows = session(HEIGHTS[:2])
+    bats = [i for i, row in enumerate(rows) if row[0] == 'bat_pose']
+    twice = inject(rows, [(i + k, kind) for k, i in enumerate(bats[7::40])])
+    config = DetectorConfig(model='c2', bat_input='pose')
+    assert_same(config, twice, (4096,))
+    _, drops, _ = one_at_a_time(config, twice)
+    _, clean_drops, _ = one_at_a_time(config, rows)
+    assert drops - clean_drops == Counter({('bat_pose', reason): len(bats[7::40])})
+
+
+@pytest.mark.parametrize('copies', [1, 2])
+def test_a_message_sent_twice_after_a_pause_takes_its_held_sample(copies: int) -> None:
+    """
+    The first ball message after the ball's pause in tracking, sent again: as one at a time.
+
+    The intake holds that sample for the ball's next (a stamp well past the stream's steps);
+    the copy, stamped as it, takes it (then is dropped as a duplicate), and the walk goes on
+    there, over the bat's samples during the pause, where a plan would have the held sample
+    taken by the ball's next one: a frame later for the predictor (which predicts every 10
+    ms: its last frame another until a later frame puts them in step again, which the
+    session's end hid). So the plan ends at the held sample.
+    """
+    rows = session(HEIGHTS[:3], spacing=0.6)
+    paused = [row for row in rows if row[0] != 'ball' or not 520_000_000 <= (
+        row[1] - BASE_NS) % 600_000_000 < 580_000_000]  # (the ball at rest; the bat tracked)
+    balls = [i for i, row in enumerate(paused) if row[0] == 'ball']
+    after = next(i for i, j in zip(balls, balls[1:]) if paused[j][1] - paused[i][1] > 50_000_000)
+    first = balls[balls.index(after) + 1]
+    twice = paused[:first + 1] + [paused[first]] * copies + paused[first + 1:]
+    for config in (DetectorConfig(model='c2', bat_input='pose'), predicting('c2', 0.01)):
+        for end in (first + copies + 3, first + copies + 8, len(twice)):  # (the ball's next: +2)
+            for sizes in ((4096,), (first - 20,), (first - 20, 7), (first + 1, 4096)):
+                assert_same(config, twice[:end], sizes)
 
 
 @pytest.mark.parametrize('look_ahead', [0, 2])

@@ -196,6 +196,49 @@ def test_bad_samples_are_dropped_and_counted_by_reason(truth_s: float) -> None:
     assert abs((found[0].stamp_ns - BASE_NS) * 1e-9 - truth_s) < 100e-6
 
 
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+@pytest.mark.parametrize('tip_delay_s', [0.0, 0.001])
+@pytest.mark.parametrize('lost', ['tip', 'knob'])
+def test_a_bat_point_lost_as_nan_is_one_drop_and_not_paired_across(
+        lost: str, tip_delay_s: float, rate: float, truth_s: float) -> None:
+    """
+    One knob or tip NaN mid-swing: one drop (``non_finite``), the other end never paired across.
+
+    Its other end is a good sample of a bad frame: paired with a point interpolated on the
+    chord across the lost frame (at 90 Hz 11 cm inside the bat's length) it was dropped a
+    second time, as ``bat_length_jump``, on the call of a good sample after it (at 360 Hz kept,
+    7 mm short). Now the bat has no sample in the lost frame's interval, as with a lost pose,
+    and the hit is still found, once.
+    """
+    detector = Detector(DetectorConfig(bat_input='points'))
+    ball, lost_at = pitch(), round(truth_s * rate) - 1  # the frame just before the contact
+    delay_ns = int(round(tip_delay_s * 1e9))
+    events, reasons = [], []
+    for i in range(int(0.2 * rate)):
+        t = i / rate
+        stamp = BASE_NS + int(round(t * 1e9))
+        knob, _ = swing(t)
+        _, tip = swing(t + tip_delay_s)
+        if i == lost_at:
+            knob, tip = (np.full(3, math.nan), tip) if lost == 'knob' else (knob, [math.nan] * 3)
+        for role, stamp_ns, values in (('ball', stamp, ball(t)), ('knob', stamp, knob),
+                                       ('tip', stamp + delay_ns, tip)):
+            events += detector.add(role, stamp_ns, values, 'world')
+            reasons.append(detector.stats.last_drop_reason)
+    events += detector.finish()
+    assert [reason for reason in reasons if reason is not None] == ['non_finite']
+    assert {k: v for k, v in detector.stats.dropped.items() if v} == {'non_finite': 1}
+    offset = delay_ns if lost == 'tip' else 0  # no bat sample between the lost one's neighbours
+    before, after = (BASE_NS + int(round(i / rate * 1e9)) + offset for i in (lost_at - 1,
+                                                                             lost_at + 1))
+    assert not [stamp for stamp in detector._bat.stamps if before < stamp < after]
+    assert tip_delay_s or all(abs(math.dist(sample.knob, sample.tip) - LENGTH) < 1e-9
+                              for sample in detector._bat.values)  # (only samples as sent)
+    found = impacts(events)
+    assert len(found) == 1
+    assert abs((found[0].stamp_ns - BASE_NS) * 1e-9 - truth_s) < 1e-3
+
+
 def test_bad_quaternions_are_dropped() -> None:
     """Zero, non-unit and non-finite quaternions never reach the motion model."""
     detector = Detector(DetectorConfig(bat_input='pose'))

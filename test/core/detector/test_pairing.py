@@ -42,6 +42,40 @@ def _sparse() -> Pairing:
     return pairing
 
 
+def test_no_pair_across_a_frame_that_came_without_a_point() -> None:
+    """
+    Tip frame at 20 ms lost (``missed``): knob stamps between the tip's 10 and 30 ms unpaired.
+
+    The knob at 20 ms (the lost frame's own) and at 25 ms would take a tip on the chord from
+    10 to 30 ms; those at 10 and 30 ms pair with the tips sent then. A missed frame at or
+    before the stream's newest (an old or duplicate stamp) breaks nothing.
+    """
+    pairing = Pairing()
+    for t in (0.0, 0.01, 0.02, 0.025, 0.03, 0.04):
+        pairing.knob.append(t, int(t * 1e6), (t, 0.0, 0.0), False)
+    for t in (0.0, 0.01):
+        pairing.append(pairing.tip, t, int(t * 1e6), (t, 1.0, 0.0))
+    pairing.missed(pairing.tip, 10_000)  # the newest's own stamp: nothing lost after it
+    assert pairing.missing == {}
+    pairing.missed(pairing.tip, 20_000)
+    pairing.missed(pairing.tip, 25_000)  # a later one changes nothing: the earliest counts
+    assert pairing.missing == {'tip': 20_000}
+    for t in (0.03, 0.04):
+        pairing.append(pairing.tip, t, int(t * 1e6), (t, 1.0, 0.0))
+    assert pairing.missing == {} and pairing.tip.breaks == [True, False, True, False]
+    assert [t for t, _, _ in pairing.pairs(max_gap=0.05)] == [0.0, 0.01, 0.03, 0.04]
+
+
+def test_a_point_sent_at_the_missed_stamp_keeps_the_stream_whole() -> None:
+    """A missed frame whose stamp then brings a good point (sent twice) was not lost."""
+    pairing = Pairing()
+    pairing.append(pairing.tip, 0.0, 1, (0.0, 1.0, 0.0))
+    pairing.missed(pairing.tip, 2)
+    pairing.append(pairing.tip, 0.01, 2, (0.01, 1.0, 0.0))
+    pairing.append(pairing.tip, 0.02, 3, (0.02, 1.0, 0.0))
+    assert pairing.missing == {} and pairing.tip.breaks == [True, False, False]
+
+
 @given(a=st.lists(st.integers(0, 50), unique=True), b=st.lists(st.integers(0, 50), unique=True))
 def test_the_merge_walk_is_the_sorted_union(a: List[int], b: List[int]) -> None:
     """Merging two sorted lists of times gives the sorted union, without repeats."""
