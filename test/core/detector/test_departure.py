@@ -9,8 +9,9 @@ from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
 from baseball_collision.core.detector.departure import (
-    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, flight_path,
-    judging_noise, leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
+    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, FLIGHT_AFTER,
+    flight_path, glitch_before_flight, judging_noise, leaves_flight, parabola,
+    SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep, UNEXPLAINED_RUN
@@ -882,3 +883,48 @@ def test_a_hits_frames_are_no_glitch(model: str) -> None:
         scenario, samples = _rebound(seed)
         detector, impacts = detect(DetectorConfig(model=model, bat_input='points'), samples)
         assert len(impacts) == 1 and not detector.stats.dropped
+
+
+def _young_flight(hit_after: int = -1) -> Tuple[List[float], List[Tuple[float, ...]]]:
+    """
+    Return 12 samples at 90 Hz of a pitch's free flight, the first a segment's first.
+
+    With ``hit_after`` >= 0, a hit halfway between that sample and the next: 30 m/s more along
+    (0.6, -0.8, 0) from then on.
+    """
+    times = [0.5 + i / RATE for i in range(12)]
+    t_c = times[hit_after] + 0.5 / RATE if hit_after >= 0 else math.inf
+    return times, [(0.05 * t, -38.0 * t + max(t - t_c, 0.0) * -24.0,
+                    1.8 - 4.9 * t * t + max(t - t_c, 0.0) * 18.0) for t in times]
+
+
+def test_a_segments_second_and_third_samples_are_judged_by_the_flight_after_them() -> None:
+    """
+    ``glitch_before_flight``: ``glitch_path``'s rule with time run backwards.
+
+    A sample 10 cm off the flight of the samples after it, the one before it on that flight:
+    a glitch; the flight's own samples and a hit's are not (before the contact they leave the
+    flight after it along one line, farther the earlier). Not judged with fewer than three
+    samples after it (four with no noise told: one interval's scatter), nor the segment's
+    first (none before it), nor across a segment break.
+    """
+    times, flight = _young_flight()
+    for k in (1, 2):
+        glitched = list(flight)
+        glitched[k] = (flight[k][0] + 0.1, flight[k][1], flight[k][2])
+        assert glitch_before_flight(_stream(times, glitched), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, flight), k, 0.0, 0.05)
+        # three after it: the flight, no scatter (with none told, the noise could be anything)
+        assert not glitch_before_flight(_stream(times[:k + 4], glitched[:k + 4]), k, 0.0, 0.05)
+        assert glitch_before_flight(_stream(times[:k + 4], glitched[:k + 4]), k, 1e-3, 0.05)
+        assert glitch_before_flight(_stream(times[:k + 5], glitched[:k + 5]), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, glitched, breaks=(k,)), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, glitched, breaks=(k + 2,)), k, 0.0, 0.05)
+    glitched = list(flight)
+    glitched[0] = (flight[0][0] + 0.1, flight[0][1], flight[0][2])
+    assert not glitch_before_flight(_stream(times, glitched), 0, 0.0, 0.05)
+    for hit_after in (0, 1, 2, 3):
+        times, hit = _young_flight(hit_after)
+        stream = _stream(times, hit)
+        assert not any(glitch_before_flight(stream, k, 0.0, 0.05) for k in (1, 2, 3))
+    assert FLIGHT_AFTER >= 4  # (the scatter of one interval at least: no noise told)
