@@ -223,6 +223,7 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     sweep = Sweep(config, clock, stats, ball, bat, episodes, offsets)
     sweep.bat_ahead, sweep.quintic_rates = bat_ahead, quintic_rates
     sweep.unexplained = False  # (armed anew after the contact too)
+    sweep.early_glitches = False  # (judged by the detector; a copy's first starts no segment)
     passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:
