@@ -152,8 +152,11 @@ class Sweep:
         forgotten (``_glitch``), and the interval swept again without it.
         """
         ball, config = self.ball, self.config
-        gap, n = config.max_gap, len(self.ball.times)
-        for j in range(min(k + 1 + self.ahead, n - 1), k - 1, -1):
+        gap, times, n = config.max_gap, ball.times, len(ball.times)
+        top = min(k + 1 + self.ahead, n - 1)
+        if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
+            return False  # (no segment starts at sample k - 2 or after: none is young)
+        for j in range(top, k - 1, -1):
             if not _young(ball, j, gap):
                 continue
             last = j
