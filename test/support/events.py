@@ -1,9 +1,11 @@
 """Detector events of the shared swing (``scenes``), for tests of what the node makes of them."""
 
+from dataclasses import replace
 from typing import Any, List, Sequence, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Event, Impact
 from baseball_collision.core.detector.chunks import ROLE_CODES
+from baseball_collision.core.detector.events import LateDrop
 import numpy as np
 
 from .scenes import BASE_NS, pitch, pose
@@ -32,6 +34,37 @@ def detect(config: DetectorConfig, samples: Any) -> Tuple[Detector, List[Impact]
         events += detector.add(role, stamp, values)
     events += detector.finish()
     return detector, [event for event in events if isinstance(event, Impact)]
+
+
+def detect_late_drops(config: DetectorConfig, samples: Any) -> Tuple[List[Event],
+                                                                     List[LateDrop]]:
+    """Return the events of ``detect``'s run and every late drop it made, in order."""
+    detector = Detector(config)
+    events: List[Event] = []
+    late: List[LateDrop] = []
+    for stamp, role, values in samples.messages(config.bat_input):
+        events += detector.add(role, stamp, values)
+        late += detector.stats.late_drops
+    events += detector.finish()
+    return events, late + detector.stats.late_drops
+
+
+def ball_lost_before(samples: Any, first: int, seconds: float = 0.2) -> Any:
+    """Return ``samples`` (``sim.sample``) without the ball ``seconds`` (s) before sample first."""
+    stamps = samples.ball_stamps_ns
+    kept = (stamps < stamps[first] - round(seconds * 1e9)) | (stamps >= stamps[first])
+    return replace(samples, ball_stamps_ns=stamps[kept],
+                   ball_positions=samples.ball_positions[kept].copy())
+
+
+def on_bat_axis(samples: Any, k: int) -> Any:
+    """Return ``samples`` with ball sample k on the bat's axis (the nearest bat sample's)."""
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - samples.ball_stamps_ns[k])))
+    knob, axis = samples.knobs[j], samples.tips[j] - samples.knobs[j]
+    moved = replace(samples, ball_positions=samples.ball_positions.copy())
+    along = np.clip((moved.ball_positions[k] - knob) @ axis / (axis @ axis), 0.0, 1.0)
+    moved.ball_positions[k] = knob + along * axis
+    return moved
 
 
 Row = Tuple[str, int, Tuple[float, ...], str]

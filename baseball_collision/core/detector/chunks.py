@@ -282,8 +282,9 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     Take a plan of the chunk's samples from i: runs fast-forwarded, each stop as ``add`` would.
 
     :returns: the samples taken: all the plan's, or up to the first stop that did not end as
-        planned (dropped, held, reset, trimmed otherwise, a prediction made or cleared, the
-        predictor's last frame another: the rest is planned again).
+        planned (dropped, held, reset, trimmed otherwise, its walk stopped before an interval
+        that waits for samples, a prediction made or cleared, the predictor's last frame
+        another: the rest is planned again).
     """
     stats = detector.stats
     predictor, last_due = detector._predictor, plan.last_due

@@ -191,6 +191,43 @@ def glitch_path(stream: Stream, k: int, noise: float, max_gap: float,
                      tuple(v + a * h for v, a in zip(slope, acceleration)))
 
 
+FLIGHT_AFTER = 6
+"""Ball samples after one of a segment's first three that judge it (``glitch_before_flight``):
+the three whose free flight it is judged against, and three more whose closing samples'
+misses give the scatter of three intervals (``FEW_SCATTER_RATIOS``)."""
+
+
+def glitch_before_flight(stream: Stream, k: int, noise: float, max_gap: float,
+                         spread: float = 0.0) -> bool:
+    """
+    Return whether sample k is a glitch judged by the free flight of the samples after it.
+
+    For a segment's second and third samples, which have too few samples before them for
+    ``glitch_path``: its rule with time run backwards, over samples k - 1 to k +
+    ``FLIGHT_AFTER`` (those of them in k's segment, no others). Sample k left the free flight
+    of samples k + 1 .. k + 3 continued back to it (``leaves_flight``: outside the scatter of
+    the intervals after those), and sample k - 1 is not where a hit between samples k and
+    k + 1 left the ball: a hit changes the ball's velocity by some dv at t_c, so every sample
+    before the contact is off the flight after it by dv (t_c - t), along one line and farther
+    the earlier it is (``hit_bend``). A hit's first frame after the contact is on the flight
+    after it. False where fewer than three samples follow k in its segment, or none precedes
+    it there.
+
+    :param noise: the noise told (m; ``judging_noise``).
+    :param spread: the stream's noise (m, 1 sigma per coordinate: told or estimated).
+    """
+    if k < 1 or not stream.continuous(k - 1, max_gap):
+        return False
+    last = k
+    while last < min(k + FLIGHT_AFTER, len(stream.times) - 1) and \
+            stream.continuous(last, max_gap):
+        last += 1
+    backwards = Stream(stream.name)  # samples last .. k - 1, at the times negated
+    for j in range(last, k - 2, -1):
+        backwards.append(-stream.times[j], -stream.stamps[j], stream.values[j], False)
+    return glitch_path(backwards, last - k, noise, max_gap, spread) is not None
+
+
 HIT_BEND = 200.0
 """m/s^2: the most a hit ball's path after the contact can bend from a straight departure
 (the difference of its acceleration from the free flight's: drag on its new velocity and

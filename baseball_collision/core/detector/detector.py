@@ -345,7 +345,7 @@ class Detector:
         events: List[Event] = []
         self.stats.late_drops = []
         self._intake.flush(events)
-        if samples_ahead(self._config.model, self._config.look_ahead):
+        if samples_ahead(self._config.model, self._config.look_ahead) or self._sweep.held:
             self._advance(events, final=True)
         self._episodes.close(events)
         return events
@@ -497,6 +497,7 @@ class Detector:
     def _advance(self, events: List[Event], final: bool = False) -> None:
         """Sweep every union interval now decidable, then predict from the new cursor."""
         first = len(events)
+        self._sweep.final = final  # (an interval waiting for ball samples waits no longer)
         moved = self._scheduler.advance(self._sweep.interval, events, final)
         config = self._config
         if config.rest_tolerance > 0.0:

@@ -4,7 +4,9 @@ The walk over the union of the ball's and the bat's sample times, up to the wate
 Between two consecutive union times every stream is inside one of its own sample intervals, so
 each body's motion model gives its path exactly by stamps, whatever the rates, jitter or uneven
 steps. The walk stops at the watermark: the oldest of the streams' newest usable times (a model
-that needs samples after an interval, the spline, waits for them until the recording ends).
+that needs samples after an interval, the spline, waits for them until the recording ends), or
+before an interval the sweep says waits for more samples (a ball segment's first samples near
+the bat: ``Sweep.interval``).
 """
 
 from bisect import bisect_right
@@ -15,8 +17,10 @@ from .config import DetectorConfig
 from .streams import Stream
 from ..motion import samples_ahead
 
-Visit = Callable[[float, float, List], None]
-"""Called with each union interval (ta, tb) in seconds, and the event list to append to."""
+Visit = Callable[[float, float, List], Optional[bool]]
+"""Called with each union interval (ta, tb) in seconds, and the event list to append to;
+False: the interval waits for more samples (``Sweep.interval``), and the walk stops before
+it."""
 
 
 class Scheduler:
@@ -40,11 +44,10 @@ class Scheduler:
         """
         Visit every union interval in (cursor, watermark], then trim the streams.
 
-        A visit may forget samples at or before its interval's start (a glitch:
-        ``Stream.remove``); the walk then goes on from the interval's end in the streams as
-        they are.
+        A visit may forget samples (a glitch: ``Stream.remove``); the walk then goes on from
+        the interval's end in the streams as they are.
 
-        :param visit: called with each interval in order.
+        :param visit: called with each interval in order, up to one that waits (``Visit``).
         :param final: the recording ended: every sample is usable.
         :returns: whether the cursor moved.
         """
@@ -74,9 +77,10 @@ class Scheduler:
             if b == t:
                 j += 1
             sizes = len(ball_times), len(bat_times)
-            visit(cursor, t, events)
+            if visit(cursor, t, events) is False:
+                break  # (visited again from the cursor by the next advance)
             if sizes != (len(ball_times), len(bat_times)):
-                # the visit forgot a glitch behind t (``Stream.remove``): the indices moved
+                # the visit forgot a glitch (``Stream.remove``): the indices moved
                 i, j = bisect_right(ball_times, t), bisect_right(bat_times, t)
             cursor = t
         moved = cursor != self.cursor

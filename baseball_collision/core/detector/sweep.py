@@ -19,8 +19,8 @@ from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
-    leaves_flight)
+    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_path, glitch_before_flight,
+    glitch_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -73,12 +73,19 @@ class Sweep:
     :ivar quintic_rates: True: ``kinematics.fit_velocities``' rule (the quintic's bat rates from
         exact samples at a high rate); False: the least-squares fits alone (``uncertainty``'s
         re-solve by the model of lower order, an estimate apart from the quintic).
+    :ivar early_glitches: True: a segment's second and third ball samples are judged by the
+        flight after them, an interval near the bat waiting for it (``_early_glitch``); False:
+        not judged (``uncertainty``'s re-solves, on copies whose first samples start no
+        segment of the ball's).
+    :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
+    :ivar held: the last interval visited waits for ball samples (``interval``).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
-                 'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect')
+                 'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect', 'early_glitches',
+                 'final', 'held')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -106,12 +113,20 @@ class Sweep:
         # uncertainty's re-solves, of an impact that stood)
         self.bat_glitches = True
         self.bat_suspect: Optional[int] = None  # the stamp (ns) of a departed frame to judge
+        self.early_glitches = True  # (a segment's first samples judged: ``_early_glitch``)
+        self.final = False
+        self.held = False
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
-    def interval(self, ta: float, tb: float, events: List) -> None:
+    def interval(self, ta: float, tb: float, events: List) -> bool:
         """
-        Sweep the union interval [ta, tb] (s), appending the events it makes.
+        Sweep the union interval [ta, tb] (s), appending the events it makes; False: wait.
+
+        False where the interval may come near the bat and the ball's path over it reaches
+        one of its segment's second and third samples, which only the samples after it judge
+        (``_early_glitch``): nothing of it is swept, and the scheduler's walk stops before it,
+        to visit it again once more ball samples are in (or the recording ended: ``final``).
 
         Where the interval opens at a ball sample that is a glitch (``departure.glitch_path``)
         and the ball is not clearly apart from the bat, the sample is dropped as
@@ -123,9 +138,49 @@ class Sweep:
         (``_ball_path``, over an interval that was clear) is forgotten once the interval is
         swept.
         """
+        self.held = False
         self._swept(ta, tb, events)
         if self.glitches:
             self._forget_glitches()
+        return not self.held
+
+    def _early_glitch(self, k: int, ta: float, tb: float, events: List) -> bool:
+        """
+        Judge the ball's young samples interval k reaches; True: the interval is done with.
+
+        Young: a segment's second or third sample (after a tracking gap), which
+        ``glitch_path`` cannot judge (fewer than three samples before it). Each that the
+        ball's path over interval k can reach (its opening and closing samples, and those of
+        the model's look-ahead), latest first, is judged by the free flight after it
+        (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
+        after it, or can take no more (a sample after the segment, or ``final``). Until then
+        the interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and
+        forgotten (``_glitch``), and the interval swept again without it.
+        """
+        ball, config = self.ball, self.config
+        gap, times, n = config.max_gap, ball.times, len(ball.times)
+        top = min(k + 1 + self.ahead, n - 1)
+        if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
+            return False  # (no segment starts at sample k - 2 or after: none is young)
+        for j in range(top, k - 1, -1):
+            if not _young(ball, j, gap):
+                continue
+            last = j
+            while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
+                last += 1
+            if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
+                self.held = True  # (its segment may still grow)
+            elif glitch_before_flight(ball, j, judging_noise(config), gap,
+                                      stream_noise(ball, config)):
+                self._glitch(j)
+                self._forget_glitches()
+            else:
+                continue
+            self.stats.intervals -= 1  # (counted when it is swept)
+            if not self.held:
+                self._swept(ta, tb, events)
+            return True
+        return False
 
     def _judged_glitch(self, k: int, spread: float) -> bool:
         """
@@ -237,6 +292,8 @@ class Sweep:
         reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
         if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
             self.episodes.far(events, ta)
+            return
+        if self.early_glitches and self._early_glitch(located[0], ta, tb, events):
             return
         if self.episodes.armed is False:
             self._past_departure(located[0], ball_path)
@@ -769,6 +826,19 @@ class Sweep:
             model=self.model, interval_start_ns=stamp(interval[0]),
             interval_end_ns=stamp(interval[1]), velocities_from_history=velocities.from_history,
             initially_overlapping=hit.initially_overlapping)
+
+
+def _young(stream: Stream, k: int, max_gap: float) -> bool:
+    """Return whether sample k is its segment's second or third (a segment's start seen)."""
+    if k < 1 or not stream.continuous(k - 1, max_gap):
+        return False
+    return _starts(stream, k - 1, max_gap) or (
+        k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
+
+
+def _starts(stream: Stream, k: int, max_gap: float) -> bool:
+    """Return whether sample k starts a segment (the first kept one: where it was a start)."""
+    return stream.breaks[k] if k == 0 else not stream.continuous(k - 1, max_gap)
 
 
 def _neighbours(stream: Stream, k: int, max_gap: float) -> Tuple[Any, Any]:

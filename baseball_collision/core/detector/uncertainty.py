@@ -202,6 +202,7 @@ def resolve(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
     sweep.bat_ahead, sweep.quintic_rates = bat_ahead, quintic_rates
     sweep.unexplained = False  # (armed anew after the contact too)
     sweep.bat_glitches = False  # (the bat's frames were judged when the impact was found)
+    sweep.early_glitches = False  # (judged by the detector; a copy's first starts no segment)
     passes: List[Event] = []
 
     def first_impact(start: float, end: float) -> Optional[Impact]:

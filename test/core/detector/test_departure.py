@@ -9,8 +9,9 @@ from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
 from baseball_collision.core.detector.departure import (
-    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, flight_path,
-    judging_noise, leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
+    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, FLIGHT_AFTER,
+    flight_path, glitch_before_flight, judging_noise, leaves_flight, parabola,
+    SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep, UNEXPLAINED_RUN
@@ -25,7 +26,8 @@ import numpy as np
 import pytest
 from support import examples
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS, time_bound_ns
-from support.events import arrays, detect
+from support.events import (
+    arrays, ball_lost_before, detect, detect_late_drops, on_bat_axis)
 
 RATE = 90.0
 
@@ -882,3 +884,123 @@ def test_a_hits_frames_are_no_glitch(model: str) -> None:
         scenario, samples = _rebound(seed)
         detector, impacts = detect(DetectorConfig(model=model, bat_input='points'), samples)
         assert len(impacts) == 1 and not detector.stats.dropped
+
+
+def _young_flight(hit_after: int = -1) -> Tuple[List[float], List[Tuple[float, ...]]]:
+    """
+    Return 12 samples at 90 Hz of a pitch's free flight, the first a segment's first.
+
+    With ``hit_after`` >= 0, a hit halfway between that sample and the next: 30 m/s more along
+    (0.6, -0.8, 0) from then on.
+    """
+    times = [0.5 + i / RATE for i in range(12)]
+    t_c = times[hit_after] + 0.5 / RATE if hit_after >= 0 else math.inf
+    return times, [(0.05 * t, -38.0 * t + max(t - t_c, 0.0) * -24.0,
+                    1.8 - 4.9 * t * t + max(t - t_c, 0.0) * 18.0) for t in times]
+
+
+def test_a_segments_second_and_third_samples_are_judged_by_the_flight_after_them() -> None:
+    """
+    ``glitch_before_flight``: ``glitch_path``'s rule with time run backwards.
+
+    A sample 10 cm off the flight of the samples after it, the one before it on that flight:
+    a glitch; the flight's own samples and a hit's are not (before the contact they leave the
+    flight after it along one line, farther the earlier). Not judged with fewer than three
+    samples after it (four with no noise told: one interval's scatter), nor the segment's
+    first (none before it), nor across a segment break.
+    """
+    times, flight = _young_flight()
+    for k in (1, 2):
+        glitched = list(flight)
+        glitched[k] = (flight[k][0] + 0.1, flight[k][1], flight[k][2])
+        assert glitch_before_flight(_stream(times, glitched), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, flight), k, 0.0, 0.05)
+        # three after it: the flight, no scatter (with none told, the noise could be anything)
+        assert not glitch_before_flight(_stream(times[:k + 4], glitched[:k + 4]), k, 0.0, 0.05)
+        assert glitch_before_flight(_stream(times[:k + 4], glitched[:k + 4]), k, 1e-3, 0.05)
+        assert glitch_before_flight(_stream(times[:k + 5], glitched[:k + 5]), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, glitched, breaks=(k,)), k, 0.0, 0.05)
+        assert not glitch_before_flight(_stream(times, glitched, breaks=(k + 2,)), k, 0.0, 0.05)
+    glitched = list(flight)
+    glitched[0] = (flight[0][0] + 0.1, flight[0][1], flight[0][2])
+    assert not glitch_before_flight(_stream(times, glitched), 0, 0.0, 0.05)
+    for hit_after in (0, 1, 2, 3):
+        times, hit = _young_flight(hit_after)
+        stream = _stream(times, hit)
+        assert not any(glitch_before_flight(stream, k, 0.0, 0.05) for k in (1, 2, 3))
+    assert FLIGHT_AFTER >= 4  # (the scatter of one interval at least: no noise told)
+
+
+_GAP_CONFIGS = {
+    'rigid': DetectorConfig(model='rigid', bat_input='pose', tracker_noise=0.0),
+    'linear': DetectorConfig(model='linear', bat_input='pose', tracker_noise=0.0),
+    'spline': DetectorConfig(model='spline', bat_input='pose', tracker_noise=0.0),
+    'node': DetectorConfig(bat_input='pose'),
+    'analyze': DetectorConfig(bat_input='pose', look_ahead=2),
+}
+"""The models, and the node's and ``analyze``'s defaults (``c2``, ``tracker_noise`` auto)."""
+
+
+@pytest.mark.parametrize('name', sorted(_GAP_CONFIGS))
+@pytest.mark.parametrize('kind', ['miss_over', 'miss_under'])
+def test_a_glitch_among_the_first_samples_after_a_gap_is_no_impact(name: str,
+                                                                   kind: str) -> None:
+    """
+    A miss tracked again after 0.2 s without the ball, its 2nd or 3rd sample on the bat's axis.
+
+    Fewer than three samples before it, so nothing judged it, and the path through it made an
+    impact (the audit: 24 of 24 cases each, every model). It is judged by the flight of the
+    samples after it (``departure.glitch_before_flight``), the interval that reaches it
+    waiting for them: dropped as ``ball_glitch`` (a late drop at its stamp), and the events
+    are those without that frame, to the bit.
+    """
+    config = _GAP_CONFIGS[name]
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario(kind, rng, lead_s=0.4, trail_s=0.1)
+        samples = sample(scenario, RATE, rng, jitter_s=2e-4, grid_s=1e-3)
+        closest = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+            round(scenario.truth.min_gap_time_s * 1e9))))
+        for young in (1, 2):
+            lost = ball_lost_before(samples, closest - 2 - young)
+            k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[closest - 2]))
+            events, late = detect_late_drops(config, on_bat_axis(lost, k))
+            without = replace(lost, ball_stamps_ns=np.delete(lost.ball_stamps_ns, k),
+                              ball_positions=np.delete(lost.ball_positions, k, axis=0))
+            assert not any(isinstance(event, Impact) for event in events)
+            assert [(drop.reason, drop.stamp_ns) for drop in late] == [
+                ('ball_glitch', int(lost.ball_stamps_ns[k]))]
+            assert events == detect_late_drops(config, without)[0]
+
+
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
+    """
+    Real hits with the ball tracked again 1-6 frames before the contact: the same impacts.
+
+    The frames after a hit are the flight after it, and those before leave it along the
+    hit's line, so none of a segment's first samples is taken for a glitch: the impacts
+    (found or not) and the drops are those without the rule (``Sweep.early_glitches``).
+    """
+    for seed, rate, family in ((0, RATE, 'rebound'), (1, 360.0, 'rebound'), (2, RATE, 'plane')):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario('barrel', rng, family=family, lead_s=0.4, trail_s=0.1)
+        samples = sample(scenario, rate, rng, noise_m=noise_m,
+                         marker_spread_m=0.3 if noise_m else None)
+        after = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+            round(scenario.truth.time_s * 1e9))))
+        for back in range(1, 7):
+            lost = ball_lost_before(samples, after - back)
+            for config in (DetectorConfig(bat_input='points'),
+                           DetectorConfig(bat_input='points', look_ahead=2)):
+                found = []
+                for judged in (True, False):
+                    detector = Detector(config)
+                    detector._sweep.early_glitches = judged
+                    events = []
+                    for stamp, role, values in lost.messages('points'):
+                        events += detector.add(role, stamp, values)
+                    events += detector.finish()
+                    found.append(([event.stamp_ns for event in events
+                                   if isinstance(event, Impact)], dict(detector.stats.dropped)))
+                assert found[0] == found[1]

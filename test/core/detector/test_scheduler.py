@@ -54,6 +54,28 @@ def test_a_visit_that_forgets_a_sample_skips_no_union_time() -> None:
                        (0.02, 0.025), (0.025, 0.03), (0.03, 0.035), (0.035, 0.04)]
 
 
+def test_an_interval_that_waits_stops_the_walk_before_it() -> None:
+    """A visit that returns False (the sweep waits for samples): the cursor stays before it."""
+    ball, bat = _streams([0.0, 0.01, 0.02, 0.03], [0.0, 0.01, 0.02, 0.03])
+    scheduler = Scheduler(DetectorConfig(model='linear'), ball, bat)
+    visited = []
+
+    def visit(ta: float, tb: float, events: list) -> bool:
+        visited.append((ta, tb))
+        return ta != 0.01 or len(ball.times) > 4
+
+    assert scheduler.advance(visit, [])
+    assert visited == [(0.0, 0.01), (0.01, 0.02)] and scheduler.cursor == 0.01
+    visited.clear()
+    assert not scheduler.advance(visit, [])  # (nothing new: the same interval waits)
+    assert visited == [(0.01, 0.02)] and scheduler.cursor == 0.01
+    for stream in (ball, bat):
+        stream.append(0.04, 40_000_001, (0.0, 0.0, 0.0), False)
+    visited.clear()
+    assert scheduler.advance(visit, [])
+    assert visited == [(0.01, 0.02), (0.02, 0.03), (0.03, 0.04)]
+
+
 def test_the_spline_waits_for_the_next_sample_until_the_end() -> None:
     """One sample behind each stream's newest; ``final`` walks the rest."""
     ball, bat = _streams([0.0, 0.01, 0.02], [0.0, 0.01, 0.02])

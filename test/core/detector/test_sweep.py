@@ -5,6 +5,7 @@ from types import SimpleNamespace
 from typing import List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
+from baseball_collision.core.detector.departure import FLIGHT_AFTER
 from baseball_collision.core.detector.fitting import c2_window
 from baseball_collision.core.geometry import norm, sub
 from baseball_collision.core.motion import C2BatPath
@@ -12,7 +13,7 @@ from baseball_collision.core.toi import _kernel, profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
-from support.events import detect
+from support.events import ball_lost_before, detect
 from support.far import tilting_bat
 from support.scenes import BASE_NS
 
@@ -215,3 +216,45 @@ def test_an_exact_bat_ending_its_window_takes_the_quintic_piece(tracker_noise: f
         return max(float(np.linalg.norm(np.array(fit.at(t)[1]) - tilting_bat(t, spin, tilt)[1]))
                    for t in np.linspace(bat.times[k], bat.times[k + 1], 41))
     assert worst(path) < worst(cubic)
+
+
+@pytest.mark.parametrize('look_ahead', [0, 2])
+def test_an_interval_near_the_bat_waits_for_the_flight_after_a_segments_first_samples(
+        look_ahead: int) -> None:
+    """
+    A hit at the 4th ball sample after a tracking gap: its impact once the flight after is in.
+
+    Its interval opens at the segment's third sample, which only the samples after it judge
+    (``departure.glitch_before_flight``): the interval waits for ``FLIGHT_AFTER`` of them
+    (the scheduler's walk stops before it), then the impact is the one found without the rule
+    (``early_glitches`` off: at once). A recording that ends sooner has it from ``finish``.
+    """
+    rng = np.random.default_rng(0)
+    scenario = make_scenario('barrel', rng, family='rebound', lead_s=0.4, trail_s=0.1)
+    samples = sample(scenario, 90.0, rng)
+    after = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+        round(scenario.truth.time_s * 1e9))))
+    lost = ball_lost_before(samples, after - 3)
+    third = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[after - 1]))
+    config = DetectorConfig(bat_input='pose', look_ahead=look_ahead)
+    ends = lost.ball_stamps_ns[third + 2], lost.ball_stamps_ns[-1]
+
+    def impact_after(end: int, judged: bool) -> Tuple[int, int]:
+        """Return the impact's stamp and the newest ball stamp when it came (ns; 0: finish)."""
+        detector = Detector(config)
+        detector._sweep.early_glitches = judged
+        newest = 0
+        for stamp, role, values in lost.messages('pose'):
+            if stamp > end:
+                break
+            newest = stamp if role == 'ball' else newest
+            impacts = [e for e in detector.add(role, stamp, values) if isinstance(e, Impact)]
+            if impacts:
+                return impacts[0].stamp_ns, newest
+        return next(e.stamp_ns for e in detector.finish() if isinstance(e, Impact)), 0
+
+    stamp, newest = impact_after(ends[1], True)
+    assert stamp == impact_after(ends[1], False)[0]
+    assert newest == lost.ball_stamps_ns[third + FLIGHT_AFTER]
+    assert impact_after(ends[1], False)[1] == lost.ball_stamps_ns[third + 1 + look_ahead]
+    assert impact_after(ends[0], True) == (stamp, 0)
