@@ -103,21 +103,23 @@ def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -
     return value
 
 
-def isolation(stream: Stream, j: int, max_gap: float, size: int) -> Tuple[float, float]:
+def isolation(stream: Stream, j: int, max_gap: float, size: int,
+              last: Optional[int] = None) -> Tuple[float, float]:
     """
     Return how far (m) bat frame j's knob and tip are from the spline through its neighbours.
 
     Their distances, at its stamp, from the ``c2`` path without it over the interval its
-    neighbours make (the window of ``size`` samples about it, up to two after it, through the
-    raw samples); (0, 0) without a neighbour on each side in its segment within ``max_gap`` s
-    of it.
+    neighbours make (the window of ``size`` samples about it, up to two after it but none past
+    sample ``last``, the newest by default, through the raw samples); (0, 0) without a
+    neighbour on each side in its segment within ``max_gap`` s of it.
     """
     times = stream.times
-    if j < 1 or j + 1 >= len(times) or not (stream.continuous(j - 1, max_gap)
-                                            and stream.continuous(j, max_gap)):
+    last = len(times) - 1 if last is None else last
+    if j < 1 or j + 1 > last or not (stream.continuous(j - 1, max_gap)
+                                     and stream.continuous(j, max_gap)):
         return 0.0, 0.0
     first = max(j - size, 0)
-    without = excerpt(stream, first, min(j + 2, len(times) - 1))
+    without = excerpt(stream, first, min(j + 2, last))
     without.remove(j - first)
     k = j - 1 - first
     return _distances(c2_bat_path(without, k, c2_window(without, k, max_gap, 2, size)),
@@ -143,42 +145,63 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
                               for i in range(j - SCATTER_FRAMES, j)))
 
 
-def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> bool:
+def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
+           last: Optional[int] = None) -> bool:
     """
-    Return whether bat frame j is a glitch.
+    Return whether bat frame j is a glitch, from the samples up to ``last`` (the newest).
 
     Among regular steps (``regular``), departed (``departure``) and isolated (``isolation``)
-    by more than ``glitch_floor``, and
-    isolated more than ``ISOLATION_RATIO`` times as far as any of the ``SCATTER_FRAMES``
-    frames from three before it (whose splines do not reach it): the stream's own scatter,
-    where its noise is not known yet (``tracker_noise`` auto, in a stream's first frames). No
-    frame is judged without them (a segment's first frames).
+    by more than ``glitch_floor``, and isolated more than ``ISOLATION_RATIO`` times as far as
+    any of the ``SCATTER_FRAMES`` frames from three before it (whose splines do not reach it):
+    the stream's own scatter, where its noise is not known yet (``tracker_noise`` auto, in a
+    stream's first frames). No frame is judged without them (a segment's first frames), nor
+    without the frame after it. The sweep passes the newest sample every way of feeding the
+    detector has by then (the node's one message at a time, ``analyze``'s chunks): the same
+    verdict in both.
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
     floor = glitch_floor(noise)
-    if not regular(stream, j) or departure(stream, j, max_gap, size, noise) <= floor:
+    if not regular(stream, j, last) or departure(stream, j, max_gap, size, noise) <= floor:
         return False
-    isolated = max(isolation(stream, j, max_gap, size))
+    isolated = max(isolation(stream, j, max_gap, size, last))
     if isolated <= floor:
         return False
-    scatter = [max(isolation(stream, i, max_gap, size))
+    scatter = [max(isolation(stream, i, max_gap, size, last))
                for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
                if i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)]
     return len(scatter) == SCATTER_FRAMES and isolated > ISOLATION_RATIO * max(scatter)
 
 
-def regular(stream: Stream, j: int) -> bool:
+def isolated_without(stream: Stream, j: int, max_gap: float, size: int, noise: float,
+                     last: int) -> bool:
+    """
+    Return whether bat frame j + 1 is still isolated by more than the floor without frame j.
+
+    A frame beside a glitch reads as one too (the glitch pulls its neighbours' spline off,
+    and where the bat braked after a contact it departed from its continuation as well): the
+    glitch is the one that stays isolated without the other. Reads no sample past ``last``.
+    """
+    first = max(j - size, 0)
+    without = excerpt(stream, first, last)
+    without.remove(j - first)
+    return max(isolation(without, j - first, max_gap, size, last - 1 - first)) > \
+        glitch_floor(noise)
+
+
+def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
     """
     Return whether the steps about bat frame j are regular: what the floor was measured on.
 
-    The steps from ``SCATTER_FRAMES`` + 2 frames before it to the one after it are each at most
-    ``REGULAR_STEP`` times their median: a frame beside frames the tracker lost is a whole
-    step or more from a neighbour, and its continuation and its neighbours' spline miss it by
-    far more than a swing's do (12 and 7 cm beside two lost frames at 90 Hz).
+    The steps from ``SCATTER_FRAMES`` + 2 frames before it to the one after it (which must be
+    at most sample ``last``, the newest by default) are each at most ``REGULAR_STEP`` times
+    their median: a frame beside frames the tracker lost is a whole step or more from a
+    neighbour, and its continuation and its neighbours' spline miss it by far more than a
+    swing's do (12 and 7 cm beside two lost frames at 90 Hz).
     """
     first = j - SCATTER_FRAMES - 2
-    if first < 0 or j + 1 >= len(stream.times):
+    last = len(stream.times) - 1 if last is None else last
+    if first < 0 or j + 1 > last:
         return False
     steps = [b - a for a, b in zip(stream.times[first:j + 1], stream.times[first + 1:j + 2])]
     return max(steps) <= REGULAR_STEP * sorted(steps)[len(steps) // 2]

@@ -224,11 +224,14 @@ class Sweep:
 
     def _swept(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s) (``interval``)."""
-        if self.bat_suspect is not None:
-            self._judge_suspect()
         located = self._locate(ta, events)
         if located is None:
             return
+        if self.bat_suspect is not None:
+            self._judge_suspect(located[1])
+            located = self._locate(ta, events)
+            if located is None:
+                return
         self.stats.intervals += 1
         config = self.config
         if self.estimators is not None:
@@ -319,24 +322,40 @@ class Sweep:
         """
         Judge the bat frames the path over bat interval bat_k reads; None if one was forgotten.
 
-        The frames of its window up to its opening one are judged, the oldest first
-        (``bat_glitches.judged``: each against the frames before it, which are judged), and
-        the first glitch is dropped and forgotten: None (the interval is to be located again,
+        The frames of its window from the first up to the one before the newest its path may
+        read (``_horizon``: with their next frame) are judged, the oldest first
+        (``bat_glitches.judged``: each against the frames before it, which are judged; not
+        one whose next frame stays isolated without it, ``bat_glitches.isolated_without``:
+        the glitch is that one, which pulled its neighbours' spline off), and the first
+        glitch is dropped and forgotten: None (the interval is to be located again,
         and the frames after it judged again without it). Else ``paths`` without a frame after
-        it that departed (``_without_departed``), which is judged once its next frame has come
-        (``bat_suspect``): at look-ahead 0 the next frame may not have come yet.
+        its opening one that departed (``_without_departed``: at look-ahead 0 its closing
+        frame's next has not come yet), which is judged once its next frame has
+        (``bat_suspect``).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
-        noise = stream_noise(bat, config)
-        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, bat_k + 1):
-            if bat_glitches.judged(bat, j, max_gap, size, noise):
-                self._bat_glitch(j)
+        noise, last = stream_noise(bat, config), self._horizon(bat_k)
+        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, last):
+            if bat_glitches.judged(bat, j, max_gap, size, noise, last) and not (
+                    j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
+                                                                   noise, last)):
+                self._bat_glitch(j, last)
                 return None
         paths, departed = self._without_departed(interval, bat_k, paths)
         if departed is not None:
             self.bat_suspect = departed
         return paths
+
+    def _horizon(self, bat_k: int) -> int:
+        """
+        Return the newest bat sample a judgment at bat interval bat_k may read.
+
+        The interval's closing frame and the model's look-ahead (``ahead``): what the walk
+        waits for before it sweeps the interval, so the node (one message at a time) and
+        ``analyze`` (chunks, whose streams may run further ahead) judge alike.
+        """
+        return min(bat_k + 1 + self.ahead, len(self.bat.times) - 1)
 
     def _without_departed(self, interval: Tuple[float, float], bat_k: int,
                           paths: Paths) -> Tuple[Paths, Optional[int]]:
@@ -355,7 +374,7 @@ class Sweep:
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
         noise = stream_noise(bat, config)
-        for j in range(bat_k + 1, min(bat_k + 1 + self.ahead, len(bat.times) - 1) + 1):
+        for j in range(bat_k + 1, self._horizon(bat_k) + 1):
             if not bat.continuous(j - 1, max_gap):
                 break
             if bat_glitches.departed(bat, j, max_gap, size, noise):
@@ -397,31 +416,38 @@ class Sweep:
         return (path.deviation(t0, t1) <= reach
                 and max(math.dist(start[0], end[0]), math.dist(start[1], end[1])) <= reach)
 
-    def _judge_suspect(self) -> None:
-        """Judge the departed bat frame ``bat_suspect`` once its next frame has come."""
+    def _judge_suspect(self, bat_k: int) -> None:
+        """
+        Judge the departed bat frame ``bat_suspect`` once its next frame is within the horizon.
+
+        At union intervals within bat interval bat_k (``_horizon``), near the ball or not.
+        """
         bat, stamp = self.bat, self.bat_suspect
         j = bisect_left(bat.stamps, stamp)
         if j < len(bat.stamps) and bat.stamps[j] == stamp:
-            if j + 1 >= len(bat.stamps):
+            last = self._horizon(bat_k)
+            if j + 1 > last:
                 return  # (its next frame still to come)
             config = self.config
             if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
-                                   stream_noise(bat, config)):
-                self._bat_glitch(j)
+                                   stream_noise(bat, config), last):
+                self._bat_glitch(j, last)
         self.bat_suspect = None
 
-    def _bat_glitch(self, j: int) -> None:
+    def _bat_glitch(self, j: int, last: int) -> None:
         """
         Drop bat frame j, a glitch (``bat_glitches``), and forget it.
 
         A late drop (``LateDrop``, reason ``bat_glitch``) under the input that was off: the
-        pose, or whichever of the knob and the tip is farther from its neighbours' spline.
+        pose, or whichever of the knob and the tip is farther from its neighbours' spline (up
+        to sample ``last``: ``_horizon``).
         """
         bat, config = self.bat, self.config
         if config.bat_input == 'pose':
             role = Role.BAT_POSE
         else:
-            knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window)
+            knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window,
+                                               last)
             role = Role.KNOB if knob > tip else Role.TIP
         stats = self.stats
         stats.dropped[DropReason.BAT_GLITCH] += 1

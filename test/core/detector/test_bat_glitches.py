@@ -211,3 +211,25 @@ def test_the_path_without_a_frame() -> None:
     later = path_without(bat, 8, 11, 0.05, 8, 0.0)
     assert later.t0 == bat.times[8] and later.t1 == bat.times[9]
     assert math.dist(later.at(bat.times[9])[1], bat.values[9].tip) < 1e-9
+
+
+def test_the_glitch_not_the_braked_frame_before_it_is_dropped() -> None:
+    """
+    A glitch right after a hit's first frame, which the contact braked (analyze's look-ahead).
+
+    Both read as glitches while both stay: the braked frame departed from its continuation,
+    and the glitch beside it pulled its neighbours' spline off. The braked frame was judged
+    first (the oldest) and dropped, then the glitch (the interval on the path through it), and
+    the hit was lost. Now a frame whose next stays isolated without it is not judged: the
+    glitch is dropped, and the hit is where it is with the glitch deleted.
+    """
+    scenario, samples = _scene('barrel', 0, 90.0, 1e-3, 'rebound')
+    j = _closest_frame(scenario, samples) + 1
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2)
+    detector, events = _run(OFFLINE, glitched, 'pose')
+    _, deleted = _run(OFFLINE, _without_frame(samples, j), 'pose')
+    assert dict(detector.stats.dropped) == {'bat_glitch': 1}
+    found = [event for event in events if isinstance(event, Impact)]
+    expected = [event for event in deleted if isinstance(event, Impact)]
+    assert len(found) == len(expected) == 1
+    assert abs(found[0].stamp_ns - expected[0].stamp_ns) < 50_000

@@ -13,7 +13,7 @@ from baseball_collision.core.motion import BatSample, not_a_knot_slopes
 from baseball_collision.core.motion.points import quintic_coefficients
 from baseball_collision.core.motion.splines import (
     not_a_knot_quintic_rows, QUINTIC_STEP_RATIO, quintic_window)
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
@@ -88,6 +88,9 @@ def test_c2_paths_never_leave_the_far_test_bound(look_ahead, steps, tilt, spin, 
         detector.add_ball(stamp, tuple(np.array([3.0 - 40.0 * t, 0.1, 1.0 - 5 * t * t])
                                        + rng.normal(0.0, noise, 3)))
     ball, bat = detector._ball, detector._bat
+    # (a glitch rule dropped a sample of this noise, which the detector was not told of: the
+    # streams' indices part; the paths' bounds are another test's matter there)
+    assume(ball.stamps == bat.stamps)
     k = len(bat.times) - 3 - look_ahead
     window = c2_window(bat, k, 0.05, look_ahead, 8)
     growth = c2_bat_growth(bat, k, window)
