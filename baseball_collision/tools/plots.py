@@ -16,11 +16,12 @@ from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .analyze import BagAnalysis
+from .analyze import BagAnalysis, CHUNK
 from .report import plot_files
 from .summary_plot import summary_figure, ZONE_NAMES
 from ..bags import BagReader
 from ..core.detector import Detector, DetectorConfig, Impact, MPS_TO_MPH
+from ..core.detector.chunks import ROLE_CODES
 from ..core.geometry import Vector
 from ..core.motion import BatSample
 from ..core.records import event_record
@@ -68,6 +69,11 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
     """
     Read the bag again and keep the samples within :data:`PLOT_WINDOW_S` of each impact.
 
+    The bag is read a chunk of arrays at a time (``BagReader.chunks``) and each window takes
+    its rows by a mask of the chunk's stamps: the samples ``BagReader.samples`` gives, in the
+    bag's order, a bat pose's 7 values and any other sample's 3 (a Python loop over every
+    sample and every window took 3 s a 500k-message bag with 50 impacts).
+
     :raises ToolError: the bag cannot be read again.
     """
     half = int(PLOT_WINDOW_S * 1e9)
@@ -76,13 +82,24 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
                for impact in analysis.impacts]
     if not windows:
         return windows
-    lists = {'ball': 'ball', 'bat_pose': 'bat', 'knob': 'knob', 'tip': 'tip'}
+    lists = {ROLE_CODES['ball']: 'ball', ROLE_CODES['bat_pose']: 'bat',
+             ROLE_CODES['knob']: 'knob', ROLE_CODES['tip']: 'tip'}
+    spans = [(window.start_ns - before, window.end_ns + after) for window in windows]
     try:
         with BagReader(analysis.path, analysis.selection) as bag:
-            for role, stamp, _, values, _ in bag.samples():
-                for window in windows:
-                    if window.start_ns - before <= stamp <= window.end_ns + after:
-                        getattr(window, lists[role]).append((stamp, values))
+            for chunk in bag.chunks(CHUNK):
+                stamps = chunk.stamps_ns
+                low, high = int(stamps.min()), int(stamps.max())
+                for window, (start, end) in zip(windows, spans):
+                    if end < low or start > high:
+                        continue
+                    rows = np.flatnonzero((stamps >= start) & (stamps <= end))
+                    for role, stamp, values in zip(chunk.roles[rows].tolist(),
+                                                   stamps[rows].tolist(),
+                                                   chunk.values[rows].tolist()):
+                        name = lists[role]
+                        getattr(window, name).append(
+                            (stamp, tuple(values if name == 'bat' else values[:3])))
     except BagError as error:
         raise ToolError(str(error)) from error
     return windows
