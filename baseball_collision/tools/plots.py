@@ -72,8 +72,9 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
 
     The bag is read a chunk of arrays at a time (``BagReader.chunks``) and each window takes
     its rows by a mask of the chunk's stamps: the samples ``BagReader.samples`` gives, in the
-    bag's order, a bat pose's 7 values and any other sample's 3 (a Python loop over every
-    sample and every window took 3 s a 500k-message bag with 50 impacts).
+    bag's order, a bat pose's 7 values and any other sample's 3. (A Python loop over every
+    sample and every window took about 2 s of CPU on a 500k-message bag with 48 impacts; the
+    masks take 0.08 s.)
 
     :raises ToolError: the bag cannot be read again.
     """
