@@ -37,10 +37,15 @@ def single_threaded_blas() -> None:
     Limit every BLAS library loaded in this process to one thread, from now on.
 
     numpy is imported first, so its BLAS is loaded and limited even when nothing has imported
-    numpy yet (a limit set before a library loads does not reach it).
+    numpy yet (a limit set before a library loads does not reach it). Libraries already on one
+    thread are left alone: in a child forked from a limited process (a pool worker) setting the
+    limit again made OpenBLAS start its thread pool anew, and the helper thread then spun for
+    about 0.05-0.1 s of CPU beside the work, once a worker, taken from the other worker's
+    core (BENCHMARKS.md, "--jobs 2: where the time goes"); the limit is inherited with the fork.
     """
     import numpy  # noqa: F401 (loads numpy's BLAS)
-    threadpool_limits(limits=1, user_api='blas')
+    if blas_threads() > 1:
+        threadpool_limits(limits=1, user_api='blas')
 
 
 def blas_threads(*_: object) -> int:

@@ -63,11 +63,16 @@ per coordinate (``simulate --noise``; a session too, between its pitches as well
 time: on a machine shared with other work, CPU time moves less than wall time.
 
 ``--jobs K``: writes K bags of ``N`` messages (default 250,000 each) and times
-:func:`analyze.analyze_bags` over them with one job, then with K jobs (a process pool), in the
-same process, best of ``--repeats``; prints the speed-up (goal for two bags on two cores:
->= 1.7x one job) and checks both runs found the same events. With ``--whole`` too: whole
-``baseball-collision analyze BAG ... --jobs 1`` and ``--jobs K`` processes in turn instead (as a
-user runs them: start-up and the pool's start included), best wall and CPU time of each. The
+:func:`analyze.analyze_bags` over them with one job, with K jobs (a process pool) and with one
+job that does not read ahead, in turn in the same process, ``--repeats`` rounds; prints each
+one's median and best wall time, CPU time, and the cores the host's other processes used
+meanwhile (``/proc/stat``: on a shared machine a run beside a busy process has one core),
+the speed-up of the medians and of the bests (goal for two bags on two cores: >= 1.7x) and
+checks the runs found the same events. With ``--whole`` too: whole ``baseball-collision
+analyze BAG ... --jobs 1`` and ``--jobs K`` processes in turn instead (as a user runs them:
+start-up and the pool's start included), beside the ceiling the host allows: K ``analyze
+BAG`` processes started at once (as a shell starts them: no pool, each its own start-up), and
+one alone. ``--wait-quiet S`` waits up to S seconds before each run for a quiet host. The
 in-process pool forks from this process, whose numpy started OpenBLAS's threads; the command
 line starts numpy with one (``entry_points``): run ``OPENBLAS_NUM_THREADS=1 ... --jobs K`` to
 measure the pool as the command line runs it.
@@ -81,11 +86,12 @@ import os
 from pathlib import Path
 import pstats
 import resource
+import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from typing import List, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED
 from baseball_collision.core.detector import Detector, DetectorConfig
@@ -626,68 +632,160 @@ def write_bags(folder: Path, bags: int, messages: int, storage: str,
     return paths, written
 
 
+def host_busy_s() -> Optional[float]:
+    """Return the CPU time (s) every process on this host has used since boot (None: no /proc)."""
+    try:
+        with open('/proc/stat') as stat:
+            ticks = [int(field) for field in stat.readline().split()[1:]]
+    except OSError:
+        return None
+    return (sum(ticks) - ticks[3] - ticks[4]) / os.sysconf('SC_CLK_TCK')  # (not idle, iowait)
+
+
+def wait_for_quiet_host(limit_s: float) -> None:
+    """Wait up to ``limit_s`` for a 0.3 s span in which the host's cores were >= 93 % idle."""
+    start = time.perf_counter()
+    while time.perf_counter() - start < limit_s:
+        busy, begun = host_busy_s(), time.perf_counter()
+        if busy is None:
+            return
+        time.sleep(0.3)
+        used = host_busy_s() - busy
+        if used < 0.07 * (os.cpu_count() or 1) * (time.perf_counter() - begun):
+            return
+
+
+class Run:
+    """
+    One timed run: wall time, this process's and its children's CPU, the rest of the host's.
+
+    Use as a context manager around the run. ``others`` is the cores the host's other
+    processes kept busy meanwhile (from ``/proc/stat``; None without it): a figure taken while
+    they used a core is a figure of a one-core machine.
+    """
+
+    def __enter__(self) -> 'Run':
+        """Start the clocks."""
+        self.busy, self.cpu, self.start = host_busy_s(), cpu_seconds(), time.perf_counter()
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        """Stop the clocks (the children must have been waited for)."""
+        self.wall = time.perf_counter() - self.start
+        self.cpu = cpu_seconds() - self.cpu
+        busy = host_busy_s()
+        self.others = None if busy is None else max(busy - self.busy - self.cpu, 0.0) / self.wall
+
+
+def run_summary(runs: List[Run]) -> str:
+    """Return a case's median and best wall time, median CPU and the others' median cores."""
+    walls = [run.wall for run in runs]
+    others = [run.others for run in runs if run.others is not None]
+    return (f'median {statistics.median(walls):5.2f} s wall (best {min(walls):5.2f}), '
+            f'{statistics.median(run.cpu for run in runs):5.2f} s CPU'
+            + (f'; other processes on {statistics.median(others):.2f} cores meanwhile (median, '
+               f'max {max(others):.2f})' if others else ''))
+
+
+def jobs_summary(runs: Dict[str, List[Run]], one: str, many: str, goal: bool = True) -> str:
+    """Return the speed-up of case ``many`` over ``one``: of the medians and of the bests."""
+    ratio = (statistics.median(run.wall for run in runs[one])
+             / statistics.median(run.wall for run in runs[many]))
+    best = min(run.wall for run in runs[one]) / min(run.wall for run in runs[many])
+    text = f'{ratio:.2f}x of the medians ({best:.2f}x of the bests)'
+    if goal:
+        met = 'met' if ratio >= 1.7 else 'NOT met'
+        text += f' [goal >= 1.7x for two bags on two cores: {met}]'
+    return text
+
+
 def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: int,
-                 pitch_every: float = WORST_SPACING_S) -> None:
-    """Write ``bags`` bags; print analyze_bags with one job and with ``bags`` jobs, the ratio."""
+                 pitch_every: float = WORST_SPACING_S, quiet_s: float = 0.0) -> None:
+    """
+    Write ``bags`` bags; print analyze_bags with one job and with ``bags`` jobs, the ratio.
+
+    The two (and one job not reading ahead) in turn, ``repeats`` rounds; each run after up to
+    ``quiet_s`` of waiting for a quiet host.
+    """
     with tempfile.TemporaryDirectory() as tmp:
         paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
         options = AnalysisOptions(model=named_model(model))
-        times = {}
-        found = {}
-        for jobs in (1, bags):
-            best = float('inf')
-            for _ in range(repeats):
-                start, cpu = time.perf_counter(), cpu_seconds()
-                analyses = analyze_bags(paths, options, jobs=jobs, progress=False)
-                seconds = time.perf_counter() - start
-                if seconds < best:
-                    best, best_cpu = seconds, cpu_seconds() - cpu
-            times[jobs] = best
-            found[jobs] = [(a.messages, a.impacts, a.near_misses) for a in analyses]
-            total = sum(a.messages for a in analyses)
-            # the bags' own times over the wall time: how many ran at once (1.0: one after
-            # another; near 2.0: two cores each busy with a bag)
-            overlap = sum(a.seconds for a in analyses) / best
-            print(f'analyze_bags, --jobs {jobs}: {total:,} msgs in {best:6.2f} s: '
-                  f'{total / best:>9,.0f} msg/s (best of {repeats}); bag time / wall time '
-                  f'{overlap:.2f}; CPU time / wall time {best_cpu / best:.2f} (cores it had)')
-        ratio = times[1] / times[bags]
-        goal = 'met' if ratio >= 1.7 else 'NOT met'
-        print(f'--jobs {bags} / --jobs 1 speed-up: {ratio:.2f}x [goal >= 1.7x for two bags on two '
-              f'cores: {goal}]; same events: {found[1] == found[bags]}')
-        # one job that does not read ahead on the spare core (the pool's workers do not)
-        best = float('inf')
+        cases = {'--jobs 1': partial(analyze_bags, paths, options, jobs=1, progress=False),
+                 f'--jobs {bags}': partial(analyze_bags, paths, options, jobs=bags,
+                                           progress=False),
+                 # one job that does not read ahead on the spare core (the pool's workers do not)
+                 'one job not reading ahead': lambda: [
+                     analyze_bag(path, options, progress=False, read_ahead=0) for path in paths]}
+        runs: Dict[str, List[Run]] = {case: [] for case in cases}
+        found, overlap = {}, {}
         for _ in range(repeats):
-            start = time.perf_counter()
-            plain = [analyze_bag(path, options, progress=False, read_ahead=0) for path in paths]
-            best = min(best, time.perf_counter() - start)
-        print(f'one job not reading ahead: {best:6.2f} s; --jobs {bags} / it: '
-              f'{best / times[bags]:.2f}x; same events: '
-              f'{[(a.messages, a.impacts, a.near_misses) for a in plain] == found[1]}')
+            for case, analyse in cases.items():
+                wait_for_quiet_host(quiet_s)
+                with Run() as run:
+                    analyses = analyse()
+                runs[case].append(run)
+                found[case] = [(a.messages, a.impacts, a.near_misses) for a in analyses]
+                # the bags' own times over the wall time: how many ran at once (1.0: one after
+                # another; near 2.0: two cores each busy with a bag)
+                overlap.setdefault(case, []).append(sum(a.seconds for a in analyses) / run.wall)
+        total = bags * written
+        for case, timed_runs in runs.items():
+            print(f'analyze_bags, {case}: {total:,} msgs, {run_summary(timed_runs)}; bag time / '
+                  f'wall time {statistics.median(overlap[case]):.2f} ({repeats} runs in turn)')
+        many = f'--jobs {bags}'
+        print(f'{many} / --jobs 1 speed-up: {jobs_summary(runs, "--jobs 1", many)}; same '
+              f'events: {found["--jobs 1"] == found[many]}')
+        print(f'{many} / one job not reading ahead: '
+              f'{jobs_summary(runs, "one job not reading ahead", many)}; same events: '
+              f'{found["one job not reading ahead"] == found["--jobs 1"]}')
+
+
+def processes_at_once(commands: List[list]) -> None:
+    """Run commands as processes started at once; wait for all (each must succeed)."""
+    environment = {k: v for k, v in os.environ.items() if k != 'PYTHONDONTWRITEBYTECODE'}
+    children = [subprocess.Popen(command, stdout=subprocess.DEVNULL, env=environment)
+                for command in commands]
+    for child, command in zip(children, commands):
+        if child.wait() != 0:
+            raise subprocess.CalledProcessError(child.returncode, command)
 
 
 def whole_jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: int,
-                       pitch_every: float = WORST_SPACING_S) -> None:
-    """Print whole ``analyze --jobs 1`` and ``--jobs K`` processes over K bags, in turn."""
+                       pitch_every: float = WORST_SPACING_S, quiet_s: float = 0.0) -> None:
+    """
+    Print whole ``analyze --jobs 1`` and ``--jobs K`` processes over K bags, in turn.
+
+    Beside them, the ceiling the host allows: K ``analyze BAG`` processes started at once (as
+    a shell starts them: each its own start-up, no pool), and one of them alone. Each run
+    after up to ``quiet_s`` of waiting for a quiet host (``PYTHONDONTWRITEBYTECODE`` is
+    dropped: :func:`process_times`).
+    """
     with tempfile.TemporaryDirectory() as tmp:
         paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
         cli = str(Path(sys.executable).with_name('baseball-collision'))
-        best = {}
+        flags = [*model_flag(model), '--quiet', '--no-progress']
+        cases = {'--jobs 1': [[cli, 'analyze', *map(str, paths), *flags, '--jobs', '1']],
+                 f'--jobs {bags}': [[cli, 'analyze', *map(str, paths), *flags, '--jobs',
+                                     str(bags)]],
+                 f'{bags} processes at once': [[cli, 'analyze', str(path), *flags]
+                                               for path in paths],
+                 'one bag alone': [[cli, 'analyze', str(paths[0]), *flags]]}
+        runs: Dict[str, List[Run]] = {case: [] for case in cases}
         for _ in range(repeats):
-            for jobs in (1, bags):
-                times = process_times([cli, 'analyze', *map(str, paths), *model_flag(model),
-                                       '--jobs', str(jobs), '--quiet', '--no-progress'])
-                old = best.get(jobs, (float('inf'),) * 2)
-                best[jobs] = tuple(min(a, b) for a, b in zip(old, times))
-        total = bags * written
-        for jobs, (wall, cpu) in best.items():
-            print(f'baseball-collision analyze {bags} bags --jobs {jobs}, whole process: '
-                  f'{total:,} msgs in {wall:5.2f} s wall ({total / wall:,.0f} msg/s), '
-                  f'{cpu:5.2f} s CPU (best of {repeats}, in turn)')
-        ratio = best[1][0] / best[bags][0]
-        goal = 'met' if ratio >= 1.7 else 'NOT met'
-        print(f'--jobs {bags} / --jobs 1 speed-up, whole processes: {ratio:.2f}x [goal >= 1.7x '
-              f'for two bags on two cores: {goal}]')
+            for case, commands in cases.items():
+                wait_for_quiet_host(quiet_s)
+                with Run() as run:
+                    processes_at_once(commands)
+                runs[case].append(run)
+        for case, timed_runs in runs.items():
+            what = (f'{bags} bags {case}' if case.startswith('--') else
+                    f'BAG, {case}')
+            print(f'baseball-collision analyze {what}, whole processes: '
+                  f'{run_summary(timed_runs)} ({repeats} runs in turn)')
+        print(f'--jobs {bags} / --jobs 1 speed-up, whole processes: '
+              f'{jobs_summary(runs, "--jobs 1", f"--jobs {bags}")}')
+        print(f'the ceiling the host allows, --jobs 1 / {bags} processes at once: '
+              f'{jobs_summary(runs, "--jobs 1", f"{bags} processes at once", goal=False)}')
 
 
 def interleaved_figures(messages: int, storage: str, model: str, repeats: int,
@@ -763,6 +861,9 @@ def main() -> None:
                         'throughout (batting practice: 8-15)')
     parser.add_argument('--before', type=Path, default=None, metavar='DIR',
                         help='with --whole: also analyze from this source tree, in turn')
+    parser.add_argument('--wait-quiet', type=float, default=0.0, metavar='SECONDS',
+                        help='with --jobs: before each run, wait up to SECONDS for a quiet host '
+                        '(other processes on less than 7 %% of its cores for 0.3 s; 0: no wait)')
     parser.add_argument('--interleave', action='store_true',
                         help='(a), (d), (e) in turn --repeats times: best CPU and wall time')
     args = parser.parse_args()
@@ -776,7 +877,7 @@ def main() -> None:
         return
     if args.whole and args.jobs:
         whole_jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
-                           args.repeats, args.pitch_every)
+                           args.repeats, args.pitch_every, args.wait_quiet)
         return
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,
@@ -795,7 +896,7 @@ def main() -> None:
         return
     if args.jobs:
         jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
-                     args.repeats, args.pitch_every)
+                     args.repeats, args.pitch_every, args.wait_quiet)
         return
     args.messages = args.messages or 1_000_000
     with tempfile.TemporaryDirectory() as tmp:

@@ -35,6 +35,35 @@ def test_single_threaded_blas_before_numpy_is_imported_still_limits_it() -> None
     assert found == ['False', '1']
 
 
+@pytest.mark.skipif(not os.path.isdir('/proc/self/task'), reason='counts threads in /proc')
+def test_a_forked_child_of_a_limited_process_starts_no_blas_thread() -> None:
+    """
+    Limited again in a child forked from a limited process: still one thread, none started.
+
+    OpenBLAS loaded with two threads has a helper thread; a fork copies only the calling
+    thread, and setting the limit again in the child made OpenBLAS start its pool anew (a
+    second thread in the child, which spins beside the work).
+    """
+    script = ('import os, numpy\n'
+              'from baseball_collision.threads import blas_threads, single_threaded_blas\n'
+              'loaded = blas_threads()\n'
+              'single_threaded_blas()\n'
+              'numpy.linalg.eigh(numpy.eye(32))\n'
+              'read, write = os.pipe()\n'
+              'pid = os.fork()\n'
+              'if pid == 0:\n'
+              '    single_threaded_blas()\n'
+              '    numpy.linalg.eigh(numpy.eye(32))\n'
+              '    tasks = len(os.listdir("/proc/self/task"))\n'
+              '    os.write(write, f"{blas_threads()} {tasks}".encode())\n'
+              '    os._exit(0)\n'
+              'os.waitpid(pid, 0)\n'
+              'print(loaded, os.read(read, 100).decode())\n')
+    found = subprocess.run([sys.executable, '-c', script], check=True, env=TWO_THREADS,
+                           capture_output=True, text=True).stdout.split()
+    assert found == ['2', '1', '1']  # (loaded with two; the child: one BLAS thread, one thread)
+
+
 def test_the_node_and_the_command_line_limit_blas_at_start() -> None:
     """``impact_node``'s and ``baseball-collision``'s main set it before anything else."""
     script = ('import contextlib, io, sys\n'

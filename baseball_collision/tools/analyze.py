@@ -24,7 +24,8 @@ from pathlib import Path
 import sys
 import time
 from typing import (
-    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
+    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, TypeVar,
+    Union)
 
 import numpy as np
 
@@ -600,6 +601,12 @@ def _bags_under(directory: Path) -> List[Path]:
 Skipped = Tuple[Path, str]
 """A bag ``analyze_bags`` skipped (``skipped`` given): its path and why (one line)."""
 
+Task = TypeVar('Task')
+"""What one job of :func:`in_pool` is given."""
+
+Done = TypeVar('Done')
+"""What one job of :func:`in_pool` gives back."""
+
 
 def _analyze_one(path: Path, options: AnalysisOptions, use_truth: bool, read_ahead: int,
                  keep_going: bool, **more: Any) -> Union[BagAnalysis, Skipped]:
@@ -694,8 +701,27 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
                                        progress=progress) for path in bags], skipped)
     tasks = [(path, options, use_truth, worker_read_ahead(workers), keep_going)
              for path in bags]
+    return _analysed(in_pool(_analyze_in_worker, tasks, workers, progress=progress), skipped)
+
+
+def in_pool(function: Callable[[Task], Done], tasks: Sequence[Task], workers: int, *,
+            progress: bool = True, unit: str = 'bag') -> List[Done]:
+    """
+    Return ``function(task)`` for every task, computed by a pool of processes, in task order.
+
+    Each task is one job of a pool of ``workers`` processes (:func:`_pool_context`, each set up
+    by :func:`_start_worker`); the results come back in the order of the tasks, and the first
+    task (in that order) that raises stops the pool and its error is raised here, as one
+    task after another would. A run shows a bar of tasks done on a terminal.
+
+    :param function: a module-level function (the workers get it by name).
+    :param workers: processes (at least 1).
+    :param progress: show the bar (only on a terminal).
+    :param unit: what a task is, for the bar.
+    :raises Exception: what the first failing task raised.
+    """
     bar = None
-    results: List[Union[BagAnalysis, Skipped]] = []
+    results: List[Done] = []
     try:
         # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
         # are let go (close, join). The bar (and its monitor thread) only after the workers
@@ -703,9 +729,9 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
         with _pool_context().Pool(workers, initializer=_start_worker) as pool:
             if progress and sys.stderr.isatty():
                 from tqdm import tqdm
-                bar = tqdm(total=len(bags), unit='bag', desc=f'{workers} jobs',
+                bar = tqdm(total=len(tasks), unit=unit, desc=f'{workers} jobs',
                            file=sys.stderr, leave=False, dynamic_ncols=True)
-            for result in pool.imap(_analyze_in_worker, tasks, chunksize=1):
+            for result in pool.imap(function, tasks, chunksize=1):
                 results.append(result)
                 if bar is not None:
                     bar.update(1)
@@ -714,7 +740,7 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
     finally:
         if bar is not None:
             bar.close()
-    return _analysed(results, skipped)
+    return results
 
 
 def _analysed(results: List[Union[BagAnalysis, Skipped]],

@@ -238,7 +238,8 @@ def _analyze(args: argparse.Namespace) -> int:
             outputs.stage_text('csv', csv_text(analyses))
         if args.plot:
             from .plots import write_plots
-            outputs.stage_directory('plot', lambda directory: write_plots(analyses, directory))
+            outputs.stage_directory('plot', lambda directory: write_plots(
+                analyses, directory, jobs=args.jobs, progress=not args.no_progress))
         outputs.commit()
     if to_stdout:  # the document alone on standard output, for a pipe
         sys.stdout.write(json_text(analyses, **document) if args.json == '-'
@@ -356,8 +357,8 @@ def _add_analyze(commands: Any) -> None:
                          help='skip a bag that cannot be analysed (one line on stderr each) and '
                          'analyse and write the others; the exit code is still 2')
     analyze.add_argument('--jobs', type=_count, default=None, metavar='N',
-                         help='bags analysed at once, each in its own process (default: the '
-                         'number of cores)')
+                         help="bags analysed (and with --plot, bags' figures drawn) at once, "
+                         'each in its own process (default: the number of cores)')
     analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
                          '(<node_name>: or /**: ros__parameters:)')
     analyze.add_argument('--node-name', default=NODE_NAME,

@@ -16,15 +16,17 @@ from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .analyze import BagAnalysis
+from .analyze import BagAnalysis, CHUNK, in_pool
 from .report import plot_files
 from .summary_plot import summary_figure, ZONE_NAMES
 from ..bags import BagReader
 from ..core.detector import Detector, DetectorConfig, Impact, MPS_TO_MPH
+from ..core.detector.chunks import ROLE_CODES
 from ..core.geometry import Vector
 from ..core.motion import BatSample
 from ..core.records import event_record
 from ..core.toi import profile_gap
+from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
 
 PLOT_WINDOW_S = 0.04
@@ -68,6 +70,12 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
     """
     Read the bag again and keep the samples within :data:`PLOT_WINDOW_S` of each impact.
 
+    The bag is read a chunk of arrays at a time (``BagReader.chunks``) and each window takes
+    its rows by a mask of the chunk's stamps: the samples ``BagReader.samples`` gives, in the
+    bag's order, a bat pose's 7 values and any other sample's 3. (A Python loop over every
+    sample and every window took about 2 s of CPU on a 500k-message bag with 48 impacts; the
+    masks take 0.08 s.)
+
     :raises ToolError: the bag cannot be read again.
     """
     half = int(PLOT_WINDOW_S * 1e9)
@@ -76,13 +84,24 @@ def collect_windows(analysis: BagAnalysis) -> List[PlotWindow]:
                for impact in analysis.impacts]
     if not windows:
         return windows
-    lists = {'ball': 'ball', 'bat_pose': 'bat', 'knob': 'knob', 'tip': 'tip'}
+    lists = {ROLE_CODES['ball']: 'ball', ROLE_CODES['bat_pose']: 'bat',
+             ROLE_CODES['knob']: 'knob', ROLE_CODES['tip']: 'tip'}
+    spans = [(window.start_ns - before, window.end_ns + after) for window in windows]
     try:
         with BagReader(analysis.path, analysis.selection) as bag:
-            for role, stamp, _, values, _ in bag.samples():
-                for window in windows:
-                    if window.start_ns - before <= stamp <= window.end_ns + after:
-                        getattr(window, lists[role]).append((stamp, values))
+            for chunk in bag.chunks(CHUNK):
+                stamps = chunk.stamps_ns
+                low, high = int(stamps.min()), int(stamps.max())
+                for window, (start, end) in zip(windows, spans):
+                    if end < low or start > high:
+                        continue
+                    rows = np.flatnonzero((stamps >= start) & (stamps <= end))
+                    for role, stamp, values in zip(chunk.roles[rows].tolist(),
+                                                   stamps[rows].tolist(),
+                                                   chunk.values[rows].tolist()):
+                        name = lists[role]
+                        getattr(window, name).append(
+                            (stamp, tuple(values if name == 'bat' else values[:3])))
     except BagError as error:
         raise ToolError(str(error)) from error
     return windows
@@ -351,24 +370,49 @@ def _save(figure: Any, target: Path) -> None:
     figure.savefig(target, dpi=100)
 
 
-def write_plots(analyses: Sequence[BagAnalysis], directory: Path) -> List[Path]:
+def write_plots(analyses: Sequence[BagAnalysis], directory: Path, *, jobs: Optional[int] = 1,
+                progress: bool = True) -> List[Path]:
     """
     Draw the PNGs of :func:`plot_names` into ``directory`` (which must exist).
 
+    Each bag's figures are one task (:func:`draw_bag`): ``jobs`` bags at a time, each in its
+    own process (:func:`~.analyze.in_pool`; the figures' drawing is most of ``--plot``'s time:
+    about 0.5 s a figure), the same files as one after another.
+
+    :param jobs: processes (None: one per core this process may use; 1: this process).
+    :param progress: show a bar of bags drawn on a terminal (with more than one process).
+    :returns: the files written, in :func:`plot_names`' order.
+    :raises ToolError: a bag cannot be read again.
+    """
+    tasks = [(analysis, names, directory)
+             for analysis, names in zip(analyses, plot_files(analyses))]
+    workers = min(cores() if jobs is None else jobs, len(tasks))
+    if workers <= 1:
+        drawn = [draw_bag(task) for task in tasks]
+    else:
+        drawn = in_pool(draw_bag, tasks, workers, progress=progress)
+    return [path for paths in drawn for path in paths]
+
+
+def draw_bag(task: Tuple[BagAnalysis, Sequence[str], Path]) -> List[Path]:
+    """
+    Draw one bag's figures: each impact's (its bag read again), then the summary.
+
+    :param task: the analysis, its PNG names (:func:`.report.plot_files`: one per impact,
+        then the summary's) and the directory to write them in.
     :returns: the files written.
     :raises ToolError: the bag cannot be read again.
     """
+    analysis, names, directory = task
+    truths = {id(impact): int(truth['stamp_ns'])
+              for truth, impact in (analysis.truth.matched if analysis.truth else [])}
     written = []
-    names = iter(plot_names(analyses))
-    for analysis in analyses:
-        truths = {id(impact): int(truth['stamp_ns'])
-                  for truth, impact in (analysis.truth.matched if analysis.truth else [])}
-        for number, window in enumerate(collect_windows(analysis), 1):
-            target = directory / next(names)
-            _save(impact_figure(window, analysis, number, truths.get(id(window.impact))),
-                  target)
-            written.append(target)
-        target = directory / next(names)
-        _save(summary_figure(analysis), target)
+    windows = collect_windows(analysis)
+    for number, (window, name) in enumerate(zip(windows, names[:-1], strict=True), 1):
+        target = directory / name
+        _save(impact_figure(window, analysis, number, truths.get(id(window.impact))), target)
         written.append(target)
+    target = directory / names[-1]
+    _save(summary_figure(analysis), target)
+    written.append(target)
     return written

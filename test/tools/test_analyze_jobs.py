@@ -16,7 +16,7 @@ from typing import Callable, List, Tuple
 from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED
 from baseball_collision.errors import ToolError
 from baseball_collision.threads import blas_threads
-from baseball_collision.tools import analyze
+from baseball_collision.tools import analyze, plots
 from baseball_collision.tools.analyze import (
     _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag,
     worker_read_ahead)
@@ -201,6 +201,35 @@ def test_cli_jobs_writes_one_report_in_input_order(tmp_path: Path, run_cli: RunC
         str(p) for p in bag_paths([directory, bag_path(SMALL[0])])]
     first_bag_rows = (tmp_path / 'o.csv').read_text().splitlines()[1:]
     assert first_bag_rows and str(directory / 'a_second') in first_bag_rows[0]
+
+
+def test_cli_jobs_draws_each_bags_plots_in_the_pool_the_same_files(
+        tmp_path: Path, run_cli: RunCli, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``--plot --jobs 2``: the bags' figures drawn by two processes, byte for byte as one."""
+    bags = []
+    for name, kind in (('a.mcap', 'barrel'), ('b.mcap', 'end_cap')):
+        bags.append(str(tmp_path / name))
+        code, _, stderr = run_cli(['simulate', bags[-1], '--count', '1', '--kinds', kind,
+                                   '--rate', '120'])
+        assert code == 0, stderr
+    pools: List[int] = []
+
+    def spied(function: Callable, tasks: list, workers: int, **kwargs: object) -> list:
+        pools.append(workers)
+        return analyze.in_pool(function, tasks, workers, **kwargs)
+
+    monkeypatch.setattr(plots, 'in_pool', spied)
+    drawn = {}
+    for jobs in ('1', '2'):
+        directory = tmp_path / f'plots_{jobs}'
+        code, _, stderr = run_cli(['analyze', *bags, '--plot', str(directory), '--jobs', jobs,
+                                   '--quiet'])
+        assert code == 0, stderr
+        drawn[jobs] = {file.name: file.read_bytes() for file in directory.iterdir()}
+    assert pools == [2]  # (--jobs 1: no pool)
+    assert sorted(drawn['1']) == ['a_impact_1.png', 'a_summary.png', 'b_impact_1.png',
+                                  'b_summary.png']
+    assert drawn['2'] == drawn['1']
 
 
 @pytest.mark.parametrize('bad', [False, True], ids=['all good', 'a bad bag'])

@@ -3,14 +3,16 @@
 import json
 from pathlib import Path
 import re
-from typing import Any, Callable, Dict, List, Tuple
+from typing import Any, Callable, Dict, List, Sequence, Tuple
 
+from baseball_collision.bags import BagReader
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.plots import (
-    bat_samples, collect_windows, impact_figure, ModelGap, plot_names, PlotWindow, shown)
+    AHEAD_S, bat_samples, collect_windows, HISTORY_S, impact_figure, ModelGap, plot_names,
+    PLOT_WINDOW_S, PlotWindow, shown)
 from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
@@ -107,6 +109,64 @@ def rigid_90hz() -> Dict[str, Any]:
                            progress=False)
     assert analysis.config.model == 'rigid'
     return {'analysis': analysis, 'windows': collect_windows(analysis)}
+
+
+def _windows_sample_by_sample(analysis: BagAnalysis) -> List[PlotWindow]:
+    """Return the plot windows as one loop over ``BagReader.samples`` finds them."""
+    half, before, after = (int(seconds * 1e9) for seconds in (PLOT_WINDOW_S, HISTORY_S, AHEAD_S))
+    windows = [PlotWindow(impact, impact.stamp_ns - half, impact.stamp_ns + half)
+               for impact in analysis.impacts]
+    lists = {'ball': 'ball', 'bat_pose': 'bat', 'knob': 'knob', 'tip': 'tip'}
+    with BagReader(analysis.path, analysis.selection) as bag:
+        for role, stamp, _, values, _ in bag.samples():
+            for window in windows:
+                if window.start_ns - before <= stamp <= window.end_ns + after:
+                    getattr(window, lists[role]).append((stamp, tuple(values)))
+    return windows
+
+
+def _assert_windows_as_sample_by_sample(analysis: BagAnalysis, roles: Sequence[str]) -> None:
+    """Assert the windows read by chunks hold what a loop over every sample keeps."""
+    assert analysis.impacts
+    windows = collect_windows(analysis)
+    expected = _windows_sample_by_sample(analysis)
+    for window, reference in zip(windows, expected, strict=True):
+        assert all(getattr(window, role) for role in roles)
+        for role in ('ball', 'bat', 'knob', 'tip'):
+            assert getattr(window, role) == getattr(reference, role), role
+
+
+@pytest.mark.parametrize('bag, options', [
+    ('pitches_90hz.mcap', AnalysisOptions()),
+    ('pitches_90hz.mcap', AnalysisOptions(knob_topic='/bat_knob', tip_topic='/bat_tip')),
+    ('pitches_120hz_sqlite3', AnalysisOptions()),
+    ('pitches_240hz_noisy.bag', AnalysisOptions(knob_topic='/bat_knob', tip_topic='/bat_tip')),
+    ('pitches_1khz_arm.mcap', AnalysisOptions())], ids=['mcap', 'mcap points', 'sqlite3',
+                                                        'ros1 points', 'mcap 1khz'])
+def test_plot_windows_hold_the_samples_near_each_impact_in_bag_order(
+        bag: str, options: AnalysisOptions) -> None:
+    """The windows read by chunks hold what a loop over every sample keeps: same order, values."""
+    analysis = analyze_bag(bag_path(bag), options, progress=False, use_truth=False)
+    _assert_windows_as_sample_by_sample(
+        analysis, ('ball', 'knob', 'tip') if options.knob_topic else ('ball', 'bat'))
+
+
+def test_plot_windows_end_where_they_end_in_a_crowded_recording(tmp_path: Path,
+                                                                run_cli: RunCli) -> None:
+    """Pitches 0.42 s apart: each window starts and ends among another pitch's samples."""
+    bag = tmp_path / 'crowded.mcap'
+    code, _, stderr = run_cli(['simulate', str(bag), '--count', '8', '--spacing', '0.42',
+                               '--kinds', 'barrel', '--rate', '240'])
+    assert code == 0, stderr
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    with BagReader(bag) as reader:
+        stamps = [sample.stamp_ns for sample in reader.samples()]
+    half, before = int(PLOT_WINDOW_S * 1e9), int(HISTORY_S * 1e9)
+    cut = [impact for impact in analysis.impacts
+           if min(stamps) < impact.stamp_ns - half - before and
+           max(stamps) > impact.stamp_ns + half + int(AHEAD_S * 1e9)]
+    assert len(cut) >= 3  # (windows whose both ends fall inside the recording)
+    _assert_windows_as_sample_by_sample(analysis, ('ball', 'bat'))
 
 
 def _streams(window: Any, config: DetectorConfig) -> Any:
