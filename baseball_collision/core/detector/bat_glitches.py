@@ -48,12 +48,14 @@ BAT_GLITCH_NOISE = 12.0
 frames lie within 7.5 sigma of their neighbours' spline with 2 mm of noise at 360 Hz."""
 
 ISOLATION_RATIO = 4.0
-"""How many times as isolated as each of the frames before it a glitch is: a swing's own noisy
-frames (0.5-2 mm, 90-360 Hz) are more so in 0.4 % of frames, a still bat's (8 mm) in 0.02 %;
-a frame turned 10 cm at 2 mm of noise, 5.3 times at least."""
+"""How many times as isolated as each of the ``SCATTER_FRAMES`` frames before it a glitch is: a
+swing's own noisy frames (0.5-2 mm, 90-360 Hz) are more so in 0.2 % of frames (0.4 % against
+three frames), a still bat's (8 mm) in none of 4,000 (0.02 %); a frame turned 10 cm at 2 mm of
+noise, 5.3 times at least."""
 
-SCATTER_FRAMES = 3
-"""Frames whose isolation measures a bat stream's scatter (``judged``)."""
+SCATTER_FRAMES = 5
+"""Frames whose isolation measures a bat stream's scatter (``judged``): with three, a still bat
+with 8 mm of noise the detector was not told of (nor had estimated yet) had a frame judged."""
 
 NOISE_KEPT = 1.25
 """A departure kept for a noise serves up to this many times that noise (``departure``)."""
