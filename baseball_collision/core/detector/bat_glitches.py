@@ -65,8 +65,12 @@ DEPARTURE_RATIO = 3.0
 is (``departed``): a swing's own noisy frames, up to 2.4-4.8 times."""
 
 REGULAR_STEP = 1.6
-"""How many times their median the steps about a judged frame are at most (``regular``): a
+"""How many times their median the steps before a judged frame are at most (``regular``): a
 360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost frame makes a step twice."""
+
+PAIR_STEPS = 2.5
+"""How many times the median step a judged frame's neighbours are apart at most (``regular``):
+two steps, jittered; a lost frame beside it makes three."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -195,18 +199,24 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
     """
     Return whether the steps about bat frame j are regular: what the floor was measured on.
 
-    The steps from ``SCATTER_FRAMES`` + 2 frames before it to the one after it (which must be
-    at most sample ``last``, the newest by default) are each at most ``REGULAR_STEP`` times
-    their median: a frame beside frames the tracker lost is a whole step or more from a
-    neighbour, and its continuation and its neighbours' spline miss it by far more than a
-    swing's do (12 and 7 cm beside two lost frames at 90 Hz).
+    The steps from ``SCATTER_FRAMES`` + 2 frames before it up to the frame before it are each
+    at most ``REGULAR_STEP`` times their median, and the frames on either side of it (the one
+    after it at most sample ``last``, the newest by default) at most ``PAIR_STEPS`` times it
+    apart. A frame beside frames the tracker lost is a whole step or more from a neighbour, and
+    its continuation and its neighbours' spline miss it by far more than a swing's do (12 and
+    7 cm beside two lost frames at 90 Hz); a frame stamped a few milliseconds off leaves its
+    neighbours two steps apart, and its position, which is not where the swing was at its
+    stamp, is judged.
     """
     first = j - SCATTER_FRAMES - 2
     last = len(stream.times) - 1 if last is None else last
     if first < 0 or j + 1 > last:
         return False
-    steps = [b - a for a, b in zip(stream.times[first:j + 1], stream.times[first + 1:j + 2])]
-    return max(steps) <= REGULAR_STEP * sorted(steps)[len(steps) // 2]
+    times = stream.times
+    steps = sorted(b - a for a, b in zip(times[first:j - 1], times[first + 1:j]))
+    median = steps[len(steps) // 2]
+    return steps[-1] <= REGULAR_STEP * median and times[j + 1] - times[j - 1] <= (
+        PAIR_STEPS * median)
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,
