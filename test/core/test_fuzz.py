@@ -34,7 +34,7 @@ from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StreamGap)
 from baseball_collision.core.toi import (
-    ImpactResult, time_of_impact, time_of_impact_batch, time_of_impact_profile)
+    ImpactResult, profile_gap, time_of_impact, time_of_impact_batch, time_of_impact_profile)
 from baseball_collision.errors import CoreError
 from hypothesis import assume, example, given, HealthCheck, settings, strategies as st
 import numpy as np
@@ -428,9 +428,13 @@ def _faulty_values(rng: random.Random, fault: str, role: str, t: float,
     elif fault == 'lost_body' and role == 'bat_pose':  # what mocap sends for a lost body
         damaged = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
     elif fault == 'bat_turned' and role == 'tip':  # a swapped marker: one frame 15-25 cm off
-        damaged[2] += rng.choice((-1.0, 1.0)) * rng.uniform(0.15, 0.25)
-    elif fault == 'bat_turned' and role == 'bat_pose':  # a rigid body solved 0.2-0.3 rad off
-        half = 0.5 * rng.choice((-1.0, 1.0)) * rng.uniform(0.2, 0.3)
+        knob, tip = swing(t)  # (turned in the swing's plane, about the knob)
+        turn = rng.choice((-1.0, 1.0)) * rng.uniform(0.17, 0.3)
+        c, s = math.cos(turn), math.sin(turn)
+        x, y = tip[0] - knob[0], tip[1] - knob[1]
+        damaged[:2] = [knob[0] + c * x - s * y, knob[1] + s * x + c * y]
+    elif fault == 'bat_turned' and role == 'bat_pose':  # a rigid body solved 0.17-0.3 rad off
+        half = 0.5 * rng.choice((-1.0, 1.0)) * rng.uniform(0.17, 0.3)
         x, y, z, w = damaged[3:]
         c, s = math.cos(half), math.sin(half)  # turned about the world's z axis
         damaged[3:] = [c * x - s * y, c * y + s * x, c * z + s * w, c * w - s * z]
@@ -438,6 +442,13 @@ def _faulty_values(rng: random.Random, fault: str, role: str, t: float,
 
 
 Stream = Tuple[DetectorConfig, List[Offer]]
+
+
+def _closest(height: float) -> float:
+    """Return when (s) the pitch at a height passes nearest the swing (a 0.1 ms scan)."""
+    ball = pitch(height)
+    return min(np.arange(0.0, 0.2, 1e-4), key=lambda t: profile_gap(
+        tuple(ball(t)), *(tuple(p) for p in swing(t)), 0.0366, WOOD_BAT_34)[0])
 
 
 def random_stream(seed: int, special: Sequence[float] = LARGE,
@@ -448,7 +459,8 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
     A clean 0.2 s swing against a pitch (hit, near miss or far), at 90-1000 Hz with jitter,
     then up to half of the samples damaged: values (NaN, inf, ``special`` magnitudes, denormals,
     bad quaternions, zero-length bats, garbage, wrong and bad frames, wrong roles, teleports,
-    lost bodies, bat frames turned off the swing) and stamps
+    lost bodies, bat frames turned off the swing; in half the streams one turned where the ball
+    passes nearest) and stamps
     (``stamp_faults``: duplicates, out of order, late, jumps back and far forward, bursts at
     nearly one stamp, gaps).
     """
@@ -464,6 +476,9 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
     roles = _roles(config.bat_input)
     other_roles = ('bat_pose',) if config.bat_input == 'points' else ('knob', 'tip')
     faults = VALUE_FAULTS + tuple(stamp_faults)
+    # half the streams: one bat frame turned off the swing where the ball passes nearest
+    turned_at = _closest(height) + rng.choice((-1.0, 0.0, 1.0)) / rate \
+        if rng.random() < 0.5 else math.inf
     shift = 0  # ns added to every later stamp (gaps)
     offers: List[Offer] = []
     last: Dict[str, int] = {}
@@ -473,7 +488,9 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
         for role in roles:
             values: Any = _good(role, t, height)
             frame, at, count = 'world', stamp, 1
-            if rng.random() < bad:
+            if role in ('tip', 'bat_pose') and abs(t - turned_at) <= 0.5 / rate:
+                values = _faulty_values(rng, 'bat_turned', role, t, values, special)
+            elif rng.random() < bad:
                 fault = rng.choice(faults)
                 values = _faulty_values(rng, fault, role, t, values, special)
                 if fault == 'wrong_frame':

@@ -35,7 +35,7 @@ frame is judged once its next has come.
 import math
 from typing import Optional, Tuple
 
-from .fitting import c2_bat_ahead, c2_bat_path, c2_window
+from .fitting import c2_bat_ahead, c2_bat_continued, c2_bat_path, c2_window
 from .streams import excerpt, Stream
 from ..motion import BatPath
 
@@ -75,6 +75,11 @@ two steps, jittered; a lost frame beside it makes three."""
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
 
+CLEAN = 'bat_clean'
+"""The name of the bat stream's ``aligned`` list of the frames judged no glitch (``judged``)
+with every sample the verdict reads (two after the frame): the noise (m) they were judged at,
+else None (``Sweep._bat_frames``; a forgotten frame cuts back the verdicts that read it)."""
+
 
 def glitch_floor(noise: float) -> float:
     """Return the distance (m) a glitch is off by at least, for the bat's noise (m, 1 sigma)."""
@@ -85,9 +90,10 @@ def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -
     """
     Return how far (m) bat frame j is from the bat continued from the samples before it.
 
-    The larger of the knob's and the tip's distance from ``fitting.c2_bat_ahead`` (the window
-    of ``size`` samples up to frame j - 1; with ``noise``, m 1 sigma per coordinate, smoothed:
-    a continuation through noisy samples swings by tens of sigma) at frame j's stamp; 0 where
+    The larger of the knob's and the tip's distance from ``fitting.c2_bat_continued`` (the
+    window of ``size`` samples up to frame j - 1, continued; with ``noise``, m 1 sigma per
+    coordinate, smoothed: a continuation through noisy samples swings by tens of sigma) at
+    frame j's stamp; 0 where
     there is no continuation (fewer than three samples before it in its segment, or a step
     over ``max_gap`` s to it). Kept per frame in ``stream.aligned`` (``DEPARTURES``: made from
     frame j and the samples before it, which a forgotten frame cuts back) with the noise it
@@ -101,8 +107,10 @@ def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -
         return found[1]
     value = 0.0
     if 3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap):
-        path = c2_bat_ahead(stream, j - 1, max_gap, size, noise)
-        value = 0.0 if path is None else max(_distances(path, stream, j))
+        continued = c2_bat_continued(stream, j - 1, max_gap, size, noise)
+        if continued is not None:
+            there, sample = continued[1](stream.times[j]), stream.values[j]
+            value = max(math.dist(there.knob, sample.knob), math.dist(there.tip, sample.tip))
     if len(kept) <= j:
         kept.extend([None] * (j + 1 - len(kept)))
     kept[j] = (noise, value)

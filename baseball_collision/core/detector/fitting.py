@@ -327,20 +327,12 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
     starts on it, not on the opening sample. ``quintic``: None too where the continued piece is
     not a quintic.
     """
-    window = c2_window(stream, k - 1, max_gap, 0, size)
-    if k < 2 or window.start > k - 2 or window.stop - 1 != k:
+    continued = c2_bat_continued(stream, k, max_gap, size, noise, quintic)
+    if continued is None:
         return None
-    before = c2_bat_path(stream, k - 1, window, noise, True)  # in sample k - 1's chart
-    if quintic and before.knob.e is None:
-        return None
+    before, at = continued
     t0, t1 = stream.times[k], stream.times[k + 1]
     length = before.length
-
-    def at(t: float) -> BatSample:  # the continued bat at t (s)
-        knob = before.knob.at(t)
-        direction = rotate(before.reference, before.turn.at(t))
-        return BatSample(knob, tuple(x + length.at(t) * u for x, u in zip(knob, direction)))
-
     opening = at(t0) if noise > 0.0 else stream.values[k]
     origin = unit_axis(opening)
     turn0, turn1 = (_recharted(before.reference, origin, before.turn.at(t),
@@ -348,6 +340,34 @@ def c2_bat_ahead(stream: Stream, k: int, max_gap: float, size: int,
     return C2BatPath(t0, t1, opening, at(t1),
                      (before.knob.velocity(t0), before.knob.velocity(t1)), (turn0, turn1),
                      (length.velocity(t0), length.velocity(t1)))
+
+
+def c2_bat_continued(stream: Stream, k: int, max_gap: float, size: int, noise: float = 0.0,
+                     quintic: bool = False
+                     ) -> Optional[Tuple[C2BatPath, Callable[[float], BatSample]]]:
+    """
+    Return the window spline of bat interval k - 1 and the bat on it continued, or None.
+
+    The window up to sample k (no look-ahead; ``c2_bat_path``, smoothed with ``noise``), its
+    last piece continued: a function of t (s) giving the knob and the tip (m) there (the
+    direction's rotation vector and the length continued with it). None without two samples
+    before k in its segment, or with ``quintic`` where the continued piece is not a quintic.
+    (``c2_bat_ahead``'s path over interval k; ``bat_glitches.departure`` at one stamp.)
+    """
+    window = c2_window(stream, k - 1, max_gap, 0, size)
+    if k < 2 or window.start > k - 2 or window.stop - 1 != k:
+        return None
+    before = c2_bat_path(stream, k - 1, window, noise, True)  # in sample k - 1's chart
+    if quintic and before.knob.e is None:
+        return None
+    length = before.length
+
+    def at(t: float) -> BatSample:  # the continued bat at t (s)
+        knob = before.knob.at(t)
+        direction = rotate(before.reference, before.turn.at(t))
+        return BatSample(knob, tuple(x + length.at(t) * u for x, u in zip(knob, direction)))
+
+    return before, at
 
 
 def chart_swing(reference: Vector, turn: Sequence[float], rate: Sequence[float]) -> Vector:

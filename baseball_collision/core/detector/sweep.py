@@ -262,23 +262,17 @@ class Sweep:
                 and self._outside_zone(located, ta, tb, bat_noise)):
             self.episodes.far(events, ta)  # (what the sweep's sub-steps would come to: see there)
             return
-        paths = self.paths(*located)
-        while self.bat_glitches and self.episodes.armed is not False:
-            judged = self._bat_frames((ta, tb), located[1], paths)
-            if judged is not None:
-                paths = judged
-                break
-            located = self._locate(ta, events)  # (bat frames forgotten)
-            if located is None:
-                return
-            if self.estimators is not None:
-                self._estimates(located)
-            paths = self.paths(*located)
-        self._solve(ta, tb, located, paths, events)
+        self._solve(ta, tb, located, self.paths(*located), events)
 
     def _solve(self, ta: float, tb: float, located: Tuple[int, int], paths: Paths,
-               events: List) -> None:
-        """Solve the union interval [ta, tb] (s) on the paths over the sample intervals located."""
+               events: List, judged: bool = False) -> None:
+        """
+        Solve the union interval [ta, tb] (s) on the paths over the sample intervals located.
+
+        Where the paths come near, the bat frames they read are judged first (``_bat_frames``;
+        ``judged``: they were): the interval is located again without a glitch, or solved on
+        the bat's path without a frame that departed.
+        """
         config = self.config
         margin = (config.ball_radius + self.max_radius + 1e-6
                   + max(config.near_miss_threshold, config.rearm_distance))
@@ -295,6 +289,16 @@ class Sweep:
         reach = 0.5 * max(math.dist(knob_a, tip_a), math.dist(knob_b, tip_b)) + deviation + margin
         if norm(closest_offset(ball_a, ball_b, tip_a, tip_b, knob_a, knob_b)) > reach:
             self.episodes.far(events, ta)
+            return
+        if not judged and self.bat_glitches and self.episodes.armed is not False:
+            without = self._bat_frames((ta, tb), located[1], paths)
+            if without is None:  # (a glitch forgotten: the interval is located again)
+                self.stats.intervals -= 1  # (counted again)
+                self._swept(ta, tb, events)
+            elif without is paths:
+                self._solve(ta, tb, located, paths, events, True)
+            else:
+                self._solve(ta, tb, located, without, events, True)
             return
         if self.early_glitches and self._early_glitch(located[0], ta, tb, events):
             return
@@ -326,7 +330,9 @@ class Sweep:
         read (``_horizon``: with their next frame) are judged, the oldest first
         (``bat_glitches.judged``: each against the frames before it, which are judged; not
         one whose next frame stays isolated without it, ``bat_glitches.isolated_without``:
-        the glitch is that one, which pulled its neighbours' spline off), and the first
+        the glitch is that one, which pulled its neighbours' spline off; a frame judged no
+        glitch with every sample its verdict reads is kept so, ``bat_glitches.CLEAN``, for
+        the noise it was judged at and up to ``NOISE_KEPT`` times it), and the first
         glitch is dropped and forgotten: None (the interval is to be located again,
         and the frames after it judged again without it). Else ``paths`` without a frame after
         its opening one that departed (``_without_departed``: at look-ahead 0 its closing
@@ -336,9 +342,17 @@ class Sweep:
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
         noise, last = stream_noise(bat, config), self._horizon(bat_k)
+        clean = bat.aligned.setdefault(bat_glitches.CLEAN, [])
         for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, last):
-            if bat_glitches.judged(bat, j, max_gap, size, noise, last) and not (
-                    j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
+            if j < len(clean) and clean[j] is not None and \
+                    clean[j] <= noise <= bat_glitches.NOISE_KEPT * clean[j]:
+                continue  # (judged no glitch on every sample its verdict reads)
+            if not bat_glitches.judged(bat, j, max_gap, size, noise, last):
+                if j + 2 <= last:
+                    clean.extend([None] * (j + 1 - len(clean)))
+                    clean[j] = noise
+                continue
+            if not (j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
                                                                    noise, last)):
                 self._bat_glitch(j, last)
                 return None
@@ -453,6 +467,7 @@ class Sweep:
         stats.dropped[DropReason.BAT_GLITCH] += 1
         stats.late_drops.append(LateDrop(role=role, reason=DropReason.BAT_GLITCH,
                                          stamp_ns=bat.stamps[j], frame_id=self.frame_of() or ''))
+        del bat.aligned.get(bat_glitches.CLEAN, [])[max(j - 2, 0):]  # (they read frame j)
         bat.remove(j, (ESTIMATES,))
 
     def _estimates(self, located: Tuple[int, int]) -> None:
