@@ -40,14 +40,6 @@ def events_of(config: DetectorConfig, samples: Any) -> Tuple[Detector, List[Any]
     return detector, events + detector.finish()
 
 
-def without_frame(samples: Any, index: int) -> Any:
-    """Return the samples without bat frame ``index``."""
-    keep = np.arange(len(samples.bat_stamps_ns)) != index
-    return type(samples)(**{**samples.__dict__, **{
-        name: getattr(samples, name)[keep]
-        for name in ('bat_stamps_ns', 'bat_positions', 'bat_quaternions', 'knobs', 'tips')}})
-
-
 def of(events: List[Any], kind: type) -> List[Any]:
     """Return the events of one kind."""
     return [event for event in events if isinstance(event, kind)]
@@ -74,7 +66,7 @@ def run_cell(rate: float, noise_m: float, seeds: int) -> Dict[str, Any]:
                     counts['clean_dropped'] += detector.stats.dropped.get('bat_glitch', 0)
                     for offset in OFFSETS:
                         j = middle + offset
-                        _, deleted = events_of(config, without_frame(samples, j))
+                        _, deleted = events_of(config, samples.without_bat_frame(j))
                         for turn in TURNS_M:
                             glitched = samples.with_bat_frame_turned(
                                 j, samples.ball_positions[min(j, len(samples.ball_positions)

@@ -41,14 +41,6 @@ def _run(config: DetectorConfig, samples: Any, bat: str) -> Tuple[Detector, List
     return detector, events + detector.finish()
 
 
-def _without_frame(samples: Any, index: int) -> Any:
-    """Return the samples without bat frame ``index``."""
-    keep = np.arange(len(samples.bat_stamps_ns)) != index
-    return type(samples)(**{**samples.__dict__, **{
-        name: getattr(samples, name)[keep]
-        for name in ('bat_stamps_ns', 'bat_positions', 'bat_quaternions', 'knobs', 'tips')}})
-
-
 @pytest.mark.parametrize('bat', ['pose', 'points'])
 @pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
 @pytest.mark.parametrize('rate, seed, noise_m', [(90.0, 3, 0.0), (90.0, 3, 1e-3),
@@ -70,7 +62,7 @@ def test_a_bat_frame_turned_toward_a_near_miss_is_a_glitch_not_an_impact(
             glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
             detector, events = _run(config, glitched, bat)
             assert not any(isinstance(event, Impact) for event in events), (turn, offset)
-            _, clean = _run(config, _without_frame(samples, j), bat)
+            _, clean = _run(config, samples.without_bat_frame(j), bat)
             passes = [event for event in events if isinstance(event, NearMiss)]
             expected = [event for event in clean if isinstance(event, NearMiss)]
             assert len(passes) == len(expected) == 1
@@ -235,7 +227,7 @@ def test_the_glitch_not_the_braked_frame_before_it_is_dropped() -> None:
     j = _closest_frame(scenario, samples) + 1
     glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2)
     detector, events = _run(OFFLINE, glitched, 'pose')
-    _, deleted = _run(OFFLINE, _without_frame(samples, j), 'pose')
+    _, deleted = _run(OFFLINE, samples.without_bat_frame(j), 'pose')
     assert dict(detector.stats.dropped) == {'bat_glitch': 1}
     found = [event for event in events if isinstance(event, Impact)]
     expected = [event for event in deleted if isinstance(event, Impact)]

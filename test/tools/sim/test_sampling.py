@@ -149,3 +149,15 @@ def test_a_bat_frame_turned_toward_a_point(scenarios: dict) -> None:
         samples.with_bat_frame_turned(len(samples.bat_stamps_ns), point, 0.1)
     with pytest.raises(ToolError, match='axis'):
         samples.with_bat_frame_turned(j, tip + (tip - knob), 0.1)
+
+
+def test_a_bat_frame_deleted(scenarios: dict) -> None:
+    """``without_bat_frame``: the bat's frames but that one, pose and markers alike."""
+    samples = sample(scenarios['barrel'][0], 90.0, np.random.default_rng(0))
+    j = len(samples.bat_stamps_ns) // 2
+    deleted = samples.without_bat_frame(j)
+    assert len(deleted.bat_stamps_ns) == len(samples.bat_stamps_ns) - 1
+    assert samples.bat_stamps_ns[j] not in deleted.bat_stamps_ns
+    for name in ('bat_stamps_ns', 'bat_positions', 'bat_quaternions', 'knobs', 'tips'):
+        assert np.array_equal(getattr(deleted, name), np.delete(getattr(samples, name), j, 0))
+    assert np.array_equal(deleted.ball_positions, samples.ball_positions)
