@@ -295,11 +295,10 @@ class Sweep:
             if without is None:  # (a glitch forgotten: the interval is located again)
                 self.stats.intervals -= 1  # (counted again)
                 self._swept(ta, tb, events)
-            elif without is paths:
-                self._solve(ta, tb, located, paths, events, True)
-            else:
+                return
+            if without is not paths:  # (its far tests again, on the bat without the frame)
                 self._solve(ta, tb, located, without, events, True)
-            return
+                return
         if self.early_glitches and self._early_glitch(located[0], ta, tb, events):
             return
         if self.episodes.armed is False:
