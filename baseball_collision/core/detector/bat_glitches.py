@@ -8,7 +8,7 @@ through the ball, and an impact is invented. Two distances judge a bat frame j, 
 of the knob's and the tip's (m):
 
 * its *departure* (``departure``): from the bat continued from the samples before it (the
-  ``c2`` window's spline continued one step: ``fitting.c2_bat_ahead``). A swing's own frames
+  ``c2`` window's spline continued one step: ``fitting.c2_bat_continued``). A swing's own frames
   land within 2 cm of it at 90 Hz (exact; 4-7 cm with 1-2 mm of noise, 18 cm at 60 Hz); a frame
   after a contact, which slows the bat within 1-3 ms, up to 47 cm.
 * its *isolation* (``isolation``): from the ``c2`` spline through its neighbours without it,
@@ -90,16 +90,14 @@ def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -
     """
     Return how far (m) bat frame j is from the bat continued from the samples before it.
 
-    The larger of the knob's and the tip's distance from ``fitting.c2_bat_continued`` (the
-    window of ``size`` samples up to frame j - 1, continued; with ``noise``, m 1 sigma per
-    coordinate, smoothed: a continuation through noisy samples swings by tens of sigma) at
-    frame j's stamp; 0 where
-    there is no continuation (fewer than three samples before it in its segment, or a step
+    The larger of the knob's and the tip's distance from ``fitting.c2_bat_continued`` (the window
+    of ``size`` samples up to frame j - 1, continued; with ``noise``, m 1 sigma per coordinate,
+    smoothed: a continuation through noisy samples swings by tens of sigma) at frame j's stamp; 0
+    where there is no continuation (fewer than three samples before it in its segment, or a step
     over ``max_gap`` s to it). Kept per frame in ``stream.aligned`` (``DEPARTURES``: made from
-    frame j and the samples before it, which a forgotten frame cuts back) with the noise it
-    was made for, and made again where the noise is below that or more than ``NOISE_KEPT``
-    times it (``tracker_noise`` auto: an estimate that grows from 0 over a stream's first
-    frames).
+    frame j and the samples before it, which a forgotten frame cuts back) with the noise it was
+    made for, and made again where the noise is below that or more than ``NOISE_KEPT`` times it
+    (``tracker_noise`` auto: an estimate that grows from 0 over a stream's first frames).
     """
     kept = stream.aligned.setdefault(DEPARTURES, [])
     found = kept[j] if j < len(kept) else None

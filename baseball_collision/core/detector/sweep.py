@@ -376,13 +376,12 @@ class Sweep:
         Return the paths without a bat frame that departed after bat interval bat_k, its stamp.
 
         The frames its path reads after its opening one (its closing one, the look-ahead's), in
-        turn: where one departed from its continuation (``bat_glitches.departed``: a glitch
-        whose next frame may not have come yet, or the bat braking after a contact), the bat's
-        path without it and the frames after it
-        (``bat_glitches.path_without``), where a bat can move on it (``_plausible``), and the
-        frame's stamp (ns). Not where both paths touch over the union interval (s): a hit,
-        whose contact comes before the brake, solved as it was (``_touches``). Else ``paths``
-        and None.
+        turn: where one departed from its continuation (``bat_glitches.departed``: a glitch whose
+        next frame may not have come yet, or the bat braking after a contact), the bat's path
+        without it and the frames after it (``bat_glitches.path_without``), where a bat can move on
+        it (``_plausible``), and the frame's stamp (ns). Not where both paths touch over the union
+        interval (s): a hit, whose contact comes before the brake, solved as it was (``_touches``).
+        Else ``paths`` and None.
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
