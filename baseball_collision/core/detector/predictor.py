@@ -7,6 +7,13 @@ ball's latest samples give a ballistic forecast, and the bat's either its comman
 robot arm's, when it covers the instant) or a rigid-body extrapolation of its latest motion;
 ``prediction.contact_of`` (``first_contact`` on the kernel's numbers) searches them for the
 first contact within the horizon.
+
+The ball's forecast does not start from a newest sample that left the free flight of the samples
+before it (``departure.leaves_flight``, the sweep's own rule): a tracker's glitch, which the sweep
+drops as ``ball_glitch`` once the next sample has come, or the ball leaving the bat. Where a
+contact is found or a prediction is in force, such a frame predicts nothing: the prediction in
+force stays, and the next frame predicts, so a glitch neither shows a contact the pitch does not
+have, nor moves or withdraws one.
 """
 
 from dataclasses import replace
@@ -14,6 +21,7 @@ import math
 from typing import List, Optional, Sequence, Tuple, Union
 
 from .config import DetectorConfig
+from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
@@ -51,7 +59,8 @@ class Predictor:
     """
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
-                 'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance')
+                 'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
+                 '_ball_window')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -63,6 +72,7 @@ class Predictor:
         self.plan_on_clock: Optional[PlannedBat] = None
         self.predicting = False
         self.last_ns: Optional[int] = None  # the stamp of the last frame that predicted
+        self._ball_window = (0, 0)  # the last ball forecast's samples [first, end)
 
     @property
     def config(self) -> DetectorConfig:
@@ -106,12 +116,15 @@ class Predictor:
         Append a ``Prediction`` from time t0 (s) on, or ``PredictionCleared`` if one ended.
 
         Nothing at all, the last prediction staying in force, when t0 is less than
-        ``prediction_period`` after the last frame that predicted (``prediction_due``). The
-        bat's turns are summed over the forecast's own window (``_bat_forecast``).
+        ``prediction_period`` after the last frame that predicted (``prediction_due``), or when
+        a contact is found or a prediction is in force and the ball's forecast starts from a
+        sample off its free flight (``_ball_departed``; the next frame is due). The bat's turns
+        are summed over the forecast's own window (``_bat_forecast``).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
-        if not prediction_due(self.last_ns, now_ns, config.prediction_period):
+        last_ns = self.last_ns
+        if not prediction_due(last_ns, now_ns, config.prediction_period):
             return
         self.last_ns = now_ns
         found = None
@@ -123,6 +136,9 @@ class Predictor:
                 bat_args = forecast.kernel_args if planned else forecast
                 found = contact_of(ball, bat_args, t0, config.prediction_horizon,
                                    config.ball_radius, config.profile, self._tolerance)
+                if (found is not None or self.predicting) and self._ball_departed():
+                    self.last_ns = last_ns  # (no frame that predicted: the next one is due)
+                    return
         if found is None:
             if self.predicting:
                 self.predicting = False
@@ -136,6 +152,21 @@ class Predictor:
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
+
+    def _ball_departed(self) -> bool:
+        """
+        Return whether the last ball forecast's newest sample left the ball's free flight.
+
+        The sweep's test (``departure.leaves_flight``: off the parabola through the three
+        samples before it, beyond the noise it judges with and the scatter of the intervals
+        before), which the sweep makes only once the next sample has come: a glitch then is
+        dropped. No swing family's pitch leaves it before the contact (90 and 360 Hz, exact
+        and 1 mm of noise); a sample moved 10 cm or more does. False with fewer than four
+        samples in the window (the sweep judges a segment's first samples otherwise).
+        """
+        first, end = self._ball_window
+        return end - first >= 4 and leaves_flight(
+            self.ball, end - 2, judging_noise(self._config), self._config.max_gap) is not None
 
     def _may_reach(self) -> bool:
         """
@@ -175,6 +206,7 @@ class Predictor:
         if len(indices) < 3:
             return None
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
+        self._ball_window = (first, end)
         forecast = ball_numbers(ball.times, ball.values, first, end, t0, self._gravity,
                                 config.ball_drag)
         if forecast is None:

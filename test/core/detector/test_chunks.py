@@ -10,6 +10,7 @@ the drops (by role and reason) and the counters must be identical, and so must t
 """
 
 from collections import Counter
+from dataclasses import replace
 import math
 from typing import Any, Callable, List, Optional, Sequence, Tuple
 
@@ -1220,3 +1221,40 @@ def test_a_pose_bats_noise_windows_outlast_the_shortest_history(look_ahead: int)
     assert_same(config, rows, (5000,))
     _, _, chunked = in_chunks(config, rows, (5000,))
     assert chunked._noise[1].span == POSE_SPAN and len(chunked._noise[1].residuals) == HISTORY
+
+
+@pytest.mark.parametrize('rate, period', [(90.0, 0.01), (360.0, 0.0)])
+def test_a_prediction_held_at_a_ball_glitch_alike_in_chunks(
+        rate: float, period: float, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A hit whose ball sample 3 frames before the contact is moved 20 cm toward the bat.
+
+    The frame whose forecast starts from it predicts nothing (``Predictor._ball_departed``),
+    and the next frame is due: in a chunk that stop overturns the plan (the predictor's last
+    frame is not the plan's), and the events are those of one sample at a time.
+    """
+    held: List[int] = []
+    departed = Predictor._ball_departed
+
+    def recording(self: Predictor) -> bool:
+        result = departed(self)
+        if result:
+            held.append(self.last_ns)
+        return result
+    monkeypatch.setattr(Predictor, '_ball_departed', recording)
+    rng = np.random.default_rng(17)
+    scenario = make_scenario('barrel', rng, lead_s=0.4)
+    samples = sample(scenario, rate, rng, jitter_s=2e-4)
+    k = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+        round(scenario.truth.time_s * 1e9)))) - 3
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - samples.ball_stamps_ns[k])))
+    middle = 0.5 * (samples.knobs[j] + samples.tips[j])
+    toward = middle - samples.ball_positions[k]
+    positions = samples.ball_positions.copy()
+    positions[k] += 0.2 * toward / np.linalg.norm(toward)
+    glitched = replace(samples, ball_positions=positions)
+    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=period)
+    events = assert_same(config, rows, (7, 50, 400))
+    assert held and sum(isinstance(e, Impact) for e in events) == 1
+    assert one_at_a_time(config, rows)[1][('ball', 'ball_glitch')] == 1

@@ -138,3 +138,28 @@ def test_a_plan_too_large_is_refused_before_any_work() -> None:
     predictor.set_plan(stamps, [(0.0, 0.0, 1.0)] * len(stamps),
                        [(0.0, 0.0, 0.0, 1.0)] * len(stamps))
     assert len(predictor.plan[1].times) == MAX_PLAN_POSES
+
+
+def _passing(glitch: bool, count: int = 8) -> Predictor:
+    """Return a predictor whose ball flies at 40 m/s 15 cm over a still bat, 1.5 m off."""
+    balls = [(1.5 - 40.0 * 0.005 * i, 0.5, 1.15) for i in range(count)]
+    if glitch:  # the newest sample 15 cm lower: a tracker's glitch onto the bat's height
+        balls[-1] = (balls[-1][0], 0.5, 1.0)
+    return _predictor(balls, [((0, 0, 1), (0, 0.86, 1))] * count)
+
+
+def test_a_ball_glitch_as_the_newest_sample_predicts_nothing() -> None:
+    """A newest ball sample off its flight (not judged yet) neither predicts nor clears."""
+    t0 = 0.005 * 7
+    events = []
+    _passing(False).predict(t0, True, events)
+    assert events == []  # the pass misses the bat
+    predictor = _passing(True)
+    assert predictor._ball_forecast(t0) is not None
+    predictor.predict(t0, True, events)
+    assert events == [] and not predictor.predicting
+    assert predictor.last_ns is None  # (no frame predicted: the next one is due)
+    # a prediction in force stays: not withdrawn, nor moved, by the glitch
+    predictor.predicting, predictor.last_ns = True, BASE_NS
+    predictor.predict(t0, True, events)
+    assert events == [] and predictor.predicting and predictor.last_ns == BASE_NS
