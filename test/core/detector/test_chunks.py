@@ -1258,3 +1258,36 @@ def test_a_prediction_held_at_a_ball_glitch_alike_in_chunks(
     events = assert_same(config, rows, (7, 50, 400))
     assert held and sum(isinstance(e, Impact) for e in events) == 1
     assert one_at_a_time(config, rows)[1][('ball', 'ball_glitch')] == 1
+
+
+def test_a_prediction_held_at_a_bat_glitch_alike_in_chunks(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A 90 Hz miss whose bat frame 2 before the closest approach is turned 20 cm at the tip.
+
+    The frame whose forecast starts from it predicts nothing (``Predictor._bat_departed``: one
+    sample at a time, it showed a contact the miss does not have), and the events in chunks are
+    those of one sample at a time.
+    """
+    held: List[int] = []
+    departed = Predictor._bat_departed
+
+    def recording(self: Predictor) -> bool:
+        result = departed(self)
+        if result:
+            held.append(self.last_ns)
+        return result
+    monkeypatch.setattr(Predictor, '_bat_departed', recording)
+    rng = np.random.default_rng(1017)
+    scenario = make_scenario('miss_over', rng, lead_s=0.4, family='jerky')
+    samples = sample(scenario, 90.0, rng, jitter_s=2e-4)
+    closest = samples.start_ns + int(scenario.truth.min_gap_time_s * 1e9)
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - closest))) - 2
+    nearest = np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])
+    ball = samples.ball_positions[int(np.argmin(nearest))]
+    glitched = samples.with_bat_frame_turned(j, ball, 0.2)
+    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    events = assert_same(config, rows, (7, 50, 400))
+    assert held and not any(isinstance(e, (Impact, Prediction)) for e in events)
+    assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1

@@ -163,3 +163,33 @@ def test_a_ball_glitch_as_the_newest_sample_predicts_nothing() -> None:
     predictor.predicting, predictor.last_ns = True, BASE_NS
     predictor.predict(t0, True, events)
     assert events == [] and predictor.predicting and predictor.last_ns == BASE_NS
+
+
+def _turned(frames_off: int, count: int = 8) -> Predictor:
+    """
+    Return a predictor whose ball passes 15 cm over a still bat, its newest frames turned up.
+
+    The last ``frames_off`` bat frames have the tip 15 cm higher (turned about the knob): one
+    is a tracker's glitch, two in a row the bat that moved.
+    """
+    balls = [(1.5 - 40.0 * 0.005 * i, 0.5, 1.15) for i in range(count)]
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    up = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 + 0.86 * math.sin(angle)))
+    bats = [((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))] * (count - frames_off) + [up] * frames_off
+    return _predictor(balls, bats)
+
+
+def test_a_bat_glitch_as_the_newest_frame_predicts_nothing() -> None:
+    """A newest bat frame off the swing (the one before on it) neither predicts nor clears."""
+    t0 = 0.005 * 7
+    events = []
+    predictor = _turned(1)
+    predictor.predict(t0, True, events)
+    assert events == [] and not predictor.predicting and predictor.last_ns is None
+    predictor.predicting, predictor.last_ns = True, BASE_NS  # one in force stays
+    predictor.predict(t0, True, events)
+    assert events == [] and predictor.predicting and predictor.last_ns == BASE_NS
+    # the frame before off too: the bat moved (or the glitch is in the window), predicted
+    predictor = _turned(2)
+    predictor.predict(t0, True, events)
+    assert [type(e) for e in events] == [Prediction]
