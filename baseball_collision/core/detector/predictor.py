@@ -8,12 +8,16 @@ robot arm's, when it covers the instant) or a rigid-body extrapolation of its la
 ``prediction.contact_of`` (``first_contact`` on the kernel's numbers) searches them for the
 first contact within the horizon.
 
-The ball's forecast does not start from a newest sample that left the free flight of the samples
-before it (``departure.leaves_flight``, the sweep's own rule): a tracker's glitch, which the sweep
-drops as ``ball_glitch`` once the next sample has come, or the ball leaving the bat. Where a
-contact is found or a prediction is in force, such a frame predicts nothing: the prediction in
-force stays, and the next frame predicts, so a glitch neither shows a contact the pitch does not
-have, nor moves or withdraws one.
+The forecasts do not start from a newest sample off its stream's motion that the sweep has not
+judged yet: a ball sample off the free flight of the samples before it
+(``departure.leaves_flight``, the sweep's own rule: a tracker's glitch, dropped as
+``ball_glitch`` once the next sample has come, or the ball leaving the bat), or a bat frame a
+glitch's distance off the forecast of the frames before it, the frame before on it
+(``Predictor._bat_departed``: a glitch or a frame stamped milliseconds off, which the sweep
+judges only once the ball is near the bat). Where a contact is found or a prediction is in
+force (for the bat: where the frame would change what is shown), such a frame predicts
+nothing: the prediction in force stays, and the next frame predicts, so a glitch neither shows
+a contact the pitch does not have, nor moves or withdraws one.
 """
 
 from dataclasses import replace
@@ -127,8 +131,10 @@ class Predictor:
         Nothing at all, the last prediction staying in force, when t0 is less than
         ``prediction_period`` after the last frame that predicted (``prediction_due``), or when
         a contact is found or a prediction is in force and the ball's forecast starts from a
-        sample off its free flight (``_ball_departed``; the next frame is due). The bat's turns
-        are summed over the forecast's own window (``_bat_forecast``).
+        sample off its free flight (``_ball_departed``), or the frame would change what is
+        shown (``_shown_changes``) and the bat's starts from a frame off the swing
+        (``_bat_departed``); the next frame is then due. The bat's turns are summed over the
+        forecast's own window (``_bat_forecast``).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
