@@ -27,9 +27,12 @@ The sweep judges the frames an interval near the ball reads, while a contact wou
 read it in their continuation and their spline), and the first glitch is dropped as
 ``bat_glitch`` and forgotten. A frame after the opening one (the closing one, the look-ahead's)
 may not have its next frame yet (look-ahead 0): where it clearly departed (``departed``), the
-interval is swept on the bat's path without it (``path_without``), unless both paths touch
-the ball (a hit: its contact comes before the brake, and it is solved as before), and the
-frame is judged once its next has come.
+interval is swept on the bat's path without it (``path_without``), and the frame is judged
+once its next has come. Where both paths touch the ball (a hit: its contact comes before the
+brake) it is solved on the path through the frame, unless their contacts are more than
+``sweep.CONTACT_APART`` apart: then the frame is judged first, the interval waiting for its
+next frame where that has not come (``Sweep._closing_glitch``: one bat frame, for a glitch or
+a bat that braked hard after a contact).
 """
 
 import math

@@ -83,7 +83,8 @@ class Sweep:
         not judged (``uncertainty``'s re-solves, on copies whose first samples start no
         segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
-    :ivar held: the last interval visited waits for ball samples (``interval``).
+    :ivar held: the last interval visited waits for samples (``interval``): the ball's
+        (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
@@ -329,7 +330,7 @@ class Sweep:
     def _bat_frames(self, interval: Tuple[float, float], bat_k: int,
                     paths: Paths) -> Optional[Paths]:
         """
-        Judge the bat frames the path over bat interval bat_k reads; None if one was forgotten.
+        Judge the bat frames the path over bat interval bat_k reads; None: one was forgotten.
 
         The frames of its window from the first up to the one before the newest its path may
         read (``_horizon``: with their next frame) are judged, the oldest first
@@ -342,7 +343,8 @@ class Sweep:
         and the frames after it judged again without it). Else ``paths`` without a frame after
         its opening one that departed (``_without_departed``: at look-ahead 0 its closing
         frame's next has not come yet), which is judged once its next frame has
-        (``bat_suspect``).
+        (``bat_suspect``); None where a hit hangs on that frame, which was then a glitch,
+        forgotten, or waits for its next frame (``held``: ``_closing_glitch``).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
