@@ -346,3 +346,37 @@ def test_a_hit_closing_on_a_glitch_is_judged_alike_in_chunks(rate: float) -> Non
     found, = [event for event in chunked if isinstance(event, Impact)]
     expected, = [event for event in deleted if isinstance(event, Impact)]
     assert abs(found.stamp_ns - expected.stamp_ns) < 20_000
+
+
+def _lost_before(samples: Any, j: int, last: int, count: int) -> Any:
+    """Return the samples without ``count`` bat frames ending at frame ``last`` (< j)."""
+    for _ in range(count):
+        samples = samples.without_bat_frame(last - count + 1)
+    return samples
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('rate', [90.0, 360.0])
+@pytest.mark.parametrize('before, count', [(6, 1), (8, 'gap')], ids=['lost', 'segment'])
+def test_a_glitch_not_judged_makes_no_swing_frame_a_glitch(
+        config: DetectorConfig, rate: float, before: int, count: Any) -> None:
+    """
+    A glitch that cannot be judged: a frame lost 6 frames before it, or its segment's 8th.
+
+    It stays (frames beside lost ones and a segment's first are not judged), but a frame one or
+    two after it, which could be judged, read as isolated and departed (the glitch pulled its
+    neighbours' spline and its continuation off) and was dropped: a frame of the swing. It is
+    no glitch unless it stays isolated without the frame before it (``UNJUDGED_REACH``).
+    """
+    for offset in (-1, 0, 1):
+        scenario, samples = _scene('miss_over', 3, rate)
+        j = _closest_frame(scenario, samples) + offset
+        glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
+        stamp = int(glitched.bat_stamps_ns[j])
+        lost = 1 if count != 'gap' else int(math.ceil(0.06 * rate))  # (over max_gap: a segment)
+        detector, late = Detector(config), []
+        for stamp_ns, role, values in _lost_before(glitched, j, j - before, lost).messages(
+                config.bat_input):
+            detector.add(role, stamp_ns, values)
+            late += detector.stats.late_drops
+        assert [drop.stamp_ns for drop in late if drop.stamp_ns != stamp] == [], offset
