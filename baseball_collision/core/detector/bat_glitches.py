@@ -197,8 +197,9 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     # a frame just before it that could not be judged (``judgeable``: beside lost frames, a
     # segment's first) may be the one off, pulling this one's neighbours' spline: this one is
     # no glitch unless it stays isolated without it
-    return all(judgeable(stream, i, max_gap, last) or isolated_without(
-        stream, i, max_gap, size, noise, last, j - i) for i in range(j - UNJUDGED_REACH, j))
+    newest = len(stream.times) - 1 if last is None else last
+    return all(judgeable(stream, i, max_gap, newest) or isolated_without(
+        stream, i, max_gap, size, noise, newest, j - i) for i in range(j - UNJUDGED_REACH, j))
 
 
 def judgeable(stream: Stream, j: int, max_gap: float, last: Optional[int] = None) -> bool:
