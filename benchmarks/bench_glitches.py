@@ -9,13 +9,15 @@ exact and with 1 mm of noise, under the node's defaults and ``analyze``'s, the b
 and as knob and tip points by turns. The baseline in the same run: the same samples with that
 frame deleted. Printed per rate and noise: invented impacts (on misses), hits lost or moved by
 more than 0.1 ms from the deleted-frame run, ``bat_glitch`` drops, how far each near miss is
-from the deleted-frame run's, and ``bat_glitch`` drops on the same pitches without a glitch.
+from the deleted-frame run's, ``bat_glitch`` drops on the same pitches without a glitch, and of
+their hits under the node's defaults those reported more than half a bat step after their
+interval closed (a hit waiting for the frame after its closing one: ``Sweep._closing_glitch``).
 
     .venv/bin/python benchmarks/bench_glitches.py [--seeds 2] [--rates 90 360]
 """
 
 import argparse
-from typing import Any, Dict, List, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
 from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
@@ -32,11 +34,20 @@ MOVED_NS = 100_000
 """A hit more than this far (ns) from the deleted-frame run's is moved."""
 
 
-def events_of(config: DetectorConfig, samples: Any) -> Tuple[Detector, List[Any]]:
-    """Return a fresh detector fed ``samples`` one message at a time, and its events."""
+def events_of(config: DetectorConfig, samples: Any,
+              late: Optional[List[int]] = None) -> Tuple[Detector, List[Any]]:
+    """
+    Return a fresh detector fed ``samples`` one message at a time, and its events.
+
+    :param late: when given, each impact's latency is appended to it: how long (ns) after its
+        interval closed the message came whose ``add`` reported it (``finish``'s: the last).
+    """
     detector, events = Detector(config), []
     for stamp, role, values in samples.messages(config.bat_input):
-        events += detector.add(role, stamp, values)
+        found = detector.add(role, stamp, values)
+        if late is not None:
+            late += [stamp - event.interval_end_ns for event in of(found, Impact)]
+        events += found
     return detector, events + detector.finish()
 
 
@@ -48,8 +59,9 @@ def of(events: List[Any], kind: type) -> List[Any]:
 def run_cell(rate: float, noise_m: float, seeds: int) -> Dict[str, Any]:
     """Return one rate and noise level's counts and near-miss differences."""
     counts = dict.fromkeys(('misses', 'invented', 'hits', 'lost', 'moved', 'dropped',
-                            'clean', 'clean_dropped'), 0)
+                            'clean', 'clean_dropped', 'clean_hits', 'waited'), 0)
     gaps: List[float] = []
+    step_ns = 1e9 / rate
     for family in FAMILIES:
         for seed in range(seeds):
             for kind in ('miss_over', 'miss_under', 'barrel'):
@@ -61,9 +73,13 @@ def run_cell(rate: float, noise_m: float, seeds: int) -> Dict[str, Any]:
                 bat = ('pose', 'points')[seed % 2]
                 for parameters in ({}, OFFLINE_PARAMETERS):
                     config = DetectorConfig(**{**parameters, 'bat_input': bat})
-                    detector, events = events_of(config, samples)
+                    late: List[int] = []
+                    detector, events = events_of(config, samples, late)
                     counts['clean'] += 1
                     counts['clean_dropped'] += detector.stats.dropped.get('bat_glitch', 0)
+                    if not parameters:  # the node's look-ahead 0: reported as its interval closes
+                        counts['clean_hits'] += len(late)
+                        counts['waited'] += sum(wait > 0.5 * step_ns for wait in late)
                     for offset in OFFSETS:
                         j = middle + offset
                         _, deleted = events_of(config, samples.without_bat_frame(j))
@@ -109,7 +125,8 @@ def main() -> None:
                   f"{cell['invented']}; hits {cell['hits']}, lost {cell['lost']}, moved "
                   f"{cell['moved']}; bat_glitch drops {cell['dropped']}; near miss from the "
                   f"deleted frame's {spread}; without a glitch {cell['clean']} runs, "
-                  f"bat_glitch drops {cell['clean_dropped']}", flush=True)
+                  f"bat_glitch drops {cell['clean_dropped']}, the node's hits reported a bat "
+                  f"frame late {cell['waited']} of {cell['clean_hits']}", flush=True)
 
 
 if __name__ == '__main__':

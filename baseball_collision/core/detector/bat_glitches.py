@@ -20,16 +20,21 @@ of the knob's and the tip's (m):
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
 neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
-both distances are large for a swing's own frames), and not in a segment's first frames.
+both distances are large for a swing's own frames), and not in a segment's first frames; nor
+where a frame just before it that could not be judged so (``judgeable``) is the one off, which
+pulls this one's neighbours' spline (``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
 read it in their continuation and their spline), and the first glitch is dropped as
 ``bat_glitch`` and forgotten. A frame after the opening one (the closing one, the look-ahead's)
 may not have its next frame yet (look-ahead 0): where it clearly departed (``departed``), the
-interval is swept on the bat's path without it (``path_without``), unless both paths touch
-the ball (a hit: its contact comes before the brake, and it is solved as before), and the
-frame is judged once its next has come.
+interval is swept on the bat's path without it (``path_without``), and the frame is judged
+once its next has come. Where both paths touch the ball (a hit: its contact comes before the
+brake) it is solved on the path through the frame, unless their contacts are more than
+``sweep.CONTACT_APART`` apart: then the frame is judged first, the interval waiting for its
+next frame where that has not come (``Sweep._closing_glitch``: one bat frame, for a glitch or
+a bat that braked hard after a contact).
 """
 
 import math
@@ -71,6 +76,11 @@ REGULAR_STEP = 1.6
 PAIR_STEPS = 2.5
 """How many times the median step a judged frame's neighbours are apart at most (``regular``):
 two steps, jittered; a lost frame beside it makes three."""
+
+UNJUDGED_REACH = 2
+"""Frames before a judged one whose glitch, where it could not be judged itself (``judgeable``:
+beside lost frames, a segment's first), pulls the judged one's neighbours' spline off
+(``judged``): a glitch two frames before a genuine frame made it read as one."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -182,22 +192,42 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     scatter = [max(isolation(stream, i, max_gap, size, last))
                for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
                if i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)]
-    return len(scatter) == SCATTER_FRAMES and isolated > ISOLATION_RATIO * max(scatter)
+    if len(scatter) < SCATTER_FRAMES or isolated <= ISOLATION_RATIO * max(scatter):
+        return False
+    # a frame just before it that could not be judged (``judgeable``: beside lost frames, a
+    # segment's first) may be the one off, pulling this one's neighbours' spline: this one is
+    # no glitch unless it stays isolated without it
+    newest = len(stream.times) - 1 if last is None else last
+    return all(judgeable(stream, i, max_gap, newest) or isolated_without(
+        stream, i, max_gap, size, noise, newest, j - i) for i in range(j - UNJUDGED_REACH, j))
+
+
+def judgeable(stream: Stream, j: int, max_gap: float, last: Optional[int] = None) -> bool:
+    """
+    Return whether bat frame j can be judged (``judged``), its next frame at most sample ``last``.
+
+    Among regular steps (``regular``), with the ``SCATTER_FRAMES`` frames from three before it
+    each beside its neighbours in its segment (within ``max_gap`` s): not a segment's first
+    eight frames.
+    """
+    return regular(stream, j, last) and all(
+        i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)
+        for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1))
 
 
 def isolated_without(stream: Stream, j: int, max_gap: float, size: int, noise: float,
-                     last: int) -> bool:
+                     last: int, after: int = 1) -> bool:
     """
-    Return whether bat frame j + 1 is still isolated by more than the floor without frame j.
+    Return whether bat frame j + ``after`` is still isolated by more than the floor without j.
 
-    A frame beside a glitch reads as one too (the glitch pulls its neighbours' spline off,
+    A frame near a glitch reads as one too (the glitch pulls its neighbours' spline off,
     and where the bat braked after a contact it departed from its continuation as well): the
     glitch is the one that stays isolated without the other. Reads no sample past ``last``.
     """
     first = max(j - size, 0)
     without = excerpt(stream, first, last)
     without.remove(j - first)
-    return max(isolation(without, j - first, max_gap, size, last - 1 - first)) > \
+    return max(isolation(without, j + after - 1 - first, max_gap, size, last - 1 - first)) > \
         glitch_floor(noise)
 
 

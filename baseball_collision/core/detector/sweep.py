@@ -42,6 +42,11 @@ BAT_DEPARTURE_RATIO = 4.0
 """How many times farther than the frame before a hit's closing bat frame must be from the bat's
 continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 
+CONTACT_APART = 1e-4
+"""s: a hit's contacts on the bat's path through its newest frame, which departed, and on the
+path without it, further apart than this, and the frame is judged before the hit is solved
+(``Sweep._without_departed``)."""
+
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
 0.02 mm): about 5 chords a sub-step, only at impacts (``Sweep._refined``)."""
@@ -78,7 +83,8 @@ class Sweep:
         not judged (``uncertainty``'s re-solves, on copies whose first samples start no
         segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
-    :ivar held: the last interval visited waits for ball samples (``interval``).
+    :ivar held: the last interval visited waits for samples (``interval``): the ball's
+        (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
@@ -292,9 +298,10 @@ class Sweep:
             return
         if not judged and self.bat_glitches and self.episodes.armed is not False:
             without = self._bat_frames((ta, tb), located[1], paths)
-            if without is None:  # (a glitch forgotten: the interval is located again)
-                self.stats.intervals -= 1  # (counted again)
-                self._swept(ta, tb, events)
+            if without is None:  # (a glitch forgotten: located again; or it waits: ``held``)
+                self.stats.intervals -= 1  # (counted again, or when it is swept)
+                if not self.held:
+                    self._swept(ta, tb, events)
                 return
             if without is not paths:  # (its far tests again, on the bat without the frame)
                 self._solve(ta, tb, located, without, events, True)
@@ -323,7 +330,7 @@ class Sweep:
     def _bat_frames(self, interval: Tuple[float, float], bat_k: int,
                     paths: Paths) -> Optional[Paths]:
         """
-        Judge the bat frames the path over bat interval bat_k reads; None if one was forgotten.
+        Judge the bat frames the path over bat interval bat_k reads; None: one was forgotten.
 
         The frames of its window from the first up to the one before the newest its path may
         read (``_horizon``: with their next frame) are judged, the oldest first
@@ -336,7 +343,8 @@ class Sweep:
         and the frames after it judged again without it). Else ``paths`` without a frame after
         its opening one that departed (``_without_departed``: at look-ahead 0 its closing
         frame's next has not come yet), which is judged once its next frame has
-        (``bat_suspect``).
+        (``bat_suspect``); None where a hit hangs on that frame, which was then a glitch,
+        forgotten, or waits for its next frame (``held``: ``_closing_glitch``).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
@@ -355,10 +363,10 @@ class Sweep:
                                                                    noise, last)):
                 self._bat_glitch(j, last)
                 return None
-        paths, departed = self._without_departed(interval, bat_k, paths)
+        without, departed = self._without_departed(interval, bat_k, paths)
         if departed is not None:
             self.bat_suspect = departed
-        return paths
+        return without
 
     def _horizon(self, bat_k: int) -> int:
         """
@@ -371,7 +379,7 @@ class Sweep:
         return min(bat_k + 1 + self.ahead, len(self.bat.times) - 1)
 
     def _without_departed(self, interval: Tuple[float, float], bat_k: int,
-                          paths: Paths) -> Tuple[Paths, Optional[int]]:
+                          paths: Paths) -> Tuple[Optional[Paths], Optional[int]]:
         """
         Return the paths without a bat frame that departed after bat interval bat_k, its stamp.
 
@@ -379,14 +387,18 @@ class Sweep:
         turn: where one departed from its continuation (``bat_glitches.departed``: a glitch whose
         next frame may not have come yet, or the bat braking after a contact), the bat's path
         without it and the frames after it (``bat_glitches.path_without``), where a bat can move on
-        it (``_plausible``), and the frame's stamp (ns). Not where both paths touch over the union
-        interval (s): a hit, whose contact comes before the brake, solved as it was (``_touches``).
-        Else ``paths`` and None.
+        it (``_plausible``), and the frame's stamp (ns). Where both paths touch over the union
+        interval (s), a hit, whose contact comes before a brake: ``paths`` and None, unless the
+        frame is the newest the path may read (``_horizon``: the frames before it were judged)
+        and the two contacts are more than ``CONTACT_APART`` apart, where the frame is judged
+        first (``_closing_glitch``): None and None where it was a glitch, forgotten (the interval
+        is to be located again) or the interval waits for its next frame (``held``). Else
+        ``paths`` and None.
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
-        noise = stream_noise(bat, config)
-        for j in range(bat_k + 1, self._horizon(bat_k) + 1):
+        noise, horizon = stream_noise(bat, config), self._horizon(bat_k)
+        for j in range(bat_k + 1, horizon + 1):
             if not bat.continuous(j - 1, max_gap):
                 break
             if bat_glitches.departed(bat, j, max_gap, size, noise):
@@ -394,13 +406,45 @@ class Sweep:
                 if path is None or not self._plausible(path):
                     break
                 without = paths[0], path
-                if self._touches(interval, paths) and self._touches(interval, without):
-                    break
-                return without, bat.stamps[j]
+                through = self._contact(interval, paths)
+                if through is None:
+                    return without, bat.stamps[j]
+                contact = self._contact(interval, without)
+                if contact is None:
+                    return without, bat.stamps[j]
+                if j == horizon and abs(through - contact) > CONTACT_APART and \
+                        self._closing_glitch(j):
+                    return None, None
+                break
         return paths, None
 
-    def _touches(self, interval: Tuple[float, float], paths: Paths) -> bool:
-        """Return whether ``paths`` touch in the sub-steps a sweep of the interval (s) cuts."""
+    def _closing_glitch(self, j: int) -> bool:
+        """
+        Judge bat frame j, which a hit's contact hangs on, from its next frame; True: wait.
+
+        True where it was a glitch (``bat_glitches.judged`` up to frame j + 1: dropped and
+        forgotten, ``_bat_glitch``) or where its next frame has not come yet and the recording
+        goes on (``held``: the interval waits for it, one bat frame). False where it is no
+        glitch, or no frame comes after it (``final``, or one past ``max_gap``): the hit stands
+        on the path through it.
+        """
+        bat, config = self.bat, self.config
+        if j + 1 >= len(bat.times):
+            self.held = not self.final
+            return self.held
+        if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
+                               stream_noise(bat, config), j + 1):
+            self._bat_glitch(j, j + 1)
+            return True
+        return False
+
+    def _contact(self, interval: Tuple[float, float], paths: Paths) -> Optional[float]:
+        """
+        Return when (s) ``paths`` first touch in the sub-steps a sweep of the interval cuts.
+
+        The first sub-step whose chords touch (``toi.profile_contact``), at its contact; None
+        where none does.
+        """
         ta, tb = interval
         config = self.config
         n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
@@ -408,11 +452,12 @@ class Sweep:
         start = self._state_at(ta, paths)
         for j in range(1, n + 1):
             end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
-            if profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
-                               config.ball_radius, config.profile, end.t - start.t) is not None:
-                return True
+            hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
+                                  config.ball_radius, config.profile, end.t - start.t)
+            if hit is not None:
+                return start.t + hit.time
             start = end
-        return False
+        return None
 
     def _plausible(self, path: BatPath) -> bool:
         """
