@@ -19,8 +19,8 @@ from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_path, glitch_before_flight,
-    glitch_path, judging_noise, leaves_flight)
+    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, flight_path,
+    glitch_before_flight, glitch_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -49,6 +49,14 @@ IMPACT_CHORD_FACTOR = 0.04
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
+BACK_GAIN = 5.0
+"""The noise gain of a parabola through three samples continued one step back (Lagrange's
+weights 3, -3 and 1 at even steps: 4.4; a little more at uneven ones): ``Sweep._touch_slack``."""
+
+BAT_PATH_GAIN = 2.0
+"""The most a bat's path through noisy frames strays, in their noise (a spline's end pieces,
+which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._touch_slack``."""
+
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
 ball that really left its flight near the bat without touching it (off the batter's hands) is
@@ -73,8 +81,9 @@ class Sweep:
     :ivar quintic_rates: True: ``kinematics.fit_velocities``' rule (the quintic's bat rates from
         exact samples at a high rate); False: the least-squares fits alone (``uncertainty``'s
         re-solve by the model of lower order, an estimate apart from the quintic).
-    :ivar early_glitches: True: a segment's second and third ball samples are judged by the
-        flight after them, an interval near the bat waiting for it (``_early_glitch``); False:
+    :ivar early_glitches: True: a segment's first three ball samples are judged by the
+        flight after them (the first by the bat too), an interval near the bat waiting for it
+        (``_early_glitch``); False:
         not judged (``uncertainty``'s re-solves, on copies whose first samples start no
         segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
@@ -124,7 +133,7 @@ class Sweep:
         Sweep the union interval [ta, tb] (s), appending the events it makes; False: wait.
 
         False where the interval may come near the bat and the ball's path over it reaches
-        one of its segment's second and third samples, which only the samples after it judge
+        one of its segment's first three samples, which only the samples after it judge
         (``_early_glitch``): nothing of it is swept, and the scheduler's walk stops before it,
         to visit it again once more ball samples are in (or the recording ended: ``final``).
 
@@ -153,9 +162,12 @@ class Sweep:
         ball's path over interval k can reach (its opening and closing samples, and those of
         the model's look-ahead), latest first, is judged by the free flight after it
         (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
-        after it, or can take no more (a sample after the segment, or ``final``). Until then
-        the interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and
-        forgotten (``_glitch``), and the interval swept again without it.
+        after it, or can take no more (a sample after the segment, or ``final``); then the
+        segment's first sample, where it opens interval k, by the flight after it and the bat
+        (``_first_glitch``: the bat's samples over the interval in too). Until then the
+        interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and forgotten
+        (``_glitch``), and the interval swept again without it: the samples after it are then
+        judged against the flight of the good ones (its next sample is the segment's first).
         """
         ball, config = self.ball, self.config
         gap, times, n = config.max_gap, ball.times, len(ball.times)
@@ -163,13 +175,23 @@ class Sweep:
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
         for j in range(top, k - 1, -1):
-            if not _young(ball, j, gap):
+            first = j == k and _starts(ball, k, gap)
+            if not (first or _young(ball, j, gap)):
                 continue
             last = j
             while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
                 last += 1
             if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
                 self.held = True  # (its segment may still grow)
+            elif first:
+                glitch = self._first_glitch(k)
+                if glitch is None:
+                    self.held = True  # (the bat over its interval still to come)
+                elif glitch:
+                    self._glitch(k)
+                    self._forget_glitches()
+                else:
+                    continue
             elif glitch_before_flight(ball, j, judging_noise(config), gap,
                                       stream_noise(ball, config)):
                 self._glitch(j)
@@ -181,6 +203,86 @@ class Sweep:
                 self._swept(ta, tb, events)
             return True
         return False
+
+    def _first_glitch(self, k: int) -> Optional[bool]:
+        """
+        Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
+
+        A glitch: it left the free flight of the samples after it continued back to it
+        (``departure.flight_before``), and that flight does not touch the bat over interval k
+        (the ball grown by ``_touch_slack``): a hit between samples k and k + 1 leaves the
+        sample before it off the flight after it too, but that flight, continued back, meets
+        the bat at the contact. None until the bat's samples that its paths over the interval
+        read are in (``_bat_over``).
+        """
+        ball, config = self.ball, self.config
+        flight = flight_before(ball, k, judging_noise(config), config.max_gap)
+        if flight is None:
+            return False
+        bat_paths = self._bat_over(flight.t0, flight.t1)
+        if bat_paths is None:
+            return None
+        radius = config.ball_radius + self._touch_slack()
+        for path in bat_paths:
+            lo, hi = max(flight.t0, path.t0), min(flight.t1, path.t1)
+            n = substeps_for(flight.deviation(lo, hi) + path.deviation(lo, hi),
+                             config.max_chord_error)
+            start = self._state_at(lo, (flight, path))
+            for i in range(1, n + 1):
+                end = self._state_at(hi if i == n else lo + (hi - lo) * i / n, (flight, path))
+                if profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob,
+                                   end.knob, radius, config.profile, end.t - start.t) is not None:
+                    return False
+                start = end
+        return True
+
+    def _touch_slack(self) -> float:
+        """
+        Return how far (m) the flight continued back may pass the bat and still touch it.
+
+        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
+        on the root sum of squares of two errors: the flight continued a step back from its
+        three samples (``BACK_GAIN`` times the ball's noise) and the bat's path through noisy
+        frames (``BAT_PATH_GAIN`` times the bat's).
+        """
+        config = self.config
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
+        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
+            BACK_GAIN * ball_noise, BAT_PATH_GAIN * bat_noise)
+
+    def _bat_over(self, t0: float, t1: float) -> Optional[List[BatPath]]:
+        """
+        Return the bat's paths over its sample intervals within [t0, t1] (s), or None: wait.
+
+        Each as the sweep builds it (``_bat_path``), none over a gap. None while a sample
+        those paths read has not come (up to ``ahead`` past the last interval's closing
+        sample, or its segment's end), unless the recording ended (``final``): the node and
+        ``analyze``'s chunks then read the same samples.
+        """
+        bat, gap = self.bat, self.config.max_gap
+        times, n = bat.times, len(bat.times)
+        b = max(bat.interval(t0), 0)
+        settled = times[-1] >= t1 and _settled(bat, bat.interval(t1) + 1, self.ahead, gap)
+        if not (settled or self.final):
+            return None
+        paths = []
+        while b + 1 < n and times[b] < t1:
+            if times[b + 1] > t0 and bat.continuous(b, gap):
+                paths.append(self._bat_path(b))
+            b += 1
+        return paths
+
+    def _bat_path(self, b: int) -> BatPath:
+        """Return the bat's path over its sample interval b, as ``paths`` builds it (not kept)."""
+        bat, config = self.bat, self.config
+        if bat.path_key == (bat.stamps[b], bat.stamps[b + 1]):
+            return bat.path
+        if self.model == 'c2':
+            window = c2_window(bat, b, config.max_gap, config.look_ahead, config.spline_window)
+            return c2_bat_path(bat, b, window, stream_noise(bat, config), window.stop == b + 2)
+        before, after = _neighbours(bat, b, config.max_gap)
+        return BatPath.build(self.model, bat.times[b], bat.times[b + 1], bat.values[b],
+                             bat.values[b + 1], before, after, self.offsets)
 
     def _judged_glitch(self, k: int, spread: float) -> bool:
         """
@@ -873,6 +975,17 @@ def _young(stream: Stream, k: int, max_gap: float) -> bool:
         return False
     return _starts(stream, k - 1, max_gap) or (
         k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
+
+
+def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
+    """Return whether sample k + ``ahead`` has come, or sample k's segment ended before it."""
+    n = len(stream.times)
+    for j in range(k, k + ahead):
+        if j + 1 >= n:
+            return False
+        if not stream.continuous(j, max_gap):
+            return True
+    return k + ahead < n
 
 
 def _starts(stream: Stream, k: int, max_gap: float) -> bool:
