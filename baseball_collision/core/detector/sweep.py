@@ -209,10 +209,12 @@ class Sweep:
         Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
 
         A glitch: it left the free flight of the samples after it continued back to it
-        (``departure.flight_before``), and that flight does not touch the bat over interval k
-        (the ball grown by ``_touch_slack``): a hit between samples k and k + 1 leaves the
-        sample before it off the flight after it too, but that flight, continued back, meets
-        the bat at the contact. None until the bat's samples that its paths over the interval
+        (``departure.flight_before``), and either that flight does not touch the bat over
+        interval k (the ball grown by ``_touch_slack``: a hit between samples k and k + 1
+        leaves the sample before it off the flight after it too, but that flight, continued
+        back, meets the bat at the contact; a glitch on a miss does not), or the sample's
+        centre is inside the bat (by more than ``_inside_slack``: no ball is, a hit's
+        squashed one neither). None until the bat's samples that its paths over the interval
         read are in (``_bat_over``).
         """
         ball, config = self.ball, self.config
@@ -222,6 +224,11 @@ class Sweep:
         bat_paths = self._bat_over(flight.t0, flight.t1)
         if bat_paths is None:
             return None
+        if bat_paths and bat_paths[0].t0 <= flight.t0:
+            knob, tip = bat_paths[0].at(flight.t0)
+            if profile_gap(ball.values[k], knob, tip, 0.0, config.profile)[0] < \
+                    -self._inside_slack():
+                return True
         radius = config.ball_radius + self._touch_slack()
         for path in bat_paths:
             lo, hi = max(flight.t0, path.t0), min(flight.t1, path.t1)
@@ -235,6 +242,19 @@ class Sweep:
                     return False
                 start = end
         return True
+
+    def _inside_slack(self) -> float:
+        """
+        Return how far (m) inside the bat a ball sample's centre may seem and still be outside.
+
+        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
+        on the root sum of squares of the sample's noise and the bat's path's error through
+        noisy frames (``BAT_PATH_GAIN`` times its noise).
+        """
+        config = self.config
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
+        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
+            ball_noise, BAT_PATH_GAIN * bat_noise)
 
     def _touch_slack(self) -> float:
         """
