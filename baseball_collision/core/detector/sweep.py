@@ -57,6 +57,10 @@ BAT_PATH_GAIN = 2.0
 """The most a bat's path through noisy frames strays, in their noise (a spline's end pieces,
 which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._touch_slack``."""
 
+SQUASH = 0.5
+"""The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
+(a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
+
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
 ball that really left its flight near the bat without touching it (off the batter's hands) is
@@ -174,8 +178,15 @@ class Sweep:
         top = min(k + 1 + self.ahead, n - 1)
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
+        starts = _starts(ball, k, gap)
+        if starts and self._inside_bat(k):
+            self._glitch(k)
+            self._forget_glitches()
+            self.stats.intervals -= 1  # (counted when it is swept)
+            self._swept(ta, tb, events)
+            return True
         for j in range(top, k - 1, -1):
-            first = j == k and _starts(ball, k, gap)
+            first = j == k and starts
             if not (first or _young(ball, j, gap)):
                 continue
             last = j
@@ -209,13 +220,11 @@ class Sweep:
         Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
 
         A glitch: it left the free flight of the samples after it continued back to it
-        (``departure.flight_before``), and either that flight does not touch the bat over
-        interval k (the ball grown by ``_touch_slack``: a hit between samples k and k + 1
-        leaves the sample before it off the flight after it too, but that flight, continued
-        back, meets the bat at the contact; a glitch on a miss does not), or the sample's
-        centre is inside the bat (by more than ``_inside_slack``: no ball is, a hit's
-        squashed one neither). None until the bat's samples that its paths over the interval
-        read are in (``_bat_over``).
+        (``departure.flight_before``), and that flight does not touch the bat over interval k
+        (the ball grown by ``_touch_slack``): a hit between samples k and k + 1 leaves the
+        sample before it off the flight after it too, but that flight, continued back, meets
+        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
+        its paths over the interval read are in (``_bat_over``).
         """
         ball, config = self.ball, self.config
         flight = flight_before(ball, k, judging_noise(config), config.max_gap)
@@ -224,11 +233,6 @@ class Sweep:
         bat_paths = self._bat_over(flight.t0, flight.t1)
         if bat_paths is None:
             return None
-        if bat_paths and bat_paths[0].t0 <= flight.t0:
-            knob, tip = bat_paths[0].at(flight.t0)
-            if profile_gap(ball.values[k], knob, tip, 0.0, config.profile)[0] < \
-                    -self._inside_slack():
-                return True
         radius = config.ball_radius + self._touch_slack()
         for path in bat_paths:
             lo, hi = max(flight.t0, path.t0), min(flight.t1, path.t1)
@@ -243,9 +247,31 @@ class Sweep:
                 start = end
         return True
 
+    def _inside_bat(self, k: int) -> bool:
+        """
+        Return whether the ball's sample k overlaps the bat deeper than a ball squashes.
+
+        Deeper than ``SQUASH`` of the ball's radius, and ``_inside_slack`` (a frame on the
+        bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
+        hit). For a segment's first sample, judged before the samples after it: as the sample
+        before the second, it would make a hit's frame before the contact look off the hit's
+        line (``departure.glitch_before_flight``), and it leaves no free flight after it to
+        judge it by where a hit follows within two frames. On the bat's path over its sample
+        interval that holds t_k, as the sweep builds it (its frames are in: an interval at or
+        after it is swept); False where the bat has none there.
+        """
+        ball, bat, config = self.ball, self.bat, self.config
+        t = ball.times[k]
+        b = bat.interval(t)
+        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, config.max_gap):
+            return False
+        knob, tip = self._bat_path(b).at(t)
+        depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
+        return depth > SQUASH * config.ball_radius + self._inside_slack()
+
     def _inside_slack(self) -> float:
         """
-        Return how far (m) inside the bat a ball sample's centre may seem and still be outside.
+        Return how much deeper (m) than it is a ball sample may seem to overlap the bat.
 
         The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
         on the root sum of squares of the sample's noise and the bat's path's error through

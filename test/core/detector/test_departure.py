@@ -1063,13 +1063,14 @@ def test_a_hit_after_a_first_sample_on_the_bat_is_found(kind: str) -> None:
     A hit 2 or 3 ball frames after a tracking gap, the gap's first sample on the bat's axis.
 
     The samples after it were judged against a flight through it (the hit's frames dropped
-    as glitches, the hit lost: 34 of 144 cases). It is inside the bat and off the flight
-    after it (``Sweep._first_glitch``): dropped as ``ball_glitch``, and the impact is the one
-    found without it, within a microsecond (the node's speed check may have dropped the frame
-    after the glitch, too far from it, before the glitch was judged: then the hit is found
-    from one frame fewer).
+    as glitches, the hit lost or moved). It overlaps the bat deeper than a ball squashes
+    (``Sweep._inside_bat``): dropped as ``ball_glitch`` before the samples after it are
+    judged, and the impacts are those without it, within a microsecond (the node's speed
+    check may have dropped the frame after the glitch, too far from it, before the glitch
+    was judged: then the hit is found from one frame fewer).
     """
     configs = DetectorConfig(bat_input='pose', tracker_noise=0.0), DetectorConfig(bat_input='pose')
+    found_any = False
     for seed, rate, config in itertools.product(range(3), (RATE, 360.0), configs):
         rng = np.random.default_rng(seed)
         scenario = make_scenario(kind, rng, lead_s=0.4, trail_s=0.1)
@@ -1080,12 +1081,14 @@ def test_a_hit_after_a_first_sample_on_the_bat_is_found(kind: str) -> None:
             lost = ball_lost_before(samples, after - back)
             k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[after - back]))
             events, late = detect_late_drops(config, on_bat_axis(lost, k))
-            assert [(drop.reason, drop.stamp_ns) for drop in late] == [
-                ('ball_glitch', int(lost.ball_stamps_ns[k]))]
+            expected = detect_late_drops(config, _without_frame(lost, k))[0]
+            assert (late[0].reason, late[0].stamp_ns) == ('ball_glitch', lost.ball_stamps_ns[k])
             found = [event.stamp_ns for event in events if isinstance(event, Impact)]
-            without = [event.stamp_ns for event in detect_late_drops(
-                config, _without_frame(lost, k))[0] if isinstance(event, Impact)]
-            assert len(found) == len(without) == 1 and abs(found[0] - without[0]) < 1000
+            without = [event.stamp_ns for event in expected if isinstance(event, Impact)]
+            assert len(found) == len(without) and all(
+                abs(a - b) < 1000 for a, b in zip(found, without))
+            found_any = found_any or found != []
+    assert found_any
 
 
 @pytest.mark.parametrize('noise_m', [0.0, 1e-3])
