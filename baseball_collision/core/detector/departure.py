@@ -253,6 +253,24 @@ def flight_before(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
                      tuple(-v for v in closing), tuple(-v for v in opening))
 
 
+def bent_after(stream: Stream, k: int, noise: float, max_gap: float) -> bool:
+    """
+    Return whether sample k + 1 or k + 2 left the free flight of the samples after it.
+
+    A hit (or a bounce) after sample k + 1: no free flight after sample k to judge it by
+    (``flight_before`` is then None whether or not sample k left it). Judged as
+    ``flight_before`` judges, over the samples up to k + ``FLIGHT_AFTER`` in k's segment.
+
+    :param noise: the noise told (m; ``judging_noise``).
+    """
+    if k + 3 >= len(stream.times) or not stream.continuous(k, max_gap):
+        return False
+    backwards = _backwards(stream, k, k + FLIGHT_AFTER, max_gap)
+    m = len(backwards.times) - 1  # (sample k)
+    return any(leaves_flight(backwards, j, noise, max_gap) is not None for j in (m - 2, m - 3)
+               if j >= 2)
+
+
 def _backwards(stream: Stream, k: int, stop: int, max_gap: float) -> Stream:
     """
     Return samples k .. ``stop`` of k + 1's segment, the latest first, with time negated.

@@ -19,8 +19,8 @@ from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, flight_path,
-    glitch_before_flight, glitch_path, judging_noise, leaves_flight)
+    bent_after, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
+    flight_path, glitch_before_flight, glitch_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -179,12 +179,20 @@ class Sweep:
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
         starts = _starts(ball, k, gap)
-        if starts and self._inside_bat(k):
-            self._glitch(k)
-            self._forget_glitches()
-            self.stats.intervals -= 1  # (counted when it is swept)
-            self._swept(ta, tb, events)
-            return True
+        if starts:  # (its segment's first sample: overlapping the bat, judged first)
+            last = k
+            while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
+                last += 1
+            if last < k + FLIGHT_AFTER and last == n - 1 and not self.final:
+                self.held = True
+                self.stats.intervals -= 1  # (counted when it is swept)
+                return True
+            if self._inside_bat(k):
+                self._glitch(k)
+                self._forget_glitches()
+                self.stats.intervals -= 1
+                self._swept(ta, tb, events)
+                return True
         for j in range(top, k - 1, -1):
             first = j == k and starts
             if not (first or _young(ball, j, gap)):
@@ -253,21 +261,27 @@ class Sweep:
 
         Deeper than ``SQUASH`` of the ball's radius, and ``_inside_slack`` (a frame on the
         bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
-        hit). For a segment's first sample, judged before the samples after it: as the sample
-        before the second, it would make a hit's frame before the contact look off the hit's
-        line (``departure.glitch_before_flight``), and it leaves no free flight after it to
-        judge it by where a hit follows within two frames. On the bat's path over its sample
-        interval that holds t_k, as the sweep builds it (its frames are in: an interval at or
-        after it is swept); False where the bat has none there.
+        hit), and not on the free flight of the samples after it (``departure.flight_before``:
+        off it, or ``bent_after``: no free flight there to judge by; a simulated ball that
+        flies on through the bat, or a test's ball placed on it, is on it). For a segment's
+        first sample, judged before the samples after it: as the sample before the second, it
+        would make a hit's frame before the contact look off the hit's line
+        (``departure.glitch_before_flight``), and it leaves no free flight after it to judge it
+        by where a hit follows within two frames. On the bat's path over its sample interval
+        that holds t_k, as the sweep builds it (its frames are in: an interval at or after it
+        is swept); False where the bat has none there.
         """
         ball, bat, config = self.ball, self.bat, self.config
-        t = ball.times[k]
+        t, gap = ball.times[k], config.max_gap
         b = bat.interval(t)
-        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, config.max_gap):
+        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, gap):
             return False
         knob, tip = self._bat_path(b).at(t)
         depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
-        return depth > SQUASH * config.ball_radius + self._inside_slack()
+        if depth <= SQUASH * config.ball_radius + self._inside_slack():
+            return False
+        noise = judging_noise(config)
+        return flight_before(ball, k, noise, gap) is not None or bent_after(ball, k, noise, gap)
 
     def _inside_slack(self) -> float:
         """
