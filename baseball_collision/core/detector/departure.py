@@ -253,22 +253,21 @@ def flight_before(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
                      tuple(-v for v in closing), tuple(-v for v in opening))
 
 
-def bent_after(stream: Stream, k: int, noise: float, max_gap: float) -> bool:
+def back_miss(stream: Stream, k: int, max_gap: float) -> Optional[float]:
     """
-    Return whether sample k + 1 or k + 2 left the free flight of the samples after it.
+    Return how far (m) sample k is from the parabola through samples k + 1 .. k + 3 at t_k.
 
-    A hit (or a bounce) after sample k + 1: no free flight after sample k to judge it by
-    (``flight_before`` is then None whether or not sample k left it). Judged as
-    ``flight_before`` judges, over the samples up to k + ``FLIGHT_AFTER`` in k's segment.
-
-    :param noise: the noise told (m; ``judging_noise``).
+    The flight after it continued back to it (Lagrange's weights, exact on a parabola), with
+    no test of whether that is a free flight; None where fewer than three samples follow k
+    in its segment.
     """
-    if k + 3 >= len(stream.times) or not stream.continuous(k, max_gap):
-        return False
-    backwards = _backwards(stream, k, k + FLIGHT_AFTER, max_gap)
-    m = len(backwards.times) - 1  # (sample k)
-    return any(leaves_flight(backwards, j, noise, max_gap) is not None for j in (m - 2, m - 3)
-               if j >= 2)
+    if k + 3 >= len(stream.times) or not all(stream.continuous(j, max_gap)
+                                             for j in range(k, k + 3)):
+        return None
+    times = stream.times
+    weights = _weights(times[k + 1:k + 4], times[k])
+    at = weights @ np.array(stream.values[k + 1:k + 4], dtype=float)
+    return math.dist(stream.values[k], at)
 
 
 def _backwards(stream: Stream, k: int, stop: int, max_gap: float) -> Stream:

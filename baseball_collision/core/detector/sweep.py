@@ -19,7 +19,7 @@ from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    bent_after, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
+    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
     flight_path, glitch_before_flight, glitch_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
@@ -261,9 +261,11 @@ class Sweep:
 
         Deeper than ``SQUASH`` of the ball's radius, and ``_inside_slack`` (a frame on the
         bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
-        hit), and not on the free flight of the samples after it (``departure.flight_before``:
-        off it, or ``bent_after``: no free flight there to judge by; a simulated ball that
-        flies on through the bat, or a test's ball placed on it, is on it). For a segment's
+        hit), and off the parabola of the three samples after it continued back to it
+        (``departure.back_miss``: by more than ``DEPARTURE_FLOOR`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound at ``BACK_GAIN``; free flight or not, a hit may follow
+        within those samples; a simulated ball that flies on through the bat, or a test's ball
+        placed on it, is on it). For a segment's
         first sample, judged before the samples after it: as the sample before the second, it
         would make a hit's frame before the contact look off the hit's line
         (``departure.glitch_before_flight``), and it leaves no free flight after it to judge it
@@ -280,8 +282,9 @@ class Sweep:
         depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
         if depth <= SQUASH * config.ball_radius + self._inside_slack():
             return False
-        noise = judging_noise(config)
-        return flight_before(ball, k, noise, gap) is not None or bent_after(ball, k, noise, gap)
+        miss = back_miss(ball, k, gap)
+        return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
+            DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
 
     def _inside_slack(self) -> float:
         """

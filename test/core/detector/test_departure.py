@@ -10,7 +10,7 @@ from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
 from baseball_collision.core.detector.departure import (
-    bent_after, DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS,
+    back_miss, DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS,
     FLIGHT_AFTER, flight_before, flight_path, glitch_before_flight, judging_noise,
     leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.events import StreamGap
@@ -941,9 +941,9 @@ def test_a_segments_first_sample_is_judged_against_the_flight_after_it_continued
     stamp (the pitch's own parabola, to rounding) to the next sample; the flight's own first
     sample is on it: None. A hit between the first two samples leaves the first off the
     flight after the contact too (the ``Sweep`` tells the two apart by the bat); a hit later
-    leaves no free flight after it to judge by: None, and ``bent_after`` says so where the
-    hit is after sample 1 or 2. Not judged with fewer than three samples after it in its
-    segment (four with no noise told: one interval's scatter).
+    leaves no free flight after it to judge by: None. Not judged with fewer than three
+    samples after it in its segment (four with no noise told: one interval's scatter).
+    ``back_miss``: the first sample's distance from the parabola of the three after it.
     """
     times, flight = _young_flight()
     glitched = list(flight)
@@ -961,17 +961,15 @@ def test_a_segments_first_sample_is_judged_against_the_flight_after_it_continued
     assert flight_before(_stream(times[:5], glitched[:5]), 0, 0.0, 0.05) is not None
     for k in (1, 3):
         assert flight_before(_stream(times, glitched, breaks=(k,)), 0, 1e-3, 0.05) is None
-    assert not bent_after(_stream(times, glitched), 0, 0.0, 0.05)
-    assert not bent_after(_stream(times, flight), 0, 0.0, 0.05)
+    assert abs(back_miss(_stream(times, glitched), 0, 0.05) - 0.1) < 1e-12
+    assert back_miss(_stream(times, flight), 0, 0.05) < 1e-12
+    assert back_miss(_stream(times, glitched, breaks=(3,)), 0, 0.05) is None
     times, hit = _young_flight(0)
     path = flight_before(_stream(times, hit), 0, 0.0, 0.05)
     assert path is not None and math.dist(path.at(times[0]), hit[0]) > 0.1
-    assert not bent_after(_stream(times, hit), 0, 0.0, 0.05)
     for hit_after in (1, 2, 3):
         times, hit = _young_flight(hit_after)
         assert flight_before(_stream(times, hit), 0, 0.0, 0.05) is None
-        # (a hit after sample 1 or 2: no free flight after sample 0 to judge it by)
-        assert bent_after(_stream(times, hit), 0, 0.0, 0.05) == (hit_after < 3)
 
 
 _GAP_CONFIGS = {
