@@ -161,10 +161,13 @@ class Sweep:
         """
         Judge the ball's young samples interval k reaches; True: the interval is done with.
 
-        Young: a segment's second or third sample (after a tracking gap), which
-        ``glitch_path`` cannot judge (fewer than three samples before it). Each that the
-        ball's path over interval k can reach (its opening and closing samples, and those of
-        the model's look-ahead), latest first, is judged by the free flight after it
+        Young: a segment's first, second or third sample (after a tracking gap), which
+        ``glitch_path`` cannot judge (fewer than three samples before it). A segment's first
+        sample, where it opens interval k, is judged first by its overlap with the bat
+        (``_inside_bat``, once its segment holds ``FLIGHT_AFTER`` samples after it or can take
+        no more). Each young sample the ball's path over interval k can reach (its opening
+        and closing samples, and those of the model's look-ahead), latest first, is judged by
+        the free flight after it
         (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
         after it, or can take no more (a sample after the segment, or ``final``); then the
         segment's first sample, where it opens interval k, by the flight after it and the bat
@@ -179,7 +182,7 @@ class Sweep:
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
         starts = _starts(ball, k, gap)
-        if starts:  # (its segment's first sample: overlapping the bat, judged first)
+        if starts:  # (its segment's first sample: its overlap with the bat judged first)
             last = k
             while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
                 last += 1
