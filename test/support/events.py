@@ -57,13 +57,19 @@ def ball_lost_before(samples: Any, first: int, seconds: float = 0.2) -> Any:
                    ball_positions=samples.ball_positions[kept].copy())
 
 
-def on_bat_axis(samples: Any, k: int) -> Any:
-    """Return ``samples`` with ball sample k on the bat's axis (the nearest bat sample's)."""
+def on_bat_axis(samples: Any, k: int, distance: float = 0.0) -> Any:
+    """
+    Return ``samples`` with ball sample k on the bat's axis (the nearest bat sample's).
+
+    :param distance: or that far (m) from it, toward where the sample was.
+    """
     j = int(np.argmin(np.abs(samples.bat_stamps_ns - samples.ball_stamps_ns[k])))
     knob, axis = samples.knobs[j], samples.tips[j] - samples.knobs[j]
     moved = replace(samples, ball_positions=samples.ball_positions.copy())
     along = np.clip((moved.ball_positions[k] - knob) @ axis / (axis @ axis), 0.0, 1.0)
-    moved.ball_positions[k] = knob + along * axis
+    nearest = knob + along * axis
+    offset = moved.ball_positions[k] - nearest
+    moved.ball_positions[k] = nearest + distance * offset / np.linalg.norm(offset)
     return moved
 
 

@@ -218,14 +218,74 @@ def glitch_before_flight(stream: Stream, k: int, noise: float, max_gap: float,
     """
     if k < 1 or not stream.continuous(k - 1, max_gap):
         return False
-    last = k
-    while last < min(k + FLIGHT_AFTER, len(stream.times) - 1) and \
+    backwards = _backwards(stream, k - 1, k + FLIGHT_AFTER, max_gap)
+    return glitch_path(backwards, len(backwards.times) - 2, noise, max_gap, spread) is not None
+
+
+def flight_before(stream: Stream, k: int, noise: float, max_gap: float) -> Optional[PointPath]:
+    """
+    Return the flight after sample k continued back over interval k, when k departed from it.
+
+    For a segment's first sample (after a tracking gap, or a stream's first), which has no
+    sample before it to tell a glitch from a hit (``glitch_path``, ``glitch_before_flight``):
+    sample k left the free flight of samples k + 1 .. k + 3 continued back to it
+    (``leaves_flight`` with time run backwards, outside the scatter of the intervals after
+    those, of the samples up to k + ``FLIGHT_AFTER`` in its segment). A hit between samples k
+    and k + 1 does that too: the flight after the contact, continued back, then touches the
+    bat over the interval, which the caller tests (``Sweep``); a glitch on a miss does not.
+    The path runs from that flight at t_k to sample k + 1 (the parabola through k + 1 .. k + 3,
+    exact on it). None where fewer than three samples follow k in its segment, or sample k + 1
+    or k + 2 departed from the flight after it (a hit later: no free flight to judge by).
+
+    :param noise: the noise told (m; ``judging_noise``).
+    """
+    if k + 3 >= len(stream.times) or not stream.continuous(k, max_gap):
+        return None
+    backwards = _backwards(stream, k, k + FLIGHT_AFTER, max_gap)
+    m = len(backwards.times) - 1  # (sample k)
+    if m < 3:
+        return None
+    departed = leaves_flight(backwards, m - 1, noise, max_gap)
+    if departed is None:
+        return None
+    opening, closing = _slopes(backwards, m - 1, departed)  # (at t_k+1 and t_k, time negated)
+    return PointPath(stream.times[k], stream.times[k + 1], departed[3], stream.values[k + 1],
+                     tuple(-v for v in closing), tuple(-v for v in opening))
+
+
+def back_miss(stream: Stream, k: int, max_gap: float) -> Optional[float]:
+    """
+    Return how far (m) sample k is from the parabola through samples k + 1 .. k + 3 at t_k.
+
+    The flight after it continued back to it (Lagrange's weights, exact on a parabola), with
+    no test of whether that is a free flight; None where fewer than three samples follow k
+    in its segment.
+    """
+    if k + 3 >= len(stream.times) or not all(stream.continuous(j, max_gap)
+                                             for j in range(k, k + 3)):
+        return None
+    times = stream.times
+    weights = _weights(times[k + 1:k + 4], times[k])
+    at = weights @ np.array(stream.values[k + 1:k + 4], dtype=float)
+    return math.dist(stream.values[k], at)
+
+
+def _backwards(stream: Stream, k: int, stop: int, max_gap: float) -> Stream:
+    """
+    Return samples k .. ``stop`` of k + 1's segment, the latest first, with time negated.
+
+    Those up to the segment's end (or the stream's newest) where that comes first, stamps
+    negated too: a stream whose parabolas and departures (``leaves_flight``) are the flight's
+    with time run backwards.
+    """
+    last = k + 1
+    while last < min(stop, len(stream.times) - 1) and \
             stream.continuous(last, max_gap):
         last += 1
-    backwards = Stream(stream.name)  # samples last .. k - 1, at the times negated
-    for j in range(last, k - 2, -1):
+    backwards = Stream(stream.name)
+    for j in range(last, k - 1, -1):
         backwards.append(-stream.times[j], -stream.stamps[j], stream.values[j], False)
-    return glitch_path(backwards, last - k, noise, max_gap, spread) is not None
+    return backwards
 
 
 HIT_BEND = 200.0

@@ -19,8 +19,8 @@ from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_path, glitch_before_flight,
-    glitch_path, judging_noise, leaves_flight)
+    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
+    flight_path, glitch_before_flight, glitch_path, judging_noise, leaves_flight)
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
 from .fitting import (
@@ -54,6 +54,18 @@ IMPACT_CHORD_FACTOR = 0.04
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
+BACK_GAIN = 5.0
+"""The noise gain of a parabola through three samples continued one step back (Lagrange's
+weights 3, -3 and 1 at even steps: 4.4; a little more at uneven ones): ``Sweep._touch_slack``."""
+
+BAT_PATH_GAIN = 2.0
+"""The most a bat's path through noisy frames strays, in their noise (a spline's end pieces,
+which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._touch_slack``."""
+
+SQUASH = 0.5
+"""The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
+(a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
+
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
 ball that really left its flight near the bat without touching it (off the batter's hands) is
@@ -78,8 +90,9 @@ class Sweep:
     :ivar quintic_rates: True: ``kinematics.fit_velocities``' rule (the quintic's bat rates from
         exact samples at a high rate); False: the least-squares fits alone (``uncertainty``'s
         re-solve by the model of lower order, an estimate apart from the quintic).
-    :ivar early_glitches: True: a segment's second and third ball samples are judged by the
-        flight after them, an interval near the bat waiting for it (``_early_glitch``); False:
+    :ivar early_glitches: True: a segment's first three ball samples are judged by the
+        flight after them (the first by the bat too), an interval near the bat waiting for it
+        (``_early_glitch``); False:
         not judged (``uncertainty``'s re-solves, on copies whose first samples start no
         segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
@@ -130,7 +143,7 @@ class Sweep:
         Sweep the union interval [ta, tb] (s), appending the events it makes; False: wait.
 
         False where the interval may come near the bat and the ball's path over it reaches
-        one of its segment's second and third samples, which only the samples after it judge
+        one of its segment's first three samples, which only the samples after it judge
         (``_early_glitch``): nothing of it is swept, and the scheduler's walk stops before it,
         to visit it again once more ball samples are in (or the recording ended: ``final``).
 
@@ -154,28 +167,59 @@ class Sweep:
         """
         Judge the ball's young samples interval k reaches; True: the interval is done with.
 
-        Young: a segment's second or third sample (after a tracking gap), which
-        ``glitch_path`` cannot judge (fewer than three samples before it). Each that the
-        ball's path over interval k can reach (its opening and closing samples, and those of
-        the model's look-ahead), latest first, is judged by the free flight after it
+        Young: a segment's first, second or third sample (after a tracking gap), which
+        ``glitch_path`` cannot judge (fewer than three samples before it). A segment's first
+        sample, where it opens interval k, is judged first by its overlap with the bat
+        (``_inside_bat``, once its segment holds ``FLIGHT_AFTER`` samples after it or can take
+        no more). Each young sample the ball's path over interval k can reach (its opening
+        and closing samples, and those of the model's look-ahead), latest first, is judged by
+        the free flight after it
         (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
-        after it, or can take no more (a sample after the segment, or ``final``). Until then
-        the interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and
-        forgotten (``_glitch``), and the interval swept again without it.
+        after it, or can take no more (a sample after the segment, or ``final``); then the
+        segment's first sample, where it opens interval k, by the flight after it and the bat
+        (``_first_glitch``: the bat's samples over the interval in too). Until then the
+        interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and forgotten
+        (``_glitch``), and the interval swept again without it: the samples after it are then
+        judged against the flight of the good ones (its next sample is the segment's first).
         """
         ball, config = self.ball, self.config
         gap, times, n = config.max_gap, ball.times, len(ball.times)
         top = min(k + 1 + self.ahead, n - 1)
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
+        starts = _starts(ball, k, gap)
+        if starts:  # (its segment's first sample: its overlap with the bat judged first)
+            last = k
+            while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
+                last += 1
+            if last < k + FLIGHT_AFTER and last == n - 1 and not self.final:
+                self.held = True
+                self.stats.intervals -= 1  # (counted when it is swept)
+                return True
+            if self._inside_bat(k):
+                self._glitch(k)
+                self._forget_glitches()
+                self.stats.intervals -= 1
+                self._swept(ta, tb, events)
+                return True
         for j in range(top, k - 1, -1):
-            if not _young(ball, j, gap):
+            first = j == k and starts
+            if not (first or _young(ball, j, gap)):
                 continue
             last = j
             while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
                 last += 1
             if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
                 self.held = True  # (its segment may still grow)
+            elif first:
+                glitch = self._first_glitch(k)
+                if glitch is None:
+                    self.held = True  # (the bat over its interval still to come)
+                elif glitch:
+                    self._glitch(k)
+                    self._forget_glitches()
+                else:
+                    continue
             elif glitch_before_flight(ball, j, judging_noise(config), gap,
                                       stream_noise(ball, config)):
                 self._glitch(j)
@@ -187,6 +231,130 @@ class Sweep:
                 self._swept(ta, tb, events)
             return True
         return False
+
+    def _first_glitch(self, k: int) -> Optional[bool]:
+        """
+        Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
+
+        A glitch: it left the free flight of the samples after it continued back to it
+        (``departure.flight_before``), and that flight does not touch the bat over interval k
+        (the ball grown by ``_touch_slack``): a hit between samples k and k + 1 leaves the
+        sample before it off the flight after it too, but that flight, continued back, meets
+        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
+        its paths over the interval read are in (``_bat_over``).
+        """
+        ball, config = self.ball, self.config
+        flight = flight_before(ball, k, judging_noise(config), config.max_gap)
+        if flight is None:
+            return False
+        bat_paths = self._bat_over(flight.t0, flight.t1)
+        if bat_paths is None:
+            return None
+        radius = config.ball_radius + self._touch_slack()
+        for path in bat_paths:
+            lo, hi = max(flight.t0, path.t0), min(flight.t1, path.t1)
+            n = substeps_for(flight.deviation(lo, hi) + path.deviation(lo, hi),
+                             config.max_chord_error)
+            start = self._state_at(lo, (flight, path))
+            for i in range(1, n + 1):
+                end = self._state_at(hi if i == n else lo + (hi - lo) * i / n, (flight, path))
+                if profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob,
+                                   end.knob, radius, config.profile, end.t - start.t) is not None:
+                    return False
+                start = end
+        return True
+
+    def _inside_bat(self, k: int) -> bool:
+        """
+        Return whether the ball's sample k overlaps the bat deeper than a ball squashes.
+
+        Deeper than ``SQUASH`` of the ball's radius, and ``_inside_slack`` (a frame on the
+        bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
+        hit), and off the parabola of the three samples after it continued back to it
+        (``departure.back_miss``: by more than ``DEPARTURE_FLOOR`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound at ``BACK_GAIN``; free flight or not, a hit may follow
+        within those samples; a simulated ball that flies on through the bat, or a test's ball
+        placed on it, is on it). For a segment's
+        first sample, judged before the samples after it: as the sample before the second, it
+        would make a hit's frame before the contact look off the hit's line
+        (``departure.glitch_before_flight``), and it leaves no free flight after it to judge it
+        by where a hit follows within two frames. On the bat's path over its sample interval
+        that holds t_k, as the sweep builds it (its frames are in: an interval at or after it
+        is swept); False where the bat has none there.
+        """
+        ball, bat, config = self.ball, self.bat, self.config
+        t, gap = ball.times[k], config.max_gap
+        b = bat.interval(t)
+        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, gap):
+            return False
+        knob, tip = self._bat_path(b).at(t)
+        depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
+        if depth <= SQUASH * config.ball_radius + self._inside_slack():
+            return False
+        miss = back_miss(ball, k, gap)
+        return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
+            DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
+
+    def _inside_slack(self) -> float:
+        """
+        Return how much deeper (m) than it is a ball sample may seem to overlap the bat.
+
+        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
+        on the root sum of squares of the sample's noise and the bat's path's error through
+        noisy frames (``BAT_PATH_GAIN`` times its noise).
+        """
+        config = self.config
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
+        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
+            ball_noise, BAT_PATH_GAIN * bat_noise)
+
+    def _touch_slack(self) -> float:
+        """
+        Return how far (m) the flight continued back may pass the bat and still touch it.
+
+        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
+        on the root sum of squares of two errors: the flight continued a step back from its
+        three samples (``BACK_GAIN`` times the ball's noise) and the bat's path through noisy
+        frames (``BAT_PATH_GAIN`` times the bat's).
+        """
+        config = self.config
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
+        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
+            BACK_GAIN * ball_noise, BAT_PATH_GAIN * bat_noise)
+
+    def _bat_over(self, t0: float, t1: float) -> Optional[List[BatPath]]:
+        """
+        Return the bat's paths over its sample intervals within [t0, t1] (s), or None: wait.
+
+        Each as the sweep builds it (``_bat_path``), none over a gap. None while a sample
+        those paths read has not come (up to ``ahead`` past the last interval's closing
+        sample, or its segment's end), unless the recording ended (``final``): the node and
+        ``analyze``'s chunks then read the same samples.
+        """
+        bat, gap = self.bat, self.config.max_gap
+        times, n = bat.times, len(bat.times)
+        b = max(bat.interval(t0), 0)
+        settled = times[-1] >= t1 and _settled(bat, bat.interval(t1) + 1, self.ahead, gap)
+        if not (settled or self.final):
+            return None
+        paths = []
+        while b + 1 < n and times[b] < t1:
+            if times[b + 1] > t0 and bat.continuous(b, gap):
+                paths.append(self._bat_path(b))
+            b += 1
+        return paths
+
+    def _bat_path(self, b: int) -> BatPath:
+        """Return the bat's path over its sample interval b, as ``paths`` builds it (not kept)."""
+        bat, config = self.bat, self.config
+        if bat.path_key == (bat.stamps[b], bat.stamps[b + 1]):
+            return bat.path
+        if self.model == 'c2':
+            window = c2_window(bat, b, config.max_gap, config.look_ahead, config.spline_window)
+            return c2_bat_path(bat, b, window, stream_noise(bat, config), window.stop == b + 2)
+        before, after = _neighbours(bat, b, config.max_gap)
+        return BatPath.build(self.model, bat.times[b], bat.times[b + 1], bat.values[b],
+                             bat.values[b + 1], before, after, self.offsets)
 
     def _judged_glitch(self, k: int, spread: float) -> bool:
         """
@@ -918,6 +1086,17 @@ def _young(stream: Stream, k: int, max_gap: float) -> bool:
         return False
     return _starts(stream, k - 1, max_gap) or (
         k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
+
+
+def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
+    """Return whether sample k + ``ahead`` has come, or sample k's segment ended before it."""
+    n = len(stream.times)
+    for j in range(k, k + ahead):
+        if j + 1 >= n:
+            return False
+        if not stream.continuous(j, max_gap):
+            return True
+    return k + ahead < n
 
 
 def _starts(stream: Stream, k: int, max_gap: float) -> bool:

@@ -1,6 +1,7 @@
 """Tests for baseball_collision.core.detector.departure: a ball that leaves its free flight."""
 
 from dataclasses import replace
+import itertools
 import json
 import math
 from typing import Any, Dict, List, Sequence, Tuple
@@ -9,9 +10,10 @@ from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
 from baseball_collision.core.detector.departure import (
-    DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS, FLIGHT_AFTER,
-    flight_path, glitch_before_flight, judging_noise, leaves_flight, parabola,
-    SCATTER_INTERVALS, SCATTER_RATIO)
+    back_miss, DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS,
+    FLIGHT_AFTER, flight_before, flight_path, glitch_before_flight, judging_noise,
+    leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
+from baseball_collision.core.detector.events import StreamGap
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep, UNEXPLAINED_RUN
@@ -931,6 +933,45 @@ def test_a_segments_second_and_third_samples_are_judged_by_the_flight_after_them
     assert FLIGHT_AFTER >= 4  # (the scatter of one interval at least: no noise told)
 
 
+def test_a_segments_first_sample_is_judged_against_the_flight_after_it_continued_back() -> None:
+    """
+    ``flight_before``: the flight of the samples after a segment's first, back over its interval.
+
+    A first sample 10 cm off the flight after it: that flight, from where the ball was at its
+    stamp (the pitch's own parabola, to rounding) to the next sample; the flight's own first
+    sample is on it: None. A hit between the first two samples leaves the first off the
+    flight after the contact too (the ``Sweep`` tells the two apart by the bat); a hit later
+    leaves no free flight after it to judge by: None. Not judged with fewer than three
+    samples after it in its segment (four with no noise told: one interval's scatter).
+    ``back_miss``: the first sample's distance from the parabola of the three after it.
+    """
+    times, flight = _young_flight()
+    glitched = list(flight)
+    glitched[0] = (flight[0][0] + 0.1, flight[0][1], flight[0][2])
+    path = flight_before(_stream(times, glitched), 0, 0.0, 0.05)
+    assert path is not None and (path.t0, path.t1) == (times[0], times[1])
+    assert math.dist(path.at(times[0]), flight[0]) < 1e-12
+    assert math.dist(path.at(times[1]), flight[1]) < 1e-12
+    middle = 0.5 * (times[0] + times[1])
+    assert math.dist(path.at(middle), (0.05 * middle, -38.0 * middle,
+                                       1.8 - 4.9 * middle * middle)) < 1e-12
+    assert flight_before(_stream(times, flight), 0, 0.0, 0.05) is None
+    assert flight_before(_stream(times[:4], glitched[:4]), 0, 0.0, 0.05) is None
+    assert flight_before(_stream(times[:4], glitched[:4]), 0, 1e-3, 0.05) is not None
+    assert flight_before(_stream(times[:5], glitched[:5]), 0, 0.0, 0.05) is not None
+    for k in (1, 3):
+        assert flight_before(_stream(times, glitched, breaks=(k,)), 0, 1e-3, 0.05) is None
+    assert abs(back_miss(_stream(times, glitched), 0, 0.05) - 0.1) < 1e-12
+    assert back_miss(_stream(times, flight), 0, 0.05) < 1e-12
+    assert back_miss(_stream(times, glitched, breaks=(3,)), 0, 0.05) is None
+    times, hit = _young_flight(0)
+    path = flight_before(_stream(times, hit), 0, 0.0, 0.05)
+    assert path is not None and math.dist(path.at(times[0]), hit[0]) > 0.1
+    for hit_after in (1, 2, 3):
+        times, hit = _young_flight(hit_after)
+        assert flight_before(_stream(times, hit), 0, 0.0, 0.05) is None
+
+
 _GAP_CONFIGS = {
     'rigid': DetectorConfig(model='rigid', bat_input='pose', tracker_noise=0.0),
     'linear': DetectorConfig(model='linear', bat_input='pose', tracker_noise=0.0),
@@ -946,13 +987,15 @@ _GAP_CONFIGS = {
 def test_a_glitch_among_the_first_samples_after_a_gap_is_no_impact(name: str,
                                                                    kind: str) -> None:
     """
-    A miss tracked again after 0.2 s without the ball, its 2nd or 3rd sample on the bat's axis.
+    A miss tracked again after 0.2 s without the ball, its 1st, 2nd or 3rd sample on the axis.
 
-    Fewer than three samples before it, so nothing judged it, and the path through it made an
-    impact (the audit: 24 of 24 cases each, every model). It is judged by the flight of the
-    samples after it (``departure.glitch_before_flight``), the interval that reaches it
-    waiting for them: dropped as ``ball_glitch`` (a late drop at its stamp), and the events
-    are those without that frame, to the bit.
+    Fewer than three samples before it, so nothing judged it: the path through the 2nd or 3rd
+    made an impact (the audit: 24 of 24 cases each, every model), and the samples after the
+    1st were judged against a flight through it (good frames dropped). It is judged by the
+    flight of the samples after it (``departure.glitch_before_flight``; the 1st by the bat too:
+    ``Sweep._first_glitch``), the interval that reaches it waiting for them: dropped as
+    ``ball_glitch`` (a late drop at its stamp), and the events are those without that frame,
+    to the bit.
     """
     config = _GAP_CONFIGS[name]
     for seed in range(3):
@@ -961,7 +1004,7 @@ def test_a_glitch_among_the_first_samples_after_a_gap_is_no_impact(name: str,
         samples = sample(scenario, RATE, rng, jitter_s=2e-4, grid_s=1e-3)
         closest = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
             round(scenario.truth.min_gap_time_s * 1e9))))
-        for young in (1, 2):
+        for young in (0, 1, 2):
             lost = ball_lost_before(samples, closest - 2 - young)
             k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[closest - 2]))
             events, late = detect_late_drops(config, on_bat_axis(lost, k))
@@ -970,7 +1013,86 @@ def test_a_glitch_among_the_first_samples_after_a_gap_is_no_impact(name: str,
             assert not any(isinstance(event, Impact) for event in events)
             assert [(drop.reason, drop.stamp_ns) for drop in late] == [
                 ('ball_glitch', int(lost.ball_stamps_ns[k]))]
-            assert events == detect_late_drops(config, without)[0]
+            expected = detect_late_drops(config, without)[0]
+            if young == 0:  # (the gap was told before its first sample was judged)
+                expected = [replace(event, end_ns=int(lost.ball_stamps_ns[k]))
+                            if isinstance(event, StreamGap) and event.stream == 'ball' else event
+                            for event in expected]
+            assert events == expected
+
+
+def _without_frame(samples: Any, k: int) -> Any:
+    """Return ``samples`` (``sim.sample``) without ball sample k."""
+    return replace(samples, ball_stamps_ns=np.delete(samples.ball_stamps_ns, k),
+                   ball_positions=np.delete(samples.ball_positions, k, axis=0))
+
+
+def _gap_told_at(events: List[Any], stamp: int) -> List[Any]:
+    """Return the events with the ball's stream gaps ending at ``stamp`` (ns)."""
+    return [replace(event, end_ns=stamp) if isinstance(event, StreamGap)
+            and event.stream == 'ball' else event for event in events]
+
+
+@pytest.mark.parametrize('kind', ['miss_over', 'miss_under'])
+def test_a_first_sample_after_a_gap_just_outside_the_bat_is_no_impact(kind: str) -> None:
+    """
+    A miss tracked again at the bat, its first sample 8 or 10 cm from the bat's axis.
+
+    Clear of the bat (1.3 and 3.3 cm from a 3 cm barrel), but the path from it to the next
+    sample went through the bat: an impact invented at the node in one case in about
+    thirty. It left the flight of the samples after it continued back, which does not touch
+    the bat (``Sweep._first_glitch``): dropped as ``ball_glitch``, the events those without it.
+    """
+    config = DetectorConfig(bat_input='pose')
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario(kind, rng, lead_s=0.4, trail_s=0.1)
+        samples = sample(scenario, RATE, rng)
+        closest = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.start_ns - int(
+            round(scenario.truth.min_gap_time_s * 1e9)))))
+        for first, distance in itertools.product((closest - 1, closest), (0.08, 0.10)):
+            lost = ball_lost_before(samples, first)
+            k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[first]))
+            events, late = detect_late_drops(config, on_bat_axis(lost, k, distance))
+            stamp = int(lost.ball_stamps_ns[k])
+            assert not any(isinstance(event, Impact) for event in events)
+            assert [(drop.reason, drop.stamp_ns) for drop in late] == [('ball_glitch', stamp)]
+            assert events == _gap_told_at(
+                detect_late_drops(config, _without_frame(lost, k))[0], stamp)
+
+
+@pytest.mark.parametrize('kind', ['barrel', 'end_cap', 'graze'])
+def test_a_hit_after_a_first_sample_on_the_bat_is_found(kind: str) -> None:
+    """
+    A hit 2 or 3 ball frames after a tracking gap, the gap's first sample on the bat's axis.
+
+    The samples after it were judged against a flight through it (the hit's frames dropped
+    as glitches, the hit lost or moved). It overlaps the bat deeper than a ball squashes
+    (``Sweep._inside_bat``): dropped as ``ball_glitch`` before the samples after it are
+    judged, and the impacts are those without it, within a microsecond (the node's speed
+    check may have dropped the frame after the glitch, too far from it, before the glitch
+    was judged: then the hit is found from one frame fewer).
+    """
+    configs = DetectorConfig(bat_input='pose', tracker_noise=0.0), DetectorConfig(bat_input='pose')
+    found_any = False
+    for seed, rate, config in itertools.product(range(3), (RATE, 360.0), configs):
+        rng = np.random.default_rng(seed)
+        scenario = make_scenario(kind, rng, lead_s=0.4, trail_s=0.1)
+        samples = sample(scenario, rate, rng)
+        after = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+            round(scenario.truth.time_s * 1e9))))
+        for back in (2, 3):
+            lost = ball_lost_before(samples, after - back)
+            k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[after - back]))
+            events, late = detect_late_drops(config, on_bat_axis(lost, k))
+            expected = detect_late_drops(config, _without_frame(lost, k))[0]
+            assert (late[0].reason, late[0].stamp_ns) == ('ball_glitch', lost.ball_stamps_ns[k])
+            found = [event.stamp_ns for event in events if isinstance(event, Impact)]
+            without = [event.stamp_ns for event in expected if isinstance(event, Impact)]
+            assert len(found) == len(without) and all(
+                abs(a - b) < 1000 for a, b in zip(found, without))
+            found_any = found_any or found != []
+    assert found_any
 
 
 @pytest.mark.parametrize('noise_m', [0.0, 1e-3])

@@ -13,7 +13,7 @@ from baseball_collision.core.toi import _kernel, profile_gap
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
-from support.events import ball_lost_before, detect
+from support.events import ball_lost_before, detect, on_bat_axis
 from support.far import tilting_bat
 from support.scenes import BASE_NS
 
@@ -258,3 +258,41 @@ def test_an_interval_near_the_bat_waits_for_the_flight_after_a_segments_first_sa
     assert newest == lost.ball_stamps_ns[third + FLIGHT_AFTER]
     assert impact_after(ends[1], False)[1] == lost.ball_stamps_ns[third + 1 + look_ahead]
     assert impact_after(ends[0], True) == (stamp, 0)
+
+
+def test_a_segments_first_sample_waits_for_the_bat_over_its_interval() -> None:
+    """
+    ``Sweep._first_glitch``: judged once the bat's frames its paths over the interval read are in.
+
+    A miss tracked again at the bat, its first sample on the bat's axis, the bat tracked at
+    360 Hz and the ball at 90: None (wait) while the bat's newest frame is before the next
+    ball sample, or the interval's last bat frame has not its ``ahead`` frames after it
+    (``_bat_over``), then a glitch; at the recording's end (``final``) judged on what there is.
+    """
+    rng = np.random.default_rng(1)
+    scenario = make_scenario('miss_over', rng, lead_s=0.4, trail_s=0.1)
+    samples = sample(scenario, 360.0, rng, ball_rate_hz=90.0)
+    closest = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.start_ns - int(
+        round(scenario.truth.min_gap_time_s * 1e9)))))
+    lost = ball_lost_before(samples, closest - 1)
+    k = int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[closest - 1]))
+    lost = on_bat_axis(lost, k)
+    next_ball = int(lost.ball_stamps_ns[k + 1])
+    for look_ahead in (0, 2):
+        verdicts = []
+        for bat_until in (next_ball - 1, next_ball, next_ball + 3_000_000, next_ball + 9_000_000):
+            detector = Detector(DetectorConfig(bat_input='pose', look_ahead=look_ahead))
+            detector._sweep.early_glitches = False  # (judged here)
+            for stamp, role, values in lost.messages('pose'):
+                if role == 'ball' or stamp <= bat_until:
+                    detector.add(role, stamp, values)
+            judge = detector._sweep
+            first = judge.ball.stamps.index(int(lost.ball_stamps_ns[k]))
+            bat = judge.bat.times
+            ready = bat[-1] >= judge.ball.times[first + 1] and len(bat) - 1 >= judge.bat.interval(
+                judge.ball.times[first + 1]) + 1 + judge.ahead
+            verdicts.append(judge._first_glitch(first))
+            assert (verdicts[-1] is None) == (not ready)
+            judge.final = True
+            assert judge._first_glitch(first) is True
+        assert verdicts[0] is None and verdicts[-1] is True
