@@ -32,7 +32,7 @@ may not have its next frame yet (look-ahead 0): where it clearly departed (``dep
 interval is swept on the bat's path without it (``path_without``), and the frame is judged
 once its next has come. Where both paths touch the ball (a hit: its contact comes before the
 brake) it is solved on the path through the frame, unless their contacts are more than
-``sweep.CONTACT_APART`` apart: then the frame is judged first, the interval waiting for its
+``sweep_bat.CONTACT_APART`` apart: then the frame is judged first, the interval waiting for its
 next frame where that has not come (``Sweep._closing_glitch``: one bat frame, for a glitch or
 a bat that braked hard after a contact).
 """

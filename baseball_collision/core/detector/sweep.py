@@ -11,18 +11,16 @@ sub-steps small enough for the chord error bound and each is solved exactly
 without one feeds the near-miss episodes.
 """
 
-from bisect import bisect_left
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
-from . import bat_glitches
 from .broadphase import c2_path_apart, clearly_apart, NOISE_REACH
 from .config import DetectorConfig
 from .departure import (
-    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
-    flight_path, glitch_before_flight, glitch_path, judging_noise, leaves_flight)
+    DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
+    leaves_flight)
 from .episodes import EpisodeTracker, State
-from .events import DetectorStats, DropReason, Impact, LateDrop, Role, StreamGap
+from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
     stream_noise)
@@ -30,22 +28,16 @@ from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
 from .streams import Stream
+from .sweep_ball import BallSamples
+from .sweep_bat import BatFrames
 from ..geometry import dot, norm, rigid_point_velocity, Vector
-from ..motion import BatPath, PointPath, samples_ahead, substeps_for
+from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
 from ..toi import _kernel, closest_offset, ImpactResult, profile_contact, profile_gap
 from ...errors import CoreError
-
-Paths = Tuple[PointPath, BatPath]
-"""The ball's and the bat's paths over an interval."""
 
 BAT_DEPARTURE_RATIO = 4.0
 """How many times farther than the frame before a hit's closing bat frame must be from the bat's
 continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
-
-CONTACT_APART = 1e-4
-"""s: a hit's contacts on the bat's path through its newest frame, which departed, and on the
-path without it, further apart than this, and the frame is judged before the hit is solved
-(``Sweep._without_departed``)."""
 
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
@@ -54,27 +46,14 @@ IMPACT_CHORD_FACTOR = 0.04
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
-BACK_GAIN = 5.0
-"""The noise gain of a parabola through three samples continued one step back (Lagrange's
-weights 3, -3 and 1 at even steps: 4.4; a little more at uneven ones): ``Sweep._touch_slack``."""
 
-BAT_PATH_GAIN = 2.0
-"""The most a bat's path through noisy frames strays, in their noise (a spline's end pieces,
-which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._touch_slack``."""
-
-SQUASH = 0.5
-"""The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
-(a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
-
-UNEXPLAINED_RUN = 3
-"""Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
-ball that really left its flight near the bat without touching it (off the batter's hands) is
-tracked again after them."""
-
-
-class Sweep:
+class Sweep(BallSamples, BatFrames):
     """
     Sweeps union intervals of the ball and bat streams (``visit`` for the ``Scheduler``).
+
+    Its judgments of the ball's samples near the bat and of the bat's frames near the ball
+    (glitches dropped and forgotten, intervals that wait for the samples that judge them) are
+    its bases' (``sweep_ball.BallSamples``, ``sweep_bat.BatFrames``).
 
     :param config: the detector's configuration (``DetectorConfig``).
     :param clock, stats: the detector's clock and counters.
@@ -163,189 +142,8 @@ class Sweep:
             self._forget_glitches()
         return not self.held
 
-    def _early_glitch(self, k: int, ta: float, tb: float, events: List) -> bool:
-        """
-        Judge the ball's young samples interval k reaches; True: the interval is done with.
-
-        Young: a segment's first, second or third sample (after a tracking gap), which
-        ``glitch_path`` cannot judge (fewer than three samples before it). A segment's first
-        sample, where it opens interval k, is judged first by its overlap with the bat
-        (``_inside_bat``, once its segment holds ``FLIGHT_AFTER`` samples after it or can take
-        no more). Each young sample the ball's path over interval k can reach (its opening
-        and closing samples, and those of the model's look-ahead), latest first, is judged by
-        the free flight after it
-        (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
-        after it, or can take no more (a sample after the segment, or ``final``); then the
-        segment's first sample, where it opens interval k, by the flight after it and the bat
-        (``_first_glitch``: the bat's samples over the interval in too). Until then the
-        interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and forgotten
-        (``_glitch``), and the interval swept again without it: the samples after it are then
-        judged against the flight of the good ones (its next sample is the segment's first).
-        """
-        ball, config = self.ball, self.config
-        gap, times, n = config.max_gap, ball.times, len(ball.times)
-        top = min(k + 1 + self.ahead, n - 1)
-        if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
-            return False  # (no segment starts at sample k - 2 or after: none is young)
-        starts = _starts(ball, k, gap)
-        if starts:  # (its segment's first sample: its overlap with the bat judged first)
-            last = k
-            while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
-                last += 1
-            if last < k + FLIGHT_AFTER and last == n - 1 and not self.final:
-                self.held = True
-                self.stats.intervals -= 1  # (counted when it is swept)
-                return True
-            if self._inside_bat(k):
-                self._glitch(k)
-                self._forget_glitches()
-                self.stats.intervals -= 1
-                self._swept(ta, tb, events)
-                return True
-        for j in range(top, k - 1, -1):
-            first = j == k and starts
-            if not (first or _young(ball, j, gap)):
-                continue
-            last = j
-            while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
-                last += 1
-            if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
-                self.held = True  # (its segment may still grow)
-            elif first:
-                glitch = self._first_glitch(k)
-                if glitch is None:
-                    self.held = True  # (the bat over its interval still to come)
-                elif glitch:
-                    self._glitch(k)
-                    self._forget_glitches()
-                else:
-                    continue
-            elif glitch_before_flight(ball, j, judging_noise(config), gap,
-                                      stream_noise(ball, config)):
-                self._glitch(j)
-                self._forget_glitches()
-            else:
-                continue
-            self.stats.intervals -= 1  # (counted when it is swept)
-            if not self.held:
-                self._swept(ta, tb, events)
-            return True
-        return False
-
-    def _first_glitch(self, k: int) -> Optional[bool]:
-        """
-        Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
-
-        A glitch: it left the free flight of the samples after it continued back to it
-        (``departure.flight_before``), and that flight does not touch the bat over interval k
-        (the ball grown by ``_touch_slack``): a hit between samples k and k + 1 leaves the
-        sample before it off the flight after it too, but that flight, continued back, meets
-        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
-        its paths over the interval read are in (``_bat_over``).
-        """
-        ball, config = self.ball, self.config
-        flight = flight_before(ball, k, judging_noise(config), config.max_gap)
-        if flight is None:
-            return False
-        bat_paths = self._bat_over(flight.t0, flight.t1)
-        if bat_paths is None:
-            return None
-        radius = config.ball_radius + self._touch_slack()
-        for path in bat_paths:
-            lo, hi = max(flight.t0, path.t0), min(flight.t1, path.t1)
-            n = substeps_for(flight.deviation(lo, hi) + path.deviation(lo, hi),
-                             config.max_chord_error)
-            start = self._state_at(lo, (flight, path))
-            for i in range(1, n + 1):
-                end = self._state_at(hi if i == n else lo + (hi - lo) * i / n, (flight, path))
-                if profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob,
-                                   end.knob, radius, config.profile, end.t - start.t) is not None:
-                    return False
-                start = end
-        return True
-
-    def _inside_bat(self, k: int) -> bool:
-        """
-        Return whether the ball's sample k overlaps the bat deeper than a ball squashes.
-
-        Deeper than ``SQUASH`` of the ball's radius, and ``_inside_slack`` (a frame on the
-        bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
-        hit), and off the parabola of the three samples after it continued back to it
-        (``departure.back_miss``: by more than ``DEPARTURE_FLOOR`` and the noise's
-        ``DEPARTURE_CHI_SQUARE`` bound at ``BACK_GAIN``; free flight or not, a hit may follow
-        within those samples; a simulated ball that flies on through the bat, or a test's ball
-        placed on it, is on it). For a segment's
-        first sample, judged before the samples after it: as the sample before the second, it
-        would make a hit's frame before the contact look off the hit's line
-        (``departure.glitch_before_flight``), and it leaves no free flight after it to judge it
-        by where a hit follows within two frames. On the bat's path over its sample interval
-        that holds t_k, as the sweep builds it (its frames are in: an interval at or after it
-        is swept); False where the bat has none there.
-        """
-        ball, bat, config = self.ball, self.bat, self.config
-        t, gap = ball.times[k], config.max_gap
-        b = bat.interval(t)
-        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, gap):
-            return False
-        knob, tip = self._bat_path(b).at(t)
-        depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
-        if depth <= SQUASH * config.ball_radius + self._inside_slack():
-            return False
-        miss = back_miss(ball, k, gap)
-        return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
-            DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
-
-    def _inside_slack(self) -> float:
-        """
-        Return how much deeper (m) than it is a ball sample may seem to overlap the bat.
-
-        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
-        on the root sum of squares of the sample's noise and the bat's path's error through
-        noisy frames (``BAT_PATH_GAIN`` times its noise).
-        """
-        config = self.config
-        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
-        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
-            ball_noise, BAT_PATH_GAIN * bat_noise)
-
-    def _touch_slack(self) -> float:
-        """
-        Return how far (m) the flight continued back may pass the bat and still touch it.
-
-        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
-        on the root sum of squares of two errors: the flight continued a step back from its
-        three samples (``BACK_GAIN`` times the ball's noise) and the bat's path through noisy
-        frames (``BAT_PATH_GAIN`` times the bat's).
-        """
-        config = self.config
-        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
-        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
-            BACK_GAIN * ball_noise, BAT_PATH_GAIN * bat_noise)
-
-    def _bat_over(self, t0: float, t1: float) -> Optional[List[BatPath]]:
-        """
-        Return the bat's paths over its sample intervals within [t0, t1] (s), or None: wait.
-
-        Each as the sweep builds it (``_bat_path``), none over a gap. None while a sample
-        those paths read has not come (up to ``ahead`` past the last interval's closing
-        sample, or its segment's end), unless the recording ended (``final``): the node and
-        ``analyze``'s chunks then read the same samples.
-        """
-        bat, gap = self.bat, self.config.max_gap
-        times, n = bat.times, len(bat.times)
-        b = max(bat.interval(t0), 0)
-        settled = times[-1] >= t1 and _settled(bat, bat.interval(t1) + 1, self.ahead, gap)
-        if not (settled or self.final):
-            return None
-        paths = []
-        while b + 1 < n and times[b] < t1:
-            if times[b + 1] > t0 and bat.continuous(b, gap):
-                paths.append(self._bat_path(b))
-            b += 1
-        return paths
-
     def _bat_path(self, b: int) -> BatPath:
-        """Return the bat's path over its sample interval b, as ``paths`` builds it (not kept)."""
+        """Return the bat's path over its sample interval b under the model (kept by ``paths``)."""
         bat, config = self.bat, self.config
         if bat.path_key == (bat.stamps[b], bat.stamps[b + 1]):
             return bat.path
@@ -355,46 +153,6 @@ class Sweep:
         before, after = _neighbours(bat, b, config.max_gap)
         return BatPath.build(self.model, bat.times[b], bat.times[b + 1], bat.values[b],
                              bat.values[b + 1], before, after, self.offsets)
-
-    def _judged_glitch(self, k: int, spread: float) -> bool:
-        """
-        Return whether the ball's sample k, near the bat, is a glitch to drop and forget.
-
-        A glitch by ``departure.glitch_path`` (no hit's line), or a departure no contact
-        explains: sample k left the flight (``leaves_flight``) of samples k - 3 .. k - 1
-        while the detector is armed and found no impact since the first of them, so the sweep
-        found no contact on the flight, which a hit on this bat would have made (up to
-        ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
-        lie on one line from the flight, as a hit's do), and only where its neighbours stay
-        within ``max_gap`` of each other (a ball really deflected at 60 Hz made a gap of its
-        forgotten frames). Not after an impact since: a graze
-        barely turns the ball, whose departure then shows a frame later, after the detector
-        re-armed (a 60 Hz ball's frames after a graze were forgotten, a gap made of them).
-
-        :param spread: the ball's noise (m, 1 sigma).
-        """
-        ball, config = self.ball, self.config
-        judged = judging_noise(config)
-        if glitch_path(ball, k, judged, config.max_gap, spread) is not None or (
-                self.unexplained and self.episodes.armed is True
-                and self.forgotten_run < UNEXPLAINED_RUN and k + 1 < len(ball.times)
-                and ball.continuous(k, config.max_gap)
-                and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
-                and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
-                and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
-            self.forgotten_run += 1
-            return True
-        self.forgotten_run = 0
-        return False
-
-    def _forget_glitches(self) -> None:
-        """Remove the ball glitches counted (``glitches``) from the ball's stream."""
-        ball, stamps = self.ball, self.ball.stamps
-        for stamp in self.glitches:
-            k = bisect_left(stamps, stamp)
-            if k < len(stamps) and stamps[k] == stamp:
-                ball.remove(k, (ESTIMATES,))
-        self.glitches.clear()
 
     def _swept(self, ta: float, tb: float, events: List) -> None:
         """Sweep the union interval [ta, tb] (s) (``interval``)."""
@@ -495,191 +253,28 @@ class Sweep:
                 return
             earlier, previous, gap_previous = previous, state, gap
 
-    def _bat_frames(self, interval: Tuple[float, float], bat_k: int,
-                    paths: Paths) -> Optional[Paths]:
-        """
-        Judge the bat frames the path over bat interval bat_k reads; None: one was forgotten.
-
-        The frames of its window from the first up to the one before the newest its path may
-        read (``_horizon``: with their next frame) are judged, the oldest first
-        (``bat_glitches.judged``: each against the frames before it, which are judged; not
-        one whose next frame stays isolated without it, ``bat_glitches.isolated_without``:
-        the glitch is that one, which pulled its neighbours' spline off; a frame judged no
-        glitch with every sample its verdict reads is kept so, ``bat_glitches.CLEAN``, for
-        the noise it was judged at and up to ``NOISE_KEPT`` times it), and the first
-        glitch is dropped and forgotten: None (the interval is to be located again,
-        and the frames after it judged again without it). Else ``paths`` without a frame after
-        its opening one that departed (``_without_departed``: at look-ahead 0 its closing
-        frame's next has not come yet), which is judged once its next frame has
-        (``bat_suspect``); None where a hit hangs on that frame, which was then a glitch,
-        forgotten, or waits for its next frame (``held``: ``_closing_glitch``).
-        """
-        bat, config = self.bat, self.config
-        max_gap, size = config.max_gap, config.spline_window
-        noise, last = stream_noise(bat, config), self._horizon(bat_k)
-        clean = bat.aligned.setdefault(bat_glitches.CLEAN, [])
-        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, last):
-            if j < len(clean) and clean[j] is not None and \
-                    clean[j] <= noise <= bat_glitches.NOISE_KEPT * clean[j]:
-                continue  # (judged no glitch on every sample its verdict reads)
-            if not bat_glitches.judged(bat, j, max_gap, size, noise, last):
-                if j + 2 <= last:
-                    clean.extend([None] * (j + 1 - len(clean)))
-                    clean[j] = noise
-                continue
-            if not (j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
-                                                                   noise, last)):
-                self._bat_glitch(j, last)
-                return None
-        without, departed = self._without_departed(interval, bat_k, paths)
-        if departed is not None:
-            self.bat_suspect = departed
-        return without
-
-    def _horizon(self, bat_k: int) -> int:
-        """
-        Return the newest bat sample a judgment at bat interval bat_k may read.
-
-        The interval's closing frame and the model's look-ahead (``ahead``): what the walk
-        waits for before it sweeps the interval, so the node (one message at a time) and
-        ``analyze`` (chunks, whose streams may run further ahead) judge alike.
-        """
-        return min(bat_k + 1 + self.ahead, len(self.bat.times) - 1)
-
-    def _without_departed(self, interval: Tuple[float, float], bat_k: int,
-                          paths: Paths) -> Tuple[Optional[Paths], Optional[int]]:
-        """
-        Return the paths without a bat frame that departed after bat interval bat_k, its stamp.
-
-        The frames its path reads after its opening one (its closing one, the look-ahead's), in
-        turn: where one departed from its continuation (``bat_glitches.departed``: a glitch whose
-        next frame may not have come yet, or the bat braking after a contact), the bat's path
-        without it and the frames after it (``bat_glitches.path_without``), where a bat can move on
-        it (``_plausible``), and the frame's stamp (ns). Where both paths touch over the union
-        interval (s), a hit, whose contact comes before a brake: ``paths`` and None, unless the
-        frame is the newest the path may read (``_horizon``: the frames before it were judged)
-        and the two contacts are more than ``CONTACT_APART`` apart, where the frame is judged
-        first (``_closing_glitch``): None and None where it was a glitch, forgotten (the interval
-        is to be located again) or the interval waits for its next frame (``held``). Else
-        ``paths`` and None.
-        """
-        bat, config = self.bat, self.config
-        max_gap, size = config.max_gap, config.spline_window
-        noise, horizon = stream_noise(bat, config), self._horizon(bat_k)
-        for j in range(bat_k + 1, horizon + 1):
-            if not bat.continuous(j - 1, max_gap):
-                break
-            if bat_glitches.departed(bat, j, max_gap, size, noise):
-                path = bat_glitches.path_without(bat, bat_k, j, max_gap, size, noise)
-                if path is None or not self._plausible(path):
-                    break
-                without = paths[0], path
-                through = self._contact(interval, paths)
-                if through is None:
-                    return without, bat.stamps[j]
-                contact = self._contact(interval, without)
-                if contact is None:
-                    return without, bat.stamps[j]
-                if j == horizon and abs(through - contact) > CONTACT_APART and \
-                        self._closing_glitch(j):
-                    return None, None
-                break
-        return paths, None
-
-    def _closing_glitch(self, j: int) -> bool:
-        """
-        Judge bat frame j, which a hit's contact hangs on, from its next frame; True: wait.
-
-        True where it was a glitch (``bat_glitches.judged`` up to frame j + 1: dropped and
-        forgotten, ``_bat_glitch``) or where its next frame has not come yet and the recording
-        goes on (``held``: the interval waits for it, one bat frame). False where it is no
-        glitch, or no frame comes after it (``final``, or one past ``max_gap``): the hit stands
-        on the path through it.
-        """
-        bat, config = self.bat, self.config
-        if j + 1 >= len(bat.times):
-            self.held = not self.final
-            return self.held
-        if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
-                               stream_noise(bat, config), j + 1):
-            self._bat_glitch(j, j + 1)
-            return True
-        return False
-
-    def _contact(self, interval: Tuple[float, float], paths: Paths) -> Optional[float]:
+    def _contact(self, interval: Tuple[float, float], paths: Paths,
+                 radius: Optional[float] = None) -> Optional[float]:
         """
         Return when (s) ``paths`` first touch in the sub-steps a sweep of the interval cuts.
 
         The first sub-step whose chords touch (``toi.profile_contact``), at its contact; None
-        where none does.
+        where none does. ``radius``: the ball's (m; None: ``ball_radius``).
         """
         ta, tb = interval
         config = self.config
+        radius = config.ball_radius if radius is None else radius
         n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
                          config.max_chord_error)
         start = self._state_at(ta, paths)
         for j in range(1, n + 1):
             end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
             hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
-                                  config.ball_radius, config.profile, end.t - start.t)
+                                  radius, config.profile, end.t - start.t)
             if hit is not None:
                 return start.t + hit.time
             start = end
         return None
-
-    def _plausible(self, path: BatPath) -> bool:
-        """
-        Return whether a bat path continued past its samples moves as a bat can.
-
-        Neither end moves, nor the path strays from its chord, by more than ``max_speed``
-        allows over its interval: a continuation of samples a few microseconds apart, or of
-        wild ones, can reach anywhere (and the sweep would cut it in as many sub-steps).
-        """
-        t0, t1 = path.t0, path.t1
-        reach = self.config.max_speed * (t1 - t0)
-        start, end = path.at(t0), path.at(t1)
-        return (path.deviation(t0, t1) <= reach
-                and max(math.dist(start[0], end[0]), math.dist(start[1], end[1])) <= reach)
-
-    def _judge_suspect(self, bat_k: int) -> None:
-        """
-        Judge the departed bat frame ``bat_suspect`` once its next frame is within the horizon.
-
-        At union intervals within bat interval bat_k (``_horizon``), near the ball or not.
-        """
-        bat, stamp = self.bat, self.bat_suspect
-        j = bisect_left(bat.stamps, stamp)
-        if j < len(bat.stamps) and bat.stamps[j] == stamp:
-            last = self._horizon(bat_k)
-            if j + 1 > last:
-                return  # (its next frame still to come)
-            config = self.config
-            if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
-                                   stream_noise(bat, config), last):
-                self._bat_glitch(j, last)
-        self.bat_suspect = None
-
-    def _bat_glitch(self, j: int, last: int) -> None:
-        """
-        Drop bat frame j, a glitch (``bat_glitches``), and forget it.
-
-        A late drop (``LateDrop``, reason ``bat_glitch``) under the input that was off: the
-        pose, or whichever of the knob and the tip is farther from its neighbours' spline (up
-        to sample ``last``: ``_horizon``).
-        """
-        bat, config = self.bat, self.config
-        if config.bat_input == 'pose':
-            role = Role.BAT_POSE
-        else:
-            knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window,
-                                               last)
-            role = Role.KNOB if knob > tip else Role.TIP
-        stats = self.stats
-        stats.dropped[DropReason.BAT_GLITCH] += 1
-        stats.late_drops.append(LateDrop(role=role, reason=DropReason.BAT_GLITCH,
-                                         stamp_ns=bat.stamps[j], frame_id=self.frame_of() or ''))
-        del bat.aligned.get(bat_glitches.CLEAN, [])[max(j - 2, 0):]  # (they read frame j)
-        bat.remove(j, (ESTIMATES,))
 
     def _estimates(self, located: Tuple[int, int]) -> None:
         """
@@ -829,21 +424,9 @@ class Sweep:
         """
         bat = self.bat
         ball_path = self._kept_ball_path(ball_k)
-        c2 = self.model == 'c2'
-        config = self.config
         key = (bat.stamps[bat_k], bat.stamps[bat_k + 1])
-        if bat.path_key != key and c2:
-            window = c2_window(bat, bat_k, config.max_gap, config.look_ahead,
-                               config.spline_window)
-            noise = stream_noise(bat, config)
-            bat.path = c2_bat_path(bat, bat_k, window, noise, window.stop == bat_k + 2)
-            bat.path_key = key
         if bat.path_key != key:
-            before, after = _neighbours(bat, bat_k, self.config.max_gap)
-            bat.path = BatPath.build(self.model, bat.times[bat_k], bat.times[bat_k + 1],
-                                     bat.values[bat_k], bat.values[bat_k + 1], before, after,
-                                     self.offsets)
-            bat.path_key = key
+            bat.path, bat.path_key = self._bat_path(bat_k), key
         return ball_path, bat.path
 
     def _kept_ball_path(self, ball_k: int) -> PointPath:
@@ -899,25 +482,6 @@ class Sweep:
                                    ball.values[k + 1], before, after)
         departed = leaves_flight(ball, k, judged, gap)
         return path if departed is None else flight_path(ball, k, departed)
-
-    def _glitch(self, k: int) -> None:
-        """
-        Count the ball's sample k, a glitch (``departure.glitch_path``), as a dropped sample.
-
-        Once: its interval's path is kept by its stamps, and the sample leaves the stream once
-        the union interval is swept (``interval``; until then every fit leaves it out:
-        ``_ball_path``). A late drop (``LateDrop``, reason ``ball_glitch``), told by the call
-        that judged it, as the node and ``analyze`` tell any other.
-        """
-        stamp = self.ball.stamps[k]
-        if stamp == self.glitch_ns:
-            return
-        self.glitch_ns = stamp
-        self.glitches.append(stamp)
-        stats = self.stats
-        stats.dropped[DropReason.BALL_GLITCH] += 1
-        stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.BALL_GLITCH,
-                                         stamp_ns=stamp, frame_id=self.frame_of() or ''))
 
     def _past_departure(self, k: int, path: PointPath) -> None:
         """
@@ -1078,30 +642,6 @@ class Sweep:
             model=self.model, interval_start_ns=stamp(interval[0]),
             interval_end_ns=stamp(interval[1]), velocities_from_history=velocities.from_history,
             initially_overlapping=hit.initially_overlapping)
-
-
-def _young(stream: Stream, k: int, max_gap: float) -> bool:
-    """Return whether sample k is its segment's second or third (a segment's start seen)."""
-    if k < 1 or not stream.continuous(k - 1, max_gap):
-        return False
-    return _starts(stream, k - 1, max_gap) or (
-        k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
-
-
-def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
-    """Return whether sample k + ``ahead`` has come, or sample k's segment ended before it."""
-    n = len(stream.times)
-    for j in range(k, k + ahead):
-        if j + 1 >= n:
-            return False
-        if not stream.continuous(j, max_gap):
-            return True
-    return k + ahead < n
-
-
-def _starts(stream: Stream, k: int, max_gap: float) -> bool:
-    """Return whether sample k starts a segment (the first kept one: where it was a start)."""
-    return stream.breaks[k] if k == 0 else not stream.continuous(k - 1, max_gap)
 
 
 def _neighbours(stream: Stream, k: int, max_gap: float) -> Tuple[Any, Any]:

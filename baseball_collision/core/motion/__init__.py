@@ -13,6 +13,8 @@ solver on each sub-step.
   ``RigidAxisPath``, ``SplineBatPath``), built by ``BatPath.build``.
 """
 
+from typing import Tuple
+
 from .base import (
     BatSample, check_model, hermite_slope, hermite_tangent, MODELS, MotionPath, PathKind,
     SAMPLES_AHEAD, samples_ahead, substeps_for, swing_between, turn_between)
@@ -22,11 +24,14 @@ from .c2 import c2_rows, C2BatPath, MAX_CHART_ANGLE, rotate, unit_axis
 from .points import AngleCubic, PointPath
 from .splines import end_state, not_a_knot_slopes
 
+Paths = Tuple[PointPath, BatPath]
+"""The ball's and the bat's paths over one interval."""
+
 __all__ = [
     'MODELS', 'BatSample', 'check_model', 'hermite_tangent', 'substeps_for', 'PointPath',
     'BatPath', 'AngleCubic', 'LinearBatPath', 'MotionPath', 'PathKind', 'RigidAxisPath',
     'RigidBatPath', 'RigidPosePath', 'SAMPLES_AHEAD', 'SplineBatPath', 'hermite_slope',
     'swing_between', 'turn_between', 'samples_ahead', 'C2BatPath', 'c2_rows', 'unit_axis',
     'MAX_CHART_ANGLE',
-    'not_a_knot_slopes', 'end_state', 'rotate',
+    'not_a_knot_slopes', 'end_state', 'rotate', 'Paths',
 ]

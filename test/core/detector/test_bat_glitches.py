@@ -123,14 +123,20 @@ def test_a_glitch_is_judged_alike_in_chunks() -> None:
     scenario, samples = _scene('miss_over', 0, 360.0)
     j = _closest_frame(scenario, samples)
     glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
-    one = Detector(OFFLINE)
-    single = [event for stamp, role, values in glitched.messages()
+    dropped, _ = _alike_in_chunks(OFFLINE, glitched)
+    assert dropped['bat_glitch'] == 1
+
+
+def _alike_in_chunks(config: DetectorConfig, samples: Any) -> Tuple[Any, List[Any]]:
+    """Return the drops and events of ``add_chunk`` on the samples, as those one at a time."""
+    one = Detector(config)
+    single = [event for stamp, role, values in samples.messages()
               for event in one.add(role, stamp, values)] + one.finish()
-    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
-    whole = Detector(OFFLINE)
+    rows = [(role, stamp, values, 'world') for stamp, role, values in samples.messages()]
+    whole = Detector(config)
     chunked = whole.add_chunk(*arrays(rows)) + whole.finish()
     assert chunked == single and one.stats.dropped == whole.stats.dropped
-    assert one.stats.dropped['bat_glitch'] == 1
+    return whole.stats.dropped, chunked
 
 
 def _turning(rate: float, count: int, turned: int = -1, off: float = 0.0) -> Stream:
@@ -335,13 +341,7 @@ def test_a_hit_closing_on_a_glitch_is_judged_alike_in_chunks(rate: float) -> Non
     j = _closest_frame(scenario, samples)
     glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
     config = DetectorConfig(bat_input='pose')
-    one = Detector(config)
-    single = [event for stamp, role, values in glitched.messages()
-              for event in one.add(role, stamp, values)] + one.finish()
-    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
-    whole = Detector(config)
-    chunked = whole.add_chunk(*arrays(rows)) + whole.finish()
-    assert chunked == single and one.stats.dropped == whole.stats.dropped
+    _, chunked = _alike_in_chunks(config, glitched)
     _, deleted = _run(config, samples.without_bat_frame(j), 'pose')
     found, = [event for event in chunked if isinstance(event, Impact)]
     expected, = [event for event in deleted if isinstance(event, Impact)]

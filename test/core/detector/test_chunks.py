@@ -1226,6 +1226,20 @@ def test_a_pose_bats_noise_windows_outlast_the_shortest_history(look_ahead: int)
     assert chunked._noise[1].span == POSE_SPAN and len(chunked._noise[1].residuals) == HISTORY
 
 
+def _holds(monkeypatch: pytest.MonkeyPatch, test: str) -> List[int]:
+    """Return the stamps (ns) of the frames the ``Predictor`` test named holds, as they come."""
+    held: List[int] = []
+    departed = getattr(Predictor, test)
+
+    def recording(self: Predictor) -> bool:
+        result = departed(self)
+        if result:
+            held.append(self.last_ns)
+        return result
+    monkeypatch.setattr(Predictor, test, recording)
+    return held
+
+
 @pytest.mark.parametrize('rate, period', [(90.0, 0.01), (360.0, 0.0)])
 def test_a_prediction_held_at_a_ball_glitch_alike_in_chunks(
         rate: float, period: float, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -1236,15 +1250,7 @@ def test_a_prediction_held_at_a_ball_glitch_alike_in_chunks(
     and the next frame is due: in a chunk that stop overturns the plan (the predictor's last
     frame is not the plan's), and the events are those of one sample at a time.
     """
-    held: List[int] = []
-    departed = Predictor._ball_departed
-
-    def recording(self: Predictor) -> bool:
-        result = departed(self)
-        if result:
-            held.append(self.last_ns)
-        return result
-    monkeypatch.setattr(Predictor, '_ball_departed', recording)
+    held = _holds(monkeypatch, '_ball_departed')
     rng = np.random.default_rng(17)
     scenario = make_scenario('barrel', rng, lead_s=0.4)
     samples = sample(scenario, rate, rng, jitter_s=2e-4)
@@ -1272,15 +1278,7 @@ def test_a_prediction_held_at_a_bat_glitch_alike_in_chunks(
     sample at a time, it showed a contact the miss does not have), and the events in chunks are
     those of one sample at a time.
     """
-    held: List[int] = []
-    departed = Predictor._bat_departed
-
-    def recording(self: Predictor) -> bool:
-        result = departed(self)
-        if result:
-            held.append(self.last_ns)
-        return result
-    monkeypatch.setattr(Predictor, '_bat_departed', recording)
+    held = _holds(monkeypatch, '_bat_departed')
     rng = np.random.default_rng(1017)
     scenario = make_scenario('miss_over', rng, lead_s=0.4, family='jerky')
     samples = sample(scenario, 90.0, rng, jitter_s=2e-4)

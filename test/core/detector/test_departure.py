@@ -16,7 +16,8 @@ from baseball_collision.core.detector.departure import (
 from baseball_collision.core.detector.events import StreamGap
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.detector.sweep import Sweep, UNEXPLAINED_RUN
+from baseball_collision.core.detector.sweep import Sweep
+from baseball_collision.core.detector.sweep_ball import UNEXPLAINED_RUN
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import load_parameters

@@ -1,0 +1,290 @@
+"""
+The sweep's judgment of ball samples near the bat: glitches dropped and forgotten.
+
+A part of ``sweep.Sweep`` (its base, reading the sweep's streams, configuration and counters).
+A ball sample off its free flight that no hit explains is a glitch (``departure.glitch_path``,
+``Sweep._judged_glitch``); a segment's first three samples, which have too few before them,
+are judged by the flight after them (``departure.glitch_before_flight``), the first by the bat
+too (``_first_glitch``, ``_inside_bat``), the interval near the bat that reaches them waiting
+for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a ``LateDrop``)
+and forgotten (``Stream.remove``).
+"""
+
+from bisect import bisect_left
+import math
+from typing import List, Optional
+
+from .departure import (
+    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
+    glitch_before_flight, glitch_path, judging_noise, leaves_flight)
+from .events import DropReason, LateDrop, Role
+from .fitting import stream_noise
+from .noise import ESTIMATES
+from .streams import Stream
+from ..motion import BatPath
+from ..toi import profile_gap
+
+BACK_GAIN = 5.0
+"""The noise gain of a parabola through three samples continued one step back (Lagrange's
+weights 3, -3 and 1 at even steps: 4.4; a little more at uneven ones): ``Sweep._slack``."""
+
+BAT_PATH_GAIN = 2.0
+"""The most a bat's path through noisy frames strays, in their noise (a spline's end pieces,
+which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._slack``."""
+
+SQUASH = 0.5
+"""The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
+(a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
+
+UNEXPLAINED_RUN = 3
+"""Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
+ball that really left its flight near the bat without touching it (off the batter's hands) is
+tracked again after them."""
+
+
+class BallSamples:
+    """The ball's samples judged near the bat: a base of ``sweep.Sweep`` (see there)."""
+
+    __slots__ = ()
+
+    def _early_glitch(self, k: int, ta: float, tb: float, events: List) -> bool:
+        """
+        Judge the ball's young samples interval k reaches; True: the interval is done with.
+
+        Young: a segment's first, second or third sample (after a tracking gap), which
+        ``glitch_path`` cannot judge (fewer than three samples before it). A segment's first
+        sample, where it opens interval k, is judged first by its overlap with the bat
+        (``_inside_bat``, once its segment holds ``FLIGHT_AFTER`` samples after it or can take
+        no more). Each young sample the ball's path over interval k can reach (its opening
+        and closing samples, and those of the model's look-ahead), latest first, is judged by
+        the free flight after it
+        (``departure.glitch_before_flight``) once its segment holds ``FLIGHT_AFTER`` samples
+        after it, or can take no more (a sample after the segment, or ``final``); then the
+        segment's first sample, where it opens interval k, by the flight after it and the bat
+        (``_first_glitch``: the bat's samples over the interval in too). Until then the
+        interval waits (``held``: True). A glitch is dropped as ``ball_glitch`` and forgotten
+        (``_glitch``), and the interval swept again without it: the samples after it are then
+        judged against the flight of the good ones (its next sample is the segment's first).
+        """
+        ball, config = self.ball, self.config
+        gap, times, n = config.max_gap, ball.times, len(ball.times)
+        top = min(k + 1 + self.ahead, n - 1)
+        if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
+            return False  # (no segment starts at sample k - 2 or after: none is young)
+        starts = _starts(ball, k, gap)
+        if starts:  # (its segment's first sample: its overlap with the bat judged first)
+            last = k
+            while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
+                last += 1
+            if last < k + FLIGHT_AFTER and last == n - 1 and not self.final:
+                self.held = True
+                self.stats.intervals -= 1  # (counted when it is swept)
+                return True
+            if self._inside_bat(k):
+                self._glitch(k)
+                self._forget_glitches()
+                self.stats.intervals -= 1
+                self._swept(ta, tb, events)
+                return True
+        for j in range(top, k - 1, -1):
+            first = j == k and starts
+            if not (first or _young(ball, j, gap)):
+                continue
+            last = j
+            while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
+                last += 1
+            if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
+                self.held = True  # (its segment may still grow)
+            elif first:
+                glitch = self._first_glitch(k)
+                if glitch is None:
+                    self.held = True  # (the bat over its interval still to come)
+                elif glitch:
+                    self._glitch(k)
+                    self._forget_glitches()
+                else:
+                    continue
+            elif glitch_before_flight(ball, j, judging_noise(config), gap,
+                                      stream_noise(ball, config)):
+                self._glitch(j)
+                self._forget_glitches()
+            else:
+                continue
+            self.stats.intervals -= 1  # (counted when it is swept)
+            if not self.held:
+                self._swept(ta, tb, events)
+            return True
+        return False
+
+    def _first_glitch(self, k: int) -> Optional[bool]:
+        """
+        Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
+
+        A glitch: it left the free flight of the samples after it continued back to it
+        (``departure.flight_before``), and that flight does not touch the bat over interval k
+        (the ball grown by ``_slack``): a hit between samples k and k + 1 leaves the
+        sample before it off the flight after it too, but that flight, continued back, meets
+        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
+        its paths over the interval read are in (``_bat_over``).
+        """
+        ball, config = self.ball, self.config
+        flight = flight_before(ball, k, judging_noise(config), config.max_gap)
+        if flight is None:
+            return False
+        bat_paths = self._bat_over(flight.t0, flight.t1)
+        if bat_paths is None:
+            return None
+        radius = config.ball_radius + self._slack(BACK_GAIN)
+        return not any(self._contact((max(flight.t0, path.t0), min(flight.t1, path.t1)),
+                                     (flight, path), radius) is not None for path in bat_paths)
+
+    def _inside_bat(self, k: int) -> bool:
+        """
+        Return whether the ball's sample k overlaps the bat deeper than a ball squashes.
+
+        Deeper than ``SQUASH`` of the ball's radius, and ``_slack`` (a frame on the
+        bat's axis, or at its knob or tip, which ``_first_glitch`` cannot judge before a
+        hit), and off the parabola of the three samples after it continued back to it
+        (``departure.back_miss``: by more than ``DEPARTURE_FLOOR`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound at ``BACK_GAIN``; free flight or not, a hit may follow
+        within those samples; a simulated ball that flies on through the bat, or a test's ball
+        placed on it, is on it). For a segment's
+        first sample, judged before the samples after it: as the sample before the second, it
+        would make a hit's frame before the contact look off the hit's line
+        (``departure.glitch_before_flight``), and it leaves no free flight after it to judge it
+        by where a hit follows within two frames. On the bat's path over its sample interval
+        that holds t_k, as the sweep builds it (its frames are in: an interval at or after it
+        is swept); False where the bat has none there.
+        """
+        ball, bat, config = self.ball, self.bat, self.config
+        t, gap = ball.times[k], config.max_gap
+        b = bat.interval(t)
+        if b < 0 or b + 1 >= len(bat.times) or not bat.continuous(b, gap):
+            return False
+        knob, tip = self._bat_path(b).at(t)
+        depth = -profile_gap(ball.values[k], knob, tip, config.ball_radius, config.profile)[0]
+        if depth <= SQUASH * config.ball_radius + self._slack(1.0):
+            return False
+        miss = back_miss(ball, k, gap)
+        return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
+            DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
+
+    def _slack(self, ball_gain: float) -> float:
+        """
+        Return how far (m) a ball's path may seem from the bat, off by the noise.
+
+        The chords' error (``max_chord_error``) and the noise's ``DEPARTURE_CHI_SQUARE`` bound
+        on the root sum of squares of two errors: the ball's, ``ball_gain`` times its noise (1:
+        a sample, ``_inside_bat``; ``BACK_GAIN``: the flight continued a step back from its
+        three samples, ``_first_glitch``), and the bat's path's through noisy frames
+        (``BAT_PATH_GAIN`` times the bat's).
+        """
+        config = self.config
+        ball_noise, bat_noise = stream_noise(self.ball, config), stream_noise(self.bat, config)
+        return config.max_chord_error + math.sqrt(DEPARTURE_CHI_SQUARE) * math.hypot(
+            ball_gain * ball_noise, BAT_PATH_GAIN * bat_noise)
+
+    def _bat_over(self, t0: float, t1: float) -> Optional[List[BatPath]]:
+        """
+        Return the bat's paths over its sample intervals within [t0, t1] (s), or None: wait.
+
+        Each as the sweep builds it (``_bat_path``), none over a gap. None while a sample
+        those paths read has not come (up to ``ahead`` past the last interval's closing
+        sample, or its segment's end), unless the recording ended (``final``): the node and
+        ``analyze``'s chunks then read the same samples.
+        """
+        bat, gap = self.bat, self.config.max_gap
+        times, n = bat.times, len(bat.times)
+        b = max(bat.interval(t0), 0)
+        settled = times[-1] >= t1 and _settled(bat, bat.interval(t1) + 1, self.ahead, gap)
+        if not (settled or self.final):
+            return None
+        paths = []
+        while b + 1 < n and times[b] < t1:
+            if times[b + 1] > t0 and bat.continuous(b, gap):
+                paths.append(self._bat_path(b))
+            b += 1
+        return paths
+
+    def _judged_glitch(self, k: int, spread: float) -> bool:
+        """
+        Return whether the ball's sample k, near the bat, is a glitch to drop and forget.
+
+        A glitch by ``departure.glitch_path`` (no hit's line), or a departure no contact
+        explains: sample k left the flight (``leaves_flight``) of samples k - 3 .. k - 1
+        while the detector is armed and found no impact since the first of them, so the sweep
+        found no contact on the flight, which a hit on this bat would have made (up to
+        ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
+        lie on one line from the flight, as a hit's do), and only where its neighbours stay
+        within ``max_gap`` of each other (a ball really deflected at 60 Hz made a gap of its
+        forgotten frames). Not after an impact since: a graze
+        barely turns the ball, whose departure then shows a frame later, after the detector
+        re-armed (a 60 Hz ball's frames after a graze were forgotten, a gap made of them).
+
+        :param spread: the ball's noise (m, 1 sigma).
+        """
+        ball, config = self.ball, self.config
+        judged = judging_noise(config)
+        if glitch_path(ball, k, judged, config.max_gap, spread) is not None or (
+                self.unexplained and self.episodes.armed is True
+                and self.forgotten_run < UNEXPLAINED_RUN and k + 1 < len(ball.times)
+                and ball.continuous(k, config.max_gap)
+                and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
+                and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
+                and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
+            self.forgotten_run += 1
+            return True
+        self.forgotten_run = 0
+        return False
+
+    def _forget_glitches(self) -> None:
+        """Remove the ball glitches counted (``glitches``) from the ball's stream."""
+        ball, stamps = self.ball, self.ball.stamps
+        for stamp in self.glitches:
+            k = bisect_left(stamps, stamp)
+            if k < len(stamps) and stamps[k] == stamp:
+                ball.remove(k, (ESTIMATES,))
+        self.glitches.clear()
+
+    def _glitch(self, k: int) -> None:
+        """
+        Count the ball's sample k, a glitch (``departure.glitch_path``), as a dropped sample.
+
+        Once: its interval's path is kept by its stamps, and the sample leaves the stream once
+        the union interval is swept (``interval``; until then every fit leaves it out:
+        ``_ball_path``). A late drop (``LateDrop``, reason ``ball_glitch``), told by the call
+        that judged it, as the node and ``analyze`` tell any other.
+        """
+        stamp = self.ball.stamps[k]
+        if stamp == self.glitch_ns:
+            return
+        self.glitch_ns = stamp
+        self.glitches.append(stamp)
+        stats = self.stats
+        stats.dropped[DropReason.BALL_GLITCH] += 1
+        stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.BALL_GLITCH,
+                                         stamp_ns=stamp, frame_id=self.frame_of() or ''))
+
+
+def _young(stream: Stream, k: int, max_gap: float) -> bool:
+    """Return whether sample k is its segment's second or third (a segment's start seen)."""
+    if k < 1 or not stream.continuous(k - 1, max_gap):
+        return False
+    return _starts(stream, k - 1, max_gap) or (
+        k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
+
+
+def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
+    """Return whether sample k + ``ahead`` has come, or sample k's segment ended before it."""
+    n = len(stream.times)
+    for j in range(k, k + ahead):
+        if j + 1 >= n:
+            return False
+        if not stream.continuous(j, max_gap):
+            return True
+    return k + ahead < n
+
+
+def _starts(stream: Stream, k: int, max_gap: float) -> bool:
+    """Return whether sample k starts a segment (the first kept one: where it was a start)."""
+    return stream.breaks[k] if k == 0 else not stream.continuous(k - 1, max_gap)

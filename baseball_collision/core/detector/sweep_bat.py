@@ -1,0 +1,196 @@
+"""
+The sweep's judgment of bat frames near the ball: glitches dropped and forgotten.
+
+A part of ``sweep.Sweep`` (its base, reading the sweep's streams, configuration and counters).
+The frames an interval near the ball reads are judged by ``bat_glitches`` (``_bat_frames``);
+a closing frame whose next has not come yet and that departed from its continuation is left
+out of the interval's path, or, where a hit's contact hangs on it, judged first, the interval
+waiting for its next frame (``_without_departed``, ``_closing_glitch``). A glitch is dropped
+as ``bat_glitch`` (a ``LateDrop``) and forgotten (``Stream.remove``).
+"""
+
+from bisect import bisect_left
+import math
+from typing import Optional, Tuple
+
+from . import bat_glitches
+from .events import DropReason, LateDrop, Role
+from .fitting import c2_window, stream_noise
+from .noise import ESTIMATES
+from ..motion import BatPath, Paths
+
+CONTACT_APART = 1e-4
+"""s: a hit's contacts on the bat's path through its newest frame, which departed, and on the
+path without it, further apart than this, and the frame is judged before the hit is solved
+(``Sweep._without_departed``)."""
+
+
+class BatFrames:
+    """The bat's frames judged near the ball: a base of ``sweep.Sweep`` (see there)."""
+
+    __slots__ = ()
+
+    def _bat_frames(self, interval: Tuple[float, float], bat_k: int,
+                    paths: Paths) -> Optional[Paths]:
+        """
+        Judge the bat frames the path over bat interval bat_k reads; None: one was forgotten.
+
+        The frames of its window from the first up to the one before the newest its path may
+        read (``_horizon``: with their next frame) are judged, the oldest first
+        (``bat_glitches.judged``: each against the frames before it, which are judged; not
+        one whose next frame stays isolated without it, ``bat_glitches.isolated_without``:
+        the glitch is that one, which pulled its neighbours' spline off; a frame judged no
+        glitch with every sample its verdict reads is kept so, ``bat_glitches.CLEAN``, for
+        the noise it was judged at and up to ``NOISE_KEPT`` times it), and the first
+        glitch is dropped and forgotten: None (the interval is to be located again,
+        and the frames after it judged again without it). Else ``paths`` without a frame after
+        its opening one that departed (``_without_departed``: at look-ahead 0 its closing
+        frame's next has not come yet), which is judged once its next frame has
+        (``bat_suspect``); None where a hit hangs on that frame, which was then a glitch,
+        forgotten, or waits for its next frame (``held``: ``_closing_glitch``).
+        """
+        bat, config = self.bat, self.config
+        max_gap, size = config.max_gap, config.spline_window
+        noise, last = stream_noise(bat, config), self._horizon(bat_k)
+        clean = bat.aligned.setdefault(bat_glitches.CLEAN, [])
+        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, last):
+            if j < len(clean) and clean[j] is not None and \
+                    clean[j] <= noise <= bat_glitches.NOISE_KEPT * clean[j]:
+                continue  # (judged no glitch on every sample its verdict reads)
+            if not bat_glitches.judged(bat, j, max_gap, size, noise, last):
+                if j + 2 <= last:
+                    clean.extend([None] * (j + 1 - len(clean)))
+                    clean[j] = noise
+                continue
+            if not (j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
+                                                                   noise, last)):
+                self._bat_glitch(j, last)
+                return None
+        without, departed = self._without_departed(interval, bat_k, paths)
+        if departed is not None:
+            self.bat_suspect = departed
+        return without
+
+    def _horizon(self, bat_k: int) -> int:
+        """
+        Return the newest bat sample a judgment at bat interval bat_k may read.
+
+        The interval's closing frame and the model's look-ahead (``ahead``): what the walk
+        waits for before it sweeps the interval, so the node (one message at a time) and
+        ``analyze`` (chunks, whose streams may run further ahead) judge alike.
+        """
+        return min(bat_k + 1 + self.ahead, len(self.bat.times) - 1)
+
+    def _without_departed(self, interval: Tuple[float, float], bat_k: int,
+                          paths: Paths) -> Tuple[Optional[Paths], Optional[int]]:
+        """
+        Return the paths without a bat frame that departed after bat interval bat_k, its stamp.
+
+        The frames its path reads after its opening one (its closing one, the look-ahead's), in
+        turn: where one departed from its continuation (``bat_glitches.departed``: a glitch whose
+        next frame may not have come yet, or the bat braking after a contact), the bat's path
+        without it and the frames after it (``bat_glitches.path_without``), where a bat can move on
+        it (``_plausible``), and the frame's stamp (ns). Where both paths touch over the union
+        interval (s), a hit, whose contact comes before a brake: ``paths`` and None, unless the
+        frame is the newest the path may read (``_horizon``: the frames before it were judged)
+        and the two contacts are more than ``CONTACT_APART`` apart, where the frame is judged
+        first (``_closing_glitch``): None and None where it was a glitch, forgotten (the interval
+        is to be located again) or the interval waits for its next frame (``held``). Else
+        ``paths`` and None.
+        """
+        bat, config = self.bat, self.config
+        max_gap, size = config.max_gap, config.spline_window
+        noise, horizon = stream_noise(bat, config), self._horizon(bat_k)
+        for j in range(bat_k + 1, horizon + 1):
+            if not bat.continuous(j - 1, max_gap):
+                break
+            if bat_glitches.departed(bat, j, max_gap, size, noise):
+                path = bat_glitches.path_without(bat, bat_k, j, max_gap, size, noise)
+                if path is None or not self._plausible(path):
+                    break
+                without = paths[0], path
+                through = self._contact(interval, paths)
+                if through is None:
+                    return without, bat.stamps[j]
+                contact = self._contact(interval, without)
+                if contact is None:
+                    return without, bat.stamps[j]
+                if j == horizon and abs(through - contact) > CONTACT_APART and \
+                        self._closing_glitch(j):
+                    return None, None
+                break
+        return paths, None
+
+    def _closing_glitch(self, j: int) -> bool:
+        """
+        Judge bat frame j, which a hit's contact hangs on, from its next frame; True: wait.
+
+        True where it was a glitch (``bat_glitches.judged`` up to frame j + 1: dropped and
+        forgotten, ``_bat_glitch``) or where its next frame has not come yet and the recording
+        goes on (``held``: the interval waits for it, one bat frame). False where it is no
+        glitch, or no frame comes after it (``final``, or one past ``max_gap``): the hit stands
+        on the path through it.
+        """
+        bat, config = self.bat, self.config
+        if j + 1 >= len(bat.times):
+            self.held = not self.final
+            return self.held
+        if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
+                               stream_noise(bat, config), j + 1):
+            self._bat_glitch(j, j + 1)
+            return True
+        return False
+
+    def _plausible(self, path: BatPath) -> bool:
+        """
+        Return whether a bat path continued past its samples moves as a bat can.
+
+        Neither end moves, nor the path strays from its chord, by more than ``max_speed``
+        allows over its interval: a continuation of samples a few microseconds apart, or of
+        wild ones, can reach anywhere (and the sweep would cut it in as many sub-steps).
+        """
+        t0, t1 = path.t0, path.t1
+        reach = self.config.max_speed * (t1 - t0)
+        start, end = path.at(t0), path.at(t1)
+        return (path.deviation(t0, t1) <= reach
+                and max(math.dist(start[0], end[0]), math.dist(start[1], end[1])) <= reach)
+
+    def _judge_suspect(self, bat_k: int) -> None:
+        """
+        Judge the departed bat frame ``bat_suspect`` once its next frame is within the horizon.
+
+        At union intervals within bat interval bat_k (``_horizon``), near the ball or not.
+        """
+        bat, stamp = self.bat, self.bat_suspect
+        j = bisect_left(bat.stamps, stamp)
+        if j < len(bat.stamps) and bat.stamps[j] == stamp:
+            last = self._horizon(bat_k)
+            if j + 1 > last:
+                return  # (its next frame still to come)
+            config = self.config
+            if bat_glitches.judged(bat, j, config.max_gap, config.spline_window,
+                                   stream_noise(bat, config), last):
+                self._bat_glitch(j, last)
+        self.bat_suspect = None
+
+    def _bat_glitch(self, j: int, last: int) -> None:
+        """
+        Drop bat frame j, a glitch (``bat_glitches``), and forget it.
+
+        A late drop (``LateDrop``, reason ``bat_glitch``) under the input that was off: the
+        pose, or whichever of the knob and the tip is farther from its neighbours' spline (up
+        to sample ``last``: ``_horizon``).
+        """
+        bat, config = self.bat, self.config
+        if config.bat_input == 'pose':
+            role = Role.BAT_POSE
+        else:
+            knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window,
+                                               last)
+            role = Role.KNOB if knob > tip else Role.TIP
+        stats = self.stats
+        stats.dropped[DropReason.BAT_GLITCH] += 1
+        stats.late_drops.append(LateDrop(role=role, reason=DropReason.BAT_GLITCH,
+                                         stamp_ns=bat.stamps[j], frame_id=self.frame_of() or ''))
+        del bat.aligned.get(bat_glitches.CLEAN, [])[max(j - 2, 0):]  # (they read frame j)
+        bat.remove(j, (ESTIMATES,))
