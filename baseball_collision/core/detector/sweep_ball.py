@@ -73,27 +73,18 @@ class BallSamples:
             return False  # (no segment starts at sample k - 2 or after: none is young)
         starts = _starts(ball, k, gap)
         if starts:  # (its segment's first sample: its overlap with the bat judged first)
-            last = k
-            while last < n - 1 and last < k + FLIGHT_AFTER and ball.continuous(last, gap):
-                last += 1
-            if last < k + FLIGHT_AFTER and last == n - 1 and not self.final:
+            if self._flight_to_come(k):
                 self.held = True
-                self.stats.intervals -= 1  # (counted when it is swept)
-                return True
+                return self._judged_again(ta, tb, events)
             if self._inside_bat(k):
                 self._glitch(k)
                 self._forget_glitches()
-                self.stats.intervals -= 1
-                self._swept(ta, tb, events)
-                return True
+                return self._judged_again(ta, tb, events)
         for j in range(top, k - 1, -1):
             first = j == k and starts
             if not (first or _young(ball, j, gap)):
                 continue
-            last = j
-            while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
-                last += 1
-            if last < j + FLIGHT_AFTER and last == n - 1 and not self.final:
+            if self._flight_to_come(j):
                 self.held = True  # (its segment may still grow)
             elif first:
                 glitch = self._first_glitch(k)
@@ -110,11 +101,28 @@ class BallSamples:
                 self._forget_glitches()
             else:
                 continue
-            self.stats.intervals -= 1  # (counted when it is swept)
-            if not self.held:
-                self._swept(ta, tb, events)
-            return True
+            return self._judged_again(ta, tb, events)
         return False
+
+    def _flight_to_come(self, j: int) -> bool:
+        """
+        Return whether ball sample j's segment may still take samples its judgment reads.
+
+        The ``FLIGHT_AFTER`` samples after it: not in yet, the stream's newest sample in its
+        segment, and the recording going on (not ``final``).
+        """
+        ball, gap = self.ball, self.config.max_gap
+        n, last = len(ball.times), j
+        while last < n - 1 and last < j + FLIGHT_AFTER and ball.continuous(last, gap):
+            last += 1
+        return last < j + FLIGHT_AFTER and last == n - 1 and not self.final
+
+    def _judged_again(self, ta: float, tb: float, events: List) -> bool:
+        """Sweep the union interval [ta, tb] (s) again unless it waits (``held``); True."""
+        self.stats.intervals -= 1  # (counted when it is swept)
+        if not self.held:
+            self._swept(ta, tb, events)
+        return True
 
     def _first_glitch(self, k: int) -> Optional[bool]:
         """
