@@ -90,13 +90,16 @@ class BatFrames:
         turn: where one departed from its continuation (``bat_glitches.departed``: a glitch whose
         next frame may not have come yet, or the bat braking after a contact), the bat's path
         without it and the frames after it (``bat_glitches.path_without``), where a bat can move on
-        it (``_plausible``), and the frame's stamp (ns). Where both paths touch over the union
-        interval (s), a hit, whose contact comes before a brake: ``paths`` and None, unless the
-        frame is the newest the path may read (``_horizon``: the frames before it were judged)
-        and the two contacts are more than ``CONTACT_APART`` apart, where the frame is judged
-        first (``_closing_glitch``): None and None where it was a glitch, forgotten (the interval
-        is to be located again) or the interval waits for its next frame (``held``). Else
-        ``paths`` and None.
+        it (``_plausible``), and the frame's stamp (ns), where neither path touches over the
+        union interval (s). Where the frame is the newest the path may read (``_horizon``: the
+        frames before it were judged) and the paths disagree (one touches and the other does
+        not: a glitch turned toward the ball or away from a hit, or a bat that really stopped
+        short of a ball its continuation would meet; or their contacts more than
+        ``CONTACT_APART`` apart), the frame is judged first (``_closing_glitch``): None and None
+        where it was a glitch, forgotten (the interval is to be located again), or where the
+        interval waits for its next frame (``held``); else ``paths`` and None. Where both
+        paths touch within that, a hit, whose contact comes before a brake: ``paths`` and
+        None. An older frame (judged no glitch) where one path touches: the paths without it.
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
@@ -110,14 +113,16 @@ class BatFrames:
                     break
                 without = paths[0], path
                 through = self._contact(interval, paths)
-                if through is None:
-                    return without, bat.stamps[j]
                 contact = self._contact(interval, without)
-                if contact is None:
+                if through is None and contact is None:
                     return without, bat.stamps[j]
-                if j == horizon and abs(through - contact) > CONTACT_APART and \
-                        self._closing_glitch(j):
-                    return None, None
+                if j == horizon and (through is None or contact is None
+                                     or abs(through - contact) > CONTACT_APART):
+                    if self._closing_glitch(j):
+                        return None, None
+                    break  # (no glitch: the hit, or the miss, on the path through it)
+                if through is None or contact is None:
+                    return without, bat.stamps[j]
                 break
         return paths, None
 

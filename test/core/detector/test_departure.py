@@ -309,6 +309,8 @@ def test_a_flight_fit_past_a_hit_does_not_re_arm() -> None:
          model='rigid')  # re-armed by the ball's free flight through the bat: two impacts
 @example(seed=8447, kind='barrel', bat_rate=90.0, ball_rate=240.0, bat_as='pose',
          model='c2')  # re-armed on the interval after the hit's, whose closing frame departed
+@example(seed=11141679, kind='handle', bat_rate=90.0, ball_rate=60.0, bat_as='pose',
+         model='rigid')  # the bat braked after the hit: its continuation met the ball again
 @given(seed=st.integers(0, 2 ** 32 - 1), kind=st.sampled_from(['barrel', 'end_cap', 'handle']),
        bat_rate=st.sampled_from([90.0, 180.0, 360.0, 500.0, 1000.0]),
        ball_rate=st.sampled_from([60.0, 90.0, 120.0, 240.0, 360.0]),
