@@ -113,6 +113,8 @@ class BatFrames:
                     break
                 without = paths[0], path
                 through = self._contact(interval, paths)
+                if through is None and j < horizon:
+                    return without, bat.stamps[j]
                 contact = self._contact(interval, without)
                 if through is None and contact is None:
                     return without, bat.stamps[j]
@@ -121,7 +123,7 @@ class BatFrames:
                     if self._closing_glitch(j):
                         return None, None
                     break  # (no glitch: the hit, or the miss, on the path through it)
-                if through is None or contact is None:
+                if contact is None:  # (an older frame, judged: its path touches, not without)
                     return without, bat.stamps[j]
                 break
         return paths, None
