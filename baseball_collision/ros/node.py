@@ -16,8 +16,9 @@ events come back out as messages:
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
   ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, once
-  every input stream went ``max_gap`` past the predicted instant without one, or once an input
-  has been silent beyond ``stale_timeout``).
+  every input stream went ``max_gap`` past the predicted instant without one, once the bat did
+  and the ball has been silent longer than its measured lag behind the bat plus ``max_gap``,
+  or once an input has been silent beyond ``stale_timeout``).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -96,6 +97,10 @@ from ..errors import CoreError, RosError
 from ..threads import single_threaded_blas
 
 
+BALL_LAGS = 256
+"""Accepted ball messages whose lag behind the bat's (``ImpactNode._ball_lost``) are kept: the
+largest of them is the ball's lag (a camera's bursts included), about 0.7-2.8 s at 90-360 Hz."""
+
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
 
@@ -135,6 +140,10 @@ class ImpactNode(Node):
         self._lock = threading.Lock()
         self._last_values: Dict[str, Tuple[int, Any]] = {}
         self._before_newest: Dict[str, int] = {}  # each stream's sample before its newest (ns)
+        # each stream's newest accepted message: its arrival (steady clock) less its stamp (s);
+        # and the last ``BALL_LAGS`` ball messages' lags behind the bat's (s: ``_note_lag``)
+        self._offsets: Dict[str, float] = {}
+        self._ball_lags: Deque[float] = deque(maxlen=BALL_LAGS)
         self._markers_stamp: Optional[int] = None
         self._predicting = False
         self._predicted_ns = 0  # the instant (ns) of the last prediction
@@ -290,6 +299,7 @@ class ImpactNode(Node):
                 self._last_values[stream] = (stamp, values)
                 if previous is not None:
                     self._before_newest[stream] = previous[0]
+                self._note_lag(stream, arrival - stamp * 1e-9)
             pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
             for event in events:
                 kind, where = event.__class__, frame or expected or ''
@@ -561,6 +571,8 @@ class ImpactNode(Node):
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
         self._last_values.clear()
         self._before_newest.clear()
+        self._offsets.clear()
+        self._ball_lags.clear()
         self._markers_stamp = None
         if self.settings['publish_markers']:
             self._outputs['markers'].publish(scene_cdr(
@@ -673,18 +685,50 @@ class ImpactNode(Node):
         mocap) still brings the contact after the bat passed the instant, and a rule on one
         stream alone withdrew the flag before that ``~/impact``, and the late ball's next
         prediction raised it again. The second sample, because a lone stamp glitched ahead
-        waits for the next one (``stamp_ahead``) and is no proof. A stream that stopped (the
-        ball lost, the bat streaming on) is told from a late one only by its silence: its
-        messages may come in bursts (a camera tracker), so that silence is the configured
-        ``stale_timeout``, not ``max_gap``. The detector's prediction is left as it is.
+        waits for the next one (``stamp_ahead``) and is no proof. A ball that stopped (lost
+        by its tracker, the bat streaming on) is told from a late one by its silence: once the
+        bat passed, the flag turns false when the ball has been silent longer than its own
+        measured lag behind the bat plus ``max_gap`` (``_ball_lost``: the largest lag of its
+        recent messages, a camera's bursts included), not only after ``stale_timeout``. The
+        detector's prediction is left as it is.
 
         :param now: the steady-clock time (s) of the sample just taken.
         """
         margin = round(self.detector.config.max_gap * NS_PER_S)
         passed = self._predicted_ns + margin
-        if all(self._before_newest.get(stream, passed) > passed for stream in self._streams) \
+        newest = self._before_newest
+        bat_passed = all(newest.get(stream, passed) > passed
+                         for stream in self._streams if stream != 'ball')
+        if bat_passed and (newest.get('ball', passed) > passed or self._ball_lost(now)) \
                 or self._silent_locked(now):
             self._set_predicting(False)
+
+    def _note_lag(self, stream: str, offset: float) -> None:
+        """
+        Note an accepted message's arrival less its stamp (s); a ball's, its lag behind the bat.
+
+        The ball's lag: its offset less the smallest of the bat streams' newest (s; both
+        clocks' difference cancels), how much later than the bat's the ball's message of the
+        same stamp is taken: a tracker's latency and its bursts (``_ball_lost``).
+        """
+        offsets = self._offsets
+        offsets[stream] = offset
+        if stream == 'ball':
+            bats = [offsets[each] for each in self._streams if each != 'ball' and each in offsets]
+            if bats:
+                self._ball_lags.append(offset - min(bats))
+
+    def _ball_lost(self, now: float) -> bool:
+        """
+        Return whether the ball has been silent longer than its lag behind the bat + ``max_gap``.
+
+        Its lag: the largest of its last ``BALL_LAGS`` messages' (``_note_lag``; none below 0).
+        A ball tracker 60-100 ms behind the bat still streams within that; one that lost the
+        ball has sent nothing since. ``now``: the steady-clock time (s), the node's lock held.
+        """
+        lag = max(max(self._ball_lags, default=0.0), 0.0)
+        return now - self.tally.last_arrival.get('ball', -math.inf) > \
+            lag + self.detector.config.max_gap
 
     def _withdraw_a_silent_prediction(self) -> None:
         """

@@ -834,16 +834,19 @@ class PublishOrder:
         return getattr(self._publisher, attribute)
 
 
+@pytest.mark.parametrize('paced', [False, True])
 @pytest.mark.parametrize('late_samples', [22, 36])  # the ball 61 ms and 100 ms after the bat
 def test_a_late_ball_keeps_the_prediction_until_its_impact(
-        harness: Callable[..., Harness], truth_ns: int, late_samples: int) -> None:
+        harness: Callable[..., Harness], truth_ns: int, late_samples: int, paced: bool) -> None:
     """
     The ball's messages come 61-100 ms after the bat's: ~/impact_predicted turns true once.
 
     Then false right after the ``~/impact``. The bat passes the predicted instant by
     ``max_gap`` (18 frames) long before the late ball reaches it: a prediction withdrawn on
     the bat's stamps alone flapped with each of the ball's next predictions, and turned false
-    before the impact (``stale_timeout`` is far off here).
+    before the impact (``stale_timeout`` is far off here). ``paced``: the frames sent at their
+    rate, so that the ball is late on the node's clock too; it streams on, silent for far
+    less than its lag plus ``max_gap``: not taken for lost (``ImpactNode._ball_lost``).
     """
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
     order: List[Tuple[str, Any]] = []
@@ -854,7 +857,9 @@ def test_a_late_ball_keeps_the_prediction_until_its_impact(
         t = i / RATE_HZ
         h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(t)))
         sent += 1
-        if i == late_samples - 1:
+        if paced:
+            time.sleep(1.0 / RATE_HZ)
+        elif i == late_samples - 1:
             h.processed(sent)  # the bat's lead taken before the first ball
         if i >= late_samples:
             j = i - late_samples
@@ -867,30 +872,44 @@ def test_a_late_ball_keeps_the_prediction_until_its_impact(
     assert [name for name, _ in order] == ['impact_predicted', 'impact', 'impact_predicted']
 
 
-def test_a_prediction_is_withdrawn_when_the_ball_stops_and_the_bat_streams_on(
-        harness: Callable[..., Harness], truth_ns: int) -> None:
+@pytest.mark.parametrize('lost', ['ball', 'bat_pose'])
+def test_a_prediction_is_withdrawn_when_one_stream_stops_and_the_other_streams_on(
+        harness: Callable[..., Harness], truth_ns: int, lost: str) -> None:
     """
-    The ball is lost 8 ms before the predicted contact, the bat streams on: the flag turns false.
+    One stream is lost 8 ms before the predicted contact, the other streams on: the flag goes off.
 
-    Once the ball has been silent beyond ``stale_timeout``, at a bat message: the diagnostics
-    period, whose timer also checks it, is far off here.
+    The ball lost: once the bat passed the predicted instant by ``max_gap`` and the ball has
+    been silent longer than its lag behind the bat plus ``max_gap`` (``ImpactNode._ball_lost``):
+    an arm learns at once that no contact is coming, not a ``stale_timeout`` (30 s here) later.
+    The bat lost: once it has been silent beyond ``stale_timeout`` (0.3 s), at a ball message
+    (the diagnostics period, whose timer also checks it, is far off here).
     """
-    timeout = 0.3
-    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': timeout,
-                                        'diagnostics_period': 60.0})
-    lost = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3  # the ball's last frame, ~8 ms before
-    sent = publish_swing(h, 'pose', pitch(), samples=range(lost + 1))
-    h.processed(sent)
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'diagnostics_period': 60.0,
+                                        'stale_timeout': 30.0 if lost == 'ball' else 0.3})
+    last = int((truth_ns - BASE_NS) * 1e-9 * RATE_HZ) - 3  # the last frame, ~8 ms before
+    h.processed(publish_swing(h, 'pose', pitch(), samples=range(last + 1)))
     h.wait(lambda: h.received['predicting'][-1:] and h.received['predicting'][-1].data, 3.0,
            'a prediction in force')
-    ball_lost_at = h.node.tally.last_arrival['ball']  # (the steady clock the node's)
-    i = lost + 1
-    while h.received['predicting'][-1].data and \
-            time.monotonic() - ball_lost_at < timeout + 3.0:
-        h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(i / RATE_HZ)))
+    passed = h.node._predicted_ns + round(h.node.detector.config.max_gap * 1e9)
+    withdrawn_at: List[int] = []  # the bat's stamp before its newest as the flag turned false
+    set_predicting = h.node._set_predicting
+
+    def noting(predicting: bool) -> None:
+        if h.node._predicting and not predicting:
+            withdrawn_at.append(h.node._before_newest['bat_pose'])
+        set_predicting(predicting)
+    h.node._set_predicting = noting
+    i = last + 1
+    while h.received['predicting'][-1].data and i < last + 600:  # (3 s of frames)
+        if lost == 'ball':
+            h.publishers['bat_pose'].publish(pose_msg(sample_ns(i), *pose(i / RATE_HZ)))
+        else:
+            h.publishers['ball'].publish(point_msg(sample_ns(i), pitch()(i / RATE_HZ)))
         i += 1
         time.sleep(0.005)
     assert not h.received['predicting'][-1].data, 'the prediction was not withdrawn'
+    assert len(withdrawn_at) == 1
+    assert withdrawn_at[0] > passed or lost == 'bat_pose'  # not before the bat passed
     assert not h.received['impact']
 
 

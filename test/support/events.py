@@ -6,6 +6,7 @@ from typing import Any, List, Sequence, Tuple
 from baseball_collision.core.detector import Detector, DetectorConfig, Event, Impact
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.events import LateDrop
+from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 
 from .scenes import BASE_NS, pitch, pose
@@ -75,6 +76,30 @@ def on_bat_axis(samples: Any, k: int, distance: float = 0.0) -> Any:
 
 Row = Tuple[str, int, Tuple[float, ...], str]
 """(role, stamp in ns, values, frame_id)."""
+
+
+def glitched_pitch(kind: str, family: str, seed: int, rate: float, frame: int,
+                   noise_m: float = 0.0, turn: float = 0.2) -> Tuple[List[Row], int]:
+    """
+    Return a pitch's rows with one bat frame turned toward the ball, and its closest stamp.
+
+    The ``sim`` scenario of ``kind`` and ``family`` (``default_rng(1000 * seed + 17)``, lead
+    0.4 s) sampled at ``rate`` (Hz) with ``noise_m`` (m) and 0.2 ms of jitter; the bat frame
+    ``frame`` frames after the one nearest the contact (a miss: the closest approach) turned
+    ``turn`` (m) at the tip toward the ball sample nearest it. The stamp is ns.
+    """
+    rng = np.random.default_rng(1000 * seed + 17)
+    scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
+    samples = sample(scenario, rate, rng, noise_m=noise_m, jitter_s=2e-4)
+    truth = scenario.truth
+    closest = samples.start_ns + int((truth.time_s if truth.contact else truth.min_gap_time_s)
+                                     * 1e9)
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - closest))) + frame
+    nearest = np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[int(np.argmin(nearest))],
+                                             turn)
+    return [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()], \
+        closest
 
 
 def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, List[str]]:

@@ -305,6 +305,10 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
             if forecast:
                 predictor.predict(detector._scheduler.cursor, detector._episodes.armed, events)
             _time(stats, start, stop - pos)
+            if forecast and stats.late_drops:  # a bat glitch the prediction judged
+                for late in stats.late_drops if drops is not None else ():
+                    drops[late.role, late.reason] += 1
+                return _overturned(detector, plan, chunk, i, stop, resets)
         if end >= plan.n:
             return plan.n
         pos = end + 1

@@ -117,6 +117,7 @@ class Detector:
         self._predictor = Predictor(config, self._clock, self._ball, self._bat, self._offsets)
         self._sweep.measure, self._sweep.on_contact = self._measure, self._on_contact
         self._sweep.frame_of = lambda: self._intake.frame
+        self._predictor.drop_bat = self._sweep._bat_glitch  # (the forecast's frames judged)
         self._noise = None if config.tracker_noise >= 0.0 else (
             NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
                                                   else 'pose'))

@@ -18,17 +18,25 @@ judges only once the ball is near the bat). Where a contact is found or a predic
 force (for the bat: where the frame would change what is shown), such a frame predicts
 nothing: the prediction in force stays, and the next frame predicts, so a glitch neither shows
 a contact the pitch does not have, nor moves or withdraws one.
+
+A glitch further back in the bat's forecast window would bend the fit of every forecast after
+it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that
+would change what is shown (a contact found, withdrawn or moved) first judges the window's
+newest bat frames by the sweep's rule, the oldest first, and drops a glitch as the sweep does
+(``bat_glitch``, counted; forgotten): ``Predictor._bat_glitch_dropped``. The prediction and
+the detection path read the same frames.
 """
 
 from dataclasses import replace
 import math
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import Callable, List, Optional, Sequence, Tuple, Union
 
-from .bat_glitches import glitch_floor
+from .bat_glitches import (
+    CLEAN, glitch_floor, isolated_without, judged, NOISE_KEPT, REGULAR_STEP)
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
-from .fitting import stream_noise
+from .fitting import c2_window, stream_noise
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .streams import Stream
@@ -71,7 +79,7 @@ class Predictor:
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
-                 '_ball_window', '_bat_window', '_instant')
+                 '_ball_window', '_bat_window', '_instant', 'drop_bat')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -86,6 +94,9 @@ class Predictor:
         self._ball_window = (0, 0)  # the last ball forecast's samples [first, end)
         self._bat_window = (0, 0)  # the last extrapolated bat's frames [first, end); (0, 0): plan
         self._instant = 0.0  # the instant (s) of the prediction in force
+        # drops and forgets bat frame j, a glitch judged from the samples up to a last one
+        # (the sweep's ``_bat_glitch``); None: the forecast's frames are not judged
+        self.drop_bat: Optional[Callable[[int, int], None]] = None
 
     @property
     def config(self) -> DetectorConfig:
@@ -134,7 +145,9 @@ class Predictor:
         sample off its free flight (``_ball_departed``), or the frame would change what is
         shown (``_shown_changes``) and the bat's starts from a frame off the swing
         (``_bat_departed``); the next frame is then due. The bat's turns are summed over the
-        forecast's own window (``_bat_forecast``).
+        forecast's own window (``_bat_forecast``), whose frames are judged first where the
+        frame would change what is shown (``_bat_glitch_dropped``: a glitch dropped, the bat
+        forecast again without it).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -146,11 +159,15 @@ class Predictor:
         if armed and self._may_reach():
             ball = self._ball_forecast(t0)
             forecast = None if ball is None else self._bat_forecast(t0)
-            if forecast is not None:
+            while forecast is not None:
                 planned = forecast.__class__ is PlannedBat
                 bat_args = forecast.kernel_args if planned else forecast
                 found = contact_of(ball, bat_args, t0, config.prediction_horizon,
                                    config.ball_radius, config.profile, self._tolerance)
+                if planned or not self._bat_glitch_dropped(found):
+                    break
+                found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
+            if forecast is not None:
                 if (found is not None or self.predicting) and (self._ball_departed() or (
                         self._shown_changes(found) and self._bat_departed())):
                     self.last_ns = last_ns  # (no frame that predicted: the next one is due)
@@ -168,6 +185,45 @@ class Predictor:
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
+
+    def _bat_glitch_dropped(self, found: Optional[Tuple[float, ImpactResult]]) -> bool:
+        """
+        Judge the extrapolated bat's frames as the sweep does; True: a glitch was dropped.
+
+        Where the frame would change what is shown (``_shown_changes``; ``found``:
+        ``contact_of``'s result, a contact or one in force): the forecast window's frames with
+        their next frame in it that the sweep judges for an interval closing at its newest
+        (``fitting.c2_window``: up to ``spline_window`` frames), the oldest first, by the
+        sweep's rule (``bat_glitches.judged`` from the window's samples; not a frame whose next
+        stays isolated without it, ``bat_glitches.isolated_without``; a frame judged no glitch
+        on every sample its verdict reads kept so, ``bat_glitches.CLEAN``, as the sweep keeps
+        it), and the first glitch is dropped and forgotten (``drop_bat``: the sweep's
+        ``bat_glitch`` drop), so that the prediction reads the frames the detection path
+        reads; the sweep judges a frame only once an interval near the ball reads it. A
+        frame's first verdict costs a smoothed continuation with noise
+        (``bat_glitches.departure``), hence only where the frame would change what is shown.
+        """
+        first, end = self._bat_window
+        if self.drop_bat is None or (found is None and not self.predicting) or \
+                not self._shown_changes(found):
+            return False
+        bat, config = self.bat, self._config
+        gap, size, noise, last = config.max_gap, config.spline_window, stream_noise(
+            bat, config), end - 1
+        kept = bat.aligned.setdefault(CLEAN, [])
+        for j in range(max(first, c2_window(bat, last - 1, gap, 0, size).start), last):
+            at = kept[j] if j < len(kept) else None
+            if at is not None and at <= noise <= NOISE_KEPT * at:
+                continue
+            if judged(bat, j, gap, size, noise, last):
+                if j + 1 < last and isolated_without(bat, j, gap, size, noise, last):
+                    continue
+                self.drop_bat(j, last)
+                return True
+            if j + 2 <= last:
+                kept.extend([None] * (j + 1 - len(kept)))
+                kept[j] = noise
+        return False
 
     def _ball_departed(self) -> bool:
         """
@@ -204,10 +260,16 @@ class Predictor:
         2.8 cm of it at 90 Hz and 3.6 cm at 360 Hz with 1 mm of noise, a frame turned 10 cm at
         the tip 8.3 cm or more away. Not where the frame before left it too: the fit through
         that one misses the newest (the sweep judges a bat frame only near the ball, so a
-        glitch may stay in the window for tens of milliseconds).
+        glitch may stay in the window for tens of milliseconds). Nor where the newest frame's
+        step is more than ``bat_glitches.REGULAR_STEP`` times the step before it: after a
+        frame lost or dropped (a glitch or a frame stamped milliseconds off that this frame's
+        judgment dropped, ``_bat_glitch_dropped``) the forecast reaches over two steps, and
+        a swing's own frame lands centimetres off it.
         """
         first, end = self._bat_window
-        return end - first >= 5 and self._bat_leaves(first, end) and \
+        times = self.bat.times
+        return end - first >= 5 and times[end - 1] - times[end - 2] <= REGULAR_STEP * (
+            times[end - 2] - times[end - 3]) and self._bat_leaves(first, end) and \
             not self._bat_leaves(first, end - 1)
 
     def _bat_leaves(self, first: int, end: int) -> bool:

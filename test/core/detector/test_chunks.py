@@ -29,7 +29,7 @@ from hypothesis import example, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
-from support.events import arrays, ball_lost_before, on_bat_axis, Row
+from support.events import arrays, ball_lost_before, glitched_pitch, on_bat_axis, Row
 from support.far import tilting_bat
 from support.scenes import BASE_NS, pitch, pose, swing
 
@@ -1279,16 +1279,27 @@ def test_a_prediction_held_at_a_bat_glitch_alike_in_chunks(
     those of one sample at a time.
     """
     held = _holds(monkeypatch, '_bat_departed')
-    rng = np.random.default_rng(1017)
-    scenario = make_scenario('miss_over', rng, lead_s=0.4, family='jerky')
-    samples = sample(scenario, 90.0, rng, jitter_s=2e-4)
-    closest = samples.start_ns + int(scenario.truth.min_gap_time_s * 1e9)
-    j = int(np.argmin(np.abs(samples.bat_stamps_ns - closest))) - 2
-    nearest = np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])
-    ball = samples.ball_positions[int(np.argmin(nearest))]
-    glitched = samples.with_bat_frame_turned(j, ball, 0.2)
-    rows = [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()]
+    rows, _ = glitched_pitch('miss_over', 'jerky', 1, 90.0, -2)
     config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
     events = assert_same(config, rows, (7, 50, 400))
     assert held and not any(isinstance(e, (Impact, Prediction)) for e in events)
+    assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1
+
+
+@pytest.mark.parametrize('look_ahead', [0, 2])
+def test_a_bat_glitch_the_prediction_drops_is_dropped_alike_in_chunks(look_ahead: int) -> None:
+    """
+    A 360 Hz miss whose bat frame 16 frames (44 ms) before the closest approach is turned 20 cm.
+
+    A frame whose forecast would show a contact judges its bat frames first
+    (``Predictor._bat_glitch_dropped``) and drops the glitch there, far from the ball: in
+    chunks at a stop for the predictor alone, after which the rest of the chunk is planned
+    again (its arrays held the frame). The events, drops and streams are those of one sample
+    at a time.
+    """
+    rows, _ = glitched_pitch('miss_under', 'rebound', 0, 360.0, -16)
+    config = DetectorConfig(look_ahead=look_ahead, prediction_horizon=0.3,
+                            prediction_period=0.01)
+    for sizes in ((1000,), (7, 50, 400)):
+        assert_same(config, rows, sizes)
     assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1

@@ -5,7 +5,9 @@ import math
 from typing import Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector import DetectorConfig, Prediction, PredictionCleared
+from baseball_collision.core.detector import (
+    Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
+from baseball_collision.core.detector.events import DropReason
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import turn_rows
 from baseball_collision.core.detector.predictor import PREDICTION_CHORD_FACTOR, Predictor
@@ -16,6 +18,7 @@ from baseball_collision.core.prediction import (
 from baseball_collision.errors import CoreError
 import numpy as np
 import pytest
+from support.events import glitched_pitch
 
 BASE_NS = 1_700_000_000_000_000_000
 OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
@@ -192,4 +195,46 @@ def test_a_bat_glitch_as_the_newest_frame_predicts_nothing() -> None:
     # the frame before off too: the bat moved (or the glitch is in the window), predicted
     predictor = _turned(2)
     predictor.predict(t0, True, events)
+    assert [type(e) for e in events] == [Prediction]
+
+
+@pytest.mark.parametrize('family, seed, frame', [('jerky', 0, -4), ('lefty', 1, -1)])
+def test_a_bat_glitch_in_the_forecast_window_is_dropped_before_it_predicts(
+        family: str, seed: int, frame: int) -> None:
+    """
+    A 90 Hz miss (1 mm of noise) whose bat frame 4 or 1 before the closest approach is off.
+
+    Turned 20 cm at the tip toward the ball: the frames after it, whose bat fit reads it,
+    predicted a contact the miss does not have (the sweep dropped the glitch only near the
+    ball, 3 ms before the closest approach or 7 ms after it). A frame that finds a contact
+    judges the forecast's bat frames first (``Predictor._bat_glitch_dropped``): the glitch is
+    dropped there, once, as ``bat_glitch``, and nothing is predicted.
+    """
+    rows, closest = glitched_pitch('miss_over', family, seed, 90.0, frame, noise_m=0.001)
+    detector = Detector(DetectorConfig(look_ahead=0, prediction_horizon=0.3,
+                                       prediction_period=0.01))
+    events, dropped_at = [], None
+    for role, stamp, values, frame_id in rows:
+        events += detector.add(role, stamp, values, frame_id)
+        if dropped_at is None and detector.stats.dropped[DropReason.BAT_GLITCH]:
+            dropped_at = stamp
+    events += detector.finish()
+    assert not [e for e in events if isinstance(e, (Impact, Prediction))]
+    assert detector.stats.dropped[DropReason.BAT_GLITCH] == 1
+    assert dropped_at < closest
+
+
+def test_a_newest_bat_frame_after_a_lost_one_is_not_held() -> None:
+    """
+    A newest bat frame two steps after the one before (a frame lost or dropped between) predicts.
+
+    The forecast of the frames before it reaches over two steps, where a swing's own frame lands
+    centimetres off it (after a glitch the forecast's judgment dropped, a hit's next forecast
+    was held, and the prediction lost): ``Predictor._bat_departed`` holds only after a regular
+    step (``bat_glitches.REGULAR_STEP``), as the sweep judges only among regular steps.
+    """
+    events = []
+    predictor = _turned(1)
+    predictor.bat.remove(6)  # (a still frame: the newest, turned up, 10 ms after the one before)
+    predictor.predict(0.005 * 7, True, events)
     assert [type(e) for e in events] == [Prediction]
