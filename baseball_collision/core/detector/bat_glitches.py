@@ -20,7 +20,7 @@ of the knob's and the tip's (m):
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
 neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
-both distances are large for a swing's own frames; a frame lost three steps or more before it
+both distances are large for a swing's own frames; a frame lost three or more frames before it
 only widens the scatter it is judged against), and not in a segment's first frames; nor
 where a frame just before it that could not be judged so (``judgeable``) is the one off, which
 pulls this one's neighbours' spline (``UNJUDGED_REACH``).
@@ -71,15 +71,17 @@ DEPARTURE_RATIO = 3.0
 is (``departed``): a swing's own noisy frames, up to 2.4-4.8 times."""
 
 REGULAR_STEP = 1.6
-"""How many times their median the last ``STEADY_STEPS`` steps before a judged frame are at most
-(``regular``): a 360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost frame makes a
-step twice."""
+"""How many times their median the last ``STEADY_STEPS`` steps up to a judged frame's previous
+one are at most (``regular``): a 360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost
+frame makes a step twice."""
 
-STEADY_STEPS = 2
-"""The steps just before a judged frame's previous one that are regular (``REGULAR_STEP``); the
-steps before them may be a lost frame's (``PAIR_STEPS`` times the median at most, not a
-segment's start): a frame lost 4-7 before a glitch left it unjudged, and at 120-360 Hz the
-bat's path through it made an impact on up to 12 of 36 misses passing over the bat."""
+STEADY_STEPS = 1
+"""How many steps up to a judged frame's previous one, the last, are regular (``REGULAR_STEP``);
+the steps before them may be a lost frame's (``PAIR_STEPS`` times the median at most, not a
+segment's start): a frame lost 3-7 before a glitch left it unjudged, and at 120-360 Hz the
+bat's path through it made an impact on up to 12 of 36 misses passing over the bat. With none
+(only the neighbours' ``PAIR_STEPS``), a glitch right after a lost frame, not judged, made the
+frame after it read as one (a swing's frame dropped)."""
 
 PAIR_STEPS = 2.5
 """How many times the median step a judged frame's neighbours are apart at most (``regular``):
