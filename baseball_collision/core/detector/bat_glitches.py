@@ -20,7 +20,8 @@ of the knob's and the tip's (m):
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
 neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
-both distances are large for a swing's own frames), and not in a segment's first frames; nor
+both distances are large for a swing's own frames; a frame lost three or more frames before it
+only widens the scatter it is judged against), and not in a segment's first frames; nor
 where a frame just before it that could not be judged so (``judgeable``) is the one off, which
 pulls this one's neighbours' spline (``UNJUDGED_REACH``).
 
@@ -70,8 +71,17 @@ DEPARTURE_RATIO = 3.0
 is (``departed``): a swing's own noisy frames, up to 2.4-4.8 times."""
 
 REGULAR_STEP = 1.6
-"""How many times their median the steps before a judged frame are at most (``regular``): a
-360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost frame makes a step twice."""
+"""How many times their median the last ``STEADY_STEPS`` steps up to a judged frame's previous
+one are at most (``regular``): a 360 Hz stream stamped on a 1 ms grid steps 2 and 3 ms; a lost
+frame makes a step twice."""
+
+STEADY_STEPS = 1
+"""How many steps up to a judged frame's previous one, the last, are regular (``REGULAR_STEP``);
+the steps before them may be a lost frame's (``PAIR_STEPS`` times the median at most, not a
+segment's start): a frame lost 3-7 before a glitch left it unjudged, and at 120-360 Hz the
+bat's path through it made an impact on up to 12 of 36 misses passing over the bat. With none
+(only the neighbours' ``PAIR_STEPS``), a glitch right after a lost frame, not judged, made the
+frame after it read as one (a swing's frame dropped)."""
 
 PAIR_STEPS = 2.5
 """How many times the median step a judged frame's neighbours are apart at most (``regular``):
@@ -235,24 +245,27 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
     """
     Return whether the steps about bat frame j are regular: what the floor was measured on.
 
-    The steps from ``SCATTER_FRAMES`` + 2 frames before it up to the frame before it are each
-    at most ``REGULAR_STEP`` times their median, and the frames on either side of it (the one
-    after it at most sample ``last``, the newest by default) at most ``PAIR_STEPS`` times it
-    apart. A frame beside frames the tracker lost is a whole step or more from a neighbour, and
-    its continuation and its neighbours' spline miss it by far more than a swing's do (12 and
-    7 cm beside two lost frames at 90 Hz); a frame stamped a few milliseconds off leaves its
-    neighbours two steps apart, and its position, which is not where the swing was at its
-    stamp, is judged.
+    The steps from ``SCATTER_FRAMES`` + 2 frames before it up to the frame before it: the last
+    ``STEADY_STEPS`` at most ``REGULAR_STEP`` times their median, the others at most
+    ``PAIR_STEPS`` times it (one frame lost: not a segment's start); and the frames on either
+    side of it (the one after it at most sample ``last``, the newest by default) at most
+    ``PAIR_STEPS`` times it apart. A frame beside frames the tracker lost is a whole step or
+    more from a neighbour, and its continuation and its neighbours' spline miss it by far more
+    than a swing's do (12 and 7 cm beside two lost frames at 90 Hz); a frame lost further
+    before it only widens the scatter it is judged against. A frame stamped a few milliseconds
+    off leaves its neighbours two steps apart, and its position, which is not where the swing
+    was at its stamp, is judged.
     """
     first = j - SCATTER_FRAMES - 2
     last = len(stream.times) - 1 if last is None else last
     if first < 0 or j + 1 > last:
         return False
     times = stream.times
-    steps = sorted(b - a for a, b in zip(times[first:j - 1], times[first + 1:j]))
-    median = steps[len(steps) // 2]
-    return steps[-1] <= REGULAR_STEP * median and times[j + 1] - times[j - 1] <= (
-        PAIR_STEPS * median)
+    steps = [b - a for a, b in zip(times[first:j - 1], times[first + 1:j])]
+    median = sorted(steps)[len(steps) // 2]
+    return (max(steps) <= PAIR_STEPS * median
+            and max(steps[-STEADY_STEPS:]) <= REGULAR_STEP * median
+            and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,

@@ -194,6 +194,8 @@ def test_steps_are_regular_unless_a_frame_was_lost() -> None:
     del_at = 8
     bat.remove(del_at)
     assert not regular(bat, del_at) and not regular(bat, del_at - 1)
+    # (a frame lost three or more frames before it: the step to the frame before it is regular)
+    assert not regular(bat, del_at + 1) and regular(bat, del_at + 2)
     assert not regular(bat, 2) and not regular(bat, len(bat.times) - 1)  # (too few steps)
 
 
@@ -355,13 +357,45 @@ def _lost_before(samples: Any, j: int, last: int, count: int) -> Any:
     return samples
 
 
+@pytest.mark.parametrize('config, before', [(OFFLINE, 3), (NODE, 4), (OFFLINE, 4), (NODE, 7),
+                                            (OFFLINE, 7)],
+                         ids=['offline-3', 'node-4', 'offline-4', 'node-7', 'offline-7'])
+def test_a_glitch_a_few_frames_after_a_lost_one_is_judged(config: DetectorConfig,
+                                                          before: int) -> None:
+    """
+    A 360 Hz bat frame turned 10 cm toward a ball passing over, a frame lost 3-7 before it.
+
+    Frames were judged only where all of the six steps up to the frame before them were
+    regular: the glitch stayed, and the bat's path through it met the ball (an impact on 6-12
+    of 36 such misses, ``faults.py`` in the session's notes). A lost frame before the last of
+    those steps widens only the scatter the frame is judged against (``STEADY_STEPS``): the
+    glitch is dropped, and the miss stays a miss. (At the node's look-ahead 0, with a frame
+    lost 3 before it, the interval closing on it is swept through it before its next frame
+    comes: ``departed`` reads the steps before the frame before it, the lost one's.)
+    """
+    for family in ('tilted', 'jerky'):
+        for offset in (-1, 0):
+            scenario, samples = _scene('miss_over', 3, 360.0, family=family)
+            j = _closest_frame(scenario, samples) + offset
+            glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
+            stamp = int(glitched.bat_stamps_ns[j])
+            detector, late, events = Detector(config), [], []
+            for stamp_ns, role, values in _lost_before(glitched, j, j - before, 1).messages(
+                    config.bat_input):
+                events += detector.add(role, stamp_ns, values)
+                late += detector.stats.late_drops
+            events += detector.finish()
+            assert not any(isinstance(event, Impact) for event in events), (family, offset)
+            assert [drop.stamp_ns for drop in late] == [stamp], (family, offset)
+
+
 @pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
 @pytest.mark.parametrize('rate', [90.0, 360.0])
-@pytest.mark.parametrize('before, count', [(6, 1), (8, 'gap')], ids=['lost', 'segment'])
+@pytest.mark.parametrize('before, count', [(2, 1), (8, 'gap')], ids=['lost', 'segment'])
 def test_a_glitch_not_judged_makes_no_swing_frame_a_glitch(
         config: DetectorConfig, rate: float, before: int, count: Any) -> None:
     """
-    A glitch that cannot be judged: a frame lost 6 frames before it, or its segment's 8th.
+    A glitch that cannot be judged: a frame lost 2 frames before it, or its segment's 8th.
 
     It stays (frames beside lost ones and a segment's first are not judged), but a frame one or
     two after it, which could be judged, read as isolated and departed (the glitch pulled its
