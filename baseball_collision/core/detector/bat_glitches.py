@@ -268,6 +268,33 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
             and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
 
 
+def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: int,
+                 noise: float) -> Optional[int]:
+    """
+    Return the first glitch among bat frames ``first`` to ``last - 1``, judged up to ``last``.
+
+    The oldest first, each against the frames before it, which are judged (``judged``): not a
+    frame whose next stays isolated without it (``isolated_without``: the glitch is that one,
+    which pulled its neighbours' spline off). A frame judged no glitch with every sample its
+    verdict reads (its next two frames in) is kept so in the stream's ``CLEAN`` list, for the
+    noise (m) it was judged at and up to ``NOISE_KEPT`` times it, and not judged again: what
+    the sweep (``Sweep._bat_frames``) and the predictor (``Predictor._bat_glitch_dropped``)
+    each judge the other need not. None: no glitch.
+    """
+    clean = stream.aligned.setdefault(CLEAN, [])
+    for j in range(first, last):
+        if j < len(clean) and clean[j] is not None and clean[j] <= noise <= NOISE_KEPT * clean[j]:
+            continue  # (judged no glitch on every sample its verdict reads)
+        if not judged(stream, j, max_gap, size, noise, last):
+            if j + 2 <= last:
+                clean.extend([None] * (j + 1 - len(clean)))
+                clean[j] = noise
+            continue
+        if not (j + 1 < last and isolated_without(stream, j, max_gap, size, noise, last)):
+            return j
+    return None
+
+
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,
                  noise: float) -> Optional[BatPath]:
     """

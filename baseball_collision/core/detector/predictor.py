@@ -31,8 +31,7 @@ from dataclasses import replace
 import math
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
-from .bat_glitches import (
-    CLEAN, glitch_floor, isolated_without, judged, NOISE_KEPT, REGULAR_STEP)
+from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -194,12 +193,10 @@ class Predictor:
         ``contact_of``'s result, a contact or one in force): the forecast window's frames with
         their next frame in it that the sweep judges for an interval closing at its newest
         (``fitting.c2_window``: up to ``spline_window`` frames), the oldest first, by the
-        sweep's rule (``bat_glitches.judged`` from the window's samples; not a frame whose next
-        stays isolated without it, ``bat_glitches.isolated_without``; a frame judged no glitch
-        on every sample its verdict reads kept so, ``bat_glitches.CLEAN``, as the sweep keeps
-        it), and the first glitch is dropped and forgotten (``drop_bat``: the sweep's
-        ``bat_glitch`` drop), so that the prediction reads the frames the detection path
-        reads; the sweep judges a frame only once an interval near the ball reads it. A
+        sweep's rule (``bat_glitches.first_glitch`` from the window's samples, the verdicts
+        kept with the sweep's), and the first glitch is dropped and forgotten (``drop_bat``:
+        the sweep's ``bat_glitch`` drop), so that the prediction reads the frames the detection
+        path reads; the sweep judges a frame only once an interval near the ball reads it. A
         frame's first verdict costs a smoothed continuation with noise
         (``bat_glitches.departure``), hence only where the frame would change what is shown.
         """
@@ -208,22 +205,13 @@ class Predictor:
                 not self._shown_changes(found):
             return False
         bat, config = self.bat, self._config
-        gap, size, noise, last = config.max_gap, config.spline_window, stream_noise(
-            bat, config), end - 1
-        kept = bat.aligned.setdefault(CLEAN, [])
-        for j in range(max(first, c2_window(bat, last - 1, gap, 0, size).start), last):
-            at = kept[j] if j < len(kept) else None
-            if at is not None and at <= noise <= NOISE_KEPT * at:
-                continue
-            if judged(bat, j, gap, size, noise, last):
-                if j + 1 < last and isolated_without(bat, j, gap, size, noise, last):
-                    continue
-                self.drop_bat(j, last)
-                return True
-            if j + 2 <= last:
-                kept.extend([None] * (j + 1 - len(kept)))
-                kept[j] = noise
-        return False
+        gap, size, last = config.max_gap, config.spline_window, end - 1
+        glitch = first_glitch(bat, max(first, c2_window(bat, last - 1, gap, 0, size).start),
+                              last, gap, size, stream_noise(bat, config))
+        if glitch is None:
+            return False
+        self.drop_bat(glitch, last)
+        return True
 
     def _ball_departed(self) -> bool:
         """

@@ -37,35 +37,23 @@ class BatFrames:
 
         The frames of its window from the first up to the one before the newest its path may
         read (``_horizon``: with their next frame) are judged, the oldest first
-        (``bat_glitches.judged``: each against the frames before it, which are judged; not
-        one whose next frame stays isolated without it, ``bat_glitches.isolated_without``:
-        the glitch is that one, which pulled its neighbours' spline off; a frame judged no
-        glitch with every sample its verdict reads is kept so, ``bat_glitches.CLEAN``, for
-        the noise it was judged at and up to ``NOISE_KEPT`` times it), and the first
-        glitch is dropped and forgotten: None (the interval is to be located again,
-        and the frames after it judged again without it). Else ``paths`` without a frame after
-        its opening one that departed (``_without_departed``: at look-ahead 0 its closing
-        frame's next has not come yet), which is judged once its next frame has
-        (``bat_suspect``); None where a hit hangs on that frame, which was then a glitch,
-        forgotten, or waits for its next frame (``held``: ``_closing_glitch``).
+        (``bat_glitches.first_glitch``), and the first glitch is dropped and forgotten: None
+        (the interval is to be located again, and the frames after it judged again without
+        it). Else ``paths`` without a frame after its opening one that departed
+        (``_without_departed``: at look-ahead 0 its closing frame's next has not come yet),
+        which is judged once its next frame has (``bat_suspect``); None where a hit hangs on
+        that frame, which was then a glitch, forgotten, or waits for its next frame
+        (``held``: ``_closing_glitch``).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
-        noise, last = stream_noise(bat, config), self._horizon(bat_k)
-        clean = bat.aligned.setdefault(bat_glitches.CLEAN, [])
-        for j in range(c2_window(bat, bat_k, max_gap, 0, size).start, last):
-            if j < len(clean) and clean[j] is not None and \
-                    clean[j] <= noise <= bat_glitches.NOISE_KEPT * clean[j]:
-                continue  # (judged no glitch on every sample its verdict reads)
-            if not bat_glitches.judged(bat, j, max_gap, size, noise, last):
-                if j + 2 <= last:
-                    clean.extend([None] * (j + 1 - len(clean)))
-                    clean[j] = noise
-                continue
-            if not (j + 1 < last and bat_glitches.isolated_without(bat, j, max_gap, size,
-                                                                   noise, last)):
-                self._bat_glitch(j, last)
-                return None
+        last = self._horizon(bat_k)
+        glitch = bat_glitches.first_glitch(
+            bat, c2_window(bat, bat_k, max_gap, 0, size).start, last, max_gap, size,
+            stream_noise(bat, config))
+        if glitch is not None:
+            self._bat_glitch(glitch, last)
+            return None
         without, departed = self._without_departed(interval, bat_k, paths)
         if departed is not None:
             self.bat_suspect = departed
