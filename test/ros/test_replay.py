@@ -282,8 +282,13 @@ def test_replay_loop_jumps_back_and_stops_on_ctrl_c(ros: Ros) -> None:
     from rosgraph_msgs.msg import Clock
 
     clock_sub, clocks = ros.collect(Clock, '/clock')
+    # SIGINT's default action restored before the exec, as a terminal gives it: a suite started
+    # in the background (``make test &``) hands its children SIGINT ignored, which Python keeps
+    # (the replay's rclpy context installs no handler), and the replay looped on
     process = subprocess.Popen(
-        [str(SCRIPT), 'replay', str(bag_path('pitches_90hz.mcap')), '--rate', '40', '--loop',
+        [sys.executable, '-c', 'import os, signal, sys; signal.signal(signal.SIGINT, '
+         'signal.SIG_DFL); os.execv(sys.argv[1], sys.argv[1:])',
+         str(SCRIPT), 'replay', str(bag_path('pitches_90hz.mcap')), '--rate', '40', '--loop',
          '--wait-for', '/clock'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env=dict(os.environ, PYTHONFAULTHANDLER='1'))  # (a hang's stacks: SIGABRT below)
     try:
