@@ -18,16 +18,16 @@ def _without_frame(samples: Any, k: int) -> Any:
                    ball_positions=np.delete(samples.ball_positions, k, axis=0))
 
 
-def _hit_after_glitch(seed: int, back: int) -> Tuple[Any, int]:
+def _hit_after_gap(seed: int, back: int, rate: float = 360.0) -> Tuple[Any, int]:
     """
-    Return a 360 Hz rebound hit and the index of the ball's first sample after a gap.
+    Return a rebound hit and the index of the ball's first sample after a tracking gap.
 
-    The ball tracked again ``back`` frames before the contact's first frame after it; that
-    first sample is the one to put on the bat.
+    The ball tracked again ``back`` frames before the contact's first frame after it (1: one
+    frame before the contact), exact samples at ``rate`` (Hz).
     """
     rng = np.random.default_rng(seed)
     scenario = make_scenario('barrel', rng, family='rebound', lead_s=0.4, trail_s=0.1)
-    samples = sample(scenario, 360.0, rng)
+    samples = sample(scenario, rate, rng)
     after = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
         round(scenario.truth.time_s * 1e9))))
     lost = ball_lost_before(samples, after - back)
@@ -52,7 +52,7 @@ def test_a_frame_the_speed_check_refused_after_a_glitch_is_judged_again(back: in
     """
     refused = found = 0
     for seed, look_ahead in itertools.product(range(3), (0, 2)):
-        lost, k = _hit_after_glitch(seed, back)
+        lost, k = _hit_after_gap(seed, back)
         config = DetectorConfig(tracker_noise=0.0, look_ahead=look_ahead)
         glitched = on_bat_axis(lost, k)
         step = np.linalg.norm(glitched.ball_positions[k + 1] - glitched.ball_positions[k])
@@ -95,3 +95,19 @@ def test_a_frame_set_aside_is_dropped_once_the_walk_passes_it() -> None:
             [('speed_limit', base + i * step + 1) for i in range(20, min(last, 22))]
         assert detector.stats.dropped == {'speed_limit': min(last, 22) - 20}
     assert ASIDE_MAX >= 2
+
+
+def test_a_rebound_hit_tracked_again_a_frame_before_the_contact_loses_no_frame() -> None:
+    """
+    A genuine rebound hit, the ball tracked again one frame before the contact: no drop.
+
+    The parabola through the segment's first sample (before the contact) and the two after
+    it (after it) is no free flight; the next frame leaves it, with no contact found (none
+    is found from one frame before it), and was dropped as a ``ball_glitch`` (a departure
+    no contact explains), and the two after it in turn. The first sample left the flight
+    after it, which touches the bat (``Sweep._hit_after_start``): no frame is dropped.
+    """
+    for seed, rate, look_ahead in itertools.product(range(2), (90.0, 360.0), (0, 2)):
+        lost, _ = _hit_after_gap(seed, 1, rate)
+        events, late = detect_late_drops(DetectorConfig(look_ahead=look_ahead), lost)
+        assert late == [], (seed, rate, look_ahead)
