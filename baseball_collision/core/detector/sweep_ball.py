@@ -243,8 +243,9 @@ class BallSamples:
         explains: sample k left the flight (``leaves_flight``) of samples k - 3 .. k - 1
         while the detector is armed and found no impact since the first of them, so the sweep
         found no contact on the flight, which a hit on this bat would have made (not where
-        the first of them is a segment's first that left the flight after it,
-        ``_hit_after_start``: those samples are no flight, and no sweep finds that hit; up to
+        the first or second of them is its segment's first or second and left the flight
+        after it, ``_hit_after_start``: those samples are no flight, and no sweep finds that
+        hit; up to
         ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
         lie on one line from the flight, as a hit's do), and only where its neighbours stay
         within ``max_gap`` of each other (a ball really deflected at 60 Hz made a gap of its
@@ -263,25 +264,27 @@ class BallSamples:
                 and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
                 and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
                 and leaves_flight(ball, k - 1, judged, config.max_gap) is not None
-                and not self._hit_after_start(k - 3)):
+                and not self._hit_after_start(k - 3, k - 2)):
             self.forgotten_run += 1
             return True
         self.forgotten_run = 0
         return False
 
-    def _hit_after_start(self, j: int) -> bool:
+    def _hit_after_start(self, *samples: int) -> bool:
         """
-        Return whether ball sample j is its segment's first and left the flight after it.
+        Return whether one of these ball samples (its segment's first or second) left it.
 
-        ``departure.flight_before``: a hit between it and the next sample (a glitch there,
-        whose flight after it does not touch the bat, was dropped: ``_first_glitch``). The
-        parabola through it and the two after it is then no free flight, and the sweep has
-        no departure to find that hit by (none before it): the sample after them leaves that
-        parabola with no contact found, a genuine rebound's frame (``_judged_glitch``).
+        Left the flight after it (``departure.flight_before``): a hit between it and the next
+        sample. The sweep has no departure to find a hit in a segment's first two intervals by (too
+        few samples before them), so a parabola through a sample before such a hit and the
+        samples after it is no free flight: the next sample leaves it with no contact found,
+        a genuine rebound's frame (``_judged_glitch``). (A first sample that left it where
+        that flight does not touch the bat was dropped as a glitch: ``_first_glitch``.)
         """
         ball, gap = self.ball, self.config.max_gap
-        return j >= 0 and _starts(ball, j, gap) and flight_before(
-            ball, j, judging_noise(self.config), gap) is not None
+        return any(j >= 0 and (_starts(ball, j, gap) or _young(ball, j, gap) and _starts(
+            ball, j - 1, gap)) and flight_before(ball, j, judging_noise(self.config), gap)
+            is not None for j in samples)
 
     def _forget_glitches(self) -> None:
         """

@@ -105,7 +105,7 @@ def test_a_rebound_hit_tracked_again_a_frame_before_the_contact_loses_no_frame()
     it (after it) is no free flight; the next frame leaves it, with no contact found (none
     is found from one frame before it), and was dropped as a ``ball_glitch`` (a departure
     no contact explains), and the two after it in turn. The first sample left the flight
-    after it, which touches the bat (``Sweep._hit_after_start``): no frame is dropped.
+    after it (``Sweep._hit_after_start``): no frame is dropped.
     """
     for seed, rate, look_ahead in itertools.product(range(2), (90.0, 360.0), (0, 2)):
         lost, _ = _hit_after_gap(seed, 1, rate)
