@@ -264,7 +264,7 @@ class BallSamples:
                 and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
                 and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
                 and leaves_flight(ball, k - 1, judged, config.max_gap) is not None
-                and not self._hit_after_start(k - 3, k - 2)):
+                and not (self.early_glitches and self._hit_after_start(k - 3, k - 2))):
             self.forgotten_run += 1
             return True
         self.forgotten_run = 0
