@@ -236,9 +236,10 @@ def _planned(detector: 'Detector', chunk: Tuple[Any, ...], n: int, events: List[
             unplanned -= 1
             continue
         intake = detector._intake
+        waiting = intake.held or intake.jumps.candidates or intake.pending or \
+            detector._sweep.aside  # (a ball sample set aside: ``Sweep.set_aside``)
         if not usable(detector.config, detector._clock.origin, detector._ball, detector._bat,
-                      detector._scheduler.cursor, bool(intake.held or intake.jumps.candidates
-                                                       or intake.pending)):
+                      detector._scheduler.cursor, bool(waiting)):
             # (a held sample is settled by the next one or two: plan again as soon as it is)
             _one(detector, chunk, i, events, drops)
             i += 1

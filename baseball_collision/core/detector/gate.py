@@ -222,16 +222,24 @@ def speed_check(stream: Stream, t: float, points: Sequence[Vector],
     if dt > max_gap:
         stream.speed_drops = 0
         return True, True
+    if not within_speed(dt, points, previous_points, max_speed):
+        stream.speed_drops += 1
+        if stream.speed_drops >= SPEED_DROPS_TO_JUMP:
+            stream.speed_drops = 0
+            return True, True
+        return False, False
+    stream.speed_drops = 0
+    return True, False
+
+
+def within_speed(dt: float, points: Sequence[Vector], previous_points: Sequence[Vector],
+                 max_speed: float) -> bool:
+    """Return whether no point moved faster than ``max_speed`` (m/s) over dt (s) from before."""
     limit = max_speed * dt
     for p, q in zip(points, previous_points):
         if math.dist(p, q) > limit:  # math.dist does not overflow (1e300 m is fine)
-            stream.speed_drops += 1
-            if stream.speed_drops >= SPEED_DROPS_TO_JUMP:
-                stream.speed_drops = 0
-                return True, True
-            return False, False
-    stream.speed_drops = 0
-    return True, False
+            return False
+    return True
 
 
 class LengthCheck:

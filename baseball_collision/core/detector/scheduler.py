@@ -79,8 +79,9 @@ class Scheduler:
             sizes = len(ball_times), len(bat_times)
             if visit(cursor, t, events) is False:
                 break  # (visited again from the cursor by the next advance)
-            if sizes != (len(ball_times), len(bat_times)):
-                # the visit forgot a glitch (``Stream.remove``): the indices moved
+            if sizes != (len(ball_times), len(bat_times)) or (i and ball_times[i - 1] > t):
+                # the visit forgot a glitch (``Stream.remove``; a sample set aside may have
+                # been put back in its place: ``Stream.insert``): the indices moved
                 i, j = bisect_right(ball_times, t), bisect_right(bat_times, t)
             cursor = t
         moved = cursor != self.cursor

@@ -130,6 +130,34 @@ class Stream:
                 del kept[max(k - 1, 0):]
         self.path_key = None
 
+    def insert(self, t: float, stamp: int, value: Any, max_gap: float,
+               facts: Collection[str] = ()) -> int:
+        """
+        Put a point sample at time t (s), stamped (ns), back among the samples; return its index.
+
+        A sample set aside that is judged again once the sample it was judged against was
+        forgotten (``Sweep``): it starts a segment after a gap longer than ``max_gap`` (s) or
+        at the stream's start, else continues the sample before it, and the sample after it
+        continues it unless a gap parts them. Each ``aligned`` list named in ``facts`` takes
+        the entry of the sample before it (the estimate as it stood); the others are cut back
+        to the sample before it, as ``remove`` cuts them.
+        """
+        times, breaks = self.times, self.breaks
+        k = bisect_right(times, t)
+        times.insert(k, t)
+        self.stamps.insert(k, stamp)
+        self.values.insert(k, value)
+        breaks.insert(k, k == 0 or t - times[k - 1] > max_gap)
+        if k + 1 < len(times):
+            breaks[k + 1] = times[k + 1] - t > max_gap
+        for name, kept in self.aligned.items():
+            if name not in facts:
+                del kept[max(k - 1, 0):]
+            elif k <= len(kept):
+                kept.insert(k, kept[k - 1] if k else kept[0])
+        self.path_key = None
+        return k
+
     def trim_beside(self, other: 'Stream', cursor: Optional[float], history: float) -> None:
         """
         Forget what no future interval needs, beside the ``other`` stream it is walked with.

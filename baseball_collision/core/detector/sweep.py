@@ -28,7 +28,7 @@ from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
 from .streams import Stream
-from .sweep_ball import BallSamples
+from .sweep_ball import Aside, BallSamples
 from .sweep_bat import BatFrames
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
@@ -77,13 +77,17 @@ class Sweep(BallSamples, BatFrames):
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
     :ivar held: the last interval visited waits for samples (``interval``): the ball's
         (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).
+    :ivar aside: ball samples the speed check set aside, judged again where the sample they
+        were judged against is forgotten as a glitch (``BallSamples.set_aside``).
+    :ivar until: the end (s) of the union interval visited last: a sample set aside is put
+        back only at or after it (the walk has not passed it).
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
                  'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect', 'early_glitches',
-                 'final', 'held')
+                 'final', 'held', 'aside', 'until')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -114,6 +118,8 @@ class Sweep(BallSamples, BatFrames):
         self.early_glitches = True  # (a segment's first samples judged: ``_early_glitch``)
         self.final = False
         self.held = False
+        self.aside: List[Aside] = []  # ball samples the speed check set aside (``set_aside``)
+        self.until = -math.inf  # the end (s) of the interval visited last
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
@@ -125,6 +131,8 @@ class Sweep(BallSamples, BatFrames):
         one of its segment's first three samples, which only the samples after it judge
         (``_early_glitch``): nothing of it is swept, and the scheduler's walk stops before it,
         to visit it again once more ball samples are in (or the recording ended: ``final``).
+        Once it is done with, the ball samples set aside at or before tb are dropped
+        (``settle_aside``).
 
         Where the interval opens at a ball sample that is a glitch (``departure.glitch_path``)
         and the ball is not clearly apart from the bat, the sample is dropped as
@@ -136,10 +144,12 @@ class Sweep(BallSamples, BatFrames):
         (``_ball_path``, over an interval that was clear) is forgotten once the interval is
         swept.
         """
-        self.held = False
+        self.held, self.until = False, tb
         self._swept(ta, tb, events)
         if self.glitches:
             self._forget_glitches()
+        if self.aside and not self.held:
+            self.settle_aside(tb)
         return not self.held
 
     def _bat_path(self, b: int) -> BatPath:

@@ -12,13 +12,15 @@ and forgotten (``Stream.remove``).
 
 from bisect import bisect_left
 import math
-from typing import List, Optional
+from typing import List, NamedTuple, Optional
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
     glitch_before_flight, glitch_path, judging_noise, leaves_flight)
 from .events import DropReason, LateDrop, Role
 from .fitting import stream_noise
+from .gate import within_speed
+from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..motion import BatPath
@@ -35,6 +37,25 @@ which a look-ahead of 0 sweeps on, carry up to about twice it): ``Sweep._slack``
 SQUASH = 0.5
 """The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
 (a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
+
+ASIDE_MAX = 4
+"""Ball samples the speed check keeps aside at most (``BallSamples.set_aside``): a glitch
+makes one or two (``gate.SPEED_DROPS_TO_JUMP``: the third in a row is taken); beyond them the
+oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."""
+
+
+class Aside(NamedTuple):
+    """
+    A ball sample the speed check refused, kept aside (``BallSamples.set_aside``).
+
+    Its time (s), its offer, and the stamp (ns) of the sample it was judged against (the
+    stream's newest then).
+    """
+
+    t: float
+    offer: Offer
+    against: int
+
 
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
@@ -221,7 +242,10 @@ class BallSamples:
         A glitch by ``departure.glitch_path`` (no hit's line), or a departure no contact
         explains: sample k left the flight (``leaves_flight``) of samples k - 3 .. k - 1
         while the detector is armed and found no impact since the first of them, so the sweep
-        found no contact on the flight, which a hit on this bat would have made (up to
+        found no contact on the flight, which a hit on this bat would have made (not where
+        the first or second of them is its segment's first or second and left the flight
+        after it, ``_hit_after_start``: those samples are no flight, and no sweep finds that
+        hit; up to
         ``UNEXPLAINED_RUN`` in a row: two bad frames stuck on the bat after the ball passed it
         lie on one line from the flight, as a hit's do), and only where its neighbours stay
         within ``max_gap`` of each other (a ball really deflected at 60 Hz made a gap of its
@@ -239,20 +263,118 @@ class BallSamples:
                 and ball.continuous(k, config.max_gap)
                 and ball.times[k + 1] - ball.times[k - 1] <= config.max_gap
                 and (self.impact_t is None or self.impact_t < ball.times[max(k - 3, 0)])
-                and leaves_flight(ball, k - 1, judged, config.max_gap) is not None):
+                and leaves_flight(ball, k - 1, judged, config.max_gap) is not None
+                and not (self.early_glitches and self._hit_after_start(k - 3, k - 2))):
             self.forgotten_run += 1
             return True
         self.forgotten_run = 0
         return False
 
+    def _hit_after_start(self, *samples: int) -> bool:
+        """
+        Return whether one of these ball samples (its segment's first or second) left it.
+
+        Left the flight after it (``departure.flight_before``): a hit between it and the next
+        sample. The sweep has no departure to find a hit in a segment's first two intervals by (too
+        few samples before them), so a parabola through a sample before such a hit and the
+        samples after it is no free flight: the next sample leaves it with no contact found,
+        a genuine rebound's frame (``_judged_glitch``). (A first sample that left it where
+        that flight does not touch the bat was dropped as a glitch: ``_first_glitch``.)
+        """
+        ball, gap = self.ball, self.config.max_gap
+        return any(j >= 0 and (_starts(ball, j, gap) or _young(ball, j, gap) and _starts(
+            ball, j - 1, gap)) and flight_before(ball, j, judging_noise(self.config), gap)
+            is not None for j in samples)
+
     def _forget_glitches(self) -> None:
-        """Remove the ball glitches counted (``glitches``) from the ball's stream."""
+        """
+        Remove the ball glitches counted (``glitches``) from the ball's stream.
+
+        The samples the speed check set aside against one of them are judged again against
+        the stream without it (``_judged_aside``).
+        """
         ball, stamps = self.ball, self.ball.stamps
         for stamp in self.glitches:
             k = bisect_left(stamps, stamp)
             if k < len(stamps) and stamps[k] == stamp:
                 ball.remove(k, (ESTIMATES,))
+                if self.aside:
+                    self._judged_aside(stamp)
         self.glitches.clear()
+
+    def set_aside(self, t: float, offer: Offer, cursor: Optional[float]) -> Optional[DropReason]:
+        """
+        Keep a ball sample the speed check refused aside; return why it is dropped now, if so.
+
+        Refused against the stream's newest sample, which may be a glitch the sweep has still
+        to judge (its interval not visited: after ``cursor``, s): a sample right after a glitch
+        is too far from it to be reached at ``max_speed`` however good it is. It waits, not
+        counted, until that sample is forgotten (``_judged_aside``: put back or dropped) or the
+        walk passes it (``settle_aside``); ``SPEED_LIMIT`` at once where the newest was swept
+        already, or there is no walk yet. At most ``ASIDE_MAX`` wait (the oldest dropped).
+
+        :param t: the sample's time (s); ``offer``: the sample.
+        """
+        ball = self.ball
+        if cursor is None or not ball.times or ball.times[-1] < cursor:
+            return DropReason.SPEED_LIMIT
+        if len(self.aside) >= ASIDE_MAX:
+            self._dropped_aside(self.aside.pop(0))
+        self.aside.append(Aside(t, offer, ball.stamps[-1]))
+        return None
+
+    def settle_aside(self, until: Optional[float]) -> None:
+        """
+        Drop the samples set aside at or before ``until`` (s): the walk passed them.
+
+        Each a late drop, ``SPEED_LIMIT``; None: all (the recording's end, a reset).
+        """
+        kept = []
+        for entry in self.aside:
+            if until is None or entry.t <= until:
+                self._dropped_aside(entry)
+            else:
+                kept.append(entry)
+        self.aside = kept
+
+    def _judged_aside(self, glitch: int) -> None:
+        """
+        Judge again the samples set aside against a glitch (stamp, ns) now forgotten.
+
+        In order, each against the stream as it is without the glitch: put back
+        (``Stream.insert``) where it is after the interval visited (``until``) and within
+        ``max_speed`` of the sample before it and of the one after (each within ``max_gap``;
+        a longer gap starts a segment, as the speed check's), else dropped as
+        ``SPEED_LIMIT``.
+        """
+        ball, config = self.ball, self.config
+        gap, kept = config.max_gap, []
+        for entry in self.aside:
+            if entry.against != glitch:
+                kept.append(entry)
+                continue
+            t, value = entry.t, entry.offer.value
+            k = ball.interval(t)
+            times, values = ball.times, ball.values
+            steps = []  # (s, the later point, the earlier)
+            if k >= 0:
+                steps.append((t - times[k], value, values[k]))
+            if k + 1 < len(times):
+                steps.append((times[k + 1] - t, values[k + 1], value))
+            if t >= self.until and (k < 0 or times[k] < t) and all(
+                    dt > gap or within_speed(dt, (p,), (q,), config.max_speed)
+                    for dt, p, q in steps):
+                ball.insert(t, entry.offer.stamp, value, gap, (ESTIMATES,))
+            else:
+                self._dropped_aside(entry)
+        self.aside = kept
+
+    def _dropped_aside(self, entry: Aside) -> None:
+        """Count a sample set aside as dropped by the speed check (a late drop)."""
+        self.stats.dropped[DropReason.SPEED_LIMIT] += 1
+        self.stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.SPEED_LIMIT,
+                                              stamp_ns=entry.offer.stamp,
+                                              frame_id=entry.offer.frame))
 
     def _glitch(self, k: int) -> None:
         """

@@ -1105,7 +1105,10 @@ def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
 
     The frames after a hit are the flight after it, and those before leave it along the
     hit's line, so none of a segment's first samples is taken for a glitch: the impacts
-    (found or not) and the drops are those without the rule (``Sweep.early_glitches``).
+    (found or not) are those without the rule (``Sweep.early_glitches``), and no frame is
+    dropped that is not without it (fewer: a departure from the parabola through a
+    segment's first sample that left the flight after it is no unexplained one,
+    ``Sweep._hit_after_start``).
     """
     for seed, rate, family in ((0, RATE, 'rebound'), (1, 360.0, 'rebound'), (2, RATE, 'plane')):
         rng = np.random.default_rng(seed)
@@ -1127,5 +1130,5 @@ def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
                         events += detector.add(role, stamp, values)
                     events += detector.finish()
                     found.append(([event.stamp_ns for event in events
-                                   if isinstance(event, Impact)], dict(detector.stats.dropped)))
-                assert found[0] == found[1]
+                                   if isinstance(event, Impact)], detector.stats.dropped))
+                assert found[0][0] == found[1][0] and found[0][1] <= found[1][1]

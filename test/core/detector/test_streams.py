@@ -80,6 +80,30 @@ def test_a_removed_sample_is_as_if_it_never_came() -> None:
     assert len(stream.aligned['noise']) == 6 and stream.aligned['parabolas'] == [0, 1]
 
 
+def test_an_inserted_sample_joins_its_neighbours() -> None:
+    """
+    ``insert``: a sample put back in stamp order starts a segment only after a long gap.
+
+    The sample after it continues it (the segment break a forgotten glitch left there goes)
+    unless a gap parts them; per-sample facts take the entry before it, the rest is cut back
+    as ``remove`` cuts it; the path cache goes.
+    """
+    stream = _filled([0.0, 0.01, 0.02, 0.2, 0.22, 0.23], breaks={3})
+    stream.aligned['noise'] = [0.1 * i for i in range(6)]
+    stream.aligned['parabolas'] = list(range(6))
+    stream.path_key = (1, 2)
+    assert stream.insert(0.21, 7, (0.21, 0.0, 0.0), 0.05, ('noise',)) == 4
+    assert stream.stamps == [1000, 1001, 1002, 1003, 7, 1004, 1005]
+    assert stream.breaks == [True, False, False, True, False, False, False]
+    assert stream.aligned['noise'] == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.3, 0.4, 0.5])
+    assert stream.aligned['parabolas'] == [0, 1, 2] and stream.path_key is None
+    stream.remove(3, ('noise',))  # a glitch that started the segment: its next starts it
+    assert stream.breaks == [True, False, False, True, False, False]
+    assert stream.insert(0.15, 8, (0.15, 0.0, 0.0), 0.05, ('noise',)) == 3
+    assert stream.breaks == [True, False, False, True, True, False, False]  # gaps both sides
+    assert stream.insert(0.5, 9, (0.5, 0.0, 0.0), 0.05) == 7 and stream.breaks[7]
+
+
 def test_cumulative_turn_of_bat_samples() -> None:
     """A bat turning 0.1 rad per sample about z sums to k * 0.1 about z; a break restarts."""
     stream = Stream('bat')
