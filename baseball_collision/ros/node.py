@@ -86,6 +86,7 @@ from .messages import (
     describe_impact, describe_listening, event_output, event_report, EventOutput, FLAG_CDR,
     format_stamp, NS_PER_S, plan_arrays, stamp_to_ns, StampedCdr)
 from .parameters import check_change, declare, start_warnings
+from .prediction_watch import PredictionWatch
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction,
     ResetReason, SPECS, StateReset, unknown_parameters)
@@ -96,10 +97,6 @@ from ..core.scene import impact_scene, Scene
 from ..errors import CoreError, RosError
 from ..threads import single_threaded_blas
 
-
-BALL_LAGS = 256
-"""Accepted ball messages whose lag behind the bat's (``ImpactNode._ball_lost``) are kept: the
-largest of them is the ball's lag (a camera's bursts included), about 0.7-2.8 s at 90-360 Hz."""
 
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
@@ -139,14 +136,8 @@ class ImpactNode(Node):
         self.tally = Tally(started=time.monotonic())
         self._lock = threading.Lock()
         self._last_values: Dict[str, Tuple[int, Any]] = {}
-        self._before_newest: Dict[str, int] = {}  # each stream's sample before its newest (ns)
-        # each stream's newest accepted message: its arrival (steady clock) less its stamp (s);
-        # and the last ``BALL_LAGS`` ball messages' lags behind the bat's (s: ``_note_lag``)
-        self._offsets: Dict[str, float] = {}
-        self._ball_lags: Deque[float] = deque(maxlen=BALL_LAGS)
         self._markers_stamp: Optional[int] = None
         self._predicting = False
-        self._predicted_ns = 0  # the instant (ns) of the last prediction
         self._plan: Optional[Tuple[int, int]] = None  # the plan in force: first, last stamp (ns)
         self._point_cdr = StampedCdr(3)  # ~/impact's and ~/predicted_impact's CDR bytes
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
@@ -201,6 +192,7 @@ class ImpactNode(Node):
         s = self.settings
         chosen = input_streams(s.values)
         self._streams = tuple(each.stream for each in chosen)
+        self._watch = PredictionWatch(self._streams)  # (when a prediction has passed)
         self._intake = Intake()
         for each in chosen:  # a profile each: overrides change it
             callback = self._guarded(input_callback(self._take, each, self.detector),
@@ -297,9 +289,8 @@ class ImpactNode(Node):
             previous = self._last_values.get(stream)
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
-                if previous is not None:
-                    self._before_newest[stream] = previous[0]
-                self._note_lag(stream, arrival - stamp * 1e-9)
+                self._watch.accepted(stream, stamp, None if previous is None else previous[0],
+                                     arrival)
             pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
             for event in events:
                 kind, where = event.__class__, frame or expected or ''
@@ -315,7 +306,7 @@ class ImpactNode(Node):
                     contact = self._contact_ns  # (one made before a contact solved since: off)
                     if contact is None or event.made_at_ns >= contact:
                         self._set_predicting(True)
-                        self._predicted_ns = event.stamp_ns
+                        self._watch.instant_ns = event.stamp_ns
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(self._twist_cdr(
                         event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))
@@ -570,9 +561,7 @@ class ImpactNode(Node):
     def _clear_markers(self, stamp_ns: int, frame: str) -> None:
         """After a state reset: forget the live values, clear the markers (DELETEALL)."""
         self._last_values.clear()
-        self._before_newest.clear()
-        self._offsets.clear()
-        self._ball_lags.clear()
+        self._watch.clear()
         self._markers_stamp = None
         if self.settings['publish_markers']:
             self._outputs['markers'].publish(scene_cdr(
@@ -675,60 +664,20 @@ class ImpactNode(Node):
         Turn ``~/impact_predicted`` false once no input can still bring the predicted contact.
 
         Called under the node's lock after an input sample was taken, at ``now`` (s, the
-        steady clock its arrival was counted on). The flag turns false when every input stream
-        has taken two samples more than ``max_gap`` past the predicted instant without a contact
-        (the detector's own frames clear a prediction only at its next frame that predicts), or
-        when an input has been silent beyond ``stale_timeout`` (``_silent_locked``; checked here
-        too, so a stream lost while another streams on ends it then, not up to a
-        ``diagnostics_period`` later). Every stream, because one stream's stamps say nothing of
-        another's: a ball tracker whose messages come 60-100 ms after the bat's (a camera beside
-        mocap) still brings the contact after the bat passed the instant, and a rule on one
-        stream alone withdrew the flag before that ``~/impact``, and the late ball's next
-        prediction raised it again. The second sample, because a lone stamp glitched ahead
-        waits for the next one (``stamp_ahead``) and is no proof. A ball that stopped (lost
-        by its tracker, the bat streaming on) is told from a late one by its silence: once the
-        bat passed, the flag turns false when the ball has been silent longer than its own
-        measured lag behind the bat plus ``max_gap`` (``_ball_lost``: the largest lag of its
-        recent messages, a camera's bursts included), not only after ``stale_timeout``. The
+        steady clock its arrival was counted on): when the prediction has passed
+        (``PredictionWatch.passed``: every stream took two samples more than ``max_gap`` past
+        the predicted instant without a contact, or the bat did and the ball has been silent
+        longer than its lag behind the bat plus ``max_gap``; the detector's own frames clear a
+        prediction only at its next frame that predicts), or when an input has been silent
+        beyond ``stale_timeout`` (``_silent_locked``; checked here too, so a stream lost while
+        another streams on ends it then, not up to a ``diagnostics_period`` later). The
         detector's prediction is left as it is.
 
         :param now: the steady-clock time (s) of the sample just taken.
         """
-        margin = round(self.detector.config.max_gap * NS_PER_S)
-        passed = self._predicted_ns + margin
-        newest = self._before_newest
-        bat_passed = all(newest.get(stream, passed) > passed
-                         for stream in self._streams if stream != 'ball')
-        if bat_passed and (newest.get('ball', passed) > passed or self._ball_lost(now)) \
+        if self._watch.passed(now, self.tally.last_arrival, self.detector.config.max_gap) \
                 or self._silent_locked(now):
             self._set_predicting(False)
-
-    def _note_lag(self, stream: str, offset: float) -> None:
-        """
-        Note an accepted message's arrival less its stamp (s); a ball's, its lag behind the bat.
-
-        The ball's lag: its offset less the smallest of the bat streams' newest (s; both
-        clocks' difference cancels), how much later than the bat's the ball's message of the
-        same stamp is taken: a tracker's latency and its bursts (``_ball_lost``).
-        """
-        offsets = self._offsets
-        offsets[stream] = offset
-        if stream == 'ball':
-            bats = [offsets[each] for each in self._streams if each != 'ball' and each in offsets]
-            if bats:
-                self._ball_lags.append(offset - min(bats))
-
-    def _ball_lost(self, now: float) -> bool:
-        """
-        Return whether the ball has been silent longer than its lag behind the bat + ``max_gap``.
-
-        Its lag: the largest of its last ``BALL_LAGS`` messages' (``_note_lag``; none below 0).
-        A ball tracker 60-100 ms behind the bat still streams within that; one that lost the
-        ball has sent nothing since. ``now``: the steady-clock time (s), the node's lock held.
-        """
-        lag = max(max(self._ball_lags, default=0.0), 0.0)
-        return now - self.tally.last_arrival.get('ball', -math.inf) > \
-            lag + self.detector.config.max_gap
 
     def _withdraw_a_silent_prediction(self) -> None:
         """

@@ -846,7 +846,7 @@ def test_a_late_ball_keeps_the_prediction_until_its_impact(
     the bat's stamps alone flapped with each of the ball's next predictions, and turned false
     before the impact (``stale_timeout`` is far off here). ``paced``: the frames sent at their
     rate, so that the ball is late on the node's clock too; it streams on, silent for far
-    less than its lag plus ``max_gap``: not taken for lost (``ImpactNode._ball_lost``).
+    less than its lag plus ``max_gap``: not taken for lost (``PredictionWatch.ball_lost``).
     """
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3, 'stale_timeout': 30.0})
     order: List[Tuple[str, Any]] = []
@@ -879,7 +879,7 @@ def test_a_prediction_is_withdrawn_when_one_stream_stops_and_the_other_streams_o
     One stream is lost 8 ms before the predicted contact, the other streams on: the flag goes off.
 
     The ball lost: once the bat passed the predicted instant by ``max_gap`` and the ball has
-    been silent longer than its lag behind the bat plus ``max_gap`` (``ImpactNode._ball_lost``):
+    been silent longer than its lag behind the bat plus ``max_gap`` (``PredictionWatch``):
     an arm learns at once that no contact is coming, not a ``stale_timeout`` (30 s here) later.
     The bat lost: once it has been silent beyond ``stale_timeout`` (0.3 s), at a ball message
     (the diagnostics period, whose timer also checks it, is far off here).
@@ -890,13 +890,13 @@ def test_a_prediction_is_withdrawn_when_one_stream_stops_and_the_other_streams_o
     h.processed(publish_swing(h, 'pose', pitch(), samples=range(last + 1)))
     h.wait(lambda: h.received['predicting'][-1:] and h.received['predicting'][-1].data, 3.0,
            'a prediction in force')
-    passed = h.node._predicted_ns + round(h.node.detector.config.max_gap * 1e9)
+    passed = h.node._watch.instant_ns + round(h.node.detector.config.max_gap * 1e9)
     withdrawn_at: List[int] = []  # the bat's stamp before its newest as the flag turned false
     set_predicting = h.node._set_predicting
 
     def noting(predicting: bool) -> None:
         if h.node._predicting and not predicting:
-            withdrawn_at.append(h.node._before_newest['bat_pose'])
+            withdrawn_at.append(h.node._watch.before_newest['bat_pose'])
         set_predicting(predicting)
     h.node._set_predicting = noting
     i = last + 1

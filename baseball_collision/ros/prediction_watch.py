@@ -1,0 +1,101 @@
+"""
+When a predicted impact has passed without its contact: the rule behind ``~/impact_predicted``.
+
+The detector clears a prediction only at its next frame that predicts, so when the frames stop
+short of the instant (the tracker lost the ball) or run past it without a contact, the node
+itself must turn the flag false. :class:`PredictionWatch` keeps what that takes from the
+accepted messages, in plain Python (no rclpy: the node calls it under its lock), and says when:
+
+* every input stream has taken two samples more than ``max_gap`` past the predicted instant.
+  Every stream, because one stream's stamps say nothing of another's: a ball tracker whose
+  messages come 60-100 ms after the bat's (a camera beside mocap) still brings the contact after
+  the bat passed the instant (a rule on one stream alone withdrew the flag before that
+  ``~/impact``, and the late ball's next prediction raised it again). The second sample,
+  because a lone stamp glitched ahead waits for the next one (``stamp_ahead``) and is no proof;
+* or the bat streams have, and the ball has been silent longer than its own lag behind the bat
+  plus ``max_gap``: a ball lost for good (its tracker lost it, the bat streaming on) is told
+  from a late one by that silence. Its lag: how much later than the bat's newest message of the
+  same stamp each of its last ``BALL_LAGS`` messages was taken (arrival less stamp, less the
+  bat's; the clocks' difference cancels), the largest, so a camera's bursts are in it.
+
+A stream silent beyond ``stale_timeout`` is the node's own check (its input tally).
+"""
+
+from collections import deque
+import math
+from typing import Deque, Dict, Mapping, Optional, Sequence
+
+BALL = 'ball'
+"""The ball's stream name; every other stream is the bat's (its pose, or knob and tip)."""
+
+BALL_LAGS = 256
+"""Accepted ball messages whose lag behind the bat's is kept: the largest of them is the ball's
+lag (a camera's bursts included), about 0.7-2.8 s of messages at 90-360 Hz."""
+
+
+class PredictionWatch:
+    """The streams' stamps and arrivals that tell a passed prediction (see the module)."""
+
+    __slots__ = ('streams', 'instant_ns', 'before_newest', '_offsets', '_ball_lags')
+
+    def __init__(self, streams: Sequence[str]) -> None:
+        """Watch ``streams``: the node's input stream names (``BALL`` and the bat's)."""
+        self.streams = tuple(streams)
+        self.instant_ns = 0  # the instant (ns) of the prediction in force
+        self.before_newest: Dict[str, int] = {}  # each stream's sample before its newest (ns)
+        # each stream's newest accepted message: its arrival less its stamp (s), and the last
+        # ``BALL_LAGS`` ball messages' lags behind the bat's (s)
+        self._offsets: Dict[str, float] = {}
+        self._ball_lags: Deque[float] = deque(maxlen=BALL_LAGS)
+
+    def accepted(self, stream: str, stamp_ns: int, previous_ns: Optional[int],
+                 arrival: float) -> None:
+        """
+        Note a message the detector accepted.
+
+        :param stamp_ns: its stamp (ns).
+        :param previous_ns: the stamp (ns) of the stream's message accepted before it (None: its
+            first).
+        :param arrival: when it was taken (s, the steady clock ``passed`` is given).
+        """
+        if previous_ns is not None:
+            self.before_newest[stream] = previous_ns
+        offsets = self._offsets
+        offset = offsets[stream] = arrival - stamp_ns * 1e-9
+        if stream == BALL:
+            bats = [offsets[each] for each in self.streams if each != BALL and each in offsets]
+            if bats:
+                self._ball_lags.append(offset - min(bats))
+
+    def passed(self, now: float, last_arrival: Mapping[str, float], max_gap: float) -> bool:
+        """
+        Return whether the prediction at ``instant_ns`` has passed without its contact at ``now``.
+
+        :param now: the steady-clock time (s).
+        :param last_arrival: each stream's last arrival (s, the same clock; a stream missing
+            has sent nothing).
+        :param max_gap: the detector's ``max_gap`` (s; a threshold that may change at runtime).
+        """
+        newest = self.before_newest
+        passed = self.instant_ns + round(max_gap * 1e9)
+        if not all(newest.get(stream, passed) > passed for stream in self.streams
+                   if stream != BALL):
+            return False
+        return newest.get(BALL, passed) > passed or self.ball_lost(now, last_arrival, max_gap)
+
+    def ball_lost(self, now: float, last_arrival: Mapping[str, float], max_gap: float) -> bool:
+        """
+        Return whether the ball has been silent longer than its lag behind the bat + ``max_gap``.
+
+        Its lag: the largest of its last ``BALL_LAGS`` messages' (none below 0). A ball tracker
+        60-100 ms behind the bat still streams within that; one that lost the ball has sent
+        nothing since.
+        """
+        lag = max(max(self._ball_lags, default=0.0), 0.0)
+        return now - last_arrival.get(BALL, -math.inf) > lag + max_gap
+
+    def clear(self) -> None:
+        """Forget the streams (after a state reset); the instant stays until the next one."""
+        self.before_newest.clear()
+        self._offsets.clear()
+        self._ball_lags.clear()

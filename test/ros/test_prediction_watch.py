@@ -1,0 +1,85 @@
+"""PredictionWatch: when a predicted impact has passed without its contact (no rclpy)."""
+
+from typing import Dict, List, Tuple
+
+from baseball_collision.ros.prediction_watch import BALL_LAGS, PredictionWatch
+
+MAX_GAP = 0.05
+STEP_NS = 10_000_000  # 100 Hz
+INSTANT_NS = 1_000_000_000  # the predicted instant
+
+
+def _stream(watch: PredictionWatch, arrivals: Dict[str, float], stream: str,
+            stamps: List[int], lag: float) -> None:
+    """Feed ``stream`` its stamps, each taken ``lag`` s after its stamp on the steady clock."""
+    previous = None
+    for stamp in stamps:
+        arrival = stamp * 1e-9 + lag
+        watch.accepted(stream, stamp, previous, arrival)
+        arrivals[stream] = arrival
+        previous = stamp
+
+
+def _swing(ball_lag: float, ball_until_ns: int, bat_until_ns: int
+           ) -> Tuple[PredictionWatch, Dict[str, float]]:
+    """Return a watch fed a bat and a ball at 100 Hz to their last stamps, the ball lagging."""
+    watch, arrivals = PredictionWatch(('ball', 'bat_pose')), {}
+    watch.instant_ns = INSTANT_NS
+    _stream(watch, arrivals, 'bat_pose', list(range(0, bat_until_ns + 1, STEP_NS)), 0.002)
+    _stream(watch, arrivals, 'ball', list(range(0, ball_until_ns + 1, STEP_NS)), ball_lag)
+    return watch, arrivals
+
+
+def test_a_prediction_passed_by_every_stream_has_passed() -> None:
+    """Two samples more than max_gap past the instant on each stream: passed; one short: not."""
+    beyond = INSTANT_NS + round(MAX_GAP * 1e9) + 2 * STEP_NS
+    watch, arrivals = _swing(0.0, beyond, beyond)
+    assert watch.passed(beyond * 1e-9, arrivals, MAX_GAP)
+    watch, arrivals = _swing(0.0, beyond - STEP_NS, beyond)  # the ball one sample short
+    assert not watch.passed((beyond - STEP_NS) * 1e-9, arrivals, MAX_GAP)
+
+
+def test_a_late_ball_streaming_on_is_not_lost_and_a_silent_one_is() -> None:
+    """
+    The ball's messages 80 ms behind the bat's: silent for less than 80 ms + max_gap, not lost.
+
+    The bat passed the instant; the ball's newest is before it. Silent longer than its lag plus
+    ``max_gap``: lost, the prediction passed. A stamp alone (the bat's) would have said passed
+    80 ms too soon.
+    """
+    bat_end = INSTANT_NS + 200_000_000
+    watch, arrivals = _swing(0.080, INSTANT_NS - 30_000_000, bat_end)
+    last_ball = arrivals['ball']
+    assert not watch.passed(last_ball + 0.080 + MAX_GAP - 0.005, arrivals, MAX_GAP)
+    assert watch.passed(last_ball + 0.080 + MAX_GAP + 0.005, arrivals, MAX_GAP)
+    assert watch.ball_lost(last_ball + 0.080 + MAX_GAP + 0.005, arrivals, MAX_GAP)
+
+
+def test_the_lag_is_the_largest_of_the_recent_ball_messages() -> None:
+    """A camera's bursts: one message 150 ms late among the last BALL_LAGS keeps the lag at it."""
+    watch, arrivals = _swing(0.0, INSTANT_NS - 30_000_000, INSTANT_NS + 200_000_000)
+    stamp = INSTANT_NS - 20_000_000
+    watch.accepted('ball', stamp, stamp - STEP_NS, stamp * 1e-9 + 0.150)  # a late burst
+    arrivals['ball'] = stamp * 1e-9 + 0.150
+    assert not watch.ball_lost(arrivals['ball'] + 0.150 + MAX_GAP - 0.01, arrivals, MAX_GAP)
+    for _ in range(BALL_LAGS):  # the burst falls out of the messages kept
+        stamp += STEP_NS // 100
+        watch.accepted('ball', stamp, stamp - STEP_NS // 100, stamp * 1e-9)
+        arrivals['ball'] = stamp * 1e-9
+    assert watch.ball_lost(arrivals['ball'] + MAX_GAP + 0.01, arrivals, MAX_GAP)
+
+
+def test_no_bat_sample_past_the_instant_no_passing() -> None:
+    """The bat has not passed the instant: never passed, however long the ball is silent."""
+    watch, arrivals = _swing(0.0, INSTANT_NS - 30_000_000, INSTANT_NS)
+    assert not watch.passed(arrivals['ball'] + 10.0, arrivals, MAX_GAP)
+    assert watch.ball_lost(arrivals['ball'] + 10.0, arrivals, MAX_GAP)
+
+
+def test_clear_forgets_the_streams() -> None:
+    """After a state reset the streams' samples are forgotten: nothing has passed."""
+    beyond = INSTANT_NS + round(MAX_GAP * 1e9) + 2 * STEP_NS
+    watch, arrivals = _swing(0.0, beyond, beyond)
+    watch.clear()
+    assert watch.before_newest == {}
+    assert not watch.passed(beyond * 1e-9, arrivals, MAX_GAP)
