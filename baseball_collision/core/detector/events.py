@@ -276,6 +276,12 @@ class DetectorStats:
     last_drop_reason: Optional[DropReason] = None
     late_drops: List['LateDrop'] = field(default_factory=list)
 
+    def drop_late(self, role: Role, reason: DropReason, stamp_ns: int, frame_id: str) -> None:
+        """Count a sample that had waited as dropped now, for ``reason`` (a ``LateDrop``)."""
+        self.dropped[reason] += 1
+        self.late_drops.append(LateDrop(role=role, reason=reason, stamp_ns=stamp_ns,
+                                        frame_id=frame_id))
+
     @property
     def mean_processing_s(self) -> float:
         """Mean wall time per call (seconds)."""

@@ -30,7 +30,7 @@ Offers that waited and are dropped later are counted then (``DetectorStats.late_
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
 from .config import DetectorConfig
-from .events import DetectorStats, DropReason, Event, LateDrop, ResetReason, Role
+from .events import DetectorStats, DropReason, Event, ResetReason, Role
 from .gate import frame_check, FRAME_PENDING_MAX, FrameVote, hold_ahead, JumpWatch, stamp_check
 from .streams import Stream
 
@@ -249,6 +249,4 @@ class Intake:
 
     def _late(self, offer: Offer, reason: DropReason) -> None:
         """Count the drop of an offer that had waited."""
-        self.stats.dropped[reason] += 1
-        self.stats.late_drops.append(LateDrop(role=offer.role, reason=reason,
-                                              stamp_ns=offer.stamp, frame_id=offer.frame))
+        self.stats.drop_late(offer.role, reason, offer.stamp, offer.frame)

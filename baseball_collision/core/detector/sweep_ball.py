@@ -17,7 +17,7 @@ from typing import List, NamedTuple, Optional
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
     glitch_before_flight, glitch_path, judging_noise, leaves_flight)
-from .events import DropReason, LateDrop, Role
+from .events import DropReason, Role
 from .fitting import stream_noise
 from .gate import within_speed
 from .intake import Offer
@@ -371,10 +371,8 @@ class BallSamples:
 
     def _dropped_aside(self, entry: Aside) -> None:
         """Count a sample set aside as dropped by the speed check (a late drop)."""
-        self.stats.dropped[DropReason.SPEED_LIMIT] += 1
-        self.stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.SPEED_LIMIT,
-                                              stamp_ns=entry.offer.stamp,
-                                              frame_id=entry.offer.frame))
+        self.stats.drop_late(Role.BALL, DropReason.SPEED_LIMIT, entry.offer.stamp,
+                             entry.offer.frame)
 
     def _glitch(self, k: int) -> None:
         """
@@ -390,10 +388,7 @@ class BallSamples:
             return
         self.glitch_ns = stamp
         self.glitches.append(stamp)
-        stats = self.stats
-        stats.dropped[DropReason.BALL_GLITCH] += 1
-        stats.late_drops.append(LateDrop(role=Role.BALL, reason=DropReason.BALL_GLITCH,
-                                         stamp_ns=stamp, frame_id=self.frame_of() or ''))
+        self.stats.drop_late(Role.BALL, DropReason.BALL_GLITCH, stamp, self.frame_of() or '')
 
 
 def _young(stream: Stream, k: int, max_gap: float) -> bool:

@@ -14,7 +14,7 @@ import math
 from typing import Optional, Tuple
 
 from . import bat_glitches
-from .events import DropReason, LateDrop, Role
+from .events import DropReason, Role
 from .fitting import c2_window, stream_noise
 from .noise import ESTIMATES
 from ..motion import BatPath, Paths
@@ -183,9 +183,6 @@ class BatFrames:
             knob, tip = bat_glitches.isolation(bat, j, config.max_gap, config.spline_window,
                                                last)
             role = Role.KNOB if knob > tip else Role.TIP
-        stats = self.stats
-        stats.dropped[DropReason.BAT_GLITCH] += 1
-        stats.late_drops.append(LateDrop(role=role, reason=DropReason.BAT_GLITCH,
-                                         stamp_ns=bat.stamps[j], frame_id=self.frame_of() or ''))
+        self.stats.drop_late(role, DropReason.BAT_GLITCH, bat.stamps[j], self.frame_of() or '')
         del bat.aligned.get(bat_glitches.CLEAN, [])[max(j - 2, 0):]  # (they read frame j)
         bat.remove(j, (ESTIMATES,))
