@@ -23,7 +23,7 @@ With prediction on, every step of the walk that moves the cursor (a frame) is al
 of ``Predictor.predict``: the plan forecasts every due frame where the ball may reach the bat
 on its arrays, all in one kernel call (``prediction.forecast_outcomes``: the predictor's fits
 and search, the same bits), and says which could make or clear a prediction
-(:func:`_prediction_stops`: stops) and the predictor's ``last_ns`` after each sample.
+(``plan_prediction.prediction_stops``: stops) and the predictor's ``last_ns`` after each sample.
 
 ``chunks`` takes the plan: runs between stops fast-forwarded, stops through the per-sample
 path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` models is planned
@@ -41,17 +41,17 @@ from typing import Any, List, Optional, Sequence, Tuple
 import numpy as np
 
 from .broadphase import apart_margins, NOISE_REACH, path_margins
-from .broadphase.arrays import rows
+from .broadphase.arrays import SLACK
 from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS, HOLD_FACTOR
 from .noise import NoiseEstimate
-from .predictor import PREDICTION_DEGREE, Predictor
-from .streams import MAX_HISTORY, SILENT_KEEP, Stream, TRIM_LEAVES
+from .plan_prediction import prediction_stops
+from .predictor import Predictor
+from .streams import SILENT_KEEP, Stream, TRIM_LEAVES
 from ..geometry import norm, Vector
 from ..motion import samples_ahead
-from ..prediction import forecast_outcomes, prediction_due
 from ..toi import _kernel
 
 ROLE_CODES = {role.value: code for code, role in enumerate(Role)}
@@ -62,10 +62,6 @@ FAST_MODELS = ('linear', 'rigid', 'spline', 'c2')
 """Models whose far test is vectorised (``c2``: its first stage, ``broadphase.apart_margins``;
 the far tests read no noise, so under ``tracker_noise`` auto too: a fast-forward gives the
 estimators the run's samples in bulk, ``chunks.fast_forward``)."""
-
-SLACK = 1e-9
-"""Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
-the scalar code's by a few ulps, and only a sample well inside every bound skips it."""
 
 TRIM_FROM = 64
 """``Stream.trim`` leaves streams shorter than this alone."""
@@ -271,8 +267,8 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     _through(plan, ok, stops, [(x, y) for x, y in plan.holds if stops[y]])
     plan.last_due = plan.due = plan.forecasts = None
     if predictor is not None and n:
-        forecasts, due_steps = _prediction_stops(config, plan, arrays, predictor, origin,
-                                                 done, counts, visited)
+        forecasts, due_steps = prediction_stops(config, plan, arrays, predictor, origin,
+                                                done, counts, visited)
         # a taker whose held sample's step is a due frame: the per-sample path predicts after
         # that step (and after its own), a fast-forward after its last only: both through it
         if plan.holds:
@@ -302,147 +298,6 @@ def _through(plan: Plan, ok: np.ndarray, stops: np.ndarray,
         stops[x] = stops[y] = True
     if pairs:
         plan.holds = [hold for hold in plan.holds if not stops[hold[1]]]
-
-
-def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays,
-                      predictor: Predictor, origin: int, done: np.ndarray,
-                      counts: List[np.ndarray], visited: np.ndarray
-                      ) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return which samples must stop for the predictor and the due steps; set the due frames.
-
-    ``done``, ``counts``, ``visited``: the walk's steps (``_walk``; a sample that takes a held
-    one makes two, each a frame of the per-sample path where it moves the cursor). After each
-    frame (a step that moves the cursor) ``Predictor.predict`` runs; on a due frame
-    (``prediction_due``) it sets ``last_ns``, then forecasts when armed and ``_may_reach``
-    holds, else clears a prediction in force. A frame between stops only visits far
-    intervals, which arm: its due frame stops when a bat plan is set, or when the ball may
-    reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
-    with ``SLACK`` to spare) and its forecasts may meet (``_forecasts_find``), or when the due
-    frame before may have made a prediction (it makes another or clears it); the other due
-    frames only move ``last_ns``. A prediction the predictor makes is one the plan allowed
-    for (a forecast that meets is one ``forecast_outcomes`` finds on the same samples), so
-    the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
-    prediction in force before a due frame that is not a stop, overturns the plan
-    (``_follow``).
-    """
-    n = plan.n
-    steps = visited[1:int(done[-1]) + 1]  # the cursor's union index after each step
-    moved = steps > np.concatenate(([1], steps[:-1]))
-    cursors = plan.union[steps - 1]
-    frames = np.flatnonzero(moved)
-    # Clock.stamp over the frames: origin + int(round(t * 1e9)) (both round half to even)
-    now = (origin + np.rint(cursors[frames] * 1e9).astype(np.int64)).tolist()
-    due = _due_frames(now, predictor.last_ns, config.prediction_period)
-    due_ns = [now[k] for k in due]
-    due_steps = frames[due] + 1
-    after = np.searchsorted(due_steps, done, 'right') - 1
-    plan.last_due = [predictor.last_ns] + [predictor.last_ns if k < 0 else due_ns[k]
-                                           for k in after.tolist()]
-    due = np.searchsorted(done, due_steps)  # the sample that makes each due step
-    plan.due = due.tolist()
-    stops = np.zeros(n, bool)
-    if not len(due):
-        return stops, due_steps
-    if predictor.plan is not None:  # (it may move the bat anywhere: _may_reach is True)
-        stops[due] = True
-        return stops, due_steps
-    ball, bat = counts[0][due_steps] - 1, counts[1][due_steps] - 1  # the newest of each
-    ball_times, bat_times = arrays.times
-    b0, b1 = rows(arrays.ball, ball - 1), rows(arrays.ball, ball)
-    k0, k1 = rows(arrays.knobs, bat - 1), rows(arrays.knobs, bat)
-    t0, t1 = rows(arrays.tips, bat - 1), rows(arrays.tips, bat)
-    with np.errstate(all='ignore'):
-        ball_speed = _norms(b1 - b0) / (ball_times[ball] - ball_times[ball - 1])
-        bat_speed = np.maximum(_norms(k1 - k0), _norms(t1 - t0)) / (
-            bat_times[bat] - bat_times[bat - 1])
-        middle = k1 + (t1 - k1) * 0.5
-        reach = (0.5 * _norms(t1 - k1) + config.ball_radius + config.profile.max_radius
-                 + 2.0 * (ball_speed + bat_speed) * config.prediction_horizon)
-        reaching = ~(_norms(b1 - middle) > reach * (1.0 + SLACK))
-    finds = np.zeros(len(due), bool)
-    reached = np.flatnonzero(reaching)
-    if len(reached):
-        finds[reached] = _forecasts_find(config, plan, arrays, predictor, counts,
-                                         due_steps[reached], cursors)
-    # a due frame forecasts (a stop) when it may find a contact, or when the one before may
-    # have (a prediction may be in force: it clears it)
-    stops[due] = finds | np.concatenate(([predictor.predicting], finds[:-1]))
-    return stops, due_steps
-
-
-def _due_frames(now: List[int], last: Optional[int], period: float) -> List[int]:
-    """
-    Return which frames predict: ``prediction_due`` frame by frame, each due one the last.
-
-    ``now``: the frames' stamps (ns), not decreasing (the cursor's, as a plan walks it), so
-    after the first due frame the next is the first at least ``period`` after it: found by
-    bisection, a step per due frame (every frame with a period of 0).
-    """
-    if not now:
-        return []
-    if round(period * 1e9) <= 0:
-        return list(range(len(now)))
-    k = 0 if prediction_due(last, now[0], period) else bisect_left(
-        now, last + round(period * 1e9))  # (last is not None, and now[0] not before it)
-    due = []
-    while k < len(now):
-        due.append(k)
-        k = bisect_left(now, now[k] + round(period * 1e9), k + 1)
-    return due
-
-
-def _forecasts_find(config: DetectorConfig, plan: Plan, arrays: Arrays, predictor: Predictor,
-                    counts: List[np.ndarray], due_steps: np.ndarray,
-                    cursors: np.ndarray) -> np.ndarray:
-    """
-    Return which due frames' forecasts may find a contact (the kernel's, all in one call).
-
-    Each frame's windows are ``Stream.history``'s on the streams as that step of the walk
-    leaves them (its counts, its trim's start: ``Plan.step_starts``), its time the cursor;
-    the outcomes are
-    ``prediction.forecast_outcomes``' (the predictor's own fits and search on the same
-    samples: the same bits), and an undecided one (left to the predictor) may find.
-    """
-    t0s = np.ascontiguousarray(cursors[due_steps - 1])
-    windows = np.empty((len(due_steps), 4), np.int64)
-    for s, window in ((0, config.prediction_window), (1, config.velocity_window)):
-        windows[:, 2 * s:2 * s + 2] = _histories(
-            arrays.times[s], arrays.breaks[s], plan.step_starts[s][due_steps],
-            counts[s][due_steps], t0s, window)
-    outcomes = forecast_outcomes(
-        (arrays.times[0], arrays.ball),
-        (arrays.times[1], arrays.knobs, arrays.tips, arrays.quaternions), windows, t0s,
-        predictor._gravity, config.ball_drag, min(config.velocity_degree, PREDICTION_DEGREE),
-        config.prediction_horizon, config.ball_radius, config.profile, predictor._tolerance)
-    return outcomes != 0
-
-
-def _histories(times: np.ndarray, breaks: np.ndarray, starts: np.ndarray, counts: np.ndarray,
-               t0s: np.ndarray, window: float) -> np.ndarray:
-    """
-    Return ``Stream.history(t0, window)`` of a stream's samples [start, count) per frame.
-
-    As (first, end) rows in the arrays' indices (end - first < 3: too few for a forecast).
-    ``times``: the stream's kept samples and the chunk's, increasing; ``breaks``: which start
-    a segment.
-    """
-    k = np.minimum(np.searchsorted(times, t0s, 'right'), counts) - 1
-    empty = k < starts
-    k = np.where(empty, starts, k)
-    # bisect_right(times, times[k] - window - 1e-9, max(k - MAX_HISTORY + 1, start), k)
-    first = np.clip(np.searchsorted(times, times[k] - window - 1e-9, 'right'),
-                    np.maximum(k - MAX_HISTORY + 1, starts), k)
-    first = np.where(first > k - 1, np.where(k > starts, k - 1, starts), first)
-    # within the segment: from its newest break in (first, k]
-    newest_break = np.maximum.accumulate(np.where(breaks, np.arange(len(breaks)), -1))
-    first = np.maximum(first, newest_break[k])
-    return np.stack((first, np.where(empty, first, k + 1)), axis=1)
-
-
-def _norms(rows: np.ndarray) -> np.ndarray:
-    """Return the length of each row of an (m, 3) array."""
-    return np.sqrt(np.einsum('ij,ij->i', rows, rows))
 
 
 def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int, ball: Stream,

@@ -17,6 +17,12 @@ from ...motion import MAX_CHART_ANGLE
 from ...toi import _kernel
 
 
+SLACK = 1e-9
+"""Relative room a check must pass by to be decided on arrays: numpy's rounding differs from
+the scalar code's by a few ulps, and only a sample well inside every bound skips it (the
+chunk plans' checks, ``detector.plans``)."""
+
+
 def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
                   bat_position: Optional[np.ndarray], ball_k: np.ndarray,
                   bat_k: np.ndarray, ball_before: np.ndarray, ball_after: np.ndarray,
