@@ -63,7 +63,7 @@ per coordinate (``simulate --noise``; a session too, between its pitches as well
 time: on a machine shared with other work, CPU time moves less than wall time.
 
 ``--jobs K``: writes K bags of ``N`` messages (default 250,000 each) and times
-:func:`analyze.analyze_bags` over them with one job, with K jobs (a process pool) and with one
+:func:`many_bags.analyze_bags` over them with one job, with K jobs (a process pool) and with one
 job that does not read ahead, in turn in the same process, ``--repeats`` rounds; prints each
 one's median and best wall time, CPU time, and the cores the host's other processes used
 meanwhile (``/proc/stat``: on a shared machine a run beside a busy process has one core),
@@ -97,8 +97,8 @@ from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_ST
 from baseball_collision.core.detector import Detector, DetectorConfig
 from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.analyze import (
-    AnalysisOptions, analyze_bag, analyze_bags, BagAnalysis, CHUNK, run_detector,
-    run_detector_chunks)
+    AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, run_detector, run_detector_chunks)
+from baseball_collision.tools.many_bags import analyze_bags
 from baseball_collision.tools.parameters import build_config
 from baseball_collision.tools.recording import RecordingSpec, write_recording
 from baseball_collision.tools.sim import DEFAULT_START_NS, KINDS, make_scenario, sample

@@ -24,25 +24,21 @@ from pathlib import Path
 import sys
 import time
 from typing import (
-    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, TypeVar,
-    Union)
+    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
 
 import numpy as np
 
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
-    BAG_SUFFIXES, compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
+    compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
     TruthComparison)
-from ..atomic import worker_signals
 from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
 from ..core.detector.chunks import ROLE_CODES
-from ..core.toi.batch import cores
 from ..errors import BagError, ToolError
-from ..threads import single_threaded_blas
 
 PROGRESS_MIN_MESSAGES = 100_000
 """Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
@@ -550,206 +546,3 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                 result.notes.append(f'{truth_file.name} was written for {made_for}, not '
                                     f'{name}: compared all the same (a renamed copy?)')
     return result
-
-
-# ----------------------------------------------------------------------------------------------
-# Many bags: every core
-
-
-def is_bag(path: Path) -> bool:
-    """Return whether ``path`` is one bag: a ROS 2 bag directory or a bag file."""
-    if path.is_dir():
-        return (path / 'metadata.yaml').is_file()
-    return path.suffix.lower() in BAG_SUFFIXES
-
-
-def bag_paths(paths: Iterable[os.PathLike]) -> List[Path]:
-    """
-    Return the bags named by ``paths``, in order: a directory of bags stands for its bags.
-
-    A ROS 2 bag directory (one with ``metadata.yaml``) is itself one bag; any other directory
-    stands for the bags inside it and in its subdirectories (bag files and bag directories, by
-    name at each level, a directory's bags before its subdirectories'; a season of days of
-    bags); anything else is kept as given (``analyze_bag`` says what is wrong with it).
-
-    :raises ToolError: a directory that is neither a bag nor holds one.
-    """
-    found: List[Path] = []
-    for path in map(Path, paths):
-        if path.is_dir() and not is_bag(path):
-            inside = _bags_under(path)
-            if not inside:
-                raise ToolError(f'no bags in {path}: neither a ROS 2 bag directory (no '
-                                'metadata.yaml) nor a directory holding .mcap, .db3 or .bag '
-                                'files or bag directories')
-            found.extend(inside)
-        else:
-            found.append(path)
-    return found
-
-
-def _bags_under(directory: Path) -> List[Path]:
-    """Return the bags in a directory that is no bag, then in its subdirectories, by name."""
-    entries = sorted(directory.iterdir())
-    bags = [entry for entry in entries if is_bag(entry)]
-    for entry in entries:
-        if entry.is_dir() and not is_bag(entry):
-            bags.extend(_bags_under(entry))
-    return bags
-
-
-Skipped = Tuple[Path, str]
-"""A bag ``analyze_bags`` skipped (``skipped`` given): its path and why (one line)."""
-
-Task = TypeVar('Task')
-"""What one job of :func:`in_pool` is given."""
-
-Done = TypeVar('Done')
-"""What one job of :func:`in_pool` gives back."""
-
-
-def _analyze_one(path: Path, options: AnalysisOptions, use_truth: bool, read_ahead: int,
-                 keep_going: bool, **more: Any) -> Union[BagAnalysis, Skipped]:
-    """Analyse one bag; with ``keep_going`` a ``ToolError`` comes back as (path, why)."""
-    try:
-        return analyze_bag(path, options, use_truth=use_truth, read_ahead=read_ahead, **more)
-    except ToolError as error:
-        if not keep_going:
-            raise
-        return path, str(error)
-
-
-def _analyze_in_worker(job: Tuple[Path, AnalysisOptions, bool, int, bool]
-                       ) -> Union[BagAnalysis, Skipped]:
-    """Analyse one bag in a pool process (no progress bar: the parent counts bags)."""
-    return _analyze_one(*job, progress=False)
-
-
-def worker_read_ahead(workers: int) -> int:
-    """
-    Return the chunks a pool worker reads ahead (``analyze_bag``'s ``read_ahead``).
-
-    One while a core is spare; none with a worker on every core, where a reading thread would
-    only take the other workers' time (reading ahead costs a bag's analysis 6-16 % more CPU,
-    and gains wall time only on a spare core: BENCHMARKS.md, "Reading a bag ahead").
-    """
-    return 1 if workers < cores() else 0
-
-
-def _start_worker() -> None:
-    """Set a pool process up: its signals (``worker_signals``) and one BLAS thread."""
-    worker_signals()
-    single_threaded_blas()
-
-
-def _pool_context() -> Any:
-    """
-    Return fork with this process on one thread, else forkserver (module preloaded), else spawn.
-
-    A forked worker starts in milliseconds with what this process has imported; the fork
-    server's first worker waits for its imports (about 0.3 s, against 0.4-0.6 s a 250k-message
-    bag). But a child forked while another thread holds a lock (a progress bar's monitor, the
-    batch solver's pool, an earlier pool's handlers) can deadlock before it runs a line, and with
-    the parent's Python signal handlers it then ignores the SIGTERM that ends the pool:
-    ``Pool.terminate`` waited for it forever (4 runs in 30 under load). So fork only from a
-    process with no other thread (the command line's, before any bar); otherwise the fork
-    server, a clean single-threaded process that imports the analysis once.
-    """
-    import multiprocessing  # (only a pool needs it)
-    import threading
-
-    methods = multiprocessing.get_all_start_methods()
-    if threading.active_count() == 1 and 'fork' in methods:
-        return multiprocessing.get_context('fork')
-    if 'forkserver' in methods:
-        context = multiprocessing.get_context('forkserver')
-        context.set_forkserver_preload([__name__])
-        return context
-    return multiprocessing.get_context('spawn')
-
-
-def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
-                 jobs: Optional[int] = None, out_bag: Optional[BagWriter] = None,
-                 progress: bool = True, use_truth: bool = True,
-                 skipped: Optional[List[Skipped]] = None) -> List[BagAnalysis]:
-    """
-    Run :func:`analyze_bag` over bags, ``jobs`` at a time in a process pool; in input order.
-
-    The bag-level entry point of ``analyze``: ``paths`` go through :func:`bag_paths`; one bag,
-    or one job, runs in this process as :func:`analyze_bag` alone. Otherwise each bag is one
-    task of a pool of ``jobs`` processes; the results come back in the order of the bags, and
-    the first bag (in that order) that fails stops the pool and raises its error, as one bag
-    after another would. A long run shows a bar of bags done on a terminal.
-
-    :param jobs: processes (None: one per core this process may use).
-    :param out_bag: an open writer for the output bag (one bag only).
-    :param progress: show progress bars (per bag in one process; bags done in a pool).
-    :param skipped: None: the first bag that fails stops the run; a list: a bag that cannot
-        be analysed (a ``ToolError``: corrupt, truncated, not a bag, its topics missing) is
-        appended to it as (path, why) and left out, and the others go on (``--keep-going``).
-    :returns: one :class:`BagAnalysis` per bag analysed, in order.
-    :raises ToolError: as :func:`analyze_bag`, for the first failing bag (``skipped`` None);
-        ``out_bag`` with more than one bag; a directory without bags.
-    """
-    bags = bag_paths(paths)
-    if out_bag is not None and len(bags) > 1:
-        raise ToolError('--out-bag takes one BAG; run analyze once per bag')
-    keep_going = skipped is not None
-    workers = min(cores() if jobs is None else jobs, len(bags))
-    if workers <= 1:
-        return _analysed([_analyze_one(path, options, use_truth, 1, keep_going, out_bag=out_bag,
-                                       progress=progress) for path in bags], skipped)
-    tasks = [(path, options, use_truth, worker_read_ahead(workers), keep_going)
-             for path in bags]
-    return _analysed(in_pool(_analyze_in_worker, tasks, workers, progress=progress), skipped)
-
-
-def in_pool(function: Callable[[Task], Done], tasks: Sequence[Task], workers: int, *,
-            progress: bool = True, unit: str = 'bag') -> List[Done]:
-    """
-    Return ``function(task)`` for every task, computed by a pool of processes, in task order.
-
-    Each task is one job of a pool of ``workers`` processes (:func:`_pool_context`, each set up
-    by :func:`_start_worker`); the results come back in the order of the tasks, and the first
-    task (in that order) that raises stops the pool and its error is raised here, as one
-    task after another would. A run shows a bar of tasks done on a terminal.
-
-    :param function: a module-level function (the workers get it by name).
-    :param workers: processes (at least 1).
-    :param progress: show the bar (only on a terminal).
-    :param unit: what a task is, for the bar.
-    :raises Exception: what the first failing task raised.
-    """
-    bar = None
-    results: List[Done] = []
-    try:
-        # leaving the block on an error (or Ctrl-C) terminates the workers at once; done, they
-        # are let go (close, join). The bar (and its monitor thread) only after the workers
-        # are started: ``_pool_context`` forks them only from a process with one thread.
-        with _pool_context().Pool(workers, initializer=_start_worker) as pool:
-            if progress and sys.stderr.isatty():
-                from tqdm import tqdm
-                bar = tqdm(total=len(tasks), unit=unit, desc=f'{workers} jobs',
-                           file=sys.stderr, leave=False, dynamic_ncols=True)
-            for result in pool.imap(function, tasks, chunksize=1):
-                results.append(result)
-                if bar is not None:
-                    bar.update(1)
-            pool.close()
-            pool.join()
-    finally:
-        if bar is not None:
-            bar.close()
-    return results
-
-
-def _analysed(results: List[Union[BagAnalysis, Skipped]],
-              skipped: Optional[List[Skipped]]) -> List[BagAnalysis]:
-    """Return the analyses among ``results``; the bags skipped go to ``skipped``."""
-    analyses = []
-    for result in results:
-        if isinstance(result, BagAnalysis):
-            analyses.append(result)
-        elif skipped is not None:
-            skipped.append(result)
-    return analyses

@@ -201,7 +201,8 @@ def _simulate(args: argparse.Namespace) -> int:
 
 
 def _analyze(args: argparse.Namespace) -> int:
-    from .analyze import AnalysisOptions, analyze_bags, BagAnalysis
+    from .analyze import AnalysisOptions, BagAnalysis
+    from .many_bags import analyze_bags
     from .report import csv_text, format_report, json_text, total_line
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(

@@ -16,7 +16,8 @@ from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .analyze import BagAnalysis, CHUNK, in_pool
+from .analyze import BagAnalysis, CHUNK
+from .pool import in_pool
 from .report import plot_files
 from .summary_plot import summary_figure, ZONE_NAMES
 from ..bags import BagReader
@@ -376,7 +377,7 @@ def write_plots(analyses: Sequence[BagAnalysis], directory: Path, *, jobs: Optio
     Draw the PNGs of :func:`plot_names` into ``directory`` (which must exist).
 
     Each bag's figures are one task (:func:`draw_bag`): ``jobs`` bags at a time, each in its
-    own process (:func:`~.analyze.in_pool`; the figures' drawing is most of ``--plot``'s time:
+    own process (:func:`~.pool.in_pool`; the figures' drawing is most of ``--plot``'s time:
     about 0.5 s a figure), the same files as one after another.
 
     :param jobs: processes (None: one per core this process may use; 1: this process).

@@ -17,7 +17,7 @@ from typing import Callable, List, Tuple
 from baseball_collision import __version__
 from baseball_collision.bags import BagWriter, POINT_STAMPED
 from baseball_collision.errors import CoreError
-from baseball_collision.tools import analyze
+from baseball_collision.tools import many_bags
 from baseball_collision.tools.report import CSV_COLUMNS
 from baseball_collision.tools.truth import truth_path
 import pytest
@@ -257,7 +257,7 @@ def test_any_package_error_is_one_line(monkeypatch: pytest.MonkeyPatch, tmp_path
     """An error of any layer (here the core's) ends in one line and exit 2, nothing written."""
     def refuse(*args: object, **kwargs: object) -> None:
         raise CoreError('max_gap must be > 0')
-    monkeypatch.setattr(analyze, 'analyze_bags', refuse)  # the cli imports it when it runs
+    monkeypatch.setattr(many_bags, 'analyze_bags', refuse)  # the cli imports it when it runs
     code, stdout, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap'))]
                                    + _all_outputs(tmp_path))
     assert code == 2 and stdout == ''

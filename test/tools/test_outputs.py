@@ -9,7 +9,7 @@ from typing import Callable, Iterator, List, Tuple
 
 from baseball_collision.bags import BagWriter
 from baseball_collision.errors import BagError, ToolError
-import baseball_collision.tools.analyze as analyze_module
+import baseball_collision.tools.many_bags as many_bags_module
 from baseball_collision.tools.outputs import Outputs
 import pytest
 from support.bundled import bag_path
@@ -112,7 +112,7 @@ def test_an_unwritable_output_directory_is_refused_before_any_work(
     """Checked up front (a file made and removed there), not after the whole analysis."""
     def analysed(*args: object, **kwargs: object) -> None:
         raise AssertionError('the bags were analysed before the outputs were checked')
-    monkeypatch.setattr(analyze_module, 'analyze_bags', analysed)
+    monkeypatch.setattr(many_bags_module, 'analyze_bags', analysed)
     target = unwritable / 'out.mcap'
     code, stdout, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap')), flag,
                                     str(target), '--quiet'])
@@ -138,13 +138,13 @@ def test_a_file_named_as_the_output_directory_is_said_to_be_no_directory(
 
 SIGNALLED = """
 import os, signal, sys
-from baseball_collision.tools import analyze, cli
-real = analyze.analyze_bag
+from baseball_collision.tools import cli, many_bags
+real = many_bags.analyze_bag
 def analyze_then_signal(*args, **kwargs):
     result = real(*args, **kwargs)
     os.kill(os.getpid(), signal.{name})
     return result
-analyze.analyze_bag = analyze_then_signal
+many_bags.analyze_bag = analyze_then_signal
 sys.exit(cli.main(sys.argv[1:]))
 """
 

@@ -1,5 +1,5 @@
 """
-``analyze`` on every core: bags in a process pool, one report in the input order.
+``analyze`` over many bags on every core (``tools/many_bags.py``): one report in input order.
 
 Real bag files (the bundled ones, copied or linked into directories of bags); the pool's
 results are compared with the same bags analysed one after another in this process.
@@ -15,11 +15,9 @@ from typing import Callable, List, Tuple
 
 from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED
 from baseball_collision.errors import ToolError
-from baseball_collision.threads import blas_threads
-from baseball_collision.tools import analyze, plots
-from baseball_collision.tools.analyze import (
-    _pool_context, _start_worker, analyze_bags, bag_paths, BagAnalysis, is_bag,
-    worker_read_ahead)
+from baseball_collision.tools import many_bags, plots, pool
+from baseball_collision.tools.analyze import BagAnalysis
+from baseball_collision.tools.many_bags import analyze_bags, bag_paths, is_bag, worker_read_ahead
 import pytest
 from support.bagfiles import reference_bag
 from support.bundled import bag_path
@@ -148,32 +146,10 @@ def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) ->
 
 def test_workers_read_ahead_only_with_a_core_to_spare(monkeypatch: pytest.MonkeyPatch) -> None:
     """A worker on every core reads in turn; fewer workers than cores read one chunk ahead."""
-    monkeypatch.setattr(analyze, 'cores', lambda: 4)
+    monkeypatch.setattr(many_bags, 'cores', lambda: 4)
     assert [worker_read_ahead(workers) for workers in (1, 2, 3, 4, 5)] == [1, 1, 1, 0, 0]
-    monkeypatch.setattr(analyze, 'cores', lambda: 1)
+    monkeypatch.setattr(many_bags, 'cores', lambda: 1)
     assert worker_read_ahead(1) == 0
-
-
-def test_the_pool_forks_only_from_a_process_with_one_thread() -> None:
-    """Fork (workers in ms) from a single-threaded process; the fork server once a thread runs."""
-    script = ('import threading\n'
-              'from baseball_collision.tools.analyze import _pool_context\n'
-              'print(_pool_context().get_start_method())\n'
-              'stop = threading.Event()\n'
-              'thread = threading.Thread(target=stop.wait)\n'
-              'thread.start()\n'
-              'print(_pool_context().get_start_method())\n'
-              'stop.set()\n'
-              'thread.join()\n')
-    methods = subprocess.run([sys.executable, '-c', script], check=True, capture_output=True,
-                             text=True).stdout.split()
-    assert methods == ['fork', 'forkserver']
-
-
-def test_a_pool_worker_runs_blas_on_one_thread() -> None:
-    """``analyze``'s workers set one BLAS thread as they start, as its own process does."""
-    with _pool_context().Pool(2, initializer=_start_worker) as pool:
-        assert pool.map(blas_threads, range(2)) == [1, 1]
 
 
 def test_the_first_failing_bag_in_input_order_is_the_error(tmp_path: Path) -> None:
@@ -216,7 +192,7 @@ def test_cli_jobs_draws_each_bags_plots_in_the_pool_the_same_files(
 
     def spied(function: Callable, tasks: list, workers: int, **kwargs: object) -> list:
         pools.append(workers)
-        return analyze.in_pool(function, tasks, workers, **kwargs)
+        return pool.in_pool(function, tasks, workers, **kwargs)
 
     monkeypatch.setattr(plots, 'in_pool', spied)
     drawn = {}
