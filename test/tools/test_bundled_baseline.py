@@ -13,3 +13,17 @@ def test_every_bundled_bag_and_model_unchanged() -> None:
     found = differences(actual, expected)
     assert found == [], '\n'.join(found[:20])
     assert sum(len(document['impacts']) for document in expected.values()) > 50
+
+
+def test_a_smallest_gaps_place_may_move_by_its_last_bits_only() -> None:
+    """Where a truth's smallest gap was (a flat minimum) within 1e-7; the gap itself to ULPs."""
+    expected = {'pitches': [{'min_gap_m': -0.01652736453920623, 'min_gap_time_s': 0.25,
+                             'min_gap_vector': [-0.0112633, -0.0013765018493085814, 0.0120165]}]}
+    moved = json.loads(json.dumps(expected))
+    moved['pitches'][0]['min_gap_vector'][1] = -0.0013765007432473078  # (an AMD EPYC's)
+    moved['pitches'][0]['min_gap_time_s'] += 3e-10
+    assert differences(moved, expected) == []
+    moved['pitches'][0]['min_gap_vector'][1] += 1e-6
+    moved['pitches'][0]['min_gap_m'] += 1.1e-9
+    assert [line.split(':')[0] for line in differences(moved, expected)] == [
+        '.pitches[0].min_gap_m', '.pitches[0].min_gap_vector[1]']
