@@ -19,18 +19,51 @@ Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat po
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
 with ``prediction_period`` 5 and 10 ms), in one process; ``--cost-only`` prints only that.
 ``--changes`` prints only how much consecutive predictions 10 ms apart move, per swing family.
+
+``--faults`` prints only what bat-tracker faults cost the prediction, each run beside the same
+pitch without the fault (every swing family x ``--seeds`` seeds x barrel, graze, miss over and
+under; tracked from 0.4 s before the approach; 90 and 360 Hz; exact and 1 mm of noise; the
+node's defaults and ``analyze --predict``'s, the bat as a pose): one bat frame turned 10 or 20
+cm toward the ball (``Samples.with_bat_frame_turned``), or stamped 2 or 4 ms early or late (its
+pose right), the 1st, 2nd or 4th frame before the approach (the contact, or a miss's closest
+instant). Counted: hits whose prediction in force 20 ms ahead (``FAULT_LEAD_S``) is within 5
+ms of the contact (``FAULT_OFF_S``) in the clean run and not in the faulted one (lost), and the
+reverse (gained); misses with a prediction made at a frame where the clean run had none in
+force (new false predictions); the chunk path (``Detector.add_chunk``) against one sample at a
+time on every faulted run (runs whose events differ). Then a ball tracker that pauses:
+``ros/prediction_watch.py``'s rule on the arrivals (``pauses``).
 """
 
 import argparse
+from dataclasses import replace
 import time
-from typing import Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
+from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.events import PredictionCleared
+from baseball_collision.ros.prediction_watch import PredictionWatch
 from baseball_collision.threads import single_threaded_blas
-from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, Scenario, truth_dict
+from baseball_collision.tools.parameters import build_config
+from baseball_collision.tools.sim import (
+    FAMILIES, make_scenario, sample, Samples, Scenario, truth_dict)
 from baseball_collision.tools.truth import LEADS_S, PredictionIndex
 import numpy as np
+
+FAULT_LEAD_S = 0.02
+"""s: the lead at which ``--faults`` scores a hit's prediction."""
+
+FAULT_OFF_S = 0.005
+"""s: a prediction further than this from the contact counts as none (``--faults``)."""
+
+FAULT_FRAMES = (1, 2, 4)
+"""The faulted bat frame: this many frames before the approach (``--faults``)."""
+
+CHUNK_SIZES = (7, 50, 400)
+"""Chunk sizes, in turn, of ``--faults --chunks``'s chunk path."""
+
+FAULT_KINDS = ('barrel', 'graze', 'miss_over', 'miss_under')
+"""The pitches of ``--faults``: hits and misses."""
 
 
 def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
@@ -147,6 +180,238 @@ def changes(seed: int = 5, per_family: int = 6, rate_hz: float = 360.0,
                   f'{np.median(steps):.3f} | {np.median(moves):.2f} | {small:.0%} |')
 
 
+def node_configs() -> Dict[str, DetectorConfig]:
+    """Return the node's defaults (prediction on) and ``analyze --predict``'s, by name."""
+    return {'node': DetectorConfig(prediction_horizon=0.3, prediction_period=0.01),
+            'analyze': build_config({}, bat_input='pose', prediction_horizon=0.3)}
+
+
+def faulted(samples: Samples, j: int, fault: Tuple[str, float]) -> Samples:
+    """
+    Return the samples with bat frame j faulted.
+
+    ``('turn', m)``: turned so that its tip moves m toward the ball (its nearest sample);
+    ``('stamp', s)``: its stamp moved by s (its pose right; one that leaves the stamp order is
+    delivered in stamp order, as a tracker's message would be, and dropped as out of order).
+    """
+    kind, size = fault
+    if kind == 'turn':
+        near = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])))
+        return samples.with_bat_frame_turned(j, samples.ball_positions[near], size)
+    stamps = samples.bat_stamps_ns.copy()
+    stamps[j] += int(round(size * 1e9))
+    return replace(samples, bat_stamps_ns=stamps)
+
+
+def predictions_of(config: DetectorConfig, samples: Samples,
+                   chunked: bool = False) -> Tuple[PredictionIndex, List[Any]]:
+    """
+    Return a fresh detector's predictions (indexed) and all its events, fed one sample at a time.
+
+    ``chunked``: fed in chunks of ``CHUNK_SIZES`` samples in turn (``Detector.add_chunk``)
+    instead.
+    """
+    detector, events = Detector(config), []
+    messages = samples.messages('pose')
+    if chunked:
+        roles = np.array([ROLE_CODES[role] for _, role, _ in messages], np.int8)
+        stamps = np.array([stamp for stamp, _, _ in messages], np.int64)
+        values = np.zeros((len(messages), 7))
+        for row, (_, _, value) in enumerate(messages):
+            values[row, :len(value)] = value
+        start, turn = 0, 0
+        while start < len(messages):
+            end = start + CHUNK_SIZES[turn % len(CHUNK_SIZES)]
+            events += detector.add_chunk(roles[start:end], stamps[start:end],
+                                         values[start:end], ['world'] * len(roles[start:end]))
+            start, turn = end, turn + 1
+    else:
+        for stamp, role, values in messages:
+            events += detector.add(role, stamp, values, 'world')
+    events += detector.finish()
+    predictions = [e for e in events if isinstance(e, Prediction)]
+    cleared = [e.made_at_ns for e in events if isinstance(e, PredictionCleared)]
+    return PredictionIndex(predictions, cleared), events
+
+
+def scored(index: PredictionIndex, contact_ns: int, point: Any) -> bool:
+    """Return whether the prediction in force ``FAULT_LEAD_S`` before a contact is on it."""
+    error = index.errors(contact_ns, point, (FAULT_LEAD_S,))[FAULT_LEAD_S]
+    return error is not None and abs(error[0]) <= FAULT_OFF_S
+
+
+def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
+               chunks: bool) -> Dict[str, Dict[str, int]]:
+    """Return one rate, noise and configuration's counts per fault kind (turn, stamp)."""
+    faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
+              'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
+    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
+                                   'chunk_differs'), 0) for name in faults}
+    for family in FAMILIES:
+        for seed in range(seeds):
+            for kind in FAULT_KINDS:
+                rng = np.random.default_rng(seed)
+                scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
+                samples = sample(scenario, rate, rng, jitter_s=2e-4, noise_m=noise_m)
+                truth = truth_dict(scenario, samples.start_ns)
+                hit = scenario.truth.contact
+                approach = truth['stamp_ns'] if hit else samples.start_ns + int(
+                    round(scenario.truth.min_gap_time_s * 1e9))
+                clean, _ = predictions_of(config, samples)
+                clean_ok = hit and scored(clean, approach, truth['point'])
+                before = np.flatnonzero(samples.bat_stamps_ns < approach)
+                for name, cases in faults.items():
+                    cell = counts[name]
+                    for back in FAULT_FRAMES:
+                        for fault in cases:
+                            bad = faulted(samples, int(before[-back]), fault)
+                            index, events = predictions_of(config, bad)
+                            if chunks and predictions_of(config, bad, True)[1] != events:
+                                cell['chunk_differs'] += 1
+                            if hit:
+                                ok = scored(index, approach, truth['point'])
+                                cell['hits'] += 1
+                                cell['clean_hits'] += clean_ok
+                                cell['lost'] += clean_ok and not ok
+                                cell['gained'] += ok and not clean_ok
+                                continue
+                            cell['misses'] += 1
+                            cell['false'] += any(
+                                clean.in_force(int(made)) is None for made in index.made)
+    return counts
+
+
+PAUSE_LAGS_S = (0.0, 0.06)
+"""s: how far the ball tracker's messages come behind the bat's (``pauses``)."""
+
+PAUSE_STARTS_S = (0.06, 0.04, 0.02)
+"""s: how long before the approach the ball tracker pauses (``pauses``)."""
+
+PAUSE_LENGTHS_S = (0.06, 0.1, 0.15)
+"""s: how long the ball tracker pauses (``pauses``)."""
+
+ARRIVAL_S = 0.0005
+"""s: how long after its stamp a bat message is taken (a ball's: that plus its lag)."""
+
+
+def flag_of(config: DetectorConfig, samples: Samples, lag: float, pause: Tuple[int, int],
+            flushed: bool) -> Tuple[int, int, Optional[float], Optional[float]]:
+    """
+    Return what the node's ``~/impact_predicted`` does on a ball tracker that pauses.
+
+    The node's rule (``ImpactNode._take``): messages taken in arrival order (the bat's
+    ``ARRIVAL_S`` after their stamps, the ball's ``lag`` later), the flag on at a prediction
+    (not one made before a contact solved in the same ``add``), off at a contact, at a
+    ``PredictionCleared``, or once ``PredictionWatch.passed`` says the prediction has passed.
+    The ball's samples stamped in ``pause`` [start, end) ns come at once after it (``flushed``:
+    a tracker that caught up) or never (lost).
+
+    :returns: (the watch's withdrawals, flips: a withdrawal the flag came back on after, the
+        arrival (s) of the first withdrawal, and of the message that solved the first contact;
+        each None where there is none).
+    """
+    start, end = pause
+    arrivals = []
+    for stamp, role, values in samples.messages('pose'):
+        taken = (stamp - samples.start_ns) * 1e-9 + ARRIVAL_S
+        if role == 'ball':
+            if start <= stamp < end:
+                if not flushed:
+                    continue
+                taken = (end - samples.start_ns) * 1e-9 + ARRIVAL_S
+            taken += lag
+        arrivals.append((taken, stamp, role, values))
+    arrivals.sort(key=lambda row: row[0])
+    contact_ns: List[Optional[int]] = [None]
+    detector = Detector(config, on_contact=lambda stamp_ns, point: contact_ns.__setitem__(
+        0, stamp_ns))
+    watch = PredictionWatch(('ball', 'bat_pose'))
+    last_arrival: Dict[str, float] = {}
+    previous: Dict[str, int] = {}
+    flag, withdrawn, flips, first, solved = False, 0, 0, None, None
+    for taken, stamp, role, values in arrivals:
+        contact_ns[0] = None
+        last_arrival[role] = taken
+        events = detector.add(role, stamp, values, 'world')
+        if detector.stats.last_drop_reason is None:
+            watch.accepted(role, stamp, previous.get(role), taken)
+            previous[role] = stamp
+        if contact_ns[0] is not None:
+            flag, solved = False, taken if solved is None else solved
+        for event in events:
+            if isinstance(event, Prediction):
+                if contact_ns[0] is None or event.made_at_ns >= contact_ns[0]:
+                    if not flag and withdrawn > flips and first is not None:
+                        flips += 1
+                    flag, watch.instant_ns = True, event.stamp_ns
+            elif isinstance(event, PredictionCleared):
+                flag = False
+        if flag and watch.passed(taken, last_arrival, config.max_gap):
+            flag, withdrawn = False, withdrawn + 1
+            first = taken if first is None else first
+    return withdrawn, flips, first, solved
+
+
+def pauses(seeds: int) -> None:
+    """
+    Print how often a ball tracker's pause turns ``~/impact_predicted`` off, and on again.
+
+    Every swing family x ``seeds`` x ``FAULT_KINDS``, 90 and 360 Hz, exact and 1 mm, the node's
+    defaults; the ball ``PAUSE_LAGS_S`` behind the bat, pausing ``PAUSE_STARTS_S`` before the
+    approach for ``PAUSE_LENGTHS_S``, its samples then flushed or lost (``flag_of``). Counted:
+    runs whose flag the watch turned off, those it came back on after (flips), and hits whose
+    flag it turned off before their contact was solved (from the samples after the pause).
+    """
+    config = node_configs()['node']
+    print('\n| ball paused | rate Hz | noise mm | runs | flag withdrawn | of which on again '
+          '(flips) | hits withdrawn before their contact was solved |')
+    print('|---|---|---|---|---|---|---|')
+    for flushed in (True, False):
+        for rate in (90.0, 360.0):
+            for noise_m in (0.0, 0.001):
+                runs = withdrawn = flipped = early = 0
+                for family in FAMILIES:
+                    for seed in range(seeds):
+                        for kind in FAULT_KINDS:
+                            rng = np.random.default_rng(seed)
+                            scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
+                            samples = sample(scenario, rate, rng, jitter_s=2e-4,
+                                             noise_m=noise_m)
+                            truth = truth_dict(scenario, samples.start_ns)
+                            hit = scenario.truth.contact
+                            approach = truth['stamp_ns'] if hit else samples.start_ns + int(
+                                round(scenario.truth.min_gap_time_s * 1e9))
+                            for lag in PAUSE_LAGS_S:
+                                for before in PAUSE_STARTS_S:
+                                    for length in PAUSE_LENGTHS_S:
+                                        start = approach - int(round(before * 1e9))
+                                        off, flips, first, solved = flag_of(
+                                            config, samples, lag,
+                                            (start, start + int(round(length * 1e9))), flushed)
+                                        runs += 1
+                                        withdrawn += off > 0
+                                        flipped += flips > 0
+                                        early += hit and first is not None and (
+                                            solved is not None and first < solved)
+                print(f"| {'flushed' if flushed else 'lost'} | {rate:g} | {noise_m * 1e3:g} | "
+                      f'{runs} | {withdrawn} | {flipped} | {early} |', flush=True)
+
+
+def faults(seeds: int, chunks: bool) -> None:
+    """Print what bat-tracker faults cost the prediction (see the module), one row a cell."""
+    print('\n| fault | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean had it) '
+          '| gained | misses with a new false prediction | chunk path differs |')
+    print('|---|---|---|---|---|---|---|---|')
+    for rate in (90.0, 360.0):
+        for noise_m in (0.0, 0.001):
+            for name, config in node_configs().items():
+                for fault, cell in fault_cell(rate, noise_m, config, seeds, chunks).items():
+                    print(f"| {fault} | {rate:g} | {noise_m * 1e3:g} | {name} | {cell['lost']} "
+                          f"of {cell['hits']} ({cell['clean_hits']}) | {cell['gained']} | "
+                          f"{cell['false']} of {cell['misses']} | "
+                          f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
+
+
 def main() -> None:
     """Print the prediction table."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
@@ -158,8 +423,21 @@ def main() -> None:
                         help='prediction_period of the accuracy table (s; 0: every frame)')
     parser.add_argument('--changes', action='store_true',
                         help='only how much consecutive predictions move (every 10 ms)')
+    parser.add_argument('--faults', action='store_true',
+                        help='only what bat-tracker faults cost the prediction')
+    parser.add_argument('--seeds', type=int, default=2, help='pitches a family and kind '
+                        '(--faults)')
+    parser.add_argument('--pauses-only', action='store_true',
+                        help='--faults: only the ball tracker that pauses')
+    parser.add_argument('--chunks', action='store_true',
+                        help='--faults: also compare the chunk path with one sample at a time')
     args = parser.parse_args()
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
+    if args.faults or args.pauses_only:
+        if not args.pauses_only:
+            faults(args.seeds, args.chunks)
+        pauses(args.seeds)
+        return
     if args.cost_only:
         cost(args.seed)
         return
