@@ -40,9 +40,10 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
     with ``SLACK`` to spare) and its forecasts may meet (``_forecasts_find``), or when the due
     frame before may have made a prediction (it makes another or clears it); the other due
-    frames only move ``last_ns``. A prediction the predictor makes is one the plan allowed
-    for (a forecast that meets is one ``forecast_outcomes`` finds on the same samples), so
-    the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
+    frames only move ``last_ns``. While a bat frame that held a prediction waits to be judged
+    (``Predictor.suspect``) every due frame stops. A prediction the predictor makes is one the
+    plan allowed for (a forecast that meets is one ``forecast_outcomes`` finds on the same
+    samples), so the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
     prediction in force before a due frame that is not a stop, overturns the plan
     (``_follow``).
     """
@@ -64,7 +65,9 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     stops = np.zeros(n, bool)
     if not len(due):
         return stops, due_steps
-    if predictor.plan is not None:  # (it may move the bat anywhere: _may_reach is True)
+    if predictor.plan is not None or predictor.suspect is not None:
+        # (a plan may move the bat anywhere: _may_reach is True; a bat frame that held a
+        # prediction is judged at the next forecast, whatever it finds)
         stops[due] = True
         return stops, due_steps
     ball, bat = counts[0][due_steps] - 1, counts[1][due_steps] - 1  # the newest of each

@@ -24,7 +24,10 @@ it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a
 would change what is shown (a contact found, withdrawn or moved) first judges the window's
 newest bat frames by the sweep's rule, the oldest first, and drops a glitch as the sweep does
 (``bat_glitch``, counted; forgotten): ``Predictor._bat_glitch_dropped``. The prediction and
-the detection path read the same frames.
+the detection path read the same frames. A newest bat frame that held the prediction (off the
+swing, above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a
+glitch that bends the forecasts after it away from the ball would otherwise stay in them,
+showing nothing, until the sweep judged it near the ball.
 """
 
 from dataclasses import replace
@@ -78,7 +81,7 @@ class Predictor:
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
-                 '_ball_window', '_bat_window', '_instant', 'drop_bat')
+                 '_ball_window', '_bat_window', '_instant', 'drop_bat', 'suspect')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -96,6 +99,9 @@ class Predictor:
         # drops and forgets bat frame j, a glitch judged from the samples up to a last one
         # (the sweep's ``_bat_glitch``); None: the forecast's frames are not judged
         self.drop_bat: Optional[Callable[[int, int], None]] = None
+        # the time (s) of a newest bat frame that held a prediction (``_bat_departed``), not
+        # judged yet: the frames after it judge it whatever they show (``_bat_glitch_dropped``)
+        self.suspect: Optional[float] = None
 
     @property
     def config(self) -> DetectorConfig:
@@ -143,10 +149,10 @@ class Predictor:
         a contact is found or a prediction is in force and the ball's forecast starts from a
         sample off its free flight (``_ball_departed``), or the frame would change what is
         shown (``_shown_changes``) and the bat's starts from a frame off the swing
-        (``_bat_departed``); the next frame is then due. The bat's turns are summed over the
-        forecast's own window (``_bat_forecast``), whose frames are judged first where the
-        frame would change what is shown (``_bat_glitch_dropped``: a glitch dropped, the bat
-        forecast again without it).
+        (``_bat_departed``: that frame is then ``suspect``); the next frame is then due. The
+        bat's turns are summed over the forecast's own window (``_bat_forecast``), whose frames
+        are judged first where the frame would change what is shown or a frame is suspect
+        (``_bat_glitch_dropped``: a glitch dropped, the bat forecast again without it).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -166,9 +172,11 @@ class Predictor:
                 if planned or not self._bat_glitch_dropped(found):
                     break
                 found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
-            if forecast is not None:
-                if (found is not None or self.predicting) and (self._ball_departed() or (
-                        self._shown_changes(found) and self._bat_departed())):
+            if forecast is not None and (found is not None or self.predicting):
+                held = self._ball_departed()
+                if not held and self._shown_changes(found) and self._bat_departed():
+                    held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
+                if held:
                     self.last_ns = last_ns  # (no frame that predicted: the next one is due)
                     return
         if found is None:
@@ -190,7 +198,9 @@ class Predictor:
         Judge the extrapolated bat's frames as the sweep does; True: a glitch was dropped.
 
         Where the frame would change what is shown (``_shown_changes``; ``found``:
-        ``contact_of``'s result, a contact or one in force): the forecast window's frames with
+        ``contact_of``'s result, a contact or one in force), or a newest frame held the
+        prediction since the last judgment (``suspect``, forgotten once a judgment reads its
+        next frame or it left the window): the forecast window's frames with
         their next frame in it that the sweep judges for an interval closing at its newest
         (``fitting.c2_window``: up to ``spline_window`` frames), the oldest first, by the
         sweep's rule (``bat_glitches.first_glitch`` from the window's samples, the verdicts
@@ -201,13 +211,17 @@ class Predictor:
         (``bat_glitches.departure``), hence only where the frame would change what is shown.
         """
         first, end = self._bat_window
-        if self.drop_bat is None or (found is None and not self.predicting) or \
-                not self._shown_changes(found):
+        suspect = self.suspect
+        if self.drop_bat is None or (suspect is None and (
+                (found is None and not self.predicting) or not self._shown_changes(found))):
             return False
         bat, config = self.bat, self._config
         gap, size, last = config.max_gap, config.spline_window, end - 1
-        glitch = first_glitch(bat, max(first, c2_window(bat, last - 1, gap, 0, size).start),
-                              last, gap, size, stream_noise(bat, config))
+        first = max(first, c2_window(bat, last - 1, gap, 0, size).start)
+        times = bat.times
+        if suspect is not None and (times[first] > suspect or suspect < times[last]):
+            self.suspect = None  # judged now (its next frame in), or out of the window
+        glitch = first_glitch(bat, first, last, gap, size, stream_noise(bat, config))
         if glitch is None:
             return False
         self.drop_bat(glitch, last)

@@ -1310,3 +1310,32 @@ def test_a_bat_glitch_the_prediction_drops_is_dropped_alike_in_chunks(look_ahead
     for sizes in ((1000,), (7, 50, 400)):
         assert_same(config, rows, sizes)
     assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1
+
+
+@pytest.mark.parametrize('kind, family, seed, frame', [
+    ('graze', 'plane', 0, -4), ('barrel', 'plane', 0, -3), ('miss_over', 'tilted', 1, -3)])
+def test_a_bat_frame_that_held_a_prediction_is_judged_alike_in_chunks(
+        kind: str, family: str, seed: int, frame: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A 90 Hz pitch (1 mm of noise) whose bat frame 3-4 before the approach is turned 10 cm.
+
+    The frame held a prediction (``Predictor._bat_departed``) and a later frame whose forecast
+    shows nothing new judges it and drops it (``Predictor.suspect``): in chunks every due frame
+    stops while it waits, and the events, drops and streams are those of one sample at a time.
+    """
+    judged = []
+    dropped = Predictor._bat_glitch_dropped
+
+    def recording(self: Predictor, found: Any) -> bool:
+        unchanged = (found is None and not self.predicting) or not self._shown_changes(found)
+        result = dropped(self, found)
+        if result and unchanged:
+            judged.append(self.last_ns)
+        return result
+    monkeypatch.setattr(Predictor, '_bat_glitch_dropped', recording)
+    rows, _ = glitched_pitch(kind, family, seed, 90.0, frame, noise_m=0.001, turn=0.1)
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    for sizes in ((1000,), (7, 50, 400)):
+        assert_same(config, rows, sizes)
+    assert judged
+    assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1

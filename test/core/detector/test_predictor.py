@@ -238,3 +238,34 @@ def test_a_newest_bat_frame_after_a_lost_one_is_not_held() -> None:
     predictor.bat.remove(6)  # (a still frame: the newest, turned up, 10 ms after the one before)
     predictor.predict(0.005 * 7, True, events)
     assert [type(e) for e in events] == [Prediction]
+
+
+def test_a_bat_frame_that_held_a_prediction_is_judged_by_the_next_forecast() -> None:
+    """
+    A newest bat frame off the swing held the prediction; the next frame judges it.
+
+    Whatever that frame's forecast shows: here it finds no contact and none is in force (the
+    glitch in the window bends the fit away from the ball), where only a frame that would
+    change what is shown judged the window's frames, and a glitch stayed in the forecasts
+    until one did (at 90 Hz a hit lost its prediction 20 ms ahead). The frame is dropped
+    (``drop_bat``: the sweep's ``bat_glitch`` drop) and no longer awaited (``suspect``).
+    """
+    count = 14
+    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
+    up = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 + 0.86 * math.sin(angle)))
+    predictor = _predictor(balls[:-1], [still] * (count - 2) + [up])
+    dropped = []
+
+    def drop(j: int, last: int) -> None:
+        dropped.append((j, last))
+        predictor.bat.remove(j)
+    predictor.drop_bat = drop
+    events = []
+    predictor.predict(0.005 * (count - 2), True, events)
+    assert events == [] and predictor.suspect == predictor.bat.times[-1] and not dropped
+    predictor.ball.append(0.005 * (count - 1), BASE_NS + count - 1, balls[-1], False)
+    predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
+    predictor.predict(0.005 * (count - 1), True, events)
+    assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
