@@ -28,10 +28,14 @@ cm toward the ball (``Samples.with_bat_frame_turned``), or stamped 2 or 4 ms ear
 pose right), the 1st, 2nd or 4th frame before the approach (the contact, or a miss's closest
 instant). Counted: hits whose prediction in force 20 ms ahead (``FAULT_LEAD_S``) is within 5
 ms of the contact (``FAULT_OFF_S``) in the clean run and not in the faulted one (lost), and the
-reverse (gained); misses with a prediction made at a frame where the clean run had none in
-force (new false predictions); the chunk path (``Detector.add_chunk``) against one sample at a
-time on every faulted run (runs whose events differ). Then a ball tracker that pauses:
-``ros/prediction_watch.py``'s rule on the arrivals (``pauses``).
+reverse (gained); misses with a prediction where the clean run made none (false predictions),
+and those predicted at a frame where the clean run had none in force (a near miss's false
+prediction the clean run withdrew sooner); the chunk path (``Detector.add_chunk``) against
+one sample at a time on every faulted run (runs whose events differ). Then a ball tracker that
+pauses (``pauses``): how often ``~/impact_predicted`` goes off and on again under the node's
+rule (``ros/prediction_watch.py``) on the messages' arrivals. ``--pauses-only``: only that.
+
+    .venv/bin/python benchmarks/bench_prediction.py --faults [--seeds 2] [--chunks]
 """
 
 import argparse
@@ -246,7 +250,7 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
               'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
     counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
-                                   'chunk_differs'), 0) for name in faults}
+                                   'longer', 'chunk_differs'), 0) for name in faults}
     for family in FAMILIES:
         for seed in range(seeds):
             for kind in FAULT_KINDS:
@@ -276,8 +280,9 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                                 cell['gained'] += ok and not clean_ok
                                 continue
                             cell['misses'] += 1
-                            cell['false'] += any(
-                                clean.in_force(int(made)) is None for made in index.made)
+                            later = any(clean.in_force(int(made)) is None for made in index.made)
+                            cell['false'] += later and not len(clean.made)
+                            cell['longer'] += later and len(clean.made) > 0
     return counts
 
 
@@ -340,7 +345,8 @@ def flag_of(config: DetectorConfig, samples: Samples, lag: float, pause: Tuple[i
             flag, solved = False, taken if solved is None else solved
         for event in events:
             if isinstance(event, Prediction):
-                if contact_ns[0] is None or event.made_at_ns >= contact_ns[0]:
+                if (contact_ns[0] is None or event.made_at_ns >= contact_ns[0]) and (
+                        watch.raises(event.stamp_ns, config.max_gap)):
                     if not flag and withdrawn > flips and first is not None:
                         flips += 1
                     flag, watch.instant_ns = True, event.stamp_ns
@@ -400,15 +406,16 @@ def pauses(seeds: int) -> None:
 def faults(seeds: int, chunks: bool) -> None:
     """Print what bat-tracker faults cost the prediction (see the module), one row a cell."""
     print('\n| fault | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean had it) '
-          '| gained | misses with a new false prediction | chunk path differs |')
-    print('|---|---|---|---|---|---|---|---|')
+          '| gained | misses with a false prediction (clean none) | misses predicted at a frame '
+          'clean was not | chunk path differs |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for rate in (90.0, 360.0):
         for noise_m in (0.0, 0.001):
             for name, config in node_configs().items():
                 for fault, cell in fault_cell(rate, noise_m, config, seeds, chunks).items():
                     print(f"| {fault} | {rate:g} | {noise_m * 1e3:g} | {name} | {cell['lost']} "
                           f"of {cell['hits']} ({cell['clean_hits']}) | {cell['gained']} | "
-                          f"{cell['false']} of {cell['misses']} | "
+                          f"{cell['false']} of {cell['misses']} | {cell['longer']} | "
                           f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
 
 

@@ -304,7 +304,8 @@ class ImpactNode(Node):
                     if not event.planned and self._plan is not None:
                         self._warn_plan_unused(event.made_at_ns)
                     contact = self._contact_ns  # (one made before a contact solved since: off)
-                    if contact is None or event.made_at_ns >= contact:
+                    if (contact is None or event.made_at_ns >= contact) and self._watch.raises(
+                            event.stamp_ns, self.detector.config.max_gap):
                         self._set_predicting(True)
                         self._watch.instant_ns = event.stamp_ns
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later

@@ -18,6 +18,13 @@ accepted messages, in plain Python (no rclpy: the node calls it under its lock),
   same stamp each of its last ``BALL_LAGS`` messages was taken (arrival less stamp, less the
   bat's; the clocks' difference cancels), the largest, so a camera's bursts are in it.
 
+A ball that was only paused (its tracker caught up, its samples flushed after the flag went
+false for its silence) brings predictions made before the instant withdrawn: each turned the
+flag on again, and the contact off (a flip). So after such a withdrawal, until the ball's
+samples pass that instant + ``max_gap``, a prediction of an instant the bat streams have
+passed as far does not turn it on (:meth:`PredictionWatch.raises`); one still ahead of the bat
+does.
+
 A stream silent beyond ``stale_timeout`` is the node's own check (its input tally).
 """
 
@@ -36,13 +43,17 @@ lag (a camera's bursts included), about 0.7-2.8 s of messages at 90-360 Hz."""
 class PredictionWatch:
     """The streams' stamps and arrivals that tell a passed prediction (see the module)."""
 
-    __slots__ = ('streams', 'instant_ns', 'before_newest', '_offsets', '_ball_lags')
+    __slots__ = ('streams', 'instant_ns', 'before_newest', 'silenced_ns', '_offsets',
+                 '_ball_lags')
 
     def __init__(self, streams: Sequence[str]) -> None:
         """Watch ``streams``: the node's input stream names (``BALL`` and the bat's)."""
         self.streams = tuple(streams)
         self.instant_ns = 0  # the instant (ns) of the prediction in force
         self.before_newest: Dict[str, int] = {}  # each stream's sample before its newest (ns)
+        # a prediction withdrawn for the ball's silence: its instant + max_gap (ns), until the
+        # ball's samples pass it (``raises``)
+        self.silenced_ns: Optional[int] = None
         # each stream's newest accepted message: its arrival less its stamp (s), and the last
         # ``BALL_LAGS`` ball messages' lags behind the bat's (s)
         self._offsets: Dict[str, float] = {}
@@ -71,17 +82,46 @@ class PredictionWatch:
         """
         Return whether the prediction at ``instant_ns`` has passed without its contact at ``now``.
 
+        Passed for the ball's silence (``ball_lost``), that instant + ``max_gap`` is kept
+        (``silenced_ns``: see ``raises``).
+
         :param now: the steady-clock time (s).
         :param last_arrival: each stream's last arrival (s, the same clock; a stream missing
             has sent nothing).
         :param max_gap: the detector's ``max_gap`` (s; a threshold that may change at runtime).
         """
-        newest = self.before_newest
         passed = self.instant_ns + round(max_gap * 1e9)
-        if not all(newest.get(stream, passed) > passed for stream in self.streams
-                   if stream != BALL):
+        if not self._bat_passed(passed):
             return False
-        return newest.get(BALL, passed) > passed or self.ball_lost(now, last_arrival, max_gap)
+        if self.before_newest.get(BALL, passed) > passed:
+            return True
+        if not self.ball_lost(now, last_arrival, max_gap):
+            return False
+        self.silenced_ns = passed
+        return True
+
+    def raises(self, instant_ns: int, max_gap: float) -> bool:
+        """
+        Return whether a prediction of ``instant_ns`` may turn the flag on.
+
+        Not where a prediction was withdrawn for the ball's silence (``silenced_ns``) that the
+        ball's samples have not passed yet (its tracker paused and flushed its samples since:
+        their predictions came after the bat) and the bat streams took two samples more than
+        ``max_gap`` (s) past this instant too (one still ahead of the bat may).
+        """
+        silenced = self.silenced_ns
+        if silenced is None:
+            return True
+        if self.before_newest.get(BALL, silenced) > silenced:
+            self.silenced_ns = None  # (the ball is back past it)
+            return True
+        return not self._bat_passed(instant_ns + round(max_gap * 1e9))
+
+    def _bat_passed(self, stamp_ns: int) -> bool:
+        """Return whether every bat stream's sample before its newest is after a stamp (ns)."""
+        newest = self.before_newest
+        return all(newest.get(stream, stamp_ns) > stamp_ns for stream in self.streams
+                   if stream != BALL)
 
     def ball_lost(self, now: float, last_arrival: Mapping[str, float], max_gap: float) -> bool:
         """
@@ -97,5 +137,6 @@ class PredictionWatch:
     def clear(self) -> None:
         """Forget the streams (after a state reset); the instant stays until the next one."""
         self.before_newest.clear()
+        self.silenced_ns = None
         self._offsets.clear()
         self._ball_lags.clear()

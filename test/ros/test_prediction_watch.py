@@ -83,3 +83,40 @@ def test_clear_forgets_the_streams() -> None:
     watch.clear()
     assert watch.before_newest == {}
     assert not watch.passed(beyond * 1e-9, arrivals, MAX_GAP)
+
+
+def test_a_paused_balls_flushed_samples_do_not_raise_the_withdrawn_prediction_again() -> None:
+    """
+    The ball pauses 30 ms before the instant; the bat streams past it; the ball was silent.
+
+    The prediction is withdrawn for the ball's silence (``passed``), its instant + max_gap kept
+    (``silenced_ns``). The ball's tracker catches up, flushing its samples: a prediction of the
+    same instant, or of another the bat passed as far, does not turn the flag on again
+    (``raises``); one ahead of the bat does; once the ball's samples pass the instant withdrawn
+    any prediction does.
+    """
+    bat_end = INSTANT_NS + 200_000_000
+    watch, arrivals = _swing(0.0, INSTANT_NS - 30_000_000, bat_end)
+    assert watch.raises(INSTANT_NS, MAX_GAP)  # (nothing withdrawn yet)
+    silent = arrivals['ball'] + MAX_GAP + 0.01
+    assert watch.passed(silent, arrivals, MAX_GAP)
+    assert watch.silenced_ns == INSTANT_NS + round(MAX_GAP * 1e9)
+    flushed = list(range(INSTANT_NS - 20_000_000, INSTANT_NS + 1, STEP_NS))
+    _stream(watch, arrivals, 'ball', flushed, silent - flushed[-1] * 1e-9)
+    assert not watch.raises(INSTANT_NS, MAX_GAP)
+    assert not watch.raises(INSTANT_NS + 100_000_000, MAX_GAP)
+    assert watch.raises(bat_end, MAX_GAP)  # ahead of the bat
+    later = list(range(INSTANT_NS + STEP_NS, INSTANT_NS + 80_000_000, STEP_NS))
+    _stream(watch, arrivals, 'ball', later, silent - flushed[-1] * 1e-9)
+    assert watch.raises(INSTANT_NS, MAX_GAP) and watch.silenced_ns is None
+
+
+def test_a_prediction_passed_by_the_balls_samples_raises_again() -> None:
+    """Passed by every stream's samples (not the ball's silence): nothing is kept from raising."""
+    beyond = INSTANT_NS + round(MAX_GAP * 1e9) + 2 * STEP_NS
+    watch, arrivals = _swing(0.0, beyond, beyond)
+    assert watch.passed(beyond * 1e-9, arrivals, MAX_GAP)
+    assert watch.silenced_ns is None and watch.raises(INSTANT_NS, MAX_GAP)
+    watch.silenced_ns = INSTANT_NS
+    watch.clear()
+    assert watch.silenced_ns is None
