@@ -172,13 +172,17 @@ class Predictor:
                 if planned or not self._bat_glitch_dropped(found):
                     break
                 found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
-            if forecast is not None and (found is not None or self.predicting):
+            if forecast is None:
+                self.suspect = None  # (nothing forecast: no frame awaits a judgment)
+            elif found is not None or self.predicting:
                 held = self._ball_departed()
                 if not held and self._shown_changes(found) and self._bat_departed():
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
                 if held:
                     self.last_ns = last_ns  # (no frame that predicted: the next one is due)
                     return
+        else:
+            self.suspect = None
         if found is None:
             if self.predicting:
                 self.predicting = False
@@ -200,7 +204,8 @@ class Predictor:
         Where the frame would change what is shown (``_shown_changes``; ``found``:
         ``contact_of``'s result, a contact or one in force), or a newest frame held the
         prediction since the last judgment (``suspect``, forgotten once a judgment reads its
-        next frame or it left the window): the forecast window's frames with
+        next frame or it left the window, or at a due frame that forecasts nothing: the ball
+        out of reach, disarmed, too few samples): the forecast window's frames with
         their next frame in it that the sweep judges for an interval closing at its newest
         (``fitting.c2_window``: up to ``spline_window`` frames), the oldest first, by the
         sweep's rule (``bat_glitches.first_glitch`` from the window's samples, the verdicts

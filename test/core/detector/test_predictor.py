@@ -269,3 +269,17 @@ def test_a_bat_frame_that_held_a_prediction_is_judged_by_the_next_forecast() -> 
     predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
     predictor.predict(0.005 * (count - 1), True, events)
     assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
+
+
+def test_a_suspect_bat_frame_is_forgotten_where_nothing_is_forecast() -> None:
+    """
+    A newest frame that held the prediction is awaited only while frames forecast.
+
+    A due frame that forecasts nothing (disarmed, the ball out of reach) forgets it, so a chunk
+    plan (which stops at every due frame while one is awaited) stops no more for it.
+    """
+    predictor = _turned(1)
+    predictor.predict(0.005 * 7, True, [])
+    assert predictor.suspect == predictor.bat.times[-1]
+    predictor.predict(0.005 * 7, False, [])  # disarmed: nothing forecast
+    assert predictor.suspect is None
