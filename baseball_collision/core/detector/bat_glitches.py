@@ -19,11 +19,13 @@ of the knob's and the tip's (m):
 
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
-neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
-both distances are large for a swing's own frames; a frame lost three or more frames before it
-only widens the scatter it is judged against), and not in a segment's first frames; nor
-where a frame just before it that could not be judged so (``judgeable``) is the one off, which
-pulls this one's neighbours' spline (``UNJUDGED_REACH``).
+neighbours explain it. Among regular steps (``regular``; a frame lost three or more frames
+before it only widens the scatter it is judged against), or beside up to two frames the tracker
+lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
+for a swing's own frames), against the frames before it with the same frames left out
+(``_matched``); not in a segment's first frames; nor where a frame just before it that could
+not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
+(``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -176,7 +178,9 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
     Its ``departure`` more than ``glitch_floor`` (for the noise, m 1 sigma per coordinate:
     told or estimated) and ``DEPARTURE_RATIO`` times each of the ``SCATTER_FRAMES`` frames'
     before it (the stream's own scatter: a swing's own frames at 90 Hz are 35-46 sigma off
-    their smoothed continuation); only among regular steps (``regular``). Where its next
+    their smoothed continuation); among regular steps (``regular``), or beside frames the
+    tracker lost (``lost_about``) against the frames before it with the same frames left out
+    (``_matched``). Where its next
     frame has not come (``isolation`` cannot judge it), this alone says the bat's path should
     not go through it.
     """
@@ -203,10 +207,11 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     by more than ``glitch_floor``, and isolated more than ``ISOLATION_RATIO`` times as far as
     any of the ``SCATTER_FRAMES`` frames from three before it (whose splines do not reach it):
     the stream's own scatter, where its noise is not known yet (``tracker_noise`` auto, in a
-    stream's first frames). No frame is judged without them (a segment's first frames), nor
-    without the frame after it. The sweep passes the newest sample every way of feeding the
-    detector has by then (the node's one message at a time, ``analyze``'s chunks): the same
-    verdict in both.
+    stream's first frames). Beside frames the tracker lost (``lost_about``), the scatter is
+    that of those frames with the same frames left out about each (``_matched``). No frame is
+    judged without them (a segment's first frames), nor without the frame after it. The sweep
+    passes the newest sample every way of feeding the detector has by then (the node's one
+    message at a time, ``analyze``'s chunks): the same verdict in both.
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
@@ -336,9 +341,9 @@ def _matched(stream: Stream, j: int, lost: Tuple[int, ...], max_gap: float, size
 
     The ``SCATTER_FRAMES`` frames from three before j (further by the frames lost after it),
     each with the frames at the offsets ``lost`` from it (``lost_about``'s from j) left out, so
-    that the steps about it are j's: the scatter a swing's own frames show across such a hole
-    (at 90 Hz with two lost, 12 and 7 cm). None where they are not all in j's segment within
-    ``max_gap`` of each other, steps reaching no frame lost beyond those.
+    that the steps about it are j's: the scatter a swing's own frames show across such a hole.
+    Each frame's spline reads no frame from j on. None where they, with three frames before
+    each, are not all in j's segment within ``max_gap`` of each other.
     """
     after = sum(v > 0 for v in lost)
     found = []
