@@ -13,7 +13,15 @@ from the deleted-frame run's, ``bat_glitch`` drops on the same pitches without a
 their hits under the node's defaults those reported more than half a bat step after their
 interval closed (a hit waiting for the frame after its closing one: ``Sweep._closing_glitch``).
 
+Beside frames the tracker lost: ``--lost K`` deletes the bat frame K frames from the glitch
+(-2: two before it, 1: right after it) from both runs, the glitched and the baseline (one line
+per K). At a segment's start: ``--segment N`` deletes the bat frames over ``max_gap`` (60 ms)
+before the glitch's N - 1 frames before it, so that the glitch is its segment's Nth frame (1:
+its first). ``--offsets`` and ``--turns`` narrow the frames turned and how far (cm).
+
     .venv/bin/python benchmarks/bench_glitches.py [--seeds 2] [--rates 90 360]
+    bench_glitches.py --rates 90 120 360 --lost -3 -2 -1 1 --offsets -1 0 1 --turns 10
+    bench_glitches.py --rates 90 120 360 --segment 1 4 8 --offsets -1 0 1 --turns 10
 """
 
 import argparse
@@ -33,22 +41,52 @@ TURNS_M = (0.1, 0.2)
 MOVED_NS = 100_000
 """A hit more than this far (ns) from the deleted-frame run's is moved."""
 
+SEGMENT_GAP_S = 0.06
+"""s: the bat frames deleted before a segment's first frame (``--segment``): over ``max_gap``."""
 
-def events_of(config: DetectorConfig, samples: Any,
-              late: Optional[List[int]] = None) -> Tuple[Detector, List[Any]]:
+
+def faulted(samples: Any, j: int, lost: Optional[int],
+            segment: Optional[int]) -> Tuple[Any, int]:
+    """
+    Return the samples with the tracker's lost frames about bat frame j, and j's index then.
+
+    :param lost: delete the frame this many frames from j (not 0), else None.
+    :param segment: delete the frames over ``SEGMENT_GAP_S`` before the frame ``segment`` - 1
+        before j (j its segment's ``segment``-th frame), else None.
+    """
+    if lost is not None:
+        return samples.without_bat_frame(j + lost), j - (lost < 0)
+    if segment is not None:
+        stamps = samples.bat_stamps_ns
+        count = int(np.ceil(SEGMENT_GAP_S * (len(stamps) - 1) / ((stamps[-1] - stamps[0]) * 1e-9)))
+        return samples.without_bat_frames(int(stamps[j - segment + 1]), count), j - count
+    return samples, j
+
+
+def events_of(config: DetectorConfig, samples: Any, late: Optional[List[int]] = None,
+              glitches: Optional[List[int]] = None) -> Tuple[Detector, List[Any]]:
     """
     Return a fresh detector fed ``samples`` one message at a time, and its events.
 
     :param late: when given, each impact's latency is appended to it: how long (ns) after its
         interval closed the message came whose ``add`` reported it (``finish``'s: the last).
+    :param glitches: when given, the stamp (ns) of each bat frame dropped as ``bat_glitch`` is
+        appended to it.
     """
     detector, events = Detector(config), []
     for stamp, role, values in samples.messages(config.bat_input):
         found = detector.add(role, stamp, values)
         if late is not None:
             late += [stamp - event.interval_end_ns for event in of(found, Impact)]
+        if glitches is not None:
+            glitches += [drop.stamp_ns for drop in detector.stats.late_drops
+                         if drop.reason.value == 'bat_glitch']
         events += found
-    return detector, events + detector.finish()
+    found = detector.finish()
+    if glitches is not None:
+        glitches += [drop.stamp_ns for drop in detector.stats.late_drops
+                     if drop.reason.value == 'bat_glitch']
+    return detector, events + found
 
 
 def of(events: List[Any], kind: type) -> List[Any]:
@@ -56,10 +94,17 @@ def of(events: List[Any], kind: type) -> List[Any]:
     return [event for event in events if isinstance(event, kind)]
 
 
-def run_cell(rate: float, noise_m: float, seeds: int) -> Dict[str, Any]:
-    """Return one rate and noise level's counts and near-miss differences."""
+def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None,
+             segment: Optional[int] = None, offsets: Tuple[int, ...] = OFFSETS,
+             turns: Tuple[float, ...] = TURNS_M) -> Dict[str, Any]:
+    """
+    Return one rate and noise level's counts and near-miss differences.
+
+    ``lost`` and ``segment``: the tracker's lost frames about the glitch (``faulted``), in the
+    runs without a glitch too; ``offsets``, ``turns``: the frames turned, how far (m).
+    """
     counts = dict.fromkeys(('misses', 'invented', 'hits', 'lost', 'moved', 'dropped',
-                            'clean', 'clean_dropped', 'clean_hits', 'waited'), 0)
+                            'wrong', 'clean', 'clean_dropped', 'clean_hits', 'waited'), 0)
     gaps: List[float] = []
     step_ns = 1e9 / rate
     for family in FAMILIES:
@@ -71,24 +116,34 @@ def run_cell(rate: float, noise_m: float, seeds: int) -> Dict[str, Any]:
                 closest = samples.start_ns + int(scenario.truth.min_gap_time_s * 1e9)
                 middle = int(np.argmin(np.abs(samples.bat_stamps_ns - closest)))
                 bat = ('pose', 'points')[seed % 2]
+                if lost is not None or segment is not None:
+                    clean_runs = [faulted(samples, middle + offset, lost, segment)[0]
+                                  for offset in offsets]
+                else:
+                    clean_runs = [samples]
                 for parameters in ({}, OFFLINE_PARAMETERS):
                     config = DetectorConfig(**{**parameters, 'bat_input': bat})
-                    late: List[int] = []
-                    detector, events = events_of(config, samples, late)
-                    counts['clean'] += 1
-                    counts['clean_dropped'] += detector.stats.dropped.get('bat_glitch', 0)
-                    if not parameters:  # the node's look-ahead 0: reported as its interval closes
-                        counts['clean_hits'] += len(late)
-                        counts['waited'] += sum(wait > 0.5 * step_ns for wait in late)
-                    for offset in OFFSETS:
+                    for clean in clean_runs:
+                        late: List[int] = []
+                        detector, events = events_of(config, clean, late)
+                        counts['clean'] += 1
+                        counts['clean_dropped'] += detector.stats.dropped.get('bat_glitch', 0)
+                        if not parameters:  # the node's look-ahead 0: reported as it closes
+                            counts['clean_hits'] += len(late)
+                            counts['waited'] += sum(wait > 0.5 * step_ns for wait in late)
+                    for offset in offsets:
                         j = middle + offset
-                        _, deleted = events_of(config, samples.without_bat_frame(j))
-                        for turn in TURNS_M:
-                            glitched = samples.with_bat_frame_turned(
+                        without, at = faulted(samples, j, lost, segment)
+                        _, deleted = events_of(config, without.without_bat_frame(at))
+                        for turn in turns:
+                            glitched = faulted(samples.with_bat_frame_turned(
                                 j, samples.ball_positions[min(j, len(samples.ball_positions)
-                                                              - 1)], turn)
-                            detector, events = events_of(config, glitched)
+                                                              - 1)], turn), j, lost, segment)[0]
+                            drops: List[int] = []
+                            detector, events = events_of(config, glitched, glitches=drops)
                             counts['dropped'] += detector.stats.dropped.get('bat_glitch', 0)
+                            counts['wrong'] += sum(stamp != samples.bat_stamps_ns[j]
+                                                   for stamp in drops)
                             if scenario.truth.contact:
                                 counts['hits'] += 1
                                 found, expected = of(events, Impact), of(deleted, Impact)
@@ -114,19 +169,34 @@ def main() -> None:
     parser.add_argument('--noises', type=float, nargs='+', default=[0.0, 1.0],
                         help='tracker noise (mm, 1 sigma per coordinate)')
     parser.add_argument('--seeds', type=int, default=2, help='scenarios per family and kind')
+    parser.add_argument('--lost', type=int, nargs='+', default=[],
+                        help='a bat frame lost this many frames from the glitch (one line each)')
+    parser.add_argument('--segment', type=int, nargs='+', default=[],
+                        help="the glitch as its bat segment's Nth frame (one line each)")
+    parser.add_argument('--offsets', type=int, nargs='+', default=list(OFFSETS),
+                        help="the turned frame's, from the closest approach's")
+    parser.add_argument('--turns', type=float, nargs='+', default=[t * 100 for t in TURNS_M],
+                        help="how far the turned frame's tip moves (cm)")
     args = parser.parse_args()
-    for rate in args.rates:
-        for noise_mm in args.noises:
-            cell = run_cell(rate, noise_mm * 1e-3, args.seeds)
-            gaps = np.array(cell['gaps']) * 1e3
-            spread = (f'p50 {np.percentile(gaps, 50):.2f} mm, p99 {np.percentile(gaps, 99):.2f} '
-                      f'mm, max {gaps.max():.2f} mm' if len(gaps) else '-')
-            print(f"{rate:g} Hz, {noise_mm:g} mm: misses {cell['misses']}, invented "
-                  f"{cell['invented']}; hits {cell['hits']}, lost {cell['lost']}, moved "
-                  f"{cell['moved']}; bat_glitch drops {cell['dropped']}; near miss from the "
-                  f"deleted frame's {spread}; without a glitch {cell['clean']} runs, "
-                  f"bat_glitch drops {cell['clean_dropped']}, the node's hits reported a bat "
-                  f"frame late {cell['waited']} of {cell['clean_hits']}", flush=True)
+    faults = ([('lost', k, None) for k in args.lost] + [('segment', None, n)
+                                                        for n in args.segment]
+              or [('', None, None)])
+    for (name, lost, segment), rate, noise_mm in [
+            (fault, rate, noise) for fault in faults for rate in args.rates
+            for noise in args.noises]:
+        cell = run_cell(rate, noise_mm * 1e-3, args.seeds, lost, segment,
+                        tuple(args.offsets), tuple(t * 0.01 for t in args.turns))
+        label = {'lost': f'lost {lost}: ', 'segment': f'segment frame {segment}: '}.get(name, '')
+        gaps = np.array(cell['gaps']) * 1e3
+        spread = (f'p50 {np.percentile(gaps, 50):.2f} mm, p99 {np.percentile(gaps, 99):.2f} '
+                  f'mm, max {gaps.max():.2f} mm' if len(gaps) else '-')
+        print(f"{label}{rate:g} Hz, {noise_mm:g} mm: misses {cell['misses']}, invented "
+              f"{cell['invented']}; hits {cell['hits']}, lost {cell['lost']}, moved "
+              f"{cell['moved']}; bat_glitch drops {cell['dropped']} (another frame "
+              f"{cell['wrong']}); near miss from the "
+              f"deleted frame's {spread}; without a glitch {cell['clean']} runs, "
+              f"bat_glitch drops {cell['clean_dropped']}, the node's hits reported a bat "
+              f"frame late {cell['waited']} of {cell['clean_hits']}", flush=True)
 
 
 if __name__ == '__main__':

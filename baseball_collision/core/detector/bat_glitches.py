@@ -19,11 +19,13 @@ of the knob's and the tip's (m):
 
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
-neighbours explain it. Only among regular steps (``regular``: beside frames the tracker lost,
-both distances are large for a swing's own frames; a frame lost three or more frames before it
-only widens the scatter it is judged against), and not in a segment's first frames; nor
-where a frame just before it that could not be judged so (``judgeable``) is the one off, which
-pulls this one's neighbours' spline (``UNJUDGED_REACH``).
+neighbours explain it. Among regular steps (``regular``; a frame lost three or more frames
+before it only widens the scatter it is judged against), or beside up to two frames the tracker
+lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
+for a swing's own frames), against the frames before it with the same frames left out
+(``_matched``); not in a segment's first frames; nor where a frame just before it that could
+not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
+(``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -39,7 +41,7 @@ a bat that braked hard after a contact).
 """
 
 import math
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 from .fitting import c2_bat_ahead, c2_bat_continued, c2_bat_path, c2_window
 from .streams import excerpt, Stream
@@ -86,6 +88,17 @@ frame after it read as one (a swing's frame dropped)."""
 PAIR_STEPS = 2.5
 """How many times the median step a judged frame's neighbours are apart at most (``regular``):
 two steps, jittered; a lost frame beside it makes three."""
+
+LOST_NEAR = 2
+"""Frames the tracker lost about a frame (from two before it to the one after it) that the frame
+is judged beside at most (``lost_about``), against the frames before it with the same frames
+left out (``_matched``)."""
+
+LOST_HOLE = 0.02
+"""s: the longest step across lost frames a frame beside them is judged at (``lost_about``): a
+swing's own frames across a longer hole (one frame lost at 90 Hz, 22 ms; two at 120 Hz, 25 ms)
+are off its spline by more than the frames before it, which turn slower, show across the same
+hole (``_matched``), and braking frames after a contact read as glitches."""
 
 UNJUDGED_REACH = 2
 """Frames before a judged one whose glitch, where it could not be judged itself (``judgeable``:
@@ -165,16 +178,24 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
     Its ``departure`` more than ``glitch_floor`` (for the noise, m 1 sigma per coordinate:
     told or estimated) and ``DEPARTURE_RATIO`` times each of the ``SCATTER_FRAMES`` frames'
     before it (the stream's own scatter: a swing's own frames at 90 Hz are 35-46 sigma off
-    their smoothed continuation); only among regular steps (``regular``). Where its next
+    their smoothed continuation); among regular steps (``regular``), or beside frames the
+    tracker lost (``lost_about``) against the frames before it with the same frames left out
+    (``_matched``). Where its next
     frame has not come (``isolation`` cannot judge it), this alone says the bat's path should
     not go through it.
     """
-    if not regular(stream, j - 1):
+    steady = regular(stream, j - 1)
+    lost = () if steady else lost_about(stream, j, 3, 0)
+    if not (steady or lost):
         return False
     found = departure(stream, j, max_gap, size, noise)
-    return found > glitch_floor(noise) and found > (
-        DEPARTURE_RATIO * max(departure(stream, i, max_gap, size, noise)
-                              for i in range(j - SCATTER_FRAMES, j)))
+    if found <= glitch_floor(noise):
+        return False
+    if steady:
+        return found > DEPARTURE_RATIO * max(departure(stream, i, max_gap, size, noise)
+                                             for i in range(j - SCATTER_FRAMES, j))
+    matched = _matched(stream, j, lost, max_gap, size, noise)
+    return matched is not None and found > DEPARTURE_RATIO * max(m[0] for m in matched)
 
 
 def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
@@ -186,24 +207,33 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     by more than ``glitch_floor``, and isolated more than ``ISOLATION_RATIO`` times as far as
     any of the ``SCATTER_FRAMES`` frames from three before it (whose splines do not reach it):
     the stream's own scatter, where its noise is not known yet (``tracker_noise`` auto, in a
-    stream's first frames). No frame is judged without them (a segment's first frames), nor
-    without the frame after it. The sweep passes the newest sample every way of feeding the
-    detector has by then (the node's one message at a time, ``analyze``'s chunks): the same
-    verdict in both.
+    stream's first frames). Beside frames the tracker lost (``lost_about``), the scatter is
+    that of those frames with the same frames left out about each (``_matched``). No frame is
+    judged without them (a segment's first frames), nor without the frame after it. The sweep
+    passes the newest sample every way of feeding the detector has by then (the node's one
+    message at a time, ``analyze``'s chunks): the same verdict in both.
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
     floor = glitch_floor(noise)
-    if not regular(stream, j, last) or departure(stream, j, max_gap, size, noise) <= floor:
+    steady = regular(stream, j, last)
+    lost = () if steady else lost_about(stream, j, 2, 1, last)
+    if not (steady or lost) or departure(stream, j, max_gap, size, noise) <= floor:
         return False
     isolated = max(isolation(stream, j, max_gap, size, last))
     if isolated <= floor:
         return False
-    scatter = [max(isolation(stream, i, max_gap, size, last))
-               for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
-               if i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)]
-    if len(scatter) < SCATTER_FRAMES or isolated <= ISOLATION_RATIO * max(scatter):
-        return False
+    if steady:
+        scatter = [max(isolation(stream, i, max_gap, size, last))
+                   for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
+                   if i >= 1 and stream.continuous(i, max_gap)
+                   and stream.continuous(i - 1, max_gap)]
+        if len(scatter) < SCATTER_FRAMES or isolated <= ISOLATION_RATIO * max(scatter):
+            return False
+    else:  # beside frames the tracker lost: against the frames before it with the same lost
+        matched = _matched(stream, j, lost, max_gap, size, noise)
+        if matched is None or isolated <= ISOLATION_RATIO * max(m[1] for m in matched):
+            return False
     # a frame just before it that could not be judged (``judgeable``: beside lost frames, a
     # segment's first) may be the one off, pulling this one's neighbours' spline: this one is
     # no glitch unless it stays isolated without it
@@ -266,6 +296,69 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
     return (max(steps) <= PAIR_STEPS * median
             and max(steps[-STEADY_STEPS:]) <= REGULAR_STEP * median
             and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
+
+
+def lost_about(stream: Stream, j: int, before: int, after: int,
+               last: Optional[int] = None) -> Optional[Tuple[int, ...]]:
+    """
+    Return the offsets from bat frame j of the frames the tracker lost about it, or None.
+
+    The steps from ``before`` frames before it to ``after`` frames after it (that one at most
+    sample ``last``, the newest by default) in whole steps of the median of the six steps
+    before them (each of those at most ``PAIR_STEPS`` times it): a step of n medians lost n - 1
+    frames. None where those steps are not so, more than ``LOST_NEAR`` frames were lost among
+    them, or a step across lost frames is longer than ``LOST_HOLE``; () where none was lost
+    (each step a median: a regular stream's jitter).
+    """
+    first = j - before - 6
+    last = len(stream.times) - 1 if last is None else last
+    if first < 0 or j + after > last:
+        return None
+    times = stream.times
+    steps = [b - a for a, b in zip(times[first:j - before], times[first + 1:j - before + 1])]
+    median = sorted(steps)[len(steps) // 2]
+    if max(steps) > PAIR_STEPS * median:
+        return None
+    lost, virtual, at = [], 0, 0  # (whole steps from frame j - before; j's)
+    for i in range(j - before, j + after):
+        at = virtual if i == j else at
+        whole = round((times[i + 1] - times[i]) / median)
+        if whole < 1:
+            return None
+        lost += [virtual + n for n in range(1, whole)]
+        virtual += whole
+    at = virtual if after == 0 else at
+    span = times[j - before:j + after + 1]
+    if len(lost) > LOST_NEAR or lost and max(b - a for a, b in zip(span, span[1:])) > LOST_HOLE:
+        return None
+    return tuple(v - at for v in lost)
+
+
+def _matched(stream: Stream, j: int, lost: Tuple[int, ...], max_gap: float, size: int,
+             noise: float) -> Optional[List[Tuple[float, float]]]:
+    """
+    Return the departures and isolations (m) of the frames before bat frame j, lost like it.
+
+    The ``SCATTER_FRAMES`` frames from three before j (further by the frames lost after it),
+    each with the frames at the offsets ``lost`` from it (``lost_about``'s from j) left out, so
+    that the steps about it are j's: the scatter a swing's own frames show across such a hole.
+    Each frame's spline reads no frame from j on. None where they, with three frames before
+    each, are not all in j's segment within ``max_gap`` of each other.
+    """
+    after = sum(v > 0 for v in lost)
+    found = []
+    for i in range(j - 3 - after, j - 3 - after - SCATTER_FRAMES, -1):
+        low, end = i - 3 - (len(lost) - after), i + 2 + after  # (three frames before it)
+        if low < 0 or not all(stream.continuous(k, max_gap) for k in range(low, end)):
+            return None
+        first = max(i - size - len(lost) - 2, 0)
+        part = excerpt(stream, first, end)
+        for v in sorted(lost, reverse=True):
+            part.remove(i + v - first)
+        k = i - first - sum(v < 0 for v in lost)
+        found.append((departure(part, k, max_gap, size, noise),
+                      max(isolation(part, k, max_gap, size))))
+    return found
 
 
 def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: int,

@@ -5,7 +5,7 @@ from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, isolation, judged, path_without, regular)
+    departed, departure, isolation, judged, lost_about, path_without, regular)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
@@ -414,3 +414,103 @@ def test_a_glitch_not_judged_makes_no_swing_frame_a_glitch(
             detector.add(role, stamp_ns, values)
             late += detector.stats.late_drops
         assert [drop.stamp_ns for drop in late if drop.stamp_ns != stamp] == [], offset
+
+
+def test_the_frames_lost_about_a_frame() -> None:
+    """``lost_about``: offsets from the frame of the frames lost from two before to one after."""
+    for removed, j, expected in (([10], 9, (1,)), ([10], 10, (-1,)), ([9], 10, (-2,)),
+                                 ([8], 10, ()), ([9, 10], 10, (-3, -2)), ([11, 12], 10, (1, 2)),
+                                 ([6], 10, ())):
+        bat = _turning(360.0, 20)
+        for k in sorted(removed, reverse=True):
+            bat.remove(k)
+        assert lost_about(bat, j, 2, 1) == expected, (removed, j)
+        slow = _turning(90.0, 20)  # (a hole of 22 ms or more: longer than ``LOST_HOLE``)
+        for k in sorted(removed, reverse=True):
+            slow.remove(k)
+        assert lost_about(slow, j, 2, 1) == (None if expected else ()), (removed, j)
+    bat = _turning(360.0, 20)
+    for k in (11, 10, 9):
+        bat.remove(k)
+    assert lost_about(bat, 9, 2, 1) is None  # (three lost: more than ``LOST_NEAR``)
+    assert lost_about(bat, 3, 2, 1) is None  # (too few steps before it)
+
+
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+def test_a_frame_off_the_swing_beside_a_lost_one_is_judged(lost: int) -> None:
+    """
+    Beside a frame the tracker lost, a frame moved 15 cm is judged; the swing's own are not.
+
+    It is judged against the frames before it with the same frames left out (``_matched``):
+    the scatter a swing's own frames show across such a hole.
+    """
+    bat = _turning(360.0, 30, turned=20, off=0.15)
+    bat.remove(20 + lost)
+    j = 20 - (lost < 0)
+    assert not regular(bat, j) and judged(bat, j, 0.05, 8, 0.0)
+    clean = _turning(360.0, 30)
+    clean.remove(20 + lost)
+    assert not any(judged(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times) - 1))
+
+
+@pytest.mark.parametrize('before', [1, 2, 3])
+def test_a_closing_frame_after_a_lost_one_departed(before: int) -> None:
+    """
+    A frame moved 15 cm, its next not come, a frame lost 1-3 before it: it departed.
+
+    ``departed`` (the node's look-ahead 0: the interval closing on it is swept without it)
+    read only regular steps before it; now also those with frames lost, against the frames
+    before it with the same left out. The swing's own frames there did not depart.
+    """
+    bat = _turning(360.0, 21, turned=20, off=0.15)
+    bat.remove(20 - before)
+    assert departed(bat, 19, 0.05, 8, 0.0)
+    clean = _turning(360.0, 21)
+    clean.remove(20 - before)
+    assert not any(departed(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times)))
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_glitch_beside_a_lost_frame_is_dropped_not_an_impact(
+        config: DetectorConfig, lost: int, noise_m: float) -> None:
+    """
+    A 360 Hz bat frame turned 10 cm toward a ball passing over, a frame lost beside it.
+
+    Frames beside lost ones were not judged: the glitch stayed, and the bat's path through it
+    met the ball (an impact on 17-35 of 108 such misses, ``bench_glitches.py --lost``). Now
+    it is judged against the frames before it with the same frames left out: it alone is
+    dropped, the miss stays a miss, and ``add_chunk`` does the same.
+    """
+    for family in ('plane', 'jerky'):
+        for offset in (-1, 0):
+            scenario, samples = _scene('miss_over', 3, 360.0, noise_m, family=family)
+            j = _closest_frame(scenario, samples) + offset
+            glitched = samples.with_bat_frame_turned(
+                j, samples.ball_positions[j], 0.1).without_bat_frame(j + lost)
+            stamp = int(samples.bat_stamps_ns[j])
+            detector, late, events = Detector(config), [], []
+            for stamp_ns, role, values in glitched.messages(config.bat_input):
+                events += detector.add(role, stamp_ns, values)
+                late += detector.stats.late_drops
+            events += detector.finish()
+            assert not any(isinstance(event, Impact) for event in events), (family, offset)
+            assert [drop.stamp_ns for drop in late] == [stamp], (family, offset)
+            if family == 'plane' and offset == 0:
+                dropped, _ = _alike_in_chunks(config, glitched)
+                assert dropped['bat_glitch'] == 1
+
+
+def test_genuine_frames_beside_lost_ones_stay() -> None:
+    """A frame or two lost about the contact or the closest approach: no frame is dropped."""
+    for rate in (90.0, 360.0):
+        for kind in ('barrel', 'miss_over'):
+            for family in ('rebound', 'braking', 'jerky'):
+                scenario, samples = _scene(kind, 1, rate, 1e-3, family=family)
+                j = _closest_frame(scenario, samples)
+                for lost in (-2, -1, 1):
+                    for config in (NODE, OFFLINE):
+                        detector, events = _run(config, samples.without_bat_frame(j + lost),
+                                                'pose')
+                        assert 'bat_glitch' not in detector.stats.dropped, (rate, kind, family)
