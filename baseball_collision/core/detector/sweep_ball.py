@@ -16,14 +16,14 @@ from typing import List, NamedTuple, Optional
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
-    glitch_before_flight, glitch_path, judging_noise, leaves_flight)
+    glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .events import DropReason, Role
 from .fitting import stream_noise
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
-from ..motion import BatPath
+from ..motion import BatPath, Paths
 from ..toi import profile_gap
 
 BACK_GAIN = 5.0
@@ -124,6 +124,53 @@ class BallSamples:
                 continue
             return self._judged_again(ta, tb, events)
         return False
+
+    def _hit_before_flight(self, k: int, ta: float, tb: float, paths: Paths,
+                           events: List) -> bool:
+        """
+        Solve a hit between the ball's sample k, its segment's first, and the next; True: found.
+
+        Where sample k left the free flight of the samples after it continued back to it
+        (``departure.flight_before``; kept by ``_first_glitch``: that flight touches the bat
+        over the interval), the ball was hit between them, and the sweep has no flight before
+        the contact to find it on (a path through sample k and those after it bends round the
+        bat; the flight after it, continued back, runs through the bat from a contact before
+        the hit to one after it). The contact is the first instant in the union interval [ta,
+        tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
+        touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``). Only
+        while armed (sample k clear of the bat). False (the interval swept as any other) where
+        the rule does not hold or no such instant is in [ta, tb].
+        """
+        ball, config = self.ball, self.config
+        gap = config.max_gap
+        if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
+            return False
+        flight = flight_before(ball, k, judging_noise(config), gap)
+        if flight is None:
+            return False
+        approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
+        bat_path, slack = paths[1], 0.0
+        found = self._first_contact(interval, (approach, bat_path))
+        ahead = self._bat_ahead(interval, paths, True)
+        if ahead is not None:
+            again = self._first_contact(interval, (approach, ahead[1]))
+            if again is not None:
+                found, bat_path = again, ahead[1]
+        if found is None:  # (off by the noise: within the slack that kept sample k)
+            slack = self._slack(BACK_GAIN)
+            found = self._first_contact(interval, (approach, bat_path), slack)
+        if found is None:
+            return False
+        t, hit = found
+        # the other answers: that point leaving the bat (a push that outran the ball), or
+        # within the slack of it
+        radius = config.ball_radius + slack
+        first = self._contact(interval, (approach, bat_path), radius)
+        last = self._last_contact((t, tb), (approach, bat_path), radius)
+        spread = max(last - t, 0.0 if first is None else t - first)
+        self.episodes.impact(ball.times[k + 1])
+        self._report(t, hit, interval, (approach.incoming(t), bat_path), events, spread)
+        return True
 
     def _flight_to_come(self, j: int) -> bool:
         """
