@@ -10,14 +10,15 @@ from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
 from baseball_collision.core.detector.departure import (
-    back_miss, DEPARTURE_FLOOR, departure_reach, departure_reaches, FEW_SCATTER_RATIOS,
-    FLIGHT_AFTER, flight_before, flight_path, glitch_before_flight, judging_noise,
-    leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
+    back_miss, CONTACT_TIME, DEPARTURE_FLOOR, departure_reach, departure_reaches,
+    FEW_SCATTER_RATIOS, FLIGHT_AFTER, flight_before, flight_path, glitch_before_flight,
+    HitApproach, judging_noise, leaves_flight, parabola, SCATTER_INTERVALS, SCATTER_RATIO)
 from baseball_collision.core.detector.events import StreamGap
 from baseball_collision.core.detector.fitting import c2_point_path, c2_window
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep
 from baseball_collision.core.detector.sweep_ball import UNEXPLAINED_RUN
+from baseball_collision.core.motion import PointPath
 from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import load_parameters
@@ -1140,3 +1141,41 @@ def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
                     assert all(abs(stamp - truth) > 10 * abs(judged[0] - truth)
                                for stamp in unjudged)
                 assert dropped <= more
+
+
+def test_the_ball_pushed_off_the_bat_is_at_the_approach_at_its_contact() -> None:
+    """
+    ``HitApproach``: a push dv from t_c leaves the ball on a flight F; at t_c it is ``at(t_c)``.
+
+    The ball before the push, F - dv (t - t_c - h) (h half ``CONTACT_TIME``), sampled once at
+    t_k: the approach at t_c is that ball then, and ``incoming(t_c)`` runs from the sample to
+    it at the ball's velocity before the push.
+    """
+    t_k, t_1, t_c, h = 0.0, 0.011, 0.004, 0.5 * CONTACT_TIME
+    start, velocity, acceleration = np.array([0.1, 0.2, 1.0]), np.array([30.0, -5.0, 2.0]), \
+        np.array([0.0, 1.0, -9.8])
+    push = np.array([-60.0, 4.0, 1.0])
+
+    def flight(t: float) -> np.ndarray:
+        return start + velocity * t + 0.5 * acceleration * t * t
+
+    def before(t: float) -> np.ndarray:
+        return flight(t) - push * (t - t_c - h)
+
+    path = PointPath(t_k, t_1, tuple(flight(t_k)), tuple(flight(t_1)),
+                     tuple(velocity + acceleration * t_k), tuple(velocity + acceleration * t_1))
+    approach = HitApproach(path, tuple(before(t_k)))
+    assert np.allclose(approach.at(t_c), before(t_c), atol=1e-12)
+    assert np.allclose(approach.at(t_k), before(t_k), atol=1e-12)
+    incoming = approach.incoming(t_c)
+    assert np.allclose(incoming.at(t_k), before(t_k), atol=1e-12)
+    assert np.allclose(incoming.at(t_c), before(t_c), atol=1e-12)
+    assert np.allclose(incoming.velocity(t_c), velocity + acceleration * t_c - push, atol=1e-9)
+    assert np.allclose(incoming.at(0.5 * t_c), before(0.5 * t_c), atol=1e-12)
+    # the chords' bound holds over the sharp bend just after t_k
+    for ta, tb in ((t_k, 0.002), (0.001, 0.003), (t_k, t_1)):
+        chord = np.subtract(approach.at(tb), approach.at(ta))
+        worst = max(np.linalg.norm(np.subtract(approach.at(t), approach.at(ta))
+                                   - chord * (t - ta) / (tb - ta))
+                    for t in np.linspace(ta, tb, 201))
+        assert worst <= approach.deviation(ta, tb)
