@@ -1109,9 +1109,10 @@ def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
     are those without the rules (``Sweep.early_glitches``) but where a rebound's frame
     before the contact is its segment's first or second, whose hit the rules find from the
     flight after it (``Sweep._hit_before_flight``; without them lost, or found ten times
-    farther from the truth): within 0.1 ms of it. No frame is dropped that is not without
-    them (fewer: a departure from the parabola through a segment's first sample that left
-    the flight after it is no unexplained one, ``Sweep._hit_after_start``).
+    farther from the truth): exact, within 0.1 ms of it; with 1 mm of noise within 1 ms
+    (0.54 ms at 90 Hz); each within two of its sigmas. No frame is dropped that is not
+    without them (fewer: a departure from the parabola through a segment's first sample that
+    left the flight after it is no unexplained one, ``Sweep._hit_after_start``).
     """
     for seed, rate, family in ((0, RATE, 'rebound'), (1, 360.0, 'rebound'), (2, RATE, 'plane')):
         rng = np.random.default_rng(seed)
@@ -1132,14 +1133,19 @@ def test_a_hit_just_after_a_gap_is_no_glitch(noise_m: float) -> None:
                     for stamp, role, values in lost.messages('points'):
                         events += detector.add(role, stamp, values)
                     events += detector.finish()
-                    found.append(([event.stamp_ns for event in events
-                                   if isinstance(event, Impact)], detector.stats.dropped))
+                    found.append(([event for event in events if isinstance(event, Impact)],
+                                  detector.stats.dropped))
                 (judged, dropped), (unjudged, more) = found
-                if judged != unjudged:
-                    assert family == 'rebound' and back <= 2
-                    assert len(judged) == 1 and abs(judged[0] - truth) < 100_000
-                    assert all(abs(stamp - truth) > 10 * abs(judged[0] - truth)
-                               for stamp in unjudged)
+                if [event.stamp_ns for event in judged] != [e.stamp_ns for e in unjudged]:
+                    assert family == 'rebound' and len(judged) == 1
+                    error = abs(judged[0].stamp_ns - truth)
+                    assert error <= 2e9 * judged[0].time_uncertainty_s
+                    if noise_m == 0.0:
+                        assert back <= 2 and error < 100_000
+                        assert all(abs(other.stamp_ns - truth) > 10 * error
+                                   for other in unjudged)
+                    else:  # (a second sample at the contact: the rule's answer 0.1 ms early)
+                        assert back <= 3 and error < 1_000_000
                 assert dropped <= more
 
 
