@@ -259,6 +259,14 @@ force a half-sine): the push's middle, which the flight after the hit continued 
 from, is half of it after the first contact (``HitApproach``)."""
 
 
+FRICTION = 0.5
+"""The most a bat's push turns from the contact normal: its part across the normal over its part
+along it (Coulomb friction of a baseball on a bat, about 0.5 at most): ``Sweep._pushed``.
+Measured (``bench_ball_gap.py``'s cases, rebound hits): a genuine push 0-0.32 across (0 exact:
+the simulator has no friction; up to 0.32 with 1 mm of noise), a glitch's frame before the
+flight after a hit 0.6-450 but for 7 of 150."""
+
+
 class HitApproach:
     """
     Where the ball's centre is at a hit's first contact, were the hit at each instant.
@@ -293,6 +301,10 @@ class HitApproach:
         """Return a bound (m) on how far ``at`` leaves its chord over [ta, tb] (s)."""
         bend = self.size * self.h / (4.0 * (ta - self.t0 + self.h) ** 3)  # (D h / (s + h))''
         return self.flight.deviation(ta, tb) + bend * (tb - ta) ** 2
+
+    def push(self, t: float) -> Vector:
+        """Return the ball's change of velocity (m/s) a push from a contact at t (s) makes."""
+        return tuple((self.offset / (t - self.t0 + self.h)).tolist())
 
     def incoming(self, t: float) -> PointPath:
         """Return the ball's path (m) from sample k to a contact at t (s): F - dv (t - t_c - h)."""

@@ -15,7 +15,7 @@ import math
 from typing import List, NamedTuple, Optional
 
 from .departure import (
-    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
+    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .events import DropReason, Role
 from .fitting import stream_noise
@@ -23,8 +23,9 @@ from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
+from ..geometry import dot
 from ..motion import BatPath, Paths
-from ..toi import profile_gap
+from ..toi import ImpactResult, profile_gap
 
 BACK_GAIN = 5.0
 """The noise gain of a parabola through three samples continued one step back (Lagrange's
@@ -56,6 +57,10 @@ class Aside(NamedTuple):
     offer: Offer
     against: int
 
+
+SURFACE_STEP = 1e-6
+"""s: half the step over which the bat's velocity at a contact is differenced
+(``BallSamples._pushed``)."""
 
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
@@ -137,10 +142,21 @@ class BallSamples:
         bat; the flight after it, continued back, runs through the bat from a contact before
         the hit to one after it). The contact is the first instant in the union interval [ta,
         tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
-        touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``). Only
-        while armed (sample k clear of the bat). False (the interval swept as any other) where
-        the rule does not hold or no such instant is in [ta, tb].
+        touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``), where
+        a bat gives the push that needs (``_pushed``). Only while armed (that ball clear of the
+        bat at ta). False (the interval swept as any other, the arming as it was) where the
+        rule does not hold or no such instant is in [ta, tb].
         """
+        episodes = self.episodes
+        armed = episodes.armed
+        if self._solved_before_flight(k, ta, tb, paths, events):
+            return True
+        episodes.armed = armed  # (a path that found no hit arms nothing: ``_first_contact``)
+        return False
+
+    def _solved_before_flight(self, k: int, ta: float, tb: float, paths: Paths,
+                              events: List) -> bool:
+        """Return ``_hit_before_flight``'s answer (the detector armed where it looked)."""
         ball, config = self.ball, self.config
         gap = config.max_gap
         if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
@@ -162,6 +178,8 @@ class BallSamples:
         if found is None:
             return False
         t, hit = found
+        if not self._pushed(approach, t, hit, bat_path):
+            return False
         # the other answers: that point leaving the bat (a push that outran the ball), or
         # within the slack of it
         radius = config.ball_radius + slack
@@ -171,6 +189,30 @@ class BallSamples:
         self.episodes.impact(ball.times[k + 1])
         self._report(t, hit, interval, (approach.incoming(t), bat_path), events, spread)
         return True
+
+    @staticmethod
+    def _pushed(approach: HitApproach, t: float, hit: ImpactResult, bat_path: BatPath) -> bool:
+        """
+        Return whether a bat gives the push a hit at t (s) needs (``HitApproach.push``).
+
+        Away from the bat along the contact normal, its part across the normal at most
+        ``FRICTION`` times that, and the ball coming at the bat's surface (its velocity before
+        the push less the bat's axis's at the contact's place, along the normal) before it. A
+        glitch before the flight after a hit needs a push across the normal, or toward the bat.
+        """
+        push, normal = approach.push(t), hit.normal
+        along = dot(push, normal)
+        across = math.sqrt(max(dot(push, push) - along * along, 0.0))
+        if along <= 0.0 or across > FRICTION * along:
+            return False
+        ta, tb = max(t - SURFACE_STEP, bat_path.t0), min(t + SURFACE_STEP, bat_path.t1)
+        places = []
+        for u in (ta, tb):
+            knob, tip = bat_path.at(u)
+            places.append([k + hit.bat_fraction * (e - k) for k, e in zip(knob, tip)])
+        surface = [(b - a) / (tb - ta) for a, b in zip(*places)]
+        coming = approach.incoming(t).velocity(t)
+        return dot(tuple(c - v for c, v in zip(coming, surface)), normal) < 0.0
 
     def _flight_to_come(self, j: int) -> bool:
         """
