@@ -75,9 +75,9 @@ class Sweep(BallSamples, BatFrames):
         re-solve by the model of lower order, an estimate apart from the quintic).
     :ivar early_glitches: True: a segment's first three ball samples are judged by the
         flight after them (the first by the bat too), an interval near the bat waiting for it
-        (``_early_glitch``); False:
-        not judged (``uncertainty``'s re-solves, on copies whose first samples start no
-        segment of the ball's).
+        (``_early_glitch``), and a hit after its first or second solved from the flight after
+        it (``_hit_before_flight``); False: neither (``uncertainty``'s re-solves, on copies
+        whose first samples start no segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
     :ivar held: the last interval visited waits for samples (``interval``): the ball's
         (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).

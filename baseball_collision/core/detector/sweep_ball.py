@@ -7,7 +7,9 @@ A ball sample off its free flight that no hit explains is a glitch (``departure.
 are judged by the flight after them (``departure.glitch_before_flight``), the first by the bat
 too (``_first_glitch``, ``_inside_bat``), the interval near the bat that reaches them waiting
 for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a ``LateDrop``)
-and forgotten (``Stream.remove``).
+and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
+next, which no flight before it finds, is solved from that sample and the flight after it
+(``_hit_before_flight``).
 """
 
 from bisect import bisect_left
