@@ -11,6 +11,7 @@ sub-steps small enough for the chord error bound and each is solved exactly
 without one feeds the near-miss episodes.
 """
 
+from dataclasses import replace
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
@@ -638,17 +639,23 @@ class Sweep(BallSamples, BatFrames):
         return False
 
     def _report(self, t: float, hit: ImpactResult, interval: Tuple[float, float], paths: Paths,
-                events: List, spread: float = 0.0) -> None:
+                events: List, spread: float = 0.0, ball_velocity: Optional[Vector] = None) -> None:
         """
         Append the impact at t (s) solved on ``paths`` over the union ``interval``.
 
         ``spread``: how far (s) another answer of the rule that found it lies
-        (``time_spread``, read by ``measure``).
+        (``time_spread``, read by ``measure``); ``ball_velocity``: the ball's (m/s) as that
+        rule found it, in place of the fits' (``kinematics``).
         """
         self.impact_t = t
         if self.on_contact is not None:  # before the velocities' fits
             self.on_contact(self.clock.stamp(t), tuple(hit.point))
         impact = self._impact(t, hit, interval, paths)
+        if ball_velocity is not None:
+            closing = dot(tuple(b - v for b, v in zip(impact.bat_velocity, ball_velocity)),
+                          impact.normal)
+            impact = replace(impact, ball_velocity=ball_velocity, ball_speed_mps=norm(
+                ball_velocity), relative_normal_speed_mps=closing)
         self.time_spread = spread
         events.append(impact if self.measure is None else self.measure(impact))
         self.time_spread = 0.0

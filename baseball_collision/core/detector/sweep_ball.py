@@ -145,9 +145,10 @@ class BallSamples:
         the hit to one after it). The contact is the first instant in the union interval [ta,
         tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
         touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``), where
-        a bat gives the push that needs (``_pushed``). Only while armed (that ball clear of the
-        bat at ta). False (the interval swept as any other, the arming as it was) where the
-        rule does not hold or no such instant is in [ta, tb].
+        a bat gives the push that needs (``_pushed``); the ball's velocity at the impact is
+        that ball's before the push (the fits' would reach across the contact). Only while
+        armed (that ball clear of the bat at ta). False (the interval swept as any other, the
+        arming as it was) where the rule does not hold or no such instant is in [ta, tb].
         """
         episodes = self.episodes
         armed = episodes.armed
@@ -189,7 +190,8 @@ class BallSamples:
         last = self._last_contact((t, tb), (approach, bat_path), radius)
         spread = max(last - t, 0.0 if first is None else t - first)
         self.episodes.impact(ball.times[k + 1])
-        self._report(t, hit, interval, (approach.incoming(t), bat_path), events, spread)
+        incoming = approach.incoming(t)
+        self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
         return True
 
     @staticmethod
