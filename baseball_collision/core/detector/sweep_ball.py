@@ -135,7 +135,7 @@ class BallSamples:
     def _hit_before_flight(self, k: int, ta: float, tb: float, paths: Paths,
                            events: List) -> bool:
         """
-        Solve a hit between the ball's sample k, its segment's first, and the next; True: found.
+        Solve a hit after the ball's sample k, its segment's first or second; True: found.
 
         Where sample k left the free flight of the samples after it continued back to it
         (``departure.flight_before``; kept by ``_first_glitch``: that flight touches the bat
