@@ -7,8 +7,8 @@ there, a gap over ``max_gap``: ``bench_accuracy.dropped_ball``). Barrel, end-cap
 of every swing family (``rebound``: the ball leaves the bat; the others fly on through it), and
 misses passing 2-15 cm over and under the bat, at each rate, exact and with 1 mm of noise (the
 bat a pose, as a rigid body over markers 0.3 m apart), under the node's defaults (``c2``,
-look-ahead 0, the noise told: 0 or 1 mm) and ``analyze``'s (``OFFLINE_PARAMETERS``: look-ahead
-2, auto noise). Printed per rate and noise:
+look-ahead 0, ``tracker_noise`` auto; ``--told``: the noise told, 0 or 1 mm) and ``analyze``'s
+(``OFFLINE_PARAMETERS``: look-ahead 2, auto noise). Printed per rate and noise:
 
 - hits: found (an impact within ``FOUND_NS`` of the truth) of all, the time error against the
   truth (p50 / p99 / max, us; how many within two of their reported sigmas), and against the
@@ -21,7 +21,7 @@ look-ahead 0, the noise told: 0 or 1 mm) and ``analyze``'s (``OFFLINE_PARAMETERS
   400 messages) from one message at a time.
 
     .venv/bin/python benchmarks/bench_ball_gap.py [--seeds 2] [--rates 90 120 360] [--chunks]
-        [--noises 0 1] [--families rebound ...]
+        [--noises 0 1] [--families rebound ...] [--told]
 """
 
 import argparse
@@ -55,10 +55,15 @@ GLITCH_M = (0.0, 0.06, 0.1)
 CHUNKS = (7, 50, 400)
 
 
-def configs(noise_m: float) -> Dict[str, DetectorConfig]:
-    """Return the node's and ``analyze``'s configurations for one noise level."""
-    return {'node': DetectorConfig(bat_input='pose', tracker_noise=noise_m),
-            'analyze': DetectorConfig(bat_input='pose', **OFFLINE_PARAMETERS)}
+def configs(noise_m: float, told: bool = False) -> Dict[str, DetectorConfig]:
+    """
+    Return the node's and ``analyze``'s configurations for one noise level.
+
+    The node's defaults (``c2``, look-ahead 0, ``tracker_noise`` auto), or with ``told`` the
+    noise told (``noise_m``); ``analyze``'s (``OFFLINE_PARAMETERS``: look-ahead 2, auto).
+    """
+    node = DetectorConfig(bat_input='pose', **({'tracker_noise': noise_m} if told else {}))
+    return {'node': node, 'analyze': DetectorConfig(bat_input='pose', **OFFLINE_PARAMETERS)}
 
 
 def run(config: DetectorConfig, samples: Samples,
@@ -142,8 +147,8 @@ def found(stamps: List[int], truth_ns: int) -> Optional[int]:
 
 
 def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
-         families: Tuple[str, ...] = FAMILIES) -> Dict[str, Any]:
-    """Return one rate and noise level's figures over the swing ``families``."""
+         families: Tuple[str, ...] = FAMILIES, told: bool = False) -> Dict[str, Any]:
+    """Return one rate and noise level's figures over the swing ``families`` (``configs``)."""
     tally: Counter = Counter()
     errors: List[float] = []
     moved: List[float] = []
@@ -157,7 +162,7 @@ def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
                                  marker_spread_m=0.3 if noise_m else None)
                 truth_ns = moment_ns(scenario, samples)
                 hit = kind in HITS
-                for label, config in configs(noise_m).items():
+                for label, config in configs(noise_m, told).items():
                     reference = found(impact_stamps(run(config, samples)[0]), truth_ns)
                     for back in BACK:
                         gapped = dropped_ball(scenario, samples, back - 1)
@@ -209,10 +214,13 @@ def main() -> None:
     parser.add_argument('--noises', type=float, nargs='+', default=[0.0, 1.0], help='mm')
     parser.add_argument('--chunks', action='store_true', help='compare add_chunk too')
     parser.add_argument('--families', nargs='+', default=list(FAMILIES), choices=FAMILIES)
+    parser.add_argument('--told', action='store_true',
+                        help="the node told the noise (default: the node's auto)")
     args = parser.parse_args()
     for rate in args.rates:
         for noise_mm in args.noises:
-            figures = cell(rate, noise_mm * 1e-3, args.seeds, args.chunks, tuple(args.families))
+            figures = cell(rate, noise_mm * 1e-3, args.seeds, args.chunks, tuple(args.families),
+                           args.told)
             tally, errors, moved = figures['tally'], figures['errors'], figures['moved']
             found_text = ', '.join(f'{back} back {tally[f"found {back}"]}/{tally[f"hits {back}"]}'
                                    for back in BACK)
