@@ -253,6 +253,67 @@ def flight_before(stream: Stream, k: int, noise: float, max_gap: float) -> Optio
                      tuple(-v for v in closing), tuple(-v for v in opening))
 
 
+CONTACT_TIME = 6e-4
+"""s: how long a baseball stays on a bat (about 0.6 ms: Adair, *The Physics of Baseball*; the
+force a half-sine): the push's middle, which the flight after the hit continued back runs
+from, is half of it after the first contact (``HitApproach``)."""
+
+
+FRICTION = 0.5
+"""The most a bat's push turns from the contact normal: its part across the normal over its part
+along it (Coulomb friction of a baseball on a bat, about 0.5 at most): ``Sweep._pushed``.
+Measured (``bench_ball_gap.py``'s cases, rebound hits): a genuine push 0-0.32 across (0 exact:
+the simulator has no friction; up to 0.32 with 1 mm of noise), a glitch's frame before the
+flight after a hit 0.6-450 but for 7 of 150."""
+
+
+class HitApproach:
+    """
+    Where the ball's centre is at a hit's first contact, were the hit at each instant.
+
+    For a segment's first sample k before a hit and the flight after it (``flight_before``,
+    continued back over interval k): a push dv over ``CONTACT_TIME`` from the contact t_c
+    leaves the ball on the flight after it continued back (F) less dv (t - t_c - h), h half
+    the push, so sample k is off F by D = dv (t_c + h - t_k), and at t_c the ball was at
+    ``at(t_c)`` = F(t_c) + D h / (t_c - t_k + h). The first instant that point touches the bat
+    is the contact (a sweep of it as a path: ``Sweep._hit_before_flight``); ``incoming`` is
+    the ball's path from sample k to it. From sample k at t_k; F's acceleration (gravity,
+    drag) is the incoming flight's too. The duck type of ``PointPath`` a sweep reads (``at``,
+    ``deviation``, ``t0``, ``t1``).
+
+    :param flight: F over interval k (``flight_before``); ``sample``: sample k (m).
+    """
+
+    __slots__ = ('flight', 'offset', 't0', 't1', 'h', 'size')
+
+    def __init__(self, flight: PointPath, sample: Vector) -> None:
+        self.flight, self.t0, self.t1 = flight, flight.t0, flight.t1
+        self.offset = np.subtract(sample, flight.at(flight.t0))
+        self.h = 0.5 * CONTACT_TIME
+        self.size = math.hypot(*self.offset)
+
+    def at(self, t: float) -> Vector:
+        """Return the ball's centre (m) at a contact at t (s)."""
+        share = self.h / (t - self.t0 + self.h)
+        return tuple(p + share * d for p, d in zip(self.flight.at(t), self.offset.tolist()))
+
+    def deviation(self, ta: float, tb: float) -> float:
+        """Return a bound (m) on how far ``at`` leaves its chord over [ta, tb] (s)."""
+        bend = self.size * self.h / (4.0 * (ta - self.t0 + self.h) ** 3)  # (D h / (s + h))''
+        return self.flight.deviation(ta, tb) + bend * (tb - ta) ** 2
+
+    def push(self, t: float) -> Vector:
+        """Return the ball's change of velocity (m/s) a push from a contact at t (s) makes."""
+        return tuple((self.offset / (t - self.t0 + self.h)).tolist())
+
+    def incoming(self, t: float) -> PointPath:
+        """Return the ball's path (m) from sample k to a contact at t (s): F - dv (t - t_c - h)."""
+        change = self.offset / (t - self.t0 + self.h)
+        rates = (np.subtract(self.flight.velocity(u), change).tolist() for u in (self.t0, t))
+        return PointPath(self.t0, t, tuple(self.offset + self.flight.at(self.t0)), self.at(t),
+                         *rates)
+
+
 def back_miss(stream: Stream, k: int, max_gap: float) -> Optional[float]:
     """
     Return how far (m) sample k is from the parabola through samples k + 1 .. k + 3 at t_k.

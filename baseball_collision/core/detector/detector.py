@@ -126,7 +126,7 @@ class Detector:
     def _measure(self, impact: Impact) -> Impact:
         """Return an impact with its 1-sigma uncertainties, or keep them pending (deferred)."""
         pending = uncertainty_basis(self._config, self._clock, self._ball, self._bat,
-                                    self._offsets, impact)
+                                    self._offsets, impact, self._sweep.time_spread)
         if self._pending is None:
             return pending.measure()
         self._pending.append(pending)

@@ -11,6 +11,7 @@ sub-steps small enough for the chord error bound and each is solved exactly
 without one feeds the near-miss episodes.
 """
 
+from dataclasses import replace
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
@@ -19,7 +20,7 @@ from .config import DetectorConfig
 from .departure import (
     DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
     leaves_flight)
-from .episodes import EpisodeTracker, State
+from .episodes import EpisodeTracker, lowest_gap, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
@@ -42,6 +43,10 @@ continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
 0.02 mm): about 5 chords a sub-step, only at impacts (``Sweep._refined``)."""
+
+TOUCH_SLACK = 1e-7
+"""m: how much more than its closest approach's gap a ball is grown to touch the bat there
+(``Sweep._first_contact``: the contact of a path that comes within a slack of the bat)."""
 
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
@@ -71,9 +76,9 @@ class Sweep(BallSamples, BatFrames):
         re-solve by the model of lower order, an estimate apart from the quintic).
     :ivar early_glitches: True: a segment's first three ball samples are judged by the
         flight after them (the first by the bat too), an interval near the bat waiting for it
-        (``_early_glitch``); False:
-        not judged (``uncertainty``'s re-solves, on copies whose first samples start no
-        segment of the ball's).
+        (``_early_glitch``), and a hit after its first or second solved from the flight after
+        it (``_hit_before_flight``); False: neither (``uncertainty``'s re-solves, on copies
+        whose first samples start no segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
     :ivar held: the last interval visited waits for samples (``interval``): the ball's
         (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).
@@ -81,13 +86,16 @@ class Sweep(BallSamples, BatFrames):
         were judged against is forgotten as a glitch (``BallSamples.set_aside``).
     :ivar until: the end (s) of the union interval visited last: a sample set aside is put
         back only at or after it (the walk has not passed it).
+    :ivar time_spread: while ``measure`` measures an impact, how far (s) from it lies the other
+        answer of the rule that found it (``_hit_before_flight``), which its time's
+        uncertainty holds; else 0.
     """
 
     __slots__ = ('config', 'clock', 'stats', 'ball', 'bat', 'episodes', 'offsets', 'model',
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
                  'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect', 'early_glitches',
-                 'final', 'held', 'aside', 'until')
+                 'final', 'held', 'aside', 'until', 'time_spread')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -120,6 +128,7 @@ class Sweep(BallSamples, BatFrames):
         self.held = False
         self.aside: List[Aside] = []  # ball samples the speed check set aside (``set_aside``)
         self.until = -math.inf  # the end (s) of the interval visited last
+        self.time_spread = 0.0  # (s: ``_report``'s, while its impact is measured)
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 
@@ -242,7 +251,8 @@ class Sweep(BallSamples, BatFrames):
             if without is not paths:  # (its far tests again, on the bat without the frame)
                 self._solve(ta, tb, located, without, events, True)
                 return
-        if self.early_glitches and self._early_glitch(located[0], ta, tb, events):
+        if self.early_glitches and (self._early_glitch(located[0], ta, tb, events)
+                                    or self._hit_before_flight(located[0], ta, tb, paths, events)):
             return
         if self.episodes.armed is False:
             self._past_departure(located[0], ball_path)
@@ -285,6 +295,76 @@ class Sweep(BallSamples, BatFrames):
                 return start.t + hit.time
             start = end
         return None
+
+    def _first_contact(self, interval: Tuple[float, float], paths: Paths,
+                       slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
+        """
+        Return when (s) ``paths`` first touch over the interval while armed, and the contact.
+
+        The sweep's sub-steps (``_contact``'s), the one that touches solved again in finer
+        chords (``_refined``). Where none touches, the closest approach where it is within
+        ``slack`` (m) of the bat (``episodes.lowest_gap`` over the sub-steps beside the
+        smallest gap at their ends): the contact of a ball grown by that gap. None where they
+        do not touch (nor come that near), touch at the interval's start, or the detector is
+        not armed there (``EpisodeTracker.arm``: it arms where the ball is clear of the bat).
+        """
+        ta, tb = interval
+        config = self.config
+        start = self._state_at(ta, paths)
+        if not self.episodes.arm(self._gap_at(start), ta):
+            return None
+        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
+                         config.max_chord_error)
+        self.stats.substeps += n
+        states, gaps = [start], [self._gap_at(start)]
+        for j in range(1, n + 1):
+            end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
+            hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
+                                  config.ball_radius, config.profile, end.t - start.t)
+            if hit is not None:
+                if hit.initially_overlapping:
+                    return None
+                found = self._refined(start, end, paths)
+                return found if found is not None else (start.t + hit.time, hit)
+            states.append(end)
+            gaps.append(profile_gap(end.ball, end.knob, end.tip, config.ball_radius,
+                                    config.profile)[0])
+            start = end
+        if slack <= 0.0:
+            return None
+        m = gaps.index(min(gaps))
+        steps = [(states[i], states[i + 1]) for i in (m - 1, m) if 0 <= i < n]
+        nearest, (a, b) = min(((lowest_gap(a, b, config.ball_radius, config.profile), (a, b))
+                               for a, b in steps), key=lambda pair: pair[0].gap)
+        if nearest.gap > slack:
+            return None
+        hit = profile_contact(a.ball, b.ball, a.tip, b.tip, a.knob, b.knob,
+                              config.ball_radius + nearest.gap + TOUCH_SLACK, config.profile,
+                              b.t - a.t)
+        return None if hit is None or hit.initially_overlapping else (a.t + hit.time, hit)
+
+    def _last_contact(self, interval: Tuple[float, float], paths: Paths,
+                      radius: float) -> float:
+        """
+        Return when (s) ``paths`` last touch over the interval (its end where they touch there).
+
+        The sweep's sub-steps run backwards from the interval's end, the first whose chords
+        touch (``toi.profile_contact`` with time reversed, the ball's radius ``radius``, m) at
+        its contact; the interval's start where none does.
+        """
+        ta, tb = interval
+        config = self.config
+        later = self._state_at(tb, paths)
+        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
+                         config.max_chord_error)
+        for j in range(1, n + 1):
+            earlier = self._state_at(ta if j == n else tb - (tb - ta) * j / n, paths)
+            hit = profile_contact(later.ball, earlier.ball, later.tip, earlier.tip, later.knob,
+                                  earlier.knob, radius, config.profile, later.t - earlier.t)
+            if hit is not None:
+                return later.t - hit.time
+            later = earlier
+        return ta
 
     def _estimates(self, located: Tuple[int, int]) -> None:
         """
@@ -553,17 +633,36 @@ class Sweep(BallSamples, BatFrames):
                     self._state_at(interval[0], ahead), self._state_at(interval[1], ahead), ahead)
                 if again is not None and not again[1].initially_overlapping:
                     (t, hit), paths = again, ahead
-                self.impact_t = t
-                if self.on_contact is not None:  # before the velocities' fits
-                    self.on_contact(self.clock.stamp(t), tuple(hit.point))
-                impact = self._impact(t, hit, interval, paths)
-                events.append(impact if self.measure is None else self.measure(impact))
-                self.stats.impacts += 1
+                self._report(t, hit, interval, paths, events)
                 return True
         episodes.track(start, end, gap0, gap1, events)
         return False
 
-    def _bat_ahead(self, interval: Tuple[float, float], paths: Paths) -> Optional[Paths]:
+    def _report(self, t: float, hit: ImpactResult, interval: Tuple[float, float], paths: Paths,
+                events: List, spread: float = 0.0, ball_velocity: Optional[Vector] = None) -> None:
+        """
+        Append the impact at t (s) solved on ``paths`` over the union ``interval``.
+
+        ``spread``: how far (s) another answer of the rule that found it lies
+        (``time_spread``, read by ``measure``); ``ball_velocity``: the ball's (m/s) as that
+        rule found it, in place of the fits' (``kinematics``).
+        """
+        self.impact_t = t
+        if self.on_contact is not None:  # before the velocities' fits
+            self.on_contact(self.clock.stamp(t), tuple(hit.point))
+        impact = self._impact(t, hit, interval, paths)
+        if ball_velocity is not None:
+            closing = dot(tuple(b - v for b, v in zip(impact.bat_velocity, ball_velocity)),
+                          impact.normal)
+            impact = replace(impact, ball_velocity=ball_velocity, ball_speed_mps=norm(
+                ball_velocity), relative_normal_speed_mps=closing)
+        self.time_spread = spread
+        events.append(impact if self.measure is None else self.measure(impact))
+        self.time_spread = 0.0
+        self.stats.impacts += 1
+
+    def _bat_ahead(self, interval: Tuple[float, float], paths: Paths,
+                   hit: bool = False) -> Optional[Paths]:
         """
         Return the paths with the bat continued from before the interval at a hit, or None.
 
@@ -583,14 +682,15 @@ class Sweep(BallSamples, BatFrames):
         samples the detector was not told of is worse than the frame that braked (BENCHMARKS.md, "A
         hit's bat continued only from samples that pass the quintic check"). None elsewhere.
         ``bat_ahead`` True takes the continuation at every hit (with noise: of the smoothed
-        window), False never.
+        window), False never. ``hit``: the caller knows the ball was hit over the interval
+        (``_hit_before_flight``: a segment's first sample, which has no flight before it).
         """
         ball, bat, config = self.ball, self.bat, self.config
         if self.bat_ahead is False or (
                 self.bat_ahead is None and stream_noise(bat, config) > 0.0):
             return None
         ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
-        if leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
+        if not hit and leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
             return None
         quintic = self.bat_ahead is None and len(bat.history(
             bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES

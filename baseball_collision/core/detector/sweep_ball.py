@@ -7,7 +7,9 @@ A ball sample off its free flight that no hit explains is a glitch (``departure.
 are judged by the flight after them (``departure.glitch_before_flight``), the first by the bat
 too (``_first_glitch``, ``_inside_bat``), the interval near the bat that reaches them waiting
 for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a ``LateDrop``)
-and forgotten (``Stream.remove``).
+and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
+next, which no flight before it finds, is solved from that sample and the flight after it
+(``_hit_before_flight``).
 """
 
 from bisect import bisect_left
@@ -15,16 +17,17 @@ import math
 from typing import List, NamedTuple, Optional
 
 from .departure import (
-    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before,
-    glitch_before_flight, glitch_path, judging_noise, leaves_flight)
+    back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
+    glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .events import DropReason, Role
 from .fitting import stream_noise
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
-from ..motion import BatPath
-from ..toi import profile_gap
+from ..geometry import dot
+from ..motion import BatPath, Paths
+from ..toi import ImpactResult, profile_gap
 
 BACK_GAIN = 5.0
 """The noise gain of a parabola through three samples continued one step back (Lagrange's
@@ -56,6 +59,10 @@ class Aside(NamedTuple):
     offer: Offer
     against: int
 
+
+SURFACE_STEP = 1e-6
+"""s: half the step over which the bat's velocity at a contact is differenced
+(``BallSamples._pushed``)."""
 
 UNEXPLAINED_RUN = 3
 """Ball samples in a row at most that ``Sweep`` forgets for a departure no contact explains: a
@@ -124,6 +131,92 @@ class BallSamples:
                 continue
             return self._judged_again(ta, tb, events)
         return False
+
+    def _hit_before_flight(self, k: int, ta: float, tb: float, paths: Paths,
+                           events: List) -> bool:
+        """
+        Solve a hit after the ball's sample k, its segment's first or second; True: found.
+
+        Where sample k left the free flight of the samples after it continued back to it
+        (``departure.flight_before``; kept by ``_first_glitch``: that flight touches the bat
+        over the interval), the ball was hit between them, and the sweep has no flight before
+        the contact to find it on (a path through sample k and those after it bends round the
+        bat; the flight after it, continued back, runs through the bat from a contact before
+        the hit to one after it). The contact is the first instant in the union interval [ta,
+        tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
+        touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``), where
+        a bat gives the push that needs (``_pushed``); the ball's velocity at the impact is
+        that ball's before the push (the fits' would reach across the contact). Only while
+        armed (that ball clear of the bat at ta). False (the interval swept as any other, the
+        arming as it was) where the rule does not hold or no such instant is in [ta, tb].
+        """
+        episodes = self.episodes
+        armed = episodes.armed
+        if self._solved_before_flight(k, ta, tb, paths, events):
+            return True
+        episodes.armed = armed  # (a path that found no hit arms nothing: ``_first_contact``)
+        return False
+
+    def _solved_before_flight(self, k: int, ta: float, tb: float, paths: Paths,
+                              events: List) -> bool:
+        """Return ``_hit_before_flight``'s answer (the detector armed where it looked)."""
+        ball, config = self.ball, self.config
+        gap = config.max_gap
+        if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
+            return False
+        flight = flight_before(ball, k, judging_noise(config), gap)
+        if flight is None:
+            return False
+        approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
+        bat_path, slack = paths[1], 0.0
+        found = self._first_contact(interval, (approach, bat_path))
+        ahead = self._bat_ahead(interval, paths, True)
+        if ahead is not None:
+            again = self._first_contact(interval, (approach, ahead[1]))
+            if again is not None:
+                found, bat_path = again, ahead[1]
+        if found is None:  # (off by the noise: within the slack that kept sample k)
+            slack = self._slack(BACK_GAIN)
+            found = self._first_contact(interval, (approach, bat_path), slack)
+        if found is None:
+            return False
+        t, hit = found
+        if not self._pushed(approach, t, hit, bat_path):
+            return False
+        # the other answers: that point leaving the bat (a push that outran the ball), or
+        # within the slack of it
+        radius = config.ball_radius + slack
+        first = self._contact(interval, (approach, bat_path), radius)
+        last = self._last_contact((t, tb), (approach, bat_path), radius)
+        spread = max(last - t, 0.0 if first is None else t - first)
+        self.episodes.impact(ball.times[k + 1])
+        incoming = approach.incoming(t)
+        self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
+        return True
+
+    @staticmethod
+    def _pushed(approach: HitApproach, t: float, hit: ImpactResult, bat_path: BatPath) -> bool:
+        """
+        Return whether a bat gives the push a hit at t (s) needs (``HitApproach.push``).
+
+        Away from the bat along the contact normal, its part across the normal at most
+        ``FRICTION`` times that, and the ball coming at the bat's surface (its velocity before
+        the push less the bat's axis's at the contact's place, along the normal) before it. A
+        glitch before the flight after a hit needs a push across the normal, or toward the bat.
+        """
+        push, normal = approach.push(t), hit.normal
+        along = dot(push, normal)
+        across = math.sqrt(max(dot(push, push) - along * along, 0.0))
+        if along <= 0.0 or across > FRICTION * along:
+            return False
+        ta, tb = max(t - SURFACE_STEP, bat_path.t0), min(t + SURFACE_STEP, bat_path.t1)
+        places = []
+        for u in (ta, tb):
+            knob, tip = bat_path.at(u)
+            places.append([k + hit.bat_fraction * (e - k) for k, e in zip(knob, tip)])
+        surface = [(b - a) / (tb - ta) for a, b in zip(*places)]
+        coming = approach.incoming(t).velocity(t)
+        return dot(tuple(c - v for c, v in zip(coming, surface)), normal) < 0.0
 
     def _flight_to_come(self, j: int) -> bool:
         """

@@ -485,6 +485,8 @@ class PendingUncertainty:
     :ivar impact: the impact as found, its uncertainties zero.
     :ivar ta, tb: its union interval (s, on ``clock``).
     :ivar hit: the ball left its free flight over the interval (``departure``).
+    :ivar spread: how far (s) the other answer of the rule that found it lies
+        (``Sweep.time_spread``), half of which the time's uncertainty holds in quadrature.
     """
 
     impact: Impact
@@ -496,6 +498,7 @@ class PendingUncertainty:
     ta: float
     tb: float
     hit: bool
+    spread: float = 0.0
 
     def measure(self) -> Impact:
         """Return the impact with its 1-sigma uncertainties (the module docstring)."""
@@ -503,11 +506,13 @@ class PendingUncertainty:
 
 
 def uncertainty_basis(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
-                      offsets: Tuple[Vector, Vector], impact: Impact) -> PendingUncertainty:
+                      offsets: Tuple[Vector, Vector], impact: Impact,
+                      spread: float = 0.0) -> PendingUncertainty:
     """
     Return what an impact's uncertainties are measured from, taken now (``PendingUncertainty``).
 
     :param config, clock, ball, bat, offsets: the detector's, as they are when it found it.
+    :param spread: how far (s) the other answer of the rule that found it lies.
     """
     ta, tb = clock.time(impact.interval_start_ns), clock.time(impact.interval_end_ns)
     hit = leaves_flight(ball, ball.interval(ta), judging_noise(config),
@@ -524,7 +529,7 @@ def uncertainty_basis(config: DetectorConfig, clock: Clock, ball: Stream, bat: S
     origin.origin = clock.origin
     return PendingUncertainty(impact, config, origin, offsets,
                               excerpt(ball, ball_first, ball_last),
-                              excerpt(bat, bat_first, bat_last), ta, tb, hit)
+                              excerpt(bat, bat_first, bat_last), ta, tb, hit, spread)
 
 
 def impact_uncertainty(config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
@@ -598,6 +603,8 @@ def _measured(pending: PendingUncertainty) -> Impact:
         uncertainty = (math.hypot(uncertainty[0], brake), uncertainty[1], uncertainty[2])
     if not all(math.isfinite(x) for x in uncertainty):
         uncertainty = (tb - ta, config.ball_radius, 0.1 * impact.sweet_spot_speed_mps)
+    if pending.spread:
+        uncertainty = (math.hypot(uncertainty[0], 0.5 * pending.spread),) + uncertainty[1:]
     return replace(impact, time_uncertainty_s=uncertainty[0],
                    distance_from_knob_uncertainty_m=uncertainty[1],
                    sweet_spot_speed_uncertainty_mps=uncertainty[2])
