@@ -58,9 +58,9 @@ class BatFrames:
         if glitch is not None:
             self._bat_glitch(glitch, last)
             return None
-        if self._early_bat_glitch(interval, bat_k, paths):
-            return None
         without, departed = self._without_departed(interval, bat_k, paths)
+        if without is not None and self._early_bat_glitch(interval, bat_k, without):
+            return None
         if departed is not None:
             self.bat_suspect = departed
         return without
@@ -71,8 +71,9 @@ class BatFrames:
         Judge the early bat frames a contact over bat interval bat_k hangs on; True: wait.
 
         Its window's frames up to ``_horizon`` among a segment's first (``bat_glitches.early``),
-        the newest first (time run backwards), where the paths with and without the frame
-        disagree over the union interval (s) (``_hangs_on``), each against the frames after it
+        the newest first (time run backwards), where ``paths`` (those to be swept: without a
+        frame that departed) and the paths without the frame disagree over the union interval
+        (s) (``_hangs_on``), each against the frames after it
         (``bat_glitches.early_glitch``): the first glitch is dropped and forgotten (True: the
         interval is to be located again). True too where those frames have not all come and the
         recording goes on (``held``: the interval waits for them).
