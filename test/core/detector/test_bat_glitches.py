@@ -208,8 +208,8 @@ def test_a_glitch_in_a_segments_first_frames_is_dropped_not_an_impact(
     A bat frame turned 10 cm toward a ball passing over, the 2nd to 8th of its bat segment.
 
     A segment's first eight frames were not judged (fewer frames before them than the rule
-    reads): the glitch stayed, and the bat's path through it met the ball (an impact on 58 of
-    240 misses at 360 Hz, ``bench_glitches.py --segment 4``; here the plane swing's at 90 Hz,
+    reads): the glitch stayed, and the bat's path through it met the ball (an impact on 128-129
+    of 480 misses at 360 Hz, ``bench_glitches.py --segment 4``; here the plane swing's at 90 Hz,
     and its and the jerky one's at 360 Hz). Now a contact that hangs on one
     waits for the frames after it and the frame is judged against them: the glitch alone is
     dropped, the miss stays a miss, and ``add_chunk`` does the same.
