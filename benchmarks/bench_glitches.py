@@ -11,7 +11,8 @@ frame deleted. Printed per rate and noise: invented impacts (on misses), hits lo
 more than 0.1 ms from the deleted-frame run, ``bat_glitch`` drops, how far each near miss is
 from the deleted-frame run's, ``bat_glitch`` drops on the same pitches without a glitch, and of
 their hits under the node's defaults those reported more than half a bat step after their
-interval closed (a hit waiting for the frame after its closing one: ``Sweep._closing_glitch``).
+interval closed (a hit waiting for the frame after its closing one: ``Sweep._closing_glitch``;
+or, at a segment's start, for the frames after an early one: ``Sweep._early_bat_glitch``).
 
 Beside frames the tracker lost: ``--lost K`` deletes the bat frame K frames from the glitch
 (-2: two before it, 1: right after it) from both runs, the glitched and the baseline (one line

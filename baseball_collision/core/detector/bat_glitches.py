@@ -105,6 +105,14 @@ UNJUDGED_REACH = 2
 beside lost frames, a segment's first), pulls the judged one's neighbours' spline off
 (``judged``): a glitch two frames before a genuine frame made it read as one."""
 
+EARLY_AFTER = SCATTER_FRAMES + 3
+"""Frames after a segment's early frame (``early``) its judgment with time run backwards reads
+(``early_glitch``): what ``judged`` reads before a frame, mirrored."""
+
+EARLY_FRAMES = SCATTER_FRAMES + 3
+"""A segment's first frames that ``judged`` cannot judge (fewer frames before them than it
+reads): its second to ``EARLY_FRAMES``-th are judged with time run backwards instead."""
+
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
 
@@ -386,6 +394,52 @@ def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: in
         if not (j + 1 < last and isolated_without(stream, j, max_gap, size, noise, last)):
             return j
     return None
+
+
+def early(stream: Stream, j: int, max_gap: float) -> bool:
+    """
+    Return whether bat frame j is among its segment's 2nd to ``EARLY_FRAMES``-th frames.
+
+    Those have too few frames before them for ``judged`` (``judgeable``) but a neighbour on
+    each side: ``early_glitch`` judges them against the frames after them.
+    """
+    start = j
+    while start > 0 and j - start < EARLY_FRAMES and stream.continuous(start - 1, max_gap):
+        start -= 1
+    return 1 <= j - start < EARLY_FRAMES and (start > 0 or stream.breaks[0])
+
+
+def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
+                 noise: float) -> Optional[bool]:
+    """
+    Return whether bat frame j, early in its segment (``early``), is a glitch; None: wait.
+
+    The mirror of ``first_glitch``'s rule: ``judged`` on its segment up to ``EARLY_AFTER``
+    frames after it with time run backwards (its departure from the bat continued back from the
+    frames after it, its isolation against theirs), and not where its previous frame stays
+    isolated without it (the glitch is that one). Reads exactly those frames (the same verdict
+    however the detector is fed). None where they have not all come (the segment's newest frame
+    is the stream's newest); False where the segment ends before them.
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    """
+    n = len(stream.times)
+    end = j
+    while end < j + EARLY_AFTER and end < n - 1 and stream.continuous(end, max_gap):
+        end += 1
+    if end < j + EARLY_AFTER:
+        return None if end == n - 1 else False
+    start = j
+    while start > 0 and stream.continuous(start - 1, max_gap):
+        start -= 1
+    backwards = Stream(stream.name)
+    backwards.noise = stream.noise
+    for i in range(end, start - 1, -1):
+        backwards.append(-stream.times[i], -stream.stamps[i], stream.values[i], False)
+    k, last = end - j, end - start
+    if not judged(backwards, k, max_gap, size, noise, last):
+        return False
+    return not (k + 1 < last and isolated_without(backwards, k, max_gap, size, noise, last))
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,

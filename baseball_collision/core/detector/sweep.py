@@ -81,7 +81,8 @@ class Sweep(BallSamples, BatFrames):
         whose first samples start no segment of the ball's).
     :ivar final: the recording ended (``Detector.finish``): nothing is waited for.
     :ivar held: the last interval visited waits for samples (``interval``): the ball's
-        (``_early_glitch``), or the bat frame after a hit's closing one (``_closing_glitch``).
+        (``_early_glitch``), the bat frame after a hit's closing one (``_closing_glitch``), or
+        the bat frames after an early one a contact hangs on (``_early_bat_glitch``).
     :ivar aside: ball samples the speed check set aside, judged again where the sample they
         were judged against is forgotten as a glitch (``BallSamples.set_aside``).
     :ivar until: the end (s) of the union interval visited last: a sample set aside is put

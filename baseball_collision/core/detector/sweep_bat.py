@@ -5,8 +5,10 @@ A part of ``sweep.Sweep`` (its base, reading the sweep's streams, configuration 
 The frames an interval near the ball reads are judged by ``bat_glitches`` (``_bat_frames``);
 a closing frame whose next has not come yet and that departed from its continuation is left
 out of the interval's path, or, where a hit's contact hangs on it, judged first, the interval
-waiting for its next frame (``_without_departed``, ``_closing_glitch``). A glitch is dropped
-as ``bat_glitch`` (a ``LateDrop``) and forgotten (``Stream.remove``).
+waiting for its next frame (``_without_departed``, ``_closing_glitch``). A segment's early
+frames a contact hangs on are judged against the frames after them, the interval waiting for
+those (``_early_bat_glitch``). A glitch is dropped as ``bat_glitch`` (a ``LateDrop``) and
+forgotten (``Stream.remove``).
 """
 
 from bisect import bisect_left
@@ -15,8 +17,9 @@ from typing import Optional, Tuple
 
 from . import bat_glitches
 from .events import DropReason, Role
-from .fitting import c2_window, stream_noise
+from .fitting import c2_bat_path, c2_window, stream_noise
 from .noise import ESTIMATES
+from .streams import excerpt
 from ..motion import BatPath, Paths
 
 CONTACT_APART = 1e-4
@@ -43,7 +46,8 @@ class BatFrames:
         (``_without_departed``: at look-ahead 0 its closing frame's next has not come yet),
         which is judged once its next frame has (``bat_suspect``); None where a hit hangs on
         that frame, which was then a glitch, forgotten, or waits for its next frame
-        (``held``: ``_closing_glitch``).
+        (``held``: ``_closing_glitch``); None too where a contact hangs on a segment's early
+        frame, a glitch or waiting for the frames after it (``_early_bat_glitch``).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
@@ -55,9 +59,76 @@ class BatFrames:
             self._bat_glitch(glitch, last)
             return None
         without, departed = self._without_departed(interval, bat_k, paths)
+        if without is not None and self._early_bat_glitch(interval, bat_k, without):
+            return None
         if departed is not None:
             self.bat_suspect = departed
         return without
+
+    def _early_bat_glitch(self, interval: Tuple[float, float], bat_k: int,
+                          paths: Paths) -> bool:
+        """
+        Judge the early bat frames a contact over bat interval bat_k hangs on; True: wait.
+
+        Its window's frames up to ``_horizon`` among a segment's first (``bat_glitches.early``),
+        the newest first (time run backwards), where ``paths`` (those to be swept: without a
+        frame that departed) and the paths without the frame disagree over the union interval
+        (s) (``_hangs_on``), each against the frames after it
+        (``bat_glitches.early_glitch``): the first glitch is dropped and forgotten (True: the
+        interval is to be located again). True too where those frames have not all come and the
+        recording goes on (``held``: the interval waits for them).
+        """
+        bat, config = self.bat, self.config
+        max_gap, size = config.max_gap, config.spline_window
+        noise, last = stream_noise(bat, config), self._horizon(bat_k)
+        for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
+            if not bat_glitches.early(bat, j, max_gap) or \
+                    not self._hangs_on(interval, j, last, paths):
+                continue
+            glitch = bat_glitches.early_glitch(bat, j, max_gap, size, noise)
+            if glitch is None and not self.final:
+                self.held = True
+                return True
+            if glitch:
+                self._bat_glitch(j, max(last, j + 1))
+                return True
+        return False
+
+    def _hangs_on(self, interval: Tuple[float, float], j: int, last: int, paths: Paths) -> bool:
+        """
+        Return whether the contact over the union interval (s) hangs on bat frame j.
+
+        The bat's ``c2`` path over the interval from its frames up to ``last`` without frame j
+        (``bat_glitches.path_without`` where j is ``last``, after the interval: the bat
+        continued; a bat path must move as a bat can, ``_plausible``), and ``paths``: one
+        touches and the other does not, or their contacts are more than ``CONTACT_APART``
+        apart. True under another model, or where there is no such path.
+        """
+        bat, config = self.bat, self.config
+        if self.model != 'c2':
+            return True
+        max_gap, size = config.max_gap, config.spline_window
+        first = max(bat.interval(interval[0]) - size - 2, 0)
+        if j <= first:
+            return True
+        noise, k = stream_noise(bat, config), bat.interval(interval[0])
+        if j == last > k:  # (the newest frame it may read: the bat continued without it)
+            path = bat_glitches.path_without(bat, k, j, max_gap, size, noise) if k >= 2 else None
+        else:
+            without = excerpt(bat, first, last)
+            without.remove(j - first)
+            k = without.interval(interval[0])
+            if k < 0 or k + 1 >= len(without.times) or not without.continuous(k, max_gap):
+                return True
+            window = c2_window(without, k, max_gap, config.look_ahead, size)
+            path = c2_bat_path(without, k, window, noise, window.stop == k + 2)
+        if path is None or not self._plausible(path):
+            return True
+        through = self._contact(interval, paths)
+        contact = self._contact(interval, (paths[0], path))
+        if through is None or contact is None:
+            return (through is None) != (contact is None)
+        return abs(through - contact) > CONTACT_APART
 
     def _horizon(self, bat_k: int) -> int:
         """

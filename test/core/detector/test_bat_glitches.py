@@ -5,7 +5,7 @@ from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, isolation, judged, lost_about, path_without, regular)
+    departed, departure, early, early_glitch, isolation, judged, lost_about, path_without, regular)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
@@ -177,6 +177,78 @@ def test_a_segments_first_frames_are_not_judged() -> None:
     bat = _turning(90.0, 10, turned=4, off=0.15)
     assert departure(bat, 4, 0.05, 8, 0.0) > 0.1
     assert not judged(bat, 4, 0.05, 8, 0.0)
+
+
+def test_a_segments_early_frames_are_judged_against_the_frames_after_them() -> None:
+    """
+    ``early_glitch``: a segment's 2nd to 8th frames, with time run backwards.
+
+    The frame moved 15 cm is a glitch once the eight frames after it have come (None before:
+    wait), and the frames beside it (which its neighbours' spline pulls) are not; on the swing
+    without it, none is. A segment's first frame and its 9th on are not early.
+    """
+    bat = _turning(90.0, 20, turned=3, off=0.15)
+    assert [early(bat, j, 0.05) for j in range(10)] == [False] + [True] * 7 + [False] * 2
+    assert early_glitch(bat, 3, 0.05, 8, 0.0) is True
+    assert [early_glitch(bat, j, 0.05, 8, 0.0) for j in (1, 2, 4, 5)] == [False] * 4
+    assert early_glitch(_turning(90.0, 11, turned=3, off=0.15), 3, 0.05, 8, 0.0) is None
+    assert early_glitch(_turning(90.0, 12, turned=3, off=0.15), 3, 0.05, 8, 0.0) is True
+    clean = _turning(90.0, 20)
+    assert not any(early_glitch(clean, j, 0.05, 8, 0.0) for j in range(1, 8))
+    gap = _turning(90.0, 20, turned=3, off=0.15)
+    gap.breaks[8] = True  # (the segment ends before the frames its judgment reads)
+    assert early_glitch(gap, 3, 0.05, 8, 0.0) is False
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('rate, noise_m', [(90.0, 0.0), (360.0, 0.0), (360.0, 1e-3)])
+def test_a_glitch_in_a_segments_first_frames_is_dropped_not_an_impact(
+        config: DetectorConfig, rate: float, noise_m: float) -> None:
+    """
+    A bat frame turned 10 cm toward a ball passing over, the 2nd to 8th of its bat segment.
+
+    A segment's first eight frames were not judged (fewer frames before them than the rule
+    reads): the glitch stayed, and the bat's path through it met the ball (an impact on 128-129
+    of 480 misses at 360 Hz, ``bench_glitches.py --segment 4``; here the plane swing's at 90 Hz,
+    and its and the jerky one's at 360 Hz). Now a contact that hangs on one
+    waits for the frames after it and the frame is judged against them: the glitch alone is
+    dropped, the miss stays a miss, and ``add_chunk`` does the same.
+    """
+    judged = 0
+    for family, segment, offset in (('plane', 6, 0), ('plane', 4, -1), ('jerky', 2, -1),
+                                    ('braking', 6, 0), ('rebound', 8, 1)):
+        scenario, samples = _scene('miss_over', 3, rate, noise_m, family=family)
+        j = _closest_frame(scenario, samples) + offset
+        glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
+        stamp = int(samples.bat_stamps_ns[j])
+        gapped = _lost_before(glitched, j, j - segment, int(math.ceil(0.06 * rate)))
+        detector, late, events = Detector(config), [], []
+        for stamp_ns, role, values in gapped.messages(config.bat_input):
+            events += detector.add(role, stamp_ns, values)
+            late += detector.stats.late_drops
+        events += detector.finish()
+        late += detector.stats.late_drops
+        assert not any(isinstance(event, Impact) for event in events), (family, segment)
+        assert [drop.stamp_ns for drop in late] in ([], [stamp]), (family, segment)
+        judged += len(late)
+        if family == 'plane':
+            dropped, _ = _alike_in_chunks(config, gapped)
+            assert dropped.get('bat_glitch', 0) == len(late)
+    assert judged >= 1  # (a glitch the ball's path does not reach is not judged: no contact)
+
+
+def test_genuine_frames_after_a_bat_gap_stay() -> None:
+    """The bat re-acquired 1-8 frames before the contact: no frame dropped, the same hit."""
+    for rate in (90.0, 360.0):
+        for family in ('rebound', 'braking', 'jerky'):
+            scenario, samples = _scene('barrel', 1, rate, 1e-3, family=family)
+            j = _closest_frame(scenario, samples)
+            for segment in (2, 5, 8):
+                gapped = _lost_before(samples, j, j - segment, int(math.ceil(0.06 * rate)))
+                for config in (NODE, OFFLINE):
+                    detector, events = _run(config, gapped, 'pose')
+                    assert 'bat_glitch' not in detector.stats.dropped, (rate, family, segment)
+                    assert sum(isinstance(event, Impact) for event in events) == 1
 
 
 def test_steps_are_regular_unless_a_frame_was_lost() -> None:
