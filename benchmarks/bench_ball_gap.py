@@ -39,7 +39,9 @@ from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, Sample
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / 'test'))
 from bench_accuracy import dropped_ball  # noqa: E402, I100
+from support.events import on_bat_axis  # noqa: E402, I100
 
 HITS = ('barrel', 'end_cap', 'handle')
 MISSES = ('miss_over', 'miss_under')
@@ -120,18 +122,6 @@ def first_after_gap(samples: Samples, gapped: Samples) -> int:
     return int(np.argmax(steps)) + 1
 
 
-def glitched(samples: Samples, k: int, distance: float) -> Samples:
-    """Return ``samples`` with ball sample k ``distance`` (m) from the nearest bat frame's axis."""
-    j = int(np.argmin(np.abs(samples.bat_stamps_ns - samples.ball_stamps_ns[k])))
-    knob, axis = samples.knobs[j], samples.tips[j] - samples.knobs[j]
-    moved = replace(samples, ball_positions=samples.ball_positions.copy())
-    along = np.clip((moved.ball_positions[k] - knob) @ axis / (axis @ axis), 0.0, 1.0)
-    nearest = knob + along * axis
-    offset = moved.ball_positions[k] - nearest
-    moved.ball_positions[k] = nearest + distance * offset / np.linalg.norm(offset)
-    return moved
-
-
 def without_ball(samples: Samples, k: int) -> Samples:
     """Return ``samples`` without ball sample k."""
     keep = np.ones(len(samples.ball_stamps_ns), bool)
@@ -185,7 +175,7 @@ def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
                                     moved.append(abs(at - reference) * 1e-3)
                         k = first_after_gap(samples, gapped)
                         for distance in GLITCH_M:
-                            bad = glitched(gapped, k, distance)
+                            bad = on_bat_axis(gapped, k, distance)
                             events, drops, same = run(config, bad, chunks)
                             tally['chunks differ'] += same is False
                             stamps = impact_stamps(events)
