@@ -20,7 +20,7 @@ from .config import DetectorConfig
 from .departure import (
     DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, flight_path, glitch_path, judging_noise,
     leaves_flight)
-from .episodes import EpisodeTracker, lowest_gap, State
+from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
@@ -43,10 +43,6 @@ continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
 0.02 mm): about 5 chords a sub-step, only at impacts (``Sweep._refined``)."""
-
-TOUCH_SLACK = 1e-7
-"""m: how much more than its closest approach's gap a ball is grown to touch the bat there
-(``Sweep._first_contact``: the contact of a path that comes within a slack of the bat)."""
 
 ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
@@ -296,76 +292,6 @@ class Sweep(BallSamples, BatFrames):
                 return start.t + hit.time
             start = end
         return None
-
-    def _first_contact(self, interval: Tuple[float, float], paths: Paths,
-                       slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
-        """
-        Return when (s) ``paths`` first touch over the interval while armed, and the contact.
-
-        The sweep's sub-steps (``_contact``'s), the one that touches solved again in finer
-        chords (``_refined``). Where none touches, the closest approach where it is within
-        ``slack`` (m) of the bat (``episodes.lowest_gap`` over the sub-steps beside the
-        smallest gap at their ends): the contact of a ball grown by that gap. None where they
-        do not touch (nor come that near), touch at the interval's start, or the detector is
-        not armed there (``EpisodeTracker.arm``: it arms where the ball is clear of the bat).
-        """
-        ta, tb = interval
-        config = self.config
-        start = self._state_at(ta, paths)
-        if not self.episodes.arm(self._gap_at(start), ta):
-            return None
-        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
-                         config.max_chord_error)
-        self.stats.substeps += n
-        states, gaps = [start], [self._gap_at(start)]
-        for j in range(1, n + 1):
-            end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
-            hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
-                                  config.ball_radius, config.profile, end.t - start.t)
-            if hit is not None:
-                if hit.initially_overlapping:
-                    return None
-                found = self._refined(start, end, paths)
-                return found if found is not None else (start.t + hit.time, hit)
-            states.append(end)
-            gaps.append(profile_gap(end.ball, end.knob, end.tip, config.ball_radius,
-                                    config.profile)[0])
-            start = end
-        if slack <= 0.0:
-            return None
-        m = gaps.index(min(gaps))
-        steps = [(states[i], states[i + 1]) for i in (m - 1, m) if 0 <= i < n]
-        nearest, (a, b) = min(((lowest_gap(a, b, config.ball_radius, config.profile), (a, b))
-                               for a, b in steps), key=lambda pair: pair[0].gap)
-        if nearest.gap > slack:
-            return None
-        hit = profile_contact(a.ball, b.ball, a.tip, b.tip, a.knob, b.knob,
-                              config.ball_radius + nearest.gap + TOUCH_SLACK, config.profile,
-                              b.t - a.t)
-        return None if hit is None or hit.initially_overlapping else (a.t + hit.time, hit)
-
-    def _last_contact(self, interval: Tuple[float, float], paths: Paths,
-                      radius: float) -> float:
-        """
-        Return when (s) ``paths`` last touch over the interval (its end where they touch there).
-
-        The sweep's sub-steps run backwards from the interval's end, the first whose chords
-        touch (``toi.profile_contact`` with time reversed, the ball's radius ``radius``, m) at
-        its contact; the interval's start where none does.
-        """
-        ta, tb = interval
-        config = self.config
-        later = self._state_at(tb, paths)
-        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
-                         config.max_chord_error)
-        for j in range(1, n + 1):
-            earlier = self._state_at(ta if j == n else tb - (tb - ta) * j / n, paths)
-            hit = profile_contact(later.ball, earlier.ball, later.tip, earlier.tip, later.knob,
-                                  earlier.knob, radius, config.profile, later.t - earlier.t)
-            if hit is not None:
-                return later.t - hit.time
-            later = earlier
-        return ta
 
     def _estimates(self, located: Tuple[int, int]) -> None:
         """

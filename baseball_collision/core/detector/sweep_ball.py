@@ -9,16 +9,18 @@ too (``_first_glitch``, ``_inside_bat``), the interval near the bat that reaches
 for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a ``LateDrop``)
 and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
 next, which no flight before it finds, is solved from that sample and the flight after it
-(``_hit_before_flight``).
+(``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
+its last one the other answer, ``_last_contact``).
 """
 
 from bisect import bisect_left
 import math
-from typing import List, NamedTuple, Optional
+from typing import List, NamedTuple, Optional, Tuple
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
+from .episodes import lowest_gap
 from .events import DropReason, Role
 from .fitting import stream_noise
 from .gate import within_speed
@@ -26,8 +28,8 @@ from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
-from ..motion import BatPath, Paths
-from ..toi import ImpactResult, profile_gap
+from ..motion import BatPath, Paths, substeps_for
+from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
 """The noise gain of a parabola through three samples continued one step back (Lagrange's
@@ -45,6 +47,11 @@ ASIDE_MAX = 4
 """Ball samples the speed check keeps aside at most (``BallSamples.set_aside``): a glitch
 makes one or two (``gate.SPEED_DROPS_TO_JUMP``: the third in a row is taken); beyond them the
 oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."""
+
+
+TOUCH_SLACK = 1e-7
+"""m: how much more than its closest approach's gap a ball is grown to touch the bat there
+(``BallSamples._first_contact``: the contact of a path that comes within a slack of the bat)."""
 
 
 class Aside(NamedTuple):
@@ -193,6 +200,76 @@ class BallSamples:
         incoming = approach.incoming(t)
         self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
         return True
+
+    def _first_contact(self, interval: Tuple[float, float], paths: Paths,
+                       slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
+        """
+        Return when (s) ``paths`` first touch over the interval while armed, and the contact.
+
+        The sweep's sub-steps (``_contact``'s), the one that touches solved again in finer
+        chords (``_refined``). Where none touches, the closest approach where it is within
+        ``slack`` (m) of the bat (``episodes.lowest_gap`` over the sub-steps beside the
+        smallest gap at their ends): the contact of a ball grown by that gap. None where they
+        do not touch (nor come that near), touch at the interval's start, or the detector is
+        not armed there (``EpisodeTracker.arm``: it arms where the ball is clear of the bat).
+        """
+        ta, tb = interval
+        config = self.config
+        start = self._state_at(ta, paths)
+        if not self.episodes.arm(self._gap_at(start), ta):
+            return None
+        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
+                         config.max_chord_error)
+        self.stats.substeps += n
+        states, gaps = [start], [self._gap_at(start)]
+        for j in range(1, n + 1):
+            end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
+            hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
+                                  config.ball_radius, config.profile, end.t - start.t)
+            if hit is not None:
+                if hit.initially_overlapping:
+                    return None
+                found = self._refined(start, end, paths)
+                return found if found is not None else (start.t + hit.time, hit)
+            states.append(end)
+            gaps.append(profile_gap(end.ball, end.knob, end.tip, config.ball_radius,
+                                    config.profile)[0])
+            start = end
+        if slack <= 0.0:
+            return None
+        m = gaps.index(min(gaps))
+        steps = [(states[i], states[i + 1]) for i in (m - 1, m) if 0 <= i < n]
+        nearest, (a, b) = min(((lowest_gap(a, b, config.ball_radius, config.profile), (a, b))
+                               for a, b in steps), key=lambda pair: pair[0].gap)
+        if nearest.gap > slack:
+            return None
+        hit = profile_contact(a.ball, b.ball, a.tip, b.tip, a.knob, b.knob,
+                              config.ball_radius + nearest.gap + TOUCH_SLACK, config.profile,
+                              b.t - a.t)
+        return None if hit is None or hit.initially_overlapping else (a.t + hit.time, hit)
+
+    def _last_contact(self, interval: Tuple[float, float], paths: Paths,
+                      radius: float) -> float:
+        """
+        Return when (s) ``paths`` last touch over the interval (its end where they touch there).
+
+        The sweep's sub-steps run backwards from the interval's end, the first whose chords
+        touch (``toi.profile_contact`` with time reversed, the ball's radius ``radius``, m) at
+        its contact; the interval's start where none does.
+        """
+        ta, tb = interval
+        config = self.config
+        later = self._state_at(tb, paths)
+        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
+                         config.max_chord_error)
+        for j in range(1, n + 1):
+            earlier = self._state_at(ta if j == n else tb - (tb - ta) * j / n, paths)
+            hit = profile_contact(later.ball, earlier.ball, later.tip, earlier.tip, later.knob,
+                                  earlier.knob, radius, config.profile, later.t - earlier.t)
+            if hit is not None:
+                return later.t - hit.time
+            later = earlier
+        return ta
 
     @staticmethod
     def _pushed(approach: HitApproach, t: float, hit: ImpactResult, bat_path: BatPath) -> bool:
