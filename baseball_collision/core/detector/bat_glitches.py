@@ -44,7 +44,7 @@ import math
 from typing import List, Optional, Tuple
 
 from .fitting import c2_bat_ahead, c2_bat_continued, c2_bat_path, c2_window
-from .streams import excerpt, Stream
+from .streams import excerpt, reversed_excerpt, Stream
 from ..motion import BatPath
 
 BAT_GLITCH_FLOOR = 0.05
@@ -432,10 +432,8 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
     start = j
     while start > 0 and stream.continuous(start - 1, max_gap):
         start -= 1
-    backwards = Stream(stream.name)
+    backwards = reversed_excerpt(stream, start, end)
     backwards.noise = stream.noise
-    for i in range(end, start - 1, -1):
-        backwards.append(-stream.times[i], -stream.stamps[i], stream.values[i], False)
     k, last = end - j, end - start
     if not judged(backwards, k, max_gap, size, noise, last):
         return False

@@ -32,7 +32,7 @@ from typing import Any, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .streams import Stream
+from .streams import reversed_excerpt, Stream
 from ..geometry import Vector
 from ..motion import PointPath
 from ..toi import _kernel
@@ -343,10 +343,7 @@ def _backwards(stream: Stream, k: int, stop: int, max_gap: float) -> Stream:
     while last < min(stop, len(stream.times) - 1) and \
             stream.continuous(last, max_gap):
         last += 1
-    backwards = Stream(stream.name)
-    for j in range(last, k - 1, -1):
-        backwards.append(-stream.times[j], -stream.stamps[j], stream.values[j], False)
-    return backwards
+    return reversed_excerpt(stream, k, last)
 
 
 HIT_BEND = 200.0

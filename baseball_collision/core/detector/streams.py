@@ -254,3 +254,17 @@ def excerpt(stream: Stream, first: int, last: int) -> Stream:
         else:
             copy.turns = [_ZERO_TURN if broken else None for broken in copy.breaks]
     return copy
+
+
+def reversed_excerpt(stream: Stream, first: int, last: int) -> Stream:
+    """
+    Return a new stream of samples last..first of ``stream``, the latest first (one segment).
+
+    Times and stamps negated: the samples with time run backwards, whose departures and
+    splines are those of the motion run backwards (a segment judged from its end). Its noise is
+    left unset (the caller's to say).
+    """
+    backwards = Stream(stream.name)
+    for j in range(last, first - 1, -1):
+        backwards.append(-stream.times[j], -stream.stamps[j], stream.values[j], False)
+    return backwards

@@ -3,7 +3,7 @@
 import math
 from typing import Callable, List, Optional, Set, Tuple
 
-from baseball_collision.core.detector.streams import MAX_HISTORY, Stream
+from baseball_collision.core.detector.streams import MAX_HISTORY, reversed_excerpt, Stream
 from baseball_collision.core.motion import BatSample
 from hypothesis import given, settings, strategies as st
 import numpy as np
@@ -242,3 +242,16 @@ def test_the_kernels_turns_are_the_python_sums(seed: int, n: int, posed: bool,
         _kernel.fill_turns(values, mine, 0, n)
     with pytest.raises(TypeError):
         _kernel.fill_turns(tuple(values), mine, 0, 0)
+
+
+def test_a_reversed_excerpt_runs_the_samples_backwards() -> None:
+    """Samples last..first, the latest first, times and stamps negated, one segment."""
+    stream = Stream('ball')
+    for i in range(6):
+        stream.append(0.01 * i, 1_000 * i, (float(i), 0.0, 0.0), i == 3)
+    backwards = reversed_excerpt(stream, 1, 4)
+    assert backwards.times == [-0.04, -0.03, -0.02, -0.01]
+    assert backwards.stamps == [-4_000, -3_000, -2_000, -1_000]
+    assert [value[0] for value in backwards.values] == [4.0, 3.0, 2.0, 1.0]
+    assert backwards.breaks == [True, False, False, False]
+    assert stream.times[1:5] == [0.01, 0.02, 0.03, 0.04]  # (the stream as it was)
