@@ -124,11 +124,7 @@ class BatFrames:
             path = c2_bat_path(without, k, window, noise, window.stop == k + 2)
         if path is None or not self._plausible(path):
             return True
-        through = self._contact(interval, paths)
-        contact = self._contact(interval, (paths[0], path))
-        if through is None or contact is None:
-            return (through is None) != (contact is None)
-        return abs(through - contact) > CONTACT_APART
+        return _disagree(self._contact(interval, paths), self._contact(interval, (paths[0], path)))
 
     def _horizon(self, bat_k: int) -> int:
         """
@@ -177,8 +173,7 @@ class BatFrames:
                 contact = self._contact(interval, without)
                 if through is None and contact is None:
                     return without, bat.stamps[j]
-                if j == horizon and (through is None or contact is None
-                                     or abs(through - contact) > CONTACT_APART):
+                if j == horizon and _disagree(through, contact):  # (both None: above)
                     if self._closing_glitch(j):
                         return None, None
                     break  # (no glitch: the hit, or the miss, on the path through it)
@@ -257,3 +252,15 @@ class BatFrames:
         self.stats.drop_late(role, DropReason.BAT_GLITCH, bat.stamps[j], self.frame_of() or '')
         del bat.aligned.get(bat_glitches.CLEAN, [])[max(j - 2, 0):]  # (they read frame j)
         bat.remove(j, (ESTIMATES,))
+
+
+def _disagree(through: Optional[float], without: Optional[float]) -> bool:
+    """
+    Return whether two paths' contacts (s; None: none) disagree about a hit.
+
+    One touches and the other does not, or their contacts are more than ``CONTACT_APART``
+    apart (a frame a contact hangs on: ``_without_departed``, ``_hangs_on``).
+    """
+    if through is None or without is None:
+        return (through is None) != (without is None)
+    return abs(through - without) > CONTACT_APART
