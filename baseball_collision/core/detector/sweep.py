@@ -271,25 +271,29 @@ class Sweep(BallSamples, BatFrames):
             earlier, previous, gap_previous = previous, state, gap
 
     def _contact(self, interval: Tuple[float, float], paths: Paths,
-                 radius: Optional[float] = None) -> Optional[float]:
+                 radius: Optional[float] = None, backwards: bool = False) -> Optional[float]:
         """
         Return when (s) ``paths`` first touch in the sub-steps a sweep of the interval cuts.
 
         The first sub-step whose chords touch (``toi.profile_contact``), at its contact; None
-        where none does. ``radius``: the ball's (m; None: ``ball_radius``).
+        where none does. ``radius``: the ball's (m; None: ``ball_radius``). ``backwards``: the
+        sub-steps run from the interval's end, time reversed: when they last touch.
         """
         ta, tb = interval
         config = self.config
         radius = config.ball_radius if radius is None else radius
         n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
                          config.max_chord_error)
-        start = self._state_at(ta, paths)
+        start = self._state_at(tb if backwards else ta, paths)
         for j in range(1, n + 1):
-            end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
+            if backwards:
+                end = self._state_at(ta if j == n else tb - (tb - ta) * j / n, paths)
+            else:
+                end = self._state_at(tb if j == n else ta + (tb - ta) * j / n, paths)
             hit = profile_contact(start.ball, end.ball, start.tip, end.tip, start.knob, end.knob,
-                                  radius, config.profile, end.t - start.t)
+                                  radius, config.profile, abs(end.t - start.t))
             if hit is not None:
-                return start.t + hit.time
+                return start.t - hit.time if backwards else start.t + hit.time
             start = end
         return None
 

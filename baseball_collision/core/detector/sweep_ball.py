@@ -10,7 +10,7 @@ for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a
 and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
 next, which no flight before it finds, is solved from that sample and the flight after it
 (``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
-its last one the other answer, ``_last_contact``).
+its last one the other answer).
 """
 
 from bisect import bisect_left
@@ -28,7 +28,7 @@ from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
-from ..motion import BatPath, Paths, substeps_for
+from ..motion import BatPath, Paths, PointPath, substeps_for
 from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
@@ -168,10 +168,7 @@ class BallSamples:
                               events: List) -> bool:
         """Return ``_hit_before_flight``'s answer (the detector armed where it looked)."""
         ball, config = self.ball, self.config
-        gap = config.max_gap
-        if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
-            return False
-        flight = flight_before(ball, k, judging_noise(config), gap)
+        flight = self._flight_after_start(k)
         if flight is None:
             return False
         approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
@@ -194,8 +191,8 @@ class BallSamples:
         # within the slack of it
         radius = config.ball_radius + slack
         first = self._contact(interval, (approach, bat_path), radius)
-        last = self._last_contact((t, tb), (approach, bat_path), radius)
-        spread = max(last - t, 0.0 if first is None else t - first)
+        last = self._contact((t, tb), (approach, bat_path), radius, backwards=True)
+        spread = max(0.0 if last is None else last - t, 0.0 if first is None else t - first)
         self.episodes.impact(ball.times[k + 1])
         incoming = approach.incoming(t)
         self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
@@ -247,29 +244,6 @@ class BallSamples:
                               config.ball_radius + nearest.gap + TOUCH_SLACK, config.profile,
                               b.t - a.t)
         return None if hit is None or hit.initially_overlapping else (a.t + hit.time, hit)
-
-    def _last_contact(self, interval: Tuple[float, float], paths: Paths,
-                      radius: float) -> float:
-        """
-        Return when (s) ``paths`` last touch over the interval (its end where they touch there).
-
-        The sweep's sub-steps run backwards from the interval's end, the first whose chords
-        touch (``toi.profile_contact`` with time reversed, the ball's radius ``radius``, m) at
-        its contact; the interval's start where none does.
-        """
-        ta, tb = interval
-        config = self.config
-        later = self._state_at(tb, paths)
-        n = substeps_for(paths[0].deviation(ta, tb) + paths[1].deviation(ta, tb),
-                         config.max_chord_error)
-        for j in range(1, n + 1):
-            earlier = self._state_at(ta if j == n else tb - (tb - ta) * j / n, paths)
-            hit = profile_contact(later.ball, earlier.ball, later.tip, earlier.tip, later.knob,
-                                  earlier.knob, radius, config.profile, later.t - earlier.t)
-            if hit is not None:
-                return later.t - hit.time
-            later = earlier
-        return ta
 
     @staticmethod
     def _pushed(approach: HitApproach, t: float, hit: ImpactResult, bat_path: BatPath) -> bool:
@@ -451,10 +425,20 @@ class BallSamples:
         a genuine rebound's frame (``_judged_glitch``). (A first sample that left it where
         that flight does not touch the bat was dropped as a glitch: ``_first_glitch``.)
         """
+        return any(j >= 0 and self._flight_after_start(j) is not None for j in samples)
+
+    def _flight_after_start(self, k: int) -> Optional[PointPath]:
+        """
+        Return the flight after ball sample k where k, its segment's first or second, left it.
+
+        ``departure.flight_before``: the free flight of the samples after k continued back over
+        interval k, where sample k is off it (a hit between k and k + 1, or a glitch); None
+        where k is later in its segment or on that flight.
+        """
         ball, gap = self.ball, self.config.max_gap
-        return any(j >= 0 and (_starts(ball, j, gap) or _young(ball, j, gap) and _starts(
-            ball, j - 1, gap)) and flight_before(ball, j, judging_noise(self.config), gap)
-            is not None for j in samples)
+        if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
+            return None
+        return flight_before(ball, k, judging_noise(self.config), gap)
 
     def _forget_glitches(self) -> None:
         """
