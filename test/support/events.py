@@ -79,14 +79,17 @@ Row = Tuple[str, int, Tuple[float, ...], str]
 
 
 def glitched_pitch(kind: str, family: str, seed: int, rate: float, frame: int,
-                   noise_m: float = 0.0, turn: float = 0.2) -> Tuple[List[Row], int]:
+                   noise_m: float = 0.0, turn: float = 0.2,
+                   stamp_off_s: float = 0.0) -> Tuple[List[Row], int]:
     """
     Return a pitch's rows with one bat frame turned toward the ball, and its closest stamp.
 
     The ``sim`` scenario of ``kind`` and ``family`` (``default_rng(1000 * seed + 17)``, lead
     0.4 s) sampled at ``rate`` (Hz) with ``noise_m`` (m) and 0.2 ms of jitter; the bat frame
     ``frame`` frames after the one nearest the contact (a miss: the closest approach) turned
-    ``turn`` (m) at the tip toward the ball sample nearest it. The stamp is ns.
+    ``turn`` (m) at the tip toward the ball sample nearest it, or, with ``stamp_off_s`` (s),
+    stamped that much off instead (its pose right).
+    The stamp is ns.
     """
     rng = np.random.default_rng(1000 * seed + 17)
     scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
@@ -96,8 +99,13 @@ def glitched_pitch(kind: str, family: str, seed: int, rate: float, frame: int,
                                      * 1e9)
     j = int(np.argmin(np.abs(samples.bat_stamps_ns - closest))) + frame
     nearest = np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])
-    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[int(np.argmin(nearest))],
-                                             turn)
+    if stamp_off_s:
+        stamps = samples.bat_stamps_ns.copy()
+        stamps[j] += int(round(stamp_off_s * 1e9))
+        glitched = replace(samples, bat_stamps_ns=stamps)
+    else:
+        glitched = samples.with_bat_frame_turned(
+            j, samples.ball_positions[int(np.argmin(nearest))], turn)
     return [(role, stamp, values, 'world') for stamp, role, values in glitched.messages()], \
         closest
 

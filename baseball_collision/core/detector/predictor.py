@@ -13,11 +13,16 @@ judged yet: a ball sample off the free flight of the samples before it
 (``departure.leaves_flight``, the sweep's own rule: a tracker's glitch, dropped as
 ``ball_glitch`` once the next sample has come, or the ball leaving the bat), or a bat frame a
 glitch's distance off the forecast of the frames before it, the frame before on it
-(``Predictor._bat_departed``: a glitch or a frame stamped milliseconds off, which the sweep
+(``Predictor._bat_off``: a glitch or a frame stamped milliseconds off, which the sweep
 judges only once the ball is near the bat). Where a contact is found or a prediction is in
 force (for the bat: where the frame would change what is shown), such a frame predicts
 nothing: the prediction in force stays, and the next frame predicts, so a glitch neither shows
-a contact the pitch does not have, nor moves or withdraws one.
+a contact the pitch does not have, nor moves or withdraws one. A newest bat frame off the
+forecast through the frame before it and on the one without that frame (a frame stamped
+milliseconds off, its pose right, bends the forecasts through it without being a glitch's
+distance off) predicts from its forecast without the frame before (``Predictor._bat_off``:
+``BEFORE``), where it would change what is shown or the stamps about that frame break their
+cadence; the sweep still reads the frame.
 
 A glitch further back in the bat's forecast window would bend the fit of every forecast after
 it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that
@@ -58,8 +63,17 @@ STEP_ROWS = 'step_rows'
 
 BAT_CHECK_MOVE = 0.002
 """s: a prediction in force whose instant a frame moves by less than this is not checked for a
-bat frame off the swing (``Predictor._bat_departed``, 9 us at 1 kHz): consecutive predictions
+bat frame off the swing (``Predictor._bat_off``, 9 us at 1 kHz): consecutive predictions
 10 ms apart move by a median 0.4-0.7 ms on a tracked swing at 360 Hz with 1 mm of noise."""
+
+BEFORE_OFF = 1.5
+"""How many times nearer the forecast without the frame before it than the one through it a
+bat frame off the latter lands where that frame before is taken as off (``Predictor._bat_off``;
+``bench_prediction.py --faults``: 2 lost 20 ms ahead that the pitch without the frame keeps,
+of 252 hits at 90 Hz with 1 mm of noise, against 7 at 2 times and 15 at 3)."""
+
+NEWEST, BEFORE = 'newest', 'before'
+"""``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, or the one before."""
 
 PREDICTION_DEGREE = 3
 """Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
@@ -99,7 +113,7 @@ class Predictor:
         # drops and forgets bat frame j, a glitch judged from the samples up to a last one
         # (the sweep's ``_bat_glitch``); None: the forecast's frames are not judged
         self.drop_bat: Optional[Callable[[int, int], None]] = None
-        # the time (s) of a newest bat frame that held a prediction (``_bat_departed``), not
+        # the time (s) of a newest bat frame that held a prediction (``_bat_off``), not
         # judged yet: the frames after it judge it whatever they show (``_bat_glitch_dropped``)
         self.suspect: Optional[float] = None
 
@@ -149,10 +163,12 @@ class Predictor:
         a contact is found or a prediction is in force and the ball's forecast starts from a
         sample off its free flight (``_ball_departed``), or the frame would change what is
         shown (``_shown_changes``) and the bat's starts from a frame off the swing
-        (``_bat_departed``: that frame is then ``suspect``); the next frame is then due. The
-        bat's turns are summed over the forecast's own window (``_bat_forecast``), whose frames
-        are judged first where the frame would change what is shown or a frame is suspect
-        (``_bat_glitch_dropped``: a glitch dropped, the bat forecast again without it).
+        (``_bat_off``: ``NEWEST``, that frame is then ``suspect``); the next frame is then due.
+        Where the frame before the bat's newest is off instead (``BEFORE``), the bat is
+        forecast again without it. The bat's turns are summed over the forecast's own window
+        (``_bat_forecast``), whose frames are judged first where the frame would change what
+        is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped, the bat
+        forecast again without it).
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -176,8 +192,15 @@ class Predictor:
                 self.suspect = None  # (nothing forecast: no frame awaits a judgment)
             elif found is not None or self.predicting:
                 held = self._ball_departed()
-                if not held and self._shown_changes(found) and self._bat_departed():
+                off = None if held or planned else self._bat_off(found)
+                if off is NEWEST:
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
+                elif off is BEFORE:  # (forecast without it)
+                    without = self._bat_numbers(*self._bat_window, self._bat_window[1] - 2)
+                    if without is not None:
+                        bat_args, found = without, contact_of(
+                            ball, without, t0, config.prediction_horizon, config.ball_radius,
+                            config.profile, self._tolerance)
                 if held:
                     self.last_ns = last_ns  # (no frame that predicted: the next one is due)
                     return
@@ -257,39 +280,87 @@ class Predictor:
         return found is None or not self.predicting or \
             abs(found[0] - self._instant) >= BAT_CHECK_MOVE
 
-    def _bat_departed(self) -> bool:
+    def _bat_off(self, found: Optional[Tuple[float, ImpactResult]]) -> Optional[str]:
         """
-        Return whether the extrapolated bat's newest frame, and not the one before, left the swing.
+        Return which of the extrapolated bat's newest frames is off the swing, if one is.
 
-        Left: more than a bat glitch's least distance (``bat_glitches.glitch_floor`` of the
-        stream's noise: 5 cm or more) from the bat forecast from the frames before it (the
-        forecast's own fit, one frame shorter; knob or tip). A swing's own frames land within
-        2.8 cm of it at 90 Hz and 3.6 cm at 360 Hz with 1 mm of noise, a frame turned 10 cm at
-        the tip 8.3 cm or more away. Not where the frame before left it too: the fit through
-        that one misses the newest (the sweep judges a bat frame only near the ball, so a
-        glitch may stay in the window for tens of milliseconds). Nor where the newest frame's
-        step is more than ``bat_glitches.REGULAR_STEP`` times the step before it: after a
-        frame lost or dropped (a glitch or a frame stamped milliseconds off that this frame's
-        judgment dropped, ``_bat_glitch_dropped``) the forecast reaches over two steps, and
-        a swing's own frame lands centimetres off it.
+        ``NEWEST``: the newest frame, and not the one before, left the swing: it is more than a
+        bat glitch's least distance (``bat_glitches.glitch_floor`` of the stream's noise: 5 cm
+        or more) from the bat forecast from the frames before it (the forecast's own fit, one
+        frame shorter; knob or tip), and no nearer the forecast without the frame before
+        (below). A swing's own frames land within 2.8 cm of it at 90 Hz and 3.6 cm at 360 Hz
+        with 1 mm of noise, a frame turned 10 cm at the tip 8.3 cm or more away. Not where the
+        frame before left it too: the fit through that one misses the newest (the sweep judges
+        a bat frame only near the ball, so a glitch may stay in the window for tens of
+        milliseconds). Nor where the newest frame's step is more than
+        ``bat_glitches.REGULAR_STEP`` times the step before it: after a frame lost or dropped
+        (a glitch that this frame's judgment dropped, ``_bat_glitch_dropped``) the forecast
+        reaches over two steps, and a swing's own frame lands centimetres off it. Judged only
+        where the frame would change what is shown (``_shown_changes``; ``found``:
+        ``contact_of``'s result).
+
+        ``BEFORE``: the frame before the newest is off, the newest not: the newest is that far
+        from the forecast through it, and ``BEFORE_OFF`` times nearer the forecast from the
+        frames before them both (a frame stamped milliseconds off, its pose right, or a glitch
+        not judged yet, bends the first and not the second). Judged where the frame would
+        change what is shown, or where one of the two steps about the frame before is more than
+        ``REGULAR_STEP`` times the other (a stamp off the stream's cadence), with 6 frames or
+        more in the window.
+
+        None: neither (or fewer than 5 frames).
         """
         first, end = self._bat_window
+        if end - first < 5:
+            return None
         times = self.bat.times
-        return end - first >= 5 and times[end - 1] - times[end - 2] <= REGULAR_STEP * (
-            times[end - 2] - times[end - 3]) and self._bat_leaves(first, end) and \
-            not self._bat_leaves(first, end - 1)
+        before, after = times[end - 2] - times[end - 3], times[end - 1] - times[end - 2]
+        shown = self._shown_changes(found)
+        if not shown and max(before, after) <= REGULAR_STEP * min(before, after):
+            return None
+        miss = self._bat_miss(first, end)
+        if miss <= glitch_floor(stream_noise(self.bat, self._config)):
+            return None
+        if end - first >= 6 and BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss:
+            return BEFORE
+        if shown and after <= REGULAR_STEP * before and not self._bat_leaves(first, end - 1):
+            return NEWEST
+        return None
 
     def _bat_leaves(self, first: int, end: int) -> bool:
         """Return whether bat frame end - 1 left the forecast of frames [first, end - 1)."""
-        bat, config = self.bat, self._config
-        before = bat_window_numbers(bat.times, bat.values, bat.aligned[STEP_ROWS], first,
-                                    end - 1, min(config.velocity_degree, PREDICTION_DEGREE))
+        return self._bat_miss(first, end) > glitch_floor(stream_noise(self.bat, self._config))
+
+    def _bat_miss(self, first: int, end: int, without: Optional[int] = None) -> float:
+        """
+        Return how far (m) bat frame end - 1 is from the forecast of frames [first, end - 1).
+
+        The larger of the knob's and the tip's distances; ``without``: the forecast of those
+        frames but that one (``_bat_numbers``). 0 where the fit is rank deficient.
+        """
+        bat = self.bat
+        before = self._bat_numbers(first, end - 1, without)
         if before is None:
-            return False
+            return 0.0
         knob, tip = states_of(None, before, bat.times[end - 1])[2:]
         newest = bat.values[end - 1]
-        return max(math.dist(knob, newest.knob), math.dist(tip, newest.tip)) > glitch_floor(
-            stream_noise(bat, config))
+        return max(math.dist(knob, newest.knob), math.dist(tip, newest.tip))
+
+    def _bat_numbers(self, first: int, end: int,
+                     without: Optional[int] = None) -> Optional[Tuple[float, ...]]:
+        """
+        Return the bat forecast from frames [first, end), but frame ``without`` if given.
+
+        As the kernel's 21 numbers (``prediction.bat_window_numbers``; the frames but one
+        fitted from lists of their own, their steps made afresh); None: a rank-deficient fit.
+        """
+        bat = self.bat
+        degree = min(self._config.velocity_degree, PREDICTION_DEGREE)
+        if without is None:
+            return bat_window_numbers(bat.times, bat.values, bat.aligned[STEP_ROWS], first, end,
+                                      degree)
+        kept = [i for i in range(first, end) if i != without]
+        return bat_window_numbers([bat.times[i] for i in kept], [bat.values[i] for i in kept],
+                                  [], 0, len(kept), degree)
 
     def _may_reach(self) -> bool:
         """

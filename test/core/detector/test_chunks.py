@@ -21,7 +21,7 @@ import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.events import DropReason
 from baseball_collision.core.detector.noise import ESTIMATES, HISTORY, POSE_SPAN
 import baseball_collision.core.detector.plans as plans_module
-from baseball_collision.core.detector.predictor import Predictor
+from baseball_collision.core.detector.predictor import BEFORE, NEWEST, Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep
 from baseball_collision.core.motion import BatSample
@@ -1238,9 +1238,9 @@ def _holds(monkeypatch: pytest.MonkeyPatch, test: str) -> List[int]:
     held: List[int] = []
     departed = getattr(Predictor, test)
 
-    def recording(self: Predictor) -> bool:
-        result = departed(self)
-        if result:
+    def recording(self: Predictor, *found: Any) -> Any:
+        result = departed(self, *found)
+        if result is True or result == NEWEST:
             held.append(self.last_ns)
         return result
     monkeypatch.setattr(Predictor, test, recording)
@@ -1281,11 +1281,11 @@ def test_a_prediction_held_at_a_bat_glitch_alike_in_chunks(
     """
     A 90 Hz miss whose bat frame 2 before the closest approach is turned 20 cm at the tip.
 
-    The frame whose forecast starts from it predicts nothing (``Predictor._bat_departed``: one
+    The frame whose forecast starts from it predicts nothing (``Predictor._bat_off``: one
     sample at a time, it showed a contact the miss does not have), and the events in chunks are
     those of one sample at a time.
     """
-    held = _holds(monkeypatch, '_bat_departed')
+    held = _holds(monkeypatch, '_bat_off')
     rows, _ = glitched_pitch('miss_over', 'jerky', 1, 90.0, -2)
     config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
     events = assert_same(config, rows, (7, 50, 400))
@@ -1312,6 +1312,30 @@ def test_a_bat_glitch_the_prediction_drops_is_dropped_alike_in_chunks(look_ahead
     assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1
 
 
+@pytest.mark.parametrize('family, seed, frame', [('tilted', 0, -3), ('braking', 0, -2)])
+def test_a_bat_frame_stamped_off_is_left_out_alike_in_chunks(
+        family: str, seed: int, frame: int, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A 90 Hz hit whose bat frame 2-3 before the contact is stamped 2 ms late (its pose right).
+
+    The frame after it is off the forecast through it and on the one without it, and predicts
+    from its forecast without it (``Predictor._bat_off``: ``BEFORE``): in chunks too, the
+    events, drops and streams those of one sample at a time.
+    """
+    verdicts = []
+    judged = Predictor._bat_off
+
+    def recording(self: Predictor, found: Any) -> Any:
+        verdicts.append(judged(self, found))
+        return verdicts[-1]
+    monkeypatch.setattr(Predictor, '_bat_off', recording)
+    rows, _ = glitched_pitch('barrel', family, seed, 90.0, frame, stamp_off_s=0.002)
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    for sizes in ((1000,), (7, 50, 400)):
+        assert_same(config, rows, sizes)
+    assert BEFORE in verdicts
+
+
 @pytest.mark.parametrize('kind, family, seed, frame', [
     ('graze', 'plane', 0, -4), ('barrel', 'plane', 0, -3), ('miss_over', 'tilted', 1, -3)])
 def test_a_bat_frame_that_held_a_prediction_is_judged_alike_in_chunks(
@@ -1319,7 +1343,7 @@ def test_a_bat_frame_that_held_a_prediction_is_judged_alike_in_chunks(
     """
     A 90 Hz pitch (1 mm of noise) whose bat frame 3-4 before the approach is turned 10 cm.
 
-    The frame held a prediction (``Predictor._bat_departed``) and a later frame whose forecast
+    The frame held a prediction (``Predictor._bat_off``) and a later frame whose forecast
     shows nothing new judges it and drops it (``Predictor.suspect``): in chunks every due frame
     stops while it waits, and the events, drops and streams are those of one sample at a time.
     """

@@ -230,7 +230,7 @@ def test_a_newest_bat_frame_after_a_lost_one_is_not_held() -> None:
 
     The forecast of the frames before it reaches over two steps, where a swing's own frame lands
     centimetres off it (after a glitch the forecast's judgment dropped, a hit's next forecast
-    was held, and the prediction lost): ``Predictor._bat_departed`` holds only after a regular
+    was held, and the prediction lost): ``Predictor._bat_off`` holds only after a regular
     step (``bat_glitches.REGULAR_STEP``), as the sweep judges only among regular steps.
     """
     events = []
@@ -238,6 +238,33 @@ def test_a_newest_bat_frame_after_a_lost_one_is_not_held() -> None:
     predictor.bat.remove(6)  # (a still frame: the newest, turned up, 10 ms after the one before)
     predictor.predict(0.005 * 7, True, events)
     assert [type(e) for e in events] == [Prediction]
+
+
+def test_the_frame_after_a_bat_frame_stamped_off_predicts_without_it() -> None:
+    """
+    A 90 Hz hit whose bat frame 3 before the contact is stamped 2 ms late, its pose right.
+
+    That frame, 7 cm along the swing from where its stamp puts it, is under a glitch's floor
+    and taken; the frame after it is off the forecast it bends, and held the prediction (none
+    shown until 4 ms before the contact). It is ``BEFORE_OFF`` times nearer the forecast of
+    the frames before them both (``Predictor._bat_off``: ``BEFORE``), so it predicts from the
+    forecast without the frame before: the prediction the pitch without that frame makes there,
+    to the nanosecond.
+    """
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    rows, closest = glitched_pitch('barrel', 'tilted', 0, 90.0, -3, stamp_off_s=0.002)
+    sampled, _ = glitched_pitch('barrel', 'tilted', 0, 90.0, -3, stamp_off_s=1e-12)
+    stamped = [row for row in rows if row not in sampled]
+    without = [row for row in sampled if row[0] != 'bat_pose' or row[2] != stamped[0][2]]
+    made = []
+    for feed in (rows, without):
+        detector = Detector(config)
+        made.append({e.made_at_ns: e.stamp_ns for row in feed for e in detector.add(*row)
+                     if isinstance(e, Prediction) and e.made_at_ns < closest})
+    after = min(ns for ns in made[0] if ns > stamped[0][1])  # the frame after it
+    assert len(stamped) == 1 and len(without) == len(rows) - 1
+    assert after < closest - 0.02e9 and made[0][after] == made[1][after]
+    assert abs(made[0][after] - closest) < 0.001e9
 
 
 def test_a_bat_frame_that_held_a_prediction_is_judged_by_the_next_forecast() -> None:
