@@ -30,8 +30,11 @@ instant). Counted: hits whose prediction in force 20 ms ahead (``FAULT_LEAD_S``)
 ms of the contact (``FAULT_OFF_S``) in the clean run and not in the faulted one (lost), and the
 reverse (gained); misses with a prediction where the clean run made none (false predictions),
 and those predicted at a frame where the clean run had none in force (a near miss's false
-prediction the clean run withdrew sooner); the chunk path (``Detector.add_chunk``) against
-one sample at a time on every faulted run (runs whose events differ). Then a ball tracker that
+prediction the clean run withdrew sooner); of the hits lost, those the pitch without the
+faulted frame (``Samples.without_bat_frame``) loses too (a rule that leaves the frame out keeps
+the rest at best; a frame stamped off has its pose right, though); the chunk path
+(``Detector.add_chunk``) against one sample at a time on every faulted run (runs whose events
+differ). Then a ball tracker that
 pauses (``pauses``): how often ``~/impact_predicted`` goes off and on again under the node's
 rule (``ros/prediction_watch.py``) on the messages' arrivals. ``--pauses-only``: only that.
 
@@ -250,7 +253,8 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
               'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
     counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
-                                   'longer', 'chunk_differs'), 0) for name in faults}
+                                   'longer', 'chunk_differs', 'deleted_too'), 0)
+              for name in faults}
     for family in FAMILIES:
         for seed in range(seeds):
             for kind in FAULT_KINDS:
@@ -264,9 +268,13 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                 clean, _ = predictions_of(config, samples)
                 clean_ok = hit and scored(clean, approach, truth['point'])
                 before = np.flatnonzero(samples.bat_stamps_ns < approach)
-                for name, cases in faults.items():
-                    cell = counts[name]
-                    for back in FAULT_FRAMES:
+                for back in FAULT_FRAMES:
+                    # (the pitch without the frame: what judging the fault could keep at best)
+                    without = hit and clean_ok and scored(predictions_of(
+                        config, samples.without_bat_frame(int(before[-back])))[0], approach,
+                        truth['point'])
+                    for name, cases in faults.items():
+                        cell = counts[name]
                         for fault in cases:
                             bad = faulted(samples, int(before[-back]), fault)
                             index, events = predictions_of(config, bad)
@@ -277,10 +285,12 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                                 cell['hits'] += 1
                                 cell['clean_hits'] += clean_ok
                                 cell['lost'] += clean_ok and not ok
+                                cell['deleted_too'] += clean_ok and not ok and not without
                                 cell['gained'] += ok and not clean_ok
                                 continue
                             cell['misses'] += 1
-                            later = any(clean.in_force(int(made)) is None for made in index.made)
+                            later = any(clean.in_force(int(made)) is None
+                                        for made in index.made)
                             cell['false'] += later and not len(clean.made)
                             cell['longer'] += later and len(clean.made) > 0
     return counts
@@ -406,15 +416,16 @@ def pauses(seeds: int) -> None:
 def faults(seeds: int, chunks: bool) -> None:
     """Print what bat-tracker faults cost the prediction (see the module), one row a cell."""
     print('\n| fault | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean had it) '
-          '| gained | misses with a false prediction (clean none) | misses predicted at a frame '
-          'clean was not | chunk path differs |')
-    print('|---|---|---|---|---|---|---|---|---|')
+          '| of them lost without the frame too | gained | misses with a false prediction '
+          '(clean none) | misses predicted at a frame clean was not | chunk path differs |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
     for rate in (90.0, 360.0):
         for noise_m in (0.0, 0.001):
             for name, config in node_configs().items():
                 for fault, cell in fault_cell(rate, noise_m, config, seeds, chunks).items():
                     print(f"| {fault} | {rate:g} | {noise_m * 1e3:g} | {name} | {cell['lost']} "
-                          f"of {cell['hits']} ({cell['clean_hits']}) | {cell['gained']} | "
+                          f"of {cell['hits']} ({cell['clean_hits']}) | {cell['deleted_too']} | "
+                          f"{cell['gained']} | "
                           f"{cell['false']} of {cell['misses']} | {cell['longer']} | "
                           f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
 
