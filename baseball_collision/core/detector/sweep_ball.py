@@ -10,25 +10,27 @@ for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a
 and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
 next, which no flight before it finds, is solved from that sample and the flight after it
 (``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
-its last one the other answer).
+its last one the other answer; or, where the flight before the tracking gap runs on through
+that sample, that flight's first contact: ``_flight_across_gap``).
 """
 
 from bisect import bisect_left
 import math
-from typing import List, NamedTuple, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .episodes import lowest_gap
 from .events import DropReason, Role
-from .fitting import stream_noise
+from .fitting import kept_history, stream_noise
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
 from ..motion import BatPath, Paths, PointPath, substeps_for
+from ..motion.flight import fit_flight
 from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
@@ -52,6 +54,14 @@ oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."
 TOUCH_SLACK = 1e-7
 """m: how much more than its closest approach's gap a ball is grown to touch the bat there
 (``BallSamples._first_contact``: the contact of a path that comes within a slack of the bat)."""
+
+
+GAP_FLIGHT_SLACK = 0.01
+"""m: how far a ball's samples after a tracking gap may lie off the parabola of its samples
+before it continued over the gap (``BallSamples._flight_across_gap``): a free flight's drag and
+spin change bend it from a parabola by about a millimetre over 0.1-0.2 s; a glitch on the bat
+(its centre at least a ball's and a bat's radius from a ball touching it) or a deflection in
+the gap lies centimetres off."""
 
 
 class Aside(NamedTuple):
@@ -153,9 +163,15 @@ class BallSamples:
         tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
         touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``), where
         a bat gives the push that needs (``_pushed``); the ball's velocity at the impact is
-        that ball's before the push (the fits' would reach across the contact). Only while
-        armed (that ball clear of the bat at ta). False (the interval swept as any other, the
-        arming as it was) where the rule does not hold or no such instant is in [ta, tb].
+        that ball's before the push (the fits' would reach across the contact). Where the
+        ball's flight before its tracking gap runs on through the segment's samples up to k
+        (``_flight_across_gap``), the contact is that flight's first contact instead (its
+        velocity the impact's), if a bat gives the push it needs: that pushed point only grazes
+        the bat where the push about matches the ball's approach (the sweep's bat, braked
+        after the contact, a millimetre off, then never meets it), and its first contact is
+        early where the push outran the approach. Only while armed (that ball clear of the
+        bat at ta). False (the interval swept as any other, the arming as it was) where the
+        rule does not hold or no such instant is in [ta, tb].
         """
         episodes = self.episodes
         armed = episodes.armed
@@ -172,19 +188,17 @@ class BallSamples:
         if flight is None:
             return False
         approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
-        bat_path, slack = paths[1], 0.0
-        found = self._first_contact(interval, (approach, bat_path))
+        across = self._flight_across_gap(k, ta, tb)
         ahead = self._bat_ahead(interval, paths, True)
-        if ahead is not None:
-            again = self._first_contact(interval, (approach, ahead[1]))
-            if again is not None:
-                found, bat_path = again, ahead[1]
-        if found is None:  # (off by the noise: within the slack that kept sample k)
-            slack = self._slack(BACK_GAIN)
-            found = self._first_contact(interval, (approach, bat_path), slack)
+        bat_paths = (paths[1],) if ahead is None else (paths[1], ahead[1])
+        found = None
+        for ball_path in ((approach,) if across is None else (across, approach)):
+            found = self._contact_on(interval, ball_path, bat_paths)
+            if found is not None:
+                break
         if found is None:
             return False
-        t, hit = found
+        t, hit, bat_path, slack = found
         if not self._pushed(approach, t, hit, bat_path):
             return False
         # the other answers: that point leaving the bat (a push that outran the ball), or
@@ -194,9 +208,73 @@ class BallSamples:
         last = self._contact((t, tb), (approach, bat_path), radius, backwards=True)
         spread = max(0.0 if last is None else last - t, 0.0 if first is None else t - first)
         self.episodes.impact(ball.times[k + 1])
-        incoming = approach.incoming(t)
+        incoming = approach.incoming(t) if ball_path is approach else ball_path
         self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
         return True
+
+    def _contact_on(self, interval: Tuple[float, float], ball_path: Any,
+                    bat_paths: Tuple[BatPath, ...]
+                    ) -> Optional[Tuple[float, ImpactResult, BatPath, float]]:
+        """
+        Return a hit ball's first contact over the interval with the bat, and the bat's path.
+
+        ``bat_paths``: the sweep's bat path, and the bat continued from before the interval
+        where ``_bat_ahead`` gives one (taken where both touch: the bat brakes after the
+        contact). Where neither touches, the closest approach on the sweep's within the slack
+        that kept the ball's sample (``_slack(BACK_GAIN)``). Each answer with that slack (m,
+        0: a touch); None where none is found (``_first_contact``).
+        """
+        found = None
+        for bat_path in bat_paths:
+            again = self._first_contact(interval, (ball_path, bat_path))
+            if again is not None:
+                found = (*again, bat_path, 0.0)
+        if found is None:  # (off by the noise: within the slack that kept sample k)
+            slack = self._slack(BACK_GAIN)
+            again = self._first_contact(interval, (ball_path, bat_paths[0]), slack)
+            if again is not None:
+                found = (*again, bat_paths[0], slack)
+        return found
+
+    def _flight_across_gap(self, k: int, ta: float, tb: float) -> Optional[PointPath]:
+        """
+        Return the ball's free flight over [ta, tb] (s) from before its tracking gap, or None.
+
+        Sample k is its segment's first or second (``_hit_before_flight``); the samples before
+        the gap that no trim can have taken (within ``kept_history`` of ta: the node's and
+        ``analyze``'s streams hold them alike), at least three, are fitted with a parabola per
+        coordinate (``motion.flight``), and the segment's samples up to k must lie on it
+        continued over the gap: within ``GAP_FLIGHT_SLACK`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound (a glitch, or a ball deflected in the gap, does not).
+        Then the parabola of those samples and the segment's up to k: the ball's path into a
+        contact after sample k, its velocity from the whole flight (not from one sample). None
+        where there are too few such samples, or the segment's leave that flight.
+        """
+        ball, config = self.ball, self.config
+        gap = config.max_gap
+        first = k if _starts(ball, k, gap) else k - 1
+        if first < 1 or ball.times[first - 1] < ta - kept_history(config):
+            return None
+        before = range(bisect_left(ball.times, ta - kept_history(config)), first)
+        if len(before) < 3 or not all(ball.continuous(j, gap) for j in before[:-1]):
+            return None
+        noise = stream_noise(ball, config)
+        sigma = noise if noise > 0.0 else DEPARTURE_FLOOR
+        try:
+            fit = fit_flight(ball.times[before.start:first], ball.values[before.start:first],
+                             sigma)
+            whole = fit_flight(ball.times[before.start:k + 1], ball.values[before.start:k + 1],
+                               sigma)
+        except ValueError:  # (stamps too bunched for a fit)
+            return None
+        for j in range(first, k + 1):
+            weights = fit.weights(ball.times[j])[0]
+            bound = GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
+                1.0 + float(weights @ weights))) * noise
+            if math.dist(fit.state(ball.times[j])[0], ball.values[j]) > bound:
+                return None
+        (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
+        return PointPath(ta, tb, p0, p1, v0, v1)
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
                        slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
