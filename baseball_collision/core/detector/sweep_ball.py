@@ -64,6 +64,11 @@ spin change bend it from a parabola by about a millimetre over 0.1-0.2 s; a glit
 the gap lies centimetres off."""
 
 
+GAP_FLIGHT_SAMPLES = 4
+"""Ball samples before a tracking gap at least that ``BallSamples._gap_flight`` fits (a
+parabola per coordinate and residuals to measure the noise by: three degrees of freedom)."""
+
+
 class Aside(NamedTuple):
     """
     A ball sample the speed check refused, kept aside (``BallSamples.set_aside``).
@@ -121,7 +126,7 @@ class BallSamples:
             if self._flight_to_come(k):
                 self.held = True
                 return self._judged_again(ta, tb, events)
-            if self._inside_bat(k):
+            if self._inside_bat(k) or self._off_gap_flight(k, ta):
                 self._glitch(k)
                 self._forget_glitches()
                 return self._judged_again(ta, tb, events)
@@ -132,7 +137,7 @@ class BallSamples:
             if self._flight_to_come(j):
                 self.held = True  # (its segment may still grow)
             elif first:
-                glitch = self._first_glitch(k)
+                glitch = self._first_glitch(k, ta)
                 if glitch is None:
                     self.held = True  # (the bat over its interval still to come)
                 elif glitch:
@@ -240,26 +245,46 @@ class BallSamples:
         """
         Return the ball's free flight over [ta, tb] (s) from before its tracking gap, or None.
 
-        Sample k is its segment's first or second (``_hit_before_flight``); the samples before
-        the gap that no trim can have taken (within ``kept_history`` of ta: the node's and
-        ``analyze``'s streams hold them alike), at least three, are fitted with a parabola per
-        coordinate (``motion.flight``), and the segment's samples up to k must lie on it
-        continued over the gap: within ``GAP_FLIGHT_SLACK`` and the noise's
-        ``DEPARTURE_CHI_SQUARE`` bound (a glitch, or a ball deflected in the gap, does not).
-        Then the parabola of those samples and the segment's up to k: the ball's path into a
-        contact after sample k, its velocity from the whole flight (not from one sample). None
-        where there are too few such samples, or the segment's leave that flight.
+        Sample k is its segment's first or second (``_hit_before_flight``) and its segment's
+        samples up to it lie on the flight before the gap (``_gap_flight``): the parabola of
+        those samples and the flight's, the ball's path into a contact after sample k, its
+        velocity from the whole flight (not from one sample). None where there is no such
+        flight to judge by, or the segment's samples leave it.
+        """
+        judged = self._gap_flight(k, ta)
+        if judged is None or not all(judged[0]):
+            return None
+        (p0, v0), (p1, v1) = judged[1].state(ta), judged[1].state(tb)
+        return PointPath(ta, tb, p0, p1, v0, v1)
+
+    def _gap_flight(self, k: int, ta: float) -> Optional[Tuple[Tuple[bool, ...], Any]]:
+        """
+        Return whether each of a ball segment's samples up to k lies on the flight before its gap.
+
+        Sample k is its segment's first or second; ta (s) opens the union interval visited.
+        The samples before the gap that no trim can have taken (within ``kept_history`` of ta:
+        the node's and ``analyze``'s streams hold them alike), at least ``GAP_FLIGHT_SAMPLES``
+        with no gap between them, are fitted with a parabola per coordinate
+        (``motion.flight``); the segment's samples up to k lie on it continued over the gap
+        where each is within ``GAP_FLIGHT_SLACK`` and the noise's ``DEPARTURE_CHI_SQUARE``
+        bound (the noise: the stream's, or the fit's own residuals' where larger: a noise not
+        yet estimated) of it; a glitch, or a ball deflected in the gap, is not. One flag a
+        sample from the segment's first, with the parabola through those samples and the
+        flight's (``motion.flight.FlightFit``).
+        None where there are too few such samples (or they are too bunched for a fit).
         """
         ball, config = self.ball, self.config
-        gap = config.max_gap
+        gap, reach = config.max_gap, ta - kept_history(config)
         first = k if _starts(ball, k, gap) else k - 1
-        if first < 1 or ball.times[first - 1] < ta - kept_history(config):
+        if first < 1 or ball.times[first - 1] < reach:
             return None
-        before = range(bisect_left(ball.times, ta - kept_history(config)), first)
-        if len(before) < 3 or not all(ball.continuous(j, gap) for j in before[:-1]):
+        before = range(bisect_left(ball.times, reach), first)
+        if len(before) < GAP_FLIGHT_SAMPLES or not all(
+                ball.continuous(j, gap) for j in before[:-1]):
             return None
-        noise = stream_noise(ball, config)
-        sigma = noise if noise > 0.0 else DEPARTURE_FLOOR
+        sigma = stream_noise(ball, config)
+        if not sigma > 0.0:
+            sigma = DEPARTURE_FLOOR  # (the fit's coefficients do not depend on it)
         try:
             fit = fit_flight(ball.times[before.start:first], ball.values[before.start:first],
                              sigma)
@@ -267,14 +292,14 @@ class BallSamples:
                                sigma)
         except ValueError:  # (stamps too bunched for a fit)
             return None
+        noise = max(stream_noise(ball, config), sigma * math.sqrt(fit.chi_square / fit.dof))
+        on = []
         for j in range(first, k + 1):
             weights = fit.weights(ball.times[j])[0]
             bound = GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
                 1.0 + float(weights @ weights))) * noise
-            if math.dist(fit.state(ball.times[j])[0], ball.values[j]) > bound:
-                return None
-        (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
-        return PointPath(ta, tb, p0, p1, v0, v1)
+            on.append(math.dist(fit.state(ball.times[j])[0], ball.values[j]) <= bound)
+        return tuple(on), whole
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
                        slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
@@ -367,7 +392,7 @@ class BallSamples:
             self._swept(ta, tb, events)
         return True
 
-    def _first_glitch(self, k: int) -> Optional[bool]:
+    def _first_glitch(self, k: int, ta: Optional[float] = None) -> Optional[bool]:
         """
         Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
 
@@ -375,13 +400,20 @@ class BallSamples:
         (``departure.flight_before``), and that flight does not touch the bat over interval k
         (the ball grown by ``_slack``): a hit between samples k and k + 1 leaves the
         sample before it off the flight after it too, but that flight, continued back, meets
-        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
-        its paths over the interval read are in (``_bat_over``).
+        the bat at the contact; a glitch on a miss does not. A glitch too where it is off the
+        flight before its tracking gap as well (``_gap_flight``, ta (s) opening the union
+        interval visited; None: not judged by it): no hit between it and the next sample
+        explains a sample off both. None until the bat's samples that its paths over the
+        interval read are in (``_bat_over``).
         """
         ball, config = self.ball, self.config
         flight = flight_before(ball, k, judging_noise(config), config.max_gap)
         if flight is None:
             return False
+        if ta is not None:
+            judged = self._gap_flight(k, ta)
+            if judged is not None and not judged[0][0]:
+                return True
         bat_paths = self._bat_over(flight.t0, flight.t1)
         if bat_paths is None:
             return None
@@ -419,6 +451,22 @@ class BallSamples:
         miss = back_miss(ball, k, gap)
         return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
             DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
+
+    def _off_gap_flight(self, k: int, ta: float) -> bool:
+        """
+        Return whether the ball's sample k, its segment's first, is off its flight alone.
+
+        Off the flight before its tracking gap while its segment's next sample is on it
+        (``_gap_flight``; ta, s: the union interval visited): a hit or a deflection in the gap
+        would leave both off it, a hit after sample k both on it. Judged before the samples
+        after it (which a glitch as the one before them makes look off the flight after them);
+        False where there is no flight before the gap to judge by.
+        """
+        ball = self.ball
+        if k + 1 >= len(ball.times) or not ball.continuous(k, self.config.max_gap):
+            return False
+        judged = self._gap_flight(k + 1, ta)
+        return judged is not None and judged[0] == (False, True)
 
     def _slack(self, ball_gain: float) -> float:
         """
