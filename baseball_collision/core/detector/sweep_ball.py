@@ -261,23 +261,25 @@ class BallSamples:
         """
         Return whether each of a ball segment's samples up to k lies on the flight before its gap.
 
-        Sample k is its segment's first or second; ta (s) opens the union interval visited.
-        The samples before the gap that no trim can have taken (within ``kept_history`` of ta:
-        the node's and ``analyze``'s streams hold them alike), at least ``GAP_FLIGHT_SAMPLES``
-        with no gap between them, are fitted with a parabola per coordinate
-        (``motion.flight``); the segment's samples up to k lie on it continued over the gap
-        where each is within ``GAP_FLIGHT_SLACK`` and the noise's ``DEPARTURE_CHI_SQUARE``
-        bound (the noise: the stream's, or the fit's own residuals' where larger: a noise not
-        yet estimated) of it; a glitch, or a ball deflected in the gap, is not. One flag a
-        sample from the segment's first, with the parabola through those samples and the
-        flight's (``motion.flight.FlightFit``).
-        None where there are too few such samples (or they are too bunched for a fit).
+        Sample k is its segment's first or second, after a gap longer than ``max_gap`` (not a
+        jump the speed check took: ``gate.speed_check``); ta (s) opens the union interval
+        visited. The samples before the gap that no trim can have taken (within
+        ``kept_history`` of ta: the node's and ``analyze``'s streams hold them alike), at least
+        ``GAP_FLIGHT_SAMPLES`` with no gap between them, are fitted with a parabola per
+        coordinate (``motion.flight``); the segment's samples up to k lie on it continued over
+        the gap where each is within ``GAP_FLIGHT_SLACK`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound (the noise: the stream's, or the fit's own residuals'
+        where larger: a noise not yet estimated) of it; a glitch, or a ball deflected in the
+        gap, is not. One flag a sample from the segment's first, with the parabola through
+        those samples and the flight's (``motion.flight.FlightFit``). None where there are too
+        few such samples (or they are too bunched for a fit).
         """
         ball, config = self.ball, self.config
         gap, reach = config.max_gap, ta - kept_history(config)
         first = k if _starts(ball, k, gap) else k - 1
-        if first < 1 or ball.times[first - 1] < reach:
-            return None
+        if first < 1 or ball.times[first - 1] < reach or ball.times[first] - ball.times[
+                first - 1] <= gap:
+            return None  # (none held, or a segment the speed check started: another ball)
         before = range(bisect_left(ball.times, reach), first)
         if len(before) < GAP_FLIGHT_SAMPLES or not all(
                 ball.continuous(j, gap) for j in before[:-1]):
