@@ -20,8 +20,11 @@ look-ahead 0, ``tracker_noise`` auto; ``--told``: the noise told, 0 or 1 mm) and
 - with ``--chunks``, runs whose events differ fed through ``add_chunk`` (chunks of 7, 50 and
   400 messages) from one message at a time.
 
+``--contact-ms``: the simulated rebound's contact lasts that long (``Pitch.rebound_duration``,
+0.6 ms by default; the detector is not told: ``departure.CONTACT_TIME`` stays 0.6 ms).
+
     .venv/bin/python benchmarks/bench_ball_gap.py [--seeds 2] [--rates 90 120 360] [--chunks]
-        [--noises 0 1] [--families rebound ...] [--told]
+        [--noises 0 1] [--families rebound ...] [--told] [--contact-ms 0.4]
 """
 
 import argparse
@@ -137,8 +140,14 @@ def found(stamps: List[int], truth_ns: int) -> Optional[int]:
 
 
 def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
-         families: Tuple[str, ...] = FAMILIES, told: bool = False) -> Dict[str, Any]:
-    """Return one rate and noise level's figures over the swing ``families`` (``configs``)."""
+         families: Tuple[str, ...] = FAMILIES, told: bool = False,
+         contact_s: Optional[float] = None) -> Dict[str, Any]:
+    """
+    Return one rate and noise level's figures over the swing ``families`` (``configs``).
+
+    ``contact_s``: how long (s) a rebound's push lasts (``Pitch.rebound_duration``), or None
+    for the simulator's.
+    """
     tally: Counter = Counter()
     errors: List[float] = []
     moved: List[float] = []
@@ -148,6 +157,9 @@ def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
             for seed in range(seeds):
                 rng = np.random.default_rng(1000 * seed + 7)
                 scenario = make_scenario(kind, rng, family=family)
+                if contact_s is not None:
+                    scenario = replace(scenario, pitch=replace(scenario.pitch,
+                                                               rebound_duration=contact_s))
                 samples = sample(scenario, rate, rng, jitter_s=2e-4, grid_s=1e-3, noise_m=noise_m,
                                  marker_spread_m=0.3 if noise_m else None)
                 truth_ns = moment_ns(scenario, samples)
@@ -206,11 +218,14 @@ def main() -> None:
     parser.add_argument('--families', nargs='+', default=list(FAMILIES), choices=FAMILIES)
     parser.add_argument('--told', action='store_true',
                         help="the node told the noise (default: the node's auto)")
+    parser.add_argument('--contact-ms', type=float,
+                        help="how long a rebound's contact lasts (ms; the simulator's: 0.6)")
     args = parser.parse_args()
+    contact_s = None if args.contact_ms is None else args.contact_ms * 1e-3
     for rate in args.rates:
         for noise_mm in args.noises:
             figures = cell(rate, noise_mm * 1e-3, args.seeds, args.chunks, tuple(args.families),
-                           args.told)
+                           args.told, contact_s)
             tally, errors, moved = figures['tally'], figures['errors'], figures['moved']
             found_text = ', '.join(f'{back} back {tally[f"found {back}"]}/{tally[f"hits {back}"]}'
                                    for back in BACK)

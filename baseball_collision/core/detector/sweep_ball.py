@@ -10,25 +10,27 @@ for those samples (``_early_glitch``). A glitch is dropped as ``ball_glitch`` (a
 and forgotten (``Stream.remove``). A hit between a segment's first or second sample and the
 next, which no flight before it finds, is solved from that sample and the flight after it
 (``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
-its last one the other answer).
+its last one the other answer; or, where the flight before the tracking gap runs on through
+that sample, that flight's first contact: ``_flight_across_gap``).
 """
 
 from bisect import bisect_left
 import math
-from typing import List, NamedTuple, Optional, Tuple
+from typing import Any, List, NamedTuple, Optional, Tuple
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .episodes import lowest_gap
 from .events import DropReason, Role
-from .fitting import stream_noise
+from .fitting import kept_history, stream_noise
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
 from ..motion import BatPath, Paths, PointPath, substeps_for
+from ..motion.flight import fit_flight
 from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
@@ -52,6 +54,19 @@ oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."
 TOUCH_SLACK = 1e-7
 """m: how much more than its closest approach's gap a ball is grown to touch the bat there
 (``BallSamples._first_contact``: the contact of a path that comes within a slack of the bat)."""
+
+
+GAP_FLIGHT_SLACK = 0.01
+"""m: how far a ball's samples after a tracking gap may lie off the parabola of its samples
+before it continued over the gap (``BallSamples._flight_across_gap``): a free flight's drag and
+spin change bend it from a parabola by about a millimetre over 0.1-0.2 s; a glitch on the bat
+(its centre at least a ball's and a bat's radius from a ball touching it) or a deflection in
+the gap lies centimetres off."""
+
+
+GAP_FLIGHT_SAMPLES = 4
+"""Ball samples before a tracking gap at least that ``BallSamples._gap_flight`` fits (a
+parabola per coordinate and residuals to measure the noise by: three degrees of freedom)."""
 
 
 class Aside(NamedTuple):
@@ -111,7 +126,7 @@ class BallSamples:
             if self._flight_to_come(k):
                 self.held = True
                 return self._judged_again(ta, tb, events)
-            if self._inside_bat(k):
+            if self._inside_bat(k) or self._off_gap_flight(k, ta):
                 self._glitch(k)
                 self._forget_glitches()
                 return self._judged_again(ta, tb, events)
@@ -122,7 +137,7 @@ class BallSamples:
             if self._flight_to_come(j):
                 self.held = True  # (its segment may still grow)
             elif first:
-                glitch = self._first_glitch(k)
+                glitch = self._first_glitch(k, ta)
                 if glitch is None:
                     self.held = True  # (the bat over its interval still to come)
                 elif glitch:
@@ -153,9 +168,15 @@ class BallSamples:
         tb] (s) at which the ball, pushed off the bat then onto that flight from sample k,
         touches the bat (``departure.HitApproach``, swept as a path: ``_first_contact``), where
         a bat gives the push that needs (``_pushed``); the ball's velocity at the impact is
-        that ball's before the push (the fits' would reach across the contact). Only while
-        armed (that ball clear of the bat at ta). False (the interval swept as any other, the
-        arming as it was) where the rule does not hold or no such instant is in [ta, tb].
+        that ball's before the push (the fits' would reach across the contact). Where the
+        ball's flight before its tracking gap runs on through the segment's samples up to k
+        (``_flight_across_gap``), the contact is that flight's first contact instead (its
+        velocity the impact's), if a bat gives the push it needs: that pushed point only grazes
+        the bat where the push about matches the ball's approach (the sweep's bat, braked
+        after the contact, a millimetre off, then never meets it), and its first contact is
+        early where the push outran the approach. Only while armed (that ball clear of the
+        bat at ta). False (the interval swept as any other, the arming as it was) where the
+        rule does not hold or no such instant is in [ta, tb].
         """
         episodes = self.episodes
         armed = episodes.armed
@@ -172,19 +193,17 @@ class BallSamples:
         if flight is None:
             return False
         approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
-        bat_path, slack = paths[1], 0.0
-        found = self._first_contact(interval, (approach, bat_path))
+        across = self._flight_across_gap(k, ta, tb)
         ahead = self._bat_ahead(interval, paths, True)
-        if ahead is not None:
-            again = self._first_contact(interval, (approach, ahead[1]))
-            if again is not None:
-                found, bat_path = again, ahead[1]
-        if found is None:  # (off by the noise: within the slack that kept sample k)
-            slack = self._slack(BACK_GAIN)
-            found = self._first_contact(interval, (approach, bat_path), slack)
+        bat_paths = (paths[1],) if ahead is None else (paths[1], ahead[1])
+        found = None
+        for ball_path in ((approach,) if across is None else (across, approach)):
+            found = self._contact_on(interval, ball_path, bat_paths)
+            if found is not None:
+                break
         if found is None:
             return False
-        t, hit = found
+        t, hit, bat_path, slack = found
         if not self._pushed(approach, t, hit, bat_path):
             return False
         # the other answers: that point leaving the bat (a push that outran the ball), or
@@ -194,9 +213,95 @@ class BallSamples:
         last = self._contact((t, tb), (approach, bat_path), radius, backwards=True)
         spread = max(0.0 if last is None else last - t, 0.0 if first is None else t - first)
         self.episodes.impact(ball.times[k + 1])
-        incoming = approach.incoming(t)
+        incoming = approach.incoming(t) if ball_path is approach else ball_path
         self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
         return True
+
+    def _contact_on(self, interval: Tuple[float, float], ball_path: Any,
+                    bat_paths: Tuple[BatPath, ...]
+                    ) -> Optional[Tuple[float, ImpactResult, BatPath, float]]:
+        """
+        Return a hit ball's first contact over the interval with the bat, and the bat's path.
+
+        ``bat_paths``: the sweep's bat path, and the bat continued from before the interval
+        where ``_bat_ahead`` gives one (taken where both touch: the bat brakes after the
+        contact). Where neither touches, the closest approach on the sweep's within the slack
+        that kept the ball's sample (``_slack(BACK_GAIN)``). Each answer with that slack (m,
+        0: a touch); None where none is found (``_first_contact``).
+        """
+        found = None
+        for bat_path in bat_paths:
+            again = self._first_contact(interval, (ball_path, bat_path))
+            if again is not None:
+                found = (*again, bat_path, 0.0)
+        if found is None:  # (off by the noise: within the slack that kept sample k)
+            slack = self._slack(BACK_GAIN)
+            again = self._first_contact(interval, (ball_path, bat_paths[0]), slack)
+            if again is not None:
+                found = (*again, bat_paths[0], slack)
+        return found
+
+    def _flight_across_gap(self, k: int, ta: float, tb: float) -> Optional[PointPath]:
+        """
+        Return the ball's free flight over [ta, tb] (s) from before its tracking gap, or None.
+
+        Sample k is its segment's first or second (``_hit_before_flight``) and its segment's
+        samples up to it lie on the flight before the gap (``_gap_flight``): the parabola of
+        those samples and the flight's, the ball's path into a contact after sample k, its
+        velocity from the whole flight (not from one sample). None where there is no such
+        flight to judge by, or the segment's samples leave it.
+        """
+        judged = self._gap_flight(k, ta)
+        if judged is None or not all(judged[0]):
+            return None
+        (p0, v0), (p1, v1) = judged[1].state(ta), judged[1].state(tb)
+        return PointPath(ta, tb, p0, p1, v0, v1)
+
+    def _gap_flight(self, k: int, ta: float) -> Optional[Tuple[Tuple[bool, ...], Any]]:
+        """
+        Return whether each of a ball segment's samples up to k lies on the flight before its gap.
+
+        Sample k is its segment's first or second, after a gap longer than ``max_gap`` (not a
+        jump the speed check took: ``gate.speed_check``); ta (s) opens the union interval
+        visited. The samples before the gap that no trim can have taken (within
+        ``kept_history`` of ta: the node's and ``analyze``'s streams hold them alike), at least
+        ``GAP_FLIGHT_SAMPLES`` with no gap between them, are fitted with a parabola per
+        coordinate (``motion.flight``); the segment's samples up to k lie on it continued over
+        the gap where each is within ``GAP_FLIGHT_SLACK`` and the noise's
+        ``DEPARTURE_CHI_SQUARE`` bound (the noise: the stream's, or the fit's own residuals'
+        where larger: a noise not yet estimated) of it; a glitch, or a ball deflected in the
+        gap, is not. One flag a sample from the segment's first, with the parabola through
+        those samples and the flight's (``motion.flight.FlightFit``). None where there are too
+        few such samples (or they are too bunched for a fit).
+        """
+        ball, config = self.ball, self.config
+        gap, reach = config.max_gap, ta - kept_history(config)
+        first = k if _starts(ball, k, gap) else k - 1
+        if first < 1 or ball.times[first - 1] < reach or ball.times[first] - ball.times[
+                first - 1] <= gap:
+            return None  # (none held, or a segment the speed check started: another ball)
+        before = range(bisect_left(ball.times, reach), first)
+        if len(before) < GAP_FLIGHT_SAMPLES or not all(
+                ball.continuous(j, gap) for j in before[:-1]):
+            return None
+        sigma = stream_noise(ball, config)
+        if not sigma > 0.0:
+            sigma = DEPARTURE_FLOOR  # (the fit's coefficients do not depend on it)
+        try:
+            fit = fit_flight(ball.times[before.start:first], ball.values[before.start:first],
+                             sigma)
+            whole = fit_flight(ball.times[before.start:k + 1], ball.values[before.start:k + 1],
+                               sigma)
+        except ValueError:  # (stamps too bunched for a fit)
+            return None
+        noise = max(stream_noise(ball, config), sigma * math.sqrt(fit.chi_square / fit.dof))
+        on = []
+        for j in range(first, k + 1):
+            weights = fit.weights(ball.times[j])[0]
+            bound = GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
+                1.0 + float(weights @ weights))) * noise
+            on.append(math.dist(fit.state(ball.times[j])[0], ball.values[j]) <= bound)
+        return tuple(on), whole
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
                        slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
@@ -289,7 +394,7 @@ class BallSamples:
             self._swept(ta, tb, events)
         return True
 
-    def _first_glitch(self, k: int) -> Optional[bool]:
+    def _first_glitch(self, k: int, ta: Optional[float] = None) -> Optional[bool]:
         """
         Return whether the ball's sample k, its segment's first, is a glitch; None: wait.
 
@@ -297,13 +402,20 @@ class BallSamples:
         (``departure.flight_before``), and that flight does not touch the bat over interval k
         (the ball grown by ``_slack``): a hit between samples k and k + 1 leaves the
         sample before it off the flight after it too, but that flight, continued back, meets
-        the bat at the contact; a glitch on a miss does not. None until the bat's samples that
-        its paths over the interval read are in (``_bat_over``).
+        the bat at the contact; a glitch on a miss does not. A glitch too where it is off the
+        flight before its tracking gap as well (``_gap_flight``, ta (s) opening the union
+        interval visited; None: not judged by it): no hit between it and the next sample
+        explains a sample off both. None until the bat's samples that its paths over the
+        interval read are in (``_bat_over``).
         """
         ball, config = self.ball, self.config
         flight = flight_before(ball, k, judging_noise(config), config.max_gap)
         if flight is None:
             return False
+        if ta is not None:
+            judged = self._gap_flight(k, ta)
+            if judged is not None and not judged[0][0]:
+                return True
         bat_paths = self._bat_over(flight.t0, flight.t1)
         if bat_paths is None:
             return None
@@ -341,6 +453,22 @@ class BallSamples:
         miss = back_miss(ball, k, gap)
         return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
             DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
+
+    def _off_gap_flight(self, k: int, ta: float) -> bool:
+        """
+        Return whether the ball's sample k, its segment's first, is off its flight alone.
+
+        Off the flight before its tracking gap while its segment's next sample is on it
+        (``_gap_flight``; ta, s: the union interval visited): a hit or a deflection in the gap
+        would leave both off it, a hit after sample k both on it. Judged before the samples
+        after it (which a glitch as the one before them makes look off the flight after them);
+        False where there is no flight before the gap to judge by.
+        """
+        ball = self.ball
+        if k + 1 >= len(ball.times) or not ball.continuous(k, self.config.max_gap):
+            return False
+        judged = self._gap_flight(k + 1, ta)
+        return judged is not None and judged[0] == (False, True)
 
     def _slack(self, ball_gain: float) -> float:
         """
