@@ -23,7 +23,8 @@ neighbours explain it. Among regular steps (``regular``; a frame lost three or m
 before it only widens the scatter it is judged against), or beside up to two frames the tracker
 lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
 for a swing's own frames), against the frames before it with the same frames left out
-(``_matched``); not in a segment's first frames; nor where a frame just before it that could
+(``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
+segment's first frames; nor where a frame just before it that could
 not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
 (``UNJUDGED_REACH``).
 
@@ -98,7 +99,9 @@ LOST_HOLE = 0.02
 """s: the longest step across lost frames a frame beside them is judged at (``lost_about``): a
 swing's own frames across a longer hole (one frame lost at 90 Hz, 22 ms; two at 120 Hz, 25 ms)
 are off its spline by more than the frames before it, which turn slower, show across the same
-hole (``_matched``), and braking frames after a contact read as glitches."""
+hole (``_matched``), and braking frames after a contact read as glitches, judged with one
+frame after them (the sweep's horizon). Beside a longer hole a frame a contact hangs on is
+judged with three frames after it (``hole_glitch``)."""
 
 UNJUDGED_REACH = 2
 """Frames before a judged one whose glitch, where it could not be judged itself (``judgeable``:
@@ -121,6 +124,10 @@ EARLY_AFTER = EARLY_SCATTER + 3
 EARLY_FRAMES = SCATTER_FRAMES + 3
 """A segment's first frames that ``judged`` cannot judge (fewer frames before them than it
 reads): its second to ``EARLY_FRAMES``-th are judged with time run backwards instead."""
+
+HOLE_AFTER = 3
+"""Frames after a frame beside a hole over ``LOST_HOLE`` its judgment reads (``hole_glitch``):
+two for ``judged``, three for its departure from the bat continued back from them."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -216,7 +223,8 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
 
 
 def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
-           last: Optional[int] = None, scatter: int = SCATTER_FRAMES) -> bool:
+           last: Optional[int] = None, scatter: int = SCATTER_FRAMES,
+           hole: float = LOST_HOLE) -> bool:
     """
     Return whether bat frame j is a glitch, from the samples up to ``last`` (the newest).
 
@@ -236,7 +244,7 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     """
     floor = glitch_floor(noise)
     steady = regular(stream, j, last, scatter)
-    lost = () if steady else lost_about(stream, j, 2, 1, last)
+    lost = () if steady else lost_about(stream, j, 2, 1, last, hole)
     if not (steady or lost) or departure(stream, j, max_gap, size, noise) <= floor:
         return False
     isolated = max(isolation(stream, j, max_gap, size, last))
@@ -320,8 +328,8 @@ def regular(stream: Stream, j: int, last: Optional[int] = None,
             and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
 
 
-def lost_about(stream: Stream, j: int, before: int, after: int,
-               last: Optional[int] = None) -> Optional[Tuple[int, ...]]:
+def lost_about(stream: Stream, j: int, before: int, after: int, last: Optional[int] = None,
+               hole: float = LOST_HOLE) -> Optional[Tuple[int, ...]]:
     """
     Return the offsets from bat frame j of the frames the tracker lost about it, or None.
 
@@ -351,7 +359,7 @@ def lost_about(stream: Stream, j: int, before: int, after: int,
         virtual += whole
     at = virtual if after == 0 else at
     span = times[j - before:j + after + 1]
-    if len(lost) > LOST_NEAR or lost and max(b - a for a, b in zip(span, span[1:])) > LOST_HOLE:
+    if len(lost) > LOST_NEAR or lost and max(b - a for a, b in zip(span, span[1:])) > hole:
         return None
     return tuple(v - at for v in lost)
 
@@ -454,6 +462,46 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
     if not judged(backwards, k, max_gap, size, noise, last, EARLY_SCATTER):
         return False
     return not (k + 1 < last and isolated_without(backwards, k, max_gap, size, noise, last))
+
+
+def beside_hole(stream: Stream, j: int) -> bool:
+    """
+    Return whether bat frame j is beside lost frames across a hole over ``LOST_HOLE``.
+
+    Up to ``LOST_NEAR`` frames lost from two before it to the one after it (``lost_about``;
+    before it only where j is the newest sample), a step across them longer than
+    ``LOST_HOLE``: ``judged`` does not judge it there, ``hole_glitch`` does, reading three
+    frames after it (a contact hanging on it waits for them: ``Sweep._early_bat_glitch``).
+    """
+    after = 1 if j + 1 < len(stream.times) else 0
+    return (lost_about(stream, j, 2, after) is None
+            and bool(lost_about(stream, j, 2, after, None, math.inf)))
+
+
+def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
+                noise: float) -> Optional[bool]:
+    """
+    Return whether bat frame j beside a hole over ``LOST_HOLE`` is a glitch; None: wait.
+
+    ``judged`` across the hole (``lost_about`` uncapped) from exactly the samples up to two
+    after it, and not where its next frame stays isolated without it (``first_glitch``'s
+    rule): with one frame after it, a swing's own frame there read as a glitch; with two, none
+    (the same verdict however the detector is fed). None where those two frames have not come;
+    False where the segment ends before them.
+    """
+    end = j + HOLE_AFTER
+    if end > len(stream.times) - 1:
+        return None if all(stream.continuous(i, max_gap)
+                           for i in range(j, len(stream.times) - 1)) else False
+    if not all(stream.continuous(i, max_gap) for i in range(j, end)):
+        return False
+    last = j + 2
+    if not judged(stream, j, max_gap, size, noise, last, hole=math.inf) or \
+            isolated_without(stream, j, max_gap, size, noise, last):
+        return False
+    backwards = reversed_excerpt(stream, j, end)
+    backwards.noise = stream.noise
+    return departure(backwards, end - j, max_gap, size, noise) > glitch_floor(noise)
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,

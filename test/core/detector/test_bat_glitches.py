@@ -6,8 +6,8 @@ from typing import Any, List, Tuple
 from baseball_collision.core.detector import (
     bat_glitches, Detector, DetectorConfig, Impact, NearMiss)
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, early, EARLY_AFTER, early_glitch, isolation, judged, lost_about,
-    path_without, regular)
+    beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, hole_glitch, isolation,
+    judged, lost_about, path_without, regular)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
@@ -594,6 +594,33 @@ def test_a_frame_off_the_swing_beside_a_lost_one_is_judged(lost: int) -> None:
     assert not any(judged(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times) - 1))
 
 
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+def test_a_frame_beside_a_long_hole_is_judged_with_two_frames_after_it(lost: int) -> None:
+    """
+    Beside a 22 ms hole (one frame lost at 90 Hz) ``hole_glitch`` judges a frame moved 15 cm.
+
+    ``judged`` does not (the hole is over ``LOST_HOLE``); ``hole_glitch`` does, from the three
+    frames after it (None before they come: wait); the swing's own frames there are no glitch.
+    """
+    bat = _turning(90.0, 24, turned=14, off=0.15)
+    bat.remove(14 + lost)
+    j = 14 - (lost < 0)
+    assert beside_hole(bat, j) and not judged(bat, j, 0.05, 8, 0.0)
+    assert judged(bat, j, 0.05, 8, 0.0, j + 2, hole=math.inf)
+    # (beside the hole its next frame, without it, spans two holes and stays isolated on this
+    # fast-turning swing: the glitch is dropped only where that one is not)
+    assert hole_glitch(bat, j, 0.05, 8, 0.0) is (lost == -2)
+    early_cut = _turning(90.0, 24, turned=14, off=0.15)
+    early_cut.remove(14 + lost)
+    for _ in range(len(early_cut.times) - (j + 2)):
+        early_cut.remove(len(early_cut.times) - 1)
+    assert hole_glitch(early_cut, j, 0.05, 8, 0.0) is None
+    clean = _turning(90.0, 24)
+    clean.remove(14 + lost)
+    assert not any(hole_glitch(clean, i, 0.05, 8, 0.0) for i in range(10, 18)
+                   if beside_hole(clean, i))
+
+
 @pytest.mark.parametrize('before', [1, 2, 3])
 def test_a_closing_frame_after_a_lost_one_departed(before: int) -> None:
     """
@@ -641,6 +668,55 @@ def test_a_glitch_beside_a_lost_frame_is_dropped_not_an_impact(
             if family == 'plane' and offset == 0:
                 dropped, _ = _alike_in_chunks(config, glitched)
                 assert dropped['bat_glitch'] == 1
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_glitch_beside_a_long_hole_is_dropped_not_an_impact(
+        config: DetectorConfig, lost: int, noise_m: float) -> None:
+    """
+    A 90 Hz bat frame turned 10 or 20 cm toward a ball passing over, a frame lost beside it.
+
+    The hole (22 ms) is over ``LOST_HOLE``: the frame was not judged, and the bat's path
+    through it met the ball (13-28 of 480 misses, ``bench_glitches.py --rates 90 --lost``).
+    Now, where a contact hangs on it, it is judged with three frames after it
+    (``hole_glitch``): no impact, no frame but the glitch dropped, and ``add_chunk`` alike.
+    """
+    for family in ('plane', 'jerky', 'braking'):
+        for turn in (0.1, 0.2):
+            scenario, samples = _scene('miss_over', 3, 90.0, noise_m, family=family)
+            j = _closest_frame(scenario, samples)
+            glitched = samples.with_bat_frame_turned(
+                j, samples.ball_positions[j], turn).without_bat_frame(j + lost)
+            stamp = int(samples.bat_stamps_ns[j])
+            detector, late, events = Detector(config), [], []
+            for stamp_ns, role, values in glitched.messages(config.bat_input):
+                events += detector.add(role, stamp_ns, values)
+                late += detector.stats.late_drops
+            events += detector.finish()
+            assert not any(isinstance(event, Impact) for event in events), (family, turn)
+            assert [drop.stamp_ns for drop in late] in ([], [stamp]), (family, turn)
+            if family == 'plane':
+                dropped, _ = _alike_in_chunks(config, glitched)
+                assert dropped.get('bat_glitch', 0) == len(late)
+
+
+def test_a_braked_frame_beside_a_long_hole_stays() -> None:
+    """
+    The frame after a hit's contact (the bat braked) beside a 22 ms hole (90 Hz) is kept.
+
+    Judged against the frames before it alone (``judged`` across the hole, two frames after
+    it), it read as a glitch (braking and rebound barrels, 1 mm, ``analyze``'s parameters);
+    the bat continued back from the frames after it, which braked too, meets it
+    (``hole_glitch``).
+    """
+    for family in ('braking', 'rebound'):
+        scenario, samples = _scene('barrel', 0, 90.0, 1e-3, family=family)
+        j = _closest_frame(scenario, samples)
+        detector, events = _run(OFFLINE, samples.without_bat_frame(j + 1), 'pose')
+        assert 'bat_glitch' not in detector.stats.dropped, family
+        assert sum(isinstance(event, Impact) for event in events) == 1, family
 
 
 def test_genuine_frames_beside_lost_ones_stay() -> None:
