@@ -24,9 +24,8 @@ before it only widens the scatter it is judged against), or beside up to two fra
 lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
 for a swing's own frames), against the frames before it with the same frames left out
 (``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
-segment's first frames; nor where a frame just before it that could
-not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
-(``UNJUDGED_REACH``).
+segment's first frames; nor where a frame just before it that could not be judged so
+(``judgeable``) is the one off, which pulls this one's neighbours' spline (``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -241,6 +240,8 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     :param scatter: how many frames measure that scatter (``SCATTER_FRAMES``; a segment's early
         frame, judged with time run backwards: ``EARLY_SCATTER``).
+    :param hole: the longest step across lost frames it is judged beside (s: ``LOST_HOLE``;
+        ``hole_glitch``: any).
     """
     floor = glitch_floor(noise)
     steady = regular(stream, j, last, scatter)
@@ -483,11 +484,16 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
     """
     Return whether bat frame j beside a hole over ``LOST_HOLE`` is a glitch; None: wait.
 
-    ``judged`` across the hole (``lost_about`` uncapped) from exactly the samples up to two
-    after it, and not where its next frame stays isolated without it (``first_glitch``'s
-    rule): with one frame after it, a swing's own frame there read as a glitch; with two, none
-    (the same verdict however the detector is fed). None where those two frames have not come;
+    ``judged`` across the hole (``lost_about`` uncapped) from the samples up to two after it
+    (with one, as at the sweep's horizon, a swing's own frame there read as a glitch), not
+    where its next frame stays isolated without it (``first_glitch``'s rule), and more than
+    ``glitch_floor`` off the bat continued back from the ``HOLE_AFTER`` (3) frames after it
+    (``departure`` with time run backwards: a frame after a contact lies on the path of the
+    braked frames after it; a glitch does not). Reads exactly the samples up to ``HOLE_AFTER``
+    after it (the same verdict however the detector is fed). None where those have not come;
     False where the segment ends before them.
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
     end = j + HOLE_AFTER
     if end > len(stream.times) - 1:
