@@ -595,7 +595,7 @@ def test_a_frame_off_the_swing_beside_a_lost_one_is_judged(lost: int) -> None:
 
 
 @pytest.mark.parametrize('lost', [-2, -1, 1])
-def test_a_frame_beside_a_long_hole_is_judged_with_two_frames_after_it(lost: int) -> None:
+def test_a_frame_beside_a_long_hole_is_judged_with_the_frames_after_it(lost: int) -> None:
     """
     Beside a 22 ms hole (one frame lost at 90 Hz) ``hole_glitch`` judges a frame moved 15 cm.
 
