@@ -23,9 +23,9 @@ neighbours explain it. Among regular steps (``regular``; a frame lost three or m
 before it only widens the scatter it is judged against), or beside up to two frames the tracker
 lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
 for a swing's own frames), against the frames before it with the same frames left out
-(``_matched``); not in a segment's first frames; nor where a frame just before it that could
-not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
-(``UNJUDGED_REACH``).
+(``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
+segment's first frames; nor where a frame just before it that could not be judged so
+(``judgeable``) is the one off, which pulls this one's neighbours' spline (``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -98,20 +98,35 @@ LOST_HOLE = 0.02
 """s: the longest step across lost frames a frame beside them is judged at (``lost_about``): a
 swing's own frames across a longer hole (one frame lost at 90 Hz, 22 ms; two at 120 Hz, 25 ms)
 are off its spline by more than the frames before it, which turn slower, show across the same
-hole (``_matched``), and braking frames after a contact read as glitches."""
+hole (``_matched``), and braking frames after a contact read as glitches, judged with one
+frame after them (the sweep's horizon). Beside a longer hole a frame a contact hangs on is
+judged with three frames after it (``hole_glitch``)."""
 
 UNJUDGED_REACH = 2
 """Frames before a judged one whose glitch, where it could not be judged itself (``judgeable``:
 beside lost frames, a segment's first), pulls the judged one's neighbours' spline off
 (``judged``): a glitch two frames before a genuine frame made it read as one."""
 
-EARLY_AFTER = SCATTER_FRAMES + 3
+EARLY_SCATTER = 4
+"""Frames whose isolation measures the scatter a segment's early frame (``early``) is judged
+against with time run backwards (``early_glitch``): one fewer than ``SCATTER_FRAMES``, so that
+a hit near the bat's re-acquisition waits a bat frame less for the frames after it. Mirrored,
+the frame's continuation and spline read fewer frames than forward (six or seven, not eight):
+with three, a still bat with noise the detector was not told of (nor had estimated) had early
+frames judged (1 in 28,000 with 8 mm of noise, 10 in 10,500 with 20 mm; forward, with three,
+none in 10,500); with four, none (nor with five)."""
+
+EARLY_AFTER = EARLY_SCATTER + 3
 """Frames after a segment's early frame (``early``) its judgment with time run backwards reads
-(``early_glitch``): what ``judged`` reads before a frame, mirrored."""
+(``early_glitch``): what ``judged`` reads before a frame with ``EARLY_SCATTER``, mirrored."""
 
 EARLY_FRAMES = SCATTER_FRAMES + 3
 """A segment's first frames that ``judged`` cannot judge (fewer frames before them than it
 reads): its second to ``EARLY_FRAMES``-th are judged with time run backwards instead."""
+
+HOLE_AFTER = 3
+"""Frames after a frame beside a hole over ``LOST_HOLE`` its judgment reads (``hole_glitch``):
+two for ``judged``, three for its departure from the bat continued back from them."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -207,13 +222,14 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
 
 
 def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
-           last: Optional[int] = None) -> bool:
+           last: Optional[int] = None, scatter: int = SCATTER_FRAMES,
+           hole: float = LOST_HOLE) -> bool:
     """
     Return whether bat frame j is a glitch, from the samples up to ``last`` (the newest).
 
     Among regular steps (``regular``), departed (``departure``) and isolated (``isolation``)
     by more than ``glitch_floor``, and isolated more than ``ISOLATION_RATIO`` times as far as
-    any of the ``SCATTER_FRAMES`` frames from three before it (whose splines do not reach it):
+    any of the ``scatter`` frames from three before it (whose splines do not reach it):
     the stream's own scatter, where its noise is not known yet (``tracker_noise`` auto, in a
     stream's first frames). Beside frames the tracker lost (``lost_about``), the scatter is
     that of those frames with the same frames left out about each (``_matched``). No frame is
@@ -222,45 +238,50 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
     message at a time, ``analyze``'s chunks): the same verdict in both.
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    :param scatter: how many frames measure that scatter (``SCATTER_FRAMES``; a segment's early
+        frame, judged with time run backwards: ``EARLY_SCATTER``).
+    :param hole: the longest step across lost frames it is judged beside (s: ``LOST_HOLE``;
+        ``hole_glitch``: any).
     """
     floor = glitch_floor(noise)
-    steady = regular(stream, j, last)
-    lost = () if steady else lost_about(stream, j, 2, 1, last)
+    steady = regular(stream, j, last, scatter)
+    lost = () if steady else lost_about(stream, j, 2, 1, last, hole)
     if not (steady or lost) or departure(stream, j, max_gap, size, noise) <= floor:
         return False
     isolated = max(isolation(stream, j, max_gap, size, last))
     if isolated <= floor:
         return False
     if steady:
-        scatter = [max(isolation(stream, i, max_gap, size, last))
-                   for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1)
-                   if i >= 1 and stream.continuous(i, max_gap)
-                   and stream.continuous(i - 1, max_gap)]
-        if len(scatter) < SCATTER_FRAMES or isolated <= ISOLATION_RATIO * max(scatter):
+        scattered = [max(isolation(stream, i, max_gap, size, last))
+                     for i in range(j - 3, j - 3 - scatter, -1)
+                     if i >= 1 and stream.continuous(i, max_gap)
+                     and stream.continuous(i - 1, max_gap)]
+        if len(scattered) < scatter or isolated <= ISOLATION_RATIO * max(scattered):
             return False
     else:  # beside frames the tracker lost: against the frames before it with the same lost
-        matched = _matched(stream, j, lost, max_gap, size, noise)
+        matched = _matched(stream, j, lost, max_gap, size, noise, scatter)
         if matched is None or isolated <= ISOLATION_RATIO * max(m[1] for m in matched):
             return False
     # a frame just before it that could not be judged (``judgeable``: beside lost frames, a
     # segment's first) may be the one off, pulling this one's neighbours' spline: this one is
     # no glitch unless it stays isolated without it
     newest = len(stream.times) - 1 if last is None else last
-    return all(judgeable(stream, i, max_gap, newest) or isolated_without(
+    return all(judgeable(stream, i, max_gap, newest, scatter) or isolated_without(
         stream, i, max_gap, size, noise, newest, j - i) for i in range(j - UNJUDGED_REACH, j))
 
 
-def judgeable(stream: Stream, j: int, max_gap: float, last: Optional[int] = None) -> bool:
+def judgeable(stream: Stream, j: int, max_gap: float, last: Optional[int] = None,
+              scatter: int = SCATTER_FRAMES) -> bool:
     """
     Return whether bat frame j can be judged (``judged``), its next frame at most sample ``last``.
 
-    Among regular steps (``regular``), with the ``SCATTER_FRAMES`` frames from three before it
-    each beside its neighbours in its segment (within ``max_gap`` s): not a segment's first
-    eight frames.
+    Among regular steps (``regular``), with the ``scatter`` frames from three before it each
+    beside its neighbours in its segment (within ``max_gap`` s): not a segment's first
+    ``scatter`` + 3 frames.
     """
-    return regular(stream, j, last) and all(
+    return regular(stream, j, last, scatter) and all(
         i >= 1 and stream.continuous(i, max_gap) and stream.continuous(i - 1, max_gap)
-        for i in range(j - 3, j - 3 - SCATTER_FRAMES, -1))
+        for i in range(j - 3, j - 3 - scatter, -1))
 
 
 def isolated_without(stream: Stream, j: int, max_gap: float, size: int, noise: float,
@@ -279,11 +300,13 @@ def isolated_without(stream: Stream, j: int, max_gap: float, size: int, noise: f
         glitch_floor(noise)
 
 
-def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
+def regular(stream: Stream, j: int, last: Optional[int] = None,
+            scatter: int = SCATTER_FRAMES) -> bool:
     """
     Return whether the steps about bat frame j are regular: what the floor was measured on.
 
-    The steps from ``SCATTER_FRAMES`` + 2 frames before it up to the frame before it: the last
+    The steps from ``scatter`` + 2 frames before it (the frames ``judged`` reads its scatter
+    from, ``SCATTER_FRAMES`` by default) up to the frame before it: the last
     ``STEADY_STEPS`` at most ``REGULAR_STEP`` times their median, the others at most
     ``PAIR_STEPS`` times it (one frame lost: not a segment's start); and the frames on either
     side of it (the one after it at most sample ``last``, the newest by default) at most
@@ -294,7 +317,7 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
     off leaves its neighbours two steps apart, and its position, which is not where the swing
     was at its stamp, is judged.
     """
-    first = j - SCATTER_FRAMES - 2
+    first = j - scatter - 2
     last = len(stream.times) - 1 if last is None else last
     if first < 0 or j + 1 > last:
         return False
@@ -306,8 +329,8 @@ def regular(stream: Stream, j: int, last: Optional[int] = None) -> bool:
             and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
 
 
-def lost_about(stream: Stream, j: int, before: int, after: int,
-               last: Optional[int] = None) -> Optional[Tuple[int, ...]]:
+def lost_about(stream: Stream, j: int, before: int, after: int, last: Optional[int] = None,
+               hole: float = LOST_HOLE) -> Optional[Tuple[int, ...]]:
     """
     Return the offsets from bat frame j of the frames the tracker lost about it, or None.
 
@@ -337,17 +360,18 @@ def lost_about(stream: Stream, j: int, before: int, after: int,
         virtual += whole
     at = virtual if after == 0 else at
     span = times[j - before:j + after + 1]
-    if len(lost) > LOST_NEAR or lost and max(b - a for a, b in zip(span, span[1:])) > LOST_HOLE:
+    if len(lost) > LOST_NEAR or lost and max(b - a for a, b in zip(span, span[1:])) > hole:
         return None
     return tuple(v - at for v in lost)
 
 
 def _matched(stream: Stream, j: int, lost: Tuple[int, ...], max_gap: float, size: int,
-             noise: float) -> Optional[List[Tuple[float, float]]]:
+             noise: float, scatter: int = SCATTER_FRAMES) -> Optional[List[Tuple[float, float]]]:
     """
     Return the departures and isolations (m) of the frames before bat frame j, lost like it.
 
-    The ``SCATTER_FRAMES`` frames from three before j (further by the frames lost after it),
+    The ``scatter`` frames (``SCATTER_FRAMES`` by default) from three before j (further by the
+    frames lost after it),
     each with the frames at the offsets ``lost`` from it (``lost_about``'s from j) left out, so
     that the steps about it are j's: the scatter a swing's own frames show across such a hole.
     Each frame's spline reads no frame from j on. None where they, with three frames before
@@ -355,7 +379,7 @@ def _matched(stream: Stream, j: int, lost: Tuple[int, ...], max_gap: float, size
     """
     after = sum(v > 0 for v in lost)
     found = []
-    for i in range(j - 3 - after, j - 3 - after - SCATTER_FRAMES, -1):
+    for i in range(j - 3 - after, j - 3 - after - scatter, -1):
         low, end = i - 3 - (len(lost) - after), i + 2 + after  # (three frames before it)
         if low < 0 or not all(stream.continuous(k, max_gap) for k in range(low, end)):
             return None
@@ -416,10 +440,11 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
 
     The mirror of ``first_glitch``'s rule: ``judged`` on its segment up to ``EARLY_AFTER``
     frames after it with time run backwards (its departure from the bat continued back from the
-    frames after it, its isolation against theirs), and not where its previous frame stays
-    isolated without it (the glitch is that one). Reads exactly those frames (the same verdict
-    however the detector is fed). None where they have not all come (the segment's newest frame
-    is the stream's newest); False where the segment ends before them.
+    frames after it, its isolation against the ``EARLY_SCATTER`` frames' from three after it),
+    and not where its previous frame stays isolated without it (the glitch is that one). Reads
+    exactly those frames (the same verdict however the detector is fed). None where they have not
+    all come (the segment's newest frame is the stream's newest); False where the segment ends
+    before them.
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
@@ -435,9 +460,54 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
     backwards = reversed_excerpt(stream, start, end)
     backwards.noise = stream.noise
     k, last = end - j, end - start
-    if not judged(backwards, k, max_gap, size, noise, last):
+    if not judged(backwards, k, max_gap, size, noise, last, EARLY_SCATTER):
         return False
     return not (k + 1 < last and isolated_without(backwards, k, max_gap, size, noise, last))
+
+
+def beside_hole(stream: Stream, j: int) -> bool:
+    """
+    Return whether bat frame j is beside lost frames across a hole over ``LOST_HOLE``.
+
+    Up to ``LOST_NEAR`` frames lost from two before it to the one after it (``lost_about``;
+    before it only where j is the newest sample), a step across them longer than
+    ``LOST_HOLE``: ``judged`` does not judge it there, ``hole_glitch`` does, reading three
+    frames after it (a contact hanging on it waits for them: ``Sweep._early_bat_glitch``).
+    """
+    after = 1 if j + 1 < len(stream.times) else 0
+    return (lost_about(stream, j, 2, after) is None
+            and bool(lost_about(stream, j, 2, after, None, math.inf)))
+
+
+def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
+                noise: float) -> Optional[bool]:
+    """
+    Return whether bat frame j beside a hole over ``LOST_HOLE`` is a glitch; None: wait.
+
+    ``judged`` across the hole (``lost_about`` uncapped) from the samples up to two after it
+    (with one, as at the sweep's horizon, a swing's own frame there read as a glitch), not
+    where its next frame stays isolated without it (``first_glitch``'s rule), and more than
+    ``glitch_floor`` off the bat continued back from the ``HOLE_AFTER`` (3) frames after it
+    (``departure`` with time run backwards: a frame after a contact lies on the path of the
+    braked frames after it; a glitch does not). Reads exactly the samples up to ``HOLE_AFTER``
+    after it (the same verdict however the detector is fed). None where those have not come;
+    False where the segment ends before them.
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    """
+    end = j + HOLE_AFTER
+    if end > len(stream.times) - 1:
+        return None if all(stream.continuous(i, max_gap)
+                           for i in range(j, len(stream.times) - 1)) else False
+    if not all(stream.continuous(i, max_gap) for i in range(j, end)):
+        return False
+    last = j + 2
+    if not judged(stream, j, max_gap, size, noise, last, hole=math.inf) or \
+            isolated_without(stream, j, max_gap, size, noise, last):
+        return False
+    backwards = reversed_excerpt(stream, j, end)
+    backwards.noise = stream.noise
+    return departure(backwards, end - j, max_gap, size, noise) > glitch_floor(noise)
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,

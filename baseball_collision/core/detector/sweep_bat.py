@@ -6,9 +6,9 @@ The frames an interval near the ball reads are judged by ``bat_glitches`` (``_ba
 a closing frame whose next has not come yet and that departed from its continuation is left
 out of the interval's path, or, where a hit's contact hangs on it, judged first, the interval
 waiting for its next frame (``_without_departed``, ``_closing_glitch``). A segment's early
-frames a contact hangs on are judged against the frames after them, the interval waiting for
-those (``_early_bat_glitch``). A glitch is dropped as ``bat_glitch`` (a ``LateDrop``) and
-forgotten (``Stream.remove``).
+frames, and frames beside a hole over ``bat_glitches.LOST_HOLE``, that a contact hangs on are
+judged with the frames after them, the interval waiting for those (``_early_bat_glitch``). A
+glitch is dropped as ``bat_glitch`` (a ``LateDrop``) and forgotten (``Stream.remove``).
 """
 
 from bisect import bisect_left
@@ -68,29 +68,36 @@ class BatFrames:
     def _early_bat_glitch(self, interval: Tuple[float, float], bat_k: int,
                           paths: Paths) -> bool:
         """
-        Judge the early bat frames a contact over bat interval bat_k hangs on; True: wait.
+        Judge the bat frames a contact over bat interval bat_k hangs on that need later frames.
 
-        Its window's frames up to ``_horizon`` among a segment's first (``bat_glitches.early``),
-        the newest first (time run backwards), where ``paths`` (those to be swept: without a
-        frame that departed) and the paths without the frame disagree over the union interval
-        (s) (``_hangs_on``), each against the frames after it
-        (``bat_glitches.early_glitch``): the first glitch is dropped and forgotten (True: the
-        interval is to be located again). True too where those frames have not all come and the
-        recording goes on (``held``: the interval waits for them).
+        Its window's frames up to ``_horizon``, the newest first, among a segment's first
+        (``bat_glitches.early``: judged against the frames after them with time run backwards,
+        ``bat_glitches.early_glitch``) or beside a hole over ``bat_glitches.LOST_HOLE``
+        (``bat_glitches.beside_hole``: judged with three frames after them,
+        ``bat_glitches.hole_glitch``), where ``paths`` (those to be swept: without a frame that
+        departed) and the paths without the frame disagree over the union interval (s)
+        (``_hangs_on``): the first glitch is dropped and forgotten (True: the interval is to be
+        located again). True too where those frames have not all come and the recording goes
+        on (``held``: the interval waits for them).
         """
         bat, config = self.bat, self.config
         max_gap, size = config.max_gap, config.spline_window
         noise, last = stream_noise(bat, config), self._horizon(bat_k)
         for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
-            if not bat_glitches.early(bat, j, max_gap) or \
-                    not self._hangs_on(interval, j, last, paths):
+            if bat_glitches.early(bat, j, max_gap):
+                judge, reads = bat_glitches.early_glitch, j + 1
+            elif bat_glitches.beside_hole(bat, j):
+                judge, reads = bat_glitches.hole_glitch, j + bat_glitches.HOLE_AFTER
+            else:
                 continue
-            glitch = bat_glitches.early_glitch(bat, j, max_gap, size, noise)
+            if not self._hangs_on(interval, j, last, paths):
+                continue
+            glitch = judge(bat, j, max_gap, size, noise)
             if glitch is None and not self.final:
                 self.held = True
                 return True
             if glitch:
-                self._bat_glitch(j, max(last, j + 1))
+                self._bat_glitch(j, min(max(last, reads), len(bat.times) - 1))
                 return True
         return False
 

@@ -3,9 +3,11 @@
 import math
 from typing import Any, List, Tuple
 
-from baseball_collision.core.detector import Detector, DetectorConfig, Impact, NearMiss
+from baseball_collision.core.detector import (
+    bat_glitches, Detector, DetectorConfig, Impact, NearMiss)
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, early, early_glitch, isolation, judged, lost_about, path_without, regular)
+    beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, hole_glitch, isolation,
+    judged, lost_about, path_without, regular)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
@@ -183,20 +185,21 @@ def test_a_segments_early_frames_are_judged_against_the_frames_after_them() -> N
     """
     ``early_glitch``: a segment's 2nd to 8th frames, with time run backwards.
 
-    The frame moved 15 cm is a glitch once the eight frames after it have come (None before:
-    wait), and the frames beside it (which its neighbours' spline pulls) are not; on the swing
-    without it, none is. A segment's first frame and its 9th on are not early.
+    The frame moved 15 cm is a glitch once the seven frames after it have come (None before:
+    wait; ``EARLY_AFTER``), and the frames beside it (which its neighbours' spline pulls) are
+    not; on the swing without it, none is. A segment's first frame and its 9th on are not early.
     """
+    assert EARLY_AFTER == 7
     bat = _turning(90.0, 20, turned=3, off=0.15)
     assert [early(bat, j, 0.05) for j in range(10)] == [False] + [True] * 7 + [False] * 2
     assert early_glitch(bat, 3, 0.05, 8, 0.0) is True
     assert [early_glitch(bat, j, 0.05, 8, 0.0) for j in (1, 2, 4, 5)] == [False] * 4
-    assert early_glitch(_turning(90.0, 11, turned=3, off=0.15), 3, 0.05, 8, 0.0) is None
-    assert early_glitch(_turning(90.0, 12, turned=3, off=0.15), 3, 0.05, 8, 0.0) is True
+    assert early_glitch(_turning(90.0, 10, turned=3, off=0.15), 3, 0.05, 8, 0.0) is None
+    assert early_glitch(_turning(90.0, 11, turned=3, off=0.15), 3, 0.05, 8, 0.0) is True
     clean = _turning(90.0, 20)
     assert not any(early_glitch(clean, j, 0.05, 8, 0.0) for j in range(1, 8))
     gap = _turning(90.0, 20, turned=3, off=0.15)
-    gap.breaks[8] = True  # (the segment ends before the frames its judgment reads)
+    gap.breaks[7] = True  # (the segment ends before the frames its judgment reads)
     assert early_glitch(gap, 3, 0.05, 8, 0.0) is False
 
 
@@ -249,6 +252,72 @@ def test_genuine_frames_after_a_bat_gap_stay() -> None:
                     detector, events = _run(config, gapped, 'pose')
                     assert 'bat_glitch' not in detector.stats.dropped, (rate, family, segment)
                     assert sum(isinstance(event, Impact) for event in events) == 1
+
+
+def _still(rng: np.random.Generator, count: int, rate: float, noise_m: float) -> Stream:
+    """Return a still bat's stream, each coordinate off by ``noise_m`` (1 sigma)."""
+    bat = Stream('bat')
+    for i in range(count):
+        knob, tip = rng.normal(0.0, noise_m, (2, 3)) + ((0.0, 0.0, 1.0), (0.86, 0.0, 1.0))
+        bat.append(i / rate, int(round(i / rate * 1e9)) + 1, BatSample(tuple(knob), tuple(tip)),
+                   i == 0)
+    return bat
+
+
+def test_a_still_bats_noise_is_no_glitch_at_a_segments_start(monkeypatch: Any) -> None:
+    """
+    A still bat with 20 mm of noise the detector was not told of: no early frame is a glitch.
+
+    Judged with time run backwards at the floor of no noise (not estimated yet), against four
+    frames' scatter (``EARLY_SCATTER``); against three (six frames after), these frames of
+    1,500 such segments were glitches (10 in all; forward, with three, none).
+    """
+    rng, found = np.random.default_rng(11), {}
+    for run in range(1000):
+        knob, tip = (rng.normal(0.0, 0.02, (16, 3)) + centre
+                     for centre in ((0.0, 0.0, 1.0), (0.86, 0.0, 1.0)))
+        if run in (210, 552, 684, 996):
+            bat = Stream('bat')
+            for i in range(16):
+                bat.append(i / 90.0, int(round(i / 90.0 * 1e9)) + 1,
+                           BatSample(tuple(knob[i]), tuple(tip[i])), i == 0)
+            found[run] = bat
+    for bat in found.values():
+        assert not any(early_glitch(bat, j, 0.05, 8, 0.0) for j in range(1, 8))
+    monkeypatch.setattr(bat_glitches, 'EARLY_SCATTER', 3)
+    monkeypatch.setattr(bat_glitches, 'EARLY_AFTER', 6)
+    for run, j in ((210, 5), (552, 5), (684, 1), (996, 1)):
+        found[run].aligned.clear()
+        assert early_glitch(found[run], j, 0.05, 8, 0.0), run
+
+
+def test_a_still_bat_hit_just_after_it_is_reacquired_keeps_its_frames() -> None:
+    """
+    A ball hits a still bat with 8 mm of noise (not told), its 2nd-8th frame after a bat gap.
+
+    The early frames the contact hangs on are judged against the seven after them: none is
+    dropped, and the hit is found.
+    """
+    rng = np.random.default_rng(3)
+    rate, count, start = 90.0, 36, 1_700_000_000_000_000_000
+    bat = _still(rng, count, rate, 8e-3)
+    contact = 0.25 + 0.3 / rate
+    ball = [(0.6, 30.0 * (contact - i / rate), 1.0) + rng.normal(0.0, 8e-3, 3)
+            for i in range(count)]
+    after = int(math.ceil(contact * rate))  # (the first bat frame after the contact)
+    for segment in range(2, 9):
+        first = after - segment + 1
+        detector, events = Detector(DetectorConfig(bat_input='points')), []
+        for i in range(count):
+            stamp = start + int(round(i / rate * 1e9))
+            events += detector.add('ball', stamp, tuple(ball[i]), 'world')
+            if not first - 6 <= i < first:  # (a gap of 67 ms: over max_gap)
+                value = bat.values[i]
+                events += detector.add('knob', stamp, value.knob, 'world')
+                events += detector.add('tip', stamp, value.tip, 'world')
+        events += detector.finish()
+        assert 'bat_glitch' not in detector.stats.dropped, segment
+        assert sum(isinstance(event, Impact) for event in events) == 1, segment
 
 
 def test_steps_are_regular_unless_a_frame_was_lost() -> None:
@@ -525,6 +594,33 @@ def test_a_frame_off_the_swing_beside_a_lost_one_is_judged(lost: int) -> None:
     assert not any(judged(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times) - 1))
 
 
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+def test_a_frame_beside_a_long_hole_is_judged_with_the_frames_after_it(lost: int) -> None:
+    """
+    Beside a 22 ms hole (one frame lost at 90 Hz) ``hole_glitch`` judges a frame moved 15 cm.
+
+    ``judged`` does not (the hole is over ``LOST_HOLE``); ``hole_glitch`` does, from the three
+    frames after it (None before they come: wait); the swing's own frames there are no glitch.
+    """
+    bat = _turning(90.0, 24, turned=14, off=0.15)
+    bat.remove(14 + lost)
+    j = 14 - (lost < 0)
+    assert beside_hole(bat, j) and not judged(bat, j, 0.05, 8, 0.0)
+    assert judged(bat, j, 0.05, 8, 0.0, j + 2, hole=math.inf)
+    # (beside the hole its next frame, without it, spans two holes and stays isolated on this
+    # fast-turning swing: the glitch is dropped only where that one is not)
+    assert hole_glitch(bat, j, 0.05, 8, 0.0) is (lost == -2)
+    early_cut = _turning(90.0, 24, turned=14, off=0.15)
+    early_cut.remove(14 + lost)
+    for _ in range(len(early_cut.times) - (j + 2)):
+        early_cut.remove(len(early_cut.times) - 1)
+    assert hole_glitch(early_cut, j, 0.05, 8, 0.0) is None
+    clean = _turning(90.0, 24)
+    clean.remove(14 + lost)
+    assert not any(hole_glitch(clean, i, 0.05, 8, 0.0) for i in range(10, 18)
+                   if beside_hole(clean, i))
+
+
 @pytest.mark.parametrize('before', [1, 2, 3])
 def test_a_closing_frame_after_a_lost_one_departed(before: int) -> None:
     """
@@ -572,6 +668,55 @@ def test_a_glitch_beside_a_lost_frame_is_dropped_not_an_impact(
             if family == 'plane' and offset == 0:
                 dropped, _ = _alike_in_chunks(config, glitched)
                 assert dropped['bat_glitch'] == 1
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('lost', [-2, -1, 1])
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_glitch_beside_a_long_hole_is_dropped_not_an_impact(
+        config: DetectorConfig, lost: int, noise_m: float) -> None:
+    """
+    A 90 Hz bat frame turned 10 or 20 cm toward a ball passing over, a frame lost beside it.
+
+    The hole (22 ms) is over ``LOST_HOLE``: the frame was not judged, and the bat's path
+    through it met the ball (13-28 of 480 misses, ``bench_glitches.py --rates 90 --lost``).
+    Now, where a contact hangs on it, it is judged with three frames after it
+    (``hole_glitch``): no impact, no frame but the glitch dropped, and ``add_chunk`` alike.
+    """
+    for family in ('plane', 'jerky', 'braking'):
+        for turn in (0.1, 0.2):
+            scenario, samples = _scene('miss_over', 3, 90.0, noise_m, family=family)
+            j = _closest_frame(scenario, samples)
+            glitched = samples.with_bat_frame_turned(
+                j, samples.ball_positions[j], turn).without_bat_frame(j + lost)
+            stamp = int(samples.bat_stamps_ns[j])
+            detector, late, events = Detector(config), [], []
+            for stamp_ns, role, values in glitched.messages(config.bat_input):
+                events += detector.add(role, stamp_ns, values)
+                late += detector.stats.late_drops
+            events += detector.finish()
+            assert not any(isinstance(event, Impact) for event in events), (family, turn)
+            assert [drop.stamp_ns for drop in late] in ([], [stamp]), (family, turn)
+            if family == 'plane':
+                dropped, _ = _alike_in_chunks(config, glitched)
+                assert dropped.get('bat_glitch', 0) == len(late)
+
+
+def test_a_braked_frame_beside_a_long_hole_stays() -> None:
+    """
+    The frame after a hit's contact (the bat braked) beside a 22 ms hole (90 Hz) is kept.
+
+    Judged against the frames before it alone (``judged`` across the hole, two frames after
+    it), it read as a glitch (braking and rebound barrels, 1 mm, ``analyze``'s parameters);
+    the bat continued back from the frames after it, which braked too, meets it
+    (``hole_glitch``).
+    """
+    for family in ('braking', 'rebound'):
+        scenario, samples = _scene('barrel', 0, 90.0, 1e-3, family=family)
+        j = _closest_frame(scenario, samples)
+        detector, events = _run(OFFLINE, samples.without_bat_frame(j + 1), 'pose')
+        assert 'bat_glitch' not in detector.stats.dropped, family
+        assert sum(isinstance(event, Impact) for event in events) == 1, family
 
 
 def test_genuine_frames_beside_lost_ones_stay() -> None:
