@@ -11,7 +11,9 @@ and forgotten (``Stream.remove``). A hit between a segment's first or second sam
 next, which no flight before it finds, is solved from that sample and the flight after it
 (``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
 its last one the other answer; or, where the flight before the tracking gap runs on through
-that sample, that flight's first contact: ``_flight_across_gap``).
+that sample, that flight's first contact: ``_flight_across_gap``); a hit between its third
+and fourth, where the first three lie on the flight before the gap and the fourth leaves it,
+on that flight (``_solved_on_gap_flight``).
 """
 
 from bisect import bisect_left
@@ -175,12 +177,14 @@ class BallSamples:
         the bat where the push about matches the ball's approach (the sweep's bat, braked
         after the contact, a millimetre off, then never meets it), and its first contact is
         early where the push outran the approach. Only while armed (that ball clear of the
-        bat at ta). False (the interval swept as any other, the arming as it was) where the
-        rule does not hold or no such instant is in [ta, tb].
+        bat at ta). Where k is the segment's third sample, the hit after it on the flight
+        before the gap (``_solved_on_gap_flight``). False (the interval swept as any other,
+        the arming as it was) where neither rule holds or no such instant is in [ta, tb].
         """
         episodes = self.episodes
         armed = episodes.armed
-        if self._solved_before_flight(k, ta, tb, paths, events):
+        if self._solved_before_flight(k, ta, tb, paths, events) or \
+                self._solved_on_gap_flight(k, ta, tb, paths, events):
             return True
         episodes.armed = armed  # (a path that found no hit arms nothing: ``_first_contact``)
         return False
@@ -215,6 +219,54 @@ class BallSamples:
         self.episodes.impact(ball.times[k + 1])
         incoming = approach.incoming(t) if ball_path is approach else ball_path
         self._report(t, hit, interval, (incoming, bat_path), events, spread, incoming.velocity(t))
+        return True
+
+    def _solved_on_gap_flight(self, k: int, ta: float, tb: float, paths: Paths,
+                              events: List) -> bool:
+        """
+        Solve a hit after the ball's sample k, its segment's third, on the flight before the gap.
+
+        Where the segment's first three samples lie on the ball's flight before its tracking
+        gap (``_gap_flight``) and its fourth, sample k + 1, is off the parabola through that
+        flight and those three continued to it (by more than ``DEPARTURE_FLOOR``,
+        ``GAP_FLIGHT_SLACK`` and the noise's ``DEPARTURE_CHI_SQUARE`` bound at that
+        continuation's gain; the noise the stream's, or the fit's residuals' where larger),
+        the ball left that flight between samples k and k + 1. The departure test
+        (``leaves_flight``) calls none there where the noise is not told (no interval before
+        it to measure the scatter by), so the sweep's path over interval k runs from sample k
+        to the rebound's frame, fiction that may never meet the bat. The contact is that
+        flight's first contact with the bat over the union interval [ta, tb] (s)
+        (``_contact_on``), its velocity the impact's. False where the rule does not hold or
+        the flight does not meet the bat there (the interval swept as any other).
+        """
+        ball, gap = self.ball, self.config.max_gap
+        if k < 2 or k + 1 >= len(ball.times) or not (
+                ball.continuous(k, gap) and ball.continuous(k - 1, gap)
+                and ball.continuous(k - 2, gap) and _starts(ball, k - 2, gap)):
+            return False
+        judged = self._gap_flight(k, ta)
+        if judged is None or not all(judged[0]):
+            return False
+        whole, config = judged[1], self.config
+        sigma = stream_noise(ball, config)
+        noise = max(sigma, (sigma if sigma > 0.0 else DEPARTURE_FLOOR) * math.sqrt(
+            whole.chi_square / whole.dof))
+        t1 = ball.times[k + 1]
+        weights = whole.weights(t1)[0]
+        if math.dist(whole.state(t1)[0], ball.values[k + 1]) <= (
+                DEPARTURE_FLOOR + GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
+                    1.0 + float(weights @ weights))) * noise):
+            return False
+        (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
+        flight, interval = PointPath(ta, tb, p0, p1, v0, v1), (ta, tb)
+        ahead = self._bat_ahead(interval, paths, True)
+        found = self._contact_on(interval, flight, (paths[1],) if ahead is None else (
+            paths[1], ahead[1]))
+        if found is None:
+            return False
+        t, hit, bat_path, _ = found
+        self.episodes.impact(ball.times[k + 1])
+        self._report(t, hit, interval, (flight, bat_path), events, 0.0, flight.velocity(t))
         return True
 
     def _contact_on(self, interval: Tuple[float, float], ball_path: Any,
@@ -261,7 +313,7 @@ class BallSamples:
         """
         Return whether each of a ball segment's samples up to k lies on the flight before its gap.
 
-        Sample k is its segment's first or second, after a gap longer than ``max_gap`` (not a
+        Sample k is its segment's first to third, after a gap longer than ``max_gap`` (not a
         jump the speed check took: ``gate.speed_check``); ta (s) opens the union interval
         visited. The samples before the gap that no trim can have taken (within
         ``kept_history`` of ta: the node's and ``analyze``'s streams hold them alike), at least
@@ -276,7 +328,9 @@ class BallSamples:
         """
         ball, config = self.ball, self.config
         gap, reach = config.max_gap, ta - kept_history(config)
-        first = k if _starts(ball, k, gap) else k - 1
+        first = k
+        while first > max(k - 3, 0) and not _starts(ball, first, gap):
+            first -= 1
         if first < 1 or ball.times[first - 1] < reach or ball.times[first] - ball.times[
                 first - 1] <= gap:
             return None  # (none held, or a segment the speed check started: another ball)
