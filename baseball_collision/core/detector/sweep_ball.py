@@ -235,9 +235,11 @@ class BallSamples:
         (``leaves_flight``) calls none there where the noise is not told (no interval before
         it to measure the scatter by), so the sweep's path over interval k runs from sample k
         to the rebound's frame, fiction that may never meet the bat. The contact is that
-        flight's first contact with the bat over the union interval [ta, tb] (s)
-        (``_contact_on``), its velocity the impact's. False where the rule does not hold or
-        the flight does not meet the bat there (the interval swept as any other).
+        flight's first contact with the bat over the union interval [ta, tb] (s) (the sweep's
+        bat, or the bat continued from before the interval: ``_contact_on``, but no slack: a
+        flight that only comes near the bat makes no hit, whatever a glitch did to the noise's
+        estimate), its velocity the impact's. False where the rule does not hold or the flight
+        does not touch the bat there (the interval swept as any other).
         """
         ball, gap = self.ball, self.config.max_gap
         if k < 2 or k + 1 >= len(ball.times) or not (
@@ -260,11 +262,14 @@ class BallSamples:
         (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
         flight, interval = PointPath(ta, tb, p0, p1, v0, v1), (ta, tb)
         ahead = self._bat_ahead(interval, paths, True)
-        found = self._contact_on(interval, flight, (paths[1],) if ahead is None else (
-            paths[1], ahead[1]))
+        found = None
+        for bat_path in (paths[1],) if ahead is None else (paths[1], ahead[1]):
+            again = self._first_contact(interval, (flight, bat_path))
+            if again is not None:  # (the bat continued taken where both touch: ``_contact_on``)
+                found = (*again, bat_path)
         if found is None:
             return False
-        t, hit, bat_path, _ = found
+        t, hit, bat_path = found
         self.episodes.impact(ball.times[k + 1])
         self._report(t, hit, interval, (flight, bat_path), events, 0.0, flight.velocity(t))
         return True
