@@ -86,6 +86,8 @@ class BatFrames:
         for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
             if bat_glitches.early(bat, j, max_gap):
                 judge, reads = bat_glitches.early_glitch, j + 1
+            elif bat_glitches.segment_first(bat, j, max_gap):
+                judge, reads = bat_glitches.first_frame_glitch, j + 1
             elif bat_glitches.beside_hole(bat, j):
                 judge, reads = bat_glitches.hole_glitch, j + bat_glitches.HOLE_AFTER
             else:
