@@ -24,8 +24,10 @@ before it only widens the scatter it is judged against), or beside up to two fra
 lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
 for a swing's own frames), against the frames before it with the same frames left out
 (``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
-segment's first frames; nor where a frame just before it that could not be judged so
-(``judgeable``) is the one off, which pulls this one's neighbours' spline (``UNJUDGED_REACH``).
+segment's first frames (judged against the frames after them: ``early_glitch``, and the first
+by its departure alone: ``first_frame_glitch``); nor where a frame just before it that could
+not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
+(``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -129,14 +131,15 @@ HOLE_AFTER = 3
 two for ``judged``, three for its departure from the bat continued back from them."""
 
 BRAKE_LOST = 0.5
-"""The largest fraction of its speed a bat loses at a hit, within a bat step (a segment's first
-frame, ``first_frame_glitch``): measured bats lose 10-35 % within 1-3 ms; a ball's momentum
-cannot stop a swung bat. The frames after a contact, continued back, reach the frame before it
-as the bat that lost this much would: up to f / (1 - f) steps (one) later along their path."""
+"""The largest fraction of its speed a bat loses at a hit within a bat step (a segment's first
+frame, ``first_frame_glitch``): measured bats lose 10-35 % within 1-3 ms of a hit. The frames
+after a contact, continued back, reach the frame before it where the bat that lost this much
+would be up to f / (1 - f) steps (one) further on; the ``c2`` continuation of a window with
+the brake in it overshoots by as much (``braked_departure`` allows either way)."""
 
 BRAKE_POINTS = 8
-"""Shifts along the braked reach ``braked_departure`` tries first (evenly, the nearest then
-refined between its neighbours)."""
+"""Shifts each way along the braked reach ``braked_departure`` tries first (evenly; the nearest
+is then refined between its neighbours)."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -564,8 +567,12 @@ def first_frame_glitch(stream: Stream, j: int, max_gap: float, size: int,
     Its departure (m) from the bat continued back from the ``EARLY_AFTER`` frames after it
     (``reversed_excerpt``, ``fitting.c2_bat_continued``), where a bat that lost up to
     ``BRAKE_LOST`` of its speed at a hit between them would be (``braked_departure``): more
-    than ``glitch_floor`` and ``DEPARTURE_RATIO`` times each of the ``EARLY_SCATTER`` frames'
-    after it (theirs, continued back likewise: the stream's scatter). Reads exactly those frames
+    than ``glitch_floor`` and ``ISOLATION_RATIO`` times each of the ``EARLY_SCATTER`` frames'
+    after it (theirs, continued back likewise: the stream's scatter; a departure alone drops
+    it, so it is held to the ratio an isolation is); not where the frame after it departed by
+    more than the floor too (the glitch may be that one: ``early_glitch``), nor where the step
+    to that frame is over ``REGULAR_STEP`` times the median of the steps after it (frames
+    lost: continued back across them, a swing's frame is off too). Reads exactly those frames
     (the same verdict however the detector is fed). None where they have not all come (the
     segment's newest frame is the stream's newest); False where the segment ends before them.
 
@@ -595,10 +602,11 @@ def braked_departure(stream: Stream, j: int, max_gap: float, size: int, noise: f
     """
     Return how far (m) bat frame j is from the bat continued from the samples before it, braked.
 
-    ``departure``, but the nearest (the larger of the knob's and the tip's distance) of the
-    continued bat at its stamp and up to f / (1 - f) steps further on (f: ``BRAKE_LOST``): a
-    bat that lost speed at a hit between frame j and the frames before it (time run backwards:
-    the frame before a contact) lies there. 0 where there is no continuation.
+    ``departure``, but from the nearest (the larger of the knob's and the tip's distance) of
+    the continued bat within f / (1 - f) steps (f: ``BRAKE_LOST``) either way of its stamp: a
+    bat that lost speed at a hit between frame j and the samples before it (time run
+    backwards: the frame before a contact) lies further on, and the continuation of a window
+    with the brake in it overshoots. 0 where there is no continuation.
     """
     if not (3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap)):
         return 0.0
