@@ -24,8 +24,10 @@ before it only widens the scatter it is judged against), or beside up to two fra
 lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
 for a swing's own frames), against the frames before it with the same frames left out
 (``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
-segment's first frames; nor where a frame just before it that could not be judged so
-(``judgeable``) is the one off, which pulls this one's neighbours' spline (``UNJUDGED_REACH``).
+segment's first frames (judged against the frames after them: ``early_glitch``, and the first
+by its departure alone: ``first_frame_glitch``); nor where a frame just before it that could
+not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
+(``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
@@ -127,6 +129,17 @@ reads): its second to ``EARLY_FRAMES``-th are judged with time run backwards ins
 HOLE_AFTER = 3
 """Frames after a frame beside a hole over ``LOST_HOLE`` its judgment reads (``hole_glitch``):
 two for ``judged``, three for its departure from the bat continued back from them."""
+
+BRAKE_LOST = 0.5
+"""The largest fraction of its speed a bat loses at a hit within a bat step (a segment's first
+frame, ``first_frame_glitch``): measured bats lose 10-35 % within 1-3 ms of a hit. The frames
+after a contact, continued back, reach the frame before it where the bat that lost this much
+would be up to f / (1 - f) steps (one) further on; the ``c2`` continuation of a window with
+the brake in it overshoots by as much (``braked_departure`` allows either way)."""
+
+BRAKE_POINTS = 8
+"""Shifts each way along the braked reach ``braked_departure`` tries first (evenly; the nearest
+is then refined between its neighbours)."""
 
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
@@ -462,7 +475,9 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
     k, last = end - j, end - start
     if not judged(backwards, k, max_gap, size, noise, last, EARLY_SCATTER):
         return False
-    return not (k + 1 < last and isolated_without(backwards, k, max_gap, size, noise, last))
+    if k + 1 == last:  # (its previous frame the segment's first: the glitch may be that one)
+        return not first_frame_glitch(stream, start, max_gap, size, noise)
+    return not isolated_without(backwards, k, max_gap, size, noise, last)
 
 
 def beside_hole(stream: Stream, j: int) -> bool:
@@ -531,3 +546,84 @@ def _distances(path: BatPath, stream: Stream, j: int) -> Tuple[float, float]:
     knob, tip = path.at(stream.times[j])
     sample = stream.values[j]
     return math.dist(knob, sample.knob), math.dist(tip, sample.tip)
+
+
+def segment_first(stream: Stream, j: int, max_gap: float) -> bool:
+    """
+    Return whether bat frame j is its segment's first (the tracker re-acquired the bat).
+
+    After a step over ``max_gap`` s, or the stream's first after a break. It has no neighbour
+    before it: neither ``judged`` nor ``early_glitch`` can judge it; ``first_frame_glitch``
+    does.
+    """
+    return not stream.continuous(j - 1, max_gap) if j > 0 else stream.breaks[0]
+
+
+def first_frame_glitch(stream: Stream, j: int, max_gap: float, size: int,
+                       noise: float) -> Optional[bool]:
+    """
+    Return whether bat frame j, its segment's first (``segment_first``), is a glitch; None: wait.
+
+    Its departure (m) from the bat continued back from the ``EARLY_AFTER`` frames after it
+    (``reversed_excerpt``, ``fitting.c2_bat_continued``), where a bat that lost up to
+    ``BRAKE_LOST`` of its speed at a hit between them would be (``braked_departure``): more
+    than ``glitch_floor`` and ``ISOLATION_RATIO`` times each of the ``EARLY_SCATTER`` frames'
+    after it (theirs, continued back likewise: the stream's scatter; a departure alone drops
+    it, so it is held to the ratio an isolation is); not where the frame after it departed by
+    more than the floor too (the glitch may be that one: ``early_glitch``), nor where the step
+    to that frame is over ``REGULAR_STEP`` times the median of the steps after it (frames
+    lost: continued back across them, a swing's frame is off too). Reads exactly those frames
+    (the same verdict however the detector is fed). None where they have not all come (the
+    segment's newest frame is the stream's newest); False where the segment ends before them.
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    """
+    n = len(stream.times)
+    end = j
+    while end < j + EARLY_AFTER and end < n - 1 and stream.continuous(end, max_gap):
+        end += 1
+    if end < j + EARLY_AFTER:
+        return None if end == n - 1 else False
+    times = stream.times
+    steps = sorted(b - a for a, b in zip(times[j + 1:end], times[j + 2:end + 1]))
+    if times[j + 1] - times[j] > REGULAR_STEP * steps[len(steps) // 2]:
+        return False  # (frames lost after it: continued back across them, a swing is off too)
+    backwards = reversed_excerpt(stream, j, end)
+    backwards.noise = stream.noise
+    k = end - j
+    found, floor = braked_departure(backwards, k, max_gap, size, noise), glitch_floor(noise)
+    if found <= floor or departure(backwards, k - 1, max_gap, size, noise) > floor:
+        return False  # (its next frame departed too: the glitch may be that one)
+    return found > ISOLATION_RATIO * max(departure(backwards, i, max_gap, size, noise)
+                                         for i in range(k - EARLY_SCATTER, k))
+
+
+def braked_departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> float:
+    """
+    Return how far (m) bat frame j is from the bat continued from the samples before it, braked.
+
+    ``departure``, but from the nearest (the larger of the knob's and the tip's distance) of
+    the continued bat within f / (1 - f) steps (f: ``BRAKE_LOST``) either way of its stamp: a
+    bat that lost speed at a hit between frame j and the samples before it (time run
+    backwards: the frame before a contact) lies further on, and the continuation of a window
+    with the brake in it overshoots. 0 where there is no continuation.
+    """
+    if not (3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap)):
+        return 0.0
+    continued = c2_bat_continued(stream, j - 1, max_gap, size, noise)
+    if continued is None:
+        return 0.0
+    t, sample = stream.times[j], stream.values[j]
+    reach = BRAKE_LOST / (1.0 - BRAKE_LOST) * (t - stream.times[j - 1])
+
+    def off(shift: float) -> float:  # (m) the frame from the continued bat at t + shift (s)
+        there = continued[1](t + shift)
+        return max(math.dist(there.knob, sample.knob), math.dist(there.tip, sample.tip))
+
+    best = min(range(-BRAKE_POINTS, BRAKE_POINTS + 1), key=lambda i: off(reach * i / BRAKE_POINTS))
+    low = reach * max(best - 1, -BRAKE_POINTS) / BRAKE_POINTS
+    high = reach * min(best + 1, BRAKE_POINTS) / BRAKE_POINTS
+    for _ in range(24):  # (ternary search: about the nearest, the distance is unimodal)
+        a, b = low + (high - low) / 3.0, high - (high - low) / 3.0
+        low, high = (low, b) if off(a) <= off(b) else (a, high)
+    return min(off(best * reach / BRAKE_POINTS), off(0.5 * (low + high)))

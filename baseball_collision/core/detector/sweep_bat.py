@@ -5,10 +5,11 @@ A part of ``sweep.Sweep`` (its base, reading the sweep's streams, configuration 
 The frames an interval near the ball reads are judged by ``bat_glitches`` (``_bat_frames``);
 a closing frame whose next has not come yet and that departed from its continuation is left
 out of the interval's path, or, where a hit's contact hangs on it, judged first, the interval
-waiting for its next frame (``_without_departed``, ``_closing_glitch``). A segment's early
-frames, and frames beside a hole over ``bat_glitches.LOST_HOLE``, that a contact hangs on are
-judged with the frames after them, the interval waiting for those (``_early_bat_glitch``). A
-glitch is dropped as ``bat_glitch`` (a ``LateDrop``) and forgotten (``Stream.remove``).
+waiting for its next frame (``_without_departed``, ``_closing_glitch``). A segment's first
+and early frames, and frames beside a hole over ``bat_glitches.LOST_HOLE``, that a contact
+hangs on are judged with the frames after them, the interval waiting for those
+(``_early_bat_glitch``). A glitch is dropped as ``bat_glitch`` (a ``LateDrop``) and forgotten
+(``Stream.remove``).
 """
 
 from bisect import bisect_left
@@ -72,10 +73,11 @@ class BatFrames:
 
         Its window's frames up to ``_horizon``, the newest first, among a segment's first
         (``bat_glitches.early``: judged against the frames after them with time run backwards,
-        ``bat_glitches.early_glitch``) or beside a hole over ``bat_glitches.LOST_HOLE``
-        (``bat_glitches.beside_hole``: judged with three frames after them,
-        ``bat_glitches.hole_glitch``), where ``paths`` (those to be swept: without a frame that
-        departed) and the paths without the frame disagree over the union interval (s)
+        ``bat_glitches.early_glitch``; the very first, ``bat_glitches.segment_first``, by its
+        departure from the seven after it, ``bat_glitches.first_frame_glitch``) or beside a hole
+        over ``bat_glitches.LOST_HOLE`` (``bat_glitches.beside_hole``: judged with three frames
+        after them, ``bat_glitches.hole_glitch``), where ``paths`` (those to be swept: without
+        a frame that departed) and the paths without the frame disagree over the union interval (s)
         (``_hangs_on``): the first glitch is dropped and forgotten (True: the interval is to be
         located again). True too where those frames have not all come and the recording goes
         on (``held``: the interval waits for them).
@@ -86,6 +88,8 @@ class BatFrames:
         for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
             if bat_glitches.early(bat, j, max_gap):
                 judge, reads = bat_glitches.early_glitch, j + 1
+            elif bat_glitches.segment_first(bat, j, max_gap):
+                judge, reads = bat_glitches.first_frame_glitch, j + 1
             elif bat_glitches.beside_hole(bat, j):
                 judge, reads = bat_glitches.hole_glitch, j + bat_glitches.HOLE_AFTER
             else:

@@ -6,8 +6,8 @@ from typing import Any, List, Tuple
 from baseball_collision.core.detector import (
     bat_glitches, Detector, DetectorConfig, Impact, NearMiss)
 from baseball_collision.core.detector.bat_glitches import (
-    beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, hole_glitch, isolation,
-    judged, lost_about, path_without, regular)
+    beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, first_frame_glitch,
+    hole_glitch, isolation, judged, lost_about, path_without, regular, segment_first)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
@@ -238,6 +238,92 @@ def test_a_glitch_in_a_segments_first_frames_is_dropped_not_an_impact(
             dropped, _ = _alike_in_chunks(config, gapped)
             assert dropped.get('bat_glitch', 0) == len(late)
     assert judged >= 1  # (a glitch the ball's path does not reach is not judged: no contact)
+
+
+def test_a_segments_first_frame_is_judged_by_its_departure_from_the_frames_after_it() -> None:
+    """
+    ``first_frame_glitch``: a segment's first frame, off the bat continued back from seven after.
+
+    The first frame moved 15 cm is a glitch once the seven frames after it have come (None
+    before: wait), not on the swing without it, nor where the segment ends first, nor where
+    the frame after it departed too (the glitch may be that one: ``early_glitch`` judges it).
+    """
+    bat = _turning(90.0, 12, turned=0, off=0.15)
+    assert [segment_first(bat, j, 0.05) for j in range(3)] == [True, False, False]
+    assert first_frame_glitch(bat, 0, 0.05, 8, 0.0) is True
+    assert first_frame_glitch(_turning(90.0, 7, turned=0, off=0.15), 0, 0.05, 8, 0.0) is None
+    assert first_frame_glitch(_turning(90.0, 12), 0, 0.05, 8, 0.0) is False
+    gap = _turning(90.0, 12, turned=0, off=0.15)
+    gap.breaks[5] = True
+    assert first_frame_glitch(gap, 0, 0.05, 8, 0.0) is False
+    second = _turning(90.0, 12, turned=1, off=0.15)
+    assert first_frame_glitch(second, 0, 0.05, 8, 0.0) is False
+    assert early_glitch(second, 1, 0.05, 8, 0.0) is True
+
+
+def _bench_scene(kind: str, seed: int, rate: float, noise_m: float, family: str):
+    """Return a scenario and its samples drawn as ``bench_glitches`` draws them (one rng)."""
+    rng = np.random.default_rng(seed)
+    scenario = make_scenario(kind, rng, family=family)
+    return scenario, sample(scenario, rate, rng, noise_m=noise_m)
+
+
+def _first_of_segment(samples: Any, j: int, rate: float) -> Any:
+    """Return the samples without the bat frames over 60 ms before bat frame j (at ``rate``)."""
+    return samples.without_bat_frames(int(samples.bat_stamps_ns[j]), int(math.ceil(0.06 * rate)))
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('kind', ['miss_over', 'miss_under'])
+@pytest.mark.parametrize('rate, family, bat, turn', [(120.0, 'plane', 'pose', 0.1),
+                                                     (360.0, 'jerky', 'points', 0.2)])
+def test_a_glitch_that_is_a_segments_first_frame_is_dropped_not_an_impact(
+        config: DetectorConfig, kind: str, rate: float, family: str, bat: str,
+        turn: float) -> None:
+    """
+    A bat frame turned toward a passing ball, the first of its bat segment (after a 60 ms gap).
+
+    It was never judged (no neighbour before it), and the bat's path through it met the ball
+    (``bench_glitches.py --segment 1``: 8 of 480 misses at 120 and 360 Hz). Now the contact
+    waits for the seven frames after it and the glitch is dropped: the miss stays a miss, and
+    ``add_chunk`` does the same.
+    """
+    scenario, samples = _bench_scene(kind, 0 if family == 'plane' else 1, rate, 0.0, family)
+    j = _closest_frame(scenario, samples)
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
+    gapped = _first_of_segment(glitched, j, rate)
+    config = DetectorConfig(**{**config.__dict__, 'bat_input': bat})
+    detector, events, late = Detector(config), [], []
+    for stamp_ns, role, values in gapped.messages(bat):
+        events += detector.add(role, stamp_ns, values)
+        late += detector.stats.late_drops
+    events += detector.finish()
+    late += detector.stats.late_drops
+    assert not any(isinstance(event, Impact) for event in events)
+    assert [drop.stamp_ns for drop in late] == [int(samples.bat_stamps_ns[j])]
+    if bat == 'pose':  # (``_alike_in_chunks`` feeds the pose)
+        dropped, _ = _alike_in_chunks(config, gapped)
+        assert dropped.get('bat_glitch', 0) == 1
+
+
+def test_a_braked_swings_first_frame_before_its_hit_stays(monkeypatch: Any) -> None:
+    """
+    A rebound barrel at 360 Hz, the bat re-acquired two frames before the contact.
+
+    The frames after the contact, continued back, miss the first frame by 6 cm (the bat was
+    faster before it), four times their own scatter: on the bat that lost up to ``BRAKE_LOST``
+    of its speed it lies within 4 mm. It stays, and the hit is found; without the brake's reach
+    it would be dropped.
+    """
+    scenario, samples = _bench_scene('barrel', 0, 360.0, 0.0, 'rebound')
+    j = _closest_frame(scenario, samples) - 2
+    gapped = _first_of_segment(samples, j, 360.0)
+    detector, events = _run(NODE, gapped, 'pose')
+    assert 'bat_glitch' not in detector.stats.dropped
+    assert sum(isinstance(event, Impact) for event in events) == 1
+    monkeypatch.setattr(bat_glitches, 'BRAKE_LOST', 0.0)
+    detector, events = _run(NODE, gapped, 'pose')
+    assert detector.stats.dropped.get('bat_glitch', 0) == 1
 
 
 def test_genuine_frames_after_a_bat_gap_stay() -> None:
