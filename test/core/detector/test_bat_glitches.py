@@ -16,7 +16,7 @@ from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
-from support.events import arrays
+from support.events import arrays, detect_late_drops
 
 NODE = DetectorConfig()
 OFFLINE = DetectorConfig(**OFFLINE_PARAMETERS)
@@ -225,12 +225,7 @@ def test_a_glitch_in_a_segments_first_frames_is_dropped_not_an_impact(
         glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
         stamp = int(samples.bat_stamps_ns[j])
         gapped = _lost_before(glitched, j, j - segment, int(math.ceil(0.06 * rate)))
-        detector, late, events = Detector(config), [], []
-        for stamp_ns, role, values in gapped.messages(config.bat_input):
-            events += detector.add(role, stamp_ns, values)
-            late += detector.stats.late_drops
-        events += detector.finish()
-        late += detector.stats.late_drops
+        events, late = detect_late_drops(config, gapped)
         assert not any(isinstance(event, Impact) for event in events), (family, segment)
         assert [drop.stamp_ns for drop in late] in ([], [stamp]), (family, segment)
         judged += len(late)
@@ -293,12 +288,7 @@ def test_a_glitch_that_is_a_segments_first_frame_is_dropped_not_an_impact(
     glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
     gapped = _first_of_segment(glitched, j, rate)
     config = DetectorConfig(**{**config.__dict__, 'bat_input': bat})
-    detector, events, late = Detector(config), [], []
-    for stamp_ns, role, values in gapped.messages(bat):
-        events += detector.add(role, stamp_ns, values)
-        late += detector.stats.late_drops
-    events += detector.finish()
-    late += detector.stats.late_drops
+    events, late = detect_late_drops(config, gapped)
     assert not any(isinstance(event, Impact) for event in events)
     assert [drop.stamp_ns for drop in late] == [int(samples.bat_stamps_ns[j])]
     if bat == 'pose':  # (``_alike_in_chunks`` feeds the pose)
@@ -606,12 +596,7 @@ def test_a_glitch_a_few_frames_after_a_lost_one_is_judged(config: DetectorConfig
             j = _closest_frame(scenario, samples) + offset
             glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.1)
             stamp = int(glitched.bat_stamps_ns[j])
-            detector, late, events = Detector(config), [], []
-            for stamp_ns, role, values in _lost_before(glitched, j, j - before, 1).messages(
-                    config.bat_input):
-                events += detector.add(role, stamp_ns, values)
-                late += detector.stats.late_drops
-            events += detector.finish()
+            events, late = detect_late_drops(config, _lost_before(glitched, j, j - before, 1))
             assert not any(isinstance(event, Impact) for event in events), (family, offset)
             assert [drop.stamp_ns for drop in late] == [stamp], (family, offset)
 
@@ -744,11 +729,7 @@ def test_a_glitch_beside_a_lost_frame_is_dropped_not_an_impact(
             glitched = samples.with_bat_frame_turned(
                 j, samples.ball_positions[j], 0.1).without_bat_frame(j + lost)
             stamp = int(samples.bat_stamps_ns[j])
-            detector, late, events = Detector(config), [], []
-            for stamp_ns, role, values in glitched.messages(config.bat_input):
-                events += detector.add(role, stamp_ns, values)
-                late += detector.stats.late_drops
-            events += detector.finish()
+            events, late = detect_late_drops(config, glitched)
             assert not any(isinstance(event, Impact) for event in events), (family, offset)
             assert [drop.stamp_ns for drop in late] == [stamp], (family, offset)
             if family == 'plane' and offset == 0:
@@ -776,11 +757,7 @@ def test_a_glitch_beside_a_long_hole_is_dropped_not_an_impact(
             glitched = samples.with_bat_frame_turned(
                 j, samples.ball_positions[j], turn).without_bat_frame(j + lost)
             stamp = int(samples.bat_stamps_ns[j])
-            detector, late, events = Detector(config), [], []
-            for stamp_ns, role, values in glitched.messages(config.bat_input):
-                events += detector.add(role, stamp_ns, values)
-                late += detector.stats.late_drops
-            events += detector.finish()
+            events, late = detect_late_drops(config, glitched)
             assert not any(isinstance(event, Impact) for event in events), (family, turn)
             assert [drop.stamp_ns for drop in late] in ([], [stamp]), (family, turn)
             if family == 'plane':
