@@ -446,6 +446,23 @@ def early(stream: Stream, j: int, max_gap: float) -> bool:
     return 1 <= j - start < EARLY_FRAMES and (start > 0 or stream.breaks[0])
 
 
+def frames_after(stream: Stream, j: int, count: int, max_gap: float) -> Optional[bool]:
+    """
+    Return whether the ``count`` frames after bat frame j have come, in its segment.
+
+    True: frames j + 1 to j + count are in, each within ``max_gap`` (s) of the one before;
+    None: the segment runs on to the stream's newest frame before them (they may still come);
+    False: the segment ends before them.
+    """
+    n = len(stream.times)
+    end = j
+    while end < j + count and end < n - 1 and stream.continuous(end, max_gap):
+        end += 1
+    if end == j + count:
+        return True
+    return None if end == n - 1 else False
+
+
 def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
                  noise: float) -> Optional[bool]:
     """
@@ -461,12 +478,9 @@ def early_glitch(stream: Stream, j: int, max_gap: float, size: int,
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
-    n = len(stream.times)
-    end = j
-    while end < j + EARLY_AFTER and end < n - 1 and stream.continuous(end, max_gap):
-        end += 1
-    if end < j + EARLY_AFTER:
-        return None if end == n - 1 else False
+    come, end = frames_after(stream, j, EARLY_AFTER, max_gap), j + EARLY_AFTER
+    if not come:
+        return come
     start = j
     while start > 0 and stream.continuous(start - 1, max_gap):
         start -= 1
@@ -510,12 +524,9 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
-    end = j + HOLE_AFTER
-    if end > len(stream.times) - 1:
-        return None if all(stream.continuous(i, max_gap)
-                           for i in range(j, len(stream.times) - 1)) else False
-    if not all(stream.continuous(i, max_gap) for i in range(j, end)):
-        return False
+    come, end = frames_after(stream, j, HOLE_AFTER, max_gap), j + HOLE_AFTER
+    if not come:
+        return come
     last = j + 2
     if not judged(stream, j, max_gap, size, noise, last, hole=math.inf) or \
             isolated_without(stream, j, max_gap, size, noise, last):
@@ -578,12 +589,9 @@ def first_frame_glitch(stream: Stream, j: int, max_gap: float, size: int,
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
     """
-    n = len(stream.times)
-    end = j
-    while end < j + EARLY_AFTER and end < n - 1 and stream.continuous(end, max_gap):
-        end += 1
-    if end < j + EARLY_AFTER:
-        return None if end == n - 1 else False
+    come, end = frames_after(stream, j, EARLY_AFTER, max_gap), j + EARLY_AFTER
+    if not come:
+        return come
     times = stream.times
     steps = sorted(b - a for a, b in zip(times[j + 1:end], times[j + 2:end + 1]))
     if times[j + 1] - times[j] > REGULAR_STEP * steps[len(steps) // 2]:
