@@ -262,36 +262,33 @@ class BallSamples:
         (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
         flight, interval = PointPath(ta, tb, p0, p1, v0, v1), (ta, tb)
         ahead = self._bat_ahead(interval, paths, True)
-        found = None
-        for bat_path in (paths[1],) if ahead is None else (paths[1], ahead[1]):
-            again = self._first_contact(interval, (flight, bat_path))
-            if again is not None:  # (the bat continued taken where both touch: ``_contact_on``)
-                found = (*again, bat_path)
+        found = self._contact_on(interval, flight,
+                                 (paths[1],) if ahead is None else (paths[1], ahead[1]), False)
         if found is None:
             return False
-        t, hit, bat_path = found
+        t, hit, bat_path, _ = found
         self.episodes.impact(ball.times[k + 1])
         self._report(t, hit, interval, (flight, bat_path), events, 0.0, flight.velocity(t))
         return True
 
     def _contact_on(self, interval: Tuple[float, float], ball_path: Any,
-                    bat_paths: Tuple[BatPath, ...]
+                    bat_paths: Tuple[BatPath, ...], near: bool = True
                     ) -> Optional[Tuple[float, ImpactResult, BatPath, float]]:
         """
         Return a hit ball's first contact over the interval with the bat, and the bat's path.
 
         ``bat_paths``: the sweep's bat path, and the bat continued from before the interval
         where ``_bat_ahead`` gives one (taken where both touch: the bat brakes after the
-        contact). Where neither touches, the closest approach on the sweep's within the slack
-        that kept the ball's sample (``_slack(BACK_GAIN)``). Each answer with that slack (m,
-        0: a touch); None where none is found (``_first_contact``).
+        contact). Where neither touches and ``near``, the closest approach on the sweep's
+        within the slack that kept the ball's sample (``_slack(BACK_GAIN)``). Each answer with
+        that slack (m, 0: a touch); None where none is found (``_first_contact``).
         """
         found = None
         for bat_path in bat_paths:
             again = self._first_contact(interval, (ball_path, bat_path))
             if again is not None:
                 found = (*again, bat_path, 0.0)
-        if found is None:  # (off by the noise: within the slack that kept sample k)
+        if found is None and near:  # (off by the noise: within the slack that kept sample k)
             slack = self._slack(BACK_GAIN)
             again = self._first_contact(interval, (ball_path, bat_paths[0]), slack)
             if again is not None:
