@@ -249,15 +249,10 @@ class BallSamples:
         judged = self._gap_flight(k, ta)
         if judged is None or not all(judged[0]):
             return False
-        whole, config = judged[1], self.config
-        sigma = stream_noise(ball, config)
-        noise = max(sigma, (sigma if sigma > 0.0 else DEPARTURE_FLOOR) * math.sqrt(
-            whole.chi_square / whole.dof))
-        t1 = ball.times[k + 1]
-        weights = whole.weights(t1)[0]
-        if math.dist(whole.state(t1)[0], ball.values[k + 1]) <= (
-                DEPARTURE_FLOOR + GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
-                    1.0 + float(weights @ weights))) * noise):
+        whole = judged[1]
+        noise = _flight_noise(stream_noise(ball, self.config), whole)
+        if _on_flight(whole, noise, ball.times[k + 1], ball.values[k + 1],
+                      DEPARTURE_FLOOR + GAP_FLIGHT_SLACK):
             return False
         (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
         flight, interval = PointPath(ta, tb, p0, p1, v0, v1), (ta, tb)
@@ -350,14 +345,9 @@ class BallSamples:
                                sigma)
         except ValueError:  # (stamps too bunched for a fit)
             return None
-        noise = max(stream_noise(ball, config), sigma * math.sqrt(fit.chi_square / fit.dof))
-        on = []
-        for j in range(first, k + 1):
-            weights = fit.weights(ball.times[j])[0]
-            bound = GAP_FLIGHT_SLACK + math.sqrt(DEPARTURE_CHI_SQUARE * (
-                1.0 + float(weights @ weights))) * noise
-            on.append(math.dist(fit.state(ball.times[j])[0], ball.values[j]) <= bound)
-        return tuple(on), whole
+        noise = _flight_noise(stream_noise(ball, config), fit)
+        return tuple(_on_flight(fit, noise, ball.times[j], ball.values[j], GAP_FLIGHT_SLACK)
+                     for j in range(first, k + 1)), whole
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
                        slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
@@ -746,6 +736,29 @@ def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
         if not stream.continuous(j, max_gap):
             return True
     return k + ahead < n
+
+
+def _flight_noise(noise: float, fit: Any) -> float:
+    """
+    Return the noise (m, 1 sigma) a flight fit's continuation is judged by (``_on_flight``).
+
+    ``noise``, the stream's, or the fit's own residuals' where larger (a noise not estimated
+    yet); the fit made with ``noise``, or ``DEPARTURE_FLOOR`` where that is not above 0.
+    """
+    return max(noise, (noise if noise > 0.0 else DEPARTURE_FLOOR) * math.sqrt(
+        fit.chi_square / fit.dof))
+
+
+def _on_flight(fit: Any, noise: float, t: float, value: Any, slack: float) -> bool:
+    """
+    Return whether a ball sample (``value``, m, at t s) lies on a flight fit continued to t.
+
+    Within ``slack`` (m) and the ``DEPARTURE_CHI_SQUARE`` bound of ``noise`` (m,
+    ``_flight_noise``) at the fit's gain there (``motion.flight.FlightFit.weights``).
+    """
+    weights = fit.weights(t)[0]
+    return math.dist(fit.state(t)[0], value) <= slack + math.sqrt(
+        DEPARTURE_CHI_SQUARE * (1.0 + float(weights @ weights))) * noise
 
 
 def _starts(stream: Stream, k: int, max_gap: float) -> bool:
