@@ -156,9 +156,10 @@ DROPOUT_S = 0.08
 """s of ball samples ``--ball-dropout`` drops (longer than ``max_gap``: the stream restarts)."""
 
 
-def dropped_ball(scenario: Scenario, samples: Samples, frames: int) -> Samples:
+def dropped_ball(scenario: Scenario, samples: Samples, frames: int,
+                 dropout_s: float = DROPOUT_S) -> Samples:
     """
-    Return the samples without ``DROPOUT_S`` of the ball's, ending ``frames`` before the contact.
+    Return the samples without ``dropout_s`` of the ball's, ending ``frames`` before the contact.
 
     The ball's stream restarts ``frames`` samples before the opening sample of the interval
     holding the contact (or the closest approach of a miss): a tracker that lost the ball and
@@ -168,7 +169,7 @@ def dropped_ball(scenario: Scenario, samples: Samples, frames: int) -> Samples:
     truth = scenario.truth
     moment = truth.time_s if truth.time_s is not None else truth.min_gap_time_s
     end = max(int(np.searchsorted(times, moment)) - 1 - frames, 0)
-    keep = ~((times > times[end] - DROPOUT_S) & (np.arange(len(times)) < end))
+    keep = ~((times > times[end] - dropout_s) & (np.arange(len(times)) < end))
     return replace(samples, ball_stamps_ns=samples.ball_stamps_ns[keep],
                    ball_positions=samples.ball_positions[keep])
 

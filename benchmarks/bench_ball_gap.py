@@ -23,8 +23,15 @@ look-ahead 0, ``tracker_noise`` auto; ``--told``: the noise told, 0 or 1 mm) and
 ``--contact-ms``: the simulated rebound's contact lasts that long (``Pitch.rebound_duration``,
 0.6 ms by default; the detector is not told: ``departure.CONTACT_TIME`` stays 0.6 ms).
 
+``--gap-ms``: the dropout lasts that long instead of ``DROPOUT_S`` (80 ms), one block per
+length; the ball is then tracked from ``--before-ms`` (150 ms: the fits' kept history) before
+the gap (the scenario's ``lead_s``: the gap, that and the frames back before the contact; a
+pitch flies about 0.42 s from a 16.5-17 m release at 76-94 mph, so a gap with 150 ms before it
+over about 250 ms is longer than a real pitch tracked from its release allows).
+
     .venv/bin/python benchmarks/bench_ball_gap.py [--seeds 2] [--rates 90 120 360] [--chunks]
         [--noises 0 1] [--families rebound ...] [--told] [--contact-ms 0.4]
+        [--gap-ms 150 250 400] [--before-ms 150]
 """
 
 import argparse
@@ -43,7 +50,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / 'test'))
-from bench_accuracy import dropped_ball  # noqa: E402, I100
+from bench_accuracy import DROPOUT_S, dropped_ball  # noqa: E402, I100
 from support.events import on_bat_axis  # noqa: E402, I100
 
 HITS = ('barrel', 'end_cap', 'handle')
@@ -141,13 +148,17 @@ def found(stamps: List[int], truth_ns: int) -> Optional[int]:
 
 def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
          families: Tuple[str, ...] = FAMILIES, told: bool = False,
-         contact_s: Optional[float] = None) -> Dict[str, Any]:
+         contact_s: Optional[float] = None, gap_s: Optional[float] = None,
+         before_s: float = 0.15) -> Dict[str, Any]:
     """
     Return one rate and noise level's figures over the swing ``families`` (``configs``).
 
     ``contact_s``: how long (s) a rebound's push lasts (``Pitch.rebound_duration``), or None
-    for the simulator's.
+    for the simulator's; ``gap_s``: how long (s) the ball is lost (None: ``DROPOUT_S``, the
+    scenario's default lead), tracked ``before_s`` (s) before that.
     """
+    dropout_s = DROPOUT_S if gap_s is None else gap_s
+    lead = {} if gap_s is None else {'lead_s': gap_s + before_s + 0.05}
     tally: Counter = Counter()
     errors: List[float] = []
     moved: List[float] = []
@@ -156,7 +167,7 @@ def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
         for kind in HITS + MISSES:
             for seed in range(seeds):
                 rng = np.random.default_rng(1000 * seed + 7)
-                scenario = make_scenario(kind, rng, family=family)
+                scenario = make_scenario(kind, rng, family=family, **lead)
                 if contact_s is not None:
                     scenario = replace(scenario, pitch=replace(scenario.pitch,
                                                                rebound_duration=contact_s))
@@ -167,7 +178,7 @@ def cell(rate: float, noise_m: float, seeds: int, chunks: bool,
                 for label, config in configs(noise_m, told).items():
                     reference = found(impact_stamps(run(config, samples)[0]), truth_ns)
                     for back in BACK:
-                        gapped = dropped_ball(scenario, samples, back - 1)
+                        gapped = dropped_ball(scenario, samples, back - 1, dropout_s)
                         events, drops, same = run(config, gapped, chunks)
                         tally['chunks differ'] += same is False
                         stamps = impact_stamps(events)
@@ -220,12 +231,27 @@ def main() -> None:
                         help="the node told the noise (default: the node's auto)")
     parser.add_argument('--contact-ms', type=float,
                         help="how long a rebound's contact lasts (ms; the simulator's: 0.6)")
+    parser.add_argument('--gap-ms', type=float, nargs='+',
+                        help=f'how long the ball is lost (ms; default {DROPOUT_S * 1e3:g}), a '
+                        'block each')
+    parser.add_argument('--before-ms', type=float, default=150.0,
+                        help='with --gap-ms: how long the ball is tracked before the gap (ms)')
     args = parser.parse_args()
     contact_s = None if args.contact_ms is None else args.contact_ms * 1e-3
+    for gap_ms in args.gap_ms or [None]:
+        if gap_ms is not None:
+            print(f'gap {gap_ms:g} ms, the ball tracked {args.before_ms:g} ms before it',
+                  flush=True)
+        block(args, contact_s, None if gap_ms is None else gap_ms * 1e-3, args.before_ms * 1e-3)
+
+
+def block(args: argparse.Namespace, contact_s: Optional[float], gap_s: Optional[float],
+          before_s: float) -> None:
+    """Print one block of rows (a rate and noise level each) for one gap length (s)."""
     for rate in args.rates:
         for noise_mm in args.noises:
             figures = cell(rate, noise_mm * 1e-3, args.seeds, args.chunks, tuple(args.families),
-                           args.told, contact_s)
+                           args.told, contact_s, gap_s, before_s)
             tally, errors, moved = figures['tally'], figures['errors'], figures['moved']
             found_text = ', '.join(f'{back} back {tally[f"found {back}"]}/{tally[f"hits {back}"]}'
                                    for back in BACK)
