@@ -454,6 +454,8 @@ class Detector:
                                               self._config.max_gap, self._config.max_speed)
             if not accept:  # (kept aside while its newest may be a glitch: ``Sweep``)
                 return self._sweep.set_aside(t, offer, self._scheduler.cursor)
+            if new_segment:  # (the flight before a tracking gap, kept: ``Sweep.note_gap``)
+                self._sweep.note_gap(t)
             ball.append(t, stamp, offer.value, new_segment)
             if self._noise is not None:
                 ball.noise = self._noise[0].update(ball)

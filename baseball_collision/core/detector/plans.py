@@ -262,6 +262,14 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
+    # a ball sample after a gap over max_gap goes through ``add``, which keeps the flight
+    # before the gap (``Sweep.note_gap``) from samples a run's trim would drop unmade
+    ball_times = arrays.times[0]
+    own = np.flatnonzero(is_ball)
+    after_gap = np.diff(ball_times[max(arrays.pre[0] - 1, 0):]) > config.max_gap
+    stops[own[len(own) - len(after_gap):][after_gap]] = True
+    for x, y in plan.holds:
+        stops[y] |= stops[x]  # (a held sample that stops, with its taker)
     # a taker that stops walks and trims once for its held sample's step and its own, the
     # per-sample path twice (a trim leaves a short stream alone): both through it
     _through(plan, ok, stops, [(x, y) for x, y in plan.holds if stops[y]])

@@ -29,7 +29,7 @@ from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
 from .streams import Stream
-from .sweep_ball import Aside, BallSamples
+from .sweep_ball import Aside, BallSamples, GapFlight
 from .sweep_bat import BatFrames
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
@@ -83,6 +83,7 @@ class Sweep(BallSamples, BatFrames):
         were judged against is forgotten as a glitch (``BallSamples.set_aside``).
     :ivar until: the end (s) of the union interval visited last: a sample set aside is put
         back only at or after it (the walk has not passed it).
+    :ivar gap_flight: the ball's flight before its last tracking gap (``note_gap``), or None.
     :ivar time_spread: while ``measure`` measures an impact, how far (s) from it lies the other
         answer of the rule that found it (``_hit_before_flight``), which its time's
         uncertainty holds; else 0.
@@ -92,7 +93,7 @@ class Sweep(BallSamples, BatFrames):
                  'max_radius', 'last_gap', 'measure', 'bat_ahead', 'quintic_rates', 'estimators',
                  'ahead', 'on_contact', 'glitch_ns', 'glitches', 'frame_of', 'unexplained',
                  'forgotten_run', 'impact_t', 'bat_glitches', 'bat_suspect', 'early_glitches',
-                 'final', 'held', 'aside', 'until', 'time_spread')
+                 'final', 'held', 'aside', 'until', 'time_spread', 'gap_flight')
 
     def __init__(self, config: DetectorConfig, clock: Clock, stats: DetectorStats, ball: Stream,
                  bat: Stream, episodes: EpisodeTracker, offsets: Tuple[Vector, Vector]) -> None:
@@ -126,6 +127,7 @@ class Sweep(BallSamples, BatFrames):
         self.aside: List[Aside] = []  # ball samples the speed check set aside (``set_aside``)
         self.until = -math.inf  # the end (s) of the interval visited last
         self.time_spread = 0.0  # (s: ``_report``'s, while its impact is measured)
+        self.gap_flight: Optional[GapFlight] = None  # (``BallSamples.note_gap``)
         # the tracking frame (None: none yet), which a glitch's drop names (``Detector``'s)
         self.frame_of: Callable[[], Optional[str]] = lambda: None
 

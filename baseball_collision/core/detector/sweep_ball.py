@@ -25,14 +25,14 @@ from .departure import (
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .episodes import lowest_gap
 from .events import DropReason, Role
-from .fitting import kept_history, stream_noise
+from .fitting import flight_window, kept_history, stream_noise
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
 from ..motion import BatPath, Paths, PointPath, substeps_for
-from ..motion.flight import fit_flight
+from ..motion.flight import fit_flight, FlightFit
 from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
@@ -71,6 +71,39 @@ GAP_FLIGHT_SAMPLES = 4
 parabola per coordinate and residuals to measure the noise by: three degrees of freedom)."""
 
 
+GAP_FLIGHT_JERK = 12.0
+"""m/s^3: the most a pitch's acceleration changes per second, which a parabola leaves out
+(``BallSamples._gap_flight`` over a gap longer than the samples held: ``_gap_bias``). The drag
+``k v^2`` (k = rho Cd A / 2m = 0.0062 /m for Cd 0.35) of a pitch at up to 47 m/s (105 mph)
+decelerates it by up to 14 m/s^2 and changes by ``2 k v dv/dt`` = 8 m/s^3 as the ball slows;
+its direction, and a spin force's (up to about 6 m/s^2 for a fastball), turn with the velocity,
+at ``|g + a| / v`` = 0.4-0.5 rad/s: 6 and 3 m/s^3 across it; their root sum of squares is
+about 10.5 m/s^3."""
+
+
+GAP_FLIGHT_BIAS = 0.0366
+"""m: the most the flight before a long tracking gap may have drifted, by ``GAP_FLIGHT_JERK``,
+from its parabola continued to the segment's samples after the gap (``_gap_bias``) for
+``BallSamples._gap_flight`` to judge them by it: a baseball's radius. A glitch on the bat lies
+at least a ball's and a bat's radius (7 cm) from a ball touching it; past this a sample on the
+bat and the ball coming at it cannot be told apart. With a 0.15 s flight before the gap the
+drift reaches it about 0.19 s after the flight's last sample (2.2 cm at 0.15 s, 6.8 cm at
+0.25 s, 21 cm at 0.4 s): a longer gap has no flight before it."""
+
+
+class GapFlight(NamedTuple):
+    """
+    The ball's flight before a tracking gap, kept where its samples may be trimmed.
+
+    ``BallSamples.note_gap``: the parabola of its segment's last samples (``kept_history`` of
+    its newest), fitted with a noise of 1 m (its ``chi_square`` the residuals' sum of squares,
+    m^2), and the stamp (s) of its newest sample, before the gap.
+    """
+
+    fit: FlightFit
+    end: float
+
+
 class Aside(NamedTuple):
     """
     A ball sample the speed check refused, kept aside (``BallSamples.set_aside``).
@@ -98,6 +131,33 @@ class BallSamples:
     """The ball's samples judged near the bat: a base of ``sweep.Sweep`` (see there)."""
 
     __slots__ = ()
+
+    def note_gap(self, t: float) -> None:
+        """
+        Keep the ball's flight before a tracking gap, a sample at t (s) coming after it.
+
+        Called before a ball sample is put in its stream: where it comes more than ``max_gap``
+        after the stream's newest, the parabola of the newest's segment's samples within
+        ``kept_history`` of it (``motion.flight``, at least ``GAP_FLIGHT_SAMPLES``) as a
+        ``GapFlight`` (``gap_flight``; None where there is none), which ``_gap_flight`` reads
+        once the trim behind the walk has taken those samples. No interval after the newest is
+        visited yet (the walk waits for the ball's samples), so the node and ``analyze``'s
+        chunks (which take such a sample through ``Detector.add``: ``plans.plan_chunk``) hold
+        those samples alike then. One summary (the fit's stamps and coefficients) per gap.
+        """
+        ball, config = self.ball, self.config
+        if not ball.times or t - ball.times[-1] <= config.max_gap:
+            return
+        self.gap_flight = None
+        window = flight_window(ball, len(ball.times) - 1, config.max_gap, kept_history(config))
+        if len(window) < GAP_FLIGHT_SAMPLES:
+            return
+        try:
+            fit = fit_flight(ball.times[window.start:window.stop],
+                             ball.values[window.start:window.stop], 1.0)
+        except ValueError:  # (stamps too bunched for a fit)
+            return
+        self.gap_flight = GapFlight(fit, ball.times[window.stop - 1])
 
     def _early_glitch(self, k: int, ta: float, tb: float, events: List) -> bool:
         """
@@ -319,21 +379,26 @@ class BallSamples:
         the gap where each is within ``GAP_FLIGHT_SLACK`` and the noise's
         ``DEPARTURE_CHI_SQUARE`` bound (the noise: the stream's, or the fit's own residuals'
         where larger: a noise not yet estimated) of it; a glitch, or a ball deflected in the
-        gap, is not. One flag a sample from the segment's first, with the parabola through
-        those samples and the flight's (``motion.flight.FlightFit``). None where there are too
-        few such samples (or they are too bunched for a fit).
+        gap, is not. Where too few are held (a longer gap), the flight kept before it
+        (``gap_flight``, ``note_gap``) instead, each sample within the drift
+        ``GAP_FLIGHT_JERK`` makes over the gap (``_gap_bias``; at least ``GAP_FLIGHT_SLACK``)
+        and the noise's bound; none where that drift exceeds ``GAP_FLIGHT_BIAS`` at the
+        segment's first sample. One flag a sample from the segment's first, with the parabola
+        through those samples (or that flight's) and the segment's up to k
+        (``motion.flight.FlightFit``). None where there are too few such samples (or they are
+        too bunched for a fit).
         """
         ball, config = self.ball, self.config
         gap, reach = config.max_gap, ta - kept_history(config)
         first = k
         while first > max(k - 3, 0) and not _starts(ball, first, gap):
             first -= 1
-        if first < 1 or ball.times[first - 1] < reach or ball.times[first] - ball.times[
-                first - 1] <= gap:
-            return None  # (none held, or a segment the speed check started: another ball)
+        if first >= 1 and ball.times[first] - ball.times[first - 1] <= gap:
+            return None  # (a segment the speed check started: another ball)
         before = range(bisect_left(ball.times, reach), first)
-        if len(before) < GAP_FLIGHT_SAMPLES or not all(
-                ball.continuous(j, gap) for j in before[:-1]):
+        if first < 1 or ball.times[first - 1] < reach or len(before) < GAP_FLIGHT_SAMPLES:
+            return self._kept_gap_flight(first, k)
+        if not all(ball.continuous(j, gap) for j in before[:-1]):
             return None
         sigma = stream_noise(ball, config)
         if not sigma > 0.0:
@@ -347,6 +412,42 @@ class BallSamples:
             return None
         noise = _flight_noise(stream_noise(ball, config), fit)
         return tuple(_on_flight(fit, noise, ball.times[j], ball.values[j], GAP_FLIGHT_SLACK)
+                     for j in range(first, k + 1)), whole
+
+    def _kept_gap_flight(self, first: int, k: int) -> Optional[Tuple[Tuple[bool, ...], Any]]:
+        """
+        Return ``_gap_flight``'s answer from the flight kept before the gap (``gap_flight``).
+
+        That flight is the one before the gap that ends at the ball's sample ``first`` (its
+        newest stamp before it, with no sample between them); the parabola through its samples
+        and the segment's up to k is fitted on that flight's values at its samples' stamps in
+        place of theirs (least squares of one polynomial space: the same coefficients), its
+        residuals' sum added back. None where there is no such flight, or it drifts by more
+        than ``GAP_FLIGHT_BIAS`` at sample ``first``.
+        """
+        ball, config, kept = self.ball, self.config, self.gap_flight
+        times = ball.times
+        if kept is None or first < 1 or not (
+                times[first - 1] <= kept.end < times[first] - config.max_gap):
+            return None
+        if _gap_bias(kept.fit, times[first]) > GAP_FLIGHT_BIAS:
+            return None
+        sigma = stream_noise(ball, config)
+        if not sigma > 0.0:
+            sigma = DEPARTURE_FLOOR
+        fit = kept.fit
+        fit = FlightFit(fit.centre, fit.scale, fit.coefficients, fit.times,
+                        fit.chi_square / (sigma * sigma), fit.dof)
+        try:
+            whole = fit_flight(list(fit.times) + times[first:k + 1],
+                               [fit.at(t) for t in fit.times] + ball.values[first:k + 1], sigma)
+        except ValueError:  # (stamps too bunched for a fit)
+            return None
+        whole = FlightFit(whole.centre, whole.scale, whole.coefficients, whole.times,
+                          whole.chi_square + fit.chi_square, whole.dof)
+        noise = _flight_noise(stream_noise(ball, config), fit)
+        return tuple(_on_flight(fit, noise, times[j], ball.values[j],
+                                max(GAP_FLIGHT_SLACK, _gap_bias(fit, times[j])))
                      for j in range(first, k + 1)), whole
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
@@ -759,6 +860,20 @@ def _on_flight(fit: Any, noise: float, t: float, value: Any, slack: float) -> bo
     weights = fit.weights(t)[0]
     return math.dist(fit.state(t)[0], value) <= slack + math.sqrt(
         DEPARTURE_CHI_SQUARE * (1.0 + float(weights @ weights))) * noise
+
+
+def _gap_bias(fit: FlightFit, t: float) -> float:
+    """
+    Return how far (m) a flight may drift from its parabola ``fit`` continued to t (s).
+
+    ``GAP_FLIGHT_JERK`` (its acceleration changing at that rate the whole time): a cubic
+    ``jerk (t - t_n)^3 / 6`` less the parabola's least-squares fit to it at the fit's
+    stamps, at t (``FlightFit.weights``; t_n the newest stamp, for the conditioning).
+    """
+    newest = fit.times[-1]
+    weights = fit.weights(t)[0]
+    cubes = [(u - newest) ** 3 for u in fit.times]
+    return GAP_FLIGHT_JERK / 6.0 * abs((t - newest) ** 3 - float(weights @ cubes))
 
 
 def _starts(stream: Stream, k: int, max_gap: float) -> bool:

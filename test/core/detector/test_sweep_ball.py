@@ -6,7 +6,9 @@ import math
 from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep_ball
+from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.sweep_ball import ASIDE_MAX
+from baseball_collision.core.motion.flight import fit_flight
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
@@ -177,6 +179,84 @@ def test_a_rebound_hit_after_a_short_gap_is_solved_on_the_flight_before_it(
 
     assert max(errors(True)) < 100_000
     assert min(errors(False)) > 2_000_000
+
+
+def test_a_rebound_hit_after_a_long_gap_is_solved_on_the_flight_kept_before_it(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A rebound hit at 90 Hz, the ball lost 150 ms until one frame before the contact: found.
+
+    The trim behind the walk took the samples before the gap (the fits keep 0.15 s), so the
+    flight before it is the one kept when the gap ended (``BallSamples.note_gap``,
+    ``_kept_gap_flight``): continued over the gap through that frame, it meets the bat within
+    0.1 ms of the contact, in the node (look-ahead 0) and ``analyze`` (2) alike, chunked or
+    not. Without it, the pushed point alone (``departure.HitApproach``) finds none of these
+    within 2 ms.
+    """
+    def errors(kept: bool) -> List[int]:
+        if not kept:
+            monkeypatch.setattr(sweep_ball.BallSamples, '_kept_gap_flight',
+                                lambda self, first, k: None)
+        off = []
+        for kind, seed in (('barrel', 7), ('end_cap', 7), ('end_cap', 2007), ('end_cap', 5007)):
+            rng = np.random.default_rng(seed)
+            scenario = make_scenario(kind, rng, family='rebound', lead_s=0.35)
+            samples = sample(scenario, 90.0, rng, jitter_s=2e-4, grid_s=1e-3)
+            truth = samples.start_ns + int(round(scenario.truth.time_s * 1e9))
+            first = int(np.searchsorted(samples.ball_stamps_ns, truth)) - 1
+            lost = ball_lost_before(samples, first, 0.15)
+            for look_ahead in (0, 2):
+                config = DetectorConfig(bat_input='pose', look_ahead=look_ahead)
+                events, _ = detect_late_drops(config, lost)
+                off.append(min((abs(impact.stamp_ns - truth) for impact in _impacts(events)),
+                               default=10**9))
+                if kept:
+                    assert _chunked(config, lost) == events
+        return off
+
+    assert max(errors(True)) < 100_000
+    assert min(errors(False)) > 2_000_000
+
+
+def test_the_flight_before_a_gap_drifts_by_the_jerk_bound_and_no_further() -> None:
+    """
+    ``_gap_bias``: a flight whose acceleration changes at ``GAP_FLIGHT_JERK`` the whole time.
+
+    Its parabola over 0.15 s at 90 Hz, continued, is off it by exactly that drift (whatever the
+    parabola it adds to): 2.2 cm 0.15 s after the window's newest sample, past a ball's radius
+    (``GAP_FLIGHT_BIAS``, where ``_kept_gap_flight`` keeps no flight) between 0.18 and 0.2 s.
+    """
+    times = np.arange(-0.15, 1e-9, 1.0 / 90.0)
+    jerk = sweep_ball.GAP_FLIGHT_JERK * np.array([0.6, -0.8, 0.0])
+
+    def flight(t: Any) -> Any:
+        t = np.asarray(t, dtype=float)[..., None]
+        return (np.array([1.0, -20.0, 1.5]) + np.array([3.0, -38.0, -2.0]) * t
+                + np.array([0.5, 9.0, -9.8]) * t * t / 2 + jerk * t ** 3 / 6)
+
+    fit = fit_flight(times, flight(times), 1e-3)
+    for t in (0.05, 0.15, 0.18, 0.2, 0.3):
+        drift = float(np.linalg.norm(np.array(fit.at(t)) - flight(t)))
+        assert sweep_ball._gap_bias(fit, t) == pytest.approx(drift, rel=1e-6)
+    assert 0.021 < sweep_ball._gap_bias(fit, 0.15) < 0.023
+    assert sweep_ball._gap_bias(fit, 0.18) < sweep_ball.GAP_FLIGHT_BIAS < sweep_ball._gap_bias(
+        fit, 0.2)
+
+
+def _chunked(config: DetectorConfig, samples: Any) -> List[Any]:
+    """Return the events of ``samples`` fed through ``add_chunk`` in chunks of 7, 50 and 400."""
+    rows = samples.messages(config.bat_input)
+    detector, events, i, k = Detector(config), [], 0, 0
+    while i < len(rows):
+        part = rows[i:i + (7, 50, 400)[k % 3]]
+        values = np.zeros((len(part), 7))
+        for row, (_, _, value) in enumerate(part):
+            values[row, :len(value)] = value
+        events += detector.add_chunk([ROLE_CODES[role] for _, role, _ in part],
+                                     [stamp for stamp, _, _ in part], values,
+                                     ['world'] * len(part))
+        i, k = i + len(part), k + 1
+    return events + detector.finish()
 
 
 def test_a_rebound_hit_three_frames_after_a_short_gap_leaves_the_flight_before_it(
