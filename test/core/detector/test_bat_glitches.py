@@ -9,7 +9,7 @@ from baseball_collision.core.detector.bat_glitches import (
     beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, first_frame_glitch,
     hole_glitch, isolation, judged, lost_about, path_without, regular, segment_first)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
-from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.streams import excerpt, Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.choices import FAMILIES
 from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
@@ -637,7 +637,9 @@ def test_steps_may_hold_two_lost_frames_before_the_last() -> None:
     Up to ``LOST_NEAR`` frames lost before the last step up to a frame: its steps are regular.
 
     Two lost 3 frames before it (a step of three medians, 25 ms at 120 Hz) as one is; three
-    lost (four medians) are not; nor two lost right before it (its last step).
+    lost (four medians) are not; nor two lost right before it (its last step). A frame 3
+    after such a hole is beside it (``beside_hole``): where its next frame has not come, it
+    is judged with the three after it (``hole_glitch``).
     """
     for count, expected in ((1, True), (2, True), (3, False)):
         bat = _turning(120.0, 24)
@@ -646,14 +648,20 @@ def test_steps_may_hold_two_lost_frames_before_the_last() -> None:
         at = 12 - count + 3  # (the frame 3 after the hole's, as the frames lost 3 before it)
         assert regular(bat, at) is expected, count
         assert not regular(bat, at - 1)
+    # (a frame 3 after the hole, its next not come: ``departed`` reads the hole's step and
+    # does not judge it; ``beside_hole`` reads three back, and ``hole_glitch`` judges it)
     bat = _turning(120.0, 24, turned=15, off=0.15)
     bat.remove(11)
     bat.remove(11)
-    assert departed(bat, 13, 0.06, 8, 0.0)
+    newest = excerpt(bat, 0, 13)
+    assert not departed(newest, 13, 0.06, 8, 0.0) and beside_hole(newest, 13)
+    assert beside_hole(bat, 13) and hole_glitch(bat, 13, 0.06, 8, 0.0)
+    assert not beside_hole(bat, 14)
     clean = _turning(120.0, 24)
     clean.remove(11)
     clean.remove(11)
-    assert not any(departed(clean, i, 0.06, 8, 0.0) for i in range(len(clean.times)))
+    assert not any(hole_glitch(clean, i, 0.06, 8, 0.0) for i in range(9, 20)
+                   if beside_hole(clean, i))
 
 
 @pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
