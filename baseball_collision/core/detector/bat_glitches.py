@@ -19,11 +19,12 @@ of the knob's and the tip's (m):
 
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
-neighbours explain it. Among regular steps (``regular``; a frame lost three or more frames
-before it only widens the scatter it is judged against), or beside up to two frames the tracker
-lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
-for a swing's own frames), against the frames before it with the same frames left out
-(``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
+neighbours explain it. Among regular steps (``regular``; up to two frames lost three or more
+frames before it only widen the scatter it is judged against), or beside up to two frames the
+tracker lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger
+there for a swing's own frames), against the frames before it with the same frames left out
+(``_matched``; beside a longer hole, up to three frames after it, with three frames after
+it: ``hole_glitch``); not in a
 segment's first frames (judged against the frames after them: ``early_glitch``, and the first
 by its departure alone: ``first_frame_glitch``); nor where a frame just before it that could
 not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
@@ -81,7 +82,7 @@ frame makes a step twice."""
 
 STEADY_STEPS = 1
 """How many steps up to a judged frame's previous one, the last, are regular (``REGULAR_STEP``);
-the steps before them may be a lost frame's (``PAIR_STEPS`` times the median at most, not a
+the steps before them may be lost frames' (``HOLE_STEPS`` times the median at most, not a
 segment's start): a frame lost 3-7 before a glitch left it unjudged, and at 120-360 Hz the
 bat's path through it made an impact on up to 12 of 36 misses passing over the bat. With none
 (only the neighbours' ``PAIR_STEPS``), a glitch right after a lost frame, not judged, made the
