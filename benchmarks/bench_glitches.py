@@ -16,12 +16,15 @@ or, at a segment's start, for the frames after an early one: ``Sweep._early_bat_
 
 Beside frames the tracker lost: ``--lost K`` deletes the bat frame K frames from the glitch
 (-2: two before it, 1: right after it) from both runs, the glitched and the baseline (one line
-per K). At a segment's start: ``--segment N`` deletes the bat frames over ``max_gap`` (60 ms)
-before the glitch's N - 1 frames before it, so that the glitch is its segment's Nth frame (1:
-its first). ``--offsets`` and ``--turns`` narrow the frames turned and how far (cm).
+per K); with ``--lost-frames N``, N frames from there on away from the glitch (-1 with 2: the
+two before it; at 120 Hz a hole of 25 ms, over ``bat_glitches.LOST_HOLE``). At a segment's
+start: ``--segment N`` deletes the bat frames over ``max_gap`` (60 ms) before the glitch's
+N - 1 frames before it, so that the glitch is its segment's Nth frame (1: its first).
+``--offsets`` and ``--turns`` narrow the frames turned and how far (cm).
 
     .venv/bin/python benchmarks/bench_glitches.py [--seeds 2] [--rates 90 360]
     bench_glitches.py --rates 90 120 360 --lost -3 -2 -1 1 --offsets -1 0 1 --turns 10
+    bench_glitches.py --rates 120 --lost -3 -2 -1 1 2 --lost-frames 2
     bench_glitches.py --rates 90 120 360 --segment 1 4 8 --offsets -1 0 1 --turns 10
 """
 
@@ -46,17 +49,22 @@ SEGMENT_GAP_S = 0.06
 """s: the bat frames deleted before a segment's first frame (``--segment``): over ``max_gap``."""
 
 
-def faulted(samples: Any, j: int, lost: Optional[int],
-            segment: Optional[int]) -> Tuple[Any, int]:
+def faulted(samples: Any, j: int, lost: Optional[int], segment: Optional[int],
+            lost_frames: int = 1) -> Tuple[Any, int]:
     """
     Return the samples with the tracker's lost frames about bat frame j, and j's index then.
 
     :param lost: delete the frame this many frames from j (not 0), else None.
+    :param lost_frames: with ``lost``, delete this many frames from that one on, away from j.
     :param segment: delete the frames over ``SEGMENT_GAP_S`` before the frame ``segment`` - 1
         before j (j its segment's ``segment``-th frame), else None.
     """
     if lost is not None:
-        return samples.without_bat_frame(j + lost), j - (lost < 0)
+        first = j + lost - (lost_frames - 1 if lost < 0 else 0)
+        stamps = samples.bat_stamps_ns
+        end = int(stamps[first + lost_frames]) if first + lost_frames < len(stamps) \
+            else int(stamps[-1]) + 1
+        return samples.without_bat_frames(end, lost_frames), j - lost_frames * (lost < 0)
     if segment is not None:
         stamps = samples.bat_stamps_ns
         count = int(np.ceil(SEGMENT_GAP_S * (len(stamps) - 1) / ((stamps[-1] - stamps[0]) * 1e-9)))
@@ -97,12 +105,13 @@ def of(events: List[Any], kind: type) -> List[Any]:
 
 def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None,
              segment: Optional[int] = None, offsets: Tuple[int, ...] = OFFSETS,
-             turns: Tuple[float, ...] = TURNS_M) -> Dict[str, Any]:
+             turns: Tuple[float, ...] = TURNS_M, lost_frames: int = 1) -> Dict[str, Any]:
     """
     Return one rate and noise level's counts and near-miss differences.
 
-    ``lost`` and ``segment``: the tracker's lost frames about the glitch (``faulted``), in the
-    runs without a glitch too; ``offsets``, ``turns``: the frames turned, how far (m).
+    ``lost``, ``lost_frames`` and ``segment``: the tracker's lost frames about the glitch
+    (``faulted``), in the runs without a glitch too; ``offsets``, ``turns``: the frames
+    turned, how far (m).
     """
     counts = dict.fromkeys(('misses', 'invented', 'hits', 'lost', 'moved', 'dropped',
                             'wrong', 'clean', 'clean_dropped', 'clean_hits', 'waited'), 0)
@@ -118,7 +127,8 @@ def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None
                 middle = int(np.argmin(np.abs(samples.bat_stamps_ns - closest)))
                 bat = ('pose', 'points')[seed % 2]
                 if lost is not None or segment is not None:
-                    clean_runs = [faulted(samples, middle + offset, lost, segment)[0]
+                    clean_runs = [faulted(samples, middle + offset, lost, segment,
+                                          lost_frames)[0]
                                   for offset in offsets]
                 else:
                     clean_runs = [samples]
@@ -134,12 +144,13 @@ def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None
                             counts['waited'] += sum(wait > 0.5 * step_ns for wait in late)
                     for offset in offsets:
                         j = middle + offset
-                        without, at = faulted(samples, j, lost, segment)
+                        without, at = faulted(samples, j, lost, segment, lost_frames)
                         _, deleted = events_of(config, without.without_bat_frame(at))
                         for turn in turns:
-                            glitched = faulted(samples.with_bat_frame_turned(
-                                j, samples.ball_positions[min(j, len(samples.ball_positions)
-                                                              - 1)], turn), j, lost, segment)[0]
+                            toward = samples.ball_positions[min(
+                                j, len(samples.ball_positions) - 1)]
+                            glitched = faulted(samples.with_bat_frame_turned(j, toward, turn),
+                                               j, lost, segment, lost_frames)[0]
                             drops: List[int] = []
                             detector, events = events_of(config, glitched, glitches=drops)
                             counts['dropped'] += detector.stats.dropped.get('bat_glitch', 0)
@@ -172,6 +183,8 @@ def main() -> None:
     parser.add_argument('--seeds', type=int, default=2, help='scenarios per family and kind')
     parser.add_argument('--lost', type=int, nargs='+', default=[],
                         help='a bat frame lost this many frames from the glitch (one line each)')
+    parser.add_argument('--lost-frames', type=int, default=1,
+                        help='frames lost from there on, away from the glitch (with --lost)')
     parser.add_argument('--segment', type=int, nargs='+', default=[],
                         help="the glitch as its bat segment's Nth frame (one line each)")
     parser.add_argument('--offsets', type=int, nargs='+', default=list(OFFSETS),
@@ -186,8 +199,11 @@ def main() -> None:
             (fault, rate, noise) for fault in faults for rate in args.rates
             for noise in args.noises]:
         cell = run_cell(rate, noise_mm * 1e-3, args.seeds, lost, segment,
-                        tuple(args.offsets), tuple(t * 0.01 for t in args.turns))
-        label = {'lost': f'lost {lost}: ', 'segment': f'segment frame {segment}: '}.get(name, '')
+                        tuple(args.offsets), tuple(t * 0.01 for t in args.turns),
+                        args.lost_frames)
+        frames = f' ({args.lost_frames} frames)' if args.lost_frames > 1 else ''
+        label = {'lost': f'lost {lost}{frames}: ',
+                 'segment': f'segment frame {segment}: '}.get(name, '')
         gaps = np.array(cell['gaps']) * 1e3
         spread = (f'p50 {np.percentile(gaps, 50):.2f} mm, p99 {np.percentile(gaps, 99):.2f} '
                   f'mm, max {gaps.max():.2f} mm' if len(gaps) else '-')

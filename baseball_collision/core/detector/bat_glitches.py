@@ -19,11 +19,12 @@ of the knob's and the tip's (m):
 
 A frame both departed and isolated by more than ``glitch_floor``, and isolated several times
 as far as the frames before it (``judged``), is a glitch: neither the swing before it nor its
-neighbours explain it. Among regular steps (``regular``; a frame lost three or more frames
-before it only widens the scatter it is judged against), or beside up to two frames the tracker
-lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger there
-for a swing's own frames), against the frames before it with the same frames left out
-(``_matched``; beside a longer hole, with three frames after it: ``hole_glitch``); not in a
+neighbours explain it. Among regular steps (``regular``; up to two frames lost three or more
+frames before it only widen the scatter it is judged against), or beside up to two frames the
+tracker lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger
+there for a swing's own frames), against the frames before it with the same frames left out
+(``_matched``; beside a longer hole, up to three frames after it, with three frames after
+it: ``hole_glitch``); not in a
 segment's first frames (judged against the frames after them: ``early_glitch``, and the first
 by its departure alone: ``first_frame_glitch``); nor where a frame just before it that could
 not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
@@ -81,7 +82,7 @@ frame makes a step twice."""
 
 STEADY_STEPS = 1
 """How many steps up to a judged frame's previous one, the last, are regular (``REGULAR_STEP``);
-the steps before them may be a lost frame's (``PAIR_STEPS`` times the median at most, not a
+the steps before them may be lost frames' (``HOLE_STEPS`` times the median at most, not a
 segment's start): a frame lost 3-7 before a glitch left it unjudged, and at 120-360 Hz the
 bat's path through it made an impact on up to 12 of 36 misses passing over the bat. With none
 (only the neighbours' ``PAIR_STEPS``), a glitch right after a lost frame, not judged, made the
@@ -95,6 +96,14 @@ LOST_NEAR = 2
 """Frames the tracker lost about a frame (from two before it to the one after it) that the frame
 is judged beside at most (``lost_about``), against the frames before it with the same frames
 left out (``_matched``)."""
+
+HOLE_STEPS = LOST_NEAR + PAIR_STEPS - 1.0
+"""How many times the median step the steps from ``SCATTER_FRAMES`` + 2 frames before a judged
+frame up to the last ``STEADY_STEPS`` are at most (``regular``): up to ``LOST_NEAR`` frames
+lost there, jittered (as ``PAIR_STEPS`` is two steps). Two frames lost 3-7 frames before a
+glitch (at 120 Hz a 25 ms hole) left it unjudged, neither among regular steps nor beside the
+hole (``lost_about`` reads the six steps before its two frames before it): 60 of 480 misses
+had an impact invented at 120 Hz (``bench_glitches.py --lost -3 --lost-frames 2``)."""
 
 LOST_HOLE = 0.02
 """s: the longest step across lost frames a frame beside them is judged at (``lost_about``): a
@@ -321,14 +330,14 @@ def regular(stream: Stream, j: int, last: Optional[int] = None,
     The steps from ``scatter`` + 2 frames before it (the frames ``judged`` reads its scatter
     from, ``SCATTER_FRAMES`` by default) up to the frame before it: the last
     ``STEADY_STEPS`` at most ``REGULAR_STEP`` times their median, the others at most
-    ``PAIR_STEPS`` times it (one frame lost: not a segment's start); and the frames on either
-    side of it (the one after it at most sample ``last``, the newest by default) at most
-    ``PAIR_STEPS`` times it apart. A frame beside frames the tracker lost is a whole step or
-    more from a neighbour, and its continuation and its neighbours' spline miss it by far more
-    than a swing's do (12 and 7 cm beside two lost frames at 90 Hz); a frame lost further
-    before it only widens the scatter it is judged against. A frame stamped a few milliseconds
-    off leaves its neighbours two steps apart, and its position, which is not where the swing
-    was at its stamp, is judged.
+    ``HOLE_STEPS`` times it (up to ``LOST_NEAR`` frames lost: not a segment's start); and the
+    frames on either side of it (the one after it at most sample ``last``, the newest by
+    default) at most ``PAIR_STEPS`` times it apart. A frame beside frames the tracker lost is a
+    whole step or more from a neighbour, and its continuation and its neighbours' spline miss
+    it by far more than a swing's do (12 and 7 cm beside two lost frames at 90 Hz); frames
+    lost further before it only widen the scatter it is judged against. A frame stamped a few
+    milliseconds off leaves its neighbours two steps apart, and its position, which is not
+    where the swing was at its stamp, is judged.
     """
     first = j - scatter - 2
     last = len(stream.times) - 1 if last is None else last
@@ -337,7 +346,7 @@ def regular(stream: Stream, j: int, last: Optional[int] = None,
     times = stream.times
     steps = [b - a for a, b in zip(times[first:j - 1], times[first + 1:j])]
     median = sorted(steps)[len(steps) // 2]
-    return (max(steps) <= PAIR_STEPS * median
+    return (max(steps) <= HOLE_STEPS * median
             and max(steps[-STEADY_STEPS:]) <= REGULAR_STEP * median
             and times[j + 1] - times[j - 1] <= PAIR_STEPS * median)
 
@@ -498,14 +507,18 @@ def beside_hole(stream: Stream, j: int) -> bool:
     """
     Return whether bat frame j is beside lost frames across a hole over ``LOST_HOLE``.
 
-    Up to ``LOST_NEAR`` frames lost from two before it to the one after it (``lost_about``;
-    before it only where j is the newest sample), a step across them longer than
-    ``LOST_HOLE``: ``judged`` does not judge it there, ``hole_glitch`` does, reading three
-    frames after it (a contact hanging on it waits for them: ``Sweep._early_bat_glitch``).
+    Up to ``LOST_NEAR`` frames lost from three before it (the steps ``departed`` reads: its
+    continuation crosses them) to the one after it (``lost_about``; before it only where j is
+    the newest sample), a step across them longer than ``LOST_HOLE``: neither ``judged`` nor,
+    where its next frame has not come (the node's look-ahead 0), ``departed`` judges it there;
+    ``hole_glitch`` does, reading three frames after it (a contact hanging on it waits for
+    them: ``Sweep._early_bat_glitch``). With two before it, two frames lost 3 before a glitch
+    at 120 Hz (25 ms) left the interval closing on it swept through it at the node: 30 of 480
+    misses had an impact invented (``bench_glitches.py --rates 120 --lost -3 --lost-frames 2``).
     """
     after = 1 if j + 1 < len(stream.times) else 0
-    return (lost_about(stream, j, 2, after) is None
-            and bool(lost_about(stream, j, 2, after, None, math.inf)))
+    return (lost_about(stream, j, 3, after) is None
+            and bool(lost_about(stream, j, 3, after, None, math.inf)))
 
 
 def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,

@@ -9,7 +9,7 @@ from baseball_collision.core.detector.bat_glitches import (
     beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, first_frame_glitch,
     hole_glitch, isolation, judged, lost_about, path_without, regular, segment_first)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
-from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.streams import excerpt, Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.tools.choices import FAMILIES
 from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
@@ -599,6 +599,69 @@ def test_a_glitch_a_few_frames_after_a_lost_one_is_judged(config: DetectorConfig
             events, late = detect_late_drops(config, _lost_before(glitched, j, j - before, 1))
             assert not any(isinstance(event, Impact) for event in events), (family, offset)
             assert [drop.stamp_ns for drop in late] == [stamp], (family, offset)
+
+
+@pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
+@pytest.mark.parametrize('before', [3, 4, 6])
+def test_a_glitch_a_few_frames_after_two_lost_ones_is_judged(config: DetectorConfig,
+                                                             before: int) -> None:
+    """
+    A 120 Hz bat frame turned 10 or 20 cm toward a ball passing, two frames lost 3-7 before it.
+
+    The hole (25 ms, three steps) was over ``PAIR_STEPS`` among the steps ``regular`` reads,
+    and too far before the frame for ``lost_about``: it was not judged, and the bat's path
+    through it met the ball (60 of 480 misses a cell, ``bench_glitches.py --rates 120 --lost
+    -3 --lost-frames 2``). The steps before the last may hold ``LOST_NEAR`` lost frames
+    (``HOLE_STEPS``), and a closing frame departed beside such a hole (the node's look-ahead
+    0) is judged against the frames before it with the same left out: the glitch alone is
+    dropped, the miss stays a miss, and ``add_chunk`` does the same.
+    """
+    for kind in ('miss_over', 'miss_under'):
+        for turn in (0.1, 0.2):
+            scenario, samples = _bench_scene(kind, 0, 120.0, 0.0, 'plane')
+            j = _closest_frame(scenario, samples)
+            glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
+            lost = _lost_before(glitched, j, j - before, 2)
+            config_pose = DetectorConfig(**{**config.__dict__, 'bat_input': 'pose'})
+            events, late = detect_late_drops(config_pose, lost)
+            assert not any(isinstance(event, Impact) for event in events), (kind, turn)
+            assert [drop.stamp_ns for drop in late] == [int(samples.bat_stamps_ns[j])], \
+                (kind, turn)
+            if kind == 'miss_over' and turn == 0.1:
+                dropped, _ = _alike_in_chunks(config_pose, lost)
+                assert dropped['bat_glitch'] == 1
+
+
+def test_steps_may_hold_two_lost_frames_before_the_last() -> None:
+    """
+    Up to ``LOST_NEAR`` frames lost before the last step up to a frame: its steps are regular.
+
+    Two lost 3 frames before it (a step of three medians, 25 ms at 120 Hz) as one is; three
+    lost (four medians) are not; nor two lost right before it (its last step). A frame 3
+    after such a hole is beside it (``beside_hole``): where its next frame has not come, it
+    is judged with the three after it (``hole_glitch``).
+    """
+    for count, expected in ((1, True), (2, True), (3, False)):
+        bat = _turning(120.0, 24)
+        for _ in range(count):
+            bat.remove(12 - count + 1)
+        at = 12 - count + 3  # (the frame 3 after the hole's, as the frames lost 3 before it)
+        assert regular(bat, at) is expected, count
+        assert not regular(bat, at - 1)
+    # (a frame 3 after the hole, its next not come: ``departed`` reads the hole's step and
+    # does not judge it; ``beside_hole`` reads three back, and ``hole_glitch`` judges it)
+    bat = _turning(120.0, 24, turned=15, off=0.15)
+    bat.remove(11)
+    bat.remove(11)
+    newest = excerpt(bat, 0, 13)
+    assert not departed(newest, 13, 0.06, 8, 0.0) and beside_hole(newest, 13)
+    assert beside_hole(bat, 13) and hole_glitch(bat, 13, 0.06, 8, 0.0)
+    assert not beside_hole(bat, 14)
+    clean = _turning(120.0, 24)
+    clean.remove(11)
+    clean.remove(11)
+    assert not any(hole_glitch(clean, i, 0.06, 8, 0.0) for i in range(9, 20)
+                   if beside_hole(clean, i))
 
 
 @pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
