@@ -38,7 +38,17 @@ differ). Then a ball tracker that
 pauses (``pauses``): how often ``~/impact_predicted`` goes off and on again under the node's
 rule (``ros/prediction_watch.py``) on the messages' arrivals. ``--pauses-only``: only that.
 
+Between them, a glitch beside the bat tracker's lost frames (``lost_cell``): the frame turned 10
+or 20 cm toward the ball as above (the 1st, 2nd or 4th before the approach), made its bat
+segment's 1st, 2nd or 4th frame (the tracker re-acquires the bat after the frames over
+``max_gap`` before it are lost: ``bench_glitches.faulted``'s ``--segment``, ``LOST_SEGMENT``),
+or with the frame two or one before it or the one after it lost (``--lost``, ``LOST_BESIDE``:
+at 90 Hz a hole over ``bat_glitches.LOST_HOLE``); the clean run is the pitch with the same
+frames lost, the deleted one without the glitch's frame too; scored as above.
+``--lost-only``: only that table.
+
     .venv/bin/python benchmarks/bench_prediction.py --faults [--seeds 2] [--chunks]
+    .venv/bin/python benchmarks/bench_prediction.py --faults --lost-only [--chunks]
 """
 
 import argparse
@@ -55,6 +65,7 @@ from baseball_collision.tools.parameters import build_config
 from baseball_collision.tools.sim import (
     FAMILIES, make_scenario, sample, Samples, Scenario, truth_dict)
 from baseball_collision.tools.truth import LEADS_S, PredictionIndex
+import bench_glitches  # noqa: I100  (the tracker's lost frames about a glitch)
 import numpy as np
 
 FAULT_LEAD_S = 0.02
@@ -71,6 +82,15 @@ CHUNK_SIZES = (7, 50, 400)
 
 FAULT_KINDS = ('barrel', 'graze', 'miss_over', 'miss_under')
 """The pitches of ``--faults``: hits and misses."""
+
+LOST_SEGMENT = (1, 2, 4)
+"""The glitch as its bat segment's Nth frame (``lost_cell``: ``bench_glitches``' ``--segment``)."""
+
+LOST_BESIDE = (-2, -1, 1)
+"""The bat frame lost this many frames from the glitch (``lost_cell``: ``--lost``)."""
+
+LOST_TURNS_M = (0.1, 0.2)
+"""m: how far the glitch beside lost frames turns the tip toward the ball (``lost_cell``)."""
 
 
 def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
@@ -296,6 +316,61 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     return counts
 
 
+def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
+              chunks: bool) -> Dict[str, Dict[str, int]]:
+    """
+    Return one rate, noise and configuration's counts per placement of a glitch by lost frames.
+
+    Placements ``segment N`` (``LOST_SEGMENT``) and ``lost K`` (``LOST_BESIDE``), made by
+    ``bench_glitches.faulted``; the counts as ``fault_cell``'s, each against the pitch with the
+    same frames lost (clean) and that without the glitch's frame too (deleted).
+    """
+    placements = [(f'segment {n}', None, n) for n in LOST_SEGMENT] + [
+        (f'lost {k}', k, None) for k in LOST_BESIDE]
+    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
+                                   'longer', 'chunk_differs', 'deleted_too'), 0)
+              for name, _, _ in placements}
+    for family in FAMILIES:
+        for seed in range(seeds):
+            for kind in FAULT_KINDS:
+                rng = np.random.default_rng(seed)
+                scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
+                samples = sample(scenario, rate, rng, jitter_s=2e-4, noise_m=noise_m)
+                truth = truth_dict(scenario, samples.start_ns)
+                hit = scenario.truth.contact
+                approach = truth['stamp_ns'] if hit else samples.start_ns + int(
+                    round(scenario.truth.min_gap_time_s * 1e9))
+                before = np.flatnonzero(samples.bat_stamps_ns < approach)
+                for back in FAULT_FRAMES:
+                    for name, lost, segment in placements:
+                        cell = counts[name]
+                        base, at = bench_glitches.faulted(samples, int(before[-back]), lost,
+                                                          segment)
+                        clean, _ = predictions_of(config, base)
+                        clean_ok = hit and scored(clean, approach, truth['point'])
+                        without = clean_ok and scored(predictions_of(
+                            config, base.without_bat_frame(at))[0], approach, truth['point'])
+                        for turn in LOST_TURNS_M:
+                            bad = faulted(base, at, ('turn', turn))
+                            index, events = predictions_of(config, bad)
+                            if chunks and predictions_of(config, bad, True)[1] != events:
+                                cell['chunk_differs'] += 1
+                            if hit:
+                                ok = scored(index, approach, truth['point'])
+                                cell['hits'] += 1
+                                cell['clean_hits'] += clean_ok
+                                cell['lost'] += clean_ok and not ok
+                                cell['deleted_too'] += clean_ok and not ok and not without
+                                cell['gained'] += ok and not clean_ok
+                                continue
+                            cell['misses'] += 1
+                            later = any(clean.in_force(int(made)) is None
+                                        for made in index.made)
+                            cell['false'] += later and not len(clean.made)
+                            cell['longer'] += later and len(clean.made) > 0
+    return counts
+
+
 PAUSE_LAGS_S = (0.0, 0.06)
 """s: how far the ball tracker's messages come behind the bat's (``pauses``)."""
 
@@ -413,8 +488,33 @@ def pauses(seeds: int) -> None:
                       f'{runs} | {withdrawn} | {flipped} | {early} |', flush=True)
 
 
-def faults(seeds: int, chunks: bool) -> None:
-    """Print what bat-tracker faults cost the prediction (see the module), one row a cell."""
+def faults(seeds: int, chunks: bool, lost_only: bool = False) -> None:
+    """
+    Print what bat-tracker faults cost the prediction (see the module), one row a cell.
+
+    Then the glitch beside lost frames (``lost_cell``), one row a cell and placement;
+    ``lost_only``: only that.
+    """
+    if not lost_only:
+        fault_table(seeds, chunks)
+    print('\n| glitch beside lost frames | rate Hz | noise mm | parameters | hits lost 20 ms '
+          'ahead (clean had it) | of them lost without the frame too | gained | misses with a '
+          'false prediction (clean none) | misses predicted at a frame clean was not | chunk '
+          'path differs |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
+    for rate in (90.0, 360.0):
+        for noise_m in (0.0, 0.001):
+            for name, config in node_configs().items():
+                for placement, cell in lost_cell(rate, noise_m, config, seeds, chunks).items():
+                    print(f"| {placement} | {rate:g} | {noise_m * 1e3:g} | {name} | "  # noqa: Q000
+                          f"{cell['lost']} of {cell['hits']} ({cell['clean_hits']}) | "
+                          f"{cell['deleted_too']} | {cell['gained']} | "
+                          f"{cell['false']} of {cell['misses']} | {cell['longer']} | "
+                          f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
+
+
+def fault_table(seeds: int, chunks: bool) -> None:
+    """Print the turned and stamped frames' table (``fault_cell``), one row a cell."""
     print('\n| fault | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean had it) '
           '| of them lost without the frame too | gained | misses with a false prediction '
           '(clean none) | misses predicted at a frame clean was not | chunk path differs |')
@@ -449,12 +549,15 @@ def main() -> None:
                         help='--faults: only the ball tracker that pauses')
     parser.add_argument('--chunks', action='store_true',
                         help='--faults: also compare the chunk path with one sample at a time')
+    parser.add_argument('--lost-only', action='store_true',
+                        help='--faults: only the glitch beside lost frames')
     args = parser.parse_args()
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.faults or args.pauses_only:
         if not args.pauses_only:
-            faults(args.seeds, args.chunks)
-        pauses(args.seeds)
+            faults(args.seeds, args.chunks, args.lost_only)
+        if not args.lost_only:
+            pauses(args.seeds)
         return
     if args.cost_only:
         cost(args.seed)
