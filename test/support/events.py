@@ -110,6 +110,40 @@ def glitched_pitch(kind: str, family: str, seed: int, rate: float, frame: int,
         closest
 
 
+def lost_glitched_pitch(kind: str, family: str, seed: int, back: int, lost: int = 0,
+                        segment: int = 0, turn: float = 0.1) -> Tuple[List[Row], List[Row], int]:
+    """
+    Return a 90 Hz pitch's rows with a bat glitch beside lost frames, without it, and the approach.
+
+    As ``bench_prediction.py --faults``' glitch beside lost frames: the ``sim`` scenario of
+    ``kind`` and ``family`` (``default_rng(seed)``, lead 0.4 s, exact, 0.2 ms of jitter), its
+    bat frame ``back`` frames before the approach (the contact, or a miss's closest instant)
+    turned ``turn`` (m) at the tip toward the ball sample nearest it, and the bat frame
+    ``lost`` frames from it deleted (not 0), or the frames over 60 ms before the frame
+    ``segment`` - 1 before it (it the ``segment``-th frame of its segment). The second rows:
+    the same frames lost, and the glitch's frame deleted too. The approach's stamp is ns.
+    """
+    rng = np.random.default_rng(seed)
+    scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
+    samples = sample(scenario, 90.0, rng, jitter_s=2e-4)
+    truth = scenario.truth
+    approach = samples.start_ns + int(round(
+        (truth.time_s if truth.contact else truth.min_gap_time_s) * 1e9))
+    j = int(np.flatnonzero(samples.bat_stamps_ns < approach)[-back])
+    if lost:
+        samples, j = samples.without_bat_frame(j + lost), j - (lost < 0)
+    if segment:
+        stamps = samples.bat_stamps_ns
+        count = int(np.ceil(0.06 * (len(stamps) - 1) / ((stamps[-1] - stamps[0]) * 1e-9)))
+        samples, j = samples.without_bat_frames(int(stamps[j - segment + 1]), count), j - count
+    nearest = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])))
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[nearest], turn)
+    glitched_rows, deleted_rows = (
+        [(role, stamp, values, 'world') for stamp, role, values in feed.messages()]
+        for feed in (glitched, samples.without_bat_frame(j)))
+    return glitched_rows, deleted_rows, approach
+
+
 def arrays(rows: Sequence[Row]) -> Tuple[np.ndarray, np.ndarray, np.ndarray, List[str]]:
     """Return rows as ``add_chunk``'s arrays."""
     values = np.zeros((len(rows), 7))

@@ -32,14 +32,21 @@ newest bat frames by the sweep's rule, the oldest first, and drops a glitch as t
 the detection path read the same frames. A newest bat frame that held the prediction (off the
 swing, above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a
 glitch that bends the forecasts after it away from the ball would otherwise stay in them,
-showing nothing, until the sweep judged it near the ball.
+showing nothing, until the sweep judged it near the ball. Where that rule cannot judge the
+suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``), the
+sweep's rule for it does once the frames after it that it reads have come
+(``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``), and
+till then the bat is forecast without it.
 """
 
+from bisect import bisect_left
 from dataclasses import replace
 import math
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
-from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
+from .bat_glitches import (
+    beside_hole, early, early_glitch, first_frame_glitch, first_glitch, glitch_floor,
+    hole_glitch, REGULAR_STEP, segment_first)
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -75,6 +82,10 @@ of 252 hits at 90 Hz with 1 mm of noise, against 7 at 2 times and 15 at 3)."""
 NEWEST, BEFORE = 'newest', 'before'
 """``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, or the one before."""
 
+NOT_LATE = 'not late'
+"""``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
+judges."""
+
 PREDICTION_DEGREE = 3
 """Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
 where higher degrees amplify tracking noise (at 90 Hz with 1 mm noise they lose the swing)."""
@@ -95,7 +106,7 @@ class Predictor:
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
-                 '_ball_window', '_bat_window', '_instant', 'drop_bat', 'suspect')
+                 '_ball_window', '_bat_window', '_instant', 'drop_bat', 'suspect', '_left_out')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -116,6 +127,9 @@ class Predictor:
         # the time (s) of a newest bat frame that held a prediction (``_bat_off``), not
         # judged yet: the frames after it judge it whatever they show (``_bat_glitch_dropped``)
         self.suspect: Optional[float] = None
+        # the suspect's frame where the sweep's rule for it (a segment's first frames, beside a
+        # long hole: ``_late_verdict``) awaits later frames: the bat is forecast without it
+        self._left_out: Optional[int] = None
 
     @property
     def config(self) -> DetectorConfig:
@@ -168,7 +182,8 @@ class Predictor:
         forecast again without it. The bat's turns are summed over the forecast's own window
         (``_bat_forecast``), whose frames are judged first where the frame would change what
         is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped, the bat
-        forecast again without it).
+        forecast again without it); a suspect whose rule awaits later frames (``_left_out``) is
+        left out of the bat's forecast, and the newest frames are not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -188,11 +203,18 @@ class Predictor:
                 if planned or not self._bat_glitch_dropped(found):
                     break
                 found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
+            left_out = None if forecast is None or planned else self._left_out
+            if left_out is not None:  # (a suspect the sweep's rule judges later: without it)
+                without = self._bat_numbers(*self._bat_window, left_out)
+                if without is not None:
+                    bat_args, found = without, contact_of(
+                        ball, without, t0, config.prediction_horizon, config.ball_radius,
+                        config.profile, self._tolerance)
             if forecast is None:
-                self.suspect = None  # (nothing forecast: no frame awaits a judgment)
+                self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
             elif found is not None or self.predicting:
                 held = self._ball_departed()
-                off = None if held or planned else self._bat_off(found)
+                off = None if held or planned or left_out is not None else self._bat_off(found)
                 if off is NEWEST:
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
                 elif off is BEFORE:  # (forecast without it)
@@ -205,7 +227,7 @@ class Predictor:
                     self.last_ns = last_ns  # (no frame that predicted: the next one is due)
                     return
         else:
-            self.suspect = None
+            self.suspect = self._left_out = None
         if found is None:
             if self.predicting:
                 self.predicting = False
@@ -237,23 +259,67 @@ class Predictor:
         path reads; the sweep judges a frame only once an interval near the ball reads it. A
         frame's first verdict costs a smoothed continuation with noise
         (``bat_glitches.departure``), hence only where the frame would change what is shown.
+
+        A suspect that rule cannot judge (a segment's first frames, a frame beside a hole over
+        ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the frames after it
+        that the rule reads have come (``_late_verdict``): a glitch dropped likewise, a frame
+        judged no glitch forgotten as a suspect; till then (``_left_out``), and while it is in
+        the forecast's window, the bat is forecast without it (``predict``).
         """
         first, end = self._bat_window
         suspect = self.suspect
+        self._left_out = None
         if self.drop_bat is None or (suspect is None and (
                 (found is None and not self.predicting) or not self._shown_changes(found))):
             return False
         bat, config = self.bat, self._config
         gap, size, last = config.max_gap, config.spline_window, end - 1
+        times, noise = bat.times, stream_noise(bat, config)
+        if suspect is not None and first <= (j := bisect_left(times, suspect, first, end)) < last \
+                and times[j] == suspect:
+            verdict = self._late_verdict(j)
+            if verdict is None:  # (awaits later frames: forecast without it)
+                self._left_out = j
+            elif verdict:
+                self.suspect = None
+                self.drop_bat(j, last)
+                return True
+            elif verdict is not NOT_LATE:
+                self.suspect = None  # (judged no glitch by the sweep's rule)
         first = max(first, c2_window(bat, last - 1, gap, 0, size).start)
-        times = bat.times
-        if suspect is not None and (times[first] > suspect or suspect < times[last]):
+        if suspect is not None and self._left_out is None and (
+                times[first] > suspect or suspect < times[last]):
             self.suspect = None  # judged now (its next frame in), or out of the window
-        glitch = first_glitch(bat, first, last, gap, size, stream_noise(bat, config))
+        glitch = first_glitch(bat, first, last, gap, size, noise)
         if glitch is None:
             return False
+        if glitch == self._left_out:
+            return False  # (left out already, till the sweep's rule for it can judge it)
         self.drop_bat(glitch, last)
+        self.suspect = self._left_out = None
         return True
+
+    def _late_verdict(self, j: int) -> Union[None, bool, str]:
+        """
+        Return the sweep's verdict on bat frame j where ``first_glitch`` cannot judge it.
+
+        A segment's 2nd to 8th frame (``bat_glitches.early``: ``early_glitch``), its first
+        (``segment_first``: ``first_frame_glitch``), a frame beside a hole over ``LOST_HOLE``
+        (``beside_hole``: ``hole_glitch``), as the sweep picks them (``Sweep._early_bat_glitch``):
+        True, a glitch; False, none; None, the frames after it that the rule reads have not all
+        come. ``NOT_LATE``: none of those (``first_glitch`` judges it).
+        """
+        bat, config = self.bat, self._config
+        gap = config.max_gap
+        if early(bat, j, gap):
+            judge = early_glitch
+        elif segment_first(bat, j, gap):
+            judge = first_frame_glitch
+        elif beside_hole(bat, j):
+            judge = hole_glitch
+        else:
+            return NOT_LATE
+        return judge(bat, j, gap, config.spline_window, stream_noise(bat, config))
 
     def _ball_departed(self) -> bool:
         """
@@ -307,12 +373,14 @@ class Predictor:
         ``REGULAR_STEP`` times the other (a stamp off the stream's cadence), with 6 frames or
         more in the window.
 
-        None: neither (or fewer than 5 frames).
+        None: neither (or fewer than 5 frames; 4 where they begin their segment among regular
+        steps, ``_segment_start``: a glitch among a segment's first frames, which the window's
+        judgment cannot judge, is held so and then left out, ``_bat_glitch_dropped``).
         """
         first, end = self._bat_window
-        if end - first < 5:
-            return None
         times = self.bat.times
+        if end - first < 4 or end - first == 4 and not self._segment_start(first, end):
+            return None
         before, after = times[end - 2] - times[end - 3], times[end - 1] - times[end - 2]
         shown = self._shown_changes(found)
         if not shown and max(before, after) <= REGULAR_STEP * min(before, after):
@@ -326,6 +394,19 @@ class Predictor:
             return NEWEST
         return None
 
+    def _segment_start(self, first: int, end: int) -> bool:
+        """
+        Return whether bat frames [first, end) begin their segment, among regular steps.
+
+        Frame ``first`` its segment's first (``bat_glitches.segment_first``: the tracker
+        re-acquired the bat), each step at most ``REGULAR_STEP`` times another: a window short
+        for the segment's sake, not across frames lost.
+        """
+        times = self.bat.times
+        steps = [b - a for a, b in zip(times[first:end - 1], times[first + 1:end])]
+        return segment_first(self.bat, first, self._config.max_gap) and \
+            max(steps) <= REGULAR_STEP * min(steps)
+
     def _bat_leaves(self, first: int, end: int) -> bool:
         """Return whether bat frame end - 1 left the forecast of frames [first, end - 1)."""
         return self._bat_miss(first, end) > glitch_floor(stream_noise(self.bat, self._config))
@@ -335,9 +416,12 @@ class Predictor:
         Return how far (m) bat frame end - 1 is from the forecast of frames [first, end - 1).
 
         The larger of the knob's and the tip's distances; ``without``: the forecast of those
-        frames but that one (``_bat_numbers``). 0 where the fit is rank deficient.
+        frames but that one (``_bat_numbers``). 0 where the fit is rank deficient or would read
+        fewer than 3 frames.
         """
         bat = self.bat
+        if end - 1 - first - (without is not None) < 3:
+            return 0.0
         before = self._bat_numbers(first, end - 1, without)
         if before is None:
             return 0.0

@@ -31,7 +31,8 @@ from hypothesis import example, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 from support import examples
-from support.events import arrays, ball_lost_before, glitched_pitch, on_bat_axis, Row
+from support.events import (
+    arrays, ball_lost_before, glitched_pitch, lost_glitched_pitch, on_bat_axis, Row)
 from support.far import tilting_bat
 from support.scenes import BASE_NS, pitch, pose, swing
 
@@ -1339,6 +1340,34 @@ def test_a_bat_frame_stamped_off_is_left_out_alike_in_chunks(
     for sizes in ((1000,), (7, 50, 400)):
         assert_same(config, rows, sizes)
     assert BEFORE in verdicts
+
+
+@pytest.mark.parametrize('kind, lost, segment, judged', [
+    ('barrel', 0, 4, True), ('barrel', -2, 0, True), ('graze', 1, 0, False)])
+def test_a_bat_glitch_the_window_cannot_judge_is_left_out_alike_in_chunks(
+        kind: str, lost: int, segment: int, judged: bool,
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A 90 Hz pitch whose bat frame 4 before the approach, turned 10 cm, needs later frames.
+
+    Its segment's 4th frame, or beside a frame lost two before it or right after it: it held a
+    prediction, and the frames after it forecast without it till the sweep's rule for it
+    judges it (``Predictor._late_verdict``: wait, then a glitch: ``judged``; or the sweep's
+    own judgment first) and drops it: in chunks too, the events, drops and streams those of
+    one sample at a time.
+    """
+    verdicts = []
+    late = Predictor._late_verdict
+
+    def recording(self: Predictor, j: int) -> Any:
+        verdicts.append(late(self, j))
+        return verdicts[-1]
+    monkeypatch.setattr(Predictor, '_late_verdict', recording)
+    rows, _, _ = lost_glitched_pitch(kind, 'plane', 0 if segment else 1, 4, lost, segment)
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    for sizes in ((1000,), (7, 50, 400)):
+        assert_same(config, rows, sizes)
+    assert None in verdicts and (True in verdicts) == judged
 
 
 @pytest.mark.parametrize('kind, family, seed, frame', [

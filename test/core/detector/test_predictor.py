@@ -18,7 +18,7 @@ from baseball_collision.core.prediction import (
 from baseball_collision.errors import CoreError
 import numpy as np
 import pytest
-from support.events import glitched_pitch
+from support.events import glitched_pitch, lost_glitched_pitch
 
 BASE_NS = 1_700_000_000_000_000_000
 OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
@@ -311,3 +311,32 @@ def test_a_suspect_bat_frame_is_forgotten_where_nothing_is_forecast() -> None:
     assert predictor.suspect == predictor.bat.times[-1]
     predictor.predict(0.005 * 7, False, [])  # disarmed: nothing forecast
     assert predictor.suspect is None
+
+
+@pytest.mark.parametrize('lost, segment', [(0, 4), (-2, 0)])
+def test_a_bat_glitch_the_window_cannot_judge_is_left_out_till_it_is_judged(
+        lost: int, segment: int) -> None:
+    """
+    A 90 Hz hit whose bat frame 4 before the contact, turned 10 cm, the window cannot judge.
+
+    Its segment's 4th frame (the tracker re-acquired the bat 3 frames before it), or beside a
+    frame lost two before it (a hole over ``bat_glitches.LOST_HOLE``): the sweep's rule for it
+    (``early_glitch``, ``hole_glitch``) needs frames after it. It held the prediction as the
+    newest frame (``Predictor._bat_off``: with 4 frames in a window that starts its segment),
+    then bent the forecasts after it, which withdrew the prediction 20 ms ahead. Now the frames
+    after it forecast without it till that rule judges it (``Predictor._late_verdict``) and
+    drops it: the predictions the pitch without it makes, to the nanosecond.
+    """
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    rows, deleted, contact = lost_glitched_pitch('barrel', 'plane', 0, 4, lost, segment)
+    made, drops = [], []
+    for feed in (rows, deleted):
+        detector = Detector(config)
+        made.append([(e.made_at_ns, getattr(e, 'stamp_ns', None)) for row in feed
+                     for e in detector.add(*row)
+                     if isinstance(e, (Prediction, PredictionCleared))
+                     and e.made_at_ns < contact])
+        drops.append(detector.stats.dropped[DropReason.BAT_GLITCH])
+    assert made[0] == made[1] and drops == [1, 0]
+    ahead = [stamp for made_at, stamp in made[1] if made_at <= contact - 0.02e9]
+    assert ahead[-1] is not None and abs(ahead[-1] - contact) < 0.001e9
