@@ -35,8 +35,9 @@ glitch that bends the forecasts after it away from the ball would otherwise stay
 showing nothing, until the sweep judged it near the ball. Where that rule cannot judge the
 suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``), the
 sweep's rule for it does once the frames after it that it reads have come
-(``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``), and
-till then the bat is forecast without it.
+(``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``); till
+then, or once judged a glitch, the bat is forecast without it (the sweep drops it when a contact
+hangs on it).
 """
 
 from bisect import bisect_left
@@ -128,7 +129,8 @@ class Predictor:
         # judged yet: the frames after it judge it whatever they show (``_bat_glitch_dropped``)
         self.suspect: Optional[float] = None
         # the suspect's frame where the sweep's rule for it (a segment's first frames, beside a
-        # long hole: ``_late_verdict``) awaits later frames: the bat is forecast without it
+        # long hole: ``_late_verdict``) awaits later frames or judged it a glitch: the bat is
+        # forecast without it
         self._left_out: Optional[int] = None
 
     @property
@@ -183,7 +185,8 @@ class Predictor:
         (``_bat_forecast``), whose frames are judged first where the frame would change what
         is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped, the bat
         forecast again without it); a suspect whose rule awaits later frames (``_left_out``) is
-        left out of the bat's forecast, and the newest frames are not checked meanwhile.
+        or judged a glitch by it is left out of the bat's forecast, and the newest frames are
+        not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -262,9 +265,12 @@ class Predictor:
 
         A suspect that rule cannot judge (a segment's first frames, a frame beside a hole over
         ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the frames after it
-        that the rule reads have come (``_late_verdict``): a glitch dropped likewise, a frame
-        judged no glitch forgotten as a suspect; till then (``_left_out``), and while it is in
-        the forecast's window, the bat is forecast without it (``predict``).
+        that the rule reads have come (``_late_verdict``): a frame judged no glitch is forgotten
+        as a suspect; till then, or judged a glitch (``_left_out``), and while it is in the
+        forecast's window, the bat is forecast without it (``predict``). Not dropped here: the
+        sweep drops it where a contact hangs on it, and a drop here, at another frame than the
+        sweep's, made the chunk path's impacts differ from one sample at a time's
+        (``bench_prediction.py --faults --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
         """
         first, end = self._bat_window
         suspect = self.suspect
@@ -278,12 +284,8 @@ class Predictor:
         if suspect is not None and first <= (j := bisect_left(times, suspect, first, end)) < last \
                 and times[j] == suspect:
             verdict = self._late_verdict(j)
-            if verdict is None:  # (awaits later frames: forecast without it)
+            if verdict is None or verdict is True:  # (waits, or a glitch: forecast without it)
                 self._left_out = j
-            elif verdict:
-                self.suspect = None
-                self.drop_bat(j, last)
-                return True
             elif verdict is not NOT_LATE:
                 self.suspect = None  # (judged no glitch by the sweep's rule)
         first = max(first, c2_window(bat, last - 1, gap, 0, size).start)

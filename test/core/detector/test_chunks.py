@@ -1351,10 +1351,10 @@ def test_a_bat_glitch_the_window_cannot_judge_is_left_out_alike_in_chunks(
     A 90 Hz pitch whose bat frame 4 before the approach, turned 10 cm, needs later frames.
 
     Its segment's 4th frame, or beside a frame lost two before it or right after it: it held a
-    prediction, and the frames after it forecast without it till the sweep's rule for it
-    judges it (``Predictor._late_verdict``: wait, then a glitch: ``judged``; or the sweep's
-    own judgment first) and drops it: in chunks too, the events, drops and streams those of
-    one sample at a time.
+    prediction, and the frames after it forecast without it while the sweep's rule for it waits
+    or judges it a glitch (``Predictor._late_verdict``: wait, then a glitch: ``judged``; or the
+    sweep drops it first): in chunks too, the events, drops and streams those of one sample at
+    a time.
     """
     verdicts = []
     late = Predictor._late_verdict
