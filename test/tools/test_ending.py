@@ -15,6 +15,7 @@ from typing import List
 
 from baseball_collision.tools.ending import end_process, open_for_writing, other_threads
 import pytest
+from rosbags.highlevel import AnyReader
 from support.bundled import bag_path
 
 SENTINEL = """
@@ -136,6 +137,23 @@ def test_analyze_ends_at_once_with_every_output(tmp_path: Path, run_cli) -> None
     assert outputs[0] == outputs[1]
 
 
+def test_analyze_ends_at_once_with_its_output_bag_whole(tmp_path: Path, run_cli) -> None:
+    """--out-bag: the MCAP is finished, with the messages of an in-process run's."""
+    bag = str(bag_path('pitches_90hz.mcap'))
+    done = analyze(bag, '--out-bag', str(tmp_path / 'child.mcap'), '--quiet')
+    assert done.returncode == 0 and done.stderr == 'atexit ran\n', done.stderr
+    code, _, stderr = run_cli(['analyze', bag, '--out-bag', str(tmp_path / 'here.mcap'),
+                               '--quiet', '--no-progress'])
+    assert code == 0, stderr
+    written = []
+    for name in ('child.mcap', 'here.mcap'):
+        with AnyReader([tmp_path / name]) as reader:  # (a cut MCAP would not open)
+            written.append([(connection.topic, stamp, bytes(data))
+                            for connection, stamp, data in reader.messages()
+                            if connection.topic != '/diagnostics'])  # (wall-clock timings)
+    assert len(written[0]) > 1000 and written[0] == written[1]
+
+
 def test_analyze_ends_at_once_after_an_error_too(tmp_path: Path) -> None:
     """A missing bag: its one line, exit code 2, nothing written, no teardown."""
     done = analyze(str(tmp_path / 'missing.mcap'), '--json', str(tmp_path / 'e.json'))
@@ -143,6 +161,21 @@ def test_analyze_ends_at_once_after_an_error_too(tmp_path: Path) -> None:
     assert done.stderr.startswith('baseball-collision: error: bag not found')
     assert done.stderr.endswith('\natexit ran\n') and done.stderr.count('\n') == 2
     assert list(tmp_path.iterdir()) == []
+
+
+def test_analyze_into_a_closed_pipe_ends_as_it_always_did() -> None:
+    """The table into a pipe no one reads: the ordinary exit's report, exit code 120."""
+    read, write = os.pipe()
+    env = {k: v for k, v in os.environ.items()
+           if k not in ('PYTHONUNBUFFERED', 'RMW_IMPLEMENTATION')}
+    child_process = subprocess.Popen(
+        [sys.executable, '-c', SENTINEL + ANALYZE, 'analyze', str(bag_path('pitches_90hz.mcap')),
+         '--no-progress'], stdout=write, stderr=subprocess.PIPE, text=True, env=env)
+    os.close(write)
+    os.close(read)
+    _, stderr = child_process.communicate(timeout=120)
+    assert child_process.returncode == 120
+    assert 'BrokenPipeError' in stderr and stderr.endswith(TORN_DOWN)
 
 
 def test_only_analyze_ends_at_once() -> None:
