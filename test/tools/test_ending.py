@@ -110,14 +110,15 @@ def analyze(*args: str) -> subprocess.CompletedProcess:
     return child(ANALYZE, 'analyze', *args, '--no-progress')
 
 
-def test_analyze_ends_at_once_with_every_output(tmp_path: Path, run_cli) -> None:
-    """--jobs 2, --json, --csv, --plot: the same files and table as in-process, no teardown."""
+@pytest.mark.parametrize('jobs', ['1', '2'])
+def test_analyze_ends_at_once_with_every_output(tmp_path: Path, run_cli, jobs: str) -> None:
+    """--jobs 1 or 2, --json, --csv, --plot: the files and table of in-process, no teardown."""
     bags = [str(bag_path('pitches_90hz.mcap')), str(bag_path('pitches_240hz_noisy.bag'))]
     outputs: List[dict] = []
     for where in ('child', 'in-process'):
         folder = tmp_path / where
         folder.mkdir()
-        argv = [*bags, '--jobs', '2', '--json', str(folder / 'e.json'), '--csv',
+        argv = [*bags, '--jobs', jobs, '--json', str(folder / 'e.json'), '--csv',
                 str(folder / 'e.csv'), '--plot', str(folder / 'plots')]
         if where == 'child':
             done = analyze(*argv)
@@ -130,7 +131,8 @@ def test_analyze_ends_at_once_with_every_output(tmp_path: Path, run_cli) -> None
         outputs.append({'events': [(bag['impacts'], bag['near_misses'], bag['dropped'])
                                    for bag in document['bags']],
                         'csv': (folder / 'e.csv').read_text(),
-                        'plots': sorted(p.name for p in (folder / 'plots').iterdir()),
+                        'plots': sorted((p.name, p.read_bytes())
+                                        for p in (folder / 'plots').iterdir()),
                         'table': [line for line in stdout.splitlines()
                                   if not line.startswith(('summary', 'total'))]})
         assert outputs[-1]['plots'], 'no figure drawn'
