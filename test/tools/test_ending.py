@@ -218,7 +218,6 @@ def test_the_frozen_imports_leave_no_file_open_for_writing() -> None:
             'with frozen_imports():\n'
             '    import baseball_collision.tools.cli, baseball_collision.tools.analyze\n'
             '    import baseball_collision.tools.report, baseball_collision.tools.many_bags\n'
-            '    import baseball_collision.ros.node\n'
             'frozen = gc.get_freeze_count()\n'
             'gc.unfreeze()\n'
             'from baseball_collision.tools.ending import open_for_writing\n'
