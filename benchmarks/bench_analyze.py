@@ -72,7 +72,12 @@ checks the runs found the same events. With ``--whole`` too: whole ``baseball-co
 analyze BAG ... --jobs 1`` and ``--jobs K`` processes in turn instead (as a user runs them:
 start-up and the pool's start included), beside the ceiling the host allows: K ``analyze
 BAG`` processes started at once (as a shell starts them: no pool, each its own start-up), and
-one alone. ``--wait-quiet S`` waits up to S seconds before each run for a quiet host. The
+one alone; with ``--before DIR`` too, every case also from the source tree DIR, in turn, and
+a bundled 90 Hz bag's whole ``analyze`` (start-up and teardown) from each tree, then the two
+trees' medians side by side (``--no-bytecode-cache``: the children compile the package at every
+start, as with ``PYTHONDONTWRITEBYTECODE`` set; by default they keep a bytecode cache, as a
+user's second run does). ``--wait-quiet S`` waits up to S seconds before each run for a quiet
+host. The
 in-process pool forks from this process, whose numpy started OpenBLAS's threads; the command
 line starts numpy with one (``entry_points``): run ``OPENBLAS_NUM_THREADS=1 ... --jobs K`` to
 measure the pool as the command line runs it.
@@ -86,6 +91,7 @@ import os
 from pathlib import Path
 import pstats
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
@@ -740,9 +746,16 @@ def jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: in
               f'{found["one job not reading ahead"] == found["--jobs 1"]}')
 
 
-def processes_at_once(commands: List[list]) -> None:
-    """Run commands as processes started at once; wait for all (each must succeed)."""
-    environment = {k: v for k, v in os.environ.items() if k != 'PYTHONDONTWRITEBYTECODE'}
+def processes_at_once(commands: List[list],
+                      environment: Optional[Dict[str, str]] = None) -> None:
+    """
+    Run commands as processes started at once; wait for all (each must succeed).
+
+    :param environment: the children's (None: this process's without
+        ``PYTHONDONTWRITEBYTECODE``: :func:`process_times`).
+    """
+    if environment is None:
+        environment = {k: v for k, v in os.environ.items() if k != 'PYTHONDONTWRITEBYTECODE'}
     children = [subprocess.Popen(command, stdout=subprocess.DEVNULL, env=environment)
                 for command in commands]
     for child, command in zip(children, commands):
@@ -750,8 +763,32 @@ def processes_at_once(commands: List[list]) -> None:
             raise subprocess.CalledProcessError(child.returncode, command)
 
 
+def tree_environment(tree: Path, bytecode_cache: bool) -> Dict[str, str]:
+    """
+    Return the environment of a child running the package from source tree ``tree``.
+
+    ``PYTHONPATH`` is the tree (ahead of the installed package); with ``bytecode_cache`` False
+    the child writes no bytecode cache (``PYTHONDONTWRITEBYTECODE=1``; remove the tree's caches
+    first: :func:`remove_bytecode_caches`), else it may write one.
+    """
+    environment = {k: v for k, v in os.environ.items() if k != 'PYTHONDONTWRITEBYTECODE'}
+    environment['PYTHONPATH'] = str(tree)
+    if not bytecode_cache:
+        environment['PYTHONDONTWRITEBYTECODE'] = '1'
+    return environment
+
+
+def remove_bytecode_caches(tree: Path) -> int:
+    """Remove the ``__pycache__`` directories of ``tree``'s package; return how many."""
+    caches = list((tree / 'baseball_collision').rglob('__pycache__'))
+    for cache in caches:
+        shutil.rmtree(cache)
+    return len(caches)
+
+
 def whole_jobs_figures(bags: int, messages: int, storage: str, model: str, repeats: int,
-                       pitch_every: float = WORST_SPACING_S, quiet_s: float = 0.0) -> None:
+                       pitch_every: float = WORST_SPACING_S, quiet_s: float = 0.0,
+                       before: Optional[Path] = None, bytecode_cache: bool = True) -> None:
     """
     Print whole ``analyze --jobs 1`` and ``--jobs K`` processes over K bags, in turn.
 
@@ -759,7 +796,20 @@ def whole_jobs_figures(bags: int, messages: int, storage: str, model: str, repea
     a shell starts them: each its own start-up, no pool), and one of them alone. Each run
     after up to ``quiet_s`` of waiting for a quiet host (``PYTHONDONTWRITEBYTECODE`` is
     dropped: :func:`process_times`).
+
+    With ``before`` (a source tree of another commit, its kernel built): every case also
+    runs the package from that tree, and both trees (``PYTHONPATH``) run the bundled 90 Hz bag
+    too (start-up and teardown: ``analyze`` of 860 messages), each case from each tree in turn;
+    then the medians of the two trees side by side. ``bytecode_cache`` False: the children
+    start without the package's bytecode cache (each tree's caches removed first,
+    ``PYTHONDONTWRITEBYTECODE=1``: every package module compiled at every start, as in a
+    sandbox that sets it); True: with it (a user's second run).
     """
+    here = Path(__file__).resolve().parents[1]
+    trees = {'': None} if before is None else {' (before)': before.resolve(), ' (now)': here}
+    if not bytecode_cache:
+        removed = sum(remove_bytecode_caches(tree) for tree in trees.values() if tree)
+        print(f'without bytecode caches ({removed} __pycache__ directories removed)')
     with tempfile.TemporaryDirectory() as tmp:
         paths, written = write_bags(Path(tmp), bags, messages, storage, pitch_every)
         cli = str(Path(sys.executable).with_name('baseball-collision'))
@@ -770,22 +820,39 @@ def whole_jobs_figures(bags: int, messages: int, storage: str, model: str, repea
                  f'{bags} processes at once': [[cli, 'analyze', str(path), *flags]
                                                for path in paths],
                  'one bag alone': [[cli, 'analyze', str(paths[0]), *flags]]}
-        runs: Dict[str, List[Run]] = {case: [] for case in cases}
+        if before is not None:
+            cases['the bundled 90 Hz bag'] = [[cli, 'analyze', str(
+                here / 'bags' / 'pitches_90hz.mcap'), *flags]]
+        runs: Dict[str, List[Run]] = {case + label: [] for case in cases for label in trees}
         for _ in range(repeats):
             for case, commands in cases.items():
-                wait_for_quiet_host(quiet_s)
-                with Run() as run:
-                    processes_at_once(commands)
-                runs[case].append(run)
+                for label, tree in trees.items():
+                    environment = None if tree is None else tree_environment(tree,
+                                                                             bytecode_cache)
+                    wait_for_quiet_host(quiet_s)
+                    with Run() as run:
+                        processes_at_once(commands, environment)
+                    runs[case + label].append(run)
         for case, timed_runs in runs.items():
             what = (f'{bags} bags {case}' if case.startswith('--') else
                     f'BAG, {case}')
             print(f'baseball-collision analyze {what}, whole processes: '
                   f'{run_summary(timed_runs)} ({repeats} runs in turn)')
-        print(f'--jobs {bags} / --jobs 1 speed-up, whole processes: '
-              f'{jobs_summary(runs, "--jobs 1", f"--jobs {bags}")}')
-        print(f'the ceiling the host allows, --jobs 1 / {bags} processes at once: '
-              f'{jobs_summary(runs, "--jobs 1", f"{bags} processes at once", goal=False)}')
+        for label in trees:
+            print(f'--jobs {bags} / --jobs 1 speed-up, whole processes{label}: '
+                  f'{jobs_summary(runs, "--jobs 1" + label, f"--jobs {bags}" + label)}')
+            print(f'the ceiling the host allows, --jobs 1 / {bags} processes at once{label}: '
+                  + jobs_summary(runs, '--jobs 1' + label, f'{bags} processes at once{label}',
+                                 goal=False))
+        if before is not None:
+            print('now / before, medians of each case (wall; CPU):')
+            for case in cases:
+                old, new = runs[case + ' (before)'], runs[case + ' (now)']
+                print(f'  {case:24s} '
+                      f'{statistics.median(r.wall for r in new) * 1e3:7.1f} / '
+                      f'{statistics.median(r.wall for r in old) * 1e3:7.1f} ms; '
+                      f'{statistics.median(r.cpu for r in new) * 1e3:7.1f} / '
+                      f'{statistics.median(r.cpu for r in old) * 1e3:7.1f} ms')
 
 
 def interleaved_figures(messages: int, storage: str, model: str, repeats: int,
@@ -861,6 +928,10 @@ def main() -> None:
                         'throughout (batting practice: 8-15)')
     parser.add_argument('--before', type=Path, default=None, metavar='DIR',
                         help='with --whole: also analyze from this source tree, in turn')
+    parser.add_argument('--no-bytecode-cache', action='store_true',
+                        help='with --whole --jobs --before: the children start without the '
+                        "package's bytecode cache (the trees' caches removed, "
+                        'PYTHONDONTWRITEBYTECODE=1)')
     parser.add_argument('--wait-quiet', type=float, default=0.0, metavar='SECONDS',
                         help='with --jobs: before each run, wait up to SECONDS for a quiet host '
                         '(other processes on less than 7 %% of its cores for 0.3 s; 0: no wait)')
@@ -877,7 +948,8 @@ def main() -> None:
         return
     if args.whole and args.jobs:
         whole_jobs_figures(args.jobs, args.messages or 250_000, args.storage, args.model,
-                           args.repeats, args.pitch_every, args.wait_quiet)
+                           args.repeats, args.pitch_every, args.wait_quiet, args.before,
+                           not args.no_bytecode_cache)
         return
     if args.whole:
         whole_process_figures(args.messages or 500_000, args.storage, args.model, args.repeats,

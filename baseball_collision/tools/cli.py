@@ -23,6 +23,7 @@ import time
 from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
+from .ending import end_process
 from .outputs import Outputs
 from .parameters import load_parameters, NODE_NAME
 from .truth import truth_path
@@ -455,11 +456,14 @@ def _fail(message: str) -> int:
     return EXIT_BAD_INPUT
 
 
-def main(argv: Optional[List[str]] = None) -> int:
+def main(argv: Optional[List[str]] = None, *, end: bool = False) -> int:
     """
     Run the command line.
 
     :param argv: the arguments after the program name; None: ``sys.argv[1:]``.
+    :param end: after ``analyze``, end the process at once unless something would be lost
+        (:func:`~baseball_collision.tools.ending.end_process`: no interpreter teardown), as the
+        console script does; the function then returns only when it could not.
     :returns: the exit code: 0 success, 1 a failed demo, 2 bad input, 130 interrupted (Ctrl-C),
         143 terminated (SIGTERM), 129 hung up (SIGHUP); interrupted or terminated, no partial
         output is left behind.
@@ -468,6 +472,14 @@ def main(argv: Optional[List[str]] = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     args.argv = argv
+    code = _run(args)
+    if end and args.command == 'analyze':
+        return end_process(code)
+    return code
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the parsed command; return its exit code (:func:`main`'s)."""
     try:
         with cleanup_on_signals():
             return args.run(args)
@@ -488,4 +500,4 @@ def main(argv: Optional[List[str]] = None) -> int:
 
 
 if __name__ == '__main__':
-    sys.exit(main())
+    sys.exit(main(end=True))
