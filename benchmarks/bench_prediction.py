@@ -300,20 +300,33 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                             index, events = predictions_of(config, bad)
                             if chunks and predictions_of(config, bad, True)[1] != events:
                                 cell['chunk_differs'] += 1
-                            if hit:
-                                ok = scored(index, approach, truth['point'])
-                                cell['hits'] += 1
-                                cell['clean_hits'] += clean_ok
-                                cell['lost'] += clean_ok and not ok
-                                cell['deleted_too'] += clean_ok and not ok and not without
-                                cell['gained'] += ok and not clean_ok
-                                continue
-                            cell['misses'] += 1
-                            later = any(clean.in_force(int(made)) is None
-                                        for made in index.made)
-                            cell['false'] += later and not len(clean.made)
-                            cell['longer'] += later and len(clean.made) > 0
+                            _tally(cell, index, clean, hit and (clean_ok, without),
+                                   approach, truth['point'])
     return counts
+
+
+def _tally(cell: Dict[str, int], index: Any, clean: Any, hit: Any, approach: int,
+           point: Any) -> None:
+    """
+    Count one faulted pitch's predictions (``index``) against its clean pitch's in ``cell``.
+
+    ``hit``: False for a miss, else (whether the clean pitch's prediction 20 ms ahead scored,
+    whether the pitch without the faulted frame's did); ``approach`` the contact's or closest
+    approach's stamp (ns), ``point`` the true contact point (m).
+    """
+    if hit:
+        clean_ok, without = hit
+        ok = scored(index, approach, point)
+        cell['hits'] += 1
+        cell['clean_hits'] += clean_ok
+        cell['lost'] += clean_ok and not ok
+        cell['deleted_too'] += clean_ok and not ok and not without
+        cell['gained'] += ok and not clean_ok
+        return
+    cell['misses'] += 1
+    later = any(clean.in_force(int(made)) is None for made in index.made)
+    cell['false'] += later and not len(clean.made)
+    cell['longer'] += later and len(clean.made) > 0
 
 
 def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
@@ -355,19 +368,8 @@ def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                             index, events = predictions_of(config, bad)
                             if chunks and predictions_of(config, bad, True)[1] != events:
                                 cell['chunk_differs'] += 1
-                            if hit:
-                                ok = scored(index, approach, truth['point'])
-                                cell['hits'] += 1
-                                cell['clean_hits'] += clean_ok
-                                cell['lost'] += clean_ok and not ok
-                                cell['deleted_too'] += clean_ok and not ok and not without
-                                cell['gained'] += ok and not clean_ok
-                                continue
-                            cell['misses'] += 1
-                            later = any(clean.in_force(int(made)) is None
-                                        for made in index.made)
-                            cell['false'] += later and not len(clean.made)
-                            cell['longer'] += later and len(clean.made) > 0
+                            _tally(cell, index, clean, hit and (clean_ok, without),
+                                   approach, truth['point'])
     return counts
 
 
