@@ -37,6 +37,7 @@ interval;
 derivative of knob + length * direction.
 """
 
+from operator import is_
 from typing import List, Optional, Sequence, Tuple
 
 from .base import BatSample, PathKind
@@ -106,8 +107,12 @@ def rotate(reference: Vector, rotation: Vector) -> Vector:
 
 
 _LAST_ROWS: list = [None]
-"""The last ``c2_rows`` call: (its first, j-th and last sample, count, j, answer). The far
-test and the path of one interval chart the same window: the second gets the first's rows."""
+"""The last ``c2_rows`` call: (its samples, j, answer). The far test and the path of one
+interval chart the same window: the second gets the first's rows. Every sample is compared
+(by identity), not only the window's ends and j-th: a window of a stream's excerpt without
+a frame (``Sweep._hangs_on``) can share those with a window of the stream that holds the frame
+and not another, and got that window's rows (the chunk path's impact then differed from the
+node's, on a bat glitch beside a lost frame with noise)."""
 
 
 def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float, ...]]]:
@@ -116,7 +121,7 @@ def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float
 
     Charted by the kernel (``toi._kernel.c2_chart``: each sample's direction and length as
     ``axis_and_length`` makes them, its rotation vector as ``rotation_to``). The same samples
-    (by identity: a stream's samples are never changed) and j as the last call give its
+    (each by identity: a stream's samples are never changed) and j as the last call give its
     answer again (the rows are shared: read them only).
 
     :returns: (the first sample kept, its rows onward): per sample the 7 fitted coordinates
@@ -124,12 +129,11 @@ def c2_rows(samples: Sequence[BatSample], j: int) -> Tuple[int, List[Tuple[float
         j (or after j + 1) turned more than ``MAX_CHART_ANGLE`` from it end the window there.
     """
     last_call = _LAST_ROWS[0]
-    if (last_call is not None and last_call[3] == len(samples) and last_call[4] == j
-            and last_call[0] is samples[0] and last_call[1] is samples[j]
-            and last_call[2] is samples[-1]):
-        return last_call[5]
+    if (last_call is not None and last_call[1] == j and len(last_call[0]) == len(samples)
+            and all(map(is_, last_call[0], samples))):
+        return last_call[2]
     found = _kernel.c2_chart(samples, j, MAX_CHART_ANGLE)
-    _LAST_ROWS[0] = (samples[0], samples[j], samples[-1], len(samples), j, found)
+    _LAST_ROWS[0] = (tuple(samples), j, found)
     return found
 
 

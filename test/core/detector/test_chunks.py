@@ -1397,3 +1397,35 @@ def test_a_bat_frame_that_held_a_prediction_is_judged_alike_in_chunks(
         assert_same(config, rows, sizes)
     assert judged
     assert one_at_a_time(config, rows)[1][('bat_pose', 'bat_glitch')] == 1
+
+
+def test_a_bat_glitch_beside_a_lost_frame_with_noise_is_judged_alike_in_chunks() -> None:
+    """
+    A bat frame 4 before the approach turned 10 cm toward the ball, the frame after it lost.
+
+    90 Hz with 1 mm of noise (``tracker_noise`` auto, no prediction): the glitch is dropped
+    and forgotten in both paths, then the interval's bat path is read from the kept fits; the
+    chunk path's impact came 0.15 ms earlier with a sweet-spot speed sigma of 38 m/s, not 0.35
+    (``benchmarks/bench_prediction.py --faults --lost-only --chunks``: plane seed 1 barrel).
+    The node's path, fed first, left ``motion.c2_rows``' last window charted; the chunk path's
+    ``Sweep._hangs_on`` charted a window without the glitch with the same first, j-th and last
+    samples and count, and got its rows: the kept fit was wrong from then on. Each detector's
+    fits (``fitting._kept``) are kept by sample identity, so the order alone brought it out.
+    """
+    from baseball_collision.core.detector import fitting
+    from baseball_collision.tools.sim import truth_dict
+    rng = np.random.default_rng(1)
+    scenario = make_scenario('barrel', rng, lead_s=0.4, family='plane')
+    samples = sample(scenario, 90.0, rng, jitter_s=2e-4, noise_m=0.001)
+    contact_ns = truth_dict(scenario, samples.start_ns)['stamp_ns']
+    j = int(np.flatnonzero(samples.bat_stamps_ns < contact_ns)[-4])
+    lost = samples.without_bat_frames(int(samples.bat_stamps_ns[j + 2]), 1)
+    near = int(np.argmin(np.abs(lost.ball_stamps_ns - lost.bat_stamps_ns[j])))
+    glitched = lost.with_bat_frame_turned(j, lost.ball_positions[near], 0.1)
+    rows = [(role, stamp, tuple(values), 'world')
+            for stamp, role, values in glitched.messages('pose')]
+    config = DetectorConfig(prediction_horizon=0.0)
+    fitting._FITS.clear()
+    expected, _, _ = one_at_a_time(config, rows)
+    events, _, _ = in_chunks(config, rows, (7, 50, 400))
+    assert events == expected
