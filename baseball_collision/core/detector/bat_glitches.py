@@ -44,7 +44,7 @@ a bat that braked hard after a contact).
 """
 
 import math
-from typing import List, Optional, Tuple
+from typing import Callable, List, Optional, Tuple
 
 from .fitting import c2_bat_ahead, c2_bat_continued, c2_bat_path, c2_window
 from .streams import excerpt, reversed_excerpt, Stream
@@ -648,3 +648,28 @@ def braked_departure(stream: Stream, j: int, max_gap: float, size: int, noise: f
         a, b = low + (high - low) / 3.0, high - (high - low) / 3.0
         low, high = (low, b) if off(a) <= off(b) else (a, high)
     return min(off(best * reach / BRAKE_POINTS), off(0.5 * (low + high)))
+
+
+LateRule = Callable[[Stream, int, float, int, float], Optional[bool]]
+"""A rule that judges a bat frame with frames after it: (stream, j, max_gap, size, noise) ->
+True a glitch, False none, None the frames it reads have not all come."""
+
+
+def late_rule(stream: Stream, j: int, max_gap: float) -> Optional[Tuple[LateRule, int]]:
+    """
+    Return the rule that judges bat frame j reading frames after it, and the last it reads.
+
+    A segment's 2nd to 8th frame (``early``): ``early_glitch``, reading up to j + 1 (its own
+    reach beyond is its own); its first (``segment_first``): ``first_frame_glitch``; a frame
+    beside a hole over ``LOST_HOLE`` (``beside_hole``): ``hole_glitch``, reading up to j +
+    ``HOLE_AFTER``. None: none of those (``judged`` judges it with the frames before it). The
+    sweep (``Sweep._early_bat_glitch``) and the prediction (``Predictor._late_verdict``) pick
+    alike.
+    """
+    if early(stream, j, max_gap):
+        return early_glitch, j + 1
+    if segment_first(stream, j, max_gap):
+        return first_frame_glitch, j + 1
+    if beside_hole(stream, j):
+        return hole_glitch, j + HOLE_AFTER
+    return None

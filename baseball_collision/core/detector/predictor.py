@@ -46,8 +46,7 @@ import math
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
 from .bat_glitches import (
-    beside_hole, early, early_glitch, first_frame_glitch, first_glitch, glitch_floor,
-    hole_glitch, REGULAR_STEP, segment_first)
+    first_glitch, glitch_floor, late_rule, REGULAR_STEP, segment_first)
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -184,9 +183,9 @@ class Predictor:
         forecast again without it. The bat's turns are summed over the forecast's own window
         (``_bat_forecast``), whose frames are judged first where the frame would change what
         is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped, the bat
-        forecast again without it); a suspect whose rule awaits later frames (``_left_out``) is
-        or judged a glitch by it is left out of the bat's forecast, and the newest frames are
-        not checked meanwhile.
+        forecast again without it); a suspect whose rule awaits later frames, or that its rule
+        judged a glitch (``_left_out``), is left out of the bat's forecast, and the newest
+        frames are not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -307,21 +306,16 @@ class Predictor:
 
         A segment's 2nd to 8th frame (``bat_glitches.early``: ``early_glitch``), its first
         (``segment_first``: ``first_frame_glitch``), a frame beside a hole over ``LOST_HOLE``
-        (``beside_hole``: ``hole_glitch``), as the sweep picks them (``Sweep._early_bat_glitch``):
-        True, a glitch; False, none; None, the frames after it that the rule reads have not all
-        come. ``NOT_LATE``: none of those (``first_glitch`` judges it).
+        (``beside_hole``: ``hole_glitch``), picked as the sweep picks them
+        (``bat_glitches.late_rule``): True, a glitch; False, none; None, the frames after it
+        that the rule reads have not all come. ``NOT_LATE``: none of those (``first_glitch``
+        judges it).
         """
         bat, config = self.bat, self._config
-        gap = config.max_gap
-        if early(bat, j, gap):
-            judge = early_glitch
-        elif segment_first(bat, j, gap):
-            judge = first_frame_glitch
-        elif beside_hole(bat, j):
-            judge = hole_glitch
-        else:
+        rule = late_rule(bat, j, config.max_gap)
+        if rule is None:
             return NOT_LATE
-        return judge(bat, j, gap, config.spline_window, stream_noise(bat, config))
+        return rule[0](bat, j, config.max_gap, config.spline_window, stream_noise(bat, config))
 
     def _ball_departed(self) -> bool:
         """

@@ -86,14 +86,10 @@ class BatFrames:
         max_gap, size = config.max_gap, config.spline_window
         noise, last = stream_noise(bat, config), self._horizon(bat_k)
         for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
-            if bat_glitches.early(bat, j, max_gap):
-                judge, reads = bat_glitches.early_glitch, j + 1
-            elif bat_glitches.segment_first(bat, j, max_gap):
-                judge, reads = bat_glitches.first_frame_glitch, j + 1
-            elif bat_glitches.beside_hole(bat, j):
-                judge, reads = bat_glitches.hole_glitch, j + bat_glitches.HOLE_AFTER
-            else:
+            rule = bat_glitches.late_rule(bat, j, max_gap)
+            if rule is None:
                 continue
+            judge, reads = rule
             if not self._hangs_on(interval, j, last, paths):
                 continue
             glitch = judge(bat, j, max_gap, size, noise)
