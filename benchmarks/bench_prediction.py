@@ -54,7 +54,7 @@ frames lost, the deleted one without the glitch's frame too; scored as above.
 import argparse
 from dataclasses import replace
 import time
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.chunks import ROLE_CODES
@@ -267,14 +267,14 @@ def scored(index: PredictionIndex, contact_ns: int, point: Any) -> bool:
     return error is not None and abs(error[0]) <= FAULT_OFF_S
 
 
-def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
-               chunks: bool) -> Dict[str, Dict[str, int]]:
-    """Return one rate, noise and configuration's counts per fault kind (turn, stamp)."""
-    faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
-              'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
-    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
-                                   'longer', 'chunk_differs', 'deleted_too'), 0)
-              for name in faults}
+def _fault_pitches(rate: float, noise_m: float, seeds: int) -> Iterator[Tuple[Any, ...]]:
+    """
+    Yield the fault tables' clean pitches: every family, seed and ``FAULT_KINDS`` kind.
+
+    Each as (``Samples`` at ``rate`` Hz with ``noise_m`` m of noise, its truth
+    (``truth_dict``), whether it is a hit, the contact's or closest approach's stamp (ns), the
+    indices of its bat frames before that stamp).
+    """
     for family in FAMILIES:
         for seed in range(seeds):
             for kind in FAULT_KINDS:
@@ -285,23 +285,35 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                 hit = scenario.truth.contact
                 approach = truth['stamp_ns'] if hit else samples.start_ns + int(
                     round(scenario.truth.min_gap_time_s * 1e9))
-                clean, _ = predictions_of(config, samples)
-                clean_ok = hit and scored(clean, approach, truth['point'])
-                before = np.flatnonzero(samples.bat_stamps_ns < approach)
-                for back in FAULT_FRAMES:
-                    # (the pitch without the frame: what judging the fault could keep at best)
-                    without = hit and clean_ok and scored(predictions_of(
-                        config, samples.without_bat_frame(int(before[-back])))[0], approach,
-                        truth['point'])
-                    for name, cases in faults.items():
-                        cell = counts[name]
-                        for fault in cases:
-                            bad = faulted(samples, int(before[-back]), fault)
-                            index, events = predictions_of(config, bad)
-                            if chunks and predictions_of(config, bad, True)[1] != events:
-                                cell['chunk_differs'] += 1
-                            _tally(cell, index, clean, hit and (clean_ok, without),
-                                   approach, truth['point'])
+                yield (samples, truth, hit, approach,
+                       np.flatnonzero(samples.bat_stamps_ns < approach))
+
+
+def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
+               chunks: bool) -> Dict[str, Dict[str, int]]:
+    """Return one rate, noise and configuration's counts per fault kind (turn, stamp)."""
+    faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
+              'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
+    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
+                                   'longer', 'chunk_differs', 'deleted_too'), 0)
+              for name in faults}
+    for samples, truth, hit, approach, before in _fault_pitches(rate, noise_m, seeds):
+        clean, _ = predictions_of(config, samples)
+        clean_ok = hit and scored(clean, approach, truth['point'])
+        for back in FAULT_FRAMES:
+            # (the pitch without the frame: what judging the fault could keep at best)
+            without = hit and clean_ok and scored(predictions_of(
+                config, samples.without_bat_frame(int(before[-back])))[0], approach,
+                truth['point'])
+            for name, cases in faults.items():
+                cell = counts[name]
+                for fault in cases:
+                    bad = faulted(samples, int(before[-back]), fault)
+                    index, events = predictions_of(config, bad)
+                    if chunks and predictions_of(config, bad, True)[1] != events:
+                        cell['chunk_differs'] += 1
+                    _tally(cell, index, clean, hit and (clean_ok, without),
+                           approach, truth['point'])
     return counts
 
 
@@ -343,33 +355,23 @@ def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
                                    'longer', 'chunk_differs', 'deleted_too'), 0)
               for name, _, _ in placements}
-    for family in FAMILIES:
-        for seed in range(seeds):
-            for kind in FAULT_KINDS:
-                rng = np.random.default_rng(seed)
-                scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
-                samples = sample(scenario, rate, rng, jitter_s=2e-4, noise_m=noise_m)
-                truth = truth_dict(scenario, samples.start_ns)
-                hit = scenario.truth.contact
-                approach = truth['stamp_ns'] if hit else samples.start_ns + int(
-                    round(scenario.truth.min_gap_time_s * 1e9))
-                before = np.flatnonzero(samples.bat_stamps_ns < approach)
-                for back in FAULT_FRAMES:
-                    for name, lost, segment in placements:
-                        cell = counts[name]
-                        base, at = bench_glitches.faulted(samples, int(before[-back]), lost,
-                                                          segment)
-                        clean, _ = predictions_of(config, base)
-                        clean_ok = hit and scored(clean, approach, truth['point'])
-                        without = clean_ok and scored(predictions_of(
-                            config, base.without_bat_frame(at))[0], approach, truth['point'])
-                        for turn in LOST_TURNS_M:
-                            bad = faulted(base, at, ('turn', turn))
-                            index, events = predictions_of(config, bad)
-                            if chunks and predictions_of(config, bad, True)[1] != events:
-                                cell['chunk_differs'] += 1
-                            _tally(cell, index, clean, hit and (clean_ok, without),
-                                   approach, truth['point'])
+    for samples, truth, hit, approach, before in _fault_pitches(rate, noise_m, seeds):
+        for back in FAULT_FRAMES:
+            for name, lost, segment in placements:
+                cell = counts[name]
+                base, at = bench_glitches.faulted(samples, int(before[-back]), lost,
+                                                  segment)
+                clean, _ = predictions_of(config, base)
+                clean_ok = hit and scored(clean, approach, truth['point'])
+                without = clean_ok and scored(predictions_of(
+                    config, base.without_bat_frame(at))[0], approach, truth['point'])
+                for turn in LOST_TURNS_M:
+                    bad = faulted(base, at, ('turn', turn))
+                    index, events = predictions_of(config, bad)
+                    if chunks and predictions_of(config, bad, True)[1] != events:
+                        cell['chunk_differs'] += 1
+                    _tally(cell, index, clean, hit and (clean_ok, without),
+                           approach, truth['point'])
     return counts
 
 

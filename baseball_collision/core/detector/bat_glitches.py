@@ -23,12 +23,11 @@ neighbours explain it. Among regular steps (``regular``; up to two frames lost t
 frames before it only widen the scatter it is judged against), or beside up to two frames the
 tracker lost across a hole of at most ``LOST_HOLE`` (``lost_about``: both distances are larger
 there for a swing's own frames), against the frames before it with the same frames left out
-(``_matched``; beside a longer hole, up to three frames after it, with three frames after
-it: ``hole_glitch``); not in a
-segment's first frames (judged against the frames after them: ``early_glitch``, and the first
-by its departure alone: ``first_frame_glitch``); nor where a frame just before it that could
-not be judged so (``judgeable``) is the one off, which pulls this one's neighbours' spline
-(``UNJUDGED_REACH``).
+(``_matched``; beside a longer hole, or up to three frames after one, with the three frames
+after it: ``hole_glitch``); not in a segment's first frames (judged against the frames after
+them: ``early_glitch``, and the first by its departure alone: ``first_frame_glitch``); nor
+where a frame just before it that could not be judged so (``judgeable``) is the one off, which
+pulls this one's neighbours' spline (``UNJUDGED_REACH``).
 
 The sweep judges the frames an interval near the ball reads, while a contact would count
 (``Sweep._bat_frames``): those up to its opening one, the oldest first (frames after a glitch
