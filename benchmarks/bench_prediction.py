@@ -54,7 +54,7 @@ frames lost, the deleted one without the glitch's frame too; scored as above.
 import argparse
 from dataclasses import replace
 import time
-from typing import Any, Dict, Iterator, List, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.chunks import ROLE_CODES
@@ -496,40 +496,29 @@ def faults(seeds: int, chunks: bool, lost_only: bool = False) -> None:
     """
     Print what bat-tracker faults cost the prediction (see the module), one row a cell.
 
-    Then the glitch beside lost frames (``lost_cell``), one row a cell and placement;
-    ``lost_only``: only that.
+    The turned and stamped frames (``fault_cell``), then the glitch beside lost frames
+    (``lost_cell``), one row a cell and placement; ``lost_only``: only that.
     """
     if not lost_only:
-        fault_table(seeds, chunks)
-    print('\n| glitch beside lost frames | rate Hz | noise mm | parameters | hits lost 20 ms '
-          'ahead (clean had it) | of them lost without the frame too | gained | misses with a '
-          'false prediction (clean none) | misses predicted at a frame clean was not | chunk '
-          'path differs |')
+        _cells_table('fault', fault_cell, seeds, chunks)
+    _cells_table('glitch beside lost frames', lost_cell, seeds, chunks)
+
+
+def _cells_table(first_column: str, cells_of: Callable[..., Dict[str, Dict[str, int]]],
+                 seeds: int, chunks: bool) -> None:
+    """Print ``cells_of``'s counts (``fault_cell``'s) a row each, at 90 and 360 Hz, 0 and 1 mm."""
+    print(f'\n| {first_column} | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean '
+          'had it) | of them lost without the frame too | gained | misses with a false '
+          'prediction (clean none) | misses predicted at a frame clean was not | chunk path '
+          'differs |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for rate in (90.0, 360.0):
         for noise_m in (0.0, 0.001):
             for name, config in node_configs().items():
-                for placement, cell in lost_cell(rate, noise_m, config, seeds, chunks).items():
-                    print(f"| {placement} | {rate:g} | {noise_m * 1e3:g} | {name} | "  # noqa: Q000
+                for label, cell in cells_of(rate, noise_m, config, seeds, chunks).items():
+                    print(f"| {label} | {rate:g} | {noise_m * 1e3:g} | {name} | "  # noqa: Q000
                           f"{cell['lost']} of {cell['hits']} ({cell['clean_hits']}) | "
                           f"{cell['deleted_too']} | {cell['gained']} | "
-                          f"{cell['false']} of {cell['misses']} | {cell['longer']} | "
-                          f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
-
-
-def fault_table(seeds: int, chunks: bool) -> None:
-    """Print the turned and stamped frames' table (``fault_cell``), one row a cell."""
-    print('\n| fault | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean had it) '
-          '| of them lost without the frame too | gained | misses with a false prediction '
-          '(clean none) | misses predicted at a frame clean was not | chunk path differs |')
-    print('|---|---|---|---|---|---|---|---|---|---|')
-    for rate in (90.0, 360.0):
-        for noise_m in (0.0, 0.001):
-            for name, config in node_configs().items():
-                for fault, cell in fault_cell(rate, noise_m, config, seeds, chunks).items():
-                    print(f"| {fault} | {rate:g} | {noise_m * 1e3:g} | {name} | {cell['lost']} "
-                          f"of {cell['hits']} ({cell['clean_hits']}) | {cell['deleted_too']} | "
-                          f"{cell['gained']} | "
                           f"{cell['false']} of {cell['misses']} | {cell['longer']} | "
                           f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
 
