@@ -58,6 +58,12 @@ def ball_lost_before(samples: Any, first: int, seconds: float = 0.2) -> Any:
                    ball_positions=samples.ball_positions[kept].copy())
 
 
+def without_ball_frame(samples: Any, k: int) -> Any:
+    """Return ``samples`` (``sim.sample``) without ball sample k."""
+    return replace(samples, ball_stamps_ns=np.delete(samples.ball_stamps_ns, k),
+                   ball_positions=np.delete(samples.ball_positions, k, axis=0))
+
+
 def on_bat_axis(samples: Any, k: int, distance: float = 0.0) -> Any:
     """
     Return ``samples`` with ball sample k on the bat's axis (the nearest bat sample's).

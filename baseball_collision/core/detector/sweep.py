@@ -25,11 +25,12 @@ from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
     ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
     stream_noise)
+from .gap_flight import GapFlight
 from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
 from .streams import Stream
-from .sweep_ball import Aside, BallSamples, GapFlight
+from .sweep_ball import Aside, BallSamples
 from .sweep_bat import BatFrames
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
@@ -83,7 +84,8 @@ class Sweep(BallSamples, BatFrames):
         were judged against is forgotten as a glitch (``BallSamples.set_aside``).
     :ivar until: the end (s) of the union interval visited last: a sample set aside is put
         back only at or after it (the walk has not passed it).
-    :ivar gap_flight: the ball's flight before its last tracking gap (``note_gap``), or None.
+    :ivar gap_flight: the ball's flight before its last tracking gap (``note_gap``:
+        ``gap_flight.GapFlight``), or None.
     :ivar time_spread: while ``measure`` measures an impact, how far (s) from it lies the other
         answer of the rule that found it (``_hit_before_flight``), which its time's
         uncertainty holds; else 0.

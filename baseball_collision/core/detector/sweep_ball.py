@@ -11,9 +11,11 @@ and forgotten (``Stream.remove``). A hit between a segment's first or second sam
 next, which no flight before it finds, is solved from that sample and the flight after it
 (``_hit_before_flight``: the approach's first contact swept as a path, ``_first_contact``,
 its last one the other answer; or, where the flight before the tracking gap runs on through
-that sample, that flight's first contact: ``_flight_across_gap``); a hit between its third
-and fourth, where the first three lie on the flight before the gap and the fourth leaves it,
-on that flight (``_solved_on_gap_flight``).
+that sample, that flight's first contact: ``gap_flight.flight_across_gap``); a hit between its
+third and fourth, where the first three lie on the flight before the gap and the fourth leaves
+it, on that flight (``_solved_on_gap_flight``). Whether a segment's samples lie on the flight
+before its gap is ``gap_flight``'s to say; a segment's first sample off it while the next is
+on it is a glitch too (``gap_flight.off_gap_flight``).
 """
 
 from bisect import bisect_left
@@ -25,14 +27,16 @@ from .departure import (
     glitch_before_flight, glitch_path, HitApproach, judging_noise, leaves_flight)
 from .episodes import lowest_gap
 from .events import DropReason, Role
-from .fitting import flight_window, kept_history, stream_noise
+from .fitting import stream_noise
+from .gap_flight import (
+    flight_across_gap, flight_before_gap, left_gap_flight, off_gap_flight, on_gap_flight,
+    segment_starts)
 from .gate import within_speed
 from .intake import Offer
 from .noise import ESTIMATES
 from .streams import Stream
 from ..geometry import dot
 from ..motion import BatPath, Paths, PointPath, substeps_for
-from ..motion.flight import fit_flight, FlightFit
 from ..toi import ImpactResult, profile_contact, profile_gap
 
 BACK_GAIN = 5.0
@@ -56,52 +60,6 @@ oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."
 TOUCH_SLACK = 1e-7
 """m: how much more than its closest approach's gap a ball is grown to touch the bat there
 (``BallSamples._first_contact``: the contact of a path that comes within a slack of the bat)."""
-
-
-GAP_FLIGHT_SLACK = 0.01
-"""m: how far a ball's samples after a tracking gap may lie off the parabola of its samples
-before it continued over the gap (``BallSamples._flight_across_gap``): a free flight's drag and
-spin change bend it from a parabola by about a millimetre over 0.1-0.2 s; a glitch on the bat
-(its centre at least a ball's and a bat's radius from a ball touching it) or a deflection in
-the gap lies centimetres off."""
-
-
-GAP_FLIGHT_SAMPLES = 4
-"""Ball samples before a tracking gap at least that ``BallSamples._gap_flight`` fits (a
-parabola per coordinate and residuals to measure the noise by: three degrees of freedom)."""
-
-
-GAP_FLIGHT_JERK = 12.0
-"""m/s^3: the most a pitch's acceleration changes per second, which a parabola leaves out
-(``BallSamples._gap_flight`` over a gap longer than the samples held: ``_gap_bias``). The drag
-``k v^2`` (k = rho Cd A / 2m = 0.0062 /m for Cd 0.35) of a pitch at up to 47 m/s (105 mph)
-decelerates it by up to 14 m/s^2 and changes by ``2 k v dv/dt`` = 8 m/s^3 as the ball slows;
-its direction, and a spin force's (up to about 6 m/s^2 for a fastball), turn with the velocity,
-at ``|g + a| / v`` = 0.4-0.5 rad/s: 6 and 3 m/s^3 across it; their root sum of squares is
-about 10.5 m/s^3."""
-
-
-GAP_FLIGHT_BIAS = 0.0366
-"""m: the most the flight before a long tracking gap may have drifted, by ``GAP_FLIGHT_JERK``,
-from its parabola continued to the segment's samples after the gap (``_gap_bias``) for
-``BallSamples._gap_flight`` to judge them by it: a baseball's radius. A glitch on the bat lies
-at least a ball's and a bat's radius (7 cm) from a ball touching it; past this a sample on the
-bat and the ball coming at it cannot be told apart. With a 0.15 s flight before the gap the
-drift reaches it about 0.19 s after the flight's last sample (2.2 cm at 0.15 s, 6.8 cm at
-0.25 s, 21 cm at 0.4 s): a longer gap has no flight before it."""
-
-
-class GapFlight(NamedTuple):
-    """
-    The ball's flight before a tracking gap, kept where its samples may be trimmed.
-
-    ``BallSamples.note_gap``: the parabola of its segment's last samples (``kept_history`` of
-    its newest), fitted with a noise of 1 m (its ``chi_square`` the residuals' sum of squares,
-    m^2), and the stamp (s) of its newest sample, before the gap.
-    """
-
-    fit: FlightFit
-    end: float
 
 
 class Aside(NamedTuple):
@@ -137,27 +95,17 @@ class BallSamples:
         Keep the ball's flight before a tracking gap, a sample at t (s) coming after it.
 
         Called before a ball sample is put in its stream: where it comes more than ``max_gap``
-        after the stream's newest, the parabola of the newest's segment's samples within
-        ``kept_history`` of it (``motion.flight``, at least ``GAP_FLIGHT_SAMPLES``) as a
-        ``GapFlight`` (``gap_flight``; None where there is none), which ``_gap_flight`` reads
-        once the trim behind the walk has taken those samples. No interval after the newest is
-        visited yet (the walk waits for the ball's samples), so the node and ``analyze``'s
-        chunks (which take such a sample through ``Detector.add``: ``plans.plan_chunk``) hold
-        those samples alike then. One summary (the fit's stamps and coefficients) per gap.
+        after the stream's newest, the flight of the newest's segment
+        (``gap_flight.flight_before_gap``) as ``gap_flight`` (None where there is none), which
+        ``gap_flight.on_gap_flight`` reads once the trim behind the walk has taken its
+        samples. No interval after the newest is visited yet (the walk waits for the ball's
+        samples), so the node and ``analyze``'s chunks (which take such a sample through
+        ``Detector.add``: ``plans.plan_chunk``) hold those samples alike then. One summary
+        (the fit's stamps and coefficients) per gap.
         """
-        ball, config = self.ball, self.config
-        if not ball.times or t - ball.times[-1] <= config.max_gap:
-            return
-        self.gap_flight = None
-        window = flight_window(ball, len(ball.times) - 1, config.max_gap, kept_history(config))
-        if len(window) < GAP_FLIGHT_SAMPLES:
-            return
-        try:
-            fit = fit_flight(ball.times[window.start:window.stop],
-                             ball.values[window.start:window.stop], 1.0)
-        except ValueError:  # (stamps too bunched for a fit)
-            return
-        self.gap_flight = GapFlight(fit, ball.times[window.stop - 1])
+        ball = self.ball
+        if ball.times and t - ball.times[-1] > self.config.max_gap:
+            self.gap_flight = flight_before_gap(ball, self.config)
 
     def _early_glitch(self, k: int, ta: float, tb: float, events: List) -> bool:
         """
@@ -183,12 +131,12 @@ class BallSamples:
         top = min(k + 1 + self.ahead, n - 1)
         if k >= 3 and True not in ball.breaks[k - 2:top] and times[top - 1] - times[k - 3] <= gap:
             return False  # (no segment starts at sample k - 2 or after: none is young)
-        starts = _starts(ball, k, gap)
+        starts = segment_starts(ball, k, gap)
         if starts:  # (its segment's first sample: its overlap with the bat judged first)
             if self._flight_to_come(k):
                 self.held = True
                 return self._judged_again(ta, tb, events)
-            if self._inside_bat(k) or self._off_gap_flight(k, ta):
+            if self._inside_bat(k) or off_gap_flight(ball, k, ta, config, self.gap_flight):
                 self._glitch(k)
                 self._forget_glitches()
                 return self._judged_again(ta, tb, events)
@@ -232,7 +180,7 @@ class BallSamples:
         a bat gives the push that needs (``_pushed``); the ball's velocity at the impact is
         that ball's before the push (the fits' would reach across the contact). Where the
         ball's flight before its tracking gap runs on through the segment's samples up to k
-        (``_flight_across_gap``), the contact is that flight's first contact instead (its
+        (``gap_flight.flight_across_gap``), the contact is that flight's first contact instead (its
         velocity the impact's), if a bat gives the push it needs: that pushed point only grazes
         the bat where the push about matches the ball's approach (the sweep's bat, braked
         after the contact, a millimetre off, then never meets it), and its first contact is
@@ -257,7 +205,7 @@ class BallSamples:
         if flight is None:
             return False
         approach, interval = HitApproach(flight, ball.values[k]), (ta, tb)
-        across = self._flight_across_gap(k, ta, tb)
+        across = flight_across_gap(ball, k, ta, tb, config, self.gap_flight)
         ahead = self._bat_ahead(interval, paths, True)
         bat_paths = (paths[1],) if ahead is None else (paths[1], ahead[1])
         found = None
@@ -287,11 +235,9 @@ class BallSamples:
         Solve a hit after the ball's sample k, its segment's third, on the flight before the gap.
 
         Where the segment's first three samples lie on the ball's flight before its tracking
-        gap (``_gap_flight``) and its fourth, sample k + 1, is off the parabola through that
-        flight and those three continued to it (by more than ``DEPARTURE_FLOOR``,
-        ``GAP_FLIGHT_SLACK`` and the noise's ``DEPARTURE_CHI_SQUARE`` bound at that
-        continuation's gain; the noise the stream's, or the fit's residuals' where larger),
-        the ball left that flight between samples k and k + 1. The departure test
+        gap and its fourth, sample k + 1, is off the parabola through that flight and those
+        three continued to it (``gap_flight.left_gap_flight``), the ball left that flight
+        between samples k and k + 1. The departure test
         (``leaves_flight``) calls none there where the noise is not told (no interval before
         it to measure the scatter by), so the sweep's path over interval k runs from sample k
         to the rebound's frame, fiction that may never meet the bat. The contact is that
@@ -301,21 +247,11 @@ class BallSamples:
         estimate), its velocity the impact's. False where the rule does not hold or the flight
         does not touch the bat there (the interval swept as any other).
         """
-        ball, gap = self.ball, self.config.max_gap
-        if k < 2 or k + 1 >= len(ball.times) or not (
-                ball.continuous(k, gap) and ball.continuous(k - 1, gap)
-                and ball.continuous(k - 2, gap) and _starts(ball, k - 2, gap)):
+        ball = self.ball
+        flight = left_gap_flight(ball, k, ta, tb, self.config, self.gap_flight)
+        if flight is None:
             return False
-        judged = self._gap_flight(k, ta)
-        if judged is None or not all(judged[0]):
-            return False
-        whole = judged[1]
-        noise = _flight_noise(stream_noise(ball, self.config), whole)
-        if _on_flight(whole, noise, ball.times[k + 1], ball.values[k + 1],
-                      DEPARTURE_FLOOR + GAP_FLIGHT_SLACK):
-            return False
-        (p0, v0), (p1, v1) = whole.state(ta), whole.state(tb)
-        flight, interval = PointPath(ta, tb, p0, p1, v0, v1), (ta, tb)
+        interval = (ta, tb)
         ahead = self._bat_ahead(interval, paths, True)
         found = self._contact_on(interval, flight,
                                  (paths[1],) if ahead is None else (paths[1], ahead[1]), False)
@@ -349,106 +285,6 @@ class BallSamples:
             if again is not None:
                 found = (*again, bat_paths[0], slack)
         return found
-
-    def _flight_across_gap(self, k: int, ta: float, tb: float) -> Optional[PointPath]:
-        """
-        Return the ball's free flight over [ta, tb] (s) from before its tracking gap, or None.
-
-        Sample k is its segment's first or second (``_hit_before_flight``) and its segment's
-        samples up to it lie on the flight before the gap (``_gap_flight``): the parabola of
-        those samples and the flight's, the ball's path into a contact after sample k, its
-        velocity from the whole flight (not from one sample). None where there is no such
-        flight to judge by, or the segment's samples leave it.
-        """
-        judged = self._gap_flight(k, ta)
-        if judged is None or not all(judged[0]):
-            return None
-        (p0, v0), (p1, v1) = judged[1].state(ta), judged[1].state(tb)
-        return PointPath(ta, tb, p0, p1, v0, v1)
-
-    def _gap_flight(self, k: int, ta: float) -> Optional[Tuple[Tuple[bool, ...], Any]]:
-        """
-        Return whether each of a ball segment's samples up to k lies on the flight before its gap.
-
-        Sample k is its segment's first to third, after a gap longer than ``max_gap`` (not a
-        jump the speed check took: ``gate.speed_check``); ta (s) opens the union interval
-        visited. The samples before the gap that no trim can have taken (within
-        ``kept_history`` of ta: the node's and ``analyze``'s streams hold them alike), at least
-        ``GAP_FLIGHT_SAMPLES`` with no gap between them, are fitted with a parabola per
-        coordinate (``motion.flight``); the segment's samples up to k lie on it continued over
-        the gap where each is within ``GAP_FLIGHT_SLACK`` and the noise's
-        ``DEPARTURE_CHI_SQUARE`` bound (the noise: the stream's, or the fit's own residuals'
-        where larger: a noise not yet estimated) of it; a glitch, or a ball deflected in the
-        gap, is not. Where too few are held (a longer gap), the flight kept before it
-        (``gap_flight``, ``note_gap``) instead, each sample within the drift
-        ``GAP_FLIGHT_JERK`` makes over the gap (``_gap_bias``; at least ``GAP_FLIGHT_SLACK``)
-        and the noise's bound; none where that drift exceeds ``GAP_FLIGHT_BIAS`` at the
-        segment's first sample. One flag a sample from the segment's first, with the parabola
-        through those samples (or that flight's) and the segment's up to k
-        (``motion.flight.FlightFit``). None where there are too few such samples (or they are
-        too bunched for a fit).
-        """
-        ball, config = self.ball, self.config
-        gap, reach = config.max_gap, ta - kept_history(config)
-        first = k
-        while first > max(k - 3, 0) and not _starts(ball, first, gap):
-            first -= 1
-        if first >= 1 and ball.times[first] - ball.times[first - 1] <= gap:
-            return None  # (a segment the speed check started: another ball)
-        before = range(bisect_left(ball.times, reach), first)
-        if first < 1 or ball.times[first - 1] < reach or len(before) < GAP_FLIGHT_SAMPLES:
-            return self._kept_gap_flight(first, k)
-        if not all(ball.continuous(j, gap) for j in before[:-1]):
-            return None
-        sigma = stream_noise(ball, config)
-        if not sigma > 0.0:
-            sigma = DEPARTURE_FLOOR  # (the fit's coefficients do not depend on it)
-        try:
-            fit = fit_flight(ball.times[before.start:first], ball.values[before.start:first],
-                             sigma)
-            whole = fit_flight(ball.times[before.start:k + 1], ball.values[before.start:k + 1],
-                               sigma)
-        except ValueError:  # (stamps too bunched for a fit)
-            return None
-        noise = _flight_noise(stream_noise(ball, config), fit)
-        return tuple(_on_flight(fit, noise, ball.times[j], ball.values[j], GAP_FLIGHT_SLACK)
-                     for j in range(first, k + 1)), whole
-
-    def _kept_gap_flight(self, first: int, k: int) -> Optional[Tuple[Tuple[bool, ...], Any]]:
-        """
-        Return ``_gap_flight``'s answer from the flight kept before the gap (``gap_flight``).
-
-        That flight is the one before the gap that ends at the ball's sample ``first`` (its
-        newest stamp before it, with no sample between them); the parabola through its samples
-        and the segment's up to k is fitted on that flight's values at its samples' stamps in
-        place of theirs (least squares of one polynomial space: the same coefficients), its
-        residuals' sum added back. None where there is no such flight, or it drifts by more
-        than ``GAP_FLIGHT_BIAS`` at sample ``first``.
-        """
-        ball, config, kept = self.ball, self.config, self.gap_flight
-        times = ball.times
-        if kept is None or first < 1 or not (
-                times[first - 1] <= kept.end < times[first] - config.max_gap):
-            return None
-        if _gap_bias(kept.fit, times[first]) > GAP_FLIGHT_BIAS:
-            return None
-        sigma = stream_noise(ball, config)
-        if not sigma > 0.0:
-            sigma = DEPARTURE_FLOOR
-        fit = kept.fit
-        fit = FlightFit(fit.centre, fit.scale, fit.coefficients, fit.times,
-                        fit.chi_square / (sigma * sigma), fit.dof)
-        try:
-            whole = fit_flight(list(fit.times) + times[first:k + 1],
-                               [fit.at(t) for t in fit.times] + ball.values[first:k + 1], sigma)
-        except ValueError:  # (stamps too bunched for a fit)
-            return None
-        whole = FlightFit(whole.centre, whole.scale, whole.coefficients, whole.times,
-                          whole.chi_square + fit.chi_square, whole.dof)
-        noise = _flight_noise(stream_noise(ball, config), fit)
-        return tuple(_on_flight(fit, noise, times[j], ball.values[j],
-                                max(GAP_FLIGHT_SLACK, _gap_bias(fit, times[j])))
-                     for j in range(first, k + 1)), whole
 
     def _first_contact(self, interval: Tuple[float, float], paths: Paths,
                        slack: float = 0.0) -> Optional[Tuple[float, ImpactResult]]:
@@ -550,17 +386,17 @@ class BallSamples:
         (the ball grown by ``_slack``): a hit between samples k and k + 1 leaves the
         sample before it off the flight after it too, but that flight, continued back, meets
         the bat at the contact; a glitch on a miss does not. A glitch too where it is off the
-        flight before its tracking gap as well (``_gap_flight``, ta (s) opening the union
-        interval visited; None: not judged by it): no hit between it and the next sample
-        explains a sample off both. None until the bat's samples that its paths over the
-        interval read are in (``_bat_over``).
+        flight before its tracking gap as well (``gap_flight.on_gap_flight``, ta (s) opening
+        the union interval visited; None: not judged by it): no hit between it and the next
+        sample explains a sample off both. None until the bat's samples that its paths over
+        the interval read are in (``_bat_over``).
         """
         ball, config = self.ball, self.config
         flight = flight_before(ball, k, judging_noise(config), config.max_gap)
         if flight is None:
             return False
         if ta is not None:
-            judged = self._gap_flight(k, ta)
+            judged = on_gap_flight(ball, k, ta, config, self.gap_flight)
             if judged is not None and not judged[0][0]:
                 return True
         bat_paths = self._bat_over(flight.t0, flight.t1)
@@ -600,22 +436,6 @@ class BallSamples:
         miss = back_miss(ball, k, gap)
         return miss is not None and miss > DEPARTURE_FLOOR + math.sqrt(
             DEPARTURE_CHI_SQUARE) * BACK_GAIN * stream_noise(ball, config)
-
-    def _off_gap_flight(self, k: int, ta: float) -> bool:
-        """
-        Return whether the ball's sample k, its segment's first, is off its flight alone.
-
-        Off the flight before its tracking gap while its segment's next sample is on it
-        (``_gap_flight``; ta, s: the union interval visited): a hit or a deflection in the gap
-        would leave both off it, a hit after sample k both on it. Judged before the samples
-        after it (which a glitch as the one before them makes look off the flight after them);
-        False where there is no flight before the gap to judge by.
-        """
-        ball = self.ball
-        if k + 1 >= len(ball.times) or not ball.continuous(k, self.config.max_gap):
-            return False
-        judged = self._gap_flight(k + 1, ta)
-        return judged is not None and judged[0] == (False, True)
 
     def _slack(self, ball_gain: float) -> float:
         """
@@ -711,7 +531,8 @@ class BallSamples:
         where k is later in its segment or on that flight.
         """
         ball, gap = self.ball, self.config.max_gap
-        if not (_starts(ball, k, gap) or _young(ball, k, gap) and _starts(ball, k - 1, gap)):
+        if not (segment_starts(ball, k, gap)
+                or _young(ball, k, gap) and segment_starts(ball, k - 1, gap)):
             return None
         return flight_before(ball, k, judging_noise(self.config), gap)
 
@@ -824,8 +645,8 @@ def _young(stream: Stream, k: int, max_gap: float) -> bool:
     """Return whether sample k is its segment's second or third (a segment's start seen)."""
     if k < 1 or not stream.continuous(k - 1, max_gap):
         return False
-    return _starts(stream, k - 1, max_gap) or (
-        k >= 2 and stream.continuous(k - 2, max_gap) and _starts(stream, k - 2, max_gap))
+    return segment_starts(stream, k - 1, max_gap) or (
+        k >= 2 and stream.continuous(k - 2, max_gap) and segment_starts(stream, k - 2, max_gap))
 
 
 def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
@@ -837,45 +658,3 @@ def _settled(stream: Stream, k: int, ahead: int, max_gap: float) -> bool:
         if not stream.continuous(j, max_gap):
             return True
     return k + ahead < n
-
-
-def _flight_noise(noise: float, fit: Any) -> float:
-    """
-    Return the noise (m, 1 sigma) a flight fit's continuation is judged by (``_on_flight``).
-
-    ``noise``, the stream's, or the fit's own residuals' where larger (a noise not estimated
-    yet); the fit made with ``noise``, or ``DEPARTURE_FLOOR`` where that is not above 0.
-    """
-    return max(noise, (noise if noise > 0.0 else DEPARTURE_FLOOR) * math.sqrt(
-        fit.chi_square / fit.dof))
-
-
-def _on_flight(fit: Any, noise: float, t: float, value: Any, slack: float) -> bool:
-    """
-    Return whether a ball sample (``value``, m, at t s) lies on a flight fit continued to t.
-
-    Within ``slack`` (m) and the ``DEPARTURE_CHI_SQUARE`` bound of ``noise`` (m,
-    ``_flight_noise``) at the fit's gain there (``motion.flight.FlightFit.weights``).
-    """
-    weights = fit.weights(t)[0]
-    return math.dist(fit.state(t)[0], value) <= slack + math.sqrt(
-        DEPARTURE_CHI_SQUARE * (1.0 + float(weights @ weights))) * noise
-
-
-def _gap_bias(fit: FlightFit, t: float) -> float:
-    """
-    Return how far (m) a flight may drift from its parabola ``fit`` continued to t (s).
-
-    ``GAP_FLIGHT_JERK`` (its acceleration changing at that rate the whole time): a cubic
-    ``jerk (t - t_n)^3 / 6`` less the parabola's least-squares fit to it at the fit's
-    stamps, at t (``FlightFit.weights``; t_n the newest stamp, for the conditioning).
-    """
-    newest = fit.times[-1]
-    weights = fit.weights(t)[0]
-    cubes = [(u - newest) ** 3 for u in fit.times]
-    return GAP_FLIGHT_JERK / 6.0 * abs((t - newest) ** 3 - float(weights @ cubes))
-
-
-def _starts(stream: Stream, k: int, max_gap: float) -> bool:
-    """Return whether sample k starts a segment (the first kept one: where it was a start)."""
-    return stream.breaks[k] if k == 0 else not stream.continuous(k - 1, max_gap)
