@@ -206,6 +206,13 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     """
     Plan a chunk (see the module): which samples are stops, where the walk goes after each.
 
+    In steps: where the streams' order ends the plan, and its duplicates (``_in_order``);
+    the samples as arrays and their checks (``_arrays``); where the first that fails one ends
+    it, but for held samples (``_checked_end``); the walk (``_walk``); the stops of the far
+    tests and the trims (``_far_stops``), of the ball's gaps and the held samples
+    (``_gap_stops``), and with prediction on of the due frames (``_prediction_stops``); the
+    plan's indices made lists (``_listed``).
+
     :param offsets: (knob, tip) in the bat's body frame (m).
     :param origin: the clock's origin (ns); ``frame``: the tracking frame (None: none yet).
     :param cursor: the scheduler's cursor (s).
@@ -217,9 +224,48 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     :param newest: the intake's newest stamp taken (ns; ``Intake.newest``, which a sample
         after a gap must pass to be held; None: the streams' newest).
     """
-    # the plan ends before the first sample behind its stream's last (dropped, held or a jump
-    # back: nothing after it can be planned until it is settled); one stamped as the last is a
-    # duplicate, in no stream
+    n, duplicates, is_ball, is_bat, duplicate, followed = _in_order(roles, stamps, ball, bat)
+    arrays, ok, gap = _arrays(config, offsets, origin, ball, bat, is_ball, is_bat, roles[:n],
+                              stamps[:n], values[:n], frame, frames[:n], duplicate)
+    newest = max(ball.stamps[-1], bat.stamps[-1]) if newest is None else newest
+    n, is_ball, is_bat, ok, held = _checked_end(arrays, ok, gap, is_ball, is_bat, stamps[:n],
+                                                newest, followed)
+    plan = Plan()
+    plan.n, plan.pre = n, arrays.pre
+    plan.duplicates = tuple(own[own < n].tolist() for own in duplicates)
+    # a held sample and the one that takes it are taken as planned (the run that takes the
+    # second appends both, the first starting a segment: ``Plan.breaks``); when the second is
+    # past the plan's end, the first through the per-sample path, and both when the second is
+    # a stop (``_gap_stops``)
+    plan.holds = [(x, y) for x, y in held if y < n]
+    for x, y in held:
+        ok[x] = y < n
+    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
+    stops = _far_stops(config, offsets, plan, arrays, is_ball, is_bat, ok, noise, done, counts,
+                       visited)
+    _gap_stops(config, plan, arrays, is_ball, ok, stops)
+    plan.last_due = plan.due = plan.forecasts = None
+    if predictor is not None and n:
+        _prediction_stops(config, plan, arrays, predictor, origin, ok, stops, done, counts,
+                          visited)
+    _listed(plan, arrays, ok, stops)
+    return plan
+
+
+def _in_order(roles: np.ndarray, stamps: np.ndarray, ball: Stream, bat: Stream) -> Tuple[
+        int, Tuple[np.ndarray, np.ndarray], np.ndarray, np.ndarray, Optional[np.ndarray],
+        Optional[np.ndarray]]:
+    """
+    Return how many of a chunk's samples its streams' order lets a plan reach, and its duplicates.
+
+    The plan ends before the first sample behind its stream's last (dropped, held or a jump
+    back: nothing after it can be planned until it is settled: ``_ordered``); one stamped as
+    the last is a duplicate, in no stream. Second, the ball's and the bat's duplicates
+    (sorted, some maybe past the end); third and fourth, which of the samples up to the end
+    are the ball's and the bat's (no duplicate); then, where there are duplicates (else
+    None), which of those samples are duplicates, and which a duplicate follows (it repeats
+    their stamp).
+    """
     ball_end, ball_duplicates, ball_before = _ordered(stamps, roles == BALL, ball)
     bat_end, bat_duplicates, bat_before = _ordered(stamps, roles == BAT_POSE, bat)
     n = min(ball_end, bat_end)
@@ -233,61 +279,102 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     if duplicate is not None:
         is_ball &= ~duplicate
         is_bat &= ~duplicate
-    arrays, ok, gap = _arrays(config, offsets, origin, ball, bat, is_ball, is_bat, roles[:n],
-                              stamps[:n], values[:n], frame, frames[:n], duplicate)
-    # the plan ends at its first sample that fails a check (the per-sample path will most
-    # likely drop it, hold it or break its stream there, and what follows be planned again),
-    # except a stream's first sample after a gap, held until its next takes it
-    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps[:n], max(
-        ball.stamps[-1], bat.stamps[-1]) if newest is None else newest, followed)
+    return n, (ball_duplicates, bat_duplicates), is_ball, is_bat, duplicate, followed
+
+
+def _checked_end(arrays: Arrays, ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray,
+                 is_bat: np.ndarray, stamps: np.ndarray, newest: int,
+                 followed: Optional[np.ndarray]) -> Tuple[
+                     int, np.ndarray, np.ndarray, np.ndarray, List[Tuple[int, int]]]:
+    """
+    Return where the checks end a plan (its arrays cut there), and its held samples.
+
+    The plan ends at its first sample that fails a check (the per-sample path will most
+    likely drop it, hold it or break its stream there, and what follows be planned again),
+    except a stream's first sample after a gap, held until its next takes it (``_held_gaps``;
+    ``newest``, ns: the intake's newest stamp before the chunk). The samples planned, which
+    are the ball's and the bat's and which pass every check (``is_ball``, ``is_bat``, ``ok``
+    cut to them), and the held samples with the sample that takes each.
+    """
+    n = len(ok)
+    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps, newest, followed)
     if end < n:
         n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
         arrays.cut(arrays.pre[0] + int(is_ball.sum()), arrays.pre[1] + int(is_bat.sum()))
-    plan = Plan()
-    plan.n, plan.pre = n, arrays.pre
-    plan.duplicates = (ball_duplicates[ball_duplicates < n].tolist(),
-                       bat_duplicates[bat_duplicates < n].tolist())
-    # a held sample and the one that takes it are taken as planned (the run that takes the
-    # second appends both, the first starting a segment: ``Plan.breaks``); when the second is
-    # past the plan's end, the first through the per-sample path, and both when the second is
-    # a stop (below)
-    plan.holds = [(x, y) for x, y in held if y < n]
-    for x, y in held:
-        ok[x] = y < n
-    done, counts, visited = _walk(config, plan, arrays, is_ball, is_bat, cursor, held)
+    return n, is_ball, is_bat, ok, held
+
+
+def _far_stops(config: DetectorConfig, offsets: Tuple[Vector, Vector], plan: Plan,
+               arrays: Arrays, is_ball: np.ndarray, is_bat: np.ndarray, ok: np.ndarray,
+               noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]], done: np.ndarray,
+               counts: List[np.ndarray], visited: np.ndarray) -> np.ndarray:
+    """
+    Return the stops of the checks, the far tests and the trims (a bool a sample).
+
+    A sample that fails a check (``ok``), one whose walk visits a union interval the far
+    tests do not clear (``_far_intervals``, ``_hull_reaches``), and one that makes a step
+    whose trim may leave a stream silent (``_trim_starts``, which sets the plan's trims).
+    """
+    n = plan.n
     starts = plan.union[:int(plan.visited[-1]) - 1] if n else plan.union[:0]
     far = _far_intervals(config, offsets, arrays, starts, _hull_reaches(
         config, plan, arrays, is_ball, is_bat, ok, len(starts), noise))
     stops = ~ok
     stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
-    # a ball sample after a gap over max_gap goes through ``add``, which keeps the flight
-    # before the gap (``Sweep.note_gap``) from samples a run's trim would drop unmade
+    return stops
+
+
+def _gap_stops(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
+               ok: np.ndarray, stops: np.ndarray) -> None:
+    """
+    Make the ball's samples after a gap over ``max_gap`` stops, and held pairs that stop.
+
+    A ball sample after such a gap goes through ``add``, which keeps the flight before the
+    gap (``Sweep.note_gap``) from samples a run's trim would drop unmade. A held sample that
+    stops makes its taker stop; a taker that stops walks and trims once for its held sample's
+    step and its own, the per-sample path twice (a trim leaves a short stream alone): both
+    through it (``_through``).
+    """
     ball_times = arrays.times[0]
     own = np.flatnonzero(is_ball)
     after_gap = np.diff(ball_times[max(arrays.pre[0] - 1, 0):]) > config.max_gap
     stops[own[len(own) - len(after_gap):][after_gap]] = True
     for x, y in plan.holds:
-        stops[y] |= stops[x]  # (a held sample that stops, with its taker)
-    # a taker that stops walks and trims once for its held sample's step and its own, the
-    # per-sample path twice (a trim leaves a short stream alone): both through it
+        stops[y] |= stops[x]
     _through(plan, ok, stops, [(x, y) for x, y in plan.holds if stops[y]])
-    plan.last_due = plan.due = plan.forecasts = None
-    if predictor is not None and n:
-        forecasts, due_steps = prediction_stops(config, plan, arrays, predictor, origin,
-                                                done, counts, visited)
-        # a taker whose held sample's step is a due frame: the per-sample path predicts after
-        # that step (and after its own), a fast-forward after its last only: both through it
-        if plan.holds:
-            takers = np.array([y for _, y in plan.holds], dtype=np.int64)
-            due_held = np.isin(done[takers] - 1, due_steps).tolist()
-            _through(plan, ok, stops, [hold for hold, due in zip(plan.holds, due_held) if due])
-        forecasts &= ~stops
-        stops |= forecasts
-        plan.forecasts = forecasts.tolist()
-    # the indices as lists for fast_forward; the samples stay arrays, made lists (the
-    # streams' own values) only for those a fast-forward keeps
+
+
+def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays, predictor: Predictor,
+                      origin: int, ok: np.ndarray, stops: np.ndarray, done: np.ndarray,
+                      counts: List[np.ndarray], visited: np.ndarray) -> None:
+    """
+    Make the samples that may make or clear a prediction stops (``prediction_stops``).
+
+    A taker whose held sample's step is a due frame: the per-sample path predicts after that
+    step (and after its own), a fast-forward after its last only: both through it
+    (``_through``). Sets ``Plan.forecasts`` (and ``prediction_stops`` the plan's ``last_due``
+    and ``due``).
+    """
+    forecasts, due_steps = prediction_stops(config, plan, arrays, predictor, origin, done,
+                                            counts, visited)
+    if plan.holds:
+        takers = np.array([y for _, y in plan.holds], dtype=np.int64)
+        due_held = np.isin(done[takers] - 1, due_steps).tolist()
+        _through(plan, ok, stops, [hold for hold, due in zip(plan.holds, due_held) if due])
+    forecasts &= ~stops
+    stops |= forecasts
+    plan.forecasts = forecasts.tolist()
+
+
+def _listed(plan: Plan, arrays: Arrays, ok: np.ndarray, stops: np.ndarray) -> None:
+    """
+    Set the plan's stops, checks, counts and walk as lists, and its samples (``Plan``).
+
+    The indices as lists for ``fast_forward``; the samples stay arrays, made lists (the
+    streams' own values) only for those a fast-forward keeps.
+    """
     plan.stops = np.flatnonzero(stops).tolist()
     plan.checked = items(ok)
     plan.counts = [items(counts) for counts in plan.counts]
@@ -295,7 +382,6 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
     plan.times, plan.stamps, plan.breaks = arrays.times, arrays.stamps, arrays.breaks
     new_ball, knob, tip, position, quaternion = arrays.new
     plan.values = (new_ball, (knob, tip, position, quaternion))
-    return plan
 
 
 def _through(plan: Plan, ok: np.ndarray, stops: np.ndarray,
