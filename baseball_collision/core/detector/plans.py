@@ -331,19 +331,28 @@ def _gap_stops(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.n
     """
     Make the ball's samples after a gap over ``max_gap`` stops, and held pairs that stop.
 
-    A ball sample after such a gap goes through ``add``, which keeps the flight before the
-    gap (``Sweep.note_gap``) from samples a run's trim would drop unmade. A held sample that
-    stops makes its taker stop; a taker that stops walks and trims once for its held sample's
-    step and its own, the per-sample path twice (a trim leaves a short stream alone): both
-    through it (``_through``).
+    A ball sample after such a gap goes through ``add`` (``_ball_restarts``). A held sample
+    that stops makes its taker stop; a taker that stops walks and trims once for its held
+    sample's step and its own, the per-sample path twice (a trim leaves a short stream
+    alone): both through it (``_through``).
     """
-    ball_times = arrays.times[0]
-    own = np.flatnonzero(is_ball)
-    after_gap = np.diff(ball_times[max(arrays.pre[0] - 1, 0):]) > config.max_gap
-    stops[own[len(own) - len(after_gap):][after_gap]] = True
+    stops[_ball_restarts(config, arrays, is_ball)] = True
     for x, y in plan.holds:
         stops[y] |= stops[x]
     _through(plan, ok, stops, [(x, y) for x, y in plan.holds if stops[y]])
+
+
+def _ball_restarts(config: DetectorConfig, arrays: Arrays, is_ball: np.ndarray) -> np.ndarray:
+    """
+    Return the chunk's ball samples after a gap over ``max_gap`` (indices, ascending).
+
+    Each goes through ``add``, which keeps the flight before the gap (``Sweep.note_gap``)
+    from samples a run's trim would drop unmade. Held samples among them (``Plan.holds``)
+    then go through it with their takers (``_gap_stops``).
+    """
+    own = np.flatnonzero(is_ball)
+    after_gap = np.diff(arrays.times[0][max(arrays.pre[0] - 1, 0):]) > config.max_gap
+    return own[len(own) - len(after_gap):][after_gap]
 
 
 def _prediction_stops(config: DetectorConfig, plan: Plan, arrays: Arrays, predictor: Predictor,
