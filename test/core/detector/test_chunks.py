@@ -355,6 +355,37 @@ def test_prediction_across_pauses_same_as_one_at_a_time(model: str, period: floa
     assert sum(through) == 0
 
 
+@pytest.mark.parametrize('restarts', [True, False])
+def test_prediction_across_ball_pauses_sends_a_due_pair_through_add(
+        restarts: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    The ball's held pairs across pauses at a due frame: through ``add``, as one at a time.
+
+    ``spline`` predicting at every frame (period 0), both streams paused 0.1 s after each
+    pitch (as ``test_prediction_across_pauses_same_as_one_at_a_time``). A ball sample after a
+    gap over ``max_gap`` goes through ``add`` (``plans._ball_restarts``), its held pair with
+    it, before the rule that sends a pair whose held sample's step is a due frame through it
+    (``plans._prediction_stops``: ``_through``) looks, so that rule is sent no pair here.
+    Without that stop (were it ever narrowed) the ball's pairs reach the rule, and it sends
+    them through ``add`` for their due frame alone: the chunks are one at a time's either way.
+    """
+    through: List[int] = []
+    send = plans_module._through
+
+    def counting(plan, ok, stops, pairs) -> None:  # (a taker that stops already: the first)
+        through.append(sum(not stops[y] for _, y in pairs))
+        send(plan, ok, stops, pairs)
+    monkeypatch.setattr(plans_module, '_through', counting)
+    if not restarts:
+        monkeypatch.setattr(plans_module, '_ball_restarts',
+                            lambda config, arrays, is_ball: np.flatnonzero(is_ball)[:0])
+    rows = [row for row in session((1.0, 1.3, 0.95, 1.1), spacing=0.6)
+            if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
+    events = assert_same(predicting('spline', 0.0), rows, (8192,))
+    assert any(isinstance(e, Prediction) for e in events)
+    assert (sum(through) == 0) == restarts
+
+
 @settings(max_examples=examples(8), deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(model=st.sampled_from(['linear', 'rigid', 'spline', 'c2']),
