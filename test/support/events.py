@@ -58,6 +58,22 @@ def ball_lost_before(samples: Any, first: int, seconds: float = 0.2) -> Any:
                    ball_positions=samples.ball_positions[kept].copy())
 
 
+def hit_after_gap(seed: int, back: int, rate: float = 360.0) -> Tuple[Any, int]:
+    """
+    Return a rebound hit and the index of the ball's first sample after a tracking gap.
+
+    The ball tracked again ``back`` frames before the contact's first frame after it (1: one
+    frame before the contact), exact samples at ``rate`` (Hz).
+    """
+    rng = np.random.default_rng(seed)
+    scenario = make_scenario('barrel', rng, family='rebound', lead_s=0.4, trail_s=0.1)
+    samples = sample(scenario, rate, rng)
+    after = int(np.searchsorted(samples.ball_stamps_ns, samples.start_ns + int(
+        round(scenario.truth.time_s * 1e9))))
+    lost = ball_lost_before(samples, after - back)
+    return lost, int(np.searchsorted(lost.ball_stamps_ns, samples.ball_stamps_ns[after - back]))
+
+
 def without_ball_frame(samples: Any, k: int) -> Any:
     """Return ``samples`` (``sim.sample``) without ball sample k."""
     return replace(samples, ball_stamps_ns=np.delete(samples.ball_stamps_ns, k),

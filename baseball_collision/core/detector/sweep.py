@@ -29,8 +29,9 @@ from .gap_flight import GapFlight
 from .gate import Clock
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
+from .speed_aside import Aside
 from .streams import Stream
-from .sweep_ball import Aside, BallSamples
+from .sweep_ball import BallSamples
 from .sweep_bat import BatFrames
 from ..geometry import dot, norm, rigid_point_velocity, Vector
 from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
@@ -55,7 +56,8 @@ class Sweep(BallSamples, BatFrames):
 
     Its judgments of the ball's samples near the bat and of the bat's frames near the ball
     (glitches dropped and forgotten, intervals that wait for the samples that judge them) are
-    its bases' (``sweep_ball.BallSamples``, ``sweep_bat.BatFrames``).
+    its bases' (``sweep_ball.BallSamples``, itself on ``speed_aside.SpeedAside``: the ball
+    samples the speed check set aside; ``sweep_bat.BatFrames``).
 
     :param config: the detector's configuration (``DetectorConfig``).
     :param clock, stats: the detector's clock and counters.
@@ -81,7 +83,7 @@ class Sweep(BallSamples, BatFrames):
         (``_early_glitch``), the bat frame after a hit's closing one (``_closing_glitch``), or
         the bat frames after an early one a contact hangs on (``_early_bat_glitch``).
     :ivar aside: ball samples the speed check set aside, judged again where the sample they
-        were judged against is forgotten as a glitch (``BallSamples.set_aside``).
+        were judged against is forgotten as a glitch (``speed_aside.SpeedAside.set_aside``).
     :ivar until: the end (s) of the union interval visited last: a sample set aside is put
         back only at or after it (the walk has not passed it).
     :ivar gap_flight: the ball's flight before its last tracking gap (``note_gap``:

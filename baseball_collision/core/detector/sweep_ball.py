@@ -15,12 +15,13 @@ that sample, that flight's first contact: ``gap_flight.flight_across_gap``); a h
 third and fourth, where the first three lie on the flight before the gap and the fourth leaves
 it, on that flight (``_solved_on_gap_flight``). Whether a segment's samples lie on the flight
 before its gap is ``gap_flight``'s to say; a segment's first sample off it while the next is
-on it is a glitch too (``gap_flight.off_gap_flight``).
+on it is a glitch too (``gap_flight.off_gap_flight``). The samples the speed check refused
+against a glitch are judged again once it is forgotten (its base ``speed_aside.SpeedAside``).
 """
 
 from bisect import bisect_left
 import math
-from typing import Any, List, NamedTuple, Optional, Tuple
+from typing import Any, List, Optional, Tuple
 
 from .departure import (
     back_miss, DEPARTURE_CHI_SQUARE, DEPARTURE_FLOOR, FLIGHT_AFTER, flight_before, FRICTION,
@@ -31,9 +32,8 @@ from .fitting import stream_noise
 from .gap_flight import (
     flight_across_gap, flight_before_gap, left_gap_flight, off_gap_flight, on_gap_flight,
     segment_starts)
-from .gate import within_speed
-from .intake import Offer
 from .noise import ESTIMATES
+from .speed_aside import SpeedAside
 from .streams import Stream
 from ..geometry import dot
 from ..motion import BatPath, Paths, PointPath, substeps_for
@@ -51,28 +51,9 @@ SQUASH = 0.5
 """The most of its radius a ball's centre comes nearer a bat than in touch, squashed in a hit
 (a baseball squashes 1-2 cm at the fastest: under half its 3.66 cm): ``Sweep._inside_bat``."""
 
-ASIDE_MAX = 4
-"""Ball samples the speed check keeps aside at most (``BallSamples.set_aside``): a glitch
-makes one or two (``gate.SPEED_DROPS_TO_JUMP``: the third in a row is taken); beyond them the
-oldest is dropped, so a silent bat (the walk stalled) keeps the memory bounded."""
-
-
 TOUCH_SLACK = 1e-7
 """m: how much more than its closest approach's gap a ball is grown to touch the bat there
 (``BallSamples._first_contact``: the contact of a path that comes within a slack of the bat)."""
-
-
-class Aside(NamedTuple):
-    """
-    A ball sample the speed check refused, kept aside (``BallSamples.set_aside``).
-
-    Its time (s), its offer, and the stamp (ns) of the sample it was judged against (the
-    stream's newest then).
-    """
-
-    t: float
-    offer: Offer
-    against: int
 
 
 SURFACE_STEP = 1e-6
@@ -85,7 +66,7 @@ ball that really left its flight near the bat without touching it (off the batte
 tracked again after them."""
 
 
-class BallSamples:
+class BallSamples(SpeedAside):
     """The ball's samples judged near the bat: a base of ``sweep.Sweep`` (see there)."""
 
     __slots__ = ()
@@ -551,78 +532,6 @@ class BallSamples:
                 if self.aside:
                     self._judged_aside(stamp)
         self.glitches.clear()
-
-    def set_aside(self, t: float, offer: Offer, cursor: Optional[float]) -> Optional[DropReason]:
-        """
-        Keep a ball sample the speed check refused aside; return why it is dropped now, if so.
-
-        Refused against the stream's newest sample, which may be a glitch the sweep has still
-        to judge (its interval not visited: after ``cursor``, s): a sample right after a glitch
-        is too far from it to be reached at ``max_speed`` however good it is. It waits, not
-        counted, until that sample is forgotten (``_judged_aside``: put back or dropped) or the
-        walk passes it (``settle_aside``); ``SPEED_LIMIT`` at once where the newest was swept
-        already, or there is no walk yet. At most ``ASIDE_MAX`` wait (the oldest dropped).
-
-        :param t: the sample's time (s); ``offer``: the sample.
-        """
-        ball = self.ball
-        if cursor is None or not ball.times or ball.times[-1] < cursor:
-            return DropReason.SPEED_LIMIT
-        if len(self.aside) >= ASIDE_MAX:
-            self._dropped_aside(self.aside.pop(0))
-        self.aside.append(Aside(t, offer, ball.stamps[-1]))
-        return None
-
-    def settle_aside(self, until: Optional[float]) -> None:
-        """
-        Drop the samples set aside at or before ``until`` (s): the walk passed them.
-
-        Each a late drop, ``SPEED_LIMIT``; None: all (the recording's end, a reset).
-        """
-        kept = []
-        for entry in self.aside:
-            if until is None or entry.t <= until:
-                self._dropped_aside(entry)
-            else:
-                kept.append(entry)
-        self.aside = kept
-
-    def _judged_aside(self, glitch: int) -> None:
-        """
-        Judge again the samples set aside against a glitch (stamp, ns) now forgotten.
-
-        In order, each against the stream as it is without the glitch: put back
-        (``Stream.insert``) where it is after the interval visited (``until``) and within
-        ``max_speed`` of the sample before it and of the one after (each within ``max_gap``;
-        a longer gap starts a segment, as the speed check's), else dropped as
-        ``SPEED_LIMIT``.
-        """
-        ball, config = self.ball, self.config
-        gap, kept = config.max_gap, []
-        for entry in self.aside:
-            if entry.against != glitch:
-                kept.append(entry)
-                continue
-            t, value = entry.t, entry.offer.value
-            k = ball.interval(t)
-            times, values = ball.times, ball.values
-            steps = []  # (s, the later point, the earlier)
-            if k >= 0:
-                steps.append((t - times[k], value, values[k]))
-            if k + 1 < len(times):
-                steps.append((times[k + 1] - t, values[k + 1], value))
-            if t >= self.until and (k < 0 or times[k] < t) and all(
-                    dt > gap or within_speed(dt, (p,), (q,), config.max_speed)
-                    for dt, p, q in steps):
-                ball.insert(t, entry.offer.stamp, value, gap, (ESTIMATES,))
-            else:
-                self._dropped_aside(entry)
-        self.aside = kept
-
-    def _dropped_aside(self, entry: Aside) -> None:
-        """Count a sample set aside as dropped by the speed check (a late drop)."""
-        self.stats.drop_late(Role.BALL, DropReason.SPEED_LIMIT, entry.offer.stamp,
-                             entry.offer.frame)
 
     def _glitch(self, k: int) -> None:
         """
