@@ -248,7 +248,7 @@ def _planned(detector: 'Detector', chunk: Tuple[Any, ...], n: int, events: List[
         stream = detector._ball if first == BALL else detector._bat if first == BAT_POSE else None
         if stream is not None and (not stream.stamps or stamps[i] <= stream.stamps[-1]):
             # not after its stream's newest, or its first: the per-sample path says why (a
-            # plan would end before it, or start with a duplicate: ``plans._ordered``)
+            # plan would end before it, or start with a duplicate: ``plan_order.ordered``)
             _one(detector, chunk, i, events, drops)
             i += 1
             continue

@@ -45,8 +45,9 @@ from .broadphase.arrays import SLACK
 from .config import DetectorConfig
 from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
-from .gate import FAR_AHEAD_NS, HOLD_FACTOR
+from .gate import FAR_AHEAD_NS
 from .noise import NoiseEstimate
+from .plan_order import duplicates_pass, held_gaps, order_checks, ordered
 from .plan_prediction import prediction_stops
 from .predictor import Predictor
 from .streams import SILENT_KEEP, Stream, TRIM_LEAVES
@@ -259,15 +260,15 @@ def _in_order(roles: np.ndarray, stamps: np.ndarray, ball: Stream, bat: Stream) 
     Return how many of a chunk's samples its streams' order lets a plan reach, and its duplicates.
 
     The plan ends before the first sample behind its stream's last (dropped, held or a jump
-    back: nothing after it can be planned until it is settled: ``_ordered``); one stamped as
-    the last is a duplicate, in no stream. Second, the ball's and the bat's duplicates
-    (sorted, some maybe past the end); third and fourth, which of the samples up to the end
-    are the ball's and the bat's (no duplicate); then, where there are duplicates (else
-    None), which of those samples are duplicates, and which a duplicate follows (it repeats
-    their stamp).
+    back: nothing after it can be planned until it is settled: ``plan_order.ordered``); one
+    stamped as the last is a duplicate, in no stream. Second, the ball's and the bat's
+    duplicates (sorted, some maybe past the end); third and fourth, which of the samples up
+    to the end are the ball's and the bat's (no duplicate); then, where there are duplicates
+    (else None), which of those samples are duplicates, and which a duplicate follows (it
+    repeats their stamp).
     """
-    ball_end, ball_duplicates, ball_before = _ordered(stamps, roles == BALL, ball)
-    bat_end, bat_duplicates, bat_before = _ordered(stamps, roles == BAT_POSE, bat)
+    ball_end, ball_duplicates, ball_before = ordered(stamps, roles == BALL, ball)
+    bat_end, bat_duplicates, bat_before = ordered(stamps, roles == BAT_POSE, bat)
     n = min(ball_end, bat_end)
     duplicate = followed = None
     if len(ball_duplicates) or len(bat_duplicates):
@@ -291,13 +292,13 @@ def _checked_end(arrays: Arrays, ok: np.ndarray, gap: np.ndarray, is_ball: np.nd
 
     The plan ends at its first sample that fails a check (the per-sample path will most
     likely drop it, hold it or break its stream there, and what follows be planned again),
-    except a stream's first sample after a gap, held until its next takes it (``_held_gaps``;
+    except a stream's first sample after a gap, held until its next takes it (``held_gaps``;
     ``newest``, ns: the intake's newest stamp before the chunk). The samples planned, which
     are the ball's and the bat's and which pass every check (``is_ball``, ``is_bat``, ``ok``
     cut to them), and the held samples with the sample that takes each.
     """
     n = len(ok)
-    end, held = _held_gaps(ok, gap, is_ball, is_bat, stamps, newest, followed)
+    end, held = held_gaps(ok, gap, is_ball, is_bat, stamps, newest, followed)
     if end < n:
         n = end
         is_ball, is_bat, ok = is_ball[:n], is_bat[:n], ok[:n]
@@ -414,9 +415,9 @@ def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
     The chunk's rows are the kernel's ``plan_rows`` (the per-sample path's operations in its
     order: the same bits), which also checks each sample's values and stamp. Second, which
     samples pass every check with room to spare (values, frame, order; a ``duplicate``, in no
-    stream: its values and frame, ``_duplicates_pass``); third, which pass every check but
+    stream: its values and frame, ``duplicates_pass``); third, which pass every check but
     the order's as the first sample after a gap that the intake holds for its stream's next
-    (``_order_checks``).
+    (``plan_order.order_checks``).
     """
     arrays = Arrays()
     pre = arrays.pre = (len(ball.times), len(bat.times))
@@ -448,7 +449,7 @@ def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
     arrays.new = (arrays.ball[pre[0]:], arrays.knobs[pre[1]:], arrays.tips[pre[1]:],
                   arrays.positions[pre[1]:], arrays.quaternions[pre[1]:])
     if duplicate is not None:
-        ok[duplicate] = _duplicates_pass(values[duplicate], repeated_points)
+        ok[duplicate] = duplicates_pass(values[duplicate], repeated_points)
     arrays.breaks = (
         np.concatenate((np.array(ball.breaks, dtype=bool), np.zeros(m_ball - pre[0], bool))),
         np.concatenate((np.array(bat.breaks, dtype=bool), np.zeros(m_bat - pre[1], bool))))
@@ -458,8 +459,8 @@ def _arrays(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: int,
     gap = ok.copy()
     for s, mine, points in ((0, is_ball, (arrays.ball, None)),
                             (1, is_bat, (arrays.knobs, arrays.tips))):
-        in_order, after_gap = _order_checks(config, arrays.stamps[s], arrays.times[s], points,
-                                            pre[s])
+        in_order, after_gap = order_checks(config, arrays.stamps[s], arrays.times[s], points,
+                                           pre[s])
         own = np.flatnonzero(mine)  # (once for both)
         ok[own] &= in_order
         gap[own] &= after_gap
@@ -474,7 +475,7 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     Set the plan's counts, union times and cursor steps: the watermark after each sample.
 
     The walk is made of steps, each sample taken: in arrival order, but a held sample is taken
-    just before the sample that takes it (``_held_gaps``), and starts a new segment.
+    just before the sample that takes it (``held_gaps``), and starts a new segment.
 
     :param held: (sample, the sample that takes it).
     :returns: per sample, the steps taken after it (``done``); per stream, the count after each
@@ -626,123 +627,10 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     return made[done] > made[np.concatenate(([0], done[:-1]))]
 
 
-def _held_gaps(ok: np.ndarray, gap: np.ndarray, is_ball: np.ndarray, is_bat: np.ndarray,
-               stamps: np.ndarray, newest: int, followed: Optional[np.ndarray] = None
-               ) -> Tuple[int, List[Tuple[int, int]]]:
-    """
-    Return where a plan ends, and its held samples with the sample that takes each.
-
-    A stream's first sample after a gap waits (``gate.hold_ahead``) while no sample taken is
-    as new (``newest``, ns: the intake's newest before the chunk, then the samples taken); its
-    stream's next sample takes it, then itself. The plan follows that (``plan_chunk``: taken
-    as planned, or through the per-sample path); it ends after its first sample that fails a
-    check otherwise, or whose next does, or that a duplicate follows (``followed``: the
-    duplicate would take it, then be dropped).
-    """
-    n = len(ok)
-    failing = np.flatnonzero(~ok).tolist()
-    if not failing:
-        return n, []
-    following = np.full(n, n)
-    for mine in (is_ball, is_bat):
-        own = np.flatnonzero(mine)
-        following[own[:-1]] = own[1:]
-    held: List[Tuple[int, int]] = []
-    # the newest stamp of the samples before x that do not wait, kept as x goes on: only the
-    # last held sample (where the scan stopped) waits among those not yet scanned
-    top, scanned = newest, 0
-    for x in failing:
-        y = int(following[x])
-        if not gap[x] or y >= n or not ok[y] or (followed is not None and followed[x]):
-            return x + 1, held
-        start = scanned + 1 if held and held[-1][0] == scanned else scanned
-        if start < x:
-            top = max(top, int(stamps[start:x].max()))
-        scanned = x
-        if stamps[x] <= top:
-            return x + 1, held  # (taken at once: as new as a sample taken)
-        held.append((x, y))
-    return n, held
-
-
-def _ordered(stamps: np.ndarray, mine: np.ndarray,
-             stream: Stream) -> Tuple[int, np.ndarray, np.ndarray]:
-    """
-    Return where a stream's samples (``mine``) end a chunk's plan, its duplicates before that.
-
-    The chunk's length up to the stream's first sample behind the one before it; a stream's
-    very first sample ends it too (the per-sample path starts the stream), and a chunk without
-    a sample of the stream is not limited by it. Second, the samples before that stamped as
-    the one before (duplicates, sorted); third, for each, the sample it repeats: the
-    stream's newest before it that is no duplicate (-1: the stream's kept newest).
-    """
-    own_index = np.flatnonzero(mine)
-    none = own_index[:0]
-    if not len(own_index):
-        return len(stamps), none, none
-    if not len(stream.stamps):
-        return int(own_index[0]), none, none
-    own = stamps[own_index]
-    before = np.concatenate((stream.stamps[-1:], own[:-1]))
-    behind = np.flatnonzero(own < before)
-    end = int(own_index[behind[0]]) if len(behind) else len(stamps)
-    same = own == before
-    if not same.any():
-        return end, none, none
-    position = np.arange(len(own))
-    repeated = np.maximum.accumulate(np.where(same, -1, position))[same]
-    duplicates = own_index[same]
-    kept = duplicates < end
-    return (end, duplicates[kept],
-            np.where(repeated >= 0, own_index[np.maximum(repeated, 0)], -1)[kept])
-
-
-def _duplicates_pass(values: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """
-    Return which duplicates' values pass the per-sample path's checks, with room to spare.
-
-    Finite (``non_finite``); a bat pose's quaternion unit within ``SLACK`` less than the
-    tolerance (``bad_quaternion``), its position not the origin (``lost_body``, as
-    ``plan_rows`` checks it). ``values``: their (m, 7) rows; ``points``: which are points
-    (the ball's: their first three columns).
-    """
-    finite = np.isfinite(values[:, :3]).all(axis=1)
-    with np.errstate(all='ignore'):
-        magnitude = np.sqrt(np.einsum('ij,ij->i', values[:, 3:], values[:, 3:]))
-        pose = np.isfinite(values[:, 3:]).all(axis=1) & (
-            np.abs(magnitude - 1.0) < 1e-3 * (1.0 - SLACK)) & (values[:, :3] != 0.0).any(axis=1)
-    return finite & (points | pose)
-
-
 def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
     """Return the samples whose walk visits the given intervals (m: the m-th union time)."""
     steps = np.searchsorted(visited, intervals, 'right')
     return steps[steps < n]
-
-
-def _order_checks(config: DetectorConfig, stamps: np.ndarray, times: np.ndarray,
-                  points: Tuple[np.ndarray, Optional[np.ndarray]],
-                  pre: int) -> Tuple[np.ndarray, np.ndarray]:
-    """
-    Return which of a stream's new samples (after ``pre`` kept ones) pass with room to spare.
-
-    The intake's stamp rules (in order, no step ``gate.hold_ahead`` would hold) and the speed
-    bound (``gate.speed_check``, within ``max_gap``) against the sample before, as if every
-    sample before it were accepted. Second, which start a new segment after a gap longer than
-    ``max_gap`` that ``gate.hold_ahead`` holds (a step over ``HOLD_FACTOR`` times the one
-    before, under ``time_jump_reset``): the next sample takes them. The kernel's
-    ``order_checks``, each bound less ``SLACK`` (more where it must be exceeded).
-
-    :param points: the stream's points (the ball's, None), or the bat's knobs and tips.
-    :raises ValueError: fewer than 3 kept samples.
-    """
-    if pre < 3:
-        raise ValueError(f'order checks need 3 kept samples before the new, got {pre}')
-    ok, gap = np.empty(len(stamps) - pre, bool), np.empty(len(stamps) - pre, bool)
-    _kernel.order_checks(stamps, times, points[0], points[1], pre,
-                         (float(round(config.time_jump_reset * 1e9)), HOLD_FACTOR,
-                          config.max_gap, config.max_speed, SLACK), ok, gap)
-    return ok, gap
 
 
 def _closed(times: np.ndarray, breaks: np.ndarray, max_gap: float) -> np.ndarray:
