@@ -325,6 +325,22 @@ def test_prediction_with_a_bat_plan_same_as_one_at_a_time(period: float) -> None
     assert any(isinstance(e, Prediction) and e.planned for e in events)
 
 
+def _count_through(monkeypatch: pytest.MonkeyPatch) -> List[int]:
+    """
+    Count the held pairs ``plans._through`` sends through ``add`` from now on, per call.
+
+    Only those whose taker was no stop yet (a pair sent for a due frame alone).
+    """
+    through: List[int] = []
+    send = plans_module._through
+
+    def counting(plan, ok, stops, pairs) -> None:  # type: ignore[no-untyped-def]
+        through.append(sum(not stops[y] for _, y in pairs))
+        send(plan, ok, stops, pairs)
+    monkeypatch.setattr(plans_module, '_through', counting)
+    return through
+
+
 @pytest.mark.parametrize('period', [0.0, 0.01])
 @pytest.mark.parametrize('model', ['rigid', 'spline'])
 def test_prediction_across_pauses_same_as_one_at_a_time(model: str, period: float,
@@ -341,13 +357,7 @@ def test_prediction_across_pauses_same_as_one_at_a_time(model: str, period: floa
     after a gap over ``max_gap`` stops: ``Sweep.note_gap``), so no pair is sent for its due
     frame alone here (``spline``'s, a frame behind, with every frame due at period 0, were).
     """
-    through: List[int] = []
-    send = plans_module._through
-
-    def counting(plan, ok, stops, pairs) -> None:  # (a taker that stops already: the first)
-        through.append(sum(not stops[y] for _, y in pairs))
-        send(plan, ok, stops, pairs)
-    monkeypatch.setattr(plans_module, '_through', counting)
+    through = _count_through(monkeypatch)
     rows = [row for row in session((1.0, 1.3, 0.95, 1.1), spacing=0.6)
             if (row[1] - BASE_NS) % 600_000_000 < 500_000_000]
     events = assert_same(predicting(model, period), rows, (8192,))
@@ -369,13 +379,7 @@ def test_prediction_across_ball_pauses_sends_a_due_pair_through_add(
     Without that stop (were it ever narrowed) the ball's pairs reach the rule, and it sends
     them through ``add`` for their due frame alone: the chunks are one at a time's either way.
     """
-    through: List[int] = []
-    send = plans_module._through
-
-    def counting(plan, ok, stops, pairs) -> None:  # (a taker that stops already: the first)
-        through.append(sum(not stops[y] for _, y in pairs))
-        send(plan, ok, stops, pairs)
-    monkeypatch.setattr(plans_module, '_through', counting)
+    through = _count_through(monkeypatch)
     if not restarts:
         monkeypatch.setattr(plans_module, '_ball_restarts',
                             lambda config, arrays, is_ball: np.flatnonzero(is_ball)[:0])
