@@ -20,12 +20,15 @@ per K); with ``--lost-frames N``, N frames from there on away from the glitch (-
 two before it; at 120 Hz a hole of 25 ms, over ``bat_glitches.LOST_HOLE``). At a segment's
 start: ``--segment N`` deletes the bat frames over ``max_gap`` (60 ms) before the glitch's
 N - 1 frames before it, so that the glitch is its segment's Nth frame (1: its first).
-``--offsets`` and ``--turns`` narrow the frames turned and how far (cm).
+``--offsets`` and ``--turns`` narrow the frames turned and how far (cm). ``--told``: the
+detector is told the samples' noise (``tracker_noise``), not estimating it (auto, the node's
+and ``analyze``'s default).
 
     .venv/bin/python benchmarks/bench_glitches.py [--seeds 2] [--rates 90 360]
     bench_glitches.py --rates 90 120 360 --lost -3 -2 -1 1 --offsets -1 0 1 --turns 10
     bench_glitches.py --rates 120 --lost -3 -2 -1 1 2 --lost-frames 2
     bench_glitches.py --rates 90 120 360 --segment 1 4 8 --offsets -1 0 1 --turns 10
+    bench_glitches.py --rates 120 --noises 1 --segment 1 --told
 """
 
 import argparse
@@ -105,13 +108,14 @@ def of(events: List[Any], kind: type) -> List[Any]:
 
 def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None,
              segment: Optional[int] = None, offsets: Tuple[int, ...] = OFFSETS,
-             turns: Tuple[float, ...] = TURNS_M, lost_frames: int = 1) -> Dict[str, Any]:
+             turns: Tuple[float, ...] = TURNS_M, lost_frames: int = 1,
+             told: bool = False) -> Dict[str, Any]:
     """
     Return one rate and noise level's counts and near-miss differences.
 
     ``lost``, ``lost_frames`` and ``segment``: the tracker's lost frames about the glitch
     (``faulted``), in the runs without a glitch too; ``offsets``, ``turns``: the frames
-    turned, how far (m).
+    turned, how far (m); ``told``: ``tracker_noise`` the samples' noise (m), else auto.
     """
     counts = dict.fromkeys(('misses', 'invented', 'hits', 'lost', 'moved', 'dropped',
                             'wrong', 'clean', 'clean_dropped', 'clean_hits', 'waited'), 0)
@@ -133,7 +137,8 @@ def run_cell(rate: float, noise_m: float, seeds: int, lost: Optional[int] = None
                 else:
                     clean_runs = [samples]
                 for parameters in ({}, OFFLINE_PARAMETERS):
-                    config = DetectorConfig(**{**parameters, 'bat_input': bat})
+                    config = DetectorConfig(**{**parameters, 'bat_input': bat,
+                                               **({'tracker_noise': noise_m} if told else {})})
                     for clean in clean_runs:
                         late: List[int] = []
                         detector, events = events_of(config, clean, late)
@@ -191,6 +196,8 @@ def main() -> None:
                         help="the turned frame's, from the closest approach's")
     parser.add_argument('--turns', type=float, nargs='+', default=[t * 100 for t in TURNS_M],
                         help="how far the turned frame's tip moves (cm)")
+    parser.add_argument('--told', action='store_true',
+                        help="the detector told the samples' noise (tracker_noise), not auto")
     args = parser.parse_args()
     faults = ([('lost', k, None) for k in args.lost] + [('segment', None, n)
                                                         for n in args.segment]
@@ -200,10 +207,11 @@ def main() -> None:
             for noise in args.noises]:
         cell = run_cell(rate, noise_mm * 1e-3, args.seeds, lost, segment,
                         tuple(args.offsets), tuple(t * 0.01 for t in args.turns),
-                        args.lost_frames)
+                        args.lost_frames, args.told)
         frames = f' ({args.lost_frames} frames)' if args.lost_frames > 1 else ''
         label = {'lost': f'lost {lost}{frames}: ',
                  'segment': f'segment frame {segment}: '}.get(name, '')
+        label += 'told: ' if args.told else ''
         gaps = np.array(cell['gaps']) * 1e3
         spread = (f'p50 {np.percentile(gaps, 50):.2f} mm, p99 {np.percentile(gaps, 99):.2f} '
                   f'mm, max {gaps.max():.2f} mm' if len(gaps) else '-')

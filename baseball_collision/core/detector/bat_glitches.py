@@ -222,7 +222,8 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
     Its ``departure`` more than ``glitch_floor`` (for the noise, m 1 sigma per coordinate:
     told or estimated) and ``DEPARTURE_RATIO`` times each of the ``SCATTER_FRAMES`` frames'
     before it (the stream's own scatter: a swing's own frames at 90 Hz are 35-46 sigma off
-    their smoothed continuation); among regular steps (``regular``), or beside frames the
+    their smoothed continuation; not a frame after lost ones, continued across the hole:
+    ``stepped``); among regular steps (``regular``), or beside frames the
     tracker lost (``lost_about``) against the frames before it with the same frames left out
     (``_matched``). Where its next
     frame has not come (``isolation`` cannot judge it), this alone says the bat's path should
@@ -237,9 +238,25 @@ def departed(stream: Stream, j: int, max_gap: float, size: int, noise: float) ->
         return False
     if steady:
         return found > DEPARTURE_RATIO * max(departure(stream, i, max_gap, size, noise)
-                                             for i in range(j - SCATTER_FRAMES, j))
+                                             for i in stepped(stream, j - SCATTER_FRAMES, j))
     matched = _matched(stream, j, lost, max_gap, size, noise)
     return matched is not None and found > DEPARTURE_RATIO * max(m[0] for m in matched)
+
+
+def stepped(stream: Stream, first: int, end: int) -> List[int]:
+    """
+    Return bat frames ``first`` to ``end - 1`` but those a step over lost frames before.
+
+    Those whose step from the frame before them is at most ``REGULAR_STEP`` times the median
+    of the steps to them: their departures (``departure``) continue the bat one step, as a
+    judged frame's does (``departed``). A frame after lost frames is continued across the
+    hole, two or three steps: its departure is not of that scatter (at 120 Hz with 1 mm of
+    noise, 7.8-11 cm after two lost frames, against 0.3-2 cm for the frames about it).
+    """
+    times = stream.times
+    steps = [times[i] - times[i - 1] for i in range(first, end)]
+    median = sorted(steps)[len(steps) // 2]
+    return [i for i, step in zip(range(first, end), steps) if step <= REGULAR_STEP * median]
 
 
 def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
