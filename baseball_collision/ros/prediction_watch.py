@@ -19,7 +19,8 @@ accepted messages, in plain Python (no rclpy: the node calls it under its lock),
   bat's; the clocks' difference cancels), the largest, so a camera's bursts are in it. But not
   while the flight before the silence still holds: until the bat streams took two samples
   more than the flight's span (``predictor.kept_flight_span`` of ``prediction_window``, 0.215 s
-  by default) past the ball's newest stamp, a pitch unseen since may have drifted from the
+  by default) past the ball's newest stamp, and the ball has been silent that long since its
+  last arrival (its lag behind the bat in it), a pitch unseen since may have drifted from the
   forecast of its samples before by less than its radius, and a tracker that paused that long
   and catches up still brings the contact (a silence of its lag plus ``max_gap`` withdrew the
   flag before 68-87 of 864 paused hits' contacts a cell, ``bench_prediction.py --faults``; 0
@@ -96,9 +97,10 @@ class PredictionWatch:
         """
         Return whether the prediction at ``instant_ns`` has passed without its contact at ``now``.
 
-        Passed for the ball's silence (``ball_lost``, and the bat streams past the flight's
-        span after the ball's newest stamp), that instant + ``max_gap`` is kept
-        (``silenced_ns``: see ``raises``).
+        Passed for the ball's silence (``ball_lost``, and the flight's span past the ball's
+        newest stamp on the bat streams' stamps and past its last arrival: a tracker that lags
+        the bat brings the samples of that span that much later), that instant + ``max_gap``
+        is kept (``silenced_ns``: see ``raises``).
 
         :param now: the steady-clock time (s).
         :param last_arrival: each stream's last arrival (s, the same clock; a stream missing
@@ -114,8 +116,9 @@ class PredictionWatch:
             return True
         if not self.ball_lost(now, last_arrival, max_gap):
             return False
-        if self.ball_newest_ns is not None and not self._bat_passed(
-                self.ball_newest_ns + round(flight_span * 1e9)):
+        if now - last_arrival.get(BALL, -math.inf) <= flight_span or (
+                self.ball_newest_ns is not None and not self._bat_passed(
+                    self.ball_newest_ns + round(flight_span * 1e9))):
             return False  # (the flight before the silence still holds)
         self.silenced_ns = passed
         return True

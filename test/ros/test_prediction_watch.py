@@ -151,6 +151,21 @@ def test_a_silent_ball_holds_the_prediction_while_its_flight_holds() -> None:
     assert watch.ball_newest_ns is None
 
 
+def test_a_lagging_balls_flight_holds_its_lag_longer() -> None:
+    """
+    The ball's messages 60 ms behind the bat's, silent 30 ms before the instant: held till then.
+
+    The bat streams well past the ball's newest stamp + the flight span; the samples of that span
+    would come 60 ms later than their stamps: not passed until the ball has been silent the
+    span since its last arrival.
+    """
+    last_ball = INSTANT_NS - 30_000_000
+    watch, arrivals = _swing(0.060, last_ball, last_ball + round(HOLD * 1e9) + 100_000_000)
+    held = arrivals['ball'] + HOLD
+    assert not watch.passed(held - 0.001, arrivals, MAX_GAP, HOLD)
+    assert watch.passed(held + 0.001, arrivals, MAX_GAP, HOLD)
+
+
 def test_the_flight_span_does_not_hold_a_ball_streaming_past_the_instant() -> None:
     """The ball's own samples past the instant + max_gap: passed whatever the flight span."""
     beyond = INSTANT_NS + round(MAX_GAP * 1e9) + 2 * STEP_NS
