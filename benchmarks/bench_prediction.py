@@ -399,10 +399,10 @@ PAUSE_LENGTHS_S = (0.06, 0.1, 0.15)
 ARRIVAL_S = 0.0005
 """s: how long after its stamp a bat message is taken (a ball's: that plus its lag)."""
 
-GONE_TRAIL_S = 0.5
-"""s: how long the bat streams on after the approach where the ball is lost for good
-(``pauses``' ``gone``: past the flag's withdrawal, ``kept_flight_span`` after the ball's last
-sample)."""
+PAUSE_TRAIL_S = 0.5
+"""s: how long the pitches of ``pauses`` are tracked after the approach: the bat streams on past
+the flag's withdrawal (``kept_flight_span`` after the ball's last sample), as in a session (the
+fault tables' pitches end 0.1 s after it, where a hold would outlast the bat's stream)."""
 
 
 class FlagRun(NamedTuple):
@@ -483,10 +483,10 @@ def pauses(seeds: int) -> None:
     Every swing family x ``seeds`` x ``FAULT_KINDS``, 90 and 360 Hz, exact and 1 mm, the node's
     defaults and ``analyze --predict``'s detector; the ball ``PAUSE_LAGS_S`` behind the bat,
     pausing ``PAUSE_STARTS_S`` before the approach for ``PAUSE_LENGTHS_S``, its samples then
-    flushed or lost (``flag_of``). Counted: runs whose flag the watch turned off, those it came
-    back on after (flips), and hits whose flag it turned off before their contact was solved
-    (from the samples after the pause), in all and by pause length. Then the ball lost for good
-    from those starts (``gone``; the bat streaming ``GONE_TRAIL_S`` past the approach): runs
+    flushed or lost (``flag_of``; tracked ``PAUSE_TRAIL_S`` past the approach). Counted: runs
+    whose flag the watch turned off, those it came back on after (flips), and hits whose flag
+    it turned off before their contact was solved (from the samples after the pause), in all
+    and by pause length. Then the ball lost for good from those starts (``gone``): runs
     whose flag was on, those it stayed on to the end (never withdrawn: must be 0), and how long
     after the predicted instant the watch withdrew it (median and largest, ms: the cost of
     holding it through a silence).
@@ -501,7 +501,7 @@ def pauses(seeds: int) -> None:
                 for name, config in node_configs().items():
                     runs = withdrawn = flipped = 0
                     early = dict.fromkeys(PAUSE_LENGTHS_S, 0)
-                    for samples, _, hit, approach, _ in _fault_pitches(rate, noise_m, seeds):
+                    for samples, hit, approach in _long_pitches(rate, noise_m, seeds):
                         for lag in PAUSE_LAGS_S:
                             for before in PAUSE_STARTS_S:
                                 for length in PAUSE_LENGTHS_S:
@@ -527,7 +527,7 @@ def pauses(seeds: int) -> None:
             for name, config in node_configs().items():
                 runs = raised = stayed = 0
                 late: List[float] = []
-                for samples, approach in _gone_pitches(rate, noise_m, seeds):
+                for samples, _, approach in _long_pitches(rate, noise_m, seeds):
                     for lag in PAUSE_LAGS_S:
                         for before in PAUSE_STARTS_S:
                             run = flag_of(config, samples, lag,
@@ -542,21 +542,23 @@ def pauses(seeds: int) -> None:
                       f'{stayed} | {spread} |', flush=True)
 
 
-def _gone_pitches(rate: float, noise_m: float, seeds: int) -> Iterator[Tuple[Samples, int]]:
+def _long_pitches(rate: float, noise_m: float,
+                  seeds: int) -> Iterator[Tuple[Samples, bool, int]]:
     """
-    Yield ``_fault_pitches``' pitches tracked ``GONE_TRAIL_S`` past the approach instead.
+    Yield ``_fault_pitches``' pitches tracked ``PAUSE_TRAIL_S`` past the approach instead.
 
-    Each as (``Samples``, the contact's or closest approach's stamp, ns).
+    Each as (``Samples``, whether it is a hit, the contact's or closest approach's stamp, ns).
     """
     for family in FAMILIES:
         for seed in range(seeds):
             for kind in FAULT_KINDS:
                 rng = np.random.default_rng(seed)
                 scenario = make_scenario(kind, rng, lead_s=0.4, family=family,
-                                         trail_s=GONE_TRAIL_S)
+                                         trail_s=PAUSE_TRAIL_S)
                 samples = sample(scenario, rate, rng, jitter_s=2e-4, noise_m=noise_m)
                 truth = truth_dict(scenario, samples.start_ns)
-                yield samples, (truth['stamp_ns'] if scenario.truth.contact else (
+                hit = scenario.truth.contact
+                yield samples, hit, (truth['stamp_ns'] if hit else (
                     samples.start_ns + int(round(scenario.truth.min_gap_time_s * 1e9))))
 
 
