@@ -23,8 +23,8 @@ accepted messages, in plain Python (no rclpy: the node calls it under its lock),
   last arrival (its lag behind the bat in it), a pitch unseen since may have drifted from the
   forecast of its samples before by less than its radius, and a tracker that paused that long
   and catches up still brings the contact (a silence of its lag plus ``max_gap`` withdrew the
-  flag before 68-87 of 864 paused hits' contacts a cell, ``bench_prediction.py --faults``; 0
-  now), at the cost of a ball lost for good's flag going off 180-205 ms after the instant
+  flag before 109-135 of 864 paused hits' contacts a cell, ``bench_prediction.py --faults``; 0
+  now), at the cost of a ball lost for good's flag going off 202-214 ms after the instant
   (p50), not 78-89: after the instant + ``max_gap`` either way.
   ``analyze --predict``, on the stamps, ends the prediction in force across a ball gap by the
   same rule (``tools.truth.silence_clearings``; the detector's own frames wait for the ball's
