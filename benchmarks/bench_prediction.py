@@ -36,7 +36,11 @@ the rest at best; a frame stamped off has its pose right, though); the chunk pat
 (``Detector.add_chunk``) against one sample at a time on every faulted run (runs whose events
 differ). Then a ball tracker that
 pauses (``pauses``): how often ``~/impact_predicted`` goes off and on again under the node's
-rule (``ros/prediction_watch.py``) on the messages' arrivals. ``--pauses-only``: only that.
+rule (``ros/prediction_watch.py``) on the messages' arrivals, and off before a hit's contact
+(by pause length), the node's defaults and ``analyze --predict``'s detector; and a ball lost for
+good (``gone``): that the flag goes off, and how long after the predicted instant (the cost of
+holding it through a silence the ball's flight holds, ``predictor.kept_flight_span``).
+``--pauses-only``: only that.
 
 Between them, a glitch beside the bat tracker's lost frames (``lost_cell``): the frame turned 10
 or 20 cm toward the ball as above (the 1st, 2nd or 4th before the approach), made its bat
@@ -54,11 +58,12 @@ frames lost, the deleted one without the glitch's frame too; scored as above.
 import argparse
 from dataclasses import replace
 import time
-from typing import Any, Callable, Dict, Iterator, List, Optional, Tuple
+from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.events import PredictionCleared
+from baseball_collision.core.detector.predictor import kept_flight_span
 from baseball_collision.ros.prediction_watch import PredictionWatch
 from baseball_collision.threads import single_threaded_blas
 from baseball_collision.tools.parameters import build_config
@@ -308,13 +313,24 @@ def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
             for name, cases in faults.items():
                 cell = counts[name]
                 for fault in cases:
-                    bad = faulted(samples, int(before[-back]), fault)
-                    index, events = predictions_of(config, bad)
-                    if chunks and predictions_of(config, bad, True)[1] != events:
-                        cell['chunk_differs'] += 1
-                    _tally(cell, index, clean, hit and (clean_ok, without),
-                           approach, truth['point'])
+                    _tally_faulted(cell, config, faulted(samples, int(before[-back]), fault),
+                                   chunks, clean, hit and (clean_ok, without), approach,
+                                   truth['point'])
     return counts
+
+
+def _tally_faulted(cell: Dict[str, int], config: DetectorConfig, bad: Samples, chunks: bool,
+                   clean: Any, hit: Any, approach: int, point: Any) -> None:
+    """
+    Make a faulted pitch's predictions (``bad``) and count them in ``cell`` (``_tally``).
+
+    ``chunks``: the chunk path's events too, a run whose differ from one sample at a time's
+    counted (``chunk_differs``); the other arguments ``_tally``'s.
+    """
+    index, events = predictions_of(config, bad)
+    if chunks and predictions_of(config, bad, True)[1] != events:
+        cell['chunk_differs'] += 1
+    _tally(cell, index, clean, hit, approach, point)
 
 
 def _tally(cell: Dict[str, int], index: Any, clean: Any, hit: Any, approach: int,
@@ -366,12 +382,8 @@ def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                 without = clean_ok and scored(predictions_of(
                     config, base.without_bat_frame(at))[0], approach, truth['point'])
                 for turn in LOST_TURNS_M:
-                    bad = faulted(base, at, ('turn', turn))
-                    index, events = predictions_of(config, bad)
-                    if chunks and predictions_of(config, bad, True)[1] != events:
-                        cell['chunk_differs'] += 1
-                    _tally(cell, index, clean, hit and (clean_ok, without),
-                           approach, truth['point'])
+                    _tally_faulted(cell, config, faulted(base, at, ('turn', turn)), chunks,
+                                   clean, hit and (clean_ok, without), approach, truth['point'])
     return counts
 
 
@@ -387,30 +399,44 @@ PAUSE_LENGTHS_S = (0.06, 0.1, 0.15)
 ARRIVAL_S = 0.0005
 """s: how long after its stamp a bat message is taken (a ball's: that plus its lag)."""
 
+PAUSE_TRAIL_S = 0.5
+"""s: how long the pitches of ``pauses`` are tracked after the approach: the bat streams on past
+the flag's withdrawal (``kept_flight_span`` after the ball's last sample), as in a session (the
+fault tables' pitches end 0.1 s after it, where a hold would outlast the bat's stream)."""
 
-def flag_of(config: DetectorConfig, samples: Samples, lag: float, pause: Tuple[int, int],
-            flushed: bool) -> Tuple[int, int, Optional[float], Optional[float]]:
+
+class FlagRun(NamedTuple):
+    """What the node's ``~/impact_predicted`` did on one run (``flag_of``)."""
+
+    withdrawn: int  # the watch's withdrawals
+    flips: int  # withdrawals the flag came back on after
+    first: Optional[float]  # the arrival (s) of the first withdrawal
+    solved: Optional[float]  # the arrival (s) of the message that solved the first contact
+    instant: Optional[float]  # the instant (s, stamps' clock) the first withdrawal withdrew
+    raised: bool  # whether the flag was ever on
+    on_at_end: bool  # whether it was on after the last message
+
+
+def flag_of(config: DetectorConfig, samples: Samples, lag: float,
+            pause: Tuple[int, Optional[int]], flushed: bool) -> FlagRun:
     """
     Return what the node's ``~/impact_predicted`` does on a ball tracker that pauses.
 
     The node's rule (``ImpactNode._take``): messages taken in arrival order (the bat's
     ``ARRIVAL_S`` after their stamps, the ball's ``lag`` later), the flag on at a prediction
     (not one made before a contact solved in the same ``add``), off at a contact, at a
-    ``PredictionCleared``, or once ``PredictionWatch.passed`` says the prediction has passed.
-    The ball's samples stamped in ``pause`` [start, end) ns come at once after it (``flushed``:
-    a tracker that caught up) or never (lost).
-
-    :returns: (the watch's withdrawals, flips: a withdrawal the flag came back on after, the
-        arrival (s) of the first withdrawal, and of the message that solved the first contact;
-        each None where there is none).
+    ``PredictionCleared``, or once ``PredictionWatch.passed`` says the prediction has passed
+    (its flight span ``kept_flight_span`` of ``prediction_window``). The ball's samples
+    stamped in ``pause`` [start, end) ns come at once after it (``flushed``: a tracker that
+    caught up) or never (lost); an end of None: the ball lost for good from start on.
     """
     start, end = pause
     arrivals = []
     for stamp, role, values in samples.messages('pose'):
         taken = (stamp - samples.start_ns) * 1e-9 + ARRIVAL_S
         if role == 'ball':
-            if start <= stamp < end:
-                if not flushed:
+            if start <= stamp and (end is None or stamp < end):
+                if not flushed or end is None:
                     continue
                 taken = (end - samples.start_ns) * 1e-9 + ARRIVAL_S
             taken += lag
@@ -420,9 +446,11 @@ def flag_of(config: DetectorConfig, samples: Samples, lag: float, pause: Tuple[i
     detector = Detector(config, on_contact=lambda stamp_ns, point: contact_ns.__setitem__(
         0, stamp_ns))
     watch = PredictionWatch(('ball', 'bat_pose'))
+    span = kept_flight_span(config.prediction_window)
     last_arrival: Dict[str, float] = {}
     previous: Dict[str, int] = {}
-    flag, withdrawn, flips, first, solved = False, 0, 0, None, None
+    flag, raised, withdrawn, flips, first, solved, instant = (
+        False, False, 0, 0, None, None, None)
     for taken, stamp, role, values in arrivals:
         contact_ns[0] = None
         last_arrival[role] = taken
@@ -438,13 +466,14 @@ def flag_of(config: DetectorConfig, samples: Samples, lag: float, pause: Tuple[i
                         watch.raises(event.stamp_ns, config.max_gap)):
                     if not flag and withdrawn > flips and first is not None:
                         flips += 1
-                    flag, watch.instant_ns = True, event.stamp_ns
+                    flag, raised, watch.instant_ns = True, True, event.stamp_ns
             elif isinstance(event, PredictionCleared):
                 flag = False
-        if flag and watch.passed(taken, last_arrival, config.max_gap):
+        if flag and watch.passed(taken, last_arrival, config.max_gap, span):
             flag, withdrawn = False, withdrawn + 1
-            first = taken if first is None else first
-    return withdrawn, flips, first, solved
+            if first is None:
+                first, instant = taken, (watch.instant_ns - samples.start_ns) * 1e-9
+    return FlagRun(withdrawn, flips, first, solved, instant, raised, flag)
 
 
 def pauses(seeds: int) -> None:
@@ -452,44 +481,85 @@ def pauses(seeds: int) -> None:
     Print how often a ball tracker's pause turns ``~/impact_predicted`` off, and on again.
 
     Every swing family x ``seeds`` x ``FAULT_KINDS``, 90 and 360 Hz, exact and 1 mm, the node's
-    defaults; the ball ``PAUSE_LAGS_S`` behind the bat, pausing ``PAUSE_STARTS_S`` before the
-    approach for ``PAUSE_LENGTHS_S``, its samples then flushed or lost (``flag_of``). Counted:
-    runs whose flag the watch turned off, those it came back on after (flips), and hits whose
-    flag it turned off before their contact was solved (from the samples after the pause).
+    defaults and ``analyze --predict``'s detector; the ball ``PAUSE_LAGS_S`` behind the bat,
+    pausing ``PAUSE_STARTS_S`` before the approach for ``PAUSE_LENGTHS_S``, its samples then
+    flushed or lost (``flag_of``; tracked ``PAUSE_TRAIL_S`` past the approach). Counted: runs
+    whose flag the watch turned off, those it came back on after (flips), and hits whose flag
+    it turned off before their contact was solved (from the samples after the pause), in all
+    and by pause length. Then the ball lost for good from those starts (``gone``): runs
+    whose flag was on, those it stayed on to the end (never withdrawn: must be 0), and how long
+    after the predicted instant the watch withdrew it (median and largest, ms: the cost of
+    holding it through a silence).
     """
-    config = node_configs()['node']
-    print('\n| ball paused | rate Hz | noise mm | runs | flag withdrawn | of which on again '
-          '(flips) | hits withdrawn before their contact was solved |')
-    print('|---|---|---|---|---|---|---|')
+    print('\n| ball paused | rate Hz | noise mm | parameters | runs | flag withdrawn | of which '
+          'on again (flips) | hits withdrawn before their contact was solved | by pause '
+          + ' / '.join(f'{length * 1e3:g}' for length in PAUSE_LENGTHS_S) + ' ms |')
+    print('|---|---|---|---|---|---|---|---|---|')
     for flushed in (True, False):
         for rate in (90.0, 360.0):
             for noise_m in (0.0, 0.001):
-                runs = withdrawn = flipped = early = 0
-                for family in FAMILIES:
-                    for seed in range(seeds):
-                        for kind in FAULT_KINDS:
-                            rng = np.random.default_rng(seed)
-                            scenario = make_scenario(kind, rng, lead_s=0.4, family=family)
-                            samples = sample(scenario, rate, rng, jitter_s=2e-4,
-                                             noise_m=noise_m)
-                            truth = truth_dict(scenario, samples.start_ns)
-                            hit = scenario.truth.contact
-                            approach = truth['stamp_ns'] if hit else samples.start_ns + int(
-                                round(scenario.truth.min_gap_time_s * 1e9))
-                            for lag in PAUSE_LAGS_S:
-                                for before in PAUSE_STARTS_S:
-                                    for length in PAUSE_LENGTHS_S:
-                                        start = approach - int(round(before * 1e9))
-                                        off, flips, first, solved = flag_of(
-                                            config, samples, lag,
-                                            (start, start + int(round(length * 1e9))), flushed)
-                                        runs += 1
-                                        withdrawn += off > 0
-                                        flipped += flips > 0
-                                        early += hit and first is not None and (
-                                            solved is not None and first < solved)
-                print(f"| {'flushed' if flushed else 'lost'} | {rate:g} | {noise_m * 1e3:g} | "
-                      f'{runs} | {withdrawn} | {flipped} | {early} |', flush=True)
+                for name, config in node_configs().items():
+                    runs = withdrawn = flipped = 0
+                    early = dict.fromkeys(PAUSE_LENGTHS_S, 0)
+                    for samples, hit, approach in _long_pitches(rate, noise_m, seeds):
+                        for lag in PAUSE_LAGS_S:
+                            for before in PAUSE_STARTS_S:
+                                for length in PAUSE_LENGTHS_S:
+                                    start = approach - int(round(before * 1e9))
+                                    run = flag_of(config, samples, lag,
+                                                  (start, start + int(round(length * 1e9))),
+                                                  flushed)
+                                    runs += 1
+                                    withdrawn += run.withdrawn > 0
+                                    flipped += run.flips > 0
+                                    early[length] += hit and run.first is not None and (
+                                        run.solved is not None and run.first < run.solved)
+                    print(f"| {'flushed' if flushed else 'lost'} | {rate:g} | "
+                          f'{noise_m * 1e3:g} | {name} | {runs} | {withdrawn} | {flipped} | '
+                          f'{sum(early.values())} | '
+                          + ' / '.join(str(count) for count in early.values()) + ' |',
+                          flush=True)
+    print('\n| ball lost for good | rate Hz | noise mm | parameters | runs | flag raised | never '
+          'withdrawn | withdrawn after the predicted instant, p50 / max ms |')
+    print('|---|---|---|---|---|---|---|---|')
+    for rate in (90.0, 360.0):
+        for noise_m in (0.0, 0.001):
+            for name, config in node_configs().items():
+                runs = raised = stayed = 0
+                late: List[float] = []
+                for samples, _, approach in _long_pitches(rate, noise_m, seeds):
+                    for lag in PAUSE_LAGS_S:
+                        for before in PAUSE_STARTS_S:
+                            run = flag_of(config, samples, lag,
+                                          (approach - int(round(before * 1e9)), None), False)
+                            runs += 1
+                            raised += run.raised
+                            stayed += run.on_at_end
+                            if run.first is not None:
+                                late.append((run.first - run.instant) * 1e3)
+                spread = f'{np.median(late):.0f} / {max(late):.0f}' if late else '-'
+                print(f'| gone | {rate:g} | {noise_m * 1e3:g} | {name} | {runs} | {raised} | '
+                      f'{stayed} | {spread} |', flush=True)
+
+
+def _long_pitches(rate: float, noise_m: float,
+                  seeds: int) -> Iterator[Tuple[Samples, bool, int]]:
+    """
+    Yield ``_fault_pitches``' pitches tracked ``PAUSE_TRAIL_S`` past the approach instead.
+
+    Each as (``Samples``, whether it is a hit, the contact's or closest approach's stamp, ns).
+    """
+    for family in FAMILIES:
+        for seed in range(seeds):
+            for kind in FAULT_KINDS:
+                rng = np.random.default_rng(seed)
+                scenario = make_scenario(kind, rng, lead_s=0.4, family=family,
+                                         trail_s=PAUSE_TRAIL_S)
+                samples = sample(scenario, rate, rng, jitter_s=2e-4, noise_m=noise_m)
+                truth = truth_dict(scenario, samples.start_ns)
+                hit = scenario.truth.contact
+                yield samples, hit, (truth['stamp_ns'] if hit else (
+                    samples.start_ns + int(round(scenario.truth.min_gap_time_s * 1e9))))
 
 
 def faults(seeds: int, chunks: bool, lost_only: bool = False) -> None:

@@ -17,8 +17,8 @@ events come back out as messages:
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
   ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, once
   every input stream went ``max_gap`` past the predicted instant without one, once the bat did
-  and the ball has been silent longer than its measured lag behind the bat plus ``max_gap``,
-  or once an input has been silent beyond ``stale_timeout``).
+  and the ball has been silent longer than its measured lag behind the bat plus ``max_gap``
+  and the span its flight holds unseen, or once an input has been silent beyond ``stale_timeout``).
 * ``~/impact_report`` (std_msgs/String, reliable): one line of JSON per impact, near miss and
   prediction: exactly the ``core.records`` record ``analyze --json`` writes (schema
   ``schema/event_record.schema.json``); a prediction's says when it was made (``made_at_ns``)
@@ -90,6 +90,7 @@ from .prediction_watch import PredictionWatch
 from ..core.detector import (
     Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction,
     ResetReason, SPECS, StateReset, unknown_parameters)
+from ..core.detector.predictor import kept_flight_span
 from ..core.geometry import Vector
 from ..core.prediction import MAX_PLAN_POSES
 from ..core.records import EVENT_NAMES
@@ -668,7 +669,8 @@ class ImpactNode(Node):
         steady clock its arrival was counted on): when the prediction has passed
         (``PredictionWatch.passed``: every stream took two samples more than ``max_gap`` past
         the predicted instant without a contact, or the bat did and the ball has been silent
-        longer than its lag behind the bat plus ``max_gap``; the detector's own frames clear a
+        longer than its lag behind the bat plus ``max_gap``, the bat streams past the span its
+        flight holds unseen, ``kept_flight_span``; the detector's own frames clear a
         prediction only at its next frame that predicts), or when an input has been silent
         beyond ``stale_timeout`` (``_silent_locked``; checked here too, so a stream lost while
         another streams on ends it then, not up to a ``diagnostics_period`` later). The
@@ -676,7 +678,9 @@ class ImpactNode(Node):
 
         :param now: the steady-clock time (s) of the sample just taken.
         """
-        if self._watch.passed(now, self.tally.last_arrival, self.detector.config.max_gap) \
+        config = self.detector.config
+        if self._watch.passed(now, self.tally.last_arrival, config.max_gap,
+                              kept_flight_span(config.prediction_window)) \
                 or self._silent_locked(now):
             self._set_predicting(False)
 

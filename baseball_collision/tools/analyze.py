@@ -31,13 +31,14 @@ import numpy as np
 from .events import event_kind
 from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
-    compare_truth, LEADS_S, load_truth, PredictionIndex, truth_path,
+    compare_truth, LEADS_S, load_truth, PredictionIndex, silence_clearings, truth_path,
     TruthComparison)
 from ..bags import BagReader, BagWriter, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
 from ..core.detector.chunks import ROLE_CODES
+from ..core.detector.predictor import kept_flight_span
 from ..errors import BagError, ToolError
 
 PROGRESS_MIN_MESSAGES = 100_000
@@ -227,9 +228,16 @@ class BagAnalysis:
         truths = {}
         if self.truth is not None:
             truths = {impact.stamp_ns: truth for truth, impact in self.truth.matched}
-        # (a reset ends the prediction in force too: the node turns ~/impact_predicted off)
-        index = PredictionIndex(self.predictions, [event.made_at_ns for event in self.cleared]
-                                + [reset.stamp_ns for reset in self.resets])
+        # (a reset ends the prediction in force too: the node turns ~/impact_predicted off;
+        # and a ball silent past its flight's span, as the node's does: silence_clearings)
+        cleared = [event.made_at_ns for event in self.cleared] + [
+            reset.stamp_ns for reset in self.resets]
+        index = PredictionIndex(self.predictions, cleared)
+        silences = silence_clearings(
+            index, [(gap.start_ns, gap.end_ns) for gap in self.gaps if gap.stream == 'ball'],
+            self.config.max_gap, kept_flight_span(self.config.prediction_window))
+        if silences:
+            index = PredictionIndex(self.predictions, cleared + silences)
         scores = []
         for impact in self.impacts:
             truth = truths.get(impact.stamp_ns)

@@ -366,6 +366,28 @@ class PredictionIndex:
         return result
 
 
+def silence_clearings(index: PredictionIndex, ball_gaps: Sequence[Tuple[int, int]],
+                      max_gap: float, flight_span: float) -> List[int]:
+    """
+    Return when the node's ``~/impact_predicted`` ends a prediction for the ball's silence (ns).
+
+    The node's rule (``ros.prediction_watch.PredictionWatch.passed``) on the stamps, the ball
+    no later than the bat: across a ball gap (its sample before, its next, ns) the prediction in
+    force at the gap's start ends once the stamps pass its instant + ``max_gap`` and the gap's
+    start + ``flight_span`` (s, ``predictor.kept_flight_span``: the flight before the silence
+    holds till then, and a paused tracker may still bring the contact), where that comes before
+    the ball's next sample. (The node's bat takes a sample or two more; the detector itself
+    clears a prediction at its next frame that predicts, after the gap.)
+    """
+    span, gap_ns = round(flight_span * 1e9), round(max_gap * 1e9)
+    ends = []
+    for start, end in ball_gaps:
+        held = index.in_force(start)
+        if held is not None and (ends_at := max(start + span, held.stamp_ns + gap_ns)) < end:
+            ends.append(ends_at)
+    return ends
+
+
 def prediction_errors(predictions: Sequence[Prediction], cleared_ns: Sequence[int],
                       contact_ns: int, contact_point: Sequence[float],
                       leads_s: Sequence[float] = LEADS_S) -> Dict[float,

@@ -24,6 +24,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DROP_REASONS, PARAMETERS, PendingUncertainty
 from baseball_collision.core.detector import sweep as sweep_module
+from baseball_collision.core.detector.predictor import kept_flight_span
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.errors import RosError
@@ -879,8 +880,10 @@ def test_a_prediction_is_withdrawn_when_one_stream_stops_and_the_other_streams_o
     One stream is lost 8 ms before the predicted contact, the other streams on: the flag goes off.
 
     The ball lost: once the bat passed the predicted instant by ``max_gap`` and the ball has
-    been silent longer than its lag behind the bat plus ``max_gap`` (``PredictionWatch``):
-    an arm learns at once that no contact is coming, not a ``stale_timeout`` (30 s here) later.
+    been silent longer than its lag behind the bat plus ``max_gap``, and the bat passed the
+    ball's last stamp by the span its flight holds unseen (``PredictionWatch``,
+    ``kept_flight_span``: a paused tracker may still bring the contact till then): an arm
+    learns that no contact is coming then, not a ``stale_timeout`` (30 s here) later.
     The bat lost: once it has been silent beyond ``stale_timeout`` (0.3 s), at a ball message
     (the diagnostics period, whose timer also checks it, is far off here).
     """
@@ -910,6 +913,9 @@ def test_a_prediction_is_withdrawn_when_one_stream_stops_and_the_other_streams_o
     assert not h.received['predicting'][-1].data, 'the prediction was not withdrawn'
     assert len(withdrawn_at) == 1
     assert withdrawn_at[0] > passed or lost == 'bat_pose'  # not before the bat passed
+    held = h.node._watch.ball_newest_ns + round(
+        kept_flight_span(h.node.detector.config.prediction_window) * 1e9)
+    assert withdrawn_at[0] > held or lost == 'bat_pose'  # nor while the ball's flight holds
     assert not h.received['impact']
 
 

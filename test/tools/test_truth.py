@@ -10,7 +10,7 @@ from baseball_collision.core.detector import NearMiss, Prediction
 from baseball_collision.errors import ToolError
 from baseball_collision.tools.truth import (
     compare_truth, LEADS_S, load_truth, match_pitch, prediction_errors, PredictionIndex,
-    TRUTH_FORMAT, truth_path)
+    silence_clearings, TRUTH_FORMAT, truth_path)
 import pytest
 from support import REPO_ROOT
 
@@ -110,6 +110,14 @@ def test_truth_files_are_checked(tmp_path: Path) -> None:
             load_truth(path)
 
 
+def predicted(made_at_ns: int, stamp_ns: int) -> Prediction:
+    """Return a prediction of a contact at ``stamp_ns`` made at ``made_at_ns``."""
+    return Prediction(stamp_ns=stamp_ns, made_at_ns=made_at_ns, lead_s=0.0,
+                      point=(0.0, 0.0, 0.01), normal=(0.0, 0.0, 1.0), bat_fraction=0.9,
+                      distance_from_tip_m=0.1, ball_position=(0.0, 0.0, 0.0),
+                      ball_velocity=(0.0, 0.0, 0.0), planned=False)
+
+
 def test_predictions_are_scored_by_the_one_in_force_at_each_lead() -> None:
     """
     Per lead: the last prediction made that far ahead, unless cleared since; else None.
@@ -118,11 +126,6 @@ def test_predictions_are_scored_by_the_one_in_force_at_each_lead() -> None:
     clearing, however many frames in between did not predict (a bat tracked faster than the
     ball, a prediction period).
     """
-    def predicted(made_at_ns: int, stamp_ns: int) -> Prediction:
-        return Prediction(stamp_ns=stamp_ns, made_at_ns=made_at_ns, lead_s=0.0,
-                          point=(0.0, 0.0, 0.01), normal=(0.0, 0.0, 1.0), bat_fraction=0.9,
-                          distance_from_tip_m=0.1, ball_position=(0.0, 0.0, 0.0),
-                          ball_velocity=(0.0, 0.0, 0.0), planned=False)
     contact = 1_000_000_000
     made = [predicted(contact - 150_000_000, contact + 2_000_000),
             predicted(contact - 30_000_000, contact - 1_000_000)]
@@ -141,6 +144,26 @@ def test_predictions_are_scored_by_the_one_in_force_at_each_lead() -> None:
     assert index.in_force(contact + 5_000_000) is None
     late = index.errors(contact, (0.0, 0.0, 0.0), window_ns=100_000_000)
     assert late[0.1] is None and late[0.02] is not None  # made 150 ms before: not its own
+
+
+def test_a_ball_silent_past_its_flights_span_ends_the_prediction_in_force() -> None:
+    """
+    A ball gap longer than the flight span ends the prediction in force where the node's does.
+
+    At the gap's start + the span, or the prediction's instant + max_gap if later, where that
+    comes before the ball's next sample; a shorter gap (a tracker that paused and brings the
+    contact), or none in force at the gap's start, ends nothing.
+    """
+    ms = 1_000_000
+    made = [predicted(100 * ms, 300 * ms), predicted(700 * ms, 1_000 * ms)]
+    index = PredictionIndex(made)
+    gaps = [(50 * ms, 90 * ms), (250 * ms, 600 * ms), (720 * ms, 1_400 * ms),
+            (1_450 * ms, 1_600 * ms)]
+    assert silence_clearings(index, gaps, 0.05, 0.215) == [465 * ms, 1_050 * ms]
+    assert silence_clearings(index, gaps, 0.05, 0.0) == [350 * ms, 1_050 * ms, 1_450 * ms]
+    ended = PredictionIndex(made, silence_clearings(index, gaps, 0.05, 0.215))
+    assert ended.in_force(464 * ms) is made[0] and ended.in_force(465 * ms) is None
+    assert ended.in_force(1_049 * ms) is made[1] and ended.in_force(1_050 * ms) is None
 
 
 def _damaged(text: str) -> str:

@@ -54,6 +54,7 @@ from .fitting import c2_window, stream_noise
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .streams import Stream
+from .sweep_ball import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
     ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
@@ -89,6 +90,33 @@ judges."""
 PREDICTION_DEGREE = 3
 """Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
 where higher degrees amplify tracking noise (at 90 Hz with 1 mm noise they lose the swing)."""
+
+
+def kept_flight_span(window: float) -> float:
+    """
+    Return how long (s) after a ball's last sample the parabola of its last ``window`` s holds.
+
+    How long a pitch's flight may go unseen (its tracker paused, or lost it) with the forecast
+    from its samples before the silence still good: till the flight, its acceleration changing
+    by ``sweep_ball.GAP_FLIGHT_JERK`` the whole time, may have drifted from that parabola by
+    ``GAP_FLIGHT_BIAS`` (a ball's radius: the sweep's bound on a flight kept across a tracking
+    gap). The parabola a least-squares fit over the window's span W (samples spread evenly):
+    it misses the cubic ``jerk u^3 / 6`` (u from the last sample, -W to 0) by
+    ``jerk W^3 P3(1 + 2u / W) / 120`` (P3 the Legendre polynomial ``(5 y^3 - 3 y) / 2``: the
+    cubic's part no parabola fits), at u = s continued past the last sample. 0.215 s for the
+    0.1 s ``prediction_window`` (0.19 s for a 0.15 s flight, as ``sweep_ball`` says; 0.263 s,
+    the bare cubic's, as W goes to 0); 0 where the fit misses by that at its last sample.
+
+    :param window: s, the span of the latest ball samples a forecast fits (> 0).
+    """
+    size = 120.0 * GAP_FLIGHT_BIAS / (GAP_FLIGHT_JERK * window ** 3)  # P3(y) at the bound
+    if size <= 1.0:  # (P3(1) = 1: missed by that at the last sample already)
+        return 0.0
+    # the real root of 5 y^3 - 3 y - 2 size = 0 (Cardano; one, since size > 1 / sqrt(5))
+    half, root = 0.2 * size, math.sqrt(0.04 * size * size - 0.008)
+    y = math.copysign(abs(half + root) ** (1 / 3), half + root) + math.copysign(
+        abs(half - root) ** (1 / 3), half - root)
+    return 0.5 * (y - 1.0) * window
 
 
 class Predictor:

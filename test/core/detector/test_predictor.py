@@ -10,8 +10,10 @@ from baseball_collision.core.detector import (
 from baseball_collision.core.detector.events import DropReason
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import turn_rows
-from baseball_collision.core.detector.predictor import PREDICTION_CHORD_FACTOR, Predictor
+from baseball_collision.core.detector.predictor import (
+    kept_flight_span, PREDICTION_CHORD_FACTOR, Predictor)
 from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.detector.sweep_ball import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
     BallForecast, BatForecast, MAX_PLAN_POSES, PlannedBat)
@@ -339,3 +341,31 @@ def test_a_bat_glitch_the_window_cannot_judge_is_left_out_till_it_is_judged(
     assert made[0] == made[1]
     ahead = [stamp for made_at, stamp in made[1] if made_at <= contact - 0.02e9]
     assert ahead[-1] is not None and abs(ahead[-1] - contact) < 0.001e9
+
+
+@pytest.mark.parametrize('window', [0.02, 0.1, 0.15, 0.3])
+def test_the_kept_flight_span_is_where_the_parabola_drifts_a_balls_radius(window: float) -> None:
+    """
+    The parabola fitted to a flight's last ``window`` s, its acceleration changing by the jerk.
+
+    Continued past the last sample (360 Hz stamps), the fit of the cubic ``jerk u^3 / 6`` misses
+    it by ``GAP_FLIGHT_BIAS`` at the span (to 1 ms), not before.
+    """
+    span = kept_flight_span(window)
+    stamps = np.arange(-window, 1e-12, 1.0 / 360.0)
+    stamps -= stamps[-1]
+    fit = np.polyfit(stamps, GAP_FLIGHT_JERK / 6.0 * stamps ** 3, 2)
+    after = np.linspace(0.0, 0.5, 50_001)
+    drift = np.abs(GAP_FLIGHT_JERK / 6.0 * after ** 3 - np.polyval(fit, after))
+    assert after[np.argmax(drift > GAP_FLIGHT_BIAS)] == pytest.approx(span, abs=1e-3)
+
+
+def test_the_kept_flight_span_by_window() -> None:
+    """0.215 s for the default window, less for longer ones, the bare cubic's at most; 0 past."""
+    assert kept_flight_span(0.1) == pytest.approx(0.2154, abs=1e-4)
+    assert kept_flight_span(0.15) == pytest.approx(0.193, abs=1e-3)  # (sweep_ball's 0.19 s)
+    bare = (6.0 * GAP_FLIGHT_BIAS / GAP_FLIGHT_JERK) ** (1 / 3)
+    assert kept_flight_span(0.001) == pytest.approx(bare, abs=1e-3)
+    spans = [kept_flight_span(w) for w in (0.001, 0.05, 0.1, 0.2, 0.4, 0.6)]
+    assert spans == sorted(spans, reverse=True) and spans[-1] > 0.0
+    assert kept_flight_span(1.0) == 0.0
