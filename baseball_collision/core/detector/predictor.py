@@ -51,10 +51,10 @@ from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
 from .fitting import c2_window, stream_noise
+from .gap_flight import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .streams import Stream
-from .sweep_ball import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
     ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
@@ -98,13 +98,13 @@ def kept_flight_span(window: float) -> float:
 
     How long a pitch's flight may go unseen (its tracker paused, or lost it) with the forecast
     from its samples before the silence still good: till the flight, its acceleration changing
-    by ``sweep_ball.GAP_FLIGHT_JERK`` the whole time, may have drifted from that parabola by
+    by ``gap_flight.GAP_FLIGHT_JERK`` the whole time, may have drifted from that parabola by
     ``GAP_FLIGHT_BIAS`` (a ball's radius: the sweep's bound on a flight kept across a tracking
     gap). The parabola a least-squares fit over the window's span W (samples spread evenly):
     it misses the cubic ``jerk u^3 / 6`` (u from the last sample, -W to 0) by
     ``jerk W^3 P3(1 + 2u / W) / 120`` (P3 the Legendre polynomial ``(5 y^3 - 3 y) / 2``: the
     cubic's part no parabola fits), at u = s continued past the last sample. 0.215 s for the
-    0.1 s ``prediction_window`` (0.19 s for a 0.15 s flight, as ``sweep_ball`` says; 0.263 s,
+    0.1 s ``prediction_window`` (0.19 s for a 0.15 s flight, as ``gap_flight`` says; 0.263 s,
     the bare cubic's, as W goes to 0); 0 where the fit misses by that at its last sample.
 
     :param window: s, the span of the latest ball samples a forecast fits (> 0).
