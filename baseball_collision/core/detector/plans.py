@@ -5,15 +5,14 @@ A chunk's plan: what its samples do if each is accepted, computed on arrays.
 accepted: which pass every check with room to spare (the value checks, the frame, the
 intake's stamp rules, the speed bound), where the watermark and the cursor go after each,
 which union intervals that walk visits, and which of those the sweep's far tests clear with
-room to spare: the first (``broadphase.apart_margins``, the scalar ``clearly_apart`` on
-arrays: bounding spheres and hulls of the raw samples), then where it does not, the second
-(``broadphase.path_margins``: the motion paths' spheres, as ``Sweep.interval`` builds them);
-and how each step trims the streams. Every other sample (a drop, a held or voted one, one
-that makes a near interval decidable) is a *stop*. A sample stamped as its stream's sample
-before it (a duplicate: a relay sending a message twice), whose values and frame pass, is
-planned as the per-sample path drops it (``duplicate_stamp``: its stream, the walk and the
-intake stay as they were): in no stream, no stop (``Plan.duplicates``); unless the sample
-before it is held (below), which the duplicate would take. A stream's first sample after a
+room to spare (``plan_far``: the first, ``broadphase.apart_margins``, then where it does not,
+the second, ``broadphase.path_margins``); and how each step trims the streams. Every other
+sample (a drop, a held or voted one, one that makes a near interval decidable) is a *stop*.
+A sample stamped as its stream's sample before it (a duplicate: a relay sending a message
+twice), whose values and frame pass, is planned as the per-sample path drops it
+(``duplicate_stamp``: its stream, the walk and the intake stay as they were): in no stream,
+no stop (``Plan.duplicates``); unless the sample before it is held (below), which the
+duplicate would take. A stream's first sample after a
 gap is planned as the intake takes it: held until the stream's next sample, which takes both (a
 pause between pitches does not end a plan); neither is a stop (the fast-forward that takes
 the second appends both, the first starting a segment), unless the second is one, or with
@@ -31,8 +30,8 @@ path. Only pose input with the ``linear``, ``rigid``, ``spline`` and ``c2`` mode
 
 The passes over a chunk's thousands of samples are numpy's, and the compiled kernel's
 (``toi._kernel``) where numpy took many passes for one rule: the chunk's rows and value
-checks (``plan_rows``), the order checks, the trims, the searches of ascending keys and the
-``c2`` far test (``broadphase.arrays``).
+checks (``plan_rows``), the order checks, the trims, the searches of ascending keys
+(``plan_far.search_right``) and the ``c2`` far test (``broadphase.arrays``).
 """
 
 from bisect import bisect_left
@@ -40,18 +39,17 @@ from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from .broadphase import apart_margins, NOISE_REACH, path_margins
 from .broadphase.arrays import SLACK
 from .config import DetectorConfig
-from .departure import DEPARTURE_FLOOR, departure_reaches
 from .events import Role
 from .gate import FAR_AHEAD_NS
 from .noise import NoiseEstimate
+from .plan_far import near_samples, search_right
 from .plan_order import duplicates_pass, held_gaps, order_checks, ordered
 from .plan_prediction import prediction_stops
 from .predictor import Predictor
 from .streams import SILENT_KEEP, Stream, TRIM_LEAVES
-from ..geometry import norm, Vector
+from ..geometry import Vector
 from ..motion import samples_ahead
 from ..toi import _kernel
 
@@ -221,7 +219,7 @@ def plan_chunk(config: DetectorConfig, offsets: Tuple[Vector, Vector], origin: i
         float64, a point in the first 3 columns; ``frames``: each sample's frame_id.
     :param predictor: the detector's, when prediction is on (``prediction_horizon`` > 0).
     :param noise: the detector's noise estimators under ``tracker_noise`` auto (``c2``'s far
-        test bounds what they may say by then: ``_hull_reaches``).
+        test bounds what they may say by then: ``plan_far``).
     :param newest: the intake's newest stamp taken (ns; ``Intake.newest``, which a sample
         after a gap must pass to be held; None: the streams' newest).
     """
@@ -314,15 +312,11 @@ def _far_stops(config: DetectorConfig, offsets: Tuple[Vector, Vector], plan: Pla
     Return the stops of the checks, the far tests and the trims (a bool a sample).
 
     A sample that fails a check (``ok``), one whose walk visits a union interval the far
-    tests do not clear (``_far_intervals``, ``_hull_reaches``), and one that makes a step
+    tests do not clear (``plan_far.near_samples``), and one that makes a step
     whose trim may leave a stream silent (``_trim_starts``, which sets the plan's trims).
     """
-    n = plan.n
-    starts = plan.union[:int(plan.visited[-1]) - 1] if n else plan.union[:0]
-    far = _far_intervals(config, offsets, arrays, starts, _hull_reaches(
-        config, plan, arrays, is_ball, is_bat, ok, len(starts), noise))
     stops = ~ok
-    stops[_visiting(plan.visited, np.flatnonzero(~far) + 1, n)] = True
+    stops[near_samples(config, offsets, plan, arrays, is_ball, is_bat, ok, noise)] = True
     stops |= _trim_starts(config, plan, arrays, done, counts, visited)
     return stops
 
@@ -507,101 +501,9 @@ def _walk(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarra
     union = np.sort(np.concatenate(arrays.times), kind='stable')
     union = union[np.concatenate(([True], union[1:] != union[:-1]))]
     plan.union = union = np.concatenate(([cursor], union[union > cursor]))
-    visited = np.maximum(_search_right(union, watermark), 1)
+    visited = np.maximum(search_right(union, watermark), 1)
     plan.visited = visited[done] if held else visited[1:]
     return done, counts, visited
-
-
-def _hull_reaches(config: DetectorConfig, plan: Plan, arrays: Arrays, is_ball: np.ndarray,
-                  is_bat: np.ndarray, ok: np.ndarray, count: int,
-                  noise: Optional[Tuple[NoiseEstimate, NoiseEstimate]]
-                  ) -> Optional[np.ndarray]:
-    """
-    Return what ``c2``'s far test takes off the hulls for smoothing per union interval (m).
-
-    The sweep's takes ``NOISE_REACH`` times the ball's and the bat's noise as they are when it
-    sweeps the interval: ``tracker_noise`` when told; under auto, each stream's estimate after
-    its newest sample at the step whose walk visits the interval (``_visiting``), at most its
-    ``NoiseEstimate.bounds`` (every sample the plan does not take with room to spare may start
-    a segment). None: no hulls (another model, or auto without the estimators).
-    """
-    if config.model != 'c2':
-        return None
-    if config.tracker_noise >= 0.0:
-        return np.full(count, NOISE_REACH * 2.0 * config.tracker_noise)
-    if noise is None:
-        return None
-    steps = np.minimum(np.searchsorted(plan.visited, np.arange(count) + 1, 'right'),
-                       len(ok) - 1)  # (every interval up to the last is visited: ``_visiting``)
-    reach = np.zeros(count)
-    for s, (mine, points) in enumerate(((is_ball, arrays.ball), (is_bat, arrays.positions))):
-        pre = arrays.pre[s]
-        breaks = arrays.breaks[s].copy()
-        breaks[pre:] |= ~ok[mine][:len(breaks) - pre]
-        # (first the estimate now: after a kept sample, none of the chunk's taken yet)
-        bounds = np.concatenate(([noise[s].sigma], noise[s].bounds(arrays.times[s], points,
-                                                                   breaks, pre)))
-        reach += bounds[np.asarray(plan.counts[s])[steps] - pre]
-    return NOISE_REACH * reach
-
-
-def _far_intervals(config: DetectorConfig, offsets: Tuple[Vector, Vector], arrays: Arrays,
-                   starts: np.ndarray, hull_reach: Optional[np.ndarray] = None) -> np.ndarray:
-    """
-    Return which union intervals (by their start times, s) the sweep's far tests clear.
-
-    Both streams without a gap over them, then the first test (``apart_margins``) or, where it
-    does not clear, the second (``path_margins``), each by ``SLACK`` more than the sweep's
-    margin. ``hull_reach``: ``c2``'s allowance for smoothing off the hulls (m, per interval;
-    None: no hulls).
-    """
-    far = np.ones(len(starts), bool)
-    located, segments = [], []
-    # (the neighbours in a segment: the spline's bulges and the rigid and spline paths' spheres
-    # read them; the linear and c2 far tests do not, and are given -1: none)
-    neighbours = config.model in ('rigid', 'spline')
-    for s in (0, 1):
-        k = _search_right(arrays.times[s], starts) - 1
-        times, cut = arrays.times[s], arrays.breaks[s]
-        closed = _closed(times, cut, config.max_gap)
-        far &= _continuous(closed, k)
-        if neighbours:
-            before = np.where((k >= 1) & _continuous(closed, k - 1), k - 1, -1)
-            after = np.where(_continuous(closed, k + 1), k + 2, -1)
-        else:
-            before = after = np.full(len(k), -1)
-        located.append((k, before, after))
-        segments.append(closed)
-    if not len(starts):
-        return far
-    (ball_k, ball_before, ball_after), (bat_k, bat_before, bat_after) = located
-    margin = (config.ball_radius + config.profile.max_radius + 1e-6
-              + max(config.near_miss_threshold, config.rearm_distance))
-    with np.errstate(all='ignore'):
-        margin += SLACK * (1.0 + float(np.abs(arrays.ball).max(initial=0.0))
-                           + float(np.abs(arrays.tips).max(initial=0.0)))
-        clear = far & (apart_margins(
-            arrays.ball, arrays.knobs, arrays.tips, arrays.positions, ball_k, bat_k,
-            ball_before, ball_after, bat_before, bat_after, arrays.times[0], arrays.times[1],
-            config.model, config.look_ahead, config.spline_window, margin,
-            tuple(segments), hull_reach) > margin)
-        # the sweep's second test (the motion paths' spheres) where the first did not clear
-        # (c2's second stage is apart_margins' own)
-        # (nor, for the spline, before a departure: its tangent there skips the sample after)
-        near = np.flatnonzero(far & ~clear) if config.model not in ('linear', 'c2') else []
-        if len(near):
-            # the ball's free flight where it has left it (``departure``), as apart_margins
-            reach = departure_reaches(arrays.ball, arrays.times[0], ball_k[near], segments[0])
-            ahead = departure_reaches(arrays.ball, arrays.times[0], np.minimum(
-                ball_k[near] + 1, len(arrays.times[0]) - 2), segments[0])
-            clear[near] = (path_margins(
-                arrays.ball, arrays.knobs, arrays.tips, arrays.quaternions, ball_k[near],
-                bat_k[near], ball_before[near], ball_after[near], bat_before[near],
-                bat_after[near], arrays.times[0], arrays.times[1], config.model,
-                max(map(norm, offsets))) - reach > margin)
-            if config.model == 'spline':
-                clear[near] &= ~(ahead > DEPARTURE_FLOOR)
-    return clear
 
 
 def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.ndarray,
@@ -616,7 +518,7 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     plan.starts, plan.step_starts = [], [None, None]
     silent = np.zeros(len(visited), bool)
     for s in (0, 1):
-        cuts = np.minimum(_search_right(arrays.times[s], cursors - history) - TRIM_KEEP,
+        cuts = np.minimum(search_right(arrays.times[s], cursors - history) - TRIM_KEEP,
                           counts[s][1:] - TRIM_LEAVES)
         starts, lengths = _trims(counts[s][1:], cuts)
         plan.step_starts[s] = np.concatenate(([0], starts))
@@ -625,25 +527,6 @@ def _trim_starts(config: DetectorConfig, plan: Plan, arrays: Arrays, done: np.nd
     # a sample stops where a step it makes (its own, or a held sample's it takes) is silent
     made = np.cumsum(silent)
     return made[done] > made[np.concatenate(([0], done[:-1]))]
-
-
-def _visiting(visited: np.ndarray, intervals: np.ndarray, n: int) -> np.ndarray:
-    """Return the samples whose walk visits the given intervals (m: the m-th union time)."""
-    steps = np.searchsorted(visited, intervals, 'right')
-    return steps[steps < n]
-
-
-def _closed(times: np.ndarray, breaks: np.ndarray, max_gap: float) -> np.ndarray:
-    """``Stream.continuous`` over each of a stream's sample intervals (i, i + 1)."""
-    return ~breaks[1:] & (times[1:] - times[:-1] <= max_gap)
-
-
-def _continuous(closed: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """``Stream.continuous`` over many k (False where k or k + 1 is out of range)."""
-    inside = (k >= 0) & (k < len(closed))
-    if not len(closed):
-        return inside
-    return inside & closed[np.where(inside, k, 0)]
 
 
 def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -659,16 +542,3 @@ def _trims(counts: np.ndarray, cuts: np.ndarray) -> Tuple[np.ndarray, np.ndarray
     _kernel.trims(np.ascontiguousarray(counts, dtype=np.int64),
                   np.ascontiguousarray(cuts, dtype=np.int64), TRIM_FROM, after, lengths)
     return after, lengths
-
-
-def _search_right(times: np.ndarray, keys: np.ndarray) -> np.ndarray:
-    """
-    Return ``np.searchsorted(times, keys, 'right')`` (int64), for ascending times and keys (s).
-
-    The kernel's ``sorted_search``: a walk from each key's place to the next (a binary search
-    each cost 4x more on a chunk's thousands of keys), the same indices.
-    """
-    found = np.empty(len(keys), np.int64)
-    _kernel.sorted_search(np.ascontiguousarray(times, dtype=float),
-                          np.ascontiguousarray(keys, dtype=float), True, found)
-    return found

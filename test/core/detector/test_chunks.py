@@ -20,6 +20,7 @@ from baseball_collision.core.detector.broadphase import apart_margins, clearly_a
 import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.events import DropReason
 from baseball_collision.core.detector.noise import ESTIMATES, HISTORY, POSE_SPAN
+from baseball_collision.core.detector.plan_far import _closed
 import baseball_collision.core.detector.plans as plans_module
 from baseball_collision.core.detector.predictor import BEFORE, NEWEST, Predictor
 from baseball_collision.core.detector.streams import Stream
@@ -888,7 +889,7 @@ def test_vectorised_c2_far_test_across_segments_is_confirmed_by_the_scalar_one(
     times = np.concatenate(([0.0], np.cumsum(steps)))
     ball, bat, balls, knobs, tips = _c2_streams(times, breaks, start, velocity, spin, tilt,
                                                 jitter, seed)
-    closed = plans_module._closed(times, np.array(breaks), max_gap)
+    closed = _closed(times, np.array(breaks), max_gap)
     ks = np.arange(len(times) - 1)
     none = np.full(len(ks), -1)
     clearance = apart_margins(balls, knobs, tips, None, ks, ks, none, none, none, none, times,
@@ -914,7 +915,7 @@ def test_vectorised_c2_far_test_clears_a_segment_start_after_a_pause() -> None:
     breaks = [False] * len(times)
     ball, bat, balls, knobs, tips = _c2_streams(times, breaks, (5.0, 0.0, 1.0), 1.0, 20.0,
                                                 1.0, 0.0, 1)
-    closed = plans_module._closed(times, np.array(breaks), 0.05)
+    closed = _closed(times, np.array(breaks), 0.05)
     ks = np.flatnonzero(closed)
     none = np.full(len(ks), -1)
     arguments = (balls, knobs, tips, None, ks, ks, none, none, none, none, times, times, 'c2',

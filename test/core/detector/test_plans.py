@@ -3,9 +3,9 @@ Tests for baseball_collision.core.detector.plans: a chunk's plan computed on arr
 
 Its array steps against the scalar code they stand for: the chunk's rows (``gate.unit_pose``
 and ``geometry.pose_point``, to the bit), the value checks, the trims after each step
-(``Stream.trim``). The order checks and held samples: test_plan_order.py; the forecasts'
-windows: test_plan_prediction.py. The plan as a whole is tested by feeding chunks
-(test_chunks.py): the same as one sample at a time.
+(``Stream.trim``). The order checks and held samples: test_plan_order.py; the far tests:
+test_plan_far.py; the forecasts' windows: test_plan_prediction.py. The plan as a whole is
+tested by feeding chunks (test_chunks.py): the same as one sample at a time.
 """
 
 import math
@@ -13,7 +13,7 @@ from typing import List, Tuple
 
 from baseball_collision.core.detector.gate import FAR_AHEAD_NS, unit_pose
 from baseball_collision.core.detector.plans import (
-    _closed, _continuous, _trims, BALL, BAT_POSE, items, SLACK, TRIM_FROM, TRIM_KEEP)
+    _trims, BALL, BAT_POSE, items, SLACK, TRIM_FROM, TRIM_KEEP)
 from baseball_collision.core.detector.streams import Stream, TRIM_LEAVES
 from baseball_collision.core.geometry import pose_point
 from baseball_collision.core.toi import _kernel
@@ -191,20 +191,6 @@ def test_plan_rows_refuses_outputs_that_do_not_hold_the_chunk() -> None:
         _plan_rows(roles.astype(np.int64), stamps, values, 0, ((0.0, 0.0, 0.0),) * 2, (0, 0))
 
 
-@settings(max_examples=examples(200), deadline=None)
-@given(st.lists(st.tuples(st.floats(0.0, 0.05), st.booleans()), min_size=1, max_size=60),
-       st.lists(st.integers(-3, 64), max_size=40), st.floats(0.0, 0.05))
-def test_continuous_is_the_stream_rule(samples: List[Tuple[float, bool]], ks: List[int],
-                                       max_gap: float) -> None:
-    """``_continuous`` from ``_closed``: k and k + 1 in range, no break at k + 1, a short step."""
-    times = np.cumsum([step for step, _ in samples])
-    breaks = np.array([cut for _, cut in samples])
-    k = np.array(ks, dtype=np.int64)
-    got = _continuous(_closed(times, breaks, max_gap), k).tolist()
-    assert got == [0 <= j and j + 1 < len(times) and not breaks[j + 1]
-                   and bool(times[j + 1] - times[j] <= max_gap) for j in ks]
-
-
 @pytest.mark.parametrize('values', [[3, -1, 2**40], [0.5, -0.0, 1e300], [True, False], []])
 def test_items_read_as_the_list(values: list) -> None:
     """``items``: each value as ``tolist()`` gives it (the same type), negative j, the length."""
@@ -219,25 +205,3 @@ def test_items_read_as_the_list(values: list) -> None:
         assert items(np.array(values)[::-1])[0] == listed[-1]  # (a strided view, made contiguous)
     with pytest.raises(IndexError):
         read[len(listed)]
-
-
-@settings(max_examples=examples(300), deadline=None)
-@given(array=st.lists(st.one_of(st.floats(-3.0, 3.0), st.sampled_from(
-    [0.0, 1.0, np.inf, -np.inf, np.nan])), max_size=40),
-       keys=st.lists(st.one_of(st.floats(-4.0, 4.0), st.sampled_from(
-           [0.0, 1.0, np.inf, -np.inf, np.nan])), max_size=40),
-       ascending=st.booleans(), right=st.booleans())
-def test_sorted_search_is_numpys_searchsorted(array: List[float], keys: List[float],
-                                              ascending: bool, right: bool) -> None:
-    """
-    The kernel's ``sorted_search``: ``np.searchsorted`` (NaN last), keys ascending or not.
-
-    Equal entries, infinities and NaN in both.
-    """
-    values = np.sort(np.array(array, dtype=float))
-    wanted = np.array(keys, dtype=float)
-    if ascending:
-        wanted = np.sort(wanted)
-    found = np.empty(len(wanted), np.int64)
-    _kernel.sorted_search(values, wanted, right, found)
-    assert found.tolist() == np.searchsorted(values, wanted, 'right' if right else 'left').tolist()
