@@ -11,6 +11,7 @@ import os
 from pathlib import Path
 import subprocess
 import sys
+import threading
 from typing import List
 
 from baseball_collision.tools.ending import end_process, open_for_writing, other_threads
@@ -93,8 +94,20 @@ def test_standard_output_that_cannot_be_flushed_is_reported_as_before() -> None:
 
 
 def test_in_this_process_nothing_is_to_be_waited_for(tmp_path: Path) -> None:
-    """The checks themselves: this process's open file is seen, then not once closed."""
-    assert other_threads() == []
+    """The checks themselves: a live thread and an open file are seen, then not once done."""
+    # (another test in this worker may have left threads, e.g. the batch solver's pool)
+    release = threading.Event()
+    waiting = threading.Thread(target=release.wait)
+    daemon = threading.Thread(target=release.wait, daemon=True)
+    waiting.start()
+    daemon.start()
+    try:
+        assert waiting in other_threads() and daemon not in other_threads()
+    finally:
+        release.set()
+        waiting.join()
+        daemon.join()
+    assert waiting not in other_threads()
     with open(tmp_path / 'f', 'w') as out:
         assert any(found is out for found in open_for_writing())
     assert not any(found is out for found in open_for_writing())
