@@ -201,6 +201,9 @@ def test_only_analyze_ends_at_once() -> None:
 
 INTERRUPTED = """
 import os
+# (Ctrl-C as at a terminal: a shell without job control starts its background jobs with
+# SIGINT ignored, and an interpreter started so leaves it ignored)
+signal.signal(signal.SIGINT, signal.default_int_handler)
 from baseball_collision.tools import many_bags
 real = many_bags.analyze_bag
 def analyze_then_signal(*args, **kwargs):
