@@ -10,6 +10,8 @@ import math
 from typing import Callable, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import BatProfile, WOOD_BAT_34
+from baseball_collision.core.detector.streams import Stream
+from baseball_collision.core.motion import BatSample
 from baseball_collision.core.toi import profile_gap
 from hypothesis import strategies as st
 import numpy as np
@@ -24,6 +26,19 @@ def swing(t: float) -> Tuple[np.ndarray, np.ndarray]:
     angle = -1.2 + 30.0 * t + 100.0 * t * t
     knob = np.array([0.0, 2.0 * t, 1.0])
     return knob, knob + LENGTH * np.array([math.cos(angle), math.sin(angle), 0.0])
+
+
+def turning_bat(rate: float, count: int, turned: int = -1, off: float = 0.0) -> Stream:
+    """Return a bat stream turning at 40 rad/s about its knob, frame ``turned`` moved ``off``."""
+    bat = Stream('bat')
+    for i in range(count):
+        t = i / rate
+        angle = 40.0 * t + 100.0 * t * t
+        knob = (0.2 * t, 0.0, 1.0)
+        tip = (knob[0] + 0.86 * math.cos(angle), 0.86 * math.sin(angle), 1.0 + (
+            off if i == turned else 0.0))
+        bat.append(t, int(round(t * 1e9)) + 1, BatSample(knob, tip), i == 0)
+    return bat
 
 
 def pose(t: float) -> Tuple[np.ndarray, np.ndarray]:

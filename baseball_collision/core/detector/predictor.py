@@ -45,8 +45,8 @@ from dataclasses import replace
 import math
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
-from .bat_glitches import (
-    first_glitch, glitch_floor, late_rule, REGULAR_STEP, segment_first)
+from .bat_glitch_edges import late_rule, segment_first
+from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -332,10 +332,10 @@ class Predictor:
         """
         Return the sweep's verdict on bat frame j where ``first_glitch`` cannot judge it.
 
-        A segment's 2nd to 8th frame (``bat_glitches.early``: ``early_glitch``), its first
+        A segment's 2nd to 8th frame (``bat_glitch_edges.early``: ``early_glitch``), its first
         (``segment_first``: ``first_frame_glitch``), a frame beside a hole over ``LOST_HOLE``
         (``beside_hole``: ``hole_glitch``), picked as the sweep picks them
-        (``bat_glitches.late_rule``): True, a glitch; False, none; None, the frames after it
+        (``bat_glitch_edges.late_rule``): True, a glitch; False, none; None, the frames after it
         that the rule reads have not all come. ``NOT_LATE``: none of those (``first_glitch``
         judges it).
         """
@@ -422,7 +422,7 @@ class Predictor:
         """
         Return whether bat frames [first, end) begin their segment, among regular steps.
 
-        Frame ``first`` its segment's first (``bat_glitches.segment_first``: the tracker
+        Frame ``first`` its segment's first (``bat_glitch_edges.segment_first``: the tracker
         re-acquired the bat), each step at most ``REGULAR_STEP`` times another: a window short
         for the segment's sake, not across frames lost.
         """

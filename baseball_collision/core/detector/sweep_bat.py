@@ -16,7 +16,7 @@ from bisect import bisect_left
 import math
 from typing import Optional, Tuple
 
-from . import bat_glitches
+from . import bat_glitch_edges, bat_glitches
 from .events import DropReason, Role
 from .fitting import c2_bat_path, c2_window, stream_noise
 from .noise import ESTIMATES
@@ -72,11 +72,12 @@ class BatFrames:
         Judge the bat frames a contact over bat interval bat_k hangs on that need later frames.
 
         Its window's frames up to ``_horizon``, the newest first, among a segment's first
-        (``bat_glitches.early``: judged against the frames after them with time run backwards,
-        ``bat_glitches.early_glitch``; the very first, ``bat_glitches.segment_first``, by its
-        departure from the seven after it, ``bat_glitches.first_frame_glitch``) or beside a hole
-        over ``bat_glitches.LOST_HOLE`` (``bat_glitches.beside_hole``: judged with three frames
-        after them, ``bat_glitches.hole_glitch``), where ``paths`` (those to be swept: without
+        (``bat_glitch_edges.early``: judged against the frames after them with time run
+        backwards, ``bat_glitch_edges.early_glitch``; the very first,
+        ``bat_glitch_edges.segment_first``, by its departure from the seven after it,
+        ``bat_glitch_edges.first_frame_glitch``) or beside a hole over
+        ``bat_glitches.LOST_HOLE`` (``bat_glitch_edges.beside_hole``: judged with three frames
+        after them, ``bat_glitch_edges.hole_glitch``), where ``paths`` (those to be swept: without
         a frame that departed) and the paths without the frame disagree over the union interval (s)
         (``_hangs_on``): the first glitch is dropped and forgotten (True: the interval is to be
         located again). True too where those frames have not all come and the recording goes
@@ -86,7 +87,7 @@ class BatFrames:
         max_gap, size = config.max_gap, config.spline_window
         noise, last = stream_noise(bat, config), self._horizon(bat_k)
         for j in range(last, c2_window(bat, bat_k, max_gap, 0, size).start - 1, -1):
-            rule = bat_glitches.late_rule(bat, j, max_gap)
+            rule = bat_glitch_edges.late_rule(bat, j, max_gap)
             if rule is None:
                 continue
             judge, reads = rule

@@ -4,10 +4,10 @@ import math
 from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import (
-    bat_glitches, Detector, DetectorConfig, Impact, NearMiss)
+    bat_glitch_edges, Detector, DetectorConfig, Impact, NearMiss)
+from baseball_collision.core.detector.bat_glitch_edges import beside_hole, hole_glitch
 from baseball_collision.core.detector.bat_glitches import (
-    beside_hole, departed, departure, early, EARLY_AFTER, early_glitch, first_frame_glitch,
-    hole_glitch, isolation, judged, lost_about, path_without, regular, segment_first, stepped)
+    departed, departure, isolation, judged, lost_about, path_without, regular, stepped)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import excerpt, Stream
 from baseball_collision.core.motion import BatSample
@@ -17,6 +17,7 @@ from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
 from support.events import arrays, detect_late_drops
+from support.scenes import turning_bat
 
 NODE = DetectorConfig()
 OFFLINE = DetectorConfig(**OFFLINE_PARAMETERS)
@@ -141,19 +142,6 @@ def _alike_in_chunks(config: DetectorConfig, samples: Any) -> Tuple[Any, List[An
     return whole.stats.dropped, chunked
 
 
-def _turning(rate: float, count: int, turned: int = -1, off: float = 0.0) -> Stream:
-    """Return a bat stream turning at 40 rad/s about its knob, frame ``turned`` moved ``off``."""
-    bat = Stream('bat')
-    for i in range(count):
-        t = i / rate
-        angle = 40.0 * t + 100.0 * t * t
-        knob = (0.2 * t, 0.0, 1.0)
-        tip = (knob[0] + 0.86 * math.cos(angle), 0.86 * math.sin(angle), 1.0 + (
-            off if i == turned else 0.0))
-        bat.append(t, int(round(t * 1e9)) + 1, BatSample(knob, tip), i == 0)
-    return bat
-
-
 def test_a_frame_off_the_swing_is_departed_isolated_and_judged() -> None:
     """
     On a smooth swing the frame moved 15 cm is the first glitch; without it, there is none.
@@ -161,7 +149,7 @@ def test_a_frame_off_the_swing_is_departed_isolated_and_judged() -> None:
     (The frame after it, whose continuation and neighbours' spline run through it, reads as
     one too while it stays: the sweep judges the oldest first and forgets each glitch.)
     """
-    bat = _turning(90.0, 16, turned=10, off=0.15)
+    bat = turning_bat(90.0, 16, turned=10, off=0.15)
     assert departure(bat, 10, 0.05, 8, 0.0) > 0.1 and max(isolation(bat, 10, 0.05, 8)) > 0.1
     assert isolation(bat, 10, 0.05, 8)[0] < 1e-9  # (the knob was not moved)
     assert departed(bat, 10, 0.05, 8, 0.0) and not departed(bat, 9, 0.05, 8, 0.0)
@@ -169,38 +157,16 @@ def test_a_frame_off_the_swing_is_departed_isolated_and_judged() -> None:
     assert verdicts == [j == 10 for j in range(11)]
     bat.remove(10)
     assert not any(judged(bat, j, 0.05, 8, 0.0) for j in range(len(bat.times) - 1))
-    clean = _turning(90.0, 16)
+    clean = turning_bat(90.0, 16)
     assert max(departure(clean, j, 0.05, 8, 0.0) for j in range(16)) < 0.01
     assert max(max(isolation(clean, j, 0.05, 8)) for j in range(16)) < 0.002
 
 
 def test_a_segments_first_frames_are_not_judged() -> None:
     """Without three frames' scatter before it (a segment's first), a frame is no glitch."""
-    bat = _turning(90.0, 10, turned=4, off=0.15)
+    bat = turning_bat(90.0, 10, turned=4, off=0.15)
     assert departure(bat, 4, 0.05, 8, 0.0) > 0.1
     assert not judged(bat, 4, 0.05, 8, 0.0)
-
-
-def test_a_segments_early_frames_are_judged_against_the_frames_after_them() -> None:
-    """
-    ``early_glitch``: a segment's 2nd to 8th frames, with time run backwards.
-
-    The frame moved 15 cm is a glitch once the seven frames after it have come (None before:
-    wait; ``EARLY_AFTER``), and the frames beside it (which its neighbours' spline pulls) are
-    not; on the swing without it, none is. A segment's first frame and its 9th on are not early.
-    """
-    assert EARLY_AFTER == 7
-    bat = _turning(90.0, 20, turned=3, off=0.15)
-    assert [early(bat, j, 0.05) for j in range(10)] == [False] + [True] * 7 + [False] * 2
-    assert early_glitch(bat, 3, 0.05, 8, 0.0) is True
-    assert [early_glitch(bat, j, 0.05, 8, 0.0) for j in (1, 2, 4, 5)] == [False] * 4
-    assert early_glitch(_turning(90.0, 10, turned=3, off=0.15), 3, 0.05, 8, 0.0) is None
-    assert early_glitch(_turning(90.0, 11, turned=3, off=0.15), 3, 0.05, 8, 0.0) is True
-    clean = _turning(90.0, 20)
-    assert not any(early_glitch(clean, j, 0.05, 8, 0.0) for j in range(1, 8))
-    gap = _turning(90.0, 20, turned=3, off=0.15)
-    gap.breaks[7] = True  # (the segment ends before the frames its judgment reads)
-    assert early_glitch(gap, 3, 0.05, 8, 0.0) is False
 
 
 @pytest.mark.parametrize('config', [NODE, OFFLINE], ids=['node', 'offline'])
@@ -235,27 +201,6 @@ def test_a_glitch_in_a_segments_first_frames_is_dropped_not_an_impact(
             dropped, _ = _alike_in_chunks(config, gapped)
             assert dropped.get('bat_glitch', 0) == len(late)
     assert judged >= 1  # (a glitch the ball's path does not reach is not judged: no contact)
-
-
-def test_a_segments_first_frame_is_judged_by_its_departure_from_the_frames_after_it() -> None:
-    """
-    ``first_frame_glitch``: a segment's first frame, off the bat continued back from seven after.
-
-    The first frame moved 15 cm is a glitch once the seven frames after it have come (None
-    before: wait), not on the swing without it, nor where the segment ends first, nor where
-    the frame after it departed too (the glitch may be that one: ``early_glitch`` judges it).
-    """
-    bat = _turning(90.0, 12, turned=0, off=0.15)
-    assert [segment_first(bat, j, 0.05) for j in range(3)] == [True, False, False]
-    assert first_frame_glitch(bat, 0, 0.05, 8, 0.0) is True
-    assert first_frame_glitch(_turning(90.0, 7, turned=0, off=0.15), 0, 0.05, 8, 0.0) is None
-    assert first_frame_glitch(_turning(90.0, 12), 0, 0.05, 8, 0.0) is False
-    gap = _turning(90.0, 12, turned=0, off=0.15)
-    gap.breaks[5] = True
-    assert first_frame_glitch(gap, 0, 0.05, 8, 0.0) is False
-    second = _turning(90.0, 12, turned=1, off=0.15)
-    assert first_frame_glitch(second, 0, 0.05, 8, 0.0) is False
-    assert early_glitch(second, 1, 0.05, 8, 0.0) is True
 
 
 def _bench_scene(kind: str, seed: int, rate: float, noise_m: float, family: str):
@@ -313,7 +258,7 @@ def test_a_braked_swings_first_frame_before_its_hit_stays(monkeypatch: Any) -> N
     detector, events = _run(NODE, gapped, 'pose')
     assert 'bat_glitch' not in detector.stats.dropped
     assert sum(isinstance(event, Impact) for event in events) == 1
-    monkeypatch.setattr(bat_glitches, 'BRAKE_LOST', 0.0)
+    monkeypatch.setattr(bat_glitch_edges, 'BRAKE_LOST', 0.0)
     detector, events = _run(NODE, gapped, 'pose')
     assert detector.stats.dropped.get('bat_glitch', 0) == 1
 
@@ -340,33 +285,6 @@ def _still(rng: np.random.Generator, count: int, rate: float, noise_m: float) ->
         bat.append(i / rate, int(round(i / rate * 1e9)) + 1, BatSample(tuple(knob), tuple(tip)),
                    i == 0)
     return bat
-
-
-def test_a_still_bats_noise_is_no_glitch_at_a_segments_start(monkeypatch: Any) -> None:
-    """
-    A still bat with 20 mm of noise the detector was not told of: no early frame is a glitch.
-
-    Judged with time run backwards at the floor of no noise (not estimated yet), against four
-    frames' scatter (``EARLY_SCATTER``); against three (six frames after), these frames of
-    1,500 such segments were glitches (10 in all; forward, with three, none).
-    """
-    rng, found = np.random.default_rng(11), {}
-    for run in range(1000):
-        knob, tip = (rng.normal(0.0, 0.02, (16, 3)) + centre
-                     for centre in ((0.0, 0.0, 1.0), (0.86, 0.0, 1.0)))
-        if run in (210, 552, 684, 996):
-            bat = Stream('bat')
-            for i in range(16):
-                bat.append(i / 90.0, int(round(i / 90.0 * 1e9)) + 1,
-                           BatSample(tuple(knob[i]), tuple(tip[i])), i == 0)
-            found[run] = bat
-    for bat in found.values():
-        assert not any(early_glitch(bat, j, 0.05, 8, 0.0) for j in range(1, 8))
-    monkeypatch.setattr(bat_glitches, 'EARLY_SCATTER', 3)
-    monkeypatch.setattr(bat_glitches, 'EARLY_AFTER', 6)
-    for run, j in ((210, 5), (552, 5), (684, 1), (996, 1)):
-        found[run].aligned.clear()
-        assert early_glitch(found[run], j, 0.05, 8, 0.0), run
 
 
 def test_a_still_bat_hit_just_after_it_is_reacquired_keeps_its_frames() -> None:
@@ -405,9 +323,9 @@ def test_steps_are_regular_unless_a_frame_was_lost() -> None:
     A frame stamped 8 ms late at 90 Hz leaves its neighbours two steps apart: it is judged,
     and its position, where the swing was 8 ms before its stamp, is a glitch.
     """
-    bat = _turning(90.0, 16)
+    bat = turning_bat(90.0, 16)
     assert regular(bat, 9)
-    late = _turning(90.0, 16)
+    late = turning_bat(90.0, 16)
     late.times[10] += 0.008
     assert regular(late, 10) and judged(late, 10, 0.05, 8, 0.0)
     del_at = 8
@@ -420,7 +338,7 @@ def test_steps_are_regular_unless_a_frame_was_lost() -> None:
 
 def test_a_departure_is_kept_for_its_noise() -> None:
     """Kept per frame; made again where the noise grew past ``NOISE_KEPT`` times (auto)."""
-    bat = _turning(90.0, 16)
+    bat = turning_bat(90.0, 16)
     first = departure(bat, 10, 0.05, 8, 0.0)
     assert bat.aligned['bat_departures'][10] == (0.0, first)
     noisy = departure(bat, 10, 0.05, 8, 1e-3)
@@ -432,7 +350,7 @@ def test_a_departure_is_kept_for_its_noise() -> None:
 
 def test_the_path_without_a_frame() -> None:
     """The closing frame: the continuation; a later one: the window ended before it."""
-    bat = _turning(90.0, 16)
+    bat = turning_bat(90.0, 16)
     assert path_without(bat, 8, 9, 0.05, 8, 0.0).at(bat.times[9]) == \
         c2_bat_ahead(bat, 8, 0.05, 8).at(bat.times[9])
     later = path_without(bat, 8, 11, 0.05, 8, 0.0)
@@ -665,7 +583,7 @@ def test_a_glitch_after_two_lost_frames_departed_with_noise(family: str, seed: i
 
 def test_a_frame_after_lost_ones_is_left_out_of_the_scatter() -> None:
     """``stepped``: the frames a step over lost frames before are left out; the others kept."""
-    bat = _turning(120.0, 20)
+    bat = turning_bat(120.0, 20)
     assert stepped(bat, 5, 10) == [5, 6, 7, 8, 9]
     bat.remove(7)
     bat.remove(6)
@@ -683,7 +601,7 @@ def test_steps_may_hold_two_lost_frames_before_the_last() -> None:
     is judged with the three after it (``hole_glitch``).
     """
     for count, expected in ((1, True), (2, True), (3, False)):
-        bat = _turning(120.0, 24)
+        bat = turning_bat(120.0, 24)
         for _ in range(count):
             bat.remove(12 - count + 1)
         at = 12 - count + 3  # (the frame 3 after the hole's, as the frames lost 3 before it)
@@ -691,14 +609,14 @@ def test_steps_may_hold_two_lost_frames_before_the_last() -> None:
         assert not regular(bat, at - 1)
     # (a frame 3 after the hole, its next not come: ``departed`` reads the hole's step and
     # does not judge it; ``beside_hole`` reads three back, and ``hole_glitch`` judges it)
-    bat = _turning(120.0, 24, turned=15, off=0.15)
+    bat = turning_bat(120.0, 24, turned=15, off=0.15)
     bat.remove(11)
     bat.remove(11)
     newest = excerpt(bat, 0, 13)
     assert not departed(newest, 13, 0.06, 8, 0.0) and beside_hole(newest, 13)
     assert beside_hole(bat, 13) and hole_glitch(bat, 13, 0.06, 8, 0.0)
     assert not beside_hole(bat, 14)
-    clean = _turning(120.0, 24)
+    clean = turning_bat(120.0, 24)
     clean.remove(11)
     clean.remove(11)
     assert not any(hole_glitch(clean, i, 0.06, 8, 0.0) for i in range(9, 20)
@@ -737,15 +655,15 @@ def test_the_frames_lost_about_a_frame() -> None:
     for removed, j, expected in (([10], 9, (1,)), ([10], 10, (-1,)), ([9], 10, (-2,)),
                                  ([8], 10, ()), ([9, 10], 10, (-3, -2)), ([11, 12], 10, (1, 2)),
                                  ([6], 10, ())):
-        bat = _turning(360.0, 20)
+        bat = turning_bat(360.0, 20)
         for k in sorted(removed, reverse=True):
             bat.remove(k)
         assert lost_about(bat, j, 2, 1) == expected, (removed, j)
-        slow = _turning(90.0, 20)  # (a hole of 22 ms or more: longer than ``LOST_HOLE``)
+        slow = turning_bat(90.0, 20)  # (a hole of 22 ms or more: longer than ``LOST_HOLE``)
         for k in sorted(removed, reverse=True):
             slow.remove(k)
         assert lost_about(slow, j, 2, 1) == (None if expected else ()), (removed, j)
-    bat = _turning(360.0, 20)
+    bat = turning_bat(360.0, 20)
     for k in (11, 10, 9):
         bat.remove(k)
     assert lost_about(bat, 9, 2, 1) is None  # (three lost: more than ``LOST_NEAR``)
@@ -760,40 +678,13 @@ def test_a_frame_off_the_swing_beside_a_lost_one_is_judged(lost: int) -> None:
     It is judged against the frames before it with the same frames left out (``_matched``):
     the scatter a swing's own frames show across such a hole.
     """
-    bat = _turning(360.0, 30, turned=20, off=0.15)
+    bat = turning_bat(360.0, 30, turned=20, off=0.15)
     bat.remove(20 + lost)
     j = 20 - (lost < 0)
     assert not regular(bat, j) and judged(bat, j, 0.05, 8, 0.0)
-    clean = _turning(360.0, 30)
+    clean = turning_bat(360.0, 30)
     clean.remove(20 + lost)
     assert not any(judged(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times) - 1))
-
-
-@pytest.mark.parametrize('lost', [-2, -1, 1])
-def test_a_frame_beside_a_long_hole_is_judged_with_the_frames_after_it(lost: int) -> None:
-    """
-    Beside a 22 ms hole (one frame lost at 90 Hz) ``hole_glitch`` judges a frame moved 15 cm.
-
-    ``judged`` does not (the hole is over ``LOST_HOLE``); ``hole_glitch`` does, from the three
-    frames after it (None before they come: wait); the swing's own frames there are no glitch.
-    """
-    bat = _turning(90.0, 24, turned=14, off=0.15)
-    bat.remove(14 + lost)
-    j = 14 - (lost < 0)
-    assert beside_hole(bat, j) and not judged(bat, j, 0.05, 8, 0.0)
-    assert judged(bat, j, 0.05, 8, 0.0, j + 2, hole=math.inf)
-    # (beside the hole its next frame, without it, spans two holes and stays isolated on this
-    # fast-turning swing: the glitch is dropped only where that one is not)
-    assert hole_glitch(bat, j, 0.05, 8, 0.0) is (lost == -2)
-    early_cut = _turning(90.0, 24, turned=14, off=0.15)
-    early_cut.remove(14 + lost)
-    for _ in range(len(early_cut.times) - (j + 2)):
-        early_cut.remove(len(early_cut.times) - 1)
-    assert hole_glitch(early_cut, j, 0.05, 8, 0.0) is None
-    clean = _turning(90.0, 24)
-    clean.remove(14 + lost)
-    assert not any(hole_glitch(clean, i, 0.05, 8, 0.0) for i in range(10, 18)
-                   if beside_hole(clean, i))
 
 
 @pytest.mark.parametrize('before', [1, 2, 3])
@@ -805,10 +696,10 @@ def test_a_closing_frame_after_a_lost_one_departed(before: int) -> None:
     read only regular steps before it; now also those with frames lost, against the frames
     before it with the same left out. The swing's own frames there did not depart.
     """
-    bat = _turning(360.0, 21, turned=20, off=0.15)
+    bat = turning_bat(360.0, 21, turned=20, off=0.15)
     bat.remove(20 - before)
     assert departed(bat, 19, 0.05, 8, 0.0)
-    clean = _turning(360.0, 21)
+    clean = turning_bat(360.0, 21)
     clean.remove(20 - before)
     assert not any(departed(clean, i, 0.05, 8, 0.0) for i in range(len(clean.times)))
 
