@@ -8,12 +8,12 @@ from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, Prediction, PredictionCleared)
 from baseball_collision.core.detector.events import DropReason
+from baseball_collision.core.detector.gap_flight import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import turn_rows
 from baseball_collision.core.detector.predictor import (
     kept_flight_span, PREDICTION_CHORD_FACTOR, Predictor)
 from baseball_collision.core.detector.streams import Stream
-from baseball_collision.core.detector.sweep_ball import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
     BallForecast, BatForecast, MAX_PLAN_POSES, PlannedBat)
