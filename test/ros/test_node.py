@@ -23,7 +23,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import DROP_REASONS, PARAMETERS, PendingUncertainty
-from baseball_collision.core.detector import sweep as sweep_module
+from baseball_collision.core.detector import sweep_impact as impact_module
 from baseball_collision.core.detector.predictor import kept_flight_span
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.core.records import RECORD_FORMAT
@@ -395,7 +395,7 @@ def test_a_detector_failure_resets_the_state_logs_an_error_and_the_node_goes_on(
     ERROR line with the traceback reaches /rosout, and the same swing a second later is found.
     """
     failures: List[int] = []
-    fit = sweep_module.c2_velocities
+    fit = impact_module.c2_velocities
 
     def fails_once(*args: Any) -> Any:
         if not failures:
@@ -403,7 +403,7 @@ def test_a_detector_failure_resets_the_state_logs_an_error_and_the_node_goes_on(
             raise ZeroDivisionError('a fit divided by zero')
         return fit(*args)
 
-    monkeypatch.setattr(sweep_module, 'c2_velocities', fails_once)
+    monkeypatch.setattr(impact_module, 'c2_velocities', fails_once)
     h = swing_harness(harness, 'pose')
     listen_to_rosout(h)
     sent = publish_swing(h, 'pose', pitch())

@@ -11,7 +11,6 @@ sub-steps small enough for the chord error bound and each is solved exactly
 without one feeds the near-miss episodes.
 """
 
-from dataclasses import replace
 import math
 from typing import Any, Callable, List, Optional, Tuple
 
@@ -23,24 +22,19 @@ from .departure import (
 from .episodes import EpisodeTracker, State
 from .events import DetectorStats, Impact, StreamGap
 from .fitting import (
-    ball_flight, c2_bat_ahead, c2_bat_path, c2_point_path, c2_window, flight_point_path,
-    stream_noise)
+    ball_flight, c2_bat_path, c2_point_path, c2_window, flight_point_path, stream_noise)
 from .gap_flight import GapFlight
 from .gate import Clock
-from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from .noise import ESTIMATES, NoiseEstimate
 from .speed_aside import Aside
 from .streams import Stream
 from .sweep_ball import BallSamples
 from .sweep_bat import BatFrames
-from ..geometry import dot, norm, rigid_point_velocity, Vector
+from .sweep_impact import SweepImpact
+from ..geometry import norm, Vector
 from ..motion import BatPath, Paths, PointPath, samples_ahead, substeps_for
 from ..toi import _kernel, closest_offset, ImpactResult, profile_contact, profile_gap
 from ...errors import CoreError
-
-BAT_DEPARTURE_RATIO = 4.0
-"""How many times farther than the frame before a hit's closing bat frame must be from the bat's
-continuation for the sweep to take the continuation (``Sweep._bat_ahead``)."""
 
 IMPACT_CHORD_FACTOR = 0.04
 """An impact's sub-step is solved again in chords this times ``max_chord_error`` (0.5 mm ->
@@ -50,14 +44,15 @@ ZONE_STEPS = 16
 """Sub-steps at least that ``Sweep._outside_zone`` looks at an interval in."""
 
 
-class Sweep(BallSamples, BatFrames):
+class Sweep(BallSamples, BatFrames, SweepImpact):
     """
     Sweeps union intervals of the ball and bat streams (``visit`` for the ``Scheduler``).
 
     Its judgments of the ball's samples near the bat and of the bat's frames near the ball
     (glitches dropped and forgotten, intervals that wait for the samples that judge them) are
     its bases' (``sweep_ball.BallSamples``, itself on ``speed_aside.SpeedAside``: the ball
-    samples the speed check set aside; ``sweep_bat.BatFrames``).
+    samples the speed check set aside; ``sweep_bat.BatFrames``); a hit's bat path and its
+    ``Impact`` are its base ``sweep_impact.SweepImpact``'s.
 
     :param config: the detector's configuration (``DetectorConfig``).
     :param clock, stats: the detector's clock and counters.
@@ -574,121 +569,6 @@ class Sweep(BallSamples, BatFrames):
                 return True
         episodes.track(start, end, gap0, gap1, events)
         return False
-
-    def _report(self, t: float, hit: ImpactResult, interval: Tuple[float, float], paths: Paths,
-                events: List, spread: float = 0.0, ball_velocity: Optional[Vector] = None) -> None:
-        """
-        Append the impact at t (s) solved on ``paths`` over the union ``interval``.
-
-        ``spread``: how far (s) another answer of the rule that found it lies
-        (``time_spread``, read by ``measure``); ``ball_velocity``: the ball's (m/s) as that
-        rule found it, in place of the fits' (``kinematics``).
-        """
-        self.impact_t = t
-        if self.on_contact is not None:  # before the velocities' fits
-            self.on_contact(self.clock.stamp(t), tuple(hit.point))
-        impact = self._impact(t, hit, interval, paths)
-        if ball_velocity is not None:
-            closing = dot(tuple(b - v for b, v in zip(impact.bat_velocity, ball_velocity)),
-                          impact.normal)
-            impact = replace(impact, ball_velocity=ball_velocity, ball_speed_mps=norm(
-                ball_velocity), relative_normal_speed_mps=closing)
-        self.time_spread = spread
-        events.append(impact if self.measure is None else self.measure(impact))
-        self.time_spread = 0.0
-        self.stats.impacts += 1
-
-    def _bat_ahead(self, interval: Tuple[float, float], paths: Paths,
-                   hit: bool = False) -> Optional[Paths]:
-        """
-        Return the paths with the bat continued from before the interval at a hit, or None.
-
-        Where the ball has left its flight over the interval (``departure``: a hit),
-        the bat's closing frame is after the contact, which slows a real bat within 1-3 ms: its
-        path through that frame is late, under every model. With exact bat samples the bat's path
-        continued from ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the
-        better one there (BENCHMARKS.md, "A ball that leaves the bat"; for every model, as the
-        ball's free flight is: "A hit's bat continued under every model"), where the closing frame
-        has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous frame
-        left its own (the samples follow their continuation closely: exact, not noisy; the bat
-        braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities'
-        rule) only a quintic continuation (``splines.quintic_window``): a cubic's over a whole step
-        is the larger error in the spot there (BENCHMARKS.md, "A hit's bat continued on the
-        quintic"). At a higher rate only where the window up to the opening frame passes the
-        velocities' quintic check (``kinematics.quintic_check``): a cubic continued from noisy
-        samples the detector was not told of is worse than the frame that braked (BENCHMARKS.md, "A
-        hit's bat continued only from samples that pass the quintic check"). None elsewhere.
-        ``bat_ahead`` True takes the continuation at every hit (with noise: of the smoothed
-        window), False never. ``hit``: the caller knows the ball was hit over the interval
-        (``_hit_before_flight``: a segment's first sample, which has no flight before it).
-        """
-        ball, bat, config = self.ball, self.bat, self.config
-        if self.bat_ahead is False or (
-                self.bat_ahead is None and stream_noise(bat, config) > 0.0):
-            return None
-        ball_k, bat_k = ball.interval(interval[0]), bat.interval(interval[0])
-        if not hit and leaves_flight(ball, ball_k, judging_noise(config), config.max_gap) is None:
-            return None
-        quintic = self.bat_ahead is None and len(bat.history(
-            bat.times[bat_k], config.velocity_window)) <= SPARSE_SAMPLES
-        if self.bat_ahead is None and not quintic:
-            window = bat.history(bat.times[bat_k], 1.0)[-config.spline_window:]
-            if quintic_check([bat.times[i] for i in window],
-                             [bat.values[i] for i in window]) is False:
-                return None  # noise the detector was not told of: its continuation is worse
-        path = c2_bat_ahead(bat, bat_k, config.max_gap, config.spline_window,
-                            stream_noise(bat, config), quintic)
-        if path is None or self.bat_ahead:
-            return None if path is None else (paths[0], path)
-        before = c2_bat_ahead(bat, bat_k - 1, config.max_gap, config.spline_window,
-                              quintic=quintic)
-        if before is None:
-            return None
-        # the bat's own departure: its closing frame far off the continuation (a brake), where
-        # the same continuation one frame earlier met its frame (samples exact enough for it)
-        closing, opening = bat.values[bat_k + 1], bat.values[bat_k]
-        miss = max(map(math.dist, path.at(path.t1), (closing.knob, closing.tip)))
-        scatter = max(map(math.dist, before.at(before.t1), (opening.knob, opening.tip)))
-        if miss <= DEPARTURE_FLOOR or miss <= BAT_DEPARTURE_RATIO * scatter:
-            return None
-        return paths[0], path
-
-    def _impact(self, t: float, hit: ImpactResult, interval: Tuple[float, float],
-                paths: Paths) -> Impact:
-        """Return the impact at t (s): where, and how both bodies moved (``kinematics``)."""
-        ball_path, bat_path = paths
-        knob, tip = bat_path.at(t)
-        config = self.config
-        if self.model == 'c2':
-            velocities = c2_velocities(self.ball, self.bat, t, ball_path, bat_path, config)
-        else:
-            velocities = fit_velocities(self.ball, self.bat, t, ball_path, bat_path, config,
-                                        self.quintic_rates)
-        length = math.dist(knob, tip)
-        omega, pivot, sweet_point = rigid_bat(velocities, knob, tip, config.sweet_spot_from_tip)
-        # rigid body: every point moves with the pivot plus the turn about it
-        sweet_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, sweet_point)
-        bat_velocity = rigid_point_velocity(velocities.pivot, omega, pivot, hit.point)
-        sweet_speed = norm(sweet_velocity)
-        attack = 0.0
-        if sweet_speed > 0.0:
-            rise = max(-1.0, min(1.0, dot(sweet_velocity, config.up_axis) / sweet_speed))
-            attack = math.degrees(math.asin(rise))
-        ball_velocity = velocities.ball
-        closing = dot(tuple(b - v for b, v in zip(bat_velocity, ball_velocity)), hit.normal)
-        stamp = self.clock.stamp
-        return Impact(
-            stamp_ns=stamp(t), point=tuple(hit.point), normal=tuple(hit.normal),
-            bat_fraction=hit.bat_fraction, distance_from_knob_m=hit.bat_fraction * length,
-            distance_from_tip_m=(1.0 - hit.bat_fraction) * length, feature=hit.feature,
-            bat_velocity=bat_velocity, bat_angular_velocity=omega,
-            sweet_spot_velocity=sweet_velocity, sweet_spot_speed_mps=sweet_speed,
-            bat_speed_at_contact_mps=norm(bat_velocity), ball_velocity=ball_velocity,
-            ball_speed_mps=norm(ball_velocity), relative_normal_speed_mps=closing,
-            attack_angle_deg=attack, ball_position=ball_path.at(t), knob=knob, tip=tip,
-            model=self.model, interval_start_ns=stamp(interval[0]),
-            interval_end_ns=stamp(interval[1]), velocities_from_history=velocities.from_history,
-            initially_overlapping=hit.initially_overlapping)
 
 
 def _neighbours(stream: Stream, k: int, max_gap: float) -> Tuple[Any, Any]:

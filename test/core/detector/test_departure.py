@@ -8,7 +8,8 @@ from typing import Any, Dict, List, Sequence, Tuple
 
 from baseball_collision.bags import BagReader
 from baseball_collision.core.bat import WOOD_BAT_34
-from baseball_collision.core.detector import Detector, DetectorConfig, Impact, sweep
+from baseball_collision.core.detector import (
+    Detector, DetectorConfig, Impact, sweep, sweep_impact)
 from baseball_collision.core.detector.departure import (
     back_miss, CONTACT_TIME, DEPARTURE_FLOOR, departure_reach, departure_reaches,
     FEW_SCATTER_RATIOS, FLIGHT_AFTER, flight_before, flight_path, glitch_before_flight,
@@ -357,47 +358,6 @@ def test_a_hit_is_one_impact_whatever_the_two_rates(seed: int, kind: str, bat_ra
         assert min(true_gaps(t1 + np.linspace(-1e-3, 1e-3, 41))) < 3e-3
 
 
-def test_a_hits_bat_is_continued_only_from_samples_that_pass_the_quintic_check(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    """
-    Untold noise on a 1 kHz bat fails the quintic check: its hit's bat is not continued.
-
-    An end-cap hit, the ball at 120 Hz, 0.3 mm of noise the detector is not told of: the bat's
-    closing frame left the continuation of its noisy samples by 4 times what the frame before
-    did, and the cubic continued from them put the impact 335 us early (without the check, as
-    before it); through the braked frame it is 20 us late. Without noise: within microseconds.
-    """
-    rng = np.random.default_rng(7)
-    scenarios = [make_scenario(kind, rng, family='rebound', lead_s=0.15)
-                 for kind in KINDS + CLOSE_KINDS for _ in range(4)]
-    scenario = scenarios[5]
-    assert scenario.kind == 'end_cap'
-    taken = []
-    bat_ahead = Sweep._bat_ahead
-
-    def counted(self: Sweep, *args: Any) -> Any:
-        found = bat_ahead(self, *args)
-        if self.bat_ahead is None:
-            taken.append(found is not None)
-        return found
-
-    def error(noise: float) -> float:
-        samples = sample(scenario, 1000.0, np.random.default_rng(5), jitter_s=2e-4, grid_s=1e-3,
-                         noise_m=noise, marker_spread_m=0.3 if noise else None,
-                         ball_rate_hz=120.0)
-        taken.clear()
-        untold = DetectorConfig(model='c2', bat_input='points', tracker_noise=0.0)
-        _, impacts = detect(untold, samples)
-        assert len(impacts) == 1
-        return (impacts[0].stamp_ns - samples.start_ns) * 1e-9 - scenario.truth.time_s
-
-    monkeypatch.setattr(Sweep, '_bat_ahead', counted)
-    assert abs(error(3e-4)) < 1e-4 and not any(taken)
-    assert abs(error(0.0)) < 5e-6
-    monkeypatch.setattr(sweep, 'quintic_check', lambda *args: None)  # no check: as before
-    assert error(3e-4) < -3e-4 and any(taken)
-
-
 def test_floor() -> None:
     """A closing sample less than ``DEPARTURE_FLOOR`` off the free flight has not departed."""
     times = [0.0, 0.01, 0.02, 0.03, 0.04]
@@ -474,51 +434,6 @@ def test_a_look_ahead_stops_at_a_departure() -> None:
     assert path.at(t) == kept.at(t) and math.dist(bent.at(t), kept.at(t)) > 1e-3
 
 
-def test_a_hit_at_a_high_rate_takes_the_bat_from_before() -> None:
-    """
-    At 360 Hz a hit's bat comes from before its closing frame (which has braked): microseconds.
-
-    The braking family's closing frame after the contact makes its impact late by tens of
-    microseconds; continued from before the hit (``fitting.c2_bat_ahead``), ``c2`` is within
-    3 us on barrel and handle hits of the rebound family.
-    """
-    errors = []
-    for kind in ('barrel', 'handle'):
-        rng = np.random.default_rng(11)
-        for _ in range(4):
-            scenario = make_scenario(kind, rng, family='rebound')
-            samples = sample(scenario, 360.0, rng, jitter_s=2e-4, grid_s=1e-3)
-            _, impacts = detect(DetectorConfig(model='c2', bat_input='points'), samples)
-            errors.append(abs((impacts[0].stamp_ns - samples.start_ns) * 1e-9
-                              - scenario.truth.time_s))
-    assert max(errors) < 3e-6
-
-
-def test_the_bat_is_continued_only_where_it_braked_off_its_continuation() -> None:
-    """
-    Exact samples: most hits' bats are continued; noisy ones (noise not told): most are not.
-
-    With 1 mm of noise the continuation's own frame before misses by millimetres, about as
-    much as most brakes: continuing noisy samples over a frame would be the larger error. (An
-    exact bat that hardly braked is not continued either: its frame is on its path.)
-    """
-    taken = {0.0: 0, 1e-3: 0}
-    for noise_m in taken:
-        for seed in range(8):
-            scenario = make_scenario('barrel', np.random.default_rng(seed), family='rebound')
-            samples = sample(scenario, 120.0, np.random.default_rng(seed), jitter_s=2e-4,
-                             grid_s=1e-3, noise_m=noise_m,
-                             marker_spread_m=0.3 if noise_m else None)
-            detector, impacts = detect(DetectorConfig(model='c2', bat_input='points'), samples)
-            sweep, clock = detector._sweep, detector._sweep.clock
-            interval = (clock.time(impacts[0].interval_start_ns),
-                        clock.time(impacts[0].interval_end_ns))
-            paths = sweep.paths(detector._ball.interval(interval[0]),
-                                detector._bat.interval(interval[0]))
-            taken[noise_m] += sweep._bat_ahead(interval, paths) is not None
-    assert taken[0.0] >= 6 and taken[1e-3] <= 2
-
-
 REBOUND_BAG = 'pitches_180hz_rebound.mcap'
 """The bundled bag of real hits (``simulate --family rebound``, 180 Hz)."""
 
@@ -539,8 +454,8 @@ def test_the_bundled_bag_of_real_hits(model: str, monkeypatch: pytest.MonkeyPatc
     Every contact within the bundled bounds (``check_against_truth``); at each impact the ball
     came in toward the plate (-y) and the frames after it show it braked by more than 5 m/s
     along y, and going back toward the pitcher (+y) after the barrel and handle hits; the bat
-    is continued at some hits, under every model (``Sweep._bat_ahead``: 180 Hz is a high rate).
-    With the departure decision switched off, contacts are missed or misplaced.
+    is continued at some hits, under every model (``SweepImpact._bat_ahead``: 180 Hz is a high
+    rate). With the departure decision switched off, contacts are missed or misplaced.
     """
     path, rate = bag_path(REBOUND_BAG), BAGS[REBOUND_BAG]
     truth = json.loads(truth_path(path).read_text())
@@ -576,7 +491,8 @@ def test_the_bundled_bag_of_real_hits(model: str, monkeypatch: pytest.MonkeyPatc
         assert impact['ball_velocity'][1] < 0.0 and before < 0.0, pitch['name']
         assert after > before + 5.0, pitch['name']
         assert (after > 0.0) == (pitch['kind'] in ('barrel', 'handle')), pitch['name']
-    monkeypatch.setattr(sweep, 'leaves_flight', lambda *args: None)
+    for module in (sweep, sweep_impact):  # the sweep's own test and its hits' (``_bat_ahead``)
+        monkeypatch.setattr(module, 'leaves_flight', lambda *args: None)
     assert _in_time(document(), truth, rate) < 8
 
 

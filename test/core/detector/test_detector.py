@@ -6,7 +6,7 @@ from typing import Callable, List
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, DROP_REASONS, Impact, NearMiss, StateReset, StreamGap)
-from baseball_collision.core.detector import sweep as sweep_module
+from baseball_collision.core.detector import sweep_impact as impact_module
 from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
@@ -88,8 +88,8 @@ def test_on_contact_tells_each_impact_before_its_velocities(
     """
     told: List = []
     for name in ('c2_velocities', 'fit_velocities'):
-        fit = getattr(sweep_module, name)
-        monkeypatch.setattr(sweep_module, name, lambda *args, fit=fit: (
+        fit = getattr(impact_module, name)
+        monkeypatch.setattr(impact_module, name, lambda *args, fit=fit: (
             told.append('velocities'), fit(*args))[1])
     detector = Detector(DetectorConfig(model=model, bat_input='pose'), deferred_uncertainty=True,
                         on_contact=lambda stamp_ns, point: told.append((stamp_ns, point)))
@@ -270,7 +270,7 @@ def test_an_error_past_the_value_checks_is_raised_not_counted_as_a_drop(
     def fails(*args: object) -> None:
         raise error('the fit failed')
 
-    monkeypatch.setattr(sweep_module, 'c2_velocities', fails)
+    monkeypatch.setattr(impact_module, 'c2_velocities', fails)
     detector = Detector(DetectorConfig(model='c2', bat_input='pose'))
     with pytest.raises(error, match='the fit failed'):
         feed(detector, pitch(), bat_as='pose')
