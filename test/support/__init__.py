@@ -10,6 +10,22 @@ from typing import List, Sequence
 REPO_ROOT = Path(__file__).resolve().parents[2]
 """The repository root (``test/support/..``/..)."""
 
+SIGNAL_AFTER_BAG = """
+import os, signal
+# (Ctrl-C as at a terminal: a shell without job control starts its background jobs with
+# SIGINT ignored, and an interpreter started so leaves it ignored)
+signal.signal(signal.SIGINT, signal.default_int_handler)
+from baseball_collision.tools import many_bags
+real = many_bags.analyze_bag
+def analyze_then_signal(*args, **kwargs):
+    result = real(*args, **kwargs)
+    os.kill(os.getpid(), signal.{name})
+    return result
+many_bags.analyze_bag = analyze_then_signal
+"""
+"""Python source for a child ``analyze``: it sends itself signal ``{name}`` (``str.format``)
+once its first bag is analysed, mid-run, before any output is committed."""
+
 
 def examples(count: int) -> int:
     """Scale a property test's example count: `HYPOTHESIS_SCALE=20 make test` runs 20x more."""

@@ -17,6 +17,7 @@ from typing import List
 from baseball_collision.tools.ending import end_process, open_for_writing, other_threads
 import pytest
 from rosbags.highlevel import AnyReader
+from support import SIGNAL_AFTER_BAG
 from support.bundled import bag_path
 
 SENTINEL = """
@@ -199,27 +200,12 @@ def test_only_analyze_ends_at_once() -> None:
     assert done.returncode == 0 and done.stderr == 'atexit ran\n' + TORN_DOWN
 
 
-INTERRUPTED = """
-import os
-# (Ctrl-C as at a terminal: a shell without job control starts its background jobs with
-# SIGINT ignored, and an interpreter started so leaves it ignored)
-signal.signal(signal.SIGINT, signal.default_int_handler)
-from baseball_collision.tools import many_bags
-real = many_bags.analyze_bag
-def analyze_then_signal(*args, **kwargs):
-    result = real(*args, **kwargs)
-    os.kill(os.getpid(), signal.{name})
-    return result
-many_bags.analyze_bag = analyze_then_signal
-"""
-
-
 @pytest.mark.parametrize('name, code, said', [('SIGINT', 130, 'interrupted'),
                                               ('SIGTERM', 143, 'terminated by SIGTERM')])
 def test_analyze_interrupted_ends_at_once_leaving_no_output(
         tmp_path: Path, name: str, code: int, said: str) -> None:
     """Ctrl-C or SIGTERM mid-run: the staged outputs deleted, its exit code, no teardown."""
-    done = child('import signal\n' + INTERRUPTED.format(name=name) + ANALYZE, 'analyze',
+    done = child(SIGNAL_AFTER_BAG.format(name=name) + ANALYZE, 'analyze',
                  str(bag_path('pitches_90hz.mcap')), '--out-bag', str(tmp_path / 'o.mcap'),
                  '--json', str(tmp_path / 'o.json'), '--quiet')
     assert done.returncode == code, done.stderr

@@ -12,6 +12,7 @@ from baseball_collision.errors import BagError, ToolError
 import baseball_collision.tools.many_bags as many_bags_module
 from baseball_collision.tools.outputs import Outputs
 import pytest
+from support import SIGNAL_AFTER_BAG
 from support.bundled import bag_path
 
 RunCli = Callable[[List[str]], Tuple[int, str, str]]
@@ -136,15 +137,9 @@ def test_a_file_named_as_the_output_directory_is_said_to_be_no_directory(
         BagWriter(bag / 'x.mcap')
 
 
-SIGNALLED = """
-import os, signal, sys
-from baseball_collision.tools import cli, many_bags
-real = many_bags.analyze_bag
-def analyze_then_signal(*args, **kwargs):
-    result = real(*args, **kwargs)
-    os.kill(os.getpid(), signal.{name})
-    return result
-many_bags.analyze_bag = analyze_then_signal
+SIGNALLED = SIGNAL_AFTER_BAG + """
+import sys
+from baseball_collision.tools import cli
 sys.exit(cli.main(sys.argv[1:]))
 """
 
