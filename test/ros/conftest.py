@@ -1,9 +1,10 @@
-"""Fixtures of the in-process node tests: harnesses on a context with discovery off."""
+"""Fixtures of the in-process node tests: harnesses on a context with discovery off, the hit."""
 
 from typing import Any, Callable, Dict, Iterator, List, Optional
 
 import pytest
 from support.harness import Harness
+from support.scenes import BASE_NS, first_contact, pitch
 
 
 @pytest.fixture
@@ -19,3 +20,11 @@ def harness(monkeypatch: pytest.MonkeyPatch) -> Iterator[Callable[..., Harness]]
     yield make
     for each in made:
         each.close()
+
+
+@pytest.fixture(scope='module')
+def truth_ns() -> int:
+    """Return the exact first contact of the hitting pitch as an absolute stamp (ns)."""
+    t = first_contact(pitch())
+    assert t is not None
+    return BASE_NS + int(round(t * 1e9))

@@ -1,0 +1,102 @@
+"""
+The bat plan input: which commanded bat trajectories the node hands the detector, and when.
+
+A plan (nav_msgs/Path on ``bat_plan_topic``: stamped poses, empty clears) is taken for the
+predictions unless it is refused, with a throttled WARN: over ``MAX_PLAN_POSES`` poses (before a
+single pose is converted), a frame other than the tracking frame, a frame named before any
+tracking frame is known, or values the core refuses. A plan in force that a prediction could
+not use (it ended before the instant the prediction starts from) is warned about, throttled.
+Every state reset drops the plan with the detector's: the topic is volatile, so the node says
+once at INFO (or in the ``~/reset`` reply) that the arm must send it again.
+
+:class:`BatPlanInput` is a mixin base of ``node.ImpactNode``: it uses the node's detector,
+lock, settings, log lines and throttle, and keeps the plan in force (``_plan``: its first and
+last stamp, ns).
+"""
+
+from typing import Any, Optional, Tuple
+
+from nav_msgs.msg import Path
+
+from .messages import format_stamp, plan_arrays
+from .outputs import VIEWS
+from ..core.prediction import MAX_PLAN_POSES
+from ..errors import CoreError
+
+
+class BatPlanInput:
+    """Take, refuse, warn about and drop the bat plan (a mixin base of ``ImpactNode``)."""
+
+    _plan: Optional[Tuple[int, int]]  # the plan in force: first, last stamp (ns)
+    _plan_sub: Any  # the plan's subscription (only with a ``bat_plan_topic``)
+
+    def _subscribe_plan(self) -> None:
+        """Subscribe to ``bat_plan_topic`` when it names one (its callback guarded)."""
+        topic = self.settings['bat_plan_topic']
+        if topic:
+            self._plan_sub = self.create_subscription(
+                Path, topic, self._guarded(self._on_plan, 'taking a bat plan'), VIEWS)
+
+    def _on_plan(self, message: Path) -> None:
+        """
+        Take a commanded bat trajectory (stamped poses) for the predictions; empty clears.
+
+        Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses, a frame other than the
+        tracking frame (the configured ``frame_id``, else the trackers'), a frame named before
+        any tracking frame is known (``frame_id`` '' and no sample yet: it cannot be checked),
+        or values the core refuses. A plan naming no frame is taken as in the tracking frame,
+        as samples are.
+        """
+        if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
+            if self._log_throttle.allows('plan_size'):
+                self._lines.warning(
+                    f'ignored a bat plan on {self._plan_sub.topic_name}: {len(message.poses)} '
+                    f'poses is more than the {MAX_PLAN_POSES} a plan may hold')
+            return
+        stamps, positions, quaternions, frames = plan_arrays(message)
+        with self._lock:
+            expected = self.detector.frame_id
+            if expected is None and frames and stamps:
+                reason = (f'frame {sorted(frames)} cannot be checked: no tracking frame is known '
+                          'yet (set frame_id, or send the plan once the trackers stream)')
+            elif expected is not None and frames - {expected}:
+                reason = f'frame {sorted(frames)} is not the tracking frame {expected!r}'
+            else:
+                try:
+                    self.detector.set_bat_plan(stamps, positions, quaternions)
+                    self._plan = (stamps[0], stamps[-1]) if stamps else None
+                    return
+                except CoreError as error:
+                    reason = str(error)
+        if self._log_throttle.allows('plan'):
+            self._lines.warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}')
+
+    def _warn_plan_unused(self, made_at_ns: int) -> None:
+        """
+        Warn (throttled) that a prediction made at ``made_at_ns`` extrapolated the bat.
+
+        A plan was in force, but the detector takes it only when its last pose is after the
+        instant the prediction starts from (``Prediction.planned`` says whether it did): a
+        plan that ended before it, or stamped on another clock than the trackers'.
+        """
+        if self._log_throttle.allows('plan_unused'):
+            first, last = self._plan
+            self._lines.warning(
+                f'the bat plan on {self._plan_sub.topic_name} ({format_stamp(first)} to '
+                f'{format_stamp(last)} s) was not used: the prediction made at '
+                f'{format_stamp(made_at_ns)} s extrapolated the bat, the plan ending before '
+                "it (stamp the plan on the trackers' clock, over the coming swing)")
+
+    def _forget_plan(self) -> bool:
+        """Forget the bat plan after a state reset (the detector's went too); True if one was."""
+        in_force, self._plan = self._plan is not None, None
+        return in_force
+
+    def _plan_dropped_text(self) -> str:
+        """Return the sentence saying that the bat plan in force was dropped, and what to do."""
+        return (f'the bat plan in force was dropped: send it again on '
+                f'{self._plan_sub.topic_name} (the topic is volatile)')
+
+    def _say_plan_dropped(self, reason: str) -> None:
+        """Log, once at INFO, that a state reset for ``reason`` dropped the bat plan in force."""
+        self._lines.info(f'state reset ({reason}): {self._plan_dropped_text()}')
