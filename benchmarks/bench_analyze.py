@@ -39,10 +39,13 @@ commit with its kernel built, e.g. a ``git worktree`` and ``setup.py build_ext
 tree in turn, on the bag and on a bag of 300 messages (the start-up: interpreter, imports, opening
 a bag), best wall and best CPU time (the child's user + system) of each. With ``--split``,
 each process again with a CPU timer per stage (``time.process_time``: the raw read's imports,
-typestore, open and ``messages()``; analyze's imports, open, the reader's rows and batch arrays,
-decode, and the detector with its chunk planning; the bag read in turn, without ``analyze``'s
-reading thread: each stage's CPU, not the wall time that thread overlaps), best of
-``--repeats`` per stage.
+typestore, open and ``messages()``; analyze's imports (the console script's and the reader's,
+then the modules the ``analyze`` command imports when it runs), open, the reader's rows and batch
+arrays, decode, and the detector with its chunk planning; the bag read in turn, without
+``analyze``'s reading thread: each stage's CPU, not the wall time that thread overlaps), best of
+``--repeats`` per stage; with ``--before DIR`` too, analyze's stages from both trees in turn,
+and per tree the start-up S (interpreter and imports), a bag's work B and the bound they set
+on issue 13's ``--jobs 2`` over two such bags, ``(S + 2B) / (S + B)``.
 
 ``--against M --pairs P``: instead, ``--model`` against model ``M`` in this one process on one
 bag: P pairs of (d) back to back (``M`` first), CPU time and wall time of each, the ratio of
@@ -308,6 +311,7 @@ def report():
 
 
 extra = {{}}
+COMMAND_IMPORTS = {command_imports!r}
 """
 
 RAW_SPLIT = SPLIT_START + """
@@ -337,6 +341,9 @@ from baseball_collision.bags.decode import decode_spans
 from baseball_collision.core.detector import chunks, Detector
 from baseball_collision.tools.parameters import build_config
 mark('imports')
+import baseball_collision.tools.analyze, baseball_collision.tools.many_bags  # (the command's)
+import baseball_collision.tools.report
+mark(COMMAND_IMPORTS)
 planned = chunks.plan_chunk
 
 
@@ -381,22 +388,52 @@ report()
 as ``BagReader.chunks`` reads them, by the reader's spans)."""
 
 
-def stage_figures(path: Path, model: str, repeats: int) -> None:
-    """Print where the raw-read process's and analyze's CPU time goes, best of each stage."""
+COMMAND_IMPORTS = "imports: the analyze command's modules"
+"""The split's stage of the modules ``cli`` imports for ``analyze`` when it runs (lazily)."""
+
+START_UP_STAGES = ('interpreter start-up', 'imports', COMMAND_IMPORTS)
+"""The split's stages every process pays once whatever its bags: the serial start-up S."""
+
+BAG_STAGES = ('open (rosbags) and set-up', 'read: rows and batch arrays', 'decode', 'detector')
+"""The split's stages of one bag's work: B."""
+
+
+def stage_figures(path: Path, model: str, repeats: int, before: Optional[Path] = None) -> None:
+    """
+    Print where the raw-read process's and analyze's CPU time goes, best of each stage.
+
+    With ``before`` (a source tree), analyze's stages also from that tree, the trees in turn,
+    and per tree the start-up S (:data:`START_UP_STAGES`), a bag's work B
+    (:data:`BAG_STAGES`) and the bound they set on ``--jobs 2`` over two such bags, as
+    processes on two free cores: ``(S + 2 B) / (S + B)``.
+    """
     model_argument = named_model(model)  # build_config's offline default
-    for name, script in (('rosbags raw read', RAW_SPLIT), ('analyze', ANALYZE_SPLIT)):
-        best: dict = {}
-        for _ in range(repeats):
-            environment = {k: v for k, v in os.environ.items()
-                           if k != 'PYTHONDONTWRITEBYTECODE'}
-            output = subprocess.run(
-                [sys.executable, '-c', script.format(bag=str(path), model=model_argument)],
-                check=True, capture_output=True, text=True, env=environment).stdout
+    here = Path(__file__).resolve().parents[1]
+    runs = [('rosbags raw read', RAW_SPLIT, here)]
+    trees = {'analyze': here} if before is None else {
+        f'analyze, before ({before})': before, 'analyze, now': here}
+    runs += [(name, ANALYZE_SPLIT, tree) for name, tree in trees.items()]
+    best: Dict[str, dict] = {name: {} for name, _, _ in runs}
+    environment = {k: v for k, v in os.environ.items()
+                   if k not in ('PYTHONDONTWRITEBYTECODE', 'PYTHONPATH')}
+    for _ in range(repeats):
+        for name, script, tree in runs:  # (in turn: a load that comes and goes meets each)
+            code = script.format(bag=str(path), model=model_argument,
+                                 command_imports=COMMAND_IMPORTS)
+            output = subprocess.run([sys.executable, '-c', code], check=True, cwd=tree,
+                                    capture_output=True, text=True, env=environment).stdout
             for label, seconds in eval(output.strip().splitlines()[-1]).items():  # noqa: S307
-                best[label] = min(best.get(label, math.inf), seconds)
+                best[name][label] = min(best[name].get(label, math.inf), seconds)
+    for name, _, _ in runs:
         print(f'{name}, CPU s by stage (best of {repeats} each):')
-        for label, seconds in best.items():
+        for label, seconds in best[name].items():
             print(f'  {label:42s} {seconds:6.3f}')
+    for name in trees:
+        start_up = sum(best[name][label] for label in START_UP_STAGES)
+        bag = sum(best[name][label] for label in BAG_STAGES)
+        bound = (start_up + 2 * bag) / (start_up + bag)
+        print(f'{name}: start-up S {start_up:.3f} s, a bag B {bag:.3f} s; bound on --jobs 2 '
+              f'over two such bags (S + 2B) / (S + B) = {bound:.3f}')
 
 
 def process_times(command: list, cwd: Optional[Path] = None) -> Tuple[float, float]:
@@ -482,7 +519,7 @@ def whole_process_figures(messages: int, storage: str, model: str, repeats: int,
         if before is not None:
             before_after_processes(path, written, model, repeats, before)
         if split:
-            stage_figures(path, model, repeats)
+            stage_figures(path, model, repeats, before)
 
 
 def against_figures(messages: int, storage: str, model: str, baseline: str, pairs: int,

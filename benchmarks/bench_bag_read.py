@@ -48,6 +48,7 @@ from unittest import mock
 
 from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED, read_samples
 from baseball_collision.bags import decode as decode_module, reader as reader_module
+from baseball_collision.bags import sqlite as sqlite_module
 from baseball_collision.bags.decode import chunk_samples, decode_spans, SampleChunk
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
@@ -148,7 +149,7 @@ def rosbags_chunks(path: Path) -> int:
 def rosbags_path() -> Iterator[None]:
     """Make ``BagReader`` read every bag through ``AnyReader.messages`` (no spans)."""
     with mock.patch.object(reader_module, 'mcap_spans', lambda *a: None), \
-            mock.patch.object(reader_module, 'sqlite_spans', lambda *a: None):
+            mock.patch.object(sqlite_module, 'sqlite_spans', lambda *a: None):
         yield
 
 

@@ -26,8 +26,6 @@ from .decode import (
 from .mcap import mcap_spans
 from .selection import (
     check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
-from .sqlite import sqlite_spans
-from ..core.health import NS_PER_S
 from ..errors import BagError
 from ..threads import ReadAhead
 
@@ -262,11 +260,15 @@ class BagReader(BagFile):
         None: the bag is read through rosbags' ``AnyReader.messages`` (ROS 1, per-message
         compression, ...). ``size``: the messages of a sqlite3 bag's spans.
 
+        :mod:`.sqlite` is imported here, for a bag that is not MCAP: analysing an MCAP bag never
+        loads it.
+
         :raises BagError: the bag's index cannot be read.
         """
         with self._reading():
             spans = mcap_spans(reader, self._connections)
             if spans is None:
+                from .sqlite import sqlite_spans
                 spans = sqlite_spans(reader, self._connections, size)
         return spans
 
@@ -295,7 +297,7 @@ class BagReader(BagFile):
         try:
             message: Any = reader.deserialize(raw, route.msgtype)
             stamp = message.header.stamp
-            stamp_ns = int(stamp.sec) * NS_PER_S + int(stamp.nanosec)
+            stamp_ns = int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)  # (as decode's)
             return stamp_ns, str(message.header.frame_id), values_from_message(route.role, message)
         except Exception as error:
             raise BagError(

@@ -24,7 +24,8 @@ from pathlib import Path
 import sys
 import time
 from typing import (
-    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple, Union)
+    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple,
+    TYPE_CHECKING, Union)
 
 import numpy as np
 
@@ -33,13 +34,16 @@ from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     compare_truth, LEADS_S, load_truth, PredictionIndex, silence_clearings, truth_path,
     TruthComparison)
-from ..bags import BagReader, BagWriter, TopicSelection
+from ..bags import BagReader, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
 from ..core.detector.chunks import ROLE_CODES
 from ..core.detector.predictor import kept_flight_span
 from ..errors import BagError, ToolError
+
+if TYPE_CHECKING:  # the writer's modules are imported only when a bag is written
+    from ..bags import BagWriter
 
 PROGRESS_MIN_MESSAGES = 100_000
 """Bags with more messages than this get a progress bar (also any bag when stderr is a TTY)."""
@@ -469,7 +473,7 @@ def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
 
 
 def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
-                out_bag: Optional[BagWriter] = None, progress: bool = True,
+                out_bag: Optional['BagWriter'] = None, progress: bool = True,
                 use_truth: bool = True, read_ahead: int = 1) -> BagAnalysis:
     """
     Run the detector over a bag: every selected sample in the bag's order, then ``finish()``.

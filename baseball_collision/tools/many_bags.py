@@ -8,14 +8,16 @@ the paths on the command line name.
 
 import os
 from pathlib import Path
-from typing import Any, Iterable, List, Optional, Tuple, Union
+from typing import Any, Iterable, List, Optional, Tuple, TYPE_CHECKING, Union
 
 from .analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from .pool import in_pool
 from .truth import BAG_SUFFIXES
-from ..bags import BagWriter
 from ..core.toi.batch import cores
 from ..errors import ToolError
+
+if TYPE_CHECKING:  # the writer's modules are imported only when a bag is written
+    from ..bags import BagWriter
 
 
 def is_bag(path: Path) -> bool:
@@ -93,7 +95,7 @@ def worker_read_ahead(workers: int) -> int:
 
 
 def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
-                 jobs: Optional[int] = None, out_bag: Optional[BagWriter] = None,
+                 jobs: Optional[int] = None, out_bag: Optional['BagWriter'] = None,
                  progress: bool = True, use_truth: bool = True,
                  skipped: Optional[List[Skipped]] = None) -> List[BagAnalysis]:
     """

@@ -7,7 +7,6 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import apsw
 from baseball_collision.bags import BagReader, POINT_STAMPED, POSE_STAMPED
-from baseball_collision.bags import reader as reader_module
 from baseball_collision.bags import sqlite as sqlite_module
 from baseball_collision.bags.decode import decode_chunk, decode_spans, SampleChunk
 from baseball_collision.bags.sqlite import query, sqlite_spans
@@ -97,7 +96,7 @@ def _cut(lengths: List[int], total: int, size: int) -> None:
 
 def _rosbags_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """Make ``BagReader`` read through rosbags' ``AnyReader.messages`` (the path before)."""
-    monkeypatch.setattr(reader_module, 'sqlite_spans', lambda *a: None)
+    monkeypatch.setattr(sqlite_module, 'sqlite_spans', lambda *a: None)
 
 
 def _chunks_and_samples(path: Path, size: int = 4096) -> Tuple[List[SampleChunk], List[Any]]:

@@ -332,6 +332,29 @@ def test_the_command_lines_start_up_leaves_what_a_run_may_not_need() -> None:
     assert modules_loaded(code, ('numpy.random', 'concurrent.futures')) == []
 
 
+@pytest.mark.parametrize('name, out_bag, loaded', [
+    ('pitches_90hz.mcap', False, []),
+    ('pitches_120hz_sqlite3', False, ['baseball_collision.bags.sqlite']),
+    ('pitches_90hz.mcap', True,
+     ['baseball_collision.bags.writer', 'baseball_collision.core.health']),
+])
+def test_analyzing_a_bag_imports_what_its_storage_and_outputs_need(
+        name: str, out_bag: bool, loaded: List[str], tmp_path: Path) -> None:
+    """
+    A whole ``analyze`` (in a fresh interpreter) imports no module its bag and outputs do not use.
+
+    An MCAP bag's: no sqlite3 reader; without ``--out-bag``: no bag writer and no node health
+    (each a few ms of every start-up: issue 13). A sqlite3 bag loads its reader, an output bag
+    the writer and the health its ``/diagnostics`` are made of.
+    """
+    argv = ['analyze', str(bag_path(name)), '--quiet', '--no-progress']
+    argv += ['--out-bag', str(tmp_path / 'out.mcap')] if out_bag else []
+    code = f'from baseball_collision.tools.cli import main\nassert main({argv!r}) == 0'
+    modules = ('baseball_collision.bags.sqlite', 'baseball_collision.bags.writer',
+               'baseball_collision.core.health')
+    assert modules_loaded(code, modules) == loaded
+
+
 def test_a_reset_ends_the_prediction_in_force() -> None:
     """A prediction is scored until the next, a clearing or a reset (the node's flag goes off)."""
     events = swing_events(horizon=0.3)
