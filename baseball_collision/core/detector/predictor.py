@@ -45,6 +45,8 @@ from dataclasses import replace
 import math
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from .bat_glitch_edges import late_rule, segment_first
 from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
 from .config import DetectorConfig
@@ -80,8 +82,9 @@ bat frame off the latter lands where that frame before is taken as off (``Predic
 ``bench_prediction.py --faults``: 2 lost 20 ms ahead that the pitch without the frame keeps,
 of 252 hits at 90 Hz with 1 mm of noise, against 7 at 2 times and 15 at 3)."""
 
-NEWEST, BEFORE = 'newest', 'before'
-"""``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, or the one before."""
+NEWEST, BEFORE, ACROSS = 'newest', 'before', 'across'
+"""``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, the one before, or
+the newest after a step over ``REGULAR_STEP`` times the one before (a frame lost between)."""
 
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
@@ -117,6 +120,26 @@ def kept_flight_span(window: float) -> float:
     y = math.copysign(abs(half + root) ** (1 / 3), half + root) + math.copysign(
         abs(half - root) ** (1 / 3), half - root)
     return 0.5 * (y - 1.0) * window
+
+
+def noise_gain(times: Sequence[float], t: float, degree: int) -> float:
+    """
+    Return how many times a sample's noise (1 sigma) a forecast's miss of a sample at t carries.
+
+    The forecast: from the last of ``times`` (s) on, by the least-squares polynomial of
+    ``degree`` through the samples at ``times`` (as ``prediction.bat_window_numbers``
+    extrapolates a bat: the newest sample plus the fit's change since its stamp), so it is
+    a sum of those samples by weights w; its miss of a new sample at t (s) with the same
+    independent noise has ``sqrt(1 + sum w^2)`` times that noise. A rank-deficient fit takes
+    the least-norm solution, as LAPACK does.
+    """
+    last = times[-1]
+    design = np.vander([u - last for u in times], degree + 1, increasing=True)
+    change = np.array([(t - last) ** m for m in range(degree + 1)])
+    change[0] = 0.0  # (the fit's change since the last sample: the sample itself is added)
+    weights = change @ np.linalg.pinv(design)
+    weights[-1] += 1.0
+    return math.sqrt(1.0 + float(weights @ weights))
 
 
 class Predictor:
@@ -247,8 +270,12 @@ class Predictor:
                 off = None if held or planned or left_out is not None else self._bat_off(found)
                 if off is NEWEST:
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
-                elif off is BEFORE:  # (forecast without it)
-                    without = self._bat_numbers(*self._bat_window, self._bat_window[1] - 2)
+                elif off is not None:  # BEFORE, ACROSS: forecast without that frame
+                    first, end = self._bat_window
+                    if off is ACROSS:  # (the newest: judged by the frame after it)
+                        self.suspect = self.bat.times[end - 1]
+                    without = self._bat_numbers(first, end, end - 2) if off is BEFORE else \
+                        self._bat_numbers(first, end - 1)
                     if without is not None:
                         bat_args, found = without, contact_of(
                             ball, without, t0, config.prediction_horizon, config.ball_radius,
@@ -311,6 +338,8 @@ class Predictor:
         if suspect is not None and first <= (j := bisect_left(times, suspect, first, end)) < last \
                 and times[j] == suspect:
             verdict = self._late_verdict(j)
+            if verdict is None and self._across_hole(j) and self._followed(j):
+                verdict = False  # (its next frame goes on from it: the swing's own)
             if verdict is None or verdict is True:  # (waits, or a glitch: forecast without it)
                 self._left_out = j
             elif verdict is not NOT_LATE:
@@ -382,11 +411,12 @@ class Predictor:
         with 1 mm of noise, a frame turned 10 cm at the tip 8.3 cm or more away. Not where the
         frame before left it too: the fit through that one misses the newest (the sweep judges
         a bat frame only near the ball, so a glitch may stay in the window for tens of
-        milliseconds). Nor where the newest frame's step is more than
-        ``bat_glitches.REGULAR_STEP`` times the step before it: after a frame lost or dropped
-        (a glitch that this frame's judgment dropped, ``_bat_glitch_dropped``) the forecast
-        reaches over two steps, and a swing's own frame lands centimetres off it. Judged only
-        where the frame would change what is shown (``_shown_changes``; ``found``:
+        milliseconds). After a step more than ``bat_glitches.REGULAR_STEP`` times the step
+        before it (a frame lost or dropped between) the forecast reaches over two steps, where
+        a swing's own frame lands centimetres off it too, so the frame after such a newest one
+        says which it is (``_bat_glitch_dropped``: ``_followed``): a swing's frame goes on from
+        it, and is used from that next frame on (held one frame); a glitch is left out. Judged
+        only where the frame would change what is shown (``_shown_changes``; ``found``:
         ``contact_of``'s result).
 
         ``BEFORE``: the frame before the newest is off, the newest not: the newest is that far
@@ -414,9 +444,51 @@ class Predictor:
             return None
         if end - first >= 6 and BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss:
             return BEFORE
-        if shown and after <= REGULAR_STEP * before and not self._bat_leaves(first, end - 1):
+        if not shown or self._bat_leaves(first, end - 1):
+            return None
+        if after <= REGULAR_STEP * before:
             return NEWEST
-        return None
+        return ACROSS if miss > self._across_floor(first, end) else None
+
+    def _across_floor(self, first: int, end: int) -> float:
+        """
+        Return the distance (m) bat frame end - 1, after a hole, is off the swing beyond.
+
+        ``glitch_floor`` of the stream's noise, or the frame before it off the forecast of the
+        frames before that (``_bat_miss``: the window's one-step miss, its noise and the swing's
+        own turn) times how much more the forecast of frames [first, end - 1) carries at frame
+        end - 1's stamp on the same noise (``noise_gain``, from the stamps and the fit's degree:
+        across one frame lost at 90 Hz 6.1 times; a still bat with 1 mm of noise: 35 mm at
+        the median, 67 mm p99), if more: across a hole the forecast, not the frame, may be that
+        far off.
+        """
+        times = self.bat.times
+        degree = min(self._config.velocity_degree, PREDICTION_DEGREE)
+        ratio = noise_gain(times[first:end - 1], times[end - 1], degree) / noise_gain(
+            times[first:end - 2], times[end - 2], degree)
+        return max(glitch_floor(stream_noise(self.bat, self._config)),
+                   ratio * self._bat_miss(first, end - 1))
+
+    def _across_hole(self, j: int) -> bool:
+        """Return whether bat frame j's step is over ``REGULAR_STEP`` times the step before it."""
+        times = self.bat.times
+        return j >= 2 and times[j] - times[j - 1] > REGULAR_STEP * (times[j - 1] - times[j - 2])
+
+    def _followed(self, j: int) -> bool:
+        """
+        Return whether bat frame j + 1 goes on from frame j: on the forecast through it.
+
+        Frame j + 1 within ``glitch_floor`` of the forecast of the frames that held frame j
+        (``_bat_off``: the forecast window up to it, ``velocity_window`` back from it) and frame
+        j, extrapolated from frame j itself: a swing's own frame after one is off a glitch's
+        distance from a glitch's (``_bat_leaves``). The window is frame j's, so every forecast
+        that judges it reads the same verdict.
+        """
+        bat = self.bat
+        if j + 1 >= len(bat.times):
+            return False
+        start = bat.history(bat.times[j], self._config.velocity_window)[0]
+        return not self._bat_leaves(start, j + 2)
 
     def _segment_start(self, first: int, end: int) -> bool:
         """
