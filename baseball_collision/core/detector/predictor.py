@@ -43,6 +43,7 @@ hangs on it).
 from bisect import bisect_left
 from dataclasses import replace
 import math
+from statistics import median
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -448,7 +449,10 @@ class Predictor:
             return None
         if after <= REGULAR_STEP * before:
             return NEWEST
-        return ACROSS if miss > self._across_floor(first, end) else None
+        if not self._across_hole(end - 1) or miss <= self._across_floor(first, end):
+            return None
+        # (not where the frame before the hole bent the forecast: one stamped off, ``BEFORE``)
+        return None if BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss else ACROSS
 
     def _across_floor(self, first: int, end: int) -> float:
         """
@@ -470,9 +474,20 @@ class Predictor:
                    ratio * self._bat_miss(first, end - 1))
 
     def _across_hole(self, j: int) -> bool:
-        """Return whether bat frame j's step is over ``REGULAR_STEP`` times the step before it."""
-        times = self.bat.times
-        return j >= 2 and times[j] - times[j - 1] > REGULAR_STEP * (times[j - 1] - times[j - 2])
+        """
+        Return whether bat frame j comes after a hole: frames lost (or dropped) right before it.
+
+        Its step over ``REGULAR_STEP`` times the step before it and the median step of the
+        frames before it in its forecast's window (``velocity_window`` back from it): not the
+        frame after one stamped early (``BEFORE``'s case), whose step is long only beside it.
+        """
+        bat = self.bat
+        times, start = bat.times, bat.history(bat.times[j], self._config.velocity_window)[0]
+        if j - start < 3:
+            return False
+        step = times[j] - times[j - 1]
+        return step > REGULAR_STEP * max(times[j - 1] - times[j - 2], median(
+            [b - a for a, b in zip(times[start:j - 1], times[start + 1:j])]))
 
     def _followed(self, j: int) -> bool:
         """
