@@ -24,6 +24,14 @@ distance off) predicts from its forecast without the frame before (``Predictor._
 ``BEFORE``), where it would change what is shown or the stamps about that frame break their
 cadence; the sweep still reads the frame.
 
+A newest bat frame after a hole (frames lost right before it) is judged so against the
+hole's own floor, the window's one-step miss times how much farther the forecast reaches across
+the hole on the same noise (``Predictor._across_floor``: the hole, not the frame, may put a
+swing's frame centimetres off): one off it predicts from the forecast of the frames before it,
+neither held nor bending the prediction, and the frame after it says which it was: on the
+forecast through it, the swing's own (used from then on); off it, left out till the sweep's
+rule for it judges it (``Predictor._followed``, ``_late_verdict``).
+
 A glitch further back in the bat's forecast window would bend the fit of every forecast after
 it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that
 would change what is shown (a contact found, withdrawn or moved) first judges the window's
@@ -321,11 +329,12 @@ class Predictor:
         A suspect that rule cannot judge (a segment's first frames, a frame beside a hole over
         ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the frames after it
         that the rule reads have come (``_late_verdict``): a frame judged no glitch is forgotten
-        as a suspect; till then, or judged a glitch (``_left_out``), and while it is in the
-        forecast's window, the bat is forecast without it (``predict``). Not dropped here: the
-        sweep drops it where a contact hangs on it, and a drop here, at another frame than the
-        sweep's, made the chunk path's impacts differ from one sample at a time's
-        (``bench_prediction.py --faults --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
+        as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``) whose next frame goes
+        on from it (``_followed``) meanwhile; till then, or judged a glitch (``_left_out``), and
+        while it is in the forecast's window, the bat is forecast without it (``predict``). Not
+        dropped here: the sweep drops it where a contact hangs on it, and a drop here, at
+        another frame than the sweep's, made the chunk path's impacts differ from one sample at
+        a time's (``bench_prediction.py --faults --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
         """
         first, end = self._bat_window
         suspect = self.suspect
@@ -412,13 +421,19 @@ class Predictor:
         with 1 mm of noise, a frame turned 10 cm at the tip 8.3 cm or more away. Not where the
         frame before left it too: the fit through that one misses the newest (the sweep judges
         a bat frame only near the ball, so a glitch may stay in the window for tens of
-        milliseconds). After a step more than ``bat_glitches.REGULAR_STEP`` times the step
-        before it (a frame lost or dropped between) the forecast reaches over two steps, where
-        a swing's own frame lands centimetres off it too, so the frame after such a newest one
-        says which it is (``_bat_glitch_dropped``: ``_followed``): a swing's frame goes on from
-        it, and is used from that next frame on (held one frame); a glitch is left out. Judged
-        only where the frame would change what is shown (``_shown_changes``; ``found``:
-        ``contact_of``'s result).
+        milliseconds). Only after a step at most ``bat_glitches.REGULAR_STEP`` times the step
+        before it. Judged only where the frame would change what is shown (``_shown_changes``;
+        ``found``: ``contact_of``'s result).
+
+        ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
+        frames lost or dropped right before it), where the forecast reaches over two steps or
+        more and a swing's own frame lands centimetres off it: more than the hole's floor off
+        (``_across_floor``, from the window's own one-step miss and the fit's noise gain), and
+        not ``BEFORE_OFF`` times nearer the forecast without the frame before it (a frame
+        stamped off before the hole bent the forecast: ``BEFORE``'s case; after a genuine frame
+        dropped beside it a hit lost its prediction). The frame predicts from the forecast of
+        the frames before it (not held, not bent) and is ``suspect``: the frame after it says
+        which it was (``_bat_glitch_dropped``: ``_followed``).
 
         ``BEFORE``: the frame before the newest is off, the newest not: the newest is that far
         from the forecast through it, and ``BEFORE_OFF`` times nearer the forecast from the
