@@ -508,11 +508,11 @@ class Predictor:
         """
         Return whether bat frame j + 1 goes on from frame j: on the forecast through it.
 
-        Frame j + 1 within ``glitch_floor`` of the forecast of the frames that held frame j
-        (``_bat_off``: the forecast window up to it, ``velocity_window`` back from it) and frame
-        j, extrapolated from frame j itself: a swing's own frame after one is off a glitch's
-        distance from a glitch's (``_bat_leaves``). The window is frame j's, so every forecast
-        that judges it reads the same verdict.
+        Frame j + 1 within ``glitch_floor`` of the forecast of frame j's window (the frames
+        ``_bat_off`` judged it with, ``velocity_window`` back from it) and frame j, extrapolated
+        from frame j itself (``_bat_leaves``): a glitch puts that forecast about its own
+        distance off the swing, a swing's own frame does not. The window is frame j's, so every
+        forecast that judges it reads the same verdict.
         """
         bat = self.bat
         if j + 1 >= len(bat.times):
