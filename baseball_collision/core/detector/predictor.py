@@ -24,6 +24,14 @@ distance off) predicts from its forecast without the frame before (``Predictor._
 ``BEFORE``), where it would change what is shown or the stamps about that frame break their
 cadence; the sweep still reads the frame.
 
+A newest bat frame after a hole (frames lost right before it) is judged so against the
+hole's own floor, the window's one-step miss times how much farther the forecast reaches across
+the hole on the same noise (``Predictor._across_floor``: the hole, not the frame, may put a
+swing's frame centimetres off): one off it predicts from the forecast of the frames before it,
+neither held nor bending the prediction, and the frame after it says which it was: on the
+forecast through it, the swing's own (used from then on); off it, left out till the sweep's
+rule for it judges it (``Predictor._followed``, ``_late_verdict``).
+
 A glitch further back in the bat's forecast window would bend the fit of every forecast after
 it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that
 would change what is shown (a contact found, withdrawn or moved) first judges the window's
@@ -43,7 +51,10 @@ hangs on it).
 from bisect import bisect_left
 from dataclasses import replace
 import math
+from statistics import median
 from typing import Callable, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
 
 from .bat_glitch_edges import late_rule, segment_first
 from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
@@ -80,8 +91,9 @@ bat frame off the latter lands where that frame before is taken as off (``Predic
 ``bench_prediction.py --faults``: 2 lost 20 ms ahead that the pitch without the frame keeps,
 of 252 hits at 90 Hz with 1 mm of noise, against 7 at 2 times and 15 at 3)."""
 
-NEWEST, BEFORE = 'newest', 'before'
-"""``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, or the one before."""
+NEWEST, BEFORE, ACROSS = 'newest', 'before', 'across'
+"""``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, the one before, or
+the newest after a step over ``REGULAR_STEP`` times the one before (a frame lost between)."""
 
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
@@ -117,6 +129,26 @@ def kept_flight_span(window: float) -> float:
     y = math.copysign(abs(half + root) ** (1 / 3), half + root) + math.copysign(
         abs(half - root) ** (1 / 3), half - root)
     return 0.5 * (y - 1.0) * window
+
+
+def noise_gain(times: Sequence[float], t: float, degree: int) -> float:
+    """
+    Return how many times a sample's noise (1 sigma) a forecast's miss of a sample at t carries.
+
+    The forecast: from the last of ``times`` (s) on, by the least-squares polynomial of
+    ``degree`` through the samples at ``times`` (as ``prediction.bat_window_numbers``
+    extrapolates a bat: the newest sample plus the fit's change since its stamp), so it is
+    a sum of those samples by weights w; its miss of a new sample at t (s) with the same
+    independent noise has ``sqrt(1 + sum w^2)`` times that noise. A rank-deficient fit takes
+    the least-norm solution, as LAPACK does.
+    """
+    last = times[-1]
+    design = np.vander([u - last for u in times], degree + 1, increasing=True)
+    change = np.array([(t - last) ** m for m in range(degree + 1)])
+    change[0] = 0.0  # (the fit's change since the last sample: the sample itself is added)
+    weights = change @ np.linalg.pinv(design)
+    weights[-1] += 1.0
+    return math.sqrt(1.0 + float(weights @ weights))
 
 
 class Predictor:
@@ -247,8 +279,12 @@ class Predictor:
                 off = None if held or planned or left_out is not None else self._bat_off(found)
                 if off is NEWEST:
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
-                elif off is BEFORE:  # (forecast without it)
-                    without = self._bat_numbers(*self._bat_window, self._bat_window[1] - 2)
+                elif off is not None:  # BEFORE, ACROSS: forecast without that frame
+                    first, end = self._bat_window
+                    if off is ACROSS:  # (the newest: judged by the frame after it)
+                        self.suspect = self.bat.times[end - 1]
+                    without = self._bat_numbers(first, end, end - 2) if off is BEFORE else \
+                        self._bat_numbers(first, end - 1)
                     if without is not None:
                         bat_args, found = without, contact_of(
                             ball, without, t0, config.prediction_horizon, config.ball_radius,
@@ -293,11 +329,12 @@ class Predictor:
         A suspect that rule cannot judge (a segment's first frames, a frame beside a hole over
         ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the frames after it
         that the rule reads have come (``_late_verdict``): a frame judged no glitch is forgotten
-        as a suspect; till then, or judged a glitch (``_left_out``), and while it is in the
-        forecast's window, the bat is forecast without it (``predict``). Not dropped here: the
-        sweep drops it where a contact hangs on it, and a drop here, at another frame than the
-        sweep's, made the chunk path's impacts differ from one sample at a time's
-        (``bench_prediction.py --faults --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
+        as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``) whose next frame goes
+        on from it (``_followed``) meanwhile; till then, or judged a glitch (``_left_out``), and
+        while it is in the forecast's window, the bat is forecast without it (``predict``). Not
+        dropped here: the sweep drops it where a contact hangs on it, and a drop here, at
+        another frame than the sweep's, made the chunk path's impacts differ from one sample at
+        a time's (``bench_prediction.py --faults --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
         """
         first, end = self._bat_window
         suspect = self.suspect
@@ -311,6 +348,8 @@ class Predictor:
         if suspect is not None and first <= (j := bisect_left(times, suspect, first, end)) < last \
                 and times[j] == suspect:
             verdict = self._late_verdict(j)
+            if verdict is None and self._across_hole(j) and self._followed(j):
+                verdict = False  # (its next frame goes on from it: the swing's own)
             if verdict is None or verdict is True:  # (waits, or a glitch: forecast without it)
                 self._left_out = j
             elif verdict is not NOT_LATE:
@@ -382,12 +421,19 @@ class Predictor:
         with 1 mm of noise, a frame turned 10 cm at the tip 8.3 cm or more away. Not where the
         frame before left it too: the fit through that one misses the newest (the sweep judges
         a bat frame only near the ball, so a glitch may stay in the window for tens of
-        milliseconds). Nor where the newest frame's step is more than
-        ``bat_glitches.REGULAR_STEP`` times the step before it: after a frame lost or dropped
-        (a glitch that this frame's judgment dropped, ``_bat_glitch_dropped``) the forecast
-        reaches over two steps, and a swing's own frame lands centimetres off it. Judged only
-        where the frame would change what is shown (``_shown_changes``; ``found``:
-        ``contact_of``'s result).
+        milliseconds). Only after a step at most ``bat_glitches.REGULAR_STEP`` times the step
+        before it. Judged only where the frame would change what is shown (``_shown_changes``;
+        ``found``: ``contact_of``'s result).
+
+        ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
+        frames lost or dropped right before it), where the forecast reaches over two steps or
+        more and a swing's own frame lands centimetres off it: more than the hole's floor off
+        (``_across_floor``, from the window's own one-step miss and the fit's noise gain), and
+        not ``BEFORE_OFF`` times nearer the forecast without the frame before it (a frame
+        stamped off before the hole bent the forecast: ``BEFORE``'s case; after a genuine frame
+        dropped beside it a hit lost its prediction). The frame predicts from the forecast of
+        the frames before it (not held, not bent) and is ``suspect``: the frame after it says
+        which it was (``_bat_glitch_dropped``: ``_followed``).
 
         ``BEFORE``: the frame before the newest is off, the newest not: the newest is that far
         from the forecast through it, and ``BEFORE_OFF`` times nearer the forecast from the
@@ -414,9 +460,65 @@ class Predictor:
             return None
         if end - first >= 6 and BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss:
             return BEFORE
-        if shown and after <= REGULAR_STEP * before and not self._bat_leaves(first, end - 1):
+        if not shown or self._bat_leaves(first, end - 1):
+            return None
+        if after <= REGULAR_STEP * before:
             return NEWEST
-        return None
+        if not self._across_hole(end - 1) or miss <= self._across_floor(first, end):
+            return None
+        # (not where the frame before the hole bent the forecast: one stamped off, ``BEFORE``)
+        return None if BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss else ACROSS
+
+    def _across_floor(self, first: int, end: int) -> float:
+        """
+        Return the distance (m) bat frame end - 1, after a hole, is off the swing beyond.
+
+        ``glitch_floor`` of the stream's noise, or the frame before it off the forecast of the
+        frames before that (``_bat_miss``: the window's one-step miss, its noise and the swing's
+        own turn) times how much more the forecast of frames [first, end - 1) carries at frame
+        end - 1's stamp on the same noise (``noise_gain``, from the stamps and the fit's degree:
+        across one frame lost at 90 Hz 6.1 times; a still bat with 1 mm of noise: 35 mm at
+        the median, 67 mm p99), if more: across a hole the forecast, not the frame, may be that
+        far off.
+        """
+        times = self.bat.times
+        degree = min(self._config.velocity_degree, PREDICTION_DEGREE)
+        ratio = noise_gain(times[first:end - 1], times[end - 1], degree) / noise_gain(
+            times[first:end - 2], times[end - 2], degree)
+        return max(glitch_floor(stream_noise(self.bat, self._config)),
+                   ratio * self._bat_miss(first, end - 1))
+
+    def _across_hole(self, j: int) -> bool:
+        """
+        Return whether bat frame j comes after a hole: frames lost (or dropped) right before it.
+
+        Its step over ``REGULAR_STEP`` times the step before it and the median step of the
+        frames before it in its forecast's window (``velocity_window`` back from it): not the
+        frame after one stamped early (``BEFORE``'s case), whose step is long only beside it.
+        """
+        bat = self.bat
+        times, start = bat.times, bat.history(bat.times[j], self._config.velocity_window)[0]
+        if j - start < 3:
+            return False
+        step = times[j] - times[j - 1]
+        return step > REGULAR_STEP * max(times[j - 1] - times[j - 2], median(
+            [b - a for a, b in zip(times[start:j - 1], times[start + 1:j])]))
+
+    def _followed(self, j: int) -> bool:
+        """
+        Return whether bat frame j + 1 goes on from frame j: on the forecast through it.
+
+        Frame j + 1 within ``glitch_floor`` of the forecast of frame j's window (the frames
+        ``_bat_off`` judged it with, ``velocity_window`` back from it) and frame j, extrapolated
+        from frame j itself (``_bat_leaves``): a glitch puts that forecast about its own
+        distance off the swing, a swing's own frame does not. The window is frame j's, so every
+        forecast that judges it reads the same verdict.
+        """
+        bat = self.bat
+        if j + 1 >= len(bat.times):
+            return False
+        start = bat.history(bat.times[j], self._config.velocity_window)[0]
+        return not self._bat_leaves(start, j + 2)
 
     def _segment_start(self, first: int, end: int) -> bool:
         """

@@ -12,12 +12,13 @@ from baseball_collision.core.detector.gap_flight import GAP_FLIGHT_BIAS, GAP_FLI
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import turn_rows
 from baseball_collision.core.detector.predictor import (
-    kept_flight_span, PREDICTION_CHORD_FACTOR, Predictor)
+    kept_flight_span, noise_gain, PREDICTION_CHORD_FACTOR, Predictor)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
     BallForecast, BatForecast, MAX_PLAN_POSES, PlannedBat)
 from baseball_collision.errors import CoreError
+from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
 from support.events import glitched_pitch, lost_glitched_pitch
@@ -226,20 +227,103 @@ def test_a_bat_glitch_in_the_forecast_window_is_dropped_before_it_predicts(
     assert dropped_at < closest
 
 
-def test_a_newest_bat_frame_after_a_lost_one_is_not_held() -> None:
+def test_a_newest_bat_frame_off_after_a_lost_one_predicts_without_it_till_the_next() -> None:
     """
-    A newest bat frame two steps after the one before (a frame lost or dropped between) predicts.
+    A newest bat frame two steps after the one before, a glitch's distance off, is not used.
 
-    The forecast of the frames before it reaches over two steps, where a swing's own frame lands
-    centimetres off it (after a glitch the forecast's judgment dropped, a hit's next forecast
-    was held, and the prediction lost): ``Predictor._bat_off`` holds only after a regular
-    step (``bat_glitches.REGULAR_STEP``), as the sweep judges only among regular steps.
+    The forecast of the frames before it reaches over two steps, where a swing's own frame may
+    land centimetres off it, so the frame is not held (``Predictor._bat_off``: ``ACROSS``): it
+    predicts from the frames before it (here the still bat, which the ball passes over), and
+    the frame after it says which it was: on the same pose, the bat moved, and the contact is
+    predicted.
     """
-    events = []
-    predictor = _turned(1)
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
+    up = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 + 0.86 * math.sin(angle)))
+    balls = [(1.6 - 40.0 * 0.005 * i, 0.5, 1.15) for i in range(9)]  # (15 cm over the still bat)
+    predictor = _predictor(balls[:8], [still] * 7 + [up])
+    predictor.drop_bat = lambda j, last: None
     predictor.bat.remove(6)  # (a still frame: the newest, turned up, 10 ms after the one before)
+    events = []
     predictor.predict(0.005 * 7, True, events)
+    assert events == [] and predictor.last_ns == predictor.clock.stamp(0.005 * 7)  # (not held)
+    assert predictor.suspect == predictor.bat.times[-1]
+    predictor.ball.append(0.005 * 8, BASE_NS + 8, balls[8], False)
+    predictor.bat.append(0.005 * 8, BASE_NS + 8, BatSample(*up), False)
+    predictor.predict(0.005 * 8, True, events)
     assert [type(e) for e in events] == [Prediction]
+
+
+@pytest.mark.parametrize('family', ['plane', 'jerky'])
+def test_a_bat_glitch_right_after_a_lost_frame_neither_holds_nor_bends_the_prediction(
+        family: str) -> None:
+    """
+    A 90 Hz hit whose bat frame 4 before the contact, turned 10 cm, follows a frame lost.
+
+    The typical optical tracker's fault: a marker re-acquired with the wrong label right after
+    an occlusion. Taken as the swing's own (its step twice the one before), it bent the
+    forecast away from the ball until the prediction 20 ms ahead was gone. Now it is more than
+    the hole's floor off the forecast of the frames before it (``Predictor._across_floor``), so
+    it predicts from those, and the frame after it, off the forecast through it, leaves it out
+    (``_followed``): the prediction 20 ms ahead is the pitch without it's, on the contact.
+    """
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    rows, deleted, contact = lost_glitched_pitch('barrel', family, 0, 4, -1)
+    ahead = []
+    for feed in (rows, deleted):
+        detector = Detector(config)
+        made = [(e.made_at_ns, getattr(e, 'stamp_ns', None)) for row in feed
+                for e in detector.add(*row) if isinstance(e, (Prediction, PredictionCleared))]
+        ahead.append([stamp for made_at, stamp in made if made_at <= contact - 0.02e9][-1])
+    assert ahead[0] == ahead[1] and abs(ahead[0] - contact) < 0.001e9
+
+
+def test_the_noise_gain_is_the_forecasts_weights_norm() -> None:
+    """
+    A cubic through four evenly spaced samples forecasts by Lagrange's weights.
+
+    One step on: 4, -6, 4, -1 (``sqrt(1 + 69)``); two steps on, across a lost one: 10, -20, 15,
+    -4 (``sqrt(1 + 741)``), the same at any step size. More samples than the degree smooth it.
+    """
+    assert noise_gain([0.0, 1.0, 2.0, 3.0], 4.0, 3) == pytest.approx(math.sqrt(70.0))
+    step = 1.0 / 90.0
+    assert noise_gain([0.0, step, 2 * step, 3 * step], 5 * step, 3) == pytest.approx(
+        math.sqrt(742.0))
+    assert noise_gain([0.0, 1.0, 2.0, 3.0, 4.0], 5.0, 3) < math.sqrt(70.0)
+
+
+def test_a_swing_frame_centimetres_off_after_a_lost_frame_keeps_its_prediction(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """
+    A 90 Hz graze with 1 mm of noise, the bat frame 4 before the contact lost: no glitch.
+
+    The frame after the hole lands more than a glitch's floor (5 cm) off the forecast of the
+    frames before it: the forecast across two steps carries the noise 6.1 times as far as the
+    one-step forecast that floor is for. Judged against the hole's floor (the window's one-step
+    miss that far on, ``Predictor._across_floor``), it is the swing's own, and predicts: the
+    prediction 20 ms ahead stays on the contact (left out with the floor alone, none was in
+    force there).
+    """
+    floors = []
+    across_floor = Predictor._across_floor
+
+    def spied(self: Predictor, first: int, end: int) -> float:
+        floors.append(across_floor(self, first, end))
+        return floors[-1]
+    monkeypatch.setattr(Predictor, '_across_floor', spied)
+    rng = np.random.default_rng(0)
+    scenario = make_scenario('graze', rng, lead_s=0.4, family='plane')
+    samples = sample(scenario, 90.0, rng, jitter_s=2e-4, noise_m=0.001)
+    contact = samples.start_ns + int(round(scenario.truth.time_s * 1e9))
+    j = int(np.flatnonzero(samples.bat_stamps_ns < contact)[-2])
+    samples = samples.without_bat_frame(j - 2)
+    detector, made = Detector(DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)), []
+    for stamp, role, values in samples.messages():
+        made += [(e.made_at_ns, getattr(e, 'stamp_ns', None)) for e in detector.add(
+            role, stamp, values, 'world') if isinstance(e, (Prediction, PredictionCleared))]
+    assert any(floor > 0.05 for floor in floors)  # (over the glitch floor: judged by the hole's)
+    ahead = [stamp for made_at, stamp in made if made_at <= contact - 0.02e9]
+    assert ahead[-1] is not None and abs(ahead[-1] - contact) < 0.001e9
 
 
 def test_the_frame_after_a_bat_frame_stamped_off_predicts_without_it() -> None:
