@@ -844,7 +844,7 @@ def test_a_frame_before_a_long_hole_is_judged_on_its_own_but_swings_stay() -> No
 
 
 def test_a_frame_is_over_a_hole_where_a_step_beside_it_is_over_lost_hole() -> None:
-    """``over_hole``: two frames lost after a 90 Hz frame (33 ms) are, one (22 ms) at 360 Hz not."""
+    """``over_hole``: two frames lost at 90 Hz (33 ms) make a hole over it, one at 360 Hz not."""
     bat = turning_bat(90.0, 20)
     assert not over_hole(bat, 12, 1)
     bat.remove(14)
@@ -854,3 +854,22 @@ def test_a_frame_is_over_a_hole_where_a_step_beside_it_is_over_lost_hole() -> No
     fast = turning_bat(360.0, 30)
     fast.remove(14)
     assert not over_hole(fast, 13, 1)
+
+
+def test_the_braked_frame_before_a_glitch_beside_a_long_hole_stays() -> None:
+    """
+    A rebound barrel at 90 Hz, 1 mm: the frame after the contact turned 20 cm, the next lost.
+
+    The braked frame before the glitch reads as one (the glitch pulls its neighbours' spline),
+    and the glitch, beside the 22 ms hole, stays isolated without it (21 cm), more than the
+    braked frame is: ``first_glitch`` defers to the glitch, and the braked frame is not dropped
+    in its place (it was, 11 ms before the glitch, where it never deferred beside such a hole).
+    """
+    scenario, samples = _bench_scene('barrel', 0, 90.0, 1e-3, 'rebound')
+    j = _closest_frame(scenario, samples) + 1
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2)
+    glitched = glitched.without_bat_frames(int(samples.bat_stamps_ns[j + 2]), 1)
+    config = DetectorConfig(**{**OFFLINE.__dict__, 'bat_input': 'pose'})
+    events, late = detect_late_drops(config, glitched)
+    assert {drop.stamp_ns for drop in late} <= {int(samples.bat_stamps_ns[j])}
+    assert sum(isinstance(event, Impact) for event in events) == 1
