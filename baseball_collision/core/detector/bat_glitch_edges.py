@@ -24,7 +24,7 @@ import math
 from typing import Callable, Optional, Tuple
 
 from .bat_glitches import (
-    departure, glitch_floor, isolated_without, ISOLATION_RATIO, judged, lost_about,
+    departure, glitch_floor, isolated_without, ISOLATION_RATIO, judged, over_hole,
     REGULAR_STEP, SCATTER_FRAMES)
 from .fitting import c2_bat_continued
 from .streams import reversed_excerpt, Stream
@@ -136,9 +136,7 @@ def beside_hole(stream: Stream, j: int) -> bool:
     at 120 Hz (25 ms) left the interval closing on it swept through it at the node: 30 of 480
     misses had an impact invented (``bench_glitches.py --rates 120 --lost -3 --lost-frames 2``).
     """
-    after = 1 if j + 1 < len(stream.times) else 0
-    return (lost_about(stream, j, 3, after) is None
-            and bool(lost_about(stream, j, 3, after, None, math.inf)))
+    return over_hole(stream, j, 1 if j + 1 < len(stream.times) else 0)
 
 
 def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,

@@ -7,7 +7,8 @@ from baseball_collision.core.detector import (
     bat_glitch_edges, Detector, DetectorConfig, Impact, NearMiss)
 from baseball_collision.core.detector.bat_glitch_edges import beside_hole, hole_glitch
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, isolation, judged, lost_about, path_without, regular, stepped)
+    departed, departure, isolation, judged, lost_about, over_hole, path_without, regular,
+    stepped)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import excerpt, Stream
 from baseball_collision.core.motion import BatSample
@@ -789,3 +790,86 @@ def test_genuine_frames_beside_lost_ones_stay() -> None:
                         detector, events = _run(config, samples.without_bat_frame(j + lost),
                                                 'pose')
                         assert 'bat_glitch' not in detector.stats.dropped, (rate, kind, family)
+
+
+def _lost_after_next(samples: Any, j: int) -> Any:
+    """Return ``samples`` without the two bat frames right after frame j's next (j + 2, j + 3)."""
+    return samples.without_bat_frames(int(samples.bat_stamps_ns[j + 4]), 2)
+
+
+@pytest.mark.parametrize('family, kind', [('rebound', 'miss_under'), ('lefty', 'miss_over'),
+                                          ('jerky', 'miss_under')])
+def test_a_glitch_whose_next_frame_is_beside_a_long_hole_is_dropped_not_an_impact(
+        family: str, kind: str) -> None:
+    """
+    A 90 Hz bat frame turned 20 cm toward a passing ball, two frames lost after its next (33 ms).
+
+    The glitch was judged one, but its next frame, beside the hole, stayed isolated without it
+    (as a swing's own frame there is), and the rule deferred to it as the one off: it was not,
+    and the bat's path through the glitch met the ball (5 of 480 misses with 1 mm of noise,
+    ``bench_glitches.py --rates 90 --lost 2 --lost-frames 2``). Now the glitch is dropped, the
+    miss stays a miss, and ``add_chunk`` does the same.
+    """
+    scenario, samples = _bench_scene(kind, 0, 90.0, 1e-3, family)
+    j = _closest_frame(scenario, samples) - 1
+    glitched = _lost_after_next(samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2),
+                                j)
+    config = DetectorConfig(**{**OFFLINE.__dict__, 'bat_input': 'pose'})
+    events, late = detect_late_drops(config, glitched)
+    assert not any(isinstance(event, Impact) for event in events)
+    assert [drop.stamp_ns for drop in late] == [int(samples.bat_stamps_ns[j])]
+    dropped, _ = _alike_in_chunks(config, glitched)
+    assert dropped.get('bat_glitch', 0) == 1
+
+
+def test_a_frame_before_a_long_hole_is_judged_on_its_own_but_swings_stay() -> None:
+    """
+    A frame whose next is beside a long hole is judged without deferring to that one.
+
+    ``first_glitch`` no longer defers to a next frame beside a hole over ``LOST_HOLE``
+    (``over_hole``), whose isolation says nothing there: a swing's own frames, with two frames
+    lost after the contact's or the closest approach's next (90 Hz, 1 mm), braking after a
+    hit or not, are kept, and each hit is found.
+    """
+    for kind in ('barrel', 'miss_over'):
+        for family in ('rebound', 'braking', 'jerky'):
+            scenario, samples = _bench_scene(kind, 0, 90.0, 1e-3, family)
+            for offset in (-2, -1, 0):
+                j = _closest_frame(scenario, samples) + offset
+                for config in (NODE, OFFLINE):
+                    detector, events = _run(config, _lost_after_next(samples, j), 'pose')
+                    assert 'bat_glitch' not in detector.stats.dropped, (kind, family, offset)
+                    hits = sum(isinstance(event, Impact) for event in events)
+                    assert hits == (kind == 'barrel'), (kind, family, offset)
+
+
+def test_a_frame_is_over_a_hole_where_a_step_beside_it_is_over_lost_hole() -> None:
+    """``over_hole``: two frames lost at 90 Hz (33 ms) make a hole over it, one at 360 Hz not."""
+    bat = turning_bat(90.0, 20)
+    assert not over_hole(bat, 12, 1)
+    bat.remove(14)
+    bat.remove(13)
+    assert over_hole(bat, 12, 1) and over_hole(bat, 13, 1)  # (the frames either side)
+    assert not over_hole(bat, 12, 1, 12)  # (its next frame not come by sample 12)
+    fast = turning_bat(360.0, 30)
+    fast.remove(14)
+    assert not over_hole(fast, 13, 1)
+
+
+def test_the_braked_frame_before_a_glitch_beside_a_long_hole_stays() -> None:
+    """
+    A rebound barrel at 90 Hz, 1 mm: the frame after the contact turned 20 cm, the next lost.
+
+    The braked frame before the glitch reads as one (the glitch pulls its neighbours' spline),
+    and the glitch, beside the 22 ms hole, stays isolated without it (21 cm), more than the
+    braked frame is: ``first_glitch`` defers to the glitch, and the braked frame is not dropped
+    in its place (it was, 11 ms before the glitch, where it never deferred beside such a hole).
+    """
+    scenario, samples = _bench_scene('barrel', 0, 90.0, 1e-3, 'rebound')
+    j = _closest_frame(scenario, samples) + 1
+    glitched = samples.with_bat_frame_turned(j, samples.ball_positions[j], 0.2)
+    glitched = glitched.without_bat_frames(int(samples.bat_stamps_ns[j + 2]), 1)
+    config = DetectorConfig(**{**OFFLINE.__dict__, 'bat_input': 'pose'})
+    events, late = detect_late_drops(config, glitched)
+    assert {drop.stamp_ns for drop in late} <= {int(samples.bat_stamps_ns[j])}
+    assert sum(isinstance(event, Impact) for event in events) == 1
