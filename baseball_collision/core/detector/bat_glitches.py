@@ -452,10 +452,11 @@ def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: in
                 clean.extend([None] * (j + 1 - len(clean)))
                 clean[j] = noise
             continue
-        if not (j + 1 < last and isolated_without(stream, j, max_gap, size, noise, last)
-                and (not over_hole(stream, j + 1, 1, last) or isolation_without(
-                    stream, j, max_gap, size, last) > max(isolation(stream, j, max_gap, size,
-                                                                    last)))):
+        if j + 1 >= last:
+            return j
+        apart = isolation_without(stream, j, max_gap, size, last)  # (its next, without it)
+        if apart <= glitch_floor(noise) or (over_hole(stream, j + 1, 1, last) and apart <= max(
+                isolation(stream, j, max_gap, size, last))):
             return j
     return None
 
