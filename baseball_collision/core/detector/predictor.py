@@ -466,8 +466,10 @@ class Predictor:
             return NEWEST
         if not self._across_hole(end - 1) or miss <= self._across_floor(first, end):
             return None
-        # (not where the frame before the hole bent the forecast: one stamped off, ``BEFORE``)
-        return None if BEFORE_OFF * self._bat_miss(first, end, end - 2) < miss else ACROSS
+        # (not where the frame before the hole bent the forecast: one stamped off, ``BEFORE``;
+        # with 6 frames or more its test above said so already)
+        return None if end - first < 6 and BEFORE_OFF * self._bat_miss(
+            first, end, end - 2) < miss else ACROSS
 
     def _across_floor(self, first: int, end: int) -> float:
         """
