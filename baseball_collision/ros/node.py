@@ -63,7 +63,7 @@ import sys
 import threading
 import time
 import traceback
-from typing import Any, Callable, Deque, Dict, List, Optional, Tuple, Union
+from typing import Any, Callable, Deque, Dict, List, Optional, Set, Tuple, Union
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import rclpy
@@ -121,6 +121,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
             deque()
         self._clock_jump_at = -math.inf
+        self._waited_for: Set[str] = set()  # inputs said to have sent nothing yet
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
         self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
@@ -163,6 +164,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         s = self.settings
         chosen = input_streams(s.values)
         self._streams = tuple(each.stream for each in chosen)
+        self._topic_parameters = {each.stream: each.topic_parameter for each in chosen}
         self._watch = PredictionWatch(self._streams)  # (when a prediction has passed)
         self._intake = Intake()
         for each in chosen:  # a profile each: overrides change it
@@ -313,6 +315,31 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
+        self._say_still_waiting()
+
+    def _say_still_waiting(self) -> None:
+        """
+        Log, once per input, that nothing came on it in the ``stale_timeout`` after start-up.
+
+        The line names the topic, its type and why it may be silent (no publisher, one of
+        another type or QoS: ``Endpoints.silence``), so a node started beside the wrong topics
+        says so in its own log, not only in ``/diagnostics`` (whose status keeps saying it).
+        """
+        timeout = self.settings['stale_timeout']
+        waited = time.monotonic() - self.tally.started
+        if waited <= timeout:
+            return
+        with self._lock:
+            silent = [stream for stream in self._streams
+                      if stream not in self.tally.last_arrival and stream not in self._waited_for]
+        for stream in silent:
+            self._waited_for.add(stream)
+            why = self.endpoints.silence(stream)
+            self.get_logger().info(
+                f'no {stream} message yet on {self.endpoints.topics[stream]} '
+                f'({self.endpoints.types[stream]}) {waited:.1f} s after start-up'
+                + (f': {why}' if why else '') + '; still waiting (remap the topic or set '
+                f'{self._topic_parameters[stream]} if the tracker publishes elsewhere)')
 
 
 def freeze_start_up() -> int:

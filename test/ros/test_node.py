@@ -584,6 +584,32 @@ def test_the_start_up_line_lists_every_topic(harness: Callable[..., Harness]) ->
         'impact_report', 'markers')] + ['/diagnostics']
 
 
+def test_a_silent_input_is_named_in_the_log_once(harness: Callable[..., Harness]) -> None:
+    """
+    A node started beside no tracker says, once per input, which topic it still waits for.
+
+    After ``stale_timeout`` with nothing on an input, one INFO line names its topic, type,
+    why (no publisher) and the parameter to set.
+    """
+    h = harness({'stale_timeout': 0.3, 'diagnostics_period': 0.1})
+    listen_to_rosout(h)
+    h.start()
+
+    def waiting() -> List[LogMsg]:
+        return [record for record in h.received['rosout'] if record.name == 'impact_node'
+                and record.msg.startswith('no ') and 'still waiting' in record.msg]
+    h.wait(lambda: len(waiting()) >= 2, 5.0, 'a line for each silent input')
+    time.sleep(0.5)  # five more diagnostics periods: no second line
+    lines = sorted(record.msg for record in waiting())
+    assert len(lines) == 2, lines
+    ball, bat = lines
+    assert ball.startswith('no ball message yet on /ball (geometry_msgs/msg/PointStamped) ')
+    assert ': no publisher; still waiting' in ball and 'set ball_topic' in ball
+    assert bat.startswith('no bat_pose message yet on /bat_pose (geometry_msgs/msg/PoseStamped)')
+    assert ': no publisher; still waiting' in bat and 'set bat_pose_topic' in bat
+    assert all(record.level == LogMsg.INFO for record in waiting())
+
+
 # ----------------------------------------------------------------------------------------------
 # issue 12: faults on the wire, QoS overrides, the hardware id
 
