@@ -81,7 +81,7 @@ from .logger import DirectLogger
 from .messages import (
     describe_listening, event_output, format_stamp, stamp_to_ns, StampedCdr)
 from .outputs import Outputs
-from .parameters import declare, start_warnings
+from .parameters import declare, params_file_warnings, start_warnings
 from .prediction_flag import PredictionFlag
 from .prediction_watch import PredictionWatch
 from .state_changes import StateChanges
@@ -380,6 +380,9 @@ def main(args: Optional[List[str]] = None) -> int:
     node = None
     try:
         node = ImpactNode()
+        for warning in params_file_warnings(sys.argv if args is None else args,
+                                            node.get_fully_qualified_name()):
+            node.get_logger().warning(warning)
         freeze_start_up()
         rclpy.spin(node)
     except RosError as error:

@@ -10,11 +10,14 @@ At start-up each parameter is declared with its descriptor built from the table 
 read-only); a value rclpy would refuse is declared loosely instead, so that the core's check,
 not rclpy's, says why (:func:`declare`). At runtime :func:`check_change` validates a change
 (a read-only parameter refused with the reason) before rclpy sees it.
+A ``--params-file`` none of whose sections applies to the node (rcl's rules,
+:func:`section_applies`) is warned about at start-up (:func:`params_file_warnings`).
 """
 
 from dataclasses import dataclass
 import math
-from typing import Any, Dict, List, Mapping, Tuple
+import re
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.exceptions import (
@@ -173,4 +176,67 @@ def start_warnings(node: Node, config: DetectorConfig) -> List[str]:
                 f'the knob-tip distance |tip_offset - knob_offset| = {length:.4f} m but the '
                 f'bat profile is {config.profile.length:.4f} m long: the profile is stretched '
                 'to knob-tip')
+    return warnings
+
+
+def params_files(args: Sequence[str]) -> List[str]:
+    """Return the ``--params-file`` paths of a command line's ROS arguments, in order."""
+    files, ros, after = [], False, False
+    for word in args:
+        if after:
+            files.append(word)
+            after = False
+        elif word == '--ros-args':
+            ros = True
+        elif word == '--':
+            ros = False
+        elif ros and word == '--params-file':
+            after = True
+    return files
+
+
+def section_applies(key: str, node_fqn: str) -> bool:
+    """
+    Return whether a params file's section ``key`` applies to the node ``node_fqn``, as rcl's.
+
+    A key without a leading ``/`` is taken from the root; ``*`` stands for one name token and
+    ``**`` for any number of them (none included): ``/**``, ``impact_node``,
+    ``/**/impact_node`` and ``/impact_node/**`` apply to ``/impact_node``, ``/*`` only in the
+    root namespace, ``/cage2/*`` to the nodes of ``/cage2``.
+    """
+    pattern = ''
+    for token in (key if key.startswith('/') else '/' + key).split('/')[1:]:
+        pattern += {'**': '(?:/[^/]+)*', '*': '/[^/]+'}.get(token, '/' + re.escape(token))
+    return re.fullmatch(pattern, node_fqn) is not None
+
+
+def params_file_warnings(args: Sequence[str], node_fqn: str) -> List[str]:
+    """
+    Return a warning for each ``--params-file`` of ``args`` with no section for the node.
+
+    rcl applies only the sections naming the node (or matching it by wildcard) and says
+    nothing about a file whose sections all name other nodes (``my_node:`` after a rename, a
+    section copied from another package): the node would run on its defaults unawares.
+    ``analyze --params`` refuses such a file; the node warns and runs (the file may hold other
+    nodes' sections on purpose, with this node's parameters given elsewhere).
+
+    :param args: the node's command line (``sys.argv`` or ``main``'s ``args``).
+    :param node_fqn: the node's fully qualified name (``/impact_node``, ``/cage2/impact_node``).
+    """
+    import yaml  # PyYAML (python3-yaml), as ROS 2's own tools use; only at start-up
+
+    warnings = []
+    for path in params_files(args):
+        try:
+            with open(path) as file:
+                document: Optional[Any] = yaml.safe_load(file)
+        except (OSError, yaml.YAMLError):
+            continue  # rcl read it (or refused to start): nothing to add
+        if not isinstance(document, Mapping):
+            continue
+        if not any(section_applies(str(key), node_fqn) for key in document):
+            found = ', '.join(str(key) for key in document) or 'nothing'
+            warnings.append(
+                f"parameter file {path} has no section for node '{node_fqn}' (found: {found}): "
+                "none of its parameters apply; name the section '/**' or the node's name")
     return warnings

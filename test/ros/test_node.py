@@ -536,6 +536,34 @@ def test_bad_params_file_value_exits_with_one_line(tmp_path: Path, line: str, wo
     assert 'ERROR' in lines[0] and word in lines[0] and 'not starting' in lines[0]
 
 
+def test_a_params_file_for_another_node_is_warned_about_at_start_up(tmp_path: Path) -> None:
+    """The console script given a file whose only section is another node's: a WARN, runs."""
+    params = tmp_path / 'other.yaml'
+    params.write_text('my_node:\n  ros__parameters:\n    model: linear\n')
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'baseball_collision.ros.node', '--ros-args', '--params-file',
+         str(params)], env=_env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines: List[str] = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stdout), daemon=True)
+    reader.start()
+    try:
+        deadline = time.monotonic() + 20.0
+        while not any('has no section for node' in line for line in lines):
+            assert time.monotonic() < deadline and process.poll() is None, lines
+            time.sleep(0.05)
+    finally:
+        process.send_signal(signal.SIGINT)
+        try:
+            process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+        reader.join(timeout=5)
+    warning, = [line for line in lines if 'has no section for node' in line]
+    assert warning.startswith('[WARN]') and "'/impact_node' (found: my_node)" in warning
+    assert process.returncode == 0 and 'Traceback' not in ''.join(lines)
+
+
 def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Harness],
                                                       truth_ns: int) -> None:
     """With a horizon, ~/predicted_impact leads the impact, and ~/impact_predicted toggles."""

@@ -13,12 +13,15 @@ from baseball_collision.core.detector import (
     Kind, PARAMETERS, SPECS, unknown_parameters, validate_parameters)
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
-from baseball_collision.ros.parameters import start_warnings
+from baseball_collision.ros.parameters import (
+    params_file_warnings, params_files, section_applies, start_warnings)
 from baseball_collision.tools.parameters import load_parameters
 import pytest
 from rcl_interfaces.msg import ParameterType
 import rclpy
+from rclpy.node import Node
 from rclpy.parameter import Parameter
+from support import REPO_ROOT
 from support.harness import Harness
 
 pytestmark = pytest.mark.ros
@@ -99,6 +102,48 @@ def test_node_and_analyze_name_unknown_parameters_alike(
         assert start_warnings(node, node.detector.config) == [warning]
     finally:
         node.destroy_node()
+
+
+SECTIONS = ['/**', '**', 'impact_node', '/impact_node', '/**/impact_node', '/*', '/*/impact_node',
+            'cage2/impact_node', '/cage2/impact_node', '/cage2/*', '/cage2/**', '/impact_node/**',
+            'other_node', '/cage2/other_node']
+
+
+@pytest.mark.parametrize('namespace', ['/', '/cage2'])
+def test_a_section_applies_where_rcl_applies_it(
+        tmp_path: Path, context: Callable[..., rclpy.Context], namespace: str) -> None:
+    """section_applies agrees with rcl on every key form (wildcards, relative, namespaced)."""
+    for number, key in enumerate(SECTIONS):
+        params = tmp_path / f'{number}.yaml'
+        params.write_text(f'"{key}":\n  ros__parameters:\n    probe: 5\n')
+        ros = context('--params-file', str(params))
+        node = Node('impact_node', namespace=namespace, context=ros)
+        try:
+            applied = node.declare_parameter('probe', 0).value == 5
+            assert section_applies(key, node.get_fully_qualified_name()) == applied, key
+        finally:
+            node.destroy_node()
+
+
+def test_a_params_file_for_another_node_is_named(tmp_path: Path) -> None:
+    """A --params-file none of whose sections is the node's gets a warning naming them."""
+    other = tmp_path / 'other.yaml'
+    other.write_text('my_node:\n  ros__parameters:\n    model: linear\n')
+    shipped = str(REPO_ROOT / 'config' / 'impact_node.yaml')
+    args = ['impact_node', '--ros-args', '--params-file', str(other), '-p', 'x:=1', '--',
+            '--params-file', 'not/a/ros/argument.yaml', '--ros-args', '--params-file', shipped]
+    assert params_files(args) == [str(other), shipped]
+    warning, = params_file_warnings(args, '/impact_node')
+    assert warning == (f"parameter file {other} has no section for node '/impact_node' (found: "
+                       "my_node): none of its parameters apply; name the section '/**' or the "
+                       "node's name")
+    named = tmp_path / 'named.yaml'
+    named.write_text('impact_node:\n  ros__parameters:\n    model: linear\n')
+    assert params_file_warnings(['--ros-args', '--params-file', str(named)], '/impact_node') == []
+    assert len(params_file_warnings(['--ros-args', '--params-file', str(named)],
+                                    '/cage2/impact_node')) == 1
+    assert params_file_warnings(['--ros-args', '--params-file', str(tmp_path / 'gone.yaml')],
+                                '/impact_node') == []  # rcl refuses it before the node starts
 
 
 @pytest.mark.parametrize('name, text, value', BAD, ids=[f'{n}={t}' for n, t, _ in BAD])
