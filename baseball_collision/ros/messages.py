@@ -149,7 +149,8 @@ def describe_listening(settings: Mapping[str, Any], topics: Mapping[str, str],
 
 
 _DROP_DETAILS = {
-    'wrong_frame': 'frame {frame!r} is not the tracking frame {expected!r}',
+    'wrong_frame': 'frame {frame!r} is not the tracking frame {expected!r} (every input must '
+                   'share one frame, no TF: publish this stream in it, or set frame_id)',
     'non_finite': 'NaN or infinite coordinates',
     'duplicate_stamp': 'stamp {stamp} s was already received',
     'out_of_order': 'stamp {stamp} s is older than the newest of its stream',

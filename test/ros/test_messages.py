@@ -136,8 +136,9 @@ def test_plan_and_drop_texts() -> None:
     stamps, positions, quaternions, frames = plan_arrays(path)
     assert stamps == [BASE_NS, BASE_NS + 1, BASE_NS + 2] and frames == {'world', 'camera'}
     assert positions[2] == (2.0, 0.0, 0.0) and quaternions[0] == (0.0, 0.0, 0.0, 1.0)
-    assert describe_drop('wrong_frame', 'camera', 'world', BASE_NS) == \
-        "frame 'camera' is not the tracking frame 'world'"
+    assert describe_drop('wrong_frame', 'camera', 'world', BASE_NS) == (
+        "frame 'camera' is not the tracking frame 'world' (every input must share one frame, "
+        'no TF: publish this stream in it, or set frame_id)')
     assert describe_drop('new_reason', '', None, BASE_NS) == 'new_reason'
 
 
