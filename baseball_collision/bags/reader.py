@@ -97,8 +97,15 @@ class BagReader(BagFile):
         chosen = [c for c in connections if c.topic in role_of]
         for role, topic in selection.topics.items():
             if sum(max(int(c.msgcount), 0) for c in chosen if c.topic == topic) == 0:
+                how = f'{TOPIC_FLAGS[role]} ' if self._given is not None or \
+                    self._overrides.get(role) else f'the {role} topic (found by name and type) '
+                counts = {each.topic: 0 for each in connections}
+                for each in connections:
+                    counts[each.topic] += max(int(each.msgcount), 0)
+                listed = ', '.join(f'{name} ({count})' for name, count in counts.items())
                 raise BagError(
-                    f"{TOPIC_FLAGS[role]} '{topic}' has no messages in bag {self.path}")
+                    f"{how}'{topic}' has no messages in bag {self.path} (the tracker sent "
+                    f'nothing on it while recording); messages by topic: {listed}')
         routes = {}
         for connection in chosen:
             role = role_of[connection.topic]

@@ -340,7 +340,12 @@ def test_empty_bags(tmp_path: Path, name: str) -> None:
     with BagWriter(tmp_path / f'half_{name}') as bag:
         bag.add_topic('/bat', POSE_STAMPED)
         bag.write_point('/ball', 5, 'w', (0.0, 0.0, 0.0))
-    assert "'/bat' has no messages" in _raises_one_line(tmp_path / f'half_{name}')
+    said = _raises_one_line(tmp_path / f'half_{name}')
+    assert "the bat_pose topic (found by name and type) '/bat' has no messages" in said
+    assert said.endswith('messages by topic: /bat (0), /ball (1)') or \
+        said.endswith('messages by topic: /ball (1), /bat (0)')
+    with pytest.raises(BagError, match="^--bat-pose-topic '/bat' has no messages"):
+        list(read_samples(tmp_path / f'half_{name}', bat_pose='/bat'))
 
 
 def _multi_chunk_bag(path: Path, count: int = 12_000) -> None:
