@@ -201,6 +201,19 @@ def _simulate(args: argparse.Namespace) -> int:
 # analyze
 
 
+def _keep_going_hint(args: argparse.Namespace) -> str:
+    """Return what to add to the error that ended a run over several bags ('' for one bag)."""
+    from .many_bags import bag_paths
+    if args.keep_going or args.out_bag:  # (--out-bag takes one bag)
+        return ''
+    try:
+        several = len(bag_paths(args.bags)) > 1
+    except ToolError:  # (no bags at all: the error says so)
+        return ''
+    return ' (--keep-going skips a bag that cannot be analysed and goes on with the others)' \
+        if several else ''
+
+
 def _analyze(args: argparse.Namespace) -> int:
     from .analyze import AnalysisOptions, BagAnalysis
     from .many_bags import analyze_bags
@@ -219,13 +232,16 @@ def _analyze(args: argparse.Namespace) -> int:
     json_file, csv_file = (None if value == '-' else value for value in (args.json, args.csv))
     with Outputs(json=json_file, csv=csv_file, plot=args.plot, out_bag=args.out_bag) as outputs:
         writer = outputs.bag_writer('out_bag', 'mcap') if args.out_bag else None
-        analyses: List[BagAnalysis] = analyze_bags(
-            args.bags, options, jobs=args.jobs, out_bag=writer, progress=not args.no_progress,
-            use_truth=not args.no_truth, skipped=skipped)
+        try:
+            analyses: List[BagAnalysis] = analyze_bags(
+                args.bags, options, jobs=args.jobs, out_bag=writer,
+                progress=not args.no_progress, use_truth=not args.no_truth, skipped=skipped)
+        except ToolError as error:
+            raise ToolError(f'{error}{_keep_going_hint(args)}') from error
         for analysis in list(analyses):
             silenced = analysis.silenced_topics()
             if silenced and skipped is None:
-                raise ToolError(f"{analysis.path}: {'; '.join(silenced)}")
+                raise ToolError(f"{analysis.path}: {'; '.join(silenced)}{_keep_going_hint(args)}")
             if silenced:
                 skipped.append((analysis.path, f"{analysis.path}: {'; '.join(silenced)}"))
                 analyses.remove(analysis)

@@ -103,8 +103,12 @@ def test_cli_keep_going_writes_the_good_bags_and_exits_2(tmp_path: Path,
     assert document['skipped'][0]['why'] == stderr[len('baseball-collision: skipped: '):-1]
     assert Validator('analyze.schema.json').errors(document) == []
     out.unlink()
-    code, stdout, _ = run_cli(argv)  # without it: the first bad bag ends the run, no output
-    assert code == 2 and stdout == '' and not out.exists()
+    code, stdout, stderr = run_cli(argv)  # without it: the first bad bag ends the run
+    assert code == 2 and stdout == '' and not out.exists()  # and nothing is written
+    assert stderr.count('\n') == 1 and stderr.rstrip().endswith(
+        '(--keep-going skips a bag that cannot be analysed and goes on with the others)')
+    code, _, stderr = run_cli(['analyze', str(truncated)])  # one bag: nothing to keep going to
+    assert code == 2 and 'keep-going' not in stderr
     code, _, stderr = run_cli(['analyze', str(truncated), '--keep-going'])
     assert code == 2 and stderr.splitlines()[-1] == (
         'baseball-collision: error: no bag could be analysed (1 skipped)')
