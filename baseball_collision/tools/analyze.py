@@ -34,7 +34,7 @@ from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     compare_truth, LEADS_S, load_truth, PredictionIndex, silence_clearings, truth_path,
     TruthComparison)
-from ..bags import BagReader, TopicSelection
+from ..bags import BagReader, TOPIC_FLAGS, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
@@ -460,16 +460,22 @@ def progress_bar(total: int, label: str) -> Any:
                 leave=False, dynamic_ncols=True)
 
 
-def _file_topics_hint(message: str, options: AnalysisOptions) -> str:
-    """Return a hint when an error names a topic that came from the parameter file ('' else)."""
-    flags = {'ball': options.ball_topic, 'bat_pose': options.bat_pose_topic,
-             'knob': options.knob_topic, 'tip': options.tip_topic}
-    named = [f"{TOPIC_PARAMETERS[role]} '{options.topic(role)}'" for role in flags
-             if flags[role] is None and options.topic(role) and f"'{options.topic(role)}'"
-             in message]
-    if not named:
-        return ''
-    return f" ({', '.join(named)} from --params; a topic flag overrides it)"
+def from_the_file(message: str, options: AnalysisOptions) -> str:
+    """
+    Return a bag error reworded where it names a topic that came from the parameter file.
+
+    The reader names a topic by its flag (``--ball-topic '/x' is not in the bag``); a topic no
+    flag gave but ``--params`` did is named by its parameter instead, with the flag that
+    overrides it: ``ball_topic '/x' (from the parameter file; --ball-topic overrides it) is
+    not in the bag``.
+    """
+    for role, flag in TOPIC_FLAGS.items():
+        topic = options.topic(role)
+        if getattr(options, f'{role}_topic') is None and topic:
+            message = message.replace(
+                f"{flag} '{topic}'", f"{TOPIC_PARAMETERS[role]} '{topic}' (from the parameter "
+                f'file; {flag} overrides it)', 1)
+    return message
 
 
 def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
@@ -533,7 +539,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                 if copy is not None:
                     copy.release()
     except BagError as error:
-        raise ToolError(str(error) + _file_topics_hint(str(error), options)) from error
+        raise ToolError(from_the_file(str(error), options)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
     result.noise = detector.noise

@@ -26,6 +26,7 @@ import math
 import os
 from pathlib import Path
 import random
+import re
 import signal
 import subprocess
 import sys
@@ -293,8 +294,15 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     """
     bag = Path(bag) if bag is not None else bundled(DEMO_BAG)
     params = Path(params) if params is not None else bundled(DEMO_PARAMS)
-    offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
-                          progress=False)
+    try:
+        offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
+                              progress=False)
+    except ToolError as error:  # the demo has no topic flags: the bag's topics are replayed
+        words = re.sub(r'; --[a-z-]+-topic overrides it\)', ')', str(error))
+        if words != str(error):
+            words += (f" (the demo replays {bag.name}'s own topics: give --params a file whose "
+                      "topics are the bag's)")
+        raise ToolError(words) from error
     env = isolated_environment(domain)
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
                                                  'ROS_AUTOMATIC_DISCOVERY_RANGE')})

@@ -5,11 +5,14 @@ from pathlib import Path
 
 from baseball_collision.core.detector import MPS_TO_MPH
 from baseball_collision.core.records import contact_from_tip, event_record, record_text
+from baseball_collision.errors import ToolError
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
-from baseball_collision.tools.demo import isolated_environment, LiveEvents, node_command
+from baseball_collision.tools.demo import (
+    isolated_environment, LiveEvents, node_command, run_demo)
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.truth import compare_truth, load_truth, truth_path
 import pytest
+from support import REPO_ROOT
 from support.bundled import bag_path, PARAMS
 
 BAG = bag_path('pitches_360hz.mcap')
@@ -70,3 +73,15 @@ def test_the_domain_is_the_one_asked_for_else_random() -> None:
     env = isolated_environment(7)
     assert env['ROS_DOMAIN_ID'] == '7' and env['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'LOCALHOST'
     assert 1 <= int(isolated_environment()['ROS_DOMAIN_ID']) <= 101
+
+
+def test_a_parameter_file_of_other_topics_is_refused_before_the_node_starts() -> None:
+    """The points file (topics under /mocap) with the bundled bag: one line, no flag named."""
+    with pytest.raises(ToolError) as refused:
+        run_demo(params=REPO_ROOT / 'config' / 'impact_node_points.yaml')
+    said = str(refused.value)
+    assert said.startswith("ball_topic '/mocap/ball' (from the parameter file) is not in the "
+                           'bag; topics: /ball (geometry_msgs/msg/PointStamped)')
+    assert said.endswith("(the demo replays pitches_360hz.mcap's own topics: give --params a "
+                         "file whose topics are the bag's)")
+    assert '--ball-topic' not in said and '\n' not in said

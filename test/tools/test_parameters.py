@@ -159,7 +159,9 @@ def test_the_parameter_files_topics_are_read(tmp_path: Path, run_cli: RunCli) ->
     other = _write(tmp_path / 'o.yaml', 'impact_node:\n  ros__parameters:\n'
                    '    ball_topic: tracking/ball\n')
     code, _, stderr = run_cli(['analyze', bag, '--params', str(other)])
-    assert code == 2 and "ball_topic '/tracking/ball' from --params" in stderr
+    assert code == 2 and stderr.startswith(
+        "baseball-collision: error: ball_topic '/tracking/ball' (from the parameter file; "
+        '--ball-topic overrides it) is not in the bag; topics: ')
     code, _, _ = run_cli(['analyze', bag, '--params', str(other), '--ball-topic', '/ball',
                           '--quiet'])
     assert code == 0
