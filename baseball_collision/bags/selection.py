@@ -225,7 +225,7 @@ def _check_given(role: str, topic: str, types: Mapping[str, Tuple[str, ...]]) ->
     if len(msgtypes) != 1 or msgtypes[0] not in ROLE_TYPES[role]:
         wanted = ' or '.join(ROLE_TYPES[role])
         raise BagError(
-            f"{flag} '{topic}' has type {' | '.join(msgtypes)}; {flag} needs {wanted}")
+            f"{flag} '{topic}' has type {' | '.join(msgtypes)}; the {role} topic needs {wanted}")
     return msgtypes[0]
 
 

@@ -148,7 +148,7 @@ def test_bat_pose_preferred_to_knob_and_tip_points() -> None:
     ({'/ball': 'std_msgs/msg/String', '/bat': POSE_STAMPED}, {'ball': '/ball'}, '--ball-topic',
      ['has type std_msgs/msg/String']),
     ({'/ball': POINT_STAMPED, '/bat': POINT_STAMPED}, {'bat_pose': '/bat'},
-     '--bat-pose-topic', ['needs geometry_msgs/msg/PoseStamped']),
+     '--bat-pose-topic', ['; the bat_pose topic needs geometry_msgs/msg/PoseStamped']),
     ({'/ball': POINT_STAMPED, '/bat': POSE_STAMPED, '/k': POINT_STAMPED},
      {'bat_pose': '/bat', 'knob': '/k'}, '--bat-pose-topic', ['not both']),
 ])
