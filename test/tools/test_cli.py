@@ -296,7 +296,7 @@ def test_double_dash_ends_the_options_between_the_bags(
     first = str(bag_path('pitches_90hz.mcap'))
     code, stdout, stderr = run_cli(['analyze', '--quiet', '--', first, '--json', 'j.json'])
     assert (code, stdout) == (2, '') and stderr == 'baseball-collision: error: bag not found: ' \
-        '--json\n'
+        '--json (--keep-going skips a bag that cannot be analysed and goes on with the others)\n'
     assert not (tmp_path / 'j.json').exists()
     code, stdout, stderr = run_cli(['analyze', first, '--json', 'o.json', '--quiet', '--jobs',
                                     '1', '--', '--odd.mcap'])
