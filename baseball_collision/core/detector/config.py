@@ -454,7 +454,7 @@ def unit_vector(value: Any, name: str) -> Vector:
 def _profile(checked: Mapping[str, Any]) -> BatProfile:
     """Return the bat profile the checked parameters describe (see DetectorConfig)."""
     flat: List[float] = checked['bat_profile']
-    length = checked['bat_length'] or (WOOD_BAT_34.length if not flat else flat[-2])
+    length = checked['bat_length'] or (WOOD_BAT_34.length if len(flat) < 2 else flat[-2])
     if checked['bat_radius'] > 0.0:
         return BatProfile.constant(checked['bat_radius'], length)
     if not flat:

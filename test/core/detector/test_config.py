@@ -110,6 +110,7 @@ def test_validate_fills_converts_and_ignores_unknown_names() -> None:
     ({'up_axis': [1.0, 0.0]}, ["'up_axis' must be a non-zero 3-vector"]),
     ({'up_axis': ['up', 0, 0]}, ["'up_axis' must be a list of numbers"]),
     ({'bat_profile': [0.1, 0.02, 0.3]}, ["'bat_profile'", 'pairs']),
+    ({'bat_profile': [0.1]}, ["'bat_profile'", 'pairs']),  # (no flat[-2]: an IndexError)
     ({'bat_profile': [0.5, 0.02, 0.1, 0.03]}, ["'bat_profile'", 'increase']),
     ({'bat_axis': 'w'}, ["'bat_axis' must be one of x, y, z, -x, -y, -z"]),
     ({'knob_offset': 0.5, 'tip_offset': 0.5}, ["'knob_offset'", "'tip_offset'", '1 mm']),
