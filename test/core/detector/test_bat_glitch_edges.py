@@ -1,18 +1,24 @@
 """Tests for baseball_collision.core.detector.bat_glitch_edges: a segment's start, a hole."""
 
 import math
-from typing import Any
+from typing import Any, Tuple
 
-from baseball_collision.core.detector import bat_glitch_edges
+from baseball_collision.core.detector import bat_glitch_edges, DetectorConfig, Impact
 from baseball_collision.core.detector.bat_glitch_edges import (
-    beside_hole, early, EARLY_AFTER, early_glitch, first_frame_glitch, hole_glitch,
-    segment_first)
-from baseball_collision.core.detector.bat_glitches import judged
-from baseball_collision.core.detector.streams import Stream
+    beside_hole, braked_departure, early, EARLY_AFTER, early_glitch, first_frame_glitch,
+    hole_glitch, segment_first)
+from baseball_collision.core.detector.bat_glitches import departure, judged
+from baseball_collision.core.detector.streams import reversed_excerpt, Stream
 from baseball_collision.core.motion import BatSample
+from baseball_collision.tools.parameters import OFFLINE_PARAMETERS
+from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
+from support.events import detect_late_drops
 from support.scenes import turning_bat
+
+NODE = DetectorConfig()
+OFFLINE = DetectorConfig(**OFFLINE_PARAMETERS)
 
 
 def test_a_segments_early_frames_are_judged_against_the_frames_after_them() -> None:
@@ -110,3 +116,76 @@ def test_a_frame_beside_a_long_hole_is_judged_with_the_frames_after_it(lost: int
     clean.remove(14 + lost)
     assert not any(hole_glitch(clean, i, 0.05, 8, 0.0) for i in range(10, 18)
                    if beside_hole(clean, i))
+
+
+def _segment_scene(kind: str, seed: int, family: str, rate: float, noise_m: float, offset: int,
+                   segment: int, turn: float = 0.0) -> Tuple[Any, int, int]:
+    """
+    Return a scene drawn as ``bench_glitches`` draws it, the bat re-acquired before a frame.
+
+    Bat frame j is ``offset`` from the closest approach's (or the contact's); with ``turn``
+    (m) it is turned that far toward the ball. The bat frames over 60 ms before frame
+    j - ``segment`` + 1 are deleted (``bench_glitches.py --segment``: j its segment's
+    ``segment``-th frame). Returns the samples, j's stamp (ns) and the segment's first's.
+    """
+    rng = np.random.default_rng(seed)
+    scenario = make_scenario(kind, rng, family=family)
+    samples = sample(scenario, rate, rng, noise_m=noise_m)
+    closest = samples.start_ns + int(scenario.truth.min_gap_time_s * 1e9)
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - closest))) + offset
+    if turn:
+        samples = samples.with_bat_frame_turned(j, samples.ball_positions[j], turn)
+    stamps = samples.bat_stamps_ns
+    lost = int(math.ceil(0.06 * (len(stamps) - 1) / ((stamps[-1] - stamps[0]) * 1e-9)))
+    first = int(stamps[j - segment + 1])
+    return samples.without_bat_frames(first, lost), int(stamps[j]), first
+
+
+def test_a_braked_first_frame_far_off_the_frames_after_it_unsmoothed_stays() -> None:
+    """
+    A braking barrel at 120 Hz with 1 mm, the bat re-acquired at the contact's frame.
+
+    The bat's noise estimate is still 0 there: the frames after the contact, continued back
+    unsmoothed, miss the first frame by more than the floor on the braked bat too (9.9 cm),
+    as far as a glitch turned 10 cm is (``bench_glitches.py --rates 120 --noises 1 --segment
+    1``: 8 cm); the frame after it departed 4.3 cm, so it is not ``ISOLATION_RATIO`` times the
+    frames after it, and no glitch. It stays and the hit is found, under the node's and
+    ``analyze``'s settings. (A rule for a segment's first frame that reads a noise figure from
+    the frames after it must keep it: smoothed at theirs, 0.9 mm, it lies 1.6 cm off.)
+    """
+    samples, stamp, _ = _segment_scene('barrel', 1, 'braking', 120.0, 1e-3, 0, 1)
+    for config in (NODE, OFFLINE):
+        config = DetectorConfig(**{**config.__dict__, 'bat_input': 'points'})
+        events, late = detect_late_drops(config, samples)
+        assert late == [] and sum(isinstance(event, Impact) for event in events) == 1
+    first = int(np.flatnonzero(samples.bat_stamps_ns == stamp)[0])
+    bat = Stream('bat')
+    for i in range(first, first + EARLY_AFTER + 1):
+        bat.append(samples.bat_stamps_ns[i] * 1e-9, int(samples.bat_stamps_ns[i]),
+                   BatSample(tuple(samples.knobs[i]), tuple(samples.tips[i])), i == first)
+    backwards = reversed_excerpt(bat, 0, EARLY_AFTER)
+    assert braked_departure(backwards, EARLY_AFTER, 0.06, 8, 0.0) > 0.05
+    assert departure(backwards, EARLY_AFTER - 1, 0.06, 8, 0.0) > 0.04
+    assert first_frame_glitch(bat, 0, 0.06, 8, 0.0) is False
+
+
+@pytest.mark.parametrize('noise_m', [0.0, 1e-3])
+def test_a_glitch_second_in_its_segment_before_a_hit_is_dropped_not_the_first(
+        noise_m: float) -> None:
+    """
+    A rebound barrel at 90 Hz, the frame before the contact's turned 10 cm, its segment's 2nd.
+
+    The bat rebounds at the contact: the frames after it, continued back, miss the segment's
+    (genuine) first frame by 37 cm, and the glitch, its next, by 5.8-8.5 cm, over the floor,
+    so the first is no glitch and the glitch is dropped (``early_glitch``); the hit is found
+    where it is with the glitch deleted. Smoothed at the noise the frames after the first
+    show (a trial in session 59: 0.9-2.2 mm there, the rebound's own motion), the glitch came
+    within the floor, the genuine first frame was dropped in its place and the hit moved 0.4
+    ms (``bench_glitches.py --rates 90 --seeds 1 --segment 2``): a rule must keep this.
+    """
+    samples, stamp, first = _segment_scene('barrel', 0, 'rebound', 90.0, noise_m, -1, 2, 0.1)
+    config = DetectorConfig(**{**NODE.__dict__, 'bat_input': 'pose'})
+    events, late = detect_late_drops(config, samples)
+    assert [drop.stamp_ns for drop in late] == [stamp]
+    assert sum(isinstance(event, Impact) for event in events) == 1
+    assert first < stamp
