@@ -56,8 +56,28 @@ class Ros:
         self.node = rclpy.create_node('test_replay', context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
-        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self._closing = threading.Event()
+        self.thread = threading.Thread(target=self._spin, daemon=True)
         self.thread.start()
+
+    def _spin(self) -> None:
+        """
+        Spin until closed, through a subscription the test destroyed while the executor waited.
+
+        rclpy's ``Executor.spin`` ends its thread with ``InvalidHandle`` where a subscription is
+        destroyed from another thread mid-wait: every later test of the module then received
+        nothing (0 of 575 messages once, on a loaded machine). The next wait no longer has it.
+        """
+        from rclpy.exceptions import InvalidHandle
+        from rclpy.executors import ExternalShutdownException, ShutdownException
+
+        while not self._closing.is_set() and self.context.ok():
+            try:
+                self.executor.spin_once(timeout_sec=0.1)
+            except InvalidHandle:
+                continue
+            except (ExternalShutdownException, ShutdownException):
+                return
 
     def qos(self) -> Any:
         """Return reliable keep-last 1000."""
@@ -73,6 +93,7 @@ class Ros:
 
     def close(self) -> None:
         """Tear down: executor, thread, node, context (the order ENVIRONMENT.md asks)."""
+        self._closing.set()
         self.executor.shutdown(timeout_sec=2.0)
         self.thread.join(timeout=5.0)
         self.node.destroy_node()
