@@ -342,6 +342,11 @@ def open_bag(path: Union[str, os.PathLike], notes: Optional[List[str]] = None) -
         foreign = _listed_foreign(path) if stat.S_ISDIR(mode) else {}
         if foreign:
             raise _foreign_listed(path, foreign, error) from error
+        if not stat.S_ISDIR(mode) and sniffed is None:
+            raise BagError(
+                f'cannot read bag {path}: its first bytes are not those of an MCAP, SQLite 3 or '
+                f'ROS 1 bag, so it is no {path.suffix} recording (an empty file or another '
+                f'format): {first_line(error)}') from error
         raise BagError(f'cannot read bag {path}: {first_line(error)}') from error
     finally:
         if alias is not None:
