@@ -115,8 +115,11 @@ def analyze_bags(paths: Iterable[os.PathLike], options: AnalysisOptions = Analys
         appended to it as (path, why) and left out, and the others go on (``--keep-going``).
     :returns: one :class:`BagAnalysis` per bag analysed, in order.
     :raises ToolError: as :func:`analyze_bag`, for the first failing bag (``skipped`` None);
-        ``out_bag`` with more than one bag; a directory without bags.
+        ``out_bag`` with more than one bag; a directory without bags; ``jobs`` under 1 or not
+        an int.
     """
+    if jobs is not None and (jobs.__class__ is not int or jobs < 1):
+        raise ToolError(f'jobs must be a whole number of processes, at least 1; got {jobs!r}')
     bags = bag_paths(paths)
     if out_bag is not None and len(bags) > 1:
         raise ToolError('--out-bag takes one BAG; run analyze once per bag')

@@ -167,6 +167,13 @@ def test_the_first_failing_bag_in_input_order_is_the_error(tmp_path: Path) -> No
         analyze_bags([bag_path(SMALL[0]), truncated], jobs=2, progress=False)
 
 
+@pytest.mark.parametrize('jobs', [0, -2, 1.5, '2'])
+def test_jobs_under_one_or_not_a_count_are_refused(jobs: object) -> None:
+    """``analyze_bags(jobs=0)`` is refused as the CLI's ``--jobs 0`` is, not run in one process."""
+    with pytest.raises(ToolError, match='jobs must be a whole number'):
+        analyze_bags([bag_path(SMALL[0])], jobs=jobs, progress=False)  # type: ignore[arg-type]
+
+
 def test_cli_jobs_writes_one_report_in_input_order(tmp_path: Path, run_cli: RunCli) -> None:
     """``analyze DIR BAG --jobs 2``: one table, JSON and CSV, bags in the order given."""
     directory = _directory_of_bags(tmp_path)
