@@ -15,7 +15,6 @@ import math
 import os
 from pathlib import Path
 import re
-import signal
 import subprocess
 import sys
 import threading
@@ -30,6 +29,7 @@ from baseball_collision.ros import bat_plan as bat_plan_module
 from baseball_collision.ros import node as node_module
 from baseball_collision.ros.inputs import Throttle
 from baseball_collision.ros.node import freeze_start_up, ImpactNode
+from baseball_collision.tools.demo import stop_node
 from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseStamped
 from nav_msgs.msg import Path as PathMsg
@@ -499,12 +499,7 @@ def test_console_script_loads_the_params_files_and_stops_on_ctrl_c() -> None:
         executor.shutdown(timeout_sec=2.0)
         node.destroy_node()
         rclpy.shutdown(context=context)
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait()
+        stop_node(process)
         reader.join(timeout=5)
     defaults = yaml.safe_load(CONFIG.read_text())['/**']['ros__parameters']
     points = yaml.safe_load(POINTS_CONFIG.read_text())['/**']['ros__parameters']
@@ -552,12 +547,7 @@ def test_a_params_file_for_another_node_is_warned_about_at_start_up(tmp_path: Pa
             assert time.monotonic() < deadline and process.poll() is None, lines
             time.sleep(0.05)
     finally:
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait()
+        stop_node(process)
         reader.join(timeout=5)
     warning, = [line for line in lines if 'has no section for node' in line]
     assert warning.startswith('[WARN]') and "'/impact_node' (found: my_node)" in warning
