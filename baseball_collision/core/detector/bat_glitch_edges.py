@@ -147,9 +147,9 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
     ``judged`` across the hole (``lost_about`` uncapped) from the samples up to two after it
     (with one, as at the sweep's horizon, a swing's own frame there read as a glitch; against
     ``EARLY_SCATTER`` frames where its segment has too few before the hole for
-    ``SCATTER_FRAMES``), not where its next frame is the glitch (``next_the_glitch``, as in
-    ``first_glitch``: a glitch right after two frames lost at 90 Hz, whose next frame stays
-    isolated without it across the hole, was deferred to that one), and more than
+    ``SCATTER_FRAMES``), not where its next frame is the glitch (``next_the_glitch`` across the
+    hole: a glitch right after two frames lost at 90 Hz, whose next frame stays isolated
+    without it across the hole, was deferred to that one), and more than
     ``glitch_floor`` off the bat continued back from the ``HOLE_AFTER`` (3) frames after it
     (``departure`` with time run backwards: a frame after a contact lies on the path of the
     braked frames after it; a glitch does not). Reads exactly the samples up to ``HOLE_AFTER``
@@ -163,7 +163,7 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
         return come
     last = j + 2
     if not judged(stream, j, max_gap, size, noise, last, hole=math.inf, fewer=EARLY_SCATTER) \
-            or next_the_glitch(stream, j, max_gap, size, noise, last):
+            or next_the_glitch(stream, j, max_gap, size, noise, last, True):
         return False
     backwards = reversed_excerpt(stream, j, end)
     backwards.noise = stream.noise

@@ -459,7 +459,7 @@ def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: in
 
 
 def next_the_glitch(stream: Stream, j: int, max_gap: float, size: int, noise: float,
-                    last: int) -> bool:
+                    last: int, across: bool = False) -> bool:
     """
     Return whether the glitch is bat frame j + 1 rather than frame j, judged one (``judged``).
 
@@ -468,21 +468,25 @@ def next_the_glitch(stream: Stream, j: int, max_gap: float, size: int, noise: fl
     ``glitch_floor`` (``isolation_without``, reading no sample past ``last``). Where that next
     frame is beside a hole over ``LOST_HOLE`` (``over_hole``), a swing's own frame is off its
     neighbours' spline by more than the floor (5.3-8.3 cm, two frames lost at 90 Hz): there
-    frame j is the glitch where it is off by the floor beyond that, whether the next frame is
-    left in (its ``isolation`` up to ``last``) or out (``isolation_without`` frame j + 1).
-    With the next left in, a frame right after the hole with a glitch next is pulled off by
-    it (23 cm, the glitch 16 cm without it); left out, a frame right after a glitch is pulled
-    off by that glitch (25 cm, its next 20 cm without it). A braked frame right after the
-    hole is off 7-10 cm either way, a glitch 10 cm turned after it 6.6-8.3 cm without it: no
-    nearer comparison tells them apart. No threshold but the floor.
+    frame j is the glitch where it is the more isolated of the two (its ``isolation`` up to
+    ``last``).
 
     :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    :param across: frame j judged across that hole too (``bat_glitch_edges.hole_glitch``),
+        its own isolation as far off for a swing's own frame: it is the glitch where it is off
+        by the floor beyond its next, whether that is left in (its ``isolation``) or out
+        (``isolation_without`` frame j + 1). Left in, a frame right after the hole with a
+        glitch next is pulled off by it (23 cm, the glitch 16 cm without it); a braked frame
+        right after the hole is off 7-10 cm either way, a glitch 10 cm turned after it 6.6-8.3
+        cm without it, and was dropped in its place without the floor beyond.
     """
     apart, floor = isolation_without(stream, j, max_gap, size, last), glitch_floor(noise)
-    return apart > floor and not (
-        over_hole(stream, j + 1, 1, last)
-        and apart + floor < max(isolation(stream, j, max_gap, size, last))
-        and apart + floor < isolation_without(stream, j + 1, max_gap, size, last, -1))
+    if apart <= floor or not over_hole(stream, j + 1, 1, last):
+        return apart > floor
+    if not across:
+        return apart > max(isolation(stream, j, max_gap, size, last))
+    return not (apart + floor < max(isolation(stream, j, max_gap, size, last))
+                and apart + floor < isolation_without(stream, j + 1, max_gap, size, last, -1))
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,
