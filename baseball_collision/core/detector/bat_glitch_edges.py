@@ -24,8 +24,8 @@ import math
 from typing import Callable, Optional, Tuple
 
 from .bat_glitches import (
-    departure, glitch_floor, isolated_without, ISOLATION_RATIO, judged, over_hole,
-    REGULAR_STEP, SCATTER_FRAMES)
+    departure, glitch_floor, isolated_without, ISOLATION_RATIO, judged, next_the_glitch,
+    over_hole, REGULAR_STEP, SCATTER_FRAMES)
 from .fitting import c2_bat_continued
 from .streams import reversed_excerpt, Stream
 
@@ -145,8 +145,11 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
     Return whether bat frame j beside a hole over ``LOST_HOLE`` is a glitch; None: wait.
 
     ``judged`` across the hole (``lost_about`` uncapped) from the samples up to two after it
-    (with one, as at the sweep's horizon, a swing's own frame there read as a glitch), not
-    where its next frame stays isolated without it (``first_glitch``'s rule), and more than
+    (with one, as at the sweep's horizon, a swing's own frame there read as a glitch; against
+    ``EARLY_SCATTER`` frames where its segment has too few before the hole for
+    ``SCATTER_FRAMES``), not where its next frame is the glitch (``next_the_glitch`` across the
+    hole: a glitch right after two frames lost at 90 Hz, whose next frame stays isolated
+    without it across the hole, was deferred to that one), and more than
     ``glitch_floor`` off the bat continued back from the ``HOLE_AFTER`` (3) frames after it
     (``departure`` with time run backwards: a frame after a contact lies on the path of the
     braked frames after it; a glitch does not). Reads exactly the samples up to ``HOLE_AFTER``
@@ -159,8 +162,8 @@ def hole_glitch(stream: Stream, j: int, max_gap: float, size: int,
     if not come:
         return come
     last = j + 2
-    if not judged(stream, j, max_gap, size, noise, last, hole=math.inf) or \
-            isolated_without(stream, j, max_gap, size, noise, last):
+    if not judged(stream, j, max_gap, size, noise, last, hole=math.inf, fewer=EARLY_SCATTER) \
+            or next_the_glitch(stream, j, max_gap, size, noise, last, True):
         return False
     backwards = reversed_excerpt(stream, j, end)
     backwards.noise = stream.noise

@@ -229,7 +229,7 @@ def stepped(stream: Stream, first: int, end: int) -> List[int]:
 
 def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
            last: Optional[int] = None, scatter: int = SCATTER_FRAMES,
-           hole: float = LOST_HOLE) -> bool:
+           hole: float = LOST_HOLE, fewer: Optional[int] = None) -> bool:
     """
     Return whether bat frame j is a glitch, from the samples up to ``last`` (the newest).
 
@@ -248,6 +248,8 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
         frame, judged with time run backwards: ``bat_glitch_edges.EARLY_SCATTER``).
     :param hole: the longest step across lost frames it is judged beside (s: ``LOST_HOLE``;
         ``bat_glitch_edges.hole_glitch``: any).
+    :param fewer: beside lost frames, the frames matched where its segment has too few before
+        them for ``scatter`` (``_matched``; None: not judged there).
     """
     floor = glitch_floor(noise)
     steady = regular(stream, j, last, scatter)
@@ -266,6 +268,8 @@ def judged(stream: Stream, j: int, max_gap: float, size: int, noise: float,
             return False
     else:  # beside frames the tracker lost: against the frames before it with the same lost
         matched = _matched(stream, j, lost, max_gap, size, noise, scatter)
+        if matched is None and fewer is not None:
+            matched = _matched(stream, j, lost, max_gap, size, noise, fewer)
         if matched is None or isolated <= ISOLATION_RATIO * max(m[1] for m in matched):
             return False
     # a frame just before it that could not be judged (``judgeable``: beside lost frames, a
@@ -308,12 +312,13 @@ def isolation_without(stream: Stream, j: int, max_gap: float, size: int, last: i
     Return how far (m) bat frame j + ``after`` is from its neighbours' spline without frame j.
 
     The larger of its knob's and tip's ``isolation`` in the stream without frame j, reading
-    no sample past ``last``.
+    no sample past ``last``; ``after`` (not 0) may be negative (a frame before j).
     """
-    first = max(j - size, 0)
+    first = max(j + min(after, 0) - size, 0)
     without = excerpt(stream, first, last)
     without.remove(j - first)
-    return max(isolation(without, j + after - 1 - first, max_gap, size, last - 1 - first))
+    return max(isolation(without, j + after - (after > 0) - first, max_gap, size,
+                         last - 1 - first))
 
 
 def regular(stream: Stream, j: int, last: Optional[int] = None,
@@ -428,20 +433,16 @@ def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: in
     Return the first glitch among bat frames ``first`` to ``last - 1``, judged up to ``last``.
 
     The oldest first, each against the frames before it, which are judged (``judged``): not a
-    frame whose next stays isolated without it (``isolated_without``: the glitch is that one,
-    which pulled its neighbours' spline off). A frame judged no glitch with every sample its
+    frame whose next is the glitch (``next_the_glitch``: it stays isolated without this one,
+    which it pulled off its neighbours' spline). A frame judged no glitch with every sample its
     verdict reads (its next two frames in) is kept so in the stream's ``CLEAN`` list, for the
     noise (m) it was judged at and up to ``NOISE_KEPT`` times it, and not judged again: what
     the sweep (``Sweep._bat_frames``) and the predictor (``Predictor._bat_glitch_dropped``)
-    each judge the other need not. A frame's next beside a hole over ``LOST_HOLE``
-    (``over_hole``) is off its neighbours' spline by more than the floor as a swing's own frame
-    is (5.3-8.2 cm, two frames lost at 90 Hz with 1 mm of noise): there the glitch is the one
-    more isolated, the frame judged (``isolation``) or its next without it
-    (``isolation_without``). Deferring to the next wherever it passed the floor, two bat
-    frames lost right after a glitch's next at 90 Hz with 1 mm of noise left 5 of 480 misses
-    with an impact invented (``bench_glitches.py --rates 90 --lost 2 --lost-frames 2``); never
-    deferring there, a braked frame before a glitch a frame was lost after (``--lost 1``) was
-    dropped in its place. None: no glitch.
+    each judge the other need not. Deferring to a next frame beside a hole over ``LOST_HOLE``
+    wherever it passed the floor, two bat frames lost right after a glitch's next at 90 Hz
+    with 1 mm of noise left 5 of 480 misses with an impact invented (``bench_glitches.py
+    --rates 90 --lost 2 --lost-frames 2``); never deferring there, a braked frame before a
+    glitch a frame was lost after (``--lost 1``) was dropped in its place. None: no glitch.
     """
     clean = stream.aligned.setdefault(CLEAN, [])
     for j in range(first, last):
@@ -452,13 +453,40 @@ def first_glitch(stream: Stream, first: int, last: int, max_gap: float, size: in
                 clean.extend([None] * (j + 1 - len(clean)))
                 clean[j] = noise
             continue
-        if j + 1 >= last:
-            return j
-        apart = isolation_without(stream, j, max_gap, size, last)  # (its next, without it)
-        if apart <= glitch_floor(noise) or (over_hole(stream, j + 1, 1, last) and apart <= max(
-                isolation(stream, j, max_gap, size, last))):
+        if j + 1 >= last or not next_the_glitch(stream, j, max_gap, size, noise, last):
             return j
     return None
+
+
+def next_the_glitch(stream: Stream, j: int, max_gap: float, size: int, noise: float,
+                    last: int, across: bool = False) -> bool:
+    """
+    Return whether the glitch is bat frame j + 1 rather than frame j, judged one (``judged``).
+
+    A frame next to a glitch reads as one too (the glitch pulls its neighbours' spline off):
+    the glitch is the next frame where it stays isolated without frame j by more than
+    ``glitch_floor`` (``isolation_without``, reading no sample past ``last``). Where that next
+    frame is beside a hole over ``LOST_HOLE`` (``over_hole``), a swing's own frame is off its
+    neighbours' spline by more than the floor (5.3-8.3 cm, two frames lost at 90 Hz): there
+    frame j is the glitch where it is the more isolated of the two (its ``isolation`` up to
+    ``last``).
+
+    :param noise: the bat's noise (m, 1 sigma per coordinate: told or estimated).
+    :param across: frame j judged across that hole too (``bat_glitch_edges.hole_glitch``),
+        its own isolation as far off for a swing's own frame: it is the glitch where it is off
+        by the floor beyond its next, whether that is left in (its ``isolation``) or out
+        (``isolation_without`` frame j + 1). Left in, a frame right after the hole with a
+        glitch next is pulled off by it (23 cm, the glitch 16 cm without it); a braked frame
+        right after the hole is off 7-10 cm either way, a glitch 10 cm turned after it 6.6-8.3
+        cm without it, and was dropped in its place without the floor beyond.
+    """
+    apart, floor = isolation_without(stream, j, max_gap, size, last), glitch_floor(noise)
+    if apart <= floor or not over_hole(stream, j + 1, 1, last):
+        return apart > floor
+    if not across:
+        return apart > max(isolation(stream, j, max_gap, size, last))
+    return not (apart + floor < max(isolation(stream, j, max_gap, size, last))
+                and apart + floor < isolation_without(stream, j + 1, max_gap, size, last, -1))
 
 
 def path_without(stream: Stream, k: int, j: int, max_gap: float, size: int,
