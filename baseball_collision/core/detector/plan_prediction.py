@@ -14,7 +14,7 @@ from typing import Any, List, Optional, Tuple, TYPE_CHECKING
 
 import numpy as np
 
-from .bat_glitches import BAT_GLITCH_FLOOR
+from .bat_glitches import BAT_GLITCH_FLOOR, REGULAR_STEP
 from .broadphase.arrays import rows, SLACK
 from .config import DetectorConfig
 from .predictor import newest_miss, PREDICTION_DEGREE, Predictor
@@ -44,16 +44,16 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     spare) and its forecasts may meet (``_forecasts_find``), or when the due frame before may
     have made a prediction (it makes another or clears it); the other due frames only move
     ``last_ns``. A due frame that reaches but finds nothing (nothing in force) still judges its
-    newest bat frame (``Predictor._bat_off``): it stops where that frame is more than
-    ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the forecast of the frames before it
-    (``_newest_may_be_off``, the predictor's own fit on the same samples), since there the
-    predictor may suspect it. While a bat frame that held a prediction waits to be judged
-    (``Predictor.suspect``) every due frame stops (a plan made with none is overturned where a
-    stop leaves one: ``chunks._follow``). A prediction the predictor makes is one the plan
-    allowed for (a forecast that meets is one ``forecast_outcomes`` finds on the same samples),
-    so the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
-    prediction in force before a due frame that is not a stop, overturns the plan
-    (``_follow``).
+    newest bat frame after a hole (``Predictor._bat_off``): it stops where that frame comes
+    after a long step and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
+    forecast of the frames before it (``_newest_may_be_off``, the predictor's own fit on the
+    same samples), since there the predictor may suspect it. While a bat frame that held a
+    prediction waits to be judged (``Predictor.suspect``) every due frame stops (a plan made
+    with none is overturned where a stop leaves one: ``chunks._follow``). A prediction the
+    predictor makes is one the plan allowed for (a forecast that meets is one
+    ``forecast_outcomes`` finds on the same samples), so the due frame after it is a stop; a
+    stop that leaves ``last_ns`` elsewhere, or a prediction in force before a due frame that is
+    not a stop, overturns the plan (``_follow``).
     """
     n = plan.n
     steps = visited[1:int(done[-1]) + 1]  # the cursor's union index after each step
@@ -100,8 +100,8 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     # have (a prediction may be in force: it clears it)
     forecasts = finds | np.concatenate(([predictor.predicting], finds[:-1]))
     if len(reached):
-        # one that finds nothing with nothing in force still judges its newest bat frame
-        # (``Predictor._bat_off``): a stop where that frame may be off the swing
+        # one that finds nothing with nothing in force still judges its newest bat frame after
+        # a hole (``Predictor._bat_off``): a stop where that frame may be off the swing
         quiet = np.flatnonzero(~forecasts[reached])
         if len(quiet):
             forecasts[reached[quiet]] = _newest_may_be_off(
@@ -164,17 +164,22 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     Return which bat windows' newest frame may be off the swing by ``Predictor._bat_off``.
 
     ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 4
-    frames or more whose newest frame is more than ``bat_glitches.BAT_GLITCH_FLOOR`` (the least
-    ``glitch_floor``) from the forecast of the frames before it (``newest_miss``: the
-    predictor's own fit on the same samples, the same bits). The stream's kept samples
-    (``bat``), then the chunk's made as the streams keep them (``BatSample``), only where a
-    window is that long.
+    frames or more whose newest frame comes after a step over ``REGULAR_STEP`` times the one
+    before (``Predictor._after_step``, decided with ``SLACK`` to spare) and is more than
+    ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
+    frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
+    bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them
+    (``BatSample``), only where a window is such.
     """
     off = np.zeros(len(windows), bool)
+    times = arrays.times[1]
     long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 4)
+    last = windows[long, 1] - 1
+    long = long[times[last] - times[last - 1] > REGULAR_STEP * (1.0 - SLACK) * (
+        times[last - 1] - times[last - 2])]
     if not len(long):
         return off
-    times = arrays.times[1].tolist()
+    times = times.tolist()
     values = bat.values + _kernel.bat_samples(BatSample, *arrays.new[1:], 0,
                                               len(arrays.new[1]))
     rows: List[Any] = []

@@ -399,49 +399,50 @@ def test_a_suspect_bat_frame_is_forgotten_where_nothing_is_forecast() -> None:
     assert predictor.suspect is None
 
 
-def test_a_bat_glitch_whose_own_forecast_finds_nothing_is_judged_by_the_next() -> None:
-    """
-    A newest bat frame off the swing whose forecast finds nothing, none in force, is suspect.
-
-    The ball passes 15 cm over a still bat; the newest frame is turned down 15 cm, away from
-    it. Its forecast finds nothing, as the forecast without it does, so nothing is shown either
-    way, and the frame was not judged: the glitch stayed in the window, bending the forecasts
-    after it, until a frame showed a contact. Now it is held as where a prediction is in force
-    (``Predictor._bat_off``: ``NEWEST``), and the next frame judges it: dropped as the sweep
-    drops a glitch (``drop_bat``).
-    """
-    count = 14
-    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
-    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+def _after_a_hole(newest) -> Predictor:
+    """Return a predictor whose ball passes 15 cm over a still bat, its frame 6 of 8 lost."""
     still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
+    balls = [(1.6 - 40.0 * 0.005 * i, 0.5, 1.15) for i in range(8)]
+    predictor = _predictor(balls, [still] * 7 + [newest])
+    predictor.drop_bat = lambda j, last: None
+    predictor.bat.remove(6)  # (the newest 10 ms after the one before)
+    return predictor
+
+
+def test_a_bat_glitch_after_a_hole_whose_forecast_finds_nothing_is_suspect() -> None:
+    """
+    A newest bat frame after a lost one, off the swing, whose forecast finds nothing, none shown.
+
+    Turned down 15 cm, away from the ball that passes over the still bat: its forecast finds
+    nothing, as the forecast without it does, so nothing is shown either way, and it was not
+    judged: a glitch stayed in the forecasts after it, bent off the ball, until a frame showed a
+    contact. Now it is judged as where a prediction is in force (``Predictor._bat_off``:
+    ``ACROSS``): suspect, not held, nothing predicted from the forecast without it; the frame
+    after it, off the forecast through it, leaves it out (``_followed``).
+    """
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
     down = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 - 0.86 * math.sin(angle)))
-    predictor = _predictor(balls[:-1], [still] * (count - 2) + [down])
-    dropped = []
-
-    def drop(j: int, last: int) -> None:
-        dropped.append((j, last))
-        predictor.bat.remove(j)
-    predictor.drop_bat = drop
+    predictor = _after_a_hole(down)
     events = []
-    predictor.predict(0.005 * (count - 2), True, events)
+    predictor.predict(0.005 * 7, True, events)
     assert events == [] and not predictor.predicting
-    assert predictor.suspect == predictor.bat.times[-1] and predictor.last_ns is None  # (held)
-    predictor.ball.append(0.005 * (count - 1), BASE_NS + count - 1, balls[-1], False)
-    predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
-    predictor.predict(0.005 * (count - 1), True, events)
-    assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
+    assert predictor.suspect == predictor.bat.times[-1]
+    assert predictor.last_ns == predictor.clock.stamp(0.005 * 7)  # (not held)
+    glitch = len(predictor.bat.times) - 1
+    predictor.ball.append(0.005 * 8, BASE_NS + 8, (1.6 - 40.0 * 0.005 * 8, 0.5, 1.15), False)
+    predictor.bat.append(0.005 * 8, BASE_NS + 8, BatSample((0.0, 0.0, 1.0), (0.0, 0.86, 1.0)),
+                         False)
+    predictor.predict(0.005 * 8, True, events)
+    assert events == [] and predictor._left_out == glitch
 
 
-def test_a_still_bat_whose_forecast_finds_nothing_suspects_no_frame() -> None:
-    """The same pass over a still bat, no frame turned: nothing found, nothing held or judged."""
-    count = 14
-    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
-    predictor = _predictor(balls[:-1], [((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))] * (count - 1))
-    predictor.drop_bat = lambda j, last: pytest.fail('a still bat frame dropped')
+def test_a_still_bat_after_a_hole_whose_forecast_finds_nothing_suspects_no_frame() -> None:
+    """The same pass, the frame after the hole the still bat's own: nothing held or suspect."""
+    predictor = _after_a_hole(((0.0, 0.0, 1.0), (0.0, 0.86, 1.0)))
     events = []
-    predictor.predict(0.005 * (count - 2), True, events)
+    predictor.predict(0.005 * 7, True, events)
     assert events == [] and predictor.suspect is None
-    assert predictor.last_ns == predictor.clock.stamp(0.005 * (count - 2))  # (not held)
+    assert predictor.last_ns == predictor.clock.stamp(0.005 * 7)
 
 
 @pytest.mark.parametrize('family', ['tilted', 'jerky'])
