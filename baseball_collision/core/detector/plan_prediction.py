@@ -10,7 +10,7 @@ predictor's fits and search, the same bits), and says which could make or clear 
 """
 
 from bisect import bisect_left
-from typing import Any, List, Optional, Tuple, TYPE_CHECKING
+from typing import List, Optional, Tuple, TYPE_CHECKING
 
 import numpy as np
 
@@ -169,7 +169,7 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
     frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
     bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them
-    (``BatSample``), only where a window is such.
+    (``BatSample``), only each such window's.
     """
     off = np.zeros(len(windows), bool)
     times = arrays.times[1]
@@ -179,14 +179,16 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
         times[last - 1] - times[last - 2])]
     if not len(long):
         return off
-    times = times.tolist()
-    values = bat.values + _kernel.bat_samples(BatSample, *arrays.new[1:], 0,
-                                              len(arrays.new[1]))
-    rows: List[Any] = []
-    degree = min(config.velocity_degree, PREDICTION_DEGREE)
+    pre, degree = arrays.pre[1], min(config.velocity_degree, PREDICTION_DEGREE)
     for k in long.tolist():
         first, end = windows[k].tolist()
-        off[k] = newest_miss(times, values, rows, first, end, degree) > BAT_GLITCH_FLOOR
+        # the window's own samples (the same bits from any list that holds them)
+        values = bat.values[first:min(end, pre)]
+        if end > pre:
+            values += _kernel.bat_samples(BatSample, *arrays.new[1:], max(first - pre, 0),
+                                          end - pre)
+        off[k] = newest_miss(times[first:end].tolist(), values, [], 0, end - first,
+                             degree) > BAT_GLITCH_FLOOR
     return off
 
 
