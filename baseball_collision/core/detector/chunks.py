@@ -290,6 +290,8 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
     stats = detector.stats
     predictor, last_due = detector._predictor, plan.last_due
     pos, resets = 0, stats.resets
+    # (a plan made with no bat frame suspect stops at a due frame only where it may forecast)
+    unsuspected = predictor is None or predictor.suspect is None
     while True:
         end = plan.next_stop(pos)
         # a stop for the predictor alone is taken with the run, then predicts
@@ -331,7 +333,10 @@ def _follow(detector: 'Detector', plan: Plan, chunk: Tuple[Any, ...], i: int,
                         end, detector._ball, detector._bat, detector._scheduler.cursor):
                 return _overturned(detector, plan, chunk, i, pos, resets)
         if last_due is not None and (predictor.last_ns != last_due[pos] or (
-                predictor.predicting and not _clears(plan, end))):
+                predictor.predicting and not _clears(plan, end)) or (
+                unsuspected and predictor.suspect is not None)):
+            # (a bat frame the predictor now suspects: every due frame stops while one is,
+            # ``plan_prediction.prediction_stops``)
             return _overturned(detector, plan, chunk, i, pos, resets)
 
 

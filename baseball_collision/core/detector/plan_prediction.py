@@ -14,11 +14,14 @@ from typing import List, Optional, Tuple, TYPE_CHECKING
 
 import numpy as np
 
+from .bat_glitches import BAT_GLITCH_FLOOR, REGULAR_STEP
 from .broadphase.arrays import rows, SLACK
 from .config import DetectorConfig
-from .predictor import PREDICTION_DEGREE, Predictor
-from .streams import MAX_HISTORY
+from .predictor import newest_miss, PREDICTION_DEGREE, Predictor
+from .streams import MAX_HISTORY, Stream
+from ..motion import BatSample
 from ..prediction import forecast_outcomes, prediction_due
+from ..toi import _kernel
 
 if TYPE_CHECKING:  # (plans imports this module)
     from .plans import Arrays, Plan
@@ -35,17 +38,22 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     one makes two, each a frame of the per-sample path where it moves the cursor). After each
     frame (a step that moves the cursor) ``Predictor.predict`` runs; on a due frame
     (``prediction_due``) it sets ``last_ns``, then forecasts when armed and ``_may_reach``
-    holds, else clears a prediction in force. A frame between stops only visits far
-    intervals, which arm: its due frame stops when a bat plan is set, or when the ball may
-    reach the bat (``_may_reach`` from the newest two samples of each stream, decided here
-    with ``SLACK`` to spare) and its forecasts may meet (``_forecasts_find``), or when the due
-    frame before may have made a prediction (it makes another or clears it); the other due
-    frames only move ``last_ns``. While a bat frame that held a prediction waits to be judged
-    (``Predictor.suspect``) every due frame stops. A prediction the predictor makes is one the
-    plan allowed for (a forecast that meets is one ``forecast_outcomes`` finds on the same
-    samples), so the due frame after it is a stop; a stop that leaves ``last_ns`` elsewhere, or a
-    prediction in force before a due frame that is not a stop, overturns the plan
-    (``_follow``).
+    holds, else clears a prediction in force. A frame between stops only visits far intervals,
+    which arm: its due frame stops when a bat plan is set, or when the ball may reach the bat
+    (``_may_reach`` from the newest two samples of each stream, decided here with ``SLACK`` to
+    spare) and its forecasts may meet (``_forecasts_find``), or when the due frame before may
+    have made a prediction (it makes another or clears it); the other due frames only move
+    ``last_ns``. A due frame that reaches but finds nothing (nothing in force) still judges its
+    newest bat frame after a hole (``Predictor._bat_off``): it stops where that frame comes
+    after a long step and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
+    forecast of the frames before it (``_newest_may_be_off``, the predictor's own fit on the
+    same samples), since there the predictor may suspect it. While a bat frame that held a
+    prediction waits to be judged (``Predictor.suspect``) every due frame stops (a plan made
+    with none is overturned where a stop leaves one: ``chunks._follow``). A prediction the
+    predictor makes is one the plan allowed for (a forecast that meets is one
+    ``forecast_outcomes`` finds on the same samples), so the due frame after it is a stop; a
+    stop that leaves ``last_ns`` elsewhere, or a prediction in force before a due frame that is
+    not a stop, overturns the plan (``_follow``).
     """
     n = plan.n
     steps = visited[1:int(done[-1]) + 1]  # the cursor's union index after each step
@@ -86,11 +94,19 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     finds = np.zeros(len(due), bool)
     reached = np.flatnonzero(reaching)
     if len(reached):
-        finds[reached] = _forecasts_find(config, plan, arrays, predictor, counts,
-                                         due_steps[reached], cursors)
+        finds[reached], windows = _forecasts_find(config, plan, arrays, predictor, counts,
+                                                  due_steps[reached], cursors)
     # a due frame forecasts (a stop) when it may find a contact, or when the one before may
     # have (a prediction may be in force: it clears it)
-    stops[due] = finds | np.concatenate(([predictor.predicting], finds[:-1]))
+    forecasts = finds | np.concatenate(([predictor.predicting], finds[:-1]))
+    if len(reached):
+        # one that finds nothing with nothing in force still judges its newest bat frame after
+        # a hole (``Predictor._bat_off``): a stop where that frame may be off the swing
+        quiet = np.flatnonzero(~forecasts[reached])
+        if len(quiet):
+            forecasts[reached[quiet]] = _newest_may_be_off(
+                config, arrays, predictor.bat, windows[quiet, 2:])
+    stops[due] = forecasts
     return stops, due_steps
 
 
@@ -117,7 +133,7 @@ def _due_frames(now: List[int], last: Optional[int], period: float) -> List[int]
 
 def _forecasts_find(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays', predictor: Predictor,
                     counts: List[np.ndarray], due_steps: np.ndarray,
-                    cursors: np.ndarray) -> np.ndarray:
+                    cursors: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """
     Return which due frames' forecasts may find a contact (the kernel's, all in one call).
 
@@ -125,7 +141,8 @@ def _forecasts_find(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays', pred
     leaves them (its counts, its trim's start: ``Plan.step_starts``), its time the cursor;
     the outcomes are
     ``prediction.forecast_outcomes``' (the predictor's own fits and search on the same
-    samples: the same bits), and an undecided one (left to the predictor) may find.
+    samples: the same bits), and an undecided one (left to the predictor) may find. Also the
+    windows: (frames, 4) rows of the ball's and the bat's (first, end) in the arrays.
     """
     t0s = np.ascontiguousarray(cursors[due_steps - 1])
     windows = np.empty((len(due_steps), 4), np.int64)
@@ -138,7 +155,41 @@ def _forecasts_find(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays', pred
         (arrays.times[1], arrays.knobs, arrays.tips, arrays.quaternions), windows, t0s,
         predictor._gravity, config.ball_drag, min(config.velocity_degree, PREDICTION_DEGREE),
         config.prediction_horizon, config.ball_radius, config.profile, predictor._tolerance)
-    return outcomes != 0
+    return outcomes != 0, windows
+
+
+def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
+                       windows: np.ndarray) -> np.ndarray:
+    """
+    Return which bat windows' newest frame may be off the swing by ``Predictor._bat_off``.
+
+    ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 4
+    frames or more whose newest frame comes after a step over ``REGULAR_STEP`` times the one
+    before (``Predictor._after_step``, decided with ``SLACK`` to spare) and is more than
+    ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
+    frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
+    bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them
+    (``BatSample``), only each such window's.
+    """
+    off = np.zeros(len(windows), bool)
+    times = arrays.times[1]
+    long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 4)
+    last = windows[long, 1] - 1
+    long = long[times[last] - times[last - 1] > REGULAR_STEP * (1.0 - SLACK) * (
+        times[last - 1] - times[last - 2])]
+    if not len(long):
+        return off
+    pre, degree = arrays.pre[1], min(config.velocity_degree, PREDICTION_DEGREE)
+    for k in long.tolist():
+        first, end = windows[k].tolist()
+        # the window's own samples (the same bits from any list that holds them)
+        values = bat.values[first:min(end, pre)]
+        if end > pre:
+            values += _kernel.bat_samples(BatSample, *arrays.new[1:], max(first - pre, 0),
+                                          end - pre)
+        off[k] = newest_miss(times[first:end].tolist(), values, [], 0, end - first,
+                             degree) > BAT_GLITCH_FLOOR
+    return off
 
 
 def _histories(times: np.ndarray, breaks: np.ndarray, starts: np.ndarray, counts: np.ndarray,

@@ -32,17 +32,22 @@ neither held nor bending the prediction, and the frame after it says which it wa
 forecast through it, the swing's own (used from then on); off it, left out till the sweep's
 rule for it judges it (``Predictor._followed``, ``_late_verdict``).
 
-A glitch further back in the bat's forecast window would bend the fit of every forecast after
-it until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that
-would change what is shown (a contact found, withdrawn or moved) first judges the window's
-newest bat frames by the sweep's rule, the oldest first, and drops a glitch as the sweep does
-(``bat_glitch``, counted; forgotten): ``Predictor._bat_glitch_dropped``. The prediction and
-the detection path read the same frames. A newest bat frame that held the prediction (off the
-swing, above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a
-glitch that bends the forecasts after it away from the ball would otherwise stay in them,
-showing nothing, until the sweep judged it near the ball. Where that rule cannot judge the
-suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``), the
-sweep's rule for it does once the frames after it that it reads have come
+A glitch further back in the bat's forecast window would bend the fit of every forecast after it
+until the sweep judged it near the ball (tens of milliseconds at 90 Hz). So a frame that would
+change what is shown (a contact found, withdrawn or moved) first judges the window's newest bat
+frames by the sweep's rule, the oldest first, and drops a glitch as the sweep does
+(``bat_glitch``, counted; forgotten): ``Predictor._bat_glitch_dropped``. The prediction and the
+detection path read the same frames. A newest bat frame that held the prediction (off the swing,
+above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a glitch
+that bends the forecasts after it away from the ball would otherwise stay in them, showing
+nothing, until the sweep judged it near the ball. So is a newest bat frame after a hole
+(``_after_step``) off the swing whose forecast finds nothing with nothing in force (nothing
+shown either way, so nothing was judged; the glitch then bent the forecasts after it): the frame
+after it says which it was, as above, and it makes no prediction from the forecast without it
+(that gave misses false ones). A chunk's plan stops at such a frame (``plan_prediction``: its
+newest frame after a long step, over the least glitch floor off). Where that rule cannot judge
+the suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``),
+the sweep's rule for it does once the frames after it that it reads have come
 (``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``); till
 then, or once judged a glitch, the bat is forecast without it (the sweep drops it when a contact
 hangs on it).
@@ -151,6 +156,27 @@ def noise_gain(times: Sequence[float], t: float, degree: int) -> float:
     return math.sqrt(1.0 + float(weights @ weights))
 
 
+def newest_miss(times: List[float], values: List, rows: List, first: int, end: int,
+                degree: int) -> float:
+    """
+    Return how far (m) bat sample end - 1 is from the forecast of samples [first, end - 1).
+
+    The larger of the knob's and the tip's distances; the forecast ``bat_window_numbers``' of
+    ``degree`` (``rows``: the stream's step rows, or a list of the caller's: the same bits), at
+    sample end - 1's time (s). 0 where the fit would read fewer than 3 samples or is rank
+    deficient. The predictor's (``Predictor._bat_miss``) and a chunk's plan's
+    (``plan_prediction``) on the same samples.
+    """
+    if end - 1 - first < 3:
+        return 0.0
+    before = bat_window_numbers(times, values, rows, first, end - 1, degree)
+    if before is None:
+        return 0.0
+    knob, tip = states_of(None, before, times[end - 1])[2:]
+    newest = values[end - 1]
+    return max(math.dist(knob, newest.knob), math.dist(tip, newest.tip))
+
+
 class Predictor:
     """
     Forecasts from the ball and bat streams; the commanded plan; whether a contact is predicted.
@@ -240,12 +266,15 @@ class Predictor:
         shown (``_shown_changes``) and the bat's starts from a frame off the swing
         (``_bat_off``: ``NEWEST``, that frame is then ``suspect``); the next frame is then due.
         Where the frame before the bat's newest is off instead (``BEFORE``), the bat is
-        forecast again without it. The bat's turns are summed over the forecast's own window
-        (``_bat_forecast``), whose frames are judged first where the frame would change what
-        is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped, the bat
-        forecast again without it); a suspect whose rule awaits later frames, or that its rule
-        judged a glitch (``_left_out``), is left out of the bat's forecast, and the newest
-        frames are not checked meanwhile.
+        forecast again without it. Where nothing is found and none is in force, a newest bat
+        frame after a hole (``_after_step``) is judged all the same (nothing is shown either
+        way): off the swing (``ACROSS``) it is ``suspect``, the frame after it says which it
+        was, and nothing is forecast without it. The bat's turns are summed over the forecast's
+        own window (``_bat_forecast``), whose frames are judged first where the frame would
+        change what is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped,
+        the bat forecast again without it); a suspect whose rule awaits later frames, or that
+        its rule judged a glitch (``_left_out``), is left out of the bat's forecast, and the
+        newest frames are not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -274,11 +303,17 @@ class Predictor:
                         config.profile, self._tolerance)
             if forecast is None:
                 self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
-            elif found is not None or self.predicting:
-                held = self._ball_departed()
+            elif found is not None or self.predicting or (
+                    not planned and left_out is None and self._after_step(self._bat_window[1])):
+                # (nothing found, nothing in force: a newest bat frame after a hole is judged)
+                shown = found is not None or self.predicting
+                held = shown and self._ball_departed()
                 off = None if held or planned or left_out is not None else self._bat_off(found)
                 if off is NEWEST:
                     held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
+                elif off is not None and not shown:  # (no prediction from a frame left out)
+                    if off is ACROSS:  # (the newest: judged by the frame after it)
+                        self.suspect = self.bat.times[self._bat_window[1] - 1]
                 elif off is not None:  # BEFORE, ACROSS: forecast without that frame
                     first, end = self._bat_window
                     if off is ACROSS:  # (the newest: judged by the frame after it)
@@ -423,7 +458,8 @@ class Predictor:
         a bat frame only near the ball, so a glitch may stay in the window for tens of
         milliseconds). Only after a step at most ``bat_glitches.REGULAR_STEP`` times the step
         before it. Judged only where the frame would change what is shown (``_shown_changes``;
-        ``found``: ``contact_of``'s result).
+        ``found``: ``contact_of``'s result; a frame after a hole that finds nothing with
+        nothing in force is judged so too, ``predict``).
 
         ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
         frames lost or dropped right before it), where the forecast reaches over two steps or
@@ -490,6 +526,17 @@ class Predictor:
         return max(glitch_floor(stream_noise(self.bat, self._config)),
                    ratio * self._bat_miss(first, end - 1))
 
+    def _after_step(self, end: int) -> bool:
+        """
+        Return whether bat frame end - 1's step is over ``REGULAR_STEP`` times the one before.
+
+        Of ``_across_hole``'s tests the one from three stamps (a frame lost or dropped before
+        it, or one stamped early: ``_bat_off`` tells which); False with fewer than 3 frames.
+        """
+        times = self.bat.times
+        return end >= 3 and times[end - 1] - times[end - 2] > REGULAR_STEP * (
+            times[end - 2] - times[end - 3])
+
     def _across_hole(self, j: int) -> bool:
         """
         Return whether bat frame j comes after a hole: frames lost (or dropped) right before it.
@@ -548,7 +595,10 @@ class Predictor:
         fewer than 3 frames.
         """
         bat = self.bat
-        if end - 1 - first - (without is not None) < 3:
+        if without is None:
+            return newest_miss(bat.times, bat.values, bat.aligned.setdefault(STEP_ROWS, []),
+                               first, end, min(self._config.velocity_degree, PREDICTION_DEGREE))
+        if end - 2 - first < 3:
             return 0.0
         before = self._bat_numbers(first, end - 1, without)
         if before is None:

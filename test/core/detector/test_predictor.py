@@ -21,7 +21,7 @@ from baseball_collision.errors import CoreError
 from baseball_collision.tools.sim import make_scenario, sample
 import numpy as np
 import pytest
-from support.events import glitched_pitch, lost_glitched_pitch
+from support.events import arrays, glitched_pitch, lost_glitched_pitch
 
 BASE_NS = 1_700_000_000_000_000_000
 OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
@@ -397,6 +397,83 @@ def test_a_suspect_bat_frame_is_forgotten_where_nothing_is_forecast() -> None:
     assert predictor.suspect == predictor.bat.times[-1]
     predictor.predict(0.005 * 7, False, [])  # disarmed: nothing forecast
     assert predictor.suspect is None
+
+
+def _after_a_hole(newest) -> Predictor:
+    """Return a predictor whose ball passes 15 cm over a still bat, its frame 6 of 8 lost."""
+    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
+    balls = [(1.6 - 40.0 * 0.005 * i, 0.5, 1.15) for i in range(8)]
+    predictor = _predictor(balls, [still] * 7 + [newest])
+    predictor.drop_bat = lambda j, last: None
+    predictor.bat.remove(6)  # (the newest 10 ms after the one before)
+    return predictor
+
+
+def test_a_bat_glitch_after_a_hole_whose_forecast_finds_nothing_is_suspect() -> None:
+    """
+    A newest bat frame after a lost one, off the swing, whose forecast finds nothing, none shown.
+
+    Turned down 15 cm, away from the ball that passes over the still bat: its forecast finds
+    nothing, as the forecast without it does, so nothing is shown either way, and it was not
+    judged: a glitch stayed in the forecasts after it, bent off the ball, until a frame showed a
+    contact. Now it is judged as where a prediction is in force (``Predictor._bat_off``:
+    ``ACROSS``): suspect, not held, nothing predicted from the forecast without it; the frame
+    after it, off the forecast through it, leaves it out (``_followed``).
+    """
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    down = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 - 0.86 * math.sin(angle)))
+    predictor = _after_a_hole(down)
+    events = []
+    predictor.predict(0.005 * 7, True, events)
+    assert events == [] and not predictor.predicting
+    assert predictor.suspect == predictor.bat.times[-1]
+    assert predictor.last_ns == predictor.clock.stamp(0.005 * 7)  # (not held)
+    glitch = len(predictor.bat.times) - 1
+    predictor.ball.append(0.005 * 8, BASE_NS + 8, (1.6 - 40.0 * 0.005 * 8, 0.5, 1.15), False)
+    predictor.bat.append(0.005 * 8, BASE_NS + 8, BatSample((0.0, 0.0, 1.0), (0.0, 0.86, 1.0)),
+                         False)
+    predictor.predict(0.005 * 8, True, events)
+    assert events == [] and predictor._left_out == glitch
+
+
+def test_a_still_bat_after_a_hole_whose_forecast_finds_nothing_suspects_no_frame() -> None:
+    """The same pass, the frame after the hole the still bat's own: nothing held or suspect."""
+    predictor = _after_a_hole(((0.0, 0.0, 1.0), (0.0, 0.86, 1.0)))
+    events = []
+    predictor.predict(0.005 * 7, True, events)
+    assert events == [] and predictor.suspect is None
+    assert predictor.last_ns == predictor.clock.stamp(0.005 * 7)
+
+
+@pytest.mark.parametrize('family', ['tilted', 'jerky'])
+def test_a_bat_glitch_after_a_lost_frame_whose_forecast_found_nothing_is_left_out(
+        family: str) -> None:
+    """
+    A 90 Hz hit whose bat frame 4 before the contact, turned 10 cm, follows a frame lost.
+
+    No prediction was in force there yet, and the glitch's own forecast found none: nothing
+    was judged, so the glitch stayed in the forecasts after it, bent off the ball until 20 ms
+    before the contact. Now a frame whose forecast finds nothing still judges its newest frame
+    (``Predictor._bat_off``): more than the hole's floor off (``ACROSS``) it is suspect, the
+    frame after it leaves it out (``_followed``), and the prediction 20 ms ahead is the pitch
+    without it's, on the contact. The chunk path stops at that frame too
+    (``plan_prediction.prediction_stops``): the same events.
+    """
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    rows, deleted, contact = lost_glitched_pitch('barrel', family, 1, 4, -1)
+    ahead, fed = [], []
+    for feed in (rows, deleted):
+        detector = Detector(config)
+        fed.append([e for row in feed for e in detector.add(*row)] + detector.finish())
+        made = [(e.made_at_ns, getattr(e, 'stamp_ns', None)) for e in fed[-1]
+                if isinstance(e, (Prediction, PredictionCleared))]
+        ahead.append([stamp for made_at, stamp in made if made_at <= contact - 0.02e9][-1])
+    assert ahead[0] == ahead[1] and abs(ahead[0] - contact) < 0.001e9
+    detector = Detector(config)
+    chunked = []
+    for start in range(0, len(rows), 50):
+        chunked += detector.add_chunk(*arrays(rows[start:start + 50]))
+    assert chunked + detector.finish() == fed[0]
 
 
 @pytest.mark.parametrize('lost, segment', [(0, 4), (-2, 0)])
