@@ -366,7 +366,8 @@ def main(args: Optional[List[str]] = None) -> int:
     Run the node until Ctrl-C or shutdown.
 
     :param args: command line (``--ros-args ...``); ``None``: ``sys.argv``.
-    :returns: the exit code: 0 after a clean shutdown, 1 for a bad configuration, 2 when rcl
+    :returns: the exit code: 0 after a clean shutdown (also where an error came from rclpy's
+        handles after Ctrl-C had shut the context down), 1 for a bad configuration, 2 when rcl
         refuses the command line (e.g. an unreadable params file).
     """
     single_threaded_blas()
@@ -390,6 +391,12 @@ def main(args: Optional[List[str]] = None) -> int:
         return 1
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception:  # noqa: B902 - re-raised unless the context was shut down under it
+        if rclpy.ok():
+            raise
+        # Ctrl-C (or SIGTERM) shut the context down under the executor mid-wait: rclpy's
+        # handles gone (an AttributeError or InvalidHandle from its wait set) are the shutdown
+        # asked for, not a failure, so no traceback and exit 0
     finally:
         if node is not None:
             node.destroy_node()

@@ -531,6 +531,33 @@ def test_bad_params_file_value_exits_with_one_line(tmp_path: Path, line: str, wo
     assert 'ERROR' in lines[0] and word in lines[0] and 'not starting' in lines[0]
 
 
+@pytest.mark.parametrize('shut_down', [True, False])
+def test_an_error_from_rclpys_handles_after_ctrl_c_is_the_shutdown(shut_down: bool) -> None:
+    """
+    Ctrl-C that shuts the context down under the executor mid-wait exits 0 without a traceback.
+
+    rclpy's wait set can then meet a destroyed handle (``'NoneType' object has no attribute
+    'handle'``): once in a loaded suite the node exited 1 with it after a SIGINT right after
+    start-up. The same error with the context still up is the node's own: raised, exit 1.
+    """
+    driver = (
+        'import sys, rclpy\n'
+        'from baseball_collision.ros import node\n'
+        'def spin(_node):\n'
+        f'    if {shut_down}:\n'
+        '        rclpy.try_shutdown()\n'
+        "    raise AttributeError(\"'NoneType' object has no attribute 'handle'\")\n"
+        'node.rclpy.spin = spin\n'
+        "sys.exit(node.main(['impact_node']))\n")
+    completed = subprocess.run([sys.executable, '-c', driver], env=_env(), capture_output=True,
+                               text=True, timeout=60)
+    output = completed.stdout + completed.stderr
+    if shut_down:
+        assert completed.returncode == 0 and 'Traceback' not in output, output
+    else:
+        assert completed.returncode == 1 and 'AttributeError' in output, output
+
+
 def test_a_params_file_for_another_node_is_warned_about_at_start_up(tmp_path: Path) -> None:
     """The console script given a file whose only section is another node's: a WARN, runs."""
     params = tmp_path / 'other.yaml'
