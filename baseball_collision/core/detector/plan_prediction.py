@@ -175,8 +175,9 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     times = arrays.times[1]
     long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 4)
     last = windows[long, 1] - 1
-    long = long[times[last] - times[last - 1] > REGULAR_STEP * (1.0 - SLACK) * (
-        times[last - 1] - times[last - 2])]
+    before, after = times[last - 1] - times[last - 2], times[last] - times[last - 1]
+    long = long[(after > REGULAR_STEP * (1.0 - SLACK) * before) | _off_line(
+        arrays, last, after, before, BAT_GLITCH_FLOOR * (1.0 - SLACK))]
     if not len(long):
         return off
     pre, degree = arrays.pre[1], min(config.velocity_degree, PREDICTION_DEGREE)
@@ -189,6 +190,25 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
                                           end - pre)
         off[k] = newest_miss(times[first:end].tolist(), values, [], 0, end - first,
                              degree) > BAT_GLITCH_FLOOR
+    return off
+
+
+def _off_line(arrays: 'Arrays', last: np.ndarray, after: np.ndarray, before: np.ndarray,
+              floor: float) -> np.ndarray:
+    """
+    Return which bat samples ``last`` may be off the line through the two before them.
+
+    ``Predictor._off_line``'s screen on the arrays' knobs and tips: more than ``floor`` (m)
+    from where the step before (``before``, s), scaled to the sample's own (``after``),
+    carries the sample before; True where the steps' ratio is not finite.
+    """
+    with np.errstate(divide='ignore', invalid='ignore'):
+        ratio = (after / before)[:, None]
+    off = ~np.isfinite(ratio[:, 0])
+    ratio = np.where(np.isfinite(ratio), ratio, 0.0)
+    for points in (arrays.knobs, arrays.tips):
+        middle = points[last - 1]
+        off |= _norms(points[last] - middle - (middle - points[last - 2]) * ratio) > floor
     return off
 
 

@@ -303,9 +303,10 @@ class Predictor:
                         config.profile, self._tolerance)
             if forecast is None:
                 self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
-            elif found is not None or self.predicting or (
-                    not planned and left_out is None and self._after_step(self._bat_window[1])):
-                # (nothing found, nothing in force: a newest bat frame after a hole is judged)
+            elif found is not None or self.predicting or not planned and left_out is None and (
+                    self._after_step(self._bat_window[1]) or self._off_line(self._bat_window[1])):
+                # (nothing found, nothing in force: a newest bat frame after a hole, or off the
+                # line through the two before it, is judged)
                 shown = found is not None or self.predicting
                 held = shown and self._ball_departed()
                 off = None if held or planned or left_out is not None else self._bat_off(found)
@@ -536,6 +537,29 @@ class Predictor:
         times = self.bat.times
         return end >= 3 and times[end - 1] - times[end - 2] > REGULAR_STEP * (
             times[end - 2] - times[end - 3])
+
+    def _off_line(self, end: int) -> bool:
+        """
+        Return whether bat frame end - 1 is off the line through the two frames before it.
+
+        Knob or tip more than ``glitch_floor`` of the stream's noise (m) from where the step
+        from frame end - 3 to end - 2, scaled by the ratio of their steps (s), carries frame
+        end - 2: a screen no fit reads (a swing's own frames between the ball's forecasts land
+        within it; a frame turned 10 cm or more off a slow bat does not). False with fewer
+        than 3 frames; True where the two frames before are stamped alike.
+        """
+        times, values = self.bat.times, self.bat.values
+        if end < 3:
+            return False
+        before = times[end - 2] - times[end - 3]
+        if before <= 0.0:
+            return True
+        ratio = (times[end - 1] - times[end - 2]) / before
+        floor = glitch_floor(stream_noise(self.bat, self._config))
+        oldest, middle, newest = values[end - 3], values[end - 2], values[end - 1]
+        return any(math.dist(c, [b + (b - a) * ratio for a, b in zip(a3, b3)]) > floor
+                   for a3, b3, c in ((oldest.knob, middle.knob, newest.knob),
+                                     (oldest.tip, middle.tip, newest.tip)))
 
     def _across_hole(self, j: int) -> bool:
         """
