@@ -44,8 +44,9 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     spare) and its forecasts may meet (``_forecasts_find``), or when the due frame before may
     have made a prediction (it makes another or clears it); the other due frames only move
     ``last_ns``. A due frame that reaches but finds nothing (nothing in force) still judges its
-    newest bat frame after a hole (``Predictor._bat_off``): it stops where that frame comes
-    after a long step and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
+    newest bat frame after a hole or off the line through the two before it
+    (``Predictor._bat_off``): it stops where that frame comes after a long step or off that
+    line (``_off_line``) and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
     forecast of the frames before it (``_newest_may_be_off``, the predictor's own fit on the
     same samples), since there the predictor may suspect it. While a bat frame that held a
     prediction waits to be judged (``Predictor.suspect``) every due frame stops (a plan made
@@ -101,7 +102,8 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     forecasts = finds | np.concatenate(([predictor.predicting], finds[:-1]))
     if len(reached):
         # one that finds nothing with nothing in force still judges its newest bat frame after
-        # a hole (``Predictor._bat_off``): a stop where that frame may be off the swing
+        # a hole or off the line through the two before it (``Predictor._bat_off``): a stop
+        # where that frame may be off the swing
         quiet = np.flatnonzero(~forecasts[reached])
         if len(quiet):
             forecasts[reached[quiet]] = _newest_may_be_off(
@@ -165,7 +167,9 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
 
     ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 4
     frames or more whose newest frame comes after a step over ``REGULAR_STEP`` times the one
-    before (``Predictor._after_step``, decided with ``SLACK`` to spare) and is more than
+    before (``Predictor._after_step``), or is more than ``BAT_GLITCH_FLOOR`` off the line
+    through the two frames before it (``Predictor._off_line``; both decided with ``SLACK`` to
+    spare: a screen that skips the fit on a swing's own frames), and is more than
     ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
     frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
     bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them

@@ -40,12 +40,14 @@ frames by the sweep's rule, the oldest first, and drops a glitch as the sweep do
 detection path read the same frames. A newest bat frame that held the prediction (off the swing,
 above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a glitch
 that bends the forecasts after it away from the ball would otherwise stay in them, showing
-nothing, until the sweep judged it near the ball. So is a newest bat frame after a hole
-(``_after_step``) off the swing whose forecast finds nothing with nothing in force (nothing
-shown either way, so nothing was judged; the glitch then bent the forecasts after it): the frame
-after it says which it was, as above, and it makes no prediction from the forecast without it
-(that gave misses false ones). A chunk's plan stops at such a frame (``plan_prediction``: its
-newest frame after a long step, over the least glitch floor off). Where that rule cannot judge
+nothing, until the sweep judged it near the ball. So is a newest bat frame off the swing whose
+forecast finds nothing with nothing in force (nothing shown either way, so nothing was judged;
+the glitch then bent the forecasts after it), after a hole (``_after_step``) or off the line
+through the two frames before it (``_off_line``, a screen no fit reads): on a regular step it
+is held as above; after a hole the frame after it says which it was; it makes no prediction
+from the forecast without it (that gave misses false ones). A chunk's plan stops at such a frame
+(``plan_prediction``: its newest frame after a long step or off that line, over the least
+glitch floor off the fit). Where that rule cannot judge
 the suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``),
 the sweep's rule for it does once the frames after it that it reads have come
 (``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``); till
@@ -267,14 +269,15 @@ class Predictor:
         (``_bat_off``: ``NEWEST``, that frame is then ``suspect``); the next frame is then due.
         Where the frame before the bat's newest is off instead (``BEFORE``), the bat is
         forecast again without it. Where nothing is found and none is in force, a newest bat
-        frame after a hole (``_after_step``) is judged all the same (nothing is shown either
-        way): off the swing (``ACROSS``) it is ``suspect``, the frame after it says which it
-        was, and nothing is forecast without it. The bat's turns are summed over the forecast's
-        own window (``_bat_forecast``), whose frames are judged first where the frame would
-        change what is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped,
-        the bat forecast again without it); a suspect whose rule awaits later frames, or that
-        its rule judged a glitch (``_left_out``), is left out of the bat's forecast, and the
-        newest frames are not checked meanwhile.
+        frame after a hole (``_after_step``) or off the line through the two frames before it
+        (``_off_line``) is judged all the same (nothing is shown either way): off the swing it
+        is ``suspect`` (held where ``NEWEST``; after a hole, ``ACROSS``, the frame after it
+        says which it was), and nothing is forecast without it. The bat's turns are summed over
+        the forecast's own window (``_bat_forecast``), whose frames are judged first where the
+        frame would change what is shown or a frame is suspect (``_bat_glitch_dropped``: a
+        glitch dropped, the bat forecast again without it); a suspect whose rule awaits later
+        frames, or that its rule judged a glitch (``_left_out``), is left out of the bat's
+        forecast, and the newest frames are not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -459,8 +462,8 @@ class Predictor:
         a bat frame only near the ball, so a glitch may stay in the window for tens of
         milliseconds). Only after a step at most ``bat_glitches.REGULAR_STEP`` times the step
         before it. Judged only where the frame would change what is shown (``_shown_changes``;
-        ``found``: ``contact_of``'s result; a frame after a hole that finds nothing with
-        nothing in force is judged so too, ``predict``).
+        ``found``: ``contact_of``'s result; a frame after a hole, or off the line through the
+        two before it, that finds nothing with nothing in force is judged so too, ``predict``).
 
         ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
         frames lost or dropped right before it), where the forecast reaches over two steps or
