@@ -64,7 +64,7 @@ from typing import Callable, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .bat_glitch_edges import late_rule, segment_first
-from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
+from .bat_glitches import BAT_GLITCH_FLOOR, first_glitch, glitch_floor, REGULAR_STEP
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -558,11 +558,14 @@ class Predictor:
         if before <= 0.0:
             return True
         ratio = (times[end - 1] - times[end - 2]) / before
-        floor = glitch_floor(stream_noise(self.bat, self._config))
         oldest, middle, newest = values[end - 3], values[end - 2], values[end - 1]
-        return any(math.dist(c, [b + (b - a) * ratio for a, b in zip(a3, b3)]) > floor
-                   for a3, b3, c in ((oldest.knob, middle.knob, newest.knob),
-                                     (oldest.tip, middle.tip, newest.tip)))
+        off = 0.0
+        for (ax, ay, az), (bx, by, bz), c in ((oldest.knob, middle.knob, newest.knob),
+                                              (oldest.tip, middle.tip, newest.tip)):
+            off = max(off, math.dist(c, (bx + (bx - ax) * ratio, by + (by - ay) * ratio,
+                                         bz + (bz - az) * ratio)))
+        # (the least floor first: the stream's noise only where it may matter)
+        return off > BAT_GLITCH_FLOOR and off > glitch_floor(stream_noise(self.bat, self._config))
 
     def _across_hole(self, j: int) -> bool:
         """
