@@ -44,8 +44,9 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     spare) and its forecasts may meet (``_forecasts_find``), or when the due frame before may
     have made a prediction (it makes another or clears it); the other due frames only move
     ``last_ns``. A due frame that reaches but finds nothing (nothing in force) still judges its
-    newest bat frame after a hole (``Predictor._bat_off``): it stops where that frame comes
-    after a long step and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
+    newest bat frame after a hole or off the line through the two before it
+    (``Predictor._bat_off``): it stops where that frame comes after a long step or off that
+    line (``_off_line``) and is more than ``BAT_GLITCH_FLOOR`` (the least glitch floor) off the
     forecast of the frames before it (``_newest_may_be_off``, the predictor's own fit on the
     same samples), since there the predictor may suspect it. While a bat frame that held a
     prediction waits to be judged (``Predictor.suspect``) every due frame stops (a plan made
@@ -101,7 +102,8 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
     forecasts = finds | np.concatenate(([predictor.predicting], finds[:-1]))
     if len(reached):
         # one that finds nothing with nothing in force still judges its newest bat frame after
-        # a hole (``Predictor._bat_off``): a stop where that frame may be off the swing
+        # a hole or off the line through the two before it (``Predictor._bat_off``): a stop
+        # where that frame may be off the swing
         quiet = np.flatnonzero(~forecasts[reached])
         if len(quiet):
             forecasts[reached[quiet]] = _newest_may_be_off(
@@ -165,7 +167,9 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
 
     ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 4
     frames or more whose newest frame comes after a step over ``REGULAR_STEP`` times the one
-    before (``Predictor._after_step``, decided with ``SLACK`` to spare) and is more than
+    before (``Predictor._after_step``), or is more than ``BAT_GLITCH_FLOOR`` off the line
+    through the two frames before it (``Predictor._off_line``; both decided with ``SLACK`` to
+    spare: a screen that skips the fit on a swing's own frames), and is more than
     ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
     frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
     bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them
@@ -175,8 +179,9 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     times = arrays.times[1]
     long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 4)
     last = windows[long, 1] - 1
-    long = long[times[last] - times[last - 1] > REGULAR_STEP * (1.0 - SLACK) * (
-        times[last - 1] - times[last - 2])]
+    before, after = times[last - 1] - times[last - 2], times[last] - times[last - 1]
+    long = long[(after > REGULAR_STEP * (1.0 - SLACK) * before) | _off_line(
+        arrays, last, after, before, BAT_GLITCH_FLOOR * (1.0 - SLACK))]
     if not len(long):
         return off
     pre, degree = arrays.pre[1], min(config.velocity_degree, PREDICTION_DEGREE)
@@ -189,6 +194,25 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
                                           end - pre)
         off[k] = newest_miss(times[first:end].tolist(), values, [], 0, end - first,
                              degree) > BAT_GLITCH_FLOOR
+    return off
+
+
+def _off_line(arrays: 'Arrays', last: np.ndarray, after: np.ndarray, before: np.ndarray,
+              floor: float) -> np.ndarray:
+    """
+    Return which bat samples ``last`` may be off the line through the two before them.
+
+    ``Predictor._off_line``'s screen on the arrays' knobs and tips: more than ``floor`` (m)
+    from where the step before (``before``, s), scaled to the sample's own (``after``),
+    carries the sample before; True where the steps' ratio is not finite.
+    """
+    with np.errstate(divide='ignore', invalid='ignore'):
+        ratio = (after / before)[:, None]
+    off = ~np.isfinite(ratio[:, 0])
+    ratio = np.where(np.isfinite(ratio), ratio, 0.0)
+    for points in (arrays.knobs, arrays.tips):
+        middle = points[last - 1]
+        off |= _norms(points[last] - middle - (middle - points[last - 2]) * ratio) > floor
     return off
 
 

@@ -40,12 +40,14 @@ frames by the sweep's rule, the oldest first, and drops a glitch as the sweep do
 detection path read the same frames. A newest bat frame that held the prediction (off the swing,
 above) is judged so by the next forecast whatever it shows (``Predictor.suspect``): a glitch
 that bends the forecasts after it away from the ball would otherwise stay in them, showing
-nothing, until the sweep judged it near the ball. So is a newest bat frame after a hole
-(``_after_step``) off the swing whose forecast finds nothing with nothing in force (nothing
-shown either way, so nothing was judged; the glitch then bent the forecasts after it): the frame
-after it says which it was, as above, and it makes no prediction from the forecast without it
-(that gave misses false ones). A chunk's plan stops at such a frame (``plan_prediction``: its
-newest frame after a long step, over the least glitch floor off). Where that rule cannot judge
+nothing, until the sweep judged it near the ball. So is a newest bat frame off the swing whose
+forecast finds nothing with nothing in force (nothing shown either way, so nothing was judged;
+the glitch then bent the forecasts after it), after a hole (``_after_step``) or off the line
+through the two frames before it (``_off_line``, a screen no fit reads): on a regular step it
+is held as above; after a hole the frame after it says which it was; it makes no prediction
+from the forecast without it (that gave misses false ones). A chunk's plan stops at such a frame
+(``plan_prediction``: its newest frame after a long step or off that line, over the least
+glitch floor off the fit). Where that rule cannot judge
 the suspect (a segment's first frames, a frame beside a hole over ``bat_glitches.LOST_HOLE``),
 the sweep's rule for it does once the frames after it that it reads have come
 (``Predictor._late_verdict``: ``early_glitch``, ``first_frame_glitch``, ``hole_glitch``); till
@@ -62,7 +64,7 @@ from typing import Callable, List, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from .bat_glitch_edges import late_rule, segment_first
-from .bat_glitches import first_glitch, glitch_floor, REGULAR_STEP
+from .bat_glitches import BAT_GLITCH_FLOOR, first_glitch, glitch_floor, REGULAR_STEP
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -267,14 +269,15 @@ class Predictor:
         (``_bat_off``: ``NEWEST``, that frame is then ``suspect``); the next frame is then due.
         Where the frame before the bat's newest is off instead (``BEFORE``), the bat is
         forecast again without it. Where nothing is found and none is in force, a newest bat
-        frame after a hole (``_after_step``) is judged all the same (nothing is shown either
-        way): off the swing (``ACROSS``) it is ``suspect``, the frame after it says which it
-        was, and nothing is forecast without it. The bat's turns are summed over the forecast's
-        own window (``_bat_forecast``), whose frames are judged first where the frame would
-        change what is shown or a frame is suspect (``_bat_glitch_dropped``: a glitch dropped,
-        the bat forecast again without it); a suspect whose rule awaits later frames, or that
-        its rule judged a glitch (``_left_out``), is left out of the bat's forecast, and the
-        newest frames are not checked meanwhile.
+        frame after a hole (``_after_step``) or off the line through the two frames before it
+        (``_off_line``) is judged all the same (nothing is shown either way): off the swing it
+        is ``suspect`` (held where ``NEWEST``; after a hole, ``ACROSS``, the frame after it
+        says which it was), and nothing is forecast without it. The bat's turns are summed over
+        the forecast's own window (``_bat_forecast``), whose frames are judged first where the
+        frame would change what is shown or a frame is suspect (``_bat_glitch_dropped``: a
+        glitch dropped, the bat forecast again without it); a suspect whose rule awaits later
+        frames, or that its rule judged a glitch (``_left_out``), is left out of the bat's
+        forecast, and the newest frames are not checked meanwhile.
         """
         config = self._config
         now_ns = self.clock.stamp(t0)
@@ -303,9 +306,10 @@ class Predictor:
                         config.profile, self._tolerance)
             if forecast is None:
                 self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
-            elif found is not None or self.predicting or (
-                    not planned and left_out is None and self._after_step(self._bat_window[1])):
-                # (nothing found, nothing in force: a newest bat frame after a hole is judged)
+            elif found is not None or self.predicting or not planned and left_out is None and (
+                    self._after_step(self._bat_window[1]) or self._off_line(self._bat_window[1])):
+                # (nothing found, nothing in force: a newest bat frame after a hole, or off the
+                # line through the two before it, is judged)
                 shown = found is not None or self.predicting
                 held = shown and self._ball_departed()
                 off = None if held or planned or left_out is not None else self._bat_off(found)
@@ -458,8 +462,8 @@ class Predictor:
         a bat frame only near the ball, so a glitch may stay in the window for tens of
         milliseconds). Only after a step at most ``bat_glitches.REGULAR_STEP`` times the step
         before it. Judged only where the frame would change what is shown (``_shown_changes``;
-        ``found``: ``contact_of``'s result; a frame after a hole that finds nothing with
-        nothing in force is judged so too, ``predict``).
+        ``found``: ``contact_of``'s result; a frame after a hole, or off the line through the
+        two before it, that finds nothing with nothing in force is judged so too, ``predict``).
 
         ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
         frames lost or dropped right before it), where the forecast reaches over two steps or
@@ -536,6 +540,32 @@ class Predictor:
         times = self.bat.times
         return end >= 3 and times[end - 1] - times[end - 2] > REGULAR_STEP * (
             times[end - 2] - times[end - 3])
+
+    def _off_line(self, end: int) -> bool:
+        """
+        Return whether bat frame end - 1 is off the line through the two frames before it.
+
+        Knob or tip more than ``glitch_floor`` of the stream's noise (m) from where the step
+        from frame end - 3 to end - 2, scaled by the ratio of their steps (s), carries frame
+        end - 2: a screen no fit reads (a swing's own frames between the ball's forecasts land
+        within it; a frame turned 10 cm or more off a slow bat does not). False with fewer
+        than 3 frames; True where the two frames before are stamped alike.
+        """
+        times, values = self.bat.times, self.bat.values
+        if end < 3:
+            return False
+        before = times[end - 2] - times[end - 3]
+        if before <= 0.0:
+            return True
+        ratio = (times[end - 1] - times[end - 2]) / before
+        oldest, middle, newest = values[end - 3], values[end - 2], values[end - 1]
+        off = 0.0
+        for (ax, ay, az), (bx, by, bz), c in ((oldest.knob, middle.knob, newest.knob),
+                                              (oldest.tip, middle.tip, newest.tip)):
+            off = max(off, math.dist(c, (bx + (bx - ax) * ratio, by + (by - ay) * ratio,
+                                         bz + (bz - az) * ratio)))
+        # (the least floor first: the stream's noise only where it may matter)
+        return off > BAT_GLITCH_FLOOR and off > glitch_floor(stream_noise(self.bat, self._config))
 
     def _across_hole(self, j: int) -> bool:
         """

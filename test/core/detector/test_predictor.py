@@ -445,6 +445,51 @@ def test_a_still_bat_after_a_hole_whose_forecast_finds_nothing_suspects_no_frame
     assert predictor.last_ns == predictor.clock.stamp(0.005 * 7)
 
 
+def test_a_bat_glitch_on_a_regular_step_whose_forecast_finds_nothing_is_judged() -> None:
+    """
+    A newest bat frame on a regular step, off the swing, whose forecast finds nothing, none shown.
+
+    The ball passes 15 cm over a still bat; the newest frame is turned down 15 cm, away from
+    it. Its forecast finds nothing, as the forecast without it does, so nothing is shown either
+    way, and the frame was not judged: the glitch stayed in the window, bending the forecasts
+    after it, until a frame showed a contact. Now it is held as where a prediction is in force
+    (``Predictor._bat_off``: ``NEWEST``), and the next frame judges it: dropped as the sweep
+    drops a glitch (``drop_bat``).
+    """
+    count = 14
+    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
+    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    down = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 - 0.86 * math.sin(angle)))
+    predictor = _predictor(balls[:-1], [still] * (count - 2) + [down])
+    dropped = []
+
+    def drop(j: int, last: int) -> None:
+        dropped.append((j, last))
+        predictor.bat.remove(j)
+    predictor.drop_bat = drop
+    events = []
+    predictor.predict(0.005 * (count - 2), True, events)
+    assert events == [] and not predictor.predicting
+    assert predictor.suspect == predictor.bat.times[-1] and predictor.last_ns is None  # (held)
+    predictor.ball.append(0.005 * (count - 1), BASE_NS + count - 1, balls[-1], False)
+    predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
+    predictor.predict(0.005 * (count - 1), True, events)
+    assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
+
+
+def test_a_still_bat_on_regular_steps_whose_forecast_finds_nothing_suspects_no_frame() -> None:
+    """The same pass over a still bat, no frame turned: nothing found, nothing held or judged."""
+    count = 14
+    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
+    predictor = _predictor(balls[:-1], [((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))] * (count - 1))
+    predictor.drop_bat = lambda j, last: pytest.fail('a still bat frame dropped')
+    events = []
+    predictor.predict(0.005 * (count - 2), True, events)
+    assert events == [] and predictor.suspect is None
+    assert predictor.last_ns == predictor.clock.stamp(0.005 * (count - 2))  # (not held)
+
+
 @pytest.mark.parametrize('family', ['tilted', 'jerky'])
 def test_a_bat_glitch_after_a_lost_frame_whose_forecast_found_nothing_is_left_out(
         family: str) -> None:
