@@ -578,7 +578,7 @@ def test_a_params_file_for_another_node_is_warned_about_at_start_up(tmp_path: Pa
         reader.join(timeout=5)
     warning, = [line for line in lines if 'has no section for node' in line]
     assert warning.startswith('[WARN]') and "'/impact_node' (found: my_node)" in warning
-    assert process.returncode == 0 and 'Traceback' not in ''.join(lines)
+    assert process.returncode == 0 and 'Traceback' not in ''.join(lines), lines
 
 
 def test_predicted_impact_is_published_before_the_hit(harness: Callable[..., Harness],
