@@ -2,7 +2,7 @@
 
 from dataclasses import asdict, FrozenInstanceError, replace
 import math
-from typing import Tuple
+from typing import Any, List, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.core.detector import (
@@ -24,6 +24,8 @@ import pytest
 from support.events import arrays, glitched_pitch, lost_glitched_pitch
 
 BASE_NS = 1_700_000_000_000_000_000
+_STILL = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))  # (knob, tip): a bat standing still, m
+Point = Tuple[float, float, float]
 OFFSETS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.86))
 
 
@@ -39,6 +41,36 @@ def _predictor(ball_points, bat_points, plan=None) -> Predictor:
     if plan is not None:
         predictor.set_plan(*plan)
     return predictor
+
+
+def _still_bat_turned_last(sign: float) -> Tuple[Predictor, List[Tuple[int, int]], Point]:
+    """
+    Return a still bat's predictor whose newest frame is turned, its drops, the ball's next.
+
+    5 ms steps, a ball passing 0.5 m beside the bat; the newest frame turned 15 cm up (``sign``
+    1) or down (-1) at the tip. ``drop_bat`` records (j, last) in the list as it removes frame j.
+    """
+    count = 14
+    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
+    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
+    turned = ((0.0, 0.0, 1.0),
+              (0.0, 0.86 * math.cos(angle), 1.0 + sign * 0.86 * math.sin(angle)))
+    predictor = _predictor(balls[:-1], [_STILL] * (count - 2) + [turned])
+    dropped: List[Tuple[int, int]] = []
+
+    def drop(j: int, last: int) -> None:
+        dropped.append((j, last))
+        predictor.bat.remove(j)
+    predictor.drop_bat = drop
+    return predictor, dropped, balls[-1]
+
+
+def _next_still_frame(predictor: Predictor, ball: Point, events: List[Any]) -> None:
+    """Add the ball's sample and a still bat frame 5 ms after the newest, and predict there."""
+    k = len(predictor.bat.times)
+    predictor.ball.append(0.005 * k, BASE_NS + k, ball, False)
+    predictor.bat.append(0.005 * k, BASE_NS + k, BatSample(*_STILL), False)
+    predictor.predict(0.005 * k, True, events)
 
 
 def test_a_plan_is_put_on_the_detector_clock_once() -> None:
@@ -364,25 +396,12 @@ def test_a_bat_frame_that_held_a_prediction_is_judged_by_the_next_forecast() -> 
     until one did (at 90 Hz a hit lost its prediction 20 ms ahead). The frame is dropped
     (``drop_bat``: the sweep's ``bat_glitch`` drop) and no longer awaited (``suspect``).
     """
-    count = 14
-    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
-    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
-    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
-    up = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 + 0.86 * math.sin(angle)))
-    predictor = _predictor(balls[:-1], [still] * (count - 2) + [up])
-    dropped = []
-
-    def drop(j: int, last: int) -> None:
-        dropped.append((j, last))
-        predictor.bat.remove(j)
-    predictor.drop_bat = drop
-    events = []
-    predictor.predict(0.005 * (count - 2), True, events)
+    predictor, dropped, ball = _still_bat_turned_last(1.0)
+    events: List[Any] = []
+    predictor.predict(0.005 * 12, True, events)
     assert events == [] and predictor.suspect == predictor.bat.times[-1] and not dropped
-    predictor.ball.append(0.005 * (count - 1), BASE_NS + count - 1, balls[-1], False)
-    predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
-    predictor.predict(0.005 * (count - 1), True, events)
-    assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
+    _next_still_frame(predictor, ball, events)
+    assert events == [] and dropped == [(12, 13)] and predictor.suspect is None
 
 
 def test_a_suspect_bat_frame_is_forgotten_where_nothing_is_forecast() -> None:
@@ -456,26 +475,13 @@ def test_a_bat_glitch_on_a_regular_step_whose_forecast_finds_nothing_is_judged()
     (``Predictor._bat_off``: ``NEWEST``), and the next frame judges it: dropped as the sweep
     drops a glitch (``drop_bat``).
     """
-    count = 14
-    balls = [(0.1 + 0.2 * (count - 2 - i), 0.5, 1.15) for i in range(count)]
-    still = ((0.0, 0.0, 1.0), (0.0, 0.86, 1.0))
-    angle = 2.0 * math.asin(0.5 * 0.15 / 0.86)
-    down = ((0.0, 0.0, 1.0), (0.0, 0.86 * math.cos(angle), 1.0 - 0.86 * math.sin(angle)))
-    predictor = _predictor(balls[:-1], [still] * (count - 2) + [down])
-    dropped = []
-
-    def drop(j: int, last: int) -> None:
-        dropped.append((j, last))
-        predictor.bat.remove(j)
-    predictor.drop_bat = drop
-    events = []
-    predictor.predict(0.005 * (count - 2), True, events)
+    predictor, dropped, ball = _still_bat_turned_last(-1.0)
+    events: List[Any] = []
+    predictor.predict(0.005 * 12, True, events)
     assert events == [] and not predictor.predicting
     assert predictor.suspect == predictor.bat.times[-1] and predictor.last_ns is None  # (held)
-    predictor.ball.append(0.005 * (count - 1), BASE_NS + count - 1, balls[-1], False)
-    predictor.bat.append(0.005 * (count - 1), BASE_NS + count - 1, BatSample(*still), False)
-    predictor.predict(0.005 * (count - 1), True, events)
-    assert events == [] and dropped == [(count - 2, count - 1)] and predictor.suspect is None
+    _next_still_frame(predictor, ball, events)
+    assert events == [] and dropped == [(12, 13)] and predictor.suspect is None
 
 
 def test_a_still_bat_on_regular_steps_whose_forecast_finds_nothing_suspects_no_frame() -> None:
