@@ -43,12 +43,13 @@ CSV_COLUMNS = (
     'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
     'gap_y', 'gap_z', 'time_uncertainty_s', 'distance_from_knob_uncertainty_m',
-    'sweet_spot_speed_uncertainty_mps')
+    'sweet_spot_speed_uncertainty_mps', 'number')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
 applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
 impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
 closest approach (a near miss) or at the predicted contact; a prediction's ``stamp_ns`` is the
-predicted instant, ``made_at_ns`` when it was made."""
+predicted instant, ``made_at_ns`` when it was made; ``number`` the event's ``#`` in the table
+(:func:`event_numbers`). Columns are only ever added at the end."""
 
 
 def _cm(metres: float) -> str:
@@ -64,13 +65,28 @@ def _events(analysis: BagAnalysis) -> List[Any]:
     return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
 
 
-def entry(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
+def event_numbers(analysis: BagAnalysis) -> Dict[int, int]:
+    """
+    Return each impact's and near miss's number, by ``id(event)``: the table's ``#``.
+
+    Each kind is numbered on its own, 1 up, in the bag's order: impact 5 is the fifth impact
+    of its bag in the table, the JSON and CSV (``number``), the plots
+    (``<bag>_impact_5.png``) and ``--predict``'s lines.
+    """
+    return {id(event): number for events in (analysis.impacts, analysis.near_misses)
+            for number, event in enumerate(events, 1)}
+
+
+def entry(analysis: BagAnalysis, event: Any, number: Optional[int] = None) -> Dict[str, Any]:
     """
     Return an event's JSON entry: its record with ``bag`` and ``time_s`` (s from the first stamp).
 
+    :param number: the event's number in its bag (:func:`event_numbers`): the entry's
+        ``number``; None: no such key (a prediction).
     :raises KeyError: an event with no record (see ``core.records.event_record``).
     """
-    return {'bag': str(analysis.path), 'time_s': analysis.relative_s(event.stamp_ns),
+    numbered = {} if number is None else {'number': number}
+    return {'bag': str(analysis.path), **numbered, 'time_s': analysis.relative_s(event.stamp_ns),
             **event_record(event, analysis.frame_id, analysis.config)}
 
 
@@ -125,10 +141,9 @@ def format_report(analysis: BagAnalysis) -> str:
     if selection.note:
         lines.append(f'note: {selection.note}')
     lines.append(_row([title for title, _ in TABLE_COLUMNS]))
-    numbers: Counter = Counter()  # each kind its own: 'impact 5' is the fifth everywhere
+    numbers = event_numbers(analysis)  # each kind its own: 'impact 5' is the fifth everywhere
     for event in _events(analysis):
-        numbers[type(event)] += 1
-        lines.append(_row(_cells(numbers[type(event)], entry(analysis, event))))
+        lines.append(_row(_cells(numbers[id(event)], entry(analysis, event))))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
     if analysis.config.prediction_horizon > 0.0:
@@ -310,13 +325,14 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     Return the ``--json`` document for one or several bags.
 
     Top level: ``format``; ``impacts`` and ``near_misses`` (the events' records,
-    ``core.records.event_record``, plus ``bag`` and ``time_s``: seconds from that bag's first
-    stamp: :func:`entry`); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one
-    entry per bag: ``path``, ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``,
-    ``first_stamp_ns``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or
-    None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at the
-    bag's end). With ``--predict``: ``predictions`` (every prediction's entry) and, in
-    each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
+    ``core.records.event_record``, plus ``bag``, ``number``: :func:`event_numbers`, and
+    ``time_s``: seconds from that bag's first stamp: :func:`entry`); ``dropped``
+    (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag: ``path``,
+    ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``, ``first_stamp_ns``,
+    counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or None, ``notes``,
+    and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at the bag's end).
+    With ``--predict``: ``predictions`` (every prediction's entry) and, in each impact,
+    ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.
 
     :param plots: ``--plot`` was given: each bag entry lists its PNG files (``plots``,
@@ -331,15 +347,16 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     for analysis, pngs in zip(analyses, files):
         predicting = analysis.config.prediction_horizon > 0.0
         scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
-        for impact, score in zip(analysis.impacts, scores):
-            impacts.append(entry(analysis, impact))
+        for number, (impact, score) in enumerate(zip(analysis.impacts, scores), 1):
+            impacts.append(entry(analysis, impact, number))
             if score is not None:
                 impacts[-1]['prediction_errors'] = plain({
                     f'{lead * 1e3:g}': None if error is None else {
                         'time_error_s': error[0], 'point_error_m': error[1]}
                     for lead, error in score.items()})
         predictions.extend(entry(analysis, p) for p in analysis.predictions)
-        near_misses.extend(entry(analysis, miss) for miss in analysis.near_misses)
+        near_misses.extend(entry(analysis, miss, number)
+                           for number, miss in enumerate(analysis.near_misses, 1))
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
         bags.append(plain(_bag_entry(analysis)))
@@ -373,8 +390,9 @@ def csv_text(analyses: Sequence[BagAnalysis]) -> str:
     writer = csv.writer(buffer, lineterminator='\n')
     writer.writerow(CSV_COLUMNS)
     for analysis in analyses:
+        numbers = event_numbers(analysis)
         for event in _events(analysis) + analysis.predictions:
-            row = csv_row(entry(analysis, event))
+            row = csv_row(entry(analysis, event, numbers.get(id(event))))
             row['time_s'] = f"{row['time_s']:.9f}"
             writer.writerow(['' if row.get(column) is None else row[column]
                              for column in CSV_COLUMNS])

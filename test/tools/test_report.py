@@ -181,3 +181,21 @@ def test_the_table_numbers_each_kind_as_the_plots_and_predictions_do() -> None:
     assert plot_names([analysis])[:8] == [f'pitches_90hz_impact_{n}.png' for n in impacts]
     # the header says which look-ahead ran (the node's default 0, analyze's 2)
     assert format_report(analysis).splitlines()[0].endswith(', model c2 (look-ahead 2)')
+
+
+def test_each_json_and_csv_event_carries_its_table_number() -> None:
+    """An analyst finds a CSV row's or JSON entry's table line and plot by bag and number."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False)
+    document = to_json([analysis], plots=True)
+    assert [impact['number'] for impact in document['impacts']] == list(range(1, 9))
+    assert [miss['number'] for miss in document['near_misses']] == list(range(1, 5))
+    assert document['bags'][0]['plots'][:8] == [
+        f"pitches_90hz_impact_{impact['number']}.png" for impact in document['impacts']]
+    assert Validator('analyze.schema.json').errors(document) == []
+    table = {(cells[1], int(cells[0]), cells[3 if cells[1] == 'impact' else 4])
+             for cells in (line.split() for line in format_report(analysis).splitlines())
+             if cells[1:2] in (['impact'], ['near'])}
+    rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
+    assert CSV_COLUMNS[-1] == 'number'  # added at the end: earlier columns keep their places
+    assert {(row['event'].split('_')[0], int(row['number']), row['stamp_ns'])
+            for row in rows} == table and len(rows) == 12
