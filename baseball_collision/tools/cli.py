@@ -217,7 +217,7 @@ def _keep_going_hint(args: argparse.Namespace) -> str:
 def _analyze(args: argparse.Namespace) -> int:
     from .analyze import AnalysisOptions, BagAnalysis
     from .many_bags import analyze_bags
-    from .report import csv_text, format_report, json_text, total_line
+    from .report import csv_text, format_report, json_text, season_lines, total_line
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
@@ -266,6 +266,7 @@ def _analyze(args: argparse.Namespace) -> int:
         print('\n\n'.join(format_report(analysis) for analysis in analyses))
         if len(analyses) > 1:
             print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
+            print('\n'.join(season_lines(analyses)))
     return EXIT_BAD_INPUT if skipped else 0
 
 

@@ -4,14 +4,15 @@ import csv
 import io
 import json
 from pathlib import Path
+import statistics
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
 from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
 from baseball_collision.tools.plots import plot_names
 from baseball_collision.tools.report import (
-    CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, TABLE_COLUMNS, to_json,
-    total_line)
+    CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, season_lines, TABLE_COLUMNS,
+    to_json, total_line)
 import pytest
 from support.bundled import bag_path
 from support.schema import load_schema, Validator
@@ -199,3 +200,27 @@ def test_each_json_and_csv_event_carries_its_table_number() -> None:
     assert CSV_COLUMNS[-1] == 'number'  # added at the end: earlier columns keep their places
     assert {(row['event'].split('_')[0], int(row['number']), row['stamp_ns'])
             for row in rows} == table and len(rows) == 12
+
+
+def test_the_season_lines_count_the_zones_and_the_bat_speeds(run_cli: RunCli) -> None:
+    """Where on the bat and how fast, over every bag: the figures the CSV gives by hand."""
+    names = ('pitches_90hz.mcap', 'pitches_360hz.mcap')
+    analyses = [analyze_bag(bag_path(name), progress=False, use_truth=False) for name in names]
+    rows = [row for row in csv.DictReader(io.StringIO(csv_text(analyses)))
+            if row['event'] == 'impact']
+    mph = sorted(float(row['sweet_spot_speed_mps']) * MPS_TO_MPH for row in rows)
+    zones = [row['zone'] for row in rows]
+    sweet = zones.count('sweet_spot')
+    p90 = statistics.quantiles(mph, n=10, method='inclusive')[-1]  # numpy's 'linear'
+    zone_line, speed_line = season_lines(analyses)
+    assert zone_line.startswith('impacts by zone: ') and zone_line.endswith(
+        f'(sweet spot {sweet}/16, {100 * sweet / 16:.0f} %)')
+    for zone in set(zones):
+        assert f"{zone.replace('_', ' ')} {zones.count(zone)}" in zone_line
+    assert speed_line == (f'sweet-spot speed: median {statistics.median(mph):.1f} mph, p90 '
+                          f'{p90:.1f} mph, {mph[0]:.1f} to {mph[-1]:.1f} mph over 16 impacts')
+    assert season_lines([BagAnalysis(path=Path('e.mcap'), selection=_Selection(),
+                                     config=DetectorConfig())]) == ['impacts by zone: none']
+    code, stdout, _ = run_cli(['analyze', *map(str, map(bag_path, names)), '--no-truth',
+                               '--no-progress', '--jobs', '1'])
+    assert code == 0 and stdout.rstrip().endswith(f'{zone_line}\n{speed_line}')
