@@ -15,6 +15,7 @@ import csv
 from dataclasses import asdict
 import io
 import json
+import textwrap
 from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
@@ -34,6 +35,17 @@ TABLE_COLUMNS = (
     ('from tip (cm)', 13), ('+- (mm)', 7), ('where', 10), ('sweet spot (mph)', 16),
     ('+- (mph)', 8), ('ball (mph)', 10), ('attack (deg)', 12), ('gap (cm)', 8))
 """Printed table: (title, width) per column."""
+
+NARROW_COLUMNS = (
+    ('#', '', 3), ('event', '', 9), ('t', '(s)', 8), ('+-', '(us)', 6), ('from tip', '(cm)', 8),
+    ('+-', '(mm)', 5), ('where', '', 10), ('sweet spot', '(mph)', 10), ('+-', '(mph)', 5),
+    ('ball', '(mph)', 5), ('attack', '(deg)', 6), ('gap', '(cm)', 5))
+"""The table in a terminal narrower than :data:`TABLE_COLUMNS` (99 columns): (title, unit,
+width) per column, the titles over their units, ``t (s)`` to the ms and no ``stamp (ns)``; a
+``+-`` column one space from its value's."""
+
+TABLE_WIDTH = sum(width for _, width in TABLE_COLUMNS) + 2 * (len(TABLE_COLUMNS) - 1)
+"""The full table's width in characters (155)."""
 
 CSV_VECTORS = (('point', 'contact'), ('normal', 'normal'), ('ball_position', 'ball'),
                ('gap_vector', 'gap'))
@@ -112,6 +124,33 @@ def _row(cells: Sequence[str]) -> str:
     return '  '.join(parts).rstrip()
 
 
+def _narrow_row(cells: Sequence[str]) -> str:
+    parts = []
+    for index, ((title, _, width), cell) in enumerate(zip(NARROW_COLUMNS, cells)):
+        gap = '' if index == 0 else ' ' if title == '+-' else '  '
+        parts.append(gap + (cell.ljust(width) if title in ('event', 'where') else
+                            cell.rjust(width)))
+    return ''.join(parts).rstrip()
+
+
+def _narrow_cells(cells: Sequence[str], record: Mapping[str, Any]) -> List[str]:
+    """Return a narrow table row's cells from the full table's: no stamp, ``t`` to the ms."""
+    return [cells[0], cells[1], f"{record['time_s']:.3f}", *cells[4:]]
+
+
+def fitted(lines: Sequence[str], width: Optional[int]) -> List[str]:
+    """
+    Return lines wrapped at spaces to ``width`` columns, a continuation indented two spaces.
+
+    :param width: the terminal's columns; None: the lines as they are (a pipe or a file).
+    """
+    if width is None:
+        return list(lines)
+    return [wrapped for line in lines for wrapped in (
+        textwrap.wrap(line, width, subsequent_indent='  ', break_long_words=False,
+                      break_on_hyphens=False) or [line])]
+
+
 def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
     """Return a table row's cells from an event record (``-`` where the event has no value)."""
     def shown(name: str, format_value: Any) -> str:
@@ -129,25 +168,46 @@ def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
             shown('gap_m', _cm)]
 
 
-def format_report(analysis: BagAnalysis) -> str:
+def format_report(analysis: BagAnalysis, width: Optional[int] = None) -> str:
     """
     Return the readable report of one bag: header, one row per event, summary, truth.
 
     Times are seconds from the bag's first header stamp, with the stamp itself; spots cm from
     the tip along the bat; speeds mph; gaps cm.
+
+    :param width: the terminal's columns: under :data:`TABLE_WIDTH`, the narrow table
+        (:data:`NARROW_COLUMNS`: no ``stamp (ns)``, which the JSON and CSV keep) and every
+        other line wrapped to it (:func:`fitted`); None: the full table (a pipe or a file).
     """
+    narrow = width is not None and width < TABLE_WIDTH
     selection = analysis.selection
     bat = (f'bat {selection.bat_pose} (pose)' if selection.bat_pose
            else f'bat {selection.knob} + {selection.tip} (knob/tip)')
-    lines = [f'{analysis.path}: ball {selection.ball}, {bat}, {model_text(analysis.config)}']
+    head = [f'{analysis.path}: ball {selection.ball}, {bat}, {model_text(analysis.config)}']
     if selection.note:
-        lines.append(f'note: {selection.note}')
-    lines.append(_row([title for title, _ in TABLE_COLUMNS]))
+        head.append(f'note: {selection.note}')
+    lines = fitted(head, width)
+    if narrow:
+        lines += [_narrow_row([title for title, _, _ in NARROW_COLUMNS]),
+                  _narrow_row([unit for _, unit, _ in NARROW_COLUMNS])]
+    else:
+        lines.append(_row([title for title, _ in TABLE_COLUMNS]))
     numbers = event_numbers(analysis)  # each kind its own: 'impact 5' is the fifth everywhere
     for event in _events(analysis):
-        lines.append(_row(_cells(numbers[id(event)], entry(analysis, event))))
+        record = entry(analysis, event)
+        cells = _cells(numbers[id(event)], record)
+        lines.append(_narrow_row(_narrow_cells(cells, record)) if narrow else _row(cells))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
+    elif narrow:
+        lines.append(f'  (each stamp in ns: --json or --csv, or a terminal {TABLE_WIDTH} wide)')
+    lines += fitted(_report_tail(analysis), width)
+    return '\n'.join(lines)
+
+
+def _report_tail(analysis: BagAnalysis) -> List[str]:
+    """Return the report's lines after the table: predictions, summary, truth, notes."""
+    lines: List[str] = []
     if analysis.config.prediction_horizon > 0.0:
         lines.extend(prediction_lines(analysis))
     lines.append(summary_line(analysis))
@@ -155,7 +215,7 @@ def format_report(analysis: BagAnalysis) -> str:
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
     lines.extend(f'note: {note}' for note in analysis.notes)
-    return '\n'.join(lines)
+    return lines
 
 
 NO_PREDICTION = ("'-': no prediction in force that far ahead (the ball or bat not yet "

@@ -5,6 +5,7 @@ import io
 import json
 from pathlib import Path
 import statistics
+import sys
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
@@ -12,7 +13,7 @@ from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
 from baseball_collision.tools.plots import plot_names
 from baseball_collision.tools.report import (
     CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, season_lines, TABLE_COLUMNS,
-    to_json, total_line)
+    TABLE_WIDTH, to_json, total_line)
 import pytest
 from support.bundled import bag_path
 from support.schema import load_schema, Validator
@@ -224,3 +225,43 @@ def test_the_season_lines_count_the_zones_and_the_bat_speeds(run_cli: RunCli) ->
     code, stdout, _ = run_cli(['analyze', *map(str, map(bag_path, names)), '--no-truth',
                                '--no-progress', '--jobs', '1'])
     assert code == 0 and stdout.rstrip().endswith(f'{zone_line}\n{speed_line}')
+
+
+def _table(report: str) -> List[List[str]]:
+    return [line.split() for line in report.splitlines()
+            if line.split()[1:2] in (['impact'], ['near'])]
+
+
+def test_a_100_column_terminal_gets_a_table_that_fits_it() -> None:
+    """The narrow table: the same rows without the ns stamp; every other line wrapped."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False)
+    wide, narrow = format_report(analysis), format_report(analysis, 100)
+    assert max(map(len, wide.splitlines())) > TABLE_WIDTH  # (the summary line)
+    assert max(map(len, narrow.splitlines())) <= 100
+    assert format_report(analysis, 1000) == wide  # a terminal the lines fit in: as they are
+    rows, narrow_rows = _table(wide), _table(narrow)
+    assert len(narrow_rows) == len(rows) == 12
+    for full, short in zip(rows, narrow_rows):
+        stamp = full.pop(4 if full[1] == 'near' else 3)  # (the event 'near miss' is 2 words)
+        assert int(stamp) > 0 and stamp not in short
+        time_at = 3 if full[1] == 'near' else 2
+        assert short[time_at] == f'{float(full[time_at]):.3f}'
+        assert short[:time_at] + short[time_at + 1:] == full[:time_at] + full[time_at + 1:]
+    lines = narrow.splitlines()
+    head = next(index for index, line in enumerate(lines) if line.split()[:2] == ['#', 'event'])
+    assert 'sweet spot' in lines[head] and lines[head + 1].split()[:2] == ['(s)', '(us)']
+    assert ' '.join(narrow.split()).count('summary: 8 impacts, 4 near misses') == 1
+
+
+def test_analyze_fits_the_terminal_it_prints_in(run_cli: RunCli,
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """A terminal: its width (``COLUMNS``); a pipe or file: the full table, whatever COLUMNS."""
+    monkeypatch.setenv('COLUMNS', '100')
+    bags = [str(bag_path(name)) for name in ('pitches_90hz.mcap', 'pitches_360hz.mcap')]
+    code, piped, _ = run_cli(['analyze', *bags, '--no-progress', '--jobs', '1'])
+    assert code == 0 and 'stamp (ns)' in piped and max(map(len, piped.splitlines())) > 150
+    monkeypatch.setattr(sys.stdout, 'isatty', lambda: True)
+    code, shown, _ = run_cli(['analyze', *bags, '--no-progress', '--jobs', '1'])
+    assert code == 0 and 'stamp (ns)' not in shown and max(map(len, shown.splitlines())) <= 100
+    assert len(_table(shown)) == len(_table(piped)) == 24
+    assert ' '.join(shown.split()).count('total: 2 bags, 16 impacts, 8 near misses;') == 1
