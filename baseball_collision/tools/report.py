@@ -13,6 +13,7 @@ printed table (cm, mph, ms, us). The schemas are ``schema/analyze.schema.json`` 
 from collections import Counter
 import csv
 from dataclasses import asdict
+from datetime import datetime, timedelta, timezone
 import io
 import json
 import textwrap
@@ -57,13 +58,14 @@ CSV_COLUMNS = (
     'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
     'gap_y', 'gap_z', 'time_uncertainty_s', 'distance_from_knob_uncertainty_m',
-    'sweet_spot_speed_uncertainty_mps', 'number')
+    'sweet_spot_speed_uncertainty_mps', 'number', 'stamp_utc')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
 applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
 impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
 closest approach (a near miss) or at the predicted contact; a prediction's ``stamp_ns`` is the
 predicted instant, ``made_at_ns`` when it was made; ``number`` the event's ``#`` in the table
-(:func:`event_numbers`). Columns are only ever added at the end."""
+(:func:`event_numbers`); ``stamp_utc`` ``stamp_ns`` as a date and time (:func:`utc_text`).
+Columns are only ever added at the end."""
 
 
 def _cm(metres: float) -> str:
@@ -77,6 +79,20 @@ def _mph(mps: float) -> str:
 def _events(analysis: BagAnalysis) -> List[Any]:
     """Return impacts and near misses in time order."""
     return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
+
+
+EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
+
+
+def utc_text(stamp_ns: int) -> str:
+    """
+    Return a stamp (ns since the Unix epoch) as ISO 8601 UTC, to the ns.
+
+    ``1700000000250117442`` is ``2023-11-14T22:13:20.250117442Z``: what a person reads beside
+    ``stamp_ns``. A bag stamped on another clock (simulated time from 0) reads as 1970.
+    """
+    seconds, nanoseconds = divmod(stamp_ns, 1_000_000_000)
+    return f'{EPOCH + timedelta(seconds=seconds):%Y-%m-%dT%H:%M:%S}.{nanoseconds:09d}Z'
 
 
 def event_numbers(analysis: BagAnalysis) -> Dict[int, int]:
@@ -93,7 +109,9 @@ def event_numbers(analysis: BagAnalysis) -> Dict[int, int]:
 
 def entry(analysis: BagAnalysis, event: Any, number: Optional[int] = None) -> Dict[str, Any]:
     """
-    Return an event's JSON entry: its record with ``bag`` and ``time_s`` (s from the first stamp).
+    Return an event's JSON entry: its record with ``bag``, ``time_s`` and ``stamp_utc``.
+
+    ``time_s``: s from the bag's first stamp; ``stamp_utc``: :func:`utc_text`.
 
     :param number: the event's number in its bag (:func:`event_numbers`): the entry's
         ``number``; None: no such key (a prediction).
@@ -101,6 +119,7 @@ def entry(analysis: BagAnalysis, event: Any, number: Optional[int] = None) -> Di
     """
     numbered = {} if number is None else {'number': number}
     return {'bag': str(analysis.path), **numbered, 'time_s': analysis.relative_s(event.stamp_ns),
+            'stamp_utc': utc_text(event.stamp_ns),
             **event_record(event, analysis.frame_id, analysis.config)}
 
 
@@ -399,6 +418,8 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
         'model': analysis.config.model, 'frame_id': analysis.frame_id,
         'messages': analysis.messages,
         'seconds': analysis.seconds, 'first_stamp_ns': analysis.first_stamp_ns,
+        'first_stamp_utc': None if analysis.first_stamp_ns is None else utc_text(
+            analysis.first_stamp_ns),
         'impacts': len(analysis.impacts), 'near_misses': len(analysis.near_misses),
         'dropped': dict(analysis.stats.dropped),
         'gaps': [asdict(gap) for gap in analysis.gaps],
@@ -417,11 +438,12 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
 
     Top level: ``format``; ``impacts`` and ``near_misses`` (the events' records,
     ``core.records.event_record``, plus ``bag``, ``number``: :func:`event_numbers`, and
-    ``time_s``: seconds from that bag's first stamp: :func:`entry`); ``dropped``
+    ``time_s``: seconds from that bag's first stamp, ``stamp_utc``: :func:`entry`); ``dropped``
     (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag: ``path``,
-    ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``, ``first_stamp_ns``,
-    counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or None, ``notes``,
-    and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at the bag's end).
+    ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``, ``first_stamp_ns`` and
+    ``first_stamp_utc``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison
+    or None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at
+    the bag's end).
     With ``--predict``: ``predictions`` (every prediction's entry) and, in each impact,
     ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.

@@ -1,6 +1,7 @@
 """The report: the printed table, summary lines, JSON and CSV from one record per event."""
 
 import csv
+import datetime
 import io
 import json
 from pathlib import Path
@@ -9,7 +10,7 @@ import sys
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
-from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.plots import plot_names
 from baseball_collision.tools.report import (
     CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, season_lines, TABLE_COLUMNS,
@@ -198,7 +199,7 @@ def test_each_json_and_csv_event_carries_its_table_number() -> None:
              for cells in (line.split() for line in format_report(analysis).splitlines())
              if cells[1:2] in (['impact'], ['near'])}
     rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
-    assert CSV_COLUMNS[-1] == 'number'  # added at the end: earlier columns keep their places
+    assert CSV_COLUMNS.index('number') == 31  # after the first 31: those keep their places
     assert {(row['event'].split('_')[0], int(row['number']), row['stamp_ns'])
             for row in rows} == table and len(rows) == 12
 
@@ -265,3 +266,30 @@ def test_analyze_fits_the_terminal_it_prints_in(run_cli: RunCli,
     assert code == 0 and 'stamp (ns)' not in shown and max(map(len, shown.splitlines())) <= 100
     assert len(_table(shown)) == len(_table(piped)) == 24
     assert ' '.join(shown.split()).count('total: 2 bags, 16 impacts, 8 near misses;') == 1
+
+
+def _ns_of(utc: str) -> int:
+    """Return an ISO 8601 UTC text's ns since the epoch, read back independently."""
+    whole, fraction = utc.rstrip('Z').split('.')
+    when = datetime.datetime.strptime(whole, '%Y-%m-%dT%H:%M:%S').replace(
+        tzinfo=datetime.timezone.utc)
+    return int(when.timestamp()) * 1_000_000_000 + int(fraction)
+
+
+def test_each_stamp_is_also_a_date_and_time_a_person_reads() -> None:
+    """``stamp_utc`` beside every ``stamp_ns`` (JSON and CSV), ``first_stamp_utc`` per bag."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False,
+                           options=AnalysisOptions(prediction_horizon=0.3))
+    document = to_json([analysis])
+    assert Validator('analyze.schema.json').errors(document) == []
+    events = document['impacts'] + document['near_misses'] + document['predictions']
+    assert len(events) > 12 and all(
+        _ns_of(event['stamp_utc']) == event['stamp_ns'] for event in events)
+    assert document['impacts'][0]['stamp_utc'] == '2023-11-14T22:13:20.248723296Z'
+    bag = document['bags'][0]
+    assert _ns_of(bag['first_stamp_utc']) == bag['first_stamp_ns']
+    rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
+    assert CSV_COLUMNS[-2:] == ('number', 'stamp_utc') and len(rows) == len(events)
+    assert all(_ns_of(row['stamp_utc']) == int(row['stamp_ns']) for row in rows)
+    assert to_json([BagAnalysis(path=Path('e.mcap'), selection=_Selection(),
+                                config=DetectorConfig())])['bags'][0]['first_stamp_utc'] is None
