@@ -415,8 +415,8 @@ def _add_analyze(commands: Any) -> None:
                          'to standard output, instead of the table)')
     analyze.add_argument('--csv', metavar='FILE', help="write one row per event as CSV ('-': to "
                          'standard output, instead of the table)')
-    analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '
-                         '(created; must not exist)')
+    analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact and a '
+                         'summary PNG per bag into DIR (created; must not exist)')
     analyze.add_argument('--out-bag', metavar='FILE', help='write an MCAP with the input '
                          'topics and the node output topics (one BAG only)')
     analyze.add_argument('--no-truth', action='store_true',
