@@ -81,6 +81,10 @@ def _events(analysis: BagAnalysis) -> List[Any]:
     return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
 
 
+ENTRY_KEYS = ('bag', 'number', 'time_s', 'stamp_utc')
+"""The keys an ``analyze`` entry adds to the node's record (:func:`entry`; ``number`` not in a
+prediction's): the rest of an entry is what ``~/impact_report`` says."""
+
 EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
 
 
