@@ -18,6 +18,7 @@ import argparse
 import math
 from pathlib import Path
 import shlex
+import shutil
 import sys
 import time
 from typing import Any, Callable, List, NoReturn, Optional, Tuple
@@ -214,10 +215,21 @@ def _keep_going_hint(args: argparse.Namespace) -> str:
         if several else ''
 
 
+def terminal_width() -> Optional[int]:
+    """
+    Return the columns of the terminal standard output shows in (``COLUMNS`` first), or None.
+
+    None where standard output is no terminal (a pipe, a file): the report keeps its full
+    table and long lines there, the same whatever the terminal that started the command.
+    """
+    return shutil.get_terminal_size().columns if sys.stdout.isatty() else None
+
+
 def _analyze(args: argparse.Namespace) -> int:
     from .analyze import AnalysisOptions, BagAnalysis
     from .many_bags import analyze_bags
-    from .report import csv_text, format_report, json_text, total_line
+    from .report import (csv_text, fitted, format_report, json_text, season_lines,
+                         total_line)
     parameters = load_parameters(args.params, args.node_name) if args.params else {}
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
@@ -263,9 +275,11 @@ def _analyze(args: argparse.Namespace) -> int:
         sys.stdout.write(json_text(analyses, **document) if args.json == '-'
                          else csv_text(analyses))
     elif not args.quiet:
-        print('\n\n'.join(format_report(analysis) for analysis in analyses))
+        width = terminal_width()
+        print('\n\n'.join(format_report(analysis, width) for analysis in analyses))
         if len(analyses) > 1:
-            print('\n' + total_line(analyses, wall_s=time.perf_counter() - start))
+            total = total_line(analyses, wall_s=time.perf_counter() - start)
+            print('\n' + '\n'.join(fitted([total, *season_lines(analyses)], width)))
     return EXIT_BAD_INPUT if skipped else 0
 
 
@@ -401,8 +415,8 @@ def _add_analyze(commands: Any) -> None:
                          'to standard output, instead of the table)')
     analyze.add_argument('--csv', metavar='FILE', help="write one row per event as CSV ('-': to "
                          'standard output, instead of the table)')
-    analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact into DIR '
-                         '(created; must not exist)')
+    analyze.add_argument('--plot', metavar='DIR', help='write a PNG per impact and a '
+                         'summary PNG per bag into DIR (created; must not exist)')
     analyze.add_argument('--out-bag', metavar='FILE', help='write an MCAP with the input '
                          'topics and the node output topics (one BAG only)')
     analyze.add_argument('--no-truth', action='store_true',

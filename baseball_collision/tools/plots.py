@@ -20,6 +20,7 @@ from .analyze import BagAnalysis, CHUNK
 from .pool import in_pool
 from .report import plot_files
 from .summary_plot import summary_figure, ZONE_NAMES
+from .truth import bag_name
 from ..bags import BagReader
 from ..core.detector import Detector, DetectorConfig, Impact, MPS_TO_MPH
 from ..core.detector.chunks import ROLE_CODES
@@ -215,7 +216,7 @@ def impact_title(analysis: BagAnalysis, impact: Impact, number: int,
     zone = ZONE_NAMES.get(record['zone'], record['zone'])
     line = (f"Impact {number}: {zone}, {record['distance_from_tip_m'] * 100:.1f} cm from the "
             f'tip, sweet spot {impact.sweet_spot_speed_mps * MPS_TO_MPH:.1f} mph')
-    where = (f'{analysis.path.name}, {analysis.relative_s(impact.stamp_ns):.3f} s into the '
+    where = (f'{bag_name(analysis.path)}, {analysis.relative_s(impact.stamp_ns):.3f} s into the '
              f'bag, {analysis.config.model} model')
     if true_stamp is not None:
         where += f', {_ms(impact.stamp_ns - true_stamp)} ms from the true contact'

@@ -13,15 +13,19 @@ printed table (cm, mph, ms, us). The schemas are ``schema/analyze.schema.json`` 
 from collections import Counter
 import csv
 from dataclasses import asdict
+from datetime import datetime, timedelta, timezone
 import io
 import json
+import textwrap
 from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
 
 from .analyze import BagAnalysis
 from .truth import bag_stem, LEADS_S, TruthComparison
 from ..bags import TopicSelection
 from ..core.detector import DetectorConfig, MPS_TO_MPH
-from ..core.records import event_record, plain
+from ..core.records import event_record, plain, ZONES
 
 JSON_FORMAT = 'baseball_collision.analyze/2'
 """``format`` value of an ``analyze --json`` file (2: records with ``format``, ``frame_id``,
@@ -33,6 +37,17 @@ TABLE_COLUMNS = (
     ('+- (mph)', 8), ('ball (mph)', 10), ('attack (deg)', 12), ('gap (cm)', 8))
 """Printed table: (title, width) per column."""
 
+NARROW_COLUMNS = (
+    ('#', '', 3), ('event', '', 9), ('t', '(s)', 8), ('+-', '(us)', 6), ('from tip', '(cm)', 8),
+    ('+-', '(mm)', 5), ('where', '', 10), ('sweet spot', '(mph)', 10), ('+-', '(mph)', 5),
+    ('ball', '(mph)', 5), ('attack', '(deg)', 6), ('gap', '(cm)', 5))
+"""The table in a terminal narrower than :data:`TABLE_COLUMNS` (99 columns): (title, unit,
+width) per column, the titles over their units, ``t (s)`` to the ms and no ``stamp (ns)``; a
+``+-`` column one space from its value's."""
+
+TABLE_WIDTH = sum(width for _, width in TABLE_COLUMNS) + 2 * (len(TABLE_COLUMNS) - 1)
+"""The full table's width in characters (155)."""
+
 CSV_VECTORS = (('point', 'contact'), ('normal', 'normal'), ('ball_position', 'ball'),
                ('gap_vector', 'gap'))
 """Record vectors spread over three CSV columns each: (record key, column prefix)."""
@@ -43,12 +58,14 @@ CSV_COLUMNS = (
     'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
     'gap_y', 'gap_z', 'time_uncertainty_s', 'distance_from_knob_uncertainty_m',
-    'sweet_spot_speed_uncertainty_mps')
+    'sweet_spot_speed_uncertainty_mps', 'number', 'stamp_utc')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
 applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
 impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
 closest approach (a near miss) or at the predicted contact; a prediction's ``stamp_ns`` is the
-predicted instant, ``made_at_ns`` when it was made."""
+predicted instant, ``made_at_ns`` when it was made; ``number`` the event's ``#`` in the table
+(:func:`event_numbers`); ``stamp_utc`` ``stamp_ns`` as a date and time (:func:`utc_text`).
+Columns are only ever added at the end."""
 
 
 def _cm(metres: float) -> str:
@@ -64,13 +81,49 @@ def _events(analysis: BagAnalysis) -> List[Any]:
     return sorted(analysis.impacts + analysis.near_misses, key=lambda e: e.stamp_ns)
 
 
-def entry(analysis: BagAnalysis, event: Any) -> Dict[str, Any]:
-    """
-    Return an event's JSON entry: its record with ``bag`` and ``time_s`` (s from the first stamp).
+ENTRY_KEYS = ('bag', 'number', 'time_s', 'stamp_utc')
+"""The keys an ``analyze`` entry adds to the node's record (:func:`entry`; ``number`` not in a
+prediction's): the rest of an entry is what ``~/impact_report`` says."""
 
+EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
+
+
+def utc_text(stamp_ns: int) -> str:
+    """
+    Return a stamp (ns since the Unix epoch) as ISO 8601 UTC, to the ns.
+
+    ``1700000000250117442`` is ``2023-11-14T22:13:20.250117442Z``: what a person reads beside
+    ``stamp_ns``. A bag stamped on another clock (simulated time from 0) reads as 1970.
+    """
+    seconds, nanoseconds = divmod(stamp_ns, 1_000_000_000)
+    return f'{EPOCH + timedelta(seconds=seconds):%Y-%m-%dT%H:%M:%S}.{nanoseconds:09d}Z'
+
+
+def event_numbers(analysis: BagAnalysis) -> Dict[int, int]:
+    """
+    Return each impact's and near miss's number, by ``id(event)``: the table's ``#``.
+
+    Each kind is numbered on its own, 1 up, in the bag's order: impact 5 is the fifth impact
+    of its bag in the table, the JSON and CSV (``number``), the plots
+    (``<bag>_impact_5.png``) and ``--predict``'s lines.
+    """
+    return {id(event): number for events in (analysis.impacts, analysis.near_misses)
+            for number, event in enumerate(events, 1)}
+
+
+def entry(analysis: BagAnalysis, event: Any, number: Optional[int] = None) -> Dict[str, Any]:
+    """
+    Return an event's JSON entry: its record with ``bag``, ``time_s`` and ``stamp_utc``.
+
+    ``time_s``: s from the bag's first stamp; ``stamp_utc``: :func:`utc_text`.
+
+    :param number: the event's number in its bag (:func:`event_numbers`): the entry's
+        ``number``; None: no such key (a prediction).
     :raises KeyError: an event with no record (see ``core.records.event_record``).
     """
-    return {'bag': str(analysis.path), 'time_s': analysis.relative_s(event.stamp_ns),
+    numbered = {} if number is None else {'number': number}
+    return {'bag': str(analysis.path), **numbered, 'time_s': analysis.relative_s(event.stamp_ns),
+            'stamp_utc': utc_text(event.stamp_ns),
             **event_record(event, analysis.frame_id, analysis.config)}
 
 
@@ -94,6 +147,33 @@ def _row(cells: Sequence[str]) -> str:
     return '  '.join(parts).rstrip()
 
 
+def _narrow_row(cells: Sequence[str]) -> str:
+    parts = []
+    for index, ((title, _, width), cell) in enumerate(zip(NARROW_COLUMNS, cells)):
+        gap = '' if index == 0 else ' ' if title == '+-' else '  '
+        parts.append(gap + (cell.ljust(width) if title in ('event', 'where') else
+                            cell.rjust(width)))
+    return ''.join(parts).rstrip()
+
+
+def _narrow_cells(cells: Sequence[str], record: Mapping[str, Any]) -> List[str]:
+    """Return a narrow table row's cells from the full table's: no stamp, ``t`` to the ms."""
+    return [cells[0], cells[1], f"{record['time_s']:.3f}", *cells[4:]]
+
+
+def fitted(lines: Sequence[str], width: Optional[int]) -> List[str]:
+    """
+    Return lines wrapped at spaces to ``width`` columns, a continuation indented two spaces.
+
+    :param width: the terminal's columns; None: the lines as they are (a pipe or a file).
+    """
+    if width is None:
+        return list(lines)
+    return [wrapped for line in lines for wrapped in (
+        textwrap.wrap(line, width, subsequent_indent='  ', break_long_words=False,
+                      break_on_hyphens=False) or [line])]
+
+
 def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
     """Return a table row's cells from an event record (``-`` where the event has no value)."""
     def shown(name: str, format_value: Any) -> str:
@@ -111,26 +191,46 @@ def _cells(number: int, record: Mapping[str, Any]) -> List[str]:
             shown('gap_m', _cm)]
 
 
-def format_report(analysis: BagAnalysis) -> str:
+def format_report(analysis: BagAnalysis, width: Optional[int] = None) -> str:
     """
     Return the readable report of one bag: header, one row per event, summary, truth.
 
     Times are seconds from the bag's first header stamp, with the stamp itself; spots cm from
     the tip along the bat; speeds mph; gaps cm.
+
+    :param width: the terminal's columns: under :data:`TABLE_WIDTH`, the narrow table
+        (:data:`NARROW_COLUMNS`: no ``stamp (ns)``, which the JSON and CSV keep) and every
+        other line wrapped to it (:func:`fitted`); None: the full table (a pipe or a file).
     """
+    narrow = width is not None and width < TABLE_WIDTH
     selection = analysis.selection
     bat = (f'bat {selection.bat_pose} (pose)' if selection.bat_pose
            else f'bat {selection.knob} + {selection.tip} (knob/tip)')
-    lines = [f'{analysis.path}: ball {selection.ball}, {bat}, {model_text(analysis.config)}']
+    head = [f'{analysis.path}: ball {selection.ball}, {bat}, {model_text(analysis.config)}']
     if selection.note:
-        lines.append(f'note: {selection.note}')
-    lines.append(_row([title for title, _ in TABLE_COLUMNS]))
-    numbers: Counter = Counter()  # each kind its own: 'impact 5' is the fifth everywhere
+        head.append(f'note: {selection.note}')
+    lines = fitted(head, width)
+    if narrow:
+        lines += [_narrow_row([title for title, _, _ in NARROW_COLUMNS]),
+                  _narrow_row([unit for _, unit, _ in NARROW_COLUMNS])]
+    else:
+        lines.append(_row([title for title, _ in TABLE_COLUMNS]))
+    numbers = event_numbers(analysis)  # each kind its own: 'impact 5' is the fifth everywhere
     for event in _events(analysis):
-        numbers[type(event)] += 1
-        lines.append(_row(_cells(numbers[type(event)], entry(analysis, event))))
+        record = entry(analysis, event)
+        cells = _cells(numbers[id(event)], record)
+        lines.append(_narrow_row(_narrow_cells(cells, record)) if narrow else _row(cells))
     if not analysis.impacts and not analysis.near_misses:
         lines.append('  (no impacts and no near misses)')
+    elif narrow:
+        lines.append(f'  (each stamp in ns: --json or --csv, or a terminal {TABLE_WIDTH} wide)')
+    lines += fitted(_report_tail(analysis), width)
+    return '\n'.join(lines)
+
+
+def _report_tail(analysis: BagAnalysis) -> List[str]:
+    """Return the report's lines after the table: predictions, summary, truth, notes."""
+    lines: List[str] = []
     if analysis.config.prediction_horizon > 0.0:
         lines.extend(prediction_lines(analysis))
     lines.append(summary_line(analysis))
@@ -138,7 +238,7 @@ def format_report(analysis: BagAnalysis) -> str:
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
     lines.extend(f'note: {note}' for note in analysis.notes)
-    return '\n'.join(lines)
+    return lines
 
 
 NO_PREDICTION = ("'-': no prediction in force that far ahead (the ball or bat not yet "
@@ -235,6 +335,35 @@ def total_line(analyses: Sequence[BagAnalysis], wall_s: Optional[float] = None) 
             f'{timing} ({rate:,.0f} msg/s)')
 
 
+def season_lines(analyses: Sequence[BagAnalysis]) -> List[str]:
+    """
+    Return the season summary of the impacts of all the bags: where on the bat, how fast.
+
+    ``impacts by zone: end cap 4, sweet spot 2, barrel 7, handle 4 (sweet spot 2/17, 12 %)``:
+    each zone's count, tip end first, and the share in the sweet-spot zone; ``sweet-spot
+    speed: median 70.6 mph, p90 76.7 mph, 64.1 to 80.8 mph over 17 impacts``: the median, 90th
+    percentile (numpy's linear interpolation), least and greatest over the impacts that have
+    one (a speed that is not finite is left out, and the count says so).
+    """
+    records = [entry(analysis, impact) for analysis in analyses for impact in analysis.impacts]
+    if not records:
+        return ['impacts by zone: none']
+    zones = Counter(record['zone'] for record in records)
+    counts = ', '.join(f"{zone.replace('_', ' ')} {zones[zone]}" for zone in reversed(ZONES)
+                       if zones[zone])
+    sweet = zones['sweet_spot']
+    lines = [f'impacts by zone: {counts} (sweet spot {sweet}/{len(records)}, '
+             f'{100.0 * sweet / len(records):.0f} %)']
+    speeds = np.array([record['sweet_spot_speed_mps'] for record in records
+                       if record['sweet_spot_speed_mps'] is not None]) * MPS_TO_MPH
+    if speeds.size:
+        median, p90 = np.percentile(speeds, (50.0, 90.0))
+        lines.append(f'sweet-spot speed: median {median:.1f} mph, p90 {p90:.1f} mph, '
+                     f'{speeds.min():.1f} to {speeds.max():.1f} mph over '
+                     f'{_count(speeds.size, "impact")}')
+    return lines
+
+
 def truth_line(comparison: TruthComparison) -> str:
     """Return the one-line truth comparison (time error us, spot error mm, speed error %)."""
     parts = [f'truth ({comparison.path.name}): {len(comparison.matched)}/{comparison.contacts} '
@@ -293,6 +422,8 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
         'model': analysis.config.model, 'frame_id': analysis.frame_id,
         'messages': analysis.messages,
         'seconds': analysis.seconds, 'first_stamp_ns': analysis.first_stamp_ns,
+        'first_stamp_utc': None if analysis.first_stamp_ns is None else utc_text(
+            analysis.first_stamp_ns),
         'impacts': len(analysis.impacts), 'near_misses': len(analysis.near_misses),
         'dropped': dict(analysis.stats.dropped),
         'gaps': [asdict(gap) for gap in analysis.gaps],
@@ -310,13 +441,15 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     Return the ``--json`` document for one or several bags.
 
     Top level: ``format``; ``impacts`` and ``near_misses`` (the events' records,
-    ``core.records.event_record``, plus ``bag`` and ``time_s``: seconds from that bag's first
-    stamp: :func:`entry`); ``dropped`` (``{reason: count}`` summed over the bags); ``bags`` (one
-    entry per bag: ``path``, ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``,
-    ``first_stamp_ns``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison or
-    None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at the
-    bag's end). With ``--predict``: ``predictions`` (every prediction's entry) and, in
-    each impact, ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
+    ``core.records.event_record``, plus ``bag``, ``number``: :func:`event_numbers`, and
+    ``time_s``: seconds from that bag's first stamp, ``stamp_utc``: :func:`entry`); ``dropped``
+    (``{reason: count}`` summed over the bags); ``bags`` (one entry per bag: ``path``,
+    ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``, ``first_stamp_ns`` and
+    ``first_stamp_utc``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison
+    or None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at
+    the bag's end).
+    With ``--predict``: ``predictions`` (every prediction's entry) and, in each impact,
+    ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.
 
     :param plots: ``--plot`` was given: each bag entry lists its PNG files (``plots``,
@@ -331,15 +464,16 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     for analysis, pngs in zip(analyses, files):
         predicting = analysis.config.prediction_horizon > 0.0
         scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
-        for impact, score in zip(analysis.impacts, scores):
-            impacts.append(entry(analysis, impact))
+        for number, (impact, score) in enumerate(zip(analysis.impacts, scores), 1):
+            impacts.append(entry(analysis, impact, number))
             if score is not None:
                 impacts[-1]['prediction_errors'] = plain({
                     f'{lead * 1e3:g}': None if error is None else {
                         'time_error_s': error[0], 'point_error_m': error[1]}
                     for lead, error in score.items()})
         predictions.extend(entry(analysis, p) for p in analysis.predictions)
-        near_misses.extend(entry(analysis, miss) for miss in analysis.near_misses)
+        near_misses.extend(entry(analysis, miss, number)
+                           for number, miss in enumerate(analysis.near_misses, 1))
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
         bags.append(plain(_bag_entry(analysis)))
@@ -373,8 +507,9 @@ def csv_text(analyses: Sequence[BagAnalysis]) -> str:
     writer = csv.writer(buffer, lineterminator='\n')
     writer.writerow(CSV_COLUMNS)
     for analysis in analyses:
+        numbers = event_numbers(analysis)
         for event in _events(analysis) + analysis.predictions:
-            row = csv_row(entry(analysis, event))
+            row = csv_row(entry(analysis, event, numbers.get(id(event))))
             row['time_s'] = f"{row['time_s']:.9f}"
             writer.writerow(['' if row.get(column) is None else row[column]
                              for column in CSV_COLUMNS])

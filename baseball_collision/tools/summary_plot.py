@@ -3,7 +3,8 @@ The session summary of ``analyze --plot``: one figure per bag, readable at a gla
 
 Three panels (:func:`summary_figure`): the bat drawn from its radius profile (knob left, tip
 right) with each impact's contact spot on it, numbered and coloured by its zone, the zones
-named along it; the sweet-spot speed of each impact (mph); how close each near miss came (cm).
+named along it; the sweet-spot speed of each impact (mph, its 1-sigma uncertainty as an error
+bar); how close each near miss came (cm). The title names the bag and when it began (UTC).
 Positions and zones are those of the records
 (:func:`baseball_collision.core.records.event_record`), so the figure says what the JSON says.
 """
@@ -13,6 +14,8 @@ from typing import Any, Dict, List, Sequence, Tuple
 import numpy as np
 
 from .analyze import BagAnalysis
+from .report import utc_text
+from .truth import bag_name
 from ..core.detector import DetectorConfig, MPS_TO_MPH
 from ..core.records import bat_zone, event_record, SWEET_SPOT_HALF_WIDTH
 
@@ -117,21 +120,22 @@ def _bat_panel(axes: Any, analysis: BagAnalysis, records: Sequence[Dict[str, Any
 
 
 def _speed_panel(axes: Any, records: Sequence[Dict[str, Any]]) -> None:
-    """Draw each impact's sweet-spot speed (mph) as a bar coloured by its zone."""
+    """Draw each impact's sweet-spot speed (mph) as a bar coloured by its zone, +- 1 sigma."""
     numbers = list(range(1, len(records) + 1))
     speeds = [r['sweet_spot_speed_mps'] * MPS_TO_MPH for r in records]
-    bars = axes.bar(numbers, speeds, color=[ZONE_COLORS[r['zone']] for r in records],
-                    edgecolor='black')
-    for bar, speed in zip(bars, speeds):
-        axes.annotate(f'{speed:.1f}', (bar.get_x() + bar.get_width() / 2, speed),
+    sigmas = [(r['sweet_spot_speed_uncertainty_mps'] or 0.0) * MPS_TO_MPH for r in records]
+    bars = axes.bar(numbers, speeds, yerr=sigmas, capsize=6,
+                    color=[ZONE_COLORS[r['zone']] for r in records], edgecolor='black')
+    for bar, speed, sigma in zip(bars, speeds, sigmas):
+        axes.annotate(f'{speed:.1f}', (bar.get_x() + bar.get_width() / 2, speed + sigma),
                       xytext=(0, 3), textcoords='offset points', ha='center', fontsize=9)
     if not records:
         axes.text(0.5, 0.5, 'no impacts', transform=axes.transAxes, ha='center')
     axes.set_xticks(numbers)
     axes.set_xlabel('impact number')
     axes.set_ylabel('sweet-spot speed (mph)')
-    axes.set_ylim(0.0, max(speeds, default=1.0) * 1.15)
-    axes.set_title('Bat speed at the sweet spot, per impact', fontsize=12)
+    axes.set_ylim(0.0, max((v + e for v, e in zip(speeds, sigmas)), default=1.0) * 1.15)
+    axes.set_title('Bat speed at the sweet spot, per impact (error bars: 1 sigma)', fontsize=12)
     axes.grid(True, axis='y', alpha=0.3)
 
 
@@ -168,7 +172,9 @@ def summary_figure(analysis: BagAnalysis) -> Any:
     _bat_panel(figure.add_subplot(grid[0, :]), analysis, records)
     _speed_panel(figure.add_subplot(grid[1, 0]), records)
     _miss_panel(figure.add_subplot(grid[1, 1]), analysis)
-    figure.suptitle(f'Session summary: {analysis.path.name} ({len(analysis.impacts)} impacts, '
-                    f'{len(analysis.near_misses)} near misses, {analysis.config.model} model)',
-                    fontsize=14)
+    began = '' if analysis.first_stamp_ns is None else (
+        f", {utc_text(analysis.first_stamp_ns)[:16].replace('T', ' ')} UTC")
+    figure.suptitle(f'Session summary: {bag_name(analysis.path)}{began} '
+                    f'({len(analysis.impacts)} impacts, {len(analysis.near_misses)} near misses, '
+                    f'{analysis.config.model} model)', fontsize=14)
     return figure

@@ -49,6 +49,17 @@ def _named(bag: Path) -> Path:
     return bag
 
 
+def bag_name(bag: os.PathLike) -> str:
+    """
+    Return a bag's own name, suffix and all: what the figures' titles name a bag by.
+
+    ``runs/a.mcap`` -> ``a.mcap``; a bag directory ``.`` inside ``runs/a`` -> ``a``.
+
+    :raises ToolError: the file system's root.
+    """
+    return _named(Path(bag)).name
+
+
 def bag_stem(bag: os.PathLike) -> str:
     """
     Return a bag's name without its ``.mcap``, ``.db3`` or ``.bag`` suffix (``.``: resolved).

@@ -29,7 +29,7 @@ from baseball_collision.ros.replay import BagPlayer, message_class, replay_summa
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.demo import node_command, stop_node, wait_for_node
 from baseball_collision.tools.parameters import load_parameters, output_topics
-from baseball_collision.tools.report import entry, truth_line
+from baseball_collision.tools.report import entry, ENTRY_KEYS, truth_line
 from baseball_collision.tools.truth import truth_path
 import pytest
 from support import REPO_ROOT
@@ -249,7 +249,7 @@ def _node_agrees_with_analyze(ros: Ros, bag: Path, params: Path, rate: float) ->
         linear = twist.twist.linear
         assert (linear.x, linear.y, linear.z) == pytest.approx(impact.bat_velocity, abs=1e-9)
     records = {kind: [{k: v for k, v in entry(offline, event).items()
-                       if k not in ('bag', 'time_s')} for event in events]
+                       if k not in ENTRY_KEYS} for event in events]
                for kind, events in (('impact', offline.impacts),
                                     ('near_miss', offline.near_misses))}
     validator = Validator('event_record.schema.json')

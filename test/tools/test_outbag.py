@@ -12,6 +12,7 @@ from typing import Any, Callable, Dict, List, Tuple
 from baseball_collision.bags import BagWriter, RawBag
 from baseball_collision.core.detector import DEFAULTS
 from baseball_collision.tools.parameters import build_config, load_parameters, output_topics
+from baseball_collision.tools.report import ENTRY_KEYS
 import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
@@ -91,7 +92,7 @@ def test_reports_are_the_json_records(session: Dict[str, Any]) -> None:
     assert len(reports) == len(expected) and document['impacts']
     for report, record in zip(sorted(reports, key=lambda r: r['stamp_ns']), expected):
         assert report == {key: record[key] for key in report}
-        assert set(record) - set(report) <= {'bag', 'time_s', 'prediction_errors', 'truth'}
+        assert set(record) - set(report) <= {*ENTRY_KEYS, 'prediction_errors', 'truth'}
 
 
 def test_impact_markers_show_bat_ball_contact_and_normal(session: Dict[str, Any]) -> None:

@@ -1,5 +1,6 @@
 """``--plot``: one PNG per impact and a session summary; what the figures show."""
 
+import dataclasses
 import json
 from pathlib import Path
 import re
@@ -11,8 +12,8 @@ from baseball_collision.core.toi import profile_gap
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.parameters import load_parameters
 from baseball_collision.tools.plots import (
-    AHEAD_S, bat_samples, collect_windows, HISTORY_S, impact_figure, ModelGap, plot_names,
-    PLOT_WINDOW_S, PlotWindow, shown)
+    AHEAD_S, bat_samples, collect_windows, HISTORY_S, impact_figure, impact_title, ModelGap,
+    plot_names, PLOT_WINDOW_S, PlotWindow, shown)
 from baseball_collision.tools.summary_plot import summary_figure
 import numpy as np
 import pytest
@@ -269,6 +270,33 @@ def test_summary_figure_spots_speeds_and_misses(rigid_90hz: Dict[str, Any]) -> N
     assert [p.get_height() for p in miss_axes.patches] == pytest.approx(
         [m.gap_m * 100.0 for m in analysis.near_misses])
     assert 'Session summary: pitches_90hz.mcap' in figure._suptitle.get_text()
+
+
+def test_the_summary_shows_each_speeds_uncertainty_and_when_the_session_was(
+        rigid_90hz: Dict[str, Any]) -> None:
+    """A coach sees the 1-sigma error bar on each speed, and the session's date and time."""
+    analysis = rigid_90hz['analysis']
+    speed_axes = summary_figure(analysis).axes[1]
+    (bars,) = [c for c in speed_axes.containers if hasattr(c, 'errorbar')]  # BarContainer
+    segments = bars.errorbar.lines[2][0].get_segments()  # one vertical line per bar
+    assert [abs(segment[1][1] - segment[0][1]) / 2 for segment in segments] == pytest.approx(
+        [i.sweet_spot_speed_uncertainty_mps * MPS_TO_MPH for i in analysis.impacts])
+    assert all(i.sweet_spot_speed_uncertainty_mps > 0.0 for i in analysis.impacts)
+    assert 'error bars: 1 sigma' in speed_axes.get_title()
+    # the bundled bag's first stamp, 1700000000000000000 ns and a little: 2023-11-14 22:13 UTC
+    assert summary_figure(analysis)._suptitle.get_text().startswith(
+        'Session summary: pitches_90hz.mcap, 2023-11-14 22:13 UTC (8 impacts, ')
+
+
+def test_a_bag_named_dot_is_named_in_the_titles(rigid_90hz: Dict[str, Any], tmp_path: Path,
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """``analyze .`` in a bag directory: the figures name the directory, not ''."""
+    (tmp_path / 'tuesday').mkdir()
+    monkeypatch.chdir(tmp_path / 'tuesday')
+    analysis = dataclasses.replace(rigid_90hz['analysis'], path=Path('.'))
+    assert summary_figure(analysis)._suptitle.get_text().startswith('Session summary: tuesday, ')
+    title = impact_title(analysis, analysis.impacts[0], 1, None)
+    assert title.splitlines()[1].startswith('tuesday, ')
 
 
 def test_a_duplicate_stamp_in_a_window_is_fed_not_compared() -> None:

@@ -1,17 +1,20 @@
 """The report: the printed table, summary lines, JSON and CSV from one record per event."""
 
 import csv
+import datetime
 import io
 import json
 from pathlib import Path
+import statistics
+import sys
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.detector import DetectorConfig, MPS_TO_MPH
-from baseball_collision.tools.analyze import analyze_bag, BagAnalysis
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag, BagAnalysis
 from baseball_collision.tools.plots import plot_names
 from baseball_collision.tools.report import (
-    CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, TABLE_COLUMNS, to_json,
-    total_line)
+    CSV_COLUMNS, csv_row, csv_text, entry, format_report, json_text, season_lines, TABLE_COLUMNS,
+    TABLE_WIDTH, to_json, total_line)
 import pytest
 from support.bundled import bag_path
 from support.schema import load_schema, Validator
@@ -181,3 +184,112 @@ def test_the_table_numbers_each_kind_as_the_plots_and_predictions_do() -> None:
     assert plot_names([analysis])[:8] == [f'pitches_90hz_impact_{n}.png' for n in impacts]
     # the header says which look-ahead ran (the node's default 0, analyze's 2)
     assert format_report(analysis).splitlines()[0].endswith(', model c2 (look-ahead 2)')
+
+
+def test_each_json_and_csv_event_carries_its_table_number() -> None:
+    """An analyst finds a CSV row's or JSON entry's table line and plot by bag and number."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False)
+    document = to_json([analysis], plots=True)
+    assert [impact['number'] for impact in document['impacts']] == list(range(1, 9))
+    assert [miss['number'] for miss in document['near_misses']] == list(range(1, 5))
+    assert document['bags'][0]['plots'][:8] == [
+        f"pitches_90hz_impact_{impact['number']}.png" for impact in document['impacts']]
+    assert Validator('analyze.schema.json').errors(document) == []
+    table = {(cells[1], int(cells[0]), cells[3 if cells[1] == 'impact' else 4])
+             for cells in (line.split() for line in format_report(analysis).splitlines())
+             if cells[1:2] in (['impact'], ['near'])}
+    rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
+    assert CSV_COLUMNS.index('number') == 31  # after the first 31: those keep their places
+    assert {(row['event'].split('_')[0], int(row['number']), row['stamp_ns'])
+            for row in rows} == table and len(rows) == 12
+
+
+def test_the_season_lines_count_the_zones_and_the_bat_speeds(run_cli: RunCli) -> None:
+    """Where on the bat and how fast, over every bag: the figures the CSV gives by hand."""
+    names = ('pitches_90hz.mcap', 'pitches_360hz.mcap')
+    analyses = [analyze_bag(bag_path(name), progress=False, use_truth=False) for name in names]
+    rows = [row for row in csv.DictReader(io.StringIO(csv_text(analyses)))
+            if row['event'] == 'impact']
+    mph = sorted(float(row['sweet_spot_speed_mps']) * MPS_TO_MPH for row in rows)
+    zones = [row['zone'] for row in rows]
+    sweet = zones.count('sweet_spot')
+    p90 = statistics.quantiles(mph, n=10, method='inclusive')[-1]  # numpy's 'linear'
+    zone_line, speed_line = season_lines(analyses)
+    assert zone_line.startswith('impacts by zone: ') and zone_line.endswith(
+        f'(sweet spot {sweet}/16, {100 * sweet / 16:.0f} %)')
+    for zone in set(zones):
+        assert f"{zone.replace('_', ' ')} {zones.count(zone)}" in zone_line
+    assert speed_line == (f'sweet-spot speed: median {statistics.median(mph):.1f} mph, p90 '
+                          f'{p90:.1f} mph, {mph[0]:.1f} to {mph[-1]:.1f} mph over 16 impacts')
+    assert season_lines([BagAnalysis(path=Path('e.mcap'), selection=_Selection(),
+                                     config=DetectorConfig())]) == ['impacts by zone: none']
+    code, stdout, _ = run_cli(['analyze', *map(str, map(bag_path, names)), '--no-truth',
+                               '--no-progress', '--jobs', '1'])
+    assert code == 0 and stdout.rstrip().endswith(f'{zone_line}\n{speed_line}')
+
+
+def _table(report: str) -> List[List[str]]:
+    return [line.split() for line in report.splitlines()
+            if line.split()[1:2] in (['impact'], ['near'])]
+
+
+def test_a_100_column_terminal_gets_a_table_that_fits_it() -> None:
+    """The narrow table: the same rows without the ns stamp; every other line wrapped."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False)
+    wide, narrow = format_report(analysis), format_report(analysis, 100)
+    assert max(map(len, wide.splitlines())) > TABLE_WIDTH  # (the summary line)
+    assert max(map(len, narrow.splitlines())) <= 100
+    assert format_report(analysis, 1000) == wide  # a terminal the lines fit in: as they are
+    rows, narrow_rows = _table(wide), _table(narrow)
+    assert len(narrow_rows) == len(rows) == 12
+    for full, short in zip(rows, narrow_rows):
+        stamp = full.pop(4 if full[1] == 'near' else 3)  # (the event 'near miss' is 2 words)
+        assert int(stamp) > 0 and stamp not in short
+        time_at = 3 if full[1] == 'near' else 2
+        assert short[time_at] == f'{float(full[time_at]):.3f}'
+        assert short[:time_at] + short[time_at + 1:] == full[:time_at] + full[time_at + 1:]
+    lines = narrow.splitlines()
+    head = next(index for index, line in enumerate(lines) if line.split()[:2] == ['#', 'event'])
+    assert 'sweet spot' in lines[head] and lines[head + 1].split()[:2] == ['(s)', '(us)']
+    assert ' '.join(narrow.split()).count('summary: 8 impacts, 4 near misses') == 1
+
+
+def test_analyze_fits_the_terminal_it_prints_in(run_cli: RunCli,
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """A terminal: its width (``COLUMNS``); a pipe or file: the full table, whatever COLUMNS."""
+    monkeypatch.setenv('COLUMNS', '100')
+    bags = [str(bag_path(name)) for name in ('pitches_90hz.mcap', 'pitches_360hz.mcap')]
+    code, piped, _ = run_cli(['analyze', *bags, '--no-progress', '--jobs', '1'])
+    assert code == 0 and 'stamp (ns)' in piped and max(map(len, piped.splitlines())) > 150
+    monkeypatch.setattr(sys.stdout, 'isatty', lambda: True)
+    code, shown, _ = run_cli(['analyze', *bags, '--no-progress', '--jobs', '1'])
+    assert code == 0 and 'stamp (ns)' not in shown and max(map(len, shown.splitlines())) <= 100
+    assert len(_table(shown)) == len(_table(piped)) == 24
+    assert ' '.join(shown.split()).count('total: 2 bags, 16 impacts, 8 near misses;') == 1
+
+
+def _ns_of(utc: str) -> int:
+    """Return an ISO 8601 UTC text's ns since the epoch, read back independently."""
+    whole, fraction = utc.rstrip('Z').split('.')
+    when = datetime.datetime.strptime(whole, '%Y-%m-%dT%H:%M:%S').replace(
+        tzinfo=datetime.timezone.utc)
+    return int(when.timestamp()) * 1_000_000_000 + int(fraction)
+
+
+def test_each_stamp_is_also_a_date_and_time_a_person_reads() -> None:
+    """``stamp_utc`` beside every ``stamp_ns`` (JSON and CSV), ``first_stamp_utc`` per bag."""
+    analysis = analyze_bag(bag_path('pitches_90hz.mcap'), progress=False, use_truth=False,
+                           options=AnalysisOptions(prediction_horizon=0.3))
+    document = to_json([analysis])
+    assert Validator('analyze.schema.json').errors(document) == []
+    events = document['impacts'] + document['near_misses'] + document['predictions']
+    assert len(events) > 12 and all(
+        _ns_of(event['stamp_utc']) == event['stamp_ns'] for event in events)
+    assert document['impacts'][0]['stamp_utc'] == '2023-11-14T22:13:20.248723296Z'
+    bag = document['bags'][0]
+    assert _ns_of(bag['first_stamp_utc']) == bag['first_stamp_ns']
+    rows = list(csv.DictReader(io.StringIO(csv_text([analysis]))))
+    assert CSV_COLUMNS[-2:] == ('number', 'stamp_utc') and len(rows) == len(events)
+    assert all(_ns_of(row['stamp_utc']) == int(row['stamp_ns']) for row in rows)
+    assert to_json([BagAnalysis(path=Path('e.mcap'), selection=_Selection(),
+                                config=DetectorConfig())])['bags'][0]['first_stamp_utc'] is None
