@@ -310,12 +310,18 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         return report(snapshot, problems)
 
     def _publish_diagnostics(self) -> None:
-        """Publish the status on /diagnostics (timer, steady clock); end a silent prediction."""
+        """
+        Publish the status on /diagnostics (timer, steady clock); end a silent prediction.
+
+        Then say which inputs sent nothing yet, and which subscribers of the latched flag lose
+        its state (``Endpoints.lossy_readers``), each once.
+        """
         array = DiagnosticArray(status=[self.diagnostics()])
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
         self._say_still_waiting()
+        self.endpoints.lossy_readers()
 
     def _say_still_waiting(self) -> None:
         """
