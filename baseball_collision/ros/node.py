@@ -15,7 +15,9 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, once
+  ``~/impact_predicted`` (std_msgs/Bool, latched, with a ``LIVELINESS_LEASE_S`` liveliness
+  lease so an arm learns of the node's death; a subscriber whose QoS would lose it is named
+  in a warning, ``Endpoints.lossy_readers``; false right after an ``~/impact``, once
   every input stream went ``max_gap`` past the predicted instant without one, once the bat did
   and the ball has been silent longer than its measured lag behind the bat plus ``max_gap``
   and the span its flight holds unseen, or once an input has been silent beyond ``stale_timeout``).

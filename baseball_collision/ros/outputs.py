@@ -2,15 +2,15 @@
 The node's outputs: its publishers, and what each of the detector's events sends out when.
 
 The topics, their message types and QoS are :data:`OUTPUTS` (events reliable and volatile,
-``~/impact_predicted`` latched, markers and ``/diagnostics`` a short queue). In a message's
-executor callback, ``~/impact`` goes out the moment the detector solves a contact
-(``_on_contact``, before its velocities are fitted) and the other events' messages as the
-detector returns them (``_publish``: a throttled or echoed line at its level, a state reset's
-line at debug while it echoes a ROS clock jump of under ``CLOCK_ECHO_S`` ago). What costs time
-and no arm waits on comes after the intake's drain (``_complete_events``): an impact's error
-bars, INFO line and markers, then every event's ``~/impact_report`` (made only while the topic
-has a subscriber). Markers: an impact's scene, the live bat and ball on a timer (only when a
-new sample came), a ``DELETEALL`` on every state reset; all as CDR bytes.
+``~/impact_predicted`` latched with a liveliness lease, markers and ``/diagnostics`` a short
+queue). In a message's executor callback, ``~/impact`` goes out the moment the detector solves
+a contact (``_on_contact``, before its velocities are fitted) and the other events' messages as
+the detector returns them (``_publish``: a throttled or echoed line at its level, a state
+reset's line at debug while it echoes a ROS clock jump of under ``CLOCK_ECHO_S`` ago). What
+costs time and no arm waits on comes after the intake's drain (``_complete_events``): an
+impact's error bars, INFO line and markers, then every event's ``~/impact_report`` (made only
+while the topic has a subscriber). Markers: an impact's scene, the live bat and ball on a
+timer (only when a new sample came), a ``DELETEALL`` on every state reset; all as CDR bytes.
 
 :class:`Outputs` is a mixin base of ``node.ImpactNode``: it uses the node's endpoints,
 detector, settings, lock, tally and log lines, and the flag's ``_set_predicting``.
