@@ -29,6 +29,15 @@ UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 """The node name the graph gives an endpoint whose node it does not know (yet, or any more)."""
 
 
+Guard = Callable[[Callable[..., None], str], Callable[..., None]]
+"""Makes an executor callback survive its own failure, given what it does (``_guarded``)."""
+
+
+def unguarded(callback: Callable[..., None], what: str) -> Callable[..., None]:
+    """Return ``callback`` as it is (a ``Guard`` for endpoints outside ``ImpactNode``)."""
+    return callback
+
+
 def input_qos(qos: str, depth: int) -> QoSProfile:
     """
     Return the inputs' QoS for the ``qos`` parameter, volatile.
@@ -49,13 +58,16 @@ class Endpoints:
 
     :param node: the node the endpoints belong to (and whose logger warns).
     :param tally: where mismatches are counted (``incompatible``).
+    :param guard: makes an executor callback survive its own failure, given what it does (the
+        node's ``_guarded``; default: the callback as it is).
     :ivar topics: each input stream's resolved topic (``/ball`` ...).
     :ivar types: each input stream's message type (``geometry_msgs/msg/PointStamped`` ...).
     """
 
-    def __init__(self, node: Node, tally: Tally) -> None:
+    def __init__(self, node: Node, tally: Tally, guard: Guard = unguarded) -> None:
         self._node = node
         self._tally = tally
+        self._guard = guard
         self.topics: Dict[str, str] = {}
         self.types: Dict[str, str] = {}
         self._subscriptions: Dict[str, Any] = {}
@@ -74,7 +86,8 @@ class Endpoints:
         latched = qos.durability == DurabilityPolicy.TRANSIENT_LOCAL
         callbacks = PublisherEventCallbacks(
             incompatible_qos=lambda info: self._incompatible_qos(name[0], 'publisher', info),
-            matched=(lambda info: self.lossy_readers()) if latched else None)
+            matched=self._guard(lambda info: self.lossy_readers(),
+                                'checking the QoS of a new subscriber') if latched else None)
         publisher = self._node.create_publisher(msg_type, topic, qos, event_callbacks=callbacks)
         name[0] = publisher.topic_name
         if latched:

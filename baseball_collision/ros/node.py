@@ -140,7 +140,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
                                  on_contact=self._on_contact)
         for warning in start_warnings(self, self.settings.detector):
             self.get_logger().warning(warning)
-        self.endpoints = Endpoints(self, self.tally)
+        self.endpoints = Endpoints(self, self.tally, self._guarded)
         self._advertise_outputs()
         self._subscribe_inputs()
         self.create_service(Trigger, '~/reset', self._on_reset)

@@ -286,6 +286,34 @@ def test_an_arm_that_would_lose_the_latched_flag_is_named(harness: Callable[...,
             node.destroy_node()
 
 
+def test_a_failing_check_of_a_new_subscriber_is_logged_and_the_node_goes_on(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    The subscriber check at a match is an executor callback: its failure (a bug) is survived.
+
+    The graph query raising at the flag's match makes the node's ERROR (``internal_errors``),
+    not the end of its spin: the swing after it is still found.
+    """
+    h = harness({'bat_input': 'pose'})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+
+    def broken(topic: str) -> List[Any]:
+        raise RuntimeError('the graph is broken')
+    h.node.get_subscriptions_info_by_topic = broken  # (the timer's check fails too: guarded)
+    h.start()
+    arm = rclpy.create_node('arm_after_start', context=h.context)
+    try:
+        arm.create_subscription(Bool, '/impact_node/impact_predicted', lambda m: None,
+                                QoSProfile(depth=1))
+        h.wait(lambda: h.node.tally.failures >= 1, 3.0, 'the failure counted')
+        h.processed(publish(ball, bat, range(SAMPLES)))
+        h.wait(lambda: h.received['impact'], 3.0, 'the impact after the failure')
+        assert abs(impacts(h)[0] - truth_ns) < 100_000
+    finally:
+        arm.destroy_node()
+
+
 def _settled(h: Harness, sent: int) -> Dict[str, str]:
     """Wait until the node's arrivals stop changing, then return a later status's values."""
     arrived, still = -1, 0
