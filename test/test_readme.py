@@ -8,14 +8,18 @@ fails :func:`test_every_python_block_of_the_readme_is_run` until it has its set-
 """
 
 import re
+from types import SimpleNamespace
 from typing import Any, Dict, List
 
 from baseball_collision.bags import read_samples
 from baseball_collision.core.toi import ImpactResult
+from baseball_collision.ros.outputs import LIVELINESS_LEASE_S
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PointStamped
 import pytest
 import rclpy
+from rclpy.duration import Duration
+from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 from std_msgs.msg import Bool
 from support import REPO_ROOT
 
@@ -79,11 +83,22 @@ def test_the_arm_controller_block_makes_its_node_and_takes_each_message(
             assert topics == ['/impact_node/impact', '/impact_node/impact_predicted',
                               '/impact_node/predicted_impact']
             assert '/bat_plan' in [publisher.topic_name for publisher in node.publishers]
+            # ~/impact is taken before the flag when both wait (rclpy's executor: this order)
+            order = [s.topic_name for s in node.subscriptions]
+            assert order.index('/impact_node/impact') < order.index(
+                '/impact_node/impact_predicted')
+            flag, = [s for s in node.subscriptions
+                     if s.topic_name == '/impact_node/impact_predicted']
+            lease = flag.qos_profile.liveliness_lease_duration
+            assert Duration(seconds=LIVELINESS_LEASE_S) <= lease < Duration(seconds=2.0)
+            assert flag.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
+            assert flag.qos_profile.reliability == ReliabilityPolicy.RELIABLE
             prediction = PointStamped()
             prediction.header.stamp = Time(sec=1_700_000_000, nanosec=5)
             node.on_prediction(prediction)
             node.on_predicted(Bool(data=False))
             node.on_impact(PointStamped())
+            node.on_node_liveliness(SimpleNamespace(alive_count=0, alive_count_change=-1))
         finally:
             node.destroy_node()
     finally:

@@ -6,9 +6,11 @@ only through event callbacks. :class:`Endpoints` creates the node's publishers a
 subscriptions with those callbacks: each mismatch is warned about, naming the topic, the side
 and the policy (or both types), and counted in the diagnostics tally; and it tells why a silent
 input may be silent (no publisher, one of another type, or of incompatible QoS), every time.
+A latched output (``~/impact_predicted``: sent only when it changes) also names each subscriber
+whose compatible QoS still loses its state (best effort or volatile: ``lossy_readers``).
 """
 
-from typing import Any, Callable, Dict, Sequence, Set, Tuple
+from typing import Any, Callable, Dict, List, Sequence, Set, Tuple
 
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.exceptions import InvalidTopicNameException
@@ -21,6 +23,19 @@ from rclpy.qos_overriding_options import QoSOverridingOptions
 from .diagnostics import Tally
 from .messages import type_name
 from ..errors import RosError
+
+
+UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
+"""The node name the graph gives an endpoint whose node it does not know (yet, or any more)."""
+
+
+Guard = Callable[[Callable[..., None], str], Callable[..., None]]
+"""Makes an executor callback survive its own failure, given what it does (``_guarded``)."""
+
+
+def unguarded(callback: Callable[..., None], what: str) -> Callable[..., None]:
+    """Return ``callback`` as it is (a ``Guard`` for endpoints outside ``ImpactNode``)."""
+    return callback
 
 
 def input_qos(qos: str, depth: int) -> QoSProfile:
@@ -43,26 +58,77 @@ class Endpoints:
 
     :param node: the node the endpoints belong to (and whose logger warns).
     :param tally: where mismatches are counted (``incompatible``).
+    :param guard: makes an executor callback survive its own failure, given what it does (the
+        node's ``_guarded``; default: the callback as it is).
     :ivar topics: each input stream's resolved topic (``/ball`` ...).
     :ivar types: each input stream's message type (``geometry_msgs/msg/PointStamped`` ...).
     """
 
-    def __init__(self, node: Node, tally: Tally) -> None:
+    def __init__(self, node: Node, tally: Tally, guard: Guard = unguarded) -> None:
         self._node = node
         self._tally = tally
+        self._guard = guard
         self.topics: Dict[str, str] = {}
         self.types: Dict[str, str] = {}
         self._subscriptions: Dict[str, Any] = {}
         self._type_warned: Set[Tuple[str, Tuple[str, ...]]] = set()
+        self._latched: List[Any] = []  # publishers whose readers must keep their state
+        self._reader_warned: Set[Tuple[str, bytes]] = set()  # (topic, subscriber's gid)
 
     def advertise(self, msg_type: Any, topic: str, qos: QoSProfile) -> Any:
-        """Return a new publisher whose QoS mismatches are warned about, naming the topic."""
+        """
+        Return a new publisher whose QoS mismatches are warned about, naming the topic.
+
+        A transient-local one (latched) also has its lossy subscribers named
+        (``lossy_readers``) as each matches, and at each ``lossy_readers`` call after.
+        """
         name = [topic]  # resolved once the publisher exists
+        latched = qos.durability == DurabilityPolicy.TRANSIENT_LOCAL
         callbacks = PublisherEventCallbacks(
-            incompatible_qos=lambda info: self._incompatible_qos(name[0], 'publisher', info))
+            incompatible_qos=lambda info: self._incompatible_qos(name[0], 'publisher', info),
+            matched=self._guard(lambda info: self.lossy_readers(),
+                                'checking the QoS of a new subscriber') if latched else None)
         publisher = self._node.create_publisher(msg_type, topic, qos, event_callbacks=callbacks)
         name[0] = publisher.topic_name
+        if latched:
+            self._latched.append(publisher)
         return publisher
+
+    def lossy_readers(self) -> List[str]:
+        """
+        Warn, once each, about a latched output's subscribers whose QoS loses its state.
+
+        ``~/impact_predicted`` is sent once per change and kept for late joiners. A volatile
+        subscriber gets no value until the next change; a best-effort one gets none on joining
+        (Fast DDS gives its stored value to reliable readers only) and may lose a change, which
+        is never sent again: an arm could wait on a prediction withdrawn long ago. Their QoS is
+        compatible, so ROS says nothing. Asked of the graph at each match and at each call (the
+        diagnostics timer), as a match may come before the graph knows the subscriber's QoS; a
+        subscriber whose node the graph does not know (yet, or any more as it leaves) is left
+        for a later call.
+
+        :returns: the warnings given in this call.
+        """
+        given = []
+        for publisher in self._latched:
+            topic = publisher.topic_name
+            for info in self._node.get_subscriptions_info_by_topic(topic):
+                qos = info.qos_profile
+                lost = tuple(reason for reason, holds in (
+                    ('best effort: no value on joining, and a lost change is never sent again',
+                     qos.reliability == ReliabilityPolicy.BEST_EFFORT),
+                    ('volatile: no value until the next change',
+                     qos.durability != DurabilityPolicy.TRANSIENT_LOCAL)) if holds)
+                who = f"{info.node_namespace.rstrip('/')}/{info.node_name}"
+                key = (topic, bytes(info.endpoint_gid))
+                if not lost or key in self._reader_warned or UNKNOWN_NODE in who:
+                    continue  # (an unknown node is asked again, once the graph knows it)
+                self._reader_warned.add(key)
+                given.append(f'subscriber {who} on {topic} loses the latched state: '
+                             + '; '.join(lost) + ' (it is sent once per change): subscribe '
+                             'reliable and transient local, depth 1')
+                self._node.get_logger().warning(given[-1])
+        return given
 
     def subscribe(self, stream: str, msg_type: Any, topic: str, callback: Callable[[Any], None],
                   qos: QoSProfile) -> Any:

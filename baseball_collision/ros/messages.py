@@ -21,7 +21,7 @@ from visualization_msgs.msg import MarkerArray
 
 from ..core.detector import (
     DetectorConfig, Event, Impact, MPS_TO_MPH, NearMiss, Prediction, PredictionCleared,
-    StateReset, StreamGap)
+    ResetReason, StateReset, StreamGap)
 from ..core.geometry import Quaternion, Vector
 from ..core.health import format_stamp, NS_PER_S
 from ..core.records import contact_from_tip, EVENT_NAMES, event_record, record_text
@@ -315,10 +315,23 @@ def _stream_gap(gap: StreamGap, frame_id: str, markers: ImpactMarkers) -> EventO
         throttled=True)
 
 
+RESET_CAUSES = {
+    ResetReason.TIME_JUMP_BACKWARDS: 'header stamps jumped back to {stamp} s',
+    ResetReason.TIME_JUMP_FORWARD: 'header stamps jumped ahead to {stamp} s (a new session)',
+    ResetReason.FRAME_CHANGED: 'the inputs agreed on another frame than the first one seen '
+                               '(at {stamp} s): what the samples in the first built was dropped',
+}
+"""The warning's cause for each reason the detector resets itself on (a stamp's ``{stamp}``);
+another reason is named as it is."""
+
+
 def _state_reset(reset: StateReset, frame_id: str, markers: ImpactMarkers) -> EventOutput:
+    # only a jump of the stamps can echo the ROS clock's jump (logged by ``_on_clock_jump``)
+    stamp = format_stamp(reset.stamp_ns)
+    cause = RESET_CAUSES.get(reset.reason, f'{reset.reason} at {{stamp}} s').format(stamp=stamp)
     return EventOutput(
-        log=f'header stamps jumped back to {format_stamp(reset.stamp_ns)} s: detector state '
-            'reset', level='warning', echoes_clock_jump=True, predicting=False)
+        log=f'{cause}: detector state reset', level='warning',
+        echoes_clock_jump=reset.reason == ResetReason.TIME_JUMP_BACKWARDS, predicting=False)
 
 
 _EVENT_OUTPUTS: Dict[Type[Any], Callable[[Any, str, ImpactMarkers], EventOutput]] = {

@@ -15,7 +15,9 @@ events come back out as messages:
 * ``~/near_miss`` (geometry_msgs/Vector3Stamped): closest approach; gap vector from the bat
   surface to the ball surface (m).
 * ``~/predicted_impact`` (PointStamped, stamped with the predicted future instant) and
-  ``~/impact_predicted`` (std_msgs/Bool, latched; false right after an ``~/impact``, once
+  ``~/impact_predicted`` (std_msgs/Bool, latched, with a ``LIVELINESS_LEASE_S`` liveliness
+  lease so an arm learns of the node's death; a subscriber whose QoS would lose it is named
+  in a warning, ``Endpoints.lossy_readers``; false right after an ``~/impact``, once
   every input stream went ``max_gap`` past the predicted instant without one, once the bat did
   and the ball has been silent longer than its measured lag behind the bat plus ``max_gap``
   and the span its flight holds unseen, or once an input has been silent beyond ``stale_timeout``).
@@ -138,7 +140,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
                                  on_contact=self._on_contact)
         for warning in start_warnings(self, self.settings.detector):
             self.get_logger().warning(warning)
-        self.endpoints = Endpoints(self, self.tally)
+        self.endpoints = Endpoints(self, self.tally, self._guarded)
         self._advertise_outputs()
         self._subscribe_inputs()
         self.create_service(Trigger, '~/reset', self._on_reset)
@@ -310,12 +312,18 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         return report(snapshot, problems)
 
     def _publish_diagnostics(self) -> None:
-        """Publish the status on /diagnostics (timer, steady clock); end a silent prediction."""
+        """
+        Publish the status on /diagnostics (timer, steady clock); end a silent prediction.
+
+        Then say which inputs sent nothing yet, and which subscribers of the latched flag lose
+        its state (``Endpoints.lossy_readers``), each once.
+        """
         array = DiagnosticArray(status=[self.diagnostics()])
         array.header.stamp = self.get_clock().now().to_msg()
         self._outputs['diagnostics'].publish(array)
         self._withdraw_a_silent_prediction()
         self._say_still_waiting()
+        self.endpoints.lossy_readers()
 
     def _say_still_waiting(self) -> None:
         """

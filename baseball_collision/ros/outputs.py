@@ -2,15 +2,15 @@
 The node's outputs: its publishers, and what each of the detector's events sends out when.
 
 The topics, their message types and QoS are :data:`OUTPUTS` (events reliable and volatile,
-``~/impact_predicted`` latched, markers and ``/diagnostics`` a short queue). In a message's
-executor callback, ``~/impact`` goes out the moment the detector solves a contact
-(``_on_contact``, before its velocities are fitted) and the other events' messages as the
-detector returns them (``_publish``: a throttled or echoed line at its level, a state reset's
-line at debug while it echoes a ROS clock jump of under ``CLOCK_ECHO_S`` ago). What costs time
-and no arm waits on comes after the intake's drain (``_complete_events``): an impact's error
-bars, INFO line and markers, then every event's ``~/impact_report`` (made only while the topic
-has a subscriber). Markers: an impact's scene, the live bat and ball on a timer (only when a
-new sample came), a ``DELETEALL`` on every state reset; all as CDR bytes.
+``~/impact_predicted`` latched with a liveliness lease, markers and ``/diagnostics`` a short
+queue). In a message's executor callback, ``~/impact`` goes out the moment the detector solves
+a contact (``_on_contact``, before its velocities are fitted) and the other events' messages as
+the detector returns them (``_publish``: a throttled or echoed line at its level, a state
+reset's line at debug while it echoes a ROS clock jump of under ``CLOCK_ECHO_S`` ago). What
+costs time and no arm waits on comes after the intake's drain (``_complete_events``): an
+impact's error bars, INFO line and markers, then every event's ``~/impact_report`` (made only
+while the topic has a subscriber). Markers: an impact's scene, the live bat and ball on a
+timer (only when a new sample came), a ``DELETEALL`` on every state reset; all as CDR bytes.
 
 :class:`Outputs` is a mixin base of ``node.ImpactNode``: it uses the node's endpoints,
 detector, settings, lock, tally and log lines, and the flag's ``_set_predicting``.
@@ -21,7 +21,9 @@ from typing import Any, Callable, Deque, Dict, Optional, Tuple, Union
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, TwistStamped, Vector3Stamped
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.duration import Duration
+from rclpy.qos import (
+    DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile, ReliabilityPolicy)
 from std_msgs.msg import Bool, String
 from visualization_msgs.msg import MarkerArray
 
@@ -32,6 +34,9 @@ from ..core.geometry import Vector
 from ..core.scene import impact_scene, Scene
 
 
+LIVELINESS_LEASE_S = 0.5
+"""``~/impact_predicted``'s liveliness lease (s): a subscriber's liveliness event says the node
+is gone this long after it died (its process killed or frozen), not Fast DDS's 20 s."""
 CLOCK_ECHO_S = 2.0
 """A state reset by the stamps this soon (s) after a ROS clock jump echoes it: logged at debug."""
 
@@ -43,7 +48,9 @@ VIEWS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
 """The markers' and ``/diagnostics``' QoS (and the bat plan's): reliable, volatile, the last 10."""
 LATCHED = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                      reliability=ReliabilityPolicy.RELIABLE,
-                     durability=DurabilityPolicy.TRANSIENT_LOCAL)
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     liveliness=LivelinessPolicy.AUTOMATIC,
+                     liveliness_lease_duration=Duration(seconds=LIVELINESS_LEASE_S))
 """``~/impact_predicted``'s QoS: the last value kept for late subscribers."""
 OUTPUTS = (  # output name, message type, topic, QoS
     ('predicted_impact', PointStamped, '~/predicted_impact', EVENTS),

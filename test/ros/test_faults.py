@@ -18,6 +18,7 @@ import rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock as ClockMsg
+from std_msgs.msg import Bool
 from std_srvs.srv import Trigger
 from support.harness import (
     Harness, point_msg, pose_msg, RATE_HZ, RELIABLE, SAMPLES, stamp, stamp_ns, values)
@@ -243,6 +244,74 @@ def test_qos_mismatches_are_warned_naming_the_topic(harness: Callable[..., Harne
     h.wait(lambda: warnings(h, 'incompatible QoS on /impact_node/impact', 'DURABILITY',
                             'publisher'), 3.0, 'the warning about ~/impact')
     h.diagnostics_where(lambda v: int(v['incompatible_qos_events']) >= 2)
+
+
+def test_an_arm_that_would_lose_the_latched_flag_is_named(harness: Callable[..., Harness]) -> None:
+    """
+    Subscribers of ~/impact_predicted whose QoS matches but loses its state get a warning each.
+
+    The flag is sent once per change: a best-effort arm gets no value on joining and may lose
+    a change for good, a volatile one gets none until the next change. ROS matches both
+    without a word. The README's QoS (reliable, transient local, depth 1) is not named, nor a
+    subscriber of another output; each lossy one is named once, with the QoS to use.
+    """
+    h = harness()
+    arms = {}
+    for name, reliability, durability in (
+            ('arm_best_effort', ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.TRANSIENT_LOCAL),
+            ('arm_volatile', ReliabilityPolicy.RELIABLE, DurabilityPolicy.VOLATILE),
+            ('arm_as_readme_says', ReliabilityPolicy.RELIABLE, DurabilityPolicy.TRANSIENT_LOCAL)):
+        arms[name] = rclpy.create_node(name, context=h.context)
+        arms[name].create_subscription(
+            Bool, '/impact_node/impact_predicted', lambda m: None,
+            QoSProfile(depth=1, reliability=reliability, durability=durability))
+    arms['arm_best_effort'].create_subscription(  # best effort on a volatile output: fine
+        PointStamped, '/impact_node/predicted_impact', lambda m: None,
+        QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT))
+    h.start()
+    try:
+        h.wait(lambda: len(warnings(h, 'loses the latched state')) >= 3, 3.0, 'the warnings')
+        time.sleep(0.5)  # (several diagnostics periods: no repeat)
+        named = {line.split()[1]: line for line in warnings(h, 'loses the latched state')}
+        assert sorted(named) == ['/arm_best_effort', '/arm_volatile', '/probe']  # (volatile)
+        assert len(warnings(h, 'loses the latched state')) == 3
+        assert 'best effort' in named['/arm_best_effort']
+        assert 'volatile' not in named['/arm_best_effort']
+        assert 'volatile' in named['/arm_volatile'] and 'best effort' not in named['/arm_volatile']
+        for line in named.values():
+            assert 'on /impact_node/impact_predicted' in line
+            assert line.endswith('subscribe reliable and transient local, depth 1')
+    finally:
+        for node in arms.values():
+            node.destroy_node()
+
+
+def test_a_failing_check_of_a_new_subscriber_is_logged_and_the_node_goes_on(
+        harness: Callable[..., Harness], truth_ns: int) -> None:
+    """
+    The subscriber check at a match is an executor callback: its failure (a bug) is survived.
+
+    The graph query raising at the flag's match makes the node's ERROR (``internal_errors``),
+    not the end of its spin: the swing after it is still found.
+    """
+    h = harness({'bat_input': 'pose'})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+
+    def broken(topic: str) -> List[Any]:
+        raise RuntimeError('the graph is broken')
+    h.node.get_subscriptions_info_by_topic = broken  # (the timer's check fails too: guarded)
+    h.start()
+    arm = rclpy.create_node('arm_after_start', context=h.context)
+    try:
+        arm.create_subscription(Bool, '/impact_node/impact_predicted', lambda m: None,
+                                QoSProfile(depth=1))
+        h.wait(lambda: h.node.tally.failures >= 1, 3.0, 'the failure counted')
+        h.processed(publish(ball, bat, range(SAMPLES)))
+        h.wait(lambda: h.received['impact'], 3.0, 'the impact after the failure')
+        assert abs(impacts(h)[0] - truth_ns) < 100_000
+    finally:
+        arm.destroy_node()
 
 
 def _settled(h: Harness, sent: int) -> Dict[str, str]:

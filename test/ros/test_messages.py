@@ -6,7 +6,7 @@ import typing
 
 from baseball_collision.core.detector import (
     DetectorConfig, DROP_REASONS, Event, Impact, NearMiss, Prediction, PredictionCleared,
-    StateReset, StreamGap)
+    ResetReason, StateReset, StreamGap)
 from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
     describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp, plan_arrays,
@@ -120,6 +120,28 @@ def test_near_miss_prediction_gap_and_reset() -> None:
     assert gap.throttled and not gap.messages and '80.0 ms' in gap.log
     reset = event_output(StateReset(BASE_NS, 'time_jump_backwards'), 'world', None)
     assert reset.level == 'warning' and reset.echoes_clock_jump and reset.predicting is False
+
+
+def test_a_state_reset_names_its_own_cause() -> None:
+    """
+    Each reason the detector resets itself on reads as itself, not as a jump back.
+
+    A robot's bat pose in its base frame beside a ball in the tracker's made the detector
+    adopt the bat's frame (``frame_changed``), and the node warned 'header stamps jumped back'.
+    Only a jump back may echo the ROS clock's own warning.
+    """
+    lines = {reason: event_output(StateReset(BASE_NS, reason), 'world', None)
+             for reason in ResetReason}
+    back = lines[ResetReason.TIME_JUMP_BACKWARDS]
+    assert back.log.startswith('header stamps jumped back to ') and back.echoes_clock_jump
+    frame = lines[ResetReason.FRAME_CHANGED]
+    assert 'jumped' not in frame.log and 'another frame than the first one seen' in frame.log
+    assert 'jumped ahead' in lines[ResetReason.TIME_JUMP_FORWARD].log
+    assert len({output.log for output in lines.values()}) == len(ResetReason)
+    for reason, output in lines.items():
+        assert output.level == 'warning' and output.predicting is False
+        assert output.log.endswith(': detector state reset')
+        assert output.echoes_clock_jump == (reason == ResetReason.TIME_JUMP_BACKWARDS)
 
 
 def test_plan_and_drop_texts() -> None:

@@ -17,6 +17,9 @@ from baseball_collision.ros import outputs as outputs_module
 from baseball_collision.ros.node import ImpactNode
 import pytest
 from rcl_interfaces.msg import Log as LogMsg
+from rclpy.duration import Duration
+from rclpy.qos import DurabilityPolicy, LivelinessPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Bool
 from std_srvs.srv import Trigger
 from support.harness import Harness, sample_ns, stamp_ns
 from support.node_inputs import listen_to_rosout, publish_swing, swing_harness
@@ -225,3 +228,33 @@ def test_live_markers_carry_sample_stamps_and_a_reset_clears_them(
     h.call(Trigger, '/impact_node/reset', Trigger.Request())
     h.wait(lambda: any(a.markers and a.markers[0].action == Marker.DELETEALL
                        for a in h.received['markers']), 2.0, 'a DELETEALL')
+
+
+def test_an_arm_can_ask_the_flag_for_a_liveliness_lease(harness: Callable[..., Harness]) -> None:
+    """
+    ~/impact_predicted offers a finite liveliness lease, so an arm can watch the node's death.
+
+    The flag is sent once per change: a node killed while it was true left the arm on true, and
+    Fast DDS dropped the dead node's endpoints only after its 20 s participant lease. An arm
+    that asks for a lease of 1 s (``LIVELINESS_LEASE_S`` or more) is matched and gets the
+    flag (before, offered an infinite lease, it was incompatible and got nothing); one that
+    asks for none still matches.
+    """
+    h = harness()
+    received: Dict[str, List[bool]] = {'lease': [], 'none': []}
+    arm = h.probe
+    for name, lease in (('lease', Duration(seconds=1.0)), ('none', None)):
+        qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        if lease is not None:
+            qos.liveliness_lease_duration = lease
+        arm.create_subscription(Bool, '/impact_node/impact_predicted',
+                                lambda message, name=name: received[name].append(message.data),
+                                qos)
+    h.start()
+    h.wait(lambda: received['lease'] and received['none'], 3.0, 'the latched flag')
+    assert received == {'lease': [False], 'none': [False]}
+    offered = h.node._outputs['impact_predicted'].qos_profile
+    assert offered.liveliness == LivelinessPolicy.AUTOMATIC
+    assert offered.liveliness_lease_duration == Duration(
+        seconds=outputs_module.LIVELINESS_LEASE_S) <= Duration(seconds=1.0)
