@@ -396,7 +396,8 @@ def validate_parameters(values: Mapping[str, Any]) -> Dict[str, Any]:
         the table are ignored (the node warns about them), ``None`` for an array means unset.
     :returns: ``{name: value}`` for every parameter of :data:`PARAMETERS`: doubles as float,
         arrays as lists of floats.
-    :raises CoreError: the first value the node would refuse: one line naming the parameter.
+    :raises CoreError: the first value the node would refuse: one line naming the parameter;
+        ``values`` not a mapping.
     """
     checked = _check_each(values)
     _check_together(checked)
@@ -404,7 +405,15 @@ def validate_parameters(values: Mapping[str, Any]) -> Dict[str, Any]:
 
 
 def _check_each(values: Mapping[str, Any]) -> Dict[str, Any]:
-    """Return every parameter's value, each checked on its own (see validate_parameters)."""
+    """
+    Return every parameter's value, each checked on its own (see validate_parameters).
+
+    :raises CoreError: ``values`` not a mapping (a list of pairs was taken as no parameter at
+        all: every default, silently; a str raised from inside), or a value the node refuses.
+    """
+    if not isinstance(values, Mapping):
+        raise CoreError('parameters must be a mapping of names to values (a dict), not '
+                        f'{type(values).__name__}')
     return {spec.name: spec.check(values[spec.name]) if spec.name in values
             else spec.check(spec.default) for spec in PARAMETERS}
 
@@ -590,7 +599,8 @@ class DetectorConfig:
         Every value is checked as the node checks it (:func:`validate_parameters`); unknown
         keys are ignored (the node has parameters of its own).
 
-        :raises CoreError: a value the node would refuse, naming the parameter.
+        :raises CoreError: a value the node would refuse, naming the parameter; parameters
+            not a mapping.
         """
         checked = _check_each(parameters)
         profile, geometry = _check_together(checked)

@@ -352,6 +352,12 @@ class Detector:
         """
         Process what is left at the end of a recording and close an open near miss.
 
+        Not a flush: every call returns its events as soon as they are decidable, and a second
+        ``finish`` returns none. Called before the recording ends, it closes the pass in
+        progress: the samples after it start a new one (a second near miss, or a near miss and
+        then the impact, for one pass of the ball finished a few frames before its contact).
+        ``reset()`` starts another recording.
+
         :returns: the remaining events.
         """
         events: List[Event] = []
