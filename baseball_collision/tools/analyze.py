@@ -280,6 +280,18 @@ class AnalysisOptions:
     node_name: str = NODE_NAME
     topic_flags: bool = True
 
+    def __post_init__(self) -> None:
+        """
+        Refuse parameters that are not a mapping of names to values.
+
+        :raises ToolError: a parameter file's path (``load_parameters`` reads it), a list of
+            pairs: each raised AttributeError from inside ``analyze_bag``.
+        """
+        if not isinstance(self.parameters, Mapping):
+            raise ToolError('AnalysisOptions(parameters=...) takes node parameters by name (a '
+                            f'dict), not {type(self.parameters).__name__} {self.parameters!r:.60}'
+                            ' (a parameter file: load_parameters(path))')
+
     def topic(self, role: str) -> Optional[str]:
         """
         Return the topic asked for a role: its flag, else the parameter file's, else None.
@@ -500,11 +512,14 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
         topics or with topics of the wrong type), a bad setting, or a failure writing
         ``out_bag``. A damaged truth file is not an error: it is ignored, with a note
-        (``BagAnalysis.notes``). ``options`` that are not ``AnalysisOptions``.
+        (``BagAnalysis.notes``). ``options`` that are not ``AnalysisOptions``, a path that is
+        not a str or path.
     """
     if not isinstance(options, AnalysisOptions):
         raise ToolError(f'options must be AnalysisOptions, not {type(options).__name__} (node '
                         'parameters as a dict: AnalysisOptions(parameters=values))')
+    if not isinstance(path, (str, os.PathLike)):
+        raise ToolError(f'path must be a bag path (str or Path), not {type(path).__name__}')
     path = Path(path)
     start = time.perf_counter()
     try:

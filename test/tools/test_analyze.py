@@ -521,3 +521,17 @@ def test_a_topic_error_names_where_the_topic_came_from(topic_flags: bool, said: 
                        r'(; --bat-pose-topic overrides it)?\) has type geometry_msgs/msg/'
                        'PointStamped; the bat_pose topic needs'):
         analyze_bag(bag, wrong_type, progress=False)
+
+
+def test_options_and_paths_of_another_kind_are_an_error() -> None:
+    """
+    A parameter file's path or a list of pairs as parameters, None as the bag: one ToolError.
+
+    Each raised AttributeError or TypeError from inside ``analyze_bag``.
+    """
+    for parameters in ('config/impact_node.yaml', [('model', 'linear')]):
+        with pytest.raises(ToolError, match=r'takes node parameters by name .* '
+                           r'\(a parameter file: load_parameters\(path\)\)'):
+            AnalysisOptions(parameters=parameters)
+    with pytest.raises(ToolError, match='path must be a bag path'):
+        analyze_bag(None, progress=False)
