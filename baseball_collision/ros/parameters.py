@@ -11,7 +11,7 @@ read-only); a value rclpy would refuse is declared loosely instead, so that the 
 not rclpy's, says why (:func:`declare`). At runtime :func:`check_change` validates a change
 (a read-only parameter refused with the reason) before rclpy sees it.
 A ``--params-file`` none of whose sections applies to the node (rcl's rules,
-``tools.parameters.section_applies``, which ``analyze --params`` reads a file by) is warned
+``core.detector.section_applies``, which ``analyze --params`` reads a file by) is warned
 about at start-up (:func:`params_file_warnings`).
 """
 
@@ -27,10 +27,9 @@ from rclpy.parameter import Parameter
 from rclpy.validate_topic_name import validate_topic_name
 
 from ..core.detector import (
-    DetectorConfig, Kind, PARAMETERS, ParameterSpec, SPECS, unknown_parameters,
+    DetectorConfig, Kind, PARAMETERS, ParameterSpec, section_applies, SPECS, unknown_parameters,
     validate_parameters)
 from ..errors import CoreError, RosError
-from ..tools.parameters import section_applies
 
 ROS_TYPES = {Kind.BOOL: Parameter.Type.BOOL, Kind.INTEGER: Parameter.Type.INTEGER,
              Kind.DOUBLE: Parameter.Type.DOUBLE, Kind.STRING: Parameter.Type.STRING,

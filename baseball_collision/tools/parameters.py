@@ -3,7 +3,7 @@ Node parameter files for the offline tools: read the ``impact_node``'s YAML, bui
 
 No rclpy: the ROS 2 YAML the ``impact_node`` takes (``<node_name>: ros__parameters:`` and
 ``/**: ros__parameters:`` sections, nested keys joined by ``.``) is read with PyYAML
-(:func:`load_parameters`: the sections rcl applies, :func:`section_applies`), and
+(:func:`load_parameters`: the sections rcl applies, ``core.detector.section_applies``), and
 :func:`build_config` turns it, with command-line overrides, into a
 :class:`~baseball_collision.core.detector.DetectorConfig`. :func:`output_topics` names the
 node's event topics (``--out-bag`` writes them, the demo listens to them).
@@ -14,7 +14,8 @@ from pathlib import Path
 import re
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
 
-from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
+from ..core.detector import (
+    DetectorConfig, node_fqn, NODE_NAME, section_applies, validate_parameters)
 from ..errors import CoreError, ToolError
 
 OFFLINE_MODEL = 'c2'
@@ -126,28 +127,6 @@ def _check_events(events: Iterable[Any], path: Path) -> None:
                                 f'(line {line})')
         elif isinstance(event, yaml.CollectionEndEvent):
             lists.pop()
-
-
-def section_applies(key: str, node_fqn: str) -> bool:
-    """
-    Return whether a params file's section ``key`` applies to the node ``node_fqn``, as rcl's.
-
-    A key without a leading ``/`` is taken from the root; ``*`` stands for one name token and
-    ``**`` for any number of them (none included): ``/**``, ``impact_node``,
-    ``/**/impact_node`` and ``/impact_node/**`` apply to ``/impact_node``, ``/*`` only in the
-    root namespace, ``/cage2/*`` to the nodes of ``/cage2``. The one matching of the node's
-    start-up warning (``ros.parameters.params_file_warnings``) and ``analyze --params``
-    (:func:`load_parameters`), held to rcl's by test (test/ros/test_parameters.py).
-    """
-    pattern = ''
-    for token in (key if key.startswith('/') else '/' + key).split('/')[1:]:
-        pattern += {'**': '(?:/[^/]+)*', '*': '/[^/]+'}.get(token, '/' + re.escape(token))
-    return re.fullmatch(pattern, node_fqn) is not None
-
-
-def node_fqn(node_name: str) -> str:
-    """Return a node's fully qualified name: ``impact_node`` -> ``/impact_node``."""
-    return '/' + node_name.strip('/')
 
 
 def _sections(text: str) -> Optional[List[Tuple[str, Any]]]:

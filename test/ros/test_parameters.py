@@ -10,11 +10,11 @@ from pathlib import Path
 from typing import Any, Callable
 
 from baseball_collision.core.detector import (
-    Kind, PARAMETERS, SPECS, unknown_parameters, validate_parameters)
+    Kind, PARAMETERS, section_applies, SPECS, unknown_parameters, validate_parameters)
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
 from baseball_collision.ros.parameters import params_file_warnings, params_files, start_warnings
-from baseball_collision.tools.parameters import load_parameters, section_applies
+from baseball_collision.tools.parameters import load_parameters
 import pytest
 from rcl_interfaces.msg import ParameterType
 import rclpy

@@ -14,6 +14,7 @@ import difflib
 from enum import Enum
 from functools import lru_cache
 import math
+import re
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
 
 from ..bat import BatProfile, MAX_STATIONS, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
@@ -360,6 +361,29 @@ DEFAULTS: Dict[str, Any] = {spec.name: spec.default for spec in PARAMETERS}
 
 ROS_OWN_PARAMETERS = ('use_sim_time', 'start_type_description_service')
 """Parameters every rclpy node declares itself (and ``qos_overrides.`` names: its QoS)."""
+
+
+def section_applies(key: str, node_fqn: str) -> bool:
+    """
+    Return whether a params file's section ``key`` applies to the node ``node_fqn``, as rcl's.
+
+    A key without a leading ``/`` is taken from the root; ``*`` stands for one name token and
+    ``**`` for any number of them (none included): ``/**``, ``impact_node``,
+    ``/**/impact_node`` and ``/impact_node/**`` apply to ``/impact_node``, ``/*`` only in the
+    root namespace, ``/cage2/*`` to the nodes of ``/cage2``. The one matching of the node's
+    start-up warning (``ros.parameters.params_file_warnings``) and ``analyze --params``
+    (``tools.parameters.load_parameters``), held to rcl's by test
+    (test/ros/test_parameters.py).
+    """
+    pattern = ''
+    for token in (key if key.startswith('/') else '/' + key).split('/')[1:]:
+        pattern += {'**': '(?:/[^/]+)*', '*': '/[^/]+'}.get(token, '/' + re.escape(token))
+    return re.fullmatch(pattern, node_fqn) is not None
+
+
+def node_fqn(node_name: str) -> str:
+    """Return a node's fully qualified name: ``impact_node`` -> ``/impact_node``."""
+    return '/' + node_name.strip('/')
 
 
 def unknown_parameters(names: Iterable[str], node_name: str = NODE_NAME) -> Optional[str]:
