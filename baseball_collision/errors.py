@@ -8,7 +8,8 @@ error to handle just that layer:
   a non-finite point given to the solver, a bat profile that describes no bat, an unknown motion
   model, a detector parameter out of its range.
 * :class:`BagError`: a bag that cannot be read or written (missing, empty, corrupt, truncated,
-  without the needed topics, or with topics of the wrong type).
+  without the needed topics, or with topics of the wrong type: :class:`TopicError` for a topic
+  asked for).
 * :class:`RosError`: a node parameter ROS cannot take, a replay that cannot start.
 * :class:`ToolError`: command-line tools: analysis inputs and outputs, truth files,
   simulations, recordings, the demo.
@@ -25,6 +26,18 @@ class CoreError(BaseballCollisionError, ValueError):
 
 class BagError(BaseballCollisionError):
     """A bag that cannot be read or written as asked."""
+
+
+class TopicError(BagError):
+    """
+    A topic asked for (by a flag, a parameter file) that a bag lacks or has of another type.
+
+    :ivar role: the role it was asked for (``ball``, ``bat_pose``, ``knob``, ``tip``).
+    """
+
+    def __init__(self, message: str, role: str) -> None:
+        super().__init__(message)
+        self.role = role
 
 
 class RosError(BaseballCollisionError):

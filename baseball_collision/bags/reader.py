@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from functools import partial
 import itertools
 import os
-from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Tuple, Union
 
 from rosbags.highlevel import AnyReader
 
@@ -25,7 +25,7 @@ from .decode import (
     values_from_message)
 from .mcap import mcap_spans
 from .selection import (
-    check_selection, ROLES, select_topics, TOPIC_FLAGS, topic_types, TopicSelection)
+    check_selection, given_words, ROLES, select_topics, topic_types, TopicSelection)
 from ..errors import BagError
 from ..threads import ReadAhead
 
@@ -53,13 +53,15 @@ class BagReader(BagFile):
     :param tip: explicit tip topic (only without ``selection``).
     :param prefer_bat: ``'pose'`` or ``'points'``: the bat to auto-select when the bag has both
         (see :func:`select_topics`).
+    :param named: how errors name the topics given, by role (default: by their flags:
+        ``--ball-topic '/x'``; ``selection.given_words``).
     :raises BagError: both a selection and topic names given.
     """
 
     def __init__(self, path: Union[str, os.PathLike], selection: Optional[TopicSelection] = None,
                  *, ball: Optional[str] = None, bat_pose: Optional[str] = None,
                  knob: Optional[str] = None, tip: Optional[str] = None,
-                 prefer_bat: str = 'pose') -> None:
+                 prefer_bat: str = 'pose', named: Optional[Mapping[str, str]] = None) -> None:
         overrides = {'ball': ball, 'bat_pose': bat_pose, 'knob': knob, 'tip': tip}
         if selection is not None and any(v is not None for v in overrides.values()):
             raise BagError('pass either a TopicSelection or topic names, not both')
@@ -67,6 +69,7 @@ class BagReader(BagFile):
         self._given = selection
         self._overrides = overrides
         self._prefer_bat = prefer_bat
+        self._named = named
         self._selection: Optional[TopicSelection] = None
         self._connections: List[Any] = []
         self._routes: Dict[int, Route] = {}
@@ -89,7 +92,7 @@ class BagReader(BagFile):
             raise BagError(f'bag {self.path} contains no messages')
         if self._given is None:
             selection = select_topics(connections, **self._overrides,
-                                      prefer_bat=self._prefer_bat)
+                                      prefer_bat=self._prefer_bat, named=self._named)
         else:
             selection = self._given
             check_selection(selection, self._types)
@@ -97,14 +100,15 @@ class BagReader(BagFile):
         chosen = [c for c in connections if c.topic in role_of]
         for role, topic in selection.topics.items():
             if sum(max(int(c.msgcount), 0) for c in chosen if c.topic == topic) == 0:
-                how = f'{TOPIC_FLAGS[role]} ' if self._given is not None or \
-                    self._overrides.get(role) else f'the {role} topic (found by name and type) '
+                how = given_words(role, topic, self._named) if self._given is not None or \
+                    self._overrides.get(role) else \
+                    f"the {role} topic (found by name and type) '{topic}'"
                 counts = {each.topic: 0 for each in connections}
                 for each in connections:
                     counts[each.topic] += max(int(each.msgcount), 0)
                 listed = ', '.join(f'{name} ({count})' for name, count in counts.items())
                 raise BagError(
-                    f"{how}'{topic}' has no messages in bag {self.path} (the tracker sent "
+                    f'{how} has no messages in bag {self.path} (the tracker sent '
                     f'nothing on it while recording); messages by topic: {listed}')
         routes = {}
         for connection in chosen:

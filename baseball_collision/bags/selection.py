@@ -41,7 +41,7 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Set, 
 from rosbags.highlevel import AnyReader
 
 from .names import POINT_STAMPED, POSE_STAMPED, ROLE_TYPES, ROLES, TOPIC_FLAGS
-from ..errors import BagError
+from ..errors import BagError, TopicError
 
 _HINTS = {
     'ball': ("a PointStamped or PoseStamped with a word starting or ending with 'ball' in "
@@ -211,21 +211,34 @@ def _candidates(role: str, types: Mapping[str, Tuple[str, ...]],
         and _name_matches(role, topic)]
 
 
-def _check_given(role: str, topic: str, types: Mapping[str, Tuple[str, ...]]) -> str:
+def given_words(role: str, topic: str, named: Optional[Mapping[str, str]] = None) -> str:
+    """
+    Return the words an error names a given topic by: ``named[role]``, else its flag and it.
+
+    :param named: how the caller names each topic it gave, by role (a topic from a parameter
+        file: ``ball_topic '/x' (from the parameter file)``); a role not in it is named by its
+        flag: ``--ball-topic '/x'``.
+    """
+    words = named.get(role) if named else None
+    return words or f"{TOPIC_FLAGS[role]} '{topic}'"
+
+
+def _check_given(role: str, topic: str, types: Mapping[str, Tuple[str, ...]],
+                 named: Optional[Mapping[str, str]] = None) -> str:
     """
     Return the message type of an explicitly named topic after checking it fits the role.
 
-    :raises BagError: the topic is not in the bag, or has a type the role does not accept.
+    :param named: how each given topic is named in the error (:func:`given_words`).
+    :raises TopicError: the topic is not in the bag, or has a type the role does not accept.
     """
-    flag = TOPIC_FLAGS[role]
     if topic not in types:
-        raise BagError(
-            f"{flag} '{topic}' is not in the bag; {_describe_topics(types)}")
+        raise TopicError(f'{given_words(role, topic, named)} is not in the bag; '
+                         f'{_describe_topics(types)}', role)
     msgtypes = types[topic]
     if len(msgtypes) != 1 or msgtypes[0] not in ROLE_TYPES[role]:
         wanted = ' or '.join(ROLE_TYPES[role])
-        raise BagError(
-            f"{flag} '{topic}' has type {' | '.join(msgtypes)}; the {role} topic needs {wanted}")
+        raise TopicError(f"{given_words(role, topic, named)} has type {' | '.join(msgtypes)}; "
+                         f'the {role} topic needs {wanted}', role)
     return msgtypes[0]
 
 
@@ -250,7 +263,8 @@ def _pick_one(role: str, candidates: Sequence[str],
 
 def select_topics(source: TopicSource, ball: Optional[str] = None,
                   bat_pose: Optional[str] = None, knob: Optional[str] = None,
-                  tip: Optional[str] = None, prefer_bat: str = 'pose') -> TopicSelection:
+                  tip: Optional[str] = None, prefer_bat: str = 'pose',
+                  named: Optional[Mapping[str, str]] = None) -> TopicSelection:
     """
     Choose the ball and bat topics of a bag: the names given, else auto-detection.
 
@@ -266,10 +280,12 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
     :param knob: knob topic, or None.
     :param tip: tip topic, or None.
     :param prefer_bat: ``'pose'`` or ``'points'``: which bat to take when both are found.
+    :param named: how the caller names the topics it gave, by role, in errors (default: by
+        their flags; :func:`given_words`).
     :returns: the selection.
     :raises BagError: a named topic is missing (the message lists the bag's topics) or has the
-        wrong type; no candidate or several candidates for a role. The message names the flag
-        to pass. ``prefer_bat`` neither ``'pose'`` nor ``'points'``.
+        wrong type (a ``TopicError``); no candidate or several candidates for a role. The
+        message names the flag to pass. ``prefer_bat`` neither ``'pose'`` nor ``'points'``.
     """
     if prefer_bat not in ('pose', 'points'):
         raise BagError(f"prefer_bat must be 'pose' or 'points', got {prefer_bat!r}")
@@ -279,7 +295,7 @@ def select_topics(source: TopicSource, ball: Optional[str] = None,
     chosen_types: Dict[str, str] = {}
     for role, topic in given.items():
         if topic is not None:
-            chosen_types[role] = _check_given(role, topic, types)
+            chosen_types[role] = _check_given(role, topic, types, named)
             chosen[role] = topic
     if bat_pose is not None and (knob is not None or tip is not None):
         raise BagError(

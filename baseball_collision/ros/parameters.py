@@ -11,12 +11,12 @@ read-only); a value rclpy would refuse is declared loosely instead, so that the 
 not rclpy's, says why (:func:`declare`). At runtime :func:`check_change` validates a change
 (a read-only parameter refused with the reason) before rclpy sees it.
 A ``--params-file`` none of whose sections applies to the node (rcl's rules,
-:func:`section_applies`) is warned about at start-up (:func:`params_file_warnings`).
+``core.detector.section_applies``, which ``analyze --params`` reads a file by) is warned
+about at start-up (:func:`params_file_warnings`).
 """
 
 from dataclasses import dataclass
 import math
-import re
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
@@ -27,7 +27,7 @@ from rclpy.parameter import Parameter
 from rclpy.validate_topic_name import validate_topic_name
 
 from ..core.detector import (
-    DetectorConfig, Kind, PARAMETERS, ParameterSpec, SPECS, unknown_parameters,
+    DetectorConfig, Kind, PARAMETERS, ParameterSpec, section_applies, SPECS, unknown_parameters,
     validate_parameters)
 from ..errors import CoreError, RosError
 
@@ -193,21 +193,6 @@ def params_files(args: Sequence[str]) -> List[str]:
         elif ros and word == '--params-file':
             after = True
     return files
-
-
-def section_applies(key: str, node_fqn: str) -> bool:
-    """
-    Return whether a params file's section ``key`` applies to the node ``node_fqn``, as rcl's.
-
-    A key without a leading ``/`` is taken from the root; ``*`` stands for one name token and
-    ``**`` for any number of them (none included): ``/**``, ``impact_node``,
-    ``/**/impact_node`` and ``/impact_node/**`` apply to ``/impact_node``, ``/*`` only in the
-    root namespace, ``/cage2/*`` to the nodes of ``/cage2``.
-    """
-    pattern = ''
-    for token in (key if key.startswith('/') else '/' + key).split('/')[1:]:
-        pattern += {'**': '(?:/[^/]+)*', '*': '/[^/]+'}.get(token, '/' + re.escape(token))
-    return re.fullmatch(pattern, node_fqn) is not None
 
 
 def params_file_warnings(args: Sequence[str], node_fqn: str) -> List[str]:

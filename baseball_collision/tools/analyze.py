@@ -263,6 +263,9 @@ class AnalysisOptions:
     :ivar bat_radius: ``--bat-radius`` (m).
     :ivar prediction_horizon: ``--predict`` horizon (s).
     :ivar node_name: the node whose output topics ``--out-bag`` writes.
+    :ivar topic_flags: the caller has the topic flags (``analyze``'s command line): an error
+        about a topic from the parameter file names the flag that overrides it; False (the
+        demo, which replays a bag's own topics): it does not.
     """
 
     ball_topic: Optional[str] = None
@@ -275,6 +278,19 @@ class AnalysisOptions:
     bat_radius: Optional[float] = None
     prediction_horizon: Optional[float] = None
     node_name: str = NODE_NAME
+    topic_flags: bool = True
+
+    def __post_init__(self) -> None:
+        """
+        Refuse parameters that are not a mapping of names to values.
+
+        :raises ToolError: a parameter file's path (``load_parameters`` reads it), a list of
+            pairs: each raised AttributeError from inside ``analyze_bag``.
+        """
+        if not isinstance(self.parameters, Mapping):
+            raise ToolError('AnalysisOptions(parameters=...) takes node parameters by name (a '
+                            f'dict), not {type(self.parameters).__name__} {self.parameters!r:.60}'
+                            ' (a parameter file: load_parameters(path))')
 
     def topic(self, role: str) -> Optional[str]:
         """
@@ -296,11 +312,29 @@ class AnalysisOptions:
         name = self.parameters.get(TOPIC_PARAMETERS[role])
         return resolve_topic(name, self.node_name) if name else None
 
+    def named(self) -> Dict[str, str]:
+        """
+        Return how the bag's errors name each topic the parameter file gave, by role.
+
+        By its parameter, where it came from and the flag that overrides it:
+        ``ball_topic '/x' (from the parameter file; --ball-topic overrides it)`` (without the
+        flag where the caller has none: ``topic_flags``). A topic a flag gave is named by its
+        flag, the reader's default.
+        """
+        named = {}
+        for role, flag in TOPIC_FLAGS.items():
+            topic = self.topic(role)
+            if topic and getattr(self, f'{role}_topic') is None:
+                named[role] = f"{TOPIC_PARAMETERS[role]} '{topic}' (from the parameter file" + \
+                    (f'; {flag} overrides it)' if self.topic_flags else ')')
+        return named
+
     def reader(self, path: os.PathLike) -> BagReader:
         """Return an unopened reader of ``path`` with these topic choices."""
         prefer = 'points' if self.parameters.get('bat_input') == 'points' else 'pose'
         return BagReader(path, ball=self.topic('ball'), bat_pose=self.topic('bat_pose'),
-                         knob=self.topic('knob'), tip=self.topic('tip'), prefer_bat=prefer)
+                         knob=self.topic('knob'), tip=self.topic('tip'), prefer_bat=prefer,
+                         named=self.named())
 
 
 # ----------------------------------------------------------------------------------------------
@@ -460,24 +494,6 @@ def progress_bar(total: int, label: str) -> Any:
                 leave=False, dynamic_ncols=True)
 
 
-def from_the_file(message: str, options: AnalysisOptions) -> str:
-    """
-    Return a bag error reworded where it names a topic that came from the parameter file.
-
-    The reader names a topic by its flag (``--ball-topic '/x' is not in the bag``); a topic no
-    flag gave but ``--params`` did is named by its parameter instead, with the flag that
-    overrides it: ``ball_topic '/x' (from the parameter file; --ball-topic overrides it) is
-    not in the bag``.
-    """
-    for role, flag in TOPIC_FLAGS.items():
-        topic = options.topic(role)
-        if getattr(options, f'{role}_topic') is None and topic:
-            message = message.replace(
-                f"{flag} '{topic}'", f"{TOPIC_PARAMETERS[role]} '{topic}' (from the parameter "
-                f'file; {flag} overrides it)', 1)
-    return message
-
-
 def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = AnalysisOptions(), *,
                 out_bag: Optional['BagWriter'] = None, progress: bool = True,
                 use_truth: bool = True, read_ahead: int = 1) -> BagAnalysis:
@@ -496,11 +512,14 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     :raises ToolError: the bag cannot be read (missing, empty, corrupt, without the needed
         topics or with topics of the wrong type), a bad setting, or a failure writing
         ``out_bag``. A damaged truth file is not an error: it is ignored, with a note
-        (``BagAnalysis.notes``). ``options`` that are not ``AnalysisOptions``.
+        (``BagAnalysis.notes``). ``options`` that are not ``AnalysisOptions``, a path that is
+        not a str or path.
     """
     if not isinstance(options, AnalysisOptions):
         raise ToolError(f'options must be AnalysisOptions, not {type(options).__name__} (node '
                         'parameters as a dict: AnalysisOptions(parameters=values))')
+    if not isinstance(path, (str, os.PathLike)):
+        raise ToolError(f'path must be a bag path (str or Path), not {type(path).__name__}')
     path = Path(path)
     start = time.perf_counter()
     try:
@@ -539,7 +558,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                 if copy is not None:
                     copy.release()
     except BagError as error:
-        raise ToolError(from_the_file(str(error), options)) from error
+        raise ToolError(str(error)) from error
     result.seconds = time.perf_counter() - start
     result.stats = detector.stats
     result.noise = detector.noise

@@ -391,11 +391,12 @@ def _add_analyze(commands: Any) -> None:
     analyze.add_argument('--jobs', type=_count, default=None, metavar='N',
                          help="bags analysed (and with --plot, bags' figures drawn) at once, "
                          'each in its own process (default: the number of cores)')
-    analyze.add_argument('--params', metavar='YAML', help="the node's parameter file "
-                         '(<node_name>: or /**: ros__parameters:)')
+    analyze.add_argument('--params', metavar='YAML', help="the node's parameter file: the "
+                         'sections the node takes, as rcl applies them (/**:, /*:, '
+                         '<node_name>:, wildcards; later over earlier) ros__parameters:')
     analyze.add_argument('--node-name', default=NODE_NAME,
-                         help='node section to read in --params and node of the --out-bag '
-                         'topics (default impact_node)')
+                         help='the node whose sections of --params apply (with its namespace: '
+                         'cage2/impact_node) and of the --out-bag topics (default impact_node)')
     analyze.add_argument('--model', choices=MODELS,
                          help='motion model between samples (default: --params, else c2 with '
                          'look_ahead 2 and tracker_noise auto)')

@@ -26,7 +26,6 @@ import math
 import os
 from pathlib import Path
 import random
-import re
 import signal
 import subprocess
 import sys
@@ -41,7 +40,7 @@ from .report import truth_line
 from .truth import compare_truth, load_truth
 from ..core.detector import MPS_TO_MPH
 from ..core.geometry import norm, Vector
-from ..errors import RosError, ToolError
+from ..errors import RosError, ToolError, TopicError
 
 PACKAGE = 'baseball_collision'
 DEMO_BAG = 'bags/pitches_360hz.mcap'
@@ -295,14 +294,13 @@ def run_demo(bag: Optional[Path] = None, params: Optional[Path] = None, rate: fl
     bag = Path(bag) if bag is not None else bundled(DEMO_BAG)
     params = Path(params) if params is not None else bundled(DEMO_PARAMS)
     try:
-        offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
-                              progress=False)
+        offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params),
+                                                   topic_flags=False), progress=False)
     except ToolError as error:  # the demo has no topic flags: the bag's topics are replayed
-        words = re.sub(r'; --[a-z-]+-topic overrides it\)', ')', str(error))
-        if words != str(error):
-            words += (f" (the demo replays {bag.name}'s own topics: give --params a file whose "
-                      "topics are the bag's)")
-        raise ToolError(words) from error
+        if not isinstance(error.__cause__, TopicError):
+            raise
+        raise ToolError(f"{error} (the demo replays {bag.name}'s own topics: give --params a "
+                        "file whose topics are the bag's)") from error
     env = isolated_environment(domain)
     os.environ.update({key: env[key] for key in ('ROS_DOMAIN_ID',
                                                  'ROS_AUTOMATIC_DISCOVERY_RANGE')})

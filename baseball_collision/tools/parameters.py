@@ -3,7 +3,8 @@ Node parameter files for the offline tools: read the ``impact_node``'s YAML, bui
 
 No rclpy: the ROS 2 YAML the ``impact_node`` takes (``<node_name>: ros__parameters:`` and
 ``/**: ros__parameters:`` sections, nested keys joined by ``.``) is read with PyYAML
-(:func:`load_parameters`), and :func:`build_config` turns it, with command-line overrides, into a
+(:func:`load_parameters`: the sections rcl applies, ``core.detector.section_applies``), and
+:func:`build_config` turns it, with command-line overrides, into a
 :class:`~baseball_collision.core.detector.DetectorConfig`. :func:`output_topics` names the
 node's event topics (``--out-bag`` writes them, the demo listens to them).
 """
@@ -11,9 +12,10 @@ node's event topics (``--out-bag`` writes them, the demo listens to them).
 import os
 from pathlib import Path
 import re
-from typing import Any, Dict, Iterable, List, Mapping, Optional
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
 
-from ..core.detector import DetectorConfig, NODE_NAME, validate_parameters
+from ..core.detector import (
+    DetectorConfig, node_fqn, NODE_NAME, section_applies, validate_parameters)
 from ..errors import CoreError, ToolError
 
 OFFLINE_MODEL = 'c2'
@@ -127,21 +129,43 @@ def _check_events(events: Iterable[Any], path: Path) -> None:
             lists.pop()
 
 
+def _sections(text: str) -> Optional[List[Tuple[str, Any]]]:
+    """
+    Return a params file's top-level sections as (key, value) pairs in file order.
+
+    A key given twice is one section at its first place, its values merged (the later wins),
+    as rcl keeps it (PyYAML keeps only the later value). None: the document is no mapping.
+    """
+    import yaml
+
+    root = yaml.compose(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader))
+    if not isinstance(root, yaml.MappingNode):
+        return None
+    constructor = yaml.constructor.SafeConstructor()
+    sections: Dict[str, List[Any]] = {}
+    for key, value in root.value:
+        sections.setdefault(str(constructor.construct_document(key)), []).append(
+            constructor.construct_document(value))
+    return list(sections.items())
+
+
 def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, Any]:
     """
     Read the parameters a ROS 2 node would take from a ``--params-file`` YAML, checked as it does.
 
-    Sections used, in this order (later ones win, as for the node): ``/**`` (or ``**``), then
-    every key naming the node: ``<node_name>``, ``/<node_name>``, or a path ending in
-    ``/<node_name>`` (a namespaced node). Each section's ``ros__parameters`` mapping is
-    flattened: nested mappings become ``outer.inner`` names. The values are checked with the
-    node's rules (``core.detector.validate_parameters``): a file the node would refuse is
-    refused with the same message: also a list mixing value types (``[0, 0.5]``: rcl's parser
-    refuses it) and a topic name ROS refuses. YAML aliases, nesting deeper than 32 levels and
-    lists longer than 4096 values are refused as the file is parsed.
+    The sections rcl applies to the node (:func:`section_applies`: ``/**``, ``/*``,
+    ``<node_name>``, ``/<ns>/<node_name>``, wildcards such as ``/**/<node_name>``), with rcl's
+    precedence: in the file's order, a later section over an earlier one, whichever is more
+    specific (a key given twice counts at its first place, its values merged). Each section's
+    ``ros__parameters`` mapping is flattened: nested mappings become ``outer.inner`` names. The
+    values are checked with the node's rules (``core.detector.validate_parameters``): a file
+    the node would refuse is refused with the same message: also a list mixing value types
+    (``[0, 0.5]``: rcl's parser refuses it) and a topic name ROS refuses. YAML aliases, nesting
+    deeper than 32 levels and lists longer than 4096 values are refused as the file is parsed.
 
     :param path: the YAML file.
-    :param node_name: the node's name.
+    :param node_name: the node's name, with its namespace for a node under one
+        (``cage2/impact_node``).
     :returns: ``{parameter name: value}`` as the file gives them (names the node does not know
         included).
     :raises ToolError: the file is missing or not YAML, has aliases, deep nesting or a long
@@ -153,35 +177,34 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
     path = Path(path)
     try:
         text = path.read_text()
-        # checked lazily event by event (stops at the first problem), then loaded by libyaml
+        # checked lazily event by event (stops at the first problem), then composed by libyaml
         _check_events(yaml.parse(text, Loader=yaml.SafeLoader), path)
-        document = yaml.load(text, Loader=getattr(yaml, 'CSafeLoader', yaml.SafeLoader))
+        sections = _sections(text)
     except OSError as error:
         raise ToolError(f'cannot read parameter file {path}: {error.strerror}') from error
     except yaml.YAMLError as error:
         first = str(error).strip().splitlines()[0] if str(error).strip() else 'invalid'
         raise ToolError(f'parameter file {path} is not valid YAML: {first}') from error
-    if not isinstance(document, Mapping):
+    if sections is None:
         raise ToolError(f'parameter file {path} is not a mapping of node names')
-    wildcard = [key for key in document if str(key) in ('/**', '**')]
-    named = [key for key in document if str(key).strip('/') == node_name
-             or str(key).endswith(f'/{node_name}')]
-    if not wildcard and not named:
-        found = ', '.join(str(key) for key in document) or 'nothing'
+    fqn = node_fqn(node_name)
+    applied = [(key, values) for key, values in sections if section_applies(key, fqn)]
+    if not applied:
+        found = ', '.join(key for key, _ in sections) or 'nothing'
         raise ToolError(
-            f"parameter file {path} has no section for node '{node_name}' or '/**' "
-            f'(found: {found})')
+            f"parameter file {path} has no section for node '{fqn}' (found: {found}): name "
+            "the section '/**' or the node's name")
     parameters: Dict[str, Any] = {}
-    for key in wildcard + named:
-        section = document[key]
-        inner = section.get('ros__parameters') if isinstance(section, Mapping) else None
-        if not isinstance(inner, Mapping):
-            raise ToolError(
-                f"parameter file {path}: section '{key}' has no ros__parameters mapping")
-        mixed = _mixed_sequences('', inner)
-        if mixed:
-            raise ToolError(f'parameter file {path}: {mixed}')
-        _flatten('', inner, parameters)
+    for key, values in applied:
+        for section in values:
+            inner = section.get('ros__parameters') if isinstance(section, Mapping) else None
+            if not isinstance(inner, Mapping):
+                raise ToolError(
+                    f"parameter file {path}: section '{key}' has no ros__parameters mapping")
+            mixed = _mixed_sequences('', inner)
+            if mixed:
+                raise ToolError(f'parameter file {path}: {mixed}')
+            _flatten('', inner, parameters)
     try:
         validate_parameters(parameters)
     except CoreError as error:

@@ -306,9 +306,22 @@ class Fed:
         self.events: List[Any] = []
 
     def offer(self, role: str, stamp: int, values: Any, frame: str) -> None:
-        """Offer one sample; record whether it was accepted and what it made."""
+        """
+        Offer one sample; record whether it was accepted and what it made.
+
+        Values of ``GARBAGE`` for an input the detector takes are refused (a ``CoreError``,
+        nothing counted): not offered.
+        """
+        stats = self.detector.stats
+        before = (dict(stats.received), dict(stats.dropped))
+        try:
+            events = self.detector.add(role, stamp, values, frame)
+        except CoreError:
+            assert any(values is garbage for garbage in GARBAGE), values
+            assert (dict(stats.received), dict(stats.dropped)) == before
+            return
         self.offered += 1
-        self.events += self.detector.add(role, stamp, values, frame)
+        self.events += events
         self._late()
         if self.detector.stats.last_drop_reason is None:
             self.accepted += 1
@@ -400,7 +413,8 @@ FAR_STAMP_FAULTS = ('negative', 'zero')
 """Stamps far before every other (an unset header stamp): see ``test_detector_far_stamps_*``."""
 
 GARBAGE = ('abc', (1.0, 2.0), (), ('x', 0.0, 0.0), [[0.0]] * 3, (None,) * 7)
-"""Values that are not numbers; ``None`` and plain numbers: ``test_add_takes_any_values``."""
+"""Values that are not numbers of the role's shape (``Detector.add`` refuses them with a
+``CoreError``: ``Fed.offer``); None and numbers: ``test_add_refuses_any_other_values``."""
 
 
 def _faulty_values(rng: random.Random, fault: str, role: str, t: float,
@@ -726,7 +740,7 @@ def _interleave(rng: random.Random, bat_input: str, model: str, height: float,
         kind = rng.choice(kinds)
         ball = _barrel(t)
         between = stamp + rng.randint(1, 2_000_000)  # a new stamp before the next frame
-        reason = 'non_finite' if kind == 'garbage' else kind
+        reason = kind  # (garbage is refused: not offered, ``Fed.offer``)
         if kind in ('non_finite', 'garbage'):
             role = rng.choice(roles)
             values: Any = list(ball if role == 'ball' else _good(role, t, height))
@@ -772,7 +786,8 @@ def _interleave(rng: random.Random, bat_input: str, model: str, height: float,
             knob, tip = swing(t)
             mixed.append(('knob', between, tuple(knob), 'world'))
             mixed.append(('tip', between, tuple(knob + 2.5 * (tip - knob)), 'world'))
-        expected[reason] = expected.get(reason, 0) + 1
+        if kind != 'garbage':
+            expected[reason] = expected.get(reason, 0) + 1
 
     for i in range(72):
         t = i / 360.0
@@ -913,20 +928,24 @@ def test_detector_huge_coordinates_never_raise() -> None:
     check_accounting(fed)
 
 
-def test_add_takes_any_values() -> None:
+def test_add_refuses_any_other_values() -> None:
     """
-    ``Detector.add`` drops values that cannot be sliced (None, a number) as non_finite.
+    ``Detector.add`` refuses values that cannot be sliced (None, a number) with a CoreError.
 
-    ``add('bat_pose', stamp, None)`` raises TypeError: ``values[:3]`` is taken in ``add``,
-    outside the handler's guard (``add_bat_pose`` and the other roles drop them).
+    ``add('bat_pose', stamp, None)`` raised TypeError: ``values[:3]`` was taken in ``add``,
+    outside the handler's guard. The other bat mode's input is dropped before its values are
+    looked at (``unexpected_input``).
     """
     for bat_input in ('pose', 'points'):
         detector = Detector(DetectorConfig(bat_input=bat_input))
         for role in Detector.ROLES:
             for values in (None, 5, 1.5, object()):
-                assert detector.add(role, BASE_NS, values, 'world') == []
-        dropped = detector.stats.dropped
-        assert dropped['non_finite'] + dropped['unexpected_input'] == 16
+                if role == 'ball' or (role == 'bat_pose') == (bat_input == 'pose'):
+                    with pytest.raises(CoreError, match=f'{role} values must be'):
+                        detector.add(role, BASE_NS, values, 'world')
+                else:
+                    assert detector.add(role, BASE_NS, values, 'world') == []
+        assert detector.stats.dropped == {'unexpected_input': 8 if bat_input == 'pose' else 4}
 
 
 def test_unset_header_stamp_then_nanosecond_steps() -> None:

@@ -10,11 +10,10 @@ from pathlib import Path
 from typing import Any, Callable
 
 from baseball_collision.core.detector import (
-    Kind, PARAMETERS, SPECS, unknown_parameters, validate_parameters)
+    Kind, PARAMETERS, section_applies, SPECS, unknown_parameters, validate_parameters)
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
-from baseball_collision.ros.parameters import (
-    params_file_warnings, params_files, section_applies, start_warnings)
+from baseball_collision.ros.parameters import params_file_warnings, params_files, start_warnings
 from baseball_collision.tools.parameters import load_parameters
 import pytest
 from rcl_interfaces.msg import ParameterType
@@ -123,6 +122,65 @@ def test_a_section_applies_where_rcl_applies_it(
             assert section_applies(key, node.get_fully_qualified_name()) == applied, key
         finally:
             node.destroy_node()
+
+
+FILES = {  # params files whose sections rcl applies or not, several setting one parameter
+    'wildcards': ['/**: {max_gap: 0.061}', '/*: {max_gap: 0.062, rearm_distance: 0.21}',
+                  '/**/impact_node: {near_miss_threshold: 0.16}'],
+    'the named section first': ['impact_node: {max_gap: 0.063, ball_radius: 0.037}',
+                                '/**: {max_gap: 0.064}'],
+    'the named section last': ['/**: {max_gap: 0.064, ball_radius: 0.038}',
+                               'impact_node: {max_gap: 0.063}'],
+    'relative, absolute and wildcard': ['/impact_node: {max_gap: 0.065}',
+                                        'impact_node: {rearm_distance: 0.22}',
+                                        '/impact_node/**: {max_gap: 0.066}'],
+    'another node and another namespace': ['other_node: {max_gap: 0.07}',
+                                           '/cage2/impact_node: {max_gap: 0.071}',
+                                           '/**: {rearm_distance: 0.23}',
+                                           '/cage2/*: {ball_radius: 0.039}'],
+    'a key given twice': ['/*: {max_gap: 0.072}', 'impact_node: {max_gap: 0.073}',
+                          '/*: {max_gap: 0.074, rearm_distance: 0.24}'],
+}
+"""Each section as ``key: {parameter: value}``, under ``ros__parameters``, in file order."""
+
+
+@pytest.mark.parametrize('namespace', ['/', '/cage2'])
+@pytest.mark.parametrize('name', list(FILES))
+def test_analyze_reads_the_parameters_the_node_takes(
+        tmp_path: Path, context: Callable[..., rclpy.Context], name: str,
+        namespace: str) -> None:
+    """
+    The parameters ``analyze --params`` reads are the node's: rcl's sections and precedence.
+
+    rcl applies every section matching the node in the file's order, a later one over an
+    earlier whatever their specificity (a key given twice counts at its first place); analyze
+    read '/**' first and then every key ending in the node's name ('/cage2/impact_node' for
+    '/impact_node' too), and knew neither '/*' nor the file's order.
+    """
+    params = tmp_path / 'p.yaml'
+    sections = [section.split(': ', 1) for section in FILES[name]]
+    params.write_text(''.join(f'"{key}":\n  ros__parameters: {values}\n'
+                              for key, values in sections))
+    node = ImpactNode(namespace=namespace, context=context('--params-file', str(params)))
+    try:
+        fqn = node.get_fully_qualified_name()
+        try:
+            read = load_parameters(params, fqn)
+        except ToolError as error:  # no section applies: the node runs on its defaults
+            assert 'has no section for node' in str(error)
+            read = {}
+        expected = validate_parameters(read)  # (every parameter: the file's, else default)
+        for spec in PARAMETERS:
+            value = node.get_parameter(spec.name).value
+            assert _plain(value) == _plain(expected[spec.name]), (spec.name, fqn)
+        assert any(value != SPECS[key].default for key, value in read.items()) or not read
+    finally:
+        node.destroy_node()
+
+
+def _plain(value: Any) -> Any:
+    """Return a parameter's value with an array (rclpy's ``array('d')``, a tuple) as a list."""
+    return value if isinstance(value, (str, bool, int, float)) or value is None else list(value)
 
 
 def test_a_params_file_for_another_node_is_named(tmp_path: Path) -> None:

@@ -33,7 +33,7 @@ from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_ST
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
     StreamGap)
-from baseball_collision.errors import ToolError
+from baseball_collision.errors import ToolError, TopicError
 import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
@@ -489,3 +489,49 @@ def test_header_stamps_all_zero_are_named_as_such(tmp_path: Path, run_cli: RunCl
     assert code == 2 and len(stderr.splitlines()) == 1
     assert 'every sample of /ball (20) and /bat_pose (20) was dropped (bad_stamp); their ' \
         'header stamps are zero' in stderr and 'needs real stamps' in stderr
+
+
+@pytest.mark.parametrize('topic_flags, said', [
+    (True, "ball_topic '/tracking/ball' (from the parameter file; --ball-topic overrides it) "
+           'is not in the bag; topics: /ball'),
+    (False, "ball_topic '/tracking/ball' (from the parameter file) is not in the bag; topics: "
+            '/ball'),
+])
+def test_a_topic_error_names_where_the_topic_came_from(topic_flags: bool, said: str) -> None:
+    """
+    A topic the parameter file gave is named by its parameter; one a flag gave, by the flag.
+
+    The reader names the topics as ``AnalysisOptions.named`` says (the caller with topic flags
+    or without: the demo); the error's cause is a ``TopicError`` naming the role. Those words
+    were made by rewriting the reader's message (``--ball-topic '/x'``) afterwards, and the
+    demo rewrote that again with a regex to drop the flag.
+    """
+    bag = bag_path('pitches_90hz.mcap')
+    from_file = AnalysisOptions(parameters={'ball_topic': 'tracking/ball'},
+                                topic_flags=topic_flags)
+    with pytest.raises(ToolError) as raised:
+        analyze_bag(bag, from_file, progress=False)
+    assert str(raised.value).startswith(said) and '\n' not in str(raised.value)
+    assert isinstance(raised.value.__cause__, TopicError)
+    assert raised.value.__cause__.role == 'ball'
+    with pytest.raises(ToolError, match=r"^--ball-topic '/tracking/ball' is not in the bag"):
+        analyze_bag(bag, replace(from_file, ball_topic='/tracking/ball'), progress=False)
+    wrong_type = AnalysisOptions(parameters={'bat_pose_topic': '/ball'}, topic_flags=topic_flags)
+    with pytest.raises(ToolError, match=r"^bat_pose_topic '/ball' \(from the parameter file"
+                       r'(; --bat-pose-topic overrides it)?\) has type geometry_msgs/msg/'
+                       'PointStamped; the bat_pose topic needs'):
+        analyze_bag(bag, wrong_type, progress=False)
+
+
+def test_options_and_paths_of_another_kind_are_an_error() -> None:
+    """
+    A parameter file's path or a list of pairs as parameters, None as the bag: one ToolError.
+
+    Each raised AttributeError or TypeError from inside ``analyze_bag``.
+    """
+    for parameters in ('config/impact_node.yaml', [('model', 'linear')]):
+        with pytest.raises(ToolError, match=r'takes node parameters by name .* '
+                           r'\(a parameter file: load_parameters\(path\)\)'):
+            AnalysisOptions(parameters=parameters)
+    with pytest.raises(ToolError, match='path must be a bag path'):
+        analyze_bag(None, progress=False)

@@ -34,16 +34,23 @@ def test_the_bundled_parameter_files_parse() -> None:
 
 
 def test_wildcard_named_and_nested_sections(tmp_path: Path) -> None:
-    """'/**' applies first, the node's own section wins; nested keys join with dots."""
+    """
+    '/**' applies, then the node's own section (later in the file: it wins); nested keys join.
+
+    A section under a namespace applies to the node of that namespace only, as in rcl (the
+    node's own parameters against these files: test/ros/test_parameters.py).
+    """
     path = _write(tmp_path / 'p.yaml', '\n'.join([
         '/**:', '  ros__parameters:', '    model: linear', '    ball_radius: 0.04',
         '    use_sim_time: true',
         '/team/impact_node:', '  ros__parameters:', '    model: spline',
         '    extra:', '      depth: 3',
         'other_node:', '  ros__parameters:', '    model: rigid']))
-    parameters = load_parameters(path)
+    parameters = load_parameters(path, 'team/impact_node')
     assert parameters == {'model': 'spline', 'ball_radius': 0.04, 'use_sim_time': True,
                           'extra.depth': 3}
+    assert load_parameters(path) == {'model': 'linear', 'ball_radius': 0.04,
+                                     'use_sim_time': True}
     only_wildcard = _write(tmp_path / 'w.yaml', '/**:\n  ros__parameters:\n    max_gap: 1\n')
     config = build_config(load_parameters(only_wildcard), bat_input='pose')
     assert config.max_gap == 1.0 and config.model == OFFLINE_MODEL
@@ -51,7 +58,7 @@ def test_wildcard_named_and_nested_sections(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize('text, words', [
     ('other:\n  ros__parameters:\n    model: rigid\n',
-     ["no section for node 'impact_node'", 'other']),
+     ["no section for node '/impact_node'", 'other']),
     ('impact_node:\n  model: rigid\n', ['no ros__parameters']),
     ('impact_node: [unclosed\n', ['not valid YAML']),
     ('- a\n- b\n', ['not a mapping']),

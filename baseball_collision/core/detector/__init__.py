@@ -1,8 +1,8 @@
 """The stream detector: samples in, impact and near-miss events out."""
 
 from .config import (
-    AUTO_NOISE, DEFAULTS, DetectorConfig, Kind, NODE_NAME, PARAMETERS, ParameterSpec, Range, SPECS,
-    unit_vector, unknown_parameters, validate_parameters)
+    AUTO_NOISE, DEFAULTS, DetectorConfig, Kind, node_fqn, NODE_NAME, PARAMETERS, ParameterSpec,
+    Range, section_applies, SPECS, unit_vector, unknown_parameters, validate_parameters)
 from .detector import Detector
 from .events import (
     DetectorStats, DROP_REASONS, DropReason, Event, Impact, MPS_TO_MPH, NearMiss, Prediction,
@@ -20,5 +20,5 @@ __all__ = [
     'Feature', 'ResetReason', 'Role', 'PendingUncertainty',
     # the parameter table (config.py)
     'AUTO_NOISE', 'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
-    'validate_parameters', 'unknown_parameters', 'unit_vector',
+    'validate_parameters', 'unknown_parameters', 'unit_vector', 'section_applies', 'node_fqn',
 ]

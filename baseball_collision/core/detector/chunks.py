@@ -155,13 +155,16 @@ def feed_chunk(detector: 'Detector', roles: Sequence[int], stamps_ns: Sequence[i
     intake, clock), which a reset mid-chunk replaces. Arguments and errors as ``add_chunk``.
     """
     given_roles, given_stamps = np.asarray(roles), np.asarray(stamps_ns)
+    if given_roles.ndim != 1 or given_stamps.ndim != 1:
+        raise CoreError('a chunk takes one role code and one stamp per sample (1-d arrays), got '
+                        f'arrays of shape {given_roles.shape} and {given_stamps.shape}')
     if given_roles.dtype.kind not in 'iu' or given_stamps.dtype.kind not in 'iu':
         raise CoreError('a chunk takes integer role codes (Detector.ROLES: 0 ball, 1 bat_pose, '
                         '2 knob, 3 tip) and integer stamps in ns, got arrays of '
                         f'{given_roles.dtype} and {given_stamps.dtype}')
     if len(given_roles) and (given_roles.min() < 0 or given_roles.max() >= len(detector.ROLES)):
         raise CoreError(f'role codes must be 0-{len(detector.ROLES) - 1}')
-    if frame_ids is None or isinstance(frame_ids, str):
+    if frame_ids is None or isinstance(frame_ids, str) or not hasattr(frame_ids, '__len__'):
         raise CoreError('frame_ids: one frame_id per sample (a sequence of str), not '
                         f'{frame_ids!r}')
     if given_stamps.dtype == np.uint64 and len(given_stamps) and \

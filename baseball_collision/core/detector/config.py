@@ -14,6 +14,7 @@ import difflib
 from enum import Enum
 from functools import lru_cache
 import math
+import re
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
 
 from ..bat import BatProfile, MAX_STATIONS, PoseBatGeometry, SWEET_SPOT_FROM_TIP, WOOD_BAT_34
@@ -362,6 +363,29 @@ ROS_OWN_PARAMETERS = ('use_sim_time', 'start_type_description_service')
 """Parameters every rclpy node declares itself (and ``qos_overrides.`` names: its QoS)."""
 
 
+def section_applies(key: str, node_fqn: str) -> bool:
+    """
+    Return whether a params file's section ``key`` applies to the node ``node_fqn``, as rcl's.
+
+    A key without a leading ``/`` is taken from the root; ``*`` stands for one name token and
+    ``**`` for any number of them (none included): ``/**``, ``impact_node``,
+    ``/**/impact_node`` and ``/impact_node/**`` apply to ``/impact_node``, ``/*`` only in the
+    root namespace, ``/cage2/*`` to the nodes of ``/cage2``. The one matching of the node's
+    start-up warning (``ros.parameters.params_file_warnings``) and ``analyze --params``
+    (``tools.parameters.load_parameters``), held to rcl's by test
+    (test/ros/test_parameters.py).
+    """
+    pattern = ''
+    for token in (key if key.startswith('/') else '/' + key).split('/')[1:]:
+        pattern += {'**': '(?:/[^/]+)*', '*': '/[^/]+'}.get(token, '/' + re.escape(token))
+    return re.fullmatch(pattern, node_fqn) is not None
+
+
+def node_fqn(node_name: str) -> str:
+    """Return a node's fully qualified name: ``impact_node`` -> ``/impact_node``."""
+    return '/' + node_name.strip('/')
+
+
 def unknown_parameters(names: Iterable[str], node_name: str = NODE_NAME) -> Optional[str]:
     """
     Return a warning naming the parameters among ``names`` the node does not have, or None.
@@ -396,7 +420,8 @@ def validate_parameters(values: Mapping[str, Any]) -> Dict[str, Any]:
         the table are ignored (the node warns about them), ``None`` for an array means unset.
     :returns: ``{name: value}`` for every parameter of :data:`PARAMETERS`: doubles as float,
         arrays as lists of floats.
-    :raises CoreError: the first value the node would refuse: one line naming the parameter.
+    :raises CoreError: the first value the node would refuse: one line naming the parameter;
+        ``values`` not a mapping.
     """
     checked = _check_each(values)
     _check_together(checked)
@@ -404,7 +429,15 @@ def validate_parameters(values: Mapping[str, Any]) -> Dict[str, Any]:
 
 
 def _check_each(values: Mapping[str, Any]) -> Dict[str, Any]:
-    """Return every parameter's value, each checked on its own (see validate_parameters)."""
+    """
+    Return every parameter's value, each checked on its own (see validate_parameters).
+
+    :raises CoreError: ``values`` not a mapping (a list of pairs was taken as no parameter at
+        all: every default, silently; a str raised from inside), or a value the node refuses.
+    """
+    if not isinstance(values, Mapping):
+        raise CoreError('parameters must be a mapping of names to values (a dict), not '
+                        f'{type(values).__name__}')
     return {spec.name: spec.check(values[spec.name]) if spec.name in values
             else spec.check(spec.default) for spec in PARAMETERS}
 
@@ -590,7 +623,8 @@ class DetectorConfig:
         Every value is checked as the node checks it (:func:`validate_parameters`); unknown
         keys are ignored (the node has parameters of its own).
 
-        :raises CoreError: a value the node would refuse, naming the parameter.
+        :raises CoreError: a value the node would refuse, naming the parameter; parameters
+            not a mapping.
         """
         checked = _check_each(parameters)
         profile, geometry = _check_together(checked)

@@ -38,7 +38,7 @@ from .episodes import bat_at_rest, EpisodeTracker
 from .events import DetectorStats, DropReason, Event, Impact, ResetReason, Role, StateReset
 from .gate import (
     Clock, FAR_AHEAD_NS, finite_point, frame_check, frame_text, integer_stamp, LengthCheck,
-    lost_body, speed_check, unit_pose)
+    lost_body, speed_check, unit_pose, values_error)
 from .intake import Intake, Offer
 from .noise import NoiseEstimate, record
 from .pairing import Pairing
@@ -270,12 +270,20 @@ class Detector:
 
     def add_ball(self, stamp_ns: int, position: Sequence[float],
                  frame_id: str = '') -> List[Event]:
-        """Add a ball centre (m) stamped ``stamp_ns`` (ns); return the events it made decidable."""
+        """
+        Add a ball centre (m) stamped ``stamp_ns`` (ns); return the events it made decidable.
+
+        :raises CoreError: as ``add``.
+        """
         return self._timed(self._check_point, _BALL, stamp_ns, position, frame_id)
 
     def add_bat_pose(self, stamp_ns: int, position: Sequence[float],
                      quaternion: Sequence[float], frame_id: str = '') -> List[Event]:
-        """Add a bat pose, position (m) and unit quaternion (x, y, z, w); return the events."""
+        """
+        Add a bat pose, position (m) and unit quaternion (x, y, z, w); return the events.
+
+        :raises CoreError: as ``add`` (a position not 3 numbers, a quaternion not 4).
+        """
         return self._timed(self._check_pose, _BAT_POSE, stamp_ns, (position, quaternion),
                            frame_id)
 
@@ -299,10 +307,11 @@ class Detector:
         :param stamp_ns: header stamp (ns, an integer).
         :param frame_id: the header's frame.
         :returns: the events this sample made decidable. A sample that cannot be taken is
-            dropped, not raised: ``stats.last_drop_reason`` says why (values that are not 3
-            or 7 numbers: ``non_finite``) and ``stats.dropped`` counts it.
-        :raises CoreError: an unknown role, a stamp that is not an integer, or a frame_id that
-            is not a str (programming errors, not bad data).
+            dropped, not raised: ``stats.last_drop_reason`` says why (a NaN or infinite value:
+            ``non_finite``) and ``stats.dropped`` counts it.
+        :raises CoreError: an unknown role, a stamp that is not an integer, a frame_id that
+            is not a str, or values that are not 3 (7) numbers (programming errors, not bad
+            data: nothing is counted).
         """
         if role == 'ball':
             return self._timed(self._check_point, _BALL, stamp_ns, values, frame_id)
@@ -333,14 +342,21 @@ class Detector:
             of samples that had waited included).
         :returns: the events the samples made decidable, in order.
         :raises CoreError: role codes or stamps that are not integers (or stamps beyond
-            int64), an unknown role code, values that are not numbers, frame_ids that are not
-            one str per sample, or arrays of different lengths.
+            int64) or not 1-d, an unknown role code, values that are not numbers or not
+            (n, 7), frame_ids that are not one str per sample (a sized sequence), or arrays of
+            different lengths (nothing is taken then).
         """
         return feed_chunk(self, roles, stamps_ns, values, frame_ids, drops)
 
     def finish(self) -> List[Event]:
         """
         Process what is left at the end of a recording and close an open near miss.
+
+        Not a flush: every call returns its events as soon as they are decidable, and a second
+        ``finish`` returns none. Called before the recording ends, it closes the pass in
+        progress: the samples after it start a new one (a second near miss, or a near miss and
+        then the impact, for one pass of the ball finished a few frames before its contact).
+        ``reset()`` starts another recording.
 
         :returns: the remaining events.
         """
@@ -363,11 +379,13 @@ class Detector:
             stats.late_drops = []
         stamp = stamp_ns if stamp_ns.__class__ is int else integer_stamp(stamp_ns)
         try:  # the values only: an error past the checks is the detector's own, raised
-            clean = DropReason.BAD_STAMP if stamp <= 0 else check(role, value)
-        except (TypeError, ValueError) as error:
+            clean = check(role, value)
+        except (TypeError, ValueError) as error:  # not numbers of the role's shape: a bug
             if isinstance(error, CoreError):
                 raise
-            clean = DropReason.NON_FINITE  # not numbers at all
+            raise CoreError(values_error(role, value, check == self._check_pose)) from error
+        if stamp <= 0:
+            clean = DropReason.BAD_STAMP
         if frame_id.__class__ is not str:
             frame_id = frame_text(frame_id)
         if clean.__class__ is DropReason:
@@ -407,6 +425,9 @@ class Detector:
         return pose
 
     def _check_pose_values(self, role: Role, values: Sequence[float]) -> Any:
+        """Return a bat pose given as 7 numbers (``add``), or why it is dropped."""
+        if self._config.bat_input != 'pose':  # (before the values, as for the other inputs)
+            return DropReason.UNEXPECTED_INPUT
         return self._check_pose(role, (values[:3], values[3:]))
 
     # ---- taking admitted samples (the intake calls these) --------------------------------

@@ -149,7 +149,8 @@ def finite_point(value: Sequence[float]) -> Optional[Vector]:
     """
     Return three numbers as a tuple of floats; None when one is infinite or NaN.
 
-    :raises TypeError, ValueError: not three numbers (the facade drops those as non-finite).
+    :raises TypeError, ValueError: not three numbers (the facade raises ``CoreError`` for
+        those: :func:`values_error`).
     """
     x, y, z = value
     x, y, z = float(x), float(y), float(z)
@@ -163,7 +164,8 @@ def unit_pose(pose: Tuple[Sequence[float], Sequence[float]]) -> Union[
     """
     Return a pose (position, quaternion x y z w) with a normalised quaternion, or why not.
 
-    :raises TypeError, ValueError: not 3 and 4 numbers.
+    :raises TypeError, ValueError: not 3 and 4 numbers (the facade raises ``CoreError`` for
+        those: :func:`values_error`).
     """
     position, quaternion = pose
     px, py, pz = position
@@ -177,6 +179,52 @@ def unit_pose(pose: Tuple[Sequence[float], Sequence[float]]) -> Union[
     if abs(magnitude - 1.0) > 1e-3:
         return DropReason.BAD_QUATERNION
     return (px, py, pz), (qx / magnitude, qy / magnitude, qz / magnitude, qw / magnitude)
+
+
+POINT_VALUES = '3 numbers (x, y, z) in m'
+"""What a ball, knob or tip sample's values are."""
+
+POSE_VALUES = '7 numbers (px, py, pz) in m and a unit quaternion (qx, qy, qz, qw)'
+"""What a bat pose's values are, given to ``Detector.add`` in one sequence."""
+
+
+def values_error(role: str, value: Any, parts: bool = False) -> str:
+    """
+    Return why a sample's values are refused: not the numbers of its role (for ``CoreError``).
+
+    A programming error, as a float stamp is (the node's messages fix the shapes): values of
+    another length or that are not numbers were dropped as ``non_finite`` before, which sent
+    the caller looking for NaNs.
+
+    :param role: the sample's role.
+    :param value: the values as given.
+    :param parts: ``value`` is ``add_bat_pose``'s (position, quaternion).
+    """
+    if parts:
+        position, quaternion = value
+        return ('a bat pose is a position of 3 numbers (m) and a unit quaternion of 4 (x, y, '
+                f'z, w), got {_described(position, 3)} and {_described(quaternion, 4)}')
+    pose = role == 'bat_pose'
+    return (f'{role} values must be {POSE_VALUES if pose else POINT_VALUES}, got '
+            f'{_described(value, 7 if pose else 3)}')
+
+
+def _described(value: Any, count: int) -> str:
+    """Return what a value given for ``count`` numbers is: its shape or type, and itself."""
+    text = ' '.join(repr(value).split())
+    text = text if len(text) <= 60 else text[:57] + '...'
+    shape = getattr(value, 'shape', None)
+    if isinstance(shape, tuple):  # a numpy array
+        return f'an array of shape {shape}: {text}'
+    if isinstance(value, (str, bytes)) or not hasattr(value, '__len__'):
+        return f'{type(value).__name__} {text}'
+    if len(value) != count:
+        return f'{len(value)} values: {text}'
+    try:
+        [float(each) for each in value]
+    except (TypeError, ValueError):
+        return f'{count} values, not all numbers: {text}'
+    return f'{count} numbers: {text}'
 
 
 def lost_body(position: Vector, quaternion: Quaternion) -> bool:

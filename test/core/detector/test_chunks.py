@@ -791,9 +791,17 @@ def test_bad_chunks_are_refused() -> None:
         detector.add_chunk(roles, stamps * 1e-9, values, frames)
     with pytest.raises(CoreError, match='one frame_id per sample'):
         detector.add_chunk(roles[:5], stamps[:5], values[:5], 'world')
-    # values that are not numbers (``add`` drops one such sample; a chunk is built as arrays)
+    # values that are not numbers (``add`` refuses one such sample too)
     with pytest.raises(CoreError, match='numbers as values'):
         detector.add_chunk(roles, stamps, [['x'] * 7] * 10, frames)
+    # shapes a caller may get wrong: a column of roles or stamps, one stamp for all, frames
+    # as a generator (each raised from deep inside numpy or the planner)
+    for bad_roles, bad_stamps in ((roles[:, None], stamps), (roles, stamps[:, None]),
+                                  (roles, stamps[0]), (1, stamps)):
+        with pytest.raises(CoreError, match=r'1-d arrays\), got arrays of shape'):
+            detector.add_chunk(bad_roles, bad_stamps, values, frames)
+    with pytest.raises(CoreError, match='one frame_id per sample'):
+        detector.add_chunk(roles, stamps, values, (frame for frame in frames))
     # unsigned stamps past int64 (they wrapped negative: every sample a bad stamp)
     with pytest.raises(CoreError, match='beyond int64'):
         detector.add_chunk(roles, stamps.astype(np.uint64) + np.uint64(2 ** 63), values, frames)

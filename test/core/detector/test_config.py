@@ -177,3 +177,16 @@ def test_a_config_of_the_wrong_kind_is_refused_by_name() -> None:
     detector = Detector()
     with pytest.raises(CoreError, match='config must be a DetectorConfig, not dict'):
         detector.reconfigure({'near_miss_threshold': 0.2})
+
+
+@pytest.mark.parametrize('given', [[('model', 'linear')], 'model', None, 5])
+def test_parameters_not_a_mapping_are_an_error(given: object) -> None:
+    """
+    A list of (name, value) pairs, a str, None: a CoreError, never every default unawares.
+
+    ``DetectorConfig.from_parameters([('model', 'linear')])`` gave the default ``c2`` config
+    (no name was ``in`` the list), and a str raised TypeError from inside.
+    """
+    for build in (DetectorConfig.from_parameters, validate_parameters):
+        with pytest.raises(CoreError, match='parameters must be a mapping of names to values'):
+            build(given)

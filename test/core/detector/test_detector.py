@@ -248,13 +248,38 @@ def test_bad_quaternions_are_dropped() -> None:
     assert detector.stats.dropped['non_finite'] == 1
 
 
-def test_garbage_values_do_not_crash() -> None:
-    """Strings, short vectors and None are dropped as non-finite, not raised."""
-    detector = Detector(DetectorConfig(bat_input='points'))
-    assert detector.add_ball(BASE_NS, ['a', 0, 0]) == []
-    assert detector.add_knob(BASE_NS, [0.0, 1.0]) == []
-    assert detector.add_tip(BASE_NS, None) == []
-    assert detector.stats.dropped['non_finite'] == 3
+@pytest.mark.parametrize('bat_input, call, said', [
+    ('pose', lambda d: d.add('ball', BASE_NS, (0.0, 1.0), 'world'),
+     r'ball values must be 3 numbers \(x, y, z\) in m, got 2 values: \(0.0, 1.0\)'),
+    ('points', lambda d: d.add('knob', BASE_NS, (0.0, 1.0, 2.0, 3.0), 'world'),
+     'knob values must be 3 numbers .* got 4 values'),
+    ('pose', lambda d: d.add('bat_pose', BASE_NS, (0.0, 0.0, 1.0, 0.0, 0.0, 1.0), 'world'),
+     r'bat_pose values must be 7 numbers \(px, py, pz\) in m and a unit quaternion '
+     r'\(qx, qy, qz, qw\), got 6 values'),
+    ('pose', lambda d: d.add('bat_pose', BASE_NS, ((0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0))),
+     'bat_pose values must be 7 numbers .* got 2 values'),
+    ('pose', lambda d: d.add_bat_pose(BASE_NS, (0.0, 0.0, 1.0), (0.0, 0.0, 1.0), 'world'),
+     r'a unit quaternion of 4 \(x, y, z, w\), got 3 numbers: \(0.0, 0.0, 1.0\) and 3 values'),
+    ('points', lambda d: d.add_ball(BASE_NS, ['a', 0, 0]),
+     r"got 3 values, not all numbers: \['a', 0, 0\]"),
+    ('points', lambda d: d.add_tip(BASE_NS, None), 'tip values must be 3 numbers .* NoneType'),
+    ('pose', lambda d: d.add_ball(BASE_NS, np.zeros((1, 3))), r'an array of shape \(1, 3\)'),
+    ('pose', lambda d: d.add_ball(0, (0.0, 1.0)), 'got 2 values'),  # (before the bad stamp)
+])
+def test_values_not_the_roles_numbers_are_an_error_saying_what_came(
+        bat_input: str, call: Callable[[Detector], object], said: str) -> None:
+    """
+    A ball of 2 numbers, a knob of 4, a quaternion of 3: a ``CoreError`` saying what is expected.
+
+    A programming error, as a float stamp is (the node's messages fix the shapes): they were
+    dropped as ``non_finite``, which sent the caller looking for NaNs. Nothing is counted.
+    """
+    detector = Detector(DetectorConfig(bat_input=bat_input))
+    with pytest.raises(CoreError, match=said) as raised:
+        call(detector)
+    assert isinstance(raised.value.__cause__, (TypeError, ValueError))
+    assert not detector.stats.received and not detector.stats.dropped
+    assert detector.stats.last_drop_reason is None
 
 
 @pytest.mark.parametrize('error', [np.linalg.LinAlgError, TypeError])
