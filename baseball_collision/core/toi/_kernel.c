@@ -20,7 +20,9 @@
  * coefficient is formed. The end caps' quadratics are solved in closed form; the side's quartic
  * on its monotone pieces (the derivative chain: the roots of P'' split [0, 1] into pieces on
  * which P' is monotone, whose roots split it into pieces on which P is monotone), each crossing
- * refined by Newton steps safeguarded by bisection, then by two Newton steps on the gap itself.
+ * refined by Newton steps safeguarded by bisection, then by up to four Newton steps on the gap
+ * itself (a root in a cluster of the quartic's, where the bat shrinks to the point the ball
+ * meets, is found to about eps^(1/4) and made exact there).
  * A tangential touch (a double root) is a local minimum within a slack of zero, never lost.
  *
  * Floating point: plain IEEE double arithmetic in the order the Python reference used, built
@@ -126,6 +128,10 @@
 #define TOUCH_TOLERANCE 1e-9 /* a gap (m) at or below which ball and bat count as touching */
 #define DEGENERATE_AXIS 1e-24 /* |u|^2 in scaled units below which the bat has no axis */
 #define ROOT_SLACK 1e-10 /* scaled gap allowed at a side root for rounding */
+#define POLISH_STEPS 4 /* Newton steps on the gap at most, polishing a root */
+#define POLISH_REACH 1e-3 /* the longest polishing step (of the interval): a quartic's root in a
+                             cluster of four (a bat shrinking to a point where the ball meets
+                             it) is off by about eps^(1/4), 1e-4; a graze's step is longer */
 #define MAX_SEGMENTS 64 /* pieces (round cones) of one bat profile */
 
 typedef struct {
@@ -544,19 +550,19 @@ static double scaled_gap(const Scaled *s, double tau, double r, double d, double
 }
 
 /*
- * Refine a crossing root with Newton steps on the gap itself (well conditioned): two steps at
- * most; a step that is large (a graze, where the rate vanishes) or does not reduce the gap is
- * not taken. The scaled gap at the tau returned goes to *gap_out.
+ * Refine a crossing root with Newton steps on the gap itself (well conditioned): POLISH_STEPS at
+ * most; a step longer than POLISH_REACH (a graze, where the rate vanishes) or one that does not
+ * reduce the gap is not taken. The scaled gap at the tau returned goes to *gap_out.
  */
 static double polish(const Scaled *s, double tau, double r, double d, double *gap_out)
 {
   double rate, gap = scaled_gap(s, tau, r, d, &rate);
-  for (int i = 0; i < 2; i++) {
+  for (int i = 0; i < POLISH_STEPS; i++) {
     if (rate == 0.0 || gap == 0.0) {
       break;
     }
     double step = gap / rate;
-    if (fabs(step) > 1e-6 || !(0.0 <= tau - step && tau - step <= 1.0) || tau - step == tau) {
+    if (fabs(step) > POLISH_REACH || !(0.0 <= tau - step && tau - step <= 1.0) || tau - step == tau) {
       break; /* (a step within half a unit of tau's last place: the gap there is this one) */
     }
     double new_rate, new_gap = scaled_gap(s, tau - step, r, d, &new_rate);

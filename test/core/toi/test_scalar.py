@@ -154,6 +154,28 @@ def test_zero_length_bat_is_a_sphere() -> None:
     assert result.point == pytest.approx((0.1, 0.0, 0.0))
 
 
+@pytest.mark.parametrize('bat_radius', [1e-4, 3e-4, 5.511880480606291e-4, 1e-3, 1e-2])
+def test_a_bat_shrinking_to_the_point_the_ball_meets(bat_radius: float) -> None:
+    """
+    Tip and knob close on the origin as the ball does: the side's quartic has four roots within
+    a few 1e-4 of the interval's end, the first found to about 1e-4 of it; polished on the gap
+    it is the first contact to the closed form's 1e-9 of dt (hypothesis found it 1.7 us late).
+
+    The gap at s = 1 - tau is 0.75 sqrt(2) s: the ball's nearest bat point, for the ball at
+    (0, 0, -s/2), is a quarter of the way from the tip (0, s, 0) to the knob (0, 0, s).
+    """
+    dt = 0.0625
+    ends = ([0.0, 0.0, -0.5], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0], [0.0, 0.0, 0.0])
+    expected = (1.0 - bat_radius / (0.75 * math.sqrt(2.0))) * dt
+    result = time_of_impact(*ends, 0.0, bat_radius, dt)
+    assert result is not None
+    assert result.time == pytest.approx(expected, abs=1e-9 * dt)
+    assert result.bat_fraction == pytest.approx(0.75, abs=1e-6)
+    batch = time_of_impact_batch(*[np.array([p]) for p in ends], 0.0, bat_radius, dt)
+    assert batch[0] == result.time
+
+
 def test_graze_within_tolerance_counts() -> None:
     """A tangential pass with a closest gap of 0.5 nm is contact; 2 nm is not."""
     def graze(gap: float) -> ImpactResult:
