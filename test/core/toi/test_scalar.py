@@ -157,6 +157,8 @@ def test_zero_length_bat_is_a_sphere() -> None:
 @pytest.mark.parametrize('bat_radius', [1e-4, 3e-4, 5.511880480606291e-4, 1e-3, 1e-2])
 def test_a_bat_shrinking_to_the_point_the_ball_meets(bat_radius: float) -> None:
     """
+    A bat shrinking to the point the ball meets is hit at the closed form's instant.
+
     Tip and knob close on the origin as the ball does: the side's quartic has four roots within
     a few 1e-4 of the interval's end, the first found to about 1e-4 of it; polished on the gap
     it is the first contact to the closed form's 1e-9 of dt (hypothesis found it 1.7 us late).
