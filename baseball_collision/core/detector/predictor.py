@@ -61,10 +61,9 @@ import math
 from statistics import median
 from typing import Callable, List, Optional, Sequence, Tuple, Union
 
-import numpy as np
-
 from .bat_glitch_edges import late_rule, segment_first
 from .bat_glitches import BAT_GLITCH_FLOOR, first_glitch, glitch_floor, REGULAR_STEP
+from .bat_window import newest_miss, noise_gain, PREDICTION_DEGREE, STEP_ROWS
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
@@ -82,10 +81,6 @@ from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
 """A prediction's sub-steps may leave the forecast paths by this many ``max_chord_error``."""
-
-STEP_ROWS = 'step_rows'
-"""A bat stream's ``aligned`` list of knob + tip + the turn from the sample before, per sample
-(``prediction.bat_window_numbers``)."""
 
 BAT_CHECK_MOVE = 0.002
 """s: a prediction in force whose instant a frame moves by less than this is not checked for a
@@ -105,10 +100,6 @@ the newest after a step over ``REGULAR_STEP`` times the one before (a frame lost
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
 judges."""
-
-PREDICTION_DEGREE = 3
-"""Largest degree of the bat fits behind a prediction: it extrapolates tens of milliseconds,
-where higher degrees amplify tracking noise (at 90 Hz with 1 mm noise they lose the swing)."""
 
 
 def kept_flight_span(window: float) -> float:
@@ -136,47 +127,6 @@ def kept_flight_span(window: float) -> float:
     y = math.copysign(abs(half + root) ** (1 / 3), half + root) + math.copysign(
         abs(half - root) ** (1 / 3), half - root)
     return 0.5 * (y - 1.0) * window
-
-
-def noise_gain(times: Sequence[float], t: float, degree: int) -> float:
-    """
-    Return how many times a sample's noise (1 sigma) a forecast's miss of a sample at t carries.
-
-    The forecast: from the last of ``times`` (s) on, by the least-squares polynomial of
-    ``degree`` through the samples at ``times`` (as ``prediction.bat_window_numbers``
-    extrapolates a bat: the newest sample plus the fit's change since its stamp), so it is
-    a sum of those samples by weights w; its miss of a new sample at t (s) with the same
-    independent noise has ``sqrt(1 + sum w^2)`` times that noise. A rank-deficient fit takes
-    the least-norm solution, as LAPACK does.
-    """
-    last = times[-1]
-    design = np.vander([u - last for u in times], degree + 1, increasing=True)
-    change = np.array([(t - last) ** m for m in range(degree + 1)])
-    change[0] = 0.0  # (the fit's change since the last sample: the sample itself is added)
-    weights = change @ np.linalg.pinv(design)
-    weights[-1] += 1.0
-    return math.sqrt(1.0 + float(weights @ weights))
-
-
-def newest_miss(times: List[float], values: List, rows: List, first: int, end: int,
-                degree: int) -> float:
-    """
-    Return how far (m) bat sample end - 1 is from the forecast of samples [first, end - 1).
-
-    The larger of the knob's and the tip's distances; the forecast ``bat_window_numbers``' of
-    ``degree`` (``rows``: the stream's step rows, or a list of the caller's: the same bits), at
-    sample end - 1's time (s). 0 where the fit would read fewer than 3 samples or is rank
-    deficient. The predictor's (``Predictor._bat_miss``) and a chunk's plan's
-    (``plan_prediction``) on the same samples.
-    """
-    if end - 1 - first < 3:
-        return 0.0
-    before = bat_window_numbers(times, values, rows, first, end - 1, degree)
-    if before is None:
-        return 0.0
-    knob, tip = states_of(None, before, times[end - 1])[2:]
-    newest = values[end - 1]
-    return max(math.dist(knob, newest.knob), math.dist(tip, newest.tip))
 
 
 class Predictor:

@@ -12,7 +12,7 @@ from baseball_collision.core.detector.gap_flight import GAP_FLIGHT_BIAS, GAP_FLI
 from baseball_collision.core.detector.gate import Clock
 from baseball_collision.core.detector.kinematics import turn_rows
 from baseball_collision.core.detector.predictor import (
-    kept_flight_span, noise_gain, PREDICTION_CHORD_FACTOR, Predictor)
+    kept_flight_span, PREDICTION_CHORD_FACTOR, Predictor)
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.motion import BatSample
 from baseball_collision.core.prediction import (
@@ -308,20 +308,6 @@ def test_a_bat_glitch_right_after_a_lost_frame_neither_holds_nor_bends_the_predi
                 for e in detector.add(*row) if isinstance(e, (Prediction, PredictionCleared))]
         ahead.append([stamp for made_at, stamp in made if made_at <= contact - 0.02e9][-1])
     assert ahead[0] == ahead[1] and abs(ahead[0] - contact) < 0.001e9
-
-
-def test_the_noise_gain_is_the_forecasts_weights_norm() -> None:
-    """
-    A cubic through four evenly spaced samples forecasts by Lagrange's weights.
-
-    One step on: 4, -6, 4, -1 (``sqrt(1 + 69)``); two steps on, across a lost one: 10, -20, 15,
-    -4 (``sqrt(1 + 741)``), the same at any step size. More samples than the degree smooth it.
-    """
-    assert noise_gain([0.0, 1.0, 2.0, 3.0], 4.0, 3) == pytest.approx(math.sqrt(70.0))
-    step = 1.0 / 90.0
-    assert noise_gain([0.0, step, 2 * step, 3 * step], 5 * step, 3) == pytest.approx(
-        math.sqrt(742.0))
-    assert noise_gain([0.0, 1.0, 2.0, 3.0, 4.0], 5.0, 3) < math.sqrt(70.0)
 
 
 def test_a_swing_frame_centimetres_off_after_a_lost_frame_keeps_its_prediction(
