@@ -57,6 +57,10 @@ NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
 judges."""
 
+Found = Optional[Tuple[float, ImpactResult]]
+"""A forecast's search result (``prediction.contact_of``): the contact's instant (s) and
+point, or None."""
+
 
 class BatJudgment:
     """
@@ -88,7 +92,34 @@ class BatJudgment:
         # forecast without it
         self._left_out: Optional[int] = None
 
-    def _bat_glitch_dropped(self, found: Optional[Tuple[float, ImpactResult]]) -> bool:
+    def _newest_judged(self, found: Found) -> Optional[str]:
+        """
+        Return ``_bat_off``'s verdict on the newest bat frames; make a newest frame off suspect.
+
+        ``NEWEST``, ``ACROSS``: the newest frame is ``suspect``, judged by the frames after it
+        (``_bat_glitch_dropped``). The predictor then holds the prediction in force
+        (``NEWEST``), or where something is shown forecasts the bat without the frame off
+        (``BEFORE``, ``ACROSS``: ``_numbers_without``); where nothing is shown either way it
+        forecasts nothing without it (that gave near misses false predictions). ``found``:
+        ``contact_of``'s result.
+        """
+        off = self._bat_off(found)
+        if off is NEWEST or off is ACROSS:  # (the newest: judged by the frames after it)
+            self.suspect = self.bat.times[self._bat_window[1] - 1]
+        return off
+
+    def _numbers_without(self, off: str) -> Optional[Tuple[float, ...]]:
+        """
+        Return the bat forecast without the frame ``_bat_off``'s verdict ``off`` says is off.
+
+        ``BEFORE``: without the frame before the newest; else without the newest (the forecast
+        of the frames before it). As ``_bat_numbers``: None, a rank-deficient fit.
+        """
+        first, end = self._bat_window
+        return self._bat_numbers(first, end, end - 2) if off is BEFORE else \
+            self._bat_numbers(first, end - 1)
+
+    def _bat_glitch_dropped(self, found: Found) -> bool:
         """
         Judge the extrapolated bat's frames as the sweep does; True: a glitch was dropped.
 
@@ -165,7 +196,7 @@ class BatJudgment:
             return NOT_LATE
         return rule[0](bat, j, config.max_gap, config.spline_window, stream_noise(bat, config))
 
-    def _shown_changes(self, found: Optional[Tuple[float, ImpactResult]]) -> bool:
+    def _shown_changes(self, found: Found) -> bool:
         """
         Return whether a frame's search result changes what is shown by more than a little.
 
@@ -175,7 +206,7 @@ class BatJudgment:
         return found is None or not self.predicting or \
             abs(found[0] - self._instant) >= BAT_CHECK_MOVE
 
-    def _bat_off(self, found: Optional[Tuple[float, ImpactResult]]) -> Optional[str]:
+    def _bat_off(self, found: Found) -> Optional[str]:
         """
         Return which of the extrapolated bat's newest frames is off the swing, if one is.
 

@@ -24,7 +24,7 @@ from dataclasses import replace
 import math
 from typing import List, Optional, Sequence, Tuple, Union
 
-from .bat_judgment import ACROSS, BatJudgment, BEFORE, NEWEST
+from .bat_judgment import BatJudgment, Found, NEWEST
 from .bat_window import PREDICTION_DEGREE, STEP_ROWS
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
@@ -146,74 +146,22 @@ class Predictor(BatJudgment):
 
         Nothing at all, the last prediction staying in force, when t0 is less than
         ``prediction_period`` after the last frame that predicted (``prediction_due``), or when
-        a contact is found or a prediction is in force and the ball's forecast starts from a
-        sample off its free flight (``_ball_departed``), or the frame would change what is
-        shown (``_shown_changes``) and the bat's starts from a frame off the swing
-        (``_bat_off``: ``NEWEST``, that frame is then ``suspect``); the next frame is then due.
-        Where the frame before the bat's newest is off instead (``BEFORE``), the bat is
-        forecast again without it. Where nothing is found and none is in force, a newest bat
-        frame after a hole (``_after_step``) or off the line through the two frames before it
-        (``_off_line``) is judged all the same (nothing is shown either way): off the swing it
-        is ``suspect`` (held where ``NEWEST``; after a hole, ``ACROSS``, the frame after it
-        says which it was), and nothing is forecast without it. The bat's turns are summed over
-        the forecast's own window (``_bat_forecast``), whose frames are judged first where the
-        frame would change what is shown or a frame is suspect (``_bat_glitch_dropped``: a
-        glitch dropped, the bat forecast again without it); a suspect whose rule awaits later
-        frames, or that its rule judged a glitch (``_left_out``), is left out of the bat's
-        forecast, and the newest frames are not checked meanwhile.
+        the frame holds the prediction (``_search``: a newest sample off its stream's motion);
+        the next frame is then due. Disarmed or the ball out of reach (``_may_reach``), nothing
+        is forecast, and no bat frame awaits a verdict.
         """
-        config = self._config
         now_ns = self.clock.stamp(t0)
         last_ns = self.last_ns
-        if not prediction_due(last_ns, now_ns, config.prediction_period):
+        if not prediction_due(last_ns, now_ns, self._config.prediction_period):
             return
         self.last_ns = now_ns
         found = None
         if armed and self._may_reach():
-            ball = self._ball_forecast(t0)
-            forecast = None if ball is None else self._bat_forecast(t0)
-            while forecast is not None:
-                planned = forecast.__class__ is PlannedBat
-                bat_args = forecast.kernel_args if planned else forecast
-                found = contact_of(ball, bat_args, t0, config.prediction_horizon,
-                                   config.ball_radius, config.profile, self._tolerance)
-                if planned or not self._bat_glitch_dropped(found):
-                    break
-                found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
-            left_out = None if forecast is None or planned else self._left_out
-            if left_out is not None:  # (a suspect the sweep's rule judges later: without it)
-                without = self._bat_numbers(*self._bat_window, left_out)
-                if without is not None:
-                    bat_args, found = without, contact_of(
-                        ball, without, t0, config.prediction_horizon, config.ball_radius,
-                        config.profile, self._tolerance)
-            if forecast is None:
-                self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
-            elif found is not None or self.predicting or not planned and left_out is None and (
-                    self._after_step(self._bat_window[1]) or self._off_line(self._bat_window[1])):
-                # (nothing found, nothing in force: a newest bat frame after a hole, or off the
-                # line through the two before it, is judged)
-                shown = found is not None or self.predicting
-                held = shown and self._ball_departed()
-                off = None if held or planned or left_out is not None else self._bat_off(found)
-                if off is NEWEST:
-                    held, self.suspect = True, self.bat.times[self._bat_window[1] - 1]
-                elif off is not None and not shown:  # (no prediction from a frame left out)
-                    if off is ACROSS:  # (the newest: judged by the frame after it)
-                        self.suspect = self.bat.times[self._bat_window[1] - 1]
-                elif off is not None:  # BEFORE, ACROSS: forecast without that frame
-                    first, end = self._bat_window
-                    if off is ACROSS:  # (the newest: judged by the frame after it)
-                        self.suspect = self.bat.times[end - 1]
-                    without = self._bat_numbers(first, end, end - 2) if off is BEFORE else \
-                        self._bat_numbers(first, end - 1)
-                    if without is not None:
-                        bat_args, found = without, contact_of(
-                            ball, without, t0, config.prediction_horizon, config.ball_radius,
-                            config.profile, self._tolerance)
-                if held:
-                    self.last_ns = last_ns  # (no frame that predicted: the next one is due)
-                    return
+            searched = self._search(t0)
+            if searched is None:
+                self.last_ns = last_ns  # (no frame that predicted: the next one is due)
+                return
+            found, ball, bat_args, planned = searched
         else:
             self.suspect = self._left_out = None
         if found is None:
@@ -229,6 +177,62 @@ class Predictor(BatJudgment):
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
+
+    def _search(self, t0: float) -> Optional[Tuple[Found, Optional[Tuple[float, ...]],
+                                                   Optional[Tuple[float, ...]], bool]]:
+        """
+        Return the first contact the frame's forecasts from t0 (s) find, with those forecasts.
+
+        (``contact_of``'s result, None for none; the ball's and the bat's forecasts as the
+        kernel's numbers; whether the bat's is the commanded plan). None where the frame holds
+        the prediction: a contact is found or one is in force and the ball's forecast starts
+        from a sample off its free flight (``_ball_departed``), or the bat's from a frame off
+        the swing (``_newest_judged``: ``NEWEST``). The bat's frames are judged first where the
+        frame would change what is shown or a frame is suspect (``_bat_glitch_dropped``: a
+        glitch dropped, the bat forecast again without it); a suspect left out
+        (``_left_out``) is forecast without, and the newest frames are not checked meanwhile;
+        else the newest frame is judged where a contact is found or one is in force, or after
+        a hole (``_after_step``) or off the line through the two frames before it
+        (``_off_line``), and a frame off (``BEFORE``, ``ACROSS``) is forecast without where
+        something is shown. Nothing forecast (too few samples): no frame awaits a verdict.
+        """
+        ball = self._ball_forecast(t0)
+        forecast = None if ball is None else self._bat_forecast(t0)
+        found = None
+        while forecast is not None:
+            planned = forecast.__class__ is PlannedBat
+            bat_args = forecast.kernel_args if planned else forecast
+            found = self._contact(ball, bat_args, t0)
+            if planned or not self._bat_glitch_dropped(found):
+                break
+            found, forecast = None, self._bat_forecast(t0)  # (its frames judged again)
+        if forecast is None:
+            self.suspect = self._left_out = None  # (nothing forecast: none awaits a verdict)
+            return None, ball, None, False
+        left_out = None if planned else self._left_out
+        if left_out is not None:  # (a suspect the sweep's rule judges later: without it)
+            without = self._bat_numbers(*self._bat_window, left_out)
+            if without is not None:
+                bat_args, found = without, self._contact(ball, without, t0)
+        shown, end = found is not None or self.predicting, self._bat_window[1]
+        if shown or not planned and left_out is None and (
+                self._after_step(end) or self._off_line(end)):
+            if shown and self._ball_departed():
+                return None
+            off = None if planned or left_out is not None else self._newest_judged(found)
+            if off is NEWEST:
+                return None
+            if off is not None and shown:  # BEFORE, ACROSS: forecast without that frame
+                without = self._numbers_without(off)
+                if without is not None:
+                    bat_args, found = without, self._contact(ball, without, t0)
+        return found, ball, bat_args, planned
+
+    def _contact(self, ball: Tuple[float, ...], bat_args: Tuple[float, ...], t0: float) -> Found:
+        """Return the first contact of the forecasts (the kernel's numbers) from t0 (s) on."""
+        config = self._config
+        return contact_of(ball, bat_args, t0, config.prediction_horizon, config.ball_radius,
+                          config.profile, self._tolerance)
 
     def _ball_departed(self) -> bool:
         """
