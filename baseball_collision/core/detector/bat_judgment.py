@@ -136,17 +136,8 @@ class BatJudgment:
         path reads; the sweep judges a frame only once an interval near the ball reads it. A
         frame's first verdict costs a smoothed continuation with noise
         (``bat_glitches.departure``), hence only where the frame would change what is shown.
-
-        A suspect that rule cannot judge (a segment's first frames, a frame beside a hole over
-        ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the frames after it
-        that the rule reads have come (``_late_verdict``): a frame judged no glitch is forgotten
-        as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``) whose next frame goes
-        on from it (``_followed``) meanwhile; till then, or judged a glitch (``_left_out``), and
-        while it is in the forecast's window, the bat is forecast without it
-        (``Predictor.predict``). Not dropped here: the sweep drops it where a contact hangs on
-        it, and a drop here, at another frame than the sweep's, made the chunk path's impacts
-        differ from one sample at a time's (``bench_prediction.py --faults --chunks``: 7 of 288
-        runs, 90 Hz, 1 mm).
+        A suspect that rule cannot judge is judged first (``_suspect_judged``), and not
+        dropped here.
         """
         first, end = self._bat_window
         suspect = self.suspect
@@ -157,15 +148,8 @@ class BatJudgment:
         bat, config = self.bat, self._config
         gap, size, last = config.max_gap, config.spline_window, end - 1
         times, noise = bat.times, stream_noise(bat, config)
-        if suspect is not None and first <= (j := bisect_left(times, suspect, first, end)) < last \
-                and times[j] == suspect:
-            verdict = self._late_verdict(j)
-            if verdict is None and self._across_hole(j) and self._followed(j):
-                verdict = False  # (its next frame goes on from it: the swing's own)
-            if verdict is None or verdict is True:  # (waits, or a glitch: forecast without it)
-                self._left_out = j
-            elif verdict is not NOT_LATE:
-                self.suspect = None  # (judged no glitch by the sweep's rule)
+        if suspect is not None:
+            self._suspect_judged(suspect, first, end)
         first = max(first, c2_window(bat, last - 1, gap, 0, size).start)
         if suspect is not None and self._left_out is None and (
                 times[first] > suspect or suspect < times[last]):
@@ -178,6 +162,34 @@ class BatJudgment:
         self.drop_bat(glitch, last)
         self.suspect = self._left_out = None
         return True
+
+    def _suspect_judged(self, suspect: float, first: int, end: int) -> None:
+        """
+        Judge the suspect (its time ``suspect``, s) where the window's judgment cannot.
+
+        Where it is among the extrapolated bat's frames [first, end) before the newest: a
+        suspect that ``first_glitch`` cannot judge (a segment's first frames, a frame beside a
+        hole over ``bat_glitches.LOST_HOLE``) is judged by the sweep's rule for it once the
+        frames after it that the rule reads have come (``_late_verdict``): a frame judged no
+        glitch is forgotten as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``)
+        whose next frame goes on from it (``_followed``) meanwhile; till then, or judged a
+        glitch (``_left_out``), and while it is in the forecast's window, the bat is forecast
+        without it (``Predictor.predict``). Not dropped here: the sweep drops it where a
+        contact hangs on it, and a drop here, at another frame than the sweep's, made the chunk
+        path's impacts differ from one sample at a time's (``bench_prediction.py --faults
+        --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
+        """
+        times = self.bat.times
+        if not (first <= (j := bisect_left(times, suspect, first, end)) < end - 1
+                and times[j] == suspect):
+            return
+        verdict = self._late_verdict(j)
+        if verdict is None and self._across_hole(j) and self._followed(j):
+            verdict = False  # (its next frame goes on from it: the swing's own)
+        if verdict is None or verdict is True:  # (waits, or a glitch: forecast without it)
+            self._left_out = j
+        elif verdict is not NOT_LATE:
+            self.suspect = None  # (judged no glitch by the sweep's rule)
 
     def _late_verdict(self, j: int) -> Union[None, bool, str]:
         """
@@ -224,15 +236,8 @@ class BatJudgment:
         two before it, that finds nothing with nothing in force is judged so too,
         ``Predictor.predict``).
 
-        ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole (``_across_hole``:
-        frames lost or dropped right before it), where the forecast reaches over two steps or
-        more and a swing's own frame lands centimetres off it: more than the hole's floor off
-        (``_across_floor``, from the window's own one-step miss and the fit's noise gain), and
-        not ``BEFORE_OFF`` times nearer the forecast without the frame before it (a frame
-        stamped off before the hole bent the forecast: ``BEFORE``'s case; after a genuine frame
-        dropped beside it a hit lost its prediction). The frame predicts from the forecast of
-        the frames before it (not held, not bent) and is ``suspect``: the frame after it says
-        which it was (``_bat_glitch_dropped``: ``_followed``).
+        ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole, off the hole's own
+        floor (``_across_verdict``).
 
         ``BEFORE``: the frame before the newest is off, the newest not: the newest is that far
         from the forecast through it, and ``BEFORE_OFF`` times nearer the forecast from the
@@ -263,10 +268,27 @@ class BatJudgment:
             return None
         if after <= REGULAR_STEP * before:
             return NEWEST
+        return self._across_verdict(first, end, miss)
+
+    def _across_verdict(self, first: int, end: int, miss: float) -> Optional[str]:
+        """
+        Return ``ACROSS`` where bat frame end - 1, after a hole, is off the swing; else None.
+
+        The frame comes after a hole (``_across_hole``: frames lost or dropped right before
+        it), where the forecast reaches over two steps or more and a swing's own frame lands
+        centimetres off it: ``ACROSS`` where it is more than the hole's floor off
+        (``_across_floor``, from the window's own one-step miss and the fit's noise gain;
+        ``miss``, m: its distance from the forecast of frames [first, end - 1)), and not
+        ``BEFORE_OFF`` times nearer the forecast without the frame before it (a frame stamped
+        off before the hole bent the forecast: ``BEFORE``'s case; after a genuine frame dropped
+        beside it a hit lost its prediction). The frame predicts from the forecast of the
+        frames before it (not held, not bent) and is ``suspect``: the frame after it says which
+        it was (``_bat_glitch_dropped``: ``_followed``).
+        """
         if not self._across_hole(end - 1) or miss <= self._across_floor(first, end):
             return None
         # (not where the frame before the hole bent the forecast: one stamped off, ``BEFORE``;
-        # with 6 frames or more its test above said so already)
+        # with 6 frames or more ``_bat_off``'s test said so already)
         return None if end - first < 6 and BEFORE_OFF * self._bat_miss(
             first, end, end - 2) < miss else ACROSS
 
