@@ -174,7 +174,7 @@ class BatJudgment:
         glitch is forgotten as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``)
         whose next frame goes on from it (``_followed``) meanwhile; till then, or judged a
         glitch (``_left_out``), and while it is in the forecast's window, the bat is forecast
-        without it (``Predictor.predict``). Not dropped here: the sweep drops it where a
+        without it (``Predictor._search``). Not dropped here: the sweep drops it where a
         contact hangs on it, and a drop here, at another frame than the sweep's, made the chunk
         path's impacts differ from one sample at a time's (``bench_prediction.py --faults
         --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
@@ -234,7 +234,7 @@ class BatJudgment:
         before it. Judged only where the frame would change what is shown (``_shown_changes``;
         ``found``: ``contact_of``'s result; a frame after a hole, or off the line through the
         two before it, that finds nothing with nothing in force is judged so too,
-        ``Predictor.predict``).
+        ``Predictor._search``).
 
         ``ACROSS``: as ``NEWEST``, but the newest frame comes after a hole, off the hole's own
         floor (``_across_verdict``).
