@@ -1,5 +1,6 @@
 """The stream detector: samples in, impact and near-miss events out."""
 
+from .bat_window import PREDICTION_DEGREE
 from .config import (
     AUTO_NOISE, DEFAULTS, DetectorConfig, Kind, node_fqn, NODE_NAME, PARAMETERS, ParameterSpec,
     Range, section_applies, SPECS, unit_vector, unknown_parameters, validate_parameters)
@@ -9,7 +10,7 @@ from .events import (
     PredictionCleared, ResetReason, Role, StateReset, StreamGap)
 from .gate import FAR_AHEAD_NS
 from .kinematics import SPARSE_SAMPLES
-from .predictor import PREDICTION_CHORD_FACTOR, PREDICTION_DEGREE
+from .predictor import PREDICTION_CHORD_FACTOR
 from .uncertainty import PendingUncertainty
 from ..toi import Feature
 

@@ -15,9 +15,10 @@ from typing import List, Optional, Tuple, TYPE_CHECKING
 import numpy as np
 
 from .bat_glitches import BAT_GLITCH_FLOOR, REGULAR_STEP
+from .bat_window import newest_miss, PREDICTION_DEGREE
 from .broadphase.arrays import rows, SLACK
 from .config import DetectorConfig
-from .predictor import newest_miss, PREDICTION_DEGREE, Predictor
+from .predictor import Predictor
 from .streams import MAX_HISTORY, Stream
 from ..motion import BatSample
 from ..prediction import forecast_outcomes, prediction_due

@@ -16,13 +16,14 @@ from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared)
+from baseball_collision.core.detector.bat_judgment import BEFORE, NEWEST
 from baseball_collision.core.detector.broadphase import apart_margins, clearly_apart
 import baseball_collision.core.detector.chunks as chunks_module
 from baseball_collision.core.detector.events import DropReason
 from baseball_collision.core.detector.noise import ESTIMATES, HISTORY, POSE_SPAN
 from baseball_collision.core.detector.plan_far import _closed
 import baseball_collision.core.detector.plans as plans_module
-from baseball_collision.core.detector.predictor import BEFORE, NEWEST, Predictor
+from baseball_collision.core.detector.predictor import Predictor
 from baseball_collision.core.detector.streams import Stream
 from baseball_collision.core.detector.sweep import Sweep
 from baseball_collision.core.motion import BatSample

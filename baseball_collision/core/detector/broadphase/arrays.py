@@ -7,7 +7,7 @@ samples, computed with numpy's own rounding; ``c2``'s by the compiled kernel
 """
 
 import math
-from typing import Optional, Tuple
+from typing import NamedTuple, Optional, Tuple, Union
 
 import numpy as np
 
@@ -71,49 +71,95 @@ def apart_margins(ball: np.ndarray, bat_knob: np.ndarray, bat_tip: np.ndarray,
         return _c2_margins(ball, bat_knob, bat_tip, ball_k, bat_k, ball_times, bat_times,
                            look_ahead, size, margin + reach, closed or (None, None),
                            hull_reach) - reach
-    margin = margin + reach
     b0, b1 = rows(ball, ball_k), rows(ball, ball_k + 1)
     k0, k1 = rows(bat_knob, bat_k), rows(bat_knob, bat_k + 1)
     e0, e1 = rows(bat_tip, bat_k), rows(bat_tip, bat_k + 1)
-    ball_centre = (b0 + b1) * 0.5
-    ball_radius = 0.5 * _dist(b0, b1)
-    bat_centre = (k0 + e0 + k1 + e1) * 0.25
-    bat_radius = np.maximum(np.maximum(_dist(k0, bat_centre), _dist(e0, bat_centre)),
-                            np.maximum(_dist(k1, bat_centre), _dist(e1, bat_centre)))
+    ends = _Ends(b0, b1, k0, e0, k1, e1)
     ball_bulge = bat_growth = 0.0
     if model == 'rigid':
-        turning = np.maximum(_dist(k0, k1), _dist(e0, e1))
-        if bat_position is not None:
-            reference = _dist(rows(bat_position, bat_k), rows(bat_position, bat_k + 1))
-        else:
-            reference = _dist(k0, k1) + 2.0 * np.abs(_dist(k0, e0) - _dist(k1, e1))
-        bat_growth = 0.5 * (turning + reference)
+        bat_growth = _rigid_growth(ends, bat_position, bat_k)
     elif model == 'spline':
         ball_bulge = _bulges(ball, _BulgeWeights(ball_times, ball_k, ball_before, ball_after),
                              b0, b1)
-        # the knob's and the axis' bulges share the bat's neighbours and weights; the axis'
-        # rows at k and k + 1 are e - k (the same subtraction as the whole axis array's)
-        weights = _BulgeWeights(bat_times, bat_k, bat_before, bat_after)
-        axis0, axis1 = e0 - k0, e1 - k1
-        bat_growth = (_bulges(bat_knob, weights, k0, k1)
-                      + 0.25 * math.pi * _dist(axis0, axis1)
-                      + math.pi * _bulges(bat_tip - bat_knob, weights, axis0, axis1)
-                      + np.abs(_dist(k0, e0) - _dist(k1, e1)))
+        bat_growth = _spline_growth(ends, bat_knob, bat_tip,
+                                    _BulgeWeights(bat_times, bat_k, bat_before, bat_after))
     elif model != 'linear':
         raise ValueError(f'no vectorised far test for the {model} model')
-    ball_radius = ball_radius + ball_bulge
-    bat_radius = bat_radius + bat_growth
+    return _clearances(ends, ball_bulge, bat_growth, margin + reach) - reach
+
+
+class _Ends(NamedTuple):
+    """Each interval's end samples, rows (m, 3): ``hull_separations``' arguments, in order."""
+
+    b0: np.ndarray  # the ball at k and k + 1
+    b1: np.ndarray
+    k0: np.ndarray  # the knob at k, the tip at k, the knob at k + 1, the tip at k + 1
+    e0: np.ndarray
+    k1: np.ndarray
+    e1: np.ndarray
+
+
+def _rigid_growth(ends: _Ends, bat_position: Optional[np.ndarray],
+                  bat_k: np.ndarray) -> np.ndarray:
+    """
+    Return the ``rigid`` model's growth (m) of the bat's sphere and hull over each interval.
+
+    Half the sum of the knob's or tip's larger move and a reference move: the pose origin's
+    (``bat_position``, pose input) or the knob's plus twice the change of the knob-tip length.
+    """
+    _, _, k0, e0, k1, e1 = ends
+    turning = np.maximum(_dist(k0, k1), _dist(e0, e1))
+    if bat_position is not None:
+        reference = _dist(rows(bat_position, bat_k), rows(bat_position, bat_k + 1))
+    else:
+        reference = _dist(k0, k1) + 2.0 * np.abs(_dist(k0, e0) - _dist(k1, e1))
+    return 0.5 * (turning + reference)
+
+
+def _spline_growth(ends: _Ends, bat_knob: np.ndarray, bat_tip: np.ndarray,
+                   weights: '_BulgeWeights') -> np.ndarray:
+    """
+    Return the ``spline`` model's growth (m) of the bat's sphere and hull over each interval.
+
+    The knob's bulge, the axis' turn and bulge, and the change of the knob-tip length;
+    ``weights``: the bat's neighbours and weights.
+    """
+    _, _, k0, e0, k1, e1 = ends
+    # the knob's and the axis' bulges share the bat's neighbours and weights; the axis'
+    # rows at k and k + 1 are e - k (the same subtraction as the whole axis array's)
+    axis0, axis1 = e0 - k0, e1 - k1
+    return (_bulges(bat_knob, weights, k0, k1)
+            + 0.25 * math.pi * _dist(axis0, axis1)
+            + math.pi * _bulges(bat_tip - bat_knob, weights, axis0, axis1)
+            + np.abs(_dist(k0, e0) - _dist(k1, e1)))
+
+
+def _clearances(ends: _Ends, ball_bulge: Union[float, np.ndarray],
+                bat_growth: Union[float, np.ndarray],
+                margin: Union[float, np.ndarray]) -> np.ndarray:
+    """
+    Return the larger of ``clearly_apart``'s two lower bounds on each interval's clearance (m).
+
+    The bounding spheres' gap (the ball's grown by ``ball_bulge``, the bat's by ``bat_growth``,
+    m), and where that is not above ``margin`` (m) the hulls' separation less both
+    (``hull_separations``).
+    """
+    b0, b1, k0, e0, k1, e1 = ends
+    ball_centre = (b0 + b1) * 0.5
+    ball_radius = 0.5 * _dist(b0, b1) + ball_bulge
+    bat_centre = (k0 + e0 + k1 + e1) * 0.25
+    bat_radius = np.maximum(np.maximum(_dist(k0, bat_centre), _dist(e0, bat_centre)),
+                            np.maximum(_dist(k1, bat_centre), _dist(e1, bat_centre))) + bat_growth
     sphere = _dist(ball_centre, bat_centre) - ball_radius - bat_radius
     near = np.flatnonzero(~(sphere > margin))  # (the hulls only where the spheres do not clear)
     if len(near) == len(sphere):
-        return np.maximum(sphere, hull_separations(b0, b1, k0, e0, k1, e1) - ball_bulge
-                          - bat_growth) - reach
+        return np.maximum(sphere, hull_separations(*ends) - ball_bulge - bat_growth)
     if len(near):
-        hull = hull_separations(*(rows(each, near) for each in (b0, b1, k0, e0, k1, e1)))
+        hull = hull_separations(*(rows(each, near) for each in ends))
         for growth in (ball_bulge, bat_growth):
             hull = hull - (growth[near] if isinstance(growth, np.ndarray) else growth)
         sphere[near] = np.maximum(sphere[near], hull)
-    return sphere - reach
+    return sphere
 
 
 def rows(points: np.ndarray, index: np.ndarray) -> np.ndarray:
