@@ -70,7 +70,7 @@ from typing import Any, Callable, Deque, Dict, List, Optional, Set, Tuple, Union
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import rclpy
 from rclpy.clock import Clock, ClockType
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from std_msgs.msg import Header
 from std_srvs.srv import Trigger
@@ -369,6 +369,19 @@ def freeze_start_up() -> int:
     return gc.get_freeze_count()
 
 
+class Executor(SingleThreadedExecutor):
+    """
+    rclpy's single-threaded executor, whose clean-up survives Ctrl-C in its construction.
+
+    rclpy's ``Executor.__del__`` reads ``_sigint_gc``, set near the end of ``__init__``: a
+    SIGINT that cut ``__init__`` short (the node stopped right after start-up, on a loaded
+    machine) left an object whose collection printed ``Exception ignored in ... __del__``, a
+    traceback, as the node exited. The class attribute answers None there: nothing to destroy.
+    """
+
+    _sigint_gc = None
+
+
 def main(args: Optional[List[str]] = None) -> int:
     """
     Run the node until Ctrl-C or shutdown.
@@ -393,7 +406,7 @@ def main(args: Optional[List[str]] = None) -> int:
                                             node.get_fully_qualified_name()):
             node.get_logger().warning(warning)
         freeze_start_up()
-        rclpy.spin(node)
+        rclpy.spin(node, Executor())
     except RosError as error:
         logger.error(f'invalid configuration, not starting: {error}')
         return 1

@@ -543,7 +543,7 @@ def test_an_error_from_rclpys_handles_after_ctrl_c_is_the_shutdown(shut_down: bo
     driver = (
         'import sys, rclpy\n'
         'from baseball_collision.ros import node\n'
-        'def spin(_node):\n'
+        'def spin(_node, _executor=None):\n'
         f'    if {shut_down}:\n'
         '        rclpy.try_shutdown()\n'
         "    raise AttributeError(\"'NoneType' object has no attribute 'handle'\")\n"
@@ -556,6 +556,28 @@ def test_an_error_from_rclpys_handles_after_ctrl_c_is_the_shutdown(shut_down: bo
         assert completed.returncode == 0 and 'Traceback' not in output, output
     else:
         assert completed.returncode == 1 and 'AttributeError' in output, output
+
+
+def test_ctrl_c_while_the_executor_is_made_exits_0_without_a_traceback() -> None:
+    """
+    A SIGINT in the executor's construction: exit 0, and nothing printed by its collection.
+
+    rclpy's ``Executor.__del__`` read an attribute ``__init__`` had not set yet: under load a
+    node stopped right after start-up printed ``Exception ignored in ... __del__`` with a
+    traceback (``'SingleThreadedExecutor' object has no attribute '_sigint_gc'``).
+    """
+    driver = (
+        'import sys, rclpy.executors\n'
+        'from baseball_collision.ros import node\n'
+        'def interrupted(*args, **kwargs):\n'
+        '    raise KeyboardInterrupt\n'
+        'rclpy.executors.SignalHandlerGuardCondition = interrupted\n'
+        "sys.exit(node.main(['impact_node']))\n")
+    completed = subprocess.run([sys.executable, '-c', driver], env=_env(), capture_output=True,
+                               text=True, timeout=60)
+    output = completed.stdout + completed.stderr
+    assert completed.returncode == 0, output
+    assert 'Traceback' not in output and 'Exception ignored' not in output, output
 
 
 def test_a_params_file_for_another_node_is_warned_about_at_start_up(tmp_path: Path) -> None:
