@@ -8,6 +8,7 @@ The pure core: Python + numpy only; imports nothing above it (no ROS, no bags, n
 * ``motion``: how each body moves between two samples, one path class per model;
 * ``detector``: the stream detector, a facade over its parts (``gate``, ``streams``,
   ``pairing``, ``scheduler``, ``broadphase``, ``sweep``, ``episodes``, ``kinematics``,
-  ``predictor``; typed ``events``; the one parameter table in ``config``);
+  ``predictor`` with ``bat_judgment`` and ``bat_window``; typed ``events``; the one
+  parameter table in ``config``);
 * ``prediction``: ball and bat forecasts and the search for their first contact.
 """
