@@ -531,6 +531,20 @@ def test_bad_params_file_value_exits_with_one_line(tmp_path: Path, line: str, wo
     assert 'ERROR' in lines[0] and word in lines[0] and 'not starting' in lines[0]
 
 
+def _main_patched(patch: str) -> subprocess.CompletedProcess:
+    """
+    Run the node's ``main`` in a fresh interpreter after ``patch``, capturing its output.
+
+    :param patch: code run first, with ``rclpy``, ``rclpy.executors`` and the node module
+        imported (as ``node``).
+    """
+    driver = ('import sys, rclpy, rclpy.executors\n'
+              'from baseball_collision.ros import node\n'
+              f"{patch}sys.exit(node.main(['impact_node']))\n")
+    return subprocess.run([sys.executable, '-c', driver], env=_env(), capture_output=True,
+                          text=True, timeout=60)
+
+
 @pytest.mark.parametrize('shut_down', [True, False])
 def test_an_error_from_rclpys_handles_after_ctrl_c_is_the_shutdown(shut_down: bool) -> None:
     """
@@ -540,17 +554,12 @@ def test_an_error_from_rclpys_handles_after_ctrl_c_is_the_shutdown(shut_down: bo
     'handle'``): once in a loaded suite the node exited 1 with it after a SIGINT right after
     start-up. The same error with the context still up is the node's own: raised, exit 1.
     """
-    driver = (
-        'import sys, rclpy\n'
-        'from baseball_collision.ros import node\n'
+    completed = _main_patched(
         'def spin(_node, _executor=None):\n'
         f'    if {shut_down}:\n'
         '        rclpy.try_shutdown()\n'
         "    raise AttributeError(\"'NoneType' object has no attribute 'handle'\")\n"
-        'node.rclpy.spin = spin\n'
-        "sys.exit(node.main(['impact_node']))\n")
-    completed = subprocess.run([sys.executable, '-c', driver], env=_env(), capture_output=True,
-                               text=True, timeout=60)
+        'node.rclpy.spin = spin\n')
     output = completed.stdout + completed.stderr
     if shut_down:
         assert completed.returncode == 0 and 'Traceback' not in output, output
@@ -566,15 +575,10 @@ def test_ctrl_c_while_the_executor_is_made_exits_0_without_a_traceback() -> None
     node stopped right after start-up printed ``Exception ignored in ... __del__`` with a
     traceback (``'SingleThreadedExecutor' object has no attribute '_sigint_gc'``).
     """
-    driver = (
-        'import sys, rclpy.executors\n'
-        'from baseball_collision.ros import node\n'
+    completed = _main_patched(
         'def interrupted(*args, **kwargs):\n'
         '    raise KeyboardInterrupt\n'
-        'rclpy.executors.SignalHandlerGuardCondition = interrupted\n'
-        "sys.exit(node.main(['impact_node']))\n")
-    completed = subprocess.run([sys.executable, '-c', driver], env=_env(), capture_output=True,
-                               text=True, timeout=60)
+        'rclpy.executors.SignalHandlerGuardCondition = interrupted\n')
     output = completed.stdout + completed.stderr
     assert completed.returncode == 0, output
     assert 'Traceback' not in output and 'Exception ignored' not in output, output
