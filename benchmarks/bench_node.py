@@ -659,6 +659,8 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     each on the thread's CPU clock; each message's least time over the runs filters out the
     other work on a shared machine. Percentiles over all messages, and medians over those
     that predicted and those that published a prediction (no subscriber: no reports made).
+    After each message, as after a drain, the completions and the bat's departures made ahead
+    (``_departures_ahead``), timed apart.
     After each run, the CPU time of a full garbage collection (``gc.collect()``) with the node
     and its messages alive; ``freeze``: the start-up objects frozen after the first node is made
     (``node.freeze_start_up``, as ``impact_node`` does), else not. ``idle_s``: seconds slept
@@ -675,7 +677,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                  Parameter('look_ahead', value=look_ahead)]
     if tracker_noise is not None:
         overrides.append(Parameter('tracker_noise', value=tracker_noise))
-    cpu_runs, completed_runs, predicted, published, full = [], [], [], [], []
+    cpu_runs, completed_runs, ahead_runs, predicted, published, full = [], [], [], [], [], []
     for run in range(runs):
         node = ImpactNode(parameter_overrides=overrides)
         if freeze and not run:
@@ -683,7 +685,7 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
         predictor = node.detector._predictor  # the benchmark looks inside
         ball_msg, bat_msg = PointStamped(), PoseStamped()
         ball_msg.header.frame_id = bat_msg.header.frame_id = 'world'
-        cpu, predicted, published, completed = [], [], [], []
+        cpu, predicted, published, completed, ahead = [], [], [], [], []
         for k in range(pitches):
             for i in range(per_pitch):
                 stamp = BASE_NS + k * pitch_ns + i * step_ns
@@ -707,10 +709,14 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
                     node._complete_events()  # as after a drain (no subscriber: none made)
                     if impact:  # its error bars, line and markers
                         completed.append(time.thread_time() - start)
+                    start = time.thread_time()
+                    node._departures_ahead()  # then the bat's newest departures
+                    ahead.append(time.thread_time() - start)
                     predicted.append(predictor.last_ns != before)
                     published.append(predicted[-1] and predictor.predicting)
         cpu_runs.append(cpu)
         completed_runs.append(completed)
+        ahead_runs.append(ahead)
         start = time.thread_time()
         gc.collect()
         full.append(time.thread_time() - start)
@@ -735,6 +741,9 @@ def in_process(runs: int, pitches: int, rate: float, horizon: float, period: flo
     if after.size:
         print(f'  after the drain, the {after.size} impacts completed (error bars, line, '
               f'markers): median {np.median(after):.1f} us, max {after.max():.1f} us')
+    ahead = np.min(np.array(ahead_runs), axis=0) * 1e6
+    print(f"  after the drain, the bat's departures made ahead: mean {ahead.mean():.1f} us, "
+          f'p99 {np.percentile(ahead, 99):.1f} us, max {ahead.max():.1f} us')
     print('  a full garbage collection after each run (start-up objects '
           f"{'frozen' if freeze else 'not frozen'}): "
           + ', '.join(f'{t * 1e3:.2f}' for t in full) + ' ms CPU')

@@ -9,7 +9,8 @@ the detector returns them (``_publish``: a throttled or echoed line at its level
 reset's line at debug while it echoes a ROS clock jump of under ``CLOCK_ECHO_S`` ago). What
 costs time and no arm waits on comes after the intake's drain (``_complete_events``): an
 impact's error bars, INFO line and markers, then every event's ``~/impact_report`` (made only
-while the topic has a subscriber). Markers: an impact's scene, the live bat and ball on a
+while the topic has a subscriber), then the bat's newest departures for the glitch judgments to
+come (``_departures_ahead``). Markers: an impact's scene, the live bat and ball on a
 timer (only when a new sample came), a ``DELETEALL`` on every state reset; all as CDR bytes.
 
 :class:`Outputs` is a mixin base of ``node.ImpactNode``: it uses the node's endpoints,
@@ -101,13 +102,30 @@ class Outputs:
         self._set_predicting(False)
 
     def _then_reports(self, on_message: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
-        """Return an input's executor callback: ``on_message`` (and the drain), then reports."""
+        """
+        Return an input's executor callback: ``on_message`` (and the drain), then reports.
+
+        And then the bat's newest departures made ahead (``_departures_ahead``).
+        """
         complete = self._guarded(self._complete_events, "completing the impacts' reports")
+        ahead = self._guarded(self._departures_ahead, "making the bat's departures ahead")
 
         def handled(message: Any, info: Any) -> None:
             on_message(message, info)
             complete()
+            ahead()
         return handled
+
+    def _departures_ahead(self) -> None:
+        """
+        Make the newest bat frames' departures after the drain (``Detector.departures_ahead``).
+
+        A frame's first glitch judgment near the ball (the first sweep near it, the first
+        prediction) reads a window's departures, a ``c2`` fit each (10 us): made here, after
+        the drain, they are off the path of the message that judges them. No output changes.
+        """
+        with self._lock:
+            self.detector.departures_ahead()
 
     def _complete_events(self) -> None:
         """

@@ -11,7 +11,7 @@ from pathlib import Path
 import time
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
-from baseball_collision.core.detector import PendingUncertainty
+from baseball_collision.core.detector import Detector, PendingUncertainty
 from baseball_collision.core.records import RECORD_FORMAT
 from baseball_collision.ros import outputs as outputs_module
 from baseball_collision.ros.node import ImpactNode
@@ -207,6 +207,22 @@ def test_reports_are_made_after_the_drain(harness: Callable[..., Harness],
     records = [json.loads(m.data)['event'] for m in h.received['report']]
     assert records == ['prediction' if name == 'predicted_impact' else 'impact'
                        for name in events]
+
+
+def test_bat_departures_are_made_ahead_after_the_drain(harness: Callable[..., Harness],
+                                                       monkeypatch: pytest.MonkeyPatch) -> None:
+    """After each input's drain (none while it drains), the newest bat departures are made."""
+    h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
+    made: List[Tuple[int, bool]] = []
+    ahead = Detector.departures_ahead
+
+    def recorded(detector: Detector) -> int:
+        made.append((ahead(detector), h.node._intake._draining))
+        return made[-1][0]
+    monkeypatch.setattr(Detector, 'departures_ahead', recorded)
+    h.processed(publish_swing(h, 'pose', pitch()))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact')
+    assert sum(count for count, _ in made) > 0 and not any(draining for _, draining in made)
 
 
 def test_live_markers_carry_sample_stamps_and_a_reset_clears_them(

@@ -120,6 +120,13 @@ beside lost frames, a segment's first), pulls the judged one's neighbours' splin
 DEPARTURES = 'bat_departures'
 """The name of the bat stream's ``aligned`` list of its frames' departures (``departure``)."""
 
+DEPARTURES_AHEAD = 'bat_departures_ahead'
+"""The name of the bat stream's ``aligned`` list of departures made ahead of any judgment
+(``departures_ahead``): (noise, m), each served once to ``departure`` at that very noise."""
+
+AHEAD_FRAMES = 2
+"""The newest bat frames whose departures ``departures_ahead`` makes, at most, per call."""
+
 CLEAN = 'bat_clean'
 """The name of the bat stream's ``aligned`` list of the frames judged no glitch (``judged``)
 with every sample the verdict reads (two after the frame): the noise (m) they were judged at,
@@ -148,16 +155,52 @@ def departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -
     found = kept[j] if j < len(kept) else None
     if found is not None and found[0] <= noise <= NOISE_KEPT * found[0]:
         return found[1]
-    value = 0.0
-    if 3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap):
-        continued = c2_bat_continued(stream, j - 1, max_gap, size, noise)
-        if continued is not None:
-            there, sample = continued[1](stream.times[j]), stream.values[j]
-            value = max(math.dist(there.knob, sample.knob), math.dist(there.tip, sample.tip))
+    ahead = stream.aligned.get(DEPARTURES_AHEAD)
+    made = ahead[j] if ahead is not None and j < len(ahead) else None
+    if made is not None and made[0] == noise:  # (made ahead at this very noise: the same)
+        value = made[1]
+    else:
+        value = _departure(stream, j, max_gap, size, noise)
     if len(kept) <= j:
         kept.extend([None] * (j + 1 - len(kept)))
     kept[j] = (noise, value)
     return value
+
+
+def _departure(stream: Stream, j: int, max_gap: float, size: int, noise: float) -> float:
+    """Return bat frame j's departure (m), made afresh (``departure``, which keeps it)."""
+    if 3 <= j < len(stream.times) and stream.continuous(j - 1, max_gap):
+        continued = c2_bat_continued(stream, j - 1, max_gap, size, noise)
+        if continued is not None:
+            there, sample = continued[1](stream.times[j]), stream.values[j]
+            return max(math.dist(there.knob, sample.knob), math.dist(there.tip, sample.tip))
+    return 0.0
+
+
+def departures_ahead(stream: Stream, max_gap: float, size: int, noise: float) -> int:
+    """
+    Make the departures of the newest bat frames ahead of the judgments that read them.
+
+    Up to ``AHEAD_FRAMES`` newest frames without a departure kept (``departure``) or made ahead
+    already: each made now (the same function of frame j, the samples before it and ``noise``,
+    m 1 sigma) and kept in ``DEPARTURES_AHEAD``, which ``departure`` reads only at the very
+    same noise: every verdict and every kept departure stays what it was. For the node to call
+    after its drain (``ImpactNode``), off the message's path: a frame's first judgment near the
+    ball (the first sweep near it, the first prediction) otherwise makes a window's departures
+    in one message. Returns how many it made.
+    """
+    times = stream.times
+    kept = stream.aligned.setdefault(DEPARTURES, [])
+    ahead = stream.aligned.setdefault(DEPARTURES_AHEAD, [])
+    made = 0
+    for j in range(max(len(times) - AHEAD_FRAMES, 3), len(times)):
+        if (j < len(kept) and kept[j] is not None) or (j < len(ahead) and ahead[j] is not None):
+            continue
+        if len(ahead) <= j:
+            ahead.extend([None] * (j + 1 - len(ahead)))
+        ahead[j] = (noise, _departure(stream, j, max_gap, size, noise))
+        made += 1
+    return made
 
 
 def isolation(stream: Stream, j: int, max_gap: float, size: int,

@@ -4,11 +4,11 @@ import math
 from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import (
-    bat_glitch_edges, Detector, DetectorConfig, Impact, NearMiss)
+    bat_glitch_edges, bat_glitches, Detector, DetectorConfig, Impact, NearMiss)
 from baseball_collision.core.detector.bat_glitch_edges import beside_hole, hole_glitch
 from baseball_collision.core.detector.bat_glitches import (
-    departed, departure, isolation, isolation_without, judged, lost_about, next_the_glitch,
-    over_hole, path_without, regular, stepped)
+    departed, departure, departures_ahead, isolation, isolation_without, judged, lost_about,
+    next_the_glitch, over_hole, path_without, regular, stepped)
 from baseball_collision.core.detector.fitting import c2_bat_ahead
 from baseball_collision.core.detector.streams import excerpt, Stream
 from baseball_collision.core.motion import BatSample
@@ -348,6 +348,33 @@ def test_a_departure_is_kept_for_its_noise() -> None:
     assert departure(bat, 10, 0.05, 8, 1.2e-3) == noisy  # (within 1.25 times)
     bat.remove(9)
     assert len(bat.aligned['bat_departures']) == 8  # (cut back: made from the frame removed)
+
+
+def test_a_departure_made_ahead_serves_only_at_its_very_noise(monkeypatch: Any) -> None:
+    """Made ahead for the newest frames; served as made afresh, and only at its noise."""
+    bat = turning_bat(90.0, 16)
+    assert departures_ahead(bat, 0.05, 8, 1e-3) == bat_glitches.AHEAD_FRAMES
+    assert departures_ahead(bat, 0.05, 8, 1e-3) == 0  # (made already)
+    fresh = turning_bat(90.0, 16)
+    newest = len(bat.times) - 1
+    made = []
+    monkeypatch.setattr(bat_glitches, '_departure', lambda *args: _made_afresh(made, *args))
+    served = departure(bat, newest, 0.05, 8, 1e-3)
+    assert not made  # (served from the one made ahead)
+    assert served == departure(fresh, newest, 0.05, 8, 1e-3) and len(made) == 1  # (fresh)
+    assert bat.aligned['bat_departures'][newest] == (1e-3, served)  # (kept as made afresh)
+    at = departure(bat, newest - 1, 0.05, 8, 1.1e-3)  # (made ahead at 1e-3: not served)
+    assert at == departure(fresh, newest - 1, 0.05, 8, 1.1e-3) and len(made) == 3
+    assert departures_ahead(bat, 0.05, 8, 1e-3) == 0
+
+
+_AFRESH = bat_glitches._departure
+
+
+def _made_afresh(made: List[Any], *args: Any) -> float:
+    """Count a departure made afresh (``bat_glitches._departure``) and make it."""
+    made.append(args)
+    return _AFRESH(*args)
 
 
 def test_the_path_without_a_frame() -> None:

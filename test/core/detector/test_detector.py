@@ -597,3 +597,34 @@ def test_the_configuration_is_set_with_reconfigures_checks() -> None:
         detector.config = {'bat_input': 'pose'}
     detector.config = DetectorConfig(bat_input='pose', near_miss_threshold=0.2)
     assert detector.config.near_miss_threshold == 0.2
+
+
+@pytest.mark.parametrize('family', ['plane', 'jerky', 'braking', 'rebound'])
+@pytest.mark.parametrize('rate, noise_m', [(90.0, 0.0), (120.0, 1e-3)])
+def test_departures_made_ahead_change_no_event(family: str, rate: float, noise_m: float) -> None:
+    """
+    ``departures_ahead`` after every message (as the node after its drain): the same events.
+
+    To the bit and in order, predictions (0.3 s) included, with a bat frame turned 20 cm at
+    the tip toward the ball two frames before the approach (a glitch). (A departure made ahead
+    serves only at its very noise: exact samples, whose noise estimate stays 0, or a told
+    ``tracker_noise``; ``test_bat_glitches`` checks the serving.)
+    """
+    rng = np.random.default_rng(7)
+    scenario = make_scenario('barrel', rng, lead_s=0.4, family=family)
+    samples = sample(scenario, rate, rng, noise_m=noise_m, jitter_s=2e-4)
+    approach = samples.start_ns + int(scenario.truth.time_s * 1e9)
+    j = int(np.argmin(np.abs(samples.bat_stamps_ns - approach))) - 2
+    nearest = int(np.argmin(np.abs(samples.ball_stamps_ns - samples.bat_stamps_ns[j])))
+    config = DetectorConfig(prediction_horizon=0.3)
+    for feed in (samples, samples.with_bat_frame_turned(j, samples.ball_positions[nearest],
+                                                        0.2)):
+        runs, made = [], 0
+        for ahead in (False, True):
+            detector, events = Detector(config), []
+            for stamp, role, values in feed.messages():
+                events += detector.add(role, stamp, values)
+                if ahead:
+                    made += detector.departures_ahead()
+            runs.append(repr(events + detector.finish()))
+        assert runs[0] == runs[1] and made > 0
