@@ -63,7 +63,7 @@ def topic_name_error(name: str) -> Optional[str]:
 def resolve_topic(name: str, node_name: str = NODE_NAME) -> str:
     """Return a topic parameter as the node resolves it: ``ball`` -> ``/ball``."""
     if name.startswith('~'):
-        return '/' + node_name.strip('/') + name[1:]
+        return node_fqn(node_name) + name[1:]
     return name if name.startswith('/') else '/' + name
 
 
@@ -255,7 +255,7 @@ def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
     ``impact``, ``impact_velocity``, ``near_miss``, ``predicted_impact``, ``impact_report``,
     ``markers`` (``~/`` topics of the node) and ``diagnostics`` (``/diagnostics``).
     """
-    base = '/' + node_name.strip('/')
+    base = node_fqn(node_name)
     names = ('impact', 'impact_velocity', 'near_miss', 'predicted_impact', 'impact_report',
              'markers')
     return {**{name: f'{base}/{name}' for name in names}, 'diagnostics': '/diagnostics'}
