@@ -464,16 +464,17 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     for analysis, pngs in zip(analyses, files):
         predicting = analysis.config.prediction_horizon > 0.0
         scores = analysis.prediction_scores() if predicting else [None] * len(analysis.impacts)
-        for number, (impact, score) in enumerate(zip(analysis.impacts, scores), 1):
-            impacts.append(entry(analysis, impact, number))
+        numbers = event_numbers(analysis)
+        for impact, score in zip(analysis.impacts, scores):
+            impacts.append(entry(analysis, impact, numbers[id(impact)]))
             if score is not None:
                 impacts[-1]['prediction_errors'] = plain({
                     f'{lead * 1e3:g}': None if error is None else {
                         'time_error_s': error[0], 'point_error_m': error[1]}
                     for lead, error in score.items()})
         predictions.extend(entry(analysis, p) for p in analysis.predictions)
-        near_misses.extend(entry(analysis, miss, number)
-                           for number, miss in enumerate(analysis.near_misses, 1))
+        near_misses.extend(entry(analysis, miss, numbers[id(miss)])
+                           for miss in analysis.near_misses)
         for reason, count in analysis.stats.dropped.items():
             dropped[reason] = dropped.get(reason, 0) + count
         bags.append(plain(_bag_entry(analysis)))
