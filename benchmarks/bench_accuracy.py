@@ -26,6 +26,9 @@ samples the ball at its own rate (cameras beside a bat tracked by mocap or a rob
 sees the same samples. ``reference`` is the plain per-coordinate cubic
 spline over the whole pitch (``tools.reference``: not-a-knot without noise, Reinsch's smoothing
 spline with the known noise), across the contact; the detector's models keep to its rules.
+``reference-rules`` is that spline held to the same rules (``tools.reference``'s
+``within_rules``: fitted again up to the contact interval's closing frames, the velocities from
+the samples before the contact).
 
 Recall and precision count contacts and misses clearer than 0.1 mm without noise, 3 mm with;
 errors are over every matched contact (absolute; ``bias`` is the signed mean time error);
@@ -84,8 +87,9 @@ METHODS.update({
         **({'prediction_window': span / 1.5} if span > 0.15 else {}))
     for degree in (2, 3) for end, end_label in (('closing', ''), ('opening', '-open'))
     for span, span_label in ((0.15, ''), (0.3, '-long')) for told in ('noise', 'auto')})
-"""Detector methods by label: DetectorConfig fields (plus ``reference`` and ``reference-interp``,
-not detectors); a label ending in ``-noise`` is told the known noise (``tracker_noise``),
+"""Detector methods by label: DetectorConfig fields (plus ``reference``, ``reference-interp`` and
+``reference-rules``, not detectors); a label ending in ``-noise`` is told the known noise
+(``tracker_noise``),
 ``c2-auto`` estimates each stream's (``tracker_noise: auto``). The smoothers (``fitting.SMOOTHER``:
 Reinsch's natural spline and weight rule, the not-a-knot penalty with the residual rules; the
 ``c2-[la2-]jerk-*`` labels: the Kalman/RTS smoother of a constant-jerk model) and the
@@ -122,6 +126,8 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
         return lambda scenario, samples: reference_result(scenario, samples, noise_m)
     if label == 'reference-interp':
         return lambda scenario, samples: reference_result(scenario, samples, 0.0)
+    if label == 'reference-rules':
+        return lambda scenario, samples: reference_result(scenario, samples, noise_m, True)
     # (a method interpolates unless it says otherwise: tracker_noise 0, not the default auto)
     noise = {'tracker_noise': noise_m if label.endswith('-noise') else 0.0}
     fields = {key: value for key, value in METHODS[label].items() if isinstance(key, str)}
@@ -232,7 +238,8 @@ def main() -> None:
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 0.5, 1.0, 2.0],
                         help='mm per coordinate')
     parser.add_argument('--methods', nargs='+', default=list(METHODS) + ['reference'],
-                        choices=list(METHODS) + ['reference', 'reference-interp'])
+                        choices=list(METHODS) + ['reference', 'reference-interp',
+                                                 'reference-rules'])
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
     parser.add_argument('--noise-on', choices=NOISE_ON, default='both',
                         help='the bodies with noise (an error budget: ball or bat only)')
