@@ -418,7 +418,9 @@ def lost_about(stream: Stream, j: int, before: int, after: int, last: Optional[i
     for i in range(j - before, j + after):
         at = virtual if i == j else at
         whole = round((times[i + 1] - times[i]) / median)
-        if whole < 1:
+        # more than LOST_NEAR lost is None: said before the list is made (a hostile stream's
+        # step of 1e9 medians would be a list of 1e9 frames: a minute and gigabytes)
+        if whole < 1 or len(lost) + whole - 1 > LOST_NEAR:
             return None
         lost += [virtual + n for n in range(1, whole)]
         virtual += whole

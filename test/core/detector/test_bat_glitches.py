@@ -1,6 +1,7 @@
 """Tests for baseball_collision.core.detector.bat_glitches: one bat frame off the swing."""
 
 import math
+import tracemalloc
 from typing import Any, List, Tuple
 
 from baseball_collision.core.detector import (
@@ -697,6 +698,28 @@ def test_the_frames_lost_about_a_frame() -> None:
         bat.remove(k)
     assert lost_about(bat, 9, 2, 1) is None  # (three lost: more than ``LOST_NEAR``)
     assert lost_about(bat, 3, 2, 1) is None  # (too few steps before it)
+
+
+def test_a_hole_of_a_million_steps_is_not_listed_frame_by_frame() -> None:
+    """
+    A hostile stamp: frames 1 us apart, then one a second later. More than ``LOST_NEAR`` lost.
+
+    ``lost_about`` says None before it lists the lost frames: it listed all 1e6 of them (a
+    fuzzed stream of such stamps took 65 s of one core in the glitch rules, and gigabytes).
+    """
+    bat = turning_bat(360.0, 12)
+    stamps = [k * 1e-6 for k in range(11)] + [1.0]
+    hostile = Stream('bat')
+    for k, t in enumerate(stamps):
+        hostile.append(t, int(round(t * 1e9)) + 1, bat.values[k], k == 0)
+    tracemalloc.start()
+    try:
+        assert lost_about(hostile, 10, 2, 1) is None
+        assert lost_about(hostile, 10, 2, 1, hole=math.inf) is None
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1_000_000, peak
 
 
 @pytest.mark.parametrize('lost', [-2, -1, 1])
