@@ -4,7 +4,7 @@ Accuracy benchmark: motion models against continuous-time truth, per family, rat
 Run: ``.venv/bin/python benchmarks/bench_accuracy.py [--quick] [--per-kind N] [--seed S]
 [--families F ...] [--rates R ...] [--noises MM ...] [--methods M ...] [--bat points|pose]
 [--noise-on both|ball|bat] [--shared-noise] [--lead S] [--ball-dropout FRAMES] [--ball-rate HZ]
-[--pooled]``.
+[--pooled] [--worst N]``.
 
 Scenarios: N of each kind (barrel, end-cap and handle hits, 1-10 mm grazes, misses over and
 under, and the closest calls: contacts 0.1-1 mm deep and misses by 0.1-2 mm) for every swing
@@ -35,14 +35,25 @@ errors are over every matched contact (absolute; ``bias`` is the signed mean tim
 ``1s``/``2s`` say how often the time, spot (distance from the knob) and sweet-spot speed errors
 stayed within one and two reported sigmas (the impacts' uncertainties). Prints
 Markdown tables for BENCHMARKS.md.
+
+``--worst N`` lists after each row its N contacts of the largest time error: the scenario's
+index in the family's set, its kind, the time (us) and spot (mm) errors, where in its bat step
+the true contact lies (0: the opening frame, 1: the closing one), and at a hit (the ball left
+its flight) whether the bat was continued from before the interval
+(``SweepImpact._bat_ahead``) and the closing frame's miss over the continuation's own miss at
+the opening frame, whole and less that own miss carried over (``sweep_impact.braked_miss``:
+the rule takes the continuation where the second is over ``BAT_DEPARTURE_RATIO``), or ``not
+judged`` where the rule did not come to that (no departure, noise, no continuation).
 """
 
 import argparse
 from dataclasses import replace
+import math
 import time
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
 
-from baseball_collision.core.detector import DetectorConfig, fitting, kinematics
+from baseball_collision.core.detector import DetectorConfig, fitting, kinematics, sweep_impact
+from baseball_collision.core.detector.sweep import Sweep
 from baseball_collision.tools.accuracy import PitchResult, run_samples, summarize
 from baseball_collision.tools.reference import reference_result
 from baseball_collision.tools.sim import (
@@ -149,6 +160,53 @@ def _runner(label: str, bat: str, noise_m: float) -> Callable:
     return score
 
 
+HIT_BATS: List[Dict[str, object]] = []
+"""What ``--worst`` records of each hit's bat while a scenario is scored (``_recording``)."""
+
+
+def _recording() -> None:
+    """Wrap ``SweepImpact._bat_ahead`` and ``braked_miss``: record each hit's bat (``--worst``)."""
+    bat_ahead, braked_miss = Sweep._bat_ahead, sweep_impact.braked_miss
+
+    def recorded_miss(times, frames, missed, continued):  # type: ignore[no-untyped-def]
+        miss, scale = braked_miss(times, frames, missed, continued)
+        whole = max(map(math.dist, continued, (frames[1].knob, frames[1].tip)))
+        HIT_BATS[-1].update(whole=whole / scale if scale else math.inf,
+                            left=miss / scale if scale else math.inf)
+        return miss, scale
+
+    def recorded(self, interval, paths, hit=False):  # type: ignore[no-untyped-def]
+        if self.bat_ahead is not None:  # (the uncertainty's re-solves)
+            return bat_ahead(self, interval, paths, hit)
+        HIT_BATS.append({'t0': interval[0], 't1': interval[1]})
+        found = bat_ahead(self, interval, paths, hit)
+        HIT_BATS[-1]['taken'] = found is not None
+        return found
+    Sweep._bat_ahead = recorded
+    sweep_impact.braked_miss = recorded_miss
+
+
+def _worst(scenarios: Sequence[Scenario], samples: Sequence[Samples], results, count: int,
+           records: Sequence[List[Dict[str, object]]]) -> None:
+    """Print the ``count`` contacts of the largest time error (``--worst``)."""
+    found = [(abs(r.time_error_s), i) for i, r in enumerate(results)
+             if r.time_error_s is not None]
+    for _, i in sorted(found, reverse=True)[:count]:
+        scenario, result = scenarios[i], results[i]
+        stamps = (samples[i].bat_stamps_ns - samples[i].start_ns) * 1e-9
+        k = int(np.searchsorted(stamps, scenario.truth.time_s)) - 1
+        place = (scenario.truth.time_s - stamps[k]) / (stamps[k + 1] - stamps[k])
+        # the hit's interval: the last one the rule judged (the sweep stops at the impact)
+        hit = records[i][-1] if records[i] else {}
+        judged = 'left' in hit
+        bat = ('continued' if hit.get('taken') else 'through its frames') + (
+            f", closing miss {hit['whole']:.2f} / {hit['left']:.2f} own" if judged
+            else ', not judged')
+        print(f'  {i:3d} {result.kind:8s} time {result.time_error_s * 1e6:+7.1f} us, spot '
+              f'{result.location_error_m * 1e3:+6.2f} mm, at {place:.2f} of its step; '
+              f"hit's bat: {bat}", flush=True)
+
+
 def _row(family: str, rate: float, noise_mm: float, label: str, results) -> Dict:
     """Print one table row; return its summary."""
     summary = summarize(results, min_clearance_m=3e-3 if noise_mm else 1e-4)
@@ -184,7 +242,7 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
         pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15,
         dropout: Optional[int] = None, ball_rate: Optional[float] = None,
-        shared: bool = False) -> List[Tuple]:
+        shared: bool = False, worst: int = 0) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
@@ -192,8 +250,11 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
     ``noise_on``: the bodies with noise (``sim.sample``); ``lead_s``: s tracked before contact;
     ``dropout``: the ball's stream restarting that many frames before the contact
     (``dropped_ball``), or None; ``ball_rate``: the ball's own rate (Hz), or None for each rate;
-    ``shared``: one draw shakes the whole bat (no marker spread).
+    ``shared``: one draw shakes the whole bat (no marker spread); ``worst``: list that many
+    contacts of the largest time error after each row (``_worst``; not with ``pooled``).
     """
+    if worst:
+        _recording()
     rows = []
     pools: Dict[Tuple, List[PitchResult]] = {}
     for family in families:
@@ -213,13 +274,19 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
                                for s, smp in zip(scenarios, samples)]
                 for label in methods:
                     score = _runner(label, bat, noise)
-                    results: List[PitchResult] = [score(s, smp)
-                                                  for s, smp in zip(scenarios, samples)]
+                    results: List[PitchResult] = []
+                    records: List[List[Dict[str, object]]] = []
+                    for s, smp in zip(scenarios, samples):
+                        HIT_BATS.clear()
+                        results.append(score(s, smp))
+                        records.append(list(HIT_BATS))
                     if pooled:
                         pools.setdefault((rate, noise_mm, label), []).extend(results)
                         continue
                     rows.append(((family, rate, noise_mm, label),
                                  _row(family, rate, noise_mm, label, results)))
+                    if worst:
+                        _worst(scenarios, samples, results, worst, records)
     for (rate, noise_mm, label), results in pools.items():
         rows.append((('+'.join(families), rate, noise_mm, label),
                      _row('+'.join(families), rate, noise_mm, label, results)))
@@ -254,6 +321,9 @@ def main() -> None:
                         "before the contact's interval (the ball's stream restarts there)")
     parser.add_argument('--ball-rate', type=float, metavar='HZ',
                         help="the ball's own rate (the bat's are --rates)")
+    parser.add_argument('--worst', type=int, default=0, metavar='N',
+                        help='after each row, its N contacts of the largest time error and '
+                        "what the hit's bat rule made of them")
     args = parser.parse_args()
     if args.quick:
         args.per_kind, args.rates, args.noises = 1, [90.0, 360.0], [0.0, 1.0]
@@ -271,7 +341,7 @@ def main() -> None:
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
         args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout, args.ball_rate,
-        args.shared_noise)
+        args.shared_noise, args.worst)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

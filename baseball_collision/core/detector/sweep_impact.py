@@ -13,19 +13,54 @@ before it is appended.
 
 from dataclasses import replace
 import math
-from typing import List, Optional, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 from .departure import DEPARTURE_FLOOR, judging_noise, leaves_flight
 from .events import Impact
 from .fitting import c2_bat_ahead, stream_noise
 from .kinematics import c2_velocities, fit_velocities, quintic_check, rigid_bat, SPARSE_SAMPLES
 from ..geometry import dot, norm, rigid_point_velocity, Vector
-from ..motion import Paths
+from ..motion import BatSample, Paths
+from ..motion.bat_paths import Ends
 from ..toi import ImpactResult
 
 BAT_DEPARTURE_RATIO = 4.0
-"""How many times farther than the frame before a hit's closing bat frame must be from the bat's
-continuation for the sweep to take the continuation (``SweepImpact._bat_ahead``)."""
+"""How many times the continuation's own miss at the frame before a hit's closing bat frame must
+be off its free swing for the sweep to take the continuation (``braked_miss``,
+``SweepImpact._bat_ahead``)."""
+
+
+def braked_miss(times: Sequence[float], frames: Tuple[BatSample, BatSample],
+                missed: Ends, continued: Ends) -> Tuple[float, float]:
+    """
+    Return how far (m) a hit's closing bat frame is off its free swing, and the scale of that.
+
+    The bat's own departure at a hit (``SweepImpact._bat_ahead``): the opening and closing
+    ``frames`` (knob, tip), ``times`` (s) the stamps of the frame before the opening one, the
+    opening and the closing frame; ``missed``: the knob and tip (m) continued from the window
+    before the opening frame, at its stamp; ``continued``: those continued from the window up to
+    the opening frame, at the closing stamp. The continuation's own miss at the opening frame
+    (the scale, the larger of knob and tip) carries over to the next frame: a swing extrapolated
+    a step from the same kind of window misses its next frame the same way (exact samples; at
+    90 Hz 1-5 mm, the accelerating swing's tip mostly ahead of its continuation), so it is taken
+    off the closing frame's miss, scaled as an error of the continued acceleration by the
+    squared ratio of the steps. What is left is the brake's: a real bat loses speed within 1-3
+    ms of the contact, so its closing frame lags its free swing. At 90 Hz the continuation is
+    now taken at hits whose closing frame's whole miss was under ``BAT_DEPARTURE_RATIO`` times
+    the own miss but what is left is over it (exact rebound hits: time p99 93 -> 59 us). On free
+    swings, where nothing braked, what is left is at most 3.8 times the own miss at 90 Hz, 1.9
+    at 120 and 2.6 at 360 Hz (the whole miss: 3.6, 2.9 and 4.4 times; BENCHMARKS.md, "The brake
+    against the continuation's own miss carried over", session 61).
+    """
+    scale = ((times[2] - times[1]) / (times[1] - times[0])) ** 2
+    opening, closing = frames
+    miss = scatter = 0.0
+    for expected, ahead, seen, now in zip(missed, continued, (opening.knob, opening.tip),
+                                          (closing.knob, closing.tip)):
+        own = tuple(scale * (s - e) for s, e in zip(seen, expected))  # carried to the closing
+        miss = max(miss, math.dist(tuple(a + o for a, o in zip(ahead, own)), now))
+        scatter = max(scatter, math.dist(expected, seen))
+    return miss, scatter
 
 
 class SweepImpact:
@@ -67,9 +102,10 @@ class SweepImpact:
         continued from ``c2``'s window up to the opening frame (``fitting.c2_bat_ahead``) is the
         better one there (BENCHMARKS.md, "A ball that leaves the bat"; for every model, as the
         ball's free flight is: "A hit's bat continued under every model"), where the closing frame
-        has left that continuation by more than ``BAT_DEPARTURE_RATIO`` times the previous frame
-        left its own (the samples follow their continuation closely: exact, not noisy; the bat
-        braked). At a low rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities'
+        has left that continuation, less the continuation's own miss at the opening frame carried
+        over (``braked_miss``), by more than ``BAT_DEPARTURE_RATIO`` times that own miss (the
+        samples follow their continuation closely: exact, not noisy; the bat braked). At a low
+        rate (``SPARSE_SAMPLES`` or fewer in ``velocity_window``, the velocities'
         rule) only a quintic continuation (``splines.quintic_window``): a cubic's over a whole step
         is the larger error in the spot there (BENCHMARKS.md, "A hit's bat continued on the
         quintic"). At a higher rate only where the window up to the opening frame passes the
@@ -102,11 +138,9 @@ class SweepImpact:
                               quintic=quintic)
         if before is None:
             return None
-        # the bat's own departure: its closing frame far off the continuation (a brake), where
-        # the same continuation one frame earlier met its frame (samples exact enough for it)
-        closing, opening = bat.values[bat_k + 1], bat.values[bat_k]
-        miss = max(map(math.dist, path.at(path.t1), (closing.knob, closing.tip)))
-        scatter = max(map(math.dist, before.at(before.t1), (opening.knob, opening.tip)))
+        miss, scatter = braked_miss(bat.times[bat_k - 1:bat_k + 2],
+                                    (bat.values[bat_k], bat.values[bat_k + 1]),
+                                    before.at(before.t1), path.at(path.t1))
         if miss <= DEPARTURE_FLOOR or miss <= BAT_DEPARTURE_RATIO * scatter:
             return None
         return paths[0], path

@@ -730,6 +730,30 @@ def test_hits_the_ball_rebounds_from_same_in_chunks(model: str, noise_m: float) 
     assert sum(isinstance(e, Impact) for e in events) == 3
 
 
+@pytest.mark.parametrize('look_ahead', [0, 2])
+def test_braked_hits_at_90_hz_same_in_chunks(look_ahead: int) -> None:
+    """
+    Hits at 90 Hz whose bat is continued from before the interval, or not: alike in chunks.
+
+    The rebound family's first barrel and end-cap hits of ``bench_accuracy.py``'s set, exact,
+    1 s apart: the closing frame's miss judged against the continuation's own miss carried over
+    (``sweep_impact.braked_miss``) takes the continuation at some and not at others.
+    """
+    rng = np.random.default_rng(7)
+    scenarios = [make_scenario(kind, rng, family='rebound', lead_s=0.15)
+                 for kind in ('barrel', 'end_cap') for _ in range(4)]
+    rows: List[Row] = []
+    for i, scenario in enumerate(scenarios):
+        samples = sample(scenario, 90.0, np.random.default_rng(i), jitter_s=2e-4, grid_s=1e-3,
+                         start_ns=BASE_NS + i * 1_000_000_000)
+        rows += [(role, stamp, values, 'world')
+                 for stamp, role, values in samples.messages('points')]
+    config = DetectorConfig(model='c2', bat_input='points', tracker_noise=-1.0,
+                            look_ahead=look_ahead)
+    events = assert_same(config, rows, (7, 300, 2000))
+    assert sum(isinstance(e, Impact) for e in events) == len(scenarios)
+
+
 def test_c2_under_auto_noise_is_planned(monkeypatch: pytest.MonkeyPatch) -> None:
     """A noisy session under auto: chunks are planned, and the estimates are the noise's."""
     planned = []
