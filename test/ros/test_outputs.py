@@ -117,10 +117,7 @@ def test_impact_report_is_the_event_record(harness: Callable[..., Harness],
 def test_no_report_is_made_without_a_subscriber(harness: Callable[..., Harness]) -> None:
     """With nobody on ~/impact_report no record is made; the other outputs are unchanged."""
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
-    report_topic = '/impact_node/impact_report'
-    for subscription in list(h.probe.subscriptions):
-        if subscription.topic_name == report_topic:
-            h.probe.destroy_subscription(subscription)
+    h.unsubscribe('/impact_node/impact_report')
     reports = h.node._outputs['impact_report']
     h.wait(lambda: reports.get_subscription_count() == 0, 5.0, 'the report unmatched')
     published = []

@@ -128,6 +128,25 @@ class Harness:
                               for p in self.publishers.values()), 5.0, 'publishers matched')
         return self
 
+    def unsubscribe(self, topic: str) -> None:
+        """
+        Destroy the probe's subscriptions on ``topic``, in the spin thread.
+
+        Destroyed from another thread while the executor builds its wait set, a subscription's
+        event handler raises ``InvalidHandle`` there and ends the spin (seen under load).
+        """
+        done = threading.Event()
+
+        def drop() -> None:
+            timer.cancel()
+            for subscription in list(self.probe.subscriptions):
+                if subscription.topic_name == topic:
+                    self.probe.destroy_subscription(subscription)
+            done.set()
+
+        timer = self.probe.create_timer(0.001, drop)
+        assert done.wait(5.0), f'the probe did not unsubscribe from {topic}'
+
     def wait(self, predicate: Callable[[], bool], timeout: float, what: str) -> None:
         """Wait until predicate() holds, or fail naming ``what``."""
         deadline = time.monotonic() + timeout
