@@ -52,6 +52,17 @@ def input_qos(qos: str, depth: int) -> QoSProfile:
         else ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
 
 
+def topic_error_line(error: Exception) -> str:
+    """
+    Return the first line of rclpy's refusal of a topic name, without rcl's source location.
+
+    ``InvalidTopicNameException`` (a name invalid once expanded) or the ``ValueError`` of rcl's
+    expansion (an unknown substitution: ``topic name '{foo}/x' is invalid: unknown
+    substitution: {foo}``, which rclpy raises as it is, where a node would end with it).
+    """
+    return str(error).splitlines()[0].rstrip(':').split(', at /')[0]
+
+
 class Endpoints:
     """
     Create a node's endpoints with mismatch warnings; name the inputs' topics and types.
@@ -139,7 +150,8 @@ class Endpoints:
         (``reliability``, ``history``, ``depth``; read-only, from a params file or
         ``-p``) override it (rclpy's ``QoSOverridingOptions``).
 
-        :raises RosError: a topic name that fails once expanded (``a//b``).
+        :raises RosError: a topic name that fails once expanded (``a//b``, ``{ns}//x``) or
+            has an unknown substitution (``{foo}/x``).
         """
         events = SubscriptionEventCallbacks(
             incompatible_qos=lambda info: self._incompatible_qos(
@@ -150,9 +162,8 @@ class Endpoints:
             subscription = self._node.create_subscription(
                 msg_type, topic, callback, qos, event_callbacks=events,
                 qos_overriding_options=QoSOverridingOptions.with_default_policies())
-        except InvalidTopicNameException as error:
-            first = str(error).splitlines()[0].rstrip(':')
-            raise RosError(f'{stream} topic {topic!r}: {first}') from error
+        except (InvalidTopicNameException, ValueError) as error:
+            raise RosError(f'{stream} topic {topic!r}: {topic_error_line(error)}') from error
         self.topics[stream] = subscription.topic_name
         self._subscriptions[stream] = subscription
         return subscription

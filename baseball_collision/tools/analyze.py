@@ -262,7 +262,8 @@ class AnalysisOptions:
     :ivar ball_radius: ``--ball-radius`` (m).
     :ivar bat_radius: ``--bat-radius`` (m).
     :ivar prediction_horizon: ``--predict`` horizon (s).
-    :ivar node_name: the node whose output topics ``--out-bag`` writes.
+    :ivar node_name: the node whose output topics ``--out-bag`` writes, and whose namespace
+        the parameter file's relative topics take (``cage2/impact_node``: ``/cage2/ball``).
     :ivar topic_flags: the caller has the topic flags (``analyze``'s command line): an error
         about a topic from the parameter file names the flag that overrides it; False (the
         demo, which replays a bag's own topics): it does not.
@@ -296,7 +297,8 @@ class AnalysisOptions:
         """
         Return the topic asked for a role: its flag, else the parameter file's, else None.
 
-        A parameter file's topic is resolved as the node resolves it (``ball`` -> ``/ball``);
+        A parameter file's topic is expanded as the node expands it, for ``node_name``
+        (``ball`` -> ``/ball``, ``/cage2/ball`` under ``/cage2``: ``resolve_topic``);
         the file's bat topics count only for its ``bat_input`` (``pose`` by default), and none
         of them when a topic flag names a bat topic.
         """

@@ -413,6 +413,12 @@ def test_bad_value_in_process_raises_node_config_error(monkeypatch: pytest.Monke
             Parameter('max_gap', value=1), Parameter('up_axis', value=[0, 2, 0])])
         assert node.detector.config.max_gap == 1.0 and node.detector.config.up_axis == (0, 1, 0)
         node.destroy_node()
+        # rcl's expansion refuses an unknown substitution with a ValueError: the node ended
+        # with its traceback (analyze --params refuses the file too: test/tools)
+        for name, topic in (('ball_topic', '{foo}/ball'), ('bat_plan_topic', '{foo}/plan')):
+            refusal = f'{topic!r}: topic name {topic!r} is invalid: unknown substitution: {{foo}}'
+            with pytest.raises(RosError, match=re.escape(refusal)):
+                ImpactNode(context=context, parameter_overrides=[Parameter(name, value=topic)])
     finally:
         rclpy.shutdown(context=context)
 

@@ -1,12 +1,15 @@
 """Parameter files: sections, flattening, configuration precedence, the node's topics."""
 
 from pathlib import Path
+import re
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
+from baseball_collision.tools.analyze import AnalysisOptions
 from baseball_collision.tools.parameters import (
-    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics)
+    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics,
+    resolve_topic)
 import pytest
 from support import REPO_ROOT
 from support.bagfiles import reference_bag, still_rows
@@ -143,6 +146,10 @@ def test_output_topics_are_the_nodes() -> None:
     ("ball_topic: 'a b'", ["'ball_topic' = 'a b': Invalid topic name", 'alphanumerics']),
     ("knob_topic: 'mocap//knob'", ['Invalid topic name', "repeated '/'"]),
     ("tip_topic: '2tip'", ['Invalid topic name', 'number']),
+    # refused once expanded in the root namespace ('///tip_2'), as the node refuses it
+    ("tip_topic: '/{ns}/tip_2'", ["'tip_topic' = '/{ns}/tip_2': Invalid topic name",
+                                  "repeated '/'"]),
+    ("bat_plan_topic: '{foo}/plan'", ['Invalid topic name', 'unknown substitution {foo}']),
 ])
 def test_what_the_node_refuses_is_refused(tmp_path: Path, line: str, words: list) -> None:
     """Lists mixing int and float (rcl's parser), topic names rcl refuses: refused here too."""
@@ -152,8 +159,34 @@ def test_what_the_node_refuses_is_refused(tmp_path: Path, line: str, words: list
     for word in words:
         assert word in str(caught.value)
     fine = _write(tmp_path / 'f.yaml', 'impact_node:\n  ros__parameters:\n    up_axis: '
-                  "[0, 0, 1]\n    ball_topic: '~/ball'\n    tip_topic: /{ns}/tip_2\n")
+                  "[0, 0, 1]\n    ball_topic: '~/ball'\n    tip_topic: /{node}/tip_2\n")
     assert load_parameters(fine)['up_axis'] == [0, 0, 1]
+
+
+@pytest.mark.parametrize('node_name', ['impact_node', '/impact_node', 'cage2/impact_node',
+                                       '/lab/cage2/tracker'])
+def test_topics_are_expanded_as_rcl_expands_them(tmp_path: Path, node_name: str) -> None:
+    """
+    A parameter file's topic is expanded as the node expands it: rclpy's own expansion.
+
+    The node's namespace before a relative name (``ball`` was ``/ball`` for
+    ``cage2/impact_node``, whose node subscribes ``/cage2/ball``), ``~`` its full name,
+    ``{node}``, ``{ns}`` and ``{namespace}`` substituted.
+    """
+    from rclpy.expand_topic_name import expand_topic_name
+
+    namespace, _, name = ('/' + node_name.strip('/')).rpartition('/')
+    for topic in ('ball', 'mocap/ball', '/ball', '~', '~/bat', '{node}/x', '{ns}/x',
+                  '{namespace}/x', 'a/{node}', '/{ns}/y', '~/{node}'):
+        assert resolve_topic(topic, node_name) == \
+            expand_topic_name(topic, name, namespace or '/'), topic
+    with pytest.raises(ToolError, match=re.escape('unknown substitution {foo}')):
+        resolve_topic('{foo}/x', node_name)
+    path = _write(tmp_path / 'p.yaml', '/**:\n  ros__parameters:\n    ball_topic: ball\n'
+                  "    bat_pose_topic: '~/bat'\n")
+    options = AnalysisOptions(parameters=load_parameters(path, node_name), node_name=node_name)
+    assert (options.topic('ball'), options.topic('bat_pose')) == (
+        f'{namespace}/ball', f'{namespace}/{name}/bat')
 
 
 def test_the_parameter_files_topics_are_read(tmp_path: Path, run_cli: RunCli) -> None:
