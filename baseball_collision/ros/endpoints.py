@@ -5,7 +5,8 @@ ROS delivers nothing between endpoints whose QoS or message types do not match, 
 only through event callbacks. :class:`Endpoints` creates the node's publishers and
 subscriptions with those callbacks: each mismatch is warned about, naming the topic, the side
 and the policy (or both types), and counted in the diagnostics tally; and it tells why a silent
-input may be silent (no publisher, one of another type, or of incompatible QoS), every time.
+input may be silent (no publisher discovered yet, one of another type, or of incompatible QoS),
+every time.
 A latched output (``~/impact_predicted``: sent only when it changes) also names each subscriber
 whose compatible QoS still loses its state (best effort or volatile: ``lossy_readers``).
 """
@@ -27,6 +28,11 @@ from ..errors import RosError
 
 UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 """The node name the graph gives an endpoint whose node it does not know (yet, or any more)."""
+
+
+NO_PUBLISHER = 'no publisher discovered yet'
+"""Why an input may be silent when the graph knows no publisher on its topic (DDS discovery
+may not have found one that exists yet: over 1 s seen on a loaded machine)."""
 
 
 Guard = Callable[[Callable[..., None], str], Callable[..., None]]
@@ -173,11 +179,14 @@ class Endpoints:
         Return why an input may be silent: no publisher, one of another type or QoS, or ''.
 
         Asked of the graph each time, so the reason stays in every status while it holds (the
-        QoS event that warned about a mismatch comes once).
+        QoS event that warned about a mismatch comes once). The graph knows only the publishers
+        DDS discovery has found: a publisher that exists may be found a second or more after
+        start-up on a loaded machine, so the reason says what is known (:data:`NO_PUBLISHER`),
+        not that there is none.
         """
         infos = self._node.get_publishers_info_by_topic(self.topics[stream])
         if not infos:
-            return 'no publisher'
+            return NO_PUBLISHER
         others = sorted({info.topic_type for info in infos} - {self.types[stream]})
         if others:
             self._incompatible_type(stream, others)

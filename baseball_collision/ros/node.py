@@ -329,9 +329,10 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         """
         Log, once per input, that nothing came on it in the ``stale_timeout`` after start-up.
 
-        The line names the topic, its type and why it may be silent (no publisher, one of
-        another type or QoS: ``Endpoints.silence``), so a node started beside the wrong topics
-        says so in its own log, not only in ``/diagnostics`` (whose status keeps saying it).
+        The line names the topic, its type and why it may be silent (no publisher discovered
+        yet, one of another type or QoS: ``Endpoints.silence``), so a node started beside the
+        wrong topics says so in its own log, not only in ``/diagnostics`` (whose status keeps
+        saying it).
         """
         timeout = self.settings['stale_timeout']
         waited = time.monotonic() - self.tally.started

@@ -96,9 +96,9 @@ def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..
     """
     A tracker node destroyed before the contact, a new one (same name) sends the rest.
 
-    While it is gone the diagnostics say the inputs are stale with no publisher. The node keeps
-    the samples it had: the swing finished by the new publisher gives its impact at the true
-    instant, and the next swing, a second later, gives the next one.
+    While it is gone the diagnostics say the inputs are stale with no publisher discovered.
+    The node keeps the samples it had: the swing finished by the new publisher gives its
+    impact at the true instant, and the next swing, a second later, gives the next one.
     """
     h = harness({'bat_input': 'pose', 'diagnostics_period': 0.1, 'stale_timeout': 0.3})
     h.start()
@@ -106,7 +106,8 @@ def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..
     h.processed(publish(first.ball, first.bat, range(BEFORE_CONTACT)))
     first.destroy_node()
     h.wait(lambda: h.node.count_publishers('/ball') == 0, 5.0, 'the publisher gone')
-    gone = h.diagnostics_where(lambda v: v['stale_topics'].count('no publisher') == 2)
+    gone = h.diagnostics_where(
+        lambda v: v['stale_topics'].count('no publisher discovered yet') == 2)
     assert gone.level == gone.WARN and not h.received['impact']
     second = tracker(h)
     sent = 2 * BEFORE_CONTACT + publish(second.ball, second.bat, range(BEFORE_CONTACT, SAMPLES))
