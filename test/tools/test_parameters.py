@@ -6,10 +6,11 @@ from typing import Callable, List, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
-from baseball_collision.tools.analyze import AnalysisOptions
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import (
     build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics,
     resolve_topic)
+from baseball_collision.tools.report import summary_line
 import pytest
 from support import REPO_ROOT
 from support.bagfiles import reference_bag, still_rows
@@ -219,18 +220,27 @@ def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> No
     assert len(stderr.splitlines()) == 1
 
 
-def test_a_bat_in_another_frame_than_the_ball_names_the_tracking_frame(
+def test_a_bat_in_another_frame_than_the_ball_names_both_frames(
         tmp_path: Path, run_cli: RunCli) -> None:
-    """No frame_id configured, the bat's samples in another frame: both topics, both frames."""
+    """
+    No frame_id configured, the bat's samples in another frame: no frame is adopted.
+
+    The bat's samples wait for a frame every input sends and are dropped as
+    ``no_common_frame`` (the ball's frame, the most common, was adopted and the bat dropped as
+    ``wrong_frame``); the error names each stream's frame, and the summary counts the reason.
+    """
     bag = tmp_path / 'frames'
     reference_bag(bag, still_rows(40, 30, 10_000_000, 'mocap'))
     code, _, stderr = run_cli(['analyze', str(bag), '--no-truth'])
     assert code == 2
     assert stderr.splitlines() == [
         f'baseball-collision: error: {bag}: every sample of /bat_pose (30) was dropped '
-        "(wrong_frame): /bat_pose in 'mocap', but /ball in 'world' (the tracking frame is "
-        "'world', the first sample's); every input must share one frame (no TF: transform one "
-        "stream into the other's frame)"]
+        "(no_common_frame): ball sends 'world', bat_pose sends 'mocap': no frame every input "
+        "sends, so none was adopted (frame_id ''): set frame_id or transform one stream into "
+        "the other's frame (no TF)"]
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    assert 'dropped (no_common_frame 30)' in summary_line(analysis)
+    assert analysis.frame_disagreement == "ball sends 'world', bat_pose sends 'mocap'"
 
 
 def test_yaml_aliases_and_deep_nesting_are_refused(tmp_path: Path) -> None:
