@@ -17,11 +17,13 @@ last stamp, ns).
 from typing import Any, Optional, Tuple
 
 from nav_msgs.msg import Path
+from rclpy.exceptions import InvalidTopicNameException
 
+from .endpoints import topic_error_line
 from .messages import format_stamp, plan_arrays
 from .outputs import VIEWS
 from ..core.prediction import MAX_PLAN_POSES
-from ..errors import CoreError
+from ..errors import CoreError, RosError
 
 
 class BatPlanInput:
@@ -31,11 +33,18 @@ class BatPlanInput:
     _plan_sub: Any  # the plan's subscription (only with a ``bat_plan_topic``)
 
     def _subscribe_plan(self) -> None:
-        """Subscribe to ``bat_plan_topic`` when it names one (its callback guarded)."""
+        """
+        Subscribe to ``bat_plan_topic`` when it names one (its callback guarded).
+
+        :raises RosError: a topic name rcl refuses once expanded (an unknown substitution).
+        """
         topic = self.settings['bat_plan_topic']
         if topic:
-            self._plan_sub = self.create_subscription(
-                Path, topic, self._guarded(self._on_plan, 'taking a bat plan'), VIEWS)
+            try:
+                self._plan_sub = self.create_subscription(
+                    Path, topic, self._guarded(self._on_plan, 'taking a bat plan'), VIEWS)
+            except (InvalidTopicNameException, ValueError) as error:
+                raise RosError(f'bat plan topic {topic!r}: {topic_error_line(error)}') from error
 
     def _on_plan(self, message: Path) -> None:
         """

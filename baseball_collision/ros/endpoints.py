@@ -5,7 +5,8 @@ ROS delivers nothing between endpoints whose QoS or message types do not match, 
 only through event callbacks. :class:`Endpoints` creates the node's publishers and
 subscriptions with those callbacks: each mismatch is warned about, naming the topic, the side
 and the policy (or both types), and counted in the diagnostics tally; and it tells why a silent
-input may be silent (no publisher, one of another type, or of incompatible QoS), every time.
+input may be silent (no publisher discovered yet, one of another type, or of incompatible QoS),
+every time.
 A latched output (``~/impact_predicted``: sent only when it changes) also names each subscriber
 whose compatible QoS still loses its state (best effort or volatile: ``lossy_readers``).
 """
@@ -29,6 +30,11 @@ UNKNOWN_NODE = '_NODE_NAME_UNKNOWN_'
 """The node name the graph gives an endpoint whose node it does not know (yet, or any more)."""
 
 
+NO_PUBLISHER = 'no publisher discovered yet'
+"""Why an input may be silent when the graph knows no publisher on its topic (DDS discovery
+may not have found one that exists yet: over 1 s seen on a loaded machine)."""
+
+
 Guard = Callable[[Callable[..., None], str], Callable[..., None]]
 """Makes an executor callback survive its own failure, given what it does (``_guarded``)."""
 
@@ -50,6 +56,17 @@ def input_qos(qos: str, depth: int) -> QoSProfile:
         history=HistoryPolicy.KEEP_ALL if keep_all else HistoryPolicy.KEEP_LAST, depth=depth,
         reliability=ReliabilityPolicy.BEST_EFFORT if qos == 'sensor_data'
         else ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def topic_error_line(error: Exception) -> str:
+    """
+    Return the first line of rclpy's refusal of a topic name, without rcl's source location.
+
+    ``InvalidTopicNameException`` (a name invalid once expanded) or the ``ValueError`` of rcl's
+    expansion (an unknown substitution: ``topic name '{foo}/x' is invalid: unknown
+    substitution: {foo}``, which rclpy raises as it is, where a node would end with it).
+    """
+    return str(error).splitlines()[0].rstrip(':').split(', at /')[0]
 
 
 class Endpoints:
@@ -139,7 +156,8 @@ class Endpoints:
         (``reliability``, ``history``, ``depth``; read-only, from a params file or
         ``-p``) override it (rclpy's ``QoSOverridingOptions``).
 
-        :raises RosError: a topic name that fails once expanded (``a//b``).
+        :raises RosError: a topic name that fails once expanded (``a//b``, ``{ns}//x``) or
+            has an unknown substitution (``{foo}/x``).
         """
         events = SubscriptionEventCallbacks(
             incompatible_qos=lambda info: self._incompatible_qos(
@@ -150,9 +168,8 @@ class Endpoints:
             subscription = self._node.create_subscription(
                 msg_type, topic, callback, qos, event_callbacks=events,
                 qos_overriding_options=QoSOverridingOptions.with_default_policies())
-        except InvalidTopicNameException as error:
-            first = str(error).splitlines()[0].rstrip(':')
-            raise RosError(f'{stream} topic {topic!r}: {first}') from error
+        except (InvalidTopicNameException, ValueError) as error:
+            raise RosError(f'{stream} topic {topic!r}: {topic_error_line(error)}') from error
         self.topics[stream] = subscription.topic_name
         self._subscriptions[stream] = subscription
         return subscription
@@ -162,11 +179,14 @@ class Endpoints:
         Return why an input may be silent: no publisher, one of another type or QoS, or ''.
 
         Asked of the graph each time, so the reason stays in every status while it holds (the
-        QoS event that warned about a mismatch comes once).
+        QoS event that warned about a mismatch comes once). The graph knows only the publishers
+        DDS discovery has found: a publisher that exists may be found a second or more after
+        start-up on a loaded machine, so the reason says what is known (:data:`NO_PUBLISHER`),
+        not that there is none.
         """
         infos = self._node.get_publishers_info_by_topic(self.topics[stream])
         if not infos:
-            return 'no publisher'
+            return NO_PUBLISHER
         others = sorted({info.topic_type for info in infos} - {self.types[stream]})
         if others:
             self._incompatible_type(stream, others)

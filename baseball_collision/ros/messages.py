@@ -172,6 +172,8 @@ _DROP_DETAILS = {
                    'it (one bad frame near the bat: left out of its path)',
     'bat_glitch': 'stamp {stamp} s is off the swing before it and off its neighbours (one bad '
                   'bat frame that made a contact: left out of its path)',
+    'no_common_frame': "frame {frame!r} waited for a frame every input sends (frame_id ''), and "
+                       'the inputs send none in common (no TF: set frame_id or transform one)',
 }
 
 

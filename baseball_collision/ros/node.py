@@ -88,8 +88,8 @@ from .prediction_flag import PredictionFlag
 from .prediction_watch import PredictionWatch
 from .state_changes import StateChanges
 from ..core.detector import (
-    Detector, DetectorConfig, Event, Impact, NODE_NAME, PendingUncertainty, Prediction,
-    ResetReason, StateReset)
+    Detector, DetectorConfig, DropReason, Event, Impact, NODE_NAME, PendingUncertainty,
+    Prediction, ResetReason, StateReset)
 from ..core.records import EVENT_NAMES
 from ..errors import RosError
 from ..threads import single_threaded_blas
@@ -124,6 +124,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
             deque()
         self._clock_jump_at = -math.inf
         self._waited_for: Set[str] = set()  # inputs said to have sent nothing yet
+        self._frames_said: Optional[str] = None  # the frame disagreement last warned about
         self._drop_warnings = DropWarnings(self.get_logger().name)
         self._log_throttle = Throttle()
         self._lines = DirectLogger(self.get_logger().name)  # lines logged in callbacks
@@ -208,6 +209,8 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
             stats = self.detector.stats
             dropped, late = stats.last_drop_reason, stats.late_drops
             expected = self.detector.frame_id
+            frames = self.detector.frame_disagreement if late and any(
+                each.reason is DropReason.NO_COMMON_FRAME for each in late) else None
             previous = self._last_values.get(stream)
             if dropped is None:
                 self._last_values[stream] = (stamp, values)
@@ -240,9 +243,28 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         if dropped is not None:
             warn(stream, topics[stream], dropped, frame, expected, stamp, stats.dropped[dropped])
         for each in late:  # samples that waited (a held glitch, a frame vote) dropped now
-            warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
-                 expected, each.stamp_ns, stats.dropped[each.reason])
+            if each.reason is not DropReason.NO_COMMON_FRAME:  # (said once: below)
+                warn(each.role, topics.get(each.role, each.role), each.reason, each.frame_id,
+                     expected, each.stamp_ns, stats.dropped[each.reason])
+        if frames is not None and frames != self._frames_said:
+            self._say_frames_differ(frames)
         self._record_processing(time.perf_counter() - start)
+
+    def _say_frames_differ(self, frames: str) -> None:
+        """
+        Warn, once per disagreement, that the inputs send no frame in common (``frame_id`` '').
+
+        ``frames`` is the detector's ``frame_disagreement`` (each stream's frames); no frame is
+        adopted, and the samples waiting for one are dropped (``no_common_frame``, counted in
+        ``/diagnostics``) until the inputs agree.
+        """
+        self._frames_said = frames
+        topics = ', '.join(f'{stream} on {topic}'
+                           for stream, topic in self.endpoints.topics.items())
+        self._lines.warning(
+            f'no frame every input sends ({topics}): {frames}: set frame_id or transform one '
+            "(no TF here); frame_id '' adopts none, and the samples waiting for a frame every "
+            'input sends are dropped (no_common_frame) until the inputs agree')
 
     def _detector_failed(self, stream: str, stamp_ns: int, error: Exception) -> None:
         """
@@ -329,9 +351,10 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         """
         Log, once per input, that nothing came on it in the ``stale_timeout`` after start-up.
 
-        The line names the topic, its type and why it may be silent (no publisher, one of
-        another type or QoS: ``Endpoints.silence``), so a node started beside the wrong topics
-        says so in its own log, not only in ``/diagnostics`` (whose status keeps saying it).
+        The line names the topic, its type and why it may be silent (no publisher discovered
+        yet, one of another type or QoS: ``Endpoints.silence``), so a node started beside the
+        wrong topics says so in its own log, not only in ``/diagnostics`` (whose status keeps
+        saying it).
         """
         timeout = self.settings['stale_timeout']
         waited = time.monotonic() - self.tally.started

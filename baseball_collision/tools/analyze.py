@@ -83,6 +83,8 @@ class BagAnalysis:
     :ivar stamp_spans: each role's first and last header stamp (ns, the smallest and the
         largest), of every sample read (dropped ones too).
     :ivar first_frames: each role's first sample's ``frame_id``.
+    :ivar frame_disagreement: each stream's frames where they have none in common, so none
+        was adopted (``Detector.frame_disagreement``); None: no such disagreement.
     """
 
     path: Path
@@ -105,6 +107,7 @@ class BagAnalysis:
     noise: Tuple[float, float] = (0.0, 0.0)
     stamp_spans: Dict[str, Tuple[int, int]] = field(default_factory=dict)
     first_frames: Dict[str, str] = field(default_factory=dict)
+    frame_disagreement: Optional[str] = None
 
     @property
     def throughput(self) -> float:
@@ -176,7 +179,8 @@ class BagAnalysis:
         Return why selected topics had every one of their samples dropped (empty: none had).
 
         One line per set of reasons: the topics with their counts, the reasons; with a hint
-        when the frames disagree (each topic's frame named) or the header stamps are zero.
+        when the frames disagree (each topic's frame named; with no frame in common, each
+        stream's frames as the detector names them) or the header stamps are zero.
         """
         silenced: Dict[Tuple[str, ...], List[str]] = {}
         for role, topic in self.selection.topics.items():
@@ -193,6 +197,10 @@ class BagAnalysis:
             line = f"every sample of {counted} was dropped ({', '.join(reasons)})"
             if 'wrong_frame' in reasons:
                 line += ': ' + self._frames_hint(roles)
+            if 'no_common_frame' in reasons and self.frame_disagreement:
+                line += (f': {self.frame_disagreement}: no frame every input sends, so none was '
+                         "adopted (frame_id ''): set frame_id or transform one stream into the "
+                         "other's frame (no TF)")
             if 'bad_stamp' in reasons:
                 line += ('; their header stamps are zero (or before 1970): the detector, as the '
                          'node, times every sample by its header stamp and needs real stamps '
@@ -262,7 +270,8 @@ class AnalysisOptions:
     :ivar ball_radius: ``--ball-radius`` (m).
     :ivar bat_radius: ``--bat-radius`` (m).
     :ivar prediction_horizon: ``--predict`` horizon (s).
-    :ivar node_name: the node whose output topics ``--out-bag`` writes.
+    :ivar node_name: the node whose output topics ``--out-bag`` writes, and whose namespace
+        the parameter file's relative topics take (``cage2/impact_node``: ``/cage2/ball``).
     :ivar topic_flags: the caller has the topic flags (``analyze``'s command line): an error
         about a topic from the parameter file names the flag that overrides it; False (the
         demo, which replays a bag's own topics): it does not.
@@ -296,7 +305,8 @@ class AnalysisOptions:
         """
         Return the topic asked for a role: its flag, else the parameter file's, else None.
 
-        A parameter file's topic is resolved as the node resolves it (``ball`` -> ``/ball``);
+        A parameter file's topic is expanded as the node expands it, for ``node_name``
+        (``ball`` -> ``/ball``, ``/cage2/ball`` under ``/cage2``: ``resolve_topic``);
         the file's bat topics count only for its ``bat_input`` (``pose`` by default), and none
         of them when a topic flag names a bat topic.
         """
@@ -563,6 +573,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     result.stats = detector.stats
     result.noise = detector.noise
     result.frame_id = detector.frame_id or config.frame_id or ''
+    result.frame_disagreement = detector.frame_disagreement
     unknown = unknown_parameters(options.parameters, options.node_name)
     if unknown is not None:  # (typos: rclpy would ignore them too)
         result.notes.append(unknown)

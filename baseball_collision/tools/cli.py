@@ -396,7 +396,9 @@ def _add_analyze(commands: Any) -> None:
                          '<node_name>:, wildcards; later over earlier) ros__parameters:')
     analyze.add_argument('--node-name', default=NODE_NAME,
                          help='the node whose sections of --params apply (with its namespace: '
-                         'cage2/impact_node) and of the --out-bag topics (default impact_node)')
+                         'cage2/impact_node), whose namespace the relative topics of --params '
+                         'take (ball: /cage2/ball), as the node expands them, and of the '
+                         '--out-bag topics (default impact_node)')
     analyze.add_argument('--model', choices=MODELS,
                          help='motion model between samples (default: --params, else c2 with '
                          'look_ahead 2 and tracker_noise auto)')

@@ -60,11 +60,46 @@ def topic_name_error(name: str) -> Optional[str]:
     return None
 
 
+_SUBSTITUTION = re.compile(r'\{([^{}]*)\}')
+
+
 def resolve_topic(name: str, node_name: str = NODE_NAME) -> str:
-    """Return a topic parameter as the node resolves it: ``ball`` -> ``/ball``."""
+    """
+    Return a topic parameter as the node expands it (rcl's rules), before any remapping.
+
+    A relative name takes the node's namespace (``ball`` -> ``/ball`` for ``impact_node``,
+    ``/cage2/ball`` for ``cage2/impact_node``); ``~`` is the node's full name (``~/bat`` ->
+    ``/cage2/impact_node/bat``); ``{node}`` is its name, ``{ns}`` and ``{namespace}`` its
+    namespace; an absolute name stays. The result is not checked (``{ns}/x`` in the root
+    namespace gives ``//x``, which the node refuses: :func:`topic_name_error`).
+
+    :param name: the topic as the parameter gives it.
+    :param node_name: the node's name, with its namespace for a node under one
+        (``cage2/impact_node``).
+    :raises ToolError: an unknown substitution (``{foo}``), which the node refuses too.
+    """
+    fqn = node_fqn(node_name)
+    namespace, _, base = fqn.rpartition('/')
+    values = {'node': base, 'ns': namespace or '/', 'namespace': namespace or '/'}
     if name.startswith('~'):
-        return node_fqn(node_name) + name[1:]
-    return name if name.startswith('/') else '/' + name
+        name = fqn + name[1:]
+    unknown = [key for key in _SUBSTITUTION.findall(name) if key not in values]
+    if unknown:
+        raise ToolError(f'unknown substitution {{{unknown[0]}}} in topic name {name!r} (rcl '
+                        'knows {node}, {ns} and {namespace})')
+    name = _SUBSTITUTION.sub(lambda match: values[match.group(1)], name)
+    return name if name.startswith('/') else f'{namespace}/{name}'
+
+
+def _topic_problem(name: str, node_name: str) -> Optional[str]:
+    """Return why the node refuses a topic parameter, as given or once expanded; None: valid."""
+    problem = topic_name_error(name)
+    if problem is None:
+        try:
+            problem = topic_name_error(resolve_topic(name, node_name))
+        except ToolError as error:
+            problem = str(error)
+    return problem
 
 
 def _mixed_sequences(prefix: str, values: Mapping[str, Any]) -> Optional[str]:
@@ -160,8 +195,10 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
     ``ros__parameters`` mapping is flattened: nested mappings become ``outer.inner`` names. The
     values are checked with the node's rules (``core.detector.validate_parameters``): a file
     the node would refuse is refused with the same message: also a list mixing value types
-    (``[0, 0.5]``: rcl's parser refuses it) and a topic name ROS refuses. YAML aliases, nesting
-    deeper than 32 levels and lists longer than 4096 values are refused as the file is parsed.
+    (``[0, 0.5]``: rcl's parser refuses it) and a topic name ROS refuses, as given or once
+    expanded for ``node_name`` (:func:`resolve_topic`: ``{ns}/x`` in the root namespace). YAML
+    aliases, nesting deeper than 32 levels and lists longer than 4096 values are refused as
+    the file is parsed.
 
     :param path: the YAML file.
     :param node_name: the node's name, with its namespace for a node under one
@@ -210,7 +247,7 @@ def load_parameters(path: os.PathLike, node_name: str = NODE_NAME) -> Dict[str, 
     except CoreError as error:
         raise ToolError(f'parameter file {path}: {error}') from error
     for name in TOPIC_PARAMETERS.values():
-        problem = topic_name_error(parameters[name]) if parameters.get(name) else None
+        problem = _topic_problem(parameters[name], node_name) if parameters.get(name) else None
         if problem is not None:
             raise ToolError(f"parameter file {path}: parameter '{name}' = "
                             f'{parameters[name]!r}: Invalid topic name: {problem}')

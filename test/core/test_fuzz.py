@@ -477,7 +477,8 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
     lost bodies, bat frames turned off the swing; in half the streams one turned where the ball
     passes nearest) and stamps
     (``stamp_faults``: duplicates, out of order, late, jumps back and far forward, bursts at
-    nearly one stamp, gaps).
+    nearly one stamp, gaps). One stream in eight (by seed, no draw) sends its last bat input in
+    ``arm_base`` throughout (two frames, no TF: ``no_common_frame`` with ``frame_id`` '').
     """
     rng = random.Random(seed)
     config = DetectorConfig(
@@ -495,6 +496,7 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
     turned_at = _closest(height) + rng.choice((-1.0, 0.0, 1.0)) / rate \
         if rng.random() < 0.5 else math.inf
     shift = 0  # ns added to every later stamp (gaps)
+    two_frames = seed % 8 == 3  # (from the seed: the other streams' draws stay as they were)
     offers: List[Offer] = []
     last: Dict[str, int] = {}
     for i in range(int(0.2 * rate)):
@@ -503,6 +505,8 @@ def random_stream(seed: int, special: Sequence[float] = LARGE,
         for role in roles:
             values: Any = _good(role, t, height)
             frame, at, count = 'world', stamp, 1
+            if two_frames and role == roles[-1]:
+                frame = 'arm_base'
             if role in ('tip', 'bat_pose') and abs(t - turned_at) <= 0.5 / rate:
                 values = _faulty_values(rng, 'bat_turned', role, t, values, special)
             elif rng.random() < bad:

@@ -57,9 +57,9 @@ def test_waiting_then_stale_naming_why() -> None:
     young = snapshot(now=0.5, last_arrival={}, arrivals={},
                      period=Period(0.0, Counter(), 0))
     assert silent_streams(young) == ['ball', 'bat_pose']
-    status = report(young, {'ball': 'no publisher'})
+    status = report(young, {'ball': 'no publisher discovered yet'})
     assert status.level == DiagnosticStatus.OK
-    assert status.message == 'waiting for data on /ball, no publisher, /bat_pose'
+    assert status.message == 'waiting for data on /ball, no publisher discovered yet, /bat_pose'
     old = replace(young, now=5.0)
     status = report(old, {'bat_pose': 'publisher of geometry_msgs/msg/PointStamped'})
     assert status.level == DiagnosticStatus.WARN and values(status)['state'] == 'stale'

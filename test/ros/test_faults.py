@@ -59,14 +59,18 @@ def truth_ns() -> int:
 
 
 def publish(ball: Any, bat: Any, samples: Sequence[int], shift_ns: int = 0,
-            frame: str = 'world') -> int:
-    """Publish the hitting swing's ball and bat pose samples, stamps shifted; return the count."""
+            frame: str = 'world', bat_frame: Optional[str] = None) -> int:
+    """
+    Publish the hitting swing's ball and bat pose samples, stamps shifted; return the count.
+
+    Both in ``frame``, or the bat in ``bat_frame`` when given.
+    """
     for i in samples:
         t = i / RATE_HZ
         ns = BASE_NS + int(round(t * 1e9)) + shift_ns
         ball.publish(point_msg(ns, pitch()(t), frame))
         position, quaternion = pose(t)
-        bat.publish(pose_msg(ns, position, quaternion, frame))
+        bat.publish(pose_msg(ns, position, quaternion, bat_frame or frame))
     return 2 * len(samples)
 
 
@@ -96,9 +100,9 @@ def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..
     """
     A tracker node destroyed before the contact, a new one (same name) sends the rest.
 
-    While it is gone the diagnostics say the inputs are stale with no publisher. The node keeps
-    the samples it had: the swing finished by the new publisher gives its impact at the true
-    instant, and the next swing, a second later, gives the next one.
+    While it is gone the diagnostics say the inputs are stale with no publisher discovered.
+    The node keeps the samples it had: the swing finished by the new publisher gives its
+    impact at the true instant, and the next swing, a second later, gives the next one.
     """
     h = harness({'bat_input': 'pose', 'diagnostics_period': 0.1, 'stale_timeout': 0.3})
     h.start()
@@ -106,7 +110,8 @@ def test_publisher_dies_mid_swing_and_a_new_one_finishes_it(harness: Callable[..
     h.processed(publish(first.ball, first.bat, range(BEFORE_CONTACT)))
     first.destroy_node()
     h.wait(lambda: h.node.count_publishers('/ball') == 0, 5.0, 'the publisher gone')
-    gone = h.diagnostics_where(lambda v: v['stale_topics'].count('no publisher') == 2)
+    gone = h.diagnostics_where(
+        lambda v: v['stale_topics'].count('no publisher discovered yet') == 2)
     assert gone.level == gone.WARN and not h.received['impact']
     second = tracker(h)
     sent = 2 * BEFORE_CONTACT + publish(second.ball, second.bat, range(BEFORE_CONTACT, SAMPLES))
@@ -208,6 +213,41 @@ def test_frame_change_is_dropped_until_a_reset_adopts_the_new_frame(
     assert abs(stamp_ns(impact) - truth_ns - SECOND) < 100_000
     h.diagnostics_where(lambda v: v['frame_id'] == 'camera' and v['impacts'] == '1'
                         and v['dropped_total'] == str(dropped))
+
+
+def test_a_bat_and_a_ball_in_two_frames_adopt_neither(harness: Callable[..., Harness],
+                                                      truth_ns: int) -> None:
+    """
+    frame_id '': a bat pose in 'arm_base' beside a ball in 'world' (no TF): no frame adopted.
+
+    The node warns once, naming each stream's frame and saying what to do; /diagnostics counts
+    the bat's samples that waited as ``no_common_frame``, and the ball is never dropped (the
+    bat's frame, the most common, was adopted after 32 samples and every ball sample dropped
+    as ``wrong_frame``). Once the bat comes in 'world' too, the next swing's impact is found.
+    """
+    h = harness({'bat_input': 'pose', 'diagnostics_period': 0.1})
+    ball = h.publisher(PointStamped, 'ball')
+    bat = h.publisher(PoseStamped, 'bat_pose')
+    h.start()
+    sent = publish(ball, bat, range(SAMPLES), bat_frame='arm_base')
+    h.processed(sent)
+    waited = SAMPLES - 32  # the 32 newest still wait
+    status = h.diagnostics_where(lambda v: v['dropped_no_common_frame'] == str(waited))
+    counts = values(status)
+    assert counts['dropped_wrong_frame'] == '0' and counts['dropped_total'] == str(waited)
+    h.wait(lambda: warnings(h, 'no frame every input sends'), 2.0, 'the warning')
+    (line,) = warnings(h, 'no frame every input sends')
+    assert "ball sends 'world', bat_pose sends 'arm_base': set frame_id or transform one" in line
+    assert 'ball on /ball, bat_pose on /bat_pose' in line
+    assert not warnings(h, 'dropped a') and not h.received['impact']
+    h.processed(sent + publish(ball, bat, range(SAMPLES), SECOND))
+    h.wait(lambda: h.received['impact'], 2.0, 'the impact once the frames agree')
+    assert abs(impacts(h)[0] - truth_ns - SECOND) < 100_000
+    assert h.received['impact'][0].header.frame_id == 'world'
+    assert len(warnings(h, 'no frame every input sends')) == 1
+    # (the 32 bat samples that waited then dropped as wrong_frame, unless the bat's came first)
+    h.diagnostics_where(lambda v: v['frame_id'] == 'world' and v['impacts'] == '1'
+                        and v['dropped_no_common_frame'] == str(waited))
 
 
 def test_configured_frame_survives_a_reset(harness: Callable[..., Harness]) -> None:

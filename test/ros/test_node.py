@@ -413,6 +413,12 @@ def test_bad_value_in_process_raises_node_config_error(monkeypatch: pytest.Monke
             Parameter('max_gap', value=1), Parameter('up_axis', value=[0, 2, 0])])
         assert node.detector.config.max_gap == 1.0 and node.detector.config.up_axis == (0, 1, 0)
         node.destroy_node()
+        # rcl's expansion refuses an unknown substitution with a ValueError: the node ended
+        # with its traceback (analyze --params refuses the file too: test/tools)
+        for name, topic in (('ball_topic', '{foo}/ball'), ('bat_plan_topic', '{foo}/plan')):
+            refusal = f'{topic!r}: topic name {topic!r} is invalid: unknown substitution: {{foo}}'
+            with pytest.raises(RosError, match=re.escape(refusal)):
+                ImpactNode(context=context, parameter_overrides=[Parameter(name, value=topic)])
     finally:
         rclpy.shutdown(context=context)
 
@@ -660,7 +666,8 @@ def test_a_silent_input_is_named_in_the_log_once(harness: Callable[..., Harness]
     A node started beside no tracker says, once per input, which topic it still waits for.
 
     After ``stale_timeout`` with nothing on an input, one INFO line names its topic, type,
-    why (no publisher) and the parameter to set.
+    why (no publisher discovered yet: DDS discovery may still find one that exists) and the
+    parameter to set; ``/diagnostics`` says the same beside each topic.
     """
     h = harness({'stale_timeout': 0.3, 'diagnostics_period': 0.1})
     listen_to_rosout(h)
@@ -675,10 +682,13 @@ def test_a_silent_input_is_named_in_the_log_once(harness: Callable[..., Harness]
     assert len(lines) == 2, lines
     ball, bat = lines
     assert ball.startswith('no ball message yet on /ball (geometry_msgs/msg/PointStamped) ')
-    assert ': no publisher; still waiting' in ball and 'set ball_topic' in ball
+    assert ': no publisher discovered yet; still waiting' in ball and 'set ball_topic' in ball
     assert bat.startswith('no bat_pose message yet on /bat_pose (geometry_msgs/msg/PoseStamped)')
-    assert ': no publisher; still waiting' in bat and 'set bat_pose_topic' in bat
+    assert ': no publisher discovered yet; still waiting' in bat and 'set bat_pose_topic' in bat
     assert all(record.level == LogMsg.INFO for record in waiting())
+    stale = h.diagnostics_where(
+        lambda v: v['stale_topics'].count('no publisher discovered yet') == 2)
+    assert 'no publisher discovered yet' in stale.message
 
 
 # ----------------------------------------------------------------------------------------------

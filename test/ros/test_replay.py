@@ -14,6 +14,7 @@ import json
 import os
 from pathlib import Path
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -33,6 +34,7 @@ from baseball_collision.tools.report import entry, ENTRY_KEYS, truth_line
 from baseball_collision.tools.truth import truth_path
 import pytest
 from support import REPO_ROOT
+from support.bagfiles import renamed_bag
 from support.bundled import bag_path, BAGS, check_against_truth, PARAMS
 from support.documents import differences
 from support.schema import Validator
@@ -115,12 +117,15 @@ def _stamp(message: Any) -> int:
 def live_impacts(ros: Ros, bag: Path, params: Path, expected: int, inputs: List[str],
                  reports_expected: int = 0, rate: float = REPLAY_RATE,
                  received: Optional[Callable[[Dict[str, str]], bool]] = None,
+                 node_name: str = 'impact_node',
                  ) -> Tuple[List[int], str, List[Any], List[Dict[str, Any]]]:
     """
     Run impact_node with ``params``, replay ``bag`` into it at ``rate``; return its impacts.
 
     :param received: with it, also wait (2 minutes at most: a loaded machine's node catches
         up on its queue) until a /diagnostics status of the node satisfies it (its key/values).
+    :param node_name: the node's namespace and name (``cage2/impact_node``: started with
+        ``-r __ns:=/cage2``).
     :returns: (impact stamps in arrival order, the node's log, twist messages, the
         ``~/impact_report`` records).
     """
@@ -134,13 +139,16 @@ def live_impacts(ros: Ros, bag: Path, params: Path, expected: int, inputs: List[
         lambda array: statuses.extend({kv.key: kv.value for kv in status.values}
                                       for status in array.status), ros.qos())
 
-    topics = output_topics()
+    topics = output_topics(node_name)
     impact_sub, impacts = ros.collect(PointStamped, topics['impact'])
     twist_sub, twists = ros.collect(TwistStamped, topics['impact_velocity'])
     report_sub, reports = ros.collect(String, topics['impact_report'])
     env = dict(os.environ)
     with tempfile.TemporaryFile() as log:
-        process = subprocess.Popen(node_command(params), env=env, stdout=log,
+        namespace, _, name = ('/' + node_name.strip('/')).rpartition('/')
+        command = node_command(params) + ['-r', f'__ns:={namespace or "/"}', '-r',
+                                          f'__node:={name}']
+        process = subprocess.Popen(command, env=env, stdout=log,
                                    stderr=subprocess.STDOUT)
         try:
             with BagPlayer(ros.node, bag, rate=rate) as player:
@@ -230,19 +238,51 @@ def test_an_arms_exact_bat_beside_a_noisy_ball_agrees_live(ros: Ros, tmp_path: P
     assert len(offline.impacts) == 3 and offline.config.tracker_noise < 0.0
 
 
-def _node_agrees_with_analyze(ros: Ros, bag: Path, params: Path, rate: float) -> Any:
+def test_a_node_under_a_namespace_reads_the_topics_analyze_node_name_reads(
+        ros: Ros, tmp_path: Path) -> None:
+    """
+    The node under ``/cage2`` and ``analyze --node-name /cage2/impact_node``: the same topics.
+
+    The shipped parameter file (``ball_topic: ball``, relative) with ``bat_pose_topic: ~/bat``:
+    the node started in ``/cage2`` subscribes to ``/cage2/ball`` and
+    ``/cage2/impact_node/bat`` (rclpy's expansion), and analyze with the node's name reads
+    those (it read ``/ball`` before: not in this bag, which holds only the two). The same
+    impact stamps live and offline, through the API and the command line.
+    """
+    source = bag_path('pitches_90hz.mcap')
+    bag = tmp_path / 'cage2'
+    renamed_bag(source, bag, {'/ball': '/cage2/ball', '/bat_pose': '/cage2/impact_node/bat'})
+    shutil.copy(truth_path(source), truth_path(bag))
+    params = _params_with(tmp_path, bat_pose_topic='~/bat')
+    offline = _node_agrees_with_analyze(ros, bag, params, BAGS[source.name],
+                                        node_name='/cage2/impact_node')
+    assert offline.selection.topics == {'ball': '/cage2/ball',
+                                        'bat_pose': '/cage2/impact_node/bat'}
+    env = dict(os.environ)
+    env.pop('RMW_IMPLEMENTATION', None)
+    done = subprocess.run([str(SCRIPT), 'analyze', str(bag), '--params', str(params),
+                           '--node-name', '/cage2/impact_node', '--json', '-'],
+                          capture_output=True, text=True, env=env)
+    assert done.returncode == 0, done.stderr
+    assert [impact['stamp_ns'] for impact in json.loads(done.stdout)['impacts']] == [
+        impact.stamp_ns for impact in offline.impacts]
+
+
+def _node_agrees_with_analyze(ros: Ros, bag: Path, params: Path, rate: float,
+                              node_name: str = 'impact_node') -> Any:
     """
     Replay ``bag`` into a live node with ``params`` and check it against ``analyze``.
 
     The same impact stamps (to the ns, in order) and velocities, the same records, both valid
     and matching the truth beside the bag (tracked at ``rate`` Hz). Return analyze's result.
+    The node is started as ``node_name`` (with its namespace); analyze is given that name.
     """
-    offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params)),
-                          progress=False)
+    offline = analyze_bag(bag, AnalysisOptions(parameters=load_parameters(params, node_name),
+                                               node_name=node_name), progress=False)
     expected = [impact.stamp_ns for impact in offline.impacts]
     stamps, node_log, twists, reports = live_impacts(
         ros, bag, params, len(expected), list(offline.selection.topics.values()),
-        len(offline.impacts) + len(offline.near_misses))
+        len(offline.impacts) + len(offline.near_misses), node_name=node_name)
     assert stamps == expected, node_log[-3000:]  # identical, to the ns, in the same order
     assert [_stamp(t) for t in twists] == expected
     for twist, impact in zip(twists, offline.impacts):

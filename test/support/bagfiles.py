@@ -2,7 +2,7 @@
 
 import math
 from pathlib import Path
-from typing import Any, List, Sequence, Tuple
+from typing import Any, List, Mapping, Sequence, Tuple
 
 from baseball_collision.bags import POINT_STAMPED, POSE_STAMPED, Sample
 from rosbags.highlevel import AnyReader
@@ -83,6 +83,21 @@ def reference_bag(path: Path, rows: Sequence[Row], little_endian: bool = True,
             else:
                 data = store.serialize_cdr(message, msgtype, little_endian=little_endian)
             writer.write(connections[topic], log_time, data)
+
+
+def renamed_bag(source: Path, path: Path, topics: Mapping[str, str]) -> None:
+    """
+    Copy the ``topics`` of a ROS 2 bag into a new MCAP, each under its new name, bytes as read.
+
+    :param topics: ``{old topic: new topic}``; the source's other topics are left out.
+    """
+    with AnyReader([source], default_typestore=TS2) as reader, \
+            Writer2(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        kept = [c for c in reader.connections if c.topic in topics]
+        connections = {c.id: writer.add_connection(topics[c.topic], c.msgtype, typestore=TS2)
+                       for c in kept}
+        for connection, log_time, raw in reader.messages(connections=kept):
+            writer.write(connections[connection.id], log_time, raw)
 
 
 def tracker_rows(count: int = 24, ball_type: str = POINT_STAMPED) -> List[Row]:

@@ -133,7 +133,7 @@ def test_keep_going_lists_a_bag_whose_samples_were_all_dropped(tmp_path: Path,
     assert code == 2 and [b['path'] for b in document['bags']] == [str(bag_path(SMALL[0]))]
     assert document['skipped'] == [{'path': str(frames), 'why': stderr.splitlines()[0][
         len('baseball-collision: skipped: '):]}]
-    assert "/bat_pose in 'mocap', but /ball in 'world'" in document['skipped'][0]['why']
+    assert "ball sends 'world', bat_pose sends 'mocap'" in document['skipped'][0]['why']
 
 
 def test_the_pool_gives_what_one_process_gives_in_input_order(tmp_path: Path) -> None:

@@ -1,12 +1,16 @@
 """Parameter files: sections, flattening, configuration precedence, the node's topics."""
 
 from pathlib import Path
+import re
 from typing import Callable, List, Tuple
 
 from baseball_collision.core.bat import WOOD_BAT_34
 from baseball_collision.errors import ToolError
+from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import (
-    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics)
+    build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics,
+    resolve_topic)
+from baseball_collision.tools.report import summary_line
 import pytest
 from support import REPO_ROOT
 from support.bagfiles import reference_bag, still_rows
@@ -143,6 +147,10 @@ def test_output_topics_are_the_nodes() -> None:
     ("ball_topic: 'a b'", ["'ball_topic' = 'a b': Invalid topic name", 'alphanumerics']),
     ("knob_topic: 'mocap//knob'", ['Invalid topic name', "repeated '/'"]),
     ("tip_topic: '2tip'", ['Invalid topic name', 'number']),
+    # refused once expanded in the root namespace ('///tip_2'), as the node refuses it
+    ("tip_topic: '/{ns}/tip_2'", ["'tip_topic' = '/{ns}/tip_2': Invalid topic name",
+                                  "repeated '/'"]),
+    ("bat_plan_topic: '{foo}/plan'", ['Invalid topic name', 'unknown substitution {foo}']),
 ])
 def test_what_the_node_refuses_is_refused(tmp_path: Path, line: str, words: list) -> None:
     """Lists mixing int and float (rcl's parser), topic names rcl refuses: refused here too."""
@@ -152,8 +160,34 @@ def test_what_the_node_refuses_is_refused(tmp_path: Path, line: str, words: list
     for word in words:
         assert word in str(caught.value)
     fine = _write(tmp_path / 'f.yaml', 'impact_node:\n  ros__parameters:\n    up_axis: '
-                  "[0, 0, 1]\n    ball_topic: '~/ball'\n    tip_topic: /{ns}/tip_2\n")
+                  "[0, 0, 1]\n    ball_topic: '~/ball'\n    tip_topic: /{node}/tip_2\n")
     assert load_parameters(fine)['up_axis'] == [0, 0, 1]
+
+
+@pytest.mark.parametrize('node_name', ['impact_node', '/impact_node', 'cage2/impact_node',
+                                       '/lab/cage2/tracker'])
+def test_topics_are_expanded_as_rcl_expands_them(tmp_path: Path, node_name: str) -> None:
+    """
+    A parameter file's topic is expanded as the node expands it: rclpy's own expansion.
+
+    The node's namespace before a relative name (``ball`` was ``/ball`` for
+    ``cage2/impact_node``, whose node subscribes ``/cage2/ball``), ``~`` its full name,
+    ``{node}``, ``{ns}`` and ``{namespace}`` substituted.
+    """
+    from rclpy.expand_topic_name import expand_topic_name
+
+    namespace, _, name = ('/' + node_name.strip('/')).rpartition('/')
+    for topic in ('ball', 'mocap/ball', '/ball', '~', '~/bat', '{node}/x', '{ns}/x',
+                  '{namespace}/x', 'a/{node}', '/{ns}/y', '~/{node}'):
+        assert resolve_topic(topic, node_name) == \
+            expand_topic_name(topic, name, namespace or '/'), topic
+    with pytest.raises(ToolError, match=re.escape('unknown substitution {foo}')):
+        resolve_topic('{foo}/x', node_name)
+    path = _write(tmp_path / 'p.yaml', '/**:\n  ros__parameters:\n    ball_topic: ball\n'
+                  "    bat_pose_topic: '~/bat'\n")
+    options = AnalysisOptions(parameters=load_parameters(path, node_name), node_name=node_name)
+    assert (options.topic('ball'), options.topic('bat_pose')) == (
+        f'{namespace}/ball', f'{namespace}/{name}/bat')
 
 
 def test_the_parameter_files_topics_are_read(tmp_path: Path, run_cli: RunCli) -> None:
@@ -186,18 +220,27 @@ def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> No
     assert len(stderr.splitlines()) == 1
 
 
-def test_a_bat_in_another_frame_than_the_ball_names_the_tracking_frame(
+def test_a_bat_in_another_frame_than_the_ball_names_both_frames(
         tmp_path: Path, run_cli: RunCli) -> None:
-    """No frame_id configured, the bat's samples in another frame: both topics, both frames."""
+    """
+    No frame_id configured, the bat's samples in another frame: no frame is adopted.
+
+    The bat's samples wait for a frame every input sends and are dropped as
+    ``no_common_frame`` (the ball's frame, the most common, was adopted and the bat dropped as
+    ``wrong_frame``); the error names each stream's frame, and the summary counts the reason.
+    """
     bag = tmp_path / 'frames'
     reference_bag(bag, still_rows(40, 30, 10_000_000, 'mocap'))
     code, _, stderr = run_cli(['analyze', str(bag), '--no-truth'])
     assert code == 2
     assert stderr.splitlines() == [
         f'baseball-collision: error: {bag}: every sample of /bat_pose (30) was dropped '
-        "(wrong_frame): /bat_pose in 'mocap', but /ball in 'world' (the tracking frame is "
-        "'world', the first sample's); every input must share one frame (no TF: transform one "
-        "stream into the other's frame)"]
+        "(no_common_frame): ball sends 'world', bat_pose sends 'mocap': no frame every input "
+        "sends, so none was adopted (frame_id ''): set frame_id or transform one stream into "
+        "the other's frame (no TF)"]
+    analysis = analyze_bag(bag, AnalysisOptions(), progress=False, use_truth=False)
+    assert 'dropped (no_common_frame 30)' in summary_line(analysis)
+    assert analysis.frame_disagreement == "ball sends 'world', bat_pose sends 'mocap'"
 
 
 def test_yaml_aliases_and_deep_nesting_are_refused(tmp_path: Path) -> None:

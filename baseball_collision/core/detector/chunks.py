@@ -247,6 +247,12 @@ def _planned(detector: 'Detector', chunk: Tuple[Any, ...], n: int, events: List[
             _one(detector, chunk, i, events, drops)
             i += 1
             continue
+        if intake.votes.frame is None and _blank_unnoted(
+                detector, roles, frame_ids, i, min(i + length, n)):
+            # (a stream's first empty frame before a frame is agreed: the intake notes it)
+            _one(detector, chunk, i, events, drops)
+            i += 1
+            continue
         first = roles[i]
         stream = detector._ball if first == BALL else detector._bat if first == BAT_POSE else None
         if stream is not None and (not stream.stamps or stamps[i] <= stream.stamps[-1]):
@@ -396,6 +402,22 @@ def _one(detector: 'Detector', chunk: Tuple[Any, ...], k: int, events: List[Even
             drops[role, stats.last_drop_reason] += 1
         for late in stats.late_drops:
             drops[late.role, late.reason] += 1
+
+
+def _blank_unnoted(detector: 'Detector', roles: np.ndarray, frame_ids: Sequence[str], i: int,
+                   j: int) -> bool:
+    """
+    Return whether samples [i, j) hold an empty frame of a role the frame vote has not noted.
+
+    Before a frame is agreed, ``Intake.offer`` notes each role that sends an empty frame
+    (``FrameVote.blank``: it then holds no adoption up); a plan would take such a sample
+    without the note, so the first of each role goes through ``add``.
+    """
+    votes = detector._intake.votes
+    if len(votes.blank) >= len(votes.roles):
+        return False
+    names = detector.ROLES
+    return any(not frame_ids[k] and names[roles[k]] not in votes.blank for k in range(i, j))
 
 
 def _row(detector: 'Detector', chunk: Tuple[Any, ...], k: int) -> Tuple[Role, List[float]]:

@@ -525,8 +525,9 @@ class DetectorConfig:
     :ivar rest_tolerance: an impact whose bat stayed within this (m) over the velocity window
         is flagged ``bat_at_rest`` (0: never).
     :ivar frame_id: frame every input must be in; empty: the first frame every input stream
-        has sent (or, when too many samples wait, the most common), the first frame seen taken
-        meanwhile (``gate.FrameVote``, ``intake``).
+        has sent (or, when too many samples wait, the most common that every stream sending a
+        frame has sent; none where the streams' frames differ: ``no_common_frame``), the first
+        frame seen taken meanwhile (``gate.FrameVote``, ``intake``).
     :ivar up_axis: unit vector up, for the attack angle.
     :ivar sweet_spot_from_tip: distance (m) from the barrel end of the sweet spot (Statcast: 6 in).
     :ivar velocity_window: span (s) of the samples before an impact that its velocities are

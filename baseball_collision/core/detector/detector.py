@@ -236,6 +236,18 @@ class Detector:
         """Return the tracking frame: the configured one, else the one the streams agreed on."""
         return self._intake.frame
 
+    @property
+    def frame_disagreement(self) -> Optional[str]:
+        """
+        Return each input stream's frames while no frame can be adopted, else None.
+
+        With ``frame_id`` '' and streams whose frames differ (no frame that every stream
+        sending one has sent): ``"ball sends 'world', bat_pose sends 'arm_base'"``. Their
+        samples waiting for agreement are dropped as ``no_common_frame``
+        (``gate.FrameVote.disagreement``); the node and ``analyze`` say it in these words.
+        """
+        return self._intake.votes.disagreement()
+
     def positions_at(self, stamp_ns: int) -> Optional[Tuple[Vector, Vector, Vector]]:
         """
         Return where the detector moves the ball and the bat at a stamp: (ball, knob, tip), m.

@@ -59,6 +59,11 @@ class DropReason(enum.StrEnum):
     rigid body solved onto the wrong markers: ``bat_glitches``): judged where a contact
     depends on it, then forgotten (``Sweep``). Counted under the input that was off: the pose,
     or the knob or the tip."""
+    NO_COMMON_FRAME = 'no_common_frame'
+    """``frame_id`` '' and no frame that every input stream sending one has sent (a bat pose in
+    ``arm_base`` beside a ball in ``world``: no TF): none is adopted; a sample that waited for
+    agreement beyond ``FRAME_PENDING_MAX`` (or to the end of a recording) is dropped, and the
+    waiting goes on (``Detector.frame_disagreement`` names each stream's frames)."""
 
 
 DROP_REASONS = tuple(reason.value for reason in DropReason)

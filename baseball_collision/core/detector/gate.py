@@ -40,7 +40,9 @@ HOLD_FACTOR = 2.5
 """A sample this many typical steps after its stream's newest waits for the next one."""
 
 FRAME_PENDING_MAX = 32
-"""Samples kept waiting for the streams to agree on a frame; then the most common is taken."""
+"""Samples kept waiting for the streams to agree on a frame; then the most common that every
+stream sending a frame has sent is taken (``FrameVote.candidate``), and where there is none the
+oldest waiting sample is dropped (``no_common_frame``) and the wait goes on."""
 
 
 class Clock:
@@ -86,19 +88,24 @@ class FrameVote:
 
     :param configured: the ``frame_id`` parameter ('' : vote).
     :param roles: the input roles that must agree (``ball`` and ``bat_pose``, or ``ball``,
-        ``knob`` and ``tip``).
+        ``knob`` and ``tip``), in the order :meth:`disagreement` names them.
     :ivar frame: the tracking frame (None before agreement).
     :ivar provisional: the first frame voted for (None before any).
+    :ivar seen: the roles that sent each frame (frames in the order first seen).
+    :ivar blank: the roles that sent an empty frame (taken as in any frame: ``Intake.offer``
+        notes them before agreement).
     """
 
-    __slots__ = ('frame', 'provisional', 'roles', 'seen', 'counts')
+    __slots__ = ('frame', 'provisional', 'roles', 'order', 'seen', 'counts', 'blank')
 
     def __init__(self, configured: str, roles: Collection[str]) -> None:
         self.frame: Optional[str] = configured or None
         self.provisional: Optional[str] = None
         self.roles = frozenset(roles)
+        self.order = tuple(roles)
         self.seen: Dict[str, Set[str]] = {}
         self.counts: Counter = Counter()
+        self.blank: Set[str] = set()
 
     def vote(self, role: str, frame_id: str) -> Optional[str]:
         """Count a sample's (non-empty) frame; return the frame every role has sent, or None."""
@@ -111,9 +118,36 @@ class FrameVote:
         self.counts[frame_id] += 1
         return frame_id if roles >= self.roles else None
 
-    def most_common(self) -> Optional[str]:
-        """Return the frame sent most often (the first seen among equals), None for none."""
-        return self.counts.most_common(1)[0][0] if self.counts else None
+    def candidate(self) -> Optional[str]:
+        """
+        Return the frame to adopt without agreement: the most common one every stream sent.
+
+        Every stream that has sent a (non-empty) frame must have sent it; a stream silent so
+        far, or one that has sent an empty frame (taken as in any frame: a stray frame on it
+        holds nothing up), does not count. The first seen among equals; None where no frame
+        qualifies (``disagreement``) or none was sent.
+        """
+        framing = set().union(*self.seen.values()) - self.blank
+        for frame, _ in self.counts.most_common():
+            if self.seen[frame] >= framing:
+                return frame
+        return None
+
+    def disagreement(self) -> Optional[str]:
+        """
+        Return each stream's frames while no frame can be adopted, None otherwise.
+
+        ``"ball sends 'world', bat_pose sends 'arm_base'"``: streams in the roles' order, each
+        with the frames it sent in the order first seen (a stream that sent none left out).
+        """
+        if self.frame is not None or not self.seen or self.candidate() is not None:
+            return None
+        parts = []
+        for role in self.order:
+            frames = [frame for frame, roles in self.seen.items() if role in roles]
+            if frames:
+                parts.append(f"{role} sends {' and '.join(repr(f) for f in frames)}")
+        return ', '.join(parts)
 
 
 def integer_stamp(stamp_ns: Any, what: str = 'stamp_ns') -> int:

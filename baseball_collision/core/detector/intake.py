@@ -6,9 +6,12 @@ reaches its stream it passes, in order:
 
 * the frame: refused when bad or not the tracking frame. With ``frame_id`` '' the first frame
   seen is provisional: its samples are taken at once, others wait. The frame every input
-  stream sends (or, once ``FRAME_PENDING_MAX`` wait, the most common) is adopted: when it is
-  the provisional one the waiting samples are dropped as ``WRONG_FRAME``; when it is another
-  (the first was a lone stray) the state is reset (``FRAME_CHANGED``) and they are taken;
+  stream sends (or, once ``FRAME_PENDING_MAX`` wait, the most common that every stream sending
+  a frame has sent: ``FrameVote.candidate``) is adopted: when it is the provisional one the
+  waiting samples are dropped as ``WRONG_FRAME``; when it is another (the first was a lone
+  stray) the state is reset (``FRAME_CHANGED``) and they are taken. Where there is none (a bat
+  in ``arm_base`` beside a ball in ``world``) nothing is adopted: the oldest waiting sample is
+  dropped (``NO_COMMON_FRAME``) as each new one waits, until the streams agree;
 * the stamp against its stream's newest (``gate.stamp_check``): a duplicate or a little behind
   is dropped; far behind waits in the ``JumpWatch``: ``JUMP_CONFIRM`` such samples in a row are
   a jump back (the state resets once and they are taken), and a sample on the current clock
@@ -24,7 +27,8 @@ reaches its stream it passes, in order:
   own newest samples were a stale publisher's): it is taken, at once or when it waited.
 
 Offers that waited and are dropped later are counted then (``DetectorStats.late_drops``);
-``flush`` (the end of a recording) takes what still waits.
+``flush`` (the end of a recording) takes what still waits (with no candidate frame, the offers
+waiting for one are dropped as ``NO_COMMON_FRAME``).
 """
 
 from typing import Any, Callable, Dict, List, Optional, Sequence
@@ -123,12 +127,20 @@ class Intake:
                 return reason
             if tracking is None:
                 return self._vote(offer, events)
+        elif tracking is None:  # an empty frame before agreement: in any frame (the vote's)
+            self.votes.blank.add(offer.role)
         return self._stamp(offer, events)
 
     def flush(self, events: List[Event]) -> None:
         """At the end of a recording: settle the frame, take held offers, drop candidates."""
         if self.pending:
-            self._adopt(self.votes.most_common(), None, events)
+            agreed = self.votes.candidate()
+            if agreed is not None:
+                self._adopt(agreed, None, events)
+            else:  # no frame every stream sends: none is adopted, what waited is dropped
+                pending, self.pending = self.pending, []
+                for each in pending:
+                    self._late(each, DropReason.NO_COMMON_FRAME)
         self._abandon()
         for held in sorted(self.held.values(), key=lambda offer: offer.stamp):
             if self.held.pop(held.role, None) is held:  # (a reset may have cleared it)
@@ -137,13 +149,22 @@ class Intake:
     # ---- the steps -----------------------------------------------------------------------
 
     def _vote(self, offer: Offer, events: List[Event]) -> Optional[DropReason]:
-        """Before agreement: take an offer in the provisional frame, keep others waiting."""
+        """
+        Before agreement: take an offer in the provisional frame, keep others waiting.
+
+        Once ``FRAME_PENDING_MAX`` wait, the candidate frame (``FrameVote.candidate``) is
+        adopted; where there is none (frames that differ per stream) the oldest waiting offer
+        is dropped (``no_common_frame``) as each new one comes, ``FRAME_PENDING_MAX`` waiting
+        on.
+        """
         votes = self.votes
         agreed = votes.vote(offer.role, offer.frame)
         if offer.frame != votes.provisional:
             self.pending.append(offer)
             if agreed is None and len(self.pending) >= FRAME_PENDING_MAX:
-                agreed = votes.most_common()
+                agreed = votes.candidate()
+                if agreed is None and len(self.pending) > FRAME_PENDING_MAX:
+                    self._late(self.pending.pop(0), DropReason.NO_COMMON_FRAME)
         if agreed is None:
             return self._stamp(offer, events) if offer.frame == votes.provisional else None
         return self._adopt(agreed, offer, events)

@@ -13,8 +13,9 @@ detector's counters into a :class:`Snapshot` and :func:`health_status` turns the
 :class:`HealthStatus`; ``ros.diagnostics`` converts that into a
 ``diagnostic_msgs/DiagnosticStatus``, and ``analyze --out-bag`` writes the same statuses into
 ``/diagnostics`` of its bag. Times are seconds on any monotonic clock passed in (wall time in
-the node, the bag's log time offline); why a silent topic is silent (no publisher, another
-type) is asked of the ROS graph by the node for the streams :func:`silent_streams` names.
+the node, the bag's log time offline); why a silent topic is silent (no publisher discovered
+yet, another type) is asked of the ROS graph by the node for the streams
+:func:`silent_streams` names.
 """
 
 from .gaps import (

@@ -478,6 +478,53 @@ def test_plans_run_across_pauses_between_pitches(model: str,
     assert len(planned) < len(heights)
 
 
+@pytest.mark.parametrize('bat_first', [False, True])
+def test_streams_in_two_frames_are_dropped_alike_in_chunks(bat_first: bool) -> None:
+    """
+    A bat in 'arm_base' beside a ball in 'world' for a pitch, then both in 'world': as ``add``.
+
+    No frame is adopted while the frames differ (``no_common_frame`` drops), then the agreed
+    one (the waiting samples dropped, or taken after a reset when the bat's frame was the
+    provisional one); the later pitches are found alike.
+    """
+    rows = session(HEIGHTS[:3])
+    rows = [(role, stamp, values, 'arm_base' if role == 'bat_pose' and k < len(rows) // 3
+             else frame) for k, (role, stamp, values, frame) in enumerate(rows)]
+    if bat_first:
+        rows[0], rows[1] = rows[1], rows[0]
+    for config in (DetectorConfig(model='c2', bat_input='pose'),
+                   DetectorConfig(model='linear', bat_input='pose', prediction_horizon=0.3)):
+        events = assert_same(config, rows, (1, 7, 64, 500))
+        _, drops, detector = one_at_a_time(config, rows)
+        assert drops[('ball' if bat_first else 'bat_pose'), 'no_common_frame'] > 100
+        assert detector.frame_id == 'world' and any(isinstance(e, Impact) for e in events)
+
+
+@pytest.mark.parametrize('frames', ['none', 'ball_none', 'ball_none_stray', 'bat_none_stray'])
+def test_empty_frames_before_agreement_alike_in_chunks(frames: str) -> None:
+    """
+    Streams that send empty frames (taken as in any frame), with a stray first frame: as ``add``.
+
+    Before a frame is agreed an empty frame's role is noted by the vote (it holds no adoption
+    up); a plan takes such samples only once ``add`` has noted their role.
+    """
+    rows = session(HEIGHTS[:3])
+    empty = {'none': ('ball', 'bat_pose'), 'ball_none': ('ball',), 'ball_none_stray': ('ball',),
+             'bat_none_stray': ('bat_pose',)}[frames]
+    rows = [(role, stamp, values, '' if role in empty else frame)
+            for role, stamp, values, frame in rows]
+    if frames.endswith('stray'):  # the empty stream's first sample in a stray frame
+        k = next(k for k, row in enumerate(rows) if row[0] == empty[0])
+        rows[k] = rows[k][:3] + ('camera',)
+    for config in (DetectorConfig(model='c2', bat_input='pose'),
+                   DetectorConfig(model='rigid', bat_input='pose', prediction_horizon=0.3)):
+        events = assert_same(config, rows, (1, 7, 64, 500))
+        _, drops, detector = one_at_a_time(config, rows)
+        assert any(isinstance(e, Impact) for e in events)
+        assert not [key for key in drops if key[1] == 'no_common_frame']
+        assert detector.frame_disagreement is None
+
+
 @pytest.mark.parametrize('untracked', ['ball', 'bat_pose'])
 def test_chunks_without_a_sample_of_one_stream(untracked: str) -> None:
     """

@@ -15,7 +15,7 @@ def test_drop_reasons_keep_their_tuple_of_values() -> None:
         'wrong_frame', 'non_finite', 'bad_stamp', 'duplicate_stamp', 'out_of_order',
         'bad_quaternion', 'zero_length_bat', 'bat_length_jump', 'speed_limit',
         'unexpected_input', 'stale_stamp', 'stamp_ahead', 'bad_frame', 'lost_body',
-        'ball_glitch', 'bat_glitch')
+        'ball_glitch', 'bat_glitch', 'no_common_frame')
     assert all(type(reason) is str for reason in DROP_REASONS)
     assert tuple(DropReason) == DROP_REASONS
 

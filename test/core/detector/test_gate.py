@@ -105,8 +105,31 @@ def test_the_frame_vote_needs_every_role() -> None:
     assert vote.provisional == 'camera'
     assert vote.vote('ball', 'world') is None and vote.vote('ball', '') is None
     assert vote.vote('bat_pose', 'world') == 'world'
-    assert vote.most_common() == 'world'  # two votes to one
+    assert vote.candidate() == 'world'  # two votes to one
     assert FrameVote('world', ('ball',)).frame == 'world'
+
+
+def test_a_frame_is_a_candidate_only_if_every_stream_sending_one_sent_it() -> None:
+    """
+    Without agreement, the most common frame is adopted only where no stream never sent it.
+
+    A stream silent so far (or sending only empty frames) does not count; streams in frames
+    that differ leave no candidate, and the disagreement names each stream's frames.
+    """
+    vote = FrameVote('', ('ball', 'knob', 'tip'))
+    assert vote.candidate() is None and vote.disagreement() is None  # nothing sent
+    for _ in range(5):
+        vote.vote('knob', 'a')
+    vote.vote('knob', 'b')
+    vote.vote('tip', 'b')
+    vote.vote('ball', '')
+    assert vote.candidate() == 'b'  # 'a' is the most common, but the tip never sent it
+    assert vote.disagreement() is None
+    vote.vote('ball', 'world')
+    assert vote.candidate() is None
+    assert vote.disagreement() == "ball sends 'world', knob sends 'a' and 'b', tip sends 'b'"
+    vote.frame = 'b'  # (adopted: no disagreement any more)
+    assert vote.disagreement() is None
 
 
 def test_a_lost_body_is_exactly_the_identity_at_the_origin() -> None:

@@ -363,3 +363,77 @@ def test_without_agreement_the_most_common_frame_wins() -> None:
         detector.add_ball(stamp_of(i), (0.0, 0.0, 1.0), 'world')
     assert detector.frame_id == 'world' and detector.stats.resets == 1
     assert detector._ball.stamps[-1] == stamp_of(39) and len(detector._ball.stamps) == 39
+
+
+def _swing_in_frames(detector: Detector, ball_frame: str, bat_frame: str,
+                     bat_first: bool = False, later_ns: int = 0) -> List[Any]:
+    """Feed the swing and pitch with the ball and the bat each in its own frame; the events."""
+    events: List[Any] = []
+    for i in range(72):
+        t = i / RATE
+        feeds = [lambda: detector.add_ball(stamp_of(i) + later_ns, pitch()(t), ball_frame),
+                 lambda: detector.add_bat_pose(stamp_of(i) + later_ns, *pose(t), bat_frame)]
+        for feed in feeds[::-1] if bat_first else feeds:
+            events += feed()
+    return events
+
+
+@pytest.mark.parametrize('bat_first', [False, True])
+def test_streams_in_two_frames_adopt_neither_until_they_agree(bat_first: bool,
+                                                              truth_ns: int) -> None:
+    """
+    A bat in ``arm_base`` beside a ball in ``world`` (no TF): no frame is adopted, ever.
+
+    The first stream's frame stays provisional; the other's samples wait, and beyond
+    FRAME_PENDING_MAX the oldest is dropped as ``no_common_frame`` (the most common frame, the
+    one the other stream never sent, was adopted and that stream dropped for good as
+    ``wrong_frame``). ``frame_disagreement`` names each stream's frame. Once the bat is sent in
+    the ball's frame, the frame is adopted and the next swing's impact found.
+    """
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    events = _swing_in_frames(detector, 'world', 'arm_base', bat_first)
+    assert not impacts(events) and detector.stats.resets == 0
+    assert dict(detector.stats.dropped) == {'no_common_frame': 72 - 32}
+    assert detector.frame_disagreement == "ball sends 'world', bat_pose sends 'arm_base'"
+    assert detector.frame_id == ('arm_base' if bat_first else 'world')  # provisional
+    events = _swing_in_frames(detector, 'world', 'world', bat_first, SECOND)
+    assert detector.frame_id == 'world' and detector.frame_disagreement is None
+    one_impact_at(events + detector.finish(), truth_ns + SECOND)
+    dropped = detector.stats.dropped  # the 32 waiting: the other frame's, or the stray's
+    # the 32 waiting at agreement: the bat's in 'arm_base' (wrong_frame), or, the bat's frame
+    # provisional, the ball's in 'world', taken after the reset (frame_changed)
+    assert dropped == ({'no_common_frame': 40} if bat_first else
+                       {'no_common_frame': 40, 'wrong_frame': 32})
+    assert detector.stats.resets == (1 if bat_first else 0)
+
+
+def test_two_frames_to_the_end_are_dropped_not_adopted() -> None:
+    """At the end of a recording the samples waiting in the other frame are dropped too."""
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    events = _swing_in_frames(detector, 'world', 'arm_base') + detector.finish()
+    assert not impacts(events)
+    assert dict(detector.stats.dropped) == {'no_common_frame': 72}
+    assert detector.frame_disagreement == "ball sends 'world', bat_pose sends 'arm_base'"
+
+
+@pytest.mark.parametrize('stray_on', ['bat_pose', 'ball'])
+def test_a_stream_sending_empty_frames_does_not_block_the_adoption(stray_on: str,
+                                                                   truth_ns: int) -> None:
+    """
+    A ball publisher that never sets frame_id, a stray first frame (bat's or ball's): as before.
+
+    The empty frame is taken as in any frame, so it never holds the vote up, nor does a stray
+    on the stream that sends it: after FRAME_PENDING_MAX waiting the bat's frame is adopted
+    (the stray's state reset: this swing's contact falls before it, as it did), and the next
+    swing's impact is found in it.
+    """
+    detector = Detector(DetectorConfig(bat_input='pose'))
+    if stray_on == 'ball':
+        detector.add_ball(BASE_NS - 5_000_000, pitch()(-0.005), 'camera')
+    else:
+        detector.add_bat_pose(BASE_NS - 5_000_000, *pose(-0.005), 'camera')
+    events = _swing_in_frames(detector, '', 'world')
+    assert detector.frame_id == 'world' and detector.frame_disagreement is None
+    events += _swing_in_frames(detector, '', 'world', later_ns=SECOND)
+    one_impact_at(events + detector.finish(), truth_ns + SECOND)
+    assert detector.stats.dropped == {} and detector.stats.resets == 1

@@ -45,9 +45,9 @@ def test_stale_and_every_sample_dropped() -> None:
     late = take_snapshot(12.5, 'n', ('ball', 'bat_pose'), TOPICS, tally, stats, None, '',
                          SETTINGS)
     assert silent_streams(late) == ['ball', 'bat_pose']
-    status = health_status(late, {'ball': 'no publisher'})
+    status = health_status(late, {'ball': 'no publisher discovered yet'})
     assert status.level == Level.ERROR
-    assert '/ball (silent for' in status.message and 'no publisher' in status.message
+    assert '/ball (silent for' in status.message and 'no publisher discovered' in status.message
     assert dict(status.values())['state'] == 'stale'
 
 
