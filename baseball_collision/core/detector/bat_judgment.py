@@ -14,7 +14,9 @@ contact the pitch does not have. So before a frame's forecast is used:
   through the two frames before it (``_after_step``, ``_off_line``);
 - the window's newest frames are judged by the sweep's rule and a glitch dropped as the sweep
   drops it (``_bat_glitch_dropped``); a suspect that rule cannot judge yet waits for the
-  sweep's rule for it, left out of the forecast meanwhile (``_late_verdict``).
+  sweep's rule for it, left out of the forecast meanwhile (``_late_verdict``); a segment's
+  4th frame held for a glitch at its 2nd hands the suspicion to that one once the frame after
+  it tells (``_second_instead``).
 
 A chunk's plan stops at the frames these rules may judge (``plan_prediction``).
 
@@ -174,7 +176,9 @@ class BatJudgment:
         glitch is forgotten as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``)
         whose next frame goes on from it (``_followed``) meanwhile; till then, or judged a
         glitch (``_left_out``), and while it is in the forecast's window, the bat is forecast
-        without it (``Predictor._search``). Not dropped here: the sweep drops it where a
+        without it (``Predictor._search``). A segment's 4th frame held for its 2nd
+        (``_second_instead``, told by the frame after it) hands the suspicion to the 2nd, judged
+        so in its place. Not dropped here: the sweep drops it where a
         contact hangs on it, and a drop here, at another frame than the sweep's, made the chunk
         path's impacts differ from one sample at a time's (``bench_prediction.py --faults
         --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
@@ -183,6 +187,9 @@ class BatJudgment:
         if not (first <= (j := bisect_left(times, suspect, first, end)) < end - 1
                 and times[j] == suspect):
             return
+        if self._second_instead(first, j):
+            j -= 2
+            self.suspect = times[j]  # (the segment's 2nd frame bent the forecast that held j)
         verdict = self._late_verdict(j)
         if verdict is None and self._across_hole(j) and self._followed(j):
             verdict = False  # (its next frame goes on from it: the swing's own)
@@ -190,6 +197,27 @@ class BatJudgment:
             self._left_out = j
         elif verdict is not NOT_LATE:
             self.suspect = None  # (judged no glitch by the sweep's rule)
+
+    def _second_instead(self, first: int, j: int) -> bool:
+        """
+        Return whether the suspect bat frame j, its segment's 4th, was held for its 2nd frame.
+
+        A window of its segment's first four frames may hold its newest (``_bat_off``), but
+        from four frames the forecast cannot tell a glitch at the newest from one at the 2nd
+        frame, which bends the forecast through it by about the same (the newest off it by 2-3
+        times the 2nd frame's distance from the forecast of the other three, either way:
+        ``bench_prediction.py --faults``' ``segment 2`` and ``segment 4``). Its next frame
+        tells: True where frame j + 1 (in the window [first, ...)) leaves the forecast of the
+        four frames (``_bat_leaves``) and lands within ``glitch_floor`` of their forecast
+        without the 2nd (``_bat_miss``): a glitch at frame j bends that one too, by more.
+        Then the 2nd frame is the suspect, judged by the sweep's rule for it and left out of
+        the forecast till then (``_suspect_judged``), and frame j is taken.
+        """
+        start = j - 3
+        if start < first or not self._segment_start(start, j + 1):
+            return False
+        return self._bat_leaves(start, j + 2) and self._bat_miss(
+            start, j + 2, start + 1) <= glitch_floor(stream_noise(self.bat, self._config))
 
     def _late_verdict(self, j: int) -> Union[None, bool, str]:
         """
