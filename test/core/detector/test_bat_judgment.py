@@ -383,7 +383,6 @@ def test_a_bat_glitch_the_window_cannot_judge_is_left_out_till_it_is_judged(
     assert ahead[-1] is not None and abs(ahead[-1] - contact) < 0.001e9
 
 
-
 def _made(config: DetectorConfig, rows: List[Tuple[Any, ...]], since: int,
           until: int) -> Tuple[List[Tuple[int, Any]], List[Any]]:
     """Return the predictions and clearings made in [since, until) ns (made, stamp), and all."""
