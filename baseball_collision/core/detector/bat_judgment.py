@@ -231,9 +231,9 @@ class BatJudgment:
         The ``PREVIOUS_FRAMES`` frames before the tracking gap (over ``max_gap``, up to
         ``PREVIOUS_HOLE_S``; one segment) can: each of the 2nd and the 4th frame against the
         fit of the others and those (``_miss_without``), the 2nd the farther off. A glitch at
-        the 4th left the 2nd 0.13-0.42 times as far off as the 4th, one at the 2nd 0.93-19.6
-        times (0.09-0.57 and 0.49-8.3 across holes of 0.08-0.21 s; ``bench_prediction.py
-        --faults``, 90 Hz). False where those frames are not in the stream.
+        the 4th left the 2nd 0.09-0.59 times as far off as the 4th, one at the 2nd 0.49-19.6
+        times, across gaps of 0.08-0.21 s (``bench_prediction.py --faults``' ``segment 4`` and
+        ``segment 2``, 90 Hz). False where those frames are not in the stream.
         """
         start = first - PREVIOUS_FRAMES
         bat, gap = self.bat, self._config.max_gap
