@@ -49,10 +49,12 @@ segment's 1st, 2nd or 4th frame (the tracker re-acquires the bat after the frame
 or with the frame two or one before it or the one after it lost (``--lost``, ``LOST_BESIDE``:
 at 90 Hz a hole over ``bat_glitches.LOST_HOLE``); the clean run is the pitch with the same
 frames lost, the deleted one without the glitch's frame too; scored as above.
-``--lost-only``: only that table.
+``--lost-only``: only that table. ``--fault-lead`` scores the hits at another lead than
+``FAULT_LEAD_S`` (s; 0.01: what a rule that judges a frame from the frames after it keeps).
 
     .venv/bin/python benchmarks/bench_prediction.py --faults [--seeds 2] [--chunks]
     .venv/bin/python benchmarks/bench_prediction.py --faults --lost-only [--chunks]
+    .venv/bin/python benchmarks/bench_prediction.py --faults --lost-only --fault-lead 0.01
 """
 
 import argparse
@@ -577,7 +579,8 @@ def faults(seeds: int, chunks: bool, lost_only: bool = False) -> None:
 def _cells_table(first_column: str, cells_of: Callable[..., Dict[str, Dict[str, int]]],
                  seeds: int, chunks: bool) -> None:
     """Print ``cells_of``'s counts (``fault_cell``'s) a row each, at 90 and 360 Hz, 0 and 1 mm."""
-    print(f'\n| {first_column} | rate Hz | noise mm | parameters | hits lost 20 ms ahead (clean '
+    print(f'\n| {first_column} | rate Hz | noise mm | parameters | hits lost '
+          f'{FAULT_LEAD_S * 1e3:g} ms ahead (clean '
           'had it) | of them lost without the frame too | gained | misses with a false '
           'prediction (clean none) | misses predicted at a frame clean was not | chunk path '
           'differs |')
@@ -595,6 +598,7 @@ def _cells_table(first_column: str, cells_of: Callable[..., Dict[str, Dict[str, 
 
 def main() -> None:
     """Print the prediction table."""
+    global FAULT_LEAD_S  # (``--fault-lead``: ``scored`` reads it)
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1].strip())
     parser.add_argument('--per-kind', type=int, default=20)
     parser.add_argument('--seed', type=int, default=11)
@@ -614,7 +618,10 @@ def main() -> None:
                         help='--faults: also compare the chunk path with one sample at a time')
     parser.add_argument('--lost-only', action='store_true',
                         help='--faults: only the glitch beside lost frames')
+    parser.add_argument('--fault-lead', type=float, default=FAULT_LEAD_S,
+                        help='--faults: the lead (s) the hits are scored at')
     args = parser.parse_args()
+    FAULT_LEAD_S = args.fault_lead
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.faults or args.pauses_only:
         if not args.pauses_only:

@@ -14,7 +14,10 @@ contact the pitch does not have. So before a frame's forecast is used:
   through the two frames before it (``_after_step``, ``_off_line``);
 - the window's newest frames are judged by the sweep's rule and a glitch dropped as the sweep
   drops it (``_bat_glitch_dropped``); a suspect that rule cannot judge yet waits for the
-  sweep's rule for it, left out of the forecast meanwhile (``_late_verdict``).
+  sweep's rule for it, left out of the forecast meanwhile (``_late_verdict``); a window of a
+  segment's first four frames whose newest would be held is told whether its 2nd frame is off
+  instead by the frames before the tracking gap (``_second_across``), else by the frame after
+  it (``_second_instead``): then the 2nd is the suspect left out.
 
 A chunk's plan stops at the frames these rules may judge (``plan_prediction``).
 
@@ -52,6 +55,20 @@ of 252 hits at 90 Hz with 1 mm of noise, against 7 at 2 times and 15 at 3)."""
 NEWEST, BEFORE, ACROSS = 'newest', 'before', 'across'
 """``Predictor._bat_off``'s verdicts: the newest bat frame is off the swing, the one before, or
 the newest after a step over ``REGULAR_STEP`` times the one before (a frame lost between)."""
+
+SECOND = 'second'
+"""``Predictor._newest_judged``'s verdict where ``_bat_off``'s ``NEWEST`` on a window of its
+segment's first four frames is the segment's 2nd frame off instead (``_second_across``)."""
+
+PREVIOUS_FRAMES = 3
+"""Frames of the bat's segment before a tracking gap that ``BatJudgment._second_across`` reads
+with a window of the next segment's first four frames (a degree-3 fit then has two frames to
+spare: it can tell which frame is off)."""
+
+PREVIOUS_HOLE_S = 0.25
+"""s: the longest tracking gap ``BatJudgment._second_across`` fits across (measured to 0.21 s:
+``bench_prediction.py --faults``' ``segment 2`` and ``segment 4`` with the frames lost before
+the segment over 0.1 and 0.2 s, not one 4th frame taken for the 2nd)."""
 
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
@@ -97,25 +114,34 @@ class BatJudgment:
         Return ``_bat_off``'s verdict on the newest bat frames; make a newest frame off suspect.
 
         ``NEWEST``, ``ACROSS``: the newest frame is ``suspect``, judged by the frames after it
-        (``_bat_glitch_dropped``). The predictor then holds the prediction in force
-        (``NEWEST``), or where something is shown forecasts the bat without the frame off
-        (``BEFORE``, ``ACROSS``: ``_numbers_without``); where nothing is shown either way it
+        (``_bat_glitch_dropped``). ``SECOND``: ``NEWEST`` on a window of its segment's first
+        four frames whose 2nd frame is off instead (``_second_across``), which is ``suspect``
+        then. The predictor then holds the prediction in force (``NEWEST``), or where
+        something is shown forecasts the bat without the frame off (``BEFORE``, ``ACROSS``,
+        ``SECOND``: ``_numbers_without``); where nothing is shown either way it
         forecasts nothing without it (that gave near misses false predictions). ``found``:
         ``contact_of``'s result.
         """
         off = self._bat_off(found)
-        if off is NEWEST or off is ACROSS:  # (the newest: judged by the frames after it)
-            self.suspect = self.bat.times[self._bat_window[1] - 1]
+        first, end = self._bat_window
+        if off is NEWEST and end - first == 4 and self._second_across(first, end):
+            off = SECOND
+            self.suspect = self.bat.times[first + 1]
+        elif off is NEWEST or off is ACROSS:  # (the newest: judged by the frames after it)
+            self.suspect = self.bat.times[end - 1]
         return off
 
     def _numbers_without(self, off: str) -> Optional[Tuple[float, ...]]:
         """
         Return the bat forecast without the frame ``_bat_off``'s verdict ``off`` says is off.
 
-        ``BEFORE``: without the frame before the newest; else without the newest (the forecast
-        of the frames before it). As ``_bat_numbers``: None, a rank-deficient fit.
+        ``BEFORE``: without the frame before the newest; ``SECOND``: without the window's 2nd;
+        else without the newest (the forecast of the frames before it). As ``_bat_numbers``:
+        None, a rank-deficient fit.
         """
         first, end = self._bat_window
+        if off is SECOND:
+            return self._bat_numbers(first, end, first + 1)
         return self._bat_numbers(first, end, end - 2) if off is BEFORE else \
             self._bat_numbers(first, end - 1)
 
@@ -174,7 +200,9 @@ class BatJudgment:
         glitch is forgotten as a suspect, and so is one after a hole (``_bat_off``: ``ACROSS``)
         whose next frame goes on from it (``_followed``) meanwhile; till then, or judged a
         glitch (``_left_out``), and while it is in the forecast's window, the bat is forecast
-        without it (``Predictor._search``). Not dropped here: the sweep drops it where a
+        without it (``Predictor._search``). A segment's 4th frame held for its 2nd
+        (``_second_instead``, told by the frame after it) hands the suspicion to the 2nd, judged
+        so in its place. Not dropped here: the sweep drops it where a
         contact hangs on it, and a drop here, at another frame than the sweep's, made the chunk
         path's impacts differ from one sample at a time's (``bench_prediction.py --faults
         --chunks``: 7 of 288 runs, 90 Hz, 1 mm).
@@ -183,6 +211,9 @@ class BatJudgment:
         if not (first <= (j := bisect_left(times, suspect, first, end)) < end - 1
                 and times[j] == suspect):
             return
+        if self._second_instead(first, j):
+            j -= 2
+            self.suspect = times[j]  # (the segment's 2nd frame bent the forecast that held j)
         verdict = self._late_verdict(j)
         if verdict is None and self._across_hole(j) and self._followed(j):
             verdict = False  # (its next frame goes on from it: the swing's own)
@@ -190,6 +221,62 @@ class BatJudgment:
             self._left_out = j
         elif verdict is not NOT_LATE:
             self.suspect = None  # (judged no glitch by the sweep's rule)
+
+    def _second_across(self, first: int, end: int) -> bool:
+        """
+        Return whether bat frames [first, end), its segment's first four, have their 2nd off.
+
+        The window held its newest (``_bat_off``: ``NEWEST``), but from four frames the
+        forecast cannot tell a glitch there from one at the 2nd frame (``_second_instead``).
+        The ``PREVIOUS_FRAMES`` frames before the tracking gap (over ``max_gap``, up to
+        ``PREVIOUS_HOLE_S``; one segment) can: each of the 2nd and the 4th frame against the
+        fit of the others and those (``_miss_without``), the 2nd the farther off. A glitch at
+        the 4th left the 2nd 0.09-0.59 times as far off as the 4th, one at the 2nd 0.49-19.6
+        times, across gaps of 0.08-0.21 s (``bench_prediction.py --faults``' ``segment 4`` and
+        ``segment 2``, 90 Hz). False where those frames are not in the stream.
+        """
+        start = first - PREVIOUS_FRAMES
+        bat, gap = self.bat, self._config.max_gap
+        if start < 0 or not gap < bat.times[first] - bat.times[first - 1] <= PREVIOUS_HOLE_S \
+                or not all(bat.continuous(i, gap) for i in range(start, first - 1)):
+            return False
+        return self._miss_without(start, end, first + 1) > self._miss_without(
+            start, end, end - 1)
+
+    def _miss_without(self, first: int, end: int, j: int) -> float:
+        """
+        Return how far (m) bat frame j is from the fit of frames [first, end) but j.
+
+        The larger of the knob's and the tip's distances from ``_bat_numbers``' forecast at its
+        stamp (s); 0 where that fit is rank deficient.
+        """
+        numbers = self._bat_numbers(first, end, j)
+        if numbers is None:
+            return 0.0
+        knob, tip = states_of(None, numbers, self.bat.times[j])[2:]
+        frame = self.bat.values[j]
+        return max(math.dist(knob, frame.knob), math.dist(tip, frame.tip))
+
+    def _second_instead(self, first: int, j: int) -> bool:
+        """
+        Return whether the suspect bat frame j, its segment's 4th, was held for its 2nd frame.
+
+        A window of its segment's first four frames may hold its newest (``_bat_off``), but
+        from four frames the forecast cannot tell a glitch at the newest from one at the 2nd
+        frame, which bends the forecast through it by about the same (the newest off it by 2-3
+        times the 2nd frame's distance from the forecast of the other three, either way:
+        ``bench_prediction.py --faults``' ``segment 2`` and ``segment 4``). Its next frame
+        tells: True where frame j + 1 (in the window [first, ...)) leaves the forecast of the
+        four frames (``_bat_leaves``) and lands within ``glitch_floor`` of their forecast
+        without the 2nd (``_bat_miss``): a glitch at frame j bends that one too, by more.
+        Then the 2nd frame is the suspect, judged by the sweep's rule for it and left out of
+        the forecast till then (``_suspect_judged``), and frame j is taken.
+        """
+        start = j - 3
+        if start < first or not self._segment_start(start, j + 1):
+            return False
+        return self._bat_leaves(start, j + 2) and self._bat_miss(
+            start, j + 2, start + 1) <= glitch_floor(stream_noise(self.bat, self._config))
 
     def _late_verdict(self, j: int) -> Union[None, bool, str]:
         """

@@ -222,7 +222,7 @@ class Predictor(BatJudgment):
             off = None if planned or left_out is not None else self._newest_judged(found)
             if off is NEWEST:
                 return None
-            if off is not None and shown:  # BEFORE, ACROSS: forecast without that frame
+            if off is not None and shown:  # BEFORE, ACROSS, SECOND: forecast without it
                 without = self._numbers_without(off)
                 if without is not None:
                     bat_args, found = without, self._contact(ball, without, t0)
