@@ -304,9 +304,10 @@ def main() -> None:
     parser.add_argument('--rates', nargs='+', type=float, default=[90.0, 120.0, 360.0])
     parser.add_argument('--noises', nargs='+', type=float, default=[0.0, 0.5, 1.0, 2.0],
                         help='mm per coordinate')
-    parser.add_argument('--methods', nargs='+', default=list(METHODS) + ['reference'],
-                        choices=list(METHODS) + ['reference', 'reference-interp',
-                                                 'reference-rules'])
+    references = ['reference', 'reference-interp', 'reference-rules']
+    parser.add_argument('--methods', nargs='+',
+                        default=list(METHODS) + ['reference', 'reference-rules'],
+                        choices=list(METHODS) + references)
     parser.add_argument('--bat', choices=('points', 'pose'), default='points')
     parser.add_argument('--noise-on', choices=NOISE_ON, default='both',
                         help='the bodies with noise (an error budget: ball or bat only)')
