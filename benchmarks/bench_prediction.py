@@ -44,7 +44,7 @@ holding it through a silence the ball's flight holds, ``predictor.kept_flight_sp
 
 Between them, a glitch beside the bat tracker's lost frames (``lost_cell``): the frame turned 10
 or 20 cm toward the ball as above (the 1st, 2nd or 4th before the approach), made its bat
-segment's 1st, 2nd or 4th frame (the tracker re-acquires the bat after the frames over
+segment's 1st, 2nd, 3rd or 4th frame (the tracker re-acquires the bat after the frames over
 ``max_gap`` before it are lost: ``bench_glitches.faulted``'s ``--segment``, ``LOST_SEGMENT``),
 or with the frame two or one before it or the one after it lost (``--lost``, ``LOST_BESIDE``:
 at 90 Hz a hole over ``bat_glitches.LOST_HOLE``); the clean run is the pitch with the same
@@ -100,7 +100,7 @@ CHUNK_SIZES = (7, 50, 400)
 FAULT_KINDS = ('barrel', 'graze', 'miss_over', 'miss_under')
 """The pitches of ``--faults``: hits and misses."""
 
-LOST_SEGMENT = (1, 2, 4)
+LOST_SEGMENT = (1, 2, 3, 4)
 """The glitch as its bat segment's Nth frame (``lost_cell``: ``bench_glitches``' ``--segment``)."""
 
 LOST_BESIDE = (-2, -1, 1)
