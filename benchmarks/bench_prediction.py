@@ -276,7 +276,7 @@ def predictions_of(config: DetectorConfig, samples: Samples,
             events += detector.add(role, stamp, values, 'world')
             sent += [max(stamp, sent[-1] if sent else stamp)] * (len(events) - len(sent))
     events += detector.finish()
-    sent += [int(samples.bat_stamps_ns[-1])] * (len(events) - len(sent))
+    sent += [max(stamp for stamp, _, _ in messages)] * (len(events) - len(sent))  # (finish)
     if SCORE_SENT:
         events = [replace(e, made_at_ns=max(e.made_at_ns, at))
                   if isinstance(e, (Prediction, PredictionCleared)) else e
