@@ -30,7 +30,9 @@ a bat fault" and "... beside the tracker's lost frames".
 from bisect import bisect_left
 import math
 from statistics import median
-from typing import Callable, Optional, Tuple, Union
+from typing import Callable, List, Optional, Tuple, Union
+
+import numpy as np
 
 from .bat_glitch_edges import late_rule, segment_first
 from .bat_glitches import BAT_GLITCH_FLOOR, first_glitch, glitch_floor, REGULAR_STEP
@@ -38,6 +40,7 @@ from .bat_window import newest_miss, noise_gain, PREDICTION_DEGREE, STEP_ROWS
 from .config import DetectorConfig
 from .fitting import c2_window, stream_noise
 from .streams import Stream
+from ..motion.c2 import c2_rows, rotate, unit_axis
 from ..prediction import bat_window_numbers, states_of
 from ..toi import ImpactResult
 
@@ -69,6 +72,13 @@ PREVIOUS_HOLE_S = 0.25
 """s: the longest tracking gap ``BatJudgment._second_across`` fits across (measured to 0.21 s:
 ``bench_prediction.py --faults``' ``segment 2`` and ``segment 4`` with the frames lost before
 the segment over 0.1 and 0.2 s, not one 4th frame taken for the 2nd)."""
+
+THIRD_FIT_RATIO = 1.3
+"""How many times farther the fits without a segment's 1st and without its 2nd frame leave their
+frames than the fit without its 3rd leaves its own where ``BatJudgment._third_across`` holds the
+3rd as off (``bench_prediction.py --faults``, 90 Hz: 278 of 288 3rd frames turned 10-20 cm over
+it exact, 276 with 1 mm of noise; of 1st and 2nd frames turned and genuine 3rd frames, 0 and 7
+of 1008 with 1 mm)."""
 
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
@@ -124,6 +134,8 @@ class BatJudgment:
         """
         off = self._bat_off(found)
         first, end = self._bat_window
+        if off is None and end - first == 3 and self._third_across(first, end):
+            off = NEWEST  # (a segment's 3rd frame off the frames before the tracking gap)
         if off is NEWEST and end - first == 4 and self._second_across(first, end):
             off = SECOND
             self.suspect = self.bat.times[first + 1]
@@ -236,12 +248,85 @@ class BatJudgment:
         ``segment 2``, 90 Hz). False where those frames are not in the stream.
         """
         start = first - PREVIOUS_FRAMES
-        bat, gap = self.bat, self._config.max_gap
-        if start < 0 or not gap < bat.times[first] - bat.times[first - 1] <= PREVIOUS_HOLE_S \
-                or not all(bat.continuous(i, gap) for i in range(start, first - 1)):
+        if not self._across_gap(first):
             return False
         return self._miss_without(start, end, first + 1) > self._miss_without(
             start, end, end - 1)
+
+    def _across_gap(self, first: int) -> bool:
+        """
+        Return whether bat frame ``first`` comes after a tracking gap with frames before it.
+
+        The gap over ``max_gap`` and up to ``PREVIOUS_HOLE_S``, the ``PREVIOUS_FRAMES`` frames
+        before it one segment (``_second_across``, ``_third_across``).
+        """
+        start = first - PREVIOUS_FRAMES
+        bat, gap = self.bat, self._config.max_gap
+        return start >= 0 and gap < bat.times[first] - bat.times[first - 1] <= PREVIOUS_HOLE_S \
+            and all(bat.continuous(i, gap) for i in range(start, first - 1))
+
+    def _third_across(self, first: int, end: int) -> bool:
+        """
+        Return whether bat frames [first, end), its segment's first three, have their 3rd off.
+
+        Three frames cannot judge their newest (``_bat_off``: fewer than 4), and their forecast
+        through a glitch there shows a contact the pitch does not have, or misses the one it
+        has. The ``PREVIOUS_FRAMES`` frames before the tracking gap (``_across_gap``) tell
+        which of the three is off, each measured against the fit of the other five in a chart
+        of their own (``_chart_misses``): the 3rd, where it is more than ``glitch_floor`` of
+        the stream's noise off that fit and the fits without the 1st and without the 2nd
+        (each through the 3rd) leave their frames ``THIRD_FIT_RATIO`` times farther off than
+        the fit without the 3rd leaves its own. A glitch among five frames bends their fit,
+        whichever it is: with the 3rd turned 10-20 cm that ratio was 1.19-4.31 (exact) and
+        1.2-4.7 (1 mm of noise), with the 1st or the 2nd turned, or none, 0.16-1.40
+        (``bench_prediction.py --faults``' ``segment 1..3``, 90 Hz). False where those frames
+        are not in the stream, or the window does not begin its segment among regular steps
+        (``_segment_start``).
+        """
+        if not self._across_gap(first) or not self._segment_start(first, end):
+            return False
+        misses = self._chart_misses(first - PREVIOUS_FRAMES, end, first)
+        if misses is None:
+            return False
+        (_, first_fit), (_, second_fit), (third, third_fit) = misses
+        return third > glitch_floor(stream_noise(self.bat, self._config)) and min(
+            first_fit, second_fit) > THIRD_FIT_RATIO * third_fit
+
+    def _chart_misses(self, start: int, end: int,
+                      first: int) -> Optional[List[Tuple[float, float]]]:
+        """
+        Return how far each of bat frames [first, end) is off the fit of frames [start, end).
+
+        Per frame j, the fit of the others (a cubic in time per coordinate of the rigid chart
+        ``motion.c2`` fits: knob, rotation vector from frame ``first``'s direction, length,
+        ``c2_rows``): (frame j's distance from it, the farthest of the others' distances), m,
+        each the larger of the knob's and the tip's. None where the chart does not hold all
+        the frames (turned over ``MAX_CHART_ANGLE`` from frame ``first``'s direction) or a
+        fit would read fewer than 5 frames.
+        """
+        bat = self.bat
+        if end - start < 6:
+            return None
+        kept, rows = c2_rows(bat.values[start:end], first - start)
+        if kept != 0 or len(rows) != end - start:
+            return None
+        chart = np.array(rows)
+        times = np.array(bat.times[start:end]) - bat.times[first]
+        reference = unit_axis(bat.values[first])
+        misses = []
+        for j in range(first - start, end - start):
+            others = [i for i in range(end - start) if i != j]
+            weights = np.linalg.lstsq(np.vander(times[others], 4), chart[others],
+                                      rcond=None)[0]
+            fitted = np.vander(times, 4) @ weights
+            distances = []
+            for row, frame in zip(fitted, bat.values[start:end]):
+                knob = tuple(row[:3])
+                tip = tuple(k + row[6] * d for k, d in zip(knob, rotate(reference,
+                                                                        tuple(row[3:6]))))
+                distances.append(max(math.dist(knob, frame.knob), math.dist(tip, frame.tip)))
+            misses.append((distances[j], max(distances[i] for i in others)))
+        return misses
 
     def _miss_without(self, first: int, end: int, j: int) -> float:
         """
