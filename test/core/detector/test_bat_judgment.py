@@ -443,3 +443,31 @@ def test_a_bat_glitch_as_the_streams_2nd_frame_is_left_out_once_the_5th_tells(
     made = _made(config, rows, contact - int(0.015e9), contact)[0]
     assert made and made == _made(config, deleted, contact - int(0.015e9), contact)[0]
     assert all(stamp is not None and abs(stamp - contact) < 0.001e9 for _, stamp in made)
+
+
+@pytest.mark.parametrize('kind, family', [('graze', 'plane'), ('barrel', 'jerky')])
+def test_a_bat_glitch_as_its_segments_3rd_frame_is_told_by_the_frames_before_the_gap(
+        kind: str, family: str) -> None:
+    """
+    A 90 Hz hit whose bat frame 4 before the contact, turned 20 cm, is its segment's 3rd.
+
+    Three frames cannot judge their newest, so the forecast of the segment's first three, the
+    glitch in, missed the contact; the next window held the genuine 4th as off
+    (``Predictor._bat_off``) while the glitch stayed in, and nothing was predicted 20 ms
+    ahead. The frames before the tracking gap tell that the 3rd is off (``_third_across``: the
+    fit without it in ``motion.c2``'s chart leaves the others nearest): it is held and then
+    left out till the sweep's rule judges it. The prediction in force 20 ms ahead is then on
+    the contact, as the pitch without the glitch's; the chunk path's events are one sample at
+    a time's.
+    """
+    config = DetectorConfig(prediction_horizon=0.3, prediction_period=0.01)
+    rows, deleted, contact = lost_glitched_pitch(kind, family, 1, 4, segment=3, turn=0.2)
+    made, events = _made(config, rows, 0, contact)
+    for feed in (made, _made(config, deleted, 0, contact)[0]):
+        ahead = [stamp for made_at, stamp in feed if made_at <= contact - 0.02e9]
+        assert ahead and ahead[-1] is not None and abs(ahead[-1] - contact) < 0.001e9
+    detector = Detector(config)
+    chunked = []
+    for start in range(0, len(rows), 50):
+        chunked += detector.add_chunk(*arrays(rows[start:start + 50]))
+    assert chunked + detector.finish() == events
