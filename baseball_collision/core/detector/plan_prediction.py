@@ -166,19 +166,20 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     """
     Return which bat windows' newest frame may be off the swing by ``Predictor._bat_off``.
 
-    ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 4
+    ``windows``: (frames, 2) rows of (first, end) in the arrays' bat samples. A window of 3
     frames or more whose newest frame comes after a step over ``REGULAR_STEP`` times the one
     before (``Predictor._after_step``), or is more than ``BAT_GLITCH_FLOOR`` off the line
     through the two frames before it (``Predictor._off_line``; both decided with ``SLACK`` to
-    spare: a screen that skips the fit on a swing's own frames), and is more than
-    ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the forecast of the
-    frames before it (``newest_miss``: the predictor's own fit on the same samples, the same
-    bits). The stream's kept samples (``bat``), then the chunk's made as the streams keep them
+    spare: a screen that skips the fit on a swing's own frames), and, with 4 frames or more,
+    is more than ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the
+    forecast of the frames before it (``newest_miss``: the predictor's own fit on the same
+    samples, the same bits); one of 3 frames is judged against the frames before its segment
+    (``Predictor._third_across``), not screened further. The stream's kept samples (``bat``), then the chunk's made as the streams keep them
     (``BatSample``), only each such window's.
     """
     off = np.zeros(len(windows), bool)
     times = arrays.times[1]
-    long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 4)
+    long = np.flatnonzero(windows[:, 1] - windows[:, 0] >= 3)
     last = windows[long, 1] - 1
     before, after = times[last - 1] - times[last - 2], times[last] - times[last - 1]
     long = long[(after > REGULAR_STEP * (1.0 - SLACK) * before) | _off_line(
@@ -188,6 +189,9 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     pre, degree = arrays.pre[1], min(config.velocity_degree, PREDICTION_DEGREE)
     for k in long.tolist():
         first, end = windows[k].tolist()
+        if end - first == 3:  # (its newest judged by the frames before it: _third_across)
+            off[k] = True
+            continue
         # the window's own samples (the same bits from any list that holds them)
         values = bat.values[first:min(end, pre)]
         if end > pre:
