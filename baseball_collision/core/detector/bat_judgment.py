@@ -76,9 +76,9 @@ the segment over 0.1 and 0.2 s, not one 4th frame taken for the 2nd)."""
 THIRD_FIT_RATIO = 1.3
 """How many times farther the fits without a segment's 1st and without its 2nd frame leave their
 frames than the fit without its 3rd leaves its own where ``BatJudgment._third_across`` holds the
-3rd as off (``bench_prediction.py --faults``, 90 Hz: 278 of 288 3rd frames turned 10-20 cm over
-it exact, 276 with 1 mm of noise; of 1st and 2nd frames turned and genuine 3rd frames, 0 and 7
-of 1008 with 1 mm)."""
+3rd as off (``bench_prediction.py --faults``' segments, 90 Hz: of 288 3rd frames turned 10-20 cm
+278 over it and over the glitch floor exact, 276 with 1 mm of noise; of 1008 genuine 3rd frames
+with the 1st or 2nd turned or none, 0 exact and 7 with 1 mm, all with the 1st turned)."""
 
 NOT_LATE = 'not late'
 """``Predictor._late_verdict``'s answer for a frame the window's judgment (``first_glitch``)
@@ -277,11 +277,12 @@ class BatJudgment:
         the stream's noise off that fit and the fits without the 1st and without the 2nd
         (each through the 3rd) leave their frames ``THIRD_FIT_RATIO`` times farther off than
         the fit without the 3rd leaves its own. A glitch among five frames bends their fit,
-        whichever it is: with the 3rd turned 10-20 cm that ratio was 1.19-4.31 (exact) and
-        1.2-4.7 (1 mm of noise), with the 1st or the 2nd turned, or none, 0.16-1.40
-        (``bench_prediction.py --faults``' ``segment 1..3``, 90 Hz). False where those frames
-        are not in the stream, or the window does not begin its segment among regular steps
-        (``_segment_start``).
+        whichever it is: with the 3rd turned 10-20 cm that ratio was 1.19-4.31 exact and
+        1.09-4.35 with 1 mm of noise, with the 1st or the 2nd turned 0.09-1.87, with none
+        0.45-1.42 (``bench_prediction.py --faults``' ``segment 1..3``, 90 Hz; the scatter
+        without a glitch is the chart's own: a cubic over some 120 ms of swing). False where
+        those frames are not in the stream, or the window does not begin its segment among
+        regular steps (``_segment_start``).
         """
         if not self._across_gap(first) or not self._segment_start(first, end):
             return False

@@ -174,8 +174,8 @@ def _newest_may_be_off(config: DetectorConfig, arrays: 'Arrays', bat: Stream,
     is more than ``bat_glitches.BAT_GLITCH_FLOOR`` (the least ``glitch_floor``) from the
     forecast of the frames before it (``newest_miss``: the predictor's own fit on the same
     samples, the same bits); one of 3 frames is judged against the frames before its segment
-    (``Predictor._third_across``), not screened further. The stream's kept samples (``bat``), then the chunk's made as the streams keep them
-    (``BatSample``), only each such window's.
+    (``Predictor._third_across``), not screened further. The stream's kept samples (``bat``),
+    then the chunk's made as the streams keep them (``BatSample``), only each such window's.
     """
     off = np.zeros(len(windows), bool)
     times = arrays.times[1]
