@@ -47,7 +47,6 @@ judged`` where the rule did not come to that (no departure, noise, no continuati
 """
 
 import argparse
-from dataclasses import replace
 import math
 import time
 from typing import Callable, Dict, List, Optional, Sequence, Tuple
@@ -234,8 +233,7 @@ def dropped_ball(scenario: Scenario, samples: Samples, frames: int,
     moment = truth.time_s if truth.time_s is not None else truth.min_gap_time_s
     end = max(int(np.searchsorted(times, moment)) - 1 - frames, 0)
     keep = ~((times > times[end] - dropout_s) & (np.arange(len(times)) < end))
-    return replace(samples, ball_stamps_ns=samples.ball_stamps_ns[keep],
-                   ball_positions=samples.ball_positions[keep])
+    return samples.with_ball_kept(keep)
 
 
 def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float],

@@ -136,8 +136,7 @@ def without_ball(samples: Samples, k: int) -> Samples:
     """Return ``samples`` without ball sample k."""
     keep = np.ones(len(samples.ball_stamps_ns), bool)
     keep[k] = False
-    return replace(samples, ball_stamps_ns=samples.ball_stamps_ns[keep],
-                   ball_positions=samples.ball_positions[keep])
+    return samples.with_ball_kept(keep)
 
 
 def found(stamps: List[int], truth_ns: int) -> Optional[int]:

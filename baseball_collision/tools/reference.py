@@ -174,14 +174,11 @@ Ends = Tuple[int, int]
 
 def _up_to(samples: Samples, ends_ns: Ends, inclusive: bool) -> Samples:
     """Return each stream's samples stamped up to its end (or strictly before it)."""
-    side = 'right' if inclusive else 'left'
-    ball = np.searchsorted(samples.ball_stamps_ns, ends_ns[0], side=side)
-    bat = np.searchsorted(samples.bat_stamps_ns, ends_ns[1], side=side)
-    return replace(
-        samples, ball_stamps_ns=samples.ball_stamps_ns[:ball],
-        ball_positions=samples.ball_positions[:ball], bat_stamps_ns=samples.bat_stamps_ns[:bat],
-        bat_positions=samples.bat_positions[:bat], bat_quaternions=samples.bat_quaternions[:bat],
-        knobs=samples.knobs[:bat], tips=samples.tips[:bat])
+    if inclusive:
+        return samples.with_ball_kept(samples.ball_stamps_ns <= ends_ns[0]).with_bat_kept(
+            samples.bat_stamps_ns <= ends_ns[1])
+    return samples.with_ball_kept(samples.ball_stamps_ns < ends_ns[0]).with_bat_kept(
+        samples.bat_stamps_ns < ends_ns[1])
 
 
 def _stamp_ns(samples: Samples, time_s: float) -> int:

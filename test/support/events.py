@@ -54,8 +54,7 @@ def ball_lost_before(samples: Any, first: int, seconds: float = 0.2) -> Any:
     """Return ``samples`` (``sim.sample``) without the ball ``seconds`` (s) before sample first."""
     stamps = samples.ball_stamps_ns
     kept = (stamps < stamps[first] - round(seconds * 1e9)) | (stamps >= stamps[first])
-    return replace(samples, ball_stamps_ns=stamps[kept],
-                   ball_positions=samples.ball_positions[kept].copy())
+    return samples.with_ball_kept(kept)
 
 
 def hit_after_gap(seed: int, back: int, rate: float = 360.0) -> Tuple[Any, int]:

@@ -67,15 +67,20 @@ class Samples:
         before = np.flatnonzero(self.bat_stamps_ns < before_ns)
         keep = np.ones(len(self.bat_stamps_ns), bool)
         keep[before[len(before) - count:]] = False
-        return self._bat_kept(keep)
+        return self.with_bat_kept(keep)
 
     def without_bat_frame(self, index: int) -> 'Samples':
         """Return these samples without bat frame ``index`` (a glitch's frame deleted)."""
         keep = np.ones(len(self.bat_stamps_ns), bool)
         keep[index] = False
-        return self._bat_kept(keep)
+        return self.with_bat_kept(keep)
 
-    def _bat_kept(self, keep: np.ndarray) -> 'Samples':
+    def with_ball_kept(self, keep: np.ndarray) -> 'Samples':
+        """Return these samples with the ball samples where ``keep`` (N,) is True."""
+        return replace(self, ball_stamps_ns=self.ball_stamps_ns[keep],
+                       ball_positions=self.ball_positions[keep])
+
+    def with_bat_kept(self, keep: np.ndarray) -> 'Samples':
         """Return these samples with the bat frames where ``keep`` (M,) is True."""
         return replace(self, bat_stamps_ns=self.bat_stamps_ns[keep],
                        bat_positions=self.bat_positions[keep],
