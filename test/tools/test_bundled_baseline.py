@@ -27,3 +27,18 @@ def test_a_smallest_gaps_place_may_move_by_its_last_bits_only() -> None:
     moved['pitches'][0]['min_gap_m'] += 1.1e-9
     assert [line.split(':')[0] for line in differences(moved, expected)] == [
         '.pitches[0].min_gap_m', '.pitches[0].min_gap_vector[1]']
+
+
+def test_a_near_miss_stamp_as_text_may_move_as_its_stamp_does() -> None:
+    """A near miss's ``stamp_utc`` (its stamp as text) moves as its ``stamp_ns`` may; no other."""
+    expected = {'near_misses': [{'stamp_ns': 1700000020251031851,
+                                 'stamp_utc': '2023-11-14T22:13:40.251031851Z'}],
+                'impacts': [{'stamp_utc': '2023-11-14T22:13:40.251031851Z'}]}
+    moved = json.loads(json.dumps(expected))
+    moved['near_misses'][0]['stamp_ns'] += 1  # (an AMD EPYC's, measured)
+    moved['near_misses'][0]['stamp_utc'] = '2023-11-14T22:13:40.251031852Z'
+    assert differences(moved, expected) == []
+    moved['near_misses'][0]['stamp_utc'] = '2023-11-14T22:13:41.251031852Z'
+    moved['impacts'][0]['stamp_utc'] = '2023-11-14T22:13:40.251031852Z'
+    assert [line.split(':')[0] for line in differences(moved, expected)] == [
+        '.impacts[0].stamp_utc', '.near_misses[0].stamp_utc']
