@@ -240,7 +240,7 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
         methods: Sequence[str], per_kind: int, seed: int, bat: str,
         pooled: bool = False, noise_on: str = 'both', lead_s: float = 0.15,
         dropout: Optional[int] = None, ball_rate: Optional[float] = None,
-        shared: bool = False, worst: int = 0) -> List[Tuple]:
+        shared: bool = False, worst: int = 0, spin: bool = False) -> List[Tuple]:
     """
     Print one row per family, rate, noise and method; return (key, summary) pairs.
 
@@ -249,7 +249,8 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
     ``dropout``: the ball's stream restarting that many frames before the contact
     (``dropped_ball``), or None; ``ball_rate``: the ball's own rate (Hz), or None for each rate;
     ``shared``: one draw shakes the whole bat (no marker spread); ``worst``: list that many
-    contacts of the largest time error after each row (``_worst``; not with ``pooled``).
+    contacts of the largest time error after each row (``_worst``; not with ``pooled``);
+    ``spin``: spinning pitches (``make_scenario``'s: the Magnus force across the flight).
     """
     if worst:
         _recording()
@@ -257,7 +258,7 @@ def run(families: Sequence[str], rates: Sequence[float], noises: Sequence[float]
     pools: Dict[Tuple, List[PitchResult]] = {}
     for family in families:
         rng = np.random.default_rng(seed)
-        scenarios = [make_scenario(kind, rng, family=family, lead_s=lead_s)
+        scenarios = [make_scenario(kind, rng, family=family, lead_s=lead_s, spin=spin)
                      for kind in KINDS + CLOSE_KINDS for _ in range(per_kind)]
         for rate in rates:
             for noise_mm in noises:
@@ -323,6 +324,8 @@ def main() -> None:
     parser.add_argument('--worst', type=int, default=0, metavar='N',
                         help='after each row, its N contacts of the largest time error and '
                         "what the hit's bat rule made of them")
+    parser.add_argument('--spin', action='store_true',
+                        help='spinning pitches: the Magnus force bends the flight 1-7 m/s^2')
     args = parser.parse_args()
     if args.quick:
         args.per_kind, args.rates, args.noises = 1, [90.0, 360.0], [0.0, 1.0]
@@ -335,12 +338,12 @@ def main() -> None:
           + ('' if args.ball_dropout is None else
              f', the ball lost {DROPOUT_S:g} s until {args.ball_dropout} frames before it')
           + ('' if args.ball_rate is None else f', the ball at {args.ball_rate:g} Hz')
-          + '\n')
+          + (', spinning pitches' if args.spin else '') + '\n')
     print(HEADER)
     print('|' + '---|' * 19)
     run(args.families, args.rates, args.noises, args.methods, args.per_kind, args.seed,
         args.bat, args.pooled, args.noise_on, args.lead, args.ball_dropout, args.ball_rate,
-        args.shared_noise, args.worst)
+        args.shared_noise, args.worst, args.spin)
     print(f'\n({time.perf_counter() - started:.0f} s)')
 
 

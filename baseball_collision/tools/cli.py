@@ -186,7 +186,8 @@ def _simulate(args: argparse.Namespace) -> int:
         count=args.count, kinds=tuple(args.kinds), rate_hz=args.rate, jitter_s=args.jitter,
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
         frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family,
-        ball_rate_hz=args.ball_rate, noise_on=args.noise_on, marker_spread_m=args.marker_spread)
+        ball_rate_hz=args.ball_rate, noise_on=args.noise_on, marker_spread_m=args.marker_spread,
+        spin=args.spin)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
@@ -318,7 +319,8 @@ def _add_simulate(commands: Any) -> None:
     """Add ``simulate``: a simulated bag and its truth file."""
     simulate = commands.add_parser(
         'simulate', help='write a bag of simulated pitches and swings, with its truth file',
-        description='Write a bag of physically plausible pitches (gravity and drag) and '
+        description='Write a bag of physically plausible pitches (gravity and drag; spin '
+        'with --spin) and '
         'swings (a rigid bat turning about moving hands, 60-80 mph at the sweet spot), kinds '
         'cycling through barrel, end-cap and handle hits, foul-tip grazes and misses over and '
         'under. Topics are the impact_node defaults: /ball (PointStamped), /bat_pose '
@@ -335,6 +337,9 @@ def _add_simulate(commands: Any) -> None:
                           'plane tilting 1-3 rad/s), jerky (accelerating hands, angular jerk), '
                           'lefty, braking (the bat slowing after a contact) or rebound (a real '
                           'hit: braking, and the ball leaving the bat)')
+    simulate.add_argument('--spin', action='store_true',
+                          help='spinning pitches: 1,500-2,800 rpm about any axis across the '
+                          'flight, the Magnus force bending it 1-7 m/s^2 (default: no spin)')
     simulate.add_argument('--rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ), default=360.0,
                           help='tracker rate in Hz, at most 100000 (default 360)')
     simulate.add_argument('--ball-rate', type=_number(0.0, False, 'Hz', MAX_RATE_HZ),

@@ -67,6 +67,8 @@ class RecordingSpec:
         ``'rebound'`` a real hit, the bat braking and the ball leaving it).
     :ivar ball_rate_hz: the ball's own nominal rate (Hz; cameras beside a bat tracked by mocap
         or a robot's joints at ``rate_hz``), None for ``rate_hz``.
+    :ivar spin: spinning pitches (``make_scenario``'s ``spin``: the Magnus force bends each
+        flight by 1-7 m/s^2 across it); else none.
     """
 
     count: int = 12
@@ -87,6 +89,7 @@ class RecordingSpec:
     ball_rate_hz: Optional[float] = None
     noise_on: str = 'both'
     marker_spread_m: Optional[float] = None
+    spin: bool = False
 
     def check(self) -> None:
         """
@@ -149,7 +152,8 @@ def _scenarios(spec: RecordingSpec, rng: np.random.Generator) -> List[Scenario]:
     """Draw the scenarios of a recording (``unique`` of them at most, cycled)."""
     drawn = spec.count if spec.unique is None else min(spec.unique, spec.count)
     pool = [make_scenario(spec.kinds[i % len(spec.kinds)], rng, lead_s=spec.lead_s,
-                          trail_s=spec.trail_s, family=spec.family) for i in range(drawn)]
+                          trail_s=spec.trail_s, family=spec.family, spin=spec.spin)
+            for i in range(drawn)]
     return [pool[i % drawn] for i in range(spec.count)]
 
 

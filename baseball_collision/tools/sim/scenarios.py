@@ -14,9 +14,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from .common import as_times, check_number, SQRT_TWO_PI, TimeLike, unit
+from .common import as_times, check_number, SQRT_TWO_PI, TimeLike, unit, Vector
 from .families import check_family, draw_extras, Extras, mirrored
-from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch
+from .pitches import BALL_RADIUS, GRAVITY, MPH, Pitch, RPM
 from .swings import Swing
 from .truth import compute_truth, segment_gaps, Truth
 from ..choices import KINDS  # the command line's options read them without the simulator
@@ -170,9 +170,30 @@ def _draw_ball_velocity(rng: np.random.Generator, contact: np.ndarray, drag_cons
     return speed * np.array([across, -along, -down])
 
 
+def _draw_spin(rng: np.random.Generator, velocity: np.ndarray) -> Vector:
+    """
+    Draw a pitch's spin (rad/s): 1,500-2,800 rpm about an axis at any angle across the flight.
+
+    The axis's part across the velocity (the spin that lifts or breaks the ball: its
+    "efficiency") is 0.3-1.0 of the spin, pointing any way around the flight; the rest is gyro
+    spin along it (a slider's). So the Magnus acceleration is 1-7 m/s^2 in any direction
+    across the flight: a fastball's rise, a curveball's drop, a slider's or sinker's sideways
+    break (MLB pitches spin at 1,500-3,000 rpm).
+    """
+    rate = rng.uniform(1500.0, 2800.0) * RPM
+    efficiency = rng.uniform(0.3, 1.0)
+    angle = rng.uniform(0.0, 2.0 * math.pi)
+    along = unit('velocity', velocity)
+    side = unit('side', np.cross(along, (0.0, 0.0, 1.0)))
+    up = np.cross(side, along)
+    across = math.cos(angle) * side + math.sin(angle) * up
+    axis = efficiency * across + math.sqrt(1.0 - efficiency * efficiency) * along
+    return tuple((rate * axis).tolist())
+
+
 def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: float,
                    profile: BatProfile, ball_radius: float, geometry: PoseBatGeometry,
-                   family: str = 'plane') -> Optional[Scenario]:
+                   family: str = 'plane', spin: bool = False) -> Optional[Scenario]:
     """
     Draw one candidate scenario of a kind; None when the draw is implausible.
 
@@ -226,7 +247,8 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
         sign = 1.0 if kind == 'miss_over' else -1.0
         centre = spot + sign * (reach + rng.uniform(0.03, 0.12)) * up
     pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
-                          end_time=t_end + 0.01)
+                          end_time=t_end + 0.01,
+                          spin=_draw_spin(rng, velocity) if spin else (0.0, 0.0, 0.0))
     release_speed = math.hypot(*pitch.release_velocity) / MPH
     if not (74.0 <= release_speed <= 96.0 and 1.0 <= pitch.release_position[2] <= 2.6):
         return None
@@ -254,7 +276,7 @@ def _settle_clearance(scenario: Scenario, clearance: float, velocity: np.ndarray
         normal = np.asarray(truth.min_gap_vector) / truth.min_gap_m
         centre = scenario.pitch.position(contact_time) + error * normal
         pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
-                              end_time=scenario.t_end + 0.01)
+                              end_time=scenario.t_end + 0.01, spin=scenario.pitch.spin)
         scenario = replace(scenario, pitch=pitch, truth=None)
     return scenario
 
@@ -352,7 +374,7 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
                   trail_s: float = 0.10, profile: BatProfile = WOOD_BAT_34,
                   ball_radius: float = BALL_RADIUS,
                   geometry: PoseBatGeometry = PoseBatGeometry(),
-                  max_attempts: int = 50, family: str = 'plane') -> Scenario:
+                  max_attempts: int = 50, family: str = 'plane', spin: bool = False) -> Scenario:
     """
     Build a plausible pitch and swing aimed so that one kind of event happens.
 
@@ -383,6 +405,9 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
     :param geometry: where knob and tip sit in the bat body frame of the swing's pose.
     :param max_attempts: draws before giving up.
     :param family: the swing family.
+    :param spin: a spinning pitch (``_draw_spin``: the Magnus force bends its flight by 1-7
+        m/s^2 across it); else none, as before (the draws of a scenario without spin do not
+        change).
 
     :returns: The scenario, running over [0, lead_s + trail_s].
 
@@ -398,7 +423,7 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
     for _ in range(max(1, int(max_attempts))):
         try:
             scenario = _draw_scenario(kind, rng, lead_s, trail_s, profile, ball_radius, geometry,
-                                      family)
+                                      family, spin)
         except ToolError as error:
             failure = error
             continue
