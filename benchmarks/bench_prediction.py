@@ -17,7 +17,9 @@ Two bat sources: ``extrapolated`` (the tracked bat's current state, as for a hum
 
 Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat pose) over a
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
-with ``prediction_period`` 5 and 10 ms), in one process; ``--cost-only`` prints only that.
+with ``prediction_period`` 5 and 10 ms, and at 10 ms without the ball's lift), in one process;
+``--cost-only`` prints only that. ``--spin``: spinning pitches; ``--no-lift``: the predictions
+with ``lift_window`` 0 (gravity and drag alone).
 ``--changes`` prints only how much consecutive predictions 10 ms apart move, per swing family.
 
 ``--faults`` prints only what bat-tracker faults cost the prediction, each run beside the same
@@ -69,7 +71,7 @@ from dataclasses import replace
 import time
 from typing import Any, Callable, Dict, Iterator, List, NamedTuple, Optional, Tuple
 
-from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
+from baseball_collision.core.detector import DEFAULTS, Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.chunks import ROLE_CODES
 from baseball_collision.core.detector.events import PredictionCleared
 from baseball_collision.core.detector.predictor import kept_flight_span
@@ -119,16 +121,19 @@ def plan_of(scenario: Scenario, start_ns: int, rate_hz: float = 200.0):
 
 
 def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
-           seed: int, period: float = 0.0) -> Dict[float, Optional[Tuple[float, float]]]:
+           seed: int, period: float = 0.0,
+           lift_window: float = DEFAULTS['lift_window']
+           ) -> Dict[float, Optional[Tuple[float, float]]]:
     """
     Return {lead: (time error ms, point error cm) or None} for one scenario.
 
-    With ``prediction_period`` ``period`` (s); a lead scores the prediction in force then.
+    With ``prediction_period`` ``period`` (s) and ``lift_window`` (s; 0: the ball's forecast
+    of gravity and drag alone); a lead scores the prediction in force then.
     """
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
     detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
-                                       prediction_period=period))
+                                       prediction_period=period, lift_window=lift_window))
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []
@@ -160,11 +165,13 @@ def cost(seed: int, repeats: int = 3) -> None:
           f'{repeats}) | CPU p99 us/msg | CPU max us/msg |')
     print('|---|---|---|---|---|---|---|')
     cpu_means = []
-    for horizon, period in ((0.0, 0.0), (0.3, 0.0), (0.3, 0.005), (0.3, 0.01)):
+    lift = DEFAULTS['lift_window']
+    for horizon, period, window in ((0.0, 0.0, lift), (0.3, 0.0, lift), (0.3, 0.005, lift),
+                                    (0.3, 0.01, lift), (0.3, 0.01, 0.0)):
         best = None
         for _ in range(repeats):
             detector = Detector(DetectorConfig(prediction_horizon=horizon,
-                                               prediction_period=period))
+                                               prediction_period=period, lift_window=window))
             spent, spent_cpu = [], []
             cpu = time.process_time()
             for stamp, role, values in messages:
@@ -178,12 +185,14 @@ def cost(seed: int, repeats: int = 3) -> None:
         cpu, us, us_cpu = best
         cpu_means.append(cpu * 1e6)
         name = 'off' if horizon == 0.0 else f'{horizon:g} s horizon' + (
-            f', every {period * 1e3:g} ms' if period else ', every frame')
+            f', every {period * 1e3:g} ms' if period else ', every frame') + (
+            '' if window else ', no lift (lift_window 0)')
         print(f'| {name} | {np.median(us):.1f} | {np.percentile(us, 99):.1f} | {us.mean():.1f} '
               f'| {cpu * 1e6:.1f} | {np.percentile(us_cpu, 99):.1f} | {us_cpu.max():.1f} |')
     print(f'\nCPU time: prediction adds {cpu_means[1] - cpu_means[0]:.1f} us per message '
           f'(every frame), {cpu_means[2] - cpu_means[0]:.1f} (every 5 ms), '
-          f'{cpu_means[3] - cpu_means[0]:.1f} (every 10 ms); goal <= 30 us')
+          f'{cpu_means[3] - cpu_means[0]:.1f} (every 10 ms); goal <= 30 us; the lift '
+          f'{cpu_means[3] - cpu_means[4]:.1f} of it (every 10 ms)')
 
 
 def changes(seed: int = 5, per_family: int = 6, rate_hz: float = 360.0,
@@ -622,6 +631,10 @@ def main() -> None:
     parser.add_argument('--seed', type=int, default=11)
     parser.add_argument('--noise', type=float, default=0.001)
     parser.add_argument('--cost-only', action='store_true', help='only the cost table')
+    parser.add_argument('--spin', action='store_true', help='spinning pitches (the Magnus '
+                        "force: make_scenario's spin)")
+    parser.add_argument('--no-lift', action='store_true', help='the ball forecast of gravity '
+                        'and drag alone, without its lift (before session 62)')
     parser.add_argument('--period', type=float, default=0.0,
                         help='prediction_period of the accuracy table (s; 0: every frame)')
     parser.add_argument('--changes', action='store_true',
@@ -658,16 +671,18 @@ def main() -> None:
         changes()
         return
     rng = np.random.default_rng(args.seed)
-    scenarios = [make_scenario(kind, rng, lead_s=0.4) for kind in ('barrel', 'end_cap', 'handle')
-                 for _ in range(args.per_kind)]
+    scenarios = [make_scenario(kind, rng, lead_s=0.4, spin=args.spin)
+                 for kind in ('barrel', 'end_cap', 'handle') for _ in range(args.per_kind)]
     print(f'{len(scenarios)} contacts, noise {args.noise * 1e3:g} mm, seed {args.seed}, '
-          f'prediction_period {args.period:g} s\n')
+          f"prediction_period {args.period:g} s{', spinning pitches' if args.spin else ''}"
+          f"{', no lift' if args.no_lift else ''}\n")
     print('| bat | rate Hz | lead ms | predicted | time err p50 ms | p90 ms | max ms | '
           'point err p50 cm | p90 cm | max cm |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for planned in (False, True):
         for rate in (90.0, 360.0):
-            runs = [errors(s, rate, args.noise, planned, i, args.period)
+            runs = [errors(s, rate, args.noise, planned, i, args.period,
+                           0.0 if args.no_lift else DEFAULTS['lift_window'])
                     for i, s in enumerate(scenarios)]
             for lead in LEADS_S:
                 got = [r[lead] for r in runs if r[lead] is not None]

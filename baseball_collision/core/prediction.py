@@ -6,9 +6,17 @@ positions metres. The detector builds the two forecasts from its latest samples 
 ``first_contact``; this module only extrapolates and searches.
 
 * ``BallForecast``: a ballistic path from the ball's state now: constant acceleration (gravity
-  plus the drag deceleration at the current speed). Over the 0-300 ms of a prediction the drag
-  changes little (a 40 m/s pitch loses ~4% of its speed in 300 ms); the position error of
-  holding it constant is (1/6) d(drag)/dt tau^3, under 1 cm at 300 ms and 0.1 mm at 50 ms.
+  plus the drag deceleration at the current speed, plus the lift of its spin). Over the 0-300
+  ms of a prediction the drag changes little (a 40 m/s pitch loses ~4% of its speed in 300 ms);
+  the position error of holding it constant is (1/6) d(drag)/dt tau^3, under 1 cm at 300 ms and
+  0.1 mm at 50 ms. A pitch spins (1,500-3,000 rpm), and the Magnus force lifts, drops or breaks
+  it by 1-7 m/s^2 across its flight: 12 cm over 200 ms left out. So the forecast adds the
+  ball's lift, what its flight over the last ``lift_window`` (a detector parameter: 0.25 s, a
+  pitch's spin changes little over it) accelerates by beyond gravity and
+  drag (the kernel's ``add_lift``: a parabola's acceleration over at least 0.05 s and 6 samples
+  of the flight, less gravity and the drag at the window's middle, scaled down where the
+  samples' scatter could have made it: 1 mm of noise over 0.25 s at 90 Hz scatters it by about
+  0.1 m/s^2, 0.2 cm over 200 ms, over 0.1 s by 0.85 m/s^2).
 * ``BatForecast``: the bat as a rigid body from its state now: a pivot (the least-accelerating
   axis point, near the hands) moving with constant acceleration, and the bat turning about a
   fixed axis with constant angular acceleration. Or, for a robot arm, a commanded trajectory of
@@ -75,19 +83,23 @@ class BallForecast:
 
     @classmethod
     def fitted(cls, times: List[float], points: List[Vector], first: int, end: int, t0: float,
-               gravity: Vector, drag: float) -> Optional['BallForecast']:
+               gravity: Vector, drag: float,
+               lift_first: Optional[int] = None) -> Optional['BallForecast']:
         """
         Return ``ballistic`` from the parabola fitted to samples [first, end) at t0, in one call.
 
         The compiled kernel reads the window from the stream's lists (times in s, points in m)
         into contiguous arrays, fits the least-squares parabola in (time - t0) / span
-        (``kinematics.fit_polynomial``'s fit, to the bit) and takes its value and rate at t0.
+        (``kinematics.fit_polynomial``'s fit, to the bit) and takes its value and rate at t0;
+        its acceleration gains the lift of samples [lift_first, end) (none by default; the
+        module's docstring).
 
         :returns: the forecast, or None when the fit is rank deficient (the caller's
             ``fit_polynomial`` solves it with LAPACK, then ``ballistic``).
         :raises TypeError, IndexError: lists that are not the stream's, or a window outside.
         """
-        args = ball_numbers(times, points, first, end, t0, gravity, drag)
+        args = ball_numbers(times, points, first, end, t0, gravity, drag,
+                            end if lift_first is None else lift_first)
         return None if args is None else cls.from_kernel_args(args)
 
     @classmethod
@@ -261,16 +273,18 @@ class PlannedBat(_BatPath):
 
 
 def ball_numbers(times: List[float], points: List[Vector], first: int, end: int, t0: float,
-                 gravity: Vector, drag: float) -> Optional[Tuple[float, ...]]:
+                 gravity: Vector, drag: float, lift_first: int) -> Optional[Tuple[float, ...]]:
     """
     Return ``BallForecast.fitted``'s forecast as the kernel's 10 numbers (``kernel_args``).
 
     No forecast object is made: a prediction hands the numbers straight to ``contact_of``.
+    The lift is that of samples [lift_first, end) (``lift_first`` <= ``end``; none for fewer
+    than the kernel's ``LIFT_MIN_SAMPLES``).
 
     :returns: the numbers, or None when the fit is rank deficient.
     :raises TypeError, IndexError: lists that are not the stream's, or a window outside.
     """
-    args = _kernel.ball_forecast(times, points, first, end, t0, 2, gravity, drag)
+    args = _kernel.ball_forecast(times, points, first, end, t0, 2, gravity, drag, lift_first)
     return None if args is NotImplemented else args
 
 
@@ -306,6 +320,12 @@ def bat_window_numbers(times: List[float], values: List[Any], rows: List[Any], f
     return None if args is NotImplemented else args
 
 
+LIFT_MOST_SAMPLES = 256
+"""Samples at most whose flight gives a forecast's lift: 0.25 s (``lift_window``'s default) of a
+ball tracked at 1 kHz. The lift's span is also within what the stream keeps
+(``fitting.kept_history``: 0.15 s and a few samples behind the cursor once it holds 64 samples,
+so from about 180 Hz up that long)."""
+
 COARSE_STEP = 0.01
 """``first_contact``'s coarse step (s) unless told another: the stretch of the horizon whose
 reach is tested before it is solved."""
@@ -323,14 +343,15 @@ def forecast_outcomes(ball: Tuple[np.ndarray, np.ndarray], bat: Tuple[np.ndarray
     Return what a prediction from each of many frames of two streams held as arrays finds.
 
     Frame k forecasts from time ``t0s[k]`` (s) with the ball's samples
-    ``windows[k, 0]:windows[k, 1]`` and the bat's ``windows[k, 2]:windows[k, 3]``, as the
+    ``windows[k, 0]:windows[k, 1]`` (its lift from ``windows[k, 4]`` on) and the bat's
+    ``windows[k, 2]:windows[k, 3]``, as the
     detector's predictor does from its streams (``ball_numbers`` of degree 2, the bat's
     ``bat_window_numbers``, ``contact_of`` over ``horizon``), the same bits, all in one
     kernel call.
 
     :param ball: times (m,) and points (m, 3); ``bat``: times (m,), knobs and tips (m, 3),
         unit quaternions (m, 4) (float64, C-contiguous).
-    :param windows: (frames, 4) int64; a window of fewer than 3 samples finds nothing.
+    :param windows: (frames, 5) int64; a window of fewer than 3 samples finds nothing.
     :returns: int8 per frame: ``FOUND``, 0 (none), or ``UNDECIDED``.
     :raises CoreError: arrays of the wrong types or shapes, or windows outside them.
     """

@@ -319,6 +319,10 @@ PARAMETERS: Tuple[ParameterSpec, ...] = (
         'prediction_window', _D, 0.1, "Span of the latest ball samples the prediction's "
         'ballistic fit uses (s).', 's', _closed(0.001, 1.0)),
     ParameterSpec(
+        'lift_window', _D, 0.25, 'Span of the latest ball samples whose flight gives the lift '
+        "(the spin's Magnus force) a prediction's ball carries beside gravity and drag (s); 0 = "
+        'none (a ball without spin).', 's', _closed(0.0, 1.0)),
+    ParameterSpec(
         'ball_drag', _D, 0.0061, 'Ball drag rho Cd A / (2 m) for predictions (1/m); 0.0061 for '
         'a baseball.', '1/m', _closed(0.0, 1.0)),
     ParameterSpec(
@@ -539,6 +543,9 @@ class DetectorConfig:
         that predict); a frame sooner keeps the last prediction in force. 0: every frame (made
         in code, unless given); from parameters the table's 0.01.
     :ivar prediction_window: span (s) of the latest samples the prediction's state is fitted to.
+    :ivar lift_window: span (s) of the latest ball samples whose flight gives the lift the
+        prediction's ball carries (``prediction.LIFT_WINDOW``; within what the stream keeps);
+        0: none.
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
     :ivar gravity: m/s^2, along -``up_axis``.
@@ -579,6 +586,7 @@ class DetectorConfig:
     prediction_horizon: float = 0.0  # made in code: predicts only when asked (the node: 0.3)
     prediction_period: float = 0.0  # made in code: every frame (the node: 0.01)
     prediction_window: float = DEFAULTS['prediction_window']
+    lift_window: float = DEFAULTS['lift_window']
     ball_drag: float = DEFAULTS['ball_drag']
     gravity: float = DEFAULTS['gravity']
 

@@ -21,7 +21,7 @@ from .config import DetectorConfig
 from .predictor import Predictor
 from .streams import MAX_HISTORY, Stream
 from ..motion import BatSample
-from ..prediction import forecast_outcomes, prediction_due
+from ..prediction import forecast_outcomes, LIFT_MOST_SAMPLES, prediction_due
 from ..toi import _kernel
 
 if TYPE_CHECKING:  # (plans imports this module)
@@ -108,7 +108,7 @@ def prediction_stops(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays',
         quiet = np.flatnonzero(~forecasts[reached])
         if len(quiet):
             forecasts[reached[quiet]] = _newest_may_be_off(
-                config, arrays, predictor.bat, windows[quiet, 2:])
+                config, arrays, predictor.bat, windows[quiet, 2:4])
     stops[due] = forecasts
     return stops, due_steps
 
@@ -145,14 +145,21 @@ def _forecasts_find(config: DetectorConfig, plan: 'Plan', arrays: 'Arrays', pred
     the outcomes are
     ``prediction.forecast_outcomes``' (the predictor's own fits and search on the same
     samples: the same bits), and an undecided one (left to the predictor) may find. Also the
-    windows: (frames, 4) rows of the ball's and the bat's (first, end) in the arrays.
+    windows: (frames, 5) rows of the ball's and the bat's (first, end) in the arrays and the
+    first of the ball's lift (``Predictor._ball_forecast``'s ``lift_window``).
     """
     t0s = np.ascontiguousarray(cursors[due_steps - 1])
-    windows = np.empty((len(due_steps), 4), np.int64)
+    windows = np.empty((len(due_steps), 5), np.int64)
     for s, window in ((0, config.prediction_window), (1, config.velocity_window)):
         windows[:, 2 * s:2 * s + 2] = _histories(
             arrays.times[s], arrays.breaks[s], plan.step_starts[s][due_steps],
             counts[s][due_steps], t0s, window)
+    if config.lift_window > 0.0:
+        windows[:, 4] = _histories(arrays.times[0], arrays.breaks[0],
+                                   plan.step_starts[0][due_steps], counts[0][due_steps], t0s,
+                                   config.lift_window, LIFT_MOST_SAMPLES)[:, 0]
+    else:
+        windows[:, 4] = windows[:, 1]
     outcomes = forecast_outcomes(
         (arrays.times[0], arrays.ball),
         (arrays.times[1], arrays.knobs, arrays.tips, arrays.quaternions), windows, t0s,
@@ -222,9 +229,9 @@ def _off_line(arrays: 'Arrays', last: np.ndarray, after: np.ndarray, before: np.
 
 
 def _histories(times: np.ndarray, breaks: np.ndarray, starts: np.ndarray, counts: np.ndarray,
-               t0s: np.ndarray, window: float) -> np.ndarray:
+               t0s: np.ndarray, window: float, most: int = MAX_HISTORY) -> np.ndarray:
     """
-    Return ``Stream.history(t0, window)`` of a stream's samples [start, count) per frame.
+    Return ``Stream.history(t0, window, most)`` of a stream's samples [start, count) per frame.
 
     As (first, end) rows in the arrays' indices (end - first < 3: too few for a forecast).
     ``times``: the stream's kept samples and the chunk's, increasing; ``breaks``: which start
@@ -233,9 +240,9 @@ def _histories(times: np.ndarray, breaks: np.ndarray, starts: np.ndarray, counts
     k = np.minimum(np.searchsorted(times, t0s, 'right'), counts) - 1
     empty = k < starts
     k = np.where(empty, starts, k)
-    # bisect_right(times, times[k] - window - 1e-9, max(k - MAX_HISTORY + 1, start), k)
+    # bisect_right(times, times[k] - window - 1e-9, max(k - most + 1, start), k)
     first = np.clip(np.searchsorted(times, times[k] - window - 1e-9, 'right'),
-                    np.maximum(k - MAX_HISTORY + 1, starts), k)
+                    np.maximum(k - most + 1, starts), k)
     first = np.where(first > k - 1, np.where(k > starts, k - 1, starts), first)
     # within the segment: from its newest break in (first, k]
     newest_break = np.maximum.accumulate(np.where(breaks, np.arange(len(breaks)), -1))

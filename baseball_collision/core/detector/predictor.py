@@ -24,6 +24,8 @@ from dataclasses import replace
 import math
 from typing import List, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from .bat_judgment import BatJudgment, Found, NEWEST
 from .bat_window import PREDICTION_DEGREE, STEP_ROWS
 from .config import DetectorConfig
@@ -36,7 +38,7 @@ from .streams import Stream
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
     ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
-    frozen, planned_bat, PlannedBat, prediction_due, states_of)
+    frozen, LIFT_MOST_SAMPLES, planned_bat, PlannedBat, prediction_due, states_of)
 from ..toi import _kernel
 from ...errors import CoreError
 
@@ -278,8 +280,9 @@ class Predictor(BatJudgment):
         Return the ball's ballistic forecast from a parabola fitted to its latest samples.
 
         As the kernel's 10 numbers (``BallForecast.kernel_args``): fit and forecast in one
-        kernel call on the window (``prediction.ball_numbers``); a rank-deficient fit by
-        LAPACK's least squares (``fit_polynomial``). None with fewer than 3 samples.
+        kernel call on the window (``prediction.ball_numbers``), with the lift of the flight's
+        last ``lift_window`` (its spin); a rank-deficient fit by LAPACK's least squares
+        (``fit_polynomial``), its lift too (``_lift``). None with fewer than 3 samples.
         """
         ball = self.ball
         config = self._config
@@ -289,14 +292,49 @@ class Predictor(BatJudgment):
         first, end = indices[0], indices[-1] + 1  # the history is contiguous
         self._ball_window = (first, end)
         self._bat_window = (0, 0)
+        lift_first = ball.history(t0, config.lift_window, LIFT_MOST_SAMPLES)[0] \
+            if config.lift_window > 0.0 else end
         forecast = ball_numbers(ball.times, ball.values, first, end, t0, self._gravity,
-                                config.ball_drag)
+                                config.ball_drag, lift_first)
         if forecast is None:
             position, velocity, _ = fit_polynomial(ball.times[first:end],
                                                    ball.values[first:end], t0, 2)
             forecast = BallForecast.ballistic(t0, position, velocity, self._gravity,
                                               config.ball_drag).kernel_args
+            lift = self._lift(lift_first, end, t0)
+            forecast = forecast[:7] + tuple(a + m for a, m in zip(forecast[7:], lift))
         return forecast
+
+    def _lift(self, first: int, end: int, t0: float) -> Vector:
+        """
+        Return the ball's lift (m/s^2) from samples [first, end): the kernel's ``add_lift``.
+
+        Its parabola's acceleration (numpy's QR, where the kernel's refused the forecast's
+        window) less gravity and the drag at the velocity it has at the samples' middle
+        instant, times the gain ``max(0, 1 - 3 var / |lift|^2)`` of the acceleration's variance
+        from the samples' scatter about the parabola; zero over less than ``LIFT_MIN_SPAN`` s
+        or ``LIFT_MIN_SAMPLES`` samples, or a rank-deficient fit.
+        """
+        times, n = self.ball.times, end - first
+        if n < _kernel.LIFT_MIN_SAMPLES or \
+                times[end - 1] - times[first] < _kernel.LIFT_MIN_SPAN:
+            return (0.0, 0.0, 0.0)
+        span = max(t0 - times[first], 1e-9)
+        x = (np.array(times[first:end]) - t0) / span
+        q, r = np.linalg.qr(np.vander(x, 3, increasing=True))
+        if not abs(r[2, 2]) > 0.0:
+            return (0.0, 0.0, 0.0)
+        values = np.array(self.ball.values[first:end], dtype=float)
+        coefficients = np.linalg.solve(r, q.T @ values)
+        scatter = float(np.sum((values - q @ (q.T @ values)) ** 2))
+        variance = scatter / (3.0 * (n - 3)) * 4.0 / (r[2, 2] ** 2 * span ** 4)
+        acceleration = 2.0 * coefficients[2] / span ** 2
+        velocity = coefficients[1] / span + acceleration * 0.5 * (x[0] + x[-1]) * span
+        drag = self._config.ball_drag * float(np.linalg.norm(velocity))
+        lift = acceleration - (np.array(self._gravity) - velocity * drag)
+        size = float(lift @ lift)
+        gain = max(0.0, 1.0 - 3.0 * variance / size) if size > 0.0 else 0.0
+        return tuple((gain * lift).tolist())
 
     def _bat_forecast(self, t0: float) -> Union[Tuple[float, ...], PlannedBat, None]:
         """

@@ -195,18 +195,18 @@ class Stream:
         after = k + 2 if k + 2 < len(self.times) and self.continuous(k + 1, max_gap) else None
         return before, after
 
-    def history(self, t: float, window: float) -> range:
+    def history(self, t: float, window: float, most: int = MAX_HISTORY) -> range:
         """
         Return indices of samples at or before t in t's segment, ``window`` s back from the last.
 
-        At least the last two samples of the segment (when it has them), at most
-        ``MAX_HISTORY``: a contiguous range (no list made).
+        At least the last two samples of the segment (when it has them), at most ``most``: a
+        contiguous range (no list made).
         """
         times = self.times
         k = bisect_right(times, t) - 1
         if k < 0:
             return range(0)
-        first = bisect_right(times, times[k] - window - 1e-9, max(k - MAX_HISTORY + 1, 0), k)
+        first = bisect_right(times, times[k] - window - 1e-9, max(k - most + 1, 0), k)
         if first > k - 1:
             first = k - 1 if k else 0
         breaks = self.breaks
