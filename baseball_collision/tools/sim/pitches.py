@@ -72,10 +72,16 @@ def _acceleration(vx: float, vy: float, vz: float, k: float, g: float,
     return ax, ay, az
 
 
-def _rk4_spin_step(state: Tuple[float, ...], h: float, k: float, g: float,
-                   spin: Tuple[float, float, float], lift: float,
-                   radius: float) -> Tuple[float, ...]:
-    """Advance ``(x, y, z, vx, vy, vz)`` by one RK4 step of ``h`` s under ``_acceleration``."""
+def _rk4_step(state: Tuple[float, ...], h: float, k: float, g: float,
+              spin: Tuple[float, float, float] = (0.0, 0.0, 0.0), lift: float = 0.0,
+              radius: float = 0.0) -> Tuple[float, ...]:
+    """
+    Advance ``(x, y, z, vx, vy, vz)`` by one RK4 step of ``h`` seconds (h < 0 goes back).
+
+    Acceleration: ``_acceleration``'s (quadratic drag with ``k = rho Cd A / (2 m)``, gravity
+    ``g``, the Magnus force of ``spin``). Pure floats: a pitch takes hundreds of steps and
+    numpy's per-call cost would dominate.
+    """
     x, y, z, vx, vy, vz = state
     half = 0.5 * h
     ax1, ay1, az1 = _acceleration(vx, vy, vz, k, g, spin, lift, radius)
@@ -85,35 +91,6 @@ def _rk4_spin_step(state: Tuple[float, ...], h: float, k: float, g: float,
     ax3, ay3, az3 = _acceleration(wx, wy, wz, k, g, spin, lift, radius)
     px, py, pz = vx + h * ax3, vy + h * ay3, vz + h * az3
     ax4, ay4, az4 = _acceleration(px, py, pz, k, g, spin, lift, radius)
-    sixth = h / 6.0
-    return (x + sixth * (vx + 2.0 * (ux + wx) + px),
-            y + sixth * (vy + 2.0 * (uy + wy) + py),
-            z + sixth * (vz + 2.0 * (uz + wz) + pz),
-            vx + sixth * (ax1 + 2.0 * (ax2 + ax3) + ax4),
-            vy + sixth * (ay1 + 2.0 * (ay2 + ay3) + ay4),
-            vz + sixth * (az1 + 2.0 * (az2 + az3) + az4))
-
-
-def _rk4_step(state: Tuple[float, ...], h: float, k: float, g: float) -> Tuple[float, ...]:
-    """
-    Advance ``(x, y, z, vx, vy, vz)`` by one RK4 step of ``h`` seconds (h < 0 goes back).
-
-    Acceleration: ``-k |v| v - g z_hat`` (quadratic drag with ``k = rho Cd A / (2 m)``).
-    Pure floats: a pitch takes hundreds of steps and numpy's per-call cost would dominate.
-    """
-    x, y, z, vx, vy, vz = state
-    half = 0.5 * h
-    c1 = k * math.sqrt(vx * vx + vy * vy + vz * vz)
-    ax1, ay1, az1 = -c1 * vx, -c1 * vy, -c1 * vz - g
-    ux, uy, uz = vx + half * ax1, vy + half * ay1, vz + half * az1
-    c2 = k * math.sqrt(ux * ux + uy * uy + uz * uz)
-    ax2, ay2, az2 = -c2 * ux, -c2 * uy, -c2 * uz - g
-    wx, wy, wz = vx + half * ax2, vy + half * ay2, vz + half * az2
-    c3 = k * math.sqrt(wx * wx + wy * wy + wz * wz)
-    ax3, ay3, az3 = -c3 * wx, -c3 * wy, -c3 * wz - g
-    px, py, pz = vx + h * ax3, vy + h * ay3, vz + h * az3
-    c4 = k * math.sqrt(px * px + py * py + pz * pz)
-    ax4, ay4, az4 = -c4 * px, -c4 * py, -c4 * pz - g
     sixth = h / 6.0
     return (x + sixth * (vx + 2.0 * (ux + wx) + px),
             y + sixth * (vy + 2.0 * (uy + wy) + py),
@@ -255,10 +232,8 @@ class Pitch:
 
     def _step(self, state: Tuple[float, ...], h: float) -> Tuple[float, ...]:
         """Return ``state`` (position, velocity) advanced ``h`` seconds by one RK4 step."""
-        if any(self.spin):
-            return _rk4_spin_step(state, h, self.drag_constant, self.gravity, self.spin,
-                                  self.lift_constant, self.radius)
-        return _rk4_step(state, h, self.drag_constant, self.gravity)
+        return _rk4_step(state, h, self.drag_constant, self.gravity, self.spin,
+                         self.lift_constant, self.radius)
 
     @property
     def lift_constant(self) -> float:
