@@ -12,11 +12,11 @@ positions metres. The detector builds the two forecasts from its latest samples 
   0.1 mm at 50 ms. A pitch spins (1,500-3,000 rpm), and the Magnus force lifts, drops or breaks
   it by 1-7 m/s^2 across its flight: 12 cm over 200 ms left out. So the forecast adds the
   ball's lift, what its flight over the last ``lift_window`` (a detector parameter: 0.25 s, a
-  pitch's spin changes little over it) accelerates by beyond gravity and
-  drag (the kernel's ``add_lift``: a parabola's acceleration over at least 0.05 s and 6 samples
-  of the flight, less gravity and the drag at the window's middle, scaled down where the
-  samples' scatter could have made it: 1 mm of noise over 0.25 s at 90 Hz scatters it by about
-  0.1 m/s^2, 0.2 cm over 200 ms, over 0.1 s by 0.85 m/s^2).
+  pitch's spin changes little over it) accelerates by beyond gravity and drag (the kernel's
+  ``add_lift``: a parabola's acceleration over at least 0.05 s and 6 samples of the flight,
+  less gravity and the drag at the window's middle, scaled down where the samples' scatter
+  could have made it: 1 mm of noise over 0.25 s at 90 Hz scatters it by about 0.1 m/s^2, 0.2
+  cm over 200 ms, over 0.1 s by 0.85 m/s^2).
 * ``BatForecast``: the bat as a rigid body from its state now: a pivot (the least-accelerating
   axis point, near the hands) moving with constant acceleration, and the bat turning about a
   fixed axis with constant angular acceleration. Or, for a robot arm, a commanded trajectory of

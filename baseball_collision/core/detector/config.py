@@ -543,9 +543,9 @@ class DetectorConfig:
         that predict); a frame sooner keeps the last prediction in force. 0: every frame (made
         in code, unless given); from parameters the table's 0.01.
     :ivar prediction_window: span (s) of the latest samples the prediction's state is fitted to.
-    :ivar lift_window: span (s) of the latest ball samples whose flight gives the lift the
-        prediction's ball carries (``prediction.LIFT_WINDOW``; within what the stream keeps);
-        0: none.
+    :ivar lift_window: span (s) of the latest ball samples whose flight gives the lift (its
+        spin's Magnus force) the prediction's ball carries (``core.prediction``'s docstring;
+        within what the stream keeps, ``LIFT_MOST_SAMPLES`` at most); 0: none.
     :ivar ball_drag: the ball's quadratic drag, rho Cd A / (2 m) (1/m): deceleration
         ``ball_drag * |v| * v``; 0.0061 for a baseball, 0 for none.
     :ivar gravity: m/s^2, along -``up_axis``.

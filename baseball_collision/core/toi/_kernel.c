@@ -2457,7 +2457,7 @@ static int ball_fit_forecast(const double *x, Py_ssize_t n, int degree, double *
 #define LIFT_MIN_SAMPLES 6
 
 /*
- * The ball's lift (prediction.LIFT_WINDOW): what its flight over the window (x, y: gather_window's
+ * The ball's lift (the detector's lift_window): what its flight over the window (x, y: gather_window's
  * of the ball's samples up to the forecast's, origin t0) accelerates by beyond gravity and drag,
  * the spin's Magnus force: the least-squares parabola's acceleration less gravity - drag |v| v at
  * the velocity it has at the window's middle, added to the forecast's acceleration (out[7..9]),
@@ -2483,11 +2483,11 @@ static int add_lift(const double *x, Py_ssize_t n, double *y, double span, const
   }
   double *c = a + n * 3;
   bool solved = householder_fit(x, n, 3, a, y, BALL_COMPONENTS, c);
-  double last = a[8], scatter = 0.0; /* R_22; the residuals' sum of squares */
-  for (Py_ssize_t i = 3 * 3; i < n * 3; i++) {
-    scatter += y[i] * y[i];
-  }
   if (solved) {
+    double last = a[8], scatter = 0.0; /* R_22; the residuals' sum of squares */
+    for (Py_ssize_t i = 3 * 3; i < n * 3; i++) {
+      scatter += y[i] * y[i];
+    }
     double squared = pow(span, 2.0), middle = 0.5 * (x[0] + x[n - 1]) * span;
     double variance = scatter / (3.0 * (double)(n - 3)) * 4.0 /
                       (last * last * squared * squared);

@@ -247,11 +247,13 @@ def _draw_scenario(kind: str, rng: np.random.Generator, lead_s: float, trail_s: 
         sign = 1.0 if kind == 'miss_over' else -1.0
         centre = spot + sign * (reach + rng.uniform(0.03, 0.12)) * up
     pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
-                          end_time=t_end + 0.01,
-                          spin=_draw_spin(rng, velocity) if spin else (0.0, 0.0, 0.0))
+                          end_time=t_end + 0.01)
     release_speed = math.hypot(*pitch.release_velocity) / MPH
     if not (74.0 <= release_speed <= 96.0 and 1.0 <= pitch.release_position[2] <= 2.6):
         return None
+    if spin:  # through the same contact: released wherever the spin bends its flight back to
+        pitch = Pitch.through(centre, velocity, contact_time, release_y=release_y,
+                              end_time=t_end + 0.01, spin=_draw_spin(rng.spawn(1)[0], velocity))
     name = f'{kind}-{int(rng.integers(0, 2 ** 32)):08x}'
     scenario = Scenario(name=name, kind=kind, swing=swing, pitch=pitch, t_end=t_end,
                         profile=profile, ball_radius=ball_radius)
@@ -406,8 +408,11 @@ def make_scenario(kind: str, rng: np.random.Generator, *, lead_s: float = 0.15,
     :param max_attempts: draws before giving up.
     :param family: the swing family.
     :param spin: a spinning pitch (``_draw_spin``: the Magnus force bends its flight by 1-7
-        m/s^2 across it); else none, as before (the draws of a scenario without spin do not
-        change).
+        m/s^2 across it), its spin drawn from a generator ``rng`` spawns: ``rng``'s own draws
+        are those without spin, so the scenario is the one without spin (the same swing and
+        contact, the pitch as plausible) with the ball's flight before the contact bent, and
+        released where the bent flight comes from (unless the bent flight changes what the kind
+        needs, a miss's gap, and the draw is made again); else none.
 
     :returns: The scenario, running over [0, lead_s + trail_s].
 
