@@ -452,7 +452,7 @@ def test_detector_predicts_a_spinning_pitch_early_and_exactly(spinning) -> None:
     With the robot's plan, a spinning pitch is predicted >= 150 ms ahead to < 3 cm and 1 ms.
 
     90 Hz, 1 mm of noise, from the first prediction (some 100 ms into the ball's flight); its
-    forecast of gravity and drag alone (``lift_window`` 0) misses by 3-9 cm there.
+    forecast of gravity and drag alone (``lift_window`` 0) misses by 3-7 cm there.
     """
     times = np.arange(0.0, spinning.t_end, 0.005)
     positions, quaternions = spinning.swing.pose(times)
