@@ -19,7 +19,9 @@ Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat po
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
 with ``prediction_period`` 5 and 10 ms, and at 10 ms without the ball's lift), in one process;
 ``--cost-only`` prints only that. ``--spin``: spinning pitches; ``--no-lift``: the predictions
-with ``lift_window`` 0 (gravity and drag alone).
+with ``lift_window`` 0 (gravity and drag alone). ``--arm-glitch`` prints only what one ball
+glitch costs an arm's predictions (``arm_glitches``); ``--faults --ball-only`` only a ball
+glitch's fault table (``ball_cell``).
 ``--changes`` prints only how much consecutive predictions 10 ms apart move, per swing family.
 
 ``--faults`` prints only what bat-tracker faults cost the prediction, each run beside the same
@@ -386,6 +388,40 @@ def _tally(cell: Dict[str, int], index: Any, clean: Any, hit: Any, approach: int
     cell['longer'] += later and len(clean.made) > 0
 
 
+BALL_GLITCH_BEFORE_S = (0.03, 0.06, 0.09)
+"""s: the ball sample nearest this long before the approach is the glitch (``ball_cell``)."""
+
+BALL_GLITCH_M = ((0.0, 0.0, 0.05), (0.0, 0.0, 0.1), (0.0, 0.0, -0.2))
+"""m: how far the glitch moves the ball sample (``ball_cell``)."""
+
+
+def ball_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
+              chunks: bool) -> Dict[str, Dict[str, int]]:
+    """
+    Return one rate, noise and configuration's counts per placement of a ball glitch.
+
+    The ball sample nearest ``BALL_GLITCH_BEFORE_S`` before the approach moved by each of
+    ``BALL_GLITCH_M`` (``Samples.with_ball_frame_moved``); the counts as ``fault_cell``'s,
+    against the clean pitch and the one without that sample (deleted).
+    """
+    counts = {f'{before * 1e3:g} ms before': dict.fromkeys(
+        ('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false', 'longer', 'chunk_differs',
+         'deleted_too'), 0) for before in BALL_GLITCH_BEFORE_S}
+    for samples, truth, hit, approach, _ in _fault_pitches(rate, noise_m, seeds):
+        clean, _ = predictions_of(config, samples)
+        clean_ok = hit and scored(clean, approach, truth['point'])
+        for before, cell in zip(BALL_GLITCH_BEFORE_S, counts.values()):
+            j = int(np.argmin(np.abs(samples.ball_stamps_ns - (approach - before * 1e9))))
+            keep = np.ones(len(samples.ball_stamps_ns), bool)
+            keep[j] = False
+            without = hit and clean_ok and scored(predictions_of(
+                config, samples.with_ball_kept(keep))[0], approach, truth['point'])
+            for offset in BALL_GLITCH_M:
+                _tally_faulted(cell, config, samples.with_ball_frame_moved(j, offset), chunks,
+                               clean, hit and (clean_ok, without), approach, truth['point'])
+    return counts
+
+
 def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
               chunks: bool) -> Dict[str, Dict[str, int]]:
     """
@@ -591,13 +627,17 @@ def _long_pitches(rate: float, noise_m: float,
                     samples.start_ns + int(round(scenario.truth.min_gap_time_s * 1e9))))
 
 
-def faults(seeds: int, chunks: bool, lost_only: bool = False) -> None:
+def faults(seeds: int, chunks: bool, lost_only: bool = False, ball_only: bool = False) -> None:
     """
-    Print what bat-tracker faults cost the prediction (see the module), one row a cell.
+    Print what tracker faults cost the prediction (see the module), one row a cell.
 
     The turned and stamped frames (``fault_cell``), then the glitch beside lost frames
-    (``lost_cell``), one row a cell and placement; ``lost_only``: only that.
+    (``lost_cell``), one row a cell and placement; ``lost_only``: only that; ``ball_only``:
+    only a ball glitch's (``ball_cell``).
     """
+    if ball_only:
+        _cells_table('ball glitch', ball_cell, seeds, chunks)
+        return
     if not lost_only:
         _cells_table('fault', fault_cell, seeds, chunks)
     _cells_table('glitch beside lost frames', lost_cell, seeds, chunks)
@@ -623,6 +663,66 @@ def _cells_table(first_column: str, cells_of: Callable[..., Dict[str, Dict[str, 
                           f"{cell['chunk_differs'] if chunks else '-'} |", flush=True)
 
 
+ARM_GLITCH_BEFORE_S = (0.15, 0.1, 0.06)
+"""s: ``--arm-glitch`` moves the ball sample nearest this long before the contact."""
+
+ARM_GLITCH_M = ((0.0, 0.0, 0.1), (0.0, 0.0, -0.03))
+"""m: how far ``--arm-glitch`` moves it (up 10 cm, down 3 cm)."""
+
+
+def arm_glitches(per_kind: int, seed: int, period: float) -> None:
+    """
+    Print what one ball glitch costs an arm's predictions (the bat its commanded plan).
+
+    The accuracy table's hits (``per_kind`` of each kind, 1 mm of noise) at 90 and 360 Hz, each
+    clean and with one ball sample moved (``ARM_GLITCH_M``, the sample nearest each of
+    ``ARM_GLITCH_BEFORE_S`` before the contact; the positions replaced in place, so the tree
+    before ``Samples.with_ball_frame_moved`` runs it too): per lead, the hits with a
+    prediction in force and its point's error p50 / max (cm).
+    """
+    rng = np.random.default_rng(seed)
+    scenarios = [make_scenario(kind, rng, lead_s=0.4) for kind in ('barrel', 'end_cap', 'handle')
+                 for _ in range(per_kind)]
+    print(f"\n{len(scenarios)} hits, 1 mm, the arm's plan, prediction_period {period:g} s\n")
+    print('| rate Hz | ball glitch | ' + ' | '.join(f'{lead * 1e3:g} ms ahead' for lead in LEADS_S)
+          + ' |')
+    print('|---|---|' + '---|' * len(LEADS_S))
+    for rate in (90.0, 360.0):
+        cases = [('none', None, None)] + [
+            (f'{offset[2] * 100:+g} cm {before * 1e3:g} ms before', before, offset)
+            for before in ARM_GLITCH_BEFORE_S for offset in ARM_GLITCH_M]
+        for label, before, offset in cases:
+            scored = {lead: [] for lead in LEADS_S}
+            for i, scenario in enumerate(scenarios):
+                samples = sample(scenario, rate, np.random.default_rng(i), jitter_s=2e-4,
+                                 noise_m=0.001)
+                if offset is not None:
+                    stamps = samples.ball_stamps_ns - samples.start_ns
+                    j = int(np.argmin(np.abs(stamps * 1e-9 - scenario.truth.time_s + before)))
+                    positions = samples.ball_positions.copy()
+                    positions[j] += offset
+                    samples = replace(samples, ball_positions=positions)
+                detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
+                                                   prediction_period=period))
+                detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
+                made: List[Prediction] = []
+                cleared: List[int] = []
+                for stamp, role, values in samples.messages('pose'):
+                    for event in detector.add(role, stamp, values):
+                        if isinstance(event, Prediction):
+                            made.append(event)
+                        elif isinstance(event, PredictionCleared):
+                            cleared.append(event.made_at_ns)
+                truth = truth_dict(scenario, samples.start_ns)
+                for lead, error in PredictionIndex(made, cleared).errors(
+                        truth['stamp_ns'], truth['point']).items():
+                    if error is not None:
+                        scored[lead].append(error[1] * 100.0)
+            print(f'| {rate:g} | {label} | ' + ' | '.join(
+                f'{len(got)}/{len(scenarios)}, {np.median(got):.1f} / {max(got):.1f}'
+                if got else f'0/{len(scenarios)}' for got in scored.values()) + ' |', flush=True)
+
+
 def main() -> None:
     """Print the prediction table."""
     global FAULT_LEAD_S, SCORE_SENT  # (``scored`` and ``predictions_of`` read them)
@@ -639,6 +739,10 @@ def main() -> None:
                         help='prediction_period of the accuracy table (s; 0: every frame)')
     parser.add_argument('--changes', action='store_true',
                         help='only how much consecutive predictions move (every 10 ms)')
+    parser.add_argument('--arm-glitch', action='store_true',
+                        help="only one ball glitch's cost to an arm's predictions (the plan)")
+    parser.add_argument('--ball-only', action='store_true',
+                        help='with --faults: only a ball glitch (ball_cell)')
     parser.add_argument('--faults', action='store_true',
                         help='only what bat-tracker faults cost the prediction')
     parser.add_argument('--seeds', type=int, default=2, help='pitches a family and kind '
@@ -660,12 +764,15 @@ def main() -> None:
     single_threaded_blas()  # as the node and analyze run the detector (threads.py)
     if args.faults or args.pauses_only:
         if not args.pauses_only:
-            faults(args.seeds, args.chunks, args.lost_only)
-        if not args.lost_only:
+            faults(args.seeds, args.chunks, args.lost_only, args.ball_only)
+        if not (args.lost_only or args.ball_only):
             pauses(args.seeds)
         return
     if args.cost_only:
         cost(args.seed)
+        return
+    if args.arm_glitch:
+        arm_glitches(args.per_kind, args.seed, args.period)
         return
     if args.changes:
         changes()

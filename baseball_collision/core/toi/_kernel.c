@@ -2436,15 +2436,145 @@ static void bat_from_rates(double t0, const double *first, const double *second,
 #define BALL_COMPONENTS 3
 #define BAT_COMPONENTS 10 /* knob, tip, cumulative turn (swing x, y, z, roll) */
 
+/* a ball sample this far (m) off the parabola of the others in its window, and BALL_GLITCH_RATIO
+ * times what their own scatter leaves it off by (the distance's 1 sigma per coordinate), is a
+ * tracker's glitch a forecast leaves out */
+#define BALL_GLITCH_FLOOR 0.01
+#define BALL_GLITCH_RATIO 5.0
+#define BALL_GLITCH_MIN_SAMPLES 6
+
+/* how far (m) a point is from the parabola d (value, rate, acceleration at 0) at time t (s) */
+static double parabola_miss(const double *d, double t, const double *point)
+{
+  double sum = 0.0;
+  for (int k = 0; k < 3; k++) {
+    double e = d[k] + d[3 + k] * t + 0.5 * d[6 + k] * t * t - point[k];
+    sum += e * e;
+  }
+  return sqrt(sum);
+}
+
+/*
+ * v' (V'V)^-1 v for v = (1, u, u^2) and V'V the moments sums[k] = sum x^k (k = 0..4) of a
+ * parabola's samples: a sample's leverage on their fit at u, or the variance (over sigma^2) of
+ * that fit's value at another u; infinite where V'V is singular
+ */
+static double parabola_leverage(const double *sums, double u)
+{
+  double a = sums[0], b = sums[1], c = sums[2], e = sums[3], f = sums[4], w = u * u;
+  double c11 = c * f - e * e, c12 = c * e - b * f, c13 = b * e - c * c;
+  double c22 = a * f - c * c, c23 = b * c - a * e, c33 = a * c - b * b;
+  double determinant = a * c11 + b * c12 + c * c13;
+  if (!(determinant > 0.0)) {
+    return INFINITY;
+  }
+  return (c11 + 2.0 * c12 * u + (2.0 * c13 + c22) * w + 2.0 * c23 * u * w + c33 * w * w) /
+         determinant;
+}
+
+/*
+ * Leave a glitch out of a ball window (x, y: gather_window's, n samples of 3 coordinates): of
+ * the two samples whose miss from the window's parabola over 1 - its leverage (the miss from
+ * the parabola of the others, to first order) is the largest, the one farther off the parabola
+ * of the others beyond what their scatter leaves it off by (their residuals' sigma per
+ * coordinate times sqrt(1 + the variance of that parabola at the sample)), where that is
+ * BALL_GLITCH_RATIO or more and the sample more than BALL_GLITCH_FLOOR off (a tracker's
+ * mislabelled blob, a reflection: 10 cm bends a forecast's parabola by centimetres). Windows of
+ * fewer than BALL_GLITCH_MIN_SAMPLES are kept whole. Returns how many samples are kept (n or
+ * n - 1: x and y compacted), -1 with an exception (no memory).
+ */
+static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double span)
+{
+  if (n < BALL_GLITCH_MIN_SAMPLES) {
+    return n;
+  }
+  double *work = PyMem_Malloc(sizeof(double) * (size_t)(4 * n));
+  if (work == NULL) {
+    PyErr_NoMemory();
+    return -1;
+  }
+  double *wx = work, *wy = work + n, d[9], sums[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  memcpy(wy, y, sizeof(double) * (size_t)(3 * n));
+  int solved = fit_at_zero(x, n, 2, wy, BALL_COMPONENTS, span, d);
+  for (Py_ssize_t i = 0; i < n; i++) {
+    double power = 1.0;
+    for (int k = 0; k < 5; k++) {
+      sums[k] += power;
+      power *= x[i];
+    }
+  }
+  Py_ssize_t candidates[2] = {-1, -1}, kept = n;
+  double far[2] = {0.0, 0.0};
+  for (Py_ssize_t i = 0; solved > 0 && i < n; i++) {
+    double h = parabola_leverage(sums, x[i]), miss = parabola_miss(d, x[i] * span, y + 3 * i);
+    double deleted = h < 1.0 ? miss / (1.0 - h) : INFINITY;
+    if (miss > 0.5 * BALL_GLITCH_FLOOR && deleted > far[1]) {
+      int slot = deleted > far[0] ? 0 : 1;
+      if (slot == 0) {
+        far[1] = far[0], candidates[1] = candidates[0];
+      }
+      far[slot] = deleted, candidates[slot] = i;
+    }
+  }
+  /* of the two, the one the parabola of the others leaves farthest beyond their scatter */
+  Py_ssize_t glitch = -1;
+  double clearest = BALL_GLITCH_RATIO;
+  for (int j = 0; j < 2 && candidates[j] >= 0; j++) {
+    Py_ssize_t worst = candidates[j], m = 0;
+    double others[5];
+    for (int k = 0; k < 5; k++) {
+      others[k] = sums[k] - pow(x[worst], (double)k);
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+      if (i != worst) {
+        wx[m] = x[i];
+        memcpy(wy + 3 * m, y + 3 * i, 3 * sizeof(double));
+        m++;
+      }
+    }
+    solved = fit_at_zero(wx, m, 2, wy, BALL_COMPONENTS, span, d);
+    if (solved < 0) {
+      break;
+    }
+    if (solved > 0) {
+      double scatter = 0.0;
+      for (Py_ssize_t i = 0; i < n; i++) {
+        if (i != worst) {
+          double miss = parabola_miss(d, x[i] * span, y + 3 * i);
+          scatter += miss * miss;
+        }
+      }
+      double off = parabola_miss(d, x[worst] * span, y + 3 * worst);
+      double spread = sqrt(scatter / (3.0 * (double)(m - 3)) *
+                           (1.0 + parabola_leverage(others, x[worst])));
+      if (off > BALL_GLITCH_FLOOR && off > clearest * spread) {
+        clearest = spread > 0.0 ? off / spread : INFINITY;
+        glitch = worst;
+      }
+    }
+  }
+  if (solved >= 0 && glitch >= 0) {
+    memmove(x + glitch, x + glitch + 1, sizeof(double) * (size_t)(n - glitch - 1));
+    memmove(y + 3 * glitch, y + 3 * (glitch + 1), sizeof(double) * (size_t)(3 * (n - glitch - 1)));
+    kept = n - 1;
+  }
+  PyMem_Free(work);
+  return solved < 0 ? -1 : kept;
+}
+
 /*
  * The ball's forecast (its 10 numbers in out) from the polynomial of `degree` through its
- * window (x, y: gather_window's, the fit's origin t0): 1, or 0 when rank deficient, -1 with an
- * exception (no memory). y is overwritten.
+ * window (x, y: gather_window's, the fit's origin t0), a glitch left out (without_ball_glitch):
+ * 1, or 0 when rank deficient, -1 with an exception (no memory). x and y are overwritten.
  */
-static int ball_fit_forecast(const double *x, Py_ssize_t n, int degree, double *y, double span,
+static int ball_fit_forecast(double *x, Py_ssize_t n, int degree, double *y, double span,
                              double t0, const double *gravity, double drag, double *out)
 {
   double d[3 * BALL_COMPONENTS];
+  n = without_ball_glitch(x, n, y, span);
+  if (n < 0) {
+    return -1;
+  }
   int solved = fit_at_zero(x, n, degree, y, BALL_COMPONENTS, span, d);
   if (solved > 0) {
     ballistic(t0, d, d + BALL_COMPONENTS, gravity, drag, out);
@@ -2467,12 +2597,17 @@ static int ball_fit_forecast(const double *x, Py_ssize_t n, int degree, double *
  * the noise could have made is left out (an estimate of the Wiener gain |lift|^2 / (|lift|^2 +
  * 3 var)). A pitch's lift is 1-7 m/s^2; 1 mm of noise over 0.1 s of flight at 90 Hz scatters
  * the acceleration by about 0.85 m/s^2, over 0.25 s by 0.1 m/s^2. Nothing is added over less than
- * LIFT_MIN_SPAN s or LIFT_MIN_SAMPLES samples, or where the fit is rank deficient. 0 or 1
- * (added), -1 with an exception (no memory). y is overwritten.
+ * LIFT_MIN_SPAN s or LIFT_MIN_SAMPLES samples (a glitch left out: without_ball_glitch), or
+ * where the fit is rank deficient. 0 or 1 (added), -1 with an exception (no memory). x and y are
+ * overwritten.
  */
-static int add_lift(const double *x, Py_ssize_t n, double *y, double span, const double *gravity,
+static int add_lift(double *x, Py_ssize_t n, double *y, double span, const double *gravity,
                     double drag, double *out)
 {
+  n = without_ball_glitch(x, n, y, span);
+  if (n < 0) {
+    return -1;
+  }
   if (n < LIFT_MIN_SAMPLES || (x[n - 1] - x[0]) * span < LIFT_MIN_SPAN) {
     return 0;
   }

@@ -87,6 +87,20 @@ class Samples:
                        bat_quaternions=self.bat_quaternions[keep], knobs=self.knobs[keep],
                        tips=self.tips[keep])
 
+    def with_ball_frame_moved(self, index: int, offset: Sequence[float]) -> 'Samples':
+        """
+        Return these samples with ball sample ``index`` moved by ``offset`` (m): a glitch.
+
+        A tracker's mislabelled or reflected blob, off the ball's flight; its stamp kept.
+
+        :raises ToolError: an index outside the samples.
+        """
+        if not -len(self.ball_stamps_ns) <= index < len(self.ball_stamps_ns):
+            raise ToolError(f'no ball sample {index} among {len(self.ball_stamps_ns)}')
+        positions = self.ball_positions.copy()
+        positions[index] += np.asarray(offset, dtype=float)
+        return replace(self, ball_positions=positions)
+
     def with_bat_frame_turned(self, index: int, toward: Sequence[float],
                               distance: float) -> 'Samples':
         """
