@@ -2481,10 +2481,14 @@ static double parabola_leverage(const double *sums, double u)
  * BALL_GLITCH_RATIO or more and the sample more than BALL_GLITCH_FLOOR off (a tracker's
  * mislabelled blob, a reflection: 10 cm bends a forecast's parabola by centimetres). Windows of
  * fewer than BALL_GLITCH_MIN_SAMPLES are kept whole. Returns how many samples are kept (n or
- * n - 1: x and y compacted), -1 with an exception (no memory).
+ * n - 1: x and y compacted), -1 with an exception (no memory); where it kept them all and fitted
+ * their parabola, that fit (fit_at_zero's value, rate and acceleration at 0) is in whole[9] and
+ * *fitted is true (the same bits as fitting them again).
  */
-static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double span)
+static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double span,
+                                      double *whole, bool *fitted)
 {
+  *fitted = false;
   if (n < BALL_GLITCH_MIN_SAMPLES) {
     return n;
   }
@@ -2496,6 +2500,10 @@ static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double
   double *wx = work, *wy = work + n, d[9], sums[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
   memcpy(wy, y, sizeof(double) * (size_t)(3 * n));
   int solved = fit_at_zero(x, n, 2, wy, BALL_COMPONENTS, span, d);
+  if (solved > 0) {
+    memcpy(whole, d, sizeof d);
+  }
+  int fits = solved;
   for (Py_ssize_t i = 0; i < n; i++) {
     double power = 1.0;
     for (int k = 0; k < 5; k++) {
@@ -2558,6 +2566,7 @@ static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double
     memmove(y + 3 * glitch, y + 3 * (glitch + 1), sizeof(double) * (size_t)(3 * (n - glitch - 1)));
     kept = n - 1;
   }
+  *fitted = solved >= 0 && kept == n && fits > 0;
   PyMem_Free(work);
   return solved < 0 ? -1 : kept;
 }
@@ -2571,11 +2580,12 @@ static int ball_fit_forecast(double *x, Py_ssize_t n, int degree, double *y, dou
                              double t0, const double *gravity, double drag, double *out)
 {
   double d[3 * BALL_COMPONENTS];
-  n = without_ball_glitch(x, n, y, span);
+  bool fitted;
+  n = without_ball_glitch(x, n, y, span, d, &fitted);
   if (n < 0) {
     return -1;
   }
-  int solved = fit_at_zero(x, n, degree, y, BALL_COMPONENTS, span, d);
+  int solved = fitted && degree == 2 ? 1 : fit_at_zero(x, n, degree, y, BALL_COMPONENTS, span, d);
   if (solved > 0) {
     ballistic(t0, d, d + BALL_COMPONENTS, gravity, drag, out);
   }
@@ -2604,7 +2614,9 @@ static int ball_fit_forecast(double *x, Py_ssize_t n, int degree, double *y, dou
 static int add_lift(double *x, Py_ssize_t n, double *y, double span, const double *gravity,
                     double drag, double *out)
 {
-  n = without_ball_glitch(x, n, y, span);
+  double whole[9];
+  bool fitted;
+  n = without_ball_glitch(x, n, y, span, whole, &fitted);
   if (n < 0) {
     return -1;
   }
