@@ -667,7 +667,8 @@ ARM_GLITCH_BEFORE_S = (0.15, 0.1, 0.06)
 """s: ``--arm-glitch`` moves the ball sample nearest this long before the contact."""
 
 ARM_GLITCH_M = ((0.0, 0.0, 0.1), (0.0, 0.0, -0.03))
-"""m: how far ``--arm-glitch`` moves it (up 10 cm, down 3 cm)."""
+"""m: how far ``--arm-glitch`` moves it (up 10 cm, down 3 cm); also it and the next one both
+up 10 cm (two glitches side by side)."""
 
 
 def arm_glitches(per_kind: int, seed: int, period: float) -> None:
@@ -676,9 +677,9 @@ def arm_glitches(per_kind: int, seed: int, period: float) -> None:
 
     The accuracy table's hits (``per_kind`` of each kind, 1 mm of noise) at 90 and 360 Hz, each
     clean and with one ball sample moved (``ARM_GLITCH_M``, the sample nearest each of
-    ``ARM_GLITCH_BEFORE_S`` before the contact; the positions replaced in place, so the tree
-    before ``Samples.with_ball_frame_moved`` runs it too): per lead, the hits with a
-    prediction in force and its point's error p50 / max (cm).
+    ``ARM_GLITCH_BEFORE_S`` before the contact, or it and the next; the positions replaced in
+    place, so the tree before ``Samples.with_ball_frame_moved`` runs it too): per lead, the
+    hits with a prediction in force and its point's error p50 / max (cm).
     """
     rng = np.random.default_rng(seed)
     scenarios = [make_scenario(kind, rng, lead_s=0.4) for kind in ('barrel', 'end_cap', 'handle')
@@ -688,10 +689,12 @@ def arm_glitches(per_kind: int, seed: int, period: float) -> None:
           + ' |')
     print('|---|---|' + '---|' * len(LEADS_S))
     for rate in (90.0, 360.0):
-        cases = [('none', None, None)] + [
-            (f'{offset[2] * 100:+g} cm {before * 1e3:g} ms before', before, offset)
-            for before in ARM_GLITCH_BEFORE_S for offset in ARM_GLITCH_M]
-        for label, before, offset in cases:
+        cases = [('none', None, None, 0)] + [
+            (f'{offset[2] * 100:+g} cm {before * 1e3:g} ms before', before, offset, 1)
+            for before in ARM_GLITCH_BEFORE_S for offset in ARM_GLITCH_M] + [
+            (f'two side by side +10 cm {before * 1e3:g} ms before', before, ARM_GLITCH_M[0], 2)
+            for before in ARM_GLITCH_BEFORE_S]
+        for label, before, offset, count in cases:
             scored = {lead: [] for lead in LEADS_S}
             for i, scenario in enumerate(scenarios):
                 samples = sample(scenario, rate, np.random.default_rng(i), jitter_s=2e-4,
@@ -700,7 +703,7 @@ def arm_glitches(per_kind: int, seed: int, period: float) -> None:
                     stamps = samples.ball_stamps_ns - samples.start_ns
                     j = int(np.argmin(np.abs(stamps * 1e-9 - scenario.truth.time_s + before)))
                     positions = samples.ball_positions.copy()
-                    positions[j] += offset
+                    positions[j:j + count] += offset
                     samples = replace(samples, ball_positions=positions)
                 detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
                                                    prediction_period=period))

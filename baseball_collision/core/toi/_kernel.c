@@ -2473,16 +2473,66 @@ static double parabola_leverage(const double *sums, double u)
 }
 
 /*
- * Leave a glitch out of a ball window (x, y: gather_window's, n samples of 3 coordinates): of
- * the two samples whose miss from the window's parabola over 1 - its leverage (the miss from
- * the parabola of the others, to first order) is the largest, the one farther off the parabola
- * of the others beyond what their scatter leaves it off by (their residuals' sigma per
- * coordinate times sqrt(1 + the variance of that parabola at the sample)), where that is
- * BALL_GLITCH_RATIO or more and the sample more than BALL_GLITCH_FLOOR off (a tracker's
- * mislabelled blob, a reflection: 10 cm bends a forecast's parabola by centimetres). Windows of
- * fewer than BALL_GLITCH_MIN_SAMPLES are kept whole. Returns how many samples are kept (n or
- * n - 1: x and y compacted), -1 with an exception (no memory); where it kept them all and fitted
- * their parabola, that fit (fit_at_zero's value, rate and acceleration at 0) is in whole[9] and
+ * How far samples a and b of a ball window (x, y: n samples of 3 coordinates; b = a for one) are
+ * off the parabola of the others, in units of what the others' scatter leaves a sample off by
+ * there (their residuals' sigma per coordinate times sqrt(1 + that parabola's variance at it)):
+ * the smaller of the two ratios, 0 where either is BALL_GLITCH_FLOOR off or less or the fit is
+ * rank deficient, -1 with an exception (no memory). sums: the window's moments (sum x^k, k =
+ * 0..4); wx, wy: room for n samples.
+ */
+static double glitch_ratio(const double *x, Py_ssize_t n, const double *y, double span,
+                           const double *sums, Py_ssize_t a, Py_ssize_t b, double *wx, double *wy)
+{
+  double others[5], d[9];
+  Py_ssize_t m = 0;
+  for (int k = 0; k < 5; k++) {
+    others[k] = sums[k] - pow(x[a], (double)k) - (b != a ? pow(x[b], (double)k) : 0.0);
+  }
+  for (Py_ssize_t i = 0; i < n; i++) {
+    if (i != a && i != b) {
+      wx[m] = x[i];
+      memcpy(wy + 3 * m, y + 3 * i, 3 * sizeof(double));
+      m++;
+    }
+  }
+  int solved = fit_at_zero(wx, m, 2, wy, BALL_COMPONENTS, span, d);
+  if (solved <= 0) {
+    return solved < 0 ? -1.0 : 0.0;
+  }
+  double scatter = 0.0, ratio = INFINITY;
+  for (Py_ssize_t i = 0; i < n; i++) {
+    if (i != a && i != b) {
+      double miss = parabola_miss(d, x[i] * span, y + 3 * i);
+      scatter += miss * miss;
+    }
+  }
+  double sigma = sqrt(scatter / (3.0 * (double)(m - 3)));
+  for (int j = 0; j < 2; j++) {
+    Py_ssize_t i = j ? b : a;
+    double off = parabola_miss(d, x[i] * span, y + 3 * i);
+    double spread = sigma * sqrt(1.0 + parabola_leverage(others, x[i]));
+    if (!(off > BALL_GLITCH_FLOOR)) {
+      return 0.0;
+    }
+    ratio = fmin(ratio, spread > 0.0 ? off / spread : INFINITY);
+  }
+  return ratio;
+}
+
+/*
+ * Leave up to two glitches out of a ball window (x, y: gather_window's, n samples of 3
+ * coordinates). The candidates: the three samples whose miss from the window's parabola over 1
+ * - its leverage (the miss from the parabola of the others, to first order) is the largest (a
+ * window's end pulls the parabola its way, and a glitch the samples beside it). Of the first two,
+ * the one farther off the parabola of the others beyond their scatter (glitch_ratio), where that
+ * is BALL_GLITCH_RATIO or more (a tracker's mislabelled blob, a reflection: 10 cm bends a
+ * forecast's parabola by centimetres), is left out, and the rest judged so once more; unless
+ * a pair of the three, both off the parabola of the rest, is clearer off (the smaller of their
+ * two ratios; two glitches hide each other from the test of one, and pull the sample beside
+ * them off), in a window of 8 samples or more: then that pair. Windows of fewer than
+ * BALL_GLITCH_MIN_SAMPLES are kept whole. Returns how many samples are kept (x and y
+ * compacted), -1 with an exception (no memory); where it kept them all and fitted their
+ * parabola, that fit (fit_at_zero's value, rate and acceleration at 0) is in whole[9] and
  * *fitted is true (the same bits as fitting them again).
  */
 static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double span,
@@ -2497,78 +2547,87 @@ static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double
     PyErr_NoMemory();
     return -1;
   }
-  double *wx = work, *wy = work + n, d[9], sums[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
-  memcpy(wy, y, sizeof(double) * (size_t)(3 * n));
-  int solved = fit_at_zero(x, n, 2, wy, BALL_COMPONENTS, span, d);
-  if (solved > 0) {
-    memcpy(whole, d, sizeof d);
-  }
-  int fits = solved;
-  for (Py_ssize_t i = 0; i < n; i++) {
-    double power = 1.0;
-    for (int k = 0; k < 5; k++) {
-      sums[k] += power;
-      power *= x[i];
-    }
-  }
-  Py_ssize_t candidates[2] = {-1, -1}, kept = n;
-  double far[2] = {0.0, 0.0};
-  for (Py_ssize_t i = 0; solved > 0 && i < n; i++) {
-    double h = parabola_leverage(sums, x[i]), miss = parabola_miss(d, x[i] * span, y + 3 * i);
-    double deleted = h < 1.0 ? miss / (1.0 - h) : INFINITY;
-    if (miss > 0.5 * BALL_GLITCH_FLOOR && deleted > far[1]) {
-      int slot = deleted > far[0] ? 0 : 1;
-      if (slot == 0) {
-        far[1] = far[0], candidates[1] = candidates[0];
-      }
-      far[slot] = deleted, candidates[slot] = i;
-    }
-  }
-  /* of the two, the one the parabola of the others leaves farthest beyond their scatter */
-  Py_ssize_t glitch = -1;
-  double clearest = BALL_GLITCH_RATIO;
-  for (int j = 0; j < 2 && candidates[j] >= 0; j++) {
-    Py_ssize_t worst = candidates[j], m = 0;
-    double others[5];
-    for (int k = 0; k < 5; k++) {
-      others[k] = sums[k] - pow(x[worst], (double)k);
-    }
-    for (Py_ssize_t i = 0; i < n; i++) {
-      if (i != worst) {
-        wx[m] = x[i];
-        memcpy(wy + 3 * m, y + 3 * i, 3 * sizeof(double));
-        m++;
-      }
-    }
-    solved = fit_at_zero(wx, m, 2, wy, BALL_COMPONENTS, span, d);
+  double *wx = work, *wy = work + n;
+  Py_ssize_t kept = n;
+  bool first_fit = false;
+  for (int pass = 0; pass < 2 && kept >= BALL_GLITCH_MIN_SAMPLES; pass++) {
+    double d[9], sums[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+    memcpy(wy, y, sizeof(double) * (size_t)(3 * kept));
+    int solved = fit_at_zero(x, kept, 2, wy, BALL_COMPONENTS, span, d);
     if (solved < 0) {
+      kept = -1;
       break;
     }
-    if (solved > 0) {
-      double scatter = 0.0;
-      for (Py_ssize_t i = 0; i < n; i++) {
-        if (i != worst) {
-          double miss = parabola_miss(d, x[i] * span, y + 3 * i);
-          scatter += miss * miss;
-        }
-      }
-      double off = parabola_miss(d, x[worst] * span, y + 3 * worst);
-      double spread = sqrt(scatter / (3.0 * (double)(m - 3)) *
-                           (1.0 + parabola_leverage(others, x[worst])));
-      if (off > BALL_GLITCH_FLOOR && off > clearest * spread) {
-        clearest = spread > 0.0 ? off / spread : INFINITY;
-        glitch = worst;
+    if (solved == 0) {
+      break;
+    }
+    if (pass == 0) {
+      memcpy(whole, d, sizeof d);
+      first_fit = true;
+    }
+    for (Py_ssize_t i = 0; i < kept; i++) {
+      double power = 1.0;
+      for (int k = 0; k < 5; k++) {
+        sums[k] += power;
+        power *= x[i];
       }
     }
+    Py_ssize_t candidates[3] = {-1, -1, -1};
+    double far[3] = {0.0, 0.0, 0.0};
+    for (Py_ssize_t i = 0; i < kept; i++) {
+      double h = parabola_leverage(sums, x[i]), miss = parabola_miss(d, x[i] * span, y + 3 * i);
+      double deleted = h < 1.0 ? miss / (1.0 - h) : INFINITY;
+      int slot = 3;
+      while (slot > 0 && deleted > far[slot - 1]) {
+        slot--;
+      }
+      if (miss > 0.5 * BALL_GLITCH_FLOOR && slot < 3) {
+        for (int j = 2; j > slot; j--) {
+          far[j] = far[j - 1], candidates[j] = candidates[j - 1];
+        }
+        far[slot] = deleted, candidates[slot] = i;
+      }
+    }
+    Py_ssize_t out[2] = {-1, -1};
+    double clearest = BALL_GLITCH_RATIO;
+    for (int j = 0; j < 2 && candidates[j] >= 0; j++) {
+      double ratio = glitch_ratio(x, kept, y, span, sums, candidates[j], candidates[j], wx, wy);
+      if (ratio < 0.0) {
+        kept = -1;
+        break;
+      }
+      if (ratio >= clearest) {
+        clearest = ratio, out[0] = candidates[j];
+      }
+    }
+    /* a pair of the three the rest leave clearer off than one alone (a glitch beside it) */
+    for (int j = 0; pass == 0 && kept >= 8 && j < 3; j++) {
+      Py_ssize_t a = candidates[j], b = candidates[(j + 1) % 3];
+      double ratio = a >= 0 && b >= 0 ? glitch_ratio(x, kept, y, span, sums, a, b, wx, wy) : 0.0;
+      if (ratio < 0.0) {
+        kept = -1;
+        break;
+      }
+      if (ratio >= clearest) {
+        clearest = ratio, out[0] = a > b ? a : b, out[1] = a > b ? b : a;
+      }
+    }
+    if (kept < 0 || out[0] < 0) {
+      break;
+    }
+    for (int j = 0; j < 2 && out[j] >= 0; j++) { /* the later one first */
+      Py_ssize_t i = out[j];
+      memmove(x + i, x + i + 1, sizeof(double) * (size_t)(kept - i - 1));
+      memmove(y + 3 * i, y + 3 * (i + 1), sizeof(double) * (size_t)(3 * (kept - i - 1)));
+      kept--;
+    }
+    if (out[1] >= 0) {
+      break;
+    }
   }
-  if (solved >= 0 && glitch >= 0) {
-    memmove(x + glitch, x + glitch + 1, sizeof(double) * (size_t)(n - glitch - 1));
-    memmove(y + 3 * glitch, y + 3 * (glitch + 1), sizeof(double) * (size_t)(3 * (n - glitch - 1)));
-    kept = n - 1;
-  }
-  *fitted = solved >= 0 && kept == n && fits > 0;
+  *fitted = first_fit && kept == n;
   PyMem_Free(work);
-  return solved < 0 ? -1 : kept;
+  return kept;
 }
 
 /*
