@@ -16,7 +16,9 @@ positions metres. The detector builds the two forecasts from its latest samples 
   ``add_lift``: a parabola's acceleration over at least 0.05 s and 6 samples of the flight,
   less gravity and the drag at the window's middle, scaled down where the samples' scatter
   could have made it: 1 mm of noise over 0.25 s at 90 Hz scatters it by about 0.1 m/s^2, 0.2
-  cm over 200 ms, over 0.1 s by 0.85 m/s^2).
+  cm over 200 ms, over 0.1 s by 0.85 m/s^2). Up to two samples off the flight a window (a
+  tracker's glitch: 5 times the others' scatter and 1 cm off their parabola) are left out of
+  both fits (the kernel's ``without_ball_glitch``).
 * ``BatForecast``: the bat as a rigid body from its state now: a pivot (the least-accelerating
   axis point, near the hands) moving with constant acceleration, and the bat turning about a
   fixed axis with constant angular acceleration. Or, for a robot arm, a commanded trajectory of

@@ -309,11 +309,12 @@ class Predictor(BatJudgment):
         """
         Return the ball's lift (m/s^2) from samples [first, end): the kernel's ``add_lift``.
 
-        Its parabola's acceleration (numpy's QR, where the kernel's refused the forecast's
-        window) less gravity and the drag at the velocity it has at the samples' middle
-        instant, times the gain ``max(0, 1 - 3 var / |lift|^2)`` of the acceleration's variance
-        from the samples' scatter about the parabola; zero over less than ``LIFT_MIN_SPAN`` s
-        or ``LIFT_MIN_SAMPLES`` samples, or a rank-deficient fit.
+        Where the kernel refused the forecast's window (rank deficient), so without the
+        kernel's glitch pass (``without_ball_glitch``): its parabola's acceleration (numpy's
+        QR) less gravity and the drag at the velocity it has at the samples' middle instant,
+        times the gain ``max(0, 1 - 3 var / |lift|^2)`` of the acceleration's variance from the
+        samples' scatter about the parabola; zero over less than ``LIFT_MIN_SPAN`` s or
+        ``LIFT_MIN_SAMPLES`` samples, or a rank-deficient fit.
         """
         times, n = self.ball.times, end - first
         if n < _kernel.LIFT_MIN_SAMPLES or \
