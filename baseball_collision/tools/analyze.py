@@ -580,17 +580,29 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     unsolved = result.unsolved_note()
     if unsolved is not None:
         result.notes.append(unsolved)
-    truth_file = truth_path(path) if use_truth else None  # (--no-truth: never looked for)
-    if truth_file is not None and truth_file.is_file():
-        try:
-            truth = load_truth(truth_file)
-            result.truth = compare_truth(result.impacts, result.near_misses, truth, truth_file)
-        except ToolError as error:
-            result.notes.append(f'{error}; the truth file was ignored')
-        else:
-            name = Path(os.path.abspath(path)).name  # ('.' is the directory one is in)
-            made_for = Path(str(truth.get('bag', name))).name
-            if made_for != name:
-                result.notes.append(f'{truth_file.name} was written for {made_for}, not '
-                                    f'{name}: compared all the same (a renamed copy?)')
+    if use_truth:  # (--no-truth: never looked for)
+        _compare_with_truth(result, path)
     return result
+
+
+def _compare_with_truth(result: BagAnalysis, path: Path) -> None:
+    """
+    Compare ``result`` with the truth file beside the bag at ``path``, where there is one.
+
+    Sets ``result.truth``; a damaged truth file is ignored with a note, and one written for
+    another bag's name is compared all the same, with a note.
+    """
+    truth_file = truth_path(path)
+    if not truth_file.is_file():
+        return
+    try:
+        truth = load_truth(truth_file)
+        result.truth = compare_truth(result.impacts, result.near_misses, truth, truth_file)
+    except ToolError as error:
+        result.notes.append(f'{error}; the truth file was ignored')
+    else:
+        name = Path(os.path.abspath(path)).name  # ('.' is the directory one is in)
+        made_for = Path(str(truth.get('bag', name))).name
+        if made_for != name:
+            result.notes.append(f'{truth_file.name} was written for {made_for}, not '
+                                f'{name}: compared all the same (a renamed copy?)')
