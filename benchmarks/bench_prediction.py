@@ -134,8 +134,22 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
     """
     samples = sample(scenario, rate_hz, np.random.default_rng(seed), jitter_s=2e-4,
                      noise_m=noise_m)
-    detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
-                                       prediction_period=period, lift_window=lift_window))
+    scored = scored_predictions(scenario, samples, DetectorConfig(
+        model='rigid', prediction_horizon=0.3, prediction_period=period,
+        lift_window=lift_window), planned)
+    return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
+            for lead, error in scored.items()}
+
+
+def scored_predictions(scenario: Scenario, samples: Samples, config: DetectorConfig,
+                       planned: bool) -> Dict[float, Optional[Tuple[float, float]]]:
+    """
+    Return {lead: (time error s, point error m) or None} of a fresh detector on ``samples``.
+
+    One sample at a time, with the scenario's swing as the arm's plan where ``planned``
+    (``plan_of``); a lead scores the prediction in force then (``PredictionIndex.errors``).
+    """
+    detector = Detector(config)
     if planned:
         detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
     predictions: List[Prediction] = []
@@ -147,9 +161,7 @@ def errors(scenario: Scenario, rate_hz: float, noise_m: float, planned: bool,
             elif isinstance(event, PredictionCleared):
                 cleared.append(event.made_at_ns)
     truth = truth_dict(scenario, samples.start_ns)
-    scored = PredictionIndex(predictions, cleared).errors(truth['stamp_ns'], truth['point'])
-    return {lead: None if error is None else (error[0] * 1e3, error[1] * 100.0)
-            for lead, error in scored.items()}
+    return PredictionIndex(predictions, cleared).errors(truth['stamp_ns'], truth['point'])
 
 
 def cost(seed: int, repeats: int = 3) -> None:
@@ -705,20 +717,9 @@ def arm_glitches(per_kind: int, seed: int, period: float) -> None:
                     positions = samples.ball_positions.copy()
                     positions[j:j + count] += offset
                     samples = replace(samples, ball_positions=positions)
-                detector = Detector(DetectorConfig(model='rigid', prediction_horizon=0.3,
-                                                   prediction_period=period))
-                detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
-                made: List[Prediction] = []
-                cleared: List[int] = []
-                for stamp, role, values in samples.messages('pose'):
-                    for event in detector.add(role, stamp, values):
-                        if isinstance(event, Prediction):
-                            made.append(event)
-                        elif isinstance(event, PredictionCleared):
-                            cleared.append(event.made_at_ns)
-                truth = truth_dict(scenario, samples.start_ns)
-                for lead, error in PredictionIndex(made, cleared).errors(
-                        truth['stamp_ns'], truth['point']).items():
+                config = DetectorConfig(model='rigid', prediction_horizon=0.3,
+                                        prediction_period=period)
+                for lead, error in scored_predictions(scenario, samples, config, True).items():
                     if error is not None:
                         scored[lead].append(error[1] * 100.0)
             print(f'| {rate:g} | {label} | ' + ' | '.join(
