@@ -179,9 +179,9 @@ class Pitch:
         if steps > 10_000_000:
             raise ToolError(f'duration / step is too many steps ({steps})')
         state = self.release_position + self.release_velocity
-        states = [state]
+        states, forces = [state], self._forces()
         for _ in range(steps):
-            state = self._step(state, self.step)
+            state = _rk4_step(state, self.step, *forces)
             states.append(state)
         array = np.array(states)
         setattr_(self, '_positions', array[:, :3])
@@ -216,10 +216,10 @@ class Pitch:
             raise ToolError(f'the pitch must travel toward -y, got velocity {v!r}')
         probe = cls(p, v, t, duration=1e-3, **{
             k: value for k, value in parameters.items() if k != 'duration'})
-        state = p + v
+        state, forces = p + v, probe._forces()
         steps = 0
         while state[1] < release_y:
-            state = probe._step(state, -probe.step)
+            state = _rk4_step(state, -probe.step, *forces)
             steps += 1
             if steps * probe.step > 10.0 or state[4] >= 0.0:
                 raise ToolError(
@@ -230,10 +230,9 @@ class Pitch:
         parameters['duration'] = max(end - release_time, probe.step)
         return cls(tuple(state[:3]), tuple(state[3:]), release_time, **parameters)
 
-    def _step(self, state: Tuple[float, ...], h: float) -> Tuple[float, ...]:
-        """Return ``state`` (position, velocity) advanced ``h`` seconds by one RK4 step."""
-        return _rk4_step(state, h, self.drag_constant, self.gravity, self.spin,
-                         self.lift_constant, self.radius)
+    def _forces(self) -> Tuple[float, float, Vector, float, float]:
+        """Return ``_rk4_step``'s constants of this pitch: drag, gravity, spin, lift, radius."""
+        return self.drag_constant, self.gravity, self.spin, self.lift_constant, self.radius
 
     @property
     def lift_constant(self) -> float:
