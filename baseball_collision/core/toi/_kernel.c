@@ -2575,13 +2575,17 @@ static Py_ssize_t without_ball_glitch(double *x, Py_ssize_t n, double *y, double
     Py_ssize_t candidates[3] = {-1, -1, -1};
     double far[3] = {0.0, 0.0, 0.0};
     for (Py_ssize_t i = 0; i < kept; i++) {
-      double h = parabola_leverage(sums, x[i]), miss = parabola_miss(d, x[i] * span, y + 3 * i);
+      double miss = parabola_miss(d, x[i] * span, y + 3 * i);
+      if (!(miss > 0.5 * BALL_GLITCH_FLOOR)) {
+        continue; /* (a window without a glitch: no leverage made) */
+      }
+      double h = parabola_leverage(sums, x[i]);
       double deleted = h < 1.0 ? miss / (1.0 - h) : INFINITY;
       int slot = 3;
       while (slot > 0 && deleted > far[slot - 1]) {
         slot--;
       }
-      if (miss > 0.5 * BALL_GLITCH_FLOOR && slot < 3) {
+      if (slot < 3) {
         for (int j = 2; j > slot; j--) {
           far[j] = far[j - 1], candidates[j] = candidates[j - 1];
         }
