@@ -4626,6 +4626,22 @@ static PyObject *py_bat_window_rows(PyObject *self, PyObject *const *args, Py_ss
   return result;
 }
 
+/*
+ * A ball window of arrays (forecast_outcomes'): samples first .. first + n - 1 of times and points
+ * (m, 3) into x ((time - t0) / span) and y (n x 3), as gather_window makes them of a stream's
+ * lists; returns the span (s)
+ */
+static double ball_array_window(const double *times, const double *points, Py_ssize_t first,
+                                Py_ssize_t n, double t0, double *x, double *y)
+{
+  double span = max_of(t0 - times[first], 1e-9);
+  for (Py_ssize_t i = 0; i < n; i++) {
+    x[i] = (times[first + i] - t0) / span;
+    memcpy(y + 3 * i, points + 3 * (first + i), 3 * sizeof(double));
+  }
+  return span;
+}
+
 /* what forecast_outcomes says of a frame */
 enum { OUTCOME_NONE = 0, OUTCOME_FOUND = 1, OUTCOME_UNDECIDED = 2 };
 
@@ -4760,11 +4776,7 @@ static PyObject *py_forecast_outcomes(PyObject *self, PyObject *const *args, Py_
       continue;
     }
     double t0 = t0s[k], *x = memory, *y = memory + widest, span, ball[10], bat[21];
-    span = max_of(t0 - ball_times[a], 1e-9);
-    for (Py_ssize_t i = 0; i < na; i++) {
-      x[i] = (ball_times[a + i] - t0) / span;
-      memcpy(y + 3 * i, ball_points + 3 * (a + i), 3 * sizeof(double));
-    }
+    span = ball_array_window(ball_times, ball_points, a, na, t0, x, y);
     int solved = ball_fit_forecast(x, na, 2, y, span, t0, gravity, drag, ball);
     if (solved < 0) {
       goto done;
@@ -4775,11 +4787,7 @@ static PyObject *py_forecast_outcomes(PyObject *self, PyObject *const *args, Py_
     }
     Py_ssize_t l = (Py_ssize_t)w[4], nl = (Py_ssize_t)(w[1] - w[4]);
     if (nl >= LIFT_MIN_SAMPLES) {
-      span = max_of(t0 - ball_times[l], 1e-9);
-      for (Py_ssize_t i = 0; i < nl; i++) {
-        x[i] = (ball_times[l + i] - t0) / span;
-        memcpy(y + 3 * i, ball_points + 3 * (l + i), 3 * sizeof(double));
-      }
+      span = ball_array_window(ball_times, ball_points, l, nl, t0, x, y);
       if (add_lift(x, nl, y, span, gravity, drag, ball) < 0) {
         goto done;
       }
