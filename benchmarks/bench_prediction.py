@@ -337,14 +337,17 @@ def _fault_pitches(rate: float, noise_m: float, seeds: int) -> Iterator[Tuple[An
                        np.flatnonzero(samples.bat_stamps_ns < approach))
 
 
+CELL_COUNTS = ('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false', 'longer',
+               'chunk_differs', 'deleted_too')
+"""What a fault table's cell counts (``_tally`` and ``_tally_faulted``)."""
+
+
 def fault_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
                chunks: bool) -> Dict[str, Dict[str, int]]:
     """Return one rate, noise and configuration's counts per fault kind (turn, stamp)."""
     faults = {'turn': [('turn', 0.1), ('turn', 0.2)],
               'stamp': [('stamp', s) for s in (-0.004, -0.002, 0.002, 0.004)]}
-    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
-                                   'longer', 'chunk_differs', 'deleted_too'), 0)
-              for name in faults}
+    counts = {name: dict.fromkeys(CELL_COUNTS, 0) for name in faults}
     for samples, truth, hit, approach, before in _fault_pitches(rate, noise_m, seeds):
         clean, _ = predictions_of(config, samples)
         clean_ok = hit and scored(clean, approach, truth['point'])
@@ -416,9 +419,8 @@ def ball_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     ``BALL_GLITCH_M`` (``Samples.with_ball_frame_moved``); the counts as ``fault_cell``'s,
     against the clean pitch and the one without that sample (deleted).
     """
-    counts = {f'{before * 1e3:g} ms before': dict.fromkeys(
-        ('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false', 'longer', 'chunk_differs',
-         'deleted_too'), 0) for before in BALL_GLITCH_BEFORE_S}
+    counts = {f'{before * 1e3:g} ms before': dict.fromkeys(CELL_COUNTS, 0)
+              for before in BALL_GLITCH_BEFORE_S}
     for samples, truth, hit, approach, _ in _fault_pitches(rate, noise_m, seeds):
         clean, _ = predictions_of(config, samples)
         clean_ok = hit and scored(clean, approach, truth['point'])
@@ -445,9 +447,7 @@ def lost_cell(rate: float, noise_m: float, config: DetectorConfig, seeds: int,
     """
     placements = [(f'segment {n}', None, n) for n in LOST_SEGMENT] + [
         (f'lost {k}', k, None) for k in LOST_BESIDE]
-    counts = {name: dict.fromkeys(('hits', 'lost', 'gained', 'clean_hits', 'misses', 'false',
-                                   'longer', 'chunk_differs', 'deleted_too'), 0)
-              for name, _, _ in placements}
+    counts = {name: dict.fromkeys(CELL_COUNTS, 0) for name, _, _ in placements}
     for samples, truth, hit, approach, before in _fault_pitches(rate, noise_m, seeds):
         for back in FAULT_FRAMES:
             for name, lost, segment in placements:
