@@ -17,7 +17,8 @@ Two bat sources: ``extrapolated`` (the tracked bat's current state, as for a hum
 
 Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat pose) over a
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
-with ``prediction_period`` 5 and 10 ms, and at 10 ms without the ball's lift), in one process;
+with ``prediction_period`` 5 and 10 ms, and at 10 ms without the ball's lift and with the
+arm's plan: a planned prediction's error bars), in one process;
 ``--cost-only`` prints only that. ``--spin``: spinning pitches; ``--no-lift``: the predictions
 with ``lift_window`` 0 (gravity and drag alone). ``--arm-glitch`` prints only what one ball
 glitch costs an arm's predictions (``arm_glitches``); ``--faults --ball-only`` only a ball
@@ -110,6 +111,14 @@ LOST_SEGMENT = (1, 2, 3, 4)
 LOST_BESIDE = (-2, -1, 1)
 """The bat frame lost this many frames from the glitch (``lost_cell``: ``--lost``)."""
 
+SMOOTH_PLANS = ('plane', 'tilted', 'jerky', 'lefty')
+"""The swing families whose plan (``plan_of``, poses 5 ms apart) moves smoothly through the
+contact (``--calibration``'s first table)."""
+
+BRAKING_PLANS = ('braking', 'rebound')
+"""The swing families whose plan brakes 1-3 ms after the contact, within one of its steps
+(``--calibration``'s second table: an arm's plan follows through)."""
+
 LOST_TURNS_M = (0.1, 0.2)
 """m: how far the glitch beside lost frames turns the tip toward the ball (``lost_cell``)."""
 
@@ -174,18 +183,22 @@ def cost(seed: int, repeats: int = 3) -> None:
     inflates less than wall time, since time the thread waits for a core is not counted).
     """
     scenario = make_scenario('barrel', np.random.default_rng(seed), lead_s=0.45, trail_s=0.2)
-    messages = sample(scenario, 1000.0, np.random.default_rng(seed), jitter_s=1e-4).messages()
+    samples = sample(scenario, 1000.0, np.random.default_rng(seed), jitter_s=1e-4)
+    messages = samples.messages()
     print('\n| prediction | median us/msg | p99 us/msg | mean us/msg | CPU mean us/msg (best of '
           f'{repeats}) | CPU p99 us/msg | CPU max us/msg |')
     print('|---|---|---|---|---|---|---|')
     cpu_means = []
     lift = DEFAULTS['lift_window']
-    for horizon, period, window in ((0.0, 0.0, lift), (0.3, 0.0, lift), (0.3, 0.005, lift),
-                                    (0.3, 0.01, lift), (0.3, 0.01, 0.0)):
+    for horizon, period, window, planned in (
+            (0.0, 0.0, lift, False), (0.3, 0.0, lift, False), (0.3, 0.005, lift, False),
+            (0.3, 0.01, lift, False), (0.3, 0.01, 0.0, False), (0.3, 0.01, lift, True)):
         best = None
         for _ in range(repeats):
             detector = Detector(DetectorConfig(prediction_horizon=horizon,
                                                prediction_period=period, lift_window=window))
+            if planned:
+                detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
             spent, spent_cpu = [], []
             cpu = time.process_time()
             for stamp, role, values in messages:
@@ -200,13 +213,15 @@ def cost(seed: int, repeats: int = 3) -> None:
         cpu_means.append(cpu * 1e6)
         name = 'off' if horizon == 0.0 else f'{horizon:g} s horizon' + (
             f', every {period * 1e3:g} ms' if period else ', every frame') + (
-            '' if window else ', no lift (lift_window 0)')
+            '' if window else ', no lift (lift_window 0)') + (
+            ", the arm's plan (error bars)" if planned else '')
         print(f'| {name} | {np.median(us):.1f} | {np.percentile(us, 99):.1f} | {us.mean():.1f} '
               f'| {cpu * 1e6:.1f} | {np.percentile(us_cpu, 99):.1f} | {us_cpu.max():.1f} |')
     print(f'\nCPU time: prediction adds {cpu_means[1] - cpu_means[0]:.1f} us per message '
           f'(every frame), {cpu_means[2] - cpu_means[0]:.1f} (every 5 ms), '
           f'{cpu_means[3] - cpu_means[0]:.1f} (every 10 ms); goal <= 30 us; the lift '
-          f'{cpu_means[3] - cpu_means[4]:.1f} of it (every 10 ms)')
+          f'{cpu_means[3] - cpu_means[4]:.1f} of it (every 10 ms); with the plan '
+          f'{cpu_means[5] - cpu_means[0]:.1f} (every 10 ms)')
 
 
 def changes(seed: int = 5, per_family: int = 6, rate_hz: float = 360.0,
@@ -683,6 +698,67 @@ ARM_GLITCH_M = ((0.0, 0.0, 0.1), (0.0, 0.0, -0.03))
 up 10 cm (two glitches side by side)."""
 
 
+def calibration(per_family: int, seed: int, period: float, spin: bool,
+                families: Tuple[str, ...]) -> None:
+    """
+    Print how often a planned prediction's error is within its 1 and 2 sigma, by noise and lead.
+
+    ``per_family`` pitches of each swing family of ``families`` (barrel, end cap and handle hits
+    in turn), the
+    arm's plan at 200 Hz (``plan_of``), sampled at 90 and 360 Hz with 0.2 ms of jitter and 0,
+    0.5, 1 and 2 mm of noise, the node's defaults but ``prediction_period`` ``period``
+    (``tracker_noise`` auto: the ball's own estimate). Every prediction made from 0.4 s before
+    the contact on is scored: its instant's and its spot's (distance from the tip) error over
+    their sigmas (``time_uncertainty_s``, ``distance_from_tip_uncertainty_m``), pooled in lead
+    bands; a calibrated sigma has 68 % within 1 and 95 % within 2. Beside them the sigmas'
+    median and the errors' rms (of the band).
+    """
+    bands = ((0.0, 0.05), (0.05, 0.15), (0.15, 0.3))
+    rng = np.random.default_rng(seed)
+    scenarios = [make_scenario(('barrel', 'end_cap', 'handle')[i % 3], rng, lead_s=0.4,
+                               family=family, spin=spin)
+                 for family in families for i in range(per_family)]
+    print(f'\n{len(scenarios)} planned contacts ({per_family} a family: '
+          f"{', '.join(families)}), every {period * 1e3:g} ms"
+          f"{', spinning pitches' if spin else ''}\n")
+    print('| rate Hz | noise mm | lead ms | predictions | time within 1 / 2 sigma | sigma p50 '
+          'us | error rms us | spot within 1 / 2 sigma | sigma p50 mm | error rms mm |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
+    for rate in (90.0, 360.0):
+        for noise in (0.0, 0.0005, 0.001, 0.002):
+            rows: List[Tuple[float, float, float, float, float]] = []
+            for i, scenario in enumerate(scenarios):
+                samples = sample(scenario, rate, np.random.default_rng(1000 + i),
+                                 jitter_s=2e-4, noise_m=noise)
+                detector = Detector(DetectorConfig(prediction_horizon=0.3,
+                                                   prediction_period=period))
+                detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
+                truth = truth_dict(scenario, samples.start_ns)
+                for stamp, role, values in samples.messages('pose'):
+                    for event in detector.add(role, stamp, values):
+                        if isinstance(event, Prediction) and event.made_at_ns < \
+                                truth['stamp_ns'] and event.time_uncertainty_s is not None:
+                            rows.append((event.lead_s,
+                                         (event.stamp_ns - truth['stamp_ns']) * 1e-9,
+                                         event.time_uncertainty_s,
+                                         event.distance_from_tip_m - truth['distance_from_tip_m'],
+                                         event.distance_from_tip_uncertainty_m))
+            table = np.array(rows).reshape(-1, 5)
+            for low, high in bands:
+                band = table[(table[:, 0] >= low) & (table[:, 0] < high)]
+                if not len(band):
+                    continue
+                cells = []
+                for error, sigma, unit in ((band[:, 1], band[:, 2], 1e6),
+                                           (band[:, 3], band[:, 4], 1e3)):
+                    z = np.abs(error) / np.maximum(sigma, 1e-15)
+                    cells.append(f'{np.mean(z <= 1):.0%} / {np.mean(z <= 2):.0%} | '
+                                 f'{np.median(sigma) * unit:.1f} | '
+                                 f'{np.sqrt(np.mean(error ** 2)) * unit:.1f}')
+                print(f'| {rate:g} | {noise * 1e3:g} | {low * 1e3:g}-{high * 1e3:g} | '
+                      f'{len(band)} | ' + ' | '.join(cells) + ' |')
+
+
 def arm_glitches(per_kind: int, seed: int, period: float) -> None:
     """
     Print what one ball glitch costs an arm's predictions (the bat its commanded plan).
@@ -743,6 +819,8 @@ def main() -> None:
                         help='prediction_period of the accuracy table (s; 0: every frame)')
     parser.add_argument('--changes', action='store_true',
                         help='only how much consecutive predictions move (every 10 ms)')
+    parser.add_argument('--calibration', action='store_true',
+                        help="only how well a planned prediction's sigmas cover its errors")
     parser.add_argument('--arm-glitch', action='store_true',
                         help="only one ball glitch's cost to an arm's predictions (the plan)")
     parser.add_argument('--ball-only', action='store_true',
@@ -774,6 +852,10 @@ def main() -> None:
         return
     if args.cost_only:
         cost(args.seed)
+        return
+    if args.calibration:
+        for families in (SMOOTH_PLANS, BRAKING_PLANS):
+            calibration(args.per_kind, args.seed, args.period or 0.01, args.spin, families)
         return
     if args.arm_glitch:
         arm_glitches(args.per_kind, args.seed, args.period)

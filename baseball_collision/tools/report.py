@@ -58,14 +58,15 @@ CSV_COLUMNS = (
     'normal_x', 'normal_y', 'normal_z', 'ball_x', 'ball_y', 'ball_z', 'sweet_spot_speed_mps',
     'bat_speed_at_contact_mps', 'ball_speed_mps', 'attack_angle_deg', 'gap_m', 'gap_x',
     'gap_y', 'gap_z', 'time_uncertainty_s', 'distance_from_knob_uncertainty_m',
-    'sweet_spot_speed_uncertainty_mps', 'number', 'stamp_utc')
+    'sweet_spot_speed_uncertainty_mps', 'number', 'stamp_utc', 'distance_from_tip_uncertainty_m')
 """``--csv`` columns: one row per impact, near miss or prediction (empty cells where not
 applicable; ``schema/analyze.csv.json`` describes each). ``contact_*``: the contact point (an
 impact) or the predicted one (a prediction); ``ball_*``: the ball centre at the impact, at the
 closest approach (a near miss) or at the predicted contact; a prediction's ``stamp_ns`` is the
-predicted instant, ``made_at_ns`` when it was made; ``number`` the event's ``#`` in the table
-(:func:`event_numbers`); ``stamp_utc`` ``stamp_ns`` as a date and time (:func:`utc_text`).
-Columns are only ever added at the end."""
+predicted instant, ``made_at_ns`` when it was made, its ``time_uncertainty_s`` and
+``distance_from_tip_uncertainty_m`` its 1-sigma error bars (with a bat plan); ``number`` the
+event's ``#`` in the table (:func:`event_numbers`); ``stamp_utc`` ``stamp_ns`` as a date and
+time (:func:`utc_text`). Columns are only ever added at the end."""
 
 
 def _cm(metres: float) -> str:

@@ -4,7 +4,8 @@ Tests for baseball_collision.ros.bat_plan: the bat plans the node takes, refuses
 In-process, over real rclpy topics and services (``conftest``'s harness, discovery off).
 """
 
-from typing import Any, Callable, List, Sequence
+import json
+from typing import Any, Callable, Dict, List, Sequence
 
 from baseball_collision.core.prediction import MAX_PLAN_POSES
 from nav_msgs.msg import Path as PathMsg
@@ -21,7 +22,13 @@ pytestmark = pytest.mark.ros
 
 def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Harness],
                                                       truth_ns: int) -> None:
-    """A commanded swing on bat_plan_topic: predictions 40 ms ahead within 0.5 ms."""
+    """
+    A commanded swing on bat_plan_topic: predictions 40 ms ahead within 0.5 ms, with sigmas.
+
+    Each prediction's ``~/impact_report`` record is planned and carries its 1-sigma error bars
+    (``time_uncertainty_s``, ``distance_from_tip_uncertainty_m``: the scene's exact samples,
+    so micro- and millimetres).
+    """
     h = make_plan_harness(harness)
     plan = PathMsg()
     plan.header.frame_id = 'world'
@@ -35,6 +42,14 @@ def test_bat_plan_topic_makes_early_exact_predictions(harness: Callable[..., Har
     h.wait(lambda: h.received['predicted'], 3.0, 'a prediction')
     for message in h.received['predicted']:
         assert abs(stamp_ns(message) - truth_ns) < 500_000
+
+    def records() -> List[Dict[str, Any]]:
+        return [r for r in map(json.loads, (m.data for m in h.received['report']))
+                if r['event'] == 'prediction']
+    h.wait(records, 3.0, "a prediction's record")
+    for record in records():
+        assert record['planned'] and 0.0 < record['time_uncertainty_s'] < 1e-3
+        assert 0.0 < record['distance_from_tip_uncertainty_m'] < 0.01
 
 
 def test_a_plan_the_predictions_cannot_use_is_warned_about(

@@ -38,7 +38,8 @@ def _as_record(prediction: Prediction) -> List[Any]:
     return [prediction.stamp_ns, prediction.made_at_ns, prediction.lead_s,
             list(prediction.point), list(prediction.normal), prediction.bat_fraction,
             prediction.distance_from_tip_m, list(prediction.ball_position),
-            list(prediction.ball_velocity), prediction.planned]
+            list(prediction.ball_velocity), prediction.planned, prediction.time_uncertainty_s,
+            prediction.distance_from_tip_uncertainty_m]
 
 
 def predictions(per_kind: int, seed: int = 11, noise_m: float = 0.001) -> Dict[str, List]:

@@ -186,6 +186,10 @@ class Prediction:
     :ivar bat_fraction: where along knob-tip; ``distance_from_tip_m``: metres from the tip.
     :ivar ball_position, ball_velocity: the ball's predicted centre (m) and velocity (m/s).
     :ivar planned: the bat's path came from a commanded plan (else extrapolated).
+    :ivar time_uncertainty_s, distance_from_tip_uncertainty_m: 1 sigma of the instant (s) and
+        of where on the bat (m), with a plan (``prediction_spread``); None for an extrapolated
+        bat (its swing's change over the lead, which its samples do not bound), and the time's
+        None where neither forecast shifted by its sigma meets the bat.
     """
 
     stamp_ns: int
@@ -198,6 +202,8 @@ class Prediction:
     ball_position: Vector
     ball_velocity: Vector
     planned: bool
+    time_uncertainty_s: Optional[float] = None
+    distance_from_tip_uncertainty_m: Optional[float] = None
 
 
 @dataclass(frozen=True)

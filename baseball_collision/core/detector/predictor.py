@@ -22,7 +22,7 @@ withdraws one (docs/faults.md, "With prediction on").
 
 from dataclasses import replace
 import math
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import Any, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -31,9 +31,12 @@ from .bat_window import PREDICTION_DEGREE, STEP_ROWS
 from .config import DetectorConfig
 from .departure import judging_noise, leaves_flight
 from .events import Prediction, PredictionCleared
+from .fitting import stream_noise
 from .gap_flight import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
+from .prediction_spread import (
+    ball_spread, flight_corrected, flight_miss, planned_uncertainty)
 from .streams import Stream
 from ..geometry import lerp, scale, Vector
 from ..prediction import (
@@ -44,6 +47,11 @@ from ...errors import CoreError
 
 PREDICTION_CHORD_FACTOR = 4.0
 """A prediction's sub-steps may leave the forecast paths by this many ``max_chord_error``."""
+
+REFINED_CHORD = 0.1
+"""The contact a prediction found is searched again near its instant with chords this many
+``max_chord_error`` (``prediction_spread.flight_corrected``): the search's own chords place it
+up to 2 mm off (30-40 us at a tip end), these 0.05 mm (1-2 us)."""
 
 
 def kept_flight_span(window: float) -> float:
@@ -88,7 +96,7 @@ class Predictor(BatJudgment):
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
-                 '_ball_window', '_bat_window', '_instant')
+                 '_ball_window', '_lift_first', '_bat_window', '_instant')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -102,6 +110,7 @@ class Predictor(BatJudgment):
         self.predicting = False
         self.last_ns: Optional[int] = None  # the stamp of the last frame that predicted
         self._ball_window = (0, 0)  # the last ball forecast's samples [first, end)
+        self._lift_first = 0  # and the first of its lift's
         self._bat_window = (0, 0)  # the last extrapolated bat's frames [first, end); (0, 0): plan
         self._instant = 0.0  # the instant (s) of the prediction in force
 
@@ -171,14 +180,41 @@ class Predictor(BatJudgment):
                 self.predicting = False
                 events.append(PredictionCleared(made_at_ns=now_ns))
             return
+        config = self._config
+        search = (config.prediction_horizon, config.ball_radius, config.profile,
+                  REFINED_CHORD * config.max_chord_error)
+        times = self.ball.times
+        lift_span = t0 - times[self._lift_first] if self._lift_first < len(times) else 0.0
+        miss, doubt = flight_miss(ball, self._gravity, config.ball_drag, found[0] - t0,
+                                  lift_span)
+        found, ball = flight_corrected(ball, bat_args, t0, found, miss, search)
         t, hit = found
         ball_position, ball_velocity, knob, tip = states_of(ball, bat_args, t)
         self.predicting, self._instant = True, t
-        events.append(frozen(  # the frozen __init__ would set its ten fields one by one
+        time_sigma, spot_sigma = self._uncertainty(ball, bat_args, t0, found, doubt, search) \
+            if planned else (None, None)
+        events.append(frozen(  # the frozen __init__ would set its fields one by one
             Prediction, stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
-            ball_position=ball_position, ball_velocity=ball_velocity, planned=planned))
+            ball_position=ball_position, ball_velocity=ball_velocity, planned=planned,
+            time_uncertainty_s=time_sigma, distance_from_tip_uncertainty_m=spot_sigma))
+
+    def _uncertainty(self, ball: Tuple[float, ...], plan: Tuple[Any, ...], t0: float,
+                     found: Tuple[float, Any], doubt: Any, search: Tuple[Any, ...]
+                     ) -> Tuple[Optional[float], float]:
+        """
+        Return a planned prediction's 1-sigma time (s) and distance from the tip (m).
+
+        ``prediction_spread.planned_uncertainty`` of the ball's forecast window and noise (the
+        ball's, told or estimated) and the plan in force, from t0 to the contact ``found``.
+        """
+        first, end = self._ball_window
+        gain, lifted = ball_spread(self.ball.times, first, end, self._lift_first, t0,
+                                   found[0] - t0)
+        return planned_uncertainty(ball, plan, self.plan_on_clock.times, t0, found,
+                                   gain * stream_noise(self.ball, self._config), lifted, doubt,
+                                   search)
 
     def _search(self, t0: float) -> Optional[Tuple[Found, Optional[Tuple[float, ...]],
                                                    Optional[Tuple[float, ...]], bool]]:
@@ -294,6 +330,7 @@ class Predictor(BatJudgment):
         self._bat_window = (0, 0)
         lift_first = ball.history(t0, config.lift_window, LIFT_MOST_SAMPLES)[0] \
             if config.lift_window > 0.0 else end
+        self._lift_first = lift_first
         forecast = ball_numbers(ball.times, ball.values, first, end, t0, self._gravity,
                                 config.ball_drag, lift_first)
         if forecast is None:

@@ -1,0 +1,282 @@
+"""
+A planned prediction's 1-sigma uncertainties: its instant and where on the bat it comes.
+
+Python and numpy (no ROS). Times in s, positions in m. With a commanded bat plan the bat's path
+is what the arm will do, so a prediction is as good as the ball's forecast at the predicted
+instant and the plan's interpolation there. Three sources, each a spread of the ball's centre
+relative to the bat at that instant (m):
+
+* **The tracker's noise** (``tracker_noise``, told or the ball's estimate under auto). The
+  forecast's position at t0 + lead is linear in the window's samples: the parabola's value and
+  rate at t0 carried on at rate, plus half the lead squared times the lift's acceleration (the
+  parabola over the ``lift_window``). Its spread per coordinate is the noise times the norm of
+  those weights (``ball_spread``): 1 mm of noise at 90 Hz spreads it by about 1 mm at 20 ms
+  ahead and 4 mm at 200 ms (the velocity's error carried on, and the lift's).
+* **What the forecast leaves out.** It holds the drag at its size at t0; the drag changes with
+  the speed by ``j = -k (|v| a + v (v . a) / |v|)`` (k the ``ball_drag``), so the forecast
+  misses the flight by ``j lead^3 / 6`` (4-5 mm at 200 ms for a 40 m/s pitch: 0.1 ms). Where
+  the flight is too short for its lift (fewer than the kernel's ``LIFT_MIN_SAMPLES`` or
+  ``LIFT_MIN_SPAN``, or ``lift_window`` 0) the lift left out is a pitch's spin's:
+  ``LIFT_PRIOR`` across the flight, carried on as half the lead squared.
+* **The plan's interpolation**: between its poses the bat moves by LERP and SLERP; the contact
+  point's planned position at the instant against the quadratic through the three poses
+  nearest it (``plan_sag``): what a smoother path through the same poses would put there.
+
+Along the contact's normal the spread moves the instant: the ball's forecast is moved by it,
+toward the bat and away, and searched again (``contact_of``), so a graze the shift takes away
+or a contact whose normal speed is small counts by what the search finds, not a slope; the
+half difference of the two instants is the instant's sigma (the one found, one-sided), that of
+the two distances from the tip part of where on the bat. Across the normal, the spread along
+the bat's axis moves the spot itself. An extrapolated bat is not given one: its error over the
+lead is the swing's own change (an accelerating hand, a tilting plane), which nothing in its
+samples bounds (BENCHMARKS.md, "Prediction error bars").
+"""
+
+from bisect import bisect_right
+import math
+from typing import Any, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ..geometry import advance, cross, dot, lerp, norm, scale, sub, Vector
+from ..prediction import contact_of, states_of
+from ..toi import _kernel
+
+LIFT_PRIOR = 3.0
+"""m/s^2, 1 sigma a coordinate across the flight: the lift a pitch's spin may give that its
+flight is too short to show. Pitches spin at 1,500-3,000 rpm and the Magnus force is then 1-7
+m/s^2 across the flight in any direction around it (4.4 m/s^2 rms over a uniform spread of its
+size: 3.1 a coordinate of the two)."""
+
+
+def ball_spread(times: Sequence[float], first: int, end: int, lift_first: int, t0: float,
+                lead: float) -> Tuple[float, bool]:
+    """
+    Return the forecast's spread at t0 + lead per metre of noise, and whether it has its lift.
+
+    The forecast (``prediction.ball_numbers``): the parabola of samples [first, end) at t0,
+    its value and rate carried on ``lead`` s, and the lift of the parabola of samples
+    [lift_first, end) (when the kernel takes one: at least ``LIFT_MIN_SAMPLES`` samples over
+    ``LIFT_MIN_SPAN`` s) times lead^2 / 2. That position is a weighted sum of the samples; for
+    noise of 1 sigma per coordinate, independent from sample to sample, its sigma per
+    coordinate is the norm of the weights (both fits' weights on the samples they share added
+    first: ``_quadratic_form``). The lift's gain and the drag's dependence on the velocity are
+    left out (the gain is at most 1; the drag moves the lead's 0.2 s by under 3 %).
+
+    :param times: the ball stream's times (s), before t0; the windows within them, ``end -
+        first >= 3``; ``lift_first == end``: no lift.
+    :returns: (spread, dimensionless: m per m of noise; whether the lift was fitted).
+    """
+    start = min(first, lift_first)
+    span = max(t0 - times[start], 1e-9)  # (one scale for both fits: well conditioned)
+    x = (np.asarray(times[end - 1:start - 1 if start else None:-1], dtype=float) - t0) / span
+    x2 = x * x  # (newest first: the power sums of every window ending at ``end``, cumulated)
+    sums = np.stack((np.ones_like(x), x, x2, x2 * x, x2 * x2), axis=1).cumsum(axis=0)
+    forecast = (1.0, lead / span, 0.0)  # (the parabola's c0, c1, c2 in the scaled time)
+    square = _quadratic_form(sums[end - 1 - first], forecast, forecast)  # (a well-posed
+    # forecast: the kernel fitted it, at least 3 samples at distinct times)
+    lifted = bool(end - lift_first >= _kernel.LIFT_MIN_SAMPLES and (
+        times[end - 1] - times[lift_first] >= _kernel.LIFT_MIN_SPAN))
+    if lifted:  # (the parabola's acceleration is twice its square term)
+        lift = (0.0, 0.0, (lead / span) ** 2)
+        square += _quadratic_form(sums[end - 1 - lift_first], lift, lift) + 2.0 * (
+            _quadratic_form(sums[-1], forecast, lift))  # (the larger fit's: the cross term)
+    return math.sqrt(max(square, 0.0)), lifted
+
+
+def _quadratic_form(sums: np.ndarray, row: Tuple[float, ...], column: Tuple[float, ...]) -> float:
+    """
+    Return ``row . G^-1 column``, G a parabola fit's normal matrix from its power sums.
+
+    ``sums``: the sums of the scaled times' powers 0-4 over the fit's samples. With the
+    weights on the samples ``X G^-1 r`` (X the fit's design), two weight vectors' dot product
+    is ``r . G^-1 X^T X' G'^-1 r'``; where one fit's samples are among the other's (the
+    forecast's among its lift's, on one time scale) ``X^T X'`` is the smaller fit's G, so the
+    cross term is ``r . G'^-1 r'`` of the larger fit: the weights are never made.
+    """
+    s0, s1, s2, s3, s4 = sums.tolist()
+    # G = [[s0, s1, s2], [s1, s2, s3], [s2, s3, s4]]: symmetric, so its adjugate is too
+    a00, a01, a02 = s2 * s4 - s3 * s3, s2 * s3 - s1 * s4, s1 * s3 - s2 * s2
+    a11, a12, a22 = s0 * s4 - s2 * s2, s1 * s2 - s0 * s3, s0 * s2 - s1 * s1
+    adjugate = ((a00, a01, a02), (a01, a11, a12), (a02, a12, a22))
+    determinant = s0 * a00 + s1 * a01 + s2 * a02
+    return sum(r * sum(a * c for a, c in zip(line, column))
+               for r, line in zip(row, adjugate)) / determinant
+
+
+LIFT_SPEED_POWER = 1.5
+"""A pitch's lift goes as its speed to this power (``flight_miss``): the Magnus force is
+``0.5 rho A C_L v^2`` and C_L grows as the spin factor ``S = r omega / v`` does, as
+``S^0.3-0.6`` over a pitch's S of 0.1-0.4 (Nathan's ``S / (2.32 S + 0.4)``; other fits lie
+within), so the lift as ``v^1.4-1.7``; 1 to 2 bound every fit, carried as ``LIFT_POWER_SIGMA``."""
+
+LIFT_POWER_SIGMA = 0.5
+"""1 sigma of ``LIFT_SPEED_POWER``."""
+
+
+def flight_miss(ball: Sequence[float], gravity: Vector, drag: float, lead: float,
+                lift_span: float) -> Tuple[Vector, Vector]:
+    """
+    Return how far (m vectors) the forecast misses the flight ``lead`` s on, and its doubt.
+
+    The forecast (``ball``: the kernel's 10 numbers) holds its acceleration: gravity, the drag
+    at t0's speed and the lift of its flight's last ``lift_span`` s (at that window's middle).
+    As the ball slows, the drag deceleration changes at ``j = -k (|v| a + v (v . a) / |v|)``
+    (k ``drag`` in 1/m), so the flight leaves the forecast by ``j lead^3 / 6``: 4-5 mm at 200
+    ms for a 40 m/s pitch (0.1 ms). The lift, ``w x v`` times ``|v|^(p - 1)`` for a spin
+    axis w across the flight that holds (``w = v x lift / |v|^2``; p ``LIFT_SPEED_POWER``),
+    changes at ``p (v . a) / |v|^2`` of itself as the ball slows, and at ``w x a_across`` as
+    its flight turns (a_across: the acceleration across v), from the window's middle on,
+    ``lift_span / 2`` before t0: by ``rate (lead^3 / 6 + lift_span lead^2 / 4)``, 1-2 cm at
+    250 ms for 5 m/s^2 of lift.
+
+    :returns: (the miss, both changes; the lift's change over ``LIFT_SPEED_POWER`` times
+        ``LIFT_POWER_SIGMA``: 1 sigma of the miss, along it).
+    """
+    velocity, acceleration = ball[4:7], ball[7:10]
+    speed = math.sqrt(dot(velocity, velocity))
+    if speed == 0.0:
+        return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    slowing = dot(velocity, acceleration) / speed  # m/s^2: the speed's rate
+    held_drag = drag * lead ** 3 / 6.0  # (the jerk's -k factor, times lead^3 / 6)
+    held = lead ** 3 / 6.0 + lift_span * lead * lead / 4.0
+    lift = [a - g + drag * speed * v for a, g, v in zip(acceleration, gravity, velocity)]
+    spin = scale(cross(velocity, lift), 1.0 / (speed * speed))  # (w x v = lift, w across v)
+    across = [a - v * slowing / speed for a, v in zip(acceleration, velocity)]
+    growth = LIFT_SPEED_POWER * slowing / speed * held
+    lift_change = [growth * f + held * r for f, r in zip(lift, cross(spin, across))]
+    miss = tuple(-held_drag * (speed * a + v * slowing) + c
+                 for a, v, c in zip(acceleration, velocity, lift_change))
+    return miss, scale(lift_change, LIFT_POWER_SIGMA / LIFT_SPEED_POWER)
+
+
+def plan_sag(ball: Sequence[float], plan: tuple, times: Sequence[float], t: float,
+             bat_fraction: float) -> List[Vector]:
+    """
+    Return the contact point's planned place at t less quadratics through its poses (m, 3).
+
+    The point ``bat_fraction`` of the way from knob to tip, at t on the plan (LERP and SLERP
+    between its poses), less the quadratic through the plan's poses i - 1, i, i + 1 and the one
+    through i, i + 1, i + 2, t within [times[i], times[i + 1]] (``times``, s: the plan's):
+    where the plan's motion changes within a step (a bat braking) the two part, so the third
+    vector is the one less the other. A quadratic a plan has not the poses for (at its ends) is
+    the other; none for a plan of fewer than three poses.
+    """
+    count = len(times)
+    if count < 3:
+        return []
+    i = min(max(bisect_right(times, t) - 1, 0), count - 2)  # t in [times[i], times[i + 1]]
+    here = _point(ball, plan, t, bat_fraction)
+    places = {k: _point(ball, plan, times[k], bat_fraction)
+              for k in range(max(i - 1, 0), min(i + 3, count))}
+    sags = []
+    for start in (min(max(i - 1, 0), count - 3), min(i, count - 3)):
+        at = times[start:start + 3]
+        weights = [math.prod((t - at[m]) / (at[k] - at[m]) for m in range(3) if m != k)
+                   for k in range(3)]
+        sags.append(tuple(h - sum(w * places[start + k][c] for k, w in enumerate(weights))
+                          for c, h in enumerate(here)))
+    sags.append(sub(sags[1], sags[0]))
+    return sags
+
+
+def _point(ball: Sequence[float], plan: tuple, t: float, bat_fraction: float) -> Vector:
+    """Return the axis point ``bat_fraction`` of the way from knob to tip at t on the plan."""
+    _, _, knob, tip = states_of(ball, plan, t)
+    return lerp(knob, tip, bat_fraction)
+
+
+NEAR = 0.005
+"""s: a search again for a contact moved by millimetres (``flight_corrected``) covers this on
+either side of the contact found (within the horizon): they move it by under 1 ms."""
+
+SLOW_CLOSING = 10.0
+"""m/s: the sigma's forecasts, the ball moved by its spread along the normal, are searched
+within ``NEAR`` and the time a ball closing on the bat this slowly takes over that spread."""
+
+
+def search_near(ball: Tuple[float, ...], bat: tuple, t0: float, t: float, search: tuple,
+                near: float = NEAR) -> Optional[Tuple[float, Any]]:
+    """
+    Return the first contact of the forecasts within ``near`` s of t (s), or None.
+
+    ``search``: (horizon s from t0, ball radius m, bat profile, chord tolerance m): the
+    prediction's horizon, with a finer tolerance than its own search's (``contact_of``).
+    """
+    horizon, *rest = search
+    start = max(t0, t - near)
+    end = min(t0 + horizon, t + near)
+    return contact_of(ball, bat, start, end - start, *rest) if end > start else None
+
+
+def flight_corrected(ball: Tuple[float, ...], bat: tuple, t0: float, found: Tuple[float, Any],
+                     miss: Vector, search: tuple
+                     ) -> Tuple[Tuple[float, Any], Tuple[float, ...]]:
+    """
+    Return the contact ``found`` (t, hit) searched again with the flight's changes, that ball.
+
+    The ball's forecast (the kernel's 10 numbers) moved by ``miss`` (``flight_miss`` at the
+    contact's lead: the whole path by the same vector, which at the contact instant is the
+    flight as the drag's and the lift's changes have it, to first order) and searched again
+    near t (``search_near``; ``search``: horizon s, ball radius m, bat profile, chord tolerance
+    m). Where the moved forecast meets nothing there (a graze the millimetres take away),
+    ``found`` and ``ball`` unchanged.
+    """
+    moved = (ball[0], *(p + m for p, m in zip(ball[1:4], miss)), *ball[4:])
+    again = search_near(moved, bat, t0, found[0], search)
+    return (found, ball) if again is None else (again, moved)
+
+
+def planned_uncertainty(ball: Tuple[float, ...], plan: tuple, plan_times: Sequence[float],
+                        t0: float, found: Tuple[float, Any], spread: float, lifted: bool,
+                        doubt: Vector, search: tuple) -> Tuple[Optional[float], float]:
+    """
+    Return a planned prediction's 1-sigma time (s) and distance from the tip (m) uncertainty.
+
+    The module's docstring. ``ball``: the forecast (the kernel's 10 numbers, as
+    ``flight_corrected`` moved it) that found the contact ``found`` (t, hit) on the plan;
+    ``spread``: the noise's spread of the ball's centre at t, m a coordinate (``ball_spread``
+    times the noise); ``lifted``: whether the forecast has its lift (else ``LIFT_PRIOR``'s);
+    ``doubt``: 1 sigma of the flight's correction (``flight_miss``'s second vector, m);
+    ``search``: (horizon s, ball radius m, bat profile, chord tolerance m) of the prediction's
+    own search (``contact_of``).
+
+    :returns: (time sigma, or None where neither shifted forecast meets the bat; distance
+        sigma).
+    """
+    t, hit = found
+    lead = t - t0
+    n = hit.normal
+    _, velocity, knob, tip = states_of(ball, plan, t)
+    length = math.dist(knob, tip)
+    axis = scale(sub(tip, knob), 1.0 / length) if length > 0.0 else (0.0, 0.0, 0.0)
+    flight = scale(velocity, 1.0 / max(norm(velocity), 1e-12))
+    sags = plan_sag(ball, plan, plan_times, t, hit.bat_fraction)
+    prior = 0.0 if lifted else 0.5 * LIFT_PRIOR * lead * lead
+
+    def variance(direction: Vector) -> float:
+        """Return the relative place's variance along a unit direction (m^2)."""
+        sag = max((dot(v, direction) ** 2 for v in sags), default=0.0)
+        return spread * spread + sag + prior * prior * (1.0 - dot(direction, flight) ** 2) + (
+            dot(doubt, direction) ** 2)
+
+    along = math.sqrt(variance(n))
+    near = NEAR + along / SLOW_CLOSING
+    shifted = []
+    for sign in (-1.0, 1.0):
+        moved = (ball[0], *advance(ball[1:4], n, sign * along), *ball[4:])
+        again = search_near(moved, plan, t0, t, search, near)
+        if again is not None:
+            when, moved_hit = again
+            _, _, knob_at, tip_at = states_of(moved, plan, when)
+            shifted.append((when, (1.0 - moved_hit.bat_fraction) * math.dist(knob_at, tip_at)))
+    spot_variance = variance(axis) * (1.0 - dot(axis, n) ** 2)
+    if not shifted:
+        return None, math.sqrt(spot_variance)
+    if len(shifted) == 1:  # (one-sided: the other shift loses the contact)
+        shifted.append((t, (1.0 - hit.bat_fraction) * length))
+        half = 1.0
+    else:
+        half = 0.5
+    (t_a, d_a), (t_b, d_b) = shifted
+    return half * abs(t_b - t_a), math.sqrt((half * (d_b - d_a)) ** 2 + spot_variance)
