@@ -9,8 +9,10 @@ positions metres. The detector builds the two forecasts from its latest samples 
   plus the drag deceleration at the current speed, plus the lift of its spin). Over the 0-300
   ms of a prediction the drag changes little (a 40 m/s pitch loses ~4% of its speed in 300 ms);
   the position error of holding it constant is (1/6) d(drag)/dt tau^3, under 1 cm at 300 ms and
-  0.1 mm at 50 ms. A pitch spins (1,500-3,000 rpm), and the Magnus force lifts, drops or breaks
-  it by 1-7 m/s^2 across its flight: 12 cm over 200 ms left out. So the forecast adds the
+  0.1 mm at 50 ms (the detector's predictor moves the forecast by it, and by the lift's change,
+  at the contact it found and searches again: ``detector.prediction_spread.flight_miss``). A
+  pitch spins (1,500-3,000 rpm), and the Magnus force lifts, drops or breaks it by 1-7 m/s^2
+  across its flight: 12 cm over 200 ms left out. So the forecast adds the
   ball's lift, what its flight over the last ``lift_window`` (a detector parameter: 0.25 s, a
   pitch's spin changes little over it) accelerates by beyond gravity and drag (the kernel's
   ``add_lift``: a parabola's acceleration over at least 0.05 s and 6 samples of the flight,

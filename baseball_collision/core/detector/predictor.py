@@ -6,7 +6,10 @@ After every processed frame (when ``prediction_horizon`` > 0 and the detector is
 ball's latest samples give a ballistic forecast, and the bat's either its commanded plan (a
 robot arm's, when it covers the instant) or a rigid-body extrapolation of its latest motion;
 ``prediction.contact_of`` (``first_contact`` on the kernel's numbers) searches them for the
-first contact within the horizon.
+first contact within the horizon. The contact found is searched again near its instant, the
+ball moved by what its held acceleration misses over the lead and with finer chords
+(``prediction_spread.flight_corrected``); with a plan the prediction carries its 1-sigma error
+bars (``prediction_spread.planned_uncertainty``).
 
 The forecasts do not start from a newest sample off its stream's motion that the sweep has not
 judged yet. A ball sample off the free flight of the samples before it
