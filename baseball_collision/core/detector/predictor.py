@@ -186,8 +186,8 @@ class Predictor(BatJudgment):
         config = self._config
         search = (config.prediction_horizon, config.ball_radius, config.profile,
                   REFINED_CHORD * config.max_chord_error)
-        times = self.ball.times
-        lift_span = t0 - times[self._lift_first] if self._lift_first < len(times) else 0.0
+        lift_first, end = self._lift_first, self._ball_window[1]
+        lift_span = t0 - self.ball.times[lift_first] if lift_first < end else 0.0  # (0: none)
         miss, doubt = flight_miss(ball, self._gravity, config.ball_drag, found[0] - t0,
                                   lift_span)
         found, ball = flight_corrected(ball, bat_args, t0, found, miss, search)
