@@ -3,8 +3,9 @@ Bag files through rosbags: the only place rosbags is imported.
 
 One module per concern, like rosbags' own layout: :mod:`.selection` (which topic plays which
 role), :mod:`.decode` (tracker messages at fixed offsets), :mod:`.reader` (samples from a bag),
-:mod:`.raw` (any bag's messages as CDR bytes, for a replay), :mod:`.writer` (bags out, staged
-all-or-nothing), :mod:`.messages` (the node's views as typestore messages, QoS profiles);
+:mod:`.raw` (any bag's messages as CDR bytes, for a replay), :mod:`.plans` (an arm's bat plans
+recorded on their topic), :mod:`.writer` (bags out, staged all-or-nothing), :mod:`.messages`
+(the node's views as typestore messages, QoS profiles);
 :mod:`.common` holds the typestores and opening a bag, :mod:`.names` the message type names
 and topic roles (no rosbags). Import the names below from here: each is loaded when first
 used (PEP 562), so ``from baseball_collision.bags import TOPIC_FLAGS`` works
@@ -15,11 +16,12 @@ import importlib
 from typing import Any
 
 _WHERE = {
-    'names': ('POINT_STAMPED', 'POSE_STAMPED', 'TWIST_STAMPED', 'VECTOR3_STAMPED', 'ROLES',
-              'TOPIC_FLAGS', 'ROLE_TYPES'),
+    'names': ('PATH', 'POINT_STAMPED', 'POSE_STAMPED', 'TWIST_STAMPED', 'VECTOR3_STAMPED',
+              'ROLES', 'TOPIC_FLAGS', 'ROLE_TYPES'),
+    'plans': ('plan_arrays', 'PlanMessage', 'read_plans'),
     'decode': ('Sample', 'SampleChunk'),
-    'messages': ('DIAGNOSTIC_ARRAY', 'health_message', 'MARKER_ARRAY', 'qos_profile',
-                 'scene_message', 'STRING', 'text_message'),
+    'messages': ('DIAGNOSTIC_ARRAY', 'health_message', 'MARKER_ARRAY', 'path_message',
+                 'qos_profile', 'scene_message', 'STRING', 'text_message'),
     'raw': ('RawBag', 'RawMessage', 'RawTopic'),
     'reader': ('BagReader', 'count_messages', 'read_samples'),
     'selection': ('select_topics', 'TopicSelection', 'TopicSource'),

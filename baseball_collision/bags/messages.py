@@ -10,7 +10,7 @@ publishes on ``~/markers``, ``/diagnostics`` and ``~/impact_report``. :func:`qos
 QoS profile as a bag records it (what a publisher offered).
 """
 
-from typing import Any, Dict
+from typing import Any, Dict, Sequence
 
 import numpy as np
 from rosbags.interfaces import (
@@ -18,6 +18,7 @@ from rosbags.interfaces import (
 from rosbags.typesys.store import Typestore
 
 from .common import jazzy_typestore
+from .names import PATH
 from ..core.health import HealthStatus, NS_PER_S
 from ..core.scene import Item, Scene, Shape
 
@@ -73,6 +74,28 @@ def _header(store: Typestore, stamp_ns: int, frame_id: str) -> Any:
     return default_message(store, 'std_msgs/msg/Header', frame_id=frame_id,
                            stamp=default_message(store, 'builtin_interfaces/msg/Time',
                                                  sec=sec, nanosec=nanosec))
+
+
+def path_message(stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
+                 quaternions: Sequence[Sequence[float]], frame_id: str,
+                 store: Typestore = None) -> Any:
+    """
+    Return a commanded bat trajectory as a ``nav_msgs/msg/Path`` of the typestore.
+
+    Its poses stamped ``stamps_ns`` (ns) at ``positions`` (m) and ``quaternions`` (x, y, z, w),
+    every header in ``frame_id``: what an arm sends on the node's ``bat_plan_topic``.
+    """
+    store = store or jazzy_typestore()
+    poses = [default_message(store, 'geometry_msgs/msg/PoseStamped',
+                             header=_header(store, stamp, frame_id),
+                             pose=default_message(
+                                 store, 'geometry_msgs/msg/Pose',
+                                 position=_vector(store, 'geometry_msgs/msg/Point', position),
+                                 orientation=_vector(store, 'geometry_msgs/msg/Quaternion',
+                                                     quaternion)))
+             for stamp, position, quaternion in zip(stamps_ns, positions, quaternions)]
+    return default_message(store, PATH, header=_header(
+        store, stamps_ns[0] if len(stamps_ns) else 0, frame_id), poses=poses)
 
 
 def _vector(store: Typestore, msgtype: str, values: Any) -> Any:

@@ -10,6 +10,7 @@ POINT_STAMPED = 'geometry_msgs/msg/PointStamped'
 POSE_STAMPED = 'geometry_msgs/msg/PoseStamped'
 TWIST_STAMPED = 'geometry_msgs/msg/TwistStamped'
 VECTOR3_STAMPED = 'geometry_msgs/msg/Vector3Stamped'
+PATH = 'nav_msgs/msg/Path'
 
 ROLES = ('ball', 'bat_pose', 'knob', 'tip')
 """Topic roles, in the order of ``TopicSelection``'s fields."""

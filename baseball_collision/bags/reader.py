@@ -24,6 +24,7 @@ from .decode import (
     chunk_rows, decode_chunk, decode_samples, decode_spans, Route, Sample, SampleChunk, Spans,
     values_from_message)
 from .mcap import mcap_spans
+from .plans import PlanMessage, read_plans
 from .selection import (
     check_selection, given_words, ROLES, select_topics, topic_types, TopicSelection)
 from ..errors import BagError
@@ -194,6 +195,17 @@ class BagReader(BagFile):
             raise BagError(f'read ahead by 0 or more batches, not {read_ahead}')
         reader = self._open_reader()
         return self._chunks(reader, size, read_ahead)
+
+    def plans(self, topic: str) -> Optional[List[PlanMessage]]:
+        """
+        Return the bat plans on ``topic`` in log-time order, or None: the bag has no such topic.
+
+        Read in a pass of their own (:func:`.plans.read_plans`), beside the samples.
+
+        :raises BagError: the bag is not open, the topic is not ``nav_msgs/msg/Path``, or a
+            plan cannot be read.
+        """
+        return read_plans(self._open_reader(), topic, str(self.path))
 
     def close(self) -> None:
         """Stop any chunks read ahead (waiting for their thread), then close the bag."""

@@ -20,10 +20,11 @@ from nav_msgs.msg import Path
 from rclpy.exceptions import InvalidTopicNameException
 
 from .endpoints import topic_error_line
-from .messages import format_stamp, plan_arrays
+from .messages import format_stamp
 from .outputs import VIEWS
+from ..bags.plans import plan_arrays
 from ..core.prediction import MAX_PLAN_POSES
-from ..errors import CoreError, RosError
+from ..errors import RosError
 
 
 class BatPlanInput:
@@ -50,11 +51,12 @@ class BatPlanInput:
         """
         Take a commanded bat trajectory (stamped poses) for the predictions; empty clears.
 
-        Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses, a frame other than the
-        tracking frame (the configured ``frame_id``, else the trackers'), a frame named before
-        any tracking frame is known (``frame_id`` '' and no sample yet: it cannot be checked),
-        or values the core refuses. A plan naming no frame is taken as in the tracking frame,
-        as samples are.
+        Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses (before a pose is
+        converted), else what ``Detector.take_bat_plan`` refuses (the rule ``analyze`` keeps
+        too): a frame other than the tracking frame (the configured ``frame_id``, else the
+        trackers'), a frame named before any tracking frame is known (``frame_id`` '' and no
+        sample yet: it cannot be checked), or values the core refuses. A plan naming no frame
+        is taken as in the tracking frame, as samples are.
         """
         if len(message.poses) > MAX_PLAN_POSES:  # refused before converting a single pose
             if self._log_throttle.allows('plan_size'):
@@ -64,19 +66,10 @@ class BatPlanInput:
             return
         stamps, positions, quaternions, frames = plan_arrays(message)
         with self._lock:
-            expected = self.detector.frame_id
-            if expected is None and frames and stamps:
-                reason = (f'frame {sorted(frames)} cannot be checked: no tracking frame is known '
-                          'yet (set frame_id, or send the plan once the trackers stream)')
-            elif expected is not None and frames - {expected}:
-                reason = f'frame {sorted(frames)} is not the tracking frame {expected!r}'
-            else:
-                try:
-                    self.detector.set_bat_plan(stamps, positions, quaternions)
-                    self._plan = (stamps[0], stamps[-1]) if stamps else None
-                    return
-                except CoreError as error:
-                    reason = str(error)
+            reason = self.detector.take_bat_plan(stamps, positions, quaternions, frames)
+            if reason is None:
+                self._plan = (stamps[0], stamps[-1]) if stamps else None
+                return
         if self._log_throttle.allows('plan'):
             self._lines.warning(f'ignored a bat plan on {self._plan_sub.topic_name}: {reason}')
 

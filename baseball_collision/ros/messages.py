@@ -11,11 +11,10 @@ published as (by output name: ``impact``, ``impact_velocity``, ``near_miss``,
 from dataclasses import dataclass
 import struct
 from typing import (
-    Any, Callable, Dict, List, Mapping, Optional, Sequence, Set, Tuple, Type, Union)
+    Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Type, Union)
 
 from builtin_interfaces.msg import Time as TimeMsg
 from geometry_msgs.msg import Point, PointStamped, TwistStamped, Vector3Stamped
-from nav_msgs.msg import Path
 from std_msgs.msg import Header, String
 from visualization_msgs.msg import MarkerArray
 
@@ -81,20 +80,6 @@ def point_stamped(stamp_ns: int, frame_id: str, v: Vector,
     header.frame_id = frame_id
     point.x, point.y, point.z = float(v[0]), float(v[1]), float(v[2])
     return message
-
-
-def plan_arrays(path: Path) -> Tuple[List[int], List[Vector], List[Quaternion], Set[str]]:
-    """
-    Return a commanded bat trajectory as the detector takes it.
-
-    :returns: the poses' stamps (ns), positions (m) and quaternions, and every non-empty frame
-        named by the path or its poses.
-    """
-    frames = {path.header.frame_id} | {pose.header.frame_id for pose in path.poses}
-    frames.discard('')
-    return ([stamp_to_ns(pose.header.stamp) for pose in path.poses],
-            [xyz(pose.pose.position) for pose in path.poses],
-            [xyzw(pose.pose.orientation) for pose in path.poses], frames)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -34,7 +34,7 @@ from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
 from .truth import (
     compare_truth, LEADS_S, load_truth, PredictionIndex, silence_clearings, truth_path,
     TruthComparison)
-from ..bags import BagReader, TOPIC_FLAGS, TopicSelection
+from ..bags import BagReader, PATH, TOPIC_FLAGS, TopicSelection
 from ..core.detector import (
     Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
     StateReset, StreamGap, unknown_parameters)
@@ -275,6 +275,9 @@ class AnalysisOptions:
     :ivar topic_flags: the caller has the topic flags (``analyze``'s command line): an error
         about a topic from the parameter file names the flag that overrides it; False (the
         demo, which replays a bag's own topics): it does not.
+    :ivar bat_plan_topic: ``--bat-plan-topic``: the bag's topic of an arm's bat plans
+        (``nav_msgs/Path``), as the node's ``bat_plan_topic`` ('': none, whatever the parameter
+        file says; None: the file's).
     """
 
     ball_topic: Optional[str] = None
@@ -288,6 +291,7 @@ class AnalysisOptions:
     prediction_horizon: Optional[float] = None
     node_name: str = NODE_NAME
     topic_flags: bool = True
+    bat_plan_topic: Optional[str] = None
 
     def __post_init__(self) -> None:
         """
@@ -320,6 +324,17 @@ class AnalysisOptions:
         if (role == 'bat_pose' and points) or (role in ('knob', 'tip') and not points):
             return None
         name = self.parameters.get(TOPIC_PARAMETERS[role])
+        return resolve_topic(name, self.node_name) if name else None
+
+    def plan_topic(self) -> Optional[str]:
+        """
+        Return the bat plan topic: ``bat_plan_topic`` given here, else the parameter file's.
+
+        The file's expanded as the node expands it (``resolve_topic``); None for none.
+        """
+        if self.bat_plan_topic is not None:
+            return self.bat_plan_topic or None
+        name = self.parameters.get(TOPIC_PARAMETERS['bat_plan'])
         return resolve_topic(name, self.node_name) if name else None
 
     def named(self) -> Dict[str, str]:
@@ -371,6 +386,67 @@ Sink = Union[SampleSink, EventSink]
 
 
 # ----------------------------------------------------------------------------------------------
+# An arm's bat plans, where the samples pass them
+
+
+class PlanFeed:
+    """
+    Hand a bag's bat plans to the detector where the samples' log times pass them.
+
+    What the live node does with a plan on its plan topic: takes it when it arrives, before the
+    samples that arrive after it (``Detector.take_bat_plan``: the node's rules; a plan refused
+    is counted with its reason). A plan goes before every sample logged after it; samples
+    logged at its very instant go first.
+
+    :param plans: the bag's plan messages in log-time order (``bags.PlanMessage``).
+    :param detector: the detector the analysis feeds.
+    """
+
+    def __init__(self, plans: Sequence[Any], detector: Any) -> None:
+        self._plans, self._detector, self._next = list(plans), detector, 0
+        self.taken = 0
+        self.refused: Counter = Counter()  # reasons, counted
+        self.next_ns = self._plans[0].log_time_ns if self._plans else None
+
+    def take_before(self, log_time_ns: int) -> None:
+        """Take every plan logged before ``log_time_ns`` (ns) not taken yet."""
+        plans = self._plans
+        while self._next < len(plans) and plans[self._next].log_time_ns < log_time_ns:
+            plan = plans[self._next]
+            self._next += 1
+            reason = plan.refused or self._detector.take_bat_plan(
+                plan.stamps_ns, plan.positions, plan.quaternions, plan.frames)
+            if reason is None:
+                self.taken += 1
+            else:
+                self.refused[reason] += 1
+        self.next_ns = plans[self._next].log_time_ns if self._next < len(plans) else None
+
+    def note(self, topic: str) -> str:
+        """Return what the analysis did with the plans, for its notes."""
+        refused = sum(self.refused.values())
+        why = '; '.join(f'{count} x {reason}' for reason, count in self.refused.most_common())
+        return (f"bat plans on '{topic}': {self.taken} taken for the predictions"
+                + (f', {refused} refused ({why})' if refused else ''))
+
+
+def _pieces(chunk: Any, plans: Optional[PlanFeed]) -> Iterable[Any]:
+    """Yield a chunk cut where plans fall among its samples, taking each plan between."""
+    while plans is not None and plans.next_ns is not None and \
+            plans.next_ns < int(chunk.log_times_ns[-1]):
+        cut = int(np.searchsorted(chunk.log_times_ns, plans.next_ns, side='right'))
+        if cut:
+            yield type(chunk)(chunk.roles[:cut], chunk.stamps_ns[:cut], chunk.frame_ids[:cut],
+                              chunk.values[:cut], chunk.log_times_ns[:cut])
+            chunk = type(chunk)(chunk.roles[cut:], chunk.stamps_ns[cut:], chunk.frame_ids[cut:],
+                                chunk.values[cut:], chunk.log_times_ns[cut:])
+        plans.take_before(int(chunk.log_times_ns[0]))
+    if plans is not None:
+        plans.take_before(int(chunk.log_times_ns[0]))
+    yield chunk
+
+
+# ----------------------------------------------------------------------------------------------
 # The loop
 
 
@@ -389,7 +465,8 @@ def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., N
 
 def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
                  sinks: Sequence[Sink], bar: Any = None,
-                 drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
+                 drops: Optional[Counter] = None,
+                 plans: Optional[PlanFeed] = None) -> Tuple[int, Optional[int]]:
     """
     Feed every sample to the detector, then ``finish()``; hand samples and events to sinks.
 
@@ -406,9 +483,11 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     :param bar: a progress bar (``update(n)``) or None.
     :param drops: counts ``(role, reason)`` of every dropped sample (from the detector's
         ``stats.last_drop_reason`` and ``stats.late_drops``) when given.
+    :param plans: the bag's bat plans, each taken before the first sample logged after it.
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     add = detector.add
+    plan_ns = None if plans is None else plans.next_ns
     on_sample = _fan_out([sink.on_sample for sink in sinks if hasattr(sink, 'on_sample')])
     on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
         or (lambda events, log_time_ns, frame_id: None)
@@ -422,6 +501,9 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
     while True:
         chunk = 0
         for role, stamp, frame, values, log_time in pending:
+            if plan_ns is not None and plan_ns < log_time:
+                plans.take_before(log_time)
+                plan_ns = plans.next_ns
             if on_sample is not None:
                 on_sample(role, stamp, frame, values, log_time)
             events = add(role, stamp, values, frame)
@@ -449,8 +531,8 @@ def run_detector(samples: Iterable[Sequence[Any]], detector: Any,
 
 
 def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Sink],
-                        bar: Any = None,
-                        drops: Optional[Counter] = None) -> Tuple[int, Optional[int]]:
+                        bar: Any = None, drops: Optional[Counter] = None,
+                        plans: Optional[PlanFeed] = None) -> Tuple[int, Optional[int]]:
     """
     :func:`run_detector` a chunk at a time, for event and chunk sinks only (no sample sink).
 
@@ -466,26 +548,29 @@ def run_detector_chunks(chunks: Iterable[Any], detector: Any, sinks: Sequence[Si
     :param sinks: objects with ``on_events`` and/or ``on_chunk`` (others are ignored).
     :param bar: a progress bar (``update(n)``) or None.
     :param drops: counts ``(role, reason)`` of every dropped sample when given.
+    :param plans: the bag's bat plans: a chunk is cut where one falls among its samples, and
+        the plan taken between the pieces (``run_detector``'s order).
     :returns: (samples fed, the first sample's stamp in ns or None for none).
     """
     on_events = _fan_out([sink.on_events for sink in sinks if hasattr(sink, 'on_events')]) \
         or (lambda events, log_time_ns, frame_id: None)
     on_chunk = _fan_out([sink.on_chunk for sink in sinks if hasattr(sink, 'on_chunk')])
     count, first, log_time, frame = 0, None, 0, ''
-    for chunk in chunks:
-        n = len(chunk.stamps_ns)
-        if first is None:
-            first = int(chunk.stamps_ns[0])
-        if on_chunk is not None:
-            on_chunk(chunk)
-        events = detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values,
-                                    chunk.frame_ids, drops)
-        log_time, frame = int(chunk.log_times_ns[-1]), chunk.frame_ids[-1]
-        if events:
-            on_events(events, log_time, frame)
-        count += n
-        if bar is not None:
-            bar.update(n)
+    for whole in chunks:
+        for chunk in _pieces(whole, plans):
+            n = len(chunk.stamps_ns)
+            if first is None:
+                first = int(chunk.stamps_ns[0])
+            if on_chunk is not None:
+                on_chunk(chunk)
+            events = detector.add_chunk(chunk.roles, chunk.stamps_ns, chunk.values,
+                                        chunk.frame_ids, drops)
+            log_time, frame = int(chunk.log_times_ns[-1]), chunk.frame_ids[-1]
+            if events:
+                on_events(events, log_time, frame)
+            count += n
+            if bar is not None:
+                bar.update(n)
     events = detector.finish()
     if drops is not None:
         for late in detector.stats.late_drops:
@@ -542,6 +627,8 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                                  notes=list(bag.notes))
             sinks: List[Sink] = [result]
             detector = Detector(config)
+            plan_topic = options.plan_topic() if config.prediction_horizon > 0.0 else None
+            plans = _bag_plans(bag, plan_topic, detector, result.notes)
             copy = None
             if out_bag is not None:
                 from .outbag import FoxgloveCopy  # (imported only for an output bag)
@@ -554,11 +641,13 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                 if any(hasattr(sink, 'on_sample') and not hasattr(sink, 'on_chunk')
                        for sink in sinks):
                     result.messages, result.first_stamp_ns = run_detector(
-                        bag.samples(), detector, sinks, bar, result.drops_by_role)
+                        bag.samples(), detector, sinks, bar, result.drops_by_role, plans)
                 else:  # events (and the frames' stamps) only: a chunk at a time
                     result.messages, result.first_stamp_ns = run_detector_chunks(
                         bag.chunks(CHUNK, read_ahead), detector, sinks, bar,
-                        result.drops_by_role)
+                        result.drops_by_role, plans)
+                if plans is not None:
+                    result.notes.append(plans.note(plan_topic))
                 if copy is not None:
                     copy.close()
                     result.notes += copy.notes()
@@ -583,6 +672,32 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     if use_truth:  # (--no-truth: never looked for)
         _compare_with_truth(result, path)
     return result
+
+
+def _bag_plans(bag: BagReader, topic: Optional[str], detector: Detector,
+               notes: List[str]) -> Optional[PlanFeed]:
+    """
+    Return the bag's bat plans on ``topic`` for the detector, or None (a note says why).
+
+    None for no topic (noting a ``nav_msgs/Path`` topic of the bag then, which
+    ``--bat-plan-topic`` would take) or one the bag lacks (the predictions then extrapolate
+    the bat, as the node's would).
+
+    :raises BagError: the topic is of another type, or cannot be read.
+    """
+    if topic is None:
+        paths = [name for name, kind in bag.topics.items() if kind == PATH]
+        if paths and detector.config.prediction_horizon > 0.0:
+            notes.append(f"the bag's {PATH} topic {', '.join(repr(p) for p in paths)} was not "
+                         'read: --bat-plan-topic TOPIC (bat_plan_topic in --params) predicts '
+                         "with an arm's plans on it")
+        return None
+    plans = bag.plans(topic)
+    if plans is None:
+        notes.append(f"no bat plan topic '{topic}' in the bag: the predictions extrapolate "
+                     'the bat')
+        return None
+    return PlanFeed(plans, detector)
 
 
 def _compare_with_truth(result: BagAnalysis, path: Path) -> None:

@@ -187,7 +187,7 @@ def _simulate(args: argparse.Namespace) -> int:
         grid_s=args.grid, noise_m=args.noise, spacing_s=args.spacing, seed=args.seed,
         frame_id=args.frame_id, bat=args.bat, unique=args.unique, family=args.family,
         ball_rate_hz=args.ball_rate, noise_on=args.noise_on, marker_spread_m=args.marker_spread,
-        spin=args.spin)
+        spin=args.spin, plan_hz=args.plan)
     command = shlex.join([PROG] + list(args.argv))
     document = write_recording(args.out, spec, storage=args.storage, command=command)
     contacts = sum(1 for pitch in document['pitches'] if pitch['contact'])
@@ -236,7 +236,8 @@ def _analyze(args: argparse.Namespace) -> int:
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
-        prediction_horizon=args.predict, node_name=args.node_name)
+        prediction_horizon=args.predict, node_name=args.node_name,
+        bat_plan_topic=args.bat_plan_topic)
     start = time.perf_counter()
     skipped: Optional[List[Tuple[Path, str]]] = [] if args.keep_going else None
     to_stdout = [flag for flag, value in (('json', args.json), ('csv', args.csv)) if value == '-']
@@ -337,6 +338,11 @@ def _add_simulate(commands: Any) -> None:
                           'plane tilting 1-3 rad/s), jerky (accelerating hands, angular jerk), '
                           'lefty, braking (the bat slowing after a contact) or rebound (a real '
                           'hit: braking, and the ball leaving the bat)')
+    simulate.add_argument('--plan', type=float, metavar='HZ',
+                          help="a robot arm's commanded swing on /bat_plan (nav_msgs/Path), "
+                          'one plan a pitch with its poses HZ apart, logged as it is tracked: '
+                          "what analyze --predict --bat-plan-topic /bat_plan and the node's "
+                          'bat_plan_topic predict with (default: none)')
     simulate.add_argument('--spin', action='store_true',
                           help='spinning pitches: 1,500-2,800 rpm about any axis across the '
                           'flight, the Magnus force bending it 1-7 m/s^2 (default: no spin)')
@@ -412,6 +418,11 @@ def _add_analyze(commands: Any) -> None:
     analyze.add_argument('--bat-radius', type=_number(0.0, False, 'm'), metavar='M',
                          help='constant bat radius in m, replacing the bat profile')
     _add_topic_flags(analyze)
+    analyze.add_argument('--bat-plan-topic', metavar='TOPIC', dest='bat_plan_topic',
+                         help="an arm's commanded bat trajectories (nav_msgs/Path), as the "
+                              "node's bat_plan_topic: with --predict, each taken where the "
+                              "samples' log times pass it (default: the --params file's; '': "
+                              'none)')
     analyze.add_argument('--predict', type=_number(0.0, False, 's'), nargs='?', const=0.3,
                          default=None, metavar='SECONDS',
                          help='also predict each coming impact this far ahead (default 0.3 s, '

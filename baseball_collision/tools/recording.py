@@ -27,11 +27,14 @@ from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_
 from .outputs import Outputs
 from .sim import DEFAULT_START_NS, make_scenario, sample, Scenario, truth_dict
 from .truth import TRUTH_FORMAT, truth_path
-from ..bags import POINT_STAMPED, POSE_STAMPED
+from ..bags import path_message, POINT_STAMPED, POSE_STAMPED
 from ..errors import BagError, ToolError
 
 TOPICS = {'ball': '/ball', 'bat_pose': '/bat_pose', 'knob': '/bat_knob', 'tip': '/bat_tip'}
 """Topic per role: the ``impact_node``'s default ``*_topic`` parameters, resolved."""
+
+PLAN_TOPIC = '/bat_plan'
+"""The topic of a recording's arm plans (``RecordingSpec.plan_hz``)."""
 
 MAX_STAMP_NS = (2 ** 31 - 1) * 1_000_000_000
 """Latest stamp a ROS header holds (its ``sec`` is an int32: 2038-01-19T03:14:07Z)."""
@@ -69,6 +72,10 @@ class RecordingSpec:
         or a robot's joints at ``rate_hz``), None for ``rate_hz``.
     :ivar spin: spinning pitches (``make_scenario``'s ``spin``: the Magnus force bends each
         flight by 1-7 m/s^2 across it); else none.
+    :ivar plan_hz: a robot arm's commanded swing on ``PLAN_TOPIC`` (``nav_msgs/Path``, what
+        the node takes on ``bat_plan_topic``): one plan a pitch, its poses this often (Hz)
+        over the pitch's span, logged with the pitch's second message (tracking runs: the
+        node checks a plan's frame against the trackers'); None: none.
     """
 
     count: int = 12
@@ -90,6 +97,7 @@ class RecordingSpec:
     noise_on: str = 'both'
     marker_spread_m: Optional[float] = None
     spin: bool = False
+    plan_hz: Optional[float] = None
 
     def check(self) -> None:
         """
@@ -114,6 +122,10 @@ class RecordingSpec:
         if self.noise_on not in NOISE_ON:
             raise ToolError(
                 f"noise_on must be one of {', '.join(NOISE_ON)}, got {self.noise_on!r}")
+        if self.plan_hz is not None and not (
+                math.isfinite(self.plan_hz) and 0.0 < self.plan_hz <= MAX_RATE_HZ):
+            raise ToolError(f'plan_hz must be above 0 and at most {MAX_RATE_HZ:g} Hz, got '
+                            f'{self.plan_hz}')
         if self.bat not in BAT_CHOICES:
             raise ToolError(f"bat must be one of {', '.join(BAT_CHOICES)}, got {self.bat}")
         for name in ('rate_hz', 'spacing_s', 'lead_s', 'trail_s'):
@@ -157,6 +169,14 @@ def _scenarios(spec: RecordingSpec, rng: np.random.Generator) -> List[Scenario]:
     return [pool[i % drawn] for i in range(spec.count)]
 
 
+def _plan(scenario: Scenario, start_ns: int, rate_hz: float, frame_id: str, store: Any) -> Any:
+    """Return the scenario's swing as an arm's plan: its poses ``rate_hz`` over its span."""
+    times = np.arange(0.0, scenario.t_end, 1.0 / rate_hz)
+    positions, quaternions = scenario.swing.pose(times)
+    return path_message([start_ns + int(round(t * 1e9)) for t in times], positions.tolist(),
+                        quaternions.tolist(), frame_id, store)
+
+
 def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[str] = None,
                     command: str = '') -> Dict[str, Any]:
     """
@@ -192,7 +212,11 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                                  grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start,
                                  ball_rate_hz=spec.ball_rate_hz, noise_on=spec.noise_on,
                                  marker_spread_m=spec.marker_spread_m)
-                for stamp, role, values in samples.messages(spec.bat):
+                for k, (stamp, role, values) in enumerate(samples.messages(spec.bat)):
+                    if k == 1 and spec.plan_hz is not None:  # (once tracking runs: its frame)
+                        writer.write_message(PLAN_TOPIC, _plan(
+                            scenario, start, spec.plan_hz, spec.frame_id, writer.typestore),
+                            stamp)
                     if role == 'bat_pose':
                         writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],
                                           values[3:])
@@ -200,9 +224,11 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                         writer.write_point(TOPICS[role], stamp, spec.frame_id, values)
                     messages += 1
                 pitches.append({'index': index, **truth_dict(scenario, start)})
+            plans = {} if spec.plan_hz is None else {'bat_plan': PLAN_TOPIC}
             document = {
                 'format': TRUTH_FORMAT, 'bag': path.name, 'command': command,
-                'messages': messages, 'topics': {role: TOPICS[role] for role in used},
+                'messages': messages,
+                'topics': {**{role: TOPICS[role] for role in used}, **plans},
                 'spec': {**asdict(spec), 'kinds': list(spec.kinds)}, 'pitches': pitches}
             outputs.stage_text('truth', json.dumps(document, indent=2, allow_nan=False) + '\n')
             outputs.commit()

@@ -4,12 +4,13 @@ from dataclasses import replace
 import json
 import typing
 
+from baseball_collision.bags.plans import plan_arrays  # (the node's, without rosbags)
 from baseball_collision.core.detector import (
     DetectorConfig, DROP_REASONS, Event, Impact, NearMiss, Prediction, PredictionCleared,
     ResetReason, StateReset, StreamGap)
 from baseball_collision.core.records import event_record
 from baseball_collision.ros.messages import (
-    describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp, plan_arrays,
+    describe_drop, event_output, FLAG_CDR, format_stamp, ns_to_stamp,
     stamp_to_ns, StampedCdr)
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3Stamped
 from nav_msgs.msg import Path

@@ -29,7 +29,8 @@ import sys
 import threading
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
-from baseball_collision.bags import BagReader, BagWriter, POINT_STAMPED, POSE_STAMPED
+from baseball_collision.bags import (
+    BagReader, BagWriter, path_message, POINT_STAMPED, POSE_STAMPED)
 from baseball_collision.core.detector import (
     Detector, DetectorConfig, Impact, NearMiss, Prediction, PredictionCleared, StateReset,
     StreamGap)
@@ -38,6 +39,7 @@ import baseball_collision.tools.analyze as analyze_module
 from baseball_collision.tools.analyze import (
     AnalysisOptions, analyze_bag, BagAnalysis, CHUNK, progress_bar, run_detector)
 from baseball_collision.tools.parameters import output_topics
+from baseball_collision.tools.recording import RecordingSpec, write_recording
 from baseball_collision.tools.truth import LEADS_S, truth_path
 import pytest
 from rosbags.highlevel import AnyReader
@@ -230,6 +232,84 @@ def test_reading_ahead_finds_the_events_of_reading_in_turn(
     for part in ('impacts', 'near_misses', 'gaps', 'resets', 'drops_by_role'):
         assert getattr(ahead, part) == getattr(in_turn, part), part
     assert ahead.messages == in_turn.messages
+
+
+@pytest.fixture(scope='module')
+def plan_bag(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Return a bag of 6 noisy pitches at 120 Hz with an arm's plan on /bat_plan (200 Hz)."""
+    bag = tmp_path_factory.mktemp('plans') / 'arm.mcap'
+    write_recording(bag, RecordingSpec(count=6, rate_hz=120.0, noise_m=0.001, plan_hz=200.0,
+                                       lead_s=0.35, seed=4))
+    return bag
+
+
+def test_predict_takes_the_bags_bat_plans_where_the_samples_pass_them(plan_bag: Path) -> None:
+    """
+    ``--bat-plan-topic``: the node's plans from the bag, each before the samples logged after it.
+
+    The chunk path cuts a chunk where a plan falls (``PlanFeed``); the reference is a detector
+    fed one sample at a time, each plan set where the samples' log times first pass its own:
+    the same predictions to the bit, planned and with their error bars. Without the topic the
+    predictions extrapolate the bat and a note names the bag's Path topic.
+    """
+    planned = analyze_bag(plan_bag, AnalysisOptions(prediction_horizon=0.3,
+                                                    bat_plan_topic='/bat_plan'), progress=False)
+    assert planned.predictions and all(p.planned for p in planned.predictions)
+    assert all(p.time_uncertainty_s is not None for p in planned.predictions)
+    assert "bat plans on '/bat_plan': 6 taken for the predictions" in planned.notes
+    detector = Detector(planned.config)
+    with BagReader(plan_bag) as bag:
+        plans = bag.plans('/bat_plan')
+        made = []
+        for role, stamp, frame, values, log_time in bag.samples():
+            while plans and plans[0].log_time_ns < log_time:
+                assert detector.take_bat_plan(plans[0].stamps_ns, plans[0].positions,
+                                              plans[0].quaternions, plans[0].frames) is None
+                plans.pop(0)
+            made += [e for e in detector.add(role, stamp, values, frame)
+                     if isinstance(e, Prediction)]
+    assert made == planned.predictions
+    plain = analyze_bag(plan_bag, AnalysisOptions(prediction_horizon=0.3), progress=False)
+    assert plain.predictions and not any(p.planned for p in plain.predictions)
+    assert any("nav_msgs/msg/Path topic '/bat_plan' was not read: --bat-plan-topic" in note
+               for note in plain.notes)
+    from_file = analyze_bag(plan_bag, AnalysisOptions(
+        prediction_horizon=0.3, parameters={'bat_plan_topic': 'bat_plan'}), progress=False)
+    assert from_file.predictions == planned.predictions
+    none = analyze_bag(plan_bag, AnalysisOptions(
+        prediction_horizon=0.3, parameters={'bat_plan_topic': 'bat_plan'}, bat_plan_topic=''),
+        progress=False)
+    assert none.predictions == plain.predictions
+    missing = analyze_bag(plan_bag, AnalysisOptions(prediction_horizon=0.3,
+                                                    bat_plan_topic='/arm/plan'), progress=False)
+    assert "no bat plan topic '/arm/plan' in the bag: the predictions extrapolate the bat" \
+        in missing.notes and missing.predictions == plain.predictions
+
+
+def test_a_plan_in_another_frame_is_refused_and_counted(tmp_path: Path, run_cli: RunCli) -> None:
+    """The node's rule offline: a plan naming another frame than the trackers' is not used."""
+    bag = tmp_path / 'frames.mcap'
+    write_recording(bag, RecordingSpec(count=2, rate_hz=120.0, plan_hz=200.0, lead_s=0.35,
+                                       frame_id='world'))
+    moved = tmp_path / 'arm_frame.mcap'
+    with BagReader(bag) as source, BagWriter(moved) as writer:
+        plans = {plan.log_time_ns: plan for plan in source.plans('/bat_plan')}
+        for role, stamp, frame, values, log_time in source.samples():
+            for at in [t for t in plans if t < log_time]:
+                plan = plans.pop(at)
+                writer.write_message('/bat_plan', path_message(
+                    plan.stamps_ns, plan.positions, plan.quaternions, 'arm_base',
+                    writer.typestore), at)
+            topic = source.selection.topics[role]
+            if role == 'bat_pose':
+                writer.write_pose(topic, stamp, frame, values[:3], values[3:], log_time)
+            else:
+                writer.write_point(topic, stamp, frame, values, log_time)
+    code, stdout, stderr = run_cli(['analyze', str(moved), '--predict', '--bat-plan-topic',
+                                    '/bat_plan'])
+    assert code == 0, stderr
+    assert ("bat plans on '/bat_plan': 0 taken for the predictions, 2 refused (2 x frame "
+            "['arm_base'] is not the tracking frame 'world')") in stdout
 
 
 # ---- the loop and its sinks -----------------------------------------------------------------

@@ -252,3 +252,18 @@ def test_simulate_refuses_what_it_cannot_make(tmp_path: Path, run_cli: RunCli,
         RecordingSpec(seed=-1).check()
     with pytest.raises(ToolError, match='at most 100,000 Hz'):
         RecordingSpec(rate_hz=1e12).check()
+
+
+def test_simulate_plan_writes_the_arms_plans(tmp_path: Path, run_cli: RunCli) -> None:
+    """``--plan HZ``: a plan a pitch on /bat_plan, named in the truth; a bad rate is refused."""
+    bag = tmp_path / 'arm.mcap'
+    code, stdout, stderr = run_cli(['simulate', str(bag), '--count', '2', '--plan', '100'])
+    assert code == 0, stderr
+    assert '/bat_plan' in stdout
+    assert json.loads(truth_path(bag).read_text())['topics']['bat_plan'] == '/bat_plan'
+    with BagReader(bag) as reader:
+        plans = reader.plans('/bat_plan')
+    assert len(plans) == 2 and plans[0].stamps_ns[1] - plans[0].stamps_ns[0] == 10_000_000
+    for rate in (0.0, -5.0, math.inf, 1e9):
+        with pytest.raises(ToolError, match='plan_hz must be above 0'):
+            RecordingSpec(plan_hz=rate).check()

@@ -30,7 +30,7 @@ This module is the facade that wires them and keeps the public calls.
 from collections import Counter
 from dataclasses import replace
 import time
-from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
+from typing import AbstractSet, Any, Callable, List, Optional, Sequence, Tuple, Union
 
 from .bat_glitches import departures_ahead
 from .chunks import feed_chunk, PLAN_MAX, UNPLANNED_AFTER_EARLY
@@ -215,6 +215,32 @@ class Detector:
             not 3 finite numbers, a quaternion not 4 or not unit length.
         """
         self._predictor.set_plan(stamps_ns, positions, quaternions)
+
+    def take_bat_plan(self, stamps_ns: Sequence[int], positions: Sequence[Sequence[float]],
+                      quaternions: Sequence[Sequence[float]],
+                      frames: AbstractSet[str] = frozenset()) -> Optional[str]:
+        """
+        Set a commanded bat trajectory sent in ``frames``, unless it is refused: say why.
+
+        What the node and ``analyze`` do with a plan message (``frames``: every non-empty frame
+        its header and poses name; none: the tracking frame, as a sample naming none). Refused:
+        a frame other than the tracking frame (``frame_id``, or the one the streams agreed
+        on), a frame named before any tracking frame is known (it cannot be checked), or what
+        ``set_bat_plan`` raises for. An empty plan clears the one in force.
+
+        :returns: None where it is taken, else the reason it was refused (one line).
+        """
+        expected = self.frame_id
+        if expected is None and frames and stamps_ns:
+            return (f'frame {sorted(frames)} cannot be checked: no tracking frame is known '
+                    'yet (set frame_id, or send the plan once the trackers stream)')
+        if expected is not None and set(frames) - {expected}:
+            return f'frame {sorted(frames)} is not the tracking frame {expected!r}'
+        try:
+            self.set_bat_plan(stamps_ns, positions, quaternions)
+        except CoreError as error:
+            return str(error)
+        return None
 
     def reset(self, stamp_ns: int = 0, reason: str = ResetReason.REQUESTED) -> StateReset:
         """

@@ -628,3 +628,29 @@ def test_departures_made_ahead_change_no_event(family: str, rate: float, noise_m
                     made += detector.departures_ahead()
             runs.append(repr(events + detector.finish()))
         assert runs[0] == runs[1] and made > 0
+
+
+def test_a_bat_plan_is_taken_in_the_tracking_frame_only() -> None:
+    """
+    ``take_bat_plan``: the node's and ``analyze``'s rule, one place.
+
+    Before any tracking frame is known a plan naming a frame cannot be checked (refused; one
+    naming none is taken); with ``frame_id`` set, another frame is refused and its own taken;
+    what ``set_bat_plan`` raises is the reason; an empty plan clears.
+    """
+    stamps = [1_000_000_000 + i * 5_000_000 for i in range(4)]
+    positions = [(0.0, 0.01 * i, 1.0) for i in range(4)]
+    quaternions = [(0.0, 0.0, 0.0, 1.0)] * 4
+    loose = Detector(DetectorConfig(prediction_horizon=0.3))
+    assert 'cannot be checked: no tracking frame is known yet' in loose.take_bat_plan(
+        stamps, positions, quaternions, {'world'})
+    assert loose._predictor.plan is None
+    assert loose.take_bat_plan(stamps, positions, quaternions) is None
+    assert loose._predictor.plan is not None
+    framed = Detector(DetectorConfig(prediction_horizon=0.3, frame_id='world'))
+    assert framed.take_bat_plan(stamps, positions, quaternions, {'arm_base'}) == (
+        "frame ['arm_base'] is not the tracking frame 'world'")
+    assert framed.take_bat_plan(stamps, positions, quaternions, {'world'}) is None
+    assert 'bad bat plan' in framed.take_bat_plan(stamps[::-1], positions, quaternions)
+    assert framed.take_bat_plan([], [], [], {'world'}) is None
+    assert framed._predictor.plan is None
