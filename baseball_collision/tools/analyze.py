@@ -435,11 +435,9 @@ def _pieces(chunk: Any, plans: Optional[PlanFeed]) -> Iterable[Any]:
     while plans is not None and plans.next_ns is not None and \
             plans.next_ns < int(chunk.log_times_ns[-1]):
         cut = int(np.searchsorted(chunk.log_times_ns, plans.next_ns, side='right'))
-        if cut:
-            yield type(chunk)(chunk.roles[:cut], chunk.stamps_ns[:cut], chunk.frame_ids[:cut],
-                              chunk.values[:cut], chunk.log_times_ns[:cut])
-            chunk = type(chunk)(chunk.roles[cut:], chunk.stamps_ns[cut:], chunk.frame_ids[cut:],
-                                chunk.values[cut:], chunk.log_times_ns[cut:])
+        if cut:  # (every field of a SampleChunk is per sample)
+            yield type(chunk)(*(part[:cut] for part in chunk))
+            chunk = type(chunk)(*(part[cut:] for part in chunk))
         plans.take_before(int(chunk.log_times_ns[0]))
     if plans is not None:
         plans.take_before(int(chunk.log_times_ns[0]))

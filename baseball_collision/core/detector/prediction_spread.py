@@ -12,12 +12,13 @@ relative to the bat at that instant (m):
   parabola over the ``lift_window``). Its spread per coordinate is the noise times the norm of
   those weights (``ball_spread``): 1 mm of noise at 90 Hz spreads it by about 1 mm at 20 ms
   ahead and 4 mm at 200 ms (the velocity's error carried on, and the lift's).
-* **What the forecast leaves out.** It holds the drag at its size at t0; the drag changes with
-  the speed by ``j = -k (|v| a + v (v . a) / |v|)`` (k the ``ball_drag``), so the forecast
-  misses the flight by ``j lead^3 / 6`` (4-5 mm at 200 ms for a 40 m/s pitch: 0.1 ms). Where
-  the flight is too short for its lift (fewer than the kernel's ``LIFT_MIN_SAMPLES`` or
-  ``LIFT_MIN_SPAN``, or ``lift_window`` 0) the lift left out is a pitch's spin's:
-  ``LIFT_PRIOR`` across the flight, carried on as half the lead squared.
+* **What the forecast may still miss.** It holds its acceleration over the lead; what that
+  misses as the drag eases and the lift grows and turns is corrected (``flight_miss``,
+  ``flight_corrected``: every prediction's), and a third of the lift's part is carried as its
+  doubt (the lift's power of the speed, 1.5 +- 0.5). Where the flight is too short for its
+  lift (fewer than the kernel's ``LIFT_MIN_SAMPLES`` or ``LIFT_MIN_SPAN``, or ``lift_window``
+  0) the lift left out is a pitch's spin's: ``LIFT_PRIOR`` across the flight, carried on as
+  half the lead squared.
 * **The plan's interpolation**: between its poses the bat moves by LERP and SLERP; the contact
   point's planned position at the instant against the quadratic through the three poses
   nearest it (``plan_sag``): what a smoother path through the same poses would put there.
@@ -151,22 +152,21 @@ def flight_miss(ball: Sequence[float], gravity: Vector, drag: float, lead: float
 
 
 def plan_sag(ball: Sequence[float], plan: tuple, times: Sequence[float], t: float,
-             bat_fraction: float) -> List[Vector]:
+             bat_fraction: float, here: Vector) -> List[Vector]:
     """
     Return the contact point's planned place at t less quadratics through its poses (m, 3).
 
-    The point ``bat_fraction`` of the way from knob to tip, at t on the plan (LERP and SLERP
-    between its poses), less the quadratic through the plan's poses i - 1, i, i + 1 and the one
-    through i, i + 1, i + 2, t within [times[i], times[i + 1]] (``times``, s: the plan's):
-    where the plan's motion changes within a step (a bat braking) the two part, so the third
-    vector is the one less the other. A quadratic a plan has not the poses for (at its ends) is
-    the other; none for a plan of fewer than three poses.
+    The point ``bat_fraction`` of the way from knob to tip, ``here`` at t on the plan (LERP and
+    SLERP between its poses), less the quadratic through the plan's poses i - 1, i, i + 1 and
+    the one through i, i + 1, i + 2, t within [times[i], times[i + 1]] (``times``, s: the
+    plan's): where the plan's motion changes within a step (a bat braking) the two part, so the
+    third vector is the one less the other. A quadratic a plan has not the poses for (at its
+    ends) is the other; none for a plan of fewer than three poses.
     """
     count = len(times)
     if count < 3:
         return []
     i = min(max(bisect_right(times, t) - 1, 0), count - 2)  # t in [times[i], times[i + 1]]
-    here = _point(ball, plan, t, bat_fraction)
     places = {k: _point(ball, plan, times[k], bat_fraction)
               for k in range(max(i - 1, 0), min(i + 3, count))}
     sags = []
@@ -228,13 +228,15 @@ def flight_corrected(ball: Tuple[float, ...], bat: tuple, t0: float, found: Tupl
 
 
 def planned_uncertainty(ball: Tuple[float, ...], plan: tuple, plan_times: Sequence[float],
-                        t0: float, found: Tuple[float, Any], spread: float, lifted: bool,
-                        doubt: Vector, search: tuple) -> Tuple[Optional[float], float]:
+                        t0: float, found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector],
+                        spread: float, lifted: bool, doubt: Vector,
+                        search: tuple) -> Tuple[Optional[float], float]:
     """
     Return a planned prediction's 1-sigma time (s) and distance from the tip (m) uncertainty.
 
     The module's docstring. ``ball``: the forecast (the kernel's 10 numbers, as
     ``flight_corrected`` moved it) that found the contact ``found`` (t, hit) on the plan;
+    ``at``: the ball's velocity (m/s), the knob and the tip (m) at t (``states_of``'s);
     ``spread``: the noise's spread of the ball's centre at t, m a coordinate (``ball_spread``
     times the noise); ``lifted``: whether the forecast has its lift (else ``LIFT_PRIOR``'s);
     ``doubt``: 1 sigma of the flight's correction (``flight_miss``'s second vector, m);
@@ -247,11 +249,12 @@ def planned_uncertainty(ball: Tuple[float, ...], plan: tuple, plan_times: Sequen
     t, hit = found
     lead = t - t0
     n = hit.normal
-    _, velocity, knob, tip = states_of(ball, plan, t)
+    velocity, knob, tip = at
     length = math.dist(knob, tip)
     axis = scale(sub(tip, knob), 1.0 / length) if length > 0.0 else (0.0, 0.0, 0.0)
     flight = scale(velocity, 1.0 / max(norm(velocity), 1e-12))
-    sags = plan_sag(ball, plan, plan_times, t, hit.bat_fraction)
+    sags = plan_sag(ball, plan, plan_times, t, hit.bat_fraction,
+                    lerp(knob, tip, hit.bat_fraction))
     prior = 0.0 if lifted else 0.5 * LIFT_PRIOR * lead * lead
 
     def variance(direction: Vector) -> float:

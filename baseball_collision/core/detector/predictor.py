@@ -194,7 +194,8 @@ class Predictor(BatJudgment):
         t, hit = found
         ball_position, ball_velocity, knob, tip = states_of(ball, bat_args, t)
         self.predicting, self._instant = True, t
-        time_sigma, spot_sigma = self._uncertainty(ball, bat_args, t0, found, doubt, search) \
+        time_sigma, spot_sigma = self._uncertainty(
+            ball, bat_args, t0, found, (ball_velocity, knob, tip), doubt, search) \
             if planned else (None, None)
         events.append(frozen(  # the frozen __init__ would set its fields one by one
             Prediction, stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
@@ -204,18 +205,19 @@ class Predictor(BatJudgment):
             time_uncertainty_s=time_sigma, distance_from_tip_uncertainty_m=spot_sigma))
 
     def _uncertainty(self, ball: Tuple[float, ...], plan: Tuple[Any, ...], t0: float,
-                     found: Tuple[float, Any], doubt: Any, search: Tuple[Any, ...]
-                     ) -> Tuple[Optional[float], float]:
+                     found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector], doubt: Any,
+                     search: Tuple[Any, ...]) -> Tuple[Optional[float], float]:
         """
         Return a planned prediction's 1-sigma time (s) and distance from the tip (m).
 
         ``prediction_spread.planned_uncertainty`` of the ball's forecast window and noise (the
-        ball's, told or estimated) and the plan in force, from t0 to the contact ``found``.
+        ball's, told or estimated) and the plan in force, from t0 to the contact ``found``
+        (``at``: the ball's velocity, the knob and the tip there, as ``predict`` has them).
         """
         first, end = self._ball_window
         gain, lifted = ball_spread(self.ball.times, first, end, self._lift_first, t0,
                                    found[0] - t0)
-        return planned_uncertainty(ball, plan, self.plan_on_clock.times, t0, found,
+        return planned_uncertainty(ball, plan, self.plan_on_clock.times, t0, found, at,
                                    gain * stream_noise(self.ball, self._config), lifted, doubt,
                                    search)
 

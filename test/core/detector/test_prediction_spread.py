@@ -5,7 +5,8 @@ import math
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.prediction_spread import (
     ball_spread, flight_miss, LIFT_SPEED_POWER, plan_sag)
-from baseball_collision.core.prediction import ball_numbers, planned_bat
+from baseball_collision.core.geometry import lerp
+from baseball_collision.core.prediction import ball_numbers, planned_bat, states_of
 from baseball_collision.core.toi import _kernel
 from baseball_collision.tools.sim import make_scenario, sample, truth_dict
 import numpy as np
@@ -135,12 +136,16 @@ def test_a_plans_sag_is_its_chord_off_the_arc() -> None:
     circle = [(radius * math.cos(rate * t), radius * math.sin(rate * t), 1.0) for t in times]
     ball = (0.0,) * 10
     middle = 5.5 * step
-    sags = plan_sag(ball, _plan(times, circle, up), times, middle, 0.5)
+
+    def sags_of(positions):
+        plan = _plan(times, positions, up)
+        _, _, knob, tip = states_of(ball, plan, middle)
+        return plan_sag(ball, plan, times, middle, 0.5, lerp(knob, tip, 0.5))
+    sags = sags_of(circle)
     expected = radius * (1.0 - math.cos(0.5 * rate * step))
     assert max(np.linalg.norm(s) for s in sags) == pytest.approx(expected, rel=0.1)
     line = [(0.0, 30.0 * t, 1.0) for t in times]
-    assert max(np.linalg.norm(s) for s in plan_sag(ball, _plan(times, line, up), times, middle,
-                                                   0.5)) < 1e-12
+    assert max(np.linalg.norm(s) for s in sags_of(line)) < 1e-12
 
 
 def _planned_errors(family: str, count: int, rate: float, noise: float, seed: int = 21):
