@@ -699,26 +699,30 @@ up 10 cm (two glitches side by side)."""
 
 
 def calibration(per_family: int, seed: int, period: float, spin: bool,
-                families: Tuple[str, ...]) -> None:
+                families: Tuple[str, ...], planned: bool = True) -> None:
     """
-    Print how often a planned prediction's error is within its 1 and 2 sigma, by noise and lead.
+    Print how often a prediction's error is within its 1 and 2 sigma, by noise and lead.
 
     ``per_family`` pitches of each swing family of ``families`` (barrel, end cap and handle hits
-    in turn), the
-    arm's plan at 200 Hz (``plan_of``), sampled at 90 and 360 Hz with 0.2 ms of jitter and 0,
+    in turn), the arm's plan at 200 Hz (``plan_of``) where ``planned``, else the bat
+    extrapolated from its frames (its own lead bands: such predictions come 0-120 ms ahead),
+    sampled at 90 and 360 Hz with 0.2 ms of jitter and 0,
     0.5, 1 and 2 mm of noise, the node's defaults but ``prediction_period`` ``period``
     (``tracker_noise`` auto: the ball's own estimate). Every prediction made from 0.4 s before
     the contact on is scored: its instant's and its spot's (distance from the tip) error over
     their sigmas (``time_uncertainty_s``, ``distance_from_tip_uncertainty_m``), pooled in lead
     bands; a calibrated sigma has 68 % within 1 and 95 % within 2. Beside them the sigmas'
-    median and the errors' rms (of the band).
+    median and the errors' rms (of the band). A prediction without a time sigma (none closes) is
+    counted beside them.
     """
-    bands = ((0.0, 0.05), (0.05, 0.15), (0.15, 0.3))
+    bands = ((0.0, 0.05), (0.05, 0.15), (0.15, 0.3)) if planned else (
+        (0.0, 0.015), (0.015, 0.03), (0.03, 0.06), (0.06, 0.3))
     rng = np.random.default_rng(seed)
     scenarios = [make_scenario(('barrel', 'end_cap', 'handle')[i % 3], rng, lead_s=0.4,
                                family=family, spin=spin)
                  for family in families for i in range(per_family)]
-    print(f'\n{len(scenarios)} planned contacts ({per_family} a family: '
+    print(f"\n{len(scenarios)} {'planned' if planned else 'extrapolated'} contacts "
+          f'({per_family} a family: '
           f"{', '.join(families)}), every {period * 1e3:g} ms"
           f"{', spinning pitches' if spin else ''}\n")
     print('| rate Hz | noise mm | lead ms | predictions | time within 1 / 2 sigma | sigma p50 '
@@ -727,22 +731,28 @@ def calibration(per_family: int, seed: int, period: float, spin: bool,
     for rate in (90.0, 360.0):
         for noise in (0.0, 0.0005, 0.001, 0.002):
             rows: List[Tuple[float, float, float, float, float]] = []
+            without = 0
             for i, scenario in enumerate(scenarios):
                 samples = sample(scenario, rate, np.random.default_rng(1000 + i),
                                  jitter_s=2e-4, noise_m=noise)
                 detector = Detector(DetectorConfig(prediction_horizon=0.3,
                                                    prediction_period=period))
-                detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
+                if planned:
+                    detector.set_bat_plan(*plan_of(scenario, samples.start_ns))
                 truth = truth_dict(scenario, samples.start_ns)
                 for stamp, role, values in samples.messages('pose'):
                     for event in detector.add(role, stamp, values):
-                        if isinstance(event, Prediction) and event.made_at_ns < \
-                                truth['stamp_ns'] and event.time_uncertainty_s is not None:
-                            rows.append((event.lead_s,
-                                         (event.stamp_ns - truth['stamp_ns']) * 1e-9,
-                                         event.time_uncertainty_s,
-                                         event.distance_from_tip_m - truth['distance_from_tip_m'],
-                                         event.distance_from_tip_uncertainty_m))
+                        if not isinstance(event, Prediction) or event.made_at_ns >= \
+                                truth['stamp_ns']:
+                            continue
+                        if event.time_uncertainty_s is None:
+                            without += 1
+                        else:
+                            rows.append((
+                                event.lead_s, (event.stamp_ns - truth['stamp_ns']) * 1e-9,
+                                event.time_uncertainty_s,
+                                event.distance_from_tip_m - truth['distance_from_tip_m'],
+                                event.distance_from_tip_uncertainty_m))
             table = np.array(rows).reshape(-1, 5)
             for low, high in bands:
                 band = table[(table[:, 0] >= low) & (table[:, 0] < high)]
@@ -757,6 +767,8 @@ def calibration(per_family: int, seed: int, period: float, spin: bool,
                                  f'{np.sqrt(np.mean(error ** 2)) * unit:.1f}')
                 print(f'| {rate:g} | {noise * 1e3:g} | {low * 1e3:g}-{high * 1e3:g} | '
                       f'{len(band)} | ' + ' | '.join(cells) + ' |')
+            if without:
+                print(f'| {rate:g} | {noise * 1e3:g} | (no time sigma) | {without} | |||||')
 
 
 def arm_glitches(per_kind: int, seed: int, period: float) -> None:
@@ -821,6 +833,8 @@ def main() -> None:
                         help='only how much consecutive predictions move (every 10 ms)')
     parser.add_argument('--calibration', action='store_true',
                         help="only how well a planned prediction's sigmas cover its errors")
+    parser.add_argument('--extrapolated', action='store_true',
+                        help='--calibration: of the bat extrapolated (no plan), every family')
     parser.add_argument('--arm-glitch', action='store_true',
                         help="only one ball glitch's cost to an arm's predictions (the plan)")
     parser.add_argument('--ball-only', action='store_true',
@@ -854,6 +868,10 @@ def main() -> None:
         cost(args.seed)
         return
     if args.calibration:
+        if args.extrapolated:
+            calibration(args.per_kind, args.seed, args.period or 0.01, args.spin, FAMILIES,
+                        planned=False)
+            return
         for families in (SMOOTH_PLANS, BRAKING_PLANS):
             calibration(args.per_kind, args.seed, args.period or 0.01, args.spin, families)
         return

@@ -1,10 +1,11 @@
 """
-A planned prediction's 1-sigma uncertainties: its instant and where on the bat it comes.
+A prediction's 1-sigma uncertainties: its instant and where on the bat it comes.
 
 Python and numpy (no ROS). Times in s, positions in m. With a commanded bat plan the bat's path
 is what the arm will do, so a prediction is as good as the ball's forecast at the predicted
-instant and the plan's interpolation there. Three sources, each a spread of the ball's centre
-relative to the bat at that instant (m):
+instant and the plan's interpolation there; an extrapolated bat adds its swing's change over the
+lead. Three sources, each a spread of the ball's centre relative to the bat at that instant
+(m):
 
 * **The tracker's noise** (``tracker_noise``, told or the ball's estimate under auto). The
   forecast's position at t0 + lead is linear in the window's samples: the parabola's value and
@@ -19,23 +20,31 @@ relative to the bat at that instant (m):
   lift (fewer than the kernel's ``LIFT_MIN_SAMPLES`` or ``LIFT_MIN_SPAN``, or ``lift_window``
   0) the lift left out is a pitch's spin's: ``LIFT_PRIOR`` across the flight, carried on as
   half the lead squared.
-* **The plan's interpolation**: between its poses the bat moves by LERP and SLERP; the contact
-  point's planned position at the instant against the quadratic through the three poses
-  nearest it (``plan_sag``): what a smoother path through the same poses would put there.
+* **The bat's path.** A plan's interpolation: between its poses the bat moves by LERP and
+  SLERP; the contact point's planned position at the instant against the quadratic through the
+  three poses nearest it (``plan_sag``): what a smoother path through the same poses would put
+  there. An extrapolated bat's change over the lead (``swing_spread``): the forecast holds its
+  angular and its pivot's accelerations, so it misses what the swing does next, and the newest
+  frame's own noise is carried on. What the samples show is its recent misses: the forecasts
+  from frames ``BACKTEST_LEADS`` before the forecast's newest, at that frame (``recent``),
+  scaled to the lead as the lead over theirs (a velocity's miss) up to it and its cube beyond
+  (a held acceleration's). What they cannot show is the swing's coming change: its angular
+  acceleration gives out as the bat nears its peak speed, near the contact, which a forecast
+  from before holds on (it predicts early, by 0.3-0.7 ms 10-15 ms ahead at 90 Hz, by 1-4 ms
+  20-50 ms ahead). That is carried as a prior: the swing's angular and its hands' accelerations
+  may change at their speed over ``SWING_TIME_SCALE`` squared (``swing_change``).
 
 Along the contact's normal the spread moves the instant: the ball's forecast is moved by it,
 toward the bat and away, and searched again (``contact_of``), so a graze the shift takes away
 or a contact whose normal speed is small counts by what the search finds, not a slope; the
 half difference of the two instants is the instant's sigma (the one found, one-sided), that of
 the two distances from the tip part of where on the bat. Across the normal, the spread along
-the bat's axis moves the spot itself. An extrapolated bat is not given one: its error over the
-lead is the swing's own change (an accelerating hand, a tilting plane), which nothing in its
-samples bounds (BENCHMARKS.md, "Prediction error bars").
+the bat's axis moves the spot itself (``prediction_uncertainty``).
 """
 
 from bisect import bisect_right
 import math
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -195,6 +204,12 @@ SLOW_CLOSING = 10.0
 within ``NEAR`` and the time a ball closing on the bat this slowly takes over that spread."""
 
 
+CLOSING_STEP = 1e-4
+"""s: the step either side of the contact over which ``prediction_uncertainty`` takes the bat's
+motion there (central differences) where neither forecast moved by the spread meets the bat (a
+spread wider than the contact's reach)."""
+
+
 def search_near(ball: Tuple[float, ...], bat: tuple, t0: float, t: float, search: tuple,
                 near: float = NEAR) -> Optional[Tuple[float, Any]]:
     """
@@ -227,24 +242,125 @@ def flight_corrected(ball: Tuple[float, ...], bat: tuple, t0: float, found: Tupl
     return (found, ball) if again is None else (again, moved)
 
 
-def planned_uncertainty(ball: Tuple[float, ...], plan: tuple, plan_times: Sequence[float],
-                        t0: float, found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector],
-                        spread: float, lifted: bool, doubt: Vector,
-                        search: tuple) -> Tuple[Optional[float], float]:
+def plan_variance(sags: List[Vector]) -> Callable[[Vector], float]:
+    """Return a plan's spread along a unit direction (m^2): the largest of ``plan_sag``'s."""
+    def variance(direction: Vector) -> float:
+        return max((dot(v, direction) ** 2 for v in sags), default=0.0)
+    return variance
+
+
+SWING_TIME_SCALE = 0.03
+"""s: an extrapolated bat's prior (``swing_change``): a swing's angular acceleration may change
+by its angular speed over this squared each second, its hands' by their speed over it squared.
+A swing builds its bat speed over 0.1-0.2 s and passes its peak at about the contact, so its
+angular acceleration falls from its largest to none over tens of milliseconds, where the
+extrapolation holds it. Of 30, 40, 50 and 70 ms tried on the six swing families (whose speed
+peaks are 35-50 ms wide), 30 ms is the one whose error bars cover the errors
+(BENCHMARKS.md, "An extrapolated bat's error bars")."""
+
+BACKTEST_LEADS = (0.015, 0.035)
+"""s: an extrapolated bat's recent misses are those of the forecasts from frames this far before
+the forecast's newest (``backtest_frames``): long enough that a held acceleration's miss shows
+over a millimetre of noise, short enough to be the swing of now."""
+
+BACKTEST_MOST = 3
+"""Recent misses at most (the first, middle and last frame of ``BACKTEST_LEADS``)."""
+
+
+def backtest_frames(times: Sequence[float], breaks: Sequence[bool], newest: int) -> List[int]:
     """
-    Return a planned prediction's 1-sigma time (s) and distance from the tip (m) uncertainty.
+    Return the frames whose forecasts' misses at frame ``newest`` an extrapolated bat carries.
+
+    Frames of ``newest``'s segment (no break after them up to it) ``BACKTEST_LEADS`` s before
+    it, oldest first, at most ``BACKTEST_MOST`` (the first, middle and last); where none is (a
+    rate under about 30 Hz, a segment begun since), the one nearest the span's middle within
+    twice its end; none in a segment that short. ``times`` (s) and ``breaks``: a bat stream's.
+    """
+    low, high = BACKTEST_LEADS
+    newest_time = times[newest]
+    inside, near = [], []
+    i = newest
+    while i > 0 and not breaks[i]:
+        i -= 1
+        back = newest_time - times[i]
+        if back > 2.0 * high:
+            break
+        (inside if low <= back <= high else near).append(i)
+    if not inside:
+        middle = 0.5 * (low + high)
+        return [min(near, key=lambda k: abs(newest_time - times[k] - middle))] if near else []
+    count = len(inside)
+    return sorted({inside[0], inside[count // 2], inside[-1]} if count > BACKTEST_MOST
+                  else inside)
+
+
+def swing_change(bat: Sequence[float], bat_fraction: float, lead: float) -> Tuple[Vector, Vector]:
+    """
+    Return what an extrapolated bat's held accelerations may miss ``lead`` s on (m, 1 sigma).
+
+    The forecast (``bat``: the kernel's 21 numbers) turns about a fixed axis at its angular
+    speed and acceleration and moves its pivot at its velocity and acceleration. A swing's
+    angular acceleration changing at ``|w| / SWING_TIME_SCALE^2`` moves the axis point
+    ``bat_fraction`` of the way from knob to tip by ``|w| lead^3 / (6 tau^2)`` times its arm,
+    along its motion (``w x r``); the hands' at ``|v| / tau^2`` move the pivot by
+    ``|v| lead^3 / (6 tau^2)`` along its velocity.
+
+    :returns: (the turn's vector, the pivot's).
+    """
+    held = lead ** 3 / (6.0 * SWING_TIME_SCALE ** 2)
+    axis, rate = bat[16:19], bat[19]
+    knob_arm, tip_arm = bat[10:13], bat[13:16]
+    arm = lerp(knob_arm, tip_arm, bat_fraction)
+    arm = sub(arm, scale(axis, dot(axis, arm)))
+    return scale(cross(axis, arm), abs(rate) * held), scale(bat[4:7], held)
+
+
+def swing_variance(misses: Sequence[Tuple[float, Vector]], lead: float, changes: Sequence[Vector],
+                   noise: float) -> Callable[[Vector], float]:
+    """
+    Return an extrapolated bat's spread along a unit direction (m^2), ``lead`` s on.
+
+    ``misses``: (their lead s, the miss m) of the forecasts from earlier frames at the
+    forecast's newest (``backtest_frames``), each scaled to ``lead`` as ``lead / theirs`` up to
+    theirs and its cube beyond, averaged; plus ``changes`` (``swing_change``) and the newest
+    frame's ``noise`` (m, 1 sigma a coordinate).
+    """
+    vectors = list(changes)
+    if misses:
+        share = 1.0 / math.sqrt(len(misses))
+        for back, miss in misses:
+            ratio = lead / back
+            vectors.append(scale(miss, share * (ratio if ratio < 1.0 else ratio ** 3)))
+    floor = noise * noise
+
+    def variance(direction: Vector) -> float:
+        return floor + sum(dot(v, direction) ** 2 for v in vectors)
+    return variance
+
+
+def prediction_uncertainty(ball: Tuple[float, ...], bat: tuple, t0: float,
+                           found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector],
+                           spread: float, lifted: bool, doubt: Vector,
+                           bat_variance: Callable[[Vector], float],
+                           search: tuple) -> Tuple[Optional[float], float]:
+    """
+    Return a prediction's 1-sigma time (s) and distance from the tip (m) uncertainty.
 
     The module's docstring. ``ball``: the forecast (the kernel's 10 numbers, as
-    ``flight_corrected`` moved it) that found the contact ``found`` (t, hit) on the plan;
-    ``at``: the ball's velocity (m/s), the knob and the tip (m) at t (``states_of``'s);
-    ``spread``: the noise's spread of the ball's centre at t, m a coordinate (``ball_spread``
-    times the noise); ``lifted``: whether the forecast has its lift (else ``LIFT_PRIOR``'s);
-    ``doubt``: 1 sigma of the flight's correction (``flight_miss``'s second vector, m);
-    ``search``: (horizon s, ball radius m, bat profile, chord tolerance m) of the prediction's
-    own search (``contact_of``).
+    ``flight_corrected`` moved it) that found the contact ``found`` (t, hit) on the bat's
+    (``bat``: a plan's or the extrapolated kernel numbers); ``at``: the ball's velocity (m/s),
+    the knob and the tip (m) at t (``states_of``'s); ``spread``: the noise's spread of the
+    ball's centre at t, m a coordinate (``ball_spread`` times the noise); ``lifted``: whether
+    the forecast has its lift (else ``LIFT_PRIOR``'s); ``doubt``: 1 sigma of the flight's
+    correction (``flight_miss``'s second vector, m); ``bat_variance``: the bat's spread at t
+    along a unit direction (m^2: ``plan_variance``, ``swing_variance``); ``search``: (horizon
+    s, ball radius m, bat profile, chord tolerance m) of the prediction's own search
+    (``contact_of``).
 
-    :returns: (time sigma, or None where neither shifted forecast meets the bat; distance
-        sigma).
+    :returns: (time sigma, distance sigma). Where neither shifted forecast meets the bat (a
+        spread wider than the contact: an extrapolated bat far ahead), the time sigma is the
+        spread along the normal over the ball's closing speed on the bat there (None where it
+        does not close).
     """
     t, hit = found
     lead = t - t0
@@ -253,29 +369,31 @@ def planned_uncertainty(ball: Tuple[float, ...], plan: tuple, plan_times: Sequen
     length = math.dist(knob, tip)
     axis = scale(sub(tip, knob), 1.0 / length) if length > 0.0 else (0.0, 0.0, 0.0)
     flight = scale(velocity, 1.0 / max(norm(velocity), 1e-12))
-    sags = plan_sag(ball, plan, plan_times, t, hit.bat_fraction,
-                    lerp(knob, tip, hit.bat_fraction))
     prior = 0.0 if lifted else 0.5 * LIFT_PRIOR * lead * lead
 
     def variance(direction: Vector) -> float:
         """Return the relative place's variance along a unit direction (m^2)."""
-        sag = max((dot(v, direction) ** 2 for v in sags), default=0.0)
-        return spread * spread + sag + prior * prior * (1.0 - dot(direction, flight) ** 2) + (
-            dot(doubt, direction) ** 2)
+        return spread * spread + bat_variance(direction) + prior * prior * (
+            1.0 - dot(direction, flight) ** 2) + dot(doubt, direction) ** 2
 
     along = math.sqrt(variance(n))
     near = NEAR + along / SLOW_CLOSING
     shifted = []
     for sign in (-1.0, 1.0):
         moved = (ball[0], *advance(ball[1:4], n, sign * along), *ball[4:])
-        again = search_near(moved, plan, t0, t, search, near)
+        again = search_near(moved, bat, t0, t, search, near)
         if again is not None:
             when, moved_hit = again
-            _, _, knob_at, tip_at = states_of(moved, plan, when)
+            _, _, knob_at, tip_at = states_of(moved, bat, when)
             shifted.append((when, (1.0 - moved_hit.bat_fraction) * math.dist(knob_at, tip_at)))
     spot_variance = variance(axis) * (1.0 - dot(axis, n) ** 2)
-    if not shifted:
-        return None, math.sqrt(spot_variance)
+    if not shifted:  # (a spread wider than the contact: at the instant's closing speed)
+        _, _, knob_a, tip_a = states_of(ball, bat, t - CLOSING_STEP)
+        _, _, knob_b, tip_b = states_of(ball, bat, t + CLOSING_STEP)
+        moved_by = sub(lerp(knob_b, tip_b, hit.bat_fraction),
+                       lerp(knob_a, tip_a, hit.bat_fraction))
+        closing = abs(dot(velocity, n) - 0.5 * dot(moved_by, n) / CLOSING_STEP)
+        return (along / closing if closing > 0.0 else None), math.sqrt(spot_variance)
     if len(shifted) == 1:  # (one-sided: the other shift loses the contact)
         shifted.append((t, (1.0 - hit.bat_fraction) * length))
         half = 1.0

@@ -8,8 +8,8 @@ robot arm's, when it covers the instant) or a rigid-body extrapolation of its la
 ``prediction.contact_of`` (``first_contact`` on the kernel's numbers) searches them for the
 first contact within the horizon. The contact found is searched again near its instant, the
 ball moved by what its held acceleration misses over the lead and with finer chords
-(``prediction_spread.flight_corrected``); with a plan the prediction carries its 1-sigma error
-bars (``prediction_spread.planned_uncertainty``).
+(``prediction_spread.flight_corrected``); the prediction carries its 1-sigma error bars
+(``prediction_spread.prediction_uncertainty``: the plan's, or the extrapolated swing's change).
 
 The forecasts do not start from a newest sample off its stream's motion that the sweep has not
 judged yet. A ball sample off the free flight of the samples before it
@@ -23,9 +23,10 @@ drops it), so a tracker's fault neither shows a contact the pitch does not have,
 withdraws one (docs/faults.md, "With prediction on").
 """
 
+from bisect import bisect_right
 from dataclasses import replace
 import math
-from typing import Any, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -39,9 +40,10 @@ from .gap_flight import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .prediction_spread import (
-    ball_spread, flight_corrected, flight_miss, planned_uncertainty)
+    backtest_frames, ball_spread, flight_corrected, flight_miss, plan_sag, plan_variance,
+    prediction_uncertainty, swing_change, swing_variance)
 from .streams import Stream
-from ..geometry import lerp, scale, Vector
+from ..geometry import lerp, scale, sub, Vector
 from ..prediction import (
     ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
     frozen, LIFT_MOST_SAMPLES, planned_bat, PlannedBat, prediction_due, states_of)
@@ -195,8 +197,7 @@ class Predictor(BatJudgment):
         ball_position, ball_velocity, knob, tip = states_of(ball, bat_args, t)
         self.predicting, self._instant = True, t
         time_sigma, spot_sigma = self._uncertainty(
-            ball, bat_args, t0, found, (ball_velocity, knob, tip), doubt, search) \
-            if planned else (None, None)
+            ball, bat_args, planned, t0, found, (ball_velocity, knob, tip), doubt, search)
         events.append(frozen(  # the frozen __init__ would set its fields one by one
             Prediction, stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
@@ -204,22 +205,58 @@ class Predictor(BatJudgment):
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned,
             time_uncertainty_s=time_sigma, distance_from_tip_uncertainty_m=spot_sigma))
 
-    def _uncertainty(self, ball: Tuple[float, ...], plan: Tuple[Any, ...], t0: float,
-                     found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector], doubt: Any,
-                     search: Tuple[Any, ...]) -> Tuple[Optional[float], float]:
+    def _uncertainty(self, ball: Tuple[float, ...], bat: Tuple[Any, ...], planned: bool,
+                     t0: float, found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector],
+                     doubt: Any, search: Tuple[Any, ...]) -> Tuple[Optional[float], float]:
         """
-        Return a planned prediction's 1-sigma time (s) and distance from the tip (m).
+        Return a prediction's 1-sigma time (s) and distance from the tip (m).
 
-        ``prediction_spread.planned_uncertainty`` of the ball's forecast window and noise (the
-        ball's, told or estimated) and the plan in force, from t0 to the contact ``found``
-        (``at``: the ball's velocity, the knob and the tip there, as ``predict`` has them).
+        ``prediction_spread.prediction_uncertainty`` of the ball's forecast window and noise
+        (the ball's, told or estimated) and the bat's forecast ``bat`` (the plan in force where
+        ``planned``, its ``plan_sag``; else the extrapolated kernel numbers, their
+        ``_swing_variance``), from t0 to the contact ``found`` (``at``: the ball's velocity,
+        the knob and the tip there, as ``predict`` has them).
         """
         first, end = self._ball_window
-        gain, lifted = ball_spread(self.ball.times, first, end, self._lift_first, t0,
-                                   found[0] - t0)
-        return planned_uncertainty(ball, plan, self.plan_on_clock.times, t0, found, at,
-                                   gain * stream_noise(self.ball, self._config), lifted, doubt,
-                                   search)
+        t, hit = found
+        gain, lifted = ball_spread(self.ball.times, first, end, self._lift_first, t0, t - t0)
+        _, knob, tip = at
+        if planned:
+            bat_variance = plan_variance(plan_sag(ball, bat, self.plan_on_clock.times, t,
+                                                  hit.bat_fraction,
+                                                  lerp(knob, tip, hit.bat_fraction)))
+        else:
+            bat_variance = self._swing_variance(bat, t, hit.bat_fraction)
+        return prediction_uncertainty(ball, bat, t0, found, at,
+                                      gain * stream_noise(self.ball, self._config), lifted,
+                                      doubt, bat_variance, search)
+
+    def _swing_variance(self, bat_args: Tuple[float, ...], t: float,
+                        bat_fraction: float) -> Callable[[Vector], float]:
+        """
+        Return the extrapolated bat's spread at t (s) along a direction (m^2): ``swing_variance``.
+
+        Its recent misses: the forecasts (``_bat_numbers``, each from its frame's own
+        ``velocity_window``) from the frames ``backtest_frames`` names before the forecast's
+        newest frame (its start, ``bat_args[0]``), less the forecast there, at the axis point
+        ``bat_fraction`` of the way from knob to tip; a rank-deficient fit, or a window of
+        fewer than 3 frames, is left out.
+        """
+        bat, config = self.bat, self._config
+        start = bat_args[0]
+        newest = bisect_right(bat.times, start) - 1
+        _, _, knob_now, tip_now = states_of(None, bat_args, start)
+        here = lerp(knob_now, tip_now, bat_fraction)
+        misses = []
+        for k in backtest_frames(bat.times, bat.breaks, newest):
+            window = bat.history(bat.times[k], config.velocity_window)
+            before = self._bat_numbers(window[0], k + 1) if len(window) >= 3 else None
+            if before is not None:
+                _, _, knob, tip = states_of(None, before, start)
+                misses.append((start - bat.times[k], sub(lerp(knob, tip, bat_fraction), here)))
+        lead = t - start
+        return swing_variance(misses, lead, swing_change(bat_args, bat_fraction, lead),
+                              stream_noise(bat, config))
 
     def _search(self, t0: float) -> Optional[Tuple[Found, Optional[Tuple[float, ...]],
                                                    Optional[Tuple[float, ...]], bool]]:

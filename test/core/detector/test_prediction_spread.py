@@ -1,14 +1,16 @@
-"""Tests for baseball_collision.core.detector.prediction_spread: a planned prediction's sigmas."""
+"""Tests for baseball_collision.core.detector.prediction_spread: a prediction's sigmas."""
 
 import math
 
 from baseball_collision.core.detector import Detector, DetectorConfig, Prediction
 from baseball_collision.core.detector.prediction_spread import (
-    ball_spread, flight_miss, LIFT_SPEED_POWER, plan_sag)
+    backtest_frames, ball_spread, flight_miss, LIFT_SPEED_POWER, plan_sag,
+    prediction_uncertainty, swing_change, SWING_TIME_SCALE, swing_variance)
 from baseball_collision.core.geometry import lerp
-from baseball_collision.core.prediction import ball_numbers, planned_bat, states_of
+from baseball_collision.core.prediction import (
+    ball_numbers, BallForecast, BatForecast, contact_of, planned_bat, states_of)
 from baseball_collision.core.toi import _kernel
-from baseball_collision.tools.sim import make_scenario, sample, truth_dict
+from baseball_collision.tools.sim import FAMILIES, make_scenario, sample, truth_dict
 import numpy as np
 import pytest
 
@@ -148,8 +150,13 @@ def test_a_plans_sag_is_its_chord_off_the_arc() -> None:
     assert max(np.linalg.norm(s) for s in sags_of(line)) < 1e-12
 
 
-def _planned_errors(family: str, count: int, rate: float, noise: float, seed: int = 21):
-    """Return (time error s, its sigma, spot error m, its sigma) of every planned prediction."""
+def _prediction_errors(family: str, count: int, rate: float, noise: float, seed: int = 21,
+                       planned: bool = True):
+    """
+    Return (time error s, its sigma, spot error m, its sigma) of every prediction.
+
+    With the swing as the arm's plan (poses 5 ms apart) where ``planned``, else extrapolated.
+    """
     rng = np.random.default_rng(seed)
     rows = []
     for i in range(count):
@@ -157,16 +164,17 @@ def _planned_errors(family: str, count: int, rate: float, noise: float, seed: in
                                  family=family)
         samples = sample(scenario, rate, np.random.default_rng(100 + i), jitter_s=2e-4,
                          noise_m=noise)
-        plan_times = np.arange(0.0, scenario.t_end, 0.005)
-        positions, quaternions = scenario.swing.pose(plan_times)
         detector = Detector(DetectorConfig(prediction_horizon=0.3, prediction_period=0.01))
-        detector.set_bat_plan([samples.start_ns + int(round(t * 1e9)) for t in plan_times],
-                              positions.tolist(), quaternions.tolist())
+        if planned:
+            plan_times = np.arange(0.0, scenario.t_end, 0.005)
+            positions, quaternions = scenario.swing.pose(plan_times)
+            detector.set_bat_plan([samples.start_ns + int(round(t * 1e9)) for t in plan_times],
+                                  positions.tolist(), quaternions.tolist())
         truth = truth_dict(scenario, samples.start_ns)
         for stamp, role, values in samples.messages('pose'):
             for event in detector.add(role, stamp, values):
                 if isinstance(event, Prediction) and event.made_at_ns < truth['stamp_ns']:
-                    assert event.planned and event.time_uncertainty_s is not None
+                    assert event.planned is planned and event.time_uncertainty_s is not None
                     rows.append(((event.stamp_ns - truth['stamp_ns']) * 1e-9,
                                  event.time_uncertainty_s,
                                  event.distance_from_tip_m - truth['distance_from_tip_m'],
@@ -184,7 +192,7 @@ def test_planned_predictions_sigmas_cover_their_errors(rate: float, noise: float
     50-90 %, within 2 sigma at least 88 %, for the instant and the spot on the bat; and the
     sigmas grow with the noise (below: 1.5 mm of noise's are larger).
     """
-    rows = np.concatenate([_planned_errors(family, 6, rate, noise)
+    rows = np.concatenate([_prediction_errors(family, 6, rate, noise)
                            for family in ('plane', 'tilted')])
     assert len(rows) > 200
     for error, sigma in ((rows[:, 0], rows[:, 1]), (rows[:, 2], rows[:, 3])):
@@ -193,15 +201,117 @@ def test_planned_predictions_sigmas_cover_their_errors(rate: float, noise: float
         assert np.mean(z <= 2.0) >= 0.88
 
 
-def test_an_extrapolated_bats_prediction_has_no_sigma() -> None:
-    """Without a plan the bat's own change over the lead is not bounded: None, not a number."""
-    scenario = make_scenario('barrel', np.random.default_rng(8), lead_s=0.4)
-    samples = sample(scenario, 360.0, np.random.default_rng(1), noise_m=0.001)
-    detector = Detector(DetectorConfig(prediction_horizon=0.3, prediction_period=0.01))
-    made = [e for stamp, role, values in samples.messages('pose')
-            for e in detector.add(role, stamp, values) if isinstance(e, Prediction)]
-    assert made and all(not p.planned and p.time_uncertainty_s is None
-                        and p.distance_from_tip_uncertainty_m is None for p in made)
+@pytest.mark.parametrize('rate, noise', [(90.0, 0.001), (360.0, 0.0)])
+def test_extrapolated_predictions_sigmas_cover_their_errors(rate: float, noise: float) -> None:
+    """
+    Without a plan the sigmas carry the swing's change over the lead, and cover its errors.
+
+    Three pitches of each swing family, every prediction (the extrapolated bat's: 0-120 ms
+    ahead, off by 0.2-2 ms rms): the instant within 1 sigma 50-90 %, within 2 sigma at least
+    85 %; the spot within 1 sigma at least 60 %, within 2 at least 85 %.
+    """
+    rows = np.concatenate([_prediction_errors(family, 3, rate, noise, seed=31, planned=False)
+                           for family in FAMILIES])
+    assert len(rows) > 60
+    z = np.abs(rows[:, 0]) / rows[:, 1]
+    assert 0.5 <= np.mean(z <= 1.0) <= 0.9 and np.mean(z <= 2.0) >= 0.85
+    z = np.abs(rows[:, 2]) / rows[:, 3]
+    assert np.mean(z <= 1.0) >= 0.6 and np.mean(z <= 2.0) >= 0.85
+
+
+def test_backtest_frames_are_the_segments_frames_15_to_35_ms_back() -> None:
+    """
+    90 Hz: the frames 2 and 3 back; 360 Hz: the first, middle and last of the 6th-12th back.
+
+    A segment begun 3 frames back at 360 Hz: the nearest to 25 ms of its frames; begun at the
+    newest, none; 20 Hz (50 ms steps): the one 50 ms back (within twice 35 ms).
+    """
+    at_90 = [k / 90.0 for k in range(11)]
+    assert backtest_frames(at_90, [False] * 11, 10) == [7, 8]
+    at_360 = [k / 360.0 for k in range(40)]
+    assert backtest_frames(at_360, [False] * 40, 39) == [27, 30, 33]
+    breaks = [False] * 40
+    breaks[36] = True  # (frame 36 begins a segment: 37-39 follow it)
+    assert backtest_frames(at_360, breaks, 39) == [36]
+    breaks[39] = True
+    assert backtest_frames(at_360, breaks, 39) == []
+    assert backtest_frames([k * 0.05 for k in range(5)], [False] * 5, 4) == [3]
+
+
+def _turning_bat(rate: float = 40.0, pivot_velocity=(3.0, -1.0, 0.5)) -> BatForecast:
+    """Return a bat turning about +z at ``rate`` rad/s around a pivot at 1 m, its tip along x."""
+    return BatForecast(t0=0.0, pivot=(0.0, 0.0, 1.0), pivot_velocity=pivot_velocity,
+                       pivot_acceleration=(0.0, 0.0, 0.0), knob_arm=(-0.1, 0.0, 0.3),
+                       tip_arm=(0.8, 0.0, 0.3), axis=(0.0, 0.0, 1.0), rate=rate,
+                       rate_change=500.0)
+
+
+def test_swing_change_is_the_turn_and_the_hands_a_changing_acceleration_adds() -> None:
+    """
+    The turn's vector: the point turned by |w| lead^3 / (6 tau^2) more, against Rodrigues.
+
+    An angular acceleration changing at ``|w| / tau^2`` turns the bat by ``|w| lead^3 / (6
+    tau^2)`` more over the lead; its point 3/4 of the way from knob to tip, 0.575 m from the
+    axis, moves across it. The pivot's: its velocity times ``lead^3 / (6 tau^2)``.
+    """
+    bat = _turning_bat()
+    lead = 0.002  # (a small angle: the displacement is the arc's chord to 1e-6)
+    turn, pivot = swing_change(bat.kernel_args, 0.75, lead)
+    angle = 40.0 * lead ** 3 / (6.0 * SWING_TIME_SCALE ** 2)
+    arm = np.array([0.575, 0.0, 0.3])  # knob_arm + 0.75 (tip_arm - knob_arm)
+    axis = np.array([0.0, 0.0, 1.0])
+    turned = (arm * math.cos(angle) + np.cross(axis, arm) * math.sin(angle)
+              + axis * (axis @ arm) * (1.0 - math.cos(angle)))
+    assert turn == pytest.approx(turned - arm, rel=1e-4, abs=1e-8)  # (the chord's 1e-9 off)
+    assert pivot == pytest.approx(np.array([3.0, -1.0, 0.5]) * lead ** 3 / (
+        6.0 * SWING_TIME_SCALE ** 2))
+    backwards, _ = swing_change(_turning_bat(rate=-40.0).kernel_args, 0.75, lead)
+    assert backwards == pytest.approx(turn)  # (the size of the change, not its sign)
+
+
+def test_recent_misses_scale_with_the_lead_then_its_cube() -> None:
+    """A 1 mm miss 20 ms back: 0.5 mm 10 ms ahead, 8 mm 40 ms ahead; two are averaged."""
+    miss = (0.02, (0.001, 0.0, 0.0))
+    along_x = (1.0, 0.0, 0.0)
+    assert swing_variance([miss], 0.01, [], 0.0)(along_x) == pytest.approx(0.0005 ** 2)
+    assert swing_variance([miss], 0.04, [], 0.0)(along_x) == pytest.approx(0.008 ** 2)
+    assert swing_variance([miss], 0.04, [], 0.0)((0.0, 1.0, 0.0)) == 0.0
+    other = (0.02, (0.0, 0.003, 0.0))
+    variance = swing_variance([miss, other], 0.02, [(0.0, 0.0, 0.002)], 0.0005)
+    assert variance(along_x) == pytest.approx(0.5 * 0.001 ** 2 + 0.0005 ** 2)
+    assert variance((0.0, 1.0, 0.0)) == pytest.approx(0.5 * 0.003 ** 2 + 0.0005 ** 2)
+    assert variance((0.0, 0.0, 1.0)) == pytest.approx(0.002 ** 2 + 0.0005 ** 2)
+
+
+def test_a_spread_wider_than_the_contact_takes_the_closing_speed() -> None:
+    """
+    Moved 10 m either way the ball meets no bat: the sigma is the spread over the closing speed.
+
+    A ball at 35 m/s toward a turning bat; the closing speed along the contact's normal taken
+    independently, by central differences of the two paths at the contact.
+    """
+    bat = _turning_bat(rate=-30.0, pivot_velocity=(0.0, 0.0, 0.0))
+    ball = BallForecast.ballistic(0.0, (0.55, 1.0, 1.3), (0.0, -35.0, 0.0), (0.0, 0.0, 0.0),
+                                  0.0).kernel_args
+    search = (0.2, 0.0366, DetectorConfig().profile, 1e-5)
+    found = contact_of(ball, bat.kernel_args, 0.0, *search)
+    assert found is not None
+    t, hit = found
+    velocity, (knob, tip) = states_of(ball, bat.kernel_args, t)[1], bat.at(t)
+    sigma, spot = prediction_uncertainty(
+        ball, bat.kernel_args, 0.0, found, (velocity, knob, tip), 0.0, True, (0.0, 0.0, 0.0),
+        lambda direction: 100.0, search)
+    h = 1e-6
+    gaps = []
+    for when in (t - h, t + h):
+        ball_at = np.array(states_of(ball, bat.kernel_args, when)[0])
+        knob_at, tip_at = bat.at(when)
+        gaps.append(ball_at @ hit.normal - np.array(lerp(knob_at, tip_at, hit.bat_fraction))
+                    @ hit.normal)
+    closing = abs(gaps[1] - gaps[0]) / (2.0 * h)
+    assert 10.0 < closing < 80.0
+    assert sigma == pytest.approx(10.0 / closing, rel=1e-3)
+    assert spot >= 0.0
 
 
 def test_exact_planned_predictions_are_microseconds_off_far_ahead() -> None:
@@ -212,7 +322,7 @@ def test_exact_planned_predictions_are_microseconds_off_far_ahead() -> None:
     the search's own chords 30-40 us off at a tip end (``REFINED_CHORD``). Within 2 sigma and
     12 us (the plan's interpolation, 200 Hz).
     """
-    rows = _planned_errors('plane', 3, 360.0, 0.0)
+    rows = _prediction_errors('plane', 3, 360.0, 0.0)
     assert len(rows) > 50
     assert np.max(np.abs(rows[:, 0])) < 40e-6
     assert np.all(np.abs(rows[:, 0]) <= 2.0 * rows[:, 1] + 12e-6)
