@@ -187,9 +187,9 @@ class Prediction:
     :ivar ball_position, ball_velocity: the ball's predicted centre (m) and velocity (m/s).
     :ivar planned: the bat's path came from a commanded plan (else extrapolated).
     :ivar time_uncertainty_s, distance_from_tip_uncertainty_m: 1 sigma of the instant (s) and
-        of where on the bat (m), with a plan (``prediction_spread``); None for an extrapolated
-        bat (its swing's change over the lead, which its samples do not bound), and the time's
-        None where neither forecast shifted by its sigma meets the bat.
+        of where on the bat (m) (``prediction_spread``): the ball's forecast and the plan's
+        interpolation, or an extrapolated bat's change over the lead; the time's None where the
+        ball does not close on the bat at the predicted instant (None both: not computed).
     """
 
     stamp_ns: int
