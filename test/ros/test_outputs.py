@@ -94,7 +94,7 @@ def test_an_impacts_error_bars_failing_leave_its_completion_out_and_the_node_goe
 
 def test_impact_report_is_the_event_record(harness: Callable[..., Harness],
                                            truth_ns: int) -> None:
-    """One ~/impact_report per impact and prediction: the schema's record, with lead times."""
+    """One ~/impact_report per impact and prediction: the schema's record, lead and error bars."""
     h = swing_harness(harness, 'pose', {'prediction_horizon': 0.3})
     h.processed(publish_swing(h, 'pose', pitch()))
     h.wait(lambda: h.received['impact'] and any(
@@ -112,6 +112,9 @@ def test_impact_report_is_the_event_record(harness: Callable[..., Harness],
         assert record['stamp_ns'] == stamp_ns(message) > record['made_at_ns']
         assert record['lead_s'] == pytest.approx((record['stamp_ns'] - record['made_at_ns'])
                                                  * 1e-9)
+        assert not record['planned']  # (an extrapolated bat's error bars: wide, but there)
+        assert record['time_uncertainty_s'] > 0.0
+        assert record['distance_from_tip_uncertainty_m'] > 0.0
 
 
 def test_no_report_is_made_without_a_subscriber(harness: Callable[..., Harness]) -> None:
