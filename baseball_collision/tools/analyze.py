@@ -30,14 +30,14 @@ from typing import (
 import numpy as np
 
 from .events import event_kind
-from .parameters import build_config, NODE_NAME, resolve_topic, TOPIC_PARAMETERS
+from .parameters import build_config, NODE_NAME, Remapping, TOPIC_PARAMETERS
 from .truth import (
     compare_truth, LEADS_S, load_truth, PredictionIndex, silence_clearings, truth_path,
     TruthComparison)
 from ..bags import BagReader, PATH, TOPIC_FLAGS, TopicSelection
 from ..core.detector import (
-    Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction, PredictionCleared,
-    StateReset, StreamGap, unknown_parameters)
+    DEFAULTS, Detector, DetectorConfig, DetectorStats, Impact, NearMiss, Prediction,
+    PredictionCleared, StateReset, StreamGap, unknown_parameters)
 from ..core.detector.chunks import ROLE_CODES
 from ..core.detector.predictor import kept_flight_span
 from ..errors import BagError, ToolError
@@ -278,6 +278,9 @@ class AnalysisOptions:
     :ivar bat_plan_topic: ``--bat-plan-topic``: the bag's topic of an arm's bat plans
         (``nav_msgs/Path``), as the node's ``bat_plan_topic`` ('': none, whatever the parameter
         file says; None: the file's).
+    :ivar remaps: ``--remap``: the node's remapping rules (``FROM:=TO``, as ``--ros-args -r``
+        takes them; ``parameters.Remapping``): the topics the node would subscribe to and
+        publish, the node renamed or moved (``__node``, ``__ns``).
     """
 
     ball_topic: Optional[str] = None
@@ -292,27 +295,57 @@ class AnalysisOptions:
     node_name: str = NODE_NAME
     topic_flags: bool = True
     bat_plan_topic: Optional[str] = None
+    remaps: Tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         """
-        Refuse parameters that are not a mapping of names to values.
+        Refuse parameters that are not a mapping of names to values, and bad remapping rules.
 
         :raises ToolError: a parameter file's path (``load_parameters`` reads it), a list of
-            pairs: each raised AttributeError from inside ``analyze_bag``.
+            pairs: each raised AttributeError from inside ``analyze_bag``; a rule
+            ``Remapping.parse`` refuses.
         """
         if not isinstance(self.parameters, Mapping):
             raise ToolError('AnalysisOptions(parameters=...) takes node parameters by name (a '
                             f'dict), not {type(self.parameters).__name__} {self.parameters!r:.60}'
                             ' (a parameter file: load_parameters(path))')
+        if isinstance(self.remaps, str):
+            raise ToolError(f'AnalysisOptions(remaps=...) takes a sequence of rules, not the '
+                            f'string {self.remaps!r}')
+        self.remapping()
+
+    def remapping(self) -> Remapping:
+        """Return the node as ``remaps`` rename it and its topics (``Remapping``)."""
+        return Remapping.parse(self.remaps, self.node_name)
+
+    def _remapped(self, parameter: str) -> Tuple[Optional[str], Optional[str]]:
+        """
+        Return a topic parameter's topic as the node takes it, and the rule that renamed it.
+
+        The parameter file's (``remaps`` applied), else with a rule for it the default's; (None,
+        None) for neither, or an empty topic (the plan's default: none).
+        """
+        name = self.parameters.get(parameter)
+        if not name and not self.remaps:
+            return None, None
+        remapping = self.remapping()
+        if not name:
+            name = DEFAULTS[parameter]
+            if not name:
+                return None, None
+            topic, rule = remapping.topic(name)
+            return (topic, rule) if rule else (None, None)
+        return remapping.topic(name)
 
     def topic(self, role: str) -> Optional[str]:
         """
         Return the topic asked for a role: its flag, else the parameter file's, else None.
 
         A parameter file's topic is expanded as the node expands it, for ``node_name``
-        (``ball`` -> ``/ball``, ``/cage2/ball`` under ``/cage2``: ``resolve_topic``);
-        the file's bat topics count only for its ``bat_input`` (``pose`` by default), and none
-        of them when a topic flag names a bat topic.
+        (``ball`` -> ``/ball``, ``/cage2/ball`` under ``/cage2``: ``resolve_topic``), and
+        remapped by ``remaps``, as is the node's default topic where a rule renames it; the
+        file's bat topics count only for its ``bat_input`` (``pose`` by default), and none of
+        them when a topic flag names a bat topic.
         """
         flags = {'ball': self.ball_topic, 'bat_pose': self.bat_pose_topic,
                  'knob': self.knob_topic, 'tip': self.tip_topic}
@@ -323,26 +356,26 @@ class AnalysisOptions:
         points = self.parameters.get('bat_input') == 'points'
         if (role == 'bat_pose' and points) or (role in ('knob', 'tip') and not points):
             return None
-        name = self.parameters.get(TOPIC_PARAMETERS[role])
-        return resolve_topic(name, self.node_name) if name else None
+        return self._remapped(TOPIC_PARAMETERS[role])[0]
 
     def plan_topic(self) -> Optional[str]:
         """
         Return the bat plan topic: ``bat_plan_topic`` given here, else the parameter file's.
 
-        The file's expanded as the node expands it (``resolve_topic``); None for none.
+        The file's expanded and remapped as the node expands and remaps it (``_remapped``);
+        None for none.
         """
         if self.bat_plan_topic is not None:
             return self.bat_plan_topic or None
-        name = self.parameters.get(TOPIC_PARAMETERS['bat_plan'])
-        return resolve_topic(name, self.node_name) if name else None
+        return self._remapped(TOPIC_PARAMETERS['bat_plan'])[0]
 
     def named(self) -> Dict[str, str]:
         """
-        Return how the bag's errors name each topic the parameter file gave, by role.
+        Return how the bag's errors name each topic the parameter file or a rule gave, by role.
 
         By its parameter, where it came from and the flag that overrides it:
-        ``ball_topic '/x' (from the parameter file; --ball-topic overrides it)`` (without the
+        ``ball_topic '/x' (from the parameter file; --ball-topic overrides it)``, ``ball_topic
+        '/y' (the default, remapped by --remap ball:=/y; ...)`` (without the
         flag where the caller has none: ``topic_flags``). A topic a flag gave is named by its
         flag, the reader's default.
         """
@@ -350,8 +383,13 @@ class AnalysisOptions:
         for role, flag in TOPIC_FLAGS.items():
             topic = self.topic(role)
             if topic and getattr(self, f'{role}_topic') is None:
-                named[role] = f"{TOPIC_PARAMETERS[role]} '{topic}' (from the parameter file" + \
-                    (f'; {flag} overrides it)' if self.topic_flags else ')')
+                parameter = TOPIC_PARAMETERS[role]
+                rule = self._remapped(parameter)[1]
+                given = 'from the parameter file' if self.parameters.get(parameter) else \
+                    'the default'
+                named[role] = f"{parameter} '{topic}' ({given}" + (
+                    f', remapped by --remap {rule}' if rule else '') + (
+                    f'; {flag} overrides it)' if self.topic_flags else ')')
         return named
 
     def reader(self, path: os.PathLike) -> BagReader:
@@ -631,7 +669,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
             if out_bag is not None:
                 from .outbag import FoxgloveCopy  # (imported only for an output bag)
                 copy = FoxgloveCopy(out_bag, path, detector, bag.selection.topics,
-                                    options.parameters, options.node_name, config.frame_id)
+                                    options.parameters, options.remapping(), config.frame_id)
                 copy.open()
                 sinks.append(copy)
             bar = progress_bar(bag.message_count, path.name) if progress else None
@@ -661,7 +699,7 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
     result.noise = detector.noise
     result.frame_id = detector.frame_id or config.frame_id or ''
     result.frame_disagreement = detector.frame_disagreement
-    unknown = unknown_parameters(options.parameters, options.node_name)
+    unknown = unknown_parameters(options.parameters, options.remapping().node_name)
     if unknown is not None:  # (typos: rclpy would ignore them too)
         result.notes.append(unknown)
     unsolved = result.unsolved_note()

@@ -26,7 +26,7 @@ from typing import Any, Callable, List, NoReturn, Optional, Tuple
 from .choices import BAT_CHOICES, FAMILIES, KINDS, MAX_RATE_HZ, MAX_SEED, NOISE_ON
 from .ending import end_process
 from .outputs import Outputs
-from .parameters import load_parameters, NODE_NAME
+from .parameters import load_parameters, NODE_NAME, Remapping
 from .truth import truth_path
 from .. import __version__
 from ..atomic import cleanup_on_signals, Terminated
@@ -231,13 +231,14 @@ def _analyze(args: argparse.Namespace) -> int:
     from .many_bags import analyze_bags
     from .report import (csv_text, fitted, format_report, json_text, season_lines,
                          total_line)
-    parameters = load_parameters(args.params, args.node_name) if args.params else {}
+    node = Remapping.parse(args.remap, args.node_name).node_name  # (__node, __ns applied)
+    parameters = load_parameters(args.params, node) if args.params else {}
     options = AnalysisOptions(
         ball_topic=args.ball_topic, bat_pose_topic=args.bat_pose_topic,
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
         prediction_horizon=args.predict, node_name=args.node_name,
-        bat_plan_topic=args.bat_plan_topic)
+        bat_plan_topic=args.bat_plan_topic, remaps=tuple(args.remap))
     start = time.perf_counter()
     skipped: Optional[List[Tuple[Path, str]]] = [] if args.keep_going else None
     to_stdout = [flag for flag, value in (('json', args.json), ('csv', args.csv)) if value == '-']
@@ -410,6 +411,11 @@ def _add_analyze(commands: Any) -> None:
                          'cage2/impact_node), whose namespace the relative topics of --params '
                          'take (ball: /cage2/ball), as the node expands them, and of the '
                          '--out-bag topics (default impact_node)')
+    analyze.add_argument('--remap', action='append', default=[], metavar='FROM:=TO',
+                         help="a remapping rule as the node's --ros-args -r takes it, repeated "
+                         'as needed: the topics the node would read, and those --out-bag writes '
+                         '(ball:=/mocap/ball, ~/impact:=/arm/impact), the node renamed or '
+                         'moved (__node:=NAME, __ns:=/NS), a rule for one node (NODE:FROM:=TO)')
     analyze.add_argument('--model', choices=MODELS,
                          help='motion model between samples (default: --params, else c2 with '
                          'look_ahead 2 and tracker_noise auto)')

@@ -21,9 +21,9 @@ The bag's log time plays the node's clock: a derived message is logged at the lo
 sample that produced it. Messages are stamped with the sample's header stamp, as the node does.
 """
 
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
-from .parameters import output_topics
+from .parameters import output_topics, Remapping
 from ..bags import (
     BagWriter, DIAGNOSTIC_ARRAY, health_message, MARKER_ARRAY, qos_profile, RawBag, RawMessage,
     scene_message, STRING, text_message)
@@ -52,9 +52,13 @@ SETTINGS = ('marker_rate', 'marker_lifetime', 'publish_markers', 'diagnostics_pe
 """The node's own parameters the copy uses (from ``--params``, else their defaults)."""
 
 
-def derived_topics(node_name: str) -> Dict[str, Tuple[str, str]]:
-    """Return the node's output topics and types the copy writes: ``{name: (topic, type)}``."""
-    topics = output_topics(node_name)
+def derived_topics(node: Union[str, Remapping]) -> Dict[str, Tuple[str, str]]:
+    """
+    Return the node's output topics and types the copy writes: ``{name: (topic, type)}``.
+
+    For the node named (with its namespace), or as a ``Remapping``'s node has them.
+    """
+    topics = output_topics(node)
     types = {'impact': POINT_STAMPED, 'impact_velocity': TWIST_STAMPED,
              'near_miss': VECTOR3_STAMPED, 'predicted_impact': POINT_STAMPED,
              'impact_report': STRING, 'markers': MARKER_ARRAY, 'diagnostics': DIAGNOSTIC_ARRAY}
@@ -73,19 +77,21 @@ class FoxgloveCopy:
     :param detector: the detector the loop feeds (its state and counters make the status).
     :param streams: the selected topic of each stream (``ball``, ``bat_pose`` or knob/tip).
     :param parameters: flat node parameters (``--params``): the settings in :data:`SETTINGS`.
-    :param node_name: the node whose topics are written.
+    :param node_name: the node whose topics are written (with its namespace), or a
+        ``Remapping`` (``analyze --remap``): its node, its topics as it remaps them.
     :param frame_id: the configured frame ('' : the samples' frame).
     :raises BagError: from :meth:`open` and the sink methods, when reading or writing fails.
     """
 
     def __init__(self, writer: BagWriter, input_path: Any, detector: Detector,
-                 streams: Mapping[str, str], parameters: Mapping[str, Any], node_name: str,
-                 frame_id: str = '') -> None:
+                 streams: Mapping[str, str], parameters: Mapping[str, Any],
+                 node_name: Union[str, Remapping], frame_id: str = '') -> None:
         self.writer = writer
         self.detector = detector
         self.config = detector.config
         self.streams = dict(streams)
-        self.node_name = node_name.strip('/').rsplit('/', 1)[-1]  # as the node's get_name()
+        name = node_name if isinstance(node_name, str) else node_name.node_name
+        self.node_name = name.strip('/').rsplit('/', 1)[-1]  # as the node's get_name()
         self.frame_id = frame_id
         self.settings = {name: parameters.get(name, DEFAULTS[name]) for name in SETTINGS}
         self.settings.update(model=self.config.model, bat_input=self.config.bat_input,

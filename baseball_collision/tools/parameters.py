@@ -9,10 +9,11 @@ No rclpy: the ROS 2 YAML the ``impact_node`` takes (``<node_name>: ros__paramete
 node's event topics (``--out-bag`` writes them, the demo listens to them).
 """
 
+from dataclasses import dataclass
 import os
 from pathlib import Path
 import re
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple, Union
 
 from ..core.detector import (
     DetectorConfig, node_fqn, NODE_NAME, section_applies, validate_parameters)
@@ -89,6 +90,90 @@ def resolve_topic(name: str, node_name: str = NODE_NAME) -> str:
                         'knows {node}, {ns} and {namespace})')
     name = _SUBSTITUTION.sub(lambda match: values[match.group(1)], name)
     return name if name.startswith('/') else f'{namespace}/{name}'
+
+
+_NODE_TOKEN = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')
+
+
+@dataclass(frozen=True)
+class Remapping:
+    """
+    The node's remapping rules (``--ros-args -r FROM:=TO``), applied as rcl applies them.
+
+    No rclpy. ``__ns:=/NS`` moves the node to namespace NS and ``__node:=NAME`` (or
+    ``__name``) renames it; every other rule renames a topic. A rule prefixed ``NODE:`` applies
+    only to the node of that name. A topic rule matches a topic whose expanded name
+    (``resolve_topic``: relative names take the node's namespace, ``~`` is the node) is its
+    FROM expanded the same way; the first that matches gives TO, expanded. Wildcards, which rcl
+    does not implement, are refused.
+
+    :ivar node_name: the node with its namespace after the rules (``cage2/impact_node``).
+    :ivar rules: the topic rules in order: (the node they are for or '', FROM, TO).
+    """
+
+    node_name: str = NODE_NAME
+    rules: Tuple[Tuple[str, str, str], ...] = ()
+
+    @classmethod
+    def parse(cls, rules: Iterable[str], node_name: str = NODE_NAME) -> 'Remapping':
+        """
+        Return the rules ``[NODE:]FROM:=TO`` for the node ``node_name`` (with its namespace).
+
+        :raises ToolError: a rule without ``:=`` or with more than one, a FROM or TO that is
+            not a valid name (rcl's rules: ``topic_name_error``), a namespace that is not
+            absolute, a node name with more than one token, a wildcard.
+        """
+        namespace, _, base = node_fqn(node_name).rpartition('/')
+        given = base
+        moved: Dict[str, str] = {}  # (the first __node rule for the node, each node's __ns)
+        topic_rules = []
+        for rule in rules:
+            left, sign, right = rule.partition(':=')
+            if not sign or ':=' in right:
+                raise ToolError(f"remapping rule {rule!r} must read FROM:=TO (one ':=')")
+            node, _, match = left.rpartition(':')
+            if re.search(r'[*{}]', rule):
+                raise ToolError(f'remapping rule {rule!r}: wildcards and substitutions are not '
+                                'supported (rcl does not take them in a rule)')
+            if node and not _NODE_TOKEN.match(node):
+                raise ToolError(f"remapping rule {rule!r}: '{node}' is not a node name")
+            if match == '__ns':
+                if not right.startswith('/') or right != '/' and topic_name_error(right):
+                    raise ToolError(f'remapping rule {rule!r}: a namespace must be absolute '
+                                    '(/cage2)')
+                moved.setdefault(f'namespace {node}', '' if right == '/' else right)
+                continue
+            if match in ('__node', '__name'):
+                if not _NODE_TOKEN.match(right):
+                    raise ToolError(f"remapping rule {rule!r}: '{right}' is not a node name")
+                if not node or node == given:
+                    moved.setdefault('base', right)
+                continue
+            for name in (match, right):
+                problem = topic_name_error(name)
+                if problem:
+                    raise ToolError(f'remapping rule {rule!r}: {problem}')
+            topic_rules.append((node, match, right))
+        base = moved.get('base', base)  # (a namespace rule's node: the node renamed)
+        namespace = next((value for key, value in moved.items()
+                          if key in ('namespace ', f'namespace {base}')), namespace)
+        return cls(f'{namespace}/{base}'.lstrip('/'), tuple(topic_rules))
+
+    def topic(self, name: str) -> Tuple[str, Optional[str]]:
+        """
+        Return a topic as the node expands and remaps it, with the rule that renamed it.
+
+        :returns: (the fully qualified name, the rule as ``FROM:=TO``, or None where none
+            matched).
+        :raises ToolError: an unknown substitution (``resolve_topic``).
+        """
+        expanded = resolve_topic(name, self.node_name)
+        base = self.node_name.rpartition('/')[2]
+        for node, match, replacement in self.rules:
+            if (not node or node == base) and resolve_topic(match, self.node_name) == expanded:
+                rule = f"{node + ':' if node else ''}{match}:={replacement}"
+                return resolve_topic(replacement, self.node_name), rule
+        return expanded, None
 
 
 def _topic_problem(name: str, node_name: str) -> Optional[str]:
@@ -285,14 +370,16 @@ def build_config(parameters: Mapping[str, Any], *, bat_input: str,
         raise ToolError(f'bad detector setting: {error}') from error
 
 
-def output_topics(node_name: str = NODE_NAME) -> Dict[str, str]:
+def output_topics(node: Union[str, Remapping] = NODE_NAME) -> Dict[str, str]:
     """
     Return the node's output topics: ``{'impact': '/<node>/impact', ...}``.
 
     ``impact``, ``impact_velocity``, ``near_miss``, ``predicted_impact``, ``impact_report``,
-    ``markers`` (``~/`` topics of the node) and ``diagnostics`` (``/diagnostics``).
+    ``markers`` (``~/`` topics of the node) and ``diagnostics`` (``/diagnostics``), for the
+    node named (with its namespace), or as a ``Remapping``'s node has them.
     """
-    base = node_fqn(node_name)
+    remapping = Remapping(node) if isinstance(node, str) else node
     names = ('impact', 'impact_velocity', 'near_miss', 'predicted_impact', 'impact_report',
              'markers')
-    return {**{name: f'{base}/{name}' for name in names}, 'diagnostics': '/diagnostics'}
+    return {**{name: remapping.topic(f'~/{name}')[0] for name in names},
+            'diagnostics': remapping.topic('/diagnostics')[0]}

@@ -7,6 +7,7 @@ at runtime (parameter service), and from ``analyze --params`` reading the same f
 """
 
 from pathlib import Path
+import re
 from typing import Any, Callable
 
 from baseball_collision.core.detector import (
@@ -14,10 +15,11 @@ from baseball_collision.core.detector import (
 from baseball_collision.errors import CoreError, RosError, ToolError
 from baseball_collision.ros.node import ImpactNode
 from baseball_collision.ros.parameters import params_file_warnings, params_files, start_warnings
-from baseball_collision.tools.parameters import load_parameters
+from baseball_collision.tools.parameters import load_parameters, Remapping
 import pytest
 from rcl_interfaces.msg import ParameterType
 import rclpy
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from support import REPO_ROOT
@@ -282,3 +284,50 @@ def test_an_int_for_a_double_is_taken_at_start_and_at_runtime(
     assert h.node.get_parameter('max_gap').type_ == Parameter.Type.DOUBLE
     assert h.node.detector.config.max_gap == 2.0
     assert load_parameters(params)['max_gap'] == 1
+
+
+REMAPS = [
+    [], ['ball:=/mocap/ball'], ['__ns:=/cage2'], ['__ns:=/cage2', 'ball:=mocap/ball'],
+    ['impact_node:ball:=/a', 'ball:=/b'], ['other:ball:=/a', 'ball:=/b'],
+    ['__node:=arm', 'arm:ball:=/a'], ['__node:=arm', 'impact_node:ball:=/a'],
+    ['impact_node:__node:=arm', 'arm:__ns:=/x'],
+    ['impact_node:__node:=arm', 'impact_node:__ns:=/x'],
+    ['__ns:=/a', '__ns:=/b'], ['__node:=a', '__name:=b'], ['__ns:=/'],
+    ['~/impact:=/arm/impact', '/impact_node/near_miss:=near'], ['/ball:=/x'],
+    ['~/impact:=~/hit'], ['__ns:=/a/b', 'bat_pose:=~/pose'], ['ball:=/x', 'ball:=/y'],
+]
+"""Remapping rules (``--ros-args -r``), each list in order."""
+
+
+@pytest.mark.parametrize('namespace', ['/', '/cage2'])
+def test_analyze_remaps_as_rcl_remaps(context: Callable[..., rclpy.Context],
+                                      namespace: str) -> None:
+    """
+    ``analyze --remap``'s node and topics are the node's under the same rules: rclpy's own.
+
+    The node's full name (``__node``, ``__ns``; a rule for one node compared with its name, the
+    namespace's with the node renamed), and each topic as ``resolve_topic_name`` expands and
+    remaps it: the first matching rule, relative names and ``~`` in the node's namespace.
+    """
+    for rules in REMAPS:
+        node = Node('impact_node', namespace=namespace,
+                    context=context(*[a for rule in rules for a in ('-r', rule)]))
+        try:
+            ours = Remapping.parse(rules, f"{namespace.strip('/')}/impact_node")
+            assert '/' + ours.node_name == node.get_fully_qualified_name(), rules
+            for name in ('ball', '/ball', 'bat_pose', '~/impact', '~/near_miss', '/diagnostics',
+                         'mocap/ball', '~'):
+                assert ours.topic(name)[0] == node.resolve_topic_name(name), (rules, name)
+        finally:
+            node.destroy_node()
+
+
+@pytest.mark.parametrize('rule', ['ball', 'ball:=', ':=/x', 'ball:=1x', 'ball:=/x/',
+                                  '__ns:=cage2', '__node:=a/b', 'ball:=/x:=/y', 'a b:=/x',
+                                  'ball:={node}', '**:=/x'])
+def test_a_rule_rcl_refuses_is_refused(rule: str) -> None:
+    """What rcl cannot parse, ``analyze --remap`` refuses, naming the rule."""
+    with pytest.raises(rclpy_implementation.RCLError, match='remap rule'):
+        rclpy.init(context=rclpy.Context(), args=['--ros-args', '-r', rule])
+    with pytest.raises(ToolError, match=re.escape(repr(rule))):
+        Remapping.parse([rule])

@@ -255,3 +255,18 @@ def test_custom_types_are_copied_with_the_inputs_own_definitions(
         first = reader.deserialize(raw[0], 'rig_msgs/msg/Markers')
         assert first.markers[0].label == 'knob' and list(first.markers[0].values) == [0, 1, 2]
     assert 'rig_msgs/msg/Marker' not in get_typestore(Stores.ROS2_JAZZY).types
+
+
+def test_remapped_outputs_are_written_where_the_node_would_publish_them(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """``--remap``: a node moved to /cage2 with its ~/impact renamed writes those topics."""
+    out = tmp_path / 'o.mcap'
+    code, _, stderr = run_cli(['analyze', str(bag_path('pitches_90hz.mcap')), '--out-bag',
+                               str(out), '--quiet', '--remap', '__ns:=/cage2',
+                               '--remap', '~/impact:=/arm/impact'])
+    assert code == 0, stderr
+    connections, _ = _read(out)
+    assert connections['/arm/impact'].msgcount > 0
+    assert connections['/cage2/impact_node/impact_report'].msgcount > 0
+    assert '/impact_node/impact' not in connections
+    assert '/cage2/impact_node/impact' not in connections

@@ -9,7 +9,7 @@ from baseball_collision.errors import ToolError
 from baseball_collision.tools.analyze import AnalysisOptions, analyze_bag
 from baseball_collision.tools.parameters import (
     build_config, load_parameters, NODE_NAME, OFFLINE_MODEL, OFFLINE_PARAMETERS, output_topics,
-    resolve_topic)
+    Remapping, resolve_topic)
 from baseball_collision.tools.report import summary_line
 import pytest
 from support import REPO_ROOT
@@ -206,6 +206,52 @@ def test_the_parameter_files_topics_are_read(tmp_path: Path, run_cli: RunCli) ->
     code, _, _ = run_cli(['analyze', bag, '--params', str(other), '--ball-topic', '/ball',
                           '--quiet'])
     assert code == 0
+
+
+def test_remapped_topics_are_read_as_the_node_would_read_them(
+        tmp_path: Path, run_cli: RunCli) -> None:
+    """
+    ``--remap``: the node's default or file topics renamed; the node moved or renamed.
+
+    A rule for the default topic names it in the error; a file's relative topic moves with
+    ``__ns`` and a rule brings it back; a rule for another node does nothing; a flag wins over
+    a rule; a rule rcl refuses is one line and exit 2.
+    """
+    bag = str(REPO_ROOT / 'bags' / 'pitches_90hz.mcap')
+    code, _, stderr = run_cli(['analyze', bag, '--remap', 'ball:=/tracking/ball'])
+    assert code == 2 and stderr.startswith(
+        "baseball-collision: error: ball_topic '/tracking/ball' (the default, remapped by "
+        '--remap ball:=/tracking/ball; --ball-topic overrides it) is not in the bag')
+    code, _, _ = run_cli(['analyze', bag, '--remap', 'ball:=/tracking/ball', '--ball-topic',
+                          '/ball', '--quiet'])
+    assert code == 0
+    code, _, _ = run_cli(['analyze', bag, '--remap', 'other_node:ball:=/tracking/ball',
+                          '--quiet'])
+    assert code == 0
+    params = _write(tmp_path / 'p.yaml', '/**:\n  ros__parameters:\n    ball_topic: ball\n'
+                    '    bat_pose_topic: bat_pose\n')
+    code, _, stderr = run_cli(['analyze', bag, '--params', str(params), '--remap',
+                               '__ns:=/cage2'])
+    assert code == 2 and "ball_topic '/cage2/ball' (from the parameter file; " in stderr
+    code, stdout, stderr = run_cli(['analyze', bag, '--params', str(params), '--remap',
+                                    '__ns:=/cage2', '--remap', 'ball:=/ball', '--remap',
+                                    '/cage2/bat_pose:=/bat_pose', '--no-truth'])
+    assert code == 0 and 'ball /ball, bat /bat_pose (pose)' in stdout, stderr
+    code, _, stderr = run_cli(['analyze', bag, '--remap', '__ns:=cage2'])
+    assert code == 2 and stderr == ("baseball-collision: error: remapping rule '__ns:=cage2': "
+                                    'a namespace must be absolute (/cage2)\n')
+
+
+def test_a_renamed_node_takes_its_own_section(tmp_path: Path) -> None:
+    """``__node:=arm`` (``--remap``): the parameter file's section for ``arm`` applies."""
+    params = _write(tmp_path / 'p.yaml', 'arm:\n  ros__parameters:\n    ball_topic: /arm_ball\n'
+                    'impact_node:\n  ros__parameters:\n    ball_topic: /node_ball\n')
+    remapping = Remapping.parse(['__node:=arm'])
+    options = AnalysisOptions(parameters=load_parameters(params, remapping.node_name),
+                              remaps=('__node:=arm',))
+    assert remapping.node_name == 'arm' and options.topic('ball') == '/arm_ball'
+    with pytest.raises(ToolError, match='takes a sequence of rules'):
+        AnalysisOptions(remaps='ball:=/x')
 
 
 def test_every_sample_dropped_is_an_error(tmp_path: Path, run_cli: RunCli) -> None:
