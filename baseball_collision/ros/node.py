@@ -88,8 +88,8 @@ from .prediction_flag import PredictionFlag
 from .prediction_watch import PredictionWatch
 from .state_changes import StateChanges
 from ..core.detector import (
-    Detector, DetectorConfig, DropReason, Event, Impact, NODE_NAME, PendingUncertainty,
-    Prediction, ResetReason, StateReset)
+    Detector, DetectorConfig, DropReason, Event, Impact, NODE_NAME, PendingPrediction,
+    PendingUncertainty, Prediction, ResetReason, StateReset)
 from ..core.records import EVENT_NAMES
 from ..errors import RosError
 from ..threads import single_threaded_blas
@@ -118,10 +118,11 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
         self._twist_cdr = StampedCdr(6)  # ~/impact_velocity's
         self._frame = ''  # the frame of the message being taken (``_on_contact``'s)
         self._contact_ns: Optional[int] = None  # a contact solved in the add being taken
-        # (event, frame, config) to complete once the inputs are drained: reports, and an
-        # impact's error bars, line and markers (its PendingUncertainty in place of the event)
-        self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]] = \
-            deque()
+        # (event, frame, config) to complete once the inputs are drained: reports, an impact's
+        # error bars, line and markers and a prediction's error bars (its PendingUncertainty or
+        # PendingPrediction in place of the event)
+        self._to_complete: Deque[Tuple[Union[Event, PendingUncertainty, PendingPrediction],
+                                       str, DetectorConfig]] = deque()
         self._clock_jump_at = -math.inf
         self._waited_for: Set[str] = set()  # inputs said to have sent nothing yet
         self._frames_said: Optional[str] = None  # the frame disagreement last warned about
@@ -216,7 +217,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
                 self._last_values[stream] = (stamp, values)
                 self._watch.accepted(stream, stamp, None if previous is None else previous[0],
                                      arrival)
-            pending = iter(self.detector.take_pending())  # the impacts' error bars, to come
+            pending = iter(self.detector.take_pending())  # the error bars, to come
             for event in events:
                 kind, where = event.__class__, frame or expected or ''
                 if kind is StateReset:
@@ -229,6 +230,7 @@ class ImpactNode(Outputs, PredictionFlag, BatPlanInput, StateChanges, Node):
                     if not event.planned and self._plan is not None:
                         self._warn_plan_unused(event.made_at_ns)
                     self._raise_prediction(event)
+                    event = next(pending)  # (its error bars: with its report, if one is made)
                 elif kind is Impact:  # ~/impact went out; its error bars, line, markers later
                     self._outputs['impact_velocity'].publish(self._twist_cdr(
                         event.stamp_ns, where, (*event.bat_velocity, *event.bat_angular_velocity)))

@@ -30,7 +30,8 @@ from visualization_msgs.msg import MarkerArray
 
 from .markers import latest_scene, scene_cdr
 from .messages import describe_impact, event_report, EventOutput, FLAG_CDR, format_stamp
-from ..core.detector import DetectorConfig, Event, Impact, PendingUncertainty
+from ..core.detector import (
+    DetectorConfig, Event, Impact, PendingPrediction, PendingUncertainty)
 from ..core.geometry import Vector
 from ..core.scene import impact_scene, Scene
 
@@ -76,7 +77,8 @@ class Outputs:
     _contact_ns: Optional[int]  # a contact solved in the add being taken
     _clock_jump_at: float  # when the ROS clock last jumped back (s, steady clock)
     # (event, frame, config) to complete once the inputs are drained
-    _to_complete: Deque[Tuple[Union[Event, PendingUncertainty], str, DetectorConfig]]
+    _to_complete: Deque[Tuple[Union[Event, PendingUncertainty, PendingPrediction], str,
+                              DetectorConfig]]
 
     def _advertise_outputs(self) -> None:
         """Make the publishers (``OUTPUTS``, mismatches warned about); the flag starts false."""
@@ -134,7 +136,9 @@ class Outputs:
         An impact's ``~/impact`` and ``~/impact_velocity`` went out as its message was handled;
         here its 1-sigma uncertainties are measured (``PendingUncertainty.measure``: re-solves
         from copies of its samples taken then, 0.3-0.6 ms; the same to the bit as ``analyze``'s),
-        its INFO line logged and its markers published. Then each event's ``~/impact_report``.
+        its INFO line logged and its markers published. A prediction's ``~/predicted_impact``
+        went out too; its error bars (``PendingPrediction.measure``, 0.05-0.2 ms) are measured
+        only for its report. Then each event's ``~/impact_report``.
         Called after each input's executor callback, once the intake has drained the queues
         (no message waiting, or ``DRAIN_LIMIT`` taken), so the error bars and a record's JSON (a
         third of the message that predicts, with a recorder subscribed) delay no message taken
@@ -145,13 +149,24 @@ class Outputs:
         subscribed = bool(queued) and publisher.get_subscription_count() > 0
         while queued:
             event, frame, config = queued.popleft()
-            if event.__class__ is PendingUncertainty:
+            kind = event.__class__
+            if kind is PendingUncertainty:
                 try:
                     event = self._measured(event, frame)
                 except Exception as error:  # the error bars' own failure (a bug)
                     self._failed(f'the error bars of the impact at '
                                  f'{format_stamp(event.impact.stamp_ns)} s failed',
                                  'its line, markers and report are left out', error)
+                    continue
+            elif kind is PendingPrediction:
+                if not subscribed:  # (its error bars are for its report alone)
+                    continue
+                try:
+                    event = event.measure()
+                except Exception as error:  # the error bars' own failure (a bug)
+                    self._failed(f'the error bars of the prediction made at '
+                                 f'{format_stamp(event.prediction.made_at_ns)} s failed',
+                                 'its report is left out', error)
                     continue
             if subscribed:
                 publisher.publish(event_report(event, frame, config))

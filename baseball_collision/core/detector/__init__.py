@@ -10,6 +10,7 @@ from .events import (
     PredictionCleared, ResetReason, Role, StateReset, StreamGap)
 from .gate import FAR_AHEAD_NS
 from .kinematics import SPARSE_SAMPLES
+from .prediction_spread import PendingPrediction
 from .predictor import PREDICTION_CHORD_FACTOR
 from .uncertainty import PendingUncertainty
 from ..toi import Feature
@@ -18,7 +19,7 @@ __all__ = [
     'DROP_REASONS', 'FAR_AHEAD_NS', 'MPS_TO_MPH', 'DetectorConfig', 'Impact', 'NearMiss',
     'Prediction', 'PredictionCleared', 'StreamGap', 'StateReset', 'Event', 'DetectorStats',
     'Detector', 'PREDICTION_CHORD_FACTOR', 'PREDICTION_DEGREE', 'SPARSE_SAMPLES', 'DropReason',
-    'Feature', 'ResetReason', 'Role', 'PendingUncertainty',
+    'Feature', 'ResetReason', 'Role', 'PendingUncertainty', 'PendingPrediction',
     # the parameter table (config.py)
     'AUTO_NOISE', 'NODE_NAME', 'Kind', 'Range', 'ParameterSpec', 'PARAMETERS', 'SPECS', 'DEFAULTS',
     'validate_parameters', 'unknown_parameters', 'unit_vector', 'section_applies', 'node_fqn',

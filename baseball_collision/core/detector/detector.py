@@ -44,6 +44,7 @@ from .gate import (
 from .intake import Intake, Offer
 from .noise import NoiseEstimate, record
 from .pairing import Pairing
+from .prediction_spread import PendingPrediction
 from .predictor import Predictor
 from .scheduler import Scheduler
 from .streams import Stream
@@ -70,10 +71,11 @@ class Detector:
 
     :param config: the detector configuration.
     :param deferred_uncertainty: the impacts the calls return have their uncertainties zero,
-        and ``take_pending`` hands over what measures them (``PendingUncertainty.measure``:
-        the same uncertainties to the bit, taken when the impact was found), so an adapter can
-        send an impact before its error bars' re-solves (the node). Off: every impact returned
-        carries them.
+        and the predictions None, and ``take_pending`` hands over what measures them
+        (``PendingUncertainty.measure``, ``PendingPrediction.measure``: the same uncertainties
+        to the bit, taken when the event was made), so an adapter can send an impact or a
+        prediction before its error bars' re-solves (the node). Off: every impact and
+        prediction returned carries them.
     :param on_contact: called with each impact's stamp (ns) and contact point (m) the moment
         its contact is solved, inside the ``add_*`` call that returns the impact, before its
         velocities are fitted (about 0.2 ms at 1 kHz; the node sends ``~/impact`` from it).
@@ -120,6 +122,7 @@ class Detector:
         self._sweep.measure, self._sweep.on_contact = self._measure, self._on_contact
         self._sweep.frame_of = lambda: self._intake.frame
         self._predictor.drop_bat = self._sweep._bat_glitch  # (the forecast's frames judged)
+        self._predictor.defer = None if self._pending is None else self._defer
         self._noise = None if config.tracker_noise >= 0.0 else (
             NoiseEstimate('point'), NoiseEstimate('length' if config.bat_input == 'points'
                                                   else 'pose'))
@@ -134,12 +137,17 @@ class Detector:
         self._pending.append(pending)
         return impact
 
-    def take_pending(self) -> List[PendingUncertainty]:
-        """
-        Return the impacts found since the last call whose uncertainties are pending, in order.
+    def _defer(self, pending: PendingPrediction) -> None:
+        """Keep a prediction's error bars pending (deferred: ``take_pending``)."""
+        self._pending.append(pending)
 
-        Only with ``deferred_uncertainty`` (else always empty). ``reset`` keeps them: each holds
-        copies of what it is measured from, and its impact was already returned.
+    def take_pending(self) -> List[Union[PendingUncertainty, PendingPrediction]]:
+        """
+        Return the impacts and predictions since the last call whose error bars are pending.
+
+        In the order the calls returned them. Only with ``deferred_uncertainty`` (else always
+        empty). ``reset`` keeps them: each holds copies of what it is measured from, and its
+        event was already returned.
         """
         if self._pending is None:
             return []
@@ -589,7 +597,8 @@ class Detector:
                     events[i] = replace(event, bat_at_rest=True)
                     if self._pending:  # (deferred: its uncertainties measure this one)
                         self._pending = [replace(pending, impact=events[i])
-                                         if pending.impact is event else pending
+                                         if pending.__class__ is PendingUncertainty
+                                         and pending.impact is event else pending
                                          for pending in self._pending]
         if moved and config.prediction_horizon > 0.0:
             self._predictor.predict(self._scheduler.cursor, self._episodes.armed, events)

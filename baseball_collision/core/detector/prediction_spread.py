@@ -43,13 +43,17 @@ the bat's axis moves the spot itself (``prediction_uncertainty``).
 """
 
 from bisect import bisect_right
+from dataclasses import dataclass, replace
 import math
 from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .bat_window import STEP_ROWS
+from .events import Prediction
+from .streams import Stream
 from ..geometry import advance, cross, dot, lerp, norm, scale, sub, Vector
-from ..prediction import contact_of, states_of
+from ..prediction import bat_window_numbers, contact_of, states_of
 from ..toi import _kernel
 
 LIFT_PRIOR = 3.0
@@ -263,8 +267,9 @@ BACKTEST_LEADS = (0.015, 0.035)
 the forecast's newest (``backtest_frames``): long enough that a held acceleration's miss shows
 over a millimetre of noise, short enough to be the swing of now."""
 
-BACKTEST_MOST = 3
-"""Recent misses at most (the first, middle and last frame of ``BACKTEST_LEADS``)."""
+BACKTEST_MOST = 2
+"""Recent misses at most: the first and last frame of ``BACKTEST_LEADS`` (a third between them
+changed no coverage by a point on the scratch set: "An extrapolated bat's error bars")."""
 
 
 def backtest_frames(times: Sequence[float], breaks: Sequence[bool], newest: int) -> List[int]:
@@ -272,7 +277,7 @@ def backtest_frames(times: Sequence[float], breaks: Sequence[bool], newest: int)
     Return the frames whose forecasts' misses at frame ``newest`` an extrapolated bat carries.
 
     Frames of ``newest``'s segment (no break after them up to it) ``BACKTEST_LEADS`` s before
-    it, oldest first, at most ``BACKTEST_MOST`` (the first, middle and last); where none is (a
+    it, oldest first, at most ``BACKTEST_MOST`` (the first and last); where none is (a
     rate under about 30 Hz, a segment begun since), the one nearest the span's middle within
     twice its end; none in a segment that short. ``times`` (s) and ``breaks``: a bat stream's.
     """
@@ -289,9 +294,36 @@ def backtest_frames(times: Sequence[float], breaks: Sequence[bool], newest: int)
     if not inside:
         middle = 0.5 * (low + high)
         return [min(near, key=lambda k: abs(newest_time - times[k] - middle))] if near else []
-    count = len(inside)
-    return sorted({inside[0], inside[count // 2], inside[-1]} if count > BACKTEST_MOST
-                  else inside)
+    return sorted({inside[0], inside[-1]} if len(inside) > BACKTEST_MOST else inside)
+
+
+def recent_misses(bat: Stream, forecast: Sequence[float], bat_fraction: float,
+                  window: float, degree: int) -> List[Tuple[float, Vector]]:
+    """
+    Return an extrapolated bat's recent misses: (their lead s, the miss m) at its newest frame.
+
+    The forecasts (``prediction.bat_window_numbers`` of ``degree``, each from its frame's own
+    ``window`` s of frames, ``Stream.history``) from the frames ``backtest_frames`` names before
+    the forecast's newest frame (its start, ``forecast[0]``: the kernel's 21 numbers), less
+    ``forecast`` there, at the axis point ``bat_fraction`` of the way from knob to tip; a
+    rank-deficient fit, or a window of fewer than 3 frames, is left out. ``bat``: the stream,
+    or an excerpt of it holding those windows (``streams.excerpt``: the same bits).
+    """
+    start = forecast[0]
+    times = bat.times
+    newest = bisect_right(times, start) - 1
+    _, _, knob_now, tip_now = states_of(None, forecast, start)
+    here = lerp(knob_now, tip_now, bat_fraction)
+    rows = bat.aligned.setdefault(STEP_ROWS, [])
+    misses = []
+    for k in backtest_frames(times, bat.breaks, newest):
+        frames = bat.history(times[k], window)
+        before = bat_window_numbers(times, bat.values, rows, frames[0], k + 1, degree) \
+            if len(frames) >= 3 else None
+        if before is not None:
+            _, _, knob, tip = states_of(None, before, start)
+            misses.append((start - times[k], sub(lerp(knob, tip, bat_fraction), here)))
+    return misses
 
 
 def swing_change(bat: Sequence[float], bat_fraction: float, lead: float) -> Tuple[Vector, Vector]:
@@ -401,3 +433,71 @@ def prediction_uncertainty(ball: Tuple[float, ...], bat: tuple, t0: float,
         half = 0.5
     (t_a, d_a), (t_b, d_b) = shifted
     return half * abs(t_b - t_a), math.sqrt((half * (d_b - d_a)) ** 2 + spot_variance)
+
+
+BACKTEST_SPAN = 2.0 * BACKTEST_LEADS[1]
+"""s: how far before an extrapolated bat's newest frame its pending prediction keeps the frames
+(``backtest_frames``' reach), and a ``velocity_window`` more for their fits."""
+
+
+@dataclass(frozen=True)
+class PendingPrediction:
+    """
+    A prediction whose error bars are yet to be measured, with copies of what they are from.
+
+    Taken when the prediction is made (``Predictor.predict``), so ``measure`` gives the same
+    error bars to the bit whenever it runs, whatever the detector took or cleared since: the
+    node publishes ``~/predicted_impact`` first and measures them with the reports, after the
+    drain (``Detector`` with ``deferred_uncertainty``); ``analyze`` measures them at once.
+
+    :ivar prediction: the prediction, its uncertainties None.
+    :ivar ball: the ball's forecast (the kernel's 10 numbers, as ``flight_corrected`` moved it).
+    :ivar bat: the bat's (a plan's kernel numbers, or the extrapolated 21).
+    :ivar plan_times: the plan's pose times (s), None for an extrapolated bat.
+    :ivar t0: the instant predicted from (s); ``found``: (t, hit) of the contact.
+    :ivar at: the ball's velocity (m/s), the knob and the tip (m) at t.
+    :ivar doubt: ``flight_miss``'s doubt (m).
+    :ivar search: (horizon s, ball radius m, bat profile, chord tolerance m).
+    :ivar ball_times: the ball's sample times (s) the forecast and its lift read;
+        ``ball_window``: (first, end, lift_first) among them; ``ball_noise``: its noise (m).
+    :ivar bat_frames: an excerpt of the bat stream holding ``recent_misses``' windows (None
+        with a plan); ``bat_noise``: its noise (m); ``window``, ``degree``: the fits'.
+    """
+
+    prediction: Prediction
+    ball: Tuple[float, ...]
+    bat: tuple
+    plan_times: Optional[Sequence[float]]
+    t0: float
+    found: Tuple[float, Any]
+    at: Tuple[Vector, Vector, Vector]
+    doubt: Vector
+    search: tuple
+    ball_times: Sequence[float]
+    ball_window: Tuple[int, int, int]
+    ball_noise: float
+    bat_frames: Optional[Stream] = None
+    bat_noise: float = 0.0
+    window: float = 0.0
+    degree: int = 0
+
+    def measure(self) -> Prediction:
+        """Return the prediction with its 1-sigma uncertainties (``prediction_uncertainty``)."""
+        t, hit = self.found
+        first, end, lift_first = self.ball_window
+        gain, lifted = ball_spread(self.ball_times, first, end, lift_first, self.t0, t - self.t0)
+        _, knob, tip = self.at
+        fraction = hit.bat_fraction
+        if self.plan_times is not None:
+            bat_variance = plan_variance(plan_sag(self.ball, self.bat, self.plan_times, t,
+                                                  fraction, lerp(knob, tip, fraction)))
+        else:
+            lead = t - self.bat[0]
+            bat_variance = swing_variance(
+                recent_misses(self.bat_frames, self.bat, fraction, self.window, self.degree),
+                lead, swing_change(self.bat, fraction, lead), self.bat_noise)
+        time_sigma, spot_sigma = prediction_uncertainty(
+            self.ball, self.bat, self.t0, self.found, self.at, gain * self.ball_noise, lifted,
+            self.doubt, bat_variance, self.search)
+        return replace(self.prediction, time_uncertainty_s=time_sigma,
+                       distance_from_tip_uncertainty_m=spot_sigma)

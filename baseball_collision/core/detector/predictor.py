@@ -9,7 +9,8 @@ robot arm's, when it covers the instant) or a rigid-body extrapolation of its la
 first contact within the horizon. The contact found is searched again near its instant, the
 ball moved by what its held acceleration misses over the lead and with finer chords
 (``prediction_spread.flight_corrected``); the prediction carries its 1-sigma error bars
-(``prediction_spread.prediction_uncertainty``: the plan's, or the extrapolated swing's change).
+(``prediction_spread.PendingPrediction``: the plan's, or the extrapolated swing's change),
+measured at once or, for the node, after its message is sent (``defer``).
 
 The forecasts do not start from a newest sample off its stream's motion that the sweep has not
 judged yet. A ball sample off the free flight of the samples before it
@@ -23,7 +24,7 @@ drops it), so a tracker's fault neither shows a contact the pitch does not have,
 withdraws one (docs/faults.md, "With prediction on").
 """
 
-from bisect import bisect_right
+from bisect import bisect_left, bisect_right
 from dataclasses import replace
 import math
 from typing import Any, Callable, List, Optional, Sequence, Tuple, Union
@@ -40,10 +41,9 @@ from .gap_flight import GAP_FLIGHT_BIAS, GAP_FLIGHT_JERK
 from .gate import Clock, integer_stamp
 from .kinematics import fit_polynomial
 from .prediction_spread import (
-    backtest_frames, ball_spread, flight_corrected, flight_miss, plan_sag, plan_variance,
-    prediction_uncertainty, swing_change, swing_variance)
-from .streams import Stream
-from ..geometry import lerp, scale, sub, Vector
+    BACKTEST_SPAN, flight_corrected, flight_miss, PendingPrediction)
+from .streams import excerpt, Stream
+from ..geometry import lerp, scale, Vector
 from ..prediction import (
     ball_numbers, BallForecast, bat_window_numbers, BatForecast, check_plan_size, contact_of,
     frozen, LIFT_MOST_SAMPLES, planned_bat, PlannedBat, prediction_due, states_of)
@@ -101,7 +101,7 @@ class Predictor(BatJudgment):
 
     __slots__ = ('_config', 'clock', 'ball', 'bat', 'offsets', 'max_radius', 'plan',
                  'plan_on_clock', 'predicting', 'last_ns', '_gravity', '_tolerance',
-                 '_ball_window', '_lift_first', '_bat_window', '_instant')
+                 '_ball_window', '_lift_first', '_bat_window', '_instant', 'defer')
 
     def __init__(self, config: DetectorConfig, clock: Clock, ball: Stream, bat: Stream,
                  offsets: Tuple[Vector, Vector]) -> None:
@@ -118,6 +118,9 @@ class Predictor(BatJudgment):
         self._lift_first = 0  # and the first of its lift's
         self._bat_window = (0, 0)  # the last extrapolated bat's frames [first, end); (0, 0): plan
         self._instant = 0.0  # the instant (s) of the prediction in force
+        # None: each prediction comes with its error bars; else it takes what measures them
+        # (``PendingPrediction``), and the prediction comes without (the node's, deferred)
+        self.defer: Optional[Callable[[PendingPrediction], None]] = None
 
     @property
     def config(self) -> DetectorConfig:
@@ -196,67 +199,51 @@ class Predictor(BatJudgment):
         t, hit = found
         ball_position, ball_velocity, knob, tip = states_of(ball, bat_args, t)
         self.predicting, self._instant = True, t
-        time_sigma, spot_sigma = self._uncertainty(
-            ball, bat_args, planned, t0, found, (ball_velocity, knob, tip), doubt, search)
-        events.append(frozen(  # the frozen __init__ would set its fields one by one
+        prediction = frozen(  # the frozen __init__ would set its fields one by one
             Prediction, stamp_ns=self.clock.stamp(t), made_at_ns=now_ns, lead_s=t - t0,
             point=tuple(hit.point), normal=tuple(hit.normal), bat_fraction=hit.bat_fraction,
             distance_from_tip_m=(1.0 - hit.bat_fraction) * math.dist(knob, tip),
             ball_position=ball_position, ball_velocity=ball_velocity, planned=planned,
-            time_uncertainty_s=time_sigma, distance_from_tip_uncertainty_m=spot_sigma))
+            time_uncertainty_s=None, distance_from_tip_uncertainty_m=None)
+        pending = self._pending(prediction, ball, bat_args, planned, t0, found,
+                                (ball_velocity, knob, tip), doubt, search)
+        if self.defer is None:
+            events.append(pending.measure())
+        else:  # (the node: the prediction first, its error bars with the reports)
+            self.defer(pending)
+            events.append(prediction)
 
-    def _uncertainty(self, ball: Tuple[float, ...], bat: Tuple[Any, ...], planned: bool,
-                     t0: float, found: Tuple[float, Any], at: Tuple[Vector, Vector, Vector],
-                     doubt: Any, search: Tuple[Any, ...]) -> Tuple[Optional[float], float]:
+    def _pending(self, prediction: Prediction, ball: Tuple[float, ...], bat: Tuple[Any, ...],
+                 planned: bool, t0: float, found: Tuple[float, Any],
+                 at: Tuple[Vector, Vector, Vector], doubt: Any,
+                 search: Tuple[Any, ...]) -> PendingPrediction:
         """
-        Return a prediction's 1-sigma time (s) and distance from the tip (m).
+        Return what a prediction's error bars are measured from, copied now.
 
-        ``prediction_spread.prediction_uncertainty`` of the ball's forecast window and noise
-        (the ball's, told or estimated) and the bat's forecast ``bat`` (the plan in force where
-        ``planned``, its ``plan_sag``; else the extrapolated kernel numbers, their
-        ``_swing_variance``), from t0 to the contact ``found`` (``at``: the ball's velocity,
-        the knob and the tip there, as ``predict`` has them).
+        The ball's forecast window and its lift's (their times) and noise (the ball's, told or
+        estimated); the bat's forecast ``bat`` (the plan in force where ``planned``, with its
+        pose times; else the extrapolated kernel numbers, with an excerpt of the bat's frames
+        ``BACKTEST_SPAN`` and a ``velocity_window`` before its newest, for ``recent_misses``);
+        from t0 to the contact ``found`` (``at``: the ball's velocity, the knob and the tip
+        there, as ``predict`` has them).
         """
         first, end = self._ball_window
-        t, hit = found
-        gain, lifted = ball_spread(self.ball.times, first, end, self._lift_first, t0, t - t0)
-        _, knob, tip = at
+        lift_first = self._lift_first
+        start = min(first, lift_first)
+        config = self._config
+        common = (prediction, ball, bat)
+        rest = (t0, found, at, doubt, search, self.ball.times[start:end],
+                (first - start, end - start, lift_first - start),
+                stream_noise(self.ball, config))
         if planned:
-            bat_variance = plan_variance(plan_sag(ball, bat, self.plan_on_clock.times, t,
-                                                  hit.bat_fraction,
-                                                  lerp(knob, tip, hit.bat_fraction)))
-        else:
-            bat_variance = self._swing_variance(bat, t, hit.bat_fraction)
-        return prediction_uncertainty(ball, bat, t0, found, at,
-                                      gain * stream_noise(self.ball, self._config), lifted,
-                                      doubt, bat_variance, search)
-
-    def _swing_variance(self, bat_args: Tuple[float, ...], t: float,
-                        bat_fraction: float) -> Callable[[Vector], float]:
-        """
-        Return the extrapolated bat's spread at t (s) along a direction (m^2): ``swing_variance``.
-
-        Its recent misses: the forecasts (``_bat_numbers``, each from its frame's own
-        ``velocity_window``) from the frames ``backtest_frames`` names before the forecast's
-        newest frame (its start, ``bat_args[0]``), less the forecast there, at the axis point
-        ``bat_fraction`` of the way from knob to tip; a rank-deficient fit, or a window of
-        fewer than 3 frames, is left out.
-        """
-        bat, config = self.bat, self._config
-        start = bat_args[0]
-        newest = bisect_right(bat.times, start) - 1
-        _, _, knob_now, tip_now = states_of(None, bat_args, start)
-        here = lerp(knob_now, tip_now, bat_fraction)
-        misses = []
-        for k in backtest_frames(bat.times, bat.breaks, newest):
-            window = bat.history(bat.times[k], config.velocity_window)
-            before = self._bat_numbers(window[0], k + 1) if len(window) >= 3 else None
-            if before is not None:
-                _, _, knob, tip = states_of(None, before, start)
-                misses.append((start - bat.times[k], sub(lerp(knob, tip, bat_fraction), here)))
-        lead = t - start
-        return swing_variance(misses, lead, swing_change(bat_args, bat_fraction, lead),
-                              stream_noise(bat, config))
+            return PendingPrediction(*common, self.plan_on_clock.times, *rest)
+        frames = self.bat
+        newest = bisect_right(frames.times, bat[0]) - 1
+        oldest = bisect_left(frames.times, bat[0] - BACKTEST_SPAN - config.velocity_window,
+                             0, newest)
+        return PendingPrediction(*common, None, *rest, excerpt(frames, oldest, newest),
+                                 stream_noise(frames, config), config.velocity_window,
+                                 min(config.velocity_degree, PREDICTION_DEGREE))
 
     def _search(self, t0: float) -> Optional[Tuple[Found, Optional[Tuple[float, ...]],
                                                    Optional[Tuple[float, ...]], bool]]:

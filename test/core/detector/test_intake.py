@@ -11,7 +11,7 @@ import random
 from typing import Any, Callable, List
 
 from baseball_collision.core.detector import (
-    Detector, DetectorConfig, Impact, StateReset, StreamGap)
+    Detector, DetectorConfig, Impact, PendingUncertainty, StateReset, StreamGap)
 from baseball_collision.core.detector.gate import JUMP_CONFIRM
 from baseball_collision.core.detector.streams import SILENT_AFTER, SILENT_KEEP
 import pytest
@@ -314,7 +314,8 @@ def test_a_hit_on_a_still_bat_is_flagged_at_rest() -> None:
     deferred = Detector(DetectorConfig(bat_input='pose', drop_lost_body=False),
                         deferred_uncertainty=True)  # (the node's: the flag reaches the record)
     returned = impacts(_through_the_origin(deferred, moving_bat=False))
-    (pending,) = deferred.take_pending()
+    (pending,) = [each for each in deferred.take_pending()
+                  if isinstance(each, PendingUncertainty)]  # (the impact's, beside predictions')
     assert pending.impact is returned[0] and pending.measure() == found[0]
 
 
