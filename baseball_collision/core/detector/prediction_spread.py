@@ -23,23 +23,29 @@ lead. Three sources, each a spread of the ball's centre relative to the bat at t
 * **The bat's path.** A plan's interpolation: between its poses the bat moves by LERP and
   SLERP; the contact point's planned position at the instant against the quadratic through the
   three poses nearest it (``plan_sag``): what a smoother path through the same poses would put
-  there. An extrapolated bat's change over the lead (``swing_spread``): the forecast holds its
-  angular and its pivot's accelerations, so it misses what the swing does next, and the newest
-  frame's own noise is carried on. What the samples show is its recent misses: the forecasts
-  from frames ``BACKTEST_LEADS`` before the forecast's newest, at that frame (``recent``),
-  scaled to the lead as the lead over theirs (a velocity's miss) up to it and its cube beyond
-  (a held acceleration's). What they cannot show is the swing's coming change: its angular
-  acceleration gives out as the bat nears its peak speed, near the contact, which a forecast
-  from before holds on (it predicts early, by 0.3-0.7 ms 10-15 ms ahead at 90 Hz, by 1-4 ms
-  20-50 ms ahead). That is carried as a prior: the swing's angular and its hands' accelerations
-  may change at their speed over ``SWING_TIME_SCALE`` squared (``swing_change``).
+  there. An extrapolated bat's change over the lead (``swing_variance``): the forecast holds
+  its angular and its pivot's accelerations, so it misses what the swing does next, and the
+  newest frame's own noise is carried on. What the samples show is its recent misses: the
+  forecasts from frames ``BACKTEST_LEADS`` before the forecast's newest, at that frame
+  (``recent_misses``), scaled to the lead as the lead over theirs (a velocity's miss) up to it
+  and its cube beyond (a held acceleration's). What they cannot show is the swing's coming
+  change: its angular acceleration gives out as the bat nears its peak speed, near the
+  contact, which a forecast from before holds on (it predicts early, by 0.3-0.7 ms 10-15 ms
+  ahead at 90 Hz, by 1-4 ms 20-50 ms ahead). That is carried as a prior: the swing's angular
+  and its hands' accelerations may change at their speed over ``SWING_TIME_SCALE`` squared
+  (``swing_change``).
 
 Along the contact's normal the spread moves the instant: the ball's forecast is moved by it,
 toward the bat and away, and searched again (``contact_of``), so a graze the shift takes away
 or a contact whose normal speed is small counts by what the search finds, not a slope; the
 half difference of the two instants is the instant's sigma (the one found, one-sided), that of
-the two distances from the tip part of where on the bat. Across the normal, the spread along
-the bat's axis moves the spot itself (``prediction_uncertainty``).
+the two distances from the tip part of where on the bat; where neither meets the bat (a
+spread wider than the contact), the spread over the ball's closing speed there. Across the
+normal, the spread along the bat's axis moves the spot itself (``prediction_uncertainty``).
+
+A prediction takes copies of what its error bars are measured from (``PendingPrediction``), so
+they are the same to the bit measured at once (``analyze``) or later (the node: after sending
+``~/predicted_impact``, with its report).
 """
 
 from bisect import bisect_right
