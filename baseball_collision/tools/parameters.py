@@ -102,10 +102,12 @@ class Remapping:
 
     No rclpy. ``__ns:=/NS`` moves the node to namespace NS and ``__node:=NAME`` (or
     ``__name``) renames it; every other rule renames a topic. A rule prefixed ``NODE:`` applies
-    only to the node of that name. A topic rule matches a topic whose expanded name
-    (``resolve_topic``: relative names take the node's namespace, ``~`` is the node) is its
-    FROM expanded the same way; the first that matches gives TO, expanded. Wildcards, which rcl
-    does not implement, are refused.
+    only to the node of that name (a namespace or topic rule: to the node renamed). A topic
+    rule matches a topic whose expanded name (``resolve_topic``: relative names take the node's
+    namespace, ``~`` is the node) is its FROM expanded the same way; the first rule of each kind
+    that matches applies, its TO expanded. Wildcards and substitutions, which rcl does not take
+    in a rule, are refused. Checked against rclpy's own ``resolve_topic_name``
+    (``test/ros/test_parameters.py``).
 
     :ivar node_name: the node with its namespace after the rules (``cage2/impact_node``).
     :ivar rules: the topic rules in order: (the node they are for or '', FROM, TO).
@@ -121,7 +123,7 @@ class Remapping:
 
         :raises ToolError: a rule without ``:=`` or with more than one, a FROM or TO that is
             not a valid name (rcl's rules: ``topic_name_error``), a namespace that is not
-            absolute, a node name with more than one token, a wildcard.
+            absolute, a node name with more than one token, a wildcard or a substitution.
         """
         namespace, _, base = node_fqn(node_name).rpartition('/')
         given = base
