@@ -18,12 +18,15 @@ Two bat sources: ``extrapolated`` (the tracked bat's current state, as for a hum
 Then the cost: wall time per ``Detector.add`` at 1 kHz per stream (ball + bat pose) over a
 pitch tracked from 0.45 s before contact, without and with a 0.3 s horizon (every frame, and
 with ``prediction_period`` 5 and 10 ms, and at 10 ms without the ball's lift and with the
-arm's plan: a planned prediction's error bars), in one process;
+arm's plan; each prediction's error bars measured at once), in one process;
 ``--cost-only`` prints only that. ``--spin``: spinning pitches; ``--no-lift``: the predictions
 with ``lift_window`` 0 (gravity and drag alone). ``--arm-glitch`` prints only what one ball
 glitch costs an arm's predictions (``arm_glitches``); ``--faults --ball-only`` only a ball
 glitch's fault table (``ball_cell``).
 ``--changes`` prints only how much consecutive predictions 10 ms apart move, per swing family.
+``--calibration`` prints only how often a planned prediction's error is within its 1 and 2
+sigma (``calibration``), ``--calibration --extrapolated`` an extrapolated bat's, every family;
+both measured at once, as ``analyze`` does (the node measures the same after sending each).
 
 ``--faults`` prints only what bat-tracker faults cost the prediction, each run beside the same
 pitch without the fault (every swing family x ``--seeds`` seeds x barrel, graze, miss over and
