@@ -32,6 +32,7 @@ class BatPlanInput:
 
     _plan: Optional[Tuple[int, int]]  # the plan in force: first, last stamp (ns)
     _plan_sub: Any  # the plan's subscription (only with a ``bat_plan_topic``)
+    _intake: Any  # the node's ``inputs.Intake``: the plan is taken in turn with the samples
 
     def _subscribe_plan(self) -> None:
         """
@@ -41,15 +42,20 @@ class BatPlanInput:
         """
         topic = self.settings['bat_plan_topic']
         if topic:
+            callback = self._guarded(self._on_plan, 'taking a bat plan')
             try:
                 self._plan_sub = self.create_subscription(
-                    Path, topic, self._guarded(self._on_plan, 'taking a bat plan'), VIEWS)
+                    Path, topic, self._then_reports(self._intake.wrap(callback)), VIEWS)
             except (InvalidTopicNameException, ValueError) as error:
                 raise RosError(f'bat plan topic {topic!r}: {topic_error_line(error)}') from error
+            self._intake.attach(self._plan_sub, callback)
 
-    def _on_plan(self, message: Path) -> None:
+    def _on_plan(self, message: Path, info: Any = None) -> None:
         """
         Take a commanded bat trajectory (stamped poses) for the predictions; empty clears.
+
+        Taken with the samples, in the order they were received (``inputs.Intake``: the order
+        ``analyze`` takes a bag's plans in; ``info`` is rclpy's message info, unused here).
 
         Refused with a throttled WARN: over ``MAX_PLAN_POSES`` poses (before a pose is
         converted), else what ``Detector.take_bat_plan`` refuses (the rule ``analyze`` keeps

@@ -110,15 +110,23 @@ def input_callback(take: Callable[..., None], each: InputStream,
 
 class Intake:
     """
-    Take the inputs' queued messages round-robin inside one executor callback.
+    Take the inputs' queued messages inside one executor callback, in the order they arrived.
 
     rclpy's executors take one message per ready subscription per wait, and build the wait set
     (every subscription, timer, service and event handler of the node) and a task around each
     message: several times the node's own work per message, so a node behind by a burst, or
     under a stale publisher's doubled input, fell further behind and lost messages from its
-    queue. Each input callback :meth:`wrap` returns handles its message, then takes whatever
-    waits in the inputs' queues, one message per input in turn as the executor would, at most
-    ``limit`` (timers and services get their turn between). Each input keeps its own order.
+    queue. Each callback :meth:`wrap` returns handles its message and whatever waits in the
+    attached subscriptions' queues (the samples' and the bat plan's), at most ``limit``
+    (timers and services get their turn between).
+
+    They are handled in the order the RMW received them (``received_timestamp`` of rclpy's
+    message info: one clock for every subscription), each queue's head against the others':
+    the order a recorder logs them in, which ``analyze`` keeps. Topics keep no order between
+    them, so taken in turn a plan sent before a backlog's samples came after them (replayed 8
+    times as fast, 4 of 7 runs of an arm's bag lost some of its first planned predictions).
+    Messages with no receive time (an RMW that gives none: 0) or the same one are taken one per
+    input in turn, each input keeping its own order.
 
     :param limit: messages taken at most per executor callback.
     """
@@ -126,29 +134,49 @@ class Intake:
     def __init__(self, limit: int = DRAIN_LIMIT) -> None:
         self._limit = limit
         self._inputs: List[Tuple[Any, Callable[..., None]]] = []
+        self._index: Dict[Callable[..., None], int] = {}
         self._draining = False
 
     def wrap(self, callback: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
-        """Return the executor's callback for an input: ``callback``, then :meth:`drain`."""
+        """Return the executor's callback for an input: ``callback`` in turn, and the queues."""
         def on_message(message: Any, info: Any) -> None:
-            callback(message, info)
-            self.drain()
+            self.drain((callback, message, info))
         return on_message
 
     def attach(self, subscription: Any, callback: Callable[[Any, Any], None]) -> None:
-        """Add an input's subscription and its (unwrapped) callback to the round."""
+        """Add an input's subscription and its (unwrapped) callback to the merge."""
+        self._index[callback] = len(self._inputs)
         self._inputs.append((subscription, callback))
 
-    def drain(self) -> None:
-        """Take and handle queued input messages, one per input in turn (see the class)."""
-        if self._draining:
+    def drain(self, taken: Optional[Tuple[Callable[..., None], Any, Any]] = None) -> None:
+        """
+        Handle ``taken`` (callback, message, info) and the queued messages in arrival order.
+
+        Each attached queue's head is taken, and the earliest received of the heads handled,
+        then its queue's next taken, until every queue is empty or ``limit`` messages were
+        taken (those held are handled then). A message whose callback was never attached is
+        handled first. Inside a drain (a callback that drains) this handles ``taken`` only.
+        """
+        if self._draining or (taken is not None and taken[0] not in self._index):
+            if taken is not None:
+                taken[0](taken[1], taken[2])
             return
         self._draining = True
         try:
-            taken = 0
-            while taken < self._limit:
-                before = taken
-                for subscription, callback in self._inputs:
+            self._merge(taken)
+        finally:
+            self._draining = False
+
+    def _merge(self, taken: Optional[Tuple[Callable[..., None], Any, Any]]) -> None:
+        """Handle ``taken`` and the queues' messages, earliest received first (``drain``)."""
+        heads: List[Optional[Tuple[Tuple[int, int], Any, Any]]] = [None] * len(self._inputs)
+        turn = count = 0
+        if taken is not None:
+            heads[self._index[taken[0]]] = ((_received(taken[2]), turn), taken[1], taken[2])
+            count = 1
+        while True:
+            for index, (subscription, _) in enumerate(self._inputs):
+                if heads[index] is None and count < self._limit:
                     try:
                         with subscription.handle:
                             got = subscription.handle.take_message(subscription.msg_type,
@@ -156,12 +184,22 @@ class Intake:
                     except InvalidHandle:  # destroyed (shutting down)
                         return
                     if got is not None:
-                        callback(*got)
-                        taken += 1
-                if taken == before:
-                    return
-        finally:
-            self._draining = False
+                        turn += 1
+                        heads[index] = ((_received(got[1]), turn), *got)
+                        count += 1
+            waiting = [index for index, head in enumerate(heads) if head is not None]
+            if not waiting:
+                return
+            first = min(waiting, key=lambda index: heads[index][0])
+            _, message, info = heads[first]
+            heads[first] = None
+            self._inputs[first][1](message, info)
+
+
+def _received(info: Optional[Mapping[str, Any]]) -> int:
+    """Return a message's receive time (ns, the RMW's clock) from rclpy's message info, or 0."""
+    received = info.get('received_timestamp') if info else None
+    return received if received else 0
 
 
 class Throttle:

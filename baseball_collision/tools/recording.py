@@ -74,8 +74,9 @@ class RecordingSpec:
         flight by 1-7 m/s^2 across it); else none.
     :ivar plan_hz: a robot arm's commanded swing on ``PLAN_TOPIC`` (``nav_msgs/Path``, what
         the node takes on ``bat_plan_topic``): one plan a pitch, its poses this often (Hz)
-        over the pitch's span, logged with the pitch's second message (tracking runs: the
-        node checks a plan's frame against the trackers'); None: none.
+        over the pitch's span, logged right after the pitch's first message of every input
+        (tracking runs: the node checks a plan's frame against the trackers'; at that log time,
+        where ``analyze`` takes it too, after the samples); None: none.
     """
 
     count: int = 12
@@ -212,17 +213,20 @@ def write_recording(path: os.PathLike, spec: RecordingSpec, storage: Optional[st
                                  grid_s=spec.grid_s, noise_m=spec.noise_m, start_ns=start,
                                  ball_rate_hz=spec.ball_rate_hz, noise_on=spec.noise_on,
                                  marker_spread_m=spec.marker_spread_m)
-                for k, (stamp, role, values) in enumerate(samples.messages(spec.bat)):
-                    if k == 1 and spec.plan_hz is not None:  # (once tracking runs: its frame)
-                        writer.write_message(PLAN_TOPIC, _plan(
-                            scenario, start, spec.plan_hz, spec.frame_id, writer.typestore),
-                            stamp)
+                waiting = set(used) if spec.plan_hz is not None else set()
+                for stamp, role, values in samples.messages(spec.bat):
                     if role == 'bat_pose':
                         writer.write_pose(TOPICS[role], stamp, spec.frame_id, values[:3],
                                           values[3:])
                     else:
                         writer.write_point(TOPICS[role], stamp, spec.frame_id, values)
                     messages += 1
+                    if role in waiting:
+                        waiting.discard(role)
+                        if not waiting:  # once every input has sent (its frame is known)
+                            writer.write_message(PLAN_TOPIC, _plan(
+                                scenario, start, spec.plan_hz, spec.frame_id,
+                                writer.typestore), stamp)
                 pitches.append({'index': index, **truth_dict(scenario, start)})
             plans = {} if spec.plan_hz is None else {'bat_plan': PLAN_TOPIC}
             document = {

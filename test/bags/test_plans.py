@@ -8,6 +8,7 @@ from baseball_collision.core.prediction import MAX_PLAN_POSES
 from baseball_collision.errors import BagError
 from baseball_collision.tools.recording import PLAN_TOPIC, RecordingSpec, write_recording
 import pytest
+from rosbags.highlevel import AnyReader
 
 BASE_NS = 1_700_000_000_000_000_000
 
@@ -16,8 +17,11 @@ def test_a_recordings_plans_come_back_as_written(tmp_path: Path) -> None:
     """
     ``simulate --plan``: one plan a pitch, read back in log order as the detector takes them.
 
-    Its poses 5 ms apart over the pitch (0.4 s), in the recording's frame, logged with the
-    pitch's second message; the topic's type and a bag without it are told apart.
+    Its poses 5 ms apart over the pitch (0.4 s), in the recording's frame, logged right after
+    the pitch's first message of every input (in the bag's order too, which ``replay``
+    publishes in: the node then has the trackers' frame to check it against, as ``analyze``,
+    which takes a plan after the samples logged at its instant); the topic's type and a bag
+    without it are told apart.
     """
     bag = tmp_path / 'plans.mcap'
     document = write_recording(bag, RecordingSpec(count=3, rate_hz=120.0, plan_hz=200.0,
@@ -38,6 +42,15 @@ def test_a_recordings_plans_come_back_as_written(tmp_path: Path) -> None:
                    for quaternion in plan.quaternions)
         second = [s.log_time_ns for s in samples if s.stamp_ns >= start][1]
         assert plan.log_time_ns == second
+    sample_topics = {topic for role, topic in document['topics'].items() if role != 'bat_plan'}
+    with AnyReader([bag]) as reader:  # the bag's order: the order replay publishes in
+        order = [(connection.topic, log_time) for connection, log_time, _ in reader.messages()]
+    plan_at = [i for i, (topic, _) in enumerate(order) if topic == PLAN_TOPIC]
+    assert len(plan_at) == 3
+    for here, plan in zip(plan_at, plans):
+        first = order[here - len(sample_topics):here]  # the pitch's first frame, then the plan
+        assert {topic for topic, _ in first} == sample_topics, first
+        assert {log_time for _, log_time in first} == {plan.log_time_ns}
 
 
 def test_a_plan_too_large_is_refused_before_its_poses_are_read(tmp_path: Path) -> None:
