@@ -124,7 +124,7 @@ class Intake:
     message info: one clock for every subscription), each queue's head against the others':
     the order a recorder logs them in, which ``analyze`` keeps. Topics keep no order between
     them, so taken in turn a plan sent before a backlog's samples came after them (replayed 8
-    times as fast, 4 of 7 runs of an arm's bag lost some of its first planned predictions).
+    times as fast, 11 of 19 runs of an arm's bag lost some of its first planned predictions).
     Messages with no receive time (an RMW that gives none: 0) or the same one are taken one per
     input in turn, each input keeping its own order.
 

@@ -318,8 +318,8 @@ def test_live_node_agrees_with_analyze_on_an_arms_bag(ros: Ros, tmp_path: Path) 
     order). Before, ``analyze`` extrapolated the bat on such a bag. Replayed 8 times as fast:
     a backlog, whose samples and plans the node takes in the order it received them
     (``inputs.Intake``). Topics keep no order between them: taken one topic at a time, it took
-    a plan after samples logged 20-30 ms after it and lost a pitch's first predictions in 4 of
-    7 runs (0 of 12 now, 4 of them beside two CPU burners; the same at 16 times).
+    a plan after samples logged 20-30 ms after it and lost a pitch's first predictions in 11 of
+    19 runs (0 of 12 now, 4 of them beside two CPU burners; the same at 16 times).
     """
     bag = tmp_path / 'arm.mcap'
     env = dict(os.environ)
