@@ -24,8 +24,8 @@ from pathlib import Path
 import sys
 import time
 from typing import (
-    Any, Callable, Dict, Iterable, List, Mapping, Optional, Protocol, Sequence, Tuple,
-    TYPE_CHECKING, Union)
+    Any, Callable, Dict, Iterable, Iterator, List, Mapping, Optional, Protocol, Sequence,
+    Tuple, TYPE_CHECKING, Union)
 
 import numpy as np
 
@@ -85,6 +85,8 @@ class BagAnalysis:
     :ivar first_frames: each role's first sample's ``frame_id``.
     :ivar frame_disagreement: each stream's frames where they have none in common, so none
         was adopted (``Detector.frame_disagreement``); None: no such disagreement.
+    :ivar rates: with ``AnalysisOptions.decimate``: the impacts at each lower rate against
+        these (``rates.RateCheck``, one per factor).
     """
 
     path: Path
@@ -108,6 +110,7 @@ class BagAnalysis:
     stamp_spans: Dict[str, Tuple[int, int]] = field(default_factory=dict)
     first_frames: Dict[str, str] = field(default_factory=dict)
     frame_disagreement: Optional[str] = None
+    rates: List[Any] = field(default_factory=list)
 
     @property
     def throughput(self) -> float:
@@ -281,6 +284,11 @@ class AnalysisOptions:
     :ivar remaps: ``--remap``: the node's remapping rules (``FROM:=TO``, as ``--ros-args -r``
         takes them; ``parameters.Remapping``): the topics the node would subscribe to and
         publish, the node renamed or moved (``__node``, ``__ns``).
+    :ivar every, phase: analyse only every ``every``-th sample of each input, from its
+        ``phase``-th (0 first): the recording at a lower rate (:func:`decimated_chunks`).
+    :ivar decimate: ``--decimate``: factors K at which the bag is analysed again, every K-th
+        frame in each of its K phases, and the impacts compared with this analysis's
+        (``rates.check_rates``: ``BagAnalysis.rates``).
     """
 
     ball_topic: Optional[str] = None
@@ -296,6 +304,9 @@ class AnalysisOptions:
     topic_flags: bool = True
     bat_plan_topic: Optional[str] = None
     remaps: Tuple[str, ...] = ()
+    every: int = 1
+    phase: int = 0
+    decimate: Tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         """
@@ -303,8 +314,17 @@ class AnalysisOptions:
 
         :raises ToolError: a parameter file's path (``load_parameters`` reads it), a list of
             pairs: each raised AttributeError from inside ``analyze_bag``; a rule
-            ``Remapping.parse`` refuses.
+            ``Remapping.parse`` refuses; ``every`` under 1, a ``phase`` outside 0 to ``every``
+            - 1, a ``decimate`` factor under 2 (or not an integer).
         """
+        for name, value, least in (('every', self.every, 1), ('phase', self.phase, 0),
+                                   *(('decimate', k, 2) for k in self.decimate)):
+            if isinstance(value, bool) or not isinstance(value, int) or value < least:
+                raise ToolError(f'AnalysisOptions({name}=...) takes whole numbers from {least}, '
+                                f'not {value!r}')
+        if self.phase >= self.every:
+            raise ToolError(f'AnalysisOptions(phase={self.phase}) must be under every='
+                            f'{self.every} (every {self.every}th frame from the phase-th)')
         if not isinstance(self.parameters, Mapping):
             raise ToolError('AnalysisOptions(parameters=...) takes node parameters by name (a '
                             f'dict), not {type(self.parameters).__name__} {self.parameters!r:.60}'
@@ -484,6 +504,46 @@ def _pieces(chunk: Any, plans: Optional[PlanFeed]) -> Iterable[Any]:
 
 # ----------------------------------------------------------------------------------------------
 # The loop
+
+
+def decimated_chunks(chunks: Iterable[Any], every: int, phase: int) -> Iterator[Any]:
+    """
+    Yield the chunks' samples at a lower rate: every ``every``-th of each role.
+
+    From each role's ``phase``-th sample (0: its first), as a tracker at 1 / ``every`` of the
+    rate would have sent them. Each role is counted on its own (a ball at another rate than
+    the bat keeps its own); chunks left empty are not yielded. ``every`` 1 yields the chunks
+    as they are.
+    """
+    if every == 1:
+        yield from chunks
+        return
+    counts = np.zeros(len(ROLE_CODES), np.int64)
+    for chunk in chunks:
+        index = np.empty(len(chunk.roles), np.int64)
+        for code in range(len(ROLE_CODES)):
+            mine = chunk.roles == code
+            taken = int(np.count_nonzero(mine))
+            if taken:
+                index[mine] = counts[code] + np.arange(taken)
+                counts[code] += taken
+        keep = index % every == phase
+        if keep.all():
+            yield chunk
+        elif keep.any():
+            frames = [frame for frame, kept in zip(chunk.frame_ids, keep.tolist()) if kept]
+            yield type(chunk)(chunk.roles[keep], chunk.stamps_ns[keep], frames,
+                              chunk.values[keep], chunk.log_times_ns[keep])
+
+
+def decimated_samples(samples: Iterable[Any], every: int, phase: int) -> Iterator[Any]:
+    """Yield the samples :func:`decimated_chunks` keeps, one at a time (``Sample`` tuples)."""
+    counts: Counter = Counter()
+    for sample in samples:
+        index = counts[sample[0]]
+        counts[sample[0]] += 1
+        if index % every == phase:
+            yield sample
 
 
 def _fan_out(methods: Sequence[Callable[..., None]]) -> Optional[Callable[..., None]]:
@@ -677,10 +737,12 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
                 if any(hasattr(sink, 'on_sample') and not hasattr(sink, 'on_chunk')
                        for sink in sinks):
                     result.messages, result.first_stamp_ns = run_detector(
-                        bag.samples(), detector, sinks, bar, result.drops_by_role, plans)
+                        decimated_samples(bag.samples(), options.every, options.phase),
+                        detector, sinks, bar, result.drops_by_role, plans)
                 else:  # events (and the frames' stamps) only: a chunk at a time
                     result.messages, result.first_stamp_ns = run_detector_chunks(
-                        bag.chunks(CHUNK, read_ahead), detector, sinks, bar,
+                        decimated_chunks(bag.chunks(CHUNK, read_ahead), options.every,
+                                         options.phase), detector, sinks, bar,
                         result.drops_by_role, plans)
                 if plans is not None:
                     result.notes.append(plans.note(plan_topic))
@@ -707,6 +769,9 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
         result.notes.append(unsolved)
     if use_truth:  # (--no-truth: never looked for)
         _compare_with_truth(result, path)
+    if options.decimate:
+        from .rates import check_rates
+        result.rates = check_rates(result, options, read_ahead)
     return result
 
 

@@ -166,6 +166,13 @@ def _count(text: str) -> int:
     return value
 
 
+def _factor(text: str) -> int:
+    value = _whole(text)
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"'{text}' must be >= 2 (every K-th frame)")
+    return value
+
+
 def _kinds(text: str) -> List[str]:
     kinds = [kind.strip() for kind in text.split(',') if kind.strip()]
     unknown = [kind for kind in kinds if kind not in KINDS]
@@ -238,7 +245,8 @@ def _analyze(args: argparse.Namespace) -> int:
         knob_topic=args.knob_topic, tip_topic=args.tip_topic, parameters=parameters,
         model=args.model, ball_radius=args.ball_radius, bat_radius=args.bat_radius,
         prediction_horizon=args.predict, node_name=args.node_name,
-        bat_plan_topic=args.bat_plan_topic, remaps=tuple(args.remap))
+        bat_plan_topic=args.bat_plan_topic, remaps=tuple(args.remap),
+        decimate=tuple(dict.fromkeys(args.decimate)))
     start = time.perf_counter()
     skipped: Optional[List[Tuple[Path, str]]] = [] if args.keep_going else None
     to_stdout = [flag for flag, value in (('json', args.json), ('csv', args.csv)) if value == '-']
@@ -436,6 +444,12 @@ def _add_analyze(commands: Any) -> None:
                          'at 200, 100, 50 and 20 ms before each impact (time error ms / point '
                          "error cm; '-' where no prediction was in force that far ahead: the "
                          'ball or bat not yet tracked, or the contact beyond the horizon)')
+    analyze.add_argument('--decimate', type=_factor, nargs='+', default=[], metavar='K',
+                         help='also analyse each bag at 1/K of its rate (every K-th frame of '
+                         'each input, once from each of the K phases) and say how far its '
+                         'impacts move from these: instant, spot and sweet-spot speed, and the '
+                         'share within 1 and 2 of their 1-sigma uncertainties (a rig without '
+                         'truth: what a slower one would lose); K from 2')
     analyze.add_argument('--json', metavar='FILE', help="write events and counts as JSON ('-': "
                          'to standard output, instead of the table)')
     analyze.add_argument('--csv', metavar='FILE', help="write one row per event as CSV ('-': to "

@@ -22,6 +22,7 @@ from typing import Any, Dict, IO, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from .analyze import BagAnalysis
+from .rates import rate_lines
 from .truth import bag_stem, LEADS_S, TruthComparison
 from ..bags import TopicSelection
 from ..core.detector import DetectorConfig, MPS_TO_MPH
@@ -238,6 +239,7 @@ def _report_tail(analysis: BagAnalysis) -> List[str]:
     lines.extend(f'warning: {line}' for line in analysis.silenced_topics())
     if analysis.truth is not None:
         lines.append(truth_line(analysis.truth))
+    lines.extend(rate_lines(analysis.rates))
     lines.extend(f'note: {note}' for note in analysis.notes)
     return lines
 
@@ -433,6 +435,7 @@ def _bag_entry(analysis: BagAnalysis) -> Dict[str, Any]:
         'notes': list(analysis.notes),
         'tracker_noise': {'auto': analysis.config.tracker_noise < 0.0,
                           'ball_m': analysis.noise[0], 'bat_m': analysis.noise[1]},
+        **({'rates': [check.summary() for check in analysis.rates]} if analysis.rates else {}),
     }
 
 
@@ -448,7 +451,7 @@ def to_json(analyses: Sequence[BagAnalysis], *, plots: bool = False,
     ``topics``, ``model``, ``frame_id``, ``messages``, ``seconds``, ``first_stamp_ns`` and
     ``first_stamp_utc``, counts, ``dropped``, ``gaps``, ``resets``, ``truth``: the comparison
     or None, ``notes``, and ``tracker_noise``: ``auto``, ``ball_m`` and ``bat_m``, the noise at
-    the bag's end).
+    the bag's end; with ``--decimate``, ``rates``: ``rates.RateCheck.summary`` per factor).
     With ``--predict``: ``predictions`` (every prediction's entry) and, in each impact,
     ``prediction_errors``: ``{lead ms: {time_error_s, point_error_m} or None}``.
     The schema is ``schema/analyze.schema.json``.
