@@ -444,8 +444,8 @@ def test_a_hits_brake_share_is_its_distance_from_the_continued_bats_answer() -> 
 
     Through the braked closing frame (``Sweep.bat_ahead`` False) the answer is later than with
     the bat continued on the quintic from before the interval (True), which the sweep's rule
-    (None) takes at this exact hit; the share is their distance, and the time uncertainty holds
-    it. A swing whose ball flies on (no hit) has none.
+    (None) takes at this exact hit; the share is their distance, in time and in the spot, and
+    the time and spot uncertainties hold it. A swing whose ball flies on (no hit) has none.
     """
     config = DetectorConfig(bat_input='points', model='c2')
     for family, hit in (('rebound', True), ('plane', False)):
@@ -456,13 +456,16 @@ def test_a_hits_brake_share_is_its_distance_from_the_continued_bats_answer() -> 
         kept, continued = (resolve(config, clock, excerpt(ball, 0, len(ball.times) - 1),
                                    excerpt(bat, 0, len(bat.times) - 1), detector._offsets,
                                    ta, tb, ahead) for ahead in (False, True))
-        share = braked(config, clock, ball, bat, detector._offsets, impact, ta, tb)
+        share, spot = braked(config, clock, ball, bat, detector._offsets, impact, ta, tb)
         if hit:
             assert continued.stamp_ns == impact.stamp_ns < kept.stamp_ns - 10_000
             assert share == (kept.stamp_ns - impact.stamp_ns) * 1e-9
+            assert spot == abs(kept.distance_from_knob_m - impact.distance_from_knob_m) > 0.0
             assert impact.time_uncertainty_s >= share
+            assert impact.distance_from_knob_uncertainty_m >= spot
         else:
-            assert continued.stamp_ns == kept.stamp_ns == impact.stamp_ns and share == 0.0
+            assert continued.stamp_ns == kept.stamp_ns == impact.stamp_ns
+            assert share == spot == 0.0
 
 
 def test_a_poses_knob_moves_with_its_orientation_by_its_offset() -> None:
