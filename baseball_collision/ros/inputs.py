@@ -174,15 +174,17 @@ class Intake:
         if taken is not None:
             heads[self._index[taken[0]]] = ((_received(taken[2]), turn), taken[1], taken[2])
             count = 1
+        closed = False  # a subscription destroyed (shutting down): what is held is handled
         while True:
             for index, (subscription, _) in enumerate(self._inputs):
-                if heads[index] is None and count < self._limit:
+                if heads[index] is None and count < self._limit and not closed:
                     try:
                         with subscription.handle:
                             got = subscription.handle.take_message(subscription.msg_type,
                                                                    subscription.raw)
-                    except InvalidHandle:  # destroyed (shutting down)
-                        return
+                    except InvalidHandle:
+                        closed = True
+                        continue
                     if got is not None:
                         turn += 1
                         heads[index] = ((_received(got[1]), turn), *got)

@@ -324,7 +324,7 @@ class AnalysisOptions:
                                 f'not {value!r}')
         if self.phase >= self.every:
             raise ToolError(f'AnalysisOptions(phase={self.phase}) must be under every='
-                            f'{self.every} (every {self.every}th frame from the phase-th)')
+                            f'{self.every}')
         if not isinstance(self.parameters, Mapping):
             raise ToolError('AnalysisOptions(parameters=...) takes node parameters by name (a '
                             f'dict), not {type(self.parameters).__name__} {self.parameters!r:.60}'
@@ -736,8 +736,10 @@ def analyze_bag(path: Union[str, os.PathLike], options: AnalysisOptions = Analys
             try:
                 if any(hasattr(sink, 'on_sample') and not hasattr(sink, 'on_chunk')
                        for sink in sinks):
+                    samples = bag.samples()
                     result.messages, result.first_stamp_ns = run_detector(
-                        decimated_samples(bag.samples(), options.every, options.phase),
+                        samples if options.every == 1 else decimated_samples(
+                            samples, options.every, options.phase),
                         detector, sinks, bar, result.drops_by_role, plans)
                 else:  # events (and the frames' stamps) only: a chunk at a time
                     result.messages, result.first_stamp_ns = run_detector_chunks(

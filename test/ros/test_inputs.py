@@ -90,16 +90,20 @@ def test_a_message_of_an_input_never_attached_is_handled_at_once() -> None:
 
 
 def test_a_destroyed_subscription_ends_the_drain_and_nested_calls_do_not_recurse() -> None:
-    """Shutting down (InvalidHandle) stops quietly; a drain inside a drain does nothing."""
+    """Shutting down (InvalidHandle) stops taking, not handling; a nested drain takes nothing."""
     intake, seen = Intake(10), []
     intake.attach(_Subscription(['x'], destroyed=True), lambda m, i: seen.append(m))
     intake.drain()
     assert seen == []
+    callback = (lambda message, info: seen.append(message))  # a message taken is handled
+    intake.attach(_Subscription(['y']), callback)
+    intake.wrap(callback)('taken', {})
+    assert seen == ['taken']  # ('y' stays queued: nothing is taken once one is destroyed)
     nested = Intake(10)
     queue = _Subscription(['a', 'b'])
     nested.attach(queue, lambda m, i: (seen.append(m), nested.drain()))
     nested.drain()
-    assert seen == ['a', 'b']
+    assert seen == ['taken', 'a', 'b']
 
 
 def test_a_throttle_allows_one_line_of_a_kind_per_period() -> None:
