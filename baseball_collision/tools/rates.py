@@ -16,6 +16,7 @@ What it measures is the lower rate's error only where the recorded rate's own is
 spot; BENCHMARKS.md); on a simulated bag the truth comparison says both (``test_rates``).
 """
 
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass, field, replace
 import math
 from typing import Any, Dict, List, Optional, Sequence, Tuple
@@ -121,9 +122,12 @@ def match(lower: Sequence[Any], recorded: Sequence[Any],
     :returns: the pairs (lower, recorded), and how many at the lower rate were left without
         one within ``window_ns`` (ns).
     """
-    candidates = sorted(
-        (abs(a.stamp_ns - b.stamp_ns), i, j) for i, a in enumerate(lower)
-        for j, b in enumerate(recorded) if abs(a.stamp_ns - b.stamp_ns) <= window_ns)
+    order = sorted(range(len(recorded)), key=lambda j: recorded[j].stamp_ns)
+    stamps = [recorded[j].stamp_ns for j in order]
+    candidates = sorted(  # (each impact's neighbours within the window: a session's thousands)
+        (abs(a.stamp_ns - stamps[k]), i, order[k]) for i, a in enumerate(lower)
+        for k in range(bisect_left(stamps, a.stamp_ns - window_ns),
+                       bisect_right(stamps, a.stamp_ns + window_ns)))
     used_lower, used_recorded, pairs = set(), set(), []
     for _, i, j in candidates:
         if i not in used_lower and j not in used_recorded:

@@ -74,6 +74,27 @@ def test_impacts_are_matched_one_to_one_nearest_first_within_the_window() -> Non
     assert extra == 2
 
 
+def test_matching_equals_the_brute_force_pairing() -> None:
+    """Nearest pairs first, one to one: the same pairs as trying every pair (random stamps)."""
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        recorded = [_Impact(int(t)) for t in rng.integers(0, 400_000_000, 40)]
+        lower = [_Impact(int(t)) for t in rng.integers(0, 400_000_000, 35)]
+        window = int(rng.integers(1, 30_000_000))
+        candidates = sorted((abs(a.stamp_ns - b.stamp_ns), i, j) for i, a in enumerate(lower)
+                            for j, b in enumerate(recorded)
+                            if abs(a.stamp_ns - b.stamp_ns) <= window)
+        taken_lower, taken_recorded, expected = set(), set(), set()
+        for _, i, j in candidates:
+            if i not in taken_lower and j not in taken_recorded:
+                taken_lower.add(i)
+                taken_recorded.add(j)
+                expected.add((id(lower[i]), id(recorded[j])))
+        pairs, extra = match(lower, recorded, window)
+        assert {(id(a), id(b)) for a, b in pairs} == expected
+        assert extra == len(lower) - len(expected)
+
+
 def test_a_checks_moves_and_sigma_shares() -> None:
     """Moves signed (lower minus recorded), scored over both sigmas combined."""
     check = RateCheck(every=2, phases=2, impacts=1, compared=2)
