@@ -77,8 +77,7 @@ def sequence_number(info: Optional[Mapping[str, Any]]) -> Optional[int]:
     rmw_fastrtps_cpp (Jazzy's default) numbers each publisher's messages 1, 2, 3 ...; an RMW
     that does not gives None (rclpy maps ``RMW_MESSAGE_INFO_SEQUENCE_NUMBER_UNSUPPORTED``).
     """
-    number = info.get('publication_sequence_number') if info else None
-    return number if number else None
+    return _given(info, 'publication_sequence_number')
 
 
 def sent_time(info: Optional[Mapping[str, Any]]) -> Optional[int]:
@@ -87,8 +86,13 @@ def sent_time(info: Optional[Mapping[str, Any]]) -> Optional[int]:
 
     rmw_fastrtps_cpp gives each message its writer's source timestamp; 0 (not given) is None.
     """
-    sent = info.get('source_timestamp') if info else None
-    return sent if sent else None
+    return _given(info, 'source_timestamp')
+
+
+def _given(info: Optional[Mapping[str, Any]], key: str) -> Optional[int]:
+    """Return rclpy's message info's ``key``, or None where the RMW gave none (0, None)."""
+    value = info.get(key) if info else None
+    return value if value else None
 
 
 def input_callback(take: Callable[..., None], each: InputStream,
@@ -200,8 +204,7 @@ class Intake:
 
 def _received(info: Optional[Mapping[str, Any]]) -> int:
     """Return a message's receive time (ns, the RMW's clock) from rclpy's message info, or 0."""
-    received = info.get('received_timestamp') if info else None
-    return received if received else 0
+    return _given(info, 'received_timestamp') or 0
 
 
 class Throttle:

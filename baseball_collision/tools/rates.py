@@ -59,6 +59,8 @@ class RateCheck:
     def add(self, lower: Any, recorded: Any) -> None:
         """Add the move of an impact at the lower rate from its match at the recorded rate."""
         self.found += 1
+        speed = recorded.sweet_spot_speed_mps
+        per_speed = 1.0 / speed if speed > 0.0 else math.nan  # (relative to the recorded)
         for moves, scores, value, sigma in (
                 (self.time_s, self.time_z, (lower.stamp_ns - recorded.stamp_ns) * 1e-9,
                  math.hypot(lower.time_uncertainty_s, recorded.time_uncertainty_s)),
@@ -66,13 +68,9 @@ class RateCheck:
                  lower.distance_from_knob_m - recorded.distance_from_knob_m,
                  math.hypot(lower.distance_from_knob_uncertainty_m,
                             recorded.distance_from_knob_uncertainty_m)),
-                (self.speed, self.speed_z,
-                 lower.sweet_spot_speed_mps / recorded.sweet_spot_speed_mps - 1.0
-                 if recorded.sweet_spot_speed_mps > 0.0 else math.nan,
+                (self.speed, self.speed_z, (lower.sweet_spot_speed_mps - speed) * per_speed,
                  math.hypot(lower.sweet_spot_speed_uncertainty_mps,
-                            recorded.sweet_spot_speed_uncertainty_mps)
-                 / recorded.sweet_spot_speed_mps if recorded.sweet_spot_speed_mps > 0.0
-                 else math.nan)):
+                            recorded.sweet_spot_speed_uncertainty_mps) * per_speed)):
             moves.append(value)
             scores.append(abs(value) / sigma if sigma > 0.0 else math.nan)
 
